@@ -1,0 +1,334 @@
+//! Validated domain types of a deck. Everything downstream (scheduler, store,
+//! simulator, terminal UI) works on these, never on raw TOML.
+//!
+//! A value of these types has passed validation: ids are unique, every text
+//! exists in every declared language, links resolve, scene numbers are physical.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// A BCP 47 language tag as declared by the deck (`en`, `hi-Latn`).
+pub type Lang = String;
+
+/// A text given in every declared language of its deck.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Text(pub BTreeMap<Lang, String>);
+
+impl Text {
+    /// The text in `lang`, falling back to any language present (a validated
+    /// deck has every language, so the fallback only matters for a language
+    /// the deck does not declare).
+    pub fn get(&self, lang: &str) -> &str {
+        self.0
+            .get(lang)
+            .or_else(|| self.0.values().next())
+            .map(String::as_str)
+            .unwrap_or("")
+    }
+}
+
+/// A fully loaded and validated deck with its explanation sections.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Deck {
+    pub id: String,
+    pub title: Text,
+    pub description: Option<Text>,
+    /// Declared languages, the first one being the deck's primary language.
+    pub languages: Vec<Lang>,
+    pub cards: Vec<Card>,
+    pub prompts: Vec<Prompt>,
+    pub scenes: Vec<Scene>,
+    /// Explanation sections in reading order (the order of the primary
+    /// language's content file); titles and bodies per language.
+    pub sections: Vec<Section>,
+    /// The deck file this was loaded from.
+    pub path: PathBuf,
+}
+
+impl Deck {
+    pub fn card(&self, id: &str) -> Option<&Card> {
+        self.cards.iter().find(|c| c.id == id)
+    }
+    pub fn prompt(&self, id: &str) -> Option<&Prompt> {
+        self.prompts.iter().find(|p| p.id == id)
+    }
+    pub fn scene(&self, id: &str) -> Option<&Scene> {
+        self.scenes.iter().find(|s| s.id == id)
+    }
+    pub fn section(&self, id: &str) -> Option<&Section> {
+        self.sections.iter().find(|s| s.id == id)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum CardKind {
+    /// Asked front → back.
+    Basic,
+    /// Asked front → back and, as a separate review item, back → front.
+    Reversed,
+    /// The learner types the answer; compared against `Card::accept`.
+    Typed,
+}
+
+impl CardKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            CardKind::Basic => "basic",
+            CardKind::Reversed => "reversed",
+            CardKind::Typed => "typed",
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Card {
+    /// Stable identity: review history is keyed by deck id + card id.
+    pub id: String,
+    pub kind: CardKind,
+    pub front: Text,
+    pub back: Text,
+    /// Accepted typed answers (only for `CardKind::Typed`, never empty there).
+    pub accept: Vec<String>,
+    /// Section id of the linked explanation.
+    pub explain: Option<String>,
+    /// Prompt id offered after the answer is shown.
+    pub prompt: Option<String>,
+    pub tags: Vec<String>,
+}
+
+/// A predict-then-check prompt: the learner commits to an answer, the scene
+/// runs, and the verdict compares the prediction with what was measured.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Prompt {
+    pub id: String,
+    pub question: Text,
+    /// Scene id that is run to check the prediction.
+    pub scene: String,
+    pub explain: Option<String>,
+    pub answer: Answer,
+    pub tags: Vec<String>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Answer {
+    /// Pick one of several choices; the simulation's measurements decide
+    /// which choice is right through each choice's `when` condition.
+    Choice {
+        choices: Vec<Choice>,
+        /// The choice id the physics gives, worked out by hand by the author;
+        /// tests compare it with the simulation.
+        expected: String,
+    },
+    /// A number (with optional unit) compared with a measurement.
+    Number {
+        measure: Measure,
+        /// Unit shown to the learner and accepted after the number (`s`, `d`, `rad/s`).
+        unit: String,
+        /// The value the formula gives, worked out by hand by the author.
+        expected: f64,
+        tolerance: Tolerance,
+        /// The formula behind `expected`, shown in the verdict (may hold math).
+        formula: Option<Text>,
+    },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Choice {
+    pub id: String,
+    pub label: Text,
+    /// This choice is right when the condition holds for the measurements.
+    pub when: Condition,
+}
+
+/// `measure op value`, e.g. `flips > 0`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Condition {
+    pub measure: Measure,
+    pub op: Cmp,
+    pub value: f64,
+}
+
+impl Condition {
+    pub fn holds(&self, measured: f64) -> bool {
+        match self.op {
+            Cmp::Eq => measured == self.value,
+            Cmp::Ne => measured != self.value,
+            Cmp::Lt => measured < self.value,
+            Cmp::Le => measured <= self.value,
+            Cmp::Gt => measured > self.value,
+            Cmp::Ge => measured >= self.value,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Cmp {
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+impl Cmp {
+    pub const ALL: [(&'static str, Cmp); 6] = [
+        ("==", Cmp::Eq),
+        ("!=", Cmp::Ne),
+        ("<=", Cmp::Le),
+        (">=", Cmp::Ge),
+        ("<", Cmp::Lt),
+        (">", Cmp::Gt),
+    ];
+    pub fn as_str(self) -> &'static str {
+        Cmp::ALL
+            .iter()
+            .find(|(_, c)| *c == self)
+            .map(|(s, _)| *s)
+            .unwrap_or("==")
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Tolerance {
+    /// |given − measured| ≤ value.
+    Abs(f64),
+    /// |given − measured| ≤ value · |measured|.
+    Rel(f64),
+}
+
+impl Tolerance {
+    pub fn accepts(&self, given: f64, measured: f64) -> bool {
+        let diff = (given - measured).abs();
+        match *self {
+            Tolerance::Abs(a) => diff <= a,
+            Tolerance::Rel(r) => diff <= r * measured.abs(),
+        }
+    }
+}
+
+/// What a scene's simulation can measure; prompts check against these.
+/// Names are the deck format's spelling (`Measure::name`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Measure {
+    /// Sign changes of the spin component along the initially dominant axis.
+    Flips,
+    /// Mean time between successive flips (scene time unit).
+    FlipPeriod,
+    /// Early exponential growth rate of a perturbation about the middle axis (1/time unit).
+    GrowthRate,
+    /// 1 / growth rate: the e-folding time of the perturbation.
+    EfoldTime,
+    /// Angular frequency of the small oscillation about a stable axis (rad/time unit).
+    OscillationFreq,
+    /// Body-frame precession rate of a symmetric top (rad/time unit, signed).
+    PrecessionRate,
+    /// 2π / |precession rate| (time unit).
+    PrecessionPeriod,
+    /// Largest change of any body-frame ω component over the run, relative to |ω₀|.
+    OmegaChange,
+    /// Largest relative drift of the kinetic energy over the run.
+    EnergyDrift,
+    /// Largest relative drift of |L|² over the run.
+    MomentumDrift,
+}
+
+impl Measure {
+    pub const ALL: [Measure; 10] = [
+        Measure::Flips,
+        Measure::FlipPeriod,
+        Measure::GrowthRate,
+        Measure::EfoldTime,
+        Measure::OscillationFreq,
+        Measure::PrecessionRate,
+        Measure::PrecessionPeriod,
+        Measure::OmegaChange,
+        Measure::EnergyDrift,
+        Measure::MomentumDrift,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Measure::Flips => "flips",
+            Measure::FlipPeriod => "flip_period",
+            Measure::GrowthRate => "growth_rate",
+            Measure::EfoldTime => "efold_time",
+            Measure::OscillationFreq => "oscillation_freq",
+            Measure::PrecessionRate => "precession_rate",
+            Measure::PrecessionPeriod => "precession_period",
+            Measure::OmegaChange => "omega_change",
+            Measure::EnergyDrift => "energy_drift",
+            Measure::MomentumDrift => "momentum_drift",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Measure> {
+        Measure::ALL.into_iter().find(|m| m.name() == name)
+    }
+}
+
+/// A panel a scene shows. A scene computes only what its panels need.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Panel {
+    /// ω₁, ω₂, ω₃ against time.
+    Omega,
+    /// The rotating body (needs the orientation q).
+    Body,
+    /// The polhode on the momentum sphere / energy ellipsoid.
+    Polhode,
+    /// Invariant drift and error against the exact solution.
+    Diagnostics,
+}
+
+impl Panel {
+    pub const ALL: [Panel; 4] = [
+        Panel::Omega,
+        Panel::Body,
+        Panel::Polhode,
+        Panel::Diagnostics,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            Panel::Omega => "omega",
+            Panel::Body => "body",
+            Panel::Polhode => "polhode",
+            Panel::Diagnostics => "diagnostics",
+        }
+    }
+    pub fn from_name(name: &str) -> Option<Panel> {
+        Panel::ALL.into_iter().find(|p| p.name() == name)
+    }
+}
+
+/// A torque-free rigid-body simulation declared by a deck.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub id: String,
+    pub title: Option<Text>,
+    /// Principal moments, in the order the author gave them (kg·m²).
+    pub inertia: [f64; 3],
+    /// Body-frame angular velocity at t = 0 (rad per time unit).
+    pub omega: [f64; 3],
+    /// Run length in the scene's time unit.
+    pub duration: f64,
+    /// Panels shown, in the author's order, without repeats.
+    pub show: Vec<Panel>,
+    /// Time unit label: `s` by default; `d` (days) for Earth-like scenes.
+    pub time_unit: String,
+}
+
+impl Scene {
+    pub fn shows(&self, panel: Panel) -> bool {
+        self.show.contains(&panel)
+    }
+}
+
+/// One explanation section, in every declared language.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Section {
+    pub id: String,
+    pub title: Text,
+    pub body: Text,
+    /// Ids of related sections (the concept map), in the author's order.
+    pub see: Vec<String>,
+}

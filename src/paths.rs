@@ -1,0 +1,31 @@
+//! Where things live: bundled decks, data dir, config file.
+
+use std::path::PathBuf;
+
+/// The decks that ship with flipcard (the repository's `decks/`).
+pub fn bundled_decks() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("decks")
+}
+
+/// The data dir: explicit override (`--data-dir` / `FLIPCARD_DATA_DIR`), else
+/// the platform's (XDG on Linux).
+pub fn data_dir(explicit: Option<PathBuf>) -> anyhow::Result<PathBuf> {
+    if let Some(dir) = explicit {
+        return Ok(dir);
+    }
+    project_dirs()
+        .map(|d| d.data_dir().to_path_buf())
+        .ok_or_else(|| {
+            anyhow::anyhow!("no home directory found; pass --data-dir or set FLIPCARD_DATA_DIR")
+        })
+}
+
+/// The config file: explicit override (`--config` / `FLIPCARD_CONFIG`), else
+/// `config.toml` in the platform's config dir.
+pub fn config_file(explicit: Option<PathBuf>) -> Option<PathBuf> {
+    explicit.or_else(|| project_dirs().map(|d| d.config_dir().join("config.toml")))
+}
+
+fn project_dirs() -> Option<directories::ProjectDirs> {
+    directories::ProjectDirs::from("", "", "flipcard")
+}

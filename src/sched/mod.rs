@@ -1,0 +1,1 @@
+//! Scheduling: FSRS-6 with learning steps. Never imports ratatui.

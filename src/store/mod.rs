@@ -1,0 +1,4 @@
+//! SQLite storage: schema, migrations, the append-only review log.
+//! Never imports ratatui.
+
+pub mod cli;
