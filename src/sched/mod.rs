@@ -1,1 +1,6 @@
-//! Scheduling: FSRS-6 with learning steps. Never imports ratatui.
+//! Scheduling: FSRS-6 with short-term learning steps, the daily queue.
+//! Never imports ratatui.
+
+pub mod types;
+
+pub use types::*;

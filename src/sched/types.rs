@@ -1,0 +1,95 @@
+//! The vocabulary shared by the scheduler and the store.
+
+use chrono::{DateTime, Utc};
+
+/// The learner's answer to a card.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Rating {
+    Again = 1,
+    Hard = 2,
+    Good = 3,
+    Easy = 4,
+}
+
+impl Rating {
+    pub const ALL: [Rating; 4] = [Rating::Again, Rating::Hard, Rating::Good, Rating::Easy];
+    pub fn from_number(n: i64) -> Option<Rating> {
+        Rating::ALL.into_iter().find(|r| *r as i64 == n)
+    }
+}
+
+/// Where a card is in its life. `New` means never reviewed (no log row).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum State {
+    New = 0,
+    Learning = 1,
+    Review = 2,
+    Relearning = 3,
+}
+
+/// Which way a card is asked. Basic and typed cards have only `Forward`;
+/// reversed cards are two review items with separate state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Direction {
+    /// front → back
+    Forward,
+    /// back → front
+    Backward,
+}
+
+impl Direction {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Direction::Forward => "forward",
+            Direction::Backward => "backward",
+        }
+    }
+    pub fn parse(s: &str) -> Option<Direction> {
+        match s {
+            "forward" => Some(Direction::Forward),
+            "backward" => Some(Direction::Backward),
+            _ => None,
+        }
+    }
+}
+
+/// One review item: history is keyed by deck id + card id (+ direction).
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ItemKey {
+    pub deck: String,
+    pub card: String,
+    pub direction: Direction,
+}
+
+/// What kind of answer a review-log row records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ReviewKind {
+    Learn,
+    Review,
+    Relearn,
+    /// Exam cramming: logged, but does not change the scheduling state.
+    Cram,
+}
+
+impl ReviewKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ReviewKind::Learn => "learn",
+            ReviewKind::Review => "review",
+            ReviewKind::Relearn => "relearn",
+            ReviewKind::Cram => "cram",
+        }
+    }
+}
+
+/// The scheduling state of one review item, as py-fsrs's `Card` holds it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CardState {
+    pub state: State,
+    /// Index into the learning or relearning steps (None in Review / New).
+    pub step: Option<u32>,
+    pub stability: Option<f64>,
+    pub difficulty: Option<f64>,
+    pub due: DateTime<Utc>,
+    pub last_review: Option<DateTime<Utc>>,
+}
