@@ -93,3 +93,22 @@ pub struct CardState {
     pub due: DateTime<Utc>,
     pub last_review: Option<DateTime<Utc>>,
 }
+
+/// One row of the append-only review log, as the scheduler produces it and
+/// the store writes it. The state after the review is stored in full, so the
+/// card states can be rebuilt from the log alone.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReviewRecord {
+    pub key: ItemKey,
+    pub reviewed_at: DateTime<Utc>,
+    pub rating: Rating,
+    pub kind: ReviewKind,
+    /// Days since the previous review of this item (0 for the first).
+    pub elapsed_days: i64,
+    /// Days from this review to the next due date.
+    pub scheduled_days: i64,
+    /// The item's state after this review (for `Cram`, the unchanged state).
+    pub after: CardState,
+    /// How long the learner took to answer.
+    pub duration_ms: i64,
+}

@@ -4,5 +4,7 @@
 pub mod bench;
 pub mod cli;
 pub mod model;
+pub mod solver;
 
 pub use model::{Body, ModelError, State};
+pub use solver::{Method, Needs, SimError, Solver, Work};
