@@ -40,6 +40,8 @@ struct Expected {
 
 #[derive(Debug, Default)]
 struct Expectation {
+    /// Paths to check (default `decks`).
+    args: Vec<String>,
     summary: Option<String>,
     diagnostics: Vec<Expected>,
 }
@@ -52,7 +54,9 @@ fn expectation(case: &Path) -> Expectation {
         if line.trim().is_empty() || line.starts_with('#') {
             continue;
         }
-        if let Some(s) = line.strip_prefix("summary: ") {
+        if let Some(a) = line.strip_prefix("args: ") {
+            exp.args = a.split_whitespace().map(str::to_string).collect();
+        } else if let Some(s) = line.strip_prefix("summary: ") {
             exp.summary = Some(s.to_string());
         } else if let Some(h) = line.strip_prefix("  = help: ") {
             let last = exp
@@ -71,6 +75,9 @@ fn expectation(case: &Path) -> Expectation {
                 help: None,
             });
         }
+    }
+    if exp.args.is_empty() {
+        exp.args.push("decks".to_string());
     }
     exp
 }
@@ -165,6 +172,10 @@ fn compare(name: &str, run: &Run, exp: &Expectation, prefix: &str) -> Vec<String
     problems
 }
 
+fn args(exp: &Expectation) -> Vec<&str> {
+    exp.args.iter().map(String::as_str).collect()
+}
+
 fn count(exp: &Expectation, severity: &str) -> usize {
     exp.diagnostics
         .iter()
@@ -183,7 +194,7 @@ fn every_invalid_case_fails_with_its_one_diagnostic() {
         if count(&exp, "error") != 1 {
             problems.push(format!("{name}: expect.txt must list exactly one error"));
         }
-        let run = check(case, &["decks"]);
+        let run = check(case, &args(&exp));
         if run.code != 1 {
             problems.push(format!("{name}: exit code {} instead of 1", run.code));
         }
@@ -210,7 +221,7 @@ fn every_valid_case_passes_with_its_summary() {
     for case in &cases {
         let name = case.file_name().unwrap().to_string_lossy().into_owned();
         let exp = expectation(case);
-        let run = check(case, &["decks"]);
+        let run = check(case, &args(&exp));
         if run.code != 0 {
             problems.push(format!("{name}: exit code {}\n{}", run.code, run.stderr));
         }
@@ -233,42 +244,50 @@ fn every_valid_case_passes_with_its_summary() {
 }
 
 /// One run over every invalid case reports every case's problem: nothing
-/// stops at the first broken deck.
+/// stops at the first broken deck. (The cases all name their deck `d`, so
+/// the run also reports each later `d` as a duplicate deck id.)
 #[test]
 fn one_run_reports_the_problems_of_every_deck() {
     let cases = cases("invalid");
     let root = manifest_dir();
-    let args: Vec<String> = cases
-        .iter()
-        .map(|c| {
-            c.strip_prefix(&root)
-                .unwrap()
-                .join("decks")
-                .to_string_lossy()
-                .into_owned()
-        })
-        .collect();
-    let arg_refs: Vec<&str> = args.iter().map(String::as_str).collect();
-    let run = check(&root, &arg_refs);
-    assert_eq!(run.code, 1);
-    let mut problems = Vec::new();
-    let mut warnings = 0;
+    let mut paths = Vec::new();
+    let mut expected = Vec::new();
     for case in &cases {
-        let name = case.file_name().unwrap().to_string_lossy().into_owned();
+        let rel = case
+            .strip_prefix(&root)
+            .unwrap()
+            .to_string_lossy()
+            .into_owned();
         let exp = expectation(case);
-        warnings += count(&exp, "warning");
-        let prefix = format!("tests/decks/invalid/{name}/");
+        for a in &exp.args {
+            paths.push(format!("{rel}/{a}"));
+        }
         for e in &exp.diagnostics {
-            let start = format!("{prefix}{}: {}: ", e.location, e.severity);
-            // Messages naming other files carry the prefix too, so only
-            // the position is compared here; the per-case test checks text.
-            if !run.stderr.lines().any(|l| l.starts_with(&start)) {
-                problems.push(format!("{name}: missing `{start}...`"));
-            }
+            expected.push(format!("{rel}/{}: {}: ", e.location, e.severity));
         }
     }
-    assert!(problems.is_empty(), "{}", problems.join("\n"));
-    let tally = format!("{} errors, {warnings} warnings", cases.len());
+    let arg_refs: Vec<&str> = paths.iter().map(String::as_str).collect();
+    let run = check(&root, &arg_refs);
+    assert_eq!(run.code, 1);
+    let heads: Vec<&str> = headlines(&run.stderr).into_iter().map(|(_, l)| l).collect();
+    // Messages naming other files carry the prefix too, so only positions
+    // are compared here; the per-case test checks the text.
+    let missing: Vec<&String> = expected
+        .iter()
+        .filter(|start| !heads.iter().any(|l| l.starts_with(start.as_str())))
+        .collect();
+    assert!(missing.is_empty(), "missing: {missing:#?}");
+    let others: Vec<&&str> = heads
+        .iter()
+        .filter(|l| !expected.iter().any(|start| l.starts_with(start.as_str())))
+        .collect();
+    assert!(
+        others
+            .iter()
+            .all(|l| l.contains("error: deck id `d` is also used by")),
+        "unexpected: {others:#?}"
+    );
+    let tally = format!("{} errors, 0 warnings", heads.len());
     assert_eq!(run.stderr.lines().last(), Some(tally.as_str()));
 }
 

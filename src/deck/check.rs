@@ -28,13 +28,8 @@ pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::from(2));
     }
     let loaded = load_paths(&paths);
-    let reports: Vec<String> = loaded
-        .diagnostics
-        .iter()
-        .map(|d| loaded.render(d))
-        .collect();
-    if !reports.is_empty() {
-        eprintln!("{}", reports.join("\n"));
+    if !loaded.diagnostics.is_empty() {
+        eprintln!("{}", loaded.render_all());
     }
     if loaded.errors() > 0 {
         eprintln!("{} errors, {} warnings", loaded.errors(), loaded.warnings());

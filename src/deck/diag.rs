@@ -63,9 +63,15 @@ impl Diagnostic {
     /// The full report: headline, source line with caret, help line.
     /// `source` is the whole text of `self.path`.
     pub fn render(&self, source: &str) -> String {
+        self.render_line(source.lines().nth(self.line.saturating_sub(1)))
+    }
+
+    /// [`Diagnostic::render`] given the text of `self.line` only (`None`:
+    /// headline and help alone, e.g. when the file could not be read).
+    pub fn render_line(&self, line_text: Option<&str>) -> String {
         let mut out = self.headline();
         out.push('\n');
-        if let Some(text) = source.lines().nth(self.line.saturating_sub(1)) {
+        if let Some(text) = line_text {
             let (shown, caret_pad, caret_len) = excerpt(text, self.col, self.width);
             let gutter = self.line.to_string();
             let blank = " ".repeat(gutter.len());
@@ -149,6 +155,14 @@ impl LineIndex {
         (line, col)
     }
 
+    /// The text of 1-based line `n`, without its line break.
+    pub fn line<'s>(&self, source: &'s str, n: usize) -> Option<&'s str> {
+        let start = *self.starts.get(n.checked_sub(1)?)?;
+        let end = self.starts.get(n).map_or(source.len(), |&e| e - 1);
+        let text = source.get(start..end.max(start))?;
+        Some(text.strip_suffix('\r').unwrap_or(text))
+    }
+
     /// Characters of `span` on its first line (at least 1), for the caret.
     pub fn width(&self, source: &str, span: &Range<usize>) -> usize {
         let end = span.end.min(source.len());
@@ -190,6 +204,17 @@ mod tests {
         assert_eq!(idx.position(src, 7), (2, 1));
         // Past the end: clamped.
         assert_eq!(idx.position(src, 999), (3, 1));
+    }
+
+    #[test]
+    fn lines_by_number() {
+        let src = "a\r\nbb\n\nccc";
+        let idx = LineIndex::new(src);
+        let lines: Vec<_> = (0..=5).map(|n| idx.line(src, n)).collect();
+        assert_eq!(
+            lines,
+            [None, Some("a"), Some("bb"), Some(""), Some("ccc"), None]
+        );
     }
 
     #[test]

@@ -7,7 +7,7 @@ use std::path::{Component, Path, PathBuf};
 
 use toml::de::DeTable;
 
-use super::diag::{Diagnostic, Severity};
+use super::diag::{Diagnostic, LineIndex, Severity};
 use super::model::Deck;
 use super::raw::{self, Span};
 use super::report::FileReport;
@@ -43,9 +43,22 @@ impl Loaded {
         d.render(self.sources.get(&d.path).map_or("", String::as_str))
     }
 
-    /// Every diagnostic, rendered, one after another.
+    /// Every diagnostic rendered, separated by blank lines (each file's
+    /// lines indexed once, so many diagnostics in a big file stay cheap).
     pub fn render_all(&self) -> String {
-        self.diagnostics.iter().map(|d| self.render(d)).collect()
+        let mut indexes: HashMap<&Path, LineIndex> = HashMap::new();
+        let rendered: Vec<String> = self
+            .diagnostics
+            .iter()
+            .map(|d| {
+                let source = self.sources.get(&d.path).map_or("", String::as_str);
+                let index = indexes
+                    .entry(&d.path)
+                    .or_insert_with(|| LineIndex::new(source));
+                d.render_line(index.line(source, d.line))
+            })
+            .collect();
+        rendered.join("\n")
     }
 }
 

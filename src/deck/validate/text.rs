@@ -8,6 +8,7 @@ use crate::deck::raw::{RawText, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
+use crate::text::MathError;
 
 /// Control characters reported per string at most; one is usually enough to
 /// see the pattern.
@@ -106,6 +107,18 @@ pub fn quoted(list: &[String]) -> String {
 
 /// Checks one string; false when it has an error.
 pub fn string(rep: &mut FileReport, s: &Str, kind: Kind, what: &str) -> bool {
+    string_with(rep, s, kind, what, crate::text::check)
+}
+
+/// [`string`] with the math checker given (tests pass their own to pin
+/// down where its errors land in the file).
+fn string_with(
+    rep: &mut FileReport,
+    s: &Str,
+    kind: Kind,
+    what: &str,
+    math_check: impl Fn(&str) -> Vec<MathError>,
+) -> bool {
     if s.value.trim().is_empty() {
         rep.error(s.span.clone(), format!("{what} is empty"), None);
         return false;
@@ -117,7 +130,7 @@ pub fn string(rep: &mut FileReport, s: &Str, kind: Kind, what: &str) -> bool {
         return false;
     }
     if kind == Kind::Math {
-        let errors = crate::text::check(&s.value);
+        let errors = math_check(&s.value);
         for e in &errors {
             let (at, _) = tomlstr::locate(&token, e.offset);
             let start = s.span.start + at;
@@ -199,5 +212,97 @@ fn control_name(c: char) -> String {
         '\u{c}' => "a form feed".to_string(),
         '\u{1b}' => "an escape character".to_string(),
         other => format!("the control character U+{:04X}", other as u32),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::deck::diag::Diagnostic;
+
+    /// The string value `v` of `source` as the reader would give it.
+    fn value(source: &str) -> Str {
+        let table: toml::Table = toml::from_str(source).unwrap();
+        let start = source.find("v = ").unwrap() + 4;
+        let end = source.trim_end().len();
+        Str {
+            value: table["v"].as_str().unwrap().to_string(),
+            span: start..end,
+        }
+    }
+
+    /// Diagnostics when the math checker flags the first `marker` in the
+    /// decoded text.
+    fn flag(source: &str, marker: &str) -> Vec<Diagnostic> {
+        let s = value(source);
+        let mut rep = FileReport::new(Path::new("d.toml"), source);
+        let ok = string_with(&mut rep, &s, Kind::Math, "a text", |text| {
+            vec![MathError {
+                offset: text.find(marker).unwrap(),
+                message: "unknown command".into(),
+            }]
+        });
+        assert!(!ok);
+        rep.finish()
+    }
+
+    fn at(d: &[Diagnostic]) -> (usize, usize) {
+        assert_eq!(d.len(), 1, "{d:?}");
+        (d[0].line, d[0].col)
+    }
+
+    #[test]
+    fn math_errors_in_literal_strings_land_exactly() {
+        let src = "# c\nv = 'a $\\bad{x}$'\n";
+        let d = flag(src, r"\bad");
+        assert_eq!(at(&d), (2, 9));
+        assert_eq!(d[0].message, "LaTeX: unknown command");
+    }
+
+    #[test]
+    fn math_errors_in_multiline_strings_land_on_their_line() {
+        let src = "v = '''\nfirst line\n  then $\\bad$'''\n";
+        assert_eq!(at(&flag(src, r"\bad")), (3, 9));
+    }
+
+    #[test]
+    fn math_errors_after_escapes_land_on_the_written_character() {
+        let src = r#"v = "\u00e9 \"q\" $\\bad$""#;
+        // The escape `\\` that gives the backslash of `\bad` is column 20.
+        assert_eq!(at(&flag(src, r"\bad")), (1, 20));
+    }
+
+    #[test]
+    fn a_written_tab_and_an_escaped_one_are_both_reported() {
+        let src = "v = \"a\tb \\theta\"\n";
+        let s = value(src);
+        let mut rep = FileReport::new(Path::new("d.toml"), src);
+        assert!(!string(&mut rep, &s, Kind::Math, "a text"));
+        let d = rep.finish();
+        assert_eq!(d.len(), 2, "{d:?}");
+        assert_eq!((d[0].line, d[0].col), (1, 7));
+        assert!(d[0].message.contains("a tab"), "{}", d[0].message);
+        assert_eq!((d[1].line, d[1].col), (1, 10));
+        assert!(
+            d[1].message
+                .contains(r"`\theta` becomes a tab followed by `heta`"),
+            "{}",
+            d[1].message
+        );
+    }
+
+    #[test]
+    fn line_breaks_are_fine_only_when_written_in_multiline_strings() {
+        let ok = "v = '''\nline one\nline two'''\n";
+        let mut rep = FileReport::new(Path::new("d.toml"), ok);
+        assert!(string(&mut rep, &value(ok), Kind::Math, "a text"));
+        assert!(rep.finish().is_empty());
+
+        let escaped = "v = \"\"\"\nfrequency $\\nu$\"\"\"\n";
+        let mut rep = FileReport::new(Path::new("d.toml"), escaped);
+        assert!(!string(&mut rep, &value(escaped), Kind::Math, "a text"));
+        assert_eq!(at(&rep.finish()), (2, 12));
     }
 }
