@@ -14,6 +14,8 @@ use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
 use super::model::{CardKind, Cmp, Measure, Panel};
 
 pub const ID_PATTERN: &str = "^[a-z0-9]+(-[a-z0-9]+)*$";
+/// Holds at least one character that is not white space.
+pub const NOT_BLANK: &str = r"\S";
 pub const LANG_PATTERN: &str = "^[A-Za-z]{2,8}(-[A-Za-z0-9]{1,8})*$";
 
 /// A deck file: `decks/<deck-id>.toml`.
@@ -108,12 +110,30 @@ pub struct Choice {
     pub when: Condition,
 }
 
-/// `{ abs = x }`: |given − measured| ≤ x; `{ rel = r }`: ≤ r·|measured|. Positive.
-#[derive(JsonSchema)]
-#[serde(rename_all = "lowercase", deny_unknown_fields)]
-pub enum Tolerance {
-    Abs(f64),
-    Rel(f64),
+/// `{ abs = x }`: |given − measured| ≤ x; `{ rel = r }`: ≤ r·|measured|.
+pub struct Tolerance;
+
+impl JsonSchema for Tolerance {
+    fn schema_name() -> Cow<'static, str> {
+        "Tolerance".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        let one = |key: &str, meaning: &str| {
+            serde_json::json!({
+                "type": "object",
+                "properties": { key: { "description": meaning, "type": "number", "exclusiveMinimum": 0 } },
+                "required": [key],
+                "additionalProperties": false,
+            })
+        };
+        json_schema!({
+            "description": "How far the typed number may be from the measured value: exactly one of `abs` and `rel`, positive.",
+            "oneOf": [
+                one("abs", "|given − measured| ≤ abs"),
+                one("rel", "|given − measured| ≤ rel · |measured|"),
+            ],
+        })
+    }
 }
 
 /// A torque-free rigid body and how it starts spinning.
@@ -123,6 +143,7 @@ pub struct Scene {
     pub id: Id,
     pub title: Option<Text>,
     /// Principal moments of inertia (kg·m²): positive, finite, Iᵢ + Iⱼ ≥ Iₖ.
+    #[schemars(extend("items" = { "type": "number", "exclusiveMinimum": 0 }))]
     pub inertia: [f64; 3],
     /// Body-frame angular velocity at t = 0 (rad per time unit), finite.
     pub omega: [f64; 3],
@@ -197,7 +218,7 @@ impl JsonSchema for NonEmpty {
         "NonEmpty".into()
     }
     fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        json_schema!({ "type": "string", "minLength": 1 })
+        json_schema!({ "type": "string", "pattern": NOT_BLANK })
     }
 }
 
@@ -215,10 +236,10 @@ impl JsonSchema for Text {
                 {
                     "type": "object",
                     "propertyNames": { "pattern": LANG_PATTERN },
-                    "additionalProperties": { "type": "string", "minLength": 1 },
+                    "additionalProperties": { "type": "string", "pattern": NOT_BLANK },
                     "minProperties": 1,
                 },
-                { "type": "string", "minLength": 1 },
+                { "type": "string", "pattern": NOT_BLANK },
             ],
         })
     }
