@@ -1,7 +1,7 @@
 //! Finding deck files and their content files, and running both stages on
 //! them.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fs;
 use std::path::{Component, Path, PathBuf};
 
@@ -73,9 +73,14 @@ pub fn load_dir(path: &Path) -> Loaded {
 pub fn load_paths(paths: &[PathBuf]) -> Loaded {
     let mut loaded = Loaded::default();
     let mut seen_ids: HashMap<String, PathBuf> = HashMap::new();
+    let mut seen_files: HashSet<PathBuf> = HashSet::new();
     for path in paths {
         for file in deck_files(path, &mut loaded) {
-            load_deck(&file, &mut loaded, &mut seen_ids);
+            // The same file named twice (`decks decks/x.toml`) is one deck.
+            let key = fs::canonicalize(&file).unwrap_or_else(|_| file.clone());
+            if seen_files.insert(key) {
+                load_deck(&file, &mut loaded, &mut seen_ids);
+            }
         }
     }
     loaded
@@ -345,6 +350,14 @@ fn stray_content_files(dir: &Path, langs: &[String]) -> Vec<Diagnostic> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_named_twice_is_loaded_once() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/decks/valid/full/decks");
+        let loaded = load_paths(&[dir.clone(), dir.join("spinning-top.toml")]);
+        assert_eq!(loaded.errors(), 0, "{}", loaded.render_all());
+        assert_eq!(loaded.decks.len(), 1);
+    }
 
     #[test]
     fn content_dir_sits_beside_the_deck_folder() {

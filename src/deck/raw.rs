@@ -197,6 +197,23 @@ fn label(kind: &str, fields: &Fields) -> String {
 }
 
 pub fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Span) -> RawDeckFile {
+    let has = |key: &str| {
+        root.iter().any(|(k, _)| {
+            let name: &str = k.get_ref();
+            name == key
+        })
+    };
+    if !has("deck") && has("section") {
+        rep.error(
+            0..0,
+            "this is a content file ([[section]]), not a deck file",
+            Some(
+                "check the deck file decks/<deck-id>.toml; its content files are found from it"
+                    .to_string(),
+            ),
+        );
+        return RawDeckFile::default();
+    }
     let top = Fields::open(
         rep,
         root,
@@ -204,13 +221,10 @@ pub fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Span) -> 
         "the deck file",
         DECK_FILE_FIELDS,
         |name| {
-            match name {
-            "section" | "sections" => Some(
+            matches!(name, "section" | "sections").then(|| {
                 "explanation sections belong in content/<deck-id>/<lang>.toml, not in the deck file"
-                    .to_string(),
-            ),
-            _ => None,
-        }
+                    .to_string()
+            })
         },
     );
     let mut file = RawDeckFile::default();
