@@ -301,6 +301,23 @@ fn a_missing_path_is_a_usage_error() {
 }
 
 #[test]
+fn an_empty_folder_is_clean_but_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    fs::create_dir(dir.path().join("decks")).unwrap();
+    let run = check(dir.path(), &["decks"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(
+        run.stdout,
+        "0 decks, 0 cards, 0 prompts, 0 scenes, 0 sections: ok\n"
+    );
+    assert!(
+        run.stderr.contains("warning: no deck files"),
+        "{}",
+        run.stderr
+    );
+}
+
+#[test]
 fn a_deck_file_can_be_named_directly() {
     let case = manifest_dir().join("tests/decks/valid/full");
     let run = check(&case, &["decks/spinning-top.toml"]);

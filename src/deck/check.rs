@@ -27,6 +27,19 @@ pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
         }
         return Ok(ExitCode::from(2));
     }
+    for p in paths.iter().filter(|p| p.is_dir()) {
+        let has_decks = std::fs::read_dir(p).is_ok_and(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .any(|e| e.path().extension().is_some_and(|x| x == "toml"))
+        });
+        if !has_decks {
+            eprintln!(
+                "flipcard: warning: no deck files (*.toml) in {}",
+                p.display()
+            );
+        }
+    }
     let loaded = load_paths(&paths);
     if !loaded.diagnostics.is_empty() {
         eprintln!("{}", loaded.render_all());

@@ -15,7 +15,7 @@ use super::{id, unique};
 pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str) -> Option<Answer> {
     match raw {
         RawAnswer::Choice {
-            span,
+            span: _,
             expected,
             choices,
         } => {
@@ -55,7 +55,6 @@ pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str)
                 );
                 ok = false;
             }
-            let _ = span;
             ok.then(|| Answer::Choice {
                 choices: out,
                 expected: expected.value.clone(),
