@@ -196,6 +196,19 @@ def edge_initial(config_by_name):
             initial = card_json(card)
             reviews = review_all(s, card, [(rating, t), (Rating.Good, t + timedelta(days=4))])
             out.append(sequence(f"{state.name.lower()}-step-{step}-beyond-steps-{rating.name.lower()}", cfg, reviews, initial))
+    # With retention 0.9 the interval equals the stability, and a same-day
+    # Good leaves a stability above ~2.1 unchanged: exact half days, where
+    # Python's round() goes to the even day.
+    cfg = config_by_name["default"]
+    s = scheduler_for(cfg)
+    for stability in [2.5, 3.5, 4.5, 6.5, 10.5]:
+        card = Card(
+            card_id=1, state=State.Review, stability=stability, difficulty=5.0,
+            due=t, last_review=t - timedelta(hours=1),
+        )
+        initial = card_json(card)
+        reviews = review_all(s, card, [(Rating.Good, t)])
+        out.append(sequence(f"interval-tie-{stability}", cfg, reviews, initial))
     return out
 
 
