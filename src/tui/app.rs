@@ -117,7 +117,10 @@ impl App {
 
     /// Whether a simulation is playing, so the event loop must tick.
     pub fn animating(&self) -> bool {
-        false
+        match self.screen() {
+            Screen::Predict(p) => p.animating(),
+            _ => false,
+        }
     }
 }
 

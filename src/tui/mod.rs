@@ -8,8 +8,11 @@
 
 pub mod action;
 pub mod app;
+pub mod geometry;
 pub mod i18n;
 pub mod keymap;
+pub mod live;
+pub mod plots;
 pub mod screens;
 pub mod services;
 #[cfg(test)]
@@ -34,7 +37,8 @@ pub use app::App;
 pub use update::apply;
 
 use crate::cli::{Cli, ReviewArgs};
-use services::{Clock, Services};
+use crate::sched::Config;
+use services::{Clock, DayZone, Services};
 use theme::Theme;
 
 /// Time between frames while a simulation plays (about 30 per second).
@@ -44,10 +48,19 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     // Everything that can fail with a message is done before the terminal
     // switches to raw mode, so errors print as ordinary lines.
     let clock = Clock::from_env()?;
-    let services = Services { clock };
-    let decks = Vec::new();
-    let mut app = App::new(decks, services, i18n::ENGLISH, Theme::from_env());
-    let _ = (cli, review);
+    let config_path = crate::paths::config_file(cli.config.clone());
+    let config = Config::load(config_path.as_deref())?;
+    let deck_dir = cli
+        .decks
+        .clone()
+        .unwrap_or_else(crate::paths::bundled_decks);
+    let loaded = crate::deck::load_dir(&deck_dir);
+    let lang = config.language.clone();
+    let services = Services::new(clock, config, config_path, DayZone::Local);
+    let problems = loaded.errors();
+    let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
+    app.deck_problems = problems;
+    let _ = review;
 
     let busy = Arc::new(Mutex::new(()));
     watch_signals(&busy)?;

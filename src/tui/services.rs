@@ -1,7 +1,11 @@
-//! The domain services the screens call: the clock, and (as they are wired
-//! in) the scheduler, the review store and the config file.
+//! The domain services the screens call: the clock, the learner's config,
+//! the scheduler and the review store.
+
+use std::path::PathBuf;
 
 use chrono::{DateTime, Utc};
+
+use crate::sched::{Config, Scheduler};
 
 /// Where "now" comes from: the system clock, or a fixed time
 /// (`FLIPCARD_NOW`, tests).
@@ -29,17 +33,44 @@ impl Clock {
     }
 }
 
+/// Which time zone the study day's 04:00 boundary is read in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DayZone {
+    Local,
+    /// For tests: the same day boundary on every machine.
+    Utc,
+}
+
 pub struct Services {
     pub clock: Clock,
+    pub config: Config,
+    /// Where the language choice is saved (`None`: nowhere to save).
+    pub config_path: Option<PathBuf>,
+    pub scheduler: Scheduler,
+    pub zone: DayZone,
 }
 
 impl Services {
+    pub fn new(
+        clock: Clock,
+        config: Config,
+        config_path: Option<PathBuf>,
+        zone: DayZone,
+    ) -> Services {
+        let scheduler = Scheduler::new(&config);
+        Services {
+            clock,
+            config,
+            config_path,
+            scheduler,
+            zone,
+        }
+    }
+
     pub fn now(&self) -> DateTime<Utc> {
         self.clock.now()
     }
-}
 
-impl Services {
     /// Today's counts and the last study time of a deck.
     pub fn deck_row(&self, _deck: &crate::deck::Deck) -> super::screens::home::DeckRow {
         super::screens::home::DeckRow {
@@ -47,9 +78,16 @@ impl Services {
             last_studied: None,
         }
     }
-}
 
-impl Services {
     /// Remembers the language for the next run.
-    pub fn save_language(&mut self, _lang: &str) {}
+    pub fn save_language(&mut self, lang: &str) -> Result<(), String> {
+        self.config.language = lang.to_string();
+        match &self.config_path {
+            Some(path) => self
+                .config
+                .save_key(path, "language")
+                .map_err(|e| e.to_string()),
+            None => Ok(()),
+        }
+    }
 }

@@ -14,9 +14,10 @@ use crate::deck::{
 };
 
 use super::app::App;
-use super::services::{Clock, Services};
+use super::services::{Clock, DayZone, Services};
 use super::theme::Theme;
 use super::view;
+use crate::sched::Config;
 
 pub fn now() -> DateTime<Utc> {
     DateTime::parse_from_rfc3339("2026-03-02T09:00:00Z")
@@ -200,9 +201,11 @@ pub fn deck() -> Deck {
 }
 
 pub fn services() -> Services {
-    Services {
-        clock: Clock::Fixed(now()),
-    }
+    let config = Config {
+        fuzz: false,
+        ..Config::default()
+    };
+    Services::new(Clock::Fixed(now()), config, None, DayZone::Utc)
 }
 
 pub fn app(lang: &str) -> App {

@@ -37,6 +37,7 @@ pub fn apply(app: &mut App, action: Action) {
     let nav = match &mut top {
         Screen::Home(s) => screens::home::apply(app, s, action),
         Screen::Prompts(s) => screens::prompts::apply(app, s, action),
+        Screen::Predict(s) => screens::predict::apply(app, s, action),
     };
     app.stack.push(top);
     match nav {
@@ -52,5 +53,7 @@ pub fn apply(app: &mut App, action: Action) {
 
 fn toggle_language(app: &mut App) {
     app.lang = i18n::other(&app.lang).to_string();
-    app.services.save_language(&app.lang);
+    if let Err(e) = app.services.save_language(&app.lang) {
+        app.error(e);
+    }
 }

@@ -35,6 +35,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
     match app.screen() {
         Screen::Home(s) => screens::home::draw(frame, body, app, s),
         Screen::Prompts(s) => screens::prompts::draw(frame, body, app, s),
+        Screen::Predict(s) => screens::predict::draw(frame, body, app, s),
     }
     draw_footer(frame, footer, app);
     if app.help {
@@ -46,6 +47,7 @@ fn screen_title(app: &App) -> String {
     match app.screen() {
         Screen::Home(_) => app.tr(Msg::Decks).to_string(),
         Screen::Prompts(s) => deck_title(app, s.deck, Msg::Prompts),
+        Screen::Predict(s) => deck_title(app, s.deck, Msg::Predict),
     }
 }
 

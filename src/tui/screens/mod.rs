@@ -1,6 +1,7 @@
 //! One module per screen: its state, how actions change it, how it draws.
 
 pub mod home;
+pub mod predict;
 pub mod prompts;
 
 use super::keymap::Context;
@@ -8,6 +9,7 @@ use super::keymap::Context;
 pub enum Screen {
     Home(home::HomeState),
     Prompts(prompts::PromptsState),
+    Predict(predict::PredictState),
 }
 
 impl Screen {
@@ -15,6 +17,12 @@ impl Screen {
         match self {
             Screen::Home(_) => Context::Home,
             Screen::Prompts(_) => Context::Prompts,
+            Screen::Predict(p) => match &p.phase {
+                predict::Phase::Ask { .. } if p.choice => Context::PredictChoice,
+                predict::Phase::Ask { .. } => Context::PredictNumber,
+                predict::Phase::Play { verdict: None, .. } => Context::PredictRun,
+                predict::Phase::Play { .. } => Context::PredictVerdict,
+            },
         }
     }
 }

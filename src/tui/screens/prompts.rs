@@ -31,6 +31,10 @@ pub fn apply(app: &mut App, state: &mut PromptsState, action: Action) -> Nav {
         Action::Top => state.selected = 0,
         Action::Bottom => state.selected = n.saturating_sub(1),
         Action::Back => return Nav::Pop,
+        Action::Open if n > 0 => {
+            let p = super::predict::PredictState::new(app, state.deck, state.selected.min(n - 1));
+            return Nav::Push(super::Screen::Predict(p));
+        }
         _ => {}
     }
     Nav::Stay
