@@ -4,6 +4,12 @@ use std::process::ExitCode;
 
 use crate::cli::{Cli, SimArgs};
 
-pub fn run(_cli: &Cli, _args: &SimArgs) -> anyhow::Result<ExitCode> {
+pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
+    if args.list {
+        return super::scene_cli::list(cli, args);
+    }
+    if let Some(id) = &args.scene {
+        return super::scene_cli::scene(cli, args, id);
+    }
     anyhow::bail!("sim: not built yet")
 }
