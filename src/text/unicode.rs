@@ -32,6 +32,8 @@ struct Shape {
     signed: bool,
     /// A differential like `dt` or `∂x`, which reads as one factor.
     differential: bool,
+    /// Already enclosed in one pair of brackets: `(x + y)`.
+    bracketed: bool,
 }
 
 impl Shape {
@@ -62,6 +64,7 @@ fn list(nodes: &[Node<'_>], out: &mut String, mode: Mode) -> Shape {
     let mut pending: u8 = 0;
     let mut first_item = 0..0;
     let mut depth = 0usize;
+    let mut first_open = false;
     for (i, node) in nodes.iter().enumerate() {
         match node {
             Node::Empty => continue,
@@ -111,10 +114,12 @@ fn list(nodes: &[Node<'_>], out: &mut String, mode: Mode) -> Shape {
             shape.items += 1;
             if shape.items == 1 {
                 first_item = start..out.len();
+                first_open = class == Class::Open;
             }
         }
         prev = Some(class);
     }
+    shape.bracketed = shape.items == 1 && first_open && depth == 0 && prev == Some(Class::Close);
     shape.differential =
         shape.items == 2 && !shape.loose && matches!(&out[first_item], "d" | "∂" | "δ" | "Δ");
     shape
@@ -211,7 +216,10 @@ fn node_shape(node: &Node<'_>, out: &mut String, mode: Mode) -> Shape {
             if let Some(c) = close {
                 out.push(*c);
             }
-            Shape::atom()
+            Shape {
+                bracketed: open.is_some() && close.is_some(),
+                ..Shape::atom()
+            }
         }
         Node::Env(kind, rows) => {
             env(*kind, rows, out, mode);
@@ -302,7 +310,7 @@ fn radicand_shape(radicand: &Node<'_>, out: &mut String, mode: Mode) {
 
 fn accented(base: &Node<'_>, accent: Accent, out: &mut String, mode: Mode) {
     let start = out.len();
-    node_shape(base, out, mode);
+    let shape = node_shape(base, out, mode);
     if glyphs::is_single_glyph(&out[start..]) {
         out.push(accent.combining());
     } else if let Some(mark) = accent.spanning() {
@@ -314,7 +322,9 @@ fn accented(base: &Node<'_>, accent: Accent, out: &mut String, mode: Mode) {
             }
         }
     } else if start < out.len() {
-        wrap(out, start);
+        if !shape.bracketed {
+            wrap(out, start);
+        }
         out.push(accent.after_group());
     }
 }
@@ -428,5 +438,264 @@ fn env(kind: EnvKind, rows: &[Vec<Vec<Node<'_>>>], out: &mut String, mode: Mode)
     }
     if kind == (EnvKind::Cases { left: false }) {
         out.push_str(" }");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::text::math_to_unicode;
+
+    #[track_caller]
+    fn renders(latex: &str, expected: &str) {
+        match math_to_unicode(latex) {
+            Ok(got) => assert_eq!(got, expected, "rendering {latex}"),
+            Err(e) => panic!("{latex} did not render: {e} at {}", e.offset),
+        }
+    }
+
+    #[test]
+    fn greek_letters_and_variants() {
+        renders(
+            r"\alpha\beta\gamma\delta\epsilon\varepsilon\zeta\eta\theta\vartheta\iota\kappa\lambda\mu\nu\xi\pi\rho\sigma\tau\upsilon\phi\varphi\chi\psi\omega",
+            "αβγδϵεζηθϑικλµνξπρστυϕφχψω",
+        );
+        renders(
+            r"\Gamma\Delta\Theta\Lambda\Xi\Pi\Sigma\Upsilon\Phi\Psi\Omega",
+            "ΓΔΘΛΞΠΣΥΦΨΩ",
+        );
+    }
+
+    #[test]
+    fn subscripts_use_unicode_where_every_character_has_one() {
+        renders(r"x_1", "x₁");
+        renders(r"x_{12}", "x₁₂");
+        renders(r"x_{xy}", "x₍ₓᵧ₎");
+        renders(r"x_{i=1}", "x₍ᵢ₌₁₎");
+    }
+
+    #[test]
+    fn subscripts_fall_back_to_underscore() {
+        renders(r"\Omega_b", "Ω_b");
+        renders(r"x_{bc}", "x_(bc)");
+        renders(r"x_{\text{max}}", "x₍ₘₐₓ₎");
+        renders(r"x_{\text{body}}", "x_(body)");
+    }
+
+    #[test]
+    fn superscripts() {
+        renders(r"x^2", "x²");
+        renders(r"x^{-1}", "x⁻¹");
+        renders(r"x^{ab}", "x⁽ᵃᵇ⁾");
+        renders(r"x^q", "x^q");
+        renders(r"x^{qq}", "x^(qq)");
+        renders(r"e^{-t/\tau}", "e^(−t/τ)");
+        renders(r"A^T", "Aᵀ");
+        renders(r"30^\circ", "30°");
+        renders(r"f'(x) + g^{\prime\prime}", "f′(x) + g′′");
+    }
+
+    #[test]
+    fn sub_and_superscript_together() {
+        renders(r"I_i^2", "Iᵢ²");
+        renders(r"x^2_1", "x₁²");
+    }
+
+    #[test]
+    fn script_on_a_compound_base_is_parenthesised() {
+        renders(r"{ab}^2", "(ab)²");
+        renders(r"\frac{a}{b}^2", "(a/b)²");
+        renders(r"(a+b)^2", "(a + b)²");
+    }
+
+    #[test]
+    fn accents_on_a_letter_are_combining_marks() {
+        renders(r"\dot x", "x\u{307}");
+        renders(r"\ddot x", "x\u{308}");
+        renders(r"\vec x", "x\u{20d7}");
+        renders(r"\hat x", "x\u{302}");
+        renders(r"\bar x", "x\u{304}");
+        renders(r"\tilde x", "x\u{303}");
+        renders(r"\hat{\mathbf n}", "n\u{302}");
+        renders(r"\dot{\omega_1}", "ω\u{307}₁");
+        renders(r"\dot{\vec L}", "L\u{20d7}\u{307}");
+    }
+
+    #[test]
+    fn accents_on_a_group_fall_back() {
+        renders(r"\bar{AB}", "A\u{305}B\u{305}");
+        renders(r"\overline{AB}", "A\u{305}B\u{305}");
+        renders(r"\dot{(x+y)}", "(x + y)˙");
+        renders(r"\hat{xy}", "(xy)ˆ");
+        renders(r"\vec{AB}", "(AB)\u{20d7}");
+    }
+
+    #[test]
+    fn fractions_get_the_parentheses_they_need() {
+        renders(r"\frac{a}{b}", "a/b");
+        renders(r"\frac{I_2-I_3}{I_1}", "(I₂ − I₃)/I₁");
+        renders(r"\frac{a}{b+c}", "a/(b + c)");
+        renders(r"\frac{a}{bc}", "a/(bc)");
+        renders(r"\frac{ab}{c}", "ab/c");
+        renders(r"\frac{a}{-b}", "a/(−b)");
+        renders(r"\frac{\frac{a}{b}}{c}", "(a/b)/c");
+        renders(r"\frac{(a+b)}{c}", "(a + b)/c");
+    }
+
+    #[test]
+    fn differentials_read_as_one_factor() {
+        renders(r"\frac{dx}{dt}", "dx/dt");
+        renders(r"\frac{d^2x}{dt^2}", "d²x/dt²");
+        renders(r"\frac{\partial L}{\partial q}", "∂L/∂q");
+        renders(r"\frac{\mathrm{d}x}{\mathrm{d}t}", "dx/dt");
+        renders(r"\frac{\Delta x}{\Delta t}", "Δx/Δt");
+    }
+
+    #[test]
+    fn fraction_is_set_apart_from_a_neighbouring_factor() {
+        renders(r"\frac{1}{2}mv^2", "1/2 mv²");
+        renders(r"2\frac{a}{b}", "2 a/b");
+        renders(r"\frac{a}{b} + c", "a/b + c");
+    }
+
+    #[test]
+    fn display_and_text_fractions() {
+        renders(r"\dfrac{a}{b}", "a/b");
+        renders(r"\tfrac{x+1}{y}", "(x + 1)/y");
+        renders(r"\dfrac{a}{b}c", "a/b c");
+    }
+
+    #[test]
+    fn font_commands_write_plain_letters() {
+        renders(r"\mathrm{diag}(a)", "diag(a)");
+        renders(r"\mathbf{F} = m\mathbf{a}", "F = ma");
+        renders(r"\mathit{x}", "x");
+        renders(r"\text{if } x", "if x");
+        renders(r"\operatorname{tr} A", "tr A");
+        renders(r"\mathbb R \mathcal L", "ℝℒ");
+    }
+
+    #[test]
+    fn named_functions_are_spaced_from_their_argument() {
+        renders(r"\sin\theta", "sin θ");
+        renders(r"\cos(\omega t)", "cos(ωt)");
+        renders(
+            r"\lim_{x\to 0} \frac{\sin x}{x} = 1",
+            "lim_(x→0) (sin x)/x = 1",
+        );
+    }
+
+    #[test]
+    fn large_operators() {
+        renders(r"\sum_{i=1}^3 x_i", "∑ᵢ₌₁³ xᵢ");
+        renders(r"\prod_i a_i", "∏ᵢ aᵢ");
+        renders(r"\int_0^1 f\,dx", "∫₀¹ f dx");
+    }
+
+    #[test]
+    fn binary_operators_are_spaced() {
+        renders(r"a \times b", "a × b");
+        renders(r"a\cdot b", "a ⋅ b");
+        renders(r"a \pm b", "a ± b");
+        renders(r"a - b", "a − b");
+        renders(r"a+b", "a + b");
+    }
+
+    #[test]
+    fn signs_are_not_spaced() {
+        renders(r"-x", "−x");
+        renders(r"-x = -1 + -y - z", "−x = −1 + −y − z");
+        renders(r"\pm x", "±x");
+        renders(r"(-a)", "(−a)");
+        renders(r"a = +b", "a = +b");
+    }
+
+    #[test]
+    fn relations_are_spaced() {
+        renders(
+            r"a \approx b \Rightarrow c \to d \rightarrow e \le f \ge g \ne h \neq i",
+            "a ≈ b ⇒ c → d → e ≤ f ≥ g ≠ h ≠ i",
+        );
+        renders(
+            r"a \equiv b \propto c \perp d \parallel e \ll f \gg g \sim h",
+            "a ≡ b ∝ c ⟂ d ∥ e ≪ f ≫ g ∼ h",
+        );
+        renders(r"a=b", "a = b");
+        renders(r"a\not= b", "a ≠ b");
+    }
+
+    #[test]
+    fn symbols() {
+        renders(r"\partial\infty", "∂∞");
+        renders(r"1, 2, \ldots, n", "1, 2, …, n");
+        renders(r"a_1 + \cdots + a_n", "a₁ + ⋯ + aₙ");
+        renders(r"\dots", "⋯");
+        renders(r"\langle x \rangle \|v\| |x|", "⟨x⟩∥v∥|x|");
+    }
+
+    #[test]
+    fn square_roots() {
+        renders(r"\sqrt{x}", "√x");
+        renders(r"\sqrt{x+y}", "√(x + y)");
+        renders(r"\sqrt{2}", "√2");
+        renders(r"\sqrt{I_1 I_2}", "√(I₁I₂)");
+        renders(r"\sqrt{\frac{a}{b}}", "√(a/b)");
+        renders(r"\sqrt[3]{x}", "∛x");
+        renders(r"\sqrt[n]{x}", "ⁿ√x");
+    }
+
+    #[test]
+    fn delimiter_sizes_are_dropped() {
+        renders(r"\left( \frac{a}{b} \right)", "(a/b)");
+        renders(r"\big( x \big)", "(x)");
+        renders(r"\Big[ y \Big]", "[y]");
+        renders(r"\bigl( z \bigr)", "(z)");
+        renders(r"\left| x \right|", "|x|");
+        renders(r"\left. x \right|", "x|");
+    }
+
+    #[test]
+    fn spacing_commands() {
+        renders(r"a\quad b", "a  b");
+        renders(r"a\qquad b", "a    b");
+        renders(r"a\,b", "a b");
+        renders(r"a\;b", "a b");
+        renders(r"a\:b", "a b");
+        renders(r"a\!b", "ab");
+        renders(r"a~b", "a b");
+        renders(r"a\ b", "a b");
+        renders(r"a \, = b", "a = b");
+        renders(r"\quad a \quad", "a");
+    }
+
+    #[test]
+    fn environments() {
+        renders(
+            r"\begin{pmatrix} a & b \\ c & d \end{pmatrix}",
+            "(a, b; c, d)",
+        );
+        renders(
+            r"\begin{cases} 1 & x > 0 \\ 0 & \text{otherwise} \end{cases}",
+            "{ 1  x > 0; 0  otherwise",
+        );
+        renders(
+            r"\begin{aligned} a &= b + c \\ d &= e \end{aligned}",
+            "a = b + c\nd = e",
+        );
+    }
+
+    #[test]
+    fn unknown_commands_are_errors() {
+        for latex in [r"\foo", r"x + \unknowncmd{y}", r"\dddot x"] {
+            let err = math_to_unicode(latex).unwrap_err();
+            assert!(err.message.starts_with("unknown LaTeX command"), "{err:?}");
+            assert_eq!(Some(err.offset), latex.find('\\'), "{latex}");
+        }
+    }
+
+    #[test]
+    fn empty_formula_is_empty() {
+        renders("", "");
+        renders("  ", "");
+        renders("{}", "");
     }
 }
