@@ -3,7 +3,7 @@
 //! needs, scripts as Unicode sub- and superscripts where they exist.
 
 use super::glyphs::{self, Accent};
-use super::tree::{Class, EnvKind, Leaf, Node};
+use super::tree::{Class, EnvKind, Leaf, Node, Scripted};
 
 /// Write the formula's nodes to `out`.
 pub(super) fn render(nodes: &[Node<'_>], out: &mut String) {
@@ -150,7 +150,11 @@ fn class_of(node: &Node<'_>) -> Class {
                 _ => Class::Ord,
             }
         }
-        Node::Script { base, .. } | Node::Accent(base, _) => match class_of(base) {
+        Node::Script(scripted) => match class_of(&scripted.base) {
+            Class::Frac | Class::Radical => Class::Ord,
+            other => other,
+        },
+        Node::Accent(base, _) => match class_of(base) {
             Class::Frac | Class::Radical => Class::Ord,
             other => other,
         },
@@ -225,7 +229,8 @@ fn node_shape(node: &Node<'_>, out: &mut String, mode: Mode) -> Shape {
             env(*kind, rows, out, mode);
             Shape::atom()
         }
-        Node::Script { base, sub, sup } => {
+        Node::Script(scripted) => {
+            let Scripted { base, sub, sup } = &**scripted;
             let start = out.len();
             if node_shape(base, out, mode).compound() {
                 wrap(out, start);
@@ -243,7 +248,8 @@ fn node_shape(node: &Node<'_>, out: &mut String, mode: Mode) -> Shape {
             accented(base, *accent, out, mode);
             Shape::atom()
         }
-        Node::Frac(num, den) => {
+        Node::Frac(parts) => {
+            let [num, den] = &**parts;
             let start = out.len();
             if node_shape(num, out, mode).needs_parens_as_numerator() {
                 wrap(out, start);
@@ -263,7 +269,8 @@ fn node_shape(node: &Node<'_>, out: &mut String, mode: Mode) -> Shape {
             radicand_shape(radicand, out, mode);
             Shape::atom()
         }
-        Node::Root(radicand, index) => {
+        Node::Root(parts) => {
+            let [radicand, index] = &**parts;
             let mut idx = String::new();
             node_shape(index, &mut idx, Mode::Script);
             match idx.as_str() {
@@ -339,33 +346,48 @@ enum Position {
 /// has one (parenthesised with script parentheses when it is more than one
 /// symbol or number), else `_x`, `_(xy)`, `^x`, `^(xy)`.
 fn script(node: &Node<'_>, out: &mut String, position: Position, limits: bool) {
-    let mut written = String::new();
-    node_shape(node, &mut written, Mode::Script);
-    if written.is_empty() {
+    let start = out.len();
+    node_shape(node, out, Mode::Script);
+    if start == out.len() {
         return;
     }
     let (map, open, close, marker): (fn(char) -> Option<char>, _, _, _) = match position {
         Position::Sub => (glyphs::subscript, '₍', '₎', '_'),
         Position::Sup => (glyphs::superscript, '⁽', '⁾', '^'),
     };
-    let single = glyphs::is_single_glyph(&written) || is_number(&written) || is_primes(&written);
-    match converted(&written, map) {
-        Some(raised) if single || limits => out.push_str(&raised),
-        Some(raised) => {
-            out.push(open);
-            out.push_str(&raised);
-            out.push(close);
-        }
-        None if single => {
-            out.push(marker);
-            out.push_str(&written);
-        }
-        None => {
-            out.push(marker);
-            out.push('(');
-            out.push_str(&written);
+    let written = &out[start..];
+    let single = glyphs::is_single_glyph(written) || is_number(written) || is_primes(written);
+    let convertible = written
+        .chars()
+        .all(|c| glyphs::is_combining(c) || map(c).is_some());
+    if !convertible {
+        if single {
+            out.insert(start, marker);
+        } else {
+            out.insert(start, '(');
+            out.insert(start, marker);
             out.push(')');
         }
+        return;
+    }
+    // Rewrite the tail in place; scripts are short, so a stack copy.
+    let mut copy = [0u8; 64];
+    let owned;
+    let tail: &str = if written.len() <= copy.len() {
+        copy[..written.len()].copy_from_slice(written.as_bytes());
+        std::str::from_utf8(&copy[..written.len()]).unwrap_or_default()
+    } else {
+        owned = written.to_string();
+        &owned
+    };
+    out.truncate(start);
+    let parens = !(single || limits);
+    if parens {
+        out.push(open);
+    }
+    out.extend(tail.chars().map(|c| map(c).unwrap_or(c)));
+    if parens {
+        out.push(close);
     }
 }
 
