@@ -3,6 +3,8 @@
 
 pub mod bench;
 pub mod cli;
+pub mod elliptic;
+pub mod exact;
 pub mod model;
 pub mod solver;
 
