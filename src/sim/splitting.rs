@@ -301,8 +301,8 @@ mod tests {
         rotate(&mut p, 2, theta);
         let (s, c) = theta.sin_cos();
         let expected = [c * 1.0 + s * 2.0, c * 2.0 - s * 1.0, 3.0];
-        for k in 0..3 {
-            assert!((p.l[k] - expected[k]).abs() < 1e-15);
+        for (got, want) in p.l.iter().zip(&expected) {
+            assert!((got - want).abs() < 1e-15);
         }
         let q = p.q.unwrap();
         let want = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), theta);
