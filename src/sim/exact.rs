@@ -50,6 +50,9 @@ pub enum Regime {
     Separatrix { middle: usize },
 }
 
+// One per solver, read on every evaluation: boxing the large variant
+// would only add an indirection.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 enum Motion {
     Steady,
@@ -227,7 +230,10 @@ impl Motion {
             return Motion::Steady;
         }
         let scale = power_of_two_at_most(largest);
-        let w = omega / scale;
+        // Components below 2^-500 |ω| are dropped: their squares would
+        // underflow next to the others, and such a perturbation needs
+        // λt > 340 to reach even the last digit of ω.
+        let w = (omega / scale).map(|v| if v.abs() < TINY_COMPONENT { 0.0 } else { v });
         // ω is an eigenvector of I exactly when (I ω) × ω vanishes.
         let steady = (0..3).all(|k| {
             let (a, b) = ((k + 1) % 3, (k + 2) % 3);
@@ -239,8 +245,14 @@ impl Motion {
         let mut ascending = [0, 1, 2];
         ascending.sort_by(|&a, &b| i[a].total_cmp(&i[b]));
         let [small, mid, large] = ascending;
-        let d2 = i[large] * (i[large] - i[mid]) * (w[large] * w[large])
-            - i[small] * (i[mid] - i[small]) * (w[small] * w[small]);
+        // The sign of D₂ = L² − 2T I_mid picks the circulation axis; scaling
+        // the two components first keeps tiny perturbations from underflowing.
+        let gap_scale = power_of_two_at_most(w[small].abs().max(w[large].abs()));
+        let d2 = orbit::middle_gap(
+            [i[small], i[mid], i[large]],
+            w[small] / gap_scale,
+            w[large] / gap_scale,
+        );
         let frame = Frame::new(if d2 >= 0.0 {
             [small, mid, large]
         } else {
@@ -269,6 +281,9 @@ fn steady_rotation(omega: &Vector3<f64>, t: f64) -> UnitQuaternion<f64> {
     let axis = unit / norm;
     UnitQuaternion::new_unchecked(Quaternion::new(c, s * axis[0], s * axis[1], s * axis[2]))
 }
+
+/// 2^-500: relative size below which a component of ω₀ is treated as zero.
+const TINY_COMPONENT: f64 = 3.054936363499605e-151;
 
 /// The largest power of two not above x (x > 0, finite), kept well inside
 /// the normal range.

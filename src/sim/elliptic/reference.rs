@@ -2,6 +2,7 @@
 //! in 400-digit arithmetic for the exact binary values of u and m_c, at
 //! fractions of K from tiny arguments through several periods.
 
+#![allow(clippy::approx_constant)] // computed values that happen to equal constants
 pub const TABLE: &[(f64, f64, f64, f64, f64)] = &[
     // m_c = 1.0: K = 1.5707963267948966192
     // m_c = 0.999999999999: K = 1.5707963267952893096

@@ -1,42 +1,41 @@
 //! The exact orientation q(t), body → space, in the internal frame.
 //!
-//! Write l̂ = L_body/|L| and n = σ e₃ (σ = sign ω₃, so n·l̂ = |L₃|/|L| ≥ 0
-//! never vanishes along the orbit). Let M(t) be the smallest rotation taking
-//! l̂(t) to n, as a quaternion M ∝ (|L| + |L₃|, σL₂, −σL₁, 0). Then
+//! Write l̂ = L_body/|L| and n = σ e₃ (σ = sign ω₃, so n·l̂ = |L₃|/|L| > 0
+//! along the whole orbit). Let M(t) be the smallest rotation taking l̂(t) to
+//! n, as a quaternion M ∝ (|L| + |L₃|, σL₂, −σL₁, 0). Then
 //!
 //!   q(t) = M(0)⁻¹ ⊗ R_n(ψ(t)) ⊗ M(t),
 //!
 //! because q(t) l̂(t) = M(0)⁻¹ n = l̂(0) is the constant space-frame L, and
 //! only the angle ψ about n is left. Matching body angular velocities,
-//! ω = ω_M + ψ̇ l̂, and the twist of the smallest rotation is
-//! ω_M·l̂ = n·(l̂ × l̂̇)/(1 + n·l̂); with l̂̇ = l̂ × ω (Euler's equations):
+//! ω = ω_M + ψ̇ l̂, where the twist of the smallest rotation is
+//! ω_M·l̂ = n·(l̂ × l̂̇)/(1 + n·l̂); with l̂̇ = l̂ × ω (Euler's equations),
 //!
-//!   ψ̇ = (2T/|L| + n·ω) / (1 + n·l̂) = (2T + |L| A₃ dn u) / (|L| + J₃ A₃ dn u).
+//!   ψ̇ = (2T/|L| + n·ω)/(1 + n·l̂) = (2T + |L|A₃ dn u)/(|L| + β dn u)
+//!      = |L|/J₃ + (D₃/(J₃β)) / (ρ + dn u),      β = J₃A₃, ρ = |L|/β ≥ 1.
 //!
-//! Splitting 1/(α + β dn) = (α − β dn)/(α² − β² dn²) and using dn du = d(am u)
-//! integrates this in closed form (all signs checked against Euler's
-//! equations and against the constancy of q (Iω) q⁻¹ in the tests):
+//! Integrating 1/(ρ + dn) through the amplitude (Π(n; am u) and an arctangent)
+//! would split this smooth integrand into two sharp, nearly cancelling
+//! pieces whenever L passes close to the pole n (needle-like bodies). The
+//! descending Landen transformation avoids that: with k₁ = (1 − k')/(1 + k'),
+//! v = u/(1 + k₁) and s₁ = sn(v | k₁²), dn(u) = (1 − k₁s₁²)/(1 + k₁s₁²), so
 //!
-//!   ψ(t) = (|L|/J₃) t + C [P(u) − P(u₀)] − ε [Θ(u) − Θ(u₀)],
-//!   P(u) = Π(n; am u | m),  n = −J₃(J₂−J₁)/(J₁(J₃−J₂)) ≤ 0,
-//!   C = |L|(J₃−J₁)/(J₁J₃λ),  Θ(u) = atan(κ tan am u),  κ² = J₂(J₃−J₁)/(J₁(J₃−J₂)).
+//!   ∫₀ᵘ dw/(ρ + dn w) = (1 + k₁)/(ρ + 1) · [v + 2k₁/(ρ + 1) · G(v)],
+//!   G(v) = ∫₀ᵛ s₁²/(1 − N₁s₁²) = (1/3) s₁³ R_J(c₁², d₁², 1, 1 − N₁s₁²),
+//!   N₁ = −k₁(ρ − 1)/(ρ + 1) ∈ (−1, 0],
 //!
-//! The arctangent term has coefficient exactly ε (the amplitudes cancel). Two
-//! rewritings keep every digit:
-//! - P is never evaluated through the amplitude φ = am u, whose error near
-//!   φ = π/2 is amplified by 1/Δ ~ 1/√m_c. Instead P(r) = r + (n/3) sn³ R_J(cn²,
-//!   dn², 1, 1 − n sn²) for |r| ≤ K/2, and for K/2 < |r| ≤ K the reflected
-//!   form about K, with w = K − |r| and relatively accurate sn, cn, dn of w:
-//!   P(K − w) = Π(n|m) − w/(1−n) + n m_c sn³ R_J(cn², dn², 1, (dn² − n cn²)/(1−n)) / (3(1−n)²).
-//!   P grows by 2Π(n|m) and Θ by π per half period 2K.
-//! - The linear rate is |L|/J_max (J_max the largest moment) and every
-//!   other term is non-negative: for J₁ > J₂ > J₃ this means moving C·u out
-//!   of C·P (|L|/J₃ + Cλ = |L|/J₁), which avoids cancelling a rate of order
-//!   |L|/J_min against another for needle-like bodies.
+//! a sum of positive terms. Near the quarter period the reflected form about
+//! K₁ keeps relative accuracy (see [`g_reduced`]). ψ is then its mean rate
+//! times t plus a bounded periodic part. The mean rate is |L|/J₃ plus a
+//! positive term when J₃ is the largest moment; when J₃ is the smallest the
+//! two terms nearly cancel for needle-like bodies, so the mean of the
+//! (positive) ψ̇ is taken by the trapezoidal rule over one period instead,
+//! which converges geometrically because ψ̇ is analytic in |Im u| < K'.
+//! Every sign here is checked against Euler's equations and the constancy
+//! of q (Iω) q⁻¹ in the tests.
 
 use super::orbit::{Orbit, Point, Shape};
-use crate::sim::elliptic::{self, carlson};
-use std::f64::consts::PI;
+use crate::sim::elliptic::{Jacobi, carlson};
 
 /// A quaternion as (w, x, y, z).
 pub(super) type Quat = [f64; 4];
@@ -50,29 +49,32 @@ pub(super) fn mul(a: Quat, b: Quat) -> Quat {
     ]
 }
 
+// One per solver, read on every evaluation: boxing the large variant
+// would only add an indirection.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 enum Angle {
     /// Symmetric top: ψ̇ = |L|/J₁ − ελ is constant.
     Uniform,
-    /// Asymmetric body off the separatrix.
-    Periodic {
-        n: f64,
-        mc: f64,
-        /// 0 when J₃ is the largest moment, 1 when the smallest.
-        beta: f64,
-        /// Π(n|m) − K.
-        pi_minus_k: f64,
-        /// ψ gained per half period 2K beyond the linear term.
-        per_half: f64,
-        /// The periodic part at t = 0, and its half-period count.
+    /// Asymmetric body off the separatrix: ψ = lin t + scale (G̃(r₁) − G̃(r₁₀)),
+    /// G̃ the periodic part of G, r₁ = r/(1 + k₁) the reduced Landen phase.
+    Landen {
+        jacobi1: Jacobi,
+        k1: f64,
+        /// K₁ = K/(1 + k₁), N₁, G(K₁) and G(K₁)/K₁.
+        quarter1: f64,
+        n1: f64,
+        g_quarter: f64,
+        g_slope: f64,
+        scale: f64,
         offset: f64,
-        half_periods0: f64,
     },
-    /// On the separatrix, P(u) = [u + ν atan(ν tanh u)]/(1 − n), ν = √−n.
+    /// On the separatrix the integral is elementary: with dn = sech,
+    /// ∫ du/(ρ + sech u) = u/ρ − (2/(ρ√(ρ²−1))) atan(√((ρ−1)/(ρ+1)) tanh(u/2)).
     Separatrix {
-        nu: f64,
-        /// C ν / (1 − n).
-        coefficient: f64,
+        /// √((ρ−1)/(ρ+1)) and the coefficient of the arctangent in ψ.
+        ratio: f64,
+        scale: f64,
         offset: f64,
     },
 }
@@ -80,10 +82,8 @@ enum Angle {
 /// Everything ψ(t) and M(t) need beyond the orbit, computed once.
 #[derive(Debug, Clone)]
 pub(super) struct Attitude {
-    /// Coefficient of t in ψ, in the caller's time.
+    /// Mean rate of ψ, in the caller's time.
     lin: f64,
-    c: f64,
-    kappa: f64,
     angle: Angle,
     /// M(0)⁻¹.
     q0: Quat,
@@ -91,66 +91,75 @@ pub(super) struct Attitude {
 
 impl Attitude {
     pub(super) fn new(orbit: &Orbit, time_scale: f64) -> Attitude {
-        let [j1, j2, j3] = orbit.j;
+        let [j1, _, j3] = orbit.j;
         let l = orbit.l_norm;
-        let c = l * orbit.d31 / (j1 * j3 * orbit.rate_scaled);
-        let kappa = (j2 * orbit.d31 / (j1 * orbit.d32)).sqrt();
-        let n = -j3 * orbit.d21 / (j1 * orbit.d32);
         let at_start = orbit.point(0.0);
         let m0 = smallest_rotation(orbit, &at_start);
         let q0 = [m0[0], -m0[1], -m0[2], -m0[3]];
-        let mut attitude = Attitude {
-            lin: 0.0,
-            c,
-            kappa,
-            angle: Angle::Uniform,
-            q0,
-        };
-        match &orbit.shape {
-            Shape::Circular => {
-                attitude.lin = time_scale * (l / j1 - orbit.eps * orbit.rate_scaled);
-            }
-            Shape::Elliptic { jacobi, .. } => {
-                let beta = if orbit.eps > 0.0 { 0.0 } else { 1.0 };
-                let j_max = if orbit.eps > 0.0 { j3 } else { j1 };
-                let mc = jacobi.mc();
-                let pi_minus_k = elliptic::complete_pi_minus_k(n, mc);
-                let per_half = 2.0 * c * ((1.0 - beta) * jacobi.k() + pi_minus_k) - orbit.eps * PI;
-                attitude.lin = time_scale * l / j_max;
-                attitude.angle = Angle::Periodic {
-                    n,
-                    mc,
-                    beta,
-                    pi_minus_k,
-                    per_half,
-                    offset: 0.0,
-                    half_periods0: at_start.reduced.half_periods,
+        let beta = j3 * orbit.amp[2].abs();
+        // ρ − 1 = (|L|² − β²)/(β(|L| + β)) with |L|² − β² = J₁D₃/(J₃ − J₁) ≥ 0.
+        let rho_minus_1 = j1 * orbit.big_d3 / orbit.d31 / (beta * (l + beta));
+        let rho_plus_1 = 2.0 + rho_minus_1;
+        // ψ̇ = |L|/J₃ + coefficient / (ρ + dn), in scaled time.
+        let coefficient = orbit.big_d3 / (j3 * beta);
+        let (lin_scaled, angle) = match &orbit.shape {
+            Shape::Circular => (l / j1 - orbit.eps * orbit.rate_scaled, Angle::Uniform),
+            Shape::Elliptic { jacobi, m } => {
+                let kc = jacobi.kc();
+                let k1 = m / ((1.0 + kc) * (1.0 + kc));
+                let mc1 = 4.0 * kc / ((1.0 + kc) * (1.0 + kc));
+                let n1 = -k1 * rho_minus_1 / rho_plus_1;
+                let quarter1 = jacobi.k() / (1.0 + k1);
+                let g_quarter = carlson::rj(0.0, mc1, 1.0, 1.0 - n1) / 3.0;
+                let g_slope = g_quarter / quarter1;
+                let mean = if orbit.eps > 0.0 {
+                    let f_mean = (1.0 + 2.0 * k1 / rho_plus_1 * g_slope) / rho_plus_1;
+                    l / j3 + coefficient * f_mean
+                } else {
+                    mean_rate(orbit, jacobi, beta)
                 };
-                let offset = attitude.periodic(orbit, &at_start);
-                if let Angle::Periodic { offset: o, .. } = &mut attitude.angle {
-                    *o = offset;
-                }
+                let scale = coefficient / orbit.rate_scaled * (1.0 + k1) * 2.0 * k1
+                    / (rho_plus_1 * rho_plus_1);
+                let angle = Angle::Landen {
+                    jacobi1: Jacobi::new(mc1),
+                    k1,
+                    quarter1,
+                    n1,
+                    g_quarter,
+                    g_slope,
+                    scale,
+                    offset: 0.0,
+                };
+                (mean, angle)
             }
             Shape::Separatrix => {
-                let nu = (-n).sqrt();
-                attitude.lin = time_scale * (l / j3 + c * orbit.rate_scaled / (1.0 - n));
-                attitude.angle = Angle::Separatrix {
-                    nu,
-                    coefficient: c * nu / (1.0 - n),
+                // ρ² − 1 = (ρ − 1)(ρ + 1)
+                let root = (rho_minus_1 * rho_plus_1).sqrt();
+                let rho = 1.0 + rho_minus_1;
+                let angle = Angle::Separatrix {
+                    ratio: (rho_minus_1 / rho_plus_1).sqrt(),
+                    scale: -2.0 * coefficient / (orbit.rate_scaled * rho * root),
                     offset: 0.0,
                 };
-                let offset = attitude.periodic(orbit, &at_start);
-                if let Angle::Separatrix { offset: o, .. } = &mut attitude.angle {
-                    *o = offset;
-                }
+                (l / j3 + coefficient / rho, angle)
             }
+        };
+        let mut attitude = Attitude {
+            lin: time_scale * lin_scaled,
+            angle,
+            q0,
+        };
+        let start = attitude.periodic(&at_start);
+        match &mut attitude.angle {
+            Angle::Landen { offset, .. } | Angle::Separatrix { offset, .. } => *offset = start,
+            Angle::Uniform => {}
         }
         attitude
     }
 
     /// The orientation (internal frame) at time t, given the orbit there.
     pub(super) fn orientation(&self, orbit: &Orbit, point: &Point, t: f64) -> Quat {
-        let psi = self.psi(orbit, point, t);
+        let psi = self.psi(point, t);
         let (s, c) = (0.5 * psi).sin_cos();
         let m = smallest_rotation(orbit, point);
         let sigma = orbit.sigma;
@@ -164,65 +173,78 @@ impl Attitude {
         mul(self.q0, rm)
     }
 
-    pub(super) fn psi(&self, orbit: &Orbit, point: &Point, t: f64) -> f64 {
+    fn psi(&self, point: &Point, t: f64) -> f64 {
         let linear = self.lin * t;
         match &self.angle {
             Angle::Uniform => linear,
-            Angle::Periodic {
-                per_half,
-                offset,
-                half_periods0,
-                ..
-            } => {
-                linear
-                    + (point.reduced.half_periods - half_periods0) * per_half
-                    + (self.periodic(orbit, point) - offset)
+            Angle::Landen { offset, .. } | Angle::Separatrix { offset, .. } => {
+                linear + (self.periodic(point) - offset)
             }
-            Angle::Separatrix { offset, .. } => linear + (self.periodic(orbit, point) - offset),
         }
     }
 
-    /// C g(r) − ε Θ(r): the bounded part of ψ within the current half period.
-    fn periodic(&self, orbit: &Orbit, point: &Point) -> f64 {
-        let theta = (self.kappa * point.sn).atan2(point.cn);
+    /// The bounded part of ψ at this point of the orbit.
+    fn periodic(&self, point: &Point) -> f64 {
         match &self.angle {
             Angle::Uniform => 0.0,
-            Angle::Periodic {
-                n,
-                mc,
-                beta,
-                pi_minus_k,
+            Angle::Landen {
+                jacobi1,
+                k1,
+                quarter1,
+                n1,
+                g_quarter,
+                g_slope,
+                scale,
                 ..
             } => {
-                let r = point.reduced.r;
-                let g_abs = match point.quarter {
-                    Some(q) => (1.0 - beta) * r.abs() + p_tilde(*n, *mc, *pi_minus_k, &q),
-                    None => (1.0 - beta) * r.abs(),
-                };
-                let g = if r.is_sign_negative() { -g_abs } else { g_abs };
-                self.c * g - orbit.eps * theta
+                let r1 = point.reduced.r / (1.0 + k1);
+                let g = g_reduced(jacobi1, *quarter1, *n1, *g_quarter, r1);
+                scale * (g - g_slope * r1)
             }
-            Angle::Separatrix {
-                nu, coefficient, ..
-            } => coefficient * (nu * point.sn).atan() - theta,
+            Angle::Separatrix { ratio, scale, .. } => {
+                let u = point.reduced.r;
+                scale * (ratio * (0.5 * u).tanh()).atan()
+            }
         }
     }
 }
 
-/// P(|r|) − |r| from the relatively accurate functions at |r| or at K − |r|.
-fn p_tilde(n: f64, mc: f64, pi_minus_k: f64, q: &elliptic::Quarter) -> f64 {
-    if n == 0.0 {
-        return 0.0;
-    }
-    let (s, c, d) = (q.sn, q.cn, q.dn);
-    let (s2, c2, d2) = (s * s, c * c, d * d);
-    if q.reflected {
-        let one_n = 1.0 - n;
-        let rj = carlson::rj(c2, d2, 1.0, (d2 - n * c2) / one_n);
-        pi_minus_k - (q.arg * n / one_n - n * mc * s * s2 * rj / (3.0 * one_n * one_n))
+/// G(r) = ∫₀ʳ s²/(1 − N s²) at the Landen level for |r| ≤ K₁, from the
+/// functions at |r| or, past K₁/2, at w = K₁ − |r|, where
+/// G(K₁ − w) = G(K₁) − [w − m_c₁/(1−N) · (1/3) sn³w R_J(cn²w, dn²w, 1, (dn²w − N cn²w)/(1 − N))]/(1 − N).
+fn g_reduced(jacobi1: &Jacobi, quarter1: f64, n1: f64, g_quarter: f64, r: f64) -> f64 {
+    let ra = r.abs();
+    let value = if ra <= 0.5 * quarter1 {
+        let q = jacobi1.quarter(ra);
+        let s2 = q.sn * q.sn;
+        q.sn * s2 * carlson::rj(q.cn * q.cn, q.dn * q.dn, 1.0, 1.0 - n1 * s2) / 3.0
     } else {
-        n / 3.0 * s * s2 * carlson::rj(c2, d2, 1.0, 1.0 - n * s2)
-    }
+        let w = (quarter1 - ra).max(0.0);
+        let q = jacobi1.quarter(w);
+        let (s2, c2, d2) = (q.sn * q.sn, q.cn * q.cn, q.dn * q.dn);
+        let one_n = 1.0 - n1;
+        let rj = carlson::rj(c2, d2, 1.0, (d2 - n1 * c2) / one_n);
+        g_quarter - (w - jacobi1.mc() / one_n * q.sn * s2 * rj / 3.0) / one_n
+    };
+    if r.is_sign_negative() { -value } else { value }
+}
+
+/// The mean of ψ̇ = (2T + |L|A₃ dn)/(|L| + β dn) over a period, by the
+/// trapezoidal rule: the integrand is periodic (period 2K) and analytic in
+/// the strip |Im u| < K', so the error falls like exp(−πK'N/K).
+fn mean_rate(orbit: &Orbit, jacobi: &Jacobi, beta: f64) -> f64 {
+    let k = jacobi.k();
+    let k_prime = Jacobi::new(1.0 - jacobi.mc()).k();
+    let nodes = (14.0 * k / k_prime).ceil().clamp(8.0, 1e6) as usize;
+    let a3 = orbit.amp[2].abs();
+    let (two_t, l) = (orbit.two_t, orbit.l_norm);
+    let sum: f64 = (0..nodes)
+        .map(|i| {
+            let (_, _, dn) = jacobi.sncndn(2.0 * k * i as f64 / nodes as f64);
+            (two_t + l * a3 * dn) / (l + beta * dn)
+        })
+        .sum();
+    sum / nodes as f64
 }
 
 /// M(t) ∝ (|L| + |L₃|, σL₂, −σL₁, 0): the smallest rotation taking l̂ to σe₃.

@@ -32,12 +32,12 @@ impl Frame {
     }
 
     /// The user axis that internal axis `k` comes from.
-    pub(super) fn user_axis(&self, k: usize) -> usize {
+    pub(super) fn user_axis(self, k: usize) -> usize {
         self.perm[k]
     }
 
     /// Components of a user-frame vector along the internal axes.
-    pub(super) fn to_internal(&self, v: &Vector3<f64>) -> [f64; 3] {
+    pub(super) fn to_internal(self, v: &Vector3<f64>) -> [f64; 3] {
         [
             self.sign[0] * v[self.perm[0]],
             self.sign[1] * v[self.perm[1]],
@@ -46,7 +46,7 @@ impl Frame {
     }
 
     /// Moments of inertia along the internal axes (no signs: a tensor).
-    pub(super) fn moments(&self, inertia: &Vector3<f64>) -> [f64; 3] {
+    pub(super) fn moments(self, inertia: &Vector3<f64>) -> [f64; 3] {
         [
             inertia[self.perm[0]],
             inertia[self.perm[1]],
@@ -56,7 +56,7 @@ impl Frame {
 
     /// A vector (angular velocity or quaternion vector part) back in the
     /// user's axes.
-    pub(super) fn to_user(&self, v: [f64; 3]) -> Vector3<f64> {
+    pub(super) fn to_user(self, v: [f64; 3]) -> Vector3<f64> {
         let mut out = Vector3::zeros();
         for (k, value) in v.into_iter().enumerate() {
             out[self.perm[k]] = self.sign[k] * value;

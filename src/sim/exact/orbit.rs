@@ -18,11 +18,16 @@
 //! d dn = −m sn cn): J₁ω̇₁ = (J₂−J₃)ω₂ω₃ forces s₁ = ε s₂ s₃, and cyclically.
 //! The D's are never formed as differences of L² and 2TJ: each is expanded
 //! into inertia differences times ω², e.g. D₁ = J₂(J₂−J₁)ω₂² + J₃(J₃−J₁)ω₃²,
-//! so m_c keeps its relative accuracy next to the separatrix (D₂ → 0), and
-//! D₂ = J₃(J₃−J₂)ω₃² − J₁(J₂−J₁)ω₁² is exactly zero when the products are.
+//! so m_c keeps its relative accuracy next to the separatrix (D₂ → 0).
+//! D₂ = J₃(J₃−J₂)ω₃² − J₁(J₂−J₁)ω₁² is a genuine difference: its two terms
+//! are evaluated in double-double, so it is exactly zero when they are equal
+//! and otherwise correct to about 1e-32 of their size.
 
-use crate::sim::elliptic::{self, Jacobi, Quarter, Reduced};
+use crate::sim::elliptic::{self, Jacobi, Reduced};
 
+// One per solver, read on every evaluation: boxing the large variant
+// would only add an indirection.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 pub(super) enum Shape {
     /// m = 0 exactly (two equal moments): sin, cos, 1.
@@ -40,16 +45,16 @@ pub(super) enum Shape {
 pub(super) struct Orbit {
     /// Internal moments J₁, J₂, J₃ (scaled).
     pub j: [f64; 3],
-    /// J₂ − J₁, J₃ − J₁, J₃ − J₂.
-    pub d21: f64,
+    /// J₃ − J₁.
     pub d31: f64,
-    pub d32: f64,
     /// sign(J₃ − J₁): +1 when ω circulates about the largest moment.
     pub eps: f64,
     /// sign ω₃, constant along the orbit.
     pub sigma: f64,
-    /// |L| (scaled).
+    /// |L|, 2T and D₃ = 2TJ₃ − L² (scaled).
     pub l_norm: f64,
+    pub two_t: f64,
+    pub big_d3: f64,
     /// Signed amplitudes of ω₁ (cn), ω₂ (sn), ω₃ (dn) (scaled).
     pub amp: [f64; 3],
     /// λ in scaled time, and λ in the caller's time (λ̂ × time scale).
@@ -66,11 +71,6 @@ pub(super) struct Point {
     pub omega: [f64; 3],
     /// The phase u = 2jK + r (Circular: j = 0, r = u; Separatrix: likewise).
     pub reduced: Reduced,
-    /// sn r and cn r (cn r ≥ 0 when elliptic).
-    pub sn: f64,
-    pub cn: f64,
-    /// The relatively accurate functions behind sn r, cn r (elliptic only).
-    pub quarter: Option<Quarter>,
 }
 
 impl Orbit {
@@ -85,7 +85,7 @@ impl Orbit {
         let d31 = j3 - j1;
         let d32 = j3 - j2;
         let big_d1 = j2 * d21 * (w2 * w2) + j3 * d31 * (w3 * w3);
-        let big_d2 = j3 * d32 * (w3 * w3) - j1 * d21 * (w1 * w1);
+        let big_d2 = middle_gap(j, w1, w3);
         let big_d3 = j1 * d31 * (w1 * w1) + j2 * d32 * (w2 * w2);
         let eps = if d31 > 0.0 { 1.0 } else { -1.0 };
         let sigma = if w3 >= 0.0 { 1.0 } else { -1.0 };
@@ -95,45 +95,45 @@ impl Orbit {
         let rate_scaled = (d32 * big_d1 / (j1 * j2 * j3)).sqrt();
         let l = [j1 * w1, j2 * w2, j3 * w3];
         let l_norm = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
+        let two_t = j1 * (w1 * w1) + j2 * (w2 * w2) + j3 * (w3 * w3);
 
-        let (shape, amp, u0) = if big_d2 == 0.0 {
-            // Separatrix (only reached with J₁ < J₂ < J₃): ω₁ and ω₃ keep
-            // their signs s₁, s₃ for all time, and s₂ = s₁ s₃.
+        let m = d21 * big_d3 / (d32 * big_d1);
+        let mc = d31 * big_d2 / (d32 * big_d1);
+        let (shape, amp, u0) = if m == 0.0 {
+            let amp = [a1, eps * sigma * a2, sigma * a3];
+            (Shape::Circular, amp, (eps * sigma * w2 / a2).atan2(w1 / a1))
+        } else if mc == 0.0 {
+            // Separatrix (D₂ = 0, or below the range of f64): ω₁ and ω₃
+            // keep their signs s₁, s₃ for all time, and s₂ = ε s₁ s₃.
             let s1 = if w1 >= 0.0 { 1.0 } else { -1.0 };
-            let s2 = s1 * sigma;
+            let s2 = eps * s1 * sigma;
             // sinh u₀ = tanh u₀ / sech u₀ = (s₂ω₂/A₂) / (|ω₁|/A₁)
             let u0 = (s2 * w2 * a1 / (a2 * w1.abs())).asinh();
             (Shape::Separatrix, [s1 * a1, s2 * a2, sigma * a3], u0)
         } else {
-            let m = d21 * big_d3 / (d32 * big_d1);
-            let mc = d31 * big_d2 / (d32 * big_d1);
             let amp = [a1, eps * sigma * a2, sigma * a3];
             let cn0 = w1 / a1;
             let sn0 = eps * sigma * w2 / a2;
-            if m == 0.0 {
-                (Shape::Circular, amp, sn0.atan2(cn0))
+            let jacobi = Jacobi::new(mc);
+            let dn0 = w3.abs() / a3;
+            // u₀ = F(φ₀ | m) with φ₀ = atan2(sn₀, cn₀) ∈ (−π, π]; from the
+            // squares directly, so that small cn₀, dn₀ keep their digits.
+            let base = elliptic::incomplete_f(sn0, cn0 * cn0, dn0 * dn0);
+            let u0 = if cn0 >= 0.0 {
+                base
             } else {
-                let jacobi = Jacobi::new(mc);
-                let dn0 = w3.abs() / a3;
-                // u₀ = F(φ₀ | m) with φ₀ = atan2(sn₀, cn₀) ∈ (−π, π]; from the
-                // squares directly, so that small cn₀, dn₀ keep their digits.
-                let base = elliptic::incomplete_f(sn0, cn0 * cn0, dn0 * dn0);
-                let u0 = if cn0 >= 0.0 {
-                    base
-                } else {
-                    (2.0 * jacobi.k()).copysign(sn0) - base
-                };
-                (Shape::Elliptic { jacobi, m }, amp, u0)
-            }
+                (2.0 * jacobi.k()).copysign(sn0) - base
+            };
+            (Shape::Elliptic { jacobi, m }, amp, u0)
         };
         Orbit {
             j,
-            d21,
             d31,
-            d32,
             eps,
             sigma,
             l_norm,
+            two_t,
+            big_d3,
             amp,
             rate_scaled,
             rate: rate_scaled * time_scale,
@@ -173,9 +173,6 @@ impl Orbit {
                         half_periods: 0.0,
                         r: u,
                     },
-                    sn,
-                    cn,
-                    quarter: None,
                 }
             }
             Shape::Elliptic { jacobi, .. } => {
@@ -191,9 +188,6 @@ impl Orbit {
                 Point {
                     omega: [a1 * parity * cn, a2 * parity * sn, a3 * dn],
                     reduced,
-                    sn,
-                    cn,
-                    quarter: Some(quarter),
                 }
             }
             Shape::Separatrix => {
@@ -205,11 +199,70 @@ impl Orbit {
                         half_periods: 0.0,
                         r: u,
                     },
-                    sn,
-                    cn,
-                    quarter: None,
                 }
             }
         }
+    }
+}
+
+/// D₂ = L² − 2TJ₂ = J₃(J₃−J₂)ω₃² − J₁(J₂−J₁)ω₁², in double-double arithmetic
+/// and rounded once. Near the separatrix the two terms agree to many digits;
+/// in plain f64 the rounding of each product would swamp their difference.
+pub(super) fn middle_gap(j: [f64; 3], w1: f64, w3: f64) -> f64 {
+    let [j1, j2, j3] = j;
+    let upper = dd_mul(dd_mul(dd_mul(two_sum(j3, -j2), j3), w3), w3);
+    let lower = dd_mul(dd_mul(dd_mul(two_sum(j2, -j1), j1), w1), w1);
+    let (hi, lo) = dd_add(upper, (-lower.0, -lower.1));
+    hi + lo
+}
+
+/// a + b = s + e exactly.
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+fn quick_two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    (s, b - (s - a))
+}
+
+/// A double-double times a double.
+fn dd_mul((hi, lo): (f64, f64), b: f64) -> (f64, f64) {
+    let p = hi * b;
+    let e = hi.mul_add(b, -p) + lo * b;
+    quick_two_sum(p, e)
+}
+
+fn dd_add(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    let (s1, s2) = two_sum(a.0, b.0);
+    let (t1, t2) = two_sum(a.1, b.1);
+    let (s1, s2) = quick_two_sum(s1, s2 + t1);
+    quick_two_sum(s1, s2 + t2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn middle_gap_resolves_what_plain_products_lose() {
+        // I = (3, 4, 6), ω = (2, ·, 1): both terms are 12 exactly.
+        assert_eq!(middle_gap([3.0, 4.0, 6.0], 2.0, 1.0), 0.0);
+        // ω₃ = 1 − 1e-12 (as a double): D₂ = 12(ω₃² − 1), which needs ω₃²
+        // beyond double precision.
+        let w3: f64 = 0.999999999999;
+        let exact = 12.0 * ((w3 - 1.0) * (w3 + 1.0));
+        let gap = middle_gap([3.0, 4.0, 6.0], 2.0, w3);
+        assert!(
+            (gap - exact).abs() < 1e-15 * exact.abs(),
+            "{gap:e} vs {exact:e}"
+        );
+        let naive = 6.0 * 2.0 * (w3 * w3) - 3.0 * 1.0 * 4.0;
+        assert!((naive - exact).abs() > 1e-6 * exact.abs());
+        // L² − 2TJ₂ does not depend on the frame: reversing the axes gives
+        // the same value to the last bit, so both orderings agree on the regime.
+        assert_eq!(middle_gap([6.0, 4.0, 3.0], w3, 2.0), gap);
     }
 }
