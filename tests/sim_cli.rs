@@ -384,3 +384,36 @@ fn extreme_inputs_give_finite_output() {
         }
     }
 }
+
+#[test]
+fn list_names_every_bundled_scene_with_its_setup() {
+    let text = run_ok(&["--list"]);
+    let decks = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("decks");
+    let declared: usize = std::fs::read_dir(&decks)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().extension().is_some_and(|x| x == "toml"))
+        .map(|e| {
+            std::fs::read_to_string(e.path())
+                .unwrap()
+                .lines()
+                .filter(|l| l.trim() == "[[scene]]")
+                .count()
+        })
+        .sum();
+    assert!(declared > 0);
+    assert_eq!(text.lines().count(), declared, "{text}");
+    for line in text.lines() {
+        let fields: Vec<&str> = line.split('\t').collect();
+        assert_eq!(fields.len(), 7, "{line}");
+        let inertia: Vec<f64> = fields[2]
+            .strip_prefix("inertia=")
+            .unwrap()
+            .split(',')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert!(flipcard::sim::Body::new([inertia[0], inertia[1], inertia[2]]).is_ok());
+        assert!(fields[5].starts_with("show="), "{line}");
+    }
+    assert!(text.contains("middle-axis-spin\t"), "{text}");
+}
