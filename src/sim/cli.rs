@@ -17,9 +17,12 @@ use crate::cli::{Cli, MethodArg, SimArgs, SimFormat};
 /// The CSV header; columns follow the axes in the order given.
 pub const CSV_HEADER: &str = "t,w1,w2,w3,qw,qx,qy,qz,energy,l2";
 
-pub fn run(_cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
-    if args.list || args.scene.is_some() {
-        bail!("sim: --scene and --list need the deck loader, which this build does not have yet");
+pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
+    if args.list {
+        return list(cli);
+    }
+    if args.scene.is_some() {
+        bail!("sim --scene: scene runs and their measurements are not part of this build yet");
     }
     let request = Request::from_args(args)?;
     let mut solver = run::make(
@@ -37,6 +40,63 @@ pub fn run(_cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
         Err(err) if is_broken_pipe(&err) => Ok(ExitCode::SUCCESS),
         Err(err) => Err(err),
     }
+}
+
+/// `sim --list`: one line per scene of the decks (`--decks`, else the
+/// bundled ones): id, deck, setup, panels and title.
+fn list(cli: &Cli) -> anyhow::Result<ExitCode> {
+    let dir = cli
+        .decks
+        .clone()
+        .unwrap_or_else(crate::paths::bundled_decks);
+    let loaded = crate::deck::load_dir(&dir);
+    if loaded.decks.is_empty() && loaded.errors() > 0 {
+        bail!(
+            "no deck in {} loads ({} errors; run `flipcard check {}`)",
+            dir.display(),
+            loaded.errors(),
+            dir.display()
+        );
+    }
+    let mut out = String::new();
+    for deck in &loaded.decks {
+        let lang = deck.languages.first().map_or("en", String::as_str);
+        for scene in &deck.scenes {
+            out.push_str(&scene_line(deck, scene, lang));
+            out.push('\n');
+        }
+    }
+    let stdout = io::stdout();
+    let mut w = stdout.lock();
+    match w.write_all(out.as_bytes()).and_then(|()| w.flush()) {
+        Ok(()) => {}
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => {}
+        Err(e) => return Err(e.into()),
+    }
+    if loaded.errors() > 0 {
+        eprintln!(
+            "flipcard: warning: {} deck errors, some scenes may be missing (run `flipcard check`)",
+            loaded.errors()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn scene_line(deck: &crate::deck::Deck, scene: &crate::deck::Scene, lang: &str) -> String {
+    let triple = |v: [f64; 3]| format!("{},{},{}", v[0], v[1], v[2]);
+    let shows: Vec<&str> = scene.show.iter().map(|p| p.name()).collect();
+    let title = scene.title.as_ref().map_or("", |t| t.get(lang));
+    format!(
+        "{}\t{}\tinertia={}\tomega={}\tduration={} {}\tshow={}\t{}",
+        scene.id,
+        deck.id,
+        triple(scene.inertia),
+        triple(scene.omega),
+        scene.duration,
+        scene.time_unit,
+        shows.join(","),
+        title
+    )
 }
 
 fn is_broken_pipe(err: &anyhow::Error) -> bool {

@@ -91,11 +91,14 @@ struct Point {
 }
 
 pub struct Splitting {
+    inertia: [f64; 3],
     inverse: [f64; 3],
     scheme: Scheme,
     sequence: Sequence,
     dt: f64,
     budget: Budget,
+    /// The start exactly as given (L/I need not give back ω bit for bit).
+    omega0: Vector3<f64>,
     n: u64,
     point: Point,
     last_request: f64,
@@ -134,6 +137,7 @@ impl Splitting {
     ) -> Splitting {
         let l = body.momentum(omega0);
         Splitting {
+            inertia: [body.inertia[0], body.inertia[1], body.inertia[2]],
             inverse: [
                 1.0 / body.inertia[0],
                 1.0 / body.inertia[1],
@@ -143,6 +147,7 @@ impl Splitting {
             sequence: Sequence::new(order, scheme),
             dt,
             budget,
+            omega0: *omega0,
             n: 0,
             point: Point {
                 l: [l[0], l[1], l[2]],
@@ -170,9 +175,9 @@ impl Splitting {
 
     fn state(&self, p: &Point) -> State {
         let omega = Vector3::new(
-            p.l[0] * self.inverse[0],
-            p.l[1] * self.inverse[1],
-            p.l[2] * self.inverse[2],
+            p.l[0] / self.inertia[0],
+            p.l[1] / self.inertia[1],
+            p.l[2] / self.inertia[2],
         );
         State {
             omega,
@@ -249,6 +254,9 @@ impl Solver for Splitting {
             self.work.steps += 1;
         }
         self.point = p;
+        if t == 0.0 {
+            return Ok(State::new(self.omega0));
+        }
         let rest = t - self.n as f64 * self.dt;
         if rest > 0.0 {
             self.step(&mut p, rest);
