@@ -130,7 +130,10 @@ fn sigkill_at_random_moments_loses_no_committed_rating() {
             assert_eq!(stored_seq, seq, "{context}: row {id} holds another rating");
         }
         for id in &undone_printed {
-            assert!(rows[id].1, "{context}: undo of {id} was printed but is not in the log");
+            assert!(
+                rows[id].1,
+                "{context}: undo of {id} was printed but is not in the log"
+            );
         }
         let printed_ids: HashSet<i64> = committed.values().copied().collect();
         let unprinted_rows = rows.keys().filter(|id| !printed_ids.contains(id)).count();
@@ -164,7 +167,11 @@ fn sigkill_at_random_moments_loses_no_committed_rating() {
         rounds_with_writes >= ROUNDS / 2,
         "only {rounds_with_writes} of {ROUNDS} rounds wrote anything: the test proved little"
     );
-    assert!(committed.len() > 100, "only {} ratings written", committed.len());
+    assert!(
+        committed.len() > 100,
+        "only {} ratings written",
+        committed.len()
+    );
 }
 
 /// The child: ratings as fast as possible, each id printed once committed.
