@@ -79,7 +79,11 @@ fn record_committed(c: &mut Criterion) {
     c.bench_function("record: one rating committed (fsync)", |b| {
         b.iter(|| {
             n += 1;
-            let r = rating(&keys[n % keys.len()], start + Duration::seconds(n as i64), n);
+            let r = rating(
+                &keys[n % keys.len()],
+                start + Duration::seconds(n as i64),
+                n,
+            );
             black_box(store.record(&r).expect("record"))
         })
     });
@@ -112,7 +116,10 @@ fn over_a_million_reviews(c: &mut Criterion) {
     let dir = tempfile::tempdir().expect("temp dir");
     let store = big_store(dir.path());
     let keys = items("bench");
-    let grid = DayGrid::new(chrono::Local, NaiveTime::from_hms_opt(4, 0, 0).expect("time"));
+    let grid = DayGrid::new(
+        chrono::Local,
+        NaiveTime::from_hms_opt(4, 0, 0).expect("time"),
+    );
     let at = now();
     let mut g = c.benchmark_group("1M reviews");
     g.sample_size(20);

@@ -57,9 +57,9 @@ fn random_history(dir: &std::path::Path, seed: u64, ratings: usize) -> Vec<ItemK
 
 #[test]
 fn rebuild_from_the_log_equals_the_cache() {
-    for seed in 0..8 {
+    for seed in 0..5 {
         let dir = tempfile::tempdir().unwrap();
-        random_history(dir.path(), seed, 300);
+        random_history(dir.path(), seed, 200);
         let mut store = open(dir.path());
         let before = store.cached_states().unwrap();
         assert!(!before.is_empty());
