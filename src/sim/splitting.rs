@@ -19,6 +19,7 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use super::budget::Budget;
 use super::model::{Body, State};
 use super::solver::{Method, SimError, Solver, Work};
+use super::trig;
 
 /// Which composition of the Strang step to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -210,12 +211,12 @@ fn rotate(p: &mut Point, i: usize, angle: f64) {
     let (lj, lk) = (p.l[j], p.l[k]);
     match &mut p.q {
         None => {
-            let (s, c) = angle.sin_cos();
+            let (s, c) = trig::sin_cos(angle);
             p.l[j] = c * lj + s * lk;
             p.l[k] = c * lk - s * lj;
         }
         Some(q) => {
-            let (sh, ch) = (0.5 * angle).sin_cos();
+            let (sh, ch) = trig::sin_cos(0.5 * angle);
             let (s, c) = (2.0 * sh * ch, 1.0 - 2.0 * sh * sh);
             p.l[j] = c * lj + s * lk;
             p.l[k] = c * lk - s * lj;
