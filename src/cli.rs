@@ -159,6 +159,9 @@ pub struct ImportArgs {
     /// Id of the deck to write.
     #[arg(long, value_name = "ID")]
     pub deck_id: String,
+    /// Language of the texts (a BCP 47 tag such as en or hi-Latn).
+    #[arg(long, value_name = "TAG", default_value = "en")]
+    pub lang: String,
 }
 
 #[derive(Debug, Args)]

@@ -12,10 +12,17 @@ const LANGS: [&str; 2] = ["en", "hi-Latn"];
 
 fn deck() -> Deck {
     let loaded = load_dir(&bundled_decks());
+    // The only warnings allowed are the flat-body ones: I = (1, 2, 3) is a
+    // thin plate (I₁ + I₂ = I₃), chosen on purpose for the worked numbers.
+    let unexpected: Vec<_> = loaded
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error() || !d.message.starts_with("flat body"))
+        .collect();
     assert!(
-        loaded.diagnostics.is_empty(),
-        "the bundled decks must load cleanly: {:#?}",
-        loaded.diagnostics
+        unexpected.is_empty(),
+        "the bundled decks must load cleanly:\n{}",
+        loaded.render_all()
     );
     loaded
         .decks

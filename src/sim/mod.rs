@@ -6,6 +6,8 @@ pub mod budget;
 pub mod cli;
 pub mod dop853_tableau;
 pub mod dopri;
+pub mod elliptic;
+pub mod exact;
 pub mod model;
 pub mod rk4;
 pub mod run;

@@ -76,8 +76,9 @@ impl Store {
     /// Reverts the last rating of this session that is not yet undone: the
     /// log row is marked undone and the item's state is recomputed from the
     /// log (back to new when no rating of it remains), in one transaction.
-    /// Returns the undone rating, or `None` when there is nothing to undo.
-    pub fn undo_last(&mut self) -> Result<Option<ReviewRecord>, StoreError> {
+    /// Returns the undone log row (marked undone), or `None` when there is
+    /// nothing to undo.
+    pub fn undo_last(&mut self) -> Result<Option<LoggedReview>, StoreError> {
         let Some(session) = self.session else {
             return Ok(None);
         };
@@ -107,7 +108,10 @@ impl Store {
             .map_err(sql_err)?;
         state::refresh_item(&tx, &last.record.key).map_err(sql_err)?;
         tx.commit().map_err(sql_err)?;
-        Ok(Some(last.record))
+        Ok(Some(LoggedReview {
+            undone: true,
+            ..last
+        }))
     }
 
     /// Every row of the log in id order (undone ones included), handed to
