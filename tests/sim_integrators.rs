@@ -437,7 +437,9 @@ fn invariant_drift(method: Method, i: [f64; 3], w: [f64; 3], t_end: f64) -> (f64
 /// rounding: dozens of flips next to the separatrix).
 #[test]
 fn extreme_cases_stay_finite_and_keep_invariants() {
-    let cases: [(&str, [f64; 3], [f64; 3], f64, f64); 8] = [
+    // (name, inertia, ω₀, span, bound on the adaptive ω error vs exact)
+    type Case = (&'static str, [f64; 3], [f64; 3], f64, f64);
+    let cases: [Case; 8] = [
         ("needle 1e6", [1e-6, 1.0, 1.0], [0.3, 1.0, 0.5], 10.0, 1e-8),
         (
             "needle asymmetric",
