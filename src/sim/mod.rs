@@ -6,6 +6,8 @@ pub mod budget;
 pub mod cli;
 pub mod dop853_tableau;
 pub mod dopri;
+pub mod elliptic;
+pub mod exact;
 pub mod formula;
 pub mod measure;
 pub mod model;
@@ -20,6 +22,7 @@ pub mod scene_cli;
 pub mod solver;
 pub mod splitting;
 pub mod system;
+pub mod trig;
 
 pub use model::{Body, ModelError, State};
 pub use run::{Kind, Options, make, make_with};

@@ -25,7 +25,7 @@ use nalgebra::{UnitQuaternion, Vector3};
 use super::formula;
 use super::measure::{Measurements, Meter};
 use super::model::{self, Body, State};
-use super::plan::{Plan, Shape};
+use super::plan::Plan;
 use super::polhode::Polhode;
 use super::reference;
 use super::run::make;
@@ -191,7 +191,7 @@ impl SceneRun {
                 &body,
                 &omega0,
                 exact.as_mut(),
-                orbit_span(&plan, &body, &omega0, scene.duration),
+                orbit_span(&body, &omega0, scene.duration),
             ) {
                 Ok(p) => Some(p),
                 Err(e) => {
@@ -440,17 +440,10 @@ fn solver(
 
 /// The span the polhode's closed curve is drawn over: one period of ω, or
 /// the scene's duration when ω has none.
-fn orbit_span(plan: &Plan, body: &Body, omega0: &Vector3<f64>, duration: f64) -> f64 {
-    let period = match plan.shape {
-        Shape::Sphere => None,
-        Shape::SymmetricTop { .. } => formula::body_precession_rate(body, omega0)
-            .filter(|r| *r != 0.0)
-            .map(|r| std::f64::consts::TAU / r.abs()),
-        Shape::Asymmetric => formula::circulation(body, omega0)
-            .filter(|c| c.complement > 0.0)
-            .map(|c| 4.0 * formula::complete_k(c.complement) / c.rate),
-    };
-    period.filter(|p| p.is_finite()).unwrap_or(duration)
+fn orbit_span(body: &Body, omega0: &Vector3<f64>, duration: f64) -> f64 {
+    formula::period(body, omega0)
+        .filter(|p| p.is_finite() && *p > 0.0)
+        .unwrap_or(duration)
 }
 
 /// Runs `scene` to its end with `method` and measures it; an error when the

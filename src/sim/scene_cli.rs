@@ -1,6 +1,6 @@
-//! `flipcard sim --list` and `flipcard sim --scene ID [--deck PATH]`: the
-//! scenes of the decks, and one scene's measurements with the verdict the
-//! simulation gives on each prompt that uses it.
+//! `flipcard sim --scene ID [--deck PATH]`: one scene's measurements, each
+//! with its formula value, and the verdict the simulation gives on each
+//! prompt that uses the scene.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -45,57 +45,6 @@ fn load(paths: &[PathBuf]) -> anyhow::Result<Vec<Deck>> {
 /// `1, 2, 3` with each number in its shortest round-trip spelling.
 fn triple(v: &[f64; 3]) -> String {
     format!("{}, {}, {}", v[0], v[1], v[2])
-}
-
-/// `flipcard sim --list`: id, deck, inertia, omega, duration, show.
-pub fn list(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
-    let decks = load(&deck_paths(cli, args))?;
-    let mut rows = vec![[
-        "id".to_string(),
-        "deck".to_string(),
-        "inertia".to_string(),
-        "omega".to_string(),
-        "duration".to_string(),
-        "show".to_string(),
-    ]];
-    for deck in &decks {
-        for s in &deck.scenes {
-            rows.push([
-                s.id.clone(),
-                deck.id.clone(),
-                triple(&s.inertia),
-                triple(&s.omega),
-                format!("{} {}", s.duration, s.time_unit),
-                s.show
-                    .iter()
-                    .map(|p| p.name())
-                    .collect::<Vec<_>>()
-                    .join(","),
-            ]);
-        }
-    }
-    let mut widths = [0usize; 6];
-    for row in &rows {
-        for (w, cell) in widths.iter_mut().zip(row) {
-            *w = (*w).max(cell.chars().count());
-        }
-    }
-    let mut out = String::new();
-    for row in &rows {
-        let mut line = String::new();
-        for (k, (w, cell)) in widths.iter().zip(row).enumerate() {
-            if k + 1 == row.len() {
-                line.push_str(cell);
-            } else {
-                let pad = w - cell.chars().count();
-                let _ = write!(line, "{cell}{}  ", " ".repeat(pad));
-            }
-        }
-        out.push_str(line.trim_end());
-        out.push('\n');
-    }
-    print!("{out}");
-    Ok(ExitCode::SUCCESS)
 }
 
 fn kind(m: MethodArg) -> Kind {

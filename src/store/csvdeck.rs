@@ -9,14 +9,17 @@
 //!   `;`. Card ids come from the `id` column when there is one, else from the
 //!   front text (`Why the body frame?` → `why-the-body-frame`), made unique
 //!   with `-2`, `-3`…
-//! - The deck file is written with TOML literal strings, so the backslashes
-//!   of LaTeX math survive unchanged.
+//! - Texts are checked as `flipcard check` checks them (LaTeX that renders,
+//!   no control characters; a tab becomes a space), so the deck written
+//!   passes the check. It is written with TOML literal strings, so the
+//!   backslashes of LaTeX math survive unchanged.
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
 use std::io::{Read, Write};
 
 use crate::deck::Deck;
+use crate::deck::validate::is_id;
 
 /// The CSV header of an exported deck.
 pub const DECK_COLUMNS: [&str; 3] = ["front", "back", "tags"];
@@ -209,7 +212,7 @@ fn read_row(
         .unwrap_or_default();
     let id = match cols.id.and_then(|i| fields.get(i)).map(|s| s.trim()) {
         Some(id) if !id.is_empty() => {
-            if !is_valid_id(id) {
+            if !is_id(id) {
                 return Err(format!(
                     "card id {id:?} is not lowercase a-z/0-9 words joined by '-'"
                 ));
@@ -250,32 +253,26 @@ fn describe(cols: Columns) -> String {
 fn text(fields: &[String], i: usize, name: &str) -> Result<String, String> {
     let t = fields
         .get(i)
-        .map(|s| s.replace("\r\n", "\n"))
+        .map(|s| s.replace("\r\n", "\n").replace('\t', " "))
         .unwrap_or_default();
     let t = t.trim().to_string();
     if t.is_empty() {
         return Err(format!("{name} is empty"));
     }
-    if let Some(c) = t
-        .chars()
-        .find(|c| c.is_control() && *c != '\n' && *c != '\t')
-    {
+    if let Some(c) = t.chars().find(|c| c.is_control() && *c != '\n') {
         return Err(format!(
             "{name} holds the control character U+{:04X}",
             c as u32
         ));
     }
+    if let Some(e) = crate::text::check(&t).first() {
+        let at = t.get(..e.offset).map_or(0, |s| s.chars().count()) + 1;
+        return Err(format!(
+            "{name}: LaTeX: {} (at character {at}; a literal dollar sign is written \\$)",
+            e.message
+        ));
+    }
     Ok(t)
-}
-
-/// Lowercase `[a-z0-9]` words joined by `-`.
-pub fn is_valid_id(s: &str) -> bool {
-    !s.is_empty()
-        && s.split('-').all(|w| {
-            !w.is_empty()
-                && w.chars()
-                    .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit())
-        })
 }
 
 /// An id from a text: its first few ASCII words, lowercased.
@@ -314,31 +311,36 @@ fn unique(base: String, taken: &mut HashSet<String>) -> String {
 }
 
 /// A TOML string that reads back as exactly `s`: a literal string when
-/// possible (backslashes stay as typed), else a basic string with escapes.
+/// possible (backslashes stay as typed), a plain basic string for a text
+/// with an apostrophe and nothing to escape, else a basic string with escapes.
 pub fn toml_string(s: &str) -> String {
-    let plain = |c: char| !c.is_control() || c == '\t';
+    let plain = |c: char| !c.is_control();
+    let multiline = s.contains('\n');
     if !s.contains('\'') && s.chars().all(plain) {
         return format!("'{s}'");
+    }
+    if !multiline && !s.contains(['\\', '"']) && s.chars().all(plain) {
+        return format!("\"{s}\"");
     }
     if !s.contains("'''") && s.chars().all(|c| plain(c) || c == '\n') {
         // The newline right after the opening quotes is not part of the text.
         return format!("'''\n{s}'''");
     }
-    let mut out = String::from("\"");
+    // A basic string. Line breaks stay real line breaks (in a multi-line
+    // string): `flipcard check` refuses an escaped `\n` in a text.
+    let mut out = String::from(if multiline { "\"\"\"\n" } else { "\"" });
     for c in s.chars() {
         match c {
             '"' => out.push_str("\\\""),
             '\\' => out.push_str("\\\\"),
-            '\n' => out.push_str("\\n"),
-            '\t' => out.push_str("\\t"),
-            '\r' => out.push_str("\\r"),
+            '\n' if multiline => out.push('\n'),
             c if c.is_control() => {
                 let _ = write!(out, "\\u{:04X}", c as u32);
             }
             c => out.push(c),
         }
     }
-    out.push('"');
+    out.push_str(if multiline { "\"\"\"" } else { "\"" });
     out
 }
 
@@ -407,9 +409,9 @@ mod tests {
             "ends with a quote'",
             "ends with two quotes''",
             "has ''' three quotes\nand \\n a newline",
-            "tab\tinside",
             "quote \" and 'single' \\ back",
             "\nstarts with a newline",
+            "tab\tinside, with 'quotes' and '''",
         ];
         for s in samples {
             let doc = format!("x = {}\n", toml_string(s));
@@ -417,6 +419,7 @@ mod tests {
             assert_eq!(v["x"].as_str(), Some(s), "{doc}");
         }
         assert_eq!(toml_string(r"\omega"), r"'\omega'");
+        assert_eq!(toml_string("it's"), "\"it's\"");
     }
 
     #[test]
@@ -442,6 +445,13 @@ mod tests {
                 tags: vec!["a".into(), "b".into()],
             }]
         );
+    }
+
+    #[test]
+    fn tabs_become_spaces_and_crlf_line_breaks_newlines() {
+        let cards = read("\"a\tb\",\"one\r\ntwo\"\r\n").unwrap();
+        assert_eq!(cards[0].front, "a b");
+        assert_eq!(cards[0].back, "one\ntwo");
     }
 
     #[test]
@@ -501,15 +511,15 @@ mod tests {
 
     #[test]
     fn ids_follow_the_deck_format() {
-        assert!(is_valid_id("middle-axis"));
-        assert!(is_valid_id("a1"));
+        assert!(is_id("middle-axis"));
+        assert!(is_id("a1"));
         for bad in ["", "-a", "a-", "a--b", "A", "a_b", "é"] {
-            assert!(!is_valid_id(bad), "{bad}");
+            assert!(!is_id(bad), "{bad}");
         }
         assert_eq!(slug("Why the body frame?"), "why-the-body-frame");
         assert_eq!(slug("$$\\,$$"), "card");
         assert!(slug(&"word ".repeat(30)).len() <= 40);
-        assert!(is_valid_id(&slug(
+        assert!(is_id(&slug(
             "A very long front text with many words in it, beyond forty"
         )));
     }

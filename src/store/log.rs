@@ -8,6 +8,7 @@ use super::codec::{self, from_ms, to_ms};
 use super::db::Store;
 use super::error::StoreError;
 use super::state;
+use super::tally;
 use crate::sched::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord};
 
 /// One row of the log as stored.
@@ -76,8 +77,9 @@ impl Store {
     /// Reverts the last rating of this session that is not yet undone: the
     /// log row is marked undone and the item's state is recomputed from the
     /// log (back to new when no rating of it remains), in one transaction.
-    /// Returns the undone rating, or `None` when there is nothing to undo.
-    pub fn undo_last(&mut self) -> Result<Option<ReviewRecord>, StoreError> {
+    /// Returns the undone log row (marked undone), or `None` when there is
+    /// nothing to undo.
+    pub fn undo_last(&mut self) -> Result<Option<LoggedReview>, StoreError> {
         let Some(session) = self.session else {
             return Ok(None);
         };
@@ -106,8 +108,12 @@ impl Store {
         tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [last.id])
             .map_err(sql_err)?;
         state::refresh_item(&tx, &last.record.key).map_err(sql_err)?;
+        tally::count(&tx, &last.record, -1).map_err(sql_err)?;
         tx.commit().map_err(sql_err)?;
-        Ok(Some(last.record))
+        Ok(Some(LoggedReview {
+            undone: true,
+            ..last
+        }))
     }
 
     /// Every row of the log in id order (undone ones included), handed to
@@ -197,6 +203,7 @@ fn append(tx: &Transaction<'_>, session: i64, r: &ReviewRecord) -> rusqlite::Res
     if r.kind != ReviewKind::Cram {
         state::apply(tx, r, id)?;
     }
+    tally::count(tx, r, 1)?;
     Ok(id)
 }
 
