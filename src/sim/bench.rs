@@ -54,10 +54,8 @@ impl Effort {
             }
         } else {
             Effort {
-                budget: Budget {
-                    max_steps: 2_000_000,
-                },
-                time_per_setting: Duration::from_millis(300),
+                budget: Budget::default(),
+                time_per_setting: Duration::from_millis(500),
                 max_repeats: 7,
             }
         }

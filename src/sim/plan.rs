@@ -112,6 +112,28 @@ mod tests {
     }
 
     #[test]
+    fn omega_only_exact_run_builds_no_orientation() {
+        use crate::sim::exact::Exact;
+        use crate::sim::solver::Solver;
+        let s = scene([1.0, 2.0, 3.0], &[Panel::Omega, Panel::Polhode]);
+        let body = Body::new(s.inertia).unwrap();
+        let p = Plan::for_scene(&s, &body);
+        let mut exact = Exact::new(body, s.omega.into(), p.needs).unwrap();
+        for k in 0..100 {
+            let state = exact.advance(0.08 * k as f64).unwrap();
+            assert_eq!(state.q, nalgebra::UnitQuaternion::identity());
+        }
+        assert!(
+            !exact.orientation_prepared(),
+            "no orientation constants built"
+        );
+        let s = scene([1.0, 2.0, 3.0], &[Panel::Body]);
+        let p = Plan::for_scene(&s, &body);
+        let exact = Exact::new(body, s.omega.into(), p.needs).unwrap();
+        assert!(exact.orientation_prepared());
+    }
+
+    #[test]
     fn shapes_pick_their_closed_form() {
         assert_eq!(plan(&scene([2.0, 2.0, 2.0], &[])).shape, Shape::Sphere);
         assert_eq!(

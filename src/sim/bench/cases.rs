@@ -43,14 +43,14 @@ pub fn cases(quick: bool) -> Vec<Case> {
     vec![
         Case {
             id: "a",
-            name: "notes: I=(1,2,3), w=(0.01,10,0.01)",
+            name: "notes: I = (1, 2, 3), ω = (0.01, 10, 0.01)",
             body: notes,
             omega0: Vector3::new(0.01, 10.0, 0.01),
             t_end: short(100.0, 10.0),
         },
         Case {
             id: "b",
-            name: "needle: I=(1e-6,1,1+5e-7)",
+            name: "needle: I = (1e-6, 1, 1 + 5e-7)",
             body: body([1e-6, 1.0, 1.0 + 5e-7]),
             omega0: Vector3::new(1e3, 1.0, 0.5),
             t_end: short(10.0, 1.0),
@@ -64,7 +64,7 @@ pub fn cases(quick: bool) -> Vec<Case> {
         },
         Case {
             id: "d",
-            name: "fast: w x 1e4",
+            name: "fast: ω × 1e4",
             body: notes,
             omega0: Vector3::new(100.0, 1e5, 100.0),
             t_end: short(0.1, 0.001),

@@ -38,7 +38,7 @@ pub fn svg(rows: &[Row], cases: &[Case]) -> anyhow::Result<String> {
         let (title, body) = root.split_vertically(36);
         title
             .titled(
-                "flipcard work-precision: max relative error of w vs wall time (log-log)",
+                "flipcard work-precision: largest relative error of ω against wall time",
                 ("sans-serif", 20),
             )
             .map_err(|e| anyhow::anyhow!("{e}"))?;
@@ -84,21 +84,19 @@ fn panel(area: &Area<'_>, case: &Case, rows: &[Row]) -> Result<(), Box<dyn std::
     chart
         .configure_mesh()
         .x_desc("wall time (s)")
-        .y_desc("error of w")
+        .y_desc("error of ω")
         .x_label_formatter(&|v| format!("{v:.0e}"))
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .label_style(("sans-serif", 11))
         .axis_desc_style(("sans-serif", 12))
         .draw()?;
     for (name, color) in METHODS {
-        let mut curve: Vec<(f64, f64)> = points
+        // In sweep order: from the loosest setting to the finest.
+        let curve: Vec<(f64, f64)> = points
             .iter()
             .filter(|p| p.0 == name)
             .map(|p| (p.1, p.2))
             .collect();
-        // Along the sweep the error falls as the work grows; drawn in order
-        // of error so the curve reads from cheap to accurate.
-        curve.sort_by(|a, b| b.1.total_cmp(&a.1));
         chart.draw_series(LineSeries::new(
             curve.iter().copied(),
             color.stroke_width(2),
@@ -125,7 +123,7 @@ fn legend(area: &Area<'_>) -> Result<(), Box<dyn std::error::Error>> {
     }
     let note = ("sans-serif", 12).into_font();
     let lines = [
-        "error: max over 1001 points of |w - w_exact| / |w_exact|",
+        "error: max over 1001 points of |ω − ω_exact| / |ω_exact|",
         "time: minimum of several runs, with the orientation q",
         "exact: the reference itself, drawn at 1e-17",
         "fixed steps: 8 ... 2048 per turn of the fastest rate",
