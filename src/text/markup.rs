@@ -123,8 +123,9 @@ fn raw_blocks(body: &str) -> Vec<(Kind, String)> {
 
 /// A token of a block's inline content.
 #[derive(Debug)]
-enum Tok {
-    Text(String),
+enum Tok<'a> {
+    /// Text as written (newlines become spaces when it is pushed).
+    Text(&'a str),
     Math(String),
     Display(String),
     /// A run of `*` (1 or 2 long), with whether it can open or close.
@@ -141,7 +142,7 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
     for piece in dollar::pieces(text) {
         match piece {
             Piece::Text(s) => stars_and_text(text, s, &mut toks),
-            Piece::Dollar => push_text(&mut toks, "$"),
+            Piece::Dollar => toks.push(Tok::Text("$")),
             Piece::Math(m) => {
                 let mut rendered = String::new();
                 if write_math(m.latex, &mut rendered).is_err() {
@@ -180,7 +181,7 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
             Style::Plain
         };
         match tok {
-            Tok::Text(s) => push_span(&mut spans, &s, style),
+            Tok::Text(s) => push_span(&mut spans, s, style),
             Tok::Math(s) => push_span(&mut spans, &s, Style::Math),
             Tok::Display(s) => {
                 finish(&mut spans, blocks);
@@ -214,7 +215,7 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
 /// Split a text piece (a slice of `whole`) into text and `*` runs, newlines
 /// becoming spaces. Whether a run can open or close depends on the
 /// characters around it in `whole`, math included.
-fn stars_and_text(whole: &str, piece: &str, toks: &mut Vec<Tok>) {
+fn stars_and_text<'a>(whole: &str, piece: &'a str, toks: &mut Vec<Tok<'a>>) {
     let base = piece.as_ptr() as usize - whole.as_ptr() as usize;
     let mut rest_start = 0;
     let bytes = piece.as_bytes();
@@ -255,21 +256,16 @@ fn stars_and_text(whole: &str, piece: &str, toks: &mut Vec<Tok>) {
     push_text(toks, &piece[rest_start..]);
 }
 
-fn push_text(toks: &mut Vec<Tok>, s: &str) {
-    if s.is_empty() {
-        return;
-    }
-    let s = s.replace('\n', " ");
-    match toks.last_mut() {
-        Some(Tok::Text(t)) => t.push_str(&s),
-        _ => toks.push(Tok::Text(s)),
+fn push_text<'a>(toks: &mut Vec<Tok<'a>>, s: &'a str) {
+    if !s.is_empty() {
+        toks.push(Tok::Text(s));
     }
 }
 
 /// Pair `*` runs: a closer takes the nearest open run of the same length;
 /// runs left unpaired stay literal. An open run marked matched opens, a
 /// closing one closes.
-fn match_stars(toks: &mut [Tok]) {
+fn match_stars(toks: &mut [Tok<'_>]) {
     let mut openers: Vec<(usize, u8)> = Vec::new();
     for i in 0..toks.len() {
         let Tok::Stars {
@@ -292,20 +288,36 @@ fn match_stars(toks: &mut [Tok]) {
     }
 }
 
-fn set_matched(tok: &mut Tok, as_opener: bool) {
+fn set_matched(tok: &mut Tok<'_>, as_opener: bool) {
     if let Tok::Stars { open, matched, .. } = tok {
         *open = as_opener;
         *matched = true;
     }
 }
 
+/// Append `text` (newlines as spaces) to the last span if it has the same
+/// style, else as a new span.
 fn push_span(spans: &mut Vec<Span>, text: &str, style: Style) {
     if text.is_empty() {
         return;
     }
-    match spans.last_mut() {
-        Some(last) if last.style == style => last.text.push_str(text),
-        _ => spans.push(Span::new(text, style)),
+    let span = match spans.last_mut() {
+        Some(last) if last.style == style => last,
+        _ => {
+            spans.push(Span::new(String::with_capacity(text.len()), style));
+            let Some(last) = spans.last_mut() else {
+                return;
+            };
+            last
+        }
+    };
+    let mut parts = text.split('\n');
+    if let Some(first) = parts.next() {
+        span.text.push_str(first);
+    }
+    for part in parts {
+        span.text.push(' ');
+        span.text.push_str(part);
     }
 }
 

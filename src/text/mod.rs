@@ -277,6 +277,85 @@ mod tests {
         assert!(math_to_unicode(&deep_frac).is_err());
     }
 
+    /// Deterministic random texts built from LaTeX and markup fragments:
+    /// nothing panics and every error offset can be turned into line:col.
+    #[test]
+    fn random_texts_give_locatable_errors() {
+        const FRAGMENTS: &[&str] = &[
+            "$",
+            "$$",
+            r"\$",
+            r"\frac",
+            r"\sqrt",
+            "{",
+            "}",
+            "[",
+            "]",
+            "x",
+            "ω",
+            "_",
+            "^",
+            r"\left(",
+            r"\right)",
+            r"\begin{matrix}",
+            r"\end{matrix}",
+            "&",
+            r"\\",
+            r"\dot",
+            r"\vec",
+            r"\text{a b}",
+            r"\mathbf",
+            "1.5",
+            ",",
+            "-",
+            "+",
+            "=",
+            r"\,",
+            r"\quad",
+            r"\big(",
+            r"\not",
+            r"\foo",
+            "#",
+            r"\begin{cases}",
+            r"\end{cases}",
+            r"\sum",
+            "%",
+            "'",
+            r"\",
+            "é",
+            " ",
+            "\n",
+            "\n\n",
+            "*",
+            "**",
+            "- ",
+            r"\operatorname{f}",
+            "~",
+            r"\hspace{3cm}",
+        ];
+        let mut seed: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for _ in 0..3000 {
+            let len = (next() % 16) as usize;
+            let text: String = (0..len)
+                .map(|_| FRAGMENTS[(next() % FRAGMENTS.len() as u64) as usize])
+                .collect();
+            for e in check(&text) {
+                assert!(
+                    e.offset <= text.len() && text.is_char_boundary(e.offset),
+                    "{text:?}: {e:?}"
+                );
+            }
+            let _ = render(&text);
+            let _ = markup::parse(&text);
+        }
+    }
+
     #[test]
     fn odd_bytes_never_panic() {
         for text in [

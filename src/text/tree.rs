@@ -63,17 +63,22 @@ pub(super) enum Node<'a> {
     Fenced(Option<char>, Vec<Node<'a>>, Option<char>),
     /// Rows of cells of nodes.
     Env(EnvKind, Vec<Vec<Vec<Node<'a>>>>),
-    Script {
-        base: Box<Node<'a>>,
-        sub: Option<Box<Node<'a>>>,
-        sup: Option<Box<Node<'a>>>,
-    },
+    Script(Box<Scripted<'a>>),
     Accent(Box<Node<'a>>, Accent),
-    Frac(Box<Node<'a>>, Box<Node<'a>>),
+    /// Numerator, denominator.
+    Frac(Box<[Node<'a>; 2]>),
     Sqrt(Box<Node<'a>>),
-    /// Radicand, then index.
-    Root(Box<Node<'a>>, Box<Node<'a>>),
+    /// Radicand, index.
+    Root(Box<[Node<'a>; 2]>),
     Negated(Box<Node<'a>>),
+}
+
+/// A base with its sub- and superscript (one allocation for all three).
+#[derive(Debug, Clone, PartialEq)]
+pub(super) struct Scripted<'a> {
+    pub base: Node<'a>,
+    pub sub: Option<Node<'a>>,
+    pub sup: Option<Node<'a>>,
 }
 
 /// Why the events could not be folded into a tree.
@@ -165,12 +170,12 @@ impl<'a> Builder<'a> {
                 Visual::Root => {
                     let radicand = self.element(font)?;
                     let index = self.element(font)?;
-                    Node::Root(Box::new(radicand), Box::new(index))
+                    Node::Root(Box::new([radicand, index]))
                 }
                 Visual::Fraction(_) => {
                     let num = self.element(font)?;
                     let den = self.element(font)?;
-                    Node::Frac(Box::new(num), Box::new(den))
+                    Node::Frac(Box::new([num, den]))
                 }
                 Visual::Negation => Node::Negated(Box::new(self.element(font)?)),
             },
@@ -263,11 +268,7 @@ impl<'a> Builder<'a> {
                 return Ok(accented(base, accent));
             }
         }
-        Ok(Node::Script {
-            base: Box::new(base),
-            sub: sub.map(Box::new),
-            sup: sup.map(Box::new),
-        })
+        Ok(Node::Script(Box::new(Scripted { base, sub, sup })))
     }
 }
 
@@ -277,17 +278,17 @@ fn accented(base: Node<'_>, accent: Accent) -> Node<'_> {
     match base {
         Node::Group(mut nodes) if nodes.len() == 1 => {
             let inner = nodes.pop().unwrap_or(Node::Empty);
-            if matches!(inner, Node::Script { .. }) {
+            if matches!(inner, Node::Script(_)) {
                 accented(inner, accent)
             } else {
                 Node::Accent(Box::new(Node::Group(vec![inner])), accent)
             }
         }
-        Node::Script { base, sub, sup } => Node::Script {
-            base: Box::new(accented(*base, accent)),
-            sub,
-            sup,
-        },
+        Node::Script(mut scripted) => {
+            let base = std::mem::replace(&mut scripted.base, Node::Empty);
+            scripted.base = accented(base, accent);
+            Node::Script(scripted)
+        }
         other => Node::Accent(Box::new(other), accent),
     }
 }
