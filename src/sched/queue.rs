@@ -429,6 +429,91 @@ mod tests {
         );
     }
 
+    /// A zone at +01:00 that springs forward to +02:00 at 01:00 UTC on
+    /// 29 March 2026 (local 02:00 → 03:00) and falls back at 01:00 UTC on
+    /// 25 October 2026 (local 03:00 → 02:00), as central Europe does.
+    #[derive(Debug, Clone, Copy)]
+    struct Cet;
+
+    impl Cet {
+        fn switch() -> (NaiveDateTime, NaiveDateTime) {
+            let d = |m, d| {
+                chrono::NaiveDate::from_ymd_opt(2026, m, d)
+                    .unwrap()
+                    .and_hms_opt(1, 0, 0)
+                    .unwrap()
+            };
+            (d(3, 29), d(10, 25))
+        }
+        fn at_utc(utc: &NaiveDateTime) -> FixedOffset {
+            let (spring, fall) = Cet::switch();
+            let summer = *utc >= spring && *utc < fall;
+            FixedOffset::east_opt(if summer { 7200 } else { 3600 }).unwrap()
+        }
+    }
+
+    impl TimeZone for Cet {
+        type Offset = FixedOffset;
+        fn from_offset(_: &FixedOffset) -> Cet {
+            Cet
+        }
+        fn offset_from_local_date(&self, local: &chrono::NaiveDate) -> LocalResult<FixedOffset> {
+            self.offset_from_local_datetime(&local.and_hms_opt(12, 0, 0).unwrap())
+        }
+        fn offset_from_local_datetime(&self, local: &NaiveDateTime) -> LocalResult<FixedOffset> {
+            let fits = |secs: i32| {
+                let off = FixedOffset::east_opt(secs).unwrap();
+                (Cet::at_utc(&(*local - TimeDelta::seconds(i64::from(secs)))) == off).then_some(off)
+            };
+            match (fits(3600), fits(7200)) {
+                (Some(a), Some(b)) => LocalResult::Ambiguous(b, a),
+                (Some(a), None) | (None, Some(a)) => LocalResult::Single(a),
+                (None, None) => LocalResult::None,
+            }
+        }
+        fn offset_from_utc_date(&self, utc: &chrono::NaiveDate) -> FixedOffset {
+            Cet::at_utc(&utc.and_hms_opt(0, 0, 0).unwrap())
+        }
+        fn offset_from_utc_datetime(&self, utc: &NaiveDateTime) -> FixedOffset {
+            Cet::at_utc(utc)
+        }
+    }
+
+    #[test]
+    fn study_days_across_daylight_saving_changes() {
+        let utc = |m, d, h, min| Utc.with_ymd_and_hms(2026, m, d, h, min, 0).unwrap();
+        let four = NaiveTime::from_hms_opt(4, 0, 0).unwrap();
+        // The spring-forward day is 23 hours long, the fall-back day 25.
+        assert_eq!(
+            study_day(utc(3, 29, 12, 0), four, &Cet),
+            (utc(3, 29, 2, 0), utc(3, 30, 2, 0))
+        );
+        assert_eq!(
+            study_day(utc(3, 28, 12, 0), four, &Cet),
+            (utc(3, 28, 3, 0), utc(3, 29, 2, 0))
+        );
+        assert_eq!(
+            study_day(utc(10, 25, 12, 0), four, &Cet),
+            (utc(10, 25, 3, 0), utc(10, 26, 3, 0))
+        );
+        // A day starting at 02:30, which is skipped once and doubled once:
+        // the first instant after the gap, the earlier of the two.
+        let half_two = NaiveTime::from_hms_opt(2, 30, 0).unwrap();
+        assert_eq!(
+            study_day(utc(3, 29, 12, 0), half_two, &Cet).0,
+            utc(3, 29, 1, 0)
+        );
+        assert_eq!(
+            study_day(utc(10, 25, 12, 0), half_two, &Cet).0,
+            utc(10, 25, 0, 30)
+        );
+        // Just before a skipped start, the day is still the previous one.
+        assert_eq!(
+            study_day(utc(3, 29, 0, 59), half_two, &Cet).0,
+            utc(3, 28, 1, 30)
+        );
+    }
+
     #[test]
     fn order_is_learning_then_most_overdue_reviews_then_new_in_deck_order() {
         let now = at(10, 12, 0);

@@ -9,8 +9,9 @@
 //!
 //! Error control follows Hairer's DOP853: the error is measured per component
 //! against `atol + tol·|y|` (atol relative to |ω₀| for ω, to 1 for q) with
-//! the 5th- and 3rd-order estimates combined, and the step changes by
-//! 0.9·err^(−1/8), clamped to [1/3, 6], never growing right after a rejection.
+//! the 5th- and 3rd-order estimates combined; the step changes by the PI
+//! factor 0.9·err^(−1/8+0.2β)·err_prev^β, clamped to [1/3, 6], and never
+//! grows right after a rejection.
 
 use nalgebra::Vector3;
 
@@ -26,17 +27,23 @@ const SAFETY: f64 = 0.9;
 const SHRINK_LIMIT: f64 = 1.0 / 0.333;
 const GROW_LIMIT: f64 = 1.0 / 6.0;
 const ORDER_EXPONENT: f64 = 1.0 / 8.0;
+/// Weight of the previous step's error (PI control). With 0.04 instead of
+/// DOP853's default 0 the step sequence is smoother: on flipping bodies it
+/// rejects a few percent of the trials instead of 10–30 %, for the same
+/// error per unit of work.
+const BETA: f64 = 0.04;
 /// The projected step count is checked this often during a long advance.
 const PROJECTION_EVERY: u64 = 256;
 /// ...once this many steps give the projection some footing.
 const PROJECTION_AFTER: u64 = 1000;
 
-/// Steps per radian of the fastest rate at tolerance `tol`, a slight
-/// underestimate of what DOP853 takes on Euler's equations (measured on
-/// flipping and precessing bodies), so that the up-front check refuses only
-/// spans clearly beyond the budget; the count during the run is exact.
+/// Steps per radian of the fastest rate at tolerance `tol`: 2–6 times fewer
+/// than DOP853 takes on Euler's equations (measured on flipping, precessing
+/// and needle-like bodies, tol 1e-6 to 1e-12), so that the up-front check
+/// refuses only spans clearly beyond the budget; the count during the run
+/// is exact.
 fn steps_per_radian(tol: f64) -> f64 {
-    0.035 * tol.powf(-ORDER_EXPONENT)
+    0.05 * tol.powf(-ORDER_EXPONENT)
 }
 
 /// Expected steps to cover `span` at `tol` when the fastest rate is `rate`.
@@ -58,6 +65,8 @@ pub struct Dop853<S, const N: usize> {
     /// Next step to try; zero before the first step.
     h: f64,
     rejected_last: bool,
+    /// Error of the previous accepted step (PI control).
+    facold: f64,
     /// The last accepted step [t_old, t] and its stages, for dense output.
     t_old: f64,
     h_last: f64,
@@ -92,6 +101,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             f,
             h: 0.0,
             rejected_last: false,
+            facold: 1e-4,
             t_old: 0.0,
             h_last: 0.0,
             y_old: y,
@@ -170,15 +180,15 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             (dny / dnf).sqrt() * 0.01
         };
         let mut y1 = self.y;
-        for i in 0..N {
-            y1[i] += h0 * self.f[i];
+        for (v, f) in y1.iter_mut().zip(&self.f) {
+            *v += h0 * f;
         }
         let f1 = self.sys.rhs(&y1);
         self.work.rhs_evals += 1;
         let mut der2 = 0.0;
-        for i in 0..N {
+        for (i, (f1, f0)) in f1.iter().zip(&self.f).enumerate() {
             let sk = self.scale(i, self.y[i], self.y[i]);
-            der2 += ((f1[i] - self.f[i]) / sk).powi(2);
+            der2 += ((f1 - f0) / sk).powi(2);
         }
         let der12 = (der2.sqrt() / h0).max(dnf.sqrt());
         let h1 = if der12 <= 1e-15 {
@@ -192,8 +202,8 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
     /// Error of a trial step relative to the tolerance (accept when ≤ 1).
     fn error_norm(&self, y_new: &[f64; N], h: f64) -> f64 {
         let (mut e5, mut e3) = (0.0, 0.0);
-        for i in 0..N {
-            let sk = self.scale(i, self.y[i], y_new[i]);
+        for (i, &y_new) in y_new.iter().enumerate() {
+            let sk = self.scale(i, self.y[i], y_new);
             let d5 = weigh(&self.k, &tab::E5, i);
             let d3 = weigh(&self.k, &tab::E3, i);
             e5 += (d5 / sk).powi(2);
@@ -210,7 +220,8 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
     fn step(&mut self, end: f64) -> Result<(), SimError> {
         loop {
             let h = self.h;
-            if !(h > 4.0 * f64::EPSILON * self.t.abs()) || !self.y.iter().all(|v| v.is_finite()) {
+            let resolvable = h > 4.0 * f64::EPSILON * self.t.abs();
+            if !resolvable || !self.y.iter().all(|v| v.is_finite()) {
                 return Err(SimError::Invalid(format!(
                     "adaptive: step size underflow at t = {} (the solution is not resolvable at tol = {})",
                     self.t, self.tol
@@ -236,11 +247,13 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             self.dense = None;
 
             let err = self.error_norm(&y_new, h);
-            let fac11 = err.powf(ORDER_EXPONENT);
+            let fac11 = err.powf(ORDER_EXPONENT - 0.2 * BETA);
             // NaN-safe: f64::min/max drop a NaN operand, so a non-finite
             // error shrinks the step by the largest allowed factor.
             if err <= 1.0 {
-                let fac = GROW_LIMIT.max(SHRINK_LIMIT.min(fac11 / SAFETY));
+                let fac = fac11 / self.facold.powf(BETA);
+                let fac = GROW_LIMIT.max(SHRINK_LIMIT.min(fac / SAFETY));
+                self.facold = err.max(1e-4);
                 let mut h_new = h / fac;
                 if self.rejected_last {
                     h_new = h_new.min(h);

@@ -6,6 +6,8 @@ pub mod budget;
 pub mod cli;
 pub mod dop853_tableau;
 pub mod dopri;
+pub mod elliptic;
+pub mod exact;
 pub mod model;
 pub mod rk4;
 pub mod run;
@@ -13,6 +15,7 @@ pub mod scales;
 pub mod solver;
 pub mod splitting;
 pub mod system;
+pub mod trig;
 
 pub use model::{Body, ModelError, State};
 pub use run::{Kind, Options, make, make_with};

@@ -6,6 +6,7 @@ use nalgebra::Vector3;
 
 use super::budget::Budget;
 use super::dopri::Dop853;
+use super::exact::Exact;
 use super::model::{self, Body};
 use super::rk4::Rk4;
 use super::scales::scales;
@@ -51,6 +52,19 @@ pub fn default_dt(body: &Body, omega0: &Vector3<f64>) -> f64 {
     }
 }
 
+/// Checks that ω₀ is finite and small enough for its invariants to be
+/// finite in f64 (T and |L|² square it).
+pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SimError> {
+    model::omega([omega0[0], omega0[1], omega0[2]])?;
+    if !(body.energy(omega0).is_finite() && body.l2(omega0).is_finite()) {
+        return Err(SimError::Invalid(format!(
+            "ω = ({}, {}, {}) is too large: its energy overflows f64",
+            omega0[0], omega0[1], omega0[2]
+        )));
+    }
+    Ok(())
+}
+
 /// A method from a family and the knobs the user gave (`None` = default).
 /// A knob the family has no use for is an error, not silently ignored.
 pub fn method(
@@ -67,6 +81,7 @@ pub fn method(
         Kind::Splitting4 => "splitting4",
         Kind::Rk4 => "rk4",
     };
+    check_start(body, omega0)?;
     let fixed_step = matches!(kind, Kind::Splitting | Kind::Splitting4 | Kind::Rk4);
     if tol.is_some() && kind != Kind::Adaptive {
         return Err(SimError::Invalid(format!(
@@ -145,19 +160,13 @@ pub fn make_with(
 ) -> Result<Box<dyn Solver>, SimError> {
     // `Body` has a public field: check it again rather than trust it.
     let body = Body::new([body.inertia[0], body.inertia[1], body.inertia[2]])?;
-    let omega0 = model::omega([omega0[0], omega0[1], omega0[2]])?;
-    if !(body.energy(&omega0).is_finite() && body.l2(&omega0).is_finite()) {
-        return Err(SimError::Invalid(format!(
-            "ω = ({}, {}, {}) is too large: its energy overflows f64",
-            omega0[0], omega0[1], omega0[2]
-        )));
-    }
+    check_start(&body, &omega0)?;
     check_method(&method)?;
     let rates = scales(&body, &omega0);
     let budget = options.budget;
     let q = needs.orientation;
     Ok(match method {
-        Method::Exact => exact(body, omega0, needs)?,
+        Method::Exact => Box::new(Exact::new(body, omega0, needs)?),
         Method::Adaptive { tol } if q => Box::new(Dop853::<_, 7>::new(
             WithOrientation::new(&body, &omega0),
             &omega0,
@@ -207,12 +216,6 @@ pub fn make_with(
             budget,
         )),
     })
-}
-
-fn exact(_body: Body, _omega0: Vector3<f64>, _needs: Needs) -> Result<Box<dyn Solver>, SimError> {
-    Err(SimError::Invalid(
-        "the exact solver is not part of this build yet".to_string(),
-    ))
 }
 
 #[cfg(test)]
