@@ -38,7 +38,7 @@ fn rating(key: &ItemKey, when: DateTime<Utc>, n: usize) -> ReviewRecord {
         key: key.clone(),
         reviewed_at: when,
         rating,
-        kind: if n % 17 == 0 {
+        kind: if n.is_multiple_of(17) {
             ReviewKind::Learn
         } else {
             ReviewKind::Review
