@@ -111,9 +111,26 @@ pub fn math_to_unicode(latex: &str) -> Result<String, MathError> {
     Ok(out)
 }
 
+/// Longest formula rendered, in bytes: real formulas are a few hundred
+/// bytes, and a runaway one (a stray `$` in a huge text) must not cost
+/// seconds and hundreds of megabytes.
+pub const MAX_FORMULA_BYTES: usize = 10_000;
+
 /// Append the rendered formula to `out` (on error `out` may hold part of
 /// it).
 pub(crate) fn write_math(latex: &str, out: &mut String) -> Result<(), MathError> {
+    if latex.len() > MAX_FORMULA_BYTES {
+        return Err(MathError {
+            offset: 0,
+            message: format!(
+                "formula too long ({} bytes; at most {MAX_FORMULA_BYTES}): is a `$` missing?",
+                latex.len()
+            ),
+        });
+    }
+    if latex.trim().is_empty() {
+        return Ok(());
+    }
     let storage = Storage::new();
     let nodes = tree::build(Parser::new(latex, &storage)).map_err(|e| math_error(latex, e))?;
     unicode::render(&nodes, out);
@@ -269,8 +286,23 @@ mod tests {
     }
 
     #[test]
+    fn overlong_formula_is_an_error_at_its_dollar() {
+        let text = format!("ok ${}$", "x+".repeat(MAX_FORMULA_BYTES));
+        let errors = check(&text);
+        assert_eq!(errors.len(), 1);
+        assert_eq!(errors[0].offset, 4);
+        assert!(errors[0].message.contains("too long"), "{errors:?}");
+        assert_eq!(render(&text), text);
+        let just_fits = "x".repeat(MAX_FORMULA_BYTES);
+        assert_eq!(
+            math_to_unicode(&just_fits).as_deref(),
+            Ok(just_fits.as_str())
+        );
+    }
+
+    #[test]
     fn deep_nesting_is_an_error_not_a_crash() {
-        let deep = format!("{}x{}", "{".repeat(5000), "}".repeat(5000));
+        let deep = format!("{}x{}", "{".repeat(2000), "}".repeat(2000));
         let err = math_to_unicode(&deep).unwrap_err();
         assert!(err.message.contains("nested too deeply"), "{err:?}");
         let deep_frac = r"\frac{".repeat(300) + &"}{x}".repeat(300);
