@@ -3,7 +3,7 @@
 //! ratatui.
 //!
 //! LaTeX is parsed by `pulldown-latex`; its events are folded into a small
-//! tree ([`tree`]) and written out as one line of Unicode ([`unicode`]).
+//! tree (`tree`) and written out as one line of Unicode (`unicode`).
 
 mod dollar;
 mod glyphs;
