@@ -15,6 +15,7 @@ pub mod scales;
 pub mod solver;
 pub mod splitting;
 pub mod system;
+pub mod trig;
 
 pub use model::{Body, ModelError, State};
 pub use run::{Kind, Options, make, make_with};

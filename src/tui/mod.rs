@@ -38,6 +38,7 @@ pub use update::apply;
 
 use crate::cli::{Cli, ReviewArgs};
 use crate::sched::Config;
+use crate::store::Store;
 use services::{Clock, DayZone, Services};
 use theme::Theme;
 
@@ -50,17 +51,22 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let clock = Clock::from_env()?;
     let config_path = crate::paths::config_file(cli.config.clone());
     let config = Config::load(config_path.as_deref())?;
+    let data_dir = crate::paths::data_dir(cli.data_dir.clone())?;
+    let store = Store::open(&data_dir)?;
     let deck_dir = cli
         .decks
         .clone()
         .unwrap_or_else(crate::paths::bundled_decks);
     let loaded = crate::deck::load_dir(&deck_dir);
-    let lang = config.language.clone();
-    let services = Services::new(clock, config, config_path, DayZone::Local);
     let problems = loaded.errors();
+    let lang = config.language.clone();
+    let mut services = Services::new(clock, config, config_path, DayZone::Local, store);
+    services.bench_csv = bench_csv();
     let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
     app.deck_problems = problems;
-    let _ = review;
+    if let Some(args) = review {
+        open_review(&mut app, args)?;
+    }
 
     let busy = Arc::new(Mutex::new(()));
     watch_signals(&busy)?;
@@ -68,6 +74,34 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let result = event_loop(&mut terminal, &mut app, &busy);
     ratatui::restore();
     result.map(|()| ExitCode::SUCCESS)
+}
+
+/// `flipcard review [DECK] [--cram]`: the review opens at once.
+fn open_review(app: &mut App, args: &ReviewArgs) -> anyhow::Result<()> {
+    let deck = match &args.deck {
+        Some(id) => app.decks.iter().position(|d| &d.id == id).ok_or_else(|| {
+            let ids: Vec<&str> = app.decks.iter().map(|d| d.id.as_str()).collect();
+            anyhow::anyhow!("no deck `{id}`; decks: {}", ids.join(", "))
+        })?,
+        None if app.decks.is_empty() => anyhow::bail!("no decks to review"),
+        None => 0,
+    };
+    if let screens::Screen::Home(h) = app.screen_mut() {
+        h.selected = deck;
+    }
+    let review =
+        screens::review::ReviewState::open(app, deck, args.cram).map_err(anyhow::Error::msg)?;
+    app.push(screens::Screen::Review(Box::new(review)));
+    Ok(())
+}
+
+/// The work–precision table `flipcard bench` writes by default, if present
+/// (in the working directory, else next to the bundled decks).
+fn bench_csv() -> Option<std::path::PathBuf> {
+    let name = std::path::Path::new("bench-out").join("work_precision.csv");
+    let here = name.clone();
+    let bundled = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(&name);
+    [here, bundled].into_iter().find(|p| p.is_file())
 }
 
 /// On SIGTERM, SIGHUP, SIGINT or SIGQUIT: wait until the event loop is idle

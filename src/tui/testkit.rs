@@ -14,10 +14,15 @@ use crate::deck::{
 };
 
 use super::app::App;
-use super::services::{Clock, DayZone, Services};
+use std::ops::{Deref, DerefMut};
+
+use tempfile::TempDir;
+
+use super::services::{Clock, DayZone, Services, Stopwatch};
 use super::theme::Theme;
 use super::view;
 use crate::sched::Config;
+use crate::store::Store;
 
 pub fn now() -> DateTime<Utc> {
     DateTime::parse_from_rfc3339("2026-03-02T09:00:00Z")
@@ -200,18 +205,48 @@ pub fn deck() -> Deck {
     }
 }
 
-pub fn services() -> Services {
+/// An app on the fixture deck with a fresh review store in a temporary
+/// data dir (removed when this is dropped), a fixed clock and no colours.
+pub struct TestApp {
+    pub app: App,
+    pub dir: TempDir,
+}
+
+impl Deref for TestApp {
+    type Target = App;
+    fn deref(&self) -> &App {
+        &self.app
+    }
+}
+
+impl DerefMut for TestApp {
+    fn deref_mut(&mut self) -> &mut App {
+        &mut self.app
+    }
+}
+
+pub fn services(dir: &TempDir) -> Services {
     let config = Config {
         fuzz: false,
         ..Config::default()
     };
-    Services::new(Clock::Fixed(now()), config, None, DayZone::Utc)
+    let store = match Store::open(dir.path()) {
+        Ok(s) => s,
+        Err(e) => panic!("store in {}: {e}", dir.path().display()),
+    };
+    let mut s = Services::new(Clock::Fixed(now()), config, None, DayZone::Utc, store);
+    s.stopwatch = Stopwatch::Frozen;
+    s
 }
 
-pub fn app(lang: &str) -> App {
-    let mut app = App::new(vec![deck()], services(), lang, Theme::PLAIN);
+pub fn app(lang: &str) -> TestApp {
+    let dir = match tempfile::tempdir() {
+        Ok(d) => d,
+        Err(e) => panic!("temp dir: {e}"),
+    };
+    let mut app = App::new(vec![deck()], services(&dir), lang, Theme::PLAIN);
     app.size = (80, 24);
-    app
+    TestApp { app, dir }
 }
 
 /// The frame as text, at the app's size.

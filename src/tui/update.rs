@@ -38,6 +38,9 @@ pub fn apply(app: &mut App, action: Action) {
         Screen::Home(s) => screens::home::apply(app, s, action),
         Screen::Prompts(s) => screens::prompts::apply(app, s, action),
         Screen::Predict(s) => screens::predict::apply(app, s, action),
+        Screen::Review(s) => screens::review::apply(app, s, action),
+        Screen::Reader(s) => screens::reader::apply(app, s, action),
+        Screen::Stats(s) => screens::stats::apply(app, s, action),
     };
     app.stack.push(top);
     match nav {

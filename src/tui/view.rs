@@ -25,17 +25,17 @@ pub fn draw(frame: &mut Frame, app: &App) {
         frame.render_widget(p, area);
         return;
     }
-    let [header, body, footer] = Layout::vertical([
-        Constraint::Length(1),
-        Constraint::Fill(1),
-        Constraint::Length(1),
-    ])
-    .areas(area);
+    let body = body_rect((area.width, area.height));
+    let header = Rect::new(area.x, area.y, area.width, 1);
+    let footer = Rect::new(area.x, area.bottom().saturating_sub(1), area.width, 1);
     draw_header(frame, header, app);
     match app.screen() {
         Screen::Home(s) => screens::home::draw(frame, body, app, s),
         Screen::Prompts(s) => screens::prompts::draw(frame, body, app, s),
         Screen::Predict(s) => screens::predict::draw(frame, body, app, s),
+        Screen::Review(s) => screens::review::draw(frame, body, app, s),
+        Screen::Reader(s) => screens::reader::draw(frame, body, app, s),
+        Screen::Stats(s) => screens::stats::draw(frame, body, app, s),
     }
     draw_footer(frame, footer, app);
     if app.help {
@@ -48,6 +48,9 @@ fn screen_title(app: &App) -> String {
         Screen::Home(_) => app.tr(Msg::Decks).to_string(),
         Screen::Prompts(s) => deck_title(app, s.deck, Msg::Prompts),
         Screen::Predict(s) => deck_title(app, s.deck, Msg::Predict),
+        Screen::Review(s) => deck_title(app, s.deck, if s.cram { Msg::Cram } else { Msg::Review }),
+        Screen::Reader(s) => deck_title(app, s.deck, Msg::Reader),
+        Screen::Stats(s) => deck_title(app, s.deck, Msg::Stats),
     }
 }
 
@@ -151,4 +154,11 @@ fn deck_title(app: &App, deck: usize, what: Msg) -> String {
         Some(d) => format!("{} · {}", d.title.get(&app.lang), app.tr(what)),
         None => app.tr(what).to_string(),
     }
+}
+
+/// The screen body (between header and footer) for a terminal size; the
+/// same split `draw` makes, so actions can reason about what is visible.
+pub fn body_rect(size: (u16, u16)) -> Rect {
+    let (w, h) = size;
+    Rect::new(0, 1.min(h), w, h.saturating_sub(2))
 }

@@ -62,6 +62,20 @@ pub fn apply(app: &mut App, state: &mut HomeState, action: Action) -> Nav {
         Action::OpenPrompts => {
             return Nav::Push(Screen::Prompts(super::prompts::PromptsState::new(deck)));
         }
+        Action::OpenReader => {
+            return Nav::Push(Screen::Reader(super::reader::ReaderState::new(deck)));
+        }
+        Action::OpenStats => {
+            return Nav::Push(Screen::Stats(Box::new(super::stats::StatsState::open(
+                app, deck,
+            ))));
+        }
+        Action::OpenReview | Action::OpenCram => {
+            match super::review::ReviewState::open(app, deck, action == Action::OpenCram) {
+                Ok(r) => return Nav::Push(Screen::Review(Box::new(r))),
+                Err(e) => app.error(e),
+            }
+        }
         _ => {}
     }
     Nav::Stay

@@ -101,7 +101,7 @@ pub fn parse_number(input: &str, unit: &str) -> Result<f64, ParseError> {
             !(c.is_ascii_digit()
                 || c == '.'
                 || c == ','
-                || ((c == '-' || c == '+') && i == 0)
+                || ((c == '-' || c == '+') && (i == 0 || text[..i].ends_with(['e', 'E'])))
                 || ((c == 'e' || c == 'E')
                     && text[i + 1..]
                         .starts_with(|d: char| d.is_ascii_digit() || d == '-' || d == '+')))
@@ -185,6 +185,14 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             };
             if let Some(p) = committed {
                 return commit_nav(app, state, p, &scene);
+            }
+            Nav::Stay
+        }
+        Phase::Play { verdict, .. } if action == Action::Explain => {
+            if verdict.is_some()
+                && let Some(id) = &prompt.explain
+            {
+                return super::reader::open_at(app, state.deck, id);
             }
             Nav::Stay
         }

@@ -33,7 +33,7 @@ pub fn apply(app: &mut App, state: &mut PromptsState, action: Action) -> Nav {
         Action::Back => return Nav::Pop,
         Action::Open if n > 0 => {
             let p = super::predict::PredictState::new(app, state.deck, state.selected.min(n - 1));
-            return Nav::Push(super::Screen::Predict(p));
+            return Nav::Push(super::Screen::Predict(Box::new(p)));
         }
         _ => {}
     }

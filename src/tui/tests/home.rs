@@ -1,24 +1,14 @@
-//! Screen snapshots and key-map tests, without a terminal.
+//! The home screen, help overlay, language toggle and small terminals.
 
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
-use super::action::Action;
-use super::app::App;
-use super::i18n::{ENGLISH, HINGLISH};
-use super::keymap::{self, Context};
-use super::screens::Screen;
-use super::testkit::{self, render};
-use super::update::apply;
-
-fn key(app: &App, code: KeyCode) -> Option<Action> {
-    keymap::key_action(app, KeyEvent::new(code, KeyModifiers::NONE))
-}
-
-fn press(app: &mut App, code: KeyCode) {
-    if let Some(action) = key(app, code) {
-        apply(app, action);
-    }
-}
+use super::{key, press};
+use crate::tui::action::Action;
+use crate::tui::i18n::{ENGLISH, HINGLISH};
+use crate::tui::keymap::{self, Context};
+use crate::tui::screens::Screen;
+use crate::tui::testkit::{self, render};
+use crate::tui::update::apply;
 
 #[test]
 fn home_keys() {
@@ -130,15 +120,29 @@ fn too_small_terminal_shows_a_message_and_never_panics() {
 
 #[test]
 fn every_screen_survives_every_size() {
-    let mut app = testkit::app(ENGLISH);
-    press(&mut app, KeyCode::Char('p'));
-    for w in [1, 3, 39, 40, 41, 60, 200] {
-        for h in [1, 2, 11, 12, 13, 50] {
-            app.size = (w, h);
-            app.help = false;
-            render(&app);
-            app.help = true;
-            render(&app);
+    use KeyCode::{Char, Enter};
+    let routes: [&[KeyCode]; 8] = [
+        &[],
+        &[Enter],
+        &[Enter, Char(' ')],
+        &[Char('r')],
+        &[Char('r'), Char('/'), Char('x')],
+        &[Char('p')],
+        &[Char('p'), Enter],
+        &[Char('t')],
+    ];
+    for route in routes {
+        let mut app = testkit::app(ENGLISH);
+        super::press_all(&mut app, route);
+        for w in [1, 3, 39, 40, 41, 60, 200] {
+            for h in [1, 2, 11, 12, 13, 50] {
+                apply(&mut app, Action::Resize(w, h));
+                super::press_all(&mut app, &[KeyCode::Down, KeyCode::End, KeyCode::PageUp]);
+                app.help = false;
+                render(&app);
+                app.help = true;
+                render(&app);
+            }
         }
     }
 }
