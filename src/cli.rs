@@ -87,15 +87,21 @@ pub struct SimArgs {
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub t_end: Option<String>,
     /// Number of samples at t = k·T/(N−1).
-    #[arg(long, value_name = "N", default_value_t = 101)]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 101,
+        allow_hyphen_values = true
+    )]
     pub samples: usize,
     #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
     pub method: MethodArg,
-    /// Tolerance of the adaptive solver.
-    #[arg(long, value_name = "TOL")]
+    /// Tolerance of the adaptive solver (default 1e-10).
+    #[arg(long, value_name = "TOL", allow_hyphen_values = true)]
     pub tol: Option<f64>,
-    /// Step of the fixed-step solvers.
-    #[arg(long, value_name = "DT")]
+    /// Step of the fixed-step solvers (default: 256 steps per turn of the
+    /// fastest rate of the motion).
+    #[arg(long, value_name = "DT", allow_hyphen_values = true)]
     pub dt: Option<f64>,
     #[arg(long, value_enum, default_value_t = SimFormat::Csv)]
     pub format: SimFormat,
@@ -153,6 +159,9 @@ pub struct ImportArgs {
     /// Id of the deck to write.
     #[arg(long, value_name = "ID")]
     pub deck_id: String,
+    /// Language of the texts (a BCP 47 tag such as en or hi-Latn).
+    #[arg(long, value_name = "TAG", default_value = "en")]
+    pub lang: String,
 }
 
 #[derive(Debug, Args)]

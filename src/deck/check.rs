@@ -1,9 +1,77 @@
-//! `flipcard check`.
+//! `flipcard check [PATH...]`: validate decks, print every diagnostic to
+//! stderr, and a one-line summary.
+//!
+//! Exit codes: 0 when there is no error (warnings allowed), 1 when there is
+//! any error, 2 for a usage error (a path that does not exist; clap exits 2
+//! on bad flags itself).
 
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use crate::cli::{CheckArgs, Cli};
+use crate::deck::load::{Loaded, load_paths};
 
-pub fn run(_cli: &Cli, _args: &CheckArgs) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("check: not built yet")
+pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
+    let paths = if args.paths.is_empty() {
+        vec![relative_to_cwd(&crate::paths::bundled_decks())]
+    } else {
+        args.paths.clone()
+    };
+    let missing: Vec<&PathBuf> = paths.iter().filter(|p| !p.exists()).collect();
+    if !missing.is_empty() {
+        for p in missing {
+            eprintln!(
+                "flipcard: error: {}: no such file or directory",
+                p.display()
+            );
+        }
+        return Ok(ExitCode::from(2));
+    }
+    for p in paths.iter().filter(|p| p.is_dir()) {
+        let has_decks = std::fs::read_dir(p).is_ok_and(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .any(|e| e.path().extension().is_some_and(|x| x == "toml"))
+        });
+        if !has_decks {
+            eprintln!(
+                "flipcard: warning: no deck files (*.toml) in {}",
+                p.display()
+            );
+        }
+    }
+    let loaded = load_paths(&paths);
+    if !loaded.diagnostics.is_empty() {
+        eprintln!("{}", loaded.render_all());
+    }
+    if loaded.errors() > 0 {
+        eprintln!("{} errors, {} warnings", loaded.errors(), loaded.warnings());
+        return Ok(ExitCode::from(1));
+    }
+    println!("{}", summary(&loaded));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `N decks, M cards, P prompts, S scenes, X sections: ok`; a section counts
+/// once however many languages it is written in.
+pub fn summary(loaded: &Loaded) -> String {
+    let count = |f: fn(&crate::deck::Deck) -> usize| loaded.decks.iter().map(f).sum::<usize>();
+    format!(
+        "{} decks, {} cards, {} prompts, {} scenes, {} sections: ok",
+        loaded.decks.len(),
+        count(|d| d.cards.len()),
+        count(|d| d.prompts.len()),
+        count(|d| d.scenes.len()),
+        count(|d| d.sections.len()),
+    )
+}
+
+/// `path` relative to the working directory when it lies under it, so the
+/// default (absolute) bundled path reads as `decks/...` in diagnostics.
+fn relative_to_cwd(path: &Path) -> PathBuf {
+    std::env::current_dir()
+        .ok()
+        .and_then(|cwd| path.strip_prefix(&cwd).ok().map(Path::to_path_buf))
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or_else(|| path.to_path_buf())
 }

@@ -1,6 +1,22 @@
 //! Decks: raw TOML with positions → validated domain types, with diagnostics.
+//!
+//! Two stages: [`raw`] reads the TOML into types that keep every value's
+//! span (reporting wrong types, missing and unknown fields), then
+//! [`validate`] checks ids, languages, links, texts and physics and builds
+//! the [`model`] types. Every problem of every file is collected in one run.
 
 pub mod check;
+pub mod diag;
+pub mod load;
 pub mod model;
+pub mod raw;
+mod read;
+pub mod report;
+pub mod schema;
+mod suggest;
+pub mod tomlstr;
+pub mod validate;
 
+pub use diag::{Diagnostic, Severity};
+pub use load::{Loaded, content_dir, load_dir, load_paths};
 pub use model::*;

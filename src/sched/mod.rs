@@ -1,6 +1,15 @@
-//! Scheduling: FSRS-6 with short-term learning steps, the daily queue.
-//! Never imports ratatui.
+//! Scheduling: FSRS-6 with short-term learning steps, the daily queue,
+//! typed-answer checking and the learner's settings. Never imports ratatui.
 
+pub mod config;
+pub mod queue;
+pub mod scheduler;
+pub mod typed;
 pub mod types;
 
+pub use config::{Config, ConfigError};
+pub use queue::{
+    Counts, CramQueue, DoneToday, Queue, QueueKind, cram_items, deck_items, study_day,
+};
+pub use scheduler::{Preview, Scheduler, format_interval};
 pub use types::*;

@@ -68,4 +68,12 @@ pub trait Solver {
     /// output or a trial sub-step to land exactly on `t`).
     fn advance(&mut self, t: f64) -> Result<State, SimError>;
     fn work(&self) -> Work;
+    /// Announces the last time the run will ask for, so that a stepping
+    /// solver can refuse at once a span its step budget cannot cover (and
+    /// check its progress against that span while it runs). Solvers without
+    /// a budget accept any span.
+    fn plan(&mut self, t_end: f64) -> Result<(), SimError> {
+        let _ = t_end;
+        Ok(())
+    }
 }

@@ -1,4 +1,30 @@
-//! SQLite storage: schema, migrations, the append-only review log.
+//! SQLite storage: schema, migrations, the append-only review log, the
+//! card-state cache derived from it, statistics and exports.
 //! Never imports ratatui.
+//!
+//! Every write is one transaction committed to disk (`synchronous=FULL`)
+//! before the call returns, so a rating is safe before the next card shows.
 
+pub mod attempt;
+pub mod backup;
 pub mod cli;
+mod codec;
+pub mod csvdeck;
+pub mod day;
+pub mod db;
+pub mod error;
+pub mod export;
+pub mod log;
+pub mod schema;
+pub mod state;
+pub mod stats;
+mod tally;
+pub mod today;
+
+pub use attempt::PromptAttempt;
+pub use day::DayGrid;
+pub use db::{OpenOptions, Store};
+pub use error::StoreError;
+pub use log::LoggedReview;
+pub use state::{CachedState, RebuildReport};
+pub use stats::{Stats, StatsScope};

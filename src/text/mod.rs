@@ -1,6 +1,24 @@
 //! Math text: `$...$` and `$$...$$` LaTeX rendered as Unicode for the
 //! terminal, and the light markup of explanation sections. Never imports
 //! ratatui.
+//!
+//! LaTeX is parsed by `pulldown-latex`; its events are folded into a small
+//! tree ([`tree`]) and written out as one line of Unicode ([`unicode`]).
+
+mod dollar;
+mod glyphs;
+mod locate;
+pub mod markup;
+mod tree;
+mod unicode;
+
+#[cfg(test)]
+mod seed_tests;
+
+use pulldown_latex::{Parser, Storage};
+
+use dollar::Piece;
+use tree::BuildError;
 
 /// A LaTeX problem inside a text, at a byte offset of that text.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -11,12 +29,361 @@ pub struct MathError {
     pub message: String,
 }
 
-/// Every LaTeX problem in `text` (empty when it all renders).
-pub fn check(_text: &str) -> Vec<MathError> {
-    Vec::new()
+/// Every LaTeX problem in `text` (empty when it all renders): formulas that
+/// do not parse, at the place the parser points to (else at the formula's
+/// opening `$`), and `$` or `$$` that are never closed.
+pub fn check(text: &str) -> Vec<MathError> {
+    let mut errors = Vec::new();
+    let mut scratch = String::new();
+    for piece in dollar::pieces(text) {
+        match piece {
+            Piece::Math(math) => {
+                scratch.clear();
+                if let Err(mut e) = write_math(math.latex, &mut scratch) {
+                    e.offset += math.latex_offset;
+                    errors.push(e);
+                }
+            }
+            Piece::Unclosed { offset, display } => errors.push(unclosed(offset, display)),
+            Piece::Text(_) | Piece::Dollar => {}
+        }
+    }
+    errors
 }
 
-/// `text` with every math span rendered as Unicode (other text unchanged).
+/// `text` with every math span rendered as Unicode and `\$` as `$`; the
+/// rest is unchanged. Display math (`$$...$$`) is put on a line of its own.
+/// A formula that does not parse is left as written (see [`check`]).
 pub fn render(text: &str) -> String {
-    text.to_string()
+    let mut out = String::with_capacity(text.len());
+    let mut after_display = false;
+    for piece in dollar::pieces(text) {
+        match piece {
+            Piece::Text(mut s) => {
+                if after_display {
+                    s = s.trim_start_matches([' ', '\t']);
+                    if !s.is_empty() && !s.starts_with('\n') {
+                        out.push('\n');
+                    }
+                }
+                out.push_str(s);
+            }
+            Piece::Dollar => {
+                if after_display {
+                    out.push('\n');
+                }
+                out.push('$');
+            }
+            Piece::Math(math) => {
+                if after_display {
+                    out.push('\n');
+                }
+                if math.display {
+                    let kept = out.trim_end_matches([' ', '\t']).len();
+                    out.truncate(kept);
+                    if !out.is_empty() && !out.ends_with('\n') {
+                        out.push('\n');
+                    }
+                }
+                let start = out.len();
+                if write_math(math.latex, &mut out).is_err() {
+                    out.truncate(start);
+                    out.push_str(math.source);
+                }
+            }
+            Piece::Unclosed { offset, .. } => {
+                if after_display {
+                    out.push('\n');
+                }
+                out.push_str(&text[offset..]);
+            }
+        }
+        after_display = matches!(piece, Piece::Math(m) if m.display);
+    }
+    out
+}
+
+/// One formula (the LaTeX between the dollars) as Unicode. The error's
+/// offset is a byte offset into `latex`.
+pub fn math_to_unicode(latex: &str) -> Result<String, MathError> {
+    let mut out = String::with_capacity(latex.len());
+    write_math(latex, &mut out)?;
+    Ok(out)
+}
+
+/// Append the rendered formula to `out` (on error `out` may hold part of
+/// it).
+pub(crate) fn write_math(latex: &str, out: &mut String) -> Result<(), MathError> {
+    let storage = Storage::new();
+    let nodes = tree::build(Parser::new(latex, &storage)).map_err(|e| math_error(latex, e))?;
+    unicode::render(&nodes, out);
+    Ok(())
+}
+
+fn math_error(latex: &str, err: BuildError) -> MathError {
+    match err {
+        BuildError::Parser(err) => {
+            let offset = locate::offset(latex).unwrap_or(0);
+            let message = match locate::message(&err).as_str() {
+                "unknown primitive command found" => {
+                    let name: String = latex[offset..]
+                        .chars()
+                        .skip(1)
+                        .take_while(char::is_ascii_alphabetic)
+                        .collect();
+                    if latex[offset..].starts_with('\\') && !name.is_empty() {
+                        format!("unknown LaTeX command `\\{name}`")
+                    } else {
+                        "unknown LaTeX command".to_string()
+                    }
+                }
+                "expected a token" => {
+                    "a command is missing its argument (a symbol or a `{...}` group)".to_string()
+                }
+                other => format!("LaTeX: {other}"),
+            };
+            MathError { offset, message }
+        }
+        BuildError::Shape(what) => MathError {
+            offset: 0,
+            message: format!("LaTeX: {what}"),
+        },
+    }
+}
+
+fn unclosed(offset: usize, display: bool) -> MathError {
+    let message = if display {
+        "display math `$$` is not closed (math cannot run across a blank line)"
+    } else {
+        "`$` is not closed: end the formula with `$`, or write a literal dollar as `\\$` \
+         (a `$` followed by a digit never closes a formula)"
+    };
+    MathError {
+        offset,
+        message: message.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn required_example() {
+        assert_eq!(
+            math_to_unicode(r"I_1\dot\omega_1 = (I_2-I_3)\,\omega_2\omega_3").as_deref(),
+            Ok("I₁ω̇₁ = (I₂ − I₃) ω₂ω₃")
+        );
+    }
+
+    #[test]
+    fn render_replaces_only_the_math() {
+        assert_eq!(
+            render(r"Euler: $I_1\dot\omega_1$, see *below*."),
+            "Euler: I₁ω̇₁, see *below*."
+        );
+    }
+
+    #[test]
+    fn escaped_dollar_renders_as_dollar() {
+        assert_eq!(render(r"costs \$5, or $x^2$"), "costs $5, or x²");
+    }
+
+    #[test]
+    fn display_math_goes_on_its_own_line() {
+        assert_eq!(render("so $$a = b$$ holds"), "so\na = b\nholds");
+        assert_eq!(render("so\n$$a = b$$\nholds"), "so\na = b\nholds");
+        assert_eq!(render("$$a$$"), "a");
+        assert_eq!(render("$$a$$ $$b$$"), "a\nb");
+    }
+
+    #[test]
+    fn bad_math_is_left_as_written() {
+        assert_eq!(render(r"a $\foo x$ b"), r"a $\foo x$ b");
+        assert_eq!(render("a $x b"), "a $x b");
+    }
+
+    #[test]
+    fn text_without_math_is_unchanged() {
+        let text = "Plain text, *stars*, back\\slashes and 100% Unicode ω.\n\nTwo paragraphs.";
+        assert_eq!(render(text), text);
+        assert!(check(text).is_empty());
+    }
+
+    #[test]
+    fn check_reports_unknown_command_at_its_offset() {
+        let text = r"Spin: $\omega + \foo x$.";
+        assert_eq!(
+            check(text),
+            vec![MathError {
+                offset: text.find(r"\foo").unwrap_or(usize::MAX),
+                message: "unknown LaTeX command `\\foo`".to_string(),
+            }]
+        );
+    }
+
+    #[test]
+    fn check_reports_every_problem() {
+        let text = r"$\foo$ then $\bar{x$ then $\frac{a}{b}$ then $x";
+        let errors = check(text);
+        let offsets: Vec<usize> = errors.iter().map(|e| e.offset).collect();
+        // `\foo` at 1; the group opened in `\bar{x` is still open at the
+        // closing `$` (offset 19); the last `$` is never closed (at 45).
+        assert_eq!(offsets, vec![1, 19, 45], "{errors:?}");
+        assert!(errors[1].message.contains("unbalanced group"), "{errors:?}");
+        assert!(errors[2].message.contains("not closed"), "{errors:?}");
+    }
+
+    #[test]
+    fn check_reports_stray_brace_at_it() {
+        let text = "Here: $a + b} = c$";
+        let errors = check(text);
+        assert_eq!(errors.len(), 1);
+        assert_eq!(errors[0].offset, text.find('}').unwrap_or(usize::MAX));
+        assert!(errors[0].message.contains("unbalanced"), "{errors:?}");
+    }
+
+    #[test]
+    fn check_reports_unclosed_display_math() {
+        let errors = check("Look: $$x = 1$ here");
+        assert_eq!(errors.len(), 1);
+        assert_eq!(errors[0].offset, 6);
+        assert!(errors[0].message.contains("$$"));
+    }
+
+    #[test]
+    fn check_reports_missing_argument() {
+        let errors = check(r"$\frac{a}$");
+        assert_eq!(errors.len(), 1);
+        assert!(
+            errors[0].message.contains("missing its argument"),
+            "{errors:?}"
+        );
+    }
+
+    #[test]
+    fn math_to_unicode_reports_offset_in_the_formula() {
+        let err = math_to_unicode(r"a = \qux").unwrap_err();
+        assert_eq!(err.offset, 4);
+        assert_eq!(err.message, "unknown LaTeX command `\\qux`");
+    }
+
+    #[test]
+    fn deep_nesting_is_an_error_not_a_crash() {
+        let deep = format!("{}x{}", "{".repeat(5000), "}".repeat(5000));
+        let err = math_to_unicode(&deep).unwrap_err();
+        assert!(err.message.contains("nested too deeply"), "{err:?}");
+        let deep_frac = r"\frac{".repeat(300) + &"}{x}".repeat(300);
+        assert!(math_to_unicode(&deep_frac).is_err());
+    }
+
+    /// Deterministic random texts built from LaTeX and markup fragments:
+    /// nothing panics and every error offset can be turned into line:col.
+    #[test]
+    fn random_texts_give_locatable_errors() {
+        const FRAGMENTS: &[&str] = &[
+            "$",
+            "$$",
+            r"\$",
+            r"\frac",
+            r"\sqrt",
+            "{",
+            "}",
+            "[",
+            "]",
+            "x",
+            "ω",
+            "_",
+            "^",
+            r"\left(",
+            r"\right)",
+            r"\begin{matrix}",
+            r"\end{matrix}",
+            "&",
+            r"\\",
+            r"\dot",
+            r"\vec",
+            r"\text{a b}",
+            r"\mathbf",
+            "1.5",
+            ",",
+            "-",
+            "+",
+            "=",
+            r"\,",
+            r"\quad",
+            r"\big(",
+            r"\not",
+            r"\foo",
+            "#",
+            r"\begin{cases}",
+            r"\end{cases}",
+            r"\sum",
+            "%",
+            "'",
+            r"\",
+            "é",
+            " ",
+            "\n",
+            "\n\n",
+            "*",
+            "**",
+            "- ",
+            r"\operatorname{f}",
+            "~",
+            r"\hspace{3cm}",
+        ];
+        let mut seed: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        for _ in 0..3000 {
+            let len = (next() % 16) as usize;
+            let text: String = (0..len)
+                .map(|_| FRAGMENTS[(next() % FRAGMENTS.len() as u64) as usize])
+                .collect();
+            for e in check(&text) {
+                assert!(
+                    e.offset <= text.len() && text.is_char_boundary(e.offset),
+                    "{text:?}: {e:?}"
+                );
+            }
+            let _ = render(&text);
+            let _ = markup::parse(&text);
+        }
+    }
+
+    #[test]
+    fn odd_bytes_never_panic() {
+        for text in [
+            "$",
+            "$$",
+            "$$$",
+            "$$$$",
+            "\\",
+            "\\$",
+            "$\\$",
+            "$\\",
+            "$x\\",
+            "$$\\$$",
+            "\u{0}$\u{7f}$",
+            "$ω\\",
+            "$\\frac$",
+            "$^$",
+            "$_^$",
+            "$&$",
+            "$\\\\$",
+            "$#$",
+            "$\\left($",
+            "$}{$",
+            "$\\begin{matrix}a&b\\\\c\\end{matrix}$",
+            "$\\def\\a{\\a}\\a$",
+        ] {
+            let _ = render(text);
+            let _ = check(text);
+        }
+    }
 }

@@ -1,9 +1,191 @@
-//! The terminal app. Owns view state only.
+//! The terminal app. Owns view state only: decks, schedules, the review log
+//! and the simulations come from `deck`, `sched`, `store` and `sim`.
+//!
+//! Every key becomes an [`Action`] (`keymap`) that [`apply`] carries out
+//! without a terminal; [`view::draw`] renders the state. The event loop
+//! blocks on input when idle and ticks at about 30 frames per second only
+//! while a simulation plays.
+
+pub mod action;
+pub mod app;
+pub mod geometry;
+pub mod i18n;
+pub mod keymap;
+pub mod live;
+pub mod plots;
+pub mod screens;
+pub mod services;
+#[cfg(test)]
+mod testkit;
+#[cfg(test)]
+mod tests;
+pub mod theme;
+pub mod update;
+pub mod view;
+pub mod wrap;
 
 use std::process::ExitCode;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use anyhow::Context as _;
+use crossterm::event::{self, Event};
+use ratatui::DefaultTerminal;
+
+pub use action::Action;
+pub use app::App;
+pub use update::apply;
 
 use crate::cli::{Cli, ReviewArgs};
+use crate::sched::Config;
+use crate::store::Store;
+use services::{Clock, DayZone, Services};
+use theme::Theme;
 
-pub fn run(_cli: &Cli, _review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("tui: not built yet")
+/// Time between frames while a simulation plays (about 30 per second).
+const FRAME: Duration = Duration::from_millis(33);
+
+pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
+    // Everything that can fail with a message is done before the terminal
+    // switches to raw mode, so errors print as ordinary lines.
+    let clock = Clock::from_env()?;
+    let config_path = crate::paths::config_file(cli.config.clone());
+    let config = Config::load(config_path.as_deref())?;
+    let data_dir = crate::paths::data_dir(cli.data_dir.clone())?;
+    let store = Store::open(&data_dir)?;
+    let deck_dir = cli
+        .decks
+        .clone()
+        .unwrap_or_else(crate::paths::bundled_decks);
+    let loaded = crate::deck::load_dir(&deck_dir);
+    let problems = loaded.errors();
+    let lang = config.language.clone();
+    let mut services = Services::new(clock, config, config_path, DayZone::Local, store);
+    services.bench_csv = bench_csv();
+    let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
+    app.deck_problems = problems;
+    if let Some(args) = review {
+        open_review(&mut app, args)?;
+    }
+
+    let busy = Arc::new(Mutex::new(()));
+    watch_signals(&busy)?;
+    let mut terminal = ratatui::try_init().context("cannot set up the terminal")?;
+    let result = event_loop(&mut terminal, &mut app, &busy);
+    ratatui::restore();
+    result.map(|()| ExitCode::SUCCESS)
+}
+
+/// `flipcard review [DECK] [--cram]`: the review opens at once.
+fn open_review(app: &mut App, args: &ReviewArgs) -> anyhow::Result<()> {
+    let deck = match &args.deck {
+        Some(id) => app.decks.iter().position(|d| &d.id == id).ok_or_else(|| {
+            let ids: Vec<&str> = app.decks.iter().map(|d| d.id.as_str()).collect();
+            anyhow::anyhow!("no deck `{id}`; decks: {}", ids.join(", "))
+        })?,
+        None if app.decks.is_empty() => anyhow::bail!("no decks to review"),
+        None => 0,
+    };
+    if let screens::Screen::Home(h) = app.screen_mut() {
+        h.selected = deck;
+    }
+    let review =
+        screens::review::ReviewState::open(app, deck, args.cram).map_err(anyhow::Error::msg)?;
+    app.push(screens::Screen::Review(Box::new(review)));
+    Ok(())
+}
+
+/// The work–precision table `flipcard bench` writes by default, if present
+/// (in the working directory, else next to the bundled decks).
+fn bench_csv() -> Option<std::path::PathBuf> {
+    let name = std::path::Path::new("bench-out").join("work_precision.csv");
+    let here = name.clone();
+    let bundled = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(&name);
+    [here, bundled].into_iter().find(|p| p.is_file())
+}
+
+/// On SIGTERM, SIGHUP, SIGINT or SIGQUIT: wait until the event loop is idle
+/// (it holds `busy` while it changes state or draws, so a rating being
+/// written finishes first), restore the terminal and exit.
+fn watch_signals(busy: &Arc<Mutex<()>>) -> anyhow::Result<()> {
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGQUIT, SIGTERM};
+    let mut signals = signal_hook::iterator::Signals::new([SIGTERM, SIGHUP, SIGINT, SIGQUIT])
+        .context("cannot install signal handlers")?;
+    let busy = Arc::clone(busy);
+    std::thread::spawn(move || {
+        if let Some(signal) = signals.forever().next() {
+            let _idle = busy.lock();
+            ratatui::restore();
+            std::process::exit(128 + signal);
+        }
+    });
+    Ok(())
+}
+
+fn event_loop(
+    terminal: &mut DefaultTerminal,
+    app: &mut App,
+    busy: &Mutex<()>,
+) -> anyhow::Result<()> {
+    let size = terminal.size()?;
+    app.size = (size.width, size.height);
+    let mut dirty = true;
+    let mut last_tick: Option<Instant> = None;
+    loop {
+        let guard = busy.lock().unwrap_or_else(|e| e.into_inner());
+        if app.animating() {
+            let now = Instant::now();
+            match last_tick {
+                None => last_tick = Some(now),
+                Some(t) if now.duration_since(t) >= FRAME => {
+                    let t0 = Instant::now();
+                    apply(app, Action::Tick(now.duration_since(t)));
+                    app.frame_us.physics = t0.elapsed().as_micros() as u64;
+                    last_tick = Some(now);
+                    dirty = true;
+                }
+                Some(_) => {}
+            }
+        } else {
+            last_tick = None;
+        }
+        if app.quit {
+            return Ok(());
+        }
+        if dirty {
+            let t0 = Instant::now();
+            terminal.draw(|frame| view::draw(frame, app))?;
+            app.frame_us.draw = t0.elapsed().as_micros() as u64;
+            dirty = false;
+        }
+        drop(guard);
+
+        let event = match last_tick {
+            Some(t) if app.animating() => {
+                let wait = (t + FRAME).saturating_duration_since(Instant::now());
+                if event::poll(wait)? {
+                    Some(event::read()?)
+                } else {
+                    None
+                }
+            }
+            // Idle: block until something happens.
+            _ => Some(event::read()?),
+        };
+        let _guard = busy.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(event) = event
+            && let Some(action) = event_action(app, event)
+        {
+            apply(app, action);
+            dirty = true;
+        }
+    }
+}
+
+fn event_action(app: &App, event: Event) -> Option<Action> {
+    match event {
+        Event::Key(key) => keymap::key_action(app, key),
+        Event::Resize(w, h) => Some(Action::Resize(w, h)),
+        _ => None,
+    }
 }

@@ -1,0 +1,383 @@
+//! Finding deck files and their content files, and running both stages on
+//! them.
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::fs;
+use std::path::{Component, Path, PathBuf};
+
+use toml::de::DeTable;
+
+use super::diag::{Diagnostic, LineIndex, Severity};
+use super::model::Deck;
+use super::raw::{self, Span};
+use super::report::FileReport;
+use super::validate::{self, content::ContentFile};
+
+/// TOML syntax errors shown per file; past this they are mostly echoes of
+/// the first ones.
+const MAX_SYNTAX_ERRORS: usize = 20;
+
+/// Everything a load found: the valid decks, every diagnostic (in file
+/// order), and the text of each file read, for rendering.
+#[derive(Debug, Default)]
+pub struct Loaded {
+    /// The decks without errors (warnings allowed), in the order loaded.
+    pub decks: Vec<Deck>,
+    pub diagnostics: Vec<Diagnostic>,
+    /// The text of every file read, by the path diagnostics use.
+    pub sources: BTreeMap<PathBuf, String>,
+}
+
+impl Loaded {
+    pub fn errors(&self) -> usize {
+        self.diagnostics.iter().filter(|d| d.is_error()).count()
+    }
+
+    pub fn warnings(&self) -> usize {
+        self.diagnostics.len() - self.errors()
+    }
+
+    /// One diagnostic with its source line (headline and help only when the
+    /// file could not be read).
+    pub fn render(&self, d: &Diagnostic) -> String {
+        d.render(self.sources.get(&d.path).map_or("", String::as_str))
+    }
+
+    /// Every diagnostic rendered, separated by blank lines (each file's
+    /// lines indexed once, so many diagnostics in a big file stay cheap).
+    pub fn render_all(&self) -> String {
+        let mut indexes: HashMap<&Path, LineIndex> = HashMap::new();
+        let rendered: Vec<String> = self
+            .diagnostics
+            .iter()
+            .map(|d| {
+                let source = self.sources.get(&d.path).map_or("", String::as_str);
+                let index = indexes
+                    .entry(&d.path)
+                    .or_insert_with(|| LineIndex::new(source));
+                d.render_line(index.line(source, d.line))
+            })
+            .collect();
+        rendered.join("\n")
+    }
+}
+
+/// Loads every deck in a folder (each `*.toml` directly in it) or one file.
+pub fn load_dir(path: &Path) -> Loaded {
+    load_paths(&[path.to_path_buf()])
+}
+
+/// Loads deck files and folders of deck files (each `*.toml` directly in
+/// the folder, in name order). Paths in diagnostics are built from the paths
+/// given, so relative paths stay relative.
+pub fn load_paths(paths: &[PathBuf]) -> Loaded {
+    let mut loaded = Loaded::default();
+    let mut seen_ids: HashMap<String, PathBuf> = HashMap::new();
+    let mut seen_files: HashSet<PathBuf> = HashSet::new();
+    for path in paths {
+        for file in deck_files(path, &mut loaded) {
+            // The same file named twice (`decks decks/x.toml`) is one deck.
+            let key = fs::canonicalize(&file).unwrap_or_else(|_| file.clone());
+            if seen_files.insert(key) {
+                load_deck(&file, &mut loaded, &mut seen_ids);
+            }
+        }
+    }
+    loaded
+}
+
+/// The deck files a path names.
+fn deck_files(path: &Path, loaded: &mut Loaded) -> Vec<PathBuf> {
+    if !path.is_dir() {
+        return vec![path.to_path_buf()];
+    }
+    match fs::read_dir(path) {
+        Ok(entries) => {
+            let mut files: Vec<PathBuf> = entries
+                .filter_map(Result::ok)
+                .map(|e| e.path())
+                .filter(|p| p.extension().is_some_and(|e| e == "toml") && p.is_file())
+                .collect();
+            files.sort();
+            files
+        }
+        Err(e) => {
+            loaded.diagnostics.push(io_problem(path, &e.to_string()));
+            Vec::new()
+        }
+    }
+}
+
+fn io_problem(path: &Path, message: &str) -> Diagnostic {
+    Diagnostic {
+        path: path.to_path_buf(),
+        line: 1,
+        col: 1,
+        severity: Severity::Error,
+        message: format!("cannot read: {message}"),
+        hint: None,
+        width: 1,
+    }
+}
+
+/// Reads a file as UTF-8 text; an I/O problem or invalid UTF-8 is a
+/// diagnostic (the lossy text is still kept for rendering).
+fn read_text(path: &Path, loaded: &mut Loaded) -> Option<String> {
+    let bytes = match fs::read(path) {
+        Ok(b) => b,
+        Err(e) => {
+            loaded.diagnostics.push(io_problem(path, &e.to_string()));
+            return None;
+        }
+    };
+    match String::from_utf8(bytes) {
+        Ok(text) => Some(text),
+        Err(e) => {
+            let valid = e.utf8_error().valid_up_to();
+            let bytes = e.into_bytes();
+            let text = String::from_utf8_lossy(&bytes).into_owned();
+            let prefix = String::from_utf8_lossy(&bytes[..valid]).into_owned();
+            let mut rep = FileReport::new(path, &prefix);
+            rep.error(
+                valid..valid + 1,
+                format!("not valid UTF-8 (byte 0x{:02X})", bytes[valid]),
+                Some("deck and content files are UTF-8 text".to_string()),
+            );
+            loaded.diagnostics.extend(rep.finish());
+            loaded.sources.insert(path.to_path_buf(), text);
+            None
+        }
+    }
+}
+
+/// Parses TOML, reporting every syntax error; `None` when there are any
+/// (a recovered tree would only add confusing follow-up errors).
+fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Span)> {
+    let (table, errors) = DeTable::parse_recoverable(text);
+    if errors.is_empty() {
+        let span = table.span();
+        return Some((table.into_inner(), span));
+    }
+    let mut found: Vec<(Span, String)> = errors
+        .iter()
+        .map(|e| (e.span().unwrap_or(0..0), e.message().to_string()))
+        .collect();
+    found.sort_by_key(|(span, _)| span.start);
+    found.dedup();
+    let extra = found.len().saturating_sub(MAX_SYNTAX_ERRORS);
+    for (span, message) in found.iter().take(MAX_SYNTAX_ERRORS) {
+        let hint = (message.contains("escape") || message.contains("unicode")).then(|| {
+            "a backslash in a \"...\" string starts an escape; write LaTeX in a literal string '...' or '''...'''"
+                .to_string()
+        });
+        rep.error(span.clone(), format!("TOML: {message}"), hint);
+    }
+    if extra > 0 {
+        let at = found[MAX_SYNTAX_ERRORS].0.clone();
+        rep.error(
+            at,
+            format!("TOML: {extra} more syntax errors not shown"),
+            None,
+        );
+    }
+    None
+}
+
+/// Where a deck's content files live: `<deck folder>/../content/<deck-id>/`,
+/// built lexically so a relative deck path gives a relative content path.
+pub fn content_dir(deck_file: &Path, deck_id: &str) -> PathBuf {
+    let folder = deck_file.parent().unwrap_or(Path::new(""));
+    let root = match folder.components().next_back() {
+        Some(Component::Normal(_)) => folder.parent().unwrap_or(Path::new("")).to_path_buf(),
+        _ => folder.join(".."),
+    };
+    root.join("content").join(deck_id)
+}
+
+fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, PathBuf>) {
+    let Some(text) = read_text(path, loaded) else {
+        return;
+    };
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut rep = FileReport::new(path, &text);
+    let parsed =
+        parse(&mut rep, &text).map(|(root, span)| raw::read_deck_file(&mut rep, &root, span));
+    let Some(raw) = parsed else {
+        loaded.diagnostics.extend(rep.finish());
+        loaded.sources.insert(path.to_path_buf(), text);
+        return;
+    };
+    let header = validate::header(&mut rep, &raw, &stem);
+
+    if let (Some(id), Some(d)) = (&header.id, &raw.deck) {
+        match seen_ids.get(id) {
+            Some(first) => {
+                let span = d.id.as_ref().map_or(0..0, |s| s.span.clone());
+                rep.error(
+                    span,
+                    format!("deck id `{id}` is also used by {}", first.display()),
+                    Some("deck ids must be unique: review history is keyed by them".to_string()),
+                );
+            }
+            None => {
+                seen_ids.insert(id.clone(), path.to_path_buf());
+            }
+        }
+    }
+
+    // Content files: one per declared language, found by deck id.
+    // By file name: the deck id must equal it, and a mismatch is reported
+    // once above rather than again as missing content.
+    let dir = content_dir(path, &stem);
+    let mut texts: Vec<(String, PathBuf, Option<String>)> = Vec::new();
+    let mut stray = Vec::new();
+    if header.langs.known {
+        for (lang, span) in &header.lang_spans {
+            let file = dir.join(format!("{lang}.toml"));
+            if file.is_file() {
+                let text = read_text(&file, loaded);
+                texts.push((lang.clone(), file, text));
+            } else {
+                rep.error(
+                    span.clone(),
+                    format!("no content file for language `{lang}`"),
+                    Some(format!(
+                        "expected {} (an empty file is fine when the deck has no explanations)",
+                        file.display()
+                    )),
+                );
+                texts.push((lang.clone(), file, None));
+            }
+        }
+        stray = stray_content_files(&dir, &header.langs.list);
+    }
+    let mut files: Vec<ContentFile> = texts
+        .iter()
+        .map(|(lang, file, text)| {
+            let mut crep = FileReport::new(file, text.as_deref().unwrap_or(""));
+            let raw = text.as_deref().and_then(|t| {
+                let (root, span) = parse(&mut crep, t)?;
+                Some(raw::read_content_file(&mut crep, &root, span))
+            });
+            ContentFile {
+                lang: lang.clone(),
+                rep: crep,
+                raw,
+            }
+        })
+        .collect();
+    let sections = if files.is_empty() {
+        validate::content::Sections {
+            sections: None,
+            ids: None,
+        }
+    } else {
+        validate::content::sections(&mut files)
+    };
+    let body = validate::body(&mut rep, &raw, &header.langs, sections.ids.as_deref());
+
+    let clean = !rep.has_errors() && files.iter().all(|f| !f.rep.has_errors());
+    let deck = match (clean, header, body, sections.sections) {
+        (true, h, Some(body), Some(sections)) => (|| {
+            Some(Deck {
+                id: h.id?,
+                title: h.title?,
+                description: h.description?,
+                languages: h.langs.list,
+                cards: body.cards,
+                prompts: body.prompts,
+                scenes: body.scenes,
+                sections,
+                path: path.to_path_buf(),
+            })
+        })(),
+        _ => None,
+    };
+    loaded.diagnostics.extend(rep.finish());
+    for f in files {
+        loaded.diagnostics.extend(f.rep.finish());
+    }
+    loaded.diagnostics.extend(stray);
+    loaded.sources.insert(path.to_path_buf(), text);
+    for (_, file, text) in texts {
+        if let Some(text) = text {
+            loaded.sources.insert(file, text);
+        }
+    }
+    loaded.decks.extend(deck);
+}
+
+/// A content file for a language the deck does not declare is never shown:
+/// most likely a tag spelt differently (`hi-latn`), so say so.
+fn stray_content_files(dir: &Path, langs: &[String]) -> Vec<Diagnostic> {
+    let Ok(entries) = fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut stray: Vec<PathBuf> = entries
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .filter(|p| {
+            p.file_stem()
+                .is_none_or(|s| !langs.iter().any(|l| *l == s.to_string_lossy()))
+        })
+        .collect();
+    stray.sort();
+    stray
+        .into_iter()
+        .map(|p| {
+        let lang = p
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        Diagnostic {
+            path: p.clone(),
+            line: 1,
+            col: 1,
+            severity: Severity::Warning,
+            message: format!("content file for language `{lang}`, which the deck does not declare; it is not used"),
+            hint: super::suggest::did_you_mean(&lang, langs.iter().map(String::as_str))
+                .or_else(|| Some("add the language to the deck's `languages`, or remove the file".to_string())),
+            width: 1,
+        }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_file_named_twice_is_loaded_once() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/decks/valid/full/decks");
+        let loaded = load_paths(&[dir.clone(), dir.join("spinning-top.toml")]);
+        assert_eq!(loaded.errors(), 0, "{}", loaded.render_all());
+        assert_eq!(loaded.decks.len(), 1);
+    }
+
+    #[test]
+    fn content_dir_sits_beside_the_deck_folder() {
+        let cases = [
+            ("decks/x.toml", "content/x"),
+            (
+                "tests/decks/valid/decks/x.toml",
+                "tests/decks/valid/content/x",
+            ),
+            ("/abs/decks/x.toml", "/abs/content/x"),
+            ("x.toml", "../content/x"),
+            ("./x.toml", "./../content/x"),
+            ("../x.toml", "../../content/x"),
+        ];
+        for (deck, want) in cases {
+            assert_eq!(
+                content_dir(Path::new(deck), "x"),
+                PathBuf::from(want),
+                "{deck}"
+            );
+        }
+    }
+}

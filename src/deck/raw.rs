@@ -1,0 +1,502 @@
+//! The raw stage: deck and content files as written, every value with its
+//! byte span. Reading reports wrong types, missing required fields and
+//! unknown fields; what is missing or mistyped is `None` here, and the deck
+//! it belongs to is never validated into a `Deck`.
+
+use std::ops::Range;
+
+use toml::de::DeTable;
+
+use super::read::{self, Fields};
+use super::report::FileReport;
+use super::suggest;
+
+pub type Span = Range<usize>;
+
+/// A string value with the span of its token (quotes included).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Str {
+    pub value: String,
+    pub span: Span,
+}
+
+/// A number value (integers are widened) with its span.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Num {
+    pub value: f64,
+    pub span: Span,
+}
+
+/// A boolean with its position.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flag {
+    pub value: bool,
+    pub span: Span,
+}
+
+/// An array with the span of the whole array.
+#[derive(Debug, Clone, PartialEq)]
+pub struct List<T> {
+    pub items: Vec<T>,
+    pub span: Span,
+}
+
+/// A translatable text as written.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RawText {
+    /// A plain string: allowed when the deck declares a single language.
+    Plain(Str),
+    /// `{ en = '...', hi-Latn = '...' }`: each language key (with the key's
+    /// span) and its string.
+    ByLang {
+        span: Span,
+        entries: Vec<(Str, Str)>,
+    },
+}
+
+impl RawText {
+    pub fn span(&self) -> Span {
+        match self {
+            RawText::Plain(s) => s.span.clone(),
+            RawText::ByLang { span, .. } => span.clone(),
+        }
+    }
+}
+
+pub const DECK_FILE_FIELDS: &[&str] = &["deck", "card", "prompt", "scene"];
+pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages"];
+pub const CARD_FIELDS: &[&str] = &[
+    "id", "kind", "front", "back", "accept", "explain", "prompt", "tags",
+];
+pub const PROMPT_FIELDS: &[&str] = &["id", "question", "scene", "explain", "tags", "answer"];
+pub const CHOICE_ANSWER_FIELDS: &[&str] = &["kind", "expected", "choices"];
+pub const NUMBER_ANSWER_FIELDS: &[&str] = &[
+    "kind",
+    "measure",
+    "unit",
+    "expected",
+    "tolerance",
+    "formula",
+];
+pub const CHOICE_FIELDS: &[&str] = &["id", "label", "when"];
+pub const TOLERANCE_FIELDS: &[&str] = &["abs", "rel"];
+pub const SCENE_FIELDS: &[&str] = &[
+    "id",
+    "title",
+    "inertia",
+    "omega",
+    "duration",
+    "show",
+    "time_unit",
+    "flat",
+];
+pub const CONTENT_FILE_FIELDS: &[&str] = &["section"];
+pub const SECTION_FIELDS: &[&str] = &["id", "title", "body", "see"];
+pub const ANSWER_KINDS: &[&str] = &["choice", "number"];
+
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RawDeckFile {
+    pub deck: Option<RawDeckHeader>,
+    pub cards: Vec<RawCard>,
+    pub prompts: Vec<RawPrompt>,
+    pub scenes: Vec<RawScene>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawDeckHeader {
+    pub span: Span,
+    pub id: Option<Str>,
+    pub title: Option<RawText>,
+    pub description: Option<RawText>,
+    pub languages: Option<List<Str>>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawCard {
+    pub span: Span,
+    pub id: Option<Str>,
+    pub kind: Option<Str>,
+    pub front: Option<RawText>,
+    pub back: Option<RawText>,
+    pub accept: Option<List<Str>>,
+    pub explain: Option<Str>,
+    pub prompt: Option<Str>,
+    pub tags: Option<List<Str>>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawPrompt {
+    pub span: Span,
+    pub id: Option<Str>,
+    pub question: Option<RawText>,
+    pub scene: Option<Str>,
+    pub explain: Option<Str>,
+    pub tags: Option<List<Str>>,
+    pub answer: Option<RawAnswer>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum RawAnswer {
+    Choice {
+        span: Span,
+        expected: Option<Str>,
+        choices: Option<List<RawChoice>>,
+    },
+    Number {
+        span: Span,
+        measure: Option<Str>,
+        unit: Option<Str>,
+        expected: Option<Num>,
+        tolerance: Option<RawTolerance>,
+        formula: Option<RawText>,
+    },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawChoice {
+    pub span: Span,
+    pub id: Option<Str>,
+    pub label: Option<RawText>,
+    pub when: Option<Str>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawTolerance {
+    pub span: Span,
+    pub abs: Option<Num>,
+    pub rel: Option<Num>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawScene {
+    pub span: Span,
+    pub id: Option<Str>,
+    pub title: Option<RawText>,
+    pub inertia: Option<List<Num>>,
+    pub omega: Option<List<Num>>,
+    pub duration: Option<Num>,
+    pub show: Option<List<Str>>,
+    pub time_unit: Option<Str>,
+    pub flat: Option<Flag>,
+}
+
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct RawContentFile {
+    pub sections: Vec<RawSection>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawSection {
+    pub span: Span,
+    pub id: Option<Str>,
+    pub title: Option<Str>,
+    pub body: Option<Str>,
+    pub see: Option<List<Str>>,
+}
+
+/// Names a table in messages by its id when it has a readable one.
+fn label(kind: &str, fields: &Fields) -> String {
+    match fields.get("id").and_then(|v| match v.get_ref() {
+        toml::de::DeValue::String(s) => Some(s.to_string()),
+        _ => None,
+    }) {
+        Some(id) if super::validate::is_id(&id) => format!("{kind} `{id}`"),
+        _ => kind.to_string(),
+    }
+}
+
+pub fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Span) -> RawDeckFile {
+    let has = |key: &str| {
+        root.iter().any(|(k, _)| {
+            let name: &str = k.get_ref();
+            name == key
+        })
+    };
+    if !has("deck") && has("section") {
+        rep.error(
+            0..0,
+            "this is a content file ([[section]]), not a deck file",
+            Some(
+                "check the deck file decks/<deck-id>.toml; its content files are found from it"
+                    .to_string(),
+            ),
+        );
+        return RawDeckFile::default();
+    }
+    let top = Fields::open(
+        rep,
+        root,
+        root_span,
+        "the deck file",
+        DECK_FILE_FIELDS,
+        |name| {
+            matches!(name, "section" | "sections").then(|| {
+                "explanation sections belong in content/<deck-id>/<lang>.toml, not in the deck file"
+                    .to_string()
+            })
+        },
+    );
+    let mut file = RawDeckFile::default();
+    match top.get("deck") {
+        Some(v) => {
+            if let Some(t) = read::table(rep, v, "`deck`") {
+                file.deck = Some(read_header(rep, t, v.span()));
+            }
+        }
+        None => rep.error(
+            0..0,
+            "the deck file has no [deck] table",
+            Some("start the file with [deck] and its id, title and languages".to_string()),
+        ),
+    }
+    if let Some(v) = top.get("card") {
+        for (t, span) in read::tables(rep, v, "card") {
+            file.cards.push(read_card(rep, t, span));
+        }
+    }
+    if let Some(v) = top.get("prompt") {
+        for (t, span) in read::tables(rep, v, "prompt") {
+            file.prompts.push(read_prompt(rep, t, span));
+        }
+    }
+    if let Some(v) = top.get("scene") {
+        for (t, span) in read::tables(rep, v, "scene") {
+            file.scenes.push(read_scene(rep, t, span));
+        }
+    }
+    file
+}
+
+fn read_header(rep: &mut FileReport, t: &DeTable, span: Span) -> RawDeckHeader {
+    let f = Fields::open(rep, t, span.clone(), "[deck]", DECK_FIELDS, |_| None);
+    RawDeckHeader {
+        span,
+        id: f.string(rep, "id", true),
+        title: f.text(rep, "title", true),
+        description: f.text(rep, "description", false),
+        languages: f.strings(rep, "languages", true),
+    }
+}
+
+fn read_card(rep: &mut FileReport, t: &DeTable, span: Span) -> RawCard {
+    let probe = Fields::open(
+        rep,
+        t,
+        span.clone(),
+        "[[card]]",
+        CARD_FIELDS,
+        |name| match name {
+            "question" | "answer" => Some("a card has `front` and `back`".to_string()),
+            "accepted" | "accepts" => Some("did you mean `accept`?".to_string()),
+            _ => None,
+        },
+    );
+    let what = label("card", &probe);
+    let f = probe.named(what);
+    RawCard {
+        span,
+        id: f.string(rep, "id", true),
+        kind: f.string(rep, "kind", false),
+        front: f.text(rep, "front", true),
+        back: f.text(rep, "back", true),
+        accept: f.strings(rep, "accept", false),
+        explain: f.string(rep, "explain", false),
+        prompt: f.string(rep, "prompt", false),
+        tags: f.strings(rep, "tags", false),
+    }
+}
+
+fn read_prompt(rep: &mut FileReport, t: &DeTable, span: Span) -> RawPrompt {
+    let probe = Fields::open(
+        rep,
+        t,
+        span.clone(),
+        "[[prompt]]",
+        PROMPT_FIELDS,
+        |name| match name {
+            "front" | "back" => Some("a prompt asks its `question`".to_string()),
+            _ => None,
+        },
+    );
+    let what = label("prompt", &probe);
+    let f = probe.named(what);
+    let answer = f
+        .require(rep, "answer")
+        .and_then(|v| read::table(rep, v, "`answer`").map(|t| (t, v.span())))
+        .and_then(|(t, span)| read_answer(rep, t, span, &f.what));
+    RawPrompt {
+        span,
+        id: f.string(rep, "id", true),
+        question: f.text(rep, "question", true),
+        scene: f.string(rep, "scene", true),
+        explain: f.string(rep, "explain", false),
+        tags: f.strings(rep, "tags", false),
+        answer,
+    }
+}
+
+fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Option<RawAnswer> {
+    // Which fields are known depends on the kind, so read it first.
+    let kind_value = t.iter().find(|(k, _)| {
+        let name: &str = k.get_ref();
+        name == "kind"
+    });
+    let Some((_, kind_value)) = kind_value else {
+        rep.error(
+            span,
+            format!("the answer of {owner} is missing the required field `kind`"),
+            Some("kind = \"choice\" or kind = \"number\"".to_string()),
+        );
+        return None;
+    };
+    let kind = read::string(rep, kind_value, "`kind`")?;
+    let what = format!("the answer of {owner}");
+    match kind.value.as_str() {
+        "choice" => {
+            let f = Fields::open(rep, t, span.clone(), &what, CHOICE_ANSWER_FIELDS, |name| {
+                NUMBER_ANSWER_FIELDS
+                    .contains(&name)
+                    .then(|| format!("`{name}` belongs to kind = \"number\" answers"))
+            });
+            let choices = f.require(rep, "choices").and_then(|v| {
+                let arr = read::array(rep, v, "`choices`")?;
+                let items = arr
+                    .iter()
+                    .filter_map(|item| {
+                        let t = read::table(rep, item, "each choice")?;
+                        Some(read_choice(rep, t, item.span()))
+                    })
+                    .collect();
+                Some(List {
+                    items,
+                    span: v.span(),
+                })
+            });
+            Some(RawAnswer::Choice {
+                span,
+                expected: f.string(rep, "expected", true),
+                choices,
+            })
+        }
+        "number" => {
+            let f = Fields::open(rep, t, span.clone(), &what, NUMBER_ANSWER_FIELDS, |name| {
+                CHOICE_ANSWER_FIELDS
+                    .contains(&name)
+                    .then(|| format!("`{name}` belongs to kind = \"choice\" answers"))
+            });
+            let tolerance = f.require(rep, "tolerance").and_then(|v| {
+                let t = read::table(rep, v, "`tolerance`")?;
+                let tf = Fields::open(rep, t, v.span(), "`tolerance`", TOLERANCE_FIELDS, |_| None);
+                Some(RawTolerance {
+                    span: v.span(),
+                    abs: tf.number(rep, "abs", false),
+                    rel: tf.number(rep, "rel", false),
+                })
+            });
+            Some(RawAnswer::Number {
+                span,
+                measure: f.string(rep, "measure", true),
+                unit: f.string(rep, "unit", false),
+                expected: f.number(rep, "expected", true),
+                tolerance,
+                formula: f.text(rep, "formula", false),
+            })
+        }
+        other => {
+            rep.error(
+                kind.span.clone(),
+                format!("unknown answer kind `{other}`"),
+                suggest::did_you_mean(other, ANSWER_KINDS.iter().copied())
+                    .or_else(|| Some("kind = \"choice\" or kind = \"number\"".to_string())),
+            );
+            None
+        }
+    }
+}
+
+fn read_choice(rep: &mut FileReport, t: &DeTable, span: Span) -> RawChoice {
+    let probe = Fields::open(rep, t, span.clone(), "choice", CHOICE_FIELDS, |_| None);
+    let what = label("choice", &probe);
+    let f = probe.named(what);
+    RawChoice {
+        span,
+        id: f.string(rep, "id", true),
+        label: f.text(rep, "label", true),
+        when: f.string(rep, "when", true),
+    }
+}
+
+fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
+    let probe = Fields::open(
+        rep,
+        t,
+        span.clone(),
+        "[[scene]]",
+        SCENE_FIELDS,
+        |name| match name {
+            "moments" | "inertia_tensor" => Some("did you mean `inertia`?".to_string()),
+            "omega0" | "angular_velocity" | "w" => Some("did you mean `omega`?".to_string()),
+            "t_end" | "time" => Some("did you mean `duration`?".to_string()),
+            _ => None,
+        },
+    );
+    let what = label("scene", &probe);
+    let f = probe.named(what);
+    RawScene {
+        span,
+        id: f.string(rep, "id", true),
+        title: f.text(rep, "title", false),
+        inertia: f.numbers(rep, "inertia", true),
+        omega: f.numbers(rep, "omega", true),
+        duration: f.number(rep, "duration", true),
+        show: f.strings(rep, "show", true),
+        time_unit: f.string(rep, "time_unit", false),
+        flat: f.flag(rep, "flat"),
+    }
+}
+
+pub fn read_content_file(rep: &mut FileReport, root: &DeTable, root_span: Span) -> RawContentFile {
+    let top = Fields::open(
+        rep,
+        root,
+        root_span,
+        "a content file",
+        CONTENT_FILE_FIELDS,
+        |name| match name {
+            "deck" | "card" | "prompt" | "scene" => Some(format!(
+                "[[{name}]] belongs in the deck file decks/<deck-id>.toml; content files hold [[section]] only"
+            )),
+            _ => None,
+        },
+    );
+    let mut file = RawContentFile::default();
+    if let Some(v) = top.get("section") {
+        for (t, span) in read::tables(rep, v, "section") {
+            file.sections.push(read_section(rep, t, span));
+        }
+    }
+    file
+}
+
+fn read_section(rep: &mut FileReport, t: &DeTable, span: Span) -> RawSection {
+    let probe = Fields::open(
+        rep,
+        t,
+        span.clone(),
+        "[[section]]",
+        SECTION_FIELDS,
+        |name| match name {
+            "text" | "content" => Some("did you mean `body`?".to_string()),
+            _ => None,
+        },
+    );
+    let what = label("section", &probe);
+    let f = probe.named(what);
+    RawSection {
+        span,
+        id: f.string(rep, "id", true),
+        title: f.string(rep, "title", true),
+        body: f.string(rep, "body", true),
+        see: f.strings(rep, "see", false),
+    }
+}

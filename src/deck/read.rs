@@ -1,0 +1,323 @@
+//! Reading parsed TOML values with their spans, reporting every wrong type,
+//! missing field and unknown field instead of stopping at the first.
+
+use std::ops::Range;
+
+use toml::Spanned;
+use toml::de::{DeArray, DeTable, DeValue};
+
+use super::raw::{Flag, List, Num, RawText, Str};
+use super::report::FileReport;
+use super::suggest;
+
+pub type Value<'i> = Spanned<DeValue<'i>>;
+
+/// "a string", "an integer", ... for type errors.
+pub fn type_name(v: &DeValue) -> &'static str {
+    match v {
+        DeValue::String(_) => "a string",
+        DeValue::Integer(_) => "an integer",
+        DeValue::Float(_) => "a float",
+        DeValue::Boolean(_) => "a boolean",
+        DeValue::Datetime(_) => "a date-time",
+        DeValue::Array(_) => "an array",
+        DeValue::Table(_) => "a table",
+    }
+}
+
+fn wrong_type(rep: &mut FileReport, v: &Value, what: &str, expected: &str) {
+    rep.error(
+        v.span(),
+        format!(
+            "{what} must be {expected}, found {}",
+            type_name(v.get_ref())
+        ),
+        None,
+    );
+}
+
+/// The fields of one table: unknown keys are reported when it is opened,
+/// missing required ones when asked for.
+pub struct Fields<'a, 'i> {
+    table: &'a DeTable<'i>,
+    span: Range<usize>,
+    /// How the table is named in messages, e.g. "[[card]] `c1`".
+    pub what: String,
+}
+
+impl<'a, 'i> Fields<'a, 'i> {
+    /// Opens `table`, reporting each key not in `known` (with a
+    /// did-you-mean, or `hint_for` when it knows better).
+    pub fn open(
+        rep: &mut FileReport,
+        table: &'a DeTable<'i>,
+        span: Range<usize>,
+        what: &str,
+        known: &[&str],
+        hint_for: impl Fn(&str) -> Option<String>,
+    ) -> Fields<'a, 'i> {
+        for (key, _) in table.iter() {
+            let name: &str = key.get_ref();
+            if known.contains(&name) {
+                continue;
+            }
+            let hint =
+                hint_for(name).or_else(|| suggest::did_you_mean(name, known.iter().copied()));
+            let hint = hint.or_else(|| Some(format!("known fields: {}", known.join(", "))));
+            rep.error(
+                key.span(),
+                format!("unknown field `{name}` in {what}"),
+                hint,
+            );
+        }
+        Fields {
+            table,
+            span,
+            what: what.to_string(),
+        }
+    }
+
+    /// The same fields, named differently in messages.
+    pub fn named(self, what: String) -> Fields<'a, 'i> {
+        Fields { what, ..self }
+    }
+
+    pub fn get(&self, key: &str) -> Option<&'a Value<'i>> {
+        self.table
+            .iter()
+            .find(|(k, _)| {
+                let name: &str = k.get_ref();
+                name == key
+            })
+            .map(|(_, v)| v)
+    }
+
+    /// A required field: reported at the table when missing.
+    pub fn require(&self, rep: &mut FileReport, key: &str) -> Option<&'a Value<'i>> {
+        let v = self.get(key);
+        if v.is_none() {
+            rep.error(
+                self.span.clone(),
+                format!("{} is missing the required field `{key}`", self.what),
+                None,
+            );
+        }
+        v
+    }
+
+    pub fn string(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<Str> {
+        let v = if required {
+            self.require(rep, key)?
+        } else {
+            self.get(key)?
+        };
+        string(rep, v, &format!("`{key}`"))
+    }
+
+    pub fn number(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<Num> {
+        let v = if required {
+            self.require(rep, key)?
+        } else {
+            self.get(key)?
+        };
+        number(rep, v, &format!("`{key}`"))
+    }
+
+    pub fn text(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<RawText> {
+        let v = if required {
+            self.require(rep, key)?
+        } else {
+            self.get(key)?
+        };
+        text(rep, v, &format!("`{key}`"))
+    }
+
+    /// An optional boolean.
+    pub fn flag(&self, rep: &mut FileReport, key: &str) -> Option<Flag> {
+        let v = self.get(key)?;
+        match v.get_ref() {
+            DeValue::Boolean(b) => Some(Flag {
+                value: *b,
+                span: v.span(),
+            }),
+            _ => {
+                wrong_type(rep, v, &format!("`{key}`"), "true or false");
+                None
+            }
+        }
+    }
+
+    pub fn strings(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<List<Str>> {
+        let v = if required {
+            self.require(rep, key)?
+        } else {
+            self.get(key)?
+        };
+        let what = format!("`{key}`");
+        let arr = array(rep, v, &what)?;
+        let items = arr
+            .iter()
+            .filter_map(|item| string(rep, item, &format!("each item of {what}")))
+            .collect();
+        Some(List {
+            items,
+            span: v.span(),
+        })
+    }
+
+    pub fn numbers(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<List<Num>> {
+        let v = if required {
+            self.require(rep, key)?
+        } else {
+            self.get(key)?
+        };
+        let what = format!("`{key}`");
+        let arr = array(rep, v, &what)?;
+        let mut items = Vec::new();
+        let mut ok = true;
+        for item in arr.iter() {
+            match number(rep, item, &format!("each item of {what}")) {
+                Some(n) => items.push(n),
+                None => ok = false,
+            }
+        }
+        ok.then_some(List {
+            items,
+            span: v.span(),
+        })
+    }
+}
+
+pub fn string(rep: &mut FileReport, v: &Value, what: &str) -> Option<Str> {
+    match v.get_ref() {
+        DeValue::String(s) => Some(Str {
+            value: s.to_string(),
+            span: v.span(),
+        }),
+        _ => {
+            wrong_type(rep, v, what, "a string");
+            None
+        }
+    }
+}
+
+/// An integer or a float, as f64 (`inf` and `nan` pass here; the checks
+/// that need finite numbers report them).
+pub fn number(rep: &mut FileReport, v: &Value, what: &str) -> Option<Num> {
+    let value = match v.get_ref() {
+        DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
+            Ok(n) => n as f64,
+            Err(_) => {
+                rep.error(v.span(), format!("{what}: integer out of range"), None);
+                return None;
+            }
+        },
+        DeValue::Float(f) => match f.as_str().parse::<f64>() {
+            Ok(x) => x,
+            Err(_) => {
+                rep.error(v.span(), format!("{what}: not a number"), None);
+                return None;
+            }
+        },
+        _ => {
+            wrong_type(rep, v, what, "a number");
+            return None;
+        }
+    };
+    Some(Num {
+        value,
+        span: v.span(),
+    })
+}
+
+pub fn array<'a, 'i>(
+    rep: &mut FileReport,
+    v: &'a Value<'i>,
+    what: &str,
+) -> Option<&'a DeArray<'i>> {
+    match v.get_ref() {
+        DeValue::Array(a) => Some(a),
+        _ => {
+            wrong_type(rep, v, what, "an array");
+            None
+        }
+    }
+}
+
+pub fn table<'a, 'i>(
+    rep: &mut FileReport,
+    v: &'a Value<'i>,
+    what: &str,
+) -> Option<&'a DeTable<'i>> {
+    match v.get_ref() {
+        DeValue::Table(t) => Some(t),
+        _ => {
+            wrong_type(rep, v, what, "a table");
+            None
+        }
+    }
+}
+
+/// A text: a table with one string per language, or (for a deck with one
+/// language) a plain string.
+pub fn text(rep: &mut FileReport, v: &Value, what: &str) -> Option<RawText> {
+    match v.get_ref() {
+        DeValue::String(_) => string(rep, v, what).map(RawText::Plain),
+        DeValue::Table(t) => {
+            let mut entries = Vec::new();
+            let mut ok = true;
+            for (key, value) in t.iter() {
+                let lang = Str {
+                    value: key.get_ref().to_string(),
+                    span: key.span(),
+                };
+                match string(rep, value, &format!("the `{}` text of {what}", lang.value)) {
+                    Some(s) => entries.push((lang, s)),
+                    None => ok = false,
+                }
+            }
+            ok.then_some(RawText::ByLang {
+                span: v.span(),
+                entries,
+            })
+        }
+        _ => {
+            rep.error(
+                v.span(),
+                format!(
+                    "{what} must be a text, a table of languages like {{ en = '...' }}, found {}",
+                    type_name(v.get_ref())
+                ),
+                None,
+            );
+            None
+        }
+    }
+}
+
+/// The tables of an array-of-tables field (`[[card]]`), each with its span.
+pub fn tables<'a, 'i>(
+    rep: &mut FileReport,
+    v: &'a Value<'i>,
+    name: &str,
+) -> Vec<(&'a DeTable<'i>, Range<usize>)> {
+    let Some(arr) = (match v.get_ref() {
+        DeValue::Array(a) => Some(a),
+        _ => None,
+    }) else {
+        rep.error(
+            v.span(),
+            format!(
+                "`{name}` must be an array of tables, found {}",
+                type_name(v.get_ref())
+            ),
+            Some(format!("write each one under its own [[{name}]] header")),
+        );
+        return Vec::new();
+    };
+    arr.iter()
+        .filter_map(|item| {
+            table(rep, item, &format!("each item of `{name}`")).map(|t| (t, item.span()))
+        })
+        .collect()
+}

@@ -1,0 +1,387 @@
+//! JSON Schemas of deck and content files, for editors (Taplo / Even Better
+//! TOML) to complete and check decks as they are typed. Published at
+//! `schema/deck.schema.json` and `schema/content.schema.json`.
+//!
+//! The types here mirror the raw stage's tables (a test keeps their field
+//! names equal to the ones the reader knows); the checks a schema cannot
+//! express (links, languages, physics, LaTeX) are `flipcard check`'s.
+
+use std::borrow::Cow;
+
+use schemars::generate::SchemaSettings;
+use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
+
+use super::model::{CardKind, Cmp, Measure, Panel};
+
+pub const ID_PATTERN: &str = "^[a-z0-9]+(-[a-z0-9]+)*$";
+/// Holds at least one character that is not white space.
+pub const NOT_BLANK: &str = r"\S";
+pub const LANG_PATTERN: &str = "^[A-Za-z]{2,8}(-[A-Za-z0-9]{1,8})*$";
+
+/// A deck file: `decks/<deck-id>.toml`.
+#[derive(JsonSchema)]
+#[schemars(title = "flipcard deck", deny_unknown_fields)]
+pub struct DeckFile {
+    pub deck: DeckHeader,
+    /// Flashcards, each under its own `[[card]]` header.
+    pub card: Option<Vec<Card>>,
+    /// Predict-then-check prompts, each under `[[prompt]]`.
+    pub prompt: Option<Vec<Prompt>>,
+    /// Simulations the prompts run, each under `[[scene]]`.
+    pub scene: Option<Vec<Scene>>,
+}
+
+/// The deck's identity, title and languages.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct DeckHeader {
+    /// Must equal the file name without `.toml`; review history is keyed by it.
+    pub id: Id,
+    pub title: Text,
+    /// One or two sentences for the home screen.
+    pub description: Option<Text>,
+    /// BCP 47 tags (`en`, `hi-Latn`); the first is the primary language.
+    #[schemars(length(min = 1))]
+    pub languages: Vec<LangTag>,
+}
+
+/// A flashcard.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct Card {
+    /// Stable identity: edit the texts freely, never the id.
+    pub id: Id,
+    /// `basic` (default), `reversed` (also asked back → front) or `typed`.
+    pub kind: Option<CardKindName>,
+    pub front: Text,
+    pub back: Text,
+    /// Accepted typed answers (typed cards only), compared ignoring case and spaces.
+    pub accept: Option<Vec<NonEmpty>>,
+    /// Id of the explanation section opened with `e`.
+    pub explain: Option<Id>,
+    /// Id of a prompt offered after the answer is shown.
+    pub prompt: Option<Id>,
+    pub tags: Option<Vec<NonEmpty>>,
+}
+
+/// Predict, then check: the learner answers, the scene runs, the
+/// measurements decide.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct Prompt {
+    pub id: Id,
+    pub question: Text,
+    /// Id of the scene run to check the prediction.
+    pub scene: Id,
+    pub explain: Option<Id>,
+    pub tags: Option<Vec<NonEmpty>>,
+    pub answer: Answer,
+}
+
+/// How the prediction is given and judged.
+#[derive(JsonSchema)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum Answer {
+    /// Pick one choice; the choice whose `when` holds after the run is right.
+    Choice {
+        /// The choice id the physics gives (worked out by the author).
+        expected: Id,
+        #[schemars(length(min = 2))]
+        choices: Vec<Choice>,
+    },
+    /// Type a number (with an optional unit), right within `tolerance` of the measurement.
+    Number {
+        measure: MeasureName,
+        /// Unit shown and accepted after the number, e.g. `s`.
+        unit: Option<String>,
+        /// The value the formula gives.
+        expected: f64,
+        tolerance: Tolerance,
+        /// How `expected` follows (may hold math).
+        formula: Option<Text>,
+    },
+}
+
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct Choice {
+    pub id: Id,
+    pub label: Text,
+    pub when: Condition,
+}
+
+/// `{ abs = x }`: |given − measured| ≤ x; `{ rel = r }`: ≤ r·|measured|.
+pub struct Tolerance;
+
+impl JsonSchema for Tolerance {
+    fn schema_name() -> Cow<'static, str> {
+        "Tolerance".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        let one = |key: &str, meaning: &str| {
+            serde_json::json!({
+                "type": "object",
+                "properties": { key: { "description": meaning, "type": "number", "exclusiveMinimum": 0 } },
+                "required": [key],
+                "additionalProperties": false,
+            })
+        };
+        json_schema!({
+            "description": "How far the typed number may be from the measured value: exactly one of `abs` and `rel`, positive.",
+            "oneOf": [
+                one("abs", "|given − measured| ≤ abs"),
+                one("rel", "|given − measured| ≤ rel · |measured|"),
+            ],
+        })
+    }
+}
+
+/// A torque-free rigid body and how it starts spinning.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct Scene {
+    pub id: Id,
+    pub title: Option<Text>,
+    /// Principal moments of inertia (kg·m²): positive, finite, Iᵢ + Iⱼ ≥ Iₖ.
+    #[schemars(extend("items" = { "type": "number", "exclusiveMinimum": 0 }))]
+    pub inertia: [f64; 3],
+    /// Body-frame angular velocity at t = 0 (rad per time unit), finite.
+    pub omega: [f64; 3],
+    /// Run length in time units: > 0 and at most 1e6.
+    #[schemars(extend("exclusiveMinimum" = 0, "maximum" = 1e6))]
+    pub duration: f64,
+    /// Panels shown; the scene computes only what they need.
+    #[schemars(length(min = 1))]
+    pub show: Vec<PanelName>,
+    /// Label of the time unit (default `s`; `d` for days).
+    pub time_unit: Option<NonEmpty>,
+    /// The body is flat on purpose (one moment equals the sum of the other
+    /// two); silences the flat-body warning.
+    pub flat: Option<bool>,
+}
+
+/// A content file: `content/<deck-id>/<lang>.toml`.
+#[derive(JsonSchema)]
+#[schemars(title = "flipcard explanations", deny_unknown_fields)]
+pub struct ContentFile {
+    /// Explanation sections, each under its own `[[section]]` header.
+    pub section: Option<Vec<Section>>,
+}
+
+/// One explanation section, in this file's language.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct Section {
+    /// The same ids in every language's file.
+    pub id: Id,
+    pub title: NonEmpty,
+    /// Paragraphs split by blank lines, `- ` list items, `*emphasis*`, `**strong**`, `$math$`.
+    pub body: NonEmpty,
+    /// Ids of related sections.
+    pub see: Option<Vec<Id>>,
+}
+
+/// Lowercase letters and digits joined by single hyphens, e.g. `middle-axis`.
+pub struct Id;
+
+impl JsonSchema for Id {
+    fn schema_name() -> Cow<'static, str> {
+        "Id".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": "Lowercase letters and digits joined by single hyphens, e.g. `middle-axis`.",
+            "type": "string",
+            "pattern": ID_PATTERN,
+        })
+    }
+}
+
+/// A BCP 47 language tag.
+pub struct LangTag;
+
+impl JsonSchema for LangTag {
+    fn schema_name() -> Cow<'static, str> {
+        "LangTag".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": "A BCP 47 language tag, e.g. `en`, `hi-Latn`.",
+            "type": "string",
+            "pattern": LANG_PATTERN,
+        })
+    }
+}
+
+/// A string with at least one character.
+pub struct NonEmpty;
+
+impl JsonSchema for NonEmpty {
+    fn schema_name() -> Cow<'static, str> {
+        "NonEmpty".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({ "type": "string", "pattern": NOT_BLANK })
+    }
+}
+
+/// A text in every declared language.
+pub struct Text;
+
+impl JsonSchema for Text {
+    fn schema_name() -> Cow<'static, str> {
+        "Text".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": "One string per declared language: { en = '...', hi-Latn = '...' } (a plain string when the deck declares one language). Write math in literal strings '...' so backslashes stay.",
+            "anyOf": [
+                {
+                    "type": "object",
+                    "propertyNames": { "pattern": LANG_PATTERN },
+                    "additionalProperties": { "type": "string", "pattern": NOT_BLANK },
+                    "minProperties": 1,
+                },
+                { "type": "string", "pattern": NOT_BLANK },
+            ],
+        })
+    }
+}
+
+fn names_schema(description: &str, names: Vec<&'static str>) -> Schema {
+    json_schema!({ "description": description, "type": "string", "enum": names })
+}
+
+pub struct CardKindName;
+
+impl JsonSchema for CardKindName {
+    fn schema_name() -> Cow<'static, str> {
+        "CardKind".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        names_schema(
+            "How the card is asked.",
+            [CardKind::Basic, CardKind::Reversed, CardKind::Typed]
+                .map(CardKind::as_str)
+                .to_vec(),
+        )
+    }
+}
+
+pub struct MeasureName;
+
+impl JsonSchema for MeasureName {
+    fn schema_name() -> Cow<'static, str> {
+        "Measure".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        names_schema(
+            "What a scene's run measures.",
+            Measure::ALL.iter().map(|m| m.name()).collect(),
+        )
+    }
+}
+
+pub struct PanelName;
+
+impl JsonSchema for PanelName {
+    fn schema_name() -> Cow<'static, str> {
+        "Panel".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        names_schema(
+            "A panel of the scene view.",
+            Panel::ALL.iter().map(|p| p.name()).collect(),
+        )
+    }
+}
+
+/// `measure op number`, e.g. `flips > 0`.
+pub struct Condition;
+
+impl JsonSchema for Condition {
+    fn schema_name() -> Cow<'static, str> {
+        "Condition".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        let measures = Measure::ALL
+            .iter()
+            .map(|m| m.name())
+            .collect::<Vec<_>>()
+            .join("|");
+        let ops = Cmp::ALL
+            .iter()
+            .map(|(s, _)| *s)
+            .collect::<Vec<_>>()
+            .join("|");
+        let pattern = format!(
+            r"^\s*({measures})\s*({ops})\s*[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?\s*$"
+        );
+        json_schema!({
+            "description": "`measure op number`, e.g. `flips > 0`; op is one of == != < <= > >=.",
+            "type": "string",
+            "pattern": pattern,
+        })
+    }
+}
+
+fn generate<T: JsonSchema>() -> serde_json::Value {
+    let schema = SchemaSettings::draft07()
+        .into_generator()
+        .into_root_schema_for::<T>();
+    let mut value = schema.to_value();
+    strip_null(&mut value);
+    value
+}
+
+/// TOML has no null: an optional field is simply left out, so the `null`
+/// alternatives schemars gives `Option` fields are dropped.
+fn strip_null(value: &mut serde_json::Value) {
+    use serde_json::Value;
+    match value {
+        Value::Object(map) => {
+            if let Some(Value::Array(types)) = map.get_mut("type") {
+                types.retain(|t| t != "null");
+                if types.len() == 1 {
+                    let only = types.remove(0);
+                    map.insert("type".into(), only);
+                }
+            }
+            if let Some(Value::Array(alternatives)) = map.get_mut("anyOf") {
+                alternatives.retain(|a| *a != serde_json::json!({ "type": "null" }));
+                if alternatives.len() == 1 {
+                    let only = alternatives.remove(0);
+                    map.remove("anyOf");
+                    if let Value::Object(inner) = only {
+                        if inner.contains_key("$ref") && !map.is_empty() {
+                            // draft-07 ignores keywords beside `$ref`.
+                            map.insert("allOf".into(), Value::Array(vec![Value::Object(inner)]));
+                        } else {
+                            map.extend(inner);
+                        }
+                    }
+                }
+            }
+            map.values_mut().for_each(strip_null);
+        }
+        Value::Array(items) => items.iter_mut().for_each(strip_null),
+        _ => {}
+    }
+}
+
+/// The schema of deck files.
+pub fn deck_schema() -> serde_json::Value {
+    generate::<DeckFile>()
+}
+
+/// The schema of content files.
+pub fn content_schema() -> serde_json::Value {
+    generate::<ContentFile>()
+}
+
+/// Pretty JSON with a final newline, as checked in.
+pub fn to_text(schema: &serde_json::Value) -> String {
+    let mut s = serde_json::to_string_pretty(schema).unwrap_or_default();
+    s.push('\n');
+    s
+}

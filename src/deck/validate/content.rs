@@ -1,0 +1,194 @@
+//! Explanation sections across the per-language content files: the same
+//! section ids in every language, links between sections that resolve.
+
+use std::collections::BTreeMap;
+
+use crate::deck::model::{Section, Text};
+use crate::deck::raw::{RawContentFile, RawSection, Str};
+use crate::deck::report::FileReport;
+
+use super::text::{self, Kind};
+use super::{id, link, unique};
+
+/// One language's content file: its report, and what was read (`None` when
+/// the file is missing or does not parse).
+pub struct ContentFile<'s> {
+    pub lang: String,
+    pub rep: FileReport<'s>,
+    pub raw: Option<RawContentFile>,
+}
+
+/// The sections, when every file is valid, and the section ids links may
+/// name (from the primary language's file), when that file could be read.
+pub struct Sections {
+    pub sections: Option<Vec<Section>>,
+    pub ids: Option<Vec<String>>,
+}
+
+/// Checks every content file; `files[0]` is the primary language's.
+pub fn sections(files: &mut [ContentFile]) -> Sections {
+    let mut ok = true;
+    // Per file: the section ids it defines.
+    let mut ids_of: Vec<Option<Vec<String>>> = Vec::new();
+    for f in files.iter_mut() {
+        let Some(raw) = &f.raw else {
+            ids_of.push(None);
+            ok = false;
+            continue;
+        };
+        let ids: Vec<&Str> = raw.sections.iter().filter_map(|s| s.id.as_ref()).collect();
+        for s in &ids {
+            ok &= id(&mut f.rep, s, "section");
+        }
+        ok &= unique(&mut f.rep, &ids, "section");
+        ids_of.push(Some(ids.iter().map(|s| s.value.clone()).collect()));
+    }
+    let primary_ids = ids_of.first().cloned().flatten();
+
+    // Each file's sections: its own checks, links against its own ids.
+    for (f, own_ids) in files.iter_mut().zip(&ids_of) {
+        let Some(raw) = &f.raw else { continue };
+        for s in &raw.sections {
+            ok &= section_texts(&mut f.rep, s);
+            if let Some(see) = &s.see {
+                for target in &see.items {
+                    ok &= link(&mut f.rep, target, own_ids.as_deref(), "section", "see");
+                }
+            }
+        }
+    }
+
+    // The same ids in every language.
+    if let (Some(primary), Some(primary_raw)) =
+        (&primary_ids, files.first().and_then(|f| f.raw.clone()))
+    {
+        let primary_path = files[0].rep.path.clone();
+        for i in 1..files.len() {
+            let Some(other_ids) = ids_of[i].clone() else {
+                continue;
+            };
+            let other_path = files[i].rep.path.clone();
+            for s in primary_raw.sections.iter() {
+                let Some(sid) = &s.id else { continue };
+                if !other_ids.contains(&sid.value) {
+                    ok = false;
+                    files[0].rep.error(
+                        sid.span.clone(),
+                        format!(
+                            "section `{}` is missing from {}",
+                            sid.value,
+                            other_path.display()
+                        ),
+                        Some("every language's content file has the same section ids".to_string()),
+                    );
+                }
+            }
+            let Some(other_raw) = files[i].raw.clone() else {
+                continue;
+            };
+            for s in &other_raw.sections {
+                let Some(sid) = &s.id else { continue };
+                if !primary.contains(&sid.value) {
+                    ok = false;
+                    files[i].rep.error(
+                        sid.span.clone(),
+                        format!(
+                            "section `{}` is not in the primary language's file {}",
+                            sid.value,
+                            primary_path.display()
+                        ),
+                        Some("every language's content file has the same section ids".to_string()),
+                    );
+                } else if let Some(p) = primary_raw
+                    .sections
+                    .iter()
+                    .find(|p| p.id.as_ref().map(|i| &i.value) == Some(&sid.value))
+                {
+                    see_agrees(&mut files[i].rep, p, s, &primary_path);
+                }
+            }
+        }
+    }
+
+    let sections = if ok { build(files) } else { None };
+    Sections {
+        sections,
+        ids: primary_ids,
+    }
+}
+
+fn section_texts(rep: &mut FileReport, s: &RawSection) -> bool {
+    let what = match &s.id {
+        Some(i) if super::is_id(&i.value) => format!("section `{}`", i.value),
+        _ => "a section".to_string(),
+    };
+    let mut ok = true;
+    if let Some(t) = &s.title {
+        ok &= text::string(rep, t, Kind::Math, &format!("the title of {what}"));
+    }
+    if let Some(b) = &s.body {
+        ok &= text::string(rep, b, Kind::Math, &format!("the body of {what}"));
+    }
+    ok && s.title.is_some() && s.body.is_some()
+}
+
+/// A translation's `see` list is optional; when given it must match the
+/// primary file's, which is the one used (a warning: the links still work).
+fn see_agrees(
+    rep: &mut FileReport,
+    primary: &RawSection,
+    other: &RawSection,
+    primary_path: &std::path::Path,
+) {
+    let Some(see) = &other.see else { return };
+    let values = |s: &RawSection| -> Vec<String> {
+        s.see
+            .as_ref()
+            .map(|l| l.items.iter().map(|i| i.value.clone()).collect())
+            .unwrap_or_default()
+    };
+    if values(primary) != values(other) {
+        rep.warning(
+            see.span.clone(),
+            format!(
+                "`see` differs from the one in {}, which is the one used",
+                primary_path.display()
+            ),
+            Some(
+                "give `see` in the primary language's file only, or the same list everywhere"
+                    .to_string(),
+            ),
+        );
+    }
+}
+
+/// The sections in the primary file's order, each with every language.
+fn build(files: &[ContentFile]) -> Option<Vec<Section>> {
+    let primary = files.first()?.raw.as_ref()?;
+    let mut out = Vec::new();
+    for s in &primary.sections {
+        let sid = s.id.as_ref()?.value.clone();
+        let mut title = BTreeMap::new();
+        let mut body = BTreeMap::new();
+        for f in files {
+            let raw = f.raw.as_ref()?;
+            let this = raw
+                .sections
+                .iter()
+                .find(|x| x.id.as_ref().is_some_and(|i| i.value == sid))?;
+            title.insert(f.lang.clone(), this.title.as_ref()?.value.clone());
+            body.insert(f.lang.clone(), this.body.as_ref()?.value.clone());
+        }
+        out.push(Section {
+            id: sid,
+            title: Text(title),
+            body: Text(body),
+            see: s
+                .see
+                .as_ref()
+                .map(|l| l.items.iter().map(|i| i.value.clone()).collect())
+                .unwrap_or_default(),
+        });
+    }
+    Some(out)
+}

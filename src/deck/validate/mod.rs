@@ -1,0 +1,475 @@
+//! The validated stage: raw deck and content files → domain types, with
+//! every problem reported. Nothing is built when something is wrong; the
+//! checks still all run so one pass reports everything.
+
+pub mod answer;
+pub mod content;
+pub mod scene;
+pub mod text;
+
+use std::collections::HashMap;
+
+use crate::deck::model::{Card, CardKind, Prompt, Scene, Text};
+use crate::deck::raw::{List, RawCard, RawDeckFile, RawPrompt, Span, Str};
+use crate::deck::report::FileReport;
+use crate::deck::suggest;
+
+use text::{Kind, Langs};
+
+/// `[a-z0-9]` words joined by single `-`.
+pub fn is_id(s: &str) -> bool {
+    !s.is_empty()
+        && s.split('-').all(|part| {
+            !part.is_empty()
+                && part
+                    .bytes()
+                    .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit())
+        })
+}
+
+/// The id shape of `s` (lowercased, other characters turned into `-`).
+fn slug(s: &str) -> String {
+    let mut out = String::new();
+    for c in s.chars().flat_map(char::to_lowercase) {
+        if c.is_ascii_lowercase() || c.is_ascii_digit() {
+            out.push(c);
+        } else if !out.ends_with('-') {
+            out.push('-');
+        }
+    }
+    out.trim_matches('-').to_string()
+}
+
+/// Checks an id's shape; false (and reported) when it is not an id.
+pub fn id(rep: &mut FileReport, s: &Str, kind: &str) -> bool {
+    if is_id(&s.value) {
+        return true;
+    }
+    let suggestion = slug(&s.value);
+    let hint = if suggestion.is_empty() {
+        "ids are lowercase letters and digits joined by single hyphens, e.g. `middle-axis`"
+            .to_string()
+    } else {
+        format!("ids are lowercase letters and digits joined by single hyphens: `{suggestion}`")
+    };
+    rep.error(
+        s.span.clone(),
+        format!("{kind} id `{}` is not a valid id", s.value.escape_debug()),
+        Some(hint),
+    );
+    false
+}
+
+/// Reports each id used a second time, pointing back at the first.
+pub fn unique(rep: &mut FileReport, ids: &[&Str], kind: &str) -> bool {
+    let mut seen: HashMap<&str, &Span> = HashMap::new();
+    let mut ok = true;
+    for s in ids {
+        match seen.get(s.value.as_str()) {
+            Some(first) => {
+                let line = rep.line_of(first.start);
+                rep.error(
+                    s.span.clone(),
+                    format!("duplicate {kind} id `{}`", s.value),
+                    Some(format!("first used on line {line}; ids must be unique")),
+                );
+                ok = false;
+            }
+            None => {
+                seen.insert(&s.value, &s.span);
+            }
+        }
+    }
+    ok
+}
+
+/// Checks that `s` names one of `targets`; `targets` is `None` when they
+/// could not be read (their own errors say why), and then nothing is said.
+pub fn link(
+    rep: &mut FileReport,
+    s: &Str,
+    targets: Option<&[String]>,
+    kind: &str,
+    field: &str,
+) -> bool {
+    let Some(targets) = targets else {
+        return true;
+    };
+    if targets.contains(&s.value) {
+        return true;
+    }
+    let hint = suggest::did_you_mean(&s.value, targets.iter().map(String::as_str)).or_else(|| {
+        if targets.is_empty() {
+            Some(format!("the deck has no {kind}s"))
+        } else {
+            None
+        }
+    });
+    rep.error(
+        s.span.clone(),
+        format!(
+            "`{field}` links to {kind} `{}`, which does not exist",
+            s.value
+        ),
+        hint,
+    );
+    false
+}
+
+/// What the `[deck]` table says, as far as it is valid.
+#[derive(Debug, Clone, Default)]
+pub struct Header {
+    pub id: Option<String>,
+    pub title: Option<Text>,
+    pub description: Option<Option<Text>>,
+    pub langs: Langs,
+    /// Each declared language with the span of its entry in `languages`.
+    pub lang_spans: Vec<(String, Span)>,
+}
+
+/// A BCP 47 tag's shape: a 2-8 letter language subtag, then subtags of
+/// 1-8 letters or digits (`en`, `hi-Latn`, `pt-BR`).
+pub fn is_lang_tag(s: &str) -> bool {
+    let mut parts = s.split('-');
+    let first_ok = parts
+        .next()
+        .is_some_and(|p| (2..=8).contains(&p.len()) && p.bytes().all(|b| b.is_ascii_alphabetic()));
+    first_ok
+        && parts.all(|p| (1..=8).contains(&p.len()) && p.bytes().all(|b| b.is_ascii_alphanumeric()))
+}
+
+/// Checks `[deck]`: id (and that it names the file), languages, title.
+pub fn header(rep: &mut FileReport, raw: &RawDeckFile, file_stem: &str) -> Header {
+    let mut h = Header::default();
+    let Some(d) = &raw.deck else {
+        return h;
+    };
+    if let Some(s) = &d.id
+        && id(rep, s, "deck")
+    {
+        if s.value != file_stem {
+            rep.error(
+                s.span.clone(),
+                format!(
+                    "deck id `{}` does not match the file name `{file_stem}.toml`",
+                    s.value
+                ),
+                Some(format!(
+                    "rename the file to {}.toml or set id = \"{file_stem}\"",
+                    s.value
+                )),
+            );
+        }
+        h.id = Some(s.value.clone());
+    }
+    if let Some(list) = &d.languages {
+        h.langs = languages(rep, list);
+        h.lang_spans = list
+            .items
+            .iter()
+            .map(|s| (s.value.clone(), s.span.clone()))
+            .collect();
+    }
+    h.title = d
+        .title
+        .as_ref()
+        .and_then(|t| text::text(rep, t, &h.langs, "the deck title"));
+    h.description = match &d.description {
+        None => Some(None),
+        Some(t) => text::text(rep, t, &h.langs, "the deck description").map(Some),
+    };
+    h
+}
+
+fn languages(rep: &mut FileReport, list: &List<Str>) -> Langs {
+    let mut ok = true;
+    if list.items.is_empty() {
+        rep.error(
+            list.span.clone(),
+            "`languages` is empty: declare at least one language",
+            Some("languages = [\"en\"]".to_string()),
+        );
+        ok = false;
+    }
+    let mut seen: Vec<&str> = Vec::new();
+    for s in &list.items {
+        if !is_lang_tag(&s.value) {
+            rep.error(
+                s.span.clone(),
+                format!("`{}` is not a BCP 47 language tag", s.value.escape_debug()),
+                Some("e.g. \"en\", \"hi-Latn\" (Hindi in Latin script), \"pt-BR\"".to_string()),
+            );
+            ok = false;
+        } else if seen.contains(&s.value.as_str()) {
+            rep.error(
+                s.span.clone(),
+                format!("language `{}` is declared twice", s.value),
+                None,
+            );
+            ok = false;
+        }
+        seen.push(&s.value);
+    }
+    Langs {
+        list: list.items.iter().map(|s| s.value.clone()).collect(),
+        known: ok,
+    }
+}
+
+/// What the deck file's cards, prompts and scenes validate into.
+pub struct Body {
+    pub cards: Vec<Card>,
+    pub prompts: Vec<Prompt>,
+    pub scenes: Vec<Scene>,
+}
+
+/// Checks cards, prompts and scenes; `section_ids` are the explanation
+/// sections links may name (`None` when the content could not be read).
+pub fn body(
+    rep: &mut FileReport,
+    raw: &RawDeckFile,
+    langs: &Langs,
+    section_ids: Option<&[String]>,
+) -> Option<Body> {
+    let card_ids: Vec<&Str> = raw.cards.iter().filter_map(|c| c.id.as_ref()).collect();
+    let prompt_ids: Vec<&Str> = raw.prompts.iter().filter_map(|p| p.id.as_ref()).collect();
+    let scene_ids: Vec<&Str> = raw.scenes.iter().filter_map(|s| s.id.as_ref()).collect();
+    let mut ok = true;
+    for (list, kind) in [
+        (&card_ids, "card"),
+        (&prompt_ids, "prompt"),
+        (&scene_ids, "scene"),
+    ] {
+        for s in list {
+            ok &= id(rep, s, kind);
+        }
+        ok &= unique(rep, list, kind);
+    }
+    let names = |list: &[&Str]| list.iter().map(|s| s.value.clone()).collect::<Vec<_>>();
+    let prompt_names = names(&prompt_ids);
+    let scene_names = names(&scene_ids);
+
+    if raw.deck.is_some() && raw.cards.is_empty() && raw.prompts.is_empty() {
+        rep.warning(
+            raw.deck.as_ref().map_or(0..0, |d| d.span.clone()),
+            "the deck has no cards and no prompts",
+            None,
+        );
+    }
+
+    let mut cards = Vec::new();
+    for c in &raw.cards {
+        match card(rep, c, langs, section_ids, &prompt_names) {
+            Some(c) => cards.push(c),
+            None => ok = false,
+        }
+    }
+    let mut prompts = Vec::new();
+    for p in &raw.prompts {
+        match prompt(rep, p, langs, section_ids, &scene_names) {
+            Some(p) => prompts.push(p),
+            None => ok = false,
+        }
+    }
+    let mut scenes = Vec::new();
+    for s in &raw.scenes {
+        let what =
+            s.id.as_ref()
+                .filter(|i| is_id(&i.value))
+                .map_or("a scene".to_string(), |i| format!("scene `{}`", i.value));
+        match scene::scene(rep, s, langs, &what) {
+            Some(s) => scenes.push(s),
+            None => ok = false,
+        }
+    }
+    ok.then_some(Body {
+        cards,
+        prompts,
+        scenes,
+    })
+}
+
+fn named(kind: &str, id: &Option<Str>) -> String {
+    match id {
+        Some(s) if is_id(&s.value) => format!("{kind} `{}`", s.value),
+        _ => format!("a {kind}"),
+    }
+}
+
+fn tags(rep: &mut FileReport, tags: &Option<List<Str>>) -> Option<Vec<String>> {
+    let Some(list) = tags else {
+        return Some(Vec::new());
+    };
+    let mut ok = true;
+    for t in &list.items {
+        ok &= text::string(rep, t, Kind::Plain, "a tag");
+    }
+    ok.then(|| list.items.iter().map(|t| t.value.clone()).collect())
+}
+
+fn optional_link(
+    rep: &mut FileReport,
+    s: &Option<Str>,
+    targets: Option<&[String]>,
+    kind: &str,
+    field: &str,
+) -> Option<Option<String>> {
+    match s {
+        None => Some(None),
+        Some(s) => link(rep, s, targets, kind, field).then(|| Some(s.value.clone())),
+    }
+}
+
+fn card(
+    rep: &mut FileReport,
+    raw: &RawCard,
+    langs: &Langs,
+    section_ids: Option<&[String]>,
+    prompt_ids: &[String],
+) -> Option<Card> {
+    let what = named("card", &raw.id);
+    let kind = match &raw.kind {
+        None => Some(CardKind::Basic),
+        Some(k) => {
+            let kinds = [CardKind::Basic, CardKind::Reversed, CardKind::Typed];
+            let found = kinds.into_iter().find(|c| c.as_str() == k.value);
+            if found.is_none() {
+                let names = kinds.map(CardKind::as_str);
+                rep.error(
+                    k.span.clone(),
+                    format!("unknown card kind `{}`", k.value),
+                    suggest::did_you_mean(&k.value, names)
+                        .or_else(|| Some(format!("kinds: {}", names.join(", ")))),
+                );
+            }
+            found
+        }
+    };
+    let front = raw
+        .front
+        .as_ref()
+        .and_then(|t| text::text(rep, t, langs, &format!("the front of {what}")));
+    let back = raw
+        .back
+        .as_ref()
+        .and_then(|t| text::text(rep, t, langs, &format!("the back of {what}")));
+    let accept = accept(rep, raw, kind, &what);
+    let explain = optional_link(rep, &raw.explain, section_ids, "section", "explain");
+    let prompt = optional_link(rep, &raw.prompt, Some(prompt_ids), "prompt", "prompt");
+    let tags = tags(rep, &raw.tags);
+    Some(Card {
+        id: raw.id.as_ref()?.value.clone(),
+        kind: kind?,
+        front: front?,
+        back: back?,
+        accept: accept?,
+        explain: explain?,
+        prompt: prompt?,
+        tags: tags?,
+    })
+}
+
+/// Typed cards need accepted answers; on other kinds `accept` is a warning
+/// (likely a forgotten `kind = "typed"`) and is dropped.
+fn accept(
+    rep: &mut FileReport,
+    raw: &RawCard,
+    kind: Option<CardKind>,
+    what: &str,
+) -> Option<Vec<String>> {
+    let mut ok = true;
+    if let Some(list) = &raw.accept {
+        for s in &list.items {
+            ok &= text::string(rep, s, Kind::Plain, "an accepted answer");
+        }
+    }
+    match (kind, &raw.accept) {
+        (Some(CardKind::Typed), Some(list)) if !list.items.is_empty() => {
+            ok.then(|| list.items.iter().map(|s| s.value.clone()).collect())
+        }
+        (Some(CardKind::Typed), Some(list)) => {
+            rep.error(
+                list.span.clone(),
+                format!("`accept` of typed {what} is empty"),
+                Some("list at least one accepted answer".to_string()),
+            );
+            None
+        }
+        (Some(CardKind::Typed), None) => {
+            rep.error(
+                raw.span.clone(),
+                format!("typed {what} has no `accept` list"),
+                Some("accept = ['answer', 'other spelling']".to_string()),
+            );
+            None
+        }
+        (Some(_), Some(list)) => {
+            rep.warning(
+                list.span.clone(),
+                format!("`accept` is only used by typed cards; ignored on {what}"),
+                Some("did you mean kind = \"typed\"?".to_string()),
+            );
+            ok.then(Vec::new)
+        }
+        (Some(_), None) => Some(Vec::new()),
+        (None, _) => None,
+    }
+}
+
+fn prompt(
+    rep: &mut FileReport,
+    raw: &RawPrompt,
+    langs: &Langs,
+    section_ids: Option<&[String]>,
+    scene_ids: &[String],
+) -> Option<Prompt> {
+    let what = named("prompt", &raw.id);
+    let question = raw
+        .question
+        .as_ref()
+        .and_then(|t| text::text(rep, t, langs, &format!("the question of {what}")));
+    let scene = raw
+        .scene
+        .as_ref()
+        .and_then(|s| link(rep, s, Some(scene_ids), "scene", "scene").then(|| s.value.clone()));
+    let explain = optional_link(rep, &raw.explain, section_ids, "section", "explain");
+    let tags = tags(rep, &raw.tags);
+    let answer = raw
+        .answer
+        .as_ref()
+        .and_then(|a| answer::answer(rep, a, langs, &what));
+    Some(Prompt {
+        id: raw.id.as_ref()?.value.clone(),
+        question: question?,
+        scene: scene?,
+        explain: explain?,
+        answer: answer?,
+        tags: tags?,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_are_lowercase_words_joined_by_hyphens() {
+        for ok in ["a", "middle-axis", "euler-2", "x1-y2-z3"] {
+            assert!(is_id(ok), "{ok}");
+        }
+        for bad in ["", "-a", "a-", "a--b", "Middle", "a_b", "a b", "é", "a.b"] {
+            assert!(!is_id(bad), "{bad}");
+        }
+        assert_eq!(slug("Middle_Axis 2"), "middle-axis-2");
+    }
+
+    #[test]
+    fn language_tags_have_the_bcp47_shape() {
+        for ok in ["en", "hi-Latn", "pt-BR", "zh-Hant-TW", "de-CH-1996"] {
+            assert!(is_lang_tag(ok), "{ok}");
+        }
+        for bad in ["", "e", "en_", "en_US", "hi-", "-en", "englishlanguage"] {
+            assert!(!is_lang_tag(bad), "{bad}");
+        }
+    }
+}

@@ -1,0 +1,915 @@
+//! The day's review queue and the cram queue.
+//!
+//! A study day runs from `day_starts_at` local time to the same time the
+//! next day. The queue offers, in this order: learning and relearning items
+//! whose due time has come (earliest first), due reviews (most overdue
+//! first), new items in deck order; when none of those is left, a learning
+//! item due within the learn-ahead limit (20 minutes, as Anki) is offered
+//! early. New items and reviews are limited per day.
+
+use std::collections::{HashMap, VecDeque};
+use std::fmt;
+
+use chrono::{DateTime, Duration, LocalResult, NaiveDateTime, NaiveTime, TimeDelta, TimeZone, Utc};
+
+use super::config::Config;
+use super::types::{CardState, Direction, ItemKey, ReviewKind, ReviewRecord, State};
+use crate::deck::model::{CardKind, Deck};
+
+/// How far ahead a learning item may be shown when nothing else is left.
+pub const LEARN_AHEAD: TimeDelta = TimeDelta::minutes(20);
+
+/// The review items of a deck in deck order: one per card, two for a
+/// reversed card (front → back, then back → front).
+pub fn deck_items(deck: &Deck) -> Vec<ItemKey> {
+    cram_items(deck, None)
+}
+
+/// The items of a deck, or only of its cards carrying `tag`, in deck order.
+pub fn cram_items(deck: &Deck, tag: Option<&str>) -> Vec<ItemKey> {
+    let mut items = Vec::with_capacity(deck.cards.len());
+    for card in &deck.cards {
+        if tag.is_some_and(|t| !card.tags.iter().any(|c| c == t)) {
+            continue;
+        }
+        let key = |direction| ItemKey {
+            deck: deck.id.clone(),
+            card: card.id.clone(),
+            direction,
+        };
+        items.push(key(Direction::Forward));
+        if card.kind == CardKind::Reversed {
+            items.push(key(Direction::Backward));
+        }
+    }
+    items
+}
+
+/// The study day containing `now`: from the last `starts_at` (local time in
+/// `tz`) at or before `now` to the next one.
+pub fn study_day<Tz: TimeZone>(
+    now: DateTime<Utc>,
+    starts_at: NaiveTime,
+    tz: &Tz,
+) -> (DateTime<Utc>, DateTime<Utc>) {
+    let local_date = now.with_timezone(tz).date_naive();
+    let mut start = local_to_utc(local_date.and_time(starts_at), tz);
+    if start > now {
+        start = local_to_utc((local_date - Duration::days(1)).and_time(starts_at), tz);
+    }
+    let start_date = start.with_timezone(tz).date_naive();
+    let mut end = local_to_utc((start_date + Duration::days(1)).and_time(starts_at), tz);
+    if end <= now {
+        // Only possible around a daylight-saving jump; never end in the past.
+        end = local_to_utc((start_date + Duration::days(2)).and_time(starts_at), tz);
+    }
+    (start, end)
+}
+
+/// A local wall-clock time as an instant: the earlier one when the clock is
+/// set back, the first instant after the gap when it jumps forward.
+fn local_to_utc<Tz: TimeZone>(local: NaiveDateTime, tz: &Tz) -> DateTime<Utc> {
+    let mut probe = local;
+    for _ in 0..4 {
+        match tz.from_local_datetime(&probe) {
+            LocalResult::Single(t) => return t.with_timezone(&Utc),
+            LocalResult::Ambiguous(a, b) => return a.min(b).with_timezone(&Utc),
+            LocalResult::None => probe += Duration::minutes(30),
+        }
+    }
+    local.and_utc()
+}
+
+/// New items and reviews already answered in the current study day.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DoneToday {
+    pub new: u32,
+    pub reviews: u32,
+}
+
+/// Where a queued item comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum QueueKind {
+    Learning,
+    Review,
+    New,
+}
+
+/// What is left today, for the progress line.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Reviews due today (within the daily limit).
+    pub due: usize,
+    /// Learning and relearning items due before the day ends.
+    pub learning: usize,
+    /// New items still to introduce today.
+    pub new: usize,
+}
+
+impl Counts {
+    pub fn total(&self) -> usize {
+        self.due + self.learning + self.new
+    }
+}
+
+impl fmt::Display for Counts {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{} due · {} learning · {} new",
+            self.due, self.learning, self.new
+        )
+    }
+}
+
+/// The day's queue. Build it once, take [`Queue::next`], report each answer
+/// with [`Queue::answered`] (or an undo with [`Queue::restore`]).
+#[derive(Debug, Clone)]
+pub struct Queue {
+    day: (DateTime<Utc>, DateTime<Utc>),
+    /// Sorted by due time; items answered later go after equal due times.
+    learning: Vec<(DateTime<Utc>, ItemKey)>,
+    reviews: VecDeque<ItemKey>,
+    new: VecDeque<ItemKey>,
+}
+
+impl Queue {
+    /// The queue for the study day containing `now`, with the day boundary
+    /// in the machine's local time zone.
+    pub fn build_local(
+        items: &[ItemKey],
+        states: &HashMap<ItemKey, CardState>,
+        done: DoneToday,
+        now: DateTime<Utc>,
+        config: &Config,
+    ) -> Queue {
+        Queue::build(items, states, done, now, config, &chrono::Local)
+    }
+
+    /// The queue for the study day containing `now`, the day starting at
+    /// `config.day_starts_at` in `tz`. `items` are in deck order; an item
+    /// without a state (or in state `New`) is new.
+    pub fn build<Tz: TimeZone>(
+        items: &[ItemKey],
+        states: &HashMap<ItemKey, CardState>,
+        done: DoneToday,
+        now: DateTime<Utc>,
+        config: &Config,
+        tz: &Tz,
+    ) -> Queue {
+        let day = study_day(now, config.day_starts_at, tz);
+        let end = day.1;
+        let new_left = config.new_per_day.saturating_sub(done.new) as usize;
+        let reviews_left = config.reviews_per_day.saturating_sub(done.reviews) as usize;
+
+        let mut learning = Vec::new();
+        // (due, deck position) of every due review; only the most overdue
+        // `reviews_left` are kept, so no key is cloned for the rest.
+        let mut due_reviews: Vec<(DateTime<Utc>, usize)> = Vec::new();
+        let mut new = VecDeque::with_capacity(new_left.min(items.len()));
+        for (i, key) in items.iter().enumerate() {
+            match states.get(key) {
+                None => {
+                    if new.len() < new_left {
+                        new.push_back(key.clone());
+                    }
+                }
+                Some(card) => match card.state {
+                    State::New => {
+                        if new.len() < new_left {
+                            new.push_back(key.clone());
+                        }
+                    }
+                    State::Learning | State::Relearning => {
+                        if card.due < end {
+                            learning.push((card.due, i));
+                        }
+                    }
+                    State::Review => {
+                        if card.due < end {
+                            due_reviews.push((card.due, i));
+                        }
+                    }
+                },
+            }
+        }
+        if due_reviews.len() > reviews_left {
+            if reviews_left == 0 {
+                due_reviews.clear();
+            } else {
+                due_reviews.select_nth_unstable(reviews_left - 1);
+                due_reviews.truncate(reviews_left);
+            }
+        }
+        due_reviews.sort_unstable();
+        learning.sort_unstable();
+        Queue {
+            day,
+            learning: learning
+                .into_iter()
+                .map(|(due, i)| (due, items[i].clone()))
+                .collect(),
+            reviews: due_reviews
+                .into_iter()
+                .map(|(_, i)| items[i].clone())
+                .collect(),
+            new,
+        }
+    }
+
+    /// The study day this queue covers, as UTC instants.
+    pub fn day(&self) -> (DateTime<Utc>, DateTime<Utc>) {
+        self.day
+    }
+
+    /// The item to show at `now`, or `None` when nothing is left to show
+    /// now (see [`Queue::next_learning_due`] for when to come back).
+    pub fn next(&self, now: DateTime<Utc>) -> Option<(&ItemKey, QueueKind)> {
+        let first_learning = self.learning.first();
+        if let Some((due, key)) = first_learning
+            && *due <= now
+        {
+            return Some((key, QueueKind::Learning));
+        }
+        if let Some(key) = self.reviews.front() {
+            return Some((key, QueueKind::Review));
+        }
+        if let Some(key) = self.new.front() {
+            return Some((key, QueueKind::New));
+        }
+        match first_learning {
+            Some((due, key)) if *due <= now + LEARN_AHEAD => Some((key, QueueKind::Learning)),
+            _ => None,
+        }
+    }
+
+    /// When the next learning item falls due, if any is left today.
+    pub fn next_learning_due(&self) -> Option<DateTime<Utc>> {
+        self.learning.first().map(|(due, _)| *due)
+    }
+
+    /// Takes an answer into account: the item leaves the queue, and comes
+    /// back later today if it is (re)learning and due before the day ends.
+    /// Cram answers leave the day's queue untouched.
+    pub fn answered(&mut self, record: &ReviewRecord) {
+        if record.kind == ReviewKind::Cram {
+            return;
+        }
+        self.remove(&record.key);
+        let after = &record.after;
+        if matches!(after.state, State::Learning | State::Relearning) && after.due < self.day.1 {
+            self.insert_learning(after.due, record.key.clone());
+        }
+    }
+
+    /// Puts an item back as it was before an undone answer: `before` is its
+    /// state before that answer (`None` for a new card).
+    pub fn restore(&mut self, key: &ItemKey, before: Option<&CardState>) {
+        self.remove(key);
+        match before {
+            None => self.new.push_front(key.clone()),
+            Some(card) => match card.state {
+                State::New => self.new.push_front(key.clone()),
+                State::Review => self.reviews.push_front(key.clone()),
+                State::Learning | State::Relearning => self.insert_learning(card.due, key.clone()),
+            },
+        }
+    }
+
+    pub fn counts(&self) -> Counts {
+        Counts {
+            due: self.reviews.len(),
+            learning: self.learning.len(),
+            new: self.new.len(),
+        }
+    }
+
+    /// Nothing left today, not even learning items due later.
+    pub fn is_finished(&self) -> bool {
+        self.counts().total() == 0
+    }
+
+    fn remove(&mut self, key: &ItemKey) {
+        self.learning.retain(|(_, k)| k != key);
+        self.reviews.retain(|k| k != key);
+        self.new.retain(|k| k != key);
+    }
+
+    fn insert_learning(&mut self, due: DateTime<Utc>, key: ItemKey) {
+        let at = self.learning.partition_point(|(d, _)| *d <= due);
+        self.learning.insert(at, (due, key));
+    }
+}
+
+/// Cram: every item of a deck (or tag) once, regardless of due dates; an
+/// item answered Again goes to the back and comes round again.
+#[derive(Debug, Clone, Default)]
+pub struct CramQueue {
+    items: VecDeque<ItemKey>,
+}
+
+impl CramQueue {
+    pub fn new(items: Vec<ItemKey>) -> CramQueue {
+        CramQueue {
+            items: items.into(),
+        }
+    }
+
+    pub fn next(&self) -> Option<&ItemKey> {
+        self.items.front()
+    }
+
+    pub fn answered(&mut self, record: &ReviewRecord) {
+        let Some(pos) = self.items.iter().position(|k| *k == record.key) else {
+            return;
+        };
+        if let Some(key) = self.items.remove(pos)
+            && record.rating == super::types::Rating::Again
+        {
+            self.items.push_back(key);
+        }
+    }
+
+    /// Puts an item back at the front after an undo.
+    pub fn restore(&mut self, key: &ItemKey) {
+        if let Some(pos) = self.items.iter().position(|k| k == key) {
+            self.items.remove(pos);
+        }
+        self.items.push_front(key.clone());
+    }
+
+    pub fn remaining(&self) -> usize {
+        self.items.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sched::scheduler::Scheduler;
+    use crate::sched::types::Rating;
+    use chrono::FixedOffset;
+
+    fn key(card: &str) -> ItemKey {
+        ItemKey {
+            deck: "d".into(),
+            card: card.into(),
+            direction: Direction::Forward,
+        }
+    }
+
+    fn ist() -> FixedOffset {
+        FixedOffset::east_opt(5 * 3600 + 1800).unwrap()
+    }
+
+    /// An instant given as local (IST) wall-clock time.
+    fn at(day: u32, h: u32, m: u32) -> DateTime<Utc> {
+        ist()
+            .with_ymd_and_hms(2026, 3, day, h, m, 0)
+            .unwrap()
+            .with_timezone(&Utc)
+    }
+
+    fn state(s: State, due: DateTime<Utc>) -> CardState {
+        CardState {
+            state: s,
+            step: matches!(s, State::Learning | State::Relearning).then_some(0),
+            stability: Some(5.0),
+            difficulty: Some(5.0),
+            due,
+            last_review: Some(due - TimeDelta::days(3)),
+        }
+    }
+
+    fn cfg() -> Config {
+        Config {
+            fuzz: false,
+            ..Config::default()
+        }
+    }
+
+    fn order(q: &Queue, now: DateTime<Utc>) -> Vec<(String, QueueKind)> {
+        let mut q = q.clone();
+        let mut out = Vec::new();
+        while let Some((k, kind)) = q.next(now) {
+            out.push((k.card.clone(), kind));
+            let k = k.clone();
+            q.remove(&k);
+        }
+        out
+    }
+
+    #[test]
+    fn day_starts_at_local_time() {
+        let four = NaiveTime::from_hms_opt(4, 0, 0).unwrap();
+        // 02:00 local on the 10th still belongs to the 9th's study day.
+        assert_eq!(
+            study_day(at(10, 2, 0), four, &ist()),
+            (at(9, 4, 0), at(10, 4, 0))
+        );
+        assert_eq!(
+            study_day(at(10, 4, 0), four, &ist()),
+            (at(10, 4, 0), at(11, 4, 0))
+        );
+        assert_eq!(
+            study_day(at(10, 23, 59), four, &ist()),
+            (at(10, 4, 0), at(11, 4, 0))
+        );
+        // The same instant (08:00 IST = 02:30 UTC) belongs to the 10th's
+        // study day in IST and to the 9th's in UTC.
+        assert_eq!(study_day(at(10, 8, 0), four, &ist()).0, at(10, 4, 0));
+        let utc = FixedOffset::east_opt(0).unwrap();
+        let (start, _) = study_day(at(10, 8, 0), four, &utc);
+        assert_eq!(start, Utc.with_ymd_and_hms(2026, 3, 9, 4, 0, 0).unwrap());
+        // A day starting at midnight.
+        let midnight = NaiveTime::from_hms_opt(0, 0, 0).unwrap();
+        assert_eq!(
+            study_day(at(10, 0, 0), midnight, &ist()),
+            (at(10, 0, 0), at(11, 0, 0))
+        );
+    }
+
+    /// A zone at +01:00 that springs forward to +02:00 at 01:00 UTC on
+    /// 29 March 2026 (local 02:00 → 03:00) and falls back at 01:00 UTC on
+    /// 25 October 2026 (local 03:00 → 02:00), as central Europe does.
+    #[derive(Debug, Clone, Copy)]
+    struct Cet;
+
+    impl Cet {
+        fn switch() -> (NaiveDateTime, NaiveDateTime) {
+            let d = |m, d| {
+                chrono::NaiveDate::from_ymd_opt(2026, m, d)
+                    .unwrap()
+                    .and_hms_opt(1, 0, 0)
+                    .unwrap()
+            };
+            (d(3, 29), d(10, 25))
+        }
+        fn at_utc(utc: &NaiveDateTime) -> FixedOffset {
+            let (spring, fall) = Cet::switch();
+            let summer = *utc >= spring && *utc < fall;
+            FixedOffset::east_opt(if summer { 7200 } else { 3600 }).unwrap()
+        }
+    }
+
+    impl TimeZone for Cet {
+        type Offset = FixedOffset;
+        fn from_offset(_: &FixedOffset) -> Cet {
+            Cet
+        }
+        fn offset_from_local_date(&self, local: &chrono::NaiveDate) -> LocalResult<FixedOffset> {
+            self.offset_from_local_datetime(&local.and_hms_opt(12, 0, 0).unwrap())
+        }
+        fn offset_from_local_datetime(&self, local: &NaiveDateTime) -> LocalResult<FixedOffset> {
+            let fits = |secs: i32| {
+                let off = FixedOffset::east_opt(secs).unwrap();
+                (Cet::at_utc(&(*local - TimeDelta::seconds(i64::from(secs)))) == off).then_some(off)
+            };
+            match (fits(3600), fits(7200)) {
+                (Some(a), Some(b)) => LocalResult::Ambiguous(b, a),
+                (Some(a), None) | (None, Some(a)) => LocalResult::Single(a),
+                (None, None) => LocalResult::None,
+            }
+        }
+        fn offset_from_utc_date(&self, utc: &chrono::NaiveDate) -> FixedOffset {
+            Cet::at_utc(&utc.and_hms_opt(0, 0, 0).unwrap())
+        }
+        fn offset_from_utc_datetime(&self, utc: &NaiveDateTime) -> FixedOffset {
+            Cet::at_utc(utc)
+        }
+    }
+
+    #[test]
+    fn study_days_across_daylight_saving_changes() {
+        let utc = |m, d, h, min| Utc.with_ymd_and_hms(2026, m, d, h, min, 0).unwrap();
+        let four = NaiveTime::from_hms_opt(4, 0, 0).unwrap();
+        // The spring-forward day is 23 hours long, the fall-back day 25.
+        assert_eq!(
+            study_day(utc(3, 29, 12, 0), four, &Cet),
+            (utc(3, 29, 2, 0), utc(3, 30, 2, 0))
+        );
+        assert_eq!(
+            study_day(utc(3, 28, 12, 0), four, &Cet),
+            (utc(3, 28, 3, 0), utc(3, 29, 2, 0))
+        );
+        assert_eq!(
+            study_day(utc(10, 25, 12, 0), four, &Cet),
+            (utc(10, 25, 3, 0), utc(10, 26, 3, 0))
+        );
+        // A day starting at 02:30, which is skipped once and doubled once:
+        // the first instant after the gap, the earlier of the two.
+        let half_two = NaiveTime::from_hms_opt(2, 30, 0).unwrap();
+        assert_eq!(
+            study_day(utc(3, 29, 12, 0), half_two, &Cet).0,
+            utc(3, 29, 1, 0)
+        );
+        assert_eq!(
+            study_day(utc(10, 25, 12, 0), half_two, &Cet).0,
+            utc(10, 25, 0, 30)
+        );
+        // Just before a skipped start, the day is still the previous one.
+        assert_eq!(
+            study_day(utc(3, 29, 0, 59), half_two, &Cet).0,
+            utc(3, 28, 1, 30)
+        );
+    }
+
+    #[test]
+    fn order_is_learning_then_most_overdue_reviews_then_new_in_deck_order() {
+        let now = at(10, 12, 0);
+        let items: Vec<_> = [
+            "n1",
+            "r-recent",
+            "l-late",
+            "n2",
+            "r-old",
+            "l-early",
+            "r-tonight",
+            "n3",
+        ]
+        .iter()
+        .map(|c| key(c))
+        .collect();
+        let mut states = HashMap::new();
+        states.insert(key("r-recent"), state(State::Review, at(10, 9, 0)));
+        states.insert(key("r-old"), state(State::Review, at(2, 9, 0)));
+        // Due later today (before tomorrow 04:00): still today's review.
+        states.insert(key("r-tonight"), state(State::Review, at(11, 3, 59)));
+        states.insert(key("l-late"), state(State::Learning, at(10, 11, 50)));
+        states.insert(key("l-early"), state(State::Relearning, at(10, 11, 0)));
+        let q = Queue::build(&items, &states, DoneToday::default(), now, &cfg(), &ist());
+        use QueueKind::*;
+        let got = order(&q, now);
+        let want = [
+            ("l-early", Learning),
+            ("l-late", Learning),
+            ("r-old", Review),
+            ("r-recent", Review),
+            ("r-tonight", Review),
+            ("n1", New),
+            ("n2", New),
+            ("n3", New),
+        ];
+        assert_eq!(got, want.map(|(c, k)| (c.to_string(), k)));
+        assert_eq!(
+            q.counts(),
+            Counts {
+                due: 3,
+                learning: 2,
+                new: 3
+            }
+        );
+        assert_eq!(q.counts().to_string(), "3 due · 2 learning · 3 new");
+    }
+
+    #[test]
+    fn items_due_after_the_day_are_left_out() {
+        let now = at(10, 12, 0);
+        let items = vec![key("tomorrow"), key("learn-tomorrow")];
+        let mut states = HashMap::new();
+        states.insert(key("tomorrow"), state(State::Review, at(11, 4, 0)));
+        states.insert(key("learn-tomorrow"), state(State::Learning, at(11, 5, 0)));
+        let q = Queue::build(&items, &states, DoneToday::default(), now, &cfg(), &ist());
+        assert!(q.is_finished());
+        assert_eq!(q.next(now), None);
+    }
+
+    #[test]
+    fn daily_limits_count_what_was_done_today() {
+        let now = at(10, 12, 0);
+        let mut items = Vec::new();
+        let mut states = HashMap::new();
+        for i in 0..300 {
+            let k = key(&format!("r{i:03}"));
+            // r000 is the least overdue, r299 the most.
+            states.insert(k.clone(), state(State::Review, now - TimeDelta::hours(i)));
+            items.push(k);
+        }
+        for i in 0..30 {
+            items.push(key(&format!("n{i:02}")));
+        }
+        let q = Queue::build(&items, &states, DoneToday::default(), now, &cfg(), &ist());
+        assert_eq!(
+            q.counts(),
+            Counts {
+                due: 200,
+                learning: 0,
+                new: 20
+            }
+        );
+        let got = order(&q, now);
+        assert_eq!(got[0].0, "r299");
+        assert_eq!(got[199].0, "r100");
+        assert_eq!(got[200].0, "n00");
+        assert_eq!(got[219].0, "n19");
+
+        let done = DoneToday {
+            new: 15,
+            reviews: 190,
+        };
+        let q = Queue::build(&items, &states, done, now, &cfg(), &ist());
+        assert_eq!(
+            q.counts(),
+            Counts {
+                due: 10,
+                learning: 0,
+                new: 5
+            }
+        );
+        let over = DoneToday {
+            new: 40,
+            reviews: 999,
+        };
+        let q = Queue::build(&items, &states, over, now, &cfg(), &ist());
+        assert_eq!(
+            q.counts(),
+            Counts {
+                due: 0,
+                learning: 0,
+                new: 0
+            }
+        );
+
+        let c = Config {
+            new_per_day: 2,
+            reviews_per_day: 1,
+            ..cfg()
+        };
+        let q = Queue::build(&items, &states, DoneToday::default(), now, &c, &ist());
+        let got = order(&q, now);
+        assert_eq!(
+            got.iter().map(|g| g.0.as_str()).collect::<Vec<_>>(),
+            ["r299", "n00", "n01"]
+        );
+    }
+
+    #[test]
+    fn learning_cards_come_back_when_due_or_early_when_nothing_else() {
+        let sched = Scheduler::new(&cfg());
+        let t = at(10, 12, 0);
+        let items = vec![key("a"), key("b")];
+        let mut q = Queue::build(
+            &items,
+            &HashMap::new(),
+            DoneToday::default(),
+            t,
+            &cfg(),
+            &ist(),
+        );
+        let (k, kind) = q.next(t).unwrap();
+        assert_eq!((k.card.as_str(), kind), ("a", QueueKind::New));
+        let a = sched.review(&key("a"), None, Rating::Good, t, 0);
+        q.answered(&a);
+        assert_eq!(
+            q.counts(),
+            Counts {
+                due: 0,
+                learning: 1,
+                new: 1
+            }
+        );
+        // `a` is due in 10 minutes: `b` first.
+        assert_eq!(q.next(t).unwrap().0.card, "b");
+        let b = sched.review(&key("b"), None, Rating::Again, t + TimeDelta::seconds(5), 0);
+        q.answered(&b);
+        // Nothing else left: the earliest learning card is shown early,
+        // within the learn-ahead limit, even with the clock standing still.
+        let (k, kind) = q.next(t).unwrap();
+        assert_eq!((k.card.as_str(), kind), ("b", QueueKind::Learning));
+        assert_eq!(q.next_learning_due(), Some(t + TimeDelta::seconds(65)));
+        // Once due, `a` comes back.
+        assert_eq!(q.next(t + TimeDelta::minutes(10)).unwrap().0.card, "b");
+        let b2 = sched.review(
+            &key("b"),
+            Some(&b.after),
+            Rating::Good,
+            t + TimeDelta::minutes(2),
+            0,
+        );
+        q.answered(&b2);
+        assert_eq!(q.next(t + TimeDelta::minutes(10)).unwrap().0.card, "a");
+        // A graduated card leaves the queue.
+        let a2 = sched.review(
+            &key("a"),
+            Some(&a.after),
+            Rating::Good,
+            t + TimeDelta::minutes(10),
+            0,
+        );
+        assert_eq!(a2.after.state, State::Review);
+        q.answered(&a2);
+        assert_eq!(
+            q.counts(),
+            Counts {
+                due: 0,
+                learning: 1,
+                new: 0
+            }
+        );
+    }
+
+    #[test]
+    fn learning_beyond_learn_ahead_waits() {
+        let t = at(10, 12, 0);
+        let items = vec![key("l")];
+        let mut states = HashMap::new();
+        states.insert(key("l"), state(State::Learning, t + TimeDelta::minutes(21)));
+        let q = Queue::build(&items, &states, DoneToday::default(), t, &cfg(), &ist());
+        assert_eq!(q.next(t), None);
+        assert!(!q.is_finished());
+        assert_eq!(
+            q.next(t + TimeDelta::minutes(1)).unwrap().1,
+            QueueKind::Learning
+        );
+    }
+
+    #[test]
+    fn a_lapse_joins_the_learning_queue() {
+        let sched = Scheduler::new(&cfg());
+        let t = at(10, 12, 0);
+        let items = vec![key("r"), key("n")];
+        let mut states = HashMap::new();
+        states.insert(key("r"), state(State::Review, t - TimeDelta::days(1)));
+        let mut q = Queue::build(&items, &states, DoneToday::default(), t, &cfg(), &ist());
+        let rec = sched.review(&key("r"), states.get(&key("r")), Rating::Again, t, 0);
+        assert_eq!(rec.after.state, State::Relearning);
+        q.answered(&rec);
+        assert_eq!(
+            q.counts(),
+            Counts {
+                due: 0,
+                learning: 1,
+                new: 1
+            }
+        );
+        assert_eq!(q.next(t + TimeDelta::minutes(10)).unwrap().0.card, "r");
+    }
+
+    #[test]
+    fn undo_puts_the_item_back_where_it_was() {
+        let sched = Scheduler::new(&cfg());
+        let t = at(10, 12, 0);
+        let items = vec![key("r"), key("n1"), key("n2")];
+        let mut states = HashMap::new();
+        let before = state(State::Review, t - TimeDelta::days(1));
+        states.insert(key("r"), before);
+        let mut q = Queue::build(&items, &states, DoneToday::default(), t, &cfg(), &ist());
+        let original = order(&q, t);
+        let rec = sched.review(&key("r"), Some(&before), Rating::Again, t, 0);
+        q.answered(&rec);
+        q.restore(&key("r"), Some(&before));
+        assert_eq!(order(&q, t), original);
+        let rec = sched.review(&key("n1"), None, Rating::Good, t, 0);
+        q.answered(&rec);
+        q.answered(&sched.review(&key("r"), Some(&before), Rating::Good, t, 0));
+        q.restore(&key("n1"), None);
+        assert_eq!(q.next(t).unwrap().0.card, "n1");
+        assert_eq!(
+            q.counts(),
+            Counts {
+                due: 0,
+                learning: 0,
+                new: 2
+            }
+        );
+    }
+
+    #[test]
+    fn cram_answers_do_not_move_the_day_queue() {
+        let sched = Scheduler::new(&cfg());
+        let t = at(10, 12, 0);
+        let mut q = Queue::build(
+            &[key("n")],
+            &HashMap::new(),
+            DoneToday::default(),
+            t,
+            &cfg(),
+            &ist(),
+        );
+        q.answered(&sched.cram(&key("n"), None, Rating::Good, t, 0));
+        assert_eq!(q.counts().new, 1);
+    }
+
+    #[test]
+    fn cram_queue_repeats_again_answers() {
+        let sched = Scheduler::new(&cfg());
+        let t = at(10, 12, 0);
+        let mut c = CramQueue::new(vec![key("a"), key("b")]);
+        let a = c.next().unwrap().clone();
+        c.answered(&sched.cram(&a, None, Rating::Again, t, 0));
+        assert_eq!(c.next().unwrap().card, "b");
+        assert_eq!(c.remaining(), 2);
+        c.answered(&sched.cram(&key("b"), None, Rating::Good, t, 0));
+        assert_eq!(c.next().unwrap().card, "a");
+        c.answered(&sched.cram(&key("a"), None, Rating::Easy, t, 0));
+        assert_eq!(c.next(), None);
+        c.restore(&key("a"));
+        assert_eq!(c.remaining(), 1);
+    }
+}
+
+#[cfg(test)]
+mod deck_tests {
+    use super::*;
+    use crate::deck::model::{Card, Text};
+    use chrono::FixedOffset;
+
+    fn card(id: &str, kind: CardKind, tags: &[&str]) -> Card {
+        Card {
+            id: id.into(),
+            kind,
+            front: Text::default(),
+            back: Text::default(),
+            accept: if kind == CardKind::Typed {
+                vec!["x".into()]
+            } else {
+                vec![]
+            },
+            explain: None,
+            prompt: None,
+            tags: tags.iter().map(|t| t.to_string()).collect(),
+        }
+    }
+
+    fn deck() -> Deck {
+        Deck {
+            id: "rot".into(),
+            title: Text::default(),
+            description: None,
+            languages: vec!["en".into()],
+            cards: vec![
+                card("basic", CardKind::Basic, &["frames"]),
+                card("rev", CardKind::Reversed, &["euler"]),
+                card("typed", CardKind::Typed, &["euler", "frames"]),
+            ],
+            prompts: vec![],
+            scenes: vec![],
+            sections: vec![],
+            path: "rot.toml".into(),
+        }
+    }
+
+    fn names(items: &[ItemKey]) -> Vec<String> {
+        items
+            .iter()
+            .map(|k| format!("{}/{}:{}", k.deck, k.card, k.direction.as_str()))
+            .collect()
+    }
+
+    #[test]
+    fn reversed_cards_are_two_items() {
+        assert_eq!(
+            names(&deck_items(&deck())),
+            [
+                "rot/basic:forward",
+                "rot/rev:forward",
+                "rot/rev:backward",
+                "rot/typed:forward"
+            ]
+        );
+    }
+
+    #[test]
+    fn cram_items_filter_by_tag() {
+        assert_eq!(
+            names(&cram_items(&deck(), Some("euler"))),
+            ["rot/rev:forward", "rot/rev:backward", "rot/typed:forward"]
+        );
+        assert_eq!(names(&cram_items(&deck(), Some("frames"))).len(), 2);
+        assert!(cram_items(&deck(), Some("none")).is_empty());
+    }
+
+    #[test]
+    fn the_two_directions_keep_separate_state() {
+        let d = deck();
+        let items = deck_items(&d);
+        let tz = FixedOffset::east_opt(0).unwrap();
+        let now = Utc.with_ymd_and_hms(2026, 3, 10, 12, 0, 0).unwrap();
+        let mut states = HashMap::new();
+        // Forward learnt and due; backward never seen.
+        states.insert(
+            items[1].clone(),
+            CardState {
+                state: State::Review,
+                step: None,
+                stability: Some(3.0),
+                difficulty: Some(5.0),
+                due: now - TimeDelta::hours(1),
+                last_review: Some(now - TimeDelta::days(3)),
+            },
+        );
+        let config = Config::default();
+        let q = Queue::build(&items, &states, DoneToday::default(), now, &config, &tz);
+        assert_eq!(
+            q.counts(),
+            Counts {
+                due: 1,
+                learning: 0,
+                new: 3
+            }
+        );
+        let (first, kind) = q.next(now).unwrap();
+        assert_eq!((first, kind), (&items[1], QueueKind::Review));
+        assert_eq!(first.direction, Direction::Forward);
+    }
+}

@@ -1,0 +1,825 @@
+//! FSRS-6 with short-term learning and relearning steps, card for card as
+//! py-fsrs 6.x's `Scheduler.review_card` does it.
+//!
+//! The memory model is FSRS-6 with the `fsrs` crate's default parameters.
+//! The crate's own `next_states` is not used for scheduling because it
+//! computes in `f32` (about seven significant digits, so stabilities drift
+//! from py-fsrs after a few reviews and a rounded interval can land on the
+//! other side of a half day), clamps stability to 36 500 days where py-fsrs
+//! does not, and knows nothing of learning steps. The formulas below are
+//! py-fsrs's, evaluated in `f64` in the same order, so that with fuzzing off
+//! every state, step, stability, difficulty and due time equals py-fsrs's
+//! (the golden tests replay py-fsrs's numbers). A unit test checks them
+//! against the crate's `next_states`.
+
+use std::f64::consts::E;
+
+use chrono::{DateTime, TimeDelta, Utc};
+
+use super::config::Config;
+use super::types::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord, State};
+
+/// The longest interval, in days (py-fsrs's `maximum_interval`).
+pub const MAXIMUM_INTERVAL: i64 = 36_500;
+
+const STABILITY_MIN: f64 = 0.001;
+const MIN_DIFFICULTY: f64 = 1.0;
+const MAX_DIFFICULTY: f64 = 10.0;
+
+/// py-fsrs's `FUZZ_RANGES`: (start, end, factor) in days.
+const FUZZ_RANGES: [(f64, f64, f64); 3] = [
+    (2.5, 7.0, 0.15),
+    (7.0, 20.0, 0.1),
+    (20.0, f64::INFINITY, 0.05),
+];
+
+/// What one answer button would do.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Preview {
+    pub rating: Rating,
+    /// The item's state after this answer.
+    pub after: CardState,
+    /// From now to the next due time.
+    pub interval: TimeDelta,
+    /// `interval` as the button shows it (see [`format_interval`]).
+    pub label: String,
+}
+
+#[derive(Debug, Clone)]
+pub struct Scheduler {
+    w: [f64; 21],
+    decay: f64,
+    factor: f64,
+    desired_retention: f64,
+    learning_steps: Vec<TimeDelta>,
+    relearning_steps: Vec<TimeDelta>,
+    maximum_interval: i64,
+    fuzz: bool,
+}
+
+/// The `fsrs` crate's default FSRS-6 parameters as the decimals they are
+/// written as. The crate stores them as `f32`; widening `0.212f32` gives
+/// 0.21199999749…, while py-fsrs computes with the decimal 0.212. The
+/// shortest decimal that reads back as the same `f32` is the written one.
+pub fn default_parameters() -> [f64; 21] {
+    let mut w = [0.0; 21];
+    for (slot, p) in w.iter_mut().zip(fsrs::DEFAULT_PARAMETERS.iter()) {
+        *slot = p.to_string().parse().unwrap_or(f64::from(*p));
+    }
+    w
+}
+
+impl Scheduler {
+    pub fn new(config: &Config) -> Scheduler {
+        let w = default_parameters();
+        let decay = -w[20];
+        Scheduler {
+            w,
+            decay,
+            factor: 0.9f64.powf(1.0 / decay) - 1.0,
+            desired_retention: config.desired_retention,
+            learning_steps: config.learning_steps.clone(),
+            relearning_steps: config.relearning_steps.clone(),
+            maximum_interval: MAXIMUM_INTERVAL,
+            fuzz: config.fuzz,
+        }
+    }
+
+    /// Rates an item. `card` is the item's state before the review (`None`
+    /// or `State::New` for a card never reviewed). The record's kind follows
+    /// the state before the review, as Anki logs it.
+    pub fn review(
+        &self,
+        key: &ItemKey,
+        card: Option<&CardState>,
+        rating: Rating,
+        now: DateTime<Utc>,
+        duration_ms: i64,
+    ) -> ReviewRecord {
+        let before = card.filter(|c| c.state != State::New);
+        let kind = match before.map(|c| c.state) {
+            None | Some(State::New) | Some(State::Learning) => ReviewKind::Learn,
+            Some(State::Review) => ReviewKind::Review,
+            Some(State::Relearning) => ReviewKind::Relearn,
+        };
+        let after = self.next_card(key, before, rating, now);
+        ReviewRecord {
+            key: key.clone(),
+            reviewed_at: now,
+            rating,
+            kind,
+            elapsed_days: elapsed_days(before, now),
+            scheduled_days: floor_days(after.due - now).max(0),
+            after,
+            duration_ms,
+        }
+    }
+
+    /// What each of the four buttons would give if pressed at `now`. Fuzz is
+    /// seeded by item and time, so this equals what [`Self::review`] at the
+    /// same instant records.
+    pub fn preview(
+        &self,
+        key: &ItemKey,
+        card: Option<&CardState>,
+        now: DateTime<Utc>,
+    ) -> [Preview; 4] {
+        let before = card.filter(|c| c.state != State::New);
+        Rating::ALL.map(|rating| {
+            let after = self.next_card(key, before, rating, now);
+            let interval = after.due - now;
+            Preview {
+                rating,
+                after,
+                interval,
+                label: format_interval(interval),
+            }
+        })
+    }
+
+    /// A cram answer: logged with kind `Cram`, the scheduling state unchanged.
+    /// A never-reviewed card stays new.
+    pub fn cram(
+        &self,
+        key: &ItemKey,
+        card: Option<&CardState>,
+        rating: Rating,
+        now: DateTime<Utc>,
+        duration_ms: i64,
+    ) -> ReviewRecord {
+        let after = card.copied().unwrap_or(CardState {
+            state: State::New,
+            step: None,
+            stability: None,
+            difficulty: None,
+            due: now,
+            last_review: None,
+        });
+        ReviewRecord {
+            key: key.clone(),
+            reviewed_at: now,
+            rating,
+            kind: ReviewKind::Cram,
+            elapsed_days: elapsed_days(Some(&after), now),
+            scheduled_days: floor_days(after.due - now).max(0),
+            after,
+            duration_ms,
+        }
+    }
+
+    /// Probability of recall at `now` (0 for a card never reviewed), as
+    /// py-fsrs's `get_card_retrievability`: whole days since the last review.
+    pub fn retrievability(&self, card: &CardState, now: DateTime<Utc>) -> f64 {
+        match (card.last_review, card.stability) {
+            (Some(last), Some(s)) => {
+                let days = floor_days(now - last).max(0) as f64;
+                (1.0 + self.factor * days / s).powf(self.decay)
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// py-fsrs `Scheduler.review_card`, branch for branch.
+    fn next_card(
+        &self,
+        key: &ItemKey,
+        before: Option<&CardState>,
+        rating: Rating,
+        now: DateTime<Utc>,
+    ) -> CardState {
+        // A new card is py-fsrs's fresh `Card()`: Learning, step 0, no memory.
+        let mut card = before.copied().unwrap_or(CardState {
+            state: State::Learning,
+            step: Some(0),
+            stability: None,
+            difficulty: None,
+            due: now,
+            last_review: None,
+        });
+        let days_since_last = card.last_review.map(|l| floor_days(now - l));
+        let same_day = matches!(days_since_last, Some(d) if d < 1);
+        let r = self.retrievability(&card, now);
+
+        let interval = match card.state {
+            State::New | State::Learning | State::Relearning => {
+                let relearning = card.state == State::Relearning;
+                let step = card.step.unwrap_or(0) as usize;
+                match (card.stability, card.difficulty) {
+                    (Some(s), Some(d)) => {
+                        card.stability = Some(if same_day {
+                            self.short_term_stability(s, rating)
+                        } else {
+                            self.next_stability(d, s, r, rating)
+                        });
+                        card.difficulty = Some(self.next_difficulty(d, rating));
+                    }
+                    _ => {
+                        card.stability = Some(self.initial_stability(rating));
+                        card.difficulty = Some(self.initial_difficulty(rating, true));
+                    }
+                }
+                let steps = if relearning {
+                    &self.relearning_steps
+                } else {
+                    &self.learning_steps
+                };
+                let graduate = steps.is_empty()
+                    || (step >= steps.len() && rating != Rating::Again)
+                    || rating == Rating::Easy
+                    || (rating == Rating::Good && step + 1 == steps.len());
+                if graduate {
+                    card.state = State::Review;
+                    card.step = None;
+                    self.review_interval(&card)
+                } else {
+                    match rating {
+                        Rating::Again => {
+                            card.step = Some(0);
+                            steps[0]
+                        }
+                        Rating::Hard => hard_step(steps, step),
+                        // Good, not on the last step: step < len - 1 here
+                        // (step >= len was caught by `graduate`).
+                        _ => {
+                            card.step = Some(step as u32 + 1);
+                            steps[step + 1]
+                        }
+                    }
+                }
+            }
+            State::Review => {
+                // A review card always has a memory; a cached row without one
+                // is treated as fresh from its first answer.
+                let s = card
+                    .stability
+                    .unwrap_or_else(|| self.initial_stability(rating));
+                let d = card
+                    .difficulty
+                    .unwrap_or_else(|| self.initial_difficulty(rating, true));
+                card.stability = Some(if same_day {
+                    self.short_term_stability(s, rating)
+                } else {
+                    self.next_stability(d, s, r, rating)
+                });
+                card.difficulty = Some(self.next_difficulty(d, rating));
+                if rating == Rating::Again && !self.relearning_steps.is_empty() {
+                    card.state = State::Relearning;
+                    card.step = Some(0);
+                    self.relearning_steps[0]
+                } else {
+                    self.review_interval(&card)
+                }
+            }
+        };
+
+        let interval = if self.fuzz && card.state == State::Review {
+            self.fuzzed(interval, key, now)
+        } else {
+            interval
+        };
+        card.due = now + interval;
+        card.last_review = Some(now);
+        card
+    }
+
+    fn review_interval(&self, card: &CardState) -> TimeDelta {
+        TimeDelta::days(self.next_interval(card.stability.unwrap_or(STABILITY_MIN)))
+    }
+
+    fn initial_stability(&self, rating: Rating) -> f64 {
+        clamp_stability(self.w[rating as usize - 1])
+    }
+
+    fn initial_difficulty(&self, rating: Rating, clamp: bool) -> f64 {
+        let d = self.w[4] - E.powf(self.w[5] * (rating as i64 - 1) as f64) + 1.0;
+        if clamp { clamp_difficulty(d) } else { d }
+    }
+
+    /// Whole days, rounded half to even as Python's `round`, at least 1,
+    /// at most the maximum interval.
+    fn next_interval(&self, stability: f64) -> i64 {
+        let ivl = (stability / self.factor) * (self.desired_retention.powf(1.0 / self.decay) - 1.0);
+        let days = ivl
+            .round_ties_even()
+            .max(1.0)
+            .min(self.maximum_interval as f64);
+        days as i64
+    }
+
+    fn short_term_stability(&self, stability: f64, rating: Rating) -> f64 {
+        let w = &self.w;
+        let mut increase =
+            E.powf(w[17] * ((rating as i64 - 3) as f64 + w[18])) * stability.powf(-w[19]);
+        if rating != Rating::Again {
+            increase = increase.max(1.0);
+        }
+        clamp_stability(stability * increase)
+    }
+
+    fn next_difficulty(&self, difficulty: f64, rating: Rating) -> f64 {
+        let w = &self.w;
+        let target = self.initial_difficulty(Rating::Easy, false);
+        let delta = -(w[6] * (rating as i64 - 3) as f64);
+        let damped = difficulty + (10.0 - difficulty) * delta / 9.0;
+        clamp_difficulty(w[7] * target + (1.0 - w[7]) * damped)
+    }
+
+    fn next_stability(&self, difficulty: f64, stability: f64, r: f64, rating: Rating) -> f64 {
+        let w = &self.w;
+        let s = if rating == Rating::Again {
+            let long_term = w[11]
+                * difficulty.powf(-w[12])
+                * ((stability + 1.0).powf(w[13]) - 1.0)
+                * E.powf((1.0 - r) * w[14]);
+            let short_term = stability / E.powf(w[17] * w[18]);
+            if short_term < long_term {
+                short_term
+            } else {
+                long_term
+            }
+        } else {
+            let hard_penalty = if rating == Rating::Hard { w[15] } else { 1.0 };
+            let easy_bonus = if rating == Rating::Easy { w[16] } else { 1.0 };
+            stability
+                * (1.0
+                    + E.powf(w[8])
+                        * (11.0 - difficulty)
+                        * stability.powf(-w[9])
+                        * (E.powf((1.0 - r) * w[10]) - 1.0)
+                        * hard_penalty
+                        * easy_bonus)
+        };
+        clamp_stability(s)
+    }
+
+    /// py-fsrs's fuzz ranges, drawn uniformly over the whole days in the
+    /// range with a generator seeded by the item and the review time, so a
+    /// review replayed at the same instant gets the same interval.
+    ///
+    /// py-fsrs draws `round(random() * (max - min + 1) + min)`, which can
+    /// overshoot `max` by one and halves the weight of `min`; this takes the
+    /// floor instead (as Anki does), giving each day in `min..=max` equal odds.
+    fn fuzzed(&self, interval: TimeDelta, key: &ItemKey, now: DateTime<Utc>) -> TimeDelta {
+        let days = interval.num_days();
+        let Some((lo, hi)) = fuzz_range(days, self.maximum_interval) else {
+            return interval;
+        };
+        let u = unit_random(key, now);
+        let span = (hi - lo + 1) as f64;
+        let fuzzed = lo + ((u * span).floor() as i64).min(hi - lo);
+        TimeDelta::days(fuzzed.min(self.maximum_interval))
+    }
+}
+
+/// The whole-day range py-fsrs fuzzes an interval of `days` into, or `None`
+/// for intervals under 2.5 days (left alone).
+pub fn fuzz_range(days: i64, maximum_interval: i64) -> Option<(i64, i64)> {
+    let d = days as f64;
+    if d < 2.5 {
+        return None;
+    }
+    let mut delta = 1.0;
+    for (start, end, factor) in FUZZ_RANGES {
+        delta += factor * (d.min(end) - start).max(0.0);
+    }
+    let lo = ((d - delta).round_ties_even() as i64).max(2);
+    let hi = ((d + delta).round_ties_even() as i64).min(maximum_interval);
+    Some((lo.min(hi), hi))
+}
+
+/// A number in [0, 1) fixed by the item and the review instant.
+fn unit_random(key: &ItemKey, now: DateTime<Utc>) -> f64 {
+    // FNV-1a over the identity, then a SplitMix64 finaliser: stable across
+    // platforms and Rust versions, unlike `std`'s hasher.
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let micros = now.timestamp_micros().to_le_bytes();
+    for bytes in [
+        key.deck.as_bytes(),
+        &[0xff],
+        key.card.as_bytes(),
+        &[0xff],
+        key.direction.as_str().as_bytes(),
+        &micros,
+    ] {
+        for b in bytes {
+            h ^= u64::from(*b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    h ^= h >> 31;
+    (h >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Hard on a learning step: py-fsrs stays on the step, waiting 1.5 × the only
+/// step, the mean of the first two on step 0, else the current step.
+fn hard_step(steps: &[TimeDelta], step: usize) -> TimeDelta {
+    if step == 0 && steps.len() == 1 {
+        scale_micros(steps[0], 3, 2)
+    } else if step == 0 {
+        scale_micros(steps[0] + steps[1], 1, 2)
+    } else {
+        steps[step]
+    }
+}
+
+/// `d * num / den` rounded to the microsecond, ties to even, as Python's
+/// `timedelta` multiplies and divides by floats.
+fn scale_micros(d: TimeDelta, num: i64, den: i64) -> TimeDelta {
+    let us = i128::from(d.num_microseconds().unwrap_or(i64::MAX)) * i128::from(num);
+    let den = i128::from(den);
+    let (mut q, r) = (us.div_euclid(den), us.rem_euclid(den));
+    if 2 * r > den || (2 * r == den && q % 2 == 1) {
+        q += 1;
+    }
+    TimeDelta::microseconds(i64::try_from(q).unwrap_or(i64::MAX))
+}
+
+fn clamp_stability(s: f64) -> f64 {
+    if s < STABILITY_MIN { STABILITY_MIN } else { s }
+}
+
+fn clamp_difficulty(d: f64) -> f64 {
+    d.clamp(MIN_DIFFICULTY, MAX_DIFFICULTY)
+}
+
+/// Whole days in `d`, rounded down (Python's `timedelta.days`).
+pub fn floor_days(d: TimeDelta) -> i64 {
+    let days = d.num_days();
+    if d < TimeDelta::days(days) {
+        days - 1
+    } else {
+        days
+    }
+}
+
+fn elapsed_days(before: Option<&CardState>, now: DateTime<Utc>) -> i64 {
+    before
+        .and_then(|c| c.last_review)
+        .map_or(0, |last| floor_days(now - last).max(0))
+}
+
+/// A short label for an interval, as on an answer button.
+///
+/// The unit is the largest one the rounded value reaches: seconds under a
+/// minute (`45s`), minutes under an hour (`1m`, `10m`), hours under a day
+/// (`1h`), days under two weeks (`3d`), weeks under 60 days (`2w`), months of
+/// 30.44 days under a year (`4mo`), then years of 365.25 days (`1.5y`).
+/// Seconds to weeks are whole numbers rounded half up (5 min 30 s is `6m`);
+/// months and years keep one decimal when it is not zero and the value is
+/// under 10 (`1.5mo`, `2y`, `12y`). Negative spans read as `0s`.
+pub fn format_interval(d: TimeDelta) -> String {
+    let secs = d.num_milliseconds().max(0) as f64 / 1000.0;
+    let days = secs / 86_400.0;
+    let whole = |v: f64| v.round();
+    if whole(secs) < 60.0 {
+        return format!("{}s", whole(secs));
+    }
+    if whole(secs / 60.0) < 60.0 {
+        return format!("{}m", whole(secs / 60.0));
+    }
+    if whole(secs / 3600.0) < 24.0 {
+        return format!("{}h", whole(secs / 3600.0));
+    }
+    if whole(days) < 14.0 {
+        return format!("{}d", whole(days));
+    }
+    if days < 60.0 {
+        return format!("{}w", whole(days / 7.0));
+    }
+    let one_decimal = |v: f64| {
+        let r = (v * 10.0).round() / 10.0;
+        if r >= 10.0 || r.fract() == 0.0 {
+            format!("{}", r.round())
+        } else {
+            format!("{r:.1}")
+        }
+    };
+    if days < 365.0 {
+        return format!("{}mo", one_decimal(days / (365.25 / 12.0)));
+    }
+    format!("{}y", one_decimal(days / 365.25))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sched::types::Direction;
+    use chrono::TimeZone;
+
+    fn key(card: &str) -> ItemKey {
+        ItemKey {
+            deck: "d".into(),
+            card: card.into(),
+            direction: Direction::Forward,
+        }
+    }
+
+    fn t0() -> DateTime<Utc> {
+        Utc.with_ymd_and_hms(2026, 3, 1, 10, 0, 0).unwrap()
+    }
+
+    fn no_fuzz() -> Scheduler {
+        Scheduler::new(&Config {
+            fuzz: false,
+            ..Config::default()
+        })
+    }
+
+    #[test]
+    fn parameters_are_the_written_decimals() {
+        let w = default_parameters();
+        assert_eq!(w[0], 0.212);
+        assert_eq!(w[20], 0.1542);
+        for (a, b) in w.iter().zip(fsrs::DEFAULT_PARAMETERS.iter()) {
+            assert_eq!(*a as f32, *b);
+        }
+    }
+
+    #[test]
+    fn new_card_good_goes_to_second_step() {
+        let s = no_fuzz();
+        let r = s.review(&key("a"), None, Rating::Good, t0(), 1500);
+        assert_eq!(r.kind, ReviewKind::Learn);
+        assert_eq!(r.after.state, State::Learning);
+        assert_eq!(r.after.step, Some(1));
+        assert_eq!(r.after.due, t0() + TimeDelta::minutes(10));
+        assert_eq!(r.after.stability, Some(2.3065));
+        assert_eq!(r.after.last_review, Some(t0()));
+        assert_eq!(
+            (r.elapsed_days, r.scheduled_days, r.duration_ms),
+            (0, 0, 1500)
+        );
+    }
+
+    #[test]
+    fn kind_follows_the_state_before() {
+        let s = no_fuzz();
+        let k = key("a");
+        let learn = s.review(&k, None, Rating::Easy, t0(), 0);
+        assert_eq!(
+            (learn.kind, learn.after.state),
+            (ReviewKind::Learn, State::Review)
+        );
+        let later = learn.after.due;
+        let review = s.review(&k, Some(&learn.after), Rating::Again, later, 0);
+        assert_eq!(review.kind, ReviewKind::Review);
+        assert_eq!(review.after.state, State::Relearning);
+        assert_eq!(review.elapsed_days, (later - t0()).num_days());
+        let relearn = s.review(
+            &k,
+            Some(&review.after),
+            Rating::Good,
+            later + TimeDelta::minutes(10),
+            0,
+        );
+        assert_eq!(relearn.kind, ReviewKind::Relearn);
+        assert_eq!(relearn.after.state, State::Review);
+        assert!(relearn.scheduled_days >= 1);
+    }
+
+    #[test]
+    fn hard_steps_round_like_python_timedelta() {
+        assert_eq!(
+            hard_step(&[TimeDelta::minutes(1), TimeDelta::minutes(10)], 0),
+            TimeDelta::seconds(330)
+        );
+        assert_eq!(
+            hard_step(&[TimeDelta::seconds(45)], 0),
+            TimeDelta::milliseconds(67_500)
+        );
+        // One microsecond: 1.5 µs rounds to 2, 0.5 µs (1 µs halved) to 0.
+        assert_eq!(
+            scale_micros(TimeDelta::microseconds(1), 3, 2),
+            TimeDelta::microseconds(2)
+        );
+        assert_eq!(
+            scale_micros(TimeDelta::microseconds(1), 1, 2),
+            TimeDelta::zero()
+        );
+        assert_eq!(
+            scale_micros(TimeDelta::microseconds(3), 1, 2),
+            TimeDelta::microseconds(2)
+        );
+    }
+
+    #[test]
+    fn floor_days_rounds_down() {
+        assert_eq!(floor_days(TimeDelta::hours(47)), 1);
+        assert_eq!(floor_days(TimeDelta::days(2)), 2);
+        assert_eq!(floor_days(TimeDelta::seconds(-1)), -1);
+        assert_eq!(floor_days(TimeDelta::days(-1)), -1);
+    }
+
+    /// The formulas agree with the `fsrs` crate's FSRS-6 up to its `f32`
+    /// precision, for first answers, same-day answers and answers days later.
+    #[test]
+    fn memory_model_agrees_with_the_fsrs_crate() {
+        let crate_fsrs = fsrs::FSRS::new(&fsrs::DEFAULT_PARAMETERS).unwrap();
+        let s = no_fuzz();
+        let close = |a: f64, b: f32| ((a - f64::from(b)) / a).abs() < 2e-5;
+        let first = crate_fsrs.next_states(None, 0.9, 0).unwrap();
+        for (rating, st) in
+            Rating::ALL
+                .iter()
+                .zip([&first.again, &first.hard, &first.good, &first.easy])
+        {
+            assert!(close(s.initial_stability(*rating), st.memory.stability));
+            assert!(close(
+                s.initial_difficulty(*rating, true),
+                st.memory.difficulty
+            ));
+        }
+        for (stab, diff) in [(2.3065, 2.1181), (10.0, 5.0), (150.0, 8.7), (0.4, 9.9)] {
+            for days in [0u32, 1, 3, 20, 400] {
+                let mem = fsrs::MemoryState {
+                    stability: stab as f32,
+                    difficulty: diff as f32,
+                };
+                let next = crate_fsrs.next_states(Some(mem), 0.9, days).unwrap();
+                let card = CardState {
+                    state: State::Review,
+                    step: None,
+                    stability: Some(stab),
+                    difficulty: Some(diff),
+                    due: t0(),
+                    last_review: Some(t0() - TimeDelta::days(i64::from(days))),
+                };
+                let r = s.retrievability(&card, t0());
+                for (rating, st) in
+                    Rating::ALL
+                        .iter()
+                        .zip([&next.again, &next.hard, &next.good, &next.easy])
+                {
+                    let mine = if days == 0 {
+                        s.short_term_stability(stab, *rating)
+                    } else {
+                        s.next_stability(diff, stab, r, *rating)
+                    };
+                    assert!(
+                        close(mine, st.memory.stability),
+                        "S={stab} D={diff} t={days} {rating:?}: {mine} vs {}",
+                        st.memory.stability
+                    );
+                    let d = s.next_difficulty(diff, *rating);
+                    assert!(
+                        close(d, st.memory.difficulty),
+                        "{d} vs {}",
+                        st.memory.difficulty
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn preview_matches_review_and_labels_buttons() {
+        let s = Scheduler::new(&Config::default());
+        let k = key("p");
+        let p = s.preview(&k, None, t0());
+        let labels: Vec<_> = p.iter().map(|p| p.label.as_str()).collect();
+        // Again: 1m, Hard: mean of 1m and 10m, Good: 10m, Easy: graduate.
+        assert_eq!(labels[..3], ["1m", "6m", "10m"]);
+        assert!(
+            labels[3].ends_with('d') || labels[3].ends_with('w'),
+            "{labels:?}"
+        );
+        for pv in &p {
+            let rec = s.review(&k, None, pv.rating, t0(), 0);
+            assert_eq!(rec.after, pv.after);
+            assert_eq!(rec.after.due - t0(), pv.interval);
+        }
+    }
+
+    #[test]
+    fn cram_leaves_state_alone() {
+        let s = no_fuzz();
+        let k = key("c");
+        let learnt = s.review(&k, None, Rating::Easy, t0(), 0).after;
+        let later = t0() + TimeDelta::days(2);
+        let c = s.cram(&k, Some(&learnt), Rating::Again, later, 900);
+        assert_eq!(c.kind, ReviewKind::Cram);
+        assert_eq!(c.after, learnt);
+        assert_eq!(c.elapsed_days, 2);
+        assert_eq!(c.rating, Rating::Again);
+        let fresh = s.cram(&k, None, Rating::Good, later, 0);
+        assert_eq!(fresh.after.state, State::New);
+        assert_eq!(fresh.after.stability, None);
+        assert_eq!(fresh.after.last_review, None);
+    }
+
+    #[test]
+    fn new_state_counts_as_never_reviewed() {
+        let s = no_fuzz();
+        let as_new = CardState {
+            state: State::New,
+            step: None,
+            stability: None,
+            difficulty: None,
+            due: t0(),
+            last_review: None,
+        };
+        let a = s.review(&key("n"), Some(&as_new), Rating::Hard, t0(), 0);
+        let b = s.review(&key("n"), None, Rating::Hard, t0(), 0);
+        assert_eq!(a, b);
+    }
+
+    #[test]
+    fn fuzz_ranges_follow_py_fsrs() {
+        assert_eq!(fuzz_range(2, MAXIMUM_INTERVAL), None);
+        // 3 days: delta = 1 + 0.15 * 0.5 = 1.075 → [2, 4].
+        assert_eq!(fuzz_range(3, MAXIMUM_INTERVAL), Some((2, 4)));
+        // 10 days: delta = 1 + 0.675 + 0.3 = 1.975 → [8, 12].
+        assert_eq!(fuzz_range(10, MAXIMUM_INTERVAL), Some((8, 12)));
+        // 100 days: delta = 1 + 0.675 + 1.3 + 4 = 6.975 → [93, 107].
+        assert_eq!(fuzz_range(100, MAXIMUM_INTERVAL), Some((93, 107)));
+        assert_eq!(fuzz_range(36_500, 36_500).map(|r| r.1), Some(36_500));
+    }
+
+    #[test]
+    fn fuzz_is_deterministic_in_range_and_spreads() {
+        let fuzzy = Scheduler::new(&Config::default());
+        let plain = no_fuzz();
+        let card = CardState {
+            state: State::Review,
+            step: None,
+            stability: Some(40.0),
+            difficulty: Some(5.0),
+            due: t0(),
+            last_review: Some(t0() - TimeDelta::days(40)),
+        };
+        let base = plain
+            .review(&key("x"), Some(&card), Rating::Good, t0(), 0)
+            .scheduled_days;
+        let (lo, hi) = fuzz_range(base, MAXIMUM_INTERVAL).unwrap();
+        let mut seen = std::collections::BTreeSet::new();
+        for i in 0..400 {
+            let k = key(&format!("card-{i}"));
+            let a = fuzzy.review(&k, Some(&card), Rating::Good, t0(), 0);
+            let b = fuzzy.review(&k, Some(&card), Rating::Good, t0(), 0);
+            assert_eq!(a, b, "same item and time, same fuzz");
+            assert!(
+                (lo..=hi).contains(&a.scheduled_days),
+                "{} not in {lo}..={hi}",
+                a.scheduled_days
+            );
+            assert_eq!(
+                a.after.stability,
+                Some(
+                    plain
+                        .review(&k, Some(&card), Rating::Good, t0(), 0)
+                        .after
+                        .stability
+                        .unwrap()
+                )
+            );
+            seen.insert(a.scheduled_days);
+        }
+        assert_eq!(
+            seen.len() as i64,
+            hi - lo + 1,
+            "every day of the range is drawn"
+        );
+    }
+
+    #[test]
+    fn fuzz_leaves_learning_steps_alone() {
+        let s = Scheduler::new(&Config::default());
+        let r = s.review(&key("y"), None, Rating::Again, t0(), 0);
+        assert_eq!(r.after.due, t0() + TimeDelta::minutes(1));
+    }
+
+    #[test]
+    fn interval_labels() {
+        let cases = [
+            (TimeDelta::seconds(-5), "0s"),
+            (TimeDelta::seconds(0), "0s"),
+            (TimeDelta::seconds(45), "45s"),
+            (TimeDelta::milliseconds(59_600), "1m"),
+            (TimeDelta::minutes(1), "1m"),
+            (TimeDelta::seconds(330), "6m"),
+            (TimeDelta::minutes(10), "10m"),
+            (TimeDelta::seconds(59 * 60 + 40), "1h"),
+            (TimeDelta::hours(1), "1h"),
+            (TimeDelta::minutes(90), "2h"),
+            (TimeDelta::hours(23), "23h"),
+            (TimeDelta::days(1), "1d"),
+            (TimeDelta::days(3), "3d"),
+            (TimeDelta::days(13), "13d"),
+            (TimeDelta::days(14), "2w"),
+            (TimeDelta::days(59), "8w"),
+            (TimeDelta::days(60), "2mo"),
+            (TimeDelta::days(75), "2.5mo"),
+            (TimeDelta::days(122), "4mo"),
+            (TimeDelta::days(364), "12mo"),
+            (TimeDelta::days(365), "1y"),
+            (TimeDelta::days(548), "1.5y"),
+            (TimeDelta::days(3653), "10y"),
+            (TimeDelta::days(36_500), "100y"),
+        ];
+        for (d, want) in cases {
+            assert_eq!(format_interval(d), want, "{d:?}");
+        }
+    }
+}

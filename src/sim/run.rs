@@ -1,0 +1,268 @@
+//! Building a solver: the one place that knows every method, checks its
+//! setting, fills in defaults and picks what to integrate (ω alone, or ω and
+//! q) from what the run needs.
+
+use nalgebra::Vector3;
+
+use super::budget::Budget;
+use super::dopri::Dop853;
+use super::exact::Exact;
+use super::model::{self, Body};
+use super::rk4::Rk4;
+use super::scales::scales;
+use super::solver::{Method, Needs, SimError, Solver};
+use super::splitting::{Scheme, Splitting};
+use super::system::{OmegaOnly, WithOrientation};
+
+/// Default tolerance of the adaptive solver (relative, and absolute against
+/// |ω₀| for ω): about 1e-9 relative error in ω over the notes' 36 flips.
+pub const DEFAULT_TOL: f64 = 1e-10;
+/// Tolerances tighter than this are below f64 rounding for an 8th-order pair.
+pub const MIN_TOL: f64 = 1e-14;
+/// Default fixed step: this many steps per turn (2π) of the fastest rate of
+/// the orbit, nutation or spin.
+pub const DEFAULT_STEPS_PER_TURN: f64 = 256.0;
+
+/// The solver families, before their accuracy knob is chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Exact,
+    Adaptive,
+    Splitting,
+    Splitting4,
+    Rk4,
+}
+
+/// Settings of one run beyond the method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Options {
+    pub budget: Budget,
+}
+
+/// The default fixed step for a body and initial ω: 2π/(256·Ω), Ω the
+/// fastest rate on the orbit (nutation frequency or largest |ω|), so ω and
+/// q both get 256 steps per turn; 1 s when nothing moves. It does not depend
+/// on whether q is needed, so ω comes out the same either way.
+pub fn default_dt(body: &Body, omega0: &Vector3<f64>) -> f64 {
+    let rate = scales(body, omega0).fastest(true);
+    if rate > 0.0 {
+        std::f64::consts::TAU / (DEFAULT_STEPS_PER_TURN * rate)
+    } else {
+        1.0
+    }
+}
+
+/// Checks that ω₀ is finite and small enough for its invariants to be
+/// finite in f64 (T and |L|² square it).
+pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SimError> {
+    model::omega([omega0[0], omega0[1], omega0[2]])?;
+    if !(body.energy(omega0).is_finite() && body.l2(omega0).is_finite()) {
+        return Err(SimError::Invalid(format!(
+            "ω = ({}, {}, {}) is too large: its energy overflows f64",
+            omega0[0], omega0[1], omega0[2]
+        )));
+    }
+    Ok(())
+}
+
+/// A method from a family and the knobs the user gave (`None` = default).
+/// A knob the family has no use for is an error, not silently ignored.
+pub fn method(
+    kind: Kind,
+    tol: Option<f64>,
+    dt: Option<f64>,
+    body: &Body,
+    omega0: &Vector3<f64>,
+) -> Result<Method, SimError> {
+    let name = match kind {
+        Kind::Exact => "exact",
+        Kind::Adaptive => "adaptive",
+        Kind::Splitting => "splitting",
+        Kind::Splitting4 => "splitting4",
+        Kind::Rk4 => "rk4",
+    };
+    check_start(body, omega0)?;
+    let fixed_step = matches!(kind, Kind::Splitting | Kind::Splitting4 | Kind::Rk4);
+    if tol.is_some() && kind != Kind::Adaptive {
+        return Err(SimError::Invalid(format!(
+            "tol applies only to the adaptive method, not to {name}{}",
+            if fixed_step { " (use dt)" } else { "" }
+        )));
+    }
+    if dt.is_some() && !fixed_step {
+        return Err(SimError::Invalid(format!(
+            "dt applies only to the fixed-step methods (splitting, splitting4, rk4), not to {name}"
+        )));
+    }
+    let dt = || dt.unwrap_or_else(|| default_dt(body, omega0));
+    let method = match kind {
+        Kind::Exact => Method::Exact,
+        Kind::Adaptive => Method::Adaptive {
+            tol: tol.unwrap_or(DEFAULT_TOL),
+        },
+        Kind::Splitting => Method::Splitting { dt: dt() },
+        Kind::Splitting4 => Method::Splitting4 { dt: dt() },
+        Kind::Rk4 => Method::Rk4 { dt: dt() },
+    };
+    check_method(&method)?;
+    Ok(method)
+}
+
+fn check_method(method: &Method) -> Result<(), SimError> {
+    match *method {
+        Method::Exact => Ok(()),
+        Method::Adaptive { tol } => {
+            if !(tol.is_finite() && tol > 0.0) {
+                Err(SimError::Invalid(format!(
+                    "tol must be a positive number, got {tol}"
+                )))
+            } else if tol < MIN_TOL {
+                Err(SimError::Invalid(format!(
+                    "tol = {tol} is below what f64 arithmetic can deliver (use at least {MIN_TOL:e})"
+                )))
+            } else if tol >= 1.0 {
+                Err(SimError::Invalid(format!(
+                    "tol = {tol} is not a tolerance (use a value below 1, e.g. 1e-8)"
+                )))
+            } else {
+                Ok(())
+            }
+        }
+        Method::Splitting { dt } | Method::Splitting4 { dt } | Method::Rk4 { dt } => {
+            if dt.is_finite() && dt > 0.0 {
+                Ok(())
+            } else {
+                Err(SimError::Invalid(format!(
+                    "dt must be a positive number, got {dt}"
+                )))
+            }
+        }
+    }
+}
+
+/// A solver for `method` with the default step budget.
+pub fn make(
+    method: Method,
+    body: Body,
+    omega0: Vector3<f64>,
+    needs: Needs,
+) -> Result<Box<dyn Solver>, SimError> {
+    make_with(method, body, omega0, needs, Options::default())
+}
+
+/// A solver for `method`, integrating q only when `needs.orientation`.
+pub fn make_with(
+    method: Method,
+    body: Body,
+    omega0: Vector3<f64>,
+    needs: Needs,
+    options: Options,
+) -> Result<Box<dyn Solver>, SimError> {
+    // `Body` has a public field: check it again rather than trust it.
+    let body = Body::new([body.inertia[0], body.inertia[1], body.inertia[2]])?;
+    check_start(&body, &omega0)?;
+    check_method(&method)?;
+    let rates = scales(&body, &omega0);
+    let budget = options.budget;
+    let q = needs.orientation;
+    Ok(match method {
+        Method::Exact => Box::new(Exact::new(body, omega0, needs)?),
+        Method::Adaptive { tol } if q => Box::new(Dop853::<_, 7>::new(
+            WithOrientation::new(&body, &omega0),
+            &omega0,
+            tol,
+            budget,
+            rates,
+            q,
+        )),
+        Method::Adaptive { tol } => Box::new(Dop853::<_, 3>::new(
+            OmegaOnly::new(&body, &omega0),
+            &omega0,
+            tol,
+            budget,
+            rates,
+            q,
+        )),
+        Method::Rk4 { dt } if q => Box::new(Rk4::<_, 7>::new(
+            WithOrientation::new(&body, &omega0),
+            &omega0,
+            dt,
+            budget,
+            rates,
+            q,
+        )),
+        Method::Rk4 { dt } => Box::new(Rk4::<_, 3>::new(
+            OmegaOnly::new(&body, &omega0),
+            &omega0,
+            dt,
+            budget,
+            rates,
+            q,
+        )),
+        Method::Splitting { dt } => Box::new(Splitting::new(
+            &body,
+            &omega0,
+            dt,
+            Scheme::Strang,
+            q,
+            budget,
+        )),
+        Method::Splitting4 { dt } => Box::new(Splitting::new(
+            &body,
+            &omega0,
+            dt,
+            Scheme::Suzuki,
+            q,
+            budget,
+        )),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn case_a() -> (Body, Vector3<f64>) {
+        (
+            Body::new([1.0, 2.0, 3.0]).unwrap(),
+            Vector3::new(0.01, 10.0, 0.01),
+        )
+    }
+
+    #[test]
+    fn defaults_fill_in_and_misplaced_knobs_are_refused() {
+        let (b, w) = case_a();
+        assert_eq!(
+            method(Kind::Adaptive, None, None, &b, &w),
+            Ok(Method::Adaptive { tol: DEFAULT_TOL })
+        );
+        match method(Kind::Rk4, None, None, &b, &w) {
+            Ok(Method::Rk4 { dt }) => assert!(dt > 1e-4 && dt < 1e-2, "{dt}"),
+            other => panic!("{other:?}"),
+        }
+        assert!(method(Kind::Rk4, Some(1e-8), None, &b, &w).is_err());
+        assert!(method(Kind::Adaptive, None, Some(0.01), &b, &w).is_err());
+        assert!(method(Kind::Exact, Some(1e-8), None, &b, &w).is_err());
+        assert!(method(Kind::Splitting, None, Some(0.0), &b, &w).is_err());
+        assert!(method(Kind::Splitting, None, Some(f64::NAN), &b, &w).is_err());
+        assert!(method(Kind::Adaptive, Some(-1e-8), None, &b, &w).is_err());
+        assert!(method(Kind::Adaptive, Some(1e-20), None, &b, &w).is_err());
+    }
+
+    #[test]
+    fn default_step_shrinks_with_spin() {
+        let (b, w) = case_a();
+        let slow = default_dt(&b, &w);
+        let fast = default_dt(&b, &(w * 1e4));
+        assert!((slow / fast - 1e4).abs() < 1e-6);
+        assert_eq!(default_dt(&b, &Vector3::zeros()), 1.0);
+    }
+
+    #[test]
+    fn overflowing_spin_is_refused() {
+        let (b, _) = case_a();
+        let huge = Vector3::new(1e200, 0.0, 0.0);
+        let needs = Needs { orientation: false };
+        assert!(make(Method::Adaptive { tol: 1e-8 }, b, huge, needs).is_err());
+    }
+}

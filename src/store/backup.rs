@@ -1,0 +1,197 @@
+//! Copies of the database: a daily one (the last 7 kept) and the ones made
+//! before a migration. Copies are written with `VACUUM INTO` to a temporary
+//! name and renamed, so a crash never leaves a half-written copy that looks
+//! complete.
+
+use std::path::{Path, PathBuf};
+
+use chrono::NaiveDate;
+use rusqlite::Connection;
+
+use super::error::StoreError;
+
+/// How many daily copies are kept.
+pub const KEEP_DAILY: usize = 7;
+
+/// The folder of daily copies inside the data dir.
+pub fn backups_dir(data_dir: &Path) -> PathBuf {
+    data_dir.join("backups")
+}
+
+/// The daily copy for `day`.
+pub fn daily_path(data_dir: &Path, day: NaiveDate) -> PathBuf {
+    backups_dir(data_dir).join(format!("flipcard-{}.db", day.format("%Y-%m-%d")))
+}
+
+/// A consistent copy of the open database at `target` (which must not exist).
+pub fn vacuum_into(conn: &Connection, target: &Path) -> Result<(), StoreError> {
+    let fail = |detail: String| StoreError::Backup {
+        path: target.to_path_buf(),
+        detail,
+    };
+    let partial = PathBuf::from(format!(
+        "{}.partial-{}",
+        target.display(),
+        std::process::id()
+    ));
+    let partial_str = partial
+        .to_str()
+        .ok_or_else(|| fail("the path is not valid UTF-8".into()))?;
+    let _ = std::fs::remove_file(&partial);
+    if let Err(e) = conn.execute("VACUUM INTO ?1", [partial_str]) {
+        let _ = std::fs::remove_file(&partial);
+        return Err(fail(e.to_string()));
+    }
+    std::fs::rename(&partial, target).map_err(|e| {
+        let _ = std::fs::remove_file(&partial);
+        fail(e.to_string())
+    })
+}
+
+/// On the first open of `today`, copies the database into `backups/` and
+/// keeps only the newest [`KEEP_DAILY`] copies. Returns the copy written, if
+/// one was.
+pub fn daily_backup(
+    conn: &Connection,
+    data_dir: &Path,
+    today: NaiveDate,
+) -> Result<Option<PathBuf>, StoreError> {
+    let target = daily_path(data_dir, today);
+    if target.exists() {
+        return Ok(None);
+    }
+    let dir = backups_dir(data_dir);
+    std::fs::create_dir_all(&dir).map_err(|e| StoreError::Backup {
+        path: dir.clone(),
+        detail: e.to_string(),
+    })?;
+    vacuum_into(conn, &target)?;
+    prune_daily(data_dir, KEEP_DAILY)?;
+    Ok(Some(target))
+}
+
+/// The daily copies present, newest first.
+pub fn daily_backups(data_dir: &Path) -> Vec<(NaiveDate, PathBuf)> {
+    let Ok(entries) = std::fs::read_dir(backups_dir(data_dir)) else {
+        return Vec::new();
+    };
+    let mut found: Vec<(NaiveDate, PathBuf)> = entries
+        .filter_map(|e| e.ok())
+        .filter_map(|e| {
+            let name = e.file_name().to_str()?.to_string();
+            let date = name.strip_prefix("flipcard-")?.strip_suffix(".db")?;
+            let day = NaiveDate::parse_from_str(date, "%Y-%m-%d").ok()?;
+            Some((day, e.path()))
+        })
+        .collect();
+    found.sort_by_key(|(day, _)| std::cmp::Reverse(*day));
+    found
+}
+
+fn prune_daily(data_dir: &Path, keep: usize) -> Result<(), StoreError> {
+    for (_, path) in daily_backups(data_dir).into_iter().skip(keep) {
+        std::fs::remove_file(&path).map_err(|e| StoreError::Backup {
+            path: path.clone(),
+            detail: format!("cannot remove an old copy: {e}"),
+        })?;
+    }
+    Ok(())
+}
+
+/// The most recently written copy of the database at `db` (daily or
+/// pre-migration), to suggest when the database is damaged.
+pub fn newest_backup(db: &Path) -> Option<PathBuf> {
+    let dir = db.parent()?;
+    let db_name = db.file_name()?.to_str()?.to_string();
+    let migration_prefix = format!("{db_name}.bak-v");
+    let mut candidates: Vec<PathBuf> = daily_backups(dir).into_iter().map(|(_, p)| p).collect();
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        candidates.extend(
+            entries
+                .filter_map(|e| e.ok())
+                .filter(|e| {
+                    e.file_name().to_str().is_some_and(|n| {
+                        n.starts_with(&migration_prefix) && !n.contains(".partial-")
+                    })
+                })
+                .map(|e| e.path()),
+        );
+    }
+    candidates
+        .into_iter()
+        .filter_map(|p| {
+            let modified = std::fs::metadata(&p).and_then(|m| m.modified()).ok()?;
+            Some((modified, p))
+        })
+        .max()
+        .map(|(_, p)| p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn day(s: &str) -> NaiveDate {
+        NaiveDate::parse_from_str(s, "%Y-%m-%d").unwrap()
+    }
+
+    #[test]
+    fn one_copy_a_day_and_only_the_newest_seven_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let conn = Connection::open(dir.path().join("flipcard.db")).unwrap();
+        conn.execute_batch("CREATE TABLE t (x INTEGER); INSERT INTO t VALUES (42);")
+            .unwrap();
+        let first = daily_backup(&conn, dir.path(), day("2026-03-01")).unwrap();
+        assert_eq!(first, Some(daily_path(dir.path(), day("2026-03-01"))));
+        assert_eq!(
+            daily_backup(&conn, dir.path(), day("2026-03-01")).unwrap(),
+            None
+        );
+
+        for d in 2..=10 {
+            daily_backup(&conn, dir.path(), day(&format!("2026-03-{d:02}"))).unwrap();
+        }
+        let kept: Vec<NaiveDate> = daily_backups(dir.path())
+            .into_iter()
+            .map(|(d, _)| d)
+            .collect();
+        let want: Vec<NaiveDate> = (4..=10)
+            .rev()
+            .map(|d| day(&format!("2026-03-{d:02}")))
+            .collect();
+        assert_eq!(kept, want);
+
+        let copy = Connection::open(daily_path(dir.path(), day("2026-03-10"))).unwrap();
+        let x: i64 = copy.query_row("SELECT x FROM t", [], |r| r.get(0)).unwrap();
+        assert_eq!(x, 42);
+        let leftovers = std::fs::read_dir(backups_dir(dir.path()))
+            .unwrap()
+            .filter(|e| {
+                e.as_ref()
+                    .unwrap()
+                    .file_name()
+                    .to_string_lossy()
+                    .contains("partial")
+            })
+            .count();
+        assert_eq!(leftovers, 0);
+    }
+
+    #[test]
+    fn newest_backup_is_found_among_daily_and_migration_copies() {
+        let dir = tempfile::tempdir().unwrap();
+        let db = dir.path().join("flipcard.db");
+        assert_eq!(newest_backup(&db), None);
+        let conn = Connection::open(&db).unwrap();
+        conn.execute_batch("CREATE TABLE t (x INTEGER);").unwrap();
+        daily_backup(&conn, dir.path(), day("2026-03-01")).unwrap();
+        assert_eq!(
+            newest_backup(&db),
+            Some(daily_path(dir.path(), day("2026-03-01")))
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        let mig = dir.path().join("flipcard.db.bak-v1-20260302T000000Z");
+        vacuum_into(&conn, &mig).unwrap();
+        assert_eq!(newest_backup(&db), Some(mig));
+    }
+}

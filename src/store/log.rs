@@ -1,0 +1,317 @@
+//! The append-only review log: recording a rating, undoing the last one,
+//! reading rows back.
+
+use chrono::{DateTime, Utc};
+use rusqlite::{Row, Transaction, TransactionBehavior, params};
+
+use super::codec::{self, from_ms, to_ms};
+use super::db::Store;
+use super::error::StoreError;
+use super::state;
+use super::tally;
+use crate::sched::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord};
+
+/// One row of the log as stored.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LoggedReview {
+    pub id: i64,
+    pub record: ReviewRecord,
+    pub undone: bool,
+}
+
+/// The log's columns in the order [`read_logged`] expects.
+pub(super) const COLUMNS: &str = "id, deck, card, direction, reviewed_at, rating, kind, \
+     elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review, \
+     duration_ms, undone";
+
+impl Store {
+    /// Appends one rating to the log and updates the item's cached state, in
+    /// one transaction that is on disk when this returns. Returns the log id.
+    pub fn record(&mut self, review: &ReviewRecord) -> Result<i64, StoreError> {
+        let ids = self.record_batch(std::slice::from_ref(review))?;
+        ids.first().copied().ok_or_else(|| StoreError::BadRow {
+            id: 0,
+            detail: "no id returned for the inserted row".into(),
+        })
+    }
+
+    /// Appends several ratings in one transaction (imports of histories,
+    /// benchmarks); each is applied exactly as [`Store::record`] would.
+    pub fn record_batch(&mut self, reviews: &[ReviewRecord]) -> Result<Vec<i64>, StoreError> {
+        for r in reviews {
+            validate(r)?;
+        }
+        let path = self.path.clone();
+        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
+        let tx = self
+            .conn
+            .transaction_with_behavior(TransactionBehavior::Immediate)
+            .map_err(sql_err)?;
+        let session = match self.session {
+            Some(s) => s,
+            None => insert_session(&tx).map_err(sql_err)?,
+        };
+        let mut ids = Vec::with_capacity(reviews.len());
+        for r in reviews {
+            ids.push(append(&tx, session, r).map_err(sql_err)?);
+        }
+        tx.commit().map_err(sql_err)?;
+        self.session = Some(session);
+        Ok(ids)
+    }
+
+    /// Starts a new session: [`Store::undo_last`] reaches back only to the
+    /// start of the current session. A session starts by itself with the
+    /// first write.
+    pub fn start_session(&mut self) -> Result<i64, StoreError> {
+        let id = insert_session(&self.conn).map_err(|e| self.err(e))?;
+        self.session = Some(id);
+        Ok(id)
+    }
+
+    /// The current session, if one has started.
+    pub fn session(&self) -> Option<i64> {
+        self.session
+    }
+
+    /// Reverts the last rating of this session that is not yet undone: the
+    /// log row is marked undone and the item's state is recomputed from the
+    /// log (back to new when no rating of it remains), in one transaction.
+    /// Returns the undone log row (marked undone), or `None` when there is
+    /// nothing to undo.
+    pub fn undo_last(&mut self) -> Result<Option<LoggedReview>, StoreError> {
+        let Some(session) = self.session else {
+            return Ok(None);
+        };
+        let path = self.path.clone();
+        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
+        let tx = self
+            .conn
+            .transaction_with_behavior(TransactionBehavior::Immediate)
+            .map_err(sql_err)?;
+        let last = {
+            let mut st = tx
+                .prepare_cached(&format!(
+                    "SELECT {COLUMNS} FROM review WHERE session = ?1 AND undone = 0 \
+                     ORDER BY id DESC LIMIT 1"
+                ))
+                .map_err(sql_err)?;
+            let mut rows = st.query([session]).map_err(sql_err)?;
+            match rows.next().map_err(sql_err)? {
+                Some(row) => Some(read_logged(row).map_err(sql_err)??),
+                None => None,
+            }
+        };
+        let Some(last) = last else {
+            return Ok(None);
+        };
+        tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [last.id])
+            .map_err(sql_err)?;
+        state::refresh_item(&tx, &last.record.key).map_err(sql_err)?;
+        tally::count(&tx, &last.record, -1).map_err(sql_err)?;
+        tx.commit().map_err(sql_err)?;
+        Ok(Some(LoggedReview {
+            undone: true,
+            ..last
+        }))
+    }
+
+    /// Every row of the log in id order (undone ones included), handed to
+    /// `each` one at a time; stops at the first error `each` returns.
+    pub fn each_review<E>(
+        &self,
+        mut each: impl FnMut(LoggedReview) -> Result<(), E>,
+    ) -> Result<(), E>
+    where
+        E: From<StoreError>,
+    {
+        let mut st = self
+            .conn
+            .prepare(&format!("SELECT {COLUMNS} FROM review ORDER BY id"))
+            .map_err(|e| self.err(e))?;
+        let mut rows = st.query([]).map_err(|e| self.err(e))?;
+        while let Some(row) = rows.next().map_err(|e| self.err(e))? {
+            let logged = read_logged(row).map_err(|e| self.err(e))??;
+            each(logged)?;
+        }
+        Ok(())
+    }
+
+    /// The log rows of one item in id order (undone ones included).
+    pub fn history(&self, key: &ItemKey) -> Result<Vec<LoggedReview>, StoreError> {
+        let mut st = self
+            .conn
+            .prepare_cached(&format!(
+                "SELECT {COLUMNS} FROM review WHERE deck = ?1 AND card = ?2 AND direction = ?3 \
+                 ORDER BY id"
+            ))
+            .map_err(|e| self.err(e))?;
+        let mut rows = st
+            .query(params![key.deck, key.card, key.direction.as_str()])
+            .map_err(|e| self.err(e))?;
+        let mut out = Vec::new();
+        while let Some(row) = rows.next().map_err(|e| self.err(e))? {
+            out.push(read_logged(row).map_err(|e| self.err(e))??);
+        }
+        Ok(out)
+    }
+
+    /// The number of rows in the log (undone ones included).
+    pub fn review_count(&self) -> Result<i64, StoreError> {
+        self.conn
+            .query_row("SELECT count(*) FROM review", [], |r| r.get(0))
+            .map_err(|e| self.err(e))
+    }
+}
+
+fn insert_session(conn: &rusqlite::Connection) -> rusqlite::Result<i64> {
+    let started = crate::clock::now().map(to_ms).unwrap_or(0);
+    conn.execute("INSERT INTO session (started_at) VALUES (?1)", [started])?;
+    Ok(conn.last_insert_rowid())
+}
+
+fn append(tx: &Transaction<'_>, session: i64, r: &ReviewRecord) -> rusqlite::Result<i64> {
+    let a = &r.after;
+    let id = tx
+        .prepare_cached(
+            "INSERT INTO review (session, deck, card, direction, reviewed_at, rating, kind, \
+             elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review, \
+             duration_ms) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, \
+             ?15, ?16) RETURNING id",
+        )?
+        .query_row(
+            params![
+                session,
+                r.key.deck,
+                r.key.card,
+                r.key.direction.as_str(),
+                to_ms(r.reviewed_at),
+                r.rating as i64,
+                r.kind.as_str(),
+                r.elapsed_days,
+                r.scheduled_days,
+                a.stability,
+                a.difficulty,
+                codec::state_str(a.state),
+                a.step.map(i64::from),
+                to_ms(a.due),
+                a.last_review.map(to_ms),
+                r.duration_ms,
+            ],
+            |row| row.get(0),
+        )?;
+    if r.kind != ReviewKind::Cram {
+        state::apply(tx, r, id)?;
+    }
+    tally::count(tx, r, 1)?;
+    Ok(id)
+}
+
+/// What the database cannot keep faithfully is refused with a clear message
+/// (SQLite would store a NaN as NULL, for instance).
+fn validate(r: &ReviewRecord) -> Result<(), StoreError> {
+    let bad = |detail: String| {
+        Err(StoreError::BadRow {
+            id: 0,
+            detail: format!(
+                "refusing to record {}/{} ({}): {detail}",
+                r.key.deck,
+                r.key.card,
+                r.key.direction.as_str()
+            ),
+        })
+    };
+    if r.key.deck.is_empty() || r.key.card.is_empty() {
+        return bad("empty deck or card id".into());
+    }
+    for (name, v) in [
+        ("stability", r.after.stability),
+        ("difficulty", r.after.difficulty),
+    ] {
+        if let Some(v) = v
+            && !v.is_finite()
+        {
+            return bad(format!("{name} is {v}"));
+        }
+    }
+    if r.duration_ms < 0 {
+        return bad(format!("negative duration {} ms", r.duration_ms));
+    }
+    Ok(())
+}
+
+/// Reads one row selected with [`COLUMNS`]. The outer error is SQLite's, the
+/// inner one a value this build cannot interpret.
+pub(super) fn read_logged(row: &Row<'_>) -> rusqlite::Result<Result<LoggedReview, StoreError>> {
+    let id: i64 = row.get(0)?;
+    let direction: String = row.get(3)?;
+    let reviewed_at: i64 = row.get(4)?;
+    let rating: i64 = row.get(5)?;
+    let kind: String = row.get(6)?;
+    let state: String = row.get(11)?;
+    let step: Option<i64> = row.get(12)?;
+    let due: i64 = row.get(13)?;
+    let last_review: Option<i64> = row.get(14)?;
+    let deck: String = row.get(1)?;
+    let card: String = row.get(2)?;
+    let elapsed_days: i64 = row.get(7)?;
+    let scheduled_days: i64 = row.get(8)?;
+    let stability: Option<f64> = row.get(9)?;
+    let difficulty: Option<f64> = row.get(10)?;
+    let duration_ms: i64 = row.get(15)?;
+    let undone: i64 = row.get(16)?;
+
+    let bad = |detail: String| Ok(Err(StoreError::BadRow { id, detail }));
+    let Some(direction) = codec::parse_direction(&direction) else {
+        return bad(format!("unknown direction {direction:?}"));
+    };
+    let Some(rating) = Rating::from_number(rating) else {
+        return bad(format!("rating {rating} is not 1–4"));
+    };
+    let Some(kind) = codec::parse_kind(&kind) else {
+        return bad(format!("unknown kind {kind:?}"));
+    };
+    let Some(state) = codec::parse_state(&state) else {
+        return bad(format!("unknown state {state:?}"));
+    };
+    let step = match step.map(u32::try_from) {
+        None => None,
+        Some(Ok(s)) => Some(s),
+        Some(Err(_)) => return bad("step out of range".into()),
+    };
+    let (Some(reviewed_at), Some(due)) = (from_ms(reviewed_at), from_ms(due)) else {
+        return bad("time out of range".into());
+    };
+    let last_review: Option<DateTime<Utc>> = match last_review {
+        None => None,
+        Some(ms) => match from_ms(ms) {
+            Some(t) => Some(t),
+            None => return bad("time out of range".into()),
+        },
+    };
+    Ok(Ok(LoggedReview {
+        id,
+        record: ReviewRecord {
+            key: ItemKey {
+                deck,
+                card,
+                direction,
+            },
+            reviewed_at,
+            rating,
+            kind,
+            elapsed_days,
+            scheduled_days,
+            after: CardState {
+                state,
+                step,
+                stability,
+                difficulty,
+                due,
+                last_review,
+            },
+            duration_ms,
+        },
+        undone: undone != 0,
+    }))
+}

@@ -1,0 +1,355 @@
+//! The schema and its migrations. `PRAGMA user_version` holds the number of
+//! migrations applied; each migration runs in its own transaction, and an
+//! existing database is copied with `VACUUM INTO` before the first one.
+
+use std::path::{Path, PathBuf};
+
+use rusqlite::{Connection, TransactionBehavior};
+
+use super::error::StoreError;
+
+/// Migration `i` takes the schema from version `i` to `i + 1`.
+pub const MIGRATIONS: &[&str] = &[V1];
+
+/// The schema version this build writes.
+pub fn current_version() -> i64 {
+    MIGRATIONS.len() as i64
+}
+
+/// Version 1: the append-only review log, the caches rebuilt from it (card
+/// states, answer tallies), predict-then-check attempts and sessions (so
+/// undo only reaches back within one running app, even with two apps open).
+const V1: &str = r#"
+CREATE TABLE session (
+    id          INTEGER PRIMARY KEY,
+    started_at  INTEGER NOT NULL
+) STRICT;
+
+CREATE TABLE review (
+    id              INTEGER PRIMARY KEY,
+    session         INTEGER REFERENCES session(id),
+    deck            TEXT NOT NULL CHECK (deck <> ''),
+    card            TEXT NOT NULL CHECK (card <> ''),
+    direction       TEXT NOT NULL CHECK (direction IN ('forward', 'backward')),
+    reviewed_at     INTEGER NOT NULL,
+    rating          INTEGER NOT NULL CHECK (rating BETWEEN 1 AND 4),
+    kind            TEXT NOT NULL CHECK (kind IN ('learn', 'review', 'relearn', 'cram')),
+    elapsed_days    INTEGER NOT NULL,
+    scheduled_days  INTEGER NOT NULL,
+    stability       REAL,
+    difficulty      REAL,
+    state           TEXT NOT NULL CHECK (state IN ('new', 'learning', 'review', 'relearning')),
+    step            INTEGER CHECK (step >= 0),
+    due             INTEGER NOT NULL,
+    last_review     INTEGER,
+    duration_ms     INTEGER NOT NULL CHECK (duration_ms >= 0),
+    undone          INTEGER NOT NULL DEFAULT 0 CHECK (undone IN (0, 1))
+) STRICT;
+
+CREATE INDEX review_item ON review(deck, card, direction, id);
+CREATE INDEX review_time ON review(reviewed_at);
+CREATE INDEX review_deck_time ON review(deck, reviewed_at);
+CREATE INDEX review_session ON review(session, id);
+-- Items answered only in cram mode have no card_state row; this finds them.
+CREATE INDEX review_cram ON review(deck, card, direction, undone) WHERE kind = 'cram';
+
+-- The log is append-only: no row is ever deleted, and the only change a row
+-- may see is being marked undone.
+CREATE TRIGGER review_no_delete BEFORE DELETE ON review
+BEGIN
+    SELECT RAISE(ABORT, 'the review log is append-only: rows are never deleted');
+END;
+
+CREATE TRIGGER review_only_undo BEFORE UPDATE ON review
+WHEN NEW.undone IS NOT 1
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.card IS NOT OLD.card
+  OR NEW.direction IS NOT OLD.direction
+  OR NEW.reviewed_at IS NOT OLD.reviewed_at
+  OR NEW.rating IS NOT OLD.rating
+  OR NEW.kind IS NOT OLD.kind
+  OR NEW.elapsed_days IS NOT OLD.elapsed_days
+  OR NEW.scheduled_days IS NOT OLD.scheduled_days
+  OR NEW.stability IS NOT OLD.stability
+  OR NEW.difficulty IS NOT OLD.difficulty
+  OR NEW.state IS NOT OLD.state
+  OR NEW.step IS NOT OLD.step
+  OR NEW.due IS NOT OLD.due
+  OR NEW.last_review IS NOT OLD.last_review
+  OR NEW.duration_ms IS NOT OLD.duration_ms
+BEGIN
+    SELECT RAISE(ABORT, 'the review log is append-only: only undone may change, to 1');
+END;
+
+-- A cache of each item's state, derived from the log (`flipcard db rebuild`).
+-- An item without a row is new.
+CREATE TABLE card_state (
+    deck         TEXT NOT NULL,
+    card         TEXT NOT NULL,
+    direction    TEXT NOT NULL CHECK (direction IN ('forward', 'backward')),
+    state        TEXT NOT NULL CHECK (state IN ('new', 'learning', 'review', 'relearning')),
+    step         INTEGER,
+    stability    REAL,
+    difficulty   REAL,
+    due          INTEGER NOT NULL,
+    last_review  INTEGER,
+    reps         INTEGER NOT NULL CHECK (reps >= 0),
+    lapses       INTEGER NOT NULL CHECK (lapses >= 0),
+    review_id    INTEGER NOT NULL REFERENCES review(id),
+    PRIMARY KEY (deck, card, direction)
+) STRICT, WITHOUT ROWID;
+
+CREATE INDEX card_state_due ON card_state(deck, due);
+
+-- How many answers that count (not undone) each deck has, by kind and
+-- rating: all-time figures without reading the whole log. Derived from the
+-- log like card_state, and rebuilt with it.
+CREATE TABLE review_tally (
+    deck    TEXT NOT NULL,
+    kind    TEXT NOT NULL CHECK (kind IN ('learn', 'review', 'relearn', 'cram')),
+    rating  INTEGER NOT NULL CHECK (rating BETWEEN 1 AND 4),
+    n       INTEGER NOT NULL CHECK (n >= 0),
+    PRIMARY KEY (deck, kind, rating)
+) STRICT, WITHOUT ROWID;
+
+CREATE TABLE prompt_attempt (
+    id            INTEGER PRIMARY KEY,
+    session       INTEGER REFERENCES session(id),
+    deck          TEXT NOT NULL CHECK (deck <> ''),
+    prompt        TEXT NOT NULL CHECK (prompt <> ''),
+    attempted_at  INTEGER NOT NULL,
+    prediction    TEXT NOT NULL,
+    measured      REAL,
+    correct       INTEGER NOT NULL CHECK (correct IN (0, 1))
+) STRICT;
+
+CREATE INDEX prompt_attempt_deck ON prompt_attempt(deck, prompt);
+
+CREATE TRIGGER prompt_attempt_no_delete BEFORE DELETE ON prompt_attempt
+BEGIN
+    SELECT RAISE(ABORT, 'prompt attempts are append-only: rows are never deleted');
+END;
+
+CREATE TRIGGER prompt_attempt_no_update BEFORE UPDATE ON prompt_attempt
+BEGIN
+    SELECT RAISE(ABORT, 'prompt attempts are append-only: rows never change');
+END;
+"#;
+
+/// Brings the database at `path` up to the last of `migrations`. Before the
+/// first migration of a database that already holds a schema, a copy is made
+/// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
+pub fn migrate(
+    conn: &mut Connection,
+    path: &Path,
+    migrations: &[&str],
+    stamp: &str,
+) -> Result<(), StoreError> {
+    let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(path, e);
+    let target = migrations.len() as i64;
+    let found = user_version(conn).map_err(sql_err)?;
+    if found == target {
+        return Ok(());
+    }
+    if found > target {
+        return Err(StoreError::TooNew {
+            path: path.to_path_buf(),
+            found,
+            supported: target,
+        });
+    }
+    if found == 0 && has_tables(conn).map_err(sql_err)? {
+        return Err(StoreError::Foreign {
+            path: path.to_path_buf(),
+        });
+    }
+    if found > 0 {
+        backup_before_migration(conn, path, found, stamp)?;
+    }
+    for (i, sql) in migrations.iter().enumerate() {
+        // The version is read again inside the write transaction: another
+        // instance opening at the same moment may have migrated meanwhile.
+        let tx = conn
+            .transaction_with_behavior(TransactionBehavior::Immediate)
+            .map_err(sql_err)?;
+        let now_at = user_version(&tx).map_err(sql_err)?;
+        if now_at > i as i64 {
+            continue;
+        }
+        tx.execute_batch(sql).map_err(sql_err)?;
+        tx.pragma_update(None, "user_version", i as i64 + 1)
+            .map_err(sql_err)?;
+        tx.commit().map_err(sql_err)?;
+    }
+    Ok(())
+}
+
+fn user_version(conn: &Connection) -> rusqlite::Result<i64> {
+    conn.pragma_query_value(None, "user_version", |r| r.get(0))
+}
+
+fn has_tables(conn: &Connection) -> rusqlite::Result<bool> {
+    conn.query_row(
+        "SELECT count(*) FROM sqlite_schema WHERE type = 'table'",
+        [],
+        |r| r.get::<_, i64>(0),
+    )
+    .map(|n| n > 0)
+}
+
+/// The path of the copy made before migrating from `old` (unique: a counter
+/// is added when a copy with the same stamp exists).
+pub fn migration_backup_path(db: &Path, old: i64, stamp: &str) -> PathBuf {
+    let name = db
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "flipcard.db".to_string());
+    let base = db.with_file_name(format!("{name}.bak-v{old}-{stamp}"));
+    let mut candidate = base.clone();
+    let mut n = 1;
+    while candidate.exists() {
+        n += 1;
+        candidate = PathBuf::from(format!("{}-{n}", base.display()));
+    }
+    candidate
+}
+
+fn backup_before_migration(
+    conn: &Connection,
+    db: &Path,
+    old: i64,
+    stamp: &str,
+) -> Result<(), StoreError> {
+    let target = migration_backup_path(db, old, stamp);
+    super::backup::vacuum_into(conn, &target)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tables(conn: &Connection) -> Vec<String> {
+        let mut st = conn
+            .prepare("SELECT name FROM sqlite_schema WHERE type = 'table' ORDER BY name")
+            .unwrap();
+        st.query_map([], |r| r.get(0))
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap()
+    }
+
+    #[test]
+    fn fresh_database_gets_every_table_and_no_backup() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        migrate(&mut conn, &path, MIGRATIONS, "20260101T000000Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), current_version());
+        assert_eq!(
+            tables(&conn),
+            [
+                "card_state",
+                "prompt_attempt",
+                "review",
+                "review_tally",
+                "session"
+            ]
+        );
+        let entries = std::fs::read_dir(dir.path()).unwrap().count();
+        assert_eq!(entries, 1, "no backup of a brand-new database");
+    }
+
+    #[test]
+    fn migrating_an_existing_database_backs_it_up_first() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        migrate(&mut conn, &path, MIGRATIONS, "20260101T000000Z").unwrap();
+        conn.execute("INSERT INTO session (id, started_at) VALUES (7, 1000)", [])
+            .unwrap();
+
+        let v2 = "CREATE TABLE extra (x INTEGER) STRICT;";
+        let mut next: Vec<&str> = MIGRATIONS.to_vec();
+        next.push(v2);
+        migrate(&mut conn, &path, &next, "20260102T030405Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), current_version() + 1);
+        assert!(tables(&conn).contains(&"extra".to_string()));
+
+        let backup = dir.path().join(format!(
+            "flipcard.db.bak-v{}-20260102T030405Z",
+            current_version()
+        ));
+        let old = Connection::open(&backup).expect("backup written");
+        assert_eq!(user_version(&old).unwrap(), current_version());
+        assert!(!tables(&old).contains(&"extra".to_string()));
+        let started: i64 = old
+            .query_row("SELECT started_at FROM session WHERE id = 7", [], |r| {
+                r.get(0)
+            })
+            .unwrap();
+        assert_eq!(started, 1000);
+    }
+
+    #[test]
+    fn newer_schema_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        conn.pragma_update(None, "user_version", 99).unwrap();
+        let err = migrate(&mut conn, &path, MIGRATIONS, "x").unwrap_err();
+        assert!(matches!(err, StoreError::TooNew { found: 99, .. }), "{err}");
+    }
+
+    #[test]
+    fn foreign_database_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        conn.execute_batch("CREATE TABLE notes (t TEXT);").unwrap();
+        let err = migrate(&mut conn, &path, MIGRATIONS, "x").unwrap_err();
+        assert!(matches!(err, StoreError::Foreign { .. }), "{err}");
+        assert_eq!(tables(&conn), ["notes"]);
+    }
+
+    #[test]
+    fn log_rows_cannot_be_deleted_or_rewritten() {
+        let mut conn = Connection::open_in_memory().unwrap();
+        conn.pragma_update(None, "recursive_triggers", true)
+            .unwrap();
+        migrate(&mut conn, Path::new(":memory:"), MIGRATIONS, "x").unwrap();
+        conn.execute(
+            "INSERT INTO review (id, deck, card, direction, reviewed_at, rating, kind,
+             elapsed_days, scheduled_days, state, due, duration_ms)
+             VALUES (1, 'd', 'c', 'forward', 0, 3, 'learn', 0, 0, 'learning', 60000, 900)",
+            [],
+        )
+        .unwrap();
+        let del = conn.execute("DELETE FROM review", []).unwrap_err();
+        assert!(del.to_string().contains("append-only"), "{del}");
+        let upd = conn
+            .execute("UPDATE review SET rating = 4 WHERE id = 1", [])
+            .unwrap_err();
+        assert!(upd.to_string().contains("append-only"), "{upd}");
+        let replace = conn
+            .execute(
+                "INSERT OR REPLACE INTO review (id, deck, card, direction, reviewed_at, rating,
+                 kind, elapsed_days, scheduled_days, state, due, duration_ms)
+                 VALUES (1, 'd', 'c', 'forward', 0, 1, 'learn', 0, 0, 'learning', 0, 0)",
+                [],
+            )
+            .unwrap_err();
+        assert!(replace.to_string().contains("append-only"), "{replace}");
+        conn.execute("UPDATE review SET undone = 1 WHERE id = 1", [])
+            .unwrap();
+        let back = conn
+            .execute("UPDATE review SET undone = 0 WHERE id = 1", [])
+            .unwrap_err();
+        assert!(back.to_string().contains("append-only"), "{back}");
+        let rating: i64 = conn
+            .query_row("SELECT rating FROM review WHERE id = 1", [], |r| r.get(0))
+            .unwrap();
+        assert_eq!(rating, 3);
+    }
+}

@@ -1,0 +1,376 @@
+//! Review statistics: cards by state, the due forecast, reviews per day,
+//! true retention, prompt accuracy and orphans.
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+
+use chrono::{DateTime, Duration, NaiveDate, TimeZone, Utc};
+use rusqlite::params_from_iter;
+use serde::Serialize;
+
+use super::codec::{self, to_ms};
+use super::day::DayGrid;
+use super::db::Store;
+use super::error::StoreError;
+use super::state::CachedState;
+use crate::sched::{CardState, ItemKey, Rating, ReviewKind, State};
+
+/// Days covered by the forecast and by the reviews-per-day history.
+pub const WINDOW_DAYS: usize = 30;
+
+/// What the statistics are about.
+#[derive(Debug, Clone, Copy)]
+pub struct StatsScope<'a> {
+    /// One deck, or every deck in the log.
+    pub deck: Option<&'a str>,
+    /// The items of the decks as the deck files have them now: an item here
+    /// without a state is new; an item in the log but not here is an orphan.
+    pub items: &'a [ItemKey],
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Stats {
+    pub deck: Option<String>,
+    pub now: DateTime<Utc>,
+    /// The learning day `now` falls in.
+    pub today: NaiveDate,
+    pub cards: StateCounts,
+    pub due: Forecast,
+    /// The last 30 learning days, oldest first, today last.
+    pub reviews_per_day: Vec<DayReviews>,
+    pub retention: Retention,
+    pub prompts: PromptAccuracy,
+    /// Items with history whose card is no longer in its deck.
+    pub orphans: Vec<Orphan>,
+}
+
+/// The current items of the scope by state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub struct StateCounts {
+    pub new: u32,
+    pub learning: u32,
+    pub review: u32,
+    pub relearning: u32,
+    pub total: u32,
+}
+
+/// Items coming due (new items are not counted: the new-card limit decides
+/// when they appear). Overdue items count as due today; `next_7_days` and
+/// `next_30_days` are cumulative from today.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Forecast {
+    pub today: u32,
+    pub tomorrow: u32,
+    pub next_7_days: u32,
+    pub next_30_days: u32,
+    /// Today first.
+    pub per_day: Vec<DayDue>,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct DayDue {
+    pub date: NaiveDate,
+    pub due: u32,
+}
+
+/// Answers of one learning day (undone ones excluded).
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize)]
+pub struct DayReviews {
+    pub date: NaiveDate,
+    pub total: u32,
+    pub learn: u32,
+    pub review: u32,
+    pub relearn: u32,
+    pub cram: u32,
+    /// Answers rated Again, of any kind.
+    pub again: u32,
+}
+
+/// True retention: the share of review-kind answers not rated Again.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Retention {
+    pub last_30_days: Ratio,
+    pub all_time: Ratio,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Ratio {
+    pub total: u64,
+    pub passed: u64,
+    /// `passed / total`, absent when there is nothing to divide.
+    pub rate: Option<f64>,
+}
+
+impl Ratio {
+    fn new(total: u64, passed: u64) -> Ratio {
+        Ratio {
+            total,
+            passed,
+            rate: (total > 0).then(|| passed as f64 / total as f64),
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PromptAccuracy {
+    pub overall: Ratio,
+    pub by_prompt: Vec<PromptLine>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PromptLine {
+    pub deck: String,
+    pub prompt: String,
+    pub attempts: u64,
+    pub correct: u64,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Orphan {
+    pub deck: String,
+    pub card: String,
+    pub direction: String,
+    /// Answers in the log (undone ones excluded).
+    pub reviews: u64,
+    /// Whether the orphan's deck is among the decks loaded at all.
+    pub deck_present: bool,
+}
+
+impl Store {
+    pub fn stats<Tz: TimeZone>(
+        &self,
+        scope: StatsScope<'_>,
+        now: DateTime<Utc>,
+        grid: &DayGrid<Tz>,
+    ) -> Result<Stats, StoreError> {
+        let today = grid.day_of(now);
+        let items: Vec<&ItemKey> = scope
+            .items
+            .iter()
+            .filter(|k| scope.deck.is_none_or(|d| k.deck == d))
+            .collect();
+
+        let cached = self.cached_states_in(scope.deck)?;
+        let states: HashMap<&ItemKey, &CardState> =
+            cached.iter().map(|c| (&c.key, &c.state)).collect();
+        let (cards, due) = states_and_forecast(&items, &states, today, grid);
+        let (reviews_per_day, last_30_days) = self.recent_days(scope.deck, today, grid)?;
+        let (total, passed) =
+            super::tally::review_answers(&self.conn, scope.deck).map_err(|e| self.err(e))?;
+        let retention = Retention {
+            last_30_days,
+            all_time: Ratio::new(total, passed),
+        };
+        let prompts = self.prompt_accuracy(scope.deck)?;
+        let orphans = self.orphans(scope.deck, &items, &cached)?;
+        Ok(Stats {
+            deck: scope.deck.map(str::to_string),
+            now,
+            today,
+            cards,
+            due,
+            reviews_per_day,
+            retention,
+            prompts,
+            orphans,
+        })
+    }
+
+    /// Answers per day over the last 30 learning days, and the retention of
+    /// their review-kind answers.
+    fn recent_days<Tz: TimeZone>(
+        &self,
+        deck: Option<&str>,
+        today: NaiveDate,
+        grid: &DayGrid<Tz>,
+    ) -> Result<(Vec<DayReviews>, Ratio), StoreError> {
+        let days: Vec<NaiveDate> = (0..WINDOW_DAYS as i64)
+            .rev()
+            .map(|back| today - Duration::days(back))
+            .collect();
+        let starts: Vec<i64> = days.iter().map(|d| to_ms(grid.start_of(*d))).collect();
+        let end = to_ms(grid.start_of(today + Duration::days(1)));
+        let mut out: Vec<DayReviews> = days
+            .iter()
+            .map(|d| DayReviews {
+                date: *d,
+                ..DayReviews::default()
+            })
+            .collect();
+        let (mut review_total, mut review_passed) = (0u64, 0u64);
+        let (filter, args) = deck_filter(deck, vec![starts[0].into(), end.into()], "AND");
+        let sql = format!(
+            "SELECT reviewed_at, kind, rating FROM review \
+             WHERE reviewed_at >= ?1 AND reviewed_at < ?2 AND undone = 0 {filter}"
+        );
+        let mut st = self.conn.prepare_cached(&sql).map_err(|e| self.err(e))?;
+        let mut rows = st.query(params_from_iter(args)).map_err(|e| self.err(e))?;
+        while let Some(row) = rows.next().map_err(|e| self.err(e))? {
+            let at: i64 = row.get(0).map_err(|e| self.err(e))?;
+            let kind: String = row.get(1).map_err(|e| self.err(e))?;
+            let rating: i64 = row.get(2).map_err(|e| self.err(e))?;
+            let again = rating == Rating::Again as i64;
+            let i = starts.partition_point(|s| *s <= at).saturating_sub(1);
+            let day = &mut out[i];
+            day.total += 1;
+            match codec::parse_kind(&kind) {
+                Some(ReviewKind::Learn) => day.learn += 1,
+                Some(ReviewKind::Review) => {
+                    day.review += 1;
+                    review_total += 1;
+                    review_passed += u64::from(!again);
+                }
+                Some(ReviewKind::Relearn) => day.relearn += 1,
+                Some(ReviewKind::Cram) => day.cram += 1,
+                None => {}
+            }
+            day.again += u32::from(again);
+        }
+        Ok((out, Ratio::new(review_total, review_passed)))
+    }
+
+    fn prompt_accuracy(&self, deck: Option<&str>) -> Result<PromptAccuracy, StoreError> {
+        let (filter, args) = deck_filter(deck, Vec::new(), "WHERE");
+        let sql = format!(
+            "SELECT deck, prompt, count(*), sum(correct) FROM prompt_attempt {filter} \
+             GROUP BY deck, prompt ORDER BY deck, prompt"
+        );
+        let mut st = self.conn.prepare_cached(&sql).map_err(|e| self.err(e))?;
+        let lines: Vec<PromptLine> = st
+            .query_map(params_from_iter(args), |r| {
+                Ok(PromptLine {
+                    deck: r.get(0)?,
+                    prompt: r.get(1)?,
+                    attempts: r.get::<_, i64>(2)? as u64,
+                    correct: r.get::<_, i64>(3)? as u64,
+                })
+            })
+            .and_then(|rows| rows.collect())
+            .map_err(|e| self.err(e))?;
+        let attempts = lines.iter().map(|l| l.attempts).sum();
+        let correct = lines.iter().map(|l| l.correct).sum();
+        Ok(PromptAccuracy {
+            overall: Ratio::new(attempts, correct),
+            by_prompt: lines,
+        })
+    }
+
+    /// Items with answers in the log that are not among the current items:
+    /// those with a state (their count of scheduling answers is in the
+    /// cache) and those only ever crammed.
+    fn orphans(
+        &self,
+        deck: Option<&str>,
+        items: &[&ItemKey],
+        cached: &[CachedState],
+    ) -> Result<Vec<Orphan>, StoreError> {
+        let current: HashSet<&ItemKey> = items.iter().copied().collect();
+        let decks: HashSet<&str> = items.iter().map(|k| k.deck.as_str()).collect();
+        let mut answers: BTreeMap<(String, String, &'static str), u64> = BTreeMap::new();
+        for c in cached.iter().filter(|c| !current.contains(&c.key)) {
+            let k = &c.key;
+            answers.insert(
+                (k.deck.clone(), k.card.clone(), k.direction.as_str()),
+                u64::from(c.reps),
+            );
+        }
+        let (filter, args) = deck_filter(deck, Vec::new(), "AND");
+        let sql = format!(
+            "SELECT deck, card, direction, count(*) FROM review \
+             WHERE kind = 'cram' AND undone = 0 {filter} GROUP BY deck, card, direction"
+        );
+        let mut st = self.conn.prepare_cached(&sql).map_err(|e| self.err(e))?;
+        let mut rows = st.query(params_from_iter(args)).map_err(|e| self.err(e))?;
+        while let Some(row) = rows.next().map_err(|e| self.err(e))? {
+            let deck: String = row.get(0).map_err(|e| self.err(e))?;
+            let card: String = row.get(1).map_err(|e| self.err(e))?;
+            let dir: String = row.get(2).map_err(|e| self.err(e))?;
+            let n: i64 = row.get(3).map_err(|e| self.err(e))?;
+            let Some(direction) = codec::parse_direction(&dir) else {
+                continue;
+            };
+            let key = ItemKey {
+                deck,
+                card,
+                direction,
+            };
+            if current.contains(&key) {
+                continue;
+            }
+            *answers
+                .entry((key.deck, key.card, direction.as_str()))
+                .or_insert(0) += n as u64;
+        }
+        Ok(answers
+            .into_iter()
+            .map(|((deck, card, direction), reviews)| Orphan {
+                deck_present: decks.contains(deck.as_str()),
+                deck,
+                card,
+                direction: direction.to_string(),
+                reviews,
+            })
+            .collect())
+    }
+}
+
+/// `<joiner> deck = ?n` with its argument appended, when a deck is given.
+fn deck_filter(
+    deck: Option<&str>,
+    mut args: Vec<rusqlite::types::Value>,
+    joiner: &str,
+) -> (String, Vec<rusqlite::types::Value>) {
+    match deck {
+        Some(d) => {
+            args.push(d.to_string().into());
+            (format!("{joiner} deck = ?{}", args.len()), args)
+        }
+        None => (String::new(), args),
+    }
+}
+
+fn states_and_forecast<Tz: TimeZone>(
+    items: &[&ItemKey],
+    states: &HashMap<&ItemKey, &CardState>,
+    today: NaiveDate,
+    grid: &DayGrid<Tz>,
+) -> (StateCounts, Forecast) {
+    // ends[i]: when day i (0 = today) ends.
+    let ends: Vec<DateTime<Utc>> = (1..=WINDOW_DAYS as i64)
+        .map(|i| grid.start_of(today + Duration::days(i)))
+        .collect();
+    let mut per_day = [0u32; WINDOW_DAYS];
+    let mut counts = StateCounts::default();
+    for key in items {
+        counts.total += 1;
+        let Some(st) = states.get(*key).filter(|s| s.state != State::New) else {
+            counts.new += 1;
+            continue;
+        };
+        match st.state {
+            State::Learning => counts.learning += 1,
+            State::Review => counts.review += 1,
+            State::Relearning => counts.relearning += 1,
+            State::New => {}
+        }
+        let day = ends.partition_point(|end| *end <= st.due);
+        if let Some(slot) = per_day.get_mut(day) {
+            *slot += 1;
+        }
+    }
+    let sum = |n: usize| per_day.iter().take(n).sum();
+    let forecast = Forecast {
+        today: per_day[0],
+        tomorrow: per_day[1],
+        next_7_days: sum(7),
+        next_30_days: sum(WINDOW_DAYS),
+        per_day: per_day
+            .iter()
+            .enumerate()
+            .map(|(i, n)| DayDue {
+                date: today + Duration::days(i as i64),
+                due: *n,
+            })
+            .collect(),
+    };
+    (counts, forecast)
+}

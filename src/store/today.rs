@@ -1,0 +1,59 @@
+//! What the daily queue needs from the log: how much was done since the day
+//! began, and when a deck was last studied.
+
+use chrono::{DateTime, Utc};
+use rusqlite::params;
+
+use super::codec::{from_ms, to_ms};
+use super::db::Store;
+use super::error::StoreError;
+use crate::sched::DoneToday;
+
+impl Store {
+    /// What counts against the daily limits of `deck` in the study day that
+    /// began at `day_start`: items first rated since then (their first
+    /// rating that counts), and review-kind answers (learning and
+    /// relearning steps do not count against the review limit). Undone and
+    /// cram answers do not count.
+    pub fn reviews_today(
+        &self,
+        deck: &str,
+        day_start: DateTime<Utc>,
+    ) -> Result<DoneToday, StoreError> {
+        let since = to_ms(day_start);
+        let reviews: i64 = self
+            .conn
+            .prepare_cached(
+                "SELECT count(*) FROM review \
+                 WHERE deck = ?1 AND reviewed_at >= ?2 AND undone = 0 AND kind = 'review'",
+            )
+            .and_then(|mut st| st.query_row(params![deck, since], |r| r.get(0)))
+            .map_err(|e| self.err(e))?;
+        let new_items: i64 = self
+            .conn
+            .prepare_cached(
+                "SELECT count(*) FROM (SELECT DISTINCT r.card, r.direction FROM review AS r \
+                 WHERE r.deck = ?1 AND r.reviewed_at >= ?2 AND r.undone = 0 AND r.kind <> 'cram' \
+                   AND NOT EXISTS (SELECT 1 FROM review AS p \
+                       WHERE p.deck = r.deck AND p.card = r.card AND p.direction = r.direction \
+                         AND p.undone = 0 AND p.kind <> 'cram' AND p.reviewed_at < ?2))",
+            )
+            .and_then(|mut st| st.query_row(params![deck, since], |r| r.get(0)))
+            .map_err(|e| self.err(e))?;
+        Ok(DoneToday {
+            new: u32::try_from(new_items).unwrap_or(u32::MAX),
+            reviews: u32::try_from(reviews).unwrap_or(u32::MAX),
+        })
+    }
+
+    /// When `deck` was last studied (its latest answer not undone, cram
+    /// included), or `None` if never.
+    pub fn last_studied(&self, deck: &str) -> Result<Option<DateTime<Utc>>, StoreError> {
+        let ms: Option<i64> = self
+            .conn
+            .prepare_cached("SELECT max(reviewed_at) FROM review WHERE deck = ?1 AND undone = 0")
+            .and_then(|mut st| st.query_row([deck], |r| r.get(0)))
+            .map_err(|e| self.err(e))?;
+        Ok(ms.and_then(from_ms))
+    }
+}

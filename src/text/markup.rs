@@ -1,0 +1,499 @@
+//! The light markup of explanation section bodies, as a structure the
+//! terminal UI styles itself (this module knows nothing of terminals):
+//!
+//! - paragraphs are separated by blank lines; the lines of a paragraph are
+//!   joined with spaces;
+//! - a line starting with `- ` starts a list item (following lines continue
+//!   it until a blank line or the next item);
+//! - `*emphasis*` and `**strong**`; a `*` that opens or closes nothing stays
+//!   a `*` (so `a * b` is left alone);
+//! - `$...$` math is rendered to Unicode; `$$...$$` display math in a
+//!   paragraph becomes a block of its own. A formula that does not parse is
+//!   shown as written.
+
+use super::dollar::{self, Piece};
+use super::write_math;
+
+/// A block of a section body.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Block {
+    Paragraph(Vec<Span>),
+    /// A list item (its text, without the `- `).
+    Item(Vec<Span>),
+    /// Display math, rendered.
+    Display(String),
+}
+
+/// A run of text in one style.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Span {
+    pub text: String,
+    pub style: Style,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    Plain,
+    Emphasis,
+    Strong,
+    /// Rendered math (inside emphasis too).
+    Math,
+}
+
+impl Span {
+    pub fn new(text: impl Into<String>, style: Style) -> Span {
+        Span {
+            text: text.into(),
+            style,
+        }
+    }
+}
+
+impl Block {
+    /// The block's text without styles.
+    pub fn text(&self) -> String {
+        match self {
+            Block::Paragraph(spans) | Block::Item(spans) => {
+                spans.iter().map(|s| s.text.as_str()).collect()
+            }
+            Block::Display(math) => math.clone(),
+        }
+    }
+}
+
+/// The blocks of `body`, in order.
+pub fn parse(body: &str) -> Vec<Block> {
+    let mut blocks = Vec::new();
+    for (kind, text) in raw_blocks(body) {
+        inline(&text, kind, &mut blocks);
+    }
+    blocks
+}
+
+/// `body` rendered without markup: one line per block, items as `• `.
+/// For search and one-line previews.
+pub fn plain(body: &str) -> String {
+    let mut out = String::with_capacity(body.len());
+    for block in parse(body) {
+        if !out.is_empty() {
+            out.push('\n');
+        }
+        if matches!(block, Block::Item(_)) {
+            out.push_str("• ");
+        }
+        match block {
+            Block::Paragraph(spans) | Block::Item(spans) => {
+                spans.iter().for_each(|s| out.push_str(&s.text));
+            }
+            Block::Display(math) => out.push_str(&math),
+        }
+    }
+    out
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Paragraph,
+    Item,
+}
+
+/// Blocks as trimmed lines joined with `\n` (math may span lines).
+fn raw_blocks(body: &str) -> Vec<(Kind, String)> {
+    let mut blocks: Vec<(Kind, String)> = Vec::new();
+    let mut open = false;
+    for line in body.lines() {
+        let line = line.trim();
+        if line.is_empty() {
+            open = false;
+            continue;
+        }
+        let item = line.strip_prefix("- ").or((line == "-").then_some(""));
+        match (item, blocks.last_mut()) {
+            (Some(rest), _) => blocks.push((Kind::Item, rest.trim_start().to_string())),
+            (None, Some((_, text))) if open => {
+                text.push('\n');
+                text.push_str(line);
+            }
+            (None, _) => blocks.push((Kind::Paragraph, line.to_string())),
+        }
+        open = true;
+    }
+    blocks
+}
+
+/// A token of a block's inline content.
+#[derive(Debug)]
+enum Tok<'a> {
+    /// Text as written (newlines become spaces when it is pushed).
+    Text(&'a str),
+    Math(String),
+    Display(String),
+    /// A run of `*` (1 or 2 long), with whether it can open or close.
+    Stars {
+        count: u8,
+        open: bool,
+        close: bool,
+        matched: bool,
+    },
+}
+
+fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
+    let mut toks = Vec::new();
+    for piece in dollar::pieces(text) {
+        match piece {
+            Piece::Text(s) => stars_and_text(text, s, &mut toks),
+            Piece::Dollar => toks.push(Tok::Text("$")),
+            Piece::Math(m) => {
+                let mut rendered = String::new();
+                if write_math(m.latex, &mut rendered).is_err() {
+                    rendered.clear();
+                    rendered.push_str(&m.source.replace('\n', " "));
+                }
+                toks.push(if m.display && kind == Kind::Paragraph {
+                    Tok::Display(rendered)
+                } else {
+                    Tok::Math(rendered)
+                });
+            }
+            Piece::Unclosed { offset, .. } => stars_and_text(text, &text[offset..], &mut toks),
+        }
+    }
+    match_stars(&mut toks);
+
+    let mut spans: Vec<Span> = Vec::new();
+    let (mut emphasis, mut strong) = (0u32, 0u32);
+    let finish = |spans: &mut Vec<Span>, blocks: &mut Vec<Block>| {
+        trim_spans(spans);
+        if !spans.is_empty() {
+            let spans = std::mem::take(spans);
+            blocks.push(match kind {
+                Kind::Paragraph => Block::Paragraph(spans),
+                Kind::Item => Block::Item(spans),
+            });
+        }
+    };
+    for tok in toks {
+        let style = if strong > 0 {
+            Style::Strong
+        } else if emphasis > 0 {
+            Style::Emphasis
+        } else {
+            Style::Plain
+        };
+        match tok {
+            Tok::Text(s) => push_span(&mut spans, s, style),
+            Tok::Math(s) => push_span(&mut spans, &s, Style::Math),
+            Tok::Display(s) => {
+                finish(&mut spans, blocks);
+                blocks.push(Block::Display(s));
+            }
+            Tok::Stars {
+                count,
+                open,
+                matched: true,
+                ..
+            } => {
+                let depth = if count == 2 {
+                    &mut strong
+                } else {
+                    &mut emphasis
+                };
+                if open {
+                    *depth += 1;
+                } else {
+                    *depth = depth.saturating_sub(1);
+                }
+            }
+            Tok::Stars { count, .. } => {
+                push_span(&mut spans, if count == 2 { "**" } else { "*" }, style);
+            }
+        }
+    }
+    finish(&mut spans, blocks);
+}
+
+/// Split a text piece (a slice of `whole`) into text and `*` runs, newlines
+/// becoming spaces. Whether a run can open or close depends on the
+/// characters around it in `whole`, math included.
+fn stars_and_text<'a>(whole: &str, piece: &'a str, toks: &mut Vec<Tok<'a>>) {
+    let base = piece.as_ptr() as usize - whole.as_ptr() as usize;
+    let mut rest_start = 0;
+    let bytes = piece.as_bytes();
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] != b'*' {
+            i += 1;
+            continue;
+        }
+        let run = bytes[i..].iter().take_while(|&&b| b == b'*').count();
+        push_text(toks, &piece[rest_start..i]);
+        let before = whole[..base + i].chars().next_back();
+        let after = whole[base + i + run..].chars().next();
+        let open = after.is_some_and(|c| !c.is_whitespace());
+        let close = before.is_some_and(|c| !c.is_whitespace());
+        let star = |count, open, close| Tok::Stars {
+            count,
+            open,
+            close,
+            matched: false,
+        };
+        match run {
+            1 | 2 => toks.push(star(run as u8, open, close)),
+            // `***a***`: strong around emphasis.
+            3 if open => {
+                toks.push(star(2, open, close));
+                toks.push(star(1, open, close));
+            }
+            3 => {
+                toks.push(star(1, open, close));
+                toks.push(star(2, open, close));
+            }
+            _ => push_text(toks, &piece[i..i + run]),
+        }
+        i += run;
+        rest_start = i;
+    }
+    push_text(toks, &piece[rest_start..]);
+}
+
+fn push_text<'a>(toks: &mut Vec<Tok<'a>>, s: &'a str) {
+    if !s.is_empty() {
+        toks.push(Tok::Text(s));
+    }
+}
+
+/// Pair `*` runs: a closer takes the nearest open run of the same length;
+/// runs left unpaired stay literal. An open run marked matched opens, a
+/// closing one closes.
+fn match_stars(toks: &mut [Tok<'_>]) {
+    let mut openers: Vec<(usize, u8)> = Vec::new();
+    for i in 0..toks.len() {
+        let Tok::Stars {
+            count, open, close, ..
+        } = toks[i]
+        else {
+            continue;
+        };
+        let opener = openers.iter().rposition(|&(_, c)| c == count);
+        if let (true, Some(pos)) = (close, opener) {
+            let (j, _) = openers[pos];
+            openers.truncate(pos);
+            set_matched(&mut toks[j], true);
+            set_matched(&mut toks[i], false);
+            continue;
+        }
+        if open {
+            openers.push((i, count));
+        }
+    }
+}
+
+fn set_matched(tok: &mut Tok<'_>, as_opener: bool) {
+    if let Tok::Stars { open, matched, .. } = tok {
+        *open = as_opener;
+        *matched = true;
+    }
+}
+
+/// Append `text` (newlines as spaces) to the last span if it has the same
+/// style, else as a new span.
+fn push_span(spans: &mut Vec<Span>, text: &str, style: Style) {
+    if text.is_empty() {
+        return;
+    }
+    let span = match spans.last_mut() {
+        Some(last) if last.style == style => last,
+        _ => {
+            spans.push(Span::new(String::with_capacity(text.len()), style));
+            let Some(last) = spans.last_mut() else {
+                return;
+            };
+            last
+        }
+    };
+    let mut parts = text.split('\n');
+    if let Some(first) = parts.next() {
+        span.text.push_str(first);
+    }
+    for part in parts {
+        span.text.push(' ');
+        span.text.push_str(part);
+    }
+}
+
+/// Drop the spaces a display block or the block edges leave behind.
+fn trim_spans(spans: &mut Vec<Span>) {
+    if let Some(first) = spans.first_mut() {
+        let trimmed = first.text.trim_start().len();
+        first.text.drain(..first.text.len() - trimmed);
+    }
+    if let Some(last) = spans.last_mut() {
+        let trimmed = last.text.trim_end().len();
+        last.text.truncate(trimmed);
+    }
+    spans.retain(|s| !s.text.is_empty());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plain_span(s: &str) -> Span {
+        Span::new(s, Style::Plain)
+    }
+
+    #[test]
+    fn paragraphs_are_separated_by_blank_lines_and_lines_joined() {
+        assert_eq!(
+            parse("First line\nsecond line.\n\n  \nNext one."),
+            vec![
+                Block::Paragraph(vec![plain_span("First line second line.")]),
+                Block::Paragraph(vec![plain_span("Next one.")]),
+            ]
+        );
+    }
+
+    #[test]
+    fn items_start_with_dash_and_continue_on_following_lines() {
+        assert_eq!(
+            parse("Intro:\n- one\n- two\n  continued\n\nAfter."),
+            vec![
+                Block::Paragraph(vec![plain_span("Intro:")]),
+                Block::Item(vec![plain_span("one")]),
+                Block::Item(vec![plain_span("two continued")]),
+                Block::Paragraph(vec![plain_span("After.")]),
+            ]
+        );
+    }
+
+    #[test]
+    fn emphasis_and_strong() {
+        assert_eq!(
+            parse("a *b* and **c d** e"),
+            vec![Block::Paragraph(vec![
+                plain_span("a "),
+                Span::new("b", Style::Emphasis),
+                plain_span(" and "),
+                Span::new("c d", Style::Strong),
+                plain_span(" e"),
+            ])]
+        );
+    }
+
+    #[test]
+    fn triple_star_is_strong() {
+        assert_eq!(
+            parse("***x***"),
+            vec![Block::Paragraph(vec![Span::new("x", Style::Strong)])]
+        );
+    }
+
+    #[test]
+    fn lone_stars_stay_literal() {
+        assert_eq!(
+            parse("a * b and *c"),
+            vec![Block::Paragraph(vec![plain_span("a * b and *c")])]
+        );
+        assert_eq!(
+            parse("**a*"),
+            vec![Block::Paragraph(vec![plain_span("**a*")])]
+        );
+    }
+
+    #[test]
+    fn math_is_rendered_inside_emphasis() {
+        assert_eq!(
+            parse(r"*spin $\omega_3$ axis*"),
+            vec![Block::Paragraph(vec![
+                Span::new("spin ", Style::Emphasis),
+                Span::new("ω₃", Style::Math),
+                Span::new(" axis", Style::Emphasis),
+            ])]
+        );
+    }
+
+    #[test]
+    fn star_inside_math_is_not_emphasis() {
+        assert_eq!(
+            parse(r"$a^*$ and $b^*$"),
+            vec![Block::Paragraph(vec![
+                Span::new("a^∗", Style::Math),
+                plain_span(" and "),
+                Span::new("b^∗", Style::Math),
+            ])]
+        );
+    }
+
+    #[test]
+    fn display_math_in_a_paragraph_is_its_own_block() {
+        assert_eq!(
+            parse("Euler:\n$$I_1\\dot\\omega_1 = 0$$\nso it holds."),
+            vec![
+                Block::Paragraph(vec![plain_span("Euler:")]),
+                Block::Display("I₁ω̇₁ = 0".to_string()),
+                Block::Paragraph(vec![plain_span("so it holds.")]),
+            ]
+        );
+    }
+
+    #[test]
+    fn display_math_may_span_lines() {
+        assert_eq!(
+            parse("$$\na =\nb\n$$"),
+            vec![Block::Display("a = b".to_string())]
+        );
+    }
+
+    #[test]
+    fn display_math_in_an_item_stays_inline() {
+        assert_eq!(
+            parse("- so $$x$$"),
+            vec![Block::Item(vec![
+                plain_span("so "),
+                Span::new("x", Style::Math)
+            ])]
+        );
+    }
+
+    #[test]
+    fn bad_math_is_shown_as_written() {
+        assert_eq!(
+            parse(r"see $\nope$"),
+            vec![Block::Paragraph(vec![
+                plain_span("see "),
+                Span::new(r"$\nope$", Style::Math),
+            ])]
+        );
+        assert_eq!(
+            parse("costs $5"),
+            vec![Block::Paragraph(vec![plain_span("costs $5")])]
+        );
+    }
+
+    #[test]
+    fn escaped_dollar() {
+        assert_eq!(
+            parse(r"\$5 *off*"),
+            vec![Block::Paragraph(vec![
+                plain_span("$5 "),
+                Span::new("off", Style::Emphasis)
+            ])]
+        );
+    }
+
+    #[test]
+    fn plain_drops_markup() {
+        let body = "The **middle** axis is *unstable*:\n\n- spin $\\omega_2$\n- flip\n\n$$k > 0$$";
+        assert_eq!(
+            plain(body),
+            "The middle axis is unstable:\n• spin ω₂\n• flip\nk > 0"
+        );
+    }
+
+    #[test]
+    fn empty_body_has_no_blocks() {
+        assert!(parse("").is_empty());
+        assert!(parse("\n  \n\n").is_empty());
+        assert_eq!(plain(""), "");
+    }
+}

@@ -1,0 +1,71 @@
+//! Everything the learner (or the clock) can do to the app. Keys map to
+//! these (`keymap`), and `update::apply` carries them out without a terminal.
+
+use std::time::Duration;
+
+use crate::sched::Rating;
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    /// Leave the app (Ctrl-C anywhere, `q` on the home screen).
+    Quit,
+    /// Close the current screen (or leave a mode) and return to the previous one.
+    Back,
+    ToggleHelp,
+    CloseHelp,
+    /// English ⇄ Hinglish, everywhere, remembered between runs.
+    ToggleLanguage,
+
+    Up,
+    Down,
+    PageUp,
+    PageDown,
+    Top,
+    Bottom,
+    /// Enter on a list: open what is selected.
+    Open,
+
+    // Home
+    OpenReview,
+    OpenCram,
+    OpenReader,
+    OpenPrompts,
+    OpenStats,
+
+    // Review
+    Reveal,
+    Rate(Rating),
+    Undo,
+    /// Open the explanation the card (or prompt) links to.
+    Explain,
+    /// Open the prompt the card links to.
+    OpenCardPrompt,
+
+    // Reader
+    PrevSection,
+    NextSection,
+    StartSearch,
+    NextMatch,
+    PrevMatch,
+    NextLink,
+    FollowLink,
+
+    // Text fields (typed answers, numeric predictions, search)
+    Input(char),
+    Backspace,
+    Submit,
+
+    // Predict, then check
+    Choose(usize),
+    TogglePause,
+    Faster,
+    Slower,
+    Restart,
+    NextMethod,
+    SmallerStep,
+    LargerStep,
+
+    /// Wall-clock time passed while a simulation plays.
+    Tick(Duration),
+    Resize(u16, u16),
+}

@@ -1,0 +1,132 @@
+//! The app's view state: which screens are open, the language, the terminal
+//! size. Domain data (decks, schedules, the review log) belongs to the
+//! domain modules; screens keep only indices and what the learner typed.
+
+use crate::deck::Deck;
+
+use super::i18n::{self, Msg};
+use super::screens::Screen;
+use super::services::Services;
+use super::theme::Theme;
+
+/// A one-line message at the bottom of the screen.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Status {
+    pub text: String,
+    pub error: bool,
+}
+
+pub struct App {
+    pub decks: Vec<Deck>,
+    /// How many problems loading the decks reported (shown on the home screen).
+    pub deck_problems: usize,
+    pub lang: String,
+    pub theme: Theme,
+    /// Open screens; the last is shown. Never empty: the home screen is first.
+    pub stack: Vec<Screen>,
+    pub help: bool,
+    pub quit: bool,
+    /// Terminal size in cells (width, height).
+    pub size: (u16, u16),
+    pub status: Option<Status>,
+    pub services: Services,
+    /// Time the last simulation step and the last frame took (µs), measured
+    /// by the event loop; shown in the diagnostics line.
+    pub frame_us: FrameTimes,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FrameTimes {
+    pub physics: u64,
+    pub draw: u64,
+}
+
+impl App {
+    pub fn new(decks: Vec<Deck>, services: Services, lang: &str, theme: Theme) -> App {
+        let lang = if lang == i18n::HINGLISH {
+            i18n::HINGLISH
+        } else {
+            i18n::ENGLISH
+        };
+        let mut app = App {
+            decks,
+            deck_problems: 0,
+            lang: lang.to_string(),
+            theme,
+            stack: Vec::new(),
+            help: false,
+            quit: false,
+            size: (80, 24),
+            status: None,
+            services,
+            frame_us: FrameTimes::default(),
+        };
+        let home = super::screens::home::HomeState::new(&app);
+        app.stack.push(Screen::Home(home));
+        app
+    }
+
+    pub fn tr(&self, msg: Msg) -> &'static str {
+        i18n::tr(&self.lang, msg)
+    }
+
+    pub fn screen(&self) -> &Screen {
+        // The stack is never empty (the home screen is never popped).
+        &self.stack[self.stack.len() - 1]
+    }
+
+    pub fn screen_mut(&mut self) -> &mut Screen {
+        let n = self.stack.len();
+        &mut self.stack[n - 1]
+    }
+
+    pub fn push(&mut self, screen: Screen) {
+        self.status = None;
+        self.stack.push(screen);
+    }
+
+    /// Closes the top screen; on the home screen, quits.
+    pub fn pop(&mut self) {
+        self.status = None;
+        if self.stack.len() > 1 {
+            self.stack.pop();
+            if let Screen::Home(_) = self.screen() {
+                let fresh = super::screens::home::HomeState::new(self);
+                if let Screen::Home(h) = self.screen_mut() {
+                    h.refresh(fresh);
+                }
+            }
+        } else {
+            self.quit = true;
+        }
+    }
+
+    pub fn info(&mut self, text: impl Into<String>) {
+        self.status = Some(Status {
+            text: text.into(),
+            error: false,
+        });
+    }
+
+    pub fn error(&mut self, text: impl Into<String>) {
+        self.status = Some(Status {
+            text: text.into(),
+            error: true,
+        });
+    }
+
+    /// Whether a simulation is playing, so the event loop must tick.
+    pub fn animating(&self) -> bool {
+        match self.screen() {
+            Screen::Predict(p) => p.animating(),
+            _ => false,
+        }
+    }
+}
+
+impl App {
+    /// Where the keyboard is (screen and mode).
+    pub fn context(&self) -> super::keymap::Context {
+        self.screen().context()
+    }
+}

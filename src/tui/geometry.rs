@@ -1,0 +1,208 @@
+//! The 3-D geometry of the simulation panels: a box whose moments match the
+//! body's, a camera with perspective, and the separatrix on the momentum
+//! sphere.
+
+use nalgebra::{UnitQuaternion, Vector3};
+
+/// Half-sides (a, b, c) of a uniform box with principal moments
+/// proportional to `inertia`: I₁ ∝ b² + c², I₂ ∝ a² + c², I₃ ∝ a² + b², so
+/// a² ∝ (I₂ + I₃ − I₁)/2 and cyclic. Scaled so the longest half-side is 1;
+/// a flat body gets a thin but visible thickness.
+pub fn box_half_sides(inertia: [f64; 3]) -> [f64; 3] {
+    let [i1, i2, i3] = inertia;
+    let sq = [
+        (i2 + i3 - i1) / 2.0,
+        (i1 + i3 - i2) / 2.0,
+        (i1 + i2 - i3) / 2.0,
+    ];
+    let sides = sq.map(|s| s.max(0.0).sqrt());
+    let longest = sides.iter().cloned().fold(0.0, f64::max);
+    if !(longest > 0.0 && longest.is_finite()) {
+        return [1.0, 1.0, 1.0];
+    }
+    sides.map(|s| (s / longest).max(0.03))
+}
+
+/// The 8 corners and 12 edges of a box centred at the origin.
+pub fn box_edges(half: [f64; 3]) -> Vec<(Vector3<f64>, Vector3<f64>)> {
+    let corner = |i: usize| {
+        Vector3::new(
+            if i & 1 == 0 { -half[0] } else { half[0] },
+            if i & 2 == 0 { -half[1] } else { half[1] },
+            if i & 4 == 0 { -half[2] } else { half[2] },
+        )
+    };
+    let mut edges = Vec::with_capacity(12);
+    for i in 0..8usize {
+        for bit in [1usize, 2, 4] {
+            if i & bit == 0 {
+                edges.push((corner(i), corner(i | bit)));
+            }
+        }
+    }
+    edges
+}
+
+/// A camera looking at the origin: `up` is drawn vertical, the view comes
+/// from `elevation` radians above the horizontal plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    right: Vector3<f64>,
+    up: Vector3<f64>,
+    /// From the eye towards the origin.
+    forward: Vector3<f64>,
+    /// Eye distance; `None` for an orthographic view.
+    distance: Option<f64>,
+}
+
+impl Camera {
+    /// `up` is made vertical on screen; `azimuth_hint` picks the horizontal
+    /// direction the eye looks along (any vector not parallel to `up`).
+    pub fn new(
+        up: Vector3<f64>,
+        azimuth_hint: Vector3<f64>,
+        elevation: f64,
+        distance: Option<f64>,
+    ) -> Camera {
+        let up = up.try_normalize(1e-300).unwrap_or(Vector3::z());
+        let mut side = up.cross(&azimuth_hint);
+        if side.norm() < 1e-9 {
+            side = up.cross(&Vector3::x());
+            if side.norm() < 1e-9 {
+                side = up.cross(&Vector3::y());
+            }
+        }
+        let side = side.normalize();
+        // Horizontal look direction, then tilted down by the elevation.
+        let level = side.cross(&up);
+        let forward = (level * elevation.cos() - up * elevation.sin()).normalize();
+        let right = forward.cross(&up).normalize();
+        let up = right.cross(&forward).normalize();
+        Camera {
+            right,
+            up,
+            forward,
+            distance,
+        }
+    }
+
+    /// Screen position (x right, y up) and depth (positive = further away).
+    pub fn project(&self, p: &Vector3<f64>) -> (f64, f64, f64) {
+        let depth = p.dot(&self.forward);
+        let (x, y) = (p.dot(&self.right), p.dot(&self.up));
+        match self.distance {
+            Some(d) => {
+                let s = d / (d + depth).max(1e-3);
+                (x * s, y * s, depth)
+            }
+            None => (x, y, depth),
+        }
+    }
+}
+
+/// An edge on screen: its two ends and its mean depth.
+pub type ScreenEdge = ((f64, f64), (f64, f64), f64);
+
+/// The box's edges turned by `q` (body → space) and projected.
+pub fn projected_box(half: [f64; 3], q: &UnitQuaternion<f64>, camera: &Camera) -> Vec<ScreenEdge> {
+    box_edges(half)
+        .into_iter()
+        .map(|(a, b)| {
+            let (pa, pb) = (camera.project(&(q * a)), camera.project(&(q * b)));
+            ((pa.0, pa.1), (pb.0, pb.1), (pa.2 + pb.2) / 2.0)
+        })
+        .collect()
+}
+
+/// The indices of the smallest, middle and largest moment.
+pub fn axis_order(inertia: [f64; 3]) -> [usize; 3] {
+    let mut axes = [0usize, 1, 2];
+    axes.sort_by(|&i, &j| inertia[i].total_cmp(&inertia[j]));
+    axes
+}
+
+/// The separatrix on the momentum sphere of radius `radius`: two great
+/// circles through the middle axis, where L² = 2T·I_mid. With
+/// I_s < I_m < I_l they lie in the planes
+/// L_s √(1/I_s − 1/I_m) = ± L_l √(1/I_m − 1/I_l). `None` when two moments
+/// are equal (no separatrix).
+pub fn separatrix(inertia: [f64; 3], radius: f64, points: usize) -> Option<[Vec<Vector3<f64>>; 2]> {
+    let [s, m, l] = axis_order(inertia);
+    let (is, im, il) = (inertia[s], inertia[m], inertia[l]);
+    if !(is < im && im < il) {
+        return None;
+    }
+    let alpha = (1.0 / is - 1.0 / im).sqrt();
+    let beta = (1.0 / im - 1.0 / il).sqrt();
+    let circle = |sign: f64| {
+        // In-plane unit vectors: the middle axis, and the direction within
+        // the s–l plane that satisfies the plane equation.
+        let mut e_m = Vector3::zeros();
+        e_m[m] = 1.0;
+        let mut v = Vector3::zeros();
+        v[s] = beta;
+        v[l] = sign * alpha;
+        let v = v.normalize();
+        (0..=points)
+            .map(|k| {
+                let th = std::f64::consts::TAU * k as f64 / points as f64;
+                (e_m * th.cos() + v * th.sin()) * radius
+            })
+            .collect::<Vec<_>>()
+    };
+    Some([circle(1.0), circle(-1.0)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn box_sides_reproduce_the_moment_ratios() {
+        let inertia = [2.0, 3.0, 4.0];
+        let [a, b, c] = box_half_sides(inertia);
+        let moments = [b * b + c * c, a * a + c * c, a * a + b * b];
+        for i in 0..3 {
+            let ratio = moments[i] / moments[0];
+            assert!(
+                (ratio - inertia[i] / inertia[0]).abs() < 1e-12,
+                "{moments:?}"
+            );
+        }
+        // The smallest moment belongs to the longest side.
+        assert_eq!(a, 1.0);
+    }
+
+    #[test]
+    fn flat_and_degenerate_bodies_stay_drawable() {
+        // I = (1, 2, 3) is a flat plate (I₃ = I₁ + I₂): drawn thin, not flat.
+        let [a, b, c] = box_half_sides([1.0, 2.0, 3.0]);
+        assert!(c > 0.0 && c < 0.1 && a == 1.0 && b < a, "{a} {b} {c}");
+        assert_eq!(box_half_sides([0.0, 0.0, 0.0]), [1.0, 1.0, 1.0]);
+        assert_eq!(box_edges([1.0, 1.0, 1.0]).len(), 12);
+    }
+
+    #[test]
+    fn separatrix_points_have_the_middle_axis_energy() {
+        let inertia = [3.0, 1.0, 2.0];
+        let circles = separatrix(inertia, 2.0, 64).unwrap_or_else(|| panic!("asymmetric body"));
+        for c in &circles {
+            for l in c {
+                assert!((l.norm() - 2.0).abs() < 1e-12);
+                // 2T = Σ Lᵢ²/Iᵢ = L²/I_mid on the separatrix.
+                let two_t: f64 = (0..3).map(|i| l[i] * l[i] / inertia[i]).sum();
+                assert!((two_t - 4.0 / 2.0).abs() < 1e-12, "{two_t}");
+            }
+        }
+        assert!(separatrix([1.0, 1.0, 2.0], 1.0, 8).is_none());
+    }
+
+    #[test]
+    fn camera_keeps_up_vertical_and_centres_the_origin() {
+        let cam = Camera::new(Vector3::y(), Vector3::new(1.0, 0.0, 0.3), 0.3, Some(4.0));
+        let (x, y, _) = cam.project(&Vector3::zeros());
+        assert!(x.abs() < 1e-12 && y.abs() < 1e-12);
+        let (x, y, _) = cam.project(&Vector3::y());
+        assert!(x.abs() < 1e-12 && y > 0.5, "({x}, {y})");
+    }
+}

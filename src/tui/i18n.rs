@@ -1,0 +1,220 @@
+//! The interface's own words in both languages the app speaks. Deck texts
+//! carry their own translations; these are the labels around them.
+
+/// Hinglish (Hindi in Latin script), the second language of the app.
+pub const HINGLISH: &str = "hi-Latn";
+pub const ENGLISH: &str = "en";
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Msg {
+    AppTitle,
+    Decks,
+    New,
+    Learning,
+    Due,
+    LastStudied,
+    Never,
+    Cards,
+    Prompts,
+    Sections,
+    Help,
+    HelpTitle,
+    AnyKeyCloses,
+    Enlarge,
+    Language,
+    LanguageName,
+    NoDecks,
+    DeckProblems,
+    Reader,
+    Search,
+    NoMatch,
+    SeeAlso,
+    NoSections,
+    Review,
+    Cram,
+    ShowAnswer,
+    Again,
+    Hard,
+    Good,
+    Easy,
+    TypeAnswer,
+    Suggested,
+    YouTyped,
+    Accepted,
+    Explanation,
+    TryPrompt,
+    SessionDone,
+    Reviewed,
+    Time,
+    AgainRate,
+    NothingDue,
+    Undone,
+    NothingToUndo,
+    Saved,
+    Predict,
+    Question,
+    Commit,
+    YourPrediction,
+    Measured,
+    Formula,
+    Right,
+    Wrong,
+    Paused,
+    Speed,
+    Method,
+    Step,
+    Tolerance,
+    EnergyDrift,
+    MomentumDrift,
+    ErrorVsExact,
+    PerFrame,
+    Running,
+    Verdict,
+    NotANumber,
+    WrongUnit,
+    Stats,
+    DueForecast,
+    ReviewsPerDay,
+    Retention,
+    PromptAccuracy,
+    WorkPrecision,
+    NoBench,
+    Today,
+    Tomorrow,
+    Days,
+    NoPrompts,
+    Scene,
+    Omega,
+    Body,
+    Polhode,
+    Diagnostics,
+    Back,
+    Quit,
+}
+
+pub fn tr(lang: &str, msg: Msg) -> &'static str {
+    let hi = lang == HINGLISH;
+    macro_rules! pick {
+        ($en:expr, $hi:expr) => {
+            if hi { $hi } else { $en }
+        };
+    }
+    use Msg::*;
+    match msg {
+        AppTitle => "flipcard",
+        Decks => pick!("Decks", "Decks"),
+        New => pick!("new", "naye"),
+        Learning => pick!("learning", "seekh rahe"),
+        Due => pick!("due", "baaki"),
+        LastStudied => pick!("last studied", "pichhli padhai"),
+        Never => pick!("never", "kabhi nahi"),
+        Cards => pick!("cards", "cards"),
+        Prompts => pick!("Prompts and simulations", "Prompts aur simulations"),
+        Sections => pick!("Sections", "Sections"),
+        Help => pick!("help", "madad"),
+        HelpTitle => pick!("Keys", "Keys"),
+        AnyKeyCloses => pick!("any key closes", "koi bhi key band karti hai"),
+        Enlarge => pick!(
+            "Please enlarge the terminal (at least 40×12).",
+            "Terminal thoda bada karo (kam se kam 40×12)."
+        ),
+        Language => pick!("language", "bhasha"),
+        LanguageName => pick!("English", "Hinglish"),
+        NoDecks => pick!(
+            "No decks found. Pass --decks DIR or put deck files in decks/.",
+            "Koi deck nahi mila. --decks DIR do ya decks/ mein deck files rakho."
+        ),
+        DeckProblems => pick!(
+            "problems in the decks (run `flipcard check`)",
+            "decks mein galtiyan (`flipcard check` chalao)"
+        ),
+        Reader => pick!("Reader", "Reader"),
+        Search => pick!("search", "khojo"),
+        NoMatch => pick!("no match", "kuch nahi mila"),
+        SeeAlso => pick!("See also", "Yeh bhi dekho"),
+        NoSections => pick!(
+            "This deck has no explanation sections.",
+            "Is deck mein koi explanation section nahi hai."
+        ),
+        Review => pick!("Review", "Review"),
+        Cram => pick!("Cram", "Cram"),
+        ShowAnswer => pick!("show answer", "jawab dikhao"),
+        Again => pick!("Again", "Phir se"),
+        Hard => pick!("Hard", "Mushkil"),
+        Good => pick!("Good", "Theek"),
+        Easy => pick!("Easy", "Aasaan"),
+        TypeAnswer => pick!("Type your answer", "Apna jawab likho"),
+        Suggested => pick!("suggested", "sujhaav"),
+        YouTyped => pick!("you typed", "tumne likha"),
+        Accepted => pick!("accepted", "sahi jawab"),
+        Explanation => pick!("explanation", "samjhaav"),
+        TryPrompt => pick!("try the prediction", "prediction try karo"),
+        SessionDone => pick!("Session done", "Session khatam"),
+        Reviewed => pick!("reviewed", "review kiye"),
+        Time => pick!("time", "samay"),
+        AgainRate => pick!("again-rate", "phir-se dar"),
+        NothingDue => pick!(
+            "Nothing due in this deck right now.",
+            "Is deck mein abhi kuch baaki nahi hai."
+        ),
+        Undone => pick!("last rating undone", "pichhli rating wapas li"),
+        NothingToUndo => pick!("nothing to undo", "wapas lene ko kuch nahi"),
+        Saved => pick!("saved", "save hua"),
+        Predict => pick!("Predict, then check", "Pehle andaaza, phir jaanch"),
+        Question => pick!("Question", "Sawaal"),
+        Commit => pick!("commit", "pakka karo"),
+        YourPrediction => pick!("your prediction", "tumhara andaaza"),
+        Measured => pick!("measured", "naapa gaya"),
+        Formula => pick!("formula", "formula"),
+        Right => pick!("Right!", "Sahi!"),
+        Wrong => pick!("Not quite.", "Galat."),
+        Paused => pick!("paused", "ruka hua"),
+        Speed => pick!("speed", "speed"),
+        Method => pick!("method", "method"),
+        Step => pick!("step", "step"),
+        Tolerance => pick!("tol", "tol"),
+        EnergyDrift => pick!("ΔE/E", "ΔE/E"),
+        MomentumDrift => pick!("Δ|L|/|L|", "Δ|L|/|L|"),
+        ErrorVsExact => pick!("err vs exact", "exact se farq"),
+        PerFrame => pick!("µs/frame", "µs/frame"),
+        Running => pick!("running", "chal raha"),
+        Verdict => pick!("Verdict", "Faisla"),
+        NotANumber => pick!("not a number", "number nahi hai"),
+        WrongUnit => pick!("unit should be", "unit hona chahiye"),
+        Stats => pick!("Stats", "Stats"),
+        DueForecast => pick!("Due forecast", "Aane wale din"),
+        ReviewsPerDay => pick!("Reviews per day (30 days)", "Roz ke reviews (30 din)"),
+        Retention => pick!("true retention", "asli yaad"),
+        PromptAccuracy => pick!("prompt accuracy", "prompt sahi"),
+        WorkPrecision => pick!(
+            "Numerics: error against run time",
+            "Numerics: error banaam run time"
+        ),
+        NoBench => pick!(
+            "No bench-out/work_precision.csv yet: run `flipcard bench`.",
+            "bench-out/work_precision.csv abhi nahi hai: `flipcard bench` chalao."
+        ),
+        Today => pick!("today", "aaj"),
+        Tomorrow => pick!("tomorrow", "kal"),
+        Days => pick!("days", "din"),
+        NoPrompts => pick!(
+            "This deck has no prompts.",
+            "Is deck mein koi prompt nahi hai."
+        ),
+        Scene => pick!("scene", "scene"),
+        Omega => pick!("ω₁ ω₂ ω₃ against time", "ω₁ ω₂ ω₃ samay ke saath"),
+        Body => pick!("body", "body"),
+        Polhode => pick!(
+            "polhode on the momentum sphere",
+            "momentum sphere par polhode"
+        ),
+        Diagnostics => pick!("diagnostics", "diagnostics"),
+        Back => pick!("back", "wapas"),
+        Quit => pick!("quit", "band karo"),
+    }
+}
+
+/// The other language of the two.
+pub fn other(lang: &str) -> &'static str {
+    if lang == HINGLISH { ENGLISH } else { HINGLISH }
+}

@@ -1,0 +1,203 @@
+//! The simulation panels, drawn on Braille canvases: ω against time, the
+//! rotating body in perspective, and the polhode on the momentum sphere.
+
+use nalgebra::{UnitQuaternion, Vector3};
+use ratatui::Frame;
+use ratatui::layout::Rect;
+use ratatui::style::{Color, Style};
+use ratatui::symbols::Marker;
+use ratatui::text::{Line as TextLine, Span};
+use ratatui::widgets::canvas::{Canvas, Context, Line, Points};
+use ratatui::widgets::{Block, Borders};
+
+use super::geometry::{self, Camera};
+use super::live::LiveRun;
+use super::theme::Theme;
+
+const AXIS_NAMES: [&str; 3] = ["ω₁", "ω₂", "ω₃"];
+
+fn block<'a>(title: String, theme: &Theme) -> Block<'a> {
+    Block::default()
+        .borders(Borders::ALL)
+        .border_style(theme.border())
+        .title(Span::styled(title, theme.heading()))
+}
+
+/// x half-range that keeps circles round in `area` (cells are about twice
+/// as tall as wide), for a y half-range of `r`.
+fn aspect_x(area: Rect, r: f64) -> f64 {
+    let w = f64::from(area.width.saturating_sub(2).max(1));
+    let h = f64::from(area.height.saturating_sub(2).max(1));
+    r * w / (2.0 * h)
+}
+
+/// ω₁, ω₂, ω₃ against time over the whole scene, drawn up to now.
+pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
+    let m = run.omega_bound().max(f64::MIN_POSITIVE) * 1.1;
+    let d = run.scene.duration;
+    let unit = run.scene.time_unit.clone();
+    let dim = theme.plot(Color::DarkGray);
+    let canvas = Canvas::default()
+        .block(block(title, theme))
+        .marker(Marker::Braille)
+        .x_bounds([0.0, d])
+        .y_bounds([-m, m])
+        .paint(move |ctx: &mut Context| {
+            ctx.draw(&Line::new(0.0, 0.0, d, 0.0, dim));
+            ctx.layer();
+            for (i, name) in AXIS_NAMES.iter().enumerate() {
+                let color = theme.axis(i);
+                for w in run.samples.windows(2) {
+                    ctx.draw(&Line::new(
+                        w[0].t,
+                        w[0].omega[i],
+                        w[1].t,
+                        w[1].omega[i],
+                        color,
+                    ));
+                }
+                ctx.layer();
+                ctx.print(
+                    d * (0.02 + 0.08 * i as f64),
+                    m * 0.9,
+                    TextLine::styled(*name, Style::new().fg(color)),
+                );
+            }
+            ctx.print(0.0, -m, TextLine::styled("0", Style::new().fg(dim)));
+            ctx.print(
+                d * 0.9,
+                -m,
+                TextLine::styled(format!("{d} {unit}"), Style::new().fg(dim)),
+            );
+        });
+    frame.render_widget(canvas, area);
+}
+
+/// The body as a box with matching moments, turned by q(t), in perspective.
+/// Its axes are drawn in the plot colours; the fixed angular momentum L is
+/// the vertical.
+pub fn body(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
+    let half = geometry::box_half_sides(run.scene.inertia);
+    let l_space = run.body.momentum(&run.omega0);
+    let camera = Camera::new(l_space, Vector3::new(1.0, 0.7, 0.4), 0.35, Some(5.0));
+    let q: UnitQuaternion<f64> = run.state.q;
+    let r = 1.45;
+    let xr = aspect_x(area, r);
+    let edge = theme.plot(Color::White);
+    let back = theme.plot(Color::DarkGray);
+    let canvas = Canvas::default()
+        .block(block(title, theme))
+        .marker(Marker::Braille)
+        .x_bounds([-xr, xr])
+        .y_bounds([-r, r])
+        .paint(move |ctx: &mut Context| {
+            // L: fixed in space, drawn as the vertical through the centre.
+            let (_, top, _) = camera.project(&(l_space.normalize() * 1.35));
+            ctx.draw(&Line::new(0.0, 0.0, 0.0, top, back));
+            ctx.print(0.05, top, TextLine::styled("L", Style::new().fg(back)));
+            ctx.layer();
+            let mut edges = geometry::projected_box(half, &q, &camera);
+            // Far edges first, so near ones are drawn over them.
+            edges.sort_by(|a, b| b.2.total_cmp(&a.2));
+            for ((x1, y1), (x2, y2), depth) in edges {
+                let color = if depth > 0.0 { back } else { edge };
+                ctx.draw(&Line::new(x1, y1, x2, y2, color));
+            }
+            ctx.layer();
+            for i in 0..3 {
+                let mut axis = Vector3::zeros();
+                axis[i] = half[i] + 0.25;
+                let (x, y, _) = camera.project(&(q * axis));
+                ctx.draw(&Line::new(0.0, 0.0, x, y, theme.axis(i)));
+                ctx.print(
+                    x,
+                    y,
+                    TextLine::styled(["1", "2", "3"][i], Style::new().fg(theme.axis(i))),
+                );
+            }
+        });
+    frame.render_widget(canvas, area);
+}
+
+/// The path of the body-frame angular momentum L = Iω on the sphere
+/// |L| = const, with the separatrix through the middle axis.
+pub fn polhode(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
+    let radius = run.momentum().max(f64::MIN_POSITIVE);
+    let camera = Camera::new(
+        Vector3::new(0.0, 0.0, 1.0),
+        Vector3::new(1.0, 0.6, 0.0),
+        0.45,
+        None,
+    );
+    let r = 1.25;
+    let xr = aspect_x(area, r);
+    let inertia = run.scene.inertia;
+    let dim = theme.plot(Color::DarkGray);
+    let sep = theme.plot(Color::Yellow);
+    let trail = theme.plot(Color::LightCyan);
+    let now = theme.plot(Color::White);
+    let unit = |v: &Vector3<f64>| v / radius;
+    let path: Vec<Vector3<f64>> = run
+        .samples
+        .iter()
+        .map(|s| unit(&run.body.momentum(&s.omega)))
+        .collect();
+    let current = unit(&run.body.momentum(&run.state.omega));
+    let separatrix = geometry::separatrix(inertia, 1.0, 120);
+    let canvas = Canvas::default()
+        .block(block(title, theme))
+        .marker(Marker::Braille)
+        .x_bounds([-xr, xr])
+        .y_bounds([-r, r])
+        .paint(move |ctx: &mut Context| {
+            // The sphere's outline (an orthographic view: a unit circle).
+            let outline: Vec<(f64, f64)> = (0..=180)
+                .map(|k| {
+                    let th = std::f64::consts::TAU * k as f64 / 180.0;
+                    (th.cos(), th.sin())
+                })
+                .collect();
+            for w in outline.windows(2) {
+                ctx.draw(&Line::new(w[0].0, w[0].1, w[1].0, w[1].1, dim));
+            }
+            // Body axes, labelled by their number.
+            for i in 0..3 {
+                let mut axis = Vector3::zeros();
+                axis[i] = 1.12;
+                let (x, y, _) = camera.project(&axis);
+                ctx.print(
+                    x,
+                    y,
+                    TextLine::styled(["1", "2", "3"][i], Style::new().fg(theme.axis(i))),
+                );
+            }
+            ctx.layer();
+            if let Some(circles) = &separatrix {
+                for circle in circles {
+                    // Front half solid, back half dotted.
+                    for (k, w) in circle.windows(2).enumerate() {
+                        let (a, b) = (camera.project(&w[0]), camera.project(&w[1]));
+                        let front = a.2 <= 0.0;
+                        if front {
+                            ctx.draw(&Line::new(a.0, a.1, b.0, b.1, sep));
+                        } else if k % 2 == 0 {
+                            ctx.draw(&Points {
+                                coords: &[(a.0, a.1)],
+                                color: dim,
+                            });
+                        }
+                    }
+                }
+            }
+            ctx.layer();
+            for w in path.windows(2) {
+                let (a, b) = (camera.project(&w[0]), camera.project(&w[1]));
+                let color = if a.2 <= 0.0 { trail } else { dim };
+                ctx.draw(&Line::new(a.0, a.1, b.0, b.1, color));
+            }
+            ctx.layer();
+            let (x, y, _) = camera.project(&current);
+            ctx.print(x, y, TextLine::styled("●", Style::new().fg(now)));
+        });
+    frame.render_widget(canvas, area);
+}

@@ -1,0 +1,176 @@
+//! The home screen: the decks, with how much is waiting in each.
+
+use chrono::{DateTime, Utc};
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Cell, Paragraph, Row, Table, TableState, Wrap};
+
+use crate::tui::action::Action;
+use crate::tui::app::App;
+use crate::tui::i18n::Msg;
+
+use super::{Nav, Screen};
+
+/// What is waiting in one deck today.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Counts {
+    pub new: usize,
+    pub learning: usize,
+    pub due: usize,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeckRow {
+    pub counts: Option<Counts>,
+    pub last_studied: Option<DateTime<Utc>>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct HomeState {
+    pub selected: usize,
+    pub rows: Vec<DeckRow>,
+}
+
+impl HomeState {
+    pub fn new(app: &App) -> HomeState {
+        let rows = app
+            .decks
+            .iter()
+            .map(|deck| app.services.deck_row(deck))
+            .collect();
+        HomeState { selected: 0, rows }
+    }
+
+    /// Takes fresh counts, keeping the selection.
+    pub fn refresh(&mut self, fresh: HomeState) {
+        self.rows = fresh.rows;
+        self.selected = self.selected.min(self.rows.len().saturating_sub(1));
+    }
+}
+
+pub fn apply(app: &mut App, state: &mut HomeState, action: Action) -> Nav {
+    let n = app.decks.len();
+    let deck = state.selected.min(n.saturating_sub(1));
+    match action {
+        Action::Up => state.selected = state.selected.saturating_sub(1),
+        Action::Down => state.selected = (state.selected + 1).min(n.saturating_sub(1)),
+        Action::Top => state.selected = 0,
+        Action::Bottom => state.selected = n.saturating_sub(1),
+        Action::Back => app.quit = true,
+        _ if n == 0 => {}
+        Action::OpenPrompts => {
+            return Nav::Push(Screen::Prompts(super::prompts::PromptsState::new(deck)));
+        }
+        Action::OpenReader => {
+            return Nav::Push(Screen::Reader(super::reader::ReaderState::new(deck)));
+        }
+        Action::OpenStats => {
+            return Nav::Push(Screen::Stats(Box::new(super::stats::StatsState::open(
+                app, deck,
+            ))));
+        }
+        Action::OpenReview | Action::OpenCram => {
+            match super::review::ReviewState::open(app, deck, action == Action::OpenCram) {
+                Ok(r) => return Nav::Push(Screen::Review(Box::new(r))),
+                Err(e) => app.error(e),
+            }
+        }
+        _ => {}
+    }
+    Nav::Stay
+}
+
+/// "3 h ago", "2 d ago", "never".
+pub fn ago(app: &App, then: Option<DateTime<Utc>>) -> String {
+    let Some(then) = then else {
+        return app.tr(Msg::Never).to_string();
+    };
+    let secs = (app.services.now() - then).num_seconds().max(0);
+    let hi = app.lang == crate::tui::i18n::HINGLISH;
+    let (n, unit) = match secs {
+        s if s < 60 => (s, "s"),
+        s if s < 3600 => (s / 60, "m"),
+        s if s < 86_400 => (s / 3600, "h"),
+        s => (s / 86_400, "d"),
+    };
+    if hi {
+        format!("{n}{unit} pehle")
+    } else {
+        format!("{n}{unit} ago")
+    }
+}
+
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
+    let t = &app.theme;
+    if app.decks.is_empty() {
+        let p = Paragraph::new(app.tr(Msg::NoDecks))
+            .style(t.warn())
+            .wrap(Wrap { trim: true });
+        frame.render_widget(p, area);
+        return;
+    }
+    let [table_area, detail_area] =
+        Layout::vertical([Constraint::Fill(1), Constraint::Length(4)]).areas(area);
+
+    let header = Row::new(vec![
+        Cell::from(app.tr(Msg::Decks)),
+        Cell::from(app.tr(Msg::Due)),
+        Cell::from(app.tr(Msg::Learning)),
+        Cell::from(app.tr(Msg::New)),
+        Cell::from(app.tr(Msg::LastStudied)),
+    ])
+    .style(t.heading());
+    let rows = app.decks.iter().zip(&state.rows).map(|(deck, row)| {
+        let count = |f: fn(&Counts) -> usize| {
+            row.counts
+                .map(|c| f(&c).to_string())
+                .unwrap_or_else(|| "–".into())
+        };
+        Row::new(vec![
+            Cell::from(deck.title.get(&app.lang).to_string()),
+            Cell::from(count(|c| c.due)).style(t.good()),
+            Cell::from(count(|c| c.learning)).style(t.warn()),
+            Cell::from(count(|c| c.new)).style(t.title()),
+            Cell::from(ago(app, row.last_studied)).style(t.dim()),
+        ])
+    });
+    let widths = [
+        Constraint::Fill(1),
+        Constraint::Length(7),
+        Constraint::Length(11),
+        Constraint::Length(6),
+        Constraint::Length(16),
+    ];
+    let table = Table::new(rows, widths)
+        .header(header)
+        .row_highlight_style(t.selected())
+        .highlight_symbol("› ");
+    let mut ts = TableState::default().with_selected(Some(state.selected));
+    frame.render_stateful_widget(table, table_area, &mut ts);
+
+    if let Some(deck) = app.decks.get(state.selected) {
+        let mut lines = vec![Line::from(vec![Span::styled(
+            format!(
+                "{} {} · {} {} · {} {}",
+                deck.cards.len(),
+                app.tr(Msg::Cards),
+                deck.prompts.len(),
+                "prompts",
+                deck.sections.len(),
+                app.tr(Msg::Sections).to_lowercase()
+            ),
+            t.dim(),
+        )])];
+        if let Some(desc) = &deck.description {
+            lines.push(Line::from(crate::text::render(desc.get(&app.lang))));
+        }
+        if app.deck_problems > 0 {
+            lines.push(Line::styled(
+                format!("{} {}", app.deck_problems, app.tr(Msg::DeckProblems)),
+                t.warn(),
+            ));
+        }
+        frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), detail_area);
+    }
+}

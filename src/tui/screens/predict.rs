@@ -1,0 +1,607 @@
+//! Predict, then check: the learner commits to an answer, then the scene's
+//! simulation plays live, then the verdict compares the prediction with
+//! what was measured.
+
+use std::collections::BTreeMap;
+
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Paragraph, Wrap};
+
+use crate::deck::{Answer, Deck, Measure, Panel, Prompt};
+use crate::sim::Method;
+use crate::tui::action::Action;
+use crate::tui::app::App;
+use crate::tui::i18n::Msg;
+use crate::tui::live::{self, LiveRun};
+use crate::tui::plots;
+use crate::tui::wrap::{Run, wrap};
+
+use super::Nav;
+
+/// What the learner committed to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Prediction {
+    /// Index into the prompt's choices.
+    Choice(usize),
+    Number(f64),
+}
+
+/// The outcome, from the scene's measurements.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Verdict {
+    pub measured: BTreeMap<Measure, f64>,
+    /// The choice the measurements make right (choice prompts).
+    pub right_choice: Option<usize>,
+    pub correct: bool,
+}
+
+pub enum Phase {
+    /// Waiting for the commitment: the selected choice or the typed number.
+    Ask {
+        selected: usize,
+        input: String,
+        error: Option<String>,
+    },
+    Play {
+        prediction: Prediction,
+        run: Box<LiveRun>,
+        verdict: Option<Verdict>,
+    },
+}
+
+pub struct PredictState {
+    pub deck: usize,
+    pub prompt: usize,
+    /// A choice prompt (else a number).
+    pub choice: bool,
+    pub phase: Phase,
+}
+
+impl PredictState {
+    pub fn new(app: &App, deck: usize, prompt: usize) -> PredictState {
+        let choice = app
+            .decks
+            .get(deck)
+            .and_then(|d| d.prompts.get(prompt))
+            .is_some_and(|p| matches!(p.answer, Answer::Choice { .. }));
+        PredictState {
+            deck,
+            prompt,
+            choice,
+            phase: Phase::Ask {
+                selected: 0,
+                input: String::new(),
+                error: None,
+            },
+        }
+    }
+
+    pub fn animating(&self) -> bool {
+        matches!(&self.phase, Phase::Play { run, .. } if run.playing())
+    }
+}
+
+fn deck<'a>(app: &'a App, s: &PredictState) -> Option<&'a Deck> {
+    app.decks.get(s.deck)
+}
+
+fn prompt<'a>(app: &'a App, s: &PredictState) -> Option<&'a Prompt> {
+    deck(app, s).and_then(|d| d.prompts.get(s.prompt))
+}
+
+/// Parses "5.77", "5.77 1/s", "-3,2 rad/s": a number and, optionally, the
+/// prompt's unit (spaces and case ignored). A unicode minus is accepted.
+pub fn parse_number(input: &str, unit: &str) -> Result<f64, ParseError> {
+    let text = input.trim().replace('−', "-");
+    let end = text
+        .char_indices()
+        .find(|&(i, c)| {
+            !(c.is_ascii_digit()
+                || c == '.'
+                || c == ','
+                || ((c == '-' || c == '+') && (i == 0 || text[..i].ends_with(['e', 'E'])))
+                || ((c == 'e' || c == 'E')
+                    && text[i + 1..]
+                        .starts_with(|d: char| d.is_ascii_digit() || d == '-' || d == '+')))
+        })
+        .map_or(text.len(), |(i, _)| i);
+    let number = text[..end].replace(',', ".");
+    let value: f64 = number.parse().map_err(|_| ParseError::NotANumber)?;
+    if !value.is_finite() {
+        return Err(ParseError::NotANumber);
+    }
+    let squash = |s: &str| s.split_whitespace().collect::<String>().to_lowercase();
+    let rest = squash(&text[end..]);
+    if rest.is_empty() || rest == squash(unit) {
+        Ok(value)
+    } else {
+        Err(ParseError::WrongUnit)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParseError {
+    NotANumber,
+    WrongUnit,
+}
+
+pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
+    let Some(prompt) = prompt(app, state).cloned() else {
+        return Nav::Pop;
+    };
+    let Some(scene) = deck(app, state)
+        .and_then(|d| d.scene(&prompt.scene))
+        .cloned()
+    else {
+        app.error(format!("scene {} not found", prompt.scene));
+        return Nav::Pop;
+    };
+    match &mut state.phase {
+        Phase::Ask {
+            selected,
+            input,
+            error,
+        } => {
+            let committed = match (&prompt.answer, action) {
+                (_, Action::Back) => return Nav::Pop,
+                (Answer::Choice { choices, .. }, a) => {
+                    let n = choices.len();
+                    match a {
+                        Action::Up => *selected = selected.saturating_sub(1),
+                        Action::Down => *selected = (*selected + 1).min(n.saturating_sub(1)),
+                        Action::Choose(i) if i < n => *selected = i,
+                        Action::Submit if n > 0 => {}
+                        _ => return Nav::Stay,
+                    }
+                    (a == Action::Submit && n > 0)
+                        .then(|| Prediction::Choice((*selected).min(n - 1)))
+                }
+                (Answer::Number { unit, .. }, a) => match a {
+                    Action::Input(c) => {
+                        input.push(c);
+                        *error = None;
+                        None
+                    }
+                    Action::Backspace => {
+                        input.pop();
+                        *error = None;
+                        None
+                    }
+                    Action::Submit => match parse_number(input, unit) {
+                        Ok(v) => Some(Prediction::Number(v)),
+                        Err(ParseError::NotANumber) => {
+                            *error = Some(app.tr(Msg::NotANumber).to_string());
+                            None
+                        }
+                        Err(ParseError::WrongUnit) => {
+                            *error = Some(format!("{} {unit}", app.tr(Msg::WrongUnit)));
+                            None
+                        }
+                    },
+                    _ => None,
+                },
+            };
+            if let Some(p) = committed {
+                return commit_nav(app, state, p, &scene);
+            }
+            Nav::Stay
+        }
+        Phase::Play { verdict, .. } if action == Action::Explain => {
+            if verdict.is_some()
+                && let Some(id) = &prompt.explain
+            {
+                return super::reader::open_at(app, state.deck, id);
+            }
+            Nav::Stay
+        }
+        Phase::Play { run, .. } => {
+            let replace = |run: &mut Box<LiveRun>,
+                           next: Result<LiveRun, crate::sim::SimError>,
+                           app: &mut App| match next {
+                Ok(r) => **run = r,
+                Err(e) => app.error(e.to_string()),
+            };
+            match action {
+                Action::Back => return Nav::Pop,
+                Action::Tick(dt) => run.tick(dt.as_secs_f64()),
+                Action::TogglePause => {
+                    if run.finished() {
+                        let next = run.restart();
+                        replace(run, next, app);
+                    } else {
+                        run.paused = !run.paused;
+                    }
+                }
+                Action::Faster => run.speed = (run.speed * 2.0).min(64.0),
+                Action::Slower => run.speed = (run.speed / 2.0).max(1.0 / 64.0),
+                Action::Restart => {
+                    let next = run.restart();
+                    replace(run, next, app);
+                }
+                Action::NextMethod => {
+                    let next = run.next_method().and_then(|m| run.restart_with(m));
+                    replace(run, next, app);
+                }
+                Action::SmallerStep | Action::LargerStep => {
+                    match run.scaled_method(action == Action::LargerStep) {
+                        Some(m) => {
+                            let next = run.restart_with(m);
+                            replace(run, next, app);
+                        }
+                        None => app.info("exact: no step to change (press m for another method)"),
+                    }
+                }
+                _ => {}
+            }
+            Nav::Stay
+        }
+    }
+}
+
+fn commit_nav(
+    app: &mut App,
+    state: &mut PredictState,
+    prediction: Prediction,
+    scene: &crate::deck::Scene,
+) -> Nav {
+    match LiveRun::new(scene, Some(Method::Exact)) {
+        Ok(run) => {
+            state.phase = Phase::Play {
+                prediction,
+                run: Box::new(run),
+                verdict: None,
+            };
+        }
+        Err(e) => app.error(format!("{}: {e}", scene.id)),
+    }
+    Nav::Stay
+}
+
+/// "flips", "growth_rate" → how the measurement reads in the verdict.
+fn measure_label(m: Measure) -> &'static str {
+    match m {
+        Measure::Flips => "flips",
+        Measure::FlipPeriod => "flip period",
+        Measure::GrowthRate => "growth rate",
+        Measure::EfoldTime => "e-folding time",
+        Measure::OscillationFreq => "oscillation frequency",
+        Measure::PrecessionRate => "precession rate",
+        Measure::PrecessionPeriod => "precession period",
+        Measure::OmegaChange => "largest change of ω",
+        Measure::EnergyDrift => "energy drift",
+        Measure::MomentumDrift => "|L| drift",
+    }
+}
+
+/// A number as the verdict shows it: integers plainly, others with 3
+/// significant digits.
+pub fn fmt_value(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e9 {
+        format!("{v:.0}")
+    } else if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e6) {
+        format!("{v:.2e}")
+    } else {
+        let digits = (2 - v.abs().log10().floor() as i32).max(0) as usize;
+        format!("{v:.digits$}")
+    }
+}
+
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
+    let Some(prompt) = prompt(app, state) else {
+        return;
+    };
+    match &state.phase {
+        Phase::Ask {
+            selected,
+            input,
+            error,
+        } => draw_ask(frame, area, app, prompt, *selected, input, error.as_deref()),
+        Phase::Play {
+            prediction,
+            run,
+            verdict,
+        } => draw_play(frame, area, app, prompt, *prediction, run, verdict.as_ref()),
+    }
+}
+
+fn question_lines(app: &App, prompt: &Prompt, width: usize) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let q = crate::text::render(prompt.question.get(&app.lang));
+    wrap(
+        &[Run::new(q, t.strong())],
+        width,
+        Run::new("", t.text()),
+        Run::new("", t.text()),
+    )
+}
+
+fn draw_ask(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    prompt: &Prompt,
+    selected: usize,
+    input: &str,
+    error: Option<&str>,
+) {
+    let t = &app.theme;
+    let area = area.inner(ratatui::layout::Margin::new(1, 0));
+    let width = area.width as usize;
+    let mut lines = vec![Line::styled(app.tr(Msg::Question), t.heading())];
+    lines.extend(question_lines(app, prompt, width));
+    lines.push(Line::default());
+    match &prompt.answer {
+        Answer::Choice { choices, .. } => {
+            for (i, c) in choices.iter().enumerate() {
+                let label = crate::text::render(c.label.get(&app.lang));
+                let style = if i == selected {
+                    t.selected()
+                } else {
+                    t.text()
+                };
+                let marker = if i == selected { "› " } else { "  " };
+                lines.push(Line::from(vec![
+                    Span::styled(marker, t.key()),
+                    Span::styled(format!("{}. {label}", i + 1), style),
+                ]));
+            }
+        }
+        Answer::Number { unit, .. } => {
+            lines.push(Line::from(vec![
+                Span::styled("> ", t.key()),
+                Span::styled(format!("{input}▏"), t.strong()),
+                Span::styled(format!(" {unit}"), t.dim()),
+            ]));
+            if let Some(e) = error {
+                lines.push(Line::styled(e.to_string(), t.bad()));
+            }
+        }
+    }
+    lines.push(Line::default());
+    let hint = if app.lang == crate::tui::i18n::HINGLISH {
+        "Pehle jawab pakka karo (Enter): simulation uske baad hi chalega."
+    } else {
+        "Commit first (Enter): the simulation runs only after you answer."
+    };
+    lines.extend(wrap(
+        &[Run::new(hint, t.dim())],
+        width,
+        Run::new("", t.dim()),
+        Run::new("", t.dim()),
+    ));
+    frame.render_widget(Paragraph::new(lines), area);
+}
+
+fn prediction_text(app: &App, prompt: &Prompt, p: Prediction) -> String {
+    match (p, &prompt.answer) {
+        (Prediction::Choice(i), Answer::Choice { choices, .. }) => choices
+            .get(i)
+            .map(|c| crate::text::render(c.label.get(&app.lang)))
+            .unwrap_or_default(),
+        (Prediction::Number(v), Answer::Number { unit, .. }) => format!("{} {unit}", fmt_value(v)),
+        _ => String::new(),
+    }
+}
+
+/// Areas for the scene's panels (diagnostics is a text line, not a panel).
+fn panel_areas(area: Rect, panels: &[Panel]) -> Vec<(Panel, Rect)> {
+    let plots: Vec<Panel> = panels
+        .iter()
+        .copied()
+        .filter(|p| *p != Panel::Diagnostics)
+        .collect();
+    let wide = area.width >= area.height * 3;
+    match plots.as_slice() {
+        [] => Vec::new(),
+        [one] => vec![(*one, area)],
+        [a, b] => {
+            let [x, y] = if wide {
+                Layout::horizontal([Constraint::Fill(1); 2]).areas(area)
+            } else {
+                Layout::vertical([Constraint::Fill(1); 2]).areas(area)
+            };
+            vec![(*a, x), (*b, y)]
+        }
+        many => {
+            // ω against time gets a full-width strip; the others share the rest.
+            let (first, rest): (Vec<Panel>, Vec<Panel>) = if many.contains(&Panel::Omega) {
+                (
+                    vec![Panel::Omega],
+                    many.iter()
+                        .copied()
+                        .filter(|p| *p != Panel::Omega)
+                        .collect(),
+                )
+            } else {
+                (Vec::new(), many.to_vec())
+            };
+            let (top, bottom) = if first.is_empty() {
+                (None, area)
+            } else {
+                let [t, b] =
+                    Layout::vertical([Constraint::Percentage(40), Constraint::Fill(1)]).areas(area);
+                (Some(t), b)
+            };
+            let mut out = Vec::new();
+            if let Some(t) = top {
+                out.push((Panel::Omega, t));
+            }
+            let cols = Layout::horizontal(vec![Constraint::Fill(1); rest.len()]).split(bottom);
+            out.extend(rest.into_iter().zip(cols.iter().copied()));
+            out
+        }
+    }
+}
+
+fn draw_play(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    prompt: &Prompt,
+    prediction: Prediction,
+    run: &LiveRun,
+    verdict: Option<&Verdict>,
+) {
+    let t = &app.theme;
+    let diag = run.scene.shows(Panel::Diagnostics);
+    let verdict_h = if verdict.is_some() { 5 } else { 0 };
+    let [top, panels, status, diag_area, verdict_area] = Layout::vertical([
+        Constraint::Length(2),
+        Constraint::Fill(1),
+        Constraint::Length(1),
+        Constraint::Length(u16::from(diag)),
+        Constraint::Length(verdict_h),
+    ])
+    .areas(area);
+
+    let q = crate::text::render(prompt.question.get(&app.lang));
+    frame.render_widget(
+        Paragraph::new(vec![
+            Line::styled(q, t.strong()),
+            Line::from(vec![
+                Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
+                Span::styled(prediction_text(app, prompt, prediction), t.heading()),
+            ]),
+        ]),
+        top,
+    );
+
+    for (panel, rect) in panel_areas(panels, &run.scene.show) {
+        match panel {
+            Panel::Omega => plots::omega(frame, rect, run, format!(" {} ", app.tr(Msg::Omega)), t),
+            Panel::Body => plots::body(frame, rect, run, format!(" {} ", app.tr(Msg::Body)), t),
+            Panel::Polhode => {
+                plots::polhode(frame, rect, run, format!(" {} ", app.tr(Msg::Polhode)), t)
+            }
+            Panel::Diagnostics => {}
+        }
+    }
+
+    let mut s = vec![
+        Span::styled(
+            format!(
+                " t = {:.2} / {} {}",
+                run.t, run.scene.duration, run.scene.time_unit
+            ),
+            t.strong(),
+        ),
+        Span::styled(
+            format!(" · {} ×{}", app.tr(Msg::Speed), fmt_speed(run.speed)),
+            t.dim(),
+        ),
+        Span::styled(format!(" · {}", live::describe(&run.method)), t.dim()),
+    ];
+    if run.paused {
+        s.push(Span::styled(
+            format!(" · {}", app.tr(Msg::Paused)),
+            t.warn(),
+        ));
+    }
+    if let Some(e) = &run.error {
+        s.push(Span::styled(format!(" · {e}"), t.bad()));
+    }
+    frame.render_widget(Paragraph::new(Line::from(s)), status);
+
+    if diag {
+        let d = &run.drift;
+        let err = d.error.map_or("—".to_string(), |e| format!("{e:.1e}"));
+        let line = format!(
+            " {} · {} {:.1e} · {} {:.1e} · {} {} · {} µs phys + {} µs draw",
+            live::describe(&run.method),
+            app.tr(Msg::EnergyDrift),
+            d.energy,
+            app.tr(Msg::MomentumDrift),
+            d.momentum,
+            app.tr(Msg::ErrorVsExact),
+            err,
+            app.frame_us.physics,
+            app.frame_us.draw,
+        );
+        frame.render_widget(Paragraph::new(Span::styled(line, t.dim())), diag_area);
+    }
+
+    if let Some(v) = verdict {
+        draw_verdict(frame, verdict_area, app, prompt, prediction, v);
+    }
+}
+
+fn fmt_speed(speed: f64) -> String {
+    if speed >= 1.0 {
+        format!("{speed:.0}")
+    } else {
+        format!("1/{:.0}", 1.0 / speed)
+    }
+}
+
+fn draw_verdict(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    prompt: &Prompt,
+    prediction: Prediction,
+    v: &Verdict,
+) {
+    let t = &app.theme;
+    let (headline, style) = if v.correct {
+        (app.tr(Msg::Right), t.good())
+    } else {
+        (app.tr(Msg::Wrong), t.bad())
+    };
+    let mut lines = vec![Line::from(vec![
+        Span::styled(format!(" {}: ", app.tr(Msg::Verdict)), t.heading()),
+        Span::styled(headline, style),
+        Span::styled(
+            format!(
+                "  {}: {}",
+                app.tr(Msg::YourPrediction),
+                prediction_text(app, prompt, prediction)
+            ),
+            t.text(),
+        ),
+    ])];
+    let measured: Vec<String> = v
+        .measured
+        .iter()
+        .map(|(m, x)| format!("{} = {}", measure_label(*m), fmt_value(*x)))
+        .collect();
+    lines.push(Line::from(vec![
+        Span::styled(format!(" {}: ", app.tr(Msg::Measured)), t.dim()),
+        Span::raw(measured.join(", ")),
+    ]));
+    match &prompt.answer {
+        Answer::Number {
+            expected,
+            formula,
+            unit,
+            ..
+        } => {
+            let f = formula
+                .as_ref()
+                .map(|f| format!("{} = ", crate::text::render(f.get(&app.lang))))
+                .unwrap_or_default();
+            lines.push(Line::from(vec![
+                Span::styled(format!(" {}: ", app.tr(Msg::Formula)), t.dim()),
+                Span::raw(format!("{f}{} {unit}", fmt_value(*expected))),
+            ]));
+        }
+        Answer::Choice { choices, .. } => {
+            if let Some(c) = v.right_choice.and_then(|i| choices.get(i)) {
+                lines.push(Line::from(vec![
+                    Span::styled(format!(" {}: ", app.tr(Msg::Accepted)), t.dim()),
+                    Span::raw(crate::text::render(c.label.get(&app.lang))),
+                ]));
+            }
+        }
+    }
+    if prompt.explain.is_some() {
+        lines.push(Line::from(vec![
+            Span::styled(" e ", t.key()),
+            Span::styled(app.tr(Msg::Explanation), t.dim()),
+            Span::styled("   r ", t.key()),
+            Span::styled("restart", t.dim()),
+        ]));
+    }
+    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
+}

@@ -1,0 +1,101 @@
+//! The list of a deck's predict-then-check prompts.
+
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{List, ListItem, ListState, Paragraph, Wrap};
+
+use crate::tui::action::Action;
+use crate::tui::app::App;
+use crate::tui::i18n::Msg;
+
+use super::Nav;
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct PromptsState {
+    pub deck: usize,
+    pub selected: usize,
+}
+
+impl PromptsState {
+    pub fn new(deck: usize) -> PromptsState {
+        PromptsState { deck, selected: 0 }
+    }
+}
+
+pub fn apply(app: &mut App, state: &mut PromptsState, action: Action) -> Nav {
+    let n = app.decks.get(state.deck).map_or(0, |d| d.prompts.len());
+    match action {
+        Action::Up => state.selected = state.selected.saturating_sub(1),
+        Action::Down => state.selected = (state.selected + 1).min(n.saturating_sub(1)),
+        Action::Top => state.selected = 0,
+        Action::Bottom => state.selected = n.saturating_sub(1),
+        Action::Back => return Nav::Pop,
+        Action::Open if n > 0 => {
+            let p = super::predict::PredictState::new(app, state.deck, state.selected.min(n - 1));
+            return Nav::Push(super::Screen::Predict(Box::new(p)));
+        }
+        _ => {}
+    }
+    Nav::Stay
+}
+
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
+    let t = &app.theme;
+    let Some(deck) = app.decks.get(state.deck) else {
+        return;
+    };
+    if deck.prompts.is_empty() {
+        frame.render_widget(
+            Paragraph::new(app.tr(Msg::NoPrompts)).wrap(Wrap { trim: true }),
+            area,
+        );
+        return;
+    }
+    let [list_area, detail] =
+        Layout::vertical([Constraint::Fill(1), Constraint::Length(5)]).areas(area);
+    let items = deck.prompts.iter().enumerate().map(|(i, p)| {
+        let question = crate::text::render(p.question.get(&app.lang));
+        let first = question.lines().next().unwrap_or("").to_string();
+        ListItem::new(Line::from(vec![
+            Span::styled(format!("{:>2}. ", i + 1), t.dim()),
+            Span::raw(first),
+        ]))
+    });
+    let list = List::new(items)
+        .highlight_style(t.selected())
+        .highlight_symbol("› ");
+    let mut ls = ListState::default().with_selected(Some(state.selected));
+    frame.render_stateful_widget(list, list_area, &mut ls);
+
+    if let Some(p) = deck.prompts.get(state.selected) {
+        let scene = deck.scene(&p.scene);
+        let mut lines = vec![Line::from(vec![
+            Span::styled(format!("{}: ", app.tr(Msg::Scene)), t.dim()),
+            Span::styled(
+                scene
+                    .and_then(|s| s.title.as_ref())
+                    .map(|title| title.get(&app.lang).to_string())
+                    .unwrap_or_else(|| p.scene.clone()),
+                t.heading(),
+            ),
+        ])];
+        if let Some(s) = scene {
+            lines.push(Line::styled(
+                format!(
+                    "I = ({}, {}, {})  ω₀ = ({}, {}, {})  {} {}",
+                    s.inertia[0],
+                    s.inertia[1],
+                    s.inertia[2],
+                    s.omega[0],
+                    s.omega[1],
+                    s.omega[2],
+                    s.duration,
+                    s.time_unit
+                ),
+                t.dim(),
+            ));
+        }
+        frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), detail);
+    }
+}

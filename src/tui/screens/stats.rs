@@ -1,0 +1,291 @@
+//! Statistics: due forecast, reviews per day, true retention, prompt
+//! accuracy, and the numerics report (the bench's work–precision table).
+
+use std::path::Path;
+
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{
+    Bar, BarChart, BarGroup, Block, Borders, Paragraph, Row, Sparkline, Table, Wrap,
+};
+
+use crate::store::{DayGrid, Stats, StatsScope};
+use crate::tui::action::Action;
+use crate::tui::app::App;
+use crate::tui::i18n::Msg;
+use crate::tui::services::DayZone;
+
+use super::Nav;
+
+/// The most accurate run of one method on one problem of the bench.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BenchRow {
+    pub case: String,
+    pub method: String,
+    pub setting: String,
+    pub wall_s: f64,
+    pub err_omega: f64,
+    pub err_energy: f64,
+}
+
+pub struct StatsState {
+    pub deck: usize,
+    pub stats: Result<Stats, String>,
+    pub bench: Option<Vec<BenchRow>>,
+}
+
+impl StatsState {
+    /// Reads everything the screen shows (drawing does no I/O).
+    pub fn open(app: &App, deck: usize) -> StatsState {
+        let stats = match app.decks.get(deck) {
+            Some(d) => {
+                let items = crate::sched::deck_items(d);
+                let scope = StatsScope {
+                    deck: Some(&d.id),
+                    items: &items,
+                };
+                let s = &app.services;
+                let starts = s.config.day_starts_at;
+                let now = s.now();
+                let r = match s.zone {
+                    DayZone::Local => {
+                        s.store
+                            .stats(scope, now, &DayGrid::new(chrono::Local, starts))
+                    }
+                    DayZone::Utc => s
+                        .store
+                        .stats(scope, now, &DayGrid::new(chrono::Utc, starts)),
+                };
+                r.map_err(|e| e.to_string())
+            }
+            None => Err("no such deck".into()),
+        };
+        let bench = app.services.bench_csv.as_deref().and_then(read_bench);
+        StatsState { deck, stats, bench }
+    }
+}
+
+/// The bench CSV reduced to the most accurate run per (case, method), in
+/// file order. `None` when the file is missing or unreadable.
+pub fn read_bench(path: &Path) -> Option<Vec<BenchRow>> {
+    let mut reader = csv::Reader::from_path(path).ok()?;
+    let headers = reader.headers().ok()?.clone();
+    let col = |name: &str| headers.iter().position(|h| h == name);
+    let (c, m, s, w, e, en) = (
+        col("case")?,
+        col("method")?,
+        col("setting")?,
+        col("wall_s")?,
+        col("err_omega")?,
+        col("err_energy")?,
+    );
+    let mut rows: Vec<BenchRow> = Vec::new();
+    for record in reader.records().flatten() {
+        let num = |i: usize| record.get(i).and_then(|v| v.parse::<f64>().ok());
+        let (Some(wall_s), Some(err_omega)) = (num(w), num(e)) else {
+            continue;
+        };
+        let row = BenchRow {
+            case: record.get(c).unwrap_or("").to_string(),
+            method: record.get(m).unwrap_or("").to_string(),
+            setting: record.get(s).unwrap_or("").to_string(),
+            wall_s,
+            err_omega,
+            err_energy: num(en).unwrap_or(f64::NAN),
+        };
+        match rows
+            .iter_mut()
+            .find(|r| r.case == row.case && r.method == row.method)
+        {
+            Some(best) if row.err_omega < best.err_omega => *best = row,
+            Some(_) => {}
+            None => rows.push(row),
+        }
+    }
+    Some(rows)
+}
+
+pub fn apply(_app: &mut App, _state: &mut StatsState, action: Action) -> Nav {
+    match action {
+        Action::Back => Nav::Pop,
+        _ => Nav::Stay,
+    }
+}
+
+fn pct(rate: Option<f64>) -> String {
+    rate.map_or("—".into(), |r| format!("{:.0}%", 100.0 * r))
+}
+
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
+    let t = &app.theme;
+    let stats = match &state.stats {
+        Ok(s) => s,
+        Err(e) => {
+            frame.render_widget(
+                Paragraph::new(e.clone())
+                    .style(t.bad())
+                    .wrap(Wrap { trim: true }),
+                area,
+            );
+            return;
+        }
+    };
+    let bench_h = state
+        .bench
+        .as_ref()
+        .map_or(2, |rows| (rows.len() as u16 + 3).min(14));
+    let [summary, charts, bench] = Layout::vertical([
+        Constraint::Length(3),
+        Constraint::Fill(1),
+        Constraint::Length(bench_h),
+    ])
+    .areas(area);
+
+    let c = &stats.cards;
+    let hi = app.lang == crate::tui::i18n::HINGLISH;
+    let states = if hi {
+        format!(
+            " {} cards: {} naye · {} seekh rahe · {} review · {} dobara seekh rahe",
+            c.total, c.new, c.learning, c.review, c.relearning
+        )
+    } else {
+        format!(
+            " {} cards: {} new · {} learning · {} review · {} relearning",
+            c.total, c.new, c.learning, c.review, c.relearning
+        )
+    };
+    let p = &stats.prompts.overall;
+    let lines = vec![
+        Line::styled(states, t.text()),
+        Line::from(vec![
+            Span::styled(format!(" {}: ", app.tr(Msg::Retention)), t.dim()),
+            Span::styled(pct(stats.retention.last_30_days.rate), t.good()),
+            Span::styled(
+                format!(
+                    " (30 {}, {} {}) · {} {}",
+                    app.tr(Msg::Days),
+                    stats.retention.last_30_days.total,
+                    app.tr(Msg::Reviewed),
+                    pct(stats.retention.all_time.rate),
+                    if hi { "hamesha" } else { "all time" }
+                ),
+                t.dim(),
+            ),
+        ]),
+        Line::from(vec![
+            Span::styled(format!(" {}: ", app.tr(Msg::PromptAccuracy)), t.dim()),
+            Span::styled(pct(p.rate), t.good()),
+            Span::styled(format!(" ({}/{})", p.passed, p.total), t.dim()),
+            Span::styled(
+                format!(
+                    " · {} {} · {} {}",
+                    app.tr(Msg::Today),
+                    stats.due.today,
+                    app.tr(Msg::Tomorrow),
+                    stats.due.tomorrow
+                ),
+                t.dim(),
+            ),
+        ]),
+    ];
+    frame.render_widget(Paragraph::new(lines), summary);
+
+    let [forecast, per_day] =
+        Layout::horizontal([Constraint::Fill(1), Constraint::Fill(1)]).areas(charts);
+    // As many days as fit, three columns per bar.
+    let fit = (forecast.width.saturating_sub(2) / 3).max(1) as usize;
+    let bars: Vec<Bar> = stats
+        .due
+        .per_day
+        .iter()
+        .take(fit)
+        .enumerate()
+        .map(|(i, d)| {
+            Bar::default()
+                .value(u64::from(d.due))
+                .label(Line::from(format!("{i}")))
+                .style(t.good())
+        })
+        .collect();
+    let chart = BarChart::default()
+        .block(
+            Block::default()
+                .borders(Borders::ALL)
+                .border_style(t.border())
+                .title(Span::styled(
+                    format!(" {} ", app.tr(Msg::DueForecast)),
+                    t.heading(),
+                )),
+        )
+        .data(BarGroup::default().bars(&bars))
+        .bar_width(2)
+        .bar_gap(1);
+    frame.render_widget(chart, forecast);
+
+    let counts: Vec<u64> = stats
+        .reviews_per_day
+        .iter()
+        .map(|d| u64::from(d.total))
+        .collect();
+    let total: u64 = counts.iter().sum();
+    let spark = Sparkline::default()
+        .block(
+            Block::default()
+                .borders(Borders::ALL)
+                .border_style(t.border())
+                .title(Span::styled(
+                    format!(" {} ", app.tr(Msg::ReviewsPerDay)),
+                    t.heading(),
+                ))
+                .title_bottom(Span::styled(format!(" Σ {total} "), t.dim())),
+        )
+        .data(&counts)
+        .style(t.warn());
+    frame.render_widget(spark, per_day);
+
+    draw_bench(frame, bench, app, state.bench.as_deref());
+}
+
+fn draw_bench(frame: &mut Frame, area: Rect, app: &App, rows: Option<&[BenchRow]>) {
+    let t = &app.theme;
+    let block = Block::default()
+        .borders(Borders::TOP)
+        .border_style(t.border())
+        .title(Span::styled(
+            format!(" {} ", app.tr(Msg::WorkPrecision)),
+            t.heading(),
+        ));
+    let Some(rows) = rows else {
+        frame.render_widget(
+            Paragraph::new(Span::styled(app.tr(Msg::NoBench), t.dim())).block(block),
+            area,
+        );
+        return;
+    };
+    let header = Row::new(["case", "method", "setting", "wall", "err ω", "err E"]).style(t.dim());
+    let body = rows.iter().map(|r| {
+        Row::new([
+            r.case.clone(),
+            r.method.clone(),
+            r.setting.clone(),
+            format!("{:.2} ms", r.wall_s * 1e3),
+            format!("{:.1e}", r.err_omega),
+            format!("{:.1e}", r.err_energy),
+        ])
+    });
+    let table = Table::new(
+        body,
+        [
+            Constraint::Fill(2),
+            Constraint::Length(10),
+            Constraint::Length(12),
+            Constraint::Length(11),
+            Constraint::Length(8),
+            Constraint::Length(8),
+        ],
+    )
+    .header(header)
+    .block(block);
+    frame.render_widget(table, area);
+}

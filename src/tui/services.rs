@@ -1,0 +1,176 @@
+//! The domain services the screens call: the clock, the learner's config,
+//! the scheduler and the review store.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use chrono::{DateTime, Utc};
+
+use crate::deck::Deck;
+use crate::sched::{CardState, Config, ItemKey, Queue, Scheduler};
+use crate::store::{PromptAttempt, Store, StoreError};
+
+use super::screens::home::{Counts, DeckRow};
+
+/// Where "now" comes from: the system clock, or a fixed time
+/// (`FLIPCARD_NOW`, tests).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Clock {
+    System,
+    Fixed(DateTime<Utc>),
+}
+
+impl Clock {
+    /// The clock the environment asks for (`FLIPCARD_NOW` fixes it).
+    pub fn from_env() -> Result<Clock, crate::clock::ClockError> {
+        if std::env::var_os(crate::clock::NOW_VAR).is_some() {
+            crate::clock::now().map(Clock::Fixed)
+        } else {
+            Ok(Clock::System)
+        }
+    }
+
+    pub fn now(&self) -> DateTime<Utc> {
+        match self {
+            Clock::System => Utc::now(),
+            Clock::Fixed(t) => *t,
+        }
+    }
+}
+
+/// How long the learner took: real elapsed time, or always zero (tests,
+/// so that snapshots do not depend on how fast the machine is).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stopwatch {
+    Real,
+    Frozen,
+}
+
+/// A moment on the stopwatch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Stamp(Option<Instant>);
+
+impl Stopwatch {
+    pub fn stamp(&self) -> Stamp {
+        match self {
+            Stopwatch::Real => Stamp(Some(Instant::now())),
+            Stopwatch::Frozen => Stamp(None),
+        }
+    }
+
+    pub fn elapsed_ms(&self, since: Stamp) -> i64 {
+        since.0.map_or(0, |t| {
+            i64::try_from(t.elapsed().as_millis()).unwrap_or(i64::MAX)
+        })
+    }
+}
+
+/// Which time zone the study day's boundary (04:00 by default) is read in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DayZone {
+    Local,
+    /// For tests: the same day boundary on every machine.
+    Utc,
+}
+
+pub struct Services {
+    pub clock: Clock,
+    pub stopwatch: Stopwatch,
+    pub config: Config,
+    /// Where the language choice is saved (`None`: nowhere to save).
+    pub config_path: Option<PathBuf>,
+    pub scheduler: Scheduler,
+    pub zone: DayZone,
+    pub store: Store,
+    /// The work–precision table of `flipcard bench`, if one was written.
+    pub bench_csv: Option<PathBuf>,
+}
+
+impl Services {
+    pub fn new(
+        clock: Clock,
+        config: Config,
+        config_path: Option<PathBuf>,
+        zone: DayZone,
+        store: Store,
+    ) -> Services {
+        let scheduler = Scheduler::new(&config);
+        Services {
+            clock,
+            stopwatch: Stopwatch::Real,
+            config,
+            config_path,
+            scheduler,
+            zone,
+            store,
+            bench_csv: None,
+        }
+    }
+
+    pub fn now(&self) -> DateTime<Utc> {
+        self.clock.now()
+    }
+
+    /// The study day containing `now`: (start, end).
+    pub fn study_day(&self, now: DateTime<Utc>) -> (DateTime<Utc>, DateTime<Utc>) {
+        let starts = self.config.day_starts_at;
+        match self.zone {
+            DayZone::Local => crate::sched::study_day(now, starts, &chrono::Local),
+            DayZone::Utc => crate::sched::study_day(now, starts, &Utc),
+        }
+    }
+
+    /// The day's queue of a deck, and the item states it was built from.
+    pub fn queue(
+        &self,
+        deck: &Deck,
+        now: DateTime<Utc>,
+    ) -> Result<(Queue, HashMap<ItemKey, CardState>), StoreError> {
+        let states = self.store.states(&deck.id)?;
+        let (day_start, _) = self.study_day(now);
+        let done = self.store.reviews_today(&deck.id, day_start)?;
+        let items = crate::sched::deck_items(deck);
+        let queue = match self.zone {
+            DayZone::Local => {
+                Queue::build(&items, &states, done, now, &self.config, &chrono::Local)
+            }
+            DayZone::Utc => Queue::build(&items, &states, done, now, &self.config, &Utc),
+        };
+        Ok((queue, states))
+    }
+
+    /// Today's counts and the last study time of a deck (blank when the
+    /// store cannot say).
+    pub fn deck_row(&self, deck: &Deck) -> DeckRow {
+        let now = self.now();
+        let counts = self.queue(deck, now).ok().map(|(q, _)| {
+            let c = q.counts();
+            Counts {
+                new: c.new,
+                learning: c.learning,
+                due: c.due,
+            }
+        });
+        DeckRow {
+            counts,
+            last_studied: self.store.last_studied(&deck.id).ok().flatten(),
+        }
+    }
+
+    /// Remembers the language for the next run.
+    pub fn save_language(&mut self, lang: &str) -> Result<(), String> {
+        self.config.language = lang.to_string();
+        match &self.config_path {
+            Some(path) => self
+                .config
+                .save_key(path, "language")
+                .map_err(|e| e.to_string()),
+            None => Ok(()),
+        }
+    }
+
+    pub fn record_attempt(&mut self, attempt: &PromptAttempt) -> Result<i64, StoreError> {
+        self.store.record_attempt(attempt)
+    }
+}

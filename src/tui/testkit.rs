@@ -1,0 +1,263 @@
+//! Fixtures for the terminal tests: a small bilingual deck, a fixed clock,
+//! and rendering to a test backend.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use chrono::{DateTime, Utc};
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+
+use crate::deck::{
+    Answer, Card, CardKind, Choice, Cmp, Condition, Deck, Measure, Panel, Prompt, Scene, Section,
+    Text, Tolerance,
+};
+
+use super::app::App;
+use std::ops::{Deref, DerefMut};
+
+use tempfile::TempDir;
+
+use super::services::{Clock, DayZone, Services, Stopwatch};
+use super::theme::Theme;
+use super::view;
+use crate::sched::Config;
+use crate::store::Store;
+
+pub fn now() -> DateTime<Utc> {
+    DateTime::parse_from_rfc3339("2026-03-02T09:00:00Z")
+        .map(|t| t.with_timezone(&Utc))
+        .unwrap_or_default()
+}
+
+fn text(en: &str, hi: &str) -> Text {
+    let mut m = BTreeMap::new();
+    m.insert("en".to_string(), en.to_string());
+    m.insert("hi-Latn".to_string(), hi.to_string());
+    Text(m)
+}
+
+pub fn deck() -> Deck {
+    Deck {
+        id: "torque-free".into(),
+        title: text("Torque-free rotation", "Torque-free rotation (Hinglish)"),
+        description: Some(text(
+            "Euler's equations and the tennis-racket theorem.",
+            "Euler ke equations aur tennis-racket theorem.",
+        )),
+        languages: vec!["en".into(), "hi-Latn".into()],
+        cards: vec![
+            Card {
+                id: "body-frame-why".into(),
+                kind: CardKind::Basic,
+                front: text(
+                    "Why use the body frame for rotation?",
+                    "Rotation ke liye body frame kyun?",
+                ),
+                back: text(
+                    "There the inertia tensor $\\mathbf I = \\mathrm{diag}(I_1, I_2, I_3)$ is constant.",
+                    "Wahan inertia tensor $\\mathbf I = \\mathrm{diag}(I_1, I_2, I_3)$ constant rehta hai.",
+                ),
+                accept: vec![],
+                explain: Some("setup".into()),
+                prompt: None,
+                tags: vec!["frames".into()],
+            },
+            Card {
+                id: "euler-1".into(),
+                kind: CardKind::Reversed,
+                front: text(
+                    "Euler's equation for component 1 (torque-free)",
+                    "Component 1 ka Euler equation (torque-free)",
+                ),
+                back: text(
+                    "$I_1 \\dot\\omega_1 = (I_2 - I_3)\\,\\omega_2 \\omega_3$",
+                    "$I_1 \\dot\\omega_1 = (I_2 - I_3)\\,\\omega_2 \\omega_3$",
+                ),
+                accept: vec![],
+                explain: Some("euler".into()),
+                prompt: None,
+                tags: vec![],
+            },
+            Card {
+                id: "unstable-axis".into(),
+                kind: CardKind::Typed,
+                front: text(
+                    "Which principal axis is unstable: smallest, middle or largest?",
+                    "Kaunsa principal axis unstable hai: smallest, middle ya largest?",
+                ),
+                back: text("The middle one.", "Beech wala (middle)."),
+                accept: vec!["middle".into(), "intermediate".into()],
+                explain: Some("stability".into()),
+                prompt: Some("middle-axis".into()),
+                tags: vec![],
+            },
+        ],
+        prompts: vec![
+            Prompt {
+                id: "middle-axis".into(),
+                question: text(
+                    "A racket spins about its middle axis with a tiny wobble. Stable, or does it flip?",
+                    "Racket apne middle axis par thode wobble ke saath ghoomta hai. Stable, ya flip karega?",
+                ),
+                scene: "tennis-racket".into(),
+                explain: Some("stability".into()),
+                answer: Answer::Choice {
+                    choices: vec![
+                        Choice {
+                            id: "stable".into(),
+                            label: text("It stays stable", "Stable rahega"),
+                            when: Condition {
+                                measure: Measure::Flips,
+                                op: Cmp::Eq,
+                                value: 0.0,
+                            },
+                        },
+                        Choice {
+                            id: "flips".into(),
+                            label: text("It flips over and over", "Baar baar flip karega"),
+                            when: Condition {
+                                measure: Measure::Flips,
+                                op: Cmp::Gt,
+                                value: 0.0,
+                            },
+                        },
+                    ],
+                    expected: "flips".into(),
+                },
+                tags: vec![],
+            },
+            Prompt {
+                id: "growth".into(),
+                question: text(
+                    "How fast does the wobble grow at first (per second)?",
+                    "Shuru mein wobble kitni tezi se badhta hai (per second)?",
+                ),
+                scene: "tennis-racket".into(),
+                explain: Some("stability".into()),
+                answer: Answer::Number {
+                    measure: Measure::GrowthRate,
+                    unit: "1/s".into(),
+                    expected: 5.0,
+                    tolerance: Tolerance::Rel(0.15),
+                    formula: Some(text(
+                        "$\\sqrt{k} = \\Omega\\sqrt{(I_2-I_1)(I_3-I_2)/(I_1 I_3)}$",
+                        "$\\sqrt{k} = \\Omega\\sqrt{(I_2-I_1)(I_3-I_2)/(I_1 I_3)}$",
+                    )),
+                },
+                tags: vec![],
+            },
+        ],
+        scenes: vec![Scene {
+            id: "tennis-racket".into(),
+            title: Some(text("Tennis racket", "Tennis racket")),
+            inertia: [1.0, 2.0, 3.0],
+            omega: [0.01, 10.0, 0.01],
+            duration: 5.0,
+            show: vec![
+                Panel::Omega,
+                Panel::Body,
+                Panel::Polhode,
+                Panel::Diagnostics,
+            ],
+            time_unit: "s".into(),
+        }],
+        sections: vec![
+            Section {
+                id: "setup".into(),
+                title: text("Setup: why the body frame", "Setup: body frame kyun"),
+                body: text(
+                    "In the lab frame $\\mathbf I$ changes every instant because the body re-orients. \
+                     In the *body* frame along the principal axes it is **constant**.\n\n\
+                     - the price: the frame rotates\n- time derivatives get an extra term\n\n\
+                     $$\\left(\\frac{d\\vec L}{dt}\\right)_{\\text{space}} = \\vec N$$",
+                    "Lab frame mein $\\mathbf I$ har pal badalta hai kyunki body re-orient hoti hai. \
+                     *Body* frame mein principal axes ke saath yeh **constant** hai.\n\n\
+                     - price: frame khud rotate karta hai\n- time derivatives mein extra term aata hai\n\n\
+                     $$\\left(\\frac{d\\vec L}{dt}\\right)_{\\text{space}} = \\vec N$$",
+                ),
+                see: vec!["euler".into(), "stability".into()],
+            },
+            Section {
+                id: "euler".into(),
+                title: text("Euler's equations", "Euler ke equations"),
+                body: text(
+                    "Apply the transport theorem to $\\vec L$ and set $\\vec N = 0$: \
+                     $I_1\\dot\\omega_1 = (I_2 - I_3)\\omega_2\\omega_3$ and cyclic.",
+                    "$\\vec L$ par transport theorem lagao aur $\\vec N = 0$ rakho: \
+                     $I_1\\dot\\omega_1 = (I_2 - I_3)\\omega_2\\omega_3$ aur cyclic.",
+                ),
+                see: vec!["stability".into()],
+            },
+            Section {
+                id: "stability".into(),
+                title: text("The tennis-racket theorem", "Tennis-racket theorem"),
+                body: text(
+                    "Spin about the largest or smallest axis is stable; about the middle axis a \
+                     tiny wobble grows like $e^{\\sqrt{k} t}$ and the body flips.",
+                    "Sabse bade ya sabse chhote axis par spin stable hai; middle axis par chhota \
+                     wobble $e^{\\sqrt{k} t}$ ki tarah badhta hai aur body flip karti hai.",
+                ),
+                see: vec!["setup".into()],
+            },
+        ],
+        path: PathBuf::from("tests/decks/valid/torque-free.toml"),
+    }
+}
+
+/// An app on the fixture deck with a fresh review store in a temporary
+/// data dir (removed when this is dropped), a fixed clock and no colours.
+pub struct TestApp {
+    pub app: App,
+    pub dir: TempDir,
+}
+
+impl Deref for TestApp {
+    type Target = App;
+    fn deref(&self) -> &App {
+        &self.app
+    }
+}
+
+impl DerefMut for TestApp {
+    fn deref_mut(&mut self) -> &mut App {
+        &mut self.app
+    }
+}
+
+pub fn services(dir: &TempDir) -> Services {
+    let config = Config {
+        fuzz: false,
+        ..Config::default()
+    };
+    let store = match Store::open(dir.path()) {
+        Ok(s) => s,
+        Err(e) => panic!("store in {}: {e}", dir.path().display()),
+    };
+    let mut s = Services::new(Clock::Fixed(now()), config, None, DayZone::Utc, store);
+    s.stopwatch = Stopwatch::Frozen;
+    s
+}
+
+pub fn app(lang: &str) -> TestApp {
+    let dir = match tempfile::tempdir() {
+        Ok(d) => d,
+        Err(e) => panic!("temp dir: {e}"),
+    };
+    let mut app = App::new(vec![deck()], services(&dir), lang, Theme::PLAIN);
+    app.size = (80, 24);
+    TestApp { app, dir }
+}
+
+/// The frame as text, at the app's size.
+pub fn render(app: &App) -> String {
+    let (w, h) = app.size;
+    let mut terminal = match Terminal::new(TestBackend::new(w, h)) {
+        Ok(t) => t,
+        Err(e) => panic!("test backend: {e}"),
+    };
+    if let Err(e) = terminal.draw(|f| view::draw(f, app)) {
+        panic!("draw: {e}");
+    }
+    terminal.backend().to_string()
+}

@@ -1,0 +1,188 @@
+//! The home screen, help overlay, language toggle and small terminals.
+
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+
+use super::{key, press};
+use crate::tui::action::Action;
+use crate::tui::i18n::{ENGLISH, HINGLISH};
+use crate::tui::keymap::{self, Context};
+use crate::tui::screens::Screen;
+use crate::tui::testkit::{self, render};
+use crate::tui::update::apply;
+
+#[test]
+fn home_keys() {
+    let app = testkit::app(ENGLISH);
+    assert_eq!(app.context(), Context::Home);
+    let cases = [
+        (KeyCode::Enter, Action::OpenReview),
+        (KeyCode::Char('c'), Action::OpenCram),
+        (KeyCode::Char('r'), Action::OpenReader),
+        (KeyCode::Char('p'), Action::OpenPrompts),
+        (KeyCode::Char('t'), Action::OpenStats),
+        (KeyCode::Char('l'), Action::ToggleLanguage),
+        (KeyCode::Char('?'), Action::ToggleHelp),
+        (KeyCode::Char('q'), Action::Quit),
+        (KeyCode::Char('j'), Action::Down),
+        (KeyCode::Up, Action::Up),
+    ];
+    for (code, action) in cases {
+        assert_eq!(key(&app, code), Some(action), "{code:?}");
+    }
+    assert_eq!(key(&app, KeyCode::Char('z')), None);
+}
+
+#[test]
+fn ctrl_c_quits_from_anywhere_even_under_help() {
+    let mut app = testkit::app(ENGLISH);
+    app.help = true;
+    let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
+    assert_eq!(keymap::key_action(&app, ctrl_c), Some(Action::Quit));
+    apply(&mut app, Action::Quit);
+    assert!(app.quit);
+}
+
+#[test]
+fn help_opens_and_any_key_closes_it() {
+    let mut app = testkit::app(ENGLISH);
+    press(&mut app, KeyCode::Char('?'));
+    assert!(app.help);
+    assert_eq!(key(&app, KeyCode::Char('q')), Some(Action::CloseHelp));
+    press(&mut app, KeyCode::Char('q'));
+    assert!(!app.help);
+    assert!(!app.quit, "the key that closes help does nothing else");
+}
+
+#[test]
+fn q_on_home_quits() {
+    let mut app = testkit::app(ENGLISH);
+    press(&mut app, KeyCode::Char('q'));
+    assert!(app.quit);
+}
+
+#[test]
+fn language_toggles_both_ways_and_changes_the_interface() {
+    let mut app = testkit::app(ENGLISH);
+    let before = render(&app);
+    press(&mut app, KeyCode::Char('l'));
+    assert_eq!(app.lang, HINGLISH);
+    let after = render(&app);
+    assert!(after.contains("Hinglish"), "{after}");
+    assert!(after.contains("baaki"), "{after}");
+    press(&mut app, KeyCode::Char('l'));
+    assert_eq!(app.lang, ENGLISH);
+    assert_eq!(render(&app), before);
+}
+
+#[test]
+fn every_context_has_help_for_every_bound_key() {
+    use Context::*;
+    for ctx in [
+        Home,
+        Reader,
+        ReaderSearch,
+        ReviewFront,
+        ReviewTyping,
+        ReviewBack,
+        ReviewDone,
+        Prompts,
+        PredictChoice,
+        PredictNumber,
+        PredictRun,
+        PredictVerdict,
+        Stats,
+    ] {
+        let binds = keymap::bindings(ctx);
+        assert!(binds.iter().any(|b| b.label.contains("F1")), "{ctx:?}");
+        for b in &binds {
+            assert!(
+                !b.help.0.is_empty() && !b.help.1.is_empty(),
+                "{ctx:?} {}",
+                b.label
+            );
+        }
+    }
+}
+
+#[test]
+fn too_small_terminal_shows_a_message_and_never_panics() {
+    let mut app = testkit::app(ENGLISH);
+    for (w, h) in [(39, 24), (80, 11), (20, 6), (1, 1), (2, 1), (1, 5)] {
+        app.size = (w, h);
+        let text = render(&app);
+        if w >= 10 && h >= 3 {
+            assert!(text.contains("enlarge"), "{w}×{h}: {text}");
+        }
+    }
+    app.size = (40, 12);
+    assert!(!render(&app).contains("enlarge"));
+}
+
+#[test]
+fn every_screen_survives_every_size() {
+    use KeyCode::{Char, Enter};
+    let routes: [&[KeyCode]; 8] = [
+        &[],
+        &[Enter],
+        &[Enter, Char(' ')],
+        &[Char('r')],
+        &[Char('r'), Char('/'), Char('x')],
+        &[Char('p')],
+        &[Char('p'), Enter],
+        &[Char('t')],
+    ];
+    for route in routes {
+        let mut app = testkit::app(ENGLISH);
+        super::press_all(&mut app, route);
+        for w in [1, 3, 39, 40, 41, 60, 200] {
+            for h in [1, 2, 11, 12, 13, 50] {
+                apply(&mut app, Action::Resize(w, h));
+                super::press_all(&mut app, &[KeyCode::Down, KeyCode::End, KeyCode::PageUp]);
+                app.help = false;
+                render(&app);
+                app.help = true;
+                render(&app);
+            }
+        }
+    }
+}
+
+#[test]
+fn snapshot_home() {
+    let app = testkit::app(ENGLISH);
+    insta::assert_snapshot!(render(&app));
+    let app = testkit::app(HINGLISH);
+    insta::assert_snapshot!("home_hinglish", render(&app));
+}
+
+#[test]
+fn snapshot_home_help() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = testkit::app(lang);
+        press(&mut app, KeyCode::Char('?'));
+        insta::assert_snapshot!(format!("home_help_{lang}"), render(&app));
+    }
+}
+
+#[test]
+fn prompts_list_opens_and_closes() {
+    let mut app = testkit::app(ENGLISH);
+    press(&mut app, KeyCode::Char('p'));
+    assert!(matches!(app.screen(), Screen::Prompts(_)));
+    press(&mut app, KeyCode::Char('j'));
+    let Screen::Prompts(p) = app.screen() else {
+        unreachable!()
+    };
+    assert_eq!(p.selected, 1);
+    press(&mut app, KeyCode::Char('j'));
+    let Screen::Prompts(p) = app.screen() else {
+        unreachable!()
+    };
+    assert_eq!(p.selected, 1, "stays on the last prompt");
+    for lang in [ENGLISH, HINGLISH] {
+        app.lang = lang.into();
+        insta::assert_snapshot!(format!("prompts_{lang}"), render(&app));
+    }
+    press(&mut app, KeyCode::Esc);
+    assert!(matches!(app.screen(), Screen::Home(_)));
+}

@@ -1,0 +1,40 @@
+//! Screen snapshots and key-map tests, without a terminal: keys become
+//! actions through the real key map and are applied to an app on the
+//! fixture deck with a temporary review store and a fixed clock.
+
+use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+
+use super::action::Action;
+use super::app::App;
+use super::keymap;
+use super::update::apply;
+
+mod home;
+mod predict;
+mod reader;
+mod review;
+mod stats;
+
+pub fn key(app: &App, code: KeyCode) -> Option<Action> {
+    keymap::key_action(app, KeyEvent::new(code, KeyModifiers::NONE))
+}
+
+/// Presses a key as the event loop would.
+pub fn press(app: &mut App, code: KeyCode) {
+    if let Some(action) = key(app, code) {
+        apply(app, action);
+    }
+}
+
+pub fn press_all(app: &mut App, codes: &[KeyCode]) {
+    for &c in codes {
+        press(app, c);
+    }
+}
+
+/// Types text into whatever field has the keyboard.
+pub fn type_text(app: &mut App, text: &str) {
+    for c in text.chars() {
+        press(app, KeyCode::Char(c));
+    }
+}

@@ -1,0 +1,288 @@
+//! Review: reveal, rate (durable before the next card), undo, typed
+//! answers, cram, the explanation and back, the linked prompt, the summary.
+
+use crossterm::event::KeyCode;
+
+use super::{key, press, press_all, type_text};
+use crate::sched::{Rating, ReviewKind, State};
+use crate::tui::action::Action;
+use crate::tui::i18n::{ENGLISH, HINGLISH};
+use crate::tui::keymap::Context;
+use crate::tui::screens::Screen;
+use crate::tui::screens::review::{Phase, ReviewState};
+use crate::tui::testkit::{self, TestApp, render};
+
+fn open(lang: &str) -> TestApp {
+    let mut app = testkit::app(lang);
+    press(&mut app, KeyCode::Enter);
+    assert!(matches!(app.screen(), Screen::Review(_)));
+    app
+}
+
+fn review(app: &TestApp) -> &ReviewState {
+    match app.screen() {
+        Screen::Review(r) => r,
+        _ => panic!("not on the review screen"),
+    }
+}
+
+fn current_card(app: &TestApp) -> String {
+    review(app)
+        .current
+        .as_ref()
+        .map(|(k, _)| format!("{}:{}", k.card, k.direction.as_str()))
+        .unwrap_or_default()
+}
+
+/// Every answer in the log, oldest first: (card:direction, rating, kind, undone).
+fn log(app: &TestApp) -> Vec<(String, i64, ReviewKind, bool)> {
+    let mut rows = Vec::new();
+    let result = app.services.store.each_review(|r| {
+        rows.push((
+            format!("{}:{}", r.record.key.card, r.record.key.direction.as_str()),
+            r.record.rating as i64,
+            r.record.kind,
+            r.undone,
+        ));
+        Ok::<(), crate::store::StoreError>(())
+    });
+    if let Err(e) = result {
+        panic!("reading the log: {e}");
+    }
+    rows
+}
+
+#[test]
+fn review_keys() {
+    let mut app = open(ENGLISH);
+    assert_eq!(app.context(), Context::ReviewFront);
+    assert_eq!(key(&app, KeyCode::Char(' ')), Some(Action::Reveal));
+    assert_eq!(key(&app, KeyCode::Enter), Some(Action::Reveal));
+    assert_eq!(key(&app, KeyCode::Char('e')), Some(Action::Explain));
+    assert_eq!(key(&app, KeyCode::Char('u')), Some(Action::Undo));
+    assert_eq!(key(&app, KeyCode::Char('l')), Some(Action::ToggleLanguage));
+    assert_eq!(
+        key(&app, KeyCode::Char('3')),
+        None,
+        "no rating before the answer"
+    );
+    press(&mut app, KeyCode::Char(' '));
+    assert_eq!(app.context(), Context::ReviewBack);
+    for (c, r) in [
+        ('1', Rating::Again),
+        ('2', Rating::Hard),
+        ('3', Rating::Good),
+        ('4', Rating::Easy),
+    ] {
+        assert_eq!(key(&app, KeyCode::Char(c)), Some(Action::Rate(r)));
+    }
+    assert_eq!(key(&app, KeyCode::Char('p')), Some(Action::OpenCardPrompt));
+    assert_eq!(key(&app, KeyCode::Esc), Some(Action::Back));
+}
+
+#[test]
+fn reveal_then_rate_writes_the_log_before_the_next_card() {
+    let mut app = open(ENGLISH);
+    assert_eq!(current_card(&app), "body-frame-why:forward");
+    assert!(log(&app).is_empty());
+    press(&mut app, KeyCode::Char(' '));
+    let Phase::Back { previews, .. } = &review(&app).phase else {
+        panic!("answer not shown");
+    };
+    let labels: Vec<String> = previews
+        .as_ref()
+        .map(|p| p.iter().map(|x| x.label.clone()).collect())
+        .unwrap_or_default();
+    assert_eq!(
+        labels,
+        ["1m", "6m", "10m", "8d"],
+        "intervals of a new card, no fuzz"
+    );
+    press(&mut app, KeyCode::Char('3'));
+    assert_eq!(
+        log(&app),
+        [("body-frame-why:forward".into(), 3, ReviewKind::Learn, false)]
+    );
+    assert_eq!(current_card(&app), "euler-1:forward");
+    assert_eq!(
+        review(&app).phase,
+        Phase::Front {
+            input: String::new()
+        }
+    );
+    let progress = review(&app).progress(&app);
+    assert_eq!(progress, "0 due · 1 learning · 3 new");
+}
+
+#[test]
+fn undo_reverts_the_last_rating_and_shows_that_card_again() {
+    let mut app = open(ENGLISH);
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('1')]);
+    assert_eq!(review(&app).session.reviewed, 2);
+    assert_eq!(review(&app).session.again, 1);
+    press(&mut app, KeyCode::Char('u'));
+    assert_eq!(current_card(&app), "euler-1:forward");
+    assert_eq!(review(&app).session.reviewed, 1);
+    assert_eq!(review(&app).session.again, 0);
+    let rows = log(&app);
+    assert_eq!(rows.len(), 2);
+    assert!(
+        !rows[0].3 && rows[1].3,
+        "the second rating is marked undone: {rows:?}"
+    );
+    // The state is back to new: the store has no state for it.
+    let key = review(&app).current.as_ref().map(|(k, _)| k.clone());
+    let state = key.and_then(|k| app.services.store.state(&k).ok().flatten());
+    assert!(state.is_none_or(|s| s.state == State::New), "{state:?}");
+    // Undo once more reverts the first; a third has nothing left.
+    press(&mut app, KeyCode::Char('u'));
+    assert_eq!(current_card(&app), "body-frame-why:forward");
+    press(&mut app, KeyCode::Char('u'));
+    assert_eq!(
+        app.status.as_ref().map(|s| s.text.as_str()),
+        Some("nothing to undo")
+    );
+    assert_eq!(log(&app).iter().filter(|r| !r.3).count(), 0);
+}
+
+#[test]
+fn undo_does_not_reach_into_an_earlier_review() {
+    let mut app = open(ENGLISH);
+    press_all(
+        &mut app,
+        &[KeyCode::Char(' '), KeyCode::Char('3'), KeyCode::Esc],
+    );
+    press(&mut app, KeyCode::Enter);
+    press(&mut app, KeyCode::Char('u'));
+    assert_eq!(log(&app).iter().filter(|r| r.3).count(), 0);
+}
+
+#[test]
+fn typed_card_takes_the_answer_and_suggests_a_rating() {
+    let mut app = open(ENGLISH);
+    // The first three items are the basic card and the reversed card's two directions.
+    for _ in 0..3 {
+        press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('4')]);
+    }
+    assert_eq!(current_card(&app), "unstable-axis:forward");
+    assert_eq!(app.context(), Context::ReviewTyping);
+    // Letters go into the field, even those that are keys elsewhere.
+    type_text(&mut app, "Midle");
+    assert_eq!(
+        review(&app).phase,
+        Phase::Front {
+            input: "Midle".into()
+        }
+    );
+    insta::assert_snapshot!("review_typed_front", render(&app));
+    press(&mut app, KeyCode::Enter);
+    let Phase::Back { typed: Some(t), .. } = &review(&app).phase else {
+        panic!("typed answer not checked");
+    };
+    assert_eq!(t.check.suggested, Rating::Hard, "a typo away from `middle`");
+    insta::assert_snapshot!("review_typed_back", render(&app));
+    // Enter takes the suggestion.
+    press(&mut app, KeyCode::Enter);
+    assert_eq!(log(&app).last().map(|r| r.1), Some(2));
+}
+
+#[test]
+fn explanation_opens_and_returns_to_the_same_card() {
+    let mut app = open(ENGLISH);
+    press(&mut app, KeyCode::Char(' '));
+    press(&mut app, KeyCode::Char('e'));
+    let Screen::Reader(r) = app.screen() else {
+        panic!("reader not open");
+    };
+    assert_eq!(r.section, 0, "the card links the `setup` section");
+    press(&mut app, KeyCode::Esc);
+    assert_eq!(current_card(&app), "body-frame-why:forward");
+    assert!(
+        matches!(review(&app).phase, Phase::Back { .. }),
+        "still showing the answer"
+    );
+}
+
+#[test]
+fn linked_prompt_is_offered_after_the_answer() {
+    let mut app = open(ENGLISH);
+    for _ in 0..3 {
+        press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('4')]);
+    }
+    type_text(&mut app, "middle");
+    press(&mut app, KeyCode::Enter);
+    assert!(render(&app).contains("try the prediction"));
+    press(&mut app, KeyCode::Char('p'));
+    let Screen::Predict(p) = app.screen() else {
+        panic!("prompt not open");
+    };
+    assert_eq!(p.prompt, 0);
+    press(&mut app, KeyCode::Esc);
+    assert_eq!(current_card(&app), "unstable-axis:forward");
+}
+
+#[test]
+fn language_switches_the_card_text() {
+    let mut app = open(ENGLISH);
+    assert!(render(&app).contains("Why use the body frame"));
+    press(&mut app, KeyCode::Char('l'));
+    let text = render(&app);
+    assert!(text.contains("Rotation ke liye body frame kyun?"), "{text}");
+    assert!(text.contains("naye"), "{text}");
+}
+
+#[test]
+fn session_summary_counts_time_and_again_rate() {
+    let mut app = open(ENGLISH);
+    // Again on the first, Easy on the rest: the Again card comes back
+    // within the learn-ahead window once nothing else is left.
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('1')]);
+    for _ in 0..2 {
+        press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('4')]);
+    }
+    type_text(&mut app, "middle");
+    press_all(&mut app, &[KeyCode::Enter, KeyCode::Char('4')]);
+    assert_eq!(current_card(&app), "body-frame-why:forward");
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('4')]);
+    assert_eq!(review(&app).phase, Phase::Done);
+    assert_eq!(app.context(), Context::ReviewDone);
+    let text = render(&app);
+    assert!(text.contains("5 reviewed"), "{text}");
+    assert!(text.contains("again-rate 20%"), "{text}");
+    for lang in [ENGLISH, HINGLISH] {
+        app.lang = lang.into();
+        insta::assert_snapshot!(format!("review_summary_{lang}"), render(&app));
+    }
+    press(&mut app, KeyCode::Enter);
+    assert!(matches!(app.screen(), Screen::Home(_)));
+}
+
+#[test]
+fn cram_logs_cram_answers_and_keeps_the_schedule() {
+    let mut app = testkit::app(ENGLISH);
+    press(&mut app, KeyCode::Char('c'));
+    let Screen::Review(r) = app.screen() else {
+        panic!("cram not open");
+    };
+    assert!(r.cram);
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
+    assert_eq!(
+        log(&app),
+        [("body-frame-why:forward".into(), 3, ReviewKind::Cram, false)]
+    );
+    let states = app.services.store.states("torque-free").unwrap_or_default();
+    assert!(states.values().all(|s| s.state == State::New), "{states:?}");
+}
+
+#[test]
+fn snapshots_of_front_and_back_in_both_languages() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = open(lang);
+        insta::assert_snapshot!(format!("review_front_{lang}"), render(&app));
+        press(&mut app, KeyCode::Char(' '));
+        insta::assert_snapshot!(format!("review_back_{lang}"), render(&app));
+        press(&mut app, KeyCode::Char('?'));
+        insta::assert_snapshot!(format!("review_help_{lang}"), render(&app));
+    }
+}

@@ -1,0 +1,100 @@
+//! Colours and emphasis. Only the 16 named ANSI colours are used, so every
+//! terminal shows them; `NO_COLOR` keeps bold and reverse video (needed to
+//! see the selection) and drops every colour.
+
+use ratatui::style::{Color, Modifier, Style};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Theme {
+    pub color: bool,
+}
+
+impl Theme {
+    /// Colours unless `NO_COLOR` is set to a non-empty value (no-color.org).
+    pub fn from_env() -> Theme {
+        let no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
+        Theme { color: !no_color }
+    }
+
+    pub const COLOR: Theme = Theme { color: true };
+    pub const PLAIN: Theme = Theme { color: false };
+
+    fn fg(&self, color: Color) -> Style {
+        if self.color {
+            Style::new().fg(color)
+        } else {
+            Style::new()
+        }
+    }
+
+    pub fn text(&self) -> Style {
+        Style::new()
+    }
+    pub fn dim(&self) -> Style {
+        if self.color {
+            Style::new().fg(Color::DarkGray)
+        } else {
+            Style::new()
+        }
+    }
+    pub fn title(&self) -> Style {
+        self.fg(Color::Cyan).add_modifier(Modifier::BOLD)
+    }
+    pub fn heading(&self) -> Style {
+        self.fg(Color::Yellow).add_modifier(Modifier::BOLD)
+    }
+    pub fn key(&self) -> Style {
+        self.fg(Color::Cyan).add_modifier(Modifier::BOLD)
+    }
+    pub fn selected(&self) -> Style {
+        Style::new().add_modifier(Modifier::REVERSED)
+    }
+    pub fn emphasis(&self) -> Style {
+        Style::new().add_modifier(Modifier::ITALIC)
+    }
+    pub fn strong(&self) -> Style {
+        Style::new().add_modifier(Modifier::BOLD)
+    }
+    pub fn math(&self) -> Style {
+        self.fg(Color::LightMagenta)
+    }
+    pub fn good(&self) -> Style {
+        self.fg(Color::Green).add_modifier(Modifier::BOLD)
+    }
+    pub fn bad(&self) -> Style {
+        self.fg(Color::Red).add_modifier(Modifier::BOLD)
+    }
+    pub fn warn(&self) -> Style {
+        self.fg(Color::Yellow)
+    }
+    pub fn link(&self) -> Style {
+        self.fg(Color::Blue).add_modifier(Modifier::UNDERLINED)
+    }
+    pub fn highlight(&self) -> Style {
+        if self.color {
+            Style::new().fg(Color::Black).bg(Color::Yellow)
+        } else {
+            Style::new().add_modifier(Modifier::REVERSED)
+        }
+    }
+    pub fn border(&self) -> Style {
+        self.dim()
+    }
+    /// Line colour of the plots: one per body axis.
+    pub fn axis(&self, i: usize) -> Color {
+        if self.color {
+            [Color::LightRed, Color::LightGreen, Color::LightBlue][i % 3]
+        } else {
+            Color::Reset
+        }
+    }
+    /// A plain colour for canvas shapes (Reset when colours are off).
+    pub fn plot(&self, color: Color) -> Color {
+        if self.color { color } else { Color::Reset }
+    }
+    /// Rating buttons: Again red, Hard yellow, Good green, Easy blue.
+    pub fn rating(&self, n: usize) -> Style {
+        let c = [Color::Red, Color::Yellow, Color::Green, Color::Blue][n.min(3)];
+        self.fg(c).add_modifier(Modifier::BOLD)
+    }
+}

@@ -1,0 +1,62 @@
+//! `apply`: the one place actions change the app. Pure apart from the
+//! domain calls the action asks for (a rating is written to the store before
+//! `apply` returns), so every key can be tested without a terminal.
+
+use super::action::Action;
+use super::app::App;
+use super::i18n;
+use super::screens::{self, Nav, Screen};
+
+pub fn apply(app: &mut App, action: Action) {
+    match action {
+        Action::Quit => {
+            app.quit = true;
+            return;
+        }
+        Action::ToggleHelp => {
+            app.help = !app.help;
+            return;
+        }
+        Action::CloseHelp => {
+            app.help = false;
+            return;
+        }
+        Action::Resize(w, h) => {
+            app.size = (w, h);
+            return;
+        }
+        Action::ToggleLanguage => {
+            toggle_language(app);
+            return;
+        }
+        _ => {}
+    }
+    let Some(mut top) = app.stack.pop() else {
+        return;
+    };
+    let nav = match &mut top {
+        Screen::Home(s) => screens::home::apply(app, s, action),
+        Screen::Prompts(s) => screens::prompts::apply(app, s, action),
+        Screen::Predict(s) => screens::predict::apply(app, s, action),
+        Screen::Review(s) => screens::review::apply(app, s, action),
+        Screen::Reader(s) => screens::reader::apply(app, s, action),
+        Screen::Stats(s) => screens::stats::apply(app, s, action),
+    };
+    app.stack.push(top);
+    match nav {
+        Nav::Stay => {}
+        Nav::Push(screen) => app.push(screen),
+        Nav::Pop => app.pop(),
+        Nav::Replace(screen) => {
+            app.pop();
+            app.push(screen);
+        }
+    }
+}
+
+fn toggle_language(app: &mut App) {
+    app.lang = i18n::other(&app.lang).to_string();
+    if let Err(e) = app.services.save_language(&app.lang) {
+        app.error(e);
+    }
+}

@@ -1,0 +1,164 @@
+//! Drawing the whole frame: header, the current screen, footer, the help
+//! overlay, or the "please enlarge" message when the terminal is too small.
+//! Drawing never does I/O.
+
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Clear, Paragraph, Row, Table, Wrap};
+
+use super::app::App;
+use super::i18n::Msg;
+use super::keymap::{self, Context};
+use super::screens::{self, Screen};
+
+/// The smallest terminal the screens are laid out for.
+pub const MIN_WIDTH: u16 = 40;
+pub const MIN_HEIGHT: u16 = 12;
+
+pub fn draw(frame: &mut Frame, app: &App) {
+    let area = frame.area();
+    if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
+        let p = Paragraph::new(app.tr(Msg::Enlarge))
+            .style(app.theme.warn())
+            .wrap(Wrap { trim: true });
+        frame.render_widget(p, area);
+        return;
+    }
+    let body = body_rect((area.width, area.height));
+    let header = Rect::new(area.x, area.y, area.width, 1);
+    let footer = Rect::new(area.x, area.bottom().saturating_sub(1), area.width, 1);
+    draw_header(frame, header, app);
+    match app.screen() {
+        Screen::Home(s) => screens::home::draw(frame, body, app, s),
+        Screen::Prompts(s) => screens::prompts::draw(frame, body, app, s),
+        Screen::Predict(s) => screens::predict::draw(frame, body, app, s),
+        Screen::Review(s) => screens::review::draw(frame, body, app, s),
+        Screen::Reader(s) => screens::reader::draw(frame, body, app, s),
+        Screen::Stats(s) => screens::stats::draw(frame, body, app, s),
+    }
+    draw_footer(frame, footer, app);
+    if app.help {
+        draw_help(frame, body, app);
+    }
+}
+
+fn screen_title(app: &App) -> String {
+    match app.screen() {
+        Screen::Home(_) => app.tr(Msg::Decks).to_string(),
+        Screen::Prompts(s) => deck_title(app, s.deck, Msg::Prompts),
+        Screen::Predict(s) => deck_title(app, s.deck, Msg::Predict),
+        Screen::Review(s) => deck_title(app, s.deck, if s.cram { Msg::Cram } else { Msg::Review }),
+        Screen::Reader(s) => deck_title(app, s.deck, Msg::Reader),
+        Screen::Stats(s) => deck_title(app, s.deck, Msg::Stats),
+    }
+}
+
+fn draw_header(frame: &mut Frame, area: Rect, app: &App) {
+    let t = &app.theme;
+    let lang = format!("{} ", app.tr(Msg::LanguageName));
+    let left = Line::from(vec![
+        Span::styled(" flipcard ", t.title()),
+        Span::styled("· ", t.dim()),
+        Span::styled(screen_title(app), t.heading()),
+    ]);
+    let [l, r] = Layout::horizontal([
+        Constraint::Fill(1),
+        Constraint::Length(lang.chars().count() as u16),
+    ])
+    .areas(area);
+    frame.render_widget(Paragraph::new(left), l);
+    frame.render_widget(Paragraph::new(Span::styled(lang, t.dim())), r);
+}
+
+fn draw_footer(frame: &mut Frame, area: Rect, app: &App) {
+    let t = &app.theme;
+    if let Some(status) = &app.status {
+        let style = if status.error { t.bad() } else { t.good() };
+        frame.render_widget(
+            Paragraph::new(Span::styled(status.text.clone(), style)),
+            area,
+        );
+        return;
+    }
+    let ctx = app.context();
+    let hint = |key: &'static str, msg: Msg| {
+        vec![
+            Span::styled(key, t.key()),
+            Span::styled(format!(" {}  ", app.tr(msg)), t.dim()),
+        ]
+    };
+    let mut spans = vec![Span::raw(" ")];
+    if ctx.is_text_input() {
+        spans.extend(hint("F1", Msg::Help));
+    } else {
+        spans.extend(hint("?", Msg::Help));
+        spans.extend(hint("l", Msg::Language));
+    }
+    let back = if ctx == Context::Home {
+        Msg::Quit
+    } else {
+        Msg::Back
+    };
+    spans.extend(hint(if ctx == Context::Home { "q" } else { "Esc" }, back));
+    frame.render_widget(Paragraph::new(Line::from(spans)), area);
+}
+
+/// The help overlay: every key of the current screen.
+pub fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
+    let t = &app.theme;
+    let binds = keymap::bindings(app.context());
+    let label_w = binds
+        .iter()
+        .map(|b| b.label.chars().count())
+        .max()
+        .unwrap_or(4) as u16;
+    let help_w = binds
+        .iter()
+        .map(|b| b.help(&app.lang).chars().count())
+        .max()
+        .unwrap_or(10) as u16;
+    let width = (label_w + help_w + 7).min(area.width);
+    let height = (binds.len() as u16 + 2).min(area.height);
+    let popup = Rect {
+        x: area.x + (area.width - width) / 2,
+        y: area.y + (area.height - height) / 2,
+        width,
+        height,
+    };
+    let rows = binds.iter().map(|b| {
+        Row::new(vec![
+            Span::styled(b.label, t.key()),
+            Span::raw(b.help(&app.lang)),
+        ])
+    });
+    let title = format!(" {} · {} ", app.tr(Msg::HelpTitle), screen_title(app));
+    let table = Table::new(rows, [Constraint::Length(label_w), Constraint::Fill(1)])
+        .column_spacing(2)
+        .block(
+            Block::default()
+                .borders(Borders::ALL)
+                .border_style(t.border())
+                .title(Span::styled(title, t.title()))
+                .title_bottom(Span::styled(
+                    format!(" {} ", app.tr(Msg::AnyKeyCloses)),
+                    t.dim(),
+                )),
+        );
+    frame.render_widget(Clear, popup);
+    frame.render_widget(table, popup);
+}
+
+fn deck_title(app: &App, deck: usize, what: Msg) -> String {
+    match app.decks.get(deck) {
+        Some(d) => format!("{} · {}", d.title.get(&app.lang), app.tr(what)),
+        None => app.tr(what).to_string(),
+    }
+}
+
+/// The screen body (between header and footer) for a terminal size; the
+/// same split `draw` makes, so actions can reason about what is visible.
+pub fn body_rect(size: (u16, u16)) -> Rect {
+    let (w, h) = size;
+    Rect::new(0, 1.min(h), w, h.saturating_sub(2))
+}

@@ -1,0 +1,277 @@
+//! Word wrapping of styled text to a width, done here rather than by the
+//! paragraph widget so that scrolling, `G` and search know exactly which
+//! line is where.
+
+use ratatui::style::Style;
+use ratatui::text::{Line, Span};
+use unicode_width::UnicodeWidthChar;
+
+/// A run of text in one style.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Run {
+    pub text: String,
+    pub style: Style,
+}
+
+impl Run {
+    pub fn new(text: impl Into<String>, style: Style) -> Run {
+        Run {
+            text: text.into(),
+            style,
+        }
+    }
+}
+
+fn width(s: &str) -> usize {
+    s.chars().map(|c| c.width().unwrap_or(0)).sum()
+}
+
+/// A word: the fragments between two whitespace runs (math followed by a
+/// comma stays one word even though the styles differ).
+type Word = Vec<Run>;
+
+enum Token {
+    Word(Word),
+    Space,
+    Break,
+}
+
+fn tokens(runs: &[Run]) -> Vec<Token> {
+    let mut out = Vec::new();
+    let mut word: Word = Vec::new();
+    let flush = |word: &mut Word, out: &mut Vec<Token>| {
+        if !word.is_empty() {
+            out.push(Token::Word(std::mem::take(word)));
+        }
+    };
+    for run in runs {
+        let mut frag = String::new();
+        for c in run.text.chars() {
+            if c == '\n' || c.is_whitespace() {
+                if !frag.is_empty() {
+                    word.push(Run::new(std::mem::take(&mut frag), run.style));
+                }
+                flush(&mut word, &mut out);
+                out.push(if c == '\n' {
+                    Token::Break
+                } else {
+                    Token::Space
+                });
+            } else {
+                frag.push(c);
+            }
+        }
+        if !frag.is_empty() {
+            word.push(Run::new(frag, run.style));
+        }
+    }
+    flush(&mut word, &mut out);
+    out
+}
+
+struct Builder {
+    width: usize,
+    first_prefix: Run,
+    rest_prefix: Run,
+    lines: Vec<Line<'static>>,
+    current: Vec<Span<'static>>,
+    used: usize,
+    pending_space: Option<Style>,
+}
+
+impl Builder {
+    fn prefix(&self) -> &Run {
+        if self.lines.is_empty() {
+            &self.first_prefix
+        } else {
+            &self.rest_prefix
+        }
+    }
+    fn start_line(&mut self) {
+        let p = self.prefix().clone();
+        self.used = width(&p.text);
+        self.current = if p.text.is_empty() {
+            Vec::new()
+        } else {
+            vec![Span::styled(p.text, p.style)]
+        };
+        self.pending_space = None;
+    }
+    fn end_line(&mut self) {
+        let spans = std::mem::take(&mut self.current);
+        self.lines.push(Line::from(spans));
+        self.start_line();
+    }
+    fn available(&self) -> usize {
+        self.width.saturating_sub(self.used)
+    }
+    fn at_line_start(&self) -> bool {
+        self.used == width(&self.prefix().text)
+    }
+    fn push(&mut self, text: String, style: Style) {
+        self.used += width(&text);
+        self.current.push(Span::styled(text, style));
+    }
+    fn word(&mut self, word: Word) {
+        let w: usize = word.iter().map(|r| width(&r.text)).sum();
+        let space = usize::from(self.pending_space.is_some() && !self.at_line_start());
+        if space + w > self.available() && !self.at_line_start() {
+            self.end_line();
+        } else if space == 1
+            && let Some(style) = self.pending_space
+        {
+            self.push(" ".into(), style);
+        }
+        self.pending_space = None;
+        if w <= self.available() {
+            for run in word {
+                self.push(run.text, run.style);
+            }
+            return;
+        }
+        // Longer than a whole line: break it by characters, keeping
+        // zero-width combining marks with their base character.
+        for run in word {
+            let mut chunk = String::new();
+            for c in run.text.chars() {
+                let cw = c.width().unwrap_or(0);
+                if cw > 0 && width(&chunk) + cw > self.available() {
+                    if !chunk.is_empty() {
+                        self.push(std::mem::take(&mut chunk), run.style);
+                    }
+                    if !self.at_line_start() {
+                        self.end_line();
+                    }
+                    if cw > self.available() {
+                        // Not even one character fits: give up on this one.
+                        continue;
+                    }
+                }
+                chunk.push(c);
+            }
+            if !chunk.is_empty() {
+                self.push(chunk, run.style);
+            }
+        }
+    }
+}
+
+/// Wraps `runs` to `width` columns. The first line starts with
+/// `first_prefix`, the others with `rest_prefix` (a hanging indent for list
+/// items). `\n` in the text forces a line break. Always returns at least one
+/// line.
+pub fn wrap(runs: &[Run], width: usize, first_prefix: Run, rest_prefix: Run) -> Vec<Line<'static>> {
+    let mut b = Builder {
+        width: width.max(1),
+        first_prefix,
+        rest_prefix,
+        lines: Vec::new(),
+        current: Vec::new(),
+        used: 0,
+        pending_space: None,
+    };
+    b.start_line();
+    let mut last_style = Style::new();
+    for token in tokens(runs) {
+        match token {
+            Token::Word(word) => {
+                last_style = word.last().map(|r| r.style).unwrap_or(last_style);
+                b.word(word);
+            }
+            Token::Space => {
+                if !b.at_line_start() {
+                    b.pending_space = Some(last_style.patch(Style::new()));
+                }
+            }
+            Token::Break => b.end_line(),
+        }
+    }
+    if !b.current.is_empty() || b.lines.is_empty() {
+        let spans = std::mem::take(&mut b.current);
+        b.lines.push(Line::from(spans));
+    }
+    b.lines
+}
+
+/// Wraps plain text in one style.
+pub fn wrap_plain(text: &str, style: Style, width: usize) -> Vec<Line<'static>> {
+    wrap(
+        &[Run::new(text, style)],
+        width,
+        Run::new("", style),
+        Run::new("", style),
+    )
+}
+
+/// The text of a line without styles.
+pub fn line_text(line: &Line<'_>) -> String {
+    line.spans.iter().map(|s| s.content.as_ref()).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn texts(lines: &[Line<'_>]) -> Vec<String> {
+        lines.iter().map(line_text).collect()
+    }
+
+    #[test]
+    fn wraps_at_word_boundaries() {
+        let lines = wrap_plain("the quick brown fox jumps over", Style::new(), 10);
+        assert_eq!(texts(&lines), ["the quick", "brown fox", "jumps over"]);
+    }
+
+    #[test]
+    fn breaks_words_longer_than_the_width() {
+        let lines = wrap_plain("abcdefghij xy", Style::new(), 4);
+        assert_eq!(texts(&lines), ["abcd", "efgh", "ij", "xy"]);
+    }
+
+    #[test]
+    fn keeps_a_styled_word_with_its_punctuation() {
+        let bold = Style::new().add_modifier(ratatui::style::Modifier::BOLD);
+        let runs = [
+            Run::new("see ", Style::new()),
+            Run::new("ω₂", bold),
+            Run::new(", then", Style::new()),
+        ];
+        let lines = wrap(
+            &runs,
+            6,
+            Run::new("", Style::new()),
+            Run::new("", Style::new()),
+        );
+        assert_eq!(texts(&lines), ["see", "ω₂,", "then"]);
+    }
+
+    #[test]
+    fn hanging_indent_for_items() {
+        let lines = wrap(
+            &[Run::new("one two three four", Style::new())],
+            9,
+            Run::new("• ", Style::new()),
+            Run::new("  ", Style::new()),
+        );
+        assert_eq!(texts(&lines), ["• one two", "  three", "  four"]);
+    }
+
+    #[test]
+    fn combining_marks_do_not_count_and_stay_attached() {
+        // ω̇ is ω followed by U+0307 (combining dot above): one column.
+        let lines = wrap_plain("ω\u{307}ω\u{307}ω\u{307}", Style::new(), 2);
+        assert_eq!(texts(&lines), ["ω\u{307}ω\u{307}", "ω\u{307}"]);
+    }
+
+    #[test]
+    fn explicit_newlines_break_lines_and_empty_text_gives_one_line() {
+        assert_eq!(texts(&wrap_plain("a\nb", Style::new(), 10)), ["a", "b"]);
+        assert_eq!(texts(&wrap_plain("", Style::new(), 10)), [""]);
+    }
+
+    #[test]
+    fn zero_width_does_not_hang() {
+        let lines = wrap_plain("abc", Style::new(), 0);
+        assert!(!lines.is_empty());
+    }
+}

@@ -1,0 +1,425 @@
+//! The headless store commands through the real binary: `stats`,
+//! `export --reviews`, `export --deck`, `import` and `db rebuild`.
+
+mod store_support;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use chrono::Duration;
+use flipcard::sched::{Rating, ReviewKind, State};
+use flipcard::store::Store;
+use flipcard::store::export::REVIEW_FIELDS;
+use store_support::{at, back_key, key, review};
+
+const NOW: &str = "2026-05-10T12:00:00Z";
+
+fn flipcard(data: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        .args(args)
+        .env("FLIPCARD_DATA_DIR", data)
+        .env("FLIPCARD_NOW", NOW)
+        .env("TZ", "UTC")
+        .env("FLIPCARD_CONFIG", data.join("no-such-config.toml"))
+        .env_remove("FLIPCARD_DECKS")
+        .output()
+        .expect("run flipcard")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A deck folder with one deck `mini` holding `cards` (id, kind), and its
+/// (empty) content file.
+fn mini_deck(root: &Path, cards: &[(&str, &str)]) -> PathBuf {
+    let decks = root.join("decks");
+    std::fs::create_dir_all(&decks).unwrap();
+    std::fs::create_dir_all(root.join("content/mini")).unwrap();
+    std::fs::write(root.join("content/mini/en.toml"), "").unwrap();
+    let mut toml =
+        String::from("[deck]\nid = 'mini'\ntitle = { en = 'Mini' }\nlanguages = ['en']\n");
+    for (id, kind) in cards {
+        toml.push_str(&format!(
+            "\n[[card]]\nid = '{id}'\nkind = '{kind}'\nfront = {{ en = 'Front of {id}, edited' }}\nback = {{ en = 'Back of {id}' }}\n"
+        ));
+    }
+    std::fs::write(decks.join("mini.toml"), toml).unwrap();
+    decks
+}
+
+/// Three ratings of `mini`: `a` (twice, the second undone) and `b`.
+fn some_history(data: &Path) {
+    let mut store = Store::open(data).unwrap();
+    let t = at("2026-05-09T08:30:00.250Z");
+    store
+        .record(&review(
+            &key("mini", "a"),
+            t,
+            Rating::Good,
+            ReviewKind::Learn,
+            State::Review,
+            Duration::days(2),
+        ))
+        .unwrap();
+    store
+        .record(&review(
+            &key("mini", "b"),
+            t,
+            Rating::Again,
+            ReviewKind::Learn,
+            State::Learning,
+            Duration::minutes(1),
+        ))
+        .unwrap();
+    store
+        .record(&review(
+            &key("mini", "a"),
+            t + Duration::hours(1),
+            Rating::Easy,
+            ReviewKind::Review,
+            State::Review,
+            Duration::days(9),
+        ))
+        .unwrap();
+    store.undo_last().unwrap();
+}
+
+#[test]
+fn export_reviews_as_json_has_exactly_the_contract_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    some_history(dir.path());
+    let out = flipcard(dir.path(), &["export", "--reviews"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    let records: Vec<serde_json::Value> = serde_json::from_str(&text).unwrap();
+    assert_eq!(records.len(), 3);
+
+    // Field order as written, one record per line.
+    let first_line = text.lines().nth(1).unwrap();
+    let mut keys = Vec::new();
+    let mut rest = first_line;
+    while let Some(i) = rest.find("\":") {
+        let start = rest[..i].rfind('"').unwrap();
+        keys.push(rest[start + 1..i].to_string());
+        rest = &rest[i + 2..];
+        if let Some(comma) = rest.find(",\"") {
+            rest = &rest[comma + 1..];
+        } else {
+            break;
+        }
+    }
+    assert_eq!(keys, REVIEW_FIELDS);
+
+    let r = &records[0];
+    assert_eq!(r["deck"], "mini");
+    assert_eq!(r["card"], "a");
+    assert_eq!(r["direction"], "forward");
+    assert_eq!(r["reviewed_at"], "2026-05-09T08:30:00.250Z");
+    assert_eq!(r["rating"], 3);
+    assert_eq!(r["kind"], "learn");
+    assert_eq!(r["state"], "review");
+    assert_eq!(r["due"], "2026-05-11T08:30:00.250Z");
+    assert_eq!(r["stability"], 2.5);
+    assert_eq!(r["duration_ms"], 4000);
+    assert_eq!(r["undone"], false);
+    assert_eq!(records[2]["undone"], true);
+    assert_eq!(records[2]["kind"], "review");
+}
+
+#[test]
+fn export_reviews_as_csv_has_the_contract_header() {
+    let dir = tempfile::tempdir().unwrap();
+    some_history(dir.path());
+    let out = flipcard(dir.path(), &["export", "--reviews", "--format", "csv"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "deck,card,direction,reviewed_at,rating,kind,elapsed_days,scheduled_days,stability,difficulty,state,due,duration_ms,undone"
+    );
+    assert_eq!(
+        lines.next().unwrap(),
+        "mini,a,forward,2026-05-09T08:30:00.250Z,3,learn,0,2,2.5,5.0,review,2026-05-11T08:30:00.250Z,4000,false"
+    );
+    assert_eq!(lines.count(), 2);
+}
+
+#[test]
+fn export_of_an_empty_log_is_empty() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = flipcard(dir.path(), &["export", "--reviews"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        serde_json::from_str::<Vec<serde_json::Value>>(&stdout(&out))
+            .unwrap()
+            .len(),
+        0
+    );
+}
+
+#[test]
+fn db_rebuild_restores_a_damaged_cache() {
+    let dir = tempfile::tempdir().unwrap();
+    some_history(dir.path());
+    let before = Store::open(dir.path()).unwrap().cached_states().unwrap();
+    {
+        let raw = rusqlite::Connection::open(dir.path().join("flipcard.db")).unwrap();
+        raw.execute("DELETE FROM card_state WHERE card = 'a'", [])
+            .unwrap();
+    }
+    let out = flipcard(dir.path(), &["db", "rebuild"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stdout(&out).contains("rebuilt 2 card states from 3 log rows"),
+        "{}",
+        stdout(&out)
+    );
+    assert!(stdout(&out).contains("1 differed"), "{}", stdout(&out));
+    assert_eq!(
+        Store::open(dir.path()).unwrap().cached_states().unwrap(),
+        before
+    );
+}
+
+#[test]
+fn stats_report_orphans_and_history_returns_with_the_card() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    some_history(&data);
+    {
+        let mut store = Store::open(&data).unwrap();
+        store
+            .record(&review(
+                &back_key("mini", "r"),
+                at("2026-05-10T09:00:00Z"),
+                Rating::Hard,
+                ReviewKind::Learn,
+                State::Learning,
+                Duration::minutes(10),
+            ))
+            .unwrap();
+    }
+
+    // `b` is gone from the deck (and `a` was edited); `r` is reversed.
+    let decks = mini_deck(
+        dir.path(),
+        &[("a", "basic"), ("r", "reversed"), ("n", "basic")],
+    );
+    let decks_arg = decks.to_str().unwrap();
+    let out = flipcard(&data, &["stats", "--decks", decks_arg, "--json"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let s: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert_eq!(s["cards"]["total"], 4, "a, r forward and backward, n");
+    assert_eq!(s["cards"]["new"], 2);
+    assert_eq!(s["cards"]["review"], 1);
+    assert_eq!(s["cards"]["learning"], 1);
+    assert_eq!(s["orphans"].as_array().unwrap().len(), 1);
+    assert_eq!(s["orphans"][0]["card"], "b");
+    assert_eq!(s["orphans"][0]["reviews"], 1);
+    assert_eq!(s["orphans"][0]["deck_present"], true);
+    assert_eq!(s["due"]["tomorrow"], 1, "a is due 2026-05-11");
+    assert_eq!(s["reviews_per_day"][29]["total"], 1);
+    assert_eq!(s["reviews_per_day"][28]["total"], 2);
+
+    let text = flipcard(&data, &["stats", "--decks", decks_arg]);
+    assert!(text.status.success(), "{}", stderr(&text));
+    let t = stdout(&text);
+    assert!(
+        t.contains("Cards: 4 — new 2, learning 1, review 1, relearning 0"),
+        "{t}"
+    );
+    assert!(t.contains("mini/b forward: 1 reviews"), "{t}");
+
+    // `b` comes back: no orphan, and its state is what its history says.
+    mini_deck(
+        dir.path(),
+        &[("a", "basic"), ("b", "basic"), ("r", "reversed")],
+    );
+    let out = flipcard(
+        &data,
+        &["stats", "--decks", decks_arg, "--deck", "mini", "--json"],
+    );
+    let s: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert_eq!(s["orphans"].as_array().unwrap().len(), 0);
+    assert_eq!(s["cards"]["learning"], 2);
+    assert_eq!(s["cards"]["new"], 1);
+}
+
+#[test]
+fn stats_of_an_unknown_deck_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let decks = mini_deck(dir.path(), &[("a", "basic")]);
+    let out = flipcard(
+        &dir.path().join("data"),
+        &[
+            "stats",
+            "--decks",
+            decks.to_str().unwrap(),
+            "--deck",
+            "nope",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("no deck `nope`"), "{}", stderr(&out));
+    assert!(stderr(&out).contains("mini"), "{}", stderr(&out));
+}
+
+#[test]
+fn a_deck_exported_to_csv_imports_back_and_passes_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let out = flipcard(
+        &data,
+        &[
+            "export",
+            "--deck",
+            "torque-free-rotation",
+            "--format",
+            "csv",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let csv_path = dir.path().join("cards.csv");
+    std::fs::write(&csv_path, &out.stdout).unwrap();
+    assert!(stdout(&out).starts_with("front,back,tags\n"));
+
+    let out = flipcard(
+        &data,
+        &["import", csv_path.to_str().unwrap(), "--deck-id", "again"],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("decks/again.toml"),
+        "{}",
+        stderr(&out)
+    );
+    assert!(
+        stderr(&out).contains("content/again/en.toml"),
+        "{}",
+        stderr(&out)
+    );
+    let root = dir.path().join("placed");
+    std::fs::create_dir_all(root.join("decks")).unwrap();
+    std::fs::create_dir_all(root.join("content/again")).unwrap();
+    std::fs::write(root.join("decks/again.toml"), &out.stdout).unwrap();
+    std::fs::write(root.join("content/again/en.toml"), "").unwrap();
+
+    let check = flipcard(&data, &["check", root.join("decks").to_str().unwrap()]);
+    assert!(
+        check.status.success(),
+        "{}{}",
+        stdout(&check),
+        stderr(&check)
+    );
+
+    // Same texts (primary language) and tags, card for card.
+    let original = flipcard::deck::load_dir(&flipcard::paths::bundled_decks());
+    let original = original
+        .decks
+        .iter()
+        .find(|d| d.id == "torque-free-rotation")
+        .unwrap();
+    let again = flipcard::deck::load_dir(&root.join("decks"));
+    assert_eq!(again.errors(), 0);
+    let again = &again.decks[0];
+    let lang = &original.languages[0];
+    assert_eq!(again.cards.len(), original.cards.len());
+    for (o, n) in original.cards.iter().zip(&again.cards) {
+        assert_eq!(n.front.get("en"), o.front.get(lang));
+        assert_eq!(n.back.get("en"), o.back.get(lang));
+        assert_eq!(n.tags, o.tags);
+    }
+}
+
+#[test]
+fn import_reports_every_bad_row_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv_path = dir.path().join("bad.csv");
+    std::fs::write(
+        &csv_path,
+        "front,back,tags\nfine,ok,t\n,no front,t\nfine 2,ok\nx,y,z,w\n",
+    )
+    .unwrap();
+    let out = flipcard(
+        dir.path(),
+        &["import", csv_path.to_str().unwrap(), "--deck-id", "x"],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty(), "no deck on stdout");
+    let err = stderr(&out);
+    let file = csv_path.display().to_string();
+    assert!(err.contains(&format!("{file}:3: front is empty")), "{err}");
+    assert!(
+        err.contains(&format!("{file}:5: expected 3 columns")),
+        "{err}"
+    );
+    assert!(
+        !err.contains(&format!("{file}:4:")),
+        "a row without tags is fine: {err}"
+    );
+    assert!(err.contains("2 bad rows"), "{err}");
+
+    let out = flipcard(
+        dir.path(),
+        &[
+            "import",
+            csv_path.to_str().unwrap(),
+            "--deck-id",
+            "Not An Id",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("not a deck id"), "{}", stderr(&out));
+
+    let out = flipcard(
+        dir.path(),
+        &[
+            "import",
+            dir.path().join("missing.csv").to_str().unwrap(),
+            "--deck-id",
+            "x",
+        ],
+    );
+    assert_eq!(out.status.code(), Some(1));
+    assert!(stderr(&out).contains("missing.csv"), "{}", stderr(&out));
+}
+
+#[test]
+fn imported_math_keeps_its_backslashes() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv_path = dir.path().join("math.csv");
+    std::fs::write(
+        &csv_path,
+        "front,back,tags\n\"Euler: $I_1\\dot\\omega_1$?\",\"$\\frac{1}{2}$ and it's fine\",euler\n",
+    )
+    .unwrap();
+    let out = flipcard(
+        dir.path(),
+        &[
+            "import",
+            csv_path.to_str().unwrap(),
+            "--deck-id",
+            "m",
+            "--lang",
+            "hi-Latn",
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let toml_text = stdout(&out);
+    assert!(
+        toml_text.contains(r"'Euler: $I_1\dot\omega_1$?'"),
+        "{toml_text}"
+    );
+    let v: toml::Table = toml::from_str(&toml_text).unwrap();
+    assert_eq!(v["deck"]["languages"][0].as_str(), Some("hi-Latn"));
+    assert_eq!(
+        v["card"][0]["back"]["hi-Latn"].as_str(),
+        Some(r"$\frac{1}{2}$ and it's fine")
+    );
+}
