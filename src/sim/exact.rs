@@ -178,9 +178,11 @@ impl Exact {
         matches!(self.motion, Motion::Steady) || self.attitude.get().is_some()
     }
 
-    /// ω(t) in the user's axes, without any orientation work.
+    /// ω(t) in the user's axes, without any orientation work. At t = 0 it is
+    /// ω₀ exactly.
     pub fn omega_at(&self, t: f64) -> Vector3<f64> {
         match &self.motion {
+            _ if t == 0.0 => self.omega0,
             Motion::Steady => self.omega0,
             Motion::Moving {
                 frame,
@@ -207,7 +209,11 @@ impl Exact {
                 let [w, x, y, z] = self.attitude(orbit, *scale).orientation(orbit, &point, t);
                 let v = frame.to_user([x, y, z]);
                 State {
-                    omega: frame.to_user(point.omega) * *scale,
+                    omega: if t == 0.0 {
+                        self.omega0
+                    } else {
+                        frame.to_user(point.omega) * *scale
+                    },
                     q: UnitQuaternion::new_normalize(Quaternion::new(w, v[0], v[1], v[2])),
                 }
             }
