@@ -417,3 +417,42 @@ fn list_names_every_bundled_scene_with_its_setup() {
     }
     assert!(text.contains("middle-axis-spin\t"), "{text}");
 }
+
+#[test]
+fn exact_is_the_default_and_the_integrators_agree_with_it() {
+    let setup = [
+        "--inertia",
+        "1,2,3",
+        "--omega",
+        "0.3,1,3",
+        "--t-end",
+        "20",
+        "--samples",
+        "21",
+    ];
+    let exact = rows(&run_ok(&setup));
+    assert_eq!(
+        exact,
+        rows(&run_ok(&[&setup[..], &["--method", "exact"]].concat()))
+    );
+    let (e0, l0) = (exact[0][8], exact[0][9]);
+    for row in &exact {
+        assert!((row[8] / e0 - 1.0).abs() < 1e-13 && (row[9] / l0 - 1.0).abs() < 1e-13);
+    }
+    for (method, knob, value, bound) in [
+        ("adaptive", "--tol", "1e-12", 1e-10),
+        ("rk4", "--dt", "1e-3", 1e-9),
+        ("splitting4", "--dt", "1e-3", 1e-9),
+        ("splitting", "--dt", "1e-3", 1e-4),
+    ] {
+        let other = rows(&run_ok(
+            &[&setup[..], &["--method", method, knob, value]].concat(),
+        ));
+        for (a, b) in exact.iter().zip(&other) {
+            assert_eq!(a[0], b[0]);
+            let err = (1..8).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
+            // ω is of size ~3, q of size 1: an absolute bound serves both.
+            assert!(err < 3.0 * bound, "{method} at t = {}: {err}", a[0]);
+        }
+    }
+}

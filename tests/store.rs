@@ -63,10 +63,14 @@ fn rebuild_from_the_log_equals_the_cache() {
         let mut store = open(dir.path());
         let before = store.cached_states().unwrap();
         assert!(!before.is_empty());
+        let retention = all_time_retention(&store);
+        assert!(retention.total > 0);
         let report = store.rebuild().unwrap();
         assert_eq!(report.changed, 0, "seed {seed}");
+        assert!(!report.tallies_changed, "seed {seed}");
         assert_eq!(report.items, before.len());
         assert_eq!(store.cached_states().unwrap(), before, "seed {seed}");
+        assert_eq!(all_time_retention(&store), retention);
 
         // The cache is only a cache: damage it behind the store's back and
         // the log alone brings it back.
@@ -79,12 +83,31 @@ fn rebuild_from_the_log_equals_the_cache() {
             [],
         )
         .unwrap();
+        raw.execute("UPDATE review_tally SET n = n + 3", [])
+            .unwrap();
         drop(raw);
         assert_ne!(store.cached_states().unwrap(), before);
+        assert_ne!(all_time_retention(&store), retention);
         let report = store.rebuild().unwrap();
         assert!(report.changed >= removed, "seed {seed}: {report:?}");
+        assert!(report.tallies_changed);
         assert_eq!(store.cached_states().unwrap(), before, "seed {seed}");
+        assert_eq!(all_time_retention(&store), retention);
     }
+}
+
+/// All-time retention over every deck (it comes from the answer tallies).
+fn all_time_retention(store: &Store) -> flipcard::store::stats::Ratio {
+    let grid = DayGrid::new(Utc, NaiveTime::from_hms_opt(4, 0, 0).unwrap());
+    let scope = StatsScope {
+        deck: None,
+        items: &[],
+    };
+    store
+        .stats(scope, at("2026-01-01T00:00:00Z"), &grid)
+        .unwrap()
+        .retention
+        .all_time
 }
 
 #[test]
@@ -289,6 +312,20 @@ fn history_survives_deck_edits_and_removed_cards_are_orphans() {
             Duration::days(4),
         ))
         .unwrap();
+    // Only ever crammed (so without a state), then removed; and a cram
+    // answer to `gone` on top of its two scheduling answers.
+    for k in [&key("mech", "crammed"), &gone] {
+        store
+            .record(&review(
+                k,
+                t + Duration::days(3),
+                Rating::Good,
+                ReviewKind::Cram,
+                State::New,
+                Duration::days(0),
+            ))
+            .unwrap();
+    }
 
     let grid = DayGrid::new(Utc, NaiveTime::from_hms_opt(4, 0, 0).unwrap());
     let now = t + Duration::days(4);
@@ -322,8 +359,9 @@ fn history_survives_deck_edits_and_removed_cards_are_orphans() {
     assert_eq!(
         orphans,
         [
+            ("mech", "crammed", "forward", 1, true),
             ("mech", "gone", "backward", 1, true),
-            ("mech", "gone", "forward", 2, true),
+            ("mech", "gone", "forward", 3, true),
             ("old-deck", "x", "forward", 1, false),
         ]
     );
@@ -340,11 +378,17 @@ fn history_survives_deck_edits_and_removed_cards_are_orphans() {
             &grid,
         )
         .unwrap();
-    assert_eq!(s.orphans.len(), 2);
+    assert_eq!(s.orphans.len(), 3);
 
     // The card comes back (its text edited, its id the same): its history
     // and state are intact and it is no orphan any more.
-    let items = vec![kept.clone(), fresh, gone.clone(), gone_back.clone()];
+    let items = vec![
+        kept.clone(),
+        fresh,
+        gone.clone(),
+        gone_back.clone(),
+        key("mech", "crammed"),
+    ];
     let s = store
         .stats(
             StatsScope {
@@ -358,7 +402,7 @@ fn history_survives_deck_edits_and_removed_cards_are_orphans() {
     assert!(s.orphans.is_empty());
     assert_eq!(s.cards.review, 3);
     assert_eq!(store.state(&gone).unwrap(), gone_state);
-    assert_eq!(store.history(&gone).unwrap().len(), 2);
+    assert_eq!(store.history(&gone).unwrap().len(), 3);
 }
 
 #[test]
@@ -642,7 +686,7 @@ fn today_counts_new_items_and_reviews_since_the_day_began() {
         .unwrap();
 
     let c = store.reviews_today("mech", day_start).unwrap();
-    assert_eq!((c.new_items, c.reviews), (2, 1));
+    assert_eq!((c.new, c.reviews), (2, 1));
     assert_eq!(store.last_studied("mech").unwrap(), Some(day_start + h(4)));
     assert_eq!(store.last_studied("never").unwrap(), None);
 }

@@ -27,6 +27,13 @@ pub struct Num {
     pub span: Span,
 }
 
+/// A boolean with its position.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flag {
+    pub value: bool,
+    pub span: Span,
+}
+
 /// An array with the span of the whole array.
 #[derive(Debug, Clone, PartialEq)]
 pub struct List<T> {
@@ -81,6 +88,7 @@ pub const SCENE_FIELDS: &[&str] = &[
     "duration",
     "show",
     "time_unit",
+    "flat",
 ];
 pub const CONTENT_FILE_FIELDS: &[&str] = &["section"];
 pub const SECTION_FIELDS: &[&str] = &["id", "title", "body", "see"];
@@ -169,6 +177,7 @@ pub struct RawScene {
     pub duration: Option<Num>,
     pub show: Option<List<Str>>,
     pub time_unit: Option<Str>,
+    pub flat: Option<Flag>,
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -442,6 +451,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
         duration: f.number(rep, "duration", true),
         show: f.strings(rep, "show", true),
         time_unit: f.string(rep, "time_unit", false),
+        flat: f.flag(rep, "flat"),
     }
 }
 

@@ -6,7 +6,7 @@ use std::ops::Range;
 use toml::Spanned;
 use toml::de::{DeArray, DeTable, DeValue};
 
-use super::raw::{List, Num, RawText, Str};
+use super::raw::{Flag, List, Num, RawText, Str};
 use super::report::FileReport;
 use super::suggest;
 
@@ -130,6 +130,21 @@ impl<'a, 'i> Fields<'a, 'i> {
             self.get(key)?
         };
         text(rep, v, &format!("`{key}`"))
+    }
+
+    /// An optional boolean.
+    pub fn flag(&self, rep: &mut FileReport, key: &str) -> Option<Flag> {
+        let v = self.get(key)?;
+        match v.get_ref() {
+            DeValue::Boolean(b) => Some(Flag {
+                value: *b,
+                span: v.span(),
+            }),
+            _ => {
+                wrong_type(rep, v, &format!("`{key}`"), "true or false");
+                None
+            }
+        }
     }
 
     pub fn strings(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<List<Str>> {

@@ -155,6 +155,9 @@ pub struct Scene {
     pub show: Vec<PanelName>,
     /// Label of the time unit (default `s`; `d` for days).
     pub time_unit: Option<NonEmpty>,
+    /// The body is flat on purpose (one moment equals the sum of the other
+    /// two); silences the flat-body warning.
+    pub flat: Option<bool>,
 }
 
 /// A content file: `content/<deck-id>/<lang>.toml`.

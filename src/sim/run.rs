@@ -6,6 +6,7 @@ use nalgebra::Vector3;
 
 use super::budget::Budget;
 use super::dopri::Dop853;
+use super::exact::Exact;
 use super::model::{self, Body};
 use super::rk4::Rk4;
 use super::scales::scales;
@@ -165,7 +166,7 @@ pub fn make_with(
     let budget = options.budget;
     let q = needs.orientation;
     Ok(match method {
-        Method::Exact => exact(body, omega0, needs)?,
+        Method::Exact => Box::new(Exact::new(body, omega0, needs)?),
         Method::Adaptive { tol } if q => Box::new(Dop853::<_, 7>::new(
             WithOrientation::new(&body, &omega0),
             &omega0,
@@ -215,12 +216,6 @@ pub fn make_with(
             budget,
         )),
     })
-}
-
-fn exact(_body: Body, _omega0: Vector3<f64>, _needs: Needs) -> Result<Box<dyn Solver>, SimError> {
-    Err(SimError::Invalid(
-        "the exact solver is not part of this build yet".to_string(),
-    ))
 }
 
 #[cfg(test)]

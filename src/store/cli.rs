@@ -299,6 +299,9 @@ pub fn db(cli: &Cli, args: &DbArgs) -> anyhow::Result<ExitCode> {
                 store.path().display(),
                 report.changed
             );
+            if report.tallies_changed {
+                println!("the answer tallies did not match the log and were recomputed");
+            }
             Ok(ExitCode::SUCCESS)
         }
     }

@@ -90,6 +90,10 @@ impl Store {
         }
         conn.pragma_update(None, "synchronous", "FULL")
             .map_err(sql_err)?;
+        // Stats read the recent part of the log and the caches; 16 MiB
+        // keeps those pages at hand.
+        conn.pragma_update(None, "cache_size", -16_384)
+            .map_err(sql_err)?;
         conn.pragma_update(None, "foreign_keys", true)
             .map_err(sql_err)?;
         // So that a REPLACE conflict resolution cannot remove log rows

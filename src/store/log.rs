@@ -8,6 +8,7 @@ use super::codec::{self, from_ms, to_ms};
 use super::db::Store;
 use super::error::StoreError;
 use super::state;
+use super::tally;
 use crate::sched::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord};
 
 /// One row of the log as stored.
@@ -107,6 +108,7 @@ impl Store {
         tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [last.id])
             .map_err(sql_err)?;
         state::refresh_item(&tx, &last.record.key).map_err(sql_err)?;
+        tally::count(&tx, &last.record, -1).map_err(sql_err)?;
         tx.commit().map_err(sql_err)?;
         Ok(Some(LoggedReview {
             undone: true,
@@ -201,6 +203,7 @@ fn append(tx: &Transaction<'_>, session: i64, r: &ReviewRecord) -> rusqlite::Res
     if r.kind != ReviewKind::Cram {
         state::apply(tx, r, id)?;
     }
+    tally::count(tx, r, 1)?;
     Ok(id)
 }
 

@@ -18,6 +18,7 @@ pub mod log;
 pub mod schema;
 pub mod state;
 pub mod stats;
+mod tally;
 pub mod today;
 
 pub use attempt::PromptAttempt;
@@ -27,4 +28,3 @@ pub use error::StoreError;
 pub use log::LoggedReview;
 pub use state::{CachedState, RebuildReport};
 pub use stats::{Stats, StatsScope};
-pub use today::TodayCounts;

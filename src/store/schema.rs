@@ -16,9 +16,9 @@ pub fn current_version() -> i64 {
     MIGRATIONS.len() as i64
 }
 
-/// Version 1: the append-only review log, the card-state cache rebuilt from
-/// it, predict-then-check attempts and sessions (so undo only reaches back
-/// within one running app, even with two apps open).
+/// Version 1: the append-only review log, the caches rebuilt from it (card
+/// states, answer tallies), predict-then-check attempts and sessions (so
+/// undo only reaches back within one running app, even with two apps open).
 const V1: &str = r#"
 CREATE TABLE session (
     id          INTEGER PRIMARY KEY,
@@ -50,7 +50,8 @@ CREATE INDEX review_item ON review(deck, card, direction, id);
 CREATE INDEX review_time ON review(reviewed_at);
 CREATE INDEX review_deck_time ON review(deck, reviewed_at);
 CREATE INDEX review_session ON review(session, id);
-CREATE INDEX review_kind ON review(kind, deck, undone, rating);
+-- Items answered only in cram mode have no card_state row; this finds them.
+CREATE INDEX review_cram ON review(deck, card, direction, undone) WHERE kind = 'cram';
 
 -- The log is append-only: no row is ever deleted, and the only change a row
 -- may see is being marked undone.
@@ -101,6 +102,17 @@ CREATE TABLE card_state (
 ) STRICT, WITHOUT ROWID;
 
 CREATE INDEX card_state_due ON card_state(deck, due);
+
+-- How many answers that count (not undone) each deck has, by kind and
+-- rating: all-time figures without reading the whole log. Derived from the
+-- log like card_state, and rebuilt with it.
+CREATE TABLE review_tally (
+    deck    TEXT NOT NULL,
+    kind    TEXT NOT NULL CHECK (kind IN ('learn', 'review', 'relearn', 'cram')),
+    rating  INTEGER NOT NULL CHECK (rating BETWEEN 1 AND 4),
+    n       INTEGER NOT NULL CHECK (n >= 0),
+    PRIMARY KEY (deck, kind, rating)
+) STRICT, WITHOUT ROWID;
 
 CREATE TABLE prompt_attempt (
     id            INTEGER PRIMARY KEY,
@@ -237,7 +249,13 @@ mod tests {
         assert_eq!(user_version(&conn).unwrap(), current_version());
         assert_eq!(
             tables(&conn),
-            ["card_state", "prompt_attempt", "review", "session"]
+            [
+                "card_state",
+                "prompt_attempt",
+                "review",
+                "review_tally",
+                "session"
+            ]
         );
         let entries = std::fs::read_dir(dir.path()).unwrap().count();
         assert_eq!(entries, 1, "no backup of a brand-new database");

@@ -1,6 +1,7 @@
 //! The card-state cache: each item's state after its last rating that is
 //! neither undone nor cram, with its count of ratings and lapses. It is
-//! derived from the log alone, so it can always be rebuilt.
+//! derived from the log alone, so it can always be rebuilt (the answer
+//! tallies are rebuilt along with it).
 
 use std::collections::HashMap;
 
@@ -33,6 +34,8 @@ pub struct RebuildReport {
     pub changed: usize,
     /// Log rows read (undone ones included).
     pub reviews: i64,
+    /// Whether the answer tallies differed from the log.
+    pub tallies_changed: bool,
 }
 
 const STATE_COLUMNS: &str = "deck, card, direction, state, step, stability, difficulty, due, \
@@ -143,13 +146,19 @@ impl Store {
 
     /// The whole cache, ordered by deck, card, direction.
     pub fn cached_states(&self) -> Result<Vec<CachedState>, StoreError> {
+        self.cached_states_in(None)
+    }
+
+    /// The cache of one deck (or all), ordered by deck, card, direction.
+    pub fn cached_states_in(&self, deck: Option<&str>) -> Result<Vec<CachedState>, StoreError> {
         let mut st = self
             .conn
-            .prepare(&format!(
-                "SELECT {STATE_COLUMNS} FROM card_state ORDER BY deck, card, direction"
+            .prepare_cached(&format!(
+                "SELECT {STATE_COLUMNS} FROM card_state WHERE (?1 IS NULL OR deck = ?1) \
+                 ORDER BY deck, card, direction"
             ))
             .map_err(|e| self.err(e))?;
-        let rows = read_states(&mut st, []).map_err(|e| self.err(e))?;
+        let rows = read_states(&mut st, [deck]).map_err(|e| self.err(e))?;
         rows.into_iter().collect()
     }
 
@@ -183,6 +192,7 @@ impl Store {
             [],
         )
         .map_err(sql_err)?;
+        let tallies_changed = super::tally::rebuild(&tx).map_err(sql_err)?;
         let reviews: i64 = tx
             .query_row("SELECT count(*) FROM review", [], |r| r.get(0))
             .map_err(sql_err)?;
@@ -191,6 +201,7 @@ impl Store {
             items: after.len(),
             changed,
             reviews,
+            tallies_changed,
         })
     }
 }

@@ -1,7 +1,7 @@
 //! Review statistics: cards by state, the due forecast, reviews per day,
 //! true retention, prompt accuracy and orphans.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap, HashSet};
 
 use chrono::{DateTime, Duration, NaiveDate, TimeZone, Utc};
 use rusqlite::params_from_iter;
@@ -11,7 +11,8 @@ use super::codec::{self, to_ms};
 use super::day::DayGrid;
 use super::db::Store;
 use super::error::StoreError;
-use crate::sched::{CardState, ItemKey, Rating, State};
+use super::state::CachedState;
+use crate::sched::{CardState, ItemKey, Rating, ReviewKind, State};
 
 /// Days covered by the forecast and by the reviews-per-day history.
 pub const WINDOW_DAYS: usize = 30;
@@ -148,12 +149,19 @@ impl Store {
             .filter(|k| scope.deck.is_none_or(|d| k.deck == d))
             .collect();
 
-        let states = self.scope_states(scope.deck)?;
+        let cached = self.cached_states_in(scope.deck)?;
+        let states: HashMap<&ItemKey, &CardState> =
+            cached.iter().map(|c| (&c.key, &c.state)).collect();
         let (cards, due) = states_and_forecast(&items, &states, today, grid);
-        let reviews_per_day = self.reviews_per_day(scope.deck, today, grid)?;
-        let retention = self.retention(scope.deck, today, grid)?;
+        let (reviews_per_day, last_30_days) = self.recent_days(scope.deck, today, grid)?;
+        let (total, passed) =
+            super::tally::review_answers(&self.conn, scope.deck).map_err(|e| self.err(e))?;
+        let retention = Retention {
+            last_30_days,
+            all_time: Ratio::new(total, passed),
+        };
         let prompts = self.prompt_accuracy(scope.deck)?;
-        let orphans = self.orphans(scope.deck, &items)?;
+        let orphans = self.orphans(scope.deck, &items, &cached)?;
         Ok(Stats {
             deck: scope.deck.map(str::to_string),
             now,
@@ -167,23 +175,14 @@ impl Store {
         })
     }
 
-    fn scope_states(&self, deck: Option<&str>) -> Result<HashMap<ItemKey, CardState>, StoreError> {
-        match deck {
-            Some(d) => self.states(d),
-            None => Ok(self
-                .cached_states()?
-                .into_iter()
-                .map(|c| (c.key, c.state))
-                .collect()),
-        }
-    }
-
-    fn reviews_per_day<Tz: TimeZone>(
+    /// Answers per day over the last 30 learning days, and the retention of
+    /// their review-kind answers.
+    fn recent_days<Tz: TimeZone>(
         &self,
         deck: Option<&str>,
         today: NaiveDate,
         grid: &DayGrid<Tz>,
-    ) -> Result<Vec<DayReviews>, StoreError> {
+    ) -> Result<(Vec<DayReviews>, Ratio), StoreError> {
         let days: Vec<NaiveDate> = (0..WINDOW_DAYS as i64)
             .rev()
             .map(|back| today - Duration::days(back))
@@ -197,6 +196,7 @@ impl Store {
                 ..DayReviews::default()
             })
             .collect();
+        let (mut review_total, mut review_passed) = (0u64, 0u64);
         let (filter, args) = deck_filter(deck, vec![starts[0].into(), end.into()], "AND");
         let sql = format!(
             "SELECT reviewed_at, kind, rating FROM review \
@@ -208,58 +208,24 @@ impl Store {
             let at: i64 = row.get(0).map_err(|e| self.err(e))?;
             let kind: String = row.get(1).map_err(|e| self.err(e))?;
             let rating: i64 = row.get(2).map_err(|e| self.err(e))?;
+            let again = rating == Rating::Again as i64;
             let i = starts.partition_point(|s| *s <= at).saturating_sub(1);
             let day = &mut out[i];
             day.total += 1;
             match codec::parse_kind(&kind) {
-                Some(crate::sched::ReviewKind::Learn) => day.learn += 1,
-                Some(crate::sched::ReviewKind::Review) => day.review += 1,
-                Some(crate::sched::ReviewKind::Relearn) => day.relearn += 1,
-                Some(crate::sched::ReviewKind::Cram) => day.cram += 1,
+                Some(ReviewKind::Learn) => day.learn += 1,
+                Some(ReviewKind::Review) => {
+                    day.review += 1;
+                    review_total += 1;
+                    review_passed += u64::from(!again);
+                }
+                Some(ReviewKind::Relearn) => day.relearn += 1,
+                Some(ReviewKind::Cram) => day.cram += 1,
                 None => {}
             }
-            if rating == Rating::Again as i64 {
-                day.again += 1;
-            }
+            day.again += u32::from(again);
         }
-        Ok(out)
-    }
-
-    fn retention<Tz: TimeZone>(
-        &self,
-        deck: Option<&str>,
-        today: NaiveDate,
-        grid: &DayGrid<Tz>,
-    ) -> Result<Retention, StoreError> {
-        let again = Rating::Again as i64;
-        let count = |since: Option<i64>| -> Result<Ratio, StoreError> {
-            let mut args: Vec<rusqlite::types::Value> = vec![again.into()];
-            let time = match since {
-                Some(ms) => {
-                    args.push(ms.into());
-                    "AND reviewed_at >= ?2"
-                }
-                None => "",
-            };
-            let (filter, args) = deck_filter(deck, args, "AND");
-            let sql = format!(
-                "SELECT count(*), coalesce(sum(rating <> ?1), 0) FROM review \
-                 WHERE kind = 'review' AND undone = 0 {time} {filter}"
-            );
-            let (total, passed): (i64, i64) = self
-                .conn
-                .prepare_cached(&sql)
-                .and_then(|mut st| {
-                    st.query_row(params_from_iter(args), |r| Ok((r.get(0)?, r.get(1)?)))
-                })
-                .map_err(|e| self.err(e))?;
-            Ok(Ratio::new(total as u64, passed as u64))
-        };
-        let window_start = grid.start_of(today - Duration::days(WINDOW_DAYS as i64 - 1));
-        Ok(Retention {
-            last_30_days: count(Some(to_ms(window_start)))?,
-            all_time: count(None)?,
-        })
+        Ok((out, Ratio::new(review_total, review_passed)))
     }
 
     fn prompt_accuracy(&self, deck: Option<&str>) -> Result<PromptAccuracy, StoreError> {
@@ -288,37 +254,62 @@ impl Store {
         })
     }
 
-    fn orphans(&self, deck: Option<&str>, items: &[&ItemKey]) -> Result<Vec<Orphan>, StoreError> {
-        let current: HashSet<(&str, &str, &str)> = items
-            .iter()
-            .map(|k| (k.deck.as_str(), k.card.as_str(), k.direction.as_str()))
-            .collect();
+    /// Items with answers in the log that are not among the current items:
+    /// those with a state (their count of scheduling answers is in the
+    /// cache) and those only ever crammed.
+    fn orphans(
+        &self,
+        deck: Option<&str>,
+        items: &[&ItemKey],
+        cached: &[CachedState],
+    ) -> Result<Vec<Orphan>, StoreError> {
+        let current: HashSet<&ItemKey> = items.iter().copied().collect();
         let decks: HashSet<&str> = items.iter().map(|k| k.deck.as_str()).collect();
-        let (filter, args) = deck_filter(deck, Vec::new(), "WHERE");
+        let mut answers: BTreeMap<(String, String, &'static str), u64> = BTreeMap::new();
+        for c in cached.iter().filter(|c| !current.contains(&c.key)) {
+            let k = &c.key;
+            answers.insert(
+                (k.deck.clone(), k.card.clone(), k.direction.as_str()),
+                u64::from(c.reps),
+            );
+        }
+        let (filter, args) = deck_filter(deck, Vec::new(), "AND");
         let sql = format!(
-            "SELECT deck, card, direction, sum(undone = 0) AS n FROM review {filter} \
-             GROUP BY deck, card, direction HAVING n > 0 ORDER BY deck, card, direction"
+            "SELECT deck, card, direction, count(*) FROM review \
+             WHERE kind = 'cram' AND undone = 0 {filter} GROUP BY deck, card, direction"
         );
         let mut st = self.conn.prepare_cached(&sql).map_err(|e| self.err(e))?;
         let mut rows = st.query(params_from_iter(args)).map_err(|e| self.err(e))?;
-        let mut out = Vec::new();
         while let Some(row) = rows.next().map_err(|e| self.err(e))? {
-            let d: String = row.get(0).map_err(|e| self.err(e))?;
-            let c: String = row.get(1).map_err(|e| self.err(e))?;
+            let deck: String = row.get(0).map_err(|e| self.err(e))?;
+            let card: String = row.get(1).map_err(|e| self.err(e))?;
             let dir: String = row.get(2).map_err(|e| self.err(e))?;
-            if current.contains(&(d.as_str(), c.as_str(), dir.as_str())) {
+            let n: i64 = row.get(3).map_err(|e| self.err(e))?;
+            let Some(direction) = codec::parse_direction(&dir) else {
+                continue;
+            };
+            let key = ItemKey {
+                deck,
+                card,
+                direction,
+            };
+            if current.contains(&key) {
                 continue;
             }
-            let n: i64 = row.get(3).map_err(|e| self.err(e))?;
-            out.push(Orphan {
-                deck_present: decks.contains(d.as_str()),
-                deck: d,
-                card: c,
-                direction: dir,
-                reviews: n as u64,
-            });
+            *answers
+                .entry((key.deck, key.card, direction.as_str()))
+                .or_insert(0) += n as u64;
         }
-        Ok(out)
+        Ok(answers
+            .into_iter()
+            .map(|((deck, card, direction), reviews)| Orphan {
+                deck_present: decks.contains(deck.as_str()),
+                deck,
+                card,
+                direction: direction.to_string(),
+                reviews,
+            })
+            .collect())
     }
 }
 
@@ -339,7 +330,7 @@ fn deck_filter(
 
 fn states_and_forecast<Tz: TimeZone>(
     items: &[&ItemKey],
-    states: &HashMap<ItemKey, CardState>,
+    states: &HashMap<&ItemKey, &CardState>,
     today: NaiveDate,
     grid: &DayGrid<Tz>,
 ) -> (StateCounts, Forecast) {

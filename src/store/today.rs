@@ -7,25 +7,19 @@ use rusqlite::params;
 use super::codec::{from_ms, to_ms};
 use super::db::Store;
 use super::error::StoreError;
-
-/// Work done in one deck since the start of the day, against the limits.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct TodayCounts {
-    /// Items first rated (their first rating that counts) since the day began.
-    pub new_items: u32,
-    /// Review-kind answers since the day began (learning and relearning
-    /// steps are not counted against the review limit).
-    pub reviews: u32,
-}
+use crate::sched::DoneToday;
 
 impl Store {
-    /// Counts for the daily limits of `deck`, for the day that began at
-    /// `day_start`. Undone and cram answers do not count.
+    /// What counts against the daily limits of `deck` in the study day that
+    /// began at `day_start`: items first rated since then (their first
+    /// rating that counts), and review-kind answers (learning and
+    /// relearning steps do not count against the review limit). Undone and
+    /// cram answers do not count.
     pub fn reviews_today(
         &self,
         deck: &str,
         day_start: DateTime<Utc>,
-    ) -> Result<TodayCounts, StoreError> {
+    ) -> Result<DoneToday, StoreError> {
         let since = to_ms(day_start);
         let reviews: i64 = self
             .conn
@@ -46,8 +40,8 @@ impl Store {
             )
             .and_then(|mut st| st.query_row(params![deck, since], |r| r.get(0)))
             .map_err(|e| self.err(e))?;
-        Ok(TodayCounts {
-            new_items: u32::try_from(new_items).unwrap_or(u32::MAX),
+        Ok(DoneToday {
+            new: u32::try_from(new_items).unwrap_or(u32::MAX),
             reviews: u32::try_from(reviews).unwrap_or(u32::MAX),
         })
     }

@@ -32,8 +32,11 @@ struct Shape {
     signed: bool,
     /// A differential like `dt` or `∂x`, which reads as one factor.
     differential: bool,
-    /// Already enclosed in one pair of brackets: `(x + y)`.
+    /// Already enclosed in one pair of brackets: `(x + y)`, `|k|`.
     bracketed: bool,
+    /// Ends in a script written plainly as `_b` or `^q`, which would run
+    /// into a following letter.
+    open_tail: bool,
 }
 
 impl Shape {
@@ -61,10 +64,15 @@ impl Shape {
 fn list(nodes: &[Node<'_>], out: &mut String, mode: Mode) -> Shape {
     let mut shape = Shape::default();
     let mut prev: Option<Class> = None;
+    let mut prev_open_tail = false;
     let mut pending: u8 = 0;
     let mut first_item = 0..0;
+    // Bracket nesting: what sits inside `( ... )` or `| ... |` is one item
+    // seen from outside, however loose it is inside.
     let mut depth = 0usize;
-    let mut first_open = false;
+    let mut bar_open: Option<usize> = None;
+    let mut first_opens = false;
+    let mut last_closes = false;
     for (i, node) in nodes.iter().enumerate() {
         match node {
             Node::Empty => continue,
@@ -92,19 +100,39 @@ fn list(nodes: &[Node<'_>], out: &mut String, mode: Mode) -> Shape {
                 }
             }
         }
-        // What sits inside plain parentheses `( ... )` is one item seen
-        // from outside, however loose it is inside.
         let top = depth == 0;
         if let Some(p) = prev {
-            let gap = gap(p, class, mode).max(pending);
+            let mut gap = gap(p, class, mode).max(pending);
+            // `Ω_b t`, not `Ω_bt`: a plain `_b` must not run into the
+            // next letter.
+            if prev_open_tail
+                && mode == Mode::Text
+                && !matches!(class, Class::Close | Class::Punct | Class::Open)
+            {
+                gap = gap.max(1);
+            }
             push_spaces(out, gap);
             shape.loose |= top && gap > 0;
         }
         shape.loose |= top && matches!(class, Class::Bin | Class::Rel | Class::Punct);
-        match class {
-            Class::Open => depth += 1,
-            Class::Close => depth = depth.saturating_sub(1),
-            _ => {}
+        let bar = matches!(node, Node::Leaf(Leaf::Char('|' | '‖' | '∥'), Class::Ord));
+        let (opens, closes) = match class {
+            Class::Open => (true, false),
+            Class::Close => (false, true),
+            _ if bar && bar_open == Some(depth.wrapping_sub(1)) => (false, true),
+            _ if bar && bar_open.is_none() => (true, false),
+            _ => (false, false),
+        };
+        if opens {
+            if bar {
+                bar_open = Some(depth);
+            }
+            depth += 1;
+        } else if closes {
+            depth = depth.saturating_sub(1);
+            if bar {
+                bar_open = None;
+            }
         }
         pending = 0;
         let start = out.len();
@@ -114,12 +142,15 @@ fn list(nodes: &[Node<'_>], out: &mut String, mode: Mode) -> Shape {
             shape.items += 1;
             if shape.items == 1 {
                 first_item = start..out.len();
-                first_open = class == Class::Open;
+                first_opens = opens;
             }
         }
+        last_closes = closes && depth == 0;
+        prev_open_tail = inner.open_tail;
         prev = Some(class);
     }
-    shape.bracketed = shape.items == 1 && first_open && depth == 0 && prev == Some(Class::Close);
+    shape.bracketed = shape.items == 1 && first_opens && last_closes;
+    shape.open_tail = prev_open_tail;
     shape.differential =
         shape.items == 2 && !shape.loose && matches!(&out[first_item], "d" | "∂" | "δ" | "Δ");
     shape
@@ -236,13 +267,17 @@ fn node_shape(node: &Node<'_>, out: &mut String, mode: Mode) -> Shape {
                 wrap(out, start);
             }
             let limits = class_of(base) == Class::Op;
+            let mut open_tail = false;
             if let Some(sub) = sub {
-                script(sub, out, Position::Sub, limits);
+                open_tail = script(sub, out, Position::Sub, limits);
             }
             if let Some(sup) = sup {
-                script(sup, out, Position::Sup, limits);
+                open_tail = script(sup, out, Position::Sup, limits);
             }
-            Shape::atom()
+            Shape {
+                open_tail,
+                ..Shape::atom()
+            }
         }
         Node::Accent(base, accent) => {
             accented(base, *accent, out, mode);
@@ -344,12 +379,13 @@ enum Position {
 
 /// A sub- or superscript: Unicode script characters when every character
 /// has one (parenthesised with script parentheses when it is more than one
-/// symbol or number), else `_x`, `_(xy)`, `^x`, `^(xy)`.
-fn script(node: &Node<'_>, out: &mut String, position: Position, limits: bool) {
+/// symbol or number), else `_x`, `_(xy)`, `^x`, `^(xy)`. True when written
+/// as a plain `_x` or `^x`.
+fn script(node: &Node<'_>, out: &mut String, position: Position, limits: bool) -> bool {
     let start = out.len();
     node_shape(node, out, Mode::Script);
     if start == out.len() {
-        return;
+        return false;
     }
     let (map, open, close, marker): (fn(char) -> Option<char>, _, _, _) = match position {
         Position::Sub => (glyphs::subscript, '₍', '₎', '_'),
@@ -368,7 +404,7 @@ fn script(node: &Node<'_>, out: &mut String, position: Position, limits: bool) {
             out.insert(start, marker);
             out.push(')');
         }
-        return;
+        return single;
     }
     // Rewrite the tail in place; scripts are short, so a stack copy.
     let mut copy = [0u8; 64];
@@ -389,6 +425,7 @@ fn script(node: &Node<'_>, out: &mut String, position: Position, limits: bool) {
     if parens {
         out.push(close);
     }
+    false
 }
 
 /// `s` with every character mapped, combining marks kept; `None` when one
@@ -501,6 +538,24 @@ mod tests {
         renders(r"x_{bc}", "x_(bc)");
         renders(r"x_{\text{max}}", "x₍ₘₐₓ₎");
         renders(r"x_{\text{body}}", "x_(body)");
+    }
+
+    #[test]
+    fn plain_fallback_script_does_not_run_into_the_next_letter() {
+        renders(r"\cos(\Omega_b t)", "cos(Ω_b t)");
+        renders(r"I_bI_c", "I_b I_c");
+        renders(r"x^q y", "x^q y");
+        renders(r"\Omega_b = 0", "Ω_b = 0");
+        renders(r"f_b(x)", "f_b(x)");
+        renders(r"(I_b)", "(I_b)");
+    }
+
+    #[test]
+    fn absolute_value_bars_bracket_like_parentheses() {
+        renders(r"\sqrt{|k|}", "√|k|");
+        renders(r"\sqrt{|a| + |b|}", "√(|a| + |b|)");
+        renders(r"\frac{1}{|x - y|}", "1/|x − y|");
+        renders(r"\frac{\|v\|}{2}", "∥v∥/2");
     }
 
     #[test]
@@ -709,7 +764,7 @@ mod tests {
     fn unknown_commands_are_errors() {
         for latex in [r"\foo", r"x + \unknowncmd{y}", r"\dddot x"] {
             let err = math_to_unicode(latex).unwrap_err();
-            assert!(err.message.starts_with("unknown LaTeX command"), "{err:?}");
+            assert!(err.message.starts_with("unknown command"), "{err:?}");
             assert_eq!(Some(err.offset), latex.find('\\'), "{latex}");
         }
     }

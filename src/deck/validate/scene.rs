@@ -2,7 +2,7 @@
 //! panels.
 
 use crate::deck::model::{Panel, Scene};
-use crate::deck::raw::{List, Num, RawScene};
+use crate::deck::raw::{Flag, List, Num, RawScene};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::sim::model::{Body, ModelError};
@@ -18,7 +18,10 @@ pub fn scene(rep: &mut FileReport, raw: &RawScene, langs: &Langs, what: &str) ->
         .title
         .as_ref()
         .map(|t| text::text(rep, t, langs, &format!("the title of {what}")));
-    let inertia = raw.inertia.as_ref().and_then(|l| inertia(rep, l));
+    let inertia = raw
+        .inertia
+        .as_ref()
+        .and_then(|l| inertia(rep, l, raw.flat.as_ref()));
     let omega = raw.omega.as_ref().and_then(|l| omega(rep, l));
     let duration = raw.duration.as_ref().and_then(|d| duration(rep, d));
     let show = raw.show.as_ref().and_then(|l| show(rep, l, what));
@@ -51,7 +54,7 @@ fn three(rep: &mut FileReport, list: &List<Num>, name: &str) -> Option<[f64; 3]>
     }
 }
 
-fn inertia(rep: &mut FileReport, list: &List<Num>) -> Option<[f64; 3]> {
+fn inertia(rep: &mut FileReport, list: &List<Num>, flat: Option<&Flag>) -> Option<[f64; 3]> {
     let values = three(rep, list, "inertia")?;
     // Every bad moment is reported, not only the first Body::new meets.
     let mut ok = true;
@@ -93,10 +96,15 @@ fn inertia(rep: &mut FileReport, list: &List<Num>) -> Option<[f64; 3]> {
             return None;
         }
     }
-    for k in 0..3 {
+    let flat_axis = (0..3).find(|&k| {
         let (i, j) = ((k + 1) % 3, (k + 2) % 3);
-        let sum = values[i] + values[j];
-        if sum <= values[k] * (1.0 + 4.0 * f64::EPSILON) {
+        values[i] + values[j] <= values[k] * (1.0 + 4.0 * f64::EPSILON)
+    });
+    // A flat body is a limit case, so it is flagged unless the author says
+    // it is meant; saying so of a body that is not flat is a mistake too.
+    match (flat_axis, flat.map(|f| f.value)) {
+        (Some(k), None | Some(false)) => {
+            let (i, j) = ((k + 1) % 3, (k + 2) % 3);
             let (i, j) = (i.min(j) + 1, i.max(j) + 1);
             rep.warning(
                 list.items[k].span.clone(),
@@ -104,9 +112,23 @@ fn inertia(rep: &mut FileReport, list: &List<Num>) -> Option<[f64; 3]> {
                     "flat body: I{i} + I{j} = I{} (all mass in one plane); allowed, but make sure it is meant",
                     k + 1
                 ),
-                None,
+                Some("if it is, say so with `flat = true` in this scene".to_string()),
             );
         }
+        (None, Some(true)) => {
+            let span = flat
+                .map(|f| f.span.clone())
+                .unwrap_or_else(|| list.span.clone());
+            rep.error(
+                span,
+                "`flat = true` but no moment equals the sum of the other two: the body is not flat",
+                Some(
+                    "remove `flat`, or fix the moments (a flat body has Iₖ = Iᵢ + Iⱼ)".to_string(),
+                ),
+            );
+            return None;
+        }
+        _ => {}
     }
     Some(values)
 }
