@@ -70,13 +70,13 @@ impl LiveRun {
             orientation: scene.shows(Panel::Body),
         };
         let method = method.unwrap_or(Method::Exact);
-        let mut solver = sim::make(method, body, omega0, needs)?;
+        let mut solver = make_solver(method, body, omega0, needs)?;
         let mut error = None;
         if let Err(e) = solver.plan(scene.duration) {
             error = Some(e.to_string());
         }
         let reference = if scene.shows(Panel::Diagnostics) && method != Method::Exact {
-            Some(sim::make(
+            Some(make_solver(
                 Method::Exact,
                 body,
                 omega0,
@@ -252,6 +252,19 @@ impl LiveRun {
     /// |L|, the radius of the momentum sphere.
     pub fn momentum(&self) -> f64 {
         self.l0
+    }
+}
+
+/// The closed form for the exact method, the factory for the others.
+fn make_solver(
+    method: Method,
+    body: Body,
+    omega0: Vector3<f64>,
+    needs: Needs,
+) -> Result<Box<dyn Solver>, SimError> {
+    match method {
+        Method::Exact => Ok(Box::new(sim::exact::Exact::new(body, omega0, needs)?)),
+        other => sim::make(other, body, omega0, needs),
     }
 }
 

@@ -352,8 +352,13 @@ fn draw_ask(
             lines.push(Line::from(vec![
                 Span::styled("> ", t.key()),
                 Span::styled(format!("{input}▏"), t.strong()),
-                Span::styled(format!(" {unit}"), t.dim()),
             ]));
+            let hint = if app.lang == crate::tui::i18n::HINGLISH {
+                format!("  unit: {unit} (likhna zaroori nahi)")
+            } else {
+                format!("  unit: {unit} (optional)")
+            };
+            lines.push(Line::styled(hint, t.dim()));
             if let Some(e) = error {
                 lines.push(Line::styled(e.to_string(), t.bad()));
             }
