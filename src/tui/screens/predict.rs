@@ -452,11 +452,13 @@ fn draw_play(
     let t = &app.theme;
     let diag = run.scene.shows(Panel::Diagnostics);
     let verdict_h = if verdict.is_some() { 5 } else { 0 };
-    let [top, panels, status, diag_area, verdict_area] = Layout::vertical([
+    let hints_h = u16::from(verdict.is_none());
+    let [top, panels, status, diag_area, hints, verdict_area] = Layout::vertical([
         Constraint::Length(2),
         Constraint::Fill(1),
         Constraint::Length(1),
         Constraint::Length(u16::from(diag)),
+        Constraint::Length(hints_h),
         Constraint::Length(verdict_h),
     ])
     .areas(area);
@@ -527,6 +529,19 @@ fn draw_play(
         frame.render_widget(Paragraph::new(Span::styled(line, t.dim())), diag_area);
     }
 
+    if verdict.is_none() {
+        let key = |k: &'static str, what: &'static str| {
+            [Span::styled(k, t.key()), Span::styled(what, t.dim())]
+        };
+        let hi = app.lang == crate::tui::i18n::HINGLISH;
+        let mut spans = vec![Span::raw(" ")];
+        spans.extend(key("Space", if hi { " roko  " } else { " pause  " }));
+        spans.extend(key("+ -", if hi { " speed  " } else { " speed  " }));
+        spans.extend(key("r", if hi { " phir se  " } else { " restart  " }));
+        spans.extend(key("m", if hi { " method  " } else { " method  " }));
+        spans.extend(key("[ ]", if hi { " step" } else { " step" }));
+        frame.render_widget(Paragraph::new(Line::from(spans)), hints);
+    }
     if let Some(v) = verdict {
         draw_verdict(frame, verdict_area, app, prompt, prediction, v);
     }
