@@ -536,10 +536,10 @@ fn draw_play(
         let hi = app.lang == crate::tui::i18n::HINGLISH;
         let mut spans = vec![Span::raw(" ")];
         spans.extend(key("Space", if hi { " roko  " } else { " pause  " }));
-        spans.extend(key("+ -", if hi { " speed  " } else { " speed  " }));
+        spans.extend(key("+ -", " speed  "));
         spans.extend(key("r", if hi { " phir se  " } else { " restart  " }));
-        spans.extend(key("m", if hi { " method  " } else { " method  " }));
-        spans.extend(key("[ ]", if hi { " step" } else { " step" }));
+        spans.extend(key("m", " method  "));
+        spans.extend(key("[ ]", " step"));
         frame.render_widget(Paragraph::new(Line::from(spans)), hints);
     }
     if let Some(v) = verdict {
