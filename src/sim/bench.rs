@@ -1,9 +1,354 @@
-//! `flipcard bench`.
+//! `flipcard bench [--quick] [--out DIR]`: the work–precision sweep. Every
+//! method runs over its tolerances or step sizes on each case of the
+//! problem set, with the orientation; each run is timed (minimum of
+//! several), its work counted, and its samples compared with the exact
+//! solution and with the invariants. Writes `DIR/work_precision.csv` (one
+//! row per run) and `DIR/work_precision.svg` (error against time, one panel
+//! per case, one curve per method) and prints a table.
 
+mod cases;
+mod plot;
+
+use std::fmt::Write as _;
+use std::fs;
+use std::path::Path;
 use std::process::ExitCode;
+use std::time::{Duration, Instant};
 
+use anyhow::Context;
+use nalgebra::Vector3;
+
+pub use cases::{Case, cases, methods, setting};
+
+use super::budget::Budget;
+use super::model::{Body, State};
+use super::reference;
+use super::run::{Options, make_with};
+use super::solver::{Method, Needs, SimError, Solver, Work};
 use crate::cli::{BenchArgs, Cli};
 
-pub fn run(_cli: &Cli, _args: &BenchArgs) -> anyhow::Result<ExitCode> {
-    anyhow::bail!("bench: not built yet")
+/// Points at which every run is compared with the exact solution.
+pub const POINTS: usize = 1001;
+/// The exact header of the CSV.
+pub const CSV_HEADER: &str =
+    "case,method,setting,steps,rhs_evals,wall_s,err_omega,err_energy,err_l2,err_lspace,err_qnorm";
+
+/// How long each run may take, in steps, and how often it is repeated.
+#[derive(Debug, Clone, Copy)]
+pub struct Effort {
+    pub budget: Budget,
+    /// Repeat a run until this much time is spent (at least twice unless a
+    /// single run already takes longer than this)...
+    pub time_per_setting: Duration,
+    /// ...but no more often than this.
+    pub max_repeats: usize,
+}
+
+impl Effort {
+    pub fn new(quick: bool) -> Effort {
+        if quick {
+            Effort {
+                budget: Budget { max_steps: 200_000 },
+                time_per_setting: Duration::from_millis(20),
+                max_repeats: 3,
+            }
+        } else {
+            Effort {
+                budget: Budget {
+                    max_steps: 2_000_000,
+                },
+                time_per_setting: Duration::from_millis(300),
+                max_repeats: 7,
+            }
+        }
+    }
+}
+
+/// The errors of one run, each the largest over the sample points.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Errors {
+    /// |ω − ω_exact| / |ω_exact|.
+    pub omega: f64,
+    /// |T − T₀| / T₀.
+    pub energy: f64,
+    /// ||L|² − |L₀|²| / |L₀|².
+    pub l2: f64,
+    /// |L_space − L_space(0)| / |L|.
+    pub lspace: f64,
+    /// ||q| − 1|.
+    pub qnorm: f64,
+}
+
+/// One row of the sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    pub case: &'static str,
+    pub method: Method,
+    pub outcome: Result<Measured, String>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measured {
+    pub work: Work,
+    /// Minimum wall time over the repeats (s).
+    pub wall: f64,
+    pub errors: Errors,
+}
+
+/// The exact states at the sample times of a case.
+pub struct Reference {
+    times: Vec<f64>,
+    states: Vec<State>,
+}
+
+impl Reference {
+    pub fn new(case: &Case) -> Result<Reference, SimError> {
+        let times: Vec<f64> = (0..POINTS)
+            .map(|k| case.t_end * k as f64 / (POINTS - 1) as f64)
+            .collect();
+        let mut exact = reference::exact(case.body, case.omega0, Needs { orientation: true })?;
+        let states = times
+            .iter()
+            .map(|&t| exact.advance(t))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Reference { times, states })
+    }
+}
+
+fn run_once(
+    case: &Case,
+    method: Method,
+    times: &[f64],
+    budget: Budget,
+) -> Result<(Vec<State>, Work, f64), SimError> {
+    let start = Instant::now();
+    let mut solver: Box<dyn Solver> = match method {
+        Method::Exact => reference::exact(case.body, case.omega0, Needs { orientation: true })?,
+        _ => make_with(
+            method,
+            case.body,
+            case.omega0,
+            Needs { orientation: true },
+            Options { budget },
+        )?,
+    };
+    solver.plan(case.t_end)?;
+    let mut states = Vec::with_capacity(times.len());
+    for &t in times {
+        states.push(solver.advance(t)?);
+    }
+    let wall = start.elapsed().as_secs_f64();
+    Ok((states, solver.work(), wall))
+}
+
+/// The largest errors of `states` against the exact ones.
+pub fn errors(body: &Body, omega0: &Vector3<f64>, states: &[State], exact: &[State]) -> Errors {
+    let e0 = body.energy(omega0);
+    let l2_0 = body.l2(omega0);
+    let l0 = body.momentum(omega0);
+    let rel = |x: f64, x0: f64| {
+        if x0 != 0.0 {
+            (x - x0).abs() / x0.abs()
+        } else {
+            x.abs()
+        }
+    };
+    let mut err = Errors::default();
+    for (s, x) in states.iter().zip(exact) {
+        let norm = x.omega.norm();
+        let scale = if norm > 0.0 { norm } else { 1.0 };
+        err.omega = err.omega.max((s.omega - x.omega).norm() / scale);
+        err.energy = err.energy.max(rel(body.energy(&s.omega), e0));
+        err.l2 = err.l2.max(rel(body.l2(&s.omega), l2_0));
+        let l = body.momentum_in_space(s);
+        let lnorm = if l2_0 > 0.0 { l2_0.sqrt() } else { 1.0 };
+        err.lspace = err.lspace.max((l - l0).norm() / lnorm);
+        err.qnorm = err.qnorm.max((s.q.quaternion().norm() - 1.0).abs());
+    }
+    err
+}
+
+/// Times one method × setting on a case (minimum of several runs) and
+/// measures its errors; a refused or failed run gives its reason.
+pub fn measure(case: &Case, method: Method, reference: &Reference, effort: &Effort) -> Row {
+    let outcome = (|| {
+        let (states, work, first) = run_once(case, method, &reference.times, effort.budget)?;
+        let mut best = first;
+        let mut spent = first;
+        let mut runs = 1;
+        while runs < effort.max_repeats
+            && (runs < 2 || spent < effort.time_per_setting.as_secs_f64())
+            && !(runs == 1 && first > effort.time_per_setting.as_secs_f64())
+        {
+            let (_, _, wall) = run_once(case, method, &reference.times, effort.budget)?;
+            best = best.min(wall);
+            spent += wall;
+            runs += 1;
+        }
+        Ok::<_, SimError>(Measured {
+            work,
+            wall: best,
+            errors: errors(&case.body, &case.omega0, &states, &reference.states),
+        })
+    })()
+    .map_err(|e| e.to_string());
+    Row {
+        case: case.id,
+        method,
+        outcome,
+    }
+}
+
+/// Runs the whole sweep, reporting progress through `progress`.
+pub fn sweep(
+    quick: bool,
+    mut progress: impl FnMut(&Row, usize, usize),
+) -> anyhow::Result<Vec<Row>> {
+    let effort = Effort::new(quick);
+    let cases = cases(quick);
+    let total: usize = cases.iter().map(|c| methods(c, quick).len()).sum();
+    let mut rows = Vec::with_capacity(total);
+    for case in &cases {
+        let reference = Reference::new(case)
+            .with_context(|| format!("case {} ({}): exact reference", case.id, case.name))?;
+        for method in methods(case, quick) {
+            let row = measure(case, method, &reference, &effort);
+            progress(&row, rows.len() + 1, total);
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+fn sci(x: f64) -> String {
+    format!("{x:.3e}")
+}
+
+/// The CSV: one line per row; a run that could not finish leaves the
+/// numbers empty and gives its reason after the setting.
+pub fn csv(rows: &[Row]) -> String {
+    let mut out = String::from(CSV_HEADER);
+    out.push('\n');
+    for row in rows {
+        let setting = setting(&row.method);
+        let line = match &row.outcome {
+            Ok(m) => format!(
+                "{},{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e}",
+                row.case,
+                row.method.name(),
+                setting,
+                m.work.steps,
+                m.work.rhs_evals,
+                m.wall,
+                m.errors.omega,
+                m.errors.energy,
+                m.errors.l2,
+                m.errors.lspace,
+                m.errors.qnorm
+            ),
+            Err(reason) => format!(
+                "{},{},{},,,,,,,,",
+                row.case,
+                row.method.name(),
+                quote(&format!("{setting} ({reason})"))
+            ),
+        };
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out
+}
+
+/// A CSV field, quoted when it holds a comma or a quote.
+fn quote(field: &str) -> String {
+    if field.contains([',', '"', '\n']) {
+        format!("\"{}\"", field.replace('"', "\"\""))
+    } else {
+        field.to_string()
+    }
+}
+
+/// The table printed at the end.
+pub fn table(rows: &[Row]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{:<4} {:<10} {:<14} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "case",
+        "method",
+        "setting",
+        "steps",
+        "rhs_evals",
+        "wall_s",
+        "err_omega",
+        "err_energy",
+        "err_l2",
+        "err_lspace",
+        "err_qnorm"
+    );
+    for row in rows {
+        let _ = match &row.outcome {
+            Ok(m) => writeln!(
+                out,
+                "{:<4} {:<10} {:<14} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
+                row.case,
+                row.method.name(),
+                setting(&row.method),
+                m.work.steps,
+                m.work.rhs_evals,
+                sci(m.wall),
+                sci(m.errors.omega),
+                sci(m.errors.energy),
+                sci(m.errors.l2),
+                sci(m.errors.lspace),
+                sci(m.errors.qnorm)
+            ),
+            Err(reason) => writeln!(
+                out,
+                "{:<4} {:<10} {:<14} {reason}",
+                row.case,
+                row.method.name(),
+                setting(&row.method)
+            ),
+        };
+    }
+    out
+}
+
+pub fn run(_cli: &Cli, args: &BenchArgs) -> anyhow::Result<ExitCode> {
+    let out_dir = &args.out;
+    fs::create_dir_all(out_dir)
+        .with_context(|| format!("cannot create the output folder {}", out_dir.display()))?;
+    let started = Instant::now();
+    let rows = sweep(args.quick, |row, k, total| {
+        let what = match &row.outcome {
+            Ok(m) => format!("{} s, error {}", sci(m.wall), sci(m.errors.omega)),
+            Err(reason) => reason.clone(),
+        };
+        eprintln!(
+            "bench [{k}/{total}] case {} {} {}: {what}",
+            row.case,
+            row.method.name(),
+            setting(&row.method)
+        );
+    })?;
+    print!("{}", table(&rows));
+    write(out_dir, &rows, args.quick)?;
+    eprintln!(
+        "bench: {} runs in {:.1} s; wrote {} and {}",
+        rows.len(),
+        started.elapsed().as_secs_f64(),
+        out_dir.join("work_precision.csv").display(),
+        out_dir.join("work_precision.svg").display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn write(dir: &Path, rows: &[Row], quick: bool) -> anyhow::Result<()> {
+    let csv_path = dir.join("work_precision.csv");
+    fs::write(&csv_path, csv(rows)).with_context(|| format!("writing {}", csv_path.display()))?;
+    let svg_path = dir.join("work_precision.svg");
+    let svg = plot::svg(rows, &cases(quick)).context("drawing the work–precision plot")?;
+    fs::write(&svg_path, svg).with_context(|| format!("writing {}", svg_path.display()))?;
+    Ok(())
 }

@@ -21,8 +21,8 @@ pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
     if args.list {
         return list(cli);
     }
-    if args.scene.is_some() {
-        bail!("sim --scene: scene runs and their measurements are not part of this build yet");
+    if let Some(id) = &args.scene {
+        return super::scene_cli::scene(cli, args, id);
     }
     let request = Request::from_args(args)?;
     let mut solver = run::make(

@@ -1,0 +1,13 @@
+//! The reference trajectory that scenes play by default and that every
+//! error figure is measured against: the exact solver.
+
+use nalgebra::Vector3;
+
+use super::exact::Exact;
+use super::model::Body;
+use super::solver::{Needs, SimError, Solver};
+
+/// The exact solution for `body` and `omega0`, with q only when `needs` asks.
+pub fn exact(body: Body, omega0: Vector3<f64>, needs: Needs) -> Result<Box<dyn Solver>, SimError> {
+    Ok(Box::new(Exact::new(body, omega0, needs)?))
+}

@@ -1,0 +1,184 @@
+//! `flipcard sim --scene ID [--deck PATH]`: one scene's measurements, each
+//! with its formula value, and the verdict the simulation gives on each
+//! prompt that uses the scene.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, bail};
+
+use super::measure::{Measurements, Prediction, formula_name, verdict};
+use super::run::{Kind, method};
+use super::scene::measure_scene;
+use crate::cli::{Cli, MethodArg, SimArgs};
+use crate::deck::{Answer, Deck, Prompt, Scene, load_paths};
+
+/// The decks to read: `--deck PATH`, else the global `--decks DIR`, else
+/// the bundled ones.
+fn deck_paths(cli: &Cli, args: &SimArgs) -> Vec<PathBuf> {
+    let path = args
+        .deck
+        .clone()
+        .or_else(|| cli.decks.clone())
+        .unwrap_or_else(crate::paths::bundled_decks);
+    vec![path]
+}
+
+fn load(paths: &[PathBuf]) -> anyhow::Result<Vec<Deck>> {
+    for p in paths {
+        if !p.exists() {
+            bail!("{}: no such file or directory", p.display());
+        }
+    }
+    let loaded = load_paths(paths);
+    if loaded.errors() > 0 {
+        eprintln!("{}", loaded.render_all());
+        bail!(
+            "{} errors in the decks (run `flipcard check` for details)",
+            loaded.errors()
+        );
+    }
+    Ok(loaded.decks)
+}
+
+/// `1, 2, 3` with each number in its shortest round-trip spelling.
+fn triple(v: &[f64; 3]) -> String {
+    format!("{}, {}, {}", v[0], v[1], v[2])
+}
+
+fn kind(m: MethodArg) -> Kind {
+    match m {
+        MethodArg::Exact => Kind::Exact,
+        MethodArg::Adaptive => Kind::Adaptive,
+        MethodArg::Splitting => Kind::Splitting,
+        MethodArg::Splitting4 => Kind::Splitting4,
+        MethodArg::Rk4 => Kind::Rk4,
+    }
+}
+
+/// Six significant digits without trailing zeros, integers plainly.
+pub fn number(v: f64) -> String {
+    if v == v.trunc() && v.abs() < 1e15 {
+        format!("{v:.0}")
+    } else if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e6) {
+        format!("{v:.5e}")
+    } else {
+        let digits = (5 - v.abs().log10().floor() as i32).max(0) as usize;
+        let s = format!("{v:.digits$}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
+/// `flipcard sim --scene ID`: runs the scene and prints its measurements,
+/// then each prompt on it with the verdict its expected answer gets.
+pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
+    let decks = load(&deck_paths(cli, args))?;
+    let Some((deck, scene)) = decks.iter().find_map(|d| d.scene(id).map(|s| (d, s))) else {
+        let known: Vec<&str> = decks
+            .iter()
+            .flat_map(|d| d.scenes.iter().map(|s| s.id.as_str()))
+            .collect();
+        bail!("no scene {id:?} (scenes: {})", known.join(", "));
+    };
+    let body = super::Body::new(scene.inertia)?;
+    let omega0 = super::model::omega(scene.omega)?;
+    let m = method(kind(args.method), args.tol, args.dt, &body, &omega0)?;
+    let measured =
+        measure_scene(scene, m).with_context(|| format!("scene {id} with {}", m.name()))?;
+    print!("{}", report(deck, scene, &measured, m.name()));
+    Ok(ExitCode::SUCCESS)
+}
+
+fn report(deck: &Deck, scene: &Scene, m: &Measurements, method: &str) -> String {
+    let mut out = String::new();
+    let unit = &scene.time_unit;
+    let _ = writeln!(
+        out,
+        "scene {} ({}): I = ({}), ω₀ = ({}), {} {unit}, method {method}",
+        scene.id,
+        deck.id,
+        triple(&scene.inertia),
+        triple(&scene.omega),
+        scene.duration
+    );
+    let _ = writeln!(out, "measurements:");
+    for r in m.readings() {
+        let name = r.measure.name();
+        let value = number(r.value);
+        match r.formula {
+            Some(f) => {
+                let _ = writeln!(
+                    out,
+                    "  {name:<18} {value:<14} formula {} = {}",
+                    formula_name(r.measure),
+                    number(f)
+                );
+            }
+            None => {
+                let _ = writeln!(out, "  {name:<18} {value}");
+            }
+        }
+    }
+    let prompts: Vec<&Prompt> = deck
+        .prompts
+        .iter()
+        .filter(|p| p.scene == scene.id)
+        .collect();
+    if !prompts.is_empty() {
+        let _ = writeln!(out, "prompts:");
+    }
+    for p in prompts {
+        let _ = writeln!(out, "  {}", prompt_line(p, m));
+    }
+    out
+}
+
+/// `middle-axis: expected flips: holds (flips = 3: flips > 0)`.
+fn prompt_line(p: &Prompt, m: &Measurements) -> String {
+    let Some(prediction) = Prediction::expected(p) else {
+        return format!("{}: expected answer names no choice", p.id);
+    };
+    let v = verdict(p, m, prediction);
+    let status = if v.correct { "ok" } else { "WRONG" };
+    match &p.answer {
+        Answer::Choice { choices, expected } => {
+            let holding: Vec<String> = v
+                .holding
+                .iter()
+                .map(|&i| {
+                    let c = &choices[i];
+                    format!(
+                        "{} ({} = {}: {} {} {})",
+                        c.id,
+                        c.when.measure.name(),
+                        m.get(c.when.measure).map_or("-".into(), number),
+                        c.when.measure.name(),
+                        c.when.op.as_str(),
+                        c.when.value
+                    )
+                })
+                .collect();
+            let holds = if holding.is_empty() {
+                "none".to_string()
+            } else {
+                holding.join(", ")
+            };
+            format!("{}: expected {expected}: {status}; holds: {holds}", p.id)
+        }
+        Answer::Number {
+            measure,
+            expected,
+            unit,
+            ..
+        } => {
+            let measured = m.get(*measure).map_or("-".into(), number);
+            format!(
+                "{}: expected {} = {} {unit}: {status}; measured {measured} {unit}",
+                p.id,
+                measure.name(),
+                number(*expected)
+            )
+        }
+    }
+}

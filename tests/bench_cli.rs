@@ -1,0 +1,133 @@
+//! `flipcard bench --quick --out DIR` through the real binary: the CSV has
+//! the exact header and a row for every case × method, the numbers of the
+//! runs that finished are finite, the adaptive error falls as the tolerance
+//! tightens, and the SVG parses.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::process::Command;
+
+const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+const HEADER: &str =
+    "case,method,setting,steps,rhs_evals,wall_s,err_omega,err_energy,err_l2,err_lspace,err_qnorm";
+
+/// Splits one CSV line, honouring double quotes.
+fn fields(line: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                chars.next();
+                out.last_mut().unwrap().push('"');
+            }
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(String::new()),
+            c => out.last_mut().unwrap().push(c),
+        }
+    }
+    out
+}
+
+#[test]
+fn quick_bench_writes_csv_and_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(BIN)
+        .args(["bench", "--quick", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("bench [1/"), "progress on stderr: {stderr}");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.starts_with("case"), "table on stdout: {stdout}");
+
+    let csv = std::fs::read_to_string(dir.path().join("work_precision.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some(HEADER));
+    let mut seen = BTreeSet::new();
+    // (case) → [(tol, err_omega)] of the adaptive runs.
+    let mut adaptive: BTreeMap<String, Vec<(f64, f64)>> = BTreeMap::new();
+    let mut finished = 0;
+    for line in lines {
+        let f = fields(line);
+        assert_eq!(f.len(), 11, "{line}");
+        seen.insert((f[0].clone(), f[1].clone()));
+        if f[3].is_empty() {
+            // A run its budget refused: the reason follows the setting.
+            assert!(f[2].contains('('), "{line}");
+            assert!(f[4..].iter().all(String::is_empty), "{line}");
+            continue;
+        }
+        finished += 1;
+        let numbers: Vec<f64> = f[3..]
+            .iter()
+            .map(|x| x.parse::<f64>().unwrap_or_else(|_| panic!("{line}")))
+            .collect();
+        assert!(numbers.iter().all(|x| x.is_finite() && *x >= 0.0), "{line}");
+        assert!(numbers[2] > 0.0, "wall time: {line}");
+        if f[1] == "adaptive" {
+            let tol: f64 = f[2].trim_start_matches("tol=").parse().unwrap();
+            adaptive
+                .entry(f[0].clone())
+                .or_default()
+                .push((tol, numbers[3]));
+        }
+        if f[1] == "splitting" || f[1] == "splitting4" {
+            // Rotations keep |q| and |L|² to rounding.
+            assert!(numbers[7] < 1e-9 && numbers[5] < 1e-9, "{line}");
+        }
+    }
+    assert!(finished >= 50, "{finished} runs finished");
+    for case in ["a", "b", "c", "d", "e"] {
+        for method in ["exact", "adaptive", "splitting", "splitting4", "rk4"] {
+            assert!(
+                seen.contains(&(case.to_string(), method.to_string())),
+                "no row for case {case}, {method}"
+            );
+        }
+    }
+    for (case, mut runs) in adaptive {
+        runs.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let (loose, tight) = (runs[0].1, runs[runs.len() - 1].1);
+        assert!(
+            tight * 1e3 < loose,
+            "case {case}: error at the tightest tolerance {tight:e} vs loosest {loose:e}"
+        );
+        // Down to the rounding floor, each tolerance step cuts the error.
+        for w in runs.windows(2) {
+            if w[0].1 > 1e-9 {
+                assert!(w[1].1 < w[0].1, "case {case}: {runs:?}");
+            }
+        }
+    }
+
+    let svg = std::fs::read_to_string(dir.path().join("work_precision.svg")).unwrap();
+    assert!(svg.starts_with("<svg"), "{}", &svg[..svg.len().min(200)]);
+    assert!(svg.trim_end().ends_with("</svg>"));
+    // Well formed: every opened element is closed.
+    let opened = svg.matches('<').count() - svg.matches("</").count() * 2;
+    let self_closed = svg.matches("/>").count();
+    assert_eq!(opened, self_closed, "unbalanced tags");
+    for label in ["(a)", "(e)", "adaptive", "splitting4", "rk4", "wall time"] {
+        assert!(svg.contains(label), "no {label} in the plot");
+    }
+    assert!(svg.contains("<text"), "labels are SVG text");
+}
+
+#[test]
+fn unwritable_output_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "x").unwrap();
+    let out = Command::new(BIN)
+        .args(["bench", "--quick", "--out"])
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("output folder"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
