@@ -95,10 +95,10 @@ fn run_controls_pause_speed_restart_method_and_step() {
     press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
     let run_t = |app: &TestApp| match &predict(app).phase {
         Phase::Play { run, .. } => (
-            run.t,
+            run.t(),
             run.speed,
             run.paused,
-            crate::tui::live::describe(&run.method),
+            crate::tui::live::describe(&run.method()),
         ),
         _ => panic!("not running"),
     };
@@ -184,7 +184,7 @@ fn the_run_plays_to_the_end_and_stops_ticking() {
     let Phase::Play { run, .. } = &predict(&app).phase else {
         panic!("not running");
     };
-    assert_eq!(run.t, 5.0, "the scene lasts 5 s");
+    assert_eq!(run.t(), 5.0, "the scene lasts 5 s");
     assert!(run.finished());
     assert!(!app.animating(), "a finished run needs no frames");
 }
@@ -236,4 +236,126 @@ fn redact_drifts(screen: &str) -> String {
         })
         .collect::<Vec<_>>()
         .join("\n")
+}
+
+fn attempts(app: &TestApp) -> Option<(u64, u64)> {
+    let items = crate::sched::deck_items(&app.decks[0]);
+    let scope = crate::store::StatsScope {
+        deck: Some("torque-free"),
+        items: &items,
+    };
+    let grid = crate::store::DayGrid::new(chrono::Utc, app.services.config.day_starts_at);
+    let stats = app
+        .services
+        .store
+        .stats(scope, testkit::now(), &grid)
+        .ok()?;
+    Some((stats.prompts.overall.total, stats.prompts.overall.passed))
+}
+
+#[test]
+fn predict_run_verdict_right_and_logged() {
+    let mut app = open(ENGLISH, 0);
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    assert_eq!(app.context(), Context::PredictRun);
+    // Play at ×8 to the end: 5 s of scene in 0.625 s of ticks.
+    press_all(
+        &mut app,
+        &[KeyCode::Char('+'), KeyCode::Char('+'), KeyCode::Char('+')],
+    );
+    for _ in 0..7 {
+        apply_tick(&mut app, 100);
+    }
+    assert_eq!(app.context(), Context::PredictVerdict);
+    let Phase::Play {
+        verdict: Some(v), ..
+    } = &predict(&app).phase
+    else {
+        panic!("no verdict at the end of the run");
+    };
+    assert!(v.correct, "{v:?}");
+    assert_eq!(v.right_choice, Some(1), "the racket flips");
+    let flips = v
+        .readings
+        .iter()
+        .find(|r| r.measure == crate::deck::Measure::Flips);
+    assert!(flips.is_some_and(|r| r.value >= 1.0), "{v:?}");
+    assert_eq!(
+        attempts(&app),
+        Some((1, 1)),
+        "one attempt, right, in the log"
+    );
+    for lang in [ENGLISH, HINGLISH] {
+        app.lang = lang.into();
+        insta::assert_snapshot!(
+            format!("predict_verdict_{lang}"),
+            redact_drifts(&render(&app))
+        );
+    }
+    // The explanation is one key away, and Esc comes back to the verdict.
+    press(&mut app, KeyCode::Char('e'));
+    let Screen::Reader(r) = app.screen() else {
+        panic!("explanation not open");
+    };
+    assert_eq!(r.section, 2, "the prompt links the stability section");
+    press(&mut app, KeyCode::Esc);
+    assert_eq!(app.context(), Context::PredictVerdict);
+    // Watching again does not log another attempt.
+    press(&mut app, KeyCode::Char('r'));
+    for _ in 0..10 {
+        apply_tick(&mut app, 100);
+    }
+    assert_eq!(attempts(&app), Some((1, 1)));
+}
+
+#[test]
+fn a_wrong_prediction_is_wrong_and_shows_the_right_one() {
+    let mut app = open(ENGLISH, 0);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    // Switching to RK4 mid-run does not change the physics' answer.
+    for _ in 0..4 {
+        press(&mut app, KeyCode::Char('m'));
+    }
+    for _ in 0..60 {
+        apply_tick(&mut app, 100);
+    }
+    let Phase::Play {
+        verdict: Some(v), ..
+    } = &predict(&app).phase
+    else {
+        panic!("no verdict");
+    };
+    assert!(!v.correct);
+    let text = render(&app);
+    assert!(text.contains("Not quite."), "{text}");
+    assert!(
+        text.contains("It flips over and over"),
+        "the right choice is named: {text}"
+    );
+    assert_eq!(attempts(&app), Some((1, 0)));
+}
+
+#[test]
+fn a_number_prediction_is_checked_against_the_measured_rate() {
+    let mut app = open(ENGLISH, 1);
+    // √k for I = (1, 2, 3), Ω = 10: 10·√(1·1/3) ≈ 5.77 per second.
+    type_text(&mut app, "5.8");
+    press(&mut app, KeyCode::Enter);
+    press_all(
+        &mut app,
+        &[KeyCode::Char('+'), KeyCode::Char('+'), KeyCode::Char('+')],
+    );
+    for _ in 0..7 {
+        apply_tick(&mut app, 100);
+    }
+    let Phase::Play {
+        verdict: Some(v), ..
+    } = &predict(&app).phase
+    else {
+        panic!("no verdict");
+    };
+    let rate = v.readings.first().map(|r| r.value).unwrap_or(f64::NAN);
+    assert!((rate - 5.77).abs() < 0.1, "measured growth rate {rate}");
+    assert!(v.correct, "{v:?}");
+    insta::assert_snapshot!("predict_verdict_number_en", redact_drifts(&render(&app)));
 }
