@@ -3,10 +3,10 @@
 
 I = (1, 2, 3), omega0 = (0.01, 10, 0.01), t in [0, 100], rtol = atol = tol
 (ω only). Prints the best wall time of several runs, the steps taken and
-the final ω, and, given `--reference W1,W2,W3` (ω(100) from `flipcard sim
+the final ω, and, given `--reference=W1,W2,W3` (ω(100) from `flipcard sim
 --method exact`), the error of the final ω relative to |ω|.
 
-    python3 benches/scipy_dop853.py [--tol 1e-10] [--repeat 5] [--reference ...]
+    python3 benches/scipy_dop853.py [--tol 1e-10] [--repeat 5] [--reference=W1,W2,W3]
 """
 
 import argparse

@@ -1,7 +1,7 @@
 use std::process::ExitCode;
 
-use clap::Parser;
 use clap::error::ErrorKind;
+use clap::{CommandFactory, Parser};
 use flipcard::cli::{Cli, Command};
 
 fn main() -> ExitCode {
@@ -29,8 +29,10 @@ fn main() -> ExitCode {
     }
 }
 
-/// Help and version print as clap does; a malformed command line is invalid
-/// input like any other: one line on stderr, exit status 1.
+/// Help and version print as clap does. A malformed command line is one line
+/// on stderr and exit status 2 (the usage-error status scripts expect from
+/// `check`), except for `sim`, whose contract treats every invalid input
+/// alike: exit status 1.
 fn usage_error(err: clap::Error) -> ExitCode {
     match err.kind() {
         ErrorKind::DisplayHelp
@@ -46,7 +48,21 @@ fn usage_error(err: clap::Error) -> ExitCode {
                 .collect::<Vec<_>>()
                 .join("; ");
             eprintln!("flipcard: error: {line}");
-            ExitCode::FAILURE
+            if subcommand_given().as_deref() == Some("sim") {
+                ExitCode::FAILURE
+            } else {
+                ExitCode::from(2)
+            }
         }
     }
+}
+
+/// The subcommand named on the command line, found without clap (which has
+/// just refused the line).
+fn subcommand_given() -> Option<String> {
+    let names: Vec<String> = Cli::command()
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .collect();
+    std::env::args().skip(1).find(|a| names.contains(a))
 }

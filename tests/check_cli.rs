@@ -301,6 +301,15 @@ fn a_missing_path_is_a_usage_error() {
 }
 
 #[test]
+fn an_unknown_option_is_a_usage_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = check(dir.path(), &["--strict"]);
+    assert_eq!(run.code, 2, "{}", run.stderr);
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+    assert!(run.stderr.contains("--strict"), "{}", run.stderr);
+}
+
+#[test]
 fn an_empty_folder_is_clean_but_warned_about() {
     let dir = tempfile::tempdir().unwrap();
     fs::create_dir(dir.path().join("decks")).unwrap();

@@ -10,9 +10,10 @@ use flipcard::sim::exact::{Exact, Regime, linear_stability};
 use flipcard::sim::{Body, Needs, Solver, State};
 use nalgebra::{UnitQuaternion, Vector3};
 
-/// The accuracy target: error ≤ TARGET · (1 + λt), relative to |ω| for ω,
-/// absolute for the unit quaternion.
-const TARGET: f64 = 1e-14;
+/// Error bound asserted: error ≤ TARGET · (1 + λt), relative to |ω| for ω,
+/// absolute for the unit quaternion. The specification asks for 1e-14; the
+/// solver achieves about 5e-16, and this leaves room for a different libm.
+const TARGET: f64 = 2e-15;
 
 fn exact(inertia: [f64; 3], omega: [f64; 3]) -> Exact {
     Exact::new(

@@ -778,6 +778,44 @@ fn truncated_file_is_corrupt_and_the_newest_backup_is_suggested() {
 }
 
 #[test]
+fn damaged_pages_are_found_by_the_daily_full_check() {
+    let dir = tempfile::tempdir().unwrap();
+    {
+        // The first open has no history yet, so no daily copy is written.
+        let mut store = open(dir.path());
+        let mut rng = StdRng::seed_from_u64(8);
+        let t = at("2026-01-01T00:00:00Z");
+        let recs: Vec<_> = (0..3000)
+            .map(|i| {
+                random_review(
+                    &mut rng,
+                    &key("mech", &format!("card-{}", i % 500)),
+                    t + Duration::minutes(i),
+                )
+            })
+            .collect();
+        store.record_batch(&recs).unwrap();
+    }
+    assert!(flipcard::store::backup::daily_backups(dir.path()).is_empty());
+    let db = dir.path().join("flipcard.db");
+    let mut bytes = std::fs::read(&db).unwrap();
+    let middle = bytes.len() / 2;
+    for b in &mut bytes[middle..middle + 20_000] {
+        *b = 0xA5;
+    }
+    std::fs::write(&db, &bytes).unwrap();
+
+    let err = Store::open(dir.path()).unwrap_err();
+    assert!(matches!(err, StoreError::Corrupt { .. }), "{err}");
+    assert!(err.to_string().contains(&db.display().to_string()), "{err}");
+    assert_eq!(std::fs::read(&db).unwrap(), bytes, "file untouched");
+    assert!(
+        flipcard::store::backup::daily_backups(dir.path()).is_empty(),
+        "no copy of a damaged file"
+    );
+}
+
+#[test]
 fn locked_database_gives_a_clear_error_and_no_damage() {
     let dir = tempfile::tempdir().unwrap();
     let quick = OpenOptions {

@@ -44,6 +44,8 @@ pub struct Jacobi {
     /// AGM(1, √m_c) = π / (2K).
     agm: f64,
     k: f64,
+    /// 1 / (2K), 0 on the separatrix.
+    inv_half_period: f64,
 }
 
 /// sn, cn, dn at |r| for a reduced phase, each relatively accurate. When the
@@ -72,11 +74,13 @@ impl Reduced {
     /// −1 when an odd number of half periods was removed (sn and cn change
     /// sign every 2K), +1 otherwise.
     pub fn parity(&self) -> f64 {
-        if self.half_periods.rem_euclid(2.0) == 1.0 {
-            -1.0
+        let j = self.half_periods;
+        let odd = if j.abs() < 9.0e15 {
+            (j as i64) & 1 == 1
         } else {
-            1.0
-        }
+            j.rem_euclid(2.0) == 1.0
+        };
+        if odd { -1.0 } else { 1.0 }
     }
 }
 
@@ -94,6 +98,7 @@ impl Jacobi {
             b: [0.0; MAX_LEVELS],
             agm: 0.0,
             k: f64::INFINITY,
+            inv_half_period: 0.0,
         };
         if mc == 0.0 {
             return jacobi;
@@ -115,6 +120,7 @@ impl Jacobi {
         }
         jacobi.agm = mean;
         jacobi.k = FRAC_PI_2 / mean;
+        jacobi.inv_half_period = 0.5 / jacobi.k;
         jacobi
     }
 
@@ -142,7 +148,7 @@ impl Jacobi {
             };
         }
         let half = 2.0 * self.k;
-        let j = (u / half).round();
+        let j = round_to_integer(u * self.inv_half_period);
         Reduced {
             half_periods: j,
             r: u - j * half,
@@ -206,7 +212,7 @@ impl Jacobi {
             let u2 = u * u;
             return (u, 1.0 - 0.5 * u2, 1.0 - 0.5 * (1.0 - self.mc) * u2);
         }
-        let (s, c) = (u * self.agm).sin_cos();
+        let (s, c) = sin_cos_octant(u * self.agm);
         if s == 0.0 {
             return (s, c, 1.0);
         }
@@ -223,6 +229,44 @@ impl Jacobi {
         (sn, ratio * sn, dn)
     }
 }
+
+/// Nearest integer (ties to even) without a library call: adding and
+/// removing 1.5·2⁵² leaves the rounded value for |x| < 2⁵¹.
+fn round_to_integer(x: f64) -> f64 {
+    const MAGIC: f64 = 6_755_399_441_055_744.0;
+    if x.abs() < 2_251_799_813_685_248.0 {
+        (x + MAGIC) - MAGIC
+    } else {
+        x.round()
+    }
+}
+
+/// sin x and cos x for 0 ≤ x ≤ π/4 (the Landen phase of a point within K/2)
+/// by their Taylor polynomials, truncated below 1e-22: no range reduction.
+fn sin_cos_octant(x: f64) -> (f64, f64) {
+    let x2 = x * x;
+    // sin x = x Σ (−x²)ᵏ/(2k+1)!, cos x = 1 − x² Σ (−x²)ᵏ/(2k+2)!, k ≤ 9.
+    let mut s = INV_FACTORIAL[19];
+    let mut c = INV_FACTORIAL[20];
+    for k in (0..9).rev() {
+        s = INV_FACTORIAL[2 * k + 1] - x2 * s;
+        c = INV_FACTORIAL[2 * k + 2] - x2 * c;
+    }
+    (x * s, 1.0 - x2 * c)
+}
+
+/// 1/n! for n = 0 … 20.
+const INV_FACTORIAL: [f64; 21] = {
+    let mut table = [1.0; 21];
+    let mut factorial = 1.0;
+    let mut n = 1;
+    while n < 21 {
+        factorial *= n as f64;
+        table[n] = 1.0 / factorial;
+        n += 1;
+    }
+    table
+};
 
 /// sn, cn, dn of (u, m) given m_c = 1 − m. Builds the ladder each call; keep
 /// a [`Jacobi`] to evaluate many points at one parameter.
@@ -339,6 +383,38 @@ mod tests {
                 assert!(((dp - dm) / (2.0 * h) + m * s * c).abs() < tol);
             }
         }
+    }
+
+    #[test]
+    fn octant_sine_and_cosine_match_the_library() {
+        for i in 0..=1000 {
+            let x = std::f64::consts::FRAC_PI_4 * i as f64 / 1000.0;
+            let (s, c) = sin_cos_octant(x);
+            assert!((s - x.sin()).abs() <= f64::EPSILON * x.sin(), "sin {x}");
+            assert!((c - x.cos()).abs() <= f64::EPSILON * x.cos(), "cos {x}");
+        }
+    }
+
+    #[test]
+    fn rounding_and_parity_of_half_periods() {
+        for &(x, want) in &[
+            (0.5, 0.0),
+            (1.5, 2.0),
+            (-2.5, -2.0),
+            (7.49, 7.0),
+            (-3.7, -4.0),
+        ] {
+            assert_eq!(round_to_integer(x), want);
+        }
+        let odd = Reduced {
+            half_periods: -3.0,
+            r: 0.0,
+        };
+        let even = Reduced {
+            half_periods: 1e17,
+            r: 0.0,
+        };
+        assert_eq!((odd.parity(), even.parity()), (-1.0, 1.0));
     }
 
     #[test]

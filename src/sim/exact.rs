@@ -5,15 +5,22 @@
 //! The user's axes may come in any order. Internally they are permuted so
 //! that axis 3 is the one ω circulates about (largest moment when
 //! L² > 2T I_mid, smallest when L² < 2T I_mid), with one axis reversed for
-//! odd permutations so the internal frame stays right-handed ([`frame`]).
-//! Moments and ω are rescaled by powers of two (exact) so nothing overflows.
+//! odd permutations so the internal frame stays right-handed (`frame`).
+//! Moments and ω are rescaled by powers of two (exact) so nothing overflows;
+//! components of ω₀ below 2^-500 of the largest are dropped, since their
+//! squares would underflow beside the others.
 //!
 //! Regimes: rest and steady spin (ω an eigenvector of I: a sphere, a spin
 //! along any principal axis including the unstable middle one, or a spin in
 //! the degenerate plane of a symmetric body) keep ω constant; exactly
 //! symmetric bodies use sin/cos; exactly on the separatrix (D₂ = 0) tanh and
 //! sech; every other case the elliptic functions with m_c computed directly
-//! from inertia differences ([`orbit`]). Orientation: [`attitude`].
+//! from inertia differences (`orbit`). Orientation: `attitude`.
+//!
+//! Accuracy (tests/sim_exact.rs, against a 32-digit Taylor integration):
+//! ω and q within a few 1e-16 · (1 + λt) across all regimes, including
+//! needles of inertia ratio 1e6, bodies symmetric to 1e-12 and orbits within
+//! 1e-12 of the separatrix.
 
 mod attitude;
 mod frame;
@@ -171,9 +178,11 @@ impl Exact {
         matches!(self.motion, Motion::Steady) || self.attitude.get().is_some()
     }
 
-    /// ω(t) in the user's axes, without any orientation work.
+    /// ω(t) in the user's axes, without any orientation work. At t = 0 it is
+    /// ω₀ exactly.
     pub fn omega_at(&self, t: f64) -> Vector3<f64> {
         match &self.motion {
+            _ if t == 0.0 => self.omega0,
             Motion::Steady => self.omega0,
             Motion::Moving {
                 frame,
@@ -200,7 +209,11 @@ impl Exact {
                 let [w, x, y, z] = self.attitude(orbit, *scale).orientation(orbit, &point, t);
                 let v = frame.to_user([x, y, z]);
                 State {
-                    omega: frame.to_user(point.omega) * *scale,
+                    omega: if t == 0.0 {
+                        self.omega0
+                    } else {
+                        frame.to_user(point.omega) * *scale
+                    },
                     q: UnitQuaternion::new_normalize(Quaternion::new(w, v[0], v[1], v[2])),
                 }
             }

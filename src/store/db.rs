@@ -72,10 +72,21 @@ impl Store {
         let mut conn = Connection::open_with_flags(&path, flags).map_err(sql_err)?;
         conn.busy_timeout(options.busy_timeout).map_err(sql_err)?;
 
+        let now = crate::clock::now()?;
+        let today = now.with_timezone(&chrono::Local).date_naive();
+        let backup_due = options.daily_backup && !backup::daily_path(data_dir, today).exists();
+
         // Checked before any setting that writes: a damaged file must stay
         // exactly as it was, for the learner (or a recovery tool) to inspect.
+        // The quick checks run on every open; the full page-by-page check,
+        // whose time grows with the log, once a day before the daily copy
+        // (so a damaged file never replaces a good copy).
         if existed {
-            check_integrity(&conn, &path)?;
+            check_readable(&conn, &path)?;
+            check_length(&path)?;
+            if backup_due {
+                check_pages(&conn, &path)?;
+            }
         }
 
         let mut warnings = Vec::new();
@@ -101,7 +112,6 @@ impl Store {
         conn.pragma_update(None, "recursive_triggers", true)
             .map_err(sql_err)?;
 
-        let now = crate::clock::now()?;
         let stamp = now.format("%Y%m%dT%H%M%SZ").to_string();
         schema::migrate(&mut conn, &path, schema::MIGRATIONS, &stamp)?;
 
@@ -113,11 +123,11 @@ impl Store {
             warnings,
         };
         let mut store = store;
-        if options.daily_backup && store.has_history()? {
-            let today = now.with_timezone(&chrono::Local).date_naive();
-            if let Err(e) = backup::daily_backup(&store.conn, data_dir, today) {
-                store.warnings.push(format!("daily backup skipped: {e}"));
-            }
+        if backup_due
+            && store.has_history()?
+            && let Err(e) = backup::daily_backup(&store.conn, data_dir, today)
+        {
+            store.warnings.push(format!("daily backup skipped: {e}"));
         }
         Ok(store)
     }
@@ -194,7 +204,57 @@ fn prepare_dir(dir: &Path) -> Result<(), StoreError> {
     }
 }
 
-fn check_integrity(conn: &Connection, path: &Path) -> Result<(), StoreError> {
+/// Reading the schema parses the file's header and first pages: a file
+/// that is not an SQLite database fails here.
+fn check_readable(conn: &Connection, path: &Path) -> Result<(), StoreError> {
+    conn.query_row("SELECT count(*) FROM sqlite_schema", [], |r| {
+        r.get::<_, i64>(0)
+    })
+    .map(|_| ())
+    .map_err(|e| StoreError::from_sqlite(path, e))
+}
+
+/// A file shorter than its header says was cut off (a copy interrupted, a
+/// full disk). The header's size is trusted only when it is marked valid
+/// and no write-ahead log holds pages yet to be copied into the file.
+fn check_length(path: &Path) -> Result<(), StoreError> {
+    let wal = PathBuf::from(format!("{}-wal", path.display()));
+    if std::fs::metadata(&wal).is_ok_and(|m| m.len() > 0) {
+        return Ok(());
+    }
+    let mut header = [0u8; 100];
+    let read = std::fs::File::open(path).and_then(|mut f| {
+        use std::io::Read as _;
+        f.read_exact(&mut header)
+    });
+    if read.is_err() {
+        // Shorter than a header: the schema read has already judged it.
+        return Ok(());
+    }
+    let be32 = |at: usize| {
+        u32::from_be_bytes([header[at], header[at + 1], header[at + 2], header[at + 3]])
+    };
+    if !header.starts_with(b"SQLite format 3\0") || be32(24) != be32(92) {
+        return Ok(());
+    }
+    let page_size = match u16::from_be_bytes([header[16], header[17]]) {
+        1 => 65_536,
+        n => u64::from(n),
+    };
+    let expected = u64::from(be32(28)) * page_size;
+    let actual = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    if expected > actual {
+        return Err(StoreError::Corrupt {
+            path: path.to_path_buf(),
+            detail: format!("the file is cut short: {actual} of its {expected} bytes are there"),
+            newest_backup: backup::newest_backup(path),
+        });
+    }
+    Ok(())
+}
+
+/// `PRAGMA quick_check`: every page and index entry looked at.
+fn check_pages(conn: &Connection, path: &Path) -> Result<(), StoreError> {
     let mut st = conn
         .prepare("PRAGMA quick_check")
         .map_err(|e| StoreError::from_sqlite(path, e))?;

@@ -29,14 +29,19 @@ impl Store {
             )
             .and_then(|mut st| st.query_row(params![deck, since], |r| r.get(0)))
             .map_err(|e| self.err(e))?;
+        // An item is new today when all its answers that count are from
+        // today: as many as its cached count of them.
         let new_items: i64 = self
             .conn
             .prepare_cached(
-                "SELECT count(*) FROM (SELECT DISTINCT r.card, r.direction FROM review AS r \
-                 WHERE r.deck = ?1 AND r.reviewed_at >= ?2 AND r.undone = 0 AND r.kind <> 'cram' \
-                   AND NOT EXISTS (SELECT 1 FROM review AS p \
-                       WHERE p.deck = r.deck AND p.card = r.card AND p.direction = r.direction \
-                         AND p.undone = 0 AND p.kind <> 'cram' AND p.reviewed_at < ?2))",
+                "SELECT count(*) FROM \
+                   (SELECT r.card, r.direction, count(*) AS n FROM review AS r \
+                    WHERE r.deck = ?1 AND r.reviewed_at >= ?2 AND r.undone = 0 \
+                      AND r.kind <> 'cram' \
+                    GROUP BY r.card, r.direction) AS t \
+                 JOIN card_state AS c \
+                   ON c.deck = ?1 AND c.card = t.card AND c.direction = t.direction \
+                 WHERE c.reps = t.n",
             )
             .and_then(|mut st| st.query_row(params![deck, since], |r| r.get(0)))
             .map_err(|e| self.err(e))?;

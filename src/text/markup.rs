@@ -262,11 +262,11 @@ fn push_text<'a>(toks: &mut Vec<Tok<'a>>, s: &'a str) {
     }
 }
 
-/// Pair `*` runs: a closer takes the nearest open run of the same length;
-/// runs left unpaired stay literal. An open run marked matched opens, a
-/// closing one closes.
+/// Pair `*` runs: a closer takes the nearest open run of the same length,
+/// and open runs of the other length inside the pair stay literal; runs
+/// left unpaired stay literal too. One stack per length keeps this linear.
 fn match_stars(toks: &mut [Tok<'_>]) {
-    let mut openers: Vec<(usize, u8)> = Vec::new();
+    let mut openers: [Vec<usize>; 2] = [Vec::new(), Vec::new()];
     for i in 0..toks.len() {
         let Tok::Stars {
             count, open, close, ..
@@ -274,16 +274,17 @@ fn match_stars(toks: &mut [Tok<'_>]) {
         else {
             continue;
         };
-        let opener = openers.iter().rposition(|&(_, c)| c == count);
-        if let (true, Some(pos)) = (close, opener) {
-            let (j, _) = openers[pos];
-            openers.truncate(pos);
+        let (same, other) = if count == 2 { (1, 0) } else { (0, 1) };
+        if let (true, Some(j)) = (close, openers[same].pop()) {
+            while openers[other].last().is_some_and(|&k| k > j) {
+                openers[other].pop();
+            }
             set_matched(&mut toks[j], true);
             set_matched(&mut toks[i], false);
             continue;
         }
         if open {
-            openers.push((i, count));
+            openers[same].push(i);
         }
     }
 }
@@ -398,6 +399,25 @@ mod tests {
             parse("**a*"),
             vec![Block::Paragraph(vec![plain_span("**a*")])]
         );
+    }
+
+    #[test]
+    fn unmatched_inner_run_stays_literal() {
+        assert_eq!(
+            parse("*a **b c*"),
+            vec![Block::Paragraph(vec![Span::new(
+                "a **b c",
+                Style::Emphasis
+            )])]
+        );
+    }
+
+    #[test]
+    fn many_unpaired_runs_stay_fast_and_literal() {
+        let body = "**a ".repeat(20_000) + &"b* ".repeat(20_000);
+        let blocks = parse(&body);
+        assert_eq!(blocks.len(), 1);
+        assert_eq!(blocks[0].text().matches('*').count(), 60_000);
     }
 
     #[test]

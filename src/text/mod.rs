@@ -3,7 +3,7 @@
 //! ratatui.
 //!
 //! LaTeX is parsed by `pulldown-latex`; its events are folded into a small
-//! tree ([`tree`]) and written out as one line of Unicode ([`unicode`]).
+//! tree (`tree`) and written out as one line of Unicode (`unicode`).
 
 mod dollar;
 mod glyphs;
@@ -39,9 +39,11 @@ pub fn check(text: &str) -> Vec<MathError> {
         match piece {
             Piece::Math(math) => {
                 scratch.clear();
-                if let Err(mut e) = write_math(math.latex, &mut scratch) {
-                    e.offset += math.latex_offset;
-                    errors.push(e);
+                if let Err(e) = write_math(math.latex, &mut scratch) {
+                    errors.push(MathError {
+                        offset: e.at.map_or(math.offset, |at| math.latex_offset + at),
+                        message: e.message,
+                    });
                 }
             }
             Piece::Unclosed { offset, display } => errors.push(unclosed(offset, display)),
@@ -107,46 +109,75 @@ pub fn render(text: &str) -> String {
 /// offset is a byte offset into `latex`.
 pub fn math_to_unicode(latex: &str) -> Result<String, MathError> {
     let mut out = String::with_capacity(latex.len());
-    write_math(latex, &mut out)?;
-    Ok(out)
+    match write_math(latex, &mut out) {
+        Ok(()) => Ok(out),
+        Err(e) => Err(MathError {
+            offset: e.at.unwrap_or(0),
+            message: e.message,
+        }),
+    }
 }
+
+/// A formula's problem, at a byte offset of the formula when known.
+pub(crate) struct FormulaError {
+    at: Option<usize>,
+    message: String,
+}
+
+/// Longest formula rendered, in bytes: real formulas are a few hundred
+/// bytes, and a runaway one (a stray `$` in a huge text) must not cost
+/// seconds and hundreds of megabytes.
+pub const MAX_FORMULA_BYTES: usize = 10_000;
 
 /// Append the rendered formula to `out` (on error `out` may hold part of
 /// it).
-pub(crate) fn write_math(latex: &str, out: &mut String) -> Result<(), MathError> {
+pub(crate) fn write_math(latex: &str, out: &mut String) -> Result<(), FormulaError> {
+    if latex.len() > MAX_FORMULA_BYTES {
+        return Err(FormulaError {
+            at: None,
+            message: format!(
+                "formula too long ({} bytes; at most {MAX_FORMULA_BYTES}): is a `$` missing?",
+                latex.len()
+            ),
+        });
+    }
+    if latex.trim().is_empty() {
+        return Ok(());
+    }
     let storage = Storage::new();
     let nodes = tree::build(Parser::new(latex, &storage)).map_err(|e| math_error(latex, e))?;
     unicode::render(&nodes, out);
     Ok(())
 }
 
-fn math_error(latex: &str, err: BuildError) -> MathError {
+fn math_error(latex: &str, err: BuildError) -> FormulaError {
     match err {
         BuildError::Parser(err) => {
-            let offset = locate::offset(latex).unwrap_or(0);
+            let at = locate::offset(latex);
             let message = match locate::message(&err).as_str() {
                 "unknown primitive command found" => {
-                    let name: String = latex[offset..]
+                    let rest = &latex[at.unwrap_or(latex.len())..];
+                    let name: String = rest
                         .chars()
                         .skip(1)
                         .take_while(char::is_ascii_alphabetic)
                         .collect();
-                    if latex[offset..].starts_with('\\') && !name.is_empty() {
-                        format!("unknown LaTeX command `\\{name}`")
+                    if rest.starts_with('\\') && !name.is_empty() {
+                        format!("unknown command `\\{name}`")
                     } else {
-                        "unknown LaTeX command".to_string()
+                        "unknown command".to_string()
                     }
                 }
                 "expected a token" => {
                     "a command is missing its argument (a symbol or a `{...}` group)".to_string()
                 }
-                other => format!("LaTeX: {other}"),
+                other => other.to_string(),
             };
-            MathError { offset, message }
+            FormulaError { at, message }
         }
-        BuildError::Shape(what) => MathError {
-            offset: 0,
-            message: format!("LaTeX: {what}"),
+        BuildError::Shape(what) => FormulaError {
+            at: None,
+            message: what.to_string(),
         },
     }
 }
@@ -217,7 +248,7 @@ mod tests {
             check(text),
             vec![MathError {
                 offset: text.find(r"\foo").unwrap_or(usize::MAX),
-                message: "unknown LaTeX command `\\foo`".to_string(),
+                message: "unknown command `\\foo`".to_string(),
             }]
         );
     }
@@ -265,14 +296,33 @@ mod tests {
     fn math_to_unicode_reports_offset_in_the_formula() {
         let err = math_to_unicode(r"a = \qux").unwrap_err();
         assert_eq!(err.offset, 4);
-        assert_eq!(err.message, "unknown LaTeX command `\\qux`");
+        assert_eq!(err.message, "unknown command `\\qux`");
+    }
+
+    #[test]
+    fn overlong_formula_is_an_error_at_its_dollar() {
+        let text = format!("ok ${}$", "x+".repeat(MAX_FORMULA_BYTES));
+        let errors = check(&text);
+        assert_eq!(errors.len(), 1);
+        assert_eq!(errors[0].offset, 3, "at the opening `$`");
+        assert!(errors[0].message.contains("too long"), "{errors:?}");
+        assert_eq!(render(&text), text);
+        let just_fits = "x".repeat(MAX_FORMULA_BYTES);
+        assert_eq!(
+            math_to_unicode(&just_fits).as_deref(),
+            Ok(just_fits.as_str())
+        );
     }
 
     #[test]
     fn deep_nesting_is_an_error_not_a_crash() {
-        let deep = format!("{}x{}", "{".repeat(5000), "}".repeat(5000));
+        let deep = format!("{}x{}", "{".repeat(2000), "}".repeat(2000));
         let err = math_to_unicode(&deep).unwrap_err();
         assert!(err.message.contains("nested too deeply"), "{err:?}");
+        // No position inside the formula: the error is at its `$`.
+        let errors = check(&format!("a ${deep}$"));
+        assert_eq!(errors.len(), 1);
+        assert_eq!(errors[0].offset, 2);
         let deep_frac = r"\frac{".repeat(300) + &"}{x}".repeat(300);
         assert!(math_to_unicode(&deep_frac).is_err());
     }

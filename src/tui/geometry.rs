@@ -1,6 +1,5 @@
 //! The 3-D geometry of the simulation panels: a box whose moments match the
-//! body's, a camera with perspective, and the separatrix on the momentum
-//! sphere.
+//! body's, and a camera with or without perspective.
 
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -114,45 +113,6 @@ pub fn projected_box(half: [f64; 3], q: &UnitQuaternion<f64>, camera: &Camera) -
         .collect()
 }
 
-/// The indices of the smallest, middle and largest moment.
-pub fn axis_order(inertia: [f64; 3]) -> [usize; 3] {
-    let mut axes = [0usize, 1, 2];
-    axes.sort_by(|&i, &j| inertia[i].total_cmp(&inertia[j]));
-    axes
-}
-
-/// The separatrix on the momentum sphere of radius `radius`: two great
-/// circles through the middle axis, where L² = 2T·I_mid. With
-/// I_s < I_m < I_l they lie in the planes
-/// L_s √(1/I_s − 1/I_m) = ± L_l √(1/I_m − 1/I_l). `None` when two moments
-/// are equal (no separatrix).
-pub fn separatrix(inertia: [f64; 3], radius: f64, points: usize) -> Option<[Vec<Vector3<f64>>; 2]> {
-    let [s, m, l] = axis_order(inertia);
-    let (is, im, il) = (inertia[s], inertia[m], inertia[l]);
-    if !(is < im && im < il) {
-        return None;
-    }
-    let alpha = (1.0 / is - 1.0 / im).sqrt();
-    let beta = (1.0 / im - 1.0 / il).sqrt();
-    let circle = |sign: f64| {
-        // In-plane unit vectors: the middle axis, and the direction within
-        // the s–l plane that satisfies the plane equation.
-        let mut e_m = Vector3::zeros();
-        e_m[m] = 1.0;
-        let mut v = Vector3::zeros();
-        v[s] = beta;
-        v[l] = sign * alpha;
-        let v = v.normalize();
-        (0..=points)
-            .map(|k| {
-                let th = std::f64::consts::TAU * k as f64 / points as f64;
-                (e_m * th.cos() + v * th.sin()) * radius
-            })
-            .collect::<Vec<_>>()
-    };
-    Some([circle(1.0), circle(-1.0)])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -180,21 +140,6 @@ mod tests {
         assert!(c > 0.0 && c < 0.1 && a == 1.0 && b < a, "{a} {b} {c}");
         assert_eq!(box_half_sides([0.0, 0.0, 0.0]), [1.0, 1.0, 1.0]);
         assert_eq!(box_edges([1.0, 1.0, 1.0]).len(), 12);
-    }
-
-    #[test]
-    fn separatrix_points_have_the_middle_axis_energy() {
-        let inertia = [3.0, 1.0, 2.0];
-        let circles = separatrix(inertia, 2.0, 64).unwrap_or_else(|| panic!("asymmetric body"));
-        for c in &circles {
-            for l in c {
-                assert!((l.norm() - 2.0).abs() < 1e-12);
-                // 2T = Σ Lᵢ²/Iᵢ = L²/I_mid on the separatrix.
-                let two_t: f64 = (0..3).map(|i| l[i] * l[i] / inertia[i]).sum();
-                assert!((two_t - 4.0 / 2.0).abs() < 1e-12, "{two_t}");
-            }
-        }
-        assert!(separatrix([1.0, 1.0, 2.0], 1.0, 8).is_none());
     }
 
     #[test]

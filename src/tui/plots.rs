@@ -34,9 +34,15 @@ fn aspect_x(area: Rect, r: f64) -> f64 {
 /// ω₁, ω₂, ω₃ against time over the whole scene, drawn up to now.
 pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
     let m = run.omega_bound().max(f64::MIN_POSITIVE) * 1.1;
-    let d = run.scene.duration;
-    let unit = run.scene.time_unit.clone();
+    let d = run.scene().duration;
+    let unit = run.scene().time_unit.clone();
     let dim = theme.plot(Color::DarkGray);
+    // The trace on its grid, then on to the frame shown now.
+    let now = run.frame();
+    let mut points: Vec<(f64, Vector3<f64>)> = run.trace().iter().map(|s| (s.t, s.omega)).collect();
+    if points.last().is_none_or(|p| p.0 < now.t) {
+        points.push((now.t, now.omega));
+    }
     let canvas = Canvas::default()
         .block(block(title, theme))
         .marker(Marker::Braille)
@@ -47,14 +53,8 @@ pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme:
             ctx.layer();
             for (i, name) in AXIS_NAMES.iter().enumerate() {
                 let color = theme.axis(i);
-                for w in run.samples.windows(2) {
-                    ctx.draw(&Line::new(
-                        w[0].t,
-                        w[0].omega[i],
-                        w[1].t,
-                        w[1].omega[i],
-                        color,
-                    ));
+                for w in points.windows(2) {
+                    ctx.draw(&Line::new(w[0].0, w[0].1[i], w[1].0, w[1].1[i], color));
                 }
                 ctx.layer();
                 ctx.print(
@@ -77,10 +77,10 @@ pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme:
 /// Its axes are drawn in the plot colours; the fixed angular momentum L is
 /// the vertical.
 pub fn body(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
-    let half = geometry::box_half_sides(run.scene.inertia);
-    let l_space = run.body.momentum(&run.omega0);
+    let half = geometry::box_half_sides(run.scene().inertia);
+    let l_space = run.body().momentum(&Vector3::from(run.scene().omega));
     let camera = Camera::new(l_space, Vector3::new(1.0, 0.7, 0.4), 0.35, Some(5.0));
-    let q: UnitQuaternion<f64> = run.state.q;
+    let q: UnitQuaternion<f64> = run.frame().q.unwrap_or_else(UnitQuaternion::identity);
     let r = 1.45;
     let xr = aspect_x(area, r);
     let edge = theme.plot(Color::White);
@@ -120,9 +120,13 @@ pub fn body(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: 
 }
 
 /// The path of the body-frame angular momentum L = Iω on the sphere
-/// |L| = const, with the separatrix through the middle axis.
+/// |L| = const (drawn as the unit sphere), with the separatrix through the
+/// middle axis, the orbit's closed curve, and the path so far.
 pub fn polhode(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
-    let radius = run.momentum().max(f64::MIN_POSITIVE);
+    let Some(picture) = run.polhode() else {
+        frame.render_widget(block(title, theme), area);
+        return;
+    };
     let camera = Camera::new(
         Vector3::new(0.0, 0.0, 1.0),
         Vector3::new(1.0, 0.6, 0.0),
@@ -131,19 +135,21 @@ pub fn polhode(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, them
     );
     let r = 1.25;
     let xr = aspect_x(area, r);
-    let inertia = run.scene.inertia;
     let dim = theme.plot(Color::DarkGray);
     let sep = theme.plot(Color::Yellow);
+    let orbit_c = theme.plot(Color::Cyan);
     let trail = theme.plot(Color::LightCyan);
-    let now = theme.plot(Color::White);
-    let unit = |v: &Vector3<f64>| v / radius;
+    let now_c = theme.plot(Color::White);
+    let body = *run.body();
     let path: Vec<Vector3<f64>> = run
-        .samples
+        .trace()
         .iter()
-        .map(|s| unit(&run.body.momentum(&s.omega)))
+        .map(|s| picture.point(&body, &s.omega))
         .collect();
-    let current = unit(&run.body.momentum(&run.state.omega));
-    let separatrix = geometry::separatrix(inertia, 1.0, 120);
+    let current = run
+        .frame()
+        .polhode
+        .unwrap_or_else(|| picture.point(&body, &run.frame().omega));
     let canvas = Canvas::default()
         .block(block(title, theme))
         .marker(Marker::Braille)
@@ -151,16 +157,15 @@ pub fn polhode(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, them
         .y_bounds([-r, r])
         .paint(move |ctx: &mut Context| {
             // The sphere's outline (an orthographic view: a unit circle).
-            let outline: Vec<(f64, f64)> = (0..=180)
+            let outline: Vec<(f64, f64)> = (0..=120)
                 .map(|k| {
-                    let th = std::f64::consts::TAU * k as f64 / 180.0;
+                    let th = std::f64::consts::TAU * k as f64 / 120.0;
                     (th.cos(), th.sin())
                 })
                 .collect();
             for w in outline.windows(2) {
                 ctx.draw(&Line::new(w[0].0, w[0].1, w[1].0, w[1].1, dim));
             }
-            // Body axes, labelled by their number.
             for i in 0..3 {
                 let mut axis = Vector3::zeros();
                 axis[i] = 1.12;
@@ -172,32 +177,29 @@ pub fn polhode(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, them
                 );
             }
             ctx.layer();
-            if let Some(circles) = &separatrix {
-                for circle in circles {
-                    // Front half solid, back half dotted.
-                    for (k, w) in circle.windows(2).enumerate() {
-                        let (a, b) = (camera.project(&w[0]), camera.project(&w[1]));
-                        let front = a.2 <= 0.0;
-                        if front {
-                            ctx.draw(&Line::new(a.0, a.1, b.0, b.1, sep));
-                        } else if k % 2 == 0 {
-                            ctx.draw(&Points {
-                                coords: &[(a.0, a.1)],
-                                color: dim,
-                            });
-                        }
+            // Front halves solid, back halves dotted.
+            let curve = |ctx: &mut Context, pts: &[Vector3<f64>], color: Color| {
+                for (k, w) in pts.windows(2).enumerate() {
+                    let (a, b) = (camera.project(&w[0]), camera.project(&w[1]));
+                    if a.2 <= 0.0 {
+                        ctx.draw(&Line::new(a.0, a.1, b.0, b.1, color));
+                    } else if k % 3 == 0 {
+                        ctx.draw(&Points {
+                            coords: &[(a.0, a.1)],
+                            color: dim,
+                        });
                     }
                 }
+            };
+            for circle in &picture.separatrix {
+                curve(ctx, circle, sep);
             }
+            curve(ctx, &picture.orbit, orbit_c);
             ctx.layer();
-            for w in path.windows(2) {
-                let (a, b) = (camera.project(&w[0]), camera.project(&w[1]));
-                let color = if a.2 <= 0.0 { trail } else { dim };
-                ctx.draw(&Line::new(a.0, a.1, b.0, b.1, color));
-            }
+            curve(ctx, &path, trail);
             ctx.layer();
             let (x, y, _) = camera.project(&current);
-            ctx.print(x, y, TextLine::styled("●", Style::new().fg(now)));
+            ctx.print(x, y, TextLine::styled("●", Style::new().fg(now_c)));
         });
     frame.render_widget(canvas, area);
 }

@@ -8,7 +8,7 @@ use std::time::Instant;
 use chrono::{DateTime, Utc};
 
 use crate::deck::Deck;
-use crate::sched::{CardState, Config, DoneToday, ItemKey, Queue, Scheduler};
+use crate::sched::{CardState, Config, ItemKey, Queue, Scheduler};
 use crate::store::{PromptAttempt, Store, StoreError};
 
 use super::screens::home::{Counts, DeckRow};
@@ -129,11 +129,7 @@ impl Services {
     ) -> Result<(Queue, HashMap<ItemKey, CardState>), StoreError> {
         let states = self.store.states(&deck.id)?;
         let (day_start, _) = self.study_day(now);
-        let today = self.store.reviews_today(&deck.id, day_start)?;
-        let done = DoneToday {
-            new: today.new,
-            reviews: today.reviews,
-        };
+        let done = self.store.reviews_today(&deck.id, day_start)?;
         let items = crate::sched::deck_items(deck);
         let queue = match self.zone {
             DayZone::Local => {

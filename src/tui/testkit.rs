@@ -249,6 +249,19 @@ pub fn app(lang: &str) -> TestApp {
     TestApp { app, dir }
 }
 
+/// The frame's cells, at the app's size.
+pub fn buffer(app: &App) -> ratatui::buffer::Buffer {
+    let (w, h) = app.size;
+    let mut terminal = match Terminal::new(TestBackend::new(w, h)) {
+        Ok(t) => t,
+        Err(e) => panic!("test backend: {e}"),
+    };
+    if let Err(e) = terminal.draw(|f| view::draw(f, app)) {
+        panic!("draw: {e}");
+    }
+    terminal.backend().buffer().clone()
+}
+
 /// The frame as text, at the app's size.
 pub fn render(app: &App) -> String {
     let (w, h) = app.size;

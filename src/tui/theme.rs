@@ -12,7 +12,12 @@ pub struct Theme {
 impl Theme {
     /// Colours unless `NO_COLOR` is set to a non-empty value (no-color.org).
     pub fn from_env() -> Theme {
-        let no_color = std::env::var_os("NO_COLOR").is_some_and(|v| !v.is_empty());
+        Theme::from_no_color(std::env::var_os("NO_COLOR").as_deref())
+    }
+
+    /// The theme for a value of `NO_COLOR` (`None`: unset).
+    pub fn from_no_color(value: Option<&std::ffi::OsStr>) -> Theme {
+        let no_color = value.is_some_and(|v| !v.is_empty());
         Theme { color: !no_color }
     }
 
@@ -96,5 +101,18 @@ impl Theme {
     pub fn rating(&self, n: usize) -> Style {
         let c = [Color::Red, Color::Yellow, Color::Green, Color::Blue][n.min(3)];
         self.fg(c).add_modifier(Modifier::BOLD)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::ffi::OsStr;
+
+    #[test]
+    fn no_color_set_to_anything_but_empty_turns_colours_off() {
+        assert_eq!(Theme::from_no_color(None), Theme::COLOR);
+        assert_eq!(Theme::from_no_color(Some(OsStr::new(""))), Theme::COLOR);
+        assert_eq!(Theme::from_no_color(Some(OsStr::new("1"))), Theme::PLAIN);
     }
 }

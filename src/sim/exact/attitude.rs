@@ -257,3 +257,32 @@ fn smallest_rotation(orbit: &Orbit, point: &Point) -> Quat {
     let inv = 1.0 / (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
     [v[0] * inv, v[1] * inv, v[2] * inv, 0.0]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The closed-form mean rate (used when J₃ is the largest moment) and the
+    /// trapezoidal one (used when it is the smallest) agree where both apply.
+    #[test]
+    fn closed_form_and_quadrature_mean_rates_agree() {
+        for (j, w) in [
+            ([1.0, 2.0, 2.5], [0.3, 1.0, -0.8]),
+            ([1.0, 2.0, 3.0], [0.01, 10.0, 0.01]),
+            ([1e-6, 1.0, 1.0 + 5e-7], [1e-3, 0.4, 1.0]),
+            ([3.0, 4.0, 6.0], [2.0, 0.5, 1.0 + 1e-12]),
+        ] {
+            let orbit = Orbit::new(j, w, 1.0);
+            let Shape::Elliptic { jacobi, .. } = &orbit.shape else {
+                panic!("elliptic orbit expected");
+            };
+            let beta = j[2] * orbit.amp[2].abs();
+            let closed = Attitude::new(&orbit, 1.0).lin;
+            let quadrature = mean_rate(&orbit, jacobi, beta);
+            assert!(
+                (closed - quadrature).abs() <= 2e-15 * closed,
+                "{j:?}: {closed} vs {quadrature}"
+            );
+        }
+    }
+}

@@ -74,3 +74,18 @@ fn linear_stability_signs() {
     // middle axis: k = (I2−I1)(I3−I2)Ω²/(I1 I3)
     assert_eq!(linear_stability(&body, 1, 2.0), 4.0 / 3.0);
 }
+
+#[test]
+fn starts_exactly_at_the_given_state() {
+    for (inertia, omega) in [
+        ([1.0, 2.0, 3.0], [0.01, 10.0, 0.01]),
+        ([3.0, 4.0, 6.0], [2.0, 0.5, 1.0]),
+        ([2.0, 2.0, 3.0], [0.7, -0.2, 1.5]),
+    ] {
+        let e = exact(inertia, omega);
+        assert_eq!(e.omega_at(0.0), Vector3::from(omega));
+        let s = e.state_at(0.0);
+        assert_eq!(s.omega, Vector3::from(omega));
+        assert!(s.q.angle() < 1e-15);
+    }
+}

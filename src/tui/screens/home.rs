@@ -110,8 +110,28 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
         frame.render_widget(p, area);
         return;
     }
-    let [table_area, detail_area] =
-        Layout::vertical([Constraint::Fill(1), Constraint::Length(4)]).areas(area);
+    let [table_area, detail_area, keys_area] = Layout::vertical([
+        Constraint::Fill(1),
+        Constraint::Length(4),
+        Constraint::Length(1),
+    ])
+    .areas(area);
+    let hi = app.lang == crate::tui::i18n::HINGLISH;
+    let mut keys = vec![Span::raw(" ")];
+    for (k, en, h) in [
+        ("Enter", "review", "review"),
+        ("c", "cram", "cram"),
+        ("r", "read", "padho"),
+        ("p", "predict", "andaaza"),
+        ("t", "stats", "stats"),
+    ] {
+        keys.push(Span::styled(k, t.key()));
+        keys.push(Span::styled(
+            format!(" {}  ", if hi { h } else { en }),
+            t.dim(),
+        ));
+    }
+    frame.render_widget(Paragraph::new(Line::from(keys)), keys_area);
 
     let header = Row::new(vec![
         Cell::from(app.tr(Msg::Decks)),

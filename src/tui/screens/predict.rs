@@ -2,8 +2,6 @@
 //! simulation plays live, then the verdict compares the prediction with
 //! what was measured.
 
-use std::collections::BTreeMap;
-
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
@@ -20,22 +18,7 @@ use crate::tui::wrap::{Run, wrap};
 
 use super::Nav;
 
-/// What the learner committed to.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Prediction {
-    /// Index into the prompt's choices.
-    Choice(usize),
-    Number(f64),
-}
-
-/// The outcome, from the scene's measurements.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Verdict {
-    pub measured: BTreeMap<Measure, f64>,
-    /// The choice the measurements make right (choice prompts).
-    pub right_choice: Option<usize>,
-    pub correct: bool,
-}
+pub use crate::sim::measure::{Prediction, Verdict};
 
 pub enum Phase {
     /// Waiting for the commitment: the selected choice or the typed number.
@@ -196,7 +179,11 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             }
             Nav::Stay
         }
-        Phase::Play { run, .. } => {
+        Phase::Play {
+            run,
+            prediction,
+            verdict,
+        } => {
             let replace = |run: &mut Box<LiveRun>,
                            next: Result<LiveRun, crate::sim::SimError>,
                            app: &mut App| match next {
@@ -235,9 +222,60 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                 }
                 _ => {}
             }
+            // The first time a run reaches the end, the verdict.
+            if verdict.is_none() && run.finished() {
+                let v = judge(app, state.deck, &prompt, &scene, run, *prediction);
+                *verdict = Some(v);
+            }
             Nav::Stay
         }
     }
+}
+
+/// The verdict from the run just watched when it was the exact one, else
+/// from an exact run of the scene: a learner who switched to RK4 with a
+/// huge step still gets the physics' answer. The attempt is logged.
+fn judge(
+    app: &mut App,
+    deck: usize,
+    prompt: &Prompt,
+    scene: &crate::deck::Scene,
+    run: &LiveRun,
+    prediction: Prediction,
+) -> Verdict {
+    let measurements = if run.method() == Method::Exact && run.error().is_none() {
+        Ok(run.measurements())
+    } else {
+        crate::sim::scene::measure_scene(scene, Method::Exact)
+    };
+    let measurements = measurements.unwrap_or_else(|e| {
+        app.error(e.to_string());
+        crate::sim::measure::Measurements::default()
+    });
+    let verdict = crate::sim::measure::verdict(prompt, &measurements, prediction);
+    let given = match (prediction, &prompt.answer) {
+        (Prediction::Choice(i), Answer::Choice { choices, .. }) => {
+            choices.get(i).map(|c| c.id.clone()).unwrap_or_default()
+        }
+        (Prediction::Number(v), _) => format!("{v}"),
+        _ => String::new(),
+    };
+    let attempt = crate::store::PromptAttempt {
+        deck: app
+            .decks
+            .get(deck)
+            .map(|d| d.id.clone())
+            .unwrap_or_default(),
+        prompt: prompt.id.clone(),
+        attempted_at: app.services.now(),
+        prediction: given,
+        measured: verdict.readings.first().map(|r| r.value),
+        correct: verdict.correct,
+    };
+    if let Err(e) = app.services.record_attempt(&attempt) {
+        app.error(e.to_string());
+    }
+    verdict
 }
 
 fn commit_nav(
@@ -352,8 +390,13 @@ fn draw_ask(
             lines.push(Line::from(vec![
                 Span::styled("> ", t.key()),
                 Span::styled(format!("{input}▏"), t.strong()),
-                Span::styled(format!(" {unit}"), t.dim()),
             ]));
+            let hint = if app.lang == crate::tui::i18n::HINGLISH {
+                format!("  unit: {unit} (likhna zaroori nahi)")
+            } else {
+                format!("  unit: {unit} (optional)")
+            };
+            lines.push(Line::styled(hint, t.dim()));
             if let Some(e) = error {
                 lines.push(Line::styled(e.to_string(), t.bad()));
             }
@@ -445,13 +488,15 @@ fn draw_play(
     verdict: Option<&Verdict>,
 ) {
     let t = &app.theme;
-    let diag = run.scene.shows(Panel::Diagnostics);
+    let diag = run.scene().shows(Panel::Diagnostics);
     let verdict_h = if verdict.is_some() { 5 } else { 0 };
-    let [top, panels, status, diag_area, verdict_area] = Layout::vertical([
+    let hints_h = u16::from(verdict.is_none());
+    let [top, panels, status, diag_area, hints, verdict_area] = Layout::vertical([
         Constraint::Length(2),
         Constraint::Fill(1),
         Constraint::Length(1),
         Constraint::Length(u16::from(diag)),
+        Constraint::Length(hints_h),
         Constraint::Length(verdict_h),
     ])
     .areas(area);
@@ -468,7 +513,7 @@ fn draw_play(
         top,
     );
 
-    for (panel, rect) in panel_areas(panels, &run.scene.show) {
+    for (panel, rect) in panel_areas(panels, &run.scene().show) {
         match panel {
             Panel::Omega => plots::omega(frame, rect, run, format!(" {} ", app.tr(Msg::Omega)), t),
             Panel::Body => plots::body(frame, rect, run, format!(" {} ", app.tr(Msg::Body)), t),
@@ -483,7 +528,9 @@ fn draw_play(
         Span::styled(
             format!(
                 " t = {:.2} / {} {}",
-                run.t, run.scene.duration, run.scene.time_unit
+                run.t(),
+                run.scene().duration,
+                run.scene().time_unit
             ),
             t.strong(),
         ),
@@ -491,7 +538,7 @@ fn draw_play(
             format!(" · {} ×{}", app.tr(Msg::Speed), fmt_speed(run.speed)),
             t.dim(),
         ),
-        Span::styled(format!(" · {}", live::describe(&run.method)), t.dim()),
+        Span::styled(format!(" · {}", live::describe(&run.method())), t.dim()),
     ];
     if run.paused {
         s.push(Span::styled(
@@ -499,29 +546,44 @@ fn draw_play(
             t.warn(),
         ));
     }
-    if let Some(e) = &run.error {
+    if let Some(e) = run.error() {
         s.push(Span::styled(format!(" · {e}"), t.bad()));
     }
     frame.render_widget(Paragraph::new(Line::from(s)), status);
 
-    if diag {
-        let d = &run.drift;
+    if let Some(d) = run.diagnostics() {
         let err = d.error.map_or("—".to_string(), |e| format!("{e:.1e}"));
-        let line = format!(
-            " {} · {} {:.1e} · {} {:.1e} · {} {} · {} µs phys + {} µs draw",
-            live::describe(&run.method),
-            app.tr(Msg::EnergyDrift),
-            d.energy,
-            app.tr(Msg::MomentumDrift),
-            d.momentum,
+        let mut line = format!(
+            " {} · ΔE/E {:.1e} · Δ|L|²/|L|² {:.1e} · {} {}",
+            live::describe(&run.method()),
+            d.energy_drift,
+            d.momentum_drift,
             app.tr(Msg::ErrorVsExact),
             err,
-            app.frame_us.physics,
-            app.frame_us.draw,
         );
+        line.push_str(&format!(
+            " · {} µs phys + {} µs draw",
+            app.frame_us.physics, app.frame_us.draw
+        ));
+        if let Some(q) = d.qnorm_drift {
+            line.push_str(&format!(" · ||q|−1| {q:.1e}"));
+        }
         frame.render_widget(Paragraph::new(Span::styled(line, t.dim())), diag_area);
     }
 
+    if verdict.is_none() {
+        let key = |k: &'static str, what: &'static str| {
+            [Span::styled(k, t.key()), Span::styled(what, t.dim())]
+        };
+        let hi = app.lang == crate::tui::i18n::HINGLISH;
+        let mut spans = vec![Span::raw(" ")];
+        spans.extend(key("Space", if hi { " roko  " } else { " pause  " }));
+        spans.extend(key("+ -", " speed  "));
+        spans.extend(key("r", if hi { " phir se  " } else { " restart  " }));
+        spans.extend(key("m", " method  "));
+        spans.extend(key("[ ]", " step"));
+        frame.render_widget(Paragraph::new(Line::from(spans)), hints);
+    }
     if let Some(v) = verdict {
         draw_verdict(frame, verdict_area, app, prompt, prediction, v);
     }
@@ -561,11 +623,32 @@ fn draw_verdict(
             t.text(),
         ),
     ])];
+    let unit = match &prompt.answer {
+        Answer::Number { unit, .. } => format!(" {unit}"),
+        Answer::Choice { .. } => String::new(),
+    };
     let measured: Vec<String> = v
-        .measured
+        .readings
         .iter()
-        .map(|(m, x)| format!("{} = {}", measure_label(*m), fmt_value(*x)))
+        .map(|r| {
+            let formula = match (r.formula_name(), r.formula) {
+                (Some(name), Some(x)) if r.measure != Measure::Flips => {
+                    format!(" ({name} = {})", fmt_value(x))
+                }
+                _ => String::new(),
+            };
+            format!(
+                "{} = {}{unit}{formula}",
+                measure_label(r.measure),
+                fmt_value(r.value)
+            )
+        })
         .collect();
+    let measured = if measured.is_empty() {
+        vec!["—".to_string()]
+    } else {
+        measured
+    };
     lines.push(Line::from(vec![
         Span::styled(format!(" {}: ", app.tr(Msg::Measured)), t.dim()),
         Span::raw(measured.join(", ")),
@@ -589,7 +672,7 @@ fn draw_verdict(
         Answer::Choice { choices, .. } => {
             if let Some(c) = v.right_choice.and_then(|i| choices.get(i)) {
                 lines.push(Line::from(vec![
-                    Span::styled(format!(" {}: ", app.tr(Msg::Accepted)), t.dim()),
+                    Span::styled(format!(" {}: ", app.tr(Msg::RightAnswer)), t.dim()),
                     Span::raw(crate::text::render(c.label.get(&app.lang))),
                 ]));
             }

@@ -53,7 +53,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
         return;
     }
     let [list_area, detail] =
-        Layout::vertical([Constraint::Fill(1), Constraint::Length(5)]).areas(area);
+        Layout::vertical([Constraint::Fill(1), Constraint::Length(7)]).areas(area);
     let items = deck.prompts.iter().enumerate().map(|(i, p)| {
         let question = crate::text::render(p.question.get(&app.lang));
         let first = question.lines().next().unwrap_or("").to_string();
@@ -70,7 +70,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
 
     if let Some(p) = deck.prompts.get(state.selected) {
         let scene = deck.scene(&p.scene);
-        let mut lines = vec![Line::from(vec![
+        let question = crate::text::render(p.question.get(&app.lang));
+        let mut lines = crate::tui::wrap::wrap_plain(&question, t.strong(), detail.width as usize);
+        lines.truncate(4);
+        lines.push(Line::from(vec![
             Span::styled(format!("{}: ", app.tr(Msg::Scene)), t.dim()),
             Span::styled(
                 scene
@@ -79,7 +82,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
                     .unwrap_or_else(|| p.scene.clone()),
                 t.heading(),
             ),
-        ])];
+        ]));
         if let Some(s) = scene {
             lines.push(Line::styled(
                 format!(

@@ -186,3 +186,60 @@ fn prompts_list_opens_and_closes() {
     press(&mut app, KeyCode::Esc);
     assert!(matches!(app.screen(), Screen::Home(_)));
 }
+
+/// Every screen the colour tests look at, as key routes from home.
+fn colour_routes() -> Vec<Vec<KeyCode>> {
+    use KeyCode::{Char, Enter};
+    vec![
+        vec![],
+        vec![Enter, Char(' ')],
+        vec![Char('r')],
+        vec![Char('p'), Enter, Char('2'), Enter],
+        vec![Char('t')],
+        vec![Char('?')],
+    ]
+}
+
+#[test]
+fn no_color_means_no_colours_at_all() {
+    use ratatui::style::Color;
+    for route in colour_routes() {
+        let mut app = testkit::app(ENGLISH);
+        app.theme = crate::tui::theme::Theme::PLAIN;
+        super::press_all(&mut app, &route);
+        apply(
+            &mut app,
+            Action::Tick(std::time::Duration::from_millis(500)),
+        );
+        let buf = testkit::buffer(&app);
+        for cell in buf.content() {
+            assert_eq!(cell.fg, Color::Reset, "{route:?}: {cell:?}");
+            assert_eq!(cell.bg, Color::Reset, "{route:?}: {cell:?}");
+        }
+    }
+}
+
+#[test]
+fn colours_are_the_sixteen_every_terminal_has() {
+    use ratatui::style::Color;
+    let mut used = std::collections::BTreeSet::new();
+    for route in colour_routes() {
+        let mut app = testkit::app(ENGLISH);
+        app.theme = crate::tui::theme::Theme::COLOR;
+        super::press_all(&mut app, &route);
+        apply(
+            &mut app,
+            Action::Tick(std::time::Duration::from_millis(500)),
+        );
+        for cell in testkit::buffer(&app).content() {
+            for c in [cell.fg, cell.bg] {
+                assert!(
+                    !matches!(c, Color::Rgb(..) | Color::Indexed(_)),
+                    "{route:?}: {c:?} is not one of the 16 ANSI colours"
+                );
+                used.insert(format!("{c:?}"));
+            }
+        }
+    }
+    assert!(used.len() > 4, "the colour theme uses colours: {used:?}");
+}

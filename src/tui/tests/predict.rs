@@ -14,3 +14,348 @@ fn numbers_parse_with_or_without_the_unit() {
     assert_eq!(parse_number("", "1/s"), Err(ParseError::NotANumber));
     assert_eq!(parse_number("1e999", "1/s"), Err(ParseError::NotANumber));
 }
+
+use std::time::Duration;
+
+use crossterm::event::KeyCode;
+
+use super::{key, press, press_all, type_text};
+use crate::tui::action::Action;
+use crate::tui::i18n::{ENGLISH, HINGLISH};
+use crate::tui::keymap::Context;
+use crate::tui::screens::Screen;
+use crate::tui::screens::predict::{Phase, PredictState, Prediction};
+use crate::tui::testkit::{self, TestApp, render};
+
+/// The prompt list, then prompt `n` (0: the middle-axis choice prompt,
+/// 1: the growth-rate number prompt).
+fn open(lang: &str, n: usize) -> TestApp {
+    let mut app = testkit::app(lang);
+    press(&mut app, KeyCode::Char('p'));
+    for _ in 0..n {
+        press(&mut app, KeyCode::Char('j'));
+    }
+    press(&mut app, KeyCode::Enter);
+    app
+}
+
+fn predict(app: &TestApp) -> &PredictState {
+    match app.screen() {
+        Screen::Predict(p) => p,
+        _ => panic!("not on the predict screen"),
+    }
+}
+
+#[test]
+fn choice_keys_commit_before_anything_runs() {
+    let mut app = open(ENGLISH, 0);
+    assert_eq!(app.context(), Context::PredictChoice);
+    assert!(!app.animating(), "nothing runs before the commitment");
+    assert_eq!(key(&app, KeyCode::Char('2')), Some(Action::Choose(1)));
+    assert_eq!(key(&app, KeyCode::Down), Some(Action::Down));
+    assert_eq!(key(&app, KeyCode::Enter), Some(Action::Submit));
+    press(&mut app, KeyCode::Char('9'));
+    let Phase::Ask { selected, .. } = &predict(&app).phase else {
+        panic!("committed too early");
+    };
+    assert_eq!(*selected, 0, "no ninth choice");
+    press_all(&mut app, &[KeyCode::Down, KeyCode::Down, KeyCode::Up]);
+    press(&mut app, KeyCode::Char('2'));
+    insta::assert_snapshot!("predict_choice_en", render(&app));
+    press(&mut app, KeyCode::Enter);
+    let Phase::Play { prediction, .. } = &predict(&app).phase else {
+        panic!("not running after the commitment");
+    };
+    assert_eq!(*prediction, Prediction::Choice(1));
+    assert!(app.animating());
+    assert_eq!(app.context(), Context::PredictRun);
+}
+
+#[test]
+fn number_prompt_takes_a_number_with_its_unit() {
+    let mut app = open(ENGLISH, 1);
+    assert_eq!(app.context(), Context::PredictNumber);
+    // `j` and `q` are text here, not keys.
+    type_text(&mut app, "5j");
+    press(&mut app, KeyCode::Enter);
+    assert!(render(&app).contains("unit should be 1/s"));
+    press_all(&mut app, &[KeyCode::Backspace, KeyCode::Backspace]);
+    type_text(&mut app, "5.7 1/s");
+    insta::assert_snapshot!("predict_number_en", render(&app));
+    press(&mut app, KeyCode::Enter);
+    let Phase::Play { prediction, .. } = &predict(&app).phase else {
+        panic!("not running");
+    };
+    assert_eq!(*prediction, Prediction::Number(5.7));
+}
+
+#[test]
+fn run_controls_pause_speed_restart_method_and_step() {
+    let mut app = open(ENGLISH, 0);
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    let run_t = |app: &TestApp| match &predict(app).phase {
+        Phase::Play { run, .. } => (
+            run.t(),
+            run.speed,
+            run.paused,
+            crate::tui::live::describe(&run.method()),
+        ),
+        _ => panic!("not running"),
+    };
+    // Scene time follows the wall clock: 0.5 s of ticks, 0.5 s of scene.
+    for _ in 0..5 {
+        apply_tick(&mut app, 100);
+    }
+    assert!((run_t(&app).0 - 0.5).abs() < 1e-9, "{:?}", run_t(&app));
+    press(&mut app, KeyCode::Char(' '));
+    assert!(run_t(&app).2, "paused");
+    assert!(!app.animating(), "no ticks while paused");
+    apply_tick(&mut app, 1000);
+    assert!(
+        (run_t(&app).0 - 0.5).abs() < 1e-9,
+        "time stands still when paused"
+    );
+    press(&mut app, KeyCode::Char(' '));
+    press_all(&mut app, &[KeyCode::Char('+'), KeyCode::Char('+')]);
+    assert_eq!(run_t(&app).1, 4.0);
+    apply_tick(&mut app, 100);
+    assert!(
+        (run_t(&app).0 - 0.9).abs() < 1e-9,
+        "×4: 0.1 s of wall time is 0.4 s"
+    );
+    press(&mut app, KeyCode::Char('-'));
+    assert_eq!(run_t(&app).1, 2.0);
+    press(&mut app, KeyCode::Char('r'));
+    assert_eq!(run_t(&app).0, 0.0, "restarted");
+    assert_eq!(run_t(&app).1, 2.0, "speed kept");
+    assert_eq!(run_t(&app).3, "exact");
+    press(&mut app, KeyCode::Char('['));
+    assert!(
+        app.status
+            .as_ref()
+            .is_some_and(|s| s.text.contains("no step"))
+    );
+    let mut seen = vec![run_t(&app).3];
+    for _ in 0..5 {
+        press(&mut app, KeyCode::Char('m'));
+        seen.push(run_t(&app).3.split(' ').next().unwrap_or("").to_string());
+    }
+    assert_eq!(
+        seen,
+        [
+            "exact",
+            "adaptive",
+            "splitting",
+            "splitting4",
+            "rk4",
+            "exact"
+        ]
+    );
+    // RK4 with its step doubled twice.
+    for _ in 0..4 {
+        press(&mut app, KeyCode::Char('m'));
+    }
+    let before = run_t(&app).3;
+    press_all(&mut app, &[KeyCode::Char(']'), KeyCode::Char(']')]);
+    let after = run_t(&app).3;
+    let dt = |s: &str| {
+        s.split("dt=")
+            .nth(1)
+            .and_then(|x| x.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    assert!(
+        (dt(&after) / dt(&before) - 4.0).abs() < 0.1,
+        "{before} → {after}"
+    );
+}
+
+fn apply_tick(app: &mut TestApp, ms: u64) {
+    crate::tui::update::apply(app, Action::Tick(Duration::from_millis(ms)));
+}
+
+#[test]
+fn the_run_plays_to_the_end_and_stops_ticking() {
+    let mut app = open(ENGLISH, 0);
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    for _ in 0..60 {
+        apply_tick(&mut app, 100);
+    }
+    let Phase::Play { run, .. } = &predict(&app).phase else {
+        panic!("not running");
+    };
+    assert_eq!(run.t(), 5.0, "the scene lasts 5 s");
+    assert!(run.finished());
+    assert!(!app.animating(), "a finished run needs no frames");
+}
+
+#[test]
+fn snapshots_of_the_run_in_both_languages() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = open(lang, 0);
+        app.size = (100, 36);
+        press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+        for _ in 0..25 {
+            apply_tick(&mut app, 100);
+        }
+        insta::assert_snapshot!(format!("predict_run_{lang}"), redact_drifts(&render(&app)));
+        press(&mut app, KeyCode::Char('?'));
+        insta::assert_snapshot!(
+            format!("predict_run_help_{lang}"),
+            redact_drifts(&render(&app))
+        );
+    }
+}
+
+/// Drifts at rounding level (1e-16) depend on the machine's libm: the
+/// snapshots show their order of magnitude only.
+fn redact_drifts(screen: &str) -> String {
+    screen
+        .lines()
+        .map(|line| {
+            let mut out = String::new();
+            let mut rest = line;
+            while let Some(i) = rest.find("e-") {
+                let (head, tail) = rest.split_at(i);
+                // Drop the mantissa's digits: "5.7e-16" → "?e-16".
+                let keep = head.trim_end_matches(|c: char| c.is_ascii_digit() || c == '.');
+                out.push_str(keep);
+                out.push('?');
+                let digits = tail[2..].chars().take_while(|c| c.is_ascii_digit()).count();
+                let exp: i32 = tail[2..2 + digits].parse().unwrap_or(0);
+                // Anything below 1e-12 is rounding; say so rather than which ulp.
+                out.push_str(if exp >= 12 {
+                    "e-tiny"
+                } else {
+                    &tail[..2 + digits]
+                });
+                rest = &tail[2 + digits..];
+            }
+            out.push_str(rest);
+            out
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn attempts(app: &TestApp) -> Option<(u64, u64)> {
+    let items = crate::sched::deck_items(&app.decks[0]);
+    let scope = crate::store::StatsScope {
+        deck: Some("torque-free"),
+        items: &items,
+    };
+    let grid = crate::store::DayGrid::new(chrono::Utc, app.services.config.day_starts_at);
+    let stats = app
+        .services
+        .store
+        .stats(scope, testkit::now(), &grid)
+        .ok()?;
+    Some((stats.prompts.overall.total, stats.prompts.overall.passed))
+}
+
+#[test]
+fn predict_run_verdict_right_and_logged() {
+    let mut app = open(ENGLISH, 0);
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    assert_eq!(app.context(), Context::PredictRun);
+    // Play at ×8 to the end: 5 s of scene in 0.625 s of ticks.
+    press_all(
+        &mut app,
+        &[KeyCode::Char('+'), KeyCode::Char('+'), KeyCode::Char('+')],
+    );
+    for _ in 0..7 {
+        apply_tick(&mut app, 100);
+    }
+    assert_eq!(app.context(), Context::PredictVerdict);
+    let Phase::Play {
+        verdict: Some(v), ..
+    } = &predict(&app).phase
+    else {
+        panic!("no verdict at the end of the run");
+    };
+    assert!(v.correct, "{v:?}");
+    assert_eq!(v.right_choice, Some(1), "the racket flips");
+    let flips = v
+        .readings
+        .iter()
+        .find(|r| r.measure == crate::deck::Measure::Flips);
+    assert!(flips.is_some_and(|r| r.value >= 1.0), "{v:?}");
+    assert_eq!(
+        attempts(&app),
+        Some((1, 1)),
+        "one attempt, right, in the log"
+    );
+    for lang in [ENGLISH, HINGLISH] {
+        app.lang = lang.into();
+        insta::assert_snapshot!(
+            format!("predict_verdict_{lang}"),
+            redact_drifts(&render(&app))
+        );
+    }
+    // The explanation is one key away, and Esc comes back to the verdict.
+    press(&mut app, KeyCode::Char('e'));
+    let Screen::Reader(r) = app.screen() else {
+        panic!("explanation not open");
+    };
+    assert_eq!(r.section, 2, "the prompt links the stability section");
+    press(&mut app, KeyCode::Esc);
+    assert_eq!(app.context(), Context::PredictVerdict);
+    // Watching again does not log another attempt.
+    press(&mut app, KeyCode::Char('r'));
+    for _ in 0..10 {
+        apply_tick(&mut app, 100);
+    }
+    assert_eq!(attempts(&app), Some((1, 1)));
+}
+
+#[test]
+fn a_wrong_prediction_is_wrong_and_shows_the_right_one() {
+    let mut app = open(ENGLISH, 0);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    // Switching to RK4 mid-run does not change the physics' answer.
+    for _ in 0..4 {
+        press(&mut app, KeyCode::Char('m'));
+    }
+    for _ in 0..60 {
+        apply_tick(&mut app, 100);
+    }
+    let Phase::Play {
+        verdict: Some(v), ..
+    } = &predict(&app).phase
+    else {
+        panic!("no verdict");
+    };
+    assert!(!v.correct);
+    let text = render(&app);
+    assert!(text.contains("Not quite."), "{text}");
+    assert!(
+        text.contains("It flips over and over"),
+        "the right choice is named: {text}"
+    );
+    assert_eq!(attempts(&app), Some((1, 0)));
+}
+
+#[test]
+fn a_number_prediction_is_checked_against_the_measured_rate() {
+    let mut app = open(ENGLISH, 1);
+    // √k for I = (1, 2, 3), Ω = 10: 10·√(1·1/3) ≈ 5.77 per second.
+    type_text(&mut app, "5.8");
+    press(&mut app, KeyCode::Enter);
+    press_all(
+        &mut app,
+        &[KeyCode::Char('+'), KeyCode::Char('+'), KeyCode::Char('+')],
+    );
+    for _ in 0..7 {
+        apply_tick(&mut app, 100);
+    }
+    let Phase::Play {
+        verdict: Some(v), ..
+    } = &predict(&app).phase
+    else {
+        panic!("no verdict");
+    };
+    let rate = v.readings.first().map(|r| r.value).unwrap_or(f64::NAN);
+    assert!((rate - 5.77).abs() < 0.1, "measured growth rate {rate}");
+    assert!(v.correct, "{v:?}");
+    insta::assert_snapshot!("predict_verdict_number_en", redact_drifts(&render(&app)));
+}

@@ -1,0 +1,84 @@
+//! The terminal app's time budgets: the first frame after start with the
+//! bundled decks (target < 100 ms), and one frame of the seed simulation
+//! (physics step + drawing; at 30 frames per second, < 5% of one core
+//! leaves about 1.6 ms per frame).
+
+use std::time::Duration;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+
+use flipcard::deck::load_dir;
+use flipcard::paths::bundled_decks;
+use flipcard::sched::Config;
+use flipcard::store::Store;
+use flipcard::tui::services::{Clock, DayZone, Services};
+use flipcard::tui::theme::Theme;
+use flipcard::tui::{Action, App, apply, view};
+
+fn app(dir: &std::path::Path) -> App {
+    let loaded = load_dir(&bundled_decks());
+    let store = Store::open(dir).unwrap_or_else(|e| panic!("store: {e}"));
+    let services = Services::new(
+        Clock::System,
+        Config::default(),
+        None,
+        DayZone::Local,
+        store,
+    );
+    App::new(loaded.decks, services, "en", Theme::COLOR)
+}
+
+fn terminal() -> Terminal<TestBackend> {
+    Terminal::new(TestBackend::new(120, 40)).unwrap_or_else(|e| panic!("terminal: {e}"))
+}
+
+fn first_frame(c: &mut Criterion) {
+    let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
+    c.bench_function("tui/first_frame (load decks, open store, draw home)", |b| {
+        b.iter(|| {
+            let app = app(dir.path());
+            let mut t = terminal();
+            t.draw(|f| view::draw(f, &app))
+                .unwrap_or_else(|e| panic!("draw: {e}"));
+        })
+    });
+}
+
+fn simulation_frame(c: &mut Criterion) {
+    let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
+    let mut app = app(dir.path());
+    app.size = (120, 40);
+    // The seed prompt: the middle axis of the bundled deck.
+    let index = app
+        .decks
+        .first()
+        .and_then(|d| d.prompts.iter().position(|p| p.id == "middle-axis"))
+        .unwrap_or_else(|| panic!("no middle-axis prompt in the bundled deck"));
+    apply(&mut app, Action::OpenPrompts);
+    for _ in 0..index {
+        apply(&mut app, Action::Down);
+    }
+    apply(&mut app, Action::Open);
+    apply(&mut app, Action::Choose(1));
+    apply(&mut app, Action::Submit);
+    assert!(app.animating(), "the simulation should be playing");
+    let mut t = terminal();
+    c.bench_function(
+        "tui/simulation_frame (33 ms of physics + draw, seed scene)",
+        |b| {
+            b.iter(|| {
+                if !app.animating() {
+                    apply(&mut app, Action::Restart);
+                }
+                apply(&mut app, Action::Tick(Duration::from_millis(33)));
+                t.draw(|f| view::draw(f, &app))
+                    .unwrap_or_else(|e| panic!("draw: {e}"));
+            })
+        },
+    );
+}
+
+criterion_group!(benches, first_frame, simulation_frame);
+criterion_main!(benches);
