@@ -149,13 +149,13 @@ fn prompt_line(p: &Prompt, m: &Measurements) -> String {
                 .map(|&i| {
                     let c = &choices[i];
                     format!(
-                        "{} ({} = {}: {} {} {})",
+                        "{} ({} = {}: {} {} {:?})",
                         c.id,
                         c.when.measure.name(),
                         m.get(c.when.measure).map_or("-".into(), number),
                         c.when.measure.name(),
                         c.when.op.as_str(),
-                        c.when.value
+                        c.when.value,
                     )
                 })
                 .collect();
