@@ -24,7 +24,7 @@ use super::budget::Budget;
 use super::model::{Body, State};
 use super::reference;
 use super::run::{Options, make_with};
-use super::solver::{Method, Needs, SimError, Solver, Work};
+use super::solver::{Method, Needs, SimError, Work};
 use crate::cli::{BenchArgs, Cli};
 
 /// Points at which every run is compared with the exact solution.
@@ -120,16 +120,13 @@ fn run_once(
     budget: Budget,
 ) -> Result<(Vec<State>, Work, f64), SimError> {
     let start = Instant::now();
-    let mut solver: Box<dyn Solver> = match method {
-        Method::Exact => reference::exact(case.body, case.omega0, Needs { orientation: true })?,
-        _ => make_with(
-            method,
-            case.body,
-            case.omega0,
-            Needs { orientation: true },
-            Options { budget },
-        )?,
-    };
+    let mut solver = make_with(
+        method,
+        case.body,
+        case.omega0,
+        Needs { orientation: true },
+        Options { budget },
+    )?;
     solver.plan(case.t_end)?;
     let mut states = Vec::with_capacity(times.len());
     for &t in times {

@@ -174,7 +174,7 @@ impl SceneRun {
                 scene.id, scene.duration
             )));
         }
-        let mut solver = solver(method, body, omega0, plan.needs)?;
+        let mut solver = make(method, body, omega0, plan.needs)?;
         let mut error = solver.plan(scene.duration).err();
         let reference = if plan.reference_run(&method) {
             Some(reference::exact(
@@ -421,20 +421,6 @@ impl SceneRun {
                 Err(_) => d.error = None,
             }
         }
-    }
-}
-
-/// The exact method goes through the closed form; the others through the
-/// factory.
-fn solver(
-    method: Method,
-    body: Body,
-    omega0: Vector3<f64>,
-    needs: Needs,
-) -> Result<Box<dyn Solver>, SimError> {
-    match method {
-        Method::Exact => reference::exact(body, omega0, needs),
-        other => make(other, body, omega0, needs),
     }
 }
 

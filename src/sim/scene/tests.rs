@@ -47,7 +47,7 @@ fn omega_only_scene_never_evaluates_an_orientation() {
         assert!(run.error().is_none(), "{method:?}: {:?}", run.error());
         // The solver itself hands back the untouched identity for q at every
         // time, far from where the tumbling body has turned.
-        let mut solver = solver(method, *run.body(), run.omega0(), run.plan().needs).unwrap();
+        let mut solver = make(method, *run.body(), run.omega0(), run.plan().needs).unwrap();
         for k in 1..=20 {
             let state = solver.advance(0.4 * k as f64).unwrap();
             assert_eq!(state.q, UnitQuaternion::identity(), "{method:?}");
