@@ -347,3 +347,62 @@ fn write(dir: &Path, rows: &[Row], quick: bool) -> anyhow::Result<()> {
     fs::write(&svg_path, svg).with_context(|| format!("writing {}", svg_path.display()))?;
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refused_runs_are_rows_with_their_reason() {
+        let case = &cases(true)[0];
+        let reference = Reference::new(case).unwrap();
+        let effort = Effort {
+            budget: Budget { max_steps: 1000 },
+            time_per_setting: Duration::ZERO,
+            max_repeats: 1,
+        };
+        let ok = measure(case, Method::Adaptive { tol: 1e-8 }, &reference, &effort);
+        let refused = measure(case, Method::Rk4 { dt: 1e-5 }, &reference, &effort);
+        let m = ok.outcome.as_ref().unwrap();
+        assert!(m.errors.omega > 0.0 && m.errors.omega < 1e-4, "{m:?}");
+        assert!(m.work.steps > 0 && m.wall > 0.0);
+        let reason = refused.outcome.as_ref().unwrap_err();
+        assert!(reason.contains("budget"), "{reason}");
+
+        let text = csv(&[ok, refused]);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], CSV_HEADER);
+        assert!(lines[1].starts_with("a,adaptive,tol=1e-8,"), "{}", lines[1]);
+        assert_eq!(lines[1].split(',').count(), 11);
+        // The reason follows the setting; the numbers are left empty.
+        assert!(
+            lines[2].starts_with("a,rk4,dt=1.0000e-5 (rk4: dt = "),
+            "{}",
+            lines[2]
+        );
+        assert!(lines[2].ends_with("exact solver),,,,,,,,"), "{}", lines[2]);
+        // A reason with a comma is quoted, so the row keeps its 11 fields.
+        assert_eq!(quote("dt=1 (a, b)"), "\"dt=1 (a, b)\"");
+        assert_eq!(quote("say \"x\", y"), "\"say \"\"x\"\", y\"");
+        assert!(table(&[refused_row()]).contains("budget"));
+    }
+
+    fn refused_row() -> Row {
+        Row {
+            case: "e",
+            method: Method::Rk4 { dt: 1e-3 },
+            outcome: Err("rk4: needs ~2e7 steps (budget 5e6)".into()),
+        }
+    }
+
+    #[test]
+    fn exact_run_has_no_error_and_keeps_the_invariants() {
+        let case = &cases(true)[2];
+        let reference = Reference::new(case).unwrap();
+        let row = measure(case, Method::Exact, &reference, &Effort::new(true));
+        let m = row.outcome.unwrap();
+        assert_eq!(m.errors.omega, 0.0);
+        assert!(m.errors.energy < 1e-13 && m.errors.l2 < 1e-13, "{m:?}");
+        assert!(m.errors.lspace < 1e-12 && m.errors.qnorm < 1e-14, "{m:?}");
+    }
+}
