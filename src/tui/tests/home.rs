@@ -243,3 +243,25 @@ fn colours_are_the_sixteen_every_terminal_has() {
     }
     assert!(used.len() > 4, "the colour theme uses colours: {used:?}");
 }
+
+#[test]
+fn the_language_choice_is_saved_for_the_next_run() {
+    let mut app = testkit::app(ENGLISH);
+    let path = app.dir.path().join("config.toml");
+    std::fs::write(&path, "# my settings\nnew_per_day = 5\n").unwrap_or_else(|e| panic!("{e}"));
+    app.services.config_path = Some(path.clone());
+    press(&mut app, KeyCode::Char('l'));
+    let saved = crate::sched::Config::load(Some(&path)).map(|c| (c.language, c.new_per_day));
+    assert_eq!(saved.ok(), Some((HINGLISH.to_string(), 5)));
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(text.contains("# my settings"), "comments survive: {text}");
+    // A config that cannot be written is reported, not fatal.
+    app.services.config_path = Some(app.dir.path().join("no-such-dir/\0/config.toml"));
+    press(&mut app, KeyCode::Char('l'));
+    assert_eq!(app.lang, ENGLISH);
+    assert!(
+        app.status.as_ref().is_some_and(|s| s.error),
+        "{:?}",
+        app.status
+    );
+}
