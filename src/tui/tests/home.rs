@@ -265,3 +265,54 @@ fn the_language_choice_is_saved_for_the_next_run() {
         app.status
     );
 }
+
+#[test]
+fn help_overlay_of_every_screen_in_both_languages() {
+    use KeyCode::{Char, Enter, F};
+    let routes: [(&str, &[KeyCode]); 7] = [
+        ("prompts", &[Char('p')]),
+        ("predict_choice", &[Char('p'), Enter]),
+        ("predict_number", &[Char('p'), Char('j'), Enter]),
+        ("stats", &[Char('t')]),
+        ("reader_search", &[Char('r'), Char('/')]),
+        (
+            "review_done",
+            &[
+                Enter,
+                Char(' '),
+                Char('4'),
+                Char(' '),
+                Char('4'),
+                Char(' '),
+                Char('4'),
+            ],
+        ),
+        (
+            "review_typing",
+            &[
+                Enter,
+                Char(' '),
+                Char('4'),
+                Char(' '),
+                Char('4'),
+                Char(' '),
+                Char('4'),
+            ],
+        ),
+    ];
+    for (name, route) in routes {
+        for lang in [ENGLISH, HINGLISH] {
+            let mut app = testkit::app(lang);
+            super::press_all(&mut app, route);
+            if name == "review_done" {
+                super::type_text(&mut app, "middle");
+                super::press_all(&mut app, &[Enter, Char('4')]);
+            }
+            insta::assert_snapshot!(format!("{name}_{lang}"), render(&app));
+            // F1 opens the help everywhere, even where `?` is typed into a field.
+            press(&mut app, F(1));
+            assert!(app.help, "{name}: F1 opens the help");
+            insta::assert_snapshot!(format!("{name}_help_{lang}"), render(&app));
+        }
+    }
+}
