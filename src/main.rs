@@ -1,7 +1,7 @@
 use std::process::ExitCode;
 
-use clap::{CommandFactory, Parser};
 use clap::error::ErrorKind;
+use clap::{CommandFactory, Parser};
 use flipcard::cli::{Cli, Command};
 
 fn main() -> ExitCode {

@@ -267,10 +267,7 @@ fn text(fields: &[String], i: usize, name: &str) -> Result<String, String> {
     }
     if let Some(e) = crate::text::check(&t).first() {
         let at = t.get(..e.offset).map_or(0, |s| s.chars().count()) + 1;
-        return Err(format!(
-            "{name}: LaTeX: {} (at character {at}; a literal dollar sign is written \\$)",
-            e.message
-        ));
+        return Err(format!("{name}: LaTeX: {} (at character {at})", e.message));
     }
     Ok(t)
 }
@@ -504,6 +501,21 @@ mod tests {
         let e = read_cards_csv(&b"ok,fine\n\xff\xfe,bad\n"[..]).unwrap_err();
         assert_eq!(e[0].line, 2);
         assert!(e[0].message.contains("UTF-8"), "{}", e[0].message);
+
+        let e = read("fine,ok\nCosts $5,ok\n").unwrap_err();
+        assert_eq!(e.len(), 1);
+        assert_eq!(e[0].line, 2);
+        assert!(
+            e[0].message.starts_with("front: LaTeX:"),
+            "{}",
+            e[0].message
+        );
+        assert!(
+            e[0].message.ends_with("(at character 7)"),
+            "{}",
+            e[0].message
+        );
+        assert!(read("Costs \\$5,ok\n").is_ok(), "an escaped dollar is text");
 
         let e = read("a\u{7}b,c\n").unwrap_err();
         assert!(e[0].message.contains("U+0007"), "{}", e[0].message);

@@ -123,10 +123,11 @@ impl Store {
             warnings,
         };
         let mut store = store;
-        if backup_due && store.has_history()? {
-            if let Err(e) = backup::daily_backup(&store.conn, data_dir, today) {
-                store.warnings.push(format!("daily backup skipped: {e}"));
-            }
+        if backup_due
+            && store.has_history()?
+            && let Err(e) = backup::daily_backup(&store.conn, data_dir, today)
+        {
+            store.warnings.push(format!("daily backup skipped: {e}"));
         }
         Ok(store)
     }

@@ -38,6 +38,9 @@ impl Store {
     /// Appends several ratings in one transaction (imports of histories,
     /// benchmarks); each is applied exactly as [`Store::record`] would.
     pub fn record_batch(&mut self, reviews: &[ReviewRecord]) -> Result<Vec<i64>, StoreError> {
+        if reviews.is_empty() {
+            return Ok(Vec::new());
+        }
         for r in reviews {
             validate(r)?;
         }

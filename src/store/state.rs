@@ -113,16 +113,11 @@ impl Store {
     /// The state of every item of `deck` that has been rated; an item not in
     /// the map is new.
     pub fn states(&self, deck: &str) -> Result<HashMap<ItemKey, CardState>, StoreError> {
-        let mut st = self
-            .conn
-            .prepare_cached(&format!(
-                "SELECT {STATE_COLUMNS} FROM card_state WHERE deck = ?1"
-            ))
-            .map_err(|e| self.err(e))?;
-        let rows = read_states(&mut st, [deck]).map_err(|e| self.err(e))?;
-        rows.into_iter()
-            .map(|r| r.map(|c| (c.key, c.state)))
-            .collect()
+        Ok(self
+            .cached_states_in(Some(deck))?
+            .into_iter()
+            .map(|c| (c.key, c.state))
+            .collect())
     }
 
     /// The state of one item (`None`: new).
@@ -151,14 +146,23 @@ impl Store {
 
     /// The cache of one deck (or all), ordered by deck, card, direction.
     pub fn cached_states_in(&self, deck: Option<&str>) -> Result<Vec<CachedState>, StoreError> {
+        // Two spellings, so that one deck is read through the primary key.
+        let filter = if deck.is_some() {
+            "WHERE deck = ?1"
+        } else {
+            ""
+        };
         let mut st = self
             .conn
             .prepare_cached(&format!(
-                "SELECT {STATE_COLUMNS} FROM card_state WHERE (?1 IS NULL OR deck = ?1) \
-                 ORDER BY deck, card, direction"
+                "SELECT {STATE_COLUMNS} FROM card_state {filter} ORDER BY deck, card, direction"
             ))
             .map_err(|e| self.err(e))?;
-        let rows = read_states(&mut st, [deck]).map_err(|e| self.err(e))?;
+        let rows = match deck {
+            Some(d) => read_states(&mut st, [d]),
+            None => read_states(&mut st, []),
+        }
+        .map_err(|e| self.err(e))?;
         rows.into_iter().collect()
     }
 
