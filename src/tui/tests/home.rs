@@ -308,11 +308,11 @@ fn help_overlay_of_every_screen_in_both_languages() {
                 super::type_text(&mut app, "middle");
                 super::press_all(&mut app, &[Enter, Char('4')]);
             }
-            insta::assert_snapshot!(format!("{name}_{lang}"), render(&app));
+            insta::assert_snapshot!(format!("screen_{name}_{lang}"), render(&app));
             // F1 opens the help everywhere, even where `?` is typed into a field.
             press(&mut app, F(1));
             assert!(app.help, "{name}: F1 opens the help");
-            insta::assert_snapshot!(format!("{name}_help_{lang}"), render(&app));
+            insta::assert_snapshot!(format!("screen_{name}_help_{lang}"), render(&app));
         }
     }
 }
