@@ -346,13 +346,8 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     let Some(deck) = app.decks.get(state.deck) else {
         return;
     };
-    let [progress, card_area, buttons, hints] = Layout::vertical([
-        Constraint::Length(1),
-        Constraint::Fill(1),
-        Constraint::Length(1),
-        Constraint::Length(1),
-    ])
-    .areas(area);
+    let [progress, rest] =
+        Layout::vertical([Constraint::Length(1), Constraint::Fill(1)]).areas(area);
     frame.render_widget(
         Paragraph::new(Span::styled(
             format!(" {}", state.progress(app)),
@@ -362,7 +357,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     );
 
     if state.phase == Phase::Done {
-        draw_summary(frame, card_area, app, state);
+        draw_summary(frame, rest, app, state);
         return;
     }
     let Some((card, direction)) = state.card(deck) else {
@@ -372,12 +367,8 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
         Direction::Forward => (&card.front, &card.back),
         Direction::Backward => (&card.back, &card.front),
     };
-    let block = Block::default()
-        .borders(Borders::ALL)
-        .border_style(t.border());
-    let inner = block.inner(card_area).inner(Margin::new(1, 0));
-    frame.render_widget(block, card_area);
-    let width = inner.width as usize;
+    // Borders and a column of margin on each side.
+    let width = rest.width.saturating_sub(4) as usize;
     let para = |text: &str, style| {
         wrap(
             &[Run::new(crate::text::render(text), style)],
@@ -422,16 +413,36 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
             if let Some(p) = card.prompt.as_ref().and_then(|id| deck.prompt(id)) {
                 lines.push(Line::default());
                 let q = crate::text::render(p.question.get(&app.lang));
-                let mut spans = vec![
-                    Span::styled("p ", t.key()),
-                    Span::styled(format!("{}: ", app.tr(Msg::TryPrompt)), t.heading()),
-                ];
-                spans.push(Span::raw(q));
-                lines.push(Line::from(spans));
+                lines.extend(wrap(
+                    &[
+                        Run::new(format!("{}: ", app.tr(Msg::TryPrompt)), t.heading()),
+                        Run::new(q, t.text()),
+                    ],
+                    width,
+                    Run::new("p ", t.key()),
+                    Run::new("  ", t.text()),
+                ));
             }
         }
         Phase::Done => {}
     }
+    while lines.last().is_some_and(|l| l.spans.is_empty()) {
+        lines.pop();
+    }
+    // The card is as tall as its text (a blank line above and below),
+    // with the buttons right under it.
+    let card_h = (lines.len() as u16 + 4).min(rest.height.saturating_sub(2));
+    let [card_area, buttons, hints] = Layout::vertical([
+        Constraint::Length(card_h),
+        Constraint::Length(1),
+        Constraint::Length(1),
+    ])
+    .areas(rest);
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .border_style(t.border());
+    let inner = block.inner(card_area).inner(Margin::new(1, 1));
+    frame.render_widget(block, card_area);
     frame.render_widget(Paragraph::new(lines), inner);
 
     // Rating buttons with the interval each would give.
