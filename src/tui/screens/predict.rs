@@ -552,12 +552,12 @@ fn draw_play(
     frame.render_widget(Paragraph::new(Line::from(s)), status);
 
     if let Some(d) = run.diagnostics() {
-        let err = d.error.map_or("—".to_string(), |e| format!("{e:.1e}"));
+        let err = d.error.map_or("—".to_string(), sci);
         let mut line = format!(
-            " {} · ΔE/E {:.1e} · Δ|L|²/|L|² {:.1e} · {} {}",
+            " {} · ΔE/E {} · Δ|L|²/|L|² {} · {} {}",
             live::describe(&run.method()),
-            d.energy_drift,
-            d.momentum_drift,
+            sci(d.energy_drift),
+            sci(d.momentum_drift),
             app.tr(Msg::ErrorVsExact),
             err,
         );
@@ -566,7 +566,7 @@ fn draw_play(
             app.frame_us.physics, app.frame_us.draw
         ));
         if let Some(q) = d.qnorm_drift {
-            line.push_str(&format!(" · ||q|−1| {q:.1e}"));
+            line.push_str(&format!(" · ||q|−1| {}", sci(q)));
         }
         frame.render_widget(Paragraph::new(Span::styled(line, t.dim())), diag_area);
     }
@@ -586,6 +586,15 @@ fn draw_play(
     }
     if let Some(v) = verdict {
         draw_verdict(frame, verdict_area, app, prompt, prediction, v);
+    }
+}
+
+/// A drift or error: "0" when exactly zero, else two significant digits.
+fn sci(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else {
+        format!("{x:.1e}")
     }
 }
 
