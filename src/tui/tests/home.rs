@@ -316,3 +316,24 @@ fn help_overlay_of_every_screen_in_both_languages() {
         }
     }
 }
+
+#[test]
+fn keys_do_nothing_unseen_while_the_terminal_is_too_small() {
+    let mut app = testkit::app(ENGLISH);
+    press(&mut app, KeyCode::Enter);
+    press(&mut app, KeyCode::Char(' '));
+    apply(&mut app, Action::Resize(20, 6));
+    assert_eq!(key(&app, KeyCode::Char('3')), None, "no rating blind");
+    assert_eq!(key(&app, KeyCode::Char('q')), None);
+    let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
+    assert_eq!(
+        keymap::key_action(&app, ctrl_c),
+        Some(Action::Quit),
+        "Ctrl-C still quits"
+    );
+    apply(&mut app, Action::Resize(80, 24));
+    assert!(matches!(
+        key(&app, KeyCode::Char('3')),
+        Some(Action::Rate(_))
+    ));
+}
