@@ -554,6 +554,12 @@ pub fn key_action(app: &App, key: KeyEvent) -> Option<Action> {
             _ => None,
         };
     }
+    // While the "please enlarge" message stands in for the screen, keys
+    // would act on something the learner cannot see (a rating, a commit).
+    let (w, h) = app.size;
+    if w < super::view::MIN_WIDTH || h < super::view::MIN_HEIGHT {
+        return None;
+    }
     if app.help {
         return Some(Action::CloseHelp);
     }

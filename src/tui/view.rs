@@ -43,6 +43,42 @@ pub fn draw(frame: &mut Frame, app: &App) {
     }
 }
 
+/// What the screen is, without the deck ("Review", "Reader").
+fn screen_name(app: &App) -> &'static str {
+    app.tr(match app.screen() {
+        Screen::Home(_) => Msg::Decks,
+        Screen::Prompts(_) => Msg::Prompts,
+        Screen::Predict(_) => Msg::Predict,
+        Screen::Review(s) if s.cram => Msg::Cram,
+        Screen::Review(_) => Msg::Review,
+        Screen::Reader(_) => Msg::Reader,
+        Screen::Stats(_) => Msg::Stats,
+    })
+}
+
+/// `text` cut to `width` columns, with an ellipsis when cut.
+fn fit(text: &str, width: usize) -> String {
+    use unicode_width::UnicodeWidthChar;
+    let total: usize = text.chars().map(|c| c.width().unwrap_or(0)).sum();
+    if total <= width {
+        return text.to_string();
+    }
+    let mut out = String::new();
+    let mut used = 0;
+    for c in text.chars() {
+        let w = c.width().unwrap_or(0);
+        if used + w + 1 > width {
+            break;
+        }
+        used += w;
+        out.push(c);
+    }
+    if width > 0 {
+        out.push('…');
+    }
+    out
+}
+
 fn screen_title(app: &App) -> String {
     match app.screen() {
         Screen::Home(_) => app.tr(Msg::Decks).to_string(),
@@ -57,16 +93,18 @@ fn screen_title(app: &App) -> String {
 fn draw_header(frame: &mut Frame, area: Rect, app: &App) {
     let t = &app.theme;
     let lang = format!("{} ", app.tr(Msg::LanguageName));
-    let left = Line::from(vec![
-        Span::styled(" flipcard ", t.title()),
-        Span::styled("· ", t.dim()),
-        Span::styled(screen_title(app), t.heading()),
-    ]);
-    let [l, r] = Layout::horizontal([
+    let [l, _, r] = Layout::horizontal([
         Constraint::Fill(1),
+        Constraint::Length(1),
         Constraint::Length(lang.chars().count() as u16),
     ])
     .areas(area);
+    let room = (l.width as usize).saturating_sub(" flipcard · ".chars().count());
+    let left = Line::from(vec![
+        Span::styled(" flipcard ", t.title()),
+        Span::styled("· ", t.dim()),
+        Span::styled(fit(&screen_title(app), room), t.heading()),
+    ]);
     frame.render_widget(Paragraph::new(left), l);
     frame.render_widget(Paragraph::new(Span::styled(lang, t.dim())), r);
 }
@@ -132,7 +170,7 @@ pub fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
             Span::raw(b.help(&app.lang)),
         ])
     });
-    let title = format!(" {} · {} ", app.tr(Msg::HelpTitle), screen_title(app));
+    let title = format!(" {} · {} ", app.tr(Msg::HelpTitle), screen_name(app));
     let table = Table::new(rows, [Constraint::Length(label_w), Constraint::Fill(1)])
         .column_spacing(2)
         .block(

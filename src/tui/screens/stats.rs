@@ -33,6 +33,8 @@ pub struct StatsState {
     pub deck: usize,
     pub stats: Result<Stats, String>,
     pub bench: Option<Vec<BenchRow>>,
+    /// Where the bench table came from (the numerics report's folder).
+    pub bench_path: Option<std::path::PathBuf>,
 }
 
 impl StatsState {
@@ -62,7 +64,13 @@ impl StatsState {
             None => Err("no such deck".into()),
         };
         let bench = app.services.bench_csv.as_deref().and_then(read_bench);
-        StatsState { deck, stats, bench }
+        let bench_path = bench.as_ref().and(app.services.bench_csv.clone());
+        StatsState {
+            deck,
+            stats,
+            bench,
+            bench_path,
+        }
     }
 }
 
@@ -244,18 +252,25 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         .style(t.warn());
     frame.render_widget(spark, per_day);
 
-    draw_bench(frame, bench, app, state.bench.as_deref());
+    draw_bench(frame, bench, app, state);
 }
 
-fn draw_bench(frame: &mut Frame, area: Rect, app: &App, rows: Option<&[BenchRow]>) {
+fn draw_bench(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
     let t = &app.theme;
-    let block = Block::default()
+    let rows = state.bench.as_deref();
+    let mut block = Block::default()
         .borders(Borders::TOP)
         .border_style(t.border())
         .title(Span::styled(
             format!(" {} ", app.tr(Msg::WorkPrecision)),
             t.heading(),
         ));
+    if let Some(path) = &state.bench_path {
+        // The full report (CSV and SVG plot) sits in this folder.
+        let dir = path.parent().unwrap_or(path);
+        block =
+            block.title_top(Line::styled(format!(" {} ", dir.display()), t.dim()).right_aligned());
+    }
     let Some(rows) = rows else {
         frame.render_widget(
             Paragraph::new(Span::styled(app.tr(Msg::NoBench), t.dim())).block(block),

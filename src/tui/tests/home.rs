@@ -243,3 +243,97 @@ fn colours_are_the_sixteen_every_terminal_has() {
     }
     assert!(used.len() > 4, "the colour theme uses colours: {used:?}");
 }
+
+#[test]
+fn the_language_choice_is_saved_for_the_next_run() {
+    let mut app = testkit::app(ENGLISH);
+    let path = app.dir.path().join("config.toml");
+    std::fs::write(&path, "# my settings\nnew_per_day = 5\n").unwrap_or_else(|e| panic!("{e}"));
+    app.services.config_path = Some(path.clone());
+    press(&mut app, KeyCode::Char('l'));
+    let saved = crate::sched::Config::load(Some(&path)).map(|c| (c.language, c.new_per_day));
+    assert_eq!(saved.ok(), Some((HINGLISH.to_string(), 5)));
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(text.contains("# my settings"), "comments survive: {text}");
+    // A config that cannot be written is reported, not fatal.
+    app.services.config_path = Some(app.dir.path().join("no-such-dir/\0/config.toml"));
+    press(&mut app, KeyCode::Char('l'));
+    assert_eq!(app.lang, ENGLISH);
+    assert!(
+        app.status.as_ref().is_some_and(|s| s.error),
+        "{:?}",
+        app.status
+    );
+}
+
+#[test]
+fn help_overlay_of_every_screen_in_both_languages() {
+    use KeyCode::{Char, Enter, F};
+    let routes: [(&str, &[KeyCode]); 7] = [
+        ("prompts", &[Char('p')]),
+        ("predict_choice", &[Char('p'), Enter]),
+        ("predict_number", &[Char('p'), Char('j'), Enter]),
+        ("stats", &[Char('t')]),
+        ("reader_search", &[Char('r'), Char('/')]),
+        (
+            "review_done",
+            &[
+                Enter,
+                Char(' '),
+                Char('4'),
+                Char(' '),
+                Char('4'),
+                Char(' '),
+                Char('4'),
+            ],
+        ),
+        (
+            "review_typing",
+            &[
+                Enter,
+                Char(' '),
+                Char('4'),
+                Char(' '),
+                Char('4'),
+                Char(' '),
+                Char('4'),
+            ],
+        ),
+    ];
+    for (name, route) in routes {
+        for lang in [ENGLISH, HINGLISH] {
+            let mut app = testkit::app(lang);
+            super::press_all(&mut app, route);
+            if name == "review_done" {
+                super::type_text(&mut app, "middle");
+                super::press_all(&mut app, &[Enter, Char('4')]);
+            }
+            insta::assert_snapshot!(format!("screen_{name}_{lang}"), render(&app));
+            // F1 opens the help everywhere, even where `?` is typed into a field.
+            press(&mut app, F(1));
+            assert!(app.help, "{name}: F1 opens the help");
+            insta::assert_snapshot!(format!("screen_{name}_help_{lang}"), render(&app));
+        }
+    }
+}
+
+#[test]
+fn keys_do_nothing_unseen_while_the_terminal_is_too_small() {
+    let mut app = testkit::app(ENGLISH);
+    press(&mut app, KeyCode::Enter);
+    press(&mut app, KeyCode::Char(' '));
+    apply(&mut app, Action::Resize(20, 6));
+    assert_eq!(key(&app, KeyCode::Char('3')), None, "no rating blind");
+    assert_eq!(key(&app, KeyCode::Char('q')), None);
+    let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
+    assert_eq!(
+        keymap::key_action(&app, ctrl_c),
+        Some(Action::Quit),
+        "Ctrl-C still quits"
+    );
+    apply(&mut app, Action::Resize(80, 24));
+    assert!(matches!(
+        key(&app, KeyCode::Char('3')),
+        Some(Action::Rate(_))
+    ));
+}

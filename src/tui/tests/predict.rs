@@ -359,3 +359,54 @@ fn a_number_prediction_is_checked_against_the_measured_rate() {
     assert!(v.correct, "{v:?}");
     insta::assert_snapshot!("predict_verdict_number_en", redact_drifts(&render(&app)));
 }
+
+#[test]
+fn every_bundled_prompt_plays_to_a_verdict_at_any_size() {
+    let loaded = crate::deck::load_dir(&crate::paths::bundled_decks());
+    assert!(!loaded.decks.is_empty(), "bundled decks load");
+    for (d, deck) in loaded.decks.iter().enumerate() {
+        for (i, prompt) in deck.prompts.iter().enumerate() {
+            let mut app = testkit::app(ENGLISH);
+            app.decks = loaded.decks.clone();
+            let mut state = PredictState::new(&app, d, i);
+            let answer = crate::sim::measure::Prediction::expected(prompt);
+            let Some(answer) = answer else {
+                panic!("{}: no expected answer", prompt.id);
+            };
+            match answer {
+                Prediction::Choice(c) => {
+                    crate::tui::screens::predict::apply(&mut app, &mut state, Action::Choose(c));
+                }
+                Prediction::Number(v) => {
+                    for ch in format!("{v}").chars() {
+                        crate::tui::screens::predict::apply(
+                            &mut app,
+                            &mut state,
+                            Action::Input(ch),
+                        );
+                    }
+                }
+            }
+            crate::tui::screens::predict::apply(&mut app, &mut state, Action::Submit);
+            app.stack.push(Screen::Predict(Box::new(state)));
+            for _ in 0..6 {
+                press(&mut app, KeyCode::Char('+'));
+            }
+            let mut ticks = 0;
+            while app.animating() && ticks < 1000 {
+                apply_tick(&mut app, 100);
+                ticks += 1;
+            }
+            assert_eq!(
+                app.context(),
+                Context::PredictVerdict,
+                "{}: no verdict",
+                prompt.id
+            );
+            for size in [(120, 40), (80, 24), (40, 12), (20, 6)] {
+                app.size = size;
+                render(&app);
+            }
+        }
+    }
+}

@@ -1,0 +1,294 @@
+//! Predict, then check: the learner commits to an answer, then the scene's
+//! simulation plays live, then the verdict compares the prediction with
+//! what was measured.
+
+use crate::deck::{Answer, Deck, Prompt};
+use crate::sim::Method;
+use crate::tui::action::Action;
+use crate::tui::app::App;
+use crate::tui::i18n::Msg;
+use crate::tui::live::LiveRun;
+
+use super::Nav;
+
+mod draw;
+pub use draw::{draw, fmt_value};
+
+pub use crate::sim::measure::{Prediction, Verdict};
+
+pub enum Phase {
+    /// Waiting for the commitment: the selected choice or the typed number.
+    Ask {
+        selected: usize,
+        input: String,
+        error: Option<String>,
+    },
+    Play {
+        prediction: Prediction,
+        run: Box<LiveRun>,
+        verdict: Option<Verdict>,
+    },
+}
+
+pub struct PredictState {
+    pub deck: usize,
+    pub prompt: usize,
+    /// A choice prompt (else a number).
+    pub choice: bool,
+    pub phase: Phase,
+}
+
+impl PredictState {
+    pub fn new(app: &App, deck: usize, prompt: usize) -> PredictState {
+        let choice = app
+            .decks
+            .get(deck)
+            .and_then(|d| d.prompts.get(prompt))
+            .is_some_and(|p| matches!(p.answer, Answer::Choice { .. }));
+        PredictState {
+            deck,
+            prompt,
+            choice,
+            phase: Phase::Ask {
+                selected: 0,
+                input: String::new(),
+                error: None,
+            },
+        }
+    }
+
+    pub fn animating(&self) -> bool {
+        matches!(&self.phase, Phase::Play { run, .. } if run.playing())
+    }
+}
+
+fn deck<'a>(app: &'a App, s: &PredictState) -> Option<&'a Deck> {
+    app.decks.get(s.deck)
+}
+
+pub(super) fn prompt<'a>(app: &'a App, s: &PredictState) -> Option<&'a Prompt> {
+    deck(app, s).and_then(|d| d.prompts.get(s.prompt))
+}
+
+/// Parses "5.77", "5.77 1/s", "-3,2 rad/s": a number and, optionally, the
+/// prompt's unit (spaces and case ignored). A unicode minus is accepted.
+pub fn parse_number(input: &str, unit: &str) -> Result<f64, ParseError> {
+    let text = input.trim().replace('−', "-");
+    let end = text
+        .char_indices()
+        .find(|&(i, c)| {
+            !(c.is_ascii_digit()
+                || c == '.'
+                || c == ','
+                || ((c == '-' || c == '+') && (i == 0 || text[..i].ends_with(['e', 'E'])))
+                || ((c == 'e' || c == 'E')
+                    && text[i + 1..]
+                        .starts_with(|d: char| d.is_ascii_digit() || d == '-' || d == '+')))
+        })
+        .map_or(text.len(), |(i, _)| i);
+    let number = text[..end].replace(',', ".");
+    let value: f64 = number.parse().map_err(|_| ParseError::NotANumber)?;
+    if !value.is_finite() {
+        return Err(ParseError::NotANumber);
+    }
+    let squash = |s: &str| s.split_whitespace().collect::<String>().to_lowercase();
+    let rest = squash(&text[end..]);
+    if rest.is_empty() || rest == squash(unit) {
+        Ok(value)
+    } else {
+        Err(ParseError::WrongUnit)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParseError {
+    NotANumber,
+    WrongUnit,
+}
+
+pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
+    let Some(prompt) = prompt(app, state).cloned() else {
+        return Nav::Pop;
+    };
+    let Some(scene) = deck(app, state)
+        .and_then(|d| d.scene(&prompt.scene))
+        .cloned()
+    else {
+        app.error(format!("scene {} not found", prompt.scene));
+        return Nav::Pop;
+    };
+    match &mut state.phase {
+        Phase::Ask {
+            selected,
+            input,
+            error,
+        } => {
+            let committed = match (&prompt.answer, action) {
+                (_, Action::Back) => return Nav::Pop,
+                (Answer::Choice { choices, .. }, a) => {
+                    let n = choices.len();
+                    match a {
+                        Action::Up => *selected = selected.saturating_sub(1),
+                        Action::Down => *selected = (*selected + 1).min(n.saturating_sub(1)),
+                        Action::Choose(i) if i < n => *selected = i,
+                        Action::Submit if n > 0 => {}
+                        _ => return Nav::Stay,
+                    }
+                    (a == Action::Submit && n > 0)
+                        .then(|| Prediction::Choice((*selected).min(n - 1)))
+                }
+                (Answer::Number { unit, .. }, a) => match a {
+                    Action::Input(c) => {
+                        input.push(c);
+                        *error = None;
+                        None
+                    }
+                    Action::Backspace => {
+                        input.pop();
+                        *error = None;
+                        None
+                    }
+                    Action::Submit => match parse_number(input, unit) {
+                        Ok(v) => Some(Prediction::Number(v)),
+                        Err(ParseError::NotANumber) => {
+                            *error = Some(app.tr(Msg::NotANumber).to_string());
+                            None
+                        }
+                        Err(ParseError::WrongUnit) => {
+                            *error = Some(format!("{} {unit}", app.tr(Msg::WrongUnit)));
+                            None
+                        }
+                    },
+                    _ => None,
+                },
+            };
+            if let Some(p) = committed {
+                return commit_nav(app, state, p, &scene);
+            }
+            Nav::Stay
+        }
+        Phase::Play { verdict, .. } if action == Action::Explain => {
+            if verdict.is_some()
+                && let Some(id) = &prompt.explain
+            {
+                return super::reader::open_at(app, state.deck, id);
+            }
+            Nav::Stay
+        }
+        Phase::Play {
+            run,
+            prediction,
+            verdict,
+        } => {
+            let replace = |run: &mut Box<LiveRun>,
+                           next: Result<LiveRun, crate::sim::SimError>,
+                           app: &mut App| match next {
+                Ok(r) => **run = r,
+                Err(e) => app.error(e.to_string()),
+            };
+            match action {
+                Action::Back => return Nav::Pop,
+                Action::Tick(dt) => run.tick(dt.as_secs_f64()),
+                Action::TogglePause => {
+                    if run.finished() {
+                        let next = run.restart();
+                        replace(run, next, app);
+                    } else {
+                        run.paused = !run.paused;
+                    }
+                }
+                Action::Faster => run.speed = (run.speed * 2.0).min(64.0),
+                Action::Slower => run.speed = (run.speed / 2.0).max(1.0 / 64.0),
+                Action::Restart => {
+                    let next = run.restart();
+                    replace(run, next, app);
+                }
+                Action::NextMethod => {
+                    let next = run.next_method().and_then(|m| run.restart_with(m));
+                    replace(run, next, app);
+                }
+                Action::SmallerStep | Action::LargerStep => {
+                    match run.scaled_method(action == Action::LargerStep) {
+                        Some(m) => {
+                            let next = run.restart_with(m);
+                            replace(run, next, app);
+                        }
+                        None => app.info("exact: no step to change (press m for another method)"),
+                    }
+                }
+                _ => {}
+            }
+            // The first time a run reaches the end, the verdict.
+            if verdict.is_none() && run.finished() {
+                let v = judge(app, state.deck, &prompt, &scene, run, *prediction);
+                *verdict = Some(v);
+            }
+            Nav::Stay
+        }
+    }
+}
+
+/// The verdict from the run just watched when it was the exact one, else
+/// from an exact run of the scene: a learner who switched to RK4 with a
+/// huge step still gets the physics' answer. The attempt is logged.
+fn judge(
+    app: &mut App,
+    deck: usize,
+    prompt: &Prompt,
+    scene: &crate::deck::Scene,
+    run: &LiveRun,
+    prediction: Prediction,
+) -> Verdict {
+    let measurements = if run.method() == Method::Exact && run.error().is_none() {
+        Ok(run.measurements())
+    } else {
+        crate::sim::scene::measure_scene(scene, Method::Exact)
+    };
+    let measurements = measurements.unwrap_or_else(|e| {
+        app.error(e.to_string());
+        crate::sim::measure::Measurements::default()
+    });
+    let verdict = crate::sim::measure::verdict(prompt, &measurements, prediction);
+    let given = match (prediction, &prompt.answer) {
+        (Prediction::Choice(i), Answer::Choice { choices, .. }) => {
+            choices.get(i).map(|c| c.id.clone()).unwrap_or_default()
+        }
+        (Prediction::Number(v), _) => format!("{v}"),
+        _ => String::new(),
+    };
+    let attempt = crate::store::PromptAttempt {
+        deck: app
+            .decks
+            .get(deck)
+            .map(|d| d.id.clone())
+            .unwrap_or_default(),
+        prompt: prompt.id.clone(),
+        attempted_at: app.services.now(),
+        prediction: given,
+        measured: verdict.readings.first().map(|r| r.value),
+        correct: verdict.correct,
+    };
+    if let Err(e) = app.services.record_attempt(&attempt) {
+        app.error(e.to_string());
+    }
+    verdict
+}
+
+fn commit_nav(
+    app: &mut App,
+    state: &mut PredictState,
+    prediction: Prediction,
+    scene: &crate::deck::Scene,
+) -> Nav {
+    match LiveRun::new(scene, Some(Method::Exact)) {
+        Ok(run) => {
+            state.phase = Phase::Play {
+                prediction,
+                run: Box::new(run),
+                verdict: None,
+            };
+        }
+        Err(e) => app.error(format!("{}: {e}", scene.id)),
+    }
+    Nav::Stay
+}
