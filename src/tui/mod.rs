@@ -95,13 +95,19 @@ fn open_review(app: &mut App, args: &ReviewArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The work–precision table `flipcard bench` writes by default, if present
-/// (in the working directory, else next to the bundled decks).
+/// The work–precision table: the learner's own `flipcard bench` run
+/// (`bench-out/` in the working directory) first, else the report that
+/// ships with flipcard (`docs/`).
 fn bench_csv() -> Option<std::path::PathBuf> {
-    let name = std::path::Path::new("bench-out").join("work_precision.csv");
-    let here = name.clone();
-    let bundled = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(&name);
-    [here, bundled].into_iter().find(|p| p.is_file())
+    let file = "work_precision.csv";
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    [
+        std::path::Path::new("bench-out").join(file),
+        root.join("bench-out").join(file),
+        root.join("docs").join(file),
+    ]
+    .into_iter()
+    .find(|p| p.is_file())
 }
 
 /// On SIGTERM, SIGHUP, SIGINT or SIGQUIT: wait until the event loop is idle

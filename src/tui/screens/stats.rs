@@ -7,7 +7,7 @@ use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{
-    Bar, BarChart, BarGroup, Block, Borders, Paragraph, Row, Sparkline, Table, Wrap,
+    Bar, BarChart, BarGroup, Block, Borders, Cell, Paragraph, Row, Sparkline, Table, Wrap,
 };
 
 use crate::store::{DayGrid, Stats, StatsScope};
@@ -139,10 +139,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
             return;
         }
     };
-    let bench_h = state
-        .bench
-        .as_ref()
-        .map_or(2, |rows| (rows.len() as u16 + 3).min(14));
+    let bench_h = state.bench.as_ref().map_or(2, |rows| {
+        let (methods, _) = bench_axes(rows);
+        (methods.len() as u16 + 2).min(10)
+    });
     let [summary, charts, bench] = Layout::vertical([
         Constraint::Length(3),
         Constraint::Fill(1),
@@ -278,29 +278,62 @@ fn draw_bench(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         );
         return;
     };
-    let header = Row::new(["case", "method", "setting", "wall", "err ω", "err E"]).style(t.dim());
-    let body = rows.iter().map(|r| {
-        Row::new([
-            r.case.clone(),
-            r.method.clone(),
-            r.setting.clone(),
-            format!("{:.2} ms", r.wall_s * 1e3),
-            format!("{:.1e}", r.err_omega),
-            format!("{:.1e}", r.err_energy),
-        ])
+    // Methods down, problems across: the smallest error of ω each method
+    // reached on each problem, and the run time it took.
+    let (methods, cases) = bench_axes(rows);
+    let mut header = vec![Cell::from("err ω · time")];
+    header.extend(cases.iter().map(|c| Cell::from(format!("case {c}"))));
+    let body = methods.iter().map(|m| {
+        let mut cells = vec![Cell::from(m.clone()).style(t.strong())];
+        for c in &cases {
+            let cell = rows
+                .iter()
+                .find(|r| &r.method == m && &r.case == c)
+                .map(|r| format!("{} {}", fmt_err(r.err_omega), fmt_wall(r.wall_s)))
+                .unwrap_or_else(|| "—".into());
+            cells.push(Cell::from(cell));
+        }
+        Row::new(cells)
     });
-    let table = Table::new(
-        body,
-        [
-            Constraint::Fill(2),
-            Constraint::Length(10),
-            Constraint::Length(12),
-            Constraint::Length(11),
-            Constraint::Length(8),
-            Constraint::Length(8),
-        ],
-    )
-    .header(header)
-    .block(block);
+    let mut widths = vec![Constraint::Length(12)];
+    widths.extend(cases.iter().map(|_| Constraint::Fill(1)));
+    let table = Table::new(body, widths)
+        .header(Row::new(header).style(t.dim()))
+        .block(block);
     frame.render_widget(table, area);
+}
+
+/// The methods and the cases of the bench rows, each in order of first
+/// appearance.
+fn bench_axes(rows: &[BenchRow]) -> (Vec<String>, Vec<String>) {
+    let (mut methods, mut cases): (Vec<String>, Vec<String>) = (Vec::new(), Vec::new());
+    for r in rows {
+        if !methods.contains(&r.method) {
+            methods.push(r.method.clone());
+        }
+        if !cases.contains(&r.case) {
+            cases.push(r.case.clone());
+        }
+    }
+    (methods, cases)
+}
+
+/// "3e-9", and an exact zero as "0".
+fn fmt_err(e: f64) -> String {
+    if e == 0.0 {
+        "0".into()
+    } else {
+        format!("{e:.0e}")
+    }
+}
+
+/// "0.24ms", "12ms", "3.1s".
+fn fmt_wall(s: f64) -> String {
+    if s >= 1.0 {
+        format!("{s:.1}s")
+    } else if s >= 0.01 {
+        format!("{:.0}ms", s * 1e3)
+    } else {
+        format!("{:.2}ms", s * 1e3)
+    }
 }

@@ -20,7 +20,9 @@ fn stats_show_todays_reviews_and_the_bench_table() {
                 b"case,method,setting,steps,rhs_evals,wall_s,err_omega,err_energy,err_l2,err_lspace,err_qnorm\n\
                   a,rk4,dt=1e-2,100,400,0.0002,3e-5,1e-6,1e-6,1e-6,0\n\
                   a,rk4,dt=1e-3,1000,4000,0.002,3e-9,1e-10,1e-10,1e-10,0\n\
-                  a,adaptive,tol=1e-10,200,2400,0.0005,1e-11,1e-13,1e-13,1e-13,0\n",
+                  a,adaptive,tol=1e-10,200,2400,0.0005,1e-11,1e-13,1e-13,1e-13,0\n\
+                  b,rk4,dt=1e-3 (over budget),,,,,,,,\n\
+                  b,adaptive,tol=1e-10,900,9000,0.0021,4e-10,1e-12,1e-12,1e-12,0\n",
             )
         });
         assert!(written.is_ok());
@@ -40,10 +42,14 @@ fn stats_show_todays_reviews_and_the_bench_table() {
         );
         let text = render(&app);
         assert!(
-            text.contains("dt=1e-3"),
+            text.contains("3e-9 2.00ms"),
             "the most accurate rk4 run: {text}"
         );
-        assert!(!text.contains("dt=1e-2"), "{text}");
+        assert!(!text.contains("3e-5"), "{text}");
+        assert!(
+            text.contains("case b") && text.contains("4e-10 2.10ms"),
+            "{text}"
+        );
         let dir = app.dir.path().display().to_string();
         assert!(
             text.contains(&dir[..dir.len().min(20)]),
