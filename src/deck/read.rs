@@ -105,30 +105,28 @@ impl<'a, 'i> Fields<'a, 'i> {
         v
     }
 
-    pub fn string(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<Str> {
-        let v = if required {
-            self.require(rep, key)?
+    /// The field's value: a missing required field is reported, a missing
+    /// optional one is simply absent.
+    fn field(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<&'a Value<'i>> {
+        if required {
+            self.require(rep, key)
         } else {
-            self.get(key)?
-        };
+            self.get(key)
+        }
+    }
+
+    pub fn string(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<Str> {
+        let v = self.field(rep, key, required)?;
         string(rep, v, &format!("`{key}`"))
     }
 
     pub fn number(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<Num> {
-        let v = if required {
-            self.require(rep, key)?
-        } else {
-            self.get(key)?
-        };
+        let v = self.field(rep, key, required)?;
         number(rep, v, &format!("`{key}`"))
     }
 
     pub fn text(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<RawText> {
-        let v = if required {
-            self.require(rep, key)?
-        } else {
-            self.get(key)?
-        };
+        let v = self.field(rep, key, required)?;
         text(rep, v, &format!("`{key}`"))
     }
 
@@ -148,11 +146,7 @@ impl<'a, 'i> Fields<'a, 'i> {
     }
 
     pub fn strings(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<List<Str>> {
-        let v = if required {
-            self.require(rep, key)?
-        } else {
-            self.get(key)?
-        };
+        let v = self.field(rep, key, required)?;
         let what = format!("`{key}`");
         let arr = array(rep, v, &what)?;
         let items = arr
@@ -166,11 +160,7 @@ impl<'a, 'i> Fields<'a, 'i> {
     }
 
     pub fn numbers(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<List<Num>> {
-        let v = if required {
-            self.require(rep, key)?
-        } else {
-            self.get(key)?
-        };
+        let v = self.field(rep, key, required)?;
         let what = format!("`{key}`");
         let arr = array(rep, v, &what)?;
         let mut items = Vec::new();

@@ -86,6 +86,36 @@ use KeyCode::{
     Up,
 };
 
+fn explain_binding() -> Binding {
+    b(
+        "e",
+        "open the explanation",
+        "samjhaav kholo",
+        &[Char('e')],
+        Action::Explain,
+    )
+}
+
+fn undo_binding() -> Binding {
+    b(
+        "u",
+        "undo the last rating",
+        "pichhli rating wapas lo",
+        &[Char('u')],
+        Action::Undo,
+    )
+}
+
+fn end_session_binding() -> Binding {
+    b(
+        "Esc q",
+        "end the session",
+        "session khatam karo",
+        &[Esc, Char('q')],
+        Action::Back,
+    )
+}
+
 fn rate_bindings() -> Vec<Binding> {
     vec![
         b(
@@ -288,27 +318,9 @@ pub fn bindings(ctx: Context) -> Vec<Binding> {
                 &[Char(' '), Enter],
                 Action::Reveal,
             ),
-            b(
-                "e",
-                "open the explanation",
-                "samjhaav kholo",
-                &[Char('e')],
-                Action::Explain,
-            ),
-            b(
-                "u",
-                "undo the last rating",
-                "pichhli rating wapas lo",
-                &[Char('u')],
-                Action::Undo,
-            ),
-            b(
-                "Esc q",
-                "end the session",
-                "session khatam karo",
-                &[Esc, Char('q')],
-                Action::Back,
-            ),
+            explain_binding(),
+            undo_binding(),
+            end_session_binding(),
         ],
         Context::ReviewTyping => vec![
             b("type", "your answer", "apna jawab", &[], Action::Input(' ')),
@@ -344,13 +356,7 @@ pub fn bindings(ctx: Context) -> Vec<Binding> {
                     &[Char(' '), Enter],
                     Action::Submit,
                 ),
-                b(
-                    "e",
-                    "open the explanation",
-                    "samjhaav kholo",
-                    &[Char('e')],
-                    Action::Explain,
-                ),
+                explain_binding(),
                 b(
                     "p",
                     "try the linked prediction",
@@ -358,31 +364,13 @@ pub fn bindings(ctx: Context) -> Vec<Binding> {
                     &[Char('p')],
                     Action::OpenCardPrompt,
                 ),
-                b(
-                    "u",
-                    "undo the last rating",
-                    "pichhli rating wapas lo",
-                    &[Char('u')],
-                    Action::Undo,
-                ),
-                b(
-                    "Esc q",
-                    "end the session",
-                    "session khatam karo",
-                    &[Esc, Char('q')],
-                    Action::Back,
-                ),
+                undo_binding(),
+                end_session_binding(),
             ]);
             v
         }
         Context::ReviewDone => vec![
-            b(
-                "u",
-                "undo the last rating",
-                "pichhli rating wapas lo",
-                &[Char('u')],
-                Action::Undo,
-            ),
+            undo_binding(),
             b(
                 "Esc q Enter",
                 "back to the decks",
@@ -495,13 +483,7 @@ pub fn bindings(ctx: Context) -> Vec<Binding> {
                 ),
             ];
             if ctx == Context::PredictVerdict {
-                v.push(b(
-                    "e",
-                    "open the explanation",
-                    "samjhaav kholo",
-                    &[Char('e')],
-                    Action::Explain,
-                ));
+                v.push(explain_binding());
             }
             v.push(b("Esc q", "back", "wapas", &[Esc, Char('q')], Action::Back));
             v
