@@ -40,6 +40,8 @@ pub struct Store {
     pub(super) data_dir: PathBuf,
     /// The session this store writes under, started with the first write.
     pub(super) session: Option<i64>,
+    /// Opened with [`Store::open_read_only`]: every write fails.
+    read_only: bool,
     warnings: Vec<String>,
 }
 
@@ -61,9 +63,12 @@ impl Store {
     pub fn open_with(data_dir: &Path, options: &OpenOptions) -> Result<Store, StoreError> {
         prepare_dir(data_dir)?;
         let path = data_dir.join(FILE_NAME);
-        let existed = std::fs::metadata(&path)
-            .map(|m| m.len() > 0)
-            .unwrap_or(false);
+        // Looked at with `stat` only: a descriptor of the file opened and
+        // closed here, while this process holds an SQLite connection to it,
+        // would drop that connection's locks (POSIX closes every lock of a
+        // process on a file with any of its descriptors), and another
+        // client could then delete the write-ahead log still in use.
+        let found = inspect(&path)?;
         let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
 
         let flags = OpenFlags::SQLITE_OPEN_READ_WRITE
@@ -81,9 +86,9 @@ impl Store {
         // The quick checks run on every open; the full page-by-page check,
         // whose time grows with the log, once a day before the daily copy
         // (so a damaged file never replaces a good copy).
-        if existed {
+        if found == Found::Present {
             check_readable(&conn, &path)?;
-            check_length(&path)?;
+            check_length(&conn, &path)?;
             if backup_due {
                 check_pages(&conn, &path)?;
             }
@@ -101,28 +106,19 @@ impl Store {
         }
         conn.pragma_update(None, "synchronous", "FULL")
             .map_err(sql_err)?;
-        // Stats read the recent part of the log and the caches; 16 MiB
-        // keeps those pages at hand.
-        conn.pragma_update(None, "cache_size", -16_384)
-            .map_err(sql_err)?;
-        conn.pragma_update(None, "foreign_keys", true)
-            .map_err(sql_err)?;
-        // So that a REPLACE conflict resolution cannot remove log rows
-        // around the delete trigger.
-        conn.pragma_update(None, "recursive_triggers", true)
-            .map_err(sql_err)?;
+        configure(&conn).map_err(sql_err)?;
 
         let stamp = now.format("%Y%m%dT%H%M%SZ").to_string();
         schema::migrate(&mut conn, &path, schema::MIGRATIONS, &stamp)?;
 
-        let store = Store {
+        let mut store = Store {
             conn,
             path,
             data_dir: data_dir.to_path_buf(),
             session: None,
+            read_only: false,
             warnings,
         };
-        let mut store = store;
         if backup_due
             && store.has_history()?
             && let Err(e) = backup::daily_backup(&store.conn, data_dir, today)
@@ -132,6 +128,49 @@ impl Store {
         Ok(store)
     }
 
+    /// Opens `<data_dir>/flipcard.db` for reading only: nothing is created,
+    /// migrated or copied, so it works from a read-only data dir and on a
+    /// full disk. A data dir without a database reads as an empty one.
+    pub fn open_read_only(data_dir: &Path) -> Result<Store, StoreError> {
+        let path = data_dir.join(FILE_NAME);
+        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
+        let conn = match inspect(&path)? {
+            Found::Missing | Found::Empty => {
+                let mut conn = Connection::open_in_memory().map_err(sql_err)?;
+                schema::migrate(&mut conn, &path, schema::MIGRATIONS, "")?;
+                conn
+            }
+            Found::Present => {
+                let conn = open_reader(&path)?;
+                check_length(&conn, &path)?;
+                let version: i64 = conn
+                    .pragma_query_value(None, "user_version", |r| r.get(0))
+                    .map_err(sql_err)?;
+                let supported = schema::current_version();
+                if version > supported {
+                    return Err(StoreError::TooNew {
+                        path,
+                        found: version,
+                        supported,
+                    });
+                }
+                if version < supported {
+                    return Err(StoreError::NeedsUpgrade { path, found: version });
+                }
+                conn
+            }
+        };
+        configure(&conn).map_err(sql_err)?;
+        Ok(Store {
+            conn,
+            path,
+            data_dir: data_dir.to_path_buf(),
+            session: None,
+            read_only: true,
+            warnings: Vec::new(),
+        })
+    }
+
     /// The database file.
     pub fn path(&self) -> &Path {
         &self.path
@@ -139,6 +178,11 @@ impl Store {
 
     pub fn data_dir(&self) -> &Path {
         &self.data_dir
+    }
+
+    /// Whether this store was opened with [`Store::open_read_only`].
+    pub fn is_read_only(&self) -> bool {
+        self.read_only
     }
 
     /// Problems met while opening that did not stop it (e.g. a daily backup
@@ -172,6 +216,128 @@ impl Store {
             )
             .map_err(|e| self.err(e))
     }
+}
+
+/// Settings every connection gets, reading or writing.
+fn configure(conn: &Connection) -> rusqlite::Result<()> {
+    // Stats read the recent part of the log and the caches; 16 MiB keeps
+    // those pages at hand.
+    conn.pragma_update(None, "cache_size", -16_384)?;
+    conn.pragma_update(None, "foreign_keys", true)?;
+    // So that a REPLACE conflict resolution cannot remove log rows around
+    // the delete trigger.
+    conn.pragma_update(None, "recursive_triggers", true)
+}
+
+/// What lies at the database's path, as far as `stat` tells.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Found {
+    Missing,
+    /// A regular file of 0 bytes with no write-ahead log holding pages.
+    Empty,
+    Present,
+}
+
+/// Looks at the database's path without opening it (see [`Store::open_with`]
+/// for why). A path that is not a regular file is refused; an empty file is
+/// damage when copies of a database once there sit beside it, since a fresh
+/// database is never left empty once opened.
+fn inspect(path: &Path) -> Result<Found, StoreError> {
+    let meta = match std::fs::metadata(path) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return match std::fs::read_link(path) {
+                Ok(target) => Err(StoreError::NotAFile {
+                    path: path.to_path_buf(),
+                    what: format!(
+                        "a symbolic link to {}, which does not exist",
+                        target.display()
+                    ),
+                }),
+                Err(_) => Ok(Found::Missing),
+            };
+        }
+        Err(e) => {
+            return Err(StoreError::NotAFile {
+                path: path.to_path_buf(),
+                what: format!("not usable ({})", crate::store::error::io_cause(&e)),
+            });
+        }
+    };
+    if !meta.is_file() {
+        return Err(StoreError::NotAFile {
+            path: path.to_path_buf(),
+            what: crate::store::error::file_kind(&meta).to_string(),
+        });
+    }
+    if meta.len() > 0 || wal_len(path) > 0 {
+        return Ok(Found::Present);
+    }
+    match backup::newest_backup(path) {
+        Some(newest) => Err(StoreError::Corrupt {
+            path: path.to_path_buf(),
+            detail: "the file is empty (0 bytes) although backups of it exist".into(),
+            newest_backup: Some(newest),
+        }),
+        None => Ok(Found::Empty),
+    }
+}
+
+/// The size of the write-ahead log beside `db` (0 when there is none).
+fn wal_len(db: &Path) -> u64 {
+    std::fs::metadata(wal_path(db)).map_or(0, |m| m.len())
+}
+
+pub(super) fn wal_path(db: &Path) -> PathBuf {
+    PathBuf::from(format!("{}-wal", db.display()))
+}
+
+/// A reading connection. SQLite needs the `-shm` index of a WAL database,
+/// which it cannot create in a read-only folder or on a full disk; when no
+/// write-ahead log holds pages, the file alone is the whole database and
+/// is opened as immutable (no index, no locks) instead.
+fn open_reader(path: &Path) -> Result<Connection, StoreError> {
+    let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+    let plain = || -> Result<Connection, StoreError> {
+        let conn = Connection::open_with_flags(path, flags)
+            .map_err(|e| StoreError::from_sqlite(path, e))?;
+        conn.busy_timeout(DEFAULT_BUSY_TIMEOUT)
+            .map_err(|e| StoreError::from_sqlite(path, e))?;
+        check_readable(&conn, path)?;
+        Ok(conn)
+    };
+    match plain() {
+        Ok(conn) => Ok(conn),
+        // A damaged or locked file stays so however it is opened, and pages
+        // waiting in the log are seen only through the index.
+        Err(e @ (StoreError::Corrupt { .. } | StoreError::Locked { .. })) => Err(e),
+        Err(e) if wal_len(path) > 0 => Err(e),
+        Err(_) => {
+            let conn = Connection::open_with_flags(
+                immutable_uri(path),
+                flags | OpenFlags::SQLITE_OPEN_URI,
+            )
+            .map_err(|e| StoreError::from_sqlite(path, e))?;
+            check_readable(&conn, path)?;
+            Ok(conn)
+        }
+    }
+}
+
+/// `file:` URI of `path` with `immutable=1`, percent-encoding what a URI
+/// path cannot hold.
+fn immutable_uri(path: &Path) -> String {
+    use std::os::unix::ffi::OsStrExt as _;
+    let mut uri = String::from("file:");
+    for &b in path.as_os_str().as_bytes() {
+        if b.is_ascii_alphanumeric() || b"/-._~".contains(&b) {
+            uri.push(b as char);
+        } else {
+            uri.push_str(&format!("%{b:02X}"));
+        }
+    }
+    uri.push_str("?immutable=1");
+    uri
 }
 
 /// Creates the data dir if needed and proves it writable, so that a
@@ -214,34 +380,22 @@ fn check_readable(conn: &Connection, path: &Path) -> Result<(), StoreError> {
     .map_err(|e| StoreError::from_sqlite(path, e))
 }
 
-/// A file shorter than its header says was cut off (a copy interrupted, a
-/// full disk). The header's size is trusted only when it is marked valid
-/// and no write-ahead log holds pages yet to be copied into the file.
-fn check_length(path: &Path) -> Result<(), StoreError> {
-    let wal = PathBuf::from(format!("{}-wal", path.display()));
-    if std::fs::metadata(&wal).is_ok_and(|m| m.len() > 0) {
+/// A file shorter than its pages was cut off (a copy interrupted, a full
+/// disk). SQLite counts the pages from the file's header; the file's length
+/// comes from `stat`. Only judged when no write-ahead log holds pages, since
+/// those pages may not have reached the file yet.
+fn check_length(conn: &Connection, path: &Path) -> Result<(), StoreError> {
+    if wal_len(path) > 0 {
         return Ok(());
     }
-    let mut header = [0u8; 100];
-    let read = std::fs::File::open(path).and_then(|mut f| {
-        use std::io::Read as _;
-        f.read_exact(&mut header)
-    });
-    if read.is_err() {
-        // Shorter than a header: the schema read has already judged it.
-        return Ok(());
-    }
-    let be32 = |at: usize| {
-        u32::from_be_bytes([header[at], header[at + 1], header[at + 2], header[at + 3]])
-    };
-    if !header.starts_with(b"SQLite format 3\0") || be32(24) != be32(92) {
-        return Ok(());
-    }
-    let page_size = match u16::from_be_bytes([header[16], header[17]]) {
-        1 => 65_536,
-        n => u64::from(n),
-    };
-    let expected = u64::from(be32(28)) * page_size;
+    let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(path, e);
+    let pages: i64 = conn
+        .pragma_query_value(None, "page_count", |r| r.get(0))
+        .map_err(sql_err)?;
+    let page_size: i64 = conn
+        .pragma_query_value(None, "page_size", |r| r.get(0))
+        .map_err(sql_err)?;
+    let expected = u64::try_from(pages.saturating_mul(page_size)).unwrap_or(0);
     let actual = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     if expected > actual {
         return Err(StoreError::Corrupt {

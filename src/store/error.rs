@@ -30,6 +30,19 @@ pub enum StoreError {
         newest_backup: Option<PathBuf>,
     },
 
+    #[error("database path {path} is {what}; move it away or pass another --data-dir")]
+    NotAFile { path: PathBuf, what: String },
+
+    #[error(
+        "disk full: cannot write to database {path}; free some space on its disk and try again (nothing saved before was lost)"
+    )]
+    DiskFull { path: PathBuf },
+
+    #[error(
+        "database {path} has schema version {found}, older than this flipcard writes; open it once with a command that writes (e.g. `flipcard db rebuild`) to upgrade it"
+    )]
+    NeedsUpgrade { path: PathBuf, found: i64 },
+
     #[error(
         "database {path} is locked by another program (still busy after waiting); close the other flipcard and try again"
     )]
@@ -95,10 +108,60 @@ impl StoreError {
                 detail: err.to_string(),
                 newest_backup: super::backup::newest_backup(path),
             },
+            Some(ErrorCode::DiskFull) => StoreError::DiskFull {
+                path: path.to_path_buf(),
+            },
+            // A full disk often surfaces as a failed write, sync or resize of
+            // the log or its index rather than as SQLITE_FULL.
+            Some(ErrorCode::SystemIoFailure | ErrorCode::CannotOpen) if disk_nearly_full(path) => {
+                StoreError::DiskFull {
+                    path: path.to_path_buf(),
+                }
+            }
             _ => StoreError::Sqlite {
                 path: path.to_path_buf(),
                 source: err,
             },
         }
+    }
+}
+
+/// Below this much free space, a failed write is taken for a full disk.
+const NEARLY_FULL: u64 = 1 << 20;
+
+/// Whether the disk holding `path` has (almost) no space left for it.
+fn disk_nearly_full(path: &std::path::Path) -> bool {
+    let dir = path.parent().unwrap_or(path);
+    rustix::fs::statvfs(dir).is_ok_and(|s| s.f_bavail.saturating_mul(s.f_frsize) < NEARLY_FULL)
+}
+
+/// An I/O error's cause in words, without Rust's `(os error N)` suffix.
+pub fn io_cause(e: &std::io::Error) -> String {
+    let text = e.to_string();
+    match text.find(" (os error") {
+        Some(at) => text[..at].to_string(),
+        None => text,
+    }
+}
+
+/// What kind of file `meta` describes, for messages about a path that is
+/// not the regular file it should be.
+pub fn file_kind(meta: &std::fs::Metadata) -> &'static str {
+    use std::os::unix::fs::FileTypeExt as _;
+    let t = meta.file_type();
+    if t.is_dir() {
+        "a directory"
+    } else if t.is_fifo() {
+        "a FIFO (named pipe)"
+    } else if t.is_socket() {
+        "a socket"
+    } else if t.is_block_device() || t.is_char_device() {
+        "a device"
+    } else if t.is_symlink() {
+        "a symbolic link"
+    } else if t.is_file() {
+        "a regular file"
+    } else {
+        "not a regular file"
     }
 }
