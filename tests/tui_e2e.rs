@@ -369,3 +369,112 @@ fn ctrl_c_and_sigterm_restore_the_terminal() {
     let s = t.wait_for("TTY=");
     assert!(s.contains("EXIT=143") && s.contains("TTY=cooked"), "{s}");
 }
+
+/// The process id of the app running in the pane (a child of its shell).
+fn app_pid(t: &Tmux) -> String {
+    let pid = t.tmux(&["list-panes", "-t", "e2e", "-F", "#{pane_pid}"]);
+    let child = Command::new("pgrep")
+        .args(["-P", pid.trim()])
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_default();
+    assert!(!child.is_empty(), "no app process under the pane's shell");
+    child
+}
+
+#[test]
+fn outside_sqlite_readers_during_a_review_lose_no_rating() {
+    if !tmux_available() {
+        eprintln!("skipping the terminal end-to-end test: tmux is not installed");
+        return;
+    }
+    let deck = bundled_deck();
+    let env = Env::new();
+    // An existing database, as a learner has after the first day.
+    let mut cmd = Command::new(release_binary());
+    cmd.args(["db", "rebuild"]);
+    for (k, v) in env.vars() {
+        cmd.env(k, v);
+    }
+    assert!(cmd.status().is_ok_and(|s| s.success()));
+    let db = env.dir.path().join("data").join("flipcard.db");
+    assert!(db.is_file());
+
+    let t = Tmux::start("outside", &env.vars(), &format!("review {DECK}"), 100, 32);
+    t.wait_for(&opening(deck.cards[0].front.get("en"), 4));
+    let app = app_pid(&t);
+
+    // Another program opens, reads and closes the file again and again.
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let reader = {
+        let (db, stop) = (db.clone(), std::sync::Arc::clone(&stop));
+        std::thread::spawn(move || {
+            let mut opens = 0;
+            while !stop.load(std::sync::atomic::Ordering::SeqCst) {
+                let script = "import sqlite3, sys\nc = sqlite3.connect(sys.argv[1])\n\
+                              c.execute('select count(*) from review').fetchall()\nc.close()\n";
+                let python = Command::new("python3")
+                    .args(["-c", script])
+                    .arg(&db)
+                    .status();
+                if !python.is_ok_and(|s| s.success()) {
+                    let conn = rusqlite::Connection::open(&db).unwrap();
+                    let _: i64 = conn
+                        .query_row("SELECT count(*) FROM review", [], |r| r.get(0))
+                        .unwrap();
+                }
+                opens += 1;
+            }
+            opens
+        })
+    };
+
+    for card in deck.cards.iter().take(5) {
+        t.wait_for(&opening(card.front.get("en"), 4));
+        std::thread::sleep(Duration::from_millis(150));
+        t.keys(&["Enter"]);
+        t.wait_for("Again");
+        std::thread::sleep(Duration::from_millis(150));
+        t.keys(&["3"]);
+    }
+    t.wait_for(&opening(deck.cards[5].front.get("en"), 4));
+    stop.store(true, std::sync::atomic::Ordering::SeqCst);
+    let opens = reader.join().unwrap();
+    assert!(opens >= 5, "only {opens} outside opens");
+
+    // While the app still runs, a third program sees all five.
+    let rows = env.export();
+    assert_eq!(rows.as_array().map(Vec::len), Some(5), "{rows}");
+    // The app still writes into the log that is on disk, not a deleted one.
+    let fds = std::fs::read_dir(format!("/proc/{app}/fd"))
+        .map(|entries| {
+            entries
+                .filter_map(Result::ok)
+                .filter_map(|e| std::fs::read_link(e.path()).ok())
+                .map(|p| p.display().to_string())
+                .collect::<Vec<_>>()
+        })
+        .unwrap_or_default();
+    assert!(
+        !fds.iter().any(|p| p.contains("flipcard.db") && p.contains("(deleted)")),
+        "{fds:?}"
+    );
+
+    // Killed without a chance to clean up: still all five.
+    assert!(
+        Command::new("kill")
+            .args(["-KILL", &app])
+            .status()
+            .is_ok_and(|s| s.success())
+    );
+    t.wait_for("EXIT=");
+    let rows = env.export();
+    let cards: Vec<&str> = rows
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["card"].as_str().unwrap_or(""))
+        .collect();
+    let want: Vec<&str> = deck.cards.iter().take(5).map(|c| c.id.as_str()).collect();
+    assert_eq!(cards, want);
+}
