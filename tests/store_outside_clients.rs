@@ -217,9 +217,7 @@ fn program_works(program: &str, args: &[&str]) -> bool {
 fn assert_all_present(db: &Path, committed: &HashMap<u64, i64>, when: &str) {
     let conn = rusqlite::Connection::open(db).unwrap();
     let mut rows: HashMap<i64, i64> = HashMap::new();
-    let mut st = conn
-        .prepare("SELECT id, duration_ms FROM review")
-        .unwrap();
+    let mut st = conn.prepare("SELECT id, duration_ms FROM review").unwrap();
     for row in st
         .query_map([], |r| Ok((r.get::<_, i64>(0)?, r.get::<_, i64>(1)?)))
         .unwrap()

@@ -456,7 +456,8 @@ fn outside_sqlite_readers_during_a_review_lose_no_rating() {
         })
         .unwrap_or_default();
     assert!(
-        !fds.iter().any(|p| p.contains("flipcard.db") && p.contains("(deleted)")),
+        !fds.iter()
+            .any(|p| p.contains("flipcard.db") && p.contains("(deleted)")),
         "{fds:?}"
     );
 

@@ -155,7 +155,10 @@ impl Store {
                     });
                 }
                 if version < supported {
-                    return Err(StoreError::NeedsUpgrade { path, found: version });
+                    return Err(StoreError::NeedsUpgrade {
+                        path,
+                        found: version,
+                    });
                 }
                 conn
             }

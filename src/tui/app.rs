@@ -16,10 +16,22 @@ pub struct Status {
     pub error: bool,
 }
 
+/// How loading the decks went, for the home screen to explain what is
+/// missing.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DeckLoad {
+    /// The folder (or file) the decks came from.
+    pub from: Option<std::path::PathBuf>,
+    /// Errors reported in all.
+    pub errors: usize,
+    /// Files with at least one error (their decks are left out).
+    pub failed_files: usize,
+}
+
 pub struct App {
     pub decks: Vec<Deck>,
-    /// How many problems loading the decks reported (shown on the home screen).
-    pub deck_problems: usize,
+    /// What loading the decks went through (shown on the home screen).
+    pub deck_load: DeckLoad,
     pub lang: String,
     pub theme: Theme,
     /// Open screens; the last is shown. Never empty: the home screen is first.
@@ -50,7 +62,7 @@ impl App {
         };
         let mut app = App {
             decks,
-            deck_problems: 0,
+            deck_load: DeckLoad::default(),
             lang: lang.to_string(),
             theme,
             stack: Vec::new(),

@@ -23,7 +23,6 @@ pub enum Msg {
     Enlarge,
     Language,
     LanguageName,
-    NoDecks,
     DeckProblems,
     Reader,
     Search,
@@ -93,6 +92,34 @@ pub enum Msg {
     Quit,
 }
 
+/// What the home screen says when no deck could be opened: how many deck
+/// files failed and the command that shows why, or where decks were looked
+/// for.
+pub fn no_decks(lang: &str, load: &super::app::DeckLoad) -> String {
+    let hi = lang == HINGLISH;
+    let dir = load
+        .from
+        .as_ref()
+        .map_or_else(|| "decks/".to_string(), |d| d.display().to_string());
+    match (load.failed_files, hi) {
+        (0, false) => {
+            format!("No decks found in {dir}. Put deck files (*.toml) there, or pass --decks DIR.")
+        }
+        (0, true) => format!(
+            "{dir} mein koi deck nahi mila. Wahan deck files (*.toml) rakho, ya --decks DIR do."
+        ),
+        (1, false) => format!(
+            "No decks could be opened: 1 file has errors. Run `flipcard check {dir}` to see them."
+        ),
+        (n, false) => format!(
+            "No decks could be opened: {n} files have errors. Run `flipcard check {dir}` to see them."
+        ),
+        (n, true) => format!(
+            "Koi deck khul nahi saka: {n} file(s) mein galtiyan hain. Dekhne ke liye `flipcard check {dir}` chalao."
+        ),
+    }
+}
+
 pub fn tr(lang: &str, msg: Msg) -> &'static str {
     let hi = lang == HINGLISH;
     macro_rules! pick {
@@ -116,15 +143,11 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         HelpTitle => pick!("Keys", "Keys"),
         AnyKeyCloses => pick!("any key closes", "koi bhi key band karti hai"),
         Enlarge => pick!(
-            "Please enlarge the terminal (at least 40×12).",
-            "Terminal thoda bada karo (kam se kam 40×12)."
+            "Please enlarge the terminal (at least 40×12), or press q to quit.",
+            "Terminal thoda bada karo (kam se kam 40×12), ya q dabao band karne ke liye."
         ),
         Language => pick!("language", "bhasha"),
         LanguageName => pick!("English", "Hinglish"),
-        NoDecks => pick!(
-            "No decks found. Pass --decks DIR or put deck files in decks/.",
-            "Koi deck nahi mila. --decks DIR do ya decks/ mein deck files rakho."
-        ),
         DeckProblems => pick!(
             "problems in the decks (run `flipcard check`)",
             "decks mein galtiyan (`flipcard check` chalao)"

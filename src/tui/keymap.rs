@@ -537,10 +537,11 @@ pub fn key_action(app: &App, key: KeyEvent) -> Option<Action> {
         };
     }
     // While the "please enlarge" message stands in for the screen, keys
-    // would act on something the learner cannot see (a rating, a commit).
+    // would act on something the learner cannot see (a rating, a commit);
+    // only `q`, which the message offers, quits.
     let (w, h) = app.size;
     if w < super::view::MIN_WIDTH || h < super::view::MIN_HEIGHT {
-        return None;
+        return (key.code == Char('q')).then_some(Action::Quit);
     }
     if app.help {
         return Some(Action::CloseHelp);

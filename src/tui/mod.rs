@@ -58,12 +58,22 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
         .clone()
         .unwrap_or_else(crate::paths::bundled_decks);
     let loaded = crate::deck::load_dir(&deck_dir);
-    let problems = loaded.errors();
+    let deck_load = app::DeckLoad {
+        from: Some(deck_dir.clone()),
+        errors: loaded.errors(),
+        failed_files: loaded
+            .diagnostics
+            .iter()
+            .filter(|d| d.is_error())
+            .map(|d| &d.path)
+            .collect::<std::collections::HashSet<_>>()
+            .len(),
+    };
     let lang = config.language.clone();
     let mut services = Services::new(clock, config, config_path, DayZone::Local, store);
     services.bench_csv = bench_csv();
     let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
-    app.deck_problems = problems;
+    app.deck_load = deck_load;
     if let Some(args) = review {
         open_review(&mut app, args)?;
     }

@@ -112,11 +112,7 @@ fn draw_header(frame: &mut Frame, area: Rect, app: &App) {
 fn draw_footer(frame: &mut Frame, area: Rect, app: &App) {
     let t = &app.theme;
     if let Some(status) = &app.status {
-        let style = if status.error { t.bad() } else { t.good() };
-        frame.render_widget(
-            Paragraph::new(Span::styled(status.text.clone(), style)),
-            area,
-        );
+        draw_status(frame, area, app, status);
         return;
     }
     let ctx = app.context();
@@ -140,6 +136,28 @@ fn draw_footer(frame: &mut Frame, area: Rect, app: &App) {
     };
     spans.extend(hint(if ctx == Context::Home { "q" } else { "Esc" }, back));
     frame.render_widget(Paragraph::new(Line::from(spans)), area);
+}
+
+/// A status message, wrapped: it grows upwards from the footer over the
+/// screen (at most half of it) so that a long one, such as a path to a
+/// damaged database and its backup, stays readable.
+fn draw_status(frame: &mut Frame, footer: Rect, app: &App, status: &super::app::Status) {
+    let t = &app.theme;
+    let style = if status.error { t.bad() } else { t.good() };
+    let width = usize::from(footer.width.max(1));
+    let lines = super::wrap::wrap_plain(&status.text, style, width);
+    let room = (footer.bottom() / 2).max(1);
+    let height = u16::try_from(lines.len())
+        .unwrap_or(u16::MAX)
+        .clamp(1, room);
+    let area = Rect::new(
+        footer.x,
+        footer.bottom().saturating_sub(height),
+        footer.width,
+        height,
+    );
+    frame.render_widget(Clear, area);
+    frame.render_widget(Paragraph::new(lines), area);
 }
 
 /// The help overlay: every key of the current screen.

@@ -104,7 +104,7 @@ pub fn ago(app: &App, then: Option<DateTime<Utc>>) -> String {
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
     let t = &app.theme;
     if app.decks.is_empty() {
-        let p = Paragraph::new(app.tr(Msg::NoDecks))
+        let p = Paragraph::new(crate::tui::i18n::no_decks(&app.lang, &app.deck_load))
             .style(t.warn())
             .wrap(Wrap { trim: true });
         frame.render_widget(p, area);
@@ -185,9 +185,9 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
         if let Some(desc) = &deck.description {
             lines.push(Line::from(crate::text::render(desc.get(&app.lang))));
         }
-        if app.deck_problems > 0 {
+        if app.deck_load.errors > 0 {
             lines.push(Line::styled(
-                format!("{} {}", app.deck_problems, app.tr(Msg::DeckProblems)),
+                format!("{} {}", app.deck_load.errors, app.tr(Msg::DeckProblems)),
                 t.warn(),
             ));
         }

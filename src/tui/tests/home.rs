@@ -324,7 +324,13 @@ fn keys_do_nothing_unseen_while_the_terminal_is_too_small() {
     press(&mut app, KeyCode::Char(' '));
     apply(&mut app, Action::Resize(20, 6));
     assert_eq!(key(&app, KeyCode::Char('3')), None, "no rating blind");
-    assert_eq!(key(&app, KeyCode::Char('q')), None);
+    assert_eq!(key(&app, KeyCode::Esc), None, "nothing closes unseen");
+    assert_eq!(
+        key(&app, KeyCode::Char('q')),
+        Some(Action::Quit),
+        "q quits, as the message offers"
+    );
+    assert!(flat(&render(&app)).contains("press q to quit"));
     let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
     assert_eq!(
         keymap::key_action(&app, ctrl_c),
@@ -336,4 +342,60 @@ fn keys_do_nothing_unseen_while_the_terminal_is_too_small() {
         key(&app, KeyCode::Char('3')),
         Some(Action::Rate(_))
     ));
+}
+
+#[test]
+fn a_long_error_wraps_above_the_footer_instead_of_being_cut() {
+    let mut app = testkit::app(ENGLISH);
+    app.size = (60, 20);
+    let path = "/home/learner/.local/share/flipcard/backups/flipcard-2026-03-01.db";
+    app.error(format!(
+        "database /home/learner/.local/share/flipcard/flipcard.db is corrupt; the newest backup is {path}"
+    ));
+    let screen = render(&app);
+    let joined: String = screen
+        .lines()
+        .map(|l| l.trim_matches('"').trim_end())
+        .collect::<Vec<_>>()
+        .join("");
+    assert!(joined.contains(path), "{screen}");
+    // The footer's last line holds the end of the message.
+    let last = screen.lines().last().unwrap_or_default();
+    assert!(last.contains("01.db"), "{screen}");
+}
+
+#[test]
+fn no_decks_says_how_many_files_failed_and_how_to_see_why() {
+    use crate::tui::app::DeckLoad;
+    let mut app = testkit::app(ENGLISH);
+    app.decks.clear();
+    app.deck_load = DeckLoad {
+        from: Some("/srv/course/decks".into()),
+        errors: 5,
+        failed_files: 2,
+    };
+    let screen = flat(&render(&app));
+    assert!(screen.contains("2 files have errors"), "{screen}");
+    assert!(
+        screen.contains("flipcard check /srv/course/decks"),
+        "{screen}"
+    );
+    app.deck_load = DeckLoad {
+        from: Some("/srv/empty".into()),
+        errors: 0,
+        failed_files: 0,
+    };
+    let screen = render(&app);
+    assert!(screen.contains("No decks found in /srv/empty"), "{screen}");
+}
+
+/// The screen's text as one line: rows trimmed and joined by spaces, so
+/// that wrapped sentences can be searched.
+fn flat(screen: &str) -> String {
+    screen
+        .lines()
+        .map(|l| l.trim_matches('"').trim())
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join(" ")
 }
