@@ -379,20 +379,52 @@ fn set_key_in_text(text: &str, key: &str, value: &toml::Value) -> Result<String,
 }
 
 /// Write to a sibling temporary file and rename it over the target, so a
-/// crash never leaves a half-written config.
+/// crash never leaves a half-written config. A symbolic link (a config kept
+/// in a dotfiles repository) is written through: the file it points to is
+/// replaced, the link stays.
 fn write_atomically(path: &Path, text: &str) -> Result<(), ConfigError> {
     let err = |source| ConfigError::Write {
         path: path.to_path_buf(),
         source,
     };
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+    let target = resolve_links(path).map_err(err)?;
+    if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(err)?;
     }
-    let mut tmp = path.as_os_str().to_owned();
-    tmp.push(".tmp");
+    let mut tmp = target.as_os_str().to_owned();
+    tmp.push(format!(".tmp-{}", std::process::id()));
     let tmp = PathBuf::from(tmp);
-    std::fs::write(&tmp, text).map_err(err)?;
-    std::fs::rename(&tmp, path).map_err(err)
+    let written = (|| {
+        use std::io::Write as _;
+        let mut file = std::fs::File::create(&tmp)?;
+        file.write_all(text.as_bytes())?;
+        file.sync_all()?;
+        std::fs::rename(&tmp, &target)
+    })();
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written.map_err(err)
+}
+
+/// The file `path` finally names once every symbolic link on the way is
+/// followed (the last target need not exist yet).
+fn resolve_links(path: &Path) -> std::io::Result<PathBuf> {
+    let mut current = path.to_path_buf();
+    // Linux's own limit on links followed while resolving one path.
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&current) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let next = std::fs::read_link(&current)?;
+                current = match current.parent() {
+                    Some(dir) if next.is_relative() => dir.join(next),
+                    _ => next,
+                };
+            }
+            _ => return Ok(current),
+        }
+    }
+    Err(std::io::Error::other("too many levels of symbolic links"))
 }
 
 impl fmt::Display for Config {
@@ -572,6 +604,40 @@ language = "hi-Latn"
         );
         assert!(text.starts_with("# study settings\nlanguage = \"hi-Latn\"  # switch with l\n"));
         assert_eq!(Config::load(Some(&path)).unwrap(), c);
+    }
+
+    #[test]
+    fn save_key_writes_through_a_symbolic_link() {
+        let dir = tempfile::tempdir().unwrap();
+        let dotfiles = dir.path().join("dotfiles");
+        std::fs::create_dir(&dotfiles).unwrap();
+        let real = dotfiles.join("flipcard.toml");
+        std::fs::write(&real, "# mine\nlanguage = \"en\"\n").unwrap();
+        // A link to a link, the second one relative.
+        let hop = dir.path().join("hop.toml");
+        std::os::unix::fs::symlink("dotfiles/flipcard.toml", &hop).unwrap();
+        let link = dir.path().join("config.toml");
+        std::os::unix::fs::symlink(&hop, &link).unwrap();
+
+        let mut c = Config::load(Some(&link)).unwrap();
+        c.language = "hi-Latn".into();
+        c.save_key(&link, "language").unwrap();
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(&hop).unwrap().file_type().is_symlink());
+        assert_eq!(
+            std::fs::read_to_string(&real).unwrap(),
+            "# mine\nlanguage = \"hi-Latn\"\n"
+        );
+        let leftovers = std::fs::read_dir(&dotfiles).unwrap().count();
+        assert_eq!(leftovers, 1, "no temporary file left behind");
+
+        // A loop is an error, not a hang.
+        let a = dir.path().join("a.toml");
+        let b = dir.path().join("b.toml");
+        std::os::unix::fs::symlink(&b, &a).unwrap();
+        std::os::unix::fs::symlink(&a, &b).unwrap();
+        let e = c.save_key(&a, "language").unwrap_err();
+        assert!(e.to_string().contains("symbolic links"), "{e}");
     }
 
     #[test]
