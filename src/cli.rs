@@ -170,8 +170,20 @@ pub struct DbArgs {
     pub command: DbCommand,
 }
 
+#[derive(Debug, Args)]
+pub struct RestoreArgs {
+    /// The backup to restore (default: the newest in the data dir).
+    pub backup: Option<PathBuf>,
+    /// Restore even when the current database is sound (it is set aside,
+    /// with every rating made since the backup).
+    #[arg(long)]
+    pub force: bool,
+}
+
 #[derive(Debug, Subcommand)]
 pub enum DbCommand {
     /// Rebuild the cached card states from the review log alone.
     Rebuild,
+    /// Set a damaged database aside (it is kept) and restore a backup.
+    Restore(RestoreArgs),
 }

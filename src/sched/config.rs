@@ -622,8 +622,18 @@ language = "hi-Latn"
         let mut c = Config::load(Some(&link)).unwrap();
         c.language = "hi-Latn".into();
         c.save_key(&link, "language").unwrap();
-        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
-        assert!(std::fs::symlink_metadata(&hop).unwrap().file_type().is_symlink());
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert!(
+            std::fs::symlink_metadata(&hop)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
         assert_eq!(
             std::fs::read_to_string(&real).unwrap(),
             "# mine\nlanguage = \"hi-Latn\"\n"

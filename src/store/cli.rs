@@ -14,6 +14,13 @@ use crate::cli::{Cli, DbArgs, DbCommand, ExportArgs, ExportFormat, ImportArgs, S
 use crate::deck::{Deck, Loaded};
 use crate::sched::{Config, ItemKey, deck_items};
 
+/// The store for commands that only read: nothing is created or written,
+/// so they work from a read-only data dir and on a full disk.
+fn open_store_read_only(cli: &Cli) -> anyhow::Result<Store> {
+    let dir = crate::paths::data_dir(cli.data_dir.clone())?;
+    Ok(Store::open_read_only(&dir)?)
+}
+
 fn open_store(cli: &Cli) -> anyhow::Result<Store> {
     let dir = crate::paths::data_dir(cli.data_dir.clone())?;
     let store = Store::open(&dir)?;
@@ -45,7 +52,7 @@ fn load_decks(cli: &Cli) -> Loaded {
 
 pub fn stats(cli: &Cli, args: &StatsArgs) -> anyhow::Result<ExitCode> {
     let config = Config::load(crate::paths::config_file(cli.config.clone()).as_deref())?;
-    let store = open_store(cli)?;
+    let store = open_store_read_only(cli)?;
     let loaded = load_decks(cli);
     if let Some(id) = &args.deck
         && !loaded.decks.iter().any(|d| &d.id == id)
@@ -178,7 +185,7 @@ pub fn render_stats(s: &Stats) -> String {
 pub fn export(cli: &Cli, args: &ExportArgs) -> anyhow::Result<ExitCode> {
     let mut out = BufWriter::new(std::io::stdout().lock());
     if args.reviews {
-        let store = open_store(cli)?;
+        let store = open_store_read_only(cli)?;
         let result = match args.format.unwrap_or(ExportFormat::Json) {
             ExportFormat::Json => export::write_reviews_json(&store, &mut out),
             ExportFormat::Csv => export::write_reviews_csv(&store, &mut out),
@@ -288,7 +295,21 @@ pub fn placement_note(id: &str, lang: &str, cards: usize) -> String {
 }
 
 pub fn db(cli: &Cli, args: &DbArgs) -> anyhow::Result<ExitCode> {
-    match args.command {
+    match &args.command {
+        DbCommand::Restore(restore) => {
+            let dir = crate::paths::data_dir(cli.data_dir.clone())?;
+            let done = super::restore::restore(&dir, restore.backup.as_deref(), restore.force)?;
+            println!(
+                "restored {} ({} reviews) as {}",
+                done.backup.display(),
+                done.reviews,
+                done.database.display()
+            );
+            for p in &done.set_aside {
+                println!("set aside: {}", p.display());
+            }
+            Ok(ExitCode::SUCCESS)
+        }
         DbCommand::Rebuild => {
             let mut store = open_store(cli)?;
             let report = store.rebuild()?;

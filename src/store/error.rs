@@ -82,9 +82,8 @@ pub enum StoreError {
 fn corrupt_message(path: &std::path::Path, detail: &str, backup: Option<&PathBuf>) -> String {
     let advice = match backup {
         Some(b) => format!(
-            "the newest backup is {}; to restore it, move the damaged file away and copy the backup to {}",
-            b.display(),
-            path.display()
+            "the newest backup is {}; `flipcard db restore` sets the damaged file aside (it is kept) and restores that backup",
+            b.display()
         ),
         None => "no backup was found next to it".to_string(),
     };

@@ -15,6 +15,7 @@ pub mod db;
 pub mod error;
 pub mod export;
 pub mod log;
+pub mod restore;
 pub mod schema;
 pub mod state;
 pub mod stats;

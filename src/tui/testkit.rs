@@ -274,3 +274,45 @@ pub fn render(app: &App) -> String {
     }
     terminal.backend().to_string()
 }
+
+/// A tmpfs of `kib` KiB mounted for one test (unmounted on drop), to run
+/// out of disk space for real. `None` where mounting is not permitted.
+pub struct SmallDisk {
+    pub dir: TempDir,
+}
+
+impl SmallDisk {
+    pub fn mount(kib: u32) -> Option<SmallDisk> {
+        let dir = tempfile::tempdir().ok()?;
+        let mounted = std::process::Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={kib}k"), "tmpfs"])
+            .arg(dir.path())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success());
+        if !mounted {
+            eprintln!("cannot mount a tmpfs here (needs root): the full-disk case is not run");
+            return None;
+        }
+        Some(SmallDisk { dir })
+    }
+
+    /// Fills what is left of the disk; returns the filler file.
+    pub fn fill(&self) -> PathBuf {
+        use std::io::Write as _;
+        let filler = self.dir.path().join("filler");
+        if let Ok(mut f) = std::fs::File::create(&filler) {
+            let block = vec![0xAAu8; 4096];
+            while f.write_all(&block).is_ok() {}
+        }
+        filler
+    }
+}
+
+impl Drop for SmallDisk {
+    fn drop(&mut self) {
+        let _ = std::process::Command::new("umount")
+            .arg(self.dir.path())
+            .status();
+    }
+}

@@ -286,3 +286,48 @@ fn snapshots_of_front_and_back_in_both_languages() {
         insta::assert_snapshot!(format!("review_help_{lang}"), render(&app));
     }
 }
+
+#[test]
+fn a_full_disk_keeps_the_rating_on_screen_and_loses_nothing() {
+    let Some(disk) = testkit::SmallDisk::mount(1024) else {
+        return;
+    };
+    let mut app = testkit::app(ENGLISH);
+    app.services.store = match crate::store::Store::open(&disk.dir.path().join("data")) {
+        Ok(s) => s,
+        Err(e) => panic!("store on the small disk: {e}"),
+    };
+    press(&mut app, KeyCode::Enter);
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
+    assert_eq!(log(&app).len(), 1);
+    let filler = disk.fill();
+
+    // The rating cannot be written: the card and its answer stay, the
+    // screen says why in plain words.
+    press(&mut app, KeyCode::Char(' '));
+    let mut refused = false;
+    for _ in 0..200 {
+        press(&mut app, KeyCode::Char('3'));
+        if app.status.as_ref().is_some_and(|s| s.error) {
+            refused = true;
+            break;
+        }
+        press(&mut app, KeyCode::Char(' '));
+    }
+    assert!(refused, "the disk never filled up");
+    let status = app.status.clone().map(|s| s.text).unwrap_or_default();
+    assert!(status.starts_with("disk full"), "{status}");
+    assert!(matches!(review(&app).phase, Phase::Back { .. }));
+    let stuck = current_card(&app);
+    let written = log(&app).len();
+    assert!(render(&app).contains("disk full"));
+
+    // Space again: the same key saves the same card.
+    if let Err(e) = std::fs::remove_file(filler) {
+        panic!("freeing space: {e}");
+    }
+    press(&mut app, KeyCode::Char('3'));
+    assert_eq!(log(&app).len(), written + 1);
+    assert_eq!(log(&app)[written].0, stuck);
+    assert!(app.status.is_none());
+}
