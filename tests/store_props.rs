@@ -123,7 +123,8 @@ fn run(ops: &[Op]) -> Result<(), TestCaseError> {
                 }
             }
             Op::Reopen => {
-                store = None;
+                // The old store closes before the new one opens.
+                drop(store.take());
                 store = Some(Store::open(dir.path()).unwrap());
                 want.session.clear();
             }
