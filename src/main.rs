@@ -25,8 +25,9 @@ fn main() -> ExitCode {
     // A failed write to stdout comes first: whatever error the handler
     // returned is then only its consequence.
     match output::stdout_status() {
-        // The reader has all it wanted (`| head`): a normal end.
-        StdoutStatus::Closed => ExitCode::SUCCESS,
+        // The reader has all it wanted (`| head`): a normal end, unless the
+        // command finished and gave its own verdict.
+        StdoutStatus::Closed => result.unwrap_or(ExitCode::SUCCESS),
         StdoutStatus::Failed(why) => {
             errln!("flipcard: error: cannot write to standard output: {why}");
             ExitCode::FAILURE

@@ -341,11 +341,15 @@ fn an_error_states_its_cause_once() {
 #[test]
 fn a_database_error_states_its_cause_once() {
     let setup = Setup::new();
-    // A folder where the database file should be: SQLite cannot open it.
-    std::fs::create_dir_all(setup.root.join("odd/flipcard.db")).unwrap();
-    let line = error_line(&setup, &["stats", "--data-dir", "odd"]);
+    // A flipcard database missing one of its tables: SQLite's own message,
+    // once, without its error code's description after it.
+    let data = setup.root.join("data");
+    rusqlite::Connection::open(data.join("flipcard.db"))
+        .and_then(|c| c.execute_batch("DROP TABLE card_state"))
+        .unwrap();
+    let line = error_line(&setup, &["stats"]);
     assert_eq!(
-        line.matches("unable to open database file").count(),
+        line.matches("no such table: card_state").count(),
         1,
         "{line}"
     );
@@ -492,4 +496,14 @@ fn clocks_beyond_the_supported_range_are_refused() {
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", stderr(&out));
+}
+
+#[test]
+fn import_of_a_folder_says_what_it_is() {
+    let setup = Setup::new();
+    let line = error_line(&setup, &["import", "decks", "--deck-id", "x"]);
+    assert_eq!(
+        line,
+        "flipcard: error: cannot read decks: it is a folder, not a CSV file"
+    );
 }

@@ -233,6 +233,13 @@ pub fn import(_cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
     }
     let file = std::fs::File::open(&args.file)
         .with_context(|| format!("cannot read {}", args.file.display()))?;
+    // Opening a folder succeeds; reading it would fail as a "bad row".
+    if file.metadata().is_ok_and(|m| m.is_dir()) {
+        anyhow::bail!(
+            "cannot read {}: it is a folder, not a CSV file",
+            args.file.display()
+        );
+    }
     let cards = match csvdeck::read_cards_csv(std::io::BufReader::new(file)) {
         Ok(cards) => cards,
         Err(errors) => {
