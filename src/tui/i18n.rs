@@ -113,7 +113,8 @@ pub fn no_decks(lang: &str, load: &super::app::DeckLoad) -> String {
             "No decks could be opened: {n} files have errors. Run `flipcard check {dir}` to see them."
         ),
         (n, true) => format!(
-            "Koi deck khul nahi saka: {n} file(s) mein galtiyan hain. Dekhne ke liye `flipcard check {dir}` chalao."
+            "Koi deck khul nahi saka: {} mein galtiyan hain. Dekhne ke liye `flipcard check {dir}` chalao.",
+            crate::output::plural(n, "file", "files")
         ),
     }
 }

@@ -420,3 +420,19 @@ fn counts_of_one_read_in_the_singular_in_both_languages() {
         assert!(text.contains(two), "{text}");
     }
 }
+
+#[test]
+fn no_decks_counts_failed_files_in_the_singular_in_hinglish_too() {
+    use crate::tui::app::DeckLoad;
+    let mut app = testkit::app(HINGLISH);
+    app.decks.clear();
+    for (files, text) in [(1, "1 file mein galtiyan"), (2, "2 files mein galtiyan")] {
+        app.deck_load = DeckLoad {
+            from: Some("/srv/decks".into()),
+            errors: 3,
+            failed_files: files,
+        };
+        let screen = flat(&render(&app));
+        assert!(screen.contains(text), "{screen}");
+    }
+}
