@@ -78,6 +78,7 @@ impl Setup {
             store.record(&r).unwrap();
         }
         drop(store);
+        std::fs::copy(data.join("flipcard.db"), root.join("copy.db")).unwrap();
         std::fs::write(root.join("cards.csv"), "front,back,tags\nQ1,A1,x\nQ2,A2,\n").unwrap();
         Setup { _dir: dir, root }
     }
@@ -172,6 +173,7 @@ fn commands() -> Vec<(Vec<&'static str>, &'static [&'static str])> {
         (vec!["export", "--deck", "mini"], NONE),
         (vec!["import", "cards.csv", "--deck-id", "imported"], NONE),
         (vec!["db", "rebuild"], NONE),
+        (vec!["db", "restore", "copy.db", "--force"], NONE),
         (vec!["--help"], NONE),
         (vec!["sim", "--help"], NONE),
         (vec!["--version"], NONE),
@@ -310,9 +312,9 @@ fn error_line(setup: &Setup, args: &[&str]) -> String {
 fn an_error_states_its_cause_once() {
     let setup = Setup::new();
     std::fs::write(setup.root.join("a-file"), "").unwrap();
-    let cases: [(&[&str], &str); 5] = [
+    let cases: [(&[&str], &str); 6] = [
         (
-            &["stats", "--data-dir", "a-file"],
+            &["db", "rebuild", "--data-dir", "a-file"],
             "File exists (os error 17)",
         ),
         (
@@ -320,9 +322,10 @@ fn an_error_states_its_cause_once() {
             "Not a directory (os error 20)",
         ),
         (
-            &["export", "--reviews", "--data-dir", "/proc/x"],
+            &["db", "rebuild", "--data-dir", "/proc/x"],
             "No such file or directory (os error 2)",
         ),
+        (&["stats", "--data-dir", "a-file"], "Not a directory"),
         (
             &["bench", "--quick", "--out", "a-file"],
             "File exists (os error 17)",

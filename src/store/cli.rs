@@ -18,6 +18,10 @@ use crate::sched::{Config, ItemKey, deck_items};
 /// The store for commands that only read: nothing is created or written,
 /// so they work from a read-only data dir and on a full disk.
 fn open_store_read_only(cli: &Cli) -> anyhow::Result<Store> {
+    // Reading needs no clock, but a FLIPCARD_NOW the app would refuse when
+    // writing is refused here too: one rule for every command over the
+    // review data, so a script learns of its bad clock on its first call.
+    crate::clock::now()?;
     let dir = crate::paths::data_dir(cli.data_dir.clone())?;
     Ok(Store::open_read_only(&dir)?)
 }
