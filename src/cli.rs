@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -76,6 +76,7 @@ pub enum SimFormat {
 }
 
 #[derive(Debug, Args)]
+#[command(group(ArgGroup::new("scenes").args(["scene", "list"])))]
 pub struct SimArgs {
     /// Principal moments I1,I2,I3 (kg·m²), in any order.
     #[arg(long, value_name = "I1,I2,I3", allow_hyphen_values = true)]
@@ -108,10 +109,12 @@ pub struct SimArgs {
     /// Run a deck scene and print its measurements.
     #[arg(long, value_name = "ID", conflicts_with_all = ["inertia", "omega", "t_end", "list"])]
     pub scene: Option<String>,
-    /// Deck file or folder to take --scene from (default: the bundled decks).
-    #[arg(long, value_name = "PATH", requires = "scene")]
+    /// Deck file or folder to take --scene from, or to --list (default:
+    /// --decks, else the bundled decks).
+    #[arg(long, value_name = "PATH", requires = "scenes")]
     pub deck: Option<PathBuf>,
-    /// List the scenes of the bundled decks.
+    /// List the scenes of the decks (--deck, else --decks, else the bundled
+    /// decks).
     #[arg(long, conflicts_with_all = ["inertia", "omega", "t_end"])]
     pub list: bool,
 }

@@ -1,10 +1,27 @@
 //! The one clock of the app. `FLIPCARD_NOW` (RFC 3339) replaces the system
 //! clock everywhere, for tests, demos and exam planning.
 
-use chrono::{DateTime, Utc};
+use chrono::{DateTime, NaiveDate, Utc};
+
+use crate::sched::scheduler::MAXIMUM_INTERVAL;
 
 /// The environment variable that fixes the clock.
 pub const NOW_VAR: &str = "FLIPCARD_NOW";
+
+/// The earliest clock accepted: nothing the app stores predates it.
+pub fn earliest() -> DateTime<Utc> {
+    DateTime::UNIX_EPOCH
+}
+
+/// The latest clock accepted. Every time the app writes out (the clock
+/// itself, and a due date up to the longest interval later) must be an RFC
+/// 3339 time, whose year has four digits: the bound leaves that interval,
+/// and a day to spare for the study day's time zone, before the year 10000.
+pub fn latest() -> DateTime<Utc> {
+    NaiveDate::from_ymd_opt(9899, 12, 31)
+        .and_then(|d| d.and_hms_opt(23, 59, 59))
+        .map_or(DateTime::<Utc>::MIN_UTC, |t| t.and_utc())
+}
 
 /// The current time, or the time fixed by `FLIPCARD_NOW`.
 ///
@@ -13,21 +30,135 @@ pub const NOW_VAR: &str = "FLIPCARD_NOW";
 /// on the real one.
 pub fn now() -> Result<DateTime<Utc>, ClockError> {
     match std::env::var(NOW_VAR) {
-        Ok(text) => DateTime::parse_from_rfc3339(text.trim())
-            .map(|t| t.with_timezone(&Utc))
-            .map_err(|e| ClockError {
-                text,
-                reason: e.to_string(),
-            }),
+        Ok(text) => parse(&text),
         Err(_) => Ok(Utc::now()),
     }
 }
 
+/// A `FLIPCARD_NOW` value: an RFC 3339 time within [`earliest`]..=[`latest`].
+pub fn parse(text: &str) -> Result<DateTime<Utc>, ClockError> {
+    let t = DateTime::parse_from_rfc3339(text.trim())
+        .map(|t| t.with_timezone(&Utc))
+        .map_err(|e| ClockError::NotRfc3339 {
+            text: text.to_string(),
+            reason: e.to_string(),
+        })?;
+    if t < earliest() || t > latest() {
+        return Err(ClockError::OutOfRange {
+            text: text.to_string(),
+        });
+    }
+    Ok(t)
+}
+
+fn rfc3339(t: DateTime<Utc>) -> String {
+    t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true)
+}
+
 #[derive(Debug, thiserror::Error)]
-#[error(
-    "{NOW_VAR}={text:?} is not an RFC 3339 time ({reason}); example: 2026-11-22T09:00:00+05:30"
-)]
-pub struct ClockError {
-    pub text: String,
-    pub reason: String,
+pub enum ClockError {
+    #[error(
+        "{NOW_VAR}={text:?} is not an RFC 3339 time ({reason}); example: 2026-11-22T09:00:00+05:30"
+    )]
+    NotRfc3339 { text: String, reason: String },
+    #[error(
+        "{NOW_VAR}={text:?} is outside the supported range {} to {} (a due date up to {MAXIMUM_INTERVAL} days later must still fall before the year 10000)",
+        rfc3339(earliest()),
+        rfc3339(latest())
+    )]
+    OutOfRange { text: String },
+}
+
+#[cfg(test)]
+mod tests {
+    use chrono::TimeDelta;
+
+    use super::*;
+
+    #[test]
+    fn clocks_in_range_parse_in_any_offset() {
+        let t = parse("2026-11-22T09:00:00+05:30").unwrap();
+        assert_eq!(rfc3339(t), "2026-11-22T03:30:00Z");
+        assert_eq!(parse("1970-01-01T00:00:00Z").unwrap(), earliest());
+        assert_eq!(parse(&rfc3339(latest())).unwrap(), latest());
+    }
+
+    #[test]
+    fn the_latest_clock_leaves_room_for_the_longest_interval() {
+        let due = latest() + TimeDelta::days(MAXIMUM_INTERVAL);
+        // A day later still, for a study day east of UTC.
+        let text = rfc3339(due + TimeDelta::days(1));
+        assert!(text.starts_with("9999-"), "{text}");
+        assert_eq!(
+            DateTime::parse_from_rfc3339(&text).unwrap(),
+            due + TimeDelta::days(1)
+        );
+        assert_eq!(rfc3339(latest()), "9899-12-31T23:59:59Z");
+    }
+
+    #[test]
+    fn the_longest_interval_scheduled_at_the_latest_clock_is_rfc_3339() {
+        use crate::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler, State};
+        let scheduler = Scheduler::new(&Config {
+            fuzz: false,
+            ..Config::default()
+        });
+        let key = ItemKey {
+            deck: "d".into(),
+            card: "c".into(),
+            direction: Direction::Forward,
+        };
+        let now = latest();
+        // Remembered for a very long time already: the next interval is the
+        // longest there is.
+        let card = CardState {
+            state: State::Review,
+            step: None,
+            stability: Some(1e9),
+            difficulty: Some(1.0),
+            due: now,
+            last_review: Some(now - TimeDelta::days(MAXIMUM_INTERVAL)),
+        };
+        let record = scheduler.review(&key, Some(&card), Rating::Easy, now, 0);
+        assert_eq!(record.scheduled_days, MAXIMUM_INTERVAL);
+        let due = rfc3339(record.after.due);
+        assert!(due.starts_with("9999-"), "{due}");
+    }
+
+    #[test]
+    fn clocks_outside_the_range_are_refused_in_one_line() {
+        for text in [
+            "9999-12-31T23:00:00-05:00",
+            "9999-12-31T00:00:00Z",
+            "9950-01-01T00:00:00Z",
+            "1969-12-31T23:59:59Z",
+            "0000-01-01T00:00:00Z",
+        ] {
+            let err = parse(text).unwrap_err();
+            assert!(
+                matches!(err, ClockError::OutOfRange { .. }),
+                "{text}: {err}"
+            );
+            let msg = err.to_string();
+            assert!(!msg.contains('\n'), "{msg}");
+            assert!(
+                msg.contains("1970-01-01T00:00:00Z to 9899-12-31T23:59:59Z"),
+                "{msg}"
+            );
+            assert!(msg.contains("36500 days"), "{msg}");
+        }
+        let just_after = rfc3339(latest() + TimeDelta::seconds(1));
+        assert!(parse(&just_after).is_err(), "{just_after}");
+    }
+
+    #[test]
+    fn a_time_that_is_not_rfc_3339_says_so() {
+        for text in ["garbage", "+10000-01-01T00:00:00Z", "2026-13-01T00:00:00Z"] {
+            let err = parse(text).unwrap_err();
+            assert!(
+                matches!(err, ClockError::NotRfc3339 { .. }),
+                "{text}: {err}"
+            );
+        }
+    }
 }

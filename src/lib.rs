@@ -7,6 +7,7 @@
 pub mod cli;
 pub mod clock;
 pub mod deck;
+pub mod output;
 pub mod paths;
 pub mod sched;
 pub mod sim;

@@ -201,7 +201,10 @@ fn every_invalid_case_fails_with_its_one_diagnostic() {
         if !run.stdout.is_empty() {
             problems.push(format!("{name}: stdout not empty: {}", run.stdout));
         }
-        let tally = format!("1 errors, {} warnings", count(&exp, "warning"));
+        let tally = match count(&exp, "warning") {
+            1 => "1 error, 1 warning".to_string(),
+            n => format!("1 error, {n} warnings"),
+        };
         if run.stderr.lines().last() != Some(tally.as_str()) {
             problems.push(format!(
                 "{name}: last line is not `{tally}`:\n{}",
@@ -287,6 +290,7 @@ fn one_run_reports_the_problems_of_every_deck() {
             .all(|l| l.contains("error: deck id `d` is also used by")),
         "unexpected: {others:#?}"
     );
+    assert!(heads.len() > 1, "{heads:#?}");
     let tally = format!("{} errors, 0 warnings", heads.len());
     assert_eq!(run.stderr.lines().last(), Some(tally.as_str()));
 }
@@ -333,7 +337,7 @@ fn a_deck_file_can_be_named_directly() {
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert_eq!(
         run.stdout,
-        "1 decks, 3 cards, 2 prompts, 2 scenes, 2 sections: ok\n"
+        "1 deck, 3 cards, 2 prompts, 2 scenes, 2 sections: ok\n"
     );
 }
 

@@ -83,7 +83,7 @@ fn the_valid_base_deck_passes() {
     assert_eq!(out.status.code(), Some(0));
     assert_eq!(
         String::from_utf8_lossy(&out.stdout),
-        "1 decks, 1 cards, 0 prompts, 0 scenes, 1 sections: ok\n"
+        "1 deck, 1 card, 0 prompts, 0 scenes, 1 section: ok\n"
     );
 }
 

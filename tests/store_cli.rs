@@ -234,7 +234,7 @@ fn stats_report_orphans_and_history_returns_with_the_card() {
         t.contains("Cards: 4 — new 2, learning 1, review 1, relearning 0"),
         "{t}"
     );
-    assert!(t.contains("mini/b forward: 1 reviews"), "{t}");
+    assert!(t.contains("mini/b forward: 1 review\n"), "{t}");
 
     // `b` comes back: no orphan, and its state is what its history says.
     mini_deck(

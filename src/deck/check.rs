@@ -10,6 +10,7 @@ use std::process::ExitCode;
 
 use crate::cli::{CheckArgs, Cli};
 use crate::deck::load::{Loaded, load_paths};
+use crate::output::plural;
 
 pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
     let paths = if args.paths.is_empty() {
@@ -20,7 +21,7 @@ pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
     let missing: Vec<&PathBuf> = paths.iter().filter(|p| !p.exists()).collect();
     if !missing.is_empty() {
         for p in missing {
-            eprintln!(
+            crate::errln!(
                 "flipcard: error: {}: no such file or directory",
                 p.display()
             );
@@ -34,7 +35,7 @@ pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
                 .any(|e| e.path().extension().is_some_and(|x| x == "toml"))
         });
         if !has_decks {
-            eprintln!(
+            crate::errln!(
                 "flipcard: warning: no deck files (*.toml) in {}",
                 p.display()
             );
@@ -42,27 +43,32 @@ pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
     }
     let loaded = load_paths(&paths);
     if !loaded.diagnostics.is_empty() {
-        eprintln!("{}", loaded.render_all());
+        crate::errln!("{}", loaded.render_all());
     }
     if loaded.errors() > 0 {
-        eprintln!("{} errors, {} warnings", loaded.errors(), loaded.warnings());
+        crate::errln!(
+            "{}, {}",
+            plural(loaded.errors(), "error", "errors"),
+            plural(loaded.warnings(), "warning", "warnings")
+        );
         return Ok(ExitCode::from(1));
     }
-    println!("{}", summary(&loaded));
+    crate::outln!("{}", summary(&loaded))?;
     Ok(ExitCode::SUCCESS)
 }
 
-/// `N decks, M cards, P prompts, S scenes, X sections: ok`; a section counts
-/// once however many languages it is written in.
+/// `N decks, M cards, P prompts, S scenes, X sections: ok` (`1 deck`, `1
+/// card`...); a section counts once however many languages it is written
+/// in.
 pub fn summary(loaded: &Loaded) -> String {
     let count = |f: fn(&crate::deck::Deck) -> usize| loaded.decks.iter().map(f).sum::<usize>();
     format!(
-        "{} decks, {} cards, {} prompts, {} scenes, {} sections: ok",
-        loaded.decks.len(),
-        count(|d| d.cards.len()),
-        count(|d| d.prompts.len()),
-        count(|d| d.scenes.len()),
-        count(|d| d.sections.len()),
+        "{}, {}, {}, {}, {}: ok",
+        plural(loaded.decks.len(), "deck", "decks"),
+        plural(count(|d| d.cards.len()), "card", "cards"),
+        plural(count(|d| d.prompts.len()), "prompt", "prompts"),
+        plural(count(|d| d.scenes.len()), "scene", "scenes"),
+        plural(count(|d| d.sections.len()), "section", "sections"),
     )
 }
 

@@ -26,6 +26,7 @@ use super::reference;
 use super::run::{Options, make_with};
 use super::solver::{Method, Needs, SimError, Work};
 use crate::cli::{BenchArgs, Cli};
+use crate::output::plural;
 
 /// Points at which every run is compared with the exact solution.
 pub const POINTS: usize = 1001;
@@ -320,18 +321,20 @@ pub fn run(_cli: &Cli, args: &BenchArgs) -> anyhow::Result<ExitCode> {
             Ok(m) => format!("{} s, error {}", sci(m.wall), sci(m.errors.omega)),
             Err(reason) => reason.clone(),
         };
-        eprintln!(
+        crate::errln!(
             "bench [{k}/{total}] case {} {} {}: {what}",
             row.case,
             row.method.name(),
             setting(&row.method)
         );
     })?;
-    print!("{}", table(&rows));
+    // The files first: they are what the sweep is for, and a reader of the
+    // table that stops early (`| head`) must not cost them.
     write(out_dir, &rows, args.quick)?;
-    eprintln!(
-        "bench: {} runs in {:.1} s; wrote {} and {}",
-        rows.len(),
+    crate::out!("{}", table(&rows))?;
+    crate::errln!(
+        "bench: {} in {:.1} s; wrote {} and {}",
+        plural(rows.len(), "run", "runs"),
         started.elapsed().as_secs_f64(),
         out_dir.join("work_precision.csv").display(),
         out_dir.join("work_precision.svg").display()

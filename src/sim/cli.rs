@@ -2,7 +2,7 @@
 //! or JSON. Every float is printed in shortest round-trip form, so reading
 //! the output back gives the computed values bit for bit.
 
-use std::io::{self, BufWriter, Write};
+use std::io::Write;
 use std::process::ExitCode;
 
 use anyhow::{Context, anyhow, bail};
@@ -13,13 +13,14 @@ use super::model::{self, Body, State};
 use super::run::{self, Kind};
 use super::solver::{Method, Needs, Solver};
 use crate::cli::{Cli, MethodArg, SimArgs, SimFormat};
+use crate::output::plural;
 
 /// The CSV header; columns follow the axes in the order given.
 pub const CSV_HEADER: &str = "t,w1,w2,w3,qw,qx,qy,qz,energy,l2";
 
 pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
     if args.list {
-        return list(cli);
+        return list(cli, args);
     }
     if let Some(id) = &args.scene {
         return super::scene_cli::scene(cli, args, id);
@@ -32,51 +33,39 @@ pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
         Needs { orientation: true },
     )?;
     solver.plan(request.t_end)?;
-    let stdout = io::stdout();
-    let mut out = BufWriter::new(stdout.lock());
-    match write_samples(&request, solver.as_mut(), args.format, &mut out) {
-        Ok(()) => Ok(ExitCode::SUCCESS),
-        // A reader that stops early (`| head`) is not a failure.
-        Err(err) if is_broken_pipe(&err) => Ok(ExitCode::SUCCESS),
-        Err(err) => Err(err),
-    }
+    let mut out = crate::output::stdout();
+    write_samples(&request, solver.as_mut(), args.format, &mut out)?;
+    Ok(ExitCode::SUCCESS)
 }
 
-/// `sim --list`: one line per scene of the decks (`--decks`, else the
-/// bundled ones): id, deck, setup, panels and title.
-fn list(cli: &Cli) -> anyhow::Result<ExitCode> {
-    let dir = cli
-        .decks
-        .clone()
-        .unwrap_or_else(crate::paths::bundled_decks);
-    let loaded = crate::deck::load_dir(&dir);
+/// `sim --list`: one line per scene of the decks (`--deck PATH`, else
+/// `--decks`, else the bundled ones): id, deck, setup, panels and title.
+fn list(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
+    let path = super::scene_cli::deck_path(cli, args);
+    if !path.exists() {
+        bail!("{}: no such file or directory", path.display());
+    }
+    let loaded = crate::deck::load_paths(std::slice::from_ref(&path));
     if loaded.decks.is_empty() && loaded.errors() > 0 {
         bail!(
-            "no deck in {} loads ({} errors; run `flipcard check {}`)",
-            dir.display(),
-            loaded.errors(),
-            dir.display()
+            "no deck in {} loads ({}; run `flipcard check {}`)",
+            path.display(),
+            plural(loaded.errors(), "error", "errors"),
+            path.display()
         );
     }
-    let mut out = String::new();
+    let mut out = crate::output::stdout();
     for deck in &loaded.decks {
         let lang = deck.languages.first().map_or("en", String::as_str);
         for scene in &deck.scenes {
-            out.push_str(&scene_line(deck, scene, lang));
-            out.push('\n');
+            writeln!(out, "{}", scene_line(deck, scene, lang))?;
         }
     }
-    let stdout = io::stdout();
-    let mut w = stdout.lock();
-    match w.write_all(out.as_bytes()).and_then(|()| w.flush()) {
-        Ok(()) => {}
-        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => {}
-        Err(e) => return Err(e.into()),
-    }
+    out.flush()?;
     if loaded.errors() > 0 {
-        eprintln!(
-            "flipcard: warning: {} deck errors, some scenes may be missing (run `flipcard check`)",
-            loaded.errors()
+        crate::errln!(
+            "flipcard: warning: {} in the decks, some scenes may be missing (run `flipcard check`)",
+            plural(loaded.errors(), "error", "errors")
         );
     }
     Ok(ExitCode::SUCCESS)
@@ -97,11 +86,6 @@ fn scene_line(deck: &crate::deck::Deck, scene: &crate::deck::Scene, lang: &str) 
         shows.join(","),
         title
     )
-}
-
-fn is_broken_pipe(err: &anyhow::Error) -> bool {
-    err.downcast_ref::<io::Error>()
-        .is_some_and(|e| e.kind() == io::ErrorKind::BrokenPipe)
 }
 
 /// A checked `sim` request.

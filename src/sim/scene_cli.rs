@@ -13,16 +13,15 @@ use super::run::{Kind, method};
 use super::scene::measure_scene;
 use crate::cli::{Cli, MethodArg, SimArgs};
 use crate::deck::{Answer, Deck, Prompt, Scene, load_paths};
+use crate::output::plural;
 
 /// The decks to read: `--deck PATH`, else the global `--decks DIR`, else
 /// the bundled ones.
-fn deck_paths(cli: &Cli, args: &SimArgs) -> Vec<PathBuf> {
-    let path = args
-        .deck
+pub(super) fn deck_path(cli: &Cli, args: &SimArgs) -> PathBuf {
+    args.deck
         .clone()
         .or_else(|| cli.decks.clone())
-        .unwrap_or_else(crate::paths::bundled_decks);
-    vec![path]
+        .unwrap_or_else(crate::paths::bundled_decks)
 }
 
 fn load(paths: &[PathBuf]) -> anyhow::Result<Vec<Deck>> {
@@ -33,10 +32,10 @@ fn load(paths: &[PathBuf]) -> anyhow::Result<Vec<Deck>> {
     }
     let loaded = load_paths(paths);
     if loaded.errors() > 0 {
-        eprintln!("{}", loaded.render_all());
+        crate::errln!("{}", loaded.render_all());
         bail!(
-            "{} errors in the decks (run `flipcard check` for details)",
-            loaded.errors()
+            "{} in the decks (run `flipcard check` for details)",
+            plural(loaded.errors(), "error", "errors")
         );
     }
     Ok(loaded.decks)
@@ -73,7 +72,7 @@ pub fn number(v: f64) -> String {
 /// `flipcard sim --scene ID`: runs the scene and prints its measurements,
 /// then each prompt on it with the verdict its expected answer gets.
 pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
-    let decks = load(&deck_paths(cli, args))?;
+    let decks = load(&[deck_path(cli, args)])?;
     let Some((deck, scene)) = decks.iter().find_map(|d| d.scene(id).map(|s| (d, s))) else {
         let known: Vec<&str> = decks
             .iter()
@@ -86,7 +85,7 @@ pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
     let m = method(kind(args.method), args.tol, args.dt, &body, &omega0)?;
     let measured =
         measure_scene(scene, m).with_context(|| format!("scene {id} with {}", m.name()))?;
-    print!("{}", report(deck, scene, &measured, m.name()));
+    crate::out!("{}", report(deck, scene, &measured, m.name()))?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -1,6 +1,6 @@
 //! Headless commands over the store: stats, export, import, db.
 
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -12,11 +12,16 @@ use super::stats::{Ratio, Stats, StatsScope};
 use super::{DayGrid, Store};
 use crate::cli::{Cli, DbArgs, DbCommand, ExportArgs, ExportFormat, ImportArgs, StatsArgs};
 use crate::deck::{Deck, Loaded};
+use crate::output::plural;
 use crate::sched::{Config, ItemKey, deck_items};
 
 /// The store for commands that only read: nothing is created or written,
 /// so they work from a read-only data dir and on a full disk.
 fn open_store_read_only(cli: &Cli) -> anyhow::Result<Store> {
+    // Reading needs no clock, but a FLIPCARD_NOW the app would refuse when
+    // writing is refused here too: one rule for every command over the
+    // review data, so a script learns of its bad clock on its first call.
+    crate::clock::now()?;
     let dir = crate::paths::data_dir(cli.data_dir.clone())?;
     Ok(Store::open_read_only(&dir)?)
 }
@@ -25,7 +30,7 @@ fn open_store(cli: &Cli) -> anyhow::Result<Store> {
     let dir = crate::paths::data_dir(cli.data_dir.clone())?;
     let store = Store::open(&dir)?;
     for w in store.warnings() {
-        eprintln!("flipcard: warning: {w}");
+        crate::errln!("flipcard: warning: {w}");
     }
     Ok(store)
 }
@@ -40,9 +45,9 @@ fn load_decks(cli: &Cli) -> Loaded {
         .unwrap_or_else(crate::paths::bundled_decks);
     let loaded = crate::deck::load_dir(&dir);
     if loaded.errors() > 0 {
-        eprintln!(
-            "flipcard: warning: {} errors in the decks under {}; decks with errors are left out (run `flipcard check {}`)",
-            loaded.errors(),
+        crate::errln!(
+            "flipcard: warning: {} in the decks under {}; decks with errors are left out (run `flipcard check {}`)",
+            plural(loaded.errors(), "error", "errors"),
             dir.display(),
             dir.display()
         );
@@ -76,24 +81,15 @@ pub fn stats(cli: &Cli, args: &StatsArgs) -> anyhow::Result<ExitCode> {
         items: &items,
     };
     let stats = store.stats(scope, now, &grid)?;
-    let mut out = BufWriter::new(std::io::stdout().lock());
-    let written = if args.json {
-        serde_json::to_writer_pretty(&mut out, &stats)
-            .map_err(std::io::Error::from)
-            .and_then(|_| writeln!(out))
+    let mut out = crate::output::stdout();
+    if args.json {
+        serde_json::to_writer_pretty(&mut out, &stats)?;
+        writeln!(out)?;
     } else {
-        out.write_all(render_stats(&stats).as_bytes())
-    };
-    finish_output(written.and_then(|_| out.flush()))
-}
-
-/// A closed pipe (`| head`) ends the output quietly; other write errors fail.
-fn finish_output(result: std::io::Result<()>) -> anyhow::Result<ExitCode> {
-    match result {
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(ExitCode::SUCCESS),
-        Err(e) => Err(e).context("cannot write to standard output"),
-        Ok(()) => Ok(ExitCode::SUCCESS),
+        out.write_all(render_stats(&stats).as_bytes())?;
     }
+    out.flush()?;
+    Ok(ExitCode::SUCCESS)
 }
 
 fn percent(r: &Ratio) -> String {
@@ -164,8 +160,8 @@ pub fn render_stats(s: &Stats) -> String {
     if !s.orphans.is_empty() {
         line(String::new());
         line(format!(
-            "Orphans: {} items with history whose card is no longer in its deck (the history is kept and returns with the card):",
-            s.orphans.len()
+            "Orphans: {} with history whose card is no longer in its deck (the history is kept and returns with the card):",
+            plural(s.orphans.len(), "item", "items")
         ));
         for o in &s.orphans {
             let whose = if o.deck_present {
@@ -174,8 +170,11 @@ pub fn render_stats(s: &Stats) -> String {
                 " (deck not loaded)"
             };
             line(format!(
-                "  {}/{} {}: {} reviews{whose}",
-                o.deck, o.card, o.direction, o.reviews
+                "  {}/{} {}: {}{whose}",
+                o.deck,
+                o.card,
+                o.direction,
+                plural(o.reviews, "review", "reviews")
             ));
         }
     }
@@ -183,18 +182,15 @@ pub fn render_stats(s: &Stats) -> String {
 }
 
 pub fn export(cli: &Cli, args: &ExportArgs) -> anyhow::Result<ExitCode> {
-    let mut out = BufWriter::new(std::io::stdout().lock());
+    let mut out = crate::output::stdout();
     if args.reviews {
         let store = open_store_read_only(cli)?;
-        let result = match args.format.unwrap_or(ExportFormat::Json) {
-            ExportFormat::Json => export::write_reviews_json(&store, &mut out),
-            ExportFormat::Csv => export::write_reviews_csv(&store, &mut out),
+        match args.format.unwrap_or(ExportFormat::Json) {
+            ExportFormat::Json => export::write_reviews_json(&store, &mut out)?,
+            ExportFormat::Csv => export::write_reviews_csv(&store, &mut out)?,
         };
-        return match result {
-            Ok(_) => Ok(ExitCode::SUCCESS),
-            Err(e) if e.is_broken_pipe() => Ok(ExitCode::SUCCESS),
-            Err(e) => Err(e.into()),
-        };
+        out.flush()?;
+        return Ok(ExitCode::SUCCESS);
     }
     let Some(id) = &args.deck else {
         anyhow::bail!("say what to export: --reviews or --deck ID");
@@ -206,11 +202,9 @@ pub fn export(cli: &Cli, args: &ExportArgs) -> anyhow::Result<ExitCode> {
     }
     let loaded = load_decks(cli);
     let deck = find_deck(&loaded, id)?;
-    match csvdeck::write_deck_csv(deck, &mut out).map_err(ExportError::from) {
-        Ok(_) => Ok(ExitCode::SUCCESS),
-        Err(e) if e.is_broken_pipe() => Ok(ExitCode::SUCCESS),
-        Err(e) => Err(e.into()),
-    }
+    csvdeck::write_deck_csv(deck, &mut out).map_err(ExportError::from)?;
+    out.flush()?;
+    Ok(ExitCode::SUCCESS)
 }
 
 fn find_deck<'a>(loaded: &'a Loaded, id: &str) -> anyhow::Result<&'a Deck> {
@@ -243,15 +237,22 @@ pub fn import(_cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
     }
     let file = std::fs::File::open(&args.file)
         .with_context(|| format!("cannot read {}", args.file.display()))?;
+    // Opening a folder succeeds; reading it would fail as a "bad row".
+    if file.metadata().is_ok_and(|m| m.is_dir()) {
+        anyhow::bail!(
+            "cannot read {}: it is a folder, not a CSV file",
+            args.file.display()
+        );
+    }
     let cards = match csvdeck::read_cards_csv(std::io::BufReader::new(file)) {
         Ok(cards) => cards,
         Err(errors) => {
             for e in &errors {
-                eprintln!("{}:{}: {}", args.file.display(), e.line, e.message);
+                crate::errln!("{}:{}: {}", args.file.display(), e.line, e.message);
             }
-            eprintln!(
-                "flipcard: error: {} bad rows in {}; no deck written",
-                errors.len(),
+            crate::errln!(
+                "flipcard: error: {} in {}; no deck written",
+                plural(errors.len(), "bad row", "bad rows"),
                 args.file.display()
             );
             return Ok(ExitCode::FAILURE);
@@ -267,10 +268,11 @@ pub fn import(_cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
         ),
     };
     let toml = csvdeck::deck_toml(&header, &cards);
-    let mut out = BufWriter::new(std::io::stdout().lock());
-    let code = finish_output(out.write_all(toml.as_bytes()).and_then(|_| out.flush()))?;
-    eprintln!("{}", placement_note(&args.deck_id, &args.lang, cards.len()));
-    Ok(code)
+    let mut out = crate::output::stdout();
+    out.write_all(toml.as_bytes())?;
+    out.flush()?;
+    crate::errln!("{}", placement_note(&args.deck_id, &args.lang, cards.len()));
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The deck title: the CSV file's name when it is a valid text, else the id.
@@ -288,9 +290,10 @@ fn title_from(file: &Path, id: &str) -> String {
 /// What to do with the deck file, on stderr so stdout stays the file.
 pub fn placement_note(id: &str, lang: &str, cards: usize) -> String {
     format!(
-        "flipcard: {cards} cards. Save the output as decks/{id}.toml and create an empty \
+        "flipcard: {}. Save the output as decks/{id}.toml and create an empty \
          content/{id}/{lang}.toml beside the decks/ folder (the imported cards link no \
-         explanations, so the content file needs no sections). Then run `flipcard check decks/`."
+         explanations, so the content file needs no sections). Then run `flipcard check decks/`.",
+        plural(cards, "card", "cards")
     )
 }
 
@@ -299,29 +302,29 @@ pub fn db(cli: &Cli, args: &DbArgs) -> anyhow::Result<ExitCode> {
         DbCommand::Restore(restore) => {
             let dir = crate::paths::data_dir(cli.data_dir.clone())?;
             let done = super::restore::restore(&dir, restore.backup.as_deref(), restore.force)?;
-            println!(
-                "restored {} ({} reviews) as {}",
+            crate::outln!(
+                "restored {} ({}) as {}",
                 done.backup.display(),
-                done.reviews,
+                plural(done.reviews, "review", "reviews"),
                 done.database.display()
-            );
+            )?;
             for p in &done.set_aside {
-                println!("set aside: {}", p.display());
+                crate::outln!("set aside: {}", p.display())?;
             }
             Ok(ExitCode::SUCCESS)
         }
         DbCommand::Rebuild => {
             let mut store = open_store(cli)?;
             let report = store.rebuild()?;
-            println!(
-                "rebuilt {} card states from {} log rows in {}; {} differed from the cache",
-                report.items,
-                report.reviews,
+            crate::outln!(
+                "rebuilt {} from {} in {}; {} differed from the cache",
+                plural(report.items, "card state", "card states"),
+                plural(report.reviews, "log row", "log rows"),
                 store.path().display(),
                 report.changed
-            );
+            )?;
             if report.tallies_changed {
-                println!("the answer tallies did not match the log and were recomputed");
+                crate::outln!("the answer tallies did not match the log and were recomputed")?;
             }
             Ok(ExitCode::SUCCESS)
         }

@@ -429,7 +429,8 @@ fn check_pages(conn: &Connection, path: &Path) -> Result<(), StoreError> {
         .collect::<Vec<_>>()
         .join("; ");
     if problems.len() > 3 {
-        detail.push_str(&format!("; and {} more problems", problems.len() - 3));
+        let more = crate::output::plural(problems.len() - 3, "more problem", "more problems");
+        detail.push_str(&format!("; and {more}"));
     }
     Err(StoreError::Corrupt {
         path: path.to_path_buf(),

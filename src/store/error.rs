@@ -68,11 +68,12 @@ pub enum StoreError {
     #[error("review log row {id} is unreadable: {detail}")]
     BadRow { id: i64, detail: String },
 
-    #[error("database {path}: {source}")]
+    /// Not a `source`: SQLite's message already says what its code does,
+    /// which a chain would say again ("Error code 14: unable to open ...").
+    #[error("database {path}: {error}")]
     Sqlite {
         path: PathBuf,
-        #[source]
-        source: rusqlite::Error,
+        error: rusqlite::Error,
     },
 
     #[error(transparent)]
@@ -119,7 +120,7 @@ impl StoreError {
             }
             _ => StoreError::Sqlite {
                 path: path.to_path_buf(),
-                source: err,
+                error: err,
             },
         }
     }

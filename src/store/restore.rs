@@ -35,7 +35,8 @@ pub enum RestoreError {
     #[error("backup {path} cannot be used: {detail}")]
     BadBackup { path: PathBuf, detail: String },
     #[error(
-        "database {path} is sound ({reviews} reviews); restoring would set aside every rating made since the backup. Pass --force to restore anyway"
+        "database {path} is sound ({}); restoring would set aside every rating made since the backup. Pass --force to restore anyway",
+        crate::output::plural(*reviews, "review", "reviews")
     )]
     Sound { path: PathBuf, reviews: i64 },
     #[error(

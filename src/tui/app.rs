@@ -82,6 +82,11 @@ impl App {
         i18n::tr(&self.lang, msg)
     }
 
+    /// `n` with its noun in the interface language: "1 card", "3 cards".
+    pub fn count(&self, n: usize, noun: i18n::Noun) -> String {
+        i18n::count(&self.lang, n, noun)
+    }
+
     pub fn screen(&self) -> &Screen {
         // The stack is never empty (the home screen is never popped).
         &self.stack[self.stack.len() - 1]

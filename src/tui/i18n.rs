@@ -14,7 +14,6 @@ pub enum Msg {
     Due,
     LastStudied,
     Never,
-    Cards,
     Prompts,
     Sections,
     Help,
@@ -23,7 +22,6 @@ pub enum Msg {
     Enlarge,
     Language,
     LanguageName,
-    DeckProblems,
     Reader,
     Search,
     NoMatch,
@@ -115,7 +113,8 @@ pub fn no_decks(lang: &str, load: &super::app::DeckLoad) -> String {
             "No decks could be opened: {n} files have errors. Run `flipcard check {dir}` to see them."
         ),
         (n, true) => format!(
-            "Koi deck khul nahi saka: {n} file(s) mein galtiyan hain. Dekhne ke liye `flipcard check {dir}` chalao."
+            "Koi deck khul nahi saka: {} mein galtiyan hain. Dekhne ke liye `flipcard check {dir}` chalao.",
+            crate::output::plural(n, "file", "files")
         ),
     }
 }
@@ -136,7 +135,6 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         Due => pick!("due", "baaki"),
         LastStudied => pick!("last studied", "pichhli padhai"),
         Never => pick!("never", "kabhi nahi"),
-        Cards => pick!("cards", "cards"),
         Prompts => pick!("Prompts and simulations", "Prompts aur simulations"),
         Sections => pick!("Sections", "Sections"),
         Help => pick!("help", "madad"),
@@ -148,10 +146,6 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         ),
         Language => pick!("language", "bhasha"),
         LanguageName => pick!("English", "Hinglish"),
-        DeckProblems => pick!(
-            "problems in the decks (run `flipcard check`)",
-            "decks mein galtiyan (`flipcard check` chalao)"
-        ),
         Reader => pick!("Reader", "Reader"),
         Search => pick!("search", "khojo"),
         NoMatch => pick!("no match", "kuch nahi mila"),
@@ -237,6 +231,36 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         Back => pick!("back", "wapas"),
         Quit => pick!("quit", "band karo"),
     }
+}
+
+/// What the interface counts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Noun {
+    Card,
+    Prompt,
+    Section,
+    DeckProblem,
+}
+
+/// `n` with its noun, agreeing: "1 card", "3 cards". Hinglish borrows the
+/// English nouns with their English plurals; its own words take the Hindi
+/// ones (galti, galtiyan).
+pub fn count(lang: &str, n: usize, noun: Noun) -> String {
+    let hi = lang == HINGLISH;
+    let (one, many) = match noun {
+        Noun::Card => ("card", "cards"),
+        Noun::Prompt => ("prompt", "prompts"),
+        Noun::Section => ("section", "sections"),
+        Noun::DeckProblem if hi => (
+            "decks mein galti (`flipcard check` chalao)",
+            "decks mein galtiyan (`flipcard check` chalao)",
+        ),
+        Noun::DeckProblem => (
+            "problem in the decks (run `flipcard check`)",
+            "problems in the decks (run `flipcard check`)",
+        ),
+    };
+    crate::output::plural(n, one, many)
 }
 
 /// The other language of the two.

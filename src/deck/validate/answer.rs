@@ -24,8 +24,8 @@ pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str)
                 rep.error(
                     list.span.clone(),
                     format!(
-                        "the answer of {owner} has {} choice(s); a choice answer needs at least 2",
-                        list.items.len()
+                        "the answer of {owner} has {}; a choice answer needs at least 2",
+                        crate::output::plural(list.items.len(), "choice", "choices")
                     ),
                     None,
                 );

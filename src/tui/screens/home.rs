@@ -8,7 +8,7 @@ use ratatui::widgets::{Cell, Paragraph, Row, Table, TableState, Wrap};
 
 use crate::tui::action::Action;
 use crate::tui::app::App;
-use crate::tui::i18n::Msg;
+use crate::tui::i18n::{Msg, Noun};
 
 use super::{Nav, Screen};
 
@@ -172,13 +172,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
     if let Some(deck) = app.decks.get(state.selected) {
         let mut lines = vec![Line::from(vec![Span::styled(
             format!(
-                "{} {} · {} {} · {} {}",
-                deck.cards.len(),
-                app.tr(Msg::Cards),
-                deck.prompts.len(),
-                "prompts",
-                deck.sections.len(),
-                app.tr(Msg::Sections).to_lowercase()
+                "{} · {} · {}",
+                app.count(deck.cards.len(), Noun::Card),
+                app.count(deck.prompts.len(), Noun::Prompt),
+                app.count(deck.sections.len(), Noun::Section)
             ),
             t.dim(),
         )])];
@@ -187,7 +184,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
         }
         if app.deck_load.errors > 0 {
             lines.push(Line::styled(
-                format!("{} {}", app.deck_load.errors, app.tr(Msg::DeckProblems)),
+                app.count(app.deck_load.errors, Noun::DeckProblem),
                 t.warn(),
             ));
         }

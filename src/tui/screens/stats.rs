@@ -13,7 +13,7 @@ use ratatui::widgets::{
 use crate::store::{DayGrid, Stats, StatsScope};
 use crate::tui::action::Action;
 use crate::tui::app::App;
-use crate::tui::i18n::Msg;
+use crate::tui::i18n::{Msg, Noun};
 use crate::tui::services::DayZone;
 
 use super::Nav;
@@ -154,13 +154,21 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
     let hi = app.lang == crate::tui::i18n::HINGLISH;
     let states = if hi {
         format!(
-            " {} cards: {} naye · {} seekh rahe · {} review · {} dobara seekh rahe",
-            c.total, c.new, c.learning, c.review, c.relearning
+            " {}: {} naye · {} seekh rahe · {} review · {} dobara seekh rahe",
+            app.count(c.total as usize, Noun::Card),
+            c.new,
+            c.learning,
+            c.review,
+            c.relearning
         )
     } else {
         format!(
-            " {} cards: {} new · {} learning · {} review · {} relearning",
-            c.total, c.new, c.learning, c.review, c.relearning
+            " {}: {} new · {} learning · {} review · {} relearning",
+            app.count(c.total as usize, Noun::Card),
+            c.new,
+            c.learning,
+            c.review,
+            c.relearning
         )
     };
     let p = &stats.prompts.overall;

@@ -399,3 +399,40 @@ fn flat(screen: &str) -> String {
         .collect::<Vec<_>>()
         .join(" ")
 }
+
+#[test]
+fn counts_of_one_read_in_the_singular_in_both_languages() {
+    for (lang, one, two) in [
+        (ENGLISH, "1 problem in the decks", "2 problems in the decks"),
+        (HINGLISH, "1 decks mein galti ", "2 decks mein galtiyan "),
+    ] {
+        let mut app = testkit::app(lang);
+        let deck = &mut app.decks[0];
+        deck.cards.truncate(1);
+        deck.prompts.truncate(1);
+        deck.sections.truncate(1);
+        app.deck_load.errors = 1;
+        let text = render(&app);
+        assert!(text.contains("1 card · 1 prompt · 1 section "), "{text}");
+        assert!(text.contains(one), "{text}");
+        app.deck_load.errors = 2;
+        let text = render(&app);
+        assert!(text.contains(two), "{text}");
+    }
+}
+
+#[test]
+fn no_decks_counts_failed_files_in_the_singular_in_hinglish_too() {
+    use crate::tui::app::DeckLoad;
+    let mut app = testkit::app(HINGLISH);
+    app.decks.clear();
+    for (files, text) in [(1, "1 file mein galtiyan"), (2, "2 files mein galtiyan")] {
+        app.deck_load = DeckLoad {
+            from: Some("/srv/decks".into()),
+            errors: 3,
+            failed_files: files,
+        };
+        let screen = flat(&render(&app));
+        assert!(screen.contains(text), "{screen}");
+    }
+}

@@ -8,7 +8,7 @@ use crate::sched::typed::{self, TypedCheck};
 use crate::sched::{CardState, CramQueue, Direction, ItemKey, Preview, Queue, Rating};
 use crate::tui::action::Action;
 use crate::tui::app::App;
-use crate::tui::i18n::Msg;
+use crate::tui::i18n::{Msg, Noun};
 use crate::tui::services::Stamp;
 
 use super::Nav;
@@ -156,9 +156,8 @@ impl ReviewState {
                 )
             }
             Source::Cram(c) => format!(
-                "{} {} · {}",
-                c.remaining(),
-                app.tr(Msg::Cards),
+                "{} · {}",
+                app.count(c.remaining(), Noun::Card),
                 app.tr(Msg::Cram)
             ),
         }
