@@ -83,10 +83,10 @@ pub enum StoreError {
 fn corrupt_message(path: &std::path::Path, detail: &str, backup: Option<&PathBuf>) -> String {
     let advice = match backup {
         Some(b) => format!(
-            "the newest backup is {}; `flipcard db restore` sets the damaged file aside (it is kept) and restores that backup",
+            "The newest backup is {}; `flipcard db restore` sets the damaged file aside (it is kept) and restores that backup.",
             b.display()
         ),
-        None => "no backup was found next to it".to_string(),
+        None => "No backup was found next to it.".to_string(),
     };
     format!(
         "database {} is corrupt ({detail}); it was left untouched. {advice}",
