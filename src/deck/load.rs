@@ -8,6 +8,7 @@ use std::path::{Component, Path, PathBuf};
 use toml::de::DeTable;
 
 use super::diag::{Diagnostic, LineIndex, Severity};
+use super::files::{self, Probe};
 use super::model::Deck;
 use super::raw::{self, Span};
 use super::report::FileReport;
@@ -86,7 +87,9 @@ pub fn load_paths(paths: &[PathBuf]) -> Loaded {
     loaded
 }
 
-/// The deck files a path names.
+/// The deck files a path names: a file, or every `*.toml` entry of a
+/// folder whatever it is, so that a link or FIFO there is reported by the
+/// reader instead of leaving a deck out unnoticed.
 fn deck_files(path: &Path, loaded: &mut Loaded) -> Vec<PathBuf> {
     if !path.is_dir() {
         return vec![path.to_path_buf()];
@@ -96,37 +99,47 @@ fn deck_files(path: &Path, loaded: &mut Loaded) -> Vec<PathBuf> {
             let mut files: Vec<PathBuf> = entries
                 .filter_map(Result::ok)
                 .map(|e| e.path())
-                .filter(|p| p.extension().is_some_and(|e| e == "toml") && p.is_file())
+                .filter(|p| p.extension().is_some_and(|e| e == "toml"))
                 .collect();
             files.sort();
             files
         }
         Err(e) => {
-            loaded.diagnostics.push(io_problem(path, &e.to_string()));
+            loaded.diagnostics.push(Diagnostic::whole_file(
+                path.to_path_buf(),
+                format!("cannot be read: {e}"),
+                None,
+            ));
             Vec::new()
         }
     }
 }
 
-fn io_problem(path: &Path, message: &str) -> Diagnostic {
-    Diagnostic {
-        path: path.to_path_buf(),
-        line: 1,
-        col: 1,
-        severity: Severity::Error,
-        message: format!("cannot read: {message}"),
-        hint: None,
-        width: 1,
-    }
+/// Reads a file as UTF-8 text; a path that is not a regular file, an I/O
+/// problem or invalid UTF-8 is a diagnostic (the lossy text is still kept
+/// for rendering).
+fn read_text(path: &Path, loaded: &mut Loaded) -> Option<String> {
+    let mut problems = Vec::new();
+    let text = read_text_into(path, &mut problems, &mut loaded.sources);
+    loaded.diagnostics.extend(problems);
+    text
 }
 
-/// Reads a file as UTF-8 text; an I/O problem or invalid UTF-8 is a
-/// diagnostic (the lossy text is still kept for rendering).
-fn read_text(path: &Path, loaded: &mut Loaded) -> Option<String> {
-    let bytes = match fs::read(path) {
+/// [`read_text`], with the problems collected in `problems`.
+fn read_text_into(
+    path: &Path,
+    problems: &mut Vec<Diagnostic>,
+    sources: &mut BTreeMap<PathBuf, String>,
+) -> Option<String> {
+    let read = match files::probe(path) {
+        Probe::Regular => files::read_regular(path),
+        Probe::Missing => Err("no such file or directory".to_string()),
+        Probe::Unusable(why) => Err(why),
+    };
+    let bytes = match read {
         Ok(b) => b,
-        Err(e) => {
-            loaded.diagnostics.push(io_problem(path, &e.to_string()));
+        Err(why) => {
+            problems.push(Diagnostic::whole_file(path.to_path_buf(), why, None));
             return None;
         }
     };
@@ -143,8 +156,8 @@ fn read_text(path: &Path, loaded: &mut Loaded) -> Option<String> {
                 format!("not valid UTF-8 (byte 0x{:02X})", bytes[valid]),
                 Some("deck and content files are UTF-8 text".to_string()),
             );
-            loaded.diagnostics.extend(rep.finish());
-            loaded.sources.insert(path.to_path_buf(), text);
+            problems.extend(rep.finish());
+            sources.insert(path.to_path_buf(), text);
             None
         }
     }
@@ -234,11 +247,14 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
     let dir = content_dir(path, &stem);
     let mut texts: Vec<(String, PathBuf, Option<String>)> = Vec::new();
     let mut stray = Vec::new();
+    // Content files that cannot be read are reported after the deck file.
+    let mut unreadable = Vec::new();
     if header.langs.known {
         for (lang, span) in &header.lang_spans {
             let file = dir.join(format!("{lang}.toml"));
-            if file.is_file() {
-                let text = read_text(&file, loaded);
+            if files::probe(&file) != Probe::Missing {
+                // Whatever is there is read, or reported as what it is.
+                let text = read_text_into(&file, &mut unreadable, &mut loaded.sources);
                 texts.push((lang.clone(), file, text));
             } else {
                 rep.error(
@@ -300,6 +316,7 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
     for f in files {
         loaded.diagnostics.extend(f.rep.finish());
     }
+    loaded.diagnostics.extend(unreadable);
     loaded.diagnostics.extend(stray);
     loaded.sources.insert(path.to_path_buf(), text);
     for (_, file, text) in texts {

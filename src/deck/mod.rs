@@ -7,6 +7,7 @@
 
 pub mod check;
 pub mod diag;
+mod files;
 pub mod load;
 pub mod model;
 pub mod raw;
