@@ -5,18 +5,13 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fs;
 use std::path::{Component, Path, PathBuf};
 
-use toml::de::DeTable;
-
 use super::diag::{Diagnostic, LineIndex, Severity};
 use super::files::{self, Probe};
 use super::model::Deck;
-use super::raw::{self, Span};
+use super::raw;
 use super::report::FileReport;
+use super::syntax;
 use super::validate::{self, content::ContentFile};
-
-/// TOML syntax errors shown per file; past this they are mostly echoes of
-/// the first ones.
-const MAX_SYNTAX_ERRORS: usize = 20;
 
 /// Everything a load found: the valid decks, every diagnostic (in file
 /// order), and the text of each file read, for rendering.
@@ -163,39 +158,6 @@ fn read_text_into(
     }
 }
 
-/// Parses TOML, reporting every syntax error; `None` when there are any
-/// (a recovered tree would only add confusing follow-up errors).
-fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Span)> {
-    let (table, errors) = DeTable::parse_recoverable(text);
-    if errors.is_empty() {
-        let span = table.span();
-        return Some((table.into_inner(), span));
-    }
-    let mut found: Vec<(Span, String)> = errors
-        .iter()
-        .map(|e| (e.span().unwrap_or(0..0), e.message().to_string()))
-        .collect();
-    found.sort_by_key(|(span, _)| span.start);
-    found.dedup();
-    let extra = found.len().saturating_sub(MAX_SYNTAX_ERRORS);
-    for (span, message) in found.iter().take(MAX_SYNTAX_ERRORS) {
-        let hint = (message.contains("escape") || message.contains("unicode")).then(|| {
-            "a backslash in a \"...\" string starts an escape; write LaTeX in a literal string '...' or '''...'''"
-                .to_string()
-        });
-        rep.error(span.clone(), format!("TOML: {message}"), hint);
-    }
-    if extra > 0 {
-        let at = found[MAX_SYNTAX_ERRORS].0.clone();
-        rep.error(
-            at,
-            format!("TOML: {extra} more syntax errors not shown"),
-            None,
-        );
-    }
-    None
-}
-
 /// Where a deck's content files live: `<deck folder>/../content/<deck-id>/`,
 /// built lexically so a relative deck path gives a relative content path.
 pub fn content_dir(deck_file: &Path, deck_id: &str) -> PathBuf {
@@ -216,8 +178,8 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     let mut rep = FileReport::new(path, &text);
-    let parsed =
-        parse(&mut rep, &text).map(|(root, span)| raw::read_deck_file(&mut rep, &root, span));
+    let parsed = syntax::parse(&mut rep, &text)
+        .map(|(root, span)| raw::read_deck_file(&mut rep, &root, span));
     let Some(raw) = parsed else {
         loaded.diagnostics.extend(rep.finish());
         loaded.sources.insert(path.to_path_buf(), text);
@@ -275,7 +237,7 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
         .map(|(lang, file, text)| {
             let mut crep = FileReport::new(file, text.as_deref().unwrap_or(""));
             let raw = text.as_deref().and_then(|t| {
-                let (root, span) = parse(&mut crep, t)?;
+                let (root, span) = syntax::parse(&mut crep, t)?;
                 Some(raw::read_content_file(&mut crep, &root, span))
             });
             ContentFile {

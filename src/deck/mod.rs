@@ -15,6 +15,7 @@ mod read;
 pub mod report;
 pub mod schema;
 mod suggest;
+mod syntax;
 pub mod tomlstr;
 pub mod validate;
 
