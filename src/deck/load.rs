@@ -255,7 +255,7 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
     } else {
         validate::content::sections(&mut files)
     };
-    let body = validate::body(&mut rep, &raw, &header.langs, sections.ids.as_deref());
+    let body = validate::body(&mut rep, &raw, &header.langs, sections.ids.as_ref());
 
     let clean = !rep.has_errors() && files.iter().all(|f| !f.rep.has_errors());
     let deck = match (clean, header, body, sections.sections) {

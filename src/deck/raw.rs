@@ -243,6 +243,10 @@ pub fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Span) -> 
                 file.deck = Some(read_header(rep, t, v.span()));
             }
         }
+        // A misspelt [deck] is already reported as an unknown field.
+        None if root.iter().any(|(k, _)| {
+            suggest::closest(k.get_ref(), DECK_FILE_FIELDS.iter().copied()) == Some("deck")
+        }) => {}
         None => rep.error(
             0..0,
             "the deck file has no [deck] table",

@@ -8,7 +8,8 @@ use crate::deck::raw::{RawContentFile, RawSection, Str};
 use crate::deck::report::FileReport;
 
 use super::text::{self, Kind};
-use super::{id, link, unique};
+use super::{Targets, id, link, unique};
+use crate::deck::suggest;
 
 /// One language's content file: its report, and what was read (`None` when
 /// the file is missing or does not parse).
@@ -22,14 +23,14 @@ pub struct ContentFile<'s> {
 /// name (from the primary language's file), when that file could be read.
 pub struct Sections {
     pub sections: Option<Vec<Section>>,
-    pub ids: Option<Vec<String>>,
+    pub ids: Option<Targets>,
 }
 
 /// Checks every content file; `files[0]` is the primary language's.
 pub fn sections(files: &mut [ContentFile]) -> Sections {
     let mut ok = true;
     // Per file: the section ids it defines.
-    let mut ids_of: Vec<Option<Vec<String>>> = Vec::new();
+    let mut ids_of: Vec<Option<Targets>> = Vec::new();
     for f in files.iter_mut() {
         let Some(raw) = &f.raw else {
             ids_of.push(None);
@@ -41,18 +42,23 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
             ok &= id(&mut f.rep, s, "section");
         }
         ok &= unique(&mut f.rep, &ids, "section");
-        ids_of.push(Some(ids.iter().map(|s| s.value.clone()).collect()));
+        ids_of.push(Some(Targets::of(
+            raw.sections.iter().map(|s| s.id.as_ref()),
+        )));
     }
     let primary_ids = ids_of.first().cloned().flatten();
 
-    // Each file's sections: its own checks, links against its own ids.
+    // Each file's sections: its own checks, and links against the primary
+    // file's ids (the ones used; a translation with other ids is reported
+    // below, once, rather than again at every link to them).
     for (f, own_ids) in files.iter_mut().zip(&ids_of) {
         let Some(raw) = &f.raw else { continue };
+        let targets = primary_ids.as_ref().or(own_ids.as_ref());
         for s in &raw.sections {
             ok &= section_texts(&mut f.rep, s);
             if let Some(see) = &s.see {
                 for target in &see.items {
-                    ok &= link(&mut f.rep, target, own_ids.as_deref(), "section", "see");
+                    ok &= link(&mut f.rep, target, targets, "section", "see");
                 }
             }
         }
@@ -62,51 +68,11 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
     if let (Some(primary), Some(primary_raw)) =
         (&primary_ids, files.first().and_then(|f| f.raw.clone()))
     {
-        let primary_path = files[0].rep.path.clone();
         for i in 1..files.len() {
-            let Some(other_ids) = ids_of[i].clone() else {
+            let (Some(other), Some(other_raw)) = (ids_of[i].clone(), files[i].raw.clone()) else {
                 continue;
             };
-            let other_path = files[i].rep.path.clone();
-            for s in primary_raw.sections.iter() {
-                let Some(sid) = &s.id else { continue };
-                if !other_ids.contains(&sid.value) {
-                    ok = false;
-                    files[0].rep.error(
-                        sid.span.clone(),
-                        format!(
-                            "section `{}` is missing from {}",
-                            sid.value,
-                            other_path.display()
-                        ),
-                        Some("every language's content file has the same section ids".to_string()),
-                    );
-                }
-            }
-            let Some(other_raw) = files[i].raw.clone() else {
-                continue;
-            };
-            for s in &other_raw.sections {
-                let Some(sid) = &s.id else { continue };
-                if !primary.contains(&sid.value) {
-                    ok = false;
-                    files[i].rep.error(
-                        sid.span.clone(),
-                        format!(
-                            "section `{}` is not in the primary language's file {}",
-                            sid.value,
-                            primary_path.display()
-                        ),
-                        Some("every language's content file has the same section ids".to_string()),
-                    );
-                } else if let Some(p) = primary_raw
-                    .sections
-                    .iter()
-                    .find(|p| p.id.as_ref().map(|i| &i.value) == Some(&sid.value))
-                {
-                    see_agrees(&mut files[i].rep, p, s, &primary_path);
-                }
-            }
+            ok &= same_sections(files, i, primary, &primary_raw, &other, &other_raw);
         }
     }
 
@@ -115,6 +81,80 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
         sections,
         ids: primary_ids,
     }
+}
+
+/// Compares translation `i`'s section ids with the primary file's. Ids that
+/// are broken are left to their own errors, and a section whose id differs
+/// (a typo in one file) is one error in the translation, not also one for
+/// the id it lacks.
+fn same_sections(
+    files: &mut [ContentFile],
+    i: usize,
+    primary: &Targets,
+    primary_raw: &RawContentFile,
+    other: &Targets,
+    other_raw: &RawContentFile,
+) -> bool {
+    let primary_path = files[0].rep.path.clone();
+    let other_path = files[i].rep.path.clone();
+    let valid = |s: &RawSection| s.id.clone().filter(|sid| super::is_id(&sid.value));
+    let mut missing: Vec<Str> = primary_raw
+        .sections
+        .iter()
+        .filter_map(valid)
+        .filter(|sid| !other.contains(&sid.value) && !other.may_mean(&sid.value))
+        .collect();
+    let extra: Vec<Str> = other_raw
+        .sections
+        .iter()
+        .filter_map(valid)
+        .filter(|sid| !primary.contains(&sid.value) && !primary.may_mean(&sid.value))
+        .collect();
+    let ok = missing.is_empty() && extra.is_empty();
+    let single_pair = missing.len() == 1 && extra.len() == 1;
+    for sid in &extra {
+        let partner = suggest::closest(&sid.value, missing.iter().map(|m| m.value.as_str()))
+            .map(str::to_string)
+            .or_else(|| single_pair.then(|| missing[0].value.clone()));
+        let hint = match &partner {
+            Some(p) => format!(
+                "did you mean `{p}`? every language's content file has the same section ids"
+            ),
+            None => "every language's content file has the same section ids".to_string(),
+        };
+        missing.retain(|m| Some(&m.value) != partner.as_ref());
+        files[i].rep.error(
+            sid.span.clone(),
+            format!(
+                "section `{}` is not in the primary language's file {}",
+                sid.value,
+                primary_path.display()
+            ),
+            Some(hint),
+        );
+    }
+    for sid in &missing {
+        files[0].rep.error(
+            sid.span.clone(),
+            format!(
+                "section `{}` is missing from {}",
+                sid.value,
+                other_path.display()
+            ),
+            Some("every language's content file has the same section ids".to_string()),
+        );
+    }
+    for s in &other_raw.sections {
+        let Some(sid) = &s.id else { continue };
+        if let Some(p) = primary_raw
+            .sections
+            .iter()
+            .find(|p| p.id.as_ref().map(|i| &i.value) == Some(&sid.value))
+        {
+            see_agrees(&mut files[i].rep, p, s, &primary_path);
+        }
+    }
+    ok
 }
 
 fn section_texts(rep: &mut FileReport, s: &RawSection) -> bool {
