@@ -20,7 +20,7 @@ use toml_parser::parser::{Event, EventKind, RecursionGuard};
 use toml_parser::{ParseError, Raw, Source};
 
 use super::raw::Span;
-use super::report::FileReport;
+use super::report::{FileReport, at_lines};
 
 /// TOML syntax errors shown per file; past this they are mostly echoes of
 /// the first ones.
@@ -29,9 +29,6 @@ const MAX_SYNTAX_ERRORS: usize = 20;
 /// Nesting deeper than this is not followed (the `toml` crate's own limit,
 /// which keeps a file of 100 000 `[` from overflowing the stack).
 const MAX_DEPTH: u32 = 80;
-
-/// Later definitions of a key listed by line before "and N more".
-const LINES_LISTED: usize = 3;
 
 /// Parses TOML, reporting every syntax error; `None` when there are any
 /// (a recovered tree would only add confusing follow-up errors).
@@ -66,34 +63,21 @@ pub fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Sp
     }
     let (clashes, mut found): (Vec<_>, Vec<_>) = found.into_iter().partition(|(_, m)| is_clash(m));
     report_clashes(rep, &outline, &clashes);
-    // Reported at the end of the file by the crate; the cause is where the
-    // string opens.
-    let mut open_string = None;
-    found.retain(
-        |(span, _)| match outline.unclosed_string_at(span.start, text.len()) {
-            Some(at) => {
-                open_string = Some(at);
-                false
-            }
-            None => true,
-        },
-    );
-    if let Some((start, delim)) = open_string {
-        rep.error(
-            start..start + delim.len(),
-            format!("TOML: unclosed multi-line string: this `{delim}` is never closed"),
-            Some(format!(
-                "the rest of the file was read as part of it; add the closing `{delim}`"
-            )),
-        );
-    }
+    let mut hints: Vec<(usize, String)> = Vec::new();
+    hints.extend(strings_out_of_step(rep, &outline, &mut found, text));
+    hints.extend(text_outside_strings(rep, &outline, &mut found, text));
 
     let extra = found.len().saturating_sub(MAX_SYNTAX_ERRORS);
     for (span, message) in found.iter().take(MAX_SYNTAX_ERRORS) {
-        let hint = (message.contains("escape") || message.contains("unicode")).then(|| {
+        let escape = (message.contains("escape") || message.contains("unicode")).then(|| {
             "a backslash in a \"...\" string starts an escape; write LaTeX in a literal string '...' or '''...'''"
                 .to_string()
         });
+        let hint = hints
+            .iter()
+            .find(|(at, _)| *at == span.start)
+            .map(|(_, hint)| hint.clone())
+            .or(escape);
         rep.error(span.clone(), format!("TOML: {message}"), hint);
     }
     if extra > 0 {
@@ -105,6 +89,141 @@ pub fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Sp
         );
     }
     None
+}
+
+/// A multi-line string running to the end of the file, with other errors
+/// before it, means the `'''` (or `"""`) are out of step: one is missing
+/// or one too many, every string after pairs the wrong delimiters, and text
+/// between them is read as TOML to the end of the file. That is one error:
+/// at a string that runs on to the delimiter opening the next one (its own
+/// closer is missing), or else at the first error, where the extra or
+/// missing delimiter most likely is. The other errors are dropped; the
+/// returned hint goes with the first error kept.
+fn strings_out_of_step(
+    rep: &mut FileReport,
+    outline: &Outline,
+    found: &mut Vec<(Span, String)>,
+    text: &str,
+) -> Option<(usize, String)> {
+    let open = outline.strings.iter().find(|s| !s.closed)?;
+    // The crate reports the string at the end of the file.
+    let at_end = |span: &Span| span.start >= text.len().saturating_sub(1);
+    if !found.iter().any(|(span, _)| at_end(span)) {
+        return None;
+    }
+    found.retain(|(span, _)| !at_end(span));
+    let delim = open.delim;
+    let Some(first) = found.first().map(|(span, _)| span.start) else {
+        rep.error(
+            open.start..open.start + delim.len(),
+            format!("TOML: unclosed multi-line string: this `{delim}` is never closed"),
+            Some(format!(
+                "the rest of the file was read as part of it; add the closing `{delim}`"
+            )),
+        );
+        return None;
+    };
+    let runaway = outline
+        .strings
+        .iter()
+        .find(|s| s.closed && s.ends_at_opener && s.start < first);
+    if let Some(r) = runaway {
+        found.retain(|(span, _)| span.start < r.start);
+        let line = rep.line_of(r.end.saturating_sub(1));
+        rep.error(
+            r.start..r.start + r.delim.len(),
+            format!(
+                "TOML: multi-line string not closed: it runs on to line {line}, where the next string opens"
+            ),
+            Some(format!(
+                "add the closing `{}` where its text ends; every string after it was read out of step",
+                r.delim
+            )),
+        );
+        return None;
+    }
+    let dropped = found.iter().filter(|(span, _)| span.start > first).count();
+    found.retain(|(span, _)| span.start <= first);
+    Some((
+        first,
+        format!(
+            "a `{delim}` near here is missing or one too many: the multi-line strings after it are out of step to the end of the file ({dropped} more errors not shown)"
+        ),
+    ))
+}
+
+/// This many errors between two multi-line strings that read words as keys
+/// are taken for text that a misplaced delimiter left outside its string.
+const PROSE_RUN: usize = 2;
+
+/// Text left outside its string by a misplaced `'''` (a swapped or moved
+/// line) is read as TOML until the next string, with an error on nearly
+/// every line. Between two multi-line strings, a run of errors that read
+/// words as keys is one error, at its first; the returned hints go with
+/// the errors kept.
+fn text_outside_strings(
+    rep: &FileReport,
+    outline: &Outline,
+    found: &mut Vec<(Span, String)>,
+    text: &str,
+) -> Vec<(usize, String)> {
+    // Gaps are counted between strings that are values (`key = '''`): a
+    // string that is not one is part of the misplaced text.
+    let values: Vec<&MlString> = outline.strings.iter().filter(|s| s.is_value).collect();
+    if values.is_empty() {
+        return Vec::new();
+    }
+    let prose = |m: &str| {
+        m.starts_with("key with no value")
+            || m.starts_with("invalid unquoted key")
+            || m.starts_with("unexpected key or value")
+    };
+    // Errors by the gap between strings they are in, and within it by the
+    // last line before them that reads as TOML (a header or `key = `): the
+    // misplaced text rarely has one, so an error after one has its own cause.
+    let gap = |at: usize| values.partition_point(|s| s.end <= at);
+    let mut toml_lines = Vec::new();
+    let mut line_start = 0;
+    for line in text.split_inclusive('\n') {
+        let trimmed = line.trim_start();
+        let key_eq = trimmed
+            .find('=')
+            .is_some_and(|eq| looks_like_key_eq(&trimmed[..=eq]));
+        if trimmed.starts_with('[') || key_eq {
+            toml_lines.push(line_start);
+        }
+        line_start += line.len();
+    }
+    let section = |at: usize| toml_lines.partition_point(|&s| s <= at);
+    let mut runs: BTreeMap<(usize, usize), Vec<usize>> = BTreeMap::new();
+    for (i, (span, _)) in found.iter().enumerate() {
+        runs.entry((gap(span.start), section(span.start)))
+            .or_default()
+            .push(i);
+    }
+    let mut dropped = vec![false; found.len()];
+    let mut hints = Vec::new();
+    for members in runs.values() {
+        let prose_errors = members.iter().filter(|&&i| prose(&found[i].1)).count();
+        if prose_errors < PROSE_RUN {
+            continue;
+        }
+        let (first, last) = (members[0], members[members.len() - 1]);
+        for &i in &members[1..] {
+            dropped[i] = true;
+        }
+        hints.push((
+            found[first].0.start,
+            format!(
+                "this looks like text outside its string: a `'''` before it may be missing or misplaced ({} more errors up to line {} not shown)",
+                members.len() - 1,
+                rep.line_of(found[last].0.start)
+            ),
+        ));
+    }
+    let mut kept = dropped.iter();
+    found.retain(|_| kept.next() == Some(&false));
+    hints
 }
 
 /// The `toml` crate's messages for a key defined twice (`duplicate key`,
@@ -124,13 +243,17 @@ fn report_clashes(rep: &mut FileReport, outline: &Outline, clashes: &[(Span, Str
             unplaced.push(clash);
             continue;
         };
-        // Keys under a table header that is itself a clash are that
-        // header's echoes (`[deck]` twice makes every key in it a clash).
-        if later
-            .section
-            .as_ref()
-            .is_some_and(|h| h.start != later.span.start && clash_starts.contains(&h.start))
-        {
+        // Keys inside a key that is itself a clash are its echoes: `[deck]`
+        // twice makes every key in it a clash, `[prompt.answer]` above the
+        // first [[prompt]] every later `[prompt.answer]`.
+        let inside_a_clash = clash_starts.iter().any(|&start| {
+            start < later.span.start
+                && outline.def_at(start).is_some_and(|outer| {
+                    outer.keys().len() < later.keys().len()
+                        && later.keys().starts_with(&outer.keys())
+                })
+        });
+        if inside_a_clash {
             continue;
         }
         match outline.first_def(later) {
@@ -189,21 +312,6 @@ fn report_clashes(rep: &mut FileReport, outline: &Outline, clashes: &[(Span, Str
     }
 }
 
-/// "line 7", "lines 7 and 9", "lines 7, 9, 12 and 4 more".
-fn at_lines(lines: &[usize]) -> String {
-    let shown: Vec<String> = lines
-        .iter()
-        .take(LINES_LISTED)
-        .map(usize::to_string)
-        .collect();
-    let rest = lines.len().saturating_sub(LINES_LISTED);
-    match shown.split_last() {
-        Some((only, [])) => format!("line {only}"),
-        Some((last, init)) if rest == 0 => format!("lines {} and {last}", init.join(", ")),
-        _ => format!("lines {} and {rest} more", shown.join(", ")),
-    }
-}
-
 /// A step in a key's full path: a key, or the n-th table of an array of
 /// tables (or item of an array).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -240,11 +348,20 @@ struct KeyDef {
     path: Vec<Seg>,
     span: Span,
     role: Role,
-    /// The last key of the header whose table this key is in.
-    section: Option<Span>,
 }
 
 impl KeyDef {
+    /// The path's keys, without array positions.
+    fn keys(&self) -> Vec<&str> {
+        self.path
+            .iter()
+            .filter_map(|s| match s {
+                Seg::Key(k) => Some(k.as_str()),
+                Seg::Item(_) => None,
+            })
+            .collect()
+    }
+
     /// The dotted path, without array positions: `deck.id`.
     fn name(&self) -> String {
         let keys: Vec<String> = self
@@ -289,9 +406,8 @@ struct Outline {
     defs: Vec<KeyDef>,
     /// The innermost unclosed array or inline table.
     unclosed: Option<Unclosed>,
-    /// Multi-line strings that run to the end of the file: where each
-    /// starts and its delimiter.
-    open_strings: Vec<(usize, &'static str)>,
+    /// Every multi-line string, in file order.
+    strings: Vec<MlString>,
 }
 
 impl Outline {
@@ -325,7 +441,7 @@ impl Outline {
             // An inner bracket left open leaves the ones around it open too;
             // the innermost is the one missing its closer.
             .max_by_key(|u| u.opener.start);
-        let open_strings = tokens
+        let strings = tokens
             .iter()
             .filter(|t| {
                 matches!(
@@ -333,16 +449,7 @@ impl Outline {
                     TokenKind::MlBasicString | TokenKind::MlLiteralString
                 )
             })
-            .map(|t| t.span().start()..t.span().end())
-            .filter(|s| s.end == text.len() && !closes_itself(&text[s.clone()]))
-            .map(|s| {
-                let delim = if text[s.start..].starts_with('"') {
-                    "\"\"\""
-                } else {
-                    "'''"
-                };
-                (s.start, delim)
-            })
+            .map(|t| MlString::new(text, t.span().start()..t.span().end()))
             .collect();
         let mut walk = Walk::new(text);
         for e in &events {
@@ -351,7 +458,7 @@ impl Outline {
         Outline {
             defs: walk.defs,
             unclosed,
-            open_strings,
+            strings,
         }
     }
 
@@ -366,22 +473,63 @@ impl Outline {
             .take_while(|d| d.span.start < later.span.start)
             .find(|d| d.path == later.path)
     }
+}
 
-    /// The multi-line string running to the end of the file (its start and
-    /// delimiter), when an error at `offset` is at that end.
-    fn unclosed_string_at(&self, offset: usize, len: usize) -> Option<(usize, &'static str)> {
-        self.open_strings
-            .first()
-            .copied()
-            .filter(|_| offset >= len.saturating_sub(1))
+/// A multi-line string token.
+#[derive(Debug, Clone)]
+struct MlString {
+    start: usize,
+    end: usize,
+    delim: &'static str,
+    /// Ends with its own delimiter (else it runs to the end of the file).
+    closed: bool,
+    /// Its closing delimiter follows `key =` on its line: it is the next
+    /// string's opener, and this string's own closer is missing.
+    ends_at_opener: bool,
+    /// It follows `key =` on its line.
+    is_value: bool,
+}
+
+impl MlString {
+    fn new(text: &str, span: Span) -> MlString {
+        let token = text.get(span.clone()).unwrap_or("");
+        let delim = if token.starts_with('"') {
+            "\"\"\""
+        } else {
+            "'''"
+        };
+        let closed = token.len() >= 6 && token.ends_with(delim);
+        let close = span.end.saturating_sub(delim.len());
+        let spans_lines = token
+            .get(..token.len().saturating_sub(delim.len()))
+            .is_some_and(|t| t.contains('\n'));
+        MlString {
+            start: span.start,
+            end: span.end,
+            delim,
+            closed,
+            ends_at_opener: closed && spans_lines && looks_like_key_eq(line_before(text, close)),
+            is_value: looks_like_key_eq(line_before(text, span.start)),
+        }
     }
 }
 
-/// Whether a multi-line string token ends with its own delimiter.
-fn closes_itself(token: &str) -> bool {
-    token
-        .get(..3)
-        .is_some_and(|delim| token.len() >= 6 && token.ends_with(delim))
+/// The text from the start of the line of byte `at` up to it.
+fn line_before(text: &str, at: usize) -> &str {
+    let before = text.get(..at).unwrap_or("");
+    &before[before.rfind('\n').map_or(0, |i| i + 1)..]
+}
+
+/// `body = ` (a key and `=`, nothing else).
+fn looks_like_key_eq(s: &str) -> bool {
+    let Some(key) = s.trim_end().strip_suffix('=') else {
+        return false;
+    };
+    let key = key.trim();
+    !key.is_empty()
+        && key
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | ' ' | '"' | '\''))
 }
 
 /// Where the walk is: a table (the root, a header's, an inline table)
@@ -413,7 +561,6 @@ struct Walk<'s> {
     keys: Vec<(String, Span)>,
     mode: Mode,
     after_key_sep: bool,
-    section: Option<Span>,
 }
 
 impl<'s> Walk<'s> {
@@ -426,7 +573,6 @@ impl<'s> Walk<'s> {
             keys: Vec::new(),
             mode: Mode::Keys,
             after_key_sep: false,
-            section: None,
         }
     }
 
@@ -573,11 +719,11 @@ impl<'s> Walk<'s> {
         };
         self.mode = Mode::Keys;
         let keys = std::mem::take(&mut self.keys);
-        let Some((_, last_span)) = keys.last().cloned() else {
+        if keys.is_empty() {
             // `[]`: its keys belong to no table.
             self.frames = vec![Frame::Table(vec![Seg::Item(usize::MAX)])];
             return;
-        };
+        }
         let written = keys
             .iter()
             .map(|(k, _)| shown_key(k))
@@ -588,7 +734,6 @@ impl<'s> Walk<'s> {
         } else {
             format!("[{written}]")
         };
-        self.section = None;
         let mut path = self.define(
             Vec::new(),
             &keys,
@@ -601,7 +746,6 @@ impl<'s> Walk<'s> {
             *count += 1;
             path.push(Seg::Item(*count - 1));
         }
-        self.section = Some(last_span);
         self.frames = vec![Frame::Table(path)];
     }
 
@@ -628,7 +772,6 @@ impl<'s> Walk<'s> {
                 } else {
                     Role::Parent(by.to_string())
                 },
-                section: self.section.clone(),
             });
             if !last
                 && !inline
@@ -749,6 +892,65 @@ mod tests {
             errors(text),
             ["3:3: TOML: unclosed inline table: this `{` is never closed"]
         );
+    }
+
+    #[test]
+    fn a_table_above_its_array_of_tables_is_one_error() {
+        let text = "[p.a]\nk = 1\n[[p]]\n[p.a]\nk = 2\n[[p]]\n[p.a]\n";
+        assert_eq!(
+            errors(text),
+            [
+                "1:2: key `p` is defined 3 times: first here as a table by [p.a], then as [[p]] at lines 3 and 6"
+            ]
+        );
+    }
+
+    #[test]
+    fn strings_out_of_step_are_one_error() {
+        // The first body's closer is missing: it runs on to the second's
+        // opener, and the second body's text is read as TOML.
+        let text = "a = '''\none\n\nb = '''\ntwo words\n'''\nc = 1\n";
+        assert_eq!(
+            errors(text),
+            [
+                "1:5: TOML: multi-line string not closed: it runs on to line 4, where the next string opens"
+            ]
+        );
+        // A stray delimiter ends the first string early.
+        let text = "a = '''\none ''' two\n'''\nb = '''\nthree four\n'''\n";
+        let mut rep = FileReport::new(Path::new("x.toml"), text);
+        assert!(parse(&mut rep, text).is_none());
+        let found = rep.finish();
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!((found[0].line, found[0].col), (2, 9));
+        assert!(
+            found[0]
+                .hint
+                .as_deref()
+                .is_some_and(|h| h.starts_with("a `'''` near here is missing or one too many")),
+            "{found:?}"
+        );
+    }
+
+    #[test]
+    fn text_left_outside_its_string_is_one_error() {
+        let text = "a = '''\none\n'''\ntwo words\nthree words\n'''\nfour\n'''\nb = 'x'\n[t\nc = 1\n";
+        let mut rep = FileReport::new(Path::new("x.toml"), text);
+        assert!(parse(&mut rep, text).is_none());
+        let found: Vec<(usize, Option<String>)> =
+            rep.finish().into_iter().map(|d| (d.line, d.hint)).collect();
+        // The run of text from line 4 is one error; the error on a line of
+        // TOML after it is its own.
+        assert_eq!(found.len(), 2, "{found:?}");
+        assert_eq!(found[0].0, 4);
+        assert!(
+            found[0]
+                .1
+                .as_deref()
+                .is_some_and(|h| h.starts_with("this looks like text outside its string")),
+            "{found:?}"
+        );
+        assert_eq!(found[1], (10, None));
     }
 
     #[test]

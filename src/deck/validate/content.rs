@@ -46,7 +46,19 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
             raw.sections.iter().map(|s| s.id.as_ref()),
         )));
     }
-    let primary_ids = ids_of.first().cloned().flatten();
+    let own_primary_ids = ids_of.first().cloned().flatten();
+    let mut primary_ids = own_primary_ids.clone();
+    // A section written only in a translation is reported there, once;
+    // links to it are not reported again as naming nothing.
+    if let Some(primary) = &mut primary_ids {
+        for other in ids_of.iter().skip(1).flatten() {
+            for id in &other.ids {
+                if !primary.contains(id) && !primary.elsewhere.contains(id) {
+                    primary.elsewhere.push(id.clone());
+                }
+            }
+        }
+    }
 
     // Each file's sections: its own checks, and links against the primary
     // file's ids (the ones used; a translation with other ids is reported
@@ -66,7 +78,7 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
 
     // The same ids in every language.
     if let (Some(primary), Some(primary_raw)) =
-        (&primary_ids, files.first().and_then(|f| f.raw.clone()))
+        (&own_primary_ids, files.first().and_then(|f| f.raw.clone()))
     {
         for i in 1..files.len() {
             let (Some(other), Some(other_raw)) = (ids_of[i].clone(), files[i].raw.clone()) else {
@@ -98,16 +110,19 @@ fn same_sections(
     let primary_path = files[0].rep.path.clone();
     let other_path = files[i].rep.path.clone();
     let valid = |s: &RawSection| s.id.clone().filter(|sid| super::is_id(&sid.value));
+    // A file whose sections could not all be read says so itself.
     let mut missing: Vec<Str> = primary_raw
         .sections
         .iter()
         .filter_map(valid)
+        .filter(|_| !other_raw.unread)
         .filter(|sid| !other.contains(&sid.value) && !other.may_mean(&sid.value))
         .collect();
     let extra: Vec<Str> = other_raw
         .sections
         .iter()
         .filter_map(valid)
+        .filter(|_| !primary_raw.unread)
         .filter(|sid| !primary.contains(&sid.value) && !primary.may_mean(&sid.value))
         .collect();
     let ok = missing.is_empty() && extra.is_empty();

@@ -93,6 +93,9 @@ pub struct Targets {
     pub unnamed: bool,
     /// The id shape ([`slug`]) of each id that is not a valid id.
     pub misshapen: Vec<String>,
+    /// Ids that exist somewhere else, where they are reported as missing
+    /// from here (a section in a translation only).
+    pub elsewhere: Vec<String>,
 }
 
 impl Targets {
@@ -118,7 +121,9 @@ impl Targets {
 
     /// Whether `name` may be the id of an item whose id is broken.
     pub fn may_mean(&self, name: &str) -> bool {
-        self.unnamed || self.misshapen.contains(&slug(name))
+        self.unnamed
+            || self.misshapen.contains(&slug(name))
+            || self.elsewhere.iter().any(|e| e == name)
     }
 }
 
@@ -150,7 +155,9 @@ pub fn link(
                 None
             }
         });
-    rep.error(
+    // Every link to a missing id has one cause: the id (often renamed).
+    rep.error_once(
+        format!("{kind} `{}` does not exist", s.value),
         s.span.clone(),
         format!(
             "`{field}` links to {kind} `{}`, which does not exist",
