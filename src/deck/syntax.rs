@@ -934,7 +934,8 @@ mod tests {
 
     #[test]
     fn text_left_outside_its_string_is_one_error() {
-        let text = "a = '''\none\n'''\ntwo words\nthree words\n'''\nfour\n'''\nb = 'x'\n[t\nc = 1\n";
+        let text =
+            "a = '''\none\n'''\ntwo words\nthree words\n'''\nfour\n'''\nb = 'x'\n[t\nc = 1\n";
         let mut rep = FileReport::new(Path::new("x.toml"), text);
         assert!(parse(&mut rep, text).is_none());
         let found: Vec<(usize, Option<String>)> =

@@ -11,6 +11,9 @@ use super::text::{self, Kind};
 use super::{Targets, id, link, unique};
 use crate::deck::suggest;
 
+/// Sections named in one error before "and N more".
+const MISSING_LISTED: usize = 3;
+
 /// One language's content file: its report, and what was read (`None` when
 /// the file is missing or does not parse).
 pub struct ContentFile<'s> {
@@ -127,17 +130,16 @@ fn same_sections(
         .collect();
     let ok = missing.is_empty() && extra.is_empty();
     let single_pair = missing.len() == 1 && extra.len() == 1;
+    let mut unpaired: Vec<&Str> = Vec::new();
     for sid in &extra {
         let partner = suggest::closest(&sid.value, missing.iter().map(|m| m.value.as_str()))
             .map(str::to_string)
             .or_else(|| single_pair.then(|| missing[0].value.clone()));
-        let hint = match &partner {
-            Some(p) => format!(
-                "did you mean `{p}`? every language's content file has the same section ids"
-            ),
-            None => "every language's content file has the same section ids".to_string(),
+        let Some(partner) = partner else {
+            unpaired.push(sid);
+            continue;
         };
-        missing.retain(|m| Some(&m.value) != partner.as_ref());
+        missing.retain(|m| m.value != partner);
         files[i].rep.error(
             sid.span.clone(),
             format!(
@@ -145,18 +147,37 @@ fn same_sections(
                 sid.value,
                 primary_path.display()
             ),
-            Some(hint),
+            Some(format!(
+                "did you mean `{partner}`? every language's content file has the same section ids"
+            )),
         );
     }
-    for sid in &missing {
-        files[0].rep.error(
-            sid.span.clone(),
+    let same_ids = || Some("every language's content file has the same section ids".to_string());
+    // Sections only in the translation (the primary file unfinished), and
+    // sections it lacks (the translation unfinished): one error each way,
+    // at the first.
+    if let Some(first) = unpaired.first() {
+        let names: Vec<&str> = unpaired.iter().map(|m| m.value.as_str()).collect();
+        files[i].rep.error(
+            first.span.clone(),
             format!(
-                "section `{}` is missing from {}",
-                sid.value,
+                "{} in the primary language's file {}",
+                sections_are(&names, "not"),
+                primary_path.display()
+            ),
+            same_ids(),
+        );
+    }
+    if let Some(first) = missing.first() {
+        let names: Vec<&str> = missing.iter().map(|m| m.value.as_str()).collect();
+        files[0].rep.error(
+            first.span.clone(),
+            format!(
+                "{} missing from {}",
+                sections_are(&names, ""),
                 other_path.display()
             ),
-            Some("every language's content file has the same section ids".to_string()),
+            same_ids(),
         );
     }
     for s in &other_raw.sections {
@@ -214,6 +235,30 @@ fn see_agrees(
                     .to_string(),
             ),
         );
+    }
+}
+
+/// "section `a` is", "sections `a` and `b` are", "sections `a`, `b`, `c`
+/// and 4 more are", with `not` after the verb when given.
+fn sections_are(names: &[&str], not: &str) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    let not = if not.is_empty() {
+        String::new()
+    } else {
+        format!(" {not}")
+    };
+    match quoted.len() {
+        0 | 1 => format!("section {} is{not}", quoted.join("")),
+        n if n <= MISSING_LISTED => format!(
+            "sections {} and {} are{not}",
+            quoted[..n - 1].join(", "),
+            quoted[n - 1]
+        ),
+        n => format!(
+            "sections {} and {} more are{not}",
+            quoted[..MISSING_LISTED].join(", "),
+            n - MISSING_LISTED
+        ),
     }
 }
 

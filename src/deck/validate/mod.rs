@@ -119,10 +119,18 @@ impl Targets {
         self.ids.iter().any(|i| i == name)
     }
 
-    /// Whether `name` may be the id of an item whose id is broken.
+    /// Whether `name` may be the id of an item whose id is broken: one has
+    /// none, or one is close to it once made an id (`Stability`, or
+    /// `$\frac{body-frame` where an escape ate a letter and more was pasted).
     pub fn may_mean(&self, name: &str) -> bool {
+        let wanted = slug(name);
+        let near = |m: &String| {
+            let contains = wanted.len() >= 3 && m.len() >= 3;
+            contains && (m.contains(&wanted) || wanted.contains(m.as_str()))
+        };
         self.unnamed
-            || self.misshapen.contains(&slug(name))
+            || suggest::closest(&wanted, self.misshapen.iter().map(String::as_str)).is_some()
+            || self.misshapen.iter().any(near)
             || self.elsewhere.iter().any(|e| e == name)
     }
 }
@@ -589,6 +597,23 @@ mod tests {
             assert!(!is_id(bad), "{bad}");
         }
         assert_eq!(slug("Middle_Axis 2"), "middle-axis-2");
+    }
+
+    #[test]
+    fn links_may_mean_an_item_whose_id_is_broken() {
+        let s = |v: &str| Str {
+            value: v.to_string(),
+            span: 0..0,
+        };
+        let (bad, typo, ate) = (s("Middle Axis"), s("stabilty"), s("$\u{c}rac{body-frame"));
+        let t = Targets::of([Some(&bad), Some(&s("racket")), Some(&typo), Some(&ate)]);
+        assert!(t.contains("racket") && !t.may_mean("racket"));
+        assert!(t.may_mean("middle-axis"));
+        assert!(t.may_mean("body-frame"));
+        // A valid id that is merely close to another is a link to report.
+        assert!(!t.may_mean("stability"));
+        assert!(!t.may_mean("earth"));
+        assert!(Targets::of([None, Some(&bad)]).may_mean("earth"));
     }
 
     #[test]
