@@ -18,7 +18,11 @@ pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
     } else {
         args.paths.clone()
     };
-    let missing: Vec<&PathBuf> = paths.iter().filter(|p| !p.exists()).collect();
+    // A dangling link is there; the loader says where it points.
+    let missing: Vec<&PathBuf> = paths
+        .iter()
+        .filter(|p| std::fs::symlink_metadata(p).is_err())
+        .collect();
     if !missing.is_empty() {
         for p in missing {
             crate::errln!(

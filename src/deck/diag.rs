@@ -2,7 +2,9 @@
 //!
 //! Shown as `path:line:col: error: message`, the source line with a caret
 //! under the column, then an optional `  = help: ...` line. Columns count
-//! characters (1-based), not bytes, so they match what an editor shows.
+//! characters (1-based), not bytes, so they match what an editor shows. A
+//! problem with the file as a whole (it is a FIFO, a dangling link, cannot
+//! be read) has no position and is shown as `path: error: message`.
 
 use std::fmt::Write as _;
 use std::ops::Range;
@@ -28,9 +30,9 @@ impl Severity {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Diagnostic {
     pub path: PathBuf,
-    /// 1-based line.
+    /// 1-based line; 0 for a problem with the file as a whole.
     pub line: usize,
-    /// 1-based column, in characters.
+    /// 1-based column, in characters; 0 with line 0.
     pub col: usize,
     pub severity: Severity,
     pub message: String,
@@ -44,12 +46,39 @@ pub struct Diagnostic {
 const SHOWN_CHARS: usize = 150;
 
 impl Diagnostic {
+    /// An error about the file as a whole, which has no line to point at.
+    pub fn whole_file(path: PathBuf, message: String, hint: Option<String>) -> Diagnostic {
+        Diagnostic {
+            path,
+            line: 0,
+            col: 0,
+            severity: Severity::Error,
+            message,
+            hint,
+            width: 0,
+        }
+    }
+
     pub fn is_error(&self) -> bool {
         self.severity == Severity::Error
     }
 
-    /// The one-line head: `path:line:col: error: message`.
+    /// Whether the diagnostic points into the file (see [`Diagnostic::whole_file`]).
+    pub fn has_position(&self) -> bool {
+        self.line > 0
+    }
+
+    /// The one-line head: `path:line:col: error: message`, or
+    /// `path: error: message` for the file as a whole.
     pub fn headline(&self) -> String {
+        if !self.has_position() {
+            return format!(
+                "{}: {}: {}",
+                self.path.display(),
+                self.severity.as_str(),
+                self.message
+            );
+        }
         format!(
             "{}:{}:{}: {}: {}",
             self.path.display(),
@@ -71,7 +100,7 @@ impl Diagnostic {
     pub fn render_line(&self, line_text: Option<&str>) -> String {
         let mut out = self.headline();
         out.push('\n');
-        if let Some(text) = line_text {
+        if let Some(text) = line_text.filter(|_| self.has_position()) {
             let (shown, caret_pad, caret_len) = excerpt(text, self.col, self.width);
             let gutter = self.line.to_string();
             let blank = " ".repeat(gutter.len());
@@ -242,6 +271,19 @@ mod tests {
         // 15 characters before the caret, two of them double width.
         assert_eq!(lines[2], format!("   | {}^", " ".repeat(17)));
         assert!(lines[0].contains(": warning: "));
+    }
+
+    #[test]
+    fn a_whole_file_problem_has_no_position_and_no_source_line() {
+        let d = Diagnostic::whole_file(
+            PathBuf::from("decks/x.toml"),
+            "is a FIFO, not a regular file".into(),
+            None,
+        );
+        assert_eq!(
+            d.render("first line\n"),
+            "decks/x.toml: error: is a FIFO, not a regular file\n"
+        );
     }
 
     #[test]

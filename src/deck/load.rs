@@ -5,17 +5,13 @@ use std::collections::{BTreeMap, HashMap, HashSet};
 use std::fs;
 use std::path::{Component, Path, PathBuf};
 
-use toml::de::DeTable;
-
 use super::diag::{Diagnostic, LineIndex, Severity};
+use super::files::{self, Probe};
 use super::model::Deck;
-use super::raw::{self, Span};
+use super::raw;
 use super::report::FileReport;
+use super::syntax;
 use super::validate::{self, content::ContentFile};
-
-/// TOML syntax errors shown per file; past this they are mostly echoes of
-/// the first ones.
-const MAX_SYNTAX_ERRORS: usize = 20;
 
 /// Everything a load found: the valid decks, every diagnostic (in file
 /// order), and the text of each file read, for rendering.
@@ -86,7 +82,9 @@ pub fn load_paths(paths: &[PathBuf]) -> Loaded {
     loaded
 }
 
-/// The deck files a path names.
+/// The deck files a path names: a file, or every `*.toml` entry of a
+/// folder whatever it is, so that a link or FIFO there is reported by the
+/// reader instead of leaving a deck out unnoticed.
 fn deck_files(path: &Path, loaded: &mut Loaded) -> Vec<PathBuf> {
     if !path.is_dir() {
         return vec![path.to_path_buf()];
@@ -96,37 +94,47 @@ fn deck_files(path: &Path, loaded: &mut Loaded) -> Vec<PathBuf> {
             let mut files: Vec<PathBuf> = entries
                 .filter_map(Result::ok)
                 .map(|e| e.path())
-                .filter(|p| p.extension().is_some_and(|e| e == "toml") && p.is_file())
+                .filter(|p| p.extension().is_some_and(|e| e == "toml"))
                 .collect();
             files.sort();
             files
         }
         Err(e) => {
-            loaded.diagnostics.push(io_problem(path, &e.to_string()));
+            loaded.diagnostics.push(Diagnostic::whole_file(
+                path.to_path_buf(),
+                format!("cannot be read: {e}"),
+                None,
+            ));
             Vec::new()
         }
     }
 }
 
-fn io_problem(path: &Path, message: &str) -> Diagnostic {
-    Diagnostic {
-        path: path.to_path_buf(),
-        line: 1,
-        col: 1,
-        severity: Severity::Error,
-        message: format!("cannot read: {message}"),
-        hint: None,
-        width: 1,
-    }
+/// Reads a file as UTF-8 text; a path that is not a regular file, an I/O
+/// problem or invalid UTF-8 is a diagnostic (the lossy text is still kept
+/// for rendering).
+fn read_text(path: &Path, loaded: &mut Loaded) -> Option<String> {
+    let mut problems = Vec::new();
+    let text = read_text_into(path, &mut problems, &mut loaded.sources);
+    loaded.diagnostics.extend(problems);
+    text
 }
 
-/// Reads a file as UTF-8 text; an I/O problem or invalid UTF-8 is a
-/// diagnostic (the lossy text is still kept for rendering).
-fn read_text(path: &Path, loaded: &mut Loaded) -> Option<String> {
-    let bytes = match fs::read(path) {
+/// [`read_text`], with the problems collected in `problems`.
+fn read_text_into(
+    path: &Path,
+    problems: &mut Vec<Diagnostic>,
+    sources: &mut BTreeMap<PathBuf, String>,
+) -> Option<String> {
+    let read = match files::probe(path) {
+        Probe::Regular => files::read_regular(path),
+        Probe::Missing => Err("no such file or directory".to_string()),
+        Probe::Unusable(why) => Err(why),
+    };
+    let bytes = match read {
         Ok(b) => b,
-        Err(e) => {
-            loaded.diagnostics.push(io_problem(path, &e.to_string()));
+        Err(why) => {
+            problems.push(Diagnostic::whole_file(path.to_path_buf(), why, None));
             return None;
         }
     };
@@ -143,44 +151,11 @@ fn read_text(path: &Path, loaded: &mut Loaded) -> Option<String> {
                 format!("not valid UTF-8 (byte 0x{:02X})", bytes[valid]),
                 Some("deck and content files are UTF-8 text".to_string()),
             );
-            loaded.diagnostics.extend(rep.finish());
-            loaded.sources.insert(path.to_path_buf(), text);
+            problems.extend(rep.finish());
+            sources.insert(path.to_path_buf(), text);
             None
         }
     }
-}
-
-/// Parses TOML, reporting every syntax error; `None` when there are any
-/// (a recovered tree would only add confusing follow-up errors).
-fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Span)> {
-    let (table, errors) = DeTable::parse_recoverable(text);
-    if errors.is_empty() {
-        let span = table.span();
-        return Some((table.into_inner(), span));
-    }
-    let mut found: Vec<(Span, String)> = errors
-        .iter()
-        .map(|e| (e.span().unwrap_or(0..0), e.message().to_string()))
-        .collect();
-    found.sort_by_key(|(span, _)| span.start);
-    found.dedup();
-    let extra = found.len().saturating_sub(MAX_SYNTAX_ERRORS);
-    for (span, message) in found.iter().take(MAX_SYNTAX_ERRORS) {
-        let hint = (message.contains("escape") || message.contains("unicode")).then(|| {
-            "a backslash in a \"...\" string starts an escape; write LaTeX in a literal string '...' or '''...'''"
-                .to_string()
-        });
-        rep.error(span.clone(), format!("TOML: {message}"), hint);
-    }
-    if extra > 0 {
-        let at = found[MAX_SYNTAX_ERRORS].0.clone();
-        rep.error(
-            at,
-            format!("TOML: {extra} more syntax errors not shown"),
-            None,
-        );
-    }
-    None
 }
 
 /// Where a deck's content files live: `<deck folder>/../content/<deck-id>/`,
@@ -203,8 +178,8 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     let mut rep = FileReport::new(path, &text);
-    let parsed =
-        parse(&mut rep, &text).map(|(root, span)| raw::read_deck_file(&mut rep, &root, span));
+    let parsed = syntax::parse(&mut rep, &text)
+        .map(|(root, span)| raw::read_deck_file(&mut rep, &root, span));
     let Some(raw) = parsed else {
         loaded.diagnostics.extend(rep.finish());
         loaded.sources.insert(path.to_path_buf(), text);
@@ -234,11 +209,14 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
     let dir = content_dir(path, &stem);
     let mut texts: Vec<(String, PathBuf, Option<String>)> = Vec::new();
     let mut stray = Vec::new();
+    // Content files that cannot be read are reported after the deck file.
+    let mut unreadable = Vec::new();
     if header.langs.known {
         for (lang, span) in &header.lang_spans {
             let file = dir.join(format!("{lang}.toml"));
-            if file.is_file() {
-                let text = read_text(&file, loaded);
+            if files::probe(&file) != Probe::Missing {
+                // Whatever is there is read, or reported as what it is.
+                let text = read_text_into(&file, &mut unreadable, &mut loaded.sources);
                 texts.push((lang.clone(), file, text));
             } else {
                 rep.error(
@@ -259,7 +237,7 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
         .map(|(lang, file, text)| {
             let mut crep = FileReport::new(file, text.as_deref().unwrap_or(""));
             let raw = text.as_deref().and_then(|t| {
-                let (root, span) = parse(&mut crep, t)?;
+                let (root, span) = syntax::parse(&mut crep, t)?;
                 Some(raw::read_content_file(&mut crep, &root, span))
             });
             ContentFile {
@@ -277,7 +255,7 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
     } else {
         validate::content::sections(&mut files)
     };
-    let body = validate::body(&mut rep, &raw, &header.langs, sections.ids.as_deref());
+    let body = validate::body(&mut rep, &raw, &header.langs, sections.ids.as_ref());
 
     let clean = !rep.has_errors() && files.iter().all(|f| !f.rep.has_errors());
     let deck = match (clean, header, body, sections.sections) {
@@ -300,6 +278,7 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
     for f in files {
         loaded.diagnostics.extend(f.rep.finish());
     }
+    loaded.diagnostics.extend(unreadable);
     loaded.diagnostics.extend(stray);
     loaded.sources.insert(path.to_path_buf(), text);
     for (_, file, text) in texts {

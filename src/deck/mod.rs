@@ -7,6 +7,7 @@
 
 pub mod check;
 pub mod diag;
+mod files;
 pub mod load;
 pub mod model;
 pub mod raw;
@@ -14,6 +15,7 @@ mod read;
 pub mod report;
 pub mod schema;
 mod suggest;
+mod syntax;
 pub mod tomlstr;
 pub mod validate;
 

@@ -183,6 +183,10 @@ pub struct RawScene {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RawContentFile {
     pub sections: Vec<RawSection>,
+    /// Some sections could not be read at all (a misspelt `[[section]]`
+    /// header, a `section` that is not an array of tables): which ids the
+    /// file has is not known, and it is not compared with the others.
+    pub unread: bool,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -243,6 +247,10 @@ pub fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Span) -> 
                 file.deck = Some(read_header(rep, t, v.span()));
             }
         }
+        // A misspelt [deck] is already reported as an unknown field.
+        None if root.iter().any(|(k, _)| {
+            suggest::closest(k.get_ref(), DECK_FILE_FIELDS.iter().copied()) == Some("deck")
+        }) => {}
         None => rep.error(
             0..0,
             "the deck file has no [deck] table",
@@ -469,11 +477,23 @@ pub fn read_content_file(rep: &mut FileReport, root: &DeTable, root_span: Span) 
             _ => None,
         },
     );
-    let mut file = RawContentFile::default();
+    let mut file = RawContentFile {
+        unread: root.iter().any(|(k, _)| {
+            let name: &str = k.get_ref();
+            name != "section"
+                && suggest::closest(name, CONTENT_FILE_FIELDS.iter().copied()) == Some("section")
+        }),
+        ..RawContentFile::default()
+    };
     if let Some(v) = top.get("section") {
+        let written = match v.get_ref() {
+            toml::de::DeValue::Array(a) => a.len(),
+            _ => usize::MAX,
+        };
         for (t, span) in read::tables(rep, v, "section") {
             file.sections.push(read_section(rep, t, span));
         }
+        file.unread |= file.sections.len() != written;
     }
     file
 }

@@ -10,7 +10,7 @@ use crate::deck::suggest;
 use crate::deck::tomlstr;
 
 use super::text::{self, Kind, Langs};
-use super::{id, unique};
+use super::{Targets, id, unique};
 
 pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str) -> Option<Answer> {
     match raw {
@@ -42,7 +42,11 @@ pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str)
             }
             let expected = expected.as_ref()?;
             let known: Vec<&str> = ids.iter().map(|s| s.value.as_str()).collect();
-            if !known.contains(&expected.value.as_str()) {
+            let targets = Targets::of(list.items.iter().map(|c| c.id.as_ref()));
+            if !targets.contains(&expected.value) && targets.may_mean(&expected.value) {
+                // A choice's broken id is reported; this may be that one.
+                ok = false;
+            } else if !known.contains(&expected.value.as_str()) {
                 let hint = suggest::did_you_mean(&expected.value, known.iter().copied())
                     .or_else(|| Some(format!("choices: {}", known.join(", "))));
                 rep.error(

@@ -8,7 +8,11 @@ use crate::deck::raw::{RawContentFile, RawSection, Str};
 use crate::deck::report::FileReport;
 
 use super::text::{self, Kind};
-use super::{id, link, unique};
+use super::{Targets, id, link, unique};
+use crate::deck::suggest;
+
+/// Sections named in one error before "and N more".
+const MISSING_LISTED: usize = 3;
 
 /// One language's content file: its report, and what was read (`None` when
 /// the file is missing or does not parse).
@@ -22,14 +26,14 @@ pub struct ContentFile<'s> {
 /// name (from the primary language's file), when that file could be read.
 pub struct Sections {
     pub sections: Option<Vec<Section>>,
-    pub ids: Option<Vec<String>>,
+    pub ids: Option<Targets>,
 }
 
 /// Checks every content file; `files[0]` is the primary language's.
 pub fn sections(files: &mut [ContentFile]) -> Sections {
     let mut ok = true;
     // Per file: the section ids it defines.
-    let mut ids_of: Vec<Option<Vec<String>>> = Vec::new();
+    let mut ids_of: Vec<Option<Targets>> = Vec::new();
     for f in files.iter_mut() {
         let Some(raw) = &f.raw else {
             ids_of.push(None);
@@ -41,18 +45,35 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
             ok &= id(&mut f.rep, s, "section");
         }
         ok &= unique(&mut f.rep, &ids, "section");
-        ids_of.push(Some(ids.iter().map(|s| s.value.clone()).collect()));
+        ids_of.push(Some(Targets::of(
+            raw.sections.iter().map(|s| s.id.as_ref()),
+        )));
     }
-    let primary_ids = ids_of.first().cloned().flatten();
+    let own_primary_ids = ids_of.first().cloned().flatten();
+    let mut primary_ids = own_primary_ids.clone();
+    // A section written only in a translation is reported there, once;
+    // links to it are not reported again as naming nothing.
+    if let Some(primary) = &mut primary_ids {
+        for other in ids_of.iter().skip(1).flatten() {
+            for id in &other.ids {
+                if !primary.contains(id) && !primary.elsewhere.contains(id) {
+                    primary.elsewhere.push(id.clone());
+                }
+            }
+        }
+    }
 
-    // Each file's sections: its own checks, links against its own ids.
+    // Each file's sections: its own checks, and links against the primary
+    // file's ids (the ones used; a translation with other ids is reported
+    // below, once, rather than again at every link to them).
     for (f, own_ids) in files.iter_mut().zip(&ids_of) {
         let Some(raw) = &f.raw else { continue };
+        let targets = primary_ids.as_ref().or(own_ids.as_ref());
         for s in &raw.sections {
             ok &= section_texts(&mut f.rep, s);
             if let Some(see) = &s.see {
                 for target in &see.items {
-                    ok &= link(&mut f.rep, target, own_ids.as_deref(), "section", "see");
+                    ok &= link(&mut f.rep, target, targets, "section", "see");
                 }
             }
         }
@@ -60,53 +81,13 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
 
     // The same ids in every language.
     if let (Some(primary), Some(primary_raw)) =
-        (&primary_ids, files.first().and_then(|f| f.raw.clone()))
+        (&own_primary_ids, files.first().and_then(|f| f.raw.clone()))
     {
-        let primary_path = files[0].rep.path.clone();
         for i in 1..files.len() {
-            let Some(other_ids) = ids_of[i].clone() else {
+            let (Some(other), Some(other_raw)) = (ids_of[i].clone(), files[i].raw.clone()) else {
                 continue;
             };
-            let other_path = files[i].rep.path.clone();
-            for s in primary_raw.sections.iter() {
-                let Some(sid) = &s.id else { continue };
-                if !other_ids.contains(&sid.value) {
-                    ok = false;
-                    files[0].rep.error(
-                        sid.span.clone(),
-                        format!(
-                            "section `{}` is missing from {}",
-                            sid.value,
-                            other_path.display()
-                        ),
-                        Some("every language's content file has the same section ids".to_string()),
-                    );
-                }
-            }
-            let Some(other_raw) = files[i].raw.clone() else {
-                continue;
-            };
-            for s in &other_raw.sections {
-                let Some(sid) = &s.id else { continue };
-                if !primary.contains(&sid.value) {
-                    ok = false;
-                    files[i].rep.error(
-                        sid.span.clone(),
-                        format!(
-                            "section `{}` is not in the primary language's file {}",
-                            sid.value,
-                            primary_path.display()
-                        ),
-                        Some("every language's content file has the same section ids".to_string()),
-                    );
-                } else if let Some(p) = primary_raw
-                    .sections
-                    .iter()
-                    .find(|p| p.id.as_ref().map(|i| &i.value) == Some(&sid.value))
-                {
-                    see_agrees(&mut files[i].rep, p, s, &primary_path);
-                }
-            }
+            ok &= same_sections(files, i, primary, &primary_raw, &other, &other_raw);
         }
     }
 
@@ -115,6 +96,101 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
         sections,
         ids: primary_ids,
     }
+}
+
+/// Compares translation `i`'s section ids with the primary file's. Ids that
+/// are broken are left to their own errors, and a section whose id differs
+/// (a typo in one file) is one error in the translation, not also one for
+/// the id it lacks.
+fn same_sections(
+    files: &mut [ContentFile],
+    i: usize,
+    primary: &Targets,
+    primary_raw: &RawContentFile,
+    other: &Targets,
+    other_raw: &RawContentFile,
+) -> bool {
+    let primary_path = files[0].rep.path.clone();
+    let other_path = files[i].rep.path.clone();
+    let valid = |s: &RawSection| s.id.clone().filter(|sid| super::is_id(&sid.value));
+    // A file whose sections could not all be read says so itself.
+    let mut missing: Vec<Str> = primary_raw
+        .sections
+        .iter()
+        .filter_map(valid)
+        .filter(|_| !other_raw.unread)
+        .filter(|sid| !other.contains(&sid.value) && !other.may_mean(&sid.value))
+        .collect();
+    let extra: Vec<Str> = other_raw
+        .sections
+        .iter()
+        .filter_map(valid)
+        .filter(|_| !primary_raw.unread)
+        .filter(|sid| !primary.contains(&sid.value) && !primary.may_mean(&sid.value))
+        .collect();
+    let ok = missing.is_empty() && extra.is_empty();
+    let single_pair = missing.len() == 1 && extra.len() == 1;
+    let mut unpaired: Vec<&Str> = Vec::new();
+    for sid in &extra {
+        let partner = suggest::closest(&sid.value, missing.iter().map(|m| m.value.as_str()))
+            .map(str::to_string)
+            .or_else(|| single_pair.then(|| missing[0].value.clone()));
+        let Some(partner) = partner else {
+            unpaired.push(sid);
+            continue;
+        };
+        missing.retain(|m| m.value != partner);
+        files[i].rep.error(
+            sid.span.clone(),
+            format!(
+                "section `{}` is not in the primary language's file {}",
+                sid.value,
+                primary_path.display()
+            ),
+            Some(format!(
+                "did you mean `{partner}`? every language's content file has the same section ids"
+            )),
+        );
+    }
+    let same_ids = || Some("every language's content file has the same section ids".to_string());
+    // Sections only in the translation (the primary file unfinished), and
+    // sections it lacks (the translation unfinished): one error each way,
+    // at the first.
+    if let Some(first) = unpaired.first() {
+        let names: Vec<&str> = unpaired.iter().map(|m| m.value.as_str()).collect();
+        files[i].rep.error(
+            first.span.clone(),
+            format!(
+                "{} in the primary language's file {}",
+                sections_are(&names, "not"),
+                primary_path.display()
+            ),
+            same_ids(),
+        );
+    }
+    if let Some(first) = missing.first() {
+        let names: Vec<&str> = missing.iter().map(|m| m.value.as_str()).collect();
+        files[0].rep.error(
+            first.span.clone(),
+            format!(
+                "{} missing from {}",
+                sections_are(&names, ""),
+                other_path.display()
+            ),
+            same_ids(),
+        );
+    }
+    for s in &other_raw.sections {
+        let Some(sid) = &s.id else { continue };
+        if let Some(p) = primary_raw
+            .sections
+            .iter()
+            .find(|p| p.id.as_ref().map(|i| &i.value) == Some(&sid.value))
+        {
+            see_agrees(&mut files[i].rep, p, s, &primary_path);
+        }
+    }
+    ok
 }
 
 fn section_texts(rep: &mut FileReport, s: &RawSection) -> bool {
@@ -159,6 +235,30 @@ fn see_agrees(
                     .to_string(),
             ),
         );
+    }
+}
+
+/// "section `a` is", "sections `a` and `b` are", "sections `a`, `b`, `c`
+/// and 4 more are", with `not` after the verb when given.
+fn sections_are(names: &[&str], not: &str) -> String {
+    let quoted: Vec<String> = names.iter().map(|n| format!("`{n}`")).collect();
+    let not = if not.is_empty() {
+        String::new()
+    } else {
+        format!(" {not}")
+    };
+    match quoted.len() {
+        0 | 1 => format!("section {} is{not}", quoted.join("")),
+        n if n <= MISSING_LISTED => format!(
+            "sections {} and {} are{not}",
+            quoted[..n - 1].join(", "),
+            quoted[n - 1]
+        ),
+        n => format!(
+            "sections {} and {} more are{not}",
+            quoted[..MISSING_LISTED].join(", "),
+            n - MISSING_LISTED
+        ),
     }
 }
 

@@ -10,7 +10,7 @@ pub mod text;
 use std::collections::HashMap;
 
 use crate::deck::model::{Card, CardKind, Prompt, Scene, Text};
-use crate::deck::raw::{List, RawCard, RawDeckFile, RawPrompt, Span, Str};
+use crate::deck::raw::{List, RawAnswer, RawCard, RawDeckFile, RawPrompt, RawText, Span, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 
@@ -83,12 +83,66 @@ pub fn unique(rep: &mut FileReport, ids: &[&Str], kind: &str) -> bool {
     ok
 }
 
+/// What the links of one kind can name: the ids as written, and what is
+/// known of the items whose id is broken. A link that names nothing may be
+/// meant for one of those, whose own error already says what is wrong.
+#[derive(Debug, Clone, Default)]
+pub struct Targets {
+    pub ids: Vec<String>,
+    /// Some item has no id that could be read (missing, or not a string).
+    pub unnamed: bool,
+    /// The id shape ([`slug`]) of each id that is not a valid id.
+    pub misshapen: Vec<String>,
+    /// Ids that exist somewhere else, where they are reported as missing
+    /// from here (a section in a translation only).
+    pub elsewhere: Vec<String>,
+}
+
+impl Targets {
+    pub fn of<'a>(ids: impl IntoIterator<Item = Option<&'a Str>>) -> Targets {
+        let mut t = Targets::default();
+        for id in ids {
+            match id {
+                Some(s) => {
+                    if !is_id(&s.value) {
+                        t.misshapen.push(slug(&s.value));
+                    }
+                    t.ids.push(s.value.clone());
+                }
+                None => t.unnamed = true,
+            }
+        }
+        t
+    }
+
+    pub fn contains(&self, name: &str) -> bool {
+        self.ids.iter().any(|i| i == name)
+    }
+
+    /// Whether `name` may be the id of an item whose id is broken: one has
+    /// none, or one is close to it once made an id (`Stability`, or
+    /// `$\frac{body-frame` where an escape ate a letter and more was pasted).
+    pub fn may_mean(&self, name: &str) -> bool {
+        let wanted = slug(name);
+        let near = |m: &String| {
+            let contains = wanted.len() >= 3 && m.len() >= 3;
+            contains && (m.contains(&wanted) || wanted.contains(m.as_str()))
+        };
+        self.unnamed
+            || suggest::closest(&wanted, self.misshapen.iter().map(String::as_str)).is_some()
+            || self.misshapen.iter().any(near)
+            || self.elsewhere.iter().any(|e| e == name)
+    }
+}
+
 /// Checks that `s` names one of `targets`; `targets` is `None` when they
 /// could not be read (their own errors say why), and then nothing is said.
+/// A link that may be meant for an item with a broken id is not reported
+/// either (it fails quietly): fixing the id fixes it.
 pub fn link(
     rep: &mut FileReport,
     s: &Str,
-    targets: Option<&[String]>,
+    targets: Option<&Targets>,
     kind: &str,
     field: &str,
 ) -> bool {
@@ -98,14 +152,20 @@ pub fn link(
     if targets.contains(&s.value) {
         return true;
     }
-    let hint = suggest::did_you_mean(&s.value, targets.iter().map(String::as_str)).or_else(|| {
-        if targets.is_empty() {
-            Some(format!("the deck has no {kind}s"))
-        } else {
-            None
-        }
-    });
-    rep.error(
+    if targets.may_mean(&s.value) {
+        return false;
+    }
+    let hint =
+        suggest::did_you_mean(&s.value, targets.ids.iter().map(String::as_str)).or_else(|| {
+            if targets.ids.is_empty() {
+                Some(format!("the deck has no {kind}s"))
+            } else {
+                None
+            }
+        });
+    // Every link to a missing id has one cause: the id (often renamed).
+    rep.error_once(
+        format!("{kind} `{}` does not exist", s.value),
         s.span.clone(),
         format!(
             "`{field}` links to {kind} `{}`, which does not exist",
@@ -164,6 +224,10 @@ pub fn header(rep: &mut FileReport, raw: &RawDeckFile, file_stem: &str) -> Heade
     }
     if let Some(list) = &d.languages {
         h.langs = languages(rep, list);
+        if h.langs.known && declared_differently(rep, raw, list) {
+            // Every text would say it lacks one language and has another.
+            h.langs.known = false;
+        }
         h.lang_spans = list
             .items
             .iter()
@@ -216,6 +280,79 @@ fn languages(rep: &mut FileReport, list: &List<Str>) -> Langs {
     }
 }
 
+/// Reports a declared language that no text gives while the texts give an
+/// undeclared one like it (`hi-latn` declared, `hi-Latn` written): the
+/// declaration is the one mistake. True when reported.
+fn declared_differently(rep: &mut FileReport, raw: &RawDeckFile, list: &List<Str>) -> bool {
+    let texts = texts_by_language(raw);
+    if texts.is_empty() {
+        return false;
+    }
+    let declared: Vec<&str> = list.items.iter().map(|s| s.value.as_str()).collect();
+    let used = |lang: &str| texts.iter().filter(|keys| keys.contains(&lang)).count();
+    let mut undeclared: Vec<&str> = texts
+        .iter()
+        .flatten()
+        .copied()
+        .filter(|k| !declared.contains(k))
+        .collect();
+    undeclared.sort_unstable();
+    undeclared.dedup();
+    let unused: Vec<&Str> = list.items.iter().filter(|s| used(&s.value) == 0).collect();
+    let mut found = false;
+    for s in &unused {
+        let like = suggest::closest(&s.value, undeclared.iter().copied())
+            .or_else(|| (unused.len() == 1 && undeclared.len() == 1).then(|| undeclared[0]));
+        let Some(written) = like else { continue };
+        rep.error(
+            s.span.clone(),
+            format!(
+                "language `{}` is declared, but the texts give `{written}` instead",
+                s.value
+            ),
+            Some(format!(
+                "declare \"{written}\" (tags are matched exactly, in texts and content file names)"
+            )),
+        );
+        found = true;
+    }
+    found
+}
+
+/// The language keys of every text written as a table of languages.
+fn texts_by_language(raw: &RawDeckFile) -> Vec<Vec<&str>> {
+    let mut texts: Vec<&RawText> = Vec::new();
+    if let Some(d) = &raw.deck {
+        texts.extend(d.title.iter().chain(&d.description));
+    }
+    for c in &raw.cards {
+        texts.extend(c.front.iter().chain(&c.back));
+    }
+    for p in &raw.prompts {
+        texts.extend(&p.question);
+        match &p.answer {
+            Some(RawAnswer::Choice {
+                choices: Some(list),
+                ..
+            }) => texts.extend(list.items.iter().filter_map(|c| c.label.as_ref())),
+            Some(RawAnswer::Number { formula, .. }) => texts.extend(formula),
+            _ => {}
+        }
+    }
+    for s in &raw.scenes {
+        texts.extend(&s.title);
+    }
+    texts
+        .into_iter()
+        .filter_map(|t| match t {
+            RawText::ByLang { entries, .. } => {
+                Some(entries.iter().map(|(k, _)| k.value.as_str()).collect())
+            }
+            RawText::Plain(_) => None,
+        })
+        .collect()
+}
+
 /// What the deck file's cards, prompts and scenes validate into.
 pub struct Body {
     pub cards: Vec<Card>,
@@ -229,7 +366,7 @@ pub fn body(
     rep: &mut FileReport,
     raw: &RawDeckFile,
     langs: &Langs,
-    section_ids: Option<&[String]>,
+    section_ids: Option<&Targets>,
 ) -> Option<Body> {
     let card_ids: Vec<&Str> = raw.cards.iter().filter_map(|c| c.id.as_ref()).collect();
     let prompt_ids: Vec<&Str> = raw.prompts.iter().filter_map(|p| p.id.as_ref()).collect();
@@ -245,9 +382,8 @@ pub fn body(
         }
         ok &= unique(rep, list, kind);
     }
-    let names = |list: &[&Str]| list.iter().map(|s| s.value.clone()).collect::<Vec<_>>();
-    let prompt_names = names(&prompt_ids);
-    let scene_names = names(&scene_ids);
+    let prompt_names = Targets::of(raw.prompts.iter().map(|p| p.id.as_ref()));
+    let scene_names = Targets::of(raw.scenes.iter().map(|s| s.id.as_ref()));
 
     if raw.deck.is_some() && raw.cards.is_empty() && raw.prompts.is_empty() {
         rep.warning(
@@ -310,7 +446,7 @@ fn tags(rep: &mut FileReport, tags: &Option<List<Str>>) -> Option<Vec<String>> {
 fn optional_link(
     rep: &mut FileReport,
     s: &Option<Str>,
-    targets: Option<&[String]>,
+    targets: Option<&Targets>,
     kind: &str,
     field: &str,
 ) -> Option<Option<String>> {
@@ -324,8 +460,8 @@ fn card(
     rep: &mut FileReport,
     raw: &RawCard,
     langs: &Langs,
-    section_ids: Option<&[String]>,
-    prompt_ids: &[String],
+    section_ids: Option<&Targets>,
+    prompt_ids: &Targets,
 ) -> Option<Card> {
     let what = named("card", &raw.id);
     let kind = match &raw.kind {
@@ -420,8 +556,8 @@ fn prompt(
     rep: &mut FileReport,
     raw: &RawPrompt,
     langs: &Langs,
-    section_ids: Option<&[String]>,
-    scene_ids: &[String],
+    section_ids: Option<&Targets>,
+    scene_ids: &Targets,
 ) -> Option<Prompt> {
     let what = named("prompt", &raw.id);
     let question = raw
@@ -461,6 +597,23 @@ mod tests {
             assert!(!is_id(bad), "{bad}");
         }
         assert_eq!(slug("Middle_Axis 2"), "middle-axis-2");
+    }
+
+    #[test]
+    fn links_may_mean_an_item_whose_id_is_broken() {
+        let s = |v: &str| Str {
+            value: v.to_string(),
+            span: 0..0,
+        };
+        let (bad, typo, ate) = (s("Middle Axis"), s("stabilty"), s("$\u{c}rac{body-frame"));
+        let t = Targets::of([Some(&bad), Some(&s("racket")), Some(&typo), Some(&ate)]);
+        assert!(t.contains("racket") && !t.may_mean("racket"));
+        assert!(t.may_mean("middle-axis"));
+        assert!(t.may_mean("body-frame"));
+        // A valid id that is merely close to another is a link to report.
+        assert!(!t.may_mean("stability"));
+        assert!(!t.may_mean("earth"));
+        assert!(Targets::of([None, Some(&bad)]).may_mean("earth"));
     }
 
     #[test]

@@ -56,6 +56,19 @@ pub fn text(rep: &mut FileReport, raw: &RawText, langs: &Langs, what: &str) -> O
             }
         }
         RawText::ByLang { span, entries } => {
+            let mut missing: Vec<&String> = if langs.known {
+                langs
+                    .list
+                    .iter()
+                    .filter(|l| !entries.iter().any(|(k, _)| &k.value == *l))
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let undeclared = entries
+                .iter()
+                .filter(|(k, _)| langs.known && !langs.list.contains(&k.value))
+                .count();
             for (lang, s) in entries {
                 ok &= string(
                     rep,
@@ -65,14 +78,27 @@ pub fn text(rep: &mut FileReport, raw: &RawText, langs: &Langs, what: &str) -> O
                 );
                 if langs.known && !langs.list.contains(&lang.value) {
                     ok = false;
-                    let hint =
-                        suggest::did_you_mean(&lang.value, langs.list.iter().map(String::as_str))
-                            .or_else(|| {
-                                Some(format!(
-                                    "the deck declares languages = [{}]",
-                                    quoted(&langs.list)
-                                ))
-                            });
+                    // A misspelt key is one mistake: the language it was
+                    // meant for is not reported missing as well.
+                    let meant = suggest::closest(&lang.value, missing.iter().map(|l| l.as_str()))
+                        .map(str::to_string)
+                        .or_else(|| {
+                            (undeclared == 1 && missing.len() == 1).then(|| missing[0].clone())
+                        });
+                    let hint = match &meant {
+                        Some(l) => Some(format!("{what} has no `{l}` text: did you mean `{l}`?")),
+                        None => suggest::did_you_mean(
+                            &lang.value,
+                            langs.list.iter().map(String::as_str),
+                        )
+                        .or_else(|| {
+                            Some(format!(
+                                "the deck declares languages = [{}]",
+                                quoted(&langs.list)
+                            ))
+                        }),
+                    };
+                    missing.retain(|l| Some(*l) != meant.as_ref());
                     rep.error(
                         lang.span.clone(),
                         format!("language `{}` is not declared by the deck", lang.value),
@@ -81,17 +107,13 @@ pub fn text(rep: &mut FileReport, raw: &RawText, langs: &Langs, what: &str) -> O
                 }
                 out.insert(lang.value.clone(), s.value.clone());
             }
-            if langs.known {
-                for lang in &langs.list {
-                    if !out.contains_key(lang) {
-                        ok = false;
-                        rep.error(
-                            span.clone(),
-                            format!("{what} has no `{lang}` text"),
-                            Some(format!("add {lang} = '...'")),
-                        );
-                    }
-                }
+            for lang in missing {
+                ok = false;
+                rep.error(
+                    span.clone(),
+                    format!("{what} has no `{lang}` text"),
+                    Some(format!("add {lang} = '...'")),
+                );
             }
         }
     }

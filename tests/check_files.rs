@@ -1,0 +1,308 @@
+//! Deck and content paths that are not regular files: FIFOs, sockets,
+//! devices, directories, dangling links and link loops are reported by what
+//! they are (never opened, never skipped), through the binary and through
+//! the library the app uses.
+
+#![cfg(unix)]
+
+use std::fs;
+use std::os::unix::fs::{PermissionsExt, symlink};
+use std::os::unix::net::UnixListener;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+
+/// Long enough for a loaded machine; a FIFO that is opened blocks forever.
+const TIMEOUT: Duration = Duration::from_secs(30);
+
+const DECK: &str = "[deck]
+id = \"d\"
+title = { en = 'D', hi-Latn = 'D' }
+languages = [\"en\", \"hi-Latn\"]
+
+[[card]]
+id = \"c\"
+front = { en = 'F', hi-Latn = 'F' }
+back = { en = 'B', hi-Latn = 'B' }
+explain = \"s\"
+";
+const DECK_EN: &str = "[deck]\nid = \"e\"\ntitle = 'E'\nlanguages = [\"en\"]\n\n[[card]]\nid = \"c\"\nfront = 'F'\nback = 'B'\n";
+const EN: &str = "[[section]]\nid = \"s\"\ntitle = 'T'\nbody = 'B'\n";
+const HI: &str = "[[section]]\nid = \"s\"\ntitle = 'T'\nbody = 'B'\n";
+
+fn write(root: &Path, rel: &str, text: &str) {
+    let path = root.join(rel);
+    fs::create_dir_all(path.parent().unwrap()).unwrap();
+    fs::write(path, text).unwrap();
+}
+
+/// A course with deck `d` (two languages) and deck `e` (English only).
+fn course() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "decks/d.toml", DECK);
+    write(dir.path(), "content/d/en.toml", EN);
+    write(dir.path(), "content/d/hi-Latn.toml", HI);
+    write(dir.path(), "decks/e.toml", DECK_EN);
+    write(dir.path(), "content/e/en.toml", "");
+    dir
+}
+
+fn mkfifo(path: &Path) {
+    let status = Command::new("mkfifo").arg(path).status().expect("mkfifo");
+    assert!(status.success());
+}
+
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+/// `flipcard check ARGS` in `dir`, killed (and failed) if it does not end.
+fn check(dir: &Path, args: &[&str]) -> Run {
+    let mut child = Command::new(BIN)
+        .arg("check")
+        .args(args)
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("run flipcard");
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > TIMEOUT {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("`flipcard check {}` hung", args.join(" "));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
+    Run {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
+/// The headlines of a run (lines naming an error or warning).
+fn headlines(stderr: &str) -> Vec<&str> {
+    stderr
+        .lines()
+        .filter(|l| l.contains(": error: ") || l.contains(": warning: "))
+        .collect()
+}
+
+#[test]
+fn the_course_is_valid_to_start_with() {
+    let dir = course();
+    let run = check(dir.path(), &["decks"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(
+        run.stdout,
+        "2 decks, 2 cards, 0 prompts, 0 scenes, 1 sections: ok\n"
+    );
+}
+
+#[test]
+fn a_fifo_named_on_the_command_line_is_reported_not_opened() {
+    let dir = course();
+    mkfifo(&dir.path().join("x.toml"));
+    let run = check(dir.path(), &["x.toml"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert_eq!(
+        headlines(&run.stderr),
+        ["x.toml: error: is a FIFO, not a regular file"]
+    );
+    assert!(run.stdout.is_empty());
+}
+
+#[test]
+fn a_dangling_link_named_on_the_command_line_says_where_it_points() {
+    let dir = course();
+    symlink("gone/x.toml", dir.path().join("x.toml")).unwrap();
+    let run = check(dir.path(), &["x.toml"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert_eq!(
+        headlines(&run.stderr),
+        ["x.toml: error: dangling symbolic link to gone/x.toml"]
+    );
+}
+
+#[test]
+fn every_deck_entry_that_is_not_a_file_is_an_error() {
+    let dir = course();
+    let decks = dir.path().join("decks");
+    mkfifo(&decks.join("a-fifo.toml"));
+    symlink("../elsewhere/gone.toml", decks.join("b-dangling.toml")).unwrap();
+    symlink("c-loop.toml", decks.join("c-loop.toml")).unwrap();
+    symlink("d2-loop.toml", decks.join("d1-loop.toml")).unwrap();
+    symlink("d1-loop.toml", decks.join("d2-loop.toml")).unwrap();
+    fs::create_dir(decks.join("f-dir.toml")).unwrap();
+    symlink("/dev/null", decks.join("g-null.toml")).unwrap();
+    let _socket = UnixListener::bind(decks.join("h-socket.toml")).unwrap();
+    // Not deck files at all: ignored as before.
+    mkfifo(&decks.join("notes.txt"));
+    fs::create_dir(decks.join("drafts")).unwrap();
+
+    let run = check(dir.path(), &["decks"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert_eq!(
+        headlines(&run.stderr),
+        [
+            "decks/a-fifo.toml: error: is a FIFO, not a regular file",
+            "decks/b-dangling.toml: error: dangling symbolic link to ../elsewhere/gone.toml",
+            "decks/c-loop.toml: error: symbolic link loop",
+            "decks/d1-loop.toml: error: symbolic link loop",
+            "decks/d2-loop.toml: error: symbolic link loop",
+            "decks/f-dir.toml: error: is a directory, not a regular file",
+            "decks/g-null.toml: error: is a symbolic link to a character device (/dev/null), not a regular file",
+            "decks/h-socket.toml: error: is a socket, not a regular file",
+        ],
+        "{}",
+        run.stderr
+    );
+    assert_eq!(run.stderr.lines().last(), Some("8 errors, 0 warnings"));
+    assert!(run.stdout.is_empty());
+}
+
+#[test]
+fn a_link_to_a_good_deck_file_is_fine() {
+    let dir = course();
+    let decks = dir.path().join("decks");
+    fs::create_dir(dir.path().join("shared")).unwrap();
+    fs::rename(decks.join("e.toml"), dir.path().join("shared/e.toml")).unwrap();
+    symlink("../shared/e.toml", decks.join("e.toml")).unwrap();
+    let run = check(dir.path(), &["decks"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(
+        run.stdout,
+        "2 decks, 2 cards, 0 prompts, 0 scenes, 1 sections: ok\n"
+    );
+}
+
+#[test]
+fn content_files_that_are_not_files_say_what_they_are() {
+    type Make = fn(&Path);
+    let cases: [(&str, Make, &str); 5] = [
+        (
+            "directory",
+            |p| fs::create_dir(p).unwrap(),
+            "is a directory, not a regular file",
+        ),
+        ("fifo", |p| mkfifo(p), "is a FIFO, not a regular file"),
+        (
+            "loop",
+            |p| symlink("hi-Latn.toml", p).unwrap(),
+            "symbolic link loop",
+        ),
+        (
+            "dangling",
+            |p| symlink("../../old/hi-Latn.toml", p).unwrap(),
+            "dangling symbolic link to ../../old/hi-Latn.toml",
+        ),
+        (
+            "socket",
+            |p| drop(UnixListener::bind(p).unwrap()),
+            "is a socket, not a regular file",
+        ),
+    ];
+    for (name, make, what) in cases {
+        let dir = course();
+        let file = dir.path().join("content/d/hi-Latn.toml");
+        fs::remove_file(&file).unwrap();
+        make(&file);
+        let run = check(dir.path(), &["decks"]);
+        assert_eq!(run.code, 1, "{name}: {}", run.stderr);
+        // Only what the file is: no "no content file", and the card's link
+        // to a section is not reported as unresolved.
+        assert_eq!(
+            headlines(&run.stderr),
+            [format!("content/d/hi-Latn.toml: error: {what}")],
+            "{name}"
+        );
+    }
+}
+
+/// As root, permissions do not stop reads; then there is nothing to test.
+#[test]
+fn an_unreadable_content_file_says_so() {
+    let dir = course();
+    let file = dir.path().join("content/d/hi-Latn.toml");
+    fs::set_permissions(&file, fs::Permissions::from_mode(0o000)).unwrap();
+    if fs::read(&file).is_ok() {
+        eprintln!("skipped: permissions do not stop this user reading files");
+        return;
+    }
+    let run = check(dir.path(), &["decks"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert_eq!(
+        headlines(&run.stderr),
+        ["content/d/hi-Latn.toml: error: cannot be read: permission denied"]
+    );
+}
+
+#[test]
+fn a_content_folder_that_is_a_file_is_not_missing_content() {
+    let dir = course();
+    fs::remove_dir_all(dir.path().join("content/d")).unwrap();
+    write(dir.path(), "content/d", "");
+    let run = check(dir.path(), &["decks"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    let heads = headlines(&run.stderr);
+    assert_eq!(heads.len(), 2, "{}", run.stderr);
+    for (head, lang) in heads.iter().zip(["en", "hi-Latn"]) {
+        assert!(
+            head.starts_with(&format!("content/d/{lang}.toml: error: cannot be read: ")),
+            "{head}"
+        );
+    }
+}
+
+/// Runs `f` on another thread, failing if it does not return in time.
+fn within_timeout<T: Send + 'static>(what: &str, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    rx.recv_timeout(TIMEOUT)
+        .unwrap_or_else(|_| panic!("{what} hung"))
+}
+
+#[test]
+fn the_library_loader_never_opens_a_fifo() {
+    let dir = course();
+    let decks = dir.path().join("decks");
+    mkfifo(&decks.join("x.toml"));
+    fs::remove_file(dir.path().join("content/e/en.toml")).unwrap();
+    mkfifo(&dir.path().join("content/e/en.toml"));
+
+    let loaded = within_timeout("load_dir", {
+        let decks = decks.clone();
+        move || flipcard::deck::load_dir(&decks)
+    });
+    let heads: Vec<String> = loaded.diagnostics.iter().map(|d| d.headline()).collect();
+    let x = decks.join("x.toml");
+    let en = dir.path().join("content/e/en.toml");
+    assert_eq!(
+        heads,
+        [
+            format!("{}: error: is a FIFO, not a regular file", en.display()),
+            format!("{}: error: is a FIFO, not a regular file", x.display()),
+        ]
+    );
+    // The good deck is still there for the app.
+    let ids: Vec<&str> = loaded.decks.iter().map(|d| d.id.as_str()).collect();
+    assert_eq!(ids, ["d"]);
+
+    let loaded = within_timeout("load_paths", {
+        let x: PathBuf = x.clone();
+        move || flipcard::deck::load_paths(&[x])
+    });
+    assert_eq!(loaded.errors(), 1);
+    assert!(loaded.decks.is_empty());
+}
