@@ -145,8 +145,10 @@ fn every_deck_entry_that_is_not_a_file_is_an_error() {
     fs::create_dir(decks.join("f-dir.toml")).unwrap();
     symlink("/dev/null", decks.join("g-null.toml")).unwrap();
     let _socket = UnixListener::bind(decks.join("h-socket.toml")).unwrap();
-    // Not deck files at all: ignored as before.
+    // Not deck files at all: ignored as before; hidden names too (an
+    // editor's lock file is a dangling link while the deck is open).
     mkfifo(&decks.join("notes.txt"));
+    symlink("learner@host.1234:1700000000", decks.join(".#deck.toml")).unwrap();
     fs::create_dir(decks.join("drafts")).unwrap();
 
     let run = check(dir.path(), &["decks"]);

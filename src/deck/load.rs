@@ -95,6 +95,13 @@ fn deck_files(path: &Path, loaded: &mut Loaded) -> Vec<PathBuf> {
                 .filter_map(Result::ok)
                 .map(|e| e.path())
                 .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+                // Hidden names are an editor's (Emacs's `.#deck.toml` lock
+                // is a dangling link while the deck is open), not decks.
+                .filter(|p| {
+                    p.file_name()
+                        .and_then(|n| n.to_str())
+                        .is_some_and(|n| !n.starts_with('.'))
+                })
                 .collect();
             files.sort();
             files
