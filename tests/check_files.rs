@@ -104,7 +104,7 @@ fn the_course_is_valid_to_start_with() {
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert_eq!(
         run.stdout,
-        "2 decks, 2 cards, 0 prompts, 0 scenes, 1 sections: ok\n"
+        "2 decks, 2 cards, 0 prompts, 0 scenes, 1 section: ok\n"
     );
 }
 
@@ -183,7 +183,7 @@ fn a_link_to_a_good_deck_file_is_fine() {
     assert_eq!(run.code, 0, "{}", run.stderr);
     assert_eq!(
         run.stdout,
-        "2 decks, 2 cards, 0 prompts, 0 scenes, 1 sections: ok\n"
+        "2 decks, 2 cards, 0 prompts, 0 scenes, 1 section: ok\n"
     );
 }
 
