@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use crate::sched::Rating;
 
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Action {
     /// Leave the app (Ctrl-C anywhere, `q` on the home screen).
     Quit,

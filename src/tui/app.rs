@@ -134,10 +134,7 @@ impl App {
 
     /// Whether a simulation is playing, so the event loop must tick.
     pub fn animating(&self) -> bool {
-        match self.screen() {
-            Screen::Predict(p) => p.animating(),
-            _ => false,
-        }
+        self.screen().view().animating()
     }
 }
 

@@ -5,6 +5,17 @@
 pub const HINGLISH: &str = "hi-Latn";
 pub const ENGLISH: &str = "en";
 
+/// Words in both languages, English first: the help text of a key, a
+/// label a screen shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Words(pub &'static str, pub &'static str);
+
+impl Words {
+    pub fn get(&self, lang: &str) -> &'static str {
+        if lang == HINGLISH { self.1 } else { self.0 }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Msg {
     AppTitle,
@@ -88,6 +99,22 @@ pub enum Msg {
     Diagnostics,
     Back,
     Quit,
+    // Short names of the home screen's keys.
+    KeyReview,
+    KeyCram,
+    KeyRead,
+    KeyPredict,
+    KeyStats,
+    // Run controls named under a simulation.
+    Pause,
+    Restart,
+    Undo,
+    UnitOptional,
+    CommitFirst,
+    NoStepToChange,
+    Relearning,
+    InReview,
+    AllTime,
 }
 
 /// What the home screen says when no deck could be opened: how many deck
@@ -230,6 +257,26 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         Diagnostics => pick!("diagnostics", "diagnostics"),
         Back => pick!("back", "wapas"),
         Quit => pick!("quit", "band karo"),
+        KeyReview => pick!("review", "review"),
+        KeyCram => pick!("cram", "cram"),
+        KeyRead => pick!("read", "padho"),
+        KeyPredict => pick!("predict", "andaaza"),
+        KeyStats => pick!("stats", "stats"),
+        Pause => pick!("pause", "roko"),
+        Restart => pick!("restart", "phir se"),
+        Undo => pick!("undo", "wapas lo"),
+        UnitOptional => pick!("optional", "likhna zaroori nahi"),
+        CommitFirst => pick!(
+            "Commit first (Enter): the simulation runs only after you answer.",
+            "Pehle jawab pakka karo (Enter): simulation uske baad hi chalega."
+        ),
+        NoStepToChange => pick!(
+            "exact: no step to change (press m for another method)",
+            "exact: koi step nahi badalta (doosra method: m dabao)"
+        ),
+        Relearning => pick!("relearning", "dobara seekh rahe"),
+        InReview => pick!("review", "review"),
+        AllTime => pick!("all time", "hamesha"),
     }
 }
 
@@ -261,6 +308,37 @@ pub fn count(lang: &str, n: usize, noun: Noun) -> String {
         ),
     };
     crate::output::plural(n, one, many)
+}
+
+/// "3h ago" / "3h pehle": how long since `secs` seconds, in the largest
+/// whole unit.
+pub fn ago(lang: &str, secs: i64) -> String {
+    let secs = secs.max(0);
+    let (n, unit) = match secs {
+        s if s < 60 => (s, "s"),
+        s if s < 3600 => (s / 60, "m"),
+        s if s < 86_400 => (s / 3600, "h"),
+        s => (s / 86_400, "d"),
+    };
+    let words = Words("{n}{unit} ago", "{n}{unit} pehle").get(lang);
+    words.replace("{n}", &n.to_string()).replace("{unit}", unit)
+}
+
+/// How a measurement reads in the verdict.
+pub fn measure(m: crate::deck::Measure) -> Words {
+    use crate::deck::Measure as M;
+    match m {
+        M::Flips => Words("flips", "flips"),
+        M::FlipPeriod => Words("flip period", "flip period"),
+        M::GrowthRate => Words("growth rate", "growth rate"),
+        M::EfoldTime => Words("e-folding time", "e-folding time"),
+        M::OscillationFreq => Words("oscillation frequency", "oscillation frequency"),
+        M::PrecessionRate => Words("precession rate", "precession rate"),
+        M::PrecessionPeriod => Words("precession period", "precession period"),
+        M::OmegaChange => Words("largest change of ω", "ω ka sabse bada badlaav"),
+        M::EnergyDrift => Words("energy drift", "energy drift"),
+        M::MomentumDrift => Words("|L| drift", "|L| drift"),
+    }
 }
 
 /// The other language of the two.

@@ -1,12 +1,15 @@
-//! Keys → actions, per screen and mode. One table per context drives both
-//! the key handling and the help overlay, so the help is never out of date.
+//! Keys → actions. Each screen owns the tables of its modes (in its own
+//! module): one row per help line, listing every key with the action it
+//! stands for. The same rows drive the key handling and the help overlay,
+//! so the help is never out of date; the rows here are the ones every
+//! screen shares.
 
 use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
-use crate::sched::Rating;
-
 use super::action::Action;
 use super::app::App;
+use super::i18n::Words;
+use super::screens;
 
 /// Where the keyboard is: a screen, or a mode of one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,493 +39,124 @@ pub enum Context {
 }
 
 impl Context {
+    /// The screen's own rows for this context (its module holds them).
+    pub fn keys(self) -> &'static [Binding] {
+        match self {
+            Context::Home => screens::home::KEYS,
+            Context::Reader => screens::reader::KEYS,
+            Context::ReaderSearch => screens::reader::SEARCH_KEYS,
+            Context::ReviewFront => screens::review::FRONT_KEYS,
+            Context::ReviewTyping => screens::review::TYPING_KEYS,
+            Context::ReviewBack => screens::review::BACK_KEYS,
+            Context::ReviewDone => screens::review::DONE_KEYS,
+            Context::Prompts => screens::prompts::KEYS,
+            Context::PredictChoice => screens::predict::CHOICE_KEYS,
+            Context::PredictNumber => screens::predict::NUMBER_KEYS,
+            Context::PredictRun => screens::predict::RUN_KEYS,
+            Context::PredictVerdict => screens::predict::VERDICT_KEYS,
+            Context::Stats => screens::stats::KEYS,
+        }
+    }
+
     /// Contexts where printable keys are typed into a field.
     pub fn is_text_input(self) -> bool {
-        matches!(
-            self,
-            Context::ReaderSearch | Context::ReviewTyping | Context::PredictNumber
-        )
+        self.keys().iter().any(|b| matches!(b.keys, Keys::Text))
     }
 }
 
+/// What a help line's keys do.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Keys {
+    /// Each key with the action it stands for.
+    Map(&'static [(KeyCode, Action)]),
+    /// Printable characters are typed into the screen's field.
+    Text,
+    /// Keys the event loop handles before any table (Ctrl-C); listed for
+    /// the help only.
+    Shown,
+}
+
 /// One line of the help overlay and the keys it stands for.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Binding {
     /// The keys as the help overlay shows them.
     pub label: &'static str,
     /// What they do, in English and Hinglish.
-    pub help: (&'static str, &'static str),
-    pub keys: Vec<KeyCode>,
-    pub action: Action,
+    pub help: Words,
+    pub keys: Keys,
 }
 
 impl Binding {
+    pub const fn new(label: &'static str, help: Words, keys: &'static [(KeyCode, Action)]) -> Self {
+        Binding {
+            label,
+            help,
+            keys: Keys::Map(keys),
+        }
+    }
+
+    /// The row of a text field: what typing enters.
+    pub const fn typing(help: Words) -> Self {
+        Binding {
+            label: "type",
+            help,
+            keys: Keys::Text,
+        }
+    }
+
     pub fn help(&self, lang: &str) -> &'static str {
-        if lang == super::i18n::HINGLISH {
-            self.help.1
-        } else {
-            self.help.0
+        self.help.get(lang)
+    }
+
+    fn action(&self, code: KeyCode) -> Option<Action> {
+        match self.keys {
+            Keys::Map(keys) => keys.iter().find(|(k, _)| *k == code).map(|(_, a)| *a),
+            Keys::Text | Keys::Shown => None,
         }
     }
 }
 
-fn b(
-    label: &'static str,
-    en: &'static str,
-    hi: &'static str,
-    keys: &[KeyCode],
-    action: Action,
-) -> Binding {
-    Binding {
-        label,
-        help: (en, hi),
-        keys: keys.to_vec(),
-        action,
-    }
-}
+use KeyCode::{Char, F};
 
-use KeyCode::{
-    BackTab, Backspace, Char, Down, End, Enter, Esc, F, Home, Left, PageDown, PageUp, Right, Tab,
-    Up,
+/// Rows every screen has. While a field has the keyboard, `?` and `l` are
+/// letters to type, so only F1 opens the help there.
+const GLOBAL: &[Binding] = &[
+    Binding::new(
+        "? F1",
+        Words("this help", "yeh madad"),
+        &[(Char('?'), Action::ToggleHelp), (F(1), Action::ToggleHelp)],
+    ),
+    Binding::new(
+        "l",
+        Words("English ⇄ Hinglish", "English ⇄ Hinglish"),
+        &[(Char('l'), Action::ToggleLanguage)],
+    ),
+    QUIT_AT_ONCE,
+];
+
+const GLOBAL_TYPING: &[Binding] = &[
+    Binding::new(
+        "F1",
+        Words("this help", "yeh madad"),
+        &[(F(1), Action::ToggleHelp)],
+    ),
+    QUIT_AT_ONCE,
+];
+
+const QUIT_AT_ONCE: Binding = Binding {
+    label: "Ctrl-C",
+    help: Words("quit at once", "turant band karo"),
+    keys: Keys::Shown,
 };
 
-fn explain_binding() -> Binding {
-    b(
-        "e",
-        "open the explanation",
-        "samjhaav kholo",
-        &[Char('e')],
-        Action::Explain,
-    )
-}
-
-fn undo_binding() -> Binding {
-    b(
-        "u",
-        "undo the last rating",
-        "pichhli rating wapas lo",
-        &[Char('u')],
-        Action::Undo,
-    )
-}
-
-fn end_session_binding() -> Binding {
-    b(
-        "Esc q",
-        "end the session",
-        "session khatam karo",
-        &[Esc, Char('q')],
-        Action::Back,
-    )
-}
-
-fn rate_bindings() -> Vec<Binding> {
-    vec![
-        b(
-            "1",
-            "Again: forgot it",
-            "Phir se: bhool gaye",
-            &[Char('1')],
-            Action::Rate(Rating::Again),
-        ),
-        b(
-            "2",
-            "Hard: recalled with effort",
-            "Mushkil: mehnat se yaad aaya",
-            &[Char('2')],
-            Action::Rate(Rating::Hard),
-        ),
-        b(
-            "3",
-            "Good: recalled",
-            "Theek: yaad aaya",
-            &[Char('3')],
-            Action::Rate(Rating::Good),
-        ),
-        b(
-            "4",
-            "Easy: instantly",
-            "Aasaan: turant",
-            &[Char('4')],
-            Action::Rate(Rating::Easy),
-        ),
-    ]
-}
-
-fn common(typing: bool) -> Vec<Binding> {
-    let mut v = Vec::new();
-    if typing {
-        v.push(b(
-            "F1",
-            "this help",
-            "yeh madad",
-            &[F(1)],
-            Action::ToggleHelp,
-        ));
-    } else {
-        v.push(b(
-            "? F1",
-            "this help",
-            "yeh madad",
-            &[Char('?'), F(1)],
-            Action::ToggleHelp,
-        ));
-        v.push(b(
-            "l",
-            "English ⇄ Hinglish",
-            "English ⇄ Hinglish",
-            &[Char('l')],
-            Action::ToggleLanguage,
-        ));
-    }
-    v.push(b(
-        "Ctrl-C",
-        "quit at once",
-        "turant band karo",
-        &[],
-        Action::Quit,
-    ));
-    v
-}
-
-/// The bindings of a context, in the order the help overlay lists them.
+/// The rows of a context, in the order the help overlay lists them.
 pub fn bindings(ctx: Context) -> Vec<Binding> {
-    let mut v = match ctx {
-        Context::Home => vec![
-            b(
-                "↑↓ j k",
-                "choose a deck",
-                "deck chuno",
-                &[Up, Down, Char('j'), Char('k')],
-                Action::Down,
-            ),
-            b(
-                "Enter",
-                "review the due cards",
-                "baaki cards review karo",
-                &[Enter],
-                Action::OpenReview,
-            ),
-            b(
-                "c",
-                "cram: review everything now",
-                "cram: sab abhi review karo",
-                &[Char('c')],
-                Action::OpenCram,
-            ),
-            b(
-                "r",
-                "read the explanations",
-                "explanations padho",
-                &[Char('r')],
-                Action::OpenReader,
-            ),
-            b(
-                "p",
-                "prompts and simulations",
-                "prompts aur simulations",
-                &[Char('p')],
-                Action::OpenPrompts,
-            ),
-            b(
-                "t",
-                "statistics",
-                "statistics",
-                &[Char('t')],
-                Action::OpenStats,
-            ),
-            b("q", "quit", "band karo", &[Char('q'), Esc], Action::Quit),
-        ],
-        Context::Reader => vec![
-            b(
-                "j k ↑↓",
-                "scroll",
-                "scroll karo",
-                &[Down, Up, Char('j'), Char('k')],
-                Action::Down,
-            ),
-            b(
-                "PgUp PgDn",
-                "scroll a page",
-                "ek page scroll",
-                &[PageUp, PageDown, Char(' ')],
-                Action::PageDown,
-            ),
-            b(
-                "g G",
-                "top / bottom",
-                "shuru / ant",
-                &[Char('g'), Char('G'), Home, End],
-                Action::Top,
-            ),
-            b(
-                "← → h",
-                "previous / next section",
-                "pichhla / agla section",
-                &[Left, Right, Char('h')],
-                Action::NextSection,
-            ),
-            b(
-                "/",
-                "search every section",
-                "har section mein khojo",
-                &[Char('/')],
-                Action::StartSearch,
-            ),
-            b(
-                "n N",
-                "next / previous match",
-                "agla / pichhla match",
-                &[Char('n'), Char('N')],
-                Action::NextMatch,
-            ),
-            b(
-                "Tab",
-                "choose a linked section",
-                "juda section chuno",
-                &[Tab, BackTab],
-                Action::NextLink,
-            ),
-            b(
-                "Enter",
-                "follow the link",
-                "link kholo",
-                &[Enter],
-                Action::FollowLink,
-            ),
-            b("Esc q", "back", "wapas", &[Esc, Char('q')], Action::Back),
-        ],
-        Context::ReaderSearch => vec![
-            b(
-                "type",
-                "the words to find",
-                "khojne ke shabd",
-                &[],
-                Action::Input(' '),
-            ),
-            b("Enter", "find", "khojo", &[Enter], Action::Submit),
-            b(
-                "Backspace",
-                "delete a character",
-                "ek akshar mitao",
-                &[Backspace],
-                Action::Backspace,
-            ),
-            b("Esc", "cancel", "radd karo", &[Esc], Action::Back),
-        ],
-        Context::ReviewFront => vec![
-            b(
-                "Space Enter",
-                "show the answer",
-                "jawab dikhao",
-                &[Char(' '), Enter],
-                Action::Reveal,
-            ),
-            explain_binding(),
-            undo_binding(),
-            end_session_binding(),
-        ],
-        Context::ReviewTyping => vec![
-            b("type", "your answer", "apna jawab", &[], Action::Input(' ')),
-            b(
-                "Enter",
-                "check the answer",
-                "jawab jaancho",
-                &[Enter],
-                Action::Submit,
-            ),
-            b(
-                "Backspace",
-                "delete a character",
-                "ek akshar mitao",
-                &[Backspace],
-                Action::Backspace,
-            ),
-            b(
-                "Esc",
-                "end the session",
-                "session khatam karo",
-                &[Esc],
-                Action::Back,
-            ),
-        ],
-        Context::ReviewBack => {
-            let mut v = rate_bindings();
-            v.extend([
-                b(
-                    "Space Enter",
-                    "Good (or the suggested rating)",
-                    "Theek (ya sujhaayi rating)",
-                    &[Char(' '), Enter],
-                    Action::Submit,
-                ),
-                explain_binding(),
-                b(
-                    "p",
-                    "try the linked prediction",
-                    "judi prediction try karo",
-                    &[Char('p')],
-                    Action::OpenCardPrompt,
-                ),
-                undo_binding(),
-                end_session_binding(),
-            ]);
-            v
-        }
-        Context::ReviewDone => vec![
-            undo_binding(),
-            b(
-                "Esc q Enter",
-                "back to the decks",
-                "decks par wapas",
-                &[Esc, Char('q'), Enter],
-                Action::Back,
-            ),
-        ],
-        Context::Prompts => vec![
-            b(
-                "↑↓ j k",
-                "choose a prompt",
-                "prompt chuno",
-                &[Up, Down, Char('j'), Char('k')],
-                Action::Down,
-            ),
-            b(
-                "Enter",
-                "predict, then check",
-                "andaaza lagao, phir jaancho",
-                &[Enter],
-                Action::Open,
-            ),
-            b("Esc q", "back", "wapas", &[Esc, Char('q')], Action::Back),
-        ],
-        Context::PredictChoice => vec![
-            b(
-                "↑↓ j k",
-                "choose",
-                "chuno",
-                &[Up, Down, Char('j'), Char('k')],
-                Action::Down,
-            ),
-            b(
-                "1-9",
-                "choose by number",
-                "number se chuno",
-                &[],
-                Action::Choose(0),
-            ),
-            b(
-                "Enter",
-                "commit and run",
-                "pakka karo aur chalao",
-                &[Enter],
-                Action::Submit,
-            ),
-            b("Esc q", "back", "wapas", &[Esc, Char('q')], Action::Back),
-        ],
-        Context::PredictNumber => vec![
-            b(
-                "type",
-                "a number, optionally with its unit",
-                "ek number, unit ke saath bhi",
-                &[],
-                Action::Input(' '),
-            ),
-            b(
-                "Enter",
-                "commit and run",
-                "pakka karo aur chalao",
-                &[Enter],
-                Action::Submit,
-            ),
-            b(
-                "Backspace",
-                "delete a character",
-                "ek akshar mitao",
-                &[Backspace],
-                Action::Backspace,
-            ),
-            b("Esc", "back", "wapas", &[Esc], Action::Back),
-        ],
-        Context::PredictRun | Context::PredictVerdict => {
-            let mut v = vec![
-                b(
-                    "Space",
-                    "pause / play",
-                    "roko / chalao",
-                    &[Char(' ')],
-                    Action::TogglePause,
-                ),
-                b(
-                    "+ -",
-                    "faster / slower",
-                    "tez / dheere",
-                    &[Char('+'), Char('='), Char('-')],
-                    Action::Faster,
-                ),
-                b(
-                    "r",
-                    "restart",
-                    "phir se shuru",
-                    &[Char('r')],
-                    Action::Restart,
-                ),
-                b(
-                    "m",
-                    "switch method (exact, adaptive, splitting, RK4)",
-                    "method badlo (exact, adaptive, splitting, RK4)",
-                    &[Char('m')],
-                    Action::NextMethod,
-                ),
-                b(
-                    "[ ]",
-                    "smaller / larger step",
-                    "chhota / bada step",
-                    &[Char('['), Char(']')],
-                    Action::LargerStep,
-                ),
-            ];
-            if ctx == Context::PredictVerdict {
-                v.push(explain_binding());
-            }
-            v.push(b("Esc q", "back", "wapas", &[Esc, Char('q')], Action::Back));
-            v
-        }
-        Context::Stats => vec![b("Esc q", "back", "wapas", &[Esc, Char('q')], Action::Back)],
+    let global = if ctx.is_text_input() {
+        GLOBAL_TYPING
+    } else {
+        GLOBAL
     };
-    v.extend(common(ctx.is_text_input()));
-    v
-}
-
-/// The action of a key in a context. Keys that share a help line map to
-/// different actions (↑ and ↓ both sit on "choose"), so the exact action is
-/// decided here.
-fn action_for(ctx: Context, code: KeyCode) -> Option<Action> {
-    let a = match (ctx, code) {
-        (_, Up | Char('k')) if !ctx.is_text_input() => Action::Up,
-        (_, Down | Char('j')) if !ctx.is_text_input() => Action::Down,
-        (Context::Reader, PageUp) => Action::PageUp,
-        (Context::Reader, PageDown | Char(' ')) => Action::PageDown,
-        (Context::Reader, Char('g') | Home) => Action::Top,
-        (Context::Reader, Char('G') | End) => Action::Bottom,
-        (Context::Reader, Left | Char('h')) => Action::PrevSection,
-        (Context::Reader, Right) => Action::NextSection,
-        (Context::Reader, Char('n')) => Action::NextMatch,
-        (Context::Reader, Char('N')) => Action::PrevMatch,
-        (Context::Reader, Tab | BackTab) => Action::NextLink,
-        (Context::PredictChoice, Char(c @ '1'..='9')) => Action::Choose(c as usize - '1' as usize),
-        (Context::PredictRun | Context::PredictVerdict, Char('+') | Char('=')) => Action::Faster,
-        (Context::PredictRun | Context::PredictVerdict, Char('-')) => Action::Slower,
-        (Context::PredictRun | Context::PredictVerdict, Char('[')) => Action::SmallerStep,
-        (Context::PredictRun | Context::PredictVerdict, Char(']')) => Action::LargerStep,
-        _ => {
-            return bindings(ctx)
-                .into_iter()
-                .find(|bind| bind.keys.contains(&code))
-                .map(|bind| bind.action);
-        }
-    };
-    Some(a)
+    ctx.keys().iter().chain(global).copied().collect()
 }
 
 /// The action a key press stands for in the app's current state.
@@ -546,12 +180,12 @@ pub fn key_action(app: &App, key: KeyEvent) -> Option<Action> {
     if app.help {
         return Some(Action::CloseHelp);
     }
-    let ctx = app.context();
-    if let Some(action) = action_for(ctx, key.code) {
+    let rows = bindings(app.context());
+    if let Some(action) = rows.iter().find_map(|b| b.action(key.code)) {
         return Some(action);
     }
     match key.code {
-        Char(c) if ctx.is_text_input() => Some(Action::Input(c)),
+        Char(c) if rows.iter().any(|b| b.keys == Keys::Text) => Some(Action::Input(c)),
         _ => None,
     }
 }

@@ -5,7 +5,7 @@
 use super::action::Action;
 use super::app::App;
 use super::i18n;
-use super::screens::{self, Nav, Screen};
+use super::screens::Nav;
 
 pub fn apply(app: &mut App, action: Action) {
     match action {
@@ -34,14 +34,7 @@ pub fn apply(app: &mut App, action: Action) {
     let Some(mut top) = app.stack.pop() else {
         return;
     };
-    let nav = match &mut top {
-        Screen::Home(s) => screens::home::apply(app, s, action),
-        Screen::Prompts(s) => screens::prompts::apply(app, s, action),
-        Screen::Predict(s) => screens::predict::apply(app, s, action),
-        Screen::Review(s) => screens::review::apply(app, s, action),
-        Screen::Reader(s) => screens::reader::apply(app, s, action),
-        Screen::Stats(s) => screens::stats::apply(app, s, action),
-    };
+    let nav = top.view_mut().apply(app, action);
     app.stack.push(top);
     match nav {
         Nav::Stay => {}

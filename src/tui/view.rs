@@ -10,7 +10,6 @@ use ratatui::widgets::{Block, Borders, Clear, Paragraph, Row, Table, Wrap};
 use super::app::App;
 use super::i18n::Msg;
 use super::keymap::{self, Context};
-use super::screens::{self, Screen};
 
 /// The smallest terminal the screens are laid out for.
 pub const MIN_WIDTH: u16 = 40;
@@ -29,14 +28,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
     let header = Rect::new(area.x, area.y, area.width, 1);
     let footer = Rect::new(area.x, area.bottom().saturating_sub(1), area.width, 1);
     draw_header(frame, header, app);
-    match app.screen() {
-        Screen::Home(s) => screens::home::draw(frame, body, app, s),
-        Screen::Prompts(s) => screens::prompts::draw(frame, body, app, s),
-        Screen::Predict(s) => screens::predict::draw(frame, body, app, s),
-        Screen::Review(s) => screens::review::draw(frame, body, app, s),
-        Screen::Reader(s) => screens::reader::draw(frame, body, app, s),
-        Screen::Stats(s) => screens::stats::draw(frame, body, app, s),
-    }
+    app.screen().view().draw(frame, body, app);
     draw_footer(frame, footer, app);
     if app.help {
         draw_help(frame, body, app);
@@ -45,15 +37,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
 
 /// What the screen is, without the deck ("Review", "Reader").
 fn screen_name(app: &App) -> &'static str {
-    app.tr(match app.screen() {
-        Screen::Home(_) => Msg::Decks,
-        Screen::Prompts(_) => Msg::Prompts,
-        Screen::Predict(_) => Msg::Predict,
-        Screen::Review(s) if s.cram => Msg::Cram,
-        Screen::Review(_) => Msg::Review,
-        Screen::Reader(_) => Msg::Reader,
-        Screen::Stats(_) => Msg::Stats,
-    })
+    app.tr(app.screen().view().name())
 }
 
 /// `text` cut to `width` columns, with an ellipsis when cut.
@@ -79,14 +63,13 @@ fn fit(text: &str, width: usize) -> String {
     out
 }
 
+/// The screen's name, after the deck's title when it is about one deck.
 fn screen_title(app: &App) -> String {
-    match app.screen() {
-        Screen::Home(_) => app.tr(Msg::Decks).to_string(),
-        Screen::Prompts(s) => deck_title(app, s.deck, Msg::Prompts),
-        Screen::Predict(s) => deck_title(app, s.deck, Msg::Predict),
-        Screen::Review(s) => deck_title(app, s.deck, if s.cram { Msg::Cram } else { Msg::Review }),
-        Screen::Reader(s) => deck_title(app, s.deck, Msg::Reader),
-        Screen::Stats(s) => deck_title(app, s.deck, Msg::Stats),
+    let view = app.screen().view();
+    let name = app.tr(view.name());
+    match view.deck().and_then(|d| app.decks.get(d)) {
+        Some(d) => format!("{} · {name}", d.title.get(&app.lang)),
+        None => name.to_string(),
     }
 }
 
@@ -203,13 +186,6 @@ pub fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
         );
     frame.render_widget(Clear, popup);
     frame.render_widget(table, popup);
-}
-
-fn deck_title(app: &App, deck: usize, what: Msg) -> String {
-    match app.decks.get(deck) {
-        Some(d) => format!("{} · {}", d.title.get(&app.lang), app.tr(what)),
-        None => app.tr(what).to_string(),
-    }
 }
 
 /// The screen body (between header and footer) for a terminal size; the

@@ -11,6 +11,52 @@ use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Noun};
 
 use super::{Nav, Screen};
+use crate::tui::i18n::Words;
+use crate::tui::keymap::Binding;
+use crossterm::event::KeyCode::{Char, Down, Enter, Esc, Up};
+
+pub const KEYS: &[Binding] = &[
+    Binding::new(
+        "↑↓ j k",
+        Words("choose a deck", "deck chuno"),
+        &[
+            (Up, Action::Up),
+            (Down, Action::Down),
+            (Char('j'), Action::Down),
+            (Char('k'), Action::Up),
+        ],
+    ),
+    Binding::new(
+        "Enter",
+        Words("review the due cards", "baaki cards review karo"),
+        &[(Enter, Action::OpenReview)],
+    ),
+    Binding::new(
+        "c",
+        Words("cram: review everything now", "cram: sab abhi review karo"),
+        &[(Char('c'), Action::OpenCram)],
+    ),
+    Binding::new(
+        "r",
+        Words("read the explanations", "explanations padho"),
+        &[(Char('r'), Action::OpenReader)],
+    ),
+    Binding::new(
+        "p",
+        Words("prompts and simulations", "prompts aur simulations"),
+        &[(Char('p'), Action::OpenPrompts)],
+    ),
+    Binding::new(
+        "t",
+        Words("statistics", "statistics"),
+        &[(Char('t'), Action::OpenStats)],
+    ),
+    Binding::new(
+        "q",
+        Words("quit", "band karo"),
+        &[(Char('q'), Action::Quit), (Esc, Action::Quit)],
+    ),
+];
 
 /// What is waiting in one deck today.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -46,6 +92,21 @@ impl HomeState {
     pub fn refresh(&mut self, fresh: HomeState) {
         self.rows = fresh.rows;
         self.selected = self.selected.min(self.rows.len().saturating_sub(1));
+    }
+}
+
+impl super::View for HomeState {
+    fn context(&self) -> crate::tui::keymap::Context {
+        crate::tui::keymap::Context::Home
+    }
+    fn apply(&mut self, app: &mut App, action: Action) -> Nav {
+        apply(app, self, action)
+    }
+    fn draw(&self, frame: &mut Frame, area: Rect, app: &App) {
+        draw(frame, area, app, self)
+    }
+    fn name(&self) -> Msg {
+        Msg::Decks
     }
 }
 
@@ -86,19 +147,7 @@ pub fn ago(app: &App, then: Option<DateTime<Utc>>) -> String {
     let Some(then) = then else {
         return app.tr(Msg::Never).to_string();
     };
-    let secs = (app.services.now() - then).num_seconds().max(0);
-    let hi = app.lang == crate::tui::i18n::HINGLISH;
-    let (n, unit) = match secs {
-        s if s < 60 => (s, "s"),
-        s if s < 3600 => (s / 60, "m"),
-        s if s < 86_400 => (s / 3600, "h"),
-        s => (s / 86_400, "d"),
-    };
-    if hi {
-        format!("{n}{unit} pehle")
-    } else {
-        format!("{n}{unit} ago")
-    }
+    crate::tui::i18n::ago(&app.lang, (app.services.now() - then).num_seconds())
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
@@ -116,20 +165,16 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
         Constraint::Length(1),
     ])
     .areas(area);
-    let hi = app.lang == crate::tui::i18n::HINGLISH;
     let mut keys = vec![Span::raw(" ")];
-    for (k, en, h) in [
-        ("Enter", "review", "review"),
-        ("c", "cram", "cram"),
-        ("r", "read", "padho"),
-        ("p", "predict", "andaaza"),
-        ("t", "stats", "stats"),
+    for (k, what) in [
+        ("Enter", Msg::KeyReview),
+        ("c", Msg::KeyCram),
+        ("r", Msg::KeyRead),
+        ("p", Msg::KeyPredict),
+        ("t", Msg::KeyStats),
     ] {
         keys.push(Span::styled(k, t.key()));
-        keys.push(Span::styled(
-            format!(" {}  ", if hi { h } else { en }),
-            t.dim(),
-        ));
+        keys.push(Span::styled(format!(" {}  ", app.tr(what)), t.dim()));
     }
     frame.render_widget(Paragraph::new(Line::from(keys)), keys_area);
 

@@ -7,7 +7,32 @@ pub mod reader;
 pub mod review;
 pub mod stats;
 
+use ratatui::Frame;
+use ratatui::layout::Rect;
+
+use super::action::Action;
+use super::app::App;
+use super::i18n::Msg;
 use super::keymap::Context;
+
+/// What every screen does: say where the keyboard is (and so which of its
+/// key tables applies), carry out actions, draw itself, and name itself in
+/// the header. The app reaches a screen only through this.
+pub trait View {
+    fn context(&self) -> Context;
+    fn apply(&mut self, app: &mut App, action: Action) -> Nav;
+    fn draw(&self, frame: &mut Frame, area: Rect, app: &App);
+    /// What the screen is, for the header ("Review", "Reader").
+    fn name(&self) -> Msg;
+    /// The deck the screen is about, named in the header beside `name`.
+    fn deck(&self) -> Option<usize> {
+        None
+    }
+    /// Whether it plays something, so the event loop must tick.
+    fn animating(&self) -> bool {
+        false
+    }
+}
 
 pub enum Screen {
     Home(home::HomeState),
@@ -19,26 +44,30 @@ pub enum Screen {
 }
 
 impl Screen {
-    pub fn context(&self) -> Context {
+    pub fn view(&self) -> &dyn View {
         match self {
-            Screen::Home(_) => Context::Home,
-            Screen::Review(r) => match &r.phase {
-                review::Phase::Front { .. } if r.typed => Context::ReviewTyping,
-                review::Phase::Front { .. } => Context::ReviewFront,
-                review::Phase::Back { .. } => Context::ReviewBack,
-                review::Phase::Done => Context::ReviewDone,
-            },
-            Screen::Reader(r) if r.search.is_some() => Context::ReaderSearch,
-            Screen::Reader(_) => Context::Reader,
-            Screen::Prompts(_) => Context::Prompts,
-            Screen::Predict(p) => match &p.phase {
-                predict::Phase::Ask { .. } if p.choice => Context::PredictChoice,
-                predict::Phase::Ask { .. } => Context::PredictNumber,
-                predict::Phase::Play { verdict: None, .. } => Context::PredictRun,
-                predict::Phase::Play { .. } => Context::PredictVerdict,
-            },
-            Screen::Stats(_) => Context::Stats,
+            Screen::Home(s) => s,
+            Screen::Review(s) => s.as_ref(),
+            Screen::Reader(s) => s,
+            Screen::Prompts(s) => s,
+            Screen::Predict(s) => s.as_ref(),
+            Screen::Stats(s) => s.as_ref(),
         }
+    }
+
+    pub fn view_mut(&mut self) -> &mut dyn View {
+        match self {
+            Screen::Home(s) => s,
+            Screen::Review(s) => s.as_mut(),
+            Screen::Reader(s) => s,
+            Screen::Prompts(s) => s,
+            Screen::Predict(s) => s.as_mut(),
+            Screen::Stats(s) => s.as_mut(),
+        }
+    }
+
+    pub fn context(&self) -> Context {
+        self.view().context()
     }
 }
 

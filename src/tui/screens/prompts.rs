@@ -10,6 +10,32 @@ use crate::tui::app::App;
 use crate::tui::i18n::Msg;
 
 use super::Nav;
+use crate::tui::i18n::Words;
+use crate::tui::keymap::Binding;
+use crossterm::event::KeyCode::{Char, Down, Enter, Esc, Up};
+
+pub const KEYS: &[Binding] = &[
+    Binding::new(
+        "↑↓ j k",
+        Words("choose a prompt", "prompt chuno"),
+        &[
+            (Up, Action::Up),
+            (Down, Action::Down),
+            (Char('j'), Action::Down),
+            (Char('k'), Action::Up),
+        ],
+    ),
+    Binding::new(
+        "Enter",
+        Words("predict, then check", "andaaza lagao, phir jaancho"),
+        &[(Enter, Action::Open)],
+    ),
+    Binding::new(
+        "Esc q",
+        Words("back", "wapas"),
+        &[(Esc, Action::Back), (Char('q'), Action::Back)],
+    ),
+];
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct PromptsState {
@@ -20,6 +46,24 @@ pub struct PromptsState {
 impl PromptsState {
     pub fn new(deck: usize) -> PromptsState {
         PromptsState { deck, selected: 0 }
+    }
+}
+
+impl super::View for PromptsState {
+    fn context(&self) -> crate::tui::keymap::Context {
+        crate::tui::keymap::Context::Prompts
+    }
+    fn apply(&mut self, app: &mut App, action: Action) -> Nav {
+        apply(app, self, action)
+    }
+    fn draw(&self, frame: &mut Frame, area: Rect, app: &App) {
+        draw(frame, area, app, self)
+    }
+    fn name(&self) -> Msg {
+        Msg::Prompts
+    }
+    fn deck(&self) -> Option<usize> {
+        Some(self.deck)
     }
 }
 

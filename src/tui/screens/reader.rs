@@ -18,6 +18,92 @@ use crate::tui::view;
 use crate::tui::wrap::{Run, line_text, wrap};
 
 use super::Nav;
+use crate::tui::i18n::Words;
+use crate::tui::keymap::Binding;
+use crossterm::event::KeyCode::{
+    BackTab, Backspace, Char, Down, End, Enter, Esc, Home, Left, PageDown, PageUp, Right, Tab, Up,
+};
+
+pub const KEYS: &[Binding] = &[
+    Binding::new(
+        "j k ↑↓",
+        Words("scroll", "scroll karo"),
+        &[
+            (Down, Action::Down),
+            (Up, Action::Up),
+            (Char('j'), Action::Down),
+            (Char('k'), Action::Up),
+        ],
+    ),
+    Binding::new(
+        "PgUp PgDn",
+        Words("scroll a page", "ek page scroll"),
+        &[
+            (PageUp, Action::PageUp),
+            (PageDown, Action::PageDown),
+            (Char(' '), Action::PageDown),
+        ],
+    ),
+    Binding::new(
+        "g G",
+        Words("top / bottom", "shuru / ant"),
+        &[
+            (Char('g'), Action::Top),
+            (Char('G'), Action::Bottom),
+            (Home, Action::Top),
+            (End, Action::Bottom),
+        ],
+    ),
+    Binding::new(
+        "← → h",
+        Words("previous / next section", "pichhla / agla section"),
+        &[
+            (Left, Action::PrevSection),
+            (Right, Action::NextSection),
+            (Char('h'), Action::PrevSection),
+        ],
+    ),
+    Binding::new(
+        "/",
+        Words("search every section", "har section mein khojo"),
+        &[(Char('/'), Action::StartSearch)],
+    ),
+    Binding::new(
+        "n N",
+        Words("next / previous match", "agla / pichhla match"),
+        &[
+            (Char('n'), Action::NextMatch),
+            (Char('N'), Action::PrevMatch),
+        ],
+    ),
+    Binding::new(
+        "Tab",
+        Words("choose a linked section", "juda section chuno"),
+        &[(Tab, Action::NextLink), (BackTab, Action::NextLink)],
+    ),
+    Binding::new(
+        "Enter",
+        Words("follow the link", "link kholo"),
+        &[(Enter, Action::FollowLink)],
+    ),
+    Binding::new(
+        "Esc q",
+        Words("back", "wapas"),
+        &[(Esc, Action::Back), (Char('q'), Action::Back)],
+    ),
+];
+
+/// While a search is typed.
+pub const SEARCH_KEYS: &[Binding] = &[
+    Binding::typing(Words("the words to find", "khojne ke shabd")),
+    Binding::new("Enter", Words("find", "khojo"), &[(Enter, Action::Submit)]),
+    Binding::new(
+        "Backspace",
+        Words("delete a character", "ek akshar mitao"),
+        &[(Backspace, Action::Backspace)],
+    ),
+    Binding::new("Esc", Words("cancel", "radd karo"), &[(Esc, Action::Back)]),
+];
 
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct ReaderState {
@@ -261,6 +347,28 @@ fn find(
         hits.iter().rev().find(|&&h| h < here).or(hits.last())
     };
     pick.copied()
+}
+
+impl super::View for ReaderState {
+    fn context(&self) -> crate::tui::keymap::Context {
+        if self.search.is_some() {
+            crate::tui::keymap::Context::ReaderSearch
+        } else {
+            crate::tui::keymap::Context::Reader
+        }
+    }
+    fn apply(&mut self, app: &mut App, action: Action) -> Nav {
+        apply(app, self, action)
+    }
+    fn draw(&self, frame: &mut Frame, area: Rect, app: &App) {
+        draw(frame, area, app, self)
+    }
+    fn name(&self) -> Msg {
+        Msg::Reader
+    }
+    fn deck(&self) -> Option<usize> {
+        Some(self.deck)
+    }
 }
 
 pub fn apply(app: &mut App, state: &mut ReaderState, action: Action) -> Nav {

@@ -17,6 +17,15 @@ use crate::tui::i18n::{Msg, Noun};
 use crate::tui::services::DayZone;
 
 use super::Nav;
+use crate::tui::i18n::Words;
+use crate::tui::keymap::Binding;
+use crossterm::event::KeyCode::{Char, Esc};
+
+pub const KEYS: &[Binding] = &[Binding::new(
+    "Esc q",
+    Words("back", "wapas"),
+    &[(Esc, Action::Back), (Char('q'), Action::Back)],
+)];
 
 /// The most accurate run of one method on one problem of the bench.
 #[derive(Debug, Clone, PartialEq)]
@@ -114,6 +123,24 @@ pub fn read_bench(path: &Path) -> Option<Vec<BenchRow>> {
     Some(rows)
 }
 
+impl super::View for StatsState {
+    fn context(&self) -> crate::tui::keymap::Context {
+        crate::tui::keymap::Context::Stats
+    }
+    fn apply(&mut self, app: &mut App, action: Action) -> Nav {
+        apply(app, self, action)
+    }
+    fn draw(&self, frame: &mut Frame, area: Rect, app: &App) {
+        draw(frame, area, app, self)
+    }
+    fn name(&self) -> Msg {
+        Msg::Stats
+    }
+    fn deck(&self) -> Option<usize> {
+        Some(self.deck)
+    }
+}
+
 pub fn apply(_app: &mut App, _state: &mut StatsState, action: Action) -> Nav {
     match action {
         Action::Back => Nav::Pop,
@@ -151,26 +178,18 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
     .areas(area);
 
     let c = &stats.cards;
-    let hi = app.lang == crate::tui::i18n::HINGLISH;
-    let states = if hi {
-        format!(
-            " {}: {} naye · {} seekh rahe · {} review · {} dobara seekh rahe",
-            app.count(c.total as usize, Noun::Card),
-            c.new,
-            c.learning,
-            c.review,
-            c.relearning
-        )
-    } else {
-        format!(
-            " {}: {} new · {} learning · {} review · {} relearning",
-            app.count(c.total as usize, Noun::Card),
-            c.new,
-            c.learning,
-            c.review,
-            c.relearning
-        )
-    };
+    let states = format!(
+        " {}: {} {} · {} {} · {} {} · {} {}",
+        app.count(c.total as usize, Noun::Card),
+        c.new,
+        app.tr(Msg::New),
+        c.learning,
+        app.tr(Msg::Learning),
+        c.review,
+        app.tr(Msg::InReview),
+        c.relearning,
+        app.tr(Msg::Relearning)
+    );
     let p = &stats.prompts.overall;
     let lines = vec![
         Line::styled(states, t.text()),
@@ -184,7 +203,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
                     stats.retention.last_30_days.total,
                     app.tr(Msg::Reviewed),
                     pct(stats.retention.all_time.rate),
-                    if hi { "hamesha" } else { "all time" }
+                    app.tr(Msg::AllTime)
                 ),
                 t.dim(),
             ),

@@ -15,22 +15,6 @@ use crate::tui::wrap::{Run, wrap};
 
 use super::{Phase, PredictState, Prediction, Verdict, prompt};
 
-/// "flips", "growth_rate" → how the measurement reads in the verdict.
-fn measure_label(m: Measure) -> &'static str {
-    match m {
-        Measure::Flips => "flips",
-        Measure::FlipPeriod => "flip period",
-        Measure::GrowthRate => "growth rate",
-        Measure::EfoldTime => "e-folding time",
-        Measure::OscillationFreq => "oscillation frequency",
-        Measure::PrecessionRate => "precession rate",
-        Measure::PrecessionPeriod => "precession period",
-        Measure::OmegaChange => "largest change of ω",
-        Measure::EnergyDrift => "energy drift",
-        Measure::MomentumDrift => "|L| drift",
-    }
-}
-
 /// A number as the verdict shows it: integers plainly, others with 3
 /// significant digits.
 pub fn fmt_value(v: f64) -> String {
@@ -109,11 +93,7 @@ fn draw_ask(
                 Span::styled("> ", t.key()),
                 Span::styled(format!("{input}▏"), t.strong()),
             ]));
-            let hint = if app.lang == crate::tui::i18n::HINGLISH {
-                format!("  unit: {unit} (likhna zaroori nahi)")
-            } else {
-                format!("  unit: {unit} (optional)")
-            };
+            let hint = format!("  unit: {unit} ({})", app.tr(Msg::UnitOptional));
             lines.push(Line::styled(hint, t.dim()));
             if let Some(e) = error {
                 lines.push(Line::styled(e.to_string(), t.bad()));
@@ -121,11 +101,7 @@ fn draw_ask(
         }
     }
     lines.push(Line::default());
-    let hint = if app.lang == crate::tui::i18n::HINGLISH {
-        "Pehle jawab pakka karo (Enter): simulation uske baad hi chalega."
-    } else {
-        "Commit first (Enter): the simulation runs only after you answer."
-    };
+    let hint = app.tr(Msg::CommitFirst);
     lines.extend(wrap(
         &[Run::new(hint, t.dim())],
         width,
@@ -290,16 +266,18 @@ fn draw_play(
     }
 
     if verdict.is_none() {
-        let key = |k: &'static str, what: &'static str| {
-            [Span::styled(k, t.key()), Span::styled(what, t.dim())]
+        let key = |k: &'static str, what: Msg| {
+            [
+                Span::styled(k, t.key()),
+                Span::styled(format!(" {}  ", app.tr(what)), t.dim()),
+            ]
         };
-        let hi = app.lang == crate::tui::i18n::HINGLISH;
         let mut spans = vec![Span::raw(" ")];
-        spans.extend(key("Space", if hi { " roko  " } else { " pause  " }));
-        spans.extend(key("+ -", " speed  "));
-        spans.extend(key("r", if hi { " phir se  " } else { " restart  " }));
-        spans.extend(key("m", " method  "));
-        spans.extend(key("[ ]", " step"));
+        spans.extend(key("Space", Msg::Pause));
+        spans.extend(key("+ -", Msg::Speed));
+        spans.extend(key("r", Msg::Restart));
+        spans.extend(key("m", Msg::Method));
+        spans.extend(key("[ ]", Msg::Step));
         frame.render_widget(Paragraph::new(Line::from(spans)), hints);
     }
     if let Some(v) = verdict {
@@ -366,7 +344,7 @@ fn draw_verdict(
             };
             format!(
                 "{} = {}{unit}{formula}",
-                measure_label(r.measure),
+                crate::tui::i18n::measure(r.measure).get(&app.lang),
                 fmt_value(r.value)
             )
         })
@@ -410,7 +388,7 @@ fn draw_verdict(
             Span::styled(" e ", t.key()),
             Span::styled(app.tr(Msg::Explanation), t.dim()),
             Span::styled("   r ", t.key()),
-            Span::styled("restart", t.dim()),
+            Span::styled(app.tr(Msg::Restart), t.dim()),
         ]));
     }
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);

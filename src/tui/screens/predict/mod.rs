@@ -7,12 +7,15 @@ use crate::sim::Method;
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
+use crate::tui::keymap::Context;
 use crate::tui::live::LiveRun;
 
 use super::Nav;
 
 mod draw;
+mod keys;
 pub use draw::{draw, fmt_value};
+pub use keys::{CHOICE_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
 
 pub use crate::sim::measure::{Prediction, Verdict};
 
@@ -104,6 +107,32 @@ pub fn parse_number(input: &str, unit: &str) -> Result<f64, ParseError> {
 pub enum ParseError {
     NotANumber,
     WrongUnit,
+}
+
+impl super::View for PredictState {
+    fn context(&self) -> Context {
+        match &self.phase {
+            Phase::Ask { .. } if self.choice => Context::PredictChoice,
+            Phase::Ask { .. } => Context::PredictNumber,
+            Phase::Play { verdict: None, .. } => Context::PredictRun,
+            Phase::Play { .. } => Context::PredictVerdict,
+        }
+    }
+    fn apply(&mut self, app: &mut App, action: Action) -> Nav {
+        apply(app, self, action)
+    }
+    fn draw(&self, frame: &mut ratatui::Frame, area: ratatui::layout::Rect, app: &App) {
+        draw(frame, area, app, self)
+    }
+    fn name(&self) -> Msg {
+        Msg::Predict
+    }
+    fn deck(&self) -> Option<usize> {
+        Some(self.deck)
+    }
+    fn animating(&self) -> bool {
+        PredictState::animating(self)
+    }
 }
 
 pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
@@ -213,7 +242,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                             let next = run.restart_with(m);
                             replace(run, next, app);
                         }
-                        None => app.info("exact: no step to change (press m for another method)"),
+                        None => app.info(app.tr(Msg::NoStepToChange)),
                     }
                 }
                 _ => {}

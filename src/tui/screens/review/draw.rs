@@ -191,7 +191,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
         ));
     }
     h.push(Span::styled("u ", t.key()));
-    h.push(Span::styled("undo", t.dim()));
+    h.push(Span::styled(app.tr(Msg::Undo), t.dim()));
     frame.render_widget(Paragraph::new(Line::from(h)), hints);
 }
 

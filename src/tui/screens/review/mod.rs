@@ -9,12 +9,15 @@ use crate::sched::{CardState, CramQueue, Direction, ItemKey, Preview, Queue, Rat
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Noun};
+use crate::tui::keymap::Context;
 use crate::tui::services::Stamp;
 
 use super::Nav;
 
 mod draw;
+mod keys;
 pub use draw::{draw, fmt_duration};
+pub use keys::{BACK_KEYS, DONE_KEYS, FRONT_KEYS, TYPING_KEYS};
 
 /// Where the cards come from.
 pub enum Source {
@@ -161,6 +164,29 @@ impl ReviewState {
                 app.tr(Msg::Cram)
             ),
         }
+    }
+}
+
+impl super::View for ReviewState {
+    fn context(&self) -> Context {
+        match &self.phase {
+            Phase::Front { .. } if self.typed => Context::ReviewTyping,
+            Phase::Front { .. } => Context::ReviewFront,
+            Phase::Back { .. } => Context::ReviewBack,
+            Phase::Done => Context::ReviewDone,
+        }
+    }
+    fn apply(&mut self, app: &mut App, action: Action) -> Nav {
+        apply(app, self, action)
+    }
+    fn draw(&self, frame: &mut ratatui::Frame, area: ratatui::layout::Rect, app: &App) {
+        draw(frame, area, app, self)
+    }
+    fn name(&self) -> Msg {
+        if self.cram { Msg::Cram } else { Msg::Review }
+    }
+    fn deck(&self) -> Option<usize> {
+        Some(self.deck)
     }
 }
 

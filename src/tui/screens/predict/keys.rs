@@ -1,0 +1,121 @@
+//! The predict-then-check screen's keys, one table per mode.
+
+use crossterm::event::KeyCode::{Backspace, Char, Down, Enter, Esc, Up};
+
+use crate::tui::action::Action;
+use crate::tui::i18n::Words;
+use crate::tui::keymap::Binding;
+
+const BACK: Binding = Binding::new(
+    "Esc q",
+    Words("back", "wapas"),
+    &[(Esc, Action::Back), (Char('q'), Action::Back)],
+);
+
+/// Choose one of the prompt's choices.
+pub const CHOICE_KEYS: &[Binding] = &[
+    Binding::new(
+        "↑↓ j k",
+        Words("choose", "chuno"),
+        &[
+            (Up, Action::Up),
+            (Down, Action::Down),
+            (Char('j'), Action::Down),
+            (Char('k'), Action::Up),
+        ],
+    ),
+    Binding::new(
+        "1-9",
+        Words("choose by number", "number se chuno"),
+        &[
+            (Char('1'), Action::Choose(0)),
+            (Char('2'), Action::Choose(1)),
+            (Char('3'), Action::Choose(2)),
+            (Char('4'), Action::Choose(3)),
+            (Char('5'), Action::Choose(4)),
+            (Char('6'), Action::Choose(5)),
+            (Char('7'), Action::Choose(6)),
+            (Char('8'), Action::Choose(7)),
+            (Char('9'), Action::Choose(8)),
+        ],
+    ),
+    Binding::new(
+        "Enter",
+        Words("commit and run", "pakka karo aur chalao"),
+        &[(Enter, Action::Submit)],
+    ),
+    BACK,
+];
+
+/// Type a number (with an optional unit).
+pub const NUMBER_KEYS: &[Binding] = &[
+    Binding::typing(Words(
+        "a number, optionally with its unit",
+        "ek number, unit ke saath bhi",
+    )),
+    Binding::new(
+        "Enter",
+        Words("commit and run", "pakka karo aur chalao"),
+        &[(Enter, Action::Submit)],
+    ),
+    Binding::new(
+        "Backspace",
+        Words("delete a character", "ek akshar mitao"),
+        &[(Backspace, Action::Backspace)],
+    ),
+    Binding::new("Esc", Words("back", "wapas"), &[(Esc, Action::Back)]),
+];
+
+const PAUSE: Binding = Binding::new(
+    "Space",
+    Words("pause / play", "roko / chalao"),
+    &[(Char(' '), Action::TogglePause)],
+);
+const SPEED: Binding = Binding::new(
+    "+ -",
+    Words("faster / slower", "tez / dheere"),
+    &[
+        (Char('+'), Action::Faster),
+        (Char('='), Action::Faster),
+        (Char('-'), Action::Slower),
+    ],
+);
+const RESTART: Binding = Binding::new(
+    "r",
+    Words("restart", "phir se shuru"),
+    &[(Char('r'), Action::Restart)],
+);
+const METHOD: Binding = Binding::new(
+    "m",
+    Words(
+        "switch method (exact, adaptive, splitting, RK4)",
+        "method badlo (exact, adaptive, splitting, RK4)",
+    ),
+    &[(Char('m'), Action::NextMethod)],
+);
+const STEP: Binding = Binding::new(
+    "[ ]",
+    Words("smaller / larger step", "chhota / bada step"),
+    &[
+        (Char('['), Action::SmallerStep),
+        (Char(']'), Action::LargerStep),
+    ],
+);
+
+/// The simulation plays.
+pub const RUN_KEYS: &[Binding] = &[PAUSE, SPEED, RESTART, METHOD, STEP, BACK];
+
+/// The verdict is shown under the last frame.
+pub const VERDICT_KEYS: &[Binding] = &[
+    PAUSE,
+    SPEED,
+    RESTART,
+    METHOD,
+    STEP,
+    Binding::new(
+        "e",
+        Words("open the explanation", "samjhaav kholo"),
+        &[(Char('e'), Action::Explain)],
+    ),
+    BACK,
+];
