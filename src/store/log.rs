@@ -1,15 +1,14 @@
 //! The append-only review log: recording a rating, undoing the last one,
 //! reading rows back.
 
-use chrono::{DateTime, Utc};
 use rusqlite::{Row, Transaction, TransactionBehavior, params};
 
-use super::codec::{self, from_ms, to_ms};
+use super::codec::{self, Count, Ms, to_ms};
 use super::db::Store;
 use super::error::StoreError;
 use super::state;
 use super::tally;
-use crate::sched::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord};
+use crate::sched::{CardState, ItemKey, ReviewKind, ReviewRecord};
 
 /// One row of the log as stored.
 #[derive(Debug, Clone, PartialEq)]
@@ -187,18 +186,18 @@ fn append(tx: &Transaction<'_>, session: i64, r: &ReviewRecord) -> rusqlite::Res
                 session,
                 r.key.deck,
                 r.key.card,
-                r.key.direction.as_str(),
-                to_ms(r.reviewed_at),
-                r.rating as i64,
-                r.kind.as_str(),
+                r.key.direction,
+                Ms(r.reviewed_at),
+                r.rating,
+                r.kind,
                 r.elapsed_days,
                 r.scheduled_days,
                 a.stability,
                 a.difficulty,
-                codec::state_str(a.state),
+                a.state,
                 a.step.map(i64::from),
-                to_ms(a.due),
-                a.last_review.map(to_ms),
+                Ms(a.due),
+                a.last_review.map(Ms),
                 r.duration_ms,
             ],
             |row| row.get(0),
@@ -247,74 +246,35 @@ fn validate(r: &ReviewRecord) -> Result<(), StoreError> {
 /// inner one a value this build cannot interpret.
 pub(super) fn read_logged(row: &Row<'_>) -> rusqlite::Result<Result<LoggedReview, StoreError>> {
     let id: i64 = row.get(0)?;
-    let direction: String = row.get(3)?;
-    let reviewed_at: i64 = row.get(4)?;
-    let rating: i64 = row.get(5)?;
-    let kind: String = row.get(6)?;
-    let state: String = row.get(11)?;
-    let step: Option<i64> = row.get(12)?;
-    let due: i64 = row.get(13)?;
-    let last_review: Option<i64> = row.get(14)?;
-    let deck: String = row.get(1)?;
-    let card: String = row.get(2)?;
-    let elapsed_days: i64 = row.get(7)?;
-    let scheduled_days: i64 = row.get(8)?;
-    let stability: Option<f64> = row.get(9)?;
-    let difficulty: Option<f64> = row.get(10)?;
-    let duration_ms: i64 = row.get(15)?;
-    let undone: i64 = row.get(16)?;
-
-    let bad = |detail: String| Ok(Err(StoreError::BadRow { id, detail }));
-    let Some(direction) = codec::parse_direction(&direction) else {
-        return bad(format!("unknown direction {direction:?}"));
-    };
-    let Some(rating) = Rating::from_number(rating) else {
-        return bad(format!("rating {rating} is not 1–4"));
-    };
-    let Some(kind) = codec::parse_kind(&kind) else {
-        return bad(format!("unknown kind {kind:?}"));
-    };
-    let Some(state) = codec::parse_state(&state) else {
-        return bad(format!("unknown state {state:?}"));
-    };
-    let step = match step.map(u32::try_from) {
-        None => None,
-        Some(Ok(s)) => Some(s),
-        Some(Err(_)) => return bad("step out of range".into()),
-    };
-    let (Some(reviewed_at), Some(due)) = (from_ms(reviewed_at), from_ms(due)) else {
-        return bad("time out of range".into());
-    };
-    let last_review: Option<DateTime<Utc>> = match last_review {
-        None => None,
-        Some(ms) => match from_ms(ms) {
-            Some(t) => Some(t),
-            None => return bad("time out of range".into()),
-        },
-    };
-    Ok(Ok(LoggedReview {
-        id,
-        record: ReviewRecord {
-            key: ItemKey {
-                deck,
-                card,
-                direction,
+    let decoded = (|| {
+        Ok(LoggedReview {
+            id,
+            record: ReviewRecord {
+                key: ItemKey {
+                    deck: row.get(1)?,
+                    card: row.get(2)?,
+                    direction: row.get(3)?,
+                },
+                reviewed_at: row.get::<_, Ms>(4)?.0,
+                rating: row.get(5)?,
+                kind: row.get(6)?,
+                elapsed_days: row.get(7)?,
+                scheduled_days: row.get(8)?,
+                after: CardState {
+                    state: row.get(11)?,
+                    step: row.get::<_, Option<Count>>(12)?.map(|c| c.0),
+                    stability: row.get(9)?,
+                    difficulty: row.get(10)?,
+                    due: row.get::<_, Ms>(13)?.0,
+                    last_review: row.get::<_, Option<Ms>>(14)?.map(|m| m.0),
+                },
+                duration_ms: row.get(15)?,
             },
-            reviewed_at,
-            rating,
-            kind,
-            elapsed_days,
-            scheduled_days,
-            after: CardState {
-                state,
-                step,
-                stability,
-                difficulty,
-                due,
-                last_review,
-            },
-            duration_ms,
-        },
-        undone: undone != 0,
-    }))
+            undone: row.get::<_, i64>(16)? != 0,
+        })
+    })();
+    match decoded {
+        Ok(logged) => Ok(Ok(logged)),
+        Err(e) => codec::bad_value(e).map(|detail| Err(StoreError::BadRow { id, detail })),
+    }
 }

@@ -7,7 +7,7 @@ use std::collections::HashMap;
 
 use rusqlite::{Connection, Row, Transaction, TransactionBehavior, params};
 
-use super::codec::{self, from_ms, to_ms};
+use super::codec::{self, Count, Ms};
 use super::db::Store;
 use super::error::StoreError;
 use crate::sched::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord};
@@ -78,13 +78,13 @@ pub(super) fn apply(tx: &Transaction<'_>, r: &ReviewRecord, id: i64) -> rusqlite
     .execute(params![
         r.key.deck,
         r.key.card,
-        r.key.direction.as_str(),
-        codec::state_str(a.state),
+        r.key.direction,
+        a.state,
         a.step.map(i64::from),
         a.stability,
         a.difficulty,
-        to_ms(a.due),
-        a.last_review.map(to_ms),
+        Ms(a.due),
+        a.last_review.map(Ms),
         lapse,
         id,
     ])?;
@@ -234,53 +234,33 @@ fn read_states(
 
 fn read_state(row: &Row<'_>) -> rusqlite::Result<Result<CachedState, StoreError>> {
     let review_id: i64 = row.get(11)?;
-    let bad = |detail: String| {
-        Ok(Err(StoreError::BadRow {
-            id: review_id,
-            detail: format!("cached state: {detail}"),
-        }))
-    };
-    let direction: String = row.get(2)?;
-    let state: String = row.get(3)?;
-    let step: Option<i64> = row.get(4)?;
-    let due: i64 = row.get(7)?;
-    let last_review: Option<i64> = row.get(8)?;
-    let reps: i64 = row.get(9)?;
-    let lapses: i64 = row.get(10)?;
-    let Some(direction) = codec::parse_direction(&direction) else {
-        return bad(format!("unknown direction {direction:?}"));
-    };
-    let Some(state) = codec::parse_state(&state) else {
-        return bad(format!("unknown state {state:?}"));
-    };
-    let Ok(step) = step.map(u32::try_from).transpose() else {
-        return bad("step out of range".into());
-    };
-    let Some(due) = from_ms(due) else {
-        return bad("due out of range".into());
-    };
-    let Ok(last_review) = last_review.map(|ms| from_ms(ms).ok_or(())).transpose() else {
-        return bad("last review out of range".into());
-    };
-    let (Ok(reps), Ok(lapses)) = (u32::try_from(reps), u32::try_from(lapses)) else {
-        return bad("counts out of range".into());
-    };
-    Ok(Ok(CachedState {
-        key: ItemKey {
-            deck: row.get(0)?,
-            card: row.get(1)?,
-            direction,
-        },
-        state: CardState {
-            state,
-            step,
-            stability: row.get(5)?,
-            difficulty: row.get(6)?,
-            due,
-            last_review,
-        },
-        reps,
-        lapses,
-        review_id,
-    }))
+    let decoded = (|| {
+        Ok(CachedState {
+            key: ItemKey {
+                deck: row.get(0)?,
+                card: row.get(1)?,
+                direction: row.get(2)?,
+            },
+            state: CardState {
+                state: row.get(3)?,
+                step: row.get::<_, Option<Count>>(4)?.map(|c| c.0),
+                stability: row.get(5)?,
+                difficulty: row.get(6)?,
+                due: row.get::<_, Ms>(7)?.0,
+                last_review: row.get::<_, Option<Ms>>(8)?.map(|m| m.0),
+            },
+            reps: row.get::<_, Count>(9)?.0,
+            lapses: row.get::<_, Count>(10)?.0,
+            review_id,
+        })
+    })();
+    match decoded {
+        Ok(state) => Ok(Ok(state)),
+        Err(e) => codec::bad_value(e).map(|detail| {
+            Err(StoreError::BadRow {
+                id: review_id,
+                detail: format!("cached state: {detail}"),
+            })
+        }),
+    }
 }

@@ -7,7 +7,7 @@ use chrono::{DateTime, Duration, NaiveDate, TimeZone, Utc};
 use rusqlite::params_from_iter;
 use serde::Serialize;
 
-use super::codec::{self, to_ms};
+use super::codec::to_ms;
 use super::day::DayGrid;
 use super::db::Store;
 use super::error::StoreError;
@@ -206,22 +206,20 @@ impl Store {
         let mut rows = st.query(params_from_iter(args)).map_err(|e| self.err(e))?;
         while let Some(row) = rows.next().map_err(|e| self.err(e))? {
             let at: i64 = row.get(0).map_err(|e| self.err(e))?;
-            let kind: String = row.get(1).map_err(|e| self.err(e))?;
-            let rating: i64 = row.get(2).map_err(|e| self.err(e))?;
-            let again = rating == Rating::Again as i64;
+            let kind: ReviewKind = row.get(1).map_err(|e| self.err(e))?;
+            let again = row.get::<_, Rating>(2).map_err(|e| self.err(e))? == Rating::Again;
             let i = starts.partition_point(|s| *s <= at).saturating_sub(1);
             let day = &mut out[i];
             day.total += 1;
-            match codec::parse_kind(&kind) {
-                Some(ReviewKind::Learn) => day.learn += 1,
-                Some(ReviewKind::Review) => {
+            match kind {
+                ReviewKind::Learn => day.learn += 1,
+                ReviewKind::Review => {
                     day.review += 1;
                     review_total += 1;
                     review_passed += u64::from(!again);
                 }
-                Some(ReviewKind::Relearn) => day.relearn += 1,
-                Some(ReviewKind::Cram) => day.cram += 1,
-                None => {}
+                ReviewKind::Relearn => day.relearn += 1,
+                ReviewKind::Cram => day.cram += 1,
             }
             day.again += u32::from(again);
         }
@@ -283,11 +281,8 @@ impl Store {
         while let Some(row) = rows.next().map_err(|e| self.err(e))? {
             let deck: String = row.get(0).map_err(|e| self.err(e))?;
             let card: String = row.get(1).map_err(|e| self.err(e))?;
-            let dir: String = row.get(2).map_err(|e| self.err(e))?;
+            let direction: crate::sched::Direction = row.get(2).map_err(|e| self.err(e))?;
             let n: i64 = row.get(3).map_err(|e| self.err(e))?;
-            let Some(direction) = codec::parse_direction(&dir) else {
-                continue;
-            };
             let key = ItemKey {
                 deck,
                 card,

@@ -14,7 +14,7 @@ pub(super) fn count(tx: &Transaction<'_>, r: &ReviewRecord, delta: i64) -> rusql
         "INSERT INTO review_tally (deck, kind, rating, n) VALUES (?1, ?2, ?3, max(?4, 0)) \
          ON CONFLICT (deck, kind, rating) DO UPDATE SET n = max(n + ?4, 0)",
     )?
-    .execute(params![r.key.deck, r.kind.as_str(), r.rating as i64, delta])?;
+    .execute(params![r.key.deck, r.kind, r.rating, delta])?;
     Ok(())
 }
 
