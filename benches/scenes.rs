@@ -10,8 +10,8 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
+use flipcard::cmd::paths::bundled_decks;
 use flipcard::deck::{Deck, Scene, load_dir};
-use flipcard::paths::bundled_decks;
 use flipcard::sim::Method;
 use flipcard::sim::scene::{SceneRun, measure_scene};
 

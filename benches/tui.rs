@@ -9,8 +9,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 
+use flipcard::cmd::paths::bundled_decks;
 use flipcard::deck::load_dir;
-use flipcard::paths::bundled_decks;
 use flipcard::sched::Config;
 use flipcard::store::Store;
 use flipcard::tui::services::{Clock, DayZone, Services};

@@ -1,14 +1,14 @@
 //! flipcard: spaced-repetition flashcards, bilingual explanations and live
-//! predict-then-check simulations of torque-free rigid-body rotation.
+//! predict-then-check simulations.
 //!
-//! `deck`, `text`, `sim`, `sched` and `store` never import ratatui; only
-//! `tui` draws.
+//! Layers, each using only those listed before it: `text` (math and
+//! words), `sim` (the simulator), `deck` (TOML into validated decks),
+//! `sched` (scheduling), `store` (the review database), `tui` (the terminal
+//! app), `cmd` (the subcommands). Only `tui` draws; only `cmd` and `tui`
+//! see the command line or print.
 
-pub mod cli;
-pub mod clock;
+pub mod cmd;
 pub mod deck;
-pub mod output;
-pub mod paths;
 pub mod sched;
 pub mod sim;
 pub mod store;

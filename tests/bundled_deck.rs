@@ -4,8 +4,8 @@
 
 use std::f64::consts::PI;
 
+use flipcard::cmd::paths::bundled_decks;
 use flipcard::deck::{Answer, Deck, Measure, Scene, Text, load_dir};
-use flipcard::paths::bundled_decks;
 
 const DECK_ID: &str = "torque-free-rotation";
 const LANGS: [&str; 2] = ["en", "hi-Latn"];

@@ -6,8 +6,8 @@
 //! again with the adaptive one, so a wrong answer cannot hide behind one
 //! method.
 
+use flipcard::cmd::paths::bundled_decks;
 use flipcard::deck::{Answer, Deck, load_dir};
-use flipcard::paths::bundled_decks;
 use flipcard::sim::Method;
 use flipcard::sim::measure::{Prediction, verdict};
 use flipcard::sim::scene::measure_scene;

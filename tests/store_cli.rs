@@ -319,7 +319,7 @@ fn a_deck_exported_to_csv_imports_back_and_passes_check() {
     );
 
     // Same texts (primary language) and tags, card for card.
-    let original = flipcard::deck::load_dir(&flipcard::paths::bundled_decks());
+    let original = flipcard::deck::load_dir(&flipcard::cmd::paths::bundled_decks());
     let original = original
         .decks
         .iter()

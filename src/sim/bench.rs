@@ -25,8 +25,8 @@ use super::model::{Body, State};
 use super::reference;
 use super::run::{Options, make_with};
 use super::solver::{Method, Needs, SimError, Work};
-use crate::cli::{BenchArgs, Cli};
-use crate::output::plural;
+use crate::cmd::args::{BenchArgs, Cli};
+use crate::text::plural;
 
 /// Points at which every run is compared with the exact solution.
 pub const POINTS: usize = 1001;

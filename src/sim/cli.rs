@@ -12,8 +12,8 @@ use serde::Serialize;
 use super::model::{self, Body, State};
 use super::run::{self, Kind};
 use super::solver::{Method, Needs, Solver};
-use crate::cli::{Cli, MethodArg, SimArgs, SimFormat};
-use crate::output::plural;
+use crate::cmd::args::{Cli, MethodArg, SimArgs, SimFormat};
+use crate::text::plural;
 
 /// The CSV header; columns follow the axes in the order given.
 pub const CSV_HEADER: &str = "t,w1,w2,w3,qw,qx,qy,qz,energy,l2";
@@ -33,7 +33,7 @@ pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
         Needs { orientation: true },
     )?;
     solver.plan(request.t_end)?;
-    let mut out = crate::output::stdout();
+    let mut out = crate::cmd::output::stdout();
     write_samples(&request, solver.as_mut(), args.format, &mut out)?;
     Ok(ExitCode::SUCCESS)
 }
@@ -54,7 +54,7 @@ fn list(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
             path.display()
         );
     }
-    let mut out = crate::output::stdout();
+    let mut out = crate::cmd::output::stdout();
     for deck in &loaded.decks {
         let lang = deck.languages.first().map_or("en", String::as_str);
         for scene in &deck.scenes {

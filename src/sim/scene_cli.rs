@@ -11,9 +11,9 @@ use anyhow::{Context, bail};
 use super::measure::{Measurements, Prediction, formula_name, verdict};
 use super::run::{Kind, method};
 use super::scene::measure_scene;
-use crate::cli::{Cli, MethodArg, SimArgs};
+use crate::cmd::args::{Cli, MethodArg, SimArgs};
 use crate::deck::{Answer, Deck, Prompt, Scene, load_paths};
-use crate::output::plural;
+use crate::text::plural;
 
 /// The decks to read: `--deck PATH`, else the global `--decks DIR`, else
 /// the bundled ones.
@@ -21,7 +21,7 @@ pub(super) fn deck_path(cli: &Cli, args: &SimArgs) -> PathBuf {
     args.deck
         .clone()
         .or_else(|| cli.decks.clone())
-        .unwrap_or_else(crate::paths::bundled_decks)
+        .unwrap_or_else(crate::cmd::paths::bundled_decks)
 }
 
 fn load(paths: &[PathBuf]) -> anyhow::Result<Vec<Deck>> {

@@ -77,7 +77,7 @@ impl Store {
         let mut conn = Connection::open_with_flags(&path, flags).map_err(sql_err)?;
         conn.busy_timeout(options.busy_timeout).map_err(sql_err)?;
 
-        let now = crate::clock::now()?;
+        let now = crate::sched::clock::now()?;
         let today = now.with_timezone(&chrono::Local).date_naive();
         let backup_due = options.daily_backup && !backup::daily_path(data_dir, today).exists();
 
@@ -429,7 +429,7 @@ fn check_pages(conn: &Connection, path: &Path) -> Result<(), StoreError> {
         .collect::<Vec<_>>()
         .join("; ");
     if problems.len() > 3 {
-        let more = crate::output::plural(problems.len() - 3, "more problem", "more problems");
+        let more = crate::text::plural(problems.len() - 3, "more problem", "more problems");
         detail.push_str(&format!("; and {more}"));
     }
     Err(StoreError::Corrupt {

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crate::clock::ClockError;
+use crate::sched::clock::ClockError;
 
 #[derive(Debug, thiserror::Error)]
 pub enum StoreError {

@@ -167,7 +167,7 @@ impl Store {
 }
 
 fn insert_session(conn: &rusqlite::Connection) -> rusqlite::Result<i64> {
-    let started = crate::clock::now().map(to_ms).unwrap_or(0);
+    let started = crate::sched::clock::now().map(to_ms).unwrap_or(0);
     conn.execute("INSERT INTO session (started_at) VALUES (?1)", [started])?;
     Ok(conn.last_insert_rowid())
 }

@@ -7,9 +7,7 @@
 
 pub mod attempt;
 pub mod backup;
-pub mod cli;
 mod codec;
-pub mod csvdeck;
 pub mod day;
 pub mod db;
 pub mod error;

@@ -36,7 +36,7 @@ pub enum RestoreError {
     BadBackup { path: PathBuf, detail: String },
     #[error(
         "database {path} is sound ({}); restoring would set aside every rating made since the backup. Pass --force to restore anyway",
-        crate::output::plural(*reviews, "review", "reviews")
+        crate::text::plural(*reviews, "review", "reviews")
     )]
     Sound { path: PathBuf, reviews: i64 },
     #[error(
@@ -78,7 +78,7 @@ pub fn restore(
         }
     }
 
-    let stamp = crate::clock::now()
+    let stamp = crate::sched::clock::now()
         .map_err(StoreError::from)?
         .format("%Y%m%dT%H%M%SZ")
         .to_string();

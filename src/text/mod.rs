@@ -5,6 +5,7 @@
 //! LaTeX is parsed by `pulldown-latex`; its events are folded into a small
 //! tree (`tree`) and written out as one line of Unicode (`unicode`).
 
+mod count;
 mod dollar;
 mod glyphs;
 mod locate;
@@ -14,6 +15,8 @@ mod unicode;
 
 #[cfg(test)]
 mod seed_tests;
+
+pub use count::plural;
 
 use pulldown_latex::{Parser, Storage};
 

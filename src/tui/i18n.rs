@@ -141,7 +141,7 @@ pub fn no_decks(lang: &str, load: &super::app::DeckLoad) -> String {
         ),
         (n, true) => format!(
             "Koi deck khul nahi saka: {} mein galtiyan hain. Dekhne ke liye `flipcard check {dir}` chalao.",
-            crate::output::plural(n, "file", "files")
+            crate::text::plural(n, "file", "files")
         ),
     }
 }
@@ -307,7 +307,7 @@ pub fn count(lang: &str, n: usize, noun: Noun) -> String {
             "problems in the decks (run `flipcard check`)",
         ),
     };
-    crate::output::plural(n, one, many)
+    crate::text::plural(n, one, many)
 }
 
 /// "3h ago" / "3h pehle": how long since `secs` seconds, in the largest

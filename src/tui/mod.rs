@@ -24,7 +24,6 @@ pub mod update;
 pub mod view;
 pub mod wrap;
 
-use std::process::ExitCode;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -36,60 +35,27 @@ pub use action::Action;
 pub use app::App;
 pub use update::apply;
 
-use crate::cli::{Cli, ReviewArgs};
-use crate::sched::Config;
-use crate::store::Store;
-use services::{Clock, DayZone, Services};
-use theme::Theme;
-
 /// Time between frames while a simulation plays (about 30 per second).
 const FRAME: Duration = Duration::from_millis(33);
 
-pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
-    // Everything that can fail with a message is done before the terminal
-    // switches to raw mode, so errors print as ordinary lines.
-    let clock = Clock::from_env()?;
-    let config_path = crate::paths::config_file(cli.config.clone());
-    let config = Config::load(config_path.as_deref())?;
-    let data_dir = crate::paths::data_dir(cli.data_dir.clone())?;
-    let store = Store::open(&data_dir)?;
-    let deck_dir = cli
-        .decks
-        .clone()
-        .unwrap_or_else(crate::paths::bundled_decks);
-    let loaded = crate::deck::load_dir(&deck_dir);
-    let deck_load = app::DeckLoad {
-        from: Some(deck_dir.clone()),
-        errors: loaded.errors(),
-        failed_files: loaded
-            .diagnostics
-            .iter()
-            .filter(|d| d.is_error())
-            .map(|d| &d.path)
-            .collect::<std::collections::HashSet<_>>()
-            .len(),
-    };
-    let lang = config.language.clone();
-    let mut services = Services::new(clock, config, config_path, DayZone::Local, store);
-    services.bench_csv = bench_csv();
-    let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
-    app.deck_load = deck_load;
-    if let Some(args) = review {
-        open_review(&mut app, args)?;
-    }
-
+/// Runs the app in the terminal until the learner quits. Everything that
+/// can fail with a message (the store, the decks) is done by the caller
+/// before this switches the terminal to raw mode, so errors print as
+/// ordinary lines.
+pub fn run(app: &mut App) -> anyhow::Result<()> {
     let busy = Arc::new(Mutex::new(()));
     watch_signals(&busy)?;
     let mut terminal = ratatui::try_init().context("cannot set up the terminal")?;
-    let result = event_loop(&mut terminal, &mut app, &busy);
+    let result = event_loop(&mut terminal, app, &busy);
     ratatui::restore();
-    result.map(|()| ExitCode::SUCCESS)
+    result
 }
 
-/// `flipcard review [DECK] [--cram]`: the review opens at once.
-fn open_review(app: &mut App, args: &ReviewArgs) -> anyhow::Result<()> {
-    let deck = match &args.deck {
-        Some(id) => app.decks.iter().position(|d| &d.id == id).ok_or_else(|| {
+/// Opens the review of a deck at once (`flipcard review [DECK] [--cram]`);
+/// the first deck when none is named.
+pub fn open_review(app: &mut App, deck: Option<&str>, cram: bool) -> anyhow::Result<()> {
+    let deck = match deck {
+        Some(id) => app.decks.iter().position(|d| d.id == id).ok_or_else(|| {
             let ids: Vec<&str> = app.decks.iter().map(|d| d.id.as_str()).collect();
             anyhow::anyhow!("no deck `{id}`; decks: {}", ids.join(", "))
         })?,
@@ -99,25 +65,9 @@ fn open_review(app: &mut App, args: &ReviewArgs) -> anyhow::Result<()> {
     if let screens::Screen::Home(h) = app.screen_mut() {
         h.selected = deck;
     }
-    let review =
-        screens::review::ReviewState::open(app, deck, args.cram).map_err(anyhow::Error::msg)?;
+    let review = screens::review::ReviewState::open(app, deck, cram).map_err(anyhow::Error::msg)?;
     app.push(screens::Screen::Review(Box::new(review)));
     Ok(())
-}
-
-/// The work–precision table: the learner's own `flipcard bench` run
-/// (`bench-out/` in the working directory) first, else the report that
-/// ships with flipcard (`docs/`).
-fn bench_csv() -> Option<std::path::PathBuf> {
-    let file = "work_precision.csv";
-    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    [
-        std::path::Path::new("bench-out").join(file),
-        root.join("bench-out").join(file),
-        root.join("docs").join(file),
-    ]
-    .into_iter()
-    .find(|p| p.is_file())
 }
 
 /// On SIGTERM, SIGHUP, SIGINT or SIGQUIT: wait until the event loop is idle

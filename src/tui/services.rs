@@ -23,9 +23,9 @@ pub enum Clock {
 
 impl Clock {
     /// The clock the environment asks for (`FLIPCARD_NOW` fixes it).
-    pub fn from_env() -> Result<Clock, crate::clock::ClockError> {
-        if std::env::var_os(crate::clock::NOW_VAR).is_some() {
-            crate::clock::now().map(Clock::Fixed)
+    pub fn from_env() -> Result<Clock, crate::sched::clock::ClockError> {
+        if std::env::var_os(crate::sched::clock::NOW_VAR).is_some() {
+            crate::sched::clock::now().map(Clock::Fixed)
         } else {
             Ok(Clock::System)
         }

@@ -25,7 +25,7 @@ pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str)
                     list.span.clone(),
                     format!(
                         "the answer of {owner} has {}; a choice answer needs at least 2",
-                        crate::output::plural(list.items.len(), "choice", "choices")
+                        crate::text::plural(list.items.len(), "choice", "choices")
                     ),
                     None,
                 );

@@ -8,13 +8,13 @@
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use crate::cli::{CheckArgs, Cli};
+use crate::cmd::args::{CheckArgs, Cli};
 use crate::deck::load::{Loaded, load_paths};
-use crate::output::plural;
+use crate::text::plural;
 
 pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
     let paths = if args.paths.is_empty() {
-        vec![relative_to_cwd(&crate::paths::bundled_decks())]
+        vec![relative_to_cwd(&crate::cmd::paths::bundled_decks())]
     } else {
         args.paths.clone()
     };

@@ -29,3 +29,18 @@ pub fn config_file(explicit: Option<PathBuf>) -> Option<PathBuf> {
 fn project_dirs() -> Option<directories::ProjectDirs> {
     directories::ProjectDirs::from("", "", "flipcard")
 }
+
+/// The work–precision table the stats screen shows: the learner's own
+/// `flipcard bench` run (`bench-out/` in the working directory) first, else
+/// the report that ships with flipcard (`docs/`).
+pub fn bench_csv() -> Option<PathBuf> {
+    let file = "work_precision.csv";
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    [
+        std::path::Path::new("bench-out").join(file),
+        root.join("bench-out").join(file),
+        root.join("docs").join(file),
+    ]
+    .into_iter()
+    .find(|p| p.is_file())
+}

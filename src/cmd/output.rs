@@ -87,7 +87,7 @@ pub fn stdout_status() -> StdoutStatus {
 #[macro_export]
 macro_rules! out {
     ($($arg:tt)*) => {
-        $crate::output::write_stdout(format_args!($($arg)*))
+        $crate::cmd::output::write_stdout(format_args!($($arg)*))
     };
 }
 
@@ -96,10 +96,10 @@ macro_rules! out {
 #[macro_export]
 macro_rules! outln {
     () => {
-        $crate::output::write_stdout(format_args!("\n"))
+        $crate::cmd::output::write_stdout(format_args!("\n"))
     };
     ($($arg:tt)*) => {
-        $crate::output::write_stdout(format_args!("{}\n", format_args!($($arg)*)))
+        $crate::cmd::output::write_stdout(format_args!("{}\n", format_args!($($arg)*)))
     };
 }
 
@@ -107,7 +107,7 @@ macro_rules! outln {
 #[macro_export]
 macro_rules! errln {
     ($($arg:tt)*) => {
-        $crate::output::write_stderr(format_args!("{}\n", format_args!($($arg)*)))
+        $crate::cmd::output::write_stderr(format_args!("{}\n", format_args!($($arg)*)))
     };
 }
 
@@ -127,25 +127,9 @@ pub fn chain_text(error: &anyhow::Error) -> String {
     said.join(": ")
 }
 
-/// `1 error`, `2 errors`: a count and its noun, agreeing.
-pub fn plural<N>(n: N, one: &str, many: &str) -> String
-where
-    N: fmt::Display + PartialEq + From<u8>,
-{
-    let noun = if n == N::from(1) { one } else { many };
-    format!("{n} {noun}")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn counts_agree_with_their_noun() {
-        assert_eq!(plural(0usize, "error", "errors"), "0 errors");
-        assert_eq!(plural(1u32, "error", "errors"), "1 error");
-        assert_eq!(plural(2u64, "bad row", "bad rows"), "2 bad rows");
-    }
 
     #[derive(Debug)]
     struct Spelled {

@@ -1,0 +1,88 @@
+//! `flipcard import FILE.csv --deck-id ID [--lang TAG]`: a CSV of cards
+//! becomes a deck file on standard output.
+
+use std::io::Write;
+use std::path::Path;
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+
+use crate::cmd::args::{Cli, ImportArgs};
+use crate::deck::csv::{self as csvdeck, DeckHeader};
+use crate::text::plural;
+
+pub fn run(_cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
+    if !crate::deck::validate::is_id(&args.deck_id) {
+        anyhow::bail!(
+            "--deck-id {:?} is not a deck id: lowercase a-z/0-9 words joined by '-' (e.g. {})",
+            args.deck_id,
+            crate::deck::csv::slug(&args.deck_id)
+        );
+    }
+    if !crate::deck::validate::is_lang_tag(&args.lang) {
+        anyhow::bail!(
+            "--lang {:?} is not a BCP 47 language tag (e.g. en, hi-Latn)",
+            args.lang
+        );
+    }
+    let file = std::fs::File::open(&args.file)
+        .with_context(|| format!("cannot read {}", args.file.display()))?;
+    // Opening a folder succeeds; reading it would fail as a "bad row".
+    if file.metadata().is_ok_and(|m| m.is_dir()) {
+        anyhow::bail!(
+            "cannot read {}: it is a folder, not a CSV file",
+            args.file.display()
+        );
+    }
+    let cards = match csvdeck::read_cards_csv(std::io::BufReader::new(file)) {
+        Ok(cards) => cards,
+        Err(errors) => {
+            for e in &errors {
+                crate::errln!("{}:{}: {}", args.file.display(), e.line, e.message);
+            }
+            crate::errln!(
+                "flipcard: error: {} in {}; no deck written",
+                plural(errors.len(), "bad row", "bad rows"),
+                args.file.display()
+            );
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    let header = DeckHeader {
+        id: args.deck_id.clone(),
+        title: title_from(&args.file, &args.deck_id),
+        lang: args.lang.clone(),
+        source: args.file.file_name().map_or_else(
+            || args.file.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        ),
+    };
+    let toml = csvdeck::deck_toml(&header, &cards);
+    let mut out = crate::cmd::output::stdout();
+    out.write_all(toml.as_bytes())?;
+    out.flush()?;
+    crate::errln!("{}", placement_note(&args.deck_id, &args.lang, cards.len()));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The deck title: the CSV file's name when it is a valid text, else the id.
+fn title_from(file: &Path, id: &str) -> String {
+    let stem = file
+        .file_stem()
+        .map(|s| s.to_string_lossy().trim().to_string())
+        .unwrap_or_default();
+    let usable = !stem.is_empty()
+        && !stem.chars().any(char::is_control)
+        && crate::text::check(&stem).is_empty();
+    if usable { stem } else { id.to_string() }
+}
+
+/// What to do with the deck file, on stderr so stdout stays the file.
+pub fn placement_note(id: &str, lang: &str, cards: usize) -> String {
+    format!(
+        "flipcard: {}. Save the output as decks/{id}.toml and create an empty \
+         content/{id}/{lang}.toml beside the decks/ folder (the imported cards link no \
+         explanations, so the content file needs no sections). Then run `flipcard check decks/`.",
+        plural(cards, "card", "cards")
+    )
+}

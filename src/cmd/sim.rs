@@ -1,0 +1,3 @@
+//! `flipcard sim`: the simulator headless.
+
+pub use crate::sim::cli::run;

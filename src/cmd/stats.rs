@@ -1,0 +1,139 @@
+//! `flipcard stats [--deck ID] [--json]`.
+
+use std::io::Write;
+use std::process::ExitCode;
+
+use crate::cmd::args::{Cli, StatsArgs};
+use crate::cmd::common::{load_decks, open_store_read_only};
+use crate::cmd::paths;
+use crate::sched::{Config, ItemKey, deck_items};
+use crate::store::DayGrid;
+use crate::store::export;
+use crate::store::stats::{Ratio, Stats, StatsScope};
+use crate::text::plural;
+
+pub fn run(cli: &Cli, args: &StatsArgs) -> anyhow::Result<ExitCode> {
+    let config = Config::load(paths::config_file(cli.config.clone()).as_deref())?;
+    let store = open_store_read_only(cli)?;
+    let loaded = load_decks(cli);
+    if let Some(id) = &args.deck
+        && !loaded.decks.iter().any(|d| &d.id == id)
+        && store.last_studied(id)?.is_none()
+    {
+        let known: Vec<&str> = loaded.decks.iter().map(|d| d.id.as_str()).collect();
+        anyhow::bail!(
+            "no deck `{id}` among the decks loaded and no history for it; decks: {}",
+            if known.is_empty() {
+                "none".to_string()
+            } else {
+                known.join(", ")
+            }
+        );
+    }
+    let items: Vec<ItemKey> = loaded.decks.iter().flat_map(deck_items).collect();
+    let now = crate::sched::clock::now()?;
+    let grid = DayGrid::new(chrono::Local, config.day_starts_at);
+    let scope = StatsScope {
+        deck: args.deck.as_deref(),
+        items: &items,
+    };
+    let stats = store.stats(scope, now, &grid)?;
+    let mut out = crate::cmd::output::stdout();
+    if args.json {
+        serde_json::to_writer_pretty(&mut out, &stats)?;
+        writeln!(out)?;
+    } else {
+        out.write_all(render_stats(&stats).as_bytes())?;
+    }
+    out.flush()?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn percent(r: &Ratio) -> String {
+    match r.rate {
+        Some(rate) => format!("{:.1}% ({}/{})", rate * 100.0, r.passed, r.total),
+        None => "– (none yet)".to_string(),
+    }
+}
+
+/// The stats as text for the terminal.
+pub fn render_stats(s: &Stats) -> String {
+    let mut o = String::new();
+    let mut line = |text: String| {
+        o.push_str(&text);
+        o.push('\n');
+    };
+    line(format!(
+        "{} — {} (study day {})",
+        s.deck.as_deref().unwrap_or("all decks"),
+        export::rfc3339(s.now),
+        s.today
+    ));
+    line(String::new());
+    let c = &s.cards;
+    line(format!(
+        "Cards: {} — new {}, learning {}, review {}, relearning {}",
+        c.total, c.new, c.learning, c.review, c.relearning
+    ));
+    let d = &s.due;
+    line(format!(
+        "Due: today {}, tomorrow {}, next 7 days {}, next 30 days {}",
+        d.today, d.tomorrow, d.next_7_days, d.next_30_days
+    ));
+    line(String::new());
+    let total: u32 = s.reviews_per_day.iter().map(|d| d.total).sum();
+    line(format!("Reviews per day, last 30 days ({total} in all):"));
+    let max = s.reviews_per_day.iter().map(|d| d.total).max().unwrap_or(0);
+    for day in &s.reviews_per_day {
+        let bar = if max == 0 {
+            0
+        } else {
+            (day.total as usize * 40).div_ceil(max as usize)
+        };
+        line(format!(
+            "  {}  {:>5}  {}",
+            day.date,
+            day.total,
+            "█".repeat(bar)
+        ));
+    }
+    line(String::new());
+    line("True retention (review answers not rated Again):".to_string());
+    line(format!(
+        "  last 30 days {}, all time {}",
+        percent(&s.retention.last_30_days),
+        percent(&s.retention.all_time)
+    ));
+    line(format!(
+        "Prompt accuracy (predict, then check): {}",
+        percent(&s.prompts.overall)
+    ));
+    for p in &s.prompts.by_prompt {
+        line(format!(
+            "  {}/{}: {}/{} right",
+            p.deck, p.prompt, p.correct, p.attempts
+        ));
+    }
+    if !s.orphans.is_empty() {
+        line(String::new());
+        line(format!(
+            "Orphans: {} with history whose card is no longer in its deck (the history is kept and returns with the card):",
+            plural(s.orphans.len(), "item", "items")
+        ));
+        for o in &s.orphans {
+            let whose = if o.deck_present {
+                ""
+            } else {
+                " (deck not loaded)"
+            };
+            line(format!(
+                "  {}/{} {}: {}{whose}",
+                o.deck,
+                o.card,
+                o.direction,
+                plural(o.reviews, "review", "reviews")
+            ));
+        }
+    }
+    o
+}
