@@ -5,16 +5,14 @@
 //! chains say their cause once, counts agree with their nouns, `sim --list`
 //! reads `--deck`, and clocks outside the supported range are refused.
 
-mod store_support;
-
 use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+use crate::store_support::{at, key, review};
 use chrono::Duration;
 use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::Store;
-use store_support::{at, key, review};
 
 const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
 const NOW: &str = "2026-05-10T12:00:00Z";

@@ -16,7 +16,7 @@
 //! on; commit that file with the fix):
 //!
 //! ```sh
-//! PROPTEST_CASES=20000 cargo test --test deck_mutations
+//! PROPTEST_CASES=20000 cargo test --test main deck_mutations::
 //! ```
 
 use std::fs;

@@ -1,7 +1,7 @@
 //! The published JSON Schemas match the Rust types they are generated from,
 //! and name exactly the fields the deck reader knows.
 //!
-//! After changing the format: `UPDATE_SCHEMAS=1 cargo test --test schemas`.
+//! After changing the format: `UPDATE_SCHEMAS=1 cargo test --test main schemas::`.
 
 use std::collections::BTreeSet;
 use std::fs;
@@ -24,7 +24,7 @@ fn check_file(name: &str, schema: &Value) {
     let stored = fs::read_to_string(&path).unwrap_or_default();
     assert!(
         stored == fresh,
-        "{} is stale: regenerate it with `UPDATE_SCHEMAS=1 cargo test --test schemas`",
+        "{} is stale: regenerate it with `UPDATE_SCHEMAS=1 cargo test --test main schemas::`",
         path.display()
     );
 }

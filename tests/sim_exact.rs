@@ -3,8 +3,7 @@
 //! and flat bodies, the separatrix and its neighbourhood, fast spins, steady
 //! spins, zero spin and tiny perturbations.
 
-#[path = "support/taylor_dd.rs"]
-mod taylor_dd;
+use crate::support::taylor_dd;
 
 use flipcard::sim::exact::{Exact, Regime, linear_stability};
 use flipcard::sim::{Body, Needs, Solver, State};

@@ -2,11 +2,10 @@
 //! the log alone gives, undo restores exactly, history survives deck edits,
 //! and damaged, locked or unwritable databases are reported, never harmed.
 
-mod store_support;
-
 use std::collections::HashMap;
 use std::time::Duration as StdDuration;
 
+use crate::store_support::{at, back_key, key, random_review, review};
 use chrono::{Duration, NaiveTime, Utc};
 use flipcard::sched::{ItemKey, Rating, ReviewKind, State};
 use flipcard::store::stats::StatsScope;
@@ -14,7 +13,6 @@ use flipcard::store::{DayGrid, OpenOptions, PromptAttempt, Store, StoreError};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use rusqlite::Connection;
-use store_support::{at, back_key, key, random_review, review};
 
 fn open(dir: &std::path::Path) -> Store {
     Store::open(dir).expect("open store")

@@ -1,16 +1,14 @@
 //! The headless store commands through the real binary: `stats`,
 //! `export --reviews`, `export --deck`, `import` and `db rebuild`.
 
-mod store_support;
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use crate::store_support::{at, back_key, key, review};
 use chrono::Duration;
 use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::Store;
 use flipcard::store::export::REVIEW_FIELDS;
-use store_support::{at, back_key, key, review};
 
 const NOW: &str = "2026-05-10T12:00:00Z";
 

@@ -8,23 +8,21 @@
 //! The child is this very test binary, started again with an environment
 //! variable naming the data dir.
 
-mod store_support;
-
 use std::collections::{HashMap, HashSet};
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration as StdDuration;
 
+use crate::store_support::{at, key, review};
 use chrono::Duration;
 use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::{Store, StoreError};
 use rand::{Rng, SeedableRng};
-use store_support::{at, key, review};
 
 const CHILD_DIR: &str = "FLIPCARD_TEST_DURABILITY_DIR";
 const CHILD_FIRST_SEQ: &str = "FLIPCARD_TEST_DURABILITY_SEQ";
-const TEST_NAME: &str = "sigkill_at_random_moments_loses_no_committed_rating";
+const TEST_NAME: &str = "store_durability::sigkill_at_random_moments_loses_no_committed_rating";
 const ROUNDS: usize = 40;
 const CARDS: u64 = 20;
 

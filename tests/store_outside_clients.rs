@@ -16,8 +16,6 @@
 //! fresh connection must see every printed rating; after the child is
 //! killed, and again after a clean close, too.
 
-mod store_support;
-
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader, Write};
 use std::path::Path;
@@ -26,14 +24,14 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, mpsc};
 use std::time::Duration as StdDuration;
 
+use crate::store_support::{at, key, review};
 use chrono::Duration;
 use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::Store;
-use store_support::{at, key, review};
 
 const CHILD_DIR: &str = "FLIPCARD_TEST_OUTSIDE_DIR";
 const CHILD_COUNT: &str = "FLIPCARD_TEST_OUTSIDE_COUNT";
-const TEST_NAME: &str = "outside_clients_never_lose_an_acknowledged_rating";
+const TEST_NAME: &str = "store_outside_clients::outside_clients_never_lose_an_acknowledged_rating";
 const RATINGS: u64 = 120;
 
 #[test]

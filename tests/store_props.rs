@@ -5,9 +5,7 @@
 //! finds the caches in agreement with the log.
 //!
 //! Runs `PROPTEST_CASES` sequences (default 24, a few seconds); for a longer
-//! search: `PROPTEST_CASES=500 cargo test --test store_props`.
-
-mod store_support;
+//! search: `PROPTEST_CASES=500 cargo test --test main store_props::`.
 
 use std::collections::HashMap;
 use std::io::{BufRead, BufReader, Write};
@@ -15,15 +13,15 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration as StdDuration;
 
+use crate::store_support::{at, key, review};
 use chrono::Duration;
 use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::{Store, StoreError};
 use proptest::prelude::*;
-use store_support::{at, key, review};
 
 const CHILD_DIR: &str = "FLIPCARD_TEST_PROPS_DIR";
 const CHILD_SEQ: &str = "FLIPCARD_TEST_PROPS_SEQ";
-const CHILD_TEST: &str = "child_writer";
+const CHILD_TEST: &str = "store_props::child_writer";
 
 #[derive(Debug, Clone)]
 enum Op {

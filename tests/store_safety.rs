@@ -6,17 +6,15 @@
 //! test; where mounting is not permitted (not root, no CAP_SYS_ADMIN) they
 //! say so and stop early.
 
-mod store_support;
-
 use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
+use crate::store_support::{at, key, review};
 use chrono::Duration;
 use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::restore::{RestoreError, restore};
 use flipcard::store::{Store, StoreError};
-use store_support::{at, key, review};
 
 const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
 const NOW: &str = "2026-03-02T09:00:00Z";
@@ -176,7 +174,12 @@ const HOLD_DIR: &str = "FLIPCARD_TEST_HOLD_DIR";
 /// Another process with the database open until it reads a line.
 fn hold_open(dir: &Path) -> std::process::Child {
     let mut child = Command::new(std::env::current_exe().unwrap())
-        .args(["--exact", "holder", "--nocapture", "--test-threads=1"])
+        .args([
+            "--exact",
+            "store_safety::holder",
+            "--nocapture",
+            "--test-threads=1",
+        ])
         .env(HOLD_DIR, dir)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

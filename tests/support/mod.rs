@@ -1,0 +1,3 @@
+//! Reference solutions shared by the simulator tests.
+
+pub mod taylor_dd;
