@@ -7,6 +7,7 @@
 pub mod cli;
 pub mod clock;
 pub mod deck;
+pub mod num;
 pub mod paths;
 pub mod sched;
 pub mod sim;

@@ -332,7 +332,7 @@ fn a_run_beyond_the_step_budget_is_refused_at_once_with_the_reason() {
         "--omega",
         "1e9,2e8,3e8",
         "--t-end",
-        "1000",
+        "1",
         "--method",
         "adaptive",
     ]);

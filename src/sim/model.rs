@@ -39,8 +39,13 @@ pub struct Body {
 
 impl Body {
     /// Accepts only physical moments: finite, positive, and Iᵢ + Iⱼ ≥ Iₖ for
-    /// every axis (equality is a flat body, which is allowed).
+    /// every axis (equality is a flat body, which is allowed). Moments that
+    /// miss the inequality by no more than the rounding of decimal figures
+    /// are taken as the flat body they stand for, Iₖ = Iᵢ + Iⱼ: left as
+    /// given, a needle such as (1e-300, 1, 1 + 4e-16) would couple its thin
+    /// axis through (I₂ − I₃)/I₁ ≈ 4e284, which no rigid body has.
     pub fn new(inertia: [f64; 3]) -> Result<Body, ModelError> {
+        let mut inertia = inertia;
         for (axis, &value) in inertia.iter().enumerate() {
             if !value.is_finite() {
                 return Err(ModelError::NonFiniteInertia {
@@ -69,6 +74,9 @@ impl Body {
                     sum,
                     value: inertia[k],
                 });
+            }
+            if sum < inertia[k] {
+                inertia[k] = sum;
             }
         }
         Ok(Body {

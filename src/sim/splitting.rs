@@ -137,14 +137,21 @@ impl Splitting {
         budget: Budget,
         order: [usize; 3],
     ) -> Splitting {
-        let l = body.momentum(omega0);
+        // The flows depend on the moments only through L/I, so the moments
+        // are taken relative to the largest (a power of two, exact): 1/I
+        // cannot overflow for tiny moments, nor L = Iω underflow.
+        let unit = body
+            .inertia
+            .max()
+            .log2()
+            .floor()
+            .clamp(-1074.0, 1023.0)
+            .exp2();
+        let inertia = body.inertia / unit;
+        let l = inertia.component_mul(omega0);
         Splitting {
-            inertia: [body.inertia[0], body.inertia[1], body.inertia[2]],
-            inverse: [
-                1.0 / body.inertia[0],
-                1.0 / body.inertia[1],
-                1.0 / body.inertia[2],
-            ],
+            inertia: [inertia[0], inertia[1], inertia[2]],
+            inverse: [1.0 / inertia[0], 1.0 / inertia[1], 1.0 / inertia[2]],
             scheme,
             sequence: Sequence::new(order, scheme),
             dt,
