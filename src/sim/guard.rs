@@ -120,7 +120,7 @@ impl Solver for Guard {
     }
 
     fn advance(&mut self, t: f64) -> Result<State, SimError> {
-        limits::check_span(&self.scales, self.orientation, t)?;
+        limits::check_span(&self.scales, self.orientation, t, "t =")?;
         let state = self.inner.advance(t)?;
         self.check(t, &state)?;
         Ok(state)
@@ -131,7 +131,7 @@ impl Solver for Guard {
     }
 
     fn plan(&mut self, t_end: f64) -> Result<(), SimError> {
-        limits::check_span(&self.scales, self.orientation, t_end)?;
+        limits::check_span(&self.scales, self.orientation, t_end, "t =")?;
         self.inner.plan(t_end)
     }
 }

@@ -60,14 +60,20 @@ pub fn max_span(scales: &Scales, orientation: bool) -> f64 {
     }
 }
 
-/// Refuses a run to `t_end` beyond [`max_span`], naming the limit.
-pub fn check_span(scales: &Scales, orientation: bool, t_end: f64) -> Result<(), SimError> {
+/// Refuses a run to `t_end` beyond [`max_span`], naming the limit; `what`
+/// names the time in the message (`t =`, `duration`).
+pub fn check_span(
+    scales: &Scales,
+    orientation: bool,
+    t_end: f64,
+    what: &str,
+) -> Result<(), SimError> {
     let limit = max_span(scales, orientation);
     if t_end <= limit {
         return Ok(());
     }
     Err(SimError::Invalid(format!(
-        "t = {} is beyond t = {}, the longest span whose phase f64 resolves for this motion ({} turns the phase by 2^32 rad there, where one ulp of it is 1e-6 rad); use a shorter span",
+        "{what} {} is beyond {}, the longest span whose phase f64 resolves for this motion ({} turns the phase by 2^32 rad there, where one ulp of it is 1e-6 rad); use a shorter span",
         Num(t_end),
         Num(below(limit, 4)),
         scales.describe(orientation)
@@ -104,10 +110,10 @@ mod tests {
         let limit = max_span(&s, true);
         assert!((limit * s.spin - MAX_PHASE).abs() < 1e-6 * MAX_PHASE);
         assert!(limit > 3.7e8 && limit < 3.75e8, "{limit}");
-        assert!(check_span(&s, true, 1e8).is_ok());
-        let err = check_span(&s, true, 1e17).unwrap_err().to_string();
+        assert!(check_span(&s, true, 1e8, "t =").is_ok());
+        let err = check_span(&s, true, 1e17, "t =").unwrap_err().to_string();
         assert!(
-            err.contains("t = 1e17") && err.contains("t = 371900000,"),
+            err.contains("t = 1e17 is beyond 371900000,"),
             "{err}"
         );
         // Spinning 1e3 times faster shortens the span 1e3 times.

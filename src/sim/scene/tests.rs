@@ -135,7 +135,7 @@ fn live_measurements_match_the_headless_ones() {
 
 #[test]
 fn budget_stops_the_run_with_a_reason() {
-    let s = scene([1.0, 2.0, 3.0], [0.01, 10.0, 0.01], 1e5, &[Panel::Omega]);
+    let s = scene([1.0, 2.0, 3.0], [0.01, 10.0, 0.01], 1e4, &[Panel::Omega]);
     let run = SceneRun::new(&s, Method::Rk4 { dt: 1e-3 }).unwrap();
     let err = run.error().expect("refused up front").to_string();
     assert!(err.contains("rk4"), "{err}");
