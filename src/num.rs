@@ -36,6 +36,21 @@ pub fn show(x: f64) -> String {
     Num(x).to_string()
 }
 
+/// `x` rounded to `digits` significant digits and shown as [`show`] does:
+/// `rounded(2.7531234, 4)` = `2.753`, `rounded(4.0, 6)` = `4`,
+/// `rounded(1.23456789e-300, 3)` = `1.23e-300`.
+pub fn rounded(x: f64, digits: usize) -> String {
+    if !x.is_finite() || digits == 0 {
+        return show(x);
+    }
+    let text = format!("{:.*e}", digits - 1, x);
+    match text.parse::<f64>() {
+        Ok(r) if r.is_finite() => show(r),
+        // Rounding up past f64::MAX: round towards zero instead.
+        _ => show(below(x.abs(), digits).copysign(x)),
+    }
+}
+
 /// The largest number of `digits` significant decimal digits not above
 /// `x` (x > 0 finite), for stating an upper limit that, copied back, is
 /// accepted: `below(113.59, 4)` = 113.5.
@@ -100,6 +115,19 @@ mod tests {
         for (x, want) in cases {
             assert_eq!(show(x), want, "{x:e}");
         }
+    }
+
+    #[test]
+    fn rounded_keeps_a_few_digits_in_the_same_spelling() {
+        assert_eq!(rounded(2.7531234, 4), "2.753");
+        assert_eq!(rounded(4.0, 6), "4");
+        assert_eq!(rounded(-0.043483642, 3), "-0.0435");
+        assert_eq!(rounded(577.35026918962, 6), "577.35");
+        assert_eq!(rounded(1.23456789e-300, 3), "1.23e-300");
+        assert_eq!(rounded(1.5e308, 6), "1.5e308");
+        assert_eq!(rounded(f64::MAX, 2), "1.7e308");
+        assert_eq!(rounded(-f64::MAX, 2), "-1.7e308");
+        assert_eq!(rounded(1234567.0, 3), "1230000");
     }
 
     #[test]

@@ -72,9 +72,8 @@ fn check(cases: &[Case]) -> Vec<bool> {
     std::fs::create_dir_all(dir.path().join("content/extreme")).unwrap();
     std::fs::create_dir(dir.path().join("decks")).unwrap();
     std::fs::write(dir.path().join("content/extreme/en.toml"), "").unwrap();
-    let mut text = String::from(
-        "[deck]\nid = \"extreme\"\ntitle = 'Extreme'\nlanguages = [\"en\"]\n",
-    );
+    let mut text =
+        String::from("[deck]\nid = \"extreme\"\ntitle = 'Extreme'\nlanguages = [\"en\"]\n");
     let mut starts = Vec::new();
     for (k, c) in cases.iter().enumerate() {
         starts.push(text.lines().count() + 2);

@@ -6,12 +6,12 @@
 //! again with the adaptive one, so a wrong answer cannot hide behind one
 //! method.
 
+use flipcard::deck::Measure;
 use flipcard::deck::{Answer, Deck, load_dir};
 use flipcard::paths::bundled_decks;
-use flipcard::deck::Measure;
-use flipcard::sim::{Method, formula};
 use flipcard::sim::measure::{Prediction, verdict};
 use flipcard::sim::scene::measure_scene;
+use flipcard::sim::{Method, formula};
 
 fn decks() -> Vec<Deck> {
     let loaded = load_dir(&bundled_decks());

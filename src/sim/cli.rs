@@ -1,6 +1,7 @@
 //! `flipcard sim`: one trajectory, sampled at N evenly spaced times, as CSV
-//! or JSON. Every float is printed in shortest round-trip form, so reading
-//! the output back gives the computed values bit for bit.
+//! or JSON. Every float is printed in shortest round-trip form (with an
+//! exponent when very large or small, see [`crate::num`]), so reading the
+//! output back gives the computed values bit for bit.
 
 use std::io::{self, BufWriter, Write};
 use std::process::ExitCode;
@@ -13,9 +14,13 @@ use super::model::{self, Body, State};
 use super::run::{self, Kind};
 use super::solver::{Method, Needs, Solver};
 use crate::cli::{Cli, MethodArg, SimArgs, SimFormat};
+use crate::num::{self, Num};
 
 /// The CSV header; columns follow the axes in the order given.
 pub const CSV_HEADER: &str = "t,w1,w2,w3,qw,qx,qy,qz,energy,l2";
+/// The most samples a run prints: 2⁵⁰ + 1, so that neighbouring sample
+/// times stay at least four ulps of t apart (distinct and increasing).
+pub const MAX_SAMPLES: usize = (1 << 50) + 1;
 
 pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
     if args.list {
@@ -83,7 +88,7 @@ fn list(cli: &Cli) -> anyhow::Result<ExitCode> {
 }
 
 fn scene_line(deck: &crate::deck::Deck, scene: &crate::deck::Scene, lang: &str) -> String {
-    let triple = |v: [f64; 3]| format!("{},{},{}", v[0], v[1], v[2]);
+    let triple = |v: [f64; 3]| num::triple(&v, ",");
     let shows: Vec<&str> = scene.show.iter().map(|p| p.name()).collect();
     let title = scene.title.as_ref().map_or("", |t| t.get(lang));
     format!(
@@ -92,7 +97,7 @@ fn scene_line(deck: &crate::deck::Deck, scene: &crate::deck::Scene, lang: &str) 
         deck.id,
         triple(scene.inertia),
         triple(scene.omega),
-        scene.duration,
+        Num(scene.duration),
         scene.time_unit,
         shows.join(","),
         title
@@ -122,11 +127,20 @@ impl Request {
         let body = Body::new(inertia).context("--inertia")?;
         let omega0 = model::omega(omega).context("--omega")?;
         if !(t_end.is_finite() && t_end > 0.0) {
-            bail!("--t-end: must be a positive finite time, got {t_end}");
+            bail!(
+                "--t-end: must be a positive finite time, got {}",
+                Num(t_end)
+            );
         }
         if args.samples < 2 {
             bail!(
                 "--samples: need at least 2 (the start and the end), got {}",
+                args.samples
+            );
+        }
+        if args.samples > MAX_SAMPLES {
+            bail!(
+                "--samples: at most {MAX_SAMPLES}, got {} (the sample times k·T/(N−1) would be less than a few ulps apart in f64)",
                 args.samples
             );
         }
@@ -217,9 +231,8 @@ impl Sample {
         }
     }
 
-    fn csv(&self) -> String {
-        format!(
-            "{},{},{},{},{},{},{},{},{},{}",
+    fn fields(&self) -> [f64; 10] {
+        [
             self.t,
             self.w1,
             self.w2,
@@ -229,8 +242,13 @@ impl Sample {
             self.qy,
             self.qz,
             self.energy,
-            self.l2
-        )
+            self.l2,
+        ]
+    }
+
+    fn csv(&self) -> String {
+        let fields: Vec<String> = self.fields().iter().map(|&v| num::show(v)).collect();
+        fields.join(",")
     }
 }
 
@@ -289,6 +307,16 @@ fn write_samples(
         let t = request.time(k);
         let state = solver.advance(t)?;
         let sample = Sample::new(&request.body, t, &state);
+        // The solvers refuse non-finite states already; this keeps the
+        // contract of the output itself (JSON would print `null`).
+        if let Some(v) = sample.fields().iter().find(|v| !v.is_finite()) {
+            bail!(
+                "{} gave a non-finite number ({}) at t = {}",
+                request.method.name(),
+                Num(*v),
+                Num(t)
+            );
+        }
         match format {
             SimFormat::Csv => writeln!(out, "{}", sample.csv())?,
             SimFormat::Json => {

@@ -21,6 +21,7 @@ use super::model::State;
 use super::scales::Scales;
 use super::solver::{Method, SimError, Solver, Work};
 use super::system::System;
+use crate::num::Num;
 
 const SAFETY: f64 = 0.9;
 /// Bounds of h_new/h: never shrink below a third nor grow beyond six times.
@@ -236,7 +237,8 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             if !resolvable || !self.y.iter().all(|v| v.is_finite()) {
                 return Err(SimError::Invalid(format!(
                     "adaptive: step size underflow at t = {} (the solution is not resolvable at tol = {})",
-                    self.t, self.tol
+                    Num(self.t),
+                    Num(self.tol)
                 )));
             }
             let y = self.y;
@@ -380,8 +382,9 @@ impl<S: System<N>, const N: usize> Solver for Dop853<S, N> {
     fn advance(&mut self, t: f64) -> Result<State, SimError> {
         if !t.is_finite() || t < self.last_request {
             return Err(SimError::Invalid(format!(
-                "time {t} is before the previous sample {} (runs only go forward)",
-                self.last_request
+                "time {} is before the previous sample {} (runs only go forward)",
+                Num(t),
+                Num(self.last_request)
             )));
         }
         self.last_request = t;

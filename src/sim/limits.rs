@@ -112,10 +112,7 @@ mod tests {
         assert!(limit > 3.7e8 && limit < 3.75e8, "{limit}");
         assert!(check_span(&s, true, 1e8, "t =").is_ok());
         let err = check_span(&s, true, 1e17, "t =").unwrap_err().to_string();
-        assert!(
-            err.contains("t = 1e17 is beyond 371900000,"),
-            "{err}"
-        );
+        assert!(err.contains("t = 1e17 is beyond 371900000,"), "{err}");
         // Spinning 1e3 times faster shortens the span 1e3 times.
         let fast = scales(&b, &(w * 1e3));
         assert!((limit / max_span(&fast, true) - 1e3).abs() < 1e-6);

@@ -11,10 +11,11 @@ use super::guard::Guard;
 pub use super::limits::check_start;
 use super::model::Body;
 use super::rk4::Rk4;
-use super::scales::{momentum_gain, scales};
+use super::scales::{Scales, momentum_gain, scales};
 use super::solver::{Method, Needs, SimError, Solver};
 use super::splitting::{Scheme, Splitting};
 use super::system::{OmegaOnly, WithOrientation};
+use crate::num::Num;
 
 /// Default tolerance of the adaptive solver (relative, and absolute against
 /// |ω₀| for ω): about 1e-9 relative error in ω over the notes' 36 flips.
@@ -143,15 +144,19 @@ fn check_method(method: &Method) -> Result<(), SimError> {
         Method::Adaptive { tol } => {
             if !(tol.is_finite() && tol > 0.0) {
                 Err(SimError::Invalid(format!(
-                    "tol must be a positive number, got {tol}"
+                    "tol must be a positive number, got {}",
+                    Num(tol)
                 )))
             } else if tol < MIN_TOL {
                 Err(SimError::Invalid(format!(
-                    "tol = {tol} is below what f64 arithmetic can deliver (use at least {MIN_TOL:e})"
+                    "tol = {} is below what f64 arithmetic can deliver (use at least {})",
+                    Num(tol),
+                    Num(MIN_TOL)
                 )))
             } else if tol >= 1.0 {
                 Err(SimError::Invalid(format!(
-                    "tol = {tol} is not a tolerance (use a value below 1, e.g. 1e-8)"
+                    "tol = {} is not a tolerance (use a value below 1, e.g. 1e-8)",
+                    Num(tol)
                 )))
             } else {
                 Ok(())
@@ -162,11 +167,36 @@ fn check_method(method: &Method) -> Result<(), SimError> {
                 Ok(())
             } else {
                 Err(SimError::Invalid(format!(
-                    "dt must be a positive number, got {dt}"
+                    "dt must be a positive number, got {}",
+                    Num(dt)
                 )))
             }
         }
     }
+}
+
+/// Refuses a fixed step that turns the fastest phase by more than half a
+/// turn (π): a rotation by θ and by θ + 2π are the same to a step, so the
+/// motion is aliased whatever the method does with it (RK4 also diverges
+/// past Ωdt = 2√2). The splitting turns L by ωᵢdt about each axis even
+/// when q is not wanted, so its rate includes the spin.
+fn check_step(method: &Method, rates: &Scales, orientation: bool) -> Result<(), SimError> {
+    let (dt, rate) = match *method {
+        Method::Splitting { dt } | Method::Splitting4 { dt } => (dt, rates.fastest(true)),
+        Method::Rk4 { dt } => (dt, rates.fastest(orientation)),
+        Method::Exact | Method::Adaptive { .. } => return Ok(()),
+    };
+    if rate * dt <= std::f64::consts::PI {
+        return Ok(());
+    }
+    Err(SimError::Invalid(format!(
+        "{}: dt = {} turns the {} by {} rad per step, more than half a turn, so the motion aliases; use dt ≤ {} or the exact method",
+        method.name(),
+        Num(dt),
+        rates.describe(orientation || !matches!(method, Method::Rk4 { .. })),
+        crate::num::rounded(rate * dt, 3),
+        Num(crate::num::below(std::f64::consts::PI / rate, 3))
+    )))
 }
 
 /// A solver for `method` with the default step budget.
@@ -197,6 +227,7 @@ pub fn make_with(
     let rates = scales(&body, &omega0);
     let budget = options.budget;
     let q = needs.orientation;
+    check_step(&method, &rates, q)?;
     let solver: Box<dyn Solver> = match method {
         Method::Exact => Box::new(Exact::new(body, omega0, needs)?),
         Method::Adaptive { tol } if q => Box::new(Dop853::<_, 7>::new(

@@ -121,7 +121,8 @@ pub fn check_scene(
         ))));
     }
     let rates = scales(&body, &omega0);
-    limits::check_span(&rates, orientation, duration, "duration").map_err(at(SceneField::Duration))?;
+    limits::check_span(&rates, orientation, duration, "duration")
+        .map_err(at(SceneField::Duration))?;
     meter_points(&body, &omega0, duration).map_err(at(SceneField::Duration))?;
     Ok((body, omega0))
 }

@@ -21,6 +21,7 @@ use super::budget::Budget;
 use super::model::{Body, State};
 use super::solver::{Method, SimError, Solver, Work};
 use super::trig;
+use crate::num::Num;
 
 /// Which composition of the Strang step to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -259,8 +260,9 @@ impl Solver for Splitting {
     fn advance(&mut self, t: f64) -> Result<State, SimError> {
         if !t.is_finite() || t < self.last_request {
             return Err(SimError::Invalid(format!(
-                "time {t} is before the previous sample {} (runs only go forward)",
-                self.last_request
+                "time {} is before the previous sample {} (runs only go forward)",
+                Num(t),
+                Num(self.last_request)
             )));
         }
         self.last_request = t;

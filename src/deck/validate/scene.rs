@@ -5,6 +5,7 @@ use crate::deck::model::{Panel, Scene};
 use crate::deck::raw::{Flag, List, Num, RawScene};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
+use crate::num;
 use crate::sim::model::{Body, ModelError};
 use crate::sim::scene::{SceneField, check_scene};
 
@@ -177,13 +178,13 @@ fn omega(rep: &mut FileReport, list: &List<Num>) -> Option<[f64; 3]> {
 
 fn duration(rep: &mut FileReport, n: &Num) -> Option<f64> {
     let problem = if !n.value.is_finite() {
-        Some(format!("duration {} is not finite", n.value))
+        Some(format!("duration {} is not finite", num::show(n.value)))
     } else if n.value <= 0.0 {
-        Some(format!("duration {} is not positive", n.value))
+        Some(format!("duration {} is not positive", num::show(n.value)))
     } else if n.value > MAX_DURATION {
         Some(format!(
             "duration {} is longer than the limit of {MAX_DURATION:e} time units",
-            n.value
+            num::show(n.value)
         ))
     } else {
         None
