@@ -292,6 +292,23 @@ fn every_invalid_input_is_one_line_and_exit_1() {
         (with(&["--samples", "0"]), "--samples"),
         (with(&["--samples", "-3"]), "--samples"),
         (with(&["--samples", "many"]), "--samples"),
+        (
+            with(&["--samples", "18446744073709551615"]),
+            "--samples: at most",
+        ),
+        (
+            vec![
+                "--inertia",
+                "1,2,3",
+                "--omega",
+                "1,2,3",
+                "--t-end",
+                "5e-324",
+                "--samples",
+                "3",
+            ],
+            "--samples: at most 2 over t = 5e-324",
+        ),
         (with(&["--method", "adaptive", "--tol", "0"]), "tol"),
         (with(&["--method", "adaptive", "--tol", "-1e-8"]), "tol"),
         (with(&["--method", "adaptive", "--tol", "1e-30"]), "tol"),
@@ -704,7 +721,7 @@ fn no_number_is_printed_as_a_long_string_of_digits() {
     ];
     for (args, succeeds) in cases {
         for format in ["csv", "json"] {
-            let args = [&args[..], &["--samples", "5", "--format", format]].concat();
+            let args = [&args[..], &["--samples", "2", "--format", format]].concat();
             let out = sim(&args);
             let (text, err) = (stdout(&out), stderr(&out));
             assert_eq!(out.status.success(), succeeds, "{args:?}: {err}");

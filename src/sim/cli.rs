@@ -18,9 +18,21 @@ use crate::num::{self, Num};
 
 /// The CSV header; columns follow the axes in the order given.
 pub const CSV_HEADER: &str = "t,w1,w2,w3,qw,qx,qy,qz,energy,l2";
-/// The most samples a run prints: 2⁵⁰ + 1, so that neighbouring sample
-/// times stay at least four ulps of t apart (distinct and increasing).
+/// The most samples any run prints: 2⁵⁰ + 1 (see [`max_samples`]).
 pub const MAX_SAMPLES: usize = (1 << 50) + 1;
+
+/// The most samples over [0, t_end] whose times k·T/(N−1) stay distinct and
+/// increasing in f64: their spacing must be at least two ulps of T, since
+/// each time is rounded by up to half an ulp. Two samples (0 and T) always
+/// are; past 2⁵⁰ intervals the spacing is under four ulps of any T.
+pub fn max_samples(t_end: f64) -> usize {
+    let ulp = f64::from_bits(t_end.to_bits() + 1) - t_end;
+    let intervals = (t_end / (2.0 * ulp)).floor();
+    if intervals.is_nan() || intervals < 1.0 {
+        return 2;
+    }
+    (intervals.min((MAX_SAMPLES - 1) as f64) as usize + 1).max(2)
+}
 
 pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
     if args.list {
@@ -138,9 +150,11 @@ impl Request {
                 args.samples
             );
         }
-        if args.samples > MAX_SAMPLES {
+        let most = max_samples(t_end);
+        if args.samples > most {
             bail!(
-                "--samples: at most {MAX_SAMPLES}, got {} (the sample times k·T/(N−1) would be less than a few ulps apart in f64)",
+                "--samples: at most {most} over t = {}, got {} (neighbouring sample times k·T/(N−1) would be less than two ulps apart in f64)",
+                Num(t_end),
                 args.samples
             );
         }
@@ -348,6 +362,34 @@ mod tests {
         assert!(err.contains("'x' is not a number"), "{err}");
         let err = triple("--omega", None).unwrap_err().to_string();
         assert!(err.contains("required"), "{err}");
+    }
+
+    #[test]
+    fn sample_times_stay_distinct() {
+        assert_eq!(max_samples(1.0), MAX_SAMPLES);
+        assert_eq!(max_samples(1e300), MAX_SAMPLES);
+        assert_eq!(max_samples(5e-324), 2);
+        // 20 subnormal steps: times at least two of them apart.
+        assert_eq!(max_samples(20.0 * 5e-324), 11);
+        for t_end in [5e-324, 1e-322, 3e-310, 1e-300, 1.0] {
+            let n = max_samples(t_end).min(1000);
+            let times: Vec<f64> = (0..n)
+                .map(|k| {
+                    let request = Request {
+                        body: Body::new([1.0, 2.0, 3.0]).unwrap(),
+                        omega0: Vector3::zeros(),
+                        t_end,
+                        samples: n,
+                        method: Method::Exact,
+                    };
+                    request.time(k)
+                })
+                .collect();
+            assert!(
+                times.windows(2).all(|w| w[0] < w[1]),
+                "{t_end:e}: {times:?}"
+            );
+        }
     }
 
     #[test]
