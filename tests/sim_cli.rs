@@ -319,6 +319,15 @@ fn every_invalid_input_is_one_line_and_exit_1() {
         (with(&["--method", "rk4", "--dt", "0"]), "dt"),
         (with(&["--method", "splitting4", "--dt", "-0.1"]), "dt"),
         (with(&["--method", "splitting", "--dt", "nan"]), "dt"),
+        // A step past half a turn of the fastest rate aliases the motion.
+        (
+            with(&["--method", "splitting", "--dt", "50"]),
+            "more than half a turn",
+        ),
+        (
+            with(&["--method", "rk4", "--dt", "1"]),
+            "more than half a turn",
+        ),
         (with(&["--method", "leapfrog"]), "--method"),
         (with(&["--format", "xml"]), "--format"),
         (with(&["--bogus"]), "--bogus"),

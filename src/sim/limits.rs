@@ -35,13 +35,13 @@ pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SimError> {
     let w = crate::num::triple(&[omega0[0], omega0[1], omega0[2]], ", ");
     if !(energy.is_finite() && l2.is_finite()) {
         return Err(SimError::Invalid(format!(
-            "ω = ({w}) is too large for these moments: its energy overflows f64 (use larger time units)"
+            "ω = ({w}) is too large for these moments: its energy overflows f64 (give ω per a shorter time unit, or the moments in a larger unit)"
         )));
     }
     let moving = omega0.iter().any(|&v| v != 0.0);
     if moving && !(energy >= f64::MIN_POSITIVE && l2 >= f64::MIN_POSITIVE) {
         return Err(SimError::Invalid(format!(
-            "ω = ({w}) is too small for these moments: its energy underflows f64 (use smaller time units or larger mass units)"
+            "ω = ({w}) is too small for these moments: its energy underflows f64 (give ω per a longer time unit, or the moments in a smaller unit)"
         )));
     }
     Ok(())
@@ -69,7 +69,8 @@ pub fn check_span(
     what: &str,
 ) -> Result<(), SimError> {
     let limit = max_span(scales, orientation);
-    if t_end <= limit {
+    // A NaN time is the solvers' to refuse, with their own message.
+    if t_end.is_nan() || t_end <= limit {
         return Ok(());
     }
     Err(SimError::Invalid(format!(
