@@ -27,8 +27,9 @@ pub const MIN_TOL: f64 = 1e-14;
 pub const DEFAULT_STEPS_PER_TURN: f64 = 256.0;
 /// The largest [`momentum_gain`] the splitting accepts. It carries L and
 /// divides by the moments for ω, so each rounding of L (ε relative) shows
-/// in ω multiplied by the gain; with up to a few million rotations adding
-/// up, a gain of 1e-8/ε ≈ 4.5e7 keeps that below ~1e-5 of |ω|. Needles
+/// in ω multiplied by the gain. A budget's worth of steps is up to 1e8
+/// rotations, whose roundings add up like a random walk (√1e8 = 1e4), so a
+/// gain of 1e-8/ε ≈ 4.5e7 keeps their sum in ω below ~1e-4 of |ω|. Needles
 /// thinner than that are left to the methods that carry ω itself.
 pub const MAX_SPLITTING_GAIN: f64 = 1e-8 / f64::EPSILON;
 
