@@ -7,10 +7,11 @@
 //! method.
 
 use flipcard::cmd::paths::bundled_decks;
+use flipcard::deck::Measure;
 use flipcard::deck::{Answer, Deck, load_dir};
-use flipcard::sim::Method;
 use flipcard::sim::measure::{Prediction, verdict};
 use flipcard::sim::scene::measure_scene;
+use flipcard::sim::{Method, formula};
 
 fn decks() -> Vec<Deck> {
     let loaded = load_dir(&bundled_decks());
@@ -91,4 +92,64 @@ fn a_wrong_prediction_is_judged_wrong() {
             assert!(!verdict(prompt, &m, wrong).correct, "{}", prompt.id);
         }
     }
+}
+
+/// A scene spun fast about its middle axis (ω = 1000 rad/s, I = (1, 2, 3):
+/// nutation λ ≈ 577 rad/s, a flip every 0.0275 s). `check` accepts it only
+/// for durations its measurements resolve, and every duration it accepts
+/// measures the flips, their period and the early growth in agreement with
+/// the closed forms; longer ones are refused at the duration, with the limit.
+#[test]
+fn fast_scenes_that_pass_check_measure_what_the_formulas_say() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("content/fast")).unwrap();
+    std::fs::create_dir(dir.path().join("decks")).unwrap();
+    std::fs::write(dir.path().join("content/fast/en.toml"), "").unwrap();
+    let mut accepted = Vec::new();
+    for duration in ["1.0", "10.0", "100.0", "113.0", "114.0", "1e3", "1e6"] {
+        let path = dir.path().join("decks/fast.toml");
+        std::fs::write(
+            &path,
+            format!(
+                "[deck]\nid = \"fast\"\ntitle = 'Fast'\nlanguages = [\"en\"]\n\n\
+                 [[scene]]\nid = \"spin\"\ninertia = [1.0, 2.0, 3.0]\n\
+                 omega = [0.01, 1000.0, 0.01]\nduration = {duration}\nshow = [\"omega\"]\n"
+            ),
+        )
+        .unwrap();
+        let loaded = flipcard::deck::load_dir(&path);
+        if loaded.errors() > 0 {
+            let text = loaded.render_all();
+            assert!(
+                text.contains("fast.toml:10:12: error: duration")
+                    && text.contains("covers 113.5 time units"),
+                "{duration}: {text}"
+            );
+            continue;
+        }
+        accepted.push(duration);
+        let scene = loaded.decks[0].scene("spin").unwrap();
+        let m = measure_scene(scene, Method::Exact).unwrap();
+        let body = flipcard::sim::Body::new(scene.inertia).unwrap();
+        let w0 = nalgebra::Vector3::from(scene.omega);
+        let interval = formula::flip_interval(&body, &w0, 1).unwrap();
+        let period = m.get(Measure::FlipPeriod).unwrap();
+        assert!(
+            (period - interval).abs() < 1e-6 * interval,
+            "{duration}: flip period {period} vs 2K(m)/λ = {interval}"
+        );
+        let flips = m.get(Measure::Flips).unwrap();
+        let expected = scene.duration / interval;
+        assert!(
+            (flips - expected).abs() <= 1.0,
+            "{duration}: {flips} flips, {expected} flip intervals"
+        );
+        let growth = m.get(Measure::GrowthRate).unwrap();
+        let root_k = formula::stability(&body, 1, 1000.0).sqrt();
+        assert!(
+            (growth - root_k).abs() < 0.02 * root_k,
+            "{duration}: growth {growth} vs √k = {root_k}"
+        );
+    }
+    assert_eq!(accepted, ["1.0", "10.0", "100.0", "113.0"]);
 }

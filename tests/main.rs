@@ -10,6 +10,7 @@ mod bundled_decks;
 mod check_cli;
 mod check_files;
 mod check_robustness;
+mod check_sim_agree;
 mod cli_output;
 mod deck_mutations;
 mod deck_physics;

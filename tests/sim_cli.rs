@@ -93,7 +93,11 @@ fn every_float_is_printed_in_shortest_round_trip_form() {
     for line in csv.lines().skip(1) {
         for field in line.split(',') {
             let v: f64 = field.parse().unwrap();
-            assert_eq!(format!("{v}"), field, "not shortest round-trip");
+            assert_eq!(
+                flipcard::text::num::show(v),
+                field,
+                "not shortest round-trip"
+            );
         }
     }
 }
@@ -292,6 +296,23 @@ fn every_invalid_input_is_one_line_and_exit_1() {
         (with(&["--samples", "0"]), "--samples"),
         (with(&["--samples", "-3"]), "--samples"),
         (with(&["--samples", "many"]), "--samples"),
+        (
+            with(&["--samples", "18446744073709551615"]),
+            "--samples: at most",
+        ),
+        (
+            vec![
+                "--inertia",
+                "1,2,3",
+                "--omega",
+                "1,2,3",
+                "--t-end",
+                "5e-324",
+                "--samples",
+                "3",
+            ],
+            "--samples: at most 2 over t = 5e-324",
+        ),
         (with(&["--method", "adaptive", "--tol", "0"]), "tol"),
         (with(&["--method", "adaptive", "--tol", "-1e-8"]), "tol"),
         (with(&["--method", "adaptive", "--tol", "1e-30"]), "tol"),
@@ -302,6 +323,15 @@ fn every_invalid_input_is_one_line_and_exit_1() {
         (with(&["--method", "rk4", "--dt", "0"]), "dt"),
         (with(&["--method", "splitting4", "--dt", "-0.1"]), "dt"),
         (with(&["--method", "splitting", "--dt", "nan"]), "dt"),
+        // A step past half a turn of the fastest rate aliases the motion.
+        (
+            with(&["--method", "splitting", "--dt", "50"]),
+            "more than half a turn",
+        ),
+        (
+            with(&["--method", "rk4", "--dt", "1"]),
+            "more than half a turn",
+        ),
         (with(&["--method", "leapfrog"]), "--method"),
         (with(&["--format", "xml"]), "--format"),
         (with(&["--bogus"]), "--bogus"),
@@ -332,7 +362,7 @@ fn a_run_beyond_the_step_budget_is_refused_at_once_with_the_reason() {
         "--omega",
         "1e9,2e8,3e8",
         "--t-end",
-        "1000",
+        "1",
         "--method",
         "adaptive",
     ]);
@@ -453,6 +483,266 @@ fn exact_is_the_default_and_the_integrators_agree_with_it() {
             let err = (1..8).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
             // ω is of size ~3, q of size 1: an absolute bound serves both.
             assert!(err < 3.0 * bound, "{method} at t = {}: {err}", a[0]);
+        }
+    }
+}
+
+/// The longest run of consecutive ASCII digits in `text`.
+fn longest_digit_run(text: &str) -> usize {
+    text.split(|c: char| !c.is_ascii_digit())
+        .map(str::len)
+        .max()
+        .unwrap_or(0)
+}
+
+/// Exact rows of the same run, for comparing another method against.
+fn exact_rows(inertia: &str, omega: &str, t_end: &str, samples: &str) -> Vec<Vec<f64>> {
+    rows(&run_ok(&[
+        "--inertia",
+        inertia,
+        "--omega",
+        omega,
+        "--t-end",
+        t_end,
+        "--samples",
+        samples,
+    ]))
+}
+
+#[test]
+fn needles_are_computed_accurately_or_refused_never_garbage() {
+    // Needles as thin as 1e-6, 1e-9 and 1e-300 of the other moments, with
+    // every method and both output formats: a run either prints finite
+    // states that agree with the exact solution, or exits 1 with a reason
+    // and a way out.
+    for inertia in ["1e-6,1,1", "1e-9,1,1", "1e-300,1,1", "1e-9,1,1.000000001"] {
+        let omega = "1,1,0.5";
+        let exact = exact_rows(inertia, omega, "10", "11");
+        for method in ["exact", "adaptive", "splitting", "splitting4", "rk4"] {
+            for format in ["csv", "json"] {
+                let args = [
+                    "--inertia",
+                    inertia,
+                    "--omega",
+                    omega,
+                    "--t-end",
+                    "10",
+                    "--samples",
+                    "11",
+                    "--method",
+                    method,
+                    "--format",
+                    format,
+                ];
+                let out = sim(&args);
+                let (text, err) = (stdout(&out), stderr(&out));
+                assert!(!text.contains("inf") && !text.contains("NaN"), "{args:?}");
+                if !out.status.success() {
+                    assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+                    assert!(text.is_empty(), "{args:?} printed before refusing");
+                    assert_eq!(err.lines().count(), 1, "{err}");
+                    assert!(err.contains("exact method"), "{args:?}: {err}");
+                    continue;
+                }
+                let got: Vec<Vec<f64>> = if format == "csv" {
+                    rows(&text)
+                } else {
+                    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+                    let names = [
+                        "t", "w1", "w2", "w3", "qw", "qx", "qy", "qz", "energy", "l2",
+                    ];
+                    v["samples"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|s| {
+                            // A non-finite number would be `null` in JSON.
+                            names
+                                .iter()
+                                .map(|n| s[n].as_f64().unwrap_or(f64::NAN))
+                                .collect()
+                        })
+                        .collect()
+                };
+                assert_eq!(got.len(), exact.len(), "{args:?}");
+                for (a, b) in got.iter().zip(&exact) {
+                    assert!(a.iter().all(|v| v.is_finite()), "{args:?}: {a:?}");
+                    let err = (1..4).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max);
+                    assert!(err < 1e-3, "{args:?} at t = {}: ω off by {err}", a[0]);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_span_beyond_what_f64_resolves_is_refused_with_its_limit() {
+    // I = (1, 2, 3), ω = (0.01, 10, 0.01): the spin reaches 11.55 rad/s, so
+    // the phase passes 2^32 rad at t ≈ 3.719e8.
+    for method in ["exact", "adaptive", "splitting", "splitting4", "rk4"] {
+        let out = sim(&[&CASE_A[..4], &["--t-end", "1e17", "--method", method]].concat());
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{method}: {err}");
+        assert!(stdout(&out).is_empty(), "{method}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(
+            err.contains("t = 1e17 is beyond 371900000, the longest span"),
+            "{method}: {err}"
+        );
+    }
+    // Inside the limit the exact solution still answers.
+    let csv = run_ok(&[&CASE_A[..4], &["--t-end", "3.7e8", "--samples", "3"]].concat());
+    assert_eq!(rows(&csv).len(), 3);
+}
+
+#[test]
+fn no_number_is_printed_as_a_long_string_of_digits() {
+    // (arguments, whether the run succeeds): outputs and messages that
+    // hold extreme magnitudes, each of which must spell them with an
+    // exponent.
+    let cases: Vec<(Vec<&str>, bool)> = vec![
+        (
+            vec![
+                "--inertia",
+                "1,2,3",
+                "--omega",
+                "1e-150,2e-150,1e-150",
+                "--t-end",
+                "1e150",
+            ],
+            true,
+        ),
+        (
+            vec![
+                "--inertia",
+                "1e-300,2e-300,3e-300",
+                "--omega",
+                "1e150,1e150,5e149",
+                "--t-end",
+                "5e-324",
+            ],
+            true,
+        ),
+        (
+            vec![
+                "--inertia",
+                "1,2,3",
+                "--omega",
+                "1,2,3",
+                "--t-end",
+                "5e-324",
+            ],
+            true,
+        ),
+        (
+            vec![
+                "--inertia",
+                "-1e-300,1,1",
+                "--omega",
+                "1,2,3",
+                "--t-end",
+                "1",
+            ],
+            false,
+        ),
+        (
+            vec![
+                "--inertia",
+                "1e-300,1,3",
+                "--omega",
+                "1,2,3",
+                "--t-end",
+                "1",
+            ],
+            false,
+        ),
+        (
+            vec!["--inertia", "1,2,3", "--omega", "1e200,0,0", "--t-end", "1"],
+            false,
+        ),
+        (
+            vec![
+                "--inertia",
+                "1,2,3",
+                "--omega",
+                "1e-300,0,0",
+                "--t-end",
+                "1",
+            ],
+            false,
+        ),
+        (
+            vec![
+                "--inertia",
+                "1,2,3",
+                "--omega",
+                "1,2,3",
+                "--t-end",
+                "-1e-300",
+            ],
+            false,
+        ),
+        (
+            vec!["--inertia", "1,2,3", "--omega", "1,2,3", "--t-end", "1e300"],
+            false,
+        ),
+        (
+            vec![
+                "--inertia",
+                "1,2,3",
+                "--omega",
+                "1,2,3",
+                "--t-end",
+                "1",
+                "--method",
+                "adaptive",
+                "--tol",
+                "1e-300",
+            ],
+            false,
+        ),
+        (
+            vec![
+                "--inertia",
+                "1,2,3",
+                "--omega",
+                "1,2,3",
+                "--t-end",
+                "1",
+                "--method",
+                "rk4",
+                "--dt",
+                "5e-324",
+            ],
+            false,
+        ),
+        (
+            vec![
+                "--inertia",
+                "1,2,3",
+                "--omega",
+                "1,2,3",
+                "--t-end",
+                "1",
+                "--method",
+                "splitting",
+                "--dt",
+                "1e300",
+            ],
+            false,
+        ),
+    ];
+    for (args, succeeds) in cases {
+        for format in ["csv", "json"] {
+            let args = [&args[..], &["--samples", "2", "--format", format]].concat();
+            let out = sim(&args);
+            let (text, err) = (stdout(&out), stderr(&out));
+            assert_eq!(out.status.success(), succeeds, "{args:?}: {err}");
+            let longest = longest_digit_run(&text).max(longest_digit_run(&err));
+            assert!(
+                longest < 30,
+                "{args:?}: a {longest}-digit run in\n{text}{err}"
+            );
         }
     }
 }

@@ -3,6 +3,7 @@
 //! invariants, their step budgets and the extreme cases of the model.
 
 use flipcard::sim::budget::Budget;
+use flipcard::sim::run::{Kind, default_dt_for};
 use flipcard::sim::{Body, Method, Needs, Options, SimError, Solver, State, make, make_with};
 use nalgebra::{UnitQuaternion, Vector3};
 
@@ -364,7 +365,7 @@ fn budget_refuses_fast_spins_up_front() {
     let w = Vector3::new(1e9, 2e8, 3e8);
     for needs in [OMEGA, BOTH] {
         let mut s = make(Method::Adaptive { tol: 1e-10 }, b, w, needs).unwrap();
-        let err = s.plan(1000.0).unwrap_err();
+        let err = s.plan(3.0).unwrap_err();
         let SimError::Budget(msg) = &err else {
             panic!("{err:?}")
         };
@@ -375,13 +376,13 @@ fn budget_refuses_fast_spins_up_front() {
         );
         // Without a plan, the first advance refuses just the same, unstepped.
         let mut s = make(Method::Adaptive { tol: 1e-10 }, b, w, needs).unwrap();
-        assert!(matches!(s.advance(1000.0), Err(SimError::Budget(_))));
+        assert!(matches!(s.advance(3.0), Err(SimError::Budget(_))));
         assert_eq!(s.work().steps, 0);
     }
     let mut s = make(Method::Rk4 { dt: 1e-9 }, b, w, BOTH).unwrap();
-    assert!(matches!(s.plan(100.0), Err(SimError::Budget(_))));
+    assert!(matches!(s.plan(3.0), Err(SimError::Budget(_))));
     let mut s = make(Method::Splitting { dt: 1e-9 }, b, w, BOTH).unwrap();
-    assert!(matches!(s.advance(100.0), Err(SimError::Budget(_))));
+    assert!(matches!(s.advance(3.0), Err(SimError::Budget(_))));
     assert_eq!(s.work().steps, 0);
 }
 
@@ -485,7 +486,15 @@ fn extreme_cases_stay_finite_and_keep_invariants() {
         );
         let (de, dl) = invariant_drift(Method::Rk4 { dt }, i, w, t_end);
         assert!(de < 1e-4 && dl < 1e-4, "rk4 {name}: {de} {dl}");
-        for method in [Method::Splitting { dt }, Method::Splitting4 { dt }] {
+        let w0 = Vector3::from(w);
+        for method in [
+            Method::Splitting {
+                dt: default_dt_for(Kind::Splitting, &b, &w0),
+            },
+            Method::Splitting4 {
+                dt: default_dt_for(Kind::Splitting4, &b, &w0),
+            },
+        ] {
             let (de, dl) = invariant_drift(method, i, w, t_end);
             // Rounding only: a random walk over up to ~1e6 rotations.
             assert!(dl < 1e-12, "{method:?} {name}: |L|² {dl}");

@@ -88,3 +88,43 @@ fn unknown_scene_and_bad_settings_fail_with_a_reason() {
     assert!(err.contains("no such file"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
 }
+
+#[test]
+fn extreme_scene_values_are_reported_with_exponents() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("content/tiny")).unwrap();
+    std::fs::create_dir(dir.path().join("decks")).unwrap();
+    std::fs::write(dir.path().join("content/tiny/en.toml"), "").unwrap();
+    let deck = dir.path().join("decks/tiny.toml");
+    std::fs::write(
+        &deck,
+        "[deck]\nid = \"tiny\"\ntitle = 'Tiny'\nlanguages = [\"en\"]\n\n\
+         [[scene]]\nid = \"speck\"\ninertia = [1e-300, 2e-300, 3e-300]\n\
+         omega = [1e150, 1e150, 5e149]\nduration = 5e-324\nshow = [\"omega\"]\n",
+    )
+    .unwrap();
+    let (ok, out, err) = sim(&["--scene", "speck", "--deck", deck.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(
+        out.starts_with(
+            "scene speck (tiny): I = (1e-300, 2e-300, 3e-300), ω₀ = (1e150, 1e150, 5e149), 5e-324 s"
+        ),
+        "{out}"
+    );
+    let longest = out
+        .split(|c: char| !c.is_ascii_digit())
+        .map(str::len)
+        .max()
+        .unwrap_or(0);
+    assert!(longest < 30, "a {longest}-digit run in\n{out}");
+    let (ok, list, err) = sim(&[
+        "--list",
+        "--decks",
+        dir.path().join("decks").to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        list.contains("inertia=1e-300,2e-300,3e-300\tomega=1e150,1e150,5e149\tduration=5e-324 s"),
+        "{list}"
+    );
+}

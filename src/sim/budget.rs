@@ -1,6 +1,8 @@
 //! Step budgets: a stepping solver refuses, with a reason, a run that would
 //! take longer than its budget instead of hanging on a stiff case.
 
+use crate::text::num::Num;
+
 /// Default cap on the steps (accepted and rejected) of one run: a few
 /// seconds of work for the costliest method.
 pub const DEFAULT_MAX_STEPS: u64 = 5_000_000;
@@ -36,7 +38,9 @@ impl Budget {
     /// Why a fixed-step run stops.
     pub fn fixed(&self, method: &str, dt: f64, t: f64, steps: f64) -> String {
         format!(
-            "{method}: dt = {dt} needs ~{steps:.0e} steps to reach t = {t} (budget {:.0e}); use a larger dt or the exact solver",
+            "{method}: dt = {} needs ~{steps:.0e} steps to reach t = {} (budget {:.0e}); use a larger dt or the exact solver",
+            Num(dt),
+            Num(t),
             self.max_steps as f64
         )
     }

@@ -1,6 +1,7 @@
 //! `flipcard sim`: one trajectory, sampled at N evenly spaced times, as CSV
-//! or JSON. Every float is printed in shortest round-trip form, so reading
-//! the output back gives the computed values bit for bit.
+//! or JSON. Every float is printed in shortest round-trip form (with an
+//! exponent when very large or small, see [`crate::text::num`]), so reading the
+//! output back gives the computed values bit for bit.
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -13,10 +14,26 @@ use super::model::{self, Body, State};
 use super::run::{self, Kind};
 use super::solver::{Method, Needs, Solver};
 use crate::cmd::args::{Cli, MethodArg, SimArgs, SimFormat};
+use crate::text::num::{self, Num};
 use crate::text::plural;
 
 /// The CSV header; columns follow the axes in the order given.
 pub const CSV_HEADER: &str = "t,w1,w2,w3,qw,qx,qy,qz,energy,l2";
+/// The most samples any run prints: 2⁵⁰ + 1 (see [`max_samples`]).
+pub const MAX_SAMPLES: usize = (1 << 50) + 1;
+
+/// The most samples over [0, t_end] whose times k·T/(N−1) stay distinct and
+/// increasing in f64: their spacing must be at least two ulps of T, since
+/// each time is rounded by up to half an ulp. Two samples (0 and T) always
+/// are; past 2⁵⁰ intervals the spacing is under four ulps of any T.
+pub fn max_samples(t_end: f64) -> usize {
+    let ulp = f64::from_bits(t_end.to_bits() + 1) - t_end;
+    let intervals = (t_end / (2.0 * ulp)).floor();
+    if intervals.is_nan() || intervals < 1.0 {
+        return 2;
+    }
+    (intervals.min((MAX_SAMPLES - 1) as f64) as usize + 1).max(2)
+}
 
 pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
     if args.list {
@@ -72,7 +89,7 @@ fn list(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn scene_line(deck: &crate::deck::Deck, scene: &crate::deck::Scene, lang: &str) -> String {
-    let triple = |v: [f64; 3]| format!("{},{},{}", v[0], v[1], v[2]);
+    let triple = |v: [f64; 3]| num::triple(&v, ",");
     let shows: Vec<&str> = scene.show.iter().map(|p| p.name()).collect();
     let title = scene.title.as_ref().map_or("", |t| t.get(lang));
     format!(
@@ -81,7 +98,7 @@ fn scene_line(deck: &crate::deck::Deck, scene: &crate::deck::Scene, lang: &str) 
         deck.id,
         triple(scene.inertia),
         triple(scene.omega),
-        scene.duration,
+        Num(scene.duration),
         scene.time_unit,
         shows.join(","),
         title
@@ -106,11 +123,22 @@ impl Request {
         let body = Body::new(inertia).context("--inertia")?;
         let omega0 = model::omega(omega).context("--omega")?;
         if !(t_end.is_finite() && t_end > 0.0) {
-            bail!("--t-end: must be a positive finite time, got {t_end}");
+            bail!(
+                "--t-end: must be a positive finite time, got {}",
+                Num(t_end)
+            );
         }
         if args.samples < 2 {
             bail!(
                 "--samples: need at least 2 (the start and the end), got {}",
+                args.samples
+            );
+        }
+        let most = max_samples(t_end);
+        if args.samples > most {
+            bail!(
+                "--samples: at most {most} over t = {}, got {} (neighbouring sample times k·T/(N−1) would be less than two ulps apart in f64)",
+                Num(t_end),
                 args.samples
             );
         }
@@ -201,9 +229,8 @@ impl Sample {
         }
     }
 
-    fn csv(&self) -> String {
-        format!(
-            "{},{},{},{},{},{},{},{},{},{}",
+    fn fields(&self) -> [f64; 10] {
+        [
             self.t,
             self.w1,
             self.w2,
@@ -213,8 +240,13 @@ impl Sample {
             self.qy,
             self.qz,
             self.energy,
-            self.l2
-        )
+            self.l2,
+        ]
+    }
+
+    fn csv(&self) -> String {
+        let fields: Vec<String> = self.fields().iter().map(|&v| num::show(v)).collect();
+        fields.join(",")
     }
 }
 
@@ -273,6 +305,16 @@ fn write_samples(
         let t = request.time(k);
         let state = solver.advance(t)?;
         let sample = Sample::new(&request.body, t, &state);
+        // The solvers refuse non-finite states already; this keeps the
+        // contract of the output itself (JSON would print `null`).
+        if let Some(v) = sample.fields().iter().find(|v| !v.is_finite()) {
+            bail!(
+                "{} gave a non-finite number ({}) at t = {}",
+                request.method.name(),
+                Num(*v),
+                Num(t)
+            );
+        }
         match format {
             SimFormat::Csv => writeln!(out, "{}", sample.csv())?,
             SimFormat::Json => {
@@ -304,6 +346,34 @@ mod tests {
         assert!(err.contains("'x' is not a number"), "{err}");
         let err = triple("--omega", None).unwrap_err().to_string();
         assert!(err.contains("required"), "{err}");
+    }
+
+    #[test]
+    fn sample_times_stay_distinct() {
+        assert_eq!(max_samples(1.0), MAX_SAMPLES);
+        assert_eq!(max_samples(1e300), MAX_SAMPLES);
+        assert_eq!(max_samples(5e-324), 2);
+        // 20 subnormal steps: times at least two of them apart.
+        assert_eq!(max_samples(20.0 * 5e-324), 11);
+        for t_end in [5e-324, 1e-322, 3e-310, 1e-300, 1.0] {
+            let n = max_samples(t_end).min(1000);
+            let times: Vec<f64> = (0..n)
+                .map(|k| {
+                    let request = Request {
+                        body: Body::new([1.0, 2.0, 3.0]).unwrap(),
+                        omega0: Vector3::zeros(),
+                        t_end,
+                        samples: n,
+                        method: Method::Exact,
+                    };
+                    request.time(k)
+                })
+                .collect();
+            assert!(
+                times.windows(2).all(|w| w[0] < w[1]),
+                "{t_end:e}: {times:?}"
+            );
+        }
     }
 
     #[test]

@@ -21,6 +21,7 @@ use super::model::State;
 use super::scales::Scales;
 use super::solver::{Method, SimError, Solver, Work};
 use super::system::System;
+use crate::text::num::Num;
 
 const SAFETY: f64 = 0.9;
 /// Bounds of h_new/h: never shrink below a third nor grow beyond six times.
@@ -166,18 +167,27 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
     }
 
     /// Hairer's starting step: an explicit Euler step sized from |f|/|y|,
-    /// then corrected by an estimate of the second derivative.
+    /// then corrected by an estimate of the second derivative. The norms are
+    /// taken without squaring large numbers: for |ω| past ~1e140, |f|/sk
+    /// ~ |ω|/tol would overflow when squared.
     fn initial_step(&mut self) -> f64 {
-        let (mut dnf, mut dny) = (0.0, 0.0);
-        for i in 0..N {
-            let sk = self.scale(i, self.y[i], self.y[i]);
-            dnf += (self.f[i] / sk).powi(2);
-            dny += (self.y[i] / sk).powi(2);
+        let mut sk = [0.0; N];
+        for (i, s) in sk.iter_mut().enumerate() {
+            *s = self.scale(i, self.y[i], self.y[i]);
         }
-        let h0 = if dnf <= 1e-10 || dny <= 1e-10 {
+        let scaled = |v: &[f64; N]| {
+            let mut out = *v;
+            for (o, s) in out.iter_mut().zip(&sk) {
+                *o /= s;
+            }
+            out
+        };
+        let dnf = norm(&scaled(&self.f));
+        let dny = norm(&scaled(&self.y));
+        let h0 = if dnf <= 1e-5 || dny <= 1e-5 {
             1e-6
         } else {
-            (dny / dnf).sqrt() * 0.01
+            (dny / dnf) * 0.01
         };
         let mut y1 = self.y;
         for (v, f) in y1.iter_mut().zip(&self.f) {
@@ -185,35 +195,38 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         }
         let f1 = self.sys.rhs(&y1);
         self.work.rhs_evals += 1;
-        let mut der2 = 0.0;
-        for (i, (f1, f0)) in f1.iter().zip(&self.f).enumerate() {
-            let sk = self.scale(i, self.y[i], self.y[i]);
-            der2 += ((f1 - f0) / sk).powi(2);
+        let mut diff = [0.0; N];
+        for (d, (f1, f0)) in diff.iter_mut().zip(f1.iter().zip(&self.f)) {
+            *d = f1 - f0;
         }
-        let der12 = (der2.sqrt() / h0).max(dnf.sqrt());
-        let h1 = if der12 <= 1e-15 {
+        let der2 = norm(&scaled(&diff));
+        // The second derivative over the tolerance grows like |ω|³/tol and
+        // overflows for fast spins: its size is taken in logarithms.
+        let log_der12 = (der2.ln() - h0.ln()).max(dnf.ln());
+        let h1 = if log_der12 <= 1e-15f64.ln() {
             (h0 * 1e-3).max(1e-6)
         } else {
-            (0.01 / der12).powf(ORDER_EXPONENT)
+            ((0.01f64.ln() - log_der12) * ORDER_EXPONENT).exp()
         };
         (100.0 * h0).min(h1)
     }
 
-    /// Error of a trial step relative to the tolerance (accept when ≤ 1).
+    /// Error of a trial step relative to the tolerance (accept when ≤ 1):
+    /// h·e5²/√(N(e5² + 0.01·e3²)) with e5, e3 the 2-norms of the two
+    /// weighted estimates, arranged so that no norm is squared.
     fn error_norm(&self, y_new: &[f64; N], h: f64) -> f64 {
-        let (mut e5, mut e3) = (0.0, 0.0);
+        let (mut d5, mut d3) = ([0.0; N], [0.0; N]);
         for (i, &y_new) in y_new.iter().enumerate() {
             let sk = self.scale(i, self.y[i], y_new);
-            let d5 = weigh(&self.k, &tab::E5, i);
-            let d3 = weigh(&self.k, &tab::E3, i);
-            e5 += (d5 / sk).powi(2);
-            e3 += (d3 / sk).powi(2);
+            d5[i] = weigh(&self.k, &tab::E5, i) / sk;
+            d3[i] = weigh(&self.k, &tab::E3, i) / sk;
         }
-        let denominator = e5 + 0.01 * e3;
+        let (e5, e3) = (norm(&d5), norm(&d3));
+        let denominator = e5.hypot(0.1 * e3);
         if denominator <= 0.0 {
             return 0.0;
         }
-        h.abs() * e5 / (N as f64 * denominator).sqrt()
+        h.abs() * e5 * (e5 / denominator) / (N as f64).sqrt()
     }
 
     /// One accepted step (after as many rejected trials as it takes).
@@ -224,7 +237,8 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             if !resolvable || !self.y.iter().all(|v| v.is_finite()) {
                 return Err(SimError::Invalid(format!(
                     "adaptive: step size underflow at t = {} (the solution is not resolvable at tol = {})",
-                    self.t, self.tol
+                    Num(self.t),
+                    Num(self.tol)
                 )));
             }
             let y = self.y;
@@ -325,6 +339,16 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
     }
 }
 
+/// The 2-norm of v, scaled by its largest entry so that no square
+/// overflows or underflows.
+fn norm<const N: usize>(v: &[f64; N]) -> f64 {
+    let big = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if big == 0.0 || !big.is_finite() {
+        return big;
+    }
+    big * v.iter().map(|x| (x / big).powi(2)).sum::<f64>().sqrt()
+}
+
 /// y + h Σⱼ aⱼ kⱼ over the nonzero entries of one tableau row.
 #[inline(always)]
 fn stage<const N: usize, const M: usize>(
@@ -358,8 +382,9 @@ impl<S: System<N>, const N: usize> Solver for Dop853<S, N> {
     fn advance(&mut self, t: f64) -> Result<State, SimError> {
         if !t.is_finite() || t < self.last_request {
             return Err(SimError::Invalid(format!(
-                "time {t} is before the previous sample {} (runs only go forward)",
-                self.last_request
+                "time {} is before the previous sample {} (runs only go forward)",
+                Num(t),
+                Num(self.last_request)
             )));
         }
         self.last_request = t;

@@ -32,6 +32,7 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use super::model::{self, Body, State};
 use super::solver::{Method, Needs, SimError, Solver, Work};
+use crate::text::num::Num;
 use attitude::Attitude;
 use frame::Frame;
 use orbit::{Orbit, Shape};
@@ -323,7 +324,10 @@ impl Solver for Exact {
 
     fn advance(&mut self, t: f64) -> Result<State, SimError> {
         if !t.is_finite() {
-            return Err(SimError::Invalid(format!("time t = {t} is not finite")));
+            return Err(SimError::Invalid(format!(
+                "time t = {} is not finite",
+                Num(t)
+            )));
         }
         let state = if self.needs.orientation {
             self.state_at(t)
@@ -334,7 +338,8 @@ impl Solver for Exact {
             && state.q.coords.iter().all(|v| v.is_finite());
         if !finite {
             return Err(SimError::Invalid(format!(
-                "t = {t} puts the phase beyond what double precision can represent for this spin"
+                "t = {} puts the phase beyond what double precision can represent for this spin",
+                Num(t)
             )));
         }
         Ok(state)

@@ -9,6 +9,8 @@ pub mod dopri;
 pub mod elliptic;
 pub mod exact;
 pub mod formula;
+pub mod guard;
+pub mod limits;
 pub mod measure;
 pub mod model;
 pub mod plan;

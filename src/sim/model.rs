@@ -8,17 +8,20 @@
 //!   at t = 0, and obeys q̇ = ½ q ⊗ (0, ω);
 //! - Euler's equations: I ω̇ = (I ω) × ω, i.e. I₁ω̇₁ = (I₂ − I₃) ω₂ω₃ and cyclic.
 
+use crate::text::num::Num;
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// Why an input is not a physical rigid body or state.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
-    #[error("moment of inertia I{axis} = {value} is not finite")]
+    #[error("moment of inertia I{axis} = {} is not finite", Num(*.value))]
     NonFiniteInertia { axis: usize, value: f64 },
-    #[error("moment of inertia I{axis} = {value} is not positive")]
+    #[error("moment of inertia I{axis} = {} is not positive", Num(*.value))]
     NonPositiveInertia { axis: usize, value: f64 },
     #[error(
-        "moments break the triangle inequality: I{i} + I{j} = {sum} < I{k} = {value} (no rigid body has these principal moments)"
+        "moments break the triangle inequality: I{i} + I{j} = {} < I{k} = {} (no rigid body has these principal moments)",
+        Num(*.sum),
+        Num(*.value)
     )]
     Triangle {
         i: usize,
@@ -27,7 +30,7 @@ pub enum ModelError {
         sum: f64,
         value: f64,
     },
-    #[error("angular velocity ω{axis} = {value} is not finite")]
+    #[error("angular velocity ω{axis} = {} is not finite", Num(*.value))]
     NonFiniteOmega { axis: usize, value: f64 },
 }
 
@@ -39,8 +42,13 @@ pub struct Body {
 
 impl Body {
     /// Accepts only physical moments: finite, positive, and Iᵢ + Iⱼ ≥ Iₖ for
-    /// every axis (equality is a flat body, which is allowed).
+    /// every axis (equality is a flat body, which is allowed). Moments that
+    /// miss the inequality by no more than the rounding of decimal figures
+    /// are taken as the flat body they stand for, Iₖ = Iᵢ + Iⱼ: left as
+    /// given, a needle such as (1e-300, 1, 1 + 4e-16) would couple its thin
+    /// axis through (I₂ − I₃)/I₁ ≈ 4e284, which no rigid body has.
     pub fn new(inertia: [f64; 3]) -> Result<Body, ModelError> {
+        let mut inertia = inertia;
         for (axis, &value) in inertia.iter().enumerate() {
             if !value.is_finite() {
                 return Err(ModelError::NonFiniteInertia {
@@ -69,6 +77,9 @@ impl Body {
                     sum,
                     value: inertia[k],
                 });
+            }
+            if sum < inertia[k] {
+                inertia[k] = sum;
             }
         }
         Ok(Body {

@@ -12,6 +12,7 @@ use super::model::State;
 use super::scales::Scales;
 use super::solver::{Method, SimError, Solver, Work};
 use super::system::System;
+use crate::text::num::Num;
 
 pub struct Rk4<S, const N: usize> {
     sys: S,
@@ -79,8 +80,9 @@ impl<S: System<N>, const N: usize> Rk4<S, N> {
     fn blew_up(&self, t: f64) -> SimError {
         let rate = self.scales.fastest(self.orientation);
         SimError::Invalid(format!(
-            "rk4 diverged before t = {t}: dt = {} is too coarse for {} (try dt ≤ {:.1e})",
-            self.dt,
+            "rk4 diverged before t = {}: dt = {} is too coarse for {} (try dt ≤ {:.1e})",
+            Num(t),
+            Num(self.dt),
             self.scales.describe(self.orientation),
             1.0 / rate
         ))
@@ -104,8 +106,9 @@ impl<S: System<N>, const N: usize> Solver for Rk4<S, N> {
     fn advance(&mut self, t: f64) -> Result<State, SimError> {
         if !t.is_finite() || t < self.last_request {
             return Err(SimError::Invalid(format!(
-                "time {t} is before the previous sample {} (runs only go forward)",
-                self.last_request
+                "time {} is before the previous sample {} (runs only go forward)",
+                Num(t),
+                Num(self.last_request)
             )));
         }
         self.last_request = t;

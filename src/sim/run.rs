@@ -7,12 +7,15 @@ use nalgebra::Vector3;
 use super::budget::Budget;
 use super::dopri::Dop853;
 use super::exact::Exact;
-use super::model::{self, Body};
+use super::guard::Guard;
+pub use super::limits::check_start;
+use super::model::Body;
 use super::rk4::Rk4;
-use super::scales::scales;
+use super::scales::{Scales, momentum_gain, scales};
 use super::solver::{Method, Needs, SimError, Solver};
 use super::splitting::{Scheme, Splitting};
 use super::system::{OmegaOnly, WithOrientation};
+use crate::text::num::Num;
 
 /// Default tolerance of the adaptive solver (relative, and absolute against
 /// |ω₀| for ω): about 1e-9 relative error in ω over the notes' 36 flips.
@@ -22,6 +25,13 @@ pub const MIN_TOL: f64 = 1e-14;
 /// Default fixed step: this many steps per turn (2π) of the fastest rate of
 /// the orbit, nutation or spin.
 pub const DEFAULT_STEPS_PER_TURN: f64 = 256.0;
+/// The largest [`momentum_gain`] the splitting accepts. It carries L and
+/// divides by the moments for ω, so each rounding of L (ε relative) shows
+/// in ω multiplied by the gain. A budget's worth of steps is up to 1e8
+/// rotations, whose roundings add up like a random walk (√1e8 = 1e4), so a
+/// gain of 1e-8/ε ≈ 4.5e7 keeps their sum in ω below ~1e-4 of |ω|. Needles
+/// thinner than that are left to the methods that carry ω itself.
+pub const MAX_SPLITTING_GAIN: f64 = 1e-8 / f64::EPSILON;
 
 /// The solver families, before their accuracy knob is chosen.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -52,17 +62,37 @@ pub fn default_dt(body: &Body, omega0: &Vector3<f64>) -> f64 {
     }
 }
 
-/// Checks that ω₀ is finite and small enough for its invariants to be
-/// finite in f64 (T and |L|² square it).
-pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SimError> {
-    model::omega([omega0[0], omega0[1], omega0[2]])?;
-    if !(body.energy(omega0).is_finite() && body.l2(omega0).is_finite()) {
-        return Err(SimError::Invalid(format!(
-            "ω = ({}, {}, {}) is too large: its energy overflows f64",
-            omega0[0], omega0[1], omega0[2]
-        )));
+/// The default step of a family. The splitting's error in ω is its error
+/// in L multiplied by [`momentum_gain`], so its step shrinks by the gain's
+/// square root (2nd order) or fourth root (4th order) to keep the same
+/// accuracy in ω as on a compact body.
+pub fn default_dt_for(kind: Kind, body: &Body, omega0: &Vector3<f64>) -> f64 {
+    let order = match kind {
+        Kind::Splitting => 2.0,
+        Kind::Splitting4 => 4.0,
+        _ => return default_dt(body, omega0),
+    };
+    default_dt(body, omega0) / momentum_gain(body, omega0).powf(1.0 / order)
+}
+
+/// Refuses the splitting for a body whose [`momentum_gain`] is past
+/// [`MAX_SPLITTING_GAIN`].
+fn check_splitting(method: &Method, body: &Body, omega0: &Vector3<f64>) -> Result<(), SimError> {
+    if !matches!(method, Method::Splitting { .. } | Method::Splitting4 { .. }) {
+        return Ok(());
     }
-    Ok(())
+    let gain = momentum_gain(body, omega0);
+    if gain <= MAX_SPLITTING_GAIN {
+        return Ok(());
+    }
+    let i = body.inertia;
+    Err(SimError::Invalid(format!(
+        "{} carries L = Iω and divides by the moments to get ω; for this body (I_max/I_min = {:.1e}) that multiplies every rounding of L by {:.1e} in ω, beyond the {:.1e} it can afford: use the exact method (or rk4 or adaptive, which carry ω)",
+        method.name(),
+        i.max() / i.min(),
+        gain,
+        MAX_SPLITTING_GAIN
+    )))
 }
 
 /// A method from a family and the knobs the user gave (`None` = default).
@@ -94,7 +124,7 @@ pub fn method(
             "dt applies only to the fixed-step methods (splitting, splitting4, rk4), not to {name}"
         )));
     }
-    let dt = || dt.unwrap_or_else(|| default_dt(body, omega0));
+    let dt = || dt.unwrap_or_else(|| default_dt_for(kind, body, omega0));
     let method = match kind {
         Kind::Exact => Method::Exact,
         Kind::Adaptive => Method::Adaptive {
@@ -105,6 +135,7 @@ pub fn method(
         Kind::Rk4 => Method::Rk4 { dt: dt() },
     };
     check_method(&method)?;
+    check_splitting(&method, body, omega0)?;
     Ok(method)
 }
 
@@ -114,15 +145,19 @@ fn check_method(method: &Method) -> Result<(), SimError> {
         Method::Adaptive { tol } => {
             if !(tol.is_finite() && tol > 0.0) {
                 Err(SimError::Invalid(format!(
-                    "tol must be a positive number, got {tol}"
+                    "tol must be a positive number, got {}",
+                    Num(tol)
                 )))
             } else if tol < MIN_TOL {
                 Err(SimError::Invalid(format!(
-                    "tol = {tol} is below what f64 arithmetic can deliver (use at least {MIN_TOL:e})"
+                    "tol = {} is below what f64 arithmetic can deliver (use at least {})",
+                    Num(tol),
+                    Num(MIN_TOL)
                 )))
             } else if tol >= 1.0 {
                 Err(SimError::Invalid(format!(
-                    "tol = {tol} is not a tolerance (use a value below 1, e.g. 1e-8)"
+                    "tol = {} is not a tolerance (use a value below 1, e.g. 1e-8)",
+                    Num(tol)
                 )))
             } else {
                 Ok(())
@@ -133,11 +168,36 @@ fn check_method(method: &Method) -> Result<(), SimError> {
                 Ok(())
             } else {
                 Err(SimError::Invalid(format!(
-                    "dt must be a positive number, got {dt}"
+                    "dt must be a positive number, got {}",
+                    Num(dt)
                 )))
             }
         }
     }
+}
+
+/// Refuses a fixed step that turns the fastest phase by more than half a
+/// turn (π): a rotation by θ and by θ + 2π are the same to a step, so the
+/// motion is aliased whatever the method does with it (RK4 also diverges
+/// past Ωdt = 2√2). The splitting turns L by ωᵢdt about each axis even
+/// when q is not wanted, so its rate includes the spin.
+fn check_step(method: &Method, rates: &Scales, orientation: bool) -> Result<(), SimError> {
+    let (dt, rate) = match *method {
+        Method::Splitting { dt } | Method::Splitting4 { dt } => (dt, rates.fastest(true)),
+        Method::Rk4 { dt } => (dt, rates.fastest(orientation)),
+        Method::Exact | Method::Adaptive { .. } => return Ok(()),
+    };
+    if rate * dt <= std::f64::consts::PI {
+        return Ok(());
+    }
+    Err(SimError::Invalid(format!(
+        "{}: dt = {} turns the {} by {} rad per step, more than half a turn, so the motion aliases; use dt ≤ {} or the exact method",
+        method.name(),
+        Num(dt),
+        rates.describe(orientation || !matches!(method, Method::Rk4 { .. })),
+        crate::text::num::rounded(rate * dt, 3),
+        Num(crate::text::num::below(std::f64::consts::PI / rate, 3))
+    )))
 }
 
 /// A solver for `method` with the default step budget.
@@ -150,7 +210,9 @@ pub fn make(
     make_with(method, body, omega0, needs, Options::default())
 }
 
-/// A solver for `method`, integrating q only when `needs.orientation`.
+/// A solver for `method`, integrating q only when `needs.orientation`,
+/// behind a [`Guard`] that refuses spans and states f64 cannot honestly
+/// give.
 pub fn make_with(
     method: Method,
     body: Body,
@@ -162,10 +224,12 @@ pub fn make_with(
     let body = Body::new([body.inertia[0], body.inertia[1], body.inertia[2]])?;
     check_start(&body, &omega0)?;
     check_method(&method)?;
+    check_splitting(&method, &body, &omega0)?;
     let rates = scales(&body, &omega0);
     let budget = options.budget;
     let q = needs.orientation;
-    Ok(match method {
+    check_step(&method, &rates, q)?;
+    let solver: Box<dyn Solver> = match method {
         Method::Exact => Box::new(Exact::new(body, omega0, needs)?),
         Method::Adaptive { tol } if q => Box::new(Dop853::<_, 7>::new(
             WithOrientation::new(&body, &omega0),
@@ -215,7 +279,8 @@ pub fn make_with(
             q,
             budget,
         )),
-    })
+    };
+    Ok(Box::new(Guard::new(solver, body, &omega0, rates, q)))
 }
 
 #[cfg(test)]

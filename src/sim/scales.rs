@@ -7,7 +7,8 @@ use nalgebra::Vector3;
 
 use super::model::Body;
 
-/// The fastest rates (rad/s) of one trajectory.
+/// The fastest rates (rad/s) of one trajectory, and how large each
+/// component of ω can get on it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Scales {
     /// Frequency parameter λ of the elliptic solution: ω(t) is a function of
@@ -15,6 +16,12 @@ pub struct Scales {
     pub nutation: f64,
     /// Largest |ω| anywhere on the orbit: the rate at which q turns.
     pub spin: f64,
+    /// Smallest |ω| anywhere on the orbit.
+    pub slowest: f64,
+    /// Largest |ωᵢ| of each component anywhere on the orbit...
+    pub extent: [f64; 3],
+    /// ...and smallest.
+    pub floor: [f64; 3],
 }
 
 impl Scales {
@@ -39,46 +46,115 @@ impl Scales {
 }
 
 /// Rates of the orbit through `omega`.
+///
+/// Euler's equations do not change when every moment is multiplied by one
+/// factor, and scaling ω by s only scales time by 1/s; so the moments and ω
+/// are brought to order one by powers of two (exact) before anything is
+/// squared or multiplied, and the rates scaled back. Products such as
+/// I_a I_b I_c would otherwise overflow for moments near 1e103 and
+/// underflow near 1e-103, and ω² for |ω| past 1e154.
 pub fn scales(body: &Body, omega: &Vector3<f64>) -> Scales {
-    Scales {
-        nutation: nutation(body, omega),
-        spin: max_spin(body, omega),
+    let largest = omega.amax();
+    if largest == 0.0 || !largest.is_finite() {
+        return Scales {
+            nutation: 0.0,
+            spin: 0.0,
+            slowest: 0.0,
+            extent: [0.0; 3],
+            floor: [0.0; 3],
+        };
     }
+    let i = body.inertia / power_of_two_at_most(body.inertia.max());
+    let w_scale = power_of_two_at_most(largest);
+    let w = omega / w_scale;
+    let e = orbit_extent(&i, &w);
+    Scales {
+        nutation: nutation(&i, &w) * w_scale,
+        spin: e.spin * w_scale,
+        slowest: e.slowest * w_scale,
+        extent: e.extent.map(|v| v * w_scale),
+        floor: e.floor.map(|v| v * w_scale),
+    }
+}
+
+/// How much a relative error of the body-frame momentum L becomes in ω =
+/// I⁻¹L, relative to |ω|: |L| / (I_min · min |ω| on the orbit), between 1
+/// (a sphere) and I_max/I_min (a needle turning about its thin axis). A
+/// solver that carries L instead of ω (the splitting) sees its every error
+/// multiplied by this much in ω.
+pub fn momentum_gain(body: &Body, omega: &Vector3<f64>) -> f64 {
+    let largest = omega.amax();
+    if largest == 0.0 || !largest.is_finite() {
+        return 1.0;
+    }
+    let i = body.inertia / power_of_two_at_most(body.inertia.max());
+    let w = omega / power_of_two_at_most(largest);
+    let l = i.component_mul(&w);
+    let l_norm = l[0].hypot(l[1]).hypot(l[2]);
+    let slowest = orbit_extent(&i, &w).slowest;
+    if slowest > 0.0 {
+        (l_norm / (i.min() * slowest)).max(1.0)
+    } else {
+        1.0
+    }
+}
+
+/// The largest power of two not above x (x > 0, finite).
+fn power_of_two_at_most(x: f64) -> f64 {
+    x.log2().floor().clamp(-1074.0, 1023.0).exp2()
 }
 
 /// λ² = (I_c − I_b)(L² − 2E·I_a)/(I_a I_b I_c) when the orbit circulates about
 /// the largest axis (L² ≥ 2E·I_b), else (I_b − I_a)(2E·I_c − L²)/(I_a I_b I_c),
 /// with I_a ≤ I_b ≤ I_c. Each Δ is summed from non-negative terms, so nothing
 /// cancels even next to the separatrix or for nearly equal moments.
-fn nutation(body: &Body, omega: &Vector3<f64>) -> f64 {
+fn nutation(inertia: &Vector3<f64>, omega: &Vector3<f64>) -> f64 {
     let mut axes = [0usize, 1, 2];
-    axes.sort_by(|&i, &j| body.inertia[i].total_cmp(&body.inertia[j]));
+    axes.sort_by(|&i, &j| inertia[i].total_cmp(&inertia[j]));
     let [a, b, c] = axes;
-    let (ia, ib, ic) = (body.inertia[a], body.inertia[b], body.inertia[c]);
+    let (ia, ib, ic) = (inertia[a], inertia[b], inertia[c]);
     let (wa2, wb2, wc2) = (omega[a].powi(2), omega[b].powi(2), omega[c].powi(2));
     // L² − 2E·I_x = Σ I_i ω_i² (I_i − I_x).
     let above_a = ib * wb2 * (ib - ia) + ic * wc2 * (ic - ia);
-    let below_c = ia * wa2 * (ic - ia) + ib * wb2 * (ic - ib);
     let around_b = ic * wc2 * (ic - ib) - ia * wa2 * (ib - ia);
+    // After scaling I_c and the largest |ωᵢ| are about 1, but a needle's
+    // I_a can be anything down to 5e-324. The triangle inequality keeps
+    // (I_c − I_b)/I_a at most about 1, so dividing by I_a there, and not
+    // in the product I_a I_b I_c, neither overflows nor underflows.
+    let needle = (ic - ib) / ia;
     let lambda2 = if around_b >= 0.0 {
-        (ic - ib) * (above_a / (ia * ib * ic))
+        needle * above_a / (ib * ic)
     } else {
-        (ib - ia) * (below_c / (ia * ib * ic))
+        // (2E·I_c − L²)/I_a = ω_a²(I_c − I_a) + ω_b² I_b (I_c − I_b)/I_a.
+        (ib - ia) / (ib * ic) * (wa2 * (ic - ia) + ib * wb2 * needle)
     };
     lambda2.max(0.0).sqrt()
 }
 
+/// Extremes of |ω| and of each |ωᵢ| on an orbit.
+struct Extent {
+    slowest: f64,
+    spin: f64,
+    extent: [f64; 3],
+    floor: [f64; 3],
+}
+
 /// The squares xᵢ = ωᵢ² obey two linear constraints (2E and L²), so the orbit
 /// lives on a segment x₀ + s·d of the positive octant, d = I × I² (component-
-/// wise squares). |ω|² = Σ xᵢ is linear along it, so its maximum sits at an end.
-fn max_spin(body: &Body, omega: &Vector3<f64>) -> f64 {
-    let i = body.inertia;
+/// wise squares). Each xᵢ and |ω|² = Σ xᵢ are linear along it, so their
+/// extremes sit at the ends.
+fn orbit_extent(inertia: &Vector3<f64>, omega: &Vector3<f64>) -> Extent {
+    let i = inertia;
     let x0 = omega.component_mul(omega);
     let d = Vector3::new(
         i[1] * i[2] * (i[2] - i[1]),
         i[2] * i[0] * (i[0] - i[2]),
         i[0] * i[1] * (i[1] - i[0]),
     );
+    // Only the direction of d matters; bringing it to order one keeps a
+    // needle's tiny components from underflowing in s·d.
+    let big = d.amax();
+    let d = if big > 0.0 { d / big } else { d };
     let (mut lo, mut hi) = (0.0f64, 0.0f64);
     let (mut lo_set, mut hi_set) = (false, false);
     for k in 0..3 {
@@ -92,11 +168,20 @@ fn max_spin(body: &Body, omega: &Vector3<f64>) -> f64 {
             hi_set = true;
         }
     }
-    let sum_d = d.sum();
-    let sum_x = x0.sum();
-    let ends = [if lo_set { lo } else { 0.0 }, if hi_set { hi } else { 0.0 }];
-    let best = ends.iter().map(|s| sum_x + s * sum_d).fold(sum_x, f64::max);
-    best.max(0.0).sqrt()
+    let at = |s: f64| (x0 + d * s).map(|x| x.max(0.0));
+    let ends = [
+        at(if lo_set { lo } else { 0.0 }),
+        at(if hi_set { hi } else { 0.0 }),
+    ];
+    let extent = [0, 1, 2].map(|k| x0[k].max(ends[0][k]).max(ends[1][k]).sqrt());
+    let floor = [0, 1, 2].map(|k| x0[k].min(ends[0][k]).min(ends[1][k]).sqrt());
+    let sums = [x0.sum(), ends[0].sum(), ends[1].sum()];
+    Extent {
+        slowest: sums.iter().copied().fold(f64::INFINITY, f64::min).sqrt(),
+        spin: sums.iter().copied().fold(0.0, f64::max).sqrt(),
+        extent,
+        floor,
+    }
 }
 
 #[cfg(test)]

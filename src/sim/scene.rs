@@ -23,6 +23,7 @@
 use nalgebra::{UnitQuaternion, Vector3};
 
 use super::formula;
+use super::limits;
 use super::measure::{Measurements, Meter};
 use super::model::{self, Body, State};
 use super::plan::Plan;
@@ -32,17 +33,99 @@ use super::run::make;
 use super::scales::scales;
 use super::solver::{Method, Needs, SimError, Solver, Work};
 use crate::deck::Scene;
+use crate::text::num::{Num, below};
 
 /// Default number of points of the ω trace (about the width of a wide
 /// Braille plot in dots).
 pub const DEFAULT_TRACE_LEN: usize = 512;
 /// The measurement grid has at least this many points over the run...
 const MIN_METER_POINTS: usize = 2048;
-/// ...and this many per radian of the nutation phase, so that flips and
-/// wobbles are resolved whatever the duration...
-const METER_POINTS_PER_RADIAN: f64 = 16.0;
-/// ...up to this cap.
-const MAX_METER_POINTS: usize = 1 << 20;
+/// ...and this many per radian of the nutation phase λt. ω is a function of
+/// λt whose period is at least 2π, so a flip, a wobble or an e-folding
+/// (1/√k ≥ 1/λ) spans at least 16 points and is resolved whatever the
+/// duration: sparser samples alias a fast motion into a slow one.
+pub const METER_POINTS_PER_RADIAN: f64 = 16.0;
+/// The most points a measurement takes (a few seconds of evaluations for
+/// the slowest method): a scene whose nutation turns by more than
+/// `MAX_METER_POINTS / METER_POINTS_PER_RADIAN` = 65536 rad is refused,
+/// not sampled too sparsely.
+pub const MAX_METER_POINTS: usize = 1 << 20;
+
+/// Which input of a scene a refusal is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SceneField {
+    Inertia,
+    Omega,
+    Duration,
+}
+
+/// Why the simulator will not run a scene, and which input to fix.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneProblem {
+    pub field: SceneField,
+    pub error: SimError,
+}
+
+/// The longest duration whose measurements resolve the motion:
+/// [`MAX_METER_POINTS`] at [`METER_POINTS_PER_RADIAN`] of the nutation.
+pub fn max_measured_duration(body: &Body, omega0: &Vector3<f64>) -> f64 {
+    let rate = scales(body, omega0).nutation;
+    if rate > 0.0 {
+        MAX_METER_POINTS as f64 / (METER_POINTS_PER_RADIAN * rate)
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Points of the measurement grid over `duration`.
+fn meter_points(body: &Body, omega0: &Vector3<f64>, duration: f64) -> Result<usize, SimError> {
+    let rate = scales(body, omega0).nutation;
+    let needed = (METER_POINTS_PER_RADIAN * rate * duration).ceil();
+    if needed > MAX_METER_POINTS as f64 {
+        return Err(SimError::Invalid(format!(
+            "duration {} is longer than the measurements can resolve: they sample ω {} times per radian of its nutation at {} rad/s, at most {} times, which covers {} time units",
+            Num(duration),
+            Num(METER_POINTS_PER_RADIAN),
+            Num(below(rate, 4)),
+            MAX_METER_POINTS,
+            Num(below(max_measured_duration(body, omega0), 4))
+        )));
+    }
+    Ok((needed as usize).max(MIN_METER_POINTS))
+}
+
+/// Every test the simulator puts a scene through before running it, and
+/// the same that `flipcard check` reports on a deck: physical moments, a
+/// finite ω whose invariants f64 can hold, a positive duration within the
+/// span f64 resolves the phase over, and within what the measurements
+/// resolve. `orientation`: whether the body is drawn (its spin then counts
+/// for the span).
+pub fn check_scene(
+    inertia: [f64; 3],
+    omega: [f64; 3],
+    duration: f64,
+    orientation: bool,
+) -> Result<(Body, Vector3<f64>), SceneProblem> {
+    let at = |field: SceneField| move |error: SimError| SceneProblem { field, error };
+    let body = Body::new(inertia)
+        .map_err(SimError::from)
+        .map_err(at(SceneField::Inertia))?;
+    let omega0 = model::omega(omega)
+        .map_err(SimError::from)
+        .map_err(at(SceneField::Omega))?;
+    limits::check_start(&body, &omega0).map_err(at(SceneField::Omega))?;
+    if !(duration.is_finite() && duration > 0.0) {
+        return Err(at(SceneField::Duration)(SimError::Invalid(format!(
+            "duration must be a positive number, got {}",
+            Num(duration)
+        ))));
+    }
+    let rates = scales(&body, &omega0);
+    limits::check_span(&rates, orientation, duration, "duration")
+        .map_err(at(SceneField::Duration))?;
+    meter_points(&body, &omega0, duration).map_err(at(SceneField::Duration))?;
+    Ok((body, omega0))
+}
 
 /// What the view draws now.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -167,13 +250,16 @@ impl SceneRun {
         method: Method,
         trace_len: usize,
     ) -> Result<SceneRun, SimError> {
-        let omega0 = model::omega(scene.omega)?;
-        if !(scene.duration.is_finite() && scene.duration > 0.0) {
-            return Err(SimError::Invalid(format!(
-                "scene {}: duration must be a positive number, got {}",
-                scene.id, scene.duration
-            )));
-        }
+        let (_, omega0) = check_scene(
+            scene.inertia,
+            scene.omega,
+            scene.duration,
+            plan.needs.orientation,
+        )
+        .map_err(|p| match p.error {
+            SimError::Invalid(m) => SimError::Invalid(format!("scene {}: {m}", scene.id)),
+            other => other,
+        })?;
         let mut solver = make(method, body, omega0, plan.needs)?;
         let mut error = solver.plan(scene.duration).err();
         let reference = if plan.reference_run(&method) {
@@ -202,11 +288,7 @@ impl SceneRun {
         } else {
             None
         };
-        let rate = scales(&body, &omega0).nutation;
-        let meter_points = (METER_POINTS_PER_RADIAN * rate * scene.duration)
-            .ceil()
-            .clamp(MIN_METER_POINTS as f64, MAX_METER_POINTS as f64)
-            as usize;
+        let meter_points = meter_points(&body, &omega0, scene.duration)?;
         let frame = Frame {
             t: 0.0,
             omega: omega0,

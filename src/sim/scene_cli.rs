@@ -13,6 +13,7 @@ use super::run::{Kind, method};
 use super::scene::measure_scene;
 use crate::cmd::args::{Cli, MethodArg, SimArgs};
 use crate::deck::{Answer, Deck, Prompt, Scene, load_paths};
+use crate::text::num::Num;
 use crate::text::plural;
 
 /// The decks to read: `--deck PATH`, else the global `--decks DIR`, else
@@ -43,7 +44,7 @@ fn load(paths: &[PathBuf]) -> anyhow::Result<Vec<Deck>> {
 
 /// `1, 2, 3` with each number in its shortest round-trip spelling.
 fn triple(v: &[f64; 3]) -> String {
-    format!("{}, {}, {}", v[0], v[1], v[2])
+    crate::text::num::triple(v, ", ")
 }
 
 fn kind(m: MethodArg) -> Kind {
@@ -58,15 +59,7 @@ fn kind(m: MethodArg) -> Kind {
 
 /// Six significant digits without trailing zeros, integers plainly.
 pub fn number(v: f64) -> String {
-    if v == v.trunc() && v.abs() < 1e15 {
-        format!("{v:.0}")
-    } else if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e6) {
-        format!("{v:.5e}")
-    } else {
-        let digits = (5 - v.abs().log10().floor() as i32).max(0) as usize;
-        let s = format!("{v:.digits$}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    }
+    crate::text::num::rounded(v, 6)
 }
 
 /// `flipcard sim --scene ID`: runs the scene and prints its measurements,
@@ -99,7 +92,7 @@ fn report(deck: &Deck, scene: &Scene, m: &Measurements, method: &str) -> String 
         deck.id,
         triple(&scene.inertia),
         triple(&scene.omega),
-        scene.duration
+        Num(scene.duration)
     );
     let _ = writeln!(out, "measurements:");
     for r in m.readings() {
@@ -148,13 +141,13 @@ fn prompt_line(p: &Prompt, m: &Measurements) -> String {
                 .map(|&i| {
                     let c = &choices[i];
                     format!(
-                        "{} ({} = {}: {} {} {:?})",
+                        "{} ({} = {}: {} {} {})",
                         c.id,
                         c.when.measure.name(),
                         m.get(c.when.measure).map_or("-".into(), number),
                         c.when.measure.name(),
                         c.when.op.as_str(),
-                        c.when.value,
+                        Num(c.when.value),
                     )
                 })
                 .collect();

@@ -21,6 +21,7 @@ use super::budget::Budget;
 use super::model::{Body, State};
 use super::solver::{Method, SimError, Solver, Work};
 use super::trig;
+use crate::text::num::Num;
 
 /// Which composition of the Strang step to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -137,14 +138,21 @@ impl Splitting {
         budget: Budget,
         order: [usize; 3],
     ) -> Splitting {
-        let l = body.momentum(omega0);
+        // The flows depend on the moments only through L/I, so the moments
+        // are taken relative to the largest (a power of two, exact): 1/I
+        // cannot overflow for tiny moments, nor L = Iω underflow.
+        let unit = body
+            .inertia
+            .max()
+            .log2()
+            .floor()
+            .clamp(-1074.0, 1023.0)
+            .exp2();
+        let inertia = body.inertia / unit;
+        let l = inertia.component_mul(omega0);
         Splitting {
-            inertia: [body.inertia[0], body.inertia[1], body.inertia[2]],
-            inverse: [
-                1.0 / body.inertia[0],
-                1.0 / body.inertia[1],
-                1.0 / body.inertia[2],
-            ],
+            inertia: [inertia[0], inertia[1], inertia[2]],
+            inverse: [1.0 / inertia[0], 1.0 / inertia[1], 1.0 / inertia[2]],
             scheme,
             sequence: Sequence::new(order, scheme),
             dt,
@@ -252,8 +260,9 @@ impl Solver for Splitting {
     fn advance(&mut self, t: f64) -> Result<State, SimError> {
         if !t.is_finite() || t < self.last_request {
             return Err(SimError::Invalid(format!(
-                "time {t} is before the previous sample {} (runs only go forward)",
-                self.last_request
+                "time {} is before the previous sample {} (runs only go forward)",
+                Num(t),
+                Num(self.last_request)
             )));
         }
         self.last_request = t;

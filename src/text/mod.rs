@@ -10,6 +10,7 @@ mod dollar;
 mod glyphs;
 mod locate;
 pub mod markup;
+pub mod num;
 mod tree;
 mod unicode;
 

@@ -10,6 +10,8 @@ use ratatui::text::{Line as TextLine, Span};
 use ratatui::widgets::canvas::{Canvas, Context, Line, Points};
 use ratatui::widgets::{Block, Borders};
 
+use crate::text::num::Num;
+
 use super::geometry::{self, Camera};
 use super::live::LiveRun;
 use super::theme::Theme;
@@ -67,7 +69,7 @@ pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme:
             ctx.print(
                 d * 0.9,
                 -m,
-                TextLine::styled(format!("{d} {unit}"), Style::new().fg(dim)),
+                TextLine::styled(format!("{} {unit}", Num(d)), Style::new().fg(dim)),
             );
         });
     frame.render_widget(canvas, area);

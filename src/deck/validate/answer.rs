@@ -8,6 +8,7 @@ use crate::deck::raw::{RawAnswer, RawChoice, RawTolerance, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
+use crate::text::num::Num;
 
 use super::text::{self, Kind, Langs};
 use super::{Targets, id, unique};
@@ -85,7 +86,7 @@ pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str)
                 } else {
                     rep.error(
                         e.span.clone(),
-                        format!("`expected` {} is not finite", e.value),
+                        format!("`expected` {} is not finite", Num(e.value)),
                         None,
                     );
                     None
@@ -148,7 +149,10 @@ fn tolerance(rep: &mut FileReport, t: &RawTolerance) -> Option<Tolerance> {
     if !(value.value.is_finite() && value.value > 0.0) {
         rep.error(
             value.span.clone(),
-            format!("tolerance {} must be a positive finite number", value.value),
+            format!(
+                "tolerance {} must be a positive finite number",
+                Num(value.value)
+            ),
             None,
         );
         return None;

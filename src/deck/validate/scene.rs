@@ -6,6 +6,8 @@ use crate::deck::raw::{Flag, List, Num, RawScene};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::sim::model::{Body, ModelError};
+use crate::sim::scene::{SceneField, check_scene};
+use crate::text::num;
 
 use super::text::{self, Kind, Langs};
 
@@ -29,6 +31,28 @@ pub fn scene(rep: &mut FileReport, raw: &RawScene, langs: &Langs, what: &str) ->
         Some(u) => text::string(rep, u, Kind::Plain, "`time_unit`").then(|| u.value.clone()),
         None => Some("s".to_string()),
     };
+    if let (Some(i), Some(w), Some(d), Some(panels)) = (inertia, omega, duration, show.as_ref()) {
+        // The simulator's own test of the scene, so that a deck that passes
+        // here always runs.
+        let orientation = panels.contains(&Panel::Body);
+        if let Err(problem) = check_scene(i, w, d, orientation) {
+            let span = match problem.field {
+                SceneField::Inertia => raw.inertia.as_ref().map(|l| l.span.clone()),
+                SceneField::Omega => raw.omega.as_ref().map(|l| l.span.clone()),
+                SceneField::Duration => raw.duration.as_ref().map(|n| n.span.clone()),
+            };
+            let help = match problem.field {
+                SceneField::Duration => "shorten the duration, or slow the spin down",
+                SceneField::Omega | SceneField::Inertia => {
+                    "pick units in which ω and the moments are nearer 1"
+                }
+            };
+            if let Some(span) = span {
+                rep.error(span, problem.error.to_string(), Some(help.to_string()));
+            }
+            return None;
+        }
+    }
     Some(Scene {
         id: raw.id.as_ref()?.value.clone(),
         title: title.map_or(Some(None), |t| t.map(Some))?,
@@ -154,13 +178,13 @@ fn omega(rep: &mut FileReport, list: &List<Num>) -> Option<[f64; 3]> {
 
 fn duration(rep: &mut FileReport, n: &Num) -> Option<f64> {
     let problem = if !n.value.is_finite() {
-        Some(format!("duration {} is not finite", n.value))
+        Some(format!("duration {} is not finite", num::show(n.value)))
     } else if n.value <= 0.0 {
-        Some(format!("duration {} is not positive", n.value))
+        Some(format!("duration {} is not positive", num::show(n.value)))
     } else if n.value > MAX_DURATION {
         Some(format!(
             "duration {} is longer than the limit of {MAX_DURATION:e} time units",
-            n.value
+            num::show(n.value)
         ))
     } else {
         None

@@ -135,7 +135,7 @@ fn live_measurements_match_the_headless_ones() {
 
 #[test]
 fn budget_stops_the_run_with_a_reason() {
-    let s = scene([1.0, 2.0, 3.0], [0.01, 10.0, 0.01], 1e9, &[Panel::Omega]);
+    let s = scene([1.0, 2.0, 3.0], [0.01, 10.0, 0.01], 1e4, &[Panel::Omega]);
     let run = SceneRun::new(&s, Method::Rk4 { dt: 1e-3 }).unwrap();
     let err = run.error().expect("refused up front").to_string();
     assert!(err.contains("rk4"), "{err}");
@@ -149,4 +149,46 @@ fn earlier_times_are_ignored() {
     let again = *run.advance_to(1.0);
     assert_eq!(at_two, again);
     assert_eq!(run.advance_to(f64::NAN).t, 2.0);
+}
+
+#[test]
+fn needle_scenes_refuse_what_would_be_garbage() {
+    // A needle 1e-9 thin: the splitting would carry its thin axis's ω as a
+    // rounding error divided by 1e-9, so the scene refuses it up front; the
+    // methods that carry ω play it and agree with the closed form.
+    let s = scene([1e-9, 1.0, 1.0], [1.0, 1.0, 0.5], 10.0, &[Panel::Omega]);
+    for method in [
+        Method::Splitting { dt: 1e-3 },
+        Method::Splitting4 { dt: 1e-3 },
+    ] {
+        let err = SceneRun::new(&s, method).err().expect("refused");
+        assert!(err.to_string().contains("use the exact method"), "{err}");
+        assert!(measure_scene(&s, method).is_err());
+    }
+    let exact = measure_scene(&s, Method::Exact).unwrap();
+    for method in [Method::Adaptive { tol: 1e-10 }, Method::Rk4 { dt: 1e-3 }] {
+        let m = measure_scene(&s, method).unwrap();
+        let (a, b) = (
+            m.get(Measure::OmegaChange).unwrap(),
+            exact.get(Measure::OmegaChange).unwrap(),
+        );
+        assert!((a - b).abs() < 1e-6, "{method:?}: {a} vs {b}");
+    }
+    // A moderately thin needle runs, but a step too coarse for it stops
+    // with the reason instead of measuring a state the body cannot have.
+    let s = scene([1e-6, 1.0, 1.0], [1.0, 1.0, 0.5], 10.0, &[Panel::Omega]);
+    let mut run = SceneRun::new(&s, Method::Splitting { dt: 0.1 }).unwrap();
+    play(&mut run, |f| {
+        assert!(
+            (f.omega[0] - 1.0).abs() < 0.5,
+            "ω₁ = {} at {}",
+            f.omega[0],
+            f.t
+        )
+    });
+    let err = run.error().expect("stopped").to_string();
+    assert!(
+        err.contains("left the motion") && err.contains("smaller dt"),
+        "{err}"
+    );
 }

@@ -5,6 +5,7 @@ use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{List, ListItem, ListState, Paragraph, Wrap};
 
+use crate::text::num::{self, Num};
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
@@ -130,14 +131,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
         if let Some(s) = scene {
             lines.push(Line::styled(
                 format!(
-                    "I = ({}, {}, {})  ω₀ = ({}, {}, {})  {} {}",
-                    s.inertia[0],
-                    s.inertia[1],
-                    s.inertia[2],
-                    s.omega[0],
-                    s.omega[1],
-                    s.omega[2],
-                    s.duration,
+                    "I = ({})  ω₀ = ({})  {} {}",
+                    num::triple(&s.inertia, ", "),
+                    num::triple(&s.omega, ", "),
+                    Num(s.duration),
                     s.time_unit
                 ),
                 t.dim(),

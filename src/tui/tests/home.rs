@@ -436,3 +436,31 @@ fn no_decks_counts_failed_files_in_the_singular_in_hinglish_too() {
         assert!(screen.contains(text), "{screen}");
     }
 }
+
+#[test]
+fn prompts_list_shows_extreme_scene_values_with_exponents() {
+    let mut deck = testkit::deck();
+    let scene = &mut deck.scenes[0];
+    scene.inertia = [1e-300, 2e-300, 3e-300];
+    scene.omega = [1e150, 1e150, 5e149];
+    scene.duration = 5e-324;
+    let dir = tempfile::tempdir().unwrap();
+    let mut app = crate::tui::app::App::new(
+        vec![deck],
+        testkit::services(&dir),
+        ENGLISH,
+        crate::tui::theme::Theme::PLAIN,
+    );
+    app.size = (120, 30);
+    press(&mut app, KeyCode::Char('p'));
+    assert!(matches!(app.screen(), Screen::Prompts(_)));
+    let screen = render(&app);
+    assert!(screen.contains("I = (1e-300, 2e-300, 3e-300)"), "{screen}");
+    assert!(screen.contains("5e-324 s"), "{screen}");
+    let longest = screen
+        .split(|c: char| !c.is_ascii_digit())
+        .map(str::len)
+        .max()
+        .unwrap_or(0);
+    assert!(longest < 30, "a {longest}-digit run in\n{screen}");
+}

@@ -7,6 +7,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
 use crate::deck::{Answer, Measure, Panel, Prompt};
+use crate::text::num::Num;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
 use crate::tui::live::{self, LiveRun};
@@ -223,7 +224,7 @@ fn draw_play(
             format!(
                 " t = {:.2} / {} {}",
                 run.t(),
-                run.scene().duration,
+                Num(run.scene().duration),
                 run.scene().time_unit
             ),
             t.strong(),

@@ -282,7 +282,7 @@ fn judge(
         (Prediction::Choice(i), Answer::Choice { choices, .. }) => {
             choices.get(i).map(|c| c.id.clone()).unwrap_or_default()
         }
-        (Prediction::Number(v), _) => format!("{v}"),
+        (Prediction::Number(v), _) => crate::text::num::show(v),
         _ => String::new(),
     };
     let attempt = crate::store::PromptAttempt {
