@@ -11,6 +11,7 @@ pub mod exact;
 pub mod formula;
 pub mod measure;
 pub mod model;
+pub mod ode;
 pub mod plan;
 pub mod polhode;
 pub mod reference;
