@@ -443,6 +443,24 @@ fn robertson_auto_switches_and_dop853_reports() {
     for i in 0..3 {
         assert!(rel(y[i], ROBERTSON_40[i]) < 1e-4, "{y:?}");
     }
+    // Across the switch the samples follow a tight Radau run (to 4e-5 for
+    // y₂ in its fast rise, the explicit phase's error at rtol 1e-6): the
+    // last explicit step still serves its dense output.
+    let t_switch = auto.stiffness().unwrap();
+    let mut sampled = Auto::new(Robertson, 0.0, &[1.0, 0.0, 0.0], &robertson_opts(1e-6)).unwrap();
+    let mut tight = Radau5::new(Robertson, 0.0, &[1.0, 0.0, 0.0], &robertson_opts(1e-10)).unwrap();
+    for k in 1..=200 {
+        let t = 2.0 * t_switch * k as f64 / 200.0;
+        let a = sampled.advance(t).unwrap();
+        let b = tight.advance(t).unwrap();
+        for i in 0..3 {
+            assert!(
+                (a[i] - b[i]).abs() <= 1e-4 * b[i].abs() + 1e-12,
+                "t = {t}: {a:?} vs {b:?}"
+            );
+        }
+    }
+    assert_eq!(sampled.switched_at(), Some(t_switch));
     // In report mode DOP853 records the time and carries on.
     let mut dop = Dop853::new(Robertson, 0.0, &[1.0, 0.0, 0.0], &robertson_opts(1e-6)).unwrap();
     dop.advance(0.5).unwrap();
@@ -828,5 +846,46 @@ fn t_stop_lands_exactly_and_bounds_requests() {
         // x = 0.5/(1 − 0.5 t) = 1 at t = 1.
         assert!((y - 1.0).abs() < 1e-6, "{m:?}: {y}");
         assert!(matches!(s.advance(1.5), Err(OdeError::Invalid(_))));
+    }
+}
+
+/// y' = −√y reaches 0 at t = 2 (y = (1 − t/2)²) and f is undefined below.
+struct SqrtDecay;
+
+impl OdeSystem for SqrtDecay {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
+        dy[0] = -y[0].sqrt();
+    }
+}
+
+#[test]
+fn leaving_the_domain_of_f_stops_without_nan() {
+    let methods = [
+        Method::Dop853 {
+            stiffness: StiffnessMode::Report,
+        },
+        Method::Radau5,
+        Method::Auto,
+        Method::Rk4 { dt: 1e-2 },
+    ];
+    for method in methods {
+        let mut s = make(method, SqrtDecay, 0.0, &[1.0], &Options::default()).unwrap();
+        let mut failure = None;
+        for k in 1..=300 {
+            match s.advance(k as f64 * 0.01) {
+                Ok(y) => assert!(y[0].is_finite() && y[0] >= 0.0, "{method:?}: {y:?}"),
+                Err(e) => {
+                    failure = Some(e);
+                    break;
+                }
+            }
+        }
+        match failure {
+            Some(OdeError::BlowUp { t }) => assert!((t - 2.0).abs() < 0.02, "{method:?}: {t}"),
+            other => panic!("{method:?}: {other:?}"),
+        }
     }
 }
