@@ -272,8 +272,21 @@ impl<S: OdeSystem> Dop853<S> {
             } else {
                 self.error_norm(h)
             };
-            let fac11 = err.powf(EXPONENT);
-            if err <= 1.0 && is_sane(&self.y_new) {
+            let mut fac11 = err.powf(EXPONENT);
+            let mut accept = err <= 1.0 && is_sane(&self.y_new);
+            let t_new = t + h;
+            if accept {
+                let (_, tail) = self.k.split_at_mut(12 * n);
+                self.sys.rhs(t_new, &self.y_new, &mut tail[..n]);
+                self.work.rhs_evals += 1;
+                // With f not finite at the new point no step could start
+                // there: treat it as a failed trial, so the step shrinks.
+                if !tail[..n].iter().all(|v| v.is_finite()) {
+                    accept = false;
+                    fac11 = f64::NAN;
+                }
+            }
+            if accept {
                 let fac = fac11 / self.facold.powf(BETA);
                 let fac = GROW_LIMIT.max(SHRINK_LIMIT.min(fac / SAFETY));
                 self.facold = err.max(1e-4);
@@ -281,16 +294,7 @@ impl<S: OdeSystem> Dop853<S> {
                 if self.rejected_last {
                     h_new = h_new.min(h);
                 }
-                let t_new = t + h;
-                let (_, tail) = self.k.split_at_mut(12 * n);
-                self.sys.rhs(t_new, &self.y_new, &mut tail[..n]);
-                self.work.rhs_evals += 1;
                 self.work.steps += 1;
-                if !self.k[12 * n..13 * n].iter().all(|v| v.is_finite()) {
-                    // f is not finite at the new point: no next step can start.
-                    return Err(OdeError::BlowUp { t: self.t });
-                }
-                self.stiffness_test(h, t_new)?;
                 self.t_old = t;
                 self.h_last = h;
                 self.y_old.copy_from_slice(&self.y);
@@ -301,7 +305,7 @@ impl<S: OdeSystem> Dop853<S> {
                 // there only when the next step starts.
                 self.h = self.fixed.unwrap_or(h_new);
                 self.rejected_last = false;
-                return Ok(());
+                return self.stiffness_test(h);
             }
             // NaN-safe: min/max drop a NaN operand, so a non-finite error
             // shrinks the step by the largest allowed factor.
@@ -319,12 +323,13 @@ impl<S: OdeSystem> Dop853<S> {
         }
     }
 
-    fn stiffness_test(&mut self, h: f64, t_new: f64) -> Result<(), OdeError> {
+    /// Hairer's test on the step just accepted, ending at `self.t`.
+    fn stiffness_test(&mut self, h: f64) -> Result<(), OdeError> {
         let n = self.n;
         let (mut num, mut den) = (0.0, 0.0);
         for i in 0..n {
             num += (self.k[12 * n + i] - self.k[11 * n + i]).powi(2);
-            den += (self.y_new[i] - self.y12[i]).powi(2);
+            den += (self.y[i] - self.y12[i]).powi(2);
         }
         if den <= 0.0 {
             return Ok(());
@@ -334,9 +339,9 @@ impl<S: OdeSystem> Dop853<S> {
             self.nonstiff_count = 0;
             self.stiff_count += 1;
             if self.stiff_count == STIFF_POSITIVE && self.stiff_at.is_none() {
-                self.stiff_at = Some(t_new);
+                self.stiff_at = Some(self.t);
                 if self.mode == StiffnessMode::Refuse {
-                    return Err(OdeError::Stiff { t: t_new });
+                    return Err(OdeError::Stiff { t: self.t });
                 }
             }
         } else {
