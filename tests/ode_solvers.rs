@@ -341,11 +341,16 @@ const ROBERTSON_1E11: [f64; 3] = [
 
 #[test]
 fn robertson_with_radau() {
-    let mut radau = Radau5::new(Robertson, 0.0, &[1.0, 0.0, 0.0], &robertson_opts(1e-6)).unwrap();
+    // The run ends on a step end at 1e11 (as a run to a chosen end would).
+    let opts = Options {
+        t_stop: Some(1e11),
+        ..robertson_opts(1e-6)
+    };
+    let mut radau = Radau5::new(Robertson, 0.0, &[1.0, 0.0, 0.0], &opts).unwrap();
     let mut worst_mass: f64 = 0.0;
     // Logarithmically spaced samples from 1e-6 to 1e11, with t = 40 among them.
     let mut times: Vec<f64> = (0..=170)
-        .map(|k| 10f64.powf(-6.0 + k as f64 * 0.1))
+        .map(|k| 10f64.powf(-6.0 + k as f64 * 0.1).min(1e11))
         .collect();
     times.push(40.0);
     times.sort_by(f64::total_cmp);
@@ -369,7 +374,7 @@ fn robertson_with_radau() {
             ROBERTSON_40[i]
         );
         assert!(
-            rel(y_end[i], ROBERTSON_1E11[i]) < 1e-3,
+            rel(y_end[i], ROBERTSON_1E11[i]) < 1e-4,
             "y{} at 1e11: {} vs {}",
             i + 1,
             y_end[i],
@@ -391,7 +396,13 @@ fn robertson_with_radau() {
 
 #[test]
 fn robertson_reference_values_hold_at_tight_tolerance() {
-    let mut radau = Radau5::new(Robertson, 0.0, &[1.0, 0.0, 0.0], &robertson_opts(1e-12)).unwrap();
+    // Landing on 1e11 with a step end: between step ends the collocation
+    // polynomial is an order less accurate, and the last steps are ~1e10.
+    let opts = Options {
+        t_stop: Some(1e11),
+        ..robertson_opts(1e-12)
+    };
+    let mut radau = Radau5::new(Robertson, 0.0, &[1.0, 0.0, 0.0], &opts).unwrap();
     let y40 = radau.advance(40.0).unwrap().to_vec();
     let y_end = radau.advance(1e11).unwrap().to_vec();
     for i in 0..3 {
@@ -403,7 +414,7 @@ fn robertson_reference_values_hold_at_tight_tolerance() {
             y40[i]
         );
         assert!(
-            rel(y_end[i], ROBERTSON_1E11[i]) < 1e-7,
+            rel(y_end[i], ROBERTSON_1E11[i]) < 1e-9,
             "y{} at 1e11: {}",
             i + 1,
             y_end[i]
