@@ -327,8 +327,8 @@ fn van_der_pol_dop853_refuses_when_told() {
 
 // ---------------------------------------------------------------- Robertson
 
-/// Reference values, as published: at t = 40 from Hairer & Wanner (*Solving
-/// ODEs II*, the Robertson example of §IV.10), at t = 1e11 from the IVP
+/// Reference values, as published: at t = 40 from Hairer & Wanner's stiff
+/// test problems (*Solving ODEs II*), at t = 1e11 from the IVP
 /// test set of Mazzia & Magherini (problem ROBER). A Radau IIA run at
 /// rtol = 1e-12 reproduces all 16 digits given to a relative 1e-9 or
 /// better (`robertson_reference_values_hold_at_tight_tolerance`: 3e-11 at
