@@ -13,6 +13,7 @@ pub mod guard;
 pub mod limits;
 pub mod measure;
 pub mod model;
+pub mod ode;
 pub mod plan;
 pub mod polhode;
 pub mod reference;

@@ -1,0 +1,507 @@
+//! Dormand–Prince 8(5,3) for systems of any size, with Hairer's error
+//! estimator, step control, 7th-degree dense output and stiffness detection
+//! (Hairer, Nørsett & Wanner, *Solving ODEs I*, code DOP853).
+//!
+//! The coefficients are the rigid-body solver's (`dop853_tableau`); only the
+//! nodes c are added here, since f may depend on t.
+//!
+//! Stiffness detection estimates |hλ| for the dominant eigenvalue from two
+//! evaluations of f at t + h, at the 12th stage and at the new point:
+//! h·‖f(y₁₂) − f(y_new)‖ / ‖y₁₂ − y_new‖. DOP853 is stable up to about
+//! |hλ| = 6.1 on the negative real axis, so a step size pinned there by
+//! stability rather than accuracy shows as 15 such values above 6.1 in a
+//! row; 6 below reset the count. Hairer runs the test every 1000 steps
+//! until it first fires; here it runs after every step (two norms, no
+//! evaluation of f), so `auto` hands over to the implicit method early.
+
+use super::{
+    OdeError, OdeSolver, OdeSystem, Options, Requests, Stepper, Work, drive_advance, drive_dense,
+    drive_step, initial_step, is_sane,
+};
+use crate::sim::dop853_tableau as tab;
+
+const SAFETY: f64 = 0.9;
+/// h_new/h stays within [1/6, 3] (Hairer's FAC1 = 0.333, FAC2 = 6).
+const SHRINK_LIMIT: f64 = 1.0 / 0.333;
+const GROW_LIMIT: f64 = 1.0 / 6.0;
+/// Weight of the previous error (PI control), as in the rigid-body solver.
+const BETA: f64 = 0.04;
+const EXPONENT: f64 = 1.0 / 8.0 - 0.2 * BETA;
+/// |hλ| on DOP853's stability boundary along the negative real axis.
+const STIFF_RATIO: f64 = 6.1;
+const STIFF_POSITIVE: u32 = 15;
+const STIFF_NEGATIVE: u32 = 6;
+
+/// Nodes cᵢ of stages k[1..=11] (published digits); k[12] is f at t + h.
+#[allow(clippy::excessive_precision)]
+const C: [f64; 12] = [
+    0.0,
+    0.526001519587677318785587544488e-1,
+    0.789002279381515978178381316732e-1,
+    0.118350341907227396726757197510,
+    0.281649658092772603273242802490,
+    0.333333333333333333333333333333,
+    0.25,
+    0.307692307692307692307692307692,
+    0.651282051282051282051282051282,
+    0.6,
+    0.857142857142857142857142857142,
+    1.0,
+];
+/// Nodes of the three extra dense-output stages k[13..=15].
+#[allow(clippy::excessive_precision)]
+const C_DENSE: [f64; 3] = [0.1, 0.2, 0.777777777777777777777777777778];
+
+/// What DOP853 does when its stiffness test fires.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum StiffnessMode {
+    /// Record the time ([`OdeSolver::stiffness`]) and go on.
+    #[default]
+    Report,
+    /// Stop with [`OdeError::Stiff`].
+    Refuse,
+}
+
+pub struct Dop853<S> {
+    sys: S,
+    n: usize,
+    rtol: f64,
+    atol: Vec<f64>,
+    max_steps: u64,
+    max_step: f64,
+    t_stop: Option<f64>,
+    fixed: Option<f64>,
+    mode: StiffnessMode,
+    t: f64,
+    y: Vec<f64>,
+    /// Stages, 16 rows of n: k[0] = f(t, y) ... k[12] = f at the new point,
+    /// k[13..16] the dense-output stages.
+    k: Vec<f64>,
+    y_new: Vec<f64>,
+    /// Argument of the 12th stage (for the stiffness test).
+    y12: Vec<f64>,
+    scratch: Vec<f64>,
+    h: f64,
+    rejected_last: bool,
+    facold: f64,
+    t_old: f64,
+    h_last: f64,
+    y_old: Vec<f64>,
+    /// Dense-output coefficients of the last step, once computed.
+    dense: Vec<f64>,
+    dense_ready: bool,
+    stiff_count: u32,
+    nonstiff_count: u32,
+    stiff_at: Option<f64>,
+    requests: Requests,
+    work: Work,
+}
+
+impl<S: OdeSystem> Dop853<S> {
+    /// An adaptive solver from (t0, y0); the first step is chosen when the
+    /// run starts.
+    pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Dop853<S>, OdeError> {
+        super::check_start(&sys, t0, y0)?;
+        let n = sys.dim();
+        let atol = opts.validated_atol(n)?;
+        let mut k = vec![0.0; 16 * n];
+        sys.rhs(t0, y0, &mut k[..n]);
+        Ok(Dop853 {
+            n,
+            rtol: opts.rtol,
+            atol,
+            max_steps: opts.max_steps,
+            max_step: opts.max_step.unwrap_or(f64::INFINITY),
+            t_stop: opts.t_stop,
+            fixed: None,
+            mode: StiffnessMode::Report,
+            t: t0,
+            y: y0.to_vec(),
+            k,
+            y_new: vec![0.0; n],
+            y12: vec![0.0; n],
+            scratch: vec![0.0; n],
+            h: opts.h0.unwrap_or(0.0),
+            rejected_last: false,
+            facold: 1e-4,
+            t_old: t0,
+            h_last: 0.0,
+            y_old: y0.to_vec(),
+            dense: vec![0.0; 7 * n],
+            dense_ready: false,
+            stiff_count: 0,
+            nonstiff_count: 0,
+            stiff_at: None,
+            requests: Requests::new(t0, y0),
+            work: Work {
+                rhs_evals: 1,
+                ..Work::default()
+            },
+            sys,
+        })
+    }
+
+    /// Steps of exactly `h`, without error control (for convergence
+    /// studies; the dense output still works).
+    pub fn new_fixed(sys: S, t0: f64, y0: &[f64], h: f64) -> Result<Dop853<S>, OdeError> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(OdeError::Invalid(format!("step h = {h} must be positive")));
+        }
+        let mut s = Dop853::new(sys, t0, y0, &Options::default())?;
+        s.fixed = Some(h);
+        s.h = h;
+        Ok(s)
+    }
+
+    pub fn with_stiffness(mut self, mode: StiffnessMode) -> Dop853<S> {
+        self.mode = mode;
+        self
+    }
+
+    /// The suggested size of the next step (0 before the first).
+    pub fn next_step_size(&self) -> f64 {
+        self.h
+    }
+
+    /// Hands the system and the current point over (for `auto`).
+    pub(crate) fn into_parts(self) -> (S, f64, Vec<f64>, Work) {
+        (self.sys, self.t, self.y, self.work)
+    }
+
+    fn stage_arg(&mut self, h: f64, row: &[(usize, f64)]) {
+        let n = self.n;
+        for i in 0..n {
+            let mut acc = 0.0;
+            for &(j, a) in row {
+                acc += a * self.k[j * n + i];
+            }
+            self.scratch[i] = self.y[i] + h * acc;
+        }
+    }
+
+    fn eval(&mut self, stage: usize, t: f64) {
+        let n = self.n;
+        let (_, rest) = self.k.split_at_mut(stage * n);
+        self.sys.rhs(t, &self.scratch, &mut rest[..n]);
+    }
+
+    fn error_norm(&self, h: f64) -> f64 {
+        let n = self.n;
+        let (mut e5, mut e3) = (0.0, 0.0);
+        for i in 0..n {
+            let sk = self.atol[i] + self.rtol * self.y[i].abs().max(self.y_new[i].abs());
+            let d5 = weigh(&self.k, n, &tab::E5, i);
+            let d3 = weigh(&self.k, n, &tab::E3, i);
+            e5 += (d5 / sk).powi(2);
+            e3 += (d3 / sk).powi(2);
+        }
+        let mut den = e5 + 0.01 * e3;
+        if den <= 0.0 {
+            den = 1.0;
+        }
+        let err = h.abs() * e5 * (1.0 / (n as f64 * den)).sqrt();
+        // A stage that overflowed makes err NaN; count it as a failure so
+        // the step shrinks.
+        if err.is_nan() { f64::INFINITY } else { err }
+    }
+
+    fn budget_error(&self) -> OdeError {
+        OdeError::StepBudget {
+            t: self.t,
+            steps: self.max_steps,
+            reason: format!(
+                "dop853: {} step attempts reached at t = {} without finishing; \
+                 if the problem is stiff, radau or auto suits it better",
+                self.max_steps, self.t
+            ),
+        }
+    }
+
+    /// One accepted step, after as many rejected trials as it takes.
+    fn try_step(&mut self) -> Result<(), OdeError> {
+        let n = self.n;
+        if self.h == 0.0 {
+            let h_max = self
+                .max_step
+                .min(self.t_stop.map_or(f64::INFINITY, |s| s - self.t));
+            let f0 = self.k[..n].to_vec();
+            self.h = initial_step(
+                &self.sys, self.t, &self.y, &f0, self.rtol, &self.atol, 8.0, h_max,
+            );
+            self.work.rhs_evals += 1;
+        }
+        loop {
+            if self.work.steps + self.work.rejected >= self.max_steps {
+                return Err(self.budget_error());
+            }
+            let mut h = self.h.min(self.max_step);
+            if let Some(stop) = self.t_stop
+                && self.t + 1.01 * h >= stop
+            {
+                h = stop - self.t;
+            }
+            if h.is_nan() || h <= 10.0 * f64::EPSILON * self.t.abs() {
+                return Err(OdeError::BlowUp { t: self.t });
+            }
+            let t = self.t;
+            let rows: [&[(usize, f64)]; 11] = [
+                &tab::A1,
+                &tab::A2,
+                &tab::A3,
+                &tab::A4,
+                &tab::A5,
+                &tab::A6,
+                &tab::A7,
+                &tab::A8,
+                &tab::A9,
+                &tab::A10,
+                &tab::A11,
+            ];
+            for (s, row) in rows.iter().enumerate() {
+                self.stage_arg(h, row);
+                self.eval(s + 1, t + C[s + 1] * h);
+            }
+            self.y12.copy_from_slice(&self.scratch);
+            for i in 0..n {
+                self.y_new[i] = self.y[i] + h * weigh(&self.k, n, &tab::B, i);
+            }
+            self.work.rhs_evals += 11;
+
+            let err = if self.fixed.is_some() {
+                0.0
+            } else {
+                self.error_norm(h)
+            };
+            let mut fac11 = err.powf(EXPONENT);
+            let mut accept = err <= 1.0 && is_sane(&self.y_new);
+            let t_new = t + h;
+            if accept {
+                let (_, tail) = self.k.split_at_mut(12 * n);
+                self.sys.rhs(t_new, &self.y_new, &mut tail[..n]);
+                self.work.rhs_evals += 1;
+                // With f not finite at the new point no step could start
+                // there: treat it as a failed trial, so the step shrinks.
+                if !tail[..n].iter().all(|v| v.is_finite()) {
+                    accept = false;
+                    fac11 = f64::NAN;
+                }
+            }
+            if accept {
+                let fac = fac11 / self.facold.powf(BETA);
+                let fac = GROW_LIMIT.max(SHRINK_LIMIT.min(fac / SAFETY));
+                self.facold = err.max(1e-4);
+                let mut h_new = h / fac;
+                if self.rejected_last {
+                    h_new = h_new.min(h);
+                }
+                self.work.steps += 1;
+                self.t_old = t;
+                self.h_last = h;
+                self.y_old.copy_from_slice(&self.y);
+                self.y.copy_from_slice(&self.y_new);
+                self.t = t_new;
+                self.dense_ready = false;
+                // The dense stages need k[0] of this step: the new f moves
+                // there only when the next step starts.
+                self.h = self.fixed.unwrap_or(h_new);
+                self.rejected_last = false;
+                return self.stiffness_test(h);
+            }
+            // NaN-safe: min/max drop a NaN operand, so a non-finite error
+            // shrinks the step by the largest allowed factor.
+            let shrink = SHRINK_LIMIT.min(fac11 / SAFETY);
+            self.h = h / if shrink.is_nan() {
+                SHRINK_LIMIT
+            } else {
+                shrink
+            };
+            self.rejected_last = true;
+            self.work.rejected += 1;
+            if self.fixed.is_some() {
+                return Err(OdeError::BlowUp { t: self.t });
+            }
+        }
+    }
+
+    /// Hairer's test on the step just accepted, ending at `self.t`.
+    fn stiffness_test(&mut self, h: f64) -> Result<(), OdeError> {
+        let n = self.n;
+        let (mut num, mut den) = (0.0, 0.0);
+        for i in 0..n {
+            num += (self.k[12 * n + i] - self.k[11 * n + i]).powi(2);
+            den += (self.y[i] - self.y12[i]).powi(2);
+        }
+        if den <= 0.0 {
+            return Ok(());
+        }
+        let hlamb = h.abs() * (num / den).sqrt();
+        if hlamb > STIFF_RATIO {
+            self.nonstiff_count = 0;
+            self.stiff_count += 1;
+            if self.stiff_count == STIFF_POSITIVE && self.stiff_at.is_none() {
+                self.stiff_at = Some(self.t);
+                if self.mode == StiffnessMode::Refuse {
+                    return Err(OdeError::Stiff { t: self.t });
+                }
+            }
+        } else {
+            self.nonstiff_count += 1;
+            if self.nonstiff_count == STIFF_NEGATIVE {
+                self.stiff_count = 0;
+            }
+        }
+        Ok(())
+    }
+
+    /// The three extra stages and the coefficients of the interpolant on
+    /// the last step, once per step that is asked for a dense value.
+    fn dense_coefficients(&mut self) {
+        if self.dense_ready {
+            return;
+        }
+        let n = self.n;
+        let h = self.h_last;
+        let t = self.t_old;
+        let extra: [&[(usize, f64)]; 3] = [&tab::A13, &tab::A14, &tab::A15];
+        for (s, row) in extra.iter().enumerate() {
+            for i in 0..n {
+                self.scratch[i] = self.y_old[i] + h * weigh(&self.k, n, row, i);
+            }
+            let (_, rest) = self.k.split_at_mut((13 + s) * n);
+            self.sys
+                .rhs(t + C_DENSE[s] * h, &self.scratch, &mut rest[..n]);
+        }
+        self.work.rhs_evals += 3;
+        for i in 0..n {
+            let dy = self.y[i] - self.y_old[i];
+            let (f_old, f_new) = (self.k[i], self.k[12 * n + i]);
+            self.dense[i] = dy;
+            self.dense[n + i] = h * f_old - dy;
+            self.dense[2 * n + i] = 2.0 * dy - h * (f_new + f_old);
+            for (r, row) in tab::D.iter().enumerate() {
+                self.dense[(3 + r) * n + i] = h * weigh(&self.k, n, row, i);
+            }
+        }
+        self.dense_ready = true;
+    }
+
+    /// Moves f at the new point into k[0] before the next step (which
+    /// ends the dense output of the finished one).
+    fn start_next(&mut self) {
+        let n = self.n;
+        if self.work.steps > 0 {
+            self.k.copy_within(12 * n..13 * n, 0);
+            self.dense_ready = false;
+        }
+    }
+}
+
+/// Σⱼ aⱼ kⱼ[i] over one sparse row.
+#[inline(always)]
+fn weigh(k: &[f64], n: usize, row: &[(usize, f64)], i: usize) -> f64 {
+    let mut acc = 0.0;
+    for &(j, a) in row {
+        acc += a * k[j * n + i];
+    }
+    acc
+}
+
+/// Kept for the row-sum check below: the published nodes are the row sums.
+#[cfg(test)]
+fn row_sum<const M: usize>(row: &tab::Row<M>) -> f64 {
+    row.iter().map(|&(_, a)| a).sum()
+}
+
+impl<S: OdeSystem> Stepper for Dop853<S> {
+    fn requests(&mut self) -> &mut Requests {
+        &mut self.requests
+    }
+    fn t_stop(&self) -> Option<f64> {
+        self.t_stop
+    }
+    fn window(&self) -> (f64, f64) {
+        (self.t_old, self.t)
+    }
+    fn current(&self) -> &[f64] {
+        &self.y
+    }
+    fn raw_step(&mut self) -> Result<(), OdeError> {
+        self.start_next();
+        self.try_step()
+    }
+    fn interpolate(&mut self, t: f64, out: &mut [f64]) {
+        self.dense_coefficients();
+        let n = self.n;
+        let x = (t - self.t_old) / self.h_last;
+        let x1 = 1.0 - x;
+        let d = &self.dense;
+        for i in 0..n {
+            let mut p = d[6 * n + i] * x;
+            p = (p + d[5 * n + i]) * x1;
+            p = (p + d[4 * n + i]) * x;
+            p = (p + d[3 * n + i]) * x1;
+            p = (p + d[2 * n + i]) * x;
+            p = (p + d[n + i]) * x1;
+            p = (p + d[i]) * x;
+            out[i] = self.y_old[i] + p;
+        }
+    }
+}
+
+impl<S: OdeSystem> OdeSolver for Dop853<S> {
+    fn name(&self) -> &'static str {
+        "dop853"
+    }
+    fn dim(&self) -> usize {
+        self.n
+    }
+    fn advance(&mut self, t: f64) -> Result<&[f64], OdeError> {
+        drive_advance(self, t)
+    }
+    fn step(&mut self) -> Result<(f64, f64), OdeError> {
+        drive_step(self)
+    }
+    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), OdeError> {
+        drive_dense(self, t, out)
+    }
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn work(&self) -> Work {
+        self.work
+    }
+    fn stiffness(&self) -> Option<f64> {
+        self.stiff_at
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The nodes must be the row sums of A, which pins each node to the
+    /// stage it belongs to.
+    #[test]
+    fn nodes_are_row_sums() {
+        let sums = [
+            row_sum(&tab::A1),
+            row_sum(&tab::A2),
+            row_sum(&tab::A3),
+            row_sum(&tab::A4),
+            row_sum(&tab::A5),
+            row_sum(&tab::A6),
+            row_sum(&tab::A7),
+            row_sum(&tab::A8),
+            row_sum(&tab::A9),
+            row_sum(&tab::A10),
+            row_sum(&tab::A11),
+        ];
+        for (s, sum) in sums.iter().enumerate() {
+            assert!((sum - C[s + 1]).abs() < 1e-13, "stage {}", s + 1);
+        }
+        let dense = [row_sum(&tab::A13), row_sum(&tab::A14), row_sum(&tab::A15)];
+        for (s, sum) in dense.iter().enumerate() {
+            assert!((sum - C_DENSE[s]).abs() < 1e-13, "dense stage {s}");
+        }
+    }
+}

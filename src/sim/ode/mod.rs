@@ -1,0 +1,563 @@
+//! Solvers for small systems of ordinary differential equations
+//! y' = f(t, y), y ∈ ℝⁿ, written by instructors as equations in a deck.
+//!
+//! A system implements [`OdeSystem`]; a solver is built over it with
+//! [`make`] (or a solver's own constructor) and driven through
+//! [`OdeSolver::advance`], which lands exactly on each requested time by
+//! dense output, so the steps taken never depend on how often a run is
+//! sampled.
+//!
+//! - [`Dop853`]: explicit Dormand–Prince 8(5,3) with Hairer's stiffness
+//!   detection (report and go on, or refuse with [`OdeError::Stiff`]).
+//! - [`Radau5`]: implicit Radau IIA of order 5 for stiff systems.
+//! - [`Rk4`]: classical fixed-step RK4, for teaching comparisons.
+//! - [`Auto`]: DOP853 until it detects stiffness, then Radau IIA from that
+//!   point on the same trajectory.
+//!
+//! Every method integrates forward in time only. Errors are values and
+//! leave the solver stopped: no state containing NaN or ∞ is ever returned.
+
+mod auto;
+mod dop853;
+mod radau5;
+mod rk4;
+
+use nalgebra::DMatrix;
+
+pub use auto::Auto;
+pub use dop853::{Dop853, StiffnessMode};
+pub use radau5::Radau5;
+pub use rk4::Rk4;
+
+/// Default cap on the step attempts (accepted and rejected) of one run.
+pub const DEFAULT_MAX_STEPS: u64 = 5_000_000;
+
+/// A state component beyond this magnitude counts as a blow-up: its square
+/// would overflow, so no method could go on meaningfully.
+pub const BLOW_UP_LIMIT: f64 = 1e150;
+
+/// A system y' = f(t, y) of fixed dimension.
+pub trait OdeSystem {
+    /// Number of components of y (at least 1).
+    fn dim(&self) -> usize;
+
+    /// Writes f(t, y) into `dy` (both of length `dim()`). A value of f that
+    /// is not finite is not an error here: the solvers shrink the step, and
+    /// stop with [`OdeError::BlowUp`] if that does not help.
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]);
+
+    /// Writes the Jacobian ∂f/∂y at (t, y) into `jac` (n×n, `jac[(i, j)]` =
+    /// ∂fᵢ/∂yⱼ). The default is [`finite_difference_jacobian`]; systems
+    /// that know their derivatives should override it (implicit methods
+    /// converge faster with an exact Jacobian, and save 2n evaluations of f
+    /// per Jacobian).
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
+        finite_difference_jacobian(self, t, y, jac);
+    }
+}
+
+impl<S: OdeSystem + ?Sized> OdeSystem for &S {
+    fn dim(&self) -> usize {
+        (**self).dim()
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        (**self).rhs(t, y, dy)
+    }
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
+        (**self).jacobian(t, y, jac)
+    }
+}
+
+impl<S: OdeSystem + ?Sized> OdeSystem for Box<S> {
+    fn dim(&self) -> usize {
+        (**self).dim()
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        (**self).rhs(t, y, dy)
+    }
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
+        (**self).jacobian(t, y, jac)
+    }
+}
+
+/// Central differences (error O(δ²) instead of O(δ) for forward ones) with
+/// δⱼ = ε^(1/3)·max(|yⱼ|, 10⁻³), the increment that balances truncation
+/// against rounding for a second-order formula. The floor keeps δ from
+/// vanishing at yⱼ = 0; where f is not finite on one side of y (the edge of
+/// its domain, say √y at y = 0) the one-sided difference on the other side
+/// is used instead.
+pub fn finite_difference_jacobian<S: OdeSystem + ?Sized>(
+    sys: &S,
+    t: f64,
+    y: &[f64],
+    jac: &mut DMatrix<f64>,
+) {
+    let n = y.len();
+    if jac.nrows() != n || jac.ncols() != n {
+        *jac = DMatrix::zeros(n, n);
+    }
+    let cbrt_eps = f64::EPSILON.cbrt();
+    let mut yp = y.to_vec();
+    let mut f_plus = vec![0.0; n];
+    let mut f_minus = vec![0.0; n];
+    let mut f_mid: Option<Vec<f64>> = None;
+    for j in 0..n {
+        let yj = y[j];
+        let raw = cbrt_eps * yj.abs().max(1e-3);
+        // Rounding yⱼ ± δ back gives the increments actually applied.
+        yp[j] = yj + raw;
+        let up = yp[j] - yj;
+        sys.rhs(t, &yp, &mut f_plus);
+        yp[j] = yj - raw;
+        let down = yj - yp[j];
+        sys.rhs(t, &yp, &mut f_minus);
+        yp[j] = yj;
+        let plus_ok = f_plus.iter().all(|v| v.is_finite());
+        let minus_ok = f_minus.iter().all(|v| v.is_finite());
+        if plus_ok && minus_ok {
+            for i in 0..n {
+                jac[(i, j)] = (f_plus[i] - f_minus[i]) / (up + down);
+            }
+            continue;
+        }
+        let mid = f_mid.get_or_insert_with(|| {
+            let mut f = vec![0.0; n];
+            sys.rhs(t, y, &mut f);
+            f
+        });
+        for i in 0..n {
+            jac[(i, j)] = if plus_ok {
+                (f_plus[i] - mid[i]) / up
+            } else {
+                (mid[i] - f_minus[i]) / down
+            };
+        }
+    }
+}
+
+/// Absolute tolerance: one for all components or one each.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Atol {
+    Scalar(f64),
+    PerComponent(Vec<f64>),
+}
+
+/// Settings shared by the adaptive methods (RK4 uses only `max_steps`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Options {
+    /// Relative tolerance (each step's error is measured against
+    /// atol + rtol·|y| componentwise, in the RMS norm).
+    pub rtol: f64,
+    pub atol: Atol,
+    /// Cap on step attempts (accepted and rejected) before
+    /// [`OdeError::StepBudget`].
+    pub max_steps: u64,
+    /// First step to try; `None` chooses it by Hairer's heuristic.
+    pub h0: Option<f64>,
+    /// Largest step allowed; `None` for no limit.
+    pub max_step: Option<f64>,
+    /// A time the steps never cross (the last step before it is shortened
+    /// to land on it): the end of the run, or a point where f is not
+    /// smooth. Requests beyond it are refused. The step sequence depends
+    /// on it, but never on the sample times.
+    pub t_stop: Option<f64>,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            rtol: 1e-6,
+            atol: Atol::Scalar(1e-9),
+            max_steps: DEFAULT_MAX_STEPS,
+            h0: None,
+            max_step: None,
+            t_stop: None,
+        }
+    }
+}
+
+impl Options {
+    pub fn with_tol(rtol: f64, atol: f64) -> Options {
+        Options {
+            rtol,
+            atol: Atol::Scalar(atol),
+            ..Options::default()
+        }
+    }
+
+    /// The absolute tolerance of each of `n` components, after checking
+    /// every setting.
+    pub(crate) fn validated_atol(&self, n: usize) -> Result<Vec<f64>, OdeError> {
+        if !(self.rtol.is_finite() && self.rtol >= 0.0 && self.rtol < 1.0) {
+            return Err(OdeError::Invalid(format!(
+                "rtol = {} must lie in [0, 1)",
+                self.rtol
+            )));
+        }
+        let atol = match &self.atol {
+            Atol::Scalar(a) => vec![*a; n],
+            Atol::PerComponent(v) if v.len() == n => v.clone(),
+            Atol::PerComponent(v) => {
+                return Err(OdeError::Invalid(format!(
+                    "atol has {} components for a system of {n}",
+                    v.len()
+                )));
+            }
+        };
+        if let Some(a) = atol.iter().find(|a| !(a.is_finite() && **a > 0.0)) {
+            return Err(OdeError::Invalid(format!(
+                "atol = {a} must be positive and finite"
+            )));
+        }
+        if self.max_steps == 0 {
+            return Err(OdeError::Invalid("max_steps must be at least 1".into()));
+        }
+        for (name, v) in [("h0", self.h0), ("max_step", self.max_step)] {
+            if let Some(v) = v
+                && !(v.is_finite() && v > 0.0)
+            {
+                return Err(OdeError::Invalid(format!(
+                    "{name} = {v} must be positive and finite"
+                )));
+            }
+        }
+        if let Some(v) = self.t_stop
+            && !v.is_finite()
+        {
+            return Err(OdeError::Invalid(format!("t_stop = {v} must be finite")));
+        }
+        Ok(atol)
+    }
+}
+
+/// Work counters of a run so far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Work {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected step attempts (error too large, or Newton not converging).
+    pub rejected: u64,
+    /// Evaluations of f by the solver itself (those made inside
+    /// [`OdeSystem::jacobian`] are not seen, so not counted: 2n per
+    /// Jacobian for the default finite differences).
+    pub rhs_evals: u64,
+    /// Evaluations of the Jacobian.
+    pub jac_evals: u64,
+    /// LU decompositions of the Newton matrices (one real and one complex
+    /// count as one, as in RADAU5's statistics).
+    pub lu_decomps: u64,
+}
+
+impl std::ops::Add for Work {
+    type Output = Work;
+    fn add(self, o: Work) -> Work {
+        Work {
+            steps: self.steps + o.steps,
+            rejected: self.rejected + o.rejected,
+            rhs_evals: self.rhs_evals + o.rhs_evals,
+            jac_evals: self.jac_evals + o.jac_evals,
+            lu_decomps: self.lu_decomps + o.lu_decomps,
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OdeError {
+    /// A component became non-finite or exceeded [`BLOW_UP_LIMIT`], or the
+    /// step size fell below what t can resolve: the solution (or f) is
+    /// singular near `t`, the last time reached with a valid state.
+    #[error("the solution blows up near t = {t}")]
+    BlowUp { t: f64 },
+    /// The run needed more step attempts than its budget.
+    #[error("{reason}")]
+    StepBudget { t: f64, steps: u64, reason: String },
+    /// The explicit method found the problem stiff at `t` and was told to
+    /// refuse stiff problems.
+    #[error("the problem is stiff from t = {t}; an implicit method (radau) suits it")]
+    Stiff { t: f64 },
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// A solver advancing one trajectory forward in time.
+pub trait OdeSolver {
+    /// Short name of the method now stepping ("dop853", "radau5", "rk4").
+    fn name(&self) -> &'static str;
+
+    fn dim(&self) -> usize;
+
+    /// The state at `t`. Requests must not go back before the previous one;
+    /// between steps the state comes from the dense output of the step that
+    /// covers `t`, so the step sequence does not depend on the requests.
+    fn advance(&mut self, t: f64) -> Result<&[f64], OdeError>;
+
+    /// Takes one accepted step and returns its interval [t_old, t_new] (for
+    /// event location: search the interval with [`OdeSolver::dense`]).
+    fn step(&mut self) -> Result<(f64, f64), OdeError>;
+
+    /// The state at a time within the last step's interval, into `out`.
+    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), OdeError>;
+
+    /// Time of the last accepted step (the initial time before any).
+    fn t(&self) -> f64;
+
+    fn work(&self) -> Work;
+
+    /// The time stiffness was detected, if it was (DOP853 and auto).
+    fn stiffness(&self) -> Option<f64>;
+}
+
+/// Which solver [`make`] builds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Method {
+    Dop853 { stiffness: StiffnessMode },
+    Radau5,
+    Rk4 { dt: f64 },
+    Auto,
+}
+
+/// A boxed solver of the chosen method for `sys` from (t0, y0).
+pub fn make<S: OdeSystem + 'static>(
+    method: Method,
+    sys: S,
+    t0: f64,
+    y0: &[f64],
+    opts: &Options,
+) -> Result<Box<dyn OdeSolver>, OdeError> {
+    Ok(match method {
+        Method::Dop853 { stiffness } => {
+            Box::new(Dop853::new(sys, t0, y0, opts)?.with_stiffness(stiffness))
+        }
+        Method::Radau5 => Box::new(Radau5::new(sys, t0, y0, opts)?),
+        Method::Rk4 { dt } => Box::new(Rk4::new(sys, t0, y0, dt, opts)?),
+        Method::Auto => Box::new(Auto::new(sys, t0, y0, opts)?),
+    })
+}
+
+/// Checks what every constructor needs: a finite start in a system of the
+/// right, nonzero size.
+pub(crate) fn check_start<S: OdeSystem>(sys: &S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+    let n = sys.dim();
+    if n == 0 {
+        return Err(OdeError::Invalid("the system has no components".into()));
+    }
+    if y0.len() != n {
+        return Err(OdeError::Invalid(format!(
+            "the initial state has {} components for a system of {n}",
+            y0.len()
+        )));
+    }
+    if !t0.is_finite() {
+        return Err(OdeError::Invalid(format!("t0 = {t0} must be finite")));
+    }
+    if let Some(v) = y0.iter().find(|v| !v.is_finite()) {
+        return Err(OdeError::Invalid(format!(
+            "the initial state holds {v}, not a finite number"
+        )));
+    }
+    Ok(())
+}
+
+/// True when every component is finite and within [`BLOW_UP_LIMIT`].
+pub(crate) fn is_sane(y: &[f64]) -> bool {
+    y.iter().all(|v| v.abs() <= BLOW_UP_LIMIT)
+}
+
+/// RMS norm of `v` weighted by 1/`scale`.
+pub(crate) fn rms(v: &[f64], scale: &[f64]) -> f64 {
+    let sum: f64 = v.iter().zip(scale).map(|(v, s)| (v / s).powi(2)).sum();
+    (sum / v.len() as f64).sqrt()
+}
+
+/// Hairer's starting step (HINIT in DOP853 and RADAU5's companions): an
+/// explicit Euler step sized from |f|/|y|, then corrected by an estimate of
+/// the second derivative so that the local error of a method of order
+/// `order − 1` is about the tolerance. Returns the step and uses one
+/// evaluation of f.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn initial_step<S: OdeSystem>(
+    sys: &S,
+    t: f64,
+    y: &[f64],
+    f0: &[f64],
+    rtol: f64,
+    atol: &[f64],
+    order: f64,
+    h_max: f64,
+) -> f64 {
+    let n = y.len();
+    let scale: Vec<f64> = y
+        .iter()
+        .zip(atol)
+        .map(|(y, a)| a + rtol * y.abs())
+        .collect();
+    let dnf = rms(f0, &scale).powi(2) * n as f64;
+    let dny = rms(y, &scale).powi(2) * n as f64;
+    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+        1e-6
+    } else {
+        (dny / dnf).sqrt() * 0.01
+    };
+    h = h.min(h_max);
+    let y1: Vec<f64> = y.iter().zip(f0).map(|(y, f)| y + h * f).collect();
+    let mut f1 = vec![0.0; n];
+    sys.rhs(t + h, &y1, &mut f1);
+    let diff: Vec<f64> = f1.iter().zip(f0).map(|(a, b)| a - b).collect();
+    let der2 = rms(&diff, &scale) * (n as f64).sqrt() / h;
+    let der12 = der2.max(dnf.sqrt());
+    let h1 = if der12.is_nan() || der12 <= 1e-15 {
+        // Also the branch for a NaN estimate (f not finite after the trial
+        // step): start small and let the step control find its way.
+        (h * 1e-3).max(1e-6)
+    } else {
+        (0.01 / der12).powf(1.0 / order)
+    };
+    let h = (100.0 * h).min(h1).min(h_max);
+    if h.is_finite() && h > 0.0 { h } else { 1e-6 }
+}
+
+/// Bookkeeping shared by the solvers: the monotone request time, the output
+/// buffer `advance` lends out, and the error that stopped the run.
+#[derive(Debug, Clone)]
+pub(crate) struct Requests {
+    pub last: f64,
+    pub out: Vec<f64>,
+    pub failed: Option<OdeError>,
+}
+
+impl Requests {
+    pub fn new(t0: f64, y0: &[f64]) -> Requests {
+        Requests {
+            last: t0,
+            out: y0.to_vec(),
+            failed: None,
+        }
+    }
+
+    /// Refuses a request before the previous one, or any once the run failed.
+    pub fn admit(&mut self, t: f64, t_stop: Option<f64>) -> Result<(), OdeError> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
+        if !t.is_finite() || t < self.last {
+            return Err(OdeError::Invalid(format!(
+                "time {t} is before the previous request {} (runs only go forward)",
+                self.last
+            )));
+        }
+        if let Some(stop) = t_stop
+            && t > stop
+        {
+            return Err(OdeError::Invalid(format!(
+                "time {t} is beyond t_stop = {stop}"
+            )));
+        }
+        self.last = t;
+        Ok(())
+    }
+
+    /// Records a failure so every later call reports it too.
+    pub fn fail<T>(&mut self, e: OdeError) -> Result<T, OdeError> {
+        self.failed = Some(e.clone());
+        Err(e)
+    }
+}
+
+/// The parts of a one-step method that [`drive_advance`] needs.
+pub(crate) trait Stepper {
+    fn requests(&mut self) -> &mut Requests;
+    fn t_stop(&self) -> Option<f64>;
+    /// (t_old, t_new) of the last accepted step.
+    fn window(&self) -> (f64, f64);
+    fn current(&self) -> &[f64];
+    /// Refuses at once a request the budget clearly cannot reach (fixed-step
+    /// methods know their step count in advance).
+    fn check_span(&self, t: f64) -> Result<(), OdeError> {
+        let _ = t;
+        Ok(())
+    }
+    fn raw_step(&mut self) -> Result<(), OdeError>;
+    /// Dense output at t in the window (no checks).
+    fn interpolate(&mut self, t: f64, out: &mut [f64]);
+}
+
+/// `advance` for every method: step until the request is covered, then read
+/// the dense output, so requests never influence the steps.
+pub(crate) fn drive_advance<M: Stepper>(m: &mut M, t: f64) -> Result<&[f64], OdeError> {
+    let t_stop = m.t_stop();
+    m.requests().admit(t, t_stop)?;
+    if let Err(e) = m.check_span(t) {
+        return m.requests().fail(e);
+    }
+    while m.window().1 < t {
+        if let Err(e) = m.raw_step() {
+            return m.requests().fail(e);
+        }
+    }
+    let (t_old, t_new) = m.window();
+    if t == t_new {
+        let y = m.current().to_vec();
+        let r = m.requests();
+        r.out.copy_from_slice(&y);
+        return Ok(&m.requests().out);
+    }
+    if t < t_old {
+        return Err(OdeError::Invalid(format!(
+            "time {t} lies before the last step [{t_old}, {t_new}] (it was stepped past)"
+        )));
+    }
+    let mut out = std::mem::take(&mut m.requests().out);
+    m.interpolate(t, &mut out);
+    m.requests().out = out;
+    if !is_sane(&m.requests().out) {
+        return m.requests().fail(OdeError::BlowUp { t: t_old });
+    }
+    Ok(&m.requests().out)
+}
+
+/// `step` for every method.
+pub(crate) fn drive_step<M: Stepper>(m: &mut M) -> Result<(f64, f64), OdeError> {
+    if let Some(e) = &m.requests().failed {
+        return Err(e.clone());
+    }
+    if let Some(stop) = m.t_stop()
+        && m.window().1 >= stop
+    {
+        return Err(OdeError::Invalid(format!(
+            "the run has reached t_stop = {stop}"
+        )));
+    }
+    match m.raw_step() {
+        Ok(()) => Ok(m.window()),
+        Err(e) => m.requests().fail(e),
+    }
+}
+
+/// `dense` for every method.
+pub(crate) fn drive_dense<M: Stepper>(m: &mut M, t: f64, out: &mut [f64]) -> Result<(), OdeError> {
+    if let Some(e) = &m.requests().failed {
+        return Err(e.clone());
+    }
+    let (t_old, t_new) = m.window();
+    if out.len() != m.current().len() {
+        return Err(OdeError::Invalid(format!(
+            "dense output needs a buffer of {} components, not {}",
+            m.current().len(),
+            out.len()
+        )));
+    }
+    if !(t >= t_old && t <= t_new) {
+        return Err(OdeError::Invalid(format!(
+            "time {t} is outside the last step [{t_old}, {t_new}]"
+        )));
+    }
+    if t == t_new {
+        out.copy_from_slice(m.current());
+    } else {
+        m.interpolate(t, out);
+    }
+    if !is_sane(out) {
+        return Err(OdeError::BlowUp { t: t_old });
+    }
+    Ok(())
+}
