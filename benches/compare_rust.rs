@@ -14,7 +14,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use flipcard::sim::exact::Exact;
+use flipcard::sim::rigid::exact::Exact;
 use flipcard::sim::{Body, Method, Needs, make};
 use nalgebra::Vector3;
 use ode_solvers::{Dop853, System, Vector3 as OdeVector3};

@@ -10,7 +10,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, criterion_group};
-use flipcard::sim::exact::Exact;
+use flipcard::sim::rigid::exact::Exact;
 use flipcard::sim::{Body, Needs};
 use nalgebra::Vector3;
 

@@ -28,7 +28,7 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use diffsol::{NalgebraLU, NalgebraMat, OdeBuilder, OdeSolverMethod, OdeSolverStopReason};
-use flipcard::sim::ode::{Atol, OdeSolver, OdeSystem, Options, Radau5};
+use flipcard::sim::solvers::ode::{Atol, OdeSolver, OdeSystem, Options, Radau5};
 use nalgebra::DMatrix;
 
 const MU: f64 = 1000.0;

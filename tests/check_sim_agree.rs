@@ -6,8 +6,8 @@
 
 use flipcard::deck::diag::Severity;
 use flipcard::deck::{Panel, Scene, load_dir};
-use flipcard::sim::run::{Kind, method};
 use flipcard::sim::scene::{SceneRun, measure_scene};
+use flipcard::sim::solvers::registry::{Kind, method};
 use flipcard::sim::{Body, Method, Needs, make};
 use nalgebra::Vector3;
 

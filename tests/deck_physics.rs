@@ -9,9 +9,10 @@
 use flipcard::cmd::paths::bundled_decks;
 use flipcard::deck::Measure;
 use flipcard::deck::{Answer, Deck, load_dir};
-use flipcard::sim::measure::{Prediction, verdict};
+use flipcard::sim::Method;
+use flipcard::sim::rigid::formula;
+use flipcard::sim::scene::measure::{Prediction, verdict};
 use flipcard::sim::scene::measure_scene;
-use flipcard::sim::{Method, formula};
 
 fn decks() -> Vec<Deck> {
     let loaded = load_dir(&bundled_decks());

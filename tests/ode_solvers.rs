@@ -2,7 +2,7 @@
 //! oscillators and kinetics, a stiff linear system with a closed-form
 //! solution, orders of convergence, blow-up and dense output.
 
-use flipcard::sim::ode::{
+use flipcard::sim::solvers::ode::{
     Atol, Auto, Dop853, Method, OdeError, OdeSolver, OdeSystem, Options, Radau5, Rk4,
     StiffnessMode, finite_difference_jacobian, make,
 };

@@ -5,7 +5,7 @@
 
 use crate::support::taylor_dd;
 
-use flipcard::sim::exact::{Exact, Regime, linear_stability};
+use flipcard::sim::rigid::exact::{Exact, Regime, linear_stability};
 use flipcard::sim::{Body, Needs, Solver, State};
 use nalgebra::{UnitQuaternion, Vector3};
 

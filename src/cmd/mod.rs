@@ -13,6 +13,7 @@ pub mod output;
 pub mod paths;
 pub mod review;
 pub mod sim;
+pub mod sim_scene;
 pub mod stats;
 
 use std::process::ExitCode;

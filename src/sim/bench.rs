@@ -12,7 +12,6 @@ mod plot;
 use std::fmt::Write as _;
 use std::fs;
 use std::path::Path;
-use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use anyhow::Context;
@@ -20,13 +19,11 @@ use nalgebra::Vector3;
 
 pub use cases::{Case, cases, methods, setting};
 
-use super::budget::Budget;
-use super::model::{Body, State};
-use super::reference;
-use super::run::{Options, make_with};
-use super::solver::{Method, Needs, SimError, Work};
-use crate::cmd::args::{BenchArgs, Cli};
-use crate::text::plural;
+use crate::sim::rigid::model::{Body, State};
+use crate::sim::rigid::reference;
+use crate::sim::solvers::budget::Budget;
+use crate::sim::solvers::registry::{Options, make_with};
+use crate::sim::solvers::{Method, Needs, SimError, Work};
 
 /// Points at which every run is compared with the exact solution.
 pub const POINTS: usize = 1001;
@@ -216,7 +213,7 @@ pub fn sweep(
     Ok(rows)
 }
 
-fn sci(x: f64) -> String {
+pub fn sci(x: f64) -> String {
     format!("{x:.3e}")
 }
 
@@ -311,38 +308,9 @@ pub fn table(rows: &[Row]) -> String {
     out
 }
 
-pub fn run(_cli: &Cli, args: &BenchArgs) -> anyhow::Result<ExitCode> {
-    let out_dir = &args.out;
-    fs::create_dir_all(out_dir)
-        .with_context(|| format!("cannot create the output folder {}", out_dir.display()))?;
-    let started = Instant::now();
-    let rows = sweep(args.quick, |row, k, total| {
-        let what = match &row.outcome {
-            Ok(m) => format!("{} s, error {}", sci(m.wall), sci(m.errors.omega)),
-            Err(reason) => reason.clone(),
-        };
-        crate::errln!(
-            "bench [{k}/{total}] case {} {} {}: {what}",
-            row.case,
-            row.method.name(),
-            setting(&row.method)
-        );
-    })?;
-    // The files first: they are what the sweep is for, and a reader of the
-    // table that stops early (`| head`) must not cost them.
-    write(out_dir, &rows, args.quick)?;
-    crate::out!("{}", table(&rows))?;
-    crate::errln!(
-        "bench: {} in {:.1} s; wrote {} and {}",
-        plural(rows.len(), "run", "runs"),
-        started.elapsed().as_secs_f64(),
-        out_dir.join("work_precision.csv").display(),
-        out_dir.join("work_precision.svg").display()
-    );
-    Ok(ExitCode::SUCCESS)
-}
-
-fn write(dir: &Path, rows: &[Row], quick: bool) -> anyhow::Result<()> {
+/// Writes `work_precision.csv` and `work_precision.svg` of a sweep into
+/// `dir` (which must exist).
+pub fn write(dir: &Path, rows: &[Row], quick: bool) -> anyhow::Result<()> {
     let csv_path = dir.join("work_precision.csv");
     fs::write(&csv_path, csv(rows)).with_context(|| format!("writing {}", csv_path.display()))?;
     let svg_path = dir.join("work_precision.svg");

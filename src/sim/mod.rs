@@ -1,32 +1,13 @@
-//! Torque-free rigid-body rotation: model, solvers, scenes, measurements.
-//! Never imports ratatui.
+//! The simulator: `solvers` (every integrator and the registry that builds
+//! them), `rigid` (the torque-free rigid body and its exact solution),
+//! `scene` (a deck scene's run and measurements) and `bench` (error against
+//! run time). Never imports ratatui, never prints.
 
 pub mod bench;
-pub mod budget;
-pub mod cli;
-pub mod dop853_tableau;
-pub mod dopri;
-pub mod elliptic;
-pub mod exact;
-pub mod formula;
-pub mod guard;
-pub mod limits;
-pub mod measure;
-pub mod model;
-pub mod ode;
-pub mod plan;
-pub mod polhode;
-pub mod reference;
-pub mod rk4;
-pub mod run;
-pub mod scales;
+pub mod rigid;
 pub mod scene;
-pub mod scene_cli;
-pub mod solver;
-pub mod splitting;
-pub mod system;
-pub mod trig;
+pub mod solvers;
 
-pub use model::{Body, ModelError, State};
-pub use run::{Kind, Options, make, make_with};
-pub use solver::{Method, Needs, SimError, Solver, Work};
+pub use rigid::model::{Body, ModelError, State};
+pub use solvers::registry::{Kind, Options, make, make_with};
+pub use solvers::{Method, Needs, SimError, Solver, Work};

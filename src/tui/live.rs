@@ -7,8 +7,8 @@
 use nalgebra::Vector3;
 
 use crate::deck::Scene;
-use crate::sim::measure::Measurements;
-use crate::sim::polhode::Polhode;
+use crate::sim::rigid::polhode::Polhode;
+use crate::sim::scene::measure::Measurements;
 use crate::sim::scene::{Diagnostics, Frame, Sample, SceneRun};
 use crate::sim::{self, Body, Kind, Method, SimError};
 
@@ -120,7 +120,7 @@ impl LiveRun {
             .position(|k| kind_of(&self.method()) == *k)
             .unwrap_or(0);
         let kind = KINDS[(i + 1) % KINDS.len()];
-        sim::run::method(kind, None, None, self.run.body(), &self.run.omega0())
+        sim::solvers::registry::method(kind, None, None, self.run.body(), &self.run.omega0())
     }
 
     /// The method with its step doubled or halved (tolerance ×/÷ 100);
@@ -132,7 +132,7 @@ impl LiveRun {
             Method::Adaptive { tol } => {
                 let tol = if larger { tol * 100.0 } else { tol / 100.0 };
                 Some(Method::Adaptive {
-                    tol: tol.clamp(sim::run::MIN_TOL, 1e-2),
+                    tol: tol.clamp(sim::solvers::registry::MIN_TOL, 1e-2),
                 })
             }
             Method::Splitting { dt } => Some(Method::Splitting { dt: dt * f }),

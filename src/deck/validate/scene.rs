@@ -5,7 +5,7 @@ use crate::deck::model::{Panel, Scene};
 use crate::deck::raw::{Flag, List, Num, RawScene};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
-use crate::sim::model::{Body, ModelError};
+use crate::sim::rigid::model::{Body, ModelError};
 use crate::sim::scene::{SceneField, check_scene};
 use crate::text::num;
 

@@ -3,10 +3,10 @@
 
 use nalgebra::Vector3;
 
-use crate::sim::formula;
-use crate::sim::model::Body;
-use crate::sim::scales::scales;
-use crate::sim::solver::Method;
+use crate::sim::rigid::formula;
+use crate::sim::rigid::model::Body;
+use crate::sim::rigid::scales::scales;
+use crate::sim::solvers::Method;
 
 /// One problem: a body, an initial ω and a span.
 #[derive(Debug, Clone, PartialEq)]

@@ -7,11 +7,11 @@
 
 use nalgebra::Vector3;
 
-use super::budget::Budget;
-use super::model::State;
-use super::scales::Scales;
-use super::solver::{Method, SimError, Solver, Work};
-use super::system::System;
+use crate::sim::rigid::euler::System;
+use crate::sim::rigid::model::State;
+use crate::sim::rigid::scales::Scales;
+use crate::sim::solvers::budget::Budget;
+use crate::sim::solvers::{Method, SimError, Solver, Work};
 use crate::text::num::Num;
 
 pub struct Rk4<S, const N: usize> {

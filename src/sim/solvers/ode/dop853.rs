@@ -18,7 +18,7 @@ use super::{
     OdeError, OdeSolver, OdeSystem, Options, Requests, Stepper, Work, drive_advance, drive_dense,
     drive_step, initial_step, is_sane,
 };
-use crate::sim::dop853_tableau as tab;
+use crate::sim::solvers::dop853_tableau as tab;
 
 const SAFETY: f64 = 0.9;
 /// h_new/h stays within [1/6, 3] (Hairer's FAC1 = 0.333, FAC2 = 6).

@@ -4,10 +4,10 @@
 //! the error) only when the diagnostics are shown. A scene that shows ω
 //! alone integrates three numbers and nothing else.
 
-use super::formula;
-use super::model::Body;
-use super::solver::{Method, Needs};
 use crate::deck::{Panel, Scene};
+use crate::sim::rigid::formula;
+use crate::sim::rigid::model::Body;
+use crate::sim::solvers::{Method, Needs};
 
 /// Which closed form describes a body's free motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -113,8 +113,8 @@ mod tests {
 
     #[test]
     fn omega_only_exact_run_builds_no_orientation() {
-        use crate::sim::exact::Exact;
-        use crate::sim::solver::Solver;
+        use crate::sim::rigid::exact::Exact;
+        use crate::sim::solvers::Solver;
         let s = scene([1.0, 2.0, 3.0], &[Panel::Omega, Panel::Polhode]);
         let body = Body::new(s.inertia).unwrap();
         let p = Plan::for_scene(&s, &body);

@@ -1,7 +1,20 @@
-//! The interface every solver offers, so scenes, the CLI, the bench and the
-//! terminal view can switch methods freely.
+//! The solvers. The rigid body's: the interface every one of them offers
+//! (so scenes, the CLI, the bench and the terminal view can switch methods
+//! freely), the adaptive DOP853, RK4, the splitting methods, and the
+//! registry that builds any of them behind the guard. `ode`: the same
+//! family, with Radau IIA and stiffness detection, for systems of any size
+//! written in a deck.
 
-use super::model::{ModelError, State};
+pub mod budget;
+pub mod dop853;
+pub mod dop853_tableau;
+pub mod guard;
+pub mod ode;
+pub mod registry;
+pub mod rk4;
+pub mod splitting;
+
+use crate::sim::rigid::model::{ModelError, State};
 
 /// A solver and its one accuracy knob.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -15,12 +15,12 @@
 
 use nalgebra::Vector3;
 
-use super::budget::Budget;
-use super::dop853_tableau::{self as tab, Row};
-use super::model::State;
-use super::scales::Scales;
-use super::solver::{Method, SimError, Solver, Work};
-use super::system::System;
+use crate::sim::rigid::euler::System;
+use crate::sim::rigid::model::State;
+use crate::sim::rigid::scales::Scales;
+use crate::sim::solvers::budget::Budget;
+use crate::sim::solvers::dop853_tableau::{self as tab, Row};
+use crate::sim::solvers::{Method, SimError, Solver, Work};
 use crate::text::num::Num;
 
 const SAFETY: f64 = 0.9;

@@ -5,7 +5,7 @@
 
 use nalgebra::Vector3;
 
-use super::model::Body;
+use crate::sim::rigid::model::Body;
 
 /// The fastest rates (rad/s) of one trajectory, and how large each
 /// component of ω can get on it.

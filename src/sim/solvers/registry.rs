@@ -4,17 +4,17 @@
 
 use nalgebra::Vector3;
 
-use super::budget::Budget;
-use super::dopri::Dop853;
-use super::exact::Exact;
-use super::guard::Guard;
-pub use super::limits::check_start;
-use super::model::Body;
-use super::rk4::Rk4;
-use super::scales::{Scales, momentum_gain, scales};
-use super::solver::{Method, Needs, SimError, Solver};
-use super::splitting::{Scheme, Splitting};
-use super::system::{OmegaOnly, WithOrientation};
+use crate::sim::rigid::euler::{OmegaOnly, WithOrientation};
+use crate::sim::rigid::exact::Exact;
+pub use crate::sim::rigid::limits::check_start;
+use crate::sim::rigid::model::Body;
+use crate::sim::rigid::scales::{Scales, momentum_gain, scales};
+use crate::sim::solvers::budget::Budget;
+use crate::sim::solvers::dop853::Dop853;
+use crate::sim::solvers::guard::Guard;
+use crate::sim::solvers::rk4::Rk4;
+use crate::sim::solvers::splitting::{Scheme, Splitting};
+use crate::sim::solvers::{Method, Needs, SimError, Solver};
 use crate::text::num::Num;
 
 /// Default tolerance of the adaptive solver (relative, and absolute against

@@ -17,10 +17,10 @@
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use super::budget::Budget;
-use super::model::{Body, State};
-use super::solver::{Method, SimError, Solver, Work};
-use super::trig;
+use crate::sim::rigid::model::{Body, State};
+use crate::sim::rigid::trig;
+use crate::sim::solvers::budget::Budget;
+use crate::sim::solvers::{Method, SimError, Solver, Work};
 use crate::text::num::Num;
 
 /// Which composition of the Strang step to use.

@@ -8,11 +8,11 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 
-use super::measure::{Measurements, Prediction, formula_name, verdict};
-use super::run::{Kind, method};
-use super::scene::measure_scene;
 use crate::cmd::args::{Cli, MethodArg, SimArgs};
 use crate::deck::{Answer, Deck, Prompt, Scene, load_paths};
+use crate::sim::scene::measure::{Measurements, Prediction, formula_name, verdict};
+use crate::sim::scene::measure_scene;
+use crate::sim::solvers::registry::{Kind, method};
 use crate::text::num::Num;
 use crate::text::plural;
 
@@ -73,8 +73,8 @@ pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
             .collect();
         bail!("no scene {id:?} (scenes: {})", known.join(", "));
     };
-    let body = super::Body::new(scene.inertia)?;
-    let omega0 = super::model::omega(scene.omega)?;
+    let body = crate::sim::Body::new(scene.inertia)?;
+    let omega0 = crate::sim::rigid::model::omega(scene.omega)?;
     let m = method(kind(args.method), args.tol, args.dt, &body, &omega0)?;
     let measured =
         measure_scene(scene, m).with_context(|| format!("scene {id} with {}", m.name()))?;

@@ -6,9 +6,9 @@
 
 use nalgebra::Vector3;
 
-use super::model::{self, Body};
-use super::scales::Scales;
-use super::solver::SimError;
+use crate::sim::rigid::model::{self, Body};
+use crate::sim::rigid::scales::Scales;
+use crate::sim::solvers::SimError;
 use crate::text::num::{Num, below};
 
 /// The largest phase Ωt (rad) of the fastest rate Ω a run may reach: 2³².
@@ -84,7 +84,7 @@ pub fn check_span(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::scales::scales;
+    use crate::sim::rigid::scales::scales;
 
     #[test]
     fn invariants_must_be_normal_numbers() {

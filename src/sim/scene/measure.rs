@@ -12,9 +12,9 @@ use std::collections::BTreeMap;
 
 use nalgebra::Vector3;
 
-use super::formula::{self, AxisRole};
-use super::model::Body;
 use crate::deck::{Answer, Measure, Prompt};
+use crate::sim::rigid::formula::{self, AxisRole};
+use crate::sim::rigid::model::Body;
 
 /// A disturbance counts as small while |ω⊥| stays below this fraction of
 /// |ω|: the linear growth law holds to about a percent there.

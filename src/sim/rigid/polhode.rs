@@ -5,8 +5,8 @@
 
 use nalgebra::Vector3;
 
-use super::model::Body;
-use super::solver::{SimError, Solver};
+use crate::sim::rigid::model::Body;
+use crate::sim::solvers::{SimError, Solver};
 
 /// Points on each separatrix circle.
 const SEPARATRIX_POINTS: usize = 181;

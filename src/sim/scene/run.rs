@@ -22,17 +22,17 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use super::formula;
-use super::limits;
-use super::measure::{Measurements, Meter};
-use super::model::{self, Body, State};
-use super::plan::Plan;
-use super::polhode::Polhode;
-use super::reference;
-use super::run::make;
-use super::scales::scales;
-use super::solver::{Method, Needs, SimError, Solver, Work};
 use crate::deck::Scene;
+use crate::sim::rigid::formula;
+use crate::sim::rigid::limits;
+use crate::sim::rigid::model::{self, Body, State};
+use crate::sim::rigid::polhode::Polhode;
+use crate::sim::rigid::reference;
+use crate::sim::rigid::scales::scales;
+use crate::sim::scene::measure::{Measurements, Meter};
+use crate::sim::scene::plan::Plan;
+use crate::sim::solvers::registry::make;
+use crate::sim::solvers::{Method, Needs, SimError, Solver, Work};
 use crate::text::num::{Num, below};
 
 /// Default number of points of the ω trace (about the width of a wide

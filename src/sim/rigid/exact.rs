@@ -30,8 +30,8 @@ use std::sync::OnceLock;
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use super::model::{self, Body, State};
-use super::solver::{Method, Needs, SimError, Solver, Work};
+use crate::sim::rigid::model::{self, Body, State};
+use crate::sim::solvers::{Method, Needs, SimError, Solver, Work};
 use crate::text::num::Num;
 use attitude::Attitude;
 use frame::Frame;
