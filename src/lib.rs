@@ -9,6 +9,7 @@
 
 pub mod cmd;
 pub mod deck;
+pub mod predict;
 pub mod sched;
 pub mod sim;
 pub mod store;

@@ -9,9 +9,9 @@
 use flipcard::cmd::paths::bundled_decks;
 use flipcard::deck::Measure;
 use flipcard::deck::{Answer, Deck, load_dir};
+use flipcard::predict::{Prediction, verdict};
 use flipcard::sim::Method;
 use flipcard::sim::rigid::formula;
-use flipcard::sim::scene::measure::{Prediction, verdict};
 use flipcard::sim::scene::measure_scene;
 
 fn decks() -> Vec<Deck> {

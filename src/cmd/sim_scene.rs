@@ -10,7 +10,8 @@ use anyhow::{Context, bail};
 
 use crate::cmd::args::{Cli, MethodArg, SimArgs};
 use crate::deck::{Answer, Deck, Prompt, Scene, load_paths};
-use crate::sim::scene::measure::{Measurements, Prediction, formula_name, verdict};
+use crate::predict::{Prediction, verdict};
+use crate::sim::scene::measure::{Measurements, formula_name};
 use crate::sim::scene::measure_scene;
 use crate::sim::solvers::registry::{Kind, method};
 use crate::text::num::Num;

@@ -8,6 +8,7 @@
 mod count;
 mod dollar;
 mod glyphs;
+mod lang;
 mod locate;
 pub mod markup;
 pub mod num;
@@ -18,6 +19,7 @@ mod unicode;
 mod seed_tests;
 
 pub use count::plural;
+pub use lang::{Lang, Text};
 
 use pulldown_latex::{Parser, Storage};
 

@@ -12,9 +12,9 @@ use std::collections::BTreeMap;
 
 use nalgebra::Vector3;
 
-use crate::deck::{Answer, Measure, Prompt};
 use crate::sim::rigid::formula::{self, AxisRole};
 use crate::sim::rigid::model::Body;
+use crate::sim::scene::spec::Measure;
 
 /// A disturbance counts as small while |ω⊥| stays below this fraction of
 /// |ω|: the linear growth law holds to about a percent there.
@@ -417,88 +417,6 @@ fn crossing(
         }
     }
     c.times.push(t0 + 0.5 * (lo + hi) * h);
-}
-
-/// What the learner committed to.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Prediction {
-    /// Index into the prompt's choices.
-    Choice(usize),
-    Number(f64),
-}
-
-impl Prediction {
-    /// The answer the deck's author gives (`expected`), as a prediction; `None`
-    /// when the expected choice id names no choice.
-    pub fn expected(prompt: &Prompt) -> Option<Prediction> {
-        match &prompt.answer {
-            Answer::Choice { choices, expected } => choices
-                .iter()
-                .position(|c| &c.id == expected)
-                .map(Prediction::Choice),
-            Answer::Number { expected, .. } => Some(Prediction::Number(*expected)),
-        }
-    }
-}
-
-/// What the measurements say about a prediction.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Verdict {
-    pub correct: bool,
-    /// Choice prompts: the choices whose condition holds (exactly one for a
-    /// well-posed prompt), in the prompt's order.
-    pub holding: Vec<usize>,
-    /// Choice prompts: the choice the measurements make right (the first
-    /// that holds).
-    pub right_choice: Option<usize>,
-    /// The readings the prompt depends on (its conditions' measures, or the
-    /// number's measure), with their formula values.
-    pub readings: Vec<Reading>,
-}
-
-/// Judges `prediction` against the measurements of the prompt's scene: a
-/// choice is right when its `when` condition holds (a condition on a
-/// measure the run could not make never holds); a number when it is within
-/// the prompt's tolerance of the measured value.
-pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Verdict {
-    match &prompt.answer {
-        Answer::Choice { choices, .. } => {
-            let holding: Vec<usize> = choices
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| m.get(c.when.measure).is_some_and(|v| c.when.holds(v)))
-                .map(|(i, _)| i)
-                .collect();
-            let mut measures: Vec<Measure> = choices.iter().map(|c| c.when.measure).collect();
-            measures.sort();
-            measures.dedup();
-            let correct = matches!(prediction, Prediction::Choice(i) if holding.contains(&i));
-            Verdict {
-                correct,
-                right_choice: holding.first().copied(),
-                holding,
-                readings: measures
-                    .into_iter()
-                    .filter_map(|x| m.reading(x).copied())
-                    .collect(),
-            }
-        }
-        Answer::Number {
-            measure, tolerance, ..
-        } => {
-            let reading = m.reading(*measure).copied();
-            let correct = match (prediction, reading) {
-                (Prediction::Number(given), Some(r)) => tolerance.accepts(given, r.value),
-                _ => false,
-            };
-            Verdict {
-                correct,
-                holding: Vec::new(),
-                right_choice: None,
-                readings: reading.into_iter().collect(),
-            }
-        }
-    }
 }
 
 #[cfg(test)]

@@ -5,5 +5,6 @@
 pub mod measure;
 pub mod plan;
 pub mod run;
+pub mod spec;
 
 pub use run::*;

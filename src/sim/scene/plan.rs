@@ -4,9 +4,9 @@
 //! the error) only when the diagnostics are shown. A scene that shows ω
 //! alone integrates three numbers and nothing else.
 
-use crate::deck::{Panel, Scene};
 use crate::sim::rigid::formula;
 use crate::sim::rigid::model::Body;
+use crate::sim::scene::spec::{Panel, Scene};
 use crate::sim::solvers::{Method, Needs};
 
 /// Which closed form describes a body's free motion.

@@ -10,7 +10,7 @@
 //!
 //! ```no_run
 //! # use flipcard::sim::{Method, scene::SceneRun};
-//! # fn demo(scene: &flipcard::deck::Scene) -> Result<(), flipcard::sim::SimError> {
+//! # fn demo(scene: &flipcard::sim::scene::spec::Scene) -> Result<(), flipcard::sim::SimError> {
 //! let mut run = SceneRun::new(scene, Method::Exact)?;
 //! while !run.finished() {
 //!     let frame = run.advance_to(run.frame().t + 1.0 / 30.0);
@@ -22,7 +22,6 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use crate::deck::Scene;
 use crate::sim::rigid::formula;
 use crate::sim::rigid::limits;
 use crate::sim::rigid::model::{self, Body, State};
@@ -31,6 +30,7 @@ use crate::sim::rigid::reference;
 use crate::sim::rigid::scales::scales;
 use crate::sim::scene::measure::{Measurements, Meter};
 use crate::sim::scene::plan::Plan;
+use crate::sim::scene::spec::Scene;
 use crate::sim::solvers::registry::make;
 use crate::sim::solvers::{Method, Needs, SimError, Solver, Work};
 use crate::text::num::{Num, below};

@@ -369,7 +369,7 @@ fn every_bundled_prompt_plays_to_a_verdict_at_any_size() {
             let mut app = testkit::app(ENGLISH);
             app.decks = loaded.decks.clone();
             let mut state = PredictState::new(&app, d, i);
-            let answer = crate::sim::scene::measure::Prediction::expected(prompt);
+            let answer = crate::predict::Prediction::expected(prompt);
             let Some(answer) = answer else {
                 panic!("{}: no expected answer", prompt.id);
             };

@@ -17,7 +17,7 @@ mod keys;
 pub use draw::{draw, fmt_value};
 pub use keys::{CHOICE_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
 
-pub use crate::sim::scene::measure::{Prediction, Verdict};
+pub use crate::predict::{Prediction, Verdict};
 
 pub enum Phase {
     /// Waiting for the commitment: the selected choice or the typed number.
@@ -277,7 +277,7 @@ fn judge(
         app.error(e.to_string());
         crate::sim::scene::measure::Measurements::default()
     });
-    let verdict = crate::sim::scene::measure::verdict(prompt, &measurements, prediction);
+    let verdict = crate::predict::verdict(prompt, &measurements, prediction);
     let given = match (prediction, &prompt.answer) {
         (Prediction::Choice(i), Answer::Choice { choices, .. }) => {
             choices.get(i).map(|c| c.id.clone()).unwrap_or_default()

@@ -1,0 +1,209 @@
+//! The layers of `src/` as ARCHITECTURE.md draws them, checked on the
+//! source itself: each top-level module uses only the ones listed before it
+//! (so there is no cycle between them), only the terminal app draws, and
+//! only the commands and the terminal app see the command line or print.
+//!
+//! Test code (`src/**/tests/`, `#[cfg(test)]` blocks) may reach across
+//! layers for fixtures and is not looked at; neither are comments.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Bottom to top: a module may use those before it.
+const LAYERS: [&str; 8] = [
+    "text", "sim", "deck", "sched", "store", "predict", "tui", "cmd",
+];
+
+/// Modules that compute and return values: no printing, no exiting, no
+/// command line, no terminal.
+const DOMAIN: [&str; 6] = ["text", "sim", "deck", "sched", "store", "predict"];
+
+fn src() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
+}
+
+/// The code of every non-test file of a top-level module, comments removed.
+fn code_of(module: &str) -> Vec<(PathBuf, String)> {
+    let mut files = Vec::new();
+    let single = src().join(format!("{module}.rs"));
+    if single.is_file() {
+        files.push(single);
+    }
+    collect(&src().join(module), &mut files);
+    files
+        .into_iter()
+        .map(|f| {
+            let text = std::fs::read_to_string(&f).unwrap_or_default();
+            (f, strip(&text))
+        })
+        .collect()
+}
+
+fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let p = e.path();
+        let name = e.file_name().to_string_lossy().into_owned();
+        if p.is_dir() {
+            if name != "tests" {
+                collect(&p, out);
+            }
+        } else if name.ends_with(".rs") && name != "tests.rs" && name != "testkit.rs" {
+            out.push(p);
+        }
+    }
+}
+
+/// The code before the first `#[cfg(test)]`, without `//` comments.
+fn strip(text: &str) -> String {
+    let before_tests = text.split("#[cfg(test)]").next().unwrap_or("");
+    before_tests
+        .lines()
+        .map(|l| match l.find("//") {
+            // A `//` inside a string literal (a URL) is rare in this code
+            // base; cutting there only loses text after it.
+            Some(i) => &l[..i],
+            None => l,
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The top-level modules `code` names through `crate::`, including the
+/// grouped form `crate::{a, b::c}`.
+fn uses(code: &str) -> BTreeSet<String> {
+    let mut found = BTreeSet::new();
+    let mut rest = code;
+    while let Some(i) = rest.find("crate::") {
+        rest = &rest[i + "crate::".len()..];
+        if let Some(group) = rest.strip_prefix('{') {
+            let end = group.find('}').unwrap_or(group.len());
+            for item in group[..end].split(',') {
+                let name: String = item
+                    .trim()
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                if !name.is_empty() {
+                    found.insert(name);
+                }
+            }
+        } else {
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            if !name.is_empty() {
+                found.insert(name);
+            }
+        }
+    }
+    found
+}
+
+#[test]
+fn every_top_level_module_has_a_layer() {
+    let lib = std::fs::read_to_string(src().join("lib.rs")).unwrap();
+    let declared: BTreeSet<&str> = lib
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("pub mod "))
+        .map(|l| l.trim_end_matches(';'))
+        .collect();
+    let layered: BTreeSet<&str> = LAYERS.into_iter().collect();
+    assert_eq!(
+        declared, layered,
+        "lib.rs and the layers differ: place a new module in LAYERS and ARCHITECTURE.md"
+    );
+}
+
+#[test]
+fn modules_use_only_the_layers_below_them() {
+    let mut graph: BTreeMap<&str, BTreeSet<String>> = BTreeMap::new();
+    let mut wrong = Vec::new();
+    for (rank, module) in LAYERS.iter().enumerate() {
+        let below: BTreeSet<&str> = LAYERS[..rank].iter().copied().collect();
+        for (file, code) in code_of(module) {
+            for used in uses(&code) {
+                if used != *module && LAYERS.contains(&used.as_str()) {
+                    if !below.contains(used.as_str()) {
+                        wrong.push(format!("{}: {module} uses {used}", file.display()));
+                    }
+                    graph.entry(module).or_default().insert(used);
+                }
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "dependencies against the layers:\n{}",
+        wrong.join("\n")
+    );
+    // Which also means no cycle; said outright, for the reader of a failure.
+    for (module, used) in &graph {
+        for u in used {
+            let back = graph.get(u.as_str()).is_some_and(|s| s.contains(*module));
+            assert!(!back, "{module} and {u} use each other");
+        }
+    }
+}
+
+#[test]
+fn only_the_terminal_app_draws() {
+    for module in LAYERS.iter().filter(|m| **m != "tui") {
+        for (file, code) in code_of(module) {
+            for lib in ["ratatui::", "crossterm::"] {
+                assert!(
+                    !code.contains(lib),
+                    "{} uses {lib}: only tui draws",
+                    file.display()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn domain_modules_never_see_the_command_line_print_or_exit() {
+    let forbidden = [
+        "cmd::",
+        "Cli",
+        "println!",
+        "print!(",
+        "eprintln!",
+        "eprint!(",
+        "errln!",
+        "outln!",
+        "out!(",
+        "process::exit",
+        "std::io::stdout",
+        "std::io::stderr",
+    ];
+    for module in DOMAIN {
+        for (file, code) in code_of(module) {
+            for f in forbidden {
+                assert!(
+                    !code.contains(f),
+                    "{} contains `{f}`: domain modules return values and typed errors",
+                    file.display()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_checker_sees_what_it_should() {
+    // The checks above pass vacuously if these helpers find nothing.
+    let found = uses("use crate::{sim::Method, text}; let x = crate::deck::load(p);");
+    assert_eq!(
+        found,
+        ["deck", "sim", "text"]
+            .map(String::from)
+            .into_iter()
+            .collect()
+    );
+    assert!(strip("a // crate::cmd\n#[cfg(test)]\ncrate::tui").trim() == "a");
+    assert!(code_of("sim").len() > 20, "the sim sources were not found");
+}
