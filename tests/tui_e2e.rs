@@ -405,12 +405,17 @@ fn outside_sqlite_readers_during_a_review_lose_no_rating() {
     let app = app_pid(&t);
 
     // Another program opens, reads and closes the file again and again.
-    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering::SeqCst};
+    let stop = std::sync::Arc::new(AtomicBool::new(false));
+    let opens = std::sync::Arc::new(AtomicUsize::new(0));
     let reader = {
-        let (db, stop) = (db.clone(), std::sync::Arc::clone(&stop));
+        let (db, stop, opens) = (
+            db.clone(),
+            std::sync::Arc::clone(&stop),
+            std::sync::Arc::clone(&opens),
+        );
         std::thread::spawn(move || {
-            let mut opens = 0;
-            while !stop.load(std::sync::atomic::Ordering::SeqCst) {
+            while !stop.load(SeqCst) {
                 let script = "import sqlite3, sys\nc = sqlite3.connect(sys.argv[1])\n\
                               c.execute('select count(*) from review').fetchall()\nc.close()\n";
                 let python = Command::new("python3")
@@ -423,24 +428,39 @@ fn outside_sqlite_readers_during_a_review_lose_no_rating() {
                         .query_row("SELECT count(*) FROM review", [], |r| r.get(0))
                         .unwrap();
                 }
-                opens += 1;
+                opens.fetch_add(1, SeqCst);
             }
-            opens
         })
     };
+    // Before each rating, at least one outside open and close has happened
+    // since the previous one (however slow the machine), so every rating is
+    // written after another client has touched the file.
+    let an_open_since = |seen: usize| {
+        let deadline = std::time::Instant::now() + Duration::from_secs(60);
+        while opens.load(SeqCst) <= seen {
+            assert!(
+                std::time::Instant::now() < deadline,
+                "no outside open within a minute"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        opens.load(SeqCst)
+    };
 
+    let mut seen = 0;
     for card in deck.cards.iter().take(5) {
         t.wait_for(&opening(card.front.get("en"), 4));
-        std::thread::sleep(Duration::from_millis(150));
+        seen = an_open_since(seen);
         t.keys(&["Enter"]);
         t.wait_for("Again");
-        std::thread::sleep(Duration::from_millis(150));
+        seen = an_open_since(seen);
         t.keys(&["3"]);
     }
     t.wait_for(&opening(deck.cards[5].front.get("en"), 4));
-    stop.store(true, std::sync::atomic::Ordering::SeqCst);
-    let opens = reader.join().unwrap();
-    assert!(opens >= 5, "only {opens} outside opens");
+    stop.store(true, SeqCst);
+    reader.join().unwrap();
+    let opens = opens.load(SeqCst);
+    assert!(opens >= 10, "only {opens} outside opens");
 
     // While the app still runs, a third program sees all five.
     let rows = env.export();
