@@ -25,6 +25,7 @@ mod sim_scene_cli;
 mod store;
 mod store_cli;
 mod store_durability;
+mod store_merge;
 mod store_outside_clients;
 mod store_props;
 mod store_safety;
