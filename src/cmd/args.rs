@@ -157,14 +157,24 @@ pub struct ExportArgs {
 
 #[derive(Debug, Args)]
 pub struct ImportArgs {
-    /// CSV file with front, back, tags columns.
+    /// CSV file with front, back, tags columns; with --reviews, a review
+    /// log as `export --reviews` writes it; or an Anki .apkg / .colpkg.
     pub file: PathBuf,
-    /// Id of the deck to write.
+    /// Id of the deck to write (CSV of cards only).
     #[arg(long, value_name = "ID")]
-    pub deck_id: String,
+    pub deck_id: Option<String>,
     /// Language of the texts (a BCP 47 tag such as en or hi-Latn).
     #[arg(long, value_name = "TAG", default_value = "en")]
     pub lang: String,
+    /// FILE is a review log (JSON or CSV) to merge into this one.
+    #[arg(long, conflicts_with_all = ["deck_id", "out"])]
+    pub reviews: bool,
+    /// Format of the review log (default: from the file's extension).
+    #[arg(long, value_enum, requires = "reviews")]
+    pub format: Option<ExportFormat>,
+    /// Where an Anki import writes its deck folder (default: ./anki-import).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

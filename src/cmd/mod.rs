@@ -9,6 +9,8 @@ mod common;
 pub mod db;
 pub mod export;
 pub mod import;
+pub mod import_anki;
+pub mod import_reviews;
 pub mod output;
 pub mod paths;
 pub mod review;

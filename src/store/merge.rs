@@ -218,19 +218,15 @@ fn merge_item(
     steps.sort_by_key(|s| (s.at, s.incoming));
 
     for s in &steps {
-        let record = if s.cram || s.undone {
-            // An undone answer is kept as it came but changes nothing, like
-            // a cram answer: the state it records is the one it found.
-            let mut r = scheduler.cram(key, state.as_ref(), s.rating, s.at, s.duration_ms);
-            if !s.cram {
-                r.kind = scheduler
-                    .review(key, state.as_ref(), s.rating, s.at, s.duration_ms)
-                    .kind;
-            }
-            r
+        let record = if s.cram {
+            scheduler.cram(key, state.as_ref(), s.rating, s.at, s.duration_ms)
         } else {
             let r = scheduler.review(key, state.as_ref(), s.rating, s.at, s.duration_ms);
-            state = Some(r.after);
+            // An undone answer keeps the state it gave, as the log recorded
+            // it, but the next answer starts from the state it found.
+            if !s.undone {
+                state = Some(r.after);
+            }
             r
         };
         super::log::validate(&record)?;

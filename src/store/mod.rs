@@ -12,6 +12,7 @@ pub mod day;
 pub mod db;
 pub mod error;
 pub mod export;
+pub mod import;
 pub mod log;
 pub mod merge;
 pub mod restore;
