@@ -18,6 +18,7 @@ mod deck_physics;
 mod import_reviews_cli;
 mod ode_solvers;
 mod sched_golden;
+mod sched_golden_custom;
 mod schemas;
 mod sim_cli;
 mod sim_exact;

@@ -43,6 +43,8 @@ pub enum Command {
     Import(ImportArgs),
     /// Maintenance of the review database.
     Db(DbArgs),
+    /// Fit FSRS's parameters to your own reviews.
+    Optimize(OptimizeArgs),
 }
 
 #[derive(Debug, Args)]
@@ -199,4 +201,22 @@ pub enum DbCommand {
     Rebuild,
     /// Set a damaged database aside (it is kept) and restore a backup.
     Restore(RestoreArgs),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ReportFormat {
+    Text,
+    Json,
+}
+
+#[derive(Debug, Args)]
+pub struct OptimizeArgs {
+    /// Fit to one deck's reviews only (default: every deck).
+    #[arg(long, value_name = "ID")]
+    pub deck: Option<String>,
+    /// Write the fitted parameters to the config file (fsrs_parameters).
+    #[arg(long)]
+    pub apply: bool,
+    #[arg(long, value_enum, default_value_t = ReportFormat::Text)]
+    pub format: ReportFormat,
 }
