@@ -31,4 +31,5 @@ mod store_merge;
 mod store_outside_clients;
 mod store_props;
 mod store_safety;
+mod true_retention;
 mod tui_e2e;

@@ -22,6 +22,7 @@ pub mod state;
 pub mod stats;
 mod tally;
 pub mod today;
+pub mod true_retention;
 
 pub use attempt::PromptAttempt;
 pub use day::DayGrid;
