@@ -17,6 +17,7 @@ mod deck_mutations;
 mod deck_physics;
 mod import_reviews_cli;
 mod ode_solvers;
+mod optimize_cli;
 mod sched_golden;
 mod sched_golden_custom;
 mod schemas;
