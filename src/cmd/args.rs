@@ -43,6 +43,8 @@ pub enum Command {
     Import(ImportArgs),
     /// Maintenance of the review database.
     Db(DbArgs),
+    /// Fit FSRS's parameters to your own reviews.
+    Optimize(OptimizeArgs),
 }
 
 #[derive(Debug, Args)]
@@ -170,14 +172,24 @@ pub struct ExportArgs {
 
 #[derive(Debug, Args)]
 pub struct ImportArgs {
-    /// CSV file with front, back, tags columns.
+    /// CSV file with front, back, tags columns; with --reviews, a review
+    /// log as `export --reviews` writes it; or an Anki .apkg / .colpkg.
     pub file: PathBuf,
-    /// Id of the deck to write.
+    /// Id of the deck to write (CSV of cards only).
     #[arg(long, value_name = "ID")]
-    pub deck_id: String,
+    pub deck_id: Option<String>,
     /// Language of the texts (a BCP 47 tag such as en or hi-Latn).
     #[arg(long, value_name = "TAG", default_value = "en")]
     pub lang: String,
+    /// FILE is a review log (JSON or CSV) to merge into this one.
+    #[arg(long, conflicts_with_all = ["deck_id", "out"])]
+    pub reviews: bool,
+    /// Format of the review log (default: from the file's extension).
+    #[arg(long, value_enum, requires = "reviews")]
+    pub format: Option<ExportFormat>,
+    /// Where an Anki import writes its deck folder (default: ./anki-import).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]
@@ -202,4 +214,22 @@ pub enum DbCommand {
     Rebuild,
     /// Set a damaged database aside (it is kept) and restore a backup.
     Restore(RestoreArgs),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ReportFormat {
+    Text,
+    Json,
+}
+
+#[derive(Debug, Args)]
+pub struct OptimizeArgs {
+    /// Fit to one deck's reviews only (default: every deck).
+    #[arg(long, value_name = "ID")]
+    pub deck: Option<String>,
+    /// Write the fitted parameters to the config file (fsrs_parameters).
+    #[arg(long)]
+    pub apply: bool,
+    #[arg(long, value_enum, default_value_t = ReportFormat::Text)]
+    pub format: ReportFormat,
 }

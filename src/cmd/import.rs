@@ -1,5 +1,6 @@
 //! `flipcard import FILE.csv --deck-id ID [--lang TAG]`: a CSV of cards
-//! becomes a deck file on standard output.
+//! becomes a deck file on standard output. `--reviews FILE` and Anki
+//! packages are handed to their own modules.
 
 use std::io::Write;
 use std::path::Path;
@@ -11,12 +12,26 @@ use crate::cmd::args::{Cli, ImportArgs};
 use crate::deck::csv::{self as csvdeck, DeckHeader};
 use crate::text::plural;
 
-pub fn run(_cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
-    if !crate::deck::validate::is_id(&args.deck_id) {
+pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
+    if args.reviews {
+        return crate::cmd::import_reviews::run(cli, args);
+    }
+    if crate::cmd::import_anki::is_anki_file(&args.file) {
+        return crate::cmd::import_anki::run(cli, args);
+    }
+    let Some(deck_id) = &args.deck_id else {
+        anyhow::bail!(
+            "say which deck to write: --deck-id ID (a CSV of cards), or --reviews for a review log, or give an Anki .apkg/.colpkg"
+        );
+    };
+    if args.out.is_some() {
+        anyhow::bail!("--out is for Anki imports; a CSV of cards becomes a deck file on stdout");
+    }
+    if !crate::deck::validate::is_id(deck_id) {
         anyhow::bail!(
             "--deck-id {:?} is not a deck id: lowercase a-z/0-9 words joined by '-' (e.g. {})",
-            args.deck_id,
-            crate::deck::csv::slug(&args.deck_id)
+            deck_id,
+            crate::deck::csv::slug(deck_id)
         );
     }
     if !crate::deck::validate::is_lang_tag(&args.lang) {
@@ -49,8 +64,8 @@ pub fn run(_cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let header = DeckHeader {
-        id: args.deck_id.clone(),
-        title: title_from(&args.file, &args.deck_id),
+        id: deck_id.clone(),
+        title: title_from(&args.file, deck_id),
         lang: args.lang.clone(),
         source: args.file.file_name().map_or_else(
             || args.file.display().to_string(),
@@ -61,7 +76,7 @@ pub fn run(_cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
     let mut out = crate::cmd::output::stdout();
     out.write_all(toml.as_bytes())?;
     out.flush()?;
-    crate::errln!("{}", placement_note(&args.deck_id, &args.lang, cards.len()));
+    crate::errln!("{}", placement_note(deck_id, &args.lang, cards.len()));
     Ok(ExitCode::SUCCESS)
 }
 

@@ -9,6 +9,9 @@ mod common;
 pub mod db;
 pub mod export;
 pub mod import;
+pub mod import_anki;
+pub mod import_reviews;
+pub mod optimize;
 pub mod output;
 pub mod paths;
 pub mod review;
@@ -38,6 +41,7 @@ pub fn run(cli: &Cli) -> ExitCode {
         Some(Command::Export(args)) => export::run(cli, args),
         Some(Command::Import(args)) => import::run(cli, args),
         Some(Command::Db(args)) => db::run(cli, args),
+        Some(Command::Optimize(args)) => optimize::run(cli, args),
     };
     // A failed write to stdout comes first: whatever error the handler
     // returned is then only its consequence.

@@ -40,10 +40,18 @@ pub fn run(cli: &Cli, args: &StatsArgs) -> anyhow::Result<ExitCode> {
     let stats = store.stats(scope, now, &grid)?;
     let mut out = crate::cmd::output::stdout();
     if args.json {
-        serde_json::to_writer_pretty(&mut out, &stats)?;
+        let mut value = serde_json::to_value(&stats)?;
+        if let Some(map) = value.as_object_mut() {
+            map.insert(
+                "fsrs_parameters".into(),
+                serde_json::to_value(ParametersInUse::of(&config))?,
+            );
+        }
+        serde_json::to_writer_pretty(&mut out, &value)?;
         writeln!(out)?;
     } else {
         out.write_all(render_stats(&stats).as_bytes())?;
+        out.write_all(ParametersInUse::of(&config).line().as_bytes())?;
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
@@ -104,6 +112,9 @@ pub fn render_stats(s: &Stats) -> String {
         percent(&s.retention.last_30_days),
         percent(&s.retention.all_time)
     ));
+    for l in true_retention_lines(&s.true_retention) {
+        line(l);
+    }
     line(format!(
         "Prompt accuracy (predict, then check): {}",
         percent(&s.prompts.overall)
@@ -136,4 +147,64 @@ pub fn render_stats(s: &Stats) -> String {
         }
     }
     o
+}
+
+/// Anki's true-retention table as text lines.
+pub fn true_retention_lines(t: &crate::store::true_retention::TrueRetention) -> Vec<String> {
+    let cell = |p: crate::store::true_retention::PassFail| match p.rate {
+        Some(rate) => format!(
+            "{}% ({}/{})",
+            crate::text::num::rounded(rate * 100.0, 3),
+            p.passed,
+            p.passed + p.failed
+        ),
+        None => "–".to_string(),
+    };
+    let mut out = vec![format!(
+        "True retention by maturity (young: stability under {} days; mature: {} or more):",
+        crate::store::true_retention::MATURE_DAYS,
+        crate::store::true_retention::MATURE_DAYS
+    )];
+    out.push(format!("  {:<10} {:<22} {}", "", "young", "mature"));
+    for ((name, young), (_, mature)) in t.young.rows().into_iter().zip(t.mature.rows()) {
+        out.push(format!("  {name:<10} {:<22} {}", cell(young), cell(mature)));
+    }
+    out
+}
+
+/// Which FSRS parameters schedule the cards: the defaults, or the ones
+/// `flipcard optimize --apply` fitted, and when.
+#[derive(serde::Serialize)]
+pub struct ParametersInUse {
+    /// "default" or "fitted".
+    pub source: &'static str,
+    pub fitted_at: Option<String>,
+    pub values: Vec<f64>,
+}
+
+impl ParametersInUse {
+    pub fn of(config: &Config) -> ParametersInUse {
+        match config.fsrs_parameters {
+            Some(w) => ParametersInUse {
+                source: "fitted",
+                fitted_at: config.fsrs_fitted_at.map(|t| t.to_rfc3339()),
+                values: w.to_vec(),
+            },
+            None => ParametersInUse {
+                source: "default",
+                fitted_at: None,
+                values: crate::sched::scheduler::default_parameters().to_vec(),
+            },
+        }
+    }
+
+    fn line(&self) -> String {
+        match (&self.fitted_at, self.source) {
+            (_, "default") => {
+                "FSRS parameters: the defaults (`flipcard optimize` fits your own)\n".to_string()
+            }
+            (Some(at), _) => format!("FSRS parameters: fitted to your reviews on {at}\n"),
+            (None, _) => "FSRS parameters: your own (fsrs_parameters in the config)\n".to_string(),
+        }
+    }
 }

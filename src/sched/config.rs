@@ -34,6 +34,37 @@ pub const KEYS: [&str; 8] = [
     "language",
 ];
 
+/// Keys written only once they have a value: FSRS parameters fitted to the
+/// learner's own reviews (`flipcard optimize --apply`) and when.
+pub const FITTED_KEYS: [&str; 2] = ["fsrs_parameters", "fsrs_fitted_at"];
+
+/// The range the `fsrs` crate clamps each FSRS-6 parameter to while fitting
+/// (its `parameter_clipper`, with one relearning step and the short-term
+/// terms enabled): parameters outside it were not produced by a fit.
+pub const PARAMETER_BOUNDS: [(f64, f64); 21] = [
+    (0.001, 100.0),
+    (0.001, 100.0),
+    (0.001, 100.0),
+    (0.001, 100.0),
+    (1.0, 10.0),
+    (0.001, 4.0),
+    (0.001, 4.0),
+    (0.001, 0.75),
+    (0.0, 4.5),
+    (0.0, 0.8),
+    (0.001, 3.5),
+    (0.001, 5.0),
+    (0.001, 0.25),
+    (0.001, 0.9),
+    (0.0, 4.0),
+    (0.0, 1.0),
+    (1.0, 6.0),
+    (0.0, 2.0),
+    (0.0, 2.0),
+    (0.0, 0.8),
+    (0.1, 0.8),
+];
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Config {
     /// Probability of recall the scheduler aims for at the due time.
@@ -50,6 +81,10 @@ pub struct Config {
     pub day_starts_at: NaiveTime,
     /// Language of explanations and of the interface.
     pub language: String,
+    /// FSRS-6 parameters fitted to this learner (`None`: the defaults).
+    pub fsrs_parameters: Option<[f64; 21]>,
+    /// When `fsrs_parameters` were fitted (RFC 3339).
+    pub fsrs_fitted_at: Option<chrono::DateTime<chrono::FixedOffset>>,
 }
 
 impl Default for Config {
@@ -63,6 +98,8 @@ impl Default for Config {
             reviews_per_day: 200,
             day_starts_at: NaiveTime::from_hms_opt(4, 0, 0).unwrap_or(NaiveTime::MIN),
             language: "en".to_string(),
+            fsrs_parameters: None,
+            fsrs_fitted_at: None,
         }
     }
 }
@@ -91,7 +128,7 @@ pub enum ConfigError {
         key: String,
         message: String,
     },
-    #[error("`{0}` is not a config key; known keys: {keys}", keys = KEYS.join(", "))]
+    #[error("`{0}` is not a config key (or has no value to write); known keys: {keys}, {fitted}", keys = KEYS.join(", "), fitted = FITTED_KEYS.join(", "))]
     UnknownKey(String),
 }
 
@@ -107,6 +144,8 @@ struct RawConfig {
     reviews_per_day: Option<Spanned<i64>>,
     day_starts_at: Option<Spanned<String>>,
     language: Option<Spanned<String>>,
+    fsrs_parameters: Option<Spanned<Vec<Spanned<f64>>>>,
+    fsrs_fitted_at: Option<Spanned<String>>,
 }
 
 impl Config {
@@ -219,6 +258,40 @@ impl Config {
             }
             config.language = lang.clone();
         }
+        if let Some(ps) = raw.fsrs_parameters {
+            let values = ps.get_ref();
+            if values.len() != 21 {
+                return Err(invalid(
+                    "fsrs_parameters",
+                    ps.span(),
+                    format!("{} numbers; FSRS-6 has 21", values.len()),
+                ));
+            }
+            let mut w = [0.0; 21];
+            for (i, (v, (lo, hi))) in values.iter().zip(PARAMETER_BOUNDS).enumerate() {
+                let x = *v.get_ref();
+                if !x.is_finite() || !(lo..=hi).contains(&x) {
+                    return Err(invalid(
+                        &format!("fsrs_parameters[{i}]"),
+                        v.span(),
+                        format!("{x} is outside {lo}–{hi}, the range FSRS fits it in"),
+                    ));
+                }
+                w[i] = x;
+            }
+            config.fsrs_parameters = Some(w);
+        }
+        if let Some(t) = raw.fsrs_fitted_at {
+            config.fsrs_fitted_at = Some(
+                chrono::DateTime::parse_from_rfc3339(t.get_ref()).map_err(|e| {
+                    invalid(
+                        "fsrs_fitted_at",
+                        t.span(),
+                        format!("{:?} is not an RFC 3339 time ({e})", t.get_ref()),
+                    )
+                })?,
+            );
+        }
         Ok(config)
     }
 
@@ -244,8 +317,26 @@ impl Config {
                 self.day_starts_at.minute()
             )),
             "language" => toml::Value::String(self.language.clone()),
+            "fsrs_parameters" | "fsrs_fitted_at" => {
+                return self
+                    .fitted_value_of(key)
+                    .ok_or_else(|| ConfigError::UnknownKey(key.to_string()));
+            }
             other => return Err(ConfigError::UnknownKey(other.to_string())),
         })
+    }
+
+    /// The value of one of [`FITTED_KEYS`], `None` while unset.
+    pub fn fitted_value_of(&self, key: &str) -> Option<toml::Value> {
+        match key {
+            "fsrs_parameters" => self
+                .fsrs_parameters
+                .map(|w| toml::Value::Array(w.iter().map(|x| toml::Value::Float(*x)).collect())),
+            "fsrs_fitted_at" => self
+                .fsrs_fitted_at
+                .map(|t| toml::Value::String(t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true))),
+            _ => None,
+        }
     }
 
     /// Writes this config's value of `key` into the file at `path`, keeping
@@ -275,6 +366,17 @@ impl Config {
         for key in KEYS {
             let (mine, theirs) = (self.value_of(key)?, on_file.value_of(key)?);
             if mine != theirs {
+                text =
+                    set_key_in_text(&text, key, &mine).map_err(|message| ConfigError::Parse {
+                        path: path.to_path_buf(),
+                        message,
+                    })?;
+            }
+        }
+        for key in FITTED_KEYS {
+            if let Some(mine) = self.fitted_value_of(key)
+                && Some(&mine) != on_file.fitted_value_of(key).as_ref()
+            {
                 text =
                     set_key_in_text(&text, key, &mine).map_err(|message| ConfigError::Parse {
                         path: path.to_path_buf(),
@@ -432,6 +534,11 @@ impl fmt::Display for Config {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         for key in KEYS {
             if let Ok(v) = self.value_of(key) {
+                writeln!(f, "{key} = {v}")?;
+            }
+        }
+        for key in FITTED_KEYS {
+            if let Some(v) = self.fitted_value_of(key) {
                 writeln!(f, "{key} = {v}")?;
             }
         }
@@ -695,5 +802,77 @@ language = "hi-Latn"
             ..Config::default()
         };
         assert_eq!(parse(&c.to_string()).unwrap(), c);
+    }
+
+    fn fitted_line(w: &[f64]) -> String {
+        let items: Vec<String> = w.iter().map(|x| format!("{x:?}")).collect();
+        format!("fsrs_parameters = [{}]", items.join(", "))
+    }
+
+    #[test]
+    fn fitted_parameters_are_read_and_checked() {
+        let w = crate::sched::scheduler::default_parameters();
+        let c = parse(&format!(
+            "{}\nfsrs_fitted_at = \"2026-11-20T08:00:00Z\"\n",
+            fitted_line(&w)
+        ))
+        .unwrap();
+        assert_eq!(c.fsrs_parameters, Some(w));
+        assert_eq!(
+            c.fsrs_fitted_at.map(|t| t.to_rfc3339()),
+            Some("2026-11-20T08:00:00+00:00".to_string())
+        );
+        assert_eq!(parse(&c.to_string()).unwrap(), c);
+
+        let short = parse(&format!("# mine\n{}", fitted_line(&w[..20]))).unwrap_err();
+        assert_eq!(
+            short.to_string(),
+            "config.toml:2:19: `fsrs_parameters`: 20 numbers; FSRS-6 has 21"
+        );
+        let mut bad = w;
+        bad[20] = 0.05;
+        let msg = parse(&fitted_line(&bad)).unwrap_err().to_string();
+        assert!(msg.starts_with("config.toml:1:"), "{msg}");
+        assert!(
+            msg.contains("`fsrs_parameters[20]`: 0.05 is outside 0.1–0.8"),
+            "{msg}"
+        );
+        let nan = fitted_line(&w).replacen("0.212", "nan", 1);
+        let msg = parse(&nan).unwrap_err().to_string();
+        assert!(msg.contains("`fsrs_parameters[0]`: NaN"), "{msg}");
+        let when = parse("fsrs_fitted_at = \"last week\"")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            when.starts_with("config.toml:1:18: `fsrs_fitted_at`"),
+            "{when}"
+        );
+        assert!(parse("fsrs_parameters = [\"a\"]").is_err());
+    }
+
+    #[test]
+    fn fitted_parameters_are_saved_keeping_comments() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("config.toml");
+        let original = "# my settings\nlanguage = \"hi-Latn\" # chosen\n";
+        std::fs::write(&path, original).unwrap();
+        let mut c = Config::load(Some(&path)).unwrap();
+        let mut w = crate::sched::scheduler::default_parameters();
+        w[0] = 0.5;
+        c.fsrs_parameters = Some(w);
+        c.fsrs_fitted_at = chrono::DateTime::parse_from_rfc3339("2026-11-20T08:00:00Z").ok();
+        c.save_key(&path, "fsrs_parameters").unwrap();
+        c.save_key(&path, "fsrs_fitted_at").unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.starts_with(original), "{text}");
+        assert!(text.contains("fsrs_parameters = [0.5, 1.2931,"), "{text}");
+        assert_eq!(Config::load(Some(&path)).unwrap(), c);
+        // Fitted again: the value is replaced in place.
+        w[0] = 0.7;
+        c.fsrs_parameters = Some(w);
+        c.save_key(&path, "fsrs_parameters").unwrap();
+        let again = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(again.matches("fsrs_parameters").count(), 1, "{again}");
+        assert_eq!(Config::load(Some(&path)).unwrap(), c);
     }
 }

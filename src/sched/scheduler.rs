@@ -1,7 +1,8 @@
 //! FSRS-6 with short-term learning and relearning steps, card for card as
 //! py-fsrs 6.x's `Scheduler.review_card` does it.
 //!
-//! The memory model is FSRS-6 with the `fsrs` crate's default parameters.
+//! The memory model is FSRS-6 with the `fsrs` crate's default parameters,
+//! or the learner's own fitted ones (`fsrs_parameters` in the config).
 //! The crate's own `next_states` is not used for scheduling because it
 //! computes in `f32` (about seven significant digits, so stabilities drift
 //! from py-fsrs after a few reviews and a rounded interval can land on the
@@ -71,7 +72,7 @@ pub fn default_parameters() -> [f64; 21] {
 
 impl Scheduler {
     pub fn new(config: &Config) -> Scheduler {
-        let w = default_parameters();
+        let w = config.fsrs_parameters.unwrap_or_else(default_parameters);
         let decay = -w[20];
         Scheduler {
             w,

@@ -5,6 +5,7 @@
 //! Every write is one transaction committed to disk (`synchronous=FULL`)
 //! before the call returns, so a rating is safe before the next card shows.
 
+pub mod answers;
 pub mod attempt;
 pub mod backup;
 mod codec;
@@ -12,18 +13,22 @@ pub mod day;
 pub mod db;
 pub mod error;
 pub mod export;
+pub mod import;
 pub mod log;
+pub mod merge;
 pub mod restore;
 pub mod schema;
 pub mod state;
 pub mod stats;
 mod tally;
 pub mod today;
+pub mod true_retention;
 
 pub use attempt::PromptAttempt;
 pub use day::DayGrid;
 pub use db::{OpenOptions, Store};
 pub use error::StoreError;
 pub use log::LoggedReview;
+pub use merge::{IncomingReview, MergeSummary};
 pub use state::{CachedState, RebuildReport};
 pub use stats::{Stats, StatsScope};

@@ -41,6 +41,8 @@ pub struct Stats {
     pub prompts: PromptAccuracy,
     /// Items with history whose card is no longer in its deck.
     pub orphans: Vec<Orphan>,
+    /// Anki's true-retention table (young and mature review answers).
+    pub true_retention: super::true_retention::TrueRetention,
 }
 
 /// The current items of the scope by state.
@@ -162,6 +164,7 @@ impl Store {
         };
         let prompts = self.prompt_accuracy(scope.deck)?;
         let orphans = self.orphans(scope.deck, &items, &cached)?;
+        let true_retention = self.true_retention(scope.deck, now, grid)?;
         Ok(Stats {
             deck: scope.deck.map(str::to_string),
             now,
@@ -172,6 +175,7 @@ impl Store {
             retention,
             prompts,
             orphans,
+            true_retention,
         })
     }
 

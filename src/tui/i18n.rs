@@ -115,6 +115,20 @@ pub enum Msg {
     Relearning,
     InReview,
     AllTime,
+    // The memory panel of the stats screen.
+    Calendar,
+    Less,
+    More,
+    TrueRetention,
+    Young,
+    Mature,
+    Yesterday,
+    Week,
+    Month,
+    Year,
+    RecallNow,
+    FsrsDefault,
+    FsrsFitted,
 }
 
 /// What the home screen says when no deck could be opened: how many deck
@@ -277,6 +291,19 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         Relearning => pick!("relearning", "dobara seekh rahe"),
         InReview => pick!("review", "review"),
         AllTime => pick!("all time", "hamesha"),
+        Calendar => pick!("Reviews by day", "Roz ke reviews"),
+        Less => pick!("less", "kam"),
+        More => pick!("more", "zyada"),
+        TrueRetention => pick!("True retention", "Asli yaad"),
+        Young => pick!("young <21d", "naye <21d"),
+        Mature => pick!("mature", "pakke"),
+        Yesterday => pick!("yesterday", "kal"),
+        Week => pick!("7 days", "7 din"),
+        Month => pick!("30 days", "30 din"),
+        Year => pick!("365 days", "365 din"),
+        RecallNow => pick!("Recall now", "Abhi yaad"),
+        FsrsDefault => pick!("FSRS defaults", "FSRS default"),
+        FsrsFitted => pick!("FSRS fitted", "FSRS fit kiya"),
     }
 }
 

@@ -12,6 +12,7 @@ pub mod geometry;
 pub mod i18n;
 pub mod keymap;
 pub mod live;
+pub mod memory;
 pub mod plots;
 pub mod screens;
 pub mod services;

@@ -44,6 +44,7 @@ pub struct StatsState {
     pub bench: Option<Vec<BenchRow>>,
     /// Where the bench table came from (the numerics report's folder).
     pub bench_path: Option<std::path::PathBuf>,
+    pub memory: Result<crate::tui::memory::MemoryPanel, String>,
 }
 
 impl StatsState {
@@ -74,11 +75,16 @@ impl StatsState {
         };
         let bench = app.services.bench_csv.as_deref().and_then(read_bench);
         let bench_path = bench.as_ref().and(app.services.bench_csv.clone());
+        let memory = match app.decks.get(deck) {
+            Some(d) => crate::tui::memory::MemoryPanel::open(app, &d.id),
+            None => Err("no such deck".into()),
+        };
         StatsState {
             deck,
             stats,
             bench,
             bench_path,
+            memory,
         }
     }
 }
@@ -170,12 +176,14 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         let (methods, _) = bench_axes(rows);
         (methods.len() as u16 + 2).min(10)
     });
-    let [summary, charts, bench] = Layout::vertical([
+    let [summary, charts, memory, bench] = Layout::vertical([
         Constraint::Length(3),
         Constraint::Fill(1),
+        Constraint::Length(10),
         Constraint::Length(bench_h),
     ])
     .areas(area);
+    crate::tui::memory::draw(frame, memory, app, &state.memory);
 
     let c = &stats.cards;
     let states = format!(

@@ -1,0 +1,176 @@
+//! `flipcard optimize [--deck ID] [--apply] [--format json]`: fits FSRS-6 to
+//! the learner's own reviews and compares the fit with the defaults on
+//! answers it was not trained on.
+
+use std::process::ExitCode;
+
+use serde::Serialize;
+
+use crate::cmd::args::{Cli, OptimizeArgs, ReportFormat};
+use crate::cmd::common::open_store_read_only;
+use crate::cmd::paths;
+use crate::sched::Config;
+use crate::sched::fit::{self, Evaluation, FitAnswer, FitError};
+use crate::store::DayGrid;
+use crate::text::{num, plural};
+
+#[derive(Serialize)]
+struct Scores {
+    log_loss: f64,
+    rmse_bins: f64,
+}
+
+impl From<Evaluation> for Scores {
+    fn from(e: Evaluation) -> Self {
+        Scores {
+            log_loss: e.log_loss,
+            rmse_bins: e.rmse_bins,
+        }
+    }
+}
+
+/// The JSON report. The first six fields are the contract.
+#[derive(Serialize)]
+struct Report {
+    reviews: usize,
+    cards: usize,
+    default: Option<Scores>,
+    fitted: Option<Scores>,
+    parameters: Option<Vec<f64>>,
+    applied: bool,
+    deck: Option<String>,
+    /// Answers predicted (one per review on a later day than the one before).
+    items: usize,
+    /// Reviews still needed before a fit, when there are too few.
+    needed: Option<usize>,
+}
+
+pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
+    let config_path = paths::config_file(cli.config.clone());
+    let config = Config::load(config_path.as_deref())?;
+    let store = open_store_read_only(cli)?;
+    let grid = DayGrid::new(chrono::Local, config.day_starts_at);
+    let by_item = store.answers_by_item(args.deck.as_deref())?;
+    if let Some(id) = &args.deck
+        && by_item.is_empty()
+    {
+        anyhow::bail!("no reviews of deck `{id}` in the log to fit to");
+    }
+    let histories: Vec<Vec<FitAnswer>> = by_item
+        .iter()
+        .map(|(_, answers)| {
+            answers
+                .iter()
+                .map(|(at, rating)| FitAnswer {
+                    at: *at,
+                    day: grid.day_of(*at),
+                    rating: *rating,
+                })
+                .collect()
+        })
+        .collect();
+    let set = fit::training_set(&histories);
+    let mut report = Report {
+        reviews: set.reviews,
+        cards: set.cards,
+        default: None,
+        fitted: None,
+        parameters: None,
+        applied: false,
+        deck: args.deck.clone(),
+        items: set.items.len(),
+        needed: None,
+    };
+    let result = match fit::fit(&set) {
+        Ok(f) => f,
+        Err(FitError::TooFew { have, need }) => {
+            report.needed = Some(need - have);
+            match args.format {
+                ReportFormat::Json => print_json(&report)?,
+                ReportFormat::Text => crate::outln!(
+                    "not enough reviews to fit FSRS: {} can be predicted from an earlier one, and the fit needs {need}; {} more (answered on a later day than the card's previous answer) are needed. Nothing changed.",
+                    plural(have, "review", "reviews"),
+                    need - have
+                )?,
+            }
+            return Ok(ExitCode::SUCCESS);
+        }
+        Err(e) => return Err(e.into()),
+    };
+    report.default = Some(result.default.into());
+    report.fitted = Some(result.fitted.into());
+    report.parameters = Some(result.parameters.to_vec());
+    if args.apply {
+        let Some(path) = &config_path else {
+            anyhow::bail!("no config file location known; pass --config FILE to apply");
+        };
+        let mut updated = config.clone();
+        updated.fsrs_parameters = Some(result.parameters);
+        updated.fsrs_fitted_at = Some(crate::sched::clock::now()?.fixed_offset());
+        updated.save_key(path, "fsrs_parameters")?;
+        updated.save_key(path, "fsrs_fitted_at")?;
+        report.applied = true;
+    }
+    match args.format {
+        ReportFormat::Json => print_json(&report)?,
+        ReportFormat::Text => {
+            crate::out!("{}", render(&report, &result))?;
+            if args.apply
+                && let Some(path) = &config_path
+            {
+                crate::outln!(
+                    "applied: written to {} as fsrs_parameters; the scheduler uses them from now on",
+                    path.display()
+                )?;
+            } else {
+                crate::outln!(
+                    "not applied: `flipcard optimize --apply` writes them to the config"
+                )?;
+            }
+        }
+    }
+    if result.fitted.log_loss >= result.default.log_loss {
+        crate::errln!(
+            "flipcard: warning: the fitted parameters predict these reviews no better than the defaults"
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print_json(report: &Report) -> anyhow::Result<()> {
+    let mut out = crate::cmd::output::stdout();
+    serde_json::to_writer(&mut out, report)?;
+    use std::io::Write as _;
+    writeln!(out)?;
+    out.flush()?;
+    Ok(())
+}
+
+fn render(r: &Report, f: &fit::Fit) -> String {
+    let mut o = format!(
+        "fitted FSRS-6 to {} of {} ({} predicted from an earlier one){}\n",
+        plural(r.reviews, "review", "reviews"),
+        plural(r.cards, "card", "cards"),
+        r.items,
+        r.deck
+            .as_deref()
+            .map(|d| format!(" in deck {d}"))
+            .unwrap_or_default()
+    );
+    o.push_str("judged on reviews each fit did not see (time-series split):\n");
+    o.push_str(&format!(
+        "  {:<10} {:>10} {:>12}\n",
+        "", "log loss", "RMSE (bins)"
+    ));
+    for (name, e) in [("default", f.default), ("fitted", f.fitted)] {
+        o.push_str(&format!(
+            "  {:<10} {:>10} {:>12}\n",
+            name,
+            num::rounded(e.log_loss, 4),
+            num::rounded(e.rmse_bins, 4)
+        ));
+    }
+    let ps: Vec<String> = f.parameters.iter().map(|p| num::show(*p)).collect();
+    o.push_str(&format!("parameters: {}\n", ps.join(", ")));
+    o
+}

@@ -1,0 +1,293 @@
+//! Reading what `flipcard export --reviews` writes (JSON or CSV) back into
+//! reviews to merge. Only what identifies and replays an answer is read
+//! (deck, card, direction, reviewed_at, rating; kind for cram answers,
+//! duration_ms and undone when present); the stored states are recomputed
+//! by the merge. Every bad row is reported with its line, and a file with
+//! any bad row gives no reviews at all.
+
+use chrono::{DateTime, Utc};
+use serde_json::value::RawValue;
+
+use super::merge::IncomingReview;
+use crate::sched::{Direction, ItemKey, Rating, ReviewKind};
+
+/// A problem with one row (or with the file as a whole, at its line).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RowError {
+    pub line: usize,
+    pub message: String,
+}
+
+/// The fields a row must have.
+const REQUIRED: [&str; 5] = ["deck", "card", "direction", "reviewed_at", "rating"];
+
+/// One row's fields as text (CSV) or JSON values, looked up by name.
+trait Fields {
+    fn text(&self, name: &str) -> Result<Option<String>, String>;
+    fn integer(&self, name: &str) -> Result<Option<i64>, String>;
+    fn boolean(&self, name: &str) -> Result<Option<bool>, String>;
+}
+
+fn row_from(f: &dyn Fields) -> Result<IncomingReview, String> {
+    let mut missing = Vec::new();
+    let mut texts = Vec::new();
+    for name in &REQUIRED[..4] {
+        match f.text(name)? {
+            Some(v) if !v.is_empty() => texts.push(v),
+            _ => {
+                missing.push(*name);
+                texts.push(String::new());
+            }
+        }
+    }
+    let rating = f.integer("rating")?;
+    if rating.is_none() {
+        missing.push("rating");
+    }
+    if !missing.is_empty() {
+        return Err(format!("missing {}", missing.join(", ")));
+    }
+    let [deck, card, direction, reviewed_at]: [String; 4] =
+        texts.try_into().map_err(|_| "missing fields".to_string())?;
+    let direction = Direction::parse(&direction)
+        .ok_or_else(|| format!("direction {direction:?} is not one of forward, backward"))?;
+    let reviewed_at = DateTime::parse_from_rfc3339(&reviewed_at)
+        .map_err(|e| format!("reviewed_at {reviewed_at:?} is not an RFC 3339 time ({e})"))?
+        .with_timezone(&Utc);
+    let n = rating.unwrap_or(0);
+    let rating = Rating::from_number(n).ok_or_else(|| format!("rating {n} is not 1–4"))?;
+    let cram = match f.text("kind")? {
+        None => false,
+        Some(k) if k.is_empty() => false,
+        Some(k) => {
+            let kinds = [
+                ReviewKind::Learn,
+                ReviewKind::Review,
+                ReviewKind::Relearn,
+                ReviewKind::Cram,
+            ];
+            let kind = kinds
+                .into_iter()
+                .find(|x| x.as_str() == k)
+                .ok_or_else(|| format!("kind {k:?} is not one of learn, review, relearn, cram"))?;
+            kind == ReviewKind::Cram
+        }
+    };
+    let duration_ms = f.integer("duration_ms")?.unwrap_or(0);
+    if duration_ms < 0 {
+        return Err(format!("duration_ms {duration_ms} is negative"));
+    }
+    Ok(IncomingReview {
+        key: ItemKey {
+            deck,
+            card,
+            direction,
+        },
+        reviewed_at,
+        rating,
+        cram,
+        duration_ms,
+        undone: f.boolean("undone")?.unwrap_or(false),
+    })
+}
+
+struct JsonRow<'a>(&'a serde_json::Map<String, serde_json::Value>);
+
+impl Fields for JsonRow<'_> {
+    fn text(&self, name: &str) -> Result<Option<String>, String> {
+        match self.0.get(name) {
+            None | Some(serde_json::Value::Null) => Ok(None),
+            Some(serde_json::Value::String(s)) => Ok(Some(s.clone())),
+            Some(other) => Err(format!("{name} is {other}, not a string")),
+        }
+    }
+    fn integer(&self, name: &str) -> Result<Option<i64>, String> {
+        match self.0.get(name) {
+            None | Some(serde_json::Value::Null) => Ok(None),
+            Some(v) => v
+                .as_i64()
+                .map(Some)
+                .ok_or_else(|| format!("{name} is {v}, not a whole number")),
+        }
+    }
+    fn boolean(&self, name: &str) -> Result<Option<bool>, String> {
+        match self.0.get(name) {
+            None | Some(serde_json::Value::Null) => Ok(None),
+            Some(v) => v
+                .as_bool()
+                .map(Some)
+                .ok_or_else(|| format!("{name} is {v}, not true or false")),
+        }
+    }
+}
+
+/// Reads a JSON array of exported records.
+pub fn read_reviews_json(text: &str) -> Result<Vec<IncomingReview>, Vec<RowError>> {
+    let items: Vec<&RawValue> = serde_json::from_str(text).map_err(|e| {
+        vec![RowError {
+            line: e.line().max(1),
+            message: format!("not a JSON array of reviews: {e}"),
+        }]
+    })?;
+    let mut rows = Vec::with_capacity(items.len());
+    let mut errors = Vec::new();
+    for raw in items {
+        let offset = (raw.get().as_ptr() as usize).saturating_sub(text.as_ptr() as usize);
+        let line = text[..offset.min(text.len())].matches('\n').count() + 1;
+        let parsed = match serde_json::from_str::<serde_json::Value>(raw.get()) {
+            Ok(serde_json::Value::Object(map)) => row_from(&JsonRow(&map)),
+            Ok(other) => Err(format!("{other} is not an object of review fields")),
+            Err(e) => Err(e.to_string()),
+        };
+        match parsed {
+            Ok(r) => rows.push(r),
+            Err(message) => errors.push(RowError { line, message }),
+        }
+    }
+    if errors.is_empty() {
+        Ok(rows)
+    } else {
+        Err(errors)
+    }
+}
+
+struct CsvRow<'a> {
+    header: &'a csv::StringRecord,
+    record: &'a csv::StringRecord,
+}
+
+impl CsvRow<'_> {
+    fn field(&self, name: &str) -> Option<&str> {
+        let i = self.header.iter().position(|h| h == name)?;
+        self.record.get(i)
+    }
+}
+
+impl Fields for CsvRow<'_> {
+    fn text(&self, name: &str) -> Result<Option<String>, String> {
+        Ok(self.field(name).map(str::to_string))
+    }
+    fn integer(&self, name: &str) -> Result<Option<i64>, String> {
+        match self.field(name).map(str::trim) {
+            None | Some("") => Ok(None),
+            Some(v) => v
+                .parse()
+                .map(Some)
+                .map_err(|_| format!("{name} {v:?} is not a whole number")),
+        }
+    }
+    fn boolean(&self, name: &str) -> Result<Option<bool>, String> {
+        match self.field(name).map(str::trim) {
+            None | Some("") => Ok(None),
+            Some("true") => Ok(Some(true)),
+            Some("false") => Ok(Some(false)),
+            Some(v) => Err(format!("{name} {v:?} is not true or false")),
+        }
+    }
+}
+
+/// Reads CSV with the export's header row (columns found by name).
+pub fn read_reviews_csv(text: &str) -> Result<Vec<IncomingReview>, Vec<RowError>> {
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .flexible(true)
+        .from_reader(text.as_bytes());
+    let header = reader.headers().cloned().map_err(|e| {
+        vec![RowError {
+            line: 1,
+            message: format!("cannot read the header row: {e}"),
+        }]
+    })?;
+    let absent: Vec<&str> = REQUIRED
+        .into_iter()
+        .filter(|f| !header.iter().any(|h| h == *f))
+        .collect();
+    if absent.is_empty() && header.is_empty() {
+        return Ok(Vec::new());
+    }
+    if !absent.is_empty() {
+        return Err(vec![RowError {
+            line: 1,
+            message: format!(
+                "the header row lacks {} (expected the header `flipcard export --reviews --format csv` writes)",
+                absent.join(", ")
+            ),
+        }]);
+    }
+    let mut rows = Vec::new();
+    let mut errors = Vec::new();
+    let mut record = csv::StringRecord::new();
+    loop {
+        let line = reader.position().line() as usize;
+        match reader.read_record(&mut record) {
+            Ok(false) => break,
+            Ok(true) => {
+                let line = record.position().map_or(line, |p| p.line() as usize);
+                if record.len() != header.len() {
+                    errors.push(RowError {
+                        line,
+                        message: format!(
+                            "{} fields where the header has {}",
+                            record.len(),
+                            header.len()
+                        ),
+                    });
+                    continue;
+                }
+                match row_from(&CsvRow {
+                    header: &header,
+                    record: &record,
+                }) {
+                    Ok(r) => rows.push(r),
+                    Err(message) => errors.push(RowError { line, message }),
+                }
+            }
+            Err(e) => {
+                let line = e.position().map_or(line, |p| p.line() as usize);
+                errors.push(RowError {
+                    line,
+                    message: e.to_string(),
+                });
+                // A broken quote swallows the rest: one error is enough.
+                if !matches!(e.kind(), csv::ErrorKind::Utf8 { .. }) {
+                    break;
+                }
+            }
+        }
+    }
+    if errors.is_empty() {
+        Ok(rows)
+    } else {
+        Err(errors)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn json_errors_name_every_bad_row() {
+        let text = "[\n{\"deck\":\"d\",\"card\":\"c\",\"direction\":\"forward\",\"reviewed_at\":\"2026-01-01T00:00:00.000Z\",\"rating\":3},\n{\"deck\":\"d\",\"card\":\"c\",\"direction\":\"sideways\",\"reviewed_at\":\"2026-01-01T00:00:00.000Z\",\"rating\":3},\n{\"deck\":\"d\",\"direction\":\"forward\",\"reviewed_at\":\"x\",\"rating\":9}\n]\n";
+        let errs = read_reviews_json(text).unwrap_err();
+        let lines: Vec<_> = errs.iter().map(|e| e.line).collect();
+        assert_eq!(lines, [3, 4], "{errs:?}");
+        assert!(errs[0].message.contains("sideways"));
+        assert!(errs[1].message.contains("missing card"), "{errs:?}");
+    }
+
+    #[test]
+    fn csv_reads_by_header_and_reports_lines() {
+        let ok = "deck,card,direction,reviewed_at,rating,kind,undone\nd,c,backward,2026-01-01T00:00:00Z,4,cram,true\n";
+        let rows = read_reviews_csv(ok).unwrap();
+        assert_eq!(rows.len(), 1);
+        assert!(rows[0].cram && rows[0].undone);
+        assert_eq!(rows[0].key.direction, Direction::Backward);
+        let bad = "deck,card,direction,reviewed_at,rating\nd,c,forward,2026-01-01T00:00:00Z,3\nd,c,forward,2026-01-01T00:00:00Z,0\nd,c,forward,yesterday,3\n";
+        let errs = read_reviews_csv(bad).unwrap_err();
+        assert_eq!(errs.iter().map(|e| e.line).collect::<Vec<_>>(), [3, 4]);
+        let headless = read_reviews_csv("a,b\n1,2\n").unwrap_err();
+        assert_eq!(headless[0].line, 1);
+        assert!(headless[0].message.contains("lacks deck"), "{headless:?}");
+    }
+}
