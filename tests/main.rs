@@ -15,6 +15,7 @@ mod check_sim_agree;
 mod cli_output;
 mod deck_mutations;
 mod deck_physics;
+mod exam_plan;
 mod ode_solvers;
 mod sched_golden;
 mod schemas;

@@ -11,6 +11,7 @@ pub mod export;
 pub mod import;
 pub mod output;
 pub mod paths;
+pub mod plan;
 pub mod review;
 pub mod sim;
 pub mod sim_scene;
@@ -38,6 +39,7 @@ pub fn run(cli: &Cli) -> ExitCode {
         Some(Command::Export(args)) => export::run(cli, args),
         Some(Command::Import(args)) => import::run(cli, args),
         Some(Command::Db(args)) => db::run(cli, args),
+        Some(Command::Plan(args)) => plan::run(cli, args),
     };
     // A failed write to stdout comes first: whatever error the handler
     // returned is then only its consequence.

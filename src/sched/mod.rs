@@ -3,6 +3,7 @@
 
 pub mod clock;
 pub mod config;
+pub mod plan;
 pub mod queue;
 pub mod scheduler;
 pub mod typed;
