@@ -17,6 +17,7 @@ mod deck_mutations;
 mod deck_physics;
 mod exam_plan;
 mod ode_solvers;
+mod plan_cli;
 mod sched_golden;
 mod schemas;
 mod sim_cli;

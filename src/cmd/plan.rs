@@ -76,8 +76,9 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn parse_date(text: &str) -> anyhow::Result<NaiveDate> {
-    NaiveDate::parse_from_str(text.trim(), "%Y-%m-%d")
-        .with_context(|| format!("--exam {text:?} is not a date as YYYY-MM-DD (example: 2026-11-22)"))
+    NaiveDate::parse_from_str(text.trim(), "%Y-%m-%d").with_context(|| {
+        format!("--exam {text:?} is not a date as YYYY-MM-DD (example: 2026-11-22)")
+    })
 }
 
 fn parse_retention(text: &str) -> anyhow::Result<f64> {
@@ -219,7 +220,12 @@ impl Report<'_> {
                 .iter()
                 .map(|k| format!("{}/{} {}", k.deck, k.card, k.direction.as_str()))
                 .collect();
-            let w = names.iter().map(|s| s.chars().count()).max().unwrap_or(4).max(4);
+            let w = names
+                .iter()
+                .map(|s| s.chars().count())
+                .max()
+                .unwrap_or(4)
+                .max(4);
             line(format!(
                 "{:<w$}  {:>6}  {:>12}  {:>9}  Reviews on",
                 "Card", "Now", "Exam, as is", "With plan"
@@ -236,7 +242,11 @@ impl Report<'_> {
                     rounded(*now, 3),
                     rounded(i.without, 3),
                     rounded(i.with, 3),
-                    if on.is_empty() { "–".to_string() } else { on.join(" ") }
+                    if on.is_empty() {
+                        "–".to_string()
+                    } else {
+                        on.join(" ")
+                    }
                 ));
             }
         }

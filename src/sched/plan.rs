@@ -202,10 +202,7 @@ impl<'a> Model<'a> {
         let mut last = item.map(|m| m.last_day);
         for &d in days {
             let gap = last.map_or(0, |l| (d - l).max(0));
-            memory = Some(
-                self.scheduler
-                    .next_memory(memory, gap, Rating::Good),
-            );
+            memory = Some(self.scheduler.next_memory(memory, gap, Rating::Good));
             last = Some(d);
         }
         match (memory, last) {
@@ -228,7 +225,9 @@ fn cheapest(
     if model.without(item) >= target {
         return Some(Vec::new());
     }
-    let all: Vec<i64> = (0..free.len() as i64).filter(|&d| free[d as usize]).collect();
+    let all: Vec<i64> = (0..free.len() as i64)
+        .filter(|&d| free[d as usize])
+        .collect();
     // One review: the earliest free day that suffices.
     if let Some(&d) = all.iter().find(|&&d| model.after(item, &[d]) >= target) {
         return Some(vec![d]);
@@ -264,19 +263,17 @@ fn cheapest(
                 let Some((s, diff, _)) = prev[a] else {
                     continue;
                 };
-                let (s2, d2) = model.scheduler.next_memory(
-                    Some((s, diff)),
-                    days[b] - days[a],
-                    Rating::Good,
-                );
+                let (s2, d2) =
+                    model
+                        .scheduler
+                        .next_memory(Some((s, diff)), days[b] - days[a], Rating::Good);
                 if next[b].is_none_or(|(best, _, _)| s2 > best) {
                     next[b] = Some((s2, d2, Some(a)));
                 }
             }
         }
-        let reached = (0..n).find(|&b| {
-            next[b].is_some_and(|(s, _, _)| model.on_exam(s, days[b]) >= target)
-        });
+        let reached =
+            (0..n).find(|&b| next[b].is_some_and(|(s, _, _)| model.on_exam(s, days[b]) >= target));
         layers.push(next);
         if let Some(b) = reached {
             let mut schedule = Vec::new();
@@ -296,6 +293,10 @@ fn cheapest(
 /// The most schedules tried for one item when the one the dynamic
 /// programme finds would crowd out the single reviews already promised.
 const ALTERNATIVES: usize = 20_000;
+
+/// The most exchanges tried between an item left short and a promised
+/// single review.
+const REPAIRS: usize = 2_000;
 
 /// Single reviews promised so far: each needs one free slot on or after its
 /// earliest useful day. They are placed on days only at the end, so an item
@@ -410,30 +411,78 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
         })
         .collect();
     multi.sort();
-    let order = multi.into_iter().map(|(_, _, i)| i).chain(left_out);
-    for i in order {
-        let item = problem.items[i].as_ref();
-        let keeps = |schedule: &[i64]| {
-            let mut after = free.clone();
-            for &d in schedule {
-                after[d as usize] -= 1;
-            }
-            singles.fit(&after)
-        };
-        let open: Vec<bool> = free.iter().map(|&f| f > 0).collect();
-        let Some(first) = cheapest(&model, item, &open, target, MAX_REVIEWS_PER_ITEM) else {
-            continue;
-        };
-        let chosen = if keeps(&first) {
-            Some(first)
-        } else {
-            alternative(&model, item, &open, target, first.len(), &keeps)
-        };
-        if let Some(schedule) = chosen {
+    let order: Vec<usize> = multi
+        .into_iter()
+        .map(|(_, _, i)| i)
+        .chain(left_out)
+        .collect();
+    for &i in &order {
+        if let Some(schedule) = place(&model, problem.items[i].as_ref(), &free, &singles, target) {
             for &d in &schedule {
                 free[d as usize] -= 1;
             }
             schedules[i] = schedule;
+        }
+    }
+
+    // One exchange at a time: an item still short may get there if a
+    // promised single review gives up its day and that item is brought to
+    // the target with several earlier reviews instead.
+    let mut budget = REPAIRS;
+    for &x in &order {
+        if !schedules[x].is_empty() {
+            continue;
+        }
+        let candidates: Vec<usize> = (0..n).filter(|&y| single_of[y].is_some()).collect();
+        for y in candidates {
+            if budget == 0 {
+                break;
+            }
+            budget -= 1;
+            let Some(a) = single_of[y] else { continue };
+            singles.earliest[a] -= 1;
+            let then = |first: usize, first_free: &[usize], second: usize| {
+                let s1 = place(
+                    &model,
+                    problem.items[first].as_ref(),
+                    first_free,
+                    &singles,
+                    target,
+                )?;
+                let mut after = free.clone();
+                for &d in &s1 {
+                    after[d as usize] -= 1;
+                }
+                let s2 = place(
+                    &model,
+                    problem.items[second].as_ref(),
+                    &after,
+                    &singles,
+                    target,
+                )?;
+                Some((s1, s2))
+            };
+            // The short item first; or the displaced one first, on the days
+            // before its single review's (the days it gives up are the point).
+            let before: Vec<usize> = free
+                .iter()
+                .enumerate()
+                .map(|(d, &f)| if d < a { f } else { 0 })
+                .collect();
+            let swapped =
+                then(x, &free, y).or_else(|| then(y, &before, x).map(|(sy, sx)| (sx, sy)));
+            match swapped {
+                Some((sx, sy)) => {
+                    for &d in sx.iter().chain(&sy) {
+                        free[d as usize] -= 1;
+                    }
+                    schedules[x] = sx;
+                    schedules[y] = sy;
+                    single_of[y] = None;
+                    break;
+                }
+                None => singles.earliest[a] += 1,
+            }
         }
     }
 
@@ -471,20 +520,57 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
     })
 }
 
-/// Another schedule of `from` reviews or more on the open days that reaches
-/// the target and `keeps` the promises, the fewest reviews first and among
-/// those the earliest last day; tried exhaustively up to [`ALTERNATIVES`]
-/// schedules.
+/// The fewest reviews on days with a slot left that bring `item` to the
+/// target and keep every promised single review possible.
+fn place(
+    model: &Model,
+    item: Option<&Memory>,
+    free: &[usize],
+    singles: &Singles,
+    target: f64,
+) -> Option<Vec<i64>> {
+    let keeps = |schedule: &[i64]| {
+        let mut after = free.to_vec();
+        for &d in schedule {
+            after[d as usize] -= 1;
+        }
+        singles.fit(&after)
+    };
+    let open: Vec<bool> = free.iter().map(|&f| f > 0).collect();
+    let first = cheapest(model, item, &open, target, MAX_REVIEWS_PER_ITEM)?;
+    if first.len() < 2 && keeps(&first) {
+        return Some(first);
+    }
+    alternative(model, item, free, target, first.len(), &keeps)
+        .or_else(|| keeps(&first).then_some(first))
+}
+
+/// Another schedule of `from` reviews or more on days with a slot left
+/// that reaches the target and `keeps` the promises: the fewest reviews,
+/// and among those the one on the least crowded days (the most slots left
+/// on its fullest day, then in all), then the earliest last day. Tried exhaustively up
+/// to [`ALTERNATIVES`] schedules.
 fn alternative(
     model: &Model,
     item: Option<&Memory>,
-    open: &[bool],
+    free: &[usize],
     target: f64,
     from: usize,
     keeps: &dyn Fn(&[i64]) -> bool,
 ) -> Option<Vec<i64>> {
-    let all: Vec<i64> = (0..open.len() as i64).filter(|&d| open[d as usize]).collect();
+    let all: Vec<i64> = (0..free.len() as i64)
+        .filter(|&d| free[d as usize] > 0)
+        .collect();
     let days = &all[all.len().saturating_sub(SEARCH_WINDOW)..];
+    let score = |s: &[i64]| {
+        let room = s.iter().map(|&d| free[d as usize]).min().unwrap_or(0);
+        let total: usize = s.iter().map(|&d| free[d as usize]).sum();
+        (
+            std::cmp::Reverse(room),
+            std::cmp::Reverse(total),
+            s.last().copied(),
+        )
+    };
     let mut tried = 0usize;
     for k in from..=MAX_REVIEWS_PER_ITEM.min(days.len()) {
         let mut best: Option<Vec<i64>> = None;
@@ -495,9 +581,7 @@ fn alternative(
                 return best;
             }
             let schedule: Vec<i64> = pick.iter().map(|&p| days[p]).collect();
-            let better = best
-                .as_ref()
-                .is_none_or(|b| schedule.last() < b.last());
+            let better = best.as_ref().is_none_or(|b| score(&schedule) < score(b));
             if better && model.after(item, &schedule) >= target && keeps(&schedule) {
                 best = Some(schedule);
             }
@@ -533,7 +617,13 @@ pub fn cap_needed(scheduler: &Scheduler, problem: &Problem) -> Result<Option<usi
     let (mut lo, mut hi) = (problem.cap + 1, unlimited.cap);
     while lo < hi {
         let mid = lo + (hi - lo) / 2;
-        let p = plan(scheduler, &Problem { cap: mid, ..problem.clone() })?;
+        let p = plan(
+            scheduler,
+            &Problem {
+                cap: mid,
+                ..problem.clone()
+            },
+        )?;
         if p.shortfall() <= best {
             hi = mid;
         } else {

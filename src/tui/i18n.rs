@@ -374,7 +374,14 @@ pub mod exam {
     );
 
     /// "Exam 2026-03-20 · in 18 days · target 0.9 · today 5 of 12 planned reviews".
-    pub fn header(lang: &str, exam: &str, days: i64, target: &str, today: usize, all: usize) -> String {
+    pub fn header(
+        lang: &str,
+        exam: &str,
+        days: i64,
+        target: &str,
+        today: usize,
+        all: usize,
+    ) -> String {
         let hi = lang == HINGLISH;
         let when = match (days, hi) {
             (0, false) => "today".to_string(),
@@ -387,16 +394,22 @@ pub mod exam {
         if hi {
             format!("Exam {exam} · {when} · target {target} · aaj {today} / {all} planned reviews")
         } else {
-            format!("Exam {exam} · {when} · target {target} · today {today} of {all} planned reviews")
+            format!(
+                "Exam {exam} · {when} · target {target} · today {today} of {all} planned reviews"
+            )
         }
     }
 
     /// "Expected recall on exam day: 14.2 of 30 cards (from 12.3; the whole plan: 27.9)".
     pub fn expected(lang: &str, now: &str, n: usize, start: &str, whole: &str) -> String {
         if lang == HINGLISH {
-            format!("Exam ke din yaad rahenge: {now} / {n} cards (shuru mein {start}; poora plan: {whole})")
+            format!(
+                "Exam ke din yaad rahenge: {now} / {n} cards (shuru mein {start}; poora plan: {whole})"
+            )
         } else {
-            format!("Expected recall on exam day: {now} of {n} cards (from {start}; the whole plan: {whole})")
+            format!(
+                "Expected recall on exam day: {now} of {n} cards (from {start}; the whole plan: {whole})"
+            )
         }
     }
 

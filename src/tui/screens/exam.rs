@@ -28,7 +28,10 @@ pub const DATE_KEYS: &[Binding] = &[
     Binding::typing(Words("the exam date", "exam ki tareekh")),
     Binding::new(
         "Enter",
-        Words("plan, and study today's share", "plan banao, aaj ka hissa padho"),
+        Words(
+            "plan, and study today's share",
+            "plan banao, aaj ka hissa padho",
+        ),
         &[(Enter, Action::Submit)],
     ),
     Binding::new(
@@ -45,10 +48,7 @@ pub const DATE_KEYS: &[Binding] = &[
 
 pub enum Phase {
     /// The date so far, and what was wrong with the last one entered.
-    Date {
-        input: String,
-        error: Option<Words>,
-    },
+    Date { input: String, error: Option<Words> },
     /// Today's share, reviewed on an ordinary review screen.
     Study(Box<Study>),
 }
@@ -134,7 +134,9 @@ pub fn apply(app: &mut App, state: &mut ExamState, action: Action) -> Nav {
 
 /// The study day of now and a function naming the study day of any time,
 /// with the day boundary the app uses.
-fn grid(app: &App) -> (NaiveDate, Box<dyn Fn(chrono::DateTime<Utc>) -> NaiveDate>) {
+type DayOf = Box<dyn Fn(chrono::DateTime<Utc>) -> NaiveDate>;
+
+fn grid(app: &App) -> (NaiveDate, DayOf) {
     let starts = app.services.config.day_starts_at;
     let now = app.services.now();
     match app.services.zone {
@@ -152,13 +154,17 @@ fn grid(app: &App) -> (NaiveDate, Box<dyn Fn(chrono::DateTime<Utc>) -> NaiveDate
 /// Plans for the date typed and opens today's share. `Err(Ok(words))`: the
 /// date is wrong (said in the screen); `Err(Err(text))`: the store failed.
 fn start(app: &mut App, deck: usize, input: &str) -> Result<Study, Result<Words, String>> {
-    let exam = NaiveDate::parse_from_str(input.trim(), "%Y-%m-%d")
-        .map_err(|_| Ok(words::NOT_A_DATE))?;
+    let exam =
+        NaiveDate::parse_from_str(input.trim(), "%Y-%m-%d").map_err(|_| Ok(words::NOT_A_DATE))?;
     let Some(d) = app.decks.get(deck) else {
         return Err(Err("no such deck".into()));
     };
     let keys = deck_items(d);
-    let states = app.services.store.states(&d.id).map_err(|e| Err(e.to_string()))?;
+    let states = app
+        .services
+        .store
+        .states(&d.id)
+        .map_err(|e| Err(e.to_string()))?;
     let (today, day_of) = grid(app);
     let config = &app.services.config;
     let problem = plan::exam_problem(
@@ -176,7 +182,11 @@ fn start(app: &mut App, deck: usize, input: &str) -> Result<Study, Result<Words,
         other => Err(other.to_string()),
     })?;
     let plan = plan::plan(&app.services.scheduler, &problem).map_err(|e| Err(e.to_string()))?;
-    let todays: Vec<ItemKey> = plan.due_on(0).into_iter().map(|i| keys[i].clone()).collect();
+    let todays: Vec<ItemKey> = plan
+        .due_on(0)
+        .into_iter()
+        .map(|i| keys[i].clone())
+        .collect();
     let share = todays.len();
     let review = ReviewState::open_plan(app, deck, todays).map_err(Err)?;
     let mut study = Study {
@@ -263,7 +273,11 @@ fn draw_study(frame: &mut Frame, area: Rect, app: &App, study: &Study) {
         &rounded(study.start, 3),
         &rounded(study.plan.expected_with(), 3),
     );
-    let ratio = if n == 0 { 0.0 } else { (study.now / n as f64).clamp(0.0, 1.0) };
+    let ratio = if n == 0 {
+        0.0
+    } else {
+        (study.now / n as f64).clamp(0.0, 1.0)
+    };
     frame.render_widget(
         Gauge::default()
             .gauge_style(t.good())

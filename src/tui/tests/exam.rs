@@ -39,7 +39,11 @@ fn a_wrong_date_is_said_in_the_screen_and_can_be_corrected() {
     // Today is 2026-03-02 on the test clock.
     type_text(&mut app, "2026-03-01");
     press(&mut app, KeyCode::Enter);
-    assert!(render(&app).contains("That day has passed"), "{}", render(&app));
+    assert!(
+        render(&app).contains("That day has passed"),
+        "{}",
+        render(&app)
+    );
     assert_eq!(app.context(), Context::ExamDate);
     press(&mut app, KeyCode::Esc);
     assert!(matches!(app.screen(), Screen::Home(_)));
@@ -62,7 +66,10 @@ fn studying_todays_share_raises_the_expected_recall_on_exam_day() {
         for _ in 0..2 {
             press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
             let (now, _, _) = progress(&app);
-            assert!(now > last + 0.5, "each Good answer adds most of a card: {last} → {now}");
+            assert!(
+                now > last + 0.5,
+                "each Good answer adds most of a card: {last} → {now}"
+            );
             last = now;
         }
         insta::assert_snapshot!(format!("exam_study_{lang}"), render(&app));

@@ -112,7 +112,11 @@ impl ReviewState {
 
     /// Reviews of `items` (today's share of an exam plan), scheduled as
     /// ordinary reviews.
-    pub fn open_plan(app: &mut App, deck: usize, items: Vec<ItemKey>) -> Result<ReviewState, String> {
+    pub fn open_plan(
+        app: &mut App,
+        deck: usize,
+        items: Vec<ItemKey>,
+    ) -> Result<ReviewState, String> {
         let d = app.decks.get(deck).ok_or("no such deck")?;
         let states = app
             .services
