@@ -18,6 +18,8 @@ mod deck_physics;
 mod import_reviews_cli;
 mod ode_solvers;
 mod optimize_cli;
+mod exam_plan;
+mod plan_cli;
 mod sched_golden;
 mod sched_golden_custom;
 mod schemas;

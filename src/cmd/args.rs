@@ -45,6 +45,8 @@ pub enum Command {
     Db(DbArgs),
     /// Fit FSRS's parameters to your own reviews.
     Optimize(OptimizeArgs),
+    /// Plan the reviews that bring every card to a target recall on an exam day.
+    Plan(PlanArgs),
 }
 
 #[derive(Debug, Args)]
@@ -232,4 +234,30 @@ pub struct OptimizeArgs {
     pub apply: bool,
     #[arg(long, value_enum, default_value_t = ReportFormat::Text)]
     pub format: ReportFormat,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum PlanFormat {
+    Text,
+    Json,
+}
+
+#[derive(Debug, Args)]
+pub struct PlanArgs {
+    /// The exam day (YYYY-MM-DD, a study day in local time).
+    #[arg(long, value_name = "DATE", allow_hyphen_values = true)]
+    pub exam: String,
+    /// Plan for one deck (default: every deck loaded).
+    #[arg(long, value_name = "ID")]
+    pub deck: Option<String>,
+    /// Recall probability every card should have on the exam day, between
+    /// 0 and 1 (default: the configured desired retention).
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub retention: Option<String>,
+    /// Most reviews planned on one day (default: the configured daily
+    /// review limit).
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub max_per_day: Option<String>,
+    #[arg(long, value_enum, default_value_t = PlanFormat::Text)]
+    pub format: PlanFormat,
 }

@@ -14,6 +14,7 @@ pub mod import_reviews;
 pub mod optimize;
 pub mod output;
 pub mod paths;
+pub mod plan;
 pub mod review;
 pub mod sim;
 pub mod sim_scene;
@@ -42,6 +43,7 @@ pub fn run(cli: &Cli) -> ExitCode {
         Some(Command::Import(args)) => import::run(cli, args),
         Some(Command::Db(args)) => db::run(cli, args),
         Some(Command::Optimize(args)) => optimize::run(cli, args),
+        Some(Command::Plan(args)) => plan::run(cli, args),
     };
     // A failed write to stdout comes first: whatever error the handler
     // returned is then only its consequence.

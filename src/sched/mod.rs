@@ -4,6 +4,7 @@
 pub mod clock;
 pub mod config;
 pub mod fit;
+pub mod plan;
 pub mod queue;
 pub mod scheduler;
 pub mod typed;

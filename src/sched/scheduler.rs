@@ -372,6 +372,37 @@ impl Scheduler {
     }
 }
 
+/// The memory model alone, in whole days, for looking ahead (exam planning).
+impl Scheduler {
+    /// FSRS's forgetting curve: the probability of recall `days` after a
+    /// review that left `stability`.
+    pub fn forgetting_curve(&self, days: f64, stability: f64) -> f64 {
+        (1.0 + self.factor * days.max(0.0) / stability).powf(self.decay)
+    }
+
+    /// Stability and difficulty after one answer `days` whole days after
+    /// the previous one (`None`: the item's first answer). Same-day answers
+    /// use the short-term formula, as [`Self::review`] does.
+    pub fn next_memory(&self, memory: Option<(f64, f64)>, days: i64, rating: Rating) -> (f64, f64) {
+        match memory {
+            None => (
+                self.initial_stability(rating),
+                self.initial_difficulty(rating, true),
+            ),
+            Some((s, d)) => {
+                let s = clamp_stability(s);
+                let stability = if days < 1 {
+                    self.short_term_stability(s, rating)
+                } else {
+                    let r = self.forgetting_curve(days as f64, s);
+                    self.next_stability(d, s, r, rating)
+                };
+                (stability, self.next_difficulty(d, rating))
+            }
+        }
+    }
+}
+
 /// The whole-day range py-fsrs fuzzes an interval of `days` into, or `None`
 /// for intervals under 2.5 days (left alone).
 pub fn fuzz_range(days: i64, maximum_interval: i64) -> Option<(i64, i64)> {

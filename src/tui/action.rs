@@ -31,6 +31,8 @@ pub enum Action {
     OpenReader,
     OpenPrompts,
     OpenStats,
+    /// Plan for an exam day and study today's share.
+    OpenExam,
 
     // Review
     Reveal,

@@ -129,6 +129,7 @@ pub enum Msg {
     RecallNow,
     FsrsDefault,
     FsrsFitted,
+    Exam,
 }
 
 /// What the home screen says when no deck could be opened: how many deck
@@ -304,6 +305,7 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         RecallNow => pick!("Recall now", "Abhi yaad"),
         FsrsDefault => pick!("FSRS defaults", "FSRS default"),
         FsrsFitted => pick!("FSRS fitted", "FSRS fit kiya"),
+        Exam => pick!("Exam", "Exam"),
     }
 }
 
@@ -371,4 +373,82 @@ pub fn measure(m: crate::deck::Measure) -> Words {
 /// The other language of the two.
 pub fn other(lang: &str) -> &'static str {
     if lang == HINGLISH { ENGLISH } else { HINGLISH }
+}
+
+/// The exam mode's words.
+pub mod exam {
+    use super::{HINGLISH, Words};
+
+    pub const DATE_PROMPT: Words = Words(
+        "Exam date (YYYY-MM-DD), then Enter:",
+        "Exam ki tareekh (YYYY-MM-DD), phir Enter:",
+    );
+    pub const DATE_HINT: Words = Words(
+        "Today's share of the plan is studied at once; the rest comes on its days.",
+        "Plan ka aaj ka hissa abhi padhoge; baaki apne din aayega.",
+    );
+    pub const NOT_A_DATE: Words = Words(
+        "Not a date: write it as YYYY-MM-DD, for example 2026-11-22.",
+        "Yeh tareekh nahi hai: YYYY-MM-DD likho, jaise 2026-11-22.",
+    );
+    pub const IN_PAST: Words = Words(
+        "That day has passed: choose today or a later day.",
+        "Woh din beet gaya: aaj ya baad ka din chuno.",
+    );
+    pub const TOO_FAR: Words = Words(
+        "That is more than ten years away: choose a nearer day.",
+        "Woh das saal se zyada door hai: paas ka din chuno.",
+    );
+
+    /// "Exam 2026-03-20 · in 18 days · target 0.9 · today 5 of 12 planned reviews".
+    pub fn header(
+        lang: &str,
+        exam: &str,
+        days: i64,
+        target: &str,
+        today: usize,
+        all: usize,
+    ) -> String {
+        let hi = lang == HINGLISH;
+        let when = match (days, hi) {
+            (0, false) => "today".to_string(),
+            (0, true) => "aaj".to_string(),
+            (1, false) => "tomorrow".to_string(),
+            (1, true) => "kal".to_string(),
+            (d, false) => format!("in {d} days"),
+            (d, true) => format!("{d} din mein"),
+        };
+        if hi {
+            format!("Exam {exam} · {when} · target {target} · aaj {today} / {all} planned reviews")
+        } else {
+            format!(
+                "Exam {exam} · {when} · target {target} · today {today} of {all} planned reviews"
+            )
+        }
+    }
+
+    /// "Expected recall on exam day: 14.2 of 30 cards (from 12.3; the whole plan: 27.9)".
+    pub fn expected(lang: &str, now: &str, n: usize, start: &str, whole: &str) -> String {
+        if lang == HINGLISH {
+            format!(
+                "Exam ke din yaad rahenge: {now} / {n} cards (shuru mein {start}; poora plan: {whole})"
+            )
+        } else {
+            format!(
+                "Expected recall on exam day: {now} of {n} cards (from {start}; the whole plan: {whole})"
+            )
+        }
+    }
+
+    /// "3 cards stay below 0.9 (the daily cap or the time left)".
+    pub fn short(lang: &str, n: usize, target: &str) -> String {
+        if lang == HINGLISH {
+            format!("{n} cards {target} se neeche rahenge (daily cap ya kam samay)")
+        } else {
+            format!(
+                "{} stay below {target} (the daily cap or the time left)",
+                crate::text::plural(n, "card", "cards")
+            )
+        }
+    }
 }

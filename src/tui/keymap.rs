@@ -36,6 +36,8 @@ pub enum Context {
     /// The verdict is shown under the last frame.
     PredictVerdict,
     Stats,
+    /// Typing the exam date.
+    ExamDate,
 }
 
 impl Context {
@@ -55,6 +57,7 @@ impl Context {
             Context::PredictRun => screens::predict::RUN_KEYS,
             Context::PredictVerdict => screens::predict::VERDICT_KEYS,
             Context::Stats => screens::stats::KEYS,
+            Context::ExamDate => screens::exam::DATE_KEYS,
         }
     }
 

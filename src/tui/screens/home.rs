@@ -38,6 +38,14 @@ pub const KEYS: &[Binding] = &[
         &[(Char('p'), Action::OpenPrompts)],
     ),
     Binding::new(
+        "x",
+        Words(
+            "exam: plan for a date, study today's share",
+            "exam: tareekh ka plan, aaj ka hissa padho",
+        ),
+        &[(Char('x'), Action::OpenExam)],
+    ),
+    Binding::new(
         "t",
         Words("statistics", "statistics"),
         &[(Char('t'), Action::OpenStats)],
@@ -116,6 +124,9 @@ pub fn apply(app: &mut App, state: &mut HomeState, action: Action) -> Nav {
         }
         Action::OpenReader => {
             return Nav::Push(Screen::Reader(super::reader::ReaderState::new(deck)));
+        }
+        Action::OpenExam => {
+            return Nav::Push(Screen::Exam(Box::new(super::exam::ExamState::new(deck))));
         }
         Action::OpenStats => {
             return Nav::Push(Screen::Stats(Box::new(super::stats::StatsState::open(

@@ -1,5 +1,6 @@
 //! One module per screen: its state, how actions change it, how it draws.
 
+pub mod exam;
 pub mod home;
 pub mod predict;
 pub mod prompts;
@@ -41,6 +42,7 @@ pub enum Screen {
     Prompts(prompts::PromptsState),
     Predict(Box<predict::PredictState>),
     Stats(Box<stats::StatsState>),
+    Exam(Box<exam::ExamState>),
 }
 
 impl Screen {
@@ -52,6 +54,7 @@ impl Screen {
             Screen::Prompts(s) => s,
             Screen::Predict(s) => s.as_ref(),
             Screen::Stats(s) => s.as_ref(),
+            Screen::Exam(s) => s.as_ref(),
         }
     }
 
@@ -63,6 +66,7 @@ impl Screen {
             Screen::Prompts(s) => s,
             Screen::Predict(s) => s.as_mut(),
             Screen::Stats(s) => s.as_mut(),
+            Screen::Exam(s) => s.as_mut(),
         }
     }
 

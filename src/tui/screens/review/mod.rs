@@ -25,6 +25,9 @@ pub enum Source {
     Daily(Queue),
     /// Every card now; answers logged as cram, scheduling unchanged.
     Cram(CramQueue),
+    /// Today's share of an exam plan: real reviews of the planned items,
+    /// an item answered Again coming round again.
+    Plan(CramQueue),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -107,11 +110,31 @@ impl ReviewState {
         Ok(state)
     }
 
+    /// Reviews of `items` (today's share of an exam plan), scheduled as
+    /// ordinary reviews.
+    pub fn open_plan(
+        app: &mut App,
+        deck: usize,
+        items: Vec<ItemKey>,
+    ) -> Result<ReviewState, String> {
+        let d = app.decks.get(deck).ok_or("no such deck")?;
+        let states = app
+            .services
+            .store
+            .states(&d.id)
+            .map_err(|e| e.to_string())?;
+        let mut state = ReviewState::open(app, deck, false)?;
+        state.source = Source::Plan(CramQueue::new(items));
+        state.states = states;
+        state.next_card(app);
+        Ok(state)
+    }
+
     fn next_card(&mut self, app: &App) {
         let now = app.services.now();
         let next = match &self.source {
             Source::Daily(q) => q.next(now).map(|(k, _)| k.clone()),
-            Source::Cram(c) => c.next().cloned(),
+            Source::Cram(c) | Source::Plan(c) => c.next().cloned(),
         };
         self.show(app, next);
     }
@@ -162,6 +185,11 @@ impl ReviewState {
                 "{} · {}",
                 app.count(c.remaining(), Noun::Card),
                 app.tr(Msg::Cram)
+            ),
+            Source::Plan(c) => format!(
+                "{} · {}",
+                app.count(c.remaining(), Noun::Card),
+                app.tr(Msg::Exam)
             ),
         }
     }
@@ -259,7 +287,7 @@ fn rate(app: &mut App, state: &mut ReviewState, rating: Rating) {
     }
     match &mut state.source {
         Source::Daily(q) => q.answered(&record),
-        Source::Cram(c) => c.answered(&record),
+        Source::Cram(c) | Source::Plan(c) => c.answered(&record),
     }
     if !state.cram {
         state.states.insert(key.clone(), record.after);
@@ -299,7 +327,7 @@ fn undo(app: &mut App, state: &mut ReviewState) {
     };
     match &mut state.source {
         Source::Daily(q) => q.restore(&key, restored.as_ref()),
-        Source::Cram(c) => c.restore(&key),
+        Source::Cram(c) | Source::Plan(c) => c.restore(&key),
     }
     if !state.cram {
         match restored {

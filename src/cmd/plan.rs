@@ -1,0 +1,255 @@
+//! `flipcard plan --exam DATE [--deck ID] [--retention R] [--max-per-day N]
+//! [--format json]`.
+
+use std::collections::HashMap;
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use chrono::{Duration, NaiveDate};
+use serde_json::json;
+
+use crate::cmd::args::{Cli, PlanArgs, PlanFormat};
+use crate::cmd::common::{find_deck, load_decks, open_store_read_only};
+use crate::cmd::paths;
+use crate::sched::plan::{self, Plan};
+use crate::sched::{CardState, Config, ItemKey, Scheduler, deck_items};
+use crate::store::DayGrid;
+use crate::text::num::rounded;
+use crate::text::plural;
+use crate::{out, outln};
+
+pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
+    let exam = parse_date(&args.exam)?;
+    let config = Config::load(paths::config_file(cli.config.clone()).as_deref())?;
+    let target = match &args.retention {
+        Some(text) => parse_retention(text)?,
+        None => config.desired_retention,
+    };
+    let cap = match &args.max_per_day {
+        Some(text) => parse_cap(text)?,
+        None => config.reviews_per_day as usize,
+    };
+    let loaded = load_decks(cli);
+    let decks = match &args.deck {
+        Some(id) => vec![find_deck(&loaded, id)?],
+        None => loaded.decks.iter().collect(),
+    };
+    let store = open_store_read_only(cli)?;
+    let mut keys: Vec<ItemKey> = Vec::new();
+    let mut states: HashMap<ItemKey, CardState> = HashMap::new();
+    for deck in &decks {
+        keys.extend(deck_items(deck));
+        states.extend(store.states(&deck.id)?);
+    }
+    let now = crate::sched::clock::now()?;
+    let grid = DayGrid::new(chrono::Local, config.day_starts_at);
+    let today = grid.day_of(now);
+    let day_of = |t| grid.day_of(t);
+    let scheduler = Scheduler::new(&config);
+    let problem = plan::exam_problem(&keys, &states, today, exam, &day_of, target, cap)?;
+    let plan = plan::plan(&scheduler, &problem)?;
+    let cap_needed = plan::cap_needed(&scheduler, &problem)?;
+    let now_r: Vec<f64> = keys
+        .iter()
+        .map(|k| {
+            states
+                .get(k)
+                .map_or(0.0, |s| scheduler.retrievability(s, now))
+        })
+        .collect();
+    let report = Report {
+        today,
+        exam,
+        deck: args.deck.as_deref(),
+        keys: &keys,
+        now_r: &now_r,
+        plan: &plan,
+        cap_needed,
+    };
+    match args.format {
+        PlanFormat::Json => {
+            outln!("{}", serde_json::to_string_pretty(&report.json())?)?;
+        }
+        PlanFormat::Text => out!("{}", report.text())?,
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn parse_date(text: &str) -> anyhow::Result<NaiveDate> {
+    NaiveDate::parse_from_str(text.trim(), "%Y-%m-%d").with_context(|| {
+        format!("--exam {text:?} is not a date as YYYY-MM-DD (example: 2026-11-22)")
+    })
+}
+
+fn parse_retention(text: &str) -> anyhow::Result<f64> {
+    match text.trim().parse::<f64>() {
+        Ok(r) if r > 0.0 && r < 1.0 => Ok(r),
+        _ => anyhow::bail!(
+            "--retention {text:?} is not a probability between 0 and 1 (exclusive); example: 0.9"
+        ),
+    }
+}
+
+fn parse_cap(text: &str) -> anyhow::Result<usize> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => anyhow::bail!("--max-per-day {text:?} is not a whole number of reviews, 1 or more"),
+    }
+}
+
+struct Report<'a> {
+    today: NaiveDate,
+    exam: NaiveDate,
+    deck: Option<&'a str>,
+    keys: &'a [ItemKey],
+    now_r: &'a [f64],
+    plan: &'a Plan,
+    cap_needed: Option<usize>,
+}
+
+impl Report<'_> {
+    fn date(&self, day: i64) -> NaiveDate {
+        self.today + Duration::days(day)
+    }
+
+    fn json(&self) -> serde_json::Value {
+        let p = self.plan;
+        let days: Vec<_> = p
+            .per_day
+            .iter()
+            .enumerate()
+            .map(|(d, n)| json!({"date": self.date(d as i64).to_string(), "reviews": n}))
+            .collect();
+        let per_item: Vec<_> = self
+            .keys
+            .iter()
+            .zip(&p.items)
+            .zip(self.now_r)
+            .map(|((k, i), now)| {
+                json!({
+                    "deck": k.deck,
+                    "card": k.card,
+                    "direction": k.direction.as_str(),
+                    "retrievability_now": now,
+                    "retrievability_without_plan": i.without,
+                    "retrievability_with_plan": i.with,
+                    "reviews": i.reviews.iter().map(|&d| self.date(d).to_string()).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        json!({
+            "exam": self.exam.to_string(),
+            "today": self.today.to_string(),
+            "deck": self.deck,
+            "items": p.items.len(),
+            "retention": p.target,
+            "max_per_day": p.cap,
+            "expected_recalled_without_plan": p.expected_without(),
+            "expected_recalled_with_plan": p.expected_with(),
+            "shortfall": p.shortfall(),
+            "reviews": p.reviews(),
+            "cap_needed": self.cap_needed,
+            "days": days,
+            "per_item": per_item,
+        })
+    }
+
+    fn text(&self) -> String {
+        let p = self.plan;
+        let n = p.items.len();
+        let mut o = String::new();
+        let mut line = |s: String| {
+            o.push_str(&s);
+            o.push('\n');
+        };
+        let when = match p.days {
+            0 => "today".to_string(),
+            1 => "tomorrow".to_string(),
+            d => format!("in {d} days"),
+        };
+        line(format!(
+            "Exam on {} ({when}) · {} · {} · target recall {} · at most {} a day",
+            self.exam,
+            self.deck.unwrap_or("all decks"),
+            plural(n, "card", "cards"),
+            rounded(p.target, 4),
+            plural(p.cap, "review", "reviews"),
+        ));
+        line(String::new());
+        line(format!(
+            "Expected recalled on the exam day: {} of {n} with no more reviews, {} with the plan.",
+            rounded(p.expected_without(), 4),
+            rounded(p.expected_with(), 4)
+        ));
+        let short = p.shortfall();
+        line(format!(
+            "The plan: {} over {}.",
+            plural(p.reviews(), "review", "reviews"),
+            plural(p.per_day.len(), "day", "days")
+        ));
+        if short == 0 {
+            line(format!(
+                "Every card reaches {} on the exam day.",
+                rounded(p.target, 4)
+            ));
+        } else {
+            let why = match self.cap_needed {
+                Some(c) => format!(
+                    "the daily cap holds it back: {} a day would do (--max-per-day {c})",
+                    plural(c, "review", "reviews")
+                ),
+                None => "too little time is left for them at any daily cap".to_string(),
+            };
+            line(format!(
+                "Short: {} of {n} stay below {} on the exam day; {why}.",
+                plural(short, "card", "cards"),
+                rounded(p.target, 4)
+            ));
+        }
+        if !p.per_day.is_empty() {
+            line(String::new());
+            line(format!("{:<10}  {:>7}", "Day", "Reviews"));
+            for (d, r) in p.per_day.iter().enumerate() {
+                line(format!("{:<10}  {r:>7}", self.date(d as i64).to_string()));
+            }
+        }
+        if n > 0 {
+            line(String::new());
+            let names: Vec<String> = self
+                .keys
+                .iter()
+                .map(|k| format!("{}/{} {}", k.deck, k.card, k.direction.as_str()))
+                .collect();
+            let w = names
+                .iter()
+                .map(|s| s.chars().count())
+                .max()
+                .unwrap_or(4)
+                .max(4);
+            line(format!(
+                "{:<w$}  {:>6}  {:>12}  {:>9}  Reviews on",
+                "Card", "Now", "Exam, as is", "With plan"
+            ));
+            for ((name, i), now) in names.iter().zip(&p.items).zip(self.now_r) {
+                let on: Vec<String> = i
+                    .reviews
+                    .iter()
+                    .map(|&d| self.date(d).format("%m-%d").to_string())
+                    .collect();
+                let mark = if i.with < p.target { " (short)" } else { "" };
+                line(format!(
+                    "{name:<w$}  {:>6}  {:>12}  {:>9}  {}{mark}",
+                    rounded(*now, 3),
+                    rounded(i.without, 3),
+                    rounded(i.with, 3),
+                    if on.is_empty() {
+                        "–".to_string()
+                    } else {
+                        on.join(" ")
+                    }
+                ));
+            }
+        }
+        o
+    }
+}

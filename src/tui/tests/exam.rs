@@ -1,0 +1,85 @@
+//! Exam mode: the date prompt, its errors, and today's share studied with
+//! the expected recall on exam day rising as cards are answered.
+
+use crossterm::event::KeyCode;
+
+use super::{press, press_all, type_text};
+use crate::tui::i18n::{ENGLISH, HINGLISH};
+use crate::tui::keymap::Context;
+use crate::tui::screens::Screen;
+use crate::tui::screens::exam::{ExamState, Phase};
+use crate::tui::testkit::{self, render};
+
+fn exam(app: &crate::tui::App) -> &ExamState {
+    match app.screen() {
+        Screen::Exam(e) => e,
+        _ => panic!("the exam screen is not open"),
+    }
+}
+
+/// (expected recall on exam day now, planned for today, all items).
+fn progress(app: &crate::tui::App) -> (f64, usize, usize) {
+    match &exam(app).phase {
+        Phase::Study(s) => (s.now, s.share, s.keys.len()),
+        Phase::Date { .. } => panic!("still asking for the date"),
+    }
+}
+
+#[test]
+fn a_wrong_date_is_said_in_the_screen_and_can_be_corrected() {
+    let mut app = testkit::app(ENGLISH);
+    press(&mut app, KeyCode::Char('x'));
+    assert_eq!(app.context(), Context::ExamDate);
+    type_text(&mut app, "2026-13-01");
+    press(&mut app, KeyCode::Enter);
+    assert!(render(&app).contains("Not a date"), "{}", render(&app));
+    for _ in 0..10 {
+        press(&mut app, KeyCode::Backspace);
+    }
+    // Today is 2026-03-02 on the test clock.
+    type_text(&mut app, "2026-03-01");
+    press(&mut app, KeyCode::Enter);
+    assert!(
+        render(&app).contains("That day has passed"),
+        "{}",
+        render(&app)
+    );
+    assert_eq!(app.context(), Context::ExamDate);
+    press(&mut app, KeyCode::Esc);
+    assert!(matches!(app.screen(), Screen::Home(_)));
+}
+
+#[test]
+fn studying_todays_share_raises_the_expected_recall_on_exam_day() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = testkit::app(lang);
+        press(&mut app, KeyCode::Char('x'));
+        insta::assert_snapshot!(format!("exam_date_{lang}"), render(&app));
+        // The exam is tomorrow: every card must be reviewed today.
+        type_text(&mut app, "2026-03-03");
+        press(&mut app, KeyCode::Enter);
+        let (before, share, items) = progress(&app);
+        assert_eq!(before, 0.0, "nothing reviewed yet");
+        assert_eq!(share, items, "everything is planned for today");
+        assert_eq!(app.context(), Context::ReviewFront);
+        let mut last = before;
+        for _ in 0..2 {
+            press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
+            let (now, _, _) = progress(&app);
+            assert!(
+                now > last + 0.5,
+                "each Good answer adds most of a card: {last} → {now}"
+            );
+            last = now;
+        }
+        insta::assert_snapshot!(format!("exam_study_{lang}"), render(&app));
+        // Undo takes the gain back.
+        press(&mut app, KeyCode::Char('u'));
+        let (undone, _, _) = progress(&app);
+        assert!(undone < last, "{undone} after undo, {last} before");
+        press(&mut app, KeyCode::Char('?'));
+        insta::assert_snapshot!(format!("exam_study_help_{lang}"), render(&app));
+        press_all(&mut app, &[KeyCode::Char('?'), KeyCode::Esc]);
+        assert!(matches!(app.screen(), Screen::Home(_)));
+    }
+}

@@ -1,0 +1,340 @@
+//! The exam planner against an exhaustive search over every review schedule
+//! on small cases, with every schedule replayed through the scheduler
+//! itself (card states, review times and all), not the planner's model.
+
+use chrono::{DateTime, Duration, TimeZone, Utc};
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+
+use flipcard::sched::plan::{self, Memory, Problem};
+use flipcard::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler, State};
+
+fn scheduler() -> Scheduler {
+    Scheduler::new(&Config {
+        fuzz: false,
+        ..Config::default()
+    })
+}
+
+/// Midnight UTC of study day `d` (0: today).
+fn day(d: i64) -> DateTime<Utc> {
+    Utc.with_ymd_and_hms(2026, 6, 1, 0, 0, 0).unwrap() + Duration::days(d)
+}
+
+fn key() -> ItemKey {
+    ItemKey {
+        deck: "d".into(),
+        card: "c".into(),
+        direction: Direction::Forward,
+    }
+}
+
+/// Retrievability on exam day `days` after Good answers on `reviews`, by
+/// the scheduler: the state a review log would hold, rated at midnight.
+fn replay(s: &Scheduler, item: Option<&Memory>, reviews: &[i64], days: i64) -> f64 {
+    let mut card = item.map(|m| CardState {
+        state: State::Review,
+        step: None,
+        stability: Some(m.stability),
+        difficulty: Some(m.difficulty),
+        due: day(m.last_day),
+        last_review: Some(day(m.last_day)),
+    });
+    for &d in reviews {
+        card = Some(
+            s.review(&key(), card.as_ref(), Rating::Good, day(d), 0)
+                .after,
+        );
+    }
+    card.map_or(0.0, |c| s.retrievability(&c, day(days)))
+}
+
+/// The best any schedule can do: most items at the target, then fewest
+/// reviews. Every subset of the review days for every item, within the cap.
+fn brute_force(s: &Scheduler, p: &Problem) -> (usize, usize) {
+    let days = p.days as usize;
+    let masks = 1usize << days;
+    // reach[i][m]: whether item i reaches the target after reviews on mask m.
+    let reach: Vec<Vec<bool>> = p
+        .items
+        .iter()
+        .map(|item| {
+            (0..masks)
+                .map(|m| {
+                    let reviews: Vec<i64> = (0..days as i64).filter(|d| m >> d & 1 == 1).collect();
+                    replay(s, item.as_ref(), &reviews, p.days) >= p.target
+                })
+                .collect()
+        })
+        .collect();
+    let mut best = (0usize, usize::MAX);
+    let mut load = vec![0usize; days];
+    search(p, &reach, 0, &mut load, 0, 0, &mut best);
+    best
+}
+
+fn search(
+    p: &Problem,
+    reach: &[Vec<bool>],
+    i: usize,
+    load: &mut [usize],
+    met: usize,
+    reviews: usize,
+    best: &mut (usize, usize),
+) {
+    if i == reach.len() {
+        if met > best.0 || (met == best.0 && reviews < best.1) {
+            *best = (met, reviews);
+        }
+        return;
+    }
+    for m in 0..reach[i].len() {
+        let bits: Vec<usize> = (0..load.len()).filter(|d| m >> d & 1 == 1).collect();
+        if bits.iter().any(|&d| load[d] >= p.cap) {
+            continue;
+        }
+        for &d in &bits {
+            load[d] += 1;
+        }
+        let ok = usize::from(reach[i][m]);
+        search(p, reach, i + 1, load, met + ok, reviews + bits.len(), best);
+        for &d in &bits {
+            load[d] -= 1;
+        }
+    }
+}
+
+fn random_problem(rng: &mut StdRng) -> Problem {
+    let n = rng.random_range(1..=4usize);
+    let days = rng.random_range(0..=if n >= 4 { 4 } else { 5 });
+    let items = (0..n)
+        .map(|_| {
+            (rng.random_range(0..4) != 0).then(|| Memory {
+                stability: 0.05 * 1200f64.powf(rng.random_range(0.0..1.0)),
+                difficulty: rng.random_range(1.0..10.0),
+                last_day: -rng.random_range(0..=40),
+            })
+        })
+        .collect();
+    let targets = [0.8, 0.85, 0.9, 0.93, 0.95, 0.97, 0.99];
+    Problem {
+        items,
+        days,
+        target: targets[rng.random_range(0..targets.len())],
+        cap: rng.random_range(1..=n),
+    }
+}
+
+/// Checks that the plan keeps its promises (cap, days, the retrievability
+/// it reports) and returns (items at the target, reviews).
+fn checked(s: &Scheduler, p: &Problem, plan: &plan::Plan) -> (usize, usize) {
+    assert_eq!(plan.per_day.len(), p.days as usize);
+    assert!(plan.per_day.iter().all(|&l| l <= p.cap), "{plan:?}");
+    let mut load = vec![0; p.days as usize];
+    for (item, ip) in p.items.iter().zip(&plan.items) {
+        assert!(ip.reviews.windows(2).all(|w| w[0] < w[1]), "{ip:?}");
+        for &d in &ip.reviews {
+            assert!((0..p.days).contains(&d), "{ip:?}");
+            load[d as usize] += 1;
+        }
+        let real = replay(s, item.as_ref(), &ip.reviews, p.days);
+        assert!((real - ip.with).abs() < 1e-12, "{real} vs {}", ip.with);
+        let none = replay(s, item.as_ref(), &[], p.days);
+        assert!((none - ip.without).abs() < 1e-12);
+    }
+    assert_eq!(load, plan.per_day);
+    let met = plan.items.len() - plan.shortfall();
+    (met, plan.reviews())
+}
+
+/// Without a binding cap (as many slots a day as items) every item is
+/// planned alone, and the plan must be exactly optimal.
+#[test]
+fn without_a_binding_cap_the_plan_is_optimal() {
+    let s = scheduler();
+    let mut rng = StdRng::seed_from_u64(14);
+    let mut multi = 0;
+    for _ in 0..1500 {
+        let mut p = random_problem(&mut rng);
+        p.cap = p.items.len();
+        let plan = plan::plan(&s, &p).unwrap();
+        assert_eq!(
+            checked(&s, &p, &plan),
+            brute_force(&s, &p),
+            "{p:?}: {plan:?}"
+        );
+        multi += usize::from(plan.items.iter().any(|i| i.reviews.len() > 1));
+    }
+    assert!(
+        multi >= 100,
+        "items that need several reviews are covered: {multi}"
+    );
+}
+
+/// Under a binding cap the planner is a greedy with exchanges, not an
+/// exhaustive search: on 20 000 cases of another seed it matched the
+/// optimum in all but 6 (4 with one item fewer at the target, 2 with one
+/// review more). Here: never better than the optimum (which would mean a
+/// broken search or plan), never more than one item or review off, and
+/// optimal in at least 99.8% of the cases.
+#[test]
+fn under_a_binding_cap_the_plan_is_optimal_in_nearly_every_case() {
+    let s = scheduler();
+    let mut rng = StdRng::seed_from_u64(2027);
+    let (mut cases, mut off, mut short, mut multi) = (0, 0, 0, 0);
+    while cases < 3000 {
+        let p = random_problem(&mut rng);
+        let unlimited = Problem {
+            cap: p.items.len(),
+            ..p.clone()
+        };
+        if plan::plan(&s, &unlimited).unwrap().reviews() == 0 || p.cap == p.items.len() {
+            continue;
+        }
+        let plan = plan::plan(&s, &p).unwrap();
+        let (met, reviews) = checked(&s, &p, &plan);
+        let (best_met, best_reviews) = brute_force(&s, &p);
+        assert!(met <= best_met, "{p:?}: {plan:?}");
+        if met == best_met {
+            assert!(reviews >= best_reviews, "{p:?}: {plan:?}");
+            assert!(reviews <= best_reviews + 1, "{p:?}: {plan:?}");
+        } else {
+            assert_eq!(met + 1, best_met, "{p:?}: {plan:?}");
+        }
+        if (met, reviews) != (best_met, best_reviews) {
+            eprintln!("not optimal: ({met}, {reviews}) vs ({best_met}, {best_reviews}) for {p:?}");
+            off += 1;
+        }
+        cases += 1;
+        short += usize::from(plan.shortfall() > 0);
+        multi += usize::from(plan.items.iter().any(|i| i.reviews.len() > 1));
+    }
+    eprintln!(
+        "{cases} capped cases: {off} not optimal, {short} short, {multi} with repeated reviews"
+    );
+    assert!(off * 500 <= cases, "{off} of {cases} not optimal");
+    assert!(short >= 300 && multi >= 300, "{short} {multi}");
+}
+
+/// Cases an earlier, simpler greedy got wrong: the cap forces a choice of
+/// which item gets the late day and which is brought to the target with
+/// several earlier reviews.
+#[test]
+fn the_exchanges_that_make_the_difference() {
+    let s = scheduler();
+    let m = |stability, difficulty, last_day| {
+        Some(Memory {
+            stability,
+            difficulty,
+            last_day,
+        })
+    };
+    let cases = [
+        // A late single review for one, several early ones for the other.
+        Problem {
+            items: vec![None, m(1.0856466345198525, 2.6161215697234734, -17)],
+            days: 5,
+            target: 0.99,
+            cap: 1,
+        },
+        Problem {
+            items: vec![
+                m(48.76686102984759, 4.967279909195083, -6),
+                m(0.3072678601793248, 6.718645514907826, -22),
+                m(0.7876636361042058, 3.4229902428213634, 0),
+            ],
+            days: 4,
+            target: 0.97,
+            cap: 1,
+        },
+        // Three new cards, two reviews each, six slots: spread them.
+        Problem {
+            items: vec![None, None, None],
+            days: 3,
+            target: 0.95,
+            cap: 2,
+        },
+        Problem {
+            items: vec![
+                m(1.6960481214012093, 2.1393378998578996, -9),
+                None,
+                m(12.51452596869521, 7.00630648541102, -32),
+                m(0.07223209991663694, 2.0966757895864108, -28),
+            ],
+            days: 2,
+            target: 0.97,
+            cap: 3,
+        },
+    ];
+    for p in cases {
+        let plan = plan::plan(&s, &p).unwrap();
+        let best = brute_force(&s, &p);
+        assert_eq!(checked(&s, &p, &plan), best, "{p:?}: {plan:?}");
+        assert_eq!(plan.shortfall(), 0, "all reach the target: {plan:?}");
+    }
+}
+
+/// The facts of the memory model the planner rests on, for the default
+/// parameters: a later single review leaves more on the exam day, and a
+/// higher stability before a Good answer leaves a higher one after.
+#[test]
+fn the_memory_model_is_monotone_where_the_planner_needs_it() {
+    let s = scheduler();
+    let model = plan::Model::new(&s, 30);
+    for stability in [0.01, 0.1, 0.5, 1.0, 2.3, 10.0, 100.0] {
+        for difficulty in [1.0, 5.0, 10.0] {
+            for last_day in [-60, -5, 0] {
+                let m = Memory {
+                    stability,
+                    difficulty,
+                    last_day,
+                };
+                let r: Vec<f64> = (0..30).map(|d| model.after(Some(&m), &[d])).collect();
+                assert!(r.windows(2).all(|w| w[0] <= w[1]), "{m:?}: {r:?}");
+            }
+            for gap in [0, 1, 3, 30] {
+                let a = s
+                    .next_memory(Some((stability, difficulty)), gap, Rating::Good)
+                    .0;
+                let b = s
+                    .next_memory(Some((stability * 1.1, difficulty)), gap, Rating::Good)
+                    .0;
+                assert!(a <= b, "S={stability} D={difficulty} gap={gap}: {a} > {b}");
+            }
+        }
+    }
+    let new: Vec<f64> = (0..30).map(|d| model.after(None, &[d])).collect();
+    assert!(new.windows(2).all(|w| w[0] <= w[1]), "{new:?}");
+}
+
+#[test]
+fn bad_problems_are_refused() {
+    let s = scheduler();
+    let p = Problem {
+        items: vec![None],
+        days: 3,
+        target: 0.9,
+        cap: 1,
+    };
+    for target in [0.0, 1.0, -0.1, 1.5, f64::NAN, f64::INFINITY] {
+        let bad = Problem {
+            target,
+            ..p.clone()
+        };
+        assert!(plan::plan(&s, &bad).is_err(), "{target}");
+    }
+    assert!(
+        plan::plan(
+            &s,
+            &Problem {
+                cap: 0,
+                ..p.clone()
+            }
+        )
+        .is_err()
+    );
+    let today = chrono::NaiveDate::from_ymd_opt(2026, 6, 1).unwrap();
+    assert!(plan::days_to(today, today - Duration::days(1)).is_err());
+    assert_eq!(plan::days_to(today, today), Ok(0));
+    assert!(plan::days_to(today, today + Duration::days(plan::MAX_DAYS + 1)).is_err());
+}

@@ -1,0 +1,282 @@
+//! `flipcard plan` through the real binary: the JSON contract, the plan it
+//! prints against the retrievability the scheduler computes, a cap too small
+//! for the target, and bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use chrono::{DateTime, Duration, Utc};
+use flipcard::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler};
+use flipcard::store::Store;
+use serde_json::Value;
+
+const NOW: &str = "2026-05-10T12:00:00Z";
+
+fn now() -> DateTime<Utc> {
+    DateTime::parse_from_rfc3339(NOW)
+        .unwrap()
+        .with_timezone(&Utc)
+}
+
+fn flipcard(root: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        .args(args)
+        .env("FLIPCARD_DATA_DIR", root.join("data"))
+        .env("FLIPCARD_DECKS", root.join("decks"))
+        .env("FLIPCARD_NOW", NOW)
+        .env("TZ", "UTC")
+        .env("FLIPCARD_CONFIG", root.join("config.toml"))
+        .output()
+        .expect("run flipcard")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A deck `mini` with `n` basic cards c0, c1, … and its content file.
+fn deck(root: &Path, n: usize) -> PathBuf {
+    let decks = root.join("decks");
+    std::fs::create_dir_all(&decks).unwrap();
+    std::fs::create_dir_all(root.join("content/mini")).unwrap();
+    std::fs::write(root.join("content/mini/en.toml"), "").unwrap();
+    let mut toml =
+        String::from("[deck]\nid = 'mini'\ntitle = { en = 'Mini' }\nlanguages = ['en']\n");
+    for i in 0..n {
+        toml.push_str(&format!(
+            "\n[[card]]\nid = 'c{i}'\nkind = 'basic'\nfront = {{ en = 'Front {i}' }}\nback = {{ en = 'Back {i}' }}\n"
+        ));
+    }
+    std::fs::write(decks.join("mini.toml"), toml).unwrap();
+    decks
+}
+
+fn key(i: usize) -> ItemKey {
+    ItemKey {
+        deck: "mini".into(),
+        card: format!("c{i}"),
+        direction: Direction::Forward,
+    }
+}
+
+/// Reviews of the first `n` cards through the scheduler: card i learnt
+/// (Easy) 30 − 3i days ago, then answered Good once when due (if that is
+/// before now). Returns the states the store then holds.
+fn history(root: &Path, n: usize) -> Vec<CardState> {
+    let s = Scheduler::new(&Config {
+        fuzz: false,
+        ..Config::default()
+    });
+    let mut store = Store::open(&root.join("data")).unwrap();
+    let mut states = Vec::new();
+    for i in 0..n {
+        let k = key(i);
+        let first = now() - Duration::days(30 - 3 * i as i64);
+        let r = s.review(&k, None, Rating::Easy, first, 0);
+        store.record(&r).unwrap();
+        let mut state = r.after;
+        if state.due < now() {
+            let r2 = s.review(&k, Some(&state), Rating::Good, state.due, 0);
+            store.record(&r2).unwrap();
+            state = r2.after;
+        }
+        states.push(state);
+    }
+    states
+}
+
+fn json(out: &Output) -> Value {
+    assert!(out.status.success(), "{}", stderr(out));
+    serde_json::from_slice(&out.stdout).expect("one JSON object")
+}
+
+#[test]
+fn json_has_the_contract_fields_and_a_plan_that_reaches_the_target() {
+    let dir = tempfile::tempdir().unwrap();
+    deck(dir.path(), 6);
+    let states = history(dir.path(), 4);
+    let out = flipcard(
+        dir.path(),
+        &[
+            "plan",
+            "--exam",
+            "2026-05-24",
+            "--format",
+            "json",
+            "--retention",
+            "0.9",
+        ],
+    );
+    let v = json(&out);
+    assert_eq!(v["exam"], "2026-05-24");
+    assert_eq!(v["items"], 6);
+    assert_eq!(v["retention"], 0.9);
+    assert_eq!(v["shortfall"].as_f64(), Some(0.0));
+    let days = v["days"].as_array().unwrap();
+    assert_eq!(
+        days.len(),
+        14,
+        "one row a day from today to the day before the exam"
+    );
+    assert_eq!(days[0]["date"], "2026-05-10");
+    assert_eq!(days[13]["date"], "2026-05-23");
+    let total: u64 = days.iter().map(|d| d["reviews"].as_u64().unwrap()).sum();
+    assert_eq!(v["reviews"].as_u64(), Some(total));
+    // The two new cards need a review each at least; nothing needs more
+    // than one here (all answers Good, two weeks to go).
+    assert!((2..=6).contains(&total), "{total}");
+
+    // Without the plan: the forgetting curve at the exam day, as the
+    // scheduler computes it for the stored states.
+    let s = Scheduler::new(&Config::default());
+    let exam = DateTime::parse_from_rfc3339("2026-05-24T12:00:00Z")
+        .unwrap()
+        .with_timezone(&Utc);
+    let per_item = v["per_item"].as_array().unwrap();
+    let mut without = 0.0;
+    for (i, item) in per_item.iter().enumerate() {
+        assert_eq!(item["card"], format!("c{i}"));
+        let want = states.get(i).map_or(0.0, |st| {
+            // Whole study days from the last review to the exam day.
+            let last = st.last_review.unwrap().date_naive();
+            let days = (exam.date_naive() - last).num_days() as f64;
+            s.forgetting_curve(days, st.stability.unwrap())
+        });
+        let got = item["retrievability_without_plan"].as_f64().unwrap();
+        assert!((got - want).abs() < 1e-12, "c{i}: {got} vs {want}");
+        without += want;
+        let with = item["retrievability_with_plan"].as_f64().unwrap();
+        assert!(with >= 0.9, "c{i} reaches the target: {with}");
+        let reviews = item["reviews"].as_array().unwrap();
+        assert_eq!(
+            reviews.is_empty(),
+            want >= 0.9,
+            "c{i}: reviewed only if short"
+        );
+    }
+    let expected = v["expected_recalled_without_plan"].as_f64().unwrap();
+    assert!((expected - without).abs() < 1e-9, "{expected} vs {without}");
+    let with = v["expected_recalled_with_plan"].as_f64().unwrap();
+    assert!(with >= 0.9 * 6.0 && with > expected, "{with}");
+}
+
+#[test]
+fn a_cap_too_small_says_how_far_the_plan_falls_short() {
+    let dir = tempfile::tempdir().unwrap();
+    deck(dir.path(), 5);
+    // Five new cards, the exam in two days, one review a day: one review
+    // of a new card (stability 2.3 days) leaves 0.909 two days later, so
+    // two cards can be brought to 0.9 and three cannot.
+    let args = [
+        "plan",
+        "--exam",
+        "2026-05-12",
+        "--max-per-day",
+        "1",
+        "--retention",
+        "0.9",
+    ];
+    let v = json(&flipcard(
+        dir.path(),
+        &[&args[..], &["--format", "json"]].concat(),
+    ));
+    assert_eq!(v["reviews"], 2);
+    assert_eq!(v["shortfall"].as_f64(), Some(3.0));
+    assert_eq!(
+        v["days"],
+        serde_json::json!([
+            {"date": "2026-05-10", "reviews": 1},
+            {"date": "2026-05-11", "reviews": 1}
+        ])
+    );
+    assert!(v["cap_needed"].as_u64().is_some_and(|c| c > 1), "{v}");
+    let with = v["expected_recalled_with_plan"].as_f64().unwrap();
+    assert!(with > 1.8 && with < 2.0, "{with}");
+
+    let text = flipcard(dir.path(), &args);
+    assert!(text.status.success(), "{}", stderr(&text));
+    let text = String::from_utf8_lossy(&text.stdout);
+    assert!(
+        text.contains("Short: 3 cards of 5 stay below 0.9"),
+        "{text}"
+    );
+    assert!(text.contains("--max-per-day"), "{text}");
+    assert!(text.contains("2026-05-11        1"), "{text}");
+
+    // With no time left at all, no cap helps: it says so.
+    let today = flipcard(dir.path(), &["plan", "--exam", "2026-05-10"]);
+    let today = String::from_utf8_lossy(&today.stdout);
+    assert!(today.contains("too little time"), "{today}");
+}
+
+#[test]
+fn the_configured_retention_and_review_limit_are_the_defaults() {
+    let dir = tempfile::tempdir().unwrap();
+    deck(dir.path(), 3);
+    std::fs::write(
+        dir.path().join("config.toml"),
+        "desired_retention = 0.8\nreviews_per_day = 2\n",
+    )
+    .unwrap();
+    let v = json(&flipcard(
+        dir.path(),
+        &["plan", "--exam", "2026-05-20", "--format", "json"],
+    ));
+    assert_eq!(v["retention"], 0.8);
+    assert_eq!(v["max_per_day"], 2);
+}
+
+#[test]
+fn bad_input_is_one_line_and_exit_status_1() {
+    let dir = tempfile::tempdir().unwrap();
+    deck(dir.path(), 2);
+    let cases: &[(&[&str], &str)] = &[
+        (&["--exam", "2026-05-09"], "in the past"),
+        (&["--exam", "tomorrow"], "YYYY-MM-DD"),
+        (&["--exam", "2026-02-30"], "YYYY-MM-DD"),
+        (
+            &["--exam", "2026-05-20", "--retention", "1"],
+            "between 0 and 1",
+        ),
+        (
+            &["--exam", "2026-05-20", "--retention", "0"],
+            "between 0 and 1",
+        ),
+        (
+            &["--exam", "2026-05-20", "--retention", "-0.5"],
+            "between 0 and 1",
+        ),
+        (
+            &["--exam", "2026-05-20", "--retention", "NaN"],
+            "between 0 and 1",
+        ),
+        (
+            &["--exam", "2026-05-20", "--retention", "x"],
+            "between 0 and 1",
+        ),
+        (
+            &["--exam", "2026-05-20", "--deck", "nope"],
+            "no deck `nope`",
+        ),
+        (
+            &["--exam", "2026-05-20", "--max-per-day", "0"],
+            "--max-per-day",
+        ),
+        (
+            &["--exam", "2026-05-20", "--max-per-day", "-3"],
+            "--max-per-day",
+        ),
+        (&["--exam", "9999-01-01"], "days away"),
+    ];
+    for (args, says) in cases {
+        let out = flipcard(dir.path(), &[&["plan"][..], args].concat());
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(
+            err.starts_with("flipcard: error: ") && err.contains(says),
+            "{args:?}: {err}"
+        );
+    }
+}
