@@ -20,7 +20,8 @@ use crate::deck::model::{CardKind, Deck};
 pub const LEARN_AHEAD: TimeDelta = TimeDelta::minutes(20);
 
 /// The review items of a deck in deck order: one per card, two for a
-/// reversed card (front → back, then back → front).
+/// reversed card (front → back, then back → front), one per deletion
+/// number of a cloze card.
 pub fn deck_items(deck: &Deck) -> Vec<ItemKey> {
     cram_items(deck, None)
 }
@@ -37,9 +38,15 @@ pub fn cram_items(deck: &Deck, tag: Option<&str>) -> Vec<ItemKey> {
             card: card.id.clone(),
             direction,
         };
-        items.push(key(Direction::Forward));
-        if card.kind == CardKind::Reversed {
-            items.push(key(Direction::Backward));
+        match card.kind {
+            CardKind::Cloze => {
+                items.extend(card.cloze_numbers().into_iter().map(|n| key(Direction::Cloze(n))))
+            }
+            CardKind::Reversed => {
+                items.push(key(Direction::Forward));
+                items.push(key(Direction::Backward));
+            }
+            CardKind::Basic | CardKind::Typed => items.push(key(Direction::Forward)),
         }
     }
     items

@@ -17,6 +17,7 @@ pub mod restore;
 pub mod schema;
 pub mod state;
 pub mod stats;
+pub mod status;
 mod tally;
 pub mod today;
 
@@ -27,3 +28,4 @@ pub use error::StoreError;
 pub use log::LoggedReview;
 pub use state::{CachedState, RebuildReport};
 pub use stats::{Stats, StatsScope};
+pub use status::{AfterRating, ItemStatus, Recorded, StatusAction, StatusEvent, Undone};
