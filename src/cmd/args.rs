@@ -43,6 +43,8 @@ pub enum Command {
     Import(ImportArgs),
     /// Maintenance of the review database.
     Db(DbArgs),
+    /// List items with their schedule and status; suspend, unsuspend, bury.
+    Cards(CardsArgs),
 }
 
 #[derive(Debug, Args)]
@@ -189,4 +191,43 @@ pub enum DbCommand {
     Rebuild,
     /// Set a damaged database aside (it is kept) and restore a backup.
     Restore(RestoreArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct CardsArgs {
+    #[command(subcommand)]
+    pub command: CardsCommand,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CardsFormat {
+    Csv,
+    Json,
+}
+
+#[derive(Debug, Args)]
+pub struct CardsListArgs {
+    /// Free text and filters: deck:ID tag:T state:new|learning|review|relearning|suspended|leech|buried due:<3d is:leech is:suspended.
+    pub query: Vec<String>,
+    #[arg(long, value_enum, default_value_t = CardsFormat::Csv)]
+    pub format: CardsFormat,
+}
+
+#[derive(Debug, Args)]
+pub struct CardsItemsArgs {
+    /// DECK/CARD (all its directions) or DECK/CARD/DIRECTION.
+    #[arg(required = true, value_name = "ITEM")]
+    pub items: Vec<String>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum CardsCommand {
+    /// Print every item matching QUERY, one row each.
+    List(CardsListArgs),
+    /// Take items out of every queue until unsuspended.
+    Suspend(CardsItemsArgs),
+    /// Bring suspended (or buried) items back.
+    Unsuspend(CardsItemsArgs),
+    /// Take items out of the queue until the next study day starts.
+    Bury(CardsItemsArgs),
 }

@@ -4,6 +4,7 @@
 
 pub mod args;
 pub mod bench;
+pub mod cards;
 pub mod check;
 mod common;
 pub mod db;
@@ -38,6 +39,7 @@ pub fn run(cli: &Cli) -> ExitCode {
         Some(Command::Export(args)) => export::run(cli, args),
         Some(Command::Import(args)) => import::run(cli, args),
         Some(Command::Db(args)) => db::run(cli, args),
+        Some(Command::Cards(args)) => cards::run(cli, args),
     };
     // A failed write to stdout comes first: whatever error the handler
     // returned is then only its consequence.

@@ -23,7 +23,7 @@ pub const RETENTION_RANGE: (f64, f64) = (0.70, 0.97);
 const MAX_STEP: TimeDelta = TimeDelta::days(365);
 
 /// Every key a config file may hold, in the order `save` writes them.
-pub const KEYS: [&str; 8] = [
+pub const KEYS: [&str; 11] = [
     "desired_retention",
     "learning_steps",
     "relearning_steps",
@@ -32,7 +32,28 @@ pub const KEYS: [&str; 8] = [
     "reviews_per_day",
     "day_starts_at",
     "language",
+    "bury_siblings",
+    "leech_threshold",
+    "leech_action",
 ];
+
+/// What happens to an item whose lapses reach `leech_threshold`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LeechAction {
+    /// It is marked a leech and suspended.
+    Suspend,
+    /// It is only marked a leech (the browser and stats list it).
+    Tag,
+}
+
+impl LeechAction {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LeechAction::Suspend => "suspend",
+            LeechAction::Tag => "tag",
+        }
+    }
+}
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Config {
@@ -50,6 +71,12 @@ pub struct Config {
     pub day_starts_at: NaiveTime,
     /// Language of explanations and of the interface.
     pub language: String,
+    /// When one item of a card is answered, its other items (the other
+    /// direction, the other cloze numbers) wait until the next day.
+    pub bury_siblings: bool,
+    /// Lapses at which an item becomes a leech (0: never).
+    pub leech_threshold: u32,
+    pub leech_action: LeechAction,
 }
 
 impl Default for Config {
@@ -63,6 +90,9 @@ impl Default for Config {
             reviews_per_day: 200,
             day_starts_at: NaiveTime::from_hms_opt(4, 0, 0).unwrap_or(NaiveTime::MIN),
             language: "en".to_string(),
+            bury_siblings: true,
+            leech_threshold: 8,
+            leech_action: LeechAction::Suspend,
         }
     }
 }
@@ -107,6 +137,9 @@ struct RawConfig {
     reviews_per_day: Option<Spanned<i64>>,
     day_starts_at: Option<Spanned<String>>,
     language: Option<Spanned<String>>,
+    bury_siblings: Option<bool>,
+    leech_threshold: Option<Spanned<i64>>,
+    leech_action: Option<Spanned<String>>,
 }
 
 impl Config {
@@ -219,6 +252,28 @@ impl Config {
             }
             config.language = lang.clone();
         }
+        if let Some(b) = raw.bury_siblings {
+            config.bury_siblings = b;
+        }
+        if let Some(n) = raw.leech_threshold {
+            let v = *n.get_ref();
+            config.leech_threshold = u32::try_from(v)
+                .ok()
+                .filter(|v| *v <= 1000)
+                .ok_or_else(|| invalid("leech_threshold", n.span(), format!("{v} is outside 0–1000")))?;
+        }
+        if let Some(a) = raw.leech_action {
+            config.leech_action = [LeechAction::Suspend, LeechAction::Tag]
+                .into_iter()
+                .find(|x| x.as_str() == a.get_ref())
+                .ok_or_else(|| {
+                    invalid(
+                        "leech_action",
+                        a.span(),
+                        format!("{:?} is not one of \"suspend\", \"tag\"", a.get_ref()),
+                    )
+                })?;
+        }
         Ok(config)
     }
 
@@ -244,6 +299,9 @@ impl Config {
                 self.day_starts_at.minute()
             )),
             "language" => toml::Value::String(self.language.clone()),
+            "bury_siblings" => toml::Value::Boolean(self.bury_siblings),
+            "leech_threshold" => toml::Value::Integer(i64::from(self.leech_threshold)),
+            "leech_action" => toml::Value::String(self.leech_action.as_str().to_string()),
             other => return Err(ConfigError::UnknownKey(other.to_string())),
         })
     }
