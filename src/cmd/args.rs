@@ -54,6 +54,16 @@ pub struct ReviewArgs {
     /// Cram: review now regardless of due dates (does not change scheduling).
     #[arg(long)]
     pub cram: bool,
+    /// Only cards with this tag (repeat for several: all must hold).
+    #[arg(long, value_name = "T")]
+    pub tag: Vec<String>,
+    /// Only items in this state: new, learning, review, relearning,
+    /// suspended, leech or buried (repeat for any of several).
+    #[arg(long, value_name = "STATE")]
+    pub state: Vec<String>,
+    /// Only items due within this span from now (3d, 12h, 2w).
+    #[arg(long, value_name = "SPAN")]
+    pub due_within: Option<String>,
 }
 
 #[derive(Debug, Args)]

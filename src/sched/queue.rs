@@ -283,6 +283,18 @@ impl Queue {
         }
     }
 
+    /// Takes an item out of today's queue (suspended, buried) without an
+    /// answer.
+    pub fn set_aside(&mut self, key: &ItemKey) {
+        self.remove(key);
+    }
+
+    pub fn contains(&self, key: &ItemKey) -> bool {
+        self.learning.iter().any(|(_, k)| k == key)
+            || self.reviews.contains(key)
+            || self.new.contains(key)
+    }
+
     pub fn counts(&self) -> Counts {
         Counts {
             due: self.reviews.len(),
@@ -343,6 +355,15 @@ impl CramQueue {
             self.items.remove(pos);
         }
         self.items.push_front(key.clone());
+    }
+
+    /// Takes an item out without an answer (suspended, buried).
+    pub fn set_aside(&mut self, key: &ItemKey) {
+        self.items.retain(|k| k != key);
+    }
+
+    pub fn contains(&self, key: &ItemKey) -> bool {
+        self.items.contains(key)
     }
 
     pub fn remaining(&self) -> usize {

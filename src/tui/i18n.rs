@@ -115,6 +115,47 @@ pub enum Msg {
     Relearning,
     InReview,
     AllTime,
+    // Suspend, bury, leeches, the card browser and the study filter.
+    Filtered,
+    CardSuspended,
+    CardBuried,
+    CardUnsuspended,
+    SuspendedMeanwhile,
+    LeechSuspended,
+    LeechMarked,
+    Browser,
+    FilterTitle,
+    KeyBrowse,
+    KeyFilter,
+    ColDeck,
+    ColCard,
+    ColDirection,
+    ColState,
+    ColDue,
+    ColStability,
+    ColDifficulty,
+    ColRetrievability,
+    ColReviews,
+    ColLapses,
+    ColStatus,
+    Suspended,
+    Buried,
+    Leech,
+    Items,
+    SortedBy,
+    SearchHint,
+    NothingMatches,
+    FieldTag,
+    FieldState,
+    FieldDueWithin,
+    FieldCram,
+    AnyState,
+    Yes,
+    No,
+    Matching,
+    StartFiltered,
+    NoExplanation,
+    SuspendedNeedsCram,
 }
 
 /// What the home screen says when no deck could be opened: how many deck
@@ -277,6 +318,70 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         Relearning => pick!("relearning", "dobara seekh rahe"),
         InReview => pick!("review", "review"),
         AllTime => pick!("all time", "hamesha"),
+        Filtered => pick!("filtered", "filtered"),
+        CardSuspended => pick!(
+            "card suspended (u undoes)",
+            "card suspend kiya (u se wapas)"
+        ),
+        CardBuried => pick!(
+            "card buried until tomorrow (u undoes)",
+            "card kal tak ke liye hataya (u se wapas)"
+        ),
+        CardUnsuspended => pick!("card back in the queues", "card wapas queue mein"),
+        SuspendedMeanwhile => pick!(
+            "this card was suspended or buried meanwhile: the rating was not recorded",
+            "yeh card is beech suspend ya bury hua: rating record nahi hui"
+        ),
+        LeechSuspended => pick!(
+            "leech: forgotten too often, so suspended (u undoes)",
+            "leech: baar baar bhoola, isliye suspend kiya (u se wapas)"
+        ),
+        LeechMarked => pick!(
+            "leech: forgotten too often (marked in the browser)",
+            "leech: baar baar bhoola (browser mein nishaan laga)"
+        ),
+        Browser => pick!("Card browser", "Card browser"),
+        FilterTitle => pick!("Study filter", "Padhai filter"),
+        KeyBrowse => pick!("browse", "browse"),
+        KeyFilter => pick!("filter", "filter"),
+        ColDeck => pick!("deck", "deck"),
+        ColCard => pick!("card", "card"),
+        ColDirection => pick!("dir", "dir"),
+        ColState => pick!("state", "state"),
+        ColDue => pick!("due", "baaki"),
+        ColStability => pick!("stab", "stab"),
+        ColDifficulty => pick!("diff", "diff"),
+        ColRetrievability => pick!("recall", "yaad"),
+        ColReviews => pick!("revs", "revs"),
+        ColLapses => pick!("lapses", "bhoole"),
+        ColStatus => pick!("status", "status"),
+        Suspended => pick!("suspended", "suspended"),
+        Buried => pick!("buried", "buried"),
+        Leech => pick!("leech", "leech"),
+        Items => pick!("items", "items"),
+        SortedBy => pick!("sorted by", "sort"),
+        SearchHint => pick!(
+            "/ search: text, deck: tag: state: due:<3d is:leech is:suspended",
+            "/ khojo: text, deck: tag: state: due:<3d is:leech is:suspended"
+        ),
+        NothingMatches => pick!("nothing matches", "kuch nahi mila"),
+        FieldTag => pick!("tag", "tag"),
+        FieldState => pick!("state", "state"),
+        FieldDueWithin => pick!("due within", "itne mein baaki"),
+        FieldCram => pick!("cram", "cram"),
+        AnyState => pick!("any", "koi bhi"),
+        Yes => pick!("yes", "haan"),
+        No => pick!("no", "nahi"),
+        Matching => pick!("matching items", "milte items"),
+        StartFiltered => pick!("Enter starts the session", "Enter se session shuru"),
+        SuspendedNeedsCram => pick!(
+            "suspended cards are out of every queue: add cram to look through them, or unsuspend them",
+            "suspended cards har queue se bahar hain: dekhne ke liye cram lagao, ya unsuspend karo"
+        ),
+        NoExplanation => pick!(
+            "this card links to no explanation",
+            "is card se koi explanation juda nahi"
+        ),
     }
 }
 
