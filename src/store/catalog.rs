@@ -66,10 +66,12 @@ pub fn card_directions(card: &crate::deck::Card) -> Vec<Direction> {
     }
 }
 
-/// What free text is searched in for each card: the front and back in
-/// every language, as written (`\omega_2`) and as rendered (`ω₂`).
-pub fn card_haystack(card: &crate::deck::Card) -> String {
-    let mut hay = card.id.clone();
+/// What free text is searched in for each card, one field each: its id,
+/// then the front and back in every language, as rendered (`ω₂`) and, when
+/// they hold math, as written (`\omega_2`). A match must lie within one
+/// field: letters scattered over a whole card are no match.
+pub fn card_haystack(card: &crate::deck::Card) -> Vec<String> {
+    let mut fields = vec![card.id.clone()];
     for text in [&card.front, &card.back] {
         for t in text.0.values() {
             let written = if card.kind == CardKind::Cloze {
@@ -77,16 +79,21 @@ pub fn card_haystack(card: &crate::deck::Card) -> String {
             } else {
                 t.clone()
             };
-            hay.push(' ');
-            hay.push_str(&crate::text::render(&written));
+            let mut field = crate::text::render(&written);
             if written.contains('$') {
-                hay.push(' ');
-                hay.push_str(&written);
+                field.push(' ');
+                field.push_str(&written);
             }
+            fields.push(field);
         }
     }
-    hay
+    fields
 }
+
+/// The least score (per character of the query) a fuzzy match needs: a
+/// run of letters scores about 25 a character, letters strewn over a long
+/// text far less.
+const MIN_SCORE_PER_CHAR: u32 = 10;
 
 /// The items of `decks`, with their states and statuses at `now`.
 pub fn rows(
@@ -311,22 +318,26 @@ impl Filter {
 /// once, then every query is a pass of the fuzzy matcher.
 pub struct Search {
     /// One per row, shared by the items of a card.
-    hay: Vec<std::sync::Arc<Utf32String>>,
+    hay: Vec<std::sync::Arc<Vec<Utf32String>>>,
     matcher: Matcher,
 }
 
 impl Search {
     pub fn new(decks: &[Deck], rows: &[ItemRow]) -> Search {
-        let mut per_card: HashMap<(usize, usize), std::sync::Arc<Utf32String>> = HashMap::new();
+        let mut per_card: HashMap<(usize, usize), std::sync::Arc<Vec<Utf32String>>> =
+            HashMap::new();
         let hay = rows
             .iter()
             .map(|r| {
                 per_card
                     .entry((r.deck, r.card))
                     .or_insert_with(|| {
-                        std::sync::Arc::new(Utf32String::from(card_haystack(
-                            &decks[r.deck].cards[r.card],
-                        )))
+                        std::sync::Arc::new(
+                            card_haystack(&decks[r.deck].cards[r.card])
+                                .into_iter()
+                                .map(Utf32String::from)
+                                .collect(),
+                        )
                     })
                     .clone()
             })
@@ -344,11 +355,17 @@ impl Search {
             return candidates.to_vec();
         }
         let pattern = Pattern::parse(text, CaseMatching::Ignore, Normalization::Smart);
+        let chars = text.chars().filter(|c| !c.is_whitespace()).count() as u32;
+        let least = MIN_SCORE_PER_CHAR * chars;
+        let matcher = &mut self.matcher;
         let mut scored: Vec<(u32, usize)> = candidates
             .iter()
             .filter_map(|&i| {
-                pattern
-                    .score(self.hay[i].slice(..), &mut self.matcher)
+                self.hay[i]
+                    .iter()
+                    .filter_map(|h| pattern.score(h.slice(..), matcher))
+                    .max()
+                    .filter(|s| *s >= least)
                     .map(|s| (s, i))
             })
             .collect();
@@ -394,6 +411,45 @@ mod tests {
             assert!(e.0.contains(says), "{bad}: {e}");
         }
         // A colon after something that is not a field name is text.
+        assert_eq!(Filter::parse("L_z:1 x").unwrap().text, "L_z:1 x");
+    }
+
+    fn deck() -> Deck {
+        let loaded = crate::deck::load_dir(std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/decks/study/decks"
+        )));
+        loaded.decks.into_iter().next().expect("the study deck loads")
+    }
+
+    #[test]
+    fn search_finds_math_as_written_and_as_rendered_within_one_field() {
+        let d = deck();
+        let decks = std::slice::from_ref(&d);
+        let dir = tempfile::tempdir().unwrap();
+        let store = Store::open(dir.path()).unwrap();
+        let sched = Scheduler::new(&crate::sched::Config::default());
+        let now = crate::sched::clock::now().unwrap();
+        let rows = rows(decks, &store, &sched, now).unwrap();
+        assert_eq!(rows.len(), 6, "3 cloze numbers, 2 directions, 1 basic");
+        let mut search = Search::new(decks, &rows);
+        let all: Vec<usize> = (0..rows.len()).collect();
+        let cards = |search: &mut Search, q: &str| -> BTreeSet<String> {
+            search
+                .matching(q, &all)
+                .into_iter()
+                .map(|i| rows[i].key.card.clone())
+                .collect()
+        };
+        for q in ["omega2", "ω₂", "omega_2", "vec L"] {
+            assert_eq!(cards(&mut search, q), BTreeSet::from(["torque-rate".to_string()]), "{q}");
+        }
+        // Letters of `spin` strewn over the long cloze text are no match.
+        assert_eq!(
+            cards(&mut search, "spin"),
+            BTreeSet::from(["spin-axis".to_string(), "middle".to_string()])
+        );
+        assert!(cards(&mut search, "zzqx").is_empty());
         assert_eq!(Filter::parse("L_z:1 x").unwrap().text, "L_z:1 x");
     }
 }

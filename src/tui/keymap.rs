@@ -36,6 +36,12 @@ pub enum Context {
     /// The verdict is shown under the last frame.
     PredictVerdict,
     Stats,
+    /// The card browser's table.
+    Browser,
+    /// Typing the browser's query.
+    BrowserSearch,
+    /// The study filter's form.
+    Filter,
 }
 
 impl Context {
@@ -55,6 +61,9 @@ impl Context {
             Context::PredictRun => screens::predict::RUN_KEYS,
             Context::PredictVerdict => screens::predict::VERDICT_KEYS,
             Context::Stats => screens::stats::KEYS,
+            Context::Browser => screens::browser::KEYS,
+            Context::BrowserSearch => screens::browser::SEARCH_KEYS,
+            Context::Filter => screens::filter::KEYS,
         }
     }
 

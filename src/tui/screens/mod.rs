@@ -1,5 +1,7 @@
 //! One module per screen: its state, how actions change it, how it draws.
 
+pub mod browser;
+pub mod filter;
 pub mod home;
 pub mod predict;
 pub mod prompts;
@@ -41,6 +43,8 @@ pub enum Screen {
     Prompts(prompts::PromptsState),
     Predict(Box<predict::PredictState>),
     Stats(Box<stats::StatsState>),
+    Browser(Box<browser::BrowserState>),
+    Filter(Box<filter::FilterState>),
 }
 
 impl Screen {
@@ -52,6 +56,8 @@ impl Screen {
             Screen::Prompts(s) => s,
             Screen::Predict(s) => s.as_ref(),
             Screen::Stats(s) => s.as_ref(),
+            Screen::Browser(s) => s.as_ref(),
+            Screen::Filter(s) => s.as_ref(),
         }
     }
 
@@ -63,6 +69,8 @@ impl Screen {
             Screen::Prompts(s) => s,
             Screen::Predict(s) => s.as_mut(),
             Screen::Stats(s) => s.as_mut(),
+            Screen::Browser(s) => s.as_mut(),
+            Screen::Filter(s) => s.as_mut(),
         }
     }
 
