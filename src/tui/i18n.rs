@@ -156,6 +156,7 @@ pub enum Msg {
     StartFiltered,
     NoExplanation,
     SuspendedNeedsCram,
+    BrowserKeys,
 }
 
 /// What the home screen says when no deck could be opened: how many deck
@@ -374,6 +375,10 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         No => pick!("no", "nahi"),
         Matching => pick!("matching items", "milte items"),
         StartFiltered => pick!("Enter starts the session", "Enter se session shuru"),
+        BrowserKeys => pick!(
+            "/ search  s suspend  b bury  U unsuspend  Enter preview  e explain  o sort",
+            "/ khojo  s suspend  b bury  U unsuspend  Enter dekho  e samjhaav  o sort"
+        ),
         SuspendedNeedsCram => pick!(
             "suspended cards are out of every queue: add cram to look through them, or unsuspend them",
             "suspended cards har queue se bahar hain: dekhne ke liye cram lagao, ya unsuspend karo"

@@ -176,14 +176,16 @@ impl Column {
 
     fn width(self) -> Constraint {
         match self {
-            Column::Deck | Column::Card => Constraint::Fill(1),
+            Column::Deck => Constraint::Fill(1),
+            Column::Card => Constraint::Fill(2),
             Column::Direction => Constraint::Length(8),
             Column::State => Constraint::Length(10),
-            Column::Due => Constraint::Length(7),
+            Column::Due => Constraint::Length(6),
             Column::Stability | Column::Difficulty | Column::Retrievability => {
                 Constraint::Length(6)
             }
-            Column::Reviews | Column::Lapses => Constraint::Length(6),
+            Column::Reviews => Constraint::Length(4),
+            Column::Lapses => Constraint::Length(6),
             Column::Status => Constraint::Length(6),
         }
     }
@@ -519,14 +521,11 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
     if s.preview {
         draw_preview(frame, preview_area, app, s);
     }
-    let hint = if s.typing {
-        app.tr(Msg::SearchHint).to_string()
+    let hint = app.tr(if s.typing {
+        Msg::SearchHint
     } else {
-        format!(
-            "{}  ·  s b U  ·  Enter  ·  o O  ·  ?",
-            app.tr(Msg::SearchHint)
-        )
-    };
+        Msg::BrowserKeys
+    });
     frame.render_widget(Paragraph::new(Span::styled(hint, t.dim())), keys_area);
 }
 
@@ -540,8 +539,14 @@ fn draw_table(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
     } else {
         0
     };
+    // Below 100 columns, stability and difficulty give way to the names
+    // (they can still be sorted by).
+    let columns: Vec<Column> = Column::ALL
+        .into_iter()
+        .filter(|c| area.width >= 100 || !matches!(c, Column::Stability | Column::Difficulty))
+        .collect();
     let header = Row::new(
-        Column::ALL
+        columns
             .iter()
             .map(|c| {
                 let mut title = app.tr(c.title()).to_string();
@@ -566,21 +571,21 @@ fn draw_table(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             };
             let status = status_text(r, s.now);
             let status_style = if status.is_empty() { t.dim() } else { t.warn() };
-            Row::new(vec![
-                Cell::from(app.decks[r.deck].id.clone()),
-                Cell::from(r.key.card.clone()),
-                Cell::from(r.key.direction.as_str().into_owned()),
-                Cell::from(r.state_name()),
-                Cell::from(due),
-                Cell::from(fmt_opt(r.state.and_then(|s| s.stability), 3)),
-                Cell::from(fmt_opt(r.state.and_then(|s| s.difficulty), 3)),
-                Cell::from(fmt_opt(r.retrievability, 2)),
-                Cell::from(r.reviews.to_string()),
-                Cell::from(r.lapses.to_string()),
-                Cell::from(status).style(status_style),
-            ])
+            Row::new(columns.iter().map(|c| match c {
+                Column::Deck => Cell::from(app.decks[r.deck].id.clone()),
+                Column::Card => Cell::from(r.key.card.clone()),
+                Column::Direction => Cell::from(r.key.direction.as_str().into_owned()),
+                Column::State => Cell::from(r.state_name()),
+                Column::Due => Cell::from(due.clone()),
+                Column::Stability => Cell::from(fmt_opt(r.state.and_then(|s| s.stability), 3)),
+                Column::Difficulty => Cell::from(fmt_opt(r.state.and_then(|s| s.difficulty), 3)),
+                Column::Retrievability => Cell::from(fmt_opt(r.retrievability, 2)),
+                Column::Reviews => Cell::from(r.reviews.to_string()),
+                Column::Lapses => Cell::from(r.lapses.to_string()),
+                Column::Status => Cell::from(status.clone()).style(status_style),
+            }))
         });
-    let widths: Vec<Constraint> = Column::ALL.iter().map(|c| c.width()).collect();
+    let widths: Vec<Constraint> = columns.iter().map(|c| c.width()).collect();
     let table = Table::new(rows, widths)
         .header(header)
         .row_highlight_style(t.selected())

@@ -9,6 +9,7 @@ use super::app::App;
 use super::keymap;
 use super::update::apply;
 
+mod browser;
 mod home;
 mod predict;
 mod reader;
