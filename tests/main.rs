@@ -29,4 +29,5 @@ mod store_outside_clients;
 mod store_props;
 mod store_safety;
 mod store_status;
+mod tui_browser_e2e;
 mod tui_e2e;
