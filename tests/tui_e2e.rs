@@ -19,7 +19,7 @@ use flipcard::deck::{Answer, Deck};
 const NOW: &str = "2026-03-02T09:00:00Z";
 const DECK: &str = "torque-free-rotation";
 
-fn tmux_available() -> bool {
+pub(crate) fn tmux_available() -> bool {
     Command::new("tmux")
         .arg("-V")
         .output()
@@ -30,7 +30,7 @@ fn tmux_available() -> bool {
 /// output directory separately, so building the release profile from
 /// inside `cargo test` (which holds the test profile's lock) cannot
 /// deadlock.
-fn release_binary() -> &'static Path {
+pub(crate) fn release_binary() -> &'static Path {
     static BIN: OnceLock<PathBuf> = OnceLock::new();
     BIN.get_or_init(|| {
         let manifest = env!("CARGO_MANIFEST_DIR");
@@ -51,7 +51,7 @@ fn release_binary() -> &'static Path {
 }
 
 /// A tmux server of its own (its own socket), killed on drop.
-struct Tmux {
+pub(crate) struct Tmux {
     socket: String,
 }
 
@@ -59,7 +59,7 @@ impl Tmux {
     /// Starts `command` in a detached session of `w`×`h` cells. The command
     /// runs under `sh`, which afterwards prints the exit status and whether
     /// the terminal is back in canonical (cooked) mode, then waits.
-    fn start(name: &str, env: &[(&str, String)], args: &str, w: u16, h: u16) -> Tmux {
+    pub(crate) fn start(name: &str, env: &[(&str, String)], args: &str, w: u16, h: u16) -> Tmux {
         let socket = format!("flipcard-e2e-{}-{name}", std::process::id());
         let mut exports = String::new();
         for (k, v) in env {
@@ -104,7 +104,7 @@ impl Tmux {
     }
 
     /// Named keys (`Enter`, `Escape`, `C-c`, `Space`) or single characters.
-    fn keys(&self, keys: &[&str]) {
+    pub(crate) fn keys(&self, keys: &[&str]) {
         for k in keys {
             self.tmux(&["send-keys", "-t", "e2e", k]);
             // Two quick Escapes would arrive as one Alt-Escape.
@@ -112,12 +112,12 @@ impl Tmux {
         }
     }
 
-    fn screen(&self) -> String {
+    pub(crate) fn screen(&self) -> String {
         self.tmux(&["capture-pane", "-p", "-t", "e2e"])
     }
 
     /// Waits until the screen contains `needle`; returns the screen.
-    fn wait_for(&self, needle: &str) -> String {
+    pub(crate) fn wait_for(&self, needle: &str) -> String {
         self.wait_until(needle, |s| s.contains(needle))
     }
 

@@ -47,6 +47,8 @@ pub enum Command {
     Optimize(OptimizeArgs),
     /// Plan the reviews that bring every card to a target recall on an exam day.
     Plan(PlanArgs),
+    /// List items with their schedule and status; suspend, unsuspend, bury.
+    Cards(CardsArgs),
 }
 
 #[derive(Debug, Args)]
@@ -56,6 +58,16 @@ pub struct ReviewArgs {
     /// Cram: review now regardless of due dates (does not change scheduling).
     #[arg(long)]
     pub cram: bool,
+    /// Only cards with this tag (repeat for several: all must hold).
+    #[arg(long, value_name = "T")]
+    pub tag: Vec<String>,
+    /// Only items in this state: new, learning, review, relearning,
+    /// suspended, leech or buried (repeat for any of several).
+    #[arg(long, value_name = "STATE")]
+    pub state: Vec<String>,
+    /// Only items due within this span from now (3d, 12h, 2w).
+    #[arg(long, value_name = "SPAN")]
+    pub due_within: Option<String>,
 }
 
 #[derive(Debug, Args)]
@@ -260,4 +272,43 @@ pub struct PlanArgs {
     pub max_per_day: Option<String>,
     #[arg(long, value_enum, default_value_t = PlanFormat::Text)]
     pub format: PlanFormat,
+}
+
+#[derive(Debug, Args)]
+pub struct CardsArgs {
+    #[command(subcommand)]
+    pub command: CardsCommand,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum CardsFormat {
+    Csv,
+    Json,
+}
+
+#[derive(Debug, Args)]
+pub struct CardsListArgs {
+    /// Free text and filters: deck:ID tag:T state:new|learning|review|relearning|suspended|leech|buried due:<3d is:leech is:suspended.
+    pub query: Vec<String>,
+    #[arg(long, value_enum, default_value_t = CardsFormat::Csv)]
+    pub format: CardsFormat,
+}
+
+#[derive(Debug, Args)]
+pub struct CardsItemsArgs {
+    /// DECK/CARD (all its directions) or DECK/CARD/DIRECTION.
+    #[arg(required = true, value_name = "ITEM")]
+    pub items: Vec<String>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum CardsCommand {
+    /// Print every item matching QUERY, one row each.
+    List(CardsListArgs),
+    /// Take items out of every queue until unsuspended.
+    Suspend(CardsItemsArgs),
+    /// Bring suspended (or buried) items back.
+    Unsuspend(CardsItemsArgs),
+    /// Take items out of the queue until the next study day starts.
+    Bury(CardsItemsArgs),
 }

@@ -37,6 +37,11 @@ pub fn run(cli: &Cli, args: &DbArgs) -> anyhow::Result<ExitCode> {
             if report.tallies_changed {
                 crate::outln!("the answer tallies did not match the log and were recomputed")?;
             }
+            if report.statuses_changed {
+                crate::outln!(
+                    "the suspended, buried and leech marks did not match the status log and were recomputed"
+                )?;
+            }
             Ok(ExitCode::SUCCESS)
         }
     }

@@ -4,6 +4,7 @@
 
 pub mod args;
 pub mod bench;
+pub mod cards;
 pub mod check;
 mod common;
 pub mod db;
@@ -44,6 +45,7 @@ pub fn run(cli: &Cli) -> ExitCode {
         Some(Command::Db(args)) => db::run(cli, args),
         Some(Command::Optimize(args)) => optimize::run(cli, args),
         Some(Command::Plan(args)) => plan::run(cli, args),
+        Some(Command::Cards(args)) => cards::run(cli, args),
     };
     // A failed write to stdout comes first: whatever error the handler
     // returned is then only its consequence.

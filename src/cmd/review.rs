@@ -10,6 +10,7 @@ use crate::cmd::args::{Cli, ReviewArgs};
 use crate::cmd::paths;
 use crate::sched::Config;
 use crate::store::Store;
+use crate::store::catalog::{Filter, parse_span};
 use crate::tui::app::{App, DeckLoad};
 use crate::tui::services::{Clock, DayZone, Services};
 use crate::tui::theme::Theme;
@@ -39,8 +40,34 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
     app.deck_load = deck_load;
     if let Some(args) = review {
-        crate::tui::open_review(&mut app, args.deck.as_deref(), args.cram)?;
+        let filter = review_filter(args)?;
+        if filter.is_empty() {
+            crate::tui::open_review(&mut app, args.deck.as_deref(), args.cram)?;
+        } else {
+            crate::tui::open_filtered_review(&mut app, args.deck.as_deref(), &filter, args.cram)?;
+        }
     }
     crate::tui::run(&mut app)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The filter `--tag`, `--state` and `--due-within` ask for (empty when
+/// none is given).
+fn review_filter(args: &ReviewArgs) -> anyhow::Result<Filter> {
+    let mut filter = Filter {
+        tags: args.tag.clone(),
+        ..Filter::default()
+    };
+    for s in &args.state {
+        filter.add_state(s)?;
+    }
+    if let Some(span) = &args.due_within {
+        filter.due_within = Some(parse_span(span)?);
+    }
+    if !args.cram && filter.states.iter().any(|s| s == "suspended") {
+        anyhow::bail!(
+            "suspended cards are out of every queue: add --cram to look through them, or unsuspend them with `flipcard cards unsuspend`"
+        );
+    }
+    Ok(filter)
 }

@@ -50,6 +50,9 @@ pub enum CardKind {
     Reversed,
     /// The learner types the answer; compared against `Card::accept`.
     Typed,
+    /// A text with deletions `{{c1::…}}`: `front` holds it, each number
+    /// is its own review item, `back` holds optional extra notes.
+    Cloze,
 }
 
 impl CardKind {
@@ -58,7 +61,31 @@ impl CardKind {
             CardKind::Basic => "basic",
             CardKind::Reversed => "reversed",
             CardKind::Typed => "typed",
+            CardKind::Cloze => "cloze",
         }
+    }
+
+    pub const ALL: [CardKind; 4] = [
+        CardKind::Basic,
+        CardKind::Reversed,
+        CardKind::Typed,
+        CardKind::Cloze,
+    ];
+}
+
+impl Card {
+    /// The deletion numbers of a cloze card (the same in every language,
+    /// as validation ensures); empty for other kinds.
+    pub fn cloze_numbers(&self) -> Vec<u16> {
+        if self.kind != CardKind::Cloze {
+            return Vec::new();
+        }
+        self.front
+            .0
+            .values()
+            .next()
+            .map(|t| super::cloze::numbers(t).into_iter().collect())
+            .unwrap_or_default()
     }
 }
 

@@ -66,7 +66,7 @@ impl RawText {
 pub const DECK_FILE_FIELDS: &[&str] = &["deck", "card", "prompt", "scene"];
 pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages"];
 pub const CARD_FIELDS: &[&str] = &[
-    "id", "kind", "front", "back", "accept", "explain", "prompt", "tags",
+    "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text",
 ];
 pub const PROMPT_FIELDS: &[&str] = &["id", "question", "scene", "explain", "tags", "answer"];
 pub const CHOICE_ANSWER_FIELDS: &[&str] = &["kind", "expected", "choices"];
@@ -118,6 +118,8 @@ pub struct RawCard {
     pub kind: Option<Str>,
     pub front: Option<RawText>,
     pub back: Option<RawText>,
+    /// The text of a cloze card (which has no `front`).
+    pub text: Option<RawText>,
     pub accept: Option<List<Str>>,
     pub explain: Option<Str>,
     pub prompt: Option<Str>,
@@ -301,12 +303,23 @@ fn read_card(rep: &mut FileReport, t: &DeTable, span: Span) -> RawCard {
     );
     let what = label("card", &probe);
     let f = probe.named(what);
+    let kind = f.string(rep, "kind", false);
+    let cloze = kind.as_ref().is_some_and(|k| k.value == "cloze");
     RawCard {
         span,
         id: f.string(rep, "id", true),
-        kind: f.string(rep, "kind", false),
-        front: f.text(rep, "front", true),
-        back: f.text(rep, "back", true),
+        kind,
+        front: if cloze {
+            f.text(rep, "front", false)
+        } else {
+            f.text(rep, "front", true)
+        },
+        back: f.text(rep, "back", !cloze),
+        text: if cloze {
+            f.text(rep, "text", true)
+        } else {
+            f.text(rep, "text", false)
+        },
         accept: f.strings(rep, "accept", false),
         explain: f.string(rep, "explain", false),
         prompt: f.string(rep, "prompt", false),

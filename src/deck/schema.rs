@@ -45,16 +45,27 @@ pub struct DeckHeader {
     pub languages: Vec<LangTag>,
 }
 
-/// A flashcard.
+/// A flashcard. A cloze card has `text` (and an optional `back` of notes);
+/// every other kind has `front` and `back`.
 #[derive(JsonSchema)]
 #[schemars(deny_unknown_fields)]
+#[schemars(extend(
+    "if" = { "properties": { "kind": { "const": "cloze" } }, "required": ["kind"] },
+    "then" = { "required": ["text"], "not": { "required": ["front"] } },
+    "else" = { "required": ["front", "back"], "not": { "required": ["text"] } }
+))]
 pub struct Card {
     /// Stable identity: edit the texts freely, never the id.
     pub id: Id,
-    /// `basic` (default), `reversed` (also asked back → front) or `typed`.
+    /// `basic` (default), `reversed` (also asked back → front), `typed` or
+    /// `cloze` (each deletion number of `text` asked on its own).
     pub kind: Option<CardKindName>,
-    pub front: Text,
-    pub back: Text,
+    pub front: Option<Text>,
+    pub back: Option<Text>,
+    /// The text of a cloze card, with deletions `{{c1::answer}}` or
+    /// `{{c1::answer::hint}}`; several deletions may share a number, and
+    /// every language must have the same numbers.
+    pub text: Option<Text>,
     /// Accepted typed answers (typed cards only), compared ignoring case and spaces.
     pub accept: Option<Vec<NonEmpty>>,
     /// Id of the explanation section opened with `e`.
@@ -261,9 +272,7 @@ impl JsonSchema for CardKindName {
     fn json_schema(_: &mut SchemaGenerator) -> Schema {
         names_schema(
             "How the card is asked.",
-            [CardKind::Basic, CardKind::Reversed, CardKind::Typed]
-                .map(CardKind::as_str)
-                .to_vec(),
+            CardKind::ALL.map(CardKind::as_str).to_vec(),
         )
     }
 }

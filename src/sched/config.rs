@@ -23,7 +23,7 @@ pub const RETENTION_RANGE: (f64, f64) = (0.70, 0.97);
 const MAX_STEP: TimeDelta = TimeDelta::days(365);
 
 /// Every key a config file may hold, in the order `save` writes them.
-pub const KEYS: [&str; 8] = [
+pub const KEYS: [&str; 11] = [
     "desired_retention",
     "learning_steps",
     "relearning_steps",
@@ -32,6 +32,9 @@ pub const KEYS: [&str; 8] = [
     "reviews_per_day",
     "day_starts_at",
     "language",
+    "bury_siblings",
+    "leech_threshold",
+    "leech_action",
 ];
 
 /// Keys written only once they have a value: FSRS parameters fitted to the
@@ -64,6 +67,23 @@ pub const PARAMETER_BOUNDS: [(f64, f64); 21] = [
     (0.0, 0.8),
     (0.1, 0.8),
 ];
+/// What happens to an item whose lapses reach `leech_threshold`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LeechAction {
+    /// It is marked a leech and suspended.
+    Suspend,
+    /// It is only marked a leech (the browser and stats list it).
+    Tag,
+}
+
+impl LeechAction {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LeechAction::Suspend => "suspend",
+            LeechAction::Tag => "tag",
+        }
+    }
+}
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct Config {
@@ -85,6 +105,12 @@ pub struct Config {
     pub fsrs_parameters: Option<[f64; 21]>,
     /// When `fsrs_parameters` were fitted (RFC 3339).
     pub fsrs_fitted_at: Option<chrono::DateTime<chrono::FixedOffset>>,
+    /// When one item of a card is answered, its other items (the other
+    /// direction, the other cloze numbers) wait until the next day.
+    pub bury_siblings: bool,
+    /// Lapses at which an item becomes a leech (0: never).
+    pub leech_threshold: u32,
+    pub leech_action: LeechAction,
 }
 
 impl Default for Config {
@@ -100,6 +126,9 @@ impl Default for Config {
             language: "en".to_string(),
             fsrs_parameters: None,
             fsrs_fitted_at: None,
+            bury_siblings: true,
+            leech_threshold: 8,
+            leech_action: LeechAction::Suspend,
         }
     }
 }
@@ -146,6 +175,9 @@ struct RawConfig {
     language: Option<Spanned<String>>,
     fsrs_parameters: Option<Spanned<Vec<Spanned<f64>>>>,
     fsrs_fitted_at: Option<Spanned<String>>,
+    bury_siblings: Option<bool>,
+    leech_threshold: Option<Spanned<i64>>,
+    leech_action: Option<Spanned<String>>,
 }
 
 impl Config {
@@ -292,6 +324,35 @@ impl Config {
                 })?,
             );
         }
+        if let Some(b) = raw.bury_siblings {
+            config.bury_siblings = b;
+        }
+        if let Some(n) = raw.leech_threshold {
+            let v = *n.get_ref();
+            config.leech_threshold =
+                u32::try_from(v)
+                    .ok()
+                    .filter(|v| *v <= 1000)
+                    .ok_or_else(|| {
+                        invalid(
+                            "leech_threshold",
+                            n.span(),
+                            format!("{v} is outside 0–1000"),
+                        )
+                    })?;
+        }
+        if let Some(a) = raw.leech_action {
+            config.leech_action = [LeechAction::Suspend, LeechAction::Tag]
+                .into_iter()
+                .find(|x| x.as_str() == a.get_ref())
+                .ok_or_else(|| {
+                    invalid(
+                        "leech_action",
+                        a.span(),
+                        format!("{:?} is not one of \"suspend\", \"tag\"", a.get_ref()),
+                    )
+                })?;
+        }
         Ok(config)
     }
 
@@ -322,6 +383,9 @@ impl Config {
                     .fitted_value_of(key)
                     .ok_or_else(|| ConfigError::UnknownKey(key.to_string()));
             }
+            "bury_siblings" => toml::Value::Boolean(self.bury_siblings),
+            "leech_threshold" => toml::Value::Integer(i64::from(self.leech_threshold)),
+            "leech_action" => toml::Value::String(self.leech_action.as_str().to_string()),
             other => return Err(ConfigError::UnknownKey(other.to_string())),
         })
     }

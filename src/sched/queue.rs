@@ -20,7 +20,8 @@ use crate::deck::model::{CardKind, Deck};
 pub const LEARN_AHEAD: TimeDelta = TimeDelta::minutes(20);
 
 /// The review items of a deck in deck order: one per card, two for a
-/// reversed card (front → back, then back → front).
+/// reversed card (front → back, then back → front), one per deletion
+/// number of a cloze card.
 pub fn deck_items(deck: &Deck) -> Vec<ItemKey> {
     cram_items(deck, None)
 }
@@ -37,9 +38,17 @@ pub fn cram_items(deck: &Deck, tag: Option<&str>) -> Vec<ItemKey> {
             card: card.id.clone(),
             direction,
         };
-        items.push(key(Direction::Forward));
-        if card.kind == CardKind::Reversed {
-            items.push(key(Direction::Backward));
+        match card.kind {
+            CardKind::Cloze => items.extend(
+                card.cloze_numbers()
+                    .into_iter()
+                    .map(|n| key(Direction::Cloze(n))),
+            ),
+            CardKind::Reversed => {
+                items.push(key(Direction::Forward));
+                items.push(key(Direction::Backward));
+            }
+            CardKind::Basic | CardKind::Typed => items.push(key(Direction::Forward)),
         }
     }
     items
@@ -276,6 +285,18 @@ impl Queue {
         }
     }
 
+    /// Takes an item out of today's queue (suspended, buried) without an
+    /// answer.
+    pub fn set_aside(&mut self, key: &ItemKey) {
+        self.remove(key);
+    }
+
+    pub fn contains(&self, key: &ItemKey) -> bool {
+        self.learning.iter().any(|(_, k)| k == key)
+            || self.reviews.contains(key)
+            || self.new.contains(key)
+    }
+
     pub fn counts(&self) -> Counts {
         Counts {
             due: self.reviews.len(),
@@ -336,6 +357,15 @@ impl CramQueue {
             self.items.remove(pos);
         }
         self.items.push_front(key.clone());
+    }
+
+    /// Takes an item out without an answer (suspended, buried).
+    pub fn set_aside(&mut self, key: &ItemKey) {
+        self.items.retain(|k| k != key);
+    }
+
+    pub fn contains(&self, key: &ItemKey) -> bool {
+        self.items.contains(key)
     }
 
     pub fn remaining(&self) -> usize {

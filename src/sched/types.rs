@@ -28,27 +28,38 @@ pub enum State {
 }
 
 /// Which way a card is asked. Basic and typed cards have only `Forward`;
-/// reversed cards are two review items with separate state.
+/// reversed cards are two review items with separate state; each deletion
+/// number of a cloze card is its own item (`c1`, `c2`, …).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Direction {
     /// front → back
     Forward,
     /// back → front
     Backward,
+    /// The text with deletion number `n` hidden.
+    Cloze(u16),
 }
 
 impl Direction {
-    pub fn as_str(self) -> &'static str {
+    pub fn as_str(self) -> std::borrow::Cow<'static, str> {
         match self {
-            Direction::Forward => "forward",
-            Direction::Backward => "backward",
+            Direction::Forward => "forward".into(),
+            Direction::Backward => "backward".into(),
+            Direction::Cloze(n) => format!("c{n}").into(),
         }
     }
     pub fn parse(s: &str) -> Option<Direction> {
         match s {
             "forward" => Some(Direction::Forward),
             "backward" => Some(Direction::Backward),
-            _ => None,
+            _ => {
+                let digits = s.strip_prefix('c')?;
+                // One spelling per number: `c01` would be a second key for `c1`.
+                if digits.starts_with('0') || !digits.bytes().all(|b| b.is_ascii_digit()) {
+                    return None;
+                }
+                digits.parse().ok().filter(|n| *n > 0).map(Direction::Cloze)
+            }
         }
     }
 }

@@ -84,7 +84,7 @@ impl FromSql for ReviewKind {
 
 impl ToSql for Direction {
     fn to_sql(&self) -> rusqlite::Result<ToSqlOutput<'_>> {
-        Ok(self.as_str().into())
+        Ok(ToSqlOutput::from(self.as_str().into_owned()))
     }
 }
 

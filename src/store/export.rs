@@ -63,7 +63,7 @@ impl ExportError {
 pub struct ExportedReview {
     pub deck: String,
     pub card: String,
-    pub direction: &'static str,
+    pub direction: std::borrow::Cow<'static, str>,
     pub reviewed_at: String,
     pub rating: u8,
     pub kind: &'static str,

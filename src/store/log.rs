@@ -76,8 +76,8 @@ impl Store {
         self.session
     }
 
-    /// Reverts the last rating of this session that is not yet undone: the
-    /// log row is marked undone and the item's state is recomputed from the
+    /// Reverts the last rating of this session that is not yet undone (with
+    /// the status events it brought about): the log row is marked undone and the item's state is recomputed from the
     /// log (back to new when no rating of it remains), in one transaction.
     /// Returns the undone log row (marked undone), or `None` when there is
     /// nothing to undo.
@@ -111,6 +111,8 @@ impl Store {
             .map_err(sql_err)?;
         state::refresh_item(&tx, &last.record.key).map_err(sql_err)?;
         tally::count(&tx, &last.record, -1).map_err(sql_err)?;
+        // A leech found or siblings buried by this rating go with it.
+        super::status::undo_caused(&tx, last.id).map_err(sql_err)?;
         tx.commit().map_err(sql_err)?;
         Ok(Some(LoggedReview {
             undone: true,
@@ -166,13 +168,17 @@ impl Store {
     }
 }
 
-fn insert_session(conn: &rusqlite::Connection) -> rusqlite::Result<i64> {
+pub(super) fn insert_session(conn: &rusqlite::Connection) -> rusqlite::Result<i64> {
     let started = crate::sched::clock::now().map(to_ms).unwrap_or(0);
     conn.execute("INSERT INTO session (started_at) VALUES (?1)", [started])?;
     Ok(conn.last_insert_rowid())
 }
 
-fn append(tx: &Transaction<'_>, session: i64, r: &ReviewRecord) -> rusqlite::Result<i64> {
+pub(super) fn append(
+    tx: &Transaction<'_>,
+    session: i64,
+    r: &ReviewRecord,
+) -> rusqlite::Result<i64> {
     let a = &r.after;
     let id = tx
         .prepare_cached(

@@ -9,7 +9,7 @@ use rusqlite::{Connection, TransactionBehavior};
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
-pub const MIGRATIONS: &[&str] = &[V1];
+pub const MIGRATIONS: &[&str] = &[V1, V2];
 
 /// The schema version this build writes.
 pub fn current_version() -> i64 {
@@ -138,6 +138,158 @@ BEGIN
 END;
 "#;
 
+/// Version 2: cloze items (directions `c1`, `c2`, …), and the status log:
+/// suspend, unsuspend, bury and leech events, append-only like the review
+/// log, with the status cache derived from it. SQLite cannot change a
+/// CHECK constraint in place, so the review log is copied into a table
+/// that allows the new directions.
+const V2: &str = r#"
+CREATE TABLE review_v2 (
+    id              INTEGER PRIMARY KEY,
+    session         INTEGER REFERENCES session(id),
+    deck            TEXT NOT NULL CHECK (deck <> ''),
+    card            TEXT NOT NULL CHECK (card <> ''),
+    direction       TEXT NOT NULL CHECK (direction IN ('forward', 'backward')
+                        OR (direction GLOB 'c[1-9]*' AND direction NOT GLOB 'c*[^0-9]*')),
+    reviewed_at     INTEGER NOT NULL,
+    rating          INTEGER NOT NULL CHECK (rating BETWEEN 1 AND 4),
+    kind            TEXT NOT NULL CHECK (kind IN ('learn', 'review', 'relearn', 'cram')),
+    elapsed_days    INTEGER NOT NULL,
+    scheduled_days  INTEGER NOT NULL,
+    stability       REAL,
+    difficulty      REAL,
+    state           TEXT NOT NULL CHECK (state IN ('new', 'learning', 'review', 'relearning')),
+    step            INTEGER CHECK (step >= 0),
+    due             INTEGER NOT NULL,
+    last_review     INTEGER,
+    duration_ms     INTEGER NOT NULL CHECK (duration_ms >= 0),
+    undone          INTEGER NOT NULL DEFAULT 0 CHECK (undone IN (0, 1))
+) STRICT;
+INSERT INTO review_v2 SELECT * FROM review;
+
+-- The cache is kept in a table without constraints meanwhile: a row
+-- referring to the old log while it is dropped would count as a violation.
+CREATE TABLE card_state_copy AS SELECT * FROM card_state;
+DROP TABLE card_state;
+DROP TRIGGER review_no_delete;
+DROP TRIGGER review_only_undo;
+DROP TABLE review;
+ALTER TABLE review_v2 RENAME TO review;
+
+CREATE TABLE card_state (
+    deck         TEXT NOT NULL,
+    card         TEXT NOT NULL,
+    direction    TEXT NOT NULL,
+    state        TEXT NOT NULL CHECK (state IN ('new', 'learning', 'review', 'relearning')),
+    step         INTEGER,
+    stability    REAL,
+    difficulty   REAL,
+    due          INTEGER NOT NULL,
+    last_review  INTEGER,
+    reps         INTEGER NOT NULL CHECK (reps >= 0),
+    lapses       INTEGER NOT NULL CHECK (lapses >= 0),
+    review_id    INTEGER NOT NULL REFERENCES review(id),
+    PRIMARY KEY (deck, card, direction)
+) STRICT, WITHOUT ROWID;
+INSERT INTO card_state SELECT * FROM card_state_copy;
+DROP TABLE card_state_copy;
+
+CREATE INDEX review_item ON review(deck, card, direction, id);
+CREATE INDEX review_time ON review(reviewed_at);
+CREATE INDEX review_deck_time ON review(deck, reviewed_at);
+CREATE INDEX review_session ON review(session, id);
+CREATE INDEX review_cram ON review(deck, card, direction, undone) WHERE kind = 'cram';
+CREATE INDEX card_state_due ON card_state(deck, due);
+
+CREATE TRIGGER review_no_delete BEFORE DELETE ON review
+BEGIN
+    SELECT RAISE(ABORT, 'the review log is append-only: rows are never deleted');
+END;
+
+CREATE TRIGGER review_only_undo BEFORE UPDATE ON review
+WHEN NEW.undone IS NOT 1
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.card IS NOT OLD.card
+  OR NEW.direction IS NOT OLD.direction
+  OR NEW.reviewed_at IS NOT OLD.reviewed_at
+  OR NEW.rating IS NOT OLD.rating
+  OR NEW.kind IS NOT OLD.kind
+  OR NEW.elapsed_days IS NOT OLD.elapsed_days
+  OR NEW.scheduled_days IS NOT OLD.scheduled_days
+  OR NEW.stability IS NOT OLD.stability
+  OR NEW.difficulty IS NOT OLD.difficulty
+  OR NEW.state IS NOT OLD.state
+  OR NEW.step IS NOT OLD.step
+  OR NEW.due IS NOT OLD.due
+  OR NEW.last_review IS NOT OLD.last_review
+  OR NEW.duration_ms IS NOT OLD.duration_ms
+BEGIN
+    SELECT RAISE(ABORT, 'the review log is append-only: only undone may change, to 1');
+END;
+
+-- Changes of an item's status. `cause` is the rating that brought the
+-- event about (a leech found, siblings buried), undone with it;
+-- `after_review` is the newest review id when the event was written, so
+-- that undo can tell which came last; `batch` (the id of its first event)
+-- groups the events of one change. `until` ends a bury.
+CREATE TABLE status_event (
+    id            INTEGER PRIMARY KEY,
+    session       INTEGER REFERENCES session(id),
+    deck          TEXT NOT NULL CHECK (deck <> ''),
+    card          TEXT NOT NULL CHECK (card <> ''),
+    direction     TEXT NOT NULL CHECK (direction IN ('forward', 'backward')
+                      OR (direction GLOB 'c[1-9]*' AND direction NOT GLOB 'c*[^0-9]*')),
+    at            INTEGER NOT NULL,
+    action        TEXT NOT NULL CHECK (action IN ('suspend', 'unsuspend', 'bury', 'leech')),
+    until         INTEGER,
+    cause         INTEGER REFERENCES review(id),
+    after_review  INTEGER NOT NULL DEFAULT 0,
+    batch         INTEGER NOT NULL,
+    undone        INTEGER NOT NULL DEFAULT 0 CHECK (undone IN (0, 1)),
+    CHECK ((action = 'bury') = (until IS NOT NULL))
+) STRICT;
+
+CREATE INDEX status_event_item ON status_event(deck, card, direction, id);
+CREATE INDEX status_event_session ON status_event(session, id);
+CREATE INDEX status_event_cause ON status_event(cause) WHERE cause IS NOT NULL;
+
+CREATE TRIGGER status_event_no_delete BEFORE DELETE ON status_event
+BEGIN
+    SELECT RAISE(ABORT, 'the status log is append-only: rows are never deleted');
+END;
+
+CREATE TRIGGER status_event_only_undo BEFORE UPDATE ON status_event
+WHEN NEW.undone IS NOT 1
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.card IS NOT OLD.card
+  OR NEW.direction IS NOT OLD.direction
+  OR NEW.at IS NOT OLD.at
+  OR NEW.action IS NOT OLD.action
+  OR NEW.until IS NOT OLD.until
+  OR NEW.cause IS NOT OLD.cause
+  OR NEW.after_review IS NOT OLD.after_review
+  OR NEW.batch IS NOT OLD.batch
+BEGIN
+    SELECT RAISE(ABORT, 'the status log is append-only: only undone may change, to 1');
+END;
+
+-- Each item's status from the events that count (`flipcard db rebuild`
+-- derives it again); an item without a row is active.
+CREATE TABLE item_status (
+    deck          TEXT NOT NULL,
+    card          TEXT NOT NULL,
+    direction     TEXT NOT NULL,
+    suspended     INTEGER NOT NULL CHECK (suspended IN (0, 1)),
+    buried_until  INTEGER,
+    leech         INTEGER NOT NULL CHECK (leech IN (0, 1)),
+    PRIMARY KEY (deck, card, direction)
+) STRICT, WITHOUT ROWID;
+"#;
+
 /// Brings the database at `path` up to the last of `migrations`. Before the
 /// first migration of a database that already holds a schema, a copy is made
 /// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
@@ -251,10 +403,12 @@ mod tests {
             tables(&conn),
             [
                 "card_state",
+                "item_status",
                 "prompt_attempt",
                 "review",
                 "review_tally",
-                "session"
+                "session",
+                "status_event"
             ]
         );
         let entries = std::fs::read_dir(dir.path()).unwrap().count();

@@ -36,6 +36,9 @@ pub struct RebuildReport {
     pub reviews: i64,
     /// Whether the answer tallies differed from the log.
     pub tallies_changed: bool,
+    /// Whether the status cache (suspended, buried, leech) differed from
+    /// the status log.
+    pub statuses_changed: bool,
 }
 
 const STATE_COLUMNS: &str = "deck, card, direction, state, step, stability, difficulty, due, \
@@ -197,6 +200,7 @@ impl Store {
         )
         .map_err(sql_err)?;
         let tallies_changed = super::tally::rebuild(&tx).map_err(sql_err)?;
+        let statuses_changed = super::status::rebuild(&tx).map_err(sql_err)?;
         let reviews: i64 = tx
             .query_row("SELECT count(*) FROM review", [], |r| r.get(0))
             .map_err(sql_err)?;
@@ -206,6 +210,7 @@ impl Store {
             changed,
             reviews,
             tallies_changed,
+            statuses_changed,
         })
     }
 }

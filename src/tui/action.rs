@@ -43,6 +43,21 @@ pub enum Action {
     /// Open the prompt the card links to.
     OpenCardPrompt,
 
+    // Suspend and bury (review screen and card browser)
+    Suspend,
+    Unsuspend,
+    Bury,
+
+    // Card browser and study filter
+    OpenBrowser,
+    OpenFilter,
+    /// Sort by the next column (or reverse the order).
+    NextSort,
+    ReverseSort,
+    /// Move to the next field of a form.
+    NextField,
+    PrevField,
+
     // Reader
     PrevSection,
     NextSection,

@@ -130,6 +130,48 @@ pub enum Msg {
     FsrsDefault,
     FsrsFitted,
     Exam,
+    // Suspend, bury, leeches, the card browser and the study filter.
+    Filtered,
+    CardSuspended,
+    CardBuried,
+    CardUnsuspended,
+    SuspendedMeanwhile,
+    LeechSuspended,
+    LeechMarked,
+    Browser,
+    FilterTitle,
+    KeyBrowse,
+    KeyFilter,
+    ColDeck,
+    ColCard,
+    ColDirection,
+    ColState,
+    ColDue,
+    ColStability,
+    ColDifficulty,
+    ColRetrievability,
+    ColReviews,
+    ColLapses,
+    ColStatus,
+    Suspended,
+    Buried,
+    Leech,
+    Items,
+    SortedBy,
+    SearchHint,
+    NothingMatches,
+    FieldTag,
+    FieldState,
+    FieldDueWithin,
+    FieldCram,
+    AnyState,
+    Yes,
+    No,
+    Matching,
+    StartFiltered,
+    NoExplanation,
+    SuspendedNeedsCram,
+    BrowserKeys,
 }
 
 /// What the home screen says when no deck could be opened: how many deck
@@ -306,6 +348,74 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         FsrsDefault => pick!("FSRS defaults", "FSRS default"),
         FsrsFitted => pick!("FSRS fitted", "FSRS fit kiya"),
         Exam => pick!("Exam", "Exam"),
+        Filtered => pick!("filtered", "filtered"),
+        CardSuspended => pick!(
+            "card suspended (u undoes)",
+            "card suspend kiya (u se wapas)"
+        ),
+        CardBuried => pick!(
+            "card buried until tomorrow (u undoes)",
+            "card kal tak ke liye hataya (u se wapas)"
+        ),
+        CardUnsuspended => pick!("card back in the queues", "card wapas queue mein"),
+        SuspendedMeanwhile => pick!(
+            "this card was suspended or buried meanwhile: the rating was not recorded",
+            "yeh card is beech suspend ya bury hua: rating record nahi hui"
+        ),
+        LeechSuspended => pick!(
+            "leech: forgotten too often, so suspended (u undoes)",
+            "leech: baar baar bhoola, isliye suspend kiya (u se wapas)"
+        ),
+        LeechMarked => pick!(
+            "leech: forgotten too often (marked in the browser)",
+            "leech: baar baar bhoola (browser mein nishaan laga)"
+        ),
+        Browser => pick!("Card browser", "Card browser"),
+        FilterTitle => pick!("Study filter", "Padhai filter"),
+        KeyBrowse => pick!("browse", "browse"),
+        KeyFilter => pick!("filter", "filter"),
+        ColDeck => pick!("deck", "deck"),
+        ColCard => pick!("card", "card"),
+        ColDirection => pick!("dir", "dir"),
+        ColState => pick!("state", "state"),
+        ColDue => pick!("due", "baaki"),
+        ColStability => pick!("stab", "stab"),
+        ColDifficulty => pick!("diff", "diff"),
+        ColRetrievability => pick!("recall", "yaad"),
+        ColReviews => pick!("revs", "revs"),
+        ColLapses => pick!("lapses", "bhoole"),
+        ColStatus => pick!("status", "status"),
+        Suspended => pick!("suspended", "suspended"),
+        Buried => pick!("buried", "buried"),
+        Leech => pick!("leech", "leech"),
+        Items => pick!("items", "items"),
+        SortedBy => pick!("sorted by", "sort"),
+        SearchHint => pick!(
+            "/ search: text, deck: tag: state: due:<3d is:leech is:suspended",
+            "/ khojo: text, deck: tag: state: due:<3d is:leech is:suspended"
+        ),
+        NothingMatches => pick!("nothing matches", "kuch nahi mila"),
+        FieldTag => pick!("tag", "tag"),
+        FieldState => pick!("state", "state"),
+        FieldDueWithin => pick!("due within", "itne mein baaki"),
+        FieldCram => pick!("cram", "cram"),
+        AnyState => pick!("any", "koi bhi"),
+        Yes => pick!("yes", "haan"),
+        No => pick!("no", "nahi"),
+        Matching => pick!("matching items", "milte items"),
+        StartFiltered => pick!("Enter starts the session", "Enter se session shuru"),
+        BrowserKeys => pick!(
+            "/ search  s suspend  b bury  U unsuspend  Enter preview  e explain  o sort",
+            "/ khojo  s suspend  b bury  U unsuspend  Enter dekho  e samjhaav  o sort"
+        ),
+        SuspendedNeedsCram => pick!(
+            "suspended cards are out of every queue: add cram to look through them, or unsuspend them",
+            "suspended cards har queue se bahar hain: dekhne ke liye cram lagao, ya unsuspend karo"
+        ),
+        NoExplanation => pick!(
+            "this card links to no explanation",
+            "is card se koi explanation juda nahi"
+        ),
     }
 }
 

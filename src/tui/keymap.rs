@@ -38,6 +38,12 @@ pub enum Context {
     Stats,
     /// Typing the exam date.
     ExamDate,
+    /// The card browser's table.
+    Browser,
+    /// Typing the browser's query.
+    BrowserSearch,
+    /// The study filter's form.
+    Filter,
 }
 
 impl Context {
@@ -58,6 +64,9 @@ impl Context {
             Context::PredictVerdict => screens::predict::VERDICT_KEYS,
             Context::Stats => screens::stats::KEYS,
             Context::ExamDate => screens::exam::DATE_KEYS,
+            Context::Browser => screens::browser::KEYS,
+            Context::BrowserSearch => screens::browser::SEARCH_KEYS,
+            Context::Filter => screens::filter::KEYS,
         }
     }
 

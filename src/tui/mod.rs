@@ -71,6 +71,45 @@ pub fn open_review(app: &mut App, deck: Option<&str>, cram: bool) -> anyhow::Res
     Ok(())
 }
 
+/// Opens a review of the cards of `deck` (default: the first) that
+/// `filter` chooses; a filter no card passes is an error, said before the
+/// terminal switches.
+pub fn open_filtered_review(
+    app: &mut App,
+    deck: Option<&str>,
+    filter: &crate::store::catalog::Filter,
+    cram: bool,
+) -> anyhow::Result<()> {
+    let index = match deck {
+        Some(id) => app.decks.iter().position(|d| d.id == id).ok_or_else(|| {
+            let ids: Vec<&str> = app.decks.iter().map(|d| d.id.as_str()).collect();
+            anyhow::anyhow!("no deck `{id}`; decks: {}", ids.join(", "))
+        })?,
+        None if app.decks.is_empty() => anyhow::bail!("no decks to review"),
+        None => 0,
+    };
+    let items =
+        screens::review::filtered_items(app, index, filter, cram).map_err(anyhow::Error::msg)?;
+    if items.is_empty() {
+        anyhow::bail!(
+            "no card of deck `{}` matches the filter{}",
+            app.decks[index].id,
+            if cram {
+                ""
+            } else {
+                " (suspended and buried cards are left out)"
+            }
+        );
+    }
+    if let screens::Screen::Home(h) = app.screen_mut() {
+        h.selected = index;
+    }
+    let review = screens::review::ReviewState::open_filtered(app, index, filter, cram)
+        .map_err(anyhow::Error::msg)?;
+    app.push(screens::Screen::Review(Box::new(review)));
+    Ok(())
+}
+
 /// On SIGTERM, SIGHUP, SIGINT or SIGQUIT: wait until the event loop is idle
 /// (it holds `busy` while it changes state or draws, so a rating being
 /// written finishes first), restore the terminal and exit.

@@ -9,7 +9,7 @@ use chrono::{DateTime, Utc};
 
 use crate::deck::Deck;
 use crate::sched::{CardState, Config, ItemKey, Queue, Scheduler};
-use crate::store::{PromptAttempt, Store, StoreError};
+use crate::store::{AfterRating, PromptAttempt, Store, StoreError};
 
 use super::screens::home::{Counts, DeckRow};
 
@@ -130,7 +130,10 @@ impl Services {
         let states = self.store.states(&deck.id)?;
         let (day_start, _) = self.study_day(now);
         let done = self.store.reviews_today(&deck.id, day_start)?;
-        let items = crate::sched::deck_items(deck);
+        // Suspended and buried items leave the queue.
+        let statuses = self.store.statuses()?;
+        let mut items = crate::sched::deck_items(deck);
+        items.retain(|k| statuses.get(k).is_none_or(|s| s.studyable(now)));
         let queue = match self.zone {
             DayZone::Local => {
                 Queue::build(&items, &states, done, now, &self.config, &chrono::Local)
@@ -155,6 +158,29 @@ impl Services {
         DeckRow {
             counts,
             last_studied: self.store.last_studied(&deck.id).ok().flatten(),
+        }
+    }
+
+    /// What follows a rating of `key` in `deck`: leech detection as the
+    /// config says, and its siblings buried until the next study day.
+    pub fn after_rating(&self, deck: &Deck, key: &ItemKey, now: DateTime<Utc>) -> AfterRating {
+        let c = &self.config;
+        let bury = match deck.card(&key.card) {
+            Some(card) if c.bury_siblings => crate::store::catalog::card_directions(card)
+                .into_iter()
+                .filter(|d| *d != key.direction)
+                .map(|direction| ItemKey {
+                    direction,
+                    ..key.clone()
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        AfterRating {
+            leech_threshold: c.leech_threshold,
+            leech_suspend: c.leech_action == crate::sched::config::LeechAction::Suspend,
+            bury,
+            bury_until: self.study_day(now).1,
         }
     }
 

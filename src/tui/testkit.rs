@@ -226,8 +226,11 @@ impl DerefMut for TestApp {
 }
 
 pub fn services(dir: &TempDir) -> Services {
+    // Siblings are not buried here, so that the fixture's reversed card
+    // shows both ways in one session; the tests of burying turn it on.
     let config = Config {
         fuzz: false,
+        bury_siblings: false,
         ..Config::default()
     };
     let store = match Store::open(dir.path()) {

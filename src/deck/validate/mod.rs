@@ -3,6 +3,7 @@
 //! checks still all run so one pass reports everything.
 
 pub mod answer;
+pub mod cloze;
 pub mod content;
 pub mod scene;
 pub mod text;
@@ -467,7 +468,7 @@ fn card(
     let kind = match &raw.kind {
         None => Some(CardKind::Basic),
         Some(k) => {
-            let kinds = [CardKind::Basic, CardKind::Reversed, CardKind::Typed];
+            let kinds = CardKind::ALL;
             let found = kinds.into_iter().find(|c| c.as_str() == k.value);
             if found.is_none() {
                 let names = kinds.map(CardKind::as_str);
@@ -481,14 +482,37 @@ fn card(
             found
         }
     };
-    let front = raw
-        .front
-        .as_ref()
-        .and_then(|t| text::text(rep, t, langs, &format!("the front of {what}")));
-    let back = raw
-        .back
-        .as_ref()
-        .and_then(|t| text::text(rep, t, langs, &format!("the back of {what}")));
+    if kind == Some(CardKind::Cloze) {
+        if let Some(f) = &raw.front {
+            rep.error(
+                f.span(),
+                format!("cloze {what} has `text`, not `front`"),
+                Some("write the deletions in text = { en = '{{c1::answer}} …' }".to_string()),
+            );
+        }
+    } else if let Some(t) = &raw.text {
+        rep.error(
+            t.span(),
+            format!("`text` belongs to cloze cards; {what} is not one"),
+            Some("did you mean kind = \"cloze\"?".to_string()),
+        );
+    }
+    let front = if kind == Some(CardKind::Cloze) {
+        raw.text.as_ref().and_then(|t| {
+            let text = text::text(rep, t, langs, &format!("the text of {what}"));
+            let deletions = cloze::deletions(rep, t, &what);
+            text.filter(|_| deletions)
+        })
+    } else {
+        raw.front
+            .as_ref()
+            .and_then(|t| text::text(rep, t, langs, &format!("the front of {what}")))
+    };
+    let back = match &raw.back {
+        Some(t) => text::text(rep, t, langs, &format!("the back of {what}")),
+        // Only cloze cards may leave the back out (it holds extra notes).
+        None => Some(Text::default()),
+    };
     let accept = accept(rep, raw, kind, &what);
     let explain = optional_link(rep, &raw.explain, section_ids, "section", "explain");
     let prompt = optional_link(rep, &raw.prompt, Some(prompt_ids), "prompt", "prompt");

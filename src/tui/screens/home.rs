@@ -51,6 +51,17 @@ pub const KEYS: &[Binding] = &[
         &[(Char('t'), Action::OpenStats)],
     ),
     Binding::new(
+        "b f",
+        Words(
+            "card browser / study with a filter",
+            "card browser / filter ke saath padho",
+        ),
+        &[
+            (Char('b'), Action::OpenBrowser),
+            (Char('f'), Action::OpenFilter),
+        ],
+    ),
+    Binding::new(
         "q",
         Words("quit", "band karo"),
         &[(Char('q'), Action::Quit), (Esc, Action::Quit)],
@@ -132,6 +143,9 @@ pub fn apply(app: &mut App, state: &mut HomeState, action: Action) -> Nav {
             return Nav::Push(Screen::Stats(Box::new(super::stats::StatsState::open(
                 app, deck,
             ))));
+        }
+        Action::OpenBrowser | Action::OpenFilter => {
+            return super::filter::open_from_home(app, deck, action);
         }
         Action::OpenReview | Action::OpenCram => {
             match super::review::ReviewState::open(app, deck, action == Action::OpenCram) {

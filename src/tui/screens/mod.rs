@@ -1,6 +1,8 @@
 //! One module per screen: its state, how actions change it, how it draws.
 
+pub mod browser;
 pub mod exam;
+pub mod filter;
 pub mod home;
 pub mod predict;
 pub mod prompts;
@@ -43,6 +45,8 @@ pub enum Screen {
     Predict(Box<predict::PredictState>),
     Stats(Box<stats::StatsState>),
     Exam(Box<exam::ExamState>),
+    Browser(Box<browser::BrowserState>),
+    Filter(Box<filter::FilterState>),
 }
 
 impl Screen {
@@ -55,6 +59,8 @@ impl Screen {
             Screen::Predict(s) => s.as_ref(),
             Screen::Stats(s) => s.as_ref(),
             Screen::Exam(s) => s.as_ref(),
+            Screen::Browser(s) => s.as_ref(),
+            Screen::Filter(s) => s.as_ref(),
         }
     }
 
@@ -67,6 +73,8 @@ impl Screen {
             Screen::Predict(s) => s.as_mut(),
             Screen::Stats(s) => s.as_mut(),
             Screen::Exam(s) => s.as_mut(),
+            Screen::Browser(s) => s.as_mut(),
+            Screen::Filter(s) => s.as_mut(),
         }
     }
 

@@ -9,6 +9,7 @@ use super::app::App;
 use super::keymap;
 use super::update::apply;
 
+mod browser;
 mod exam;
 mod home;
 mod predict;

@@ -56,21 +56,34 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     let Some((card, direction)) = state.card(deck) else {
         return;
     };
-    let (question, answer) = match direction {
-        Direction::Forward => (&card.front, &card.back),
-        Direction::Backward => (&card.back, &card.front),
-    };
     // Borders and a column of margin on each side.
     let width = rest.width.saturating_sub(4) as usize;
-    let para = |text: &str, style| {
-        wrap(
-            &[Run::new(crate::text::render(text), style)],
-            width,
-            Run::new("", style),
-            Run::new("", style),
-        )
+    let runs = |runs: Vec<Run>, style| wrap(&runs, width, Run::new("", style), Run::new("", style));
+    let para = |text: &str, style| runs(vec![Run::new(crate::text::render(text), style)], style);
+    // A cloze text: the part asked about stands out, the rest is plain.
+    let cloze = |segs: Vec<crate::deck::cloze::Segment>, plain, asked| {
+        let r = segs
+            .into_iter()
+            .map(|s| {
+                let style = if s.asked { asked } else { plain };
+                Run::new(crate::text::render(&s.text), style)
+            })
+            .collect();
+        runs(r, plain)
     };
-    let mut lines = para(question.get(&app.lang), t.strong());
+    let (mut lines, answer) = match direction {
+        Direction::Forward => (para(card.front.get(&app.lang), t.strong()), &card.back),
+        Direction::Backward => (para(card.back.get(&app.lang), t.strong()), &card.front),
+        Direction::Cloze(n) => {
+            let text = card.front.get(&app.lang);
+            let shown = if matches!(state.phase, Phase::Back { .. }) {
+                crate::deck::cloze::back(text, n)
+            } else {
+                crate::deck::cloze::front(text, n)
+            };
+            (cloze(shown, t.strong(), t.highlight()), &card.back)
+        }
+    };
     lines.push(Line::default());
     match &state.phase {
         Phase::Front { input } => {
@@ -84,7 +97,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
         }
         Phase::Back { typed, .. } => {
             lines.push(Line::styled("─".repeat(width.min(40)), t.dim()));
-            lines.extend(para(answer.get(&app.lang), t.text()));
+            // A cloze card's back is optional notes under the revealed text.
+            if !answer.get(&app.lang).is_empty() {
+                lines.extend(para(answer.get(&app.lang), t.text()));
+            }
             if let Some(ta) = typed {
                 lines.push(Line::default());
                 let (mark, style) = match ta.check.verdict {

@@ -15,8 +15,26 @@ const EXPLAIN: Binding = Binding::new(
 
 const UNDO: Binding = Binding::new(
     "u",
-    Words("undo the last rating", "pichhli rating wapas lo"),
+    Words(
+        "undo the last rating, suspend or bury",
+        "pichhli rating, suspend ya bury wapas lo",
+    ),
     &[(Char('u'), Action::Undo)],
+);
+
+const SUSPEND: Binding = Binding::new(
+    "s",
+    Words(
+        "suspend this card (out of every queue)",
+        "yeh card suspend karo (har queue se bahar)",
+    ),
+    &[(Char('s'), Action::Suspend)],
+);
+
+const BURY: Binding = Binding::new(
+    "b",
+    Words("bury this card until tomorrow", "yeh card kal tak hatao"),
+    &[(Char('b'), Action::Bury)],
 );
 
 const END_SESSION: Binding = Binding::new(
@@ -33,6 +51,8 @@ pub const FRONT_KEYS: &[Binding] = &[
         &[(Char(' '), Action::Reveal), (Enter, Action::Reveal)],
     ),
     EXPLAIN,
+    SUSPEND,
+    BURY,
     UNDO,
     END_SESSION,
 ];
@@ -93,6 +113,8 @@ pub const BACK_KEYS: &[Binding] = &[
         Words("try the linked prediction", "judi prediction try karo"),
         &[(Char('p'), Action::OpenCardPrompt)],
     ),
+    SUSPEND,
+    BURY,
     UNDO,
     END_SESSION,
 ];

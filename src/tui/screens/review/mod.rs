@@ -16,6 +16,7 @@ use super::Nav;
 
 mod draw;
 mod keys;
+mod status;
 pub use draw::{draw, fmt_duration};
 pub use keys::{BACK_KEYS, DONE_KEYS, FRONT_KEYS, TYPING_KEYS};
 
@@ -23,7 +24,9 @@ pub use keys::{BACK_KEYS, DONE_KEYS, FRONT_KEYS, TYPING_KEYS};
 pub enum Source {
     /// Today's due, learning and new cards.
     Daily(Queue),
-    /// Every card now; answers logged as cram, scheduling unchanged.
+    /// A fixed list of cards, each once (again after Again): every card
+    /// when cramming, or the cards a filter chose. Cram answers leave the
+    /// scheduling unchanged; the answers of a filtered session count.
     Cram(CramQueue),
     /// Today's share of an exam plan: real reviews of the planned items,
     /// an item answered Again coming round again.
@@ -67,11 +70,57 @@ pub struct ReviewState {
     pub started: Stamp,
     /// Ratings of this screen, newest last: undo never reaches further back.
     pub rated: Vec<(ItemKey, Rating)>,
+    /// Suspends and buries made on this screen (items of each), newest last.
+    pub marks: Vec<Vec<ItemKey>>,
+    /// For each rating of `rated`, the siblings it took out of the queue.
+    pub aside: Vec<Vec<ItemKey>>,
+    /// The cards were chosen by a filter (see [`ReviewState::open_filtered`]).
+    pub filtered: bool,
     /// The card shown is a typed card (its front takes text).
     pub typed: bool,
 }
 
 impl ReviewState {
+    /// A session over the cards of `deck` that `filter` chooses (see
+    /// [`crate::store::catalog::Filter`]), each once, in deck order.
+    /// Suspended and buried cards are left out, unless cramming: their
+    /// answers would change a schedule they are out of.
+    pub fn open_filtered(
+        app: &mut App,
+        deck: usize,
+        filter: &crate::store::catalog::Filter,
+        cram: bool,
+    ) -> Result<ReviewState, String> {
+        let items = filtered_items(app, deck, filter, cram)?;
+        let d = app.decks.get(deck).ok_or("no such deck")?;
+        let states = app
+            .services
+            .store
+            .states(&d.id)
+            .map_err(|e| e.to_string())?;
+        app.services
+            .store
+            .start_session()
+            .map_err(|e| e.to_string())?;
+        let mut state = ReviewState {
+            deck,
+            cram,
+            source: Source::Cram(CramQueue::new(items)),
+            states,
+            current: None,
+            phase: Phase::Done,
+            session: Session::default(),
+            started: app.services.stopwatch.stamp(),
+            rated: Vec::new(),
+            marks: Vec::new(),
+            aside: Vec::new(),
+            filtered: true,
+            typed: false,
+        };
+        state.next_card(app);
+        Ok(state)
+    }
+
     pub fn open(app: &mut App, deck: usize, cram: bool) -> Result<ReviewState, String> {
         let d = app.decks.get(deck).ok_or("no such deck")?;
         let now = app.services.now();
@@ -104,6 +153,9 @@ impl ReviewState {
             session: Session::default(),
             started: app.services.stopwatch.stamp(),
             rated: Vec::new(),
+            marks: Vec::new(),
+            aside: Vec::new(),
+            filtered: false,
             typed: false,
         };
         state.next_card(app);
@@ -130,7 +182,7 @@ impl ReviewState {
         Ok(state)
     }
 
-    fn next_card(&mut self, app: &App) {
+    pub(super) fn next_card(&mut self, app: &App) {
         let now = app.services.now();
         let next = match &self.source {
             Source::Daily(q) => q.next(now).map(|(k, _)| k.clone()),
@@ -139,7 +191,7 @@ impl ReviewState {
         self.show(app, next);
     }
 
-    fn show(&mut self, app: &App, key: Option<ItemKey>) {
+    pub(super) fn show(&mut self, app: &App, key: Option<ItemKey>) {
         match key {
             Some(key) => {
                 self.typed = app
@@ -184,7 +236,11 @@ impl ReviewState {
             Source::Cram(c) => format!(
                 "{} · {}",
                 app.count(c.remaining(), Noun::Card),
-                app.tr(Msg::Cram)
+                app.tr(if self.filtered && !self.cram {
+                    Msg::Filtered
+                } else {
+                    Msg::Cram
+                })
             ),
             Source::Plan(c) => format!(
                 "{} · {}",
@@ -221,7 +277,13 @@ impl super::View for ReviewState {
 pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
     match (&mut state.phase, action) {
         (_, Action::Back) => return Nav::Pop,
+        (_, Action::Undo) if state.rated.is_empty() && !state.marks.is_empty() => {
+            status::undo(app, state)
+        }
         (_, Action::Undo) => undo(app, state),
+        (Phase::Front { .. } | Phase::Back { .. }, Action::Suspend | Action::Bury) => {
+            status::mark(app, state, action)
+        }
         (_, Action::Explain) => return explain(app, state),
         (Phase::Front { input }, Action::Input(c)) => input.push(c),
         (Phase::Front { input }, Action::Backspace) => {
@@ -271,6 +333,9 @@ fn rate(app: &mut App, state: &mut ReviewState, rating: Rating) {
         return;
     };
     let now = app.services.now();
+    if !state.cram && status::changed_meanwhile(app, state, &key) {
+        return;
+    }
     let duration = app.services.stopwatch.elapsed_ms(shown);
     let before = state.states.get(&key).copied();
     let s = &app.services.scheduler;
@@ -279,12 +344,24 @@ fn rate(app: &mut App, state: &mut ReviewState, rating: Rating) {
     } else {
         s.review(&key, before.as_ref(), rating, now, duration)
     };
+    let after = match app.decks.get(state.deck) {
+        Some(deck) if !state.cram => app.services.after_rating(deck, &key, now),
+        _ => crate::store::AfterRating {
+            leech_threshold: 0,
+            leech_suspend: false,
+            bury: Vec::new(),
+            bury_until: now,
+        },
+    };
     // Durable before anything else changes: if the write fails, the card
     // stays on screen and the rating can be given again.
-    if let Err(e) = app.services.store.record(&record) {
-        app.error(e.to_string());
-        return;
-    }
+    let recorded = match app.services.store.record_study(&record, &after) {
+        Ok(r) => r,
+        Err(e) => {
+            app.error(e.to_string());
+            return;
+        }
+    };
     match &mut state.source {
         Source::Daily(q) => q.answered(&record),
         Source::Cram(c) | Source::Plan(c) => c.answered(&record),
@@ -296,8 +373,9 @@ fn rate(app: &mut App, state: &mut ReviewState, rating: Rating) {
     if rating == Rating::Again {
         state.session.again += 1;
     }
-    state.rated.push((key, rating));
+    state.rated.push((key.clone(), rating));
     app.status = None;
+    status::after_rating(app, state, &key, &after, recorded.leech);
     state.next_card(app);
 }
 
@@ -306,8 +384,12 @@ fn undo(app: &mut App, state: &mut ReviewState) {
         app.info(app.tr(Msg::NothingToUndo));
         return;
     }
-    let record = match app.services.store.undo_last() {
-        Ok(Some(r)) => r,
+    let record = match app.services.store.undo_last_change() {
+        Ok(Some(crate::store::Undone::Review(r))) => r,
+        Ok(Some(crate::store::Undone::Status(events))) => {
+            status::undone(app, state, &events);
+            return;
+        }
         Ok(None) => {
             app.info(app.tr(Msg::NothingToUndo));
             return;
@@ -336,6 +418,9 @@ fn undo(app: &mut App, state: &mut ReviewState) {
         };
     }
     state.rated.pop();
+    if let Some(siblings) = state.aside.pop() {
+        status::bring_back(app, state, &siblings);
+    }
     state.session.reviewed = state.session.reviewed.saturating_sub(1);
     if record.record.rating == Rating::Again {
         state.session.again = state.session.again.saturating_sub(1);
@@ -370,4 +455,31 @@ fn open_prompt(app: &mut App, state: &ReviewState) -> Nav {
         ))),
         None => Nav::Stay,
     }
+}
+
+/// The items of `deck` a filtered session would show, in deck order.
+pub fn filtered_items(
+    app: &App,
+    deck: usize,
+    filter: &crate::store::catalog::Filter,
+    cram: bool,
+) -> Result<Vec<ItemKey>, String> {
+    use crate::store::catalog;
+    if !cram && filter.states.iter().any(|s| s == "suspended") {
+        return Err(app.tr(Msg::SuspendedNeedsCram).to_string());
+    }
+    let d = app.decks.get(deck).ok_or("no such deck")?;
+    let decks = std::slice::from_ref(d);
+    filter.check_names(decks).map_err(|e| e.to_string())?;
+    let now = app.services.now();
+    let rows = catalog::rows(decks, &app.services.store, &app.services.scheduler, now)
+        .map_err(|e| e.to_string())?;
+    let mut search = catalog::Search::new(decks, &rows);
+    let mut picked = catalog::select(decks, &rows, &mut search, filter, now);
+    picked.sort_unstable();
+    Ok(picked
+        .into_iter()
+        .filter(|&i| cram || rows[i].status.studyable(now))
+        .map(|i| rows[i].key.clone())
+        .collect())
 }

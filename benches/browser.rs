@@ -1,0 +1,258 @@
+//! The card browser with 50,000 items (target < 50 ms each): the first
+//! frame (every item's state and status read, the search index built, the
+//! table drawn) and one keystroke of search (the query parsed, every item
+//! matched, the table drawn), for a first letter (the broadest fuzzy
+//! match), a letter that completes `omega2`, and a filter (`is:leech`).
+
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+use chrono::{DateTime, TimeDelta, Utc};
+use criterion::{Criterion, criterion_group, criterion_main};
+use ratatui::Terminal;
+use ratatui::backend::TestBackend;
+
+use flipcard::deck::{Card, CardKind, Deck, Text};
+use flipcard::sched::{Config, Direction, ItemKey, Rating, ReviewKind, Scheduler};
+use flipcard::store::{AfterRating, StatusAction, Store};
+use flipcard::tui::services::{Clock, DayZone, Services};
+use flipcard::tui::theme::Theme;
+use flipcard::tui::{Action, App, apply, view};
+
+/// Cards of each kind: 30,000 basic + 10,000 reversed (two items each)...
+const BASIC: usize = 30_000;
+/// ... and 5,000 cloze cards of two numbers: 50,000 items.
+const CLOZE: usize = 5_000;
+const REVERSED: usize = 5_000;
+
+fn text(en: String, hi: String) -> Text {
+    Text(BTreeMap::from([
+        ("en".to_string(), en),
+        ("hi-Latn".to_string(), hi),
+    ]))
+}
+
+fn deck() -> Deck {
+    let mut cards = Vec::new();
+    let card = |id: String, kind, front: Text, back: Text, tag: &str| Card {
+        id,
+        kind,
+        front,
+        back,
+        accept: Vec::new(),
+        explain: None,
+        prompt: None,
+        tags: vec![tag.to_string()],
+    };
+    for i in 0..BASIC {
+        cards.push(card(
+            format!("basic-{i}"),
+            CardKind::Basic,
+            text(
+                format!(
+                    "Question {i}: what is the angular momentum $L_{{{}}}$ of body {i}?",
+                    i % 3 + 1
+                ),
+                format!(
+                    "Sawaal {i}: body {i} ka angular momentum $L_{{{}}}$ kya hai?",
+                    i % 3 + 1
+                ),
+            ),
+            text(
+                format!(
+                    "It is $I_{{{}}} \\omega_{{{}}}$, about {i} units.",
+                    i % 3 + 1,
+                    i % 3 + 1
+                ),
+                format!(
+                    "Yeh $I_{{{}}} \\omega_{{{}}}$ hai, lagbhag {i} units.",
+                    i % 3 + 1,
+                    i % 3 + 1
+                ),
+            ),
+            ["frames", "euler", "stability"][i % 3],
+        ));
+    }
+    for i in 0..REVERSED {
+        cards.push(card(
+            format!("rev-{i}"),
+            CardKind::Reversed,
+            text(format!("Term {i}"), format!("Shabd {i}")),
+            text(
+                format!("Meaning {i} of the precession"),
+                format!("Arth {i}"),
+            ),
+            "terms",
+        ));
+    }
+    for i in 0..CLOZE {
+        cards.push(card(
+            format!("cloze-{i}"),
+            CardKind::Cloze,
+            text(
+                format!("{{{{c1::Torque}}}} {i} changes {{{{c2::$\\vec L$::a vector}}}} in time."),
+                format!("{{{{c1::Torque}}}} {i} {{{{c2::$\\vec L$::ek vector}}}} badalta hai."),
+            ),
+            Text::default(),
+            "cloze",
+        ));
+    }
+    Deck {
+        id: "big".into(),
+        title: text("Big".into(), "Bada".into()),
+        description: None,
+        languages: vec!["en".into(), "hi-Latn".into()],
+        cards,
+        prompts: Vec::new(),
+        scenes: Vec::new(),
+        sections: Vec::new(),
+        path: "big.toml".into(),
+    }
+}
+
+fn now() -> DateTime<Utc> {
+    DateTime::parse_from_rfc3339("2026-03-02T09:00:00Z")
+        .map(|t| t.with_timezone(&Utc))
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// A store where every other basic card has two reviews, and some items
+/// are suspended and leeches.
+fn store(dir: &std::path::Path, deck: &Deck) -> Store {
+    let mut store = Store::open(dir).unwrap_or_else(|e| panic!("store: {e}"));
+    let sched = Scheduler::new(&Config::default());
+    let mut reviews = Vec::new();
+    let t0 = now() - TimeDelta::days(30);
+    for card in deck
+        .cards
+        .iter()
+        .filter(|c| c.kind == CardKind::Basic)
+        .step_by(2)
+    {
+        let key = ItemKey {
+            deck: deck.id.clone(),
+            card: card.id.clone(),
+            direction: Direction::Forward,
+        };
+        let first = sched.review(&key, None, Rating::Good, t0, 3000);
+        let second = sched.review(
+            &key,
+            Some(&first.after),
+            Rating::Good,
+            t0 + TimeDelta::days(5),
+            3000,
+        );
+        reviews.push(first);
+        reviews.push(second);
+    }
+    store
+        .record_batch(&reviews)
+        .unwrap_or_else(|e| panic!("record: {e}"));
+    let marked: Vec<ItemKey> = deck
+        .cards
+        .iter()
+        .step_by(50)
+        .map(|c| ItemKey {
+            deck: deck.id.clone(),
+            card: c.id.clone(),
+            direction: if c.kind == CardKind::Cloze {
+                Direction::Cloze(1)
+            } else {
+                Direction::Forward
+            },
+        })
+        .collect();
+    store
+        .set_status(&marked, StatusAction::Suspend, now(), None)
+        .unwrap_or_else(|e| panic!("suspend: {e}"));
+    // A few leeches through the rating path itself.
+    let key = &marked[0];
+    let lapse = flipcard::sched::ReviewRecord {
+        kind: ReviewKind::Review,
+        rating: Rating::Again,
+        ..sched.review(key, None, Rating::Again, now(), 1000)
+    };
+    let after = AfterRating {
+        leech_threshold: 1,
+        leech_suspend: false,
+        bury: Vec::new(),
+        bury_until: now(),
+    };
+    store
+        .record_study(&lapse, &after)
+        .unwrap_or_else(|e| panic!("leech: {e}"));
+    store
+}
+
+fn app(dir: &std::path::Path) -> App {
+    let deck = deck();
+    let store = store(dir, &deck);
+    let services = Services::new(
+        Clock::Fixed(now()),
+        Config::default(),
+        None,
+        DayZone::Utc,
+        store,
+    );
+    let mut app = App::new(vec![deck], services, "en", Theme::COLOR);
+    app.size = (120, 40);
+    app
+}
+
+fn draw(t: &mut Terminal<TestBackend>, app: &App) {
+    t.draw(|f| view::draw(f, app))
+        .unwrap_or_else(|e| panic!("draw: {e}"));
+}
+
+fn browser(c: &mut Criterion) {
+    let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
+    let mut app = app(dir.path());
+    let mut t = Terminal::new(TestBackend::new(120, 40)).unwrap_or_else(|e| panic!("{e}"));
+    let mut g = c.benchmark_group("browser");
+    g.sample_size(20);
+    g.measurement_time(Duration::from_secs(10));
+    g.bench_function("first_frame (50,000 items)", |b| {
+        b.iter_custom(|n| {
+            let mut total = Duration::ZERO;
+            for _ in 0..n {
+                let start = Instant::now();
+                apply(&mut app, Action::OpenBrowser);
+                draw(&mut t, &app);
+                total += start.elapsed();
+                apply(&mut app, Action::Back);
+            }
+            total
+        })
+    });
+    apply(&mut app, Action::OpenBrowser);
+    apply(&mut app, Action::StartSearch);
+    for (name, prefix, key) in [
+        ("keystroke: first letter `o`", "", 'o'),
+        ("keystroke: `omega` → `omega2`", "omega", '2'),
+        ("keystroke: `is:leec` → `is:leech`", "is:leec", 'h'),
+    ] {
+        for ch in prefix.chars() {
+            apply(&mut app, Action::Input(ch));
+        }
+        g.bench_function(format!("{name} (50,000 items)"), |b| {
+            b.iter_custom(|n| {
+                let mut total = Duration::ZERO;
+                for _ in 0..n {
+                    let start = Instant::now();
+                    apply(&mut app, Action::Input(key));
+                    draw(&mut t, &app);
+                    total += start.elapsed();
+                    apply(&mut app, Action::Backspace);
+                }
+                total
+            })
+        });
+        for _ in prefix.chars() {
+            apply(&mut app, Action::Backspace);
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, browser);
+criterion_main!(benches);

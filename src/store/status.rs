@@ -1,0 +1,485 @@
+//! Item status: suspended (out of every queue until unsuspended), buried
+//! (out of the queue until a given time, the start of the next study day),
+//! leech (lapsed too often). Every change is an event in the append-only
+//! status log; the `item_status` cache is derived from it alone and
+//! rebuilt with the card states.
+
+use std::collections::HashMap;
+
+use chrono::{DateTime, Utc};
+use rusqlite::{Connection, Transaction, TransactionBehavior, params};
+
+use super::codec::Ms;
+use super::db::Store;
+use super::error::StoreError;
+use super::log::LoggedReview;
+use crate::sched::{Direction, ItemKey, Rating, ReviewKind, ReviewRecord};
+
+/// What a status event does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum StatusAction {
+    Suspend,
+    /// Lifts a suspension and a bury.
+    Unsuspend,
+    Bury,
+    Leech,
+}
+
+impl StatusAction {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            StatusAction::Suspend => "suspend",
+            StatusAction::Unsuspend => "unsuspend",
+            StatusAction::Bury => "bury",
+            StatusAction::Leech => "leech",
+        }
+    }
+    fn parse(s: &str) -> Option<StatusAction> {
+        [
+            StatusAction::Suspend,
+            StatusAction::Unsuspend,
+            StatusAction::Bury,
+            StatusAction::Leech,
+        ]
+        .into_iter()
+        .find(|a| a.as_str() == s)
+    }
+}
+
+/// An item's status; the default is active.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ItemStatus {
+    pub suspended: bool,
+    /// Buried until this time (it may have passed: then it is not buried).
+    pub buried_until: Option<DateTime<Utc>>,
+    pub leech: bool,
+}
+
+impl ItemStatus {
+    pub fn buried(&self, now: DateTime<Utc>) -> bool {
+        self.buried_until.is_some_and(|t| t > now)
+    }
+    /// Whether the item may be shown for review at `now`.
+    pub fn studyable(&self, now: DateTime<Utc>) -> bool {
+        !self.suspended && !self.buried(now)
+    }
+}
+
+/// One row of the status log.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StatusEvent {
+    pub id: i64,
+    pub key: ItemKey,
+    pub at: DateTime<Utc>,
+    pub action: StatusAction,
+    pub until: Option<DateTime<Utc>>,
+    /// The rating that brought this event about.
+    pub cause: Option<i64>,
+    pub undone: bool,
+}
+
+/// What follows a rating, in the same transaction.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AfterRating {
+    /// Lapses at which an item becomes a leech (0: never).
+    pub leech_threshold: u32,
+    /// Suspend a new leech (else it is only marked).
+    pub leech_suspend: bool,
+    /// Items to bury (the siblings of the one rated), and until when.
+    pub bury: Vec<ItemKey>,
+    pub bury_until: DateTime<Utc>,
+}
+
+/// What [`Store::record_study`] wrote.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Recorded {
+    pub id: i64,
+    /// The rating made the item a leech.
+    pub leech: bool,
+}
+
+/// What an undo took back.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Undone {
+    /// A rating, with the events it brought about.
+    Review(LoggedReview),
+    /// A change of status made by the learner (several items at once).
+    Status(Vec<StatusEvent>),
+}
+
+const STATUS_OF: &str = "SELECT k.deck, k.card, k.direction, \
+    coalesce((SELECT e.action = 'suspend' FROM status_event AS e \
+              WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
+                AND e.undone = 0 AND e.action IN ('suspend', 'unsuspend') \
+              ORDER BY e.id DESC LIMIT 1), 0), \
+    (SELECT e.until FROM status_event AS e \
+     WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
+       AND e.undone = 0 AND e.action IN ('bury', 'unsuspend') \
+     ORDER BY e.id DESC LIMIT 1), \
+    EXISTS (SELECT 1 FROM status_event AS e \
+            WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
+              AND e.undone = 0 AND e.action = 'leech')";
+
+/// Recomputes the cached status of one item from the log.
+fn refresh(conn: &Connection, key: &ItemKey) -> rusqlite::Result<()> {
+    let k = params![key.deck, key.card, key.direction];
+    conn.execute(
+        "DELETE FROM item_status WHERE deck = ?1 AND card = ?2 AND direction = ?3",
+        k,
+    )?;
+    conn.execute(
+        &format!(
+            "INSERT INTO item_status (deck, card, direction, suspended, buried_until, leech) \
+             SELECT * FROM ({STATUS_OF} FROM (SELECT ?1 AS deck, ?2 AS card, ?3 AS direction) AS k) \
+             WHERE EXISTS (SELECT 1 FROM status_event WHERE deck = ?1 AND card = ?2 \
+                           AND direction = ?3)"
+        ),
+        k,
+    )?;
+    Ok(())
+}
+
+/// Recomputes the whole status cache; true when it differed.
+pub(super) fn rebuild(tx: &Transaction<'_>) -> rusqlite::Result<bool> {
+    let read = |tx: &Transaction<'_>| -> rusqlite::Result<Vec<(String, String, String, i64, Option<i64>, i64)>> {
+        let mut st = tx.prepare(
+            "SELECT deck, card, direction, suspended, buried_until, leech FROM item_status \
+             ORDER BY deck, card, direction",
+        )?;
+        st.query_map([], |r| {
+            Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?))
+        })?
+        .collect()
+    };
+    let before = read(tx)?;
+    tx.execute("DELETE FROM item_status", [])?;
+    tx.execute(
+        &format!(
+            "INSERT INTO item_status (deck, card, direction, suspended, buried_until, leech) \
+             {STATUS_OF} FROM (SELECT DISTINCT deck, card, direction FROM status_event) AS k"
+        ),
+        [],
+    )?;
+    Ok(read(tx)? != before)
+}
+
+/// The batch id of the next change: the id its first event will get.
+fn next_batch(tx: &Transaction<'_>) -> rusqlite::Result<i64> {
+    tx.query_row(
+        "SELECT coalesce(max(id), 0) + 1 FROM status_event",
+        [],
+        |r| r.get(0),
+    )
+}
+
+#[allow(clippy::too_many_arguments)]
+fn append(
+    tx: &Transaction<'_>,
+    session: i64,
+    batch: i64,
+    key: &ItemKey,
+    at: DateTime<Utc>,
+    action: StatusAction,
+    until: Option<DateTime<Utc>>,
+    cause: Option<i64>,
+) -> rusqlite::Result<i64> {
+    let id = tx
+        .prepare_cached(
+            "INSERT INTO status_event (session, deck, card, direction, at, action, until, cause, \
+             batch, after_review) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, \
+             coalesce((SELECT max(id) FROM review), 0)) RETURNING id",
+        )?
+        .query_row(
+            params![
+                session,
+                key.deck,
+                key.card,
+                key.direction,
+                Ms(at),
+                action.as_str(),
+                until.map(Ms),
+                cause,
+                batch
+            ],
+            |r| r.get(0),
+        )?;
+    refresh(tx, key)?;
+    Ok(id)
+}
+
+const EVENT_COLUMNS: &str = "id, deck, card, direction, at, action, until, cause, undone";
+
+fn read_event(r: &rusqlite::Row<'_>) -> rusqlite::Result<StatusEvent> {
+    let action: String = r.get(5)?;
+    Ok(StatusEvent {
+        id: r.get(0)?,
+        key: ItemKey {
+            deck: r.get(1)?,
+            card: r.get(2)?,
+            direction: r.get(3)?,
+        },
+        at: r.get::<_, Ms>(4)?.0,
+        action: StatusAction::parse(&action).ok_or_else(|| {
+            rusqlite::Error::FromSqlConversionFailure(
+                5,
+                rusqlite::types::Type::Text,
+                format!("unknown status action {action:?}").into(),
+            )
+        })?,
+        until: r.get::<_, Option<Ms>>(6)?.map(|m| m.0),
+        cause: r.get(7)?,
+        undone: r.get::<_, i64>(8)? != 0,
+    })
+}
+
+/// Marks undone every event a rating brought about; returns them.
+pub(super) fn undo_caused(tx: &Transaction<'_>, review: i64) -> rusqlite::Result<Vec<StatusEvent>> {
+    let events: Vec<StatusEvent> = tx
+        .prepare_cached(&format!(
+            "SELECT {EVENT_COLUMNS} FROM status_event WHERE cause = ?1 AND undone = 0 ORDER BY id"
+        ))?
+        .query_map([review], read_event)?
+        .collect::<Result<_, _>>()?;
+    for e in &events {
+        tx.execute("UPDATE status_event SET undone = 1 WHERE id = ?1", [e.id])?;
+        refresh(tx, &e.key)?;
+    }
+    Ok(events)
+}
+
+impl Store {
+    /// Writes `action` for every item of `keys` in one transaction (all or
+    /// none), as one change for undo. `until` is required for a bury.
+    pub fn set_status(
+        &mut self,
+        keys: &[ItemKey],
+        action: StatusAction,
+        at: DateTime<Utc>,
+        until: Option<DateTime<Utc>>,
+    ) -> Result<Vec<i64>, StoreError> {
+        if (action == StatusAction::Bury) != until.is_some() {
+            return Err(StoreError::BadRow {
+                id: 0,
+                detail: "a bury, and only a bury, has an end time".into(),
+            });
+        }
+        let path = self.path.clone();
+        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
+        let tx = self
+            .conn
+            .transaction_with_behavior(TransactionBehavior::Immediate)
+            .map_err(sql_err)?;
+        let session = match self.session {
+            Some(s) => s,
+            None => super::log::insert_session(&tx).map_err(sql_err)?,
+        };
+        let mut ids = Vec::with_capacity(keys.len());
+        let batch = next_batch(&tx).map_err(sql_err)?;
+        for key in keys {
+            ids.push(append(&tx, session, batch, key, at, action, until, None).map_err(sql_err)?);
+        }
+        tx.commit().map_err(sql_err)?;
+        self.session = Some(session);
+        Ok(ids)
+    }
+
+    /// Records a rating and what follows from it, in one transaction: the
+    /// item becomes a leech when this lapse brings its lapses to the
+    /// threshold (suspended too, if so configured), and its siblings are
+    /// buried. Cram ratings change no status.
+    pub fn record_study(
+        &mut self,
+        review: &ReviewRecord,
+        after: &AfterRating,
+    ) -> Result<Recorded, StoreError> {
+        super::log::validate(review)?;
+        let path = self.path.clone();
+        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
+        let tx = self
+            .conn
+            .transaction_with_behavior(TransactionBehavior::Immediate)
+            .map_err(sql_err)?;
+        let session = match self.session {
+            Some(s) => s,
+            None => super::log::insert_session(&tx).map_err(sql_err)?,
+        };
+        let id = super::log::append(&tx, session, review).map_err(sql_err)?;
+        let batch = next_batch(&tx).map_err(sql_err)?;
+        let mut leech = false;
+        if review.kind != ReviewKind::Cram {
+            let at = review.reviewed_at;
+            let lapse = review.kind == ReviewKind::Review && review.rating == Rating::Again;
+            if lapse && after.leech_threshold > 0 {
+                let k = &review.key;
+                let (lapses, already): (i64, bool) = tx
+                    .query_row(
+                        "SELECT coalesce((SELECT lapses FROM card_state WHERE deck = ?1 \
+                           AND card = ?2 AND direction = ?3), 0), \
+                         coalesce((SELECT leech FROM item_status WHERE deck = ?1 AND card = ?2 \
+                           AND direction = ?3), 0)",
+                        params![k.deck, k.card, k.direction],
+                        |r| Ok((r.get(0)?, r.get::<_, i64>(1)? != 0)),
+                    )
+                    .map_err(sql_err)?;
+                if !already && lapses >= i64::from(after.leech_threshold) {
+                    leech = true;
+                    append(
+                        &tx,
+                        session,
+                        batch,
+                        k,
+                        at,
+                        StatusAction::Leech,
+                        None,
+                        Some(id),
+                    )
+                    .map_err(sql_err)?;
+                    if after.leech_suspend {
+                        append(
+                            &tx,
+                            session,
+                            batch,
+                            k,
+                            at,
+                            StatusAction::Suspend,
+                            None,
+                            Some(id),
+                        )
+                        .map_err(sql_err)?;
+                    }
+                }
+            }
+            for sibling in after.bury.iter().filter(|s| **s != review.key) {
+                append(
+                    &tx,
+                    session,
+                    batch,
+                    sibling,
+                    at,
+                    StatusAction::Bury,
+                    Some(after.bury_until),
+                    Some(id),
+                )
+                .map_err(sql_err)?;
+            }
+        }
+        tx.commit().map_err(sql_err)?;
+        self.session = Some(session);
+        Ok(Recorded { id, leech })
+    }
+
+    /// Takes back the last change of this session, a rating (with what it
+    /// brought about) or a change of status, whichever came last.
+    pub fn undo_last_change(&mut self) -> Result<Option<Undone>, StoreError> {
+        let Some(session) = self.session else {
+            return Ok(None);
+        };
+        let last_review: Option<i64> = self
+            .conn
+            .query_row(
+                "SELECT max(id) FROM review WHERE session = ?1 AND undone = 0",
+                [session],
+                |r| r.get(0),
+            )
+            .map_err(|e| self.err(e))?;
+        // The learner's own change: every event written by that one call
+        // shares its batch.
+        let last_status: Option<(i64, i64)> = self
+            .conn
+            .query_row(
+                "SELECT batch, after_review FROM status_event \
+                 WHERE session = ?1 AND undone = 0 AND cause IS NULL ORDER BY id DESC LIMIT 1",
+                [session],
+                |r| Ok((r.get(0)?, r.get(1)?)),
+            )
+            .map(Some)
+            .or_else(|e| match e {
+                rusqlite::Error::QueryReturnedNoRows => Ok(None),
+                e => Err(e),
+            })
+            .map_err(|e| self.err(e))?;
+        match (last_review, last_status) {
+            (None, None) => Ok(None),
+            (Some(r), Some((_, after))) if r > after => Ok(self.undo_last()?.map(Undone::Review)),
+            (Some(_), None) => Ok(self.undo_last()?.map(Undone::Review)),
+            (_, Some((batch, _))) => {
+                let path = self.path.clone();
+                let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
+                let tx = self
+                    .conn
+                    .transaction_with_behavior(TransactionBehavior::Immediate)
+                    .map_err(sql_err)?;
+                let events: Vec<StatusEvent> = tx
+                    .prepare(&format!(
+                        "SELECT {EVENT_COLUMNS} FROM status_event WHERE session = ?1 \
+                         AND undone = 0 AND batch = ?2 ORDER BY id"
+                    ))
+                    .map_err(sql_err)?
+                    .query_map(params![session, batch], read_event)
+                    .map_err(sql_err)?
+                    .collect::<Result<_, _>>()
+                    .map_err(sql_err)?;
+                for e in &events {
+                    tx.execute("UPDATE status_event SET undone = 1 WHERE id = ?1", [e.id])
+                        .map_err(sql_err)?;
+                    refresh(&tx, &e.key).map_err(sql_err)?;
+                }
+                tx.commit().map_err(sql_err)?;
+                Ok(Some(Undone::Status(
+                    events
+                        .into_iter()
+                        .map(|e| StatusEvent { undone: true, ..e })
+                        .collect(),
+                )))
+            }
+        }
+    }
+
+    /// The status of every item that has one; an item not in the map is
+    /// active.
+    pub fn statuses(&self) -> Result<HashMap<ItemKey, ItemStatus>, StoreError> {
+        let mut st = self
+            .conn
+            .prepare_cached(
+                "SELECT deck, card, direction, suspended, buried_until, leech FROM item_status",
+            )
+            .map_err(|e| self.err(e))?;
+        let rows = st
+            .query_map([], |r| {
+                Ok((
+                    ItemKey {
+                        deck: r.get(0)?,
+                        card: r.get(1)?,
+                        direction: r.get::<_, Direction>(2)?,
+                    },
+                    ItemStatus {
+                        suspended: r.get::<_, i64>(3)? != 0,
+                        buried_until: r.get::<_, Option<Ms>>(4)?.map(|m| m.0),
+                        leech: r.get::<_, i64>(5)? != 0,
+                    },
+                ))
+            })
+            .map_err(|e| self.err(e))?;
+        rows.collect::<Result<_, _>>().map_err(|e| self.err(e))
+    }
+
+    /// The status of one item.
+    pub fn status(&self, key: &ItemKey) -> Result<ItemStatus, StoreError> {
+        Ok(self.statuses()?.remove(key).unwrap_or_default())
+    }
+
+    /// Every row of the status log of one item, in order (undone included).
+    pub fn status_history(&self, key: &ItemKey) -> Result<Vec<StatusEvent>, StoreError> {
+        let mut st = self
+            .conn
+            .prepare_cached(&format!(
+                "SELECT {EVENT_COLUMNS} FROM status_event WHERE deck = ?1 AND card = ?2 \
+                 AND direction = ?3 ORDER BY id"
+            ))
+            .map_err(|e| self.err(e))?;
+        let rows = st
+            .query_map(params![key.deck, key.card, key.direction], read_event)
+            .map_err(|e| self.err(e))?;
+        rows.collect::<Result<_, _>>().map_err(|e| self.err(e))
+    }
+}

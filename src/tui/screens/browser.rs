@@ -1,0 +1,668 @@
+//! The card browser: every item of every deck as a table, sortable by any
+//! column, searched as you type (free text matched fuzzily over the front
+//! and back in both languages, plus `deck:`, `tag:`, `state:`, `due:<3d`,
+//! `is:leech`, `is:suspended`), with suspend, bury and unsuspend on the
+//! selected item. Only the rows in view are drawn, so the frame costs the
+//! same with fifty or fifty thousand items.
+
+use std::cmp::Ordering;
+
+use chrono::{DateTime, Utc};
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Margin, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table, TableState, Wrap};
+
+use crate::deck::Deck;
+use crate::sched::{Direction, ItemKey};
+use crate::store::StatusAction;
+use crate::store::catalog::{self, Filter, ItemRow, Search};
+use crate::tui::action::Action;
+use crate::tui::app::App;
+use crate::tui::i18n::{Msg, Words};
+use crate::tui::keymap::{Binding, Context};
+use crate::tui::wrap::{Run, wrap};
+
+use super::Nav;
+use crossterm::event::KeyCode::{
+    Backspace, Char, Down, End, Enter, Esc, Home, PageDown, PageUp, Up,
+};
+
+pub const KEYS: &[Binding] = &[
+    Binding::new(
+        "↑↓ j k",
+        Words("choose an item", "item chuno"),
+        &[
+            (Up, Action::Up),
+            (Down, Action::Down),
+            (Char('j'), Action::Down),
+            (Char('k'), Action::Up),
+        ],
+    ),
+    Binding::new(
+        "PgUp PgDn g G",
+        Words("a page / top / bottom", "ek page / shuru / ant"),
+        &[
+            (PageUp, Action::PageUp),
+            (PageDown, Action::PageDown),
+            (Char('g'), Action::Top),
+            (Char('G'), Action::Bottom),
+            (Home, Action::Top),
+            (End, Action::Bottom),
+        ],
+    ),
+    Binding::new(
+        "/",
+        Words(
+            "search: text, deck: tag: state: due:<3d is:leech is:suspended",
+            "khojo: text, deck: tag: state: due:<3d is:leech is:suspended",
+        ),
+        &[(Char('/'), Action::StartSearch)],
+    ),
+    Binding::new(
+        "o O",
+        Words(
+            "sort by the next column / reverse",
+            "agle column se sort / ulta",
+        ),
+        &[
+            (Char('o'), Action::NextSort),
+            (Char('O'), Action::ReverseSort),
+        ],
+    ),
+    Binding::new(
+        "Enter",
+        Words("preview the item", "item dekho"),
+        &[(Enter, Action::Open)],
+    ),
+    Binding::new(
+        "e",
+        Words("open its explanation", "uska samjhaav kholo"),
+        &[(Char('e'), Action::Explain)],
+    ),
+    Binding::new(
+        "s b U",
+        Words(
+            "suspend / bury until tomorrow / unsuspend",
+            "suspend / kal tak hatao / unsuspend",
+        ),
+        &[
+            (Char('s'), Action::Suspend),
+            (Char('b'), Action::Bury),
+            (Char('U'), Action::Unsuspend),
+        ],
+    ),
+    Binding::new(
+        "u",
+        Words(
+            "undo the last suspend, bury or unsuspend",
+            "pichhla suspend, bury ya unsuspend wapas lo",
+        ),
+        &[(Char('u'), Action::Undo)],
+    ),
+    Binding::new(
+        "Esc q",
+        Words("close the preview / back", "preview band karo / wapas"),
+        &[(Esc, Action::Back), (Char('q'), Action::Back)],
+    ),
+];
+
+/// While the query is typed.
+pub const SEARCH_KEYS: &[Binding] = &[
+    Binding::typing(Words(
+        "the query (the list follows each key)",
+        "query (har key ke saath list badalti hai)",
+    )),
+    Binding::new(
+        "Enter Esc",
+        Words("done: back to the list", "ho gaya: list par wapas"),
+        &[(Enter, Action::Submit), (Esc, Action::Submit)],
+    ),
+    Binding::new(
+        "Backspace",
+        Words("delete a character", "ek akshar mitao"),
+        &[(Backspace, Action::Backspace)],
+    ),
+    Binding::new(
+        "↑↓",
+        Words("choose an item", "item chuno"),
+        &[(Up, Action::Up), (Down, Action::Down)],
+    ),
+];
+
+/// The table's columns, in order; each can be sorted by.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Column {
+    Deck,
+    Card,
+    Direction,
+    State,
+    Due,
+    Stability,
+    Difficulty,
+    Retrievability,
+    Reviews,
+    Lapses,
+    Status,
+}
+
+impl Column {
+    pub const ALL: [Column; 11] = [
+        Column::Deck,
+        Column::Card,
+        Column::Direction,
+        Column::State,
+        Column::Due,
+        Column::Stability,
+        Column::Difficulty,
+        Column::Retrievability,
+        Column::Reviews,
+        Column::Lapses,
+        Column::Status,
+    ];
+
+    fn title(self) -> Msg {
+        match self {
+            Column::Deck => Msg::ColDeck,
+            Column::Card => Msg::ColCard,
+            Column::Direction => Msg::ColDirection,
+            Column::State => Msg::ColState,
+            Column::Due => Msg::ColDue,
+            Column::Stability => Msg::ColStability,
+            Column::Difficulty => Msg::ColDifficulty,
+            Column::Retrievability => Msg::ColRetrievability,
+            Column::Reviews => Msg::ColReviews,
+            Column::Lapses => Msg::ColLapses,
+            Column::Status => Msg::ColStatus,
+        }
+    }
+
+    fn width(self) -> Constraint {
+        match self {
+            Column::Deck => Constraint::Fill(1),
+            Column::Card => Constraint::Fill(2),
+            Column::Direction => Constraint::Length(8),
+            Column::State => Constraint::Length(10),
+            Column::Due => Constraint::Length(6),
+            Column::Stability | Column::Difficulty | Column::Retrievability => {
+                Constraint::Length(6)
+            }
+            Column::Reviews => Constraint::Length(4),
+            Column::Lapses => Constraint::Length(6),
+            Column::Status => Constraint::Length(6),
+        }
+    }
+}
+
+pub struct BrowserState {
+    pub rows: Vec<ItemRow>,
+    search: Search,
+    /// The query as typed.
+    pub query: String,
+    /// Typing the query (`/`).
+    pub typing: bool,
+    /// Rows shown, as indices into `rows`, in display order.
+    pub shown: Vec<usize>,
+    pub selected: usize,
+    /// `None`: deck order, or best match first while searching.
+    pub sort: Option<(Column, bool)>,
+    /// What is wrong with the query, shown instead of a silent empty list.
+    pub error: Option<String>,
+    pub preview: bool,
+    /// Suspends, buries and unsuspends made here, for undo.
+    pub marks: usize,
+    /// When the rows were read: due times and retrievability are as of then.
+    pub now: DateTime<Utc>,
+    /// Table rows in view at the last draw (for PgUp / PgDn).
+    pub page: std::cell::Cell<usize>,
+}
+
+impl BrowserState {
+    pub fn open(app: &App) -> Result<BrowserState, String> {
+        let now = app.services.now();
+        let rows = catalog::rows(
+            &app.decks,
+            &app.services.store,
+            &app.services.scheduler,
+            now,
+        )
+        .map_err(|e| e.to_string())?;
+        let search = Search::new(&app.decks, &rows);
+        let mut state = BrowserState {
+            shown: (0..rows.len()).collect(),
+            rows,
+            search,
+            query: String::new(),
+            typing: false,
+            selected: 0,
+            sort: None,
+            error: None,
+            preview: false,
+            marks: 0,
+            now,
+            page: std::cell::Cell::new(10),
+        };
+        state.refilter(&app.decks);
+        Ok(state)
+    }
+
+    /// Applies the query and the sort again (after each key of the search).
+    pub fn refilter(&mut self, decks: &[Deck]) {
+        let filter = Filter::parse(&self.query).and_then(|f| {
+            f.check_names(decks)?;
+            Ok(f)
+        });
+        match filter {
+            Ok(f) => {
+                self.error = None;
+                self.shown = catalog::select(decks, &self.rows, &mut self.search, &f, self.now);
+            }
+            // The list stays as it was while the query is being written.
+            Err(e) => self.error = Some(e.0),
+        }
+        self.sort_rows(decks);
+        self.selected = self.selected.min(self.shown.len().saturating_sub(1));
+    }
+
+    fn sort_rows(&mut self, decks: &[Deck]) {
+        let Some((col, reverse)) = self.sort else {
+            return;
+        };
+        let rows = &self.rows;
+        let now = self.now;
+        let key = |i: usize, j: usize| -> Ordering {
+            let (a, b) = (&rows[i], &rows[j]);
+            let f = |x: Option<f64>| x.unwrap_or(f64::NEG_INFINITY);
+            match col {
+                Column::Deck => decks[a.deck].id.cmp(&decks[b.deck].id),
+                Column::Card => a.key.card.cmp(&b.key.card),
+                Column::Direction => a.key.direction.cmp(&b.key.direction),
+                Column::State => a.state_name().cmp(b.state_name()),
+                Column::Due => a.due().cmp(&b.due()),
+                Column::Stability => f(a.state.and_then(|s| s.stability))
+                    .total_cmp(&f(b.state.and_then(|s| s.stability))),
+                Column::Difficulty => f(a.state.and_then(|s| s.difficulty))
+                    .total_cmp(&f(b.state.and_then(|s| s.difficulty))),
+                Column::Retrievability => f(a.retrievability).total_cmp(&f(b.retrievability)),
+                Column::Reviews => a.reviews.cmp(&b.reviews),
+                Column::Lapses => a.lapses.cmp(&b.lapses),
+                Column::Status => status_text(a, now).cmp(&status_text(b, now)),
+            }
+            .then(i.cmp(&j))
+        };
+        self.shown.sort_by(|&i, &j| {
+            let o = key(i, j);
+            if reverse { o.reverse() } else { o }
+        });
+    }
+
+    pub fn current(&self) -> Option<&ItemRow> {
+        self.shown.get(self.selected).map(|&i| &self.rows[i])
+    }
+}
+
+/// `S` suspended, `B` buried, `L` leech.
+fn status_text(row: &ItemRow, now: DateTime<Utc>) -> String {
+    let mut s = String::new();
+    if row.status.suspended {
+        s.push('S');
+    }
+    if row.buried(now) {
+        s.push('B');
+    }
+    if row.status.leech {
+        s.push('L');
+    }
+    s
+}
+
+impl super::View for BrowserState {
+    fn context(&self) -> Context {
+        if self.typing {
+            Context::BrowserSearch
+        } else {
+            Context::Browser
+        }
+    }
+    fn apply(&mut self, app: &mut App, action: Action) -> Nav {
+        apply(app, self, action)
+    }
+    fn draw(&self, frame: &mut Frame, area: Rect, app: &App) {
+        draw(frame, area, app, self)
+    }
+    fn name(&self) -> Msg {
+        Msg::Browser
+    }
+}
+
+pub fn apply(app: &mut App, s: &mut BrowserState, action: Action) -> Nav {
+    let last = s.shown.len().saturating_sub(1);
+    let page = s.page.get().max(1);
+    match action {
+        Action::Up => s.selected = s.selected.saturating_sub(1),
+        Action::Down => s.selected = (s.selected + 1).min(last),
+        Action::PageUp => s.selected = s.selected.saturating_sub(page),
+        Action::PageDown => s.selected = (s.selected + page).min(last),
+        Action::Top => s.selected = 0,
+        Action::Bottom => s.selected = last,
+        Action::StartSearch => s.typing = true,
+        Action::Submit => s.typing = false,
+        Action::Input(c) => {
+            s.query.push(c);
+            s.selected = 0;
+            s.refilter(&app.decks);
+        }
+        Action::Backspace => {
+            s.query.pop();
+            s.selected = 0;
+            s.refilter(&app.decks);
+        }
+        Action::NextSort => {
+            let next = match s.sort {
+                None => Column::ALL[0],
+                Some((c, _)) => {
+                    let i = Column::ALL.iter().position(|x| *x == c).unwrap_or(0);
+                    Column::ALL[(i + 1) % Column::ALL.len()]
+                }
+            };
+            s.sort = Some((next, false));
+            s.refilter(&app.decks);
+        }
+        Action::ReverseSort => {
+            let (c, r) = s.sort.unwrap_or((Column::Deck, false));
+            s.sort = Some((c, !r));
+            s.refilter(&app.decks);
+        }
+        Action::Open => s.preview = !s.preview && s.current().is_some(),
+        Action::Back if s.preview => s.preview = false,
+        Action::Back => return Nav::Pop,
+        Action::Explain => return explain(app, s),
+        Action::Suspend | Action::Bury | Action::Unsuspend => mark(app, s, action),
+        Action::Undo => undo(app, s),
+        _ => {}
+    }
+    Nav::Stay
+}
+
+fn explain(app: &mut App, s: &BrowserState) -> Nav {
+    let Some(row) = s.current() else {
+        return Nav::Stay;
+    };
+    let section = app
+        .decks
+        .get(row.deck)
+        .and_then(|d| d.cards.get(row.card))
+        .and_then(|c| c.explain.clone());
+    match section {
+        Some(id) => super::reader::open_at(app, row.deck, &id),
+        None => {
+            app.info(app.tr(Msg::NoExplanation));
+            Nav::Stay
+        }
+    }
+}
+
+/// Reads the status of `keys` again into the table.
+fn refresh(app: &mut App, s: &mut BrowserState, keys: &[ItemKey]) {
+    let statuses = match app.services.store.statuses() {
+        Ok(st) => st,
+        Err(e) => {
+            app.error(e.to_string());
+            return;
+        }
+    };
+    for row in s.rows.iter_mut().filter(|r| keys.contains(&r.key)) {
+        row.status = statuses.get(&row.key).copied().unwrap_or_default();
+    }
+    // Rows stay where they are until the query changes, so the learner
+    // sees what the action did.
+}
+
+fn mark(app: &mut App, s: &mut BrowserState, action: Action) {
+    let Some(row) = s.current() else {
+        return;
+    };
+    let key = row.key.clone();
+    let now = app.services.now();
+    let (what, until, msg) = match action {
+        Action::Suspend => (StatusAction::Suspend, None, Msg::CardSuspended),
+        Action::Bury => (
+            StatusAction::Bury,
+            Some(app.services.study_day(now).1),
+            Msg::CardBuried,
+        ),
+        _ => (StatusAction::Unsuspend, None, Msg::CardUnsuspended),
+    };
+    if let Err(e) = app
+        .services
+        .store
+        .set_status(std::slice::from_ref(&key), what, now, until)
+    {
+        app.error(e.to_string());
+        return;
+    }
+    s.marks += 1;
+    // Status is judged at the time of the action: a bury made now must
+    // show as buried.
+    s.now = s.now.max(now);
+    refresh(app, s, &[key]);
+    app.info(app.tr(msg));
+}
+
+fn undo(app: &mut App, s: &mut BrowserState) {
+    if s.marks == 0 {
+        app.info(app.tr(Msg::NothingToUndo));
+        return;
+    }
+    match app.services.store.undo_last_change() {
+        Ok(Some(crate::store::Undone::Status(events))) => {
+            s.marks -= 1;
+            let keys: Vec<ItemKey> = events.into_iter().map(|e| e.key).collect();
+            refresh(app, s, &keys);
+            app.info(app.tr(Msg::Undone));
+        }
+        Ok(Some(crate::store::Undone::Review(_))) | Ok(None) => {
+            app.info(app.tr(Msg::NothingToUndo));
+        }
+        Err(e) => app.error(e.to_string()),
+    }
+}
+
+fn fmt_opt(x: Option<f64>, digits: usize) -> String {
+    x.map(|v| crate::text::num::rounded(v, digits))
+        .unwrap_or_else(|| "–".into())
+}
+
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
+    let t = &app.theme;
+    let preview_h = if s.preview { area.height / 2 } else { 0 };
+    let [query_area, table_area, preview_area, keys_area] = Layout::vertical([
+        Constraint::Length(1),
+        Constraint::Fill(1),
+        Constraint::Length(preview_h),
+        Constraint::Length(1),
+    ])
+    .areas(area);
+
+    let mut q = vec![Span::styled("/ ", t.key())];
+    q.push(Span::styled(
+        format!("{}{}", s.query, if s.typing { "▏" } else { "" }),
+        t.strong(),
+    ));
+    q.push(Span::styled(
+        format!("  {} {}", s.shown.len(), app.tr(Msg::Items)),
+        t.dim(),
+    ));
+    if let Some((c, rev)) = s.sort {
+        q.push(Span::styled(
+            format!(
+                " · {} {}{}",
+                app.tr(Msg::SortedBy),
+                app.tr(c.title()),
+                if rev { " ↓" } else { " ↑" }
+            ),
+            t.dim(),
+        ));
+    }
+    frame.render_widget(Paragraph::new(Line::from(q)), query_area);
+
+    if let Some(e) = &s.error {
+        frame.render_widget(
+            Paragraph::new(e.as_str())
+                .style(t.warn())
+                .wrap(Wrap { trim: true }),
+            table_area,
+        );
+    } else if s.shown.is_empty() {
+        frame.render_widget(
+            Paragraph::new(app.tr(Msg::NothingMatches)).style(t.warn()),
+            table_area,
+        );
+    } else {
+        draw_table(frame, table_area, app, s);
+    }
+    if s.preview {
+        draw_preview(frame, preview_area, app, s);
+    }
+    let hint = app.tr(if s.typing {
+        Msg::SearchHint
+    } else {
+        Msg::BrowserKeys
+    });
+    frame.render_widget(Paragraph::new(Span::styled(hint, t.dim())), keys_area);
+}
+
+fn draw_table(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
+    let t = &app.theme;
+    // Header row and the highlight symbol's line: the rest holds rows.
+    let visible = (area.height as usize).saturating_sub(1).max(1);
+    s.page.set(visible);
+    let offset = if s.selected >= visible {
+        s.selected + 1 - visible
+    } else {
+        0
+    };
+    // Below 100 columns, stability and difficulty give way to the names
+    // (they can still be sorted by).
+    let columns: Vec<Column> = Column::ALL
+        .into_iter()
+        .filter(|c| area.width >= 100 || !matches!(c, Column::Stability | Column::Difficulty))
+        .collect();
+    let header = Row::new(
+        columns
+            .iter()
+            .map(|c| {
+                let mut title = app.tr(c.title()).to_string();
+                if let Some((sc, rev)) = s.sort
+                    && sc == *c
+                {
+                    title.push(if rev { '↓' } else { '↑' });
+                }
+                Cell::from(title)
+            })
+            .collect::<Vec<_>>(),
+    )
+    .style(t.heading());
+    let rows = s.shown[offset..(offset + visible).min(s.shown.len())]
+        .iter()
+        .map(|&i| {
+            let r = &s.rows[i];
+            let due = match r.due() {
+                Some(d) if d > s.now => crate::sched::format_interval(d - s.now),
+                Some(_) => app.tr(Msg::Due).to_string(),
+                None => "–".into(),
+            };
+            let status = status_text(r, s.now);
+            let status_style = if status.is_empty() { t.dim() } else { t.warn() };
+            Row::new(columns.iter().map(|c| match c {
+                Column::Deck => Cell::from(app.decks[r.deck].id.clone()),
+                Column::Card => Cell::from(r.key.card.clone()),
+                Column::Direction => Cell::from(r.key.direction.as_str().into_owned()),
+                Column::State => Cell::from(r.state_name()),
+                Column::Due => Cell::from(due.clone()),
+                Column::Stability => Cell::from(fmt_opt(r.state.and_then(|s| s.stability), 3)),
+                Column::Difficulty => Cell::from(fmt_opt(r.state.and_then(|s| s.difficulty), 3)),
+                Column::Retrievability => Cell::from(fmt_opt(r.retrievability, 2)),
+                Column::Reviews => Cell::from(r.reviews.to_string()),
+                Column::Lapses => Cell::from(r.lapses.to_string()),
+                Column::Status => Cell::from(status.clone()).style(status_style),
+            }))
+        });
+    let widths: Vec<Constraint> = columns.iter().map(|c| c.width()).collect();
+    let table = Table::new(rows, widths)
+        .header(header)
+        .row_highlight_style(t.selected())
+        .highlight_symbol("› ");
+    let mut ts = TableState::default().with_selected(Some(s.selected - offset));
+    frame.render_stateful_widget(table, area, &mut ts);
+}
+
+fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
+    let t = &app.theme;
+    let Some(row) = s.current() else {
+        return;
+    };
+    let Some(card) = app.decks.get(row.deck).and_then(|d| d.cards.get(row.card)) else {
+        return;
+    };
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .border_style(t.border())
+        .title(format!(
+            " {}/{}/{} ",
+            app.decks[row.deck].id,
+            row.key.card,
+            row.key.direction.as_str()
+        ));
+    let inner = block.inner(area).inner(Margin::new(1, 0));
+    frame.render_widget(block, area);
+    let width = inner.width as usize;
+    let lang = &app.lang;
+    let segs = |segs: Vec<crate::deck::cloze::Segment>| -> Vec<Run> {
+        segs.into_iter()
+            .map(|seg| {
+                let style = if seg.asked { t.highlight() } else { t.text() };
+                Run::new(crate::text::render(&seg.text), style)
+            })
+            .collect()
+    };
+    let (question, answer): (Vec<Run>, Vec<Run>) = match row.key.direction {
+        Direction::Cloze(n) => {
+            let text = card.front.get(lang);
+            let mut back = segs(crate::deck::cloze::back(text, n));
+            let extra = card.back.get(lang);
+            if !extra.is_empty() {
+                back.push(Run::new(
+                    format!("  {}", crate::text::render(extra)),
+                    t.dim(),
+                ));
+            }
+            (segs(crate::deck::cloze::front(text, n)), back)
+        }
+        Direction::Forward => (
+            vec![Run::new(
+                crate::text::render(card.front.get(lang)),
+                t.strong(),
+            )],
+            vec![Run::new(crate::text::render(card.back.get(lang)), t.text())],
+        ),
+        Direction::Backward => (
+            vec![Run::new(
+                crate::text::render(card.back.get(lang)),
+                t.strong(),
+            )],
+            vec![Run::new(
+                crate::text::render(card.front.get(lang)),
+                t.text(),
+            )],
+        ),
+    };
+    let blank = Run::new("", t.text());
+    let mut lines = wrap(&question, width, blank.clone(), blank.clone());
+    lines.push(Line::styled("─".repeat(width.min(40)), t.dim()));
+    lines.extend(wrap(&answer, width, blank.clone(), blank));
+    if !row.tags.is_empty() {
+        lines.push(Line::styled(format!("# {}", row.tags.join(" ")), t.dim()));
+    }
+    frame.render_widget(Paragraph::new(lines), inner);
+}
