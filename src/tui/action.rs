@@ -48,6 +48,7 @@ pub enum Action {
     NextMatch,
     PrevMatch,
     NextLink,
+    PrevLink,
     FollowLink,
 
     // Text fields (typed answers, numeric predictions, search)

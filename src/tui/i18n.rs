@@ -345,3 +345,17 @@ pub fn measure(m: crate::deck::Measure) -> Words {
 pub fn other(lang: &str) -> &'static str {
     if lang == HINGLISH { ENGLISH } else { HINGLISH }
 }
+
+/// Words of the reader's link list, search and position line.
+pub mod reader {
+    use super::Words;
+
+    /// "Tab: 17 links" before one is chosen.
+    pub const LINKS: Words = Words("links", "links");
+    pub const TAB_TO_CHOOSE: Words = Words("Tab chooses", "Tab se chuno");
+    pub const ENTER_OPENS: Words = Words("Enter opens", "Enter se kholo");
+    /// Before "12–31/80".
+    pub const LINES: Words = Words("lines", "lines");
+    /// The search match count ("match 3/9").
+    pub const MATCH: Words = Words("match", "match");
+}

@@ -182,10 +182,10 @@ pub fn deck() -> Deck {
                 id: "euler".into(),
                 title: text("Euler's equations", "Euler ke equations"),
                 body: text(
-                    "Apply the transport theorem to $\\vec L$ and set $\\vec N = 0$: \
-                     $I_1\\dot\\omega_1 = (I_2 - I_3)\\omega_2\\omega_3$ and cyclic.",
-                    "$\\vec L$ par transport theorem lagao aur $\\vec N = 0$ rakho: \
-                     $I_1\\dot\\omega_1 = (I_2 - I_3)\\omega_2\\omega_3$ aur cyclic.",
+                    "Apply the transport theorem to $\\vec L$ (see [the setup](#setup)) and set \
+                     $\\vec N = 0$: $I_1\\dot\\omega_1 = (I_2 - I_3)\\omega_2\\omega_3$ and cyclic.",
+                    "$\\vec L$ par transport theorem lagao ([setup dekho](#setup)) aur \
+                     $\\vec N = 0$ rakho: $I_1\\dot\\omega_1 = (I_2 - I_3)\\omega_2\\omega_3$ aur cyclic.",
                 ),
                 see: vec!["stability".into()],
             },

@@ -76,6 +76,16 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
                     ok &= link(&mut f.rep, target, targets, "section", "see");
                 }
             }
+            // Inline `[text](#id)` links, reported at the body.
+            if let Some(body) = &s.body {
+                for target in crate::text::markup::links(&body.value) {
+                    let at = Str {
+                        value: target,
+                        span: body.span.clone(),
+                    };
+                    ok &= link(&mut f.rep, &at, targets, "section", "body");
+                }
+            }
         }
     }
 
