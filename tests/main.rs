@@ -15,6 +15,7 @@ mod check_sim_agree;
 mod cli_output;
 mod deck_mutations;
 mod deck_physics;
+mod doc_examples;
 mod ode_solvers;
 mod sched_golden;
 mod schemas;

@@ -43,6 +43,8 @@ pub enum Command {
     Import(ImportArgs),
     /// Maintenance of the review database.
     Db(DbArgs),
+    /// Write the JSON Schemas of deck and content files, for editors.
+    Schema(SchemaArgs),
 }
 
 #[derive(Debug, Args)]
@@ -189,4 +191,12 @@ pub enum DbCommand {
     Rebuild,
     /// Set a damaged database aside (it is kept) and restore a backup.
     Restore(RestoreArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct SchemaArgs {
+    /// Folder to write deck.schema.json and content.schema.json into
+    /// (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "schema")]
+    pub out: PathBuf,
 }

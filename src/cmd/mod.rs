@@ -12,6 +12,7 @@ pub mod import;
 pub mod output;
 pub mod paths;
 pub mod review;
+pub mod schema;
 pub mod sim;
 pub mod sim_scene;
 pub mod stats;
@@ -38,6 +39,7 @@ pub fn run(cli: &Cli) -> ExitCode {
         Some(Command::Export(args)) => export::run(cli, args),
         Some(Command::Import(args)) => import::run(cli, args),
         Some(Command::Db(args)) => db::run(cli, args),
+        Some(Command::Schema(args)) => schema::run(cli, args),
     };
     // A failed write to stdout comes first: whatever error the handler
     // returned is then only its consequence.

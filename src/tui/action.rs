@@ -66,6 +66,9 @@ pub enum Action {
     SmallerStep,
     LargerStep,
 
+    /// Stats: show or hide the solvers' work–precision table.
+    ToggleBench,
+
     /// Wall-clock time passed while a simulation plays.
     Tick(Duration),
     Resize(u16, u16),

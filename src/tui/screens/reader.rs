@@ -772,7 +772,8 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
 
 /// The status line under the text: the chosen link (or how many there
 /// are), the search's match count, the lines shown and the section number.
-/// What does not fit is cut with "…", the link's title first.
+/// When it does not all fit, the position loses its words first, then the
+/// "Enter opens" hint, and only then is the link's title cut with "…".
 fn status_line(
     app: &App,
     deck: &Deck,
@@ -783,65 +784,90 @@ fn status_line(
 ) -> Line<'static> {
     let t = &app.theme;
     let lang = app.lang.as_str();
-    let mut right = Vec::new();
-    if let Some(q) = &state.query {
-        right.push(match_count(app, deck, state, q));
-    }
-    // Narrow: the numbers without their word, and no section number (the
-    // list beside shows it).
-    let narrow = width < 60;
-    if total > height {
-        let last = (scroll + height).min(total);
-        let lines = if narrow { "" } else { words::LINES.get(lang) };
-        right.push(
-            format!("{lines} {}–{last}/{total}", scroll + 1)
-                .trim()
-                .to_string(),
-        );
-    }
-    if !narrow {
-        right.push(format!("§{}/{}", state.section + 1, deck.sections.len()));
-    }
-    let right = format!(" {} ", right.join(" · "));
-    let room = usize::from(width).saturating_sub(columns(&right));
+    let width = usize::from(width);
+    let position = |words_too: bool| {
+        let mut right = Vec::new();
+        if let Some(q) = &state.query {
+            right.push(match_count(app, deck, state, q));
+        }
+        if total > height {
+            let last = (scroll + height).min(total);
+            let lines = if words_too {
+                words::LINES.get(lang)
+            } else {
+                ""
+            };
+            let text = format!("{lines} {}–{last}/{total}", scroll + 1);
+            right.push(text.trim().to_string());
+        }
+        // The list beside shows which section this is.
+        if words_too {
+            right.push(format!("§{}/{}", state.section + 1, deck.sections.len()));
+        }
+        format!(" {} ", right.join(" · "))
+    };
+    let (full, short) = (position(true), position(false));
 
-    let mut spans = vec![Span::raw(" ")];
-    match state.link.and_then(|i| links.get(i).map(|l| (i, l))) {
-        Some((i, l)) => {
-            let title = deck
-                .section(&l.target)
-                .map(|s| crate::text::render(s.title.get(lang)))
-                .unwrap_or_else(|| l.target.clone());
-            let head = format!("{}/{} → ", i + 1, links.len());
-            let tail = format!("  {}", words::ENTER_OPENS.get(lang));
-            let left = room.saturating_sub(1 + columns(&head) + columns(&tail));
-            spans.push(Span::styled(head, t.key()));
-            spans.push(Span::styled(ellipsize(&title, left), t.selected()));
-            spans.push(Span::styled(
-                ellipsize(
-                    &tail,
-                    room.saturating_sub(1 + columns(&ellipsize(&title, left))),
-                ),
-                t.dim(),
-            ));
-        }
-        None if !links.is_empty() => {
-            let text = format!(
-                "{} {} · {}",
-                links.len(),
-                words::LINKS.get(lang),
-                words::TAB_TO_CHOOSE.get(lang)
-            );
-            spans.push(Span::styled(
-                ellipsize(&text, room.saturating_sub(1)),
-                t.dim(),
-            ));
-        }
-        None => {}
+    // The left part as (text, style) pieces, most wanted first.
+    let (pieces, cut): (Vec<(String, Style)>, usize) =
+        match state.link.and_then(|i| links.get(i).map(|l| (i, l))) {
+            Some((i, l)) => {
+                let title = deck
+                    .section(&l.target)
+                    .map(|s| crate::text::render(s.title.get(lang)))
+                    .unwrap_or_else(|| l.target.clone());
+                (
+                    vec![
+                        (format!(" {}/{} → ", i + 1, links.len()), t.key()),
+                        (title, t.selected()),
+                        (format!("  {}", words::ENTER_OPENS.get(lang)), t.dim()),
+                    ],
+                    1,
+                )
+            }
+            None if !links.is_empty() => (
+                vec![(
+                    format!(
+                        " {} {} · {}",
+                        links.len(),
+                        words::LINKS.get(lang),
+                        words::TAB_TO_CHOOSE.get(lang)
+                    ),
+                    t.dim(),
+                )],
+                0,
+            ),
+            None => (vec![(" ".to_string(), t.dim())], 0),
+        };
+    let len = |ps: &[(String, Style)]| ps.iter().map(|(s, _)| columns(s)).sum::<usize>();
+    let mut left = pieces.clone();
+    let mut right = full.clone();
+    if len(&left) + columns(&right) > width {
+        right = short;
     }
+    if len(&left) + columns(&right) > width && left.len() > 2 {
+        left.pop();
+    }
+    if len(&left) + columns(&right) > width {
+        let others: usize = left
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != cut)
+            .map(|(_, (s, _))| columns(s))
+            .sum();
+        let room = width.saturating_sub(others + columns(&right));
+        if let Some((s, _)) = left.get_mut(cut) {
+            *s = ellipsize(s, room);
+        }
+    }
+    let mut spans: Vec<Span> = left
+        .into_iter()
+        .map(|(s, st)| Span::styled(s, st))
+        .collect();
     let used: usize = spans.iter().map(|s| columns(&s.content)).sum();
-    let pad = usize::from(width).saturating_sub(used + columns(&right));
-    spans.push(Span::raw(" ".repeat(pad)));
+    spans.push(Span::raw(
+        " ".repeat(width.saturating_sub(used + columns(&right))),
+    ));
     spans.push(Span::styled(right, t.dim()));
     Line::from(spans)
 }

@@ -13,7 +13,7 @@ use ratatui::widgets::{
 use crate::store::{DayGrid, Stats, StatsScope};
 use crate::tui::action::Action;
 use crate::tui::app::App;
-use crate::tui::i18n::{Msg, Noun};
+use crate::tui::i18n::{Msg, Noun, study};
 use crate::tui::services::DayZone;
 
 use super::Nav;
@@ -21,11 +21,21 @@ use crate::tui::i18n::Words;
 use crate::tui::keymap::Binding;
 use crossterm::event::KeyCode::{Char, Esc};
 
-pub const KEYS: &[Binding] = &[Binding::new(
-    "Esc q",
-    Words("back", "wapas"),
-    &[(Esc, Action::Back), (Char('q'), Action::Back)],
-)];
+pub const KEYS: &[Binding] = &[
+    Binding::new(
+        "w",
+        Words(
+            "show / hide the solvers' work–precision table",
+            "solvers ki work–precision table dikhao / chhupao",
+        ),
+        &[(Char('w'), Action::ToggleBench)],
+    ),
+    Binding::new(
+        "Esc q",
+        Words("back", "wapas"),
+        &[(Esc, Action::Back), (Char('q'), Action::Back)],
+    ),
+];
 
 /// The most accurate run of one method on one problem of the bench.
 #[derive(Debug, Clone, PartialEq)]
@@ -44,6 +54,8 @@ pub struct StatsState {
     pub bench: Option<Vec<BenchRow>>,
     /// Where the bench table came from (the numerics report's folder).
     pub bench_path: Option<std::path::PathBuf>,
+    /// The bench table is shown (`w`); a learner's statistics come first.
+    pub show_bench: bool,
 }
 
 impl StatsState {
@@ -79,6 +91,7 @@ impl StatsState {
             stats,
             bench,
             bench_path,
+            show_bench: false,
         }
     }
 }
@@ -141,9 +154,13 @@ impl super::View for StatsState {
     }
 }
 
-pub fn apply(_app: &mut App, _state: &mut StatsState, action: Action) -> Nav {
+pub fn apply(_app: &mut App, state: &mut StatsState, action: Action) -> Nav {
     match action {
         Action::Back => Nav::Pop,
+        Action::ToggleBench => {
+            state.show_bench = !state.show_bench;
+            Nav::Stay
+        }
         _ => Nav::Stay,
     }
 }
@@ -166,21 +183,33 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
             return;
         }
     };
-    let bench_h = state.bench.as_ref().map_or(2, |rows| {
-        let (methods, _) = bench_axes(rows);
-        (methods.len() as u16 + 2).min(10)
-    });
+    // The bench table only on request: one line says how to see it.
+    let bench_h = match (&state.bench, state.show_bench) {
+        (Some(rows), true) => {
+            let (methods, _) = bench_axes(rows);
+            (methods.len() as u16 + 2).min(area.height / 2)
+        }
+        (None, true) => 2,
+        (_, false) => 1,
+    };
+    let summary_h = 4.min(area.height.saturating_sub(bench_h + 3));
     let [summary, charts, bench] = Layout::vertical([
-        Constraint::Length(3),
+        Constraint::Length(summary_h),
         Constraint::Fill(1),
         Constraint::Length(bench_h),
     ])
     .areas(area);
 
     let c = &stats.cards;
+    let lang = app.lang.as_str();
+    let cards = app.decks.get(state.deck).map_or(0, |d| d.cards.len());
+    // Review items, not cards: a card asked both ways is two items.
     let states = format!(
-        " {}: {} {} · {} {} · {} {} · {} {}",
-        app.count(c.total as usize, Noun::Card),
+        " {} {} ({} {}): {} {} · {} {} · {} {} · {} {}",
+        c.total,
+        study::REVIEW_ITEMS.get(lang),
+        study::FROM_CARDS.get(lang),
+        app.count(cards, Noun::Card),
         c.new,
         app.tr(Msg::New),
         c.learning,
@@ -212,19 +241,33 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
             Span::styled(format!(" {}: ", app.tr(Msg::PromptAccuracy)), t.dim()),
             Span::styled(pct(p.rate), t.good()),
             Span::styled(format!(" ({}/{})", p.passed, p.total), t.dim()),
+        ]),
+        Line::from(vec![
+            Span::styled(format!(" {} ", study::DUE.get(lang)), t.dim()),
+            Span::styled(
+                format!("{} {}", study::TODAY.get(lang), stats.due.today),
+                t.good(),
+            ),
             Span::styled(
                 format!(
                     " · {} {} · {} {}",
-                    app.tr(Msg::Today),
-                    stats.due.today,
-                    app.tr(Msg::Tomorrow),
-                    stats.due.tomorrow
+                    study::TOMORROW.get(lang),
+                    stats.due.tomorrow,
+                    study::NEXT_7_DAYS.get(lang),
+                    stats
+                        .due
+                        .per_day
+                        .iter()
+                        .take(7)
+                        .map(|d| u64::from(d.due))
+                        .sum::<u64>()
                 ),
                 t.dim(),
             ),
+            Span::styled(format!(" ({})", study::REVIEW_ITEMS.get(lang)), t.dim()),
         ]),
     ];
-    frame.render_widget(Paragraph::new(lines), summary);
+    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), summary);
 
     let [forecast, per_day] =
         Layout::horizontal([Constraint::Fill(1), Constraint::Fill(1)]).areas(charts);
@@ -284,6 +327,14 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
 
 fn draw_bench(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
     let t = &app.theme;
+    if !state.show_bench {
+        let hint = Line::from(vec![
+            Span::styled(" w ", t.key()),
+            Span::styled(study::SHOW_BENCH.get(&app.lang), t.dim()),
+        ]);
+        frame.render_widget(Paragraph::new(hint), area);
+        return;
+    }
     let rows = state.bench.as_deref();
     let mut block = Block::default()
         .borders(Borders::TOP)

@@ -11,9 +11,10 @@ use crate::sched::typed;
 use crate::sched::{Direction, Rating};
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
-use crate::tui::wrap::{Run, wrap};
+use crate::tui::i18n::study;
+use crate::tui::wrap::{Run, columns, ellipsize, wrap, wrap_plain};
 
-use super::{Phase, ReviewState, Source};
+use super::{Phase, ReviewState};
 
 fn rating_label(app: &App, r: Rating) -> &'static str {
     match r {
@@ -34,34 +35,35 @@ pub fn fmt_duration(ms: i64) -> String {
     }
 }
 
-pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
-    let t = &app.theme;
-    let Some(deck) = app.decks.get(state.deck) else {
-        return;
-    };
-    let [progress, rest] =
-        Layout::vertical([Constraint::Length(1), Constraint::Fill(1)]).areas(area);
-    frame.render_widget(
-        Paragraph::new(Span::styled(
-            format!(" {}", state.progress(app)),
-            t.heading(),
-        )),
-        progress,
-    );
+/// The widest a card runs, text columns: long lines are hard to read on a
+/// wide terminal.
+pub const MEASURE: u16 = 80;
 
-    if state.phase == Phase::Done {
-        draw_summary(frame, rest, app, state);
-        return;
+/// The card's outer area in the screen's body below the progress line:
+/// centred, at most [`MEASURE`] columns of text wide.
+pub fn card_width(rest: Rect) -> Rect {
+    let w = rest.width.min(MEASURE + 4);
+    Rect {
+        x: rest.x + (rest.width - w) / 2,
+        width: w,
+        ..rest
     }
+}
+
+/// The card's lines at a text width.
+pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let Some(deck) = app.decks.get(state.deck) else {
+        return Vec::new();
+    };
     let Some((card, direction)) = state.card(deck) else {
-        return;
+        return Vec::new();
     };
     let (question, answer) = match direction {
         Direction::Forward => (&card.front, &card.back),
         Direction::Backward => (&card.back, &card.front),
     };
-    // Borders and a column of margin on each side.
-    let width = rest.width.saturating_sub(4) as usize;
     let para = |text: &str, style| {
         wrap(
             &[Run::new(crate::text::render(text), style)],
@@ -70,42 +72,30 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
             Run::new("", style),
         )
     };
-    let mut lines = para(question.get(&app.lang), t.strong());
+    let mut lines = para(question.get(lang), t.strong());
     lines.push(Line::default());
     match &state.phase {
         Phase::Front { input } => {
             if card.kind == CardKind::Typed {
                 lines.push(Line::styled(app.tr(Msg::TypeAnswer), t.dim()));
-                lines.push(Line::from(vec![
-                    Span::styled("> ", t.key()),
-                    Span::styled(format!("{input}▏"), t.strong()),
-                ]));
+                lines.extend(wrap(
+                    &[Run::new(format!("{input}▏"), t.strong())],
+                    width,
+                    Run::new("> ", t.key()),
+                    Run::new("  ", t.key()),
+                ));
             }
         }
         Phase::Back { typed, .. } => {
             lines.push(Line::styled("─".repeat(width.min(40)), t.dim()));
-            lines.extend(para(answer.get(&app.lang), t.text()));
+            lines.extend(para(answer.get(lang), t.text()));
             if let Some(ta) = typed {
                 lines.push(Line::default());
-                let (mark, style) = match ta.check.verdict {
-                    typed::Verdict::Exact => ("✓", t.good()),
-                    typed::Verdict::Close => ("≈", t.warn()),
-                    typed::Verdict::Wrong => ("✗", t.bad()),
-                };
-                lines.push(Line::from(vec![
-                    Span::styled(format!("{mark} {}: ", app.tr(Msg::YouTyped)), style),
-                    Span::raw(ta.text.clone()),
-                ]));
-                if let Some(n) = &ta.check.nearest {
-                    lines.push(Line::from(vec![
-                        Span::styled(format!("  {}: ", app.tr(Msg::Accepted)), t.dim()),
-                        Span::raw(n.clone()),
-                    ]));
-                }
+                lines.extend(typed_lines(app, ta, width));
             }
             if let Some(p) = card.prompt.as_ref().and_then(|id| deck.prompt(id)) {
                 lines.push(Line::default());
-                let q = crate::text::render(p.question.get(&app.lang));
+                let q = crate::text::render(p.question.get(lang));
                 lines.extend(wrap(
                     &[
                         Run::new(format!("{}: ", app.tr(Msg::TryPrompt)), t.heading()),
@@ -122,119 +112,272 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     while lines.last().is_some_and(|l| l.spans.is_empty()) {
         lines.pop();
     }
+    lines
+}
+
+/// What was typed, above what was expected, aligned so that the two can
+/// be compared letter by letter.
+fn typed_lines(app: &App, ta: &super::TypedAnswer, width: usize) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let (mark, style) = match ta.check.verdict {
+        typed::Verdict::Exact => ("✓", t.good()),
+        typed::Verdict::Close => ("≈", t.warn()),
+        typed::Verdict::Wrong => ("✗", t.bad()),
+    };
+    let typed_label = study::YOU_TYPED.get(lang);
+    let expected_label = study::EXPECTED.get(lang);
+    let label_w = columns(typed_label).max(columns(expected_label));
+    let pad = |label: &str| format!("{label}:{} ", " ".repeat(label_w - columns(label)));
+    let mut out = wrap(
+        &[Run::new(ta.text.clone(), t.strong())],
+        width,
+        Run::new(format!("{mark} {}", pad(typed_label)), style),
+        Run::new(" ".repeat(label_w + 4), style),
+    );
+    if let Some(n) = &ta.check.nearest
+        && ta.check.verdict != typed::Verdict::Exact
+    {
+        out.extend(wrap(
+            &[Run::new(n.clone(), t.good())],
+            width,
+            Run::new(format!("  {}", pad(expected_label)), t.dim()),
+            Run::new(" ".repeat(label_w + 4), t.dim()),
+        ));
+    }
+    out
+}
+
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let Some(deck) = app.decks.get(state.deck) else {
+        return;
+    };
+    let [progress, rest] =
+        Layout::vertical([Constraint::Length(1), Constraint::Fill(1)]).areas(area);
+    frame.render_widget(
+        Paragraph::new(Span::styled(
+            ellipsize(&format!(" {}", state.progress(app)), progress.width.into()),
+            t.heading(),
+        )),
+        progress,
+    );
+
+    if state.phase == Phase::Done {
+        draw_summary(frame, rest, app, state);
+        return;
+    }
+    let Some((card, _)) = state.card(deck) else {
+        return;
+    };
+    let outer = card_width(rest);
+    // Borders and a column of margin on each side.
+    let width = outer.width.saturating_sub(4) as usize;
+    let lines = card_lines(app, state, width);
+
+    let buttons = button_lines(app, state, card.kind, rest.width);
+    let below = (buttons.len() as u16).max(1) + 1;
     // The card is as tall as its text (a blank line above and below),
-    // with the buttons right under it.
-    let card_h = (lines.len() as u16 + 4).min(rest.height.saturating_sub(2));
-    let [card_area, buttons, hints] = Layout::vertical([
+    // with the buttons right under it; a card taller than the screen
+    // scrolls (j/k), saying so on its border.
+    let card_h = (lines.len() as u16 + 4).min(rest.height.saturating_sub(below));
+    let [card_area, button_area, hints] = Layout::vertical([
         Constraint::Length(card_h),
-        Constraint::Length(1),
+        Constraint::Length(below - 1),
         Constraint::Length(1),
     ])
     .areas(rest);
-    let block = Block::default()
+    let card_area = Rect {
+        x: outer.x,
+        width: outer.width,
+        ..card_area
+    };
+    let room = card_h.saturating_sub(4).max(1) as usize;
+    let max_scroll = lines.len().saturating_sub(room);
+    let scroll = state.scroll.min(max_scroll);
+    let mut block = Block::default()
         .borders(Borders::ALL)
         .border_style(t.border());
+    if scroll > 0 {
+        let up = if state.typed {
+            "↑"
+        } else {
+            study::MORE_ABOVE.get(lang)
+        };
+        block = block.title_top(Line::styled(format!(" {up} "), t.key()).right_aligned());
+    }
+    if scroll < max_scroll {
+        let down = if state.typed {
+            study::MORE_BELOW_TYPING.get(lang)
+        } else {
+            study::MORE_BELOW.get(lang)
+        };
+        block = block.title_bottom(Line::styled(format!(" {down} "), t.key()).right_aligned());
+    }
     let inner = block.inner(card_area).inner(Margin::new(1, 1));
     frame.render_widget(block, card_area);
-    frame.render_widget(Paragraph::new(lines), inner);
+    let shown: Vec<Line> = lines.into_iter().skip(scroll).take(room).collect();
+    frame.render_widget(Paragraph::new(shown), inner);
+    frame.render_widget(Paragraph::new(buttons), button_area);
 
-    // Rating buttons with the interval each would give.
-    if let Phase::Back { typed, previews } = &state.phase {
-        let suggested = typed.as_ref().map(|t| t.check.suggested);
-        let mut spans = vec![Span::raw(" ")];
-        for (i, r) in Rating::ALL.into_iter().enumerate() {
-            let interval = previews
-                .as_ref()
-                .map(|p| format!(" {}", p[i].label))
-                .unwrap_or_default();
-            let mut style = t.rating(i);
-            if suggested == Some(r) {
-                style = style.patch(t.selected());
-            }
-            spans.push(Span::styled(format!("{} ", i + 1), t.key()));
-            spans.push(Span::styled(
-                format!("{}{interval}", rating_label(app, r)),
-                style,
-            ));
-            spans.push(Span::raw("   "));
-        }
-        if let Some(r) = suggested {
-            spans.push(Span::styled(
-                format!("({}: {})", app.tr(Msg::Suggested), rating_label(app, r)),
+    // Keys that type letters while a typed card's answer is edited are
+    // not offered there.
+    let mut h = vec![Span::raw(" ")];
+    if !(state.typed && matches!(state.phase, Phase::Front { .. })) {
+        if card.explain.is_some() {
+            h.push(Span::styled("e ", t.key()));
+            h.push(Span::styled(
+                format!("{}  ", app.tr(Msg::Explanation)),
                 t.dim(),
             ));
         }
-        frame.render_widget(Paragraph::new(Line::from(spans)), buttons);
-    } else if card.kind != CardKind::Typed {
-        frame.render_widget(
-            Paragraph::new(Line::from(vec![
-                Span::styled(" Space ", t.key()),
-                Span::styled(app.tr(Msg::ShowAnswer), t.dim()),
-            ])),
-            buttons,
-        );
-    } else {
-        frame.render_widget(
-            Paragraph::new(Line::from(vec![
-                Span::styled(" Enter ", t.key()),
-                Span::styled(app.tr(Msg::ShowAnswer), t.dim()),
-            ])),
-            buttons,
-        );
+        h.push(Span::styled("u ", t.key()));
+        h.push(Span::styled(app.tr(Msg::Undo), t.dim()));
     }
-    let mut h = vec![Span::raw(" ")];
-    if card.explain.is_some() {
-        h.push(Span::styled("e ", t.key()));
-        h.push(Span::styled(
-            format!("{}  ", app.tr(Msg::Explanation)),
-            t.dim(),
-        ));
-    }
-    h.push(Span::styled("u ", t.key()));
-    h.push(Span::styled(app.tr(Msg::Undo), t.dim()));
     frame.render_widget(Paragraph::new(Line::from(h)), hints);
 }
 
-fn draw_summary(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
+/// The rating buttons with the interval each would give (or the key that
+/// shows the answer), wrapped onto a second line when the screen is narrow.
+fn button_lines(app: &App, state: &ReviewState, kind: CardKind, width: u16) -> Vec<Line<'static>> {
     let t = &app.theme;
+    let Phase::Back { typed, previews } = &state.phase else {
+        let (key, what) = if kind == CardKind::Typed {
+            (" Enter ", study::CHECK.get(&app.lang))
+        } else {
+            (" Space ", app.tr(Msg::ShowAnswer))
+        };
+        return vec![Line::from(vec![
+            Span::styled(key, t.key()),
+            Span::styled(what, t.dim()),
+        ])];
+    };
+    let suggested = typed.as_ref().map(|t| t.check.suggested);
+    let mut groups: Vec<Vec<Span<'static>>> = Vec::new();
+    for (i, r) in Rating::ALL.into_iter().enumerate() {
+        let interval = previews
+            .as_ref()
+            .map(|p| format!(" {}", p[i].label))
+            .unwrap_or_default();
+        let mut style = t.rating(i);
+        let mut label = format!("{}{interval}", rating_label(app, r));
+        if suggested == Some(r) {
+            style = style.patch(t.selected());
+            // Marked by more than the colour (NO_COLOR).
+            label = format!("{label} ◂");
+        }
+        groups.push(vec![
+            Span::styled(format!("{} ", i + 1), t.key()),
+            Span::styled(label, style),
+        ]);
+    }
+    if let Some(r) = suggested {
+        groups.push(vec![Span::styled(
+            format!("({}: {})", app.tr(Msg::Suggested), rating_label(app, r)),
+            t.dim(),
+        )]);
+    }
+    let group_w = |g: &[Span]| g.iter().map(|s| columns(&s.content)).sum::<usize>();
+    let width = usize::from(width);
+    let mut lines: Vec<Vec<Span<'static>>> = vec![vec![Span::raw(" ")]];
+    let mut used = 1;
+    for g in groups {
+        let w = group_w(&g);
+        let gap = if used > 1 { 3 } else { 0 };
+        if used + gap + w > width && used > 1 {
+            lines.push(vec![Span::raw(" ")]);
+            used = 1;
+        } else if gap > 0 {
+            lines.last_mut().map(|l| l.push(Span::raw("   ")));
+            used += gap;
+        }
+        used += w;
+        if let Some(l) = lines.last_mut() {
+            l.extend(g);
+        }
+    }
+    lines.into_iter().map(Line::from).collect()
+}
+
+/// The end of a session: what was done, and what comes next.
+fn draw_summary(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
+    let inner = summary_area(area);
+    let lines = summary_lines(app, state, usize::from(inner.width.max(1)));
+    let room = inner.height as usize;
+    let scroll = state.scroll.min(lines.len().saturating_sub(room));
+    let shown: Vec<Line> = lines.into_iter().skip(scroll).take(room).collect();
+    frame.render_widget(Paragraph::new(shown), inner);
+}
+
+/// Where the summary's text goes, below the progress line.
+pub fn summary_area(rest: Rect) -> Rect {
+    rest.inner(Margin::new(2, 1))
+}
+
+/// The summary's lines at a width.
+pub fn summary_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
     let s = state.session;
     let mut lines = Vec::new();
     if s.reviewed == 0 {
-        lines.push(Line::styled(app.tr(Msg::NothingDue), t.heading()));
+        lines.extend(wrap_plain(app.tr(Msg::NothingDue), t.heading(), width));
     } else {
         lines.push(Line::styled(app.tr(Msg::SessionDone), t.heading()));
         lines.push(Line::default());
         let rate = 100.0 * f64::from(s.again) / f64::from(s.reviewed);
-        lines.push(Line::from(format!(
-            "{} {} · {} {} · {} {:.0}%",
-            s.reviewed,
-            app.tr(Msg::Reviewed),
-            app.tr(Msg::Time),
-            fmt_duration(app.services.stopwatch.elapsed_ms(state.started)),
-            app.tr(Msg::AgainRate),
-            rate
-        )));
+        lines.extend(wrap_plain(
+            &format!(
+                "{} {} · {} {} · {} {:.0}%",
+                s.reviewed,
+                app.tr(Msg::Reviewed),
+                app.tr(Msg::Time),
+                fmt_duration(app.services.stopwatch.elapsed_ms(state.started)),
+                app.tr(Msg::AgainRate),
+                rate
+            ),
+            t.text(),
+            width,
+        ));
     }
-    if let Source::Daily(q) = &state.source
-        && let Some(due) = q.next_learning_due()
-    {
-        let wait = due - app.services.now();
-        lines.push(Line::default());
-        lines.push(Line::styled(
-            format!(
+    lines.push(Line::default());
+    let next = state.what_next(app);
+    if let Some(wait) = next.learning_in {
+        lines.extend(wrap_plain(
+            &format!(
                 "{} {} → {}",
                 app.tr(Msg::Learning),
                 app.tr(Msg::Due),
                 crate::sched::format_interval(wait)
             ),
-            t.dim(),
+            t.text(),
+            width,
         ));
     }
+    if !state.cram {
+        lines.extend(wrap_plain(
+            &format!("{}: {}", study::DUE_TOMORROW.get(lang), next.due_tomorrow),
+            t.text(),
+            width,
+        ));
+        let mut new = format!("{}: {}", study::NEW_LEFT.get(lang), next.new_cards);
+        if next.new_cards > 0 && next.new_limit_reached {
+            new.push_str(&format!(" · {}", study::NEW_TOMORROW.get(lang)));
+        }
+        lines.extend(wrap_plain(&new, t.text(), width));
+    }
     lines.push(Line::default());
-    lines.push(Line::from(vec![
-        Span::styled("Enter ", t.key()),
-        Span::styled(app.tr(Msg::Back), t.dim()),
-    ]));
-    let inner = area.inner(Margin::new(2, 1));
-    frame.render_widget(Paragraph::new(lines), inner);
+    for (key, what) in [
+        ("c", study::CRAM_NOW.get(lang)),
+        ("Enter", app.tr(Msg::Back)),
+    ] {
+        lines.extend(wrap(
+            &[Run::new(what, t.dim())],
+            width,
+            Run::new(format!("{key} "), t.key()),
+            Run::new(" ".repeat(columns(key) + 1), t.dim()),
+        ));
+    }
+    lines
 }

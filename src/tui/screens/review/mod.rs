@@ -66,6 +66,21 @@ pub struct ReviewState {
     pub rated: Vec<(ItemKey, Rating)>,
     /// The card shown is a typed card (its front takes text).
     pub typed: bool,
+    /// First line of the card shown, when it is taller than the screen.
+    pub scroll: usize,
+}
+
+/// What comes after a session, for its summary.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WhatNext {
+    /// Review items due by the end of the next study day.
+    pub due_tomorrow: usize,
+    /// Cards with a direction never reviewed.
+    pub new_cards: usize,
+    /// Today's limit of new cards is used up (more come tomorrow).
+    pub new_limit_reached: bool,
+    /// When the next learning step of today is due.
+    pub learning_in: Option<chrono::TimeDelta>,
 }
 
 impl ReviewState {
@@ -102,6 +117,7 @@ impl ReviewState {
             started: app.services.stopwatch.stamp(),
             rated: Vec::new(),
             typed: false,
+            scroll: 0,
         };
         state.next_card(app);
         Ok(state)
@@ -117,6 +133,7 @@ impl ReviewState {
     }
 
     fn show(&mut self, app: &App, key: Option<ItemKey>) {
+        self.scroll = 0;
         match key {
             Some(key) => {
                 self.typed = app
@@ -141,6 +158,49 @@ impl ReviewState {
     pub fn card<'a>(&self, deck: &'a Deck) -> Option<(&'a Card, Direction)> {
         let (key, _) = self.current.as_ref()?;
         deck.card(&key.card).map(|c| (c, key.direction))
+    }
+
+    /// Due tomorrow, new cards left, the next learning step: what the
+    /// summary says comes next.
+    pub fn what_next(&self, app: &App) -> WhatNext {
+        let now = app.services.now();
+        let mut next = WhatNext {
+            due_tomorrow: 0,
+            new_cards: 0,
+            new_limit_reached: false,
+            learning_in: None,
+        };
+        let Some(deck) = app.decks.get(self.deck) else {
+            return next;
+        };
+        let day_end = match &self.source {
+            Source::Daily(q) => q.day().1,
+            Source::Cram(_) => now + chrono::TimeDelta::days(1),
+        };
+        let tomorrow_end = day_end + chrono::TimeDelta::days(1);
+        let mut new_cards: Vec<&str> = Vec::new();
+        for key in crate::sched::deck_items(deck) {
+            match self.states.get(&key) {
+                Some(s) if s.state != crate::sched::State::New => {
+                    if s.due < tomorrow_end && s.due >= now {
+                        next.due_tomorrow += 1;
+                    }
+                }
+                _ => {
+                    if !new_cards.contains(&key.card.as_str())
+                        && let Some(c) = deck.card(&key.card)
+                    {
+                        new_cards.push(c.id.as_str());
+                    }
+                }
+            }
+        }
+        next.new_cards = new_cards.len();
+        if let Source::Daily(q) = &self.source {
+            next.new_limit_reached = q.counts().new == 0 && next.new_cards > 0;
+            next.learning_in = q.next_learning_due().map(|due| due - now);
+        }
+        next
     }
 
     /// "12 due · 3 learning · 5 new", or the cards left when cramming.
@@ -193,6 +253,20 @@ impl super::View for ReviewState {
 pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
     match (&mut state.phase, action) {
         (_, Action::Back) => return Nav::Pop,
+        // The drawing clamps it to the card's length.
+        (_, Action::Down) => {
+            state.scroll = state.scroll.saturating_add(1).min(scroll_max(app, state))
+        }
+        (_, Action::Up) => state.scroll = state.scroll.saturating_sub(1),
+        (Phase::Done, Action::OpenCram) => {
+            return match ReviewState::open(app, state.deck, true) {
+                Ok(r) => Nav::Replace(super::Screen::Review(Box::new(r))),
+                Err(e) => {
+                    app.error(e);
+                    Nav::Stay
+                }
+            };
+        }
         (_, Action::Undo) => undo(app, state),
         (_, Action::Explain) => return explain(app, state),
         (Phase::Front { input }, Action::Input(c)) => input.push(c),
@@ -223,7 +297,7 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
         (Phase::Front { input }, Some((card, _))) if card.kind == CardKind::Typed => {
             Some(TypedAnswer {
                 text: input.clone(),
-                check: typed::check(input, &card.accept),
+                check: typed::check(input, &card.accepted(&app.lang)),
             })
         }
         _ => None,
@@ -236,6 +310,25 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
         )
     });
     state.phase = Phase::Back { typed, previews };
+    state.scroll = 0;
+}
+
+/// How far the card (or the summary) can scroll at the app's size.
+fn scroll_max(app: &App, state: &ReviewState) -> usize {
+    let body = crate::tui::view::body_rect(app.size);
+    // The progress line above; the buttons (up to two lines) and the hints
+    // below; the card's borders and margins.
+    let rest_h = body.height.saturating_sub(1);
+    let rest = ratatui::layout::Rect::new(0, 0, body.width, rest_h);
+    if state.phase == Phase::Done {
+        let inner = draw::summary_area(rest);
+        let lines = draw::summary_lines(app, state, usize::from(inner.width.max(1)));
+        return lines.len().saturating_sub(inner.height as usize);
+    }
+    let width = draw::card_width(rest).width.saturating_sub(4) as usize;
+    let lines = draw::card_lines(app, state, width).len();
+    let room = rest_h.saturating_sub(3).saturating_sub(4).max(1) as usize;
+    lines.saturating_sub(room)
 }
 
 fn rate(app: &mut App, state: &mut ReviewState, rating: Rating) {
