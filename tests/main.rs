@@ -18,6 +18,7 @@ mod deck_physics;
 mod doc_examples;
 mod ode_solvers;
 mod sched_golden;
+mod schema_cli;
 mod schemas;
 mod sim_cli;
 mod sim_exact;
