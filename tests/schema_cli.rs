@@ -7,7 +7,9 @@ use std::process::Command;
 const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
 
 fn checked_in(name: &str) -> String {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("schema").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("schema")
+        .join(name);
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -20,7 +22,11 @@ fn writes_both_schemas_into_a_new_folder() {
         .arg(&out)
         .output()
         .unwrap_or_else(|e| panic!("{e}"));
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let stdout = String::from_utf8_lossy(&run.stdout);
     for name in ["deck.schema.json", "content.schema.json"] {
         let written = std::fs::read_to_string(out.join(name))

@@ -13,6 +13,9 @@ pub enum Action {
     Back,
     ToggleHelp,
     CloseHelp,
+    /// Scroll a help overlay taller than the screen.
+    HelpDown,
+    HelpUp,
     /// English ⇄ Hinglish, everywhere, remembered between runs.
     ToggleLanguage,
 

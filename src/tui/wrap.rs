@@ -254,6 +254,32 @@ pub fn ellipsize(text: &str, width: usize) -> String {
     out
 }
 
+/// Groups of spans (a key and what it does) laid out in lines of `width`:
+/// a group never splits, groups are `gap` columns apart, each line starts
+/// with one space.
+pub fn pack(groups: Vec<Vec<Span<'static>>>, width: usize, gap: usize) -> Vec<Line<'static>> {
+    let group_w = |g: &[Span]| g.iter().map(|s| columns(&s.content)).sum::<usize>();
+    let mut lines: Vec<Vec<Span<'static>>> = vec![vec![Span::raw(" ")]];
+    let mut used = 1;
+    for g in groups {
+        let w = group_w(&g);
+        if used > 1 && used + gap + w > width {
+            lines.push(vec![Span::raw(" ")]);
+            used = 1;
+        } else if used > 1 {
+            if let Some(l) = lines.last_mut() {
+                l.push(Span::raw(" ".repeat(gap)));
+            }
+            used += gap;
+        }
+        used += w;
+        if let Some(l) = lines.last_mut() {
+            l.extend(g);
+        }
+    }
+    lines.into_iter().map(Line::from).collect()
+}
+
 /// Display width of `text` in columns.
 pub fn columns(text: &str) -> usize {
     width(text)

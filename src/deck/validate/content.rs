@@ -78,7 +78,12 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
             }
             // Inline `[text](#id)` links, reported at the id in the body.
             if let Some(body) = &s.body {
-                let token = f.rep.source.get(body.span.clone()).unwrap_or("").to_string();
+                let token = f
+                    .rep
+                    .source
+                    .get(body.span.clone())
+                    .unwrap_or("")
+                    .to_string();
                 let mut from = 0;
                 for target in crate::text::markup::links(&body.value) {
                     let anchor = format!("](#{target})");

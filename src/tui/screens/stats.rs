@@ -15,6 +15,7 @@ use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Noun, study};
 use crate::tui::services::DayZone;
+use crate::tui::wrap::{Run, ellipsize, wrap};
 
 use super::Nav;
 use crate::tui::i18n::Words;
@@ -192,20 +193,12 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         (None, true) => 2,
         (_, false) => 1,
     };
-    let summary_h = 4.min(area.height.saturating_sub(bench_h + 3));
-    let [summary, charts, bench] = Layout::vertical([
-        Constraint::Length(summary_h),
-        Constraint::Fill(1),
-        Constraint::Length(bench_h),
-    ])
-    .areas(area);
-
     let c = &stats.cards;
     let lang = app.lang.as_str();
     let cards = app.decks.get(state.deck).map_or(0, |d| d.cards.len());
     // Review items, not cards: a card asked both ways is two items.
     let states = format!(
-        " {} {} ({} {}): {} {} · {} {} · {} {} · {} {}",
+        "{} {} ({} {}): {} {} · {} {} · {} {} · {} {}",
         c.total,
         study::REVIEW_ITEMS.get(lang),
         study::FROM_CARDS.get(lang),
@@ -267,7 +260,43 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
             Span::styled(format!(" ({})", study::REVIEW_ITEMS.get(lang)), t.dim()),
         ]),
     ];
-    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), summary);
+    // The summary wraps; the charts get what is left, and on a screen too
+    // short for them the summary's numbers come first.
+    let width = usize::from(area.width.max(1));
+    let summary_lines: Vec<Line> = lines
+        .iter()
+        .flat_map(|l| {
+            let runs: Vec<Run> = l
+                .spans
+                .iter()
+                .map(|s| Run::new(s.content.to_string(), s.style))
+                .collect();
+            wrap(
+                &runs,
+                width,
+                Run::new(" ", t.text()),
+                Run::new(" ", t.text()),
+            )
+        })
+        .collect();
+    let summary_h = (summary_lines.len() as u16).min(area.height.saturating_sub(bench_h));
+    let charts_h = area.height.saturating_sub(summary_h + bench_h);
+    let [summary, charts, bench] = Layout::vertical([
+        Constraint::Length(summary_h),
+        Constraint::Length(if charts_h >= 5 { charts_h } else { 0 }),
+        Constraint::Fill(1),
+    ])
+    .areas(area);
+    let bench = Rect {
+        y: bench.bottom().saturating_sub(bench_h),
+        height: bench_h.min(bench.height),
+        ..bench
+    };
+    frame.render_widget(Paragraph::new(summary_lines), summary);
+    draw_bench(frame, bench, app, state);
+    if charts.height == 0 {
+        return;
+    }
 
     let [forecast, per_day] =
         Layout::horizontal([Constraint::Fill(1), Constraint::Fill(1)]).areas(charts);
@@ -292,7 +321,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
                 .borders(Borders::ALL)
                 .border_style(t.border())
                 .title(Span::styled(
-                    format!(" {} ", app.tr(Msg::DueForecast)),
+                    ellipsize(
+                        &format!(" {} ", app.tr(Msg::DueForecast)),
+                        usize::from(forecast.width.saturating_sub(2)),
+                    ),
                     t.heading(),
                 )),
         )
@@ -313,7 +345,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
                 .borders(Borders::ALL)
                 .border_style(t.border())
                 .title(Span::styled(
-                    format!(" {} ", app.tr(Msg::ReviewsPerDay)),
+                    ellipsize(
+                        &format!(" {} ", app.tr(Msg::ReviewsPerDay)),
+                        usize::from(per_day.width.saturating_sub(2)),
+                    ),
                     t.heading(),
                 ))
                 .title_bottom(Span::styled(format!(" Σ {total} "), t.dim())),
@@ -321,8 +356,6 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         .data(&counts)
         .style(t.warn());
     frame.render_widget(spark, per_day);
-
-    draw_bench(frame, bench, app, state);
 }
 
 fn draw_bench(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {

@@ -4,7 +4,7 @@
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Margin, Rect};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Paragraph};
+use ratatui::widgets::{Block, Borders, Clear, Paragraph};
 
 use crate::deck::CardKind;
 use crate::sched::typed;
@@ -12,7 +12,7 @@ use crate::sched::{Direction, Rating};
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
 use crate::tui::i18n::study;
-use crate::tui::wrap::{Run, columns, ellipsize, wrap, wrap_plain};
+use crate::tui::wrap::{Run, columns, ellipsize, pack, wrap, wrap_plain};
 
 use super::{Phase, ReviewState};
 
@@ -148,6 +148,54 @@ fn typed_lines(app: &App, ta: &super::TypedAnswer, width: usize) -> Vec<Line<'st
     out
 }
 
+/// Where the card, its buttons and the hints go below the progress line.
+pub struct CardLayout {
+    pub lines: Vec<Line<'static>>,
+    pub buttons: Vec<Line<'static>>,
+    pub card_area: Rect,
+    pub button_area: Rect,
+    pub hints: Rect,
+    /// Blank lines above and below the text inside the border.
+    pub margin: u16,
+    /// Lines of text the card shows at once.
+    pub room: usize,
+}
+
+/// The card is as tall as its text (with a blank line above and below when
+/// there is room), the buttons right under it; a card taller than the
+/// screen scrolls (j/k), saying so on its border.
+pub fn layout(app: &App, state: &ReviewState, kind: CardKind, rest: Rect) -> CardLayout {
+    let outer = card_width(rest);
+    // Borders and a column of margin on each side.
+    let width = outer.width.saturating_sub(4) as usize;
+    let lines = card_lines(app, state, width);
+    let buttons = button_lines(app, state, kind, rest.width);
+    let below = (buttons.len() as u16).max(1) + 1;
+    let margin = if rest.height < 16 { 0 } else { 1 };
+    let card_h = (lines.len() as u16 + 2 + 2 * margin).min(rest.height.saturating_sub(below));
+    let [card_area, button_area, hints] = Layout::vertical([
+        Constraint::Length(card_h),
+        Constraint::Length(below - 1),
+        Constraint::Length(1),
+    ])
+    .areas(rest);
+    let card_area = Rect {
+        x: outer.x,
+        width: outer.width,
+        ..card_area
+    };
+    let room = card_h.saturating_sub(2 + 2 * margin).max(1) as usize;
+    CardLayout {
+        lines,
+        buttons,
+        card_area,
+        button_area,
+        hints,
+        margin,
+        room,
+    }
+}
+
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     let t = &app.theme;
     let lang = app.lang.as_str();
@@ -171,36 +219,23 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     let Some((card, _)) = state.card(deck) else {
         return;
     };
-    let outer = card_width(rest);
-    // Borders and a column of margin on each side.
-    let width = outer.width.saturating_sub(4) as usize;
-    let lines = card_lines(app, state, width);
-
-    let buttons = button_lines(app, state, card.kind, rest.width);
-    let below = (buttons.len() as u16).max(1) + 1;
-    // The card is as tall as its text (a blank line above and below),
-    // with the buttons right under it; a card taller than the screen
-    // scrolls (j/k), saying so on its border.
-    let card_h = (lines.len() as u16 + 4).min(rest.height.saturating_sub(below));
-    let [card_area, button_area, hints] = Layout::vertical([
-        Constraint::Length(card_h),
-        Constraint::Length(below - 1),
-        Constraint::Length(1),
-    ])
-    .areas(rest);
-    let card_area = Rect {
-        x: outer.x,
-        width: outer.width,
-        ..card_area
-    };
-    let room = card_h.saturating_sub(4).max(1) as usize;
+    let CardLayout {
+        lines,
+        buttons,
+        card_area,
+        button_area,
+        hints,
+        margin,
+        room,
+    } = layout(app, state, card.kind, rest);
     let max_scroll = lines.len().saturating_sub(room);
     let scroll = state.scroll.min(max_scroll);
+    let typing = state.typed && matches!(state.phase, Phase::Front { .. });
     let mut block = Block::default()
         .borders(Borders::ALL)
         .border_style(t.border());
     if scroll > 0 {
-        let up = if state.typed {
+        let up = if typing {
             "↑"
         } else {
             study::MORE_ABOVE.get(lang)
@@ -208,14 +243,14 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
         block = block.title_top(Line::styled(format!(" {up} "), t.key()).right_aligned());
     }
     if scroll < max_scroll {
-        let down = if state.typed {
+        let down = if typing {
             study::MORE_BELOW_TYPING.get(lang)
         } else {
             study::MORE_BELOW.get(lang)
         };
         block = block.title_bottom(Line::styled(format!(" {down} "), t.key()).right_aligned());
     }
-    let inner = block.inner(card_area).inner(Margin::new(1, 1));
+    let inner = block.inner(card_area).inner(Margin::new(1, margin));
     frame.render_widget(block, card_area);
     let shown: Vec<Line> = lines.into_iter().skip(scroll).take(room).collect();
     frame.render_widget(Paragraph::new(shown), inner);
@@ -224,7 +259,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     // Keys that type letters while a typed card's answer is edited are
     // not offered there.
     let mut h = vec![Span::raw(" ")];
-    if !(state.typed && matches!(state.phase, Phase::Front { .. })) {
+    if !typing {
         if card.explain.is_some() {
             h.push(Span::styled("e ", t.key()));
             h.push(Span::styled(
@@ -278,26 +313,7 @@ fn button_lines(app: &App, state: &ReviewState, kind: CardKind, width: u16) -> V
             t.dim(),
         )]);
     }
-    let group_w = |g: &[Span]| g.iter().map(|s| columns(&s.content)).sum::<usize>();
-    let width = usize::from(width);
-    let mut lines: Vec<Vec<Span<'static>>> = vec![vec![Span::raw(" ")]];
-    let mut used = 1;
-    for g in groups {
-        let w = group_w(&g);
-        let gap = if used > 1 { 3 } else { 0 };
-        if used + gap + w > width && used > 1 {
-            lines.push(vec![Span::raw(" ")]);
-            used = 1;
-        } else if gap > 0 {
-            lines.last_mut().map(|l| l.push(Span::raw("   ")));
-            used += gap;
-        }
-        used += w;
-        if let Some(l) = lines.last_mut() {
-            l.extend(g);
-        }
-    }
-    lines.into_iter().map(Line::from).collect()
+    pack(groups, usize::from(width), 3)
 }
 
 /// The end of a session: what was done, and what comes next.
@@ -305,9 +321,22 @@ fn draw_summary(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     let inner = summary_area(area);
     let lines = summary_lines(app, state, usize::from(inner.width.max(1)));
     let room = inner.height as usize;
-    let scroll = state.scroll.min(lines.len().saturating_sub(room));
+    let max = lines.len().saturating_sub(room);
+    let scroll = state.scroll.min(max);
     let shown: Vec<Line> = lines.into_iter().skip(scroll).take(room).collect();
     frame.render_widget(Paragraph::new(shown), inner);
+    if scroll < max {
+        let more = study::MORE_BELOW.get(&app.lang);
+        let w = columns(more) as u16;
+        let at = Rect::new(
+            inner.right().saturating_sub(w),
+            inner.bottom().saturating_sub(1),
+            w.min(inner.width),
+            1,
+        );
+        frame.render_widget(Clear, at);
+        frame.render_widget(Paragraph::new(Span::styled(more, app.theme.key())), at);
+    }
 }
 
 /// Where the summary's text goes, below the progress line.

@@ -325,9 +325,13 @@ fn scroll_max(app: &App, state: &ReviewState) -> usize {
         let lines = draw::summary_lines(app, state, usize::from(inner.width.max(1)));
         return lines.len().saturating_sub(inner.height as usize);
     }
-    let width = draw::card_width(rest).width.saturating_sub(4) as usize;
-    let lines = draw::card_lines(app, state, width).len();
-    let room = rest_h.saturating_sub(3).saturating_sub(4).max(1) as usize;
+    let kind = app
+        .decks
+        .get(state.deck)
+        .and_then(|d| state.card(d))
+        .map_or(CardKind::Basic, |(c, _)| c.kind);
+    let l = draw::layout(app, state, kind, rest);
+    let (lines, room) = (l.lines.len(), l.room);
     lines.saturating_sub(room)
 }
 
