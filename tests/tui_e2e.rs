@@ -493,13 +493,9 @@ fn reversed_texts(styled: &str) -> Vec<String> {
             let params = &seq[..end];
             if seq[end..].starts_with('m') {
                 let codes: Vec<&str> = params.split(';').collect();
-                let now = if codes.iter().all(|c| c.is_empty() || *c == "0") {
-                    false
-                } else if codes.contains(&"27") {
-                    false
-                } else {
-                    reversed || codes.contains(&"7")
-                };
+                // A reset (0) or "not reversed" (27) ends reverse video.
+                let ends = codes.iter().all(|c| c.is_empty() || *c == "0") || codes.contains(&"27");
+                let now = !ends && (reversed || codes.contains(&"7"));
                 if reversed && !now && !current.trim().is_empty() {
                     out.push(std::mem::take(&mut current).trim().to_string());
                 }

@@ -213,7 +213,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         app.tr(Msg::Relearning)
     );
     let p = &stats.prompts.overall;
-    let lines = vec![
+    let lines = [
         Line::styled(states, t.text()),
         Line::from(vec![
             Span::styled(format!(" {}: ", app.tr(Msg::Retention)), t.dim()),
