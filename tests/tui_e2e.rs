@@ -493,9 +493,21 @@ fn reversed_texts(styled: &str) -> Vec<String> {
             let params = &seq[..end];
             if seq[end..].starts_with('m') {
                 let codes: Vec<&str> = params.split(';').collect();
-                // A reset (0) or "not reversed" (27) ends reverse video.
-                let ends = codes.iter().all(|c| c.is_empty() || *c == "0") || codes.contains(&"27");
-                let now = !ends && (reversed || codes.contains(&"7"));
+                let mut now = reversed;
+                let mut i = 0;
+                while i < codes.len() {
+                    match codes[i] {
+                        "" | "0" | "27" => now = false,
+                        "7" => now = true,
+                        // Colours: 38;5;n and 38;2;r;g;b carry numbers
+                        // that are no attributes.
+                        "38" | "48" | "58" => {
+                            i += if codes.get(i + 1) == Some(&"2") { 4 } else { 2 };
+                        }
+                        _ => {}
+                    }
+                    i += 1;
+                }
                 if reversed && !now && !current.trim().is_empty() {
                     out.push(std::mem::take(&mut current).trim().to_string());
                 }
