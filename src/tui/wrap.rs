@@ -51,7 +51,9 @@ type Word = Vec<Run>;
 
 enum Token {
     Word(Word),
-    Space,
+    /// A space, in the style of the run it was written in (a link's
+    /// style ends with the link, not at the next word).
+    Space(Style),
     Break,
 }
 
@@ -75,7 +77,7 @@ fn tokens(runs: &[Run]) -> Vec<Token> {
                 out.push(if c == '\n' {
                     Token::Break
                 } else {
-                    Token::Space
+                    Token::Space(run.style)
                 });
             } else {
                 frag.push(c);
@@ -211,16 +213,12 @@ pub fn wrap_tagged(
         tags: Vec::new(),
     };
     b.start_line();
-    let mut last_style = Style::new();
     for token in tokens(runs) {
         match token {
-            Token::Word(word) => {
-                last_style = word.last().map(|r| r.style).unwrap_or(last_style);
-                b.word(word);
-            }
-            Token::Space => {
+            Token::Word(word) => b.word(word),
+            Token::Space(style) => {
                 if !b.at_line_start() {
-                    b.pending_space = Some(last_style.patch(Style::new()));
+                    b.pending_space = Some(style);
                 }
             }
             Token::Break => b.end_line(),
@@ -378,6 +376,35 @@ mod tests {
         );
         assert_eq!(texts(&lines), ["so that", "I₁ < I₂ < I₃", "holds"]);
         assert_eq!(tags, [(7, 1)]);
+    }
+
+    #[test]
+    fn a_space_after_a_styled_word_keeps_the_plain_style() {
+        let link = Style::new().add_modifier(ratatui::style::Modifier::REVERSED);
+        let runs = [Run::new("a link", link), Run::new(" and more", Style::new())];
+        let lines = wrap(
+            &runs,
+            40,
+            Run::new("", Style::new()),
+            Run::new("", Style::new()),
+        );
+        let styled: Vec<(&str, Style)> = lines[0]
+            .spans
+            .iter()
+            .map(|s| (s.content.as_ref(), s.style))
+            .collect();
+        assert_eq!(
+            styled,
+            [
+                ("a", link),
+                (" ", link),
+                ("link", link),
+                (" ", Style::new()),
+                ("and", Style::new()),
+                (" ", Style::new()),
+                ("more", Style::new()),
+            ]
+        );
     }
 
     #[test]
