@@ -381,7 +381,10 @@ mod tests {
     #[test]
     fn a_space_after_a_styled_word_keeps_the_plain_style() {
         let link = Style::new().add_modifier(ratatui::style::Modifier::REVERSED);
-        let runs = [Run::new("a link", link), Run::new(" and more", Style::new())];
+        let runs = [
+            Run::new("a link", link),
+            Run::new(" and more", Style::new()),
+        ];
         let lines = wrap(
             &runs,
             40,
