@@ -60,9 +60,22 @@ fn schemas_name_the_fields_the_reader_knows() {
     assert_eq!(keys(&defs["Prompt"]), set(raw::PROMPT_FIELDS));
     assert_eq!(keys(&defs["Choice"]), set(raw::CHOICE_FIELDS));
     assert_eq!(keys(&defs["Scene"]), set(raw::SCENE_FIELDS));
-    let answers = defs["Answer"]["oneOf"].as_array().unwrap();
+    // One `if kind == … then …` branch per kind of answer.
+    let answers: Vec<&Value> = defs["Answer"]["allOf"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|branch| {
+            assert_eq!(
+                branch["if"]["properties"]["kind"]["const"],
+                branch["then"]["properties"]["kind"]["const"]
+            );
+            &branch["then"]
+        })
+        .collect();
+    assert!(defs["Answer"].get("oneOf").is_none());
     let by_kind = |kind: &str| {
-        answers
+        *answers
             .iter()
             .find(|a| a["properties"]["kind"]["const"] == kind)
             .unwrap_or_else(|| panic!("no {kind} answer in the schema"))

@@ -499,3 +499,143 @@ fn outside_sqlite_readers_during_a_review_lose_no_rating() {
     let want: Vec<&str> = deck.cards.iter().take(5).map(|c| c.id.as_str()).collect();
     assert_eq!(cards, want);
 }
+
+/// The texts drawn in reverse video (the reader's chosen link, a list's
+/// selection) on a screen captured with its escape sequences.
+fn reversed_texts(styled: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut reversed = false;
+    let mut current = String::new();
+    let mut rest = styled;
+    while let Some(c) = rest.chars().next() {
+        if let Some(seq) = rest.strip_prefix("\x1b[") {
+            let end = seq.find(|ch: char| ch.is_ascii_alphabetic()).unwrap_or(0);
+            let params = &seq[..end];
+            if seq[end..].starts_with('m') {
+                let codes: Vec<&str> = params.split(';').collect();
+                let mut now = reversed;
+                let mut i = 0;
+                while i < codes.len() {
+                    match codes[i] {
+                        "" | "0" | "27" => now = false,
+                        "7" => now = true,
+                        // Colours: 38;5;n and 38;2;r;g;b carry numbers
+                        // that are no attributes.
+                        "38" | "48" | "58" => {
+                            i += if codes.get(i + 1) == Some(&"2") { 4 } else { 2 };
+                        }
+                        _ => {}
+                    }
+                    i += 1;
+                }
+                if reversed && !now && !current.trim().is_empty() {
+                    out.push(std::mem::take(&mut current).trim().to_string());
+                }
+                if !now {
+                    current.clear();
+                }
+                reversed = now;
+            }
+            rest = &seq[end + 1..];
+            continue;
+        }
+        if reversed {
+            if c == '\n' {
+                current.push(' ');
+            } else {
+                current.push(c);
+            }
+        }
+        rest = &rest[c.len_utf8()..];
+    }
+    if reversed && !current.trim().is_empty() {
+        out.push(current.trim().to_string());
+    }
+    out
+}
+
+#[test]
+fn the_fifth_concept_map_link_opens_where_the_screen_showed_the_choice() {
+    if !tmux_available() {
+        eprintln!("skipping the terminal end-to-end test: tmux is not installed");
+        return;
+    }
+    let deck = bundled_deck();
+    let map = deck
+        .section("concept-map")
+        .unwrap_or_else(|| panic!("the bundled deck has no concept map"));
+    let env = Env::new();
+    let t = Tmux::start("links", &env.vars(), "", 100, 30);
+    t.wait_for("last studied");
+    t.keys(&["r"]);
+    t.wait_for("spinning with no torque");
+    t.keys(&["Right"]);
+    t.wait_for(&opening(map.title.get("en"), 3));
+    t.keys(&["Tab", "Tab", "Tab", "Tab", "Tab"]);
+    let s = t.wait_until("the fifth link chosen", |s| s.contains(" 5/"));
+    let styled = t.tmux(&["capture-pane", "-e", "-p", "-t", "e2e"]);
+    // What the screen shows chosen: a phrase of the concept map's text, in
+    // reverse video, and the title the status line says it opens.
+    let chosen = reversed_texts(&styled);
+    let phrase = chosen
+        .iter()
+        .find(|p| !p.contains(&opening(map.title.get("en"), 3)))
+        .unwrap_or_else(|| panic!("no chosen link in reverse video: {chosen:?}\n{s}"));
+    let body = flipcard::text::render(map.body.get("en"));
+    let first_word = phrase.split_whitespace().next().unwrap_or_default();
+    assert!(
+        body.contains(first_word),
+        "{phrase:?} is not in the concept map"
+    );
+    let status = s
+        .lines()
+        .find(|l| l.contains(" 5/") && l.contains('→'))
+        .unwrap_or_else(|| panic!("no status line naming the link:\n{s}"));
+    let named = status
+        .split('→')
+        .nth(1)
+        .map(|r| r.split("  ").next().unwrap_or_default().trim().to_string())
+        .unwrap_or_default();
+    // A title too long for the line ends with "…".
+    let target = deck
+        .sections
+        .iter()
+        .find(|sec| {
+            let title = flipcard::text::render(sec.title.get("en"));
+            match named.strip_suffix('…') {
+                Some(start) => title.starts_with(start),
+                None => title == named,
+            }
+        })
+        .unwrap_or_else(|| panic!("the status line names no section: {named:?}"));
+    // The chosen phrase links to that section in the deck's own text.
+    let source = map.body.get("en");
+    let anchor = format!("](#{})", target.id);
+    assert!(
+        source.contains(&anchor),
+        "{named:?} is not linked from the map"
+    );
+    let before = &source[..source.find(&anchor).unwrap_or(0)];
+    let link_text = before
+        .rsplit('[')
+        .next()
+        .unwrap_or_default()
+        .replace("**", "");
+    assert_eq!(flipcard::text::render(&link_text), phrase.trim());
+
+    t.keys(&["Enter"]);
+    let words = |body: &str, n: usize| {
+        flipcard::text::markup::plain(body)
+            .split_whitespace()
+            .take(n)
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let s = t.wait_for(&words(target.body.get("en"), 3));
+    let heading = s.lines().nth(1).unwrap_or_default();
+    let title = flipcard::text::render(target.title.get("en"));
+    assert!(heading.contains(&title), "landed elsewhere:\n{s}");
+    // Esc walks back to the concept map.
+    t.keys(&["Escape"]);
+    t.wait_for(&words(map.body.get("en"), 4));
+}

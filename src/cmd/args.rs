@@ -49,6 +49,8 @@ pub enum Command {
     Plan(PlanArgs),
     /// List items with their schedule and status; suspend, unsuspend, bury.
     Cards(CardsArgs),
+    /// Write the JSON Schemas of deck and content files, for editors.
+    Schema(SchemaArgs),
 }
 
 #[derive(Debug, Args)]
@@ -311,4 +313,12 @@ pub enum CardsCommand {
     Unsuspend(CardsItemsArgs),
     /// Take items out of the queue until the next study day starts.
     Bury(CardsItemsArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct SchemaArgs {
+    /// Folder to write deck.schema.json and content.schema.json into
+    /// (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "schema")]
+    pub out: PathBuf,
 }

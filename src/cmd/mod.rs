@@ -17,6 +17,7 @@ pub mod output;
 pub mod paths;
 pub mod plan;
 pub mod review;
+pub mod schema;
 pub mod sim;
 pub mod sim_scene;
 pub mod stats;
@@ -46,6 +47,7 @@ pub fn run(cli: &Cli) -> ExitCode {
         Some(Command::Optimize(args)) => optimize::run(cli, args),
         Some(Command::Plan(args)) => plan::run(cli, args),
         Some(Command::Cards(args)) => cards::run(cli, args),
+        Some(Command::Schema(args)) => schema::run(cli, args),
     };
     // A failed write to stdout comes first: whatever error the handler
     // returned is then only its consequence.

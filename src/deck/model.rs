@@ -5,6 +5,7 @@
 //! exists in every declared language, links resolve, scene numbers are physical.
 
 pub use crate::sim::scene::spec::{Measure, Panel, Scene};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 pub use crate::text::{Lang, Text};
@@ -39,6 +40,21 @@ impl Deck {
     }
     pub fn section(&self, id: &str) -> Option<&Section> {
         self.sections.iter().find(|s| s.id == id)
+    }
+}
+
+impl Card {
+    /// The answers to compare a typed answer with when the learner reads
+    /// `lang`: that language's own first (so the nearest shown is in the
+    /// learner's language on a tie), then every other accepted answer.
+    pub fn accepted(&self, lang: &str) -> Vec<String> {
+        let mut out: Vec<String> = self.accept_by_lang.get(lang).cloned().unwrap_or_default();
+        for a in &self.accept {
+            if !out.contains(a) {
+                out.push(a.clone());
+            }
+        }
+        out
     }
 }
 
@@ -96,8 +112,12 @@ pub struct Card {
     pub kind: CardKind,
     pub front: Text,
     pub back: Text,
-    /// Accepted typed answers (only for `CardKind::Typed`, never empty there).
+    /// Accepted typed answers (only for `CardKind::Typed`, never empty
+    /// there), every language's, the primary language's first.
     pub accept: Vec<String>,
+    /// The answers written for one language (`accept = { en = [...] }`);
+    /// empty when one list serves every language.
+    pub accept_by_lang: BTreeMap<String, Vec<String>>,
     /// Section id of the linked explanation.
     pub explain: Option<String>,
     /// Prompt id offered after the answer is shown.

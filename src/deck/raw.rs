@@ -111,6 +111,37 @@ pub struct RawDeckHeader {
     pub languages: Option<List<Str>>,
 }
 
+/// A typed card's accepted answers as written: one list for every
+/// language, or `{ en = [...], hi-Latn = [...] }`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RawAccept {
+    All(List<Str>),
+    ByLang {
+        span: Span,
+        /// Each language key (with its span) and its list.
+        entries: Vec<(Str, List<Str>)>,
+    },
+}
+
+impl RawAccept {
+    pub fn span(&self) -> Span {
+        match self {
+            RawAccept::All(l) => l.span.clone(),
+            RawAccept::ByLang { span, .. } => span.clone(),
+        }
+    }
+
+    /// Every answer, in the order written.
+    pub fn items(&self) -> Vec<&Str> {
+        match self {
+            RawAccept::All(l) => l.items.iter().collect(),
+            RawAccept::ByLang { entries, .. } => {
+                entries.iter().flat_map(|(_, l)| l.items.iter()).collect()
+            }
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct RawCard {
     pub span: Span,
@@ -120,7 +151,7 @@ pub struct RawCard {
     pub back: Option<RawText>,
     /// The text of a cloze card (which has no `front`).
     pub text: Option<RawText>,
-    pub accept: Option<List<Str>>,
+    pub accept: Option<RawAccept>,
     pub explain: Option<Str>,
     pub prompt: Option<Str>,
     pub tags: Option<List<Str>>,
@@ -320,7 +351,7 @@ fn read_card(rep: &mut FileReport, t: &DeTable, span: Span) -> RawCard {
         } else {
             f.text(rep, "text", false)
         },
-        accept: f.strings(rep, "accept", false),
+        accept: f.accept(rep, "accept"),
         explain: f.string(rep, "explain", false),
         prompt: f.string(rep, "prompt", false),
         tags: f.strings(rep, "tags", false),

@@ -159,6 +159,55 @@ impl<'a, 'i> Fields<'a, 'i> {
         })
     }
 
+    /// A typed card's `accept`: an array of strings, or a table of such
+    /// arrays by language.
+    pub fn accept(&self, rep: &mut FileReport, key: &str) -> Option<super::raw::RawAccept> {
+        use super::raw::RawAccept;
+        let v = self.get(key)?;
+        let strings = |rep: &mut FileReport, v: &Value, what: &str| -> Option<List<Str>> {
+            let arr = array(rep, v, what)?;
+            let items = arr
+                .iter()
+                .filter_map(|item| string(rep, item, &format!("each item of {what}")))
+                .collect();
+            Some(List {
+                items,
+                span: v.span(),
+            })
+        };
+        match v.get_ref() {
+            DeValue::Table(t) => {
+                let mut entries = Vec::new();
+                let mut ok = true;
+                for (k, value) in t.iter() {
+                    let lang = Str {
+                        value: k.get_ref().to_string(),
+                        span: k.span(),
+                    };
+                    let what = format!("the `{}` answers of `{key}`", lang.value);
+                    match strings(rep, value, &what) {
+                        Some(list) => entries.push((lang, list)),
+                        None => ok = false,
+                    }
+                }
+                ok.then_some(RawAccept::ByLang {
+                    span: v.span(),
+                    entries,
+                })
+            }
+            DeValue::Array(_) => strings(rep, v, &format!("`{key}`")).map(RawAccept::All),
+            _ => {
+                wrong_type(
+                    rep,
+                    v,
+                    &format!("`{key}`"),
+                    "an array, or a table of arrays by language",
+                );
+                None
+            }
+        }
+    }
+
     pub fn numbers(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<List<Num>> {
         let v = self.field(rep, key, required)?;
         let what = format!("`{key}`");

@@ -95,7 +95,11 @@ impl<'s> FileReport<'s> {
 
     /// The diagnostics in file order (same position: in the order found).
     pub fn finish(mut self) -> Vec<Diagnostic> {
-        for (first, lines) in self.repeats.values() {
+        for (first, lines) in self.repeats.values_mut() {
+            // Found in checking order (a section's `see`, then its body's
+            // links): listed in file order.
+            lines.sort_unstable();
+            lines.dedup();
             if !lines.is_empty() {
                 self.found[*first].1.message += &format!(" (also at {})", at_lines(lines));
             }

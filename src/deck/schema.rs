@@ -67,7 +67,7 @@ pub struct Card {
     /// every language must have the same numbers.
     pub text: Option<Text>,
     /// Accepted typed answers (typed cards only), compared ignoring case and spaces.
-    pub accept: Option<Vec<NonEmpty>>,
+    pub accept: Option<Accept>,
     /// Id of the explanation section opened with `e`.
     pub explain: Option<Id>,
     /// Id of a prompt offered after the answer is shown.
@@ -236,6 +236,33 @@ impl JsonSchema for NonEmpty {
     }
 }
 
+/// Accepted typed answers: one list, or one list per language.
+pub struct Accept;
+
+impl JsonSchema for Accept {
+    fn schema_name() -> Cow<'static, str> {
+        "Accept".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        let list = serde_json::json!({
+            "type": "array",
+            "items": { "type": "string", "pattern": NOT_BLANK },
+        });
+        json_schema!({
+            "description": "Accepted typed answers: ['middle', 'intermediate'] for every language, or { en = ['middle'], hi-Latn = ['beech wala'] } by language.",
+            "anyOf": [
+                list,
+                {
+                    "type": "object",
+                    "propertyNames": { "pattern": LANG_PATTERN },
+                    "additionalProperties": list,
+                    "minProperties": 1,
+                },
+            ],
+        })
+    }
+}
+
 /// A text in every declared language.
 pub struct Text;
 
@@ -380,7 +407,44 @@ fn strip_null(value: &mut serde_json::Value) {
 
 /// The schema of deck files.
 pub fn deck_schema() -> serde_json::Value {
-    generate::<DeckFile>()
+    let mut schema = generate::<DeckFile>();
+    if let Some(answer) = schema.pointer_mut("/definitions/Answer") {
+        split_on_kind(answer);
+    }
+    schema
+}
+
+/// Turns a `oneOf` of tagged variants into one `if kind == … then …` per
+/// variant: an editor then checks a table against the variant its `kind`
+/// names, and its error names the wrong field, where a failed `oneOf` lists
+/// every alternative's complaints.
+fn split_on_kind(schema: &mut serde_json::Value) {
+    use serde_json::{Value, json};
+    let Some(Value::Array(variants)) = schema.get("oneOf").cloned() else {
+        return;
+    };
+    let mut kinds = Vec::new();
+    let mut branches = Vec::new();
+    for variant in variants {
+        let Some(kind) = variant.pointer("/properties/kind/const").cloned() else {
+            return;
+        };
+        kinds.push(kind.clone());
+        branches.push(json!({
+            "if": { "properties": { "kind": { "const": kind } }, "required": ["kind"] },
+            "then": variant,
+        }));
+    }
+    if let Value::Object(map) = schema {
+        map.remove("oneOf");
+        map.insert("type".into(), json!("object"));
+        map.insert("required".into(), json!(["kind"]));
+        map.insert(
+            "properties".into(),
+            json!({ "kind": { "description": "Which kind of answer; the other fields depend on it.", "enum": kinds } }),
+        );
+        map.insert("allOf".into(), Value::Array(branches));
+    }
 }
 
 /// The schema of content files.

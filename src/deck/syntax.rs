@@ -78,7 +78,11 @@ pub fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Sp
             .find(|(at, _)| *at == span.start)
             .map(|(_, hint)| hint.clone())
             .or(escape);
-        rep.error(span.clone(), format!("TOML: {message}"), hint);
+        rep.error(
+            span.clone(),
+            format!("TOML: {}", escape_list(message)),
+            hint,
+        );
     }
     if extra > 0 {
         let at = found[MAX_SYNTAX_ERRORS].0.clone();
@@ -89,6 +93,30 @@ pub fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Sp
         );
     }
     None
+}
+
+/// Every escape TOML allows in a basic string. The parser's own list
+/// leaves out `\t`, which is exactly the one a `\theta` turns into.
+const VALID_ESCAPES: &str = "`b`, `t`, `n`, `f`, `r`, `e`, `\"`, `\\`, `x`, `u`, `U`";
+
+/// The parser's message, with its list of valid escapes made complete.
+fn escape_list(message: &str) -> String {
+    const HEAD: &str = "missing escaped value, expected ";
+    match message.find(HEAD) {
+        Some(at) if message.contains("escape") => {
+            let list_start = at + HEAD.len();
+            // The list runs to the end of the line.
+            let end = message[list_start..]
+                .find('\n')
+                .map_or(message.len(), |i| list_start + i);
+            format!(
+                "{}{VALID_ESCAPES}{}",
+                &message[..list_start],
+                &message[end..]
+            )
+        }
+        _ => message.to_string(),
+    }
 }
 
 /// A multi-line string running to the end of the file, with other errors

@@ -855,6 +855,7 @@ mod deck_tests {
             } else {
                 vec![]
             },
+            accept_by_lang: Default::default(),
             explain: None,
             prompt: None,
             tags: tags.iter().map(|t| t.to_string()).collect(),

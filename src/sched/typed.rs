@@ -36,8 +36,8 @@ pub struct TypedCheck {
 /// Compares `typed` with every accepted answer.
 ///
 /// Close means a small edit distance (in characters, after normalisation):
-/// none allowed for answers of up to 3 characters, 1 up to 9, then one per 5
-/// characters. Answers whose digits differ are never close: `5.77` against
+/// none allowed for answers of up to 3 characters, 1 up to 7, then 2, and
+/// one per 5 characters beyond 10. Answers whose digits differ are never close: `5.77` against
 /// `5.78` is a wrong number, not a typo.
 pub fn check(typed: &str, accepted: &[String]) -> TypedCheck {
     let mine = normalize(typed);
@@ -96,11 +96,14 @@ fn is_quote(c: char) -> bool {
     matches!(c, '"' | '\'' | '`' | '‘' | '’' | '“' | '”' | '«' | '»')
 }
 
+/// Typos forgiven in an answer of `len` characters: none in a short one
+/// (where one letter is often another word), one up to 7, then at least
+/// two, and one per 5 characters in a long one.
 fn allowed_typos(len: usize) -> usize {
     match len {
         0..=3 => 0,
-        4..=9 => 1,
-        n => n / 5,
+        4..=7 => 1,
+        n => (n / 5).max(2),
     }
 }
 
@@ -176,6 +179,33 @@ mod tests {
             )
             .verdict,
             Verdict::Close
+        );
+    }
+
+    #[test]
+    fn one_or_two_slips_in_a_long_answer_suggest_hard_not_again() {
+        // Swapped letters are two edits: close in an 8-letter word.
+        for (typed, answer) in [
+            ("mometnum", "momentum"),
+            ("intermedaite", "intermediate"),
+            ("polhdoe", "polhode"),
+        ] {
+            let c = check(typed, &accepted(&[answer]));
+            if answer.len() >= 8 {
+                assert_eq!(c.suggested, Rating::Hard, "{typed} for {answer}");
+            } else {
+                // Seven letters forgive one slip, not two.
+                assert_eq!(c.suggested, Rating::Again, "{typed} for {answer}");
+                assert_eq!(
+                    check("polhod", &accepted(&[answer])).suggested,
+                    Rating::Hard
+                );
+            }
+        }
+        // Three slips in an 8-letter word are not a typo.
+        assert_eq!(
+            check("mmoetnum", &accepted(&["momentum"])).suggested,
+            Rating::Again
         );
     }
 

@@ -9,7 +9,9 @@
 //!   a `*` (so `a * b` is left alone);
 //! - `$...$` math is rendered to Unicode; `$$...$$` display math in a
 //!   paragraph becomes a block of its own. A formula that does not parse is
-//!   shown as written.
+//!   shown as written;
+//! - `[text](#section-id)` links its text to another section; brackets that
+//!   do not form a link stay as written.
 
 use super::dollar::{self, Piece};
 use super::write_math;
@@ -29,6 +31,8 @@ pub enum Block {
 pub struct Span {
     pub text: String,
     pub style: Style,
+    /// The section this text links to (`[text](#id)`).
+    pub link: Option<String>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -45,8 +49,37 @@ impl Span {
         Span {
             text: text.into(),
             style,
+            link: None,
         }
     }
+
+    pub fn linked(text: impl Into<String>, style: Style, link: &str) -> Span {
+        Span {
+            link: Some(link.to_string()),
+            ..Span::new(text, style)
+        }
+    }
+}
+
+/// The sections `body` links to inline, in reading order (repeats kept).
+pub fn links(body: &str) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for block in parse(body) {
+        if let Block::Paragraph(spans) | Block::Item(spans) = block {
+            let mut last: Option<&str> = None;
+            for s in &spans {
+                // Consecutive spans of one link (styles change inside it)
+                // are one link.
+                if let Some(l) = &s.link
+                    && last != Some(l.as_str())
+                {
+                    out.push(l.clone());
+                }
+                last = s.link.as_deref();
+            }
+        }
+    }
+    out
 }
 
 impl Block {
@@ -128,6 +161,16 @@ enum Tok<'a> {
     Text(&'a str),
     Math(String),
     Display(String),
+    /// `[`, which opens a link when a `](#id)` follows in the block
+    /// (`target` is then filled in).
+    LinkOpen {
+        target: Option<String>,
+    },
+    /// `](#id)`, closing a link when it was opened.
+    LinkClose {
+        target: String,
+        matched: bool,
+    },
     /// A run of `*` (1 or 2 long), with whether it can open or close.
     Stars {
         count: u8,
@@ -141,7 +184,7 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
     let mut toks = Vec::new();
     for piece in dollar::pieces(text) {
         match piece {
-            Piece::Text(s) => stars_and_text(text, s, &mut toks),
+            Piece::Text(s) => links_stars_and_text(text, s, &mut toks),
             Piece::Dollar => toks.push(Tok::Text("$")),
             Piece::Math(m) => {
                 let mut rendered = String::new();
@@ -155,13 +198,17 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
                     Tok::Math(rendered)
                 });
             }
-            Piece::Unclosed { offset, .. } => stars_and_text(text, &text[offset..], &mut toks),
+            Piece::Unclosed { offset, .. } => {
+                links_stars_and_text(text, &text[offset..], &mut toks)
+            }
         }
     }
     match_stars(&mut toks);
+    match_links(&mut toks);
 
     let mut spans: Vec<Span> = Vec::new();
     let (mut emphasis, mut strong) = (0u32, 0u32);
+    let mut link: Option<String> = None;
     let finish = |spans: &mut Vec<Span>, blocks: &mut Vec<Block>| {
         trim_spans(spans);
         if !spans.is_empty() {
@@ -180,12 +227,21 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
         } else {
             Style::Plain
         };
+        let to = link.as_deref();
         match tok {
-            Tok::Text(s) => push_span(&mut spans, s, style),
-            Tok::Math(s) => push_span(&mut spans, &s, Style::Math),
+            Tok::Text(s) => push_span(&mut spans, s, style, to),
+            Tok::Math(s) => push_span(&mut spans, &s, Style::Math, to),
             Tok::Display(s) => {
                 finish(&mut spans, blocks);
                 blocks.push(Block::Display(s));
+            }
+            Tok::LinkOpen {
+                target: Some(target),
+            } => link = Some(target),
+            Tok::LinkOpen { target: None } => push_span(&mut spans, "[", style, to),
+            Tok::LinkClose { matched: true, .. } => link = None,
+            Tok::LinkClose { target, .. } => {
+                push_span(&mut spans, &format!("](#{target})"), style, to)
             }
             Tok::Stars {
                 count,
@@ -205,11 +261,68 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
                 }
             }
             Tok::Stars { count, .. } => {
-                push_span(&mut spans, if count == 2 { "**" } else { "*" }, style);
+                push_span(&mut spans, if count == 2 { "**" } else { "*" }, style, to);
             }
         }
     }
     finish(&mut spans, blocks);
+}
+
+/// Split a text piece (a slice of `whole`) at link brackets (`[` and
+/// `](#id)`), the rest going through [`stars_and_text`].
+fn links_stars_and_text<'a>(whole: &str, piece: &'a str, toks: &mut Vec<Tok<'a>>) {
+    let mut start = 0;
+    let mut i = 0;
+    while i < piece.len() {
+        let rest = &piece[i..];
+        if rest.starts_with('[') {
+            stars_and_text(whole, &piece[start..i], toks);
+            toks.push(Tok::LinkOpen { target: None });
+            i += 1;
+            start = i;
+            continue;
+        }
+        if let Some(after) = rest.strip_prefix("](#") {
+            let len = after
+                .find(|c: char| !(c.is_ascii_alphanumeric() || c == '-' || c == '_'))
+                .unwrap_or(after.len());
+            if len > 0 && after[len..].starts_with(')') {
+                stars_and_text(whole, &piece[start..i], toks);
+                toks.push(Tok::LinkClose {
+                    target: after[..len].to_string(),
+                    matched: false,
+                });
+                i += 3 + len + 1;
+                start = i;
+                continue;
+            }
+        }
+        i += rest.chars().next().map_or(1, char::len_utf8);
+    }
+    stars_and_text(whole, &piece[start..], toks);
+}
+
+/// Pair link brackets: a `](#id)` closes the nearest `[` before it; links
+/// do not nest, and whatever is left unpaired stays literal.
+fn match_links(toks: &mut [Tok<'_>]) {
+    let mut open: Option<usize> = None;
+    for i in 0..toks.len() {
+        match &toks[i] {
+            Tok::LinkOpen { .. } => open = Some(i),
+            Tok::LinkClose { target, .. } => {
+                if let Some(j) = open.take() {
+                    let target = target.clone();
+                    if let Tok::LinkOpen { target: t } = &mut toks[j] {
+                        *t = Some(target);
+                    }
+                    if let Tok::LinkClose { matched, .. } = &mut toks[i] {
+                        *matched = true;
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
 }
 
 /// Split a text piece (a slice of `whole`) into text and `*` runs, newlines
@@ -298,14 +411,17 @@ fn set_matched(tok: &mut Tok<'_>, as_opener: bool) {
 
 /// Append `text` (newlines as spaces) to the last span if it has the same
 /// style, else as a new span.
-fn push_span(spans: &mut Vec<Span>, text: &str, style: Style) {
+fn push_span(spans: &mut Vec<Span>, text: &str, style: Style, link: Option<&str>) {
     if text.is_empty() {
         return;
     }
     let span = match spans.last_mut() {
-        Some(last) if last.style == style => last,
+        Some(last) if last.style == style && last.link.as_deref() == link => last,
         _ => {
-            spans.push(Span::new(String::with_capacity(text.len()), style));
+            spans.push(Span {
+                link: link.map(str::to_string),
+                ..Span::new(String::with_capacity(text.len()), style)
+            });
             let Some(last) = spans.last_mut() else {
                 return;
             };
@@ -378,6 +494,31 @@ mod tests {
                 Span::new("c d", Style::Strong),
                 plain_span(" e"),
             ])]
+        );
+    }
+
+    #[test]
+    fn links_name_a_section_and_keep_their_styles() {
+        assert_eq!(
+            parse("see [the **body** frame](#body-frame), or [x](#)"),
+            vec![Block::Paragraph(vec![
+                plain_span("see "),
+                Span::linked("the ", Style::Plain, "body-frame"),
+                Span::linked("body", Style::Strong, "body-frame"),
+                Span::linked(" frame", Style::Plain, "body-frame"),
+                plain_span(", or [x](#)"),
+            ])]
+        );
+        assert_eq!(
+            links("- [a $x$](#one) and [b](#two)\n- [c](#one)"),
+            ["one", "two", "one"]
+        );
+        // Brackets that are no link stay as written.
+        assert_eq!(
+            parse("[a, b] and f(x)](#not a link)"),
+            vec![Block::Paragraph(vec![plain_span(
+                "[a, b] and f(x)](#not a link)"
+            )])]
         );
     }
 

@@ -13,6 +13,9 @@ pub enum Action {
     Back,
     ToggleHelp,
     CloseHelp,
+    /// Scroll a help overlay taller than the screen.
+    HelpDown,
+    HelpUp,
     /// English ⇄ Hinglish, everywhere, remembered between runs.
     ToggleLanguage,
 
@@ -65,6 +68,7 @@ pub enum Action {
     NextMatch,
     PrevMatch,
     NextLink,
+    PrevLink,
     FollowLink,
 
     // Text fields (typed answers, numeric predictions, search)
@@ -81,6 +85,9 @@ pub enum Action {
     NextMethod,
     SmallerStep,
     LargerStep,
+
+    /// Stats: show or hide the solvers' work–precision table.
+    ToggleBench,
 
     /// Wall-clock time passed while a simulation plays.
     Tick(Duration),

@@ -37,6 +37,8 @@ pub struct App {
     /// Open screens; the last is shown. Never empty: the home screen is first.
     pub stack: Vec<Screen>,
     pub help: bool,
+    /// First line of the help overlay shown, when it is taller than the screen.
+    pub help_scroll: usize,
     pub quit: bool,
     /// Terminal size in cells (width, height).
     pub size: (u16, u16),
@@ -67,6 +69,7 @@ impl App {
             theme,
             stack: Vec::new(),
             help: false,
+            help_scroll: 0,
             quit: false,
             size: (80, 24),
             status: None,

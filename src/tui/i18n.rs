@@ -562,3 +562,57 @@ pub mod exam {
         }
     }
 }
+
+/// Words of the reader's link list, search and position line.
+pub mod reader {
+    use super::Words;
+
+    /// "Tab: 17 links" before one is chosen.
+    pub const LINKS: Words = Words("links", "links");
+    pub const TAB_TO_CHOOSE: Words = Words("Tab chooses", "Tab se chuno");
+    pub const ENTER_OPENS: Words = Words("Enter opens", "Enter se kholo");
+    /// Before "12–31/80".
+    pub const LINES: Words = Words("lines", "lines");
+    /// The search match count ("match 3/9").
+    pub const MATCH: Words = Words("match", "match");
+}
+
+/// Words of the study screens: counts with what they count, what comes
+/// next after a session, typed answers.
+pub mod study {
+    use super::Words;
+
+    /// A card asked both ways is two review items.
+    pub const REVIEW_ITEMS: Words = Words("review items", "review items");
+    pub const FROM_CARDS: Words = Words("from", "inse:");
+    pub const DUE: Words = Words("Due", "Baaki");
+    pub const TODAY: Words = Words("today", "aaj");
+    pub const TOMORROW: Words = Words("tomorrow", "kal");
+    pub const NEXT_7_DAYS: Words = Words("next 7 days", "agle 7 din");
+    pub const SHOW_BENCH: Words = Words(
+        "the solvers' work–precision table",
+        "solvers ki work–precision table",
+    );
+    pub const HIDE_BENCH: Words = Words("hide the table", "table chhupao");
+    /// What comes next, after a session.
+    pub const DUE_TOMORROW: Words = Words("due tomorrow", "kal baaki");
+    pub const NEW_LEFT: Words = Words("new cards not yet seen", "naye cards jo abhi dekhe nahi");
+    pub const NEW_TOMORROW: Words = Words(
+        "new ones come tomorrow (limit per day)",
+        "naye kal aayenge (roz ki limit)",
+    );
+    pub const CRAM_NOW: Words = Words(
+        "review everything now (cram)",
+        "sab abhi review karo (cram)",
+    );
+    pub const NEXT_DUE: Words = Words("next review due", "agla review");
+    pub const COME_BACK: Words = Words("Come back", "Wapas aana");
+    /// Typed answers.
+    pub const EXPECTED: Words = Words("expected", "sahi jawab");
+    pub const YOU_TYPED: Words = Words("you typed", "tumne likha");
+    pub const CHECK: Words = Words("check the answer", "jawab jaancho");
+    pub const END: Words = Words("end", "khatam");
+    pub const MORE_BELOW: Words = Words("↓ more: j", "↓ aur: j");
+    pub const MORE_ABOVE: Words = Words("↑ k", "↑ k");
+    pub const MORE_BELOW_TYPING: Words = Words("↓ more: ↓", "↓ aur: ↓");
+}

@@ -202,7 +202,13 @@ pub fn key_action(app: &App, key: KeyEvent) -> Option<Action> {
         return (key.code == Char('q')).then_some(Action::Quit);
     }
     if app.help {
-        return Some(Action::CloseHelp);
+        // A help taller than the screen scrolls; any other key closes it.
+        let scrolls = super::view::help_scroll_max(app) > 0;
+        return Some(match key.code {
+            KeyCode::Down | Char('j') if scrolls => Action::HelpDown,
+            KeyCode::Up | Char('k') if scrolls => Action::HelpUp,
+            _ => Action::CloseHelp,
+        });
     }
     let rows = bindings(app.context());
     if let Some(action) = rows.iter().find_map(|b| b.action(key.code)) {

@@ -59,6 +59,7 @@ pub fn deck() -> Deck {
                     "Wahan inertia tensor $\\mathbf I = \\mathrm{diag}(I_1, I_2, I_3)$ constant rehta hai.",
                 ),
                 accept: vec![],
+                accept_by_lang: Default::default(),
                 explain: Some("setup".into()),
                 prompt: None,
                 tags: vec!["frames".into()],
@@ -75,6 +76,7 @@ pub fn deck() -> Deck {
                     "$I_1 \\dot\\omega_1 = (I_2 - I_3)\\,\\omega_2 \\omega_3$",
                 ),
                 accept: vec![],
+                accept_by_lang: Default::default(),
                 explain: Some("euler".into()),
                 prompt: None,
                 tags: vec![],
@@ -87,7 +89,19 @@ pub fn deck() -> Deck {
                     "Kaunsa principal axis unstable hai: smallest, middle ya largest?",
                 ),
                 back: text("The middle one.", "Beech wala (middle)."),
-                accept: vec!["middle".into(), "intermediate".into()],
+                accept: vec!["middle".into(), "intermediate".into(), "beech wala".into()],
+                accept_by_lang: [
+                    (
+                        "en".to_string(),
+                        vec!["middle".into(), "intermediate".into()],
+                    ),
+                    (
+                        "hi-Latn".to_string(),
+                        vec!["beech wala".into(), "middle".into()],
+                    ),
+                ]
+                .into_iter()
+                .collect(),
                 explain: Some("stability".into()),
                 prompt: Some("middle-axis".into()),
                 tags: vec![],
@@ -182,10 +196,10 @@ pub fn deck() -> Deck {
                 id: "euler".into(),
                 title: text("Euler's equations", "Euler ke equations"),
                 body: text(
-                    "Apply the transport theorem to $\\vec L$ and set $\\vec N = 0$: \
-                     $I_1\\dot\\omega_1 = (I_2 - I_3)\\omega_2\\omega_3$ and cyclic.",
-                    "$\\vec L$ par transport theorem lagao aur $\\vec N = 0$ rakho: \
-                     $I_1\\dot\\omega_1 = (I_2 - I_3)\\omega_2\\omega_3$ aur cyclic.",
+                    "Apply the transport theorem to $\\vec L$ (see [the setup](#setup)) and set \
+                     $\\vec N = 0$: $I_1\\dot\\omega_1 = (I_2 - I_3)\\omega_2\\omega_3$ and cyclic.",
+                    "$\\vec L$ par transport theorem lagao ([setup dekho](#setup)) aur \
+                     $\\vec N = 0$ rakho: $I_1\\dot\\omega_1 = (I_2 - I_3)\\omega_2\\omega_3$ aur cyclic.",
                 ),
                 see: vec!["stability".into()],
             },

@@ -35,9 +35,12 @@ impl Theme {
     pub fn text(&self) -> Style {
         Style::new()
     }
+    /// Hints and secondary text. Palette grey 8 (`DarkGray`) is near
+    /// invisible on many dark themes; grey 7 stays readable while still
+    /// quieter than the text.
     pub fn dim(&self) -> Style {
         if self.color {
-            Style::new().fg(Color::DarkGray)
+            Style::new().fg(Color::Gray)
         } else {
             Style::new()
         }
@@ -72,8 +75,10 @@ impl Theme {
     pub fn warn(&self) -> Style {
         self.fg(Color::Yellow)
     }
+    /// Links: dark blue (palette 4) is hard to read on black, the light
+    /// one (12) is not; underlined so they show without colour too.
     pub fn link(&self) -> Style {
-        self.fg(Color::Blue).add_modifier(Modifier::UNDERLINED)
+        self.fg(Color::LightBlue).add_modifier(Modifier::UNDERLINED)
     }
     pub fn highlight(&self) -> Style {
         if self.color {
@@ -108,6 +113,17 @@ impl Theme {
 mod tests {
     use super::*;
     use std::ffi::OsStr;
+
+    #[test]
+    fn hints_and_links_avoid_the_colours_dark_themes_hide() {
+        let t = Theme::COLOR;
+        for style in [t.dim(), t.link(), t.border(), t.key()] {
+            assert!(
+                !matches!(style.fg, Some(Color::DarkGray | Color::Blue | Color::Black)),
+                "{style:?}"
+            );
+        }
+    }
 
     #[test]
     fn no_color_set_to_anything_but_empty_turns_colours_off() {

@@ -15,10 +15,20 @@ pub fn apply(app: &mut App, action: Action) {
         }
         Action::ToggleHelp => {
             app.help = !app.help;
+            app.help_scroll = 0;
             return;
         }
         Action::CloseHelp => {
             app.help = false;
+            return;
+        }
+        Action::HelpDown => {
+            let max = super::view::help_scroll_max(app);
+            app.help_scroll = (app.help_scroll + 1).min(max);
+            return;
+        }
+        Action::HelpUp => {
+            app.help_scroll = app.help_scroll.saturating_sub(1);
             return;
         }
         Action::Resize(w, h) => {

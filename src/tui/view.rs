@@ -5,7 +5,7 @@
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Clear, Paragraph, Row, Table, Wrap};
+use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
 
 use super::app::App;
 use super::i18n::Msg;
@@ -42,25 +42,7 @@ fn screen_name(app: &App) -> &'static str {
 
 /// `text` cut to `width` columns, with an ellipsis when cut.
 fn fit(text: &str, width: usize) -> String {
-    use unicode_width::UnicodeWidthChar;
-    let total: usize = text.chars().map(|c| c.width().unwrap_or(0)).sum();
-    if total <= width {
-        return text.to_string();
-    }
-    let mut out = String::new();
-    let mut used = 0;
-    for c in text.chars() {
-        let w = c.width().unwrap_or(0);
-        if used + w + 1 > width {
-            break;
-        }
-        used += w;
-        out.push(c);
-    }
-    if width > 0 {
-        out.push('…');
-    }
-    out
+    super::wrap::ellipsize(text, width)
 }
 
 /// The screen's name, after the deck's title when it is about one deck.
@@ -143,49 +125,76 @@ fn draw_status(frame: &mut Frame, footer: Rect, app: &App, status: &super::app::
     frame.render_widget(Paragraph::new(lines), area);
 }
 
-/// The help overlay: every key of the current screen.
-pub fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
+/// The help overlay's rows wrapped to fit the body, and the popup's size.
+fn help_layout(app: &App, area: Rect) -> (Vec<Line<'static>>, Rect) {
+    use super::wrap::{Run, columns, wrap};
     let t = &app.theme;
     let binds = keymap::bindings(app.context());
-    let label_w = binds
-        .iter()
-        .map(|b| b.label.chars().count())
-        .max()
-        .unwrap_or(4) as u16;
+    let label_w = binds.iter().map(|b| columns(b.label)).max().unwrap_or(4);
     let help_w = binds
         .iter()
-        .map(|b| b.help(&app.lang).chars().count())
+        .map(|b| columns(b.help(&app.lang)))
         .max()
-        .unwrap_or(10) as u16;
-    let width = (label_w + help_w + 7).min(area.width);
-    let height = (binds.len() as u16 + 2).min(area.height);
+        .unwrap_or(10);
+    // Borders, a space each side, two between the columns.
+    let width = (label_w + help_w + 6).min(usize::from(area.width));
+    // The wrap width counts the label column too: all but the borders.
+    let text_w = width.saturating_sub(2).max(1);
+    let mut lines = Vec::new();
+    for b in &binds {
+        let pad = " ".repeat(label_w - columns(b.label));
+        lines.extend(wrap(
+            &[Run::new(b.help(&app.lang), t.text())],
+            text_w,
+            Run::new(format!(" {}{pad}  ", b.label), t.key()),
+            Run::new(" ".repeat(label_w + 3), t.text()),
+        ));
+    }
+    let height = (lines.len() + 2).min(usize::from(area.height));
+    let (w, h) = (width as u16, height as u16);
     let popup = Rect {
-        x: area.x + (area.width - width) / 2,
-        y: area.y + (area.height - height) / 2,
-        width,
-        height,
+        x: area.x + (area.width - w) / 2,
+        y: area.y + (area.height - h) / 2,
+        width: w,
+        height: h,
     };
-    let rows = binds.iter().map(|b| {
-        Row::new(vec![
-            Span::styled(b.label, t.key()),
-            Span::raw(b.help(&app.lang)),
-        ])
-    });
-    let title = format!(" {} · {} ", app.tr(Msg::HelpTitle), screen_name(app));
-    let table = Table::new(rows, [Constraint::Length(label_w), Constraint::Fill(1)])
-        .column_spacing(2)
-        .block(
-            Block::default()
-                .borders(Borders::ALL)
-                .border_style(t.border())
-                .title(Span::styled(title, t.title()))
-                .title_bottom(Span::styled(
-                    format!(" {} ", app.tr(Msg::AnyKeyCloses)),
-                    t.dim(),
-                )),
-        );
+    (lines, popup)
+}
+
+/// How far the help overlay can scroll at the app's size (0: it fits).
+pub fn help_scroll_max(app: &App) -> usize {
+    let (lines, popup) = help_layout(app, body_rect(app.size));
+    lines
+        .len()
+        .saturating_sub(usize::from(popup.height.saturating_sub(2)))
+}
+
+/// The help overlay: every key of the current screen, wrapped to the
+/// screen; when it is taller than the screen it scrolls (j/k).
+pub fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
+    let t = &app.theme;
+    let (lines, popup) = help_layout(app, area);
+    let room = usize::from(popup.height.saturating_sub(2));
+    let max = lines.len().saturating_sub(room);
+    let scroll = app.help_scroll.min(max);
+    let title = fit(
+        &format!(" {} · {} ", app.tr(Msg::HelpTitle), screen_name(app)),
+        usize::from(popup.width.saturating_sub(2)),
+    );
+    let bottom = if scroll < max {
+        format!(" ↓ j · {} ", app.tr(Msg::AnyKeyCloses))
+    } else {
+        format!(" {} ", app.tr(Msg::AnyKeyCloses))
+    };
+    let bottom = fit(&bottom, usize::from(popup.width.saturating_sub(2)));
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .border_style(t.border())
+        .title(Span::styled(title, t.title()))
+        .title_bottom(Span::styled(bottom, t.dim()));
+    let shown: Vec<Line> = lines.into_iter().skip(scroll).take(room).collect();
     frame.render_widget(Clear, popup);
-    frame.render_widget(table, popup);
+    frame.render_widget(Paragraph::new(shown).block(block), popup);
 }
 
 /// The screen body (between header and footer) for a terminal size; the

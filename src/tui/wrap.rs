@@ -11,6 +11,12 @@ use unicode_width::UnicodeWidthChar;
 pub struct Run {
     pub text: String,
     pub style: Style,
+    /// Spaces inside do not break the line (inline math: `I₁ < I₂` stays
+    /// on one line unless it is longer than a whole line).
+    pub glue: bool,
+    /// A mark carried to the lines the run lands on ([`wrap_tagged`]), to
+    /// find a link or a match after wrapping.
+    pub tag: Option<usize>,
 }
 
 impl Run {
@@ -18,7 +24,20 @@ impl Run {
         Run {
             text: text.into(),
             style,
+            glue: false,
+            tag: None,
         }
+    }
+
+    /// A run whose spaces do not break the line.
+    pub fn glued(mut self) -> Run {
+        self.glue = true;
+        self
+    }
+
+    pub fn tagged(mut self, tag: Option<usize>) -> Run {
+        self.tag = tag;
+        self
     }
 }
 
@@ -32,7 +51,9 @@ type Word = Vec<Run>;
 
 enum Token {
     Word(Word),
-    Space,
+    /// A space, in the style of the run it was written in (a link's
+    /// style ends with the link, not at the next word).
+    Space(Style),
     Break,
 }
 
@@ -46,23 +67,24 @@ fn tokens(runs: &[Run]) -> Vec<Token> {
     };
     for run in runs {
         let mut frag = String::new();
+        let piece = |frag: String| Run::new(frag, run.style).tagged(run.tag);
         for c in run.text.chars() {
-            if c == '\n' || c.is_whitespace() {
+            if c == '\n' || (c.is_whitespace() && !run.glue) {
                 if !frag.is_empty() {
-                    word.push(Run::new(std::mem::take(&mut frag), run.style));
+                    word.push(piece(std::mem::take(&mut frag)));
                 }
                 flush(&mut word, &mut out);
                 out.push(if c == '\n' {
                     Token::Break
                 } else {
-                    Token::Space
+                    Token::Space(run.style)
                 });
             } else {
                 frag.push(c);
             }
         }
         if !frag.is_empty() {
-            word.push(Run::new(frag, run.style));
+            word.push(piece(frag));
         }
     }
     flush(&mut word, &mut out);
@@ -77,6 +99,8 @@ struct Builder {
     current: Vec<Span<'static>>,
     used: usize,
     pending_space: Option<Style>,
+    /// (tag, line) for every tagged run pushed, in order.
+    tags: Vec<(usize, usize)>,
 }
 
 impl Builder {
@@ -108,7 +132,13 @@ impl Builder {
     fn at_line_start(&self) -> bool {
         self.used == width(&self.prefix().text)
     }
-    fn push(&mut self, text: String, style: Style) {
+    fn push(&mut self, text: String, style: Style, tag: Option<usize>) {
+        if let Some(tag) = tag {
+            let line = self.lines.len();
+            if !self.tags.contains(&(tag, line)) {
+                self.tags.push((tag, line));
+            }
+        }
         self.used += width(&text);
         self.current.push(Span::styled(text, style));
     }
@@ -120,12 +150,12 @@ impl Builder {
         } else if space == 1
             && let Some(style) = self.pending_space
         {
-            self.push(" ".into(), style);
+            self.push(" ".into(), style, None);
         }
         self.pending_space = None;
         if w <= self.available() {
             for run in word {
-                self.push(run.text, run.style);
+                self.push(run.text, run.style, run.tag);
             }
             return;
         }
@@ -137,7 +167,7 @@ impl Builder {
                 let cw = c.width().unwrap_or(0);
                 if cw > 0 && width(&chunk) + cw > self.available() {
                     if !chunk.is_empty() {
-                        self.push(std::mem::take(&mut chunk), run.style);
+                        self.push(std::mem::take(&mut chunk), run.style, run.tag);
                     }
                     if !self.at_line_start() {
                         self.end_line();
@@ -150,7 +180,7 @@ impl Builder {
                 chunk.push(c);
             }
             if !chunk.is_empty() {
-                self.push(chunk, run.style);
+                self.push(chunk, run.style, run.tag);
             }
         }
     }
@@ -161,6 +191,17 @@ impl Builder {
 /// items). `\n` in the text forces a line break. Always returns at least one
 /// line.
 pub fn wrap(runs: &[Run], width: usize, first_prefix: Run, rest_prefix: Run) -> Vec<Line<'static>> {
+    wrap_tagged(runs, width, first_prefix, rest_prefix).0
+}
+
+/// [`wrap`], also returning on which lines each tagged run landed, as
+/// (tag, line) pairs in order.
+pub fn wrap_tagged(
+    runs: &[Run],
+    width: usize,
+    first_prefix: Run,
+    rest_prefix: Run,
+) -> (Vec<Line<'static>>, Vec<(usize, usize)>) {
     let mut b = Builder {
         width: width.max(1),
         first_prefix,
@@ -169,18 +210,15 @@ pub fn wrap(runs: &[Run], width: usize, first_prefix: Run, rest_prefix: Run) -> 
         current: Vec::new(),
         used: 0,
         pending_space: None,
+        tags: Vec::new(),
     };
     b.start_line();
-    let mut last_style = Style::new();
     for token in tokens(runs) {
         match token {
-            Token::Word(word) => {
-                last_style = word.last().map(|r| r.style).unwrap_or(last_style);
-                b.word(word);
-            }
-            Token::Space => {
+            Token::Word(word) => b.word(word),
+            Token::Space(style) => {
                 if !b.at_line_start() {
-                    b.pending_space = Some(last_style.patch(Style::new()));
+                    b.pending_space = Some(style);
                 }
             }
             Token::Break => b.end_line(),
@@ -190,7 +228,59 @@ pub fn wrap(runs: &[Run], width: usize, first_prefix: Run, rest_prefix: Run) -> 
         let spans = std::mem::take(&mut b.current);
         b.lines.push(Line::from(spans));
     }
-    b.lines
+    (b.lines, b.tags)
+}
+
+/// `text` cut to `width` columns, ending with "…" when cut.
+pub fn ellipsize(text: &str, width: usize) -> String {
+    if self::width(text) <= width {
+        return text.to_string();
+    }
+    let mut out = String::new();
+    let mut used = 0;
+    for c in text.chars() {
+        let w = c.width().unwrap_or(0);
+        if used + w + 1 > width {
+            break;
+        }
+        used += w;
+        out.push(c);
+    }
+    if width > 0 {
+        out.push('…');
+    }
+    out
+}
+
+/// Groups of spans (a key and what it does) laid out in lines of `width`:
+/// a group never splits, groups are `gap` columns apart, each line starts
+/// with one space.
+pub fn pack(groups: Vec<Vec<Span<'static>>>, width: usize, gap: usize) -> Vec<Line<'static>> {
+    let group_w = |g: &[Span]| g.iter().map(|s| columns(&s.content)).sum::<usize>();
+    let mut lines: Vec<Vec<Span<'static>>> = vec![vec![Span::raw(" ")]];
+    let mut used = 1;
+    for g in groups {
+        let w = group_w(&g);
+        if used > 1 && used + gap + w > width {
+            lines.push(vec![Span::raw(" ")]);
+            used = 1;
+        } else if used > 1 {
+            if let Some(l) = lines.last_mut() {
+                l.push(Span::raw(" ".repeat(gap)));
+            }
+            used += gap;
+        }
+        used += w;
+        if let Some(l) = lines.last_mut() {
+            l.extend(g);
+        }
+    }
+    lines.into_iter().map(Line::from).collect()
+}
+
+/// Display width of `text` in columns.
+pub fn columns(text: &str) -> usize {
+    width(text)
 }
 
 /// Wraps plain text in one style.
@@ -267,6 +357,64 @@ mod tests {
     fn explicit_newlines_break_lines_and_empty_text_gives_one_line() {
         assert_eq!(texts(&wrap_plain("a\nb", Style::new(), 10)), ["a", "b"]);
         assert_eq!(texts(&wrap_plain("", Style::new(), 10)), [""]);
+    }
+
+    #[test]
+    fn glued_runs_keep_their_spaces_and_tags_find_lines() {
+        let runs = [
+            Run::new("so that ", Style::new()),
+            Run::new("I₁ < I₂ < I₃", Style::new())
+                .glued()
+                .tagged(Some(7)),
+            Run::new(" holds", Style::new()),
+        ];
+        let (lines, tags) = wrap_tagged(
+            &runs,
+            14,
+            Run::new("", Style::new()),
+            Run::new("", Style::new()),
+        );
+        assert_eq!(texts(&lines), ["so that", "I₁ < I₂ < I₃", "holds"]);
+        assert_eq!(tags, [(7, 1)]);
+    }
+
+    #[test]
+    fn a_space_after_a_styled_word_keeps_the_plain_style() {
+        let link = Style::new().add_modifier(ratatui::style::Modifier::REVERSED);
+        let runs = [
+            Run::new("a link", link),
+            Run::new(" and more", Style::new()),
+        ];
+        let lines = wrap(
+            &runs,
+            40,
+            Run::new("", Style::new()),
+            Run::new("", Style::new()),
+        );
+        let styled: Vec<(&str, Style)> = lines[0]
+            .spans
+            .iter()
+            .map(|s| (s.content.as_ref(), s.style))
+            .collect();
+        assert_eq!(
+            styled,
+            [
+                ("a", link),
+                (" ", link),
+                ("link", link),
+                (" ", Style::new()),
+                ("and", Style::new()),
+                (" ", Style::new()),
+                ("more", Style::new()),
+            ]
+        );
+    }
+
+    #[test]
+    fn ellipsize_marks_the_cut() {
+        assert_eq!(ellipsize("Concept map", 20), "Concept map");
+        assert_eq!(ellipsize("Concept map", 8), "Concept…");
+        assert_eq!(columns(&ellipsize("ωωωωω", 3)), 3);
     }
 
     #[test]

@@ -76,6 +76,34 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
                     ok &= link(&mut f.rep, target, targets, "section", "see");
                 }
             }
+            // Inline `[text](#id)` links, reported at the id in the body.
+            if let Some(body) = &s.body {
+                let token = f
+                    .rep
+                    .source
+                    .get(body.span.clone())
+                    .unwrap_or("")
+                    .to_string();
+                let mut from = 0;
+                for target in crate::text::markup::links(&body.value) {
+                    let anchor = format!("](#{target})");
+                    let span = match body.value[from..].find(&anchor) {
+                        Some(i) => {
+                            let id_at = from + i + 3;
+                            from = id_at;
+                            let (a, _) = crate::deck::tomlstr::locate(&token, id_at);
+                            let (b, _) = crate::deck::tomlstr::locate(&token, id_at + target.len());
+                            body.span.start + a..body.span.start + b
+                        }
+                        None => body.span.clone(),
+                    };
+                    let at = Str {
+                        value: target,
+                        span,
+                    };
+                    ok &= link(&mut f.rep, &at, targets, "section", "body");
+                }
+            }
         }
     }
 

@@ -513,7 +513,7 @@ fn card(
         // Only cloze cards may leave the back out (it holds extra notes).
         None => Some(Text::default()),
     };
-    let accept = accept(rep, raw, kind, &what);
+    let accept = accept(rep, raw, kind, &what, langs);
     let explain = optional_link(rep, &raw.explain, section_ids, "section", "explain");
     let prompt = optional_link(rep, &raw.prompt, Some(prompt_ids), "prompt", "prompt");
     let tags = tags(rep, &raw.tags);
@@ -522,7 +522,8 @@ fn card(
         kind: kind?,
         front: front?,
         back: back?,
-        accept: accept?,
+        accept: accept.as_ref()?.0.clone(),
+        accept_by_lang: accept?.1,
         explain: explain?,
         prompt: prompt?,
         tags: tags?,
@@ -531,25 +532,66 @@ fn card(
 
 /// Typed cards need accepted answers; on other kinds `accept` is a warning
 /// (likely a forgotten `kind = "typed"`) and is dropped.
+type Accepted = (Vec<String>, std::collections::BTreeMap<String, Vec<String>>);
+
 fn accept(
     rep: &mut FileReport,
     raw: &RawCard,
     kind: Option<CardKind>,
     what: &str,
-) -> Option<Vec<String>> {
+    langs: &Langs,
+) -> Option<Accepted> {
     let mut ok = true;
-    if let Some(list) = &raw.accept {
-        for s in &list.items {
+    let mut by_lang = std::collections::BTreeMap::new();
+    if let Some(a) = &raw.accept {
+        for s in a.items() {
             ok &= text::string(rep, s, Kind::Plain, "an accepted answer");
         }
-    }
-    match (kind, &raw.accept) {
-        (Some(CardKind::Typed), Some(list)) if !list.items.is_empty() => {
-            ok.then(|| list.items.iter().map(|s| s.value.clone()).collect())
+        if let crate::deck::raw::RawAccept::ByLang { entries, .. } = a {
+            for (lang, list) in entries {
+                if langs.known && !langs.list.contains(&lang.value) {
+                    let hint = crate::deck::suggest::did_you_mean(
+                        &lang.value,
+                        langs.list.iter().map(String::as_str),
+                    )
+                    .or_else(|| Some(format!("the deck's languages: {}", langs.list.join(", "))));
+                    rep.error(
+                        lang.span.clone(),
+                        format!(
+                            "`accept` of {what} gives answers in `{}`, which the deck does not declare",
+                            lang.value
+                        ),
+                        hint,
+                    );
+                    ok = false;
+                }
+                let values: Vec<String> = list.items.iter().map(|s| s.value.clone()).collect();
+                by_lang.insert(lang.value.clone(), values);
+            }
         }
-        (Some(CardKind::Typed), Some(list)) => {
+    }
+    // Every answer, the primary language's first.
+    let all = |a: &crate::deck::raw::RawAccept| -> Vec<String> {
+        let mut out: Vec<String> = langs
+            .list
+            .first()
+            .and_then(|p| by_lang.get(p))
+            .cloned()
+            .unwrap_or_default();
+        for s in a.items() {
+            if !out.contains(&s.value) {
+                out.push(s.value.clone());
+            }
+        }
+        out
+    };
+    match (kind, &raw.accept) {
+        (Some(CardKind::Typed), Some(a)) if !a.items().is_empty() => {
+            ok.then(|| (all(a), by_lang.clone()))
+        }
+        (Some(CardKind::Typed), Some(a)) => {
             rep.error(
-                list.span.clone(),
+                a.span(),
                 format!("`accept` of typed {what} is empty"),
                 Some("list at least one accepted answer".to_string()),
             );
@@ -563,15 +605,15 @@ fn accept(
             );
             None
         }
-        (Some(_), Some(list)) => {
+        (Some(_), Some(a)) => {
             rep.warning(
-                list.span.clone(),
+                a.span(),
                 format!("`accept` is only used by typed cards; ignored on {what}"),
                 Some("did you mean kind = \"typed\"?".to_string()),
             );
-            ok.then(Vec::new)
+            ok.then(|| (Vec::new(), std::collections::BTreeMap::new()))
         }
-        (Some(_), None) => Some(Vec::new()),
+        (Some(_), None) => Some((Vec::new(), std::collections::BTreeMap::new())),
         (None, _) => None,
     }
 }

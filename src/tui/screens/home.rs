@@ -175,25 +175,120 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
         frame.render_widget(p, area);
         return;
     }
-    let [table_area, detail_area, keys_area] = Layout::vertical([
-        Constraint::Fill(1),
-        Constraint::Length(4),
-        Constraint::Length(1),
-    ])
-    .areas(area);
-    let mut keys = vec![Span::raw(" ")];
-    for (k, what) in [
+    // The keys wrap rather than run off a narrow screen.
+    let groups = [
         ("Enter", Msg::KeyReview),
         ("c", Msg::KeyCram),
         ("r", Msg::KeyRead),
         ("p", Msg::KeyPredict),
         ("t", Msg::KeyStats),
-    ] {
-        keys.push(Span::styled(k, t.key()));
-        keys.push(Span::styled(format!(" {}  ", app.tr(what)), t.dim()));
-    }
-    frame.render_widget(Paragraph::new(Line::from(keys)), keys_area);
+    ]
+    .into_iter()
+    .map(|(k, what)| {
+        vec![
+            Span::styled(k, t.key()),
+            Span::styled(format!(" {}", app.tr(what)), t.dim()),
+        ]
+    })
+    .collect();
+    let keys = crate::tui::wrap::pack(groups, usize::from(area.width), 2);
+    // Narrow: the deck titles alone in the list, their counts below.
+    let narrow = area.width < 60;
+    let details = details(app, state, narrow, area.width);
+    // The deck list keeps at least its header and one deck.
+    let room = area.height.saturating_sub(keys.len() as u16 + 2);
+    let [table_area, detail_area, keys_area] = Layout::vertical([
+        Constraint::Fill(1),
+        Constraint::Length((details.len() as u16).min(room)),
+        Constraint::Length(keys.len() as u16),
+    ])
+    .areas(area);
+    frame.render_widget(Paragraph::new(keys), keys_area);
+    frame.render_widget(Paragraph::new(details), detail_area);
 
+    if narrow {
+        draw_narrow(frame, table_area, app, state);
+    } else {
+        draw_table(frame, table_area, app, state);
+    }
+}
+
+/// The selected deck's details, wrapped to the width.
+fn details(app: &App, state: &HomeState, narrow: bool, width: u16) -> Vec<Line<'static>> {
+    use crate::tui::wrap::{Run, wrap};
+    let t = &app.theme;
+    let width = usize::from(width.max(1));
+    let mut out: Vec<Line<'static>> = Vec::new();
+    if let Some(deck) = app.decks.get(state.selected) {
+        // The counts in the table are review items: a card asked both ways
+        // is two, which is said here so that the numbers add up.
+        let items = crate::sched::deck_items(deck).len();
+        let cards = if items == deck.cards.len() {
+            app.count(deck.cards.len(), Noun::Card)
+        } else {
+            format!(
+                "{} ({items} {})",
+                app.count(deck.cards.len(), Noun::Card),
+                crate::tui::i18n::study::REVIEW_ITEMS.get(&app.lang)
+            )
+        };
+        let mut lines = Vec::new();
+        if narrow && let Some(row) = state.rows.get(state.selected) {
+            let c = row.counts.unwrap_or_default();
+            lines.push(Line::from(vec![
+                Span::styled(format!("{} {}", c.due, app.tr(Msg::Due)), t.good()),
+                Span::styled(" · ", t.dim()),
+                Span::styled(
+                    format!("{} {}", c.learning, app.tr(Msg::Learning)),
+                    t.warn(),
+                ),
+                Span::styled(" · ", t.dim()),
+                Span::styled(format!("{} {}", c.new, app.tr(Msg::New)), t.title()),
+                Span::styled(
+                    format!(
+                        " · {} {}",
+                        app.tr(Msg::LastStudied),
+                        ago(app, row.last_studied)
+                    ),
+                    t.dim(),
+                ),
+            ]));
+        }
+        lines.push(Line::from(vec![Span::styled(
+            format!(
+                "{cards} · {} · {}",
+                app.count(deck.prompts.len(), Noun::Prompt),
+                app.count(deck.sections.len(), Noun::Section)
+            ),
+            t.dim(),
+        )]));
+        if let Some(desc) = &deck.description {
+            lines.push(Line::from(crate::text::render(desc.get(&app.lang))));
+        }
+        if app.deck_load.errors > 0 {
+            lines.push(Line::styled(
+                app.count(app.deck_load.errors, Noun::DeckProblem),
+                t.warn(),
+            ));
+        }
+        let none = || Run::new("", t.text());
+        for line in lines {
+            let runs: Vec<Run> = line
+                .spans
+                .iter()
+                .map(|s| Run::new(s.content.to_string(), s.style))
+                .collect();
+            out.extend(wrap(&runs, width, none(), none()));
+        }
+    }
+    out
+}
+
+/// One row per deck: due, learning and new review items, last studied.
+fn draw_table(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
+    let t = &app.theme;
+    // What the fixed columns, their spacing and the "› " leave.
+    let title_w = usize::from(area.width).saturating_sub(7 + 11 + 6 + 16 + 4 + 2);
     let header = Row::new(vec![
         Cell::from(app.tr(Msg::Decks)),
         Cell::from(app.tr(Msg::Due)),
@@ -209,7 +304,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
                 .unwrap_or_else(|| "–".into())
         };
         Row::new(vec![
-            Cell::from(deck.title.get(&app.lang).to_string()),
+            Cell::from(crate::tui::wrap::ellipsize(
+                deck.title.get(&app.lang),
+                title_w,
+            )),
             Cell::from(count(|c| c.due)).style(t.good()),
             Cell::from(count(|c| c.learning)).style(t.warn()),
             Cell::from(count(|c| c.new)).style(t.title()),
@@ -228,27 +326,24 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
         .row_highlight_style(t.selected())
         .highlight_symbol("› ");
     let mut ts = TableState::default().with_selected(Some(state.selected));
-    frame.render_stateful_widget(table, table_area, &mut ts);
+    frame.render_stateful_widget(table, area, &mut ts);
+}
 
-    if let Some(deck) = app.decks.get(state.selected) {
-        let mut lines = vec![Line::from(vec![Span::styled(
-            format!(
-                "{} · {} · {}",
-                app.count(deck.cards.len(), Noun::Card),
-                app.count(deck.prompts.len(), Noun::Prompt),
-                app.count(deck.sections.len(), Noun::Section)
-            ),
-            t.dim(),
-        )])];
-        if let Some(desc) = &deck.description {
-            lines.push(Line::from(crate::text::render(desc.get(&app.lang))));
-        }
-        if app.deck_load.errors > 0 {
-            lines.push(Line::styled(
-                app.count(app.deck_load.errors, Noun::DeckProblem),
-                t.warn(),
-            ));
-        }
-        frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), detail_area);
-    }
+/// A narrow screen: the deck titles alone; the selected deck's counts go
+/// in the details below.
+fn draw_narrow(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
+    let t = &app.theme;
+    let title_w = usize::from(area.width.saturating_sub(2));
+    let rows = app.decks.iter().map(|deck| {
+        Row::new(vec![Cell::from(crate::tui::wrap::ellipsize(
+            deck.title.get(&app.lang),
+            title_w,
+        ))])
+    });
+    let table = Table::new(rows, [Constraint::Fill(1)])
+        .header(Row::new(vec![Cell::from(app.tr(Msg::Decks))]).style(t.heading()))
+        .row_highlight_style(t.selected())
+        .highlight_symbol("› ");
+    let mut ts = TableState::default().with_selected(Some(state.selected));
+    frame.render_stateful_widget(table, area, &mut ts);
 }

@@ -13,9 +13,10 @@ use crate::text::markup::{self, Block as MBlock, Style as MStyle};
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
+use crate::tui::i18n::reader as words;
 use crate::tui::theme::Theme;
 use crate::tui::view;
-use crate::tui::wrap::{Run, line_text, wrap};
+use crate::tui::wrap::{Run, columns, ellipsize, line_text, wrap, wrap_tagged};
 
 use super::Nav;
 use crate::tui::i18n::Words;
@@ -77,13 +78,16 @@ pub const KEYS: &[Binding] = &[
         ],
     ),
     Binding::new(
-        "Tab",
-        Words("choose a linked section", "juda section chuno"),
-        &[(Tab, Action::NextLink), (BackTab, Action::NextLink)],
+        "Tab S-Tab",
+        Words(
+            "choose the next / previous link",
+            "agla / pichhla link chuno",
+        ),
+        &[(Tab, Action::NextLink), (BackTab, Action::PrevLink)],
     ),
     Binding::new(
         "Enter",
-        Words("follow the link", "link kholo"),
+        Words("follow the chosen link", "chuna hua link kholo"),
         &[(Enter, Action::FollowLink)],
     ),
     Binding::new(
@@ -111,14 +115,16 @@ pub struct ReaderState {
     pub section: usize,
     /// First body line shown.
     pub scroll: usize,
-    /// The focused link of the section's "see also" list.
+    /// The chosen link of the section (inline links first, then "see
+    /// also"); always on screen while chosen.
     pub link: Option<usize>,
     /// The search being typed (`/`), if any.
     pub search: Option<String>,
     /// The last search made, highlighted and repeated by `n`/`N`.
     pub query: Option<String>,
-    /// The match jumped to last (section, line): `n`/`N` go on from here.
-    pub hit: Option<(usize, usize)>,
+    /// The match jumped to last (section, line, first char): `n`/`N` go on
+    /// from here, and it is drawn apart from the other matches.
+    pub hit: Option<(usize, usize, usize)>,
     /// Where following links came from, so Esc walks back.
     pub history: Vec<(usize, usize)>,
 }
@@ -147,43 +153,131 @@ pub fn open_at(app: &App, deck: usize, section: &str) -> Nav {
     }
 }
 
+/// The widest the text runs, in columns: longer lines are hard to follow
+/// from one end to the next on a wide terminal.
+pub const MEASURE: u16 = 80;
+
 /// The reader's areas inside the screen body: section list, text, and the
-/// line of links (or the search field).
+/// status line (the chosen link, the search, the position).
 pub fn areas(body: Rect) -> (Rect, Rect, Rect) {
-    let list_w = (body.width / 3).clamp(12, 30);
+    // A wide terminal gives the list what the capped text leaves over, so
+    // that titles are not cut.
+    let list_w = if body.width >= 120 {
+        (body.width - MEASURE - 2).clamp(40, 60)
+    } else {
+        (body.width / 3).clamp(12, 30)
+    };
     let [list, right] =
         Layout::horizontal([Constraint::Length(list_w), Constraint::Fill(1)]).areas(body);
-    let [text, links] = Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(right);
-    // One column of margin on the left of the text.
+    let [text, status] =
+        Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(right);
+    // One column of margin on the left of the text (the current search
+    // match is marked there).
     let text = Rect {
         x: text.x.saturating_add(1).min(text.right()),
-        width: text.width.saturating_sub(1),
+        width: text.width.saturating_sub(1).min(MEASURE),
         ..text
     };
-    (list, text, links)
+    (list, text, status)
 }
 
-fn runs(spans: &[markup::Span], theme: &Theme) -> Vec<Run> {
-    spans
-        .iter()
-        .map(|s| {
-            let style = match s.style {
-                MStyle::Plain => theme.text(),
-                MStyle::Emphasis => theme.emphasis(),
-                MStyle::Strong => theme.strong(),
-                MStyle::Math => theme.math(),
-            };
-            // Paragraph lines are joined; wrapping decides the breaks.
-            Run::new(s.text.replace('\n', " "), style)
-        })
-        .collect()
+/// A link of a section: the section it opens and the first line it is on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkAt {
+    pub target: String,
+    pub line: usize,
 }
 
-/// A section's title and body as wrapped lines.
-pub fn section_lines(app: &App, deck: &Deck, section: usize, width: usize) -> Vec<Line<'static>> {
+/// A section laid out at a width: its lines and its links.
+pub struct Page {
+    pub lines: Vec<Line<'static>>,
+    pub links: Vec<LinkAt>,
+    /// Lines of the section's own text, before "see also" (which search
+    /// leaves out: it names other sections).
+    pub text_lines: usize,
+}
+
+fn style_of(s: &markup::Span, theme: &Theme) -> Style {
+    match s.style {
+        MStyle::Plain => theme.text(),
+        MStyle::Emphasis => theme.emphasis(),
+        MStyle::Strong => theme.strong(),
+        MStyle::Math => theme.math(),
+    }
+}
+
+/// The runs of a paragraph or item; each inline link becomes one entry of
+/// `links` (its line filled in after wrapping) and tags its runs.
+fn runs(
+    spans: &[markup::Span],
+    theme: &Theme,
+    links: &mut Vec<LinkAt>,
+    chosen: Option<usize>,
+) -> Vec<Run> {
+    let mut out = Vec::new();
+    let mut last: Option<&str> = None;
+    for s in spans {
+        let tag = match &s.link {
+            Some(target) => {
+                if last != Some(target.as_str()) {
+                    links.push(LinkAt {
+                        target: target.clone(),
+                        line: 0,
+                    });
+                }
+                Some(links.len() - 1)
+            }
+            None => None,
+        };
+        last = s.link.as_deref();
+        let mut style = style_of(s, theme);
+        if let Some(i) = tag {
+            style = style.patch(if chosen == Some(i) {
+                theme.selected()
+            } else {
+                theme.link()
+            });
+        }
+        // Paragraph lines are joined; wrapping decides the breaks, except
+        // inside a formula.
+        let run = Run::new(s.text.replace('\n', " "), style).tagged(tag);
+        out.push(if s.style == MStyle::Math {
+            run.glued()
+        } else {
+            run
+        });
+    }
+    out
+}
+
+/// Appends wrapped lines, recording on which line each link starts.
+fn extend(
+    lines: &mut Vec<Line<'static>>,
+    links: &mut [LinkAt],
+    (wrapped, tags): (Vec<Line<'static>>, Vec<(usize, usize)>),
+) {
+    let base = lines.len();
+    let mut seen = Vec::new();
+    for (tag, line) in tags {
+        if !seen.contains(&tag)
+            && let Some(l) = links.get_mut(tag)
+        {
+            l.line = base + line;
+            seen.push(tag);
+        }
+    }
+    lines.extend(wrapped);
+}
+
+/// A section laid out at `width`, with link `chosen` drawn as chosen.
+pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option<usize>) -> Page {
     let t = &app.theme;
     let Some(sec) = deck.sections.get(section) else {
-        return Vec::new();
+        return Page {
+            lines: Vec::new(),
+            links: Vec::new(),
+            text_lines: 0,
+        };
     };
     let none = || Run::new("", Style::new());
     let mut lines = wrap(
@@ -196,19 +290,25 @@ pub fn section_lines(app: &App, deck: &Deck, section: usize, width: usize) -> Ve
         none(),
     );
     lines.push(Line::default());
+    let mut links: Vec<LinkAt> = Vec::new();
     for block in markup::parse(sec.body.get(&app.lang)) {
         match block {
             MBlock::Paragraph(spans) => {
-                lines.extend(wrap(&runs(&spans, t), width, none(), none()));
+                let r = runs(&spans, t, &mut links, chosen);
+                extend(
+                    &mut lines,
+                    &mut links,
+                    wrap_tagged(&r, width, none(), none()),
+                );
                 lines.push(Line::default());
             }
             MBlock::Item(spans) => {
-                lines.extend(wrap(
-                    &runs(&spans, t),
-                    width,
-                    Run::new("• ", t.key()),
-                    Run::new("  ", t.text()),
-                ));
+                let r = runs(&spans, t, &mut links, chosen);
+                extend(
+                    &mut lines,
+                    &mut links,
+                    wrap_tagged(&r, width, Run::new("• ", t.key()), Run::new("  ", t.text())),
+                );
             }
             MBlock::Display(math) => {
                 if lines.last().is_some_and(|l| !l.spans.is_empty()) {
@@ -216,7 +316,7 @@ pub fn section_lines(app: &App, deck: &Deck, section: usize, width: usize) -> Ve
                 }
                 for row in math.lines() {
                     lines.extend(wrap(
-                        &[Run::new(row, t.math())],
+                        &[Run::new(row, t.math()).glued()],
                         width,
                         Run::new("    ", t.math()),
                         Run::new("    ", t.math()),
@@ -229,7 +329,47 @@ pub fn section_lines(app: &App, deck: &Deck, section: usize, width: usize) -> Ve
     while lines.last().is_some_and(|l| l.spans.is_empty()) && lines.len() > 1 {
         lines.pop();
     }
-    lines
+    // "See also": the linked sections the text does not link to already,
+    // one per line so that every one is seen.
+    let text_lines = lines.len();
+    let inline: Vec<String> = links.iter().map(|l| l.target.clone()).collect();
+    let see: Vec<&String> = sec.see.iter().filter(|id| !inline.contains(id)).collect();
+    if !see.is_empty() {
+        lines.push(Line::default());
+        lines.push(Line::styled(app.tr(Msg::SeeAlso), t.heading()));
+        for id in see {
+            let title = deck
+                .section(id)
+                .map(|s| crate::text::render(s.title.get(&app.lang)))
+                .unwrap_or_else(|| id.clone());
+            let i = links.len();
+            links.push(LinkAt {
+                target: id.clone(),
+                line: 0,
+            });
+            let style = if chosen == Some(i) {
+                t.selected()
+            } else {
+                t.link()
+            };
+            let r = [Run::new(title, style).tagged(Some(i))];
+            extend(
+                &mut lines,
+                &mut links,
+                wrap_tagged(&r, width, Run::new("→ ", t.key()), Run::new("  ", t.text())),
+            );
+        }
+    }
+    Page {
+        lines,
+        links,
+        text_lines,
+    }
+}
+
+/// A section's lines at a width (no link chosen).
+pub fn section_lines(app: &App, deck: &Deck, section: usize, width: usize) -> Vec<Line<'static>> {
+    page(app, deck, section, width, None).lines
 }
 
 /// Body text area for the app's terminal size.
@@ -269,25 +409,34 @@ fn matches(text: &str, query: &[char]) -> Vec<(usize, usize)> {
     out
 }
 
-/// The line with every match of `query` in `style`.
-fn highlight(line: Line<'static>, query: &[char], style: Style) -> Line<'static> {
+/// The line with every match of `query` in `style`, and the one starting
+/// at char `current` (if any) in `current_style`.
+fn highlight(
+    line: Line<'static>,
+    query: &[char],
+    style: Style,
+    current: Option<(usize, Style)>,
+) -> Line<'static> {
     let ranges = matches(&line_text(&line), query);
     if ranges.is_empty() {
         return line;
     }
+    let style_at = |pos: usize| -> Option<Style> {
+        let &(a, _) = ranges.iter().find(|&&(a, b)| pos >= a && pos < b)?;
+        Some(match current {
+            Some((c, cs)) if c == a => cs,
+            _ => style,
+        })
+    };
     let mut out = Vec::new();
     let mut pos = 0;
     for span in line.spans {
         let mut buf = String::new();
-        let mut buf_hit = false;
+        let mut buf_hit: Option<Style> = None;
         for c in span.content.chars() {
-            let hit = ranges.iter().any(|&(a, b)| pos >= a && pos < b);
+            let hit = style_at(pos);
             if hit != buf_hit && !buf.is_empty() {
-                let st = if buf_hit {
-                    span.style.patch(style)
-                } else {
-                    span.style
-                };
+                let st = buf_hit.map_or(span.style, |h| span.style.patch(h));
                 out.push(Span::styled(std::mem::take(&mut buf), st));
             }
             buf_hit = hit;
@@ -295,15 +444,28 @@ fn highlight(line: Line<'static>, query: &[char], style: Style) -> Line<'static>
             pos += 1;
         }
         if !buf.is_empty() {
-            let st = if buf_hit {
-                span.style.patch(style)
-            } else {
-                span.style
-            };
+            let st = buf_hit.map_or(span.style, |h| span.style.patch(h));
             out.push(Span::styled(buf, st));
         }
     }
     Line::from(out)
+}
+
+/// Every match of `query` in the deck, in reading order: (section, line,
+/// first char), as laid out at the app's size.
+fn occurrences(app: &App, deck: &Deck, query: &str) -> Vec<(usize, usize, usize)> {
+    let q = lowercase_chars(query);
+    let width = text_area(app).width as usize;
+    let mut out = Vec::new();
+    for s in 0..deck.sections.len() {
+        let p = page(app, deck, s, width, None);
+        for (i, l) in p.lines.iter().take(p.text_lines).enumerate() {
+            for (a, _) in matches(&line_text(l), &q) {
+                out.push((s, i, a));
+            }
+        }
+    }
+    out
 }
 
 /// The next (or previous) match of `query` from just after (before) the
@@ -315,29 +477,11 @@ fn find(
     query: &str,
     forward: bool,
     from_here: bool,
-) -> Option<(usize, usize)> {
-    let q = lowercase_chars(query);
-    let width = text_area(app).width as usize;
-    let n = deck.sections.len();
-    let all: Vec<Vec<usize>> = (0..n)
-        .map(|s| {
-            section_lines(app, deck, s, width)
-                .iter()
-                .enumerate()
-                .filter(|(_, l)| !matches(&line_text(l), &q).is_empty())
-                .map(|(i, _)| i)
-                .collect()
-        })
-        .collect();
-    // Positions in reading order: (section, line).
-    let hits: Vec<(usize, usize)> = all
-        .iter()
-        .enumerate()
-        .flat_map(|(s, ls)| ls.iter().map(move |&l| (s, l)))
-        .collect();
+) -> Option<(usize, usize, usize)> {
+    let hits = occurrences(app, deck, query);
     let here = match state.hit {
         Some(hit) if hit.0 == state.section => hit,
-        _ => (state.section, state.scroll),
+        _ => (state.section, state.scroll, 0),
     };
     let pick = if forward {
         hits.iter()
@@ -371,6 +515,17 @@ impl super::View for ReaderState {
     }
 }
 
+/// Scrolls so that `line` is on screen (as little as needed).
+fn reveal(state: &mut ReaderState, line: usize, height: usize, max: usize) {
+    let height = height.max(1);
+    if line < state.scroll {
+        state.scroll = line;
+    } else if line >= state.scroll + height {
+        state.scroll = line + 1 - height;
+    }
+    state.scroll = state.scroll.min(max);
+}
+
 pub fn apply(app: &mut App, state: &mut ReaderState, action: Action) -> Nav {
     let Some(deck) = app.decks.get(state.deck) else {
         return Nav::Pop;
@@ -378,9 +533,12 @@ pub fn apply(app: &mut App, state: &mut ReaderState, action: Action) -> Nav {
     // The language or the size may have changed since the last key.
     let max = max_scroll(app, deck, state);
     state.scroll = state.scroll.min(max);
-    let page = (text_area(app).height as usize).saturating_sub(1).max(1);
+    let area = text_area(app);
+    let height = area.height as usize;
+    let page_len = height.saturating_sub(1).max(1);
     let n_sections = deck.sections.len();
-    let links = deck.sections.get(state.section).map_or(0, |s| s.see.len());
+    let links = page(app, deck, state.section, area.width as usize, None).links;
+    let visible = |scroll: usize, l: &LinkAt| l.line >= scroll && l.line < scroll + height;
 
     if let Some(input) = &mut state.search {
         match action {
@@ -404,24 +562,45 @@ pub fn apply(app: &mut App, state: &mut ReaderState, action: Action) -> Nav {
     match action {
         Action::Up => state.scroll = state.scroll.saturating_sub(1),
         Action::Down => state.scroll = (state.scroll + 1).min(max),
-        Action::PageUp => state.scroll = state.scroll.saturating_sub(page),
-        Action::PageDown => state.scroll = (state.scroll + page).min(max),
+        Action::PageUp => state.scroll = state.scroll.saturating_sub(page_len),
+        Action::PageDown => state.scroll = (state.scroll + page_len).min(max),
         Action::Top => state.scroll = 0,
         Action::Bottom => state.scroll = max,
         Action::PrevSection if state.section > 0 => go(state, state.section - 1, false),
         Action::NextSection if state.section + 1 < n_sections => {
             go(state, state.section + 1, false)
         }
-        Action::NextLink if links > 0 => {
-            state.link = Some(state.link.map_or(0, |l| (l + 1) % links));
+        Action::NextLink | Action::PrevLink if !links.is_empty() => {
+            let n = links.len();
+            let next = match (state.link, action == Action::NextLink) {
+                (Some(l), true) => (l + 1) % n,
+                (Some(l), false) => (l + n - 1) % n,
+                // Nothing chosen yet: start from what is on screen.
+                (None, true) => links
+                    .iter()
+                    .position(|l| visible(state.scroll, l))
+                    .unwrap_or(0),
+                (None, false) => links
+                    .iter()
+                    .rposition(|l| visible(state.scroll, l))
+                    .unwrap_or(n - 1),
+            };
+            state.link = Some(next);
+            reveal(state, links[next].line, height, max);
         }
-        Action::FollowLink if links > 0 => {
-            let i = state.link.unwrap_or(0).min(links - 1);
-            let target = deck.sections[state.section].see[i].clone();
-            if let Some(to) = deck.sections.iter().position(|s| s.id == target) {
-                go(state, to, true);
+        // Enter opens only a link the learner sees chosen; with none
+        // chosen it chooses the first on screen.
+        Action::FollowLink => match state.link.and_then(|i| links.get(i)) {
+            Some(l) => {
+                if let Some(to) = deck.sections.iter().position(|s| s.id == l.target) {
+                    go(state, to, true);
+                }
             }
-        }
+            None if !links.is_empty() => {
+                return apply(app, state, Action::NextLink);
+            }
+            None => {}
+        },
         Action::StartSearch => state.search = Some(String::new()),
         Action::NextMatch | Action::PrevMatch => {
             if let Some(q) = state.query.clone() {
@@ -437,6 +616,24 @@ pub fn apply(app: &mut App, state: &mut ReaderState, action: Action) -> Nav {
             None => return Nav::Pop,
         },
         _ => {}
+    }
+    // A chosen link scrolled out of sight is no longer chosen: Enter must
+    // never open a link that is not on screen.
+    if let Some(i) = state.link
+        && links.get(i).is_none_or(|l| !visible(state.scroll, l))
+        && matches!(
+            action,
+            Action::Up
+                | Action::Down
+                | Action::PageUp
+                | Action::PageDown
+                | Action::Top
+                | Action::Bottom
+                | Action::Resize(..)
+                | Action::ToggleLanguage
+        )
+    {
+        state.link = None;
     }
     Nav::Stay
 }
@@ -455,19 +652,30 @@ fn jump(app: &mut App, state: &mut ReaderState, query: &str, forward: bool, from
         return;
     };
     match find(app, deck, state, query, forward, from_here) {
-        Some((section, line)) => {
+        Some((section, line, col)) => {
             state.section = section;
-            state.hit = Some((section, line));
+            state.hit = Some((section, line, col));
             state.link = None;
             let max = max_scroll(app, deck, state);
             state.scroll = line.min(max);
             app.status = None;
         }
         None => {
+            state.hit = None;
             let msg = format!("{}: {query}", app.tr(Msg::NoMatch));
             app.info(msg);
         }
     }
+}
+
+/// "match 3/9" for the current search, or "0/9" before a jump.
+fn match_count(app: &App, deck: &Deck, state: &ReaderState, query: &str) -> String {
+    let hits = occurrences(app, deck, query);
+    let at = state
+        .hit
+        .and_then(|h| hits.iter().position(|&x| x == h))
+        .map_or(0, |i| i + 1);
+    format!("{} {at}/{}", words::MATCH.get(&app.lang), hits.len())
 }
 
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
@@ -479,12 +687,14 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
         frame.render_widget(Paragraph::new(app.tr(Msg::NoSections)), area);
         return;
     }
-    let (list_area, text_area, links_area) = areas(area);
+    let (list_area, text_area, status_area) = areas(area);
 
-    let items = deck
-        .sections
-        .iter()
-        .map(|s| ListItem::new(Line::from(crate::text::render(s.title.get(&app.lang)))));
+    // Titles that do not fit end with "…" (one column goes to the border).
+    let title_w = usize::from(list_area.width.saturating_sub(1));
+    let items = deck.sections.iter().map(|s| {
+        let title = crate::text::render(s.title.get(&app.lang));
+        ListItem::new(Line::from(ellipsize(&title, title_w)))
+    });
     let list = List::new(items)
         .block(
             Block::default()
@@ -495,57 +705,171 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
     let mut ls = ListState::default().with_selected(Some(state.section));
     frame.render_stateful_widget(list, list_area, &mut ls);
 
-    let lines = section_lines(app, deck, state.section, text_area.width as usize);
-    let max = lines.len().saturating_sub(text_area.height as usize);
+    let Page {
+        lines,
+        links,
+        text_lines,
+    } = page(
+        app,
+        deck,
+        state.section,
+        text_area.width as usize,
+        state.link,
+    );
+    let total = lines.len();
+    let height = text_area.height as usize;
+    let max = total.saturating_sub(height);
     let scroll = state.scroll.min(max);
     let query = state.query.as_deref().map(lowercase_chars);
+    let current = state
+        .hit
+        .filter(|h| h.0 == state.section)
+        .map(|(_, line, col)| (line, col));
+    let current_style = t.selected().add_modifier(ratatui::style::Modifier::BOLD);
     let shown: Vec<Line> = lines
         .into_iter()
+        .enumerate()
         .skip(scroll)
-        .take(text_area.height as usize)
-        .map(|l| match &query {
-            Some(q) => highlight(l, q, t.highlight()),
-            None => l,
+        .take(height)
+        .map(|(i, l)| match &query {
+            Some(q) if i < text_lines => {
+                let cur = current.filter(|c| c.0 == i).map(|c| (c.1, current_style));
+                highlight(l, q, t.highlight(), cur)
+            }
+            _ => l,
         })
         .collect();
     frame.render_widget(Paragraph::new(shown), text_area);
+    // The current match is also marked in the margin, for `NO_COLOR`.
+    if let Some((line, _)) = current
+        && query.is_some()
+        && line >= scroll
+        && line < scroll + height
+        && text_area.x > 0
+    {
+        let y = text_area.y + (line - scroll) as u16;
+        let mark = Rect::new(text_area.x - 1, y, 1, 1);
+        frame.render_widget(Paragraph::new(Span::styled("›", t.key())), mark);
+    }
 
-    let bottom = if let Some(input) = &state.search {
+    let status = if let Some(input) = &state.search {
         Line::from(vec![
             Span::styled(format!(" /{input}▏"), t.strong()),
             Span::styled(format!("  {}", app.tr(Msg::Search)), t.dim()),
         ])
     } else {
-        let see = deck
-            .sections
-            .get(state.section)
-            .map(|s| s.see.as_slice())
-            .unwrap_or(&[]);
-        let mut spans = Vec::new();
-        if !see.is_empty() {
-            spans.push(Span::styled(
-                format!(" {}: ", app.tr(Msg::SeeAlso)),
-                t.dim(),
-            ));
-            for (i, id) in see.iter().enumerate() {
-                let title = deck
-                    .section(id)
-                    .map(|s| crate::text::render(s.title.get(&app.lang)))
-                    .unwrap_or_else(|| id.clone());
-                let style = if state.link == Some(i) {
-                    t.selected()
-                } else {
-                    t.link()
-                };
-                spans.push(Span::styled(format!("[{title}]"), style));
-                spans.push(Span::raw(" "));
-            }
-        }
-        let pos = format!(" {}/{} ", state.section + 1, deck.sections.len());
-        spans.push(Span::styled(pos, t.dim()));
-        Line::from(spans)
+        status_line(
+            app,
+            deck,
+            state,
+            &links,
+            (scroll, height, total),
+            status_area.width,
+        )
     };
-    frame.render_widget(Paragraph::new(bottom), links_area);
+    frame.render_widget(Paragraph::new(status), status_area);
+}
+
+/// The status line under the text: the chosen link (or how many there
+/// are), the search's match count, the lines shown and the section number.
+/// When it does not all fit, the position loses its words first, then the
+/// "Enter opens" hint, and only then is the link's title cut with "…".
+fn status_line(
+    app: &App,
+    deck: &Deck,
+    state: &ReaderState,
+    links: &[LinkAt],
+    (scroll, height, total): (usize, usize, usize),
+    width: u16,
+) -> Line<'static> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let width = usize::from(width);
+    let position = |words_too: bool| {
+        let mut right = Vec::new();
+        if let Some(q) = &state.query {
+            right.push(match_count(app, deck, state, q));
+        }
+        if total > height {
+            let last = (scroll + height).min(total);
+            let lines = if words_too {
+                words::LINES.get(lang)
+            } else {
+                ""
+            };
+            let text = format!("{lines} {}–{last}/{total}", scroll + 1);
+            right.push(text.trim().to_string());
+        }
+        // The list beside shows which section this is.
+        if words_too {
+            right.push(format!("§{}/{}", state.section + 1, deck.sections.len()));
+        }
+        format!(" {} ", right.join(" · "))
+    };
+    let (full, short) = (position(true), position(false));
+
+    // The left part as (text, style) pieces, most wanted first.
+    let (pieces, cut): (Vec<(String, Style)>, usize) =
+        match state.link.and_then(|i| links.get(i).map(|l| (i, l))) {
+            Some((i, l)) => {
+                let title = deck
+                    .section(&l.target)
+                    .map(|s| crate::text::render(s.title.get(lang)))
+                    .unwrap_or_else(|| l.target.clone());
+                (
+                    vec![
+                        (format!(" {}/{} → ", i + 1, links.len()), t.key()),
+                        (title, t.selected()),
+                        (format!("  {}", words::ENTER_OPENS.get(lang)), t.dim()),
+                    ],
+                    1,
+                )
+            }
+            None if !links.is_empty() => (
+                vec![(
+                    format!(
+                        " {} {} · {}",
+                        links.len(),
+                        words::LINKS.get(lang),
+                        words::TAB_TO_CHOOSE.get(lang)
+                    ),
+                    t.dim(),
+                )],
+                0,
+            ),
+            None => (vec![(" ".to_string(), t.dim())], 0),
+        };
+    let len = |ps: &[(String, Style)]| ps.iter().map(|(s, _)| columns(s)).sum::<usize>();
+    let mut left = pieces.clone();
+    let mut right = full.clone();
+    if len(&left) + columns(&right) > width {
+        right = short;
+    }
+    if len(&left) + columns(&right) > width && left.len() > 2 {
+        left.pop();
+    }
+    if len(&left) + columns(&right) > width {
+        let others: usize = left
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != cut)
+            .map(|(_, (s, _))| columns(s))
+            .sum();
+        let room = width.saturating_sub(others + columns(&right));
+        if let Some((s, _)) = left.get_mut(cut) {
+            *s = ellipsize(s, room);
+        }
+    }
+    let mut spans: Vec<Span> = left
+        .into_iter()
+        .map(|(s, st)| Span::styled(s, st))
+        .collect();
+    let used: usize = spans.iter().map(|s| columns(&s.content)).sum();
+    spans.push(Span::raw(
+        " ".repeat(width.saturating_sub(used + columns(&right))),
+    ));
+    spans.push(Span::styled(right, t.dim()));
+    Line::from(spans)
 }
 
 #[cfg(test)]
@@ -566,6 +890,7 @@ mod tests {
             line,
             &lowercase_chars("racket"),
             Style::new().add_modifier(ratatui::style::Modifier::BOLD),
+            None,
         );
         let texts: Vec<&str> = out.spans.iter().map(|s| s.content.as_ref()).collect();
         assert_eq!(texts, ["tennis ", "ra", "cket", " theorem"]);

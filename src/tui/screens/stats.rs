@@ -13,19 +13,30 @@ use ratatui::widgets::{
 use crate::store::{DayGrid, Stats, StatsScope};
 use crate::tui::action::Action;
 use crate::tui::app::App;
-use crate::tui::i18n::{Msg, Noun};
+use crate::tui::i18n::{Msg, Noun, study};
 use crate::tui::services::DayZone;
+use crate::tui::wrap::{Run, ellipsize, wrap};
 
 use super::Nav;
 use crate::tui::i18n::Words;
 use crate::tui::keymap::Binding;
 use crossterm::event::KeyCode::{Char, Esc};
 
-pub const KEYS: &[Binding] = &[Binding::new(
-    "Esc q",
-    Words("back", "wapas"),
-    &[(Esc, Action::Back), (Char('q'), Action::Back)],
-)];
+pub const KEYS: &[Binding] = &[
+    Binding::new(
+        "w",
+        Words(
+            "show / hide the solvers' work–precision table",
+            "solvers ki work–precision table dikhao / chhupao",
+        ),
+        &[(Char('w'), Action::ToggleBench)],
+    ),
+    Binding::new(
+        "Esc q",
+        Words("back", "wapas"),
+        &[(Esc, Action::Back), (Char('q'), Action::Back)],
+    ),
+];
 
 /// The most accurate run of one method on one problem of the bench.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,6 +56,8 @@ pub struct StatsState {
     /// Where the bench table came from (the numerics report's folder).
     pub bench_path: Option<std::path::PathBuf>,
     pub memory: Result<crate::tui::memory::MemoryPanel, String>,
+    /// The bench table is shown (`w`); a learner's statistics come first.
+    pub show_bench: bool,
 }
 
 impl StatsState {
@@ -85,6 +98,7 @@ impl StatsState {
             bench,
             bench_path,
             memory,
+            show_bench: false,
         }
     }
 }
@@ -147,9 +161,13 @@ impl super::View for StatsState {
     }
 }
 
-pub fn apply(_app: &mut App, _state: &mut StatsState, action: Action) -> Nav {
+pub fn apply(_app: &mut App, state: &mut StatsState, action: Action) -> Nav {
     match action {
         Action::Back => Nav::Pop,
+        Action::ToggleBench => {
+            state.show_bench = !state.show_bench;
+            Nav::Stay
+        }
         _ => Nav::Stay,
     }
 }
@@ -172,23 +190,25 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
             return;
         }
     };
-    let bench_h = state.bench.as_ref().map_or(2, |rows| {
-        let (methods, _) = bench_axes(rows);
-        (methods.len() as u16 + 2).min(10)
-    });
-    let [summary, charts, memory, bench] = Layout::vertical([
-        Constraint::Length(3),
-        Constraint::Fill(1),
-        Constraint::Length(10),
-        Constraint::Length(bench_h),
-    ])
-    .areas(area);
-    crate::tui::memory::draw(frame, memory, app, &state.memory);
-
+    // The bench table only on request: one line says how to see it.
+    let bench_h = match (&state.bench, state.show_bench) {
+        (Some(rows), true) => {
+            let (methods, _) = bench_axes(rows);
+            (methods.len() as u16 + 2).min(area.height / 2)
+        }
+        (None, true) => 2,
+        (_, false) => 1,
+    };
     let c = &stats.cards;
+    let lang = app.lang.as_str();
+    let cards = app.decks.get(state.deck).map_or(0, |d| d.cards.len());
+    // Review items, not cards: a card asked both ways is two items.
     let states = format!(
-        " {}: {} {} · {} {} · {} {} · {} {}",
-        app.count(c.total as usize, Noun::Card),
+        "{} {} ({} {}): {} {} · {} {} · {} {} · {} {}",
+        c.total,
+        study::REVIEW_ITEMS.get(lang),
+        study::FROM_CARDS.get(lang),
+        app.count(cards, Noun::Card),
         c.new,
         app.tr(Msg::New),
         c.learning,
@@ -199,7 +219,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         app.tr(Msg::Relearning)
     );
     let p = &stats.prompts.overall;
-    let lines = vec![
+    let lines = [
         Line::styled(states, t.text()),
         Line::from(vec![
             Span::styled(format!(" {}: ", app.tr(Msg::Retention)), t.dim()),
@@ -220,19 +240,77 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
             Span::styled(format!(" {}: ", app.tr(Msg::PromptAccuracy)), t.dim()),
             Span::styled(pct(p.rate), t.good()),
             Span::styled(format!(" ({}/{})", p.passed, p.total), t.dim()),
+        ]),
+        Line::from(vec![
+            Span::styled(format!(" {} ", study::DUE.get(lang)), t.dim()),
+            Span::styled(
+                format!("{} {}", study::TODAY.get(lang), stats.due.today),
+                t.good(),
+            ),
             Span::styled(
                 format!(
                     " · {} {} · {} {}",
-                    app.tr(Msg::Today),
-                    stats.due.today,
-                    app.tr(Msg::Tomorrow),
-                    stats.due.tomorrow
+                    study::TOMORROW.get(lang),
+                    stats.due.tomorrow,
+                    study::NEXT_7_DAYS.get(lang),
+                    stats
+                        .due
+                        .per_day
+                        .iter()
+                        .take(7)
+                        .map(|d| u64::from(d.due))
+                        .sum::<u64>()
                 ),
                 t.dim(),
             ),
+            Span::styled(format!(" ({})", study::REVIEW_ITEMS.get(lang)), t.dim()),
         ]),
     ];
-    frame.render_widget(Paragraph::new(lines), summary);
+    // The summary wraps; the charts get what is left, and on a screen too
+    // short for them the summary's numbers come first.
+    let width = usize::from(area.width.max(1));
+    let summary_lines: Vec<Line> = lines
+        .iter()
+        .flat_map(|l| {
+            let runs: Vec<Run> = l
+                .spans
+                .iter()
+                .map(|s| Run::new(s.content.to_string(), s.style))
+                .collect();
+            wrap(
+                &runs,
+                width,
+                Run::new(" ", t.text()),
+                Run::new(" ", t.text()),
+            )
+        })
+        .collect();
+    let summary_h = (summary_lines.len() as u16).min(area.height.saturating_sub(bench_h));
+    let charts_h = area.height.saturating_sub(summary_h + bench_h);
+    let [summary, charts, bench] = Layout::vertical([
+        Constraint::Length(summary_h),
+        Constraint::Length(if charts_h >= 5 { charts_h } else { 0 }),
+        Constraint::Fill(1),
+    ])
+    .areas(area);
+    // The memory panel (true retention, calendar, recall) below the charts
+    // when they have room for both.
+    let memory_h = if charts.height >= 15 { 10 } else { 0 };
+    let [charts, memory] =
+        Layout::vertical([Constraint::Fill(1), Constraint::Length(memory_h)]).areas(charts);
+    if memory.height > 0 {
+        crate::tui::memory::draw(frame, memory, app, &state.memory);
+    }
+    let bench = Rect {
+        y: bench.bottom().saturating_sub(bench_h),
+        height: bench_h.min(bench.height),
+        ..bench
+    };
+    frame.render_widget(Paragraph::new(summary_lines), summary);
+    draw_bench(frame, bench, app, state);
+    if charts.height == 0 {
+        return;
+    }
 
     let [forecast, per_day] =
         Layout::horizontal([Constraint::Fill(1), Constraint::Fill(1)]).areas(charts);
@@ -257,7 +335,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
                 .borders(Borders::ALL)
                 .border_style(t.border())
                 .title(Span::styled(
-                    format!(" {} ", app.tr(Msg::DueForecast)),
+                    ellipsize(
+                        &format!(" {} ", app.tr(Msg::DueForecast)),
+                        usize::from(forecast.width.saturating_sub(2)),
+                    ),
                     t.heading(),
                 )),
         )
@@ -278,7 +359,10 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
                 .borders(Borders::ALL)
                 .border_style(t.border())
                 .title(Span::styled(
-                    format!(" {} ", app.tr(Msg::ReviewsPerDay)),
+                    ellipsize(
+                        &format!(" {} ", app.tr(Msg::ReviewsPerDay)),
+                        usize::from(per_day.width.saturating_sub(2)),
+                    ),
                     t.heading(),
                 ))
                 .title_bottom(Span::styled(format!(" Σ {total} "), t.dim())),
@@ -286,12 +370,18 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         .data(&counts)
         .style(t.warn());
     frame.render_widget(spark, per_day);
-
-    draw_bench(frame, bench, app, state);
 }
 
 fn draw_bench(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
     let t = &app.theme;
+    if !state.show_bench {
+        let hint = Line::from(vec![
+            Span::styled(" w ", t.key()),
+            Span::styled(study::SHOW_BENCH.get(&app.lang), t.dim()),
+        ]);
+        frame.render_widget(Paragraph::new(hint), area);
+        return;
+    }
     let rows = state.bench.as_deref();
     let mut block = Block::default()
         .borders(Borders::TOP)

@@ -35,6 +35,7 @@ fn app(lang: &str) -> TestApp {
         ),
         back: text("Torque-free.", "Torque-free."),
         accept: Vec::new(),
+        accept_by_lang: Default::default(),
         explain: None,
         prompt: None,
         tags: vec!["euler".into()],

@@ -15,6 +15,7 @@ mod home;
 mod predict;
 mod reader;
 mod review;
+mod sizes;
 mod stats;
 
 pub fn key(app: &App, code: KeyCode) -> Option<Action> {

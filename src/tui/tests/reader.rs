@@ -97,6 +97,12 @@ fn links_are_followed_and_esc_walks_back() {
     assert_eq!(reader(&app).link, Some(1));
     press(&mut app, KeyCode::Enter);
     assert_eq!(reader(&app).section, 2);
+    // Nothing chosen yet: Enter chooses the link on screen, and only the
+    // second Enter, with the choice shown, follows it.
+    press(&mut app, KeyCode::Enter);
+    assert_eq!(reader(&app).section, 2);
+    assert_eq!(reader(&app).link, Some(0));
+    assert!(render(&app).contains("1/1 → Setup: why the body frame"));
     press(&mut app, KeyCode::Enter);
     assert_eq!(reader(&app).section, 0, "`stability` links back to `setup`");
     press(&mut app, KeyCode::Esc);
@@ -161,4 +167,134 @@ fn snapshots_in_both_languages() {
         press(&mut app, KeyCode::Char('?'));
         insta::assert_snapshot!(format!("reader_help_{lang}"), render(&app));
     }
+}
+
+/// An app on the bundled deck (the real concept map), in the reader at
+/// the concept map.
+fn bundled(lang: &str, size: (u16, u16)) -> TestApp {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("decks");
+    let loaded = crate::deck::load_dir(&dir);
+    let mut app = testkit::app(lang);
+    app.decks = loaded.decks;
+    app.size = size;
+    press(&mut app, KeyCode::Char('r'));
+    while reader(&app).section < 1 {
+        press(&mut app, KeyCode::Right);
+    }
+    app
+}
+
+fn deck_of(app: &TestApp) -> &crate::deck::Deck {
+    &app.decks[reader(app).deck]
+}
+
+#[test]
+fn every_concept_map_link_is_chosen_on_screen_and_opens_what_was_shown() {
+    use crate::tui::screens::reader::{areas, page};
+    for size in [(40, 12), (80, 24), (160, 48)] {
+        for lang in [ENGLISH, HINGLISH] {
+            let mut app = bundled(lang, size);
+            let map = deck_of(&app).sections[1].id.clone();
+            assert_eq!(map, "concept-map");
+            let (_, text, _) = areas(crate::tui::view::body_rect(size));
+            let links = page(&app, deck_of(&app), 1, text.width as usize, None).links;
+            assert!(links.len() >= 16, "{} links", links.len());
+            for i in 0..links.len() {
+                press(&mut app, KeyCode::Tab);
+                let r = reader(&app);
+                assert_eq!(r.link, Some(i));
+                let line = links[i].line;
+                assert!(
+                    line >= r.scroll && line < r.scroll + text.height as usize,
+                    "{size:?} {lang}: link {i} on line {line}, screen from {}",
+                    r.scroll
+                );
+                let screen = render(&app);
+                assert!(
+                    screen.contains(&format!("{}/{} →", i + 1, links.len())),
+                    "{screen}"
+                );
+            }
+            // The fifth: the status line names it, Enter opens it.
+            press(&mut app, KeyCode::Tab);
+            for _ in 0..4 {
+                press(&mut app, KeyCode::Tab);
+            }
+            assert_eq!(reader(&app).link, Some(4));
+            let target = links[4].target.clone();
+            press(&mut app, KeyCode::Enter);
+            let r = reader(&app);
+            assert_eq!(deck_of(&app).sections[r.section].id, target);
+            press(&mut app, KeyCode::Esc);
+            assert_eq!(reader(&app).section, 1);
+        }
+    }
+}
+
+#[test]
+fn a_chosen_link_scrolled_away_is_dropped_and_enter_then_only_chooses() {
+    let mut app = bundled(ENGLISH, (80, 24));
+    press(&mut app, KeyCode::Tab);
+    assert_eq!(reader(&app).link, Some(0));
+    press(&mut app, KeyCode::Char('G'));
+    assert_eq!(reader(&app).link, None, "the first link is off screen now");
+    press(&mut app, KeyCode::Enter);
+    assert_eq!(reader(&app).section, 1, "Enter chose, did not follow");
+    assert!(reader(&app).link.is_some());
+}
+
+#[test]
+fn inline_math_is_never_broken_across_lines() {
+    for width in [40, 44, 52, 80, 100] {
+        let app = bundled(ENGLISH, (width, 30));
+        let screen = render(&app);
+        assert!(
+            screen.contains("diag(I₁, I₂, I₃)"),
+            "width {width}:\n{screen}"
+        );
+    }
+}
+
+#[test]
+fn search_shows_the_match_count_and_marks_the_current_match() {
+    let mut app = bundled(ENGLISH, (100, 30));
+    press(&mut app, KeyCode::Char('/'));
+    type_text(&mut app, "polhode");
+    press(&mut app, KeyCode::Enter);
+    let screen = render(&app);
+    let total = screen
+        .split("match 1/")
+        .nth(1)
+        .and_then(|s| s.split(|c: char| !c.is_ascii_digit()).next())
+        .and_then(|n| n.parse::<usize>().ok());
+    assert!(total.is_some_and(|n| n > 3), "{screen}");
+    assert!(
+        screen.contains('›'),
+        "the current match is marked:\n{screen}"
+    );
+    press(&mut app, KeyCode::Char('n'));
+    assert!(render(&app).contains("match 2/"));
+    press(&mut app, KeyCode::Char('N'));
+    press(&mut app, KeyCode::Char('N'));
+    let n = total.unwrap_or(0);
+    assert!(
+        render(&app).contains(&format!("match {n}/{n}")),
+        "wraps back to the last"
+    );
+}
+
+#[test]
+fn wide_terminals_widen_the_list_and_cut_titles_with_an_ellipsis() {
+    let narrow = render(&bundled(ENGLISH, (80, 24)));
+    assert!(narrow.contains('…'), "{narrow}");
+    let wide = bundled(ENGLISH, (160, 48));
+    let (list, text, _) =
+        crate::tui::screens::reader::areas(crate::tui::view::body_rect(wide.size));
+    assert!(list.width > 30);
+    assert!(text.width <= crate::tui::screens::reader::MEASURE);
+    let screen = render(&wide);
+    assert!(
+        screen.contains("The transport theorem, and deriving Euler’s equations"),
+        "{screen}"
+    );
 }

@@ -9,7 +9,7 @@ use crate::tui::action::Action;
 use crate::tui::i18n::{ENGLISH, HINGLISH};
 use crate::tui::keymap::Context;
 use crate::tui::screens::Screen;
-use crate::tui::screens::review::{Phase, ReviewState};
+use crate::tui::screens::review::{Phase, ReviewState, Source};
 use crate::tui::testkit::{self, TestApp, render};
 
 fn open(lang: &str) -> TestApp {
@@ -330,4 +330,123 @@ fn a_full_disk_keeps_the_rating_on_screen_and_loses_nothing() {
     assert_eq!(log(&app).len(), written + 1);
     assert_eq!(log(&app)[written].0, stuck);
     assert!(app.status.is_none());
+}
+
+/// Reaches the typed card (the fourth item) with Easy on the three before.
+fn to_typed(lang: &str) -> TestApp {
+    let mut app = open(lang);
+    for _ in 0..3 {
+        press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('4')]);
+    }
+    assert_eq!(app.context(), Context::ReviewTyping);
+    app
+}
+
+#[test]
+fn typed_answers_are_compared_in_the_learners_language_first() {
+    // `accept = { en = ["middle", "intermediate"], hi-Latn = ["beech wala", "middle"] }`
+    let mut app = to_typed(HINGLISH);
+    type_text(&mut app, "beech wla");
+    press(&mut app, KeyCode::Enter);
+    let Phase::Back { typed: Some(t), .. } = &review(&app).phase else {
+        panic!("typed answer not checked");
+    };
+    assert_eq!(t.check.nearest.as_deref(), Some("beech wala"));
+    assert_eq!(t.check.suggested, Rating::Hard);
+    let screen = render(&app);
+    assert!(screen.contains("tumne likha: beech wla"), "{screen}");
+    assert!(screen.contains("sahi jawab:  beech wala"), "{screen}");
+
+    // The English word is accepted from a Hinglish learner too.
+    let mut app = to_typed(HINGLISH);
+    type_text(&mut app, "middle");
+    press(&mut app, KeyCode::Enter);
+    let Phase::Back { typed: Some(t), .. } = &review(&app).phase else {
+        panic!("typed answer not checked");
+    };
+    assert_eq!(t.check.suggested, Rating::Good);
+
+    // An English learner is not shown the Hinglish answer as expected.
+    let mut app = to_typed(ENGLISH);
+    type_text(&mut app, "midle");
+    press(&mut app, KeyCode::Enter);
+    let screen = render(&app);
+    assert!(screen.contains("expected:  middle"), "{screen}");
+    assert!(!screen.contains("beech"), "{screen}");
+}
+
+#[test]
+fn while_typing_e_and_u_are_letters_and_not_offered_as_keys() {
+    let mut app = to_typed(ENGLISH);
+    let screen = render(&app);
+    assert!(!screen.contains("u undo"), "{screen}");
+    assert!(!screen.contains("e explanation"), "{screen}");
+    type_text(&mut app, "eu");
+    assert_eq!(review(&app).phase, Phase::Front { input: "eu".into() });
+}
+
+#[test]
+fn the_summary_says_what_comes_next_and_c_crams() {
+    let mut app = open(ENGLISH);
+    // Again on the first (it comes back and is then rated Good: due
+    // again within a day), Easy on the rest.
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('1')]);
+    for _ in 0..2 {
+        press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('4')]);
+    }
+    type_text(&mut app, "middle");
+    press_all(&mut app, &[KeyCode::Enter, KeyCode::Char('4')]);
+    // Good until the lapsed card leaves today's learning steps.
+    for _ in 0..6 {
+        if app.context() == Context::ReviewDone {
+            break;
+        }
+        press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
+    }
+    assert_eq!(app.context(), Context::ReviewDone);
+    let next = review(&app).what_next(&app);
+    assert_eq!(next.new_cards, 0);
+    // Counted from the stored states: due before the end of tomorrow.
+    let r = review(&app);
+    let Source::Daily(q) = &r.source else {
+        panic!("a daily review");
+    };
+    let end = q.day().1 + chrono::TimeDelta::days(1);
+    let expected = r.states.values().filter(|s| s.due < end).count();
+    assert_eq!(next.due_tomorrow, expected);
+    let screen = render(&app);
+    assert!(
+        screen.contains(&format!("due tomorrow: {}", next.due_tomorrow)),
+        "{screen}"
+    );
+    assert!(screen.contains("new cards not yet seen: 0"), "{screen}");
+    assert!(
+        screen.contains("c review everything now (cram)"),
+        "{screen}"
+    );
+    press(&mut app, KeyCode::Char('c'));
+    assert!(review(&app).cram, "c starts a cram of the same deck");
+    assert_eq!(app.context(), Context::ReviewFront);
+    press(&mut app, KeyCode::Esc);
+    assert!(
+        matches!(app.screen(), Screen::Home(_)),
+        "cram replaced the finished review"
+    );
+}
+
+#[test]
+fn nothing_due_says_new_cards_are_left_for_tomorrow() {
+    let mut app = testkit::app(ENGLISH);
+    app.services.config.new_per_day = 0;
+    press(&mut app, KeyCode::Enter);
+    assert_eq!(app.context(), Context::ReviewDone);
+    let next = review(&app).what_next(&app);
+    assert_eq!(next.new_cards, 3);
+    assert!(next.new_limit_reached);
+    let screen = render(&app);
+    assert!(screen.contains("Nothing due"), "{screen}");
+    assert!(
+        screen.contains("new cards not yet seen: 3 · new ones come tomorrow"),
+        "{screen}"
+    );
 }

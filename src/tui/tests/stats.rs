@@ -40,6 +40,16 @@ fn stats_show_todays_reviews_and_the_bench_table() {
             stats.map(|s| s.reviews_per_day.last().map(|d| d.total)),
             Ok(Some(2))
         );
+        // The learner's numbers first; the solvers' table behind `w`.
+        let first = render(&app);
+        assert!(!first.contains("3e-9"), "{first}");
+        assert!(first.contains("w "), "{first}");
+        assert!(
+            first.contains("review items (from 3 cards)") || lang == HINGLISH,
+            "{first}"
+        );
+        assert!(first.contains("Due today") || lang == HINGLISH, "{first}");
+        press(&mut app, KeyCode::Char('w'));
         let text = render(&app);
         assert!(
             text.contains("3e-9 2.00ms"),
@@ -65,7 +75,7 @@ fn stats_show_todays_reviews_and_the_bench_table() {
 fn missing_bench_file_says_how_to_make_one() {
     let mut app = testkit::app(ENGLISH);
     app.services.bench_csv = None;
-    press(&mut app, KeyCode::Char('t'));
+    press_all(&mut app, &[KeyCode::Char('t'), KeyCode::Char('w')]);
     assert!(render(&app).contains("flipcard bench"));
     assert!(read_bench(std::path::Path::new("/nonexistent/work_precision.csv")).is_none());
 }

@@ -4,16 +4,17 @@
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Margin, Rect};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Block, Borders, Paragraph};
+use ratatui::widgets::{Block, Borders, Clear, Paragraph};
 
 use crate::deck::CardKind;
 use crate::sched::typed;
 use crate::sched::{Direction, Rating};
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
-use crate::tui::wrap::{Run, wrap};
+use crate::tui::i18n::study;
+use crate::tui::wrap::{Run, columns, ellipsize, pack, wrap, wrap_plain};
 
-use super::{Phase, ReviewState, Source};
+use super::{Phase, ReviewState};
 
 fn rating_label(app: &App, r: Rating) -> &'static str {
     match r {
@@ -34,48 +35,55 @@ pub fn fmt_duration(ms: i64) -> String {
     }
 }
 
-pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
-    let t = &app.theme;
-    let Some(deck) = app.decks.get(state.deck) else {
-        return;
-    };
-    let [progress, rest] =
-        Layout::vertical([Constraint::Length(1), Constraint::Fill(1)]).areas(area);
-    frame.render_widget(
-        Paragraph::new(Span::styled(
-            format!(" {}", state.progress(app)),
-            t.heading(),
-        )),
-        progress,
-    );
+/// The widest a card runs, text columns: long lines are hard to read on a
+/// wide terminal.
+pub const MEASURE: u16 = 80;
 
-    if state.phase == Phase::Done {
-        draw_summary(frame, rest, app, state);
-        return;
+/// The card's outer area in the screen's body below the progress line:
+/// centred, at most [`MEASURE`] columns of text wide.
+pub fn card_width(rest: Rect) -> Rect {
+    let w = rest.width.min(MEASURE + 4);
+    Rect {
+        x: rest.x + (rest.width - w) / 2,
+        width: w,
+        ..rest
     }
-    let Some((card, direction)) = state.card(deck) else {
-        return;
+}
+
+/// The card's lines at a text width.
+pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let Some(deck) = app.decks.get(state.deck) else {
+        return Vec::new();
     };
-    // Borders and a column of margin on each side.
-    let width = rest.width.saturating_sub(4) as usize;
-    let runs = |runs: Vec<Run>, style| wrap(&runs, width, Run::new("", style), Run::new("", style));
-    let para = |text: &str, style| runs(vec![Run::new(crate::text::render(text), style)], style);
+    let Some((card, direction)) = state.card(deck) else {
+        return Vec::new();
+    };
+    let para = |text: &str, style| {
+        wrap(
+            &[Run::new(crate::text::render(text), style)],
+            width,
+            Run::new("", style),
+            Run::new("", style),
+        )
+    };
     // A cloze text: the part asked about stands out, the rest is plain.
     let cloze = |segs: Vec<crate::deck::cloze::Segment>, plain, asked| {
-        let r = segs
+        let r: Vec<Run> = segs
             .into_iter()
             .map(|s| {
                 let style = if s.asked { asked } else { plain };
                 Run::new(crate::text::render(&s.text), style)
             })
             .collect();
-        runs(r, plain)
+        wrap(&r, width, Run::new("", plain), Run::new("", plain))
     };
     let (mut lines, answer) = match direction {
-        Direction::Forward => (para(card.front.get(&app.lang), t.strong()), &card.back),
-        Direction::Backward => (para(card.back.get(&app.lang), t.strong()), &card.front),
+        Direction::Forward => (para(card.front.get(lang), t.strong()), &card.back),
+        Direction::Backward => (para(card.back.get(lang), t.strong()), &card.front),
         Direction::Cloze(n) => {
-            let text = card.front.get(&app.lang);
+            let text = card.front.get(lang);
             let shown = if matches!(state.phase, Phase::Back { .. }) {
                 crate::deck::cloze::back(text, n)
             } else {
@@ -89,39 +97,27 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
         Phase::Front { input } => {
             if card.kind == CardKind::Typed {
                 lines.push(Line::styled(app.tr(Msg::TypeAnswer), t.dim()));
-                lines.push(Line::from(vec![
-                    Span::styled("> ", t.key()),
-                    Span::styled(format!("{input}▏"), t.strong()),
-                ]));
+                lines.extend(wrap(
+                    &[Run::new(format!("{input}▏"), t.strong())],
+                    width,
+                    Run::new("> ", t.key()),
+                    Run::new("  ", t.key()),
+                ));
             }
         }
         Phase::Back { typed, .. } => {
             lines.push(Line::styled("─".repeat(width.min(40)), t.dim()));
             // A cloze card's back is optional notes under the revealed text.
-            if !answer.get(&app.lang).is_empty() {
-                lines.extend(para(answer.get(&app.lang), t.text()));
+            if !answer.get(lang).is_empty() {
+                lines.extend(para(answer.get(lang), t.text()));
             }
             if let Some(ta) = typed {
                 lines.push(Line::default());
-                let (mark, style) = match ta.check.verdict {
-                    typed::Verdict::Exact => ("✓", t.good()),
-                    typed::Verdict::Close => ("≈", t.warn()),
-                    typed::Verdict::Wrong => ("✗", t.bad()),
-                };
-                lines.push(Line::from(vec![
-                    Span::styled(format!("{mark} {}: ", app.tr(Msg::YouTyped)), style),
-                    Span::raw(ta.text.clone()),
-                ]));
-                if let Some(n) = &ta.check.nearest {
-                    lines.push(Line::from(vec![
-                        Span::styled(format!("  {}: ", app.tr(Msg::Accepted)), t.dim()),
-                        Span::raw(n.clone()),
-                    ]));
-                }
+                lines.extend(typed_lines(app, ta, width));
             }
             if let Some(p) = card.prompt.as_ref().and_then(|id| deck.prompt(id)) {
                 lines.push(Line::default());
-                let q = crate::text::render(p.question.get(&app.lang));
+                let q = crate::text::render(p.question.get(lang));
                 lines.extend(wrap(
                     &[
                         Run::new(format!("{}: ", app.tr(Msg::TryPrompt)), t.heading()),
@@ -138,119 +134,301 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     while lines.last().is_some_and(|l| l.spans.is_empty()) {
         lines.pop();
     }
-    // The card is as tall as its text (a blank line above and below),
-    // with the buttons right under it.
-    let card_h = (lines.len() as u16 + 4).min(rest.height.saturating_sub(2));
-    let [card_area, buttons, hints] = Layout::vertical([
+    lines
+}
+
+/// What was typed, above what was expected, aligned so that the two can
+/// be compared letter by letter.
+fn typed_lines(app: &App, ta: &super::TypedAnswer, width: usize) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let (mark, style) = match ta.check.verdict {
+        typed::Verdict::Exact => ("✓", t.good()),
+        typed::Verdict::Close => ("≈", t.warn()),
+        typed::Verdict::Wrong => ("✗", t.bad()),
+    };
+    let typed_label = study::YOU_TYPED.get(lang);
+    let expected_label = study::EXPECTED.get(lang);
+    let label_w = columns(typed_label).max(columns(expected_label));
+    let pad = |label: &str| format!("{label}:{} ", " ".repeat(label_w - columns(label)));
+    let mut out = wrap(
+        &[Run::new(ta.text.clone(), t.strong())],
+        width,
+        Run::new(format!("{mark} {}", pad(typed_label)), style),
+        Run::new(" ".repeat(label_w + 4), style),
+    );
+    if let Some(n) = &ta.check.nearest
+        && ta.check.verdict != typed::Verdict::Exact
+    {
+        out.extend(wrap(
+            &[Run::new(n.clone(), t.good())],
+            width,
+            Run::new(format!("  {}", pad(expected_label)), t.dim()),
+            Run::new(" ".repeat(label_w + 4), t.dim()),
+        ));
+    }
+    out
+}
+
+/// Where the card, its buttons and the hints go below the progress line.
+pub struct CardLayout {
+    pub lines: Vec<Line<'static>>,
+    pub buttons: Vec<Line<'static>>,
+    pub card_area: Rect,
+    pub button_area: Rect,
+    pub hints: Rect,
+    /// Blank lines above and below the text inside the border.
+    pub margin: u16,
+    /// Lines of text the card shows at once.
+    pub room: usize,
+}
+
+/// The card is as tall as its text (with a blank line above and below when
+/// there is room), the buttons right under it; a card taller than the
+/// screen scrolls (j/k), saying so on its border.
+pub fn layout(app: &App, state: &ReviewState, kind: CardKind, rest: Rect) -> CardLayout {
+    let outer = card_width(rest);
+    // Borders and a column of margin on each side.
+    let width = outer.width.saturating_sub(4) as usize;
+    let lines = card_lines(app, state, width);
+    let buttons = button_lines(app, state, kind, rest.width);
+    let below = (buttons.len() as u16).max(1) + 1;
+    let margin = if rest.height < 16 { 0 } else { 1 };
+    let card_h = (lines.len() as u16 + 2 + 2 * margin).min(rest.height.saturating_sub(below));
+    let [card_area, button_area, hints] = Layout::vertical([
         Constraint::Length(card_h),
-        Constraint::Length(1),
+        Constraint::Length(below - 1),
         Constraint::Length(1),
     ])
     .areas(rest);
-    let block = Block::default()
+    let card_area = Rect {
+        x: outer.x,
+        width: outer.width,
+        ..card_area
+    };
+    let room = card_h.saturating_sub(2 + 2 * margin).max(1) as usize;
+    CardLayout {
+        lines,
+        buttons,
+        card_area,
+        button_area,
+        hints,
+        margin,
+        room,
+    }
+}
+
+pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let Some(deck) = app.decks.get(state.deck) else {
+        return;
+    };
+    let [progress, rest] =
+        Layout::vertical([Constraint::Length(1), Constraint::Fill(1)]).areas(area);
+    frame.render_widget(
+        Paragraph::new(Span::styled(
+            ellipsize(&format!(" {}", state.progress(app)), progress.width.into()),
+            t.heading(),
+        )),
+        progress,
+    );
+
+    if state.phase == Phase::Done {
+        draw_summary(frame, rest, app, state);
+        return;
+    }
+    let Some((card, _)) = state.card(deck) else {
+        return;
+    };
+    let CardLayout {
+        lines,
+        buttons,
+        card_area,
+        button_area,
+        hints,
+        margin,
+        room,
+    } = layout(app, state, card.kind, rest);
+    let max_scroll = lines.len().saturating_sub(room);
+    let scroll = state.scroll.min(max_scroll);
+    let typing = state.typed && matches!(state.phase, Phase::Front { .. });
+    let mut block = Block::default()
         .borders(Borders::ALL)
         .border_style(t.border());
-    let inner = block.inner(card_area).inner(Margin::new(1, 1));
+    if scroll > 0 {
+        let up = if typing {
+            "↑"
+        } else {
+            study::MORE_ABOVE.get(lang)
+        };
+        block = block.title_top(Line::styled(format!(" {up} "), t.key()).right_aligned());
+    }
+    if scroll < max_scroll {
+        let down = if typing {
+            study::MORE_BELOW_TYPING.get(lang)
+        } else {
+            study::MORE_BELOW.get(lang)
+        };
+        block = block.title_bottom(Line::styled(format!(" {down} "), t.key()).right_aligned());
+    }
+    let inner = block.inner(card_area).inner(Margin::new(1, margin));
     frame.render_widget(block, card_area);
-    frame.render_widget(Paragraph::new(lines), inner);
+    let shown: Vec<Line> = lines.into_iter().skip(scroll).take(room).collect();
+    frame.render_widget(Paragraph::new(shown), inner);
+    frame.render_widget(Paragraph::new(buttons), button_area);
 
-    // Rating buttons with the interval each would give.
-    if let Phase::Back { typed, previews } = &state.phase {
-        let suggested = typed.as_ref().map(|t| t.check.suggested);
-        let mut spans = vec![Span::raw(" ")];
-        for (i, r) in Rating::ALL.into_iter().enumerate() {
-            let interval = previews
-                .as_ref()
-                .map(|p| format!(" {}", p[i].label))
-                .unwrap_or_default();
-            let mut style = t.rating(i);
-            if suggested == Some(r) {
-                style = style.patch(t.selected());
-            }
-            spans.push(Span::styled(format!("{} ", i + 1), t.key()));
-            spans.push(Span::styled(
-                format!("{}{interval}", rating_label(app, r)),
-                style,
-            ));
-            spans.push(Span::raw("   "));
-        }
-        if let Some(r) = suggested {
-            spans.push(Span::styled(
-                format!("({}: {})", app.tr(Msg::Suggested), rating_label(app, r)),
+    // Keys that type letters while a typed card's answer is edited are
+    // not offered there.
+    let mut h = vec![Span::raw(" ")];
+    if !typing {
+        if card.explain.is_some() {
+            h.push(Span::styled("e ", t.key()));
+            h.push(Span::styled(
+                format!("{}  ", app.tr(Msg::Explanation)),
                 t.dim(),
             ));
         }
-        frame.render_widget(Paragraph::new(Line::from(spans)), buttons);
-    } else if card.kind != CardKind::Typed {
-        frame.render_widget(
-            Paragraph::new(Line::from(vec![
-                Span::styled(" Space ", t.key()),
-                Span::styled(app.tr(Msg::ShowAnswer), t.dim()),
-            ])),
-            buttons,
-        );
-    } else {
-        frame.render_widget(
-            Paragraph::new(Line::from(vec![
-                Span::styled(" Enter ", t.key()),
-                Span::styled(app.tr(Msg::ShowAnswer), t.dim()),
-            ])),
-            buttons,
-        );
+        h.push(Span::styled("u ", t.key()));
+        h.push(Span::styled(app.tr(Msg::Undo), t.dim()));
     }
-    let mut h = vec![Span::raw(" ")];
-    if card.explain.is_some() {
-        h.push(Span::styled("e ", t.key()));
-        h.push(Span::styled(
-            format!("{}  ", app.tr(Msg::Explanation)),
-            t.dim(),
-        ));
-    }
-    h.push(Span::styled("u ", t.key()));
-    h.push(Span::styled(app.tr(Msg::Undo), t.dim()));
     frame.render_widget(Paragraph::new(Line::from(h)), hints);
 }
 
-fn draw_summary(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
+/// The rating buttons with the interval each would give (or the key that
+/// shows the answer), wrapped onto a second line when the screen is narrow.
+fn button_lines(app: &App, state: &ReviewState, kind: CardKind, width: u16) -> Vec<Line<'static>> {
     let t = &app.theme;
+    let Phase::Back { typed, previews } = &state.phase else {
+        let (key, what) = if kind == CardKind::Typed {
+            (" Enter ", study::CHECK.get(&app.lang))
+        } else {
+            (" Space ", app.tr(Msg::ShowAnswer))
+        };
+        return vec![Line::from(vec![
+            Span::styled(key, t.key()),
+            Span::styled(what, t.dim()),
+        ])];
+    };
+    let suggested = typed.as_ref().map(|t| t.check.suggested);
+    let mut groups: Vec<Vec<Span<'static>>> = Vec::new();
+    for (i, r) in Rating::ALL.into_iter().enumerate() {
+        let interval = previews
+            .as_ref()
+            .map(|p| format!(" {}", p[i].label))
+            .unwrap_or_default();
+        let mut style = t.rating(i);
+        let mut label = format!("{}{interval}", rating_label(app, r));
+        if suggested == Some(r) {
+            style = style.patch(t.selected());
+            // Marked by more than the colour (NO_COLOR).
+            label = format!("{label} ◂");
+        }
+        groups.push(vec![
+            Span::styled(format!("{} ", i + 1), t.key()),
+            Span::styled(label, style),
+        ]);
+    }
+    if let Some(r) = suggested {
+        groups.push(vec![Span::styled(
+            format!("({}: {})", app.tr(Msg::Suggested), rating_label(app, r)),
+            t.dim(),
+        )]);
+    }
+    pack(groups, usize::from(width), 3)
+}
+
+/// The end of a session: what was done, and what comes next.
+fn draw_summary(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
+    let inner = summary_area(area);
+    let lines = summary_lines(app, state, usize::from(inner.width.max(1)));
+    let room = inner.height as usize;
+    let max = lines.len().saturating_sub(room);
+    let scroll = state.scroll.min(max);
+    let shown: Vec<Line> = lines.into_iter().skip(scroll).take(room).collect();
+    frame.render_widget(Paragraph::new(shown), inner);
+    if scroll < max {
+        let more = study::MORE_BELOW.get(&app.lang);
+        let w = columns(more) as u16;
+        let at = Rect::new(
+            inner.right().saturating_sub(w),
+            inner.bottom().saturating_sub(1),
+            w.min(inner.width),
+            1,
+        );
+        frame.render_widget(Clear, at);
+        frame.render_widget(Paragraph::new(Span::styled(more, app.theme.key())), at);
+    }
+}
+
+/// Where the summary's text goes, below the progress line.
+pub fn summary_area(rest: Rect) -> Rect {
+    rest.inner(Margin::new(2, 1))
+}
+
+/// The summary's lines at a width.
+pub fn summary_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
     let s = state.session;
     let mut lines = Vec::new();
     if s.reviewed == 0 {
-        lines.push(Line::styled(app.tr(Msg::NothingDue), t.heading()));
+        lines.extend(wrap_plain(app.tr(Msg::NothingDue), t.heading(), width));
     } else {
         lines.push(Line::styled(app.tr(Msg::SessionDone), t.heading()));
         lines.push(Line::default());
         let rate = 100.0 * f64::from(s.again) / f64::from(s.reviewed);
-        lines.push(Line::from(format!(
-            "{} {} · {} {} · {} {:.0}%",
-            s.reviewed,
-            app.tr(Msg::Reviewed),
-            app.tr(Msg::Time),
-            fmt_duration(app.services.stopwatch.elapsed_ms(state.started)),
-            app.tr(Msg::AgainRate),
-            rate
-        )));
+        lines.extend(wrap_plain(
+            &format!(
+                "{} {} · {} {} · {} {:.0}%",
+                s.reviewed,
+                app.tr(Msg::Reviewed),
+                app.tr(Msg::Time),
+                fmt_duration(app.services.stopwatch.elapsed_ms(state.started)),
+                app.tr(Msg::AgainRate),
+                rate
+            ),
+            t.text(),
+            width,
+        ));
     }
-    if let Source::Daily(q) = &state.source
-        && let Some(due) = q.next_learning_due()
-    {
-        let wait = due - app.services.now();
-        lines.push(Line::default());
-        lines.push(Line::styled(
-            format!(
+    lines.push(Line::default());
+    let next = state.what_next(app);
+    if let Some(wait) = next.learning_in {
+        lines.extend(wrap_plain(
+            &format!(
                 "{} {} → {}",
                 app.tr(Msg::Learning),
                 app.tr(Msg::Due),
                 crate::sched::format_interval(wait)
             ),
-            t.dim(),
+            t.text(),
+            width,
         ));
     }
+    if !state.cram {
+        lines.extend(wrap_plain(
+            &format!("{}: {}", study::DUE_TOMORROW.get(lang), next.due_tomorrow),
+            t.text(),
+            width,
+        ));
+        let mut new = format!("{}: {}", study::NEW_LEFT.get(lang), next.new_cards);
+        if next.new_cards > 0 && next.new_limit_reached {
+            new.push_str(&format!(" · {}", study::NEW_TOMORROW.get(lang)));
+        }
+        lines.extend(wrap_plain(&new, t.text(), width));
+    }
     lines.push(Line::default());
-    lines.push(Line::from(vec![
-        Span::styled("Enter ", t.key()),
-        Span::styled(app.tr(Msg::Back), t.dim()),
-    ]));
-    let inner = area.inner(Margin::new(2, 1));
-    frame.render_widget(Paragraph::new(lines), inner);
+    for (key, what) in [
+        ("c", study::CRAM_NOW.get(lang)),
+        ("Enter", app.tr(Msg::Back)),
+    ] {
+        lines.extend(wrap(
+            &[Run::new(what, t.dim())],
+            width,
+            Run::new(format!("{key} "), t.key()),
+            Run::new(" ".repeat(columns(key) + 1), t.dim()),
+        ));
+    }
+    lines
 }

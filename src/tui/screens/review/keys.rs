@@ -1,6 +1,6 @@
 //! The review screen's keys, one table per mode.
 
-use crossterm::event::KeyCode::{Backspace, Char, Enter, Esc};
+use crossterm::event::KeyCode::{Backspace, Char, Down, Enter, Esc, Up};
 
 use crate::sched::Rating;
 use crate::tui::action::Action;
@@ -37,6 +37,25 @@ const BURY: Binding = Binding::new(
     &[(Char('b'), Action::Bury)],
 );
 
+/// A card taller than the screen scrolls.
+const SCROLL: Binding = Binding::new(
+    "j k ↑↓",
+    Words("scroll the card", "card scroll karo"),
+    &[
+        (Down, Action::Down),
+        (Up, Action::Up),
+        (Char('j'), Action::Down),
+        (Char('k'), Action::Up),
+    ],
+);
+
+/// While typing, j and k are letters.
+const SCROLL_TYPING: Binding = Binding::new(
+    "↑↓",
+    Words("scroll the card", "card scroll karo"),
+    &[(Down, Action::Down), (Up, Action::Up)],
+);
+
 const END_SESSION: Binding = Binding::new(
     "Esc q",
     Words("end the session", "session khatam karo"),
@@ -50,6 +69,7 @@ pub const FRONT_KEYS: &[Binding] = &[
         Words("show the answer", "jawab dikhao"),
         &[(Char(' '), Action::Reveal), (Enter, Action::Reveal)],
     ),
+    SCROLL,
     EXPLAIN,
     SUSPEND,
     BURY,
@@ -70,6 +90,7 @@ pub const TYPING_KEYS: &[Binding] = &[
         Words("delete a character", "ek akshar mitao"),
         &[(Backspace, Action::Backspace)],
     ),
+    SCROLL_TYPING,
     Binding::new(
         "Esc",
         Words("end the session", "session khatam karo"),
@@ -115,12 +136,19 @@ pub const BACK_KEYS: &[Binding] = &[
     ),
     SUSPEND,
     BURY,
+    SCROLL,
     UNDO,
     END_SESSION,
 ];
 
 /// Nothing left to review: the session summary.
 pub const DONE_KEYS: &[Binding] = &[
+    Binding::new(
+        "c",
+        Words("cram: review everything now", "cram: sab abhi review karo"),
+        &[(Char('c'), Action::OpenCram)],
+    ),
+    SCROLL,
     UNDO,
     Binding::new(
         "Esc q Enter",

@@ -78,6 +78,21 @@ pub struct ReviewState {
     pub filtered: bool,
     /// The card shown is a typed card (its front takes text).
     pub typed: bool,
+    /// First line of the card shown, when it is taller than the screen.
+    pub scroll: usize,
+}
+
+/// What comes after a session, for its summary.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct WhatNext {
+    /// Review items due by the end of the next study day.
+    pub due_tomorrow: usize,
+    /// Cards with a direction never reviewed.
+    pub new_cards: usize,
+    /// Today's limit of new cards is used up (more come tomorrow).
+    pub new_limit_reached: bool,
+    /// When the next learning step of today is due.
+    pub learning_in: Option<chrono::TimeDelta>,
 }
 
 impl ReviewState {
@@ -116,6 +131,7 @@ impl ReviewState {
             aside: Vec::new(),
             filtered: true,
             typed: false,
+            scroll: 0,
         };
         state.next_card(app);
         Ok(state)
@@ -157,6 +173,7 @@ impl ReviewState {
             aside: Vec::new(),
             filtered: false,
             typed: false,
+            scroll: 0,
         };
         state.next_card(app);
         Ok(state)
@@ -192,6 +209,7 @@ impl ReviewState {
     }
 
     pub(super) fn show(&mut self, app: &App, key: Option<ItemKey>) {
+        self.scroll = 0;
         match key {
             Some(key) => {
                 self.typed = app
@@ -216,6 +234,49 @@ impl ReviewState {
     pub fn card<'a>(&self, deck: &'a Deck) -> Option<(&'a Card, Direction)> {
         let (key, _) = self.current.as_ref()?;
         deck.card(&key.card).map(|c| (c, key.direction))
+    }
+
+    /// Due tomorrow, new cards left, the next learning step: what the
+    /// summary says comes next.
+    pub fn what_next(&self, app: &App) -> WhatNext {
+        let now = app.services.now();
+        let mut next = WhatNext {
+            due_tomorrow: 0,
+            new_cards: 0,
+            new_limit_reached: false,
+            learning_in: None,
+        };
+        let Some(deck) = app.decks.get(self.deck) else {
+            return next;
+        };
+        let day_end = match &self.source {
+            Source::Daily(q) => q.day().1,
+            Source::Cram(_) | Source::Plan(_) => now + chrono::TimeDelta::days(1),
+        };
+        let tomorrow_end = day_end + chrono::TimeDelta::days(1);
+        let mut new_cards: Vec<&str> = Vec::new();
+        for key in crate::sched::deck_items(deck) {
+            match self.states.get(&key) {
+                Some(s) if s.state != crate::sched::State::New => {
+                    if s.due < tomorrow_end && s.due >= now {
+                        next.due_tomorrow += 1;
+                    }
+                }
+                _ => {
+                    if !new_cards.contains(&key.card.as_str())
+                        && let Some(c) = deck.card(&key.card)
+                    {
+                        new_cards.push(c.id.as_str());
+                    }
+                }
+            }
+        }
+        next.new_cards = new_cards.len();
+        if let Source::Daily(q) = &self.source {
+            next.new_limit_reached = q.counts().new == 0 && next.new_cards > 0;
+            next.learning_in = q.next_learning_due().map(|due| due - now);
+        }
+        next
     }
 
     /// "12 due · 3 learning · 5 new", or the cards left when cramming.
@@ -280,6 +341,20 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
         (_, Action::Undo) if state.rated.is_empty() && !state.marks.is_empty() => {
             status::undo(app, state)
         }
+        // The drawing clamps it to the card's length.
+        (_, Action::Down) => {
+            state.scroll = state.scroll.saturating_add(1).min(scroll_max(app, state))
+        }
+        (_, Action::Up) => state.scroll = state.scroll.saturating_sub(1),
+        (Phase::Done, Action::OpenCram) => {
+            return match ReviewState::open(app, state.deck, true) {
+                Ok(r) => Nav::Replace(super::Screen::Review(Box::new(r))),
+                Err(e) => {
+                    app.error(e);
+                    Nav::Stay
+                }
+            };
+        }
         (_, Action::Undo) => undo(app, state),
         (Phase::Front { .. } | Phase::Back { .. }, Action::Suspend | Action::Bury) => {
             status::mark(app, state, action)
@@ -313,7 +388,7 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
         (Phase::Front { input }, Some((card, _))) if card.kind == CardKind::Typed => {
             Some(TypedAnswer {
                 text: input.clone(),
-                check: typed::check(input, &card.accept),
+                check: typed::check(input, &card.accepted(&app.lang)),
             })
         }
         _ => None,
@@ -326,6 +401,29 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
         )
     });
     state.phase = Phase::Back { typed, previews };
+    state.scroll = 0;
+}
+
+/// How far the card (or the summary) can scroll at the app's size.
+fn scroll_max(app: &App, state: &ReviewState) -> usize {
+    let body = crate::tui::view::body_rect(app.size);
+    // The progress line above; the buttons (up to two lines) and the hints
+    // below; the card's borders and margins.
+    let rest_h = body.height.saturating_sub(1);
+    let rest = ratatui::layout::Rect::new(0, 0, body.width, rest_h);
+    if state.phase == Phase::Done {
+        let inner = draw::summary_area(rest);
+        let lines = draw::summary_lines(app, state, usize::from(inner.width.max(1)));
+        return lines.len().saturating_sub(inner.height as usize);
+    }
+    let kind = app
+        .decks
+        .get(state.deck)
+        .and_then(|d| state.card(d))
+        .map_or(CardKind::Basic, |(c, _)| c.kind);
+    let l = draw::layout(app, state, kind, rest);
+    let (lines, room) = (l.lines.len(), l.room);
+    lines.saturating_sub(room)
 }
 
 fn rate(app: &mut App, state: &mut ReviewState, rating: Rating) {
