@@ -7,14 +7,18 @@ pub mod bench;
 pub mod check;
 mod common;
 pub mod db;
+pub mod decks;
 pub mod export;
 pub mod import;
+pub mod library;
 pub mod output;
 pub mod paths;
+pub mod report;
 pub mod review;
 pub mod sim;
 pub mod sim_scene;
 pub mod stats;
+pub mod sync;
 
 use std::process::ExitCode;
 
@@ -38,6 +42,9 @@ pub fn run(cli: &Cli) -> ExitCode {
         Some(Command::Export(args)) => export::run(cli, args),
         Some(Command::Import(args)) => import::run(cli, args),
         Some(Command::Db(args)) => db::run(cli, args),
+        Some(Command::Decks(args)) => decks::run(cli, args),
+        Some(Command::Report(args)) => report::run(cli, args),
+        Some(Command::Sync(args)) => sync::run(cli, args),
     };
     // A failed write to stdout comes first: whatever error the handler
     // returned is then only its consequence.

@@ -3,7 +3,6 @@
 //! store, the decks) is opened here, before the terminal switches to raw
 //! mode, so errors print as ordinary lines.
 
-use std::collections::HashSet;
 use std::process::ExitCode;
 
 use crate::cmd::args::{Cli, ReviewArgs};
@@ -20,19 +19,19 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let config = Config::load(config_path.as_deref())?;
     let data_dir = paths::data_dir(cli.data_dir.clone())?;
     let store = Store::open(&data_dir)?;
-    let deck_dir = cli.decks.clone().unwrap_or_else(paths::bundled_decks);
-    let loaded = crate::deck::load_dir(&deck_dir);
+    let sources = crate::cmd::library::sources(cli, &config);
+    let library = crate::cmd::library::load_with(sources);
+    let failed = library.failed();
     let deck_load = DeckLoad {
-        from: Some(deck_dir.clone()),
-        errors: loaded.errors(),
-        failed_files: loaded
-            .diagnostics
+        from: None,
+        errors: library.loaded.errors(),
+        failed_files: failed.len(),
+        failed: failed
             .iter()
-            .filter(|d| d.is_error())
-            .map(|d| &d.path)
-            .collect::<HashSet<_>>()
-            .len(),
+            .map(|f| f.path.display().to_string())
+            .collect(),
     };
+    let loaded = library.loaded;
     let lang = config.language.clone();
     let mut services = Services::new(clock, config, config_path, DayZone::Local, store);
     services.bench_csv = paths::bench_csv();

@@ -50,6 +50,12 @@ pub struct Config {
     pub day_starts_at: NaiveTime,
     /// Language of explanations and of the interface.
     pub language: String,
+    /// Folders of decks opened besides the bundled ones and the library,
+    /// relative ones taken from the config file's folder.
+    pub deck_paths: Vec<PathBuf>,
+    /// A folder another tool keeps in step between the learner's machines
+    /// (`flipcard sync`), relative to the config file's folder.
+    pub sync_dir: Option<PathBuf>,
 }
 
 impl Default for Config {
@@ -63,6 +69,8 @@ impl Default for Config {
             reviews_per_day: 200,
             day_starts_at: NaiveTime::from_hms_opt(4, 0, 0).unwrap_or(NaiveTime::MIN),
             language: "en".to_string(),
+            deck_paths: Vec::new(),
+            sync_dir: None,
         }
     }
 }
@@ -107,6 +115,8 @@ struct RawConfig {
     reviews_per_day: Option<Spanned<i64>>,
     day_starts_at: Option<Spanned<String>>,
     language: Option<Spanned<String>>,
+    deck_paths: Option<Vec<Spanned<String>>>,
+    sync_dir: Option<Spanned<String>>,
 }
 
 impl Config {
@@ -218,6 +228,27 @@ impl Config {
                 ));
             }
             config.language = lang.clone();
+        }
+        let base = path.parent().unwrap_or(Path::new(""));
+        for (i, p) in raw.deck_paths.iter().flatten().enumerate() {
+            if p.get_ref().trim().is_empty() {
+                return Err(invalid(
+                    &format!("deck_paths[{i}]"),
+                    p.span(),
+                    "an empty path names no folder".to_string(),
+                ));
+            }
+            config.deck_paths.push(base.join(p.get_ref()));
+        }
+        if let Some(d) = raw.sync_dir {
+            if d.get_ref().trim().is_empty() {
+                return Err(invalid(
+                    "sync_dir",
+                    d.span(),
+                    "an empty path names no folder".to_string(),
+                ));
+            }
+            config.sync_dir = Some(base.join(d.get_ref()));
         }
         Ok(config)
     }

@@ -345,3 +345,16 @@ pub fn measure(m: crate::deck::Measure) -> Words {
 pub fn other(lang: &str) -> &'static str {
     if lang == HINGLISH { ENGLISH } else { HINGLISH }
 }
+
+/// The home screen's line when some decks opened and others did not: which
+/// deck files were left out and the command that shows why.
+pub fn decks_left_out(lang: &str, files: &[String]) -> String {
+    let list = files.join(", ");
+    if lang == HINGLISH {
+        format!(
+            "Galtiyon ki wajah se chhode gaye: {list}. Wajah dekhne ke liye `flipcard decks` chalao."
+        )
+    } else {
+        format!("Left out with errors: {list}. Run `flipcard decks` to see why.")
+    }
+}

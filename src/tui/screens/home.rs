@@ -159,12 +159,23 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
         frame.render_widget(p, area);
         return;
     }
-    let [table_area, detail_area, keys_area] = Layout::vertical([
+    let warn_rows = u16::from(!app.deck_load.failed.is_empty()) * 2;
+    let [warn_area, table_area, detail_area, keys_area] = Layout::vertical([
+        Constraint::Length(warn_rows),
         Constraint::Fill(1),
         Constraint::Length(4),
         Constraint::Length(1),
     ])
     .areas(area);
+    if warn_rows > 0 {
+        let p = Paragraph::new(crate::tui::i18n::decks_left_out(
+            &app.lang,
+            &app.deck_load.failed,
+        ))
+        .style(t.warn())
+        .wrap(Wrap { trim: true });
+        frame.render_widget(p, warn_area);
+    }
     let mut keys = vec![Span::raw(" ")];
     for (k, what) in [
         ("Enter", Msg::KeyReview),
