@@ -157,7 +157,7 @@ impl Drop for Tmux {
 }
 
 fn bundled_deck() -> Deck {
-    let loaded = flipcard::deck::load_dir(&flipcard::cmd::paths::bundled_decks());
+    let loaded = flipcard::deck::bundled::load();
     loaded
         .decks
         .into_iter()

@@ -7,6 +7,7 @@
 
 pub mod attempt;
 pub mod backup;
+pub mod class;
 mod codec;
 pub mod day;
 pub mod db;
