@@ -12,6 +12,7 @@ mod check_cli;
 mod check_files;
 mod check_robustness;
 mod check_sim_agree;
+mod class_report;
 mod cli_output;
 mod deck_mutations;
 mod deck_physics;
