@@ -17,6 +17,7 @@ mod cli_output;
 mod deck_mutations;
 mod deck_physics;
 mod ode_solvers;
+mod portable;
 mod sched_golden;
 mod schemas;
 mod sim_cli;

@@ -30,7 +30,7 @@ fn tmux_available() -> bool {
 /// output directory separately, so building the release profile from
 /// inside `cargo test` (which holds the test profile's lock) cannot
 /// deadlock.
-fn release_binary() -> &'static Path {
+pub(crate) fn release_binary() -> &'static Path {
     static BIN: OnceLock<PathBuf> = OnceLock::new();
     BIN.get_or_init(|| {
         let manifest = env!("CARGO_MANIFEST_DIR");
