@@ -14,6 +14,7 @@ mod check_robustness;
 mod check_sim_agree;
 mod class_report;
 mod cli_output;
+mod deck_library;
 mod deck_mutations;
 mod deck_physics;
 mod ode_solvers;
