@@ -77,6 +77,19 @@ pub enum MethodArg {
     Rk4,
 }
 
+impl From<MethodArg> for crate::sim::Kind {
+    fn from(m: MethodArg) -> Self {
+        use crate::sim::Kind;
+        match m {
+            MethodArg::Exact => Kind::Exact,
+            MethodArg::Adaptive => Kind::Adaptive,
+            MethodArg::Splitting => Kind::Splitting,
+            MethodArg::Splitting4 => Kind::Splitting4,
+            MethodArg::Rk4 => Kind::Rk4,
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum SimFormat {
     Csv,

@@ -29,7 +29,7 @@ pub fn run(_cli: &Cli, args: &BenchArgs) -> anyhow::Result<ExitCode> {
             "bench [{k}/{total}] case {} {} {}: {what}",
             row.case,
             row.method.name(),
-            bench::setting(&row.method)
+            row.method.setting()
         );
     })?;
     // The files first: they are what the sweep is for, and a reader of the

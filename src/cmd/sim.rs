@@ -10,9 +10,9 @@ use anyhow::{Context, anyhow, bail};
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::cmd::args::{Cli, MethodArg, SimArgs, SimFormat};
+use crate::cmd::args::{Cli, SimArgs, SimFormat};
 use crate::sim::rigid::model::{self, Body, State};
-use crate::sim::solvers::registry::{self, Kind};
+use crate::sim::solvers::registry;
 use crate::sim::solvers::{Method, Needs, Solver};
 use crate::text::num::{self, Num};
 use crate::text::plural;
@@ -140,14 +140,7 @@ impl Request {
                 args.samples
             );
         }
-        let kind = match args.method {
-            MethodArg::Exact => Kind::Exact,
-            MethodArg::Adaptive => Kind::Adaptive,
-            MethodArg::Splitting => Kind::Splitting,
-            MethodArg::Splitting4 => Kind::Splitting4,
-            MethodArg::Rk4 => Kind::Rk4,
-        };
-        let method = registry::method(kind, args.tol, args.dt, &body, &omega0)?;
+        let method = registry::method(args.method.into(), args.tol, args.dt, &body, &omega0)?;
         Ok(Request {
             body,
             omega0,

@@ -7,12 +7,12 @@ use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 
-use crate::cmd::args::{Cli, MethodArg, SimArgs};
+use crate::cmd::args::{Cli, SimArgs};
 use crate::deck::{Answer, Deck, Loaded, Prompt, Scene, load_paths};
 use crate::predict::{Prediction, verdict};
 use crate::sim::scene::measure::{Measurements, formula_name};
 use crate::sim::scene::measure_scene;
-use crate::sim::solvers::registry::{Kind, method};
+use crate::sim::solvers::registry::method;
 use crate::text::num::Num;
 use crate::text::plural;
 
@@ -50,16 +50,6 @@ fn triple(v: &[f64; 3]) -> String {
     crate::text::num::triple(v, ", ")
 }
 
-fn kind(m: MethodArg) -> Kind {
-    match m {
-        MethodArg::Exact => Kind::Exact,
-        MethodArg::Adaptive => Kind::Adaptive,
-        MethodArg::Splitting => Kind::Splitting,
-        MethodArg::Splitting4 => Kind::Splitting4,
-        MethodArg::Rk4 => Kind::Rk4,
-    }
-}
-
 /// Six significant digits without trailing zeros, integers plainly.
 pub fn number(v: f64) -> String {
     crate::text::num::rounded(v, 6)
@@ -78,7 +68,7 @@ pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
     };
     let body = crate::sim::Body::new(scene.inertia)?;
     let omega0 = crate::sim::rigid::model::omega(scene.omega)?;
-    let m = method(kind(args.method), args.tol, args.dt, &body, &omega0)?;
+    let m = method(args.method.into(), args.tol, args.dt, &body, &omega0)?;
     let measured =
         measure_scene(scene, m).with_context(|| format!("scene {id} with {}", m.name()))?;
     crate::out!("{}", report(deck, scene, &measured, m.name()))?;

@@ -17,7 +17,7 @@ use std::time::{Duration, Instant};
 use anyhow::Context;
 use nalgebra::Vector3;
 
-pub use cases::{Case, cases, methods, setting};
+pub use cases::{Case, cases, methods};
 
 use crate::sim::rigid::model::{Body, State};
 use crate::sim::rigid::reference;
@@ -223,7 +223,7 @@ pub fn csv(rows: &[Row]) -> String {
     let mut out = String::from(CSV_HEADER);
     out.push('\n');
     for row in rows {
-        let setting = setting(&row.method);
+        let setting = row.method.setting();
         let line = match &row.outcome {
             Ok(m) => format!(
                 "{},{},{},{},{},{:e},{:e},{:e},{:e},{:e},{:e}",
@@ -286,7 +286,7 @@ pub fn table(rows: &[Row]) -> String {
                 "{:<4} {:<10} {:<14} {:>9} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10} {:>10}",
                 row.case,
                 row.method.name(),
-                setting(&row.method),
+                row.method.setting(),
                 m.work.steps,
                 m.work.rhs_evals,
                 sci(m.wall),
@@ -301,7 +301,7 @@ pub fn table(rows: &[Row]) -> String {
                 "{:<4} {:<10} {:<14} {reason}",
                 row.case,
                 row.method.name(),
-                setting(&row.method)
+                row.method.setting()
             ),
         };
     }

@@ -7,7 +7,21 @@
 use chrono::{DateTime, Utc};
 use rusqlite::types::{FromSql, FromSqlError, FromSqlResult, ToSql, ToSqlOutput, ValueRef};
 
-use crate::sched::{Direction, Rating, ReviewKind, State};
+use crate::sched::{CardState, Direction, Rating, ReviewKind, State};
+
+/// A card's state from six columns of a row, at the positions given in the
+/// order state, step, stability, difficulty, due, last review (the log and
+/// the cache keep them in different orders).
+pub fn card_state(row: &rusqlite::Row<'_>, at: [usize; 6]) -> rusqlite::Result<CardState> {
+    Ok(CardState {
+        state: row.get(at[0])?,
+        step: row.get::<_, Option<Count>>(at[1])?.map(|c| c.0),
+        stability: row.get(at[2])?,
+        difficulty: row.get(at[3])?,
+        due: row.get::<_, Ms>(at[4])?.0,
+        last_review: row.get::<_, Option<Ms>>(at[5])?.map(|m| m.0),
+    })
+}
 
 pub fn state_str(s: State) -> &'static str {
     match s {

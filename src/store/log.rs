@@ -3,12 +3,12 @@
 
 use rusqlite::{Row, Transaction, TransactionBehavior, params};
 
-use super::codec::{self, Count, Ms, to_ms};
+use super::codec::{self, Ms, to_ms};
 use super::db::Store;
 use super::error::StoreError;
 use super::state;
 use super::tally;
-use crate::sched::{CardState, ItemKey, ReviewKind, ReviewRecord};
+use crate::sched::{ItemKey, ReviewKind, ReviewRecord};
 
 /// One row of the log as stored.
 #[derive(Debug, Clone, PartialEq)]
@@ -260,14 +260,7 @@ pub(super) fn read_logged(row: &Row<'_>) -> rusqlite::Result<Result<LoggedReview
                 kind: row.get(6)?,
                 elapsed_days: row.get(7)?,
                 scheduled_days: row.get(8)?,
-                after: CardState {
-                    state: row.get(11)?,
-                    step: row.get::<_, Option<Count>>(12)?.map(|c| c.0),
-                    stability: row.get(9)?,
-                    difficulty: row.get(10)?,
-                    due: row.get::<_, Ms>(13)?.0,
-                    last_review: row.get::<_, Option<Ms>>(14)?.map(|m| m.0),
-                },
+                after: codec::card_state(row, [11, 12, 9, 10, 13, 14])?,
                 duration_ms: row.get(15)?,
             },
             undone: row.get::<_, i64>(16)? != 0,

@@ -77,6 +77,13 @@ pub enum Keys {
 }
 
 /// One line of the help overlay and the keys it stands for.
+const UP_DOWN: &[(KeyCode, Action)] = &[
+    (KeyCode::Up, Action::Up),
+    (KeyCode::Down, Action::Down),
+    (KeyCode::Char('j'), Action::Down),
+    (KeyCode::Char('k'), Action::Up),
+];
+
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Binding {
     /// The keys as the help overlay shows them.
@@ -93,6 +100,11 @@ impl Binding {
             help,
             keys: Keys::Map(keys),
         }
+    }
+
+    /// The row that moves a selection up and down a list (arrows and j k).
+    pub const fn choose(help: Words) -> Self {
+        Binding::new("↑↓ j k", help, UP_DOWN)
     }
 
     /// The row of a text field: what typing enters.

@@ -4,22 +4,11 @@
 //! physics, what it computes for each panel, and the measurements live in
 //! [`crate::sim::scene::SceneRun`].
 
-use nalgebra::Vector3;
-
 use crate::deck::Scene;
 use crate::sim::rigid::polhode::Polhode;
 use crate::sim::scene::measure::Measurements;
 use crate::sim::scene::{Diagnostics, Frame, Sample, SceneRun};
-use crate::sim::{self, Body, Kind, Method, SimError};
-
-/// The methods `m` cycles through, in order.
-pub const KINDS: [Kind; 5] = [
-    Kind::Exact,
-    Kind::Adaptive,
-    Kind::Splitting,
-    Kind::Splitting4,
-    Kind::Rk4,
-];
+use crate::sim::{self, Body, Method, SimError};
 
 pub struct LiveRun {
     run: SceneRun,
@@ -113,67 +102,14 @@ impl LiveRun {
         self.restart_with(self.method())
     }
 
-    /// The next method in [`KINDS`], with its default setting.
+    /// The next method family, with its default setting.
     pub fn next_method(&self) -> Result<Method, SimError> {
-        let i = KINDS
-            .iter()
-            .position(|k| kind_of(&self.method()) == *k)
-            .unwrap_or(0);
-        let kind = KINDS[(i + 1) % KINDS.len()];
+        let kind = self.method().kind().next();
         sim::solvers::registry::method(kind, None, None, self.run.body(), &self.run.omega0())
     }
 
-    /// The method with its step doubled or halved (tolerance ×/÷ 100);
-    /// `None` for the exact solver, which has no step.
-    pub fn scaled_method(&self, larger: bool) -> Option<Method> {
-        let f = if larger { 2.0 } else { 0.5 };
-        match self.method() {
-            Method::Exact => None,
-            Method::Adaptive { tol } => {
-                let tol = if larger { tol * 100.0 } else { tol / 100.0 };
-                Some(Method::Adaptive {
-                    tol: tol.clamp(sim::solvers::registry::MIN_TOL, 1e-2),
-                })
-            }
-            Method::Splitting { dt } => Some(Method::Splitting { dt: dt * f }),
-            Method::Splitting4 { dt } => Some(Method::Splitting4 { dt: dt * f }),
-            Method::Rk4 { dt } => Some(Method::Rk4 { dt: dt * f }),
-        }
-    }
-
-    /// A bound on every |ωᵢ| along the orbit, for the plot's range:
-    /// |ωᵢ| ≤ √(2T/Iᵢ) and |ωᵢ| ≤ |L|/Iᵢ.
+    /// A bound on every |ωᵢ| of this run, for the plot's range.
     pub fn omega_bound(&self) -> f64 {
-        let body = self.run.body();
-        let w0: Vector3<f64> = self.run.omega0();
-        let two_t = 2.0 * body.energy(&w0);
-        let l = body.l2(&w0).sqrt();
-        (0..3)
-            .map(|i| {
-                let ii = body.inertia[i];
-                (two_t / ii).sqrt().min(l / ii)
-            })
-            .fold(0.0, f64::max)
-    }
-}
-
-pub fn kind_of(method: &Method) -> Kind {
-    match method {
-        Method::Exact => Kind::Exact,
-        Method::Adaptive { .. } => Kind::Adaptive,
-        Method::Splitting { .. } => Kind::Splitting,
-        Method::Splitting4 { .. } => Kind::Splitting4,
-        Method::Rk4 { .. } => Kind::Rk4,
-    }
-}
-
-/// "rk4 dt=2.5e-3", "adaptive tol=1e-10", "exact".
-pub fn describe(method: &Method) -> String {
-    match method {
-        Method::Exact => "exact".into(),
-        Method::Adaptive { tol } => format!("adaptive tol={tol:.0e}"),
-        Method::Splitting { dt } | Method::Splitting4 { dt } | Method::Rk4 { dt } => {
-            format!("{} dt={dt:.1e}", method.name())
-        }
+        self.run.body().omega_bound(&self.run.omega0())
     }
 }

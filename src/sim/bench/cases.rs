@@ -125,17 +125,6 @@ pub fn methods(case: &Case, quick: bool) -> Vec<Method> {
     out
 }
 
-/// The setting column: `-`, `tol=1e-10`, `dt=2.4544e-3`.
-pub fn setting(method: &Method) -> String {
-    match *method {
-        Method::Exact => "-".to_string(),
-        Method::Adaptive { tol } => format!("tol={tol:.0e}"),
-        Method::Splitting { dt } | Method::Splitting4 { dt } | Method::Rk4 { dt } => {
-            format!("dt={dt:.4e}")
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -166,6 +155,6 @@ mod tests {
         for name in ["exact", "adaptive", "splitting", "splitting4", "rk4"] {
             assert!(m.iter().any(|x| x.name() == name), "{name}");
         }
-        assert_eq!(setting(&Method::Adaptive { tol: 1e-10 }), "tol=1e-10");
+        assert_eq!(Method::Adaptive { tol: 1e-10 }.setting(), "tol=1e-10");
     }
 }

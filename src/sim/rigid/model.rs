@@ -102,6 +102,20 @@ impl Body {
         self.momentum(omega).norm_squared()
     }
 
+    /// A bound on every |ωᵢ| along the orbit through `omega` (the ω plot's
+    /// range): energy and |L| are conserved, so |ωᵢ| ≤ √(2T/Iᵢ) and
+    /// |ωᵢ| ≤ |L|/Iᵢ.
+    pub fn omega_bound(&self, omega: &Vector3<f64>) -> f64 {
+        let two_t = 2.0 * self.energy(omega);
+        let l = self.l2(omega).sqrt();
+        (0..3)
+            .map(|i| {
+                let ii = self.inertia[i];
+                (two_t / ii).sqrt().min(l / ii)
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// Euler's equations, torque-free: ω̇ = I⁻¹ ((I ω) × ω).
     pub fn omega_dot(&self, omega: &Vector3<f64>) -> Vector3<f64> {
         self.momentum(omega)

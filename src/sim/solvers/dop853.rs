@@ -20,6 +20,7 @@ use crate::sim::rigid::model::State;
 use crate::sim::rigid::scales::Scales;
 use crate::sim::solvers::budget::Budget;
 use crate::sim::solvers::dop853_tableau::{self as tab, Row};
+use crate::sim::solvers::forward::Forward;
 use crate::sim::solvers::{Method, SimError, Solver, Work};
 use crate::text::num::Num;
 
@@ -75,7 +76,7 @@ pub struct Dop853<S, const N: usize> {
     k: [[f64; N]; 16],
     dense: Option<[[f64; N]; 7]>,
     horizon: f64,
-    last_request: f64,
+    forward: Forward,
     work: Work,
 }
 
@@ -109,7 +110,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             k: [[0.0; N]; 16],
             dense: None,
             horizon: 0.0,
-            last_request: 0.0,
+            forward: Forward::default(),
             work: Work {
                 rhs_evals: 1,
                 ..Work::default()
@@ -380,14 +381,7 @@ impl<S: System<N>, const N: usize> Solver for Dop853<S, N> {
     }
 
     fn advance(&mut self, t: f64) -> Result<State, SimError> {
-        if !t.is_finite() || t < self.last_request {
-            return Err(SimError::Invalid(format!(
-                "time {} is before the previous sample {} (runs only go forward)",
-                Num(t),
-                Num(self.last_request)
-            )));
-        }
-        self.last_request = t;
+        self.forward.accept(t)?;
         if t > self.t {
             let end = t.max(self.horizon);
             self.check_estimate(end)?;

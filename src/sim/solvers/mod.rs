@@ -8,6 +8,8 @@
 pub mod budget;
 pub mod dop853;
 pub mod dop853_tableau;
+pub mod fixed;
+pub mod forward;
 pub mod guard;
 pub mod ode;
 pub mod registry;
@@ -31,14 +33,99 @@ pub enum Method {
     Rk4 { dt: f64 },
 }
 
-impl Method {
-    pub fn name(&self) -> &'static str {
+/// The solver families, before their accuracy knob is chosen, in the order
+/// the live view cycles through them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Exact,
+    Adaptive,
+    Splitting,
+    Splitting4,
+    Rk4,
+}
+
+impl Kind {
+    pub const ALL: [Kind; 5] = [
+        Kind::Exact,
+        Kind::Adaptive,
+        Kind::Splitting,
+        Kind::Splitting4,
+        Kind::Rk4,
+    ];
+
+    /// The name the command line, the CSV files and the screen use.
+    pub fn name(self) -> &'static str {
         match self {
-            Method::Exact => "exact",
-            Method::Adaptive { .. } => "adaptive",
-            Method::Splitting { .. } => "splitting",
-            Method::Splitting4 { .. } => "splitting4",
-            Method::Rk4 { .. } => "rk4",
+            Kind::Exact => "exact",
+            Kind::Adaptive => "adaptive",
+            Kind::Splitting => "splitting",
+            Kind::Splitting4 => "splitting4",
+            Kind::Rk4 => "rk4",
+        }
+    }
+
+    /// The family after this one, wrapping round.
+    pub fn next(self) -> Kind {
+        let i = Kind::ALL.iter().position(|k| *k == self).unwrap_or(0);
+        Kind::ALL[(i + 1) % Kind::ALL.len()]
+    }
+}
+
+impl Method {
+    pub fn kind(&self) -> Kind {
+        match self {
+            Method::Exact => Kind::Exact,
+            Method::Adaptive { .. } => Kind::Adaptive,
+            Method::Splitting { .. } => Kind::Splitting,
+            Method::Splitting4 { .. } => Kind::Splitting4,
+            Method::Rk4 { .. } => Kind::Rk4,
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        self.kind().name()
+    }
+
+    /// The accuracy knob as the work–precision CSV writes it: `-`,
+    /// `tol=1e-10`, `dt=2.4544e-3` (five digits, so rows stay distinct).
+    pub fn setting(&self) -> String {
+        match *self {
+            Method::Exact => "-".to_string(),
+            Method::Adaptive { tol } => format!("tol={tol:.0e}"),
+            Method::Splitting { dt } | Method::Splitting4 { dt } | Method::Rk4 { dt } => {
+                format!("dt={dt:.4e}")
+            }
+        }
+    }
+
+    /// The method as the screen shows it: `exact`, `adaptive tol=1e-10`,
+    /// `rk4 dt=2.5e-3` (two digits: a label, not a record).
+    pub fn label(&self) -> String {
+        match *self {
+            Method::Exact => "exact".into(),
+            Method::Adaptive { tol } => format!("adaptive tol={tol:.0e}"),
+            Method::Splitting { dt } | Method::Splitting4 { dt } | Method::Rk4 { dt } => {
+                format!("{} dt={dt:.1e}", self.name())
+            }
+        }
+    }
+
+    /// The same family one notch coarser (`larger`) or finer: the step
+    /// doubled or halved, the tolerance multiplied or divided by 100 within
+    /// `[MIN_TOL, 1e-2]`; `None` for the exact solver, which has no knob.
+    pub fn scaled(&self, larger: bool) -> Option<Method> {
+        let f = if larger { 2.0 } else { 0.5 };
+        match *self {
+            Method::Exact => None,
+            Method::Adaptive { tol } => {
+                let tol = if larger { tol * 100.0 } else { tol / 100.0 };
+                Some(Method::Adaptive {
+                    tol: tol.clamp(registry::MIN_TOL, 1e-2),
+                })
+            }
+            Method::Splitting { dt } => Some(Method::Splitting { dt: dt * f }),
+            Method::Splitting4 { dt } => Some(Method::Splitting4 { dt: dt * f }),
+            Method::Rk4 { dt } => Some(Method::Rk4 { dt: dt * f }),
         }
     }
 }

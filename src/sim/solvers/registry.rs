@@ -9,11 +9,12 @@ use crate::sim::rigid::exact::Exact;
 pub use crate::sim::rigid::limits::check_start;
 use crate::sim::rigid::model::Body;
 use crate::sim::rigid::scales::{Scales, momentum_gain, scales};
+pub use crate::sim::solvers::Kind;
 use crate::sim::solvers::budget::Budget;
 use crate::sim::solvers::dop853::Dop853;
 use crate::sim::solvers::guard::Guard;
-use crate::sim::solvers::rk4::Rk4;
-use crate::sim::solvers::splitting::{Scheme, Splitting};
+use crate::sim::solvers::rk4::rk4;
+use crate::sim::solvers::splitting::{Scheme, splitting};
 use crate::sim::solvers::{Method, Needs, SimError, Solver};
 use crate::text::num::Num;
 
@@ -32,16 +33,6 @@ pub const DEFAULT_STEPS_PER_TURN: f64 = 256.0;
 /// gain of 1e-8/ε ≈ 4.5e7 keeps their sum in ω below ~1e-4 of |ω|. Needles
 /// thinner than that are left to the methods that carry ω itself.
 pub const MAX_SPLITTING_GAIN: f64 = 1e-8 / f64::EPSILON;
-
-/// The solver families, before their accuracy knob is chosen.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Kind {
-    Exact,
-    Adaptive,
-    Splitting,
-    Splitting4,
-    Rk4,
-}
 
 /// Settings of one run beyond the method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -104,13 +95,7 @@ pub fn method(
     body: &Body,
     omega0: &Vector3<f64>,
 ) -> Result<Method, SimError> {
-    let name = match kind {
-        Kind::Exact => "exact",
-        Kind::Adaptive => "adaptive",
-        Kind::Splitting => "splitting",
-        Kind::Splitting4 => "splitting4",
-        Kind::Rk4 => "rk4",
-    };
+    let name = kind.name();
     check_start(body, omega0)?;
     let fixed_step = matches!(kind, Kind::Splitting | Kind::Splitting4 | Kind::Rk4);
     if tol.is_some() && kind != Kind::Adaptive {
@@ -247,7 +232,7 @@ pub fn make_with(
             rates,
             q,
         )),
-        Method::Rk4 { dt } if q => Box::new(Rk4::<_, 7>::new(
+        Method::Rk4 { dt } if q => Box::new(rk4::<_, 7>(
             WithOrientation::new(&body, &omega0),
             &omega0,
             dt,
@@ -255,7 +240,7 @@ pub fn make_with(
             rates,
             q,
         )),
-        Method::Rk4 { dt } => Box::new(Rk4::<_, 3>::new(
+        Method::Rk4 { dt } => Box::new(rk4::<_, 3>(
             OmegaOnly::new(&body, &omega0),
             &omega0,
             dt,
@@ -263,22 +248,12 @@ pub fn make_with(
             rates,
             q,
         )),
-        Method::Splitting { dt } => Box::new(Splitting::new(
-            &body,
-            &omega0,
-            dt,
-            Scheme::Strang,
-            q,
-            budget,
-        )),
-        Method::Splitting4 { dt } => Box::new(Splitting::new(
-            &body,
-            &omega0,
-            dt,
-            Scheme::Suzuki,
-            q,
-            budget,
-        )),
+        Method::Splitting { dt } => {
+            Box::new(splitting(&body, &omega0, dt, Scheme::Strang, q, budget))
+        }
+        Method::Splitting4 { dt } => {
+            Box::new(splitting(&body, &omega0, dt, Scheme::Suzuki, q, budget))
+        }
     };
     Ok(Box::new(Guard::new(solver, body, &omega0, rates, q)))
 }

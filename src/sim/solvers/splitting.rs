@@ -20,8 +20,8 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use crate::sim::rigid::model::{Body, State};
 use crate::sim::rigid::trig;
 use crate::sim::solvers::budget::Budget;
-use crate::sim::solvers::{Method, SimError, Solver, Work};
-use crate::text::num::Num;
+use crate::sim::solvers::fixed::{FixedSteps, Stepper};
+use crate::sim::solvers::{Method, Work};
 
 /// Which composition of the Strang step to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -88,94 +88,77 @@ fn axis_order(inertia: &Vector3<f64>) -> [usize; 3] {
 
 /// Body-frame L and, when needed, q = (w, x, y, z).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Point {
+pub struct Point {
     l: [f64; 3],
     q: Option<[f64; 4]>,
 }
 
-pub struct Splitting {
+/// A splitting run: the shared fixed-step driver over [`SplittingSteps`].
+pub type Splitting = FixedSteps<SplittingSteps>;
+
+pub struct SplittingSteps {
     inertia: [f64; 3],
     inverse: [f64; 3],
     scheme: Scheme,
     sequence: Sequence,
     dt: f64,
-    budget: Budget,
     /// The start exactly as given (L/I need not give back ω bit for bit).
     omega0: Vector3<f64>,
-    n: u64,
-    point: Point,
-    last_request: f64,
-    work: Work,
+    start: Point,
 }
 
-impl Splitting {
-    pub fn new(
-        body: &Body,
-        omega0: &Vector3<f64>,
-        dt: f64,
-        scheme: Scheme,
-        orientation: bool,
-        budget: Budget,
-    ) -> Splitting {
-        Splitting::with_order(
-            body,
-            omega0,
-            dt,
-            scheme,
-            orientation,
-            budget,
-            axis_order(&body.inertia),
-        )
-    }
+/// A splitting run from `omega0` with step `dt`, carrying q when
+/// `orientation`; the a–b–c–b–a axes put the smallest moment innermost.
+pub fn splitting(
+    body: &Body,
+    omega0: &Vector3<f64>,
+    dt: f64,
+    scheme: Scheme,
+    orientation: bool,
+    budget: Budget,
+) -> Splitting {
+    // The flows depend on the moments only through L/I, so the moments
+    // are taken relative to the largest (a power of two, exact): 1/I
+    // cannot overflow for tiny moments, nor L = Iω underflow.
+    let unit = body
+        .inertia
+        .max()
+        .log2()
+        .floor()
+        .clamp(-1074.0, 1023.0)
+        .exp2();
+    let inertia = body.inertia / unit;
+    let l = inertia.component_mul(omega0);
+    let steps = SplittingSteps {
+        inertia: [inertia[0], inertia[1], inertia[2]],
+        inverse: [1.0 / inertia[0], 1.0 / inertia[1], 1.0 / inertia[2]],
+        scheme,
+        sequence: Sequence::new(axis_order(&body.inertia), scheme),
+        dt,
+        omega0: *omega0,
+        start: Point {
+            l: [l[0], l[1], l[2]],
+            q: orientation.then_some([1.0, 0.0, 0.0, 0.0]),
+        },
+    };
+    FixedSteps::new(steps, dt, budget)
+}
 
-    /// As [`Splitting::new`] with the a–b–c–b–a axes chosen by the caller.
-    pub fn with_order(
-        body: &Body,
-        omega0: &Vector3<f64>,
-        dt: f64,
-        scheme: Scheme,
-        orientation: bool,
-        budget: Budget,
-        order: [usize; 3],
-    ) -> Splitting {
-        // The flows depend on the moments only through L/I, so the moments
-        // are taken relative to the largest (a power of two, exact): 1/I
-        // cannot overflow for tiny moments, nor L = Iω underflow.
-        let unit = body
-            .inertia
-            .max()
-            .log2()
-            .floor()
-            .clamp(-1074.0, 1023.0)
-            .exp2();
-        let inertia = body.inertia / unit;
-        let l = inertia.component_mul(omega0);
-        Splitting {
-            inertia: [inertia[0], inertia[1], inertia[2]],
-            inverse: [1.0 / inertia[0], 1.0 / inertia[1], 1.0 / inertia[2]],
-            scheme,
-            sequence: Sequence::new(order, scheme),
-            dt,
-            budget,
-            omega0: *omega0,
-            n: 0,
-            point: Point {
-                l: [l[0], l[1], l[2]],
-                q: orientation.then_some([1.0, 0.0, 0.0, 0.0]),
-            },
-            last_request: 0.0,
-            work: Work::default(),
-        }
-    }
+impl Stepper for SplittingSteps {
+    type Point = Point;
 
-    fn name(&self) -> &'static str {
+    fn method(&self) -> Method {
         match self.scheme {
-            Scheme::Strang => "splitting",
-            Scheme::Suzuki => "splitting4",
+            Scheme::Strang => Method::Splitting { dt: self.dt },
+            Scheme::Suzuki => Method::Splitting4 { dt: self.dt },
         }
     }
 
-    fn step(&mut self, p: &mut Point, h: f64) {
+    fn start(&self) -> Point {
+        self.start
+    }
+
+    fn step(&self, p: &mut Point, h: f64, work: &mut Work) {
         for &(axis, fraction) in self.sequence.flows() {
             rotate(p, axis, p.l[axis] * self.inverse[axis] * fraction * h);
         }
@@ -189,7 +172,7 @@ impl Splitting {
             }
         }
         // One evaluation of the field per rotation: the comparable unit of work.
-        self.work.rhs_evals += self.sequence.len as u64;
+        work.rhs_evals += self.sequence.len as u64;
     }
 
     fn state(&self, p: &Point) -> State {
@@ -207,17 +190,8 @@ impl Splitting {
         }
     }
 
-    fn check_budget(&self, t: f64) -> Result<(), SimError> {
-        let more = (t / self.dt).floor() - self.n as f64;
-        if self.budget.exceeded(self.work.steps, more) {
-            return Err(SimError::Budget(self.budget.fixed(
-                self.name(),
-                self.dt,
-                t,
-                self.work.steps as f64 + more,
-            )));
-        }
-        Ok(())
+    fn initial(&self) -> State {
+        State::new(self.omega0)
     }
 }
 
@@ -246,50 +220,6 @@ fn rotate(p: &mut Point, i: usize, angle: f64) {
             q[1 + j] = ch * vj + sh * vk;
             q[1 + k] = ch * vk - sh * vj;
         }
-    }
-}
-
-impl Solver for Splitting {
-    fn method(&self) -> Method {
-        match self.scheme {
-            Scheme::Strang => Method::Splitting { dt: self.dt },
-            Scheme::Suzuki => Method::Splitting4 { dt: self.dt },
-        }
-    }
-
-    fn advance(&mut self, t: f64) -> Result<State, SimError> {
-        if !t.is_finite() || t < self.last_request {
-            return Err(SimError::Invalid(format!(
-                "time {} is before the previous sample {} (runs only go forward)",
-                Num(t),
-                Num(self.last_request)
-            )));
-        }
-        self.last_request = t;
-        self.check_budget(t)?;
-        let mut p = self.point;
-        while (self.n + 1) as f64 * self.dt <= t {
-            self.step(&mut p, self.dt);
-            self.n += 1;
-            self.work.steps += 1;
-        }
-        self.point = p;
-        if t == 0.0 {
-            return Ok(State::new(self.omega0));
-        }
-        let rest = t - self.n as f64 * self.dt;
-        if rest > 0.0 {
-            self.step(&mut p, rest);
-        }
-        Ok(self.state(&p))
-    }
-
-    fn work(&self) -> Work {
-        self.work
-    }
-
-    fn plan(&mut self, t_end: f64) -> Result<(), SimError> {
-        self.check_budget(t_end)
     }
 }
 

@@ -13,19 +13,10 @@ use crate::tui::i18n::{Msg, Noun};
 use super::{Nav, Screen};
 use crate::tui::i18n::Words;
 use crate::tui::keymap::Binding;
-use crossterm::event::KeyCode::{Char, Down, Enter, Esc, Up};
+use crossterm::event::KeyCode::{Char, Enter, Esc};
 
 pub const KEYS: &[Binding] = &[
-    Binding::new(
-        "↑↓ j k",
-        Words("choose a deck", "deck chuno"),
-        &[
-            (Up, Action::Up),
-            (Down, Action::Down),
-            (Char('j'), Action::Down),
-            (Char('k'), Action::Up),
-        ],
-    ),
+    Binding::choose(Words("choose a deck", "deck chuno")),
     Binding::new(
         "Enter",
         Words("review the due cards", "baaki cards review karo"),

@@ -94,12 +94,7 @@ fn run_controls_pause_speed_restart_method_and_step() {
     let mut app = open(ENGLISH, 0);
     press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
     let run_t = |app: &TestApp| match &predict(app).phase {
-        Phase::Play { run, .. } => (
-            run.t(),
-            run.speed,
-            run.paused,
-            crate::tui::live::describe(&run.method()),
-        ),
+        Phase::Play { run, .. } => (run.t(), run.speed, run.paused, run.method().label()),
         _ => panic!("not running"),
     };
     // Scene time follows the wall clock: 0.5 s of ticks, 0.5 s of scene.

@@ -10,7 +10,7 @@ use crate::deck::{Answer, Measure, Panel, Prompt};
 use crate::text::num::Num;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
-use crate::tui::live::{self, LiveRun};
+use crate::tui::live::LiveRun;
 use crate::tui::plots;
 use crate::tui::wrap::{Run, wrap};
 
@@ -233,7 +233,7 @@ fn draw_play(
             format!(" · {} ×{}", app.tr(Msg::Speed), fmt_speed(run.speed)),
             t.dim(),
         ),
-        Span::styled(format!(" · {}", live::describe(&run.method())), t.dim()),
+        Span::styled(format!(" · {}", run.method().label()), t.dim()),
     ];
     if run.paused {
         s.push(Span::styled(
@@ -250,7 +250,7 @@ fn draw_play(
         let err = d.error.map_or("—".to_string(), sci);
         let mut line = format!(
             " {} · ΔE/E {} · Δ|L|²/|L|² {} · {} {}",
-            live::describe(&run.method()),
+            run.method().label(),
             sci(d.energy_drift),
             sci(d.momentum_drift),
             app.tr(Msg::ErrorVsExact),

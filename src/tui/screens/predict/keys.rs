@@ -1,6 +1,6 @@
 //! The predict-then-check screen's keys, one table per mode.
 
-use crossterm::event::KeyCode::{Backspace, Char, Down, Enter, Esc, Up};
+use crossterm::event::KeyCode::{Backspace, Char, Enter, Esc};
 
 use crate::tui::action::Action;
 use crate::tui::i18n::Words;
@@ -14,16 +14,7 @@ const BACK: Binding = Binding::new(
 
 /// Choose one of the prompt's choices.
 pub const CHOICE_KEYS: &[Binding] = &[
-    Binding::new(
-        "↑↓ j k",
-        Words("choose", "chuno"),
-        &[
-            (Up, Action::Up),
-            (Down, Action::Down),
-            (Char('j'), Action::Down),
-            (Char('k'), Action::Up),
-        ],
-    ),
+    Binding::choose(Words("choose", "chuno")),
     Binding::new(
         "1-9",
         Words("choose by number", "number se chuno"),

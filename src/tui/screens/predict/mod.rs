@@ -237,7 +237,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                     replace(run, next, app);
                 }
                 Action::SmallerStep | Action::LargerStep => {
-                    match run.scaled_method(action == Action::LargerStep) {
+                    match run.method().scaled(action == Action::LargerStep) {
                         Some(m) => {
                             let next = run.restart_with(m);
                             replace(run, next, app);
