@@ -211,7 +211,7 @@ fn append(tx: &Transaction<'_>, session: i64, r: &ReviewRecord) -> rusqlite::Res
 
 /// What the database cannot keep faithfully is refused with a clear message
 /// (SQLite would store a NaN as NULL, for instance).
-fn validate(r: &ReviewRecord) -> Result<(), StoreError> {
+pub(super) fn validate(r: &ReviewRecord) -> Result<(), StoreError> {
     let bad = |detail: String| {
         Err(StoreError::BadRow {
             id: 0,

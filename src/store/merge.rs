@@ -1,0 +1,302 @@
+//! Merging a review history from elsewhere (an export from another
+//! machine, a synced copy, an Anki collection) into the log.
+//!
+//! A review is the same review when deck, card, direction, review time (to
+//! the millisecond) and rating agree; such rows are skipped, so merging the
+//! same history twice changes nothing. The states are then rebuilt by
+//! replaying every touched item's ratings in time order through the
+//! scheduler, since the stored states of two interleaved histories were each
+//! computed without the other's answers.
+//!
+//! The log stays append-only: a local answer that an incoming, earlier one
+//! now precedes is not rewritten but marked undone and appended again with
+//! its replayed state, after the incoming rows. Afterwards each item's live
+//! rows are in time order by id, so the card-state cache (the last live row)
+//! and `flipcard db rebuild` agree with the replay.
+
+use std::collections::{BTreeMap, HashSet};
+
+use chrono::{DateTime, Utc};
+use rusqlite::{Transaction, TransactionBehavior, params};
+
+use super::codec::{Ms, to_ms};
+use super::db::Store;
+use super::error::StoreError;
+use super::log::{COLUMNS, LoggedReview, read_logged};
+use super::{state, tally};
+use crate::sched::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord, Scheduler};
+
+/// One review to merge: what was answered, when and how. Its state after
+/// the answer is not taken from the source but replayed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IncomingReview {
+    pub key: ItemKey,
+    pub reviewed_at: DateTime<Utc>,
+    pub rating: Rating,
+    /// A cram answer stays one (logged, no effect on scheduling); any other
+    /// kind is recomputed from the replayed state before the answer.
+    pub cram: bool,
+    pub duration_ms: i64,
+    /// Undone where it comes from: kept, and undone here too.
+    pub undone: bool,
+}
+
+/// What a merge did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct MergeSummary {
+    /// Rows offered.
+    pub offered: usize,
+    /// Rows appended (undone ones included).
+    pub added: usize,
+    /// Of those, rows that came undone.
+    pub added_undone: usize,
+    /// Rows already in the log (or repeated in the input), skipped.
+    pub duplicates: usize,
+    /// Local answers that incoming ones now precede, appended again after
+    /// them with their replayed state (the earlier row is marked undone).
+    pub replayed_local: usize,
+    /// Items whose state was rebuilt.
+    pub items: usize,
+}
+
+/// The identity of a review across machines.
+type Identity = (i64, Rating);
+
+impl IncomingReview {
+    fn identity(&self) -> Identity {
+        (to_ms(self.reviewed_at), self.rating)
+    }
+
+    /// Refused before anything is written: what the log cannot hold.
+    fn check(&self) -> Result<(), String> {
+        if self.key.deck.is_empty() || self.key.card.is_empty() {
+            return Err("empty deck or card id".into());
+        }
+        if self.duration_ms < 0 {
+            return Err(format!("negative duration {} ms", self.duration_ms));
+        }
+        Ok(())
+    }
+}
+
+impl Store {
+    /// Merges `rows` into the log in one transaction (nothing is written
+    /// when any row is refused) and rebuilds the state of every item they
+    /// touch by replaying its answers in time order with `scheduler`.
+    pub fn merge_reviews(
+        &mut self,
+        rows: &[IncomingReview],
+        scheduler: &Scheduler,
+    ) -> Result<MergeSummary, StoreError> {
+        for (i, r) in rows.iter().enumerate() {
+            r.check().map_err(|detail| StoreError::BadRow {
+                id: 0,
+                detail: format!(
+                    "incoming review {} ({}/{} {}): {detail}",
+                    i + 1,
+                    r.key.deck,
+                    r.key.card,
+                    r.key.direction.as_str()
+                ),
+            })?;
+        }
+        let mut by_item: BTreeMap<&ItemKey, Vec<&IncomingReview>> = BTreeMap::new();
+        for r in rows {
+            by_item.entry(&r.key).or_default().push(r);
+        }
+        let mut summary = MergeSummary {
+            offered: rows.len(),
+            ..MergeSummary::default()
+        };
+        let path = self.path.clone();
+        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
+        let tx = self
+            .conn
+            .transaction_with_behavior(TransactionBehavior::Immediate)
+            .map_err(sql_err)?;
+        // Its own session, not adopted by this store: an undo in the app
+        // must not reach into a merged history.
+        let mut session = None;
+        for (key, incoming) in by_item {
+            let existing = item_rows(&tx, key).map_err(sql_err)??;
+            let mut seen: HashSet<Identity> = existing
+                .iter()
+                .map(|l| (to_ms(l.record.reviewed_at), l.record.rating))
+                .collect();
+            let mut fresh: Vec<&IncomingReview> = Vec::new();
+            for r in incoming {
+                if seen.insert(r.identity()) {
+                    fresh.push(r);
+                } else {
+                    summary.duplicates += 1;
+                }
+            }
+            if fresh.is_empty() {
+                continue;
+            }
+            let session = match session {
+                Some(s) => s,
+                None => *session.insert(new_session(&tx).map_err(sql_err)?),
+            };
+            let n = merge_item(&tx, session, key, &existing, &fresh, scheduler)?;
+            summary.added += fresh.len();
+            summary.added_undone += fresh.iter().filter(|r| r.undone).count();
+            summary.replayed_local += n;
+            summary.items += 1;
+            state::refresh_item(&tx, key).map_err(sql_err)?;
+        }
+        if summary.added > 0 {
+            tally::rebuild(&tx).map_err(sql_err)?;
+        }
+        tx.commit().map_err(sql_err)?;
+        Ok(summary)
+    }
+}
+
+/// One answer in the replay: a local live row or an incoming one.
+struct Step {
+    at: DateTime<Utc>,
+    /// Local rows first among equal times (they were there first).
+    incoming: bool,
+    rating: Rating,
+    cram: bool,
+    duration_ms: i64,
+    undone: bool,
+    /// The local row this step re-appends, to be marked undone.
+    local_id: Option<i64>,
+}
+
+/// Appends `fresh` (and re-appends the local answers they precede) with
+/// states replayed from the last local answer before the earliest of them.
+/// Returns how many local answers were re-appended.
+fn merge_item(
+    tx: &Transaction<'_>,
+    session: i64,
+    key: &ItemKey,
+    existing: &[LoggedReview],
+    fresh: &[&IncomingReview],
+    scheduler: &Scheduler,
+) -> Result<usize, StoreError> {
+    let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(std::path::Path::new(""), e);
+    let t0 = fresh
+        .iter()
+        .map(|r| r.reviewed_at)
+        .min()
+        .unwrap_or(DateTime::<Utc>::MAX_UTC);
+    let mut live: Vec<&LoggedReview> = existing.iter().filter(|l| !l.undone).collect();
+    live.sort_by_key(|l| (l.record.reviewed_at, l.id));
+    // The state to replay from: the last live, non-cram local answer not
+    // after the earliest incoming one.
+    let mut state: Option<CardState> = live
+        .iter()
+        .filter(|l| l.record.reviewed_at <= t0 && l.record.kind != ReviewKind::Cram)
+        .next_back()
+        .map(|l| l.record.after);
+    let mut steps: Vec<Step> = live
+        .iter()
+        .filter(|l| l.record.reviewed_at > t0)
+        .map(|l| Step {
+            at: l.record.reviewed_at,
+            incoming: false,
+            rating: l.record.rating,
+            cram: l.record.kind == ReviewKind::Cram,
+            duration_ms: l.record.duration_ms,
+            undone: false,
+            local_id: Some(l.id),
+        })
+        .collect();
+    let relocated = steps.len();
+    steps.extend(fresh.iter().map(|r| Step {
+        at: r.reviewed_at,
+        incoming: true,
+        rating: r.rating,
+        cram: r.cram,
+        duration_ms: r.duration_ms,
+        undone: r.undone,
+        local_id: None,
+    }));
+    steps.sort_by_key(|s| (s.at, s.incoming));
+
+    for s in &steps {
+        let record = if s.cram {
+            scheduler.cram(key, state.as_ref(), s.rating, s.at, s.duration_ms)
+        } else {
+            let r = scheduler.review(key, state.as_ref(), s.rating, s.at, s.duration_ms);
+            // An undone answer keeps the state it gave, as the log recorded
+            // it, but the next answer starts from the state it found.
+            if !s.undone {
+                state = Some(r.after);
+            }
+            r
+        };
+        super::log::validate(&record)?;
+        if let Some(id) = s.local_id {
+            tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [id])
+                .map_err(sql_err)?;
+        }
+        insert(tx, session, &record, s.undone).map_err(sql_err)?;
+    }
+    Ok(relocated)
+}
+
+/// Every row of one item (undone ones included), in id order.
+fn item_rows(
+    tx: &Transaction<'_>,
+    key: &ItemKey,
+) -> rusqlite::Result<Result<Vec<LoggedReview>, StoreError>> {
+    let mut st = tx.prepare_cached(&format!(
+        "SELECT {COLUMNS} FROM review WHERE deck = ?1 AND card = ?2 AND direction = ?3 ORDER BY id"
+    ))?;
+    let mut rows = st.query(params![key.deck, key.card, key.direction.as_str()])?;
+    let mut out = Vec::new();
+    while let Some(row) = rows.next()? {
+        match read_logged(row)? {
+            Ok(l) => out.push(l),
+            Err(e) => return Ok(Err(e)),
+        }
+    }
+    Ok(Ok(out))
+}
+
+fn new_session(tx: &Transaction<'_>) -> rusqlite::Result<i64> {
+    let started = crate::sched::clock::now().map(to_ms).unwrap_or(0);
+    tx.execute("INSERT INTO session (started_at) VALUES (?1)", [started])?;
+    Ok(tx.last_insert_rowid())
+}
+
+fn insert(
+    tx: &Transaction<'_>,
+    session: i64,
+    r: &ReviewRecord,
+    undone: bool,
+) -> rusqlite::Result<i64> {
+    let a = &r.after;
+    tx.prepare_cached(
+        "INSERT INTO review (session, deck, card, direction, reviewed_at, rating, kind, \
+         elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review, \
+         duration_ms, undone) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, \
+         ?14, ?15, ?16, ?17) RETURNING id",
+    )?
+    .query_row(
+        params![
+            session,
+            r.key.deck,
+            r.key.card,
+            r.key.direction,
+            Ms(r.reviewed_at),
+            r.rating,
+            r.kind,
+            r.elapsed_days,
+            r.scheduled_days,
+            a.stability,
+            a.difficulty,
+            a.state,
+            a.step.map(i64::from),
+            Ms(a.due),
+            a.last_review.map(Ms),
+            r.duration_ms,
+            i64::from(undone),
+        ],
+        |row| row.get(0),
+    )
+}
