@@ -19,6 +19,7 @@ pub mod restore;
 pub mod schema;
 pub mod state;
 pub mod stats;
+pub mod sync;
 mod tally;
 pub mod today;
 
