@@ -31,4 +31,5 @@ mod store_durability;
 mod store_outside_clients;
 mod store_props;
 mod store_safety;
+mod sync;
 mod tui_e2e;

@@ -22,7 +22,9 @@ pub fn run(cli: &Cli, args: &SyncArgs) -> anyhow::Result<ExitCode> {
     crate::sched::clock::now()?;
     let config = Config::load(paths::config_file(cli.config.clone()).as_deref())?;
     let Some(dir) = args.dir.clone().or_else(|| config.sync_dir.clone()) else {
-        bail!("say which folder to sync through: flipcard sync DIR, or sync_dir = \"…\" in the config");
+        bail!(
+            "say which folder to sync through: flipcard sync DIR, or sync_dir = \"…\" in the config"
+        );
     };
     let data = paths::data_dir(cli.data_dir.clone())?;
     let outcome = sync_with(&data, &dir, &config)?;
@@ -95,7 +97,8 @@ pub fn machine_id(data: &Path) -> anyhow::Result<String> {
 }
 
 fn write_synced(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let mut f = fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
+    let mut f =
+        fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
     f.write_all(bytes)
         .and_then(|()| f.sync_all())
         .with_context(|| format!("cannot write {}", path.display()))
