@@ -18,6 +18,12 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let config_path = paths::config_file(cli.config.clone());
     let config = Config::load(config_path.as_deref())?;
     let data_dir = paths::data_dir(cli.data_dir.clone())?;
+    // `sync_dir`: the other machines' reviews come in before the app
+    // opens, and this session's go out when it closes.
+    let sync_dir = config.sync_dir.clone();
+    if let Some(dir) = &sync_dir {
+        auto_sync(&data_dir, dir, &config);
+    }
     let store = Store::open(&data_dir)?;
     let sources = crate::cmd::library::sources(cli, &config);
     let library = crate::cmd::library::load_with(sources);
@@ -40,6 +46,24 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     if let Some(args) = review {
         crate::tui::open_review(&mut app, args.deck.as_deref(), args.cram)?;
     }
-    crate::tui::run(&mut app)?;
+    let ran = crate::tui::run(&mut app);
+    let config = app.services.config.clone();
+    drop(app);
+    if let Some(dir) = &sync_dir {
+        auto_sync(&data_dir, dir, &config);
+    }
+    ran?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// A sync the config asks for: a failure is a warning, never a reason to
+/// keep the learner from studying.
+fn auto_sync(data_dir: &std::path::Path, dir: &std::path::Path, config: &Config) {
+    if let Err(e) = crate::cmd::sync::sync_with(data_dir, dir, config) {
+        crate::errln!(
+            "flipcard: warning: sync through {} failed: {}",
+            dir.display(),
+            crate::cmd::output::chain_text(&e)
+        );
+    }
 }
