@@ -10,13 +10,12 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use flipcard::cmd::paths::bundled_decks;
-use flipcard::deck::{Deck, Scene, load_dir};
+use flipcard::deck::{Deck, Scene};
 use flipcard::sim::Method;
 use flipcard::sim::scene::{SceneRun, measure_scene};
 
 fn seed_scene() -> Scene {
-    let loaded = load_dir(&bundled_decks());
+    let loaded = flipcard::deck::bundled::load();
     let decks: Vec<Deck> = loaded.decks;
     decks
         .iter()

@@ -9,8 +9,6 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use ratatui::Terminal;
 use ratatui::backend::TestBackend;
 
-use flipcard::cmd::paths::bundled_decks;
-use flipcard::deck::load_dir;
 use flipcard::sched::Config;
 use flipcard::store::Store;
 use flipcard::tui::services::{Clock, DayZone, Services};
@@ -18,7 +16,7 @@ use flipcard::tui::theme::Theme;
 use flipcard::tui::{Action, App, apply, view};
 
 fn app(dir: &std::path::Path) -> App {
-    let loaded = load_dir(&bundled_decks());
+    let loaded = flipcard::deck::bundled::load();
     let store = Store::open(dir).unwrap_or_else(|e| panic!("store: {e}"));
     let services = Services::new(
         Clock::System,

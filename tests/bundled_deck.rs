@@ -4,14 +4,13 @@
 
 use std::f64::consts::PI;
 
-use flipcard::cmd::paths::bundled_decks;
-use flipcard::deck::{Answer, Deck, Measure, Scene, Text, load_dir};
+use flipcard::deck::{Answer, Deck, Measure, Scene, Text};
 
 const DECK_ID: &str = "torque-free-rotation";
 const LANGS: [&str; 2] = ["en", "hi-Latn"];
 
 fn deck() -> Deck {
-    let loaded = load_dir(&bundled_decks());
+    let loaded = flipcard::deck::bundled::load();
     // Not even a warning: the thin plate I = (1, 2, 3) of the worked
     // numbers is declared `flat = true` on purpose.
     assert!(

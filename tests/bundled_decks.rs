@@ -1,7 +1,7 @@
 //! The decks that ship with flipcard load without errors, and every text in
 //! every declared language renders without a LaTeX error.
 
-use flipcard::deck::{Answer, Deck, Text, load_dir};
+use flipcard::deck::{Answer, Deck, Text};
 
 /// Every text of a deck, named for the failure message.
 fn texts(deck: &Deck) -> Vec<(String, &Text)> {
@@ -42,7 +42,7 @@ fn texts(deck: &Deck) -> Vec<(String, &Text)> {
 
 #[test]
 fn bundled_decks_load_and_all_their_math_renders() {
-    let loaded = load_dir(&flipcard::cmd::paths::bundled_decks());
+    let loaded = flipcard::deck::bundled::load();
     assert_eq!(loaded.errors(), 0, "\n{}", loaded.render_all());
     let mut problems = Vec::new();
     let mut checked = 0;

@@ -6,16 +6,15 @@
 //! again with the adaptive one, so a wrong answer cannot hide behind one
 //! method.
 
-use flipcard::cmd::paths::bundled_decks;
 use flipcard::deck::Measure;
-use flipcard::deck::{Answer, Deck, load_dir};
+use flipcard::deck::{Answer, Deck};
 use flipcard::predict::{Prediction, verdict};
 use flipcard::sim::Method;
 use flipcard::sim::rigid::formula;
 use flipcard::sim::scene::measure_scene;
 
 fn decks() -> Vec<Deck> {
-    let loaded = load_dir(&bundled_decks());
+    let loaded = flipcard::deck::bundled::load();
     assert_eq!(loaded.errors(), 0, "{}", loaded.render_all());
     assert!(!loaded.decks.is_empty());
     loaded.decks

@@ -210,7 +210,11 @@ fn stats_report_orphans_and_history_returns_with_the_card() {
         &[("a", "basic"), ("r", "reversed"), ("n", "basic")],
     );
     let decks_arg = decks.to_str().unwrap();
-    let out = flipcard(&data, &["stats", "--decks", decks_arg, "--json"]);
+    // The bundled decks open too: `--deck mini` keeps to the one deck.
+    let out = flipcard(
+        &data,
+        &["stats", "--decks", decks_arg, "--deck", "mini", "--json"],
+    );
     assert!(out.status.success(), "{}", stderr(&out));
     let s: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
     assert_eq!(s["cards"]["total"], 4, "a, r forward and backward, n");
@@ -225,7 +229,7 @@ fn stats_report_orphans_and_history_returns_with_the_card() {
     assert_eq!(s["reviews_per_day"][29]["total"], 1);
     assert_eq!(s["reviews_per_day"][28]["total"], 2);
 
-    let text = flipcard(&data, &["stats", "--decks", decks_arg]);
+    let text = flipcard(&data, &["stats", "--decks", decks_arg, "--deck", "mini"]);
     assert!(text.status.success(), "{}", stderr(&text));
     let t = stdout(&text);
     assert!(
@@ -317,7 +321,7 @@ fn a_deck_exported_to_csv_imports_back_and_passes_check() {
     );
 
     // Same texts (primary language) and tags, card for card.
-    let original = flipcard::deck::load_dir(&flipcard::cmd::paths::bundled_decks());
+    let original = flipcard::deck::bundled::load();
     let original = original
         .decks
         .iter()

@@ -157,7 +157,7 @@ impl Drop for Tmux {
 }
 
 fn bundled_deck() -> Deck {
-    let loaded = flipcard::deck::load_dir(&flipcard::cmd::paths::bundled_decks());
+    let loaded = flipcard::deck::bundled::load();
     loaded
         .decks
         .into_iter()
@@ -638,4 +638,55 @@ fn the_fifth_concept_map_link_opens_where_the_screen_showed_the_choice() {
     // Esc walks back to the concept map.
     t.keys(&["Escape"]);
     t.wait_for(&words(map.body.get("en"), 4));
+}
+
+/// `sync_dir` in the config: the other machine's answers are merged before
+/// the app opens, and the answers of the session reach the folder when it
+/// closes.
+#[test]
+fn sync_dir_syncs_when_the_app_opens_and_closes() {
+    if !tmux_available() {
+        eprintln!("skipping the terminal sync test: tmux is not installed");
+        return;
+    }
+    let deck = bundled_deck();
+    let env = Env::new();
+    let folder = env.dir.path().join("Sync");
+    std::fs::create_dir(&folder).unwrap();
+    std::fs::write(env.dir.path().join("config.toml"), "sync_dir = \"Sync\"\n").unwrap();
+    // The other machine answered the first card yesterday.
+    let other = format!(
+        "{{\"event\":\"review\",\"deck\":\"{DECK}\",\"card\":\"{}\",\"direction\":\"forward\",\
+         \"reviewed_at\":\"2026-03-01T09:00:00.000Z\",\"rating\":3,\"cram\":false,\
+         \"duration_ms\":1200,\"undone\":false}}\n",
+        deck.cards[0].id
+    );
+    std::fs::write(
+        folder.join("0123456789abcdef0123456789abcdef.jsonl"),
+        &other,
+    )
+    .unwrap();
+
+    let t = Tmux::start("sync", &env.vars(), "", 100, 32);
+    t.wait_for("last studied");
+    let merged = env.export();
+    assert_eq!(
+        merged.as_array().map(Vec::len),
+        Some(1),
+        "merged at open: {merged}"
+    );
+    // One answer in the app, then quit.
+    t.keys(&["Enter"]);
+    t.wait_for("show answer");
+    t.keys(&["Enter"]);
+    t.wait_for("Again");
+    t.keys(&["3", "q", "q"]);
+    t.wait_for("EXIT=0");
+    let id = std::fs::read_to_string(env.dir.path().join("data/machine-id")).unwrap();
+    let mine = std::fs::read_to_string(folder.join(format!("{}.jsonl", id.trim()))).unwrap();
+    assert_eq!(mine.lines().count(), 1, "{mine}");
+    assert!(
+        mine.contains("\"reviewed_at\":\"2026-03-02T09:00:00.000Z\""),
+        "this session's answer: {mine}"
+    );
 }

@@ -18,9 +18,10 @@ pub struct Cli {
     /// Configuration file (default: config.toml in the platform config dir).
     #[arg(long, global = true, env = "FLIPCARD_CONFIG", value_name = "FILE")]
     pub config: Option<PathBuf>,
-    /// Folder of decks to open (default: the bundled decks).
+    /// A folder of decks to open besides the bundled decks, the library and
+    /// the config's `deck_paths` (repeatable).
     #[arg(long, global = true, env = "FLIPCARD_DECKS", value_name = "DIR")]
-    pub decks: Option<PathBuf>,
+    pub decks: Vec<PathBuf>,
     #[command(subcommand)]
     pub command: Option<Command>,
 }
@@ -51,6 +52,13 @@ pub enum Command {
     Cards(CardsArgs),
     /// Write the JSON Schemas of deck and content files, for editors.
     Schema(SchemaArgs),
+    /// The deck library: list every deck, add one, remove one.
+    Decks(DecksArgs),
+    /// A class report from learners' exported reviews and prompt attempts.
+    Report(ReportArgs),
+    /// Exchange reviews with this learner's other machines through a
+    /// folder that another tool (Syncthing, Dropbox, a network drive) syncs.
+    Sync(SyncArgs),
 }
 
 #[derive(Debug, Args)]
@@ -177,8 +185,15 @@ pub enum ExportFormat {
 #[derive(Debug, Args)]
 pub struct ExportArgs {
     /// Export the whole review log.
-    #[arg(long, conflicts_with = "deck", required_unless_present = "deck")]
+    #[arg(
+        long,
+        conflicts_with_all = ["deck", "attempts"],
+        required_unless_present_any = ["deck", "attempts"]
+    )]
     pub reviews: bool,
+    /// Export every predict-then-check attempt.
+    #[arg(long, conflicts_with = "deck")]
+    pub attempts: bool,
     /// Export a deck's cards (front, back, tags).
     #[arg(long, value_name = "ID")]
     pub deck: Option<String>,
@@ -321,4 +336,52 @@ pub struct SchemaArgs {
     /// (created if missing).
     #[arg(long, value_name = "DIR", default_value = "schema")]
     pub out: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct DecksArgs {
+    #[command(subcommand)]
+    pub command: Option<DecksCommand>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum DecksCommand {
+    /// Copy a deck (its file and content files) into the library, after
+    /// `check` passes.
+    Add(DecksAddArgs),
+    /// Remove a deck from the library (its review history is kept).
+    Remove(DecksRemoveArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct DecksAddArgs {
+    /// A deck file, a folder of deck files, or a folder holding `decks/`
+    /// and `content/`.
+    pub path: PathBuf,
+}
+
+#[derive(Debug, Args)]
+pub struct DecksRemoveArgs {
+    /// Deck id.
+    pub id: String,
+}
+
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// Learners' exports (`export --reviews`, `export --attempts`; JSON or
+    /// CSV), one learner per file name.
+    #[arg(required = true)]
+    pub files: Vec<PathBuf>,
+    /// Only this deck.
+    #[arg(long, value_name = "ID")]
+    pub deck: Option<String>,
+    /// Where to write report.html and report.csv.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct SyncArgs {
+    /// The synced folder (default: `sync_dir` in the config).
+    pub dir: Option<PathBuf>,
 }

@@ -5,19 +5,19 @@
 //! any error, 2 for a usage error (a path that does not exist; clap exits 2
 //! on bad flags itself).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use crate::cmd::args::{CheckArgs, Cli};
 use crate::deck::load::{Loaded, load_paths};
 use crate::text::plural;
 
-pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
-    let paths = if args.paths.is_empty() {
-        vec![relative_to_cwd(&crate::cmd::paths::bundled_decks())]
-    } else {
-        args.paths.clone()
-    };
+pub fn run(cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
+    if args.paths.is_empty() {
+        // Every deck source: what the app would open.
+        return report(&crate::cmd::library::load(cli).loaded);
+    }
+    let paths = args.paths.clone();
     // A dangling link is there; the loader says where it points.
     let missing: Vec<&PathBuf> = paths
         .iter()
@@ -45,7 +45,11 @@ pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
             );
         }
     }
-    let loaded = load_paths(&paths);
+    report(&load_paths(&paths))
+}
+
+/// Every diagnostic on stderr, then the summary or the error count.
+fn report(loaded: &Loaded) -> anyhow::Result<ExitCode> {
     if !loaded.diagnostics.is_empty() {
         crate::errln!("{}", loaded.render_all());
     }
@@ -57,7 +61,7 @@ pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(1));
     }
-    crate::outln!("{}", summary(&loaded))?;
+    crate::outln!("{}", summary(loaded))?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -74,14 +78,4 @@ pub fn summary(loaded: &Loaded) -> String {
         plural(count(|d| d.scenes.len()), "scene", "scenes"),
         plural(count(|d| d.sections.len()), "section", "sections"),
     )
-}
-
-/// `path` relative to the working directory when it lies under it, so the
-/// default (absolute) bundled path reads as `decks/...` in diagnostics.
-fn relative_to_cwd(path: &Path) -> PathBuf {
-    std::env::current_dir()
-        .ok()
-        .and_then(|cwd| path.strip_prefix(&cwd).ok().map(Path::to_path_buf))
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or_else(|| path.to_path_buf())
 }

@@ -5,7 +5,6 @@ use crate::cmd::args::Cli;
 use crate::cmd::paths;
 use crate::deck::{Deck, Loaded};
 use crate::store::Store;
-use crate::text::plural;
 
 /// The store for commands that only read: nothing is created or written,
 /// so they work from a read-only data dir and on a full disk.
@@ -27,21 +26,11 @@ pub fn open_store(cli: &Cli) -> anyhow::Result<Store> {
     Ok(store)
 }
 
-/// The decks as their files have them now (the bundled ones unless
-/// `--decks` says otherwise). Decks with errors are left out with a
+/// The decks of every source (bundled, library, config, `--decks`) as
+/// their files have them now. Decks with errors are left out with a
 /// warning: their history then shows as orphaned until they are fixed.
 pub fn load_decks(cli: &Cli) -> Loaded {
-    let dir = cli.decks.clone().unwrap_or_else(paths::bundled_decks);
-    let loaded = crate::deck::load_dir(&dir);
-    if loaded.errors() > 0 {
-        crate::errln!(
-            "flipcard: warning: {} in the decks under {}; decks with errors are left out (run `flipcard check {}`)",
-            plural(loaded.errors(), "error", "errors"),
-            dir.display(),
-            dir.display()
-        );
-    }
-    loaded
+    crate::cmd::library::load_warn(cli).loaded
 }
 
 pub fn find_deck<'a>(loaded: &'a Loaded, id: &str) -> anyhow::Result<&'a Deck> {

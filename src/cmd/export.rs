@@ -1,4 +1,5 @@
-//! `flipcard export --reviews [--format json|csv]` and
+//! `flipcard export --reviews [--format json|csv]`,
+//! `flipcard export --attempts [--format json|csv]` and
 //! `flipcard export --deck ID --format csv`.
 
 use std::io::Write;
@@ -20,8 +21,17 @@ pub fn run(cli: &Cli, args: &ExportArgs) -> anyhow::Result<ExitCode> {
         out.flush()?;
         return Ok(ExitCode::SUCCESS);
     }
+    if args.attempts {
+        let store = open_store_read_only(cli)?;
+        match args.format.unwrap_or(ExportFormat::Json) {
+            ExportFormat::Json => export::write_attempts_json(&store, &mut out)?,
+            ExportFormat::Csv => export::write_attempts_csv(&store, &mut out)?,
+        };
+        out.flush()?;
+        return Ok(ExitCode::SUCCESS);
+    }
     let Some(id) = &args.deck else {
-        anyhow::bail!("say what to export: --reviews or --deck ID");
+        anyhow::bail!("say what to export: --reviews, --attempts or --deck ID");
     };
     if args.format == Some(ExportFormat::Json) {
         anyhow::bail!(

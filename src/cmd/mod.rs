@@ -8,19 +8,23 @@ pub mod cards;
 pub mod check;
 mod common;
 pub mod db;
+pub mod decks;
 pub mod export;
 pub mod import;
 pub mod import_anki;
 pub mod import_reviews;
+pub mod library;
 pub mod optimize;
 pub mod output;
 pub mod paths;
 pub mod plan;
+pub mod report;
 pub mod review;
 pub mod schema;
 pub mod sim;
 pub mod sim_scene;
 pub mod stats;
+pub mod sync;
 
 use std::process::ExitCode;
 
@@ -48,6 +52,9 @@ pub fn run(cli: &Cli) -> ExitCode {
         Some(Command::Plan(args)) => plan::run(cli, args),
         Some(Command::Cards(args)) => cards::run(cli, args),
         Some(Command::Schema(args)) => schema::run(cli, args),
+        Some(Command::Decks(args)) => decks::run(cli, args),
+        Some(Command::Report(args)) => report::run(cli, args),
+        Some(Command::Sync(args)) => sync::run(cli, args),
     };
     // A failed write to stdout comes first: whatever error the handler
     // returned is then only its consequence.

@@ -2,11 +2,6 @@
 
 use std::path::PathBuf;
 
-/// The decks that ship with flipcard (the repository's `decks/`).
-pub fn bundled_decks() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("decks")
-}
-
 /// The data dir: explicit override (`--data-dir` / `FLIPCARD_DATA_DIR`), else
 /// the platform's (XDG on Linux).
 pub fn data_dir(explicit: Option<PathBuf>) -> anyhow::Result<PathBuf> {

@@ -3,7 +3,6 @@
 //! store, the decks) is opened here, before the terminal switches to raw
 //! mode, so errors print as ordinary lines.
 
-use std::collections::HashSet;
 use std::process::ExitCode;
 
 use crate::cmd::args::{Cli, ReviewArgs};
@@ -20,20 +19,26 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let config_path = paths::config_file(cli.config.clone());
     let config = Config::load(config_path.as_deref())?;
     let data_dir = paths::data_dir(cli.data_dir.clone())?;
+    // `sync_dir`: the other machines' reviews come in before the app
+    // opens, and this session's go out when it closes.
+    let sync_dir = config.sync_dir.clone();
+    if let Some(dir) = &sync_dir {
+        auto_sync(&data_dir, dir, &config);
+    }
     let store = Store::open(&data_dir)?;
-    let deck_dir = cli.decks.clone().unwrap_or_else(paths::bundled_decks);
-    let loaded = crate::deck::load_dir(&deck_dir);
+    let sources = crate::cmd::library::sources(cli, &config);
+    let library = crate::cmd::library::load_with(sources);
+    let failed = library.failed();
     let deck_load = DeckLoad {
-        from: Some(deck_dir.clone()),
-        errors: loaded.errors(),
-        failed_files: loaded
-            .diagnostics
+        from: None,
+        errors: library.loaded.errors(),
+        failed_files: failed.len(),
+        failed: failed
             .iter()
-            .filter(|d| d.is_error())
-            .map(|d| &d.path)
-            .collect::<HashSet<_>>()
-            .len(),
+            .map(|f| f.path.display().to_string())
+            .collect(),
     };
+    let loaded = library.loaded;
     let lang = config.language.clone();
     let mut services = Services::new(clock, config, config_path, DayZone::Local, store);
     services.bench_csv = paths::bench_csv();
@@ -47,7 +52,13 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
             crate::tui::open_filtered_review(&mut app, args.deck.as_deref(), &filter, args.cram)?;
         }
     }
-    crate::tui::run(&mut app)?;
+    let ran = crate::tui::run(&mut app);
+    let config = app.services.config.clone();
+    drop(app);
+    if let Some(dir) = &sync_dir {
+        auto_sync(&data_dir, dir, &config);
+    }
+    ran?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -70,4 +81,16 @@ fn review_filter(args: &ReviewArgs) -> anyhow::Result<Filter> {
         );
     }
     Ok(filter)
+}
+
+/// A sync the config asks for: a failure is a warning, never a reason to
+/// keep the learner from studying.
+fn auto_sync(data_dir: &std::path::Path, dir: &std::path::Path, config: &Config) {
+    if let Err(e) = crate::cmd::sync::sync_with(data_dir, dir, config) {
+        crate::errln!(
+            "flipcard: warning: sync through {} failed: {}",
+            dir.display(),
+            crate::cmd::output::chain_text(&e)
+        );
+    }
 }

@@ -58,17 +58,15 @@ pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
 /// `sim --list`: one line per scene of the decks (`--deck PATH`, else
 /// `--decks`, else the bundled ones): id, deck, setup, panels and title.
 fn list(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
-    let path = crate::cmd::sim_scene::deck_path(cli, args);
-    if !path.exists() {
-        bail!("{}: no such file or directory", path.display());
-    }
-    let loaded = crate::deck::load_paths(std::slice::from_ref(&path));
+    let (loaded, label) = crate::cmd::sim_scene::decks_for(cli, args)?;
     if loaded.decks.is_empty() && loaded.errors() > 0 {
+        let (place, check) = match &label {
+            Some(l) => (format!(" in {l}"), format!("flipcard check {l}")),
+            None => (String::new(), "flipcard check".to_string()),
+        };
         bail!(
-            "no deck in {} loads ({}; run `flipcard check {}`)",
-            path.display(),
+            "no deck{place} loads ({}; run `{check}`)",
             plural(loaded.errors(), "error", "errors"),
-            path.display()
         );
     }
     let mut out = crate::cmd::output::stdout();

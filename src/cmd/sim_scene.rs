@@ -3,13 +3,12 @@
 //! prompt that uses the scene.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 
 use crate::cmd::args::{Cli, SimArgs};
-use crate::deck::{Answer, Deck, Prompt, Scene, load_paths};
+use crate::deck::{Answer, Deck, Loaded, Prompt, Scene, load_paths};
 use crate::predict::{Prediction, verdict};
 use crate::sim::scene::measure::{Measurements, formula_name};
 use crate::sim::scene::measure_scene;
@@ -17,22 +16,25 @@ use crate::sim::solvers::registry::method;
 use crate::text::num::Num;
 use crate::text::plural;
 
-/// The decks to read: `--deck PATH`, else the global `--decks DIR`, else
-/// the bundled ones.
-pub(super) fn deck_path(cli: &Cli, args: &SimArgs) -> PathBuf {
-    args.deck
-        .clone()
-        .or_else(|| cli.decks.clone())
-        .unwrap_or_else(crate::cmd::paths::bundled_decks)
+/// The decks to read: `--deck PATH` alone, else every deck source. The
+/// label names them in messages.
+pub(super) fn decks_for(cli: &Cli, args: &SimArgs) -> anyhow::Result<(Loaded, Option<String>)> {
+    match &args.deck {
+        Some(p) => {
+            if !p.exists() {
+                bail!("{}: no such file or directory", p.display());
+            }
+            Ok((
+                load_paths(std::slice::from_ref(p)),
+                Some(p.display().to_string()),
+            ))
+        }
+        None => Ok((crate::cmd::library::load(cli).loaded, None)),
+    }
 }
 
-fn load(paths: &[PathBuf]) -> anyhow::Result<Vec<Deck>> {
-    for p in paths {
-        if !p.exists() {
-            bail!("{}: no such file or directory", p.display());
-        }
-    }
-    let loaded = load_paths(paths);
+fn load(cli: &Cli, args: &SimArgs) -> anyhow::Result<Vec<Deck>> {
+    let (loaded, _) = decks_for(cli, args)?;
     if loaded.errors() > 0 {
         crate::errln!("{}", loaded.render_all());
         bail!(
@@ -56,7 +58,7 @@ pub fn number(v: f64) -> String {
 /// `flipcard sim --scene ID`: runs the scene and prints its measurements,
 /// then each prompt on it with the verdict its expected answer gets.
 pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
-    let decks = load(&[deck_path(cli, args)])?;
+    let decks = load(cli, args)?;
     let Some((deck, scene)) = decks.iter().find_map(|d| d.scene(id).map(|s| (d, s))) else {
         let known: Vec<&str> = decks
             .iter()

@@ -70,6 +70,98 @@ pub fn read_regular(path: &Path) -> Result<Vec<u8>, String> {
     Ok(bytes)
 }
 
+/// Where deck and content files are read from: the disk, or files held in
+/// memory (the decks built into the binary).
+pub trait Tree {
+    fn probe(&self, path: &Path) -> Probe;
+    fn read(&self, path: &Path) -> Result<Vec<u8>, String>;
+    fn is_dir(&self, path: &Path) -> bool;
+    /// The entries directly in `dir`, in no particular order.
+    fn list(&self, dir: &Path) -> io::Result<Vec<PathBuf>>;
+    /// One name per file, however it was reached (links, `..`).
+    fn identity(&self, path: &Path) -> PathBuf;
+}
+
+/// The file system.
+pub struct Disk;
+
+impl Tree for Disk {
+    fn probe(&self, path: &Path) -> Probe {
+        probe(path)
+    }
+
+    fn read(&self, path: &Path) -> Result<Vec<u8>, String> {
+        read_regular(path)
+    }
+
+    fn is_dir(&self, path: &Path) -> bool {
+        path.is_dir()
+    }
+
+    fn list(&self, dir: &Path) -> io::Result<Vec<PathBuf>> {
+        Ok(fs::read_dir(dir)?
+            .filter_map(Result::ok)
+            .map(|e| e.path())
+            .collect())
+    }
+
+    fn identity(&self, path: &Path) -> PathBuf {
+        fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
+    }
+}
+
+/// Files held in memory, by path.
+pub struct Memory {
+    files: std::collections::BTreeMap<PathBuf, &'static [u8]>,
+}
+
+impl Memory {
+    pub fn new(files: impl IntoIterator<Item = (PathBuf, &'static [u8])>) -> Memory {
+        Memory {
+            files: files.into_iter().collect(),
+        }
+    }
+}
+
+impl Tree for Memory {
+    fn probe(&self, path: &Path) -> Probe {
+        if self.files.contains_key(path) {
+            Probe::Regular
+        } else if self.is_dir(path) {
+            Probe::Unusable("is a directory, not a regular file".to_string())
+        } else {
+            Probe::Missing
+        }
+    }
+
+    fn read(&self, path: &Path) -> Result<Vec<u8>, String> {
+        match self.files.get(path) {
+            Some(bytes) => Ok(bytes.to_vec()),
+            None => Err("no such file or directory".to_string()),
+        }
+    }
+
+    fn is_dir(&self, path: &Path) -> bool {
+        self.files.keys().any(|f| f != path && f.starts_with(path))
+    }
+
+    fn list(&self, dir: &Path) -> io::Result<Vec<PathBuf>> {
+        if !self.is_dir(dir) {
+            return Err(io::Error::from(io::ErrorKind::NotFound));
+        }
+        Ok(self
+            .files
+            .keys()
+            .filter(|f| f.parent() == Some(dir))
+            .cloned()
+            .collect())
+    }
+
+    fn identity(&self, path: &Path) -> PathBuf {
+        path.to_path_buf()
+    }
+}
+
 fn cannot_read(e: &io::Error) -> String {
     match e.kind() {
         io::ErrorKind::PermissionDenied => "cannot be read: permission denied".to_string(),

@@ -2,11 +2,10 @@
 //! them.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
-use std::fs;
 use std::path::{Component, Path, PathBuf};
 
 use super::diag::{Diagnostic, LineIndex, Severity};
-use super::files::{self, Probe};
+use super::files::{Disk, Probe, Tree};
 use super::model::Deck;
 use super::raw;
 use super::report::FileReport;
@@ -67,33 +66,82 @@ pub fn load_dir(path: &Path) -> Loaded {
 /// the folder, in name order). Paths in diagnostics are built from the paths
 /// given, so relative paths stay relative.
 pub fn load_paths(paths: &[PathBuf]) -> Loaded {
+    load_tree(&Disk, paths)
+}
+
+/// [`load_paths`] over the files of `tree`.
+pub fn load_tree(tree: &dyn Tree, paths: &[PathBuf]) -> Loaded {
+    let sources: Vec<(&dyn Tree, PathBuf)> = paths.iter().map(|p| (tree, p.clone())).collect();
+    load_sources(&sources).0
+}
+
+/// What became of one deck file (or of a folder that could not be read).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FileStatus {
+    /// Index of the source it came from.
+    pub source: usize,
+    pub path: PathBuf,
+    /// Errors and warnings in the deck file and its content files.
+    pub errors: usize,
+    pub warnings: usize,
+    /// Index of its deck in [`Loaded::decks`] when it loaded.
+    pub deck: Option<usize>,
+}
+
+/// Loads every deck of several sources, each a folder or file in its own
+/// tree, in order: a deck id found in two files is an error at the second,
+/// naming the first. Returns what was loaded and, per deck file, its fate.
+pub fn load_sources(sources: &[(&dyn Tree, PathBuf)]) -> (Loaded, Vec<FileStatus>) {
     let mut loaded = Loaded::default();
+    let mut statuses = Vec::new();
     let mut seen_ids: HashMap<String, PathBuf> = HashMap::new();
     let mut seen_files: HashSet<PathBuf> = HashSet::new();
-    for path in paths {
-        for file in deck_files(path, &mut loaded) {
+    for (source, (tree, path)) in sources.iter().enumerate() {
+        let before = loaded.diagnostics.len();
+        let files = deck_files(*tree, path, &mut loaded);
+        if loaded.diagnostics.len() > before {
+            statuses.push(FileStatus {
+                source,
+                path: path.clone(),
+                errors: loaded.diagnostics.len() - before,
+                warnings: 0,
+                deck: None,
+            });
+        }
+        for file in files {
             // The same file named twice (`decks decks/x.toml`) is one deck.
-            let key = fs::canonicalize(&file).unwrap_or_else(|_| file.clone());
-            if seen_files.insert(key) {
-                load_deck(&file, &mut loaded, &mut seen_ids);
+            if !seen_files.insert(tree.identity(&file)) {
+                continue;
             }
+            let (diags, decks) = (loaded.diagnostics.len(), loaded.decks.len());
+            load_deck(*tree, &file, &mut loaded, &mut seen_ids);
+            let errors = loaded.diagnostics[diags..]
+                .iter()
+                .filter(|d| d.is_error())
+                .count();
+            statuses.push(FileStatus {
+                source,
+                path: file,
+                errors,
+                warnings: loaded.diagnostics.len() - diags - errors,
+                deck: (loaded.decks.len() > decks).then_some(decks),
+            });
         }
     }
-    loaded
+    (loaded, statuses)
 }
 
 /// The deck files a path names: a file, or every `*.toml` entry of a
 /// folder whatever it is, so that a link or FIFO there is reported by the
 /// reader instead of leaving a deck out unnoticed.
-fn deck_files(path: &Path, loaded: &mut Loaded) -> Vec<PathBuf> {
-    if !path.is_dir() {
+fn deck_files(tree: &dyn Tree, path: &Path, loaded: &mut Loaded) -> Vec<PathBuf> {
+    if !tree.is_dir(path) {
         return vec![path.to_path_buf()];
     }
-    match fs::read_dir(path) {
+    match tree.list(path) {
         Ok(entries) => {
             let mut files: Vec<PathBuf> = entries
-                .filter_map(Result::ok)
-                .map(|e| e.path())
+                .into_iter()
                 .filter(|p| p.extension().is_some_and(|e| e == "toml"))
                 // Hidden names are an editor's (Emacs's `.#deck.toml` lock
                 // is a dangling link while the deck is open), not decks.
@@ -120,21 +168,22 @@ fn deck_files(path: &Path, loaded: &mut Loaded) -> Vec<PathBuf> {
 /// Reads a file as UTF-8 text; a path that is not a regular file, an I/O
 /// problem or invalid UTF-8 is a diagnostic (the lossy text is still kept
 /// for rendering).
-fn read_text(path: &Path, loaded: &mut Loaded) -> Option<String> {
+fn read_text(tree: &dyn Tree, path: &Path, loaded: &mut Loaded) -> Option<String> {
     let mut problems = Vec::new();
-    let text = read_text_into(path, &mut problems, &mut loaded.sources);
+    let text = read_text_into(tree, path, &mut problems, &mut loaded.sources);
     loaded.diagnostics.extend(problems);
     text
 }
 
 /// [`read_text`], with the problems collected in `problems`.
 fn read_text_into(
+    tree: &dyn Tree,
     path: &Path,
     problems: &mut Vec<Diagnostic>,
     sources: &mut BTreeMap<PathBuf, String>,
 ) -> Option<String> {
-    let read = match files::probe(path) {
-        Probe::Regular => files::read_regular(path),
+    let read = match tree.probe(path) {
+        Probe::Regular => tree.read(path),
         Probe::Missing => Err("no such file or directory".to_string()),
         Probe::Unusable(why) => Err(why),
     };
@@ -176,8 +225,13 @@ pub fn content_dir(deck_file: &Path, deck_id: &str) -> PathBuf {
     root.join("content").join(deck_id)
 }
 
-fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, PathBuf>) {
-    let Some(text) = read_text(path, loaded) else {
+fn load_deck(
+    tree: &dyn Tree,
+    path: &Path,
+    loaded: &mut Loaded,
+    seen_ids: &mut HashMap<String, PathBuf>,
+) {
+    let Some(text) = read_text(tree, path, loaded) else {
         return;
     };
     let stem = path
@@ -221,9 +275,9 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
     if header.langs.known {
         for (lang, span) in &header.lang_spans {
             let file = dir.join(format!("{lang}.toml"));
-            if files::probe(&file) != Probe::Missing {
+            if tree.probe(&file) != Probe::Missing {
                 // Whatever is there is read, or reported as what it is.
-                let text = read_text_into(&file, &mut unreadable, &mut loaded.sources);
+                let text = read_text_into(tree, &file, &mut unreadable, &mut loaded.sources);
                 texts.push((lang.clone(), file, text));
             } else {
                 rep.error(
@@ -237,7 +291,7 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
                 texts.push((lang.clone(), file, None));
             }
         }
-        stray = stray_content_files(&dir, &header.langs.list);
+        stray = stray_content_files(tree, &dir, &header.langs.list);
     }
     let mut files: Vec<ContentFile> = texts
         .iter()
@@ -298,13 +352,12 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
 
 /// A content file for a language the deck does not declare is never shown:
 /// most likely a tag spelt differently (`hi-latn`), so say so.
-fn stray_content_files(dir: &Path, langs: &[String]) -> Vec<Diagnostic> {
-    let Ok(entries) = fs::read_dir(dir) else {
+fn stray_content_files(tree: &dyn Tree, dir: &Path, langs: &[String]) -> Vec<Diagnostic> {
+    let Ok(entries) = tree.list(dir) else {
         return Vec::new();
     };
     let mut stray: Vec<PathBuf> = entries
-        .filter_map(Result::ok)
-        .map(|e| e.path())
+        .into_iter()
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .filter(|p| {
             p.file_stem()

@@ -5,10 +5,11 @@
 //! [`validate`] checks ids, languages, links, texts and physics and builds
 //! the [`model`] types. Every problem of every file is collected in one run.
 
+pub mod bundled;
 pub mod cloze;
 pub mod csv;
 pub mod diag;
-mod files;
+pub mod files;
 pub mod load;
 pub mod model;
 pub mod raw;
@@ -21,5 +22,5 @@ pub mod tomlstr;
 pub mod validate;
 
 pub use diag::{Diagnostic, Severity};
-pub use load::{Loaded, content_dir, load_dir, load_paths};
+pub use load::{FileStatus, Loaded, content_dir, load_dir, load_paths, load_sources, load_tree};
 pub use model::*;

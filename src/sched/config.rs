@@ -111,6 +111,12 @@ pub struct Config {
     /// Lapses at which an item becomes a leech (0: never).
     pub leech_threshold: u32,
     pub leech_action: LeechAction,
+    /// Folders of decks opened besides the bundled ones and the library,
+    /// relative ones taken from the config file's folder.
+    pub deck_paths: Vec<PathBuf>,
+    /// A folder another tool keeps in step between the learner's machines
+    /// (`flipcard sync`), relative to the config file's folder.
+    pub sync_dir: Option<PathBuf>,
 }
 
 impl Default for Config {
@@ -129,6 +135,8 @@ impl Default for Config {
             bury_siblings: true,
             leech_threshold: 8,
             leech_action: LeechAction::Suspend,
+            deck_paths: Vec::new(),
+            sync_dir: None,
         }
     }
 }
@@ -178,6 +186,8 @@ struct RawConfig {
     bury_siblings: Option<bool>,
     leech_threshold: Option<Spanned<i64>>,
     leech_action: Option<Spanned<String>>,
+    deck_paths: Option<Vec<Spanned<String>>>,
+    sync_dir: Option<Spanned<String>>,
 }
 
 impl Config {
@@ -352,6 +362,27 @@ impl Config {
                         format!("{:?} is not one of \"suspend\", \"tag\"", a.get_ref()),
                     )
                 })?;
+        }
+        let base = path.parent().unwrap_or(Path::new(""));
+        for (i, p) in raw.deck_paths.iter().flatten().enumerate() {
+            if p.get_ref().trim().is_empty() {
+                return Err(invalid(
+                    &format!("deck_paths[{i}]"),
+                    p.span(),
+                    "an empty path names no folder".to_string(),
+                ));
+            }
+            config.deck_paths.push(base.join(p.get_ref()));
+        }
+        if let Some(d) = raw.sync_dir {
+            if d.get_ref().trim().is_empty() {
+                return Err(invalid(
+                    "sync_dir",
+                    d.span(),
+                    "an empty path names no folder".to_string(),
+                ));
+            }
+            config.sync_dir = Some(base.join(d.get_ref()));
         }
         Ok(config)
     }

@@ -58,3 +58,39 @@ impl Store {
             .map_err(|e| self.err(e))
     }
 }
+
+impl Store {
+    /// Every prompt attempt in id order, handed to `each` one at a time;
+    /// stops at the first error `each` returns.
+    pub fn each_attempt<E>(
+        &self,
+        mut each: impl FnMut(PromptAttempt) -> Result<(), E>,
+    ) -> Result<(), E>
+    where
+        E: From<StoreError>,
+    {
+        let mut st = self
+            .conn
+            .prepare(
+                "SELECT deck, prompt, attempted_at, prediction, measured, correct \
+                 FROM prompt_attempt ORDER BY id",
+            )
+            .map_err(|e| self.err(e))?;
+        let mut rows = st.query([]).map_err(|e| self.err(e))?;
+        while let Some(row) = rows.next().map_err(|e| self.err(e))? {
+            let attempt = (|| -> rusqlite::Result<PromptAttempt> {
+                Ok(PromptAttempt {
+                    deck: row.get(0)?,
+                    prompt: row.get(1)?,
+                    attempted_at: row.get::<_, super::codec::Ms>(2)?.0,
+                    prediction: row.get(3)?,
+                    measured: row.get(4)?,
+                    correct: row.get(5)?,
+                })
+            })()
+            .map_err(|e| self.err(e))?;
+            each(attempt)?;
+        }
+        Ok(())
+    }
+}

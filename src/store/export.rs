@@ -133,3 +133,69 @@ pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<u64, Expo
     w.flush()?;
     Ok(n)
 }
+
+/// The fields of `flipcard export --attempts`, in order (also the CSV
+/// header): a contract like [`REVIEW_FIELDS`].
+pub const ATTEMPT_FIELDS: [&str; 6] = [
+    "deck",
+    "prompt",
+    "attempted_at",
+    "prediction",
+    "measured",
+    "correct",
+];
+
+/// One exported prompt attempt.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ExportedAttempt {
+    pub deck: String,
+    pub prompt: String,
+    pub attempted_at: String,
+    pub prediction: String,
+    pub measured: Option<f64>,
+    pub correct: bool,
+}
+
+impl From<super::attempt::PromptAttempt> for ExportedAttempt {
+    fn from(a: super::attempt::PromptAttempt) -> Self {
+        ExportedAttempt {
+            deck: a.deck,
+            prompt: a.prompt,
+            attempted_at: rfc3339(a.attempted_at),
+            prediction: a.prediction,
+            measured: a.measured,
+            correct: a.correct,
+        }
+    }
+}
+
+/// Writes every prompt attempt as a JSON array, streaming. Returns the count.
+pub fn write_attempts_json(store: &Store, out: &mut dyn Write) -> Result<u64, ExportError> {
+    let mut n = 0u64;
+    out.write_all(b"[")?;
+    store.each_attempt(|a| -> Result<(), ExportError> {
+        out.write_all(if n == 0 { b"\n" } else { b",\n" })?;
+        serde_json::to_writer(&mut *out, &ExportedAttempt::from(a))?;
+        n += 1;
+        Ok(())
+    })?;
+    out.write_all(if n == 0 { b"]\n" } else { b"\n]\n" })?;
+    out.flush()?;
+    Ok(n)
+}
+
+/// Writes every prompt attempt as CSV with a header row. Returns the count.
+pub fn write_attempts_csv(store: &Store, out: &mut dyn Write) -> Result<u64, ExportError> {
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(out);
+    w.write_record(ATTEMPT_FIELDS)?;
+    let mut n = 0u64;
+    store.each_attempt(|a| -> Result<(), ExportError> {
+        w.serialize(ExportedAttempt::from(a))?;
+        n += 1;
+        Ok(())
+    })?;
+    w.flush()?;
+    Ok(n)
+}

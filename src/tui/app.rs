@@ -26,6 +26,8 @@ pub struct DeckLoad {
     pub errors: usize,
     /// Files with at least one error (their decks are left out).
     pub failed_files: usize,
+    /// Those deck files, as the sources name them.
+    pub failed: Vec<String>,
 }
 
 pub struct App {

@@ -616,3 +616,16 @@ pub mod study {
     pub const MORE_ABOVE: Words = Words("↑ k", "↑ k");
     pub const MORE_BELOW_TYPING: Words = Words("↓ more: ↓", "↓ aur: ↓");
 }
+
+/// The home screen's line when some decks opened and others did not: which
+/// deck files were left out and the command that shows why.
+pub fn decks_left_out(lang: &str, files: &[String]) -> String {
+    let list = files.join(", ");
+    if lang == HINGLISH {
+        format!(
+            "Galtiyon ki wajah se chhode gaye: {list}. Wajah dekhne ke liye `flipcard decks` chalao."
+        )
+    } else {
+        format!("Left out with errors: {list}. Run `flipcard decks` to see why.")
+    }
+}

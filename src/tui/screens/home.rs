@@ -196,13 +196,28 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
     let narrow = area.width < 60;
     let details = details(app, state, narrow, area.width);
     // The deck list keeps at least its header and one deck.
-    let room = area.height.saturating_sub(keys.len() as u16 + 2);
-    let [table_area, detail_area, keys_area] = Layout::vertical([
+    // Decks that failed to load are named above the list (with how to see
+    // why), so one broken file hides none of the others.
+    let warn_rows = u16::from(!app.deck_load.failed.is_empty()) * 2;
+    let room = area
+        .height
+        .saturating_sub(keys.len() as u16 + 2 + warn_rows);
+    let [warn_area, table_area, detail_area, keys_area] = Layout::vertical([
+        Constraint::Length(warn_rows),
         Constraint::Fill(1),
         Constraint::Length((details.len() as u16).min(room)),
         Constraint::Length(keys.len() as u16),
     ])
     .areas(area);
+    if warn_rows > 0 {
+        let p = Paragraph::new(crate::tui::i18n::decks_left_out(
+            &app.lang,
+            &app.deck_load.failed,
+        ))
+        .style(t.warn())
+        .wrap(Wrap { trim: true });
+        frame.render_widget(p, warn_area);
+    }
     frame.render_widget(Paragraph::new(keys), keys_area);
     frame.render_widget(Paragraph::new(details), detail_area);
 
@@ -213,7 +228,6 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
     }
 }
 
-/// The selected deck's details, wrapped to the width.
 fn details(app: &App, state: &HomeState, narrow: bool, width: u16) -> Vec<Line<'static>> {
     use crate::tui::wrap::{Run, wrap};
     let t = &app.theme;

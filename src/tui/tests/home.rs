@@ -373,6 +373,7 @@ fn no_decks_says_how_many_files_failed_and_how_to_see_why() {
         from: Some("/srv/course/decks".into()),
         errors: 5,
         failed_files: 2,
+        failed: Vec::new(),
     };
     let screen = flat(&render(&app));
     assert!(screen.contains("2 files have errors"), "{screen}");
@@ -384,6 +385,7 @@ fn no_decks_says_how_many_files_failed_and_how_to_see_why() {
         from: Some("/srv/empty".into()),
         errors: 0,
         failed_files: 0,
+        failed: Vec::new(),
     };
     let screen = render(&app);
     assert!(screen.contains("No decks found in /srv/empty"), "{screen}");
@@ -431,6 +433,7 @@ fn no_decks_counts_failed_files_in_the_singular_in_hinglish_too() {
             from: Some("/srv/decks".into()),
             errors: 3,
             failed_files: files,
+            failed: Vec::new(),
         };
         let screen = flat(&render(&app));
         assert!(screen.contains(text), "{screen}");
@@ -463,4 +466,24 @@ fn prompts_list_shows_extreme_scene_values_with_exponents() {
         .max()
         .unwrap_or(0);
     assert!(longest < 30, "a {longest}-digit run in\n{screen}");
+}
+
+#[test]
+fn decks_left_out_are_named_above_the_ones_that_opened() {
+    for (lang, said) in [
+        (ENGLISH, "Run `flipcard decks` to see why"),
+        (HINGLISH, "`flipcard decks` chalao"),
+    ] {
+        let mut app = testkit::app(lang);
+        app.deck_load.failed = vec!["/srv/course/broken.toml".into()];
+        app.deck_load.failed_files = 1;
+        let screen = flat(&render(&app));
+        assert!(screen.contains("/srv/course/broken.toml"), "{screen}");
+        assert!(screen.contains(said), "{screen}");
+        let title = app.decks[0].title.get(lang).to_string();
+        assert!(
+            screen.contains(&title),
+            "the good deck still shows: {screen}"
+        );
+    }
 }

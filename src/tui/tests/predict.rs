@@ -357,7 +357,7 @@ fn a_number_prediction_is_checked_against_the_measured_rate() {
 
 #[test]
 fn every_bundled_prompt_plays_to_a_verdict_at_any_size() {
-    let loaded = crate::deck::load_dir(&crate::cmd::paths::bundled_decks());
+    let loaded = crate::deck::bundled::load();
     assert!(!loaded.decks.is_empty(), "bundled decks load");
     for (d, deck) in loaded.decks.iter().enumerate() {
         for (i, prompt) in deck.prompts.iter().enumerate() {

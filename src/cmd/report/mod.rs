@@ -1,0 +1,240 @@
+//! `flipcard report FILES… [--deck ID] [--out DIR]`: the class report from
+//! learners' exported reviews and prompt attempts, as a table in the
+//! terminal and, with `--out`, `DIR/report.html` (one self-contained page:
+//! tables and SVG bar charts, no scripts, nothing fetched) and
+//! `DIR/report.csv`.
+
+mod csv_out;
+mod html;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context;
+
+use crate::cmd::args::{Cli, ReportArgs};
+use crate::store::class::{self, ClassReport, Export};
+use crate::text::num::rounded;
+pub use crate::text::plural;
+
+/// The report and what went into it.
+pub struct Input {
+    pub report: ClassReport,
+    /// Files left out, with their first problem (`FILE:LINE: message`).
+    pub skipped: Vec<String>,
+    pub deck: Option<String>,
+}
+
+/// Reads every file; a file with a problem is left out whole and named
+/// with its first problem.
+pub fn read(files: &[PathBuf], decks: &[crate::deck::Deck], only: Option<&str>) -> Input {
+    let mut exports: Vec<Export> = Vec::with_capacity(files.len());
+    let mut skipped = Vec::new();
+    for path in files {
+        let text = match fs::read(path) {
+            Ok(bytes) => match String::from_utf8(bytes) {
+                Ok(t) => t,
+                Err(e) => {
+                    let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
+                        .iter()
+                        .filter(|b| **b == b'\n')
+                        .count();
+                    skipped.push(format!("{}:{line}: not valid UTF-8", path.display()));
+                    continue;
+                }
+            },
+            Err(e) => {
+                skipped.push(format!("{}: cannot be read: {e}", path.display()));
+                continue;
+            }
+        };
+        match class::parse(&text) {
+            Ok(e) => exports.push(e),
+            Err(e) => skipped.push(format!("{}:{}: {}", path.display(), e.line, e.message)),
+        }
+    }
+    Input {
+        report: class::aggregate(&exports, decks, only, "en"),
+        skipped,
+        deck: only.map(str::to_string),
+    }
+}
+
+pub fn run(cli: &Cli, args: &ReportArgs) -> anyhow::Result<ExitCode> {
+    let decks = crate::cmd::library::load(cli).loaded.decks;
+    if let Some(id) = &args.deck
+        && !decks.iter().any(|d| &d.id == id)
+    {
+        crate::errln!(
+            "flipcard: warning: deck `{id}` is not among the decks loaded; prompt texts and tags are unknown"
+        );
+    }
+    let input = read(&args.files, &decks, args.deck.as_deref());
+    for s in &input.skipped {
+        crate::errln!("{s}");
+    }
+    crate::out!("{}", terminal(&input))?;
+    if let Some(dir) = &args.out {
+        write_outputs(dir, &input)?;
+        crate::outln!(
+            "wrote {} and {}",
+            dir.join("report.html").display(),
+            dir.join("report.csv").display()
+        )?;
+    }
+    if input.skipped.is_empty() {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        crate::errln!(
+            "flipcard: error: {} skipped; the report covers the rest",
+            plural(input.skipped.len(), "file", "files")
+        );
+        Ok(ExitCode::FAILURE)
+    }
+}
+
+/// Writes both files, each to a temporary name renamed into place.
+pub fn write_outputs(dir: &Path, input: &Input) -> anyhow::Result<()> {
+    fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    for (name, body) in [
+        ("report.html", html::page(input)),
+        ("report.csv", csv_out::table(&input.report)?),
+    ] {
+        let tmp = dir.join(format!(".{name}.tmp"));
+        fs::write(&tmp, body).with_context(|| format!("cannot write {}", tmp.display()))?;
+        fs::rename(&tmp, dir.join(name))
+            .with_context(|| format!("cannot write {}", dir.join(name).display()))?;
+    }
+    Ok(())
+}
+
+/// `n/total` as a whole percentage.
+pub fn percent(n: usize, total: usize) -> String {
+    if total == 0 {
+        return "–".to_string();
+    }
+    format!("{}%", rounded(100.0 * n as f64 / total as f64, 3))
+}
+
+pub fn card_name(c: &class::CardRow) -> String {
+    if c.direction == "backward" {
+        format!("{} (backward)", c.card)
+    } else {
+        c.card.clone()
+    }
+}
+
+pub fn choice_name(c: &class::Choice) -> String {
+    match &c.label {
+        Some(l) => format!("{} ({l})", c.prediction),
+        None => c.prediction.clone(),
+    }
+}
+
+/// Rows in aligned columns.
+fn columns(rows: &[Vec<String>]) -> String {
+    let n = rows.iter().map(Vec::len).max().unwrap_or(0);
+    let mut widths = vec![0usize; n];
+    for row in rows {
+        for (w, cell) in widths.iter_mut().zip(row) {
+            *w = (*w).max(unicode_width::UnicodeWidthStr::width(cell.as_str()));
+        }
+    }
+    let mut out = String::new();
+    for row in rows {
+        let mut line = String::new();
+        for (i, cell) in row.iter().enumerate() {
+            line.push_str(cell);
+            let pad = widths[i] - unicode_width::UnicodeWidthStr::width(cell.as_str());
+            line.push_str(&" ".repeat(pad + 2));
+        }
+        out.push_str(line.trim_end());
+        out.push('\n');
+    }
+    out
+}
+
+/// Who the report covers, in one line.
+pub fn headline(input: &Input) -> String {
+    let r = &input.report;
+    let mut s = format!(
+        "Class report{}: {} of reviews, {} of prompt attempts",
+        input
+            .deck
+            .as_ref()
+            .map_or_else(String::new, |d| format!(" for {d}")),
+        plural(r.review_files, "learner file", "learner files"),
+        plural(r.attempt_files, "learner file", "learner files"),
+    );
+    if !input.skipped.is_empty() {
+        s.push_str(&format!(
+            "; {} skipped",
+            plural(input.skipped.len(), "file", "files")
+        ));
+    }
+    s
+}
+
+fn terminal(input: &Input) -> String {
+    let r = &input.report;
+    let mut out = format!("{}\n\nCards, hardest first\n", headline(input));
+    let mut rows = vec![vec![
+        "DECK".to_string(),
+        "CARD".into(),
+        "LEARNERS".into(),
+        "LAPSED".into(),
+        "MEAN DIFFICULTY".into(),
+    ]];
+    for c in &r.cards {
+        rows.push(vec![
+            c.deck.clone(),
+            card_name(c),
+            c.learners.to_string(),
+            percent(c.lapsed, c.learners),
+            c.mean_difficulty
+                .map_or_else(|| "–".to_string(), |d| rounded(d, 3)),
+        ]);
+    }
+    out.push_str(&columns(&rows));
+    out.push_str("\nPrompts, least often predicted right first\n");
+    let mut rows = vec![vec![
+        "DECK".to_string(),
+        "PROMPT".into(),
+        "LEARNERS".into(),
+        "RIGHT".into(),
+        "WRONG CHOICES".into(),
+    ]];
+    for p in &r.prompts {
+        let wrong: Vec<String> = p
+            .wrong
+            .iter()
+            .map(|w| format!("{} ×{}", w.prediction, w.learners))
+            .collect();
+        rows.push(vec![
+            p.deck.clone(),
+            p.prompt.clone(),
+            p.learners.to_string(),
+            percent(p.right, p.learners),
+            wrong.join(", "),
+        ]);
+    }
+    out.push_str(&columns(&rows));
+    out.push_str("\nRetention by tag\n");
+    let mut rows = vec![vec![
+        "TAG".to_string(),
+        "LEARNERS".into(),
+        "REVIEWS".into(),
+        "RETENTION".into(),
+    ]];
+    for t in &r.tags {
+        rows.push(vec![
+            t.tag.clone(),
+            t.learners.to_string(),
+            t.reviews.to_string(),
+            percent(t.recalled, t.reviews),
+        ]);
+    }
+    out.push_str(&columns(&rows));
+    out
+}

@@ -1,0 +1,522 @@
+//! A class report from learners' exports (`export --reviews`, `export
+//! --attempts`, JSON or CSV), without their databases: per card the share
+//! of learners who lapsed and the mean difficulty, per prompt the share who
+//! predicted right and the wrong choices made, retention by tag.
+//!
+//! A learner is a file and is named by its file name only. A file with any
+//! problem is left out whole, its first problem given with a line number.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+use chrono::{DateTime, Utc};
+use serde::Deserialize;
+
+use super::export::{ATTEMPT_FIELDS, REVIEW_FIELDS};
+use crate::deck::{Answer, Deck};
+
+/// One review as the report needs it.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub struct ReviewRow {
+    #[serde(deserialize_with = "id")]
+    pub deck: String,
+    #[serde(deserialize_with = "id")]
+    pub card: String,
+    #[serde(deserialize_with = "direction")]
+    pub direction: String,
+    #[serde(deserialize_with = "time")]
+    pub reviewed_at: DateTime<Utc>,
+    #[serde(deserialize_with = "rating")]
+    pub rating: u8,
+    #[serde(deserialize_with = "kind")]
+    pub kind: String,
+    #[serde(default, deserialize_with = "difficulty")]
+    pub difficulty: Option<f64>,
+    #[serde(deserialize_with = "flag")]
+    pub undone: bool,
+}
+
+/// One prompt attempt as the report needs it.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+pub struct AttemptRow {
+    #[serde(deserialize_with = "id")]
+    pub deck: String,
+    #[serde(deserialize_with = "id")]
+    pub prompt: String,
+    #[serde(deserialize_with = "time")]
+    pub attempted_at: DateTime<Utc>,
+    pub prediction: String,
+    #[serde(deserialize_with = "flag")]
+    pub correct: bool,
+}
+
+/// What one learner's file holds.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Export {
+    Reviews(Vec<ReviewRow>),
+    Attempts(Vec<AttemptRow>),
+}
+
+/// The first problem of a file, at a 1-based line.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{line}: {message}")]
+pub struct FileError {
+    pub line: usize,
+    pub message: String,
+}
+
+fn id<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+    let s = String::deserialize(d)?;
+    if s.trim().is_empty() {
+        return Err(serde::de::Error::custom("an empty id"));
+    }
+    Ok(s)
+}
+
+fn direction<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+    let s = String::deserialize(d)?;
+    match s.as_str() {
+        "forward" | "backward" => Ok(s),
+        _ => Err(serde::de::Error::custom(format!(
+            "direction {s:?} is not forward or backward"
+        ))),
+    }
+}
+
+fn kind<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+    let s = String::deserialize(d)?;
+    match s.as_str() {
+        "learn" | "review" | "relearn" | "cram" => Ok(s),
+        _ => Err(serde::de::Error::custom(format!(
+            "kind {s:?} is not learn, review, relearn or cram"
+        ))),
+    }
+}
+
+fn time<'de, D: serde::Deserializer<'de>>(d: D) -> Result<DateTime<Utc>, D::Error> {
+    let s = String::deserialize(d)?;
+    DateTime::parse_from_rfc3339(&s)
+        .map(|t| t.with_timezone(&Utc))
+        .map_err(|e| serde::de::Error::custom(format!("time {s:?} is not RFC 3339: {e}")))
+}
+
+fn rating<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u8, D::Error> {
+    let n = i64::deserialize(d)?;
+    u8::try_from(n)
+        .ok()
+        .filter(|r| (1..=4).contains(r))
+        .ok_or_else(|| serde::de::Error::custom(format!("rating {n} is not 1–4")))
+}
+
+fn difficulty<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+    match Option::<f64>::deserialize(d)? {
+        Some(v) if !(1.0..=10.0).contains(&v) => Err(serde::de::Error::custom(format!(
+            "difficulty {v} is outside 1–10"
+        ))),
+        v => Ok(v),
+    }
+}
+
+/// `true`/`false` (JSON and the CSV export) or 1/0.
+fn flag<'de, D: serde::Deserializer<'de>>(d: D) -> Result<bool, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Flag {
+        Bool(bool),
+        Text(String),
+        Int(i64),
+    }
+    match Flag::deserialize(d)? {
+        Flag::Bool(b) => Ok(b),
+        Flag::Int(0) => Ok(false),
+        Flag::Int(1) => Ok(true),
+        Flag::Text(t) if t == "true" || t == "1" => Ok(true),
+        Flag::Text(t) if t == "false" || t == "0" => Ok(false),
+        _ => Err(serde::de::Error::custom("expected true or false")),
+    }
+}
+
+/// Reads one exported file, JSON or CSV, reviews or attempts.
+pub fn parse(text: &str) -> Result<Export, FileError> {
+    let trimmed = text.trim_start_matches('\u{feff}');
+    let first = trimmed.trim_start();
+    if first.starts_with('[') {
+        parse_json(trimmed)
+    } else if first.is_empty() {
+        Err(FileError {
+            line: 1,
+            message: "empty file: not an export of reviews or prompt attempts".into(),
+        })
+    } else {
+        parse_csv(trimmed)
+    }
+}
+
+fn json_error(e: &serde_json::Error) -> FileError {
+    let message = e.to_string();
+    // serde_json appends " at line L column C"; the line is given apart.
+    let message = match message.rfind(" at line ") {
+        Some(i) => message[..i].to_string(),
+        None => message,
+    };
+    FileError {
+        line: e.line().max(1),
+        message,
+    }
+}
+
+fn parse_json(text: &str) -> Result<Export, FileError> {
+    let values: Vec<serde_json::Value> = serde_json::from_str(text).map_err(|e| json_error(&e))?;
+    let Some(first) = values.first() else {
+        // An empty export says nothing about anyone.
+        return Ok(Export::Reviews(Vec::new()));
+    };
+    // Records are typed again from the text so that errors carry the line.
+    if first.get("card").is_some() {
+        serde_json::from_str::<Vec<ReviewRow>>(text)
+            .map(Export::Reviews)
+            .map_err(|e| json_error(&e))
+    } else if first.get("prompt").is_some() {
+        serde_json::from_str::<Vec<AttemptRow>>(text)
+            .map(Export::Attempts)
+            .map_err(|e| json_error(&e))
+    } else {
+        Err(FileError {
+            line: 2,
+            message: "records have neither `card` (reviews) nor `prompt` (prompt attempts)".into(),
+        })
+    }
+}
+
+fn parse_csv(text: &str) -> Result<Export, FileError> {
+    let mut reader = csv::ReaderBuilder::new().from_reader(text.as_bytes());
+    let headers = reader
+        .headers()
+        .map_err(|e| FileError {
+            line: 1,
+            message: format!("not CSV: {e}"),
+        })?
+        .clone();
+    let starts_with = |fields: &[&str]| {
+        headers.len() >= fields.len() && fields.iter().zip(headers.iter()).all(|(a, b)| *a == b)
+    };
+    let line_of = |e: &csv::Error| e.position().map_or(1, |p| p.line() as usize);
+    let csv_error = |e: csv::Error| FileError {
+        line: line_of(&e),
+        message: match e.kind() {
+            csv::ErrorKind::Deserialize { err, .. } => match err.field() {
+                Some(i) => format!(
+                    "field `{}`: {}",
+                    headers.get(i as usize).unwrap_or("?"),
+                    err.kind()
+                ),
+                None => err.kind().to_string(),
+            },
+            _ => e.to_string(),
+        },
+    };
+    if starts_with(&REVIEW_FIELDS) {
+        reader
+            .deserialize::<ReviewRow>()
+            .collect::<Result<Vec<_>, _>>()
+            .map(Export::Reviews)
+            .map_err(csv_error)
+    } else if starts_with(&ATTEMPT_FIELDS) {
+        reader
+            .deserialize::<AttemptRow>()
+            .collect::<Result<Vec<_>, _>>()
+            .map(Export::Attempts)
+            .map_err(csv_error)
+    } else {
+        Err(FileError {
+            line: 1,
+            message: format!(
+                "header is neither `{}` (reviews) nor `{}` (prompt attempts)",
+                REVIEW_FIELDS.join(","),
+                ATTEMPT_FIELDS.join(",")
+            ),
+        })
+    }
+}
+
+/// One card (one direction of it) across the class.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CardRow {
+    pub deck: String,
+    pub card: String,
+    pub direction: String,
+    /// Learners with at least one review of it.
+    pub learners: usize,
+    /// Of those, learners who forgot it at least once after learning it
+    /// (Again on a review).
+    pub lapsed: usize,
+    /// Mean over learners of the difficulty after their last review.
+    pub mean_difficulty: Option<f64>,
+}
+
+/// A choice (or a number typed) and how many learners made it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Choice {
+    pub prediction: String,
+    /// The choice's label in the deck, when it is a choice of it.
+    pub label: Option<String>,
+    pub learners: usize,
+}
+
+/// One predict-then-check prompt across the class. Each learner's first
+/// attempt counts: later ones come after seeing the simulation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PromptRow {
+    pub deck: String,
+    pub prompt: String,
+    /// The question, when the deck is loaded.
+    pub text: Option<String>,
+    pub learners: usize,
+    pub right: usize,
+    /// The wrong first predictions, most common first.
+    pub wrong: Vec<Choice>,
+}
+
+/// Retention of one tag: Good, Hard or Easy among reviews of cards due for
+/// review (learning steps and cramming left out).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TagRow {
+    pub tag: String,
+    pub learners: usize,
+    pub reviews: usize,
+    pub recalled: usize,
+}
+
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ClassReport {
+    /// Files of reviews and of prompt attempts counted.
+    pub review_files: usize,
+    pub attempt_files: usize,
+    /// Hardest first: by share lapsed, then mean difficulty.
+    pub cards: Vec<CardRow>,
+    /// Least often right first.
+    pub prompts: Vec<PromptRow>,
+    pub tags: Vec<TagRow>,
+}
+
+/// The tag of cards whose deck is not among those loaded.
+pub const NO_DECK: &str = "(deck not loaded)";
+/// The tag of cards without tags.
+pub const NO_TAG: &str = "(no tag)";
+
+/// Aggregates learners' exports. `decks` give prompt texts, choice labels
+/// and tags; `only` keeps one deck.
+pub fn aggregate(
+    exports: &[Export],
+    decks: &[Deck],
+    only: Option<&str>,
+    lang: &str,
+) -> ClassReport {
+    let keep = |deck: &str| only.is_none_or(|o| o == deck);
+    let deck_by_id: HashMap<&str, &Deck> = decks.iter().map(|d| (d.id.as_str(), d)).collect();
+    let mut report = ClassReport::default();
+    // (deck, card, direction) -> (learners, lapsed, difficulty sum, with difficulty)
+    let mut cards: BTreeMap<(String, String, String), (usize, usize, f64, usize)> = BTreeMap::new();
+    let mut prompts: BTreeMap<(String, String), (usize, usize, BTreeMap<String, usize>)> =
+        BTreeMap::new();
+    let mut tags: BTreeMap<String, (usize, usize, usize)> = BTreeMap::new();
+    for export in exports {
+        match export {
+            Export::Reviews(rows) => {
+                report.review_files += 1;
+                // Per card of this learner: lapsed, last difficulty (by time).
+                let mut mine: HashMap<(&str, &str, &str), (bool, Option<(DateTime<Utc>, f64)>)> =
+                    HashMap::new();
+                let mut my_tags: HashMap<String, ()> = HashMap::new();
+                for r in rows
+                    .iter()
+                    .filter(|r| !r.undone && r.kind != "cram" && keep(&r.deck))
+                {
+                    let e = mine
+                        .entry((&r.deck, &r.card, &r.direction))
+                        .or_insert((false, None));
+                    if r.kind == "review" && r.rating == 1 {
+                        e.0 = true;
+                    }
+                    if let Some(d) = r.difficulty
+                        && e.1.is_none_or(|(t, _)| t <= r.reviewed_at)
+                    {
+                        e.1 = Some((r.reviewed_at, d));
+                    }
+                    if r.kind == "review" {
+                        for tag in card_tags(&deck_by_id, &r.deck, &r.card) {
+                            let t = tags.entry(tag.clone()).or_default();
+                            t.1 += 1;
+                            t.2 += usize::from(r.rating > 1);
+                            my_tags.insert(tag, ());
+                        }
+                    }
+                }
+                for tag in my_tags.into_keys() {
+                    tags.entry(tag).or_default().0 += 1;
+                }
+                for ((deck, card, dir), (lapsed, last)) in mine {
+                    let e = cards
+                        .entry((deck.to_string(), card.to_string(), dir.to_string()))
+                        .or_default();
+                    e.0 += 1;
+                    e.1 += usize::from(lapsed);
+                    if let Some((_, d)) = last {
+                        e.2 += d;
+                        e.3 += 1;
+                    }
+                }
+            }
+            Export::Attempts(rows) => {
+                report.attempt_files += 1;
+                let mut first: HashMap<(&str, &str), &AttemptRow> = HashMap::new();
+                for a in rows.iter().filter(|a| keep(&a.deck)) {
+                    let e = first.entry((&a.deck, &a.prompt)).or_insert(a);
+                    if a.attempted_at < e.attempted_at {
+                        *e = a;
+                    }
+                }
+                for ((deck, prompt), a) in first {
+                    let e = prompts
+                        .entry((deck.to_string(), prompt.to_string()))
+                        .or_default();
+                    e.0 += 1;
+                    if a.correct {
+                        e.1 += 1;
+                    } else {
+                        *e.2.entry(a.prediction.trim().to_string()).or_default() += 1;
+                    }
+                }
+            }
+        }
+    }
+    report.cards = cards
+        .into_iter()
+        .map(
+            |((deck, card, direction), (learners, lapsed, sum, n))| CardRow {
+                deck,
+                card,
+                direction,
+                learners,
+                lapsed,
+                mean_difficulty: (n > 0).then(|| sum / n as f64),
+            },
+        )
+        .collect();
+    report.cards.sort_by(|a, b| {
+        let share = |c: &CardRow| c.lapsed as f64 / c.learners as f64;
+        share(b)
+            .total_cmp(&share(a))
+            .then(
+                b.mean_difficulty
+                    .unwrap_or(0.0)
+                    .total_cmp(&a.mean_difficulty.unwrap_or(0.0)),
+            )
+            .then_with(|| (&a.deck, &a.card, &a.direction).cmp(&(&b.deck, &b.card, &b.direction)))
+    });
+    report.prompts = prompts
+        .into_iter()
+        .map(|((deck, prompt), (learners, right, wrong))| {
+            let found = deck_by_id
+                .get(deck.as_str())
+                .and_then(|d| d.prompts.iter().find(|p| p.id == prompt));
+            let label = |choice: &str| match found.map(|p| &p.answer) {
+                Some(Answer::Choice { choices, .. }) => choices
+                    .iter()
+                    .find(|c| c.id == choice)
+                    .map(|c| crate::text::render(c.label.get(lang))),
+                _ => None,
+            };
+            let mut wrong: Vec<Choice> = wrong
+                .into_iter()
+                .map(|(prediction, learners)| Choice {
+                    label: label(&prediction),
+                    prediction,
+                    learners,
+                })
+                .collect();
+            wrong.sort_by(|a, b| {
+                b.learners
+                    .cmp(&a.learners)
+                    .then(a.prediction.cmp(&b.prediction))
+            });
+            PromptRow {
+                text: found.map(|p| crate::text::render(p.question.get(lang))),
+                deck,
+                prompt,
+                learners,
+                right,
+                wrong,
+            }
+        })
+        .collect();
+    report.prompts.sort_by(|a, b| {
+        let share = |p: &PromptRow| p.right as f64 / p.learners as f64;
+        share(a)
+            .total_cmp(&share(b))
+            .then_with(|| (&a.deck, &a.prompt).cmp(&(&b.deck, &b.prompt)))
+    });
+    report.tags = tags
+        .into_iter()
+        .map(|(tag, (learners, reviews, recalled))| TagRow {
+            tag,
+            learners,
+            reviews,
+            recalled,
+        })
+        .collect();
+    report
+}
+
+fn card_tags(decks: &HashMap<&str, &Deck>, deck: &str, card: &str) -> Vec<String> {
+    let Some(d) = decks.get(deck) else {
+        return vec![NO_DECK.to_string()];
+    };
+    match d.cards.iter().find(|c| c.id == card) {
+        Some(c) if !c.tags.is_empty() => c.tags.clone(),
+        _ => vec![NO_TAG.to_string()],
+    }
+}
+
+/// A learner's name: the file name, nothing from inside the file.
+pub fn learner_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const REVIEWS_JSON: &str = r#"[
+{"deck":"d","card":"a","direction":"forward","reviewed_at":"2026-01-01T00:00:00.000Z","rating":3,"kind":"learn","elapsed_days":0,"scheduled_days":0,"stability":1.0,"difficulty":5.0,"state":"review","due":"2026-01-02T00:00:00.000Z","duration_ms":1,"undone":false},
+{"deck":"d","card":"a","direction":"forward","reviewed_at":"2026-01-03T00:00:00.000Z","rating":1,"kind":"review","elapsed_days":2,"scheduled_days":1,"stability":1.0,"difficulty":7.0,"state":"relearning","due":"2026-01-03T00:10:00.000Z","duration_ms":1,"undone":false}
+]"#;
+
+    #[test]
+    fn json_reviews_are_read_and_a_lapse_counted() {
+        let e = parse(REVIEWS_JSON).unwrap();
+        let r = aggregate(&[e], &[], None, "en");
+        assert_eq!(r.cards.len(), 1);
+        assert_eq!(r.cards[0].lapsed, 1);
+        assert_eq!(r.cards[0].mean_difficulty, Some(7.0));
+        assert_eq!(r.tags[0].tag, NO_DECK);
+        assert_eq!((r.tags[0].reviews, r.tags[0].recalled), (1, 0));
+    }
+
+    #[test]
+    fn a_bad_record_is_named_by_its_line() {
+        let bad = REVIEWS_JSON.replace("\"rating\":1", "\"rating\":9");
+        let e = parse(&bad).unwrap_err();
+        assert_eq!(e.line, 3, "{e}");
+        assert!(e.message.contains("rating 9 is not 1–4"), "{e}");
+        let csv = "deck,prompt,attempted_at,prediction,measured,correct\n\
+                   d,p,2026-01-01T00:00:00Z,a,,true\n\
+                   d,p,yesterday,b,,false\n";
+        let e = parse(csv).unwrap_err();
+        assert_eq!(e.line, 3, "{e}");
+        assert!(e.message.contains("attempted_at"), "{e}");
+    }
+}

@@ -1,0 +1,377 @@
+//! `flipcard report` through the real binary: synthetic learners' exports
+//! (JSON and CSV, reviews and prompt attempts, plus one real export of a
+//! store), the terminal table, report.csv and report.html; bad files named
+//! with `FILE:LINE:` while the rest is still reported; the page looked at
+//! in headless Chromium when it is installed.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const DECK: &str = "torque-free-rotation";
+
+fn flipcard(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        .args(args)
+        .current_dir(dir)
+        .env("FLIPCARD_DATA_DIR", dir.join("data"))
+        .env("FLIPCARD_CONFIG", dir.join("no-config.toml"))
+        .env("FLIPCARD_NOW", "2026-05-10T12:00:00Z")
+        .env_remove("FLIPCARD_DECKS")
+        .output()
+        .expect("run flipcard")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Learner `i`'s reviews of two bundled cards: every learner learns both;
+/// learners with `i % 4 == 0` then forget `torque-free-meaning` on review,
+/// the others recall it; `body-frame-why` is always recalled. The last
+/// difficulty of `torque-free-meaning` is `4 + i % 3`.
+pub fn reviews_json(i: usize) -> String {
+    let mut out = String::from("[\n");
+    let rows = [
+        (
+            "torque-free-meaning",
+            "2026-01-01T10:00:00.000Z",
+            3,
+            "learn",
+            5.0,
+        ),
+        (
+            "torque-free-meaning",
+            "2026-01-03T10:00:00.000Z",
+            if i % 4 == 0 { 1 } else { 3 },
+            "review",
+            4.0 + (i % 3) as f64,
+        ),
+        (
+            "body-frame-why",
+            "2026-01-01T10:05:00.000Z",
+            3,
+            "learn",
+            5.0,
+        ),
+        (
+            "body-frame-why",
+            "2026-01-04T10:05:00.000Z",
+            4,
+            "review",
+            3.0,
+        ),
+    ];
+    for (k, (card, at, rating, kind, difficulty)) in rows.iter().enumerate() {
+        let _ = write!(
+            out,
+            "{}{{\"deck\":\"{DECK}\",\"card\":\"{card}\",\"direction\":\"forward\",\"reviewed_at\":\"{at}\",\
+             \"rating\":{rating},\"kind\":\"{kind}\",\"elapsed_days\":0,\"scheduled_days\":1,\
+             \"stability\":1.5,\"difficulty\":{difficulty},\"state\":\"review\",\
+             \"due\":\"2026-02-01T00:00:00.000Z\",\"duration_ms\":1000,\"undone\":false}}",
+            if k == 0 { "" } else { ",\n" }
+        );
+    }
+    out.push_str("\n]\n");
+    out
+}
+
+/// Learner `i`'s attempts at `middle-axis`, as CSV: the first is right when
+/// `i % 3 == 0`, else `stable`; a later attempt is always right (it must
+/// not count).
+pub fn attempts_csv(i: usize) -> String {
+    let first = if i % 3 == 0 { "flips" } else { "stable" };
+    format!(
+        "deck,prompt,attempted_at,prediction,measured,correct\n\
+         {DECK},middle-axis,2026-01-02T10:00:00.000Z,{first},2,{}\n\
+         {DECK},middle-axis,2026-01-05T10:00:00.000Z,flips,2,true\n",
+        i % 3 == 0
+    )
+}
+
+/// `n` learners' files in `dir`: `learner-NNN.reviews.json` and
+/// `learner-NNN.attempts.csv`.
+pub fn class(dir: &Path, n: usize) -> Vec<PathBuf> {
+    std::fs::create_dir_all(dir).unwrap();
+    let mut files = Vec::new();
+    for i in 0..n {
+        let r = dir.join(format!("learner-{i:03}.reviews.json"));
+        std::fs::write(&r, reviews_json(i)).unwrap();
+        let a = dir.join(format!("learner-{i:03}.attempts.csv"));
+        std::fs::write(&a, attempts_csv(i)).unwrap();
+        files.push(r);
+        files.push(a);
+    }
+    files
+}
+
+fn csv_rows(path: &Path) -> Vec<Vec<String>> {
+    let mut r = csv::Reader::from_path(path).unwrap();
+    let header: Vec<String> = r.headers().unwrap().iter().map(String::from).collect();
+    assert_eq!(
+        header,
+        [
+            "section",
+            "deck",
+            "id",
+            "learners",
+            "count",
+            "total",
+            "share",
+            "mean_difficulty",
+            "text"
+        ]
+    );
+    r.records()
+        .map(|rec| rec.unwrap().iter().map(String::from).collect())
+        .collect()
+}
+
+#[test]
+fn a_class_of_twelve_is_aggregated_in_the_terminal_csv_and_html() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 12;
+    let files = class(&dir.path().join("in"), n);
+    let mut args: Vec<String> = vec!["report".into()];
+    args.extend(files.iter().map(|f| f.display().to_string()));
+    args.extend(["--out".into(), "out".into()]);
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = flipcard(dir.path(), &argv);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let term = text(&out.stdout);
+    let lapsers = (0..n).filter(|i| i % 4 == 0).count();
+    let right = (0..n).filter(|i| i % 3 == 0).count();
+    assert!(
+        term.contains(&format!(
+            "{n} learner files of reviews, {n} learner files of prompt attempts"
+        )),
+        "{term}"
+    );
+
+    let rows = csv_rows(&dir.path().join("out/report.csv"));
+    let row = |section: &str, id: &str| {
+        rows.iter()
+            .find(|r| r[0] == section && r[2] == id)
+            .unwrap_or_else(|| panic!("no {section} {id} in {rows:?}"))
+            .clone()
+    };
+    let card = row("card", "torque-free-meaning");
+    assert_eq!(card[3], n.to_string());
+    assert_eq!(card[4], lapsers.to_string());
+    let share: f64 = card[6].parse().unwrap();
+    assert!((share - lapsers as f64 / n as f64).abs() < 1e-12);
+    let mean: f64 = card[7].parse().unwrap();
+    let want = (0..n).map(|i| 4.0 + (i % 3) as f64).sum::<f64>() / n as f64;
+    assert!((mean - want).abs() < 1e-12, "{mean} vs {want}");
+    assert_eq!(row("card", "body-frame-why")[4], "0");
+    // Hardest first.
+    let first_card = rows.iter().find(|r| r[0] == "card").unwrap();
+    assert_eq!(first_card[2], "torque-free-meaning");
+
+    let prompt = row("prompt", "middle-axis");
+    assert_eq!(prompt[3], n.to_string());
+    assert_eq!(prompt[4], right.to_string(), "only first attempts count");
+    assert!(
+        prompt[8].contains("middle axis"),
+        "the prompt's text: {prompt:?}"
+    );
+    let wrong = row("wrong_choice", "middle-axis");
+    assert_eq!(wrong[4], (n - right).to_string());
+    assert_eq!(wrong[8], "stable (Keeps spinning steadily)");
+
+    let basics = row("tag", "basics");
+    assert_eq!(basics[5], n.to_string(), "one review-kind review each");
+    assert_eq!(basics[4], (n - lapsers).to_string());
+
+    let html = std::fs::read_to_string(dir.path().join("out/report.html")).unwrap();
+    for forbidden in ["<script", "src=", "href=", "@import", "url("] {
+        assert!(!html.contains(forbidden), "{forbidden} in the page");
+    }
+    assert!(html.contains("<svg"), "bar charts");
+    assert!(html.contains("Keeps spinning steadily"));
+    assert!(html.contains("torque-free-meaning"));
+    // Learners are files: no file name or path reaches the page.
+    assert!(
+        !html.contains("learner-0"),
+        "learner names stay out of the page"
+    );
+}
+
+#[test]
+fn bad_files_are_named_by_line_and_the_rest_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = class(&dir.path().join("in"), 3);
+    let bad_json = dir.path().join("in/broken.json");
+    std::fs::write(
+        &bad_json,
+        reviews_json(1).replace("\"rating\":3", "\"rating\":0"),
+    )
+    .unwrap();
+    let truncated = dir.path().join("in/cut.json");
+    let whole = reviews_json(2);
+    std::fs::write(&truncated, &whole[..whole.len() / 2]).unwrap();
+    let bad_csv = dir.path().join("in/odd.csv");
+    std::fs::write(&bad_csv, "name,score\nalice,3\n").unwrap();
+    let missing = dir.path().join("in/absent.json");
+    files.extend([bad_json, truncated, bad_csv, missing]);
+    let mut args: Vec<String> = vec!["report".into()];
+    args.extend(files.iter().map(|f| f.display().to_string()));
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = flipcard(dir.path(), &argv);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    let line_of = |name: &str| {
+        err.lines()
+            .find(|l| l.contains(name))
+            .unwrap_or_else(|| panic!("{name} not named: {err}"))
+            .to_string()
+    };
+    assert!(line_of("broken.json").contains("broken.json:2: "), "{err}");
+    assert!(
+        line_of("broken.json").contains("rating 0 is not 1–4"),
+        "{err}"
+    );
+    assert!(line_of("cut.json").contains("cut.json:"), "{err}");
+    assert!(
+        line_of("odd.csv").contains("odd.csv:1: header is neither"),
+        "{err}"
+    );
+    assert!(line_of("absent.json").contains("cannot be read"), "{err}");
+    assert!(err.contains("4 files skipped"), "{err}");
+    let term = text(&out.stdout);
+    assert!(
+        term.contains(
+            "3 learner files of reviews, 3 learner files of prompt attempts; 4 files skipped"
+        ),
+        "{term}"
+    );
+    assert!(term.contains("torque-free-meaning"), "{term}");
+}
+
+#[test]
+fn a_real_export_reads_back_and_deck_keeps_to_one_deck() {
+    use crate::store_support::{key, review};
+    use flipcard::sched::{Rating, ReviewKind, State};
+    use flipcard::store::{PromptAttempt, Store};
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let t = chrono::DateTime::parse_from_rfc3339("2026-05-01T10:00:00Z")
+        .unwrap()
+        .with_timezone(&chrono::Utc);
+    {
+        let mut store = Store::open(&data).unwrap();
+        for (deck, card) in [(DECK, "torque-free-meaning"), ("other", "x")] {
+            let mut r = review(
+                &key(deck, card),
+                t,
+                Rating::Good,
+                ReviewKind::Learn,
+                State::Learning,
+                chrono::Duration::minutes(10),
+            );
+            r.after.difficulty = Some(5.5);
+            store.record(&r).unwrap();
+        }
+        store
+            .record_attempt(&PromptAttempt {
+                deck: DECK.into(),
+                prompt: "middle-axis".into(),
+                attempted_at: t,
+                prediction: "stable".into(),
+                measured: Some(3.0),
+                correct: false,
+            })
+            .unwrap();
+    }
+    for format in ["json", "csv"] {
+        for what in ["--reviews", "--attempts"] {
+            let out = flipcard(dir.path(), &["export", what, "--format", format]);
+            assert!(out.status.success(), "{}", text(&out.stderr));
+            let name = format!("me{what}.{format}");
+            std::fs::write(dir.path().join(&name), &out.stdout).unwrap();
+        }
+        let out = flipcard(
+            dir.path(),
+            &[
+                "report",
+                &format!("me--reviews.{format}"),
+                &format!("me--attempts.{format}"),
+                "--deck",
+                DECK,
+            ],
+        );
+        assert!(out.status.success(), "{format}: {}", text(&out.stderr));
+        let term = text(&out.stdout);
+        assert!(term.contains("torque-free-meaning"), "{term}");
+        assert!(term.contains("stable ×1"), "{term}");
+        assert!(!term.contains("other"), "--deck keeps to one deck: {term}");
+        assert!(term.contains("5.5"), "the difficulty: {term}");
+    }
+}
+
+/// The page in a real browser: headless Chromium prints its DOM after
+/// layout, and takes a screenshot. Skipped, with the reason, when Chromium
+/// is not installed (`apt-get install -y chromium`).
+#[test]
+fn the_page_renders_in_headless_chromium() {
+    let Some(browser) = ["chromium", "chromium-browser", "google-chrome"]
+        .into_iter()
+        .find(|b| {
+            Command::new(b)
+                .arg("--version")
+                .output()
+                .is_ok_and(|o| o.status.success())
+        })
+    else {
+        eprintln!("skipped: no chromium on PATH (apt-get install -y chromium)");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let files = class(&dir.path().join("in"), 5);
+    let mut args: Vec<String> = vec!["report".into()];
+    args.extend(files.iter().map(|f| f.display().to_string()));
+    args.extend(["--out".into(), "out".into()]);
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    assert!(flipcard(dir.path(), &argv).status.success());
+    let page = dir.path().join("out/report.html");
+    let shot = dir.path().join("shot.png");
+    let common = [
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--no-first-run",
+        "--disable-dev-shm-usage",
+    ];
+    let dom = Command::new(browser)
+        .args(common)
+        .arg(format!(
+            "--user-data-dir={}",
+            dir.path().join("profile").display()
+        ))
+        .arg("--dump-dom")
+        .arg(format!("file://{}", page.display()))
+        .output()
+        .unwrap();
+    let dom = text(&dom.stdout);
+    assert!(dom.contains("Cards, hardest first"), "{dom}");
+    assert!(dom.contains("<svg"), "{dom}");
+    let out = Command::new(browser)
+        .args(common)
+        .arg(format!(
+            "--user-data-dir={}",
+            dir.path().join("profile2").display()
+        ))
+        .arg(format!("--screenshot={}", shot.display()))
+        .arg("--window-size=1000,1400")
+        .arg(format!("file://{}", page.display()))
+        .output()
+        .unwrap();
+    let png = std::fs::read(&shot)
+        .unwrap_or_else(|e| panic!("no screenshot ({e}): {}", text(&out.stderr)));
+    assert!(png.starts_with(b"\x89PNG"), "a PNG");
+    assert!(
+        png.len() > 10_000,
+        "a page with content, not a blank: {} bytes",
+        png.len()
+    );
+}

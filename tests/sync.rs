@@ -1,0 +1,396 @@
+//! `flipcard sync` through the real binary: two data dirs (a laptop and a
+//! lab machine) and one sync folder; interleaved offline sessions on both,
+//! syncs in every order, repeated syncs, a line cut short by a sync tool
+//! mid-copy, and SIGKILL during a sync. The machines' live review logs and
+//! card states are compared field by field.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::Duration;
+
+use chrono::{DateTime, TimeDelta, Utc};
+use flipcard::sched::{Config, ItemKey, Rating, Scheduler};
+use flipcard::store::Store;
+use flipcard::store::export::ExportedReview;
+use flipcard::store::state::CachedState;
+
+const DECK: &str = "torque-free-rotation";
+const NOW: &str = "2026-06-01T12:00:00Z";
+
+fn t(s: &str) -> DateTime<Utc> {
+    DateTime::parse_from_rfc3339(s).unwrap().with_timezone(&Utc)
+}
+
+fn sync_cmd(data: &Path, folder: &Path) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_flipcard"));
+    c.arg("sync")
+        .arg(folder)
+        .env("FLIPCARD_DATA_DIR", data)
+        .env("FLIPCARD_CONFIG", data.join("no-config.toml"))
+        .env("FLIPCARD_NOW", NOW)
+        .env_remove("FLIPCARD_DECKS");
+    c
+}
+
+fn sync(data: &Path, folder: &Path) -> Output {
+    let out = sync_cmd(data, folder).output().unwrap();
+    assert!(
+        out.status.success(),
+        "sync of {}: {}",
+        data.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// A study session: each (card, rating, minutes after `start`) answered as
+/// the app would, with the default config the binary also uses.
+fn study(data: &Path, start: &str, answers: &[(&str, Rating, i64)]) {
+    let scheduler = Scheduler::new(&Config::default());
+    let mut store = Store::open(data).unwrap();
+    store.start_session().unwrap();
+    for (card, rating, minutes) in answers {
+        let key = crate::store_support::key(DECK, card);
+        let state = store.state(&key).unwrap();
+        let at = t(start) + TimeDelta::minutes(*minutes);
+        let record = scheduler.review(&key, state.as_ref(), *rating, at, 2500);
+        store.record(&record).unwrap();
+    }
+}
+
+/// The live log, every exported field, in time order per item.
+fn live_log(data: &Path) -> Vec<ExportedReview> {
+    let store = Store::open_read_only(data).unwrap();
+    let mut rows = Vec::new();
+    store
+        .each_review(|l| -> Result<(), flipcard::store::StoreError> {
+            if !l.undone {
+                rows.push(ExportedReview::from(l));
+            }
+            Ok(())
+        })
+        .unwrap();
+    rows.sort_by(|a, b| {
+        (&a.deck, &a.card, a.direction, &a.reviewed_at).cmp(&(
+            &b.deck,
+            &b.card,
+            b.direction,
+            &b.reviewed_at,
+        ))
+    });
+    rows
+}
+
+/// Card states, without the row id they come from (ids differ by machine).
+fn states(data: &Path) -> Vec<(ItemKey, flipcard::sched::CardState, u32, u32)> {
+    let store = Store::open_read_only(data).unwrap();
+    let mut s: Vec<_> = store
+        .cached_states()
+        .unwrap()
+        .into_iter()
+        .map(|c: CachedState| (c.key, c.state, c.reps, c.lapses))
+        .collect();
+    s.sort_by(|a, b| a.0.cmp(&b.0));
+    s
+}
+
+fn same(a: &Path, b: &Path) {
+    let (la, lb) = (live_log(a), live_log(b));
+    assert_eq!(la.len(), lb.len(), "live review counts");
+    for (x, y) in la.iter().zip(&lb) {
+        assert_eq!(x, y, "a review differs between the machines");
+    }
+    assert_eq!(states(a), states(b), "card states differ");
+    // And each cache is what its own log gives.
+    for d in [a, b] {
+        let mut store = Store::open(d).unwrap();
+        let before = states(d);
+        store.rebuild().unwrap();
+        drop(store);
+        assert_eq!(
+            states(d),
+            before,
+            "rebuild disagrees with the cache of {}",
+            d.display()
+        );
+    }
+}
+
+struct Pair {
+    _dir: tempfile::TempDir,
+    laptop: PathBuf,
+    lab: PathBuf,
+    folder: PathBuf,
+}
+
+fn pair() -> Pair {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("Sync");
+    std::fs::create_dir(&folder).unwrap();
+    Pair {
+        laptop: dir.path().join("laptop"),
+        lab: dir.path().join("lab"),
+        folder,
+        _dir: dir,
+    }
+}
+
+/// Offline sessions on both machines, with syncs between some of them;
+/// both rate `torque-free-meaning` while apart.
+fn interleaved(p: &Pair) -> usize {
+    use Rating::*;
+    study(
+        &p.laptop,
+        "2026-05-01T08:00:00Z",
+        &[
+            ("torque-free-meaning", Good, 0),
+            ("body-frame-why", Again, 1),
+            ("body-frame-why", Good, 3),
+        ],
+    );
+    study(
+        &p.lab,
+        "2026-05-01T09:00:00Z",
+        &[
+            ("torque-free-meaning", Hard, 0),
+            ("l-not-parallel", Good, 2),
+        ],
+    );
+    sync(&p.laptop, &p.folder);
+    study(
+        &p.laptop,
+        "2026-05-03T07:00:00Z",
+        &[
+            ("torque-free-meaning", Good, 0),
+            ("l-not-parallel", Easy, 1),
+        ],
+    );
+    sync(&p.lab, &p.folder);
+    study(
+        &p.lab,
+        "2026-05-02T18:00:00Z",
+        &[
+            ("torque-free-meaning", Again, 0),
+            ("torque-free-meaning", Good, 12),
+            ("body-frame-why", Good, 14),
+        ],
+    );
+    study(
+        &p.laptop,
+        "2026-05-04T07:00:00Z",
+        &[("body-frame-why", Good, 0)],
+    );
+    3 + 2 + 2 + 3 + 1
+}
+
+#[test]
+fn interleaved_sessions_converge_whatever_the_order_of_syncs() {
+    for order in ["ABA", "BAB", "ABAB", "BABA", "AABBA", "BBAAB"] {
+        let p = pair();
+        let answers = interleaved(&p);
+        for m in order.chars() {
+            sync(if m == 'A' { &p.laptop } else { &p.lab }, &p.folder);
+        }
+        same(&p.laptop, &p.lab);
+        assert_eq!(
+            live_log(&p.laptop).len(),
+            answers,
+            "{order}: every answer kept"
+        );
+
+        // Again, in both orders: nothing changes, files included.
+        let files = |p: &Pair| {
+            let mut f: Vec<(PathBuf, Vec<u8>)> = std::fs::read_dir(&p.folder)
+                .unwrap()
+                .flatten()
+                .map(|e| (e.path(), std::fs::read(e.path()).unwrap()))
+                .collect();
+            f.sort();
+            f
+        };
+        let rows = |d: &Path| {
+            let mut n = 0;
+            Store::open_read_only(d)
+                .unwrap()
+                .each_review(|_| -> Result<(), flipcard::store::StoreError> {
+                    n += 1;
+                    Ok(())
+                })
+                .unwrap();
+            n
+        };
+        let before = (files(&p), rows(&p.laptop), rows(&p.lab));
+        for d in [&p.lab, &p.laptop, &p.lab] {
+            let out = sync(d, &p.folder);
+            let said = String::from_utf8_lossy(&out.stdout).into_owned();
+            assert!(
+                said.contains("0 reviews written") && said.contains("0 reviews merged"),
+                "{said}"
+            );
+        }
+        assert_eq!(
+            (files(&p), rows(&p.laptop), rows(&p.lab)),
+            before,
+            "{order}: idempotent"
+        );
+        assert_eq!(files(&p).len(), 2, "one file per machine");
+    }
+}
+
+#[test]
+fn the_machine_id_is_made_once() {
+    let p = pair();
+    study(
+        &p.laptop,
+        "2026-05-01T08:00:00Z",
+        &[("torque-free-meaning", Rating::Good, 0)],
+    );
+    sync(&p.laptop, &p.folder);
+    let id = std::fs::read_to_string(p.laptop.join("machine-id")).unwrap();
+    assert_eq!(id.trim().len(), 32);
+    study(
+        &p.laptop,
+        "2026-05-02T08:00:00Z",
+        &[("torque-free-meaning", Rating::Good, 0)],
+    );
+    sync(&p.laptop, &p.folder);
+    assert_eq!(
+        std::fs::read_to_string(p.laptop.join("machine-id")).unwrap(),
+        id
+    );
+    let file = p.folder.join(format!("{}.jsonl", id.trim()));
+    assert_eq!(std::fs::read_to_string(file).unwrap().lines().count(), 2);
+}
+
+#[test]
+fn a_line_cut_short_is_skipped_with_a_warning_and_read_next_time() {
+    let p = pair();
+    study(
+        &p.laptop,
+        "2026-05-01T08:00:00Z",
+        &[
+            ("torque-free-meaning", Rating::Good, 0),
+            ("body-frame-why", Rating::Again, 1),
+            ("body-frame-why", Rating::Good, 5),
+        ],
+    );
+    sync(&p.laptop, &p.folder);
+    let id = std::fs::read_to_string(p.laptop.join("machine-id")).unwrap();
+    let file = p.folder.join(format!("{}.jsonl", id.trim()));
+    let whole = std::fs::read_to_string(&file).unwrap();
+    // The sync tool has copied all but the end of the last line, and
+    // garbled the first.
+    let cut = whole.len() - 30;
+    let garbled = format!(
+        "{{\"event\":\"rev{}",
+        &whole[whole.find('\n').unwrap()..cut]
+    );
+    std::fs::write(&file, &garbled).unwrap();
+    let out = sync(&p.lab, &p.folder);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    let name = file.display().to_string();
+    assert!(
+        err.contains(&format!("{name}:3: skipped: the last line is incomplete")),
+        "{err}"
+    );
+    assert!(err.contains(&format!("{name}:1: skipped: ")), "{err}");
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains("1 review merged"),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert_eq!(live_log(&p.lab).len(), 1);
+
+    std::fs::write(&file, &whole).unwrap();
+    let out = sync(&p.lab, &p.folder);
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    sync(&p.laptop, &p.folder);
+    same(&p.laptop, &p.lab);
+    assert_eq!(live_log(&p.lab).len(), 3);
+}
+
+#[test]
+fn sigkill_at_any_point_of_a_sync_loses_nothing_and_half_merges_nothing() {
+    let p = pair();
+    // Enough for a sync to take a while: 40 cards, 30 answers each.
+    let answers: Vec<(String, Rating, i64)> = (0..1200)
+        .map(|i| {
+            (
+                format!("card-{}", i % 40),
+                [Rating::Good, Rating::Again, Rating::Easy][i % 3],
+                i as i64 * 600,
+            )
+        })
+        .collect();
+    let refs: Vec<(&str, Rating, i64)> = answers
+        .iter()
+        .map(|(c, r, m)| (c.as_str(), *r, *m))
+        .collect();
+    study(&p.laptop, "2026-01-01T08:00:00Z", &refs);
+    study(&p.lab, "2026-01-01T08:07:00Z", &refs[..300]);
+    sync(&p.laptop, &p.folder);
+    let lab_own = live_log(&p.lab).len();
+
+    let mut delay_us = 0u64;
+    let mut kills = 0;
+    while delay_us < 2_000_000 {
+        let mut child = sync_cmd(&p.lab, &p.folder)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_micros(delay_us));
+        let finished = child.try_wait().unwrap().is_some();
+        let _ = child.kill();
+        let _ = child.wait();
+        if !finished {
+            kills += 1;
+        }
+        // All of the laptop's answers or none of them, and the lab's own
+        // answers all there.
+        let live = live_log(&p.lab).len();
+        assert!(
+            live == lab_own || live == lab_own + 1200,
+            "after a kill at {delay_us} µs: {live} live reviews"
+        );
+        // The lab's sync file is whole or absent: never a half line.
+        for e in std::fs::read_dir(&p.folder).unwrap().flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            if !name.starts_with('.') {
+                let text = std::fs::read_to_string(e.path()).unwrap();
+                assert!(text.ends_with('\n'), "{name} ends in a half line");
+            }
+        }
+        if finished {
+            break;
+        }
+        delay_us = delay_us * 2 + 500;
+    }
+    assert!(kills > 0, "no sync was interrupted");
+    sync(&p.lab, &p.folder);
+    sync(&p.laptop, &p.folder);
+    same(&p.laptop, &p.lab);
+    assert_eq!(live_log(&p.lab).len(), 1200 + 300);
+}
+
+#[test]
+fn sync_needs_a_folder() {
+    let p = pair();
+    let out = sync_cmd(&p.laptop, &p.folder.join("missing"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing: no such folder"));
+    let out = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        .arg("sync")
+        .env("FLIPCARD_DATA_DIR", &p.laptop)
+        .env("FLIPCARD_CONFIG", p.laptop.join("none.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("sync_dir"));
+}
