@@ -292,11 +292,11 @@ fn cheapest(
 
 /// The most schedules tried for one item when the one the dynamic
 /// programme finds would crowd out the single reviews already promised.
-const ALTERNATIVES: usize = 20_000;
+const ALTERNATIVES: usize = 2_000;
 
 /// The most exchanges tried between an item left short and a promised
 /// single review.
-const REPAIRS: usize = 2_000;
+const REPAIRS: usize = 256;
 
 /// Single reviews promised so far: each needs one free slot on or after its
 /// earliest useful day. They are placed on days only at the end, so an item
@@ -389,6 +389,10 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
         })
         .collect();
     by_earliest.sort();
+    let mut rescue_cost = vec![usize::MAX; n];
+    for &(std::cmp::Reverse(cost), _, i) in &by_earliest {
+        rescue_cost[i] = cost;
+    }
     let mut left_out = Vec::new();
     for &(_, d, i) in &by_earliest {
         singles.earliest[d] += 1;
@@ -429,11 +433,37 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
     // promised single review gives up its day and that item is brought to
     // the target with several earlier reviews instead.
     let mut budget = REPAIRS;
+    let promised = |s: &Singles| s.earliest.iter().sum::<usize>();
     for &x in &order {
         if !schedules[x].is_empty() {
             continue;
         }
-        let candidates: Vec<usize> = (0..n).filter(|&y| single_of[y].is_some()).collect();
+        // An exchange frees one promised slot: if even all of them freed
+        // would not make room for this item, no exchange will.
+        let none = Singles {
+            earliest: vec![0; days],
+        };
+        let Some(alone_here) = place(&model, problem.items[x].as_ref(), &free, &none, target)
+        else {
+            continue;
+        };
+        if free.iter().sum::<usize>() < promised(&singles) + alone_here.len() {
+            continue;
+        }
+        // Promised single reviews with the same earliest day free the same
+        // room when they give it up: of each, only the one cheapest to
+        // bring to the target another way is tried.
+        let mut candidates: Vec<usize> = Vec::new();
+        for y in (0..n).filter(|&y| single_of[y].is_some()) {
+            match candidates
+                .iter_mut()
+                .find(|c| single_of[**c] == single_of[y])
+            {
+                Some(c) if rescue_cost[y] < rescue_cost[*c] => *c = y,
+                Some(_) => {}
+                None => candidates.push(y),
+            }
+        }
         for y in candidates {
             if budget == 0 {
                 break;
@@ -538,7 +568,9 @@ fn place(
     };
     let open: Vec<bool> = free.iter().map(|&f| f > 0).collect();
     let first = cheapest(model, item, &open, target, MAX_REVIEWS_PER_ITEM)?;
-    if first.len() < 2 && keeps(&first) {
+    // Where no day of it would be filled, nothing is crowded out.
+    let roomy = first.iter().all(|&d| free[d as usize] > 1);
+    if (first.len() < 2 || roomy) && keeps(&first) {
         return Some(first);
     }
     alternative(model, item, free, target, first.len(), &keeps)
