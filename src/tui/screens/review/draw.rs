@@ -191,7 +191,7 @@ pub fn layout(app: &App, state: &ReviewState, kind: CardKind, rest: Rect) -> Car
     // Borders and a column of margin on each side.
     let width = outer.width.saturating_sub(4) as usize;
     let lines = card_lines(app, state, width);
-    let buttons = button_lines(app, state, kind, rest.width);
+    let buttons = button_lines(app, state, kind, outer.width);
     let below = (buttons.len() as u16).max(1) + 1;
     let margin = if rest.height < 16 { 0 } else { 1 };
     let card_h = (lines.len() as u16 + 2 + 2 * margin).min(rest.height.saturating_sub(below));
@@ -201,11 +201,13 @@ pub fn layout(app: &App, state: &ReviewState, kind: CardKind, rest: Rect) -> Car
         Constraint::Length(1),
     ])
     .areas(rest);
-    let card_area = Rect {
+    // The buttons and hints line up under the card.
+    let under = |r: Rect| Rect {
         x: outer.x,
         width: outer.width,
-        ..card_area
+        ..r
     };
+    let (card_area, button_area, hints) = (under(card_area), under(button_area), under(hints));
     let room = card_h.saturating_sub(2 + 2 * margin).max(1) as usize;
     CardLayout {
         lines,
