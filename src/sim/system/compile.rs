@@ -492,7 +492,11 @@ mod tests {
         crate::sim::solvers::ode::finite_difference_jacobian(&s, 1.5, &y, &mut fd);
         assert!((&j - &fd).abs().max() < 1e-8, "{j} vs {fd}");
         assert_eq!(j[(0, 1)], 1.0);
+        let s = System::compile(&pendulum(), true).unwrap();
+        assert_eq!(s.differenced_entries(), 0);
+        s.jacobian(0.0, &y, &mut j);
         assert!((j[(1, 0)] + 9.81 * 0.4f64.cos()).abs() < 1e-14);
+        assert_eq!(j[(1, 1)], 0.0);
     }
 
     #[test]
