@@ -245,7 +245,8 @@ fn predicted(scene: &Scene, measure: Measure) -> Option<f64> {
                 f64::NAN
             })
         }
-        Measure::EnergyDrift | Measure::MomentumDrift => None,
+        // Drift has no closed form; system measures belong to system scenes.
+        Measure::EnergyDrift | Measure::MomentumDrift | Measure::Of(..) => None,
     }
 }
 

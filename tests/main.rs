@@ -41,6 +41,7 @@ mod store_props;
 mod store_safety;
 mod store_status;
 mod sync;
+mod system_cli;
 mod true_retention;
 mod tui_browser_e2e;
 mod tui_e2e;

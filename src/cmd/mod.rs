@@ -23,6 +23,7 @@ pub mod review;
 pub mod schema;
 pub mod sim;
 pub mod sim_scene;
+pub mod sim_system;
 pub mod stats;
 pub mod sync;
 

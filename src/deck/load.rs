@@ -329,6 +329,7 @@ fn load_deck(
                 cards: body.cards,
                 prompts: body.prompts,
                 scenes: body.scenes,
+                systems: body.systems,
                 sections,
                 path: path.to_path_buf(),
             })

@@ -874,6 +874,7 @@ mod deck_tests {
                 card("typed", CardKind::Typed, &["euler", "frames"]),
             ],
             prompts: vec![],
+            systems: vec![],
             scenes: vec![],
             sections: vec![],
             path: "rot.toml".into(),

@@ -477,6 +477,33 @@ pub fn measure(m: crate::deck::Measure) -> Words {
         M::OmegaChange => Words("largest change of ω", "ω ka sabse bada badlaav"),
         M::EnergyDrift => Words("energy drift", "energy drift"),
         M::MomentumDrift => Words("|L| drift", "|L| drift"),
+        M::Of(stat, _) => stat_words(stat),
+    }
+}
+
+/// A system measure's statistic, as the verdict reads it.
+pub fn stat_words(stat: crate::sim::scene::spec::Stat) -> Words {
+    use crate::sim::scene::spec::Stat as S;
+    match stat {
+        S::Max => Words("largest", "sabse bada"),
+        S::Min => Words("smallest", "sabse chhota"),
+        S::Final => Words("final", "aakhri"),
+        S::Mean => Words("mean", "ausat"),
+        S::Crossings => Words("zero crossings", "zero crossings"),
+        S::Period => Words("period", "period"),
+        S::Drift => Words("drift", "drift"),
+    }
+}
+
+/// How a measurement is named in the verdict: the rigid-body measure's
+/// words, or the statistic with the quantity it is of ("period of theta").
+pub fn measure_label(m: crate::deck::Measure, lang: &str) -> String {
+    match m {
+        crate::deck::Measure::Of(stat, name) => {
+            let of = Words("of", "ka").get(lang);
+            format!("{} {of} {name}", stat_words(stat).get(lang))
+        }
+        m => measure(m).get(lang).to_string(),
     }
 }
 
@@ -627,5 +654,35 @@ pub fn decks_left_out(lang: &str, files: &[String]) -> String {
         )
     } else {
         format!("Left out with errors: {list}. Run `flipcard decks` to see why.")
+    }
+}
+
+/// Words of the system scene panels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SystemWord {
+    Plot,
+    Phase,
+    Sketch,
+    Steps,
+    Explicit,
+    /// Followed by the time and unit: "stiff from t = 0.8 s".
+    StiffFrom,
+    SwitchedToRadau,
+    Drift,
+    ErrorVsReference,
+}
+
+pub fn system_word(w: SystemWord) -> Words {
+    use SystemWord as W;
+    match w {
+        W::Plot => Words("against time", "time ke saath"),
+        W::Phase => Words("phase portrait", "phase portrait"),
+        W::Sketch => Words("sketch", "sketch"),
+        W::Steps => Words("steps", "steps"),
+        W::Explicit => Words("not stiff", "stiff nahi"),
+        W::StiffFrom => Words("stiff from", "stiff shuru"),
+        W::SwitchedToRadau => Words("switched to radau", "radau pe switch kiya"),
+        W::Drift => Words("drift", "drift"),
+        W::ErrorVsReference => Words("error vs reference", "reference se error"),
     }
 }

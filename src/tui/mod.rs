@@ -12,10 +12,12 @@ pub mod geometry;
 pub mod i18n;
 pub mod keymap;
 pub mod live;
+pub mod live_system;
 pub mod memory;
 pub mod plots;
 pub mod screens;
 pub mod services;
+pub mod system_plots;
 #[cfg(test)]
 mod testkit;
 #[cfg(test)]

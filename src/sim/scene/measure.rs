@@ -52,6 +52,7 @@ pub fn formula_name(measure: Measure) -> &'static str {
         Measure::PrecessionPeriod => "2π/|Ω_b|",
         Measure::OmegaChange => "steady spin",
         Measure::EnergyDrift | Measure::MomentumDrift => "invariant",
+        Measure::Of(..) => "",
     }
 }
 
@@ -76,6 +77,11 @@ impl Measurements {
 
     pub fn reading(&self, measure: Measure) -> Option<&Reading> {
         self.readings.iter().find(|r| r.measure == measure)
+    }
+
+    /// Measurements made elsewhere (a system scene's run).
+    pub fn from_readings(readings: Vec<Reading>) -> Measurements {
+        Measurements { readings }
     }
 
     pub fn readings(&self) -> &[Reading] {

@@ -17,6 +17,7 @@ mod reader;
 mod review;
 mod sizes;
 mod stats;
+mod system;
 
 pub fn key(app: &App, code: KeyCode) -> Option<Action> {
     keymap::key_action(app, KeyEvent::new(code, KeyModifiers::NONE))
