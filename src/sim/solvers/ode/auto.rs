@@ -9,8 +9,7 @@
 //! costlier per step) on non-stiff stretches too.
 
 use super::{
-    Dop853, OdeError, OdeSolver, OdeSystem, Options, Radau5, Requests, Stepper, StiffnessMode,
-    Work, drive_advance, drive_dense, drive_step,
+    Dop853, OdeError, OdeSolver, OdeSystem, Options, Radau5, Requests, Stepper, StiffnessMode, Work,
 };
 
 enum Phase<S> {
@@ -75,6 +74,29 @@ impl<S: OdeSystem> Auto<S> {
 }
 
 impl<S: OdeSystem> Stepper for Auto<S> {
+    fn method_name(&self) -> &'static str {
+        match &self.phase {
+            Phase::Explicit(_) => "dop853",
+            Phase::Implicit(_) => "radau5",
+            Phase::Moving => "auto",
+        }
+    }
+    fn size(&self) -> usize {
+        self.requests.out.len()
+    }
+    fn work_done(&self) -> Work {
+        match &self.phase {
+            Phase::Explicit(d) => d.work(),
+            Phase::Implicit(r) => self.explicit_work + r.work(),
+            Phase::Moving => self.explicit_work,
+        }
+    }
+    fn stiff_from(&self) -> Option<f64> {
+        match &self.phase {
+            Phase::Explicit(d) => d.stiffness(),
+            _ => self.switched_at,
+        }
+    }
     fn requests(&mut self) -> &mut Requests {
         &mut self.requests
     }
@@ -113,44 +135,6 @@ impl<S: OdeSystem> Stepper for Auto<S> {
             Phase::Explicit(d) => d.interpolate(t, out),
             Phase::Implicit(r) => r.interpolate(t, out),
             Phase::Moving => out.fill(f64::NAN),
-        }
-    }
-}
-
-impl<S: OdeSystem> OdeSolver for Auto<S> {
-    fn name(&self) -> &'static str {
-        match &self.phase {
-            Phase::Explicit(_) => "dop853",
-            Phase::Implicit(_) => "radau5",
-            Phase::Moving => "auto",
-        }
-    }
-    fn dim(&self) -> usize {
-        self.requests.out.len()
-    }
-    fn advance(&mut self, t: f64) -> Result<&[f64], OdeError> {
-        drive_advance(self, t)
-    }
-    fn step(&mut self) -> Result<(f64, f64), OdeError> {
-        drive_step(self)
-    }
-    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), OdeError> {
-        drive_dense(self, t, out)
-    }
-    fn t(&self) -> f64 {
-        self.window().1
-    }
-    fn work(&self) -> Work {
-        match &self.phase {
-            Phase::Explicit(d) => d.work(),
-            Phase::Implicit(r) => self.explicit_work + r.work(),
-            Phase::Moving => self.explicit_work,
-        }
-    }
-    fn stiffness(&self) -> Option<f64> {
-        match &self.phase {
-            Phase::Explicit(d) => d.stiffness(),
-            _ => self.switched_at,
         }
     }
 }

@@ -14,10 +14,7 @@
 //! until it first fires; here it runs after every step (two norms, no
 //! evaluation of f), so `auto` hands over to the implicit method early.
 
-use super::{
-    OdeError, OdeSolver, OdeSystem, Options, Requests, Stepper, Work, drive_advance, drive_dense,
-    drive_step, initial_step, is_sane,
-};
+use super::{OdeError, OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
 use crate::sim::solvers::dop853_tableau as tab;
 
 const SAFETY: f64 = 0.9;
@@ -413,6 +410,15 @@ fn row_sum<const M: usize>(row: &tab::Row<M>) -> f64 {
 }
 
 impl<S: OdeSystem> Stepper for Dop853<S> {
+    fn method_name(&self) -> &'static str {
+        "dop853"
+    }
+    fn work_done(&self) -> Work {
+        self.work
+    }
+    fn stiff_from(&self) -> Option<f64> {
+        self.stiff_at
+    }
     fn requests(&mut self) -> &mut Requests {
         &mut self.requests
     }
@@ -445,33 +451,6 @@ impl<S: OdeSystem> Stepper for Dop853<S> {
             p = (p + d[i]) * x;
             out[i] = self.y_old[i] + p;
         }
-    }
-}
-
-impl<S: OdeSystem> OdeSolver for Dop853<S> {
-    fn name(&self) -> &'static str {
-        "dop853"
-    }
-    fn dim(&self) -> usize {
-        self.n
-    }
-    fn advance(&mut self, t: f64) -> Result<&[f64], OdeError> {
-        drive_advance(self, t)
-    }
-    fn step(&mut self) -> Result<(f64, f64), OdeError> {
-        drive_step(self)
-    }
-    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), OdeError> {
-        drive_dense(self, t, out)
-    }
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn work(&self) -> Work {
-        self.work
-    }
-    fn stiffness(&self) -> Option<f64> {
-        self.stiff_at
     }
 }
 

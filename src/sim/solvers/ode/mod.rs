@@ -419,7 +419,7 @@ pub(crate) fn initial_step<S: OdeSystem>(
 /// Bookkeeping shared by the solvers: the monotone request time, the output
 /// buffer `advance` lends out, and the error that stopped the run.
 #[derive(Debug, Clone)]
-pub(crate) struct Requests {
+pub struct Requests {
     pub last: f64,
     pub out: Vec<f64>,
     pub failed: Option<OdeError>,
@@ -463,8 +463,19 @@ impl Requests {
     }
 }
 
-/// The parts of a one-step method that [`drive_advance`] needs.
-pub(crate) trait Stepper {
+/// The parts of a one-step method that the shared driver needs; every
+/// `Stepper` is an [`OdeSolver`] through the blanket impl below.
+pub trait Stepper {
+    /// Short name of the method now stepping.
+    fn method_name(&self) -> &'static str;
+    fn size(&self) -> usize {
+        self.current().len()
+    }
+    fn work_done(&self) -> Work;
+    /// The time stiffness was detected, if the method detects it.
+    fn stiff_from(&self) -> Option<f64> {
+        None
+    }
     fn requests(&mut self) -> &mut Requests;
     fn t_stop(&self) -> Option<f64>;
     /// (t_old, t_new) of the last accepted step.
@@ -479,6 +490,33 @@ pub(crate) trait Stepper {
     fn raw_step(&mut self) -> Result<(), OdeError>;
     /// Dense output at t in the window (no checks).
     fn interpolate(&mut self, t: f64, out: &mut [f64]);
+}
+
+impl<M: Stepper> OdeSolver for M {
+    fn name(&self) -> &'static str {
+        Stepper::method_name(self)
+    }
+    fn dim(&self) -> usize {
+        Stepper::size(self)
+    }
+    fn advance(&mut self, t: f64) -> Result<&[f64], OdeError> {
+        drive_advance(self, t)
+    }
+    fn step(&mut self) -> Result<(f64, f64), OdeError> {
+        drive_step(self)
+    }
+    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), OdeError> {
+        drive_dense(self, t, out)
+    }
+    fn t(&self) -> f64 {
+        self.window().1
+    }
+    fn work(&self) -> Work {
+        Stepper::work_done(self)
+    }
+    fn stiffness(&self) -> Option<f64> {
+        Stepper::stiff_from(self)
+    }
 }
 
 /// `advance` for every method: step until the request is covered, then read

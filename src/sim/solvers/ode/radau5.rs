@@ -30,10 +30,7 @@
 
 use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
-use super::{
-    OdeError, OdeSolver, OdeSystem, Options, Requests, Stepper, Work, drive_advance, drive_dense,
-    drive_step, initial_step, is_sane,
-};
+use super::{OdeError, OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
 
 /// T and T⁻¹ with T⁻¹ A⁻¹ T = [[γ, 0, 0], [0, α, −β], [0, β, α]] (RADAU5's
 /// published digits; the unit test rebuilds A⁻¹ from them).
@@ -692,6 +689,12 @@ impl<S: OdeSystem> Radau5<S> {
 }
 
 impl<S: OdeSystem> Stepper for Radau5<S> {
+    fn method_name(&self) -> &'static str {
+        "radau5"
+    }
+    fn work_done(&self) -> Work {
+        self.work
+    }
     fn requests(&mut self) -> &mut Requests {
         &mut self.requests
     }
@@ -716,33 +719,6 @@ impl<S: OdeSystem> Stepper for Radau5<S> {
             let c = |r: usize| self.cont[r * n + i];
             *o = c(0) + s * (c(1) + (s - c2m1) * (c(2) + (s - c1m1) * c(3)));
         }
-    }
-}
-
-impl<S: OdeSystem> OdeSolver for Radau5<S> {
-    fn name(&self) -> &'static str {
-        "radau5"
-    }
-    fn dim(&self) -> usize {
-        self.n
-    }
-    fn advance(&mut self, t: f64) -> Result<&[f64], OdeError> {
-        drive_advance(self, t)
-    }
-    fn step(&mut self) -> Result<(f64, f64), OdeError> {
-        drive_step(self)
-    }
-    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), OdeError> {
-        drive_dense(self, t, out)
-    }
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn work(&self) -> Work {
-        self.work
-    }
-    fn stiffness(&self) -> Option<f64> {
-        None
     }
 }
 

@@ -4,10 +4,7 @@
 //! between grid points is reached by one partial RK4 step from the grid
 //! point before it, on a copy, so sampling never changes the trajectory.
 
-use super::{
-    OdeError, OdeSolver, OdeSystem, Options, Requests, Stepper, Work, drive_advance, drive_dense,
-    drive_step, is_sane,
-};
+use super::{OdeError, OdeSystem, Options, Requests, Stepper, Work, is_sane};
 
 pub struct Rk4<S> {
     sys: S,
@@ -85,6 +82,12 @@ impl<S: OdeSystem> Rk4<S> {
 }
 
 impl<S: OdeSystem> Stepper for Rk4<S> {
+    fn method_name(&self) -> &'static str {
+        "rk4"
+    }
+    fn work_done(&self) -> Work {
+        self.work
+    }
     fn requests(&mut self) -> &mut Requests {
         &mut self.requests
     }
@@ -135,32 +138,5 @@ impl<S: OdeSystem> Stepper for Rk4<S> {
     fn interpolate(&mut self, t: f64, out: &mut [f64]) {
         let h = t - self.t_old;
         self.rk4(self.t_old, true, h, out);
-    }
-}
-
-impl<S: OdeSystem> OdeSolver for Rk4<S> {
-    fn name(&self) -> &'static str {
-        "rk4"
-    }
-    fn dim(&self) -> usize {
-        self.n
-    }
-    fn advance(&mut self, t: f64) -> Result<&[f64], OdeError> {
-        drive_advance(self, t)
-    }
-    fn step(&mut self) -> Result<(f64, f64), OdeError> {
-        drive_step(self)
-    }
-    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), OdeError> {
-        drive_dense(self, t, out)
-    }
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn work(&self) -> Work {
-        self.work
-    }
-    fn stiffness(&self) -> Option<f64> {
-        None
     }
 }
