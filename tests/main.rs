@@ -14,6 +14,7 @@ mod check_robustness;
 mod check_sim_agree;
 mod cli_output;
 mod deck_mutations;
+mod deck_oscillations;
 mod deck_physics;
 mod ode_solvers;
 mod sched_golden;
