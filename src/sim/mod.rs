@@ -7,6 +7,7 @@ pub mod bench;
 pub mod rigid;
 pub mod scene;
 pub mod solvers;
+pub mod system;
 
 pub use rigid::model::{Body, ModelError, State};
 pub use solvers::registry::{Kind, Options, make, make_with};

@@ -338,6 +338,33 @@ pub fn measure(m: crate::deck::Measure) -> Words {
         M::OmegaChange => Words("largest change of ω", "ω ka sabse bada badlaav"),
         M::EnergyDrift => Words("energy drift", "energy drift"),
         M::MomentumDrift => Words("|L| drift", "|L| drift"),
+        M::Of(stat, _) => stat_words(stat),
+    }
+}
+
+/// A system measure's statistic, as the verdict reads it.
+pub fn stat_words(stat: crate::sim::scene::spec::Stat) -> Words {
+    use crate::sim::scene::spec::Stat as S;
+    match stat {
+        S::Max => Words("largest", "sabse bada"),
+        S::Min => Words("smallest", "sabse chhota"),
+        S::Final => Words("final", "aakhri"),
+        S::Mean => Words("mean", "ausat"),
+        S::Crossings => Words("zero crossings", "zero crossings"),
+        S::Period => Words("period", "period"),
+        S::Drift => Words("drift", "drift"),
+    }
+}
+
+/// How a measurement is named in the verdict: the rigid-body measure's
+/// words, or the statistic with the quantity it is of ("period of theta").
+pub fn measure_label(m: crate::deck::Measure, lang: &str) -> String {
+    match m {
+        crate::deck::Measure::Of(stat, name) => {
+            let of = Words("of", "ka").get(lang);
+            format!("{} {of} {name}", stat_words(stat).get(lang))
+        }
+        m => measure(m).get(lang).to_string(),
     }
 }
 

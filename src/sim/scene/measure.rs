@@ -52,6 +52,7 @@ pub fn formula_name(measure: Measure) -> &'static str {
         Measure::PrecessionPeriod => "2π/|Ω_b|",
         Measure::OmegaChange => "steady spin",
         Measure::EnergyDrift | Measure::MomentumDrift => "invariant",
+        Measure::Of(..) => "",
     }
 }
 

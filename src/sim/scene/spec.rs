@@ -2,6 +2,7 @@
 //! the panels it shows and what it can measure. Decks validate their TOML
 //! into these; the simulator needs nothing else from a deck.
 
+use crate::sim::system::Name;
 use crate::text::Text;
 
 /// What a scene's simulation can measure; prompts check against these.
@@ -28,6 +29,9 @@ pub enum Measure {
     EnergyDrift,
     /// Largest relative drift of |L|² over the run.
     MomentumDrift,
+    /// A statistic of one variable or observable of a system scene over its
+    /// run, written `period(theta)`.
+    Of(Stat, Name),
 }
 
 impl Measure {
@@ -44,8 +48,11 @@ impl Measure {
         Measure::MomentumDrift,
     ];
 
+    /// The rigid-body measure's name, or the statistic's for a system
+    /// measure (whose full spelling, `period(theta)`, is its `Display`).
     pub fn name(self) -> &'static str {
         match self {
+            Measure::Of(stat, _) => stat.name(),
             Measure::Flips => "flips",
             Measure::FlipPeriod => "flip_period",
             Measure::GrowthRate => "growth_rate",
@@ -61,6 +68,64 @@ impl Measure {
 
     pub fn from_name(name: &str) -> Option<Measure> {
         Measure::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// Whether the measure applies to system scenes (else to rigid bodies).
+    pub fn is_system(self) -> bool {
+        matches!(self, Measure::Of(..))
+    }
+}
+
+impl std::fmt::Display for Measure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Measure::Of(stat, name) => write!(f, "{}({name})", stat.name()),
+            m => f.write_str(m.name()),
+        }
+    }
+}
+
+/// What a system measure takes of its quantity N over the run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Stat {
+    Max,
+    Min,
+    /// N at the end of the run.
+    Final,
+    /// The time average of N over the run (trapezoids between samples).
+    Mean,
+    /// Sign changes of N.
+    Crossings,
+    /// Mean time between successive upward crossings of the level halfway
+    /// between N's minimum and maximum over the run.
+    Period,
+    /// Largest |N(t) − N(0)| / max(|N(0)|, tiny).
+    Drift,
+}
+
+impl Stat {
+    pub const ALL: [Stat; 7] = [
+        Stat::Max,
+        Stat::Min,
+        Stat::Final,
+        Stat::Mean,
+        Stat::Crossings,
+        Stat::Period,
+        Stat::Drift,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            Stat::Max => "max",
+            Stat::Min => "min",
+            Stat::Final => "final",
+            Stat::Mean => "mean",
+            Stat::Crossings => "crossings",
+            Stat::Period => "period",
+            Stat::Drift => "drift",
+        }
+    }
+    pub fn from_name(name: &str) -> Option<Stat> {
+        Stat::ALL.into_iter().find(|s| s.name() == name)
     }
 }
 
@@ -116,6 +181,102 @@ pub struct Scene {
 
 impl Scene {
     pub fn shows(&self, panel: Panel) -> bool {
+        self.show.contains(&panel)
+    }
+}
+
+/// A panel of a system scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum SystemPanel {
+    /// The `plot` quantities against time.
+    Plot,
+    /// The `phase` pair, one against the other.
+    Phase,
+    /// Lines, dots and trails drawn from expressions.
+    Sketch,
+    /// Method, steps, the stiffness switch, drift of the conserved
+    /// observables and the error against a reference run.
+    Diagnostics,
+}
+
+impl SystemPanel {
+    pub const ALL: [SystemPanel; 4] = [
+        SystemPanel::Plot,
+        SystemPanel::Phase,
+        SystemPanel::Sketch,
+        SystemPanel::Diagnostics,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            SystemPanel::Plot => "plot",
+            SystemPanel::Phase => "phase",
+            SystemPanel::Sketch => "sketch",
+            SystemPanel::Diagnostics => "diagnostics",
+        }
+    }
+    pub fn from_name(name: &str) -> Option<SystemPanel> {
+        SystemPanel::ALL.into_iter().find(|p| p.name() == name)
+    }
+}
+
+/// One element of a sketch; each coordinate is an expression.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Mark {
+    /// A segment from (x1, y1) to (x2, y2).
+    Line([String; 4]),
+    /// A dot at (x, y).
+    Dot([String; 2]),
+    /// The path (x, y) has followed so far.
+    Trail([String; 2]),
+}
+
+impl Mark {
+    pub fn key(&self) -> &'static str {
+        match self {
+            Mark::Line(_) => "line",
+            Mark::Dot(_) => "dot",
+            Mark::Trail(_) => "trail",
+        }
+    }
+    pub fn exprs(&self) -> &[String] {
+        match self {
+            Mark::Line(v) => v,
+            Mark::Dot(v) | Mark::Trail(v) => v,
+        }
+    }
+}
+
+/// A system of ordinary differential equations declared by a deck:
+/// d/dt of each variable is its equation, in terms of the variables, the
+/// named constants `params`, time `t` and the observables.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SystemScene {
+    pub id: String,
+    pub title: Option<Text>,
+    /// The state, in the author's order.
+    pub variables: Vec<String>,
+    pub initial: Vec<f64>,
+    /// Named constants, in the author's order.
+    pub params: Vec<(String, f64)>,
+    /// d/dt of each variable, same order, as written.
+    pub equations: Vec<String>,
+    /// Named expressions, in the author's order; each may use the ones
+    /// before it.
+    pub observables: Vec<(String, String)>,
+    /// Observables whose drift the diagnostics report.
+    pub conserved: Vec<String>,
+    pub duration: f64,
+    pub show: Vec<SystemPanel>,
+    /// Variables or observables plotted against time.
+    pub plot: Vec<String>,
+    /// The pair drawn in the phase portrait.
+    pub phase: Option<[String; 2]>,
+    pub sketch: Vec<Mark>,
+    pub time_unit: String,
+}
+
+impl SystemScene {
+    pub fn shows(&self, panel: SystemPanel) -> bool {
         self.show.contains(&panel)
     }
 }

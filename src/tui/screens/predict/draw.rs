@@ -345,7 +345,7 @@ fn draw_verdict(
             };
             format!(
                 "{} = {}{unit}{formula}",
-                crate::tui::i18n::measure(r.measure).get(&app.lang),
+                crate::tui::i18n::measure_label(r.measure, &app.lang),
                 fmt_value(r.value)
             )
         })

@@ -1,0 +1,10 @@
+//! Systems written as equations in a deck: the expressions (checked with
+//! positions, [`expr`]), their compilation into the right-hand side,
+//! observables and Jacobian ([`compile`]), and short names for measures.
+
+pub mod compile;
+pub mod expr;
+pub mod name;
+
+pub use compile::System;
+pub use name::Name;
