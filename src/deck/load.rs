@@ -275,6 +275,7 @@ fn load_deck(path: &Path, loaded: &mut Loaded, seen_ids: &mut HashMap<String, Pa
                 cards: body.cards,
                 prompts: body.prompts,
                 scenes: body.scenes,
+                systems: body.systems,
                 sections,
                 path: path.to_path_buf(),
             })

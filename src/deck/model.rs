@@ -4,7 +4,7 @@
 //! A value of these types has passed validation: ids are unique, every text
 //! exists in every declared language, links resolve, scene numbers are physical.
 
-pub use crate::sim::scene::spec::{Measure, Panel, Scene};
+pub use crate::sim::scene::spec::{Measure, Panel, Scene, Stat, SystemPanel, SystemScene};
 use std::path::PathBuf;
 
 pub use crate::text::{Lang, Text};
@@ -20,6 +20,8 @@ pub struct Deck {
     pub cards: Vec<Card>,
     pub prompts: Vec<Prompt>,
     pub scenes: Vec<Scene>,
+    /// Scenes that are systems of equations.
+    pub systems: Vec<SystemScene>,
     /// Explanation sections in reading order (the order of the primary
     /// language's content file); titles and bodies per language.
     pub sections: Vec<Section>,
@@ -36,6 +38,9 @@ impl Deck {
     }
     pub fn scene(&self, id: &str) -> Option<&Scene> {
         self.scenes.iter().find(|s| s.id == id)
+    }
+    pub fn system(&self, id: &str) -> Option<&SystemScene> {
+        self.systems.iter().find(|s| s.id == id)
     }
     pub fn section(&self, id: &str) -> Option<&Section> {
         self.sections.iter().find(|s| s.id == id)

@@ -89,7 +89,18 @@ pub const SCENE_FIELDS: &[&str] = &[
     "show",
     "time_unit",
     "flat",
+    "variables",
+    "initial",
+    "params",
+    "equations",
+    "observables",
+    "conserved",
+    "plot",
+    "phase",
+    "sketch",
 ];
+/// The keys of a sketch element (each takes an array of expressions).
+pub const MARK_KEYS: &[&str] = &["line", "dot", "trail"];
 pub const CONTENT_FILE_FIELDS: &[&str] = &["section"];
 pub const SECTION_FIELDS: &[&str] = &["id", "title", "body", "see"];
 pub const ANSWER_KINDS: &[&str] = &["choice", "number"];
@@ -178,6 +189,46 @@ pub struct RawScene {
     pub show: Option<List<Str>>,
     pub time_unit: Option<Str>,
     pub flat: Option<Flag>,
+    /// Present only in a system scene (`variables` makes one).
+    pub system: Option<RawSystem>,
+}
+
+/// A named value of a table written inline (`params = { g = 9.81 }`), the
+/// key with its span.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Entry<T> {
+    pub key: Str,
+    pub value: T,
+}
+
+/// A table of named values, in the order written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Named<T> {
+    pub entries: Vec<Entry<T>>,
+    pub span: Span,
+}
+
+/// One sketch element: `{ line = [...] }`, `{ dot = [...] }` or
+/// `{ trail = [...] }`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawMark {
+    pub span: Span,
+    pub key: Str,
+    pub exprs: List<Str>,
+}
+
+/// The fields of a system scene as written.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawSystem {
+    pub variables: List<Str>,
+    pub initial: Option<List<Num>>,
+    pub params: Option<Named<Num>>,
+    pub equations: Option<List<Str>>,
+    pub observables: Option<Named<Str>>,
+    pub conserved: Option<List<Str>>,
+    pub plot: Option<List<Str>>,
+    pub phase: Option<List<Str>>,
+    pub sketch: Option<List<RawMark>>,
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -450,17 +501,176 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
     );
     let what = label("scene", &probe);
     let f = probe.named(what);
+    let is_system = f.get("variables").is_some();
+    if !is_system && f.get("inertia").is_none() && f.get("omega").is_none() {
+        rep.error(
+            span.clone(),
+            format!(
+                "{} is neither a rigid body (`inertia`, `omega`) nor a system (`variables`, `equations`)",
+                f.what
+            ),
+            Some("give `inertia` and `omega` for a rigid body, or `variables`, `initial` and `equations` for a system".to_string()),
+        );
+    }
+    let system = if is_system {
+        for key in ["inertia", "omega", "flat"] {
+            if let Some(v) = f.get(key) {
+                rep.error(
+                    v.span(),
+                    format!("`{key}` belongs to a rigid-body scene, but {} has `variables` (a system)", f.what),
+                    Some("a scene is either a rigid body or a system; split it in two".to_string()),
+                );
+            }
+        }
+        f.strings(rep, "variables", true).map(|variables| RawSystem {
+            variables,
+            initial: f.numbers(rep, "initial", true),
+            params: named(rep, &f, "params", |rep, v, what| read::number(rep, v, what)),
+            equations: f.strings(rep, "equations", true),
+            observables: named(rep, &f, "observables", |rep, v, what| {
+                read::string(rep, v, what)
+            }),
+            conserved: f.strings(rep, "conserved", false),
+            plot: f.strings(rep, "plot", false),
+            phase: f.strings(rep, "phase", false),
+            sketch: sketch(rep, &f),
+        })
+    } else {
+        for key in [
+            "initial",
+            "params",
+            "equations",
+            "observables",
+            "conserved",
+            "plot",
+            "phase",
+            "sketch",
+        ] {
+            if let Some(v) = f.get(key) {
+                rep.error(
+                    v.span(),
+                    format!("`{key}` belongs to a system scene, but {} has no `variables`", f.what),
+                    Some("a system declares its state with `variables = [...]`".to_string()),
+                );
+            }
+        }
+        None
+    };
     RawScene {
         span,
         id: f.string(rep, "id", true),
         title: f.text(rep, "title", false),
-        inertia: f.numbers(rep, "inertia", true),
-        omega: f.numbers(rep, "omega", true),
+        inertia: if is_system {
+            None
+        } else {
+            f.numbers(rep, "inertia", true)
+        },
+        omega: if is_system {
+            None
+        } else {
+            f.numbers(rep, "omega", true)
+        },
         duration: f.number(rep, "duration", true),
         show: f.strings(rep, "show", true),
         time_unit: f.string(rep, "time_unit", false),
-        flat: f.flag(rep, "flat"),
+        flat: if is_system { None } else { f.flag(rep, "flat") },
+        system,
     }
+}
+
+/// An optional inline table of named values, in the order written.
+fn named<T>(
+    rep: &mut FileReport,
+    f: &Fields,
+    key: &str,
+    value: impl Fn(&mut FileReport, &read::Value, &str) -> Option<T>,
+) -> Option<Named<T>> {
+    let v = f.get(key)?;
+    let t = read::table(rep, v, &format!("`{key}`"))?;
+    let mut entries = Vec::new();
+    let mut ok = true;
+    for (k, item) in t.iter() {
+        let name = Str {
+            value: k.get_ref().to_string(),
+            span: k.span(),
+        };
+        match value(rep, item, &format!("`{}` in `{key}`", name.value)) {
+            Some(value) => entries.push(Entry { key: name, value }),
+            None => ok = false,
+        }
+    }
+    // The table keeps keys sorted; the author's order is the source order.
+    entries.sort_by_key(|e| e.key.span.start);
+    ok.then_some(Named {
+        entries,
+        span: v.span(),
+    })
+}
+
+fn sketch(rep: &mut FileReport, f: &Fields) -> Option<List<RawMark>> {
+    let v = f.get("sketch")?;
+    let arr = read::array(rep, v, "`sketch`")?;
+    let mut items = Vec::new();
+    let mut ok = true;
+    for item in arr.iter() {
+        let Some(t) = read::table(rep, item, "each item of `sketch`") else {
+            ok = false;
+            continue;
+        };
+        let keys: Vec<_> = t.iter().collect();
+        if keys.len() != 1 {
+            rep.error(
+                item.span(),
+                format!(
+                    "each item of `sketch` has one key (line, dot or trail), found {}",
+                    keys.len()
+                ),
+                Some("sketch = [{ line = [\"0\", \"0\", \"x\", \"y\"] }, { dot = [\"x\", \"y\"] }]".to_string()),
+            );
+            ok = false;
+            continue;
+        }
+        let (k, value) = keys[0];
+        let name: &str = k.get_ref();
+        if !MARK_KEYS.contains(&name) {
+            rep.error(
+                k.span(),
+                format!("unknown sketch element `{name}`"),
+                suggest::did_you_mean(name, MARK_KEYS.iter().copied())
+                    .or_else(|| Some("sketch elements: line, dot, trail".to_string())),
+            );
+            ok = false;
+            continue;
+        }
+        let what = format!("`{name}`");
+        let Some(a) = read::array(rep, value, &what) else {
+            ok = false;
+            continue;
+        };
+        let exprs: Vec<Str> = a
+            .iter()
+            .filter_map(|e| read::string(rep, e, &format!("each coordinate of {what}")))
+            .collect();
+        if exprs.len() != a.len() {
+            ok = false;
+            continue;
+        }
+        items.push(RawMark {
+            span: item.span(),
+            key: Str {
+                value: name.to_string(),
+                span: k.span(),
+            },
+            exprs: List {
+                items: exprs,
+                span: value.span(),
+            },
+        });
+    }
+    ok.then_some(List {
+        items,
+        span: v.span(),
+    })
 }
 
 pub fn read_content_file(rep: &mut FileReport, root: &DeTable, root_span: Span) -> RawContentFile {

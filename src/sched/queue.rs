@@ -843,7 +843,8 @@ mod deck_tests {
                 card("typed", CardKind::Typed, &["euler", "frames"]),
             ],
             prompts: vec![],
-            scenes: vec![],
+            systems: vec![],
+        scenes: vec![],
             sections: vec![],
             path: "rot.toml".into(),
         }

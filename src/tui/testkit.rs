@@ -148,6 +148,7 @@ pub fn deck() -> Deck {
                 tags: vec![],
             },
         ],
+        systems: vec![],
         scenes: vec![Scene {
             id: "tennis-racket".into(),
             title: Some(text("Tennis racket", "Tennis racket")),

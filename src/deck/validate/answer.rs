@@ -4,6 +4,8 @@
 use std::ops::Range;
 
 use crate::deck::model::{Answer, Choice, Cmp, Condition, Measure, Tolerance};
+use crate::sim::scene::spec::Stat;
+use crate::sim::system::Name;
 use crate::deck::raw::{RawAnswer, RawChoice, RawTolerance, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
@@ -13,7 +15,22 @@ use crate::text::num::Num;
 use super::text::{self, Kind, Langs};
 use super::{Targets, id, unique};
 
-pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str) -> Option<Answer> {
+/// What a prompt's scene can measure: a rigid body's measures, or the
+/// statistics of a system's variables and observables (named here). `None`
+/// where the scene link is broken (its own error says so).
+#[derive(Debug, Clone, Copy)]
+pub enum SceneKind<'a> {
+    Rigid,
+    System(&'a [String]),
+}
+
+pub fn answer(
+    rep: &mut FileReport,
+    raw: &RawAnswer,
+    langs: &Langs,
+    owner: &str,
+    kind: Option<SceneKind>,
+) -> Option<Answer> {
     match raw {
         RawAnswer::Choice {
             span: _,
@@ -36,7 +53,7 @@ pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str)
             let mut ok = list.items.len() >= 2;
             let mut out = Vec::new();
             for c in &list.items {
-                match choice(rep, c, langs) {
+                match choice(rep, c, langs, kind) {
                     Some(c) => out.push(c),
                     None => ok = false,
                 }
@@ -75,7 +92,7 @@ pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str)
         } => {
             let measure = measure
                 .as_ref()
-                .and_then(|m| measure_name(rep, &m.value, m.span.clone()));
+                .and_then(|m| measure_in(rep, m, 0, m.value.len(), kind));
             let unit = match unit {
                 Some(u) => text::string(rep, u, Kind::Plain, "`unit`").then(|| u.value.clone()),
                 None => Some(String::new()),
@@ -107,7 +124,12 @@ pub fn answer(rep: &mut FileReport, raw: &RawAnswer, langs: &Langs, owner: &str)
     }
 }
 
-fn choice(rep: &mut FileReport, raw: &RawChoice, langs: &Langs) -> Option<Choice> {
+fn choice(
+    rep: &mut FileReport,
+    raw: &RawChoice,
+    langs: &Langs,
+    kind: Option<SceneKind>,
+) -> Option<Choice> {
     let id_ok = raw.id.as_ref().is_some_and(|i| id(rep, i, "choice"));
     let what = match &raw.id {
         Some(i) if id_ok => format!("the label of choice `{}`", i.value),
@@ -117,7 +139,7 @@ fn choice(rep: &mut FileReport, raw: &RawChoice, langs: &Langs) -> Option<Choice
         .label
         .as_ref()
         .and_then(|l| text::text(rep, l, langs, &what));
-    let when = raw.when.as_ref().and_then(|w| condition(rep, w));
+    let when = raw.when.as_ref().and_then(|w| condition(rep, w, kind));
     Some(Choice {
         id: raw.id.as_ref().filter(|_| id_ok)?.value.clone(),
         label: label?,
@@ -162,16 +184,22 @@ fn tolerance(rep: &mut FileReport, t: &RawTolerance) -> Option<Tolerance> {
 
 /// Parses `measure op number` (e.g. `flips > 0`), reporting at the exact
 /// character of the string that is wrong.
-pub fn condition(rep: &mut FileReport, s: &Str) -> Option<Condition> {
+pub fn condition(rep: &mut FileReport, s: &Str, kind: Option<SceneKind>) -> Option<Condition> {
     let text = s.value.as_str();
     let token = rep.source.get(s.span.clone()).unwrap_or("").to_string();
     let at = |offset: usize| s.span.start + tomlstr::locate(&token, offset).0;
     let example = "a condition is `measure op number`, e.g. \"flips > 0\"";
 
     let name_start = text.len() - text.trim_start().len();
-    let name_len = text[name_start..]
+    let mut name_len = text[name_start..]
         .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == '.'))
         .unwrap_or(text.len() - name_start);
+    // A system measure runs to its closing parenthesis: `period(theta)`.
+    if text[name_start + name_len..].starts_with('(') {
+        name_len = text[name_start..]
+            .find(')')
+            .map_or(text.len() - name_start, |i| i + 1);
+    }
     if name_len == 0 {
         rep.error(
             at(name_start)..at(name_start) + 1,
@@ -181,7 +209,7 @@ pub fn condition(rep: &mut FileReport, s: &Str) -> Option<Condition> {
         return None;
     }
     let name = &text[name_start..name_start + name_len];
-    let measure = measure_name(rep, name, at(name_start)..at(name_start) + name.len());
+    let measure = measure_in(rep, s, name_start, name_start + name_len, kind);
 
     let op_start = name_start
         + name_len
@@ -231,6 +259,106 @@ pub fn condition(rep: &mut FileReport, s: &Str) -> Option<Condition> {
         op,
         value,
     })
+}
+
+/// The measure written in bytes `start..end` of `s` (`flips`, or
+/// `period(theta)` on a system scene), reported at the character that is
+/// wrong.
+fn measure_in(
+    rep: &mut FileReport,
+    s: &Str,
+    start: usize,
+    end: usize,
+    kind: Option<SceneKind>,
+) -> Option<Measure> {
+    let token = rep.source.get(s.span.clone()).unwrap_or("").to_string();
+    let at = |offset: usize| s.span.start + tomlstr::locate(&token, offset).0;
+    let text = &s.value[start..end];
+    let lead = text.len() - text.trim_start().len();
+    let text = text.trim();
+    let start = start + lead;
+    let span = at(start)..at(start + text.len().max(1));
+    let stats = || Stat::ALL.iter().map(|s| s.name());
+    let system_example = "system measures: max(N), min(N), final(N), mean(N), crossings(N), period(N), drift(N)";
+    let Some(open) = text.find('(') else {
+        let m = measure_name(rep, text, span.clone())?;
+        if let Some(SceneKind::System(_)) = kind {
+            rep.error(
+                span,
+                format!("`{text}` is a rigid-body measure, but the prompt's scene is a system"),
+                Some(system_example.to_string()),
+            );
+            return None;
+        }
+        return Some(m);
+    };
+    let stat_name = text[..open].trim();
+    let Some(stat) = Stat::from_name(stat_name) else {
+        let hint = suggest::did_you_mean(stat_name, stats())
+            .unwrap_or_else(|| system_example.to_string());
+        rep.error(
+            at(start)..at(start + open.max(1)),
+            format!("unknown measure `{stat_name}`"),
+            Some(hint),
+        );
+        return None;
+    };
+    let Some(close) = text.rfind(')').filter(|&c| c > open) else {
+        rep.error(
+            at(start + text.len())..at(start + text.len()) + 1,
+            format!("`{text}`: expected `)`"),
+            Some(format!("write {stat_name}(N), N a variable or observable")),
+        );
+        return None;
+    };
+    if close + 1 != text.len() {
+        rep.error(
+            at(start + close + 1)..at(start + text.len()),
+            format!("unexpected text after `{}`", &text[..=close]),
+            None,
+        );
+        return None;
+    }
+    let inner = &text[open + 1..close];
+    let q_lead = inner.len() - inner.trim_start().len();
+    let quantity = inner.trim();
+    let q_start = start + open + 1 + q_lead;
+    let q_span = at(q_start)..at(q_start + quantity.len().max(1));
+    match kind {
+        Some(SceneKind::Rigid) => {
+            rep.error(
+                span,
+                format!("`{text}` is a system measure, but the prompt's scene is a rigid body"),
+                Some(format!(
+                    "rigid-body measures: {}",
+                    Measure::ALL.iter().map(|m| m.name()).collect::<Vec<_>>().join(", ")
+                )),
+            );
+            return None;
+        }
+        Some(SceneKind::System(names)) if !names.iter().any(|n| n == quantity) => {
+            let hint = suggest::did_you_mean(quantity, names.iter().map(String::as_str))
+                .or_else(|| Some(format!("variables and observables: {}", names.join(", "))));
+            rep.error(
+                q_span,
+                format!("`{quantity}` is not a variable or observable of the prompt's scene"),
+                hint,
+            );
+            return None;
+        }
+        _ => {}
+    }
+    match Name::new(quantity) {
+        Some(name) if !quantity.is_empty() => Some(Measure::Of(stat, name)),
+        _ => {
+            rep.error(
+                q_span,
+                format!("`{quantity}` is not a variable or observable name"),
+                None,
+            );
+            None
+        }
+    }
 }
 
 /// A measure by name, reported at `span` when unknown.

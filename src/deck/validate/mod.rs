@@ -5,11 +5,12 @@
 pub mod answer;
 pub mod content;
 pub mod scene;
+pub mod system;
 pub mod text;
 
 use std::collections::HashMap;
 
-use crate::deck::model::{Card, CardKind, Prompt, Scene, Text};
+use crate::deck::model::{Card, CardKind, Prompt, Scene, SystemScene, Text};
 use crate::deck::raw::{List, RawAnswer, RawCard, RawDeckFile, RawPrompt, RawText, Span, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
@@ -358,6 +359,7 @@ pub struct Body {
     pub cards: Vec<Card>,
     pub prompts: Vec<Prompt>,
     pub scenes: Vec<Scene>,
+    pub systems: Vec<SystemScene>,
 }
 
 /// Checks cards, prompts and scenes; `section_ids` are the explanation
@@ -400,19 +402,43 @@ pub fn body(
             None => ok = false,
         }
     }
+    let quantities: HashMap<&str, Option<Vec<String>>> = raw
+        .scenes
+        .iter()
+        .filter_map(|s| {
+            let id = s.id.as_ref()?.value.as_str();
+            Some((id, s.system.as_ref().map(system::quantities)))
+        })
+        .collect();
     let mut prompts = Vec::new();
     for p in &raw.prompts {
-        match prompt(rep, p, langs, section_ids, &scene_names) {
+        let kind = p
+            .scene
+            .as_ref()
+            .and_then(|s| quantities.get(s.value.as_str()))
+            .map(|q| match q {
+                Some(names) => answer::SceneKind::System(names),
+                None => answer::SceneKind::Rigid,
+            });
+        match prompt(rep, p, langs, section_ids, &scene_names, kind) {
             Some(p) => prompts.push(p),
             None => ok = false,
         }
     }
     let mut scenes = Vec::new();
+    let mut systems = Vec::new();
     for s in &raw.scenes {
         let what =
             s.id.as_ref()
                 .filter(|i| is_id(&i.value))
                 .map_or("a scene".to_string(), |i| format!("scene `{}`", i.value));
+        if let Some(sys) = &s.system {
+            match system::scene(rep, s, sys, langs, &what) {
+                Some(s) => systems.push(s),
+                None => ok = false,
+            }
+            continue;
+        }
         match scene::scene(rep, s, langs, &what) {
             Some(s) => scenes.push(s),
             None => ok = false,
@@ -422,6 +448,7 @@ pub fn body(
         cards,
         prompts,
         scenes,
+        systems,
     })
 }
 
@@ -558,6 +585,7 @@ fn prompt(
     langs: &Langs,
     section_ids: Option<&Targets>,
     scene_ids: &Targets,
+    kind: Option<answer::SceneKind>,
 ) -> Option<Prompt> {
     let what = named("prompt", &raw.id);
     let question = raw
@@ -573,7 +601,7 @@ fn prompt(
     let answer = raw
         .answer
         .as_ref()
-        .and_then(|a| answer::answer(rep, a, langs, &what));
+        .and_then(|a| answer::answer(rep, a, langs, &what, kind));
     Some(Prompt {
         id: raw.id.as_ref()?.value.clone(),
         question: question?,

@@ -79,6 +79,11 @@ impl Measurements {
         self.readings.iter().find(|r| r.measure == measure)
     }
 
+    /// Measurements made elsewhere (a system scene's run).
+    pub fn from_readings(readings: Vec<Reading>) -> Measurements {
+        Measurements { readings }
+    }
+
     pub fn readings(&self) -> &[Reading] {
         &self.readings
     }

@@ -6,5 +6,6 @@ pub mod measure;
 pub mod plan;
 pub mod run;
 pub mod spec;
+pub mod system;
 
 pub use run::*;

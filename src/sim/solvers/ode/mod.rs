@@ -18,6 +18,7 @@
 //! leave the solver stopped: no state containing NaN or ∞ is ever returned.
 
 mod auto;
+mod choice;
 mod dop853;
 mod radau5;
 mod rk4;
@@ -25,6 +26,7 @@ mod rk4;
 use nalgebra::DMatrix;
 
 pub use auto::Auto;
+pub use choice::{DEFAULT_RTOL, OdeKind, OdeMethod, REFERENCE_RTOL};
 pub use dop853::{Dop853, StiffnessMode};
 pub use radau5::Radau5;
 pub use rk4::Rk4;

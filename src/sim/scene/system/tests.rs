@@ -1,0 +1,237 @@
+use super::*;
+use crate::sim::rigid::elliptic::complete_k;
+use crate::sim::scene::spec::Mark;
+use crate::sim::system::Name;
+
+fn pendulum(theta0_deg: f64, show: &[SystemPanel]) -> SystemScene {
+    SystemScene {
+        id: "pendulum".into(),
+        title: None,
+        variables: vec!["theta".into(), "omega".into()],
+        initial: vec![theta0_deg.to_radians(), 0.0],
+        params: vec![("g".into(), 9.81), ("L".into(), 1.0)],
+        equations: vec!["omega".into(), "-g/L*sin(theta)".into()],
+        observables: vec![
+            (
+                "energy".into(),
+                "0.5*L^2*omega^2 + g*L*(1 - cos(theta))".into(),
+            ),
+            ("x".into(), "L*sin(theta)".into()),
+            ("y".into(), "-L*cos(theta)".into()),
+        ],
+        conserved: vec!["energy".into()],
+        duration: 20.0,
+        show: show.to_vec(),
+        plot: vec!["theta".into()],
+        phase: Some(["theta".into(), "omega".into()]),
+        sketch: vec![
+            Mark::Line(["0".into(), "0".into(), "x".into(), "y".into()]),
+            Mark::Trail(["x".into(), "y".into()]),
+        ],
+        time_unit: "s".into(),
+    }
+}
+
+fn of(stat: Stat, name: &str) -> Measure {
+    Measure::Of(stat, Name::new(name).unwrap())
+}
+
+fn auto() -> OdeMethod {
+    OdeMethod::default_for(OdeKind::Auto, 1.0)
+}
+
+/// T = 4K(m)√(L/g), m = sin²(θ₀/2).
+fn exact_period(theta0_deg: f64) -> f64 {
+    let m = (theta0_deg.to_radians() / 2.0).sin().powi(2);
+    4.0 * complete_k(1.0 - m) * (1.0 / 9.81f64).sqrt()
+}
+
+#[test]
+fn pendulum_period_matches_the_elliptic_integral() {
+    let t0 = 2.0 * std::f64::consts::PI * (1.0 / 9.81f64).sqrt();
+    for (deg, ratio) in [(30.0, 1.0174), (90.0, 1.1803), (170.0, 2.4394)] {
+        let scene = pendulum(deg, &[SystemPanel::Plot]);
+        for kind in [OdeKind::Auto, OdeKind::Adaptive, OdeKind::Radau, OdeKind::Rk4] {
+            let method = OdeMethod::default_for(kind, scene.duration);
+            let got = measure_system(&scene, method, &[of(Stat::Period, "theta")]).unwrap();
+            let period = got[0].clone().unwrap();
+            let exact = exact_period(deg);
+            assert!(
+                (period - exact).abs() < 1e-4 * exact,
+                "{deg}° {kind:?}: {period} vs {exact}"
+            );
+            assert!((period / t0 - ratio).abs() < 1e-4, "{deg}°: T/T0 = {}", period / t0);
+        }
+    }
+}
+
+#[test]
+fn measures_follow_their_definitions() {
+    let scene = pendulum(90.0, &[SystemPanel::Plot]);
+    let ms = [
+        of(Stat::Max, "theta"),
+        of(Stat::Min, "theta"),
+        of(Stat::Final, "omega"),
+        of(Stat::Mean, "theta"),
+        of(Stat::Crossings, "theta"),
+        of(Stat::Drift, "energy"),
+        of(Stat::Max, "y"),
+    ];
+    let got: Vec<f64> = measure_system(&scene, auto(), &ms)
+        .unwrap()
+        .into_iter()
+        .map(Result::unwrap)
+        .collect();
+    let amp = 90f64.to_radians();
+    assert!((got[0] - amp).abs() < 1e-6, "max {}", got[0]);
+    // The far turning point is found among the samples (16 a step).
+    assert!((got[1] + amp).abs() < 1e-4, "min {}", got[1]);
+    // θ swings symmetrically: its time average is near zero (an unfinished
+    // swing at the end leaves a little).
+    assert!(got[3].abs() < 0.1, "mean {}", got[3]);
+    // Two sign changes per period over 20 s.
+    let expected = (2.0 * 20.0 / exact_period(90.0) + 0.5).floor();
+    assert!((got[4] - expected).abs() <= 1.0, "crossings {} vs {expected}", got[4]);
+    assert!(got[5] < 1e-6, "energy drift {}", got[5]);
+    // y = −cos θ is largest at the turning points: −cos 90° = 0.
+    assert!(got[6].abs() < 1e-4);
+    // The exact final ω (from sn, cn) is not needed: it is the last sample.
+    let mut run = SystemRun::new(&scene, auto(), &ms).unwrap();
+    run.run_to_end().unwrap();
+    assert_eq!(run.measure(ms[2]).unwrap(), run.state()[1]);
+}
+
+#[test]
+fn period_is_refused_without_two_upward_crossings() {
+    let mut scene = pendulum(90.0, &[SystemPanel::Plot]);
+    scene.duration = 0.3;
+    let got = measure_system(&scene, auto(), &[of(Stat::Period, "theta")]).unwrap();
+    let reason = got[0].clone().unwrap_err();
+    assert!(reason.contains("a period needs two"), "{reason}");
+}
+
+#[test]
+fn blow_up_is_reported_near_its_time() {
+    let scene = SystemScene {
+        id: "b".into(),
+        title: None,
+        variables: vec!["x".into()],
+        initial: vec![1.0],
+        params: vec![],
+        equations: vec!["x^2".into()],
+        observables: vec![],
+        conserved: vec![],
+        duration: 2.0,
+        show: vec![SystemPanel::Plot],
+        plot: vec!["x".into()],
+        phase: None,
+        sketch: vec![],
+        time_unit: "s".into(),
+    };
+    for kind in OdeKind::ALL {
+        let e = measure_system(
+            &scene,
+            OdeMethod::default_for(kind, 2.0),
+            &[of(Stat::Max, "x")],
+        )
+        .unwrap_err();
+        assert_eq!(e, "the solution blows up near t = 1.0", "{kind:?}");
+    }
+}
+
+#[test]
+fn computes_only_what_is_shown_or_measured() {
+    let radau = OdeMethod::default_for(OdeKind::Radau, 1.0);
+    let adaptive = OdeMethod::default_for(OdeKind::Adaptive, 1.0);
+    // Plot θ only: no observable, no sketch, no reference, no Jacobian.
+    let s = pendulum(30.0, &[SystemPanel::Plot]);
+    let p = SystemPlan::for_scene(&s, adaptive, &[]);
+    assert_eq!(p.observables, vec![false, false, false]);
+    assert!(!p.sketch && !p.reference && !p.jacobian);
+    assert!(p.metered.is_empty());
+    // An implicit method compiles the Jacobian.
+    assert!(SystemPlan::for_scene(&s, radau, &[]).jacobian);
+    assert!(SystemPlan::for_scene(&s, auto(), &[]).jacobian);
+    // A measure of an observable evaluates that one only.
+    let p = SystemPlan::for_scene(&s, adaptive, &[of(Stat::Max, "y")]);
+    assert_eq!(p.observables, vec![false, false, true]);
+    assert_eq!(p.metered, vec![4]);
+    // Diagnostics: the conserved energy and a reference run.
+    let s = pendulum(30.0, &[SystemPanel::Diagnostics]);
+    let p = SystemPlan::for_scene(&s, adaptive, &[]);
+    assert_eq!(p.observables, vec![true, false, false]);
+    assert!(p.reference && !p.sketch);
+    // The sketch evaluates its own expressions, not the observables' list.
+    let s = pendulum(30.0, &[SystemPanel::Sketch]);
+    let p = SystemPlan::for_scene(&s, adaptive, &[]);
+    assert!(p.sketch && !p.reference);
+    assert_eq!(p.observables, vec![false, false, false]);
+
+    // And the run does what the plan says.
+    let s = pendulum(30.0, &[SystemPanel::Plot]);
+    let mut run = SystemRun::new(&s, adaptive, &[]).unwrap();
+    run.advance_to(5.0);
+    assert!(!run.has_reference());
+    assert!(run.trail().is_empty());
+    assert_eq!(run.trace().last().unwrap().values.len(), 1);
+    assert_eq!(run.work().jac_evals, 0);
+    let s = pendulum(30.0, &[SystemPanel::Plot, SystemPanel::Sketch, SystemPanel::Diagnostics]);
+    let mut run = SystemRun::new(&s, adaptive, &[]).unwrap();
+    run.advance_to(5.0);
+    assert!(run.has_reference());
+    assert_eq!(run.trail().last().unwrap().values.len(), 6);
+    let d = run.diagnostics();
+    assert_eq!(d.drift.len(), 1);
+    assert!(d.error.unwrap() < 1e-6, "{d:?}");
+}
+
+fn van_der_pol(mu: f64) -> SystemScene {
+    SystemScene {
+        id: "vdp".into(),
+        title: None,
+        variables: vec!["x".into(), "v".into()],
+        initial: vec![2.0, 0.0],
+        params: vec![("mu".into(), mu)],
+        equations: vec!["v".into(), "mu*(1 - x^2)*v - x".into()],
+        observables: vec![],
+        conserved: vec![],
+        duration: 3000.0,
+        show: vec![SystemPanel::Plot, SystemPanel::Diagnostics],
+        plot: vec!["x".into()],
+        phase: None,
+        sketch: vec![],
+        time_unit: "s".into(),
+    }
+}
+
+#[test]
+fn van_der_pol_switches_to_radau_and_keeps_its_shape() {
+    let scene = van_der_pol(1000.0);
+    let ms = [of(Stat::Max, "x"), of(Stat::Period, "x")];
+    let method = OdeMethod::default_for(OdeKind::Auto, scene.duration);
+    let mut run = SystemRun::new(&scene, method, &ms).unwrap();
+    run.run_to_end().unwrap();
+    let d = run.diagnostics();
+    assert_eq!(d.solver, "radau5");
+    assert!(d.stiff_at.is_some_and(|t| t < 10.0), "{d:?}");
+    let amp = run.measure(ms[0]).unwrap();
+    assert!((amp - 2.0).abs() < 0.02, "amplitude {amp}");
+    // (3 − 2 ln 2)μ ≈ 1614 to leading order.
+    let period = run.measure(ms[1]).unwrap_err();
+    assert!(period.contains("period(x)"), "{period}");
+    // Over 3000 s there is one full cycle and a bit: x crosses its mid
+    // level upwards once, so the period is refused; over 4000 s, measured.
+    let mut long = scene.clone();
+    long.duration = 4000.0;
+    let got = measure_system(&long, method, &ms[1..]).unwrap();
+    let p = got[0].clone().unwrap();
+    assert!((p - 1614.0).abs() < 0.02 * 1614.0, "period {p}");
+    // adaptive refuses the stiff problem with the reason.
+    let e = measure_system(
+        &scene,
+        OdeMethod::default_for(OdeKind::Adaptive, scene.duration),
+        &ms,
+    )
+    .unwrap_err();
+    assert!(e.contains("stiff") && e.contains("radau"), "{e}");
+}

@@ -1,0 +1,125 @@
+//! The methods a system scene can run with, as the learner and the command
+//! line name them, with their one setting (a tolerance, or RK4's step).
+
+use super::{Method, Options, StiffnessMode};
+
+/// Default relative tolerance of the adaptive methods on a scene; the
+/// absolute one is this times [`ATOL_FACTOR`].
+pub const DEFAULT_RTOL: f64 = 1e-8;
+pub const ATOL_FACTOR: f64 = 1e-2;
+/// RK4's default step: this many steps over the run.
+pub const DEFAULT_RK4_STEPS: f64 = 20_000.0;
+/// The reference run of the diagnostics.
+pub const REFERENCE_RTOL: f64 = 1e-11;
+
+/// A method family for systems.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum OdeKind {
+    /// DOP853 until it finds the problem stiff, then Radau IIA.
+    Auto,
+    /// DOP853, refusing a stiff problem.
+    Adaptive,
+    /// Radau IIA of order 5.
+    Radau,
+    /// Classical RK4 with a fixed step.
+    Rk4,
+}
+
+impl OdeKind {
+    pub const ALL: [OdeKind; 4] = [OdeKind::Auto, OdeKind::Adaptive, OdeKind::Radau, OdeKind::Rk4];
+
+    /// The command line's spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            OdeKind::Auto => "auto",
+            OdeKind::Adaptive => "adaptive",
+            OdeKind::Radau => "radau",
+            OdeKind::Rk4 => "rk4",
+        }
+    }
+
+    /// Whether the method solves with the Jacobian (so it is compiled).
+    pub fn implicit(self) -> bool {
+        matches!(self, OdeKind::Radau | OdeKind::Auto)
+    }
+}
+
+/// A method with its setting.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OdeMethod {
+    pub kind: OdeKind,
+    /// Relative tolerance (adaptive kinds) or step (RK4).
+    pub setting: f64,
+}
+
+impl OdeMethod {
+    /// The kind with its default setting for a run of `duration`.
+    pub fn default_for(kind: OdeKind, duration: f64) -> OdeMethod {
+        let setting = match kind {
+            OdeKind::Rk4 => duration / DEFAULT_RK4_STEPS,
+            _ => DEFAULT_RTOL,
+        };
+        OdeMethod { kind, setting }
+    }
+
+    /// The kind with `tol` (a tolerance, or RK4's step), checked.
+    pub fn with_setting(kind: OdeKind, setting: f64) -> Result<OdeMethod, String> {
+        let ok = match kind {
+            OdeKind::Rk4 => setting.is_finite() && setting > 0.0,
+            _ => setting.is_finite() && setting > 1e-14 && setting < 1.0,
+        };
+        if !ok {
+            return Err(match kind {
+                OdeKind::Rk4 => format!("the step of rk4 must be positive and finite, not {setting}"),
+                _ => format!(
+                    "the tolerance of {} must lie between 1e-14 and 1, not {setting}",
+                    kind.name()
+                ),
+            });
+        }
+        Ok(OdeMethod { kind, setting })
+    }
+
+    /// `radau rtol 1e-8`, `rk4 dt 0.001`.
+    pub fn label(&self) -> String {
+        let what = if self.kind == OdeKind::Rk4 { "dt" } else { "rtol" };
+        format!(
+            "{} {what} {}",
+            self.kind.name(),
+            crate::text::num::show(self.setting)
+        )
+    }
+
+    /// The tolerance tightened or loosened tenfold (the step halved or
+    /// doubled for RK4), within the allowed range.
+    pub fn finer(&self, finer: bool) -> OdeMethod {
+        let setting = match (self.kind, finer) {
+            (OdeKind::Rk4, true) => self.setting / 2.0,
+            (OdeKind::Rk4, false) => self.setting * 2.0,
+            (_, true) => (self.setting / 10.0).max(1e-13),
+            (_, false) => (self.setting * 10.0).min(1e-2),
+        };
+        OdeMethod { setting, ..*self }
+    }
+
+    /// The solver and its options for a run ending at `t_end`.
+    pub fn solver(&self, t_end: f64) -> (Method, Options) {
+        let mut opts = Options::with_tol(self.setting, self.setting * ATOL_FACTOR);
+        opts.t_stop = Some(t_end);
+        let method = match self.kind {
+            OdeKind::Auto => Method::Auto,
+            OdeKind::Adaptive => Method::Dop853 {
+                stiffness: StiffnessMode::Refuse,
+            },
+            OdeKind::Radau => Method::Radau5,
+            OdeKind::Rk4 => {
+                opts = Options {
+                    t_stop: Some(t_end),
+                    ..Options::default()
+                };
+                Method::Rk4 { dt: self.setting }
+            }
+        };
+        (method, opts)
+    }
+}
