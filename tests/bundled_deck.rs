@@ -246,7 +246,7 @@ fn predicted(scene: &Scene, measure: Measure) -> Option<f64> {
                 f64::NAN
             })
         }
-        Measure::EnergyDrift | Measure::MomentumDrift => None,
+        Measure::EnergyDrift | Measure::MomentumDrift | Measure::Of(..) => None,
     }
 }
 
