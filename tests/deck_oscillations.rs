@@ -569,3 +569,56 @@ fn phase_lag_follows_the_formula() {
         assert!((measured - lag).abs() < 1e-3, "{id}: {measured} vs {lag}");
     }
 }
+
+/// The solver switch the deck shows on its stiff scene, as the texts state
+/// it: `auto` finds Van der Pol at μ = 1000 stiff before t = 0.1 and
+/// finishes on Radau IIA in fewer than 1500 steps; the explicit method
+/// alone refuses it with the reason; no other scene of the deck switches.
+#[test]
+fn the_stiff_scene_switches_to_radau_and_no_other_does() {
+    use flipcard::sim::scene::system::{SystemRun, describe};
+    use flipcard::sim::solvers::ode::{OdeKind, OdeMethod};
+    let deck = deck();
+    for (card, lang) in [("solver-switch", 0), ("solver-switch", 1)] {
+        assert!(texts_of(&deck, "card", card, None)[lang].contains("t = 0.1"));
+    }
+    let en = sections("en");
+    let stiffness = find(&en, "section", "stiffness")["body"].as_str().unwrap();
+    assert!(stiffness.contains("fewer than 1500 steps") && stiffness.contains("t = 0.1"));
+
+    let loaded = flipcard::deck::load_dir(&deck_path());
+    let deck = &loaded.decks[0];
+    for scene in &deck.systems {
+        let method = OdeMethod::default_for(OdeKind::Auto, scene.duration);
+        let mut run = SystemRun::new(scene, method, &[]).unwrap();
+        run.run_to_end()
+            .unwrap_or_else(|e| panic!("{}: {}", scene.id, describe(&e)));
+        let d = run.diagnostics();
+        if scene.id == "vdp-stiff" {
+            let at = d.stiff_at.expect("auto switches on the stiff scene");
+            assert!(at < 0.1, "stiff from t = {at}");
+            assert!(d.solver.contains("radau"), "finished on {}", d.solver);
+            assert!(d.work.steps < 1500, "{:?}", d.work);
+        } else {
+            assert_eq!(d.stiff_at, None, "{} switched", scene.id);
+        }
+    }
+    let out = Command::new(BIN)
+        .args([
+            "sim",
+            "--scene",
+            "vdp-stiff",
+            "--method",
+            "adaptive",
+            "--deck",
+        ])
+        .arg(deck_path())
+        .args(["--measure", "max(x)"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(out.stdout.is_empty());
+    assert!(err.contains("stiff") && err.contains("radau"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+}

@@ -26,7 +26,7 @@ Exit status 0 when everything passes, 1 on any mismatch.
 
     python3 tests/golden/oscillations_check.py [--quick]
 
-`--quick` skips the slow demonstration (DOP853 on the stiff scene, ~30 s).
+`--quick` skips the slow demonstration (DOP853 on the stiff scene, ~5 min).
 """
 
 from __future__ import annotations
@@ -647,20 +647,26 @@ def check_formulas(deck: dict, sections) -> None:
 
 
 def check_stiff_demo(deck, sections, scenes: dict[str, Scene], quick: bool) -> None:
-    """The section on stiffness quotes SciPy's step counts for the stiff
-    scene: close to 900 000 for the explicit DOP853, about 1300 for Radau."""
+    """The texts on stiffness say an explicit method needs of the order of a
+    million steps for the stiff scene and an implicit one of the order of a
+    thousand (card why-stiff, section stiffness). Here: SciPy's Radau and,
+    unless --quick, its DOP853 at rtol 1e-6. flipcard's own figures (the
+    switch before t = 0.1, fewer than 1500 Radau steps, `adaptive`
+    refusing) are checked through its simulator by tests/deck_oscillations.rs."""
     s = scenes["vdp-stiff"]
     tol = dict(rtol=1e-6, atol=1e-9)
     r = solve_ivp(s.rhs, (0, s.duration), s.initial, method="Radau", **tol)
     steps_r = len(r.t) - 1
-    row("vdp-stiff: Radau steps at rtol 1e-6", "about 1300", str(steps_r), 1200 <= steps_r <= 1400)
-    stated(deck, sections, [("section", "stiffness", "1300")], "Radau steps")
-    stated(deck, sections, [("section", "stiffness", "900 000")], "DOP853 steps")
+    row("vdp-stiff: Radau steps at rtol 1e-6", "order of a thousand", str(steps_r), 300 <= steps_r <= 3000)
+    stated(deck, sections, [("card", "why-stiff", {"en": "of the order of a thousand", "hi-Latn": "hazaar ke order"}),
+                            ("card", "why-stiff", {"en": "of the order of a million", "hi-Latn": "million ke order"}),
+                            ("section", "stiffness", {"en": "of the order of a million", "hi-Latn": "million ke order"})],
+           "step counts")
     if quick:
         return
     d = solve_ivp(s.rhs, (0, s.duration), s.initial, method="DOP853", **tol)
     steps_d = len(d.t) - 1
-    row("vdp-stiff: DOP853 steps at rtol 1e-6", "close to 900 000", str(steps_d), 800_000 <= steps_d <= 950_000)
+    row("vdp-stiff: DOP853 steps at rtol 1e-6", "order of a million", str(steps_d), 300_000 <= steps_d <= 3_000_000)
 
 
 def main() -> int:
