@@ -246,6 +246,7 @@ fn predicted(scene: &Scene, measure: Measure) -> Option<f64> {
                 f64::NAN
             })
         }
+        // Drift has no closed form; system measures belong to system scenes.
         Measure::EnergyDrift | Measure::MomentumDrift | Measure::Of(..) => None,
     }
 }

@@ -29,4 +29,5 @@ mod store_durability;
 mod store_outside_clients;
 mod store_props;
 mod store_safety;
+mod system_cli;
 mod tui_e2e;

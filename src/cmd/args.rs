@@ -67,17 +67,42 @@ pub enum MethodArg {
     Splitting,
     Splitting4,
     Rk4,
+    /// Systems only: explicit until stiff, then Radau IIA.
+    Auto,
+    /// Systems only: Radau IIA of order 5.
+    Radau,
 }
 
-impl From<MethodArg> for crate::sim::Kind {
-    fn from(m: MethodArg) -> Self {
+impl TryFrom<MethodArg> for crate::sim::Kind {
+    type Error = anyhow::Error;
+    /// The rigid-body family; `auto` and `radau` are for systems.
+    fn try_from(m: MethodArg) -> anyhow::Result<Self> {
         use crate::sim::Kind;
-        match m {
+        Ok(match m {
             MethodArg::Exact => Kind::Exact,
             MethodArg::Adaptive => Kind::Adaptive,
             MethodArg::Splitting => Kind::Splitting,
             MethodArg::Splitting4 => Kind::Splitting4,
             MethodArg::Rk4 => Kind::Rk4,
+            MethodArg::Auto | MethodArg::Radau => anyhow::bail!(
+                "--method {}: only system scenes use it; a rigid body takes exact, adaptive, splitting, splitting4 or rk4",
+                m.name()
+            ),
+        })
+    }
+}
+
+impl MethodArg {
+    /// The spelling on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            MethodArg::Exact => "exact",
+            MethodArg::Adaptive => "adaptive",
+            MethodArg::Splitting => "splitting",
+            MethodArg::Splitting4 => "splitting4",
+            MethodArg::Rk4 => "rk4",
+            MethodArg::Auto => "auto",
+            MethodArg::Radau => "radau",
         }
     }
 }
@@ -100,17 +125,24 @@ pub struct SimArgs {
     /// End time T.
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub t_end: Option<String>,
-    /// Number of samples at t = k·T/(N−1).
+    /// Number of samples at t = k·T/(N−1) (default 101; with --scene,
+    /// prints the scene's run sampled so instead of its measurements).
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub samples: Option<usize>,
+    /// Default: exact for a rigid body, auto for a system scene.
+    #[arg(long, value_enum)]
+    pub method: Option<MethodArg>,
+    /// With --scene: print this measure of the run (repeatable), e.g.
+    /// 'period(theta)' on a system scene or 'flips' on a rigid body.
     #[arg(
         long,
-        value_name = "N",
-        default_value_t = 101,
-        allow_hyphen_values = true
+        value_name = "EXPR",
+        requires = "scene",
+        conflicts_with = "samples"
     )]
-    pub samples: usize,
-    #[arg(long, value_enum, default_value_t = MethodArg::Exact)]
-    pub method: MethodArg,
-    /// Tolerance of the adaptive solver (default 1e-10).
+    pub measure: Vec<String>,
+    /// Tolerance of the adaptive solver (default 1e-10; 1e-8 relative for
+    /// systems; the step for rk4 on a system).
     #[arg(long, value_name = "TOL", allow_hyphen_values = true)]
     pub tol: Option<f64>,
     /// Step of the fixed-step solvers (default: 256 steps per turn of the

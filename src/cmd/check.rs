@@ -71,7 +71,11 @@ pub fn summary(loaded: &Loaded) -> String {
         plural(loaded.decks.len(), "deck", "decks"),
         plural(count(|d| d.cards.len()), "card", "cards"),
         plural(count(|d| d.prompts.len()), "prompt", "prompts"),
-        plural(count(|d| d.scenes.len() + d.systems.len()), "scene", "scenes"),
+        plural(
+            count(|d| d.scenes.len() + d.systems.len()),
+            "scene",
+            "scenes"
+        ),
         plural(count(|d| d.sections.len()), "section", "sections"),
     )
 }

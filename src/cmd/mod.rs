@@ -14,6 +14,7 @@ pub mod paths;
 pub mod review;
 pub mod sim;
 pub mod sim_scene;
+pub mod sim_system;
 pub mod stats;
 
 use std::process::ExitCode;

@@ -10,7 +10,7 @@ use anyhow::{Context, anyhow, bail};
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::cmd::args::{Cli, SimArgs, SimFormat};
+use crate::cmd::args::{Cli, MethodArg, SimArgs, SimFormat};
 use crate::sim::rigid::model::{self, Body, State};
 use crate::sim::solvers::registry;
 use crate::sim::solvers::{Method, Needs, Solver};
@@ -77,6 +77,9 @@ fn list(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
         for scene in &deck.scenes {
             writeln!(out, "{}", scene_line(deck, scene, lang))?;
         }
+        for system in &deck.systems {
+            writeln!(out, "{}", system_line(deck, system, lang))?;
+        }
     }
     out.flush()?;
     if loaded.errors() > 0 {
@@ -105,6 +108,22 @@ fn scene_line(deck: &crate::deck::Deck, scene: &crate::deck::Scene, lang: &str) 
     )
 }
 
+fn system_line(deck: &crate::deck::Deck, s: &crate::deck::SystemScene, lang: &str) -> String {
+    let shows: Vec<&str> = s.show.iter().map(|p| p.name()).collect();
+    let initial: Vec<String> = s.initial.iter().map(|v| num::show(*v)).collect();
+    format!(
+        "{}\t{}\tvariables={}\tinitial={}\tduration={} {}\tshow={}\t{}",
+        s.id,
+        deck.id,
+        s.variables.join(","),
+        initial.join(","),
+        Num(s.duration),
+        s.time_unit,
+        shows.join(","),
+        s.title.as_ref().map_or("", |t| t.get(lang))
+    )
+}
+
 /// A checked `sim` request.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Request {
@@ -128,26 +147,25 @@ impl Request {
                 Num(t_end)
             );
         }
-        if args.samples < 2 {
-            bail!(
-                "--samples: need at least 2 (the start and the end), got {}",
-                args.samples
-            );
-        }
-        let most = max_samples(t_end);
-        if args.samples > most {
-            bail!(
-                "--samples: at most {most} over t = {}, got {} (neighbouring sample times k·T/(N−1) would be less than two ulps apart in f64)",
-                Num(t_end),
-                args.samples
-            );
-        }
-        let method = registry::method(args.method.into(), args.tol, args.dt, &body, &omega0)?;
+        Request::new(args, body, omega0, t_end)
+    }
+
+    /// A request for `body` from `omega0` over [0, `t_end`] with the
+    /// arguments' samples and method.
+    pub fn new(
+        args: &SimArgs,
+        body: Body,
+        omega0: Vector3<f64>,
+        t_end: f64,
+    ) -> anyhow::Result<Request> {
+        let samples = check_samples(args.samples.unwrap_or(DEFAULT_SAMPLES), t_end)?;
+        let kind = crate::sim::Kind::try_from(args.method.unwrap_or(MethodArg::Exact))?;
+        let method = registry::method(kind, args.tol, args.dt, &body, &omega0)?;
         Ok(Request {
             body,
             omega0,
             t_end,
-            samples: args.samples,
+            samples,
             method,
         })
     }
@@ -161,6 +179,25 @@ impl Request {
             k as f64 * self.t_end / last as f64
         }
     }
+}
+
+/// Samples printed when `--samples` is not given.
+pub const DEFAULT_SAMPLES: usize = 101;
+
+/// `--samples N` checked against the span: at least 2, at most what keeps
+/// the sample times distinct.
+pub fn check_samples(samples: usize, t_end: f64) -> anyhow::Result<usize> {
+    if samples < 2 {
+        bail!("--samples: need at least 2 (the start and the end), got {samples}");
+    }
+    let most = max_samples(t_end);
+    if samples > most {
+        bail!(
+            "--samples: at most {most} over t = {}, got {samples} (neighbouring sample times k·T/(N−1) would be less than two ulps apart in f64)",
+            Num(t_end)
+        );
+    }
+    Ok(samples)
 }
 
 fn number(flag: &str, text: Option<&str>) -> anyhow::Result<f64> {
@@ -279,7 +316,7 @@ impl Inputs {
 
 /// Streams the samples; a failure midway (the step budget, say) ends the
 /// output there and is reported by the caller.
-fn write_samples(
+pub(super) fn write_samples(
     request: &Request,
     solver: &mut dyn Solver,
     format: SimFormat,

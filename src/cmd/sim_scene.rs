@@ -9,7 +9,7 @@ use std::process::ExitCode;
 use anyhow::{Context, bail};
 
 use crate::cmd::args::{Cli, SimArgs};
-use crate::deck::{Answer, Deck, Prompt, Scene, load_paths};
+use crate::deck::{Answer, Deck, Measure, Prompt, Scene, load_paths};
 use crate::predict::{Prediction, verdict};
 use crate::sim::scene::measure::{Measurements, formula_name};
 use crate::sim::scene::measure_scene;
@@ -57,16 +57,61 @@ pub fn number(v: f64) -> String {
 /// then each prompt on it with the verdict its expected answer gets.
 pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
     let decks = load(&[deck_path(cli, args)])?;
+    if let Some((deck, system)) = decks.iter().find_map(|d| d.system(id).map(|s| (d, s))) {
+        return crate::cmd::sim_system::run(args, deck, system);
+    }
     let Some((deck, scene)) = decks.iter().find_map(|d| d.scene(id).map(|s| (d, s))) else {
         let known: Vec<&str> = decks
             .iter()
-            .flat_map(|d| d.scenes.iter().map(|s| s.id.as_str()))
+            .flat_map(|d| {
+                d.scenes
+                    .iter()
+                    .map(|s| s.id.as_str())
+                    .chain(d.systems.iter().map(|s| s.id.as_str()))
+            })
             .collect();
         bail!("no scene {id:?} (scenes: {})", known.join(", "));
     };
     let body = crate::sim::Body::new(scene.inertia)?;
     let omega0 = crate::sim::rigid::model::omega(scene.omega)?;
-    let m = method(args.method.into(), args.tol, args.dt, &body, &omega0)?;
+    if args.samples.is_some() {
+        // The scene's run, sampled as `sim --inertia … --omega …` samples.
+        let request = crate::cmd::sim::Request::new(args, body, omega0, scene.duration)?;
+        let mut solver = crate::sim::make(
+            request.method,
+            request.body,
+            request.omega0,
+            crate::sim::Needs { orientation: true },
+        )?;
+        solver.plan(request.t_end)?;
+        let mut out = crate::cmd::output::stdout();
+        crate::cmd::sim::write_samples(&request, solver.as_mut(), args.format, &mut out)?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    let kind =
+        crate::sim::Kind::try_from(args.method.unwrap_or(crate::cmd::args::MethodArg::Exact))?;
+    let m = method(kind, args.tol, args.dt, &body, &omega0)?;
+    if !args.measure.is_empty() {
+        let mut wanted = Vec::new();
+        for text in &args.measure {
+            let measure = Measure::parse(text).map_err(|e| anyhow::anyhow!("--measure {e}"))?;
+            if measure.is_system() {
+                bail!("--measure `{measure}` is a system measure; scene {id} is a rigid body");
+            }
+            wanted.push(measure);
+        }
+        let measured =
+            measure_scene(scene, m).with_context(|| format!("scene {id} with {}", m.name()))?;
+        let mut out = String::new();
+        for w in wanted {
+            let v = measured
+                .get(w)
+                .ok_or_else(|| anyhow::anyhow!("{w}: the run of scene {id} does not measure it (it does not apply to this motion)"))?;
+            let _ = writeln!(out, "{}", Num(v));
+        }
+        crate::out!("{out}")?;
+        return Ok(ExitCode::SUCCESS);
+    }
     let measured =
         measure_scene(scene, m).with_context(|| format!("scene {id} with {}", m.name()))?;
     crate::out!("{}", report(deck, scene, &measured, m.name()))?;
@@ -118,7 +163,7 @@ fn report(deck: &Deck, scene: &Scene, m: &Measurements, method: &str) -> String 
 }
 
 /// `middle-axis: expected flips: holds (flips = 3: flips > 0)`.
-fn prompt_line(p: &Prompt, m: &Measurements) -> String {
+pub(super) fn prompt_line(p: &Prompt, m: &Measurements) -> String {
     let Some(prediction) = Prediction::expected(p) else {
         return format!("{}: expected answer names no choice", p.id);
     };
@@ -134,9 +179,9 @@ fn prompt_line(p: &Prompt, m: &Measurements) -> String {
                     format!(
                         "{} ({} = {}: {} {} {})",
                         c.id,
-                        c.when.measure.name(),
+                        c.when.measure,
                         m.get(c.when.measure).map_or("-".into(), number),
-                        c.when.measure.name(),
+                        c.when.measure,
                         c.when.op.as_str(),
                         Num(c.when.value),
                     )
@@ -159,7 +204,7 @@ fn prompt_line(p: &Prompt, m: &Measurements) -> String {
             format!(
                 "{}: expected {} = {} {unit}: {status}; measured {measured} {unit}",
                 p.id,
-                measure.name(),
+                measure,
                 number(*expected)
             )
         }

@@ -517,24 +517,28 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
             if let Some(v) = f.get(key) {
                 rep.error(
                     v.span(),
-                    format!("`{key}` belongs to a rigid-body scene, but {} has `variables` (a system)", f.what),
+                    format!(
+                        "`{key}` belongs to a rigid-body scene, but {} has `variables` (a system)",
+                        f.what
+                    ),
                     Some("a scene is either a rigid body or a system; split it in two".to_string()),
                 );
             }
         }
-        f.strings(rep, "variables", true).map(|variables| RawSystem {
-            variables,
-            initial: f.numbers(rep, "initial", true),
-            params: named(rep, &f, "params", |rep, v, what| read::number(rep, v, what)),
-            equations: f.strings(rep, "equations", true),
-            observables: named(rep, &f, "observables", |rep, v, what| {
-                read::string(rep, v, what)
-            }),
-            conserved: f.strings(rep, "conserved", false),
-            plot: f.strings(rep, "plot", false),
-            phase: f.strings(rep, "phase", false),
-            sketch: sketch(rep, &f),
-        })
+        f.strings(rep, "variables", true)
+            .map(|variables| RawSystem {
+                variables,
+                initial: f.numbers(rep, "initial", true),
+                params: named(rep, &f, "params", |rep, v, what| read::number(rep, v, what)),
+                equations: f.strings(rep, "equations", true),
+                observables: named(rep, &f, "observables", |rep, v, what| {
+                    read::string(rep, v, what)
+                }),
+                conserved: f.strings(rep, "conserved", false),
+                plot: f.strings(rep, "plot", false),
+                phase: f.strings(rep, "phase", false),
+                sketch: sketch(rep, &f),
+            })
     } else {
         for key in [
             "initial",
@@ -549,7 +553,10 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
             if let Some(v) = f.get(key) {
                 rep.error(
                     v.span(),
-                    format!("`{key}` belongs to a system scene, but {} has no `variables`", f.what),
+                    format!(
+                        "`{key}` belongs to a system scene, but {} has no `variables`",
+                        f.what
+                    ),
                     Some("a system declares its state with `variables = [...]`".to_string()),
                 );
             }
@@ -625,7 +632,10 @@ fn sketch(rep: &mut FileReport, f: &Fields) -> Option<List<RawMark>> {
                     "each item of `sketch` has one key (line, dot or trail), found {}",
                     keys.len()
                 ),
-                Some("sketch = [{ line = [\"0\", \"0\", \"x\", \"y\"] }, { dot = [\"x\", \"y\"] }]".to_string()),
+                Some(
+                    "sketch = [{ line = [\"0\", \"0\", \"x\", \"y\"] }, { dot = [\"x\", \"y\"] }]"
+                        .to_string(),
+                ),
             );
             ok = false;
             continue;

@@ -11,7 +11,7 @@ use std::borrow::Cow;
 use schemars::generate::SchemaSettings;
 use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
 
-use super::model::{CardKind, Cmp, Measure, Panel};
+use super::model::{CardKind, Cmp, Measure, Panel, Stat, SystemPanel};
 
 pub const ID_PATTERN: &str = "^[a-z0-9]+(-[a-z0-9]+)*$";
 /// Holds at least one character that is not white space.
@@ -91,7 +91,7 @@ pub enum Answer {
     },
     /// Type a number (with an optional unit), right within `tolerance` of the measurement.
     Number {
-        measure: MeasureName,
+        measure: AnyMeasure,
         /// Unit shown and accepted after the number, e.g. `s`.
         unit: Option<String>,
         /// The value the formula gives.
@@ -136,28 +136,162 @@ impl JsonSchema for Tolerance {
     }
 }
 
-/// A torque-free rigid body and how it starts spinning.
+/// A simulation: a torque-free rigid body (`inertia`, `omega`) or a system
+/// of equations (`variables`, `initial`, `equations`), never both.
 #[derive(JsonSchema)]
 #[schemars(deny_unknown_fields)]
+#[schemars(extend("oneOf" = [
+    { "required": ["inertia", "omega"], "not": { "required": ["variables"] } },
+    { "required": ["variables", "initial", "equations"], "not": { "anyOf": [{ "required": ["inertia"] }, { "required": ["omega"] }, { "required": ["flat"] }] } }
+]))]
 pub struct Scene {
     pub id: Id,
     pub title: Option<Text>,
-    /// Principal moments of inertia (kg·m²): positive, finite, Iᵢ + Iⱼ ≥ Iₖ.
+    /// Rigid body: principal moments of inertia (kg·m²): positive, finite,
+    /// Iᵢ + Iⱼ ≥ Iₖ.
     #[schemars(extend("items" = { "type": "number", "exclusiveMinimum": 0 }))]
-    pub inertia: [f64; 3],
-    /// Body-frame angular velocity at t = 0 (rad per time unit), finite.
-    pub omega: [f64; 3],
-    /// Run length in time units: > 0 and at most 1e6.
-    #[schemars(extend("exclusiveMinimum" = 0, "maximum" = 1e6))]
+    pub inertia: Option<[f64; 3]>,
+    /// Rigid body: body-frame angular velocity at t = 0 (rad per time
+    /// unit), finite.
+    pub omega: Option<[f64; 3]>,
+    /// Run length in time units: > 0 (at most 1e6 for a rigid body; any
+    /// finite length for a system, whose step budget guards the run time).
+    #[schemars(extend("exclusiveMinimum" = 0))]
     pub duration: f64,
     /// Panels shown; the scene computes only what they need.
     #[schemars(length(min = 1))]
-    pub show: Vec<PanelName>,
+    pub show: Vec<AnyPanel>,
     /// Label of the time unit (default `s`; `d` for days).
     pub time_unit: Option<NonEmpty>,
-    /// The body is flat on purpose (one moment equals the sum of the other
+    /// Rigid body: flat on purpose (one moment equals the sum of the other
     /// two); silences the flat-body warning.
     pub flat: Option<bool>,
+    /// System: the state's names, in order.
+    #[schemars(length(min = 1))]
+    pub variables: Option<Vec<VarName>>,
+    /// System: one finite number per variable.
+    pub initial: Option<Vec<f64>>,
+    /// System: named constants.
+    pub params: Option<std::collections::BTreeMap<String, f64>>,
+    /// System: d/dt of each variable, same order, as expressions.
+    pub equations: Option<Vec<Expression>>,
+    /// System: named expressions; each may use the ones before it.
+    pub observables: Option<std::collections::BTreeMap<String, Expression>>,
+    /// System: observables whose drift the diagnostics report.
+    pub conserved: Option<Vec<VarName>>,
+    /// System: variables or observables plotted against time.
+    pub plot: Option<Vec<VarName>>,
+    /// System: the pair of the phase portrait (horizontal, vertical).
+    #[schemars(length(min = 2, max = 2))]
+    pub phase: Option<Vec<VarName>>,
+    /// System: lines, dots and trails drawn from expressions.
+    pub sketch: Option<Vec<SketchMark>>,
+}
+
+/// A name of a variable, parameter or observable.
+pub struct VarName;
+
+impl JsonSchema for VarName {
+    fn schema_name() -> Cow<'static, str> {
+        "VarName".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        json_schema!({
+            "description": "A letter or `_`, then letters, digits or `_` (at most 31).",
+            "type": "string",
+            "pattern": "^[A-Za-z_][A-Za-z0-9_]{0,30}$",
+        })
+    }
+}
+
+/// An expression of a system scene.
+pub struct Expression;
+
+impl JsonSchema for Expression {
+    fn schema_name() -> Cow<'static, str> {
+        "Expression".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        let functions = crate::sim::system::expr::FUNCTIONS
+            .iter()
+            .map(|(f, _)| *f)
+            .collect::<Vec<_>>()
+            .join(" ");
+        json_schema!({
+            "description": format!("Numbers, + - * / ^, parentheses, the variables, params, observables, t, pi, e and the functions {functions}."),
+            "type": "string",
+            "pattern": NOT_BLANK,
+        })
+    }
+}
+
+/// `{ line = [x1, y1, x2, y2] }`, `{ dot = [x, y] }` or `{ trail = [x, y] }`.
+pub struct SketchMark;
+
+impl JsonSchema for SketchMark {
+    fn schema_name() -> Cow<'static, str> {
+        "SketchMark".into()
+    }
+    fn json_schema(g: &mut SchemaGenerator) -> Schema {
+        let e = g.subschema_for::<Expression>().to_value();
+        let one = |key: &str, n: usize| {
+            serde_json::json!({
+                "type": "object",
+                "properties": { key: { "type": "array", "items": e.clone(), "minItems": n, "maxItems": n } },
+                "required": [key],
+                "additionalProperties": false,
+            })
+        };
+        json_schema!({
+            "description": "A sketch element; coordinates are expressions.",
+            "oneOf": [one("line", 4), one("dot", 2), one("trail", 2)],
+        })
+    }
+}
+
+/// A panel of a rigid-body or a system scene.
+pub struct AnyPanel;
+
+impl JsonSchema for AnyPanel {
+    fn schema_name() -> Cow<'static, str> {
+        "AnyPanel".into()
+    }
+    fn json_schema(g: &mut SchemaGenerator) -> Schema {
+        let rigid = g.subschema_for::<PanelName>().to_value();
+        let system = names_schema(
+            "A panel of a system scene.",
+            SystemPanel::ALL.iter().map(|p| p.name()).collect(),
+        )
+        .to_value();
+        json_schema!({ "anyOf": [rigid, system] })
+    }
+}
+
+/// A measure: a rigid-body measure's name, or `stat(N)` on a system.
+pub struct AnyMeasure;
+
+impl JsonSchema for AnyMeasure {
+    fn schema_name() -> Cow<'static, str> {
+        "AnyMeasure".into()
+    }
+    fn json_schema(g: &mut SchemaGenerator) -> Schema {
+        let rigid = g.subschema_for::<MeasureName>().to_value();
+        json_schema!({ "anyOf": [rigid, {
+            "description": "A statistic of a system's variable or observable N over the run.",
+            "type": "string",
+            "pattern": format!("^{}$", system_measure_pattern()),
+        }] })
+    }
+}
+
+/// `(max|min|…)\(name\)`.
+fn system_measure_pattern() -> String {
+    let stats = Stat::ALL
+        .iter()
+        .map(|s| s.name())
+        .collect::<Vec<_>>()
+        .join("|");
+    format!(r"({stats})\(\s*[A-Za-z_][A-Za-z0-9_]*\s*\)")
 }
 
 /// A content file: `content/<deck-id>/<lang>.toml`.
@@ -307,6 +441,7 @@ impl JsonSchema for Condition {
         let measures = Measure::ALL
             .iter()
             .map(|m| m.name())
+            .chain(std::iter::once(system_measure_pattern().as_str()))
             .collect::<Vec<_>>()
             .join("|");
         let ops = Cmp::ALL

@@ -844,7 +844,7 @@ mod deck_tests {
             ],
             prompts: vec![],
             systems: vec![],
-        scenes: vec![],
+            scenes: vec![],
             sections: vec![],
             path: "rot.toml".into(),
         }

@@ -4,12 +4,12 @@
 use std::ops::Range;
 
 use crate::deck::model::{Answer, Choice, Cmp, Condition, Measure, Tolerance};
-use crate::sim::scene::spec::Stat;
-use crate::sim::system::Name;
 use crate::deck::raw::{RawAnswer, RawChoice, RawTolerance, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
+use crate::sim::scene::spec::Stat;
+use crate::sim::system::Name;
 use crate::text::num::Num;
 
 use super::text::{self, Kind, Langs};
@@ -279,8 +279,15 @@ fn measure_in(
     let start = start + lead;
     let span = at(start)..at(start + text.len().max(1));
     let stats = || Stat::ALL.iter().map(|s| s.name());
-    let system_example = "system measures: max(N), min(N), final(N), mean(N), crossings(N), period(N), drift(N)";
+    let system_example =
+        "system measures: max(N), min(N), final(N), mean(N), crossings(N), period(N), drift(N)";
     let Some(open) = text.find('(') else {
+        // A whole `measure = "…"` string is pointed at as a whole.
+        let span = if lead == 0 && end - start == s.value.len() {
+            s.span.clone()
+        } else {
+            span
+        };
         let m = measure_name(rep, text, span.clone())?;
         if let Some(SceneKind::System(_)) = kind {
             rep.error(
@@ -294,8 +301,8 @@ fn measure_in(
     };
     let stat_name = text[..open].trim();
     let Some(stat) = Stat::from_name(stat_name) else {
-        let hint = suggest::did_you_mean(stat_name, stats())
-            .unwrap_or_else(|| system_example.to_string());
+        let hint =
+            suggest::did_you_mean(stat_name, stats()).unwrap_or_else(|| system_example.to_string());
         rep.error(
             at(start)..at(start + open.max(1)),
             format!("unknown measure `{stat_name}`"),
@@ -331,7 +338,11 @@ fn measure_in(
                 format!("`{text}` is a system measure, but the prompt's scene is a rigid body"),
                 Some(format!(
                     "rigid-body measures: {}",
-                    Measure::ALL.iter().map(|m| m.name()).collect::<Vec<_>>().join(", ")
+                    Measure::ALL
+                        .iter()
+                        .map(|m| m.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 )),
             );
             return None;

@@ -20,7 +20,12 @@ use super::text::{self, Kind, Langs};
 /// observables), read from the raw scene so prompts can be checked before
 /// the scene itself is.
 pub fn quantities(raw: &RawSystem) -> Vec<String> {
-    let mut out: Vec<String> = raw.variables.items.iter().map(|s| s.value.clone()).collect();
+    let mut out: Vec<String> = raw
+        .variables
+        .items
+        .iter()
+        .map(|s| s.value.clone())
+        .collect();
     if let Some(o) = &raw.observables {
         out.extend(o.entries.iter().map(|e| e.key.value.clone()));
     }
@@ -126,7 +131,10 @@ fn names_one(rep: &mut FileReport, s: &Str, known: &[&str], field: &str, kinds: 
     });
     rep.error(
         s.span.clone(),
-        format!("`{field}` names `{}`, which is not one of the scene's {kinds}", s.value),
+        format!(
+            "`{field}` names `{}`, which is not one of the scene's {kinds}",
+            s.value
+        ),
         hint,
     );
     false
@@ -147,7 +155,9 @@ fn numbers(
                 crate::text::plural(list.items.len(), "number", "numbers"),
                 crate::text::plural(count, "variable", "variables")
             ),
-            Some(format!("give one number per variable, in the order of `variables`")),
+            Some(format!(
+                "give one number per variable, in the order of `variables`"
+            )),
         );
         return None;
     }
@@ -221,7 +231,10 @@ fn panels(rep: &mut FileReport, list: &List<Str>, what: &str) -> Option<Vec<Syst
                     )
                 } else {
                     suggest::did_you_mean(&s.value, names()).unwrap_or_else(|| {
-                        format!("panels of a system: {}", names().collect::<Vec<_>>().join(", "))
+                        format!(
+                            "panels of a system: {}",
+                            names().collect::<Vec<_>>().join(", ")
+                        )
                     })
                 };
                 rep.error(
@@ -324,9 +337,22 @@ pub fn scene(
         .and_then(|l| numbers(rep, l, n, "initial", what));
 
     // Expressions.
-    let vars: Vec<&str> = sys.variables.items.iter().map(|s| s.value.as_str()).collect();
-    let pars: Vec<&str> = params.entries.iter().map(|e| e.key.value.as_str()).collect();
-    let obs: Vec<&str> = observables.entries.iter().map(|e| e.key.value.as_str()).collect();
+    let vars: Vec<&str> = sys
+        .variables
+        .items
+        .iter()
+        .map(|s| s.value.as_str())
+        .collect();
+    let pars: Vec<&str> = params
+        .entries
+        .iter()
+        .map(|e| e.key.value.as_str())
+        .collect();
+    let obs: Vec<&str> = observables
+        .entries
+        .iter()
+        .map(|e| e.key.value.as_str())
+        .collect();
     let full: Vec<&str> = vars.iter().chain(&pars).chain(&obs).copied().collect();
     let mut equations = None;
     if let Some(list) = &sys.equations {
@@ -367,7 +393,9 @@ pub fn scene(
                         "observable `{}` uses `{later}`, which is not defined before it",
                         o.key.value
                     ),
-                    Some("an observable may use only the observables written before it".to_string()),
+                    Some(
+                        "an observable may use only the observables written before it".to_string(),
+                    ),
                 );
                 ok = false;
                 continue;
@@ -450,8 +478,16 @@ pub fn scene(
     if let (Some(show), Some(list)) = (&show, &raw.show) {
         let missing = [
             (SystemPanel::Plot, plot.is_empty(), "plot = [\"theta\"]"),
-            (SystemPanel::Phase, phase.is_none(), "phase = [\"theta\", \"omega\"]"),
-            (SystemPanel::Sketch, sketch.is_empty(), "sketch = [{ dot = [\"x\", \"y\"] }]"),
+            (
+                SystemPanel::Phase,
+                phase.is_none(),
+                "phase = [\"theta\", \"omega\"]",
+            ),
+            (
+                SystemPanel::Sketch,
+                sketch.is_empty(),
+                "sketch = [{ dot = [\"x\", \"y\"] }]",
+            ),
         ];
         for (panel, absent, example) in missing {
             if show.contains(&panel) && absent && ok {
@@ -501,7 +537,11 @@ pub fn scene(
     let system = match System::compile(&scene, false) {
         Ok(s) => s,
         Err(e) => {
-            rep.error(raw.span.clone(), format!("{what} does not compile: {e}"), None);
+            rep.error(
+                raw.span.clone(),
+                format!("{what} does not compile: {e}"),
+                None,
+            );
             return None;
         }
     };

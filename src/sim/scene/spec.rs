@@ -70,6 +70,34 @@ impl Measure {
         Measure::ALL.into_iter().find(|m| m.name() == name)
     }
 
+    /// A measure as written on the command line: a rigid-body name
+    /// (`flips`) or a statistic of a quantity (`period(theta)`).
+    pub fn parse(text: &str) -> Result<Measure, String> {
+        let text = text.trim();
+        let Some(open) = text.find('(') else {
+            return Measure::from_name(text).ok_or_else(|| {
+                format!(
+                    "unknown measure `{text}` (system measures: max(N), min(N), final(N), mean(N), crossings(N), period(N), drift(N))"
+                )
+            });
+        };
+        let stat_name = text[..open].trim();
+        let stat = Stat::from_name(stat_name)
+            .ok_or_else(|| format!("unknown measure `{stat_name}` in `{text}`"))?;
+        let inner = text[open + 1..]
+            .strip_suffix(')')
+            .ok_or_else(|| format!("`{text}`: expected `)` at the end"))?
+            .trim();
+        if !crate::sim::system::expr::is_name(inner) {
+            return Err(format!(
+                "`{text}`: `{inner}` is not a variable or observable name"
+            ));
+        }
+        let name =
+            Name::new(inner).ok_or_else(|| format!("`{text}`: the name `{inner}` is too long"))?;
+        Ok(Measure::Of(stat, name))
+    }
+
     /// Whether the measure applies to system scenes (else to rigid bodies).
     pub fn is_system(self) -> bool {
         matches!(self, Measure::Of(..))

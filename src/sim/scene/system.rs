@@ -321,8 +321,8 @@ impl SystemRun {
     ) -> Result<SystemRun, String> {
         let system = System::compile(scene, plan.jacobian)?;
         let (m, opts) = method.solver(scene.duration);
-        let solver = ode::make(m, system.clone(), 0.0, &scene.initial, &opts)
-            .map_err(|e| describe(&e))?;
+        let solver =
+            ode::make(m, system.clone(), 0.0, &scene.initial, &opts).map_err(|e| describe(&e))?;
         let reference = if plan.reference {
             let r = OdeMethod::with_setting(OdeKind::Radau, ode::REFERENCE_RTOL)?;
             let (m, opts) = r.solver(scene.duration);
@@ -384,13 +384,17 @@ impl SystemRun {
     /// The index of a variable or observable among the quantities.
     pub fn quantity(&self, name: &str) -> Option<usize> {
         let n = self.scene.variables.len();
-        self.scene.variables.iter().position(|v| v == name).or_else(|| {
-            self.scene
-                .observables
-                .iter()
-                .position(|(o, _)| o == name)
-                .map(|k| n + k)
-        })
+        self.scene
+            .variables
+            .iter()
+            .position(|v| v == name)
+            .or_else(|| {
+                self.scene
+                    .observables
+                    .iter()
+                    .position(|(o, _)| o == name)
+                    .map(|k| n + k)
+            })
     }
 
     /// Quantity `q` at (t, y): a variable, or an observable (evaluated).
@@ -575,10 +579,15 @@ impl SystemRun {
     /// One measure of the run so far, or why it cannot be made.
     pub fn measure(&self, m: Measure) -> Result<f64, String> {
         let Measure::Of(stat, name) = m else {
-            return Err(format!("`{m}` is a rigid-body measure; this scene is a system"));
+            return Err(format!(
+                "`{m}` is a rigid-body measure; this scene is a system"
+            ));
         };
         let q = self.quantity(name.as_str()).ok_or_else(|| {
-            format!("`{name}` is not a variable or observable of scene {}", self.scene.id)
+            format!(
+                "`{name}` is not a variable or observable of scene {}",
+                self.scene.id
+            )
         })?;
         let (_, tally) = self
             .tallies

@@ -230,9 +230,7 @@ fn canonical<'a>(scene: &SystemScene, node: &Node, obs: &'a [String]) -> String 
 }
 
 fn parse_all(scene: &SystemScene) -> Result<Parsed, String> {
-    let p = |what: &str, text: &str| {
-        expr::parse(text).map_err(|e| format!("{what} `{text}`: {e}"))
-    };
+    let p = |what: &str, text: &str| expr::parse(text).map_err(|e| format!("{what} `{text}`: {e}"));
     Ok(Parsed {
         equations: scene
             .equations
@@ -506,7 +504,10 @@ mod tests {
             ("a".into(), "-theta^2".into()),
             ("b".into(), "2^3^2".into()),
             ("c".into(), "1e-3*theta + 2.5E+1".into()),
-            ("d".into(), "atan2(1, -1) + min(theta, 0) + max(theta, 0) + sign(-3)".into()),
+            (
+                "d".into(),
+                "atan2(1, -1) + min(theta, 0) + max(theta, 0) + sign(-3)".into(),
+            ),
             ("f".into(), "pi + e + log10(100) + ln(e)".into()),
         ];
         scene.sketch.clear();

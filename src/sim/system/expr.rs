@@ -154,15 +154,16 @@ fn lex(text: &str) -> Result<Vec<(Tok, usize, usize)>, ExprError> {
                 return Err(ExprError::new(
                     i,
                     1,
-                    format!(
-                        "a name right after the number `{}`",
-                        &text[start..i]
-                    ),
+                    format!("a name right after the number `{}`", &text[start..i]),
                 )
                 .hint("write the multiplication: 2*x"));
             }
             let value: f64 = text[start..i].parse().map_err(|_| {
-                ExprError::new(start, i - start, format!("`{}` is not a number", &text[start..i]))
+                ExprError::new(
+                    start,
+                    i - start,
+                    format!("`{}` is not a number", &text[start..i]),
+                )
             })?;
             if !value.is_finite() {
                 return Err(ExprError::new(
@@ -194,11 +195,7 @@ fn lex(text: &str) -> Result<Vec<(Tok, usize, usize)>, ExprError> {
                     '[' | ']' | '{' | '}' => Some("group with ( )"),
                     _ => None,
                 };
-                let e = ExprError::new(
-                    i,
-                    ch.len_utf8(),
-                    format!("unexpected character `{ch}`"),
-                );
+                let e = ExprError::new(i, ch.len_utf8(), format!("unexpected character `{ch}`"));
                 return Err(match hint {
                     Some(h) => e.hint(h),
                     None => e,
@@ -316,12 +313,10 @@ impl Parser<'_> {
                 self.pos += 1;
                 if let Some(Tok::Open) = self.peek() {
                     let Some(n) = arity(&name) else {
-                        return Err(ExprError::new(
-                            at,
-                            len,
-                            format!("`{name}` is not a function"),
-                        )
-                        .hint("multiply with *, e.g. x*(y + 1)"));
+                        return Err(
+                            ExprError::new(at, len, format!("`{name}` is not a function"))
+                                .hint("multiply with *, e.g. x*(y + 1)"),
+                        );
                     };
                     self.pos += 1;
                     let mut args = vec![self.sum()?];
@@ -355,7 +350,10 @@ impl Parser<'_> {
             other => Err(ExprError::new(
                 at,
                 len,
-                format!("expected a number, a name or `(`, found {}", describe(&other)),
+                format!(
+                    "expected a number, a name or `(`, found {}",
+                    describe(&other)
+                ),
             )),
         }
     }
@@ -510,7 +508,10 @@ mod tests {
     #[test]
     fn syntax_errors_point_at_the_character() {
         let e = err("omega +* 2");
-        assert_eq!((e.at, e.message.as_str()), (7, "expected a number, a name or `(`, found `*`"));
+        assert_eq!(
+            (e.at, e.message.as_str()),
+            (7, "expected a number, a name or `(`, found `*`")
+        );
         let e = err("sin(theta");
         assert_eq!(e.at, 9, "{e:?}");
         let e = err("2 theta");
@@ -519,7 +520,10 @@ mod tests {
         let e = err("2theta");
         assert_eq!(e.at, 1);
         let e = err("atan2(y)");
-        assert_eq!((e.at, e.message.as_str()), (0, "`atan2` takes 2 arguments, found 1"));
+        assert_eq!(
+            (e.at, e.message.as_str()),
+            (0, "`atan2` takes 2 arguments, found 1")
+        );
         let e = err("x + sin");
         assert_eq!((e.at, e.len), (4, 3));
         let e = err("1e+");

@@ -51,7 +51,12 @@ fn pendulum_period_matches_the_elliptic_integral() {
     let t0 = 2.0 * std::f64::consts::PI * (1.0 / 9.81f64).sqrt();
     for (deg, ratio) in [(30.0, 1.0174), (90.0, 1.1803), (170.0, 2.4394)] {
         let scene = pendulum(deg, &[SystemPanel::Plot]);
-        for kind in [OdeKind::Auto, OdeKind::Adaptive, OdeKind::Radau, OdeKind::Rk4] {
+        for kind in [
+            OdeKind::Auto,
+            OdeKind::Adaptive,
+            OdeKind::Radau,
+            OdeKind::Rk4,
+        ] {
             let method = OdeMethod::default_for(kind, scene.duration);
             let got = measure_system(&scene, method, &[of(Stat::Period, "theta")]).unwrap();
             let period = got[0].clone().unwrap();
@@ -60,7 +65,11 @@ fn pendulum_period_matches_the_elliptic_integral() {
                 (period - exact).abs() < 1e-4 * exact,
                 "{deg}° {kind:?}: {period} vs {exact}"
             );
-            assert!((period / t0 - ratio).abs() < 1e-4, "{deg}°: T/T0 = {}", period / t0);
+            assert!(
+                (period / t0 - ratio).abs() < 1e-4,
+                "{deg}°: T/T0 = {}",
+                period / t0
+            );
         }
     }
 }
@@ -91,7 +100,11 @@ fn measures_follow_their_definitions() {
     assert!(got[3].abs() < 0.1, "mean {}", got[3]);
     // Two sign changes per period over 20 s.
     let expected = (2.0 * 20.0 / exact_period(90.0) + 0.5).floor();
-    assert!((got[4] - expected).abs() <= 1.0, "crossings {} vs {expected}", got[4]);
+    assert!(
+        (got[4] - expected).abs() <= 1.0,
+        "crossings {} vs {expected}",
+        got[4]
+    );
     assert!(got[5] < 1e-6, "energy drift {}", got[5]);
     // y = −cos θ is largest at the turning points: −cos 90° = 0.
     assert!(got[6].abs() < 1e-4);
@@ -175,7 +188,14 @@ fn computes_only_what_is_shown_or_measured() {
     assert!(run.trail().is_empty());
     assert_eq!(run.trace().last().unwrap().values.len(), 1);
     assert_eq!(run.work().jac_evals, 0);
-    let s = pendulum(30.0, &[SystemPanel::Plot, SystemPanel::Sketch, SystemPanel::Diagnostics]);
+    let s = pendulum(
+        30.0,
+        &[
+            SystemPanel::Plot,
+            SystemPanel::Sketch,
+            SystemPanel::Diagnostics,
+        ],
+    );
     let mut run = SystemRun::new(&s, adaptive, &[]).unwrap();
     run.advance_to(5.0);
     assert!(run.has_reference());

@@ -26,7 +26,12 @@ pub enum OdeKind {
 }
 
 impl OdeKind {
-    pub const ALL: [OdeKind; 4] = [OdeKind::Auto, OdeKind::Adaptive, OdeKind::Radau, OdeKind::Rk4];
+    pub const ALL: [OdeKind; 4] = [
+        OdeKind::Auto,
+        OdeKind::Adaptive,
+        OdeKind::Radau,
+        OdeKind::Rk4,
+    ];
 
     /// The command line's spelling.
     pub fn name(self) -> &'static str {
@@ -70,7 +75,9 @@ impl OdeMethod {
         };
         if !ok {
             return Err(match kind {
-                OdeKind::Rk4 => format!("the step of rk4 must be positive and finite, not {setting}"),
+                OdeKind::Rk4 => {
+                    format!("the step of rk4 must be positive and finite, not {setting}")
+                }
                 _ => format!(
                     "the tolerance of {} must lie between 1e-14 and 1, not {setting}",
                     kind.name()
@@ -82,7 +89,11 @@ impl OdeMethod {
 
     /// `radau rtol 1e-8`, `rk4 dt 0.001`.
     pub fn label(&self) -> String {
-        let what = if self.kind == OdeKind::Rk4 { "dt" } else { "rtol" };
+        let what = if self.kind == OdeKind::Rk4 {
+            "dt"
+        } else {
+            "rtol"
+        };
         format!(
             "{} {what} {}",
             self.kind.name(),

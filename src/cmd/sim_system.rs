@@ -1,0 +1,257 @@
+//! `flipcard sim --scene ID` on a system scene: the run sampled
+//! (`--samples N`, CSV or JSON, columns `t`, the variables, then the
+//! observables), chosen measures (`--measure 'period(theta)'`), or every
+//! measurement its prompts use with their verdicts.
+
+use std::fmt::Write as _;
+use std::io::Write;
+use std::process::ExitCode;
+
+use anyhow::{anyhow, bail};
+
+use crate::cmd::args::{MethodArg, SimArgs, SimFormat};
+use crate::deck::{Answer, Deck, Measure, Prompt, SystemScene};
+use crate::predict::{Prediction, verdict};
+use crate::sim::scene::system::{describe, measure_system};
+use crate::sim::solvers::ode::{self, OdeKind, OdeMethod};
+use crate::sim::system::System;
+use crate::text::num::{self, Num};
+
+/// The method for a system from the arguments (default auto).
+pub fn method(args: &SimArgs, scene: &SystemScene) -> anyhow::Result<OdeMethod> {
+    let kind = match args.method.unwrap_or(MethodArg::Auto) {
+        MethodArg::Auto => OdeKind::Auto,
+        MethodArg::Adaptive => OdeKind::Adaptive,
+        MethodArg::Radau => OdeKind::Radau,
+        MethodArg::Rk4 => OdeKind::Rk4,
+        m @ (MethodArg::Exact | MethodArg::Splitting | MethodArg::Splitting4) => bail!(
+            "--method {}: scene {} is a system, which takes auto, adaptive, radau or rk4",
+            m.name(),
+            scene.id
+        ),
+    };
+    let setting = match (kind, args.tol, args.dt) {
+        (OdeKind::Rk4, Some(_), _) => bail!("--tol: rk4 takes a step (--dt), not a tolerance"),
+        (OdeKind::Rk4, None, dt) => dt,
+        (_, _, Some(_)) => bail!("--dt: only rk4 takes a step; {} takes --tol", kind.name()),
+        (_, tol, None) => tol,
+    };
+    match setting {
+        None => Ok(OdeMethod::default_for(kind, scene.duration)),
+        Some(s) => OdeMethod::with_setting(kind, s).map_err(|e| anyhow!("{e}")),
+    }
+}
+
+pub fn run(args: &SimArgs, deck: &Deck, scene: &SystemScene) -> anyhow::Result<ExitCode> {
+    let method = method(args, scene)?;
+    if let Some(samples) = args.samples {
+        let samples = crate::cmd::sim::check_samples(samples, scene.duration)?;
+        return write_samples(scene, method, samples, args.format);
+    }
+    if !args.measure.is_empty() {
+        return measures(scene, method, &args.measure);
+    }
+    crate::out!("{}", report(deck, scene, method)?)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--measure` on a system: each value on its own line, nothing else.
+fn measures(
+    scene: &SystemScene,
+    method: OdeMethod,
+    written: &[String],
+) -> anyhow::Result<ExitCode> {
+    let mut list = Vec::new();
+    for text in written {
+        let m = Measure::parse(text).map_err(|e| anyhow!("--measure {e}"))?;
+        let Measure::Of(_, name) = m else {
+            bail!(
+                "--measure `{m}` is a rigid-body measure; scene {} is a system",
+                scene.id
+            );
+        };
+        let known = scene.variables.iter().any(|v| v == name.as_str())
+            || scene.observables.iter().any(|(o, _)| o == name.as_str());
+        if !known {
+            let names: Vec<&str> = scene
+                .variables
+                .iter()
+                .map(String::as_str)
+                .chain(scene.observables.iter().map(|(o, _)| o.as_str()))
+                .collect();
+            bail!(
+                "--measure `{m}`: `{name}` is not a variable or observable of scene {} ({})",
+                scene.id,
+                names.join(", ")
+            );
+        }
+        list.push(m);
+    }
+    let values = measure_system(scene, method, &list).map_err(|e| anyhow!("{e}"))?;
+    let mut out = String::new();
+    for v in values {
+        let v = v.map_err(|e| anyhow!("{e}"))?;
+        let _ = writeln!(out, "{}", Num(v));
+    }
+    crate::out!("{out}")?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn write_samples(
+    scene: &SystemScene,
+    method: OdeMethod,
+    samples: usize,
+    format: SimFormat,
+) -> anyhow::Result<ExitCode> {
+    let system = System::compile(scene, method.kind.implicit()).map_err(|e| anyhow!("{e}"))?;
+    let (m, opts) = method.solver(scene.duration);
+    let mut solver = ode::make(m, system.clone(), 0.0, &scene.initial, &opts)
+        .map_err(|e| anyhow!("{}", describe(&e)))?;
+    let columns: Vec<&str> = std::iter::once("t")
+        .chain(scene.variables.iter().map(String::as_str))
+        .chain(scene.observables.iter().map(|(o, _)| o.as_str()))
+        .collect();
+    let mut out = crate::cmd::output::stdout();
+    match format {
+        SimFormat::Csv => writeln!(out, "{}", columns.join(","))?,
+        SimFormat::Json => writeln!(
+            out,
+            "{{\"scene\":{},\"method\":{},\"setting\":{},\"t_end\":{},\"samples\":[",
+            serde_json::to_string(&scene.id)?,
+            serde_json::to_string(method.kind.name())?,
+            serde_json::to_string(&method.setting)?,
+            serde_json::to_string(&scene.duration)?
+        )?,
+    }
+    let last = samples - 1;
+    for k in 0..samples {
+        let t = if k == last {
+            scene.duration
+        } else {
+            k as f64 * scene.duration / last as f64
+        };
+        let y = solver
+            .advance(t)
+            .map_err(|e| anyhow!("{}", describe(&e)))?
+            .to_vec();
+        let mut row = Vec::with_capacity(columns.len());
+        row.push(t);
+        row.extend_from_slice(&y);
+        for j in 0..system.observable_count() {
+            row.push(system.observable(j, t, &y));
+        }
+        if let Some((i, v)) = row.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            out.flush()?;
+            bail!(
+                "{} is {} at t = {} (the run stops here)",
+                columns[i],
+                Num(*v),
+                Num(t)
+            );
+        }
+        match format {
+            SimFormat::Csv => {
+                let cells: Vec<String> = row.iter().map(|v| num::show(*v)).collect();
+                writeln!(out, "{}", cells.join(","))?;
+            }
+            SimFormat::Json => {
+                let mut cells = Vec::with_capacity(row.len());
+                for (c, v) in columns.iter().zip(&row) {
+                    cells.push(format!(
+                        "{}:{}",
+                        serde_json::to_string(c)?,
+                        serde_json::to_string(v)?
+                    ));
+                }
+                let sep = if k < last { "," } else { "" };
+                writeln!(out, "{{{}}}{sep}", cells.join(","))?;
+            }
+        }
+    }
+    if format == SimFormat::Json {
+        writeln!(out, "]}}")?;
+    }
+    out.flush()?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The measures the scene's prompts use, in order of first use.
+pub fn prompt_measures(deck: &Deck, scene_id: &str) -> Vec<Measure> {
+    let mut out = Vec::new();
+    for p in deck.prompts.iter().filter(|p| p.scene == scene_id) {
+        let ms: Vec<Measure> = match &p.answer {
+            Answer::Choice { choices, .. } => choices.iter().map(|c| c.when.measure).collect(),
+            Answer::Number { measure, .. } => vec![*measure],
+        };
+        for m in ms {
+            if !out.contains(&m) {
+                out.push(m);
+            }
+        }
+    }
+    out
+}
+
+fn report(deck: &Deck, scene: &SystemScene, method: OdeMethod) -> anyhow::Result<String> {
+    let measures = prompt_measures(deck, &scene.id);
+    let values = measure_system(scene, method, &measures).map_err(|e| anyhow!("{e}"))?;
+    let mut out = String::new();
+    let state: Vec<String> = scene
+        .variables
+        .iter()
+        .zip(&scene.initial)
+        .map(|(v, x)| format!("{v} = {}", Num(*x)))
+        .collect();
+    let _ = writeln!(
+        out,
+        "scene {} ({}): system of {}, {}, {} {}, method {}",
+        scene.id,
+        deck.id,
+        crate::text::plural(scene.variables.len(), "variable", "variables"),
+        state.join(", "),
+        Num(scene.duration),
+        scene.time_unit,
+        method.label()
+    );
+    let _ = writeln!(out, "measurements:");
+    if measures.is_empty() {
+        let _ = writeln!(out, "  (no prompt measures this scene)");
+    }
+    let mut readings = Vec::new();
+    for (m, v) in measures.iter().zip(&values) {
+        let name = m.to_string();
+        match v {
+            Ok(v) => {
+                let _ = writeln!(out, "  {name:<18} {}", crate::cmd::sim_scene::number(*v));
+                readings.push(crate::sim::scene::measure::Reading {
+                    measure: *m,
+                    value: *v,
+                    formula: None,
+                });
+            }
+            Err(why) => {
+                let _ = writeln!(out, "  {name:<18} - ({why})");
+            }
+        }
+    }
+    let measured = crate::sim::scene::measure::Measurements::from_readings(readings);
+    let prompts: Vec<&Prompt> = deck
+        .prompts
+        .iter()
+        .filter(|p| p.scene == scene.id)
+        .collect();
+    if !prompts.is_empty() {
+        let _ = writeln!(out, "prompts:");
+    }
+    for p in prompts {
+        let line = match Prediction::expected(p) {
+            Some(pr) => {
+                let _ = verdict(p, &measured, pr);
+                crate::cmd::sim_scene::prompt_line(p, &measured)
+            }
+            None => format!("{}: expected answer names no choice", p.id),
+        };
+        let _ = writeln!(out, "  {line}");
+    }
+    Ok(out)
+}
