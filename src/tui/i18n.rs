@@ -372,3 +372,33 @@ pub fn measure_label(m: crate::deck::Measure, lang: &str) -> String {
 pub fn other(lang: &str) -> &'static str {
     if lang == HINGLISH { ENGLISH } else { HINGLISH }
 }
+
+/// Words of the system scene panels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SystemWord {
+    Plot,
+    Phase,
+    Sketch,
+    Steps,
+    Explicit,
+    /// Followed by the time and unit: "stiff from t = 0.8 s".
+    StiffFrom,
+    SwitchedToRadau,
+    Drift,
+    ErrorVsReference,
+}
+
+pub fn system_word(w: SystemWord) -> Words {
+    use SystemWord as W;
+    match w {
+        W::Plot => Words("against time", "time ke saath"),
+        W::Phase => Words("phase portrait", "phase portrait"),
+        W::Sketch => Words("sketch", "sketch"),
+        W::Steps => Words("steps", "steps"),
+        W::Explicit => Words("not stiff", "stiff nahi"),
+        W::StiffFrom => Words("stiff from", "stiff shuru"),
+        W::SwitchedToRadau => Words("switched to radau", "radau pe switch kiya"),
+        W::Drift => Words("drift", "drift"),
+        W::ErrorVsReference => Words("error vs reference", "reference se error"),
+    }
+}

@@ -12,9 +12,11 @@ pub mod geometry;
 pub mod i18n;
 pub mod keymap;
 pub mod live;
+pub mod live_system;
 pub mod plots;
 pub mod screens;
 pub mod services;
+pub mod system_plots;
 #[cfg(test)]
 mod testkit;
 #[cfg(test)]

@@ -14,6 +14,7 @@ mod predict;
 mod reader;
 mod review;
 mod stats;
+mod system;
 
 pub fn key(app: &App, code: KeyCode) -> Option<Action> {
     keymap::key_action(app, KeyEvent::new(code, KeyModifiers::NONE))

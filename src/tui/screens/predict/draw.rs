@@ -44,6 +44,11 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
             run,
             verdict,
         } => draw_play(frame, area, app, prompt, *prediction, run, verdict.as_ref()),
+        Phase::System {
+            prediction,
+            run,
+            verdict,
+        } => super::system::draw(frame, area, app, prompt, *prediction, run, verdict.as_ref()),
     }
 }
 
@@ -112,7 +117,7 @@ fn draw_ask(
     frame.render_widget(Paragraph::new(lines), area);
 }
 
-fn prediction_text(app: &App, prompt: &Prompt, p: Prediction) -> String {
+pub(super) fn prediction_text(app: &App, prompt: &Prompt, p: Prediction) -> String {
     match (p, &prompt.answer) {
         (Prediction::Choice(i), Answer::Choice { choices, .. }) => choices
             .get(i)
@@ -186,7 +191,7 @@ fn draw_play(
     let diag = run.scene().shows(Panel::Diagnostics);
     let verdict_h = if verdict.is_some() { 5 } else { 0 };
     let hints_h = u16::from(verdict.is_none());
-    let [top, panels, status, diag_area, hints, verdict_area] = Layout::vertical([
+    let [top, panels, status, diag_area, hints_area, verdict_area] = Layout::vertical([
         Constraint::Length(2),
         Constraint::Fill(1),
         Constraint::Length(1),
@@ -267,6 +272,17 @@ fn draw_play(
     }
 
     if verdict.is_none() {
+        hints(frame, hints_area, app);
+    }
+    if let Some(v) = verdict {
+        draw_verdict(frame, verdict_area, app, prompt, prediction, v);
+    }
+}
+
+/// The run's keys, one line.
+pub(super) fn hints(frame: &mut Frame, hints: Rect, app: &App) {
+    let t = &app.theme;
+    {
         let key = |k: &'static str, what: Msg| {
             [
                 Span::styled(k, t.key()),
@@ -281,9 +297,6 @@ fn draw_play(
         spans.extend(key("[ ]", Msg::Step));
         frame.render_widget(Paragraph::new(Line::from(spans)), hints);
     }
-    if let Some(v) = verdict {
-        draw_verdict(frame, verdict_area, app, prompt, prediction, v);
-    }
 }
 
 /// A drift or error: "0" when exactly zero, else two significant digits.
@@ -295,7 +308,7 @@ fn sci(x: f64) -> String {
     }
 }
 
-fn fmt_speed(speed: f64) -> String {
+pub(super) fn fmt_speed(speed: f64) -> String {
     if speed >= 1.0 {
         format!("{speed:.0}")
     } else {
@@ -303,7 +316,7 @@ fn fmt_speed(speed: f64) -> String {
     }
 }
 
-fn draw_verdict(
+pub(super) fn draw_verdict(
     frame: &mut Frame,
     area: Rect,
     app: &App,

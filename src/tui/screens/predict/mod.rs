@@ -14,6 +14,7 @@ use super::Nav;
 
 mod draw;
 mod keys;
+mod system;
 pub use draw::{draw, fmt_value};
 pub use keys::{CHOICE_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
 
@@ -29,6 +30,12 @@ pub enum Phase {
     Play {
         prediction: Prediction,
         run: Box<LiveRun>,
+        verdict: Option<Verdict>,
+    },
+    /// A system scene playing (see `system.rs`).
+    System {
+        prediction: Prediction,
+        run: Box<crate::tui::live_system::LiveSystem>,
         verdict: Option<Verdict>,
     },
 }
@@ -61,7 +68,11 @@ impl PredictState {
     }
 
     pub fn animating(&self) -> bool {
-        matches!(&self.phase, Phase::Play { run, .. } if run.playing())
+        match &self.phase {
+            Phase::Play { run, .. } => run.playing(),
+            Phase::System { run, .. } => run.playing(),
+            Phase::Ask { .. } => false,
+        }
     }
 }
 
@@ -114,8 +125,10 @@ impl super::View for PredictState {
         match &self.phase {
             Phase::Ask { .. } if self.choice => Context::PredictChoice,
             Phase::Ask { .. } => Context::PredictNumber,
-            Phase::Play { verdict: None, .. } => Context::PredictRun,
-            Phase::Play { .. } => Context::PredictVerdict,
+            Phase::Play { verdict: None, .. } | Phase::System { verdict: None, .. } => {
+                Context::PredictRun
+            }
+            Phase::Play { .. } | Phase::System { .. } => Context::PredictVerdict,
         }
     }
     fn apply(&mut self, app: &mut App, action: Action) -> Nav {
@@ -139,13 +152,19 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
     let Some(prompt) = prompt(app, state).cloned() else {
         return Nav::Pop;
     };
-    let Some(scene) = deck(app, state)
+    if matches!(state.phase, Phase::System { .. }) {
+        return system::apply(app, state, action, &prompt);
+    }
+    let system_scene = deck(app, state)
+        .and_then(|d| d.system(&prompt.scene))
+        .cloned();
+    let scene = deck(app, state)
         .and_then(|d| d.scene(&prompt.scene))
-        .cloned()
-    else {
+        .cloned();
+    if scene.is_none() && system_scene.is_none() {
         app.error(format!("scene {} not found", prompt.scene));
         return Nav::Pop;
-    };
+    }
     match &mut state.phase {
         Phase::Ask {
             selected,
@@ -192,7 +211,11 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                 },
             };
             if let Some(p) = committed {
-                return commit_nav(app, state, p, &scene);
+                return match (&system_scene, &scene) {
+                    (Some(sys), _) => system::commit(app, state, p, sys),
+                    (None, Some(scene)) => commit_nav(app, state, p, scene),
+                    (None, None) => Nav::Pop,
+                };
             }
             Nav::Stay
         }
@@ -248,12 +271,16 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                 _ => {}
             }
             // The first time a run reaches the end, the verdict.
-            if verdict.is_none() && run.finished() {
-                let v = judge(app, state.deck, &prompt, &scene, run, *prediction);
+            if verdict.is_none()
+                && run.finished()
+                && let Some(scene) = &scene
+            {
+                let v = judge(app, state.deck, &prompt, scene, run, *prediction);
                 *verdict = Some(v);
             }
             Nav::Stay
         }
+        Phase::System { .. } => system::apply(app, state, action, &prompt),
     }
 }
 
@@ -277,7 +304,18 @@ fn judge(
         app.error(e.to_string());
         crate::sim::scene::measure::Measurements::default()
     });
-    let verdict = crate::predict::verdict(prompt, &measurements, prediction);
+    record(app, deck, prompt, &measurements, prediction)
+}
+
+/// The verdict on the measurements, with the attempt logged.
+fn record(
+    app: &mut App,
+    deck: usize,
+    prompt: &Prompt,
+    measurements: &crate::sim::scene::measure::Measurements,
+    prediction: Prediction,
+) -> Verdict {
+    let verdict = crate::predict::verdict(prompt, measurements, prediction);
     let given = match (prediction, &prompt.answer) {
         (Prediction::Choice(i), Answer::Choice { choices, .. }) => {
             choices.get(i).map(|c| c.id.clone()).unwrap_or_default()

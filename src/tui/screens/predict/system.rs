@@ -1,0 +1,269 @@
+//! Predict, then check on a system scene: the same commitment and controls
+//! as a rigid body's, with the system's panels (plot, phase, sketch,
+//! diagnostics) and a verdict from the measures of its variables and
+//! observables.
+
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+
+use crate::deck::{Answer, Measure, Prompt, SystemPanel, SystemScene};
+use crate::sim::scene::system::measure_system;
+use crate::sim::solvers::ode::{OdeKind, OdeMethod};
+use crate::text::num::Num;
+use crate::tui::action::Action;
+use crate::tui::app::App;
+use crate::tui::i18n::Msg;
+use crate::tui::live_system::LiveSystem;
+use crate::tui::system_plots;
+
+use super::{Nav, Phase, PredictState, Prediction, Verdict};
+
+/// The measures a prompt's verdict needs.
+pub fn measures(prompt: &Prompt) -> Vec<Measure> {
+    let mut out: Vec<Measure> = match &prompt.answer {
+        Answer::Choice { choices, .. } => choices.iter().map(|c| c.when.measure).collect(),
+        Answer::Number { measure, .. } => vec![*measure],
+    };
+    out.sort();
+    out.dedup();
+    out
+}
+
+/// The method a system scene plays with first: auto at its default
+/// tolerance.
+pub fn default_method(scene: &SystemScene) -> OdeMethod {
+    OdeMethod::default_for(OdeKind::Auto, scene.duration)
+}
+
+pub fn commit(
+    app: &mut App,
+    state: &mut PredictState,
+    prediction: Prediction,
+    scene: &SystemScene,
+) -> Nav {
+    let Some(prompt) = super::prompt(app, state).cloned() else {
+        return Nav::Pop;
+    };
+    match LiveSystem::new(scene, default_method(scene), &measures(&prompt)) {
+        Ok(run) => {
+            state.phase = Phase::System {
+                prediction,
+                run: Box::new(run),
+                verdict: None,
+            };
+        }
+        Err(e) => app.error(format!("{}: {e}", scene.id)),
+    }
+    Nav::Stay
+}
+
+pub fn apply(app: &mut App, state: &mut PredictState, action: Action, prompt: &Prompt) -> Nav {
+    let deck = state.deck;
+    let Phase::System {
+        run,
+        prediction,
+        verdict,
+    } = &mut state.phase
+    else {
+        return Nav::Stay;
+    };
+    if action == Action::Explain {
+        if verdict.is_some()
+            && let Some(id) = &prompt.explain
+        {
+            return super::super::reader::open_at(app, deck, id);
+        }
+        return Nav::Stay;
+    }
+    let replace =
+        |run: &mut Box<LiveSystem>, next: Result<LiveSystem, String>, app: &mut App| match next {
+            Ok(r) => **run = r,
+            Err(e) => app.error(e),
+        };
+    match action {
+        Action::Back => return Nav::Pop,
+        Action::Tick(dt) => run.tick(dt.as_secs_f64()),
+        Action::TogglePause => {
+            if run.finished() {
+                let next = run.restart();
+                replace(run, next, app);
+            } else {
+                run.paused = !run.paused;
+            }
+        }
+        Action::Faster => run.speed = (run.speed * 2.0).min(64.0),
+        Action::Slower => run.speed = (run.speed / 2.0).max(1.0 / 64.0),
+        Action::Restart => {
+            let next = run.restart();
+            replace(run, next, app);
+        }
+        Action::NextMethod => {
+            let next = run.restart_with(run.next_method());
+            replace(run, next, app);
+        }
+        Action::SmallerStep | Action::LargerStep => {
+            let m = run.method().finer(action == Action::SmallerStep);
+            let next = run.restart_with(m);
+            replace(run, next, app);
+        }
+        _ => {}
+    }
+    if verdict.is_none() && run.finished() {
+        *verdict = Some(judge(app, deck, prompt, run, *prediction));
+    }
+    Nav::Stay
+}
+
+/// The verdict from the run just watched when it ran with the default
+/// method to the end, else from a default run of the scene: the physics'
+/// answer, whatever method the learner tried.
+fn judge(
+    app: &mut App,
+    deck: usize,
+    prompt: &Prompt,
+    run: &LiveSystem,
+    prediction: Prediction,
+) -> Verdict {
+    let ms = measures(prompt);
+    let scene = run.scene();
+    let measurements = if run.method() == default_method(scene) && run.error().is_none() {
+        run.run().measurements(&ms)
+    } else {
+        match measure_system(scene, default_method(scene), &ms) {
+            Ok(values) => crate::sim::scene::measure::Measurements::from_readings(
+                ms.iter()
+                    .zip(values)
+                    .filter_map(|(m, v)| {
+                        v.ok().map(|value| crate::sim::scene::measure::Reading {
+                            measure: *m,
+                            value,
+                            formula: None,
+                        })
+                    })
+                    .collect(),
+            ),
+            Err(e) => {
+                app.error(e);
+                crate::sim::scene::measure::Measurements::default()
+            }
+        }
+    };
+    super::record(app, deck, prompt, &measurements, prediction)
+}
+
+/// The panels the scene shows, side by side in rows of two.
+fn panel_areas(area: Rect, show: &[SystemPanel]) -> Vec<(SystemPanel, Rect)> {
+    let drawn: Vec<SystemPanel> = show
+        .iter()
+        .copied()
+        .filter(|p| *p != SystemPanel::Diagnostics)
+        .collect();
+    if drawn.is_empty() {
+        return Vec::new();
+    }
+    let rows = drawn.len().div_ceil(2);
+    let row_areas = Layout::vertical(vec![Constraint::Fill(1); rows]).split(area);
+    let mut out = Vec::new();
+    for (r, chunk) in drawn.chunks(2).enumerate() {
+        let cols = Layout::horizontal(vec![Constraint::Fill(1); chunk.len()]).split(row_areas[r]);
+        for (p, rect) in chunk.iter().zip(cols.iter()) {
+            out.push((*p, *rect));
+        }
+    }
+    out
+}
+
+pub fn draw(
+    frame: &mut Frame,
+    area: Rect,
+    app: &App,
+    prompt: &Prompt,
+    prediction: Prediction,
+    run: &LiveSystem,
+    verdict: Option<&Verdict>,
+) {
+    let t = &app.theme;
+    let diag = run.scene().shows(SystemPanel::Diagnostics);
+    let verdict_h = if verdict.is_some() { 5 } else { 0 };
+    let hints_h = u16::from(verdict.is_none());
+    let [top, panels, status, diag_area, hints, verdict_area] = Layout::vertical([
+        Constraint::Length(2),
+        Constraint::Fill(1),
+        Constraint::Length(1),
+        Constraint::Length(u16::from(diag)),
+        Constraint::Length(hints_h),
+        Constraint::Length(verdict_h),
+    ])
+    .areas(area);
+    let q = crate::text::render(prompt.question.get(&app.lang));
+    frame.render_widget(
+        Paragraph::new(vec![
+            Line::styled(q, t.strong()),
+            Line::from(vec![
+                Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
+                Span::styled(
+                    super::draw::prediction_text(app, prompt, prediction),
+                    t.heading(),
+                ),
+            ]),
+        ]),
+        top,
+    );
+    let sys = run.run();
+    for (panel, rect) in panel_areas(panels, &run.scene().show) {
+        match panel {
+            SystemPanel::Plot => system_plots::plot(frame, rect, sys, &app.lang, t),
+            SystemPanel::Phase => system_plots::phase(frame, rect, sys, &app.lang, t),
+            SystemPanel::Sketch => system_plots::sketch(frame, rect, sys, &app.lang, t),
+            SystemPanel::Diagnostics => {}
+        }
+    }
+    let mut s = vec![Span::styled(
+        format!(
+            " t = {:.2} / {} {}",
+            run.t(),
+            Num(run.scene().duration),
+            run.scene().time_unit
+        ),
+        t.text(),
+    )];
+    s.push(Span::styled(
+        format!(
+            " · {} ×{}",
+            app.tr(Msg::Speed),
+            super::draw::fmt_speed(run.speed)
+        ),
+        t.dim(),
+    ));
+    s.push(Span::styled(
+        format!(" · {}", run.method().label()),
+        t.dim(),
+    ));
+    if run.paused {
+        s.push(Span::styled(
+            format!(" · {}", app.tr(Msg::Paused)),
+            t.warn(),
+        ));
+    }
+    if let Some(e) = run.error() {
+        s.push(Span::styled(format!(" · {e}"), t.bad()));
+    }
+    frame.render_widget(Paragraph::new(Line::from(s)), status);
+    if diag {
+        frame.render_widget(
+            Paragraph::new(Span::styled(
+                system_plots::diagnostics_line(sys, &app.lang),
+                t.dim(),
+            )),
+            diag_area,
+        );
+    }
+    if verdict.is_none() {
+        super::draw::hints(frame, hints, app);
+    }
+    if let Some(v) = verdict {
+        super::draw::draw_verdict(frame, verdict_area, app, prompt, prediction, v);
+    }
+}

@@ -1,0 +1,265 @@
+//! The panels of a system scene on Braille canvases: the plotted quantities
+//! against time, the phase portrait, the sketch (lines, dots and trails
+//! from the deck's expressions, scaled to the run so far with the aspect
+//! kept), and the diagnostics line.
+
+use ratatui::Frame;
+use ratatui::layout::Rect;
+use ratatui::style::{Color, Style};
+use ratatui::symbols::Marker;
+use ratatui::text::{Line as TextLine, Span};
+use ratatui::widgets::canvas::{Canvas, Context, Line, Points};
+use ratatui::widgets::{Block, Borders};
+
+use crate::sim::scene::spec::Mark;
+use crate::sim::scene::system::SystemRun;
+use crate::text::num::Num;
+use crate::tui::i18n::{SystemWord, system_word};
+
+use super::theme::Theme;
+
+fn block<'a>(title: String, theme: &Theme) -> Block<'a> {
+    Block::default()
+        .borders(Borders::ALL)
+        .border_style(theme.border())
+        .title(Span::styled(title, theme.heading()))
+}
+
+/// [lo, hi] of `values`, widened a little and never empty.
+fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+            (a.min(v), b.max(v))
+        });
+    if !lo.is_finite() {
+        return (-1.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05)
+        .max(hi.abs().max(lo.abs()) * 1e-9)
+        .max(1e-300);
+    (lo - pad, hi + pad)
+}
+
+/// The plotted quantities against time over the whole run, drawn up to now.
+pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &Theme) {
+    let scene = run.scene();
+    let k = run.plot_count();
+    let trace = run.trace();
+    let d = scene.duration;
+    let (lo, hi) = range(trace.iter().flat_map(|p| p.values[..k].iter().copied()));
+    let dim = theme.plot(Color::DarkGray);
+    let names = scene.plot.clone();
+    let unit = scene.time_unit.clone();
+    let title = format!(
+        " {} {} ",
+        names.join(", "),
+        system_word(SystemWord::Plot).get(lang)
+    );
+    let canvas = Canvas::default()
+        .block(block(title, theme))
+        .marker(Marker::Braille)
+        .x_bounds([0.0, d])
+        .y_bounds([lo, hi])
+        .paint(move |ctx: &mut Context| {
+            if lo < 0.0 && hi > 0.0 {
+                ctx.draw(&Line::new(0.0, 0.0, d, 0.0, dim));
+                ctx.layer();
+            }
+            for (i, name) in names.iter().enumerate() {
+                let color = theme.axis(i % 3);
+                for w in trace.windows(2) {
+                    ctx.draw(&Line::new(
+                        w[0].t,
+                        w[0].values[i],
+                        w[1].t,
+                        w[1].values[i],
+                        color,
+                    ));
+                }
+                ctx.layer();
+                ctx.print(
+                    d * (0.02 + 0.12 * i as f64),
+                    hi,
+                    TextLine::styled(name.clone(), Style::new().fg(color)),
+                );
+            }
+            let low = crate::text::num::rounded(lo, 3);
+            ctx.print(0.0, lo, TextLine::styled(low, Style::new().fg(dim)));
+            ctx.print(
+                d * 0.85,
+                lo,
+                TextLine::styled(format!("{} {unit}", Num(d)), Style::new().fg(dim)),
+            );
+        });
+    frame.render_widget(canvas, area);
+}
+
+/// One quantity against the other.
+pub fn phase(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &Theme) {
+    let Some([a, b]) = run.scene().phase.clone() else {
+        return;
+    };
+    let k = run.plot_count();
+    let trace = run.trace();
+    let (x0, x1) = range(trace.iter().map(|p| p.values[k]));
+    let (y0, y1) = range(trace.iter().map(|p| p.values[k + 1]));
+    let color = theme.axis(0);
+    let dim = theme.plot(Color::DarkGray);
+    let title = format!(" {} ({a}, {b}) ", system_word(SystemWord::Phase).get(lang));
+    let canvas = Canvas::default()
+        .block(block(title, theme))
+        .marker(Marker::Braille)
+        .x_bounds([x0, x1])
+        .y_bounds([y0, y1])
+        .paint(move |ctx: &mut Context| {
+            for w in trace.windows(2) {
+                ctx.draw(&Line::new(
+                    w[0].values[k],
+                    w[0].values[k + 1],
+                    w[1].values[k],
+                    w[1].values[k + 1],
+                    color,
+                ));
+            }
+            if let Some(p) = trace.last() {
+                ctx.layer();
+                ctx.draw(&Points {
+                    coords: &[(p.values[k], p.values[k + 1])],
+                    color: Color::White,
+                });
+            }
+            ctx.print(x0, y0, TextLine::styled(a.clone(), Style::new().fg(dim)));
+            ctx.print(x0, y1, TextLine::styled(b.clone(), Style::new().fg(dim)));
+        });
+    frame.render_widget(canvas, area);
+}
+
+/// Bounds of the sketch: the run's extent so far, with equal scales on
+/// both axes (a terminal cell is about twice as tall as wide).
+pub fn sketch_bounds(run: &SystemRun, area: Rect) -> ([f64; 2], [f64; 2]) {
+    let marks = &run.scene().sketch;
+    let (mut xs, mut ys) = (Vec::new(), Vec::new());
+    let mut push = |v: &[f64]| {
+        let mut k = 0;
+        for m in marks {
+            let n = m.exprs().len();
+            for j in (0..n).step_by(2) {
+                xs.push(v[k + j]);
+                ys.push(v[k + j + 1]);
+            }
+            k += n;
+        }
+    };
+    for p in run.trail() {
+        push(&p.values);
+    }
+    push(&run.marks_now());
+    let (x0, x1) = range(xs.into_iter());
+    let (y0, y1) = range(ys.into_iter());
+    let w = f64::from(area.width.saturating_sub(2).max(1));
+    let h = f64::from(area.height.saturating_sub(2).max(1)) * 2.0;
+    // Units per cell-width on each axis made equal: widen the tighter one.
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let sx = (x1 - x0) / w;
+    let sy = (y1 - y0) / h;
+    let s = sx.max(sy);
+    (
+        [cx - 0.5 * s * w, cx + 0.5 * s * w],
+        [cy - 0.5 * s * h, cy + 0.5 * s * h],
+    )
+}
+
+pub fn sketch(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &Theme) {
+    let (xb, yb) = sketch_bounds(run, area);
+    let marks = run.scene().sketch.clone();
+    let now = run.marks_now();
+    let trail = run.trail();
+    let title = format!(" {} ", system_word(SystemWord::Sketch).get(lang));
+    let canvas = Canvas::default()
+        .block(block(title, theme))
+        .marker(Marker::Braille)
+        .x_bounds(xb)
+        .y_bounds(yb)
+        .paint(move |ctx: &mut Context| {
+            let mut k = 0;
+            for (i, m) in marks.iter().enumerate() {
+                let color = theme.axis(i % 3);
+                match m {
+                    Mark::Line(_) => ctx.draw(&Line::new(
+                        now[k],
+                        now[k + 1],
+                        now[k + 2],
+                        now[k + 3],
+                        color,
+                    )),
+                    Mark::Dot(_) => ctx.draw(&Points {
+                        coords: &[(now[k], now[k + 1])],
+                        color: Color::White,
+                    }),
+                    Mark::Trail(_) => {
+                        for w in trail.windows(2) {
+                            ctx.draw(&Line::new(
+                                w[0].values[k],
+                                w[0].values[k + 1],
+                                w[1].values[k],
+                                w[1].values[k + 1],
+                                color,
+                            ));
+                        }
+                    }
+                }
+                k += m.exprs().len();
+            }
+        });
+    frame.render_widget(canvas, area);
+}
+
+/// `radau rtol 1e-8 · 412 steps · stiff from t = 0.8 s: switched to radau ·
+/// drift energy 2.1e-9 · error vs reference 3.4e-7`.
+pub fn diagnostics_line(run: &SystemRun, lang: &str) -> String {
+    let d = run.diagnostics();
+    let sci = |x: f64| {
+        if x == 0.0 {
+            "0".to_string()
+        } else {
+            format!("{x:.1e}")
+        }
+    };
+    let w = |x| system_word(x).get(lang);
+    let mut s = format!(
+        " {} ({}) · {} {}",
+        run.method().label(),
+        d.solver,
+        d.work.steps,
+        w(SystemWord::Steps)
+    );
+    match d.stiff_at {
+        Some(t) => s.push_str(&format!(
+            " · {} t = {} {}: {}",
+            w(SystemWord::StiffFrom),
+            crate::text::num::rounded(t, 3),
+            run.scene().time_unit,
+            w(SystemWord::SwitchedToRadau)
+        )),
+        None if run.method().kind == crate::sim::solvers::ode::OdeKind::Auto => {
+            s.push_str(&format!(" · {}", w(SystemWord::Explicit)))
+        }
+        None => {}
+    }
+    for (name, drift) in &d.drift {
+        s.push_str(&format!(
+            " · {} {name} {}",
+            w(SystemWord::Drift),
+            sci(*drift)
+        ));
+    }
+    if let Some(e) = d.error {
+        s.push_str(&format!(
+            " · {} {}",
+            w(SystemWord::ErrorVsReference),
+            sci(e)
+        ));
+    }
+    s
+}

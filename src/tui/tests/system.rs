@@ -1,0 +1,177 @@
+//! A system scene in the predict-then-check screen: the same controls as a
+//! rigid body's, the system's panels, and the verdict from its measures.
+
+use std::collections::BTreeMap;
+use std::time::Duration;
+
+use crossterm::event::KeyCode;
+
+use super::{press, press_all};
+use crate::deck::{
+    Answer, Choice, Cmp, Condition, Measure, Prompt, Stat, SystemPanel, SystemScene, Text,
+};
+use crate::sim::scene::spec::Mark;
+use crate::sim::system::Name;
+use crate::tui::action::Action;
+use crate::tui::i18n::{ENGLISH, HINGLISH};
+use crate::tui::screens::Screen;
+use crate::tui::screens::predict::Phase;
+use crate::tui::testkit::{self, TestApp, render};
+use crate::tui::theme::Theme;
+
+fn text(en: &str, hi: &str) -> Text {
+    let mut m = BTreeMap::new();
+    m.insert("en".to_string(), en.to_string());
+    m.insert("hi-Latn".to_string(), hi.to_string());
+    Text(m)
+}
+
+fn pendulum() -> SystemScene {
+    SystemScene {
+        id: "pendulum-170".into(),
+        title: Some(text(
+            "Pendulum released at 170°",
+            "170° se chhoda gaya pendulum",
+        )),
+        variables: vec!["theta".into(), "omega".into()],
+        initial: vec![2.9670597283903604, 0.0],
+        params: vec![("g".into(), 9.81), ("L".into(), 1.0)],
+        equations: vec!["omega".into(), "-g/L*sin(theta)".into()],
+        observables: vec![
+            (
+                "energy".into(),
+                "0.5*L^2*omega^2 + g*L*(1 - cos(theta))".into(),
+            ),
+            ("x".into(), "L*sin(theta)".into()),
+            ("y".into(), "-L*cos(theta)".into()),
+        ],
+        conserved: vec!["energy".into()],
+        duration: 20.0,
+        show: vec![
+            SystemPanel::Plot,
+            SystemPanel::Phase,
+            SystemPanel::Sketch,
+            SystemPanel::Diagnostics,
+        ],
+        plot: vec!["theta".into()],
+        phase: Some(["theta".into(), "omega".into()]),
+        sketch: vec![
+            Mark::Line(["0".into(), "0".into(), "x".into(), "y".into()]),
+            Mark::Dot(["x".into(), "y".into()]),
+            Mark::Trail(["x".into(), "y".into()]),
+        ],
+        time_unit: "s".into(),
+    }
+}
+
+fn app(lang: &str) -> TestApp {
+    let mut deck = testkit::deck();
+    deck.systems.push(pendulum());
+    let period = Measure::Of(Stat::Period, Name::new("theta").unwrap());
+    deck.prompts.push(Prompt {
+        id: "pendulum-period".into(),
+        question: text(
+            "Released at 170°, is the period longer than twice the small-swing one?",
+            "170° se chhodne par, kya period chhote swing wale se do guna se zyada hai?",
+        ),
+        scene: "pendulum-170".into(),
+        explain: None,
+        answer: Answer::Choice {
+            choices: vec![
+                Choice {
+                    id: "longer".into(),
+                    label: text("Longer than 2 T₀", "2 T₀ se zyada"),
+                    when: Condition {
+                        measure: period,
+                        op: Cmp::Gt,
+                        value: 4.0121,
+                    },
+                },
+                Choice {
+                    id: "shorter".into(),
+                    label: text("At most 2 T₀", "2 T₀ tak"),
+                    when: Condition {
+                        measure: period,
+                        op: Cmp::Le,
+                        value: 4.0121,
+                    },
+                },
+            ],
+            expected: "longer".into(),
+        },
+        tags: vec![],
+    });
+    let dir = tempfile::tempdir().unwrap();
+    let mut app =
+        crate::tui::app::App::new(vec![deck], testkit::services(&dir), lang, Theme::PLAIN);
+    app.size = (100, 30);
+    let mut app = TestApp { app, dir };
+    press(&mut app, KeyCode::Char('p'));
+    press_all(&mut app, &[KeyCode::Char('j'), KeyCode::Char('j')]);
+    press(&mut app, KeyCode::Enter);
+    app
+}
+
+fn tick(app: &mut TestApp, ms: u64) {
+    crate::tui::update::apply(app, Action::Tick(Duration::from_millis(ms)));
+}
+
+fn running(app: &TestApp) -> &crate::tui::live_system::LiveSystem {
+    match app.screen() {
+        Screen::Predict(p) => match &p.phase {
+            Phase::System { run, .. } => run,
+            _ => panic!("not a system run"),
+        },
+        _ => panic!("not on the predict screen"),
+    }
+}
+
+#[test]
+fn a_system_scene_plays_with_the_run_controls() {
+    let mut app = app(ENGLISH);
+    assert!(render(&app).contains("170°"), "{}", render(&app));
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    assert!(app.animating());
+    // 20 s plays in 12 s of wall time at speed 1.
+    for _ in 0..6 {
+        tick(&mut app, 100);
+    }
+    let t = running(&app).t();
+    assert!((t - 1.0).abs() < 1e-9, "{t}");
+    press(&mut app, KeyCode::Char(' '));
+    assert!(!app.animating());
+    press(&mut app, KeyCode::Char(' '));
+    press(&mut app, KeyCode::Char('+'));
+    assert_eq!(running(&app).speed, 2.0);
+    let mut seen = vec![running(&app).method().kind.name()];
+    for _ in 0..4 {
+        press(&mut app, KeyCode::Char('m'));
+        seen.push(running(&app).method().kind.name());
+    }
+    assert_eq!(seen, ["auto", "adaptive", "radau", "rk4", "auto"]);
+    assert_eq!(running(&app).t(), 0.0, "a new method restarts");
+    press(&mut app, KeyCode::Char('['));
+    assert_eq!(running(&app).method().setting, 1e-9);
+    press_all(&mut app, &[KeyCode::Char(']'), KeyCode::Char(']')]);
+    assert_eq!(running(&app).method().setting, 1e-7);
+}
+
+#[test]
+fn system_panels_snapshot_in_both_languages() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = app(lang);
+        press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+        for _ in 0..20 {
+            tick(&mut app, 100);
+        }
+        let screen = render(&app);
+        assert!(screen.contains("theta"), "{screen}");
+        insta::assert_snapshot!(format!("system_run_{lang}"), screen);
+        // To the end: the verdict from period(theta).
+        for _ in 0..200 {
+            tick(&mut app, 100);
+        }
+        let screen = render(&app);
+        insta::assert_snapshot!(format!("system_verdict_{lang}"), screen);
+    }
+}
