@@ -586,6 +586,7 @@ fn the_stiff_scene_switches_to_radau_and_no_other_does() {
     let stiffness = find(&en, "section", "stiffness")["body"].as_str().unwrap();
     assert!(stiffness.contains("fewer than 1500 steps") && stiffness.contains("t = 0.1"));
 
+    let toml_deck = deck;
     let loaded = flipcard::deck::load_dir(&deck_path());
     let deck = &loaded.decks[0];
     for scene in &deck.systems {
@@ -599,6 +600,25 @@ fn the_stiff_scene_switches_to_radau_and_no_other_does() {
             assert!(at < 0.1, "stiff from t = {at}");
             assert!(d.solver.contains("radau"), "finished on {}", d.solver);
             assert!(d.work.steps < 1500, "{:?}", d.work);
+            // The texts quote the diagnostics line as the learner sees it,
+            // in each language, with the time left out.
+            for (lang, before, after) in [
+                ("en", "stiff from t = ", ": switched to radau"),
+                ("hi-Latn", "stiff shuru t = ", ": radau pe switch kiya"),
+            ] {
+                let line = flipcard::tui::system_plots::diagnostics_line(&run, lang);
+                assert!(line.contains(before) && line.contains(after), "{line}");
+                let quoted = format!("{before}…{after}");
+                let i = LANGS.iter().position(|l| *l == lang).unwrap();
+                assert!(
+                    texts_of(&toml_deck, "card", "solver-switch", None)[i].contains(&quoted),
+                    "card solver-switch [{lang}] does not quote {quoted:?}"
+                );
+                assert!(
+                    texts_of(&toml_deck, "section", "stiffness", None)[i].contains(&quoted),
+                    "section stiffness [{lang}] does not quote {quoted:?}"
+                );
+            }
         } else {
             assert_eq!(d.stiff_at, None, "{} switched", scene.id);
         }
