@@ -24,7 +24,10 @@ fn pendulum() -> SystemScene {
         params: vec![("g".into(), 9.81), ("L".into(), 1.0)],
         equations: vec!["omega".into(), "-g/L*sin(theta)".into()],
         observables: vec![
-            ("energy".into(), "0.5*L^2*omega^2 + g*L*(1 - cos(theta))".into()),
+            (
+                "energy".into(),
+                "0.5*L^2*omega^2 + g*L*(1 - cos(theta))".into(),
+            ),
             ("x".into(), "L*sin(theta)".into()),
             ("y".into(), "-L*cos(theta)".into()),
         ],

@@ -529,7 +529,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
             .map(|variables| RawSystem {
                 variables,
                 initial: f.numbers(rep, "initial", true),
-                params: named(rep, &f, "params", |rep, v, what| read::number(rep, v, what)),
+                params: named(rep, &f, "params", read::number),
                 equations: f.strings(rep, "equations", true),
                 observables: named(rep, &f, "observables", |rep, v, what| {
                     read::string(rep, v, what)

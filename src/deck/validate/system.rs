@@ -155,9 +155,7 @@ fn numbers(
                 crate::text::plural(list.items.len(), "number", "numbers"),
                 crate::text::plural(count, "variable", "variables")
             ),
-            Some(format!(
-                "give one number per variable, in the order of `variables`"
-            )),
+            Some("give one number per variable, in the order of `variables`".to_string()),
         );
         return None;
     }

@@ -233,7 +233,7 @@ impl Trace {
         if self.stride == 0 {
             self.stride = 1;
         }
-        if self.seen % self.stride == 0 {
+        if self.seen.is_multiple_of(self.stride) {
             self.points.push(p);
             if self.points.len() >= TRACE_LEN {
                 let kept: Vec<Point> = self.points.iter().step_by(2).cloned().collect();

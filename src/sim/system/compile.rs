@@ -215,7 +215,7 @@ fn observable_texts(scene: &SystemScene, nodes: &[Node]) -> Vec<String> {
     texts
 }
 
-fn canonical<'a>(scene: &SystemScene, node: &Node, obs: &'a [String]) -> String {
+fn canonical(scene: &SystemScene, node: &Node, obs: &[String]) -> String {
     expr::canonical(node, &|name| {
         if let Some((_, v)) = scene.params.iter().find(|(p, _)| p == name) {
             return Subst::Value(*v);
