@@ -45,7 +45,13 @@ pub fn run(_cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
             );
         }
     }
-    let loaded = load_paths(&paths);
+    let mut loaded = load_paths(&paths);
+    if !args.no_simulate {
+        // Each prompt's answer against its scene's run, where the author
+        // looks: at the prompt's `expected` line.
+        let judged = crate::predict::audit::check_loaded(&loaded);
+        loaded.diagnostics.extend(judged);
+    }
     if !loaded.diagnostics.is_empty() {
         crate::errln!("{}", loaded.render_all());
     }

@@ -10,6 +10,7 @@ pub mod diag;
 mod files;
 pub mod load;
 pub mod model;
+pub mod places;
 pub mod raw;
 mod read;
 pub mod report;

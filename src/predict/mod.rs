@@ -2,6 +2,8 @@
 //! scene's run measured. The measuring is the simulator's; the grading is
 //! here, between the deck's prompt and the measurements.
 
+pub mod audit;
+
 use crate::deck::{Answer, Measure, Prompt};
 use crate::sim::scene::measure::{Measurements, Reading};
 
