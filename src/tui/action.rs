@@ -64,6 +64,8 @@ pub enum Action {
     NextMethod,
     SmallerStep,
     LargerStep,
+    /// After a verdict: the deck's next prompt.
+    NextPrompt,
 
     /// Wall-clock time passed while a simulation plays.
     Tick(Duration),

@@ -85,6 +85,17 @@ impl Camera {
         }
     }
 
+    /// Screen right, screen up and the viewing direction, as space vectors.
+    pub fn right(&self) -> Vector3<f64> {
+        self.right
+    }
+    pub fn up(&self) -> Vector3<f64> {
+        self.up
+    }
+    pub fn forward(&self) -> Vector3<f64> {
+        self.forward
+    }
+
     /// Screen position (x right, y up) and depth (positive = further away).
     pub fn project(&self, p: &Vector3<f64>) -> (f64, f64, f64) {
         let depth = p.dot(&self.forward);

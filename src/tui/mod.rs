@@ -12,9 +12,11 @@ pub mod geometry;
 pub mod i18n;
 pub mod keymap;
 pub mod live;
+pub mod logplot;
 pub mod plots;
 pub mod screens;
 pub mod services;
+pub mod solid;
 #[cfg(test)]
 mod testkit;
 #[cfg(test)]

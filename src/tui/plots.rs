@@ -33,7 +33,68 @@ fn aspect_x(area: Rect, r: f64) -> f64 {
     r * w / (2.0 * h)
 }
 
-/// ω₁, ω₂, ω₃ against time over the whole scene, drawn up to now.
+/// How each ω component is drawn without colour: solid, dotted, dashed
+/// (`on` of every `period` Braille dots along the curve), and the glyph
+/// the legend shows for it.
+const STROKES: [(f64, f64, &str); 3] = [(1.0, 1.0, "━"), (1.0, 3.0, "┅"), (5.0, 8.0, "╌")];
+
+/// The points of a polyline (data coordinates) kept by a dash pattern, the
+/// pattern measured in Braille dots on screen so it looks the same however
+/// the plot is scaled. `scale`: dots per data unit along x and y.
+pub fn dashed(points: &[(f64, f64)], scale: (f64, f64), on: f64, period: f64) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    let mut s = 0.0;
+    for w in points.windows(2) {
+        let (dx, dy) = ((w[1].0 - w[0].0) * scale.0, (w[1].1 - w[0].1) * scale.1);
+        let len = dx.hypot(dy);
+        let steps = (len * 2.0).ceil().max(1.0) as usize;
+        for k in 0..steps {
+            let f = k as f64 / steps as f64;
+            if s % period < on {
+                out.push((
+                    w[0].0 + f * (w[1].0 - w[0].0),
+                    w[0].1 + f * (w[1].1 - w[0].1),
+                ));
+            }
+            s += len / steps as f64;
+        }
+    }
+    out
+}
+
+/// A block title of `parts`, cut to `width` columns with "…" (the legend
+/// parts after the first are dropped before the name is cut).
+pub fn fitted_title(parts: Vec<Span<'static>>, width: usize) -> TextLine<'static> {
+    let total: usize = parts.iter().map(Span::width).sum();
+    if total <= width {
+        return TextLine::from(parts);
+    }
+    let Some(first) = parts.into_iter().next() else {
+        return TextLine::default();
+    };
+    if first.width() <= width {
+        return TextLine::from(first);
+    }
+    let mut text = String::new();
+    let mut used = 0;
+    for c in first.content.chars() {
+        let w = unicode_width::UnicodeWidthChar::width(c).unwrap_or(0);
+        if used + w + 1 > width {
+            break;
+        }
+        used += w;
+        text.push(c);
+    }
+    if width > 0 {
+        text.push('…');
+    }
+    TextLine::from(Span::styled(text, first.style))
+}
+
+/// ω₁, ω₂, ω₃ against time over the whole scene, drawn up to now, each
+/// flip marked where it happened. The legend is in the title and the time
+/// range on the bottom edge, so neither covers the curves; without colour
+/// the three curves are solid, dotted and dashed.
 pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
     let m = run.omega_bound().max(f64::MIN_POSITIVE) * 1.1;
     let d = run.scene().duration;
@@ -45,32 +106,75 @@ pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme:
     if points.last().is_none_or(|p| p.0 < now.t) {
         points.push((now.t, now.omega));
     }
+    let flips: Vec<f64> = run.flip_times().to_vec();
+    let mut parts = vec![Span::styled(format!(" {title} "), theme.heading())];
+    for (i, name) in AXIS_NAMES.iter().enumerate() {
+        let glyph = if theme.color { "" } else { STROKES[i].2 };
+        parts.push(Span::styled(
+            format!("{name}{glyph} "),
+            Style::new().fg(theme.axis(i)),
+        ));
+    }
+    let inner_w = area.width.saturating_sub(2) as usize;
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .border_style(theme.border())
+        .title(fitted_title(parts, inner_w))
+        .title_bottom(TextLine::styled("0", Style::new().fg(dim)))
+        .title_bottom(
+            TextLine::styled(format!("{} {unit}", Num(d)), Style::new().fg(dim)).right_aligned(),
+        );
+    // A row above the curves for the flip numbers, when there is room.
+    let rows = f64::from(area.height.saturating_sub(2));
+    let top = if rows >= 5.0 {
+        m * (1.0 + 2.0 / (rows - 1.0))
+    } else {
+        m
+    };
+    let dots = (
+        f64::from(area.width.saturating_sub(2)) * 2.0 / d.max(f64::MIN_POSITIVE),
+        rows * 4.0 / (top + m),
+    );
+    let plain = !theme.color;
     let canvas = Canvas::default()
-        .block(block(title, theme))
+        .block(block)
         .marker(Marker::Braille)
         .x_bounds([0.0, d])
-        .y_bounds([-m, m])
+        .y_bounds([-m, top])
         .paint(move |ctx: &mut Context| {
             ctx.draw(&Line::new(0.0, 0.0, d, 0.0, dim));
+            // Each flip: a dotted vertical through the plot.
+            for &t in &flips {
+                let marks = dashed(&[(t, -m), (t, m)], dots, 1.0, 3.0);
+                ctx.draw(&Points {
+                    coords: &marks,
+                    color: dim,
+                });
+            }
             ctx.layer();
-            for (i, name) in AXIS_NAMES.iter().enumerate() {
+            for (i, &(on, period, _)) in STROKES.iter().enumerate() {
                 let color = theme.axis(i);
-                for w in points.windows(2) {
-                    ctx.draw(&Line::new(w[0].0, w[0].1[i], w[1].0, w[1].1[i], color));
+                let curve: Vec<(f64, f64)> = points.iter().map(|p| (p.0, p.1[i])).collect();
+                if plain && on < period {
+                    ctx.draw(&Points {
+                        coords: &dashed(&curve, dots, on, period),
+                        color,
+                    });
+                } else {
+                    for w in curve.windows(2) {
+                        ctx.draw(&Line::new(w[0].0, w[0].1, w[1].0, w[1].1, color));
+                    }
                 }
                 ctx.layer();
+            }
+            // The flip count above each mark, clear of the curves.
+            for (k, &t) in flips.iter().enumerate().filter(|_| top > m) {
                 ctx.print(
-                    d * (0.02 + 0.08 * i as f64),
-                    m * 0.9,
-                    TextLine::styled(*name, Style::new().fg(color)),
+                    t,
+                    top,
+                    TextLine::styled(format!("↕{}", k + 1), Style::new().fg(dim)),
                 );
             }
-            ctx.print(0.0, -m, TextLine::styled("0", Style::new().fg(dim)));
-            ctx.print(
-                d * 0.9,
-                -m,
-                TextLine::styled(format!("{} {unit}", Num(d)), Style::new().fg(dim)),
-            );
         });
     frame.render_widget(canvas, area);
 }

@@ -14,6 +14,7 @@ use super::Nav;
 
 mod draw;
 mod keys;
+pub mod verdict;
 pub use draw::{draw, fmt_value};
 pub use keys::{CHOICE_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
 
@@ -195,6 +196,16 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                 return commit_nav(app, state, p, &scene);
             }
             Nav::Stay
+        }
+        Phase::Play {
+            verdict: Some(_), ..
+        } if action == Action::NextPrompt => {
+            let n = deck(app, state).map_or(0, |d| d.prompts.len());
+            if n == 0 {
+                return Nav::Pop;
+            }
+            let next = PredictState::new(app, state.deck, (state.prompt + 1) % n);
+            Nav::Replace(super::Screen::Predict(Box::new(next)))
         }
         Phase::Play { verdict, .. } if action == Action::Explain => {
             if verdict.is_some()
