@@ -577,3 +577,35 @@ fn the_prompt_list_marks_the_last_attempt() {
     press(&mut app, KeyCode::Esc);
     assert!(render(&app).contains(" 1. ✓ Tennis racket"));
 }
+
+/// Without colour the verdict and the plot still read: the banner by its
+/// symbol and reverse video, the three ω curves by line style (named in
+/// the legend); with colour the banner is green or red as well.
+#[test]
+fn the_verdict_and_the_plot_do_not_need_colour() {
+    use ratatui::style::{Color, Modifier};
+    let mut app = bundled_prompt(ENGLISH, "middle-axis", (80, 24));
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    play_to_the_end(&mut app);
+    let screen = render(&app);
+    assert!(screen.contains("ω₁━ ω₂┅ ω₃╌"), "{screen}");
+    let banner = |app: &TestApp| {
+        let buf = testkit::buffer(app);
+        let row = (0..24)
+            .find(|&y| (0..80).any(|x| buf[(x, y)].symbol() == "✗"))
+            .expect("a ✗ banner");
+        buf[(3, row)].style()
+    };
+    let plain = banner(&app);
+    assert!(plain.add_modifier.contains(Modifier::REVERSED), "{plain:?}");
+    assert!(
+        matches!(plain.fg, None | Some(Color::Reset)),
+        "no colour under NO_COLOR: {plain:?}"
+    );
+    app.theme = crate::tui::theme::Theme::COLOR;
+    let coloured = banner(&app);
+    assert_eq!(coloured.fg, Some(Color::Red));
+    assert!(coloured.add_modifier.contains(Modifier::REVERSED));
+    // Colour keeps the legend's names but draws every curve solid.
+    assert!(!render(&app).contains("ω₂┅"));
+}
