@@ -89,6 +89,20 @@ impl Shape {
         }
     }
 
+    /// The same shape with no side thinner than `min`: a side below the
+    /// screen's resolution would fall between the dots.
+    pub fn at_least(&self, min: f64) -> Shape {
+        let f = |h: [f64; 3]| h.map(|s| s.max(min));
+        match *self {
+            Shape::Sphere => Shape::Sphere,
+            Shape::Oblate(h) => Shape::Oblate(f(h)),
+            Shape::Prolate(h) => Shape::Prolate(f(h)),
+            Shape::Plate(h) => Shape::Plate(f(h)),
+            Shape::Needle(h) => Shape::Needle(f(h)),
+            Shape::Block(h) => Shape::Block(f(h)),
+        }
+    }
+
     fn is_box(&self) -> bool {
         matches!(self, Shape::Plate(_) | Shape::Needle(_) | Shape::Block(_))
     }
@@ -168,6 +182,8 @@ pub fn raster(
     (xr, yr): (f64, f64),
 ) -> Vec<Dot> {
     let (nx, ny) = (usize::from(cols) * 2, usize::from(rows) * 4);
+    let dot = (2.0 * xr / nx.max(1) as f64).max(2.0 * yr / ny.max(1) as f64);
+    let shape = &shape.at_least(0.75 * dot);
     let light = (camera.right() * -0.45 + camera.up() * 0.6 - camera.forward() * 0.66).normalize();
     let inv = q.inverse();
     let back = shape.radius() * 4.0;
@@ -182,7 +198,9 @@ pub fn raster(
                 continue;
             };
             let lit = (q * n).dot(&light).max(0.0);
-            let level = 0.22 + 0.78 * lit;
+            // Never below three dots in eight: a face turned from the light
+            // (or a plate's rim) stays visible.
+            let level = 0.35 + 0.65 * lit;
             if level * 8.0 > BAYER[py % 4][px % 2] {
                 let face = (0..3)
                     .max_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
@@ -317,10 +335,15 @@ mod tests {
             UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f64::consts::FRAC_PI_2);
         let (w, h) = extent(&raster(&s, &face_on, &cam, (40, 20), (1.5, 1.5)));
         assert!(w > 1.0 && h > 1.0, "face on: {w} × {h}");
-        // Its thin axis vertical on screen: a line.
+        // Its thin axis vertical on screen: a line, still drawn in a small
+        // panel (6 rows, 24 dots over 3 units: the plate is 2 dots thick).
         let edge_on = UnitQuaternion::identity();
-        let (_, h) = extent(&raster(&s, &edge_on, &cam, (40, 20), (1.5, 1.5)));
-        assert!(h < 0.25, "edge on: height {h}");
+        for rows in [20, 6] {
+            let dots = raster(&s, &edge_on, &cam, (40, rows), (1.5, 1.5));
+            assert!(dots.len() > 10, "edge on, {rows} rows: {} dots", dots.len());
+            let (w, h) = extent(&dots);
+            assert!(h < 0.25 && w > 1.0, "edge on, {rows} rows: {w} × {h}");
+        }
     }
 
     #[test]
