@@ -1,7 +1,7 @@
-//! The simulation panels, drawn on Braille canvases: ω against time, the
-//! rotating body in perspective, and the polhode on the momentum sphere.
+//! The simulation panels, drawn on Braille canvases: ω against time and
+//! the polhode on the momentum sphere (the body is drawn by `solid`).
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Style};
@@ -12,17 +12,21 @@ use ratatui::widgets::{Block, Borders};
 
 use crate::text::num::Num;
 
-use super::geometry::{self, Camera};
+use super::geometry::Camera;
 use super::live::LiveRun;
 use super::theme::Theme;
 
 const AXIS_NAMES: [&str; 3] = ["ω₁", "ω₂", "ω₃"];
 
-fn block<'a>(title: String, theme: &Theme) -> Block<'a> {
+/// A bordered panel titled `title`, cut with "…" to the panel's `width`.
+fn block<'a>(title: String, theme: &Theme, width: u16) -> Block<'a> {
     Block::default()
         .borders(Borders::ALL)
         .border_style(theme.border())
-        .title(Span::styled(title, theme.heading()))
+        .title(fitted_title(
+            vec![Span::styled(title, theme.heading())],
+            usize::from(width.saturating_sub(2)),
+        ))
 }
 
 /// x half-range that keeps circles round in `area` (cells are about twice
@@ -179,58 +183,12 @@ pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme:
     frame.render_widget(canvas, area);
 }
 
-/// The body as a box with matching moments, turned by q(t), in perspective.
-/// Its axes are drawn in the plot colours; the fixed angular momentum L is
-/// the vertical.
-pub fn body(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
-    let half = geometry::box_half_sides(run.scene().inertia);
-    let l_space = run.body().momentum(&Vector3::from(run.scene().omega));
-    let camera = Camera::new(l_space, Vector3::new(1.0, 0.7, 0.4), 0.35, Some(5.0));
-    let q: UnitQuaternion<f64> = run.frame().q.unwrap_or_else(UnitQuaternion::identity);
-    let r = 1.45;
-    let xr = aspect_x(area, r);
-    let edge = theme.plot(Color::White);
-    let back = theme.plot(Color::DarkGray);
-    let canvas = Canvas::default()
-        .block(block(title, theme))
-        .marker(Marker::Braille)
-        .x_bounds([-xr, xr])
-        .y_bounds([-r, r])
-        .paint(move |ctx: &mut Context| {
-            // L: fixed in space, drawn as the vertical through the centre.
-            let (_, top, _) = camera.project(&(l_space.normalize() * 1.35));
-            ctx.draw(&Line::new(0.0, 0.0, 0.0, top, back));
-            ctx.print(0.05, top, TextLine::styled("L", Style::new().fg(back)));
-            ctx.layer();
-            let mut edges = geometry::projected_box(half, &q, &camera);
-            // Far edges first, so near ones are drawn over them.
-            edges.sort_by(|a, b| b.2.total_cmp(&a.2));
-            for ((x1, y1), (x2, y2), depth) in edges {
-                let color = if depth > 0.0 { back } else { edge };
-                ctx.draw(&Line::new(x1, y1, x2, y2, color));
-            }
-            ctx.layer();
-            for i in 0..3 {
-                let mut axis = Vector3::zeros();
-                axis[i] = half[i] + 0.25;
-                let (x, y, _) = camera.project(&(q * axis));
-                ctx.draw(&Line::new(0.0, 0.0, x, y, theme.axis(i)));
-                ctx.print(
-                    x,
-                    y,
-                    TextLine::styled(["1", "2", "3"][i], Style::new().fg(theme.axis(i))),
-                );
-            }
-        });
-    frame.render_widget(canvas, area);
-}
-
 /// The path of the body-frame angular momentum L = Iω on the sphere
 /// |L| = const (drawn as the unit sphere), with the separatrix through the
 /// middle axis, the orbit's closed curve, and the path so far.
 pub fn polhode(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
     let Some(picture) = run.polhode() else {
-        frame.render_widget(block(title, theme), area);
+        frame.render_widget(block(title, theme, area.width), area);
         return;
     };
     let camera = Camera::new(
@@ -257,7 +215,7 @@ pub fn polhode(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, them
         .polhode
         .unwrap_or_else(|| picture.point(&body, &run.frame().omega));
     let canvas = Canvas::default()
-        .block(block(title, theme))
+        .block(block(title, theme, area.width))
         .marker(Marker::Braille)
         .x_bounds([-xr, xr])
         .y_bounds([-r, r])
