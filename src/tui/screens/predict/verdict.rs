@@ -81,11 +81,16 @@ fn reading(lang: &str, scene: &Scene, v: &Verdict, r: &Reading) -> String {
     let u = if u.is_empty() { u } else { format!(" {u}") };
     let name = crate::tui::i18n::measure(r.measure).get(lang);
     let value = sig(r.value, 3);
+    let fname = formula_name(r.measure);
     match r.formula {
+        // A named expectation ("steady spin", "invariant") rather than a
+        // formula: what it expects, without an equation.
+        Some(f) if fname.chars().all(|c| c.is_ascii_alphabetic() || c == ' ') => {
+            format!("{name} {value}{u} ({fname}: {}{u})", sig(f, 3))
+        }
         Some(f) => format!(
-            "{name} {value}{u}, {} {} = {}{u}",
+            "{name} {value}{u}, {} {fname} = {}{u}",
             w::FORMULA.get(lang),
-            formula_name(r.measure),
             sig(f, 3)
         ),
         None => format!("{name} {value}{u}"),
