@@ -186,15 +186,28 @@ pub fn raster(
     let shape = &shape.at_least(0.75 * dot);
     let light = (camera.right() * -0.45 + camera.up() * 0.6 - camera.forward() * 0.66).normalize();
     let inv = q.inverse();
-    let back = shape.radius() * 4.0;
-    let d = inv * camera.forward();
+    let radius = shape.radius();
+    let back = radius * 4.0;
+    // The screen's axes in the body frame, turned once per frame.
+    let (right, up, d) = (
+        inv * camera.right(),
+        inv * camera.up(),
+        inv * camera.forward(),
+    );
     let mut out = Vec::new();
     for py in 0..ny {
+        let y = yr - (py as f64 + 0.5) / ny as f64 * 2.0 * yr;
+        if y.abs() > radius {
+            continue;
+        }
         for px in 0..nx {
             let x = -xr + (px as f64 + 0.5) / nx as f64 * 2.0 * xr;
-            let y = yr - (py as f64 + 0.5) / ny as f64 * 2.0 * yr;
-            let o = camera.right() * x + camera.up() * y - camera.forward() * back;
-            let Some((_, n)) = shape.hit(inv * o, d) else {
+            // Outside the body's bounding circle no ray can hit it.
+            if x * x + y * y > radius * radius {
+                continue;
+            }
+            let o = right * x + up * y - d * back;
+            let Some((_, n)) = shape.hit(o, d) else {
                 continue;
             };
             let lit = (q * n).dot(&light).max(0.0);
