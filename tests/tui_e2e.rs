@@ -300,8 +300,16 @@ fn review_undo_hinglish_prompt_verdict_and_export() {
     t.keys(&[&number, "Enter"]);
     // Speed the run up ×8, then wait for the verdict.
     t.keys(&["+", "+", "+"]);
-    let s = t.wait_for("Faisla");
-    assert!(s.contains("Sahi!"), "the expected choice is right:\n{s}");
+    let s = t.wait_for("✓ Sahi ✓");
+    // What this run showed, with the flip times, and the run's keys.
+    assert!(
+        s.contains("is 8 s ke run mein: 3 baar palta: 1.49, 4.24 aur 7.00 s par"),
+        "{s}"
+    );
+    assert!(s.contains("n agla prompt"), "{s}");
+    // `n`: the next prompt, ready for a new prediction.
+    t.keys(&["n"]);
+    t.wait_for(&opening(deck.prompts[index + 1].question.get("hi-Latn"), 4));
 
     // Quit from the prompt: back, back, quit.
     t.keys(&["q"]);
