@@ -523,6 +523,9 @@ mod tests {
                    d,p,yesterday,b,,false\n";
         let e = parse(csv).unwrap_err();
         assert_eq!(e.line, 3, "{e}");
-        assert!(e.message.contains("time \"yesterday\" is not RFC 3339"), "{e}");
+        assert!(
+            e.message.contains("time \"yesterday\" is not RFC 3339"),
+            "{e}"
+        );
     }
 }
