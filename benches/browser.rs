@@ -40,6 +40,7 @@ fn deck() -> Deck {
         front,
         back,
         accept: Vec::new(),
+        accept_by_lang: Default::default(),
         explain: None,
         prompt: None,
         tags: vec![tag.to_string()],
@@ -105,6 +106,7 @@ fn deck() -> Deck {
         cards,
         prompts: Vec::new(),
         scenes: Vec::new(),
+        systems: Vec::new(),
         sections: Vec::new(),
         path: "big.toml".into(),
     }

@@ -58,7 +58,7 @@ fn scenes(c: &mut Criterion) {
     });
     c.bench_function("check of the bundled decks, every prompt simulated", |b| {
         b.iter(|| {
-            let loaded = load_dir(black_box(&bundled_decks()));
+            let loaded = black_box(flipcard::deck::bundled::load());
             let judged = flipcard::predict::audit::check_loaded(&loaded);
             assert!(judged.is_empty() && loaded.errors() == 0);
             loaded.decks.len()

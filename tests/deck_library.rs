@@ -80,11 +80,13 @@ fn every_source_is_listed_in_order_with_counts_and_status() {
         .skip(1)
         .filter_map(|l| l.split_whitespace().next())
         .collect();
-    assert_eq!(
-        ids,
-        [BUNDLED, "from-cli", "from-config", "only-cli"],
-        "{listing}"
-    );
+    let mut expected: Vec<String> = flipcard::deck::bundled::load()
+        .decks
+        .iter()
+        .map(|d| d.id.clone())
+        .collect();
+    expected.extend(["from-cli", "from-config", "only-cli"].map(String::from));
+    assert_eq!(ids, expected, "{listing}");
     assert!(row(&listing, BUNDLED).contains(" bundled "), "{listing}");
     assert!(row(&listing, "from-cli").contains(" library "), "{listing}");
     assert!(

@@ -129,7 +129,7 @@ fn deck_fragment(e: &Example) {
         .map(str::trim)
         .find(|l| l.starts_with('['))
         .unwrap_or("");
-    let deck = if first_header.starts_with("[[card]]") {
+    let deck = if first_header.starts_with("[[card]]") || first_header.starts_with("[[scene]]") {
         format!("{HEADER}\n{}", e.text)
     } else if first_header.starts_with("[prompt.answer]") {
         format!(

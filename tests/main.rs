@@ -1,6 +1,7 @@
 //! Every integration test in one binary: one link of the crate instead of
 //! one per file. Run one file's tests with `cargo test --test main NAME::`.
 
+mod anki_import;
 mod architecture;
 mod store_support;
 mod support;

@@ -130,7 +130,11 @@ fn the_binary_alone_carries_its_decks() {
 
     let out = alone.run(&["sim", "--list"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    let scenes = bundled.decks.iter().map(|d| d.scenes.len()).sum::<usize>();
+    let scenes = bundled
+        .decks
+        .iter()
+        .map(|d| d.scenes.len() + d.systems.len())
+        .sum::<usize>();
     assert_eq!(text(&out.stdout).lines().count(), scenes);
 
     let scene = &deck.scenes[0].id;

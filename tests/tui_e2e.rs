@@ -590,6 +590,7 @@ fn the_fifth_concept_map_link_opens_where_the_screen_showed_the_choice() {
     let env = Env::new();
     let t = Tmux::start("links", &env.vars(), "", 100, 30);
     t.wait_for("last studied");
+    select_deck(&t);
     t.keys(&["r"]);
     t.wait_for("spinning with no torque");
     t.keys(&["Right"]);

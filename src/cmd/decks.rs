@@ -29,7 +29,7 @@ fn counts(deck: &Deck) -> String {
         "{}, {}, {}, {}",
         plural(deck.cards.len(), "card", "cards"),
         plural(deck.prompts.len(), "prompt", "prompts"),
-        plural(deck.scenes.len(), "scene", "scenes"),
+        plural(deck.scenes.len() + deck.systems.len(), "scene", "scenes"),
         plural(deck.sections.len(), "section", "sections"),
     )
 }

@@ -161,17 +161,21 @@ pub fn fit(set: &TrainingSet) -> Result<Fit, FitError> {
         *slot = widen(*p);
     }
     let fitted_eval = evaluate_with_time_series_splits(input(), |_| true).map_err(fsrs_err)?;
-    // The defaults are judged on the same answers: every fold's test part,
-    // i.e. all but the first of the SPLITS + 1 segments.
-    let segment = set.items.len() / (SPLITS + 1);
-    let tested = set.items[segment..].to_vec();
-    let default_model = FSRS::new(&fsrs::DEFAULT_PARAMETERS).map_err(fsrs_err)?;
-    let default_eval = default_model.evaluate(tested, |_| true).map_err(fsrs_err)?;
+    let default_eval = evaluate_held_out(set, &fsrs::DEFAULT_PARAMETERS)?;
     Ok(Fit {
         parameters,
-        default: default_eval.into(),
+        default: default_eval,
         fitted: fitted_eval.into(),
     })
+}
+
+/// Fixed parameters judged on the answers a fit is judged on: every fold's
+/// test part, i.e. all but the first of the SPLITS + 1 segments.
+pub fn evaluate_held_out(set: &TrainingSet, parameters: &[f32]) -> Result<Evaluation, FitError> {
+    let segment = set.items.len() / (SPLITS + 1);
+    let tested = set.items[segment..].to_vec();
+    let model = FSRS::new(parameters).map_err(fsrs_err)?;
+    Ok(model.evaluate(tested, |_| true).map_err(fsrs_err)?.into())
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@
 //! Every write is one transaction committed to disk (`synchronous=FULL`)
 //! before the call returns, so a rating is safe before the next card shows.
 
+pub mod anki;
 pub mod answers;
 pub mod attempt;
 pub mod backup;

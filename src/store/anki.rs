@@ -1,0 +1,796 @@
+//! Reading an Anki package (`.apkg`, `.colpkg`): its Basic, Basic-and-
+//! reversed and Cloze notes become flipcard decks (TOML text), its review
+//! history (revlog) becomes reviews to merge into the log.
+//!
+//! Both layouts are read: the legacy `collection.anki2` / `collection.anki21`
+//! (SQLite, schema 11, note types and decks as JSON in `col`) and the
+//! current `collection.anki21b` (the same SQLite compressed with zstd, schema
+//! 18, note types and decks in their own tables). A package holding several
+//! takes the newest, since the older one is then a stub asking to update.
+//!
+//! Nothing is trusted: the archive and the collection inside are size
+//! limited (a zip bomb is refused before it is unpacked), the collection is
+//! checked with `PRAGMA integrity_check`, and a note type that is not one of
+//! the three is an error naming it.
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::io::Read;
+use std::path::{Path, PathBuf};
+
+use chrono::{DateTime, Utc};
+use rusqlite::{Connection, OpenFlags};
+
+use super::merge::IncomingReview;
+use crate::deck::csv::{slug, toml_string};
+use crate::sched::{Direction, ItemKey, Rating};
+
+/// The largest collection unpacked (compressed size does not matter).
+pub const MAX_COLLECTION_BYTES: u64 = 512 << 20;
+
+#[derive(Debug, thiserror::Error)]
+pub enum AnkiError {
+    #[error("cannot read {path}: {source}")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path} is not an Anki package (not a zip archive: {detail})")]
+    NotZip { path: PathBuf, detail: String },
+    #[error(
+        "{path} holds no Anki collection (no collection.anki21b, collection.anki21 or collection.anki2)"
+    )]
+    NoCollection { path: PathBuf },
+    #[error(
+        "{path}: {entry} unpacks to more than {limit} MiB; refusing it as a likely zip bomb",
+        limit = MAX_COLLECTION_BYTES >> 20
+    )]
+    TooLarge { path: PathBuf, entry: String },
+    #[error("{path}: the collection {entry} is damaged: {detail}")]
+    Damaged {
+        path: PathBuf,
+        entry: String,
+        detail: String,
+    },
+    #[error(
+        "{path}: note type {name:?} ({fields} fields, {templates} card types) is not Basic, Basic (and reversed card) or Cloze; nothing imported"
+    )]
+    UnknownNoteType {
+        path: PathBuf,
+        name: String,
+        fields: usize,
+        templates: usize,
+    },
+    #[error("{path}: the collection has no notes to import")]
+    Empty { path: PathBuf },
+}
+
+/// What a note type is to flipcard.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Basic,
+    Reversed,
+    Cloze,
+}
+
+/// One deck made from the package.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImportedDeck {
+    pub id: String,
+    /// The Anki deck's name (levels joined by `::`).
+    pub name: String,
+    /// The deck file's text.
+    pub toml: String,
+    pub cards: usize,
+}
+
+/// Everything taken from a package.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct AnkiImport {
+    /// Which collection file was read.
+    pub entry: String,
+    pub decks: Vec<ImportedDeck>,
+    pub notes: usize,
+    /// Media files in the package, and references to them in the notes:
+    /// none is imported.
+    pub media_files: usize,
+    pub media_refs: usize,
+    /// Reviews to merge, in time order.
+    pub reviews: Vec<IncomingReview>,
+    /// Revlog rows left out: manual reschedules, rows of cards that are
+    /// gone, and the history of cloze deletions (the log names no cloze
+    /// items yet).
+    pub reviews_skipped: usize,
+    /// Cloze notes left out (read with `with_cloze` false).
+    pub cloze_left_out: usize,
+}
+
+/// A card of a note, as the review log names it.
+struct CardRef {
+    deck: String,
+    card: String,
+    direction: Option<Direction>,
+}
+
+/// Reads a package. With `with_cloze` false, Cloze notes are counted but
+/// left out (for decks that have no cloze cards).
+pub fn read_package(path: &Path, with_cloze: bool) -> Result<AnkiImport, AnkiError> {
+    let file = std::fs::File::open(path).map_err(|source| AnkiError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let mut zip = zip::ZipArchive::new(file).map_err(|e| AnkiError::NotZip {
+        path: path.to_path_buf(),
+        detail: e.to_string(),
+    })?;
+    let names: Vec<String> = zip
+        .file_names()
+        .filter_map(|n| n.ok().map(|n| n.into_owned()))
+        .collect();
+    let entry = [
+        "collection.anki21b",
+        "collection.anki21",
+        "collection.anki2",
+    ]
+    .into_iter()
+    .find(|n| names.iter().any(|x| x == n))
+    .ok_or_else(|| AnkiError::NoCollection {
+        path: path.to_path_buf(),
+    })?;
+    let media_files = names
+        .iter()
+        .filter(|n| !n.starts_with("collection.") && *n != "media" && *n != "meta")
+        .count();
+    let bytes = {
+        let member = zip.by_name(entry).map_err(|e| AnkiError::NotZip {
+            path: path.to_path_buf(),
+            detail: e.to_string(),
+        })?;
+        let too_large = || AnkiError::TooLarge {
+            path: path.to_path_buf(),
+            entry: entry.to_string(),
+        };
+        if member.size() > MAX_COLLECTION_BYTES {
+            return Err(too_large());
+        }
+        let damaged = |detail: String| AnkiError::Damaged {
+            path: path.to_path_buf(),
+            entry: entry.to_string(),
+            detail,
+        };
+        let mut raw = Vec::new();
+        // The declared size may lie: read one byte past the limit at most.
+        member
+            .take(MAX_COLLECTION_BYTES + 1)
+            .read_to_end(&mut raw)
+            .map_err(|e| damaged(e.to_string()))?;
+        if raw.len() as u64 > MAX_COLLECTION_BYTES {
+            return Err(too_large());
+        }
+        if entry.ends_with('b') {
+            let decoder = zstd::stream::read::Decoder::new(&raw[..])
+                .map_err(|e| damaged(format!("not zstd data ({e})")))?;
+            let mut out = Vec::new();
+            decoder
+                .take(MAX_COLLECTION_BYTES + 1)
+                .read_to_end(&mut out)
+                .map_err(|e| damaged(format!("not zstd data ({e})")))?;
+            if out.len() as u64 > MAX_COLLECTION_BYTES {
+                return Err(too_large());
+            }
+            out
+        } else {
+            raw
+        }
+    };
+    let scratch = Scratch::write(&bytes).map_err(|source| AnkiError::Read {
+        path: std::env::temp_dir(),
+        source,
+    })?;
+    let damaged = |detail: String| AnkiError::Damaged {
+        path: path.to_path_buf(),
+        entry: entry.to_string(),
+        detail,
+    };
+    let conn = Connection::open_with_flags(
+        &scratch.0,
+        OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX,
+    )
+    .map_err(|e| damaged(e.to_string()))?;
+    // Anki's own collation for names (schema 18 indexes use it): Unicode
+    // case folding, close enough for checking and reading.
+    conn.create_collation("unicase", |a: &str, b: &str| {
+        a.to_lowercase().cmp(&b.to_lowercase())
+    })
+    .map_err(|e| damaged(e.to_string()))?;
+    let check: String = conn
+        .query_row("PRAGMA integrity_check", [], |r| r.get(0))
+        .map_err(|e| damaged(e.to_string()))?;
+    if check != "ok" {
+        // One line: SQLite lists every damaged page.
+        let first: Vec<&str> = check
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty() && !l.starts_with("***"))
+            .take(2)
+            .collect();
+        return Err(damaged(format!(
+            "integrity check failed ({})",
+            first.join("; ")
+        )));
+    }
+    let mut out = read_collection(&conn, path, with_cloze).map_err(|e| match e {
+        ReadError::Sql(e) => damaged(e.to_string()),
+        ReadError::Bad(detail) => damaged(detail),
+        ReadError::Anki(e) => e,
+    })?;
+    out.entry = entry.to_string();
+    out.media_files = media_files;
+    Ok(out)
+}
+
+/// The unpacked collection in a temporary file, removed when dropped.
+struct Scratch(PathBuf);
+
+impl Scratch {
+    fn write(bytes: &[u8]) -> std::io::Result<Scratch> {
+        use std::sync::atomic::{AtomicU64, Ordering};
+        static N: AtomicU64 = AtomicU64::new(0);
+        let name = format!(
+            "flipcard-anki-{}-{}.sqlite",
+            std::process::id(),
+            N.fetch_add(1, Ordering::Relaxed)
+        );
+        let path = std::env::temp_dir().join(name);
+        let mut f = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&path)?;
+        std::io::Write::write_all(&mut f, bytes)?;
+        Ok(Scratch(path))
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
+}
+
+enum ReadError {
+    Sql(rusqlite::Error),
+    Bad(String),
+    Anki(AnkiError),
+}
+
+impl From<rusqlite::Error> for ReadError {
+    fn from(e: rusqlite::Error) -> Self {
+        ReadError::Sql(e)
+    }
+}
+
+fn has_table(conn: &Connection, name: &str) -> rusqlite::Result<bool> {
+    conn.query_row(
+        "SELECT count(*) FROM sqlite_schema WHERE type = 'table' AND name = ?1",
+        [name],
+        |r| r.get::<_, i64>(0),
+    )
+    .map(|n| n > 0)
+}
+
+/// (note types by id as (name, kind, fields, templates), deck names by id)
+type Catalog = (
+    HashMap<i64, (String, bool, usize, usize)>,
+    HashMap<i64, String>,
+);
+
+fn catalog_legacy(conn: &Connection) -> Result<Catalog, ReadError> {
+    let (models, decks): (String, String) =
+        conn.query_row("SELECT models, decks FROM col", [], |r| {
+            Ok((r.get(0)?, r.get(1)?))
+        })?;
+    let bad = |what: &str, e: serde_json::Error| ReadError::Bad(format!("col.{what}: {e}"));
+    let models: serde_json::Value = serde_json::from_str(&models).map_err(|e| bad("models", e))?;
+    let decks: serde_json::Value = serde_json::from_str(&decks).map_err(|e| bad("decks", e))?;
+    let mut types = HashMap::new();
+    for (id, m) in models.as_object().into_iter().flatten() {
+        let id: i64 = id
+            .parse()
+            .map_err(|_| ReadError::Bad(format!("note type id {id:?}")))?;
+        let count = |k: &str| m[k].as_array().map_or(0, Vec::len);
+        types.insert(
+            id,
+            (
+                m["name"].as_str().unwrap_or("?").to_string(),
+                m["type"].as_i64() == Some(1),
+                count("flds"),
+                count("tmpls"),
+            ),
+        );
+    }
+    let mut names = HashMap::new();
+    for (id, d) in decks.as_object().into_iter().flatten() {
+        if let (Ok(id), Some(name)) = (id.parse::<i64>(), d["name"].as_str()) {
+            names.insert(id, name.to_string());
+        }
+    }
+    Ok((types, names))
+}
+
+fn catalog_v18(conn: &Connection) -> Result<Catalog, ReadError> {
+    let mut types = HashMap::new();
+    let mut st = conn.prepare(
+        "SELECT id, name, config, \
+           (SELECT count(*) FROM fields f WHERE f.ntid = n.id), \
+           (SELECT count(*) FROM templates t WHERE t.ntid = n.id) \
+         FROM notetypes n",
+    )?;
+    let mut rows = st.query([])?;
+    while let Some(r) = rows.next()? {
+        let config: Vec<u8> = r.get(2)?;
+        types.insert(
+            r.get::<_, i64>(0)?,
+            (
+                r.get::<_, String>(1)?,
+                proto_varint(&config, 1) == Some(1),
+                r.get::<_, i64>(3)? as usize,
+                r.get::<_, i64>(4)? as usize,
+            ),
+        );
+    }
+    let mut names = HashMap::new();
+    let mut st = conn.prepare("SELECT id, name FROM decks")?;
+    let mut rows = st.query([])?;
+    while let Some(r) = rows.next()? {
+        // Levels are joined by U+001F in this schema.
+        names.insert(r.get(0)?, r.get::<_, String>(1)?.replace('\u{1f}', "::"));
+    }
+    Ok((types, names))
+}
+
+/// The value of top-level varint field `field` of a protobuf message
+/// (`None` when absent, i.e. zero).
+fn proto_varint(mut buf: &[u8], field: u64) -> Option<u64> {
+    fn varint(buf: &mut &[u8]) -> Option<u64> {
+        let mut v = 0u64;
+        for shift in (0..64).step_by(7) {
+            let (&b, rest) = buf.split_first()?;
+            *buf = rest;
+            v |= u64::from(b & 0x7f) << shift;
+            if b & 0x80 == 0 {
+                return Some(v);
+            }
+        }
+        None
+    }
+    while !buf.is_empty() {
+        let key = varint(&mut buf)?;
+        let skip = match key & 7 {
+            0 => {
+                let v = varint(&mut buf)?;
+                if key >> 3 == field {
+                    return Some(v);
+                }
+                0
+            }
+            1 => 8,
+            2 => varint(&mut buf)? as usize,
+            5 => 4,
+            _ => return None,
+        };
+        buf = buf.get(skip..)?;
+    }
+    None
+}
+
+fn read_collection(
+    conn: &Connection,
+    path: &Path,
+    with_cloze: bool,
+) -> Result<AnkiImport, ReadError> {
+    let (types, deck_names) = if has_table(conn, "notetypes")? {
+        catalog_v18(conn)?
+    } else {
+        catalog_legacy(conn)?
+    };
+    // Every note type in use must be one flipcard knows.
+    let mut note_types: HashMap<i64, Kind> = HashMap::new();
+    let used: Vec<i64> = {
+        let mut st = conn.prepare("SELECT DISTINCT mid FROM notes")?;
+        st.query_map([], |r| r.get(0))?
+            .collect::<rusqlite::Result<_>>()?
+    };
+    for mid in used {
+        let (name, cloze, fields, templates) = types.get(&mid).cloned().ok_or_else(|| {
+            ReadError::Bad(format!("notes use note type {mid}, which is missing"))
+        })?;
+        let kind = match (cloze, fields, templates) {
+            (true, 1..=2, _) => Kind::Cloze,
+            (false, 2, 1) => Kind::Basic,
+            (false, 2, 2) => Kind::Reversed,
+            _ => {
+                return Err(ReadError::Anki(AnkiError::UnknownNoteType {
+                    path: path.to_path_buf(),
+                    name,
+                    fields,
+                    templates,
+                }));
+            }
+        };
+        note_types.insert(mid, kind);
+    }
+
+    // A note belongs to the deck of its first card.
+    let mut note_deck: HashMap<i64, i64> = HashMap::new();
+    {
+        let mut st = conn.prepare("SELECT nid, did FROM cards ORDER BY nid, ord")?;
+        let mut rows = st.query([])?;
+        while let Some(r) = rows.next()? {
+            note_deck.entry(r.get(0)?).or_insert(r.get(1)?);
+        }
+    }
+
+    struct Note {
+        id: i64,
+        kind: Kind,
+        fields: Vec<String>,
+        tags: Vec<String>,
+    }
+    let mut by_deck: BTreeMap<String, Vec<Note>> = BTreeMap::new();
+    let mut out = AnkiImport::default();
+    {
+        let mut st = conn.prepare("SELECT id, mid, flds, tags FROM notes ORDER BY id")?;
+        let mut rows = st.query([])?;
+        while let Some(r) = rows.next()? {
+            let id: i64 = r.get(0)?;
+            let mid: i64 = r.get(1)?;
+            let flds: String = r.get(2)?;
+            let tags: String = r.get(3)?;
+            let Some(kind) = note_types.get(&mid).copied() else {
+                continue;
+            };
+            if kind == Kind::Cloze && !with_cloze {
+                out.cloze_left_out += 1;
+                continue;
+            }
+            let deck = note_deck
+                .get(&id)
+                .and_then(|d| deck_names.get(d))
+                .cloned()
+                .unwrap_or_else(|| "Default".to_string());
+            by_deck.entry(deck).or_default().push(Note {
+                id,
+                kind,
+                fields: flds.split('\u{1f}').map(str::to_string).collect(),
+                tags: tags
+                    .split_whitespace()
+                    .map(tag)
+                    .filter(|t| !t.is_empty())
+                    .collect(),
+            });
+            out.notes += 1;
+        }
+    }
+    if out.notes == 0 && out.cloze_left_out == 0 {
+        return Err(ReadError::Anki(AnkiError::Empty {
+            path: path.to_path_buf(),
+        }));
+    }
+
+    // Deck ids from the names, unique.
+    let mut taken = HashSet::new();
+    let mut card_of_note: HashMap<i64, (String, String, Kind)> = HashMap::new();
+    for (name, notes) in &by_deck {
+        let base = slug(&name.replace("::", " "));
+        let mut id = base.clone();
+        let mut n = 1;
+        while !taken.insert(id.clone()) {
+            n += 1;
+            id = format!("{base}-{n}");
+        }
+        let mut text = String::new();
+        text.push_str("# Imported from Anki");
+        text.push_str(&format!(" (deck {name:?}).\n[deck]\n"));
+        text.push_str(&format!("id = {}\n", toml_string(&id)));
+        text.push_str(&format!("title = {}\n", toml_string(&plain(name))));
+        text.push_str("languages = [\"en\"]\n");
+        for note in notes {
+            let card_id = format!("n{}", note.id);
+            let field = |i: usize, refs: &mut usize| {
+                let (t, media) = html_to_text(note.fields.get(i).map_or("", String::as_str));
+                *refs += media;
+                t
+            };
+            let mut front = field(0, &mut out.media_refs);
+            let mut back = field(1, &mut out.media_refs);
+            text.push_str("\n[[card]]\n");
+            text.push_str(&format!("id = {}\n", toml_string(&card_id)));
+            match note.kind {
+                Kind::Basic => {}
+                Kind::Reversed => text.push_str("kind = \"reversed\"\n"),
+                Kind::Cloze => text.push_str("kind = \"cloze\"\n"),
+            }
+            if front.is_empty() {
+                front = "(media not imported)".into();
+            }
+            text.push_str(&format!("front = {}\n", toml_string(&front)));
+            if note.kind != Kind::Cloze || !back.is_empty() {
+                if back.is_empty() {
+                    back = "(media not imported)".into();
+                }
+                text.push_str(&format!("back = {}\n", toml_string(&back)));
+            }
+            if !note.tags.is_empty() {
+                let tags: Vec<String> = note.tags.iter().map(|t| toml_string(t)).collect();
+                text.push_str(&format!("tags = [{}]\n", tags.join(", ")));
+            }
+            card_of_note.insert(note.id, (id.clone(), card_id, note.kind));
+        }
+        out.decks.push(ImportedDeck {
+            id,
+            name: name.clone(),
+            toml: text,
+            cards: notes.len(),
+        });
+    }
+
+    // Cards (by Anki card id) as the log names them.
+    let mut cards: HashMap<i64, CardRef> = HashMap::new();
+    {
+        let mut st = conn.prepare("SELECT id, nid, ord FROM cards")?;
+        let mut rows = st.query([])?;
+        while let Some(r) = rows.next()? {
+            let (cid, nid, ord): (i64, i64, i64) = (r.get(0)?, r.get(1)?, r.get(2)?);
+            let Some((deck, card, kind)) = card_of_note.get(&nid) else {
+                continue;
+            };
+            let direction = match (kind, ord) {
+                (Kind::Basic, 0) | (Kind::Reversed, 0) => Some(Direction::Forward),
+                (Kind::Reversed, 1) => Some(Direction::Backward),
+                // Cloze deletions are items c1, c2, … which this log does
+                // not name: their history is counted as skipped.
+                _ => None,
+            };
+            cards.insert(
+                cid,
+                CardRef {
+                    deck: deck.clone(),
+                    card: card.clone(),
+                    direction,
+                },
+            );
+        }
+    }
+    {
+        let mut st = conn.prepare("SELECT id, cid, ease, time, type FROM revlog ORDER BY id")?;
+        let mut rows = st.query([])?;
+        while let Some(r) = rows.next()? {
+            let (at, cid, ease, took, kind): (i64, i64, i64, i64, i64) =
+                (r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?);
+            // Ease 0 and types 4 and 5 are reschedules by hand, not answers.
+            let rating = Rating::from_number(ease).filter(|_| kind <= 3);
+            let card = cards.get(&cid);
+            let when = DateTime::<Utc>::from_timestamp_millis(at);
+            match (rating, card.and_then(|c| c.direction.map(|d| (c, d))), when) {
+                (Some(rating), Some((c, direction)), Some(when)) => {
+                    out.reviews.push(IncomingReview {
+                        key: ItemKey {
+                            deck: c.deck.clone(),
+                            card: c.card.clone(),
+                            direction,
+                        },
+                        reviewed_at: when,
+                        rating,
+                        cram: false,
+                        duration_ms: took.clamp(0, 24 * 3_600_000),
+                        undone: false,
+                    });
+                }
+                _ => out.reviews_skipped += 1,
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// An Anki tag as a flipcard tag (`::` levels kept as written).
+fn tag(t: &str) -> String {
+    t.chars().filter(|c| !c.is_control()).collect()
+}
+
+/// Text without control characters, for titles.
+fn plain(s: &str) -> String {
+    s.chars()
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect::<String>()
+        .trim()
+        .to_string()
+}
+
+/// A field's HTML as flipcard text: tags dropped (line breaks where blocks
+/// and `<br>` were), entities decoded, MathJax `\(…\)` and `\[…\]` as `$…$`
+/// and `$$…$$`, other dollars escaped. Images and sounds are dropped; the
+/// count of them is returned beside the text. Math that flipcard cannot
+/// render is kept as plain text.
+pub fn html_to_text(html: &str) -> (String, usize) {
+    let mut media = html.matches("[sound:").count();
+    let mut text = String::new();
+    let mut rest = html;
+    while let Some(i) = rest.find('<') {
+        text.push_str(&rest[..i]);
+        let Some(end) = rest[i..].find('>') else {
+            text.push_str(&rest[i..]);
+            rest = "";
+            break;
+        };
+        let tag = rest[i + 1..i + end].trim().to_ascii_lowercase();
+        let name: String = tag
+            .trim_start_matches('/')
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric())
+            .collect();
+        match name.as_str() {
+            "br" => text.push('\n'),
+            "div" | "p" | "li" | "tr" | "h1" | "h2" | "h3" | "h4" if tag.starts_with('/') => {
+                text.push('\n')
+            }
+            "img" | "audio" | "video" => media += 1,
+            _ => {}
+        }
+        rest = &rest[i + end + 1..];
+    }
+    text.push_str(rest);
+    let mut sound_free = String::new();
+    let mut r = text.as_str();
+    while let Some(i) = r.find("[sound:") {
+        sound_free.push_str(&r[..i]);
+        r = r[i..].find(']').map_or("", |j| &r[i + j + 1..]);
+    }
+    sound_free.push_str(r);
+    let decoded = decode_entities(&sound_free);
+    // Anki's blocks are lines; empty ones (a block that held only an image)
+    // are dropped.
+    let lines: Vec<String> = decoded
+        .replace('\u{a0}', " ")
+        .lines()
+        .map(|l| {
+            l.split_whitespace()
+                .collect::<Vec<_>>()
+                .join(" ")
+                .chars()
+                .filter(|c| !c.is_control())
+                .collect::<String>()
+        })
+        .filter(|l| !l.is_empty())
+        .collect();
+    let joined = lines.join("\n");
+    let with_math = convert_math(&joined, true);
+    let t = if crate::text::check(&with_math).is_empty() {
+        with_math
+    } else {
+        convert_math(&joined, false)
+    };
+    (t, media)
+}
+
+/// `\(…\)` → `$…$`, `\[…\]` → `$$…$$` (or left as written when `math` is
+/// false), every other `$` escaped.
+fn convert_math(s: &str, math: bool) -> String {
+    let mut out = String::new();
+    let mut rest = s;
+    loop {
+        let open = [("\\(", "\\)", "$"), ("\\[", "\\]", "$$")]
+            .into_iter()
+            .filter_map(|(o, c, d)| rest.find(o).map(|i| (i, o, c, d)))
+            .min_by_key(|x| x.0);
+        let Some((i, o, c, d)) = open else {
+            out.push_str(&rest.replace('$', "\\$"));
+            return out;
+        };
+        let Some(j) = rest[i + o.len()..].find(c) else {
+            out.push_str(&rest.replace('$', "\\$"));
+            return out;
+        };
+        out.push_str(&rest[..i].replace('$', "\\$"));
+        let inner = &rest[i + o.len()..i + o.len() + j];
+        if math && !inner.contains('$') {
+            out.push_str(d);
+            out.push_str(inner.trim());
+            out.push_str(d);
+        } else {
+            out.push_str(&rest[i..i + o.len() + j + c.len()].replace('$', "\\$"));
+        }
+        rest = &rest[i + o.len() + j + c.len()..];
+    }
+}
+
+fn decode_entities(s: &str) -> String {
+    let mut out = String::new();
+    let mut rest = s;
+    while let Some(i) = rest.find('&') {
+        out.push_str(&rest[..i]);
+        let after = &rest[i + 1..];
+        let end = after.find(';').filter(|e| *e <= 10);
+        let decoded = end.and_then(|e| {
+            let name = &after[..e];
+            let c = match name {
+                "amp" => Some('&'),
+                "lt" => Some('<'),
+                "gt" => Some('>'),
+                "quot" => Some('"'),
+                "apos" | "#39" => Some('\''),
+                "nbsp" => Some(' '),
+                _ => named_entity(name).or_else(|| {
+                    name.strip_prefix("#x")
+                        .or_else(|| name.strip_prefix("#X"))
+                        .and_then(|h| u32::from_str_radix(h, 16).ok())
+                        .or_else(|| name.strip_prefix('#').and_then(|d| d.parse().ok()))
+                        .and_then(char::from_u32)
+                }),
+            }?;
+            Some((c, e))
+        });
+        match decoded {
+            Some((c, e)) => {
+                out.push(c);
+                rest = &after[e + 1..];
+            }
+            None => {
+                out.push('&');
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The named HTML entities a science note is likely to hold.
+fn named_entity(name: &str) -> Option<char> {
+    const GREEK: &str = "alpha α beta β gamma γ delta δ epsilon ε zeta ζ eta η theta θ iota ι \
+        kappa κ lambda λ mu μ nu ν xi ξ omicron ο pi π rho ρ sigma σ tau τ upsilon υ phi φ \
+        chi χ psi ψ omega ω Gamma Γ Delta Δ Theta Θ Lambda Λ Xi Ξ Pi Π Sigma Σ Phi Φ Psi Ψ \
+        Omega Ω hellip … mdash — ndash – times × divide ÷ deg ° middot · plusmn ± le ≤ ge ≥ \
+        ne ≠ asymp ≈ rarr → larr ← harr ↔ rArr ⇒ infin ∞ part ∂ nabla ∇ sum ∑ int ∫ radic √ \
+        prop ∝ micro µ sup2 ² sup3 ³ frac12 ½ lsquo ‘ rsquo ’ ldquo “ rdquo ” bull • minus −";
+    let mut words = GREEK.split_whitespace();
+    while let (Some(k), Some(v)) = (words.next(), words.next()) {
+        if k == name {
+            return v.chars().next();
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn html_becomes_text_with_math_and_media_counted() {
+        let (t, media) = html_to_text(
+            "<div>Torque &amp; spin:&nbsp;\\(\\tau = I\\alpha\\)</div><div><img src=\"a.png\"></div>costs $5<br>\\[E = mc^2\\][sound:x.mp3]",
+        );
+        assert_eq!(
+            t,
+            "Torque & spin: $\\tau = I\\alpha$\ncosts \\$5\n$$E = mc^2$$"
+        );
+        assert_eq!(media, 2);
+        assert_eq!(
+            html_to_text("L = I&omega; &amp;c &bogus; &#8594;").0,
+            "L = Iω &c &bogus; →"
+        );
+        assert!(crate::text::check(&t).is_empty());
+        // Math flipcard cannot render stays as written, dollars escaped.
+        let (t, _) = html_to_text("\\(\\unknowncommand x\\) for $1");
+        assert_eq!(t, "\\(\\unknowncommand x\\) for \\$1");
+        assert!(crate::text::check(&t).is_empty());
+    }
+
+    #[test]
+    fn protobuf_kind_is_found_past_other_fields() {
+        // field 3 (string "ab"), then field 1 = 1 (cloze)
+        assert_eq!(proto_varint(&[0x1a, 2, b'a', b'b', 0x08, 1], 1), Some(1));
+        assert_eq!(proto_varint(&[0x10, 5], 1), None);
+        assert_eq!(proto_varint(&[0x1a, 9, 1], 1), None, "truncated");
+    }
+}
