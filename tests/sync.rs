@@ -71,10 +71,10 @@ fn live_log(data: &Path) -> Vec<ExportedReview> {
         })
         .unwrap();
     rows.sort_by(|a, b| {
-        (&a.deck, &a.card, a.direction, &a.reviewed_at).cmp(&(
+        (&a.deck, &a.card, &a.direction, &a.reviewed_at).cmp(&(
             &b.deck,
             &b.card,
-            b.direction,
+            &b.direction,
             &b.reviewed_at,
         ))
     });
