@@ -3,7 +3,8 @@
 //! terminal view plays it, with the closed form. The view's budget is 5%
 //! of a core: 30 frames must take under 50 ms of work per second, so one
 //! whole play (240 frames) must stay well under 400 ms. Also the headless
-//! measurement a verdict needs.
+//! measurement a verdict needs, and `flipcard check` of the bundled decks
+//! with every prompt's scene run (its budget: under a second).
 //!
 //!     cargo bench --bench scenes
 
@@ -54,6 +55,14 @@ fn scenes(c: &mut Criterion) {
     });
     c.bench_function("seed scene: headless measurements, exact", |b| {
         b.iter(|| measure_scene(black_box(&scene), Method::Exact))
+    });
+    c.bench_function("check of the bundled decks, every prompt simulated", |b| {
+        b.iter(|| {
+            let loaded = load_dir(black_box(&bundled_decks()));
+            let judged = flipcard::predict::audit::check_loaded(&loaded);
+            assert!(judged.is_empty() && loaded.errors() == 0);
+            loaded.decks.len()
+        })
     });
 }
 

@@ -348,3 +348,24 @@ fn without_paths_the_bundled_decks_are_checked() {
     assert!(run.stdout.ends_with(" sections: ok\n"), "{}", run.stdout);
     assert!(!run.stderr.contains("error"), "{}", run.stderr);
 }
+
+/// `--no-simulate` checks everything but the answers against the runs:
+/// the deck with a wrong expected answer passes, and only the answer was
+/// wrong in it.
+#[test]
+fn no_simulate_skips_the_runs_and_only_them() {
+    for case in ["answer-contradicts-run", "number-contradicts-run"] {
+        let dir = manifest_dir().join("tests/decks/invalid").join(case);
+        let judged = check(&dir, &["decks"]);
+        assert_eq!(judged.code, 1, "{case}: {}", judged.stderr);
+        assert!(
+            judged.stderr.contains("but this "),
+            "{case}: {}",
+            judged.stderr
+        );
+        let skipped = check(&dir, &["--no-simulate", "decks"]);
+        assert_eq!(skipped.code, 0, "{case}: {}", skipped.stderr);
+        assert!(skipped.stderr.is_empty(), "{case}: {}", skipped.stderr);
+        assert!(skipped.stdout.ends_with(": ok\n"), "{}", skipped.stdout);
+    }
+}

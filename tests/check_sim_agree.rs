@@ -174,3 +174,95 @@ fn check_accepts_exactly_the_scenes_the_simulator_runs() {
     // Both sides of the boundary are exercised.
     assert!(accepted > 100 && refused > 100, "{accepted} {refused}");
 }
+
+/// What `check` accepts of a prompt's answer, the learner's verdict gives
+/// too, and keeps giving for a longer run of the same scene: over run
+/// lengths around the flips of a middle-axis spin (flips at 1.09 s, then
+/// every 1.96 s) and about a stable axis, and every count condition.
+#[test]
+fn an_answer_check_accepts_stays_right_in_a_longer_run() {
+    use flipcard::deck::{Answer, Choice, Cmp, Condition, Measure, Prompt, Text};
+    use flipcard::predict::audit::audit;
+    use flipcard::predict::{Prediction, verdict};
+
+    let text = |s: &str| Text([("en".to_string(), s.to_string())].into());
+    let conditions: Vec<(Cmp, f64)> = [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Le, Cmp::Gt, Cmp::Ge]
+        .into_iter()
+        .flat_map(|op| [0.0, 1.0, 2.0, 3.0].map(|v| (op, v)))
+        .collect();
+    let (mut accepted, mut refused) = (0, 0);
+    for omega in [[0.1, 10.0, 0.1], [0.1, 0.1, 10.0]] {
+        for duration in [0.5, 1.0, 1.5, 2.5, 3.0, 3.5, 5.0, 6.0, 9.0] {
+            let scene = |d: f64| Scene {
+                id: "s".into(),
+                title: None,
+                inertia: [1.0, 2.0, 3.0],
+                omega,
+                duration: d,
+                show: vec![Panel::Omega],
+                time_unit: "s".into(),
+            };
+            let short = measure_scene(&scene(duration), Method::Exact).unwrap();
+            let long = measure_scene(&scene(duration * 4.0), Method::Exact).unwrap();
+            for &(op, value) in &conditions {
+                // The condition, and its complement as the other choice.
+                let when = Condition {
+                    measure: Measure::Flips,
+                    op,
+                    value,
+                };
+                let other = Condition {
+                    op: match op {
+                        Cmp::Eq => Cmp::Ne,
+                        Cmp::Ne => Cmp::Eq,
+                        Cmp::Lt => Cmp::Ge,
+                        Cmp::Le => Cmp::Gt,
+                        Cmp::Gt => Cmp::Le,
+                        Cmp::Ge => Cmp::Lt,
+                    },
+                    ..when
+                };
+                let prompt = Prompt {
+                    id: "p".into(),
+                    question: text("?"),
+                    scene: "s".into(),
+                    explain: None,
+                    tags: vec![],
+                    answer: Answer::Choice {
+                        expected: "a".into(),
+                        choices: vec![
+                            Choice {
+                                id: "a".into(),
+                                label: text("a"),
+                                when,
+                            },
+                            Choice {
+                                id: "b".into(),
+                                label: text("b"),
+                                when: other,
+                            },
+                        ],
+                    },
+                };
+                let expected = Prediction::Choice(0);
+                if audit(&prompt, &scene(duration), &short).is_none() {
+                    accepted += 1;
+                    let now = verdict(&prompt, &short, expected);
+                    let later = verdict(&prompt, &long, expected);
+                    assert!(
+                        now.correct && later.correct,
+                        "ω₀ = {omega:?}, {duration} s, flips {} {value}: accepted, \
+                         but right now: {}, in a 4× run: {} ({:?} flips)",
+                        op.as_str(),
+                        now.correct,
+                        later.correct,
+                        long.get(Measure::Flips)
+                    );
+                } else {
+                    refused += 1;
+                }
+            }
+        }
+    }
+    assert!(accepted > 50 && refused > 50, "{accepted} {refused}");
+}

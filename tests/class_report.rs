@@ -27,7 +27,7 @@ fn text(b: &[u8]) -> String {
 }
 
 /// Learner `i`'s reviews of two bundled cards: every learner learns both;
-/// learners with `i % 4 == 0` then forget `torque-free-meaning` on review,
+/// learners with `i.is_multiple_of(4)` then forget `torque-free-meaning` on review,
 /// the others recall it; `body-frame-why` is always recalled. The last
 /// difficulty of `torque-free-meaning` is `4 + i % 3`.
 pub fn reviews_json(i: usize) -> String {
@@ -43,7 +43,7 @@ pub fn reviews_json(i: usize) -> String {
         (
             "torque-free-meaning",
             "2026-01-03T10:00:00.000Z",
-            if i % 4 == 0 { 1 } else { 3 },
+            if i.is_multiple_of(4) { 1 } else { 3 },
             "review",
             4.0 + (i % 3) as f64,
         ),
@@ -77,15 +77,19 @@ pub fn reviews_json(i: usize) -> String {
 }
 
 /// Learner `i`'s attempts at `middle-axis`, as CSV: the first is right when
-/// `i % 3 == 0`, else `stable`; a later attempt is always right (it must
+/// `i.is_multiple_of(3)`, else `stable`; a later attempt is always right (it must
 /// not count).
 pub fn attempts_csv(i: usize) -> String {
-    let first = if i % 3 == 0 { "flips" } else { "stable" };
+    let first = if i.is_multiple_of(3) {
+        "flips"
+    } else {
+        "stable"
+    };
     format!(
         "deck,prompt,attempted_at,prediction,measured,correct\n\
          {DECK},middle-axis,2026-01-02T10:00:00.000Z,{first},2,{}\n\
          {DECK},middle-axis,2026-01-05T10:00:00.000Z,flips,2,true\n",
-        i % 3 == 0
+        i.is_multiple_of(3)
     )
 }
 
@@ -139,8 +143,8 @@ fn a_class_of_twelve_is_aggregated_in_the_terminal_csv_and_html() {
     let out = flipcard(dir.path(), &argv);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let term = text(&out.stdout);
-    let lapsers = (0..n).filter(|i| i % 4 == 0).count();
-    let right = (0..n).filter(|i| i % 3 == 0).count();
+    let lapsers = (0..n).filter(|i| i.is_multiple_of(4)).count();
+    let right = (0..n).filter(|i| i.is_multiple_of(3)).count();
     assert!(
         term.contains(&format!(
             "{n} learner files of reviews, {n} learner files of prompt attempts"

@@ -1,10 +1,11 @@
-//! Property: whatever is done to the bundled deck's files, the loader never
+//! Property: whatever is done to a bundled deck's files, the loader never
 //! panics, and every diagnostic points at a real place: an existing file,
 //! a line of it (or the line after the last, for the end of the file) and
 //! a column within that line (or just after its end).
 //!
-//! The deck (`decks/torque-free-rotation.toml`) and its two content files
-//! are copied to a temporary folder with a few random mutations in some of
+//! A bundled deck (`decks/torque-free-rotation.toml`, or
+//! `decks/oscillations.toml` with its system scenes written as equations)
+//! and its two content files are copied to a temporary folder with a few random mutations in some of
 //! them — flipped bits, lines deleted, duplicated or swapped, the file cut
 //! short, TOML fragments, quotes, brackets, escapes, huge numbers and
 //! Unicode inserted anywhere or inside strings, values replaced — and
@@ -28,10 +29,18 @@ use proptest::sample::Index;
 /// Cases run when `PROPTEST_CASES` is not set.
 const DEFAULT_CASES: u32 = 256;
 
-const DECK: &str = "decks/torque-free-rotation.toml";
-const CONTENT: [&str; 2] = [
-    "content/torque-free-rotation/en.toml",
-    "content/torque-free-rotation/hi-Latn.toml",
+/// Each bundled deck: its deck file and its two content files.
+const DECKS: [[&str; 3]; 2] = [
+    [
+        "decks/torque-free-rotation.toml",
+        "content/torque-free-rotation/en.toml",
+        "content/torque-free-rotation/hi-Latn.toml",
+    ],
+    [
+        "decks/oscillations.toml",
+        "content/oscillations/en.toml",
+        "content/oscillations/hi-Latn.toml",
+    ],
 ];
 
 /// Pieces that reach the parser's and the validator's corners.
@@ -298,12 +307,12 @@ proptest! {
 
     #[test]
     fn mutated_decks_load_without_panics_and_with_real_locations(
+        deck in 0..DECKS.len(),
         files in 1u8..8,
         mutations in proptest::collection::vec(mutation(), 1..5),
     ) {
         let dir = tempfile::tempdir().unwrap();
-        let rels = [DECK, CONTENT[0], CONTENT[1]];
-        for (i, rel) in rels.iter().enumerate() {
+        for (i, rel) in DECKS[deck].iter().enumerate() {
             let mut bytes = bundled(rel);
             if files & (1 << i) != 0 {
                 for m in &mutations {
@@ -324,14 +333,31 @@ proptest! {
 /// The unmutated copy loads cleanly, so the failures above are the
 /// mutations' doing.
 #[test]
-fn the_unmutated_copy_is_valid() {
-    let dir = tempfile::tempdir().unwrap();
-    for rel in [DECK, CONTENT[0], CONTENT[1]] {
-        let path = dir.path().join(rel);
-        fs::create_dir_all(path.parent().unwrap()).unwrap();
-        fs::write(&path, bundled(rel)).unwrap();
+fn the_unmutated_copies_are_valid() {
+    for files in DECKS {
+        let dir = tempfile::tempdir().unwrap();
+        for rel in files {
+            let path = dir.path().join(rel);
+            fs::create_dir_all(path.parent().unwrap()).unwrap();
+            fs::write(&path, bundled(rel)).unwrap();
+        }
+        let loaded = flipcard::deck::load_dir(&dir.path().join("decks"));
+        assert_eq!(loaded.errors(), 0, "{}", loaded.render_all());
+        assert_eq!(loaded.decks.len(), 1);
     }
-    let loaded = flipcard::deck::load_dir(&dir.path().join("decks"));
-    assert_eq!(loaded.errors(), 0, "{}", loaded.render_all());
-    assert_eq!(loaded.decks.len(), 1);
+}
+
+/// A deck added to decks/ is mutated too.
+#[test]
+fn every_bundled_deck_is_covered() {
+    let decks = Path::new(env!("CARGO_MANIFEST_DIR")).join("decks");
+    let mut bundled: Vec<String> = fs::read_dir(&decks)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| format!("decks/{}", e.file_name().to_string_lossy()))
+        .collect();
+    bundled.sort();
+    let mut covered: Vec<String> = DECKS.iter().map(|d| d[0].to_string()).collect();
+    covered.sort();
+    assert_eq!(bundled, covered);
 }

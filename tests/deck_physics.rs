@@ -4,14 +4,18 @@
 //! measurements; for a number, the measured value is within the prompt's
 //! tolerance of the expected one. Each is checked with the exact solver and
 //! again with the adaptive one, so a wrong answer cannot hide behind one
-//! method.
+//! method; a system scene (equations written in the deck, with no exact
+//! solution) with `auto` and again with `radau`.
 
 use flipcard::deck::Measure;
-use flipcard::deck::{Answer, Deck};
+use flipcard::deck::{Answer, Deck, Prompt};
 use flipcard::predict::{Prediction, verdict};
 use flipcard::sim::Method;
 use flipcard::sim::rigid::formula;
+use flipcard::sim::scene::measure::Measurements;
 use flipcard::sim::scene::measure_scene;
+use flipcard::sim::scene::system::SystemRun;
+use flipcard::sim::solvers::ode::{OdeKind, OdeMethod};
 
 fn decks() -> Vec<Deck> {
     let loaded = flipcard::deck::bundled::load();
@@ -20,16 +24,53 @@ fn decks() -> Vec<Deck> {
     loaded.decks
 }
 
-fn check(method: Method) {
+/// The measures a prompt's answer depends on.
+fn prompt_measures(prompt: &Prompt) -> Vec<Measure> {
+    let mut measures = match &prompt.answer {
+        Answer::Choice { choices, .. } => choices.iter().map(|c| c.when.measure).collect(),
+        Answer::Number { measure, .. } => vec![*measure],
+    };
+    measures.sort();
+    measures.dedup();
+    measures
+}
+
+/// The measurements of a prompt's scene: a rigid body with `rigid`, a
+/// system with `system` at its default setting for the scene.
+fn measure_prompt(deck: &Deck, prompt: &Prompt, rigid: Method, system: OdeKind) -> Measurements {
+    if let Some(scene) = deck.scene(&prompt.scene) {
+        return measure_scene(scene, rigid)
+            .unwrap_or_else(|e| panic!("{}: scene {} does not run: {e}", prompt.id, scene.id));
+    }
+    let scene = deck
+        .system(&prompt.scene)
+        .unwrap_or_else(|| panic!("{}: no scene {}", prompt.id, prompt.scene));
+    let measures = prompt_measures(prompt);
+    let method = OdeMethod::default_for(system, scene.duration);
+    let mut run = SystemRun::new(scene, method, &measures)
+        .unwrap_or_else(|e| panic!("{}: scene {} does not compile: {e}", prompt.id, scene.id));
+    run.run_to_end()
+        .unwrap_or_else(|e| panic!("{}: scene {} does not run: {e}", prompt.id, scene.id));
+    let m = run.measurements(&measures);
+    for measure in measures {
+        assert!(
+            m.get(measure).is_some(),
+            "{}: {measure} cannot be measured: {:?}",
+            prompt.id,
+            run.measure(measure)
+        );
+    }
+    m
+}
+
+fn check(method: Method, system: OdeKind) {
     let mut checked = 0;
+    let mut systems = 0;
     let mut problems = Vec::new();
     for deck in decks() {
         for prompt in &deck.prompts {
-            let scene = deck
-                .scene(&prompt.scene)
-                .unwrap_or_else(|| panic!("{}: no scene {}", prompt.id, prompt.scene));
-            let m = measure_scene(scene, method)
-                .unwrap_or_else(|e| panic!("{}: scene {} does not run: {e}", prompt.id, scene.id));
+            let m = measure_prompt(&deck, prompt, method, system);
+            systems += usize::from(deck.system(&prompt.scene).is_some());
             let expected = Prediction::expected(prompt)
                 .unwrap_or_else(|| panic!("{}: expected names no choice", prompt.id));
             let v = verdict(prompt, &m, expected);
@@ -41,7 +82,7 @@ fn check(method: Method) {
                         problems.push(format!(
                             "{} ({}): expected {expected}, but {holding:?} hold on {:?}",
                             prompt.id,
-                            scene.id,
+                            prompt.scene,
                             m.values()
                         ));
                     }
@@ -51,10 +92,9 @@ fn check(method: Method) {
                 } => {
                     if !v.correct {
                         problems.push(format!(
-                            "{} ({}): expected {} = {expected}, measured {:?}",
+                            "{} ({}): expected {measure} = {expected}, measured {:?}",
                             prompt.id,
-                            scene.id,
-                            measure.name(),
+                            prompt.scene,
                             m.get(*measure)
                         ));
                     }
@@ -64,25 +104,29 @@ fn check(method: Method) {
         }
     }
     assert!(checked >= 9, "only {checked} prompts");
-    assert!(problems.is_empty(), "{method:?}:\n{}", problems.join("\n"));
+    assert!(systems >= 8, "only {systems} prompts on system scenes");
+    assert!(
+        problems.is_empty(),
+        "{method:?}, {system:?}:\n{}",
+        problems.join("\n")
+    );
 }
 
 #[test]
 fn every_expected_answer_is_what_the_exact_solution_gives() {
-    check(Method::Exact);
+    check(Method::Exact, OdeKind::Auto);
 }
 
 #[test]
 fn every_expected_answer_is_what_the_adaptive_solver_gives() {
-    check(Method::Adaptive { tol: 1e-10 });
+    check(Method::Adaptive { tol: 1e-10 }, OdeKind::Radau);
 }
 
 #[test]
 fn a_wrong_prediction_is_judged_wrong() {
     for deck in decks() {
         for prompt in &deck.prompts {
-            let scene = deck.scene(&prompt.scene).unwrap();
-            let m = measure_scene(scene, Method::Exact).unwrap();
+            let m = measure_prompt(&deck, prompt, Method::Exact, OdeKind::Auto);
             let wrong = match &prompt.answer {
                 Answer::Choice { choices, expected } => {
                     Prediction::Choice(choices.iter().position(|c| &c.id != expected).unwrap())

@@ -16,6 +16,7 @@ mod class_report;
 mod cli_output;
 mod deck_library;
 mod deck_mutations;
+mod deck_oscillations;
 mod deck_physics;
 mod doc_examples;
 mod exam_plan;

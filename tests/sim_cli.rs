@@ -436,16 +436,29 @@ fn list_names_every_bundled_scene_with_its_setup() {
     for line in text.lines() {
         let fields: Vec<&str> = line.split('\t').collect();
         assert_eq!(fields.len(), 7, "{line}");
-        let inertia: Vec<f64> = fields[2]
-            .strip_prefix("inertia=")
-            .unwrap()
-            .split(',')
-            .map(|v| v.parse().unwrap())
-            .collect();
-        assert!(flipcard::sim::Body::new([inertia[0], inertia[1], inertia[2]]).is_ok());
+        if let Some(variables) = fields[2].strip_prefix("variables=") {
+            // A system scene: one finite initial value per variable.
+            let initial: Vec<f64> = fields[3]
+                .strip_prefix("initial=")
+                .unwrap()
+                .split(',')
+                .map(|v| v.parse().unwrap())
+                .collect();
+            assert_eq!(initial.len(), variables.split(',').count(), "{line}");
+            assert!(initial.iter().all(|v| v.is_finite()), "{line}");
+        } else {
+            let inertia: Vec<f64> = fields[2]
+                .strip_prefix("inertia=")
+                .unwrap()
+                .split(',')
+                .map(|v| v.parse().unwrap())
+                .collect();
+            assert!(flipcard::sim::Body::new([inertia[0], inertia[1], inertia[2]]).is_ok());
+        }
         assert!(fields[5].starts_with("show="), "{line}");
     }
     assert!(text.contains("middle-axis-spin\t"), "{text}");
+    assert!(text.contains("pendulum-170\toscillations\t"), "{text}");
 }
 
 #[test]

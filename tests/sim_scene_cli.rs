@@ -128,3 +128,23 @@ fn extreme_scene_values_are_reported_with_exponents() {
         "{list}"
     );
 }
+
+/// A scene whose prompt expects what the run does not show exits 1 and
+/// says why under the prompt; the bundled scenes, all right, exit 0.
+#[test]
+fn a_wrong_expected_answer_fails_the_scene() {
+    let deck = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/decks/invalid/answer-contradicts-run/decks"
+    );
+    let (ok, out, _) = sim(&["--scene", "sc1", "--deck", deck]);
+    assert!(!ok, "{out}");
+    assert!(out.contains("p1: expected repeatedly: WRONG"), "{out}");
+    assert!(
+        out.contains("make the run longer than two flip periods"),
+        "{out}"
+    );
+    let (ok, out, err) = sim(&["--scene", "middle-axis-spin"]);
+    assert!(ok, "{out}{err}");
+    assert!(out.contains("middle-axis: expected flips: ok"), "{out}");
+}

@@ -165,6 +165,20 @@ fn bundled_deck() -> Deck {
         .unwrap_or_else(|| panic!("bundled deck {DECK} not found"))
 }
 
+/// Moves the home screen's selection down to DECK: the home screen lists
+/// the bundled decks in the order they load.
+fn select_deck(t: &Tmux) {
+    let loaded = flipcard::deck::bundled::load();
+    let index = loaded
+        .decks
+        .iter()
+        .position(|d| d.id == DECK)
+        .unwrap_or_else(|| panic!("bundled deck {DECK} not found"));
+    for _ in 0..index {
+        t.keys(&["j"]);
+    }
+}
+
 /// The first words of a text as the screen shows it (math rendered).
 fn opening(text: &str, words: usize) -> String {
     flipcard::text::render(text)
@@ -231,6 +245,7 @@ fn review_undo_hinglish_prompt_verdict_and_export() {
     t.wait_for("last studied");
 
     // Review: the first three new cards in deck order.
+    select_deck(&t);
     t.keys(&["Enter"]);
     let cards: Vec<_> = deck.cards.iter().take(3).collect();
     let ratings = ["3", "1", "4"];
@@ -285,8 +300,16 @@ fn review_undo_hinglish_prompt_verdict_and_export() {
     t.keys(&[&number, "Enter"]);
     // Speed the run up ×8, then wait for the verdict.
     t.keys(&["+", "+", "+"]);
-    let s = t.wait_for("Faisla");
-    assert!(s.contains("Sahi!"), "the expected choice is right:\n{s}");
+    let s = t.wait_for("✓ Sahi ✓");
+    // What this run showed, with the flip times, and the run's keys.
+    assert!(
+        s.contains("is 8 s ke run mein: 3 baar palta: 1.49, 4.24 aur 7.00 s par"),
+        "{s}"
+    );
+    assert!(s.contains("n agla prompt"), "{s}");
+    // `n`: the next prompt, ready for a new prediction.
+    t.keys(&["n"]);
+    t.wait_for(&opening(deck.prompts[index + 1].question.get("hi-Latn"), 4));
 
     // Quit from the prompt: back, back, quit.
     t.keys(&["q"]);

@@ -84,6 +84,9 @@ pub struct ReviewArgs {
 pub struct CheckArgs {
     /// Deck files or folders of decks (default: the bundled decks/).
     pub paths: Vec<PathBuf>,
+    /// Skip running each prompt's scene to check its expected answer.
+    #[arg(long)]
+    pub no_simulate: bool,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

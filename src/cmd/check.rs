@@ -15,7 +15,7 @@ use crate::text::plural;
 pub fn run(cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
     if args.paths.is_empty() {
         // Every deck source: what the app would open.
-        return report(&crate::cmd::library::load(cli).loaded);
+        return report(crate::cmd::library::load(cli).loaded, args.no_simulate);
     }
     let paths = args.paths.clone();
     // A dangling link is there; the loader says where it points.
@@ -45,11 +45,18 @@ pub fn run(cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
             );
         }
     }
-    report(&load_paths(&paths))
+    report(load_paths(&paths), args.no_simulate)
 }
 
-/// Every diagnostic on stderr, then the summary or the error count.
-fn report(loaded: &Loaded) -> anyhow::Result<ExitCode> {
+/// Every diagnostic on stderr (with each prompt's answer judged against its
+/// scene's run unless `no_simulate`), then the summary or the error count.
+fn report(mut loaded: Loaded, no_simulate: bool) -> anyhow::Result<ExitCode> {
+    if !no_simulate {
+        // Each prompt's answer against its scene's run, where the author
+        // looks: at the prompt's `expected` line.
+        let judged = crate::predict::audit::check_loaded(&loaded);
+        loaded.diagnostics.extend(judged);
+    }
     if !loaded.diagnostics.is_empty() {
         crate::errln!("{}", loaded.render_all());
     }
@@ -61,7 +68,7 @@ fn report(loaded: &Loaded) -> anyhow::Result<ExitCode> {
         );
         return Ok(ExitCode::from(1));
     }
-    crate::outln!("{}", summary(loaded))?;
+    crate::outln!("{}", summary(&loaded))?;
     Ok(ExitCode::SUCCESS)
 }
 

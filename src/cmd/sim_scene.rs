@@ -9,6 +9,7 @@ use anyhow::{Context, bail};
 
 use crate::cmd::args::{Cli, SimArgs};
 use crate::deck::{Answer, Deck, Loaded, Measure, Prompt, Scene, load_paths};
+use crate::predict::audit::audit;
 use crate::predict::{Prediction, verdict};
 use crate::sim::scene::measure::{Measurements, formula_name};
 use crate::sim::scene::measure_scene;
@@ -117,7 +118,18 @@ pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
     let measured =
         measure_scene(scene, m).with_context(|| format!("scene {id} with {}", m.name()))?;
     crate::out!("{}", report(deck, scene, &measured, m.name()))?;
-    Ok(ExitCode::SUCCESS)
+    // An answer the run contradicts is an error in the deck, as `check`
+    // reports it.
+    let wrong = deck
+        .prompts
+        .iter()
+        .filter(|p| p.scene == scene.id)
+        .any(|p| audit(p, scene, &measured).is_some());
+    Ok(if wrong {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
 fn report(deck: &Deck, scene: &Scene, m: &Measurements, method: &str) -> String {
@@ -159,18 +171,23 @@ fn report(deck: &Deck, scene: &Scene, m: &Measurements, method: &str) -> String 
         let _ = writeln!(out, "prompts:");
     }
     for p in prompts {
-        let _ = writeln!(out, "  {}", prompt_line(p, m));
+        let problem = audit(p, scene, m);
+        let _ = writeln!(out, "  {}", prompt_line(p, m, problem.is_none()));
+        if let Some(problem) = problem {
+            let _ = writeln!(out, "    {}", problem.message);
+        }
     }
     out
 }
 
 /// `middle-axis: expected flips: holds (flips = 3: flips > 0)`.
-pub(super) fn prompt_line(p: &Prompt, m: &Measurements) -> String {
+/// `ok`: the run agrees with the expected answer (see [`audit`]).
+pub(super) fn prompt_line(p: &Prompt, m: &Measurements, ok: bool) -> String {
     let Some(prediction) = Prediction::expected(p) else {
         return format!("{}: expected answer names no choice", p.id);
     };
     let v = verdict(p, m, prediction);
-    let status = if v.correct { "ok" } else { "WRONG" };
+    let status = if ok { "ok" } else { "WRONG" };
     match &p.answer {
         Answer::Choice { choices, expected } => {
             let holding: Vec<String> = v

@@ -246,8 +246,8 @@ fn report(deck: &Deck, scene: &SystemScene, method: OdeMethod) -> anyhow::Result
     for p in prompts {
         let line = match Prediction::expected(p) {
             Some(pr) => {
-                let _ = verdict(p, &measured, pr);
-                crate::cmd::sim_scene::prompt_line(p, &measured)
+                let ok = verdict(p, &measured, pr).correct;
+                crate::cmd::sim_scene::prompt_line(p, &measured, ok)
             }
             None => format!("{}: expected answer names no choice", p.id),
         };

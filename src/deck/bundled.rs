@@ -2,7 +2,7 @@
 //! `content/` as they were at build time (see `build.rs`), so flipcard
 //! works wherever it is copied.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use super::files::Memory;
 use super::load::{Loaded, load_tree};
@@ -24,14 +24,6 @@ pub fn tree() -> Memory {
     )
 }
 
-/// The bytes of one bundled file.
-pub fn file(path: &Path) -> Option<&'static [u8]> {
-    embedded::FILES
-        .iter()
-        .find(|(p, _)| Path::new(p) == path)
-        .map(|(_, bytes)| *bytes)
-}
-
 /// Every bundled deck, loaded and checked.
 pub fn load() -> Loaded {
     load_tree(&tree(), &[PathBuf::from(DECKS)])
@@ -40,6 +32,7 @@ pub fn load() -> Loaded {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
 
     #[test]
     fn the_bundled_decks_are_the_repository_files() {

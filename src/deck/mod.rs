@@ -12,6 +12,7 @@ pub mod diag;
 pub mod files;
 pub mod load;
 pub mod model;
+pub mod places;
 pub mod raw;
 mod read;
 pub mod report;

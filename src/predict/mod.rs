@@ -2,8 +2,10 @@
 //! scene's run measured. The measuring is the simulator's; the grading is
 //! here, between the deck's prompt and the measurements.
 
+pub mod audit;
+
 use crate::deck::{Answer, Measure, Prompt};
-use crate::sim::scene::measure::{Measurements, Reading};
+use crate::sim::scene::measure::{Evidence, Measurements, Reading};
 
 /// What the learner committed to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -40,6 +42,9 @@ pub struct Verdict {
     /// The readings the prompt depends on (its conditions' measures, or the
     /// number's measure), with their formula values.
     pub readings: Vec<Reading>,
+    /// What the run showed besides the numbers (its length, the flip
+    /// times), so the verdict says no more than that.
+    pub evidence: Evidence,
 }
 
 /// Judges `prediction` against the measurements of the prompt's scene: a
@@ -67,6 +72,7 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
                     .into_iter()
                     .filter_map(|x| m.reading(x).copied())
                     .collect(),
+                evidence: m.evidence().clone(),
             }
         }
         Answer::Number {
@@ -82,6 +88,7 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
                 holding: Vec::new(),
                 right_choice: None,
                 readings: reading.into_iter().collect(),
+                evidence: m.evidence().clone(),
             }
         }
     }

@@ -696,6 +696,30 @@ language = "hi-Latn"
     }
 
     #[test]
+    fn deck_paths_and_sync_dir_are_taken_from_the_config_folder() {
+        let c = Config::parse(
+            "deck_paths = ['course/decks', '/srv/decks']\nsync_dir = 'Sync'\n",
+            Path::new("/home/a/.config/flipcard/config.toml"),
+        )
+        .unwrap();
+        assert_eq!(
+            c.deck_paths,
+            [
+                PathBuf::from("/home/a/.config/flipcard/course/decks"),
+                PathBuf::from("/srv/decks")
+            ]
+        );
+        assert_eq!(
+            c.sync_dir,
+            Some(PathBuf::from("/home/a/.config/flipcard/Sync"))
+        );
+        let e = parse("deck_paths = ['ok', ' ']\n").unwrap_err().to_string();
+        assert!(e.contains("`deck_paths[1]`: an empty path"), "{e}");
+        let e = parse("sync_dir = 3\n").unwrap_err().to_string();
+        assert!(e.contains("sync_dir"), "{e}");
+    }
+
+    #[test]
     fn unknown_key_is_named() {
         let e = parse("desired_retention = 0.9\nnew_per_dya = 3\n").unwrap_err();
         let msg = e.to_string();

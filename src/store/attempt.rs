@@ -57,6 +57,28 @@ impl Store {
             })
             .map_err(|e| self.err(e))
     }
+
+    /// Whether the latest attempt at each prompt of `deck` was right, by
+    /// prompt id; prompts never attempted are absent.
+    pub fn last_attempts(
+        &self,
+        deck: &str,
+    ) -> Result<std::collections::HashMap<String, bool>, StoreError> {
+        // The latest by time, the later-logged on a tie.
+        let mut st = self
+            .conn
+            .prepare_cached(
+                "SELECT prompt, correct FROM prompt_attempt AS a WHERE deck = ?1 AND id = \
+                 (SELECT b.id FROM prompt_attempt AS b WHERE b.deck = a.deck AND \
+                 b.prompt = a.prompt ORDER BY b.attempted_at DESC, b.id DESC LIMIT 1)",
+            )
+            .map_err(|e| self.err(e))?;
+        st.query_map([deck], |r| {
+            Ok((r.get::<_, String>(0)?, r.get::<_, bool>(1)?))
+        })
+        .and_then(|rows| rows.collect())
+        .map_err(|e| self.err(e))
+    }
 }
 
 impl Store {

@@ -304,6 +304,14 @@ pub const NO_DECK: &str = "(deck not loaded)";
 /// The tag of cards without tags.
 pub const NO_TAG: &str = "(no tag)";
 
+/// Per card across the class: learners, lapsed, difficulty sum, learners
+/// with a difficulty.
+type CardTally = (usize, usize, f64, usize);
+/// Per prompt across the class: learners, right, wrong first predictions.
+type PromptTally = (usize, usize, BTreeMap<String, usize>);
+/// One learner's card: lapsed, and the last difficulty with its time.
+type MyCard = (bool, Option<(DateTime<Utc>, f64)>);
+
 /// Aggregates learners' exports. `decks` give prompt texts, choice labels
 /// and tags; `only` keeps one deck.
 pub fn aggregate(
@@ -316,17 +324,15 @@ pub fn aggregate(
     let deck_by_id: HashMap<&str, &Deck> = decks.iter().map(|d| (d.id.as_str(), d)).collect();
     let mut report = ClassReport::default();
     // (deck, card, direction) -> (learners, lapsed, difficulty sum, with difficulty)
-    let mut cards: BTreeMap<(String, String, String), (usize, usize, f64, usize)> = BTreeMap::new();
-    let mut prompts: BTreeMap<(String, String), (usize, usize, BTreeMap<String, usize>)> =
-        BTreeMap::new();
+    let mut cards: BTreeMap<(String, String, String), CardTally> = BTreeMap::new();
+    let mut prompts: BTreeMap<(String, String), PromptTally> = BTreeMap::new();
     let mut tags: BTreeMap<String, (usize, usize, usize)> = BTreeMap::new();
     for export in exports {
         match export {
             Export::Reviews(rows) => {
                 report.review_files += 1;
                 // Per card of this learner: lapsed, last difficulty (by time).
-                let mut mine: HashMap<(&str, &str, &str), (bool, Option<(DateTime<Utc>, f64)>)> =
-                    HashMap::new();
+                let mut mine: HashMap<(&str, &str, &str), MyCard> = HashMap::new();
                 let mut my_tags: HashMap<String, ()> = HashMap::new();
                 for r in rows
                     .iter()
@@ -517,6 +523,9 @@ mod tests {
                    d,p,yesterday,b,,false\n";
         let e = parse(csv).unwrap_err();
         assert_eq!(e.line, 3, "{e}");
-        assert!(e.message.contains("attempted_at"), "{e}");
+        assert!(
+            e.message.contains("time \"yesterday\" is not RFC 3339"),
+            "{e}"
+        );
     }
 }

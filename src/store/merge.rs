@@ -189,8 +189,7 @@ fn merge_item(
     // after the earliest incoming one.
     let mut state: Option<CardState> = live
         .iter()
-        .filter(|l| l.record.reviewed_at <= t0 && l.record.kind != ReviewKind::Cram)
-        .next_back()
+        .rfind(|l| l.record.reviewed_at <= t0 && l.record.kind != ReviewKind::Cram)
         .map(|l| l.record.after);
     let mut steps: Vec<Step> = live
         .iter()

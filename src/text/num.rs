@@ -87,6 +87,29 @@ pub fn triple(v: &[f64; 3], sep: &str) -> String {
     format!("{}{sep}{}{sep}{}", Num(v[0]), Num(v[1]), Num(v[2]))
 }
 
+/// `x` to `digits` significant digits keeping trailing zeros, for values
+/// read side by side ("1.49, 4.24 and 7.00 s"): plain within
+/// [1e-3, 1e6), with an exponent outside.
+pub fn sig(x: f64, digits: usize) -> String {
+    let digits = digits.max(1);
+    let a = x.abs();
+    if !x.is_finite() || x == 0.0 {
+        return show(x);
+    }
+    if !(1e-3..1e6).contains(&a) {
+        return format!("{:.*e}", digits - 1, x);
+    }
+    // The decimals that leave `digits` significant ones after rounding
+    // (9.996 to 3 digits is 10.0, not 9.996 → "10.00").
+    let mut decimals = (digits as i32 - 1 - a.log10().floor() as i32).max(0);
+    let text = format!("{:.*}", decimals as usize, x);
+    let rounded: f64 = text.parse().unwrap_or(x);
+    if rounded.abs() >= 10f64.powi(a.log10().floor() as i32 + 1) && decimals > 0 {
+        decimals -= 1;
+    }
+    format!("{:.*}", decimals as usize, x)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -153,5 +176,17 @@ mod tests {
             }
             x *= 7.0;
         }
+    }
+
+    #[test]
+    fn sig_keeps_trailing_zeros_to_the_digits_asked() {
+        assert_eq!(sig(7.0, 3), "7.00");
+        assert_eq!(sig(1.4913, 3), "1.49");
+        assert_eq!(sig(0.17321, 3), "0.173");
+        assert_eq!(sig(305.2, 3), "305");
+        assert_eq!(sig(9.996, 3), "10.0");
+        assert_eq!(sig(-2.5, 2), "-2.5");
+        assert_eq!(sig(0.0, 3), "0");
+        assert_eq!(sig(1.5e-5, 3), "1.50e-5");
     }
 }

@@ -85,6 +85,8 @@ pub enum Action {
     NextMethod,
     SmallerStep,
     LargerStep,
+    /// After a verdict: the deck's next prompt.
+    NextPrompt,
 
     /// Stats: show or hide the solvers' work–precision table.
     ToggleBench,

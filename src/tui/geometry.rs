@@ -1,7 +1,7 @@
-//! The 3-D geometry of the simulation panels: a box whose moments match the
-//! body's, and a camera with or without perspective.
+//! The 3-D geometry of the simulation panels: the sides of a body whose
+//! moments match the scene's, and a camera with or without perspective.
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 
 /// Half-sides (a, b, c) of a uniform box with principal moments
 /// proportional to `inertia`: I₁ ∝ b² + c², I₂ ∝ a² + c², I₃ ∝ a² + b², so
@@ -20,26 +20,6 @@ pub fn box_half_sides(inertia: [f64; 3]) -> [f64; 3] {
         return [1.0, 1.0, 1.0];
     }
     sides.map(|s| (s / longest).max(0.03))
-}
-
-/// The 8 corners and 12 edges of a box centred at the origin.
-pub fn box_edges(half: [f64; 3]) -> Vec<(Vector3<f64>, Vector3<f64>)> {
-    let corner = |i: usize| {
-        Vector3::new(
-            if i & 1 == 0 { -half[0] } else { half[0] },
-            if i & 2 == 0 { -half[1] } else { half[1] },
-            if i & 4 == 0 { -half[2] } else { half[2] },
-        )
-    };
-    let mut edges = Vec::with_capacity(12);
-    for i in 0..8usize {
-        for bit in [1usize, 2, 4] {
-            if i & bit == 0 {
-                edges.push((corner(i), corner(i | bit)));
-            }
-        }
-    }
-    edges
 }
 
 /// A camera looking at the origin: `up` is drawn vertical, the view comes
@@ -85,6 +65,17 @@ impl Camera {
         }
     }
 
+    /// Screen right, screen up and the viewing direction, as space vectors.
+    pub fn right(&self) -> Vector3<f64> {
+        self.right
+    }
+    pub fn up(&self) -> Vector3<f64> {
+        self.up
+    }
+    pub fn forward(&self) -> Vector3<f64> {
+        self.forward
+    }
+
     /// Screen position (x right, y up) and depth (positive = further away).
     pub fn project(&self, p: &Vector3<f64>) -> (f64, f64, f64) {
         let depth = p.dot(&self.forward);
@@ -97,20 +88,6 @@ impl Camera {
             None => (x, y, depth),
         }
     }
-}
-
-/// An edge on screen: its two ends and its mean depth.
-pub type ScreenEdge = ((f64, f64), (f64, f64), f64);
-
-/// The box's edges turned by `q` (body → space) and projected.
-pub fn projected_box(half: [f64; 3], q: &UnitQuaternion<f64>, camera: &Camera) -> Vec<ScreenEdge> {
-    box_edges(half)
-        .into_iter()
-        .map(|(a, b)| {
-            let (pa, pb) = (camera.project(&(q * a)), camera.project(&(q * b)));
-            ((pa.0, pa.1), (pb.0, pb.1), (pa.2 + pb.2) / 2.0)
-        })
-        .collect()
 }
 
 #[cfg(test)]
@@ -139,7 +116,6 @@ mod tests {
         let [a, b, c] = box_half_sides([1.0, 2.0, 3.0]);
         assert!(c > 0.0 && c < 0.1 && a == 1.0 && b < a, "{a} {b} {c}");
         assert_eq!(box_half_sides([0.0, 0.0, 0.0]), [1.0, 1.0, 1.0]);
-        assert_eq!(box_edges([1.0, 1.0, 1.0]).len(), 12);
     }
 
     #[test]

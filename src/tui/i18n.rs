@@ -686,3 +686,41 @@ pub fn system_word(w: SystemWord) -> Words {
         W::ErrorVsReference => Words("error vs reference", "reference se error"),
     }
 }
+
+/// The words of a prediction's verdict and of the simulation around it.
+pub mod sim_words {
+    use super::Words;
+
+    pub const RIGHT: Words = Words("Right", "Sahi");
+    pub const WRONG: Words = Words("Wrong", "Galat");
+    /// `{d}`: the run's length with its unit.
+    pub const IN_THIS_RUN: Words = Words("in this {d} run", "is {d} ke run mein");
+    pub const FLIPPED_NONE: Words = Words("did not flip", "ek baar bhi nahi palta");
+    pub const FLIPPED_ONCE: Words = Words("flipped once: at {times}", "ek baar palta: {times} par");
+    pub const FLIPPED_MANY: Words = Words(
+        "flipped {n} times: at {times}",
+        "{n} baar palta: {times} par",
+    );
+    pub const AND: Words = Words("and", "aur");
+    pub const NOT_MEASURED: Words = Words(
+        "could not be measured in this run",
+        "is run mein naapa nahi ja saka",
+    );
+    pub const FORMULA: Words = Words("formula", "formula");
+    pub const DECK_ANSWER: Words = Words("the deck's answer", "deck ka jawaab");
+    pub const WORKED: Words = Words("worked out", "hisaab");
+    pub const RIGHT_IN_RUN: Words = Words("right in this run", "is run mein sahi");
+    pub const NEXT: Words = Words("next prompt", "agla prompt");
+    pub const FLIPS: Words = Words("flips", "flips");
+    pub const GROWTH: Words = Words("|ω⊥|, log scale", "|ω⊥|, log scale");
+    pub const FORMULA_SLOPE: Words = Words("slope √k", "slope √k");
+    pub const NEVER: Words = Words("not tried", "abhi nahi");
+
+    /// The body's shape as the panel's title names it.
+    pub const SPHERE: Words = Words("sphere", "sphere (gola)");
+    pub const PLATE: Words = Words("flat plate", "patli plate");
+    pub const BLOCK: Words = Words("block", "block");
+    pub const OBLATE: Words = Words("oblate spheroid", "chapta spheroid");
+    pub const PROLATE: Words = Words("prolate spheroid", "lamba spheroid");
+    pub const NEEDLE: Words = Words("needle", "needle (sui)");
+}

@@ -33,6 +33,10 @@ impl LiveRun {
     pub fn body(&self) -> &Body {
         self.run.body()
     }
+    /// ω at t = 0.
+    pub fn omega0(&self) -> nalgebra::Vector3<f64> {
+        self.run.omega0()
+    }
     pub fn method(&self) -> Method {
         self.run.method()
     }
@@ -56,6 +60,10 @@ impl LiveRun {
     /// Why the run stopped early (a step budget, a diverging step).
     pub fn error(&self) -> Option<String> {
         self.run.error().map(ToString::to_string)
+    }
+    /// Times of the flips seen so far, for the live count and the marks.
+    pub fn flip_times(&self) -> &[f64] {
+        self.run.flip_times()
     }
     pub fn measurements(&self) -> Measurements {
         self.run.measurements()

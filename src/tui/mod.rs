@@ -13,10 +13,12 @@ pub mod i18n;
 pub mod keymap;
 pub mod live;
 pub mod live_system;
+pub mod logplot;
 pub mod memory;
 pub mod plots;
 pub mod screens;
 pub mod services;
+pub mod solid;
 pub mod system_plots;
 #[cfg(test)]
 mod testkit;

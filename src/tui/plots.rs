@@ -1,7 +1,7 @@
-//! The simulation panels, drawn on Braille canvases: ω against time, the
-//! rotating body in perspective, and the polhode on the momentum sphere.
+//! The simulation panels, drawn on Braille canvases: ω against time and
+//! the polhode on the momentum sphere (the body is drawn by `solid`).
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 use ratatui::Frame;
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Style};
@@ -12,17 +12,21 @@ use ratatui::widgets::{Block, Borders};
 
 use crate::text::num::Num;
 
-use super::geometry::{self, Camera};
+use super::geometry::Camera;
 use super::live::LiveRun;
 use super::theme::Theme;
 
 const AXIS_NAMES: [&str; 3] = ["ω₁", "ω₂", "ω₃"];
 
-fn block<'a>(title: String, theme: &Theme) -> Block<'a> {
+/// A bordered panel titled `title`, cut with "…" to the panel's `width`.
+fn block<'a>(title: String, theme: &Theme, width: u16) -> Block<'a> {
     Block::default()
         .borders(Borders::ALL)
         .border_style(theme.border())
-        .title(Span::styled(title, theme.heading()))
+        .title(fitted_title(
+            vec![Span::styled(title, theme.heading())],
+            usize::from(width.saturating_sub(2)),
+        ))
 }
 
 /// x half-range that keeps circles round in `area` (cells are about twice
@@ -33,7 +37,68 @@ fn aspect_x(area: Rect, r: f64) -> f64 {
     r * w / (2.0 * h)
 }
 
-/// ω₁, ω₂, ω₃ against time over the whole scene, drawn up to now.
+/// How each ω component is drawn without colour: solid, dotted, dashed
+/// (`on` of every `period` Braille dots along the curve), and the glyph
+/// the legend shows for it.
+const STROKES: [(f64, f64, &str); 3] = [(1.0, 1.0, "━"), (1.0, 3.0, "┅"), (5.0, 8.0, "╌")];
+
+/// The points of a polyline (data coordinates) kept by a dash pattern, the
+/// pattern measured in Braille dots on screen so it looks the same however
+/// the plot is scaled. `scale`: dots per data unit along x and y.
+pub fn dashed(points: &[(f64, f64)], scale: (f64, f64), on: f64, period: f64) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    let mut s = 0.0;
+    for w in points.windows(2) {
+        let (dx, dy) = ((w[1].0 - w[0].0) * scale.0, (w[1].1 - w[0].1) * scale.1);
+        let len = dx.hypot(dy);
+        let steps = (len * 2.0).ceil().max(1.0) as usize;
+        for k in 0..steps {
+            let f = k as f64 / steps as f64;
+            if s % period < on {
+                out.push((
+                    w[0].0 + f * (w[1].0 - w[0].0),
+                    w[0].1 + f * (w[1].1 - w[0].1),
+                ));
+            }
+            s += len / steps as f64;
+        }
+    }
+    out
+}
+
+/// A block title of `parts`, cut to `width` columns with "…" (the legend
+/// parts after the first are dropped before the name is cut).
+pub fn fitted_title(parts: Vec<Span<'static>>, width: usize) -> TextLine<'static> {
+    let total: usize = parts.iter().map(Span::width).sum();
+    if total <= width {
+        return TextLine::from(parts);
+    }
+    let Some(first) = parts.into_iter().next() else {
+        return TextLine::default();
+    };
+    if first.width() <= width {
+        return TextLine::from(first);
+    }
+    let mut text = String::new();
+    let mut used = 0;
+    for c in first.content.chars() {
+        let w = unicode_width::UnicodeWidthChar::width(c).unwrap_or(0);
+        if used + w + 1 > width {
+            break;
+        }
+        used += w;
+        text.push(c);
+    }
+    if width > 0 {
+        text.push('…');
+    }
+    TextLine::from(Span::styled(text, first.style))
+}
+
+/// ω₁, ω₂, ω₃ against time over the whole scene, drawn up to now, each
+/// flip marked where it happened. The legend is in the title and the time
+/// range on the bottom edge, so neither covers the curves; without colour
+/// the three curves are solid, dotted and dashed.
 pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
     let m = run.omega_bound().max(f64::MIN_POSITIVE) * 1.1;
     let d = run.scene().duration;
@@ -45,76 +110,73 @@ pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme:
     if points.last().is_none_or(|p| p.0 < now.t) {
         points.push((now.t, now.omega));
     }
+    let flips: Vec<f64> = run.flip_times().to_vec();
+    let mut parts = vec![Span::styled(format!(" {title} "), theme.heading())];
+    for (i, name) in AXIS_NAMES.iter().enumerate() {
+        let glyph = if theme.color { "" } else { STROKES[i].2 };
+        parts.push(Span::styled(
+            format!("{name}{glyph} "),
+            Style::new().fg(theme.axis(i)),
+        ));
+    }
+    let inner_w = area.width.saturating_sub(2) as usize;
+    let block = Block::default()
+        .borders(Borders::ALL)
+        .border_style(theme.border())
+        .title(fitted_title(parts, inner_w))
+        .title_bottom(TextLine::styled("0", Style::new().fg(dim)))
+        .title_bottom(
+            TextLine::styled(format!("{} {unit}", Num(d)), Style::new().fg(dim)).right_aligned(),
+        );
+    // A row above the curves for the flip numbers, when there is room.
+    let rows = f64::from(area.height.saturating_sub(2));
+    let top = if rows >= 5.0 {
+        m * (1.0 + 2.0 / (rows - 1.0))
+    } else {
+        m
+    };
+    let dots = (
+        f64::from(area.width.saturating_sub(2)) * 2.0 / d.max(f64::MIN_POSITIVE),
+        rows * 4.0 / (top + m),
+    );
+    let plain = !theme.color;
     let canvas = Canvas::default()
-        .block(block(title, theme))
+        .block(block)
         .marker(Marker::Braille)
         .x_bounds([0.0, d])
-        .y_bounds([-m, m])
+        .y_bounds([-m, top])
         .paint(move |ctx: &mut Context| {
             ctx.draw(&Line::new(0.0, 0.0, d, 0.0, dim));
+            // Each flip: a dotted vertical through the plot.
+            for &t in &flips {
+                let marks = dashed(&[(t, -m), (t, m)], dots, 1.0, 3.0);
+                ctx.draw(&Points {
+                    coords: &marks,
+                    color: dim,
+                });
+            }
             ctx.layer();
-            for (i, name) in AXIS_NAMES.iter().enumerate() {
+            for (i, &(on, period, _)) in STROKES.iter().enumerate() {
                 let color = theme.axis(i);
-                for w in points.windows(2) {
-                    ctx.draw(&Line::new(w[0].0, w[0].1[i], w[1].0, w[1].1[i], color));
+                let curve: Vec<(f64, f64)> = points.iter().map(|p| (p.0, p.1[i])).collect();
+                if plain && on < period {
+                    ctx.draw(&Points {
+                        coords: &dashed(&curve, dots, on, period),
+                        color,
+                    });
+                } else {
+                    for w in curve.windows(2) {
+                        ctx.draw(&Line::new(w[0].0, w[0].1, w[1].0, w[1].1, color));
+                    }
                 }
                 ctx.layer();
-                ctx.print(
-                    d * (0.02 + 0.08 * i as f64),
-                    m * 0.9,
-                    TextLine::styled(*name, Style::new().fg(color)),
-                );
             }
-            ctx.print(0.0, -m, TextLine::styled("0", Style::new().fg(dim)));
-            ctx.print(
-                d * 0.9,
-                -m,
-                TextLine::styled(format!("{} {unit}", Num(d)), Style::new().fg(dim)),
-            );
-        });
-    frame.render_widget(canvas, area);
-}
-
-/// The body as a box with matching moments, turned by q(t), in perspective.
-/// Its axes are drawn in the plot colours; the fixed angular momentum L is
-/// the vertical.
-pub fn body(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
-    let half = geometry::box_half_sides(run.scene().inertia);
-    let l_space = run.body().momentum(&Vector3::from(run.scene().omega));
-    let camera = Camera::new(l_space, Vector3::new(1.0, 0.7, 0.4), 0.35, Some(5.0));
-    let q: UnitQuaternion<f64> = run.frame().q.unwrap_or_else(UnitQuaternion::identity);
-    let r = 1.45;
-    let xr = aspect_x(area, r);
-    let edge = theme.plot(Color::White);
-    let back = theme.plot(Color::DarkGray);
-    let canvas = Canvas::default()
-        .block(block(title, theme))
-        .marker(Marker::Braille)
-        .x_bounds([-xr, xr])
-        .y_bounds([-r, r])
-        .paint(move |ctx: &mut Context| {
-            // L: fixed in space, drawn as the vertical through the centre.
-            let (_, top, _) = camera.project(&(l_space.normalize() * 1.35));
-            ctx.draw(&Line::new(0.0, 0.0, 0.0, top, back));
-            ctx.print(0.05, top, TextLine::styled("L", Style::new().fg(back)));
-            ctx.layer();
-            let mut edges = geometry::projected_box(half, &q, &camera);
-            // Far edges first, so near ones are drawn over them.
-            edges.sort_by(|a, b| b.2.total_cmp(&a.2));
-            for ((x1, y1), (x2, y2), depth) in edges {
-                let color = if depth > 0.0 { back } else { edge };
-                ctx.draw(&Line::new(x1, y1, x2, y2, color));
-            }
-            ctx.layer();
-            for i in 0..3 {
-                let mut axis = Vector3::zeros();
-                axis[i] = half[i] + 0.25;
-                let (x, y, _) = camera.project(&(q * axis));
-                ctx.draw(&Line::new(0.0, 0.0, x, y, theme.axis(i)));
+            // The flip count above each mark, clear of the curves.
+            for (k, &t) in flips.iter().enumerate().filter(|_| top > m) {
                 ctx.print(
-                    x,
-                    y,
-                    TextLine::styled(["1", "2", "3"][i], Style::new().fg(theme.axis(i))),
+                    t,
+                    top,
+                    TextLine::styled(format!("↕{}", k + 1), Style::new().fg(dim)),
                 );
             }
         });
@@ -126,7 +188,7 @@ pub fn body(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: 
 /// middle axis, the orbit's closed curve, and the path so far.
 pub fn polhode(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
     let Some(picture) = run.polhode() else {
-        frame.render_widget(block(title, theme), area);
+        frame.render_widget(block(title, theme, area.width), area);
         return;
     };
     let camera = Camera::new(
@@ -153,7 +215,7 @@ pub fn polhode(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, them
         .polhode
         .unwrap_or_else(|| picture.point(&body, &run.frame().omega));
     let canvas = Canvas::default()
-        .block(block(title, theme))
+        .block(block(title, theme, area.width))
         .marker(Marker::Braille)
         .x_bounds([-xr, xr])
         .y_bounds([-r, r])

@@ -62,6 +62,22 @@ pub fn formula_name(measure: Measure) -> &'static str {
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Measurements {
     readings: Vec<Reading>,
+    evidence: Evidence,
+}
+
+/// What a verdict shows besides the numbers, so that it claims no more
+/// than the run showed: how long the run lasted, when each flip came, and
+/// how often the motion flips (whether or not this run was long enough to
+/// see two of them).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Evidence {
+    /// Scene time the run covered.
+    pub elapsed: f64,
+    /// Times of the flips counted, in order.
+    pub flip_times: Vec<f64>,
+    /// 2K(m)/λ: the time between flips the closed form gives, `None` when
+    /// the motion never flips.
+    pub flip_interval: Option<f64>,
 }
 
 impl Measurements {
@@ -81,11 +97,18 @@ impl Measurements {
 
     /// Measurements made elsewhere (a system scene's run).
     pub fn from_readings(readings: Vec<Reading>) -> Measurements {
-        Measurements { readings }
+        Measurements {
+            readings,
+            evidence: Evidence::default(),
+        }
     }
 
     pub fn readings(&self) -> &[Reading] {
         &self.readings
+    }
+
+    pub fn evidence(&self) -> &Evidence {
+        &self.evidence
     }
 
     /// The measured values by measure.
@@ -357,7 +380,19 @@ impl Meter {
             self.last.map(|_| self.l2_drift),
             Some(0.0),
         );
-        Measurements { readings }
+        Measurements {
+            readings,
+            evidence: Evidence {
+                elapsed,
+                flip_times: self.flips.times.clone(),
+                flip_interval: flip_formula.filter(|f| f.is_finite() && *f > 0.0),
+            },
+        }
+    }
+
+    /// Flips counted so far (the live counter).
+    pub fn flips(&self) -> &[f64] {
+        &self.flips.times
     }
 }
 

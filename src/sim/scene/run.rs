@@ -391,6 +391,11 @@ impl SceneRun {
         self.solver.work()
     }
 
+    /// Times of the flips the run has seen so far, for a live count.
+    pub fn flip_times(&self) -> &[f64] {
+        self.meter.flips()
+    }
+
     /// What the run has measured so far (everything, once finished).
     pub fn measurements(&self) -> Measurements {
         self.meter.finish()

@@ -90,12 +90,28 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
     }
     let [list_area, detail] =
         Layout::vertical([Constraint::Fill(1), Constraint::Length(7)]).areas(area);
+    // The last attempt at each prompt: ✓ right, ✗ wrong, · not tried.
+    let last = app
+        .services
+        .store
+        .last_attempts(&deck.id)
+        .unwrap_or_default();
+    let room = usize::from(list_area.width).saturating_sub(2 + 4 + 2);
     let items = deck.prompts.iter().enumerate().map(|(i, p)| {
-        let question = crate::text::render(p.question.get(&app.lang));
-        let first = question.lines().next().unwrap_or("").to_string();
+        let title = deck
+            .scene(&p.scene)
+            .and_then(|s| s.title.as_ref())
+            .map(|title| crate::text::render(title.get(&app.lang)))
+            .unwrap_or_else(|| p.id.clone());
+        let (mark, style) = match last.get(&p.id) {
+            Some(true) => ("✓ ", t.good()),
+            Some(false) => ("✗ ", t.bad()),
+            None => ("· ", t.dim()),
+        };
         ListItem::new(Line::from(vec![
             Span::styled(format!("{:>2}. ", i + 1), t.dim()),
-            Span::raw(first),
+            Span::styled(mark, style),
+            Span::raw(cut(&title, room)),
         ]))
     });
     let list = List::new(items)
@@ -133,4 +149,26 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
         }
         frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), detail);
     }
+}
+
+/// `text` cut to `width` columns, ending in "…" where cut.
+fn cut(text: &str, width: usize) -> String {
+    use unicode_width::{UnicodeWidthChar, UnicodeWidthStr};
+    if text.width() <= width {
+        return text.to_string();
+    }
+    let mut out = String::new();
+    let mut used = 0;
+    for c in text.chars() {
+        let w = c.width().unwrap_or(0);
+        if used + w + 1 > width {
+            break;
+        }
+        used += w;
+        out.push(c);
+    }
+    if width > 0 {
+        out.push('…');
+    }
+    out
 }

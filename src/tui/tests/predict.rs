@@ -322,10 +322,14 @@ fn a_wrong_prediction_is_wrong_and_shows_the_right_one() {
     };
     assert!(!v.correct);
     let text = render(&app);
-    assert!(text.contains("Not quite."), "{text}");
+    assert!(text.contains("✗ Wrong ✗"), "{text}");
     assert!(
-        text.contains("It flips over and over"),
+        text.contains("right in this run: It flips over and over"),
         "the right choice is named: {text}"
+    );
+    assert!(
+        text.contains("your prediction: It stays stable"),
+        "the prediction on its own line: {text}"
     );
     assert_eq!(attempts(&app), Some((1, 0)));
 }
@@ -404,4 +408,208 @@ fn every_bundled_prompt_plays_to_a_verdict_at_any_size() {
             }
         }
     }
+}
+
+/// The bundled deck's prompt `id` on the predict screen, at `size`, with
+/// the answer `choice` committed.
+fn bundled_prompt(lang: &str, id: &str, size: (u16, u16)) -> TestApp {
+    let loaded = crate::deck::bundled::load();
+    let mut app = testkit::app(lang);
+    app.decks = loaded
+        .decks
+        .into_iter()
+        .filter(|d| d.id == "torque-free-rotation")
+        .collect();
+    app.size = size;
+    let i = app.decks[0]
+        .prompts
+        .iter()
+        .position(|p| p.id == id)
+        .unwrap_or_else(|| panic!("no prompt {id}"));
+    let state = PredictState::new(&app, 0, i);
+    app.stack.push(Screen::Predict(Box::new(state)));
+    app
+}
+
+fn play_to_the_end(app: &mut TestApp) {
+    for _ in 0..6 {
+        press(app, KeyCode::Char('+'));
+    }
+    let mut ticks = 0;
+    while app.animating() && ticks < 1000 {
+        apply_tick(app, 100);
+        ticks += 1;
+    }
+    assert_eq!(app.context(), Context::PredictVerdict);
+}
+
+/// The simulation screen at every size in both languages, mid-run (two
+/// flips counted and marked) and after the verdict: a right prediction in
+/// English, a wrong one in Hinglish.
+#[test]
+fn snapshots_of_the_simulation_at_every_size() {
+    for (lang, choice) in [(ENGLISH, '2'), (HINGLISH, '1')] {
+        for size in [(40, 12), (80, 24), (100, 30), (160, 48)] {
+            let mut app = bundled_prompt(lang, "middle-axis", size);
+            press_all(&mut app, &[KeyCode::Char(choice), KeyCode::Enter]);
+            for _ in 0..45 {
+                apply_tick(&mut app, 100);
+            }
+            let name = format!("sim_{lang}_{}x{}", size.0, size.1);
+            let screen = redact_drifts(&render(&app));
+            assert!(screen.contains("flips: 2"), "{name}: live count\n{screen}");
+            insta::assert_snapshot!(format!("{name}_run"), screen);
+            play_to_the_end(&mut app);
+            let screen = redact_drifts(&render(&app));
+            let banner = if choice == '2' {
+                "✓ Right ✓"
+            } else {
+                "✗ Galat ✗"
+            };
+            assert!(screen.contains(banner), "{name}\n{screen}");
+            insta::assert_snapshot!(format!("{name}_verdict"), screen);
+        }
+    }
+}
+
+/// The verdict says what this run showed, with the flip times, and no
+/// more; the question is never lost, only cut with "…" when rows run out.
+#[test]
+fn the_verdict_shows_the_evidence_and_the_question_survives() {
+    let mut app = bundled_prompt(ENGLISH, "middle-axis", (100, 30));
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    let screen = flat(&render(&app));
+    assert!(
+        screen.contains("Over 8 s, does it keep spinning steadily or flip?"),
+        "the question wraps in full:\n{screen}"
+    );
+    play_to_the_end(&mut app);
+    let screen = flat(&render(&app));
+    assert!(
+        screen.contains("in this 8 s run: flipped 3 times: at 1.49, 4.24 and 7.00 s"),
+        "{screen}"
+    );
+    assert!(!screen.contains("physics says"), "{screen}");
+    // The run's keys stay listed after the verdict, with `n`.
+    for k in ["n next prompt", "Space pause", "r restart", "m method"] {
+        assert!(screen.contains(k), "{k}:\n{screen}");
+    }
+    // Hinglish: the key clause of the question is there too.
+    let mut app = bundled_prompt(HINGLISH, "middle-axis", (80, 24));
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    let screen = flat(&render(&app));
+    assert!(
+        screen.contains("8 s mein steady ghoomta rahega ya palat jaayega?"),
+        "{screen}"
+    );
+    // At 40×12 the question is cut, and says so.
+    let mut app = bundled_prompt(ENGLISH, "middle-axis", (40, 12));
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    play_to_the_end(&mut app);
+    let screen = render(&app);
+    assert!(screen.contains('…'), "{screen}");
+    assert!(screen.contains("✓ Right ✓"), "{screen}");
+}
+
+/// A number answer's verdict: the e-folding time with the formula's value,
+/// the deck's answer beside it, and the growth on a log axis.
+#[test]
+fn a_growth_prompt_shows_the_growth_on_a_log_axis() {
+    let mut app = bundled_prompt(ENGLISH, "efold-time", (80, 24));
+    type_text(&mut app, "0.17");
+    press(&mut app, KeyCode::Enter);
+    play_to_the_end(&mut app);
+    let screen = redact_drifts(&render(&app));
+    assert!(screen.contains("|ω⊥|, log scale"), "{screen}");
+    assert!(
+        screen.contains("e-folding time 0.173 s, formula 1/√k = 0.173 s"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains("formula: 1/√k = 0.173 s · the deck's answer: 0.1732 s"),
+        "{screen}"
+    );
+    insta::assert_snapshot!("sim_growth_verdict_en", screen);
+}
+
+/// `n` after the verdict opens the deck's next prompt, ready for a new
+/// prediction; before the verdict it does nothing.
+#[test]
+fn n_goes_to_the_next_prompt_after_the_verdict() {
+    let mut app = bundled_prompt(ENGLISH, "middle-axis", (80, 24));
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    press(&mut app, KeyCode::Char('n'));
+    assert_eq!(predict(&app).prompt, 0, "no skipping before the verdict");
+    play_to_the_end(&mut app);
+    let depth = app.stack.len();
+    press(&mut app, KeyCode::Char('n'));
+    assert_eq!(predict(&app).prompt, 1);
+    assert_eq!(app.context(), Context::PredictChoice);
+    assert_eq!(app.stack.len(), depth, "replaced, not stacked");
+}
+
+/// The screen's text as one line: rows joined, runs of spaces made one, so
+/// a wrapped sentence reads whole.
+fn flat(screen: &str) -> String {
+    let joined: String = screen
+        .lines()
+        .map(|l| l.trim_matches('"'))
+        .collect::<Vec<_>>()
+        .join(" ");
+    joined.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// The prompt list names each prompt by its scene's title, marked with
+/// the last attempt: ✗ after a wrong prediction, ✓ once it is right, ·
+/// before any.
+#[test]
+fn the_prompt_list_marks_the_last_attempt() {
+    let mut app = open(ENGLISH, 0);
+    press(&mut app, KeyCode::Esc);
+    let list = render(&app);
+    assert!(list.contains(" 1. · Tennis racket"), "{list}");
+    press(&mut app, KeyCode::Enter);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    play_to_the_end(&mut app);
+    press(&mut app, KeyCode::Esc);
+    let list = render(&app);
+    assert!(list.contains(" 1. ✗ Tennis racket"), "{list}");
+    assert!(list.contains(" 2. · Tennis racket"), "{list}");
+    press(&mut app, KeyCode::Enter);
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    play_to_the_end(&mut app);
+    press(&mut app, KeyCode::Esc);
+    assert!(render(&app).contains(" 1. ✓ Tennis racket"));
+}
+
+/// Without colour the verdict and the plot still read: the banner by its
+/// symbol and reverse video, the three ω curves by line style (named in
+/// the legend); with colour the banner is green or red as well.
+#[test]
+fn the_verdict_and_the_plot_do_not_need_colour() {
+    use ratatui::style::{Color, Modifier};
+    let mut app = bundled_prompt(ENGLISH, "middle-axis", (80, 24));
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    play_to_the_end(&mut app);
+    let screen = render(&app);
+    assert!(screen.contains("ω₁━ ω₂┅ ω₃╌"), "{screen}");
+    let banner = |app: &TestApp| {
+        let buf = testkit::buffer(app);
+        let row = (0..24)
+            .find(|&y| (0..80).any(|x| buf[(x, y)].symbol() == "✗"))
+            .expect("a ✗ banner");
+        buf[(3, row)].style()
+    };
+    let plain = banner(&app);
+    assert!(plain.add_modifier.contains(Modifier::REVERSED), "{plain:?}");
+    assert!(
+        matches!(plain.fg, None | Some(Color::Reset)),
+        "no colour under NO_COLOR: {plain:?}"
+    );
+    app.theme = crate::tui::theme::Theme::COLOR;
+    let coloured = banner(&app);
+    assert_eq!(coloured.fg, Some(Color::Red));
+    assert!(coloured.add_modifier.contains(Modifier::REVERSED));
+    // Colour keeps the legend's names but draws every curve solid.
+    assert!(!render(&app).contains("ω₂┅"));
 }

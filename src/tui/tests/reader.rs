@@ -169,13 +169,16 @@ fn snapshots_in_both_languages() {
     }
 }
 
-/// An app on the bundled deck (the real concept map), in the reader at
-/// the concept map.
+/// An app on the bundled torque-free deck (the real concept map), in the
+/// reader at the concept map.
 fn bundled(lang: &str, size: (u16, u16)) -> TestApp {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("decks");
-    let loaded = crate::deck::load_dir(&dir);
+    let loaded = crate::deck::bundled::load();
     let mut app = testkit::app(lang);
-    app.decks = loaded.decks;
+    app.decks = loaded
+        .decks
+        .into_iter()
+        .filter(|d| d.id == "torque-free-rotation")
+        .collect();
     app.size = size;
     press(&mut app, KeyCode::Char('r'));
     while reader(&app).section < 1 {

@@ -4,12 +4,12 @@
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Paragraph, Wrap};
+use ratatui::widgets::Paragraph;
 
 use crate::deck::{Answer, Measure, Panel, Prompt};
 use crate::text::num::Num;
 use crate::tui::app::App;
-use crate::tui::i18n::Msg;
+use crate::tui::i18n::{Msg, sim_words as w};
 use crate::tui::live::LiveRun;
 use crate::tui::plots;
 use crate::tui::wrap::{Run, wrap};
@@ -117,67 +117,6 @@ fn draw_ask(
     frame.render_widget(Paragraph::new(lines), area);
 }
 
-pub(super) fn prediction_text(app: &App, prompt: &Prompt, p: Prediction) -> String {
-    match (p, &prompt.answer) {
-        (Prediction::Choice(i), Answer::Choice { choices, .. }) => choices
-            .get(i)
-            .map(|c| crate::text::render(c.label.get(&app.lang)))
-            .unwrap_or_default(),
-        (Prediction::Number(v), Answer::Number { unit, .. }) => format!("{} {unit}", fmt_value(v)),
-        _ => String::new(),
-    }
-}
-
-/// Areas for the scene's panels (diagnostics is a text line, not a panel).
-fn panel_areas(area: Rect, panels: &[Panel]) -> Vec<(Panel, Rect)> {
-    let plots: Vec<Panel> = panels
-        .iter()
-        .copied()
-        .filter(|p| *p != Panel::Diagnostics)
-        .collect();
-    let wide = area.width >= area.height * 3;
-    match plots.as_slice() {
-        [] => Vec::new(),
-        [one] => vec![(*one, area)],
-        [a, b] => {
-            let [x, y] = if wide {
-                Layout::horizontal([Constraint::Fill(1); 2]).areas(area)
-            } else {
-                Layout::vertical([Constraint::Fill(1); 2]).areas(area)
-            };
-            vec![(*a, x), (*b, y)]
-        }
-        many => {
-            // ω against time gets a full-width strip; the others share the rest.
-            let (first, rest): (Vec<Panel>, Vec<Panel>) = if many.contains(&Panel::Omega) {
-                (
-                    vec![Panel::Omega],
-                    many.iter()
-                        .copied()
-                        .filter(|p| *p != Panel::Omega)
-                        .collect(),
-                )
-            } else {
-                (Vec::new(), many.to_vec())
-            };
-            let (top, bottom) = if first.is_empty() {
-                (None, area)
-            } else {
-                let [t, b] =
-                    Layout::vertical([Constraint::Percentage(40), Constraint::Fill(1)]).areas(area);
-                (Some(t), b)
-            };
-            let mut out = Vec::new();
-            if let Some(t) = top {
-                out.push((Panel::Omega, t));
-            }
-            let cols = Layout::horizontal(vec![Constraint::Fill(1); rest.len()]).split(bottom);
-            out.extend(rest.into_iter().zip(cols.iter().copied()));
-            out
-        }
-    }
-}
-
 fn draw_play(
     frame: &mut Frame,
     area: Rect,
@@ -188,42 +127,93 @@ fn draw_play(
     verdict: Option<&Verdict>,
 ) {
     let t = &app.theme;
-    let diag = run.scene().shows(Panel::Diagnostics);
-    let verdict_h = if verdict.is_some() { 5 } else { 0 };
-    let hints_h = u16::from(verdict.is_none());
-    let [top, panels, status, diag_area, hints_area, verdict_area] = Layout::vertical([
-        Constraint::Length(2),
-        Constraint::Fill(1),
+    let width = area.width as usize;
+    let diag = u16::from(run.scene().shows(Panel::Diagnostics));
+    let verdict_lines = verdict
+        .map(|v| super::verdict::lines(app, prompt, run.scene(), prediction, v, width))
+        .unwrap_or_default();
+    let question = question_lines(app, prompt, width.saturating_sub(1).max(1));
+    // Who gives way when rows are short: the panels first, then the
+    // question's later lines; the verdict and one question line stay.
+    let before = u16::from(verdict.is_none());
+    let mut rest = area.height.saturating_sub(1 + diag + 1 + before);
+    let verdict_h = (verdict_lines.len() as u16).min(rest.saturating_sub(1));
+    rest -= verdict_h;
+    let question_min = rest.min(1);
+    rest -= question_min;
+    let mut panels_min = rest.min(6);
+    rest -= panels_min;
+    if panels_min < 3 {
+        rest += panels_min;
+        panels_min = 0;
+    }
+    let question_h = question_min + (question.len() as u16).saturating_sub(1).min(rest);
+    rest -= question_h - question_min;
+    let panels_h = panels_min + rest;
+    let [top, said, panels, status, diag_area, hints, verdict_area] = Layout::vertical([
+        Constraint::Length(question_h),
+        Constraint::Length(before),
+        Constraint::Length(panels_h),
         Constraint::Length(1),
-        Constraint::Length(u16::from(diag)),
-        Constraint::Length(hints_h),
+        Constraint::Length(diag),
+        Constraint::Length(1),
         Constraint::Length(verdict_h),
     ])
     .areas(area);
 
-    let q = crate::text::render(prompt.question.get(&app.lang));
-    frame.render_widget(
-        Paragraph::new(vec![
-            Line::styled(q, t.strong()),
-            Line::from(vec![
-                Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
-                Span::styled(prediction_text(app, prompt, prediction), t.heading()),
-            ]),
-        ]),
-        top,
-    );
+    let shown = cut_lines(question, question_h as usize, top.width as usize);
+    frame.render_widget(Paragraph::new(shown), top);
+    if verdict.is_none() {
+        frame.render_widget(
+            Paragraph::new(fit_spans(
+                vec![
+                    Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
+                    Span::styled(
+                        super::verdict::prediction_text(app, prompt, prediction),
+                        t.heading(),
+                    ),
+                ],
+                said.width as usize,
+            )),
+            said,
+        );
+    }
 
-    for (panel, rect) in panel_areas(panels, &run.scene().show) {
-        match panel {
-            Panel::Omega => plots::omega(frame, rect, run, format!(" {} ", app.tr(Msg::Omega)), t),
-            Panel::Body => plots::body(frame, rect, run, format!(" {} ", app.tr(Msg::Body)), t),
-            Panel::Polhode => {
+    // A small screen after the verdict keeps the evidence: ω (and the
+    // growth on its log scale) rather than every panel squeezed.
+    let growth = matches!(
+        prompt.answer,
+        Answer::Number {
+            measure: Measure::GrowthRate | Measure::EfoldTime,
+            ..
+        }
+    );
+    let mut panes: Vec<Pane> = run.scene().show.iter().map(|p| Pane::Scene(*p)).collect();
+    if growth {
+        let at = panes
+            .iter()
+            .position(|p| *p == Pane::Scene(Panel::Omega))
+            .map_or(0, |i| i + 1);
+        panes.insert(at, Pane::Growth);
+    }
+    if verdict.is_some() && panels.height < 12 {
+        panes.retain(|p| matches!(p, Pane::Scene(Panel::Omega) | Pane::Growth));
+    }
+    for (pane, rect) in pane_areas(panels, &panes) {
+        match pane {
+            Pane::Scene(Panel::Omega) => {
+                plots::omega(frame, rect, run, app.tr(Msg::Omega).to_string(), t)
+            }
+            Pane::Scene(Panel::Body) => crate::tui::solid::draw(frame, rect, run, &app.lang, t),
+            Pane::Scene(Panel::Polhode) => {
                 plots::polhode(frame, rect, run, format!(" {} ", app.tr(Msg::Polhode)), t)
             }
-            Panel::Diagnostics => {}
+            Pane::Scene(Panel::Diagnostics) => {}
+            Pane::Growth => crate::tui::logplot::growth(frame, rect, run, &app.lang, t),
         }
     }
 
+    let flips = run.flip_times().len();
     let mut s = vec![
         Span::styled(
             format!(
@@ -232,6 +222,10 @@ fn draw_play(
                 Num(run.scene().duration),
                 run.scene().time_unit
             ),
+            t.strong(),
+        ),
+        Span::styled(
+            format!(" · {}: {flips}", w::FLIPS.get(&app.lang)),
             t.strong(),
         ),
         Span::styled(
@@ -249,7 +243,7 @@ fn draw_play(
     if let Some(e) = run.error() {
         s.push(Span::styled(format!(" · {e}"), t.bad()));
     }
-    frame.render_widget(Paragraph::new(Line::from(s)), status);
+    frame.render_widget(Paragraph::new(fit_spans(s, status.width as usize)), status);
 
     if let Some(d) = run.diagnostics() {
         let err = d.error.map_or("—".to_string(), sci);
@@ -268,35 +262,162 @@ fn draw_play(
         if let Some(q) = d.qnorm_drift {
             line.push_str(&format!(" · ||q|−1| {}", sci(q)));
         }
-        frame.render_widget(Paragraph::new(Span::styled(line, t.dim())), diag_area);
+        frame.render_widget(
+            Paragraph::new(fit_spans(
+                vec![Span::styled(line, t.dim())],
+                diag_area.width as usize,
+            )),
+            diag_area,
+        );
     }
 
-    if verdict.is_none() {
-        hints(frame, hints_area, app);
+    // The run's keys stay listed after the verdict, with what it adds.
+    let key = |k: &'static str, what: &str| {
+        [
+            Span::styled(k, t.key()),
+            Span::styled(format!(" {what}  "), t.dim()),
+        ]
+    };
+    let mut spans = vec![Span::raw(" ")];
+    if verdict.is_some() {
+        spans.extend(key("n", w::NEXT.get(&app.lang)));
+        if prompt.explain.is_some() {
+            spans.extend(key("e", app.tr(Msg::Explanation)));
+        }
     }
-    if let Some(v) = verdict {
-        draw_verdict(frame, verdict_area, app, prompt, prediction, v);
+    spans.extend(key("Space", app.tr(Msg::Pause)));
+    spans.extend(key("+ -", app.tr(Msg::Speed)));
+    spans.extend(key("r", app.tr(Msg::Restart)));
+    spans.extend(key("m", app.tr(Msg::Method)));
+    spans.extend(key("[ ]", app.tr(Msg::Step)));
+    frame.render_widget(
+        Paragraph::new(fit_spans(spans, hints.width as usize)),
+        hints,
+    );
+    if verdict.is_some() {
+        let shown = cut_lines(
+            verdict_lines,
+            verdict_h as usize,
+            verdict_area.width as usize,
+        );
+        frame.render_widget(Paragraph::new(shown), verdict_area);
     }
 }
 
-/// The run's keys, one line.
-pub(super) fn hints(frame: &mut Frame, hints: Rect, app: &App) {
-    let t = &app.theme;
-    {
-        let key = |k: &'static str, what: Msg| {
-            [
-                Span::styled(k, t.key()),
-                Span::styled(format!(" {}  ", app.tr(what)), t.dim()),
-            ]
-        };
-        let mut spans = vec![Span::raw(" ")];
-        spans.extend(key("Space", Msg::Pause));
-        spans.extend(key("+ -", Msg::Speed));
-        spans.extend(key("r", Msg::Restart));
-        spans.extend(key("m", Msg::Method));
-        spans.extend(key("[ ]", Msg::Step));
-        frame.render_widget(Paragraph::new(Line::from(spans)), hints);
+/// What the panel area holds: the scene's panels and, for a growth-rate
+/// prompt, |ω⊥| on a logarithmic axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Pane {
+    Scene(Panel),
+    Growth,
+}
+
+/// Areas for the panes (diagnostics is a text line, not a pane).
+fn pane_areas(area: Rect, panes: &[Pane]) -> Vec<(Pane, Rect)> {
+    let plots: Vec<Pane> = panes
+        .iter()
+        .copied()
+        .filter(|p| *p != Pane::Scene(Panel::Diagnostics))
+        .collect();
+    // Below three rows a panel is all border.
+    if area.height < 3 || area.width < 3 {
+        return Vec::new();
     }
+    let wide = area.width >= area.height * 3;
+    let strip = |p: &Pane| matches!(p, Pane::Scene(Panel::Omega) | Pane::Growth);
+    match plots.as_slice() {
+        [] => Vec::new(),
+        [one] => vec![(*one, area)],
+        [a, b] => {
+            let [x, y] = if wide {
+                Layout::horizontal([Constraint::Fill(1); 2]).areas(area)
+            } else {
+                Layout::vertical([Constraint::Fill(1); 2]).areas(area)
+            };
+            vec![(*a, x), (*b, y)]
+        }
+        many => {
+            // The plots against time get a full-width strip; the others
+            // share the rest.
+            let (first, rest): (Vec<Pane>, Vec<Pane>) = many.iter().partition(|p| strip(p));
+            let (top, bottom) = if first.is_empty() {
+                (None, area)
+            } else if rest.is_empty() {
+                (Some(area), Rect::default())
+            } else {
+                let [t, b] =
+                    Layout::vertical([Constraint::Percentage(45), Constraint::Fill(1)]).areas(area);
+                (Some(t), b)
+            };
+            let mut out = Vec::new();
+            if let Some(t) = top {
+                let cols = Layout::horizontal(vec![Constraint::Fill(1); first.len()]).split(t);
+                out.extend(first.into_iter().zip(cols.iter().copied()));
+            }
+            if !rest.is_empty() {
+                let cols = Layout::horizontal(vec![Constraint::Fill(1); rest.len()]).split(bottom);
+                out.extend(rest.into_iter().zip(cols.iter().copied()));
+            }
+            out
+        }
+    }
+}
+
+/// The first `n` of `lines`, the last one ending in "…" when some were
+/// left out.
+fn cut_lines(mut lines: Vec<Line<'static>>, n: usize, width: usize) -> Vec<Line<'static>> {
+    if lines.len() <= n {
+        return lines;
+    }
+    lines.truncate(n);
+    if let Some(last) = lines.pop() {
+        let mut spans = last.spans;
+        spans.push(Span::raw("…"));
+        let used: usize = spans.iter().map(|s| s.width()).sum();
+        // Room for the ellipsis inside the width.
+        let spans = if used > width {
+            fit_spans(spans[..spans.len() - 1].to_vec(), width.saturating_sub(1))
+                .spans
+                .into_iter()
+                .chain([Span::raw("…")])
+                .collect()
+        } else {
+            spans
+        };
+        lines.push(Line::from(spans));
+    }
+    lines
+}
+
+/// Spans cut to `width` columns, ending in "…" where cut.
+fn fit_spans(spans: Vec<Span<'static>>, width: usize) -> Line<'static> {
+    use unicode_width::UnicodeWidthChar;
+    let total: usize = spans.iter().map(|s| s.width()).sum();
+    if total <= width {
+        return Line::from(spans);
+    }
+    let mut out = Vec::new();
+    let mut used = 0;
+    for s in spans {
+        let mut text = String::new();
+        for c in s.content.chars() {
+            let w = c.width().unwrap_or(0);
+            if used + w + 1 > width {
+                break;
+            }
+            used += w;
+            text.push(c);
+        }
+        let full = text.len() == s.content.len();
+        out.push(Span::styled(text, s.style));
+        if !full {
+            break;
+        }
+    }
+    if width > 0 {
+        out.push(Span::raw("…"));
+    }
+    Line::from(out)
 }
 
 /// A drift or error: "0" when exactly zero, else two significant digits.
@@ -314,96 +435,4 @@ pub(super) fn fmt_speed(speed: f64) -> String {
     } else {
         format!("1/{:.0}", 1.0 / speed)
     }
-}
-
-pub(super) fn draw_verdict(
-    frame: &mut Frame,
-    area: Rect,
-    app: &App,
-    prompt: &Prompt,
-    prediction: Prediction,
-    v: &Verdict,
-) {
-    let t = &app.theme;
-    let (headline, style) = if v.correct {
-        (app.tr(Msg::Right), t.good())
-    } else {
-        (app.tr(Msg::Wrong), t.bad())
-    };
-    let mut lines = vec![Line::from(vec![
-        Span::styled(format!(" {}: ", app.tr(Msg::Verdict)), t.heading()),
-        Span::styled(headline, style),
-        Span::styled(
-            format!(
-                "  {}: {}",
-                app.tr(Msg::YourPrediction),
-                prediction_text(app, prompt, prediction)
-            ),
-            t.text(),
-        ),
-    ])];
-    let unit = match &prompt.answer {
-        Answer::Number { unit, .. } => format!(" {unit}"),
-        Answer::Choice { .. } => String::new(),
-    };
-    let measured: Vec<String> = v
-        .readings
-        .iter()
-        .map(|r| {
-            let formula = match (r.formula_name(), r.formula) {
-                (Some(name), Some(x)) if r.measure != Measure::Flips => {
-                    format!(" ({name} = {})", fmt_value(x))
-                }
-                _ => String::new(),
-            };
-            format!(
-                "{} = {}{unit}{formula}",
-                crate::tui::i18n::measure_label(r.measure, &app.lang),
-                fmt_value(r.value)
-            )
-        })
-        .collect();
-    let measured = if measured.is_empty() {
-        vec!["—".to_string()]
-    } else {
-        measured
-    };
-    lines.push(Line::from(vec![
-        Span::styled(format!(" {}: ", app.tr(Msg::Measured)), t.dim()),
-        Span::raw(measured.join(", ")),
-    ]));
-    match &prompt.answer {
-        Answer::Number {
-            expected,
-            formula,
-            unit,
-            ..
-        } => {
-            let f = formula
-                .as_ref()
-                .map(|f| format!("{} = ", crate::text::render(f.get(&app.lang))))
-                .unwrap_or_default();
-            lines.push(Line::from(vec![
-                Span::styled(format!(" {}: ", app.tr(Msg::Formula)), t.dim()),
-                Span::raw(format!("{f}{} {unit}", fmt_value(*expected))),
-            ]));
-        }
-        Answer::Choice { choices, .. } => {
-            if let Some(c) = v.right_choice.and_then(|i| choices.get(i)) {
-                lines.push(Line::from(vec![
-                    Span::styled(format!(" {}: ", app.tr(Msg::RightAnswer)), t.dim()),
-                    Span::raw(crate::text::render(c.label.get(&app.lang))),
-                ]));
-            }
-        }
-    }
-    if prompt.explain.is_some() {
-        lines.push(Line::from(vec![
-            Span::styled(" e ", t.key()),
-            Span::styled(app.tr(Msg::Explanation), t.dim()),
-            Span::styled("   r ", t.key()),
-            Span::styled(app.tr(Msg::Restart), t.dim()),
-        ]));
-    }
-    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
 }

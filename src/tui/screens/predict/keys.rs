@@ -108,5 +108,10 @@ pub const VERDICT_KEYS: &[Binding] = &[
         Words("open the explanation", "samjhaav kholo"),
         &[(Char('e'), Action::Explain)],
     ),
+    Binding::new(
+        "n",
+        Words("next prompt", "agla prompt"),
+        &[(Char('n'), Action::NextPrompt)],
+    ),
     BACK,
 ];

@@ -15,6 +15,7 @@ use super::Nav;
 mod draw;
 mod keys;
 mod system;
+pub mod verdict;
 pub use draw::{draw, fmt_value};
 pub use keys::{CHOICE_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
 
@@ -218,6 +219,16 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                 };
             }
             Nav::Stay
+        }
+        Phase::Play {
+            verdict: Some(_), ..
+        } if action == Action::NextPrompt => {
+            let n = deck(app, state).map_or(0, |d| d.prompts.len());
+            if n == 0 {
+                return Nav::Pop;
+            }
+            let next = PredictState::new(app, state.deck, (state.prompt + 1) % n);
+            Nav::Replace(super::Screen::Predict(Box::new(next)))
         }
         Phase::Play { verdict, .. } if action == Action::Explain => {
             if verdict.is_some()

@@ -1,0 +1,92 @@
+//! Where a prompt's answer sits in its deck file, for checks made after
+//! loading (the simulation's verdict on the author's answer) to point at
+//! the line an author has to change.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use super::diag::LineIndex;
+use super::raw::{self, RawAnswer};
+use super::report::FileReport;
+use super::syntax;
+
+/// A position in a file: 1-based line and character column, and how many
+/// characters to underline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Place {
+    pub line: usize,
+    pub col: usize,
+    pub width: usize,
+}
+
+/// Where one prompt's answer is written.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct AnswerPlaces {
+    /// The `expected` value.
+    pub expected: Option<Place>,
+    /// Each choice's `when`, in the prompt's order.
+    pub when: Vec<Option<Place>>,
+}
+
+/// The answer places of every prompt of the deck file `source`, by prompt
+/// id. A file that does not parse has none (the loader reports it).
+pub fn answer_places(path: &Path, source: &str) -> HashMap<String, AnswerPlaces> {
+    let mut rep = FileReport::new(path, source);
+    let Some((root, span)) = syntax::parse(&mut rep, source) else {
+        return HashMap::new();
+    };
+    let file = raw::read_deck_file(&mut rep, &root, span);
+    let index = LineIndex::new(source);
+    let place = |span: &std::ops::Range<usize>| {
+        let (line, col) = index.position(source, span.start);
+        Place {
+            line,
+            col,
+            width: index.width(source, span),
+        }
+    };
+    file.prompts
+        .iter()
+        .filter_map(|p| {
+            let id = p.id.as_ref()?.value.clone();
+            let places = match p.answer.as_ref()? {
+                RawAnswer::Choice {
+                    expected, choices, ..
+                } => AnswerPlaces {
+                    expected: expected.as_ref().map(|e| place(&e.span)),
+                    when: choices
+                        .as_ref()
+                        .map(|l| {
+                            l.items
+                                .iter()
+                                .map(|c| c.when.as_ref().map(|w| place(&w.span)))
+                                .collect()
+                        })
+                        .unwrap_or_default(),
+                },
+                RawAnswer::Number { expected, .. } => AnswerPlaces {
+                    expected: expected.as_ref().map(|e| place(&e.span)),
+                    when: Vec::new(),
+                },
+            };
+            Some((id, places))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn places_point_at_the_expected_value_and_each_condition() {
+        let src = "[[prompt]]\nid = \"p\"\n[prompt.answer]\nkind = \"choice\"\n\
+                   expected = \"b\"\nchoices = [\n  { id = \"a\", label = 'A', when = \"flips == 0\" },\n\
+                   \x20 { id = \"b\", label = 'B', when = \"flips > 0\" },\n]\n";
+        let places = answer_places(Path::new("x.toml"), src);
+        let p = &places["p"];
+        assert_eq!(p.expected.map(|e| (e.line, e.col)), Some((5, 12)));
+        assert_eq!(p.when.len(), 2);
+        assert_eq!(p.when[1].map(|w| w.line), Some(8));
+    }
+}

@@ -1,0 +1,200 @@
+//! The verdict under the finished run: a banner that cannot be misread
+//! (✓ Right / ✗ Wrong, the symbol carrying it without colour), the
+//! learner's prediction on its own line, and what this run measured with
+//! its evidence, claiming nothing beyond the run.
+
+use ratatui::style::Modifier;
+use ratatui::text::{Line, Span};
+
+use crate::deck::{Answer, Measure, Prompt, Scene};
+use crate::predict::audit::measure_unit;
+use crate::sim::scene::measure::{Reading, formula_name};
+use crate::text::num::{Num, sig};
+use crate::tui::app::App;
+use crate::tui::i18n::{Msg, Words, sim_words as w};
+use crate::tui::wrap::{Run, wrap};
+
+use super::{Prediction, Verdict};
+
+/// "a, b and c" in the app's language.
+fn list_and(lang: &str, items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [head @ .., last] => format!("{} {} {last}", head.join(", "), w::AND.get(lang)),
+    }
+}
+
+fn fill(words: Words, lang: &str, pairs: &[(&str, &str)]) -> String {
+    pairs
+        .iter()
+        .fold(words.get(lang).to_string(), |s, (k, v)| s.replace(k, v))
+}
+
+/// "in this 8 s run: flipped 3 times: at 1.49, 4.24 and 7.00 s; …": every
+/// reading the verdict rests on, with the flip times or the formula value
+/// beside it.
+pub fn evidence(lang: &str, scene: &Scene, v: &Verdict, answer: &Answer) -> String {
+    let unit = &scene.time_unit;
+    let run = fill(
+        w::IN_THIS_RUN,
+        lang,
+        &[("{d}", &format!("{} {unit}", Num(v.evidence.elapsed)))],
+    );
+    let mut said: Vec<String> = v
+        .readings
+        .iter()
+        .map(|r| reading(lang, scene, v, r))
+        .collect();
+    if said.is_empty() {
+        let measure = match answer {
+            Answer::Number { measure, .. } => Some(*measure),
+            Answer::Choice { choices, .. } => choices.first().map(|c| c.when.measure),
+        };
+        if let Some(m) = measure {
+            said.push(format!(
+                "{} {}",
+                crate::tui::i18n::measure(m).get(lang),
+                w::NOT_MEASURED.get(lang)
+            ));
+        }
+    }
+    format!("{run}: {}", said.join("; "))
+}
+
+fn reading(lang: &str, scene: &Scene, v: &Verdict, r: &Reading) -> String {
+    let unit = &scene.time_unit;
+    if r.measure == Measure::Flips {
+        let times: Vec<String> = v.evidence.flip_times.iter().map(|&t| sig(t, 3)).collect();
+        let times = format!("{} {unit}", list_and(lang, &times));
+        return match v.evidence.flip_times.len() {
+            0 => w::FLIPPED_NONE.get(lang).to_string(),
+            1 => fill(w::FLIPPED_ONCE, lang, &[("{times}", &times)]),
+            n => fill(
+                w::FLIPPED_MANY,
+                lang,
+                &[("{n}", &n.to_string()), ("{times}", &times)],
+            ),
+        };
+    }
+    let u = measure_unit(r.measure, unit);
+    let u = if u.is_empty() { u } else { format!(" {u}") };
+    let name = crate::tui::i18n::measure(r.measure).get(lang);
+    let value = sig(r.value, 3);
+    let fname = formula_name(r.measure);
+    match r.formula {
+        // A named expectation ("steady spin", "invariant") rather than a
+        // formula: what it expects, without an equation.
+        Some(f) if fname.chars().all(|c| c.is_ascii_alphabetic() || c == ' ') => {
+            format!("{name} {value}{u} ({fname}: {}{u})", sig(f, 3))
+        }
+        Some(f) => format!(
+            "{name} {value}{u}, {} {fname} = {}{u}",
+            w::FORMULA.get(lang),
+            sig(f, 3)
+        ),
+        None => format!("{name} {value}{u}"),
+    }
+}
+
+/// What the learner committed to, as the prompt words it.
+pub fn prediction_text(app: &App, prompt: &Prompt, p: Prediction) -> String {
+    match (p, &prompt.answer) {
+        (Prediction::Choice(i), Answer::Choice { choices, .. }) => choices
+            .get(i)
+            .map(|c| crate::text::render(c.label.get(&app.lang)))
+            .unwrap_or_default(),
+        (Prediction::Number(v), Answer::Number { unit, .. }) => format!("{} {unit}", Num(v)),
+        _ => String::new(),
+    }
+}
+
+/// The verdict's lines, wrapped to `width`: banner, prediction, evidence,
+/// then the right choice (when the prediction missed it) or, for a number,
+/// the formula's value beside the deck's answer and the author's working.
+pub fn lines(
+    app: &App,
+    prompt: &Prompt,
+    scene: &Scene,
+    prediction: Prediction,
+    v: &Verdict,
+    width: usize,
+) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let (mark, word, style) = if v.correct {
+        ("✓", w::RIGHT, t.good())
+    } else {
+        ("✗", w::WRONG, t.bad())
+    };
+    let banner = format!(" {mark} {} {mark}", word.get(lang));
+    let pad = width.saturating_sub(unicode_width::UnicodeWidthStr::width(banner.as_str()));
+    let mut out = vec![Line::from(vec![Span::styled(
+        format!("{banner}{}", " ".repeat(pad)),
+        style.add_modifier(Modifier::REVERSED | Modifier::BOLD),
+    )])];
+    let labelled = |label: &str, text: String, style| {
+        wrap(
+            &[
+                Run::new(format!("{label}: "), t.dim()),
+                Run::new(text, style),
+            ],
+            width.saturating_sub(1),
+            Run::new(" ", t.dim()),
+            Run::new("   ", t.dim()),
+        )
+    };
+    out.extend(labelled(
+        app.tr(Msg::YourPrediction),
+        prediction_text(app, prompt, prediction),
+        t.strong(),
+    ));
+    let said = evidence(lang, scene, v, &prompt.answer);
+    out.extend(wrap(
+        &[Run::new(said, t.text())],
+        width.saturating_sub(1),
+        Run::new(" ", t.text()),
+        Run::new("   ", t.text()),
+    ));
+    match &prompt.answer {
+        Answer::Choice { choices, .. } => {
+            let right = v.right_choice.and_then(|i| choices.get(i));
+            if let (false, Some(c)) = (v.correct, right) {
+                out.extend(labelled(
+                    w::RIGHT_IN_RUN.get(lang),
+                    crate::text::render(c.label.get(lang)),
+                    t.strong(),
+                ));
+            }
+        }
+        Answer::Number {
+            expected,
+            unit,
+            formula,
+            ..
+        } => {
+            let closed = v
+                .readings
+                .iter()
+                .find_map(|r| r.formula.map(|f| (formula_name(r.measure), f)));
+            let mut text = match closed {
+                Some((name, f)) => format!("{name} = {} {unit} · ", sig(f, 3)),
+                None => String::new(),
+            };
+            text.push_str(&format!(
+                "{}: {} {unit}",
+                w::DECK_ANSWER.get(lang),
+                Num(*expected)
+            ));
+            out.extend(labelled(w::FORMULA.get(lang), text, t.text()));
+            if let Some(f) = formula {
+                out.extend(labelled(
+                    w::WORKED.get(lang),
+                    crate::text::render(f.get(lang)),
+                    t.math(),
+                ));
+            }
+        }
+    }
+    out
+}
