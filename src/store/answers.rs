@@ -8,13 +8,13 @@ use super::db::Store;
 use super::error::StoreError;
 use crate::sched::{ItemKey, Rating};
 
+/// One item with its answers (time, rating) in time order.
+pub type ItemAnswers = (ItemKey, Vec<(DateTime<Utc>, Rating)>);
+
 impl Store {
     /// Every item's live, non-cram answers (time, rating) in time order, for
     /// one deck or all, items ordered by deck, card, direction.
-    pub fn answers_by_item(
-        &self,
-        deck: Option<&str>,
-    ) -> Result<Vec<(ItemKey, Vec<(DateTime<Utc>, Rating)>)>, StoreError> {
+    pub fn answers_by_item(&self, deck: Option<&str>) -> Result<Vec<ItemAnswers>, StoreError> {
         let mut st = self
             .conn
             .prepare(
@@ -24,7 +24,7 @@ impl Store {
             )
             .map_err(|e| self.err(e))?;
         let mut rows = st.query([deck]).map_err(|e| self.err(e))?;
-        let mut out: Vec<(ItemKey, Vec<(DateTime<Utc>, Rating)>)> = Vec::new();
+        let mut out: Vec<ItemAnswers> = Vec::new();
         while let Some(row) = rows.next().map_err(|e| self.err(e))? {
             let read = (|| -> rusqlite::Result<(ItemKey, DateTime<Utc>, Rating)> {
                 Ok((
