@@ -131,3 +131,101 @@ fn unwritable_output_is_a_clear_error() {
     assert!(stderr.contains("output folder"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+const SYSTEMS_HEADER: &str =
+    "case,method,setting,steps,rhs_evals,jac_evals,lu_decomps,wall_s,err_state,err_conserved";
+
+#[test]
+fn quick_bench_writes_the_systems_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(BIN)
+        .args(["bench", "--quick", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+
+    let csv = std::fs::read_to_string(dir.path().join("work_precision_systems.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some(SYSTEMS_HEADER));
+    // (case, method) → settings seen, in order.
+    let mut settings: BTreeMap<(String, String), Vec<String>> = BTreeMap::new();
+    // tol → (err_state, err_conserved) of the pendulum's adaptive runs.
+    let mut pendulum: Vec<(f64, f64, f64)> = Vec::new();
+    for line in lines {
+        let f = fields(line);
+        assert_eq!(f.len(), 10, "{line}");
+        let key = (f[0].clone(), f[1].clone());
+        let setting = f[2].split(" (").next().unwrap().to_string();
+        let seen = settings.entry(key).or_default();
+        assert!(!seen.contains(&setting), "a duplicate row: {line}");
+        seen.push(setting);
+        if f[3].is_empty() {
+            // Refused, with the reason after the setting.
+            assert!(f[2].contains('('), "{line}");
+            assert!(f[4..].iter().all(String::is_empty), "{line}");
+            continue;
+        }
+        let numbers: Vec<f64> = f[3..9]
+            .iter()
+            .map(|x| x.parse::<f64>().unwrap_or_else(|_| panic!("{line}")))
+            .collect();
+        assert!(numbers.iter().all(|x| x.is_finite() && *x >= 0.0), "{line}");
+        assert!(numbers[0] > 0.0 && numbers[4] > 0.0, "steps, wall: {line}");
+        let conserved = match f[0].as_str() {
+            "vdp" => {
+                assert!(f[9].is_empty(), "Van der Pol conserves nothing: {line}");
+                None
+            }
+            _ => Some(f[9].parse::<f64>().unwrap_or_else(|_| panic!("{line}"))),
+        };
+        if let Some(c) = conserved {
+            assert!(c.is_finite() && c >= 0.0, "{line}");
+        }
+        if f[1] == "radau" {
+            assert!(
+                numbers[2] > 0.0 && numbers[3] > 0.0,
+                "radau uses J and LU: {line}"
+            );
+        }
+        if f[0] == "pendulum" && f[1] == "adaptive" {
+            let tol: f64 = f[2].trim_start_matches("tol=").parse().unwrap();
+            pendulum.push((tol, numbers[5], conserved.unwrap()));
+        }
+    }
+    for case in ["pendulum", "vdp", "robertson"] {
+        for method in ["adaptive", "radau", "rk4", "auto"] {
+            let seen = settings.get(&(case.to_string(), method.to_string()));
+            assert!(
+                seen.is_some_and(|s| !s.is_empty()),
+                "no row for {case}, {method}"
+            );
+        }
+        // The stiff cases are solved by radau, each at every tolerance.
+        let radau = &settings[&(case.to_string(), "radau".to_string())];
+        assert!(radau.len() >= 2, "{case}: {radau:?}");
+    }
+    assert!(pendulum.len() >= 3, "{pendulum:?}");
+    pendulum.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for w in pendulum.windows(2) {
+        assert!(
+            w[1].1 < w[0].1,
+            "error against the exact solution: {pendulum:?}"
+        );
+    }
+    let (loose, tight) = (pendulum[0], pendulum[pendulum.len() - 1]);
+    assert!(tight.1 * 1e3 < loose.1, "{pendulum:?}");
+    assert!(tight.2 < loose.2, "energy drift: {pendulum:?}");
+
+    let svg = std::fs::read_to_string(dir.path().join("work_precision.svg")).unwrap();
+    for label in [
+        "(pendulum)",
+        "(vdp)",
+        "(robertson)",
+        "radau",
+        "error of the state",
+    ] {
+        assert!(svg.contains(label), "no {label} in the plot");
+    }
+}

@@ -32,15 +32,36 @@ pub fn run(_cli: &Cli, args: &BenchArgs) -> anyhow::Result<ExitCode> {
             row.method.setting()
         );
     })?;
+    let systems = bench::sweep_systems(args.quick, |row, note, k, total| match row {
+        None => crate::errln!("bench systems: {note}"),
+        Some(row) => {
+            let what = match &row.outcome {
+                Ok(m) => format!(
+                    "{} s, error {}",
+                    bench::sci(m.wall),
+                    bench::sci(m.err_state)
+                ),
+                Err(reason) => reason.clone(),
+            };
+            crate::errln!(
+                "bench systems [{k}/{total}] {} {} {}: {what}",
+                row.case,
+                row.method.name(),
+                row.method.setting(row.setting)
+            );
+        }
+    })
+    .map_err(anyhow::Error::msg)?;
     // The files first: they are what the sweep is for, and a reader of the
     // table that stops early (`| head`) must not cost them.
-    bench::write(out_dir, &rows, args.quick)?;
+    bench::write(out_dir, &rows, &systems, args.quick)?;
     crate::out!("{}", bench::table(&rows))?;
     crate::errln!(
-        "bench: {} in {:.1} s; wrote {} and {}",
-        plural(rows.len(), "run", "runs"),
+        "bench: {} in {:.1} s; wrote {}, {} and {}",
+        plural(rows.len() + systems.len(), "run", "runs"),
         started.elapsed().as_secs_f64(),
         out_dir.join("work_precision.csv").display(),
+        out_dir.join("work_precision_systems.csv").display(),
         out_dir.join("work_precision.svg").display()
     );
     Ok(ExitCode::SUCCESS)

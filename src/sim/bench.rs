@@ -4,10 +4,13 @@
 //! several), its work counted, and its samples compared with the exact
 //! solution and with the invariants. Writes `DIR/work_precision.csv` (one
 //! row per run) and `DIR/work_precision.svg` (error against time, one panel
-//! per case, one curve per method) and prints a table.
+//! per case, one curve per method) and prints a table. The generic ODE
+//! solvers get their own sweep on three systems ([`systems`]), written to
+//! `DIR/work_precision_systems.csv` and to the bottom row of the SVG.
 
 mod cases;
 mod plot;
+mod systems;
 
 use std::fmt::Write as _;
 use std::fs;
@@ -18,6 +21,10 @@ use anyhow::Context;
 use nalgebra::Vector3;
 
 pub use cases::{Case, cases, methods};
+pub use systems::{
+    SYSTEMS_CSV_HEADER, SysMethod, SystemCase, SystemMeasured, SystemReference, SystemRow,
+    measure_system, sweep_systems, system_cases, systems_csv,
+};
 
 use crate::sim::rigid::model::{Body, State};
 use crate::sim::rigid::reference;
@@ -308,13 +315,17 @@ pub fn table(rows: &[Row]) -> String {
     out
 }
 
-/// Writes `work_precision.csv` and `work_precision.svg` of a sweep into
-/// `dir` (which must exist).
-pub fn write(dir: &Path, rows: &[Row], quick: bool) -> anyhow::Result<()> {
+/// Writes `work_precision.csv`, `work_precision_systems.csv` and
+/// `work_precision.svg` of a sweep into `dir` (which must exist).
+pub fn write(dir: &Path, rows: &[Row], systems: &[SystemRow], quick: bool) -> anyhow::Result<()> {
     let csv_path = dir.join("work_precision.csv");
     fs::write(&csv_path, csv(rows)).with_context(|| format!("writing {}", csv_path.display()))?;
+    let systems_path = dir.join("work_precision_systems.csv");
+    fs::write(&systems_path, systems_csv(systems))
+        .with_context(|| format!("writing {}", systems_path.display()))?;
     let svg_path = dir.join("work_precision.svg");
-    let svg = plot::svg(rows, &cases(quick)).context("drawing the work–precision plot")?;
+    let svg = plot::svg(rows, &cases(quick), systems, &system_cases(quick))
+        .context("drawing the work–precision plot")?;
     fs::write(&svg_path, svg).with_context(|| format!("writing {}", svg_path.display()))?;
     Ok(())
 }

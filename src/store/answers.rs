@@ -8,7 +8,7 @@ use super::db::Store;
 use super::error::StoreError;
 use crate::sched::{ItemKey, Rating};
 
-/// One item and its answers (time, rating) in time order.
+/// One item with its answers (time, rating) in time order.
 pub type ItemAnswers = (ItemKey, Vec<(DateTime<Utc>, Rating)>);
 
 impl Store {

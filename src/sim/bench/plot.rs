@@ -5,10 +5,20 @@
 
 use plotters::prelude::*;
 
-use super::{Case, Row};
+use super::{Case, Row, SystemCase, SystemRow};
 
 const WIDTH: u32 = 1200;
-const HEIGHT: u32 = 760;
+const HEIGHT: u32 = 1140;
+/// Height of the bottom row: the generic ODE solvers on the systems.
+const SYSTEMS_HEIGHT: u32 = 380;
+
+/// Colours of the generic ODE methods in the systems panels.
+const SYSTEM_METHODS: [(&str, RGBColor); 4] = [
+    ("adaptive", RGBColor(31, 119, 180)),
+    ("radau", RGBColor(148, 103, 189)),
+    ("rk4", RGBColor(255, 127, 14)),
+    ("auto", RGBColor(140, 86, 75)),
+];
 /// Errors are drawn no lower than this: the exact solver's own error
 /// against itself is 0, and sits on this floor.
 pub const ERROR_FLOOR: f64 = 1e-17;
@@ -30,7 +40,12 @@ fn ceil_log(x: f64) -> f64 {
 }
 
 /// The SVG document.
-pub fn svg(rows: &[Row], cases: &[Case]) -> anyhow::Result<String> {
+pub fn svg(
+    rows: &[Row],
+    cases: &[Case],
+    systems: &[SystemRow],
+    system_cases: &[SystemCase],
+) -> anyhow::Result<String> {
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, (WIDTH, HEIGHT)).into_drawing_area();
@@ -42,6 +57,15 @@ pub fn svg(rows: &[Row], cases: &[Case]) -> anyhow::Result<String> {
                 ("sans-serif", 20),
             )
             .map_err(|e| anyhow::anyhow!("{e}"))?;
+        let (body, bottom) = body.split_vertically(HEIGHT - 36 - SYSTEMS_HEIGHT);
+        let system_panels = bottom.split_evenly((1, 4));
+        for (case, area) in system_cases.iter().zip(system_panels.iter()) {
+            system_panel(area, case, systems)
+                .map_err(|e| anyhow::anyhow!("case {}: {e}", case.id))?;
+        }
+        if let Some(area) = system_panels.get(system_cases.len()) {
+            system_legend(area).map_err(|e| anyhow::anyhow!("{e}"))?;
+        }
         let panels = body.split_evenly((2, 3));
         for (case, area) in cases.iter().zip(panels.iter()) {
             panel(area, case, rows).map_err(|e| anyhow::anyhow!("case {}: {e}", case.id))?;
@@ -106,6 +130,109 @@ fn panel(area: &Area<'_>, case: &Case, rows: &[Row]) -> Result<(), Box<dyn std::
                 .iter()
                 .map(|&(t, e)| Circle::new((t, e), 3, color.filled())),
         )?;
+    }
+    Ok(())
+}
+
+/// A log-log chart of error against wall time, one curve per method in
+/// sweep order (loosest setting first).
+fn chart(
+    area: &Area<'_>,
+    caption: String,
+    y_desc: &str,
+    points: &[(&str, f64, f64)],
+    methods: &[(&str, RGBColor)],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let (mut t_lo, mut t_hi, mut e_lo, mut e_hi) = (1e-6f64, 1e-3f64, 1e-16f64, 1.0f64);
+    for &(_, t, e) in points {
+        t_lo = t_lo.min(t);
+        t_hi = t_hi.max(t);
+        e_lo = e_lo.min(e);
+        e_hi = e_hi.max(e);
+    }
+    let x = floor_log(t_lo)..ceil_log(t_hi);
+    let y = floor_log(e_lo)..ceil_log(e_hi.max(e_lo * 10.0));
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 15))
+        .margin(8)
+        .x_label_area_size(34)
+        .y_label_area_size(52)
+        .build_cartesian_2d(x.log_scale(), y.log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("wall time (s)")
+        .y_desc(y_desc)
+        .x_label_formatter(&|v| format!("{v:.0e}"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .label_style(("sans-serif", 11))
+        .axis_desc_style(("sans-serif", 12))
+        .draw()?;
+    for &(name, color) in methods {
+        let curve: Vec<(f64, f64)> = points
+            .iter()
+            .filter(|p| p.0 == name)
+            .map(|p| (p.1, p.2))
+            .collect();
+        chart.draw_series(LineSeries::new(
+            curve.iter().copied(),
+            color.stroke_width(2),
+        ))?;
+        chart.draw_series(
+            curve
+                .iter()
+                .map(|&(t, e)| Circle::new((t, e), 3, color.filled())),
+        )?;
+    }
+    Ok(())
+}
+
+fn system_panel(
+    area: &Area<'_>,
+    case: &SystemCase,
+    rows: &[SystemRow],
+) -> Result<(), Box<dyn std::error::Error>> {
+    let points: Vec<(&str, f64, f64)> = rows
+        .iter()
+        .filter(|r| r.case == case.id)
+        .filter_map(|r| {
+            let m = r.outcome.as_ref().ok()?;
+            let err = m.err_state.max(ERROR_FLOOR);
+            (m.wall > 0.0 && err.is_finite()).then_some((r.method.name(), m.wall, err))
+        })
+        .collect();
+    chart(
+        area,
+        format!("({}) {}", case.id, case.name),
+        "error of the state",
+        &points,
+        &SYSTEM_METHODS,
+    )
+}
+
+fn system_legend(area: &Area<'_>) -> Result<(), Box<dyn std::error::Error>> {
+    let style = ("sans-serif", 15).into_font();
+    for (k, (name, color)) in SYSTEM_METHODS.iter().enumerate() {
+        let y = 40 + 28 * k as i32;
+        area.draw(&PathElement::new(
+            vec![(40, y), (90, y)],
+            color.stroke_width(3),
+        ))?;
+        area.draw(&Circle::new((65, y), 4, color.filled()))?;
+        area.draw(&Text::new(name.to_string(), (100, y - 8), style.clone()))?;
+    }
+    let note = ("sans-serif", 12).into_font();
+    let lines = [
+        "generic ODE solvers on systems",
+        "error: max over samples of |yᵢ − refᵢ| / max|refᵢ|",
+        "pendulum: exact (Jacobi sn); others: tight radau",
+        "missing curves: refused (stiff), see the CSV",
+    ];
+    for (k, line) in lines.iter().enumerate() {
+        area.draw(&Text::new(
+            line.to_string(),
+            (20, 170 + 20 * k as i32),
+            note.clone(),
+        ))?;
     }
     Ok(())
 }

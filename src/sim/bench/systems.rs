@@ -1,0 +1,659 @@
+//! The work–precision sweep of the generic ODE solvers on three systems:
+//! the pendulum released at 170° (exact solution by Jacobi's sn), Van der
+//! Pol with μ = 1000 and Robertson's kinetics to t = 10¹¹ (both stiff,
+//! referenced by tight Radau IIA runs confirmed by a second run). Written
+//! to `work_precision_systems.csv`, one row per case × method × setting.
+
+use std::time::Instant;
+
+use nalgebra::DMatrix;
+
+use super::Effort;
+use crate::sim::rigid::elliptic;
+use crate::sim::solvers::ode::{
+    Atol, Method, OdeError, OdeSolver, OdeSystem, Options, StiffnessMode, Work, make,
+};
+
+/// The exact header of the systems CSV.
+pub const SYSTEMS_CSV_HEADER: &str =
+    "case,method,setting,steps,rhs_evals,jac_evals,lu_decomps,wall_s,err_state,err_conserved";
+
+/// The pendulum's release angle, 170° in radians.
+pub const THETA0: f64 = 2.9670597283903604;
+const G: f64 = 9.81;
+const L: f64 = 1.0;
+const MU: f64 = 1000.0;
+
+/// Explicit RK4 is stable on y' = λy for |λ|·dt up to about 2.785.
+const RK4_STABILITY: f64 = 2.785;
+/// Fixed-step runs past this many steps are refused up front.
+const RK4_MAX_STEPS: f64 = 2e6;
+
+/// The three systems, with their analytic Jacobians.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sys {
+    /// θ'' = −(g/L) sin θ as (θ, ω).
+    Pendulum,
+    /// x'' − μ(1 − x²)x' + x = 0 as (x, v).
+    VanDerPol,
+    /// Robertson's chemical kinetics (y₁, y₂, y₃).
+    Robertson,
+}
+
+impl OdeSystem for Sys {
+    fn dim(&self) -> usize {
+        match self {
+            Sys::Robertson => 3,
+            _ => 2,
+        }
+    }
+    fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
+        match self {
+            Sys::Pendulum => {
+                dy[0] = y[1];
+                dy[1] = -G / L * y[0].sin();
+            }
+            Sys::VanDerPol => {
+                dy[0] = y[1];
+                dy[1] = MU * (1.0 - y[0] * y[0]) * y[1] - y[0];
+            }
+            Sys::Robertson => {
+                let r1 = 0.04 * y[0];
+                let r2 = 1e4 * y[1] * y[2];
+                let r3 = 3e7 * y[1] * y[1];
+                dy[0] = -r1 + r2;
+                dy[1] = r1 - r2 - r3;
+                dy[2] = r3;
+            }
+        }
+    }
+    fn jacobian(&self, _t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
+        match self {
+            Sys::Pendulum => {
+                jac[(0, 0)] = 0.0;
+                jac[(0, 1)] = 1.0;
+                jac[(1, 0)] = -G / L * y[0].cos();
+                jac[(1, 1)] = 0.0;
+            }
+            Sys::VanDerPol => {
+                jac[(0, 0)] = 0.0;
+                jac[(0, 1)] = 1.0;
+                jac[(1, 0)] = -2.0 * MU * y[0] * y[1] - 1.0;
+                jac[(1, 1)] = MU * (1.0 - y[0] * y[0]);
+            }
+            Sys::Robertson => {
+                jac[(0, 0)] = -0.04;
+                jac[(0, 1)] = 1e4 * y[2];
+                jac[(0, 2)] = 1e4 * y[1];
+                jac[(1, 0)] = 0.04;
+                jac[(1, 1)] = -1e4 * y[2] - 6e7 * y[1];
+                jac[(1, 2)] = -1e4 * y[1];
+                jac[(2, 0)] = 0.0;
+                jac[(2, 1)] = 6e7 * y[1];
+                jac[(2, 2)] = 0.0;
+            }
+        }
+    }
+}
+
+/// The pendulum's exact period 4K(m)√(L/g), m = sin²(θ₀/2).
+pub fn pendulum_period() -> f64 {
+    let mc = (THETA0 / 2.0).cos().powi(2);
+    4.0 * elliptic::complete_k(mc) * (L / G).sqrt()
+}
+
+/// The pendulum's exact state at t, released at rest from θ₀:
+/// sin(θ/2) = k sn(K − t√(g/L) | m) with k = sin(θ₀/2), so
+/// θ = 2 asin(k sn) and ω = −2k√(g/L) cn.
+pub fn pendulum_exact(jacobi: &elliptic::Jacobi, t: f64) -> [f64; 2] {
+    let k = (THETA0 / 2.0).sin();
+    let rate = (G / L).sqrt();
+    let (sn, cn, _) = jacobi.sncndn(jacobi.k() - t * rate);
+    [2.0 * (k * sn).asin(), -2.0 * k * rate * cn]
+}
+
+/// One system case of the sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SystemCase {
+    /// Id used in the CSV.
+    pub id: &'static str,
+    pub name: &'static str,
+    pub sys: Sys,
+    pub y0: Vec<f64>,
+    pub t_end: f64,
+    /// Whether the case is stiff (its references and panels say so).
+    pub stiff: bool,
+}
+
+impl SystemCase {
+    /// The times every run is compared at.
+    pub fn times(&self) -> Vec<f64> {
+        match self.sys {
+            // Quarter decades from 10⁻⁶: the fast transient and the slow
+            // tail of Robertson's problem both get points.
+            Sys::Robertson => std::iter::once(0.0)
+                .chain((-24..=44).map(|k| 10f64.powf(k as f64 / 4.0)))
+                .map(|t| t.min(self.t_end))
+                .collect(),
+            _ => (0..1001).map(|k| self.t_end * k as f64 / 1000.0).collect(),
+        }
+    }
+
+    /// Tolerances of the adaptive methods, or `dt`s of RK4 (as steps over
+    /// the run).
+    pub fn settings(&self, method: SysMethod, quick: bool) -> Vec<f64> {
+        match method {
+            SysMethod::Rk4 => {
+                let steps: &[f64] = match (self.sys, quick) {
+                    (Sys::Pendulum, true) => &[64.0, 256.0, 1024.0],
+                    (Sys::Pendulum, false) => &[
+                        160.0, 320.0, 640.0, 1280.0, 2560.0, 5120.0, 10240.0, 20480.0,
+                    ],
+                    (_, true) => &[1e4],
+                    (_, false) => &[1e4, 1e5],
+                };
+                steps.iter().map(|n| self.t_end / n).collect()
+            }
+            _ => {
+                let exponents: Vec<i32> = match (self.sys, quick) {
+                    (Sys::Pendulum, true) => vec![4, 6, 8, 10],
+                    (Sys::Pendulum, false) => (3..=12).collect(),
+                    (_, true) => vec![4, 6],
+                    (_, false) => (3..=10).collect(),
+                };
+                exponents.into_iter().map(|e| 10f64.powi(-e)).collect()
+            }
+        }
+    }
+
+    /// The solver options at relative tolerance `rtol`.
+    fn options(&self, rtol: f64) -> Options {
+        let atol = match self.sys {
+            // y₂ lives between 10⁻⁵ and 10⁻¹³: its absolute tolerance must
+            // sit far below it for the late values to mean anything.
+            Sys::Robertson => Atol::PerComponent(vec![rtol * 1e-4, rtol * 1e-10, rtol * 1e-4]),
+            _ => Atol::Scalar(rtol),
+        };
+        Options {
+            rtol,
+            atol,
+            t_stop: Some(self.t_end),
+            ..Options::default()
+        }
+    }
+}
+
+/// The pendulum at 170° over whole periods, Van der Pol μ = 1000 over
+/// [0, 3000], Robertson to 10¹¹. `quick` shortens only the pendulum.
+pub fn system_cases(quick: bool) -> Vec<SystemCase> {
+    let periods = if quick { 2.0 } else { 10.0 };
+    vec![
+        SystemCase {
+            id: "pendulum",
+            name: if quick {
+                "pendulum 170°, 2 periods"
+            } else {
+                "pendulum 170°, 10 periods"
+            },
+            sys: Sys::Pendulum,
+            y0: vec![THETA0, 0.0],
+            t_end: periods * pendulum_period(),
+            stiff: false,
+        },
+        SystemCase {
+            id: "vdp",
+            name: "Van der Pol μ = 1000, [0, 3000]",
+            sys: Sys::VanDerPol,
+            y0: vec![2.0, 0.0],
+            t_end: 3000.0,
+            stiff: true,
+        },
+        SystemCase {
+            id: "robertson",
+            name: "Robertson to 1e11",
+            sys: Sys::Robertson,
+            y0: vec![1.0, 0.0, 0.0],
+            t_end: 1e11,
+            stiff: true,
+        },
+    ]
+}
+
+/// A method of the generic family, as the CSV names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SysMethod {
+    /// DOP853, refusing a stiff problem.
+    Adaptive,
+    Radau,
+    Rk4,
+    Auto,
+}
+
+impl SysMethod {
+    pub const ALL: [SysMethod; 4] = [
+        SysMethod::Adaptive,
+        SysMethod::Radau,
+        SysMethod::Rk4,
+        SysMethod::Auto,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            SysMethod::Adaptive => "adaptive",
+            SysMethod::Radau => "radau",
+            SysMethod::Rk4 => "rk4",
+            SysMethod::Auto => "auto",
+        }
+    }
+
+    fn solver(self, setting: f64) -> Method {
+        match self {
+            SysMethod::Adaptive => Method::Dop853 {
+                stiffness: StiffnessMode::Refuse,
+            },
+            SysMethod::Radau => Method::Radau5,
+            SysMethod::Rk4 => Method::Rk4 { dt: setting },
+            SysMethod::Auto => Method::Auto,
+        }
+    }
+
+    /// `tol=1e-6`, `dt=…`.
+    pub fn setting(self, setting: f64) -> String {
+        match self {
+            SysMethod::Rk4 => format!("dt={setting:.4e}"),
+            _ => format!("tol={setting:e}"),
+        }
+    }
+}
+
+/// The states a run is compared with, and how far a second, independent
+/// run agrees with them.
+#[derive(Debug, Clone)]
+pub struct SystemReference {
+    pub times: Vec<f64>,
+    pub states: Vec<Vec<f64>>,
+    /// The largest |yᵢ| of each component over the reference (the error's
+    /// scale).
+    pub scale: Vec<f64>,
+    /// The largest spectral radius of J over the reference samples (the
+    /// fastest rate a fixed step must resolve to stay stable).
+    pub stiffest: f64,
+    /// How the reference was obtained, with the confirming run's distance.
+    pub how: String,
+}
+
+fn run(
+    case: &SystemCase,
+    method: Method,
+    opts: &Options,
+    times: &[f64],
+) -> Result<(Vec<Vec<f64>>, Work, f64), OdeError> {
+    let start = Instant::now();
+    let mut solver: Box<dyn OdeSolver> = make(method, case.sys, 0.0, &case.y0, opts)?;
+    let mut states = Vec::with_capacity(times.len());
+    for &t in times {
+        states.push(solver.advance(t)?.to_vec());
+    }
+    Ok((states, solver.work(), start.elapsed().as_secs_f64()))
+}
+
+fn scales(states: &[Vec<f64>]) -> Vec<f64> {
+    let n = states.first().map_or(0, Vec::len);
+    (0..n)
+        .map(|i| {
+            let s = states.iter().map(|y| y[i].abs()).fold(0.0, f64::max);
+            if s > 0.0 { s } else { 1.0 }
+        })
+        .collect()
+}
+
+/// The largest error of `states` over the samples and components, each
+/// component relative to its largest magnitude over the reference.
+pub fn state_error(states: &[Vec<f64>], reference: &SystemReference) -> f64 {
+    states
+        .iter()
+        .zip(&reference.states)
+        .flat_map(|(y, r)| {
+            y.iter()
+                .zip(r)
+                .zip(&reference.scale)
+                .map(|((y, r), s)| (y - r).abs() / s)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The drift of the case's conserved quantity (energy relative to its
+/// start, mass absolutely), `None` for Van der Pol.
+pub fn conserved_error(case: &SystemCase, states: &[Vec<f64>]) -> Option<f64> {
+    let quantity = |y: &[f64]| match case.sys {
+        Sys::Pendulum => Some(0.5 * L * L * y[1] * y[1] + G * L * (1.0 - y[0].cos())),
+        Sys::Robertson => Some(y[0] + y[1] + y[2]),
+        Sys::VanDerPol => None,
+    };
+    let q0 = quantity(&case.y0)?;
+    Some(
+        states
+            .iter()
+            .filter_map(|y| quantity(y))
+            .map(|q| (q - q0).abs() / q0.abs())
+            .fold(0.0, f64::max),
+    )
+}
+
+/// Robertson's state at t = 10¹¹ from the IVP test set of Mazzia &
+/// Magherini (problem ROBER), a third check on the reference's end.
+#[allow(clippy::excessive_precision)]
+const ROBERTSON_1E11: [f64; 3] = [
+    0.2083340149701255e-7,
+    0.8333360770334713e-13,
+    0.9999999791665050,
+];
+
+impl SystemReference {
+    /// The exact solution for the pendulum; for the stiff cases Radau IIA at
+    /// a tight tolerance, confirmed by DOP853 (Van der Pol, full sweep) or
+    /// by Radau at a tenfold looser tolerance (Robertson, where an explicit
+    /// method would need ~10¹⁴ steps, and the quick sweep).
+    pub fn new(case: &SystemCase, quick: bool) -> Result<SystemReference, OdeError> {
+        let times = case.times();
+        let mut reference = match case.sys {
+            Sys::Pendulum => {
+                let jacobi = elliptic::Jacobi::new((THETA0 / 2.0).cos().powi(2));
+                let states: Vec<Vec<f64>> = times
+                    .iter()
+                    .map(|&t| pendulum_exact(&jacobi, t).to_vec())
+                    .collect();
+                SystemReference {
+                    scale: scales(&states),
+                    times,
+                    states,
+                    stiffest: 0.0,
+                    how: format!(
+                        "exact: θ = 2 asin(k sn(K − t√(g/L))), period {:.15} s",
+                        pendulum_period()
+                    ),
+                }
+            }
+            _ => {
+                let tight = if quick { 1e-10 } else { 1e-12 };
+                let (states, _, _) = run(case, Method::Radau5, &case.options(tight), &times)?;
+                let mut reference = SystemReference {
+                    scale: scales(&states),
+                    times,
+                    states,
+                    stiffest: 0.0,
+                    how: String::new(),
+                };
+                let (second, label) = if case.sys == Sys::VanDerPol && !quick {
+                    let mut opts = case.options(tight);
+                    opts.max_steps = 100_000_000;
+                    let method = Method::Dop853 {
+                        stiffness: StiffnessMode::Report,
+                    };
+                    (run(case, method, &opts, &reference.times)?.0, "dop853")
+                } else {
+                    let looser = tight * 10.0;
+                    let opts = case.options(looser);
+                    (
+                        run(case, Method::Radau5, &opts, &reference.times)?.0,
+                        "radau",
+                    )
+                };
+                let second_tol = if label == "dop853" {
+                    tight
+                } else {
+                    tight * 10.0
+                };
+                reference.how = format!(
+                    "radau tol={tight:e}; {label} tol={second_tol:e} agrees to {:.1e}",
+                    state_error(&second, &reference)
+                );
+                if case.sys == Sys::Robertson
+                    && let Some(end) = reference.states.last()
+                {
+                    let published = end
+                        .iter()
+                        .zip(ROBERTSON_1E11)
+                        .map(|(y, p)| (y - p).abs() / p)
+                        .fold(0.0, f64::max);
+                    reference.how +=
+                        &format!("; at 1e11 within {published:.1e} (relative) of ROBER's values");
+                }
+                reference
+            }
+        };
+        let n = case.y0.len();
+        let mut jac = DMatrix::zeros(n, n);
+        for (t, y) in reference.times.iter().zip(&reference.states) {
+            case.sys.jacobian(*t, y, &mut jac);
+            let radius = jac
+                .clone()
+                .complex_eigenvalues()
+                .iter()
+                .map(|l| l.norm())
+                .fold(0.0, f64::max);
+            reference.stiffest = reference.stiffest.max(radius);
+        }
+        Ok(reference)
+    }
+}
+
+/// What one run measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SystemMeasured {
+    pub work: Work,
+    /// Minimum wall time over the repeats (s).
+    pub wall: f64,
+    pub err_state: f64,
+    pub err_conserved: Option<f64>,
+}
+
+/// One row of the systems sweep.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SystemRow {
+    pub case: &'static str,
+    pub method: SysMethod,
+    pub setting: f64,
+    pub outcome: Result<SystemMeasured, String>,
+}
+
+/// Times one method × setting on a case (minimum of several runs) and
+/// measures its errors; a refused or failed run gives its reason.
+pub fn measure_system(
+    case: &SystemCase,
+    method: SysMethod,
+    setting: f64,
+    reference: &SystemReference,
+    effort: &Effort,
+) -> SystemRow {
+    let outcome = (|| {
+        if method == SysMethod::Rk4 {
+            let steps = case.t_end / setting;
+            let stable = case.t_end * reference.stiffest / RK4_STABILITY;
+            if steps < stable {
+                let advice = if case.stiff {
+                    ": radau suits this stiff problem"
+                } else {
+                    ""
+                };
+                return Err(format!(
+                    "rk4: dt·|λ|max = {:.1e} > {RK4_STABILITY} (unstable; a stable step needs ~{stable:.1e} steps){advice}",
+                    setting * reference.stiffest
+                ));
+            }
+            if steps > RK4_MAX_STEPS {
+                return Err(format!("rk4: {steps:.1e} steps exceed {RK4_MAX_STEPS:e}"));
+            }
+        }
+        let opts = if method == SysMethod::Rk4 {
+            Options {
+                t_stop: Some(case.t_end),
+                ..Options::default()
+            }
+        } else {
+            case.options(setting)
+        };
+        let solver = method.solver(setting);
+        let run_it = || run(case, solver, &opts, &reference.times).map_err(|e| e.to_string());
+        let (states, work, first) = run_it()?;
+        let limit = effort.time_per_setting.as_secs_f64();
+        let (mut best, mut spent, mut runs) = (first, first, 1);
+        while runs < effort.max_repeats && (runs < 2 || spent < limit) && first <= limit {
+            let (_, _, wall) = run_it()?;
+            best = best.min(wall);
+            spent += wall;
+            runs += 1;
+        }
+        Ok(SystemMeasured {
+            work,
+            wall: best,
+            err_state: state_error(&states, reference),
+            err_conserved: conserved_error(case, &states),
+        })
+    })();
+    SystemRow {
+        case: case.id,
+        method,
+        setting,
+        outcome,
+    }
+}
+
+/// Runs the systems sweep; `progress` sees each reference's description
+/// (with `None` for the row) and then each row.
+pub fn sweep_systems(
+    quick: bool,
+    mut progress: impl FnMut(Option<&SystemRow>, &str, usize, usize),
+) -> Result<Vec<SystemRow>, String> {
+    let effort = Effort::new(quick);
+    let cases = system_cases(quick);
+    let total: usize = cases
+        .iter()
+        .map(|c| {
+            SysMethod::ALL
+                .iter()
+                .map(|&m| c.settings(m, quick).len())
+                .sum::<usize>()
+        })
+        .sum();
+    let mut rows = Vec::with_capacity(total);
+    for case in &cases {
+        let reference = SystemReference::new(case, quick)
+            .map_err(|e| format!("case {} ({}): reference: {e}", case.id, case.name))?;
+        progress(
+            None,
+            &format!("case {}: {}", case.id, reference.how),
+            rows.len(),
+            total,
+        );
+        for method in SysMethod::ALL {
+            for setting in case.settings(method, quick) {
+                let row = measure_system(case, method, setting, &reference, &effort);
+                progress(Some(&row), "", rows.len() + 1, total);
+                rows.push(row);
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// The systems CSV: one line per row; a refused run leaves the numbers
+/// empty and gives its reason after the setting.
+pub fn systems_csv(rows: &[SystemRow]) -> String {
+    let mut out = String::from(SYSTEMS_CSV_HEADER);
+    out.push('\n');
+    for row in rows {
+        let setting = row.method.setting(row.setting);
+        let line = match &row.outcome {
+            Ok(m) => format!(
+                "{},{},{},{},{},{},{},{:e},{:e},{}",
+                row.case,
+                row.method.name(),
+                setting,
+                m.work.steps,
+                m.work.rhs_evals,
+                m.work.jac_evals,
+                m.work.lu_decomps,
+                m.wall,
+                m.err_state,
+                m.err_conserved
+                    .map(|e| format!("{e:e}"))
+                    .unwrap_or_default()
+            ),
+            Err(reason) => format!(
+                "{},{},{},,,,,,,",
+                row.case,
+                row.method.name(),
+                super::quote(&format!("{setting} ({reason})"))
+            ),
+        };
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pendulum_exact_solution_solves_the_equation() {
+        let jacobi = elliptic::Jacobi::new((THETA0 / 2.0).cos().powi(2));
+        let period = pendulum_period();
+        // T/T₀ = 2K(m)/π = 2.4394 at 170° (T₀ = 2π√(L/g)).
+        let ratio = period / (std::f64::consts::TAU * (L / G).sqrt());
+        assert!((ratio - 2.4394).abs() < 5e-5, "{ratio}");
+        let start = pendulum_exact(&jacobi, 0.0);
+        assert!((start[0] - THETA0).abs() < 1e-15 && start[1].abs() < 1e-12);
+        let back = pendulum_exact(&jacobi, 3.0 * period);
+        assert!(
+            (back[0] - THETA0).abs() < 1e-12 && back[1].abs() < 1e-9,
+            "{back:?}"
+        );
+        // ω is dθ/dt, and ω' = −(g/L) sin θ, by central differences.
+        for t in [0.3, 1.7, 2.9, 4.4] {
+            let h = 1e-5;
+            let (a, b, m) = (
+                pendulum_exact(&jacobi, t - h),
+                pendulum_exact(&jacobi, t + h),
+                pendulum_exact(&jacobi, t),
+            );
+            assert!(((b[0] - a[0]) / (2.0 * h) - m[1]).abs() < 1e-6, "t = {t}");
+            assert!(((b[1] - a[1]) / (2.0 * h) + G / L * m[0].sin()).abs() < 1e-5);
+        }
+    }
+
+    #[test]
+    fn rows_cover_every_setting_and_stiff_rk4_is_refused() {
+        let cases = system_cases(true);
+        let effort = Effort {
+            time_per_setting: std::time::Duration::ZERO,
+            max_repeats: 1,
+            ..Effort::new(true)
+        };
+        let vdp = &cases[1];
+        let reference = SystemReference::new(vdp, true).unwrap();
+        assert!(reference.stiffest > 2000.0, "{}", reference.stiffest);
+        let rk4 = measure_system(vdp, SysMethod::Rk4, 0.3, &reference, &effort);
+        assert!(rk4.outcome.as_ref().unwrap_err().contains("stiff"));
+        let adaptive = measure_system(vdp, SysMethod::Adaptive, 1e-4, &reference, &effort);
+        assert!(adaptive.outcome.as_ref().unwrap_err().contains("stiff"));
+        let radau = measure_system(vdp, SysMethod::Radau, 1e-6, &reference, &effort);
+        let m = radau.outcome.as_ref().unwrap();
+        // Sampled through the fast jumps, a small shift in time is a large
+        // error in v: a few percent of max|v| at this tolerance.
+        assert!(m.err_state < 0.1 && m.err_conserved.is_none(), "{m:?}");
+        assert!(m.work.jac_evals > 0 && m.work.lu_decomps > 0);
+        let text = systems_csv(&[radau, rk4]);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], SYSTEMS_CSV_HEADER);
+        assert!(lines[1].starts_with("vdp,radau,tol=1e-6,"), "{}", lines[1]);
+        assert!(
+            lines[1].ends_with(','),
+            "no conserved quantity: {}",
+            lines[1]
+        );
+        assert!(lines[2].ends_with(",,,,,,,"), "{}", lines[2]);
+    }
+}
