@@ -142,7 +142,12 @@ fn leeches_siblings_and_undo_of_the_rating_that_caused_them() {
 
     // A rating later than the leech: undo takes back the rating first.
     store
-        .set_status(std::slice::from_ref(&c1), StatusAction::Unsuspend, when, None)
+        .set_status(
+            std::slice::from_ref(&c1),
+            StatusAction::Unsuspend,
+            when,
+            None,
+        )
         .unwrap();
     assert!(matches!(
         store.undo_last_change().unwrap(),

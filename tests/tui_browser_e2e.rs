@@ -17,7 +17,10 @@ fn vars(dir: &std::path::Path) -> Vec<(&'static str, String)> {
     vec![
         ("FLIPCARD_NOW", NOW.to_string()),
         ("FLIPCARD_DATA_DIR", dir.join("data").display().to_string()),
-        ("FLIPCARD_CONFIG", dir.join("config.toml").display().to_string()),
+        (
+            "FLIPCARD_CONFIG",
+            dir.join("config.toml").display().to_string(),
+        ),
         ("FLIPCARD_DECKS", decks()),
         ("TERM", "xterm-256color".to_string()),
     ]
@@ -29,7 +32,9 @@ fn flipcard(dir: &std::path::Path, args: &[&str]) -> (bool, String, String) {
     for (k, v) in vars(dir) {
         cmd.env(k, v);
     }
-    let out = cmd.output().unwrap_or_else(|e| panic!("flipcard {args:?}: {e}"));
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("flipcard {args:?}: {e}"));
     (
         out.status.success(),
         String::from_utf8_lossy(&out.stdout).into_owned(),
@@ -51,7 +56,11 @@ fn browse_search_suspend_then_cards_list_shows_it() {
     t.wait_for("6 items");
     t.keys(&["/"]);
     for c in "stable spin".chars() {
-        let k = if c == ' ' { "Space".to_string() } else { c.to_string() };
+        let k = if c == ' ' {
+            "Space".to_string()
+        } else {
+            c.to_string()
+        };
         t.keys(&[&k]);
     }
     let screen = t.wait_for("stable spin");
@@ -72,7 +81,8 @@ fn browse_search_suspend_then_cards_list_shows_it() {
     );
     assert_eq!(rows.len(), 2, "exactly one item is suspended: {out}");
     assert!(
-        rows[1].starts_with("study,spin-axis,forward,new,") && rows[1].contains(",true,false,false,"),
+        rows[1].starts_with("study,spin-axis,forward,new,")
+            && rows[1].contains(",true,false,false,"),
         "{}",
         rows[1]
     );
@@ -90,7 +100,13 @@ fn a_filtered_cloze_session_blanks_one_number_and_records_it() {
         return;
     }
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
-    let t = Tmux::start("cloze", &vars(dir.path()), "review study --tag euler", 110, 30);
+    let t = Tmux::start(
+        "cloze",
+        &vars(dir.path()),
+        "review study --tag euler",
+        110,
+        30,
+    );
     let front = t.wait_for("[…]");
     assert!(front.contains("is the rate of change of"), "{front}");
     t.keys(&["Space"]);
@@ -102,9 +118,13 @@ fn a_filtered_cloze_session_blanks_one_number_and_records_it() {
     t.wait_for("Decks");
     t.keys(&["q"]);
     t.wait_for("EXIT=0");
-    let (ok, out, err) = flipcard(dir.path(), &["cards", "list", "deck:study", "--format", "json"]);
+    let (ok, out, err) = flipcard(
+        dir.path(),
+        &["cards", "list", "deck:study", "--format", "json"],
+    );
     assert!(ok, "{err}");
-    let rows: serde_json::Value = serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}"));
+    let rows: serde_json::Value =
+        serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}"));
     let row = |dir: &str| {
         rows.as_array()
             .and_then(|a| {
@@ -124,5 +144,8 @@ fn a_filtered_cloze_session_blanks_one_number_and_records_it() {
     let (ok, _, err) = flipcard(dir.path(), &["review", "study", "--state", "sleeping"]);
     assert!(!ok && err.contains("unknown state `sleeping`"), "{err}");
     let (ok, _, err) = flipcard(dir.path(), &["cards", "suspend", "study/torque-rate/c9"]);
-    assert!(!ok && err.contains("unknown item `study/torque-rate/c9`"), "{err}");
+    assert!(
+        !ok && err.contains("unknown item `study/torque-rate/c9`"),
+        "{err}"
+    );
 }

@@ -114,7 +114,9 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
             out.flush()?;
             Ok(ExitCode::SUCCESS)
         }
-        CardsCommand::Suspend(items) | CardsCommand::Unsuspend(items) | CardsCommand::Bury(items) => {
+        CardsCommand::Suspend(items)
+        | CardsCommand::Unsuspend(items)
+        | CardsCommand::Bury(items) => {
             let (action, done) = match &args.command {
                 CardsCommand::Suspend(_) => (StatusAction::Suspend, "suspended"),
                 CardsCommand::Unsuspend(_) => (StatusAction::Unsuspend, "unsuspended"),
@@ -126,9 +128,8 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
             for item in &items.items {
                 keys.extend(resolve(decks, item)?);
             }
-            let until = (action == StatusAction::Bury).then(|| {
-                crate::sched::study_day(now, config.day_starts_at, &chrono::Local).1
-            });
+            let until = (action == StatusAction::Bury)
+                .then(|| crate::sched::study_day(now, config.day_starts_at, &chrono::Local).1);
             let mut store = open_store(cli)?;
             store.set_status(&keys, action, now, until)?;
             crate::outln!("{done}: {}", plural(keys.len(), "item", "items"))?;
@@ -149,9 +150,9 @@ pub fn resolve(decks: &[Deck], item: &str) -> anyhow::Result<Vec<ItemKey>> {
         .iter()
         .find(|d| d.id == deck_id)
         .ok_or_else(|| anyhow::anyhow!("unknown item `{item}`: no deck `{deck_id}`"))?;
-    let card = deck
-        .card(card_id)
-        .ok_or_else(|| anyhow::anyhow!("unknown item `{item}`: deck `{deck_id}` has no card `{card_id}`"))?;
+    let card = deck.card(card_id).ok_or_else(|| {
+        anyhow::anyhow!("unknown item `{item}`: deck `{deck_id}` has no card `{card_id}`")
+    })?;
     let all = catalog::card_directions(card);
     let key = |direction| ItemKey {
         deck: deck_id.to_string(),

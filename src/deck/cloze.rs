@@ -53,7 +53,11 @@ pub fn parse(text: &str) -> Result<Vec<Piece<'_>>, ClozeError> {
             b'$' => {
                 math = !math;
                 // `$$` opens or closes display math as one delimiter.
-                i += if bytes.get(i + 1) == Some(&b'$') { 2 } else { 1 };
+                i += if bytes.get(i + 1) == Some(&b'$') {
+                    2
+                } else {
+                    1
+                };
             }
             b'{' if !math && bytes.get(i + 1) == Some(&b'{') => {
                 if i > plain_from {
@@ -86,7 +90,11 @@ fn deletion(text: &str, start: usize) -> Result<(Piece<'_>, usize), ClozeError> 
     let shape = Some("a deletion is written {{c1::answer}} or {{c1::answer::hint}}");
     let after = &text[start + 2..];
     let Some(rest) = after.strip_prefix('c') else {
-        return Err(err(start, "a cloze marker must start with `{{c` and a number", shape));
+        return Err(err(
+            start,
+            "a cloze marker must start with `{{c` and a number",
+            shape,
+        ));
     };
     let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
     let number = rest[..digits]
@@ -126,7 +134,11 @@ fn deletion(text: &str, start: usize) -> Result<(Piece<'_>, usize), ClozeError> 
             b'\\' => i += 2,
             b'$' => {
                 math = !math;
-                i += if bytes.get(i + 1) == Some(&b'$') { 2 } else { 1 };
+                i += if bytes.get(i + 1) == Some(&b'$') {
+                    2
+                } else {
+                    1
+                };
             }
             b'{' if !math && bytes.get(i + 1) == Some(&b'{') => {
                 return Err(err(
@@ -225,10 +237,7 @@ pub fn back(text: &str, number: u16) -> Vec<Segment> {
 
 /// The text with every deletion revealed and no markers (for search).
 pub fn revealed(text: &str) -> String {
-    shown(text, 0, false)
-        .into_iter()
-        .map(|s| s.text)
-        .collect()
+    shown(text, 0, false).into_iter().map(|s| s.text).collect()
 }
 
 fn shown(text: &str, number: u16, blank: bool) -> Vec<Segment> {

@@ -257,10 +257,17 @@ impl Config {
         }
         if let Some(n) = raw.leech_threshold {
             let v = *n.get_ref();
-            config.leech_threshold = u32::try_from(v)
-                .ok()
-                .filter(|v| *v <= 1000)
-                .ok_or_else(|| invalid("leech_threshold", n.span(), format!("{v} is outside 0–1000")))?;
+            config.leech_threshold =
+                u32::try_from(v)
+                    .ok()
+                    .filter(|v| *v <= 1000)
+                    .ok_or_else(|| {
+                        invalid(
+                            "leech_threshold",
+                            n.span(),
+                            format!("{v} is outside 0–1000"),
+                        )
+                    })?;
         }
         if let Some(a) = raw.leech_action {
             config.leech_action = [LeechAction::Suspend, LeechAction::Tag]

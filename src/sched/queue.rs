@@ -39,9 +39,11 @@ pub fn cram_items(deck: &Deck, tag: Option<&str>) -> Vec<ItemKey> {
             direction,
         };
         match card.kind {
-            CardKind::Cloze => {
-                items.extend(card.cloze_numbers().into_iter().map(|n| key(Direction::Cloze(n))))
-            }
+            CardKind::Cloze => items.extend(
+                card.cloze_numbers()
+                    .into_iter()
+                    .map(|n| key(Direction::Cloze(n))),
+            ),
             CardKind::Reversed => {
                 items.push(key(Direction::Forward));
                 items.push(key(Direction::Backward));

@@ -174,7 +174,11 @@ pub(super) fn insert_session(conn: &rusqlite::Connection) -> rusqlite::Result<i6
     Ok(conn.last_insert_rowid())
 }
 
-pub(super) fn append(tx: &Transaction<'_>, session: i64, r: &ReviewRecord) -> rusqlite::Result<i64> {
+pub(super) fn append(
+    tx: &Transaction<'_>,
+    session: i64,
+    r: &ReviewRecord,
+) -> rusqlite::Result<i64> {
     let a = &r.after;
     let id = tx
         .prepare_cached(

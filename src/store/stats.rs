@@ -263,7 +263,8 @@ impl Store {
     ) -> Result<Vec<Orphan>, StoreError> {
         let current: HashSet<&ItemKey> = items.iter().copied().collect();
         let decks: HashSet<&str> = items.iter().map(|k| k.deck.as_str()).collect();
-        let mut answers: BTreeMap<(String, String, std::borrow::Cow<'static, str>), u64> = BTreeMap::new();
+        let mut answers: BTreeMap<(String, String, std::borrow::Cow<'static, str>), u64> =
+            BTreeMap::new();
         for c in cached.iter().filter(|c| !current.contains(&c.key)) {
             let k = &c.key;
             answers.insert(

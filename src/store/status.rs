@@ -323,11 +323,29 @@ impl Store {
                     .map_err(sql_err)?;
                 if !already && lapses >= i64::from(after.leech_threshold) {
                     leech = true;
-                    append(&tx, session, batch, k, at, StatusAction::Leech, None, Some(id))
-                        .map_err(sql_err)?;
+                    append(
+                        &tx,
+                        session,
+                        batch,
+                        k,
+                        at,
+                        StatusAction::Leech,
+                        None,
+                        Some(id),
+                    )
+                    .map_err(sql_err)?;
                     if after.leech_suspend {
-                        append(&tx, session, batch, k, at, StatusAction::Suspend, None, Some(id))
-                            .map_err(sql_err)?;
+                        append(
+                            &tx,
+                            session,
+                            batch,
+                            k,
+                            at,
+                            StatusAction::Suspend,
+                            None,
+                            Some(id),
+                        )
+                        .map_err(sql_err)?;
                     }
                 }
             }
@@ -382,9 +400,7 @@ impl Store {
             .map_err(|e| self.err(e))?;
         match (last_review, last_status) {
             (None, None) => Ok(None),
-            (Some(r), Some((_, after))) if r > after => {
-                Ok(self.undo_last()?.map(Undone::Review))
-            }
+            (Some(r), Some((_, after))) if r > after => Ok(self.undo_last()?.map(Undone::Review)),
             (Some(_), None) => Ok(self.undo_last()?.map(Undone::Review)),
             (_, Some((batch, _))) => {
                 let path = self.path.clone();

@@ -87,8 +87,8 @@ pub fn open_filtered_review(
         None if app.decks.is_empty() => anyhow::bail!("no decks to review"),
         None => 0,
     };
-    let items = screens::review::filtered_items(app, index, filter, cram)
-        .map_err(anyhow::Error::msg)?;
+    let items =
+        screens::review::filtered_items(app, index, filter, cram).map_err(anyhow::Error::msg)?;
     if items.is_empty() {
         anyhow::bail!(
             "no card of deck `{}` matches the filter{}",

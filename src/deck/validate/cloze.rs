@@ -42,7 +42,10 @@ pub fn deletions(rep: &mut FileReport, raw: &RawText, what: &str) -> bool {
     }
     // Each number is one review item: a number in one language only would
     // be an item that cannot be shown in the other.
-    let all: BTreeSet<u16> = found.iter().flat_map(|(_, _, n)| n.iter().copied()).collect();
+    let all: BTreeSet<u16> = found
+        .iter()
+        .flat_map(|(_, _, n)| n.iter().copied())
+        .collect();
     for (lang, s, numbers) in &found {
         let missing: Vec<String> = all.difference(numbers).map(|n| format!("c{n}")).collect();
         if missing.is_empty() {

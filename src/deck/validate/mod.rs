@@ -2,8 +2,8 @@
 //! every problem reported. Nothing is built when something is wrong; the
 //! checks still all run so one pass reports everything.
 
-pub mod cloze;
 pub mod answer;
+pub mod cloze;
 pub mod content;
 pub mod scene;
 pub mod text;

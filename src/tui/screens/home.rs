@@ -55,9 +55,12 @@ pub const KEYS: &[Binding] = &[
         "b f",
         Words(
             "card browser / study with a filter",
-            "card browser / filter ke saath padho"
+            "card browser / filter ke saath padho",
         ),
-        &[(Char('b'), Action::OpenBrowser), (Char('f'), Action::OpenFilter)],
+        &[
+            (Char('b'), Action::OpenBrowser),
+            (Char('f'), Action::OpenFilter),
+        ],
     ),
     Binding::new(
         "q",

@@ -61,7 +61,13 @@ fn shown_cards(app: &TestApp) -> Vec<String> {
     let b = browser(app);
     b.shown
         .iter()
-        .map(|&i| format!("{}:{}", b.rows[i].key.card, b.rows[i].key.direction.as_str()))
+        .map(|&i| {
+            format!(
+                "{}:{}",
+                b.rows[i].key.card,
+                b.rows[i].key.direction.as_str()
+            )
+        })
         .collect()
 }
 
@@ -83,7 +89,12 @@ fn browser_lists_every_item_searches_and_previews() {
         found.sort();
         assert_eq!(
             found,
-            ["euler-1:backward", "euler-1:forward", "euler-cloze:c1", "euler-cloze:c2"]
+            [
+                "euler-1:backward",
+                "euler-1:forward",
+                "euler-cloze:c1",
+                "euler-cloze:c2"
+            ]
         );
         for _ in 0..6 {
             press(&mut app, KeyCode::Backspace);
@@ -98,7 +109,10 @@ fn browser_lists_every_item_searches_and_previews() {
         press(&mut app, KeyCode::Down);
         press(&mut app, KeyCode::Enter);
         let screen = render(&app);
-        assert!(screen.contains("[an axis]") || screen.contains("[ek axis]"), "{screen}");
+        assert!(
+            screen.contains("[an axis]") || screen.contains("[ek axis]"),
+            "{screen}"
+        );
         insta::assert_snapshot!(format!("browser_preview_{lang}"), screen);
         press(&mut app, KeyCode::Esc);
         assert!(!browser(&app).preview);
@@ -130,7 +144,10 @@ fn browser_sorts_by_any_column() {
     press(&mut app, KeyCode::Char('O'));
     let mut reversed = sorted.clone();
     reversed.reverse();
-    assert_eq!(shown_cards(&app).iter().map(card).collect::<Vec<_>>(), reversed);
+    assert_eq!(
+        shown_cards(&app).iter().map(card).collect::<Vec<_>>(),
+        reversed
+    );
     // Lapses: every item has none, so the order is the deck's.
     for _ in 0..8 {
         press(&mut app, KeyCode::Char('o'));
@@ -157,19 +174,49 @@ fn browser_suspends_buries_unsuspends_and_undoes() {
         panic!("no row selected");
     };
     press(&mut app, KeyCode::Char('s'));
-    assert!(app.services.store.status(&first).map(|s| s.suspended).unwrap_or(false));
+    assert!(
+        app.services
+            .store
+            .status(&first)
+            .map(|s| s.suspended)
+            .unwrap_or(false)
+    );
     insta::assert_snapshot!("browser_suspended_en", render(&app));
     press(&mut app, KeyCode::Char('u'));
-    assert!(!app.services.store.status(&first).map(|s| s.suspended).unwrap_or(true));
+    assert!(
+        !app.services
+            .store
+            .status(&first)
+            .map(|s| s.suspended)
+            .unwrap_or(true)
+    );
 
     press(&mut app, KeyCode::Char('b'));
     let now = app.services.now();
-    assert!(app.services.store.status(&first).map(|s| s.buried(now)).unwrap_or(false));
+    assert!(
+        app.services
+            .store
+            .status(&first)
+            .map(|s| s.buried(now))
+            .unwrap_or(false)
+    );
     press(&mut app, KeyCode::Char('U'));
-    assert!(app.services.store.status(&first).map(|s| s.studyable(now)).unwrap_or(false));
+    assert!(
+        app.services
+            .store
+            .status(&first)
+            .map(|s| s.studyable(now))
+            .unwrap_or(false)
+    );
     // Two changes made, two undone; then nothing is left to undo here.
     press_all(&mut app, &[KeyCode::Char('u'), KeyCode::Char('u')]);
-    assert!(app.services.store.status(&first).map(|s| s.studyable(now)).unwrap_or(false));
+    assert!(
+        app.services
+            .store
+            .status(&first)
+            .map(|s| s.studyable(now))
+            .unwrap_or(false)
+    );
     press(&mut app, KeyCode::Char('u'));
     assert_eq!(browser(&app).marks, 0);
 }
@@ -205,8 +252,15 @@ fn filter_counts_the_matching_items_and_starts_a_session() {
         press(&mut app, KeyCode::Char(' '));
         insta::assert_snapshot!(format!("cloze_back_{lang}"), render(&app));
         press(&mut app, KeyCode::Char('3'));
-        let history = app.services.store.history(&key("euler-cloze", Direction::Cloze(1)));
-        assert_eq!(history.map(|h| h.len()).unwrap_or(0), 1, "ratings of a filtered session count");
+        let history = app
+            .services
+            .store
+            .history(&key("euler-cloze", Direction::Cloze(1)));
+        assert_eq!(
+            history.map(|h| h.len()).unwrap_or(0),
+            1,
+            "ratings of a filtered session count"
+        );
     }
 }
 
@@ -229,7 +283,11 @@ fn filter_refuses_a_bad_span_and_an_unknown_tag() {
     let Screen::Filter(f) = app.screen() else {
         panic!("not on the filter");
     };
-    assert!(matches!(&f.count, Err(e) if e.contains("not a span")), "{:?}", f.count);
+    assert!(
+        matches!(&f.count, Err(e) if e.contains("not a span")),
+        "{:?}",
+        f.count
+    );
 }
 
 #[test]
@@ -245,13 +303,29 @@ fn review_suspends_and_buries_with_undo_and_buries_siblings() {
         panic!("no card");
     };
     press(&mut app, KeyCode::Char('s'));
-    assert!(app.services.store.status(&first).map(|s| s.suspended).unwrap_or(false));
+    assert!(
+        app.services
+            .store
+            .status(&first)
+            .map(|s| s.suspended)
+            .unwrap_or(false)
+    );
     assert_ne!(current(&app), Some(first.clone()));
     let screen = render(&app);
     assert!(screen.contains("card suspended"), "{screen}");
     press(&mut app, KeyCode::Char('u'));
-    assert_eq!(current(&app), Some(first.clone()), "undo brings the card back");
-    assert!(!app.services.store.status(&first).map(|s| s.suspended).unwrap_or(true));
+    assert_eq!(
+        current(&app),
+        Some(first.clone()),
+        "undo brings the card back"
+    );
+    assert!(
+        !app.services
+            .store
+            .status(&first)
+            .map(|s| s.suspended)
+            .unwrap_or(true)
+    );
 
     // Answer until the reversed card comes up: its other direction is buried.
     let reversed_fwd = key("euler-1", Direction::Forward);
@@ -266,7 +340,11 @@ fn review_suspends_and_buries_with_undo_and_buries_siblings() {
         press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
         let now = app.services.now();
         assert!(
-            app.services.store.status(&reversed_back).map(|s| s.buried(now)).unwrap_or(false),
+            app.services
+                .store
+                .status(&reversed_back)
+                .map(|s| s.buried(now))
+                .unwrap_or(false),
             "the other direction is buried"
         );
         // Undoing the answer unburies it (the next card may be a typed one,
@@ -274,7 +352,11 @@ fn review_suspends_and_buries_with_undo_and_buries_siblings() {
         crate::tui::update::apply(&mut app, crate::tui::action::Action::Undo);
         let st = app.services.store.status(&reversed_back);
         let hist = app.services.store.status_history(&reversed_back);
-        assert!(st.as_ref().map(|s| s.studyable(now)).unwrap_or(false), "{st:?} {hist:?} {:?}", app.status);
+        assert!(
+            st.as_ref().map(|s| s.studyable(now)).unwrap_or(false),
+            "{st:?} {hist:?} {:?}",
+            app.status
+        );
     } else {
         panic!("the reversed card never came up");
     }
@@ -293,13 +375,55 @@ fn a_card_suspended_meanwhile_is_not_rated() {
     press(&mut app, KeyCode::Char(' '));
     // Another window suspends it.
     let now = app.services.now();
-    let done = app
-        .services
-        .store
-        .set_status(std::slice::from_ref(&shown), StatusAction::Suspend, now, None);
+    let done = app.services.store.set_status(
+        std::slice::from_ref(&shown),
+        StatusAction::Suspend,
+        now,
+        None,
+    );
     assert!(done.is_ok());
     press(&mut app, KeyCode::Char('3'));
-    assert_eq!(app.services.store.history(&shown).map(|h| h.len()).unwrap_or(9), 0);
+    assert_eq!(
+        app.services
+            .store
+            .history(&shown)
+            .map(|h| h.len())
+            .unwrap_or(9),
+        0
+    );
     let screen = render(&app);
     assert!(screen.contains("suspended or buried meanwhile"), "{screen}");
+}
+
+#[test]
+fn typing_narrows_the_last_search_without_losing_rows() {
+    let mut app = app(ENGLISH);
+    press(&mut app, KeyCode::Char('b'));
+    press(&mut app, KeyCode::Char('/'));
+    let mut typed = String::new();
+    for c in "euler 1".chars() {
+        typed.push(c);
+        press(&mut app, KeyCode::Char(c));
+        // What a fresh search over every row finds, in the same order.
+        let b = browser(&app);
+        let mut fresh = crate::store::catalog::Search::new(&app.decks, &b.rows);
+        let all: Vec<usize> = (0..b.rows.len()).collect();
+        assert_eq!(b.shown, fresh.matching(&typed, &all).best, "{typed:?}");
+    }
+    // After a suspend, a status filter sees the change.
+    for _ in 0..typed.len() {
+        press(&mut app, KeyCode::Backspace);
+    }
+    type_text(&mut app, "is:suspended");
+    assert!(shown_cards(&app).is_empty());
+    press(&mut app, KeyCode::Enter);
+    for _ in 0.."is:suspended".len() {
+        press(&mut app, KeyCode::Char('/'));
+        press(&mut app, KeyCode::Backspace);
+        press(&mut app, KeyCode::Enter);
+    }
+    press(&mut app, KeyCode::Char('s'));
+    press(&mut app, KeyCode::Char('/'));
+    type_text(&mut app, "is:suspended");
+    assert_eq!(shown_cards(&app).len(), 1);
 }

@@ -17,7 +17,7 @@ const UNDO: Binding = Binding::new(
     "u",
     Words(
         "undo the last rating, suspend or bury",
-        "pichhli rating, suspend ya bury wapas lo"
+        "pichhli rating, suspend ya bury wapas lo",
     ),
     &[(Char('u'), Action::Undo)],
 );
@@ -26,7 +26,7 @@ const SUSPEND: Binding = Binding::new(
     "s",
     Words(
         "suspend this card (out of every queue)",
-        "yeh card suspend karo (har queue se bahar)"
+        "yeh card suspend karo (har queue se bahar)",
     ),
     &[(Char('s'), Action::Suspend)],
 );
