@@ -216,26 +216,26 @@ fn thread_cpu() -> Duration {
 }
 
 #[derive(Clone, Copy)]
-enum Clock {
+enum Timer {
     Wall,
     UiThreadCpu,
 }
 
-impl Clock {
+impl Timer {
     fn name(self) -> &'static str {
         match self {
-            Clock::Wall => "wall",
-            Clock::UiThreadCpu => "ui thread cpu",
+            Timer::Wall => "wall",
+            Timer::UiThreadCpu => "ui thread cpu",
         }
     }
     fn time(self, f: impl FnOnce()) -> Duration {
         match self {
-            Clock::Wall => {
+            Timer::Wall => {
                 let start = Instant::now();
                 f();
                 start.elapsed()
             }
-            Clock::UiThreadCpu => {
+            Timer::UiThreadCpu => {
                 let start = thread_cpu();
                 f();
                 thread_cpu().saturating_sub(start)
@@ -251,7 +251,7 @@ fn browser(c: &mut Criterion) {
     let mut g = c.benchmark_group("browser");
     g.sample_size(10);
     g.measurement_time(Duration::from_secs(8));
-    for clock in [Clock::Wall, Clock::UiThreadCpu] {
+    for clock in [Timer::Wall, Timer::UiThreadCpu] {
         g.bench_function(
             format!("first_frame (50,000 items, {})", clock.name()),
             |b| {
@@ -279,7 +279,7 @@ fn browser(c: &mut Criterion) {
         for ch in prefix.chars() {
             apply(&mut app, Action::Input(ch));
         }
-        for clock in [Clock::Wall, Clock::UiThreadCpu] {
+        for clock in [Timer::Wall, Timer::UiThreadCpu] {
             g.bench_function(format!("{name} (50,000 items, {})", clock.name()), |b| {
                 b.iter_custom(|n| {
                     let mut total = Duration::ZERO;

@@ -139,15 +139,25 @@ fn refresh(conn: &Connection, key: &ItemKey) -> rusqlite::Result<()> {
     Ok(())
 }
 
+/// One row of the status cache as stored.
+type StatusRow = (String, String, String, i64, Option<i64>, i64);
+
 /// Recomputes the whole status cache; true when it differed.
 pub(super) fn rebuild(tx: &Transaction<'_>) -> rusqlite::Result<bool> {
-    let read = |tx: &Transaction<'_>| -> rusqlite::Result<Vec<(String, String, String, i64, Option<i64>, i64)>> {
+    let read = |tx: &Transaction<'_>| -> rusqlite::Result<Vec<StatusRow>> {
         let mut st = tx.prepare(
             "SELECT deck, card, direction, suspended, buried_until, leech FROM item_status \
              ORDER BY deck, card, direction",
         )?;
         st.query_map([], |r| {
-            Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?, r.get(4)?, r.get(5)?))
+            Ok((
+                r.get(0)?,
+                r.get(1)?,
+                r.get(2)?,
+                r.get(3)?,
+                r.get(4)?,
+                r.get(5)?,
+            ))
         })?
         .collect()
     };
