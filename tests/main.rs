@@ -9,6 +9,7 @@ mod support;
 mod bench_cli;
 mod bundled_deck;
 mod bundled_decks;
+mod cards_cli;
 mod check_cli;
 mod check_files;
 mod check_robustness;

@@ -52,6 +52,7 @@ pub fn run(cli: &Cli, args: &StatsArgs) -> anyhow::Result<ExitCode> {
     } else {
         out.write_all(render_stats(&stats).as_bytes())?;
         out.write_all(ParametersInUse::of(&config).line().as_bytes())?;
+        out.write_all(render_marks(&store, args.deck.as_deref(), now)?.as_bytes())?;
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
@@ -207,4 +208,35 @@ impl ParametersInUse {
             (None, _) => "FSRS parameters: your own (fsrs_parameters in the config)\n".to_string(),
         }
     }
+}
+
+/// Suspended and buried counts and the leeches by name (text output only).
+fn render_marks(
+    store: &crate::store::Store,
+    deck: Option<&str>,
+    now: chrono::DateTime<chrono::Utc>,
+) -> anyhow::Result<String> {
+    let mut marks: Vec<(ItemKey, crate::store::ItemStatus)> = store
+        .statuses()?
+        .into_iter()
+        .filter(|(k, _)| deck.is_none_or(|d| k.deck == d))
+        .collect();
+    marks.sort_by(|a, b| a.0.cmp(&b.0));
+    let suspended = marks.iter().filter(|(_, s)| s.suspended).count();
+    let buried = marks.iter().filter(|(_, s)| s.buried(now)).count();
+    let leeches: Vec<String> = marks
+        .iter()
+        .filter(|(_, s)| s.leech)
+        .map(|(k, _)| format!("{}/{}/{}", k.deck, k.card, k.direction.as_str()))
+        .collect();
+    let mut o = format!(
+        "\nSuspended: {}; buried today: {}; leeches: {}\n",
+        suspended,
+        buried,
+        leeches.len()
+    );
+    for l in leeches {
+        o.push_str(&format!("  leech {l}\n"));
+    }
+    Ok(o)
 }

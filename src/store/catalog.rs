@@ -66,28 +66,35 @@ pub fn card_directions(card: &crate::deck::Card) -> Vec<Direction> {
     }
 }
 
-/// What free text is searched in for each card, one field each: its id,
-/// then the front and back in every language, as rendered (`ω₂`) and, when
-/// they hold math, as written (`\omega_2`). A match must lie within one
-/// field: letters scattered over a whole card are no match.
-pub fn card_haystack(card: &crate::deck::Card) -> Vec<String> {
+/// What free text is searched in for each card, as written, one field
+/// each: its id, then per language its front and back together. A match
+/// must lie within one field: letters strewn over a whole card in both
+/// languages are no match.
+pub fn card_fields(card: &crate::deck::Card) -> Vec<String> {
     let mut fields = vec![card.id.clone()];
-    for text in [&card.front, &card.back] {
-        for t in text.0.values() {
-            let written = if card.kind == CardKind::Cloze {
-                crate::deck::cloze::revealed(t)
-            } else {
-                t.clone()
-            };
-            let mut field = crate::text::render(&written);
-            if written.contains('$') {
-                field.push(' ');
-                field.push_str(&written);
-            }
-            fields.push(field);
-        }
+    let langs: BTreeSet<&String> = card.front.0.keys().chain(card.back.0.keys()).collect();
+    for lang in langs {
+        let front = card.front.0.get(lang).map_or("", String::as_str);
+        let front = if card.kind == CardKind::Cloze {
+            crate::deck::cloze::revealed(front)
+        } else {
+            front.to_string()
+        };
+        let back = card.back.0.get(lang).map_or("", String::as_str);
+        fields.push(format!("{front} {back}"));
     }
     fields
+}
+
+/// A field as searched: rendered (`ω₂`) and, when it holds math, also as
+/// written (`\omega_2`), so that `omega2` and `ω₂` both find it.
+fn searched(written: &str) -> Utf32String {
+    let mut field = crate::text::render(written);
+    if written.contains('$') {
+        field.push(' ');
+        field.push_str(written);
+    }
+    Utf32String::from(field)
 }
 
 /// The least score (per character of the query) a fuzzy match needs: a
@@ -318,63 +325,119 @@ impl Filter {
     }
 }
 
-/// Free-text search over many items: each card's haystack is converted
-/// once, then every query is a pass of the fuzzy matcher.
+/// The texts a [`Search`] is built from, gathered from the decks (cheap);
+/// building renders the math of every card (the costly part, which the
+/// browser does on a thread of its own while its first frame shows).
+pub struct SearchTexts {
+    cards: Vec<Vec<String>>,
+    card_of_row: Vec<u32>,
+}
+
+impl SearchTexts {
+    pub fn new(decks: &[Deck], rows: &[ItemRow]) -> SearchTexts {
+        let mut index: HashMap<(usize, usize), u32> = HashMap::new();
+        let mut cards = Vec::new();
+        let card_of_row = rows
+            .iter()
+            .map(|r| {
+                *index.entry((r.deck, r.card)).or_insert_with(|| {
+                    cards.push(card_fields(&decks[r.deck].cards[r.card]));
+                    (cards.len() - 1) as u32
+                })
+            })
+            .collect();
+        SearchTexts { cards, card_of_row }
+    }
+
+    /// The search index; `None` when `cancel` was set meanwhile.
+    pub fn build(self, cancel: &std::sync::atomic::AtomicBool) -> Option<Search> {
+        let mut cards = Vec::with_capacity(self.cards.len());
+        for fields in self.cards {
+            if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+                return None;
+            }
+            cards.push(fields.iter().map(|f| searched(f)).collect());
+        }
+        Some(Search {
+            cards,
+            card_of_row: self.card_of_row,
+            matcher: Matcher::new(nucleo_matcher::Config::DEFAULT),
+        })
+    }
+}
+
+/// Free-text search over many items: each card's fields are converted
+/// once, then every query is a pass of the fuzzy matcher over the cards
+/// (an item shares its card's score).
 pub struct Search {
-    /// One per row, shared by the items of a card.
-    hay: Vec<std::sync::Arc<Vec<Utf32String>>>,
+    cards: Vec<Vec<Utf32String>>,
+    card_of_row: Vec<u32>,
     matcher: Matcher,
+}
+
+/// What [`Search::matching`] found.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Found {
+    /// The rows that match well enough, best first.
+    pub best: Vec<usize>,
+    /// Every row the pattern matches at all, in the order given: a query
+    /// that extends this one can only match among these.
+    pub any: Vec<usize>,
 }
 
 impl Search {
     pub fn new(decks: &[Deck], rows: &[ItemRow]) -> Search {
-        let mut per_card: HashMap<(usize, usize), std::sync::Arc<Vec<Utf32String>>> =
-            HashMap::new();
-        let hay = rows
-            .iter()
-            .map(|r| {
-                per_card
-                    .entry((r.deck, r.card))
-                    .or_insert_with(|| {
-                        std::sync::Arc::new(
-                            card_haystack(&decks[r.deck].cards[r.card])
-                                .into_iter()
-                                .map(Utf32String::from)
-                                .collect(),
-                        )
-                    })
-                    .clone()
+        let never = std::sync::atomic::AtomicBool::new(false);
+        SearchTexts::new(decks, rows)
+            .build(&never)
+            .unwrap_or_else(|| Search {
+                cards: Vec::new(),
+                card_of_row: Vec::new(),
+                matcher: Matcher::new(nucleo_matcher::Config::DEFAULT),
             })
-            .collect();
-        Search {
-            hay,
-            matcher: Matcher::new(nucleo_matcher::Config::DEFAULT),
-        }
     }
 
-    /// The indices of `candidates` whose text matches `text`, best first
-    /// (all of them, in order, when `text` is blank).
-    pub fn matching(&mut self, text: &str, candidates: &[usize]) -> Vec<usize> {
+    /// The rows among `candidates` whose text matches `text`.
+    pub fn matching(&mut self, text: &str, candidates: &[usize]) -> Found {
         if text.trim().is_empty() {
-            return candidates.to_vec();
+            return Found {
+                best: candidates.to_vec(),
+                any: candidates.to_vec(),
+            };
         }
         let pattern = Pattern::parse(text, CaseMatching::Ignore, Normalization::Smart);
         let chars = text.chars().filter(|c| !c.is_whitespace()).count() as u32;
         let least = MIN_SCORE_PER_CHAR * chars;
         let matcher = &mut self.matcher;
-        let mut scored: Vec<(u32, usize)> = candidates
-            .iter()
-            .filter_map(|&i| {
-                self.hay[i]
-                    .iter()
-                    .filter_map(|h| pattern.score(h.slice(..), matcher))
-                    .max()
-                    .filter(|s| *s >= least)
-                    .map(|s| (s, i))
-            })
-            .collect();
-        scored.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-        scored.into_iter().map(|(_, i)| i).collect()
+        let mut last: Option<(u32, Option<u32>)> = None;
+        let mut any = Vec::new();
+        let mut scored: Vec<(u32, usize)> = Vec::new();
+        for &i in candidates {
+            let card = self.card_of_row[i];
+            // The items of a card come one after another: score it once.
+            let score = match last {
+                Some((c, s)) if c == card => s,
+                _ => {
+                    let s = self.cards[card as usize]
+                        .iter()
+                        .filter_map(|h| pattern.score(h.slice(..), matcher))
+                        .max();
+                    last = Some((card, s));
+                    s
+                }
+            };
+            if let Some(s) = score {
+                any.push(i);
+                if s >= least {
+                    scored.push((s, i));
+                }
+            }
+        }
+        scored.sort_unstable_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+        Found {
+            best: scored.into_iter().map(|(_, i)| i).collect(),
+            any,
+        }
     }
 }
 
@@ -389,7 +452,7 @@ pub fn select(
     let kept: Vec<usize> = (0..rows.len())
         .filter(|&i| filter.keeps(&rows[i], decks, now))
         .collect();
-    search.matching(&filter.text, &kept)
+    search.matching(&filter.text, &kept).best
 }
 
 #[cfg(test)]
@@ -445,6 +508,7 @@ mod tests {
         let cards = |search: &mut Search, q: &str| -> BTreeSet<String> {
             search
                 .matching(q, &all)
+                .best
                 .into_iter()
                 .map(|i| rows[i].key.card.clone())
                 .collect()

@@ -139,8 +139,7 @@ fn refresh(conn: &Connection, key: &ItemKey) -> rusqlite::Result<()> {
     Ok(())
 }
 
-/// A row of the status cache: deck, card, direction, suspended,
-/// buried_until, leech.
+/// One row of the status cache as stored.
 type StatusRow = (String, String, String, i64, Option<i64>, i64);
 
 /// Recomputes the whole status cache; true when it differed.

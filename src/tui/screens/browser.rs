@@ -16,7 +16,7 @@ use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table, TableState, 
 use crate::deck::Deck;
 use crate::sched::{Direction, ItemKey};
 use crate::store::StatusAction;
-use crate::store::catalog::{self, Filter, ItemRow, Search};
+use crate::store::catalog::{self, Filter, ItemRow, Search, SearchTexts};
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Words};
@@ -194,9 +194,63 @@ impl Column {
     }
 }
 
+/// The search index: built on a thread of its own when the browser opens
+/// (rendering the math of every card is the slow part), so the first frame
+/// does not wait for it; the first search that needs it does.
+enum Index {
+    Building {
+        thread: Option<std::thread::JoinHandle<Option<Search>>>,
+        cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    },
+    Ready(Search),
+}
+
+impl Index {
+    fn start(texts: SearchTexts) -> Index {
+        let cancel = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let flag = std::sync::Arc::clone(&cancel);
+        let thread = std::thread::Builder::new()
+            .name("search-index".into())
+            .spawn(move || texts.build(&flag))
+            .ok();
+        Index::Building { thread, cancel }
+    }
+
+    fn get(&mut self) -> Option<&mut Search> {
+        if let Index::Building { thread, .. } = self {
+            let built = thread.take().and_then(|t| t.join().ok()).flatten();
+            match built {
+                Some(search) => *self = Index::Ready(search),
+                None => return None,
+            }
+        }
+        match self {
+            Index::Ready(s) => Some(s),
+            Index::Building { .. } => None,
+        }
+    }
+}
+
+impl Drop for Index {
+    /// Leaving the browser before the index is built stops building it.
+    fn drop(&mut self) {
+        if let Index::Building { cancel, .. } = self {
+            cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
+}
+
+/// The last search: a query that only adds to its text can match among
+/// the rows it matched at all, no others.
+struct LastSearch {
+    filter: Filter,
+    any: Vec<usize>,
+}
+
 pub struct BrowserState {
     pub rows: Vec<ItemRow>,
-    search: Search,
+    index: Index,
+    last: Option<LastSearch>,
     /// The query as typed.
     pub query: String,
     /// Typing the query (`/`).
@@ -227,11 +281,12 @@ impl BrowserState {
             now,
         )
         .map_err(|e| e.to_string())?;
-        let search = Search::new(&app.decks, &rows);
+        let index = Index::start(SearchTexts::new(&app.decks, &rows));
         let mut state = BrowserState {
             shown: (0..rows.len()).collect(),
             rows,
-            search,
+            index,
+            last: None,
             query: String::new(),
             typing: false,
             selected: 0,
@@ -255,13 +310,51 @@ impl BrowserState {
         match filter {
             Ok(f) => {
                 self.error = None;
-                self.shown = catalog::select(decks, &self.rows, &mut self.search, &f, self.now);
+                self.shown = self.select(decks, f);
             }
             // The list stays as it was while the query is being written.
             Err(e) => self.error = Some(e.0),
         }
         self.sort_rows(decks);
         self.selected = self.selected.min(self.shown.len().saturating_sub(1));
+    }
+
+    /// The rows `f` selects, narrowing the last search when it can.
+    fn select(&mut self, decks: &[Deck], f: Filter) -> Vec<usize> {
+        let text = f.text.clone();
+        let fields = Filter {
+            text: String::new(),
+            ..f.clone()
+        };
+        let narrowed = self.last.as_ref().and_then(|last| {
+            let same = Filter {
+                text: String::new(),
+                ..last.filter.clone()
+            } == fields
+                && text.starts_with(&last.filter.text);
+            same.then(|| last.any.clone())
+        });
+        let candidates = narrowed.unwrap_or_else(|| {
+            (0..self.rows.len())
+                .filter(|&i| fields.keeps(&self.rows[i], decks, self.now))
+                .collect()
+        });
+        if text.trim().is_empty() {
+            self.last = Some(LastSearch {
+                filter: f,
+                any: candidates.clone(),
+            });
+            return candidates;
+        }
+        let Some(search) = self.index.get() else {
+            return candidates;
+        };
+        let found = search.matching(&text, &candidates);
+        self.last = Some(LastSearch {
+            filter: f,
+            any: found.any,
+        });
+        found.best
     }
 
     fn sort_rows(&mut self, decks: &[Deck]) {
@@ -414,6 +507,9 @@ fn refresh(app: &mut App, s: &mut BrowserState, keys: &[ItemKey]) {
     for row in s.rows.iter_mut().filter(|r| keys.contains(&r.key)) {
         row.status = statuses.get(&row.key).copied().unwrap_or_default();
     }
+    // A status filter may now select other rows: the next search starts
+    // from every row again.
+    s.last = None;
     // Rows stay where they are until the query changes, so the learner
     // sees what the action did.
 }

@@ -395,3 +395,36 @@ fn a_card_suspended_meanwhile_is_not_rated() {
     let screen = render(&app);
     assert!(screen.contains("suspended or buried meanwhile"), "{screen}");
 }
+
+#[test]
+fn typing_narrows_the_last_search_without_losing_rows() {
+    let mut app = app(ENGLISH);
+    press(&mut app, KeyCode::Char('b'));
+    press(&mut app, KeyCode::Char('/'));
+    let mut typed = String::new();
+    for c in "euler 1".chars() {
+        typed.push(c);
+        press(&mut app, KeyCode::Char(c));
+        // What a fresh search over every row finds, in the same order.
+        let b = browser(&app);
+        let mut fresh = crate::store::catalog::Search::new(&app.decks, &b.rows);
+        let all: Vec<usize> = (0..b.rows.len()).collect();
+        assert_eq!(b.shown, fresh.matching(&typed, &all).best, "{typed:?}");
+    }
+    // After a suspend, a status filter sees the change.
+    for _ in 0..typed.len() {
+        press(&mut app, KeyCode::Backspace);
+    }
+    type_text(&mut app, "is:suspended");
+    assert!(shown_cards(&app).is_empty());
+    press(&mut app, KeyCode::Enter);
+    for _ in 0.."is:suspended".len() {
+        press(&mut app, KeyCode::Char('/'));
+        press(&mut app, KeyCode::Backspace);
+        press(&mut app, KeyCode::Enter);
+    }
+    press(&mut app, KeyCode::Char('s'));
+    press(&mut app, KeyCode::Char('/'));
+    type_text(&mut app, "is:suspended");
+    assert_eq!(shown_cards(&app).len(), 1);
+}

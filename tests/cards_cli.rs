@@ -1,0 +1,227 @@
+//! `flipcard cards list|suspend|unsuspend|bury` and the filter flags of
+//! `flipcard review` through the real binary, on the study fixture deck:
+//! exact CSV header, JSON rows, all-or-nothing status changes, clear
+//! one-line errors.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+const NOW: &str = "2026-05-10T12:00:00Z";
+const HEADER: &str = "deck,card,direction,state,due,stability,difficulty,retrievability,reviews,lapses,suspended,buried,leech,tags";
+
+fn flipcard(data: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        .args(args)
+        .env("FLIPCARD_DATA_DIR", data)
+        .env("FLIPCARD_NOW", NOW)
+        .env("TZ", "UTC")
+        .env("FLIPCARD_CONFIG", data.join("no-such-config.toml"))
+        .env(
+            "FLIPCARD_DECKS",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/tests/decks/study/decks"),
+        )
+        .output()
+        .expect("run flipcard")
+}
+
+fn out(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn err(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// (card/direction, suspended, buried) of every row of `cards list QUERY`.
+fn marks(data: &Path, query: &str) -> Vec<(String, String, String)> {
+    let o = flipcard(data, &["cards", "list", query]);
+    assert!(o.status.success(), "{}", err(&o));
+    let text = out(&o);
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(HEADER));
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (
+                format!("{}/{}", f[1], f[2]),
+                f[10].to_string(),
+                f[11].to_string(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn list_prints_one_row_per_item_in_csv_and_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let rows = marks(dir.path(), "");
+    let items: Vec<&str> = rows.iter().map(|r| r.0.as_str()).collect();
+    assert_eq!(
+        items,
+        [
+            "torque-rate/c1",
+            "torque-rate/c2",
+            "torque-rate/c3",
+            "spin-axis/forward",
+            "spin-axis/backward",
+            "middle/forward"
+        ]
+    );
+    let o = flipcard(
+        dir.path(),
+        &["cards", "list", "tag:frames", "--format", "json"],
+    );
+    assert!(o.status.success(), "{}", err(&o));
+    let json: serde_json::Value = serde_json::from_str(&out(&o)).unwrap();
+    let rows = json.as_array().unwrap();
+    assert_eq!(rows.len(), 3);
+    let fields: Vec<&str> = rows[0]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    let mut want: Vec<&str> = HEADER.split(',').collect();
+    let mut got = fields.clone();
+    want.sort();
+    got.sort();
+    assert_eq!(got, want);
+    assert_eq!(rows[2]["tags"], "euler frames");
+    assert_eq!(rows[0]["state"], "new");
+    assert_eq!(rows[0]["due"], "");
+
+    // Math as written and as rendered.
+    assert_eq!(marks(dir.path(), "omega2").len(), 3);
+    assert_eq!(marks(dir.path(), "ω₂").len(), 3);
+}
+
+#[test]
+fn suspend_unsuspend_bury_change_all_or_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // One unknown item: exit 1, naming it, and the good one is untouched.
+    let o = flipcard(d, &["cards", "suspend", "study/middle", "study/nope"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        err(&o).trim(),
+        "flipcard: error: unknown item `study/nope`: deck `study` has no card `nope`"
+    );
+    assert!(marks(d, "is:suspended").is_empty());
+    for bad in [
+        "study/torque-rate/c7",
+        "study/middle/backward",
+        "nodeck/x",
+        "study",
+    ] {
+        let o = flipcard(d, &["cards", "bury", bad]);
+        assert_eq!(o.status.code(), Some(1), "{bad}");
+        assert_eq!(err(&o).lines().count(), 1, "{bad}: {}", err(&o));
+        assert!(err(&o).contains(bad), "{bad}: {}", err(&o));
+    }
+    assert!(marks(d, "state:buried").is_empty());
+
+    let o = flipcard(
+        d,
+        &[
+            "cards",
+            "suspend",
+            "study/spin-axis",
+            "study/torque-rate/c2",
+        ],
+    );
+    assert!(o.status.success(), "{}", err(&o));
+    assert_eq!(out(&o).trim(), "suspended: 3 items");
+    let s: Vec<String> = marks(d, "is:suspended").into_iter().map(|r| r.0).collect();
+    assert_eq!(
+        s,
+        ["torque-rate/c2", "spin-axis/forward", "spin-axis/backward"]
+    );
+
+    let o = flipcard(d, &["cards", "bury", "study/middle/forward"]);
+    assert!(o.status.success(), "{}", err(&o));
+    assert_eq!(
+        marks(d, "is:buried"),
+        [(
+            "middle/forward".to_string(),
+            "false".to_string(),
+            "true".to_string()
+        )]
+    );
+    let o = flipcard(
+        d,
+        &[
+            "cards",
+            "unsuspend",
+            "study/spin-axis/backward",
+            "study/middle",
+        ],
+    );
+    assert!(o.status.success(), "{}", err(&o));
+    let s: Vec<String> = marks(d, "is:suspended").into_iter().map(|r| r.0).collect();
+    assert_eq!(s, ["torque-rate/c2", "spin-axis/forward"]);
+    assert!(marks(d, "is:buried").is_empty(), "unsuspend lifts a bury");
+
+    // The marks come from the status log: a rebuild gives them again.
+    let o = flipcard(d, &["db", "rebuild"]);
+    assert!(o.status.success(), "{}", err(&o));
+    let s: Vec<String> = marks(d, "is:suspended").into_iter().map(|r| r.0).collect();
+    assert_eq!(s, ["torque-rate/c2", "spin-axis/forward"]);
+    let o = flipcard(d, &["stats"]);
+    assert!(
+        out(&o).contains("Suspended: 2; buried today: 0; leeches: 0"),
+        "{}",
+        out(&o)
+    );
+}
+
+#[test]
+fn bad_queries_and_filters_say_what_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (args, says) in [
+        (
+            vec!["cards", "list", "tag:nope"],
+            "no card has tag `nope`; tags are euler, frames",
+        ),
+        (
+            vec!["cards", "list", "state:asleep"],
+            "unknown state `asleep`",
+        ),
+        (
+            vec!["cards", "list", "deck:other"],
+            "no deck `other`; decks are study",
+        ),
+        (
+            vec!["cards", "list", "colour:red"],
+            "unknown filter `colour:`",
+        ),
+        (
+            vec!["cards", "list", "due:<3y"],
+            "`3y` is not a span of time",
+        ),
+        (vec!["review", "--tag", "nope"], "no card has tag `nope`"),
+        (
+            vec!["review", "--state", "asleep"],
+            "unknown state `asleep`",
+        ),
+        (vec!["review", "--state", "suspended"], "add --cram"),
+        (
+            vec!["review", "--due-within", "soon"],
+            "`soon` is not a span of time",
+        ),
+        (
+            vec!["review", "--due-within", "3d"],
+            "no card of deck `study` matches the filter",
+        ),
+    ] {
+        let o = flipcard(d, &args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", err(&o));
+        assert!(err(&o).contains(says), "{args:?}: {}", err(&o));
+        assert_eq!(err(&o).lines().count(), 1, "{args:?}: {}", err(&o));
+    }
+    // A query that matches nothing: the header, and a line saying so.
+    let o = flipcard(d, &["cards", "list", "zzqqxx"]);
+    assert!(o.status.success());
+    assert_eq!(out(&o).trim(), HEADER);
+    assert!(err(&o).contains("no item matches `zzqqxx`"), "{}", err(&o));
+}
