@@ -227,8 +227,12 @@ fn every_toml_example_in_the_docs_loads() {
             content_fragment(e);
             checked += 1;
         } else if !t.is_empty()
-            && t.keys()
-                .all(|k| flipcard::sched::config::KEYS.contains(&k.as_str()))
+            && t.keys().all(|k| {
+                let k = k.as_str();
+                flipcard::sched::config::KEYS.contains(&k)
+                    || flipcard::sched::config::FITTED_KEYS.contains(&k)
+                    || ["deck_paths", "sync_dir"].contains(&k)
+            })
         {
             Config::parse(&e.text, Path::new("config.toml"))
                 .unwrap_or_else(|err| panic!("{}: settings that do not load: {err}", e.at));

@@ -107,7 +107,12 @@ fn text(b: &[u8]) -> String {
 fn the_binary_alone_carries_its_decks() {
     let alone = Alone::new();
     let bundled = flipcard::deck::bundled::load();
-    let deck = &bundled.decks[0];
+    // The first bundled deck with a rigid-body scene.
+    let deck = bundled
+        .decks
+        .iter()
+        .find(|d| !d.scenes.is_empty())
+        .expect("a bundled deck with a rigid-body scene");
 
     let out = alone.run(&["check"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
