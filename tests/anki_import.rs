@@ -96,14 +96,10 @@ fn both_layouts_import_decks_that_pass_check_and_their_history() {
         assert!(deck.contains("back = 'L = Iω'"), "{deck}");
         assert!(deck.contains("costs \\$0"), "{deck}");
         assert!(!deck.contains('<'), "no HTML left: {deck}");
-        // Cloze notes: written as cloze cards where decks have them, else
-        // left out and said so.
-        if stdout.contains("1 cloze note left out") {
-            assert!(!deck.contains("Euler"), "{deck}");
-        } else {
-            assert!(deck.contains("kind = \"cloze\""), "{deck}");
-            assert!(deck.contains("{{c1::Euler}}"), "{deck}");
-        }
+        // Cloze notes become cloze cards, their deletions in `text`.
+        assert!(!stdout.contains("cloze note left out"), "{stdout}");
+        assert!(deck.contains("kind = \"cloze\""), "{deck}");
+        assert!(deck.contains("{{c1::Euler}}"), "{deck}");
         let check = Command::new(env!("CARGO_BIN_EXE_flipcard"))
             .args(["check", out.join("decks").to_str().unwrap()])
             .output()
@@ -156,6 +152,26 @@ fn both_layouts_import_decks_that_pass_check_and_their_history() {
             assert_eq!(logged.len(), answers.len(), "{package}");
             assert_eq!(logged[0].record.duration_ms, took, "the answer's time");
         }
+        // The cloze note's history continues under its deletion c1.
+        let doc: toml::Table = deck.parse().expect("deck TOML");
+        let cloze = doc["card"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c.get("kind").and_then(|k| k.as_str()) == Some("cloze"))
+            .unwrap_or_else(|| panic!("no cloze card in\n{deck}"))["id"]
+            .as_str()
+            .unwrap()
+            .to_string();
+        let c1 = ItemKey {
+            deck: "physics-rotation".into(),
+            card: cloze,
+            direction: Direction::Cloze(1),
+        };
+        assert!(
+            !store.history(&c1).unwrap().is_empty(),
+            "{package}: the cloze deletion's reviews"
+        );
         drop(store);
 
         // Imported again into another folder: the history is already there.
@@ -169,7 +185,7 @@ fn both_layouts_import_decks_that_pass_check_and_their_history() {
             ],
         );
         assert!(
-            text(&again.stdout).contains("review history: 0 added, 13 already present"),
+            text(&again.stdout).contains("review history: 0 added, 15 already present"),
             "{}",
             text(&again.stdout)
         );

@@ -91,7 +91,7 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
         )?;
     }
     crate::outln!(
-        "review history: {} added, {} already present, {} left out (manual reschedules, cloze deletions); {} rebuilt",
+        "review history: {} added, {} already present, {} left out (manual reschedules); {} rebuilt",
         summary.added,
         summary.duplicates,
         import.reviews_skipped,

@@ -512,7 +512,13 @@ fn read_collection(
             if front.is_empty() {
                 front = "(media not imported)".into();
             }
-            text.push_str(&format!("front = {}\n", toml_string(&front)));
+            // A cloze card keeps its deletions in `text`; the others ask `front`.
+            let key = if note.kind == Kind::Cloze {
+                "text"
+            } else {
+                "front"
+            };
+            text.push_str(&format!("{key} = {}\n", toml_string(&front)));
             if note.kind != Kind::Cloze || !back.is_empty() {
                 if back.is_empty() {
                     back = "(media not imported)".into();
@@ -546,8 +552,10 @@ fn read_collection(
             let direction = match (kind, ord) {
                 (Kind::Basic, 0) | (Kind::Reversed, 0) => Some(Direction::Forward),
                 (Kind::Reversed, 1) => Some(Direction::Backward),
-                // Cloze deletions are items c1, c2, … which this log does
-                // not name: their history is counted as skipped.
+                // Anki's card `ord` n of a cloze note is deletion c(n+1).
+                (Kind::Cloze, n) if (0..u16::MAX as i64).contains(&n) => {
+                    Some(Direction::Cloze(n as u16 + 1))
+                }
                 _ => None,
             };
             cards.insert(
