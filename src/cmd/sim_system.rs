@@ -234,7 +234,8 @@ fn report(deck: &Deck, scene: &SystemScene, method: OdeMethod) -> anyhow::Result
             }
         }
     }
-    let measured = crate::sim::scene::measure::Measurements::from_readings(readings);
+    let measured =
+        crate::sim::scene::measure::Measurements::from_readings(readings).over(scene.duration);
     let prompts: Vec<&Prompt> = deck
         .prompts
         .iter()

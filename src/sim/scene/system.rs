@@ -614,7 +614,7 @@ impl SystemRun {
                 })
             })
             .collect();
-        Measurements::from_readings(readings)
+        Measurements::from_readings(readings).over(self.t())
     }
 }
 

@@ -130,7 +130,7 @@ fn draw_play(
     let width = area.width as usize;
     let diag = u16::from(run.scene().shows(Panel::Diagnostics));
     let verdict_lines = verdict
-        .map(|v| super::verdict::lines(app, prompt, run.scene(), prediction, v, width))
+        .map(|v| super::verdict::lines(app, prompt, &run.scene().time_unit, prediction, v, width))
         .unwrap_or_default();
     let question = question_lines(app, prompt, width.saturating_sub(1).max(1));
     // Who gives way when rows are short: the panels first, then the

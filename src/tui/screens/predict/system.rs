@@ -186,7 +186,20 @@ pub fn draw(
 ) {
     let t = &app.theme;
     let diag = run.scene().shows(SystemPanel::Diagnostics);
-    let verdict_h = if verdict.is_some() { 5 } else { 0 };
+    // The same banner, prediction and evidence as a rigid body's verdict.
+    let verdict_lines = verdict
+        .map(|v| {
+            super::verdict::lines(
+                app,
+                prompt,
+                &run.scene().time_unit,
+                prediction,
+                v,
+                area.width as usize,
+            )
+        })
+        .unwrap_or_default();
+    let verdict_h = (verdict_lines.len() as u16).min(area.height.saturating_sub(6));
     let hints_h = u16::from(verdict.is_none());
     let [top, panels, status, diag_area, hints, verdict_area] = Layout::vertical([
         Constraint::Length(2),
@@ -263,104 +276,9 @@ pub fn draw(
     if verdict.is_none() {
         run_hints(frame, hints, app);
     }
-    if let Some(v) = verdict {
-        draw_verdict(frame, verdict_area, app, prompt, prediction, v);
+    if !verdict_lines.is_empty() {
+        frame.render_widget(Paragraph::new(verdict_lines), verdict_area);
     }
-}
-
-fn draw_verdict(
-    frame: &mut Frame,
-    area: Rect,
-    app: &App,
-    prompt: &Prompt,
-    prediction: Prediction,
-    v: &Verdict,
-) {
-    let t = &app.theme;
-    let (headline, style) = if v.correct {
-        (app.tr(Msg::Right), t.good())
-    } else {
-        (app.tr(Msg::Wrong), t.bad())
-    };
-    let mut lines = vec![Line::from(vec![
-        Span::styled(format!(" {}: ", app.tr(Msg::Verdict)), t.heading()),
-        Span::styled(headline, style),
-        Span::styled(
-            format!(
-                "  {}: {}",
-                app.tr(Msg::YourPrediction),
-                super::verdict::prediction_text(app, prompt, prediction)
-            ),
-            t.text(),
-        ),
-    ])];
-    let unit = match &prompt.answer {
-        Answer::Number { unit, .. } => format!(" {unit}"),
-        Answer::Choice { .. } => String::new(),
-    };
-    let measured: Vec<String> = v
-        .readings
-        .iter()
-        .map(|r| {
-            let formula = match (r.formula_name(), r.formula) {
-                (Some(name), Some(x)) if r.measure != Measure::Flips => {
-                    format!(" ({name} = {})", super::draw::fmt_value(x))
-                }
-                _ => String::new(),
-            };
-            format!(
-                "{} = {}{unit}{formula}",
-                crate::tui::i18n::measure_label(r.measure, &app.lang),
-                super::draw::fmt_value(r.value)
-            )
-        })
-        .collect();
-    let measured = if measured.is_empty() {
-        vec!["—".to_string()]
-    } else {
-        measured
-    };
-    lines.push(Line::from(vec![
-        Span::styled(format!(" {}: ", app.tr(Msg::Measured)), t.dim()),
-        Span::raw(measured.join(", ")),
-    ]));
-    match &prompt.answer {
-        Answer::Number {
-            expected,
-            formula,
-            unit,
-            ..
-        } => {
-            let f = formula
-                .as_ref()
-                .map(|f| format!("{} = ", crate::text::render(f.get(&app.lang))))
-                .unwrap_or_default();
-            lines.push(Line::from(vec![
-                Span::styled(format!(" {}: ", app.tr(Msg::Formula)), t.dim()),
-                Span::raw(format!("{f}{} {unit}", super::draw::fmt_value(*expected))),
-            ]));
-        }
-        Answer::Choice { choices, .. } => {
-            if let Some(c) = v.right_choice.and_then(|i| choices.get(i)) {
-                lines.push(Line::from(vec![
-                    Span::styled(format!(" {}: ", app.tr(Msg::RightAnswer)), t.dim()),
-                    Span::raw(crate::text::render(c.label.get(&app.lang))),
-                ]));
-            }
-        }
-    }
-    if prompt.explain.is_some() {
-        lines.push(Line::from(vec![
-            Span::styled(" e ", t.key()),
-            Span::styled(app.tr(Msg::Explanation), t.dim()),
-            Span::styled("   r ", t.key()),
-            Span::styled(app.tr(Msg::Restart), t.dim()),
-        ]));
-    }
-    frame.render_widget(
-        Paragraph::new(lines).wrap(ratatui::widgets::Wrap { trim: false }),
-        area,
-    );
 }
 
 /// The run's keys, one line.

@@ -6,7 +6,7 @@
 use ratatui::style::Modifier;
 use ratatui::text::{Line, Span};
 
-use crate::deck::{Answer, Measure, Prompt, Scene};
+use crate::deck::{Answer, Measure, Prompt};
 use crate::predict::audit::measure_unit;
 use crate::sim::scene::measure::{Reading, formula_name};
 use crate::text::num::{Num, sig};
@@ -34,8 +34,7 @@ fn fill(words: Words, lang: &str, pairs: &[(&str, &str)]) -> String {
 /// "in this 8 s run: flipped 3 times: at 1.49, 4.24 and 7.00 s; …": every
 /// reading the verdict rests on, with the flip times or the formula value
 /// beside it.
-pub fn evidence(lang: &str, scene: &Scene, v: &Verdict, answer: &Answer) -> String {
-    let unit = &scene.time_unit;
+pub fn evidence(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String {
     let run = fill(
         w::IN_THIS_RUN,
         lang,
@@ -44,7 +43,7 @@ pub fn evidence(lang: &str, scene: &Scene, v: &Verdict, answer: &Answer) -> Stri
     let mut said: Vec<String> = v
         .readings
         .iter()
-        .map(|r| reading(lang, scene, v, r))
+        .map(|r| reading(lang, unit, v, r))
         .collect();
     if said.is_empty() {
         let measure = match answer {
@@ -62,8 +61,7 @@ pub fn evidence(lang: &str, scene: &Scene, v: &Verdict, answer: &Answer) -> Stri
     format!("{run}: {}", said.join("; "))
 }
 
-fn reading(lang: &str, scene: &Scene, v: &Verdict, r: &Reading) -> String {
-    let unit = &scene.time_unit;
+fn reading(lang: &str, unit: &str, v: &Verdict, r: &Reading) -> String {
     if r.measure == Measure::Flips {
         let times: Vec<String> = v.evidence.flip_times.iter().map(|&t| sig(t, 3)).collect();
         let times = format!("{} {unit}", list_and(lang, &times));
@@ -115,7 +113,7 @@ pub fn prediction_text(app: &App, prompt: &Prompt, p: Prediction) -> String {
 pub fn lines(
     app: &App,
     prompt: &Prompt,
-    scene: &Scene,
+    time_unit: &str,
     prediction: Prediction,
     v: &Verdict,
     width: usize,
@@ -149,7 +147,7 @@ pub fn lines(
         prediction_text(app, prompt, prediction),
         t.strong(),
     ));
-    let said = evidence(lang, scene, v, &prompt.answer);
+    let said = evidence(lang, time_unit, v, &prompt.answer);
     out.extend(wrap(
         &[Run::new(said, t.text())],
         width.saturating_sub(1),
