@@ -613,3 +613,40 @@ fn the_verdict_and_the_plot_do_not_need_colour() {
     // Colour keeps the legend's names but draws every curve solid.
     assert!(!render(&app).contains("ω₂┅"));
 }
+
+/// At 40×12 the question gives way (cut with "…"), never the answers or
+/// the hint that says what to do.
+#[test]
+fn the_ask_phase_keeps_answers_and_hint_at_40x12() {
+    let loaded = crate::deck::bundled::load();
+    let deck = loaded
+        .decks
+        .iter()
+        .find(|d| d.id == "torque-free-rotation")
+        .expect("bundled deck");
+    for lang in [ENGLISH, HINGLISH] {
+        for prompt in &deck.prompts {
+            let app = bundled_prompt(lang, &prompt.id, (40, 12));
+            let screen = render(&app);
+            let hint_start: String = app
+                .tr(crate::tui::i18n::Msg::CommitFirst)
+                .split_whitespace()
+                .take(2)
+                .collect::<Vec<_>>()
+                .join(" ");
+            assert!(
+                screen.contains(&hint_start),
+                "{lang} {}: no hint {hint_start:?}\n{screen}",
+                prompt.id
+            );
+            if let crate::deck::Answer::Choice { choices, .. } = &prompt.answer {
+                let last = format!("{}. ", choices.len());
+                assert!(
+                    screen.contains(&last),
+                    "{lang} {}: choice {last} lost\n{screen}",
+                    prompt.id
+                );
+            }
+        }
+    }
+}

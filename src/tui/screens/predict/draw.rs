@@ -75,9 +75,7 @@ fn draw_ask(
     let t = &app.theme;
     let area = area.inner(ratatui::layout::Margin::new(1, 0));
     let width = area.width as usize;
-    let mut lines = vec![Line::styled(app.tr(Msg::Question), t.heading())];
-    lines.extend(question_lines(app, prompt, width));
-    lines.push(Line::default());
+    let mut answer = Vec::new();
     match &prompt.answer {
         Answer::Choice { choices, .. } => {
             for (i, c) in choices.iter().enumerate() {
@@ -88,32 +86,52 @@ fn draw_ask(
                     t.text()
                 };
                 let marker = if i == selected { "› " } else { "  " };
-                lines.push(Line::from(vec![
+                answer.push(Line::from(vec![
                     Span::styled(marker, t.key()),
                     Span::styled(format!("{}. {label}", i + 1), style),
                 ]));
             }
         }
         Answer::Number { unit, .. } => {
-            lines.push(Line::from(vec![
+            answer.push(Line::from(vec![
                 Span::styled("> ", t.key()),
                 Span::styled(format!("{input}▏"), t.strong()),
             ]));
             let hint = format!("  unit: {unit} ({})", app.tr(Msg::UnitOptional));
-            lines.push(Line::styled(hint, t.dim()));
+            answer.push(Line::styled(hint, t.dim()));
             if let Some(e) = error {
-                lines.push(Line::styled(e.to_string(), t.bad()));
+                answer.push(Line::styled(e.to_string(), t.bad()));
             }
         }
     }
-    lines.push(Line::default());
-    let hint = app.tr(Msg::CommitFirst);
-    lines.extend(wrap(
-        &[Run::new(hint, t.dim())],
+    let hint = wrap(
+        &[Run::new(app.tr(Msg::CommitFirst), t.dim())],
         width,
         Run::new("", t.dim()),
         Run::new("", t.dim()),
-    ));
+    );
+    // On a short screen the answers and the hint keep their rows: the
+    // spacing goes first, then the question's later lines (cut with "…").
+    let question = question_lines(app, prompt, width);
+    let rows = area.height as usize;
+    let fixed = 1 + answer.len() + hint.len();
+    let spaced = fixed + question.len() + 2 <= rows;
+    let room = rows.saturating_sub(fixed).max(1);
+    let shown = if spaced {
+        question.len()
+    } else {
+        room.min(question.len())
+    };
+    let mut lines = vec![Line::styled(app.tr(Msg::Question), t.heading())];
+    lines.extend(cut_lines(question, shown, width));
+    if spaced {
+        lines.push(Line::default());
+    }
+    lines.extend(answer);
+    if spaced {
+        lines.push(Line::default());
+    }
+    lines.extend(hint);
     frame.render_widget(Paragraph::new(lines), area);
 }
 
