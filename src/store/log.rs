@@ -179,40 +179,51 @@ pub(super) fn append(
     session: i64,
     r: &ReviewRecord,
 ) -> rusqlite::Result<i64> {
-    let a = &r.after;
-    let id = tx
-        .prepare_cached(
-            "INSERT INTO review (session, deck, card, direction, reviewed_at, rating, kind, \
-             elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review, \
-             duration_ms) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, \
-             ?15, ?16) RETURNING id",
-        )?
-        .query_row(
-            params![
-                session,
-                r.key.deck,
-                r.key.card,
-                r.key.direction,
-                Ms(r.reviewed_at),
-                r.rating,
-                r.kind,
-                r.elapsed_days,
-                r.scheduled_days,
-                a.stability,
-                a.difficulty,
-                a.state,
-                a.step.map(i64::from),
-                Ms(a.due),
-                a.last_review.map(Ms),
-                r.duration_ms,
-            ],
-            |row| row.get(0),
-        )?;
+    let id = insert_row(tx, session, r, false)?;
     if r.kind != ReviewKind::Cram {
         state::apply(tx, r, id)?;
     }
     tally::count(tx, r, 1)?;
     Ok(id)
+}
+
+/// One row of the review log as it is written (the only INSERT into it, so
+/// an append and a merge spell the columns alike).
+pub(super) fn insert_row(
+    tx: &Transaction<'_>,
+    session: i64,
+    r: &ReviewRecord,
+    undone: bool,
+) -> rusqlite::Result<i64> {
+    let a = &r.after;
+    tx.prepare_cached(
+        "INSERT INTO review (session, deck, card, direction, reviewed_at, rating, kind, \
+         elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review, \
+         duration_ms, undone) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, \
+         ?14, ?15, ?16, ?17) RETURNING id",
+    )?
+    .query_row(
+        params![
+            session,
+            r.key.deck,
+            r.key.card,
+            r.key.direction,
+            Ms(r.reviewed_at),
+            r.rating,
+            r.kind,
+            r.elapsed_days,
+            r.scheduled_days,
+            a.stability,
+            a.difficulty,
+            a.state,
+            a.step.map(i64::from),
+            Ms(a.due),
+            a.last_review.map(Ms),
+            r.duration_ms,
+            i64::from(undone),
+        ],
+        |row| row.get(0),
+    )
 }
 
 /// What the database cannot keep faithfully is refused with a clear message

@@ -19,12 +19,13 @@ use std::collections::{BTreeMap, HashSet};
 use chrono::{DateTime, Utc};
 use rusqlite::{Transaction, TransactionBehavior, params};
 
-use super::codec::{Ms, to_ms};
+use super::codec::to_ms;
 use super::db::Store;
 use super::error::StoreError;
 use super::log::{COLUMNS, LoggedReview, read_logged};
+use super::log::{insert_row, insert_session};
 use super::{state, tally};
-use crate::sched::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord, Scheduler};
+use crate::sched::{CardState, ItemKey, Rating, ReviewKind, Scheduler};
 
 /// One review to merge: what was answered, when and how. Its state after
 /// the answer is not taken from the source but replayed.
@@ -136,7 +137,7 @@ impl Store {
             }
             let session = match session {
                 Some(s) => s,
-                None => *session.insert(new_session(&tx).map_err(sql_err)?),
+                None => *session.insert(insert_session(&tx).map_err(sql_err)?),
             };
             let n = merge_item(&tx, session, key, &existing, &fresh, scheduler)?;
             summary.added += fresh.len();
@@ -233,7 +234,7 @@ fn merge_item(
             tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [id])
                 .map_err(sql_err)?;
         }
-        insert(tx, session, &record, s.undone).map_err(sql_err)?;
+        insert_row(tx, session, &record, s.undone).map_err(sql_err)?;
     }
     Ok(relocated)
 }
@@ -255,47 +256,4 @@ fn item_rows(
         }
     }
     Ok(Ok(out))
-}
-
-fn new_session(tx: &Transaction<'_>) -> rusqlite::Result<i64> {
-    let started = crate::sched::clock::now().map(to_ms).unwrap_or(0);
-    tx.execute("INSERT INTO session (started_at) VALUES (?1)", [started])?;
-    Ok(tx.last_insert_rowid())
-}
-
-fn insert(
-    tx: &Transaction<'_>,
-    session: i64,
-    r: &ReviewRecord,
-    undone: bool,
-) -> rusqlite::Result<i64> {
-    let a = &r.after;
-    tx.prepare_cached(
-        "INSERT INTO review (session, deck, card, direction, reviewed_at, rating, kind, \
-         elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review, \
-         duration_ms, undone) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, \
-         ?14, ?15, ?16, ?17) RETURNING id",
-    )?
-    .query_row(
-        params![
-            session,
-            r.key.deck,
-            r.key.card,
-            r.key.direction,
-            Ms(r.reviewed_at),
-            r.rating,
-            r.kind,
-            r.elapsed_days,
-            r.scheduled_days,
-            a.stability,
-            a.difficulty,
-            a.state,
-            a.step.map(i64::from),
-            Ms(a.due),
-            a.last_review.map(Ms),
-            r.duration_ms,
-            i64::from(undone),
-        ],
-        |row| row.get(0),
-    )
 }
