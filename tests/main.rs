@@ -35,6 +35,7 @@ mod sim_cli;
 mod sim_exact;
 mod sim_integrators;
 mod sim_scene_cli;
+mod stats_leeches;
 mod store;
 mod store_cli;
 mod store_durability;

@@ -52,7 +52,7 @@ pub fn run(cli: &Cli, args: &StatsArgs) -> anyhow::Result<ExitCode> {
     } else {
         out.write_all(render_stats(&stats).as_bytes())?;
         out.write_all(ParametersInUse::of(&config).line().as_bytes())?;
-        out.write_all(render_marks(&store, args.deck.as_deref(), now)?.as_bytes())?;
+        out.write_all(render_marks(&stats).as_bytes())?;
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
@@ -210,33 +210,22 @@ impl ParametersInUse {
     }
 }
 
-/// Suspended and buried counts and the leeches by name (text output only).
-fn render_marks(
-    store: &crate::store::Store,
-    deck: Option<&str>,
-    now: chrono::DateTime<chrono::Utc>,
-) -> anyhow::Result<String> {
-    let mut marks: Vec<(ItemKey, crate::store::ItemStatus)> = store
-        .statuses()?
-        .into_iter()
-        .filter(|(k, _)| deck.is_none_or(|d| k.deck == d))
-        .collect();
-    marks.sort_by(|a, b| a.0.cmp(&b.0));
-    let suspended = marks.iter().filter(|(_, s)| s.suspended).count();
-    let buried = marks.iter().filter(|(_, s)| s.buried(now)).count();
-    let leeches: Vec<String> = marks
-        .iter()
-        .filter(|(_, s)| s.leech)
-        .map(|(k, _)| format!("{}/{}/{}", k.deck, k.card, k.direction.as_str()))
-        .collect();
+/// Suspended and buried counts and the leeches by name, with their lapses.
+pub fn render_marks(s: &Stats) -> String {
     let mut o = format!(
         "\nSuspended: {}; buried today: {}; leeches: {}\n",
-        suspended,
-        buried,
-        leeches.len()
+        s.suspended,
+        s.buried,
+        s.leeches.len()
     );
-    for l in leeches {
-        o.push_str(&format!("  leech {l}\n"));
+    for l in &s.leeches {
+        o.push_str(&format!(
+            "  leech {}/{}/{} ({})\n",
+            l.deck,
+            l.card,
+            l.direction,
+            plural(l.lapses, "lapse", "lapses")
+        ));
     }
-    Ok(o)
+    o
 }

@@ -1,5 +1,6 @@
 //! Review statistics: cards by state, the due forecast, reviews per day,
-//! true retention, prompt accuracy and orphans.
+//! true retention, prompt accuracy, orphans, and the items taken out of the
+//! queues (suspended, buried, leeches).
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -43,6 +44,23 @@ pub struct Stats {
     pub orphans: Vec<Orphan>,
     /// Anki's true-retention table (young and mature review answers).
     pub true_retention: super::true_retention::TrueRetention,
+    /// Items suspended now (leeches suspended by `leech_action` among them).
+    pub suspended: u32,
+    /// Items buried until a later study day.
+    pub buried: u32,
+    /// Items whose lapses reached `leech_threshold`, by deck, card and
+    /// direction.
+    pub leeches: Vec<Leech>,
+}
+
+/// An item marked as a leech, with its lapses (review answers rated Again)
+/// as the log has them now.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Leech {
+    pub deck: String,
+    pub card: String,
+    pub direction: String,
+    pub lapses: u32,
 }
 
 /// The current items of the scope by state.
@@ -165,6 +183,7 @@ impl Store {
         let prompts = self.prompt_accuracy(scope.deck)?;
         let orphans = self.orphans(scope.deck, &items, &cached)?;
         let true_retention = self.true_retention(scope.deck, now, grid)?;
+        let (suspended, buried, leeches) = self.marks(scope.deck, &cached, now)?;
         Ok(Stats {
             deck: scope.deck.map(str::to_string),
             now,
@@ -176,7 +195,41 @@ impl Store {
             prompts,
             orphans,
             true_retention,
+            suspended,
+            buried,
+            leeches,
         })
+    }
+
+    /// Suspended and buried counts and the leeches of the scope, whether or
+    /// not their cards are still in the deck files (a status outlives an
+    /// edit, as the history does).
+    fn marks(
+        &self,
+        deck: Option<&str>,
+        cached: &[CachedState],
+        now: DateTime<Utc>,
+    ) -> Result<(u32, u32, Vec<Leech>), StoreError> {
+        let lapses: HashMap<&ItemKey, u32> = cached.iter().map(|c| (&c.key, c.lapses)).collect();
+        let mut marks: Vec<_> = self
+            .statuses()?
+            .into_iter()
+            .filter(|(k, _)| deck.is_none_or(|d| k.deck == d))
+            .collect();
+        marks.sort_by(|a, b| a.0.cmp(&b.0));
+        let suspended = marks.iter().filter(|(_, s)| s.suspended).count() as u32;
+        let buried = marks.iter().filter(|(_, s)| s.buried(now)).count() as u32;
+        let leeches = marks
+            .iter()
+            .filter(|(_, s)| s.leech)
+            .map(|(k, _)| Leech {
+                deck: k.deck.clone(),
+                card: k.card.clone(),
+                direction: k.direction.as_str().to_string(),
+                lapses: lapses.get(k).copied().unwrap_or(0),
+            })
+            .collect();
+        Ok((suspended, buried, leeches))
     }
 
     /// Answers per day over the last 30 learning days, and the retention of

@@ -1,0 +1,153 @@
+//! `flipcard stats` and `stats --json` name the leeches (with their lapses)
+//! and count the suspended and buried items, from the status log the review
+//! screen writes.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use chrono::Duration;
+use flipcard::sched::{Direction, ItemKey, Rating, ReviewKind, State};
+use flipcard::store::{AfterRating, StatusAction, Store};
+use serde_json::Value;
+
+use crate::store_support::{at, review};
+
+const NOW: &str = "2026-05-10T12:00:00Z";
+
+fn flipcard(data: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        .args(args)
+        .env("FLIPCARD_DATA_DIR", data)
+        .env("FLIPCARD_NOW", NOW)
+        .env("TZ", "UTC")
+        .env("FLIPCARD_CONFIG", data.join("no-such-config.toml"))
+        .env(
+            "FLIPCARD_DECKS",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/tests/decks/study/decks"),
+        )
+        .output()
+        .expect("run flipcard")
+}
+
+fn item(card: &str, direction: Direction) -> ItemKey {
+    ItemKey {
+        deck: "study".into(),
+        card: card.into(),
+        direction,
+    }
+}
+
+/// `lapses` review answers rated Again, two days apart, each followed by
+/// the leech check at `threshold`.
+fn lapse(store: &mut Store, key: &ItemKey, lapses: u32, threshold: u32, suspend: bool) {
+    let mut when = at("2026-04-01T10:00:00Z");
+    for _ in 0..lapses {
+        when += Duration::days(2);
+        let r = review(
+            key,
+            when,
+            Rating::Again,
+            ReviewKind::Review,
+            State::Relearning,
+            Duration::minutes(10),
+        );
+        let after = AfterRating {
+            leech_threshold: threshold,
+            leech_suspend: suspend,
+            bury: Vec::new(),
+            bury_until: when,
+        };
+        store.record_study(&r, &after).unwrap();
+    }
+}
+
+fn setup(data: &Path) {
+    let mut store = Store::open(data).unwrap();
+    // A leech suspended (the default action), one only tagged, and an item
+    // with lapses under the threshold.
+    lapse(&mut store, &item("middle", Direction::Forward), 3, 3, true);
+    lapse(
+        &mut store,
+        &item("spin-axis", Direction::Backward),
+        4,
+        4,
+        false,
+    );
+    lapse(
+        &mut store,
+        &item("torque-rate", Direction::Cloze(1)),
+        2,
+        3,
+        true,
+    );
+    let now = at(NOW);
+    store
+        .set_status(
+            &[item("torque-rate", Direction::Cloze(2))],
+            StatusAction::Bury,
+            now,
+            Some(now + Duration::hours(6)),
+        )
+        .unwrap();
+}
+
+#[test]
+fn stats_json_lists_leeches_with_lapses_and_counts_marks() {
+    let dir = tempfile::tempdir().unwrap();
+    setup(dir.path());
+    let o = flipcard(dir.path(), &["stats", "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["suspended"], 1);
+    assert_eq!(v["buried"], 1);
+    assert_eq!(
+        v["leeches"],
+        serde_json::json!([
+            {"deck": "study", "card": "middle", "direction": "forward", "lapses": 3},
+            {"deck": "study", "card": "spin-axis", "direction": "backward", "lapses": 4},
+        ])
+    );
+    // The fields before these are a contract: the new ones only add.
+    let keys: Vec<&str> = v.as_object().unwrap().keys().map(String::as_str).collect();
+    for k in [
+        "deck",
+        "now",
+        "today",
+        "cards",
+        "due",
+        "reviews_per_day",
+        "retention",
+        "prompts",
+        "orphans",
+        "true_retention",
+        "fsrs_parameters",
+        "suspended",
+        "buried",
+        "leeches",
+    ] {
+        assert!(keys.contains(&k), "missing `{k}` in {keys:?}");
+    }
+
+    // One deck's stats keep to that deck.
+    let o = flipcard(dir.path(), &["stats", "--json", "--deck", "oscillations"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["leeches"], serde_json::json!([]));
+    assert_eq!(v["suspended"], 0);
+}
+
+#[test]
+fn stats_text_names_each_leech_with_its_lapses() {
+    let dir = tempfile::tempdir().unwrap();
+    setup(dir.path());
+    let o = flipcard(dir.path(), &["stats", "--deck", "study"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("Suspended: 1; buried today: 1; leeches: 2\n")
+            && text.contains("  leech study/middle/forward (3 lapses)\n")
+            && text.contains("  leech study/spin-axis/backward (4 lapses)\n")
+            && !text.contains("torque-rate/c1"),
+        "{text}"
+    );
+}
