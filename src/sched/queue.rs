@@ -226,6 +226,20 @@ impl Queue {
         }
     }
 
+    /// A queue over a fixed list (a filtered session): each item once, in
+    /// the list's order, with no daily limits. Answers are taken as in the
+    /// day's queue ([`Queue::answered`]): an item left (re)learning comes
+    /// back at its step time, before the rest of the list, if that is within
+    /// the study day `day`.
+    pub fn listed(items: Vec<ItemKey>, day: (DateTime<Utc>, DateTime<Utc>)) -> Queue {
+        Queue {
+            day,
+            learning: Vec::new(),
+            reviews: items.into(),
+            new: VecDeque::new(),
+        }
+    }
+
     /// The study day this queue covers, as UTC instants.
     pub fn day(&self) -> (DateTime<Utc>, DateTime<Utc>) {
         self.day
@@ -818,6 +832,37 @@ mod tests {
         );
         q.answered(&sched.cram(&key("n"), None, Rating::Good, t, 0));
         assert_eq!(q.counts().new, 1);
+    }
+
+    #[test]
+    fn a_listed_queue_brings_a_lapse_back_at_its_step_not_at_the_end() {
+        let sched = Scheduler::new(&cfg());
+        let t = at(10, 12, 0);
+        let day = study_day(t, cfg().day_starts_at, &ist());
+        let (a, b, c) = (key("a"), key("b"), key("c"));
+        let before = state(State::Review, t - TimeDelta::days(1));
+        let mut q = Queue::listed(vec![a.clone(), b.clone(), c.clone()], day);
+        assert_eq!(q.next(t).unwrap().0, &a, "the list's order");
+        let lapse = sched.review(&a, Some(&before), Rating::Again, t, 0);
+        assert_eq!(lapse.after.state, State::Relearning);
+        let step = lapse.after.due;
+        assert!(step > t && step < day.1);
+        q.answered(&lapse);
+        // Before its step the list goes on; at the step it comes first.
+        assert_eq!(q.next(t).unwrap().0, &b);
+        assert_eq!(q.next(step), Some((&a, QueueKind::Learning)));
+        assert_eq!(q.counts().total(), 3);
+        // Listed items are each shown once: Good on a review item ends it.
+        q.answered(&sched.review(&b, Some(&before), Rating::Good, t, 0));
+        q.answered(&sched.review(&c, Some(&before), Rating::Good, t, 0));
+        assert_eq!(q.next_learning_due(), Some(step));
+        // With the list done, the step is shown early within the learn-ahead
+        // limit, as in the day's queue.
+        assert_eq!(q.next(step - LEARN_AHEAD).unwrap().0, &a);
+        assert_eq!(q.next(step - LEARN_AHEAD - TimeDelta::minutes(1)), None);
+        // Undo puts an item back in the list.
+        q.restore(&c, Some(&before));
+        assert_eq!(q.next(t).unwrap().0, &c);
     }
 
     #[test]

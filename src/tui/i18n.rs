@@ -724,3 +724,23 @@ pub mod sim_words {
     pub const PROLATE: Words = Words("prolate spheroid", "lamba spheroid");
     pub const NEEDLE: Words = Words("needle", "needle (sui)");
 }
+
+/// Words of filtered study across decks and of the leech list on the stats
+/// screen.
+pub mod marks {
+    use super::Words;
+
+    /// The filter's field choosing where cards come from.
+    pub const FIELD_DECKS: Words = Words("decks", "decks");
+    pub const ALL_DECKS: Words = Words("all decks", "saare decks");
+    /// The stats screen's panel.
+    pub const LEECHES: Words = Words("Leeches", "Leeches (baar baar bhoole)");
+    pub const NO_LEECHES: Words = Words("no leeches", "koi leech nahi");
+    pub const SUSPENDED: Words = Words("suspended", "suspended");
+    pub const BURIED: Words = Words("buried", "buried (kal tak)");
+    /// After a leech's lapse count: "8 lapses".
+    pub const LAPSE: Words = Words("lapse", "baar bhoola");
+    pub const LAPSES: Words = Words("lapses", "baar bhoola");
+    /// More leeches than room: "+3 more".
+    pub const MORE: Words = Words("more", "aur");
+}

@@ -75,9 +75,9 @@ pub fn open_review(app: &mut App, deck: Option<&str>, cram: bool) -> anyhow::Res
     Ok(())
 }
 
-/// Opens a review of the cards of `deck` (default: the first) that
-/// `filter` chooses; a filter no card passes is an error, said before the
-/// terminal switches.
+/// Opens a review of the cards of `deck` (every deck when none is named)
+/// that `filter` chooses; a filter no card passes is an error, said before
+/// the terminal switches.
 pub fn open_filtered_review(
     app: &mut App,
     deck: Option<&str>,
@@ -85,19 +85,22 @@ pub fn open_filtered_review(
     cram: bool,
 ) -> anyhow::Result<()> {
     let index = match deck {
-        Some(id) => app.decks.iter().position(|d| d.id == id).ok_or_else(|| {
+        Some(id) => Some(app.decks.iter().position(|d| d.id == id).ok_or_else(|| {
             let ids: Vec<&str> = app.decks.iter().map(|d| d.id.as_str()).collect();
             anyhow::anyhow!("no deck `{id}`; decks: {}", ids.join(", "))
-        })?,
+        })?),
         None if app.decks.is_empty() => anyhow::bail!("no decks to review"),
-        None => 0,
+        None => None,
     };
     let items =
         screens::review::filtered_items(app, index, filter, cram).map_err(anyhow::Error::msg)?;
     if items.is_empty() {
+        let which = match index {
+            Some(i) => format!("of deck `{}`", app.decks[i].id),
+            None => "of any deck".to_string(),
+        };
         anyhow::bail!(
-            "no card of deck `{}` matches the filter{}",
-            app.decks[index].id,
+            "no card {which} matches the filter{}",
             if cram {
                 ""
             } else {
@@ -105,8 +108,10 @@ pub fn open_filtered_review(
             }
         );
     }
-    if let screens::Screen::Home(h) = app.screen_mut() {
-        h.selected = index;
+    if let Some(i) = index
+        && let screens::Screen::Home(h) = app.screen_mut()
+    {
+        h.selected = i;
     }
     let review = screens::review::ReviewState::open_filtered(app, index, filter, cram)
         .map_err(anyhow::Error::msg)?;

@@ -1,6 +1,7 @@
-//! The study filter (`f` on home): the fields of `flipcard review --tag
-//! --state --due-within --cram` as a form over the selected deck, with the
-//! number of items that match before the session starts.
+//! The study filter (`f` on home): the fields of `flipcard review [DECK]
+//! --tag --state --due-within --cram` as a form over the selected deck or
+//! every deck, with the number of items that match before the session
+//! starts.
 
 use ratatui::Frame;
 use ratatui::layout::{Margin, Rect};
@@ -10,7 +11,7 @@ use ratatui::widgets::{Paragraph, Wrap};
 use crate::store::catalog::{self, Filter};
 use crate::tui::action::Action;
 use crate::tui::app::App;
-use crate::tui::i18n::{Msg, Words};
+use crate::tui::i18n::{Msg, Words, marks};
 use crate::tui::keymap::{Binding, Context};
 
 use super::{Nav, Screen};
@@ -33,7 +34,10 @@ pub const KEYS: &[Binding] = &[
     ),
     Binding::new(
         "← → Space",
-        Words("change the state or cram", "state ya cram badlo"),
+        Words(
+            "change the state, cram or the decks",
+            "state, cram ya decks badlo",
+        ),
         &[(Left, Action::PrevSection), (Right, Action::NextSection)],
     ),
     Binding::new(
@@ -56,13 +60,23 @@ pub enum Field {
     State,
     DueWithin,
     Cram,
+    /// The selected deck, another one, or every deck.
+    Decks,
 }
 
-const FIELDS: [Field; 4] = [Field::Tag, Field::State, Field::DueWithin, Field::Cram];
+const FIELDS: [Field; 5] = [
+    Field::Tag,
+    Field::State,
+    Field::DueWithin,
+    Field::Cram,
+    Field::Decks,
+];
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct FilterState {
-    pub deck: usize,
+    /// The deck searched, `None` for every deck (as `flipcard review`
+    /// without DECK).
+    pub deck: Option<usize>,
     pub field: usize,
     pub tags: String,
     /// Index into [`catalog::STATES`], `None` for any state.
@@ -86,7 +100,7 @@ pub fn open_from_home(app: &mut App, deck: usize, action: Action) -> Nav {
         };
     }
     let mut f = FilterState {
-        deck,
+        deck: Some(deck),
         field: 0,
         tags: String::new(),
         state: None,
@@ -119,7 +133,9 @@ impl FilterState {
         });
     }
 
-    fn cycle(&mut self, forward: bool) {
+    /// The next (or previous) value of a field chosen from a list; `decks`
+    /// is how many decks there are.
+    fn cycle(&mut self, forward: bool, decks: usize) {
         match FIELDS[self.field] {
             Field::State => {
                 let n = catalog::STATES.len();
@@ -132,6 +148,16 @@ impl FilterState {
                 };
             }
             Field::Cram => self.cram = !self.cram,
+            Field::Decks => {
+                let n = decks;
+                self.deck = match (self.deck, forward) {
+                    (None, true) => Some(0),
+                    (None, false) => n.checked_sub(1),
+                    (Some(i), true) if i + 1 < n => Some(i + 1),
+                    (Some(i), false) if i > 0 => Some(i - 1),
+                    _ => None,
+                };
+            }
             Field::Tag | Field::DueWithin => {}
         }
     }
@@ -151,7 +177,7 @@ impl super::View for FilterState {
         Msg::FilterTitle
     }
     fn deck(&self) -> Option<usize> {
-        Some(self.deck)
+        self.deck
     }
 }
 
@@ -159,14 +185,14 @@ pub fn apply(app: &mut App, s: &mut FilterState, action: Action) -> Nav {
     match action {
         Action::NextField => s.field = (s.field + 1) % FIELDS.len(),
         Action::PrevField => s.field = (s.field + FIELDS.len() - 1) % FIELDS.len(),
-        Action::NextSection => s.cycle(true),
-        Action::PrevSection => s.cycle(false),
+        Action::NextSection => s.cycle(true, app.decks.len()),
+        Action::PrevSection => s.cycle(false, app.decks.len()),
         Action::Input(c) => match FIELDS[s.field] {
             Field::Tag => s.tags.push(c),
             Field::DueWithin if !c.is_whitespace() => s.due_within.push(c),
             Field::DueWithin => {}
-            Field::State | Field::Cram if c == ' ' => s.cycle(true),
-            Field::State | Field::Cram => {}
+            Field::State | Field::Cram | Field::Decks if c == ' ' => s.cycle(true, app.decks.len()),
+            Field::State | Field::Cram | Field::Decks => {}
         },
         Action::Backspace => match FIELDS[s.field] {
             Field::Tag => {
@@ -175,7 +201,7 @@ pub fn apply(app: &mut App, s: &mut FilterState, action: Action) -> Nav {
             Field::DueWithin => {
                 s.due_within.pop();
             }
-            Field::State | Field::Cram => {}
+            Field::State | Field::Cram | Field::Decks => {}
         },
         Action::Back => return Nav::Pop,
         Action::Submit => return start(app, s),
@@ -213,26 +239,31 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, s: &FilterState) {
                 .to_string(),
             Field::DueWithin => s.due_within.clone(),
             Field::Cram => app.tr(if s.cram { Msg::Yes } else { Msg::No }).to_string(),
+            Field::Decks => match s.deck.and_then(|i| app.decks.get(i)) {
+                Some(d) => d.title.get(&app.lang).to_string(),
+                None => marks::ALL_DECKS.get(&app.lang).to_string(),
+            },
         }
     };
     for (i, f) in FIELDS.iter().enumerate() {
         let label = match f {
-            Field::Tag => Msg::FieldTag,
-            Field::State => Msg::FieldState,
-            Field::DueWithin => Msg::FieldDueWithin,
-            Field::Cram => Msg::FieldCram,
+            Field::Tag => app.tr(Msg::FieldTag),
+            Field::State => app.tr(Msg::FieldState),
+            Field::DueWithin => app.tr(Msg::FieldDueWithin),
+            Field::Cram => app.tr(Msg::FieldCram),
+            Field::Decks => marks::FIELD_DECKS.get(&app.lang),
         };
         let focused = i == s.field;
         let mut v = value(*f);
         if focused {
             v.push_str(match f {
                 Field::Tag | Field::DueWithin => "▏",
-                Field::State | Field::Cram => " ‹›",
+                Field::State | Field::Cram | Field::Decks => " ‹›",
             });
         }
         lines.push(Line::from(vec![
             Span::styled(if focused { "› " } else { "  " }, t.key()),
-            Span::styled(format!("{:<16}", app.tr(label)), t.heading()),
+            Span::styled(format!("{label:<16}"), t.heading()),
             Span::styled(v, if focused { t.selected() } else { t.text() }),
         ]));
     }

@@ -24,10 +24,14 @@ pub use keys::{BACK_KEYS, DONE_KEYS, FRONT_KEYS, TYPING_KEYS};
 pub enum Source {
     /// Today's due, learning and new cards.
     Daily(Queue),
-    /// A fixed list of cards, each once (again after Again): every card
-    /// when cramming, or the cards a filter chose. Cram answers leave the
-    /// scheduling unchanged; the answers of a filtered session count.
+    /// A fixed list of cards, each once (again after Again, at the back):
+    /// every card of a deck, or the cards a filter chose, when cramming.
+    /// Cram answers leave the scheduling unchanged, so no step is waited for.
     Cram(CramQueue),
+    /// The cards a filter chose, each once in deck order, answered as real
+    /// reviews: a card left (re)learning comes back at its step time, as in
+    /// the day's queue.
+    Filtered(Queue),
     /// Today's share of an exam plan: real reviews of the planned items,
     /// an item answered Again coming round again.
     Plan(CramQueue),
@@ -59,7 +63,12 @@ pub struct Session {
 }
 
 pub struct ReviewState {
+    /// The deck of the card shown (before any, the session's first deck):
+    /// its content, explanations and settings are the card's own.
     pub deck: usize,
+    /// The decks the session draws from: one, or every deck for a filter
+    /// without a deck.
+    pub decks: Vec<usize>,
     pub cram: bool,
     pub source: Source,
     pub states: HashMap<ItemKey, CardState>,
@@ -96,31 +105,43 @@ pub struct WhatNext {
 }
 
 impl ReviewState {
-    /// A session over the cards of `deck` that `filter` chooses (see
-    /// [`crate::store::catalog::Filter`]), each once, in deck order.
-    /// Suspended and buried cards are left out, unless cramming: their
-    /// answers would change a schedule they are out of.
+    /// A session over the cards of `deck` (every deck when `None`) that
+    /// `filter` chooses (see [`crate::store::catalog::Filter`]), each once,
+    /// in deck order. Suspended and buried cards are left out, unless
+    /// cramming: their answers would change a schedule they are out of.
     pub fn open_filtered(
         app: &mut App,
-        deck: usize,
+        deck: Option<usize>,
         filter: &crate::store::catalog::Filter,
         cram: bool,
     ) -> Result<ReviewState, String> {
         let items = filtered_items(app, deck, filter, cram)?;
-        let d = app.decks.get(deck).ok_or("no such deck")?;
-        let states = app
-            .services
-            .store
-            .states(&d.id)
-            .map_err(|e| e.to_string())?;
+        let decks = scope_decks(app, deck)?;
+        let mut states = HashMap::new();
+        for &i in &decks {
+            let d = &app.decks[i];
+            states.extend(
+                app.services
+                    .store
+                    .states(&d.id)
+                    .map_err(|e| e.to_string())?,
+            );
+        }
         app.services
             .store
             .start_session()
             .map_err(|e| e.to_string())?;
+        let now = app.services.now();
+        let source = if cram {
+            Source::Cram(CramQueue::new(items))
+        } else {
+            Source::Filtered(Queue::listed(items, app.services.study_day(now)))
+        };
         let mut state = ReviewState {
-            deck,
+            deck: decks[0],
+            decks,
             cram,
-            source: Source::Cram(CramQueue::new(items)),
+            source,
             states,
             current: None,
             phase: Phase::Done,
@@ -161,6 +182,7 @@ impl ReviewState {
             .map_err(|e| e.to_string())?;
         let mut state = ReviewState {
             deck,
+            decks: vec![deck],
             cram,
             source,
             states,
@@ -202,7 +224,7 @@ impl ReviewState {
     pub(super) fn next_card(&mut self, app: &App) {
         let now = app.services.now();
         let next = match &self.source {
-            Source::Daily(q) => q.next(now).map(|(k, _)| k.clone()),
+            Source::Daily(q) | Source::Filtered(q) => q.next(now).map(|(k, _)| k.clone()),
             Source::Cram(c) | Source::Plan(c) => c.next().cloned(),
         };
         self.show(app, next);
@@ -212,6 +234,9 @@ impl ReviewState {
         self.scroll = 0;
         match key {
             Some(key) => {
+                if let Some(i) = app.decks.iter().position(|d| d.id == key.deck) {
+                    self.deck = i;
+                }
                 self.typed = app
                     .decks
                     .get(self.deck)
@@ -246,35 +271,38 @@ impl ReviewState {
             new_limit_reached: false,
             learning_in: None,
         };
-        let Some(deck) = app.decks.get(self.deck) else {
-            return next;
-        };
         let day_end = match &self.source {
-            Source::Daily(q) => q.day().1,
+            Source::Daily(q) | Source::Filtered(q) => q.day().1,
             Source::Cram(_) | Source::Plan(_) => now + chrono::TimeDelta::days(1),
         };
         let tomorrow_end = day_end + chrono::TimeDelta::days(1);
-        let mut new_cards: Vec<&str> = Vec::new();
-        for key in crate::sched::deck_items(deck) {
-            match self.states.get(&key) {
-                Some(s) if s.state != crate::sched::State::New => {
-                    if s.due < tomorrow_end && s.due >= now {
-                        next.due_tomorrow += 1;
+        for deck in self.decks.iter().filter_map(|&i| app.decks.get(i)) {
+            let mut new_cards: Vec<&str> = Vec::new();
+            for key in crate::sched::deck_items(deck) {
+                match self.states.get(&key) {
+                    Some(s) if s.state != crate::sched::State::New => {
+                        if s.due < tomorrow_end && s.due >= now {
+                            next.due_tomorrow += 1;
+                        }
                     }
-                }
-                _ => {
-                    if !new_cards.contains(&key.card.as_str())
-                        && let Some(c) = deck.card(&key.card)
-                    {
-                        new_cards.push(c.id.as_str());
+                    _ => {
+                        if !new_cards.contains(&key.card.as_str())
+                            && let Some(c) = deck.card(&key.card)
+                        {
+                            new_cards.push(c.id.as_str());
+                        }
                     }
                 }
             }
+            next.new_cards += new_cards.len();
         }
-        next.new_cards = new_cards.len();
-        if let Source::Daily(q) = &self.source {
-            next.new_limit_reached = q.counts().new == 0 && next.new_cards > 0;
-            next.learning_in = q.next_learning_due().map(|due| due - now);
+        match &self.source {
+            Source::Daily(q) => {
+                next.new_limit_reached = q.counts().new == 0 && next.new_cards > 0;
+                next.learning_in = q.next_learning_due().map(|due| due - now);
+            }
+            Source::Filtered(q) => next.learning_in = q.next_learning_due().map(|due| due - now),
+            Source::Cram(_) | Source::Plan(_) => {}
         }
         next
     }
@@ -297,12 +325,16 @@ impl ReviewState {
             Source::Cram(c) => format!(
                 "{} · {}",
                 app.count(c.remaining(), Noun::Card),
-                app.tr(if self.filtered && !self.cram {
-                    Msg::Filtered
-                } else {
-                    Msg::Cram
-                })
+                app.tr(Msg::Cram)
             ),
+            Source::Filtered(q) => {
+                let c = q.counts();
+                let mut line = app.count(c.total(), Noun::Card);
+                if c.learning > 0 {
+                    line.push_str(&format!(" · {} {}", c.learning, app.tr(Msg::Learning)));
+                }
+                format!("{line} · {}", app.tr(Msg::Filtered))
+            }
             Source::Plan(c) => format!(
                 "{} · {}",
                 app.count(c.remaining(), Noun::Card),
@@ -461,7 +493,7 @@ fn rate(app: &mut App, state: &mut ReviewState, rating: Rating) {
         }
     };
     match &mut state.source {
-        Source::Daily(q) => q.answered(&record),
+        Source::Daily(q) | Source::Filtered(q) => q.answered(&record),
         Source::Cram(c) | Source::Plan(c) => c.answered(&record),
     }
     if !state.cram {
@@ -506,7 +538,7 @@ fn undo(app: &mut App, state: &mut ReviewState) {
         }
     };
     match &mut state.source {
-        Source::Daily(q) => q.restore(&key, restored.as_ref()),
+        Source::Daily(q) | Source::Filtered(q) => q.restore(&key, restored.as_ref()),
         Source::Cram(c) | Source::Plan(c) => c.restore(&key),
     }
     if !state.cram {
@@ -555,10 +587,23 @@ fn open_prompt(app: &mut App, state: &ReviewState) -> Nav {
     }
 }
 
-/// The items of `deck` a filtered session would show, in deck order.
+/// The decks a filtered session over `deck` draws from: that one, or
+/// every deck when `None`.
+fn scope_decks(app: &App, deck: Option<usize>) -> Result<Vec<usize>, String> {
+    match deck {
+        Some(i) if i < app.decks.len() => Ok(vec![i]),
+        Some(_) => Err("no such deck".into()),
+        None if app.decks.is_empty() => Err("no decks to review".into()),
+        None => Ok((0..app.decks.len()).collect()),
+    }
+}
+
+/// The items of `deck` (every deck when `None`) a filtered session would
+/// show, deck by deck in deck order. A tag or deck named by the filter must
+/// exist in the decks searched, not in each of them.
 pub fn filtered_items(
     app: &App,
-    deck: usize,
+    deck: Option<usize>,
     filter: &crate::store::catalog::Filter,
     cram: bool,
 ) -> Result<Vec<ItemKey>, String> {
@@ -566,8 +611,10 @@ pub fn filtered_items(
     if !cram && filter.states.iter().any(|s| s == "suspended") {
         return Err(app.tr(Msg::SuspendedNeedsCram).to_string());
     }
-    let d = app.decks.get(deck).ok_or("no such deck")?;
-    let decks = std::slice::from_ref(d);
+    let decks: &[Deck] = match deck {
+        Some(i) => std::slice::from_ref(app.decks.get(i).ok_or("no such deck")?),
+        None => &app.decks,
+    };
     filter.check_names(decks).map_err(|e| e.to_string())?;
     let now = app.services.now();
     let rows = catalog::rows(decks, &app.services.store, &app.services.scheduler, now)

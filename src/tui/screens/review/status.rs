@@ -11,7 +11,7 @@ use super::{ReviewState, Source};
 
 fn set_aside(state: &mut ReviewState, key: &ItemKey) -> bool {
     match &mut state.source {
-        Source::Daily(q) if q.contains(key) => {
+        Source::Daily(q) | Source::Filtered(q) if q.contains(key) => {
             q.set_aside(key);
             true
         }
@@ -27,7 +27,7 @@ fn set_aside(state: &mut ReviewState, key: &ItemKey) -> bool {
 pub(super) fn bring_back(app: &App, state: &mut ReviewState, keys: &[ItemKey]) {
     for key in keys {
         match &mut state.source {
-            Source::Daily(q) => {
+            Source::Daily(q) | Source::Filtered(q) => {
                 let now_state = app.services.store.state(key).ok().flatten();
                 q.restore(key, now_state.as_ref());
             }
