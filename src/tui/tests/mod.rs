@@ -17,6 +17,7 @@ mod reader;
 mod review;
 mod sizes;
 mod stats;
+mod study;
 mod system;
 
 pub fn key(app: &App, code: KeyCode) -> Option<Action> {
