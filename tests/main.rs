@@ -36,6 +36,7 @@ mod sim_exact;
 mod sim_integrators;
 mod sim_scene_cli;
 mod stats_leeches;
+mod study_filter_cli;
 mod store;
 mod store_cli;
 mod store_durability;
