@@ -32,7 +32,10 @@ fn a_filter_without_a_deck_checks_names_against_every_deck() {
     let d = dir.path();
     for (args, says) in [
         // A tag of no deck: named, with the tags of every deck.
-        (vec!["review", "--tag", "nope"], "no card has tag `nope`; tags are "),
+        (
+            vec!["review", "--tag", "nope"],
+            "no card has tag `nope`; tags are ",
+        ),
         (
             vec!["review", "--state", "asleep"],
             "unknown state `asleep`; states are new, learning, review, relearning, suspended, leech, buried",

@@ -734,10 +734,10 @@ pub mod marks {
     pub const FIELD_DECKS: Words = Words("decks", "decks");
     pub const ALL_DECKS: Words = Words("all decks", "saare decks");
     /// The stats screen's panel.
-    pub const LEECHES: Words = Words("Leeches", "Leeches (baar baar bhoole)");
+    pub const LEECHES: Words = Words("Leeches", "Leeches");
     pub const NO_LEECHES: Words = Words("no leeches", "koi leech nahi");
     pub const SUSPENDED: Words = Words("suspended", "suspended");
-    pub const BURIED: Words = Words("buried", "buried (kal tak)");
+    pub const BURIED: Words = Words("buried", "buried");
     /// After a leech's lapse count: "8 lapses".
     pub const LAPSE: Words = Words("lapse", "baar bhoola");
     pub const LAPSES: Words = Words("lapses", "baar bhoola");

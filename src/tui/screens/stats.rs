@@ -13,7 +13,7 @@ use ratatui::widgets::{
 use crate::store::{DayGrid, Stats, StatsScope};
 use crate::tui::action::Action;
 use crate::tui::app::App;
-use crate::tui::i18n::{Msg, Noun, study};
+use crate::tui::i18n::{Msg, Noun, marks, study};
 use crate::tui::services::DayZone;
 use crate::tui::wrap::{Run, ellipsize, wrap};
 
@@ -219,7 +219,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         app.tr(Msg::Relearning)
     );
     let p = &stats.prompts.overall;
-    let lines = [
+    let mut lines = vec![
         Line::styled(states, t.text()),
         Line::from(vec![
             Span::styled(format!(" {}: ", app.tr(Msg::Retention)), t.dim()),
@@ -266,6 +266,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
             Span::styled(format!(" ({})", study::REVIEW_ITEMS.get(lang)), t.dim()),
         ]),
     ];
+    lines.extend(marks_lines(app, stats));
     // The summary wraps; the charts get what is left, and on a screen too
     // short for them the summary's numbers come first.
     let width = usize::from(area.width.max(1));
@@ -370,6 +371,62 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         .data(&counts)
         .style(t.warn());
     frame.render_widget(spark, per_day);
+}
+
+/// The most leeches named on the screen; `flipcard stats` lists them all.
+const LEECHES_SHOWN: usize = 3;
+
+/// The leeches (each with its lapses) and the suspended and buried counts,
+/// when anything is marked: nothing is said of an unmarked deck.
+fn marks_lines(app: &App, stats: &Stats) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    if stats.leeches.is_empty() && stats.suspended == 0 && stats.buried == 0 {
+        return Vec::new();
+    }
+    let mut lines = vec![Line::from(vec![
+        Span::styled(format!(" {}: ", marks::LEECHES.get(lang)), t.dim()),
+        Span::styled(
+            stats.leeches.len().to_string(),
+            if stats.leeches.is_empty() {
+                t.good()
+            } else {
+                t.warn()
+            },
+        ),
+        Span::styled(
+            format!(
+                " · {} {} · {} {}",
+                marks::SUSPENDED.get(lang),
+                stats.suspended,
+                marks::BURIED.get(lang),
+                stats.buried
+            ),
+            t.dim(),
+        ),
+    ])];
+    for l in stats.leeches.iter().take(LEECHES_SHOWN) {
+        let lapses = if l.lapses == 1 {
+            marks::LAPSE
+        } else {
+            marks::LAPSES
+        };
+        lines.push(Line::from(vec![
+            Span::styled(format!("   {}/{} ", l.card, l.direction), t.text()),
+            Span::styled(format!("{} {}", l.lapses, lapses.get(lang)), t.dim()),
+        ]));
+    }
+    if stats.leeches.len() > LEECHES_SHOWN {
+        lines.push(Line::styled(
+            format!(
+                "   +{} {}",
+                stats.leeches.len() - LEECHES_SHOWN,
+                marks::MORE.get(lang)
+            ),
+            t.dim(),
+        ));
+    }
+    lines
 }
 
 fn draw_bench(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {

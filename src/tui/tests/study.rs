@@ -41,12 +41,18 @@ fn springs() -> Deck {
         card(
             "hooke",
             &["frames", "springs"],
-            text("Hooke's law in the lab frame?", "Lab frame mein Hooke ka niyam?"),
+            text(
+                "Hooke's law in the lab frame?",
+                "Lab frame mein Hooke ka niyam?",
+            ),
         ),
         card(
             "period",
             &["springs"],
-            text("Period of a mass on a spring?", "Spring par mass ka period?"),
+            text(
+                "Period of a mass on a spring?",
+                "Spring par mass ka period?",
+            ),
         ),
     ];
     let mut section = d.sections[0].clone();
@@ -201,10 +207,13 @@ fn a_lapse_in_a_filtered_session_comes_back_at_its_step_not_at_the_end() {
     let now = testkit::now();
     let first = item("torque-free", "body-frame-why");
     // A card learnt a month ago: Again makes it relearning.
-    let learnt =
-        app.services
-            .scheduler
-            .review(&first, None, Rating::Easy, now - chrono::TimeDelta::days(30), 0);
+    let learnt = app.services.scheduler.review(
+        &first,
+        None,
+        Rating::Easy,
+        now - chrono::TimeDelta::days(30),
+        0,
+    );
     assert!(app.services.store.record(&learnt).is_ok());
     press_all(&mut app, &[KeyCode::Char('f'), KeyCode::Enter]);
     assert_eq!(shown(&app), Some(first.clone()));
@@ -255,4 +264,97 @@ fn cram_over_a_filter_puts_again_at_the_back() {
     assert_eq!(shown(&app), None);
     // Cram answers leave the schedule as it was.
     assert_eq!(app.services.store.state(&first).ok().flatten(), None);
+}
+
+/// Four leeches of the fixture deck (one with two lapses, the rest with
+/// one; threshold 1, suspended), and a card buried.
+fn leeches(app: &mut TestApp) {
+    let now = testkit::now();
+    let day = chrono::TimeDelta::days(1);
+    let back = ItemKey {
+        direction: Direction::Backward,
+        ..item("torque-free", "euler-1")
+    };
+    let keys = [
+        item("torque-free", "body-frame-why"),
+        item("torque-free", "euler-1"),
+        back,
+        item("torque-free", "unstable-axis"),
+    ];
+    for (i, key) in keys.iter().enumerate() {
+        let lapses: u32 = if i == 0 { 2 } else { 1 };
+        let s = &app.services.scheduler;
+        let mut rec = s.review(key, None, Rating::Easy, now - day * 40, 0);
+        let mut records = vec![rec.clone()];
+        for n in 0..lapses {
+            let at = now - day * (20 - 4 * n as i32);
+            if n > 0 {
+                // Back to review first: a lapse is an Again on a review.
+                let after = rec.after;
+                rec = s.review(key, Some(&after), Rating::Easy, at - day, 0);
+                records.push(rec.clone());
+            }
+            let after = rec.after;
+            rec = s.review(key, Some(&after), Rating::Again, at, 0);
+            records.push(rec.clone());
+        }
+        for r in &records {
+            let follow = crate::store::AfterRating {
+                leech_threshold: lapses,
+                leech_suspend: true,
+                bury: Vec::new(),
+                bury_until: r.reviewed_at,
+            };
+            assert!(app.services.store.record_study(r, &follow).is_ok());
+        }
+    }
+    let bury = app.services.store.set_status(
+        &[item("springs", "period")],
+        crate::store::StatusAction::Bury,
+        now,
+        Some(now + day),
+    );
+    assert!(bury.is_ok());
+}
+
+#[test]
+fn the_stats_screen_lists_the_leeches_with_their_lapses() {
+    for lang in [ENGLISH, HINGLISH] {
+        for (w, h) in [(80, 24), (40, 12)] {
+            let mut app = app(lang);
+            app.size = (w, h);
+            app.services.bench_csv = None;
+            leeches(&mut app);
+            press(&mut app, KeyCode::Char('t'));
+            let Screen::Stats(s) = app.screen() else {
+                panic!("stats not open");
+            };
+            let stats = s.stats.as_ref().map_err(|e| e.clone());
+            let named: Vec<(String, String, u32)> = stats
+                .map(|s| {
+                    s.leeches
+                        .iter()
+                        .map(|l| (l.card.clone(), l.direction.clone(), l.lapses))
+                        .collect()
+                })
+                .unwrap_or_default();
+            assert_eq!(
+                named,
+                [
+                    ("body-frame-why".to_string(), "forward".to_string(), 2),
+                    ("euler-1".to_string(), "forward".to_string(), 1),
+                    ("euler-1".to_string(), "backward".to_string(), 1),
+                    ("unstable-axis".to_string(), "forward".to_string(), 1),
+                ]
+            );
+            let frame = render(&app);
+            if w == 80 {
+                // The springs deck's bury is not this deck's.
+                assert!(frame.contains("suspended 4"), "{frame}");
+                assert!(frame.contains("body-frame-why/forward 2"), "{frame}");
+                assert!(frame.contains("+1"), "{frame}");
+            }
+            insta::assert_snapshot!(format!("stats_leeches_{lang}_{w}x{h}"), frame);
+        }
+    }
 }
