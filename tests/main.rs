@@ -44,6 +44,7 @@ mod store_outside_clients;
 mod store_props;
 mod store_safety;
 mod store_status;
+mod study_e2e;
 mod study_filter_cli;
 mod sync;
 mod system_cli;
