@@ -63,7 +63,8 @@ pub enum Command {
 
 #[derive(Debug, Args)]
 pub struct ReviewArgs {
-    /// Deck id.
+    /// Deck id (without it: the first deck, or every deck when a filter
+    /// --tag, --state or --due-within is given).
     pub deck: Option<String>,
     /// Cram: review now regardless of due dates (does not change scheduling).
     #[arg(long)]
