@@ -151,6 +151,7 @@ impl FilterState {
             Field::Decks => {
                 let n = decks;
                 self.deck = match (self.deck, forward) {
+                    _ if n == 0 => None,
                     (None, true) => Some(0),
                     (None, false) => n.checked_sub(1),
                     (Some(i), true) if i + 1 < n => Some(i + 1),

@@ -1,3 +1,6 @@
+//! Filtered study and leeches through the real binary: `flipcard review`
+//! without DECK checks a tag or state against every deck, and a filter that
+//! matches nothing says so in one line before the terminal is touched;
 //! `flipcard stats` and `stats --json` name the leeches (with their lapses)
 //! and count the suspended and buried items, from the status log the review
 //! screen writes.
@@ -14,6 +17,7 @@ use crate::store_support::{at, review};
 
 const NOW: &str = "2026-05-10T12:00:00Z";
 
+/// The fixture deck opens beside the bundled ones.
 fn flipcard(data: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_flipcard"))
         .args(args)
@@ -96,7 +100,7 @@ fn stats_json_lists_leeches_with_lapses_and_counts_marks() {
     let dir = tempfile::tempdir().unwrap();
     setup(dir.path());
     let o = flipcard(dir.path(), &["stats", "--json"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{}", err(&o));
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["suspended"], 1);
     assert_eq!(v["buried"], 1);
@@ -130,7 +134,7 @@ fn stats_json_lists_leeches_with_lapses_and_counts_marks() {
 
     // One deck's stats keep to that deck.
     let o = flipcard(dir.path(), &["stats", "--json", "--deck", "oscillations"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{}", err(&o));
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["leeches"], serde_json::json!([]));
     assert_eq!(v["suspended"], 0);
@@ -141,7 +145,7 @@ fn stats_text_names_each_leech_with_its_lapses() {
     let dir = tempfile::tempdir().unwrap();
     setup(dir.path());
     let o = flipcard(dir.path(), &["stats", "--deck", "study"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(o.status.success(), "{}", err(&o));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
         text.contains("Suspended: 1; buried today: 1; leeches: 2\n")
@@ -150,4 +154,53 @@ fn stats_text_names_each_leech_with_its_lapses() {
             && !text.contains("torque-rate/c1"),
         "{text}"
     );
+}
+
+fn err(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn a_filter_without_a_deck_checks_names_against_every_deck() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (args, says) in [
+        // A tag of no deck: named, with the tags of every deck.
+        (
+            vec!["review", "--tag", "nope"],
+            "no card has tag `nope`; tags are ",
+        ),
+        (
+            vec!["review", "--state", "asleep"],
+            "unknown state `asleep`; states are new, learning, review, relearning, suspended, leech, buried",
+        ),
+        // `pendulum` is a tag of the oscillations deck only: unknown there
+        // for the study deck, fine across decks (where nothing is due yet).
+        (
+            vec!["review", "study", "--tag", "pendulum"],
+            "no card has tag `pendulum`; tags are euler, frames",
+        ),
+        (
+            vec!["review", "--tag", "pendulum", "--due-within", "3d"],
+            "no card of any deck matches the filter (suspended and buried cards are left out)",
+        ),
+        (
+            vec!["review", "--tag", "euler", "--state", "leech"],
+            "no card of any deck matches the filter",
+        ),
+        (
+            vec!["review", "--state", "suspended"],
+            "add --cram to look through them",
+        ),
+    ] {
+        let o = flipcard(d, &args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", err(&o));
+        assert!(err(&o).contains(says), "{args:?}: {}", err(&o));
+        assert_eq!(err(&o).lines().count(), 1, "{args:?}: {}", err(&o));
+    }
+    // The tags listed come from every deck: the fixture's and the bundled.
+    let o = flipcard(d, &["review", "--tag", "nope"]);
+    for tag in ["euler", "pendulum", "stability", "frames"] {
+        assert!(err(&o).contains(tag), "{tag}: {}", err(&o));
+    }
 }
