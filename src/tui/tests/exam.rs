@@ -83,3 +83,46 @@ fn studying_todays_share_raises_the_expected_recall_on_exam_day() {
         assert!(matches!(app.screen(), Screen::Home(_)));
     }
 }
+
+/// The card on screen in today's share.
+fn shown(app: &crate::tui::App) -> Option<crate::sched::ItemKey> {
+    match &exam(app).phase {
+        Phase::Study(s) => s.review.current.as_ref().map(|(k, _)| k.clone()),
+        Phase::Date { .. } => panic!("still asking for the date"),
+    }
+}
+
+#[test]
+fn an_again_in_todays_share_comes_back_at_its_step_not_at_the_end() {
+    let mut app = testkit::app(ENGLISH);
+    press(&mut app, KeyCode::Char('x'));
+    type_text(&mut app, "2026-03-03");
+    press(&mut app, KeyCode::Enter);
+    let (_, share, _) = progress(&app);
+    assert!(
+        share >= 3,
+        "the fixture plans at least three items: {share}"
+    );
+    let Some(first) = shown(&app) else {
+        panic!("no card in today's share");
+    };
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('1')]);
+    let step = app
+        .services
+        .store
+        .state(&first)
+        .ok()
+        .flatten()
+        .map(|s| s.due);
+    let Some(step) = step else {
+        panic!("Again stored no state");
+    };
+    // Before its step the plan goes on with another card.
+    let second = shown(&app);
+    assert!(second.is_some() && second.as_ref() != Some(&first));
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
+    // At its step it comes before the rest of the plan.
+    app.services.clock = crate::tui::services::Clock::Fixed(step);
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
+    assert_eq!(shown(&app), Some(first));
+}

@@ -33,8 +33,8 @@ pub enum Source {
     /// the day's queue.
     Filtered(Queue),
     /// Today's share of an exam plan: real reviews of the planned items,
-    /// an item answered Again coming round again.
-    Plan(CramQueue),
+    /// an item left (re)learning coming back at its step time.
+    Plan(Queue),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -215,7 +215,8 @@ impl ReviewState {
             .states(&d.id)
             .map_err(|e| e.to_string())?;
         let mut state = ReviewState::open(app, deck, false)?;
-        state.source = Source::Plan(CramQueue::new(items));
+        let day = app.services.study_day(app.services.now());
+        state.source = Source::Plan(Queue::listed(items, day));
         state.states = states;
         state.next_card(app);
         Ok(state)
@@ -224,8 +225,10 @@ impl ReviewState {
     pub(super) fn next_card(&mut self, app: &App) {
         let now = app.services.now();
         let next = match &self.source {
-            Source::Daily(q) | Source::Filtered(q) => q.next(now).map(|(k, _)| k.clone()),
-            Source::Cram(c) | Source::Plan(c) => c.next().cloned(),
+            Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => {
+                q.next(now).map(|(k, _)| k.clone())
+            }
+            Source::Cram(c) => c.next().cloned(),
         };
         self.show(app, next);
     }
@@ -272,8 +275,8 @@ impl ReviewState {
             learning_in: None,
         };
         let day_end = match &self.source {
-            Source::Daily(q) | Source::Filtered(q) => q.day().1,
-            Source::Cram(_) | Source::Plan(_) => now + chrono::TimeDelta::days(1),
+            Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => q.day().1,
+            Source::Cram(_) => now + chrono::TimeDelta::days(1),
         };
         let tomorrow_end = day_end + chrono::TimeDelta::days(1);
         for deck in self.decks.iter().filter_map(|&i| app.decks.get(i)) {
@@ -301,8 +304,10 @@ impl ReviewState {
                 next.new_limit_reached = q.counts().new == 0 && next.new_cards > 0;
                 next.learning_in = q.next_learning_due().map(|due| due - now);
             }
-            Source::Filtered(q) => next.learning_in = q.next_learning_due().map(|due| due - now),
-            Source::Cram(_) | Source::Plan(_) => {}
+            Source::Filtered(q) | Source::Plan(q) => {
+                next.learning_in = q.next_learning_due().map(|due| due - now)
+            }
+            Source::Cram(_) => {}
         }
         next
     }
@@ -327,19 +332,18 @@ impl ReviewState {
                 app.count(c.remaining(), Noun::Card),
                 app.tr(Msg::Cram)
             ),
-            Source::Filtered(q) => {
+            Source::Filtered(q) | Source::Plan(q) => {
                 let c = q.counts();
                 let mut line = app.count(c.total(), Noun::Card);
                 if c.learning > 0 {
                     line.push_str(&format!(" · {} {}", c.learning, app.tr(Msg::Learning)));
                 }
-                format!("{line} · {}", app.tr(Msg::Filtered))
+                let label = match self.source {
+                    Source::Plan(_) => Msg::Exam,
+                    _ => Msg::Filtered,
+                };
+                format!("{line} · {}", app.tr(label))
             }
-            Source::Plan(c) => format!(
-                "{} · {}",
-                app.count(c.remaining(), Noun::Card),
-                app.tr(Msg::Exam)
-            ),
         }
     }
 }
@@ -493,8 +497,8 @@ fn rate(app: &mut App, state: &mut ReviewState, rating: Rating) {
         }
     };
     match &mut state.source {
-        Source::Daily(q) | Source::Filtered(q) => q.answered(&record),
-        Source::Cram(c) | Source::Plan(c) => c.answered(&record),
+        Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => q.answered(&record),
+        Source::Cram(c) => c.answered(&record),
     }
     if !state.cram {
         state.states.insert(key.clone(), record.after);
@@ -538,8 +542,10 @@ fn undo(app: &mut App, state: &mut ReviewState) {
         }
     };
     match &mut state.source {
-        Source::Daily(q) | Source::Filtered(q) => q.restore(&key, restored.as_ref()),
-        Source::Cram(c) | Source::Plan(c) => c.restore(&key),
+        Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => {
+            q.restore(&key, restored.as_ref())
+        }
+        Source::Cram(c) => c.restore(&key),
     }
     if !state.cram {
         match restored {

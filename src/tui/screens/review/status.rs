@@ -11,11 +11,11 @@ use super::{ReviewState, Source};
 
 fn set_aside(state: &mut ReviewState, key: &ItemKey) -> bool {
     match &mut state.source {
-        Source::Daily(q) | Source::Filtered(q) if q.contains(key) => {
+        Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) if q.contains(key) => {
             q.set_aside(key);
             true
         }
-        Source::Cram(c) | Source::Plan(c) if c.contains(key) => {
+        Source::Cram(c) if c.contains(key) => {
             c.set_aside(key);
             true
         }
@@ -27,11 +27,11 @@ fn set_aside(state: &mut ReviewState, key: &ItemKey) -> bool {
 pub(super) fn bring_back(app: &App, state: &mut ReviewState, keys: &[ItemKey]) {
     for key in keys {
         match &mut state.source {
-            Source::Daily(q) | Source::Filtered(q) => {
+            Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => {
                 let now_state = app.services.store.state(key).ok().flatten();
                 q.restore(key, now_state.as_ref());
             }
-            Source::Cram(c) | Source::Plan(c) => c.restore(key),
+            Source::Cram(c) => c.restore(key),
         }
     }
 }
