@@ -34,7 +34,7 @@ impl StatusAction {
             StatusAction::Leech => "leech",
         }
     }
-    fn parse(s: &str) -> Option<StatusAction> {
+    pub fn parse(s: &str) -> Option<StatusAction> {
         [
             StatusAction::Suspend,
             StatusAction::Unsuspend,
@@ -111,17 +111,17 @@ const STATUS_OF: &str = "SELECT k.deck, k.card, k.direction, \
     coalesce((SELECT e.action = 'suspend' FROM status_event AS e \
               WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
                 AND e.undone = 0 AND e.action IN ('suspend', 'unsuspend') \
-              ORDER BY e.id DESC LIMIT 1), 0), \
+              ORDER BY e.at DESC, e.id DESC LIMIT 1), 0), \
     (SELECT e.until FROM status_event AS e \
      WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
        AND e.undone = 0 AND e.action IN ('bury', 'unsuspend') \
-     ORDER BY e.id DESC LIMIT 1), \
+     ORDER BY e.at DESC, e.id DESC LIMIT 1), \
     EXISTS (SELECT 1 FROM status_event AS e \
             WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
               AND e.undone = 0 AND e.action = 'leech')";
 
 /// Recomputes the cached status of one item from the log.
-fn refresh(conn: &Connection, key: &ItemKey) -> rusqlite::Result<()> {
+pub(super) fn refresh(conn: &Connection, key: &ItemKey) -> rusqlite::Result<()> {
     let k = params![key.deck, key.card, key.direction];
     conn.execute(
         "DELETE FROM item_status WHERE deck = ?1 AND card = ?2 AND direction = ?3",
@@ -174,7 +174,7 @@ pub(super) fn rebuild(tx: &Transaction<'_>) -> rusqlite::Result<bool> {
 }
 
 /// The batch id of the next change: the id its first event will get.
-fn next_batch(tx: &Transaction<'_>) -> rusqlite::Result<i64> {
+pub(super) fn next_batch(tx: &Transaction<'_>) -> rusqlite::Result<i64> {
     tx.query_row(
         "SELECT coalesce(max(id), 0) + 1 FROM status_event",
         [],
@@ -183,7 +183,7 @@ fn next_batch(tx: &Transaction<'_>) -> rusqlite::Result<i64> {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn append(
+pub(super) fn append(
     tx: &Transaction<'_>,
     session: i64,
     batch: i64,
@@ -217,9 +217,10 @@ fn append(
     Ok(id)
 }
 
-const EVENT_COLUMNS: &str = "id, deck, card, direction, at, action, until, cause, undone";
+pub(super) const EVENT_COLUMNS: &str =
+    "id, deck, card, direction, at, action, until, cause, undone";
 
-fn read_event(r: &rusqlite::Row<'_>) -> rusqlite::Result<StatusEvent> {
+pub(super) fn read_event(r: &rusqlite::Row<'_>) -> rusqlite::Result<StatusEvent> {
     let action: String = r.get(5)?;
     Ok(StatusEvent {
         id: r.get(0)?,
