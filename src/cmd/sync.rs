@@ -229,14 +229,17 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
         let mut seen_statuses = HashSet::new();
         for l in others {
             match l {
-                Checked::Review(r) => {
+                // Undone anywhere in the folder: it comes undone.
+                Checked::Review(mut r) => {
                     let id = r.review_id();
+                    r.undone |= known.undone_reviews.contains(&id);
                     if !reviews.contains_key(&id) && seen_reviews.insert(id) {
                         incoming.reviews.push(r);
                     }
                 }
-                Checked::Status(s) => {
+                Checked::Status(mut s) => {
                     let id = s.status_id();
+                    s.undone |= known.undone_statuses.contains(&id);
                     if !statuses.contains_key(&id) && seen_statuses.insert(id) {
                         incoming.statuses.push(s);
                     }

@@ -95,7 +95,7 @@ impl Store {
             let mut st = tx
                 .prepare_cached(&format!(
                     "SELECT {COLUMNS} FROM review WHERE session = ?1 AND undone = 0 \
-                     ORDER BY id DESC LIMIT 1"
+                     ORDER BY reviewed_at DESC, id DESC LIMIT 1"
                 ))
                 .map_err(sql_err)?;
             let mut rows = st.query([session]).map_err(sql_err)?;

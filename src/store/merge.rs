@@ -10,7 +10,9 @@
 //!
 //! The log stays append-only: a local answer that an incoming, earlier one
 //! now precedes is not rewritten but marked undone and appended again with
-//! its replayed state, after the incoming rows. Afterwards each item's live
+//! its replayed state, after the incoming rows, in its own session (an undo
+//! there takes back the copy, and with it what the answer brought about,
+//! found by the answer's identity). Afterwards each item's live
 //! rows are in time order by id, so the card-state cache (the last live row)
 //! and `flipcard db rebuild` agree with the replay.
 
@@ -303,10 +305,18 @@ fn merge_item(
             super::log::validate(&record)?;
             tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [l.id])
                 .map_err(sql_err)?;
+            // The answer stays in the session it was given in, so that
+            // the learner's undo there still reaches it.
+            let own: Option<i64> = tx
+                .prepare_cached("SELECT session FROM review WHERE id = ?1")
+                .and_then(|mut st| st.query_row([l.id], |r| r.get(0)))
+                .map_err(sql_err)?;
             relocated += 1;
-        } else {
-            super::log::validate(&record)?;
+            appended = true;
+            insert_row(tx, own.unwrap_or(session), &record, false).map_err(sql_err)?;
+            continue;
         }
+        super::log::validate(&record)?;
         appended = true;
         insert_row(tx, session, &record, s.undone).map_err(sql_err)?;
     }
