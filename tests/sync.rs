@@ -213,7 +213,6 @@ enum Act<'a> {
 
 /// One session of the app on `data`, the default config's leech rule.
 fn session(data: &Path, folder: &Path, acts: &[Act]) {
-    use flipcard::store::sync_merge as _;
     let config = Config::default();
     let scheduler = Scheduler::new(&config);
     let mut store = Store::open(data).unwrap();
@@ -631,4 +630,184 @@ fn sync_needs_a_folder() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("sync_dir"));
+}
+
+/// `n` lapses of one card (a Good that graduates it, then Again and Good
+/// `gap_days` apart), starting `start`; times as RFC 3339 strings.
+fn lapse_times(start: &str, n: i64, gap_days: i64) -> Vec<(Rating, String)> {
+    let t0 = t(start);
+    let mut out = vec![(Rating::Easy, t0.to_rfc3339())];
+    for k in 1..=n {
+        let again = t0 + TimeDelta::days(k * gap_days);
+        out.push((Rating::Again, again.to_rfc3339()));
+        out.push((Rating::Good, (again + TimeDelta::hours(1)).to_rfc3339()));
+    }
+    out
+}
+
+fn rate_all<'a>(card: &'a str, times: &'a [(Rating, String)]) -> Vec<Act<'a>> {
+    times
+        .iter()
+        .map(|(r, at)| Act::Rate(card, *r, at.as_str()))
+        .collect()
+}
+
+/// The live leech and leech-suspend events of one item: (action, time).
+fn leech_events(data: &Path, key: &ItemKey) -> Vec<(StatusAction, DateTime<Utc>)> {
+    Store::open_read_only(data)
+        .unwrap()
+        .status_history(key)
+        .unwrap()
+        .into_iter()
+        .filter(|e| !e.undone && e.action != StatusAction::Bury)
+        .map(|e| (e.action, e.at))
+        .collect()
+}
+
+#[test]
+fn lapses_made_apart_give_one_leech_on_both_machines() {
+    // The default leech rule: 8 lapses, then suspended.
+    let card = "torque-free-meaning";
+    let key = crate::store_support::key(DECK, card);
+    let lapses = |d: &Path| {
+        Store::open_read_only(d)
+            .unwrap()
+            .cached_state(&key)
+            .unwrap()
+            .unwrap()
+            .lapses
+    };
+
+    // Four lapses on each, interleaved in time: neither is a leech alone.
+    let p = pair();
+    let laptop = lapse_times("2026-01-01T08:00:00Z", 4, 10);
+    let lab = lapse_times("2026-01-06T08:00:00Z", 4, 10);
+    session(&p.laptop, &p.folder, &rate_all(card, &laptop));
+    session(&p.lab, &p.folder, &rate_all(card, &lab));
+    assert_eq!((lapses(&p.laptop), lapses(&p.lab)), (4, 4));
+    assert!(leech_events(&p.laptop, &key).is_empty());
+    for d in [&p.laptop, &p.lab, &p.laptop, &p.lab] {
+        sync(d, &p.folder);
+    }
+    same(&p.laptop, &p.lab);
+    // The eighth lapse is the lab's fourth Again.
+    let eighth = t(&lab[7].1);
+    for d in [&p.laptop, &p.lab] {
+        assert_eq!(lapses(d), 8);
+        assert_eq!(
+            leech_events(d, &key),
+            [
+                (StatusAction::Leech, eighth),
+                (StatusAction::Suspend, eighth)
+            ],
+            "{}",
+            d.display()
+        );
+        let s = Store::open_read_only(d).unwrap().status(&key).unwrap();
+        assert!(s.leech && s.suspended, "{s:?}");
+    }
+    // Syncing again changes nothing.
+    let out = sync(&p.lab, &p.folder);
+    assert!(
+        !String::from_utf8_lossy(&out.stdout).contains("leech"),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+
+    // A leech on one machine alone moves to where the merged lapses reach
+    // eight, on both, and is not doubled: the laptop's eight lapses and
+    // two earlier ones of the lab.
+    let p = pair();
+    let laptop = lapse_times("2026-01-01T08:00:00Z", 8, 10);
+    let lab = lapse_times("2026-01-03T08:00:00Z", 2, 10);
+    session(&p.laptop, &p.folder, &rate_all(card, &laptop));
+    session(&p.lab, &p.folder, &rate_all(card, &lab));
+    assert_eq!(
+        leech_events(&p.laptop, &key),
+        [
+            (StatusAction::Leech, t(&laptop[15].1)),
+            (StatusAction::Suspend, t(&laptop[15].1))
+        ]
+    );
+    for d in [&p.lab, &p.laptop, &p.lab] {
+        sync(d, &p.folder);
+    }
+    same(&p.laptop, &p.lab);
+    // Merged: laptop Again 1 (day 10), lab 1 (day 12), laptop 2 (20), lab 2
+    // (22), then the laptop's 3rd to 6th: the eighth is the laptop's 6th.
+    let eighth = t(&laptop[11].1);
+    for d in [&p.laptop, &p.lab] {
+        assert_eq!(lapses(d), 10);
+        assert_eq!(
+            leech_events(d, &key),
+            [
+                (StatusAction::Leech, eighth),
+                (StatusAction::Suspend, eighth)
+            ],
+            "{}",
+            d.display()
+        );
+    }
+}
+
+#[test]
+fn a_file_of_the_first_format_still_merges() {
+    // Review lines only, as the first version of sync wrote them, one of
+    // them undone.
+    let p = pair();
+    let other = p.folder.join("0123456789abcdef0123456789abcdef.jsonl");
+    std::fs::copy("tests/fixtures/sync/reviews-only.jsonl", &other).unwrap();
+    let out = sync(&p.laptop, &p.folder);
+    let said = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        said.contains("4 reviews merged from 1 other machine"),
+        "{said}"
+    );
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let live = live_log(&p.laptop);
+    let cards: Vec<(&str, u8)> = live.iter().map(|r| (r.card.as_str(), r.rating)).collect();
+    assert_eq!(
+        cards,
+        [
+            ("body-frame-why", 3),
+            ("torque-free-meaning", 3),
+            ("torque-free-meaning", 4)
+        ]
+    );
+    let history = Store::open_read_only(&p.laptop)
+        .unwrap()
+        .history(&crate::store_support::key(DECK, "body-frame-why"))
+        .unwrap();
+    assert_eq!(history.len(), 2);
+    assert!(history[0].undone && history[0].record.rating == Rating::Again);
+    // The states are the replay of the live answers.
+    let scheduler = Scheduler::new(&Config::default());
+    let k = crate::store_support::key(DECK, "torque-free-meaning");
+    let first = scheduler.review(&k, None, Rating::Good, t("2026-04-20T08:00:00Z"), 2500);
+    let second = scheduler.review(
+        &k,
+        Some(&first.after),
+        Rating::Easy,
+        t("2026-04-22T07:30:00.123Z"),
+        1800,
+    );
+    let store = Store::open_read_only(&p.laptop).unwrap();
+    assert_eq!(store.state(&k).unwrap(), Some(second.after));
+    drop(store);
+    // Nothing of it is written back; a second sync changes nothing.
+    let out = sync(&p.laptop, &p.folder);
+    let said = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        said.contains("0 reviews written") && said.contains("0 reviews merged"),
+        "{said}"
+    );
+    assert_eq!(
+        std::fs::read_dir(&p.folder).unwrap().count(),
+        1,
+        "no file of its own: nothing to write"
+    );
 }
