@@ -811,3 +811,54 @@ fn a_file_of_the_first_format_still_merges() {
         "no file of its own: nothing to write"
     );
 }
+
+#[test]
+fn sync_dir_in_the_config_may_start_with_a_tilde() {
+    let p = pair();
+    study(
+        &p.laptop,
+        "2026-05-01T08:00:00Z",
+        &[("torque-free-meaning", Rating::Good, 0)],
+    );
+    // $HOME is the folder that holds `Sync`.
+    let home = p.folder.parent().unwrap();
+    let config = p.laptop.join("config.toml");
+    let run = |text: &str| {
+        std::fs::write(&config, text).unwrap();
+        Command::new(env!("CARGO_BIN_EXE_flipcard"))
+            .arg("sync")
+            .env("FLIPCARD_DATA_DIR", &p.laptop)
+            .env("FLIPCARD_CONFIG", &config)
+            .env("FLIPCARD_NOW", NOW)
+            .env("HOME", home)
+            .env_remove("FLIPCARD_DECKS")
+            .output()
+            .unwrap()
+    };
+    let out = run("sync_dir = \"~/Sync\"\n");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let said = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        said.starts_with(&format!(
+            "synced through {}: 1 review written",
+            p.folder.display()
+        )),
+        "{said}"
+    );
+    assert_eq!(std::fs::read_dir(&p.folder).unwrap().count(), 1);
+
+    // Another user's home is not guessed at.
+    let out = run("leech_threshold = 8\nsync_dir = \"~lab/Sync\"\n");
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains(&format!("{}:2:12: `sync_dir`", config.display()))
+            && err.contains("`~user` is not expanded"),
+        "{err}"
+    );
+}
