@@ -162,7 +162,8 @@ fn sync_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
 /// One sync: merge the other machines' files, then write what the folder
 /// lacks. The merge comes first so that an undo of an answer others have
 /// seen is replayed here, in the merge's transaction, before it is
-/// published; a sync killed between the two writes it next time.
+/// published; a sync killed between the two replays it again (a no-op) and
+/// writes it next time.
 pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Outcome> {
     if !dir.is_dir() {
         bail!(
@@ -220,7 +221,7 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
     for w in store.warnings() {
         crate::errln!("flipcard: warning: {w}");
     }
-    let mut local = store.sync_local()?;
+    let local = store.sync_local()?;
     let incoming = {
         let reviews = local.review_ids();
         let statuses = local.status_ids();
@@ -272,11 +273,11 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
     outcome.merged_statuses = merged.statuses;
     outcome.merged_undos = merged.undos;
     outcome.leeches = merged.leeches;
-    if merged != Default::default() {
-        local = store.sync_local()?;
-    }
     drop(store);
 
+    // The history read before the merge is enough: what the merge brought
+    // is in the folder already, answers it re-appended keep their identity,
+    // and leech events do not travel.
     let missing = local.missing(&known);
     if !missing.is_empty() {
         for l in &missing {
