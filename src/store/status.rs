@@ -2,7 +2,9 @@
 //! (out of the queue until a given time, the start of the next study day),
 //! leech (lapsed too often). Every change is an event in the append-only
 //! status log; the `item_status` cache is derived from it alone and
-//! rebuilt with the card states.
+//! rebuilt with the card states. The latest live event by time decides
+//! (the log's order only between events of the same millisecond), so
+//! events merged from another machine count where they happened.
 
 use std::collections::HashMap;
 
