@@ -443,17 +443,7 @@ fn interleaved_sessions_converge_whatever_the_order_of_syncs() {
             f.sort();
             f
         };
-        let rows = |d: &Path| {
-            let mut n = 0;
-            Store::open_read_only(d)
-                .unwrap()
-                .each_review(|_| -> Result<(), flipcard::store::StoreError> {
-                    n += 1;
-                    Ok(())
-                })
-                .unwrap();
-            n
-        };
+        let rows = |d: &Path| (review_rows(d), status_rows(d));
         let before = (files(&p), rows(&p.laptop), rows(&p.lab));
         for d in [&p.lab, &p.laptop, &p.lab] {
             let out = sync(d, &p.folder);
@@ -472,6 +462,45 @@ fn interleaved_sessions_converge_whatever_the_order_of_syncs() {
         );
         assert_eq!(files(&p).len(), 2, "one file per machine");
     }
+}
+
+/// Rows of the review log, undone ones included.
+fn review_rows(d: &Path) -> usize {
+    let mut n = 0;
+    Store::open_read_only(d)
+        .unwrap()
+        .each_review(|_| -> Result<(), flipcard::store::StoreError> {
+            n += 1;
+            Ok(())
+        })
+        .unwrap();
+    n
+}
+
+/// Rows of the status log, undone ones included.
+fn status_rows(d: &Path) -> usize {
+    let store = Store::open_read_only(d).unwrap();
+    store
+        .statuses()
+        .unwrap()
+        .keys()
+        .map(|k| store.status_history(k).unwrap().len())
+        .sum()
+}
+
+/// The learner's own suspends (not a leech's): (rows, live rows).
+fn own_suspends(d: &Path) -> (usize, usize) {
+    let store = Store::open_read_only(d).unwrap();
+    let mut n = (0, 0);
+    for k in store.statuses().unwrap().keys() {
+        for e in store.status_history(k).unwrap() {
+            if e.action == StatusAction::Suspend && e.cause.is_none() {
+                n.0 += 1;
+                n.1 += usize::from(!e.undone);
+            }
+        }
+    }
+    n
 }
 
 #[test]
@@ -569,6 +598,18 @@ fn sigkill_at_any_point_of_a_sync_loses_nothing_and_half_merges_nothing() {
         .collect();
     study(&p.laptop, "2026-01-01T08:00:00Z", &refs);
     study(&p.lab, "2026-01-01T08:07:00Z", &refs[..300]);
+    // And changes of status: ten suspends, one of them undone.
+    let times: Vec<String> = (0..10)
+        .map(|i| (t("2026-03-01T08:00:00Z") + TimeDelta::minutes(i)).to_rfc3339())
+        .collect();
+    let cards: Vec<String> = (0..10).map(|i| format!("card-{i}")).collect();
+    let mut acts: Vec<Act> = cards
+        .iter()
+        .zip(&times)
+        .map(|(c, at)| Act::Suspend(c, at))
+        .collect();
+    acts.push(Act::Undo);
+    session(&p.laptop, &p.folder, &acts);
     sync(&p.laptop, &p.folder);
     let lab_own = live_log(&p.lab).len();
 
@@ -594,6 +635,12 @@ fn sigkill_at_any_point_of_a_sync_loses_nothing_and_half_merges_nothing() {
             live == lab_own || live == lab_own + 1200,
             "after a kill at {delay_us} µs: {live} live reviews"
         );
+        // The laptop's suspends come with them, or do not.
+        let events = own_suspends(&p.lab);
+        assert!(
+            (live == lab_own && events == (0, 0)) || (live > lab_own && events == (10, 9)),
+            "after a kill at {delay_us} µs: {live} live reviews, {events:?} suspends"
+        );
         // The lab's sync file is whole or absent: never a half line.
         for e in std::fs::read_dir(&p.folder).unwrap().flatten() {
             let name = e.file_name().to_string_lossy().into_owned();
@@ -612,6 +659,7 @@ fn sigkill_at_any_point_of_a_sync_loses_nothing_and_half_merges_nothing() {
     sync(&p.laptop, &p.folder);
     same(&p.laptop, &p.lab);
     assert_eq!(live_log(&p.lab).len(), 1200 + 300);
+    assert_eq!(own_suspends(&p.lab), (10, 9));
 }
 
 #[test]

@@ -10,13 +10,12 @@
 //!
 //! The log stays append-only: a local answer that an incoming, earlier one
 //! now precedes is not rewritten but marked undone and appended again with
-//! its replayed state, after the incoming rows, in its own session (an undo
-//! there takes back the copy, and with it what the answer brought about,
-//! found by the answer's identity). Afterwards each item's live
+//! its replayed state, after the incoming rows (an undo in the session
+//! that gave the answer follows it there: see `Store::undo_last`). Afterwards each item's live
 //! rows are in time order by id, so the card-state cache (the last live row)
 //! and `flipcard db rebuild` agree with the replay.
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, HashSet};
 
 use chrono::{DateTime, Utc};
 use rusqlite::{Transaction, TransactionBehavior, params};
@@ -167,7 +166,7 @@ pub(super) fn merge_one(
 ) -> Result<ItemMerge, StoreError> {
     let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(std::path::Path::new(""), e);
     let mut out = ItemMerge::default();
-    let (existing, sessions) = item_rows(tx, key).map_err(sql_err)??;
+    let existing = item_rows(tx, key).map_err(sql_err)??;
     let mut seen: HashSet<Identity> = existing
         .iter()
         .map(|l| (to_ms(l.record.reviewed_at), l.record.rating))
@@ -218,16 +217,7 @@ pub(super) fn merge_one(
         Some(s) => s,
         None => *session.insert(insert_session(tx).map_err(sql_err)?),
     };
-    out.replayed_local = merge_item(
-        tx,
-        session_id,
-        &sessions,
-        key,
-        live,
-        &fresh_refs,
-        t0,
-        scheduler,
-    )?;
+    out.replayed_local = merge_item(tx, session_id, key, live, &fresh_refs, t0, scheduler)?;
     out.added = fresh.len();
     out.added_undone = fresh.iter().filter(|r| r.undone).count();
     state::refresh_item(tx, key).map_err(sql_err)?;
@@ -252,11 +242,9 @@ struct Step<'a> {
 /// the row it has stays as it is, as long as nothing was appended before
 /// it (so each item's live rows stay in time order by id); the others are
 /// marked undone and appended again. Returns how many were re-appended.
-#[allow(clippy::too_many_arguments)]
 fn merge_item(
     tx: &Transaction<'_>,
     session: i64,
-    sessions: &Sessions,
     key: &ItemKey,
     mut live: Vec<&LoggedReview>,
     fresh: &[&IncomingReview],
@@ -309,52 +297,36 @@ fn merge_item(
             }
             r
         };
-        if let Some(l) = s.local {
-            if !appended && l.record == record {
-                continue;
-            }
-            super::log::validate(&record)?;
-            tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [l.id])
-                .map_err(sql_err)?;
-            // The answer stays in the session it was given in, so that
-            // the learner's undo there still reaches it.
-            let own = sessions.get(&l.id).copied().flatten();
-            relocated += 1;
-            appended = true;
-            insert_row(tx, own.unwrap_or(session), &record, false).map_err(sql_err)?;
+        if s.local.is_some_and(|l| !appended && l.record == record) {
             continue;
         }
         super::log::validate(&record)?;
+        if let Some(l) = s.local {
+            tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [l.id])
+                .map_err(sql_err)?;
+            relocated += 1;
+        }
         appended = true;
         insert_row(tx, session, &record, s.undone).map_err(sql_err)?;
     }
     Ok(relocated)
 }
 
-/// The sessions of an item's rows, by row id.
-type Sessions = HashMap<i64, Option<i64>>;
-
-/// Every row of one item (undone ones included), in id order, with the
-/// session of each.
+/// Every row of one item (undone ones included), in id order.
 fn item_rows(
     tx: &Transaction<'_>,
     key: &ItemKey,
-) -> rusqlite::Result<Result<(Vec<LoggedReview>, Sessions), StoreError>> {
+) -> rusqlite::Result<Result<Vec<LoggedReview>, StoreError>> {
     let mut st = tx.prepare_cached(&format!(
-        "SELECT {COLUMNS}, session FROM review WHERE deck = ?1 AND card = ?2 AND direction = ?3 \
-         ORDER BY id"
+        "SELECT {COLUMNS} FROM review WHERE deck = ?1 AND card = ?2 AND direction = ?3 ORDER BY id"
     ))?;
     let mut rows = st.query(params![key.deck, key.card, key.direction.as_str()])?;
     let mut out = Vec::new();
-    let mut sessions = HashMap::new();
     while let Some(row) = rows.next()? {
         match read_logged(row)? {
-            Ok(l) => {
-                sessions.insert(l.id, row.get(17)?);
-                out.push(l);
-            }
+            Ok(l) => out.push(l),
             Err(e) => return Ok(Err(e)),
         }
     }
-    Ok(Ok((out, sessions)))
+    Ok(Ok(out))
 }

@@ -392,13 +392,28 @@ impl Store {
         let Some(session) = self.session else {
             return Ok(None);
         };
-        // The last answer by time: a merge may have appended an earlier
-        // answer of this session again, after later ones.
-        let last_review: Option<(i64, Ms)> = self
+        // By the first row of each answer: a merge may have appended one
+        // again, after later ones, outside this session.
+        let last_review: Option<i64> = self
             .conn
             .query_row(
-                "SELECT id, reviewed_at FROM review WHERE session = ?1 AND undone = 0 \
-                 ORDER BY reviewed_at DESC, id DESC LIMIT 1",
+                &format!(
+                    "SELECT max(r.id) FROM review AS r WHERE r.session = ?1 AND EXISTS ( \
+                       SELECT 1 FROM review AS o WHERE o.deck = r.deck AND o.card = r.card \
+                         AND o.direction = r.direction AND o.reviewed_at = r.reviewed_at \
+                         AND o.rating = r.rating AND o.undone = 0)"
+                ),
+                [session],
+                |r| r.get(0),
+            )
+            .map_err(|e| self.err(e))?;
+        // The learner's own change: every event written by that one call
+        // shares its batch.
+        let last_status: Option<(i64, i64)> = self
+            .conn
+            .query_row(
+                "SELECT batch, after_review FROM status_event \
+                 WHERE session = ?1 AND undone = 0 AND cause IS NULL ORDER BY id DESC LIMIT 1",
                 [session],
                 |r| Ok((r.get(0)?, r.get(1)?)),
             )
@@ -408,38 +423,11 @@ impl Store {
                 e => Err(e),
             })
             .map_err(|e| self.err(e))?;
-        // The learner's own change: every event written by that one call
-        // shares its batch.
-        let last_status: Option<(i64, i64, Ms)> = self
-            .conn
-            .query_row(
-                "SELECT batch, after_review, at FROM status_event \
-                 WHERE session = ?1 AND undone = 0 AND cause IS NULL ORDER BY id DESC LIMIT 1",
-                [session],
-                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
-            )
-            .map(Some)
-            .or_else(|e| match e {
-                rusqlite::Error::QueryReturnedNoRows => Ok(None),
-                e => Err(e),
-            })
-            .map_err(|e| self.err(e))?;
-        // Which came last: by time, and by the log's order when the times
-        // are the same.
-        let review_last = |(r, reviewed): (i64, Ms), (after, at): (i64, Ms)| {
-            if reviewed.0 == at.0 {
-                r > after
-            } else {
-                reviewed.0 > at.0
-            }
-        };
         match (last_review, last_status) {
             (None, None) => Ok(None),
-            (Some(r), Some((_, after, at))) if review_last(r, (after, at)) => {
-                Ok(self.undo_last()?.map(Undone::Review))
-            }
+            (Some(r), Some((_, after))) if r > after => Ok(self.undo_last()?.map(Undone::Review)),
             (Some(_), None) => Ok(self.undo_last()?.map(Undone::Review)),
-            (_, Some((batch, _, _))) => {
+            (_, Some((batch, _))) => {
                 let path = self.path.clone();
                 let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
                 let tx = self
