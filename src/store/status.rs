@@ -397,12 +397,10 @@ impl Store {
         let last_review: Option<i64> = self
             .conn
             .query_row(
-                &format!(
-                    "SELECT max(r.id) FROM review AS r WHERE r.session = ?1 AND EXISTS ( \
-                       SELECT 1 FROM review AS o WHERE o.deck = r.deck AND o.card = r.card \
-                         AND o.direction = r.direction AND o.reviewed_at = r.reviewed_at \
-                         AND o.rating = r.rating AND o.undone = 0)"
-                ),
+                "SELECT max(r.id) FROM review AS r WHERE r.session = ?1 AND EXISTS ( \
+                   SELECT 1 FROM review AS o WHERE o.deck = r.deck AND o.card = r.card \
+                     AND o.direction = r.direction AND o.reviewed_at = r.reviewed_at \
+                     AND o.rating = r.rating AND o.undone = 0)",
                 [session],
                 |r| r.get(0),
             )

@@ -332,7 +332,8 @@ fn derive_leeches(
         }
     }
     // The live derived events: (event id, action, time, cause's time).
-    let mut derived: HashMap<ItemKey, Vec<(i64, String, i64, Option<i64>)>> = HashMap::new();
+    type Derived = (i64, String, i64, Option<i64>);
+    let mut derived: HashMap<ItemKey, Vec<Derived>> = HashMap::new();
     {
         let mut st = tx.prepare(
             "SELECT e.deck, e.card, e.direction, e.id, e.action, e.at, r.reviewed_at \
