@@ -1,6 +1,8 @@
 //! Sync timing on 100,000 reviews per machine: two data dirs that studied
 //! the same 1,000 cards apart (100 answers each, the machines' answers
-//! interleaved in time, so every card's history is replayed), one folder.
+//! interleaved in time, so every card's history is replayed), with changes
+//! of status on a third of the cards (suspend, bury, unsuspend, one of them
+//! undone), one folder.
 //! Prints the time of each step:
 //!
 //!     cargo bench --bench sync [-- REVIEWS_PER_MACHINE]
@@ -11,7 +13,7 @@ use std::time::Instant;
 use chrono::{DateTime, TimeDelta, Utc};
 use flipcard::cmd::sync::sync_with;
 use flipcard::sched::{Config, Direction, ItemKey, Rating, Scheduler};
-use flipcard::store::Store;
+use flipcard::store::{StatusAction, Store};
 
 const CARDS: usize = 1000;
 
@@ -48,6 +50,31 @@ fn study(data: &Path, n: usize, offset: i64, config: &Config) {
             batch.push(r);
         }
         store.record_batch(&batch).unwrap();
+    }
+    // Changes of status, one transaction each as in the app.
+    store.start_session().unwrap();
+    for c in (0..CARDS).filter(|c| c % 3 == 0) {
+        let key = ItemKey {
+            deck: "bench".into(),
+            card: format!("card-{c}"),
+            direction: Direction::Forward,
+        };
+        let at = start + TimeDelta::days(10) + TimeDelta::minutes(offset + c as i64);
+        let k = std::slice::from_ref(&key);
+        store
+            .set_status(k, StatusAction::Suspend, at, None)
+            .unwrap();
+        let later = at + TimeDelta::days(3);
+        store
+            .set_status(k, StatusAction::Unsuspend, later, None)
+            .unwrap();
+        let bury = later + TimeDelta::days(1);
+        store
+            .set_status(k, StatusAction::Bury, bury, Some(bury + TimeDelta::days(1)))
+            .unwrap();
+        if c % 2 == 0 {
+            store.undo_last_change().unwrap();
+        }
     }
 }
 

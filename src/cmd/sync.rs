@@ -1,7 +1,8 @@
 //! `flipcard sync [DIR]` (and `sync_dir` in the config, run when the app
-//! opens and when it closes): writes this machine's reviews that the
-//! folder lacks to `DIR/<machine-id>.jsonl`, then merges every other
-//! machine's file into the local log. See `store::sync` for the rules.
+//! opens and when it closes): merges every other machine's file into the
+//! local log, then writes this machine's reviews, status events and undos
+//! that the folder lacks to `DIR/<machine-id>.jsonl`. See `store::sync`
+//! for the rules.
 
 use std::collections::HashSet;
 use std::fs;
@@ -13,9 +14,11 @@ use anyhow::{Context, bail};
 
 use crate::cmd::args::{Cli, SyncArgs};
 use crate::cmd::paths;
+use crate::sched::config::LeechAction;
 use crate::sched::{Config, Scheduler};
 use crate::store::Store;
-use crate::store::sync::{self, Identity, SyncEvent};
+use crate::store::sync::{self, Checked, Known, SyncLine};
+use crate::store::sync_merge::{LeechRule, SyncIncoming};
 use crate::text::plural;
 
 pub fn run(cli: &Cli, args: &SyncArgs) -> anyhow::Result<ExitCode> {
@@ -36,11 +39,34 @@ pub fn run(cli: &Cli, args: &SyncArgs) -> anyhow::Result<ExitCode> {
 #[derive(Debug, Default)]
 pub struct Outcome {
     pub machine: String,
+    /// Review lines written to this machine's file.
     pub written: usize,
+    pub written_statuses: usize,
+    pub written_undos: usize,
     pub machines: usize,
+    /// Reviews merged from the other machines.
     pub merged: usize,
-    pub duplicates: usize,
+    pub merged_statuses: usize,
+    /// Answers and status events taken back because another machine undid
+    /// them.
+    pub merged_undos: usize,
+    /// Items whose leech mark was added, moved or taken back.
+    pub leeches: usize,
     pub skipped_lines: usize,
+}
+
+fn counts(reviews: usize, statuses: usize, undos: usize) -> String {
+    let mut s = plural(reviews, "review", "reviews");
+    if statuses > 0 {
+        s.push_str(&format!(
+            ", {}",
+            plural(statuses, "status change", "status changes")
+        ));
+    }
+    if undos > 0 {
+        s.push_str(&format!(", {}", plural(undos, "undo", "undos")));
+    }
+    s
 }
 
 impl Outcome {
@@ -48,11 +74,17 @@ impl Outcome {
         let mut s = format!(
             "synced through {}: {} written to {}.jsonl; {} merged from {}",
             dir.display(),
-            plural(self.written, "review", "reviews"),
+            counts(self.written, self.written_statuses, self.written_undos),
             self.machine,
-            plural(self.merged, "review", "reviews"),
+            counts(self.merged, self.merged_statuses, self.merged_undos),
             plural(self.machines, "other machine", "other machines"),
         );
+        if self.leeches > 0 {
+            s.push_str(&format!(
+                "; {} updated",
+                plural(self.leeches, "leech mark", "leech marks")
+            ));
+        }
         if self.skipped_lines > 0 {
             s.push_str(&format!(
                 "; {} skipped, to be read next time",
@@ -127,7 +159,11 @@ fn sync_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-/// One sync: write what the folder lacks, then merge the other machines'.
+/// One sync: merge the other machines' files, then write what the folder
+/// lacks. The merge comes first so that an undo of an answer others have
+/// seen is replayed here, in the merge's transaction, before it is
+/// published; a sync killed between the two replays it again (a no-op) and
+/// writes it next time.
 pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Outcome> {
     if !dir.is_dir() {
         bail!(
@@ -143,8 +179,8 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
     };
 
     // Everything the folder holds, by file.
-    let mut in_folder: HashSet<Identity> = HashSet::new();
-    let mut others: Vec<SyncEvent> = Vec::new();
+    let mut known = Known::default();
+    let mut others: Vec<Checked> = Vec::new();
     let mut mine_text = String::new();
     for file in sync_files(dir)? {
         let text = match fs::read(&file) {
@@ -158,7 +194,7 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
                 continue;
             }
         };
-        let (events, skipped) = sync::read_events(&text);
+        let (lines, skipped) = sync::read_lines(&text);
         for s in &skipped {
             crate::errln!(
                 "flipcard: warning: {}:{}: skipped: {}; it is read again next time",
@@ -168,14 +204,16 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
             );
         }
         outcome.skipped_lines += skipped.len();
-        in_folder.extend(events.iter().filter_map(SyncEvent::identity));
+        for l in &lines {
+            known.add(l);
+        }
         if file == mine {
             // Only whole lines are kept when the file is extended.
             let end = text.rfind('\n').map_or(0, |i| i + 1);
             mine_text = text[..end].to_string();
         } else {
             outcome.machines += 1;
-            others.extend(events);
+            others.extend(lines);
         }
     }
 
@@ -183,11 +221,72 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
     for w in store.warnings() {
         crate::errln!("flipcard: warning: {w}");
     }
-    let local = store.sync_events()?;
-    let missing = sync::missing(&local, &in_folder);
+    let local = store.sync_local()?;
+    let incoming = {
+        let reviews = local.review_ids();
+        let statuses = local.status_ids();
+        let mut incoming = SyncIncoming::default();
+        let mut seen_reviews = HashSet::new();
+        let mut seen_statuses = HashSet::new();
+        for l in others {
+            match l {
+                // Undone anywhere in the folder: it comes undone.
+                Checked::Review(mut r) => {
+                    let id = r.review_id();
+                    r.undone |= known.undone_reviews.contains(&id);
+                    if !reviews.contains_key(&id) && seen_reviews.insert(id) {
+                        incoming.reviews.push(r);
+                    }
+                }
+                Checked::Status(mut s) => {
+                    let id = s.status_id();
+                    s.undone |= known.undone_statuses.contains(&id);
+                    if !statuses.contains_key(&id) && seen_statuses.insert(id) {
+                        incoming.statuses.push(s);
+                    }
+                }
+                Checked::UndoReview(_) | Checked::UndoStatus(_) => {}
+            }
+        }
+        for (id, undone) in &reviews {
+            match (undone, known.undone_reviews.contains(id)) {
+                (false, true) => {
+                    incoming.undo_reviews.insert(id.clone());
+                }
+                (true, false) => incoming.replay.push(id.clone()),
+                _ => {}
+            }
+        }
+        for (id, undone) in &statuses {
+            if !undone && known.undone_statuses.contains(id) {
+                incoming.undo_statuses.insert(id.clone());
+            }
+        }
+        incoming
+    };
+    let leech = LeechRule {
+        threshold: config.leech_threshold,
+        suspend: config.leech_action == LeechAction::Suspend,
+    };
+    let merged = store.merge_sync(&incoming, &Scheduler::new(config), leech)?;
+    outcome.merged = merged.reviews;
+    outcome.merged_statuses = merged.statuses;
+    outcome.merged_undos = merged.undos;
+    outcome.leeches = merged.leeches;
+    drop(store);
+
+    // The history read before the merge is enough: what the merge brought
+    // is in the folder already, answers it re-appended keep their identity,
+    // and leech events do not travel.
+    let missing = local.missing(&known);
     if !missing.is_empty() {
-        for e in &missing {
-            mine_text.push_str(&sync::line(e));
+        for l in &missing {
+            mine_text.push_str(&sync::sync_line(l));
+            match l {
+                SyncLine::Review(_) => outcome.written += 1,
+                SyncLine::Status(_) => outcome.written_statuses += 1,
+                SyncLine::UndoReview(_) | SyncLine::UndoStatus(_) => outcome.written_undos += 1,
+            }
         }
         // Stale temporary files of an interrupted sync go first.
         let prefix = format!(".{machine}.jsonl.");
@@ -202,23 +301,6 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
         write_synced(&tmp, mine_text.as_bytes())?;
         fs::rename(&tmp, &mine).with_context(|| format!("cannot write {}", mine.display()))?;
         sync_folder(dir);
-        outcome.written = missing.len();
-    }
-
-    let local_ids: HashSet<Identity> = local.iter().filter_map(SyncEvent::identity).collect();
-    let mut seen: HashSet<Identity> = HashSet::new();
-    let incoming: Vec<_> = others
-        .iter()
-        .filter(|e| {
-            e.identity()
-                .is_some_and(|id| !local_ids.contains(&id) && seen.insert(id))
-        })
-        .filter_map(|e| e.incoming().ok())
-        .collect();
-    if !incoming.is_empty() {
-        let summary = store.merge_reviews(&incoming, &Scheduler::new(config))?;
-        outcome.merged = summary.added;
-        outcome.duplicates = summary.duplicates;
     }
     Ok(outcome)
 }

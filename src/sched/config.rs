@@ -364,6 +364,7 @@ impl Config {
                 })?;
         }
         let base = path.parent().unwrap_or(Path::new(""));
+        let home = std::env::var_os("HOME");
         for (i, p) in raw.deck_paths.iter().flatten().enumerate() {
             if p.get_ref().trim().is_empty() {
                 return Err(invalid(
@@ -372,7 +373,9 @@ impl Config {
                     "an empty path names no folder".to_string(),
                 ));
             }
-            config.deck_paths.push(base.join(p.get_ref()));
+            let dir = expand_home(p.get_ref(), home.as_deref())
+                .map_err(|m| invalid(&format!("deck_paths[{i}]"), p.span(), m))?;
+            config.deck_paths.push(base.join(dir));
         }
         if let Some(d) = raw.sync_dir {
             if d.get_ref().trim().is_empty() {
@@ -382,7 +385,9 @@ impl Config {
                     "an empty path names no folder".to_string(),
                 ));
             }
-            config.sync_dir = Some(base.join(d.get_ref()));
+            let dir = expand_home(d.get_ref(), home.as_deref())
+                .map_err(|m| invalid("sync_dir", d.span(), m))?;
+            config.sync_dir = Some(base.join(dir));
         }
         Ok(config)
     }
@@ -641,6 +646,30 @@ impl fmt::Display for Config {
     }
 }
 
+/// A config path as a shell would take it: a leading `~` or `~/` is the
+/// home folder. `~user` is refused rather than looked up (and never taken
+/// as a folder named `~user`), and so is `~` without `$HOME`.
+fn expand_home(raw: &str, home: Option<&std::ffi::OsStr>) -> Result<PathBuf, String> {
+    let Some(rest) = raw.strip_prefix('~') else {
+        return Ok(PathBuf::from(raw));
+    };
+    let rest = match rest.strip_prefix('/') {
+        Some(rest) => rest,
+        None if rest.is_empty() => "",
+        None => {
+            return Err(format!(
+                "{raw:?}: `~user` is not expanded; write the full path (or `~/…` for your own home)"
+            ));
+        }
+    };
+    match home.filter(|h| !h.is_empty()) {
+        Some(h) => Ok(Path::new(h).join(rest)),
+        None => Err(format!(
+            "{raw:?} starts with `~` but $HOME is not set; write the full path"
+        )),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -717,6 +746,41 @@ language = "hi-Latn"
         assert!(e.contains("`deck_paths[1]`: an empty path"), "{e}");
         let e = parse("sync_dir = 3\n").unwrap_err().to_string();
         assert!(e.contains("sync_dir"), "{e}");
+    }
+
+    #[test]
+    fn a_leading_tilde_is_the_home_folder() {
+        let home = Some(std::ffi::OsStr::new("/home/asha"));
+        for (raw, want) in [
+            ("~/Sync/flipcard", "/home/asha/Sync/flipcard"),
+            ("~", "/home/asha"),
+            ("~/", "/home/asha/"),
+            ("Sync/~", "Sync/~"),
+            ("/srv/~/decks", "/srv/~/decks"),
+        ] {
+            assert_eq!(
+                expand_home(raw, home).unwrap(),
+                PathBuf::from(want),
+                "{raw}"
+            );
+        }
+        let e = expand_home("~asha/Sync", home).unwrap_err();
+        assert!(e.contains("`~user` is not expanded"), "{e}");
+        let e = expand_home("~/Sync", None).unwrap_err();
+        assert!(e.contains("$HOME is not set"), "{e}");
+        // In a file, the error names the key and where it is.
+        let e = parse("deck_paths = ['decks', '~bob/decks']\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("config.toml:1:24: `deck_paths[1]`: \"~bob/decks\": `~user`"),
+            "{e}"
+        );
+        if let Some(h) = std::env::var_os("HOME").filter(|h| !h.is_empty()) {
+            let c = parse("sync_dir = '~/Sync'\ndeck_paths = ['~/decks']\n").unwrap();
+            assert_eq!(c.sync_dir, Some(Path::new(&h).join("Sync")));
+            assert_eq!(c.deck_paths, [Path::new(&h).join("decks")]);
+        }
     }
 
     #[test]

@@ -18,6 +18,16 @@ pub struct LoggedReview {
     pub undone: bool,
 }
 
+/// The identity (item, time, rating) of the last answer of session `?1`
+/// that is still live. An answer that a merge appended again after an
+/// earlier one arrived is live in its copy, outside the session: it keeps
+/// its place in the session's order by its first row.
+pub(super) const LAST_ANSWER: &str = "SELECT r.deck, r.card, r.direction, r.reviewed_at, r.rating \
+     FROM review AS r WHERE r.session = ?1 AND EXISTS (SELECT 1 FROM review AS o \
+       WHERE o.deck = r.deck AND o.card = r.card AND o.direction = r.direction \
+         AND o.reviewed_at = r.reviewed_at AND o.rating = r.rating AND o.undone = 0) \
+     ORDER BY r.id DESC LIMIT 1";
+
 /// The log's columns in the order [`read_logged`] expects.
 pub(super) const COLUMNS: &str = "id, deck, card, direction, reviewed_at, rating, kind, \
      elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review, \
@@ -77,7 +87,8 @@ impl Store {
     }
 
     /// Reverts the last rating of this session that is not yet undone (with
-    /// the status events it brought about): the log row is marked undone and the item's state is recomputed from the
+    /// the status events it brought about; a copy a merge appended is the
+    /// one taken back): the log row is marked undone and the item's state is recomputed from the
     /// log (back to new when no rating of it remains), in one transaction.
     /// Returns the undone log row (marked undone), or `None` when there is
     /// nothing to undo.
@@ -94,7 +105,8 @@ impl Store {
         let last = {
             let mut st = tx
                 .prepare_cached(&format!(
-                    "SELECT {COLUMNS} FROM review WHERE session = ?1 AND undone = 0 \
+                    "SELECT {COLUMNS} FROM review WHERE undone = 0 \
+                     AND (deck, card, direction, reviewed_at, rating) = ({LAST_ANSWER}) \
                      ORDER BY id DESC LIMIT 1"
                 ))
                 .map_err(sql_err)?;

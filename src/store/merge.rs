@@ -10,7 +10,8 @@
 //!
 //! The log stays append-only: a local answer that an incoming, earlier one
 //! now precedes is not rewritten but marked undone and appended again with
-//! its replayed state, after the incoming rows. Afterwards each item's live
+//! its replayed state, after the incoming rows (an undo in the session
+//! that gave the answer follows it there: see `Store::undo_last`). Afterwards each item's live
 //! rows are in time order by id, so the card-state cache (the last live row)
 //! and `flipcard db rebuild` agree with the replay.
 
@@ -61,15 +62,15 @@ pub struct MergeSummary {
 }
 
 /// The identity of a review across machines.
-type Identity = (i64, Rating);
+pub(super) type Identity = (i64, Rating);
 
 impl IncomingReview {
-    fn identity(&self) -> Identity {
+    pub(super) fn identity(&self) -> Identity {
         (to_ms(self.reviewed_at), self.rating)
     }
 
     /// Refused before anything is written: what the log cannot hold.
-    fn check(&self) -> Result<(), String> {
+    pub(super) fn check(&self) -> Result<(), String> {
         if self.key.deck.is_empty() || self.key.card.is_empty() {
             return Err("empty deck or card id".into());
         }
@@ -118,33 +119,14 @@ impl Store {
         // Its own session, not adopted by this store: an undo in the app
         // must not reach into a merged history.
         let mut session = None;
+        let none = HashSet::new();
         for (key, incoming) in by_item {
-            let existing = item_rows(&tx, key).map_err(sql_err)??;
-            let mut seen: HashSet<Identity> = existing
-                .iter()
-                .map(|l| (to_ms(l.record.reviewed_at), l.record.rating))
-                .collect();
-            let mut fresh: Vec<&IncomingReview> = Vec::new();
-            for r in incoming {
-                if seen.insert(r.identity()) {
-                    fresh.push(r);
-                } else {
-                    summary.duplicates += 1;
-                }
-            }
-            if fresh.is_empty() {
-                continue;
-            }
-            let session = match session {
-                Some(s) => s,
-                None => *session.insert(insert_session(&tx).map_err(sql_err)?),
-            };
-            let n = merge_item(&tx, session, key, &existing, &fresh, scheduler)?;
-            summary.added += fresh.len();
-            summary.added_undone += fresh.iter().filter(|r| r.undone).count();
-            summary.replayed_local += n;
-            summary.items += 1;
-            state::refresh_item(&tx, key).map_err(sql_err)?;
+            let m = merge_one(&tx, &mut session, key, &incoming, &none, None, scheduler)?;
+            summary.added += m.added;
+            summary.added_undone += m.added_undone;
+            summary.duplicates += m.duplicates;
+            summary.replayed_local += m.replayed_local;
+            summary.items += usize::from(m.added > 0);
         }
         if summary.added > 0 {
             tally::rebuild(&tx).map_err(sql_err)?;
@@ -154,8 +136,96 @@ impl Store {
     }
 }
 
+/// What merging one item did.
+#[derive(Debug, Default)]
+pub(super) struct ItemMerge {
+    pub added: usize,
+    pub added_undone: usize,
+    pub duplicates: usize,
+    /// Local answers appended again with their replayed state.
+    pub replayed_local: usize,
+    /// Local answers taken back because the source undid them.
+    pub undone: usize,
+}
+
+/// Merges into one item: `incoming` answers it lacks are appended, its
+/// live answers named in `undo` (time in ms, rating) are taken back with
+/// the status events they brought about, and every live answer after the
+/// earliest change (or after `replay_from`, an answer undone here that
+/// others have not seen undone yet) is replayed, so the item's states are
+/// the replay of its live answers in time order. `session` is made on the
+/// first write.
+pub(super) fn merge_one(
+    tx: &Transaction<'_>,
+    session: &mut Option<i64>,
+    key: &ItemKey,
+    incoming: &[&IncomingReview],
+    undo: &HashSet<Identity>,
+    replay_from: Option<DateTime<Utc>>,
+    scheduler: &Scheduler,
+) -> Result<ItemMerge, StoreError> {
+    let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(std::path::Path::new(""), e);
+    let mut out = ItemMerge::default();
+    let existing = item_rows(tx, key).map_err(sql_err)??;
+    let mut seen: HashSet<Identity> = existing
+        .iter()
+        .map(|l| (to_ms(l.record.reviewed_at), l.record.rating))
+        .collect();
+    let mut fresh: Vec<IncomingReview> = Vec::new();
+    for r in incoming {
+        if seen.insert(r.identity()) {
+            let undone = r.undone || undo.contains(&r.identity());
+            fresh.push(IncomingReview {
+                undone,
+                ..(*r).clone()
+            });
+        } else {
+            out.duplicates += 1;
+        }
+    }
+    let mut t0 = fresh.iter().map(|r| r.reviewed_at).min();
+    let mut taken_back: HashSet<i64> = HashSet::new();
+    if !undo.is_empty() {
+        for l in &existing {
+            if !undo.contains(&(to_ms(l.record.reviewed_at), l.record.rating)) {
+                continue;
+            }
+            // A copy an earlier merge re-appended may carry the events
+            // the answer brought about.
+            super::status::undo_caused(tx, l.id).map_err(sql_err)?;
+            if !l.undone {
+                tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [l.id])
+                    .map_err(sql_err)?;
+                taken_back.insert(l.id);
+                t0 = Some(t0.map_or(l.record.reviewed_at, |t| t.min(l.record.reviewed_at)));
+            }
+        }
+    }
+    out.undone = taken_back.len();
+    if let Some(t) = replay_from {
+        t0 = Some(t0.map_or(t, |t0| t0.min(t)));
+    }
+    let Some(t0) = t0 else {
+        return Ok(out);
+    };
+    let live: Vec<&LoggedReview> = existing
+        .iter()
+        .filter(|l| !l.undone && !taken_back.contains(&l.id))
+        .collect();
+    let fresh_refs: Vec<&IncomingReview> = fresh.iter().collect();
+    let session_id = match *session {
+        Some(s) => s,
+        None => *session.insert(insert_session(tx).map_err(sql_err)?),
+    };
+    out.replayed_local = merge_item(tx, session_id, key, live, &fresh_refs, t0, scheduler)?;
+    out.added = fresh.len();
+    out.added_undone = fresh.iter().filter(|r| r.undone).count();
+    state::refresh_item(tx, key).map_err(sql_err)?;
+    Ok(out)
+}
+
 /// One answer in the replay: a local live row or an incoming one.
-struct Step {
+struct Step<'a> {
     at: DateTime<Utc>,
     /// Local rows first among equal times (they were there first).
     incoming: bool,
@@ -163,31 +233,28 @@ struct Step {
     cram: bool,
     duration_ms: i64,
     undone: bool,
-    /// The local row this step re-appends, to be marked undone.
-    local_id: Option<i64>,
+    /// The local row this step may re-append, to be marked undone.
+    local: Option<&'a LoggedReview>,
 }
 
-/// Appends `fresh` (and re-appends the local answers they precede) with
-/// states replayed from the last local answer before the earliest of them.
-/// Returns how many local answers were re-appended.
+/// Appends `fresh` and replays the live local answers after `t0` from the
+/// last live answer not after it. A local answer whose replay gives back
+/// the row it has stays as it is, as long as nothing was appended before
+/// it (so each item's live rows stay in time order by id); the others are
+/// marked undone and appended again. Returns how many were re-appended.
 fn merge_item(
     tx: &Transaction<'_>,
     session: i64,
     key: &ItemKey,
-    existing: &[LoggedReview],
+    mut live: Vec<&LoggedReview>,
     fresh: &[&IncomingReview],
+    t0: DateTime<Utc>,
     scheduler: &Scheduler,
 ) -> Result<usize, StoreError> {
     let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(std::path::Path::new(""), e);
-    let t0 = fresh
-        .iter()
-        .map(|r| r.reviewed_at)
-        .min()
-        .unwrap_or(DateTime::<Utc>::MAX_UTC);
-    let mut live: Vec<&LoggedReview> = existing.iter().filter(|l| !l.undone).collect();
     live.sort_by_key(|l| (l.record.reviewed_at, l.id));
     // The state to replay from: the last live, non-cram local answer not
-    // after the earliest incoming one.
+    // after the earliest change.
     let mut state: Option<CardState> = live
         .iter()
         .rfind(|l| l.record.reviewed_at <= t0 && l.record.kind != ReviewKind::Cram)
@@ -202,10 +269,9 @@ fn merge_item(
             cram: l.record.kind == ReviewKind::Cram,
             duration_ms: l.record.duration_ms,
             undone: false,
-            local_id: Some(l.id),
+            local: Some(l),
         })
         .collect();
-    let relocated = steps.len();
     steps.extend(fresh.iter().map(|r| Step {
         at: r.reviewed_at,
         incoming: true,
@@ -213,10 +279,12 @@ fn merge_item(
         cram: r.cram,
         duration_ms: r.duration_ms,
         undone: r.undone,
-        local_id: None,
+        local: None,
     }));
     steps.sort_by_key(|s| (s.at, s.incoming));
 
+    let mut appended = false;
+    let mut relocated = 0;
     for s in &steps {
         let record = if s.cram {
             scheduler.cram(key, state.as_ref(), s.rating, s.at, s.duration_ms)
@@ -229,11 +297,16 @@ fn merge_item(
             }
             r
         };
-        super::log::validate(&record)?;
-        if let Some(id) = s.local_id {
-            tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [id])
-                .map_err(sql_err)?;
+        if s.local.is_some_and(|l| !appended && l.record == record) {
+            continue;
         }
+        super::log::validate(&record)?;
+        if let Some(l) = s.local {
+            tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [l.id])
+                .map_err(sql_err)?;
+            relocated += 1;
+        }
+        appended = true;
         insert_row(tx, session, &record, s.undone).map_err(sql_err)?;
     }
     Ok(relocated)

@@ -25,6 +25,7 @@ pub mod state;
 pub mod stats;
 pub mod status;
 pub mod sync;
+pub mod sync_merge;
 mod tally;
 pub mod today;
 pub mod true_retention;

@@ -2,7 +2,9 @@
 //! (out of the queue until a given time, the start of the next study day),
 //! leech (lapsed too often). Every change is an event in the append-only
 //! status log; the `item_status` cache is derived from it alone and
-//! rebuilt with the card states.
+//! rebuilt with the card states. The latest live event by time decides
+//! (the log's order only between events of the same millisecond), so
+//! events merged from another machine count where they happened.
 
 use std::collections::HashMap;
 
@@ -34,7 +36,7 @@ impl StatusAction {
             StatusAction::Leech => "leech",
         }
     }
-    fn parse(s: &str) -> Option<StatusAction> {
+    pub fn parse(s: &str) -> Option<StatusAction> {
         [
             StatusAction::Suspend,
             StatusAction::Unsuspend,
@@ -111,17 +113,17 @@ const STATUS_OF: &str = "SELECT k.deck, k.card, k.direction, \
     coalesce((SELECT e.action = 'suspend' FROM status_event AS e \
               WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
                 AND e.undone = 0 AND e.action IN ('suspend', 'unsuspend') \
-              ORDER BY e.id DESC LIMIT 1), 0), \
+              ORDER BY e.at DESC, e.id DESC LIMIT 1), 0), \
     (SELECT e.until FROM status_event AS e \
      WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
        AND e.undone = 0 AND e.action IN ('bury', 'unsuspend') \
-     ORDER BY e.id DESC LIMIT 1), \
+     ORDER BY e.at DESC, e.id DESC LIMIT 1), \
     EXISTS (SELECT 1 FROM status_event AS e \
             WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
               AND e.undone = 0 AND e.action = 'leech')";
 
 /// Recomputes the cached status of one item from the log.
-fn refresh(conn: &Connection, key: &ItemKey) -> rusqlite::Result<()> {
+pub(super) fn refresh(conn: &Connection, key: &ItemKey) -> rusqlite::Result<()> {
     let k = params![key.deck, key.card, key.direction];
     conn.execute(
         "DELETE FROM item_status WHERE deck = ?1 AND card = ?2 AND direction = ?3",
@@ -174,7 +176,7 @@ pub(super) fn rebuild(tx: &Transaction<'_>) -> rusqlite::Result<bool> {
 }
 
 /// The batch id of the next change: the id its first event will get.
-fn next_batch(tx: &Transaction<'_>) -> rusqlite::Result<i64> {
+pub(super) fn next_batch(tx: &Transaction<'_>) -> rusqlite::Result<i64> {
     tx.query_row(
         "SELECT coalesce(max(id), 0) + 1 FROM status_event",
         [],
@@ -183,7 +185,7 @@ fn next_batch(tx: &Transaction<'_>) -> rusqlite::Result<i64> {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn append(
+pub(super) fn append(
     tx: &Transaction<'_>,
     session: i64,
     batch: i64,
@@ -217,9 +219,10 @@ fn append(
     Ok(id)
 }
 
-const EVENT_COLUMNS: &str = "id, deck, card, direction, at, action, until, cause, undone";
+pub(super) const EVENT_COLUMNS: &str =
+    "id, deck, card, direction, at, action, until, cause, undone";
 
-fn read_event(r: &rusqlite::Row<'_>) -> rusqlite::Result<StatusEvent> {
+pub(super) fn read_event(r: &rusqlite::Row<'_>) -> rusqlite::Result<StatusEvent> {
     let action: String = r.get(5)?;
     Ok(StatusEvent {
         id: r.get(0)?,
@@ -242,11 +245,16 @@ fn read_event(r: &rusqlite::Row<'_>) -> rusqlite::Result<StatusEvent> {
     })
 }
 
-/// Marks undone every event a rating brought about; returns them.
+/// Marks undone every event a rating brought about (through any row of
+/// the same answer: a merge may have appended it again); returns them.
 pub(super) fn undo_caused(tx: &Transaction<'_>, review: i64) -> rusqlite::Result<Vec<StatusEvent>> {
     let events: Vec<StatusEvent> = tx
         .prepare_cached(&format!(
-            "SELECT {EVENT_COLUMNS} FROM status_event WHERE cause = ?1 AND undone = 0 ORDER BY id"
+            "SELECT {EVENT_COLUMNS} FROM status_event WHERE undone = 0 AND cause IN ( \
+               SELECT o.id FROM review AS r JOIN review AS o ON o.deck = r.deck \
+                 AND o.card = r.card AND o.direction = r.direction \
+                 AND o.reviewed_at = r.reviewed_at AND o.rating = r.rating \
+               WHERE r.id = ?1) ORDER BY id"
         ))?
         .query_map([review], read_event)?
         .collect::<Result<_, _>>()?;
@@ -384,10 +392,15 @@ impl Store {
         let Some(session) = self.session else {
             return Ok(None);
         };
+        // By the first row of each answer: a merge may have appended one
+        // again, after later ones, outside this session.
         let last_review: Option<i64> = self
             .conn
             .query_row(
-                "SELECT max(id) FROM review WHERE session = ?1 AND undone = 0",
+                "SELECT max(r.id) FROM review AS r WHERE r.session = ?1 AND EXISTS ( \
+                   SELECT 1 FROM review AS o WHERE o.deck = r.deck AND o.card = r.card \
+                     AND o.direction = r.direction AND o.reviewed_at = r.reviewed_at \
+                     AND o.rating = r.rating AND o.undone = 0)",
                 [session],
                 |r| r.get(0),
             )
