@@ -46,6 +46,7 @@ mod store_status;
 mod study_cli;
 mod study_e2e;
 mod sync;
+mod sync_e2e;
 mod system_cli;
 mod true_retention;
 mod tui_browser_e2e;

@@ -11,7 +11,7 @@ use crate::sched::Config;
 use crate::store::Store;
 use crate::store::catalog::{Filter, parse_span};
 use crate::tui::app::{App, DeckLoad};
-use crate::tui::services::{Clock, DayZone, Services};
+use crate::tui::services::{Clock, DayZone, Services, Synced};
 use crate::tui::theme::Theme;
 
 pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
@@ -20,7 +20,7 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let config = Config::load(config_path.as_deref())?;
     let data_dir = paths::data_dir(cli.data_dir.clone())?;
     // `sync_dir`: the other machines' reviews come in before the app
-    // opens, and this session's go out when it closes.
+    // opens, after each review session, and when it closes.
     let sync_dir = config.sync_dir.clone();
     if let Some(dir) = &sync_dir {
         auto_sync(&data_dir, dir, &config);
@@ -42,6 +42,24 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let lang = config.language.clone();
     let mut services = Services::new(clock, config, config_path, DayZone::Local, store);
     services.bench_csv = paths::bench_csv();
+    if let Some(dir) = sync_dir.clone() {
+        let data = data_dir.clone();
+        services.after_session = Some(Box::new(move |store, config| {
+            crate::cmd::sync::sync_store(store, &data, &dir, config)
+                .map(|o| Synced {
+                    written: o.written + o.written_statuses + o.written_undos,
+                    merged: o.merged + o.merged_statuses + o.merged_undos,
+                    warnings: o.warnings,
+                })
+                .map_err(|e| {
+                    format!(
+                        "sync through {} failed: {}",
+                        dir.display(),
+                        crate::cmd::output::chain_text(&e)
+                    )
+                })
+        }));
+    }
     let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
     app.deck_load = deck_load;
     if let Some(args) = review {
@@ -86,11 +104,16 @@ fn review_filter(args: &ReviewArgs) -> anyhow::Result<Filter> {
 /// A sync the config asks for: a failure is a warning, never a reason to
 /// keep the learner from studying.
 fn auto_sync(data_dir: &std::path::Path, dir: &std::path::Path, config: &Config) {
-    if let Err(e) = crate::cmd::sync::sync_with(data_dir, dir, config) {
-        crate::errln!(
+    match crate::cmd::sync::sync_with(data_dir, dir, config) {
+        Ok(outcome) => {
+            for w in &outcome.warnings {
+                crate::errln!("flipcard: warning: {w}");
+            }
+        }
+        Err(e) => crate::errln!(
             "flipcard: warning: sync through {} failed: {}",
             dir.display(),
             crate::cmd::output::chain_text(&e)
-        );
+        ),
     }
 }

@@ -31,6 +31,9 @@ pub fn run(cli: &Cli, args: &SyncArgs) -> anyhow::Result<ExitCode> {
     };
     let data = paths::data_dir(cli.data_dir.clone())?;
     let outcome = sync_with(&data, &dir, &config)?;
+    for w in &outcome.warnings {
+        crate::errln!("flipcard: warning: {w}");
+    }
     crate::outln!("{}", outcome.summary(&dir))?;
     Ok(ExitCode::SUCCESS)
 }
@@ -53,6 +56,9 @@ pub struct Outcome {
     /// Items whose leech mark was added, moved or taken back.
     pub leeches: usize,
     pub skipped_lines: usize,
+    /// Files and lines skipped, and what the store warned of: said by the
+    /// caller (a terminal line, or the app's status line).
+    pub warnings: Vec<String>,
 }
 
 fn counts(reviews: usize, statuses: usize, undos: usize) -> String {
@@ -165,6 +171,21 @@ fn sync_files(dir: &Path) -> anyhow::Result<Vec<PathBuf>> {
 /// published; a sync killed between the two replays it again (a no-op) and
 /// writes it next time.
 pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Outcome> {
+    let mut store = Store::open(data)?;
+    let warnings: Vec<String> = store.warnings().iter().map(|w| w.to_string()).collect();
+    let mut outcome = sync_store(&mut store, data, dir, config)?;
+    outcome.warnings.splice(0..0, warnings);
+    Ok(outcome)
+}
+
+/// [`sync_with`] through a store already open: the app's own connection,
+/// when it syncs after a review session.
+pub fn sync_store(
+    store: &mut Store,
+    data: &Path,
+    dir: &Path,
+    config: &Config,
+) -> anyhow::Result<Outcome> {
     if !dir.is_dir() {
         bail!(
             "{}: no such folder (create it, or point the sync tool's folder there)",
@@ -186,22 +207,22 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
         let text = match fs::read(&file) {
             Ok(b) => String::from_utf8_lossy(&b).into_owned(),
             Err(e) => {
-                crate::errln!(
-                    "flipcard: warning: {}: cannot be read ({e}); skipped, to be read next time",
+                outcome.warnings.push(format!(
+                    "{}: cannot be read ({e}); skipped, to be read next time",
                     file.display()
-                );
+                ));
                 outcome.skipped_lines += 1;
                 continue;
             }
         };
         let (lines, skipped) = sync::read_lines(&text);
         for s in &skipped {
-            crate::errln!(
-                "flipcard: warning: {}:{}: skipped: {}; it is read again next time",
+            outcome.warnings.push(format!(
+                "{}:{}: skipped: {}; it is read again next time",
                 file.display(),
                 s.line,
                 s.why
-            );
+            ));
         }
         outcome.skipped_lines += skipped.len();
         for l in &lines {
@@ -217,10 +238,6 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
         }
     }
 
-    let mut store = Store::open(data)?;
-    for w in store.warnings() {
-        crate::errln!("flipcard: warning: {w}");
-    }
     let local = store.sync_local()?;
     let incoming = {
         let reviews = local.review_ids();
@@ -273,7 +290,6 @@ pub fn sync_with(data: &Path, dir: &Path, config: &Config) -> anyhow::Result<Out
     outcome.merged_statuses = merged.statuses;
     outcome.merged_undos = merged.undos;
     outcome.leeches = merged.leeches;
-    drop(store);
 
     // The history read before the merge is enough: what the merge brought
     // is in the folder already, answers it re-appended keep their identity,

@@ -111,7 +111,13 @@ impl App {
     pub fn pop(&mut self) {
         self.status = None;
         if self.stack.len() > 1 {
-            self.stack.pop();
+            let closed = self.stack.pop();
+            if matches!(
+                closed,
+                Some(Screen::Review(_) | Screen::Exam(_) | Screen::Browser(_))
+            ) {
+                self.after_session();
+            }
             if let Screen::Home(_) = self.screen() {
                 let fresh = super::screens::home::HomeState::new(self);
                 if let Screen::Home(h) = self.screen_mut() {
@@ -120,6 +126,32 @@ impl App {
             }
         } else {
             self.quit = true;
+        }
+    }
+
+    /// Syncs (when `sync_dir` is set) after a session closes, before the
+    /// home screen counts its cards again, and says what came and went.
+    fn after_session(&mut self) {
+        let Some(mut hook) = self.services.after_session.take() else {
+            return;
+        };
+        let done = hook(&mut self.services.store, &self.services.config);
+        self.services.after_session = Some(hook);
+        match done {
+            Ok(s) if !s.warnings.is_empty() => self.error(s.warnings.join("; ")),
+            Ok(s) if s.written + s.merged > 0 => {
+                let lang = self.lang.clone();
+                self.info(format!(
+                    "{}: {} {}, {} {}",
+                    super::i18n::sync::SYNCED.get(&lang),
+                    s.written,
+                    super::i18n::sync::SENT.get(&lang),
+                    s.merged,
+                    super::i18n::sync::RECEIVED.get(&lang),
+                ));
+            }
+            Ok(_) => {}
+            Err(e) => self.error(e),
         }
     }
 

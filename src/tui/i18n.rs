@@ -744,3 +744,12 @@ pub mod marks {
     /// More leeches than room: "+3 more".
     pub const MORE: Words = Words("more", "aur");
 }
+
+pub mod sync {
+    use super::Words;
+
+    /// The status line after a session synced: "Synced: 3 sent, 2 received".
+    pub const SYNCED: Words = Words("Synced", "Sync hua");
+    pub const SENT: Words = Words("sent", "bheje");
+    pub const RECEIVED: Words = Words("received", "aaye");
+}

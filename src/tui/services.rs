@@ -74,6 +74,22 @@ pub enum DayZone {
     Utc,
 }
 
+/// What a sync after a review session did, for the status line.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Synced {
+    /// Reviews, status changes and undos written to this machine's file.
+    pub written: usize,
+    /// Reviews, status changes and undos merged from the other machines.
+    pub merged: usize,
+    /// Lines and files skipped, to be read next time.
+    pub warnings: Vec<String>,
+}
+
+/// Runs when a session that may have changed the log closes (a review, an
+/// exam share, the browser): the sync of `sync_dir`, given by the command
+/// that opened the app. It gets the app's own connection.
+pub type AfterSession = Box<dyn FnMut(&mut Store, &Config) -> Result<Synced, String>>;
+
 pub struct Services {
     pub clock: Clock,
     pub stopwatch: Stopwatch,
@@ -85,6 +101,7 @@ pub struct Services {
     pub store: Store,
     /// The work–precision table of `flipcard bench`, if one was written.
     pub bench_csv: Option<PathBuf>,
+    pub after_session: Option<AfterSession>,
 }
 
 impl Services {
@@ -105,6 +122,7 @@ impl Services {
             zone,
             store,
             bench_csv: None,
+            after_session: None,
         }
     }
 

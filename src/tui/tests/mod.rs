@@ -18,6 +18,7 @@ mod review;
 mod sizes;
 mod stats;
 mod study;
+mod sync;
 mod system;
 
 pub fn key(app: &App, code: KeyCode) -> Option<Action> {
