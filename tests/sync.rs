@@ -680,6 +680,70 @@ fn sync_needs_a_folder() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("sync_dir"));
 }
 
+fn mkfifo(path: &Path) {
+    let status = Command::new("mkfifo").arg(path).status().unwrap();
+    assert!(status.success(), "mkfifo {}", path.display());
+}
+
+/// A FIFO, a folder or a dangling link where a sync file or the machine id
+/// should be: named and skipped or refused, never waited on (opening a FIFO
+/// blocks until something writes to it).
+#[test]
+fn a_fifo_or_a_folder_in_the_sync_folder_is_skipped_not_waited_on() {
+    let p = pair();
+    study(
+        &p.laptop,
+        "2026-05-01T09:00:00Z",
+        &[("euler-component-1", Rating::Good, 0)],
+    );
+    sync(&p.laptop, &p.folder);
+    mkfifo(&p.folder.join("fifo.jsonl"));
+    std::fs::create_dir(p.folder.join("folder.jsonl")).unwrap();
+    std::os::unix::fs::symlink("/nonexistent", p.folder.join("gone.jsonl")).unwrap();
+    let mut child = sync_cmd(&p.lab, &p.folder)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(30) {
+            let _ = child.kill();
+            panic!("sync waits on the FIFO");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let out = child.wait_with_output().unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("fifo.jsonl: is a FIFO, not a regular file"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("folder.jsonl: is a directory"), "{stderr}");
+    assert!(stderr.contains("gone.jsonl:"), "{stderr}");
+    assert!(
+        stdout.contains("1 review merged") && stdout.contains("3 files skipped"),
+        "{stdout}"
+    );
+    assert_eq!(live_log(&p.lab).len(), 1);
+
+    // The machine id: a FIFO there is one line and exit 1, at once.
+    let other = p.folder.parent().unwrap().join("third");
+    std::fs::create_dir(&other).unwrap();
+    mkfifo(&other.join("machine-id"));
+    let out = sync_cmd(&other, &p.folder).output().unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("machine-id: is a FIFO, not a regular file"),
+        "{stderr}"
+    );
+}
+
 /// `n` lapses of one card (a Good that graduates it, then Again and Good
 /// `gap_days` apart), starting `start`; times as RFC 3339 strings.
 fn lapse_times(start: &str, n: i64, gap_days: i64) -> Vec<(Rating, String)> {

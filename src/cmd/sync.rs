@@ -14,6 +14,7 @@ use anyhow::{Context, bail};
 
 use crate::cmd::args::{Cli, SyncArgs};
 use crate::cmd::paths;
+use crate::deck::files::read_regular;
 use crate::sched::config::LeechAction;
 use crate::sched::{Config, Scheduler};
 use crate::store::Store;
@@ -56,6 +57,8 @@ pub struct Outcome {
     /// Items whose leech mark was added, moved or taken back.
     pub leeches: usize,
     pub skipped_lines: usize,
+    /// Files that could not be read (gone, a FIFO, a folder).
+    pub skipped_files: usize,
     /// Files and lines skipped, and what the store warned of: said by the
     /// caller (a terminal line, or the app's status line).
     pub warnings: Vec<String>,
@@ -91,6 +94,12 @@ impl Outcome {
                 plural(self.leeches, "leech mark", "leech marks")
             ));
         }
+        if self.skipped_files > 0 {
+            s.push_str(&format!(
+                "; {} skipped",
+                plural(self.skipped_files, "file", "files")
+            ));
+        }
         if self.skipped_lines > 0 {
             s.push_str(&format!(
                 "; {} skipped, to be read next time",
@@ -105,8 +114,17 @@ impl Outcome {
 /// dir, so renaming the host or copying the data dir keeps it.
 pub fn machine_id(data: &Path) -> anyhow::Result<String> {
     let path = data.join("machine-id");
-    match fs::read_to_string(&path) {
-        Ok(text) => {
+    let read = match fs::metadata(&path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        // A FIFO or a directory there is refused, never waited on.
+        _ => Some(
+            read_regular(&path)
+                .map(|b| String::from_utf8_lossy(&b).into_owned())
+                .map_err(|why| anyhow::anyhow!("{}: {why}", path.display())),
+        ),
+    };
+    match read {
+        Some(Ok(text)) => {
             let id = text.trim();
             if id.len() == 32 && id.bytes().all(|b| b.is_ascii_hexdigit()) {
                 return Ok(id.to_ascii_lowercase());
@@ -116,8 +134,8 @@ pub fn machine_id(data: &Path) -> anyhow::Result<String> {
                 path.display()
             );
         }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
+        Some(Err(e)) => return Err(e),
+        None => {}
     }
     fs::create_dir_all(data).with_context(|| format!("cannot create {}", data.display()))?;
     let id = format!("{:032x}", rand::random::<u128>());
@@ -204,14 +222,14 @@ pub fn sync_store(
     let mut others: Vec<Checked> = Vec::new();
     let mut mine_text = String::new();
     for file in sync_files(dir)? {
-        let text = match fs::read(&file) {
+        let text = match read_regular(&file) {
             Ok(b) => String::from_utf8_lossy(&b).into_owned(),
-            Err(e) => {
+            Err(why) => {
                 outcome.warnings.push(format!(
-                    "{}: cannot be read ({e}); skipped, to be read next time",
+                    "{}: {why}; skipped, to be read next time",
                     file.display()
                 ));
-                outcome.skipped_lines += 1;
+                outcome.skipped_files += 1;
                 continue;
             }
         };

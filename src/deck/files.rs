@@ -57,10 +57,12 @@ pub fn probe(path: &Path) -> Probe {
     }
 }
 
-/// Reads a file `probe` found regular. The opened file is checked again, so
-/// something swapped in between is refused rather than read.
+/// Reads a regular file (directly or through links). The file is opened
+/// without waiting (a FIFO would otherwise block the open until something
+/// writes to it) and checked once open, so something swapped in after a
+/// `probe` is refused rather than read.
 pub fn read_regular(path: &Path) -> Result<Vec<u8>, String> {
-    let mut file = File::open(path).map_err(|e| cannot_read(&e))?;
+    let mut file = open_nonblocking(path).map_err(|e| cannot_read(&e))?;
     let meta = file.metadata().map_err(|e| cannot_read(&e))?;
     if let Some(kind) = kind_name(&meta.file_type()) {
         return Err(format!("is {kind}, not a regular file"));
@@ -68,6 +70,20 @@ pub fn read_regular(path: &Path) -> Result<Vec<u8>, String> {
     let mut bytes = Vec::new();
     file.read_to_end(&mut bytes).map_err(|e| cannot_read(&e))?;
     Ok(bytes)
+}
+
+#[cfg(unix)]
+fn open_nonblocking(path: &Path) -> io::Result<File> {
+    use std::os::unix::fs::OpenOptionsExt;
+    fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(nix::libc::O_NONBLOCK)
+        .open(path)
+}
+
+#[cfg(not(unix))]
+fn open_nonblocking(path: &Path) -> io::Result<File> {
+    File::open(path)
 }
 
 /// Where deck and content files are read from: the disk, or files held in
