@@ -63,9 +63,18 @@ struct Run {
 
 /// `flipcard check ARGS` in `dir`, killed (and failed) if it does not end.
 fn check(dir: &Path, args: &[&str]) -> Run {
+    let mut all = vec!["check"];
+    all.extend_from_slice(args);
+    flipcard(dir, &all)
+}
+
+/// `flipcard ARGS` in `dir` with its data and config there, killed (and
+/// failed) if it does not end.
+fn flipcard(dir: &Path, args: &[&str]) -> Run {
     let mut child = Command::new(BIN)
-        .arg("check")
         .args(args)
+        .env("FLIPCARD_DATA_DIR", dir.join("data"))
+        .env("FLIPCARD_CONFIG", dir.join("config.toml"))
         .current_dir(dir)
         .stdin(Stdio::null())
         .stdout(Stdio::piped())
@@ -77,7 +86,7 @@ fn check(dir: &Path, args: &[&str]) -> Run {
         if start.elapsed() > TIMEOUT {
             let _ = child.kill();
             let _ = child.wait();
-            panic!("`flipcard check {}` hung", args.join(" "));
+            panic!("`flipcard {}` hung", args.join(" "));
         }
         std::thread::sleep(Duration::from_millis(20));
     }
@@ -307,4 +316,42 @@ fn the_library_loader_never_opens_a_fifo() {
     });
     assert_eq!(loaded.errors(), 1);
     assert!(loaded.decks.is_empty());
+}
+
+/// Files the commands read whole (a learner's export, a review log, a CSV
+/// of cards, an Anki package, the config): a FIFO there is refused by name
+/// at once, and nothing is written.
+#[test]
+fn a_fifo_given_as_an_input_file_is_refused_not_waited_on() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for name in ["export.csv", "log.json", "cards.csv", "deck.apkg"] {
+        mkfifo(&d.join(name));
+    }
+    let cases: [(&[&str], &str); 4] = [
+        (
+            &["report", "export.csv", "--out", "out"],
+            "export.csv: is a FIFO",
+        ),
+        (&["import", "--reviews", "log.json"], "log.json: is a FIFO"),
+        (
+            &["import", "cards.csv", "--deck-id", "x"],
+            "cards.csv: is a FIFO",
+        ),
+        (&["import", "deck.apkg"], "deck.apkg: is a FIFO"),
+    ];
+    for (args, said) in cases {
+        let run = flipcard(d, args);
+        assert_eq!(run.code, 1, "{args:?}: {}", run.stderr);
+        assert!(run.stderr.contains(said), "{args:?}: {}", run.stderr);
+    }
+    assert!(!d.join("data").join("flipcard.db").exists());
+    mkfifo(&d.join("config.toml"));
+    let run = flipcard(d, &["stats"]);
+    assert_eq!(run.code, 1, "{}", run.stderr);
+    assert!(
+        run.stderr.contains("config.toml: not a regular file"),
+        "{}",
+        run.stderr
+    );
 }

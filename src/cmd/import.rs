@@ -40,15 +40,10 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
             args.lang
         );
     }
-    let file = std::fs::File::open(&args.file)
+    // A folder would otherwise open and fail as a "bad row"; a FIFO would
+    // block the open.
+    let file = crate::deck::files::open_regular(&args.file)
         .with_context(|| format!("cannot read {}", args.file.display()))?;
-    // Opening a folder succeeds; reading it would fail as a "bad row".
-    if file.metadata().is_ok_and(|m| m.is_dir()) {
-        anyhow::bail!(
-            "cannot read {}: it is a folder, not a CSV file",
-            args.file.display()
-        );
-    }
     let cards = match csvdeck::read_cards_csv(std::io::BufReader::new(file)) {
         Ok(cards) => cards,
         Err(errors) => {

@@ -3,8 +3,6 @@
 
 use std::process::ExitCode;
 
-use anyhow::Context as _;
-
 use crate::cmd::args::{Cli, ExportFormat, ImportArgs};
 use crate::cmd::common::open_store;
 use crate::cmd::paths;
@@ -25,10 +23,8 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
             ),
         },
     };
-    if std::fs::metadata(file).is_ok_and(|m| m.is_dir()) {
-        anyhow::bail!("cannot read {}: it is a folder", file.display());
-    }
-    let bytes = std::fs::read(file).with_context(|| format!("cannot read {}", file.display()))?;
+    let bytes = crate::deck::files::read_regular(file)
+        .map_err(|why| anyhow::anyhow!("{}: {why}; nothing imported", file.display()))?;
     let Ok(text) = String::from_utf8(bytes) else {
         anyhow::bail!("{} is not UTF-8 text; nothing imported", file.display());
     };

@@ -62,14 +62,25 @@ pub fn probe(path: &Path) -> Probe {
 /// writes to it) and checked once open, so something swapped in after a
 /// `probe` is refused rather than read.
 pub fn read_regular(path: &Path) -> Result<Vec<u8>, String> {
-    let mut file = open_nonblocking(path).map_err(|e| cannot_read(&e))?;
-    let meta = file.metadata().map_err(|e| cannot_read(&e))?;
-    if let Some(kind) = kind_name(&meta.file_type()) {
-        return Err(format!("is {kind}, not a regular file"));
-    }
+    let mut file = open_regular(path).map_err(|e| match e.kind() {
+        // What the path is instead of a file, said as it is.
+        io::ErrorKind::Other => e.to_string(),
+        _ => cannot_read(&e),
+    })?;
     let mut bytes = Vec::new();
     file.read_to_end(&mut bytes).map_err(|e| cannot_read(&e))?;
     Ok(bytes)
+}
+
+/// Opens a file that must be regular (a learner's export, a package, a
+/// sync file): without waiting on a FIFO, and refused with what it is
+/// (`is a FIFO, not a regular file`) when it is not a file.
+pub fn open_regular(path: &Path) -> io::Result<File> {
+    let file = open_nonblocking(path)?;
+    if let Some(kind) = kind_name(&file.metadata()?.file_type()) {
+        return Err(io::Error::other(format!("is {kind}, not a regular file")));
+    }
+    Ok(file)
 }
 
 #[cfg(unix)]

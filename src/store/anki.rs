@@ -114,7 +114,7 @@ struct CardRef {
 /// Reads a package. With `with_cloze` false, Cloze notes are counted but
 /// left out (for decks that have no cloze cards).
 pub fn read_package(path: &Path, with_cloze: bool) -> Result<AnkiImport, AnkiError> {
-    let file = std::fs::File::open(path).map_err(|source| AnkiError::Read {
+    let file = crate::deck::files::open_regular(path).map_err(|source| AnkiError::Read {
         path: path.to_path_buf(),
         source,
     })?;

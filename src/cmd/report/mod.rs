@@ -32,7 +32,7 @@ pub fn read(files: &[PathBuf], decks: &[crate::deck::Deck], only: Option<&str>) 
     let mut exports: Vec<Export> = Vec::with_capacity(files.len());
     let mut skipped = Vec::new();
     for path in files {
-        let text = match fs::read(path) {
+        let text = match crate::deck::files::read_regular(path) {
             Ok(bytes) => match String::from_utf8(bytes) {
                 Ok(t) => t,
                 Err(e) => {
@@ -45,7 +45,7 @@ pub fn read(files: &[PathBuf], decks: &[crate::deck::Deck], only: Option<&str>) 
                 }
             },
             Err(e) => {
-                skipped.push(format!("{}: cannot be read: {e}", path.display()));
+                skipped.push(format!("{}: {e}", path.display()));
                 continue;
             }
         };
