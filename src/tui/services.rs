@@ -85,6 +85,8 @@ pub struct Services {
     pub store: Store,
     /// The work–precision table of `flipcard bench`, if one was written.
     pub bench_csv: Option<PathBuf>,
+    /// The card browser's search index, kept between its openings.
+    pub browser_index: super::screens::browser::SearchCache,
 }
 
 impl Services {
@@ -105,6 +107,7 @@ impl Services {
             zone,
             store,
             bench_csv: None,
+            browser_index: Default::default(),
         }
     }
 

@@ -578,6 +578,6 @@ pub fn filtered_items(
     Ok(picked
         .into_iter()
         .filter(|&i| cram || rows[i].status.studyable(now))
-        .map(|i| rows[i].key.clone())
+        .map(|i| rows[i].key(decks))
         .collect())
 }

@@ -1,0 +1,370 @@
+//! Free text search over every card: the fields of each card (its id, then
+//! per language its front and back together), each searched as rendered
+//! (`ω₂`) and, when it holds math, as written (`\omega_2`), with a
+//! maintained fuzzy matcher (`nucleo-matcher`).
+//!
+//! Three stages, so that a screen can keep its first frame fast: the texts
+//! are gathered from the decks ([`SearchTexts`], a copy into one buffer),
+//! the index is built from them ([`SearchIndex`], rendering the math, on
+//! any thread), and a [`Search`] matches queries against the index for the
+//! items of a catalog.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use nucleo_matcher::pattern::{CaseMatching, Normalization, Pattern};
+use nucleo_matcher::{Matcher, Utf32String};
+
+use super::catalog::ItemRow;
+use crate::deck::{CardKind, Deck};
+
+/// The least score (per character of the query) a fuzzy match needs: a
+/// run of letters scores about 25 a character, letters strewn over a long
+/// text far less.
+const MIN_SCORE_PER_CHAR: u32 = 10;
+
+/// Below this many candidates a query is matched on the calling thread
+/// alone: starting threads would cost more than it saves.
+const PARALLEL_FROM: usize = 4096;
+
+/// The texts of every card of some decks, as written, in deck and card
+/// order: cheap to gather (one copy into one buffer) and to compare, so a
+/// built index can be kept while the texts stay the same.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct SearchTexts {
+    /// Every piece, one after another.
+    text: String,
+    /// Where each piece ends in `text`.
+    ends: Vec<usize>,
+    /// Per card: whether it is a cloze card, and its number of languages
+    /// (its pieces are its id, then a front and a back per language).
+    cards: Vec<(bool, u32)>,
+}
+
+impl SearchTexts {
+    pub fn new(decks: &[Deck]) -> SearchTexts {
+        let mut t = SearchTexts::default();
+        let total: usize = decks.iter().map(|d| d.cards.len()).sum();
+        t.cards.reserve(total);
+        t.ends.reserve(total * 5);
+        for card in decks.iter().flat_map(|d| &d.cards) {
+            t.push(&card.id);
+            let mut langs = 0;
+            // Front and back keep their languages in order: walk both at
+            // once, a language missing on one side giving an empty text.
+            let mut front = card.front.0.iter().peekable();
+            let mut back = card.back.0.iter().peekable();
+            loop {
+                let (f, b) = match (front.peek(), back.peek()) {
+                    (None, None) => break,
+                    (Some((fl, _)), Some((bl, _))) if fl == bl => {
+                        (front.next().map(|x| x.1), back.next().map(|x| x.1))
+                    }
+                    (Some((fl, _)), Some((bl, _))) if fl < bl => (front.next().map(|x| x.1), None),
+                    (Some(_), None) => (front.next().map(|x| x.1), None),
+                    _ => (None, back.next().map(|x| x.1)),
+                };
+                t.push(f.map_or("", String::as_str));
+                t.push(b.map_or("", String::as_str));
+                langs += 1;
+            }
+            t.cards.push((card.kind == CardKind::Cloze, langs));
+        }
+        t
+    }
+
+    fn push(&mut self, piece: &str) {
+        self.text.push_str(piece);
+        self.ends.push(self.text.len());
+    }
+
+    /// The fields of each card (see [`super::catalog::card_fields`]), in
+    /// order, from card `first` on.
+    fn fields(&self, first: usize) -> impl Iterator<Item = Vec<String>> + '_ {
+        let first = first.min(self.cards.len());
+        let mut piece: usize = self.cards[..first]
+            .iter()
+            .map(|&(_, langs)| 1 + 2 * langs as usize)
+            .sum();
+        let mut next = move || {
+            let start = if piece == 0 { 0 } else { self.ends[piece - 1] };
+            let s = &self.text[start..self.ends[piece]];
+            piece += 1;
+            s
+        };
+        self.cards[first..].iter().map(move |&(cloze, langs)| {
+            let mut fields = vec![next().to_string()];
+            for _ in 0..langs {
+                let front = next();
+                let back = next();
+                let front = if cloze {
+                    crate::deck::cloze::revealed(front)
+                } else {
+                    front.to_string()
+                };
+                fields.push(format!("{front} {back}"));
+            }
+            fields
+        })
+    }
+
+    /// The search index, rendering the math of every card on up to
+    /// `threads` threads; `None` when `cancel` was set meanwhile.
+    pub fn build(&self, cancel: &AtomicBool, threads: usize) -> Option<SearchIndex> {
+        let n = self.cards.len();
+        let threads = threads.clamp(1, n.max(1));
+        let per = n.div_ceil(threads).max(1);
+        let build = |skip: usize| -> Option<(Vec<Utf32String>, Vec<u32>)> {
+            let mut hay = Vec::new();
+            let mut counts = Vec::with_capacity(per);
+            for fields in self.fields(skip).take(per) {
+                if cancel.load(Ordering::Relaxed) {
+                    return None;
+                }
+                let before = hay.len();
+                for f in &fields {
+                    searched(f, &mut hay);
+                }
+                counts.push((hay.len() - before) as u32);
+            }
+            Some((hay, counts))
+        };
+        let parts: Vec<Option<(Vec<Utf32String>, Vec<u32>)>> = if threads == 1 {
+            vec![build(0)]
+        } else {
+            std::thread::scope(|s| {
+                let others: Vec<_> = (1..threads)
+                    .map(|k| {
+                        std::thread::Builder::new()
+                            .name("search-index".into())
+                            .spawn_scoped(s, move || build(k * per))
+                    })
+                    .collect();
+                let mut parts = vec![build(0)];
+                for (k, h) in others.into_iter().enumerate() {
+                    // A thread that could not start or failed: its share is
+                    // built here.
+                    let part = h.ok().and_then(|h| h.join().ok());
+                    parts.push(part.unwrap_or_else(|| build((k + 1) * per)));
+                }
+                parts
+            })
+        };
+        let mut index = SearchIndex {
+            hay: Vec::new(),
+            card_ends: Vec::with_capacity(n),
+        };
+        for part in parts {
+            let (hay, counts) = part?;
+            let mut end = index.hay.len() as u32;
+            for c in counts {
+                end += c;
+                index.card_ends.push(end);
+            }
+            index.hay.extend(hay);
+        }
+        Some(index)
+    }
+}
+
+/// A field as searched, pushed to `hay`: rendered (`ω₂`) and, when it holds
+/// math, also as written (`\omega_2`), so that `omega2` and `ω₂` both find
+/// it. The two are apart: a match lies within one of them (and the written
+/// one, plain ASCII in most decks, takes the matcher's fast path).
+fn searched(written: &str, hay: &mut Vec<Utf32String>) {
+    hay.push(Utf32String::from(crate::text::render(written)));
+    if written.contains('$') {
+        hay.push(Utf32String::from(written));
+    }
+}
+
+/// Every card's texts as the matcher reads them: build once, share between
+/// searches (and between openings of the browser while the decks stay).
+#[derive(Debug, Default)]
+pub struct SearchIndex {
+    hay: Vec<Utf32String>,
+    /// Where each card's texts end in `hay`.
+    card_ends: Vec<u32>,
+}
+
+impl SearchIndex {
+    fn card(&self, c: u32) -> &[Utf32String] {
+        let c = c as usize;
+        let start = if c == 0 {
+            0
+        } else {
+            self.card_ends[c - 1] as usize
+        };
+        &self.hay[start..self.card_ends[c] as usize]
+    }
+}
+
+/// Free-text search over many items: every query is a pass of the fuzzy
+/// matcher over the cards (an item shares its card's score), split among
+/// threads when there are many.
+pub struct Search {
+    index: Arc<SearchIndex>,
+    card_of_row: Vec<u32>,
+    /// One matcher a thread (each holds its own scratch memory).
+    matchers: Vec<Matcher>,
+}
+
+/// What [`Search::matching`] found.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Found {
+    /// The rows that match well enough, best first.
+    pub best: Vec<usize>,
+    /// Every row the pattern matches at all, in the order given: a query
+    /// that extends this one can only match among these.
+    pub any: Vec<usize>,
+}
+
+/// Threads worth using for a search on this machine.
+pub fn threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get().min(4))
+}
+
+/// For each row, the position of its card among every card of `decks`.
+pub fn card_of_row(decks: &[Deck], rows: &[ItemRow]) -> Vec<u32> {
+    let mut first = Vec::with_capacity(decks.len());
+    let mut n = 0u32;
+    for d in decks {
+        first.push(n);
+        n += d.cards.len() as u32;
+    }
+    rows.iter().map(|r| first[r.deck] + r.card as u32).collect()
+}
+
+impl Search {
+    /// Gathers the texts and builds the index here and now.
+    pub fn new(decks: &[Deck], rows: &[ItemRow]) -> Search {
+        let never = AtomicBool::new(false);
+        let index = SearchTexts::new(decks)
+            .build(&never, threads())
+            .unwrap_or_default();
+        Search::with_index(Arc::new(index), card_of_row(decks, rows))
+    }
+
+    /// A search over a built index; `card_of_row` from [`card_of_row`].
+    pub fn with_index(index: Arc<SearchIndex>, card_of_row: Vec<u32>) -> Search {
+        Search {
+            index,
+            card_of_row,
+            matchers: (0..threads())
+                .map(|_| Matcher::new(nucleo_matcher::Config::DEFAULT))
+                .collect(),
+        }
+    }
+
+    /// The rows among `candidates` whose text matches `text`.
+    pub fn matching(&mut self, text: &str, candidates: &[usize]) -> Found {
+        if text.trim().is_empty() {
+            return Found {
+                best: candidates.to_vec(),
+                any: candidates.to_vec(),
+            };
+        }
+        let pattern = Pattern::parse(text, CaseMatching::Ignore, Normalization::Smart);
+        let chars = text.chars().filter(|c| !c.is_whitespace()).count() as u32;
+        let scan = Scan {
+            index: &self.index,
+            card_of_row: &self.card_of_row,
+            pattern: &pattern,
+            least: MIN_SCORE_PER_CHAR * chars,
+        };
+        let threads = if candidates.len() >= PARALLEL_FROM {
+            self.matchers.len()
+        } else {
+            1
+        };
+        let per = candidates.len().div_ceil(threads).max(1);
+        let mut chunks = candidates.chunks(per);
+        let mut matchers = self.matchers.iter_mut();
+        let (Some(mine), Some(matcher)) = (chunks.next(), matchers.next()) else {
+            return Found::default();
+        };
+        let parts: Vec<Part> = std::thread::scope(|s| {
+            let scan = &scan;
+            let others: Vec<_> = chunks
+                .zip(matchers)
+                .map(|(chunk, m)| {
+                    let h = std::thread::Builder::new()
+                        .name("search".into())
+                        .spawn_scoped(s, move || scan.run(m, chunk));
+                    (h, chunk)
+                })
+                .collect();
+            let mut parts = vec![scan.run(matcher, mine)];
+            for (h, chunk) in others {
+                // A thread that could not start or failed: its share is
+                // matched here.
+                match h.ok().and_then(|h| h.join().ok()) {
+                    Some(p) => parts.push(p),
+                    None => {
+                        let mut m = Matcher::new(nucleo_matcher::Config::DEFAULT);
+                        parts.push(scan.run(&mut m, chunk));
+                    }
+                }
+            }
+            parts
+        });
+        let mut any = Vec::with_capacity(parts.iter().map(|p| p.any.len()).sum());
+        let mut scored = Vec::with_capacity(parts.iter().map(|p| p.scored.len()).sum());
+        for p in parts {
+            any.extend(p.any);
+            scored.extend(p.scored);
+        }
+        scored.sort_unstable_by(|a: &(u32, usize), b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+        Found {
+            best: scored.into_iter().map(|(_, i)| i).collect(),
+            any,
+        }
+    }
+}
+
+/// One query over a share of the candidates.
+struct Scan<'a> {
+    index: &'a SearchIndex,
+    card_of_row: &'a [u32],
+    pattern: &'a Pattern,
+    least: u32,
+}
+
+struct Part {
+    any: Vec<usize>,
+    scored: Vec<(u32, usize)>,
+}
+
+impl Scan<'_> {
+    fn run(&self, matcher: &mut Matcher, candidates: &[usize]) -> Part {
+        let mut last: Option<(u32, Option<u32>)> = None;
+        let mut part = Part {
+            any: Vec::new(),
+            scored: Vec::new(),
+        };
+        for &i in candidates {
+            let card = self.card_of_row[i];
+            // The items of a card come one after another: score it once.
+            let score = match last {
+                Some((c, s)) if c == card => s,
+                _ => {
+                    let s = self
+                        .index
+                        .card(card)
+                        .iter()
+                        .filter_map(|h| self.pattern.score(h.slice(..), matcher))
+                        .max();
+                    last = Some((card, s));
+                    s
+                }
+            };
+            if let Some(s) = score {
+                part.any.push(i);
+                if s >= self.least {
+                    part.scored.push((s, i));
+                }
+            }
+        }
+        part
+    }
+}
