@@ -13,7 +13,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use nucleo_matcher::pattern::{CaseMatching, Normalization, Pattern};
-use nucleo_matcher::{Matcher, Utf32String};
+use nucleo_matcher::{Matcher, Utf32Str, Utf32String, chars};
 
 use super::catalog::ItemRow;
 use crate::deck::{CardKind, Deck};
@@ -114,8 +114,9 @@ impl SearchTexts {
         let n = self.cards.len();
         let threads = threads.clamp(1, n.max(1));
         let per = n.div_ceil(threads).max(1);
-        let build = |skip: usize| -> Option<(Vec<Utf32String>, Vec<u32>)> {
+        let build = |skip: usize| -> Option<(Vec<Hay>, Vec<u32>)> {
             let mut hay = Vec::new();
+            let mut renderer = crate::text::Renderer::default();
             let mut counts = Vec::with_capacity(per);
             for fields in self.fields(skip).take(per) {
                 if cancel.load(Ordering::Relaxed) {
@@ -123,13 +124,13 @@ impl SearchTexts {
                 }
                 let before = hay.len();
                 for f in &fields {
-                    searched(f, &mut hay);
+                    searched(f, &mut hay, &mut renderer);
                 }
                 counts.push((hay.len() - before) as u32);
             }
             Some((hay, counts))
         };
-        let parts: Vec<Option<(Vec<Utf32String>, Vec<u32>)>> = if threads == 1 {
+        let parts: Vec<Option<(Vec<Hay>, Vec<u32>)>> = if threads == 1 {
             vec![build(0)]
         } else {
             std::thread::scope(|s| {
@@ -171,24 +172,83 @@ impl SearchTexts {
 /// math, also as written (`\omega_2`), so that `omega2` and `ω₂` both find
 /// it. The two are apart: a match lies within one of them (and the written
 /// one, plain ASCII in most decks, takes the matcher's fast path).
-fn searched(written: &str, hay: &mut Vec<Utf32String>) {
-    hay.push(Utf32String::from(crate::text::render(written)));
+fn searched(written: &str, hay: &mut Vec<Hay>, renderer: &mut crate::text::Renderer) {
+    hay.push(Hay::new(renderer.render(written)));
     if written.contains('$') {
-        hay.push(Utf32String::from(written));
+        hay.push(Hay::new(written.to_string()));
     }
+}
+
+/// One text as the matcher reads it, and each of its characters as the
+/// matcher compares it with a letter of a query in ASCII (lower case,
+/// accents taken off; 0xFF for a character no ASCII letter matches): a
+/// query whose letters are not all there, in order, is no match, found
+/// without running the matcher.
+#[derive(Debug)]
+struct Hay {
+    text: Utf32String,
+    folded: Box<[u8]>,
+}
+
+impl Hay {
+    fn new(text: String) -> Hay {
+        let text = Utf32String::from(text);
+        let folded = match text.slice(..) {
+            Utf32Str::Ascii(b) => b.iter().map(u8::to_ascii_lowercase).collect(),
+            Utf32Str::Unicode(cs) => cs
+                .iter()
+                .map(|&c| {
+                    let f = chars::to_lower_case(chars::normalize(c));
+                    if f.is_ascii() { f as u8 } else { 0xFF }
+                })
+                .collect(),
+        };
+        Hay { text, folded }
+    }
+
+    /// Whether every needle of `ascii` is in the text, its letters in order
+    /// (which every kind of match needs).
+    fn may_match(&self, ascii: &[&[u8]]) -> bool {
+        ascii.iter().all(|needle| {
+            let mut rest = &self.folded[..];
+            needle
+                .iter()
+                .all(|b| match rest.iter().position(|x| x == b) {
+                    Some(i) => {
+                        rest = &rest[i + 1..];
+                        true
+                    }
+                    None => false,
+                })
+        })
+    }
+}
+
+/// The needles of `pattern` that can be checked with [`Hay::may_match`]:
+/// those in ASCII that must match (not `!` ones).
+fn ascii_needles(pattern: &Pattern) -> Vec<&[u8]> {
+    pattern
+        .atoms
+        .iter()
+        .filter(|a| !a.negative)
+        .filter_map(|a| match a.needle_text() {
+            Utf32Str::Ascii(b) => Some(b),
+            Utf32Str::Unicode(_) => None,
+        })
+        .collect()
 }
 
 /// Every card's texts as the matcher reads them: build once, share between
 /// searches (and between openings of the browser while the decks stay).
 #[derive(Debug, Default)]
 pub struct SearchIndex {
-    hay: Vec<Utf32String>,
+    hay: Vec<Hay>,
     /// Where each card's texts end in `hay`.
     card_ends: Vec<u32>,
 }
 
 impl SearchIndex {
-    fn card(&self, c: u32) -> &[Utf32String] {
+    fn card(&self, c: u32) -> &[Hay] {
         let c = c as usize;
         let start = if c == 0 {
             0
@@ -270,6 +330,7 @@ impl Search {
             index: &self.index,
             card_of_row: &self.card_of_row,
             pattern: &pattern,
+            ascii: ascii_needles(&pattern),
             least: MIN_SCORE_PER_CHAR * chars,
         };
         let threads = if candidates.len() >= PARALLEL_FROM {
@@ -327,6 +388,7 @@ struct Scan<'a> {
     index: &'a SearchIndex,
     card_of_row: &'a [u32],
     pattern: &'a Pattern,
+    ascii: Vec<&'a [u8]>,
     least: u32,
 }
 
@@ -352,7 +414,8 @@ impl Scan<'_> {
                         .index
                         .card(card)
                         .iter()
-                        .filter_map(|h| self.pattern.score(h.slice(..), matcher))
+                        .filter(|h| h.may_match(&self.ascii))
+                        .filter_map(|h| self.pattern.score(h.text.slice(..), matcher))
                         .max();
                     last = Some((card, s));
                     s
@@ -366,5 +429,43 @@ impl Scan<'_> {
             }
         }
         part
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    #[test]
+    fn formulas_rendered_once_read_as_rendered_each_time() {
+        let mut r = crate::text::Renderer::default();
+        for text in [
+            r"$\omega_2$ and $\omega_2$ again, $\vec L$",
+            r"$$\dot\omega = \tau$$ then text $\omega_2$",
+            r"a bad one $\frac{a$ and $x^2$",
+            r"a bad one $\frac{a$ twice, and one never closed $x",
+            "no math at all",
+        ] {
+            assert_eq!(r.render(text), crate::text::render(text), "{text}");
+        }
+    }
+
+    proptest! {
+        /// The check before the matcher never turns away a text the
+        /// matcher would match: accents, Greek, capitals, the Kelvin sign,
+        /// subscripts, and queries with `!`, `^`, `'` and `$`.
+        #[test]
+        fn the_check_before_the_matcher_loses_no_match(
+            text in "[a-zA-Zé ωΩ₂K2_{}$\\\\]{0,40}",
+            query in "[!^'$]?[a-zA-Zé ωΩ₂K2_{}]{1,6}[$]?",
+        ) {
+            let hay = Hay::new(text.clone());
+            let pattern = Pattern::parse(&query, CaseMatching::Ignore, Normalization::Smart);
+            let mut matcher = Matcher::new(nucleo_matcher::Config::DEFAULT);
+            if pattern.score(hay.text.slice(..), &mut matcher).is_some() {
+                prop_assert!(hay.may_match(&ascii_needles(&pattern)), "{query:?} in {text:?}");
+            }
+        }
     }
 }
