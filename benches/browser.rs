@@ -213,15 +213,15 @@ fn draw(t: &mut Terminal<TestBackend>, app: &App) {
         .unwrap_or_else(|e| panic!("draw: {e}"));
 }
 
-/// Time spent on a CPU by this thread (Linux), so that the figures do not
-/// depend on how many other processes share the machine; wall time is
-/// measured as well.
+/// Time spent on a CPU by this thread, so that the figures do not depend on
+/// how many other processes share the machine; wall time is measured as
+/// well.
 fn thread_cpu() -> Duration {
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next().and_then(|n| n.parse().ok()))
-        .map(Duration::from_nanos)
-        .unwrap_or_default()
+    let t = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
+    Duration::new(
+        t.tv_sec.max(0) as u64,
+        t.tv_nsec.clamp(0, 999_999_999) as u32,
+    )
 }
 
 #[derive(Clone, Copy)]

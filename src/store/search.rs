@@ -192,12 +192,16 @@ struct Hay {
 
 impl Hay {
     fn new(text: String) -> Hay {
-        let text = Utf32String::from(text);
+        let text = utf32(&text);
         let folded = match text.slice(..) {
             Utf32Str::Ascii(b) => b.iter().map(u8::to_ascii_lowercase).collect(),
             Utf32Str::Unicode(cs) => cs
                 .iter()
                 .map(|&c| {
+                    // ASCII is its own normal form: only its case is folded.
+                    if c.is_ascii() {
+                        return (c as u8).to_ascii_lowercase();
+                    }
                     let f = chars::to_lower_case(chars::normalize(c));
                     if f.is_ascii() { f as u8 } else { 0xFF }
                 })
@@ -222,6 +226,56 @@ impl Hay {
                 })
         })
     }
+}
+
+/// `Utf32String::from(text)`, the same characters (the first of each
+/// grapheme), with only the stretches around characters outside ASCII cut
+/// into graphemes: between two ASCII characters (but CR LF) there is
+/// always a boundary, so the rest need not be looked at (cutting a whole
+/// index into graphemes cost more than rendering its math).
+fn utf32(text: &str) -> Utf32String {
+    if text.is_ascii() {
+        return Utf32String::from(text);
+    }
+    let b = text.as_bytes();
+    // A boundary is certain before `k` when `k - 1` and `k` are ASCII and
+    // not CR LF (or at either end).
+    let certain = |k: usize| {
+        k == 0
+            || k == b.len()
+            || (b[k - 1].is_ascii() && b[k].is_ascii() && !(b[k - 1] == b'\r' && b[k] == b'\n'))
+    };
+    let mut out: Vec<char> = Vec::with_capacity(text.len());
+    let mut at = 0;
+    while at < b.len() {
+        // Plain ASCII up to a boundary before the next character outside
+        // it (or the end).
+        let mut end = at;
+        while end < b.len() && b[end].is_ascii() {
+            end += 1;
+        }
+        let mut cut = end;
+        while cut > at && !certain(cut) {
+            cut -= 1;
+        }
+        for k in at..cut {
+            // CR LF is one grapheme: its CR stands for it.
+            if !(b[k] == b'\n' && k > at && b[k - 1] == b'\r') {
+                out.push(b[k] as char);
+            }
+        }
+        if cut == b.len() {
+            break;
+        }
+        // From there to the next certain boundary, cut into graphemes.
+        let mut next = end.max(cut + 1);
+        while !certain(next) {
+            next += 1;
+        }
+        out.extend(chars::graphemes(&text[cut..next]));
+        at = next;
+    }
+    Utf32String::Unicode(out.into_boxed_slice())
 }
 
 /// The needles of `pattern` that can be checked with [`Hay::may_match`]:
@@ -452,6 +506,16 @@ mod tests {
     }
 
     proptest! {
+        /// Cutting into graphemes only around what is not ASCII gives the
+        /// matcher's own characters: combining marks after ASCII letters,
+        /// CR LF, joiners, flags, Hangul, prepended marks.
+        #[test]
+        fn texts_convert_as_the_matcher_converts_them(
+            text in "[a-zA-Z \r\n\u{301}\u{20D7}\u{200D}\u{1F1EE}\u{1F1F3}\u{1100}\u{1161}\u{600}\u{1F600}ω₂é]{0,30}",
+        ) {
+            prop_assert_eq!(utf32(&text), Utf32String::from(text.as_str()));
+        }
+
         /// The check before the matcher never turns away a text the
         /// matcher would match: accents, Greek, capitals, the Kelvin sign,
         /// subscripts, and queries with `!`, `^`, `'` and `$`.
