@@ -12,7 +12,7 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use nucleo_matcher::pattern::{CaseMatching, Normalization, Pattern};
+use nucleo_matcher::pattern::{AtomKind, CaseMatching, Normalization, Pattern};
 use nucleo_matcher::{Matcher, Utf32Str, Utf32String, chars};
 
 use super::catalog::ItemRow;
@@ -47,6 +47,15 @@ impl SearchTexts {
         let total: usize = decks.iter().map(|d| d.cards.len()).sum();
         t.cards.reserve(total);
         t.ends.reserve(total * 5);
+        // One allocation for the text (growing it would copy it again).
+        let bytes = |x: &crate::deck::Text| x.0.values().map(String::len).sum::<usize>();
+        t.text.reserve(
+            decks
+                .iter()
+                .flat_map(|d| &d.cards)
+                .map(|c| c.id.len() + bytes(&c.front) + bytes(&c.back))
+                .sum(),
+        );
         for card in decks.iter().flat_map(|d| &d.cards) {
             t.push(&card.id);
             let mut langs = 0;
@@ -225,6 +234,32 @@ impl Hay {
                     None => false,
                 })
         })
+    }
+}
+
+impl Hay {
+    /// `pattern.score` of the text, the same score: but the matcher, which
+    /// folds every character outside ASCII each time it reads it, reads
+    /// from the character before the first one a fuzzy needle's first
+    /// letter can match (it needs that one for its bonus) to the last its
+    /// last letter can, found in `folded` instead.
+    fn score(&self, pattern: &Pattern, matcher: &mut Matcher) -> Option<u32> {
+        let full = self.text.slice(..);
+        let mut total = 0;
+        for atom in &pattern.atoms {
+            let narrow = match (full, atom.needle_text()) {
+                (Utf32Str::Unicode(_), Utf32Str::Ascii(needle))
+                    if atom.kind == AtomKind::Fuzzy && !atom.negative && needle.len() >= 2 =>
+                {
+                    let first = self.folded.iter().position(|b| *b == needle[0])?;
+                    let last = self.folded.iter().rposition(|b| Some(b) == needle.last())?;
+                    (last > first).then(|| full.slice(first.saturating_sub(1)..=last))
+                }
+                _ => None,
+            };
+            total += u32::from(atom.score(narrow.unwrap_or(full), matcher)?);
+        }
+        Some(total)
     }
 }
 
@@ -469,7 +504,7 @@ impl Scan<'_> {
                         .card(card)
                         .iter()
                         .filter(|h| h.may_match(&self.ascii))
-                        .filter_map(|h| self.pattern.score(h.text.slice(..), matcher))
+                        .filter_map(|h| h.score(self.pattern, matcher))
                         .max();
                     last = Some((card, s));
                     s
@@ -506,6 +541,20 @@ mod tests {
     }
 
     proptest! {
+        /// Reading only the stretch a fuzzy needle can match gives the
+        /// score of the whole text.
+        #[test]
+        fn the_stretch_read_scores_as_the_whole_text(
+            text in "[a-dA-D ωΩ₂é/:_]{0,40}",
+            query in "[!^']?[a-dA-Dé ω/_]{1,6}[$]?( [a-d]{1,3})?",
+        ) {
+            let hay = Hay::new(text.clone());
+            let pattern = Pattern::parse(&query, CaseMatching::Ignore, Normalization::Smart);
+            let mut matcher = Matcher::new(nucleo_matcher::Config::DEFAULT);
+            let whole = pattern.score(hay.text.slice(..), &mut matcher);
+            prop_assert_eq!(hay.score(&pattern, &mut matcher), whole, "{:?} in {:?}", query, text);
+        }
+
         /// Cutting into graphemes only around what is not ASCII gives the
         /// matcher's own characters: combining marks after ASCII letters,
         /// CR LF, joiners, flags, Hangul, prepended marks.
