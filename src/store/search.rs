@@ -182,17 +182,17 @@ impl SearchTexts {
 /// it. The two are apart: a match lies within one of them (and the written
 /// one, plain ASCII in most decks, takes the matcher's fast path).
 fn searched(written: &str, hay: &mut Vec<Hay>, renderer: &mut crate::text::Renderer) {
-    hay.push(Hay::new(renderer.render(written)));
+    hay.push(Hay::new(&renderer.render(written)));
     if written.contains('$') {
-        hay.push(Hay::new(written.to_string()));
+        hay.push(Hay::new(written));
     }
 }
 
-/// One text as the matcher reads it, and each of its characters as the
-/// matcher compares it with a letter of a query in ASCII (lower case,
-/// accents taken off; 0xFF for a character no ASCII letter matches): a
-/// query whose letters are not all there, in order, is no match, found
-/// without running the matcher.
+/// One text as the matcher reads it, and (when it is not all ASCII) each
+/// of its characters as the matcher compares it with a letter of a query
+/// in ASCII (lower case, accents taken off; 0xFF for a character no ASCII
+/// letter matches): a query whose letters are not all there, in order, is
+/// no match, found without running the matcher.
 #[derive(Debug)]
 struct Hay {
     text: Utf32String,
@@ -200,10 +200,11 @@ struct Hay {
 }
 
 impl Hay {
-    fn new(text: String) -> Hay {
-        let text = utf32(&text);
+    fn new(text: &str) -> Hay {
+        let text = utf32(text);
         let folded = match text.slice(..) {
-            Utf32Str::Ascii(b) => b.iter().map(u8::to_ascii_lowercase).collect(),
+            // Folded as it is compared, in [`Hay::may_match`].
+            Utf32Str::Ascii(_) => Box::default(),
             Utf32Str::Unicode(cs) => cs
                 .iter()
                 .map(|&c| {
@@ -222,17 +223,26 @@ impl Hay {
     /// Whether every needle of `ascii` is in the text, its letters in order
     /// (which every kind of match needs).
     fn may_match(&self, ascii: &[&[u8]]) -> bool {
+        let (text, fold) = match self.text.slice(..) {
+            Utf32Str::Ascii(b) => (b, true),
+            Utf32Str::Unicode(_) => (&self.folded[..], false),
+        };
         ascii.iter().all(|needle| {
-            let mut rest = &self.folded[..];
-            needle
-                .iter()
-                .all(|b| match rest.iter().position(|x| x == b) {
+            let mut rest = text;
+            needle.iter().all(|b| {
+                let at = if fold {
+                    rest.iter().position(|x| x.to_ascii_lowercase() == *b)
+                } else {
+                    rest.iter().position(|x| x == b)
+                };
+                match at {
                     Some(i) => {
                         rest = &rest[i + 1..];
                         true
                     }
                     None => false,
-                })
+                }
+            })
         })
     }
 }
@@ -548,7 +558,7 @@ mod tests {
             text in "[a-dA-D ωΩ₂é/:_]{0,40}",
             query in "[!^']?[a-dA-Dé ω/_]{1,6}[$]?( [a-d]{1,3})?",
         ) {
-            let hay = Hay::new(text.clone());
+            let hay = Hay::new(&text);
             let pattern = Pattern::parse(&query, CaseMatching::Ignore, Normalization::Smart);
             let mut matcher = Matcher::new(nucleo_matcher::Config::DEFAULT);
             let whole = pattern.score(hay.text.slice(..), &mut matcher);
@@ -573,7 +583,7 @@ mod tests {
             text in "[a-zA-Zé ωΩ₂K2_{}$\\\\]{0,40}",
             query in "[!^'$]?[a-zA-Zé ωΩ₂K2_{}]{1,6}[$]?",
         ) {
-            let hay = Hay::new(text.clone());
+            let hay = Hay::new(&text);
             let pattern = Pattern::parse(&query, CaseMatching::Ignore, Normalization::Smart);
             let mut matcher = Matcher::new(nucleo_matcher::Config::DEFAULT);
             if pattern.score(hay.text.slice(..), &mut matcher).is_some() {

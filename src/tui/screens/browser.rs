@@ -201,7 +201,10 @@ impl Column {
 /// it was built from: while the decks say the same, opening the browser
 /// again finds it ready.
 #[derive(Clone, Default)]
-pub struct SearchCache(Arc<Mutex<Option<(SearchTexts, Arc<SearchIndex>)>>>);
+pub struct SearchCache(Arc<Mutex<Option<Kept>>>);
+
+/// An index and the texts it was built from.
+type Kept = (SearchTexts, Arc<SearchIndex>);
 
 impl SearchCache {
     fn get(&self, texts: &SearchTexts) -> Option<Arc<SearchIndex>> {
