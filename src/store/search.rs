@@ -404,6 +404,17 @@ impl Search {
         Search::with_index(Arc::new(index), card_of_row(decks, rows))
     }
 
+    /// A search for `text` among `rows`: the index is built only when
+    /// there is free text to look for (a query of filters alone needs
+    /// none).
+    pub fn for_text(text: &str, decks: &[Deck], rows: &[ItemRow]) -> Search {
+        if text.trim().is_empty() {
+            Search::with_index(Arc::default(), Vec::new())
+        } else {
+            Search::new(decks, rows)
+        }
+    }
+
     /// A search over a built index; `card_of_row` from [`card_of_row`].
     pub fn with_index(index: Arc<SearchIndex>, card_of_row: Vec<u32>) -> Search {
         Search {
