@@ -290,7 +290,8 @@ fn utf32(text: &str) -> Utf32String {
             || k == b.len()
             || (b[k - 1].is_ascii() && b[k].is_ascii() && !(b[k - 1] == b'\r' && b[k] == b'\n'))
     };
-    let mut out: Vec<char> = Vec::with_capacity(text.len());
+    // As many as its characters (graphemes are no more): one allocation.
+    let mut out: Vec<char> = Vec::with_capacity(text.chars().count());
     let mut at = 0;
     while at < b.len() {
         // Plain ASCII up to a boundary before the next character outside
