@@ -53,12 +53,12 @@ struct Listed {
     tags: String,
 }
 
-fn listed(row: &ItemRow, now: chrono::DateTime<chrono::Utc>) -> Listed {
+fn listed(decks: &[Deck], row: &ItemRow, now: chrono::DateTime<chrono::Utc>) -> Listed {
     let opt = |x: Option<f64>| x.map(num::show).unwrap_or_default();
     Listed {
-        deck: row.key.deck.clone(),
-        card: row.key.card.clone(),
-        direction: row.key.direction.as_str().into_owned(),
+        deck: row.deck_id(decks).to_string(),
+        card: row.card_id(decks).to_string(),
+        direction: row.direction.as_str().into_owned(),
         state: row.state_name(),
         due: row
             .due()
@@ -72,7 +72,7 @@ fn listed(row: &ItemRow, now: chrono::DateTime<chrono::Utc>) -> Listed {
         suspended: row.status.suspended,
         buried: row.buried(now),
         leech: row.status.leech,
-        tags: row.tags.join(" "),
+        tags: row.tags(decks).join(" "),
     }
 }
 
@@ -88,7 +88,7 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
             filter.check_names(decks)?;
             let store = open_store_read_only(cli)?;
             let rows = catalog::rows(decks, &store, &Scheduler::new(&config), now)?;
-            let mut search = Search::new(decks, &rows);
+            let mut search = Search::for_text(&filter.text, decks, &rows);
             let picked = catalog::select(decks, &rows, &mut search, &filter, now);
             if picked.is_empty() && !query.trim().is_empty() {
                 crate::errln!("flipcard: no item matches `{}`", query.trim());
@@ -101,12 +101,15 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
                         .from_writer(&mut out);
                     w.write_record(HEADER)?;
                     for &i in &picked {
-                        w.serialize(listed(&rows[i], now))?;
+                        w.serialize(listed(decks, &rows[i], now))?;
                     }
                     w.flush()?;
                 }
                 CardsFormat::Json => {
-                    let all: Vec<Listed> = picked.iter().map(|&i| listed(&rows[i], now)).collect();
+                    let all: Vec<Listed> = picked
+                        .iter()
+                        .map(|&i| listed(decks, &rows[i], now))
+                        .collect();
                     serde_json::to_writer_pretty(&mut out, &all)?;
                     writeln!(out)?;
                 }

@@ -7,8 +7,6 @@
 use std::collections::{BTreeSet, HashMap};
 
 use chrono::{DateTime, TimeDelta, Utc};
-use nucleo_matcher::pattern::{CaseMatching, Normalization, Pattern};
-use nucleo_matcher::{Matcher, Utf32String};
 
 use super::db::Store;
 use super::error::StoreError;
@@ -16,20 +14,23 @@ use super::status::ItemStatus;
 use crate::deck::{CardKind, Deck};
 use crate::sched::{CardState, Direction, ItemKey, Scheduler, State};
 
-/// One item as the browser and `flipcard cards list` show it.
-#[derive(Debug, Clone)]
+pub use super::search::{Found, Search, SearchIndex, SearchTexts};
+
+/// One item as the browser and `flipcard cards list` show it. Its names
+/// and tags are read from the decks it was made from (fifty thousand rows
+/// copy no strings).
+#[derive(Debug, Clone, PartialEq)]
 pub struct ItemRow {
-    pub key: ItemKey,
     /// Positions of the deck in the list given and of the card in its deck.
     pub deck: usize,
     pub card: usize,
+    pub direction: Direction,
     /// `None`: never rated (new).
     pub state: Option<CardState>,
     pub retrievability: Option<f64>,
     pub reviews: u32,
     pub lapses: u32,
     pub status: ItemStatus,
-    pub tags: Vec<String>,
 }
 
 impl ItemRow {
@@ -41,6 +42,25 @@ impl ItemRow {
     }
     pub fn buried(&self, now: DateTime<Utc>) -> bool {
         self.status.buried(now)
+    }
+    /// The id of its deck (`decks`: those the rows were made from).
+    pub fn deck_id<'a>(&self, decks: &'a [Deck]) -> &'a str {
+        &decks[self.deck].id
+    }
+    /// The id of its card.
+    pub fn card_id<'a>(&self, decks: &'a [Deck]) -> &'a str {
+        &decks[self.deck].cards[self.card].id
+    }
+    /// The tags of its card.
+    pub fn tags<'a>(&self, decks: &'a [Deck]) -> &'a [String] {
+        &decks[self.deck].cards[self.card].tags
+    }
+    pub fn key(&self, decks: &[Deck]) -> ItemKey {
+        ItemKey {
+            deck: self.deck_id(decks).to_string(),
+            card: self.card_id(decks).to_string(),
+            direction: self.direction,
+        }
     }
 }
 
@@ -86,22 +106,6 @@ pub fn card_fields(card: &crate::deck::Card) -> Vec<String> {
     fields
 }
 
-/// A field as searched: rendered (`ω₂`) and, when it holds math, also as
-/// written (`\omega_2`), so that `omega2` and `ω₂` both find it.
-fn searched(written: &str) -> Utf32String {
-    let mut field = crate::text::render(written);
-    if written.contains('$') {
-        field.push(' ');
-        field.push_str(written);
-    }
-    Utf32String::from(field)
-}
-
-/// The least score (per character of the query) a fuzzy match needs: a
-/// run of letters scores about 25 a character, letters strewn over a long
-/// text far less.
-const MIN_SCORE_PER_CHAR: u32 = 10;
-
 /// The items of `decks`, with their states and statuses at `now`.
 pub fn rows(
     decks: &[Deck],
@@ -109,40 +113,91 @@ pub fn rows(
     scheduler: &Scheduler,
     now: DateTime<Utc>,
 ) -> Result<Vec<ItemRow>, StoreError> {
-    let cached: HashMap<ItemKey, super::CachedState> = store
-        .cached_states()?
-        .into_iter()
-        .map(|c| (c.key.clone(), c))
-        .collect();
+    let cached = store.cached_states()?;
     let statuses = store.statuses()?;
     let mut out = Vec::new();
+    // Where the rows of each card start (cards of every deck in order),
+    // then one past the last.
+    let mut starts = Vec::with_capacity(decks.iter().map(|d| d.cards.len()).sum::<usize>() + 1);
     for (di, deck) in decks.iter().enumerate() {
         for (ci, card) in deck.cards.iter().enumerate() {
+            starts.push(out.len());
             for direction in card_directions(card) {
-                let key = ItemKey {
-                    deck: deck.id.clone(),
-                    card: card.id.clone(),
-                    direction,
-                };
-                let c = cached.get(&key);
-                let state = c.map(|c| c.state);
                 out.push(ItemRow {
                     deck: di,
                     card: ci,
-                    retrievability: state
-                        .filter(|s| s.state != State::New)
-                        .map(|s| scheduler.retrievability(&s, now)),
-                    reviews: c.map_or(0, |c| c.reps),
-                    lapses: c.map_or(0, |c| c.lapses),
-                    status: statuses.get(&key).copied().unwrap_or_default(),
-                    tags: card.tags.clone(),
-                    state,
-                    key,
+                    direction,
+                    state: None,
+                    retrievability: None,
+                    reviews: 0,
+                    lapses: 0,
+                    status: ItemStatus::default(),
                 });
             }
         }
     }
+    starts.push(out.len());
+    // The store's items are found among the rows by name: a map of the
+    // card ids of a deck is made when the store first names that deck.
+    let mut find = RowFinder::new(decks, &starts);
+    for c in &cached {
+        if let Some(row) = find.row(&out, &c.key) {
+            let state = c.state;
+            let row = &mut out[row];
+            row.state = Some(state);
+            row.retrievability =
+                (state.state != State::New).then(|| scheduler.retrievability(&state, now));
+            row.reviews = c.reps;
+            row.lapses = c.lapses;
+        }
+    }
+    for (key, status) in &statuses {
+        if let Some(row) = find.row(&out, key) {
+            out[row].status = *status;
+        }
+    }
     Ok(out)
+}
+
+/// Finds the row of an item named by the store.
+struct RowFinder<'a> {
+    decks: &'a [Deck],
+    starts: &'a [usize],
+    /// Per deck: its position among every card of `decks`, and its cards
+    /// by id (made when first needed).
+    first: Vec<usize>,
+    cards: Vec<Option<HashMap<&'a str, usize>>>,
+}
+
+impl<'a> RowFinder<'a> {
+    fn new(decks: &'a [Deck], starts: &'a [usize]) -> RowFinder<'a> {
+        let mut first = Vec::with_capacity(decks.len());
+        let mut n = 0;
+        for d in decks {
+            first.push(n);
+            n += d.cards.len();
+        }
+        RowFinder {
+            decks,
+            starts,
+            first,
+            cards: vec![None; decks.len()],
+        }
+    }
+
+    fn row(&mut self, rows: &[ItemRow], key: &ItemKey) -> Option<usize> {
+        let d = self.decks.iter().position(|d| d.id == key.deck)?;
+        let deck = &self.decks[d];
+        let cards = self.cards[d].get_or_insert_with(|| {
+            let mut m = HashMap::with_capacity(deck.cards.len());
+            for (i, c) in deck.cards.iter().enumerate() {
+                m.entry(c.id.as_str()).or_insert(i);
+            }
+            m
+        });
+        let g = self.first[d] + *cards.get(key.card.as_str())?;
+        (self.starts[g]..self.starts[g + 1]).find(|&r| rows[r].direction == key.direction)
+    }
 }
 
 /// A parsed query: every condition must hold.
@@ -276,23 +331,22 @@ impl Filter {
                 )));
             }
         }
-        let known: BTreeSet<&str> = decks
-            .iter()
-            .flat_map(|d| {
-                d.cards
-                    .iter()
-                    .flat_map(|c| c.tags.iter().map(String::as_str))
-            })
-            .collect();
+        let cards = || decks.iter().flat_map(|d| &d.cards);
         for t in &self.tags {
-            if !known.contains(t.as_str()) {
-                let list: Vec<&str> = known.iter().copied().collect();
-                return Err(QueryError(if list.is_empty() {
-                    format!("no card has tag `{t}` (no card has any tag)")
-                } else {
-                    format!("no card has tag `{t}`; tags are {}", list.join(", "))
-                }));
+            // Checked card by card, stopping at the first that has it: the
+            // list of every tag is made only for the error.
+            if cards().any(|c| c.tags.contains(t)) {
+                continue;
             }
+            let known: BTreeSet<&str> = cards()
+                .flat_map(|c| c.tags.iter().map(String::as_str))
+                .collect();
+            let list: Vec<&str> = known.into_iter().collect();
+            return Err(QueryError(if list.is_empty() {
+                format!("no card has tag `{t}` (no card has any tag)")
+            } else {
+                format!("no card has tag `{t}`; tags are {}", list.join(", "))
+            }));
         }
         Ok(())
     }
@@ -302,7 +356,7 @@ impl Filter {
         if !self.decks.is_empty() && !self.decks.iter().any(|d| decks[row.deck].id == *d) {
             return false;
         }
-        if !self.tags.iter().all(|t| row.tags.contains(t)) {
+        if !self.tags.iter().all(|t| row.tags(decks).contains(t)) {
             return false;
         }
         if !self.states.is_empty()
@@ -322,122 +376,6 @@ impl Filter {
             }
         }
         true
-    }
-}
-
-/// The texts a [`Search`] is built from, gathered from the decks (cheap);
-/// building renders the math of every card (the costly part, which the
-/// browser does on a thread of its own while its first frame shows).
-pub struct SearchTexts {
-    cards: Vec<Vec<String>>,
-    card_of_row: Vec<u32>,
-}
-
-impl SearchTexts {
-    pub fn new(decks: &[Deck], rows: &[ItemRow]) -> SearchTexts {
-        let mut index: HashMap<(usize, usize), u32> = HashMap::new();
-        let mut cards = Vec::new();
-        let card_of_row = rows
-            .iter()
-            .map(|r| {
-                *index.entry((r.deck, r.card)).or_insert_with(|| {
-                    cards.push(card_fields(&decks[r.deck].cards[r.card]));
-                    (cards.len() - 1) as u32
-                })
-            })
-            .collect();
-        SearchTexts { cards, card_of_row }
-    }
-
-    /// The search index; `None` when `cancel` was set meanwhile.
-    pub fn build(self, cancel: &std::sync::atomic::AtomicBool) -> Option<Search> {
-        let mut cards = Vec::with_capacity(self.cards.len());
-        for fields in self.cards {
-            if cancel.load(std::sync::atomic::Ordering::Relaxed) {
-                return None;
-            }
-            cards.push(fields.iter().map(|f| searched(f)).collect());
-        }
-        Some(Search {
-            cards,
-            card_of_row: self.card_of_row,
-            matcher: Matcher::new(nucleo_matcher::Config::DEFAULT),
-        })
-    }
-}
-
-/// Free-text search over many items: each card's fields are converted
-/// once, then every query is a pass of the fuzzy matcher over the cards
-/// (an item shares its card's score).
-pub struct Search {
-    cards: Vec<Vec<Utf32String>>,
-    card_of_row: Vec<u32>,
-    matcher: Matcher,
-}
-
-/// What [`Search::matching`] found.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Found {
-    /// The rows that match well enough, best first.
-    pub best: Vec<usize>,
-    /// Every row the pattern matches at all, in the order given: a query
-    /// that extends this one can only match among these.
-    pub any: Vec<usize>,
-}
-
-impl Search {
-    pub fn new(decks: &[Deck], rows: &[ItemRow]) -> Search {
-        let never = std::sync::atomic::AtomicBool::new(false);
-        SearchTexts::new(decks, rows)
-            .build(&never)
-            .unwrap_or_else(|| Search {
-                cards: Vec::new(),
-                card_of_row: Vec::new(),
-                matcher: Matcher::new(nucleo_matcher::Config::DEFAULT),
-            })
-    }
-
-    /// The rows among `candidates` whose text matches `text`.
-    pub fn matching(&mut self, text: &str, candidates: &[usize]) -> Found {
-        if text.trim().is_empty() {
-            return Found {
-                best: candidates.to_vec(),
-                any: candidates.to_vec(),
-            };
-        }
-        let pattern = Pattern::parse(text, CaseMatching::Ignore, Normalization::Smart);
-        let chars = text.chars().filter(|c| !c.is_whitespace()).count() as u32;
-        let least = MIN_SCORE_PER_CHAR * chars;
-        let matcher = &mut self.matcher;
-        let mut last: Option<(u32, Option<u32>)> = None;
-        let mut any = Vec::new();
-        let mut scored: Vec<(u32, usize)> = Vec::new();
-        for &i in candidates {
-            let card = self.card_of_row[i];
-            // The items of a card come one after another: score it once.
-            let score = match last {
-                Some((c, s)) if c == card => s,
-                _ => {
-                    let s = self.cards[card as usize]
-                        .iter()
-                        .filter_map(|h| pattern.score(h.slice(..), matcher))
-                        .max();
-                    last = Some((card, s));
-                    s
-                }
-            };
-            if let Some(s) = score {
-                any.push(i);
-                if s >= least {
-                    scored.push((s, i));
-                }
-            }
-        }
-        scored.sort_unstable_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-        Found {
-            best: scored.into_iter().map(|(_, i)| i).collect(),
-            any,
-        }
     }
 }
 
@@ -510,7 +448,7 @@ mod tests {
                 .matching(q, &all)
                 .best
                 .into_iter()
-                .map(|i| rows[i].key.card.clone())
+                .map(|i| rows[i].card_id(decks).to_string())
                 .collect()
         };
         for q in ["omega2", "ω₂", "omega_2", "vec L"] {

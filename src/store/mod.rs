@@ -21,6 +21,7 @@ pub mod log;
 pub mod merge;
 pub mod restore;
 pub mod schema;
+pub mod search;
 pub mod state;
 pub mod stats;
 pub mod status;

@@ -102,6 +102,8 @@ pub struct Services {
     /// The work–precision table of `flipcard bench`, if one was written.
     pub bench_csv: Option<PathBuf>,
     pub after_session: Option<AfterSession>,
+    /// The card browser's search index, kept between its openings.
+    pub browser_index: super::screens::browser::SearchCache,
 }
 
 impl Services {
@@ -123,6 +125,7 @@ impl Services {
             store,
             bench_csv: None,
             after_session: None,
+            browser_index: Default::default(),
         }
     }
 

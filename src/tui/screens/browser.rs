@@ -6,6 +6,8 @@
 //! same with fifty or fifty thousand items.
 
 use std::cmp::Ordering;
+use std::sync::atomic::{AtomicBool, Ordering as AtomicOrdering};
+use std::sync::{Arc, Mutex};
 
 use chrono::{DateTime, Utc};
 use ratatui::Frame;
@@ -16,7 +18,8 @@ use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table, TableState, 
 use crate::deck::Deck;
 use crate::sched::{Direction, ItemKey};
 use crate::store::StatusAction;
-use crate::store::catalog::{self, Filter, ItemRow, Search, SearchTexts};
+use crate::store::catalog::{self, Filter, ItemRow};
+use crate::store::search::{self, Search, SearchIndex, SearchTexts};
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Words};
@@ -194,39 +197,90 @@ impl Column {
     }
 }
 
+/// The search index kept between openings of the browser, with the texts
+/// it was built from: while the decks say the same, opening the browser
+/// again finds it ready.
+#[derive(Clone, Default)]
+pub struct SearchCache(Arc<Mutex<Option<Kept>>>);
+
+/// An index and the texts it was built from.
+type Kept = (SearchTexts, Arc<SearchIndex>);
+
+impl SearchCache {
+    fn get(&self, texts: &SearchTexts) -> Option<Arc<SearchIndex>> {
+        let slot = self.0.lock().ok()?;
+        let (t, index) = slot.as_ref()?;
+        (t == texts).then(|| Arc::clone(index))
+    }
+
+    fn put(&self, texts: SearchTexts, index: Arc<SearchIndex>) {
+        if let Ok(mut slot) = self.0.lock() {
+            *slot = Some((texts, index));
+        }
+    }
+}
+
 /// The search index: built on a thread of its own when the browser opens
 /// (rendering the math of every card is the slow part), so the first frame
 /// does not wait for it; the first search that needs it does.
 enum Index {
     Building {
-        thread: Option<std::thread::JoinHandle<Option<Search>>>,
-        cancel: std::sync::Arc<std::sync::atomic::AtomicBool>,
+        thread: Option<std::thread::JoinHandle<Option<Arc<SearchIndex>>>>,
+        cancel: Arc<AtomicBool>,
+        card_of_row: Vec<u32>,
     },
     Ready(Search),
 }
 
 impl Index {
-    fn start(texts: SearchTexts) -> Index {
-        let cancel = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-        let flag = std::sync::Arc::clone(&cancel);
+    fn open(decks: &[Deck], rows: &[ItemRow], cache: &SearchCache) -> Index {
+        let texts = SearchTexts::new(decks);
+        let card_of_row = search::card_of_row(decks, rows);
+        if let Some(index) = cache.get(&texts) {
+            return Index::Ready(Search::with_index(index, card_of_row));
+        }
+        let cancel = Arc::new(AtomicBool::new(false));
+        let flag = Arc::clone(&cancel);
+        let cache = cache.clone();
         let thread = std::thread::Builder::new()
             .name("search-index".into())
-            .spawn(move || texts.build(&flag))
+            .spawn(move || {
+                let index = Arc::new(texts.build(&flag, search::threads())?);
+                cache.put(texts, Arc::clone(&index));
+                Some(index)
+            })
             .ok();
-        Index::Building { thread, cancel }
+        Index::Building {
+            thread,
+            cancel,
+            card_of_row,
+        }
     }
 
-    fn get(&mut self) -> Option<&mut Search> {
-        if let Index::Building { thread, .. } = self {
+    fn get(&mut self, decks: &[Deck]) -> &mut Search {
+        if let Index::Building {
+            thread,
+            card_of_row,
+            ..
+        } = self
+        {
             let built = thread.take().and_then(|t| t.join().ok()).flatten();
-            match built {
-                Some(search) => *self = Index::Ready(search),
-                None => return None,
-            }
+            let card_of_row = std::mem::take(card_of_row);
+            // A thread that could not start (or failed) leaves the index
+            // to be built here.
+            let index = built.unwrap_or_else(|| {
+                let never = AtomicBool::new(false);
+                Arc::new(
+                    SearchTexts::new(decks)
+                        .build(&never, search::threads())
+                        .unwrap_or_default(),
+                )
+            });
+            *self = Index::Ready(Search::with_index(index, card_of_row));
         }
         match self {
-            Index::Ready(s) => Some(s),
-            Index::Building { .. } => None,
+            Index::Ready(s) => s,
+            Index::Building { .. } => unreachable!("the index was made ready above"),
         }
     }
 }
@@ -235,22 +289,38 @@ impl Drop for Index {
     /// Leaving the browser before the index is built stops building it.
     fn drop(&mut self) {
         if let Index::Building { cancel, .. } = self {
-            cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+            cancel.store(true, AtomicOrdering::Relaxed);
         }
     }
 }
 
-/// The last search: a query that only adds to its text can match among
-/// the rows it matched at all, no others.
-struct LastSearch {
+/// A query typed and what it found: a query that only adds to its text
+/// can match among the rows it matched at all, no others; Backspace comes
+/// back to it without searching again.
+struct Step {
+    query: String,
     filter: Filter,
     any: Vec<usize>,
+    /// The rows shown, best match first (before any sort by column).
+    best: Vec<usize>,
+}
+
+/// Steps kept for Backspace (each holds up to two lists of every row).
+const STEPS: usize = 64;
+
+/// The order of every row by one column, as a rank a row (ties in deck
+/// order): sorting the rows shown is then sorting numbers.
+struct Ranks {
+    column: Column,
+    rank: Vec<u32>,
 }
 
 pub struct BrowserState {
     pub rows: Vec<ItemRow>,
     index: Index,
-    last: Option<LastSearch>,
+    /// The queries typed, the last on top.
+    steps: Vec<Step>,
+    ranks: Option<Ranks>,
     /// The query as typed.
     pub query: String,
     /// Typing the query (`/`).
@@ -281,12 +351,13 @@ impl BrowserState {
             now,
         )
         .map_err(|e| e.to_string())?;
-        let index = Index::start(SearchTexts::new(&app.decks, &rows));
+        let index = Index::open(&app.decks, &rows, &app.services.browser_index);
         let mut state = BrowserState {
             shown: (0..rows.len()).collect(),
             rows,
             index,
-            last: None,
+            steps: Vec::new(),
+            ranks: None,
             query: String::new(),
             typing: false,
             selected: 0,
@@ -303,6 +374,21 @@ impl BrowserState {
 
     /// Applies the query and the sort again (after each key of the search).
     pub fn refilter(&mut self, decks: &[Deck]) {
+        // Steps of queries this one does not extend are done with; one
+        // equal to it is its answer (Backspace).
+        while let Some(top) = self.steps.last() {
+            if top.query == self.query {
+                self.error = None;
+                self.shown = top.best.clone();
+                self.sort_rows(decks);
+                self.selected = self.selected.min(self.shown.len().saturating_sub(1));
+                return;
+            }
+            if self.query.starts_with(&top.query) {
+                break;
+            }
+            self.steps.pop();
+        }
         let filter = Filter::parse(&self.query).and_then(|f| {
             f.check_names(decks)?;
             Ok(f)
@@ -310,7 +396,12 @@ impl BrowserState {
         match filter {
             Ok(f) => {
                 self.error = None;
-                self.shown = self.select(decks, f);
+                let step = self.select(decks, f);
+                self.shown = step.best.clone();
+                if self.steps.len() == STEPS {
+                    self.steps.remove(0);
+                }
+                self.steps.push(step);
             }
             // The list stays as it was while the query is being written.
             Err(e) => self.error = Some(e.0),
@@ -320,13 +411,13 @@ impl BrowserState {
     }
 
     /// The rows `f` selects, narrowing the last search when it can.
-    fn select(&mut self, decks: &[Deck], f: Filter) -> Vec<usize> {
+    fn select(&mut self, decks: &[Deck], f: Filter) -> Step {
         let text = f.text.clone();
         let fields = Filter {
             text: String::new(),
             ..f.clone()
         };
-        let narrowed = self.last.as_ref().and_then(|last| {
+        let narrowed = self.steps.last().and_then(|last| {
             let same = Filter {
                 text: String::new(),
                 ..last.filter.clone()
@@ -335,63 +426,127 @@ impl BrowserState {
             same.then(|| last.any.clone())
         });
         let candidates = narrowed.unwrap_or_else(|| {
-            (0..self.rows.len())
-                .filter(|&i| fields.keeps(&self.rows[i], decks, self.now))
-                .collect()
+            if fields.is_empty() {
+                (0..self.rows.len()).collect()
+            } else {
+                (0..self.rows.len())
+                    .filter(|&i| fields.keeps(&self.rows[i], decks, self.now))
+                    .collect()
+            }
         });
+        let query = self.query.clone();
         if text.trim().is_empty() {
-            self.last = Some(LastSearch {
+            return Step {
+                query,
                 filter: f,
-                any: candidates.clone(),
-            });
-            return candidates;
+                best: candidates.clone(),
+                any: candidates,
+            };
         }
-        let Some(search) = self.index.get() else {
-            return candidates;
-        };
-        let found = search.matching(&text, &candidates);
-        self.last = Some(LastSearch {
+        let found = self.index.get(decks).matching(&text, &candidates);
+        Step {
+            query,
             filter: f,
             any: found.any,
-        });
-        found.best
+            best: found.best,
+        }
     }
 
+    /// Sorts the rows shown by the chosen column (nothing to do without).
     fn sort_rows(&mut self, decks: &[Deck]) {
         let Some((col, reverse)) = self.sort else {
             return;
         };
-        let rows = &self.rows;
-        let now = self.now;
-        let key = |i: usize, j: usize| -> Ordering {
-            let (a, b) = (&rows[i], &rows[j]);
-            let f = |x: Option<f64>| x.unwrap_or(f64::NEG_INFINITY);
-            match col {
-                Column::Deck => decks[a.deck].id.cmp(&decks[b.deck].id),
-                Column::Card => a.key.card.cmp(&b.key.card),
-                Column::Direction => a.key.direction.cmp(&b.key.direction),
-                Column::State => a.state_name().cmp(b.state_name()),
-                Column::Due => a.due().cmp(&b.due()),
-                Column::Stability => f(a.state.and_then(|s| s.stability))
-                    .total_cmp(&f(b.state.and_then(|s| s.stability))),
-                Column::Difficulty => f(a.state.and_then(|s| s.difficulty))
-                    .total_cmp(&f(b.state.and_then(|s| s.difficulty))),
-                Column::Retrievability => f(a.retrievability).total_cmp(&f(b.retrievability)),
-                Column::Reviews => a.reviews.cmp(&b.reviews),
-                Column::Lapses => a.lapses.cmp(&b.lapses),
-                Column::Status => status_text(a, now).cmp(&status_text(b, now)),
-            }
-            .then(i.cmp(&j))
+        if self.ranks.as_ref().is_none_or(|r| r.column != col) {
+            self.ranks = Some(Ranks {
+                column: col,
+                rank: ranks(&self.rows, decks, col, self.now),
+            });
+        }
+        let Some(ranks) = &self.ranks else {
+            return;
         };
-        self.shown.sort_by(|&i, &j| {
-            let o = key(i, j);
-            if reverse { o.reverse() } else { o }
-        });
+        let rank = &ranks.rank;
+        if reverse {
+            self.shown
+                .sort_unstable_by_key(|&i| std::cmp::Reverse(rank[i]));
+        } else {
+            self.shown.sort_unstable_by_key(|&i| rank[i]);
+        }
+    }
+
+    /// A change of status: searches and ranks made before may now be wrong.
+    fn forget(&mut self) {
+        self.steps.clear();
+        self.ranks = None;
     }
 
     pub fn current(&self) -> Option<&ItemRow> {
         self.shown.get(self.selected).map(|&i| &self.rows[i])
     }
+}
+
+/// The rank of each row in the order of `col` (ties in deck order).
+fn ranks(rows: &[ItemRow], decks: &[Deck], col: Column, now: DateTime<Utc>) -> Vec<u32> {
+    let f = |x: Option<f64>| x.unwrap_or(f64::NEG_INFINITY);
+    let mut order: Vec<usize> = (0..rows.len()).collect();
+    let by = |key: &dyn Fn(&ItemRow, &ItemRow) -> Ordering, order: &mut Vec<usize>| {
+        order.sort_by(|&i, &j| key(&rows[i], &rows[j]).then(i.cmp(&j)));
+    };
+    match col {
+        Column::Deck => by(&|a, b| a.deck_id(decks).cmp(b.deck_id(decks)), &mut order),
+        Column::Card => by(&|a, b| a.card_id(decks).cmp(b.card_id(decks)), &mut order),
+        Column::Direction => by(&|a, b| a.direction.cmp(&b.direction), &mut order),
+        Column::State => by(&|a, b| a.state_name().cmp(b.state_name()), &mut order),
+        Column::Due => by(&|a, b| a.due().cmp(&b.due()), &mut order),
+        Column::Stability => by(
+            &|a, b| {
+                f(a.state.and_then(|s| s.stability))
+                    .total_cmp(&f(b.state.and_then(|s| s.stability)))
+            },
+            &mut order,
+        ),
+        Column::Difficulty => by(
+            &|a, b| {
+                f(a.state.and_then(|s| s.difficulty))
+                    .total_cmp(&f(b.state.and_then(|s| s.difficulty)))
+            },
+            &mut order,
+        ),
+        Column::Retrievability => by(
+            &|a, b| f(a.retrievability).total_cmp(&f(b.retrievability)),
+            &mut order,
+        ),
+        Column::Reviews => by(&|a, b| a.reviews.cmp(&b.reviews), &mut order),
+        Column::Lapses => by(&|a, b| a.lapses.cmp(&b.lapses), &mut order),
+        Column::Status => by(
+            &|a, b| status_key(a, now).cmp(&status_key(b, now)),
+            &mut order,
+        ),
+    }
+    let mut rank = vec![0; rows.len()];
+    for (r, &i) in order.iter().enumerate() {
+        rank[i] = r as u32;
+    }
+    rank
+}
+
+/// The status column's text as bytes, padded with zeros: compares as the
+/// text does, without making it.
+fn status_key(row: &ItemRow, now: DateTime<Utc>) -> [u8; 3] {
+    let mut k = [0; 3];
+    let mut n = 0;
+    for (on, c) in [
+        (row.status.suspended, b'S'),
+        (row.buried(now), b'B'),
+        (row.status.leech, b'L'),
+    ] {
+        if on {
+            k[n] = c;
+            n += 1;
+        }
+    }
+    k
 }
 
 /// `S` suspended, `B` buried, `L` leech.
@@ -459,12 +614,12 @@ pub fn apply(app: &mut App, s: &mut BrowserState, action: Action) -> Nav {
                 }
             };
             s.sort = Some((next, false));
-            s.refilter(&app.decks);
+            s.sort_rows(&app.decks);
         }
         Action::ReverseSort => {
             let (c, r) = s.sort.unwrap_or((Column::Deck, false));
             s.sort = Some((c, !r));
-            s.refilter(&app.decks);
+            s.sort_rows(&app.decks);
         }
         Action::Open => s.preview = !s.preview && s.current().is_some(),
         Action::Back if s.preview => s.preview = false,
@@ -504,12 +659,20 @@ fn refresh(app: &mut App, s: &mut BrowserState, keys: &[ItemKey]) {
             return;
         }
     };
-    for row in s.rows.iter_mut().filter(|r| keys.contains(&r.key)) {
-        row.status = statuses.get(&row.key).copied().unwrap_or_default();
+    let decks = &app.decks;
+    for row in s.rows.iter_mut() {
+        let named = |k: &&ItemKey| {
+            k.direction == row.direction
+                && k.card == row.card_id(decks)
+                && k.deck == row.deck_id(decks)
+        };
+        if let Some(key) = keys.iter().find(named) {
+            row.status = statuses.get(key).copied().unwrap_or_default();
+        }
     }
     // A status filter may now select other rows: the next search starts
     // from every row again.
-    s.last = None;
+    s.forget();
     // Rows stay where they are until the query changes, so the learner
     // sees what the action did.
 }
@@ -518,7 +681,7 @@ fn mark(app: &mut App, s: &mut BrowserState, action: Action) {
     let Some(row) = s.current() else {
         return;
     };
-    let key = row.key.clone();
+    let key = row.key(&app.decks);
     let now = app.services.now();
     let (what, until, msg) = match action {
         Action::Suspend => (StatusAction::Suspend, None, Msg::CardSuspended),
@@ -672,8 +835,8 @@ fn draw_table(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             let status_style = if status.is_empty() { t.dim() } else { t.warn() };
             Row::new(columns.iter().map(|c| match c {
                 Column::Deck => Cell::from(app.decks[r.deck].id.clone()),
-                Column::Card => Cell::from(r.key.card.clone()),
-                Column::Direction => Cell::from(r.key.direction.as_str().into_owned()),
+                Column::Card => Cell::from(r.card_id(&app.decks)),
+                Column::Direction => Cell::from(r.direction.as_str().into_owned()),
                 Column::State => Cell::from(r.state_name()),
                 Column::Due => Cell::from(due.clone()),
                 Column::Stability => Cell::from(fmt_opt(r.state.and_then(|s| s.stability), 3)),
@@ -707,8 +870,8 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
         .title(format!(
             " {}/{}/{} ",
             app.decks[row.deck].id,
-            row.key.card,
-            row.key.direction.as_str()
+            row.card_id(&app.decks),
+            row.direction.as_str()
         ));
     let inner = block.inner(area).inner(Margin::new(1, 0));
     frame.render_widget(block, area);
@@ -722,7 +885,7 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             })
             .collect()
     };
-    let (question, answer): (Vec<Run>, Vec<Run>) = match row.key.direction {
+    let (question, answer): (Vec<Run>, Vec<Run>) = match row.direction {
         Direction::Cloze(n) => {
             let text = card.front.get(lang);
             let mut back = segs(crate::deck::cloze::back(text, n));
@@ -757,8 +920,9 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
     let mut lines = wrap(&question, width, blank.clone(), blank.clone());
     lines.push(Line::styled("─".repeat(width.min(40)), t.dim()));
     lines.extend(wrap(&answer, width, blank.clone(), blank));
-    if !row.tags.is_empty() {
-        lines.push(Line::styled(format!("# {}", row.tags.join(" ")), t.dim()));
+    let tags = row.tags(&app.decks);
+    if !tags.is_empty() {
+        lines.push(Line::styled(format!("# {}", tags.join(" ")), t.dim()));
     }
     frame.render_widget(Paragraph::new(lines), inner);
 }

@@ -65,8 +65,8 @@ fn shown_cards(app: &TestApp) -> Vec<String> {
         .map(|&i| {
             format!(
                 "{}:{}",
-                b.rows[i].key.card,
-                b.rows[i].key.direction.as_str()
+                b.rows[i].card_id(&app.decks),
+                b.rows[i].direction.as_str()
             )
         })
         .collect()
@@ -170,7 +170,7 @@ fn browser_suspends_buries_unsuspends_and_undoes() {
         press(&mut app, KeyCode::Backspace);
     }
     press(&mut app, KeyCode::Enter);
-    let first = browser(&app).current().map(|r| r.key.clone());
+    let first = browser(&app).current().map(|r| r.key(&app.decks));
     let Some(first) = first else {
         panic!("no row selected");
     };

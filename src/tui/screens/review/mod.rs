@@ -625,12 +625,12 @@ pub fn filtered_items(
     let now = app.services.now();
     let rows = catalog::rows(decks, &app.services.store, &app.services.scheduler, now)
         .map_err(|e| e.to_string())?;
-    let mut search = catalog::Search::new(decks, &rows);
+    let mut search = catalog::Search::for_text(&filter.text, decks, &rows);
     let mut picked = catalog::select(decks, &rows, &mut search, filter, now);
     picked.sort_unstable();
     Ok(picked
         .into_iter()
         .filter(|&i| cram || rows[i].status.studyable(now))
-        .map(|i| rows[i].key.clone())
+        .map(|i| rows[i].key(decks))
         .collect())
 }
