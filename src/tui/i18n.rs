@@ -753,3 +753,10 @@ pub mod sync {
     pub const SENT: Words = Words("sent", "bheje");
     pub const RECEIVED: Words = Words("received", "aaye");
 }
+
+pub mod browser {
+    use super::Words;
+
+    /// In place of the count while the search index is still being built.
+    pub const SEARCHING: Words = Words("searching…", "dhoondh rahe…");
+}

@@ -257,6 +257,14 @@ impl Index {
         }
     }
 
+    /// Whether a search can run now without waiting for the build.
+    fn ready(&self) -> bool {
+        match self {
+            Index::Ready(_) => true,
+            Index::Building { thread, .. } => thread.as_ref().is_none_or(|t| t.is_finished()),
+        }
+    }
+
     fn get(&mut self, decks: &[Deck]) -> &mut Search {
         if let Index::Building {
             thread,
@@ -339,6 +347,10 @@ pub struct BrowserState {
     pub now: DateTime<Utc>,
     /// Table rows in view at the last draw (for PgUp / PgDn).
     pub page: std::cell::Cell<usize>,
+    /// A query with text typed before the search index was built (the
+    /// first opening): the key is drawn at once, the search runs on the
+    /// tick that finds the index ready.
+    pub waiting: bool,
 }
 
 impl BrowserState {
@@ -367,6 +379,7 @@ impl BrowserState {
             marks: 0,
             now,
             page: std::cell::Cell::new(10),
+            waiting: false,
         };
         state.refilter(&app.decks);
         Ok(state)
@@ -379,6 +392,7 @@ impl BrowserState {
         while let Some(top) = self.steps.last() {
             if top.query == self.query {
                 self.error = None;
+                self.waiting = false;
                 self.shown = top.best.clone();
                 self.sort_rows(decks);
                 self.selected = self.selected.min(self.shown.len().saturating_sub(1));
@@ -396,6 +410,10 @@ impl BrowserState {
         match filter {
             Ok(f) => {
                 self.error = None;
+                self.waiting = !f.text.trim().is_empty() && !self.index.ready();
+                if self.waiting {
+                    return;
+                }
                 let step = self.select(decks, f);
                 self.shown = step.best.clone();
                 if self.steps.len() == STEPS {
@@ -404,7 +422,10 @@ impl BrowserState {
                 self.steps.push(step);
             }
             // The list stays as it was while the query is being written.
-            Err(e) => self.error = Some(e.0),
+            Err(e) => {
+                self.error = Some(e.0);
+                self.waiting = false;
+            }
         }
         self.sort_rows(decks);
         self.selected = self.selected.min(self.shown.len().saturating_sub(1));
@@ -479,6 +500,24 @@ impl BrowserState {
     fn forget(&mut self) {
         self.steps.clear();
         self.ranks = None;
+    }
+
+    /// For tests: the search index is "being built" until the sender
+    /// returned is used (or dropped).
+    #[cfg(test)]
+    pub(crate) fn hold_index(&mut self, decks: &[Deck]) -> std::sync::mpsc::Sender<()> {
+        let (tx, rx) = std::sync::mpsc::channel::<()>();
+        let thread = std::thread::spawn(move || {
+            let _ = rx.recv();
+            None
+        });
+        self.index = Index::Building {
+            thread: Some(thread),
+            cancel: Arc::new(AtomicBool::new(false)),
+            card_of_row: search::card_of_row(decks, &self.rows),
+        };
+        self.steps.clear();
+        tx
     }
 
     pub fn current(&self) -> Option<&ItemRow> {
@@ -581,6 +620,9 @@ impl super::View for BrowserState {
     fn name(&self) -> Msg {
         Msg::Browser
     }
+    fn animating(&self) -> bool {
+        self.waiting
+    }
 }
 
 pub fn apply(app: &mut App, s: &mut BrowserState, action: Action) -> Nav {
@@ -627,6 +669,7 @@ pub fn apply(app: &mut App, s: &mut BrowserState, action: Action) -> Nav {
         Action::Explain => return explain(app, s),
         Action::Suspend | Action::Bury | Action::Unsuspend => mark(app, s, action),
         Action::Undo => undo(app, s),
+        Action::Tick(_) if s.waiting && s.index.ready() => s.refilter(&app.decks),
         _ => {}
     }
     Nav::Stay
@@ -748,10 +791,17 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
         format!("{}{}", s.query, if s.typing { "▏" } else { "" }),
         t.strong(),
     ));
-    q.push(Span::styled(
-        format!("  {} {}", s.shown.len(), app.tr(Msg::Items)),
-        t.dim(),
-    ));
+    if s.waiting {
+        q.push(Span::styled(
+            format!("  {}", crate::tui::i18n::browser::SEARCHING.get(&app.lang)),
+            t.dim(),
+        ));
+    } else {
+        q.push(Span::styled(
+            format!("  {} {}", s.shown.len(), app.tr(Msg::Items)),
+            t.dim(),
+        ));
+    }
     if let Some((c, rev)) = s.sort {
         q.push(Span::styled(
             format!(

@@ -405,6 +405,7 @@ fn typing_narrows_the_last_search_without_losing_rows() {
     for c in "euler 1".chars() {
         typed.push(c);
         press(&mut app, KeyCode::Char(c));
+        super::settle(&mut app);
         // What a fresh search over every row finds, in the same order.
         let b = browser(&app);
         let mut fresh = crate::store::catalog::Search::new(&app.decks, &b.rows);
@@ -427,4 +428,39 @@ fn typing_narrows_the_last_search_without_losing_rows() {
     press(&mut app, KeyCode::Char('/'));
     type_text(&mut app, "is:suspended");
     assert_eq!(shown_cards(&app).len(), 1);
+}
+
+#[test]
+fn a_key_typed_before_the_index_is_built_is_drawn_at_once_and_searched_when_it_is() {
+    for (lang, searching) in [(ENGLISH, "searching…"), (HINGLISH, "dhoondh rahe…")] {
+        let mut app = app(lang);
+        press_all(&mut app, &[KeyCode::Char('b'), KeyCode::Char('/')]);
+        let decks = app.decks.clone();
+        let release = match app.screen_mut() {
+            Screen::Browser(b) => b.hold_index(&decks),
+            _ => panic!("the browser is not open"),
+        };
+        let all = browser(&app).shown.clone();
+        press(&mut app, KeyCode::Char('e'));
+        // The key is on screen, the list as it was, and the loop ticks.
+        assert!(browser(&app).waiting);
+        assert!(app.animating());
+        assert_eq!(browser(&app).shown, all);
+        let screen = render(&app);
+        assert!(screen.contains(&format!("/ e▏  {searching}")), "{screen}");
+        // A tick before the index is ready changes nothing.
+        crate::tui::update::apply(
+            &mut app,
+            crate::tui::action::Action::Tick(Default::default()),
+        );
+        assert!(browser(&app).waiting);
+        let _ = release.send(());
+        super::settle(&mut app);
+        let b = browser(&app);
+        let mut fresh = crate::store::catalog::Search::new(&app.decks, &b.rows);
+        let rows: Vec<usize> = (0..b.rows.len()).collect();
+        assert_eq!(b.shown, fresh.matching("e", &rows).best);
+        assert_ne!(b.shown, all, "the search narrowed the list");
+        assert!(!app.animating());
+    }
 }

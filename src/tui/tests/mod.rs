@@ -38,9 +38,26 @@ pub fn press_all(app: &mut App, codes: &[KeyCode]) {
     }
 }
 
-/// Types text into whatever field has the keyboard.
+/// Types text into whatever field has the keyboard; a browser search
+/// waiting for its index is let finish, as the event loop's ticks would.
 pub fn type_text(app: &mut App, text: &str) {
     for c in text.chars() {
         press(app, KeyCode::Char(c));
     }
+    settle(app);
+}
+
+/// Ticks while the browser waits for its search index (bounded: a build
+/// that never ends fails the test instead of hanging it).
+pub fn settle(app: &mut App) {
+    let waiting =
+        |app: &App| matches!(app.screen(), super::screens::Screen::Browser(b) if b.waiting);
+    for _ in 0..30_000 {
+        if !waiting(app) {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(1));
+        apply(app, Action::Tick(std::time::Duration::from_millis(1)));
+    }
+    panic!("the browser's search index was never ready");
 }
