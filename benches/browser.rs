@@ -470,5 +470,92 @@ fn browser(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, browser);
+/// The study filter (`f` on home) over the same 50,000 items: opening it
+/// (every item counted), one key of the tag field (`euler` completed: the
+/// count of matching items again), a state chosen, and Enter (the filtered
+/// session's first card drawn).
+fn filter(c: &mut Criterion) {
+    let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
+    let mut app = app(dir.path());
+    let mut t = Terminal::new(TestBackend::new(120, 40)).unwrap_or_else(|e| panic!("{e}"));
+    let mut g = c.benchmark_group("filter");
+    g.sample_size(10);
+    g.measurement_time(Duration::from_secs(8));
+    let items = "50,000 items";
+    for clock in [Timer::Wall, Timer::UiThreadCpu] {
+        g.bench_function(
+            format!("open with its count ({items}, {})", clock.name()),
+            |b| {
+                b.iter_custom(|n| {
+                    keys(
+                        clock,
+                        n,
+                        &mut app,
+                        &mut t,
+                        &[Action::OpenFilter],
+                        &[Action::Back],
+                    )
+                })
+            },
+        );
+        apply(&mut app, Action::OpenFilter);
+        typed(&mut app, "eule");
+        g.bench_function(
+            format!(
+                "tag key `eule` → `euler` and the count ({items}, {})",
+                clock.name()
+            ),
+            |b| {
+                b.iter_custom(|n| {
+                    keys(
+                        clock,
+                        n,
+                        &mut app,
+                        &mut t,
+                        &[Action::Input('r')],
+                        &[Action::Backspace],
+                    )
+                })
+            },
+        );
+        apply(&mut app, Action::Input('r'));
+        apply(&mut app, Action::NextField);
+        g.bench_function(
+            format!(
+                "state field: next state and the count ({items}, {})",
+                clock.name()
+            ),
+            |b| {
+                b.iter_custom(|n| {
+                    keys(
+                        clock,
+                        n,
+                        &mut app,
+                        &mut t,
+                        &[Action::NextSection],
+                        &[Action::PrevSection],
+                    )
+                })
+            },
+        );
+        apply(&mut app, Action::PrevField);
+        // Enter replaces the filter with the session: back home, the filter
+        // opened again with the same tag (not timed).
+        let reopen: Vec<Action> = [Action::Back, Action::OpenFilter]
+            .into_iter()
+            .chain("euler".chars().map(Action::Input))
+            .collect();
+        g.bench_function(
+            format!(
+                "Enter: the filtered session's first card ({items}, {})",
+                clock.name()
+            ),
+            |b| b.iter_custom(|n| keys(clock, n, &mut app, &mut t, &[Action::Submit], &reopen)),
+        );
+        apply(&mut app, Action::Back);
+    }
+    g.finish();
+}
+
+criterion_group!(benches, browser, filter);
 criterion_main!(benches);

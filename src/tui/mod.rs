@@ -113,7 +113,7 @@ pub fn open_filtered_review(
     {
         h.selected = i;
     }
-    let review = screens::review::ReviewState::open_filtered(app, index, filter, cram)
+    let review = screens::review::ReviewState::open_listed(app, index, items, cram)
         .map_err(anyhow::Error::msg)?;
     app.push(screens::Screen::Review(Box::new(review)));
     Ok(())

@@ -213,16 +213,19 @@ pub fn apply(app: &mut App, s: &mut FilterState, action: Action) -> Nav {
 }
 
 fn start(app: &mut App, s: &mut FilterState) -> Nav {
-    s.recount(app);
-    match (s.count.clone(), s.filter()) {
-        (Ok(0), _) => app.info(app.tr(Msg::NothingMatches)),
-        (Ok(_), Ok(f)) => {
-            match super::review::ReviewState::open_filtered(app, s.deck, &f, s.cram) {
-                Ok(r) => return Nav::Replace(Screen::Review(Box::new(r))),
-                Err(e) => app.error(e),
-            }
-        }
-        (Err(e), _) | (_, Err(e)) => app.error(e),
+    // The items are chosen once, now (the count shown may be a little old),
+    // and the session opens on exactly those.
+    let items = s
+        .filter()
+        .and_then(|f| super::review::filtered_items(app, s.deck, &f, s.cram));
+    s.count = items.as_ref().map(Vec::len).map_err(Clone::clone);
+    match items {
+        Ok(items) if items.is_empty() => app.info(app.tr(Msg::NothingMatches)),
+        Ok(items) => match super::review::ReviewState::open_listed(app, s.deck, items, s.cram) {
+            Ok(r) => return Nav::Replace(Screen::Review(Box::new(r))),
+            Err(e) => app.error(e),
+        },
+        Err(e) => app.error(e),
     }
     Nav::Stay
 }

@@ -83,7 +83,7 @@ pub struct ReviewState {
     pub marks: Vec<Vec<ItemKey>>,
     /// For each rating of `rated`, the siblings it took out of the queue.
     pub aside: Vec<Vec<ItemKey>>,
-    /// The cards were chosen by a filter (see [`ReviewState::open_filtered`]).
+    /// The cards were chosen by a filter (see [`filtered_items`]).
     pub filtered: bool,
     /// The card shown is a typed card (its front takes text).
     pub typed: bool,
@@ -105,17 +105,15 @@ pub struct WhatNext {
 }
 
 impl ReviewState {
-    /// A session over the cards of `deck` (every deck when `None`) that
-    /// `filter` chooses (see [`crate::store::catalog::Filter`]), each once,
-    /// in deck order. Suspended and buried cards are left out, unless
-    /// cramming: their answers would change a schedule they are out of.
-    pub fn open_filtered(
+    /// A session over `items` of `deck` (every deck when `None`), chosen
+    /// by [`filtered_items`] (the filter screen and the command line count
+    /// them first), each once, in deck order.
+    pub fn open_listed(
         app: &mut App,
         deck: Option<usize>,
-        filter: &crate::store::catalog::Filter,
+        items: Vec<ItemKey>,
         cram: bool,
     ) -> Result<ReviewState, String> {
-        let items = filtered_items(app, deck, filter, cram)?;
         let decks = scope_decks(app, deck)?;
         let mut states = HashMap::new();
         for &i in &decks {
@@ -606,7 +604,9 @@ fn scope_decks(app: &App, deck: Option<usize>) -> Result<Vec<usize>, String> {
 
 /// The items of `deck` (every deck when `None`) a filtered session would
 /// show, deck by deck in deck order. A tag or deck named by the filter must
-/// exist in the decks searched, not in each of them.
+/// exist in the decks searched, not in each of them. Suspended and buried
+/// cards are left out unless cramming: their answers would change a
+/// schedule they are out of.
 pub fn filtered_items(
     app: &App,
     deck: Option<usize>,
