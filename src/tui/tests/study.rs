@@ -358,3 +358,30 @@ fn the_stats_screen_lists_the_leeches_with_their_lapses() {
         }
     }
 }
+
+#[test]
+fn cram_at_the_end_of_a_filtered_session_crams_its_own_cards_over_every_deck() {
+    let mut app = app(ENGLISH);
+    press(&mut app, KeyCode::Char('f'));
+    type_text(&mut app, "frames");
+    press_all(&mut app, &[KeyCode::BackTab, KeyCode::Left, KeyCode::Enter]);
+    let (first, second) = (
+        item("torque-free", "body-frame-why"),
+        item("springs", "hooke"),
+    );
+    for _ in 0..2 {
+        press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('4')]);
+    }
+    assert_eq!(shown(&app), None, "the session is done");
+    press(&mut app, KeyCode::Char('c'));
+    let r = review(&app);
+    assert!(r.cram && r.filtered);
+    assert_eq!(r.decks, vec![0, 1]);
+    let Source::Cram(c) = &r.source else {
+        panic!("`c` did not open a cram session");
+    };
+    assert_eq!(c.remaining(), 2, "the filter's two cards, not a whole deck");
+    assert_eq!(shown(&app), Some(first));
+    press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
+    assert_eq!(shown(&app), Some(second));
+}

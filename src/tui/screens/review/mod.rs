@@ -85,6 +85,8 @@ pub struct ReviewState {
     pub aside: Vec<Vec<ItemKey>>,
     /// The cards were chosen by a filter (see [`filtered_items`]).
     pub filtered: bool,
+    /// Those cards, so that `c` at the end crams the same ones.
+    pub listed: Vec<ItemKey>,
     /// The card shown is a typed card (its front takes text).
     pub typed: bool,
     /// First line of the card shown, when it is taller than the screen.
@@ -130,6 +132,7 @@ impl ReviewState {
             .start_session()
             .map_err(|e| e.to_string())?;
         let now = app.services.now();
+        let listed = items.clone();
         let source = if cram {
             Source::Cram(CramQueue::new(items))
         } else {
@@ -149,6 +152,7 @@ impl ReviewState {
             marks: Vec::new(),
             aside: Vec::new(),
             filtered: true,
+            listed,
             typed: false,
             scroll: 0,
         };
@@ -192,6 +196,7 @@ impl ReviewState {
             marks: Vec::new(),
             aside: Vec::new(),
             filtered: false,
+            listed: Vec::new(),
             typed: false,
             scroll: 0,
         };
@@ -381,7 +386,15 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
         }
         (_, Action::Up) => state.scroll = state.scroll.saturating_sub(1),
         (Phase::Done, Action::OpenCram) => {
-            return match ReviewState::open(app, state.deck, true) {
+            // A filtered session crams its own cards, over every deck it
+            // covered; otherwise the whole deck.
+            let cram = if state.filtered {
+                let scope = (state.decks.len() == 1).then(|| state.decks[0]);
+                ReviewState::open_listed(app, scope, state.listed.clone(), true)
+            } else {
+                ReviewState::open(app, state.deck, true)
+            };
+            return match cram {
                 Ok(r) => Nav::Replace(super::Screen::Review(Box::new(r))),
                 Err(e) => {
                     app.error(e);
