@@ -350,7 +350,8 @@ fn a_fifo_given_as_an_input_file_is_refused_not_waited_on() {
     let run = flipcard(d, &["stats"]);
     assert_eq!(run.code, 1, "{}", run.stderr);
     assert!(
-        run.stderr.contains("config.toml: not a regular file"),
+        run.stderr
+            .contains("config.toml: is a FIFO or device, not a regular file"),
         "{}",
         run.stderr
     );

@@ -368,7 +368,7 @@ fn a_config_error_states_its_cause_once() {
     std::fs::create_dir_all(setup.root.join("config-dir")).unwrap();
     let line = error_line(&setup, &["stats", "--config", "config-dir"]);
     assert_eq!(
-        line.matches("Is a directory (os error 21)").count(),
+        line.matches("is a directory, not a regular file").count(),
         1,
         "{line}"
     );
@@ -505,6 +505,6 @@ fn import_of_a_folder_says_what_it_is() {
     let line = error_line(&setup, &["import", "decks", "--deck-id", "x"]);
     assert_eq!(
         line,
-        "flipcard: error: cannot read decks: it is a folder, not a CSV file"
+        "flipcard: error: cannot read decks: is a directory, not a regular file"
     );
 }

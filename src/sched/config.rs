@@ -558,8 +558,16 @@ fn read_file(path: &Path) -> std::io::Result<String> {
         options.custom_flags(nix::libc::O_NONBLOCK);
     }
     let mut file = options.open(path)?;
-    if !file.metadata()?.is_file() {
-        return Err(std::io::Error::other("not a regular file"));
+    let kind = file.metadata()?.file_type();
+    if !kind.is_file() {
+        let what = if kind.is_dir() {
+            "a directory"
+        } else {
+            "a FIFO or device"
+        };
+        return Err(std::io::Error::other(format!(
+            "is {what}, not a regular file"
+        )));
     }
     let mut text = String::new();
     file.read_to_string(&mut text)?;
