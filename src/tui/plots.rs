@@ -79,19 +79,7 @@ pub fn fitted_title(parts: Vec<Span<'static>>, width: usize) -> TextLine<'static
     if first.width() <= width {
         return TextLine::from(first);
     }
-    let mut text = String::new();
-    let mut used = 0;
-    for c in first.content.chars() {
-        let w = unicode_width::UnicodeWidthChar::width(c).unwrap_or(0);
-        if used + w + 1 > width {
-            break;
-        }
-        used += w;
-        text.push(c);
-    }
-    if width > 0 {
-        text.push('…');
-    }
+    let text = super::wrap::ellipsize(&first.content, width);
     TextLine::from(Span::styled(text, first.style))
 }
 

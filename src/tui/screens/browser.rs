@@ -180,6 +180,16 @@ impl Column {
         }
     }
 
+    /// The least room the column needs (a name column: enough to tell
+    /// names apart).
+    fn min_width(self) -> u16 {
+        match self.width() {
+            Constraint::Length(n) => n,
+            _ if self == Column::Card => 12,
+            _ => 8,
+        }
+    }
+
     fn width(self) -> Constraint {
         match self {
             Column::Deck => Constraint::Fill(1),
@@ -195,6 +205,39 @@ impl Column {
             Column::Status => Constraint::Length(6),
         }
     }
+}
+
+/// The columns that fit in `width` cells, in table order: the card's name
+/// first, then what says where it stands, the rest as room allows
+/// (columns left out can still be sorted by).
+fn fitting_columns(width: u16) -> Vec<Column> {
+    const PRIORITY: [Column; 11] = [
+        Column::Card,
+        Column::State,
+        Column::Due,
+        Column::Status,
+        Column::Deck,
+        Column::Direction,
+        Column::Retrievability,
+        Column::Reviews,
+        Column::Lapses,
+        Column::Stability,
+        Column::Difficulty,
+    ];
+    // The selection mark takes two cells; each column one more to part it.
+    let mut room = width.saturating_sub(2);
+    let mut keep = Vec::new();
+    for c in PRIORITY {
+        let need = c.min_width() + 1;
+        if need <= room || keep.is_empty() {
+            room = room.saturating_sub(need);
+            keep.push(c);
+        }
+    }
+    Column::ALL
+        .into_iter()
+        .filter(|c| keep.contains(c))
+        .collect()
 }
 
 /// The search index kept between openings of the browser, with the texts
@@ -838,6 +881,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
     } else {
         Msg::BrowserKeys
     });
+    let hint = crate::tui::wrap::ellipsize(hint, usize::from(keys_area.width));
     frame.render_widget(Paragraph::new(Span::styled(hint, t.dim())), keys_area);
 }
 
@@ -851,12 +895,7 @@ fn draw_table(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
     } else {
         0
     };
-    // Below 100 columns, stability and difficulty give way to the names
-    // (they can still be sorted by).
-    let columns: Vec<Column> = Column::ALL
-        .into_iter()
-        .filter(|c| area.width >= 100 || !matches!(c, Column::Stability | Column::Difficulty))
-        .collect();
+    let columns = fitting_columns(area.width);
     let header = Row::new(
         columns
             .iter()

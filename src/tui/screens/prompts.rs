@@ -111,7 +111,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
         ListItem::new(Line::from(vec![
             Span::styled(format!("{:>2}. ", i + 1), t.dim()),
             Span::styled(mark, style),
-            Span::raw(cut(&title, room)),
+            Span::raw(crate::tui::wrap::ellipsize(&title, room)),
         ]))
     });
     let list = List::new(items)
@@ -149,26 +149,4 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
         }
         frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: true }), detail);
     }
-}
-
-/// `text` cut to `width` columns, ending in "…" where cut.
-fn cut(text: &str, width: usize) -> String {
-    use unicode_width::{UnicodeWidthChar, UnicodeWidthStr};
-    if text.width() <= width {
-        return text.to_string();
-    }
-    let mut out = String::new();
-    let mut used = 0;
-    for c in text.chars() {
-        let w = c.width().unwrap_or(0);
-        if used + w + 1 > width {
-            break;
-        }
-        used += w;
-        out.push(c);
-    }
-    if width > 0 {
-        out.push('…');
-    }
-    out
 }

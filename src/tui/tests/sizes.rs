@@ -100,6 +100,20 @@ fn prompts(app: &mut TestApp) {
     press(app, Char('p'));
 }
 
+fn browser(app: &mut TestApp) {
+    press(app, Char('b'));
+}
+
+fn browser_search(app: &mut TestApp) {
+    press_all(app, &[Char('b'), Char('/')]);
+    type_text(app, "euler");
+}
+
+fn filter(app: &mut TestApp) {
+    press(app, Char('f'));
+    type_text(app, "frames");
+}
+
 const SCREENS: &[(&str, Route)] = &[
     ("home", home),
     ("home_help", home_help),
@@ -115,6 +129,9 @@ const SCREENS: &[(&str, Route)] = &[
     ("reader_help", reader_help),
     ("stats", stats),
     ("prompts", prompts),
+    ("browser", browser),
+    ("browser_search", browser_search),
+    ("filter", filter),
 ];
 
 /// The frames of one screen at every size, one after the other.
