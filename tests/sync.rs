@@ -670,6 +670,12 @@ fn sync_needs_a_folder() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("missing: no such folder"));
+    std::fs::write(p.folder.join("a-file"), "").unwrap();
+    let out = sync_cmd(&p.laptop, &p.folder.join("a-file"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("a-file: not a folder"));
     let out = Command::new(env!("CARGO_BIN_EXE_flipcard"))
         .arg("sync")
         .env("FLIPCARD_DATA_DIR", &p.laptop)

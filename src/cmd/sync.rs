@@ -205,6 +205,12 @@ pub fn sync_store(
     config: &Config,
 ) -> anyhow::Result<Outcome> {
     if !dir.is_dir() {
+        if dir.exists() {
+            bail!(
+                "{}: not a folder (sync goes through a folder another tool keeps in step)",
+                dir.display()
+            );
+        }
         bail!(
             "{}: no such folder (create it, or point the sync tool's folder there)",
             dir.display()
