@@ -111,7 +111,8 @@ fn rating<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u8, D::Error> {
 fn difficulty<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
     match Option::<f64>::deserialize(d)? {
         Some(v) if !(1.0..=10.0).contains(&v) => Err(serde::de::Error::custom(format!(
-            "difficulty {v} is outside 1–10"
+            "difficulty {} is outside 1–10",
+            crate::text::num::show(v)
         ))),
         v => Ok(v),
     }
@@ -500,6 +501,13 @@ mod tests {
 {"deck":"d","card":"a","direction":"forward","reviewed_at":"2026-01-01T00:00:00.000Z","rating":3,"kind":"learn","elapsed_days":0,"scheduled_days":0,"stability":1.0,"difficulty":5.0,"state":"review","due":"2026-01-02T00:00:00.000Z","duration_ms":1,"undone":false},
 {"deck":"d","card":"a","direction":"forward","reviewed_at":"2026-01-03T00:00:00.000Z","rating":1,"kind":"review","elapsed_days":2,"scheduled_days":1,"stability":1.0,"difficulty":7.0,"state":"relearning","due":"2026-01-03T00:10:00.000Z","duration_ms":1,"undone":false}
 ]"#;
+
+    #[test]
+    fn a_difficulty_far_outside_its_range_is_named_in_short_form() {
+        let text = REVIEWS_JSON.replace("\"difficulty\":7.0", "\"difficulty\":1e300");
+        let e = parse(&text).err().map(|e| (e.line, e.message));
+        assert_eq!(e, Some((3, "difficulty 1e300 is outside 1–10".into())));
+    }
 
     #[test]
     fn json_reviews_are_read_and_a_lapse_counted() {
