@@ -547,7 +547,9 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 }
 
 /// The config's text. Opened without waiting, so a FIFO at its path is
-/// refused by name instead of blocking the app before it starts.
+/// refused by name instead of blocking the app before it starts. (The
+/// same open as `deck::files::open_regular`, which `sched`, a layer below
+/// `deck`, cannot call.)
 fn read_file(path: &Path) -> std::io::Result<String> {
     use std::io::Read;
     let mut options = std::fs::OpenOptions::new();
