@@ -11,6 +11,8 @@ use std::fmt;
 use std::io::{self, BufWriter, Write};
 use std::sync::Mutex;
 
+use crate::text::safe::{self, Escaper};
+
 /// The first failed write to standard output: its kind, and its text.
 static STDOUT_FAILURE: Mutex<Option<(io::ErrorKind, String)>> = Mutex::new(None);
 
@@ -27,39 +29,74 @@ fn note_stdout_failure(err: &io::Error) {
 
 /// Standard output, noting its first failure. Every writer to stdout sits
 /// on this, so even the flush a `BufWriter` does (and swallows) when
-/// dropped is noted.
-pub struct Stdout(io::StdoutLock<'static>);
+/// dropped is noted. It is the output edge: control characters are escaped
+/// here ([`text::safe`](crate::text::safe)), whatever printed them.
+pub struct Stdout {
+    lock: io::StdoutLock<'static>,
+    escaper: Escaper,
+}
+
+impl Stdout {
+    fn new() -> Stdout {
+        Stdout {
+            lock: io::stdout().lock(),
+            escaper: Escaper::default(),
+        }
+    }
+}
 
 impl Write for Stdout {
     fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
-        self.0.write(buf).inspect_err(note_stdout_failure)
+        let escaped = self.escaper.feed(buf);
+        self.lock
+            .write_all(&escaped)
+            .inspect_err(note_stdout_failure)?;
+        Ok(buf.len())
     }
 
     fn flush(&mut self) -> io::Result<()> {
-        self.0.flush().inspect_err(note_stdout_failure)
+        let held = self.escaper.finish();
+        self.lock
+            .write_all(&held)
+            .inspect_err(note_stdout_failure)?;
+        self.lock.flush().inspect_err(note_stdout_failure)
+    }
+}
+
+impl Drop for Stdout {
+    fn drop(&mut self) {
+        let held = self.escaper.finish();
+        if !held.is_empty() {
+            let _ = self.lock.write_all(&held).inspect_err(note_stdout_failure);
+        }
     }
 }
 
 /// Buffered standard output for long outputs; flush it before returning.
 pub fn stdout() -> BufWriter<Stdout> {
-    BufWriter::new(Stdout(io::stdout().lock()))
+    BufWriter::new(Stdout::new())
 }
 
 /// Writes to standard output (see [`out!`](crate::out) and
 /// [`outln!`](crate::outln)).
 pub fn write_stdout(args: fmt::Arguments) -> io::Result<()> {
-    Stdout(io::stdout().lock()).write_fmt(args)
+    let text = args.to_string();
+    Stdout::new().write_all(safe::escape(&text).as_bytes())
 }
 
-/// Writes to standard error, best effort (see [`errln!`](crate::errln)).
+/// Writes to standard error, best effort (see [`errln!`](crate::errln)),
+/// control characters escaped: errors and warnings quote input.
 pub fn write_stderr(args: fmt::Arguments) {
-    let _ = io::stderr().lock().write_fmt(args);
+    let text = args.to_string();
+    let _ = io::stderr()
+        .lock()
+        .write_all(safe::escape(&text).as_bytes());
 }
 
 /// Flushes what the standard library still buffers (a last line without
 /// its newline), noting a failure.
 pub fn flush_stdout() {
-    let _ = Stdout(io::stdout().lock()).flush();
+    let _ = Stdout::new().flush();
 }
 
 /// How standard output fared.

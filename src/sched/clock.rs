@@ -51,6 +51,41 @@ pub fn parse(text: &str) -> Result<DateTime<Utc>, ClockError> {
     Ok(t)
 }
 
+/// How far ahead of this machine's clock a time from elsewhere may be: two
+/// machines' clocks rarely agree to the second, and a hardware clock kept
+/// in local time is off by up to fourteen hours.
+pub const FUTURE_SKEW: chrono::TimeDelta = chrono::TimeDelta::days(1);
+
+/// Checks the time of an answer or event read from a file flipcard did not
+/// write (a sync line, a learner's export, an Anki revlog): from 1970 up to
+/// [`FUTURE_SKEW`] after `now`, and never past [`latest`], so every time the
+/// app stores can be written back as RFC 3339.
+pub fn check_event_time(t: DateTime<Utc>, now: DateTime<Utc>) -> Result<(), String> {
+    if t < earliest() {
+        return Err(format!("{} is before 1970", rfc3339(t)));
+    }
+    let bound = (now + FUTURE_SKEW).min(latest());
+    if t > bound {
+        return Err(format!(
+            "{} is in the future (this machine's clock says {})",
+            rfc3339_or_year(t),
+            rfc3339(now)
+        ));
+    }
+    Ok(())
+}
+
+/// A time for a message: RFC 3339 when it has one (years 0–9999), else
+/// its year alone.
+fn rfc3339_or_year(t: DateTime<Utc>) -> String {
+    use chrono::Datelike;
+    if (0..=9999).contains(&t.year()) {
+        rfc3339(t)
+    } else {
+        format!("a time in the year {}", t.year())
+    }
+}
+
 fn rfc3339(t: DateTime<Utc>) -> String {
     t.to_rfc3339_opts(chrono::SecondsFormat::Secs, true)
 }
@@ -74,6 +109,23 @@ mod tests {
     use chrono::TimeDelta;
 
     use super::*;
+
+    #[test]
+    fn event_times_are_bounded_by_1970_and_now_plus_a_day() {
+        let now = parse("2026-11-22T09:00:00Z").unwrap();
+        assert!(check_event_time(now, now).is_ok());
+        assert!(check_event_time(earliest(), now).is_ok());
+        assert!(check_event_time(now + TimeDelta::hours(23), now).is_ok());
+        let err = check_event_time(now + TimeDelta::hours(25), now).unwrap_err();
+        assert!(err.contains("in the future"), "{err}");
+        let err = check_event_time(earliest() - TimeDelta::milliseconds(1), now).unwrap_err();
+        assert!(err.contains("before 1970"), "{err}");
+        let far = DateTime::parse_from_rfc3339("9999-12-31T23:59:59.999-23:59")
+            .unwrap()
+            .with_timezone(&Utc);
+        let err = check_event_time(far, latest()).unwrap_err();
+        assert!(err.contains("year 10000"), "{err}");
+    }
 
     #[test]
     fn clocks_in_range_parse_in_any_offset() {

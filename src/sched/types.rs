@@ -58,7 +58,11 @@ impl Direction {
                 if digits.starts_with('0') || !digits.bytes().all(|b| b.is_ascii_digit()) {
                     return None;
                 }
-                digits.parse().ok().filter(|n| *n > 0).map(Direction::Cloze)
+                digits
+                    .parse()
+                    .ok()
+                    .filter(|n| (1..=crate::deck::cloze::MAX_NUMBER).contains(n))
+                    .map(Direction::Cloze)
             }
         }
     }
@@ -70,6 +74,43 @@ pub struct ItemKey {
     pub deck: String,
     pub card: String,
     pub direction: Direction,
+}
+
+impl ItemKey {
+    /// An item named by a file flipcard did not write (a sync line, a
+    /// learner's export, an imported log): deck and card ids of the deck
+    /// format's pattern (`[a-z0-9]` words joined by `-`),
+    /// a direction `forward`, `backward` or `c1` … `c999`. The error quotes
+    /// the value on one line, control characters escaped.
+    pub fn parse(deck: &str, card: &str, direction: &str) -> Result<ItemKey, String> {
+        for (what, id) in [("deck", deck), ("card", card)] {
+            if !crate::deck::validate::is_id(id) {
+                return Err(format!(
+                    "{what} id \"{}\" is not an id (lowercase letters and digits in words joined by -)",
+                    crate::text::safe::one_line(&shorten(id))
+                ));
+            }
+        }
+        let direction = Direction::parse(direction).ok_or_else(|| {
+            format!(
+                "direction \"{}\" is not forward, backward or c1 … c999",
+                crate::text::safe::one_line(&shorten(direction))
+            )
+        })?;
+        Ok(ItemKey {
+            deck: deck.into(),
+            card: card.into(),
+            direction,
+        })
+    }
+}
+
+/// At most 40 characters of a value quoted in a message.
+fn shorten(s: &str) -> String {
+    match s.char_indices().nth(40) {
+        Some((i, _)) => format!("{}…", &s[..i]),
+        None => s.to_string(),
+    }
 }
 
 /// What kind of answer a review-log row records.
@@ -122,4 +163,29 @@ pub struct ReviewRecord {
     pub after: CardState,
     /// How long the learner took to answer.
     pub duration_ms: i64,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn item_keys_from_other_files_are_ids_of_the_deck_format() {
+        let k = ItemKey::parse("euler", "card-2", "c999").unwrap();
+        assert_eq!(k.direction, Direction::Cloze(999));
+        for (deck, card, dir, why) in [
+            ("../x", "c", "forward", "deck id"),
+            ("d", "a/b", "forward", "card id"),
+            ("d", "", "forward", "card id"),
+            ("D", "c", "forward", "deck id"),
+            ("d", "c\u{1b}[2J", "forward", "\\u001b"),
+            ("d", "c", "c1000", "c999"),
+            ("d", "c", "c0", "c999"),
+            ("d", "c", "sideways", "c999"),
+        ] {
+            let err = ItemKey::parse(deck, card, dir).unwrap_err();
+            assert!(err.contains(why), "{deck} {card} {dir}: {err}");
+            assert!(!err.contains('\u{1b}'), "{err}");
+        }
+    }
 }

@@ -12,6 +12,7 @@ mod lang;
 mod locate;
 pub mod markup;
 pub mod num;
+pub mod safe;
 mod tree;
 mod unicode;
 
