@@ -57,9 +57,10 @@ pub struct Escaper {
 
 impl Escaper {
     /// The escaped bytes of `buf`, after what was held from before.
-    pub fn feed(&mut self, buf: &[u8]) -> Cow<'_, [u8]> {
-        if self.held.is_empty() && !buf.iter().any(|&b| b < 0x20 || b >= 0x7f) {
-            return Cow::Owned(buf.to_vec());
+    pub fn feed<'a>(&mut self, buf: &'a [u8]) -> Cow<'a, [u8]> {
+        let plain = |b: &u8| (0x20..0x7f).contains(b) || *b == b'\n' || *b == b'\t';
+        if self.held.is_empty() && buf.iter().all(plain) {
+            return Cow::Borrowed(buf);
         }
         let mut bytes = std::mem::take(&mut self.held);
         bytes.extend_from_slice(buf);
