@@ -11,9 +11,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use chrono::{DateTime, TimeDelta, Utc};
-use flipcard::cmd::sync::sync_with;
 use flipcard::sched::{Config, Direction, ItemKey, Rating, Scheduler};
 use flipcard::store::{StatusAction, Store};
+use flipcard::sync::{Outcome, Wait};
 
 const CARDS: usize = 1000;
 
@@ -78,6 +78,10 @@ fn study(data: &Path, n: usize, offset: i64, config: &Config) {
     }
 }
 
+fn sync_with(data: &Path, folder: &Path, config: &Config) -> Result<Outcome, String> {
+    flipcard::sync::sync_with(data, folder, config, Utc::now(), Wait::No).map_err(|e| e.to_string())
+}
+
 fn timed<T>(what: &str, f: impl FnOnce() -> T) -> T {
     let t0 = Instant::now();
     let out = f();
@@ -117,6 +121,33 @@ fn main() {
     });
     println!("  {}", o.summary(&folder));
     let o = timed("lab, nothing new", || {
+        sync_with(&lab, &folder, &config).unwrap()
+    });
+    println!("  {}", o.summary(&folder));
+    let o = timed("laptop, nothing new", || {
+        sync_with(&laptop, &folder, &config).unwrap()
+    });
+    println!("  {}", o.summary(&folder));
+    // What a sync after a session costs: one new answer here, nothing new
+    // in the folder (every file is read again; the app does this in the
+    // background).
+    {
+        let mut store = Store::open(&laptop).unwrap();
+        let key = ItemKey {
+            deck: "bench".into(),
+            card: "card-0".into(),
+            direction: Direction::Forward,
+        };
+        let at = Utc::now();
+        let state = store.state(&key).unwrap();
+        let r = Scheduler::new(&config).review(&key, state.as_ref(), Rating::Good, at, 2000);
+        store.record(&r).unwrap();
+    }
+    let o = timed("laptop, one new answer of its own", || {
+        sync_with(&laptop, &folder, &config).unwrap()
+    });
+    println!("  {}", o.summary(&folder));
+    let o = timed("lab, merges that one answer", || {
         sync_with(&lab, &folder, &config).unwrap()
     });
     println!("  {}", o.summary(&folder));

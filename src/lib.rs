@@ -3,7 +3,8 @@
 //!
 //! Layers, each using only those listed before it: `text` (math and
 //! words), `sim` (the simulator), `deck` (TOML into validated decks),
-//! `sched` (scheduling), `store` (the review database), `tui` (the terminal
+//! `sched` (scheduling), `store` (the review database), `predict` (grading
+//! predictions), `sync` (between a learner's machines), `tui` (the terminal
 //! app), `cmd` (the subcommands). Only `tui` draws; only `cmd` and `tui`
 //! see the command line or print.
 
@@ -13,5 +14,6 @@ pub mod predict;
 pub mod sched;
 pub mod sim;
 pub mod store;
+pub mod sync;
 pub mod text;
 pub mod tui;

@@ -10,13 +10,13 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// Bottom to top: a module may use those before it.
-const LAYERS: [&str; 8] = [
-    "text", "sim", "deck", "sched", "store", "predict", "tui", "cmd",
+const LAYERS: [&str; 9] = [
+    "text", "sim", "deck", "sched", "store", "predict", "sync", "tui", "cmd",
 ];
 
 /// Modules that compute and return values: no printing, no exiting, no
 /// command line, no terminal.
-const DOMAIN: [&str; 6] = ["text", "sim", "deck", "sched", "store", "predict"];
+const DOMAIN: [&str; 7] = ["text", "sim", "deck", "sched", "store", "predict", "sync"];
 
 fn src() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("src")

@@ -10,8 +10,9 @@ use crate::cmd::paths;
 use crate::sched::Config;
 use crate::store::Store;
 use crate::store::catalog::{Filter, parse_span};
+use crate::sync::Wait;
 use crate::tui::app::{App, DeckLoad};
-use crate::tui::services::{Clock, DayZone, Services, Synced};
+use crate::tui::services::{Clock, DayZone, Services};
 use crate::tui::theme::Theme;
 
 pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
@@ -43,22 +44,10 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let mut services = Services::new(clock, config, config_path, DayZone::Local, store);
     services.bench_csv = paths::bench_csv();
     if let Some(dir) = sync_dir.clone() {
-        let data = data_dir.clone();
-        services.after_session = Some(Box::new(move |store, config| {
-            crate::cmd::sync::sync_store(store, &data, &dir, config)
-                .map(|o| Synced {
-                    written: o.written + o.written_statuses + o.written_undos,
-                    merged: o.merged + o.merged_statuses + o.merged_undos,
-                    warnings: o.warnings,
-                })
-                .map_err(|e| {
-                    format!(
-                        "sync through {} failed: {}",
-                        dir.display(),
-                        crate::cmd::output::chain_text(&e)
-                    )
-                })
-        }));
+        services.after_session = Some(Box::new(crate::sync::background::Background::new(
+            data_dir.clone(),
+            dir,
+        )));
     }
     let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
     app.deck_load = deck_load;
@@ -72,6 +61,8 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     }
     let ran = crate::tui::run(&mut app);
     let config = app.services.config.clone();
+    // A sync still running in the background ends before the last one
+    // (the data folder's lock makes the last one wait for it).
     drop(app);
     if let Some(dir) = &sync_dir {
         auto_sync(&data_dir, dir, &config);
@@ -104,7 +95,17 @@ fn review_filter(args: &ReviewArgs) -> anyhow::Result<Filter> {
 /// A sync the config asks for: a failure is a warning, never a reason to
 /// keep the learner from studying.
 fn auto_sync(data_dir: &std::path::Path, dir: &std::path::Path, config: &Config) {
-    match crate::cmd::sync::sync_with(data_dir, dir, config) {
+    let done = crate::sched::clock::now()
+        .map_err(anyhow::Error::from)
+        .and_then(|now| {
+            crate::sync::sync_with(data_dir, dir, config, now, Wait::Up(AUTO_SYNC_WAIT)).map_err(
+                |e| match e {
+                    crate::sync::LockError::Other(e) => e,
+                    busy => anyhow::anyhow!("{busy}"),
+                },
+            )
+        });
+    match done {
         Ok(outcome) => {
             for w in &outcome.warnings {
                 crate::errln!("flipcard: warning: {w}");
@@ -117,3 +118,7 @@ fn auto_sync(data_dir: &std::path::Path, dir: &std::path::Path, config: &Config)
         ),
     }
 }
+
+/// How long the app's sync waits for another sync of the same data folder
+/// (a background one still running when the app closes).
+const AUTO_SYNC_WAIT: std::time::Duration = std::time::Duration::from_secs(60);

@@ -51,6 +51,13 @@ pub fn parse(text: &str) -> Result<DateTime<Utc>, ClockError> {
     Ok(t)
 }
 
+/// `t` to the millisecond, the precision the log and sync files keep:
+/// every choice that shapes a state (the interval fuzz) is made from the
+/// time as it is stored, so replaying a synced answer gives the same state.
+pub fn to_millisecond(t: DateTime<Utc>) -> DateTime<Utc> {
+    DateTime::from_timestamp_millis(t.timestamp_millis()).unwrap_or(t)
+}
+
 /// How far ahead of this machine's clock a time from elsewhere may be: two
 /// machines' clocks rarely agree to the second, and a hardware clock kept
 /// in local time is off by up to fourteen hours.

@@ -424,7 +424,12 @@ fn unit_random(key: &ItemKey, now: DateTime<Utc>) -> f64 {
     // FNV-1a over the identity, then a SplitMix64 finaliser: stable across
     // platforms and Rust versions, unlike `std`'s hasher.
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    let micros = now.timestamp_micros().to_le_bytes();
+    // The time as the log and sync files keep it (whole milliseconds, here
+    // spelled in microseconds as before): a replay of a synced answer draws
+    // the same number as the machine that gave it.
+    let micros = super::clock::to_millisecond(now)
+        .timestamp_micros()
+        .to_le_bytes();
     for bytes in [
         key.deck.as_bytes(),
         &[0xff],

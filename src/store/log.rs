@@ -1,6 +1,7 @@
 //! The append-only review log: recording a rating, undoing the last one,
 //! reading rows back.
 
+use chrono::{DateTime, Utc};
 use rusqlite::{Row, Transaction, TransactionBehavior, params};
 
 use super::codec::{self, Ms, to_ms};
@@ -172,6 +173,35 @@ impl Store {
         Ok(out)
     }
 
+    /// The time to record an answer of `key` given at `now`: `now` to the
+    /// millisecond (the precision the log and sync keep), or a millisecond
+    /// after the item's latest answer when that is not earlier (a frozen or
+    /// stepped-back clock), so two answers are never taken for one: an
+    /// answer's identity across machines is its item, time and rating.
+    pub fn answer_time(
+        &self,
+        key: &ItemKey,
+        now: DateTime<Utc>,
+    ) -> Result<DateTime<Utc>, StoreError> {
+        let now = crate::sched::clock::to_millisecond(now);
+        let latest: Option<Ms> = self
+            .conn
+            .prepare_cached(
+                "SELECT max(reviewed_at) FROM review WHERE deck = ?1 AND card = ?2 \
+                 AND direction = ?3",
+            )
+            .and_then(|mut st| {
+                st.query_row(params![key.deck, key.card, key.direction.as_str()], |r| {
+                    r.get(0)
+                })
+            })
+            .map_err(|e| self.err(e))?;
+        Ok(match latest {
+            Some(Ms(t)) if t >= now => t + chrono::TimeDelta::milliseconds(1),
+            _ => now,
+        })
+    }
+
     /// The number of rows in the log (undone ones included).
     pub fn review_count(&self) -> Result<i64, StoreError> {
         self.conn
@@ -191,7 +221,7 @@ pub(super) fn append(
     session: i64,
     r: &ReviewRecord,
 ) -> rusqlite::Result<i64> {
-    let id = insert_row(tx, session, r, false)?;
+    let id = insert_row(tx, session, r, false, None)?;
     if r.kind != ReviewKind::Cram {
         state::apply(tx, r, id)?;
     }
@@ -200,19 +230,21 @@ pub(super) fn append(
 }
 
 /// One row of the review log as it is written (the only INSERT into it, so
-/// an append and a merge spell the columns alike).
+/// an append and a merge spell the columns alike). `origin` is the machine
+/// a merged answer came from (`None`: this one).
 pub(super) fn insert_row(
     tx: &Transaction<'_>,
     session: i64,
     r: &ReviewRecord,
     undone: bool,
+    origin: Option<&str>,
 ) -> rusqlite::Result<i64> {
     let a = &r.after;
     tx.prepare_cached(
         "INSERT INTO review (session, deck, card, direction, reviewed_at, rating, kind, \
          elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review, \
-         duration_ms, undone) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, \
-         ?14, ?15, ?16, ?17) RETURNING id",
+         duration_ms, undone, origin) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, \
+         ?12, ?13, ?14, ?15, ?16, ?17, ?18) RETURNING id",
     )?
     .query_row(
         params![
@@ -233,6 +265,7 @@ pub(super) fn insert_row(
             a.last_review.map(Ms),
             r.duration_ms,
             i64::from(undone),
+            origin,
         ],
         |row| row.get(0),
     )

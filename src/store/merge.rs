@@ -121,6 +121,8 @@ impl Store {
         let mut session = None;
         let none = HashSet::new();
         for (key, incoming) in by_item {
+            // Answers imported here are this machine's to publish.
+            let incoming: Vec<_> = incoming.into_iter().map(|r| (r, None)).collect();
             let m = merge_one(&tx, &mut session, key, &incoming, &none, None, scheduler)?;
             summary.added += m.added;
             summary.added_undone += m.added_undone;
@@ -154,12 +156,14 @@ pub(super) struct ItemMerge {
 /// earliest change (or after `replay_from`, an answer undone here that
 /// others have not seen undone yet) is replayed, so the item's states are
 /// the replay of its live answers in time order. `session` is made on the
-/// first write.
+/// first write. Each incoming answer comes with the machine it came from
+/// (`None`: this one), which its row keeps, as a replayed row keeps its
+/// original's.
 pub(super) fn merge_one(
     tx: &Transaction<'_>,
     session: &mut Option<i64>,
     key: &ItemKey,
-    incoming: &[&IncomingReview],
+    incoming: &[(&IncomingReview, Option<&str>)],
     undo: &HashSet<Identity>,
     replay_from: Option<DateTime<Utc>>,
     scheduler: &Scheduler,
@@ -171,19 +175,22 @@ pub(super) fn merge_one(
         .iter()
         .map(|l| (to_ms(l.record.reviewed_at), l.record.rating))
         .collect();
-    let mut fresh: Vec<IncomingReview> = Vec::new();
-    for r in incoming {
+    let mut fresh: Vec<(IncomingReview, Option<&str>)> = Vec::new();
+    for (r, origin) in incoming {
         if seen.insert(r.identity()) {
             let undone = r.undone || undo.contains(&r.identity());
-            fresh.push(IncomingReview {
-                undone,
-                ..(*r).clone()
-            });
+            fresh.push((
+                IncomingReview {
+                    undone,
+                    ..(*r).clone()
+                },
+                *origin,
+            ));
         } else {
             out.duplicates += 1;
         }
     }
-    let mut t0 = fresh.iter().map(|r| r.reviewed_at).min();
+    let mut t0 = fresh.iter().map(|(r, _)| r.reviewed_at).min();
     let mut taken_back: HashSet<i64> = HashSet::new();
     if !undo.is_empty() {
         for l in &existing {
@@ -212,14 +219,14 @@ pub(super) fn merge_one(
         .iter()
         .filter(|l| !l.undone && !taken_back.contains(&l.id))
         .collect();
-    let fresh_refs: Vec<&IncomingReview> = fresh.iter().collect();
     let session_id = match *session {
         Some(s) => s,
         None => *session.insert(insert_session(tx).map_err(sql_err)?),
     };
-    out.replayed_local = merge_item(tx, session_id, key, live, &fresh_refs, t0, scheduler)?;
+    let origins = item_origins(tx, key).map_err(sql_err)?;
+    out.replayed_local = merge_item(tx, session_id, key, live, &fresh, &origins, t0, scheduler)?;
     out.added = fresh.len();
-    out.added_undone = fresh.iter().filter(|r| r.undone).count();
+    out.added_undone = fresh.iter().filter(|(r, _)| r.undone).count();
     state::refresh_item(tx, key).map_err(sql_err)?;
     Ok(out)
 }
@@ -227,7 +234,8 @@ pub(super) fn merge_one(
 /// One answer in the replay: a local live row or an incoming one.
 struct Step<'a> {
     at: DateTime<Utc>,
-    /// Local rows first among equal times (they were there first).
+    /// Local rows first among equal times and ratings (there is only one
+    /// answer of an identity: a tie breaker that never decides).
     incoming: bool,
     rating: Rating,
     cram: bool,
@@ -235,6 +243,8 @@ struct Step<'a> {
     undone: bool,
     /// The local row this step may re-append, to be marked undone.
     local: Option<&'a LoggedReview>,
+    /// The machine the answer came from (`None`: this one).
+    origin: Option<&'a str>,
 }
 
 /// Appends `fresh` and replays the live local answers after `t0` from the
@@ -242,12 +252,14 @@ struct Step<'a> {
 /// the row it has stays as it is, as long as nothing was appended before
 /// it (so each item's live rows stay in time order by id); the others are
 /// marked undone and appended again. Returns how many were re-appended.
-fn merge_item(
+#[allow(clippy::too_many_arguments)]
+fn merge_item<'a>(
     tx: &Transaction<'_>,
     session: i64,
     key: &ItemKey,
-    mut live: Vec<&LoggedReview>,
-    fresh: &[&IncomingReview],
+    mut live: Vec<&'a LoggedReview>,
+    fresh: &'a [(IncomingReview, Option<&'a str>)],
+    origins: &'a std::collections::HashMap<i64, String>,
     t0: DateTime<Utc>,
     scheduler: &Scheduler,
 ) -> Result<usize, StoreError> {
@@ -270,9 +282,10 @@ fn merge_item(
             duration_ms: l.record.duration_ms,
             undone: false,
             local: Some(l),
+            origin: origins.get(&l.id).map(String::as_str),
         })
         .collect();
-    steps.extend(fresh.iter().map(|r| Step {
+    steps.extend(fresh.iter().map(|(r, origin)| Step {
         at: r.reviewed_at,
         incoming: true,
         rating: r.rating,
@@ -280,8 +293,11 @@ fn merge_item(
         duration_ms: r.duration_ms,
         undone: r.undone,
         local: None,
+        origin: *origin,
     }));
-    steps.sort_by_key(|s| (s.at, s.incoming));
+    // In time order; answers of the same millisecond (two machines, or a
+    // frozen clock) by rating, so every machine replays them alike.
+    steps.sort_by_key(|s| (s.at, s.rating, s.incoming));
 
     let mut appended = false;
     let mut relocated = 0;
@@ -307,9 +323,25 @@ fn merge_item(
             relocated += 1;
         }
         appended = true;
-        insert_row(tx, session, &record, s.undone).map_err(sql_err)?;
+        insert_row(tx, session, &record, s.undone, s.origin).map_err(sql_err)?;
     }
     Ok(relocated)
+}
+
+/// The machine each of an item's rows came from, for the rows merged from
+/// another.
+fn item_origins(
+    tx: &Transaction<'_>,
+    key: &ItemKey,
+) -> rusqlite::Result<std::collections::HashMap<i64, String>> {
+    let mut st = tx.prepare_cached(
+        "SELECT id, origin FROM review WHERE deck = ?1 AND card = ?2 AND direction = ?3 \
+         AND origin IS NOT NULL",
+    )?;
+    let rows = st.query_map(params![key.deck, key.card, key.direction.as_str()], |r| {
+        Ok((r.get(0)?, r.get(1)?))
+    })?;
+    rows.collect()
 }
 
 /// Every row of one item (undone ones included), in id order.

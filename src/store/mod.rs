@@ -27,6 +27,7 @@ pub mod stats;
 pub mod status;
 pub mod sync;
 pub mod sync_merge;
+pub mod sync_state;
 mod tally;
 pub mod today;
 pub mod true_retention;

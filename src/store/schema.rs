@@ -9,7 +9,7 @@ use rusqlite::{Connection, TransactionBehavior};
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
-pub const MIGRATIONS: &[&str] = &[V1, V2];
+pub const MIGRATIONS: &[&str] = &[V1, V2, V3];
 
 /// The schema version this build writes.
 pub fn current_version() -> i64 {
@@ -290,6 +290,79 @@ CREATE TABLE item_status (
 ) STRICT, WITHOUT ROWID;
 "#;
 
+/// Version 3: where each answer and status event came from, for sync.
+/// `origin` is the machine id of the sync file an event was merged from;
+/// NULL is this database's own machine. It may be set once (a row merged
+/// before origins were kept, or this machine's rows when it takes a new id)
+/// and never changed after. The sync tables remember, per folder, what the
+/// last sync saw (so a sync with nothing new does nothing) and, per file,
+/// the line up to which its problems were reported (a written line never
+/// changes, so each is reported once).
+const V3: &str = r#"
+ALTER TABLE review ADD COLUMN origin TEXT CHECK (origin <> '');
+ALTER TABLE status_event ADD COLUMN origin TEXT CHECK (origin <> '');
+
+DROP TRIGGER review_only_undo;
+CREATE TRIGGER review_only_undo BEFORE UPDATE ON review
+WHEN (NEW.undone IS NOT OLD.undone AND NEW.undone IS NOT 1)
+  OR (NEW.origin IS NOT OLD.origin AND OLD.origin IS NOT NULL)
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.card IS NOT OLD.card
+  OR NEW.direction IS NOT OLD.direction
+  OR NEW.reviewed_at IS NOT OLD.reviewed_at
+  OR NEW.rating IS NOT OLD.rating
+  OR NEW.kind IS NOT OLD.kind
+  OR NEW.elapsed_days IS NOT OLD.elapsed_days
+  OR NEW.scheduled_days IS NOT OLD.scheduled_days
+  OR NEW.stability IS NOT OLD.stability
+  OR NEW.difficulty IS NOT OLD.difficulty
+  OR NEW.state IS NOT OLD.state
+  OR NEW.step IS NOT OLD.step
+  OR NEW.due IS NOT OLD.due
+  OR NEW.last_review IS NOT OLD.last_review
+  OR NEW.duration_ms IS NOT OLD.duration_ms
+BEGIN
+    SELECT RAISE(ABORT, 'the review log is append-only: only undone may change, to 1, and origin, once');
+END;
+
+DROP TRIGGER status_event_only_undo;
+CREATE TRIGGER status_event_only_undo BEFORE UPDATE ON status_event
+WHEN (NEW.undone IS NOT OLD.undone AND NEW.undone IS NOT 1)
+  OR (NEW.origin IS NOT OLD.origin AND OLD.origin IS NOT NULL)
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.card IS NOT OLD.card
+  OR NEW.direction IS NOT OLD.direction
+  OR NEW.at IS NOT OLD.at
+  OR NEW.action IS NOT OLD.action
+  OR NEW.until IS NOT OLD.until
+  OR NEW.cause IS NOT OLD.cause
+  OR NEW.after_review IS NOT OLD.after_review
+  OR NEW.batch IS NOT OLD.batch
+BEGIN
+    SELECT RAISE(ABORT, 'the status log is append-only: only undone may change, to 1, and origin, once');
+END;
+
+-- A new status event is timed after every one this log holds (a hybrid
+-- logical clock): the latest is found through this index.
+CREATE INDEX status_event_at ON status_event(at);
+
+CREATE TABLE sync_folder (
+    dir          TEXT PRIMARY KEY,
+    fingerprint  TEXT NOT NULL
+) STRICT;
+
+CREATE TABLE sync_file (
+    dir               TEXT NOT NULL,
+    name              TEXT NOT NULL,
+    reported_through  INTEGER NOT NULL CHECK (reported_through >= 0),
+    PRIMARY KEY (dir, name)
+) STRICT, WITHOUT ROWID;
+"#;
+
 /// Brings the database at `path` up to the last of `migrations`. Before the
 /// first migration of a database that already holds a schema, a copy is made
 /// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
@@ -414,7 +487,9 @@ mod tests {
                 "review",
                 "review_tally",
                 "session",
-                "status_event"
+                "status_event",
+                "sync_file",
+                "sync_folder"
             ]
         );
         let entries = std::fs::read_dir(dir.path()).unwrap().count();

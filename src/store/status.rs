@@ -2,9 +2,17 @@
 //! (out of the queue until a given time, the start of the next study day),
 //! leech (lapsed too often). Every change is an event in the append-only
 //! status log; the `item_status` cache is derived from it alone and
-//! rebuilt with the card states. The latest live event by time decides
-//! (the log's order only between events of the same millisecond), so
-//! events merged from another machine count where they happened.
+//! rebuilt with the card states. The latest live event by time decides, so
+//! events merged from another machine count where they happened; between
+//! events of the same millisecond an unsuspend comes last, then the later
+//! end of a bury (the same order on every machine, whatever order their
+//! rows were written in).
+//!
+//! The time of a change the learner makes here is a hybrid logical clock
+//! ([`event_time`]): the wall clock, or a millisecond after every event this
+//! log holds when that is later, so a change just made always takes effect,
+//! here and on every machine that merges it, even when an event from a
+//! machine whose clock runs ahead is already in the log.
 
 use std::collections::HashMap;
 
@@ -18,7 +26,7 @@ use super::log::LoggedReview;
 use crate::sched::{Direction, ItemKey, Rating, ReviewKind, ReviewRecord};
 
 /// What a status event does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum StatusAction {
     Suspend,
     /// Lifts a suspension and a bury.
@@ -113,11 +121,11 @@ const STATUS_OF: &str = "SELECT k.deck, k.card, k.direction, \
     coalesce((SELECT e.action = 'suspend' FROM status_event AS e \
               WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
                 AND e.undone = 0 AND e.action IN ('suspend', 'unsuspend') \
-              ORDER BY e.at DESC, e.id DESC LIMIT 1), 0), \
+              ORDER BY e.at DESC, e.action DESC, e.id DESC LIMIT 1), 0), \
     (SELECT e.until FROM status_event AS e \
      WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
        AND e.undone = 0 AND e.action IN ('bury', 'unsuspend') \
-     ORDER BY e.at DESC, e.id DESC LIMIT 1), \
+     ORDER BY e.at DESC, e.action DESC, e.until DESC, e.id DESC LIMIT 1), \
     EXISTS (SELECT 1 FROM status_event AS e \
             WHERE e.deck = k.deck AND e.card = k.card AND e.direction = k.direction \
               AND e.undone = 0 AND e.action = 'leech')";
@@ -173,6 +181,22 @@ pub(super) fn rebuild(tx: &Transaction<'_>) -> rusqlite::Result<bool> {
         [],
     )?;
     Ok(read(tx)? != before)
+}
+
+/// The time of a change the learner makes at `wall`: `wall` to the
+/// millisecond, or a millisecond after the latest event this log holds
+/// (merged ones included) when that is not earlier. The events of one change
+/// share it (they are of distinct items).
+pub(super) fn event_time(
+    tx: &Transaction<'_>,
+    wall: DateTime<Utc>,
+) -> rusqlite::Result<DateTime<Utc>> {
+    let wall = crate::sched::clock::to_millisecond(wall);
+    let latest: Option<Ms> = tx.query_row("SELECT max(at) FROM status_event", [], |r| r.get(0))?;
+    Ok(match latest {
+        Some(Ms(t)) if t >= wall => t + chrono::TimeDelta::milliseconds(1),
+        _ => wall,
+    })
 }
 
 /// The batch id of the next change: the id its first event will get.
@@ -293,7 +317,13 @@ impl Store {
         };
         let mut ids = Vec::with_capacity(keys.len());
         let batch = next_batch(&tx).map_err(sql_err)?;
+        let at = event_time(&tx, at).map_err(sql_err)?;
+        let mut seen = std::collections::HashSet::with_capacity(keys.len());
         for key in keys {
+            // One event an item: the same item named twice is one change.
+            if !seen.insert(key) {
+                continue;
+            }
             ids.push(append(&tx, session, batch, key, at, action, until, None).map_err(sql_err)?);
         }
         tx.commit().map_err(sql_err)?;
@@ -367,13 +397,14 @@ impl Store {
                     }
                 }
             }
+            let bury_at = event_time(&tx, at).map_err(sql_err)?;
             for sibling in after.bury.iter().filter(|s| **s != review.key) {
                 append(
                     &tx,
                     session,
                     batch,
                     sibling,
-                    at,
+                    bury_at,
                     StatusAction::Bury,
                     Some(after.bury_until),
                     Some(id),

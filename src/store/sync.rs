@@ -29,18 +29,20 @@
 //! A file another tool is still copying may end in a half line, or hold a
 //! line cut short: such lines are skipped with a warning and read next time.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use chrono::{DateTime, Utc};
 use serde::{Deserialize, Serialize};
 
+use super::codec::Ms;
 use super::db::Store;
 use super::error::StoreError;
 use super::export::rfc3339;
 use super::merge::IncomingReview;
 use super::status::StatusAction;
 use super::sync_merge::{IncomingStatus, ReviewId, StatusId};
-use crate::sched::{Direction, ItemKey, Rating, ReviewKind};
+use crate::sched::{ItemKey, Rating, ReviewKind, clock};
+use crate::text::safe::one_line;
 
 /// A `review` line, spelled as the first version of the format wrote it.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -135,63 +137,88 @@ pub enum Checked {
     UndoStatus(StatusId),
 }
 
-/// A review's identity across machines: item, time (ms) and rating, as
-/// the merge has it.
-pub type Identity = (String, String, String, i64, u8);
+/// The longest line read from a sync file: a line of this format is a few
+/// hundred bytes, and a longer one is not parsed at all.
+pub const MAX_LINE_BYTES: usize = 16 * 1024;
 
-fn time(s: &str) -> Result<DateTime<Utc>, String> {
-    DateTime::parse_from_rfc3339(s)
+fn time(s: &str, now: DateTime<Utc>) -> Result<DateTime<Utc>, LineError> {
+    let t = DateTime::parse_from_rfc3339(s)
         .map(|t| t.with_timezone(&Utc))
-        .map_err(|e| format!("time {s:?}: {e}"))
+        .map_err(|e| LineError::Bad(format!("time \"{}\": {e}", one_line(s))))?;
+    match clock::check_event_time(t, now) {
+        Ok(()) => Ok(t),
+        // Dated a little later than this machine's clock allows: it may be
+        // read once the clock gets there (another machine's clock runs
+        // ahead); further ahead than any clock is wrong, it never will be.
+        Err(why) if t > now && t <= now + chrono::TimeDelta::days(LATER_DAYS) => {
+            Err(LineError::Later(why))
+        }
+        Err(why) => Err(LineError::Bad(why)),
+    }
 }
 
-fn item(deck: &str, card: &str, direction: &str) -> Result<ItemKey, String> {
-    let direction = Direction::parse(direction)
-        .ok_or_else(|| format!("direction {direction:?} is not forward, backward or c1, c2, …"))?;
-    if deck.is_empty() || card.is_empty() {
-        return Err("empty deck or card id".into());
+/// How far ahead of this machine's clock a line may be dated and still be
+/// waited for (read again at each sync).
+const LATER_DAYS: i64 = 30;
+
+/// Why a line is not merged now.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LineError {
+    /// It never will be: the line is written and will not change.
+    Bad(String),
+    /// Dated after this machine's clock (plus the skew allowed): it is read
+    /// again at the next sync.
+    Later(String),
+}
+
+impl From<String> for LineError {
+    fn from(s: String) -> LineError {
+        LineError::Bad(s)
     }
-    Ok(ItemKey {
-        deck: deck.into(),
-        card: card.into(),
-        direction,
-    })
+}
+
+impl std::fmt::Display for LineError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LineError::Bad(s) | LineError::Later(s) => f.write_str(s),
+        }
+    }
 }
 
 fn rating(n: u8) -> Result<Rating, String> {
     Rating::from_number(i64::from(n)).ok_or_else(|| format!("rating {n} is not 1–4"))
 }
 
-fn review_id(deck: &str, card: &str, direction: &str, at: &str, r: u8) -> Result<ReviewId, String> {
+fn review_id(
+    deck: &str,
+    card: &str,
+    direction: &str,
+    at: &str,
+    r: u8,
+    now: DateTime<Utc>,
+) -> Result<ReviewId, LineError> {
     Ok((
-        item(deck, card, direction)?,
-        time(at)?.timestamp_millis(),
+        ItemKey::parse(deck, card, direction)?,
+        time(at, now)?.timestamp_millis(),
         rating(r)?,
     ))
 }
 
 impl SyncEvent {
-    pub fn identity(&self) -> Option<Identity> {
-        let at = DateTime::parse_from_rfc3339(&self.reviewed_at).ok()?;
-        Some((
-            self.deck.clone(),
-            self.card.clone(),
-            self.direction.clone(),
-            at.with_timezone(&Utc).timestamp_millis(),
-            self.rating,
-        ))
-    }
-
     /// The review to merge, or why the line cannot be one.
-    pub fn incoming(&self) -> Result<IncomingReview, String> {
+    pub fn incoming(&self, now: DateTime<Utc>) -> Result<IncomingReview, LineError> {
         if self.event != "review" {
-            return Err(format!("unknown event {:?}", self.event));
+            return Err(format!("unknown event \"{}\"", one_line(&self.event)).into());
         }
-        let key = item(&self.deck, &self.card, &self.direction)?;
+        let key = ItemKey::parse(&self.deck, &self.card, &self.direction)?;
         let rating = rating(self.rating)?;
-        let at = time(&self.reviewed_at)?;
-        if self.duration_ms < 0 {
-            return Err(format!("negative duration {} ms", self.duration_ms));
+        let at = time(&self.reviewed_at, now)?;
+        if !(0..=MAX_DURATION_MS).contains(&self.duration_ms) {
+            return Err(format!(
+                "duration {} ms is not between 0 and a day",
+                self.duration_ms
+            )
+            .into());
         }
         Ok(IncomingReview {
             key,
@@ -204,22 +231,49 @@ impl SyncEvent {
     }
 }
 
+/// The longest time spent on one answer a line may give.
+const MAX_DURATION_MS: i64 = 24 * 3600 * 1000;
+
 impl SyncLine {
-    /// The line checked for the merge, or why it cannot be merged.
-    pub fn check(&self) -> Result<Checked, String> {
+    /// The line checked for the merge (ids of the deck format, times from
+    /// 1970 to this machine's clock `now` plus a day), or why it cannot be
+    /// merged.
+    pub fn check(&self, now: DateTime<Utc>) -> Result<Checked, LineError> {
         match self {
-            SyncLine::Review(e) => e.incoming().map(Checked::Review),
+            SyncLine::Review(e) => e.incoming(now).map(Checked::Review),
             SyncLine::Status(s) => {
-                let key = item(&s.deck, &s.card, &s.direction)?;
-                let at = time(&s.at)?;
+                let key = ItemKey::parse(&s.deck, &s.card, &s.direction)?;
+                let at = time(&s.at, now)?;
                 let action = StatusAction::parse(&s.action)
                     .filter(|a| *a != StatusAction::Leech)
                     .ok_or_else(|| {
-                        format!("action {:?} is not suspend, unsuspend or bury", s.action)
+                        format!(
+                            "action \"{}\" is not suspend, unsuspend or bury",
+                            one_line(&s.action)
+                        )
                     })?;
-                let until = s.until.as_deref().map(time).transpose()?;
+                let until = match s.until.as_deref() {
+                    Some(u) => {
+                        let u = DateTime::parse_from_rfc3339(u)
+                            .map(|t| t.with_timezone(&Utc))
+                            .map_err(|e| format!("time \"{}\": {e}", one_line(u)))?;
+                        // Any end the log can write back (an unsuspend lifts
+                        // a bury, however long).
+                        if u < clock::earliest() || u > clock::latest() {
+                            return Err(format!(
+                                "the end of the bury, \"{}\", is outside 1970 to 9899",
+                                one_line(s.until.as_deref().unwrap_or_default())
+                            )
+                            .into());
+                        }
+                        Some(u)
+                    }
+                    None => None,
+                };
                 if (action == StatusAction::Bury) != until.is_some() {
-                    return Err("a bury, and only a bury, has an end time (until)".into());
+                    return Err("a bury, and only a bury, has an end time (until)"
+                        .to_string()
+                        .into());
                 }
                 let cause = match &s.cause {
                     Some(c) => Some(review_id(
@@ -228,11 +282,14 @@ impl SyncLine {
                         &c.direction,
                         &c.reviewed_at,
                         c.rating,
+                        now,
                     )?),
                     None => None,
                 };
                 if action == StatusAction::Suspend && cause.is_some() {
-                    return Err("the suspend of a leech is derived on each machine".into());
+                    return Err("the suspend of a leech is derived on each machine"
+                        .to_string()
+                        .into());
                 }
                 Ok(Checked::Status(IncomingStatus {
                     key,
@@ -243,17 +300,25 @@ impl SyncLine {
                     undone: s.undone,
                 }))
             }
-            SyncLine::UndoReview(u) => {
-                review_id(&u.deck, &u.card, &u.direction, &u.reviewed_at, u.rating)
-                    .map(Checked::UndoReview)
-            }
+            SyncLine::UndoReview(u) => review_id(
+                &u.deck,
+                &u.card,
+                &u.direction,
+                &u.reviewed_at,
+                u.rating,
+                now,
+            )
+            .map(Checked::UndoReview),
             SyncLine::UndoStatus(u) => {
-                let key = item(&u.deck, &u.card, &u.direction)?;
-                let at = time(&u.at)?;
+                let key = ItemKey::parse(&u.deck, &u.card, &u.direction)?;
+                let at = time(&u.at, now)?;
                 let action = StatusAction::parse(&u.action)
                     .filter(|a| *a != StatusAction::Leech)
                     .ok_or_else(|| {
-                        format!("action {:?} is not suspend, unsuspend or bury", u.action)
+                        format!(
+                            "action \"{}\" is not suspend, unsuspend or bury",
+                            one_line(&u.action)
+                        )
                     })?;
                 Ok(Checked::UndoStatus((key, at.timestamp_millis(), action)))
             }
@@ -278,7 +343,8 @@ impl SyncLine {
                 .map(SyncLine::UndoStatus)
                 .map_err(e),
             other => Err(format!(
-                "unknown event {other:?} (written by a newer flipcard?)"
+                "unknown event \"{}\" (written by a newer flipcard?)",
+                one_line(other)
             )),
         }
     }
@@ -298,12 +364,16 @@ impl SyncLine {
 pub struct Skipped {
     pub line: usize,
     pub why: String,
+    /// It may be read later: the last line, still being written, or a line
+    /// dated after this machine's clock.
+    pub later: bool,
 }
 
-/// The complete, well-formed lines of a sync file, checked. A last line
-/// without its newline is a write still under way; a line that does not
-/// parse was cut short or garbled in transit. Both are skipped and reported.
-pub fn read_lines(text: &str) -> (Vec<Checked>, Vec<Skipped>) {
+/// The complete, well-formed lines of a sync file, checked against the
+/// clock `now`. A last line without its newline is a write still under
+/// way; a line that does not parse was garbled, or forged. Both are left
+/// out and reported.
+pub fn read_lines(text: &str, now: DateTime<Utc>) -> (Vec<Checked>, Vec<Skipped>) {
     let mut lines_out = Vec::new();
     let mut skipped = Vec::new();
     let complete = text.ends_with('\n');
@@ -315,6 +385,7 @@ pub fn read_lines(text: &str) -> (Vec<Checked>, Vec<Skipped>) {
                 skipped.push(Skipped {
                     line: i + 1,
                     why: "the last line is incomplete (still being copied?)".into(),
+                    later: true,
                 });
             }
             break;
@@ -322,29 +393,33 @@ pub fn read_lines(text: &str) -> (Vec<Checked>, Vec<Skipped>) {
         if line.trim().is_empty() {
             continue;
         }
-        match SyncLine::parse(line).and_then(|l| l.check()) {
+        if line.len() > MAX_LINE_BYTES {
+            skipped.push(Skipped {
+                line: i + 1,
+                why: format!(
+                    "the line is {} bytes long (at most {MAX_LINE_BYTES})",
+                    line.len()
+                ),
+                later: false,
+            });
+            continue;
+        }
+        match SyncLine::parse(line)
+            .map_err(LineError::Bad)
+            .and_then(|l| l.check(now))
+        {
             Ok(c) => lines_out.push(c),
-            Err(why) => skipped.push(Skipped { line: i + 1, why }),
+            Err(e) => skipped.push(Skipped {
+                line: i + 1,
+                later: matches!(e, LineError::Later(_)),
+                why: e.to_string(),
+            }),
         }
     }
     (lines_out, skipped)
 }
 
-/// The review lines of a sync file (the other kinds are left out), as
-/// [`read_lines`] reads them.
-pub fn read_events(text: &str) -> (Vec<SyncEvent>, Vec<Skipped>) {
-    let (checked, skipped) = read_lines(text);
-    let events = checked
-        .into_iter()
-        .filter_map(|c| match c {
-            Checked::Review(r) => Some(review_line(&r)),
-            _ => None,
-        })
-        .collect();
-    (events, skipped)
-}
-
-fn review_line(r: &IncomingReview) -> SyncEvent {
+pub(crate) fn review_line(r: &IncomingReview) -> SyncEvent {
     SyncEvent {
         event: "review".into(),
         deck: r.key.deck.clone(),
@@ -355,6 +430,50 @@ fn review_line(r: &IncomingReview) -> SyncEvent {
         cram: r.cram,
         duration_ms: r.duration_ms,
         undone: r.undone,
+    }
+}
+
+/// The `undo_review` line of an answer.
+pub(crate) fn undo_review_line(r: &IncomingReview) -> UndoReviewLine {
+    UndoReviewLine {
+        event: "undo_review".into(),
+        deck: r.key.deck.clone(),
+        card: r.key.card.clone(),
+        direction: r.key.direction.as_str().into(),
+        reviewed_at: rfc3339(r.reviewed_at),
+        rating: r.rating as u8,
+    }
+}
+
+/// The `status` line of a status event.
+pub(crate) fn status_line(s: &IncomingStatus) -> StatusLine {
+    StatusLine {
+        event: "status".into(),
+        deck: s.key.deck.clone(),
+        card: s.key.card.clone(),
+        direction: s.key.direction.as_str().into(),
+        at: rfc3339(s.at),
+        action: s.action.as_str().into(),
+        until: s.until.map(rfc3339),
+        cause: s.cause.as_ref().map(|(k, ms, r)| CauseLine {
+            card: k.card.clone(),
+            direction: k.direction.as_str().into(),
+            reviewed_at: rfc3339(DateTime::from_timestamp_millis(*ms).unwrap_or_default()),
+            rating: *r as u8,
+        }),
+        undone: s.undone,
+    }
+}
+
+/// The `undo_status` line of a status event.
+pub(crate) fn undo_status_line(s: &IncomingStatus) -> UndoStatusLine {
+    UndoStatusLine {
+        event: "undo_status".into(),
+        deck: s.key.deck.clone(),
+        card: s.key.card.clone(),
+        direction: s.key.direction.as_str().into(),
+        at: rfc3339(s.at),
+        action: s.action.as_str().into(),
     }
 }
 
@@ -370,151 +489,79 @@ pub fn sync_line(l: &SyncLine) -> String {
     s
 }
 
-/// What the files of a folder hold, by identity.
-#[derive(Debug, Default)]
-pub struct Known {
-    pub reviews: HashSet<ReviewId>,
-    pub undone_reviews: HashSet<ReviewId>,
-    pub statuses: HashSet<StatusId>,
-    pub undone_statuses: HashSet<StatusId>,
+/// One answer of this machine's log, once per identity, with the machine
+/// it came from (`None`: this one).
+#[derive(Debug, Clone)]
+pub struct LocalReview {
+    /// Undone when every row with its identity is.
+    pub review: IncomingReview,
+    pub origin: Option<String>,
 }
 
-impl Known {
-    pub fn add(&mut self, line: &Checked) {
-        match line {
-            Checked::Review(r) => {
-                let id = r.review_id();
-                if r.undone {
-                    self.undone_reviews.insert(id.clone());
-                }
-                self.reviews.insert(id);
-            }
-            Checked::Status(s) => {
-                let id = s.status_id();
-                if s.undone {
-                    self.undone_statuses.insert(id.clone());
-                }
-                self.statuses.insert(id);
-            }
-            Checked::UndoReview(id) => {
-                self.undone_reviews.insert(id.clone());
-            }
-            Checked::UndoStatus(id) => {
-                self.undone_statuses.insert(id.clone());
-            }
-        }
-    }
+/// One status event that travels, once per identity.
+#[derive(Debug, Clone)]
+pub struct LocalStatus {
+    pub status: IncomingStatus,
+    pub origin: Option<String>,
 }
 
 /// This machine's history as sync lines: each review and each status
 /// event that travels once, live when any of its rows is (a review the
-/// merge re-appended after an earlier one arrived is one review).
+/// merge re-appended after an earlier one arrived is one review), in the
+/// log's order.
 #[derive(Debug, Default)]
 pub struct Local {
-    pub reviews: Vec<IncomingReview>,
-    pub statuses: Vec<IncomingStatus>,
-}
-
-impl Local {
-    pub fn review_ids(&self) -> HashMap<ReviewId, bool> {
-        self.reviews
-            .iter()
-            .map(|r| (r.review_id(), r.undone))
-            .collect()
-    }
-    pub fn status_ids(&self) -> HashMap<StatusId, bool> {
-        self.statuses
-            .iter()
-            .map(|s| (s.status_id(), s.undone))
-            .collect()
-    }
-
-    /// The lines the folder lacks: each review or status event no file
-    /// holds, and an undo for each one undone here that no file shows
-    /// undone. The order is the log's, reviews first, so a status line
-    /// follows the answer that caused it.
-    pub fn missing(&self, known: &Known) -> Vec<SyncLine> {
-        let mut out = Vec::new();
-        let mut undos = Vec::new();
-        for r in &self.reviews {
-            let id = r.review_id();
-            if !known.reviews.contains(&id) {
-                out.push(SyncLine::Review(review_line(r)));
-            } else if r.undone && !known.undone_reviews.contains(&id) {
-                undos.push(SyncLine::UndoReview(UndoReviewLine {
-                    event: "undo_review".into(),
-                    deck: r.key.deck.clone(),
-                    card: r.key.card.clone(),
-                    direction: r.key.direction.as_str().into(),
-                    reviewed_at: rfc3339(r.reviewed_at),
-                    rating: r.rating as u8,
-                }));
-            }
-        }
-        for s in &self.statuses {
-            let id = s.status_id();
-            if !known.statuses.contains(&id) {
-                out.push(SyncLine::Status(StatusLine {
-                    event: "status".into(),
-                    deck: s.key.deck.clone(),
-                    card: s.key.card.clone(),
-                    direction: s.key.direction.as_str().into(),
-                    at: rfc3339(s.at),
-                    action: s.action.as_str().into(),
-                    until: s.until.map(rfc3339),
-                    cause: s.cause.as_ref().map(|(k, ms, r)| CauseLine {
-                        card: k.card.clone(),
-                        direction: k.direction.as_str().into(),
-                        reviewed_at: rfc3339(
-                            DateTime::from_timestamp_millis(*ms).unwrap_or_default(),
-                        ),
-                        rating: *r as u8,
-                    }),
-                    undone: s.undone,
-                }));
-            } else if s.undone && !known.undone_statuses.contains(&id) {
-                undos.push(SyncLine::UndoStatus(UndoStatusLine {
-                    event: "undo_status".into(),
-                    deck: s.key.deck.clone(),
-                    card: s.key.card.clone(),
-                    direction: s.key.direction.as_str().into(),
-                    at: rfc3339(s.at),
-                    action: s.action.as_str().into(),
-                }));
-            }
-        }
-        out.extend(undos);
-        out
-    }
+    pub reviews: Vec<LocalReview>,
+    pub statuses: Vec<LocalStatus>,
 }
 
 impl Store {
-    /// Every review and every status event that travels, once each.
+    /// Every review and every status event that travels, once each, with
+    /// where each came from.
     pub fn sync_local(&self) -> Result<Local, StoreError> {
         let mut order: Vec<ReviewId> = Vec::new();
-        let mut by_identity: HashMap<ReviewId, IncomingReview> = HashMap::new();
-        self.each_review(|l| -> Result<(), StoreError> {
-            let r = &l.record;
-            let id: ReviewId = (r.key.clone(), r.reviewed_at.timestamp_millis(), r.rating);
+        let mut by_identity: HashMap<ReviewId, LocalReview> = HashMap::new();
+        let mut st = self
+            .conn
+            .prepare(
+                "SELECT deck, card, direction, reviewed_at, rating, kind, duration_ms, undone, \
+                 origin FROM review ORDER BY id",
+            )
+            .map_err(|e| self.err(e))?;
+        let mut rows = st.query([]).map_err(|e| self.err(e))?;
+        while let Some(row) = rows.next().map_err(|e| self.err(e))? {
+            let read = || -> rusqlite::Result<LocalReview> {
+                Ok(LocalReview {
+                    review: IncomingReview {
+                        key: ItemKey {
+                            deck: row.get(0)?,
+                            card: row.get(1)?,
+                            direction: row.get(2)?,
+                        },
+                        reviewed_at: row.get::<_, Ms>(3)?.0,
+                        rating: row.get(4)?,
+                        cram: row.get::<_, ReviewKind>(5)? == ReviewKind::Cram,
+                        duration_ms: row.get(6)?,
+                        undone: row.get::<_, i64>(7)? != 0,
+                    },
+                    origin: row.get(8)?,
+                })
+            };
+            let l = read().map_err(|e| self.err(e))?;
+            let id = l.review.review_id();
             match by_identity.get_mut(&id) {
-                Some(e) => e.undone &= l.undone,
+                Some(e) => {
+                    e.review.undone &= l.review.undone;
+                    if e.origin.is_none() {
+                        e.origin = l.origin;
+                    }
+                }
                 None => {
                     order.push(id.clone());
-                    by_identity.insert(
-                        id,
-                        IncomingReview {
-                            key: r.key.clone(),
-                            reviewed_at: r.reviewed_at,
-                            rating: r.rating,
-                            cram: r.kind == ReviewKind::Cram,
-                            duration_ms: r.duration_ms,
-                            undone: l.undone,
-                        },
-                    );
+                    by_identity.insert(id, l);
                 }
             }
-            Ok(())
-        })?;
+        }
         let reviews = order
             .into_iter()
             .filter_map(|id| by_identity.remove(&id))
@@ -524,16 +571,30 @@ impl Store {
             statuses: self.travelling_statuses()?,
         })
     }
-
-    /// Every review of the log once, as a `review` line.
-    pub fn sync_events(&self) -> Result<Vec<SyncEvent>, StoreError> {
-        Ok(self.sync_local()?.reviews.iter().map(review_line).collect())
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sched::Direction;
+
+    fn now() -> DateTime<Utc> {
+        DateTime::parse_from_rfc3339("2026-05-02T00:00:00Z")
+            .unwrap()
+            .with_timezone(&Utc)
+    }
+
+    fn read_events(text: &str) -> (Vec<IncomingReview>, Vec<Skipped>) {
+        let (lines, skipped) = read_lines(text, now());
+        let reviews = lines
+            .into_iter()
+            .filter_map(|l| match l {
+                Checked::Review(r) => Some(r),
+                _ => None,
+            })
+            .collect();
+        (reviews, skipped)
+    }
 
     fn event(card: &str, ms: i64) -> SyncEvent {
         SyncEvent {
@@ -555,7 +616,11 @@ mod tests {
         let b = line(&event("b", 2000));
         let text = format!("{a}{}\n{b}{}", &b[..20], &a[..a.len() - 5]);
         let (events, skipped) = read_events(&text);
-        assert_eq!(events, [event("a", 1000), event("b", 2000)]);
+        let want: Vec<IncomingReview> = [event("a", 1000), event("b", 2000)]
+            .iter()
+            .map(|e| e.incoming(now()).unwrap())
+            .collect();
+        assert_eq!(events, want);
         assert_eq!(skipped.len(), 2, "{skipped:?}");
         assert_eq!(skipped[0].line, 2);
         assert_eq!(skipped[1].line, 4);
@@ -576,7 +641,7 @@ mod tests {
             r#"{"event":"undo_status","deck":"d","card":"c","direction":"forward","at":"2026-05-01T08:00:00.000Z","action":"suspend"}"#,
             "\n",
         );
-        let (lines, skipped) = read_lines(ok);
+        let (lines, skipped) = read_lines(ok, now());
         assert!(skipped.is_empty(), "{skipped:?}");
         assert_eq!(lines.len(), 3);
         let Checked::Status(s) = &lines[0] else {
@@ -606,7 +671,7 @@ mod tests {
                 "extra",
             ),
         ] {
-            let (lines, skipped) = read_lines(&format!("{bad}\n"));
+            let (lines, skipped) = read_lines(&format!("{bad}\n"), now());
             assert!(lines.is_empty(), "{bad}");
             assert!(skipped[0].why.contains(why), "{bad}: {skipped:?}");
         }

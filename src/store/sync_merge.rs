@@ -13,6 +13,7 @@ use super::db::Store;
 use super::error::StoreError;
 use super::merge::{IncomingReview, merge_one};
 use super::status::{self, StatusAction};
+use super::sync::LocalStatus;
 use super::{log, tally};
 use crate::sched::{ItemKey, Rating, Scheduler};
 
@@ -47,11 +48,13 @@ impl IncomingStatus {
 }
 
 /// What the other machines' files bring, already narrowed to what this
-/// log lacks (the merge skips what it has all the same).
+/// log lacks (the merge skips what it has all the same). Each review and
+/// status event comes with the machine it came from, which its row keeps:
+/// only that machine's undo takes it back.
 #[derive(Debug, Clone, Default)]
 pub struct SyncIncoming {
-    pub reviews: Vec<IncomingReview>,
-    pub statuses: Vec<IncomingStatus>,
+    pub reviews: Vec<(IncomingReview, String)>,
+    pub statuses: Vec<(IncomingStatus, String)>,
     /// Answers undone elsewhere, live here.
     pub undo_reviews: HashSet<ReviewId>,
     /// Status events undone elsewhere, live here.
@@ -59,6 +62,11 @@ pub struct SyncIncoming {
     /// Answers undone here that the folder does not show undone yet: the
     /// answers after them are replayed as the other machines will.
     pub replay: Vec<ReviewId>,
+    /// This machine's rows (origin NULL) found to have come from another
+    /// machine: merged before origins were kept, or written under this
+    /// machine's previous id. Their origin is set, once.
+    pub stamp_reviews: Vec<(ReviewId, String)>,
+    pub stamp_statuses: Vec<(StatusId, String)>,
 }
 
 /// How this machine marks leeches (from its config).
@@ -98,7 +106,7 @@ impl Store {
         scheduler: &Scheduler,
         leech: LeechRule,
     ) -> Result<SyncMerged, StoreError> {
-        for r in &incoming.reviews {
+        for (r, _) in &incoming.reviews {
             r.check().map_err(|detail| StoreError::BadRow {
                 id: 0,
                 detail: format!(
@@ -118,14 +126,35 @@ impl Store {
         let mut session = None;
         let mut out = SyncMerged::default();
 
+        for ((k, ms, rating), origin) in &incoming.stamp_reviews {
+            tx.execute(
+                "UPDATE review SET origin = ?1 WHERE deck = ?2 AND card = ?3 AND direction = ?4 \
+                 AND reviewed_at = ?5 AND rating = ?6 AND origin IS NULL",
+                params![origin, k.deck, k.card, k.direction, ms, rating],
+            )
+            .map_err(sql_err)?;
+        }
+        for ((k, ms, action), origin) in &incoming.stamp_statuses {
+            tx.execute(
+                "UPDATE status_event SET origin = ?1 WHERE deck = ?2 AND card = ?3 \
+                 AND direction = ?4 AND at = ?5 AND action = ?6 AND origin IS NULL",
+                params![origin, k.deck, k.card, k.direction, ms, action.as_str()],
+            )
+            .map_err(sql_err)?;
+        }
+
         type Work<'a> = (
-            Vec<&'a IncomingReview>,
+            Vec<(&'a IncomingReview, Option<&'a str>)>,
             HashSet<(i64, Rating)>,
             Option<DateTime<Utc>>,
         );
         let mut by_item: BTreeMap<&ItemKey, Work> = BTreeMap::new();
-        for r in &incoming.reviews {
-            by_item.entry(&r.key).or_default().0.push(r);
+        for (r, origin) in &incoming.reviews {
+            by_item
+                .entry(&r.key)
+                .or_default()
+                .0
+                .push((r, Some(origin.as_str())));
         }
         for (key, ms, rating) in &incoming.undo_reviews {
             by_item.entry(key).or_default().1.insert((*ms, *rating));
@@ -144,9 +173,9 @@ impl Store {
             reviews_changed |= m.added + m.undone + m.replayed_local > 0;
         }
 
-        for s in &incoming.statuses {
-            let (n, undone) =
-                merge_status(&tx, &mut session, s, &incoming.undo_statuses).map_err(sql_err)?;
+        for (s, origin) in &incoming.statuses {
+            let (n, undone) = merge_status(&tx, &mut session, s, origin, &incoming.undo_statuses)
+                .map_err(sql_err)?;
             out.statuses += n;
             out.undos += usize::from(undone && !s.undone);
         }
@@ -175,13 +204,13 @@ impl Store {
 
     /// The status events that travel (every one but leech events and the
     /// suspend of a new leech, which each machine derives), once each: live
-    /// when any row with its identity is.
-    pub fn travelling_statuses(&self) -> Result<Vec<IncomingStatus>, StoreError> {
+    /// when any row with its identity is; with the machine each came from.
+    pub fn travelling_statuses(&self) -> Result<Vec<LocalStatus>, StoreError> {
         let mut st = self
             .conn
             .prepare(
                 "SELECT e.deck, e.card, e.direction, e.at, e.action, e.until, e.undone, \
-                        r.deck, r.card, r.direction, r.reviewed_at, r.rating \
+                        r.deck, r.card, r.direction, r.reviewed_at, r.rating, e.origin \
                  FROM status_event AS e LEFT JOIN review AS r ON r.id = e.cause \
                  WHERE e.action IN ('suspend', 'unsuspend', 'bury') \
                    AND NOT (e.action = 'suspend' AND e.cause IS NOT NULL) \
@@ -208,23 +237,31 @@ impl Store {
                     )),
                     None => None,
                 };
-                Ok(IncomingStatus {
-                    key,
-                    at: r.get::<_, Ms>(3)?.0,
-                    action: StatusAction::parse(&action).unwrap_or(StatusAction::Suspend),
-                    until: r.get::<_, Option<Ms>>(5)?.map(|m| m.0),
-                    cause,
-                    undone: r.get::<_, i64>(6)? != 0,
+                Ok(LocalStatus {
+                    status: IncomingStatus {
+                        key,
+                        at: r.get::<_, Ms>(3)?.0,
+                        action: StatusAction::parse(&action).unwrap_or(StatusAction::Suspend),
+                        until: r.get::<_, Option<Ms>>(5)?.map(|m| m.0),
+                        cause,
+                        undone: r.get::<_, i64>(6)? != 0,
+                    },
+                    origin: r.get(12)?,
                 })
             })
             .map_err(|e| self.err(e))?;
         let mut order: Vec<StatusId> = Vec::new();
-        let mut by_id: HashMap<StatusId, IncomingStatus> = HashMap::new();
+        let mut by_id: HashMap<StatusId, LocalStatus> = HashMap::new();
         for row in rows {
             let s = row.map_err(|e| self.err(e))?;
-            let id = s.status_id();
+            let id = s.status.status_id();
             match by_id.get_mut(&id) {
-                Some(e) => e.undone &= s.undone,
+                Some(e) => {
+                    e.status.undone &= s.status.undone;
+                    if e.origin.is_none() {
+                        e.origin = s.origin;
+                    }
+                }
                 None => {
                     order.push(id.clone());
                     by_id.insert(id, s);
@@ -251,6 +288,7 @@ fn merge_status(
     tx: &Transaction<'_>,
     session: &mut Option<i64>,
     s: &IncomingStatus,
+    origin: &str,
     undo: &HashSet<StatusId>,
 ) -> rusqlite::Result<(usize, bool)> {
     let k = &s.key;
@@ -285,6 +323,10 @@ fn merge_status(
     let session = session_of(tx, session)?;
     let batch = status::next_batch(tx)?;
     let id = status::append(tx, session, batch, k, s.at, s.action, s.until, cause)?;
+    tx.execute(
+        "UPDATE status_event SET origin = ?1 WHERE id = ?2",
+        params![origin, id],
+    )?;
     let undone = s.undone || undo.contains(&s.status_id());
     if undone {
         tx.execute("UPDATE status_event SET undone = 1 WHERE id = ?1", [id])?;

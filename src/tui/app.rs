@@ -129,30 +129,57 @@ impl App {
         }
     }
 
-    /// Syncs (when `sync_dir` is set) after a session closes, before the
-    /// home screen counts its cards again, and says what came and went.
+    /// Starts a sync (when `sync_dir` is set) after a session closes; its
+    /// end is said on the status line when [`App::poll_sync`] finds it.
     fn after_session(&mut self) {
-        let Some(mut hook) = self.services.after_session.take() else {
+        let config = self.services.config.clone();
+        let Some(syncer) = self.services.after_session.as_mut() else {
             return;
         };
-        let done = hook(&mut self.services.store, &self.services.config);
-        self.services.after_session = Some(hook);
+        syncer.start(&config);
+        self.poll_sync();
+    }
+
+    /// Whether a sync runs in the background (the event loop then ticks).
+    pub fn syncing(&self) -> bool {
+        self.services
+            .after_session
+            .as_ref()
+            .is_some_and(|s| s.busy())
+    }
+
+    /// Says what a background sync that just ended did, and counts the home
+    /// screen's cards again when it brought something. True when the screen
+    /// changed.
+    pub fn poll_sync(&mut self) -> bool {
+        let Some(done) = self.services.after_session.as_mut().and_then(|s| s.poll()) else {
+            return false;
+        };
         match done {
-            Ok(s) if !s.warnings.is_empty() => self.error(s.warnings.join("; ")),
-            Ok(s) if s.written + s.merged > 0 => {
-                let lang = self.lang.clone();
-                self.info(format!(
-                    "{}: {} {}, {} {}",
-                    super::i18n::sync::SYNCED.get(&lang),
-                    s.written,
-                    super::i18n::sync::SENT.get(&lang),
-                    s.merged,
-                    super::i18n::sync::RECEIVED.get(&lang),
-                ));
+            Ok(s) => {
+                if !s.warnings.is_empty() {
+                    self.error(s.warnings.join("; "));
+                } else if s.written + s.merged > 0 {
+                    let lang = self.lang.clone();
+                    self.info(format!(
+                        "{}: {} {}, {} {}",
+                        super::i18n::sync::SYNCED.get(&lang),
+                        s.written,
+                        super::i18n::sync::SENT.get(&lang),
+                        s.merged,
+                        super::i18n::sync::RECEIVED.get(&lang),
+                    ));
+                }
+                if s.merged > 0 && matches!(self.screen(), Screen::Home(_)) {
+                    let fresh = super::screens::home::HomeState::new(self);
+                    if let Screen::Home(h) = self.screen_mut() {
+                        h.refresh(fresh);
+                    }
+                }
             }
-            Ok(_) => {}
             Err(e) => self.error(e),
         }
+        true
     }
 
     pub fn info(&mut self, text: impl Into<String>) {

@@ -43,6 +43,9 @@ pub use update::apply;
 /// Time between frames while a simulation plays (about 30 per second).
 const FRAME: Duration = Duration::from_millis(33);
 
+/// How often the app looks for the end of a sync running in the background.
+const SYNC_POLL: Duration = Duration::from_millis(100);
+
 /// Runs the app in the terminal until the learner quits. Everything that
 /// can fail with a message (the store, the decks) is done by the caller
 /// before this switches the terminal to raw mode, so errors print as
@@ -184,10 +187,21 @@ fn event_loop(
                     None
                 }
             }
+            // A sync runs in the background: look for its end now and then.
+            _ if app.syncing() => {
+                if event::poll(SYNC_POLL)? {
+                    Some(event::read()?)
+                } else {
+                    None
+                }
+            }
             // Idle: block until something happens.
             _ => Some(event::read()?),
         };
         let _guard = busy.lock().unwrap_or_else(|e| e.into_inner());
+        if app.poll_sync() {
+            dirty = true;
+        }
         if let Some(event) = event
             && let Some(action) = event_action(app, event)
         {

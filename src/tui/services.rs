@@ -85,10 +85,40 @@ pub struct Synced {
     pub warnings: Vec<String>,
 }
 
-/// Runs when a session that may have changed the log closes (a review, an
-/// exam share, the browser): the sync of `sync_dir`, given by the command
-/// that opened the app. It gets the app's own connection.
-pub type AfterSession = Box<dyn FnMut(&mut Store, &Config) -> Result<Synced, String>>;
+/// The sync of `sync_dir` when a session that may have changed the log
+/// closes (a review, an exam share, the browser), run in the background so
+/// the screen never waits for it; given by the command that opened the app.
+pub trait Syncer {
+    /// Starts a sync (or asks for one more when one is running).
+    fn start(&mut self, config: &Config);
+    /// What a sync that ended since the last call did.
+    fn poll(&mut self) -> Option<Result<Synced, String>>;
+    /// Whether a sync is running (the app then ticks, to look for its end).
+    fn busy(&self) -> bool;
+}
+
+/// The real one: [`crate::sync::background::Background`].
+impl Syncer for crate::sync::background::Background {
+    fn start(&mut self, config: &Config) {
+        crate::sync::background::Background::start(self, config);
+    }
+    fn poll(&mut self) -> Option<Result<Synced, String>> {
+        let dir = self.dir().display().to_string();
+        crate::sync::background::Background::poll(self).map(|done| {
+            done.map(|o| Synced {
+                written: o.written + o.written_statuses + o.written_undos,
+                merged: o.merged + o.merged_statuses + o.merged_undos,
+                warnings: o.warnings,
+            })
+            .map_err(|e| format!("sync through {dir} failed: {e}"))
+        })
+    }
+    fn busy(&self) -> bool {
+        crate::sync::background::Background::busy(self)
+    }
+}
+
+pub type AfterSession = Box<dyn Syncer>;
 
 pub struct Services {
     pub clock: Clock,

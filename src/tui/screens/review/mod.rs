@@ -477,7 +477,15 @@ fn rate(app: &mut App, state: &mut ReviewState, rating: Rating) {
     let Some((key, shown)) = state.current.clone() else {
         return;
     };
-    let now = app.services.now();
+    // To the millisecond, and after the item's latest answer (see
+    // `Store::answer_time`), before anything is drawn from it.
+    let now = match app.services.store.answer_time(&key, app.services.now()) {
+        Ok(t) => t,
+        Err(e) => {
+            app.error(e.to_string());
+            return;
+        }
+    };
     if !state.cram && status::changed_meanwhile(app, state, &key) {
         return;
     }
