@@ -47,6 +47,7 @@ mod study_cli;
 mod study_e2e;
 mod sync;
 mod sync_e2e;
+mod sync_props;
 mod sync_trust;
 mod system_cli;
 mod true_retention;

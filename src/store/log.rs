@@ -24,9 +24,10 @@ pub struct LoggedReview {
 /// earlier one arrived is live in its copy, outside the session: it keeps
 /// its place in the session's order by its first row.
 pub(super) const LAST_ANSWER: &str = "SELECT r.deck, r.card, r.direction, r.reviewed_at, r.rating \
-     FROM review AS r WHERE r.session = ?1 AND EXISTS (SELECT 1 FROM review AS o \
-       WHERE o.deck = r.deck AND o.card = r.card AND o.direction = r.direction \
-         AND o.reviewed_at = r.reviewed_at AND o.rating = r.rating AND o.undone = 0) \
+     FROM review AS r WHERE r.session = ?1 AND r.origin IS NULL AND EXISTS (SELECT 1 \
+       FROM review AS o WHERE o.deck = r.deck AND o.card = r.card AND o.direction = r.direction \
+         AND o.reviewed_at = r.reviewed_at AND o.rating = r.rating AND o.origin IS NULL \
+         AND o.undone = 0) \
      ORDER BY r.id DESC LIMIT 1";
 
 /// The log's columns in the order [`read_logged`] expects.
@@ -106,7 +107,7 @@ impl Store {
         let last = {
             let mut st = tx
                 .prepare_cached(&format!(
-                    "SELECT {COLUMNS} FROM review WHERE undone = 0 \
+                    "SELECT {COLUMNS} FROM review WHERE undone = 0 AND origin IS NULL \
                      AND (deck, card, direction, reviewed_at, rating) = ({LAST_ANSWER}) \
                      ORDER BY id DESC LIMIT 1"
                 ))

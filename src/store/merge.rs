@@ -123,7 +123,17 @@ impl Store {
         for (key, incoming) in by_item {
             // Answers imported here are this machine's to publish.
             let incoming: Vec<_> = incoming.into_iter().map(|r| (r, None)).collect();
-            let m = merge_one(&tx, &mut session, key, &incoming, &none, None, scheduler)?;
+            let m = merge_one(
+                &tx,
+                &mut session,
+                key,
+                &incoming,
+                &none,
+                &none,
+                None,
+                false,
+                scheduler,
+            )?;
             summary.added += m.added;
             summary.added_undone += m.added_undone;
             summary.duplicates += m.duplicates;
@@ -150,35 +160,59 @@ pub(super) struct ItemMerge {
     pub undone: usize,
 }
 
+/// An answer taken back by the machine it came from: time (ms), rating
+/// and that machine.
+pub(super) type UndoneBy = (i64, Rating, String);
+
 /// Merges into one item: `incoming` answers it lacks are appended, its
-/// live answers named in `undo` (time in ms, rating) are taken back with
-/// the status events they brought about, and every live answer after the
-/// earliest change (or after `replay_from`, an answer undone here that
-/// others have not seen undone yet) is replayed, so the item's states are
-/// the replay of its live answers in time order. `session` is made on the
-/// first write. Each incoming answer comes with the machine it came from
-/// (`None`: this one), which its row keeps, as a replayed row keeps its
-/// original's.
+/// live answers named in `undo` (time in ms, rating, the machine they came
+/// from) are taken back with the status events they brought about, and
+/// every live answer from the earliest change on (or from `replay_from`, an
+/// answer undone here that others have not seen undone yet) is replayed, so
+/// the item's states are the replay of its live answers in time order.
+/// `session` is made on the first write. An answer named in `revive` is
+/// appended again, live, although an undone row of it is in the log (its
+/// machine has it live). Each incoming answer comes with
+/// the machine it came from (`None`: this one), which its row keeps, as a
+/// replayed row keeps its original's. With `by_origin`, an answer is the
+/// same answer only when it also came from the same machine (a sync: two
+/// machines may answer alike in one millisecond); without (an import), any
+/// row of the same time and rating is it.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn merge_one(
     tx: &Transaction<'_>,
     session: &mut Option<i64>,
     key: &ItemKey,
     incoming: &[(&IncomingReview, Option<&str>)],
-    undo: &HashSet<Identity>,
+    undo: &HashSet<UndoneBy>,
+    revive: &HashSet<UndoneBy>,
     replay_from: Option<DateTime<Utc>>,
+    by_origin: bool,
     scheduler: &Scheduler,
 ) -> Result<ItemMerge, StoreError> {
     let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(std::path::Path::new(""), e);
     let mut out = ItemMerge::default();
     let existing = item_rows(tx, key).map_err(sql_err)??;
-    let mut seen: HashSet<Identity> = existing
+    let origins = item_origins(tx, key).map_err(sql_err)?;
+    let origin_of = |l: &LoggedReview| origins.get(&l.id).cloned();
+    let same = |origin: Option<String>| if by_origin { origin } else { None };
+    let mut seen: HashSet<(i64, Rating, Option<String>)> = existing
         .iter()
-        .map(|l| (to_ms(l.record.reviewed_at), l.record.rating))
+        .map(|l| {
+            (
+                to_ms(l.record.reviewed_at),
+                l.record.rating,
+                same(origin_of(l)),
+            )
+        })
         .collect();
     let mut fresh: Vec<(IncomingReview, Option<&str>)> = Vec::new();
     for (r, origin) in incoming {
-        if seen.insert(r.identity()) {
-            let undone = r.undone || undo.contains(&r.identity());
+        let (ms, rating) = r.identity();
+        let again = origin.is_some_and(|o| revive.contains(&(ms, rating, o.to_string())));
+        if seen.insert((ms, rating, same(origin.map(str::to_string)))) || again {
+            let undone =
+                r.undone || origin.is_some_and(|o| undo.contains(&(ms, rating, o.to_string())));
             fresh.push((
                 IncomingReview {
                     undone,
@@ -194,7 +228,10 @@ pub(super) fn merge_one(
     let mut taken_back: HashSet<i64> = HashSet::new();
     if !undo.is_empty() {
         for l in &existing {
-            if !undo.contains(&(to_ms(l.record.reviewed_at), l.record.rating)) {
+            let Some(origin) = origin_of(l) else {
+                continue;
+            };
+            if !undo.contains(&(to_ms(l.record.reviewed_at), l.record.rating, origin)) {
                 continue;
             }
             // A copy an earlier merge re-appended may carry the events
@@ -223,7 +260,6 @@ pub(super) fn merge_one(
         Some(s) => s,
         None => *session.insert(insert_session(tx).map_err(sql_err)?),
     };
-    let origins = item_origins(tx, key).map_err(sql_err)?;
     out.replayed_local = merge_item(tx, session_id, key, live, &fresh, &origins, t0, scheduler)?;
     out.added = fresh.len();
     out.added_undone = fresh.iter().filter(|(r, _)| r.undone).count();
@@ -265,15 +301,16 @@ fn merge_item<'a>(
 ) -> Result<usize, StoreError> {
     let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(std::path::Path::new(""), e);
     live.sort_by_key(|l| (l.record.reviewed_at, l.id));
-    // The state to replay from: the last live, non-cram local answer not
-    // after the earliest change.
+    // The state to replay from: the last live, non-cram local answer before
+    // the earliest change (one of the same millisecond is replayed with the
+    // incoming ones, in the order every machine uses).
     let mut state: Option<CardState> = live
         .iter()
-        .rfind(|l| l.record.reviewed_at <= t0 && l.record.kind != ReviewKind::Cram)
+        .rfind(|l| l.record.reviewed_at < t0 && l.record.kind != ReviewKind::Cram)
         .map(|l| l.record.after);
     let mut steps: Vec<Step> = live
         .iter()
-        .filter(|l| l.record.reviewed_at > t0)
+        .filter(|l| l.record.reviewed_at >= t0)
         .map(|l| Step {
             at: l.record.reviewed_at,
             incoming: false,
@@ -297,7 +334,7 @@ fn merge_item<'a>(
     }));
     // In time order; answers of the same millisecond (two machines, or a
     // frozen clock) by rating, so every machine replays them alike.
-    steps.sort_by_key(|s| (s.at, s.rating, s.incoming));
+    steps.sort_by_key(|s| (s.at, s.rating, s.cram, s.incoming));
 
     let mut appended = false;
     let mut relocated = 0;

@@ -350,6 +350,23 @@ END;
 -- logical clock): the latest is found through this index.
 CREATE INDEX status_event_at ON status_event(at);
 
+-- The ids this data folder synced under before its current one (a sync
+-- that finds its file written by another copy takes a new one): its rows
+-- found in those files came from there.
+CREATE TABLE machine_history (
+    id  TEXT PRIMARY KEY
+) STRICT;
+
+-- The newest rows written before origins were kept: a row up to these with
+-- no origin may have been merged from another machine without saying so.
+CREATE TABLE sync_legacy (
+    review_max  INTEGER NOT NULL,
+    status_max  INTEGER NOT NULL
+) STRICT;
+INSERT INTO sync_legacy
+    SELECT (SELECT coalesce(max(id), 0) FROM review),
+           (SELECT coalesce(max(id), 0) FROM status_event);
+
 CREATE TABLE sync_folder (
     dir          TEXT PRIMARY KEY,
     fingerprint  TEXT NOT NULL
@@ -483,13 +500,15 @@ mod tests {
             [
                 "card_state",
                 "item_status",
+                "machine_history",
                 "prompt_attempt",
                 "review",
                 "review_tally",
                 "session",
                 "status_event",
                 "sync_file",
-                "sync_folder"
+                "sync_folder",
+                "sync_legacy"
             ]
         );
         let entries = std::fs::read_dir(dir.path()).unwrap().count();

@@ -278,6 +278,7 @@ pub(super) fn undo_caused(tx: &Transaction<'_>, review: i64) -> rusqlite::Result
                SELECT o.id FROM review AS r JOIN review AS o ON o.deck = r.deck \
                  AND o.card = r.card AND o.direction = r.direction \
                  AND o.reviewed_at = r.reviewed_at AND o.rating = r.rating \
+                 AND o.origin IS r.origin \
                WHERE r.id = ?1) ORDER BY id"
         ))?
         .query_map([review], read_event)?
@@ -428,10 +429,11 @@ impl Store {
         let last_review: Option<i64> = self
             .conn
             .query_row(
-                "SELECT max(r.id) FROM review AS r WHERE r.session = ?1 AND EXISTS ( \
-                   SELECT 1 FROM review AS o WHERE o.deck = r.deck AND o.card = r.card \
-                     AND o.direction = r.direction AND o.reviewed_at = r.reviewed_at \
-                     AND o.rating = r.rating AND o.undone = 0)",
+                "SELECT max(r.id) FROM review AS r WHERE r.session = ?1 AND r.origin IS NULL \
+                   AND EXISTS (SELECT 1 FROM review AS o WHERE o.deck = r.deck \
+                     AND o.card = r.card AND o.direction = r.direction \
+                     AND o.reviewed_at = r.reviewed_at AND o.rating = r.rating \
+                     AND o.origin IS NULL AND o.undone = 0)",
                 [session],
                 |r| r.get(0),
             )

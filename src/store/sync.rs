@@ -489,20 +489,24 @@ pub fn sync_line(l: &SyncLine) -> String {
     s
 }
 
-/// One answer of this machine's log, once per identity, with the machine
-/// it came from (`None`: this one).
+/// One answer of this machine's log, once per identity and origin, with
+/// the machine it came from (`None`: this one).
 #[derive(Debug, Clone)]
 pub struct LocalReview {
-    /// Undone when every row with its identity is.
+    /// Undone when every row with its identity and origin is.
     pub review: IncomingReview,
     pub origin: Option<String>,
+    /// Written before origins were kept: without one, it may still have
+    /// come from another machine.
+    pub legacy: bool,
 }
 
-/// One status event that travels, once per identity.
+/// One status event that travels, once per identity and origin.
 #[derive(Debug, Clone)]
 pub struct LocalStatus {
     pub status: IncomingStatus,
     pub origin: Option<String>,
+    pub legacy: bool,
 }
 
 /// This machine's history as sync lines: each review and each status
@@ -519,13 +523,13 @@ impl Store {
     /// Every review and every status event that travels, once each, with
     /// where each came from.
     pub fn sync_local(&self) -> Result<Local, StoreError> {
-        let mut order: Vec<ReviewId> = Vec::new();
-        let mut by_identity: HashMap<ReviewId, LocalReview> = HashMap::new();
+        let mut order: Vec<(ReviewId, Option<String>)> = Vec::new();
+        let mut by_identity: HashMap<(ReviewId, Option<String>), LocalReview> = HashMap::new();
         let mut st = self
             .conn
             .prepare(
                 "SELECT deck, card, direction, reviewed_at, rating, kind, duration_ms, undone, \
-                 origin FROM review ORDER BY id",
+                 origin, id <= (SELECT review_max FROM sync_legacy) FROM review ORDER BY id",
             )
             .map_err(|e| self.err(e))?;
         let mut rows = st.query([]).map_err(|e| self.err(e))?;
@@ -545,17 +549,13 @@ impl Store {
                         undone: row.get::<_, i64>(7)? != 0,
                     },
                     origin: row.get(8)?,
+                    legacy: row.get::<_, Option<bool>>(9)?.unwrap_or(false),
                 })
             };
             let l = read().map_err(|e| self.err(e))?;
-            let id = l.review.review_id();
+            let id = (l.review.review_id(), l.origin.clone());
             match by_identity.get_mut(&id) {
-                Some(e) => {
-                    e.review.undone &= l.review.undone;
-                    if e.origin.is_none() {
-                        e.origin = l.origin;
-                    }
-                }
+                Some(e) => e.review.undone &= l.review.undone,
                 None => {
                     order.push(id.clone());
                     by_identity.insert(id, l);

@@ -55,13 +55,17 @@ impl IncomingStatus {
 pub struct SyncIncoming {
     pub reviews: Vec<(IncomingReview, String)>,
     pub statuses: Vec<(IncomingStatus, String)>,
-    /// Answers undone elsewhere, live here.
-    pub undo_reviews: HashSet<ReviewId>,
-    /// Status events undone elsewhere, live here.
-    pub undo_statuses: HashSet<StatusId>,
+    /// Answers undone by the machine they came from, live here.
+    pub undo_reviews: HashSet<(ReviewId, String)>,
+    /// Status events undone by the machine they came from, live here.
+    pub undo_statuses: HashSet<(StatusId, String)>,
     /// Answers undone here that the folder does not show undone yet: the
     /// answers after them are replayed as the other machines will.
     pub replay: Vec<ReviewId>,
+    /// Answers and status events undone here that the machine they came
+    /// from has live: appended again, live.
+    pub revive_reviews: Vec<(IncomingReview, String)>,
+    pub revive_statuses: Vec<(IncomingStatus, String)>,
     /// This machine's rows (origin NULL) found to have come from another
     /// machine: merged before origins were kept, or written under this
     /// machine's previous id. Their origin is set, once.
@@ -145,8 +149,9 @@ impl Store {
 
         type Work<'a> = (
             Vec<(&'a IncomingReview, Option<&'a str>)>,
-            HashSet<(i64, Rating)>,
+            HashSet<(i64, Rating, String)>,
             Option<DateTime<Utc>>,
+            HashSet<(i64, Rating, String)>,
         );
         let mut by_item: BTreeMap<&ItemKey, Work> = BTreeMap::new();
         for (r, origin) in &incoming.reviews {
@@ -156,8 +161,18 @@ impl Store {
                 .0
                 .push((r, Some(origin.as_str())));
         }
-        for (key, ms, rating) in &incoming.undo_reviews {
-            by_item.entry(key).or_default().1.insert((*ms, *rating));
+        for (r, origin) in &incoming.revive_reviews {
+            let w = by_item.entry(&r.key).or_default();
+            w.0.push((r, Some(origin.as_str())));
+            let (ms, rating) = (to_ms(r.reviewed_at), r.rating);
+            w.3.insert((ms, rating, origin.clone()));
+        }
+        for ((key, ms, rating), origin) in &incoming.undo_reviews {
+            by_item
+                .entry(key)
+                .or_default()
+                .1
+                .insert((*ms, *rating, origin.clone()));
         }
         for (key, ms, _) in &incoming.replay {
             let at = DateTime::from_timestamp_millis(*ms).unwrap_or_default();
@@ -165,26 +180,56 @@ impl Store {
             w.2 = Some(w.2.map_or(at, |t| t.min(at)));
         }
         let mut reviews_changed = false;
-        for (key, (rows, undo, replay_from)) in &by_item {
-            let m = merge_one(&tx, &mut session, key, rows, undo, *replay_from, scheduler)?;
+        for (key, (rows, undo, replay_from, revive)) in &by_item {
+            let m = merge_one(
+                &tx,
+                &mut session,
+                key,
+                rows,
+                undo,
+                revive,
+                *replay_from,
+                true,
+                scheduler,
+            )?;
             out.reviews += m.added;
             out.undos += m.undone;
             out.replayed_local += m.replayed_local;
             reviews_changed |= m.added + m.undone + m.replayed_local > 0;
         }
 
+        for (s, origin) in &incoming.revive_statuses {
+            let session = session_of(&tx, &mut session).map_err(sql_err)?;
+            let batch = status::next_batch(&tx).map_err(sql_err)?;
+            let id = status::append(&tx, session, batch, &s.key, s.at, s.action, s.until, None)
+                .map_err(sql_err)?;
+            tx.execute(
+                "UPDATE status_event SET origin = ?1 WHERE id = ?2",
+                params![origin, id],
+            )
+            .map_err(sql_err)?;
+            out.statuses += 1;
+        }
         for (s, origin) in &incoming.statuses {
             let (n, undone) = merge_status(&tx, &mut session, s, origin, &incoming.undo_statuses)
                 .map_err(sql_err)?;
             out.statuses += n;
             out.undos += usize::from(undone && !s.undone);
         }
-        for (key, ms, action) in &incoming.undo_statuses {
+        for ((key, ms, action), origin) in &incoming.undo_statuses {
             let n = tx
                 .execute(
                     "UPDATE status_event SET undone = 1 WHERE deck = ?1 AND card = ?2 \
-                     AND direction = ?3 AND at = ?4 AND action = ?5 AND undone = 0",
-                    params![key.deck, key.card, key.direction, ms, action.as_str()],
+                     AND direction = ?3 AND at = ?4 AND action = ?5 AND origin = ?6 \
+                     AND undone = 0",
+                    params![
+                        key.deck,
+                        key.card,
+                        key.direction,
+                        ms,
+                        action.as_str(),
+                        origin
+                    ],
                 )
                 .map_err(sql_err)?;
             if n > 0 {
@@ -210,7 +255,8 @@ impl Store {
             .conn
             .prepare(
                 "SELECT e.deck, e.card, e.direction, e.at, e.action, e.until, e.undone, \
-                        r.deck, r.card, r.direction, r.reviewed_at, r.rating, e.origin \
+                        r.deck, r.card, r.direction, r.reviewed_at, r.rating, e.origin, \
+                        e.id <= (SELECT status_max FROM sync_legacy) \
                  FROM status_event AS e LEFT JOIN review AS r ON r.id = e.cause \
                  WHERE e.action IN ('suspend', 'unsuspend', 'bury') \
                    AND NOT (e.action = 'suspend' AND e.cause IS NOT NULL) \
@@ -247,21 +293,17 @@ impl Store {
                         undone: r.get::<_, i64>(6)? != 0,
                     },
                     origin: r.get(12)?,
+                    legacy: r.get::<_, Option<bool>>(13)?.unwrap_or(false),
                 })
             })
             .map_err(|e| self.err(e))?;
-        let mut order: Vec<StatusId> = Vec::new();
-        let mut by_id: HashMap<StatusId, LocalStatus> = HashMap::new();
+        let mut order: Vec<(StatusId, Option<String>)> = Vec::new();
+        let mut by_id: HashMap<(StatusId, Option<String>), LocalStatus> = HashMap::new();
         for row in rows {
             let s = row.map_err(|e| self.err(e))?;
-            let id = s.status.status_id();
+            let id = (s.status.status_id(), s.origin.clone());
             match by_id.get_mut(&id) {
-                Some(e) => {
-                    e.status.undone &= s.status.undone;
-                    if e.origin.is_none() {
-                        e.origin = s.origin;
-                    }
-                }
+                Some(e) => e.status.undone &= s.status.undone,
                 None => {
                     order.push(id.clone());
                     by_id.insert(id, s);
@@ -289,16 +331,23 @@ fn merge_status(
     session: &mut Option<i64>,
     s: &IncomingStatus,
     origin: &str,
-    undo: &HashSet<StatusId>,
+    undo: &HashSet<(StatusId, String)>,
 ) -> rusqlite::Result<(usize, bool)> {
     let k = &s.key;
     let present: bool = tx
         .prepare_cached(
             "SELECT EXISTS (SELECT 1 FROM status_event WHERE deck = ?1 AND card = ?2 \
-             AND direction = ?3 AND at = ?4 AND action = ?5)",
+             AND direction = ?3 AND at = ?4 AND action = ?5 AND origin = ?6)",
         )?
         .query_row(
-            params![k.deck, k.card, k.direction, Ms(s.at), s.action.as_str()],
+            params![
+                k.deck,
+                k.card,
+                k.direction,
+                Ms(s.at),
+                s.action.as_str(),
+                origin
+            ],
             |r| r.get(0),
         )?;
     if present {
@@ -308,11 +357,13 @@ fn merge_status(
         Some((ck, ms, rating)) => tx
             .prepare_cached(
                 "SELECT id FROM review WHERE deck = ?1 AND card = ?2 AND direction = ?3 \
-                 AND reviewed_at = ?4 AND rating = ?5 ORDER BY undone, id DESC LIMIT 1",
+                 AND reviewed_at = ?4 AND rating = ?5 \
+                 ORDER BY origin IS ?6 DESC, undone, id DESC LIMIT 1",
             )?
-            .query_row(params![ck.deck, ck.card, ck.direction, ms, rating], |r| {
-                r.get(0)
-            })
+            .query_row(
+                params![ck.deck, ck.card, ck.direction, ms, rating, origin],
+                |r| r.get(0),
+            )
             .map(Some)
             .or_else(|e| match e {
                 rusqlite::Error::QueryReturnedNoRows => Ok(None),
@@ -327,7 +378,7 @@ fn merge_status(
         "UPDATE status_event SET origin = ?1 WHERE id = ?2",
         params![origin, id],
     )?;
-    let undone = s.undone || undo.contains(&s.status_id());
+    let undone = s.undone || undo.contains(&(s.status_id(), origin.to_string()));
     if undone {
         tx.execute("UPDATE status_event SET undone = 1 WHERE id = ?1", [id])?;
         status::refresh(tx, k)?;

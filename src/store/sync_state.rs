@@ -71,6 +71,27 @@ impl Store {
         .map_err(|e| self.err(e))
     }
 
+    /// The ids this data folder synced under before its current one.
+    pub fn previous_machine_ids(&self) -> Result<Vec<String>, StoreError> {
+        let mut st = self
+            .conn
+            .prepare_cached("SELECT id FROM machine_history ORDER BY id")
+            .map_err(|e| self.err(e))?;
+        let rows = st.query_map([], |r| r.get(0)).map_err(|e| self.err(e))?;
+        rows.collect::<Result<_, _>>().map_err(|e| self.err(e))
+    }
+
+    /// Notes that this data folder synced under `id` before.
+    pub fn add_previous_machine_id(&mut self, id: &str) -> Result<(), StoreError> {
+        self.conn
+            .execute(
+                "INSERT INTO machine_history (id) VALUES (?1) ON CONFLICT DO NOTHING",
+                [id],
+            )
+            .map(|_| ())
+            .map_err(|e| self.err(e))
+    }
+
     /// For each file of `dir`, the line up to which its problems were said.
     pub fn reported_through(&self, dir: &str) -> Result<HashMap<String, usize>, StoreError> {
         let mut st = self

@@ -352,9 +352,14 @@ fn locked(
     }
 
     let local = store.sync_local()?;
+    let mut previous = store.previous_machine_ids()?;
     let foreign = plan::foreign_in_own(&me, &files, &local);
     if foreign > 0 {
         let old = me.clone();
+        // Kept before the new id is: its rows found in the old file then
+        // come from there, whenever this sync is cut short.
+        store.add_previous_machine_id(&old)?;
+        previous.push(old.clone());
         me = machine::renew(data)?;
         outcome.warnings.push(format!(
             "{old}.jsonl, this machine's sync file, holds {} this database never wrote: \
@@ -369,7 +374,7 @@ fn locked(
         mine_text.clear();
     }
 
-    let plan = plan::plan(&me, &files, &local);
+    let plan = plan::plan(&me, &previous, &files, &local);
     let undone = plan.undos_of_answers();
     if undone > LOUD_UNDOS {
         let by: Vec<String> = plan

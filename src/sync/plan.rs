@@ -6,28 +6,35 @@
 //!
 //! The rules that keep a forged or stale file from doing harm:
 //!
-//! - **Every event has an origin**, the machine whose file it first came
-//!   from (`None` in the log: this machine). A machine writes only its own
-//!   events to its file, never another's, so a file speaks only for the
-//!   machine that owns it.
+//! - **Every event has an origin**, the machine whose file it came from
+//!   (`None` in the log: this machine). An answer is the same answer when
+//!   its item, time (to the millisecond), rating *and origin* agree: two
+//!   machines answering alike in one millisecond (a frozen clock on both)
+//!   gave two answers. A machine writes only its own events to its file,
+//!   never another's, so a file speaks only for the machine that owns it.
 //! - **Only the origin can take an event back.** An `undo_review` line, or
-//!   `"undone": true` on a copy of a line, counts only in the file of the
-//!   machine the event came from. An event seen first in several files at
-//!   once comes undone only if every one of them shows it undone.
+//!   `"undone": true` on a line, counts only in the file of the machine the
+//!   event came from; a copy of another machine's line in a forged file is
+//!   that file's own (undone, it changes nothing). An event is live or
+//!   undone as its origin's file says: one undone here that its file shows
+//!   live (taken back by a forged line before origins were kept) is brought
+//!   back.
 //! - **A machine's own file is read like any other.** When it holds what
 //!   this log never wrote (the database was restored from a backup, or the
 //!   data folder was copied to a second machine that writes under the same
 //!   id), [`foreign_in_own`] says so, and the caller gives this machine a
 //!   new id before planning: the old file is then another machine's, and
 //!   everything in it comes back.
-//! - This machine's rows that another file holds and its own does not were
-//!   merged before origins were kept (or written under its previous id):
-//!   they are stamped with that machine, once.
+//! - This machine's rows that its own file does not hold but the file of one
+//!   of its previous ids does, or (rows written before origins were kept)
+//!   another machine's file does, came from there: they are stamped with
+//!   that machine, once.
 //!
-//! Everything is ordered (by identity) so that every machine merges the
-//! same events in the same order.
+//! Everything is ordered (by identity and origin) so that every machine
+//! merges the same events in the same order.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
+use std::hash::Hash;
 
 use crate::store::IncomingReview;
 use crate::store::sync::{
@@ -60,100 +67,104 @@ impl Plan {
     }
 }
 
-/// What the folder says of one event.
+/// What one machine's files say of one event.
 #[derive(Debug)]
-struct Seen<'a, T> {
-    /// Each machine whose file holds the event's line, with its first line.
-    lines: BTreeMap<&'a str, &'a T>,
-    /// Each machine whose file shows the event undone.
-    undone_by: HashSet<&'a str>,
+struct One<'a, T> {
+    /// Its first line (none when only an undo names it).
+    line: Option<&'a T>,
+    undone: bool,
 }
 
-impl<T> Default for Seen<'_, T> {
+impl<T> Default for One<'_, T> {
     fn default() -> Self {
-        Seen {
-            lines: BTreeMap::new(),
-            undone_by: HashSet::new(),
+        One {
+            line: None,
+            undone: false,
         }
     }
 }
 
-impl<'a, T> Seen<'a, T> {
-    fn holds(&self, machine: &str) -> bool {
-        self.lines.contains_key(machine)
-    }
-    /// The first machine (by id) holding the event, other than `me`.
-    fn other_holder(&self, me: &str) -> Option<&'a str> {
-        self.lines.keys().copied().find(|m| *m != me)
-    }
-    /// Who the event came from when this log has not seen it: its one
-    /// holder, or the first of several (which then must all show it undone
-    /// to take it back). Returns (origin, undone).
-    fn origin_and_undone(&self) -> Option<(&'a str, bool)> {
-        let first = *self.lines.keys().next()?;
-        let undone = self.lines.keys().all(|m| self.undone_by.contains(m));
-        Some((first, undone))
-    }
+/// What the folder holds of one kind of event, by identity and machine
+/// (machines by their index in `names`).
+#[derive(Debug)]
+struct Seen<'a, Id, T> {
+    names: &'a [&'a str],
+    by_machine: HashMap<(Id, usize), One<'a, T>>,
+    /// The machines whose files hold each identity's line.
+    holders: HashMap<Id, Vec<&'a str>>,
 }
 
-/// What the folder holds, by identity.
-#[derive(Debug, Default)]
-struct Folder<'a> {
-    reviews: HashMap<ReviewId, Seen<'a, IncomingReview>>,
-    statuses: HashMap<StatusId, Seen<'a, IncomingStatus>>,
-}
-
-impl<'a> Folder<'a> {
-    fn of(files: &'a [FileLines]) -> Folder<'a> {
-        let mut f = Folder::default();
-        for file in files {
-            let m = file.machine.as_str();
-            for line in &file.lines {
-                match line {
-                    Checked::Review(r) => {
-                        let seen = f.reviews.entry(r.review_id()).or_default();
-                        seen.lines.entry(m).or_insert(r);
-                        if r.undone {
-                            seen.undone_by.insert(m);
-                        }
-                    }
-                    Checked::UndoReview(id) => {
-                        f.reviews.entry(id.clone()).or_default().undone_by.insert(m);
-                    }
-                    Checked::Status(s) => {
-                        let seen = f.statuses.entry(s.status_id()).or_default();
-                        seen.lines.entry(m).or_insert(s);
-                        if s.undone {
-                            seen.undone_by.insert(m);
-                        }
-                    }
-                    Checked::UndoStatus(id) => {
-                        f.statuses
-                            .entry(id.clone())
-                            .or_default()
-                            .undone_by
-                            .insert(m);
-                    }
-                }
+impl<'a, Id: Clone + Eq + Hash, T> Seen<'a, Id, T> {
+    fn new(names: &'a [&'a str]) -> Self {
+        Seen {
+            names,
+            by_machine: HashMap::new(),
+            holders: HashMap::new(),
+        }
+    }
+    fn line(&mut self, id: Id, machine: usize, line: &'a T, undone: bool) {
+        let one = self.by_machine.entry((id.clone(), machine)).or_default();
+        if one.line.is_none() {
+            one.line = Some(line);
+            let h = self.holders.entry(id).or_default();
+            let name = self.names[machine];
+            if !h.contains(&name) {
+                h.push(name);
             }
         }
-        f
+        one.undone |= undone;
+    }
+    fn undo(&mut self, id: Id, machine: usize) {
+        self.by_machine.entry((id, machine)).or_default().undone = true;
+    }
+    fn get(&self, id: &Id, machine: Option<usize>) -> Option<&One<'a, T>> {
+        self.by_machine.get(&(id.clone(), machine?))
+    }
+}
+
+/// Where one of this machine's rows came from, when the log does not say:
+/// this machine, unless its own file lacks it and the file of one of its
+/// previous ids (or, for a row written before origins were kept, of any
+/// other machine) holds it.
+fn origin_of<'a>(
+    me: &'a str,
+    previous: &[String],
+    legacy: bool,
+    holders: Option<&Vec<&'a str>>,
+) -> (&'a str, bool) {
+    let Some(holders) = holders else {
+        return (me, false);
+    };
+    if holders.contains(&me) {
+        return (me, false);
+    }
+    let mut from: Vec<&str> = holders
+        .iter()
+        .copied()
+        .filter(|m| legacy || previous.iter().any(|p| p == m))
+        .collect();
+    from.sort_unstable();
+    match from.first() {
+        Some(m) => (m, true),
+        None => (me, false),
     }
 }
 
 /// How many lines of `me`'s own files this log never wrote: an answer or a
-/// status event it does not have, or one it has live shown undone. Zero
-/// unless the database was restored from a backup or the data folder was
-/// copied to a machine that writes under the same id.
+/// status event it does not have as its own, or one it has live shown
+/// undone. Zero unless the database was restored from a backup or the data
+/// folder was copied to a machine that writes under the same id.
 pub fn foreign_in_own(me: &str, files: &[FileLines], local: &Local) -> usize {
     let reviews: HashMap<ReviewId, bool> = local
         .reviews
         .iter()
+        .filter(|r| r.origin.as_deref().is_none_or(|o| o == me))
         .map(|r| (r.review.review_id(), r.review.undone))
         .collect();
     let statuses: HashMap<StatusId, bool> = local
         .statuses
         .iter()
+        .filter(|s| s.origin.as_deref().is_none_or(|o| o == me))
         .map(|s| (s.status.status_id(), s.status.undone))
         .collect();
     let mut foreign = 0;
@@ -177,35 +188,52 @@ pub fn foreign_in_own(me: &str, files: &[FileLines], local: &Local) -> usize {
     foreign
 }
 
-/// The sync of this machine, `me`, given the folder's `files` and its log
-/// `local`. Call [`foreign_in_own`] first: when `me`'s file holds what the
-/// log never wrote, plan under a new id.
-pub fn plan(me: &str, files: &[FileLines], local: &Local) -> Plan {
-    let folder = Folder::of(files);
+/// The sync of this machine, `me` (which synced as `previous` before),
+/// given the folder's `files` and its log `local`. Call [`foreign_in_own`]
+/// first: when `me`'s file holds what the log never wrote, plan under a new
+/// id.
+pub fn plan(me: &str, previous: &[String], files: &[FileLines], local: &Local) -> Plan {
+    // Each machine once (a sync tool's copy of a file is its machine's).
+    let mut names: Vec<&str> = files.iter().map(|f| f.machine.as_str()).collect();
+    names.sort_unstable();
+    names.dedup();
+    let index: HashMap<&str, usize> = names.iter().enumerate().map(|(i, n)| (*n, i)).collect();
+    let mut reviews: Seen<ReviewId, IncomingReview> = Seen::new(&names);
+    let mut statuses: Seen<StatusId, IncomingStatus> = Seen::new(&names);
+    for file in files {
+        let m = index[file.machine.as_str()];
+        for line in &file.lines {
+            match line {
+                Checked::Review(r) => reviews.line(r.review_id(), m, r, r.undone),
+                Checked::UndoReview(id) => reviews.undo(id.clone(), m),
+                Checked::Status(s) => statuses.line(s.status_id(), m, s, s.undone),
+                Checked::UndoStatus(id) => statuses.undo(id.clone(), m),
+            }
+        }
+    }
     let mut out = Plan::default();
     let incoming = &mut out.incoming;
-
-    let mut local_reviews: HashSet<ReviewId> = HashSet::with_capacity(local.reviews.len());
-    let mut write_reviews = Vec::new();
     let mut write_undos = Vec::new();
+
+    let mut known: HashSet<(ReviewId, String)> = HashSet::with_capacity(local.reviews.len());
+    let mut write_reviews = Vec::new();
     for l in &local.reviews {
         let id = l.review.review_id();
-        let seen = folder.reviews.get(&id);
-        let held_by_me = seen.is_some_and(|s| s.holds(me));
-        let origin: &str = match &l.origin {
-            Some(o) => o,
-            None => match seen.and_then(|s| s.other_holder(me)) {
-                Some(other) if !held_by_me => {
-                    incoming.stamp_reviews.push((id.clone(), other.to_string()));
-                    other
+        let origin: String = match &l.origin {
+            Some(o) => o.clone(),
+            None => {
+                let (o, stamp) = origin_of(me, previous, l.legacy, reviews.holders.get(&id));
+                if stamp {
+                    incoming.stamp_reviews.push((id.clone(), o.to_string()));
                 }
-                _ => me,
-            },
+                o.to_string()
+            }
         };
-        let shown_undone_by = |m: &str| seen.is_some_and(|s| s.undone_by.contains(m));
         if origin == me {
-            let shown_undone = shown_undone_by(me);
-            if !held_by_me {
+            let mine = reviews.get(&id, index.get(me).copied());
+            let held = mine.is_some_and(|o| o.line.is_some());
+            let shown_undone = mine.is_some_and(|o| o.undone);
+            if !held {
                 write_reviews.push(SyncLine::Review(review_line(&l.review)));
             } else if l.review.undone && !shown_undone {
                 write_undos.push(SyncLine::UndoReview(undo_review_line(&l.review)));
@@ -213,77 +241,95 @@ pub fn plan(me: &str, files: &[FileLines], local: &Local) -> Plan {
             if l.review.undone && !shown_undone {
                 incoming.replay.push(id.clone());
             }
-        } else if !l.review.undone && shown_undone_by(origin) {
-            incoming.undo_reviews.insert(id.clone());
-            *out.undone_by.entry(origin.to_string()).or_default() += 1;
+        } else if let Some(theirs) = reviews.get(&id, index.get(origin.as_str()).copied()) {
+            if !l.review.undone && theirs.undone {
+                incoming.undo_reviews.insert((id.clone(), origin.clone()));
+                *out.undone_by.entry(origin.clone()).or_default() += 1;
+            } else if l.review.undone && !theirs.undone {
+                // Its machine's file has it live: so it is (undone here by
+                // a forged line before origins were kept, or by this
+                // machine under an id it has since left).
+                if let Some(line) = theirs.line {
+                    incoming.revive_reviews.push((line.clone(), origin.clone()));
+                }
+            }
         }
-        local_reviews.insert(id);
+        known.insert((id, origin));
     }
-    for (id, seen) in &folder.reviews {
-        if local_reviews.contains(id) {
-            continue;
-        }
-        let Some((origin, undone)) = seen.origin_and_undone() else {
+    for ((id, m), one) in &reviews.by_machine {
+        let Some(line) = one.line else {
             continue;
         };
-        let line = seen.lines[origin];
+        let m = names[*m];
+        if m == me || known.contains(&(id.clone(), m.to_string())) {
+            continue;
+        }
         incoming.reviews.push((
             IncomingReview {
-                undone,
+                undone: one.undone,
                 ..line.clone()
             },
-            origin.to_string(),
+            m.to_string(),
         ));
     }
-    incoming.reviews.sort_by_key(|r| r.0.review_id());
+    incoming
+        .reviews
+        .sort_by(|a, b| (a.0.review_id(), &a.1).cmp(&(b.0.review_id(), &b.1)));
 
-    let mut local_statuses: HashSet<StatusId> = HashSet::with_capacity(local.statuses.len());
+    let mut known: HashSet<(StatusId, String)> = HashSet::with_capacity(local.statuses.len());
     let mut write_statuses = Vec::new();
     for l in &local.statuses {
         let id = l.status.status_id();
-        let seen = folder.statuses.get(&id);
-        let held_by_me = seen.is_some_and(|s| s.holds(me));
-        let origin: &str = match &l.origin {
-            Some(o) => o,
-            None => match seen.and_then(|s| s.other_holder(me)) {
-                Some(other) if !held_by_me => {
-                    incoming
-                        .stamp_statuses
-                        .push((id.clone(), other.to_string()));
-                    other
+        let origin: String = match &l.origin {
+            Some(o) => o.clone(),
+            None => {
+                let (o, stamp) = origin_of(me, previous, l.legacy, statuses.holders.get(&id));
+                if stamp {
+                    incoming.stamp_statuses.push((id.clone(), o.to_string()));
                 }
-                _ => me,
-            },
+                o.to_string()
+            }
         };
-        let shown_undone_by = |m: &str| seen.is_some_and(|s| s.undone_by.contains(m));
         if origin == me {
-            if !held_by_me {
+            let mine = statuses.get(&id, index.get(me).copied());
+            let held = mine.is_some_and(|o| o.line.is_some());
+            if !held {
                 write_statuses.push(SyncLine::Status(status_line(&l.status)));
-            } else if l.status.undone && !shown_undone_by(me) {
+            } else if l.status.undone && !mine.is_some_and(|o| o.undone) {
                 write_undos.push(SyncLine::UndoStatus(undo_status_line(&l.status)));
             }
-        } else if !l.status.undone && shown_undone_by(origin) {
-            incoming.undo_statuses.insert(id.clone());
+        } else if let Some(theirs) = statuses.get(&id, index.get(origin.as_str()).copied()) {
+            if !l.status.undone && theirs.undone {
+                incoming.undo_statuses.insert((id.clone(), origin.clone()));
+            } else if l.status.undone && !theirs.undone {
+                if let Some(line) = theirs.line {
+                    incoming
+                        .revive_statuses
+                        .push((line.clone(), origin.clone()));
+                }
+            }
         }
-        local_statuses.insert(id);
+        known.insert((id, origin));
     }
-    for (id, seen) in &folder.statuses {
-        if local_statuses.contains(id) {
-            continue;
-        }
-        let Some((origin, undone)) = seen.origin_and_undone() else {
+    for ((id, m), one) in &statuses.by_machine {
+        let Some(line) = one.line else {
             continue;
         };
-        let line = seen.lines[origin];
+        let m = names[*m];
+        if m == me || known.contains(&(id.clone(), m.to_string())) {
+            continue;
+        }
         incoming.statuses.push((
             IncomingStatus {
-                undone,
+                undone: one.undone,
                 ..line.clone()
             },
-            origin.to_string(),
+            m.to_string(),
         ));
     }
-    incoming.statuses.sort_by_key(|s| s.0.status_id());
+    incoming
+        .statuses
+        .sort_by(|a, b| (a.0.status_id(), &a.1).cmp(&(b.0.status_id(), &b.1)));
 
     out.write = write_reviews;
     out.write.extend(write_statuses);
