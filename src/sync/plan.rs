@@ -245,13 +245,14 @@ pub fn plan(me: &str, previous: &[String], files: &[FileLines], local: &Local) -
             if !l.review.undone && theirs.undone {
                 incoming.undo_reviews.insert((id.clone(), origin.clone()));
                 *out.undone_by.entry(origin.clone()).or_default() += 1;
-            } else if l.review.undone && !theirs.undone {
+            } else if l.review.undone
+                && !theirs.undone
+                && let Some(line) = theirs.line
+            {
                 // Its machine's file has it live: so it is (undone here by
                 // a forged line before origins were kept, or by this
                 // machine under an id it has since left).
-                if let Some(line) = theirs.line {
-                    incoming.revive_reviews.push((line.clone(), origin.clone()));
-                }
+                incoming.revive_reviews.push((line.clone(), origin.clone()));
             }
         }
         known.insert((id, origin));
@@ -301,12 +302,13 @@ pub fn plan(me: &str, previous: &[String], files: &[FileLines], local: &Local) -
         } else if let Some(theirs) = statuses.get(&id, index.get(origin.as_str()).copied()) {
             if !l.status.undone && theirs.undone {
                 incoming.undo_statuses.insert((id.clone(), origin.clone()));
-            } else if l.status.undone && !theirs.undone {
-                if let Some(line) = theirs.line {
-                    incoming
-                        .revive_statuses
-                        .push((line.clone(), origin.clone()));
-                }
+            } else if l.status.undone
+                && !theirs.undone
+                && let Some(line) = theirs.line
+            {
+                incoming
+                    .revive_statuses
+                    .push((line.clone(), origin.clone()));
             }
         }
         known.insert((id, origin));
