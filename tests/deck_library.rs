@@ -280,3 +280,226 @@ fn a_broken_deck_hides_no_other() {
         err(&o)
     );
 }
+
+/// `flipcard ARGS`, killed and failed if it has not ended in 30 s (a FIFO
+/// that is opened blocks forever).
+fn flipcard_within(root: &Path, args: &[&str]) -> Output {
+    use std::time::{Duration, Instant};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        .args(args)
+        .current_dir(root)
+        .env("FLIPCARD_DATA_DIR", root.join("data"))
+        .env("FLIPCARD_CONFIG", root.join("config.toml"))
+        .env("FLIPCARD_NOW", "2026-05-10T12:00:00Z")
+        .env("TZ", "UTC")
+        .env_remove("FLIPCARD_DECKS")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("run flipcard");
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(30) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("flipcard {args:?} hung");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// Exit 1 with one line on stderr that contains `what`.
+fn refused(o: &Output, what: &str) {
+    assert_eq!(o.status.code(), Some(1), "{}", err(o));
+    let e = err(o);
+    assert_eq!(e.lines().count(), 1, "one line: {e}");
+    assert!(e.contains(what), "{what}: {e}");
+}
+
+/// A library with deck `mine`, and beside the data dir a folder `outside`
+/// holding `X.toml` and a folder `X` (with a file), and `mine.toml` and a
+/// folder `mine` (what a link may lead to).
+fn library_and_outside(root: &Path) {
+    deck(&root.join("src"), "mine", &["a"]);
+    let o = flipcard(root, &["decks", "add", "src"]);
+    assert!(o.status.success(), "{}", err(&o));
+    let outside = root.join("outside");
+    for name in ["X", "mine"] {
+        std::fs::create_dir_all(outside.join(name)).unwrap();
+        std::fs::write(outside.join(name).join("en.toml"), "# keep\n").unwrap();
+        std::fs::write(outside.join(format!("{name}.toml")), "# keep\n").unwrap();
+    }
+}
+
+/// Every file under `root/outside` is as `library_and_outside` made it.
+fn outside_intact(root: &Path) {
+    let outside = root.join("outside");
+    for name in ["X", "mine"] {
+        for file in [
+            outside.join(name).join("en.toml"),
+            outside.join(format!("{name}.toml")),
+        ] {
+            assert_eq!(
+                std::fs::read_to_string(&file).ok().as_deref(),
+                Some("# keep\n"),
+                "{} was touched",
+                file.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn remove_takes_a_deck_id_never_a_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    library_and_outside(root);
+    let abs = root.join("outside/X").display().to_string();
+    for arg in [
+        abs.as_str(),
+        "../../outside/X",
+        "../content/mine",
+        "..",
+        "",
+        "Mine",
+        "mine/",
+    ] {
+        let o = flipcard_within(root, &["decks", "remove", arg]);
+        refused(&o, "is not a deck id");
+        assert!(err(&o).contains("nothing removed"), "{}", err(&o));
+        outside_intact(root);
+        assert!(root.join("data/decks/mine.toml").is_file(), "{arg}");
+        assert!(root.join("data/content/mine/en.toml").is_file(), "{arg}");
+    }
+    // A bundled deck is not the library's: said so, nothing touched.
+    let o = flipcard_within(root, &["decks", "remove", BUNDLED]);
+    refused(&o, "is not in the library but in");
+    assert!(err(&o).contains("(bundled)"), "{}", err(&o));
+    // An id that is not installed is named, with what is.
+    let o = flipcard_within(root, &["decks", "remove", "nope"]);
+    refused(&o, "no deck `nope` in the library; library decks: mine");
+    outside_intact(root);
+}
+
+#[test]
+fn remove_never_follows_a_link_out_of_the_library() {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::symlink;
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path();
+        library_and_outside(root);
+        let data = root.join("data");
+        // A deck file and a content folder that are links: the links go,
+        // what they lead to stays.
+        symlink(root.join("outside/X.toml"), data.join("decks/linked.toml")).unwrap();
+        symlink(root.join("outside/X"), data.join("content/linked")).unwrap();
+        let o = flipcard_within(root, &["decks", "remove", "linked"]);
+        assert!(o.status.success(), "{}", err(&o));
+        assert!(std::fs::symlink_metadata(data.join("decks/linked.toml")).is_err());
+        assert!(std::fs::symlink_metadata(data.join("content/linked")).is_err());
+        outside_intact(root);
+
+        // The content folder of the library a link to a folder outside: the
+        // remove is refused before anything moves.
+        std::fs::rename(data.join("content"), root.join("content-real")).unwrap();
+        std::fs::create_dir_all(root.join("outside2/mine")).unwrap();
+        std::fs::write(root.join("outside2/mine/en.toml"), "# keep\n").unwrap();
+        symlink(root.join("outside2"), data.join("content")).unwrap();
+        let o = flipcard_within(root, &["decks", "remove", "mine"]);
+        refused(&o, "is a symbolic link");
+        assert!(root.join("outside2/mine/en.toml").is_file());
+        assert!(data.join("decks/mine.toml").is_file(), "nothing removed");
+        std::fs::remove_file(data.join("content")).unwrap();
+        std::fs::rename(root.join("content-real"), data.join("content")).unwrap();
+
+        // So is the library folder itself a link.
+        std::fs::rename(data.join("decks"), root.join("decks-real")).unwrap();
+        symlink(root.join("decks-real"), data.join("decks")).unwrap();
+        let o = flipcard_within(root, &["decks", "remove", "mine"]);
+        refused(&o, "is a symbolic link");
+        assert!(root.join("decks-real/mine.toml").is_file());
+        outside_intact(root);
+    }
+}
+
+#[test]
+fn add_never_follows_a_link_or_waits_on_a_fifo_in_the_library() {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::symlink;
+        let dir = tempfile::tempdir().unwrap();
+        let root = dir.path();
+        library_and_outside(root);
+        let data = root.join("data");
+        deck(&root.join("v2"), "mine", &["a", "b"]);
+
+        // Links where the deck's file and content folder are: replaced by
+        // the new deck, what they lead to untouched.
+        std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
+        std::fs::remove_dir_all(data.join("content/mine")).unwrap();
+        symlink(root.join("outside/mine.toml"), data.join("decks/mine.toml")).unwrap();
+        symlink(root.join("outside/mine"), data.join("content/mine")).unwrap();
+        let o = flipcard_within(root, &["decks", "add", "v2"]);
+        assert!(o.status.success(), "{}", err(&o));
+        assert!(
+            std::fs::symlink_metadata(data.join("decks/mine.toml"))
+                .unwrap()
+                .is_file()
+        );
+        assert!(
+            std::fs::symlink_metadata(data.join("content/mine"))
+                .unwrap()
+                .is_dir()
+        );
+        outside_intact(root);
+
+        // A FIFO where the deck file is: replaced, not opened.
+        std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
+        mkfifo(&data.join("decks/mine.toml"));
+        let o = flipcard_within(root, &["decks", "add", "v2"]);
+        assert!(o.status.success(), "{}", err(&o));
+        assert!(data.join("decks/mine.toml").is_file());
+
+        // The library's folders, its lock and its staging folder must be
+        // what they are: a link or a FIFO there is refused in one line.
+        let cases: [(&str, &dyn Fn(&Path)); 3] = [
+            ("content", &|p: &Path| {
+                symlink(root.join("outside"), p).unwrap();
+            }),
+            ("decks/.staging", &|p: &Path| {
+                symlink(root.join("outside"), p).unwrap();
+            }),
+            ("decks/.lock", &|p: &Path| mkfifo(p)),
+        ];
+        for (name, make) in cases {
+            let path = data.join(name);
+            let kept = root.join("kept");
+            if std::fs::symlink_metadata(&path).is_ok() {
+                std::fs::rename(&path, &kept).unwrap();
+            }
+            make(&path);
+            let o = flipcard_within(root, &["decks", "add", "v2"]);
+            assert_eq!(o.status.code(), Some(1), "{name}: {}", err(&o));
+            assert_eq!(err(&o).lines().count(), 1, "{name}: {}", err(&o));
+            outside_intact(root);
+            assert!(
+                !root.join("outside/deck.toml").exists() && !root.join("outside/new").exists(),
+                "{name}: something was written outside"
+            );
+            std::fs::remove_file(&path).unwrap();
+            if kept.exists() {
+                std::fs::rename(&kept, &path).unwrap();
+            }
+        }
+        let o = flipcard_within(root, &["decks", "add", "v2"]);
+        assert!(o.status.success(), "{}", err(&o));
+    }
+}
+
+#[cfg(unix)]
+fn mkfifo(path: &Path) {
+    let status = Command::new("mkfifo").arg(path).status().expect("mkfifo");
+    assert!(status.success());
+}
