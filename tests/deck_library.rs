@@ -503,3 +503,192 @@ fn mkfifo(path: &Path) {
     let status = Command::new("mkfifo").arg(path).status().expect("mkfifo");
     assert!(status.success());
 }
+
+/// Which deck `mine` the library holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Held {
+    Nothing,
+    /// One card, content `# v1`.
+    V1,
+    /// Two cards, content `# v2`.
+    V2,
+}
+
+const KILL_ENV: &str = "FLIPCARD_TEST_LIBRARY_KILL";
+
+/// `flipcard ARGS` made to SIGKILL itself before its `kill_at`th change to
+/// the library's files; whether it was killed.
+fn killed_at(root: &Path, args: &[&str], kill_at: u32) -> bool {
+    use std::os::unix::process::ExitStatusExt;
+    let o = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        .args(args)
+        .current_dir(root)
+        .env("FLIPCARD_DATA_DIR", root.join("data"))
+        .env("FLIPCARD_CONFIG", root.join("config.toml"))
+        .env("FLIPCARD_NOW", "2026-05-10T12:00:00Z")
+        .env(KILL_ENV, kill_at.to_string())
+        .env_remove("FLIPCARD_DECKS")
+        .output()
+        .expect("run flipcard");
+    match o.status.signal() {
+        Some(9) => true,
+        _ => {
+            assert!(o.status.success(), "{args:?}: {}", err(&o));
+            false
+        }
+    }
+}
+
+/// What the files say, right now: a deck file in the library is always
+/// one of the two versions with that version's content beside it. With
+/// `settled` (after a run that finished), a deck that is absent has left
+/// no content behind and no staging folder remains.
+fn held(data: &Path, settled: bool, context: &str) -> Held {
+    let file = data.join("decks/mine.toml");
+    let content = data.join("content/mine/en.toml");
+    let read = |p: &Path| std::fs::read_to_string(p).ok();
+    let held = match read(&file) {
+        None => {
+            assert!(
+                std::fs::symlink_metadata(&file).is_err(),
+                "{context}: the deck file is there but unreadable"
+            );
+            Held::Nothing
+        }
+        Some(text) if text.contains("id = 'b'") => Held::V2,
+        Some(_) => Held::V1,
+    };
+    let want = match held {
+        Held::Nothing => None,
+        Held::V1 => Some("# v1\n"),
+        Held::V2 => Some("# v2\n"),
+    };
+    if want.is_some() || settled {
+        assert_eq!(
+            read(&content).as_deref(),
+            want,
+            "{context}: deck {held:?} with the wrong content"
+        );
+    }
+    if settled {
+        assert!(
+            !data.join("decks/.staging").exists(),
+            "{context}: the staging folder is left"
+        );
+        if held == Held::Nothing {
+            assert!(
+                !data.join("content/mine").exists(),
+                "{context}: content without a deck"
+            );
+        }
+    }
+    held
+}
+
+/// The deck as every command sees it: `decks` lists it whole, or not.
+fn listed(root: &Path, context: &str) -> Held {
+    let o = flipcard(root, &["decks"]);
+    assert!(o.status.success(), "{context}: {}", err(&o));
+    assert!(err(&o).is_empty(), "{context}: {}", err(&o));
+    let listing = out(&o);
+    match listing
+        .lines()
+        .find(|l| l.split_whitespace().next() == Some("mine"))
+    {
+        None => Held::Nothing,
+        Some(row) => {
+            assert!(row.trim_end().ends_with(" ok"), "{context}: {row}");
+            if row.contains("2 cards") {
+                Held::V2
+            } else {
+                assert!(row.contains("1 card,"), "{context}: {row}");
+                Held::V1
+            }
+        }
+    }
+}
+
+fn copy_tree(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_tree(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), &target).unwrap();
+        }
+    }
+}
+
+/// `decks add` of a new deck, `decks add` replacing the library's copy and
+/// `decks remove`, each killed with SIGKILL before every change it makes
+/// to the library's files in turn: at every point the library holds the
+/// old deck with its content or the new one with its content (never a deck
+/// without its content), and the next command finishes the change. For
+/// the replacement, that next command is killed at every point too.
+#[cfg(unix)]
+#[test]
+fn a_change_killed_at_any_point_leaves_a_whole_deck_or_none() {
+    let sources = tempfile::tempdir().unwrap();
+    let src = sources.path();
+    for (name, cards, text) in [
+        ("v1", &["a"][..], "# v1\n"),
+        ("v2", &["a", "b"][..], "# v2\n"),
+    ] {
+        deck(&src.join(name), "mine", cards);
+        std::fs::write(src.join(name).join("content/mine/en.toml"), text).unwrap();
+    }
+    let v2 = src.join("v2").display().to_string();
+    let add: Vec<&str> = vec!["decks", "add", &v2];
+    let remove: Vec<&str> = vec!["decks", "remove", "mine"];
+    let scenarios: [(&str, Held, &Vec<&str>, Held, bool); 3] = [
+        ("add", Held::Nothing, &add, Held::V2, false),
+        ("replace", Held::V1, &add, Held::V2, true),
+        ("remove", Held::V1, &remove, Held::Nothing, false),
+    ];
+    for (scenario, before, args, after, kill_recovery) in scenarios {
+        let mut kills = 0;
+        for n in 1.. {
+            let dir = tempfile::tempdir().unwrap();
+            let root = dir.path();
+            if before == Held::V1 {
+                let o = flipcard(
+                    root,
+                    &["decks", "add", &src.join("v1").display().to_string()],
+                );
+                assert!(o.status.success(), "{}", err(&o));
+            }
+            let context = format!("{scenario}, killed before change {n}");
+            if !killed_at(root, args, n) {
+                assert_eq!(held(&root.join("data"), true, &context), after, "{context}");
+                assert_eq!(listed(root, &context), after, "{context}");
+                break;
+            }
+            kills += 1;
+            let now = held(&root.join("data"), false, &context);
+            assert!(
+                now == before || now == after || now == Held::Nothing,
+                "{context}: {now:?}"
+            );
+            if kill_recovery {
+                for m in 1.. {
+                    let again = tempfile::tempdir().unwrap();
+                    copy_tree(&root.join("data"), &again.path().join("data"));
+                    let context = format!("{context}, recovery killed before change {m}");
+                    if !killed_at(again.path(), &["decks"], m) {
+                        break;
+                    }
+                    held(&again.path().join("data"), false, &context);
+                    let got = listed(again.path(), &context);
+                    assert!(got == before || got == after, "{context}: {got:?}");
+                    assert_eq!(held(&again.path().join("data"), true, &context), got);
+                }
+            }
+            let got = listed(root, &context);
+            assert!(got == before || got == after, "{context}: {got:?}");
+            assert_eq!(held(&root.join("data"), true, &context), got, "{context}");
+        }
+        assert!(kills >= 4, "{scenario}: only {kills} points to kill at");
+    }
+}

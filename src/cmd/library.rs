@@ -408,8 +408,7 @@ fn recover_locked(data_dir: &Path) -> anyhow::Result<()> {
         // was (the journal goes before the staging folder): drop the rest.
         None => {
             step();
-            fs::remove_dir_all(&st)
-                .with_context(|| format!("cannot remove {}", st.display()))?;
+            fs::remove_dir_all(&st).with_context(|| format!("cannot remove {}", st.display()))?;
             sync_dir(&library_dir(data_dir));
             Ok(())
         }
