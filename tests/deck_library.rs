@@ -496,6 +496,14 @@ fn add_never_follows_a_link_or_waits_on_a_fifo_in_the_library() {
         }
         let o = flipcard_within(root, &["decks", "add", "v2"]);
         assert!(o.status.success(), "{}", err(&o));
+
+        // A folder where the deck file goes is not a deck to replace.
+        std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
+        std::fs::create_dir(data.join("decks/mine.toml")).unwrap();
+        std::fs::write(data.join("decks/mine.toml/notes.txt"), "mine").unwrap();
+        let o = flipcard_within(root, &["decks", "add", "v2"]);
+        refused(&o, "is a folder, not a deck file");
+        assert!(data.join("decks/mine.toml/notes.txt").is_file());
     }
 }
 

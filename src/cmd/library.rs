@@ -270,6 +270,10 @@ pub fn install(data_dir: &Path, deck: &NewDeck) -> anyhow::Result<()> {
     let _lock = Lock::take(data_dir, true)?.expect("a waiting lock is always taken");
     real_dir(&content_root(data_dir), true)?;
     recover_locked(data_dir)?;
+    let live = library_dir(data_dir).join(format!("{}.toml", deck.id));
+    if fs::symlink_metadata(&live).is_ok_and(|m| m.is_dir()) {
+        anyhow::bail!("{} is a folder, not a deck file", live.display());
+    }
     let st = staging_dir(data_dir);
     step();
     fs::create_dir(&st).with_context(|| format!("cannot create {}", st.display()))?;
