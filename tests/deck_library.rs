@@ -382,129 +382,125 @@ fn remove_takes_a_deck_id_never_a_path() {
     outside_intact(root);
 }
 
+#[cfg(unix)]
 #[test]
 fn remove_never_follows_a_link_out_of_the_library() {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::symlink;
-        let dir = tempfile::tempdir().unwrap();
-        let root = dir.path();
-        library_and_outside(root);
-        let data = root.join("data");
-        // A deck file and a content folder that are links: the links go,
-        // what they lead to stays.
-        symlink(root.join("outside/X.toml"), data.join("decks/linked.toml")).unwrap();
-        symlink(root.join("outside/X"), data.join("content/linked")).unwrap();
-        let o = flipcard_within(root, &["decks", "remove", "linked"]);
-        assert!(o.status.success(), "{}", err(&o));
-        assert!(std::fs::symlink_metadata(data.join("decks/linked.toml")).is_err());
-        assert!(std::fs::symlink_metadata(data.join("content/linked")).is_err());
-        outside_intact(root);
+    use std::os::unix::fs::symlink;
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    library_and_outside(root);
+    let data = root.join("data");
+    // A deck file and a content folder that are links: the links go,
+    // what they lead to stays.
+    symlink(root.join("outside/X.toml"), data.join("decks/linked.toml")).unwrap();
+    symlink(root.join("outside/X"), data.join("content/linked")).unwrap();
+    let o = flipcard_within(root, &["decks", "remove", "linked"]);
+    assert!(o.status.success(), "{}", err(&o));
+    assert!(std::fs::symlink_metadata(data.join("decks/linked.toml")).is_err());
+    assert!(std::fs::symlink_metadata(data.join("content/linked")).is_err());
+    outside_intact(root);
 
-        // The content folder of the library a link to a folder outside: the
-        // remove is refused before anything moves.
-        std::fs::rename(data.join("content"), root.join("content-real")).unwrap();
-        std::fs::create_dir_all(root.join("outside2/mine")).unwrap();
-        std::fs::write(root.join("outside2/mine/en.toml"), "# keep\n").unwrap();
-        symlink(root.join("outside2"), data.join("content")).unwrap();
-        let o = flipcard_within(root, &["decks", "remove", "mine"]);
-        refused(&o, "is a symbolic link");
-        assert!(root.join("outside2/mine/en.toml").is_file());
-        assert!(data.join("decks/mine.toml").is_file(), "nothing removed");
-        std::fs::remove_file(data.join("content")).unwrap();
-        std::fs::rename(root.join("content-real"), data.join("content")).unwrap();
+    // The content folder of the library a link to a folder outside: the
+    // remove is refused before anything moves.
+    std::fs::rename(data.join("content"), root.join("content-real")).unwrap();
+    std::fs::create_dir_all(root.join("outside2/mine")).unwrap();
+    std::fs::write(root.join("outside2/mine/en.toml"), "# keep\n").unwrap();
+    symlink(root.join("outside2"), data.join("content")).unwrap();
+    let o = flipcard_within(root, &["decks", "remove", "mine"]);
+    refused(&o, "is a symbolic link");
+    assert!(root.join("outside2/mine/en.toml").is_file());
+    assert!(data.join("decks/mine.toml").is_file(), "nothing removed");
+    std::fs::remove_file(data.join("content")).unwrap();
+    std::fs::rename(root.join("content-real"), data.join("content")).unwrap();
 
-        // So is the library folder itself a link.
-        std::fs::rename(data.join("decks"), root.join("decks-real")).unwrap();
-        symlink(root.join("decks-real"), data.join("decks")).unwrap();
-        let o = flipcard_within(root, &["decks", "remove", "mine"]);
-        refused(&o, "is a symbolic link");
-        assert!(root.join("decks-real/mine.toml").is_file());
-        outside_intact(root);
-    }
+    // So is the library folder itself a link.
+    std::fs::rename(data.join("decks"), root.join("decks-real")).unwrap();
+    symlink(root.join("decks-real"), data.join("decks")).unwrap();
+    let o = flipcard_within(root, &["decks", "remove", "mine"]);
+    refused(&o, "is a symbolic link");
+    assert!(root.join("decks-real/mine.toml").is_file());
+    outside_intact(root);
 }
 
+#[cfg(unix)]
 #[test]
 fn add_never_follows_a_link_or_waits_on_a_fifo_in_the_library() {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::symlink;
-        let dir = tempfile::tempdir().unwrap();
-        let root = dir.path();
-        library_and_outside(root);
-        let data = root.join("data");
-        deck(&root.join("v2"), "mine", &["a", "b"]);
+    use std::os::unix::fs::symlink;
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    library_and_outside(root);
+    let data = root.join("data");
+    deck(&root.join("v2"), "mine", &["a", "b"]);
 
-        // Links where the deck's file and content folder are: replaced by
-        // the new deck, what they lead to untouched.
-        std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
-        std::fs::remove_dir_all(data.join("content/mine")).unwrap();
-        symlink(root.join("outside/mine.toml"), data.join("decks/mine.toml")).unwrap();
-        symlink(root.join("outside/mine"), data.join("content/mine")).unwrap();
-        let o = flipcard_within(root, &["decks", "add", "v2"]);
-        assert!(o.status.success(), "{}", err(&o));
-        assert!(
-            std::fs::symlink_metadata(data.join("decks/mine.toml"))
-                .unwrap()
-                .is_file()
-        );
-        assert!(
-            std::fs::symlink_metadata(data.join("content/mine"))
-                .unwrap()
-                .is_dir()
-        );
-        outside_intact(root);
+    // Links where the deck's file and content folder are: replaced by
+    // the new deck, what they lead to untouched.
+    std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
+    std::fs::remove_dir_all(data.join("content/mine")).unwrap();
+    symlink(root.join("outside/mine.toml"), data.join("decks/mine.toml")).unwrap();
+    symlink(root.join("outside/mine"), data.join("content/mine")).unwrap();
+    let o = flipcard_within(root, &["decks", "add", "v2"]);
+    assert!(o.status.success(), "{}", err(&o));
+    assert!(
+        std::fs::symlink_metadata(data.join("decks/mine.toml"))
+            .unwrap()
+            .is_file()
+    );
+    assert!(
+        std::fs::symlink_metadata(data.join("content/mine"))
+            .unwrap()
+            .is_dir()
+    );
+    outside_intact(root);
 
-        // A FIFO where the deck file is: replaced, not opened.
-        std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
-        mkfifo(&data.join("decks/mine.toml"));
-        let o = flipcard_within(root, &["decks", "add", "v2"]);
-        assert!(o.status.success(), "{}", err(&o));
-        assert!(data.join("decks/mine.toml").is_file());
+    // A FIFO where the deck file is: replaced, not opened.
+    std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
+    mkfifo(&data.join("decks/mine.toml"));
+    let o = flipcard_within(root, &["decks", "add", "v2"]);
+    assert!(o.status.success(), "{}", err(&o));
+    assert!(data.join("decks/mine.toml").is_file());
 
-        // The library's folders, its lock and its staging folder must be
-        // what they are: a link or a FIFO there is refused in one line.
-        // (where, a FIFO there rather than a link out of the library)
-        let cases = [
-            ("content", false),
-            ("decks/.staging", false),
-            ("decks/.lock", true),
-        ];
-        for (name, fifo) in cases {
-            let path = data.join(name);
-            let kept = root.join("kept");
-            if std::fs::symlink_metadata(&path).is_ok() {
-                std::fs::rename(&path, &kept).unwrap();
-            }
-            if fifo {
-                mkfifo(&path);
-            } else {
-                symlink(root.join("outside"), &path).unwrap();
-            }
-            let o = flipcard_within(root, &["decks", "add", "v2"]);
-            assert_eq!(o.status.code(), Some(1), "{name}: {}", err(&o));
-            assert_eq!(err(&o).lines().count(), 1, "{name}: {}", err(&o));
-            outside_intact(root);
-            assert!(
-                !root.join("outside/deck.toml").exists() && !root.join("outside/new").exists(),
-                "{name}: something was written outside"
-            );
-            std::fs::remove_file(&path).unwrap();
-            if kept.exists() {
-                std::fs::rename(&kept, &path).unwrap();
-            }
+    // The library's folders, its lock and its staging folder must be
+    // what they are: a link or a FIFO there is refused in one line.
+    // (where, a FIFO there rather than a link out of the library)
+    let cases = [
+        ("content", false),
+        ("decks/.staging", false),
+        ("decks/.lock", true),
+    ];
+    for (name, fifo) in cases {
+        let path = data.join(name);
+        let kept = root.join("kept");
+        if std::fs::symlink_metadata(&path).is_ok() {
+            std::fs::rename(&path, &kept).unwrap();
+        }
+        if fifo {
+            mkfifo(&path);
+        } else {
+            symlink(root.join("outside"), &path).unwrap();
         }
         let o = flipcard_within(root, &["decks", "add", "v2"]);
-        assert!(o.status.success(), "{}", err(&o));
-
-        // A folder where the deck file goes is not a deck to replace.
-        std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
-        std::fs::create_dir(data.join("decks/mine.toml")).unwrap();
-        std::fs::write(data.join("decks/mine.toml/notes.txt"), "mine").unwrap();
-        let o = flipcard_within(root, &["decks", "add", "v2"]);
-        refused(&o, "is a folder, not a deck file");
-        assert!(data.join("decks/mine.toml/notes.txt").is_file());
+        assert_eq!(o.status.code(), Some(1), "{name}: {}", err(&o));
+        assert_eq!(err(&o).lines().count(), 1, "{name}: {}", err(&o));
+        outside_intact(root);
+        assert!(
+            !root.join("outside/deck.toml").exists() && !root.join("outside/new").exists(),
+            "{name}: something was written outside"
+        );
+        std::fs::remove_file(&path).unwrap();
+        if kept.exists() {
+            std::fs::rename(&kept, &path).unwrap();
+        }
     }
+    let o = flipcard_within(root, &["decks", "add", "v2"]);
+    assert!(o.status.success(), "{}", err(&o));
+
+    // A folder where the deck file goes is not a deck to replace.
+    std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
+    std::fs::create_dir(data.join("decks/mine.toml")).unwrap();
+    std::fs::write(data.join("decks/mine.toml/notes.txt"), "mine").unwrap();
+    let o = flipcard_within(root, &["decks", "add", "v2"]);
+    refused(&o, "is a folder, not a deck file");
+    assert!(data.join("decks/mine.toml/notes.txt").is_file());
 }
 
 #[cfg(unix)]
