@@ -71,8 +71,14 @@ fn check(dir: &Path, args: &[&str]) -> Run {
 /// `flipcard ARGS` in `dir` with its data and config there, killed (and
 /// failed) if it does not end.
 fn flipcard(dir: &Path, args: &[&str]) -> Run {
-    let mut child = Command::new(BIN)
-        .args(args)
+    let mut cmd = Command::new(BIN);
+    cmd.args(args);
+    run(cmd, dir, args)
+}
+
+/// `cmd` (flipcard, perhaps behind a prefix) in `dir`, as [`flipcard`].
+fn run(mut cmd: Command, dir: &Path, args: &[&str]) -> Run {
+    let mut child = cmd
         .env("FLIPCARD_DATA_DIR", dir.join("data"))
         .env("FLIPCARD_CONFIG", dir.join("config.toml"))
         .current_dir(dir)
@@ -239,22 +245,72 @@ fn content_files_that_are_not_files_say_what_they_are() {
     }
 }
 
-/// As root, permissions do not stop reads; then there is nothing to test.
+/// Permissions stop a user without privileges only: where this test runs
+/// as root (as in CI) the check runs as `nobody`, through `setpriv`.
 #[test]
 fn an_unreadable_content_file_says_so() {
     let dir = course();
     let file = dir.path().join("content/d/hi-Latn.toml");
     fs::set_permissions(&file, fs::Permissions::from_mode(0o000)).unwrap();
-    if fs::read(&file).is_ok() {
-        eprintln!("skipped: permissions do not stop this user reading files");
-        return;
-    }
-    let run = check(dir.path(), &["decks"]);
+    let run = if fs::read(&file).is_err() {
+        check(dir.path(), &["decks"])
+    } else {
+        let Some(run) = as_nobody(dir.path(), &["check", "decks"]) else {
+            return;
+        };
+        run
+    };
     assert_eq!(run.code, 1, "{}", run.stderr);
     assert_eq!(
         headlines(&run.stderr),
         ["content/d/hi-Latn.toml: error: cannot be read: permission denied"]
     );
+}
+
+/// `flipcard ARGS` in `dir` as the unprivileged user `nobody` (uid and
+/// gid 65534, no groups): `dir` is opened to every user and the binary
+/// copied there if `nobody` cannot run it where it is. `None` (skipped, a
+/// failure under `CI=true`) without `setpriv`.
+fn as_nobody(dir: &Path, args: &[&str]) -> Option<Run> {
+    if !crate::support::require_tool("setpriv") {
+        return None;
+    }
+    const NOBODY: [&str; 3] = ["--reuid=65534", "--regid=65534", "--clear-groups"];
+    fs::set_permissions(dir, fs::Permissions::from_mode(0o755)).unwrap();
+    let can_run = |bin: &Path| {
+        Command::new("setpriv")
+            .args(NOBODY)
+            .arg(bin)
+            .arg("--version")
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    let mut bin = PathBuf::from(BIN);
+    if !can_run(&bin) {
+        let copy = dir.join("flipcard-bin");
+        fs::copy(&bin, &copy).unwrap();
+        fs::set_permissions(&copy, fs::Permissions::from_mode(0o755)).unwrap();
+        bin = copy;
+        assert!(can_run(&bin), "nobody cannot run {}", bin.display());
+    }
+    // Nobody must not read the file, or the test proves nothing.
+    assert!(
+        !Command::new("setpriv")
+            .args(NOBODY)
+            .args(["cat", "content/d/hi-Latn.toml"])
+            .current_dir(dir)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .unwrap()
+            .success(),
+        "nobody can read the unreadable file"
+    );
+    let mut cmd = Command::new("setpriv");
+    cmd.args(NOBODY).arg(&bin).args(args);
+    Some(run(cmd, dir, args))
 }
 
 #[test]

@@ -315,19 +315,11 @@ fn a_real_export_reads_back_and_deck_keeps_to_one_deck() {
 
 /// The page in a real browser: headless Chromium prints its DOM after
 /// layout, and takes a screenshot. Skipped, with the reason, when Chromium
-/// is not installed (`apt-get install -y chromium`).
+/// is not installed (`apt-get install -y chromium`), and failed then under
+/// `CI=true`.
 #[test]
 fn the_page_renders_in_headless_chromium() {
-    let Some(browser) = ["chromium", "chromium-browser", "google-chrome"]
-        .into_iter()
-        .find(|b| {
-            Command::new(b)
-                .arg("--version")
-                .output()
-                .is_ok_and(|o| o.status.success())
-        })
-    else {
-        eprintln!("skipped: no chromium on PATH (apt-get install -y chromium)");
+    let Some(browser) = crate::support::require_chromium() else {
         return;
     };
     let dir = tempfile::tempdir().unwrap();

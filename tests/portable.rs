@@ -40,9 +40,14 @@ fn hiding_prefix() -> Option<Vec<String>> {
             .to_vec(),
         ),
         other => {
-            eprintln!(
-                "note: the repository stays visible (unshare -rm is refused here: {other:?}); \
-                 the binary still runs alone from an empty folder"
+            // Under CI=true the repository must be hidden.
+            crate::support::require(
+                false,
+                "a mount namespace to hide the repository in",
+                &format!(
+                    "`unshare -rm` from util-linux, allowed to this user; here: {other:?}; \
+                     without it the binary still runs alone from an empty folder"
+                ),
             );
             None
         }
@@ -155,14 +160,9 @@ fn the_binary_alone_carries_its_decks() {
 }
 
 /// The terminal app shows the bundled deck's title (in tmux; skipped with
-/// a note when tmux is missing).
+/// a note when tmux is missing, failed then under `CI=true`).
 fn opens_in_a_terminal(alone: &Alone, title: &str) {
-    if !Command::new("tmux")
-        .arg("-V")
-        .output()
-        .is_ok_and(|o| o.status.success())
-    {
-        eprintln!("skipped the terminal check: tmux is not installed");
+    if !crate::support::require_tool("tmux") {
         return;
     }
     let socket = format!("flipcard-alone-{}", std::process::id());

@@ -1,9 +1,13 @@
-//! Durability: a child process records ratings (and now and then undoes
-//! one) as fast as it can, printing each id once its transaction is
-//! committed; it is killed with SIGKILL at random moments. Afterwards every
-//! printed rating is in the log as written, at most the one rating in flight
-//! is there unprinted, the cache agrees with the log, and
-//! `PRAGMA integrity_check` is ok.
+//! Durability: a child process records ratings the way the app does
+//! (`Store::record_study`: the rating with the leech, suspend and sibling
+//! bury events it brings about) and now and then undoes one as the app does
+//! (`undo_last_change`), as fast as it can, printing each id once its
+//! transaction is committed; it is killed with SIGKILL at random moments.
+//! Afterwards every printed rating is in the log as written, at most the
+//! one rating in flight is there unprinted, every rating has all of its
+//! events or (undone) all of them undone — never a rating without its
+//! events — the caches agree with the log, and `PRAGMA integrity_check` is
+//! ok.
 //!
 //! The child is this very test binary, started again with an environment
 //! variable naming the data dir.
@@ -14,17 +18,15 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration as StdDuration;
 
-use crate::store_support::{at, key, review};
+use crate::store_support::{Consequences, after_rating, at, check_consequences, key, study};
 use chrono::Duration;
-use flipcard::sched::{Rating, ReviewKind, State};
-use flipcard::store::{Store, StoreError};
+use flipcard::store::{Store, StoreError, Undone};
 use rand::{Rng, SeedableRng};
 
 const CHILD_DIR: &str = "FLIPCARD_TEST_DURABILITY_DIR";
 const CHILD_FIRST_SEQ: &str = "FLIPCARD_TEST_DURABILITY_SEQ";
 const TEST_NAME: &str = "store_durability::sigkill_at_random_moments_loses_no_committed_rating";
 const ROUNDS: usize = 40;
-const CARDS: u64 = 20;
 
 #[test]
 fn sigkill_at_random_moments_loses_no_committed_rating() {
@@ -51,6 +53,8 @@ fn sigkill_at_random_moments_loses_no_committed_rating() {
     let mut next_seq = 0u64;
     let mut rounds_with_writes = 0;
     let mut in_flight = 0;
+    let mut printed_leeches: HashSet<i64> = HashSet::new();
+    let mut consequences = Consequences::default();
 
     for round in 0..ROUNDS {
         let mut child = Command::new(&exe)
@@ -91,8 +95,11 @@ fn sigkill_at_random_moments_loses_no_committed_rating() {
         for l in &lines {
             let parts: Vec<&str> = l.split_whitespace().collect();
             match parts.as_slice() {
-                ["committed", id, seq] => {
+                ["committed", id, seq, leech] => {
                     committed.insert(seq.parse().unwrap(), id.parse().unwrap());
+                    if *leech == "leech" {
+                        printed_leeches.insert(id.parse().unwrap());
+                    }
                     round_committed += 1;
                 }
                 ["undone", id] => {
@@ -147,9 +154,23 @@ fn sigkill_at_random_moments_loses_no_committed_rating() {
             unprinted_rows + unprinted_undos <= 1,
             "{context}: {unprinted_rows} unprinted ratings and {unprinted_undos} unprinted undos"
         );
+        // Every rating with all that it brought about, or (undone) with
+        // all of it taken back.
+        consequences = check_consequences(&store).unwrap_or_else(|e| panic!("{context}: {e}"));
+        for id in &printed_leeches {
+            let leeched = store
+                .status_history(&rows_key(&store, *id))
+                .unwrap()
+                .iter()
+                .any(|e| e.cause == Some(*id) && e.action == flipcard::store::StatusAction::Leech);
+            assert!(
+                leeched,
+                "{context}: rating {id} was printed as a leech; no leech event"
+            );
+        }
         let rebuilt = store.rebuild().unwrap();
         assert!(
-            rebuilt.changed == 0 && !rebuilt.tallies_changed,
+            rebuilt.changed == 0 && !rebuilt.tallies_changed && !rebuilt.statuses_changed,
             "{context}: the caches disagree with the log: {rebuilt:?}"
         );
         next_seq = max_seq.map_or(0, |s| s + 1);
@@ -164,8 +185,13 @@ fn sigkill_at_random_moments_loses_no_committed_rating() {
         }
     }
     eprintln!(
-        "durability: {} ratings over {ROUNDS} kills, {in_flight} writes caught between commit and print",
+        "durability: {} ratings over {ROUNDS} kills, {in_flight} writes caught between commit and print; \
+         live at the end: {consequences:?}",
         committed.len()
+    );
+    assert!(
+        consequences.leeches > 10 && consequences.buries > 100,
+        "too few leeches and buries to prove anything: {consequences:?}"
     );
     assert!(
         rounds_with_writes >= ROUNDS / 2,
@@ -178,8 +204,25 @@ fn sigkill_at_random_moments_loses_no_committed_rating() {
     );
 }
 
-/// The child: ratings as fast as possible, each id printed once committed.
-/// Every seventh step undoes the last rating instead.
+/// The key of rating `id`.
+fn rows_key(store: &Store, id: i64) -> flipcard::sched::ItemKey {
+    let mut found = None;
+    store
+        .each_review(|r| -> Result<(), StoreError> {
+            if r.id == id {
+                found = Some(r.record.key);
+            }
+            Ok(())
+        })
+        .unwrap();
+    found.unwrap_or_else(|| panic!("no rating {id}"))
+}
+
+/// The child: ratings as fast as possible through `record_study`, each id
+/// printed once committed (with `leech` when it made the item one). Each
+/// card gets three: a lapse, a lapse (the second makes it a leech, and
+/// suspends it), a good one; every rating buries the other direction.
+/// Every seventh step undoes the last rating instead, with its events.
 fn write_until_killed(dir: &Path, first_seq: u64) {
     let mut store = match Store::open(dir) {
         Ok(s) => s,
@@ -196,25 +239,26 @@ fn write_until_killed(dir: &Path, first_seq: u64) {
     let start = at("2026-01-01T00:00:00Z");
     for seq in first_seq.. {
         let print = if seq % 7 == 6 {
-            match store.undo_last() {
-                Ok(Some(undone)) => Some(format!("undone {}", undone.id)),
+            match store.undo_last_change() {
+                Ok(Some(Undone::Review(undone))) => Some(format!("undone {}", undone.id)),
+                Ok(Some(Undone::Status(events))) => {
+                    panic!("child: undid a status change {events:?}")
+                }
                 Ok(None) => None,
                 Err(e) => panic!("child: undo failed: {e}"),
             }
         } else {
-            let k = key("durable", &format!("c{}", seq % CARDS));
-            let mut r = review(
-                &k,
-                start + Duration::seconds(seq as i64),
-                Rating::ALL[(seq % 4) as usize],
-                ReviewKind::Learn,
-                State::Learning,
-                Duration::minutes(10),
-            );
+            let k = key("durable", &format!("c{}", seq / 3));
+            let when = start + Duration::seconds(seq as i64);
+            let mut r = study(&k, when, seq % 3 != 2, false);
             // The sequence number marks the row, to check its content later.
             r.duration_ms = seq as i64;
-            match store.record(&r) {
-                Ok(id) => Some(format!("committed {id} {seq}")),
+            match store.record_study(&r, &after_rating(&k, when)) {
+                Ok(rec) => Some(format!(
+                    "committed {} {seq} {}",
+                    rec.id,
+                    if rec.leech { "leech" } else { "-" }
+                )),
                 Err(e) => panic!("child: record failed: {e}"),
             }
         };

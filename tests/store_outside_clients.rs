@@ -162,7 +162,7 @@ fn start_outside_clients(
             }
         }));
     }
-    if program_works("python3", &["-c", "import sqlite3"]) {
+    if crate::support::require_python_module("sqlite3") {
         let (db, stop, visits) = (db.to_path_buf(), Arc::clone(stop), Arc::clone(visits));
         handles.push(std::thread::spawn(move || {
             let script = "import sqlite3, sys\n\
@@ -183,7 +183,7 @@ fn start_outside_clients(
             }
         }));
     }
-    if program_works("sqlite3", &["-version"]) {
+    if crate::support::require_tool("sqlite3") {
         let (db, stop, visits) = (db.to_path_buf(), Arc::clone(stop), Arc::clone(visits));
         let copy = dir.join("outside-backup.db");
         handles.push(std::thread::spawn(move || {
@@ -201,15 +201,6 @@ fn start_outside_clients(
         }));
     }
     handles
-}
-
-fn program_works(program: &str, args: &[&str]) -> bool {
-    Command::new(program)
-        .args(args)
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
 }
 
 fn assert_all_present(db: &Path, committed: &HashMap<u64, i64>, when: &str) {

@@ -4,6 +4,14 @@
 //! written (undone exactly when an undo was acknowledged), and `db rebuild`
 //! finds the caches in agreement with the log.
 //!
+//! Ratings are stored the way the app stores them, `Store::record_study`,
+//! with what follows from them: the second lapse of an item makes it a
+//! leech and suspends it, every rating buries the other direction of its
+//! card (cram ratings change no status). The model predicts which rating
+//! makes a leech; an undo (`undo_last_change`, the app's) takes the rating
+//! back with its events; and afterwards every rating in the log has exactly
+//! the events the rule gives it, live, or all of them undone.
+//!
 //! Runs `PROPTEST_CASES` sequences (default 24, a few seconds); for a longer
 //! search: `PROPTEST_CASES=500 cargo test --test main store_props::`.
 
@@ -13,10 +21,10 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration as StdDuration;
 
-use crate::store_support::{at, key, review};
+use crate::store_support::{LEECH_AT, after_rating, at, check_consequences, key, study};
 use chrono::Duration;
-use flipcard::sched::{Rating, ReviewKind, State};
-use flipcard::store::{Store, StoreError};
+use flipcard::sched::{Direction, ItemKey};
+use flipcard::store::{Store, StoreError, Undone};
 use proptest::prelude::*;
 
 const CHILD_DIR: &str = "FLIPCARD_TEST_PROPS_DIR";
@@ -25,9 +33,13 @@ const CHILD_TEST: &str = "store_props::child_writer";
 
 #[derive(Debug, Clone)]
 enum Op {
+    /// A rating of card `card` (forward or backward): a lapse or a good
+    /// review, or a cram rating.
     Rate {
         card: u8,
-        rating: u8,
+        backward: bool,
+        lapse: bool,
+        cram: bool,
     },
     Undo,
     Reopen,
@@ -41,7 +53,8 @@ enum Op {
 
 fn op() -> impl Strategy<Value = Op> {
     prop_oneof![
-        8 => (0u8..6, 0u8..4).prop_map(|(card, rating)| Op::Rate { card, rating }),
+        8 => (0u8..4, any::<bool>(), prop::bool::weighted(0.6), prop::bool::weighted(0.1))
+            .prop_map(|(card, backward, lapse, cram)| Op::Rate { card, backward, lapse, cram }),
         3 => Just(Op::Undo),
         2 => Just(Op::Reopen),
         3 => Just(Op::OutsideRead),
@@ -59,6 +72,28 @@ struct Expected {
     /// undone: what the next undo must take.
     session: Vec<i64>,
     next_marker: i64,
+    /// This process's ratings in order: id, item, lapse, cram.
+    rated: Vec<(i64, ItemKey, bool, bool)>,
+}
+
+impl Expected {
+    /// Whether a rating of `key` now makes it a leech: a lapse that brings
+    /// its live lapses to the threshold while it is not one already.
+    fn makes_leech(&self, key: &ItemKey, lapse: bool, cram: bool) -> bool {
+        if cram || !lapse {
+            return false;
+        }
+        let mut lapses = 0;
+        let mut leech = false;
+        for (id, k, l, c) in &self.rated {
+            if k != key || *c || !*l || self.rows[id].1 {
+                continue;
+            }
+            lapses += 1;
+            leech |= lapses >= LEECH_AT;
+        }
+        !leech && lapses + 1 >= LEECH_AT
+    }
 }
 
 fn cases() -> u32 {
@@ -92,24 +127,43 @@ fn run(ops: &[Op]) -> Result<(), TestCaseError> {
     for (step, op) in ops.iter().enumerate() {
         let s = store.as_mut().unwrap();
         match op {
-            Op::Rate { card, rating } => {
+            Op::Rate {
+                card,
+                backward,
+                lapse,
+                cram,
+            } => {
                 let marker = want.next_marker;
                 want.next_marker += 1;
-                let mut r = review(
-                    &key("props", &format!("c{card}")),
-                    t0 + Duration::minutes(marker),
-                    Rating::ALL[usize::from(*rating)],
-                    ReviewKind::Learn,
-                    State::Learning,
-                    Duration::minutes(10),
-                );
+                let mut k = key("props", &format!("c{card}"));
+                if *backward {
+                    k.direction = Direction::Backward;
+                }
+                let when = t0 + Duration::minutes(marker);
+                let mut r = study(&k, when, *lapse, *cram);
                 r.duration_ms = marker;
-                let id = s.record(&r).unwrap();
-                want.rows.insert(id, (marker, false));
-                want.session.push(id);
+                let leech = want.makes_leech(&k, *lapse, *cram);
+                let recorded = s.record_study(&r, &after_rating(&k, when)).unwrap();
+                prop_assert_eq!(
+                    recorded.leech,
+                    leech,
+                    "step {}: a leech or not, against the model",
+                    step
+                );
+                want.rows.insert(recorded.id, (marker, false));
+                want.session.push(recorded.id);
+                want.rated.push((recorded.id, k, *lapse, *cram));
             }
             Op::Undo => {
-                let undone = s.undo_last().unwrap().map(|r| r.id);
+                let undone = match s.undo_last_change().unwrap() {
+                    Some(Undone::Review(r)) => Some(r.id),
+                    Some(Undone::Status(events)) => {
+                        return Err(TestCaseError::fail(format!(
+                            "step {step}: undid a status change {events:?}"
+                        )));
+                    }
+                    None => None,
+                };
                 prop_assert_eq!(
                     undone,
                     want.session.pop(),
@@ -160,6 +214,11 @@ fn run(ops: &[Op]) -> Result<(), TestCaseError> {
                     want.rows.entry(id).or_insert((marker, false));
                     want.next_marker = want.next_marker.max(marker + 1);
                 }
+                // A writer killed mid-rating left the rating with all its
+                // events or neither.
+                if let Err(e) = check_consequences(s) {
+                    return Err(TestCaseError::fail(format!("step {step}: {e}")));
+                }
             }
         }
     }
@@ -177,6 +236,12 @@ fn run(ops: &[Op]) -> Result<(), TestCaseError> {
         .unwrap();
     drop(fresh);
     prop_assert_eq!(&got, &want.rows);
+    // The events and statuses, also as a reader of its own sees them.
+    let reader = Store::open_read_only(dir.path()).unwrap();
+    if let Err(e) = check_consequences(&reader) {
+        return Err(TestCaseError::fail(format!("at the end: {e}")));
+    }
+    drop(reader);
     let s = store.as_mut().unwrap();
     let rebuilt = s.rebuild().unwrap();
     prop_assert_eq!(
@@ -186,20 +251,27 @@ fn run(ops: &[Op]) -> Result<(), TestCaseError> {
         rebuilt
     );
     prop_assert!(!rebuilt.tallies_changed);
+    prop_assert!(
+        !rebuilt.statuses_changed,
+        "status cache disagreed with the log"
+    );
     prop_assert_eq!(s.integrity_check().unwrap(), vec!["ok".to_string()]);
     Ok(())
 }
 
-/// Another process (the `sqlite3` shell when installed, else this test
-/// binary as a reader) opens the file, reads and closes it.
+/// Another process (the `sqlite3` shell when installed, always under
+/// `CI=true`; else this test binary as a reader) opens the file, reads and
+/// closes it.
 fn outside_read(db: &Path) {
-    let shell = Command::new("sqlite3")
-        .arg(db)
-        .arg("SELECT count(*) FROM review;")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status();
-    if shell.is_ok_and(|s| s.success()) {
+    if crate::support::require_tool("sqlite3")
+        && Command::new("sqlite3")
+            .arg(db)
+            .arg("SELECT count(*) FROM review;")
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    {
         return;
     }
     let status = Command::new(std::env::current_exe().unwrap())
@@ -247,7 +319,8 @@ fn killed_writer(dir: &Path, first_marker: i64, after_ms: u16) -> HashMap<i64, i
 }
 
 /// The child: with `CHILD_SEQ=read`, one outside read; otherwise ratings
-/// as fast as it can until killed, each printed once committed.
+/// through `record_study` as fast as it can until killed, each printed
+/// once committed.
 #[test]
 fn child_writer() {
     let Some(dir) = std::env::var_os(CHILD_DIR) else {
@@ -270,16 +343,13 @@ fn child_writer() {
     }
     let t0 = at("2026-01-01T00:00:00Z");
     for marker in first.. {
-        let mut r = review(
-            &key("props", &format!("c{}", marker % 6)),
-            t0 + Duration::minutes(marker),
-            Rating::ALL[(marker % 4) as usize],
-            ReviewKind::Learn,
-            State::Learning,
-            Duration::minutes(10),
-        );
+        // Cards of its own (a lapse, a lapse: a leech; a good one), so the
+        // parent's model of its cards holds.
+        let k = key("child", &format!("c{}", marker / 3));
+        let when = t0 + Duration::minutes(marker);
+        let mut r = study(&k, when, marker % 3 != 2, false);
         r.duration_ms = marker;
-        let id = store.record(&r).unwrap();
+        let id = store.record_study(&r, &after_rating(&k, when)).unwrap().id;
         if writeln!(out, "committed {id} {marker}").is_err() || out.flush().is_err() {
             return;
         }

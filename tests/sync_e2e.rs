@@ -45,7 +45,6 @@ fn reviews(data: &Path, config: &Path) -> Vec<serde_json::Value> {
 #[test]
 fn a_session_syncs_when_it_closes_while_the_app_stays_open() {
     if !tmux_available() {
-        eprintln!("skipping the sync end-to-end test: tmux is not installed");
         return;
     }
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));

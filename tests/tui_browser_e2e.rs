@@ -45,7 +45,6 @@ fn flipcard(dir: &std::path::Path, args: &[&str]) -> (bool, String, String) {
 #[test]
 fn browse_search_suspend_then_cards_list_shows_it() {
     if !tmux_available() {
-        eprintln!("skipping the browser end-to-end test: tmux is not installed");
         return;
     }
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
@@ -98,7 +97,6 @@ fn browse_search_suspend_then_cards_list_shows_it() {
 #[test]
 fn a_filtered_cloze_session_blanks_one_number_and_records_it() {
     if !tmux_available() {
-        eprintln!("skipping the cloze end-to-end test: tmux is not installed");
         return;
     }
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));

@@ -6,8 +6,8 @@
 //! back without a crash, and find the terminal restored after Ctrl-C and
 //! SIGTERM.
 //!
-//! Skipped, with a message, only when tmux is not installed (`.ci/run`
-//! installs it).
+//! Skipped, with a message, only when tmux is not installed, and never
+//! under `CI=true` (`.ci/run` installs tmux; there a missing tmux fails).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -19,11 +19,10 @@ use flipcard::deck::{Answer, Deck};
 const NOW: &str = "2026-03-02T09:00:00Z";
 const DECK: &str = "torque-free-rotation";
 
+/// Whether the end-to-end tests can run: tmux is there (else skipped with
+/// a note, and under `CI=true` failed: `crate::support::require`).
 pub(crate) fn tmux_available() -> bool {
-    Command::new("tmux")
-        .arg("-V")
-        .output()
-        .is_ok_and(|o| o.status.success())
+    crate::support::require_tool("tmux")
 }
 
 /// The release binary, built once per test run. Cargo locks each profile's
@@ -236,7 +235,6 @@ impl Env {
 #[test]
 fn review_undo_hinglish_prompt_verdict_and_export() {
     if !tmux_available() {
-        eprintln!("skipping the terminal end-to-end test: tmux is not installed");
         return;
     }
     let deck = bundled_deck();
@@ -359,7 +357,6 @@ fn review_undo_hinglish_prompt_verdict_and_export() {
 #[test]
 fn ctrl_c_and_sigterm_restore_the_terminal() {
     if !tmux_available() {
-        eprintln!("skipping the terminal end-to-end test: tmux is not installed");
         return;
     }
     let env = Env::new();
@@ -408,7 +405,6 @@ fn app_pid(t: &Tmux) -> String {
 #[test]
 fn outside_sqlite_readers_during_a_review_lose_no_rating() {
     if !tmux_available() {
-        eprintln!("skipping the terminal end-to-end test: tmux is not installed");
         return;
     }
     let deck = bundled_deck();
@@ -431,6 +427,9 @@ fn outside_sqlite_readers_during_a_review_lose_no_rating() {
     use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering::SeqCst};
     let stop = std::sync::Arc::new(AtomicBool::new(false));
     let opens = std::sync::Arc::new(AtomicUsize::new(0));
+    // Python's sqlite3 module where there is one (always under CI=true),
+    // else rusqlite in this process.
+    let python = crate::support::require_python_module("sqlite3");
     let reader = {
         let (db, stop, opens) = (
             db.clone(),
@@ -441,11 +440,13 @@ fn outside_sqlite_readers_during_a_review_lose_no_rating() {
             while !stop.load(SeqCst) {
                 let script = "import sqlite3, sys\nc = sqlite3.connect(sys.argv[1])\n\
                               c.execute('select count(*) from review').fetchall()\nc.close()\n";
-                let python = Command::new("python3")
-                    .args(["-c", script])
-                    .arg(&db)
-                    .status();
-                if !python.is_ok_and(|s| s.success()) {
+                let read = python
+                    && Command::new("python3")
+                        .args(["-c", script])
+                        .arg(&db)
+                        .status()
+                        .is_ok_and(|s| s.success());
+                if !read {
                     let conn = rusqlite::Connection::open(&db).unwrap();
                     let _: i64 = conn
                         .query_row("SELECT count(*) FROM review", [], |r| r.get(0))
@@ -580,7 +581,6 @@ fn reversed_texts(styled: &str) -> Vec<String> {
 #[test]
 fn the_fifth_concept_map_link_opens_where_the_screen_showed_the_choice() {
     if !tmux_available() {
-        eprintln!("skipping the terminal end-to-end test: tmux is not installed");
         return;
     }
     let deck = bundled_deck();
@@ -670,7 +670,6 @@ fn the_fifth_concept_map_link_opens_where_the_screen_showed_the_choice() {
 #[test]
 fn sync_dir_syncs_when_the_app_opens_and_closes() {
     if !tmux_available() {
-        eprintln!("skipping the terminal sync test: tmux is not installed");
         return;
     }
     let deck = bundled_deck();

@@ -2,7 +2,9 @@
 //! the deck library. Adding copies a deck that passes `check` into
 //! `<data dir>/decks/` (content into `<data dir>/content/<id>/`); removing
 //! deletes those files only, so the deck's review history stays in the log
-//! (as orphans) and comes back with the deck.
+//! (as orphans) and comes back with the deck. Both take a deck id only and
+//! touch nothing outside those two folders; the moves themselves, and their
+//! recovery after a kill, are `cmd::library`'s.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -129,6 +131,10 @@ fn add(cli: &Cli, path: &Path) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::FAILURE);
     }
     let data = paths::data_dir(cli.data_dir.clone())?;
+    // An unfinished change first (its error, if any, once and alone).
+    if let Err(e) = library::recover(&data) {
+        bail!("{}; nothing added", crate::cmd::output::chain_text(&e));
+    }
     // A deck id may live in one source only; the library's own copy is
     // the one being replaced.
     let lib = library::load(cli);
@@ -148,7 +154,13 @@ fn add(cli: &Cli, path: &Path) -> anyhow::Result<ExitCode> {
         }
     }
     for deck in &checked.decks {
-        install(&data, deck).with_context(|| format!("cannot add deck `{}`", deck.id))?;
+        if let Err(e) = library::check_id(&deck.id) {
+            bail!("{}: {e}; nothing added", deck.path.display());
+        }
+    }
+    for deck in &checked.decks {
+        let new = read_deck(deck).with_context(|| format!("cannot add deck `{}`", deck.id))?;
+        library::install(&data, &new).with_context(|| format!("cannot add deck `{}`", deck.id))?;
         crate::outln!(
             "added {} ({}) to the library: {}",
             deck.id,
@@ -161,97 +173,65 @@ fn add(cli: &Cli, path: &Path) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Copies a deck file and its content files into the library: everything
-/// is written under a staging folder in the data dir first, then renamed
-/// into place (content first, the deck file last), so an interrupted add
-/// leaves either the old deck or the new one.
-fn install(data: &Path, deck: &Deck) -> anyhow::Result<()> {
-    let decks_dir = library::library_dir(data);
-    let content_root = data.join("content");
-    fs::create_dir_all(&decks_dir)?;
-    fs::create_dir_all(&content_root)?;
-    let staging = data.join(format!(".decks-add-{}", std::process::id()));
-    if staging.exists() {
-        fs::remove_dir_all(&staging)?;
-    }
-    let staged_content = staging.join("content");
-    fs::create_dir_all(&staged_content)?;
+/// The bytes of a checked deck's file and content files, read without
+/// waiting on anything that is not a regular file.
+fn read_deck(deck: &Deck) -> anyhow::Result<library::NewDeck> {
+    let read = |path: &Path| {
+        crate::deck::files::read_regular(path)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+    };
     let source_content = content_dir(&deck.path, &deck.id);
+    let mut content = Vec::new();
     for lang in &deck.languages {
-        let from = source_content.join(format!("{lang}.toml"));
-        copy_synced(&from, &staged_content.join(format!("{lang}.toml")))?;
+        let bytes = read(&source_content.join(format!("{lang}.toml")))?;
+        content.push((lang.clone(), bytes));
     }
-    let staged_deck = staging.join("deck.toml");
-    copy_synced(&deck.path, &staged_deck)?;
-
-    let content = content_root.join(&deck.id);
-    let old = staging.join("old-content");
-    if content.exists() {
-        fs::rename(&content, &old)?;
-    }
-    fs::rename(&staged_content, &content)?;
-    fs::rename(&staged_deck, decks_dir.join(format!("{}.toml", deck.id)))?;
-    sync_dir(&decks_dir);
-    sync_dir(&content_root);
-    fs::remove_dir_all(&staging)?;
-    Ok(())
-}
-
-fn copy_synced(from: &Path, to: &Path) -> anyhow::Result<()> {
-    let bytes = fs::read(from).with_context(|| format!("cannot read {}", from.display()))?;
-    let mut file = fs::File::create(to)?;
-    std::io::Write::write_all(&mut file, &bytes)?;
-    file.sync_all()?;
-    Ok(())
-}
-
-/// Makes a rename in `dir` durable (best effort: not every file system
-/// lets a folder be synced).
-fn sync_dir(dir: &Path) {
-    if let Ok(d) = fs::File::open(dir) {
-        let _ = d.sync_all();
-    }
+    Ok(library::NewDeck {
+        id: deck.id.clone(),
+        file: read(&deck.path)?,
+        content,
+    })
 }
 
 fn remove(cli: &Cli, id: &str) -> anyhow::Result<ExitCode> {
+    if let Err(e) = library::check_id(id) {
+        bail!("{e}; nothing removed");
+    }
     let data = paths::data_dir(cli.data_dir.clone())?;
-    let lib = library::load(cli);
-    let deck_file = library::library_dir(&data).join(format!("{id}.toml"));
-    if fs::symlink_metadata(&deck_file).is_err() {
-        if let Some((f, _)) = lib.files.iter().find_map(|f| {
-            let d = &lib.loaded.decks[f.deck?];
-            (d.id == id).then_some((f, d))
-        }) {
+    if let Err(e) = library::recover(&data) {
+        bail!("{}; nothing removed", crate::cmd::output::chain_text(&e));
+    }
+    match library::uninstall(&data, id) {
+        Ok(()) => {}
+        Err(library::RemoveError::Other(e)) => return Err(e),
+        Err(library::RemoveError::NotInLibrary) => {
+            let lib = library::load(cli);
+            if let Some(f) = lib
+                .files
+                .iter()
+                .find(|f| f.deck.is_some_and(|i| lib.loaded.decks[i].id == id))
+            {
+                bail!(
+                    "deck `{id}` is not in the library but in {} ({}); only library decks can be removed",
+                    f.path.display(),
+                    lib.source_of(f).origin.name()
+                );
+            }
+            let in_library: Vec<String> = lib
+                .files
+                .iter()
+                .filter(|f| lib.source_of(f).origin == Origin::Library)
+                .filter_map(|f| f.path.file_stem().map(|s| s.to_string_lossy().into_owned()))
+                .collect();
             bail!(
-                "deck `{id}` is not in the library but in {} ({}); only library decks can be removed",
-                f.path.display(),
-                lib.source_of(f).origin.name()
+                "no deck `{id}` in the library; library decks: {}",
+                if in_library.is_empty() {
+                    "none".to_string()
+                } else {
+                    in_library.join(", ")
+                }
             );
         }
-        let in_library: Vec<String> = lib
-            .files
-            .iter()
-            .filter(|f| lib.source_of(f).origin == Origin::Library)
-            .filter_map(|f| f.path.file_stem().map(|s| s.to_string_lossy().into_owned()))
-            .collect();
-        bail!(
-            "no deck `{id}` in the library; library decks: {}",
-            if in_library.is_empty() {
-                "none".to_string()
-            } else {
-                in_library.join(", ")
-            }
-        );
-    }
-    // The deck file goes first: without it the deck is gone, whatever
-    // happens to its content files next.
-    fs::remove_file(&deck_file)
-        .with_context(|| format!("cannot remove {}", deck_file.display()))?;
-    sync_dir(&library::library_dir(&data));
-    let content = data.join("content").join(id);
-    if content.exists() {
-        fs::remove_dir_all(&content)
-            .with_context(|| format!("cannot remove {}", content.display()))?;
     }
     crate::outln!(
         "removed {id} from the library; its review history is kept and comes back if the deck returns"

@@ -1,9 +1,15 @@
 //! The deck sources, in order: the bundled decks, the learner's library
 //! (`<data dir>/decks/`), the config's `deck_paths`, then each `--decks`.
 //! Every command that opens decks goes through here, so they all see the
-//! same decks.
+//! same decks. Changes to the library (`decks add`, `decks remove`) are
+//! made here too, journaled so that a run killed part way is finished by
+//! the next one.
 
+use std::fs;
+use std::io::{self, Write};
 use std::path::{Path, PathBuf};
+
+use anyhow::Context;
 
 use crate::cmd::args::Cli;
 use crate::cmd::paths;
@@ -81,6 +87,14 @@ pub fn sources(cli: &Cli, config: &Config) -> Vec<Source> {
         path: PathBuf::from(bundled::DECKS),
     }];
     if let Ok(data) = paths::data_dir(cli.data_dir.clone()) {
+        // A change a killed `decks add` or `decks remove` left half done
+        // is finished before anything reads the library.
+        if let Err(e) = recover(&data) {
+            crate::errln!(
+                "flipcard: warning: an unfinished change to the deck library could not be finished: {}",
+                crate::cmd::output::chain_text(&e)
+            );
+        }
         let dir = library_dir(&data);
         if dir.is_dir() {
             out.push(Source {
@@ -147,4 +161,438 @@ pub fn load_warn(cli: &Cli) -> Library {
         );
     }
     lib
+}
+
+// ---------------------------------------------------------------------------
+// Changes to the library: `decks add` and `decks remove`.
+//
+// A deck in the library is two entries in two folders: `decks/<id>.toml`
+// and `content/<id>/`. No single rename moves both, so every change is
+// prepared in one staging folder, `decks/.staging/`, with a journal (the
+// file `intent`, `add <id>` or `remove <id>`) written before anything live
+// is touched. The live entries then move in an order that keeps one rule
+// at every instant: a deck file in `decks/` has its own content beside it
+// (the old deck's file leaves before its content, the new deck's content
+// arrives before its file). A run killed part way leaves the journal; the
+// next command that opens the library finishes the change (`recover`).
+//
+// Only deck ids (the deck format's pattern) name entries, and the library's
+// folders and the staging folder must be folders, not links, so nothing
+// outside `<data dir>/decks` and `<data dir>/content` is ever touched.
+// Entries are moved by rename and deleted with `remove_dir_all`, neither of
+// which follows a symbolic link: a link planted at `decks/<id>.toml` or
+// `content/<id>` is removed, its target kept.
+// ---------------------------------------------------------------------------
+
+/// Where a change to the library is prepared, with its journal.
+pub fn staging_dir(data_dir: &Path) -> PathBuf {
+    library_dir(data_dir).join(".staging")
+}
+
+/// The content folders of library decks: `<data dir>/content/`.
+pub fn content_root(data_dir: &Path) -> PathBuf {
+    data_dir.join("content")
+}
+
+/// For tests only: `FLIPCARD_TEST_LIBRARY_KILL=N` makes the process send
+/// itself SIGKILL just before the Nth change it makes to the files of the
+/// library (counted from 1 over the whole run, recovery included), so the
+/// durability test can stop `decks add` and `decks remove` at every point.
+pub const TEST_KILL_ENV: &str = "FLIPCARD_TEST_LIBRARY_KILL";
+
+/// Counts one change to the library's files (see [`TEST_KILL_ENV`]).
+fn step() {
+    use std::sync::OnceLock;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static KILL_AT: OnceLock<Option<u64>> = OnceLock::new();
+    static DONE: AtomicU64 = AtomicU64::new(0);
+    let kill_at = KILL_AT.get_or_init(|| {
+        std::env::var(TEST_KILL_ENV)
+            .ok()
+            .and_then(|s| s.parse().ok())
+    });
+    if let Some(n) = kill_at
+        && DONE.fetch_add(1, Ordering::SeqCst) + 1 == *n
+    {
+        let _ = signal_hook::low_level::raise(signal_hook::consts::SIGKILL);
+    }
+}
+
+/// A deck to install: its id, the bytes of its deck file and of each of
+/// its content files (by language).
+pub struct NewDeck {
+    pub id: String,
+    pub file: Vec<u8>,
+    pub content: Vec<(String, Vec<u8>)>,
+}
+
+/// Why `uninstall` did nothing.
+#[derive(Debug)]
+pub enum RemoveError {
+    /// No `decks/<id>.toml` in the library.
+    NotInLibrary,
+    Other(anyhow::Error),
+}
+
+impl From<anyhow::Error> for RemoveError {
+    fn from(e: anyhow::Error) -> Self {
+        RemoveError::Other(e)
+    }
+}
+
+/// Refuses what is not a deck id (a path, `..`, an empty name).
+pub fn check_id(id: &str) -> anyhow::Result<()> {
+    if crate::deck::validate::is_id(id) {
+        Ok(())
+    } else {
+        anyhow::bail!(
+            "`{}` is not a deck id (lowercase letters and digits, joined by single hyphens, e.g. `my-deck`)",
+            crate::text::safe::one_line(id)
+        )
+    }
+}
+
+/// Installs `deck` as `decks/<id>.toml` with `content/<id>/`, replacing the
+/// library's copy of that id if there is one.
+pub fn install(data_dir: &Path, deck: &NewDeck) -> anyhow::Result<()> {
+    check_id(&deck.id)?;
+    for (lang, _) in &deck.content {
+        let plain = !lang.is_empty()
+            && !lang.starts_with('-')
+            && lang.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'-');
+        if !plain {
+            anyhow::bail!(
+                "`{}` is not a language tag",
+                crate::text::safe::one_line(lang)
+            );
+        }
+    }
+    let _lock = Lock::take(data_dir, true)?.expect("a waiting lock is always taken");
+    real_dir(&content_root(data_dir), true)?;
+    recover_locked(data_dir)?;
+    let live = library_dir(data_dir).join(format!("{}.toml", deck.id));
+    if fs::symlink_metadata(&live).is_ok_and(|m| m.is_dir()) {
+        anyhow::bail!("{} is a folder, not a deck file", live.display());
+    }
+    let st = staging_dir(data_dir);
+    step();
+    fs::create_dir(&st).with_context(|| format!("cannot create {}", st.display()))?;
+    for sub in ["new", "new/content", "old"] {
+        step();
+        fs::create_dir(st.join(sub))?;
+    }
+    for (lang, bytes) in &deck.content {
+        step();
+        write_new(&st.join("new/content").join(format!("{lang}.toml")), bytes)?;
+    }
+    step();
+    write_new(&st.join("new/deck.toml"), &deck.file)?;
+    sync_dir(&st.join("new/content"));
+    sync_dir(&st.join("new"));
+    write_intent(&st, &Intent::Add(deck.id.clone()))?;
+    finish(data_dir, &Intent::Add(deck.id.clone()))
+}
+
+/// Removes `decks/<id>.toml` and `content/<id>/` from the library.
+pub fn uninstall(data_dir: &Path, id: &str) -> Result<(), RemoveError> {
+    check_id(id)?;
+    let decks = library_dir(data_dir);
+    match fs::symlink_metadata(&decks) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Err(RemoveError::NotInLibrary),
+        _ => {}
+    }
+    let _lock = Lock::take(data_dir, true)?.expect("a waiting lock is always taken");
+    recover_locked(data_dir)?;
+    let file = decks.join(format!("{id}.toml"));
+    match fs::symlink_metadata(&file) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Err(RemoveError::NotInLibrary),
+        Err(e) => return Err(anyhow::anyhow!("cannot look at {}: {e}", file.display()).into()),
+        Ok(m) if m.is_dir() => {
+            return Err(anyhow::anyhow!(
+                "{} is a folder, not a deck file; nothing removed",
+                file.display()
+            )
+            .into());
+        }
+        Ok(_) => {}
+    }
+    let st = staging_dir(data_dir);
+    step();
+    fs::create_dir(&st).with_context(|| format!("cannot create {}", st.display()))?;
+    step();
+    fs::create_dir(st.join("old")).context("cannot prepare the removal")?;
+    write_intent(&st, &Intent::Remove(id.to_string()))?;
+    finish(data_dir, &Intent::Remove(id.to_string()))?;
+    Ok(())
+}
+
+/// Finishes (or, when it never started, drops) a change to the library
+/// that a killed run left in the staging folder. Does nothing while another
+/// run holds the library's lock: that change is still under way.
+pub fn recover(data_dir: &Path) -> anyhow::Result<()> {
+    match fs::symlink_metadata(staging_dir(data_dir)) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
+        _ => {}
+    }
+    let Some(_lock) = Lock::take(data_dir, false)? else {
+        return Ok(());
+    };
+    recover_locked(data_dir)
+}
+
+/// What a journal says is under way.
+#[derive(Debug, Clone, PartialEq, Eq)]
+enum Intent {
+    Add(String),
+    Remove(String),
+}
+
+impl Intent {
+    fn id(&self) -> &str {
+        match self {
+            Intent::Add(id) | Intent::Remove(id) => id,
+        }
+    }
+
+    fn text(&self) -> String {
+        match self {
+            Intent::Add(id) => format!("add {id}\n"),
+            Intent::Remove(id) => format!("remove {id}\n"),
+        }
+    }
+
+    fn parse(text: &str) -> Option<Intent> {
+        let (verb, id) = text.strip_suffix('\n')?.split_once(' ')?;
+        if !crate::deck::validate::is_id(id) {
+            return None;
+        }
+        match verb {
+            "add" => Some(Intent::Add(id.to_string())),
+            "remove" => Some(Intent::Remove(id.to_string())),
+            _ => None,
+        }
+    }
+}
+
+/// The journal, written whole or not at all (a temporary name renamed).
+fn write_intent(st: &Path, intent: &Intent) -> anyhow::Result<()> {
+    let tmp = st.join("intent.tmp");
+    step();
+    write_new(&tmp, intent.text().as_bytes())?;
+    step();
+    fs::rename(&tmp, st.join("intent"))?;
+    sync_dir(st);
+    Ok(())
+}
+
+fn recover_locked(data_dir: &Path) -> anyhow::Result<()> {
+    let st = staging_dir(data_dir);
+    match fs::symlink_metadata(&st) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => anyhow::bail!("cannot look at {}: {e}", st.display()),
+        Ok(m) if !m.is_dir() => anyhow::bail!(
+            "{} should be flipcard's staging folder but is not a folder; move it away",
+            st.display()
+        ),
+        Ok(_) => {}
+    }
+    let journal = st.join("intent");
+    let intent = match fs::symlink_metadata(&journal) {
+        Err(e) if e.kind() == io::ErrorKind::NotFound => None,
+        Err(e) => anyhow::bail!("cannot look at {}: {e}", journal.display()),
+        Ok(m) if !m.is_file() => None,
+        Ok(_) => {
+            let bytes = crate::deck::files::read_regular(&journal)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", journal.display()))?;
+            Intent::parse(&String::from_utf8_lossy(&bytes))
+        }
+    };
+    match intent {
+        // Nothing live was touched (the journal comes first), or all of it
+        // was (the journal goes before the staging folder): drop the rest.
+        None => {
+            step();
+            fs::remove_dir_all(&st).with_context(|| format!("cannot remove {}", st.display()))?;
+            sync_dir(&library_dir(data_dir));
+            Ok(())
+        }
+        Some(intent) => finish(data_dir, &intent),
+    }
+}
+
+/// Carries out a journaled change from wherever it stands, then clears
+/// the staging folder. Each move is made only if it has not been.
+fn finish(data_dir: &Path, intent: &Intent) -> anyhow::Result<()> {
+    let st = staging_dir(data_dir);
+    let id = intent.id();
+    let decks = library_dir(data_dir);
+    let contents = content_root(data_dir);
+    let live_file = decks.join(format!("{id}.toml"));
+    let live_content = contents.join(id);
+    let new_file = st.join("new/deck.toml");
+    let new_content = st.join("new/content");
+    let old = st.join("old");
+    let exists = |p: &Path| fs::symlink_metadata(p).is_ok();
+    let aside = |live: &Path, name: &str| -> anyhow::Result<()> {
+        if exists(live) {
+            let to = unused(&old.join(name));
+            step();
+            fs::rename(live, &to)
+                .with_context(|| format!("cannot move {} aside", live.display()))?;
+        }
+        Ok(())
+    };
+    let add = matches!(intent, Intent::Add(_));
+    // Both folders are checked again: a link put there since would lead
+    // the moves outside the library.
+    real_dir(&decks, false)?;
+    real_dir(&contents, add)?;
+    // The new deck file still waits (or this is a removal): the old deck
+    // leaves, file first.
+    if !add || exists(&new_file) {
+        if !add || exists(&new_content) {
+            aside(&live_file, "deck.toml")?;
+            sync_dir(&decks);
+            aside(&live_content, "content")?;
+            sync_dir(&contents);
+            if add {
+                step();
+                fs::rename(&new_content, &live_content)
+                    .with_context(|| format!("cannot move in {}", live_content.display()))?;
+                sync_dir(&contents);
+            }
+        } else {
+            // The new content is in; nothing but the new file may follow.
+            aside(&live_file, "deck.toml")?;
+        }
+        if add {
+            step();
+            fs::rename(&new_file, &live_file)
+                .with_context(|| format!("cannot move in {}", live_file.display()))?;
+            sync_dir(&decks);
+        }
+    }
+    // Done: the journal goes first, then what is left.
+    step();
+    fs::remove_file(st.join("intent"))?;
+    sync_dir(&st);
+    step();
+    fs::remove_dir_all(&st).with_context(|| format!("cannot remove {}", st.display()))?;
+    sync_dir(&decks);
+    Ok(())
+}
+
+/// `path`, or `path` with a number added when something is already there.
+fn unused(path: &Path) -> PathBuf {
+    let mut candidate = path.to_path_buf();
+    let mut n = 1;
+    while fs::symlink_metadata(&candidate).is_ok() {
+        candidate = path.with_file_name(format!(
+            "{}-{n}",
+            path.file_name().unwrap_or_default().to_string_lossy()
+        ));
+        n += 1;
+    }
+    candidate
+}
+
+/// A library folder that must be a real folder (not a link to one, not a
+/// file) if it is there at all; created when missing if `create`.
+fn real_dir(path: &Path, create: bool) -> anyhow::Result<()> {
+    match fs::symlink_metadata(path) {
+        Ok(m) if m.is_dir() => Ok(()),
+        Ok(m) if m.file_type().is_symlink() => anyhow::bail!(
+            "{} is a symbolic link; the library's folders must be folders, not links (nothing changed)",
+            path.display()
+        ),
+        Ok(_) => anyhow::bail!(
+            "{} is not a folder; the library needs a folder there (nothing changed)",
+            path.display()
+        ),
+        Err(e) if e.kind() == io::ErrorKind::NotFound => {
+            if create {
+                step();
+                fs::create_dir_all(path)
+                    .with_context(|| format!("cannot create {}", path.display()))?;
+            }
+            Ok(())
+        }
+        Err(e) => anyhow::bail!("cannot look at {}: {e}", path.display()),
+    }
+}
+
+/// Writes a new file (never through something already at `path`) and
+/// makes it durable.
+fn write_new(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    let mut file = fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(path)
+        .with_context(|| format!("cannot create {}", path.display()))?;
+    file.write_all(bytes)
+        .and_then(|()| file.sync_all())
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(())
+}
+
+/// Makes renames in `dir` durable (best effort: not every file system
+/// lets a folder be synced).
+fn sync_dir(dir: &Path) {
+    if let Ok(d) = fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+}
+
+/// One change to the library at a time: an advisory lock on
+/// `decks/.lock`, released when the process ends however it ends.
+struct Lock {
+    _file: fs::File,
+}
+
+impl Lock {
+    /// Takes the lock, waiting for it if `wait`; `None` when not waiting
+    /// and another run holds it. Creates the library folder when missing.
+    fn take(data_dir: &Path, wait: bool) -> anyhow::Result<Option<Lock>> {
+        let decks = library_dir(data_dir);
+        if wait {
+            fs::create_dir_all(data_dir)
+                .with_context(|| format!("cannot create {}", data_dir.display()))?;
+            real_dir(&decks, true)?;
+        } else {
+            real_dir(&decks, false)?;
+        }
+        let path = decks.join(".lock");
+        let file = open_lock_file(&path)
+            .with_context(|| format!("cannot open the library's lock {}", path.display()))?;
+        if wait {
+            file.lock()
+                .with_context(|| format!("cannot lock {}", path.display()))?;
+        } else {
+            match file.try_lock() {
+                Ok(()) => {}
+                Err(fs::TryLockError::WouldBlock) => return Ok(None),
+                Err(fs::TryLockError::Error(e)) => {
+                    return Err(anyhow::anyhow!("cannot lock {}: {e}", path.display()));
+                }
+            }
+        }
+        Ok(Some(Lock { _file: file }))
+    }
+}
+
+/// Opens (creating) the lock file without following a link and without
+/// waiting on a FIFO, and refuses anything but a regular file.
+fn open_lock_file(path: &Path) -> io::Result<fs::File> {
+    let mut options = fs::OpenOptions::new();
+    options.read(true).write(true).create(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(nix::libc::O_NOFOLLOW | nix::libc::O_NONBLOCK);
+    }
+    let file = options.open(path)?;
+    if !file.metadata()?.is_file() {
+        return Err(io::Error::other("not a regular file"));
+    }
+    Ok(file)
 }
