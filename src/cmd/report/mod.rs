@@ -32,7 +32,10 @@ pub fn read(files: &[PathBuf], decks: &[crate::deck::Deck], only: Option<&str>) 
     let mut exports: Vec<Export> = Vec::with_capacity(files.len());
     let mut skipped = Vec::new();
     for path in files {
-        let text = match crate::deck::files::read_regular(path) {
+        let text = match crate::cmd::import::read_limited(
+            path,
+            crate::cmd::import_reviews::MAX_LOG_BYTES,
+        ) {
             Ok(bytes) => match String::from_utf8(bytes) {
                 Ok(t) => t,
                 Err(e) => {
@@ -117,11 +120,12 @@ pub fn percent(n: usize, total: usize) -> String {
     format!("{}%", rounded(100.0 * n as f64 / total as f64, 3))
 }
 
+/// A card, and its direction when it is not the front asked.
 pub fn card_name(c: &class::CardRow) -> String {
-    if c.direction == "backward" {
-        format!("{} (backward)", c.card)
-    } else {
+    if c.direction == "forward" {
         c.card.clone()
+    } else {
+        format!("{} ({})", c.card, c.direction)
     }
 }
 
