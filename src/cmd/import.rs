@@ -84,34 +84,37 @@ pub const MAX_ROW_ERRORS: usize = 20;
 /// Reads a file someone else wrote: a regular file (a FIFO is refused
 /// without waiting, a folder named as such), at most `max` bytes (a larger
 /// one is refused before its rows are read, and one that grows while read
-/// is caught too).
-pub fn read_limited(path: &Path, max: u64) -> Result<Vec<u8>, String> {
+/// is caught too). What is wrong with the path instead of a file, or with
+/// its size, is an error of kind `Other` whose text says it.
+pub fn read_limited(path: &Path, max: u64) -> std::io::Result<Vec<u8>> {
     let too_large = || {
-        format!(
+        std::io::Error::other(format!(
             "it is larger than {} MiB, the most flipcard reads from a file like this",
             max >> 20
-        )
+        ))
     };
-    use std::io::ErrorKind;
-    let cannot = |e: std::io::Error| match e.kind() {
-        // What the path is instead of a file, said as it is.
-        ErrorKind::Other => e.to_string(),
-        ErrorKind::NotFound => "no such file or directory".to_string(),
-        ErrorKind::PermissionDenied => "cannot be read: permission denied".to_string(),
-        _ => format!("cannot be read: {e}"),
-    };
-    let file = crate::deck::files::open_regular(path).map_err(cannot)?;
-    if file.metadata().is_ok_and(|m| m.len() > max) {
+    let file = crate::deck::files::open_regular(path)?;
+    if file.metadata()?.len() > max {
         return Err(too_large());
     }
     let mut bytes = Vec::new();
-    file.take(max + 1)
-        .read_to_end(&mut bytes)
-        .map_err(cannot)?;
+    file.take(max + 1).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > max {
         return Err(too_large());
     }
     Ok(bytes)
+}
+
+/// Why a file could not be read, in words: what the path is instead of a
+/// file, or the system's reason.
+pub fn cannot_read(e: &std::io::Error) -> String {
+    use std::io::ErrorKind;
+    match e.kind() {
+        ErrorKind::Other => e.to_string(),
+        ErrorKind::NotFound => "no such file or directory".to_string(),
+        ErrorKind::PermissionDenied => "cannot be read: permission denied".to_string(),
+        _ => format!("cannot be read: {e}"),
+    }
 }
 
 /// `FILE:LINE: message` for the first [`MAX_ROW_ERRORS`] bad rows, then

@@ -23,8 +23,13 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
             ),
         },
     };
-    let bytes = crate::cmd::import::read_limited(file, MAX_LOG_BYTES)
-        .map_err(|why| anyhow::anyhow!("{}: {why}; nothing imported", file.display()))?;
+    let bytes = crate::cmd::import::read_limited(file, MAX_LOG_BYTES).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: {}; nothing imported",
+            file.display(),
+            crate::cmd::import::cannot_read(&e)
+        )
+    })?;
     let Ok(text) = String::from_utf8(bytes) else {
         anyhow::bail!("{} is not UTF-8 text; nothing imported", file.display());
     };

@@ -44,6 +44,17 @@ pub fn quoted(s: &str) -> String {
     format!("\"{}\"", crate::text::safe::one_line(&short))
 }
 
+/// A JSON value quoted in a message: its JSON text, on one line and cut
+/// short (a string keeps its quotes).
+fn shown(v: &serde_json::Value) -> String {
+    let text = v.to_string();
+    let short = match text.char_indices().nth(40) {
+        Some((i, _)) => format!("{}…", &text[..i]),
+        None => text,
+    };
+    crate::text::safe::one_line(&short).into_owned()
+}
+
 fn row_from(f: &dyn Fields, now: DateTime<Utc>) -> Result<IncomingReview, String> {
     let mut missing = Vec::new();
     let mut texts = Vec::new();
@@ -120,10 +131,7 @@ impl Fields for JsonRow<'_> {
         match self.0.get(name) {
             None | Some(serde_json::Value::Null) => Ok(None),
             Some(serde_json::Value::String(s)) => Ok(Some(s.clone())),
-            Some(other) => Err(format!(
-                "{name} is {}, not a string",
-                quoted(&other.to_string())
-            )),
+            Some(other) => Err(format!("{name} is {}, not a string", shown(other))),
         }
     }
     fn integer(&self, name: &str) -> Result<Option<i64>, String> {
@@ -132,7 +140,7 @@ impl Fields for JsonRow<'_> {
             Some(v) => v
                 .as_i64()
                 .map(Some)
-                .ok_or_else(|| format!("{name} is {}, not a whole number", quoted(&v.to_string()))),
+                .ok_or_else(|| format!("{name} is {}, not a whole number", shown(v))),
         }
     }
     fn boolean(&self, name: &str) -> Result<Option<bool>, String> {
@@ -141,7 +149,7 @@ impl Fields for JsonRow<'_> {
             Some(v) => v
                 .as_bool()
                 .map(Some)
-                .ok_or_else(|| format!("{name} is {}, not true or false", quoted(&v.to_string()))),
+                .ok_or_else(|| format!("{name} is {}, not true or false", shown(v))),
         }
     }
 }
@@ -166,7 +174,7 @@ pub fn read_reviews_json(
             Ok(serde_json::Value::Object(map)) => row_from(&JsonRow(&map), now),
             Ok(other) => Err(format!(
                 "{} is not an object of review fields",
-                quoted(&other.to_string())
+                shown(&other)
             )),
             Err(e) => Err(e.to_string()),
         };

@@ -48,7 +48,11 @@ pub fn read(files: &[PathBuf], decks: &[crate::deck::Deck], only: Option<&str>) 
                 }
             },
             Err(e) => {
-                skipped.push(format!("{}: {e}", path.display()));
+                skipped.push(format!(
+                    "{}: {}",
+                    path.display(),
+                    crate::cmd::import::cannot_read(&e)
+                ));
                 continue;
             }
         };
