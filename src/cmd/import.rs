@@ -126,9 +126,9 @@ pub fn print_bad_rows<'a>(file: &Path, errors: impl ExactSizeIterator<Item = (u6
     }
     if n > MAX_ROW_ERRORS {
         crate::errln!(
-            "{}: … and {} more",
+            "{}: … and {}",
             file.display(),
-            plural(n - MAX_ROW_ERRORS, "bad row", "bad rows")
+            plural(n - MAX_ROW_ERRORS, "more bad row", "more bad rows")
         );
     }
 }
