@@ -242,8 +242,8 @@ fn bad_packages_are_refused_and_nothing_is_written() {
 /// packages below are built from a real one.
 fn rewritten(dir: &Path, name: &str, change: impl FnOnce(&rusqlite::Connection)) -> PathBuf {
     use std::io::{Read, Write};
-    let mut zip = zip::ZipArchive::new(std::fs::File::open(fixture("legacy.apkg")).unwrap())
-        .unwrap();
+    let mut zip =
+        zip::ZipArchive::new(std::fs::File::open(fixture("legacy.apkg")).unwrap()).unwrap();
     let db = dir.join(format!("{name}.anki2"));
     let mut members: Vec<(String, Vec<u8>)> = Vec::new();
     for i in 0..zip.len() {
@@ -282,29 +282,20 @@ fn rewritten(dir: &Path, name: &str, change: impl FnOnce(&rusqlite::Connection))
 /// and failed after `seconds` (a hang is a failure, not a test that runs
 /// for ever).
 fn import_within(dir: &Path, package: &Path, seconds: u64) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(["import", package.to_str().unwrap(), "--out"])
-        .arg(dir.join("out"))
-        .env("FLIPCARD_DATA_DIR", dir.join("data"))
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env("FLIPCARD_CONFIG", dir.join("none.toml"))
-        .env("TMPDIR", dir.join("tmp"))
-        .env_remove("FLIPCARD_DECKS")
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = std::time::Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > std::time::Duration::from_secs(seconds) {
-            child.kill().unwrap();
-            child.wait().unwrap();
-            panic!("importing {} took over {seconds} s", package.display());
-        }
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    child.wait_with_output().unwrap()
+    std::fs::create_dir_all(dir.join("tmp")).unwrap();
+    crate::deadline::output_within(
+        Command::new(env!("CARGO_BIN_EXE_flipcard"))
+            .args(["import", package.to_str().unwrap(), "--out"])
+            .arg(dir.join("out"))
+            .env("FLIPCARD_DATA_DIR", dir.join("data"))
+            .env("FLIPCARD_NOW", NOW)
+            .env("TZ", "UTC")
+            .env("FLIPCARD_CONFIG", dir.join("none.toml"))
+            .env("TMPDIR", dir.join("tmp"))
+            .env_remove("FLIPCARD_DECKS"),
+        seconds,
+        &format!("importing {}", package.display()),
+    )
 }
 
 /// The id of the first note (the one asking "What is torque?").
@@ -375,8 +366,8 @@ fn field_text_is_converted_in_linear_time() {
         assert!(std::fs::metadata(&package).unwrap().len() < 64 << 10);
         let run = import_within(dir.path(), &package, 120);
         assert!(run.status.success(), "{}", text(&run.stderr));
-        let deck = std::fs::read_to_string(dir.path().join("out/decks/physics-rotation.toml"))
-            .unwrap();
+        let deck =
+            std::fs::read_to_string(dir.path().join("out/decks/physics-rotation.toml")).unwrap();
         let doc: toml::Table = deck.parse().unwrap();
         let fronts: Vec<&str> = doc["card"]
             .as_array()
@@ -391,7 +382,9 @@ fn field_text_is_converted_in_linear_time() {
 #[test]
 fn a_field_longer_than_a_card_can_be_is_refused() {
     let dir = tempfile::tempdir().unwrap();
-    let package = rewritten(dir.path(), "huge.apkg", |c| set_front(c, &"x".repeat(5 << 20)));
+    let package = rewritten(dir.path(), "huge.apkg", |c| {
+        set_front(c, &"x".repeat(5 << 20))
+    });
     let run = import_within(dir.path(), &package, 120);
     let err = text(&run.stderr);
     assert_eq!(run.status.code(), Some(1), "{err}");
@@ -406,7 +399,10 @@ fn a_field_longer_than_a_card_can_be_is_refused() {
 #[test]
 fn answers_dated_before_1970_or_in_the_future_are_refused() {
     for (id, says) in [
-        (-1_000i64, "revlog row -1000: the answer time 1969-12-31T23:59:59Z is before 1970"),
+        (
+            -1_000i64,
+            "revlog row -1000: the answer time 1969-12-31T23:59:59Z is before 1970",
+        ),
         // NOW is 2026-03-01T12:00:00Z; a day and a minute later.
         (
             1_772_452_860_000,
@@ -460,9 +456,8 @@ fn the_summary_escapes_deck_names_from_the_collection() {
         "{out}"
     );
     // The deck written has a plain title.
-    let deck =
-        std::fs::read_to_string(dir.path().join("out/decks/physics-0-owned-rot-2j.toml"))
-            .unwrap_or_else(|_| panic!("{out}"));
+    let deck = std::fs::read_to_string(dir.path().join("out/decks/physics-0-owned-rot-2j.toml"))
+        .unwrap_or_else(|_| panic!("{out}"));
     assert!(!deck.contains('\u{1b}'), "{deck}");
 }
 
@@ -553,5 +548,9 @@ fn a_killed_import_leaves_no_scratch_copy_behind() {
         .output()
         .unwrap();
     assert!(run.status.success(), "{}", text(&run.stderr));
-    assert_eq!(scratch(), Vec::<PathBuf>::new(), "scratch files left behind");
+    assert_eq!(
+        scratch(),
+        Vec::<PathBuf>::new(),
+        "scratch files left behind"
+    );
 }

@@ -309,7 +309,10 @@ fn a_due_date_rfc_3339_cannot_hold_is_left_blank_and_named() {
         let o = flipcard(d, &["cards", "list", "--format", format]);
         assert_eq!(o.status.code(), Some(1), "{format}: {}", err(&o));
         let text = out(&o);
-        assert!(!text.contains("+10000") && !text.contains("10000-"), "{text}");
+        assert!(
+            !text.contains("+10000") && !text.contains("10000-"),
+            "{text}"
+        );
         let rows: Vec<(String, String)> = if format == "csv" {
             let mut r = csv::Reader::from_reader(text.as_bytes());
             r.records()
@@ -323,7 +326,11 @@ fn a_due_date_rfc_3339_cannot_hold_is_left_blank_and_named() {
             all.iter()
                 .map(|r| {
                     (
-                        format!("{}/{}", r["card"].as_str().unwrap(), r["direction"].as_str().unwrap()),
+                        format!(
+                            "{}/{}",
+                            r["card"].as_str().unwrap(),
+                            r["direction"].as_str().unwrap()
+                        ),
                         r["due"].as_str().unwrap().to_string(),
                     )
                 })
@@ -340,6 +347,12 @@ fn a_due_date_rfc_3339_cannot_hold_is_left_blank_and_named() {
             "{}",
             err(&o)
         );
-        assert!(err(&o).lines().last().unwrap().starts_with("flipcard: error: 1 item"));
+        assert!(
+            err(&o)
+                .lines()
+                .last()
+                .unwrap()
+                .starts_with("flipcard: error: 1 item")
+        );
     }
 }

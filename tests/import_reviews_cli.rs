@@ -228,8 +228,14 @@ fn answers_dated_before_1970_or_in_the_future_are_refused_with_their_line() {
         assert!(!dir.path().join("flipcard.db").exists(), "nothing written");
     }
     // A day ahead of this clock is still an answer (clocks differ).
-    let ok = both_formats(dir.path(), &[("mech", "b", "forward", "2026-05-11T11:59:59Z")]);
-    let out = flipcard(dir.path(), &["import", "--reviews", ok[0].to_str().unwrap()]);
+    let ok = both_formats(
+        dir.path(),
+        &[("mech", "b", "forward", "2026-05-11T11:59:59Z")],
+    );
+    let out = flipcard(
+        dir.path(),
+        &["import", "--reviews", ok[0].to_str().unwrap()],
+    );
     assert!(out.status.success(), "{}", text(&out.stderr));
 }
 
@@ -248,15 +254,27 @@ fn ids_that_are_not_of_the_deck_format_are_refused_and_quoted_escaped() {
     for file in both_formats(dir.path(), &bad) {
         let out = flipcard(dir.path(), &["import", "--reviews", file.to_str().unwrap()]);
         assert_eq!(out.status.code(), Some(1));
-        assert!(!out.stderr.contains(&0x1b), "no raw ESC reaches the terminal");
-        assert!(!out.stderr.contains(&0x07), "no raw BEL reaches the terminal");
+        assert!(
+            !out.stderr.contains(&0x1b),
+            "no raw ESC reaches the terminal"
+        );
+        assert!(
+            !out.stderr.contains(&0x07),
+            "no raw BEL reaches the terminal"
+        );
         let err = text(&out.stderr);
         let name = file.display();
         for (line, says) in [
             (3, "deck id \"../../etc\" is not an id"),
             (4, "card id \"A B\" is not an id"),
-            (5, "card id \"a\\u001b[2J\\u001b]0;owned\\u0007\" is not an id"),
-            (6, "direction \"c1000\" is not forward, backward or c1 … c999"),
+            (
+                5,
+                "card id \"a\\u001b[2J\\u001b]0;owned\\u0007\" is not an id",
+            ),
+            (
+                6,
+                "direction \"c1000\" is not forward, backward or c1 … c999",
+            ),
             (7, "direction \"sideways\\u001b[31m\""),
             (8, "reviewed_at \"when\\u001b[2J\" is not an RFC 3339 time"),
         ] {
@@ -266,7 +284,10 @@ fn ids_that_are_not_of_the_deck_format_are_refused_and_quoted_escaped() {
     }
     // Cloze deletions are items too.
     let ok = both_formats(dir.path(), &[("mech", "a", "c999", t)]);
-    let out = flipcard(dir.path(), &["import", "--reviews", ok[1].to_str().unwrap()]);
+    let out = flipcard(
+        dir.path(),
+        &["import", "--reviews", ok[1].to_str().unwrap()],
+    );
     assert!(out.status.success(), "{}", text(&out.stderr));
 }
 
@@ -303,4 +324,42 @@ fn a_file_of_garbage_names_twenty_rows_and_counts_the_rest() {
         text(&out.stderr)
     );
     assert!(!dir.path().join("flipcard.db").exists(), "nothing written");
+}
+
+#[test]
+fn a_large_log_is_read_in_linear_time() {
+    // 100,000 records: each record's line was counted from the start of
+    // the file (minutes for 15 MB). Every row is bad, so the reading is
+    // all there is; the bound only guards against a hang.
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("big.json");
+    let mut text_ = String::from("[\n");
+    for i in 0..100_000 {
+        if i > 0 {
+            text_.push_str(",\n");
+        }
+        text_.push_str(&format!(
+            "{{\"deck\":\"d\",\"card\":\"c{i}\",\"direction\":\"forward\",\
+             \"reviewed_at\":\"2026-01-01T00:00:00.000Z\",\"rating\":9,\"kind\":\"review\"}}"
+        ));
+    }
+    text_.push_str("\n]\n");
+    std::fs::write(&file, text_).unwrap();
+    let out = crate::deadline::output_within(
+        Command::new(env!("CARGO_BIN_EXE_flipcard"))
+            .args(["import", "--reviews", file.to_str().unwrap()])
+            .env("FLIPCARD_DATA_DIR", dir.path())
+            .env("FLIPCARD_NOW", NOW)
+            .env("FLIPCARD_CONFIG", dir.path().join("none.toml")),
+        120,
+        "importing 100,000 reviews",
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    // Record k is on line k + 1.
+    assert!(
+        err.contains(&format!("{}:21: rating 9 is not 1–4", file.display())),
+        "{err}"
+    );
+    assert!(err.contains("… and 99980 more bad rows"), "{err}");
 }

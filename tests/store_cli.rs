@@ -532,7 +532,10 @@ fn export_never_writes_a_time_rfc_3339_cannot_hold() {
                 "{args:?}: {t}"
             );
         }
-        assert!(!text.contains("+10000") && !text.contains("-0001-"), "{text}");
+        assert!(
+            !text.contains("+10000") && !text.contains("-0001-"),
+            "{text}"
+        );
         for n in named {
             assert!(err.contains(n), "{args:?}: {err}");
         }
@@ -577,4 +580,83 @@ fn stats_escapes_the_ids_of_an_orphan_from_the_log() {
         assert!(text.contains("ghost\\u001b]0;owned\\u0007"), "{text}");
         assert!(text.contains("c\\u001b[2J"), "{text}");
     }
+}
+
+/// `flipcard import FILE --deck-id mini`, bounded in time.
+fn import_cards(dir: &Path, file: &Path) -> Output {
+    crate::deadline::output_within(
+        Command::new(env!("CARGO_BIN_EXE_flipcard"))
+            .args(["import", file.to_str().unwrap(), "--deck-id", "mini"])
+            .env("FLIPCARD_DATA_DIR", dir)
+            .env("FLIPCARD_NOW", NOW)
+            .env("FLIPCARD_CONFIG", dir.join("none.toml")),
+        120,
+        "importing a CSV of cards",
+    )
+}
+
+#[test]
+fn a_csv_of_cards_has_the_limits_of_every_import() {
+    let dir = tempfile::tempdir().unwrap();
+    // 20,000 cards of the same front: each id was found by trying card,
+    // card-2, … card-n again (200 million tries); now one step each.
+    let same = dir.path().join("same.csv");
+    let mut csv = String::from("front,back\n");
+    for i in 0..20_000 {
+        csv.push_str(&format!("?,answer {i}\n"));
+    }
+    std::fs::write(&same, csv).unwrap();
+    let out = import_cards(dir.path(), &same);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let deck: toml::Table = stdout(&out).parse().unwrap();
+    let ids: Vec<&str> = deck["card"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["id"].as_str().unwrap())
+        .collect();
+    assert_eq!(ids.len(), 20_000);
+    assert_eq!(ids[0], "card");
+    assert_eq!(ids[1], "card-2");
+    assert_eq!(ids[19_999], "card-20000");
+
+    // A file of garbage: twenty rows named, the rest counted.
+    let garbage = dir.path().join("garbage.csv");
+    std::fs::write(&garbage, "front,back\n".to_string() + &",\n".repeat(500)).unwrap();
+    let out = import_cards(dir.path(), &garbage);
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert_eq!(err.lines().count(), 22, "{err}");
+    assert!(err.contains("… and 480 more bad rows"), "{err}");
+    assert!(stdout(&out).is_empty(), "no deck written");
+
+    // A field longer than a card's text can be.
+    let long = dir.path().join("long.csv");
+    std::fs::write(
+        &long,
+        format!("front,back\nq,a\nq2,{}\n", "x".repeat(5 << 20)),
+    )
+    .unwrap();
+    let out = import_cards(dir.path(), &long);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("long.csv:3: back is 5 MiB long; a card's text may be at most 4 MiB"),
+        "{}",
+        stderr(&out)
+    );
+
+    // A file larger than a deck can sensibly be, refused before it is read
+    // (sparse: no disk used).
+    let huge = dir.path().join("huge.csv");
+    std::fs::File::create(&huge)
+        .unwrap()
+        .set_len((64 << 20) + 1)
+        .unwrap();
+    let out = import_cards(dir.path(), &huge);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("huge.csv: it is larger than 64 MiB"),
+        "{}",
+        stderr(&out)
+    );
 }

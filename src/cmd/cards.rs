@@ -236,8 +236,7 @@ impl<'a> Index<'a> {
             Some(text) => match Direction::parse(text).filter(|d| all.contains(d)) {
                 Some(d) => Ok(vec![key(d)]),
                 None => {
-                    let names: Vec<String> =
-                        all.iter().map(|d| d.as_str().into_owned()).collect();
+                    let names: Vec<String> = all.iter().map(|d| d.as_str().into_owned()).collect();
                     anyhow::bail!(
                         "unknown item `{item}`: card `{card_id}` has no direction `{text}`; it has {}",
                         names.join(", ")

@@ -356,7 +356,11 @@ fn check_schema(conn: &Connection) -> Result<(), ReadError> {
                 .get(..14)
                 .is_some_and(|s| s.eq_ignore_ascii_case("create virtual"));
             if kind != "table" || virtual_table {
-                let what = if kind == "table" { "a virtual table" } else { "a view" };
+                let what = if kind == "table" {
+                    "a virtual table"
+                } else {
+                    "a view"
+                };
                 return Err(ReadError::Bad(format!(
                     "`{}` is {what}, not a table; refusing it",
                     crate::text::safe::one_line(&actual)
@@ -931,8 +935,8 @@ fn decode_entity(name: &str) -> Option<char> {
 
 /// The named HTML entities a science note is likely to hold.
 fn named_entity(name: &str) -> Option<char> {
-    static TABLE: std::sync::LazyLock<HashMap<&'static str, char>> =
-        std::sync::LazyLock::new(|| {
+    static TABLE: std::sync::LazyLock<HashMap<&'static str, char>> = std::sync::LazyLock::new(
+        || {
             const NAMES: &str = "alpha α beta β gamma γ delta δ epsilon ε zeta ζ eta η theta θ iota ι \
                 kappa κ lambda λ mu μ nu ν xi ξ omicron ο pi π rho ρ sigma σ tau τ upsilon υ phi φ \
                 chi χ psi ψ omega ω Gamma Γ Delta Δ Theta Θ Lambda Λ Xi Ξ Pi Π Sigma Σ Phi Φ Psi Ψ \
@@ -944,7 +948,8 @@ fn named_entity(name: &str) -> Option<char> {
                 .chunks_exact(2)
                 .filter_map(|kv| Some((kv[0], kv[1].chars().next()?)))
                 .collect()
-        });
+        },
+    );
     TABLE.get(name).copied()
 }
 

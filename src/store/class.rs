@@ -39,8 +39,7 @@ pub struct Item {
 }
 
 /// One review as the report needs it.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
-#[serde(try_from = "ReviewFields")]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ReviewRow {
     pub item: Item,
     pub reviewed_at: DateTime<Utc>,
@@ -137,7 +136,10 @@ fn prediction<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error
             quoted(&s)
         )));
     }
-    if let Some(c) = s.chars().find(|c| crate::text::safe::is_unsafe(*c) || c.is_control()) {
+    if let Some(c) = s
+        .chars()
+        .find(|c| crate::text::safe::is_unsafe(*c) || c.is_control())
+    {
         return Err(serde::de::Error::custom(format!(
             "prediction {} holds the control character U+{:04X}",
             quoted(&s),
@@ -253,8 +255,8 @@ fn json_error(e: &serde_json::Error) -> FileError {
 
 fn parse_json(text: &str) -> Result<Export, FileError> {
     // The records are found without building them (a large file would take
-    // ten times its size as JSON values); the first one tells which export
-    // this is.
+    // ten times its size as JSON values), then read one by one, each error
+    // at the line of its record; the first one tells which export this is.
     let values: Vec<&serde_json::value::RawValue> =
         serde_json::from_str(text).map_err(|e| json_error(&e))?;
     let Some(first) = values.first() else {
@@ -262,21 +264,37 @@ fn parse_json(text: &str) -> Result<Export, FileError> {
         return Ok(Export::Reviews(Vec::new()));
     };
     let first: serde_json::Value = serde_json::from_str(first.get()).map_err(|e| json_error(&e))?;
-    // Records are typed again from the text so that errors carry the line.
     if first.get("card").is_some() {
-        serde_json::from_str::<Vec<ReviewRow>>(text)
-            .map(Export::Reviews)
-            .map_err(|e| json_error(&e))
+        records(text, &values, |f: ReviewFields| ReviewRow::try_from(f)).map(Export::Reviews)
     } else if first.get("prompt").is_some() {
-        serde_json::from_str::<Vec<AttemptRow>>(text)
-            .map(Export::Attempts)
-            .map_err(|e| json_error(&e))
+        records(text, &values, |a: AttemptRow| Ok(a)).map(Export::Attempts)
     } else {
         Err(FileError {
             line: 2,
             message: "records have neither `card` (reviews) nor `prompt` (prompt attempts)".into(),
         })
     }
+}
+
+/// Every record of a JSON array read as `T` and checked by `check`; the
+/// first problem at its line.
+fn records<T: serde::de::DeserializeOwned, U>(
+    text: &str,
+    values: &[&serde_json::value::RawValue],
+    check: impl Fn(T) -> Result<U, String>,
+) -> Result<Vec<U>, FileError> {
+    let mut lines = super::import::Lines::new(text);
+    let mut out = Vec::with_capacity(values.len());
+    for raw in values {
+        let line = lines.of(raw.get());
+        let record = serde_json::from_str::<T>(raw.get()).map_err(|e| {
+            let mut at = json_error(&e);
+            at.line += line - 1;
+            at
+        })?;
+        out.push(check(record).map_err(|message| FileError { line, message })?);
+    }
+    Ok(out)
 }
 
 fn parse_csv(text: &str) -> Result<Export, FileError> {
@@ -307,11 +325,14 @@ fn parse_csv(text: &str) -> Result<Export, FileError> {
         },
     };
     if starts_with(&REVIEW_FIELDS) {
-        reader
-            .deserialize::<ReviewRow>()
-            .collect::<Result<Vec<_>, _>>()
-            .map(Export::Reviews)
-            .map_err(csv_error)
+        let mut rows = Vec::new();
+        let mut record = csv::StringRecord::new();
+        while reader.read_record(&mut record).map_err(csv_error)? {
+            let line = record.position().map_or(1, |p| p.line() as usize);
+            let fields: ReviewFields = record.deserialize(Some(&headers)).map_err(csv_error)?;
+            rows.push(ReviewRow::try_from(fields).map_err(|message| FileError { line, message })?);
+        }
+        Ok(Export::Reviews(rows))
     } else if starts_with(&ATTEMPT_FIELDS) {
         reader
             .deserialize::<AttemptRow>()
@@ -613,14 +634,18 @@ mod tests {
     #[test]
     fn csv_reviews_read_their_item_and_refuse_bad_ids_and_times() {
         let header = REVIEW_FIELDS.join(",");
-        let row = "2026,42,c2,2026-01-01T00:00:00Z,3,learn,0,0,1,5,review,2026-01-02T00:00:00Z,1,false";
+        let row =
+            "2026,42,c2,2026-01-01T00:00:00Z,3,learn,0,0,1,5,review,2026-01-02T00:00:00Z,1,false";
         let Export::Reviews(rows) = parse(&format!("{header}\n{row}\n")).unwrap() else {
             panic!("reviews")
         };
         assert_eq!(rows[0].item.card, "42");
         assert_eq!(rows[0].item.direction, "c2");
         for (bad, why) in [
-            (row.replace("2026,42,", "D,42,"), "deck id \"D\" is not an id"),
+            (
+                row.replace("2026,42,", "D,42,"),
+                "deck id \"D\" is not an id",
+            ),
             (row.replace(",c2,", ",c1000,"), "c999"),
             (row.replace("2026,42,", "2026,42\u{1b}[2J,"), "\\u001b"),
             (

@@ -253,10 +253,7 @@ impl From<super::attempt::PromptAttempt> for ExportedAttempt {
 
 /// The attempt, or why it cannot be written; `n` counts attempts from 1 in
 /// the order they are stored.
-fn checked_attempt(
-    a: super::attempt::PromptAttempt,
-    n: u64,
-) -> Result<ExportedAttempt, String> {
+fn checked_attempt(a: super::attempt::PromptAttempt, n: u64) -> Result<ExportedAttempt, String> {
     let row = format!("attempt {n} ({}/{})", a.deck, a.prompt);
     match unwritable(&row, &[("attempted_at", a.attempted_at)]) {
         Some(why) => Err(why),

@@ -92,7 +92,11 @@ pub fn page(input: &Input) -> String {
             "<p class=\"skip\">{} left out for a problem; the terminal output of \
              <code>flipcard report</code> names {}.</p>",
             super::plural(input.skipped.len(), "file was", "files were"),
-            if input.skipped.len() == 1 { "it" } else { "them" }
+            if input.skipped.len() == 1 {
+                "it"
+            } else {
+                "them"
+            }
         );
     }
 
