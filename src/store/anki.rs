@@ -1056,6 +1056,60 @@ mod tests {
     }
 
     #[test]
+    fn a_statement_that_runs_on_is_stopped_by_the_step_budget() {
+        let mut made = Connection::open_in_memory().unwrap();
+        made.execute_batch(
+            "CREATE TABLE notes (id INTEGER PRIMARY KEY, flds TEXT); \
+             INSERT INTO notes VALUES (1, 'a');",
+        )
+        .unwrap();
+        let bytes = made.serialize(rusqlite::MAIN_DB).unwrap().to_vec();
+        let (conn, steps) = open_in_memory(&bytes).unwrap();
+        // Read-only, and a normal query well within the budget.
+        assert!(conn.execute("DELETE FROM notes", []).is_err());
+        let n: i64 = conn
+            .query_row("SELECT count(*) FROM notes", [], |r| r.get(0))
+            .unwrap();
+        assert_eq!(n, 1);
+        // A query that never ends is interrupted once past the budget.
+        let endless = conn.query_row(
+            "WITH RECURSIVE r(n) AS (SELECT 1 UNION ALL SELECT n + 1 FROM r) \
+             SELECT count(*) FROM r",
+            [],
+            |r| r.get::<_, i64>(0),
+        );
+        assert!(endless.is_err(), "{endless:?}");
+        assert!(steps.load(Ordering::Relaxed) > step_budget(bytes.len() as u64));
+    }
+
+    #[test]
+    fn views_and_computed_columns_are_refused() {
+        for (sql, says) in [
+            (
+                "CREATE VIEW Notes AS SELECT 1 AS id",
+                "`Notes` is a view, not a table",
+            ),
+            (
+                "CREATE TABLE revlog (id INTEGER, g INTEGER AS (id * 2))",
+                "column `g` of table `revlog` is computed",
+            ),
+            (
+                "CREATE TABLE other (id INTEGER, g TEXT AS (hex(zeroblob(1000000))) STORED)",
+                "column `g` of table `other` is computed",
+            ),
+        ] {
+            let mut made = Connection::open_in_memory().unwrap();
+            made.execute_batch(sql).unwrap();
+            let bytes = made.serialize(rusqlite::MAIN_DB).unwrap().to_vec();
+            let (conn, _) = open_in_memory(&bytes).unwrap();
+            match check_schema(&conn) {
+                Err(ReadError::Bad(e)) => assert!(e.contains(says), "{e}"),
+                _ => panic!("{sql}: not refused"),
+            }
+        }
+    }
+
+    #[test]
     fn protobuf_kind_is_found_past_other_fields() {
         // field 3 (string "ab"), then field 1 = 1 (cloze)
         assert_eq!(proto_varint(&[0x1a, 2, b'a', b'b', 0x08, 1], 1), Some(1));

@@ -373,4 +373,95 @@ mod tests {
         assert_eq!(headless[0].line, 1);
         assert!(headless[0].message.contains("lacks deck"), "{headless:?}");
     }
+
+    fn row_strategy() -> impl proptest::strategy::Strategy<Value = (String, String, String, i64)> {
+        use proptest::prelude::*;
+        let id = prop_oneof![
+            "[a-z0-9]{1,6}",
+            "[a-z]{1,3}-[a-z0-9]{1,3}",
+            "[A-Za-z0-9./ ,\"\u{1b}-]{0,5}",
+        ];
+        let direction = prop_oneof![
+            Just("forward".to_string()),
+            Just("backward".to_string()),
+            Just("c1".to_string()),
+            Just("c999".to_string()),
+            Just("c1000".to_string()),
+            Just("c0".to_string()),
+            "[a-z0-9\u{1b}]{0,4}",
+        ];
+        // From before 1970 to past the year 10000, around now.
+        let ms = prop_oneof![
+            -100_000_000_000i64..100_000_000_000,
+            1_780_000_000_000i64..1_781_000_000_000,
+            253_000_000_000_000i64..253_500_000_000_000,
+        ];
+        (id.clone(), id, direction, ms)
+    }
+
+    proptest::proptest! {
+        /// A file is read exactly when every row has ids of the deck
+        /// format and a time from 1970 to a day after now; otherwise every
+        /// bad row, and only those, is named at its line. Run longer with
+        /// `PROPTEST_CASES=100000 cargo test --lib store::import`.
+        #[test]
+        fn rows_are_taken_exactly_when_ids_and_times_are_valid(
+            rows in proptest::collection::vec(row_strategy(), 1..8),
+        ) {
+            let now = now();
+            let time = |ms: i64| {
+                DateTime::from_timestamp_millis(ms)
+                    .unwrap()
+                    .to_rfc3339_opts(chrono::SecondsFormat::Millis, true)
+            };
+            let valid: Vec<bool> = rows
+                .iter()
+                .map(|(d, c, dir, ms)| {
+                    let t = time(*ms);
+                    ItemKey::parse(d, c, dir).is_ok()
+                        && DateTime::parse_from_rfc3339(&t)
+                            .is_ok_and(|t| check_event_time(t.with_timezone(&Utc), now).is_ok())
+                })
+                .collect();
+            let bad_lines: Vec<usize> = valid
+                .iter()
+                .enumerate()
+                .filter(|(_, ok)| !**ok)
+                .map(|(i, _)| i + 2)
+                .collect();
+            let mut w = csv::Writer::from_writer(Vec::new());
+            w.write_record(["deck", "card", "direction", "reviewed_at", "rating"]).unwrap();
+            let mut json = String::from("[\n");
+            for (i, (d, c, dir, ms)) in rows.iter().enumerate() {
+                w.write_record([d.as_str(), c, dir, &time(*ms), "3"]).unwrap();
+                if i > 0 {
+                    json.push_str(",\n");
+                }
+                json.push_str(
+                    &serde_json::json!({
+                        "deck": d, "card": c, "direction": dir,
+                        "reviewed_at": time(*ms), "rating": 3
+                    })
+                    .to_string(),
+                );
+            }
+            json.push_str("\n]\n");
+            let csv_text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+            for result in [read_reviews_csv(&csv_text, now), read_reviews_json(&json, now)] {
+                match result {
+                    Ok(read) => {
+                        proptest::prop_assert!(bad_lines.is_empty());
+                        proptest::prop_assert_eq!(read.len(), rows.len());
+                    }
+                    Err(errors) => {
+                        let lines: Vec<usize> = errors.iter().map(|e| e.line).collect();
+                        proptest::prop_assert_eq!(&lines, &bad_lines);
+                        for e in &errors {
+                            proptest::prop_assert!(!e.message.contains('\u{1b}'), "{}", e.message);
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
