@@ -173,21 +173,27 @@ impl ExportedReview {
     }
 }
 
-/// Writes the log as a JSON array of records, streaming.
-pub fn write_reviews_json(store: &Store, out: &mut dyn Write) -> Result<Written, ExportError> {
+/// Each record of a store's table, or why it cannot be written, handed to
+/// a writer (the row counted as left out when it cannot).
+type Records<'a, R> = dyn FnOnce(&mut dyn FnMut(Result<R, String>) -> Result<(), ExportError>) -> Result<(), ExportError>
+    + 'a;
+
+/// Writes records as a JSON array, one a line, streaming.
+fn write_json<R: Serialize>(
+    out: &mut dyn Write,
+    records: Box<Records<'_, R>>,
+) -> Result<Written, ExportError> {
     let mut written = Written::default();
     out.write_all(b"[")?;
-    store.each_review(|logged| -> Result<(), ExportError> {
-        let record = match ExportedReview::checked(logged) {
-            Ok(r) => r,
-            Err(why) => {
-                written.leave_out(why);
-                return Ok(());
+    records(&mut |record| {
+        match record {
+            Ok(r) => {
+                out.write_all(if written.rows == 0 { b"\n" } else { b",\n" })?;
+                serde_json::to_writer(&mut *out, &r)?;
+                written.rows += 1;
             }
-        };
-        out.write_all(if written.rows == 0 { b"\n" } else { b",\n" })?;
-        serde_json::to_writer(&mut *out, &record)?;
-        written.rows += 1;
+            Err(why) => written.leave_out(why),
+        }
         Ok(())
     })?;
     out.write_all(if written.rows == 0 { b"]\n" } else { b"\n]\n" })?;
@@ -195,15 +201,19 @@ pub fn write_reviews_json(store: &Store, out: &mut dyn Write) -> Result<Written,
     Ok(written)
 }
 
-/// Writes the log as CSV with a header row.
-pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<Written, ExportError> {
+/// Writes records as CSV after the `header` row.
+fn write_csv<R: Serialize>(
+    out: &mut dyn Write,
+    header: &[&str],
+    records: Box<Records<'_, R>>,
+) -> Result<Written, ExportError> {
     let mut w = csv::WriterBuilder::new()
         .has_headers(false)
         .from_writer(out);
-    w.write_record(REVIEW_FIELDS)?;
+    w.write_record(header)?;
     let mut written = Written::default();
-    store.each_review(|logged| -> Result<(), ExportError> {
-        match ExportedReview::checked(logged) {
+    records(&mut |record| {
+        match record {
             Ok(r) => {
                 w.serialize(r)?;
                 written.rows += 1;
@@ -214,6 +224,21 @@ pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<Written, 
     })?;
     w.flush()?;
     Ok(written)
+}
+
+/// Every review of the log, checked.
+fn reviews(store: &Store) -> Box<Records<'_, ExportedReview>> {
+    Box::new(move |write| store.each_review(|l| write(ExportedReview::checked(l))))
+}
+
+/// Writes the log as a JSON array of records, streaming.
+pub fn write_reviews_json(store: &Store, out: &mut dyn Write) -> Result<Written, ExportError> {
+    write_json(out, reviews(store))
+}
+
+/// Writes the log as CSV with a header row.
+pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<Written, ExportError> {
+    write_csv(out, &REVIEW_FIELDS, reviews(store))
 }
 
 /// The fields of `flipcard export --attempts`, in order (also the CSV
@@ -261,47 +286,23 @@ fn checked_attempt(a: super::attempt::PromptAttempt, n: u64) -> Result<ExportedA
     }
 }
 
+/// Every prompt attempt, checked.
+fn attempts(store: &Store) -> Box<Records<'_, ExportedAttempt>> {
+    Box::new(move |write| {
+        let mut n = 0;
+        store.each_attempt(|a| {
+            n += 1;
+            write(checked_attempt(a, n))
+        })
+    })
+}
+
 /// Writes every prompt attempt as a JSON array, streaming.
 pub fn write_attempts_json(store: &Store, out: &mut dyn Write) -> Result<Written, ExportError> {
-    let mut written = Written::default();
-    out.write_all(b"[")?;
-    store.each_attempt(|a| -> Result<(), ExportError> {
-        let n = written.rows + written.left_out + 1;
-        let record = match checked_attempt(a, n) {
-            Ok(r) => r,
-            Err(why) => {
-                written.leave_out(why);
-                return Ok(());
-            }
-        };
-        out.write_all(if written.rows == 0 { b"\n" } else { b",\n" })?;
-        serde_json::to_writer(&mut *out, &record)?;
-        written.rows += 1;
-        Ok(())
-    })?;
-    out.write_all(if written.rows == 0 { b"]\n" } else { b"\n]\n" })?;
-    out.flush()?;
-    Ok(written)
+    write_json(out, attempts(store))
 }
 
 /// Writes every prompt attempt as CSV with a header row.
 pub fn write_attempts_csv(store: &Store, out: &mut dyn Write) -> Result<Written, ExportError> {
-    let mut w = csv::WriterBuilder::new()
-        .has_headers(false)
-        .from_writer(out);
-    w.write_record(ATTEMPT_FIELDS)?;
-    let mut written = Written::default();
-    store.each_attempt(|a| -> Result<(), ExportError> {
-        let n = written.rows + written.left_out + 1;
-        match checked_attempt(a, n) {
-            Ok(r) => {
-                w.serialize(r)?;
-                written.rows += 1;
-            }
-            Err(why) => written.leave_out(why),
-        }
-        Ok(())
-    })?;
-    w.flush()?;
-    Ok(written)
+    write_csv(out, &ATTEMPT_FIELDS, attempts(store))
 }
