@@ -221,6 +221,9 @@ pub fn read_package(
         entry: entry.to_string(),
         detail,
     };
+    if bytes.is_empty() {
+        return Err(damaged("the collection is an empty file".to_string()));
+    }
     let mut bytes = bytes;
     // A collection saved in WAL mode (Anki's current one) says so in bytes
     // 18 and 19 of its header; a database in memory has no WAL, and reads
