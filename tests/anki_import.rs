@@ -236,3 +236,321 @@ fn bad_packages_are_refused_and_nothing_is_written() {
     assert_eq!(missing.status.code(), Some(1));
     assert!(text(&missing.stderr).contains("cannot read nowhere.apkg"));
 }
+
+/// `legacy.apkg` with its collection changed by `change` (SQL run on the
+/// unpacked `collection.anki2`), written as `name` in `dir`: the hostile
+/// packages below are built from a real one.
+fn rewritten(dir: &Path, name: &str, change: impl FnOnce(&rusqlite::Connection)) -> PathBuf {
+    use std::io::{Read, Write};
+    let mut zip =
+        zip::ZipArchive::new(std::fs::File::open(fixture("legacy.apkg")).unwrap()).unwrap();
+    let db = dir.join(format!("{name}.anki2"));
+    let mut members: Vec<(String, Vec<u8>)> = Vec::new();
+    for i in 0..zip.len() {
+        let mut m = zip.by_index(i).unwrap();
+        let mut bytes = Vec::new();
+        m.read_to_end(&mut bytes).unwrap();
+        members.push((m.name().unwrap().into_owned(), bytes));
+    }
+    for (n, bytes) in &members {
+        if n == "collection.anki2" {
+            std::fs::write(&db, bytes).unwrap();
+        }
+    }
+    {
+        let conn = rusqlite::Connection::open(&db).unwrap();
+        change(&conn);
+    }
+    let collection = std::fs::read(&db).unwrap();
+    let path = dir.join(name);
+    let mut out = zip::ZipWriter::new(std::fs::File::create(&path).unwrap());
+    for (n, bytes) in members {
+        out.start_file(n.as_str(), zip::write::SimpleFileOptions::default())
+            .unwrap();
+        out.write_all(if n == "collection.anki2" {
+            &collection
+        } else {
+            &bytes
+        })
+        .unwrap();
+    }
+    out.finish().unwrap();
+    path
+}
+
+/// `flipcard import PACKAGE --out OUT` with its own data folder, killed
+/// and failed after `seconds` (a hang is a failure, not a test that runs
+/// for ever).
+fn import_within(dir: &Path, package: &Path, seconds: u64) -> Output {
+    std::fs::create_dir_all(dir.join("tmp")).unwrap();
+    crate::deadline::output_within(
+        Command::new(env!("CARGO_BIN_EXE_flipcard"))
+            .args(["import", package.to_str().unwrap(), "--out"])
+            .arg(dir.join("out"))
+            .env("FLIPCARD_DATA_DIR", dir.join("data"))
+            .env("FLIPCARD_NOW", NOW)
+            .env("TZ", "UTC")
+            .env("FLIPCARD_CONFIG", dir.join("none.toml"))
+            .env("TMPDIR", dir.join("tmp"))
+            .env_remove("FLIPCARD_DECKS"),
+        seconds,
+        &format!("importing {}", package.display()),
+    )
+}
+
+/// The id of the first note (the one asking "What is torque?").
+fn first_note(conn: &rusqlite::Connection) -> i64 {
+    conn.query_row("SELECT id FROM notes ORDER BY id LIMIT 1", [], |r| r.get(0))
+        .unwrap()
+}
+
+/// Sets the front of the first note.
+fn set_front(conn: &rusqlite::Connection, front: &str) {
+    let id = first_note(conn);
+    let flds: String = conn
+        .query_row("SELECT flds FROM notes WHERE id = ?1", [id], |r| r.get(0))
+        .unwrap();
+    let back = flds.split('\u{1f}').nth(1).unwrap().to_string();
+    conn.execute(
+        "UPDATE notes SET flds = ?1 WHERE id = ?2",
+        rusqlite::params![format!("{front}\u{1f}{back}"), id],
+    )
+    .unwrap();
+}
+
+#[test]
+fn a_view_in_place_of_a_table_is_refused_in_one_line() {
+    // Each view counts up for ever: reading it never ends.
+    for (table, columns) in [
+        ("notes", "n AS id, 0 AS mid, '' AS flds, '' AS tags"),
+        ("cards", "n AS id, n AS nid, 0 AS did, 0 AS ord"),
+        (
+            "revlog",
+            "n AS id, n AS cid, 3 AS ease, 0 AS time, 0 AS type",
+        ),
+        ("col", "'{}' AS models, '{}' AS decks"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let package = rewritten(dir.path(), "view.apkg", |c| {
+            c.execute_batch(&format!(
+                "DROP TABLE {table}; CREATE VIEW {table} AS \
+                 WITH RECURSIVE r(n) AS (SELECT 1 UNION ALL SELECT n + 1 FROM r) \
+                 SELECT {columns} FROM r;"
+            ))
+            .unwrap();
+        });
+        let run = import_within(dir.path(), &package, 60);
+        let err = text(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{table}: {err}");
+        assert_eq!(err.lines().count(), 1, "{table}: {err}");
+        assert!(
+            err.contains(&format!("`{table}` is a view, not a table; refusing it")),
+            "{table}: {err}"
+        );
+        assert!(!dir.path().join("out").exists(), "{table}: nothing written");
+        assert!(!dir.path().join("data/flipcard.db").exists(), "{table}");
+    }
+}
+
+#[test]
+fn field_text_is_converted_in_linear_time() {
+    // 2 MB of `&` took over 100 s, 1.8 MB of `\(x^2\)` 118 s: each `&`
+    // searched the rest of the text for a `;`, each MathJax opener the rest
+    // for the other kind. The bound is a hang guard (both take seconds).
+    for (front, want) in [
+        ("&".repeat(2_000_000), "&".repeat(2_000_000)),
+        ("\\(x^2\\)".repeat(257_143), "$x^2$".repeat(257_143)),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let package = rewritten(dir.path(), "long.apkg", |c| set_front(c, &front));
+        assert!(std::fs::metadata(&package).unwrap().len() < 64 << 10);
+        let run = import_within(dir.path(), &package, 120);
+        assert!(run.status.success(), "{}", text(&run.stderr));
+        let deck =
+            std::fs::read_to_string(dir.path().join("out/decks/physics-rotation.toml")).unwrap();
+        let doc: toml::Table = deck.parse().unwrap();
+        let fronts: Vec<&str> = doc["card"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|c| c.get("front").and_then(|f| f.as_str()))
+            .collect();
+        assert!(fronts.contains(&want.as_str()), "the long front, exactly");
+    }
+}
+
+#[test]
+fn a_field_longer_than_a_card_can_be_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let package = rewritten(dir.path(), "huge.apkg", |c| {
+        set_front(c, &"x".repeat(5 << 20))
+    });
+    let run = import_within(dir.path(), &package, 120);
+    let err = text(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("field 1 is 5 MiB of text; a card's text may be at most 4 MiB"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out").exists());
+}
+
+#[test]
+fn answers_dated_before_1970_or_in_the_future_are_refused() {
+    for (id, says) in [
+        (
+            -1_000i64,
+            "revlog row -1000: the answer time 1969-12-31T23:59:59Z is before 1970",
+        ),
+        // NOW is 2026-03-01T12:00:00Z; a day and a minute later.
+        (
+            1_772_452_860_000,
+            "revlog row 1772452860000: the answer time 2026-03-02T12:01:00Z is in the future",
+        ),
+        // 9999-12-31T23:59:59.999-23:59, in UTC the year 10000.
+        (
+            253_402_386_339_999,
+            "the answer time a time in the year 10000 is in the future",
+        ),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let package = rewritten(dir.path(), "dates.apkg", |c| {
+            let first: i64 = c
+                .query_row("SELECT min(id) FROM revlog", [], |r| r.get(0))
+                .unwrap();
+            c.execute("UPDATE revlog SET id = ?1 WHERE id = ?2", [id, first])
+                .unwrap();
+        });
+        let run = import_within(dir.path(), &package, 60);
+        let err = text(&run.stderr);
+        assert_eq!(run.status.code(), Some(1), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains(says), "{err}");
+        assert!(err.contains("nothing imported"), "{err}");
+        assert!(!dir.path().join("out").exists());
+        assert!(!dir.path().join("data/flipcard.db").exists());
+    }
+}
+
+#[test]
+fn the_summary_escapes_deck_names_from_the_collection() {
+    let dir = tempfile::tempdir().unwrap();
+    let package = rewritten(dir.path(), "names.apkg", |c| {
+        let decks: String = c
+            .query_row("SELECT decks FROM col", [], |r| r.get(0))
+            .unwrap();
+        // JSON text: the control characters written as JSON escapes.
+        let decks = decks.replace(
+            "Physics::Rotation",
+            "Physics\\u001b]0;owned\\u0007::Rot\\u001b[2J",
+        );
+        c.execute("UPDATE col SET decks = ?1", [decks]).unwrap();
+    });
+    let run = import_within(dir.path(), &package, 60);
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    assert!(!run.stdout.contains(&0x1b) && !run.stdout.contains(&0x07));
+    let out = text(&run.stdout);
+    assert!(
+        out.contains("(Physics\\u001b]0;owned\\u0007::Rot\\u001b[2J)"),
+        "{out}"
+    );
+    // The deck written has a plain title.
+    let deck = std::fs::read_to_string(dir.path().join("out/decks/physics-0-owned-rot-2j.toml"))
+        .unwrap_or_else(|_| panic!("{out}"));
+    assert!(!deck.contains('\u{1b}'), "{deck}");
+}
+
+#[test]
+fn a_killed_import_leaves_no_scratch_copy_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir_all(&tmp).unwrap();
+    // Large enough that reading it takes a while: a window to kill in.
+    let package = rewritten(dir.path(), "big.apkg", |c| {
+        let tx = c.unchecked_transaction().unwrap();
+        let (mid, did): (i64, i64) = tx
+            .query_row(
+                "SELECT n.mid, c.did FROM notes n JOIN cards c ON c.nid = n.id LIMIT 1",
+                [],
+                |r| Ok((r.get(0)?, r.get(1)?)),
+            )
+            .unwrap();
+        for i in 0..20_000i64 {
+            tx.execute(
+                "INSERT INTO notes (id, guid, mid, mod, usn, tags, flds, sfld, csum, flags, data) \
+                 VALUES (?1, ?2, ?3, 0, 0, '', ?4, '', 0, 0, '')",
+                rusqlite::params![
+                    1_000_000 + i,
+                    format!("g{i}"),
+                    mid,
+                    format!("front {i} {}\u{1f}back {i}", "text ".repeat(40))
+                ],
+            )
+            .unwrap();
+            tx.execute(
+                "INSERT INTO cards (id, nid, did, ord, mod, usn, type, queue, due, ivl, factor, \
+                 reps, lapses, left, odue, odid, flags, data) \
+                 VALUES (?1, ?2, ?3, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, '')",
+                rusqlite::params![5_000_000 + i, 1_000_000 + i, did],
+            )
+            .unwrap();
+        }
+        tx.commit().unwrap();
+    });
+    let scratch = || -> Vec<PathBuf> {
+        let mut found: Vec<PathBuf> = std::fs::read_dir(&tmp)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .collect();
+        if let Ok(entries) = std::fs::read_dir(dir.path().join("data")) {
+            found.extend(
+                entries
+                    .map(|e| e.unwrap().path())
+                    .filter(|p| !p.to_string_lossy().contains("flipcard.db")),
+            );
+        }
+        found
+    };
+    let mut child = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        .args(["import", package.to_str().unwrap(), "--out"])
+        .arg(dir.path().join("out"))
+        .env("FLIPCARD_DATA_DIR", dir.path().join("data"))
+        .env("FLIPCARD_NOW", NOW)
+        .env("FLIPCARD_CONFIG", dir.path().join("none.toml"))
+        .env("TMPDIR", &tmp)
+        .env_remove("FLIPCARD_DECKS")
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    // Killed (SIGKILL: nothing runs after it) as soon as a scratch copy
+    // appears, or mid-read when none ever does.
+    let start = std::time::Instant::now();
+    while scratch().is_empty()
+        && start.elapsed() < std::time::Duration::from_millis(1500)
+        && child.try_wait().unwrap().is_none()
+    {
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    let _ = child.kill();
+    child.wait().unwrap();
+    // The next import runs to its end, and nothing is left from either.
+    let left = tempfile::tempdir().unwrap();
+    let run = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        .args(["import", &fixture("legacy.apkg"), "--out"])
+        .arg(left.path().join("out"))
+        .env("FLIPCARD_DATA_DIR", dir.path().join("data"))
+        .env("FLIPCARD_NOW", NOW)
+        .env("FLIPCARD_CONFIG", dir.path().join("none.toml"))
+        .env("TMPDIR", &tmp)
+        .env_remove("FLIPCARD_DECKS")
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", text(&run.stderr));
+    assert_eq!(
+        scratch(),
+        Vec::<PathBuf>::new(),
+        "scratch files left behind"
+    );
+}

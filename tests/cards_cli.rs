@@ -234,3 +234,125 @@ fn bad_queries_and_filters_say_what_is_wrong() {
     assert_eq!(out(&o).trim(), HEADER);
     assert!(err(&o).contains("no item matches `zzqqxx"), "{}", err(&o));
 }
+
+#[test]
+fn an_item_named_twenty_thousand_times_changes_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // With a card (both directions) and one of its directions again.
+    let mut args = vec!["cards", "suspend"];
+    args.extend(std::iter::repeat_n("study/middle/forward", 20_000));
+    args.extend(["study/spin-axis", "study/spin-axis/backward"]);
+    let o = flipcard(d, &args);
+    assert!(o.status.success(), "{}", err(&o));
+    assert_eq!(out(&o).trim(), "suspended: 3 items");
+    let db = rusqlite::Connection::open(d.join("flipcard.db")).unwrap();
+    let events: Vec<(String, String)> = db
+        .prepare("SELECT card, direction FROM status_event ORDER BY id")
+        .unwrap()
+        .query_map([], |r| Ok((r.get(0)?, r.get(1)?)))
+        .unwrap()
+        .collect::<Result<_, _>>()
+        .unwrap();
+    // One event per item, in the order first named.
+    assert_eq!(
+        events,
+        [
+            ("middle".into(), "forward".into()),
+            ("spin-axis".into(), "forward".into()),
+            ("spin-axis".into(), "backward".into())
+        ]
+    );
+    for action in ["unsuspend", "bury"] {
+        let mut args = vec!["cards", action];
+        args.extend(std::iter::repeat_n("study/middle", 20_000));
+        let o = flipcard(d, &args);
+        assert!(o.status.success(), "{}", err(&o));
+        let n: i64 = db
+            .query_row(
+                "SELECT count(*) FROM status_event WHERE action = ?1",
+                [action],
+                |r| r.get(0),
+            )
+            .unwrap();
+        assert_eq!(n, 1, "{action}");
+    }
+}
+
+#[test]
+fn a_due_date_rfc_3339_cannot_hold_is_left_blank_and_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    drop(flipcard::store::Store::open(d).unwrap());
+    {
+        // Written straight into the database, as an import before dates
+        // were checked could have: due in the year 10000.
+        let db = rusqlite::Connection::open(d.join("flipcard.db")).unwrap();
+        let (at, due) = (1_778_400_000_000i64, 253_402_300_800_000i64);
+        db.execute(
+            "INSERT INTO review (id, deck, card, direction, reviewed_at, rating, kind, \
+             elapsed_days, scheduled_days, stability, difficulty, state, due, duration_ms) \
+             VALUES (1, 'study', 'middle', 'forward', ?1, 4, 'review', 0, 36500, 1e9, 1, \
+             'review', ?2, 1000)",
+            [at, due],
+        )
+        .unwrap();
+        db.execute(
+            "INSERT INTO card_state (deck, card, direction, state, stability, difficulty, due, \
+             last_review, reps, lapses, review_id) \
+             VALUES ('study', 'middle', 'forward', 'review', 1e9, 1, ?2, ?1, 1, 0, 1)",
+            [at, due],
+        )
+        .unwrap();
+    }
+    for format in ["csv", "json"] {
+        let o = flipcard(d, &["cards", "list", "--format", format]);
+        assert_eq!(o.status.code(), Some(1), "{format}: {}", err(&o));
+        let text = out(&o);
+        assert!(
+            !text.contains("+10000") && !text.contains("10000-"),
+            "{text}"
+        );
+        let rows: Vec<(String, String)> = if format == "csv" {
+            let mut r = csv::Reader::from_reader(text.as_bytes());
+            r.records()
+                .map(|row| {
+                    let row = row.unwrap();
+                    (format!("{}/{}", &row[1], &row[2]), row[4].to_string())
+                })
+                .collect()
+        } else {
+            let all: Vec<serde_json::Value> = serde_json::from_str(&text).unwrap();
+            all.iter()
+                .map(|r| {
+                    (
+                        format!(
+                            "{}/{}",
+                            r["card"].as_str().unwrap(),
+                            r["direction"].as_str().unwrap()
+                        ),
+                        r["due"].as_str().unwrap().to_string(),
+                    )
+                })
+                .collect()
+        };
+        // Every item is listed; the one due date is blank.
+        assert_eq!(rows.len(), 6, "{text}");
+        let middle = rows.iter().find(|r| r.0 == "middle/forward").unwrap();
+        assert_eq!(middle.1, "", "{text}");
+        assert!(
+            err(&o).contains(
+                "study/middle/forward: its due date is stored in the year 10000, which RFC 3339 cannot write; left blank"
+            ),
+            "{}",
+            err(&o)
+        );
+        assert!(
+            err(&o)
+                .lines()
+                .last()
+                .unwrap()
+                .starts_with("flipcard: error: 1 item")
+        );
+    }
+}

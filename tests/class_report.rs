@@ -371,3 +371,182 @@ fn the_page_renders_in_headless_chromium() {
         png.len()
     );
 }
+
+/// A learner's attempts at `middle-axis` whose first prediction is
+/// `prediction` (wrong), as CSV.
+fn attempts_predicting(prediction: &str) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "deck",
+        "prompt",
+        "attempted_at",
+        "prediction",
+        "measured",
+        "correct",
+    ])
+    .unwrap();
+    w.write_record([
+        DECK,
+        "middle-axis",
+        "2026-01-02T10:00:00.000Z",
+        prediction,
+        "2",
+        "false",
+    ])
+    .unwrap();
+    String::from_utf8(w.into_inner().unwrap()).unwrap()
+}
+
+#[test]
+fn report_csv_cells_cannot_start_a_formula() {
+    let dir = tempfile::tempdir().unwrap();
+    let predictions = [
+        "=HYPERLINK(\"http://example.com/x\",\"open\")",
+        "@SUM(1+1)*cmd|' /C calc'!A0",
+        "+1+1",
+        "-2+3+cmd|' /C calc'!A0",
+        "-9.8",
+    ];
+    let mut files = Vec::new();
+    for (i, p) in predictions.iter().enumerate() {
+        let f = dir.path().join(format!("learner-{i}.attempts.csv"));
+        std::fs::write(&f, attempts_predicting(p)).unwrap();
+        files.push(f.display().to_string());
+    }
+    let mut args = vec!["report", "--out", "out"];
+    args.extend(files.iter().map(String::as_str));
+    let out = flipcard(dir.path(), &args);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let rows = csv_rows(&dir.path().join("out/report.csv"));
+    let choices: Vec<&str> = rows
+        .iter()
+        .filter(|r| r[0] == "wrong_choice")
+        .map(|r| r[8].as_str())
+        .collect();
+    for p in &predictions[..4] {
+        assert!(
+            choices.contains(&format!("'{p}").as_str()),
+            "{p}: {choices:?}"
+        );
+    }
+    // A number typed is a number to a spreadsheet, not a formula.
+    assert!(choices.contains(&"-9.8"), "{choices:?}");
+    for row in &rows {
+        for cell in row {
+            assert!(
+                !cell.starts_with(['=', '+', '@', '\t', '\r'])
+                    && (!cell.starts_with('-') || cell.parse::<f64>().is_ok()),
+                "{cell:?} in {row:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn report_html_names_no_learner_file_not_even_a_skipped_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("alice-smith.reviews.json");
+    std::fs::write(&good, reviews_json(0)).unwrap();
+    let attempts = dir.path().join("bob-jones.attempts.csv");
+    std::fs::write(&attempts, attempts_csv(1)).unwrap();
+    let broken = dir.path().join("carol-white.json");
+    std::fs::write(
+        &broken,
+        reviews_json(2).replace("\"rating\":3", "\"rating\":0"),
+    )
+    .unwrap();
+    let missing = dir.path().join("dave-brown.json");
+    let args: Vec<String> = ["report", "--out", "out"]
+        .into_iter()
+        .map(String::from)
+        .chain([&good, &attempts, &broken, &missing].map(|p| p.display().to_string()))
+        .collect();
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = flipcard(dir.path(), &argv);
+    assert_eq!(out.status.code(), Some(1), "two files skipped");
+    let html = std::fs::read_to_string(dir.path().join("out/report.html")).unwrap();
+    for name in [
+        "alice", "bob", "carol", "dave", "smith", "jones", "white", "brown",
+    ] {
+        assert!(!html.contains(name), "{name} in report.html");
+    }
+    let dir_name = dir
+        .path()
+        .file_name()
+        .unwrap()
+        .to_string_lossy()
+        .into_owned();
+    assert!(
+        !html.contains(&dir_name),
+        "the folder of the files is named"
+    );
+    assert!(html.contains("2 files were left out"), "{html}");
+    // The terminal, for the teacher, names them.
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("carol-white.json:") && err.contains("dave-brown.json"),
+        "{err}"
+    );
+}
+
+#[test]
+fn learner_text_reaches_the_terminal_escaped_and_bad_ids_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = dir.path().join("good.attempts.csv");
+    std::fs::write(&good, attempts_predicting("stable")).unwrap();
+    // A prediction that would clear the screen and set the window title.
+    let loud = dir.path().join("loud.attempts.csv");
+    std::fs::write(&loud, attempts_predicting("\u{1b}[2J\u{1b}]0;owned\u{7}")).unwrap();
+    // A file whose name holds an escape sequence, and ids no deck has.
+    let named = dir.path().join("x\u{1b}[31m.reviews.json");
+    std::fs::write(
+        &named,
+        reviews_json(0).replacen(
+            "\"card\":\"torque-free-meaning\"",
+            "\"card\":\"../../x\"",
+            1,
+        ),
+    )
+    .unwrap();
+    let cloze = dir.path().join("cloze.reviews.json");
+    std::fs::write(
+        &cloze,
+        reviews_json(0).replace("\"direction\":\"forward\"", "\"direction\":\"c1000\""),
+    )
+    .unwrap();
+    let args: Vec<String> = ["report"]
+        .into_iter()
+        .map(String::from)
+        .chain([&good, &loud, &named, &cloze].map(|p| p.display().to_string()))
+        .collect();
+    let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+    let out = flipcard(dir.path(), &argv);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        !out.stdout.contains(&0x1b) && !out.stdout.contains(&0x07),
+        "raw stdout"
+    );
+    assert!(
+        !out.stderr.contains(&0x1b) && !out.stderr.contains(&0x07),
+        "raw stderr"
+    );
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("loud.attempts.csv:2: prediction \"\\u001b[2J\\u001b]0;owned\\u0007\" holds the control character U+001B"),
+        "{err}"
+    );
+    assert!(
+        err.contains("x\\u001b[31m.reviews.json:2: card id \"../../x\" is not an id"),
+        "{err}"
+    );
+    assert!(
+        err.contains("cloze.reviews.json:2: direction \"c1000\""),
+        "{err}"
+    );
+    assert!(err.contains("3 files skipped"), "{err}");
+    assert!(
+        text(&out.stdout).contains("stable ×1"),
+        "{}",
+        text(&out.stdout)
+    );
+}

@@ -425,3 +425,238 @@ fn imported_math_keeps_its_backslashes() {
         Some(r"$\frac{1}{2}$ and it's fine")
     );
 }
+
+/// 10000-01-01T00:00:00Z and 0001-12-31T00:00:00 BC in milliseconds: times
+/// RFC 3339 cannot write (its year has four digits, and no sign).
+const YEAR_10000_MS: i64 = 253_402_300_800_000;
+
+fn year_minus_one_ms() -> i64 {
+    chrono::NaiveDate::from_ymd_opt(-1, 6, 1)
+        .unwrap()
+        .and_hms_opt(0, 0, 0)
+        .unwrap()
+        .and_utc()
+        .timestamp_millis()
+}
+
+/// Rows that no import writes any more (answer times are checked now),
+/// written straight into the database as an older flipcard could have:
+/// a review answered in the year 10000, one due in the year -1, and a
+/// prompt attempt in the year 10000, after `some_history`'s three rows.
+fn rows_out_of_range(data: &Path) {
+    some_history(data);
+    let raw = rusqlite::Connection::open(data.join("flipcard.db")).unwrap();
+    let insert = "INSERT INTO review (deck, card, direction, reviewed_at, rating, kind, \
+                  elapsed_days, scheduled_days, state, due, duration_ms) \
+                  VALUES ('mini', 'a', 'forward', ?1, 3, 'review', 0, 1, 'review', ?2, 1000)";
+    raw.execute(insert, [YEAR_10000_MS, YEAR_10000_MS]).unwrap();
+    raw.execute(insert, [1_778_400_000_000, year_minus_one_ms()])
+        .unwrap();
+    raw.execute(
+        "INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, correct) \
+         VALUES ('mini', 'p', ?1, 'x', 0), ('mini', 'p', 1778400000000, 'y', 1)",
+        [YEAR_10000_MS],
+    )
+    .unwrap();
+}
+
+#[test]
+fn export_never_writes_a_time_rfc_3339_cannot_hold() {
+    let dir = tempfile::tempdir().unwrap();
+    rows_out_of_range(dir.path());
+    for (args, written, named) in [
+        (
+            &["export", "--reviews"][..],
+            3,
+            &[
+                "review 4: its reviewed_at is in the year 10000",
+                "review 5: its due is in the year -1",
+            ][..],
+        ),
+        (
+            &["export", "--reviews", "--format", "csv"],
+            3,
+            &[
+                "review 4: its reviewed_at is in the year 10000",
+                "review 5: its due is in the year -1",
+            ],
+        ),
+        (
+            &["export", "--attempts"],
+            1,
+            &["attempt 1 (mini/p): its attempted_at is in the year 10000"],
+        ),
+        (
+            &["export", "--attempts", "--format", "csv"],
+            1,
+            &["attempt 1 (mini/p): its attempted_at is in the year 10000"],
+        ),
+    ] {
+        let out = flipcard(dir.path(), args);
+        let (text, err) = (stdout(&out), stderr(&out));
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        // Every time written is RFC 3339; the rows that cannot be are left
+        // out and named.
+        let times: Vec<String> = if args.contains(&"csv") {
+            let mut r = csv::Reader::from_reader(text.as_bytes());
+            let header = r.headers().unwrap().clone();
+            let rows: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+            assert_eq!(rows.len(), written, "{args:?}: {text}");
+            rows.iter()
+                .flat_map(|row| {
+                    header
+                        .iter()
+                        .zip(row.iter())
+                        .filter(|(h, _)| h.ends_with("_at") || *h == "due")
+                        .map(|(_, v)| v.to_string())
+                        .collect::<Vec<_>>()
+                })
+                .collect()
+        } else {
+            let records: Vec<serde_json::Value> = serde_json::from_str(&text).unwrap();
+            assert_eq!(records.len(), written, "{args:?}: {text}");
+            records
+                .iter()
+                .flat_map(|r| {
+                    ["reviewed_at", "due", "attempted_at"]
+                        .iter()
+                        .filter_map(|f| r.get(*f).and_then(|v| v.as_str()).map(String::from))
+                        .collect::<Vec<_>>()
+                })
+                .collect()
+        };
+        assert!(!times.is_empty());
+        for t in &times {
+            assert!(
+                chrono::DateTime::parse_from_rfc3339(t).is_ok() && t.len() == 24,
+                "{args:?}: {t}"
+            );
+        }
+        assert!(
+            !text.contains("+10000") && !text.contains("-0001-"),
+            "{text}"
+        );
+        for n in named {
+            assert!(err.contains(n), "{args:?}: {err}");
+        }
+        let last = err.lines().last().unwrap();
+        assert!(
+            last.starts_with("flipcard: error: ")
+                && last.contains("not exported")
+                && last.contains("RFC 3339"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn stats_escapes_the_ids_of_an_orphan_from_the_log() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    {
+        // An id no deck can have (the deck format refuses it, and imports
+        // check ids now): only a row written straight into the log holds it.
+        let mut store = Store::open(&data).unwrap();
+        store
+            .record(&review(
+                &key("ghost\u{1b}]0;owned\u{7}", "c\u{1b}[2J"),
+                at("2026-05-09T09:00:00Z"),
+                Rating::Good,
+                ReviewKind::Learn,
+                State::Review,
+                Duration::days(1),
+            ))
+            .unwrap();
+    }
+    let decks = mini_deck(dir.path(), &[("a", "basic")]);
+    for args in [&["stats"][..], &["stats", "--json"]] {
+        let mut all = vec!["--decks", decks.to_str().unwrap()];
+        all.extend_from_slice(args);
+        let out = flipcard(&data, &all);
+        assert!(out.status.success(), "{}", stderr(&out));
+        assert!(!out.stdout.contains(&0x1b), "{args:?}: raw ESC");
+        assert!(!out.stdout.contains(&0x07), "{args:?}: raw BEL");
+        let text = stdout(&out);
+        assert!(text.contains("ghost\\u001b]0;owned\\u0007"), "{text}");
+        assert!(text.contains("c\\u001b[2J"), "{text}");
+    }
+}
+
+/// `flipcard import FILE --deck-id mini`, bounded in time.
+fn import_cards(dir: &Path, file: &Path) -> Output {
+    crate::deadline::output_within(
+        Command::new(env!("CARGO_BIN_EXE_flipcard"))
+            .args(["import", file.to_str().unwrap(), "--deck-id", "mini"])
+            .env("FLIPCARD_DATA_DIR", dir)
+            .env("FLIPCARD_NOW", NOW)
+            .env("FLIPCARD_CONFIG", dir.join("none.toml")),
+        120,
+        "importing a CSV of cards",
+    )
+}
+
+#[test]
+fn a_csv_of_cards_has_the_limits_of_every_import() {
+    let dir = tempfile::tempdir().unwrap();
+    // 20,000 cards of the same front: each id was found by trying card,
+    // card-2, … card-n again (200 million tries); now one step each.
+    let same = dir.path().join("same.csv");
+    let mut csv = String::from("front,back\n");
+    for i in 0..20_000 {
+        csv.push_str(&format!("?,answer {i}\n"));
+    }
+    std::fs::write(&same, csv).unwrap();
+    let out = import_cards(dir.path(), &same);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let deck: toml::Table = stdout(&out).parse().unwrap();
+    let ids: Vec<&str> = deck["card"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["id"].as_str().unwrap())
+        .collect();
+    assert_eq!(ids.len(), 20_000);
+    assert_eq!(ids[0], "card");
+    assert_eq!(ids[1], "card-2");
+    assert_eq!(ids[19_999], "card-20000");
+
+    // A file of garbage: twenty rows named, the rest counted.
+    let garbage = dir.path().join("garbage.csv");
+    std::fs::write(&garbage, "front,back\n".to_string() + &",\n".repeat(500)).unwrap();
+    let out = import_cards(dir.path(), &garbage);
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert_eq!(err.lines().count(), 22, "{err}");
+    assert!(err.contains("… and 480 more bad rows"), "{err}");
+    assert!(stdout(&out).is_empty(), "no deck written");
+
+    // A field longer than a card's text can be.
+    let long = dir.path().join("long.csv");
+    std::fs::write(
+        &long,
+        format!("front,back\nq,a\nq2,{}\n", "x".repeat(5 << 20)),
+    )
+    .unwrap();
+    let out = import_cards(dir.path(), &long);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("long.csv:3: back is 5 MiB long; a card's text may be at most 4 MiB"),
+        "{}",
+        stderr(&out)
+    );
+
+    // A file larger than a deck can sensibly be, refused before it is read
+    // (sparse: no disk used).
+    let huge = dir.path().join("huge.csv");
+    std::fs::File::create(&huge)
+        .unwrap()
+        .set_len((64 << 20) + 1)
+        .unwrap();
+    let out = import_cards(dir.path(), &huge);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr(&out).contains("huge.csv: it is larger than 64 MiB"),
+        "{}",
+        stderr(&out)
+    );
+}

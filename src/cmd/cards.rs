@@ -2,6 +2,7 @@
 //! suspend|unsuspend|bury ITEM…`: the card browser's rows and actions for
 //! scripts.
 
+use std::collections::{HashMap, HashSet};
 use std::io::Write;
 use std::process::ExitCode;
 
@@ -14,6 +15,7 @@ use crate::deck::Deck;
 use crate::sched::{Config, Direction, ItemKey, Scheduler};
 use crate::store::StatusAction;
 use crate::store::catalog::{self, Filter, ItemRow, Search};
+use crate::store::export::{MAX_NAMED, rfc3339_with};
 use crate::text::{num, plural};
 
 /// The CSV header, one column per field of [`Listed`].
@@ -53,17 +55,29 @@ struct Listed {
     tags: String,
 }
 
-fn listed(decks: &[Deck], row: &ItemRow, now: chrono::DateTime<chrono::Utc>) -> Listed {
+/// One row to print, and why its due date is left blank when it cannot be
+/// written (a due date stored outside the years 0–9999: RFC 3339 has four
+/// digits for the year).
+fn listed(
+    decks: &[Deck],
+    row: &ItemRow,
+    now: chrono::DateTime<chrono::Utc>,
+) -> (Listed, Option<String>) {
     let opt = |x: Option<f64>| x.map(num::show).unwrap_or_default();
-    Listed {
+    let (due, bad_due) = match row
+        .due()
+        .map(|d| rfc3339_with(d, chrono::SecondsFormat::Secs))
+    {
+        None => (String::new(), None),
+        Some(Ok(text)) => (text, None),
+        Some(Err(year)) => (String::new(), Some(year)),
+    };
+    let listed = Listed {
         deck: row.deck_id(decks).to_string(),
         card: row.card_id(decks).to_string(),
         direction: row.direction.as_str().into_owned(),
         state: row.state_name(),
-        due: row
-            .due()
-            .map(|d| d.to_rfc3339_opts(chrono::SecondsFormat::Secs, true))
-            .unwrap_or_default(),
+        due,
         stability: opt(row.state.and_then(|s| s.stability)),
         difficulty: opt(row.state.and_then(|s| s.difficulty)),
         retrievability: opt(row.retrievability),
@@ -73,7 +87,14 @@ fn listed(decks: &[Deck], row: &ItemRow, now: chrono::DateTime<chrono::Utc>) -> 
         buried: row.buried(now),
         leech: row.status.leech,
         tags: row.tags(decks).join(" "),
-    }
+    };
+    let why = bad_due.map(|year| {
+        format!(
+            "{}/{}/{}: its due date is stored in the year {year}, which RFC 3339 cannot write; left blank",
+            listed.deck, listed.card, listed.direction
+        )
+    });
+    (listed, why)
 }
 
 pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
@@ -94,28 +115,45 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
                 crate::errln!("flipcard: no item matches `{}`", query.trim());
             }
             let mut out = crate::cmd::output::stdout();
+            let mut bad = Vec::new();
+            let mut each = picked.iter().map(|&i| {
+                let (row, why) = listed(decks, &rows[i], now);
+                bad.extend(why);
+                row
+            });
             match list.format {
                 CardsFormat::Csv => {
                     let mut w = csv::WriterBuilder::new()
                         .has_headers(false)
                         .from_writer(&mut out);
                     w.write_record(HEADER)?;
-                    for &i in &picked {
-                        w.serialize(listed(decks, &rows[i], now))?;
+                    for row in &mut each {
+                        w.serialize(row)?;
                     }
                     w.flush()?;
                 }
                 CardsFormat::Json => {
-                    let all: Vec<Listed> = picked
-                        .iter()
-                        .map(|&i| listed(decks, &rows[i], now))
-                        .collect();
+                    let all: Vec<Listed> = each.collect();
                     serde_json::to_writer_pretty(&mut out, &all)?;
                     writeln!(out)?;
                 }
             }
             out.flush()?;
-            Ok(ExitCode::SUCCESS)
+            drop(out);
+            if bad.is_empty() {
+                return Ok(ExitCode::SUCCESS);
+            }
+            for why in bad.iter().take(MAX_NAMED) {
+                crate::errln!("flipcard: {why}");
+            }
+            if bad.len() > MAX_NAMED {
+                crate::errln!("flipcard: … and {} more", bad.len() - MAX_NAMED);
+            }
+            crate::errln!(
+                "flipcard: error: {} with a due date that cannot be written (stored by an import before dates were checked)",
+                plural(bad.len(), "item", "items")
+            );
+            Ok(ExitCode::FAILURE)
         }
         CardsCommand::Suspend(items)
         | CardsCommand::Unsuspend(items)
@@ -126,10 +164,23 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
                 _ => (StatusAction::Bury, "buried until the next day starts"),
             };
             // Every item is resolved before anything is written: one
-            // unknown item and nothing changes.
+            // unknown item and nothing changes. An item named twice (or a
+            // card and one of its directions) is changed once: each change
+            // is an event, and each event of an item makes the next one
+            // slower to apply.
+            let index = Index::new(decks);
             let mut keys = Vec::new();
+            let mut seen = HashSet::new();
+            let mut named = HashSet::new();
             for item in &items.items {
-                keys.extend(resolve(decks, item)?);
+                if !named.insert(item.as_str()) {
+                    continue;
+                }
+                for key in index.resolve(item)? {
+                    if seen.insert(key.clone()) {
+                        keys.push(key);
+                    }
+                }
             }
             let until = (action == StatusAction::Bury)
                 .then(|| crate::sched::study_day(now, config.day_starts_at, &chrono::Local).1);
@@ -141,38 +192,57 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
     }
 }
 
-/// `DECK/CARD` (every item of the card) or `DECK/CARD/DIRECTION`.
-pub fn resolve(decks: &[Deck], item: &str) -> anyhow::Result<Vec<ItemKey>> {
-    let parts: Vec<&str> = item.split('/').collect();
-    let (deck_id, card_id, direction) = match parts.as_slice() {
-        [d, c] => (*d, *c, None),
-        [d, c, dir] => (*d, *c, Some(*dir)),
-        _ => anyhow::bail!("`{item}` is not an item: write DECK/CARD or DECK/CARD/DIRECTION"),
-    };
-    let deck = decks
-        .iter()
-        .find(|d| d.id == deck_id)
-        .ok_or_else(|| anyhow::anyhow!("unknown item `{item}`: no deck `{deck_id}`"))?;
-    let card = deck.card(card_id).ok_or_else(|| {
-        anyhow::anyhow!("unknown item `{item}`: deck `{deck_id}` has no card `{card_id}`")
-    })?;
-    let all = catalog::card_directions(card);
-    let key = |direction| ItemKey {
-        deck: deck_id.to_string(),
-        card: card_id.to_string(),
-        direction,
-    };
-    match direction {
-        None => Ok(all.into_iter().map(key).collect()),
-        Some(text) => match Direction::parse(text).filter(|d| all.contains(d)) {
-            Some(d) => Ok(vec![key(d)]),
-            None => {
-                let names: Vec<String> = all.iter().map(|d| d.as_str().into_owned()).collect();
-                anyhow::bail!(
-                    "unknown item `{item}`: card `{card_id}` has no direction `{text}`; it has {}",
-                    names.join(", ")
-                )
+/// The cards of the decks by deck and card id, so that a long list of
+/// items is resolved in time linear in its length.
+struct Index<'a> {
+    decks: HashMap<&'a str, HashMap<&'a str, &'a crate::deck::Card>>,
+}
+
+impl<'a> Index<'a> {
+    fn new(decks: &'a [Deck]) -> Index<'a> {
+        let mut index: HashMap<&str, HashMap<&str, &crate::deck::Card>> = HashMap::new();
+        for d in decks {
+            let cards = index.entry(d.id.as_str()).or_default();
+            for c in &d.cards {
+                cards.entry(c.id.as_str()).or_insert(c);
             }
-        },
+        }
+        Index { decks: index }
+    }
+
+    /// `DECK/CARD` (every item of the card) or `DECK/CARD/DIRECTION`.
+    fn resolve(&self, item: &str) -> anyhow::Result<Vec<ItemKey>> {
+        let parts: Vec<&str> = item.split('/').collect();
+        let (deck_id, card_id, direction) = match parts.as_slice() {
+            [d, c] => (*d, *c, None),
+            [d, c, dir] => (*d, *c, Some(*dir)),
+            _ => anyhow::bail!("`{item}` is not an item: write DECK/CARD or DECK/CARD/DIRECTION"),
+        };
+        let cards = self
+            .decks
+            .get(deck_id)
+            .ok_or_else(|| anyhow::anyhow!("unknown item `{item}`: no deck `{deck_id}`"))?;
+        let card = cards.get(card_id).ok_or_else(|| {
+            anyhow::anyhow!("unknown item `{item}`: deck `{deck_id}` has no card `{card_id}`")
+        })?;
+        let all = catalog::card_directions(card);
+        let key = |direction| ItemKey {
+            deck: deck_id.to_string(),
+            card: card_id.to_string(),
+            direction,
+        };
+        match direction {
+            None => Ok(all.into_iter().map(key).collect()),
+            Some(text) => match Direction::parse(text).filter(|d| all.contains(d)) {
+                Some(d) => Ok(vec![key(d)]),
+                None => {
+                    let names: Vec<String> = all.iter().map(|d| d.as_str().into_owned()).collect();
+                    anyhow::bail!(
+                        "unknown item `{item}`: card `{card_id}` has no direction `{text}`; it has {}",
+                        names.join(", ")
+                    )
+                }
+            },
+        }
     }
 }

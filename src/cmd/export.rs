@@ -8,27 +8,28 @@ use std::process::ExitCode;
 use crate::cmd::args::{Cli, ExportArgs, ExportFormat};
 use crate::cmd::common::{find_deck, load_decks, open_store_read_only};
 use crate::deck::csv as csvdeck;
-use crate::store::export::{self, ExportError};
+use crate::store::export::{self, ExportError, Written};
+use crate::text::plural;
 
 pub fn run(cli: &Cli, args: &ExportArgs) -> anyhow::Result<ExitCode> {
     let mut out = crate::cmd::output::stdout();
     if args.reviews {
         let store = open_store_read_only(cli)?;
-        match args.format.unwrap_or(ExportFormat::Json) {
+        let written = match args.format.unwrap_or(ExportFormat::Json) {
             ExportFormat::Json => export::write_reviews_json(&store, &mut out)?,
             ExportFormat::Csv => export::write_reviews_csv(&store, &mut out)?,
         };
         out.flush()?;
-        return Ok(ExitCode::SUCCESS);
+        return Ok(verdict(&written, "review", "reviews"));
     }
     if args.attempts {
         let store = open_store_read_only(cli)?;
-        match args.format.unwrap_or(ExportFormat::Json) {
+        let written = match args.format.unwrap_or(ExportFormat::Json) {
             ExportFormat::Json => export::write_attempts_json(&store, &mut out)?,
             ExportFormat::Csv => export::write_attempts_csv(&store, &mut out)?,
         };
         out.flush()?;
-        return Ok(ExitCode::SUCCESS);
+        return Ok(verdict(&written, "attempt", "attempts"));
     }
     let Some(id) = &args.deck else {
         anyhow::bail!("say what to export: --reviews, --attempts or --deck ID");
@@ -43,4 +44,25 @@ pub fn run(cli: &Cli, args: &ExportArgs) -> anyhow::Result<ExitCode> {
     csvdeck::write_deck_csv(deck, &mut out).map_err(ExportError::from)?;
     out.flush()?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Success when every row was written; else each row left out is named
+/// (the first few) and the export fails: it is not the whole log.
+fn verdict(written: &Written, one: &str, many: &str) -> ExitCode {
+    if written.left_out == 0 {
+        return ExitCode::SUCCESS;
+    }
+    for why in &written.named {
+        crate::errln!("flipcard: {why}; left out");
+    }
+    let unnamed = written.left_out - written.named.len() as u64;
+    if unnamed > 0 {
+        crate::errln!("flipcard: … and {unnamed} more left out");
+    }
+    crate::errln!(
+        "flipcard: error: {} not exported (a time stored outside the years 0–9999, which RFC 3339 cannot write; such rows came from an import before dates were checked); the other {} were written",
+        plural(written.left_out, one, many),
+        written.rows
+    );
+    ExitCode::FAILURE
 }

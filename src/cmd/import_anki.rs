@@ -26,7 +26,8 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
     if std::fs::metadata(&args.file).is_ok_and(|m| m.is_dir()) {
         anyhow::bail!("cannot read {}: it is a folder", args.file.display());
     }
-    let mut import = read_package(&args.file, true)?;
+    let now = crate::sched::clock::now()?;
+    let mut import = read_package(&args.file, true, now)?;
     let out = args
         .out
         .clone()
@@ -49,7 +50,7 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
         // Decks without cloze cards: the Cloze notes are left out (and
         // said so) rather than the whole collection.
         remove(&written);
-        import = read_package(&args.file, false)?;
+        import = read_package(&args.file, false, now)?;
         written = write_decks(&out, &import)?;
         loaded = crate::deck::load_dir(&out.join("decks"));
     }

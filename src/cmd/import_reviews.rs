@@ -23,14 +23,20 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
             ),
         },
     };
-    let bytes = crate::deck::files::read_regular(file)
-        .map_err(|why| anyhow::anyhow!("{}: {why}; nothing imported", file.display()))?;
+    let bytes = crate::cmd::import::read_limited(file, MAX_LOG_BYTES).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: {}; nothing imported",
+            file.display(),
+            crate::cmd::import::cannot_read(&e)
+        )
+    })?;
     let Ok(text) = String::from_utf8(bytes) else {
         anyhow::bail!("{} is not UTF-8 text; nothing imported", file.display());
     };
+    let now = crate::sched::clock::now()?;
     let parsed = match format {
-        ExportFormat::Json => read_reviews_json(&text),
-        ExportFormat::Csv => read_reviews_csv(&text),
+        ExportFormat::Json => read_reviews_json(&text, now),
+        ExportFormat::Csv => read_reviews_csv(&text, now),
     };
     let rows = match parsed {
         Ok(rows) => rows,
@@ -59,11 +65,17 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Every bad row as `FILE:LINE: message`, then the verdict.
+/// The largest review log read (an export of a million answers is about a
+/// third of this): the whole file is held in memory while it is checked.
+pub const MAX_LOG_BYTES: u64 = 512 << 20;
+
+/// The bad rows as `FILE:LINE: message` (the first few, then how many
+/// more), then the verdict.
 pub fn report_bad_rows(file: &std::path::Path, errors: &[RowError]) -> ExitCode {
-    for e in errors {
-        crate::errln!("{}:{}: {}", file.display(), e.line, e.message);
-    }
+    crate::cmd::import::print_bad_rows(
+        file,
+        errors.iter().map(|e| (e.line as u64, e.message.as_str())),
+    );
     crate::errln!(
         "flipcard: error: {} in {}; nothing imported",
         plural(errors.len(), "bad row", "bad rows"),

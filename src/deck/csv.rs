@@ -14,7 +14,7 @@
 //!   passes the check. It is written with TOML literal strings, so the
 //!   backslashes of LaTeX math survive unchanged.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 use std::io::{Read, Write};
 
@@ -118,6 +118,7 @@ pub fn read_cards_csv(input: impl Read) -> Result<Vec<ImportedCard>, Vec<RowErro
     let mut columns: Option<Columns> = None;
     let mut ids_taken: HashSet<String> = HashSet::new();
     let mut explicit_ids: HashSet<String> = HashSet::new();
+    let mut next_of: HashMap<String, u64> = HashMap::new();
 
     for (index, result) in reader.records().enumerate() {
         let record = match result {
@@ -165,7 +166,13 @@ pub fn read_cards_csv(input: impl Read) -> Result<Vec<ImportedCard>, Vec<RowErro
                 Columns::POSITIONAL
             }
         };
-        match read_row(&fields, cols, &mut ids_taken, &mut explicit_ids) {
+        match read_row(
+            &fields,
+            cols,
+            &mut ids_taken,
+            &mut explicit_ids,
+            &mut next_of,
+        ) {
             Ok(card) => cards.push(card),
             Err(message) => errors.push(RowError { line, message }),
         }
@@ -188,6 +195,7 @@ fn read_row(
     cols: Columns,
     ids_taken: &mut HashSet<String>,
     explicit_ids: &mut HashSet<String>,
+    next_of: &mut HashMap<String, u64>,
 ) -> Result<ImportedCard, String> {
     let accepts_two = cols.tags == Some(2) && cols.width == 3 && cols.id.is_none();
     if fields.len() != cols.width && !(accepts_two && fields.len() == 2) {
@@ -227,7 +235,7 @@ fn read_row(
             }
             id.to_string()
         }
-        _ => unique(slug(&front), ids_taken),
+        _ => unique(slug(&front), ids_taken, next_of),
     };
     Ok(ImportedCard {
         id,
@@ -250,7 +258,19 @@ fn describe(cols: Columns) -> String {
     names.join(", ")
 }
 
+/// The longest text of a card field, in bytes: a card is read on one
+/// screen, and every step after the import (the check, the search index,
+/// the app) handles each text whole.
+pub const MAX_FIELD_BYTES: usize = 4 << 20;
+
 fn text(fields: &[String], i: usize, name: &str) -> Result<String, String> {
+    if let Some(f) = fields.get(i).filter(|f| f.len() > MAX_FIELD_BYTES) {
+        return Err(format!(
+            "{name} is {} MiB long; a card's text may be at most {} MiB",
+            f.len().div_ceil(1 << 20),
+            MAX_FIELD_BYTES >> 20
+        ));
+    }
     let t = fields
         .get(i)
         .map(|s| s.replace("\r\n", "\n").replace('\t', " "))
@@ -296,11 +316,18 @@ pub fn slug(text: &str) -> String {
     }
 }
 
-fn unique(base: String, taken: &mut HashSet<String>) -> String {
-    let mut id = base.clone();
-    let mut n = 1;
+/// `base`, or `base-2`, `base-3`… when taken. `next` remembers where each
+/// base's count stopped, so ten thousand rows of the same front take ten
+/// thousand steps, not fifty million.
+fn unique(base: String, taken: &mut HashSet<String>, next: &mut HashMap<String, u64>) -> String {
+    let n = next.entry(base.clone()).or_insert(1);
+    let mut id = if *n == 1 {
+        base.clone()
+    } else {
+        format!("{base}-{n}")
+    };
     while taken.contains(&id) {
-        n += 1;
+        *n += 1;
         id = format!("{base}-{n}");
     }
     taken.insert(id.clone());

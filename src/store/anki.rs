@@ -9,19 +9,31 @@
 //! takes the newest, since the older one is then a stub asking to update.
 //!
 //! Nothing is trusted: the archive and the collection inside are size
-//! limited (a zip bomb is refused before it is unpacked), the collection is
-//! checked with `PRAGMA integrity_check`, and a note type that is not one of
-//! the three is an error naming it.
+//! limited (a zip bomb is refused before it is unpacked); the collection is
+//! opened in memory (no scratch file to leave behind, even when the import
+//! is killed), read only, its tables must be plain tables (a view can run
+//! for ever), SQLite's work on it is bounded (a progress handler stops a
+//! statement past a budget of steps per byte), and it is checked with
+//! `PRAGMA quick_check`; a note type that is not one of the three is an
+//! error naming it; answers must be dated from 1970 to a day after this
+//! machine's clock; field text is converted in one pass (linear time) and
+//! may hold at most [`MAX_FIELD_BYTES`] once converted.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use chrono::{DateTime, Utc};
-use rusqlite::{Connection, OpenFlags};
+use rusqlite::limits::Limit;
+use rusqlite::{Connection, OpenFlags, OptionalExtension};
 
 use super::merge::IncomingReview;
-use crate::deck::csv::{slug, toml_string};
+use crate::deck::cloze::MAX_NUMBER;
+use crate::deck::csv::{MAX_FIELD_BYTES, slug, toml_string};
+use crate::sched::clock::check_event_time;
 use crate::sched::{Direction, ItemKey, Rating};
 
 /// The largest collection unpacked (compressed size does not matter).
@@ -62,6 +74,22 @@ pub enum AnkiError {
     },
     #[error("{path}: the collection has no notes to import")]
     Empty { path: PathBuf },
+    #[error("{path}: revlog row {id}: the answer time {detail}; nothing imported")]
+    BadAnswer {
+        path: PathBuf,
+        id: i64,
+        detail: String,
+    },
+    #[error(
+        "{path}: note {note}: field {field} is {mib} MiB of text; a card's text may be at most {limit} MiB; nothing imported",
+        limit = MAX_FIELD_BYTES >> 20
+    )]
+    FieldTooLarge {
+        path: PathBuf,
+        note: i64,
+        field: usize,
+        mib: usize,
+    },
 }
 
 /// What a note type is to flipcard.
@@ -113,7 +141,13 @@ struct CardRef {
 
 /// Reads a package. With `with_cloze` false, Cloze notes are counted but
 /// left out (for decks that have no cloze cards).
-pub fn read_package(path: &Path, with_cloze: bool) -> Result<AnkiImport, AnkiError> {
+/// `now` is this machine's clock: an answer in the revlog dated after it
+/// (by more than a day) or before 1970 is refused.
+pub fn read_package(
+    path: &Path,
+    with_cloze: bool,
+    now: DateTime<Utc>,
+) -> Result<AnkiImport, AnkiError> {
     let file = crate::deck::files::open_regular(path).map_err(|source| AnkiError::Read {
         path: path.to_path_buf(),
         source,
@@ -182,29 +216,46 @@ pub fn read_package(path: &Path, with_cloze: bool) -> Result<AnkiImport, AnkiErr
             raw
         }
     };
-    let scratch = Scratch::write(&bytes).map_err(|source| AnkiError::Read {
-        path: std::env::temp_dir(),
-        source,
-    })?;
     let damaged = |detail: String| AnkiError::Damaged {
         path: path.to_path_buf(),
         entry: entry.to_string(),
         detail,
     };
-    let conn = Connection::open_with_flags(
-        &scratch.0,
-        OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX,
-    )
-    .map_err(|e| damaged(e.to_string()))?;
-    // Anki's own collation for names (schema 18 indexes use it): Unicode
-    // case folding, close enough for checking and reading.
-    conn.create_collation("unicase", |a: &str, b: &str| {
-        a.to_lowercase().cmp(&b.to_lowercase())
-    })
-    .map_err(|e| damaged(e.to_string()))?;
+    if bytes.is_empty() {
+        return Err(damaged("the collection is an empty file".to_string()));
+    }
+    let mut bytes = bytes;
+    // A collection saved in WAL mode (Anki's current one) says so in bytes
+    // 18 and 19 of its header; a database in memory has no WAL, and reads
+    // the same pages in rollback mode.
+    if let Some(versions) = bytes.get_mut(18..20)
+        && versions == [2, 2]
+    {
+        versions.copy_from_slice(&[1, 1]);
+    }
+    let (conn, steps) = open_in_memory(&bytes).map_err(|e| damaged(e.to_string()))?;
+    let size = bytes.len() as u64;
+    drop(bytes);
+    let over_budget = || steps.load(Ordering::Relaxed) > step_budget(size);
+    let sql = |e: rusqlite::Error| {
+        if over_budget() {
+            damaged(format!(
+                "reading it took more than {} million SQLite steps, far more than a collection of its size needs; refusing it",
+                step_budget(size) * STEPS_PER_CALL as u64 / 1_000_000
+            ))
+        } else {
+            damaged(e.to_string())
+        }
+    };
+    steps.store(0, Ordering::Relaxed);
+    check_schema(&conn).map_err(|e| match e {
+        ReadError::Sql(e) => sql(e),
+        ReadError::Bad(detail) => damaged(detail),
+        ReadError::Anki(e) => e,
+    })?;
     let check: String = conn
-        .query_row("PRAGMA integrity_check", [], |r| r.get(0))
-        .map_err(|e| damaged(e.to_string()))?;
+        .query_row("PRAGMA quick_check", [], |r| r.get(0))
+        .map_err(sql)?;
     if check != "ok" {
         // One line: SQLite lists every damaged page.
         let first: Vec<&str> = check
@@ -218,8 +269,8 @@ pub fn read_package(path: &Path, with_cloze: bool) -> Result<AnkiImport, AnkiErr
             first.join("; ")
         )));
     }
-    let mut out = read_collection(&conn, path, with_cloze).map_err(|e| match e {
-        ReadError::Sql(e) => damaged(e.to_string()),
+    let mut out = read_collection(&conn, path, with_cloze, now).map_err(|e| match e {
+        ReadError::Sql(e) => sql(e),
         ReadError::Bad(detail) => damaged(detail),
         ReadError::Anki(e) => e,
     })?;
@@ -228,32 +279,114 @@ pub fn read_package(path: &Path, with_cloze: bool) -> Result<AnkiImport, AnkiErr
     Ok(out)
 }
 
-/// The unpacked collection in a temporary file, removed when dropped.
-struct Scratch(PathBuf);
+/// How often (in SQLite virtual-machine steps) the work done is counted.
+const STEPS_PER_CALL: i32 = 10_000;
 
-impl Scratch {
-    fn write(bytes: &[u8]) -> std::io::Result<Scratch> {
-        use std::sync::atomic::{AtomicU64, Ordering};
-        static N: AtomicU64 = AtomicU64::new(0);
-        let name = format!(
-            "flipcard-anki-{}-{}.sqlite",
-            std::process::id(),
-            N.fetch_add(1, Ordering::Relaxed)
-        );
-        let path = std::env::temp_dir().join(name);
-        let mut f = std::fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&path)?;
-        std::io::Write::write_all(&mut f, bytes)?;
-        Ok(Scratch(path))
-    }
+/// The counts of [`STEPS_PER_CALL`] steps allowed for reading a collection
+/// of `size` bytes: a hundred million steps and twenty per byte, where
+/// checking and reading a collection takes under one per byte (about 18
+/// million steps for 42 MB of fifty thousand notes and half a million
+/// answers), so only a collection built to run on reaches it, and stops
+/// within about a second per 5 MB.
+fn step_budget(size: u64) -> u64 {
+    10_000 + size / 512
 }
 
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.0);
+/// The collection as a read-only database in memory: no scratch file, so
+/// nothing is left behind however the import ends (a kill included). The
+/// returned counter counts the steps SQLite takes (in [`STEPS_PER_CALL`]),
+/// and SQLite stops a statement once they pass [`step_budget`].
+fn open_in_memory(bytes: &[u8]) -> rusqlite::Result<(Connection, Arc<AtomicU64>)> {
+    let mut conn = Connection::open_in_memory_with_flags(
+        OpenFlags::SQLITE_OPEN_READ_WRITE
+            | OpenFlags::SQLITE_OPEN_CREATE
+            | OpenFlags::SQLITE_OPEN_NO_MUTEX,
+    )?;
+    conn.deserialize_read_exact(rusqlite::MAIN_DB, bytes, bytes.len(), true)?;
+    // No value read or computed may be larger than the collection itself
+    // could hold sensibly (a function in the schema cannot allocate a
+    // gigabyte per row).
+    conn.set_limit(Limit::SQLITE_LIMIT_LENGTH, MAX_VALUE_BYTES)?;
+    // CHECK constraints guard writes; this import only reads, and
+    // `quick_check` would otherwise evaluate them on every row.
+    conn.pragma_update(None, "ignore_check_constraints", true)?;
+    // Anki's own collation for names (schema 18 indexes use it): Unicode
+    // case folding, close enough for checking and reading.
+    conn.create_collation("unicase", |a: &str, b: &str| {
+        a.to_lowercase().cmp(&b.to_lowercase())
+    })?;
+    let steps = Arc::new(AtomicU64::new(0));
+    let counted = Arc::clone(&steps);
+    let budget = step_budget(bytes.len() as u64);
+    conn.progress_handler(
+        STEPS_PER_CALL,
+        Some(move || counted.fetch_add(1, Ordering::Relaxed) + 1 > budget),
+    )?;
+    Ok((conn, steps))
+}
+
+/// The largest single value (a note's fields together, the legacy `col`
+/// row's JSON) read from a collection.
+const MAX_VALUE_BYTES: i32 = 64 << 20;
+
+/// The tables this import reads, in either layout.
+const TABLES_READ: [&str; 8] = [
+    "col",
+    "notes",
+    "cards",
+    "revlog",
+    "notetypes",
+    "fields",
+    "templates",
+    "decks",
+];
+
+/// Refuses a collection in which a name this import reads is not a plain
+/// table (a view can be made to run for ever, a virtual table needs code
+/// the collection does not bring), or a table has a computed column (Anki
+/// writes none; it would be computed on every read).
+fn check_schema(conn: &Connection) -> Result<(), ReadError> {
+    let mut st = conn.prepare(
+        "SELECT type, name, coalesce(sql, '') FROM sqlite_schema \
+         WHERE name = ?1 COLLATE NOCASE AND type IN ('table', 'view')",
+    )?;
+    for name in TABLES_READ {
+        let mut rows = st.query([name])?;
+        while let Some(r) = rows.next()? {
+            let (kind, actual, sql): (String, String, String) = (r.get(0)?, r.get(1)?, r.get(2)?);
+            let virtual_table = sql
+                .trim_start()
+                .get(..14)
+                .is_some_and(|s| s.eq_ignore_ascii_case("create virtual"));
+            if kind != "table" || virtual_table {
+                let what = if kind == "table" {
+                    "a virtual table"
+                } else {
+                    "a view"
+                };
+                return Err(ReadError::Bad(format!(
+                    "`{}` is {what}, not a table; refusing it",
+                    crate::text::safe::one_line(&actual)
+                )));
+            }
+        }
     }
+    let computed: Option<(String, String)> = conn
+        .query_row(
+            "SELECT s.name, x.name FROM sqlite_schema AS s, pragma_table_xinfo(s.name) AS x \
+             WHERE s.type = 'table' AND x.hidden IN (2, 3) LIMIT 1",
+            [],
+            |r| Ok((r.get(0)?, r.get(1)?)),
+        )
+        .optional()?;
+    if let Some((table, column)) = computed {
+        return Err(ReadError::Bad(format!(
+            "column `{}` of table `{}` is computed (GENERATED), which Anki never writes; refusing it",
+            crate::text::safe::one_line(&column),
+            crate::text::safe::one_line(&table)
+        )));
+    }
+    Ok(())
 }
 
 enum ReadError {
@@ -386,6 +519,7 @@ fn read_collection(
     conn: &Connection,
     path: &Path,
     with_cloze: bool,
+    now: DateTime<Utc>,
 ) -> Result<AnkiImport, ReadError> {
     let (types, deck_names) = if has_table(conn, "notetypes")? {
         catalog_v18(conn)?
@@ -478,13 +612,20 @@ fn read_collection(
 
     // Deck ids from the names, unique.
     let mut taken = HashSet::new();
+    // Where each base's count stopped: many names of one slug take one
+    // step each.
+    let mut next_of: HashMap<String, u64> = HashMap::new();
     let mut card_of_note: HashMap<i64, (String, String, Kind)> = HashMap::new();
     for (name, notes) in &by_deck {
         let base = slug(&name.replace("::", " "));
-        let mut id = base.clone();
-        let mut n = 1;
+        let n = next_of.entry(base.clone()).or_insert(1);
+        let mut id = if *n == 1 {
+            base.clone()
+        } else {
+            format!("{base}-{n}")
+        };
         while !taken.insert(id.clone()) {
-            n += 1;
+            *n += 1;
             id = format!("{base}-{n}");
         }
         let mut text = String::new();
@@ -498,10 +639,18 @@ fn read_collection(
             let field = |i: usize, refs: &mut usize| {
                 let (t, media) = html_to_text(note.fields.get(i).map_or("", String::as_str));
                 *refs += media;
-                t
+                if t.len() > MAX_FIELD_BYTES {
+                    return Err(ReadError::Anki(AnkiError::FieldTooLarge {
+                        path: path.to_path_buf(),
+                        note: note.id,
+                        field: i + 1,
+                        mib: t.len().div_ceil(1 << 20),
+                    }));
+                }
+                Ok(t)
             };
-            let mut front = field(0, &mut out.media_refs);
-            let mut back = field(1, &mut out.media_refs);
+            let mut front = field(0, &mut out.media_refs)?;
+            let mut back = field(1, &mut out.media_refs)?;
             text.push_str("\n[[card]]\n");
             text.push_str(&format!("id = {}\n", toml_string(&card_id)));
             match note.kind {
@@ -552,8 +701,9 @@ fn read_collection(
             let direction = match (kind, ord) {
                 (Kind::Basic, 0) | (Kind::Reversed, 0) => Some(Direction::Forward),
                 (Kind::Reversed, 1) => Some(Direction::Backward),
-                // Anki's card `ord` n of a cloze note is deletion c(n+1).
-                (Kind::Cloze, n) if (0..u16::MAX as i64).contains(&n) => {
+                // Anki's card `ord` n of a cloze note is deletion c(n+1);
+                // a deck numbers its deletions up to c999.
+                (Kind::Cloze, n) if (0..i64::from(MAX_NUMBER)).contains(&n) => {
                     Some(Direction::Cloze(n as u16 + 1))
                 }
                 _ => None,
@@ -577,9 +727,19 @@ fn read_collection(
             // Ease 0 and types 4 and 5 are reschedules by hand, not answers.
             let rating = Rating::from_number(ease).filter(|_| kind <= 3);
             let card = cards.get(&cid);
-            let when = DateTime::<Utc>::from_timestamp_millis(at);
-            match (rating, card.and_then(|c| c.direction.map(|d| (c, d))), when) {
-                (Some(rating), Some((c, direction)), Some(when)) => {
+            match (rating, card.and_then(|c| c.direction.map(|d| (c, d)))) {
+                (Some(rating), Some((c, direction))) => {
+                    // An answer's id is its time in milliseconds.
+                    let when = DateTime::<Utc>::from_timestamp_millis(at)
+                        .ok_or_else(|| "its time is out of any calendar's range".to_string())
+                        .and_then(|t| check_event_time(t, now).map(|()| t))
+                        .map_err(|detail| {
+                            ReadError::Anki(AnkiError::BadAnswer {
+                                path: path.to_path_buf(),
+                                id: at,
+                                detail,
+                            })
+                        })?;
                     out.reviews.push(IncomingReview {
                         key: ItemKey {
                             deck: c.deck.clone(),
@@ -681,33 +841,54 @@ pub fn html_to_text(html: &str) -> (String, usize) {
 }
 
 /// `\(…\)` → `$…$`, `\[…\]` → `$$…$$` (or left as written when `math` is
-/// false), every other `$` escaped.
+/// false), every other `$` escaped. One pass from left to right: each
+/// opener is found once and the search for its closer starts after it, so
+/// the work is linear in the text (a field of many openers once searched
+/// the rest of the text for each).
 fn convert_math(s: &str, math: bool) -> String {
-    let mut out = String::new();
+    let mut out = String::with_capacity(s.len() + s.len() / 8);
     let mut rest = s;
     loop {
-        let open = [("\\(", "\\)", "$"), ("\\[", "\\]", "$$")]
-            .into_iter()
-            .filter_map(|(o, c, d)| rest.find(o).map(|i| (i, o, c, d)))
-            .min_by_key(|x| x.0);
-        let Some((i, o, c, d)) = open else {
-            out.push_str(&rest.replace('$', "\\$"));
+        let Some((i, c, d)) = next_opener(rest) else {
+            push_escaped(&mut out, rest);
             return out;
         };
-        let Some(j) = rest[i + o.len()..].find(c) else {
-            out.push_str(&rest.replace('$', "\\$"));
+        let o = 2;
+        let Some(j) = rest[i + o..].find(c) else {
+            push_escaped(&mut out, rest);
             return out;
         };
-        out.push_str(&rest[..i].replace('$', "\\$"));
-        let inner = &rest[i + o.len()..i + o.len() + j];
+        push_escaped(&mut out, &rest[..i]);
+        let inner = &rest[i + o..i + o + j];
         if math && !inner.contains('$') {
             out.push_str(d);
             out.push_str(inner.trim());
             out.push_str(d);
         } else {
-            out.push_str(&rest[i..i + o.len() + j + c.len()].replace('$', "\\$"));
+            push_escaped(&mut out, &rest[i..i + o + j + c.len()]);
         }
-        rest = &rest[i + o.len() + j + c.len()..];
+        rest = &rest[i + o + j + c.len()..];
+    }
+}
+
+/// The first MathJax opener of `s`, `\(` or `\[`: where it is, its closer
+/// and the flipcard delimiter.
+fn next_opener(s: &str) -> Option<(usize, &'static str, &'static str)> {
+    let b = s.as_bytes();
+    b.windows(2).enumerate().find_map(|(i, w)| match w {
+        [b'\\', b'('] => Some((i, "\\)", "$")),
+        [b'\\', b'['] => Some((i, "\\]", "$$")),
+        _ => None,
+    })
+}
+
+/// `s` with every `$` escaped, appended to `out`.
+fn push_escaped(out: &mut String, s: &str) {
+    for (k, part) in s.split('$').enumerate() {
+        if k > 0 {
+            out.push_str("\\$");
+        }
+        out.push_str(part);
     }
 }
 
@@ -717,26 +898,10 @@ fn decode_entities(s: &str) -> String {
     while let Some(i) = rest.find('&') {
         out.push_str(&rest[..i]);
         let after = &rest[i + 1..];
-        let end = after.find(';').filter(|e| *e <= 10);
-        let decoded = end.and_then(|e| {
-            let name = &after[..e];
-            let c = match name {
-                "amp" => Some('&'),
-                "lt" => Some('<'),
-                "gt" => Some('>'),
-                "quot" => Some('"'),
-                "apos" | "#39" => Some('\''),
-                "nbsp" => Some(' '),
-                _ => named_entity(name).or_else(|| {
-                    name.strip_prefix("#x")
-                        .or_else(|| name.strip_prefix("#X"))
-                        .and_then(|h| u32::from_str_radix(h, 16).ok())
-                        .or_else(|| name.strip_prefix('#').and_then(|d| d.parse().ok()))
-                        .and_then(char::from_u32)
-                }),
-            }?;
-            Some((c, e))
-        });
+        // A name is at most ten bytes: only those are searched for its `;`
+        // (a text of many `&` once searched the whole rest for each).
+        let end = after.as_bytes().iter().take(11).position(|&b| b == b';');
+        let decoded = end.and_then(|e| Some((decode_entity(&after[..e])?, e)));
         match decoded {
             Some((c, e)) => {
                 out.push(c);
@@ -752,21 +917,43 @@ fn decode_entities(s: &str) -> String {
     out
 }
 
+/// The character an entity `&name;` stands for.
+fn decode_entity(name: &str) -> Option<char> {
+    match name {
+        "amp" => Some('&'),
+        "lt" => Some('<'),
+        "gt" => Some('>'),
+        "quot" => Some('"'),
+        "apos" | "#39" => Some('\''),
+        "nbsp" => Some(' '),
+        _ => named_entity(name).or_else(|| {
+            name.strip_prefix("#x")
+                .or_else(|| name.strip_prefix("#X"))
+                .and_then(|h| u32::from_str_radix(h, 16).ok())
+                .or_else(|| name.strip_prefix('#').and_then(|d| d.parse().ok()))
+                .and_then(char::from_u32)
+        }),
+    }
+}
+
 /// The named HTML entities a science note is likely to hold.
 fn named_entity(name: &str) -> Option<char> {
-    const GREEK: &str = "alpha α beta β gamma γ delta δ epsilon ε zeta ζ eta η theta θ iota ι \
-        kappa κ lambda λ mu μ nu ν xi ξ omicron ο pi π rho ρ sigma σ tau τ upsilon υ phi φ \
-        chi χ psi ψ omega ω Gamma Γ Delta Δ Theta Θ Lambda Λ Xi Ξ Pi Π Sigma Σ Phi Φ Psi Ψ \
-        Omega Ω hellip … mdash — ndash – times × divide ÷ deg ° middot · plusmn ± le ≤ ge ≥ \
-        ne ≠ asymp ≈ rarr → larr ← harr ↔ rArr ⇒ infin ∞ part ∂ nabla ∇ sum ∑ int ∫ radic √ \
-        prop ∝ micro µ sup2 ² sup3 ³ frac12 ½ lsquo ‘ rsquo ’ ldquo “ rdquo ” bull • minus −";
-    let mut words = GREEK.split_whitespace();
-    while let (Some(k), Some(v)) = (words.next(), words.next()) {
-        if k == name {
-            return v.chars().next();
-        }
-    }
-    None
+    static TABLE: std::sync::LazyLock<HashMap<&'static str, char>> = std::sync::LazyLock::new(
+        || {
+            const NAMES: &str = "alpha α beta β gamma γ delta δ epsilon ε zeta ζ eta η theta θ iota ι \
+                kappa κ lambda λ mu μ nu ν xi ξ omicron ο pi π rho ρ sigma σ tau τ upsilon υ phi φ \
+                chi χ psi ψ omega ω Gamma Γ Delta Δ Theta Θ Lambda Λ Xi Ξ Pi Π Sigma Σ Phi Φ Psi Ψ \
+                Omega Ω hellip … mdash — ndash – times × divide ÷ deg ° middot · plusmn ± le ≤ ge ≥ \
+                ne ≠ asymp ≈ rarr → larr ← harr ↔ rArr ⇒ infin ∞ part ∂ nabla ∇ sum ∑ int ∫ radic √ \
+                prop ∝ micro µ sup2 ² sup3 ³ frac12 ½ lsquo ‘ rsquo ’ ldquo “ rdquo ” bull • minus −";
+            let words: Vec<&str> = NAMES.split_whitespace().collect();
+            words
+                .chunks_exact(2)
+                .filter_map(|kv| Some((kv[0], kv[1].chars().next()?)))
+                .collect()
+        },
+    );
+    TABLE.get(name).copied()
 }
 
 #[cfg(test)]
@@ -792,6 +979,137 @@ mod tests {
         let (t, _) = html_to_text("\\(\\unknowncommand x\\) for $1");
         assert_eq!(t, "\\(\\unknowncommand x\\) for \\$1");
         assert!(crate::text::check(&t).is_empty());
+    }
+
+    /// The conversions as they were before they were made linear: the
+    /// reference their output must equal.
+    fn reference_convert_math(s: &str, math: bool) -> String {
+        let mut out = String::new();
+        let mut rest = s;
+        loop {
+            let open = [("\\(", "\\)", "$"), ("\\[", "\\]", "$$")]
+                .into_iter()
+                .filter_map(|(o, c, d)| rest.find(o).map(|i| (i, o, c, d)))
+                .min_by_key(|x| x.0);
+            let Some((i, o, c, d)) = open else {
+                out.push_str(&rest.replace('$', "\\$"));
+                return out;
+            };
+            let Some(j) = rest[i + o.len()..].find(c) else {
+                out.push_str(&rest.replace('$', "\\$"));
+                return out;
+            };
+            out.push_str(&rest[..i].replace('$', "\\$"));
+            let inner = &rest[i + o.len()..i + o.len() + j];
+            if math && !inner.contains('$') {
+                out.push_str(d);
+                out.push_str(inner.trim());
+                out.push_str(d);
+            } else {
+                out.push_str(&rest[i..i + o.len() + j + c.len()].replace('$', "\\$"));
+            }
+            rest = &rest[i + o.len() + j + c.len()..];
+        }
+    }
+
+    fn reference_decode_entities(s: &str) -> String {
+        let mut out = String::new();
+        let mut rest = s;
+        while let Some(i) = rest.find('&') {
+            out.push_str(&rest[..i]);
+            let after = &rest[i + 1..];
+            let end = after.find(';').filter(|e| *e <= 10);
+            match end.and_then(|e| Some((decode_entity(&after[..e])?, e))) {
+                Some((c, e)) => {
+                    out.push(c);
+                    rest = &after[e + 1..];
+                }
+                None => {
+                    out.push('&');
+                    rest = after;
+                }
+            }
+        }
+        out.push_str(rest);
+        out
+    }
+
+    proptest::proptest! {
+        /// Run longer with `PROPTEST_CASES=100000 cargo test --lib store::anki`.
+        #[test]
+        fn the_linear_conversions_equal_the_reference(
+            s in "([\\\\()\\[\\]$&;#x0-9a-z ]|amp;|\\\\\\(|\\\\\\[|\\\\\\)|\\\\\\]|é){0,40}",
+            math: bool,
+        ) {
+            proptest::prop_assert_eq!(convert_math(&s, math), reference_convert_math(&s, math));
+            proptest::prop_assert_eq!(decode_entities(&s), reference_decode_entities(&s));
+        }
+    }
+
+    #[test]
+    fn field_text_is_converted_in_linear_time() {
+        // 2 MB of `&` and 1.8 MB of `\(x^2\)` took minutes when each `&`
+        // searched the rest for a `;` and each opener the rest for the other
+        // opener; counted in steps, not seconds: the output is exact.
+        let (t, _) = html_to_text(&"&".repeat(2_000_000));
+        assert_eq!(t.len(), 2_000_000);
+        assert!(t.bytes().all(|b| b == b'&'));
+        let (t, _) = html_to_text(&"\\(x^2\\)".repeat(250_000));
+        assert_eq!(t, "$x^2$".repeat(250_000));
+    }
+
+    #[test]
+    fn a_statement_that_runs_on_is_stopped_by_the_step_budget() {
+        let mut made = Connection::open_in_memory().unwrap();
+        made.execute_batch(
+            "CREATE TABLE notes (id INTEGER PRIMARY KEY, flds TEXT); \
+             INSERT INTO notes VALUES (1, 'a');",
+        )
+        .unwrap();
+        let bytes = made.serialize(rusqlite::MAIN_DB).unwrap().to_vec();
+        let (conn, steps) = open_in_memory(&bytes).unwrap();
+        // Read-only, and a normal query well within the budget.
+        assert!(conn.execute("DELETE FROM notes", []).is_err());
+        let n: i64 = conn
+            .query_row("SELECT count(*) FROM notes", [], |r| r.get(0))
+            .unwrap();
+        assert_eq!(n, 1);
+        // A query that never ends is interrupted once past the budget.
+        let endless = conn.query_row(
+            "WITH RECURSIVE r(n) AS (SELECT 1 UNION ALL SELECT n + 1 FROM r) \
+             SELECT count(*) FROM r",
+            [],
+            |r| r.get::<_, i64>(0),
+        );
+        assert!(endless.is_err(), "{endless:?}");
+        assert!(steps.load(Ordering::Relaxed) > step_budget(bytes.len() as u64));
+    }
+
+    #[test]
+    fn views_and_computed_columns_are_refused() {
+        for (sql, says) in [
+            (
+                "CREATE VIEW Notes AS SELECT 1 AS id",
+                "`Notes` is a view, not a table",
+            ),
+            (
+                "CREATE TABLE revlog (id INTEGER, g INTEGER AS (id * 2))",
+                "column `g` of table `revlog` is computed",
+            ),
+            (
+                "CREATE TABLE other (id INTEGER, g TEXT AS (hex(zeroblob(1000000))) STORED)",
+                "column `g` of table `other` is computed",
+            ),
+        ] {
+            let mut made = Connection::open_in_memory().unwrap();
+            made.execute_batch(sql).unwrap();
+            let bytes = made.serialize(rusqlite::MAIN_DB).unwrap().to_vec();
+            let (conn, _) = open_in_memory(&bytes).unwrap();
+            match check_schema(&conn) {
+                Err(ReadError::Bad(e)) => assert!(e.contains(says), "{e}"),
+                _ => panic!("{sql}: not refused"),
+            }
+        }
     }
 
     #[test]

@@ -5,6 +5,13 @@
 //!
 //! A learner is a file and is named by its file name only. A file with any
 //! problem is left out whole, its first problem given with a line number.
+//!
+//! The files are the learners', not ours: deck, card and prompt ids must
+//! have the deck format's shape and a direction be `forward`, `backward` or
+//! `c1` … `c999` ([`ItemKey::parse`]); a time must be from 1970 to the
+//! latest clock the app accepts ([`clock::latest`]); a prediction is at
+//! most [`MAX_PREDICTION_BYTES`] without control characters. A value
+//! quoted in an error is cut short and escaped.
 
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
@@ -13,27 +20,70 @@ use chrono::{DateTime, Utc};
 use serde::Deserialize;
 
 use super::export::{ATTEMPT_FIELDS, REVIEW_FIELDS};
+use super::import::quoted;
 use crate::deck::{Answer, Deck};
+use crate::sched::ItemKey;
+use crate::sched::clock;
+
+/// The longest prediction read: a choice id or a number typed.
+pub const MAX_PREDICTION_BYTES: usize = 200;
+
+/// A review's item: ids of the deck format's shape, checked together with
+/// [`ItemKey::parse`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Item {
+    pub deck: String,
+    pub card: String,
+    /// `forward`, `backward` or `c1` … `c999`.
+    pub direction: String,
+}
 
 /// One review as the report needs it.
-#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ReviewRow {
-    #[serde(deserialize_with = "id")]
-    pub deck: String,
-    #[serde(deserialize_with = "id")]
-    pub card: String,
-    #[serde(deserialize_with = "direction")]
-    pub direction: String,
-    #[serde(deserialize_with = "time")]
+    pub item: Item,
     pub reviewed_at: DateTime<Utc>,
-    #[serde(deserialize_with = "rating")]
     pub rating: u8,
-    #[serde(deserialize_with = "kind")]
     pub kind: String,
-    #[serde(default, deserialize_with = "difficulty")]
     pub difficulty: Option<f64>,
-    #[serde(deserialize_with = "flag")]
     pub undone: bool,
+}
+
+/// A review's fields as read, before its item is checked.
+#[derive(Deserialize)]
+struct ReviewFields {
+    deck: String,
+    card: String,
+    direction: String,
+    #[serde(deserialize_with = "time")]
+    reviewed_at: DateTime<Utc>,
+    #[serde(deserialize_with = "rating")]
+    rating: u8,
+    #[serde(deserialize_with = "kind")]
+    kind: String,
+    #[serde(default, deserialize_with = "difficulty")]
+    difficulty: Option<f64>,
+    #[serde(deserialize_with = "flag")]
+    undone: bool,
+}
+
+impl TryFrom<ReviewFields> for ReviewRow {
+    type Error = String;
+    fn try_from(f: ReviewFields) -> Result<ReviewRow, String> {
+        let key = ItemKey::parse(&f.deck, &f.card, &f.direction)?;
+        Ok(ReviewRow {
+            item: Item {
+                deck: key.deck,
+                card: key.card,
+                direction: key.direction.as_str().into_owned(),
+            },
+            reviewed_at: f.reviewed_at,
+            rating: f.rating,
+            kind: f.kind,
+            difficulty: f.difficulty,
+            undone: f.undone,
+        })
+    }
 }
 
 /// One prompt attempt as the report needs it.
@@ -45,6 +95,7 @@ pub struct AttemptRow {
     pub prompt: String,
     #[serde(deserialize_with = "time")]
     pub attempted_at: DateTime<Utc>,
+    #[serde(deserialize_with = "prediction")]
     pub prediction: String,
     #[serde(deserialize_with = "flag")]
     pub correct: bool,
@@ -65,22 +116,37 @@ pub struct FileError {
     pub message: String,
 }
 
+/// A deck or prompt id: the deck format's pattern.
 fn id<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
     let s = String::deserialize(d)?;
-    if s.trim().is_empty() {
-        return Err(serde::de::Error::custom("an empty id"));
+    if !crate::deck::validate::is_id(&s) {
+        return Err(serde::de::Error::custom(format!(
+            "id {} is not an id (lowercase letters and digits in words joined by -)",
+            quoted(&s)
+        )));
     }
     Ok(s)
 }
 
-fn direction<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
+fn prediction<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
     let s = String::deserialize(d)?;
-    match s.as_str() {
-        "forward" | "backward" => Ok(s),
-        _ => Err(serde::de::Error::custom(format!(
-            "direction {s:?} is not forward or backward"
-        ))),
+    if s.len() > MAX_PREDICTION_BYTES {
+        return Err(serde::de::Error::custom(format!(
+            "prediction {} is longer than {MAX_PREDICTION_BYTES} bytes",
+            quoted(&s)
+        )));
     }
+    if let Some(c) = s
+        .chars()
+        .find(|c| crate::text::safe::is_unsafe(*c) || c.is_control())
+    {
+        return Err(serde::de::Error::custom(format!(
+            "prediction {} holds the control character U+{:04X}",
+            quoted(&s),
+            u32::from(c)
+        )));
+    }
+    Ok(s)
 }
 
 fn kind<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
@@ -88,16 +154,37 @@ fn kind<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
     match s.as_str() {
         "learn" | "review" | "relearn" | "cram" => Ok(s),
         _ => Err(serde::de::Error::custom(format!(
-            "kind {s:?} is not learn, review, relearn or cram"
+            "kind {} is not learn, review, relearn or cram",
+            quoted(&s)
         ))),
     }
 }
 
+/// An RFC 3339 time from 1970 to [`clock::latest`]: the report compares
+/// times only within a learner's file, so this machine's clock does not
+/// bound them, but nothing before the epoch or near the year 10000 is an
+/// answer.
 fn time<'de, D: serde::Deserializer<'de>>(d: D) -> Result<DateTime<Utc>, D::Error> {
     let s = String::deserialize(d)?;
-    DateTime::parse_from_rfc3339(&s)
+    let t = DateTime::parse_from_rfc3339(&s)
         .map(|t| t.with_timezone(&Utc))
-        .map_err(|e| serde::de::Error::custom(format!("time {s:?} is not RFC 3339: {e}")))
+        .map_err(|e| {
+            serde::de::Error::custom(format!("time {} is not RFC 3339: {e}", quoted(&s)))
+        })?;
+    if t < clock::earliest() {
+        return Err(serde::de::Error::custom(format!(
+            "time {} is before 1970",
+            quoted(&s)
+        )));
+    }
+    if t > clock::latest() {
+        return Err(serde::de::Error::custom(format!(
+            "time {} is after {}, the latest the app accepts",
+            quoted(&s),
+            super::export::rfc3339(clock::latest())
+        )));
+    }
+    Ok(t)
 }
 
 fn rating<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u8, D::Error> {
@@ -167,26 +254,47 @@ fn json_error(e: &serde_json::Error) -> FileError {
 }
 
 fn parse_json(text: &str) -> Result<Export, FileError> {
-    let values: Vec<serde_json::Value> = serde_json::from_str(text).map_err(|e| json_error(&e))?;
+    // The records are found without building them (a large file would take
+    // ten times its size as JSON values), then read one by one, each error
+    // at the line of its record; the first one tells which export this is.
+    let values: Vec<&serde_json::value::RawValue> =
+        serde_json::from_str(text).map_err(|e| json_error(&e))?;
     let Some(first) = values.first() else {
         // An empty export says nothing about anyone.
         return Ok(Export::Reviews(Vec::new()));
     };
-    // Records are typed again from the text so that errors carry the line.
+    let first: serde_json::Value = serde_json::from_str(first.get()).map_err(|e| json_error(&e))?;
     if first.get("card").is_some() {
-        serde_json::from_str::<Vec<ReviewRow>>(text)
-            .map(Export::Reviews)
-            .map_err(|e| json_error(&e))
+        records(text, &values, |f: ReviewFields| ReviewRow::try_from(f)).map(Export::Reviews)
     } else if first.get("prompt").is_some() {
-        serde_json::from_str::<Vec<AttemptRow>>(text)
-            .map(Export::Attempts)
-            .map_err(|e| json_error(&e))
+        records(text, &values, |a: AttemptRow| Ok(a)).map(Export::Attempts)
     } else {
         Err(FileError {
             line: 2,
             message: "records have neither `card` (reviews) nor `prompt` (prompt attempts)".into(),
         })
     }
+}
+
+/// Every record of a JSON array read as `T` and checked by `check`; the
+/// first problem at its line.
+fn records<T: serde::de::DeserializeOwned, U>(
+    text: &str,
+    values: &[&serde_json::value::RawValue],
+    check: impl Fn(T) -> Result<U, String>,
+) -> Result<Vec<U>, FileError> {
+    let mut lines = super::import::Lines::new(text);
+    let mut out = Vec::with_capacity(values.len());
+    for raw in values {
+        let line = lines.of(raw.get());
+        let record = serde_json::from_str::<T>(raw.get()).map_err(|e| {
+            let mut at = json_error(&e);
+            at.line += line - 1;
+            at
+        })?;
+        out.push(check(record).map_err(|message| FileError { line, message })?);
+    }
+    Ok(out)
 }
 
 fn parse_csv(text: &str) -> Result<Export, FileError> {
@@ -217,11 +325,14 @@ fn parse_csv(text: &str) -> Result<Export, FileError> {
         },
     };
     if starts_with(&REVIEW_FIELDS) {
-        reader
-            .deserialize::<ReviewRow>()
-            .collect::<Result<Vec<_>, _>>()
-            .map(Export::Reviews)
-            .map_err(csv_error)
+        let mut rows = Vec::new();
+        let mut record = csv::StringRecord::new();
+        while reader.read_record(&mut record).map_err(csv_error)? {
+            let line = record.position().map_or(1, |p| p.line() as usize);
+            let fields: ReviewFields = record.deserialize(Some(&headers)).map_err(csv_error)?;
+            rows.push(ReviewRow::try_from(fields).map_err(|message| FileError { line, message })?);
+        }
+        Ok(Export::Reviews(rows))
     } else if starts_with(&ATTEMPT_FIELDS) {
         reader
             .deserialize::<AttemptRow>()
@@ -337,10 +448,10 @@ pub fn aggregate(
                 let mut my_tags: HashMap<String, ()> = HashMap::new();
                 for r in rows
                     .iter()
-                    .filter(|r| !r.undone && r.kind != "cram" && keep(&r.deck))
+                    .filter(|r| !r.undone && r.kind != "cram" && keep(&r.item.deck))
                 {
                     let e = mine
-                        .entry((&r.deck, &r.card, &r.direction))
+                        .entry((&r.item.deck, &r.item.card, &r.item.direction))
                         .or_insert((false, None));
                     if r.kind == "review" && r.rating == 1 {
                         e.0 = true;
@@ -351,7 +462,7 @@ pub fn aggregate(
                         e.1 = Some((r.reviewed_at, d));
                     }
                     if r.kind == "review" {
-                        for tag in card_tags(&deck_by_id, &r.deck, &r.card) {
+                        for tag in card_tags(&deck_by_id, &r.item.deck, &r.item.card) {
                             let t = tags.entry(tag.clone()).or_default();
                             t.1 += 1;
                             t.2 += usize::from(r.rating > 1);
@@ -518,6 +629,39 @@ mod tests {
         assert_eq!(r.cards[0].mean_difficulty, Some(7.0));
         assert_eq!(r.tags[0].tag, NO_DECK);
         assert_eq!((r.tags[0].reviews, r.tags[0].recalled), (1, 0));
+    }
+
+    #[test]
+    fn csv_reviews_read_their_item_and_refuse_bad_ids_and_times() {
+        let header = REVIEW_FIELDS.join(",");
+        let row =
+            "2026,42,c2,2026-01-01T00:00:00Z,3,learn,0,0,1,5,review,2026-01-02T00:00:00Z,1,false";
+        let Export::Reviews(rows) = parse(&format!("{header}\n{row}\n")).unwrap() else {
+            panic!("reviews")
+        };
+        assert_eq!(rows[0].item.card, "42");
+        assert_eq!(rows[0].item.direction, "c2");
+        for (bad, why) in [
+            (
+                row.replace("2026,42,", "D,42,"),
+                "deck id \"D\" is not an id",
+            ),
+            (row.replace(",c2,", ",c1000,"), "c999"),
+            (row.replace("2026,42,", "2026,42\u{1b}[2J,"), "\\u001b"),
+            (
+                row.replace("2026-01-01T00:00:00Z", "1969-12-31T23:59:59Z"),
+                "before 1970",
+            ),
+            (
+                row.replace("2026-01-01T00:00:00Z", "9999-12-31T23:59:59.999-23:59"),
+                "after 9899-12-31",
+            ),
+        ] {
+            let e = parse(&format!("{header}\n{row}\n{bad}\n")).unwrap_err();
+            assert_eq!(e.line, 3, "{e}");
+            assert!(e.message.contains(why), "{why}: {e}");
+            assert!(!e.message.contains('\u{1b}'), "{e}");
+        }
     }
 
     #[test]

@@ -1,6 +1,12 @@
 //! `flipcard export --reviews`: the whole review log, one record per row.
 //! The field names and their order are a contract with the learner's own
 //! scripts and spreadsheets: extend at the end, never rename.
+//!
+//! Every time written is RFC 3339, whose year has four digits. A row
+//! stored with a time outside the years 0–9999 (only an import from before
+//! dates were checked could write one) is left out rather than written as
+//! `+10000-…`: the export names it and counts it ([`Written`]), and the
+//! command ends in failure after writing the rest.
 
 use std::io::Write;
 
@@ -77,8 +83,58 @@ pub struct ExportedReview {
     pub undone: bool,
 }
 
+/// `t` in RFC 3339, UTC, with milliseconds. For a time that may lie
+/// outside the years 0–9999 (any time read back from a database) use
+/// [`rfc3339_checked`].
 pub fn rfc3339(t: DateTime<Utc>) -> String {
     t.to_rfc3339_opts(SecondsFormat::Millis, true)
+}
+
+/// `t` in RFC 3339 with `precision`, or its year when RFC 3339 cannot write
+/// it (outside 0–9999: chrono would write `+10000-…` or `-0001-…`).
+pub fn rfc3339_with(t: DateTime<Utc>, precision: SecondsFormat) -> Result<String, i32> {
+    use chrono::Datelike;
+    if (0..=9999).contains(&t.year()) {
+        Ok(t.to_rfc3339_opts(precision, true))
+    } else {
+        Err(t.year())
+    }
+}
+
+/// [`rfc3339`], or the year when RFC 3339 cannot write it.
+pub fn rfc3339_checked(t: DateTime<Utc>) -> Result<String, i32> {
+    rfc3339_with(t, SecondsFormat::Millis)
+}
+
+/// What an export wrote, and what it left out.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Written {
+    pub rows: u64,
+    /// Rows not written, because a time of theirs cannot be written.
+    pub left_out: u64,
+    /// The first of them, in words ([`MAX_NAMED`] at most).
+    pub named: Vec<String>,
+}
+
+/// How many rows left out are named one by one.
+pub const MAX_NAMED: usize = 20;
+
+impl Written {
+    fn leave_out(&mut self, why: String) {
+        self.left_out += 1;
+        if self.named.len() < MAX_NAMED {
+            self.named.push(why);
+        }
+    }
+}
+
+/// Why a row cannot be written: its first time outside RFC 3339's years.
+fn unwritable(row: &str, times: &[(&str, DateTime<Utc>)]) -> Option<String> {
+    times.iter().find_map(|(field, t)| {
+        rfc3339_checked(*t).err().map(|year| {
+            format!("{row}: its {field} is in the year {year}, which RFC 3339 cannot write")
+        })
+    })
 }
 
 impl From<LoggedReview> for ExportedReview {
@@ -103,35 +159,86 @@ impl From<LoggedReview> for ExportedReview {
     }
 }
 
-/// Writes the log as a JSON array of records, streaming. Returns the count.
-pub fn write_reviews_json(store: &Store, out: &mut dyn Write) -> Result<u64, ExportError> {
-    let mut n = 0u64;
-    out.write_all(b"[")?;
-    store.each_review(|logged| -> Result<(), ExportError> {
-        out.write_all(if n == 0 { b"\n" } else { b",\n" })?;
-        serde_json::to_writer(&mut *out, &ExportedReview::from(logged))?;
-        n += 1;
-        Ok(())
-    })?;
-    out.write_all(if n == 0 { b"]\n" } else { b"\n]\n" })?;
-    out.flush()?;
-    Ok(n)
+impl ExportedReview {
+    /// The record, or why it cannot be written.
+    pub fn checked(l: LoggedReview) -> Result<ExportedReview, String> {
+        let r = &l.record;
+        match unwritable(
+            &format!("review {}", l.id),
+            &[("reviewed_at", r.reviewed_at), ("due", r.after.due)],
+        ) {
+            Some(why) => Err(why),
+            None => Ok(ExportedReview::from(l)),
+        }
+    }
 }
 
-/// Writes the log as CSV with a header row. Returns the count.
-pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<u64, ExportError> {
+/// Each record of a store's table, or why it cannot be written, handed to
+/// a writer (the row counted as left out when it cannot).
+type Records<'a, R> = dyn FnOnce(&mut dyn FnMut(Result<R, String>) -> Result<(), ExportError>) -> Result<(), ExportError>
+    + 'a;
+
+/// Writes records as a JSON array, one a line, streaming.
+fn write_json<R: Serialize>(
+    out: &mut dyn Write,
+    records: Box<Records<'_, R>>,
+) -> Result<Written, ExportError> {
+    let mut written = Written::default();
+    out.write_all(b"[")?;
+    records(&mut |record| {
+        match record {
+            Ok(r) => {
+                out.write_all(if written.rows == 0 { b"\n" } else { b",\n" })?;
+                serde_json::to_writer(&mut *out, &r)?;
+                written.rows += 1;
+            }
+            Err(why) => written.leave_out(why),
+        }
+        Ok(())
+    })?;
+    out.write_all(if written.rows == 0 { b"]\n" } else { b"\n]\n" })?;
+    out.flush()?;
+    Ok(written)
+}
+
+/// Writes records as CSV after the `header` row.
+fn write_csv<R: Serialize>(
+    out: &mut dyn Write,
+    header: &[&str],
+    records: Box<Records<'_, R>>,
+) -> Result<Written, ExportError> {
     let mut w = csv::WriterBuilder::new()
         .has_headers(false)
         .from_writer(out);
-    w.write_record(REVIEW_FIELDS)?;
-    let mut n = 0u64;
-    store.each_review(|logged| -> Result<(), ExportError> {
-        w.serialize(ExportedReview::from(logged))?;
-        n += 1;
+    w.write_record(header)?;
+    let mut written = Written::default();
+    records(&mut |record| {
+        match record {
+            Ok(r) => {
+                w.serialize(r)?;
+                written.rows += 1;
+            }
+            Err(why) => written.leave_out(why),
+        }
         Ok(())
     })?;
     w.flush()?;
-    Ok(n)
+    Ok(written)
+}
+
+/// Every review of the log, checked.
+fn reviews(store: &Store) -> Box<Records<'_, ExportedReview>> {
+    Box::new(move |write| store.each_review(|l| write(ExportedReview::checked(l))))
+}
+
+/// Writes the log as a JSON array of records, streaming.
+pub fn write_reviews_json(store: &Store, out: &mut dyn Write) -> Result<Written, ExportError> {
+    write_json(out, reviews(store))
+}
+
+/// Writes the log as CSV with a header row.
+pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<Written, ExportError> {
+    write_csv(out, &REVIEW_FIELDS, reviews(store))
 }
 
 /// The fields of `flipcard export --attempts`, in order (also the CSV
@@ -169,33 +276,33 @@ impl From<super::attempt::PromptAttempt> for ExportedAttempt {
     }
 }
 
-/// Writes every prompt attempt as a JSON array, streaming. Returns the count.
-pub fn write_attempts_json(store: &Store, out: &mut dyn Write) -> Result<u64, ExportError> {
-    let mut n = 0u64;
-    out.write_all(b"[")?;
-    store.each_attempt(|a| -> Result<(), ExportError> {
-        out.write_all(if n == 0 { b"\n" } else { b",\n" })?;
-        serde_json::to_writer(&mut *out, &ExportedAttempt::from(a))?;
-        n += 1;
-        Ok(())
-    })?;
-    out.write_all(if n == 0 { b"]\n" } else { b"\n]\n" })?;
-    out.flush()?;
-    Ok(n)
+/// The attempt, or why it cannot be written; `n` counts attempts from 1 in
+/// the order they are stored.
+fn checked_attempt(a: super::attempt::PromptAttempt, n: u64) -> Result<ExportedAttempt, String> {
+    let row = format!("attempt {n} ({}/{})", a.deck, a.prompt);
+    match unwritable(&row, &[("attempted_at", a.attempted_at)]) {
+        Some(why) => Err(why),
+        None => Ok(ExportedAttempt::from(a)),
+    }
 }
 
-/// Writes every prompt attempt as CSV with a header row. Returns the count.
-pub fn write_attempts_csv(store: &Store, out: &mut dyn Write) -> Result<u64, ExportError> {
-    let mut w = csv::WriterBuilder::new()
-        .has_headers(false)
-        .from_writer(out);
-    w.write_record(ATTEMPT_FIELDS)?;
-    let mut n = 0u64;
-    store.each_attempt(|a| -> Result<(), ExportError> {
-        w.serialize(ExportedAttempt::from(a))?;
-        n += 1;
-        Ok(())
-    })?;
-    w.flush()?;
-    Ok(n)
+/// Every prompt attempt, checked.
+fn attempts(store: &Store) -> Box<Records<'_, ExportedAttempt>> {
+    Box::new(move |write| {
+        let mut n = 0;
+        store.each_attempt(|a| {
+            n += 1;
+            write(checked_attempt(a, n))
+        })
+    })
+}
+
+/// Writes every prompt attempt as a JSON array, streaming.
+pub fn write_attempts_json(store: &Store, out: &mut dyn Write) -> Result<Written, ExportError> {
+    write_json(out, attempts(store))
+}
+
+/// Writes every prompt attempt as CSV with a header row.
+pub fn write_attempts_csv(store: &Store, out: &mut dyn Write) -> Result<Written, ExportError> {
+    write_csv(out, &ATTEMPT_FIELDS, attempts(store))
 }

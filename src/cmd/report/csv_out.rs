@@ -1,5 +1,16 @@
 //! `report.csv`: every table of the report in one sheet, one row per item,
 //! the `section` column saying which table it belongs to.
+//!
+//! A spreadsheet runs a cell that starts with `=`, `+`, `-` or `@` as a
+//! formula (and some read a leading tab or carriage return the same way):
+//! a learner's prediction `=HYPERLINK(…)` must stay text. Every text cell
+//! that starts so is written with a `'` in front (OWASP's rule for CSV
+//! injection), except a plain decimal number (a prediction `-9.8` typed by
+//! a learner), which a spreadsheet reads as the number it is. The numeric
+//! columns are ours (counts, shares from 0 to 1, difficulties from 1 to
+//! 10) and never start with such a character.
+
+use std::borrow::Cow;
 
 use crate::store::class::ClassReport;
 use crate::text::num::Num;
@@ -17,6 +28,31 @@ pub const HEADER: [&str; 9] = [
     "text",
 ];
 
+/// A text cell a spreadsheet will not run as a formula.
+pub fn text_cell(s: &str) -> Cow<'_, str> {
+    if s.starts_with(['=', '+', '-', '@', '\t', '\r']) && !is_plain_number(s) {
+        Cow::Owned(format!("'{s}"))
+    } else {
+        Cow::Borrowed(s)
+    }
+}
+
+/// `-9.8`, `+3`, `1.5e-3`: a sign, digits, an optional fraction and
+/// exponent, nothing else.
+fn is_plain_number(s: &str) -> bool {
+    let digits = |t: &str| !t.is_empty() && t.bytes().all(|b| b.is_ascii_digit());
+    let s = s.strip_prefix(['+', '-']).unwrap_or(s);
+    let (mantissa, exponent) = match s.split_once(['e', 'E']) {
+        Some((m, e)) => (m, Some(e.strip_prefix(['+', '-']).unwrap_or(e))),
+        None => (s, None),
+    };
+    let mantissa_ok = match mantissa.split_once('.') {
+        Some((whole, frac)) => digits(whole) && digits(frac),
+        None => digits(mantissa),
+    };
+    mantissa_ok && exponent.is_none_or(digits)
+}
+
 pub fn table(r: &ClassReport) -> anyhow::Result<String> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record(HEADER)?;
@@ -30,8 +66,8 @@ pub fn table(r: &ClassReport) -> anyhow::Result<String> {
     for c in &r.cards {
         w.write_record([
             "card",
-            &c.deck,
-            &super::card_name(c),
+            &text_cell(&c.deck),
+            &text_cell(&super::card_name(c)),
             &c.learners.to_string(),
             &c.lapsed.to_string(),
             &c.learners.to_string(),
@@ -44,27 +80,27 @@ pub fn table(r: &ClassReport) -> anyhow::Result<String> {
     for p in &r.prompts {
         w.write_record([
             "prompt",
-            &p.deck,
-            &p.prompt,
+            &text_cell(&p.deck),
+            &text_cell(&p.prompt),
             &p.learners.to_string(),
             &p.right.to_string(),
             &p.learners.to_string(),
             &share(p.right, p.learners),
             "",
-            p.text.as_deref().unwrap_or(""),
+            &text_cell(p.text.as_deref().unwrap_or("")),
         ])?;
         let wrong: usize = p.wrong.iter().map(|c| c.learners).sum();
         for c in &p.wrong {
             w.write_record([
                 "wrong_choice",
-                &p.deck,
-                &p.prompt,
+                &text_cell(&p.deck),
+                &text_cell(&p.prompt),
                 &p.learners.to_string(),
                 &c.learners.to_string(),
                 &wrong.to_string(),
                 &share(c.learners, wrong),
                 "",
-                &super::choice_name(c),
+                &text_cell(&super::choice_name(c)),
             ])?;
         }
     }
@@ -72,7 +108,7 @@ pub fn table(r: &ClassReport) -> anyhow::Result<String> {
         w.write_record([
             "tag",
             "",
-            &t.tag,
+            &text_cell(&t.tag),
             &t.learners.to_string(),
             &t.recalled.to_string(),
             &t.reviews.to_string(),
@@ -82,4 +118,44 @@ pub fn table(r: &ClassReport) -> anyhow::Result<String> {
         ])?;
     }
     Ok(String::from_utf8(w.into_inner()?)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn formulas_are_neutralised_and_numbers_kept() {
+        for (cell, want) in [
+            ("=HYPERLINK(\"x\")", "'=HYPERLINK(\"x\")"),
+            ("+1+1", "'+1+1"),
+            ("-2+3+cmd|' /C calc'!A0", "'-2+3+cmd|' /C calc'!A0"),
+            ("@SUM(A1)", "'@SUM(A1)"),
+            ("\t=1", "'\t=1"),
+            ("\r=1", "'\r=1"),
+            ("-", "'-"),
+            ("-e5", "'-e5"),
+            ("-9.8", "-9.8"),
+            ("+3", "+3"),
+            ("-1.5e-3", "-1.5e-3"),
+            ("torque", "torque"),
+            ("", ""),
+        ] {
+            assert_eq!(text_cell(cell), want, "{cell:?}");
+        }
+    }
+
+    proptest::proptest! {
+        /// No cell written starts with a formula character unless it is a
+        /// plain number. Run longer with
+        /// `PROPTEST_CASES=100000 cargo test --lib cmd::report`.
+        #[test]
+        fn no_text_cell_starts_a_formula(s in "[-=+@\t\r0-9.eE a-z'\"(]{0,12}") {
+            let cell = text_cell(&s);
+            let risky = cell.starts_with(['=', '+', '-', '@', '\t', '\r']);
+            proptest::prop_assert!(!risky || s.parse::<f64>().is_ok_and(f64::is_finite), "{:?}", cell);
+            let quoted = format!("'{}", s);
+            proptest::prop_assert!(cell == s || cell == quoted);
+        }
+    }
 }

@@ -1,7 +1,8 @@
 //! `report.html`: one page that needs nothing else. Styles are inline, the
 //! charts are SVG drawn here, there is no script and no address to fetch,
 //! so it opens the same from a USB stick, a mail attachment or a browser
-//! without network.
+//! without network. It names no learner's file (learners are counted, not
+//! named), so it can be shared.
 
 use std::fmt::Write as _;
 
@@ -83,12 +84,20 @@ pub fn page(input: &Input) -> String {
          <h1>Class report</h1><p>{}</p>",
         esc(&headline(input))
     );
+    // The page is made to be passed around: it names no learner's file,
+    // not even one skipped (the terminal output, for the teacher, does).
     if !input.skipped.is_empty() {
-        h.push_str("<p class=\"skip\">Files skipped:</p><ul class=\"skip\">");
-        for s in &input.skipped {
-            let _ = write!(h, "<li>{}</li>", esc(s));
-        }
-        h.push_str("</ul>");
+        let _ = write!(
+            h,
+            "<p class=\"skip\">{} left out for a problem; the terminal output of \
+             <code>flipcard report</code> names {}.</p>",
+            super::plural(input.skipped.len(), "file was", "files were"),
+            if input.skipped.len() == 1 {
+                "it"
+            } else {
+                "them"
+            }
+        );
     }
 
     h.push_str("<h2>Cards, hardest first</h2>");

@@ -32,23 +32,29 @@ pub fn read(files: &[PathBuf], decks: &[crate::deck::Deck], only: Option<&str>) 
     let mut exports: Vec<Export> = Vec::with_capacity(files.len());
     let mut skipped = Vec::new();
     for path in files {
-        let text = match crate::deck::files::read_regular(path) {
-            Ok(bytes) => match String::from_utf8(bytes) {
-                Ok(t) => t,
+        let text =
+            match crate::cmd::import::read_limited(path, crate::cmd::import_reviews::MAX_LOG_BYTES)
+            {
+                Ok(bytes) => match String::from_utf8(bytes) {
+                    Ok(t) => t,
+                    Err(e) => {
+                        let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
+                            .iter()
+                            .filter(|b| **b == b'\n')
+                            .count();
+                        skipped.push(format!("{}:{line}: not valid UTF-8", path.display()));
+                        continue;
+                    }
+                },
                 Err(e) => {
-                    let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
-                        .iter()
-                        .filter(|b| **b == b'\n')
-                        .count();
-                    skipped.push(format!("{}:{line}: not valid UTF-8", path.display()));
+                    skipped.push(format!(
+                        "{}: {}",
+                        path.display(),
+                        crate::cmd::import::cannot_read(&e)
+                    ));
                     continue;
                 }
-            },
-            Err(e) => {
-                skipped.push(format!("{}: {e}", path.display()));
-                continue;
-            }
-        };
+            };
         match class::parse(&text) {
             Ok(e) => exports.push(e),
             Err(e) => skipped.push(format!("{}:{}: {}", path.display(), e.line, e.message)),
@@ -117,11 +123,12 @@ pub fn percent(n: usize, total: usize) -> String {
     format!("{}%", rounded(100.0 * n as f64 / total as f64, 3))
 }
 
+/// A card, and its direction when it is not the front asked.
 pub fn card_name(c: &class::CardRow) -> String {
-    if c.direction == "backward" {
-        format!("{} (backward)", c.card)
-    } else {
+    if c.direction == "forward" {
         c.card.clone()
+    } else {
+        format!("{} ({})", c.card, c.direction)
     }
 }
 
