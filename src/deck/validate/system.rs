@@ -11,10 +11,10 @@ use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
 use crate::sim::scene::spec::{Mark, SystemPanel, SystemScene};
-use crate::sim::solvers::ode::OdeSystem;
-use crate::sim::system::expr::{self, BUILTINS, ExprError, FUNCTIONS, MAX_NAME};
 use crate::sim::scene::system::check_cost;
+use crate::sim::solvers::ode::OdeSystem;
 use crate::sim::system::compile::{Fault, Source};
+use crate::sim::system::expr::{self, BUILTINS, ExprError, FUNCTIONS, MAX_NAME};
 use crate::sim::system::{Name, System};
 use crate::text::num::Num as Shown;
 
@@ -546,7 +546,11 @@ pub fn scene(
                 .source
                 .and_then(|src| source_span(sys, src))
                 .unwrap_or_else(|| raw.span.clone());
-            rep.error(span, format!("{what}: {}", e.message), Some("split it into smaller observables, or simplify it".to_string()));
+            rep.error(
+                span,
+                format!("{what}: {}", e.message),
+                Some("split it into smaller observables, or simplify it".to_string()),
+            );
             return None;
         }
     };

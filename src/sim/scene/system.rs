@@ -56,7 +56,9 @@ pub fn check_cost(scene: &SystemScene, cost: &Cost) -> Result<(), String> {
     Err(format!(
         "scene {} needs about {} operations per step, more than the {} the app can play: its equations compile to {} ({} for {} at each of {} evaluations and for the Jacobian){}",
         scene.id,
-        Num(crate::text::num::sig(per_step, 3).parse().unwrap_or(per_step)),
+        Num(crate::text::num::sig(per_step, 3)
+            .parse()
+            .unwrap_or(per_step)),
         Num(MAX_STEP_WORK),
         crate::text::plural(cost.rhs, "operation", "operations"),
         cost.rhs,
@@ -456,10 +458,7 @@ impl SystemRun {
             let (m, mut opts) = r.solver(scene.duration);
             opts.max_steps = step_budget(&cost, opts.max_steps).0;
             let sys = System::compile(scene, true).map_err(|e| e.to_string())?;
-            Some(
-                ode::make(m, sys, 0.0, &scene.initial, &opts)
-                    .map_err(|e| describe(&e.into()))?,
-            )
+            Some(ode::make(m, sys, 0.0, &scene.initial, &opts).map_err(|e| describe(&e.into()))?)
         } else {
             None
         };
@@ -984,11 +983,12 @@ pub fn check_run(
         observables: vec![true; scene.observables.len()],
         ..SystemPlan::for_scene(scene, method, measures)
     };
-    let mut run = SystemRun::with_plan(scene, method, plan).map_err(|message| RunError::Domain {
-        t: 0.0,
-        message,
-        at: None,
-    })?;
+    let mut run =
+        SystemRun::with_plan(scene, method, plan).map_err(|message| RunError::Domain {
+            t: 0.0,
+            message,
+            at: None,
+        })?;
     run.run_to_end()
 }
 

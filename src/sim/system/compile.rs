@@ -282,7 +282,11 @@ impl std::fmt::Display for Cause {
             }
             Cause::DivisionByZero => f.write_str("division by zero"),
             Cause::ZeroToNegativePower(b) => {
-                write!(f, "zero to a negative power (0^{}), a division by zero", Num(*b))
+                write!(
+                    f,
+                    "zero to a negative power (0^{}), a division by zero",
+                    Num(*b)
+                )
             }
             Cause::NegativeToFractionalPower(a, b) => write!(
                 f,
@@ -680,7 +684,19 @@ impl<'a> Builder<'a> {
         };
         let op = if a.is_some() && konst(a) && konst(b) {
             let value = op.eval(&self.const_values(a, b), 0.0, &[]);
-            if value.is_finite() { Op::Const(value) } else { op }
+            if value.is_finite() {
+                // The operands were pushed just before and nothing else
+                // reads a number: they go.
+                for k in [b, a].into_iter().flatten() {
+                    if k as usize + 1 == self.prog.ops.len() {
+                        self.prog.ops.pop();
+                        self.prog.origin.pop();
+                    }
+                }
+                Op::Const(value)
+            } else {
+                op
+            }
         } else {
             op
         };
