@@ -48,6 +48,7 @@ mod study_e2e;
 mod sync;
 mod sync_e2e;
 mod system_cli;
+mod system_hostile;
 mod true_retention;
 mod tui_browser_e2e;
 mod tui_e2e;

@@ -54,20 +54,18 @@ pub fn check_cost(scene: &SystemScene, cost: &Cost) -> Result<(), String> {
         return Ok(());
     }
     Err(format!(
-        "scene {} needs about {} operations per step, more than the {} the app can play: its equations compile to {} ({} for {} at each of {} evaluations and for the Jacobian){}",
+        "scene {} needs about {} operations per step, more than the {:e} the app can play: its equations compile to {}, run {} times a step and once per variable ({}) for the Jacobian{}",
         scene.id,
-        Num(crate::text::num::sig(per_step, 3)
-            .parse()
-            .unwrap_or(per_step)),
-        Num(MAX_STEP_WORK),
+        crate::text::num::sig(per_step, 3),
+        MAX_STEP_WORK,
         crate::text::plural(cost.rhs, "operation", "operations"),
-        cost.rhs,
-        crate::text::plural(cost.n, "variable", "variables"),
         crate::sim::system::compile::EVALS_PER_STEP,
+        cost.n,
         if cost.observables + cost.marks > 0 {
             format!(
-                ", and the observables and sketch to {}",
-                cost.observables + cost.marks
+                "; its observables and sketch compile to {}, run {} times a step",
+                cost.observables + cost.marks,
+                POINTS_PER_STEP
             )
         } else {
             String::new()
@@ -123,12 +121,12 @@ impl std::fmt::Display for RunError {
                 duration,
             } => write!(
                 f,
-                "the run stops at t = {} of {}: {} steps of about {} operations each reach the {} a scene may take; shorten the duration, loosen the tolerance or simplify the equations",
+                "the run stops at t = {} of {}: {} steps of about {} operations each reach the {:e} a scene may take; shorten the duration, loosen the tolerance or simplify the equations",
                 time(*t),
                 Num(*duration),
                 steps,
                 crate::text::num::sig(*per_step, 3),
-                Num(MAX_RUN_WORK)
+                MAX_RUN_WORK
             ),
         }
     }

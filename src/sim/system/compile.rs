@@ -398,17 +398,30 @@ fn cause_of(ops: &[Op], vals: &[f64], out: usize) -> Option<(usize, Cause)> {
     None
 }
 
-/// The values of a tape: on the stack when short.
+/// The values of a tape: on the stack when short, else in a buffer of the
+/// thread kept between evaluations (a long tape is run thousands of times
+/// a second).
 const STACK: usize = 64;
+
+thread_local! {
+    static VALUES: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
 
 fn with_values<R>(len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
     if len <= STACK {
         let mut buf = [0.0; STACK];
-        f(&mut buf[..len])
-    } else {
-        let mut buf = vec![0.0; len];
-        f(&mut buf)
+        return f(&mut buf[..len]);
     }
+    VALUES.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut buf) => {
+            if buf.len() < len {
+                buf.resize(len, 0.0);
+            }
+            f(&mut buf[..len])
+        }
+        // Only if an evaluation ever ran inside another.
+        Err(_) => f(&mut vec![0.0; len]),
+    })
 }
 
 /// A compiled tape with its outputs.
