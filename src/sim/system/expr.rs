@@ -6,8 +6,9 @@
 //! an exponent (`1e-3`).
 //!
 //! A deck is input we did not write, so the parser bounds its work: at most
-//! [`MAX_DEPTH`] levels of nesting (checked before it recurses, so 8000
-//! parentheses are an error at the one too many, not a stack overflow) and
+//! [`MAX_NESTING`] parentheses and calls open at once (checked before it
+//! recurses into one more, so 8000 parentheses are an error at the one too
+//! many, not a stack overflow), a tree at most [`MAX_DEPTH`] deep, and
 //! [`MAX_NODES`] numbers, names and operations per expression.
 
 /// The functions an expression may call, with their number of arguments.
@@ -39,11 +40,16 @@ pub const BUILTINS: [&str; 3] = ["pi", "e", "t"];
 /// one stays a small copyable value, see [`super::Name`]).
 pub const MAX_NAME: usize = super::name::CAPACITY;
 
-/// Deepest nesting of an expression: parentheses, operators and calls
-/// inside one another (a sum of k terms nests k − 1 deep). Every walk over
-/// an expression recurses once per level, so this bounds the stack they
-/// use whatever a deck holds; written mathematics stays far below it.
+/// Deepest nesting of an expression's tree: operators and calls inside
+/// one another (a sum of k terms nests k − 1 deep, `-(-(x))` 3). Every
+/// walk over an expression recurses once per level, so this bounds the
+/// stack they use whatever a deck holds; written mathematics stays far
+/// below it.
 pub const MAX_DEPTH: usize = 200;
+
+/// Most parentheses and calls open at once: the parser recurses into each
+/// (sums, products, signs and powers it reads without recursion).
+pub const MAX_NESTING: usize = 64;
 
 /// Most operations (numbers, names, operators, calls) in one expression.
 pub const MAX_NODES: usize = 10_000;
@@ -231,8 +237,8 @@ struct Parser<'a> {
     toks: &'a [(Tok, usize, usize)],
     pos: usize,
     end: usize,
-    /// Nesting of the rule being parsed (bounded by [`MAX_DEPTH`] before
-    /// the parser recurses further).
+    /// Parentheses and calls open around the token being parsed (bounded
+    /// by [`MAX_NESTING`] before the parser recurses into one more).
     level: usize,
     /// Nodes built so far (bounded by [`MAX_NODES`]).
     nodes: usize,
@@ -240,6 +246,14 @@ struct Parser<'a> {
 
 /// A node with the depth of its tree (a leaf is 1).
 type Built = (Node, usize);
+
+/// The parser's error: boxed, so that what each level of a nested
+/// expression keeps on the stack stays small.
+type PResult<T> = Result<T, Box<ExprError>>;
+
+fn precedence(op: char) -> u8 {
+    if op == '+' || op == '-' { 1 } else { 2 }
+}
 
 impl Parser<'_> {
     fn peek(&self) -> Option<&Tok> {
@@ -250,116 +264,146 @@ impl Parser<'_> {
             .get(self.pos)
             .map_or((self.end, 1), |t| (t.1, t.2))
     }
-    fn expected(&self, what: &str) -> ExprError {
+    fn expected(&self, what: &str) -> Box<ExprError> {
         let (at, len) = self.at();
         let found = self.peek().map_or("the end".to_string(), describe);
-        ExprError::new(at, len, format!("expected {what}, found {found}"))
-    }
-
-    /// Enters one more level of nesting at the current token, refusing
-    /// one beyond [`MAX_DEPTH`] before recursing.
-    fn enter(&mut self) -> Result<(), ExprError> {
-        self.level += 1;
-        if self.level > MAX_DEPTH {
-            let (at, len) = self.at();
-            return Err(too_deep(at, len));
-        }
-        Ok(())
-    }
-
-    fn leave(&mut self) {
-        self.level -= 1;
+        Box::new(ExprError::new(
+            at,
+            len,
+            format!("expected {what}, found {found}"),
+        ))
     }
 
     /// Counts a new node of depth `depth` made at `at`.
-    fn node(&mut self, node: Node, depth: usize, at: (usize, usize)) -> Result<Built, ExprError> {
+    fn node(&mut self, node: Node, depth: usize, at: (usize, usize)) -> PResult<Built> {
         self.nodes += 1;
         if depth > MAX_DEPTH {
-            return Err(too_deep(at.0, at.1));
+            return Err(Box::new(too_deep(at.0, at.1)));
         }
         if self.nodes > MAX_NODES {
-            return Err(ExprError::new(
-                at.0,
-                at.1,
-                format!("the expression has more than {MAX_NODES} numbers, names and operations"),
-            )
-            .hint("split it into observables"));
+            return Err(Box::new(
+                ExprError::new(
+                    at.0,
+                    at.1,
+                    format!(
+                        "the expression has more than {MAX_NODES} numbers, names and operations"
+                    ),
+                )
+                .hint("split it into observables"),
+            ));
         }
         Ok((node, depth))
     }
 
-    fn sum(&mut self) -> Result<Built, ExprError> {
-        let (mut left, mut depth) = self.product()?;
-        while let Some(Tok::Op(c @ ('+' | '-'))) = self.peek() {
-            let c = *c;
-            let at = self.at();
-            self.pos += 1;
-            let (right, d) = self.product()?;
-            (left, depth) = self.node(
-                Node::Bin(c, Box::new(left), Box::new(right)),
-                1 + depth.max(d),
-                at,
-            )?;
-        }
-        Ok((left, depth))
-    }
-
-    fn product(&mut self) -> Result<Built, ExprError> {
-        let (mut left, mut depth) = self.unary()?;
-        while let Some(Tok::Op(c @ ('*' | '/'))) = self.peek() {
-            let c = *c;
-            let at = self.at();
-            self.pos += 1;
-            let (right, d) = self.unary()?;
-            (left, depth) = self.node(
-                Node::Bin(c, Box::new(left), Box::new(right)),
-                1 + depth.max(d),
-                at,
-            )?;
-        }
-        Ok((left, depth))
-    }
-
-    fn unary(&mut self) -> Result<Built, ExprError> {
-        match self.peek() {
-            Some(Tok::Op('-')) => {
-                let at = self.at();
-                self.enter()?;
-                self.pos += 1;
-                let (inner, d) = self.unary()?;
-                self.leave();
-                self.node(Node::Neg(Box::new(inner)), 1 + d, at)
+    /// A sum of products: `operand (op operand)*` with `*` and `/` before
+    /// `+` and `-`, each left to right. Operators wait on a stack of their
+    /// own, so a long sum costs no recursion.
+    fn expression(&mut self) -> PResult<Built> {
+        let mut operands: Vec<Built> = vec![self.operand()?];
+        let mut ops: Vec<(char, (usize, usize))> = Vec::new();
+        loop {
+            let next = match self.peek() {
+                Some(Tok::Op(c @ ('+' | '-' | '*' | '/'))) => Some(*c),
+                _ => None,
+            };
+            // Apply what binds at least as tightly as the next operator
+            // (all of it at the end).
+            while let Some(&(top, at)) = ops.last() {
+                if next.is_some_and(|c| precedence(top) < precedence(c)) {
+                    break;
+                }
+                ops.pop();
+                let (b, db) = operands.pop().unwrap_or((Node::Num(0.0), 1));
+                let (a, da) = operands.pop().unwrap_or((Node::Num(0.0), 1));
+                let built =
+                    self.node(Node::Bin(top, Box::new(a), Box::new(b)), 1 + da.max(db), at)?;
+                operands.push(built);
             }
-            Some(Tok::Op('+')) => {
-                self.enter()?;
-                self.pos += 1;
-                let inner = self.unary()?;
-                self.leave();
-                Ok(inner)
-            }
-            _ => self.power(),
-        }
-    }
-
-    fn power(&mut self) -> Result<Built, ExprError> {
-        let (base, db) = self.atom()?;
-        if let Some(Tok::Op('^')) = self.peek() {
-            let at = self.at();
-            self.enter()?;
+            let Some(c) = next else {
+                break;
+            };
+            ops.push((c, self.at()));
             self.pos += 1;
-            // Right-associative, and the exponent may carry a sign: 2^-1.
-            let (exp, de) = self.unary()?;
-            self.leave();
-            return self.node(
-                Node::Bin('^', Box::new(base), Box::new(exp)),
-                1 + db.max(de),
-                at,
-            );
+            operands.push(self.operand()?);
         }
-        Ok((base, db))
+        Ok(operands.pop().unwrap_or((Node::Num(0.0), 1)))
     }
 
-    fn atom(&mut self) -> Result<Built, ExprError> {
+    /// Signs, then a power chain `primary (^ signs primary)*`, read as
+    /// written mathematics: `-x^2` is −(x²), `a^b^c` is a^(b^c), `2^-1`
+    /// takes its sign into the exponent. No recursion: the chain is
+    /// collected, then built from the right.
+    fn operand(&mut self) -> PResult<Built> {
+        // (the signs before each element: their positions, minus only),
+        // each element, and the `^` before it.
+        let mut links: Vec<(Vec<(usize, usize)>, Built, (usize, usize))> = Vec::new();
+        let mut powers = 0usize;
+        loop {
+            let mut signs = Vec::new();
+            let mut count = 0usize;
+            while let Some(Tok::Op(c @ ('-' | '+'))) = self.peek() {
+                count += 1;
+                if count > MAX_DEPTH {
+                    let (at, len) = self.at();
+                    return Err(Box::new(too_deep(at, len)));
+                }
+                if *c == '-' {
+                    signs.push(self.at());
+                }
+                self.pos += 1;
+            }
+            let element = self.primary()?;
+            let caret = self.at();
+            links.push((signs, element, caret));
+            if let Some(Tok::Op('^')) = self.peek() {
+                powers += 1;
+                if powers > MAX_DEPTH {
+                    return Err(Box::new(too_deep(caret.0, caret.1)));
+                }
+                self.pos += 1;
+                continue;
+            }
+            break;
+        }
+        // From the right: e = element^e, then that element's signs.
+        let mut built: Option<Built> = None;
+        while let Some((signs, (node, depth), caret)) = links.pop() {
+            let (mut node, mut depth) = match built.take() {
+                None => (node, depth),
+                Some((e, de)) => self.node(
+                    Node::Bin('^', Box::new(node), Box::new(e)),
+                    1 + depth.max(de),
+                    caret,
+                )?,
+            };
+            for at in signs.into_iter().rev() {
+                (node, depth) = self.node(Node::Neg(Box::new(node)), depth + 1, at)?;
+            }
+            built = Some((node, depth));
+        }
+        Ok(built.unwrap_or((Node::Num(0.0), 1)))
+    }
+
+    /// Opens one more parenthesis or call at the current token, refusing
+    /// one beyond [`MAX_NESTING`] before recursing.
+    fn enter(&mut self) -> PResult<()> {
+        self.level += 1;
+        if self.level > MAX_NESTING {
+            let (at, len) = self.at();
+            return Err(Box::new(
+                ExprError::new(
+                    at,
+                    len,
+                    format!("parentheses and calls nest more than {MAX_NESTING} deep"),
+                )
+                .hint("no formula needs that many: split it into observables"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A number, a name, a call or a parenthesised expression.
+    fn primary(&mut self) -> PResult<Built> {
         let Some((tok, at, len)) = self.toks.get(self.pos).cloned() else {
             return Err(self.expected("a number, a name or `(`"));
         };
@@ -371,44 +415,45 @@ impl Parser<'_> {
             Tok::Open => {
                 self.enter()?;
                 self.pos += 1;
-                let inner = self.sum()?;
-                self.leave();
+                let inner = self.expression()?;
+                self.level -= 1;
                 match self.peek() {
                     Some(Tok::Close) => {
                         self.pos += 1;
                         Ok(inner)
                     }
-                    _ => Err(self
-                        .expected("`)`")
-                        .hint(format!("the `(` at character {} is not closed", at + 1))),
+                    _ => Err(Box::new(
+                        self.expected("`)`")
+                            .hint(format!("the `(` at character {} is not closed", at + 1)),
+                    )),
                 }
             }
             Tok::Name(name) => {
                 self.pos += 1;
                 if let Some(Tok::Open) = self.peek() {
                     let Some(n) = arity(&name) else {
-                        return Err(
+                        return Err(Box::new(
                             ExprError::new(at, len, format!("`{name}` is not a function"))
                                 .hint("multiply with *, e.g. x*(y + 1)"),
-                        );
+                        ));
                     };
                     self.enter()?;
                     self.pos += 1;
-                    let (first, mut depth) = self.sum()?;
+                    let (first, mut depth) = self.expression()?;
                     let mut args = vec![first];
                     while let Some(Tok::Comma) = self.peek() {
                         self.pos += 1;
-                        let (arg, d) = self.sum()?;
+                        let (arg, d) = self.expression()?;
                         args.push(arg);
                         depth = depth.max(d);
                     }
-                    self.leave();
+                    self.level -= 1;
                     match self.peek() {
                         Some(Tok::Close) => self.pos += 1,
                         _ => return Err(self.expected("`,` or `)`")),
                     }
                     if args.len() != n {
-                        return Err(ExprError::new(
+                        return Err(Box::new(ExprError::new(
                             at,
                             len,
                             format!(
@@ -416,24 +461,26 @@ impl Parser<'_> {
                                 crate::text::plural(n, "argument", "arguments"),
                                 args.len()
                             ),
-                        ));
+                        )));
                     }
                     self.node(Node::Call(name, args), 1 + depth, (at, len))
                 } else if arity(&name).is_some() {
-                    Err(ExprError::new(at, len, format!("`{name}` is a function"))
-                        .hint(format!("call it: {name}(x)")))
+                    Err(Box::new(
+                        ExprError::new(at, len, format!("`{name}` is a function"))
+                            .hint(format!("call it: {name}(x)")),
+                    ))
                 } else {
                     self.node(Node::Name(name, at), 1, (at, len))
                 }
             }
-            other => Err(ExprError::new(
+            other => Err(Box::new(ExprError::new(
                 at,
                 len,
                 format!(
                     "expected a number, a name or `(`, found {}",
                     describe(&other)
                 ),
-            )),
+            ))),
         }
     }
 }
@@ -444,7 +491,7 @@ fn too_deep(at: usize, len: usize) -> ExprError {
         len,
         format!("the expression nests more than {MAX_DEPTH} levels deep"),
     )
-    .hint("parentheses, operators and calls inside one another each count a level (a sum of k terms, k − 1): split it into observables")
+    .hint("operators and calls inside one another each count a level (a sum of k terms, k − 1): split it into observables")
 }
 
 /// Parses `text` (syntax and arity only; names are checked by
@@ -461,7 +508,7 @@ pub fn parse(text: &str) -> Result<Node, ExprError> {
         level: 0,
         nodes: 0,
     };
-    let (node, _) = p.sum()?;
+    let (node, _) = p.expression().map_err(|e| *e)?;
     if p.pos < toks.len() {
         let (tok, at, len) = &toks[p.pos];
         let e = ExprError::new(*at, *len, format!("unexpected {}", describe(tok)));

@@ -309,3 +309,231 @@ fn numbers_are_worked_out_once() {
         Cause::SqrtOfNegative(-1.0)
     );
 }
+
+/// The value of `node` by walking the tree, as written: the reference the
+/// tape must agree with bit for bit.
+fn reference(node: &Node, env: &dyn Fn(&str) -> f64) -> f64 {
+    match node {
+        Node::Num(v) => *v,
+        Node::Name(n, _) => match n.as_str() {
+            "pi" => std::f64::consts::PI,
+            "e" => std::f64::consts::E,
+            _ => env(n),
+        },
+        Node::Neg(a) => -reference(a, env),
+        Node::Bin(op, a, b) => {
+            let (a, b) = (reference(a, env), reference(b, env));
+            match op {
+                '+' => a + b,
+                '-' => a - b,
+                '*' => a * b,
+                '/' => a / b,
+                _ => a.powf(b),
+            }
+        }
+        Node::Call(f, args) => {
+            let v: Vec<f64> = args.iter().map(|a| reference(a, env)).collect();
+            let fun = Fun::of(f).unwrap();
+            if v.len() == 2 {
+                fun.apply2(v[0], v[1])
+            } else {
+                fun.apply1(v[0])
+            }
+        }
+    }
+}
+
+mod props {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Expressions over x, v, t, a parameter and numbers, every function.
+    fn expression(depth: u32) -> impl Strategy<Value = String> {
+        let leaf = prop_oneof![
+            Just("x".to_string()),
+            Just("v".to_string()),
+            Just("t".to_string()),
+            Just("k".to_string()),
+            Just("pi".to_string()),
+            (-5.0f64..5.0).prop_map(|c| format!("{c:e}")),
+        ];
+        leaf.prop_recursive(depth, 64, 2, |inner| {
+            let funs = expr::FUNCTIONS;
+            prop_oneof![
+                (
+                    inner.clone(),
+                    inner.clone(),
+                    prop::sample::select(vec!["+", "-", "*", "/", "^"])
+                )
+                    .prop_map(|(a, b, op)| format!("({a}){op}({b})")),
+                inner.clone().prop_map(|a| format!("-({a})")),
+                (inner.clone(), inner, prop::sample::select(funs.to_vec())).prop_map(
+                    |(a, b, (f, n))| if n == 2 {
+                        format!("{f}({a}, {b})")
+                    } else {
+                        format!("{f}({a})")
+                    }
+                ),
+            ]
+        })
+    }
+
+    fn same(a: f64, b: f64) -> bool {
+        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan())
+    }
+
+    proptest! {
+        /// Any text: the parser returns (never panics, never recurses past
+        /// its limit: it runs here on a 1 MB stack), and what it accepts is
+        /// within the depth and size limits.
+        #[test]
+        fn any_text_parses_or_is_refused_within_bounds(
+            tokens in prop::collection::vec(
+                prop::sample::select(vec![
+                    "(", ")", "x", "+", "-", "*", "/", "^", "sin(", "atan2(", ",",
+                    "1e3", " ", "2", ".5", "y",
+                ]),
+                0..1500,
+            )
+        ) {
+            let text: String = tokens.concat();
+            let t = text.clone();
+            let result = std::thread::Builder::new()
+                .stack_size(1024 * 1024)
+                .spawn(move || {
+                    let parsed = expr::parse(&t);
+                    let depth = parsed.as_ref().ok().map(depth_of);
+                    (parsed.map(|_| ()), depth)
+                })
+                .unwrap()
+                .join()
+                .expect("the parser stays within a small stack");
+            match result {
+                (Ok(()), Some(d)) => prop_assert!(d <= expr::MAX_DEPTH, "{} deep", d),
+                (Err(e), _) => prop_assert!(e.at <= text.len(), "{:?}", e),
+                _ => {}
+            }
+        }
+
+        /// One kind of nesting repeated any number of times, on a 1 MB
+        /// stack (half a test thread's): accepted up to its limit, refused
+        /// at the one too many beyond it.
+        #[test]
+        fn nesting_is_refused_at_the_level_too_many(
+            kind in prop::sample::select(vec!["(", "sin(", "-", "x^"]),
+            n in 0usize..3000,
+        ) {
+            let close = if kind.ends_with('(') { ")".repeat(n) } else { String::new() };
+            let text = format!("{}x{close}", kind.repeat(n));
+            let t = text.clone();
+            let parsed = std::thread::Builder::new()
+                .stack_size(1024 * 1024)
+                .spawn(move || expr::parse(&t).map(|_| ()))
+                .unwrap()
+                .join()
+                .expect("the parser stays within a small stack");
+            // Parentheses and calls: MAX_NESTING open at once, the error at
+            // the `(` one too many. Signs and powers: a tree MAX_DEPTH deep
+            // (x itself is one level), the error at the sign or `^` one too
+            // many, or at the outermost when the count is just one over.
+            let (limit, at) = match kind {
+                "(" | "sin(" => (expr::MAX_NESTING, expr::MAX_NESTING * kind.len() + kind.len() - 1),
+                "-" => (expr::MAX_DEPTH - 1, if n == expr::MAX_DEPTH { 0 } else { expr::MAX_DEPTH }),
+                _ => (expr::MAX_DEPTH - 1, if n == expr::MAX_DEPTH { 1 } else { 2 * expr::MAX_DEPTH + 1 }),
+            };
+            if n <= limit {
+                prop_assert!(parsed.is_ok(), "{} × {}: {:?}", kind, n, parsed);
+            } else {
+                let e = parsed.unwrap_err();
+                prop_assert_eq!(e.at, at, "{} × {}: {}", kind, n, e);
+            }
+        }
+
+        /// The tape gives what the tree gives, bit for bit, and its
+        /// Jacobian what central differences give where f is smooth.
+        #[test]
+        fn the_tape_evaluates_as_written(
+            body in expression(6),
+            x in -3.0f64..3.0,
+            v in -3.0f64..3.0,
+            t in 0.0f64..2.0,
+        ) {
+            let scene = one(&body, &[]);
+            let s = System::compile(&scene, true).unwrap();
+            let node = expr::parse(&body).unwrap();
+            let env = |n: &str| match n {
+                "x" => x,
+                "v" => v,
+                "t" => t,
+                "k" => 2.0,
+                _ => f64::NAN,
+            };
+            let want = reference(&node, &env);
+            let mut dy = [0.0; 2];
+            s.rhs(t, &[x, v], &mut dy);
+            prop_assert!(same(dy[1], want), "{} = {} by the tape, {} by the tree", body, dy[1], want);
+            prop_assert_eq!(dy[0], v);
+            // Where nothing is singular nearby, the exact derivative is
+            // what differences at two step sizes agree on.
+            let at = |x: f64, v: f64| {
+                let mut d = [0.0; 2];
+                s.rhs(t, &[x, v], &mut d);
+                d[1]
+            };
+            let mut j = DMatrix::zeros(2, 2);
+            s.jacobian(t, &[x, v], &mut j);
+            for (col, (dx, dv)) in [(1.0, 0.0), (0.0, 1.0)].into_iter().enumerate() {
+                let diff = |h: f64| (at(x + h * dx, v + h * dv) - at(x - h * dx, v - h * dv)) / (2.0 * h);
+                let (d1, d2) = (diff(1e-5), diff(1e-6));
+                let scale = d1.abs().max(1.0);
+                if d1.is_finite() && d2.is_finite() && (d1 - d2).abs() < 1e-6 * scale && want.abs() < 1e6 {
+                    prop_assert!((j[(1, col)] - d1).abs() < 1e-4 * scale, "{}: d/d{} = {} exact, {} by differences", body, ["x", "v"][col], j[(1, col)], d1);
+                }
+            }
+        }
+
+        /// Observables built on any earlier ones compile to no more than
+        /// the sum of their own sizes, and give the values of their
+        /// expansion.
+        #[test]
+        fn observables_share_their_values(
+            picks in prop::collection::vec((0usize..100, 0usize..100, prop::sample::select(vec!["+", "*", "-"])), 1..40),
+            x in 0.5f64..1.5,
+        ) {
+            let mut obs: Vec<(String, String)> = vec![("o0".into(), "x".into())];
+            for (i, (a, b, op)) in picks.iter().enumerate() {
+                let k = i + 1;
+                obs.push((format!("o{k}"), format!("o{}{op}o{}", a % k, b % k)));
+            }
+            let last = obs.len() - 1;
+            let refs: Vec<(&str, &str)> = obs.iter().map(|(n, e)| (n.as_str(), e.as_str())).collect();
+            let scene = one(&format!("-x + 0*o{last}"), &refs);
+            let s = System::compile(&scene, true).unwrap();
+            prop_assert!(s.cost().observables <= 1 + 2 * obs.len(), "{:?}", s.cost());
+            prop_assert!(s.cost().rhs <= 6 + 2 * obs.len(), "{:?}", s.cost());
+            // The expansion's value, each observable from the ones before.
+            let mut values: Vec<f64> = Vec::new();
+            for (_, e) in &obs {
+                let node = expr::parse(e).unwrap();
+                let v = reference(&node, &|n| {
+                    if n == "x" { x } else { values[n[1..].parse::<usize>().unwrap()] }
+                });
+                values.push(v);
+            }
+            let mut got = vec![0.0; obs.len()];
+            s.observables_into(0.0, &[x, 0.0], &mut got);
+            for k in 0..obs.len() {
+                prop_assert!(same(got[k], values[k]), "o{}: {} vs {}", k, got[k], values[k]);
+            }
+        }
+    }
+
+    fn depth_of(node: &Node) -> usize {
+        match node {
+            Node::Num(_) | Node::Name(..) => 1,
+            Node::Neg(a) => 1 + depth_of(a),
+            Node::Bin(_, a, b) => 1 + depth_of(a).max(depth_of(b)),
+            Node::Call(_, args) => 1 + args.iter().map(depth_of).max().unwrap_or(0),
+        }
+    }
+}
