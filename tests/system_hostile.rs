@@ -532,7 +532,10 @@ fn esc_and_ctrl_c_answer_at_once_while_a_heavy_scene_plays() {
     let prompt = "[[prompt]]\nid = \"p\"\nquestion = 'Heavy swing?'\nscene = \"s\"\n\n[prompt.answer]\nkind = \"choice\"\nexpected = \"yes\"\nchoices = [\n  { id = \"yes\", label = 'Yes', when = \"max(x) > 0.5\" },\n  { id = \"no\", label = 'No', when = \"max(x) <= 0.5\" },\n]\n\n";
     let d = Deck::new(
         "heavy",
-        &format!("{prompt}{}", scene("-x + 1e-30*a10", &stacked(11), 300.0)),
+        &format!(
+            "{prompt}{}",
+            scene("-100*x + 1e-30*a10", &stacked(11), 25.0)
+        ),
     );
     let (code, out, err) = run(&bin, &["check", d.path().to_str().unwrap()], None);
     assert_eq!(code, 0, "{out}{err}");
@@ -556,48 +559,56 @@ fn esc_and_ctrl_c_answer_at_once_while_a_heavy_scene_plays() {
     let t = crate::tui_e2e::Tmux::start("heavy", &env, "", 100, 32);
     t.wait_for("last studied");
     let decks = flipcard::deck::bundled::load().decks.len();
+    // Each key while the run plays: the time until the screen shows what
+    // it did (keys() itself waits 40 ms after sending).
+    let key = |t: &crate::tui_e2e::Tmux, k: &str, what: &str, ok: &dyn Fn(&str) -> bool| {
+        t.keys(&[k]);
+        time_until(t, what, ok) + std::time::Duration::from_millis(40)
+    };
+    // Starts the run and speeds it up to ×64, where its steps cannot keep
+    // up with the clock; the worst time a `+` took.
     let start_run = |t: &crate::tui_e2e::Tmux| {
         t.wait_for("Heavy swing?");
         t.keys(&["Enter"]);
         t.wait_for("Yes");
         t.keys(&["1", "Enter"]);
-        t.wait_for("/ 300 s");
-        t.keys(&["+", "+", "+", "+", "+", "+"]);
-        t.wait_for("×64");
-        // Let it play, busy, for a while.
-        std::thread::sleep(std::time::Duration::from_millis(500));
+        t.wait_for("/ 25 s");
+        let mut worst = std::time::Duration::ZERO;
+        for speed in ["×2", "×4", "×8", "×16", "×32", "×64"] {
+            worst = worst.max(key(t, "+", speed, &|s: &str| s.contains(speed)));
+        }
+        worst
     };
     for _ in 0..decks {
         t.keys(&["j"]);
     }
     t.keys(&["p"]);
     let mut worst = std::time::Duration::ZERO;
+    let mut playing = 0;
     for _ in 0..3 {
-        start_run(&t);
-        let s = t.screen();
-        assert!(
-            !s.contains("300.00 / 300"),
-            "the run must still be playing:\n{s}"
-        );
-        t.keys(&["Escape"]);
-        // keys() waits 40 ms after sending; the screen has changed when
-        // the run's status line is gone.
-        let took = time_until(&t, "the prompt list", |s| !s.contains("/ 300 s"))
-            + std::time::Duration::from_millis(40);
-        worst = worst.max(took);
+        worst = worst.max(start_run(&t));
+        if !t.screen().contains("25.00 / 25") {
+            playing += 1;
+        }
+        // Back to the prompt list: the run's status line is gone.
+        worst = worst.max(key(&t, "Escape", "the prompt list", &|s: &str| {
+            !s.contains("/ 25 s")
+        }));
     }
-    start_run(&t);
-    t.keys(&["C-c"]);
-    let took =
-        time_until(&t, "the exit", |s| s.contains("EXIT=")) + std::time::Duration::from_millis(40);
-    worst = worst.max(took);
+    worst = worst.max(start_run(&t));
+    worst = worst.max(key(&t, "C-c", "the exit", &|s: &str| s.contains("EXIT=")));
     let s = t.wait_for("TTY=");
     assert!(s.contains("TTY=cooked"), "terminal left in raw mode:\n{s}");
-    eprintln!("worst Esc/Ctrl-C latency while a heavy scene plays: {worst:?}");
+    eprintln!(
+        "worst key latency while a heavy scene plays: {worst:?} ({playing} of 3 runs still playing at Esc)"
+    );
     // Generous (a loaded CI machine, tmux's own latency); the frame is
     // 33 ms and the physics slice 20 ms.
     assert!(
         worst < std::time::Duration::from_millis(500),
-        "Esc or Ctrl-C took {worst:?}"
+        "a key took {worst:?}"
     );
+    // The run was still playing when Esc came: the slices, not the end of
+    // the run, let the key through.
+    assert!(playing > 0, "every run ended before Esc");
 }
