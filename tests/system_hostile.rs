@@ -5,7 +5,7 @@
 //! file:line:col or a one-line error naming the cause, never a crash, a
 //! hang, exhausted memory or a NaN measured as if it were a number.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
 const BIN: &str = env!("CARGO_BIN_EXE_flipcard");

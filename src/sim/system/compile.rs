@@ -840,8 +840,8 @@ impl<'a> Builder<'a> {
             }
         }
         let before = self.source;
-        for k in 0..m {
-            if needed[k] && self.observables[k].is_none() {
+        for (k, &need) in needed.iter().enumerate() {
+            if need && self.observables[k].is_none() {
                 self.source = Source::Observable(k);
                 let v = self.expr(&parsed.observables[k])?;
                 self.observables[k] = Some(v);

@@ -247,6 +247,10 @@ struct Parser<'a> {
 /// A node with the depth of its tree (a leaf is 1).
 type Built = (Node, usize);
 
+/// One element of a power chain: the positions of the minus signs before
+/// it, the element, and the position of the `^` after it.
+type Link = (Vec<(usize, usize)>, Built, (usize, usize));
+
 /// The parser's error: boxed, so that what each level of a nested
 /// expression keeps on the stack stays small.
 type PResult<T> = Result<T, Box<ExprError>>;
@@ -336,7 +340,7 @@ impl Parser<'_> {
     fn operand(&mut self) -> PResult<Built> {
         // (the signs before each element: their positions, minus only),
         // each element, and the `^` before it.
-        let mut links: Vec<(Vec<(usize, usize)>, Built, (usize, usize))> = Vec::new();
+        let mut links: Vec<Link> = Vec::new();
         let mut powers = 0usize;
         loop {
             let mut signs = Vec::new();
