@@ -29,23 +29,32 @@ pub struct AnswerPlaces {
     pub when: Vec<Option<Place>>,
 }
 
+/// The deck file `source` read raw; `None` when it does not parse (the
+/// loader reports it).
+fn read(path: &Path, source: &str) -> Option<raw::RawDeckFile> {
+    let mut rep = FileReport::new(path, source);
+    let (root, span) = syntax::parse(&mut rep, source)?;
+    Some(raw::read_deck_file(&mut rep, &root, span))
+}
+
+/// Where `span` of `source` is.
+fn place(index: &LineIndex, source: &str, span: &std::ops::Range<usize>) -> Place {
+    let (line, col) = index.position(source, span.start);
+    Place {
+        line,
+        col,
+        width: index.width(source, span),
+    }
+}
+
 /// The answer places of every prompt of the deck file `source`, by prompt
 /// id. A file that does not parse has none (the loader reports it).
 pub fn answer_places(path: &Path, source: &str) -> HashMap<String, AnswerPlaces> {
-    let mut rep = FileReport::new(path, source);
-    let Some((root, span)) = syntax::parse(&mut rep, source) else {
+    let Some(file) = read(path, source) else {
         return HashMap::new();
     };
-    let file = raw::read_deck_file(&mut rep, &root, span);
     let index = LineIndex::new(source);
-    let place = |span: &std::ops::Range<usize>| {
-        let (line, col) = index.position(source, span.start);
-        Place {
-            line,
-            col,
-            width: index.width(source, span),
-        }
-    };
+    let place = |span: &std::ops::Range<usize>| place(&index, source, span);
     file.prompts
         .iter()
         .filter_map(|p| {
@@ -88,20 +97,11 @@ pub struct ScenePlaces {
 
 /// The places of every system scene of the deck file `source`, by scene id.
 pub fn scene_places(path: &Path, source: &str) -> HashMap<String, ScenePlaces> {
-    let mut rep = FileReport::new(path, source);
-    let Some((root, span)) = syntax::parse(&mut rep, source) else {
+    let Some(file) = read(path, source) else {
         return HashMap::new();
     };
-    let file = raw::read_deck_file(&mut rep, &root, span);
     let index = LineIndex::new(source);
-    let place = |span: &std::ops::Range<usize>| {
-        let (line, col) = index.position(source, span.start);
-        Place {
-            line,
-            col,
-            width: index.width(source, span),
-        }
-    };
+    let place = |span: &std::ops::Range<usize>| place(&index, source, span);
     file.scenes
         .iter()
         .filter_map(|s| {

@@ -1112,4 +1112,4 @@ impl OdeSystem for System {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

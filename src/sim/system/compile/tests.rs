@@ -188,7 +188,7 @@ fn observables_built_on_each_other_are_compiled_once_each() {
 }
 
 /// A balanced sum of 2^levels `x`s: deep only `levels`.
-fn balanced(levels: usize) -> String {
+pub(crate) fn balanced(levels: usize) -> String {
     if levels == 0 {
         "x".to_string()
     } else {
