@@ -2,7 +2,10 @@
 //! Rust: the pendulum θ' = ω, ω' = −g/L·sin θ (target: within 3×), and its
 //! Jacobian; then a live system scene's frame (the work of one 30 fps frame
 //! of the pendulum with every panel), whose time against 33 ms is its
-//! share of a core.
+//! share of a core. Then the hostile shapes: 25 observables doubling each
+//! other (one evaluation of the equation that uses the last), and one frame
+//! of a scene too heavy for the clock at ×64, which must return after its
+//! 20 ms slice plus at most one step (target: under 33 ms, a frame).
 //!
 //!     cargo bench --bench systems
 
@@ -127,5 +130,73 @@ fn live_frame(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, rhs, live_frame);
+/// x'' = −x + 0·o25 with o0 = x, o_k = o_{k−1} + o_{k−1}: 2^25 additions
+/// inlined, 26 shared.
+fn chained_observables(c: &mut Criterion) {
+    let mut scene = pendulum();
+    scene.variables = vec!["x".into(), "v".into()];
+    scene.initial = vec![1.0, 0.0];
+    scene.params.clear();
+    scene.equations = vec!["v".into(), "-x + 0*o25".into()];
+    scene.observables = std::iter::once(("o0".to_string(), "x".to_string()))
+        .chain((1..=25).map(|k| (format!("o{k}"), format!("o{} + o{}", k - 1, k - 1))))
+        .collect();
+    scene.conserved.clear();
+    scene.sketch.clear();
+    let compiled = System::compile(&scene, true).expect("compiles");
+    let y = [0.7, -1.3];
+    c.bench_function("chained_observables_rhs", |b| {
+        let mut dy = [0.0; 2];
+        b.iter(|| {
+            compiled.rhs(0.0, black_box(&y), &mut dy);
+            black_box(dy[1])
+        })
+    });
+}
+
+/// A scene check accepts whose steps (about 1.4e6 operations each) cannot
+/// keep up with the clock at ×64: one app frame asks for 4.3 s of scene,
+/// hundreds of steps, and works for its 20 ms slice.
+fn heavy_frame(c: &mut Criterion) {
+    fn balanced(levels: usize) -> String {
+        if levels == 0 {
+            "x".to_string()
+        } else {
+            let half = balanced(levels - 1);
+            format!("({half})+({half})")
+        }
+    }
+    let term = balanced(12);
+    let mut scene = pendulum();
+    scene.variables = vec!["x".into(), "v".into()];
+    scene.initial = vec![1.0, 0.0];
+    scene.params.clear();
+    scene.equations = vec!["v".into(), "-100*x + 1e-30*a10".into()];
+    scene.observables = std::iter::once(("a0".to_string(), term.clone()))
+        .chain((1..11).map(|i| (format!("a{i}"), format!("a{} + {term}", i - 1))))
+        .collect();
+    scene.conserved.clear();
+    scene.sketch.clear();
+    scene.show = vec![SystemPanel::Plot];
+    scene.plot = vec!["x".into()];
+    scene.phase = None;
+    scene.duration = 25.0;
+    let method = OdeMethod::default_for(OdeKind::Auto, scene.duration);
+    let demand = 1.0 / 30.0 * (25.0 / 12.0) * 64.0;
+    let slice = std::time::Duration::from_millis(20);
+    c.bench_function("heavy_frame_sliced", |b| {
+        let mut run = SystemRun::new(&scene, method, &[]).expect("runs");
+        b.iter(|| {
+            if run.finished() {
+                run = SystemRun::new(&scene, method, &[]).expect("runs");
+            }
+            let target = run.t() + demand;
+            black_box(
+                run.advance_within(target, flipcard::sim::scene::slice::Slice::lasting(slice)),
+            )
+        })
+    });
+}
+
+criterion_group!(benches, rhs, live_frame, chained_observables, heavy_frame);
 criterion_main!(benches);

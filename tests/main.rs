@@ -51,6 +51,7 @@ mod sync_e2e;
 mod sync_props;
 mod sync_trust;
 mod system_cli;
+mod system_hostile;
 mod true_retention;
 mod tui_browser_e2e;
 mod tui_e2e;

@@ -34,9 +34,21 @@ fn sim(args: &[&str]) -> (i32, String, String) {
 
 #[test]
 fn the_issues_deck_format_checks_clean() {
-    let (code, out, err) = run(&["check", deck().to_str().unwrap()]);
+    let d = deck();
+    let (code, out, err) = run(&["check", "--no-simulate", d.to_str().unwrap()]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(out.contains("4 scenes"), "{out}");
+    // Run, the scene that blows up at t = 1 of its 2 does not play to its
+    // end: refused at its id, the rest run clean.
+    let (code, out, err) = run(&["check", d.to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        err.contains(
+            "oscillations-test.toml:74:6: error: scene `blowup` does not run to its end: the solution blows up near t = 1.0"
+        ),
+        "{err}"
+    );
+    assert!(err.contains("1 error, 0 warnings"), "{err}");
 }
 
 #[test]

@@ -12,8 +12,8 @@ use anyhow::{anyhow, bail};
 use crate::cmd::args::{MethodArg, SimArgs, SimFormat};
 use crate::deck::{Answer, Deck, Measure, Prompt, SystemScene};
 use crate::predict::{Prediction, verdict};
-use crate::sim::scene::system::{describe, measure_system};
-use crate::sim::solvers::ode::{self, OdeKind, OdeMethod};
+use crate::sim::scene::system::{SystemPlan, SystemRun, describe, measure_system};
+use crate::sim::solvers::ode::{OdeKind, OdeMethod};
 use crate::sim::system::System;
 use crate::text::num::{self, Num};
 
@@ -103,10 +103,19 @@ fn write_samples(
     samples: usize,
     format: SimFormat,
 ) -> anyhow::Result<ExitCode> {
-    let system = System::compile(scene, method.kind.implicit()).map_err(|e| anyhow!("{e}"))?;
-    let (m, opts) = method.solver(scene.duration);
-    let mut solver = ode::make(m, system.clone(), 0.0, &scene.initial, &opts)
-        .map_err(|e| anyhow!("{}", describe(&e)))?;
+    // The run measures and the app play, computing every observable: a
+    // row is written only where the state and every observable are
+    // finite, and the run stops with the cause where one is not.
+    let plan = SystemPlan {
+        observables: vec![true; scene.observables.len()],
+        metered: Vec::new(),
+        periods: Vec::new(),
+        sketch: false,
+        reference: false,
+        ..SystemPlan::for_scene(scene, method, &[])
+    };
+    let mut run = SystemRun::with_plan(scene, method, plan).map_err(|e| anyhow!("{e}"))?;
+    let system = System::compile(scene, false).map_err(|e| anyhow!("{e}"))?;
     let columns: Vec<&str> = std::iter::once("t")
         .chain(scene.variables.iter().map(String::as_str))
         .chain(scene.observables.iter().map(|(o, _)| o.as_str()))
@@ -124,31 +133,32 @@ fn write_samples(
         )?,
     }
     let last = samples - 1;
+    let mut observables = vec![0.0; system.observable_count()];
     for k in 0..samples {
         let t = if k == last {
             scene.duration
         } else {
             k as f64 * scene.duration / last as f64
         };
-        let y = solver
-            .advance(t)
-            .map_err(|e| anyhow!("{}", describe(&e)))?
-            .to_vec();
+        run.advance_to(t);
+        if let Some(e) = run.error() {
+            out.flush()?;
+            bail!("{} (the run stops here)", describe(e));
+        }
+        let y = run.state().to_vec();
+        system.observables_into(t, &y, &mut observables);
+        if observables.iter().any(|v| !v.is_finite()) {
+            let why = system
+                .observable_fault(t, &y)
+                .map(|f| f.describe(scene, t))
+                .unwrap_or_else(|| format!("an observable is not finite at t = {}", Num(t)));
+            out.flush()?;
+            bail!("{why} (the run stops here)");
+        }
         let mut row = Vec::with_capacity(columns.len());
         row.push(t);
         row.extend_from_slice(&y);
-        for j in 0..system.observable_count() {
-            row.push(system.observable(j, t, &y));
-        }
-        if let Some((i, v)) = row.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            out.flush()?;
-            bail!(
-                "{} is {} at t = {} (the run stops here)",
-                columns[i],
-                Num(*v),
-                Num(t)
-            );
-        }
+        row.extend_from_slice(&observables);
         match format {
             SimFormat::Csv => {
                 let cells: Vec<String> = row.iter().map(|v| num::show(*v)).collect();

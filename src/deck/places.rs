@@ -1,6 +1,7 @@
-//! Where a prompt's answer sits in its deck file, for checks made after
-//! loading (the simulation's verdict on the author's answer) to point at
-//! the line an author has to change.
+//! Where a prompt's answer and a system scene's expressions sit in its deck
+//! file, for checks made after loading (the simulation's verdict on the
+//! author's answer, a scene that does not run to its end) to point at the
+//! line an author has to change.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -28,23 +29,32 @@ pub struct AnswerPlaces {
     pub when: Vec<Option<Place>>,
 }
 
+/// The deck file `source` read raw; `None` when it does not parse (the
+/// loader reports it).
+fn read(path: &Path, source: &str) -> Option<raw::RawDeckFile> {
+    let mut rep = FileReport::new(path, source);
+    let (root, span) = syntax::parse(&mut rep, source)?;
+    Some(raw::read_deck_file(&mut rep, &root, span))
+}
+
+/// Where `span` of `source` is.
+fn place(index: &LineIndex, source: &str, span: &std::ops::Range<usize>) -> Place {
+    let (line, col) = index.position(source, span.start);
+    Place {
+        line,
+        col,
+        width: index.width(source, span),
+    }
+}
+
 /// The answer places of every prompt of the deck file `source`, by prompt
 /// id. A file that does not parse has none (the loader reports it).
 pub fn answer_places(path: &Path, source: &str) -> HashMap<String, AnswerPlaces> {
-    let mut rep = FileReport::new(path, source);
-    let Some((root, span)) = syntax::parse(&mut rep, source) else {
+    let Some(file) = read(path, source) else {
         return HashMap::new();
     };
-    let file = raw::read_deck_file(&mut rep, &root, span);
     let index = LineIndex::new(source);
-    let place = |span: &std::ops::Range<usize>| {
-        let (line, col) = index.position(source, span.start);
-        Place {
-            line,
-            col,
-            width: index.width(source, span),
-        }
-    };
+    let place = |span: &std::ops::Range<usize>| place(&index, source, span);
     file.prompts
         .iter()
         .filter_map(|p| {
@@ -70,6 +80,59 @@ pub fn answer_places(path: &Path, source: &str) -> HashMap<String, AnswerPlaces>
                 },
             };
             Some((id, places))
+        })
+        .collect()
+}
+
+/// Where a system scene is written: its `id`, `duration`, each equation,
+/// each observable's expression and each sketch expression (in order).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct ScenePlaces {
+    pub id: Option<Place>,
+    pub duration: Option<Place>,
+    pub equations: Vec<Place>,
+    pub observables: Vec<Place>,
+    pub marks: Vec<Place>,
+}
+
+/// The places of every system scene of the deck file `source`, by scene id.
+pub fn scene_places(path: &Path, source: &str) -> HashMap<String, ScenePlaces> {
+    let Some(file) = read(path, source) else {
+        return HashMap::new();
+    };
+    let index = LineIndex::new(source);
+    let place = |span: &std::ops::Range<usize>| place(&index, source, span);
+    file.scenes
+        .iter()
+        .filter_map(|s| {
+            let sys = s.system.as_ref()?;
+            let id = s.id.as_ref()?;
+            let places = ScenePlaces {
+                id: Some(place(&id.span)),
+                duration: s.duration.as_ref().map(|d| place(&d.span)),
+                equations: sys
+                    .equations
+                    .as_ref()
+                    .map(|l| l.items.iter().map(|e| place(&e.span)).collect())
+                    .unwrap_or_default(),
+                observables: sys
+                    .observables
+                    .as_ref()
+                    .map(|o| o.entries.iter().map(|e| place(&e.value.span)).collect())
+                    .unwrap_or_default(),
+                marks: sys
+                    .sketch
+                    .as_ref()
+                    .map(|l| {
+                        l.items
+                            .iter()
+                            .flat_map(|m| &m.exprs.items)
+                            .map(|e| place(&e.span))
+                            .collect()
+                    })
+                    .unwrap_or_default(),
+            };
+            Some((id.value.clone(), places))
         })
         .collect()
 }

@@ -2,13 +2,16 @@
 //! clock (independent of the frame rate) at the chosen speed, and the
 //! learner may pause, restart, switch method or change the step. The
 //! physics, what it computes for each panel, and the measurements live in
-//! [`crate::sim::scene::SceneRun`].
+//! [`crate::sim::scene::SceneRun`]. A frame's physics works for at most
+//! [`crate::tui::live_system::SLICE`], so a key is read within a frame.
 
 use crate::deck::Scene;
 use crate::sim::rigid::polhode::Polhode;
 use crate::sim::scene::measure::Measurements;
+use crate::sim::scene::slice::Slice;
 use crate::sim::scene::{Diagnostics, Frame, Sample, SceneRun};
 use crate::sim::{self, Body, Method, SimError};
+use crate::tui::live_system::SLICE;
 
 pub struct LiveRun {
     run: SceneRun,
@@ -90,13 +93,20 @@ impl LiveRun {
         }
     }
 
-    /// Advances by `wall` seconds of wall-clock time.
+    /// Advances by `wall` seconds of wall-clock time, working for at most
+    /// [`SLICE`].
     pub fn tick(&mut self, wall: f64) {
+        self.tick_within(wall, Slice::lasting(SLICE));
+    }
+
+    /// As [`LiveRun::tick`] within `slice`; whether the run reached the time
+    /// the clock asked for.
+    pub fn tick_within(&mut self, wall: f64, slice: Slice) -> bool {
         if !self.playing() {
-            return;
+            return true;
         }
         let target = self.t() + wall * self.base_rate() * self.speed;
-        self.run.advance_to(target);
+        self.run.advance_within(target, slice)
     }
 
     /// The same scene from t = 0 with another method, at the same speed.

@@ -3,10 +3,21 @@
 //! the methods for systems, `[`/`]` tighten or loosen the tolerance (RK4:
 //! halve or double the step). The physics is
 //! [`crate::sim::scene::system::SystemRun`]'s.
+//!
+//! A frame's physics works for at most [`SLICE`] (a [`Slice`]): a scene
+//! whose steps cannot keep up with the clock plays slower, and the next key
+//! is still read within a frame.
+
+use std::time::Duration;
 
 use crate::deck::{Measure, SystemScene};
+use crate::sim::scene::slice::Slice;
 use crate::sim::scene::system::{SystemRun, describe};
 use crate::sim::solvers::ode::{OdeKind, OdeMethod};
+
+/// The most one frame's physics may take; the rest of the frame draws and
+/// reads keys.
+pub const SLICE: Duration = Duration::from_millis(20);
 
 pub struct LiveSystem {
     run: SystemRun,
@@ -63,12 +74,21 @@ impl LiveSystem {
         }
     }
 
+    /// Advances by `wall` seconds of wall-clock time, working for at most
+    /// [`SLICE`].
     pub fn tick(&mut self, wall: f64) {
+        self.tick_within(wall, Slice::lasting(SLICE));
+    }
+
+    /// As [`LiveSystem::tick`] within `slice`; whether the run reached the
+    /// time the clock asked for (false: it stopped at the slice's end, and
+    /// plays on from there at the next tick).
+    pub fn tick_within(&mut self, wall: f64, slice: Slice) -> bool {
         if !self.playing() {
-            return;
+            return true;
         }
         let target = self.t() + wall * self.base_rate() * self.speed;
-        self.run.advance_to(target);
+        self.run.advance_within(target, slice)
     }
 
     pub fn restart_with(&self, method: OdeMethod) -> Result<LiveSystem, String> {

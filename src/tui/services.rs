@@ -134,6 +134,11 @@ pub struct Services {
     pub after_session: Option<AfterSession>,
     /// The card browser's search index, kept between its openings.
     pub browser_index: super::screens::browser::SearchCache,
+    /// The most one frame's simulation may work ([`super::live_system::SLICE`]),
+    /// so a key is always read within a frame; `None` lets each frame's run
+    /// reach its time however long that takes (tests, so that snapshots do
+    /// not depend on how fast the machine is).
+    pub physics_slice: Option<std::time::Duration>,
 }
 
 impl Services {
@@ -156,7 +161,14 @@ impl Services {
             bench_csv: None,
             after_session: None,
             browser_index: Default::default(),
+            physics_slice: Some(super::live_system::SLICE),
         }
+    }
+
+    /// The slice a frame's simulation works within.
+    pub fn physics_slice(&self) -> crate::sim::scene::slice::Slice {
+        use crate::sim::scene::slice::Slice;
+        self.physics_slice.map_or(Slice::WHOLE, Slice::lasting)
     }
 
     pub fn now(&self) -> DateTime<Utc> {

@@ -254,6 +254,7 @@ pub fn services(dir: &TempDir) -> Services {
     };
     let mut s = Services::new(Clock::Fixed(now()), config, None, DayZone::Utc, store);
     s.stopwatch = Stopwatch::Frozen;
+    s.physics_slice = None;
     s
 }
 

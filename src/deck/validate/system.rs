@@ -1,6 +1,8 @@
 //! System scenes: names, lengths, expressions (down to the character inside
-//! the string), the panels' references, and a right-hand side that is
-//! finite at t = 0.
+//! the string, within the parser's depth and size), the panels'
+//! references, the compiled programs within their size and a step within
+//! what the app can play, and equations and observables that are finite at
+//! t = 0 (or the first operation that is not, and why).
 
 use std::collections::HashMap;
 
@@ -9,7 +11,9 @@ use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
 use crate::sim::scene::spec::{Mark, SystemPanel, SystemScene};
+use crate::sim::scene::system::check_cost;
 use crate::sim::solvers::ode::OdeSystem;
+use crate::sim::system::compile::{Fault, Source};
 use crate::sim::system::expr::{self, BUILTINS, ExprError, FUNCTIONS, MAX_NAME};
 use crate::sim::system::{Name, System};
 use crate::text::num::Num as Shown;
@@ -530,45 +534,111 @@ pub fn scene(
     if !ok {
         return None;
     }
-    // The right-hand side at the start: a scene that cannot take its first
-    // step is an error of the deck, not of the run.
+    // The compiled scene: each program within its size, each step within
+    // what the app can play, and the right-hand side and observables finite
+    // at the start (a scene that cannot take its first step is an error of
+    // the deck, not of the run).
+    let list = sys.equations.as_ref()?;
     let system = match System::compile(&scene, false) {
         Ok(s) => s,
         Err(e) => {
+            let span = e
+                .source
+                .and_then(|src| source_span(sys, src))
+                .unwrap_or_else(|| raw.span.clone());
             rep.error(
-                raw.span.clone(),
-                format!("{what} does not compile: {e}"),
-                None,
+                span,
+                format!("{what}: {}", e.message),
+                Some("split it into smaller observables, or simplify it".to_string()),
             );
             return None;
         }
     };
-    let mut dy = vec![0.0; n];
-    system.rhs(0.0, &scene.initial, &mut dy);
-    let list = sys.equations.as_ref()?;
+    if let Err(e) = check_cost(&scene, &system.cost()) {
+        rep.error(
+            list.span.clone(),
+            e,
+            Some("use fewer variables or shorter equations".to_string()),
+        );
+        return None;
+    }
+    let state = || {
+        scene
+            .variables
+            .iter()
+            .zip(&scene.initial)
+            .map(|(v, x)| format!("{v} = {}", Shown(*x)))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let hint = "check the initial values and the parameters (a division by zero, a root or log of a negative)";
+    // "the equation of `x` gives inf at t = 0 (initial state x = 1):
+    // division by zero".
+    let at_start = |f: &Fault| {
+        let inside = if f.written_in != f.source {
+            format!(" in {}", f.written_in.describe(&scene))
+        } else {
+            String::new()
+        };
+        format!(
+            "{} gives {} at t = 0 (initial state {}): {}{inside}",
+            f.source.describe(&scene),
+            Shown(f.value),
+            state(),
+            f.cause
+        )
+    };
     let mut finite = true;
-    for (k, d) in dy.iter().enumerate() {
-        if !d.is_finite() {
-            rep.error(
-                list.items[k].span.clone(),
-                format!(
-                    "the equation of `{}` gives {} at t = 0 (initial state {})",
-                    scene.variables[k],
-                    Shown(*d),
-                    scene
-                        .variables
-                        .iter()
-                        .zip(&scene.initial)
-                        .map(|(v, x)| format!("{v} = {}", Shown(*x)))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-                Some("check the initial values and the parameters (a division by zero, a root or log of a negative)".to_string()),
-            );
-            finite = false;
+    if let Some(f) = system.rhs_fault(0.0, &scene.initial) {
+        let span = source_span(sys, f.written_in).unwrap_or_else(|| list.span.clone());
+        rep.error(span, at_start(&f), Some(hint.to_string()));
+        finite = false;
+    } else {
+        let mut dy = vec![0.0; n];
+        system.rhs(0.0, &scene.initial, &mut dy);
+        for (k, d) in dy.iter().enumerate() {
+            if !d.is_finite() {
+                rep.error(
+                    list.items[k].span.clone(),
+                    format!(
+                        "the equation of `{}` gives {} at t = 0 (initial state {})",
+                        scene.variables[k],
+                        Shown(*d),
+                        state()
+                    ),
+                    Some(hint.to_string()),
+                );
+                finite = false;
+            }
         }
     }
+    if let Some(f) = system.observable_fault(0.0, &scene.initial) {
+        let span = source_span(sys, f.written_in).unwrap_or_else(|| raw.span.clone());
+        rep.error(span, at_start(&f), Some(hint.to_string()));
+        finite = false;
+    }
     finite.then_some(scene)
+}
+
+/// The span of the expression `source` names.
+fn source_span(sys: &RawSystem, source: Source) -> Option<Span> {
+    match source {
+        Source::Equation(k) => sys.equations.as_ref()?.items.get(k).map(|s| s.span.clone()),
+        Source::Observable(k) => sys
+            .observables
+            .as_ref()?
+            .entries
+            .get(k)
+            .map(|e| e.value.span.clone()),
+        Source::Mark(k) => sys
+            .sketch
+            .as_ref()?
+            .items
+            .iter()
+            .flat_map(|m| &m.exprs.items)
+            .nth(k)
+            .map(|s| s.span.clone()),
+    }
 }
 
 /// The name of a measure's quantity, for a system scene's measures.

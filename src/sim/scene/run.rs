@@ -30,6 +30,7 @@ use crate::sim::rigid::reference;
 use crate::sim::rigid::scales::scales;
 use crate::sim::scene::measure::{Measurements, Meter};
 use crate::sim::scene::plan::Plan;
+use crate::sim::scene::slice::Slice;
 use crate::sim::scene::spec::Scene;
 use crate::sim::solvers::registry::make;
 use crate::sim::solvers::{Method, Needs, SimError, Solver, Work};
@@ -405,20 +406,34 @@ impl SceneRun {
     /// ignored) and returns the frame there. After an error the frame stays
     /// at the last good state.
     pub fn advance_to(&mut self, t: f64) -> &Frame {
+        self.advance_within(t, Slice::WHOLE);
+        &self.frame
+    }
+
+    /// As [`SceneRun::advance_to`], stopping at the first grid point after
+    /// `slice` ends (at least one is evaluated); the frame is then there,
+    /// and the next call goes on. Returns whether the run reached `t` (or
+    /// stopped for good).
+    pub fn advance_within(&mut self, t: f64, slice: Slice) -> bool {
         if t.is_nan() {
-            return &self.frame;
+            return true;
         }
         let t = t.min(self.scene.duration);
         if self.error.is_some() || t < self.frame.t || (t == self.frame.t && t > 0.0) {
-            return &self.frame;
+            return true;
         }
+        let mut evaluated = false;
         loop {
             let next = self.meter_grid.peek().min(self.trace_grid.peek());
             if next > t {
                 break;
             }
+            if evaluated && slice.over() {
+                return false;
+            }
+            evaluated = true;
             let Some(state) = self.evaluate(next) else {
-                return &self.frame;
+                return true;
             };
             if self.meter_grid.peek() == next {
                 self.meter.record(next, &state.omega);
@@ -438,7 +453,7 @@ impl SceneRun {
         {
             self.set_frame(t, &state);
         }
-        &self.frame
+        true
     }
 
     fn set_frame(&mut self, t: f64, state: &State) {

@@ -6,11 +6,28 @@
 //! points, so the measures follow the solution wherever the solver had to
 //! look closely (Van der Pol's fast jumps, Robertson's first second) and
 //! never depend on how often a frame is drawn.
+//!
+//! A value that is not finite is never a measurement: a variable, an
+//! observable or a sketch expression the run computes that becomes NaN or
+//! infinite ends the run with its name, the time and the first operation at
+//! fault ([`crate::sim::system::compile::Cause`]), and a solver that gives
+//! up at a point where an equation leaves its domain (a root of a negative
+//! number, a division by zero) says so instead of "blows up".
+//!
+//! Work is bounded: each run may take at most [`MAX_RUN_WORK`] operations
+//! of its compiled programs, so its step budget is that divided by the cost
+//! of a step ([`crate::sim::system::compile::Cost`]), and `flipcard check`
+//! refuses a scene one step of which costs more than [`MAX_STEP_WORK`].
+//! The app advances a run in [`Slice`]s, so a key is answered within a
+//! frame whatever the scene.
 
 use crate::sim::scene::measure::{Measurements, Reading};
+use crate::sim::scene::slice::Slice;
 use crate::sim::scene::spec::{Measure, Stat, SystemPanel, SystemScene};
-use crate::sim::solvers::ode::{self, OdeError, OdeKind, OdeMethod, OdeSolver, Work};
+use crate::sim::solvers::ode::{self, OdeError, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
 use crate::sim::system::System;
+use crate::sim::system::compile::{Cost, Fault, Source, time};
+use crate::text::num::Num;
 
 /// Dense-output points per accepted step of an adaptive method (RK4's
 /// small fixed steps are sampled at their ends).
@@ -19,6 +36,113 @@ pub const POINTS_PER_STEP: usize = 16;
 pub const TRACE_LEN: usize = 2048;
 /// The level of |N(0)| below which drift is measured absolutely.
 pub const TINY: f64 = 1e-300;
+
+/// Most operations of a scene's compiled programs one run may take (about a
+/// second or two of work): a scene's step budget is this divided by
+/// [`Cost::per_step`], below the solvers' own step budget.
+pub const MAX_RUN_WORK: f64 = 1e9;
+/// Most operations one step of a scene may take (a few milliseconds), so
+/// that the app, which advances a run a step at a time between frames,
+/// always answers a key promptly; `flipcard check` refuses a scene beyond
+/// it.
+pub const MAX_STEP_WORK: f64 = 2e6;
+
+/// Why a scene cannot run at all: one step costs too much.
+pub fn check_cost(scene: &SystemScene, cost: &Cost) -> Result<(), String> {
+    let per_step = cost.per_step();
+    if per_step <= MAX_STEP_WORK {
+        return Ok(());
+    }
+    Err(format!(
+        "scene {} needs about {} operations per step, more than the {:e} the app can play: its equations compile to {}, run {} times a step and once per variable ({}) for the Jacobian{}",
+        scene.id,
+        crate::text::num::sig(per_step, 3),
+        MAX_STEP_WORK,
+        crate::text::plural(cost.rhs, "operation", "operations"),
+        crate::sim::system::compile::EVALS_PER_STEP,
+        cost.n,
+        if cost.observables + cost.marks > 0 {
+            format!(
+                "; its observables and sketch compile to {}, run {} times a step",
+                cost.observables + cost.marks,
+                POINTS_PER_STEP
+            )
+        } else {
+            String::new()
+        }
+    ))
+}
+
+/// Why a run stopped early.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RunError {
+    /// The solver stopped (a blow-up, a refused stiff problem, its step
+    /// budget, a bad setting).
+    Ode(OdeError),
+    /// A quantity left its domain: its name, the time and the cause, and
+    /// the expression the operation at fault was written in.
+    Domain {
+        t: f64,
+        message: String,
+        at: Option<Source>,
+    },
+    /// The run took the most work a scene may ([`MAX_RUN_WORK`]).
+    Work {
+        t: f64,
+        steps: u64,
+        per_step: f64,
+        duration: f64,
+    },
+}
+
+impl From<OdeError> for RunError {
+    fn from(e: OdeError) -> RunError {
+        RunError::Ode(e)
+    }
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RunError::Ode(OdeError::BlowUp { t }) => {
+                write!(f, "the solution blows up near t = {}", time(*t))
+            }
+            RunError::Ode(OdeError::Stiff { t }) => write!(
+                f,
+                "the problem is stiff from t = {}: adaptive (explicit) refuses it; use --method radau or auto",
+                crate::text::num::rounded(*t, 4)
+            ),
+            RunError::Ode(e) => write!(f, "{e}"),
+            RunError::Domain { message, .. } => f.write_str(message),
+            RunError::Work {
+                t,
+                steps,
+                per_step,
+                duration,
+            } => write!(
+                f,
+                "the run stops at t = {} of {}: {} steps of about {} operations each reach the {:e} a scene may take; shorten the duration, loosen the tolerance or simplify the equations",
+                time(*t),
+                Num(*duration),
+                steps,
+                crate::text::num::sig(*per_step, 3),
+                MAX_RUN_WORK
+            ),
+        }
+    }
+}
+
+/// The solver's step budget for a scene of `cost`: its share of
+/// [`MAX_RUN_WORK`], within the solvers' own budget; and whether the work
+/// is what limits it.
+fn step_budget(cost: &Cost, default: u64) -> (u64, bool) {
+    let by_work = (MAX_RUN_WORK / cost.per_step().max(1.0)).floor().max(1.0);
+    if by_work < default as f64 {
+        (by_work as u64, true)
+    } else {
+        (default, false)
+    }
+}
 
 /// What a system scene computes, from what it shows and measures.
 #[derive(Debug, Clone, PartialEq)]
@@ -279,28 +403,28 @@ pub struct SystemRun {
     tallies: Vec<(usize, Tally)>,
     trace: Trace,
     trail: Trace,
-    error: Option<OdeError>,
+    error: Option<RunError>,
     ref_error: f64,
     scratch: Vec<f64>,
+    /// The observables computed at each sample (the plan's, up to the last
+    /// of them), and their values at the last sample.
+    observables_upto: Option<usize>,
+    obs: Vec<f64>,
+    marks: Vec<f64>,
+    /// The last sample that passed (its time is `sampled`).
+    good: Vec<f64>,
+    cost: Cost,
+    /// The step budget comes from [`MAX_RUN_WORK`].
+    work_limited: bool,
+    /// The last step taken, [t0, t1] (t1 at most the duration), whose
+    /// samples up to `sampled` are done.
+    span: Option<(f64, f64)>,
 }
 
-/// `the solution blows up near t = 1.0`: the time to four significant
-/// digits, always with a decimal point.
-pub fn describe(e: &OdeError) -> String {
-    match e {
-        OdeError::BlowUp { t } => {
-            let mut s = crate::text::num::rounded(*t, 4);
-            if !s.contains(['.', 'e', 'E']) {
-                s.push_str(".0");
-            }
-            format!("the solution blows up near t = {s}")
-        }
-        OdeError::Stiff { t } => format!(
-            "the problem is stiff from t = {}: adaptive (explicit) refuses it; use --method radau or auto",
-            crate::text::num::rounded(*t, 4)
-        ),
-        e => e.to_string(),
-    }
+/// `the solution blows up near t = 1.0`, `` `lnx` is NaN at t = 1.5: ln of a
+/// negative number (ln(-0.5)) ``: why a run stopped, in one line.
+pub fn describe(e: &RunError) -> String {
+    e.to_string()
 }
 
 impl SystemRun {
@@ -319,15 +443,20 @@ impl SystemRun {
         method: OdeMethod,
         plan: SystemPlan,
     ) -> Result<SystemRun, String> {
-        let system = System::compile(scene, plan.jacobian)?;
-        let (m, opts) = method.solver(scene.duration);
-        let solver =
-            ode::make(m, system.clone(), 0.0, &scene.initial, &opts).map_err(|e| describe(&e))?;
+        let system = System::compile(scene, plan.jacobian).map_err(|e| e.to_string())?;
+        let cost = system.cost();
+        check_cost(scene, &cost)?;
+        let (m, mut opts) = method.solver(scene.duration);
+        let (max_steps, work_limited) = step_budget(&cost, opts.max_steps);
+        opts.max_steps = max_steps;
+        let solver = ode::make(m, system.clone(), 0.0, &scene.initial, &opts)
+            .map_err(|e| describe(&e.into()))?;
         let reference = if plan.reference {
             let r = OdeMethod::with_setting(OdeKind::Radau, ode::REFERENCE_RTOL)?;
-            let (m, opts) = r.solver(scene.duration);
-            let sys = System::compile(scene, true)?;
-            Some(ode::make(m, sys, 0.0, &scene.initial, &opts).map_err(|e| describe(&e))?)
+            let (m, mut opts) = r.solver(scene.duration);
+            opts.max_steps = step_budget(&cost, opts.max_steps).0;
+            let sys = System::compile(scene, true).map_err(|e| e.to_string())?;
+            Some(ode::make(m, sys, 0.0, &scene.initial, &opts).map_err(|e| describe(&e.into()))?)
         } else {
             None
         };
@@ -357,8 +486,11 @@ impl SystemRun {
             .filter(|_| scene.shows(SystemPanel::Phase))
             .map(|[a, b]| [index(a), index(b)]);
         let tallies = plan.metered.iter().map(|&q| (q, Tally::new())).collect();
+        let observables_upto = plan.observables.iter().rposition(|&o| o);
         let mut run = SystemRun {
             scene: scene.clone(),
+            obs: vec![0.0; system.observable_count()],
+            marks: vec![0.0; system.mark_count()],
             system,
             plan,
             method,
@@ -375,9 +507,16 @@ impl SystemRun {
             error: None,
             ref_error: 0.0,
             scratch: vec![0.0; n],
+            observables_upto,
+            good: scene.initial.clone(),
+            cost,
+            work_limited,
+            span: None,
         };
         let y0 = scene.initial.clone();
-        run.sample(0.0, &y0);
+        if let Err(e) = run.sample(0.0, &y0) {
+            run.error = Some(e);
+        }
         Ok(run)
     }
 
@@ -397,20 +536,57 @@ impl SystemRun {
             })
     }
 
-    /// Quantity `q` at (t, y): a variable, or an observable (evaluated).
-    fn value(&self, q: usize, t: f64, y: &[f64]) -> f64 {
+    /// Quantity `q` at the sample just computed: a variable, or an
+    /// observable of the plan.
+    fn value(&self, q: usize, y: &[f64]) -> f64 {
         let n = y.len();
-        if q < n {
-            y[q]
-        } else {
-            self.system.observable(q - n, t, y)
+        if q < n { y[q] } else { self.obs[q - n] }
+    }
+
+    /// What the run computes at (t, y): the plan's observables and sketch.
+    /// A value that is not finite is an error, with its cause.
+    fn compute(&mut self, t: f64, y: &[f64]) -> Result<(), RunError> {
+        if let Some(k) = self.observables_upto {
+            self.system.observables_upto(k, t, y, &mut self.obs);
+            let plan = &self.plan.observables;
+            if self.obs[..=k]
+                .iter()
+                .zip(plan)
+                .any(|(v, &on)| on && !v.is_finite())
+            {
+                let fault = self
+                    .system
+                    .observable_program()
+                    .fault(t, y, &|k| plan.get(k).copied().unwrap_or(false));
+                return Err(self.domain(t, fault));
+            }
+        }
+        if self.plan.sketch {
+            self.system.marks_into(t, y, &mut self.marks);
+            if self.marks.iter().any(|v| !v.is_finite()) {
+                let fault = self.system.mark_program().fault(t, y, &|_| true);
+                return Err(self.domain(t, fault));
+            }
+        }
+        Ok(())
+    }
+
+    fn domain(&self, t: f64, fault: Option<Fault>) -> RunError {
+        RunError::Domain {
+            t,
+            at: fault.as_ref().map(|f| f.written_in),
+            message: match fault {
+                Some(f) => f.describe(&self.scene, t),
+                None => format!("a value is not finite at t = {}", time(t)),
+            },
         }
     }
 
-    fn sample(&mut self, t: f64, y: &[f64]) {
+    fn sample(&mut self, t: f64, y: &[f64]) -> Result<(), RunError> {
+        self.compute(t, y)?;
         for k in 0..self.tallies.len() {
             let q = self.tallies[k].0;
-            let v = self.value(q, t, y);
+            let v = self.value(q, y);
             let keep = self.plan.periods.contains(&q);
             self.tallies[k].1.add(t, v, keep);
         }
@@ -420,62 +596,185 @@ impl SystemRun {
             drawn.push(b);
         }
         if !drawn.is_empty() {
-            let values = drawn.iter().map(|&q| self.value(q, t, y)).collect();
+            let values = drawn.iter().map(|&q| self.value(q, y)).collect();
             self.trace.push(Point { t, values });
         }
         if self.plan.sketch {
-            let values = (0..self.system.mark_count())
-                .map(|k| self.system.mark(k, t, y))
-                .collect();
-            self.trail.push(Point { t, values });
+            self.trail.push(Point {
+                t,
+                values: self.marks.clone(),
+            });
         }
         self.sampled = t;
+        self.good.copy_from_slice(y);
+        Ok(())
+    }
+
+    /// Where the first bad value appears between the last good sample and
+    /// (t, y) of the same step, to the resolution of f64 (the failure
+    /// path): the time reported is where the quantity leaves its domain,
+    /// not the next sample's.
+    fn first_bad(&mut self, t_bad: f64) -> (f64, Vec<f64>) {
+        let n = self.good.len();
+        let (mut lo, mut hi) = (self.sampled, t_bad);
+        let mut y_hi = vec![0.0; n];
+        if self.solver.dense(hi, &mut y_hi).is_err() {
+            return (hi, y_hi);
+        }
+        let mut y = vec![0.0; n];
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi || self.solver.dense(mid, &mut y).is_err() {
+                break;
+            }
+            if self.compute(mid, &y).is_ok() {
+                lo = mid;
+            } else {
+                hi = mid;
+                y_hi.copy_from_slice(&y);
+            }
+        }
+        (hi, y_hi)
+    }
+
+    /// Why the solver stopped: at a point where an equation leaves its
+    /// domain (NaN just ahead of the last good state, or a divisor that
+    /// crosses zero there), that cause; else what the solver said.
+    fn solver_error(&self, e: OdeError) -> RunError {
+        let OdeError::BlowUp { t } = e else {
+            if let OdeError::StepBudget { t, steps, .. } = e
+                && self.work_limited
+            {
+                return RunError::Work {
+                    t,
+                    steps,
+                    per_step: self.cost.per_step(),
+                    duration: self.scene.duration,
+                };
+            }
+            return RunError::Ode(e);
+        };
+        let y = &self.good;
+        let t0 = self.sampled;
+        if let Some(f) = self.system.rhs_fault(t0, y)
+            && f.cause.is_domain()
+        {
+            return self.domain(t0, Some(f));
+        }
+        let n = y.len();
+        let mut f = vec![0.0; n];
+        self.system.rhs(t0, y, &mut f);
+        if f.iter().any(|v| !v.is_finite()) {
+            return RunError::Ode(e);
+        }
+        // Along the tangent, from the resolution of t up to a millionth of
+        // the run: the solver gave up because every step into that stretch
+        // failed.
+        let reach = 1e-6 * t0.abs().max(self.scene.duration);
+        let mut h = (f64::EPSILON * t0.abs()).max(f64::MIN_POSITIVE);
+        let mut yp = vec![0.0; n];
+        while h <= reach {
+            for i in 0..n {
+                yp[i] = y[i] + h * f[i];
+            }
+            if yp.iter().any(|v| !v.is_finite()) {
+                break;
+            }
+            let tp = t0 + h;
+            if let Some(fault) = self.system.rhs_fault(tp, &yp) {
+                if fault.cause.is_domain() {
+                    return self.domain(tp, Some(fault));
+                }
+                break;
+            }
+            if let Some(fault) = self.system.equations().divisor_crossing(t0, y, tp, &yp) {
+                return self.domain(tp, Some(fault));
+            }
+            h *= 2.0;
+        }
+        RunError::Ode(OdeError::BlowUp { t })
     }
 
     /// Samples every step up to `target`, then sets the frame there.
     pub fn advance_to(&mut self, target: f64) {
+        self.advance_within(target, Slice::WHOLE);
+    }
+
+    /// As [`SystemRun::advance_to`], stopping at the first step boundary
+    /// after `slice` ends (at least one step is taken); the next call goes
+    /// on from there. Returns whether the run reached `target` (or
+    /// stopped for good).
+    pub fn advance_within(&mut self, target: f64, slice: Slice) -> bool {
         if self.error.is_some() {
-            return;
+            return true;
         }
         let target = target.min(self.scene.duration);
         if target <= self.t {
-            return;
+            return true;
         }
         let per_step = if self.method.kind == OdeKind::Rk4 {
             1
         } else {
             POINTS_PER_STEP
         };
-        while self.solver.t() < target {
-            let (t0, t1) = match self.solver.step() {
-                Ok(w) => w,
-                Err(e) => {
-                    self.error = Some(e);
-                    return;
+        let mut stepped = false;
+        loop {
+            // The samples of the last step, up to the target: a step may
+            // reach past it, and what lies beyond is checked when the run
+            // gets there.
+            if let Some((t0, end)) = self.span {
+                let mut y = std::mem::take(&mut self.scratch);
+                for k in 1..=per_step {
+                    let t = if k == per_step {
+                        end
+                    } else {
+                        t0 + (end - t0) * k as f64 / per_step as f64
+                    };
+                    if t <= self.sampled {
+                        continue;
+                    }
+                    if t > target {
+                        break;
+                    }
+                    if let Err(e) = self.solver.dense(t, &mut y) {
+                        self.scratch = y;
+                        self.stop(self.solver_error(e));
+                        return true;
+                    }
+                    if let Err(e) = self.sample(t, &y.clone()) {
+                        let e = match e {
+                            RunError::Domain { .. } => {
+                                let (tb, yb) = self.first_bad(t);
+                                self.compute(tb, &yb).err().unwrap_or(e)
+                            }
+                            e => e,
+                        };
+                        self.scratch = y;
+                        self.stop(e);
+                        return true;
+                    }
                 }
-            };
-            let end = t1.min(self.scene.duration);
-            let mut y = std::mem::take(&mut self.scratch);
-            for k in 1..=per_step {
-                let t = if k == per_step {
-                    end
-                } else {
-                    t0 + (end - t0) * k as f64 / per_step as f64
-                };
-                if t <= self.sampled {
-                    continue;
-                }
-                if let Err(e) = self.solver.dense(t, &mut y) {
-                    self.error = Some(e);
-                    self.scratch = y;
-                    return;
-                }
-                self.sample(t, &y.clone());
+                self.scratch = y;
             }
-            self.scratch = y;
-            if t1 >= self.scene.duration {
+            if self.solver.t() >= target {
                 break;
             }
+            if stepped && slice.over() {
+                // Shown where the samples reached (the last step's end);
+                // the rest next time.
+                self.t = self.sampled;
+                self.state = self.good.clone();
+                self.follow_reference(slice);
+                return false;
+            }
+            match self.solver.step() {
+                Ok((t0, t1)) => self.span = Some((t0, t1.min(self.scene.duration))),
+                Err(e) => {
+                    self.stop(self.solver_error(e));
+                    return true;
+                }
+            }
+            stepped = true;
         }
         let mut y = vec![0.0; self.state.len()];
         match self.solver.dense(target, &mut y) {
@@ -483,26 +782,54 @@ impl SystemRun {
                 self.state = y;
                 self.t = target;
             }
-            Err(e) => self.error = Some(e),
-        }
-        if let Some(r) = &mut self.reference {
-            match r.advance(self.t) {
-                Ok(yr) => {
-                    let scale = yr.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
-                    let err = yr
-                        .iter()
-                        .zip(&self.state)
-                        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-                        / scale;
-                    self.ref_error = self.ref_error.max(err);
-                }
-                Err(_) => self.reference = None,
+            Err(e) => {
+                let e = self.solver_error(e);
+                self.stop(e);
+                return true;
             }
         }
+        self.follow_reference(slice);
+        true
+    }
+
+    /// Ends the run with `e`, the frame at the last good sample.
+    fn stop(&mut self, e: RunError) {
+        self.t = self.sampled;
+        self.state = self.good.clone();
+        self.error = Some(e);
+    }
+
+    /// Brings the reference run up to the frame time (within the slice)
+    /// and compares the states there.
+    fn follow_reference(&mut self, slice: Slice) {
+        let Some(r) = &mut self.reference else {
+            return;
+        };
+        while r.t() < self.t {
+            if slice.over() {
+                return;
+            }
+            if r.step().is_err() {
+                self.reference = None;
+                return;
+            }
+        }
+        let mut yr = vec![0.0; self.state.len()];
+        if r.dense(self.t, &mut yr).is_err() {
+            self.reference = None;
+            return;
+        }
+        let scale = yr.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
+        let err = yr
+            .iter()
+            .zip(&self.state)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+            / scale;
+        self.ref_error = self.ref_error.max(err);
     }
 
     /// Runs to the end (or the first error).
-    pub fn run_to_end(&mut self) -> Result<(), OdeError> {
+    pub fn run_to_end(&mut self) -> Result<(), RunError> {
         self.advance_to(self.scene.duration);
         match &self.error {
             Some(e) => Err(e.clone()),
@@ -528,8 +855,12 @@ impl SystemRun {
     pub fn finished(&self) -> bool {
         self.error.is_some() || self.t >= self.scene.duration
     }
-    pub fn error(&self) -> Option<&OdeError> {
+    pub fn error(&self) -> Option<&RunError> {
         self.error.as_ref()
+    }
+    /// What a step of this scene costs.
+    pub fn cost(&self) -> Cost {
+        self.cost
     }
     pub fn has_reference(&self) -> bool {
         self.reference.is_some()
@@ -548,9 +879,9 @@ impl SystemRun {
     }
     /// The sketch's coordinates at the frame.
     pub fn marks_now(&self) -> Vec<f64> {
-        (0..self.system.mark_count())
-            .map(|k| self.system.mark(k, self.t, &self.state))
-            .collect()
+        let mut out = vec![0.0; self.system.mark_count()];
+        self.system.marks_into(self.t, &self.state, &mut out);
+        out
     }
     pub fn work(&self) -> Work {
         self.solver.work()
@@ -633,6 +964,30 @@ pub fn measure_system(
     let mut run = SystemRun::with_plan(scene, method, plan)?;
     run.run_to_end().map_err(|e| describe(&e))?;
     Ok(measures.iter().map(|&m| run.measure(m)).collect())
+}
+
+/// The run `flipcard check` makes of a scene: with `method`, computing
+/// every observable and the sketch (all that any other run of the scene
+/// computes) and the measures of its prompts, to the end. A scene that
+/// passes runs everywhere: in `sim`, and in the app with any plan.
+pub fn check_run(
+    scene: &SystemScene,
+    method: OdeMethod,
+    measures: &[Measure],
+) -> Result<(), RunError> {
+    let plan = SystemPlan {
+        reference: false,
+        sketch: !scene.sketch.is_empty(),
+        observables: vec![true; scene.observables.len()],
+        ..SystemPlan::for_scene(scene, method, measures)
+    };
+    let mut run =
+        SystemRun::with_plan(scene, method, plan).map_err(|message| RunError::Domain {
+            t: 0.0,
+            message,
+            at: None,
+        })?;
+    run.run_to_end()
 }
 
 #[cfg(test)]

@@ -1,388 +1,1087 @@
-//! A system scene compiled once into expressions `exmex` evaluates: the
-//! right-hand side, the observables, the sketch, and (only for implicit
-//! methods) the Jacobian from symbolic partial derivatives, with central
-//! differences for an entry whose function has no derivative rule
-//! (`abs`, `sign`, `min`, `max`, `atan2`). Nothing is parsed inside a step.
+//! A system scene compiled once into flat programs the solvers run: the
+//! right-hand side, the observables and the sketch. A program is a list of
+//! operations, each reading the values of earlier ones (a tape), so running
+//! it is one loop without recursion, and its length is the work of one
+//! evaluation.
+//!
+//! An observable is compiled once into each program that uses it, and every
+//! later use reads its value: observables built on each other (`o1 = o0 +
+//! o0`, `o2 = o1 + o1`, …) cost their own size, never the size of their
+//! expansion. Each program is capped at [`MAX_PROGRAM`] operations, and
+//! [`Cost`] says what a step of the scene costs, so a deck is refused
+//! before it runs when its scene would be too slow to play.
+//!
+//! The Jacobian the implicit methods need is the exact derivative of the
+//! right-hand side, by forward differentiation along the same tape: one
+//! pass per variable, never a symbolic expression that could grow (every
+//! function has its rule, `abs`, `sign`, `min`, `max` and `atan2` too).
+//!
+//! When a value is not finite, [`Program::fault`] runs the tape again at
+//! that point and finds the first operation that made it so, and why (a
+//! log of a negative number, a division by zero): work done only on the
+//! failure path.
 
-use exmex::prelude::*;
-use exmex::{BinOp, MakeOperators, MatchLiteral, Operator, ops_factory};
 use nalgebra::DMatrix;
 
-use super::expr::{self, Node, Subst};
+use super::expr::{self, Node};
 use crate::sim::scene::spec::SystemScene;
 use crate::sim::solvers::ode::OdeSystem;
+use crate::text::num::Num;
 
-ops_factory!(
-    SceneOps,
-    f64,
-    Operator::make_bin(
-        "^",
-        BinOp {
-            apply: |a, b| a.powf(b),
-            prio: 4,
-            is_commutative: false,
-        }
-    ),
-    Operator::make_bin(
-        "*",
-        BinOp {
-            apply: |a, b| a * b,
-            prio: 2,
-            is_commutative: true,
-        }
-    ),
-    Operator::make_bin(
-        "/",
-        BinOp {
-            apply: |a, b| a / b,
-            prio: 3,
-            is_commutative: false,
-        }
-    ),
-    Operator::make_bin_unary(
-        "+",
-        BinOp {
-            apply: |a, b| a + b,
-            prio: 0,
-            is_commutative: true,
-        },
-        |a| a
-    ),
-    Operator::make_bin_unary(
-        "-",
-        BinOp {
-            apply: |a, b| a - b,
-            prio: 1,
-            is_commutative: false,
-        },
-        |a| -a
-    ),
-    Operator::make_bin(
-        "atan2",
-        BinOp {
-            apply: |y, x| y.atan2(x),
-            prio: 0,
-            is_commutative: false,
-        }
-    ),
-    Operator::make_bin(
-        "min",
-        BinOp {
-            apply: |a, b| a.min(b),
-            prio: 0,
-            is_commutative: true,
-        }
-    ),
-    Operator::make_bin(
-        "max",
-        BinOp {
-            apply: |a, b| a.max(b),
-            prio: 0,
-            is_commutative: true,
-        }
-    ),
-    Operator::make_unary("sin", |a| a.sin()),
-    Operator::make_unary("cos", |a| a.cos()),
-    Operator::make_unary("tan", |a| a.tan()),
-    Operator::make_unary("asin", |a| a.asin()),
-    Operator::make_unary("acos", |a| a.acos()),
-    Operator::make_unary("atan", |a| a.atan()),
-    Operator::make_unary("sinh", |a| a.sinh()),
-    Operator::make_unary("cosh", |a| a.cosh()),
-    Operator::make_unary("tanh", |a| a.tanh()),
-    Operator::make_unary("exp", |a| a.exp()),
-    Operator::make_unary("ln", |a| a.ln()),
-    Operator::make_unary("log10", |a| a.log10()),
-    Operator::make_unary("sqrt", |a| a.sqrt()),
-    Operator::make_unary("abs", |a| a.abs()),
-    Operator::make_unary("sign", |a| if a == 0.0 { 0.0 } else { a.signum() })
-);
+/// Most operations in one compiled program (an expression with the
+/// observables it uses, or all the equations, or all the observables).
+pub const MAX_PROGRAM: usize = 50_000;
 
-/// Numbers as the canonical text writes them: digits, an optional
-/// fraction, an optional exponent.
-#[derive(Clone, Debug)]
-pub struct SceneNumbers;
-
-impl MatchLiteral for SceneNumbers {
-    fn is_literal(text: &str) -> Option<&str> {
-        let b = text.as_bytes();
-        let mut i = 0;
-        while i < b.len() && b[i].is_ascii_digit() {
-            i += 1;
-        }
-        if i < b.len() && b[i] == b'.' {
-            i += 1;
-            while i < b.len() && b[i].is_ascii_digit() {
-                i += 1;
-            }
-        }
-        if i == 0 || (i == 1 && b[0] == b'.') {
-            return None;
-        }
-        if i < b.len() && (b[i] == b'e' || b[i] == b'E') {
-            let mut j = i + 1;
-            if j < b.len() && (b[j] == b'+' || b[j] == b'-') {
-                j += 1;
-            }
-            let digits = j;
-            while j < b.len() && b[j].is_ascii_digit() {
-                j += 1;
-            }
-            if j > digits {
-                i = j;
-            }
-        }
-        Some(&text[..i])
-    }
+/// The functions of [`expr::FUNCTIONS`], as the tape runs them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Fun {
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Sinh,
+    Cosh,
+    Tanh,
+    Exp,
+    Ln,
+    Log10,
+    Sqrt,
+    Abs,
+    Sign,
+    Atan2,
+    Min,
+    Max,
 }
 
-type Ex = FlatEx<f64, SceneOps, SceneNumbers>;
-
-/// Where an expression's inputs come from: slot `k < n` is variable k,
-/// slot `n` is time.
-#[derive(Debug, Clone)]
-enum Fast {
-    Const(f64),
-    Slot(usize),
-    Ex { ex: Box<Ex>, slots: Vec<usize> },
-}
-
-/// Most inputs gathered on the stack; more go through a heap buffer.
-const STACK: usize = 16;
-
-impl Fast {
-    fn new(ex: Ex, slot_of: &dyn Fn(&str) -> Option<usize>) -> Result<Fast, String> {
-        let names = ex.var_names().to_vec();
-        let mut slots = Vec::with_capacity(names.len());
-        for n in &names {
-            slots.push(slot_of(n).ok_or_else(|| format!("unknown name `{n}`"))?);
-        }
-        if slots.is_empty() {
-            let v = ex.eval(&[]).map_err(|e| e.to_string())?;
-            return Ok(Fast::Const(v));
-        }
-        // A bare variable (`omega`) is read directly.
-        let bare = ex.unparse().trim_matches(|c| c == '(' || c == ')');
-        if slots.len() == 1
-            && bare.starts_with('{')
-            && bare.ends_with('}')
-            && bare.matches('{').count() == 1
-        {
-            return Ok(Fast::Slot(slots[0]));
-        }
-        Ok(Fast::Ex {
-            ex: Box::new(ex),
-            slots,
+impl Fun {
+    fn of(name: &str) -> Option<Fun> {
+        Some(match name {
+            "sin" => Fun::Sin,
+            "cos" => Fun::Cos,
+            "tan" => Fun::Tan,
+            "asin" => Fun::Asin,
+            "acos" => Fun::Acos,
+            "atan" => Fun::Atan,
+            "sinh" => Fun::Sinh,
+            "cosh" => Fun::Cosh,
+            "tanh" => Fun::Tanh,
+            "exp" => Fun::Exp,
+            "ln" => Fun::Ln,
+            "log10" => Fun::Log10,
+            "sqrt" => Fun::Sqrt,
+            "abs" => Fun::Abs,
+            "sign" => Fun::Sign,
+            "atan2" => Fun::Atan2,
+            "min" => Fun::Min,
+            "max" => Fun::Max,
+            _ => return None,
         })
     }
 
-    #[inline]
-    fn eval(&self, input: &[f64]) -> f64 {
+    fn name(self) -> &'static str {
         match self {
-            Fast::Const(v) => *v,
-            Fast::Slot(k) => input[*k],
-            Fast::Ex { ex, slots } => {
-                let r = if slots.len() <= STACK {
-                    let mut buf = [0.0; STACK];
-                    for (b, &s) in buf.iter_mut().zip(slots) {
-                        *b = input[s];
-                    }
-                    ex.eval(&buf[..slots.len()])
+            Fun::Sin => "sin",
+            Fun::Cos => "cos",
+            Fun::Tan => "tan",
+            Fun::Asin => "asin",
+            Fun::Acos => "acos",
+            Fun::Atan => "atan",
+            Fun::Sinh => "sinh",
+            Fun::Cosh => "cosh",
+            Fun::Tanh => "tanh",
+            Fun::Exp => "exp",
+            Fun::Ln => "ln",
+            Fun::Log10 => "log10",
+            Fun::Sqrt => "sqrt",
+            Fun::Abs => "abs",
+            Fun::Sign => "sign",
+            Fun::Atan2 => "atan2",
+            Fun::Min => "min",
+            Fun::Max => "max",
+        }
+    }
+
+    #[inline]
+    fn apply1(self, a: f64) -> f64 {
+        match self {
+            Fun::Sin => a.sin(),
+            Fun::Cos => a.cos(),
+            Fun::Tan => a.tan(),
+            Fun::Asin => a.asin(),
+            Fun::Acos => a.acos(),
+            Fun::Atan => a.atan(),
+            Fun::Sinh => a.sinh(),
+            Fun::Cosh => a.cosh(),
+            Fun::Tanh => a.tanh(),
+            Fun::Exp => a.exp(),
+            Fun::Ln => a.ln(),
+            Fun::Log10 => a.log10(),
+            Fun::Sqrt => a.sqrt(),
+            Fun::Abs => a.abs(),
+            Fun::Sign => {
+                if a == 0.0 {
+                    0.0
                 } else {
-                    let buf: Vec<f64> = slots.iter().map(|&s| input[s]).collect();
-                    ex.eval(&buf)
-                };
-                r.unwrap_or(f64::NAN)
+                    a.signum()
+                }
+            }
+            Fun::Atan2 | Fun::Min | Fun::Max => f64::NAN,
+        }
+    }
+
+    #[inline]
+    fn apply2(self, a: f64, b: f64) -> f64 {
+        match self {
+            Fun::Atan2 => a.atan2(b),
+            Fun::Min => a.min(b),
+            Fun::Max => a.max(b),
+            _ => f64::NAN,
+        }
+    }
+}
+
+/// One operation; its result is the value at its own index.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Op {
+    Const(f64),
+    /// Input slot: variable k (k < n), or time (slot n).
+    Slot(u32),
+    Neg(u32),
+    Add(u32, u32),
+    Sub(u32, u32),
+    Mul(u32, u32),
+    Div(u32, u32),
+    Pow(u32, u32),
+    Call1(Fun, u32),
+    Call2(Fun, u32, u32),
+}
+
+impl Op {
+    /// The values this operation reads.
+    fn operands(&self) -> (Option<u32>, Option<u32>) {
+        match *self {
+            Op::Const(_) | Op::Slot(_) => (None, None),
+            Op::Neg(a) | Op::Call1(_, a) => (Some(a), None),
+            Op::Add(a, b)
+            | Op::Sub(a, b)
+            | Op::Mul(a, b)
+            | Op::Div(a, b)
+            | Op::Pow(a, b)
+            | Op::Call2(_, a, b) => (Some(a), Some(b)),
+        }
+    }
+
+    #[inline]
+    fn eval(&self, vals: &[f64], t: f64, y: &[f64]) -> f64 {
+        let v = |k: u32| vals[k as usize];
+        match *self {
+            Op::Const(c) => c,
+            Op::Slot(k) => y.get(k as usize).copied().unwrap_or(t),
+            Op::Neg(a) => -v(a),
+            Op::Add(a, b) => v(a) + v(b),
+            Op::Sub(a, b) => v(a) - v(b),
+            Op::Mul(a, b) => v(a) * v(b),
+            Op::Div(a, b) => v(a) / v(b),
+            Op::Pow(a, b) => v(a).powf(v(b)),
+            Op::Call1(f, a) => f.apply1(v(a)),
+            Op::Call2(f, a, b) => f.apply2(v(a), v(b)),
+        }
+    }
+}
+
+/// Which expression of the scene something was written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Source {
+    /// The equation of variable k.
+    Equation(usize),
+    /// Observable k.
+    Observable(usize),
+    /// Expression k of the sketch (its marks' coordinates in order).
+    Mark(usize),
+}
+
+impl Source {
+    /// "the equation of `v`", "`lnx`", "the sketch's expression 3".
+    pub fn describe(self, scene: &SystemScene) -> String {
+        match self {
+            Source::Equation(k) => format!(
+                "the equation of `{}`",
+                scene.variables.get(k).map_or("?", String::as_str)
+            ),
+            Source::Observable(k) => format!(
+                "`{}`",
+                scene.observables.get(k).map_or("?", |(o, _)| o.as_str())
+            ),
+            Source::Mark(k) => {
+                let mut left = k;
+                for m in &scene.sketch {
+                    let exprs = m.exprs();
+                    if left < exprs.len() {
+                        return format!("the sketch's `{}` `{}`", m.key(), exprs[left]);
+                    }
+                    left -= exprs.len();
+                }
+                format!("sketch expression {}", k + 1)
             }
         }
     }
 }
 
-/// The parsed, checked expressions of a scene, before compilation.
+/// Why a scene does not compile, and in which expression.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompileError {
+    /// The expression at fault; `None` for the scene as a whole.
+    pub source: Option<Source>,
+    pub message: String,
+}
+
+impl std::fmt::Display for CompileError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+/// Why a value is not finite: the first operation that made it so.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Cause {
+    /// `ln` or `log10` of a negative number.
+    LogOfNegative(&'static str, f64),
+    /// `ln` or `log10` of zero.
+    LogOfZero(&'static str),
+    SqrtOfNegative(f64),
+    DivisionByZero,
+    /// Zero to a negative power (a division by zero too).
+    ZeroToNegativePower(f64),
+    /// A negative number to a power that is not an integer.
+    NegativeToFractionalPower(f64, f64),
+    /// `asin` or `acos` of a number outside [−1, 1].
+    OutsideUnitRange(&'static str, f64),
+    /// A finite operation whose result is too large for f64: which.
+    Overflow(&'static str),
+}
+
+impl Cause {
+    /// A value outside the domain of an operation (as opposed to a value
+    /// too large to hold, which is what a solution blowing up looks like).
+    pub fn is_domain(&self) -> bool {
+        !matches!(self, Cause::Overflow(_))
+    }
+}
+
+impl std::fmt::Display for Cause {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Cause::LogOfNegative(fun, a) => {
+                write!(f, "{fun} of a negative number ({fun}({}))", Num(*a))
+            }
+            Cause::LogOfZero(fun) => write!(f, "{fun} of zero"),
+            Cause::SqrtOfNegative(a) => {
+                write!(f, "square root of a negative number (sqrt({}))", Num(*a))
+            }
+            Cause::DivisionByZero => f.write_str("division by zero"),
+            Cause::ZeroToNegativePower(b) => {
+                write!(
+                    f,
+                    "zero to a negative power (0^{}), a division by zero",
+                    Num(*b)
+                )
+            }
+            Cause::NegativeToFractionalPower(a, b) => write!(
+                f,
+                "a negative number to a fractional power ({}^{})",
+                Num(*a),
+                Num(*b)
+            ),
+            Cause::OutsideUnitRange(fun, a) => {
+                write!(f, "{fun} of a number outside [-1, 1] ({fun}({}))", Num(*a))
+            }
+            Cause::Overflow(what) => write!(f, "{what} overflows"),
+        }
+    }
+}
+
+/// A value that is not finite: which expression, the value, the first
+/// operation at fault and the expression that operation was written in
+/// (an observable the expression uses, say).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fault {
+    pub source: Source,
+    pub value: f64,
+    pub cause: Cause,
+    pub written_in: Source,
+}
+
+impl Fault {
+    /// "`lnx` is NaN: ln of a negative number (ln(-0.5))"; the caller adds
+    /// the time.
+    pub fn describe(&self, scene: &SystemScene, t: f64) -> String {
+        let value = if self.value.is_nan() {
+            "NaN".to_string()
+        } else if self.value > 0.0 {
+            "infinite".to_string()
+        } else {
+            "-infinite".to_string()
+        };
+        let mut s = format!(
+            "{} is {value} at t = {}: {}",
+            self.source.describe(scene),
+            time(t),
+            self.cause
+        );
+        if self.written_in != self.source {
+            s.push_str(&format!(" in {}", self.written_in.describe(scene)));
+        }
+        s
+    }
+}
+
+/// A time to four significant digits, always with a decimal point.
+pub fn time(t: f64) -> String {
+    let mut s = crate::text::num::rounded(t, 4);
+    if !s.contains(['.', 'e', 'E']) {
+        s.push_str(".0");
+    }
+    s
+}
+
+/// The first operation of `ops` (in order) that gives a non-finite value
+/// from finite operands, among those `out` depends on, and why.
+fn cause_of(ops: &[Op], vals: &[f64], out: usize) -> Option<(usize, Cause)> {
+    let mut needed = vec![false; out + 1];
+    needed[out] = true;
+    for i in (0..=out).rev() {
+        if needed[i] {
+            let (a, b) = ops[i].operands();
+            for k in [a, b].into_iter().flatten() {
+                needed[k as usize] = true;
+            }
+        }
+    }
+    for i in 0..=out {
+        if !needed[i] || vals[i].is_finite() {
+            continue;
+        }
+        let (a, b) = ops[i].operands();
+        let x = a.map(|k| vals[k as usize]);
+        let z = b.map(|k| vals[k as usize]);
+        if x.is_some_and(|v| !v.is_finite()) || z.is_some_and(|v| !v.is_finite()) {
+            continue;
+        }
+        let x = x.unwrap_or(0.0);
+        let z = z.unwrap_or(0.0);
+        let cause = match ops[i] {
+            Op::Div(..) if z == 0.0 => Cause::DivisionByZero,
+            Op::Div(..) => Cause::Overflow("a division"),
+            Op::Pow(..) if x == 0.0 && z < 0.0 => Cause::ZeroToNegativePower(z),
+            Op::Pow(..) if x < 0.0 && z.fract() != 0.0 => Cause::NegativeToFractionalPower(x, z),
+            Op::Pow(..) => Cause::Overflow("a power"),
+            Op::Call1(f @ (Fun::Ln | Fun::Log10), _) if x == 0.0 => Cause::LogOfZero(f.name()),
+            Op::Call1(f @ (Fun::Ln | Fun::Log10), _) => Cause::LogOfNegative(f.name(), x),
+            Op::Call1(Fun::Sqrt, _) => Cause::SqrtOfNegative(x),
+            Op::Call1(f @ (Fun::Asin | Fun::Acos), _) => Cause::OutsideUnitRange(f.name(), x),
+            Op::Call1(f, _) | Op::Call2(f, ..) => Cause::Overflow(match f {
+                Fun::Exp => "exp",
+                Fun::Sinh => "sinh",
+                Fun::Cosh => "cosh",
+                Fun::Tan => "tan",
+                _ => "a function",
+            }),
+            Op::Add(..) => Cause::Overflow("a sum"),
+            Op::Sub(..) => Cause::Overflow("a difference"),
+            Op::Mul(..) => Cause::Overflow("a product"),
+            Op::Neg(..) | Op::Const(_) | Op::Slot(_) => continue,
+        };
+        return Some((i, cause));
+    }
+    None
+}
+
+/// The values of a tape: on the stack when short, else in a buffer of the
+/// thread kept between evaluations (a long tape is run thousands of times
+/// a second).
+const STACK: usize = 64;
+
+thread_local! {
+    static VALUES: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+fn with_values<R>(len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
+    if len <= STACK {
+        let mut buf = [0.0; STACK];
+        return f(&mut buf[..len]);
+    }
+    VALUES.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut buf) => {
+            if buf.len() < len {
+                buf.resize(len, 0.0);
+            }
+            f(&mut buf[..len])
+        }
+        // Only if an evaluation ever ran inside another.
+        Err(_) => f(&mut vec![0.0; len]),
+    })
+}
+
+/// A compiled tape with its outputs.
+#[derive(Debug, Clone, Default)]
+pub struct Program {
+    ops: Vec<Op>,
+    /// The expression each operation was written in (failure path only).
+    origin: Vec<Source>,
+    /// The value of each output, and the expression it is.
+    outputs: Vec<(u32, Source)>,
+}
+
+impl Program {
+    /// Operations run per evaluation.
+    pub fn len(&self) -> usize {
+        self.ops.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.ops.is_empty()
+    }
+
+    fn run(&self, t: f64, y: &[f64], vals: &mut [f64]) {
+        for (i, op) in self.ops.iter().enumerate() {
+            vals[i] = op.eval(vals, t, y);
+        }
+    }
+
+    /// Every output at (t, y), into `out`.
+    pub fn eval_into(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        with_values(self.ops.len(), |vals| {
+            self.run(t, y, vals);
+            for (o, (k, _)) in out.iter_mut().zip(&self.outputs) {
+                *o = vals[*k as usize];
+            }
+        });
+    }
+
+    /// Output `k` alone at (t, y): only the operations up to it run.
+    pub fn eval_one(&self, k: usize, t: f64, y: &[f64]) -> f64 {
+        let Some(&(last, _)) = self.outputs.get(k) else {
+            return f64::NAN;
+        };
+        let len = last as usize + 1;
+        with_values(len, |vals| {
+            for (i, op) in self.ops[..len].iter().enumerate() {
+                vals[i] = op.eval(vals, t, y);
+            }
+            vals[last as usize]
+        })
+    }
+
+    /// Outputs `0..=k` at (t, y), into `out[..=k]`: only the operations up
+    /// to output k run.
+    pub fn eval_upto(&self, k: usize, t: f64, y: &[f64], out: &mut [f64]) {
+        let Some(&(last, _)) = self.outputs.get(k) else {
+            return;
+        };
+        let len = last as usize + 1;
+        with_values(len, |vals| {
+            for (i, op) in self.ops[..len].iter().enumerate() {
+                vals[i] = op.eval(vals, t, y);
+            }
+            for (o, (v, _)) in out.iter_mut().zip(&self.outputs[..=k]) {
+                *o = vals[*v as usize];
+            }
+        });
+    }
+
+    /// The first output `which` picks that is not finite at (t, y), with
+    /// the first operation that made it so; `None` when each is finite (or
+    /// the first that is not has no operation to blame).
+    pub fn fault(&self, t: f64, y: &[f64], which: &dyn Fn(usize) -> bool) -> Option<Fault> {
+        let mut vals = vec![0.0; self.ops.len()];
+        self.run(t, y, &mut vals);
+        let &(out, source) = self
+            .outputs
+            .iter()
+            .enumerate()
+            .find(|(k, (v, _))| which(*k) && !vals[*v as usize].is_finite())
+            .map(|(_, o)| o)?;
+        let (at, cause) = cause_of(&self.ops, &vals, out as usize)?;
+        Some(Fault {
+            source,
+            value: vals[out as usize],
+            cause,
+            written_in: self.origin[at],
+        })
+    }
+
+    /// A division whose divisor is zero at (t1, y1) or changes sign
+    /// between (t0, y0) and (t1, y1), among the operations of the outputs:
+    /// the equation then grows without bound there, which a step-size
+    /// collapse alone would call a blow-up.
+    pub fn divisor_crossing(&self, t0: f64, y0: &[f64], t1: f64, y1: &[f64]) -> Option<Fault> {
+        let mut a = vec![0.0; self.ops.len()];
+        let mut b = vec![0.0; self.ops.len()];
+        self.run(t0, y0, &mut a);
+        self.run(t1, y1, &mut b);
+        let crossed = |k: u32| {
+            let (p, q) = (a[k as usize], b[k as usize]);
+            p.is_finite() && q.is_finite() && (q == 0.0 || p.signum() != q.signum())
+        };
+        for (&(out, source), _) in self.outputs.iter().zip(0..) {
+            let mut needed = vec![false; out as usize + 1];
+            needed[out as usize] = true;
+            for i in (0..=out as usize).rev() {
+                if !needed[i] {
+                    continue;
+                }
+                let (x, z) = self.ops[i].operands();
+                for k in [x, z].into_iter().flatten() {
+                    needed[k as usize] = true;
+                }
+            }
+            for (i, op) in self.ops[..=out as usize].iter().enumerate() {
+                if !needed[i] {
+                    continue;
+                }
+                let cause = match *op {
+                    Op::Div(_, d) if crossed(d) => Cause::DivisionByZero,
+                    Op::Pow(base, e) if crossed(base) && b[e as usize] < 0.0 => {
+                        Cause::ZeroToNegativePower(b[e as usize])
+                    }
+                    _ => continue,
+                };
+                return Some(Fault {
+                    source,
+                    value: a[out as usize],
+                    cause,
+                    written_in: self.origin[i],
+                });
+            }
+        }
+        None
+    }
+
+    /// ∂(output i)/∂(y_j) for every output i and variable j < n at (t, y),
+    /// by forward differentiation along the tape, into `jac` (outputs ×
+    /// n). A derivative of an operation none of whose operands moves with
+    /// y_j is zero, so a singular rule (√ at 0) elsewhere cannot spoil it.
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
+        let len = self.ops.len();
+        let mut vals = vec![0.0; len];
+        self.run(t, y, &mut vals);
+        let mut dot = vec![0.0; len];
+        for j in 0..y.len() {
+            for (i, op) in self.ops.iter().enumerate() {
+                dot[i] = derivative(op, &vals, &dot, i, j);
+            }
+            for (r, (k, _)) in self.outputs.iter().enumerate() {
+                jac[(r, j)] = dot[*k as usize];
+            }
+        }
+    }
+}
+
+/// `d` times the factor `f`, zero when `d` is (so an infinite factor of a
+/// term that does not move stays out).
+#[inline]
+fn times(d: f64, f: f64) -> f64 {
+    if d == 0.0 { 0.0 } else { d * f }
+}
+
+/// The tangent of operation `i` from its operands' values and tangents.
+#[inline]
+fn derivative(op: &Op, vals: &[f64], dot: &[f64], i: usize, j: usize) -> f64 {
+    let v = |k: u32| vals[k as usize];
+    let d = |k: u32| dot[k as usize];
+    let me = vals[i];
+    match *op {
+        Op::Const(_) => 0.0,
+        Op::Slot(k) => {
+            if k as usize == j {
+                1.0
+            } else {
+                0.0
+            }
+        }
+        Op::Neg(a) => -d(a),
+        Op::Add(a, b) => d(a) + d(b),
+        Op::Sub(a, b) => d(a) - d(b),
+        Op::Mul(a, b) => times(d(a), v(b)) + times(d(b), v(a)),
+        Op::Div(a, b) => times(d(a), 1.0 / v(b)) - times(d(b), me / v(b)),
+        Op::Pow(a, b) => {
+            let (x, e) = (v(a), v(b));
+            let by_base = if d(a) == 0.0 {
+                0.0
+            } else {
+                d(a) * e * x.powf(e - 1.0)
+            };
+            by_base + times(d(b), me * x.ln())
+        }
+        Op::Call1(f, a) => {
+            let da = d(a);
+            if da == 0.0 {
+                return 0.0;
+            }
+            let x = v(a);
+            da * match f {
+                Fun::Sin => x.cos(),
+                Fun::Cos => -x.sin(),
+                Fun::Tan => 1.0 + me * me,
+                Fun::Asin => 1.0 / (1.0 - x * x).sqrt(),
+                Fun::Acos => -1.0 / (1.0 - x * x).sqrt(),
+                Fun::Atan => 1.0 / (1.0 + x * x),
+                Fun::Sinh => x.cosh(),
+                Fun::Cosh => x.sinh(),
+                Fun::Tanh => 1.0 - me * me,
+                Fun::Exp => me,
+                Fun::Ln => 1.0 / x,
+                Fun::Log10 => 1.0 / (x * std::f64::consts::LN_10),
+                Fun::Sqrt => 0.5 / me,
+                Fun::Abs => Fun::Sign.apply1(x),
+                Fun::Sign => 0.0,
+                Fun::Atan2 | Fun::Min | Fun::Max => f64::NAN,
+            }
+        }
+        Op::Call2(f, a, b) => {
+            let (x, z) = (v(a), v(b));
+            match f {
+                // atan2(y = x, x = z): (z dy − y dz) / (y² + z²).
+                Fun::Atan2 => {
+                    let r2 = x * x + z * z;
+                    times(d(a), z / r2) - times(d(b), x / r2)
+                }
+                // The branch the value came from.
+                Fun::Min | Fun::Max => {
+                    if me == x {
+                        d(a)
+                    } else {
+                        d(b)
+                    }
+                }
+                _ => f64::NAN,
+            }
+        }
+    }
+}
+
+/// Builds one program: each observable it needs compiled once, before the
+/// expressions that use it.
+struct Builder<'a> {
+    scene: &'a SystemScene,
+    n: usize,
+    prog: Program,
+    slots: Vec<Option<u32>>,
+    observables: Vec<Option<u32>>,
+    source: Source,
+}
+
+impl<'a> Builder<'a> {
+    fn new(scene: &'a SystemScene) -> Builder<'a> {
+        let n = scene.variables.len();
+        Builder {
+            scene,
+            n,
+            prog: Program::default(),
+            slots: vec![None; n + 1],
+            observables: vec![None; scene.observables.len()],
+            source: Source::Equation(0),
+        }
+    }
+
+    fn push(&mut self, op: Op) -> Result<u32, CompileError> {
+        // Operations of numbers are done now, unless the result is not
+        // finite (then the run names it, with its cause).
+        let (a, b) = op.operands();
+        let konst = |k: Option<u32>| match k.map(|k| self.prog.ops[k as usize]) {
+            None => true,
+            Some(Op::Const(_)) => true,
+            Some(_) => false,
+        };
+        let op = if a.is_some() && konst(a) && konst(b) {
+            let value = op.eval(&self.const_values(a, b), 0.0, &[]);
+            if value.is_finite() {
+                // The operands were pushed just before and nothing else
+                // reads a number: they go.
+                for k in [b, a].into_iter().flatten() {
+                    if k as usize + 1 == self.prog.ops.len() {
+                        self.prog.ops.pop();
+                        self.prog.origin.pop();
+                    }
+                }
+                Op::Const(value)
+            } else {
+                op
+            }
+        } else {
+            op
+        };
+        if self.prog.ops.len() >= MAX_PROGRAM {
+            return Err(CompileError {
+                source: Some(self.source),
+                message: format!(
+                    "{} compiles to more than {MAX_PROGRAM} operations (with the observables it uses)",
+                    self.source.describe(self.scene)
+                ),
+            });
+        }
+        self.prog.ops.push(op);
+        self.prog.origin.push(self.source);
+        Ok((self.prog.ops.len() - 1) as u32)
+    }
+
+    /// A value table where the constant operands sit at their indices.
+    fn const_values(&self, a: Option<u32>, b: Option<u32>) -> Vec<f64> {
+        let top = a.max(b).map_or(0, |k| k as usize + 1);
+        let mut vals = vec![0.0; top];
+        for k in [a, b].into_iter().flatten() {
+            if let Op::Const(c) = self.prog.ops[k as usize] {
+                vals[k as usize] = c;
+            }
+        }
+        vals
+    }
+
+    fn slot(&mut self, k: usize) -> Result<u32, CompileError> {
+        if let Some(v) = self.slots[k] {
+            return Ok(v);
+        }
+        let v = self.push(Op::Slot(k as u32))?;
+        self.slots[k] = Some(v);
+        Ok(v)
+    }
+
+    fn name(&mut self, name: &str) -> Result<u32, CompileError> {
+        match name {
+            "pi" => return self.push(Op::Const(std::f64::consts::PI)),
+            "e" => return self.push(Op::Const(std::f64::consts::E)),
+            "t" => return self.slot(self.n),
+            _ => {}
+        }
+        if let Some(k) = self.scene.variables.iter().position(|v| v == name) {
+            return self.slot(k);
+        }
+        if let Some((_, v)) = self.scene.params.iter().find(|(p, _)| p == name) {
+            return self.push(Op::Const(*v));
+        }
+        if let Some(k) = self.scene.observables.iter().position(|(o, _)| o == name)
+            && let Some(v) = self.observables[k]
+        {
+            return Ok(v);
+        }
+        Err(CompileError {
+            source: Some(self.source),
+            message: format!(
+                "{} uses `{name}`, which is not defined before it",
+                self.source.describe(self.scene)
+            ),
+        })
+    }
+
+    /// Compiles `node`; recursion is bounded by [`expr::MAX_DEPTH`].
+    fn expr(&mut self, node: &Node) -> Result<u32, CompileError> {
+        Ok(match node {
+            Node::Num(v) => self.push(Op::Const(*v))?,
+            Node::Name(n, _) => self.name(n)?,
+            Node::Neg(a) => {
+                let a = self.expr(a)?;
+                self.push(Op::Neg(a))?
+            }
+            Node::Bin(op, a, b) => {
+                let a = self.expr(a)?;
+                let b = self.expr(b)?;
+                self.push(match op {
+                    '+' => Op::Add(a, b),
+                    '-' => Op::Sub(a, b),
+                    '*' => Op::Mul(a, b),
+                    '/' => Op::Div(a, b),
+                    _ => Op::Pow(a, b),
+                })?
+            }
+            Node::Call(f, args) => {
+                let fun = Fun::of(f).ok_or_else(|| CompileError {
+                    source: Some(self.source),
+                    message: format!("`{f}` is not a function"),
+                })?;
+                match args.as_slice() {
+                    [a] => {
+                        let a = self.expr(a)?;
+                        self.push(Op::Call1(fun, a))?
+                    }
+                    [a, b] => {
+                        let a = self.expr(a)?;
+                        let b = self.expr(b)?;
+                        self.push(Op::Call2(fun, a, b))?
+                    }
+                    _ => {
+                        return Err(CompileError {
+                            source: Some(self.source),
+                            message: format!("`{f}` takes {} arguments", args.len()),
+                        });
+                    }
+                }
+            }
+        })
+    }
+
+    /// Compiles the observables `nodes` need (those they use, and those
+    /// these use, in order), each once.
+    fn observables_for(&mut self, parsed: &Parsed, nodes: &[&Node]) -> Result<(), CompileError> {
+        let m = parsed.observables.len();
+        let mut needed = vec![false; m];
+        for node in nodes {
+            for k in parsed.uses(node) {
+                needed[k] = true;
+            }
+        }
+        // An observable uses only earlier ones: one pass downwards closes.
+        for k in (0..m).rev() {
+            if needed[k] {
+                for &j in &parsed.deps[k] {
+                    needed[j] = true;
+                }
+            }
+        }
+        let before = self.source;
+        for (k, &need) in needed.iter().enumerate() {
+            if need && self.observables[k].is_none() {
+                self.source = Source::Observable(k);
+                let v = self.expr(&parsed.observables[k])?;
+                self.observables[k] = Some(v);
+            }
+        }
+        self.source = before;
+        Ok(())
+    }
+
+    /// Compiles each `(source, node)` as an output.
+    fn outputs(
+        mut self,
+        parsed: &Parsed,
+        exprs: &[(Source, &Node)],
+    ) -> Result<Program, CompileError> {
+        let nodes: Vec<&Node> = exprs.iter().map(|(_, n)| *n).collect();
+        self.observables_for(parsed, &nodes)?;
+        for (source, node) in exprs {
+            self.source = *source;
+            let v = self.expr(node)?;
+            self.prog.outputs.push((v, *source));
+        }
+        Ok(self.prog)
+    }
+}
+
+/// The parsed expressions of a scene, and which observables each
+/// observable uses.
 struct Parsed {
     equations: Vec<Node>,
     observables: Vec<Node>,
     marks: Vec<Node>,
+    /// Observables (by index) each observable uses directly.
+    deps: Vec<Vec<usize>>,
+    names: Vec<String>,
 }
 
-/// Canonical texts of the observables, each with earlier ones expanded.
-fn observable_texts(scene: &SystemScene, nodes: &[Node]) -> Vec<String> {
-    let mut texts: Vec<String> = Vec::new();
-    for node in nodes {
-        let t = canonical(scene, node, &texts);
-        texts.push(t);
-    }
-    texts
-}
-
-fn canonical(scene: &SystemScene, node: &Node, obs: &[String]) -> String {
-    expr::canonical(node, &|name| {
-        if let Some((_, v)) = scene.params.iter().find(|(p, _)| p == name) {
-            return Subst::Value(*v);
-        }
-        if let Some(k) = scene.observables.iter().position(|(o, _)| o == name)
-            && let Some(t) = obs.get(k)
-        {
-            return Subst::Text(t);
-        }
-        Subst::Var
-    })
-}
-
-fn parse_all(scene: &SystemScene) -> Result<Parsed, String> {
-    let p = |what: &str, text: &str| expr::parse(text).map_err(|e| format!("{what} `{text}`: {e}"));
-    Ok(Parsed {
-        equations: scene
+impl Parsed {
+    fn new(scene: &SystemScene) -> Result<Parsed, CompileError> {
+        let parse = |source: Source, text: &str| {
+            expr::parse(text).map_err(|e| CompileError {
+                source: Some(source),
+                message: format!("{}: {e}", source.describe(scene)),
+            })
+        };
+        let equations = scene
             .equations
             .iter()
-            .map(|e| p("equation", e))
-            .collect::<Result<_, _>>()?,
-        observables: scene
+            .enumerate()
+            .map(|(k, e)| parse(Source::Equation(k), e))
+            .collect::<Result<Vec<_>, _>>()?;
+        let observables = scene
             .observables
             .iter()
-            .map(|(_, e)| p("observable", e))
-            .collect::<Result<_, _>>()?,
-        marks: scene
+            .enumerate()
+            .map(|(k, (_, e))| parse(Source::Observable(k), e))
+            .collect::<Result<Vec<_>, _>>()?;
+        let marks = scene
             .sketch
             .iter()
             .flat_map(|m| m.exprs())
-            .map(|e| p("sketch", e))
-            .collect::<Result<_, _>>()?,
-    })
+            .enumerate()
+            .map(|(k, e)| parse(Source::Mark(k), e))
+            .collect::<Result<Vec<_>, _>>()?;
+        let names: Vec<String> = scene.observables.iter().map(|(o, _)| o.clone()).collect();
+        let mut parsed = Parsed {
+            equations,
+            observables,
+            marks,
+            deps: Vec::new(),
+            names,
+        };
+        parsed.deps = parsed.observables.iter().map(|o| parsed.uses(o)).collect();
+        Ok(parsed)
+    }
+
+    /// The observables `node` names.
+    fn uses(&self, node: &Node) -> Vec<usize> {
+        let mut names = Vec::new();
+        expr::names(node, &mut names);
+        names
+            .iter()
+            .filter_map(|n| self.names.iter().position(|o| o == n))
+            .collect()
+    }
+}
+
+/// What a step of a scene costs, in operations of its programs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Cost {
+    /// Variables.
+    pub n: usize,
+    /// Operations of one evaluation of the right-hand side.
+    pub rhs: usize,
+    /// Of all the observables, and of the sketch's expressions.
+    pub observables: usize,
+    pub marks: usize,
+}
+
+/// Right-hand side evaluations of one step of the costliest method (DOP853's
+/// twelve stages and the new point; Radau's Newton iterations are fewer).
+pub const EVALS_PER_STEP: usize = 13;
+
+impl Cost {
+    /// Operations one step may run: the stages, the Jacobian (one pass of
+    /// the equations per variable), its LU decomposition (about n³), and the
+    /// samples of every observable and sketch expression
+    /// ([`crate::sim::scene::system::POINTS_PER_STEP`] a step).
+    pub fn per_step(&self) -> f64 {
+        let n = self.n as f64;
+        let points = crate::sim::scene::system::POINTS_PER_STEP as f64;
+        (self.rhs as f64) * (EVALS_PER_STEP as f64 + n)
+            + n * n * n
+            + points * (self.observables + self.marks + self.n) as f64
+    }
 }
 
 /// A system scene compiled for the solvers.
 #[derive(Debug, Clone)]
 pub struct System {
     n: usize,
-    rhs: Vec<Fast>,
-    /// Row-major n×n; `None` where no derivative rule applies (that entry
-    /// is a central difference of its equation). Empty unless built.
-    jac: Vec<Option<Fast>>,
-    observables: Vec<Fast>,
-    marks: Vec<Fast>,
+    rhs: Program,
+    observables: Program,
+    marks: Program,
+    /// The exact Jacobian is used (implicit methods); else differences.
+    jacobian: bool,
 }
 
 impl System {
     /// Compiles the right-hand side, observables and sketch; with
-    /// `jacobian`, also the symbolic partial derivatives.
-    pub fn compile(scene: &SystemScene, jacobian: bool) -> Result<System, String> {
-        let parsed = parse_all(scene)?;
-        let n = scene.variables.len();
-        let obs = observable_texts(scene, &parsed.observables);
-        let slot_of = |name: &str| -> Option<usize> {
-            if name == "t" {
-                Some(n)
-            } else {
-                scene.variables.iter().position(|v| v == name)
-            }
-        };
-        let build = |text: &str| -> Result<(Ex, Fast), String> {
-            let ex = Ex::parse(text).map_err(|e| format!("`{text}`: {e}"))?;
-            let fast = Fast::new(ex.clone(), &slot_of)?;
-            Ok((ex, fast))
-        };
-        let mut rhs = Vec::with_capacity(n);
-        let mut rhs_ex = Vec::with_capacity(n);
-        for node in &parsed.equations {
-            let (ex, fast) = build(&canonical(scene, node, &obs))?;
-            rhs.push(fast);
-            rhs_ex.push(ex);
-        }
-        let mut jac = Vec::new();
-        if jacobian {
-            for ex in &rhs_ex {
-                let names = ex.var_names().to_vec();
-                for v in &scene.variables {
-                    let entry = match names.iter().position(|x| x == v) {
-                        None => Some(Fast::Const(0.0)),
-                        Some(idx) => match ex.clone().partial(idx) {
-                            Ok(d) => Some(Fast::new(d, &slot_of)?),
-                            Err(_) => None,
-                        },
-                    };
-                    jac.push(entry);
-                }
-            }
-        }
-        let observables = obs
+    /// `jacobian`, the solvers get the exact derivative of the equations.
+    pub fn compile(scene: &SystemScene, jacobian: bool) -> Result<System, CompileError> {
+        let parsed = Parsed::new(scene)?;
+        let equations: Vec<(Source, &Node)> = parsed
+            .equations
             .iter()
-            .map(|t| build(t).map(|b| b.1))
-            .collect::<Result<_, _>>()?;
-        let marks = parsed
+            .enumerate()
+            .map(|(k, e)| (Source::Equation(k), e))
+            .collect();
+        let rhs = Builder::new(scene).outputs(&parsed, &equations)?;
+        let observables: Vec<(Source, &Node)> = parsed
+            .observables
+            .iter()
+            .enumerate()
+            .map(|(k, e)| (Source::Observable(k), e))
+            .collect();
+        // Each observable is its own output, and the output of a later one
+        // reads the earlier ones' values.
+        let mut b = Builder::new(scene);
+        for (source, node) in &observables {
+            b.source = *source;
+            let v = b.expr(node)?;
+            if let Source::Observable(k) = source {
+                b.observables[*k] = Some(v);
+            }
+            b.prog.outputs.push((v, *source));
+        }
+        let observables = b.prog;
+        let marks: Vec<(Source, &Node)> = parsed
             .marks
             .iter()
-            .map(|node| build(&canonical(scene, node, &obs)).map(|b| b.1))
-            .collect::<Result<_, _>>()?;
+            .enumerate()
+            .map(|(k, e)| (Source::Mark(k), e))
+            .collect();
+        let marks = Builder::new(scene).outputs(&parsed, &marks)?;
         Ok(System {
-            n,
+            n: scene.variables.len(),
             rhs,
-            jac,
             observables,
             marks,
+            jacobian,
         })
     }
 
+    /// Whether the solvers get the exact Jacobian.
     pub fn has_jacobian(&self) -> bool {
-        !self.jac.is_empty()
+        self.jacobian
     }
 
-    /// How many Jacobian entries fall back to differences.
-    pub fn differenced_entries(&self) -> usize {
-        self.jac.iter().filter(|e| e.is_none()).count()
-    }
-
-    fn input(&self, t: f64, y: &[f64]) -> InputBuf {
-        let mut buf = InputBuf::new(self.n + 1);
-        buf.as_mut()[..self.n].copy_from_slice(y);
-        buf.as_mut()[self.n] = t;
-        buf
+    pub fn cost(&self) -> Cost {
+        Cost {
+            n: self.n,
+            rhs: self.rhs.len(),
+            observables: self.observables.len(),
+            marks: self.marks.len(),
+        }
     }
 
     /// Observable `k` at (t, y).
     pub fn observable(&self, k: usize, t: f64, y: &[f64]) -> f64 {
-        self.observables[k].eval(self.input(t, y).as_ref())
+        self.observables.eval_one(k, t, y)
+    }
+
+    /// Every observable at (t, y), into `out`.
+    pub fn observables_into(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        self.observables.eval_into(t, y, out);
     }
 
     pub fn observable_count(&self) -> usize {
-        self.observables.len()
+        self.observables.outputs.len()
     }
 
     /// Sketch coordinate `k` (the sketch's expressions in order) at (t, y).
     pub fn mark(&self, k: usize, t: f64, y: &[f64]) -> f64 {
-        self.marks[k].eval(self.input(t, y).as_ref())
+        self.marks.eval_one(k, t, y)
+    }
+
+    /// Every sketch coordinate at (t, y), into `out`.
+    pub fn marks_into(&self, t: f64, y: &[f64], out: &mut [f64]) {
+        self.marks.eval_into(t, y, out);
     }
 
     pub fn mark_count(&self) -> usize {
-        self.marks.len()
+        self.marks.outputs.len()
     }
-}
 
-/// The input slots (variables, then t), on the stack for small systems.
-enum InputBuf {
-    Stack([f64; STACK], usize),
-    Heap(Vec<f64>),
-}
+    /// Observables `0..=k` at (t, y), into `out[..=k]`.
+    pub fn observables_upto(&self, k: usize, t: f64, y: &[f64], out: &mut [f64]) {
+        self.observables.eval_upto(k, t, y, out);
+    }
 
-impl InputBuf {
-    fn new(len: usize) -> InputBuf {
-        if len <= STACK {
-            InputBuf::Stack([0.0; STACK], len)
-        } else {
-            InputBuf::Heap(vec![0.0; len])
-        }
+    /// The programs, for the failure path ([`Program::fault`]).
+    pub fn equations(&self) -> &Program {
+        &self.rhs
     }
-    fn as_mut(&mut self) -> &mut [f64] {
-        match self {
-            InputBuf::Stack(a, n) => &mut a[..*n],
-            InputBuf::Heap(v) => v,
-        }
+    pub fn observable_program(&self) -> &Program {
+        &self.observables
     }
-    fn as_ref(&self) -> &[f64] {
-        match self {
-            InputBuf::Stack(a, n) => &a[..*n],
-            InputBuf::Heap(v) => v,
-        }
+    pub fn mark_program(&self) -> &Program {
+        &self.marks
+    }
+
+    /// Why an equation is not finite at (t, y), if one is not.
+    pub fn rhs_fault(&self, t: f64, y: &[f64]) -> Option<Fault> {
+        self.rhs.fault(t, y, &|_| true)
+    }
+
+    /// Why an observable is not finite at (t, y), if one is not.
+    pub fn observable_fault(&self, t: f64, y: &[f64]) -> Option<Fault> {
+        self.observables.fault(t, y, &|_| true)
     }
 }
 
@@ -392,10 +1091,7 @@ impl OdeSystem for System {
     }
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let input = self.input(t, y);
-        for (d, f) in dy.iter_mut().zip(&self.rhs) {
-            *d = f.eval(input.as_ref());
-        }
+        self.rhs.eval_into(t, y, dy);
     }
 
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
@@ -403,122 +1099,17 @@ impl OdeSystem for System {
         if jac.nrows() != n || jac.ncols() != n {
             *jac = DMatrix::zeros(n, n);
         }
-        if self.jac.is_empty() {
-            crate::sim::solvers::ode::finite_difference_jacobian(self, t, y, jac);
-            return;
-        }
-        let mut input = self.input(t, y);
-        for i in 0..n {
-            for j in 0..n {
-                jac[(i, j)] = match &self.jac[i * n + j] {
-                    Some(d) => d.eval(input.as_ref()),
-                    None => {
-                        let yj = y[j];
-                        let h = f64::EPSILON.cbrt() * yj.abs().max(1e-3);
-                        input.as_mut()[j] = yj + h;
-                        let up = self.rhs[i].eval(input.as_ref());
-                        input.as_mut()[j] = yj - h;
-                        let down = self.rhs[i].eval(input.as_ref());
-                        input.as_mut()[j] = yj;
-                        (up - down) / (2.0 * h)
-                    }
-                };
+        if self.jacobian {
+            self.rhs.jacobian(t, y, jac);
+            if jac.iter().all(|v| v.is_finite()) {
+                return;
             }
         }
+        // At a point where a derivative is singular (√ at 0), differences
+        // (one-sided where f is not finite on one side) still give a matrix.
+        crate::sim::solvers::ode::finite_difference_jacobian(self, t, y, jac);
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::sim::scene::spec::{Mark, SystemPanel};
-
-    pub(crate) fn pendulum() -> SystemScene {
-        SystemScene {
-            id: "p".into(),
-            title: None,
-            variables: vec!["theta".into(), "omega".into()],
-            initial: vec![2.9670597283903604, 0.0],
-            params: vec![("g".into(), 9.81), ("L".into(), 1.0)],
-            equations: vec!["omega".into(), "-g/L*sin(theta)".into()],
-            observables: vec![
-                (
-                    "energy".into(),
-                    "0.5*L^2*omega^2 + g*L*(1 - cos(theta))".into(),
-                ),
-                ("x".into(), "L*sin(theta)".into()),
-                ("y".into(), "-L*cos(theta)".into()),
-                ("r".into(), "sqrt(x^2 + y^2)".into()),
-            ],
-            conserved: vec!["energy".into()],
-            duration: 20.0,
-            show: vec![SystemPanel::Plot],
-            plot: vec!["theta".into()],
-            phase: None,
-            sketch: vec![Mark::Line(["0".into(), "0".into(), "x".into(), "y".into()])],
-            time_unit: "s".into(),
-        }
-    }
-
-    #[test]
-    fn evaluates_what_was_written() {
-        let s = System::compile(&pendulum(), true).unwrap();
-        let y = [0.7, -1.3];
-        let mut dy = [0.0; 2];
-        s.rhs(0.0, &y, &mut dy);
-        assert_eq!(dy[0], -1.3);
-        assert!((dy[1] + 9.81 * 0.7f64.sin()).abs() < 1e-14);
-        let e = 0.5 * 1.3f64.powi(2) + 9.81 * (1.0 - 0.7f64.cos());
-        assert!((s.observable(0, 0.0, &y) - e).abs() < 1e-13);
-        // An observable built on earlier ones.
-        assert!((s.observable(3, 0.0, &y) - 1.0).abs() < 1e-15);
-        assert!((s.mark(2, 0.0, &y) - 0.7f64.sin()).abs() < 1e-15);
-        assert_eq!(s.mark(0, 0.0, &y), 0.0);
-    }
-
-    #[test]
-    fn symbolic_jacobian_matches_differences() {
-        let mut scene = pendulum();
-        scene.equations[1] = "-g/L*sin(theta) - 0.1*abs(omega)*omega + t^2".into();
-        let s = System::compile(&scene, true).unwrap();
-        // Differentiating a row that calls `abs` fails as a whole.
-        assert_eq!(s.differenced_entries(), 2);
-        let y = [0.4, 0.9];
-        let mut j = DMatrix::zeros(2, 2);
-        s.jacobian(1.5, &y, &mut j);
-        let mut fd = DMatrix::zeros(2, 2);
-        crate::sim::solvers::ode::finite_difference_jacobian(&s, 1.5, &y, &mut fd);
-        assert!((&j - &fd).abs().max() < 1e-8, "{j} vs {fd}");
-        assert_eq!(j[(0, 1)], 1.0);
-        let s = System::compile(&pendulum(), true).unwrap();
-        assert_eq!(s.differenced_entries(), 0);
-        s.jacobian(0.0, &y, &mut j);
-        assert!((j[(1, 0)] + 9.81 * 0.4f64.cos()).abs() < 1e-14);
-        assert_eq!(j[(1, 1)], 0.0);
-    }
-
-    #[test]
-    fn mathematics_conventions_hold() {
-        let mut scene = pendulum();
-        scene.observables = vec![
-            ("a".into(), "-theta^2".into()),
-            ("b".into(), "2^3^2".into()),
-            ("c".into(), "1e-3*theta + 2.5E+1".into()),
-            (
-                "d".into(),
-                "atan2(1, -1) + min(theta, 0) + max(theta, 0) + sign(-3)".into(),
-            ),
-            ("f".into(), "pi + e + log10(100) + ln(e)".into()),
-        ];
-        scene.sketch.clear();
-        let s = System::compile(&scene, false).unwrap();
-        let y = [3.0, 0.0];
-        assert_eq!(s.observable(0, 0.0, &y), -9.0);
-        assert_eq!(s.observable(1, 0.0, &y), 512.0);
-        assert!((s.observable(2, 0.0, &y) - 25.003).abs() < 1e-12);
-        let d = (1.0f64).atan2(-1.0) + 0.0 + 3.0 - 1.0;
-        assert!((s.observable(3, 0.0, &y) - d).abs() < 1e-14);
-        let f = std::f64::consts::PI + std::f64::consts::E + 3.0;
-        assert!((s.observable(4, 0.0, &y) - f).abs() < 1e-14);
-    }
-}
+pub(crate) mod tests;

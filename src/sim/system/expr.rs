@@ -1,15 +1,15 @@
-//! The expressions instructors write in a system scene: checked here, with
-//! the byte offset of every problem inside the expression, then handed to
-//! `exmex` (see [`super::compile`]) in a canonical, fully parenthesised
-//! spelling.
-//!
-//! The check is ours because a deck error must point at the character that
-//! is wrong (`exmex` reports no positions), and because `exmex`'s default
-//! grammar differs from written mathematics in three places the canonical
-//! form settles: `-x^2` is −(x²), `a^b^c` is a^(b^c), and numbers may carry
+//! The expressions instructors write in a system scene: parsed and checked
+//! here, with the byte offset of every problem inside the expression (a
+//! deck error points at the character that is wrong), into the tree
+//! [`super::compile`] turns into a program. The grammar is written
+//! mathematics: `-x^2` is −(x²), `a^b^c` is a^(b^c), and numbers may carry
 //! an exponent (`1e-3`).
-
-use std::fmt::Write as _;
+//!
+//! A deck is input we did not write, so the parser bounds its work: at most
+//! [`MAX_NESTING`] parentheses and calls open at once (checked before it
+//! recurses into one more, so 8000 parentheses are an error at the one too
+//! many, not a stack overflow), a tree at most [`MAX_DEPTH`] deep, and
+//! [`MAX_NODES`] numbers, names and operations per expression.
 
 /// The functions an expression may call, with their number of arguments.
 pub const FUNCTIONS: [(&str, usize); 18] = [
@@ -39,6 +39,20 @@ pub const BUILTINS: [&str; 3] = ["pi", "e", "t"];
 /// Longest name of a variable, parameter or observable (so a measure naming
 /// one stays a small copyable value, see [`super::Name`]).
 pub const MAX_NAME: usize = super::name::CAPACITY;
+
+/// Deepest nesting of an expression's tree: operators and calls inside
+/// one another (a sum of k terms nests k − 1 deep, `-(-(x))` 3). Every
+/// walk over an expression recurses once per level, so this bounds the
+/// stack they use whatever a deck holds; written mathematics stays far
+/// below it.
+pub const MAX_DEPTH: usize = 200;
+
+/// Most parentheses and calls open at once: the parser recurses into each
+/// (sums, products, signs and powers it reads without recursion).
+pub const MAX_NESTING: usize = 64;
+
+/// Most operations (numbers, names, operators, calls) in one expression.
+pub const MAX_NODES: usize = 10_000;
 
 /// The arity of a function name, if it is one.
 pub fn arity(name: &str) -> Option<usize> {
@@ -223,6 +237,26 @@ struct Parser<'a> {
     toks: &'a [(Tok, usize, usize)],
     pos: usize,
     end: usize,
+    /// Parentheses and calls open around the token being parsed (bounded
+    /// by [`MAX_NESTING`] before the parser recurses into one more).
+    level: usize,
+    /// Nodes built so far (bounded by [`MAX_NODES`]).
+    nodes: usize,
+}
+
+/// A node with the depth of its tree (a leaf is 1).
+type Built = (Node, usize);
+
+/// One element of a power chain: the positions of the minus signs before
+/// it, the element, and the position of the `^` after it.
+type Link = (Vec<(usize, usize)>, Built, (usize, usize));
+
+/// The parser's error: boxed, so that what each level of a nested
+/// expression keeps on the stack stays small.
+type PResult<T> = Result<T, Box<ExprError>>;
+
+fn precedence(op: char) -> u8 {
+    if op == '+' || op == '-' { 1 } else { 2 }
 }
 
 impl Parser<'_> {
@@ -234,102 +268,196 @@ impl Parser<'_> {
             .get(self.pos)
             .map_or((self.end, 1), |t| (t.1, t.2))
     }
-    fn expected(&self, what: &str) -> ExprError {
+    fn expected(&self, what: &str) -> Box<ExprError> {
         let (at, len) = self.at();
         let found = self.peek().map_or("the end".to_string(), describe);
-        ExprError::new(at, len, format!("expected {what}, found {found}"))
+        Box::new(ExprError::new(
+            at,
+            len,
+            format!("expected {what}, found {found}"),
+        ))
     }
 
-    fn sum(&mut self) -> Result<Node, ExprError> {
-        let mut left = self.product()?;
-        while let Some(Tok::Op(c @ ('+' | '-'))) = self.peek() {
-            let c = *c;
-            self.pos += 1;
-            let right = self.product()?;
-            left = Node::Bin(c, Box::new(left), Box::new(right));
+    /// Counts a new node of depth `depth` made at `at`.
+    fn node(&mut self, node: Node, depth: usize, at: (usize, usize)) -> PResult<Built> {
+        self.nodes += 1;
+        if depth > MAX_DEPTH {
+            return Err(Box::new(too_deep(at.0, at.1)));
         }
-        Ok(left)
-    }
-
-    fn product(&mut self) -> Result<Node, ExprError> {
-        let mut left = self.unary()?;
-        while let Some(Tok::Op(c @ ('*' | '/'))) = self.peek() {
-            let c = *c;
-            self.pos += 1;
-            let right = self.unary()?;
-            left = Node::Bin(c, Box::new(left), Box::new(right));
+        if self.nodes > MAX_NODES {
+            return Err(Box::new(
+                ExprError::new(
+                    at.0,
+                    at.1,
+                    format!(
+                        "the expression has more than {MAX_NODES} numbers, names and operations"
+                    ),
+                )
+                .hint("split it into observables"),
+            ));
         }
-        Ok(left)
+        Ok((node, depth))
     }
 
-    fn unary(&mut self) -> Result<Node, ExprError> {
-        match self.peek() {
-            Some(Tok::Op('-')) => {
-                self.pos += 1;
-                Ok(Node::Neg(Box::new(self.unary()?)))
+    /// A sum of products: `operand (op operand)*` with `*` and `/` before
+    /// `+` and `-`, each left to right. Operators wait on a stack of their
+    /// own, so a long sum costs no recursion.
+    fn expression(&mut self) -> PResult<Built> {
+        let mut operands: Vec<Built> = vec![self.operand()?];
+        let mut ops: Vec<(char, (usize, usize))> = Vec::new();
+        loop {
+            let next = match self.peek() {
+                Some(Tok::Op(c @ ('+' | '-' | '*' | '/'))) => Some(*c),
+                _ => None,
+            };
+            // Apply what binds at least as tightly as the next operator
+            // (all of it at the end).
+            while let Some(&(top, at)) = ops.last() {
+                if next.is_some_and(|c| precedence(top) < precedence(c)) {
+                    break;
+                }
+                ops.pop();
+                let (b, db) = operands.pop().unwrap_or((Node::Num(0.0), 1));
+                let (a, da) = operands.pop().unwrap_or((Node::Num(0.0), 1));
+                let built =
+                    self.node(Node::Bin(top, Box::new(a), Box::new(b)), 1 + da.max(db), at)?;
+                operands.push(built);
             }
-            Some(Tok::Op('+')) => {
-                self.pos += 1;
-                self.unary()
-            }
-            _ => self.power(),
-        }
-    }
-
-    fn power(&mut self) -> Result<Node, ExprError> {
-        let base = self.atom()?;
-        if let Some(Tok::Op('^')) = self.peek() {
+            let Some(c) = next else {
+                break;
+            };
+            ops.push((c, self.at()));
             self.pos += 1;
-            // Right-associative, and the exponent may carry a sign: 2^-1.
-            let exp = self.unary()?;
-            return Ok(Node::Bin('^', Box::new(base), Box::new(exp)));
+            operands.push(self.operand()?);
         }
-        Ok(base)
+        Ok(operands.pop().unwrap_or((Node::Num(0.0), 1)))
     }
 
-    fn atom(&mut self) -> Result<Node, ExprError> {
+    /// Signs, then a power chain `primary (^ signs primary)*`, read as
+    /// written mathematics: `-x^2` is −(x²), `a^b^c` is a^(b^c), `2^-1`
+    /// takes its sign into the exponent. No recursion: the chain is
+    /// collected, then built from the right.
+    fn operand(&mut self) -> PResult<Built> {
+        // (the signs before each element: their positions, minus only),
+        // each element, and the `^` before it.
+        let mut links: Vec<Link> = Vec::new();
+        let mut powers = 0usize;
+        loop {
+            let mut signs = Vec::new();
+            let mut count = 0usize;
+            while let Some(Tok::Op(c @ ('-' | '+'))) = self.peek() {
+                count += 1;
+                if count > MAX_DEPTH {
+                    let (at, len) = self.at();
+                    return Err(Box::new(too_deep(at, len)));
+                }
+                if *c == '-' {
+                    signs.push(self.at());
+                }
+                self.pos += 1;
+            }
+            let element = self.primary()?;
+            let caret = self.at();
+            links.push((signs, element, caret));
+            if let Some(Tok::Op('^')) = self.peek() {
+                powers += 1;
+                if powers > MAX_DEPTH {
+                    return Err(Box::new(too_deep(caret.0, caret.1)));
+                }
+                self.pos += 1;
+                continue;
+            }
+            break;
+        }
+        // From the right: e = element^e, then that element's signs.
+        let mut built: Option<Built> = None;
+        while let Some((signs, (node, depth), caret)) = links.pop() {
+            let (mut node, mut depth) = match built.take() {
+                None => (node, depth),
+                Some((e, de)) => self.node(
+                    Node::Bin('^', Box::new(node), Box::new(e)),
+                    1 + depth.max(de),
+                    caret,
+                )?,
+            };
+            for at in signs.into_iter().rev() {
+                (node, depth) = self.node(Node::Neg(Box::new(node)), depth + 1, at)?;
+            }
+            built = Some((node, depth));
+        }
+        Ok(built.unwrap_or((Node::Num(0.0), 1)))
+    }
+
+    /// Opens one more parenthesis or call at the current token, refusing
+    /// one beyond [`MAX_NESTING`] before recursing.
+    fn enter(&mut self) -> PResult<()> {
+        self.level += 1;
+        if self.level > MAX_NESTING {
+            let (at, len) = self.at();
+            return Err(Box::new(
+                ExprError::new(
+                    at,
+                    len,
+                    format!("parentheses and calls nest more than {MAX_NESTING} deep"),
+                )
+                .hint("no formula needs that many: split it into observables"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A number, a name, a call or a parenthesised expression.
+    fn primary(&mut self) -> PResult<Built> {
         let Some((tok, at, len)) = self.toks.get(self.pos).cloned() else {
             return Err(self.expected("a number, a name or `(`"));
         };
         match tok {
             Tok::Num(v) => {
                 self.pos += 1;
-                Ok(Node::Num(v))
+                self.node(Node::Num(v), 1, (at, len))
             }
             Tok::Open => {
+                self.enter()?;
                 self.pos += 1;
-                let inner = self.sum()?;
+                let inner = self.expression()?;
+                self.level -= 1;
                 match self.peek() {
                     Some(Tok::Close) => {
                         self.pos += 1;
                         Ok(inner)
                     }
-                    _ => Err(self
-                        .expected("`)`")
-                        .hint(format!("the `(` at character {} is not closed", at + 1))),
+                    _ => Err(Box::new(
+                        self.expected("`)`")
+                            .hint(format!("the `(` at character {} is not closed", at + 1)),
+                    )),
                 }
             }
             Tok::Name(name) => {
                 self.pos += 1;
                 if let Some(Tok::Open) = self.peek() {
                     let Some(n) = arity(&name) else {
-                        return Err(
+                        return Err(Box::new(
                             ExprError::new(at, len, format!("`{name}` is not a function"))
                                 .hint("multiply with *, e.g. x*(y + 1)"),
-                        );
+                        ));
                     };
+                    self.enter()?;
                     self.pos += 1;
-                    let mut args = vec![self.sum()?];
+                    let (first, mut depth) = self.expression()?;
+                    let mut args = vec![first];
                     while let Some(Tok::Comma) = self.peek() {
                         self.pos += 1;
-                        args.push(self.sum()?);
+                        let (arg, d) = self.expression()?;
+                        args.push(arg);
+                        depth = depth.max(d);
                     }
+                    self.level -= 1;
                     match self.peek() {
                         Some(Tok::Close) => self.pos += 1,
                         _ => return Err(self.expected("`,` or `)`")),
                     }
                     if args.len() != n {
-                        return Err(ExprError::new(
+                        return Err(Box::new(ExprError::new(
                             at,
                             len,
                             format!(
@@ -337,26 +465,37 @@ impl Parser<'_> {
                                 crate::text::plural(n, "argument", "arguments"),
                                 args.len()
                             ),
-                        ));
+                        )));
                     }
-                    Ok(Node::Call(name, args))
+                    self.node(Node::Call(name, args), 1 + depth, (at, len))
                 } else if arity(&name).is_some() {
-                    Err(ExprError::new(at, len, format!("`{name}` is a function"))
-                        .hint(format!("call it: {name}(x)")))
+                    Err(Box::new(
+                        ExprError::new(at, len, format!("`{name}` is a function"))
+                            .hint(format!("call it: {name}(x)")),
+                    ))
                 } else {
-                    Ok(Node::Name(name, at))
+                    self.node(Node::Name(name, at), 1, (at, len))
                 }
             }
-            other => Err(ExprError::new(
+            other => Err(Box::new(ExprError::new(
                 at,
                 len,
                 format!(
                     "expected a number, a name or `(`, found {}",
                     describe(&other)
                 ),
-            )),
+            ))),
         }
     }
+}
+
+fn too_deep(at: usize, len: usize) -> ExprError {
+    ExprError::new(
+        at,
+        len,
+        format!("the expression nests more than {MAX_DEPTH} levels deep"),
+    )
+    .hint("operators and calls inside one another each count a level (a sum of k terms, k − 1): split it into observables")
 }
 
 /// Parses `text` (syntax and arity only; names are checked by
@@ -370,8 +509,10 @@ pub fn parse(text: &str) -> Result<Node, ExprError> {
         toks: &toks,
         pos: 0,
         end: text.len(),
+        level: 0,
+        nodes: 0,
     };
-    let node = p.sum()?;
+    let (node, _) = p.expression().map_err(|e| *e)?;
     if p.pos < toks.len() {
         let (tok, at, len) = &toks[p.pos];
         let e = ExprError::new(*at, *len, format!("unexpected {}", describe(tok)));
@@ -426,77 +567,6 @@ pub fn names(node: &Node, out: &mut Vec<String>) {
     }
 }
 
-/// What a name stands for in the canonical text.
-pub enum Subst<'a> {
-    /// Kept as a variable of the compiled expression.
-    Var,
-    /// A named constant, written in as its value.
-    Value(f64),
-    /// An observable, written in as its own canonical text.
-    Text(&'a str),
-}
-
-/// The canonical text `exmex` compiles: every operation parenthesised,
-/// variables in braces, constants written in, observables expanded.
-pub fn canonical<'a>(node: &Node, subst: &dyn Fn(&str) -> Subst<'a>) -> String {
-    let mut s = String::new();
-    emit(node, subst, &mut s);
-    s
-}
-
-fn number(v: f64, out: &mut String) {
-    // `{:e}` is the shortest round-trip spelling with an exponent, which
-    // the literal matcher of `compile` reads back exactly.
-    if v < 0.0 || (v == 0.0 && v.is_sign_negative()) {
-        let _ = write!(out, "(-{:e})", -v);
-    } else {
-        let _ = write!(out, "{v:e}");
-    }
-}
-
-fn emit<'a>(node: &Node, subst: &dyn Fn(&str) -> Subst<'a>, out: &mut String) {
-    match node {
-        Node::Num(v) => number(*v, out),
-        Node::Name(n, _) => match n.as_str() {
-            "pi" => number(std::f64::consts::PI, out),
-            "e" => number(std::f64::consts::E, out),
-            _ => match subst(n) {
-                Subst::Var => {
-                    let _ = write!(out, "{{{n}}}");
-                }
-                Subst::Value(v) => number(v, out),
-                Subst::Text(t) => {
-                    let _ = write!(out, "({t})");
-                }
-            },
-        },
-        Node::Neg(a) => {
-            out.push_str("(-(");
-            emit(a, subst, out);
-            out.push_str("))");
-        }
-        Node::Bin(op, a, b) => {
-            out.push_str("((");
-            emit(a, subst, out);
-            let _ = write!(out, "){op}(");
-            emit(b, subst, out);
-            out.push_str("))");
-        }
-        Node::Call(f, args) => {
-            let _ = write!(out, "{f}(");
-            for (k, a) in args.iter().enumerate() {
-                if k > 0 {
-                    out.push_str(", ");
-                }
-                out.push('(');
-                emit(a, subst, out);
-                out.push(')');
-            }
-            out.push(')');
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -541,14 +611,5 @@ mod tests {
         let node = parse("omega + 2*thta").unwrap();
         let e = check_names(&node, &|n| n == "omega").unwrap_err();
         assert_eq!((e.at, e.unknown.as_deref()), (10, Some("thta")));
-    }
-
-    #[test]
-    fn canonical_form_follows_written_mathematics() {
-        let c = |s: &str| canonical(&parse(s).unwrap(), &|_| Subst::Var);
-        assert_eq!(c("-x^2"), "(-((({x})^(2e0))))");
-        assert_eq!(c("a^b^c"), "(({a})^((({b})^({c}))))");
-        assert_eq!(c("1.5e-3"), "1.5e-3");
-        assert_eq!(c("atan2(y, x)"), "atan2(({y}), ({x}))");
     }
 }

@@ -169,6 +169,19 @@ fn apply_tick(app: &mut TestApp, ms: u64) {
     crate::tui::update::apply(app, Action::Tick(Duration::from_millis(ms)));
 }
 
+/// Ticks, as the event loop would, while the verdict's measurement runs
+/// on its thread (bounded: one that never ends fails the test).
+pub(super) fn settle_verdict(app: &mut TestApp) {
+    for _ in 0..30_000 {
+        if !app.animating() {
+            return;
+        }
+        std::thread::sleep(Duration::from_millis(1));
+        apply_tick(app, 1);
+    }
+    panic!("the verdict's measurement never ended");
+}
+
 #[test]
 fn the_run_plays_to_the_end_and_stops_ticking() {
     let mut app = open(ENGLISH, 0);
@@ -314,6 +327,8 @@ fn a_wrong_prediction_is_wrong_and_shows_the_right_one() {
     for _ in 0..60 {
         apply_tick(&mut app, 100);
     }
+    // The exact run that decides measures off the UI thread.
+    settle_verdict(&mut app);
     let Phase::Play {
         verdict: Some(v), ..
     } = &predict(&app).phase

@@ -175,3 +175,152 @@ fn system_panels_snapshot_in_both_languages() {
         insta::assert_snapshot!(format!("system_verdict_{lang}"), screen);
     }
 }
+
+/// A deck with `scene` and one choice prompt on it (`measure` above or not
+/// above `threshold`), opened on the predict screen.
+fn app_on(scene: SystemScene, measure: Measure, threshold: f64) -> TestApp {
+    let mut deck = testkit::deck();
+    let id = scene.id.clone();
+    deck.systems.push(scene);
+    let choice = |id: &str, op: Cmp| Choice {
+        id: id.into(),
+        label: text(id, id),
+        when: Condition {
+            measure,
+            op,
+            value: threshold,
+        },
+    };
+    deck.prompts.push(Prompt {
+        id: "p".into(),
+        question: text("Above?", "Upar?"),
+        scene: id,
+        explain: None,
+        answer: Answer::Choice {
+            choices: vec![choice("above", Cmp::Gt), choice("below", Cmp::Le)],
+            expected: "above".into(),
+        },
+        tags: vec![],
+    });
+    let dir = tempfile::tempdir().unwrap();
+    let mut app =
+        crate::tui::app::App::new(vec![deck], testkit::services(&dir), ENGLISH, Theme::PLAIN);
+    app.size = (100, 30);
+    let mut app = TestApp { app, dir };
+    press(&mut app, KeyCode::Char('p'));
+    press_all(&mut app, &[KeyCode::Char('j'), KeyCode::Char('j')]);
+    press(&mut app, KeyCode::Enter);
+    app
+}
+
+/// x'' = −x with 45,056 compiled operations of observables in the
+/// equation: `check` plays it, but a step costs about a million
+/// operations.
+fn heavy() -> SystemScene {
+    let term = crate::sim::system::compile::tests::balanced(12);
+    let mut observables = vec![("a0".to_string(), term.clone())];
+    for i in 1..11 {
+        observables.push((format!("a{i}"), format!("a{} + {term}", i - 1)));
+    }
+    SystemScene {
+        id: "heavy".into(),
+        title: None,
+        variables: vec!["x".into(), "v".into()],
+        initial: vec![1.0, 0.0],
+        params: vec![],
+        equations: vec!["v".into(), "-x + 1e-30*a10".into()],
+        observables,
+        conserved: vec![],
+        duration: 300.0,
+        show: vec![SystemPanel::Plot],
+        plot: vec!["x".into()],
+        phase: None,
+        sketch: vec![],
+        time_unit: "s".into(),
+    }
+}
+
+#[test]
+fn a_frame_of_a_heavy_scene_stops_at_its_slice_and_esc_answers() {
+    let scene = heavy();
+    // What check accepts.
+    let cost = crate::sim::system::System::compile(&scene, true)
+        .unwrap()
+        .cost();
+    assert!(crate::sim::scene::system::check_cost(&scene, &cost).is_ok());
+    let max_x = Measure::Of(Stat::Max, Name::new("x").unwrap());
+    let mut app = app_on(scene, max_x, 0.5);
+    // The app's frames work within a slice; here one already spent, so a
+    // frame takes one step whatever the clock asks for.
+    app.services.physics_slice = Some(Duration::ZERO);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    assert!(app.animating());
+    for frame in 1..=3 {
+        // A second of wall clock asks for 25 s of scene time.
+        tick(&mut app, 1000);
+        let run = running(&app);
+        assert_eq!(run.run().work().steps, frame, "one step a frame");
+        assert!(run.t() > 0.0 && run.t() < 25.0, "{}", run.t());
+        assert!(!run.finished() && app.animating());
+    }
+    // Esc is the next event: the run is dropped, the prompt list is back.
+    press(&mut app, KeyCode::Esc);
+    assert!(
+        matches!(app.screen(), Screen::Prompts(_)),
+        "{}",
+        render(&app)
+    );
+    assert!(!app.animating());
+}
+
+#[test]
+fn a_scene_that_leaves_its_domain_gives_no_verdict_and_records_nothing() {
+    // lnx = ln(x) with x = cos t: NaN from t = π/2. Its sign changes used
+    // to count as crossings and give "✓ Right".
+    let mut scene = pendulum();
+    scene.id = "lnx".into();
+    scene.variables = vec!["x".into(), "v".into()];
+    scene.initial = vec![1.0, 0.0];
+    scene.params = vec![];
+    scene.equations = vec!["v".into(), "-x".into()];
+    scene.observables = vec![("lnx".into(), "ln(x)".into())];
+    scene.conserved = vec![];
+    scene.show = vec![SystemPanel::Plot];
+    scene.plot = vec!["lnx".into()];
+    scene.phase = None;
+    scene.sketch = vec![];
+    let crossings = Measure::Of(Stat::Crossings, Name::new("lnx").unwrap());
+    let mut app = app_on(scene, crossings, 10.0);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    for _ in 0..200 {
+        tick(&mut app, 100);
+    }
+    assert!(running(&app).finished());
+    assert!(!app.animating());
+    let screen = render(&app);
+    assert!(
+        screen.contains("`lnx` is NaN at t = 1.571: ln of a negative number"),
+        "{screen}"
+    );
+    assert!(
+        !screen.contains("Right") && !screen.contains("Wrong"),
+        "{screen}"
+    );
+    let Screen::Predict(p) = app.screen() else {
+        panic!("left the predict screen");
+    };
+    assert!(matches!(p.phase, Phase::System { verdict: None, .. }));
+    // Nothing recorded: the store has no attempt.
+    let items = crate::sched::deck_items(&app.decks[0]);
+    let scope = crate::store::StatsScope {
+        deck: Some(&app.decks[0].id),
+        items: &items,
+    };
+    let grid = crate::store::DayGrid::new(chrono::Utc, app.services.config.day_starts_at);
+    let stats = app
+        .services
+        .store
+        .stats(scope, testkit::now(), &grid)
+        .unwrap();
+    assert_eq!(stats.prompts.overall.total, 0);
+}

@@ -192,3 +192,38 @@ fn needle_scenes_refuse_what_would_be_garbage() {
         "{err}"
     );
 }
+
+/// A slice whose deadline has passed: each call does one unit of work.
+fn spent() -> Slice {
+    Slice::until(std::time::Instant::now())
+}
+
+#[test]
+fn a_spent_slice_stops_at_the_next_grid_point_and_changes_nothing() {
+    let s = seed(&[
+        Panel::Omega,
+        Panel::Body,
+        Panel::Polhode,
+        Panel::Diagnostics,
+    ]);
+    for method in [Method::Exact, Method::Rk4 { dt: 1e-3 }] {
+        let mut whole = SceneRun::new(&s, method).unwrap();
+        whole.advance_to(s.duration);
+        let mut sliced = SceneRun::new(&s, method).unwrap();
+        // One call with its slice spent: one grid point, not the end.
+        assert!(!sliced.advance_within(s.duration, spent()));
+        let first = sliced.frame().t;
+        assert!(first > 0.0 && first < 0.01, "{method:?}: {first}");
+        assert!(!sliced.finished());
+        let mut calls = 1;
+        while !sliced.advance_within(s.duration, spent()) {
+            calls += 1;
+        }
+        assert!(calls > 1000, "{method:?}: {calls}");
+        assert!(sliced.finished());
+        // The same run, frame for frame.
+        assert_eq!(sliced.measurements(), whole.measurements(), "{method:?}");
+        assert_eq!(sliced.trace(), whole.trace(), "{method:?}");
+        assert_eq!(sliced.frame(), whole.frame(), "{method:?}");
+    }
+}

@@ -255,3 +255,92 @@ fn van_der_pol_switches_to_radau_and_keeps_its_shape() {
     .unwrap_err();
     assert!(e.contains("stiff") && e.contains("radau"), "{e}");
 }
+
+/// A slice whose deadline has passed: each call takes one step.
+fn spent() -> Slice {
+    Slice::until(std::time::Instant::now())
+}
+
+#[test]
+fn a_spent_slice_takes_one_step_and_changes_nothing() {
+    let s = pendulum(
+        170.0,
+        &[SystemPanel::Plot, SystemPanel::Phase, SystemPanel::Sketch],
+    );
+    let ms = [of(Stat::Period, "theta"), of(Stat::Max, "energy")];
+    for kind in OdeKind::ALL {
+        let method = OdeMethod::default_for(kind, s.duration);
+        let mut whole = SystemRun::new(&s, method, &ms).unwrap();
+        whole.run_to_end().unwrap();
+        let mut sliced = SystemRun::new(&s, method, &ms).unwrap();
+        assert!(!sliced.advance_within(s.duration, spent()), "{kind:?}");
+        assert_eq!(sliced.work().steps, 1, "{kind:?}");
+        let t = sliced.t();
+        assert!(
+            t > 0.0 && t < s.duration && !sliced.finished(),
+            "{kind:?}: {t}"
+        );
+        let mut calls = 1;
+        while !sliced.advance_within(s.duration, spent()) {
+            calls += 1;
+            assert_eq!(sliced.work().steps, calls, "{kind:?}: one step a call");
+        }
+        assert!(sliced.finished() && sliced.error().is_none(), "{kind:?}");
+        // The same samples, so the same measures and curves.
+        assert_eq!(
+            sliced.measurements(&ms),
+            whole.measurements(&ms),
+            "{kind:?}"
+        );
+        assert_eq!(sliced.trace(), whole.trace(), "{kind:?}");
+        assert_eq!(sliced.trail(), whole.trail(), "{kind:?}");
+        assert_eq!(sliced.state(), whole.state(), "{kind:?}");
+    }
+}
+
+#[test]
+fn samples_stop_at_the_frame_and_faults_wait_for_the_run_to_get_there() {
+    // x = cos t, lnx = ln x: NaN from t = π/2 on. A step may reach past
+    // the frame; what lies beyond it is not computed yet.
+    let scene = SystemScene {
+        id: "lnx".into(),
+        title: None,
+        variables: vec!["x".into(), "v".into()],
+        initial: vec![1.0, 0.0],
+        params: vec![],
+        equations: vec!["v".into(), "-x".into()],
+        observables: vec![("lnx".into(), "ln(x)".into())],
+        conserved: vec![],
+        duration: 10.0,
+        show: vec![SystemPanel::Plot],
+        plot: vec!["lnx".into()],
+        phase: None,
+        sketch: vec![],
+        time_unit: "s".into(),
+    };
+    let method = OdeMethod::default_for(OdeKind::Adaptive, scene.duration);
+    let mut run = SystemRun::new(&scene, method, &[]).unwrap();
+    run.advance_to(1.5);
+    assert!(run.error().is_none());
+    assert!(run.trace().iter().all(|p| p.t <= 1.5));
+    run.advance_to(2.0);
+    let e = run.error().expect("lnx leaves its domain at π/2");
+    assert_eq!(
+        e.to_string().split(" (ln(").next().unwrap(),
+        "`lnx` is NaN at t = 1.571: ln of a negative number"
+    );
+    assert!(matches!(
+        e,
+        RunError::Domain {
+            at: Some(crate::sim::system::compile::Source::Observable(0)),
+            ..
+        }
+    ));
+    // The frame stays at the last good sample, before π/2.
+    assert!(
+        run.t() < std::f64::consts::FRAC_PI_2 && run.t() > 1.5,
+        "{}",
+        run.t()
+    );
+    assert!(run.finished());
+}

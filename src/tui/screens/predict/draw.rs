@@ -43,11 +43,13 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
             prediction,
             run,
             verdict,
+            ..
         } => draw_play(frame, area, app, prompt, *prediction, run, verdict.as_ref()),
         Phase::System {
             prediction,
             run,
             verdict,
+            ..
         } => super::system::draw(frame, area, app, prompt, *prediction, run, verdict.as_ref()),
     }
 }

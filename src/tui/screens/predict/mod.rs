@@ -20,6 +20,7 @@ pub use draw::{draw, fmt_value};
 pub use keys::{CHOICE_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
 
 pub use crate::predict::{Prediction, Verdict};
+use crate::sim::scene::measure::Measurements;
 
 pub enum Phase {
     /// Waiting for the commitment: the selected choice or the typed number.
@@ -32,13 +33,54 @@ pub enum Phase {
         prediction: Prediction,
         run: Box<LiveRun>,
         verdict: Option<Verdict>,
+        judging: Judging,
     },
     /// A system scene playing (see `system.rs`).
     System {
         prediction: Prediction,
         run: Box<crate::tui::live_system::LiveSystem>,
         verdict: Option<Verdict>,
+        judging: Judging,
     },
+}
+
+/// Where the verdict stands once the run has ended.
+pub enum Judging {
+    /// The run has not ended (or its own measurements give the verdict).
+    Idle,
+    /// The scene's default run measuring off the UI thread, for a learner
+    /// who watched another method: a long run never holds up the keys.
+    Measuring(Measuring),
+    /// No verdict: the scene's run cannot measure (the status line says
+    /// why); nothing is recorded.
+    Failed,
+}
+
+/// A measurement made on another thread.
+pub struct Measuring(std::sync::mpsc::Receiver<Result<Measurements, String>>);
+
+impl Measuring {
+    pub fn start(
+        work: impl FnOnce() -> Result<Measurements, String> + Send + 'static,
+    ) -> Measuring {
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            // The screen may have closed meanwhile: nobody listens then.
+            let _ = tx.send(work());
+        });
+        Measuring(rx)
+    }
+
+    /// The measurements once they are made.
+    pub fn poll(&self) -> Option<Result<Measurements, String>> {
+        match self.0.try_recv() {
+            Ok(r) => Some(r),
+            Err(std::sync::mpsc::TryRecvError::Empty) => None,
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                Some(Err("the measurement stopped".to_string()))
+            }
+        }
+    }
 }
 
 pub struct PredictState {
@@ -70,6 +112,12 @@ impl PredictState {
 
     pub fn animating(&self) -> bool {
         match &self.phase {
+            // Ticks poll a measurement under way.
+            Phase::Play { judging, .. } | Phase::System { judging, .. }
+                if matches!(judging, Judging::Measuring(_)) =>
+            {
+                true
+            }
             Phase::Play { run, .. } => run.playing(),
             Phase::System { run, .. } => run.playing(),
             Phase::Ask { .. } => false,
@@ -242,6 +290,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             run,
             prediction,
             verdict,
+            judging,
         } => {
             let replace = |run: &mut Box<LiveRun>,
                            next: Result<LiveRun, crate::sim::SimError>,
@@ -251,7 +300,10 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             };
             match action {
                 Action::Back => return Nav::Pop,
-                Action::Tick(dt) => run.tick(dt.as_secs_f64()),
+                Action::Tick(dt) => {
+                    let slice = app.services.physics_slice();
+                    run.tick_within(dt.as_secs_f64(), slice);
+                }
                 Action::TogglePause => {
                     if run.finished() {
                         let next = run.restart();
@@ -286,8 +338,16 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                 && run.finished()
                 && let Some(scene) = &scene
             {
-                let v = judge(app, state.deck, &prompt, scene, run, *prediction);
-                *verdict = Some(v);
+                judge(
+                    app,
+                    state.deck,
+                    &prompt,
+                    scene,
+                    run,
+                    *prediction,
+                    verdict,
+                    judging,
+                );
             }
             Nav::Stay
         }
@@ -296,8 +356,10 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
 }
 
 /// The verdict from the run just watched when it was the exact one, else
-/// from an exact run of the scene: a learner who switched to RK4 with a
-/// huge step still gets the physics' answer. The attempt is logged.
+/// from an exact run of the scene, made off the UI thread: a learner who
+/// switched to RK4 with a huge step still gets the physics' answer. The
+/// attempt is logged.
+#[allow(clippy::too_many_arguments)]
 fn judge(
     app: &mut App,
     deck: usize,
@@ -305,17 +367,51 @@ fn judge(
     scene: &crate::deck::Scene,
     run: &LiveRun,
     prediction: Prediction,
-) -> Verdict {
-    let measurements = if run.method() == Method::Exact && run.error().is_none() {
-        Ok(run.measurements())
-    } else {
-        crate::sim::scene::measure_scene(scene, Method::Exact)
-    };
-    let measurements = measurements.unwrap_or_else(|e| {
-        app.error(e.to_string());
-        crate::sim::scene::measure::Measurements::default()
+    verdict: &mut Option<Verdict>,
+    judging: &mut Judging,
+) {
+    if run.method() == Method::Exact && run.error().is_none() {
+        *verdict = Some(record(app, deck, prompt, &run.measurements(), prediction));
+        return;
+    }
+    settle(app, deck, prompt, prediction, verdict, judging, || {
+        let scene = scene.clone();
+        Measuring::start(move || {
+            crate::sim::scene::measure_scene(&scene, Method::Exact).map_err(|e| e.to_string())
+        })
     });
-    record(app, deck, prompt, &measurements, prediction)
+}
+
+/// Starts the measurement `start` makes when none is under way, and gives
+/// the verdict once it is there (or says why there is none).
+pub(super) fn settle(
+    app: &mut App,
+    deck: usize,
+    prompt: &Prompt,
+    prediction: Prediction,
+    verdict: &mut Option<Verdict>,
+    judging: &mut Judging,
+    start: impl FnOnce() -> Measuring,
+) {
+    match judging {
+        Judging::Idle => *judging = Judging::Measuring(start()),
+        Judging::Failed => return,
+        Judging::Measuring(_) => {}
+    }
+    let Judging::Measuring(m) = judging else {
+        return;
+    };
+    match m.poll() {
+        None => {}
+        Some(Ok(measured)) => {
+            *verdict = Some(record(app, deck, prompt, &measured, prediction));
+            *judging = Judging::Idle;
+        }
+        Some(Err(e)) => {
+            app.error(e);
+            *judging = Judging::Failed;
+        }
+    }
 }
 
 /// The verdict on the measurements, with the attempt logged.
@@ -364,6 +460,7 @@ fn commit_nav(
                 prediction,
                 run: Box::new(run),
                 verdict: None,
+                judging: Judging::Idle,
             };
         }
         Err(e) => app.error(format!("{}: {e}", scene.id)),

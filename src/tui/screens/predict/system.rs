@@ -18,7 +18,8 @@ use crate::tui::i18n::Msg;
 use crate::tui::live_system::LiveSystem;
 use crate::tui::system_plots;
 
-use super::{Nav, Phase, PredictState, Prediction, Verdict};
+use super::{Judging, Measuring, Nav, Phase, PredictState, Prediction, Verdict};
+use crate::sim::scene::measure::{Measurements, Reading};
 
 /// The measures a prompt's verdict needs.
 pub fn measures(prompt: &Prompt) -> Vec<Measure> {
@@ -52,6 +53,7 @@ pub fn commit(
                 prediction,
                 run: Box::new(run),
                 verdict: None,
+                judging: Judging::Idle,
             };
         }
         Err(e) => app.error(format!("{}: {e}", scene.id)),
@@ -65,6 +67,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action, prompt: &P
         run,
         prediction,
         verdict,
+        judging,
     } = &mut state.phase
     else {
         return Nav::Stay;
@@ -84,7 +87,10 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action, prompt: &P
         };
     match action {
         Action::Back => return Nav::Pop,
-        Action::Tick(dt) => run.tick(dt.as_secs_f64()),
+        Action::Tick(dt) => {
+            let slice = app.services.physics_slice();
+            run.tick_within(dt.as_secs_f64(), slice);
+        }
         Action::TogglePause => {
             if run.finished() {
                 let next = run.restart();
@@ -111,46 +117,54 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action, prompt: &P
         _ => {}
     }
     if verdict.is_none() && run.finished() {
-        *verdict = Some(judge(app, deck, prompt, run, *prediction));
+        judge(app, deck, prompt, run, *prediction, verdict, judging);
     }
     Nav::Stay
 }
 
 /// The verdict from the run just watched when it ran with the default
-/// method to the end, else from a default run of the scene: the physics'
-/// answer, whatever method the learner tried.
+/// method to the end; else from a default run of the scene, made off the UI
+/// thread: the physics' answer, whatever method the learner tried. When the
+/// default run itself stops early (the scene leaves its domain), there is
+/// no verdict and nothing is recorded: the status line says why.
 fn judge(
     app: &mut App,
     deck: usize,
     prompt: &Prompt,
     run: &LiveSystem,
     prediction: Prediction,
-) -> Verdict {
+    verdict: &mut Option<Verdict>,
+    judging: &mut Judging,
+) {
     let ms = measures(prompt);
     let scene = run.scene();
-    let measurements = if run.method() == default_method(scene) && run.error().is_none() {
-        run.run().measurements(&ms)
-    } else {
-        match measure_system(scene, default_method(scene), &ms) {
-            Ok(values) => crate::sim::scene::measure::Measurements::from_readings(
+    if run.method() == default_method(scene) {
+        if run.error().is_some() {
+            *judging = Judging::Failed;
+        } else {
+            let measured = run.run().measurements(&ms);
+            *verdict = Some(super::record(app, deck, prompt, &measured, prediction));
+        }
+        return;
+    }
+    super::settle(app, deck, prompt, prediction, verdict, judging, || {
+        let scene = scene.clone();
+        Measuring::start(move || {
+            let values = measure_system(&scene, default_method(&scene), &ms)?;
+            Ok(Measurements::from_readings(
                 ms.iter()
                     .zip(values)
                     .filter_map(|(m, v)| {
-                        v.ok().map(|value| crate::sim::scene::measure::Reading {
+                        v.ok().map(|value| Reading {
                             measure: *m,
                             value,
                             formula: None,
                         })
                     })
                     .collect(),
-            ),
-            Err(e) => {
-                app.error(e);
-                crate::sim::scene::measure::Measurements::default()
-            }
-        }
-    };
-    super::record(app, deck, prompt, &measurements, prediction)
+            ))
+        })
+    });
 }
 
 /// The panels the scene shows, side by side in rows of two.

@@ -1,0 +1,614 @@
+//! System scenes an instructor (or anyone) writes, at their worst, through
+//! the binary: expressions nested 8000 deep, observables that double each
+//! other 25 times, equations too costly to play, runs past their work
+//! budget, and quantities that leave their domain. Each is a deck error at
+//! file:line:col or a one-line error naming the cause, never a crash, a
+//! hang, exhausted memory or a NaN measured as if it were a number.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+
+/// A deck `id` in a temporary folder (decks/ID.toml with an empty English
+/// content file): `body` follows the deck header and one card.
+struct Deck {
+    dir: tempfile::TempDir,
+    id: String,
+}
+
+impl Deck {
+    fn new(id: &str, body: &str) -> Deck {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir_all(dir.path().join("decks")).unwrap();
+        std::fs::create_dir_all(dir.path().join(format!("content/{id}"))).unwrap();
+        std::fs::write(dir.path().join(format!("content/{id}/en.toml")), "").unwrap();
+        let text = format!(
+            "[deck]\nid = \"{id}\"\ntitle = 'T'\nlanguages = [\"en\"]\n\n[[card]]\nid = \"c\"\nfront = 'F'\nback = 'B'\n\n{body}"
+        );
+        std::fs::write(dir.path().join(format!("decks/{id}.toml")), text).unwrap();
+        Deck {
+            dir,
+            id: id.to_string(),
+        }
+    }
+
+    fn path(&self) -> PathBuf {
+        self.dir.path().join(format!("decks/{}.toml", self.id))
+    }
+
+    /// The 1-based line of the deck file holding `needle`.
+    fn line_of(&self, needle: &str) -> usize {
+        let text = std::fs::read_to_string(self.path()).unwrap();
+        text.lines()
+            .position(|l| l.contains(needle))
+            .unwrap_or_else(|| panic!("{needle} not in the deck"))
+            + 1
+    }
+
+    fn check(&self) -> (i32, String, String) {
+        run(BIN, &["check", self.path().to_str().unwrap()], None)
+    }
+
+    fn sim(&self, args: &[&str]) -> (i32, String, String) {
+        let d = self.path();
+        let mut all = vec!["sim", "--deck", d.to_str().unwrap(), "--scene", "s"];
+        all.extend_from_slice(args);
+        run(BIN, &all, None)
+    }
+}
+
+/// Runs `bin args`; under `ulimit -v KB` when `memory` is given, so a run
+/// that would exhaust memory fails instead of taking the machine.
+fn run(bin: &str, args: &[&str], memory: Option<u64>) -> (i32, String, String) {
+    let out = match memory {
+        None => Command::new(bin)
+            .args(args)
+            .env_remove("FLIPCARD_DECKS")
+            .output()
+            .unwrap(),
+        Some(kb) => Command::new("sh")
+            .arg("-c")
+            .arg(format!("ulimit -v {kb} && exec \"$0\" \"$@\""))
+            .arg(bin)
+            .args(args)
+            .env_remove("FLIPCARD_DECKS")
+            .output()
+            .unwrap(),
+    };
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A one-variable scene `s` (x, v) with `equation` for v and `extra`
+/// lines (observables, sketch).
+fn scene(equation: &str, extra: &str, duration: f64) -> String {
+    format!(
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\", \"v\"]\ninitial = [1.0, 0.0]\nequations = [\"v\", \"{equation}\"]\n{extra}duration = {duration:?}\nshow = [\"plot\"]\nplot = [\"x\"]\n"
+    )
+}
+
+/// The first error line of `check`'s output: (line, col, message).
+fn first_error(stderr: &str) -> (usize, usize, String) {
+    let head = stderr
+        .lines()
+        .find(|l| l.contains(": error: "))
+        .unwrap_or_else(|| panic!("no error:\n{stderr}"));
+    let (place, message) = head.split_once(": error: ").unwrap();
+    let mut parts = place.rsplitn(3, ':');
+    let col = parts.next().unwrap().parse().unwrap();
+    let line = parts.next().unwrap().parse().unwrap();
+    (line, col, message.to_string())
+}
+
+#[test]
+fn eight_thousand_parentheses_are_a_deck_error_at_the_one_too_many() {
+    let deep = format!("{}x{}", "(".repeat(8000), ")".repeat(8000));
+    let minus = format!("{}x", "-".repeat(8000));
+    let calls = format!("{}x{}", "sin(".repeat(8000), ")".repeat(8000));
+    let powers = vec!["x"; 8000].join("^");
+    let sum = vec!["x"; 8000].join("+");
+    // In an equation, an observable and a sketch coordinate alike; the
+    // error at the token one too many (its offset in the text).
+    let in_equation = |e: &str| scene(e, "", 1.0);
+    let nesting = "parentheses and calls nest more than 64 deep";
+    let depth = "the expression nests more than 200 levels deep";
+    let cases = [
+        // The 65th `(`.
+        (in_equation(&deep), "equations", deep.clone(), 64, nesting),
+        // The `(` of the 65th call.
+        (
+            in_equation(&calls),
+            "equations",
+            calls.clone(),
+            64 * 4 + 3,
+            nesting,
+        ),
+        // The 201st `-`.
+        (in_equation(&minus), "equations", minus.clone(), 200, depth),
+        // The 201st `^`.
+        (
+            in_equation(&powers),
+            "equations",
+            powers.clone(),
+            2 * 201 - 1,
+            depth,
+        ),
+        // The 200th `+`: a sum of 201 terms nests 200 deep, one more.
+        (
+            in_equation(&sum),
+            "equations",
+            sum.clone(),
+            2 * 200 - 1,
+            depth,
+        ),
+        (
+            scene("-x", &format!("observables = {{ o = \"{deep}\" }}\n"), 1.0),
+            "observables",
+            deep.clone(),
+            64,
+            nesting,
+        ),
+        (
+            scene(
+                "-x",
+                &format!("sketch = [{{ dot = [\"x\", \"{deep}\"] }}]\n"),
+                1.0,
+            )
+            .replace("show = [\"plot\"]", "show = [\"plot\", \"sketch\"]"),
+            "sketch",
+            deep.clone(),
+            64,
+            nesting,
+        ),
+    ];
+    for (body, key, expr, at, why) in cases {
+        let d = Deck::new("deep", &body);
+        let (code, out, err) = d.check();
+        assert_eq!(code, 1, "{key}: {out}{err}");
+        let (line, col, message) = first_error(&err);
+        assert_eq!(line, d.line_of(&format!("{key} = ")), "{key}: {err}");
+        let text = std::fs::read_to_string(d.path()).unwrap();
+        let row = text.lines().nth(line - 1).unwrap();
+        let start = row.find(&format!("\"{}", &expr[..20])).unwrap() + 1;
+        assert_eq!(col, start + at + 1, "{key}: {err}");
+        assert!(message.ends_with(why), "{key}: {message}");
+        assert!(err.contains("1 error, 0 warnings"), "{key}: {err}");
+        // Every command that loads decks refuses it the same way.
+        let (code, _, err) = d.sim(&["--samples", "3"]);
+        assert_eq!(code, 1, "{key}: {err}");
+        assert!(err.contains(why), "{key}: {err}");
+    }
+}
+
+#[test]
+fn nesting_up_to_the_limit_checks_and_runs() {
+    // 64 parentheses around `x`, 199 signs, and a sum of 190 terms: within
+    // the limits.
+    let deep = format!("-{}x{}", "(".repeat(64), ")".repeat(64));
+    let signs = format!("-{}x", "--".repeat(99));
+    let sum = format!("-({})/190", vec!["x"; 190].join("+"));
+    for eq in [deep, signs, sum] {
+        let d = Deck::new("deep", &scene(&eq, "", 1.0));
+        let (code, out, err) = d.check();
+        assert_eq!(code, 0, "{out}{err}");
+        let (code, out, err) = d.sim(&["--samples", "2"]);
+        assert_eq!(code, 0, "{err}");
+        // x'' = −x from rest at 1: x(1) = cos 1.
+        let x1: f64 = out
+            .lines()
+            .nth(2)
+            .unwrap()
+            .split(',')
+            .nth(1)
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!((x1 - 1f64.cos()).abs() < 1e-6, "{out}");
+    }
+}
+
+/// `o0 = x`, `o1 = o0+o0`, …, `o{k} = o{k−1}+o{k−1}`: inlined, o25 is 2^25
+/// additions.
+fn doublings(k: usize) -> String {
+    let mut obs = vec!["o0 = \"x\"".to_string()];
+    for i in 1..=k {
+        obs.push(format!("o{i} = \"o{}+o{}\"", i - 1, i - 1));
+    }
+    format!("observables = {{ {} }}\n", obs.join(", "))
+}
+
+#[test]
+fn observables_doubling_each_other_check_in_little_memory_and_compute_exactly() {
+    // The issue's 642-byte shape: 25 chained doublings, used by the
+    // equation. Under a 1 GB address-space limit it must check and run.
+    let d = Deck::new("chain", &scene("-x + 0*o25", &doublings(25), 5.0));
+    let size = std::fs::metadata(d.path()).unwrap().len();
+    assert!(size < 1000, "{size} bytes");
+    let (code, out, err) = run(BIN, &["check", d.path().to_str().unwrap()], Some(1_000_000));
+    assert_eq!(code, 0, "{out}{err}");
+    let (code, out, err) = run(
+        BIN,
+        &[
+            "sim",
+            "--deck",
+            d.path().to_str().unwrap(),
+            "--scene",
+            "s",
+            "--samples",
+            "3",
+        ],
+        Some(1_000_000),
+    );
+    assert_eq!(code, 0, "{err}");
+    let mut lines = out.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header.len(), 1 + 2 + 26);
+    assert_eq!(header[28], "o25");
+    for row in lines {
+        let v: Vec<f64> = row.split(',').map(|c| c.parse().unwrap()).collect();
+        // By hand: o_k = 2^k x, exactly (doublings are exact in binary).
+        for k in 0..=25 {
+            assert_eq!(v[3 + k], v[1] * 2f64.powi(k as i32), "o{k} in {row}");
+        }
+    }
+    // A longer chain is as cheap: 60 doublings, o60 = 2^60 x.
+    let d = Deck::new("chain", &scene("-x + 1e-20*o60", &doublings(60), 1.0));
+    let (code, out, err) = d.check();
+    assert_eq!(code, 0, "{out}{err}");
+    let (code, out, err) = d.sim(&["--measure", "max(o60)"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.trim().parse::<f64>().unwrap(), 2f64.powi(60));
+}
+
+/// A balanced sum of 2^levels `x`s, `levels` deep.
+fn balanced(levels: usize) -> String {
+    if levels == 0 {
+        "x".to_string()
+    } else {
+        let half = balanced(levels - 1);
+        format!("({half})+({half})")
+    }
+}
+
+/// Observables a0 … a{k−1}, each adding a balanced sum of 4096 `x`s (4096
+/// compiled operations) to the one before.
+fn stacked(k: usize) -> String {
+    let term = balanced(12);
+    let mut obs = vec![format!("a0 = \"{term}\"")];
+    for i in 1..k {
+        obs.push(format!("a{i} = \"a{} + {term}\"", i - 1));
+    }
+    format!("observables = {{ {} }}\n", obs.join(", "))
+}
+
+#[test]
+fn a_compiled_expression_too_long_is_refused_naming_it() {
+    let d = Deck::new("long", &scene("-x + 0*a15", &stacked(16), 1.0));
+    let (code, out, err) = d.check();
+    assert_eq!(code, 1, "{out}{err}");
+    let (line, col, message) = first_error(&err);
+    assert_eq!(line, d.line_of("observables = "), "{err}");
+    // At a12's expression: the 13th of 4096 operations passes 50000.
+    let text = std::fs::read_to_string(d.path()).unwrap();
+    let row = text.lines().nth(line - 1).unwrap();
+    assert_eq!(col, row.find("a12 = \"").unwrap() + 7, "{err}");
+    assert!(
+        message.ends_with(
+            "`a12` compiles to more than 50000 operations (with the observables it uses)"
+        ),
+        "{message}"
+    );
+}
+
+#[test]
+fn a_step_too_costly_to_play_is_refused_with_its_numbers() {
+    // 40 variables whose equations share a 45,056-operation observable:
+    // each step runs it 13 times and 40 more for the Jacobian.
+    let n = 40;
+    let vars: Vec<String> = (0..n).map(|i| format!("\"y{i}\"")).collect();
+    let eqs: Vec<String> = (0..n).map(|i| format!("\"-y{i} + 0*a10\"")).collect();
+    let body = format!(
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\", {}]\ninitial = [1.0{}]\nequations = [\"-x\", {}]\n{}duration = 1.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+        vars.join(", "),
+        ", 1.0".repeat(n),
+        eqs.join(", "),
+        stacked(11)
+    );
+    let d = Deck::new("costly", &body);
+    let (code, out, err) = d.check();
+    assert_eq!(code, 1, "{out}{err}");
+    let (line, _, message) = first_error(&err);
+    assert_eq!(line, d.line_of("equations = "), "{err}");
+    assert!(
+        message.starts_with("scene s needs about 3.23e6 operations per step, more than the 2e6 the app can play: its equations compile to 45257 operations, run 13 times a step and once per variable (41) for the Jacobian; its observables and sketch compile to 45056, run 16 times a step"),
+        "{message}"
+    );
+    // And the simulator refuses it the same way, at once.
+    let (code, _, err) = d.sim(&["--samples", "2"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("operations per step"), "{err}");
+}
+
+/// x'' = −x with an observable `lnx = ln(x)`, which leaves its domain when
+/// x turns negative at t = π/2; a prompt counting its sign changes (the
+/// issue's "crossings = 51, ✓ Right").
+fn nan_deck() -> Deck {
+    let prompt = "[[prompt]]\nid = \"p\"\nquestion = 'How often?'\nscene = \"s\"\n\n[prompt.answer]\nkind = \"choice\"\nexpected = \"many\"\nchoices = [\n  { id = \"many\", label = 'Many', when = \"crossings(lnx) > 10\" },\n  { id = \"few\", label = 'Few', when = \"crossings(lnx) <= 10\" },\n]\n\n";
+    Deck::new(
+        "nan",
+        &format!(
+            "{prompt}{}",
+            scene("-x", "observables = { lnx = \"ln(x)\" }\n", 100.0)
+                .replace("plot = [\"x\"]", "plot = [\"lnx\"]")
+        ),
+    )
+}
+
+const LNX: &str = "`lnx` is NaN at t = 1.571: ln of a negative number";
+
+#[test]
+fn nan_is_never_a_measurement() {
+    let d = nan_deck();
+    // Samples: the rows before x turns negative, then the cause.
+    let (code, out, err) = d.sim(&["--samples", "5"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert_eq!(out.lines().count(), 2, "the header and t = 0 only:\n{out}");
+    assert!(!out.contains("NaN"), "{out}");
+    assert!(err.starts_with(&format!("flipcard: error: {LNX}")), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    // A measure: no number, the cause.
+    let (code, out, err) = d.sim(&["--measure", "crossings(lnx)"]);
+    assert_eq!((code, out.as_str()), (1, ""), "{err}");
+    assert!(err.starts_with(&format!("flipcard: error: {LNX}")), "{err}");
+    // The scene's report: no verdict at all, let alone a right one.
+    let (code, out, err) = d.sim(&[]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(!out.contains(": ok"), "{out}");
+    assert!(err.contains(LNX), "{err}");
+    // Check refuses the deck at the observable and at the prompt's answer.
+    let (code, _, err) = d.check();
+    assert_eq!(code, 1, "{err}");
+    let (line, col, message) = first_error(&err);
+    assert_eq!((line, col), (d.line_of("observables = "), 23), "{err}");
+    assert!(
+        message.starts_with(&format!("scene `s` does not run to its end: {LNX}")),
+        "{message}"
+    );
+    let expected = d.line_of("expected = \"many\"");
+    assert!(
+        err.contains(&format!(
+            "nan.toml:{expected}:12: error: the answer cannot be checked: scene `s` does not run to its end ({LNX}"
+        )),
+        "{err}"
+    );
+    assert!(err.contains("2 errors, 0 warnings"), "{err}");
+}
+
+#[test]
+fn division_by_zero_and_roots_of_negatives_are_named() {
+    // x = √(1 − t) meets x' = −1/(2x) until t = 1, where it divides by zero.
+    let d = Deck::new(
+        "div",
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [1.0]\nequations = [\"-1/(2*x)\"]\nduration = 2.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+    );
+    let (code, out, err) = d.sim(&["--samples", "5"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert_eq!(
+        err.trim(),
+        "flipcard: error: the equation of `x` is -infinite at t = 1.0: division by zero (the run stops here)"
+    );
+    // Rows at 0 and 0.5 only: none where the solution does not exist.
+    assert_eq!(out.lines().count(), 3, "{out}");
+    // x = (1 − t/2)² meets x' = −√x until t = 2, then x would go negative.
+    let d = Deck::new(
+        "root",
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [1.0]\nequations = [\"-sqrt(x)\"]\nduration = 3.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+    );
+    let (code, _, err) = d.sim(&["--measure", "min(x)"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.starts_with("flipcard: error: the equation of `x` is NaN at t = 2.0: square root of a negative number (sqrt(-"),
+        "{err}"
+    );
+    let (code, _, err) = d.check();
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("does not run to its end: the equation of `x` is NaN at t = 2.0: square root of a negative number"),
+        "{err}"
+    );
+    // A genuine blow-up (x' = x², x = 1/(1 − t)) is still called one.
+    let d = Deck::new(
+        "blow",
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [1.0]\nequations = [\"x^2\"]\nduration = 2.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+    );
+    let (code, _, err) = d.sim(&["--measure", "max(x)"]);
+    assert_eq!(code, 1, "{err}");
+    assert_eq!(
+        err.trim(),
+        "flipcard: error: the solution blows up near t = 1.0"
+    );
+}
+
+#[test]
+fn a_value_not_finite_at_the_start_is_named_at_its_expression() {
+    let d = Deck::new(
+        "start",
+        &scene("-x", "observables = { r = \"sqrt(x - 2)\" }\n", 1.0),
+    );
+    let (code, _, err) = d.check();
+    assert_eq!(code, 1, "{err}");
+    let (line, col, message) = first_error(&err);
+    assert_eq!((line, col), (d.line_of("observables = "), 21), "{err}");
+    assert_eq!(
+        message,
+        "`r` gives NaN at t = 0 (initial state x = 1, v = 0): square root of a negative number (sqrt(-1))"
+    );
+}
+
+/// The release binary: the work budget is a second or two of its work.
+fn release() -> String {
+    crate::tui_e2e::release_binary().display().to_string()
+}
+
+/// The heavy scene: x'' = −x with 45,056 operations of observables in the
+/// equation, `duration` long.
+fn heavy(duration: f64) -> Deck {
+    Deck::new("heavy", &scene("-x + 1e-30*a10", &stacked(11), duration))
+}
+
+#[test]
+fn a_run_past_its_work_budget_is_refused_by_check_with_its_numbers() {
+    let bin = release();
+    // Within its budget: checks, and measures.
+    let d = heavy(100.0);
+    let (code, out, err) = run(&bin, &["check", d.path().to_str().unwrap()], None);
+    assert_eq!(code, 0, "{out}{err}");
+    // Ten times longer it would take ~1.6e9 operations: check refuses it
+    // at the duration, with the numbers, and so does the simulator.
+    let d = heavy(1000.0);
+    let (code, _, err) = run(&bin, &["check", d.path().to_str().unwrap()], None);
+    assert_eq!(code, 1, "{err}");
+    let (line, col, message) = first_error(&err);
+    assert_eq!((line, col), (d.line_of("duration = "), 12), "{err}");
+    assert!(
+        message.starts_with("scene `s` does not run to its end: the run stops at t = "),
+        "{message}"
+    );
+    assert!(
+        message.contains("steps of about 1.40e6 operations each reach the 1e9 a scene may take"),
+        "{message}"
+    );
+    let p = d.path();
+    let (code, _, err) = run(
+        &bin,
+        &[
+            "sim",
+            "--deck",
+            p.to_str().unwrap(),
+            "--scene",
+            "s",
+            "--measure",
+            "max(x)",
+        ],
+        None,
+    );
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("reach the 1e9 a scene may take"), "{err}");
+}
+
+/// Polls the screen every 5 ms until `ok`; the time it took.
+fn time_until(
+    t: &crate::tui_e2e::Tmux,
+    what: &str,
+    ok: impl Fn(&str) -> bool,
+) -> std::time::Duration {
+    let start = std::time::Instant::now();
+    loop {
+        let s = t.screen();
+        if ok(&s) {
+            return start.elapsed();
+        }
+        assert!(
+            start.elapsed() < std::time::Duration::from_secs(30),
+            "timed out waiting for {what}; the screen:\n{s}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn esc_and_ctrl_c_answer_at_once_while_a_heavy_scene_plays() {
+    if !crate::tui_e2e::tmux_available() {
+        eprintln!("skipping the terminal end-to-end test: tmux is not installed");
+        return;
+    }
+    let bin = release();
+    // A scene `check` accepts whose steps cannot keep up with the clock
+    // at speed ×64: each frame's physics is cut at its slice.
+    let prompt = "[[prompt]]\nid = \"p\"\nquestion = 'Heavy swing?'\nscene = \"s\"\n\n[prompt.answer]\nkind = \"choice\"\nexpected = \"yes\"\nchoices = [\n  { id = \"yes\", label = 'Yes', when = \"max(x) > 0.5\" },\n  { id = \"no\", label = 'No', when = \"max(x) <= 0.5\" },\n]\n\n";
+    let d = Deck::new(
+        "heavy",
+        &format!(
+            "{prompt}{}",
+            scene("-100*x + 1e-30*a10", &stacked(11), 25.0)
+        ),
+    );
+    let (code, out, err) = run(&bin, &["check", d.path().to_str().unwrap()], None);
+    assert_eq!(code, 0, "{out}{err}");
+    let home = tempfile::tempdir().unwrap();
+    let env = [
+        ("FLIPCARD_NOW", "2026-03-02T09:00:00Z".to_string()),
+        (
+            "FLIPCARD_DATA_DIR",
+            home.path().join("data").display().to_string(),
+        ),
+        (
+            "FLIPCARD_CONFIG",
+            home.path().join("config.toml").display().to_string(),
+        ),
+        (
+            "FLIPCARD_DECKS",
+            d.dir.path().join("decks").display().to_string(),
+        ),
+        ("TERM", "xterm-256color".to_string()),
+    ];
+    let t = crate::tui_e2e::Tmux::start("heavy", &env, "", 100, 32);
+    t.wait_for("last studied");
+    let decks = flipcard::deck::bundled::load().decks.len();
+    // Each key while the run plays: the time until the screen shows what
+    // it did (keys() itself waits 40 ms after sending).
+    let key = |t: &crate::tui_e2e::Tmux, k: &str, what: &str, ok: &dyn Fn(&str) -> bool| {
+        t.keys(&[k]);
+        time_until(t, what, ok) + std::time::Duration::from_millis(40)
+    };
+    // Starts the run and speeds it up to ×64, where its steps cannot keep
+    // up with the clock; the worst time a `+` took.
+    let start_run = |t: &crate::tui_e2e::Tmux| {
+        t.wait_for("Heavy swing?");
+        t.keys(&["Enter"]);
+        t.wait_for("Yes");
+        t.keys(&["1", "Enter"]);
+        t.wait_for("/ 25 s");
+        let mut worst = std::time::Duration::ZERO;
+        for speed in ["×2", "×4", "×8", "×16", "×32", "×64"] {
+            worst = worst.max(key(t, "+", speed, &|s: &str| s.contains(speed)));
+        }
+        worst
+    };
+    for _ in 0..decks {
+        t.keys(&["j"]);
+    }
+    t.keys(&["p"]);
+    let mut worst = std::time::Duration::ZERO;
+    let mut playing = 0;
+    for _ in 0..3 {
+        worst = worst.max(start_run(&t));
+        if !t.screen().contains("25.00 / 25") {
+            playing += 1;
+        }
+        // Back to the prompt list: the run's status line is gone.
+        worst = worst.max(key(&t, "Escape", "the prompt list", &|s: &str| {
+            !s.contains("/ 25 s")
+        }));
+    }
+    worst = worst.max(start_run(&t));
+    worst = worst.max(key(&t, "C-c", "the exit", &|s: &str| s.contains("EXIT=")));
+    let s = t.wait_for("TTY=");
+    assert!(s.contains("TTY=cooked"), "terminal left in raw mode:\n{s}");
+    eprintln!(
+        "worst key latency while a heavy scene plays: {worst:?} ({playing} of 3 runs still playing at Esc)"
+    );
+    // Generous (a loaded CI machine, tmux's own latency); the frame is
+    // 33 ms and the physics slice 20 ms.
+    assert!(
+        worst < std::time::Duration::from_millis(500),
+        "a key took {worst:?}"
+    );
+    // The run was still playing when Esc came: the slices, not the end of
+    // the run, let the key through.
+    assert!(playing > 0, "every run ended before Esc");
+}
