@@ -1,7 +1,8 @@
 //! flipcard: spaced-repetition flashcards, bilingual explanations and live
 //! predict-then-check simulations.
 //!
-//! Layers, each using only those listed before it: `text` (math and
+//! Layers, each using only those listed before it: `io` (the one door to
+//! the file system), `text` (math and
 //! words), `sim` (the simulator), `deck` (TOML into validated decks),
 //! `sched` (scheduling), `store` (the review database), `predict` (grading
 //! predictions), `sync` (between a learner's machines), `tui` (the terminal
@@ -10,6 +11,7 @@
 
 pub mod cmd;
 pub mod deck;
+pub mod io;
 pub mod predict;
 pub mod sched;
 pub mod sim;

@@ -10,13 +10,15 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// Bottom to top: a module may use those before it.
-const LAYERS: [&str; 9] = [
-    "text", "sim", "deck", "sched", "store", "predict", "sync", "tui", "cmd",
+const LAYERS: [&str; 10] = [
+    "io", "text", "sim", "deck", "sched", "store", "predict", "sync", "tui", "cmd",
 ];
 
 /// Modules that compute and return values: no printing, no exiting, no
 /// command line, no terminal.
-const DOMAIN: [&str; 7] = ["text", "sim", "deck", "sched", "store", "predict", "sync"];
+const DOMAIN: [&str; 8] = [
+    "io", "text", "sim", "deck", "sched", "store", "predict", "sync",
+];
 
 fn src() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
@@ -191,6 +193,33 @@ fn domain_modules_never_see_the_command_line_print_or_exit() {
             }
         }
     }
+}
+
+/// Every file operation goes through `io`, where the disciplines live
+/// (regular files only, whole replacements, one fsync rule).
+#[test]
+fn only_io_touches_the_file_system() {
+    let mut wrong = Vec::new();
+    for module in LAYERS.iter().filter(|m| **m != "io") {
+        for (file, code) in code_of(module) {
+            for f in ["std::fs", "fs::File", "fs::OpenOptions", "rustix::fs"] {
+                if code.contains(f) {
+                    wrong.push(format!("{} uses `{f}`", file.display()));
+                }
+            }
+            if code
+                .lines()
+                .any(|l| l.trim_start().starts_with("use std::{") && l.contains(" fs"))
+            {
+                wrong.push(format!("{} imports std's fs", file.display()));
+            }
+        }
+    }
+    assert!(
+        wrong.is_empty(),
+        "file operations outside io (use crate::io):\n{}",
+        wrong.join("\n")
+    );
 }
 
 #[test]

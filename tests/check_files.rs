@@ -407,7 +407,7 @@ fn a_fifo_given_as_an_input_file_is_refused_not_waited_on() {
     assert_eq!(run.code, 1, "{}", run.stderr);
     assert!(
         run.stderr
-            .contains("config.toml: is a FIFO or device, not a regular file"),
+            .contains("config.toml: is a FIFO, not a regular file"),
         "{}",
         run.stderr
     );

@@ -1,7 +1,6 @@
 //! `flipcard bench [--quick] [--out DIR]`: error against run time for every
 //! solver, as a CSV and an SVG in DIR and a table on standard output.
 
-use std::fs;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -13,7 +12,7 @@ use crate::text::plural;
 
 pub fn run(_cli: &Cli, args: &BenchArgs) -> anyhow::Result<ExitCode> {
     let out_dir = &args.out;
-    fs::create_dir_all(out_dir)
+    crate::io::create_dir_all(out_dir)
         .with_context(|| format!("cannot create the output folder {}", out_dir.display()))?;
     let started = Instant::now();
     let rows = bench::sweep(args.quick, |row, k, total| {

@@ -31,7 +31,7 @@ pub fn run(cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
     // A dangling link is there; the loader says where it points.
     let missing: Vec<&PathBuf> = paths
         .iter()
-        .filter(|p| std::fs::symlink_metadata(p).is_err())
+        .filter(|p| !crate::io::exists_no_follow(p))
         .collect();
     if !missing.is_empty() {
         for p in missing {
@@ -43,10 +43,10 @@ pub fn run(cli: &Cli, args: &CheckArgs) -> anyhow::Result<ExitCode> {
         return Ok(ExitCode::from(2));
     }
     for p in paths.iter().filter(|p| p.is_dir()) {
-        let has_decks = std::fs::read_dir(p).is_ok_and(|entries| {
+        let has_decks = crate::io::entries(p).is_ok_and(|entries| {
             entries
-                .filter_map(Result::ok)
-                .any(|e| e.path().extension().is_some_and(|x| x == "toml"))
+                .iter()
+                .any(|e| e.extension().is_some_and(|x| x == "toml"))
         });
         if !has_decks {
             crate::errln!(

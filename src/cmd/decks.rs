@@ -6,7 +6,6 @@
 //! touch nothing outside those two folders; the moves themselves, and their
 //! recovery after a kill, are `cmd::library`'s.
 
-use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -111,7 +110,7 @@ fn deck_files_in(path: &Path) -> PathBuf {
 }
 
 fn add(cli: &Cli, path: &Path) -> anyhow::Result<ExitCode> {
-    if fs::symlink_metadata(path).is_err() {
+    if !crate::io::exists_no_follow(path) {
         bail!("{}: no such file or directory", path.display());
     }
     let checked = load_paths(&[deck_files_in(path)]);

@@ -23,7 +23,7 @@ pub fn is_anki_file(file: &Path) -> bool {
 }
 
 pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
-    if std::fs::metadata(&args.file).is_ok_and(|m| m.is_dir()) {
+    if crate::io::metadata(&args.file).is_ok_and(|m| m.is_dir()) {
         anyhow::bail!("cannot read {}: it is a folder", args.file.display());
     }
     let now = crate::sched::clock::now()?;
@@ -137,19 +137,18 @@ fn write_decks(out: &Path, import: &AnkiImport) -> anyhow::Result<Vec<PathBuf>> 
     let result = (|| -> anyhow::Result<()> {
         for d in &import.decks {
             let file = deck_file(out, &d.id);
-            let dir = file.parent().unwrap_or(out);
-            std::fs::create_dir_all(dir)
-                .with_context(|| format!("cannot create {}", dir.display()))?;
-            std::fs::write(&file, &d.toml)
+            crate::io::write_atomic(&file, d.toml.as_bytes(), crate::io::Durability::Synced)
                 .with_context(|| format!("cannot write {}", file.display()))?;
             written.push(file);
             let content = out.join("content").join(&d.id);
-            std::fs::create_dir_all(&content)
-                .with_context(|| format!("cannot create {}", content.display()))?;
             let en = content.join("en.toml");
             if !en.exists() {
-                std::fs::write(&en, "# Explanations of the imported cards go here.\n")
-                    .with_context(|| format!("cannot write {}", en.display()))?;
+                crate::io::write_atomic(
+                    &en,
+                    b"# Explanations of the imported cards go here.\n",
+                    crate::io::Durability::Synced,
+                )
+                .with_context(|| format!("cannot write {}", en.display()))?;
                 written.push(en);
             }
         }
@@ -164,9 +163,9 @@ fn write_decks(out: &Path, import: &AnkiImport) -> anyhow::Result<Vec<PathBuf>> 
 
 fn remove(files: &[PathBuf]) {
     for f in files {
-        let _ = std::fs::remove_file(f);
+        let _ = crate::io::remove_file(f);
         if let Some(dir) = f.parent() {
-            let _ = std::fs::remove_dir(dir);
+            let _ = crate::io::remove_dir(dir);
         }
     }
 }

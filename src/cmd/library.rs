@@ -5,8 +5,9 @@
 //! made here too, journaled so that a run killed part way is finished by
 //! the next one.
 
-use std::fs;
-use std::io::{self, Write};
+use std::io;
+
+use crate::io as disk;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
@@ -271,15 +272,15 @@ pub fn install(data_dir: &Path, deck: &NewDeck) -> anyhow::Result<()> {
     real_dir(&content_root(data_dir), true)?;
     recover_locked(data_dir)?;
     let live = library_dir(data_dir).join(format!("{}.toml", deck.id));
-    if fs::symlink_metadata(&live).is_ok_and(|m| m.is_dir()) {
+    if disk::metadata_no_follow(&live).is_ok_and(|m| m.is_dir()) {
         anyhow::bail!("{} is a folder, not a deck file", live.display());
     }
     let st = staging_dir(data_dir);
     step();
-    fs::create_dir(&st).with_context(|| format!("cannot create {}", st.display()))?;
+    disk::create_dir(&st).with_context(|| format!("cannot create {}", st.display()))?;
     for sub in ["new", "new/content", "old"] {
         step();
-        fs::create_dir(st.join(sub))?;
+        disk::create_dir(st.join(sub))?;
     }
     for (lang, bytes) in &deck.content {
         step();
@@ -297,14 +298,14 @@ pub fn install(data_dir: &Path, deck: &NewDeck) -> anyhow::Result<()> {
 pub fn uninstall(data_dir: &Path, id: &str) -> Result<(), RemoveError> {
     check_id(id)?;
     let decks = library_dir(data_dir);
-    match fs::symlink_metadata(&decks) {
+    match disk::metadata_no_follow(&decks) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Err(RemoveError::NotInLibrary),
         _ => {}
     }
     let _lock = Lock::take(data_dir, true)?.expect("a waiting lock is always taken");
     recover_locked(data_dir)?;
     let file = decks.join(format!("{id}.toml"));
-    match fs::symlink_metadata(&file) {
+    match disk::metadata_no_follow(&file) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Err(RemoveError::NotInLibrary),
         Err(e) => return Err(anyhow::anyhow!("cannot look at {}: {e}", file.display()).into()),
         Ok(m) if m.is_dir() => {
@@ -318,9 +319,9 @@ pub fn uninstall(data_dir: &Path, id: &str) -> Result<(), RemoveError> {
     }
     let st = staging_dir(data_dir);
     step();
-    fs::create_dir(&st).with_context(|| format!("cannot create {}", st.display()))?;
+    disk::create_dir(&st).with_context(|| format!("cannot create {}", st.display()))?;
     step();
-    fs::create_dir(st.join("old")).context("cannot prepare the removal")?;
+    disk::create_dir(st.join("old")).context("cannot prepare the removal")?;
     write_intent(&st, &Intent::Remove(id.to_string()))?;
     finish(data_dir, &Intent::Remove(id.to_string()))?;
     Ok(())
@@ -330,7 +331,7 @@ pub fn uninstall(data_dir: &Path, id: &str) -> Result<(), RemoveError> {
 /// that a killed run left in the staging folder. Does nothing while another
 /// run holds the library's lock: that change is still under way.
 pub fn recover(data_dir: &Path) -> anyhow::Result<()> {
-    match fs::symlink_metadata(staging_dir(data_dir)) {
+    match disk::metadata_no_follow(staging_dir(data_dir)) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
         _ => {}
     }
@@ -380,14 +381,14 @@ fn write_intent(st: &Path, intent: &Intent) -> anyhow::Result<()> {
     step();
     write_new(&tmp, intent.text().as_bytes())?;
     step();
-    fs::rename(&tmp, st.join("intent"))?;
+    disk::rename(&tmp, st.join("intent"))?;
     sync_dir(st);
     Ok(())
 }
 
 fn recover_locked(data_dir: &Path) -> anyhow::Result<()> {
     let st = staging_dir(data_dir);
-    match fs::symlink_metadata(&st) {
+    match disk::metadata_no_follow(&st) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(()),
         Err(e) => anyhow::bail!("cannot look at {}: {e}", st.display()),
         Ok(m) if !m.is_dir() => anyhow::bail!(
@@ -397,7 +398,7 @@ fn recover_locked(data_dir: &Path) -> anyhow::Result<()> {
         Ok(_) => {}
     }
     let journal = st.join("intent");
-    let intent = match fs::symlink_metadata(&journal) {
+    let intent = match disk::metadata_no_follow(&journal) {
         Err(e) if e.kind() == io::ErrorKind::NotFound => None,
         Err(e) => anyhow::bail!("cannot look at {}: {e}", journal.display()),
         Ok(m) if !m.is_file() => None,
@@ -412,7 +413,7 @@ fn recover_locked(data_dir: &Path) -> anyhow::Result<()> {
         // was (the journal goes before the staging folder): drop the rest.
         None => {
             step();
-            fs::remove_dir_all(&st).with_context(|| format!("cannot remove {}", st.display()))?;
+            disk::remove_tree(&st).with_context(|| format!("cannot remove {}", st.display()))?;
             sync_dir(&library_dir(data_dir));
             Ok(())
         }
@@ -432,12 +433,12 @@ fn finish(data_dir: &Path, intent: &Intent) -> anyhow::Result<()> {
     let new_file = st.join("new/deck.toml");
     let new_content = st.join("new/content");
     let old = st.join("old");
-    let exists = |p: &Path| fs::symlink_metadata(p).is_ok();
+    let exists = |p: &Path| disk::metadata_no_follow(p).is_ok();
     let aside = |live: &Path, name: &str| -> anyhow::Result<()> {
         if exists(live) {
             let to = unused(&old.join(name));
             step();
-            fs::rename(live, &to)
+            disk::rename(live, &to)
                 .with_context(|| format!("cannot move {} aside", live.display()))?;
         }
         Ok(())
@@ -457,7 +458,7 @@ fn finish(data_dir: &Path, intent: &Intent) -> anyhow::Result<()> {
             sync_dir(&contents);
             if add {
                 step();
-                fs::rename(&new_content, &live_content)
+                disk::rename(&new_content, &live_content)
                     .with_context(|| format!("cannot move in {}", live_content.display()))?;
                 sync_dir(&contents);
             }
@@ -467,17 +468,17 @@ fn finish(data_dir: &Path, intent: &Intent) -> anyhow::Result<()> {
         }
         if add {
             step();
-            fs::rename(&new_file, &live_file)
+            disk::rename(&new_file, &live_file)
                 .with_context(|| format!("cannot move in {}", live_file.display()))?;
             sync_dir(&decks);
         }
     }
     // Done: the journal goes first, then what is left.
     step();
-    fs::remove_file(st.join("intent"))?;
+    disk::remove_file(st.join("intent"))?;
     sync_dir(&st);
     step();
-    fs::remove_dir_all(&st).with_context(|| format!("cannot remove {}", st.display()))?;
+    disk::remove_tree(&st).with_context(|| format!("cannot remove {}", st.display()))?;
     sync_dir(&decks);
     Ok(())
 }
@@ -486,7 +487,7 @@ fn finish(data_dir: &Path, intent: &Intent) -> anyhow::Result<()> {
 fn unused(path: &Path) -> PathBuf {
     let mut candidate = path.to_path_buf();
     let mut n = 1;
-    while fs::symlink_metadata(&candidate).is_ok() {
+    while disk::metadata_no_follow(&candidate).is_ok() {
         candidate = path.with_file_name(format!(
             "{}-{n}",
             path.file_name().unwrap_or_default().to_string_lossy()
@@ -499,7 +500,7 @@ fn unused(path: &Path) -> PathBuf {
 /// A library folder that must be a real folder (not a link to one, not a
 /// file) if it is there at all; created when missing if `create`.
 fn real_dir(path: &Path, create: bool) -> anyhow::Result<()> {
-    match fs::symlink_metadata(path) {
+    match disk::metadata_no_follow(path) {
         Ok(m) if m.is_dir() => Ok(()),
         Ok(m) if m.file_type().is_symlink() => anyhow::bail!(
             "{} is a symbolic link; the library's folders must be folders, not links (nothing changed)",
@@ -512,7 +513,7 @@ fn real_dir(path: &Path, create: bool) -> anyhow::Result<()> {
         Err(e) if e.kind() == io::ErrorKind::NotFound => {
             if create {
                 step();
-                fs::create_dir_all(path)
+                disk::create_dir_all(path)
                     .with_context(|| format!("cannot create {}", path.display()))?;
             }
             Ok(())
@@ -524,29 +525,18 @@ fn real_dir(path: &Path, create: bool) -> anyhow::Result<()> {
 /// Writes a new file (never through something already at `path`) and
 /// makes it durable.
 fn write_new(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    let mut file = fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(path)
-        .with_context(|| format!("cannot create {}", path.display()))?;
-    file.write_all(bytes)
-        .and_then(|()| file.sync_all())
-        .with_context(|| format!("cannot write {}", path.display()))?;
-    Ok(())
+    disk::write_new(path, bytes).with_context(|| format!("cannot write {}", path.display()))
 }
 
-/// Makes renames in `dir` durable (best effort: not every file system
-/// lets a folder be synced).
+/// Makes renames in `dir` durable.
 fn sync_dir(dir: &Path) {
-    if let Ok(d) = fs::File::open(dir) {
-        let _ = d.sync_all();
-    }
+    disk::sync_dir(dir);
 }
 
 /// One change to the library at a time: an advisory lock on
 /// `decks/.lock`, released when the process ends however it ends.
 struct Lock {
-    _file: fs::File,
+    _lock: disk::Lock,
 }
 
 impl Lock {
@@ -555,44 +545,20 @@ impl Lock {
     fn take(data_dir: &Path, wait: bool) -> anyhow::Result<Option<Lock>> {
         let decks = library_dir(data_dir);
         if wait {
-            fs::create_dir_all(data_dir)
+            disk::create_dir_all(data_dir)
                 .with_context(|| format!("cannot create {}", data_dir.display()))?;
             real_dir(&decks, true)?;
         } else {
             real_dir(&decks, false)?;
         }
         let path = decks.join(".lock");
-        let file = open_lock_file(&path)
-            .with_context(|| format!("cannot open the library's lock {}", path.display()))?;
-        if wait {
-            file.lock()
-                .with_context(|| format!("cannot lock {}", path.display()))?;
+        let how = if wait {
+            disk::Wait::Forever
         } else {
-            match file.try_lock() {
-                Ok(()) => {}
-                Err(fs::TryLockError::WouldBlock) => return Ok(None),
-                Err(fs::TryLockError::Error(e)) => {
-                    return Err(anyhow::anyhow!("cannot lock {}: {e}", path.display()));
-                }
-            }
-        }
-        Ok(Some(Lock { _file: file }))
+            disk::Wait::No
+        };
+        let lock = disk::Lock::take(&path, how)
+            .with_context(|| format!("cannot lock the library's {}", path.display()))?;
+        Ok(lock.map(|l| Lock { _lock: l }))
     }
-}
-
-/// Opens (creating) the lock file without following a link and without
-/// waiting on a FIFO, and refuses anything but a regular file.
-fn open_lock_file(path: &Path) -> io::Result<fs::File> {
-    let mut options = fs::OpenOptions::new();
-    options.read(true).write(true).create(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        options.custom_flags(nix::libc::O_NOFOLLOW | nix::libc::O_NONBLOCK);
-    }
-    let file = options.open(path)?;
-    if !file.metadata()?.is_file() {
-        return Err(io::Error::other("not a regular file"));
-    }
-    Ok(file)
 }

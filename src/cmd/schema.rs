@@ -32,10 +32,10 @@ pub fn run(_cli: &Cli, args: &SchemaArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn write_all(dir: &Path) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     for (name, text) in SCHEMAS {
         let path = dir.join(name);
-        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))?;
+        crate::io::write_atomic(&path, text.as_bytes(), crate::io::Durability::Whole)
+            .with_context(|| format!("cannot write {}", path.display()))?;
     }
     Ok(())
 }

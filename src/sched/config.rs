@@ -546,34 +546,11 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
     (line, column)
 }
 
-/// The config's text. Opened without waiting, so a FIFO at its path is
-/// refused by name instead of blocking the app before it starts. (The
-/// same open as `deck::files::open_regular`, which `sched`, a layer below
-/// `deck`, cannot call.)
+/// The config's text, opened as every file flipcard reads is (a FIFO at
+/// its path is refused by name instead of blocking the app before it
+/// starts).
 fn read_file(path: &Path) -> std::io::Result<String> {
-    use std::io::Read;
-    let mut options = std::fs::OpenOptions::new();
-    options.read(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        options.custom_flags(nix::libc::O_NONBLOCK);
-    }
-    let mut file = options.open(path)?;
-    let kind = file.metadata()?.file_type();
-    if !kind.is_file() {
-        let what = if kind.is_dir() {
-            "a directory"
-        } else {
-            "a FIFO or device"
-        };
-        return Err(std::io::Error::other(format!(
-            "is {what}, not a regular file"
-        )));
-    }
-    let mut text = String::new();
-    file.read_to_string(&mut text)?;
-    Ok(text)
+    crate::io::read_text(path)
 }
 
 fn read_or_empty(path: &Path) -> Result<String, ConfigError> {
@@ -610,53 +587,15 @@ fn set_key_in_text(text: &str, key: &str, value: &toml::Value) -> Result<String,
     })
 }
 
-/// Write to a sibling temporary file and rename it over the target, so a
-/// crash never leaves a half-written config. A symbolic link (a config kept
-/// in a dotfiles repository) is written through: the file it points to is
-/// replaced, the link stays.
+/// Replaces the config whole (a crash never leaves half of it), through a
+/// symbolic link (a config kept in a dotfiles repository stays a link).
 fn write_atomically(path: &Path, text: &str) -> Result<(), ConfigError> {
-    let err = |source| ConfigError::Write {
-        path: path.to_path_buf(),
-        source,
-    };
-    let target = resolve_links(path).map_err(err)?;
-    if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(err)?;
-    }
-    let mut tmp = target.as_os_str().to_owned();
-    tmp.push(format!(".tmp-{}", std::process::id()));
-    let tmp = PathBuf::from(tmp);
-    let written = (|| {
-        use std::io::Write as _;
-        let mut file = std::fs::File::create(&tmp)?;
-        file.write_all(text.as_bytes())?;
-        file.sync_all()?;
-        std::fs::rename(&tmp, &target)
-    })();
-    if written.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    written.map_err(err)
-}
-
-/// The file `path` finally names once every symbolic link on the way is
-/// followed (the last target need not exist yet).
-fn resolve_links(path: &Path) -> std::io::Result<PathBuf> {
-    let mut current = path.to_path_buf();
-    // Linux's own limit on links followed while resolving one path.
-    for _ in 0..40 {
-        match std::fs::symlink_metadata(&current) {
-            Ok(m) if m.file_type().is_symlink() => {
-                let next = std::fs::read_link(&current)?;
-                current = match current.parent() {
-                    Some(dir) if next.is_relative() => dir.join(next),
-                    _ => next,
-                };
-            }
-            _ => return Ok(current),
-        }
-    }
-    Err(std::io::Error::other("too many levels of symbolic links"))
+    crate::io::write_atomic(path, text.as_bytes(), crate::io::Durability::Synced).map_err(
+        |source| ConfigError::Write {
+            path: path.to_path_buf(),
+            source,
+        },
+    )
 }
 
 impl fmt::Display for Config {

@@ -13,7 +13,6 @@ mod plot;
 mod systems;
 
 use std::fmt::Write as _;
-use std::fs;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -319,14 +318,24 @@ pub fn table(rows: &[Row]) -> String {
 /// `work_precision.svg` of a sweep into `dir` (which must exist).
 pub fn write(dir: &Path, rows: &[Row], systems: &[SystemRow], quick: bool) -> anyhow::Result<()> {
     let csv_path = dir.join("work_precision.csv");
-    fs::write(&csv_path, csv(rows)).with_context(|| format!("writing {}", csv_path.display()))?;
+    crate::io::write_atomic(
+        &csv_path,
+        csv(rows).as_bytes(),
+        crate::io::Durability::Whole,
+    )
+    .with_context(|| format!("writing {}", csv_path.display()))?;
     let systems_path = dir.join("work_precision_systems.csv");
-    fs::write(&systems_path, systems_csv(systems))
-        .with_context(|| format!("writing {}", systems_path.display()))?;
+    crate::io::write_atomic(
+        &systems_path,
+        systems_csv(systems).as_bytes(),
+        crate::io::Durability::Whole,
+    )
+    .with_context(|| format!("writing {}", systems_path.display()))?;
     let svg_path = dir.join("work_precision.svg");
     let svg = plot::svg(rows, &cases(quick), systems, &system_cases(quick))
         .context("drawing the work–precision plot")?;
-    fs::write(&svg_path, svg).with_context(|| format!("writing {}", svg_path.display()))?;
+    crate::io::write_atomic(&svg_path, svg.as_bytes(), crate::io::Durability::Whole)
+        .with_context(|| format!("writing {}", svg_path.display()))?;
     Ok(())
 }
 

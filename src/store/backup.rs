@@ -37,13 +37,13 @@ pub fn vacuum_into(conn: &Connection, target: &Path) -> Result<(), StoreError> {
     let partial_str = partial
         .to_str()
         .ok_or_else(|| fail("the path is not valid UTF-8".into()))?;
-    let _ = std::fs::remove_file(&partial);
+    let _ = crate::io::remove_file(&partial);
     if let Err(e) = conn.execute("VACUUM INTO ?1", [partial_str]) {
-        let _ = std::fs::remove_file(&partial);
+        let _ = crate::io::remove_file(&partial);
         return Err(fail(e.to_string()));
     }
-    std::fs::rename(&partial, target).map_err(|e| {
-        let _ = std::fs::remove_file(&partial);
+    crate::io::rename(&partial, target).map_err(|e| {
+        let _ = crate::io::remove_file(&partial);
         fail(e.to_string())
     })
 }
@@ -61,7 +61,7 @@ pub fn daily_backup(
         return Ok(None);
     }
     let dir = backups_dir(data_dir);
-    std::fs::create_dir_all(&dir).map_err(|e| StoreError::Backup {
+    crate::io::create_dir_all(&dir).map_err(|e| StoreError::Backup {
         path: dir.clone(),
         detail: e.to_string(),
     })?;
@@ -72,16 +72,15 @@ pub fn daily_backup(
 
 /// The daily copies present, newest first.
 pub fn daily_backups(data_dir: &Path) -> Vec<(NaiveDate, PathBuf)> {
-    let Ok(entries) = std::fs::read_dir(backups_dir(data_dir)) else {
+    let Ok(files) = crate::io::visible_files(backups_dir(data_dir), "db") else {
         return Vec::new();
     };
-    let mut found: Vec<(NaiveDate, PathBuf)> = entries
-        .filter_map(|e| e.ok())
-        .filter_map(|e| {
-            let name = e.file_name().to_str()?.to_string();
+    let mut found: Vec<(NaiveDate, PathBuf)> = files
+        .into_iter()
+        .filter_map(|(path, name)| {
             let date = name.strip_prefix("flipcard-")?.strip_suffix(".db")?;
             let day = NaiveDate::parse_from_str(date, "%Y-%m-%d").ok()?;
-            Some((day, e.path()))
+            Some((day, path))
         })
         .collect();
     found.sort_by_key(|(day, _)| std::cmp::Reverse(*day));
@@ -90,7 +89,7 @@ pub fn daily_backups(data_dir: &Path) -> Vec<(NaiveDate, PathBuf)> {
 
 fn prune_daily(data_dir: &Path, keep: usize) -> Result<(), StoreError> {
     for (_, path) in daily_backups(data_dir).into_iter().skip(keep) {
-        std::fs::remove_file(&path).map_err(|e| StoreError::Backup {
+        crate::io::remove_file(&path).map_err(|e| StoreError::Backup {
             path: path.clone(),
             detail: format!("cannot remove an old copy: {e}"),
         })?;
@@ -105,22 +104,19 @@ pub fn newest_backup(db: &Path) -> Option<PathBuf> {
     let db_name = db.file_name()?.to_str()?.to_string();
     let migration_prefix = format!("{db_name}.bak-v");
     let mut candidates: Vec<PathBuf> = daily_backups(dir).into_iter().map(|(_, p)| p).collect();
-    if let Ok(entries) = std::fs::read_dir(dir) {
-        candidates.extend(
-            entries
-                .filter_map(|e| e.ok())
-                .filter(|e| {
-                    e.file_name().to_str().is_some_and(|n| {
-                        n.starts_with(&migration_prefix) && !n.contains(".partial-")
-                    })
-                })
-                .map(|e| e.path()),
-        );
-    }
+    candidates.extend(
+        crate::io::entries_starting_with(dir, &migration_prefix)
+            .into_iter()
+            .filter(|p| {
+                p.file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| !n.contains(".partial-"))
+            }),
+    );
     candidates
         .into_iter()
         .filter_map(|p| {
-            let modified = std::fs::metadata(&p).and_then(|m| m.modified()).ok()?;
+            let modified = crate::io::metadata(&p).and_then(|m| m.modified()).ok()?;
             Some((modified, p))
         })
         .max()

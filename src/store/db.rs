@@ -246,10 +246,10 @@ enum Found {
 /// damage when copies of a database once there sit beside it, since a fresh
 /// database is never left empty once opened.
 fn inspect(path: &Path) -> Result<Found, StoreError> {
-    let meta = match std::fs::metadata(path) {
+    let meta = match crate::io::metadata(path) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return match std::fs::read_link(path) {
+            return match crate::io::read_link(path) {
                 Ok(target) => Err(StoreError::NotAFile {
                     path: path.to_path_buf(),
                     what: format!(
@@ -288,7 +288,7 @@ fn inspect(path: &Path) -> Result<Found, StoreError> {
 
 /// The size of the write-ahead log beside `db` (0 when there is none).
 fn wal_len(db: &Path) -> u64 {
-    std::fs::metadata(wal_path(db)).map_or(0, |m| m.len())
+    crate::io::metadata(wal_path(db)).map_or(0, |m| m.len())
 }
 
 pub(super) fn wal_path(db: &Path) -> PathBuf {
@@ -347,23 +347,19 @@ fn immutable_uri(path: &Path) -> String {
 /// read-only or missing dir is reported as such rather than as an obscure
 /// SQLite failure.
 fn prepare_dir(dir: &Path) -> Result<(), StoreError> {
-    std::fs::create_dir_all(dir).map_err(|source| StoreError::DataDir {
+    crate::io::create_dir_all(dir).map_err(|source| StoreError::DataDir {
         path: dir.to_path_buf(),
         source,
     })?;
     let probe = dir.join(format!(".flipcard-write-probe-{}", std::process::id()));
-    match std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&probe)
-    {
+    match crate::io::create_new(&probe) {
         Ok(_) => {
-            let _ = std::fs::remove_file(&probe);
+            let _ = crate::io::remove_file(&probe);
             Ok(())
         }
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
             // A probe left by a crashed run of this very process id.
-            let _ = std::fs::remove_file(&probe);
+            let _ = crate::io::remove_file(&probe);
             Ok(())
         }
         Err(source) => Err(StoreError::NotWritable {
@@ -399,7 +395,7 @@ fn check_length(conn: &Connection, path: &Path) -> Result<(), StoreError> {
         .pragma_query_value(None, "page_size", |r| r.get(0))
         .map_err(sql_err)?;
     let expected = u64::try_from(pages.saturating_mul(page_size)).unwrap_or(0);
-    let actual = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    let actual = crate::io::metadata(path).map(|m| m.len()).unwrap_or(0);
     if expected > actual {
         return Err(StoreError::Corrupt {
             path: path.to_path_buf(),

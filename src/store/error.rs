@@ -132,7 +132,7 @@ const NEARLY_FULL: u64 = 1 << 20;
 /// Whether the disk holding `path` has (almost) no space left for it.
 fn disk_nearly_full(path: &std::path::Path) -> bool {
     let dir = path.parent().unwrap_or(path);
-    rustix::fs::statvfs(dir).is_ok_and(|s| s.f_bavail.saturating_mul(s.f_frsize) < NEARLY_FULL)
+    crate::io::space_left(dir).is_some_and(|left| left < NEARLY_FULL)
 }
 
 /// An I/O error's cause in words, without Rust's `(os error N)` suffix.
@@ -144,24 +144,4 @@ pub fn io_cause(e: &std::io::Error) -> String {
     }
 }
 
-/// What kind of file `meta` describes, for messages about a path that is
-/// not the regular file it should be.
-pub fn file_kind(meta: &std::fs::Metadata) -> &'static str {
-    use std::os::unix::fs::FileTypeExt as _;
-    let t = meta.file_type();
-    if t.is_dir() {
-        "a directory"
-    } else if t.is_fifo() {
-        "a FIFO (named pipe)"
-    } else if t.is_socket() {
-        "a socket"
-    } else if t.is_block_device() || t.is_char_device() {
-        "a device"
-    } else if t.is_symlink() {
-        "a symbolic link"
-    } else if t.is_file() {
-        "a regular file"
-    } else {
-        "not a regular file"
-    }
-}
+pub use crate::io::file_kind;

@@ -6,8 +6,6 @@
 //! plain descriptor of it: the lock probe opens the file only when no
 //! connection to it exists in this process.
 
-use std::fs::File;
-use std::io::Write as _;
 use std::os::fd::AsFd as _;
 use std::path::{Path, PathBuf};
 
@@ -69,7 +67,7 @@ pub fn restore(
     };
     let backup_reviews = check_backup(&backup)?;
 
-    if std::fs::symlink_metadata(&db).is_ok() {
+    if crate::io::metadata_no_follow(&db).is_ok() {
         if in_use(&db)? {
             return Err(RestoreError::InUse { path: db });
         }
@@ -102,7 +100,7 @@ fn check_backup(path: &Path) -> Result<i64, RestoreError> {
         path: path.to_path_buf(),
         detail,
     };
-    let meta = std::fs::metadata(path).map_err(|e| bad(io_cause(&e)))?;
+    let meta = crate::io::metadata(path).map_err(|e| bad(io_cause(&e)))?;
     if !meta.is_file() {
         return Err(bad(format!("it is {}", file_kind(&meta))));
     }
@@ -153,12 +151,12 @@ fn in_use(db: &Path) -> Result<bool, RestoreError> {
         path: db.to_path_buf(),
         cause: io_cause(&e),
     };
-    let meta = std::fs::metadata(db).map_err(io)?;
+    let meta = crate::io::metadata(db).map_err(io)?;
     if !meta.is_file() {
         // Nothing to probe: it is set aside as it is.
         return Ok(false);
     }
-    let file = File::open(db).map_err(io)?;
+    let file = crate::io::open(db).map_err(io)?;
     let mut probe = nix::libc::flock {
         l_type: nix::libc::F_WRLCK as i16,
         l_whence: nix::libc::SEEK_SET as i16,
@@ -182,10 +180,10 @@ fn set_aside(db: &Path, stamp: &str) -> Result<Vec<PathBuf>, RestoreError> {
         (wal_path(db), suffixed(&aside, "-wal")),
         (suffixed(db, "-shm"), suffixed(&aside, "-shm")),
     ] {
-        if std::fs::symlink_metadata(&from).is_err() {
+        if crate::io::metadata_no_follow(&from).is_err() {
             continue;
         }
-        std::fs::rename(&from, &to).map_err(|e| RestoreError::Io {
+        crate::io::rename(&from, &to).map_err(|e| RestoreError::Io {
             what: "set aside",
             path: from.clone(),
             cause: io_cause(&e),
@@ -199,7 +197,7 @@ fn unused_name(db: &Path, stamp: &str) -> PathBuf {
     let base = suffixed(db, &format!(".damaged-{stamp}"));
     let mut candidate = base.clone();
     let mut n = 1;
-    while std::fs::symlink_metadata(&candidate).is_ok() {
+    while crate::io::metadata_no_follow(&candidate).is_ok() {
         n += 1;
         candidate = suffixed(&base, &format!("-{n}"));
     }
@@ -215,31 +213,9 @@ fn suffixed(path: &Path, suffix: &str) -> PathBuf {
 /// Copies `from` to `to` through a temporary name, on disk (file and
 /// folder synced) before the rename makes it the database.
 fn copy_durably(from: &Path, to: &Path) -> Result<(), RestoreError> {
-    let partial = suffixed(to, &format!(".restoring-{}", std::process::id()));
-    let io = |what: &'static str, path: &Path| {
-        let path = path.to_path_buf();
-        move |e: std::io::Error| RestoreError::Io {
-            what,
-            path,
-            cause: io_cause(&e),
-        }
-    };
-    let copied = (|| {
-        let mut source = File::open(from).map_err(io("read", from))?;
-        let mut target = File::create(&partial).map_err(io("write", &partial))?;
-        std::io::copy(&mut source, &mut target).map_err(io("write", &partial))?;
-        target.flush().map_err(io("write", &partial))?;
-        target.sync_all().map_err(io("write", &partial))?;
-        std::fs::rename(&partial, to).map_err(io("write", to))?;
-        if let Some(dir) = to.parent() {
-            File::open(dir)
-                .and_then(|d| d.sync_all())
-                .map_err(io("write", dir))?;
-        }
-        Ok(())
-    })();
-    if copied.is_err() {
-        let _ = std::fs::remove_file(&partial);
-    }
-    copied
+    crate::io::copy_atomic(from, to).map_err(|e| RestoreError::Io {
+        what: "write",
+        path: to.to_path_buf(),
+        cause: io_cause(&e),
+    })
 }

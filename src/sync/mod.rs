@@ -25,14 +25,12 @@ pub mod background;
 pub mod machine;
 pub mod plan;
 
-use std::fs;
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
 use chrono::{DateTime, Utc};
 
-use crate::deck::files::open_regular;
+use crate::io::{self as disk, Durability};
 use crate::sched::config::LeechAction;
 use crate::sched::{Config, Scheduler};
 use crate::store::sync::{self, SyncLine};
@@ -182,15 +180,12 @@ struct Found {
 /// by name.
 fn sync_files(dir: &Path) -> anyhow::Result<Vec<Found>> {
     use std::os::unix::fs::MetadataExt;
-    let mut files: Vec<Found> = fs::read_dir(dir)
-        .with_context(|| format!("cannot read the sync folder {}", dir.display()))?
-        .filter_map(Result::ok)
-        .filter_map(|e| {
-            let name = e.file_name().to_str()?.to_string();
-            (name.ends_with(".jsonl") && !name.starts_with('.')).then_some((e.path(), name))
-        })
+    let files = disk::visible_files(dir, "jsonl")
+        .with_context(|| format!("cannot read the sync folder {}", dir.display()))?;
+    Ok(files
+        .into_iter()
         .map(|(path, name)| {
-            let stamp = match fs::metadata(&path) {
+            let stamp = match disk::metadata(&path) {
                 Ok(m) if m.is_file() => Ok(format!(
                     "{}.{}.{}.{}",
                     m.len(),
@@ -203,9 +198,7 @@ fn sync_files(dir: &Path) -> anyhow::Result<Vec<Found>> {
             };
             Found { path, name, stamp }
         })
-        .collect();
-    files.sort_by(|a, b| a.name.cmp(&b.name));
-    Ok(files)
+        .collect())
 }
 
 fn fingerprint(
@@ -231,15 +224,12 @@ fn fingerprint(
 }
 
 fn read_file(path: &Path) -> Result<String, String> {
-    let file = open_regular(path).map_err(|e| e.to_string())?;
-    let mut bytes = Vec::new();
-    file.take(MAX_FILE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| e.to_string())?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(format!("larger than {} MiB", MAX_FILE_BYTES >> 20));
-    }
-    Ok(String::from_utf8_lossy(&bytes).into_owned())
+    disk::read_regular_limited(path, MAX_FILE_BYTES)
+        .map(|bytes| String::from_utf8_lossy(&bytes).into_owned())
+        .map_err(|e| match e.kind() {
+            std::io::ErrorKind::Other => e.to_string(),
+            _ => disk::cannot_read(&e),
+        })
 }
 
 fn locked(
@@ -411,18 +401,11 @@ fn locked(
         }
         // Temporary files of an interrupted sync of this machine go first
         // (the lock says no other sync of it runs).
-        let prefix = format!(".{me}.jsonl.");
-        if let Ok(entries) = fs::read_dir(dir) {
-            for e in entries.flatten() {
-                if e.file_name().to_string_lossy().starts_with(&prefix) {
-                    let _ = fs::remove_file(e.path());
-                }
-            }
+        for stale in disk::entries_starting_with(dir, &format!(".{me}.jsonl.")) {
+            let _ = disk::remove_file(stale);
         }
-        let tmp = dir.join(format!("{prefix}{}.tmp", std::process::id()));
-        machine::write_synced(&tmp, mine_text.as_bytes())?;
-        fs::rename(&tmp, &mine).with_context(|| format!("cannot write {}", mine.display()))?;
-        machine::sync_folder(dir);
+        disk::write_atomic(&mine, mine_text.as_bytes(), Durability::Synced)
+            .with_context(|| format!("cannot write {}", mine.display()))?;
     }
 
     // What the next sync compares with: the folder and the log as this one

@@ -7,7 +7,6 @@
 mod csv_out;
 mod html;
 
-use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -102,15 +101,13 @@ pub fn run(cli: &Cli, args: &ReportArgs) -> anyhow::Result<ExitCode> {
 
 /// Writes both files, each to a temporary name renamed into place.
 pub fn write_outputs(dir: &Path, input: &Input) -> anyhow::Result<()> {
-    fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     for (name, body) in [
         ("report.html", html::page(input)),
         ("report.csv", csv_out::table(&input.report)?),
     ] {
-        let tmp = dir.join(format!(".{name}.tmp"));
-        fs::write(&tmp, body).with_context(|| format!("cannot write {}", tmp.display()))?;
-        fs::rename(&tmp, dir.join(name))
-            .with_context(|| format!("cannot write {}", dir.join(name).display()))?;
+        let path = dir.join(name);
+        crate::io::write_atomic(&path, body.as_bytes(), crate::io::Durability::Whole)
+            .with_context(|| format!("cannot write {}", path.display()))?;
     }
     Ok(())
 }
