@@ -176,8 +176,11 @@ impl World {
         let now = self.now(i);
         let m = &mut self.machines[i];
         // The app syncs on its own connection; the store's session (for
-        // undo) stays open as it would.
-        if let Err(e) = sync_with(&m.data, &self.folder, &config(), now, Wait::No) {
+        // undo) stays open as it would. It waits a little for the lock: a
+        // child process another test forks inherits the lock's file until
+        // it execs, and this test is about what converges, not the lock.
+        let wait = Wait::Up(std::time::Duration::from_secs(5));
+        if let Err(e) = sync_with(&m.data, &self.folder, &config(), now, wait) {
             panic!("sync of machine {i}: {e}");
         }
     }
