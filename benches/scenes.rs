@@ -16,7 +16,7 @@ use flipcard::sim::Method;
 use flipcard::sim::scene::{SceneRun, measure_scene};
 
 fn seed_scene() -> Scene {
-    let loaded = flipcard::deck::bundled::load();
+    let loaded = flipcard::bundled::load();
     let decks: Vec<Deck> = loaded.decks;
     decks
         .iter()
@@ -58,7 +58,7 @@ fn scenes(c: &mut Criterion) {
     });
     c.bench_function("check of the bundled decks, every prompt simulated", |b| {
         b.iter(|| {
-            let loaded = black_box(flipcard::deck::bundled::load());
+            let loaded = black_box(flipcard::bundled::load());
             let judged = flipcard::predict::audit::check_loaded(&loaded);
             assert!(judged.is_empty() && loaded.errors() == 0);
             loaded.decks.len()

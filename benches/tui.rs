@@ -16,7 +16,7 @@ use flipcard::tui::theme::Theme;
 use flipcard::tui::{Action, App, apply, view};
 
 fn app(dir: &std::path::Path) -> App {
-    let loaded = flipcard::deck::bundled::load();
+    let loaded = flipcard::bundled::load();
     let store = Store::open(dir).unwrap_or_else(|e| panic!("store: {e}"));
     let services = Services::new(
         Clock::System,

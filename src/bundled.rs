@@ -4,8 +4,8 @@
 
 use std::path::PathBuf;
 
-use super::files::Memory;
-use super::load::{Loaded, load_tree};
+use crate::deck::files::Memory;
+use crate::deck::load::{Loaded, load_tree};
 
 mod embedded {
     include!(concat!(env!("OUT_DIR"), "/bundled.rs"));

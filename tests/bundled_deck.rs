@@ -10,7 +10,7 @@ const DECK_ID: &str = "torque-free-rotation";
 const LANGS: [&str; 2] = ["en", "hi-Latn"];
 
 fn deck() -> Deck {
-    let loaded = flipcard::deck::bundled::load();
+    let loaded = flipcard::bundled::load();
     // Not even a warning: the thin plate I = (1, 2, 3) of the worked
     // numbers is declared `flat = true` on purpose.
     assert!(

@@ -42,7 +42,7 @@ fn texts(deck: &Deck) -> Vec<(String, &Text)> {
 
 #[test]
 fn bundled_decks_load_and_all_their_math_renders() {
-    let loaded = flipcard::deck::bundled::load();
+    let loaded = flipcard::bundled::load();
     assert_eq!(loaded.errors(), 0, "\n{}", loaded.render_all());
     let mut problems = Vec::new();
     let mut checked = 0;

@@ -80,7 +80,7 @@ fn every_source_is_listed_in_order_with_counts_and_status() {
         .skip(1)
         .filter_map(|l| l.split_whitespace().next())
         .collect();
-    let mut expected: Vec<String> = flipcard::deck::bundled::load()
+    let mut expected: Vec<String> = flipcard::bundled::load()
         .decks
         .iter()
         .map(|d| d.id.clone())
@@ -111,7 +111,7 @@ fn every_source_is_listed_in_order_with_counts_and_status() {
     assert!(o.status.success(), "{}", err(&o));
     let o = flipcard(root, &["--decks", "cli2/decks", "check"]);
     assert!(o.status.success(), "{}", err(&o));
-    let decks = flipcard::deck::bundled::load().decks.len() + 3;
+    let decks = flipcard::bundled::load().decks.len() + 3;
     assert!(
         out(&o).starts_with(&format!("{decks} decks, ")),
         "{}",

@@ -18,7 +18,7 @@ use flipcard::sim::scene::system::SystemRun;
 use flipcard::sim::solvers::ode::{OdeKind, OdeMethod};
 
 fn decks() -> Vec<Deck> {
-    let loaded = flipcard::deck::bundled::load();
+    let loaded = flipcard::bundled::load();
     assert_eq!(loaded.errors(), 0, "{}", loaded.render_all());
     assert!(!loaded.decks.is_empty());
     loaded.decks

@@ -111,7 +111,7 @@ fn text(b: &[u8]) -> String {
 #[test]
 fn the_binary_alone_carries_its_decks() {
     let alone = Alone::new();
-    let bundled = flipcard::deck::bundled::load();
+    let bundled = flipcard::bundled::load();
     // The first bundled deck with a rigid-body scene.
     let deck = bundled
         .decks

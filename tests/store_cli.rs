@@ -321,7 +321,7 @@ fn a_deck_exported_to_csv_imports_back_and_passes_check() {
     );
 
     // Same texts (primary language) and tags, card for card.
-    let original = flipcard::deck::bundled::load();
+    let original = flipcard::bundled::load();
     let original = original
         .decks
         .iter()

@@ -558,7 +558,7 @@ fn esc_and_ctrl_c_answer_at_once_while_a_heavy_scene_plays() {
     ];
     let t = crate::tui_e2e::Tmux::start("heavy", &env, "", 100, 32);
     t.wait_for("last studied");
-    let decks = flipcard::deck::bundled::load().decks.len();
+    let decks = flipcard::bundled::load().decks.len();
     // Each key while the run plays: the time until the screen shows what
     // it did (keys() itself waits 40 ms after sending).
     let key = |t: &crate::tui_e2e::Tmux, k: &str, what: &str, ok: &dyn Fn(&str) -> bool| {

@@ -156,7 +156,7 @@ impl Drop for Tmux {
 }
 
 fn bundled_deck() -> Deck {
-    let loaded = flipcard::deck::bundled::load();
+    let loaded = flipcard::bundled::load();
     loaded
         .decks
         .into_iter()
@@ -167,7 +167,7 @@ fn bundled_deck() -> Deck {
 /// Moves the home screen's selection down to DECK: the home screen lists
 /// the bundled decks in the order they load.
 fn select_deck(t: &Tmux) {
-    let loaded = flipcard::deck::bundled::load();
+    let loaded = flipcard::bundled::load();
     let index = loaded
         .decks
         .iter()

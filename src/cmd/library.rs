@@ -12,10 +12,11 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
+use crate::bundled;
 use crate::cmd::args::Cli;
 use crate::cmd::paths;
 use crate::deck::files::{Disk, Tree};
-use crate::deck::{FileStatus, Loaded, bundled, load_sources};
+use crate::deck::{FileStatus, Loaded, load_sources};
 use crate::sched::Config;
 use crate::text::plural;
 

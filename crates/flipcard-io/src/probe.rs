@@ -108,7 +108,7 @@ pub fn read_regular_limited(path: &Path, limit: u64) -> io::Result<Vec<u8>> {
     if bytes.len() as u64 > limit {
         return Err(io::Error::other(format!(
             "is larger than {} (the most flipcard reads of such a file)",
-            crate::io::size(limit)
+            crate::size(limit)
         )));
     }
     Ok(bytes)

@@ -25,11 +25,11 @@ pub use systems::{
     measure_system, sweep_systems, system_cases, systems_csv,
 };
 
-use crate::sim::rigid::model::{Body, State};
-use crate::sim::rigid::reference;
-use crate::sim::solvers::budget::Budget;
-use crate::sim::solvers::registry::{Options, make_with};
-use crate::sim::solvers::{Method, Needs, SimError, Work};
+use crate::rigid::model::{Body, State};
+use crate::rigid::reference;
+use crate::solvers::budget::Budget;
+use crate::solvers::registry::{Options, make_with};
+use crate::solvers::{Method, Needs, SimError, Work};
 
 /// Points at which every run is compared with the exact solution.
 pub const POINTS: usize = 1001;
@@ -318,23 +318,23 @@ pub fn table(rows: &[Row]) -> String {
 /// `work_precision.svg` of a sweep into `dir` (which must exist).
 pub fn write(dir: &Path, rows: &[Row], systems: &[SystemRow], quick: bool) -> anyhow::Result<()> {
     let csv_path = dir.join("work_precision.csv");
-    crate::io::write_atomic(
+    flipcard_io::write_atomic(
         &csv_path,
         csv(rows).as_bytes(),
-        crate::io::Durability::Whole,
+        flipcard_io::Durability::Whole,
     )
     .with_context(|| format!("writing {}", csv_path.display()))?;
     let systems_path = dir.join("work_precision_systems.csv");
-    crate::io::write_atomic(
+    flipcard_io::write_atomic(
         &systems_path,
         systems_csv(systems).as_bytes(),
-        crate::io::Durability::Whole,
+        flipcard_io::Durability::Whole,
     )
     .with_context(|| format!("writing {}", systems_path.display()))?;
     let svg_path = dir.join("work_precision.svg");
     let svg = plot::svg(rows, &cases(quick), systems, &system_cases(quick))
         .context("drawing the work–precision plot")?;
-    crate::io::write_atomic(&svg_path, svg.as_bytes(), crate::io::Durability::Whole)
+    flipcard_io::write_atomic(&svg_path, svg.as_bytes(), flipcard_io::Durability::Whole)
         .with_context(|| format!("writing {}", svg_path.display()))?;
     Ok(())
 }

@@ -502,7 +502,7 @@ fn env(kind: EnvKind, rows: &[Vec<Vec<Node<'_>>>], out: &mut String, mode: Mode)
 
 #[cfg(test)]
 mod tests {
-    use crate::text::math_to_unicode;
+    use crate::math_to_unicode;
 
     #[track_caller]
     fn renders(latex: &str, expected: &str) {

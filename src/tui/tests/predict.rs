@@ -376,7 +376,7 @@ fn a_number_prediction_is_checked_against_the_measured_rate() {
 
 #[test]
 fn every_bundled_prompt_plays_to_a_verdict_at_any_size() {
-    let loaded = crate::deck::bundled::load();
+    let loaded = crate::bundled::load();
     assert!(!loaded.decks.is_empty(), "bundled decks load");
     for (d, deck) in loaded.decks.iter().enumerate() {
         for (i, prompt) in deck.prompts.iter().enumerate() {
@@ -428,7 +428,7 @@ fn every_bundled_prompt_plays_to_a_verdict_at_any_size() {
 /// The bundled deck's prompt `id` on the predict screen, at `size`, with
 /// the answer `choice` committed.
 fn bundled_prompt(lang: &str, id: &str, size: (u16, u16)) -> TestApp {
-    let loaded = crate::deck::bundled::load();
+    let loaded = crate::bundled::load();
     let mut app = testkit::app(lang);
     app.decks = loaded
         .decks
@@ -633,7 +633,7 @@ fn the_verdict_and_the_plot_do_not_need_colour() {
 /// the hint that says what to do.
 #[test]
 fn the_ask_phase_keeps_answers_and_hint_at_40x12() {
-    let loaded = crate::deck::bundled::load();
+    let loaded = crate::bundled::load();
     let deck = loaded
         .decks
         .iter()

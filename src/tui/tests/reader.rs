@@ -172,7 +172,7 @@ fn snapshots_in_both_languages() {
 /// An app on the bundled torque-free deck (the real concept map), in the
 /// reader at the concept map.
 fn bundled(lang: &str, size: (u16, u16)) -> TestApp {
-    let loaded = crate::deck::bundled::load();
+    let loaded = crate::bundled::load();
     let mut app = testkit::app(lang);
     app.decks = loaded
         .decks

@@ -217,7 +217,7 @@ fn app_on(scene: SystemScene, measure: Measure, threshold: f64) -> TestApp {
 /// equation: `check` plays it, but a step costs about a million
 /// operations.
 fn heavy() -> SystemScene {
-    let term = crate::sim::system::compile::tests::balanced(12);
+    let term = crate::sim::system::compile::balanced_sum(12);
     let mut observables = vec![("a0".to_string(), term.clone())];
     for i in 1..11 {
         observables.push((format!("a{i}"), format!("a{} + {term}", i - 1)));

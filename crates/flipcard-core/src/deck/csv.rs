@@ -285,7 +285,7 @@ fn text(fields: &[String], i: usize, name: &str) -> Result<String, String> {
             c as u32
         ));
     }
-    if let Some(e) = crate::text::check(&t).first() {
+    if let Some(e) = flipcard_text::check(&t).first() {
         let at = t.get(..e.offset).map_or(0, |s| s.chars().count()) + 1;
         return Err(format!("{name}: LaTeX: {} (at character {at})", e.message));
     }

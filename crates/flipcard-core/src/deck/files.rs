@@ -6,7 +6,7 @@
 use std::io;
 use std::path::{Path, PathBuf};
 
-pub use crate::io::{Probe, open_regular, probe, read_regular};
+pub use flipcard_io::{Probe, open_regular, probe, read_regular};
 
 /// Where deck and content files are read from: the disk, or files held in
 /// memory (the decks built into the binary).
@@ -37,11 +37,11 @@ impl Tree for Disk {
     }
 
     fn list(&self, dir: &Path) -> io::Result<Vec<PathBuf>> {
-        crate::io::entries(dir)
+        flipcard_io::entries(dir)
     }
 
     fn identity(&self, path: &Path) -> PathBuf {
-        crate::io::canonical(path)
+        flipcard_io::canonical(path)
     }
 }
 

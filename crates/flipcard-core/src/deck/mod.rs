@@ -5,7 +5,6 @@
 //! [`validate`] checks ids, languages, links, texts and physics and builds
 //! the [`model`] types. Every problem of every file is collected in one run.
 
-pub mod bundled;
 pub mod cloze;
 pub mod csv;
 pub mod diag;

@@ -4,11 +4,11 @@
 //! A value of these types has passed validation: ids are unique, every text
 //! exists in every declared language, links resolve, scene numbers are physical.
 
-pub use crate::sim::scene::spec::{Measure, Panel, Scene, Stat, SystemPanel, SystemScene};
+pub use flipcard_sim::scene::spec::{Measure, Panel, Scene, Stat, SystemPanel, SystemScene};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-pub use crate::text::{Lang, Text};
+pub use flipcard_text::{Lang, Text};
 
 /// A fully loaded and validated deck with its explanation sections.
 #[derive(Debug, Clone, PartialEq)]

@@ -223,7 +223,7 @@ impl JsonSchema for Expression {
         "Expression".into()
     }
     fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        let functions = crate::sim::system::expr::FUNCTIONS
+        let functions = flipcard_sim::system::expr::FUNCTIONS
             .iter()
             .map(|(f, _)| *f)
             .collect::<Vec<_>>()

@@ -10,10 +10,10 @@ use std::collections::HashMap;
 use crate::deck::diag::{Diagnostic, Severity};
 use crate::deck::places::{AnswerPlaces, Place, answer_places};
 use crate::deck::{Answer, Choice, Condition, Deck, Loaded, Measure, Prompt, Scene};
-use crate::sim::Method;
-use crate::sim::scene::measure::{Measurements, formula_name};
-use crate::sim::scene::measure_scene;
-use crate::text::num::{Num, sig};
+use flipcard_sim::Method;
+use flipcard_sim::scene::measure::{Measurements, formula_name};
+use flipcard_sim::scene::measure_scene;
+use flipcard_text::num::{Num, sig};
 
 /// Which part of the answer a problem is about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

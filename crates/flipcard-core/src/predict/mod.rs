@@ -5,7 +5,7 @@
 pub mod audit;
 
 use crate::deck::{Answer, Measure, Prompt};
-use crate::sim::scene::measure::{Evidence, Measurements, Reading};
+use flipcard_sim::scene::measure::{Evidence, Measurements, Reading};
 
 /// What the learner committed to.
 #[derive(Debug, Clone, Copy, PartialEq)]

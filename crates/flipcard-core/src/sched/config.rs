@@ -550,7 +550,7 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 /// its path is refused by name instead of blocking the app before it
 /// starts).
 fn read_file(path: &Path) -> std::io::Result<String> {
-    crate::io::read_text(path)
+    flipcard_io::read_text(path)
 }
 
 fn read_or_empty(path: &Path) -> Result<String, ConfigError> {
@@ -590,7 +590,7 @@ fn set_key_in_text(text: &str, key: &str, value: &toml::Value) -> Result<String,
 /// Replaces the config whole (a crash never leaves half of it), through a
 /// symbolic link (a config kept in a dotfiles repository stays a link).
 fn write_atomically(path: &Path, text: &str) -> Result<(), ConfigError> {
-    crate::io::write_atomic(path, text.as_bytes(), crate::io::Durability::Synced).map_err(
+    flipcard_io::write_atomic(path, text.as_bytes(), flipcard_io::Durability::Synced).map_err(
         |source| ConfigError::Write {
             path: path.to_path_buf(),
             source,

@@ -87,14 +87,14 @@ impl ItemKey {
             if !crate::deck::validate::is_id(id) {
                 return Err(format!(
                     "{what} id \"{}\" is not an id (lowercase letters and digits in words joined by -)",
-                    crate::text::safe::one_line(&shorten(id))
+                    flipcard_text::safe::one_line(&shorten(id))
                 ));
             }
         }
         let direction = Direction::parse(direction).ok_or_else(|| {
             format!(
                 "direction \"{}\" is not forward, backward or c1 … c999",
-                crate::text::safe::one_line(&shorten(direction))
+                flipcard_text::safe::one_line(&shorten(direction))
             )
         })?;
         Ok(ItemKey {

@@ -366,7 +366,7 @@ fn check_schema(conn: &Connection) -> Result<(), ReadError> {
                 };
                 return Err(ReadError::Bad(format!(
                     "`{}` is {what}, not a table; refusing it",
-                    crate::text::safe::one_line(&actual)
+                    flipcard_text::safe::one_line(&actual)
                 )));
             }
         }
@@ -382,8 +382,8 @@ fn check_schema(conn: &Connection) -> Result<(), ReadError> {
     if let Some((table, column)) = computed {
         return Err(ReadError::Bad(format!(
             "column `{}` of table `{}` is computed (GENERATED), which Anki never writes; refusing it",
-            crate::text::safe::one_line(&column),
-            crate::text::safe::one_line(&table)
+            flipcard_text::safe::one_line(&column),
+            flipcard_text::safe::one_line(&table)
         )));
     }
     Ok(())
@@ -832,7 +832,7 @@ pub fn html_to_text(html: &str) -> (String, usize) {
         .collect();
     let joined = lines.join("\n");
     let with_math = convert_math(&joined, true);
-    let t = if crate::text::check(&with_math).is_empty() {
+    let t = if flipcard_text::check(&with_math).is_empty() {
         with_math
     } else {
         convert_math(&joined, false)
@@ -974,11 +974,11 @@ mod tests {
             html_to_text("L = I&omega; &amp;c &bogus; &#8594;").0,
             "L = Iω &c &bogus; →"
         );
-        assert!(crate::text::check(&t).is_empty());
+        assert!(flipcard_text::check(&t).is_empty());
         // Math flipcard cannot render stays as written, dollars escaped.
         let (t, _) = html_to_text("\\(\\unknowncommand x\\) for $1");
         assert_eq!(t, "\\(\\unknowncommand x\\) for \\$1");
-        assert!(crate::text::check(&t).is_empty());
+        assert!(flipcard_text::check(&t).is_empty());
     }
 
     /// The conversions as they were before they were made linear: the

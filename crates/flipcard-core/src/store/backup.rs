@@ -37,13 +37,13 @@ pub fn vacuum_into(conn: &Connection, target: &Path) -> Result<(), StoreError> {
     let partial_str = partial
         .to_str()
         .ok_or_else(|| fail("the path is not valid UTF-8".into()))?;
-    let _ = crate::io::remove_file(&partial);
+    let _ = flipcard_io::remove_file(&partial);
     if let Err(e) = conn.execute("VACUUM INTO ?1", [partial_str]) {
-        let _ = crate::io::remove_file(&partial);
+        let _ = flipcard_io::remove_file(&partial);
         return Err(fail(e.to_string()));
     }
-    crate::io::rename(&partial, target).map_err(|e| {
-        let _ = crate::io::remove_file(&partial);
+    flipcard_io::rename(&partial, target).map_err(|e| {
+        let _ = flipcard_io::remove_file(&partial);
         fail(e.to_string())
     })
 }
@@ -61,7 +61,7 @@ pub fn daily_backup(
         return Ok(None);
     }
     let dir = backups_dir(data_dir);
-    crate::io::create_dir_all(&dir).map_err(|e| StoreError::Backup {
+    flipcard_io::create_dir_all(&dir).map_err(|e| StoreError::Backup {
         path: dir.clone(),
         detail: e.to_string(),
     })?;
@@ -72,7 +72,7 @@ pub fn daily_backup(
 
 /// The daily copies present, newest first.
 pub fn daily_backups(data_dir: &Path) -> Vec<(NaiveDate, PathBuf)> {
-    let Ok(files) = crate::io::visible_files(backups_dir(data_dir), "db") else {
+    let Ok(files) = flipcard_io::visible_files(backups_dir(data_dir), "db") else {
         return Vec::new();
     };
     let mut found: Vec<(NaiveDate, PathBuf)> = files
@@ -89,7 +89,7 @@ pub fn daily_backups(data_dir: &Path) -> Vec<(NaiveDate, PathBuf)> {
 
 fn prune_daily(data_dir: &Path, keep: usize) -> Result<(), StoreError> {
     for (_, path) in daily_backups(data_dir).into_iter().skip(keep) {
-        crate::io::remove_file(&path).map_err(|e| StoreError::Backup {
+        flipcard_io::remove_file(&path).map_err(|e| StoreError::Backup {
             path: path.clone(),
             detail: format!("cannot remove an old copy: {e}"),
         })?;
@@ -105,7 +105,7 @@ pub fn newest_backup(db: &Path) -> Option<PathBuf> {
     let migration_prefix = format!("{db_name}.bak-v");
     let mut candidates: Vec<PathBuf> = daily_backups(dir).into_iter().map(|(_, p)| p).collect();
     candidates.extend(
-        crate::io::entries_starting_with(dir, &migration_prefix)
+        flipcard_io::entries_starting_with(dir, &migration_prefix)
             .into_iter()
             .filter(|p| {
                 p.file_name()
@@ -116,7 +116,7 @@ pub fn newest_backup(db: &Path) -> Option<PathBuf> {
     candidates
         .into_iter()
         .filter_map(|p| {
-            let modified = crate::io::metadata(&p).and_then(|m| m.modified()).ok()?;
+            let modified = flipcard_io::metadata(&p).and_then(|m| m.modified()).ok()?;
             Some((modified, p))
         })
         .max()

@@ -138,7 +138,7 @@ fn prediction<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error
     }
     if let Some(c) = s
         .chars()
-        .find(|c| crate::text::safe::is_unsafe(*c) || c.is_control())
+        .find(|c| flipcard_text::safe::is_unsafe(*c) || c.is_control())
     {
         return Err(serde::de::Error::custom(format!(
             "prediction {} holds the control character U+{:04X}",
@@ -199,7 +199,7 @@ fn difficulty<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<f64>, D::
     match Option::<f64>::deserialize(d)? {
         Some(v) if !(1.0..=10.0).contains(&v) => Err(serde::de::Error::custom(format!(
             "difficulty {} is outside 1–10",
-            crate::text::num::show(v)
+            flipcard_text::num::show(v)
         ))),
         v => Ok(v),
     }
@@ -542,7 +542,7 @@ pub fn aggregate(
                 Some(Answer::Choice { choices, .. }) => choices
                     .iter()
                     .find(|c| c.id == choice)
-                    .map(|c| crate::text::render(c.label.get(lang))),
+                    .map(|c| flipcard_text::render(c.label.get(lang))),
                 _ => None,
             };
             let mut wrong: Vec<Choice> = wrong
@@ -559,7 +559,7 @@ pub fn aggregate(
                     .then(a.prediction.cmp(&b.prediction))
             });
             PromptRow {
-                text: found.map(|p| crate::text::render(p.question.get(lang))),
+                text: found.map(|p| flipcard_text::render(p.question.get(lang))),
                 deck,
                 prompt,
                 learners,

@@ -246,10 +246,10 @@ enum Found {
 /// damage when copies of a database once there sit beside it, since a fresh
 /// database is never left empty once opened.
 fn inspect(path: &Path) -> Result<Found, StoreError> {
-    let meta = match crate::io::metadata(path) {
+    let meta = match flipcard_io::metadata(path) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return match crate::io::read_link(path) {
+            return match flipcard_io::read_link(path) {
                 Ok(target) => Err(StoreError::NotAFile {
                     path: path.to_path_buf(),
                     what: format!(
@@ -288,7 +288,7 @@ fn inspect(path: &Path) -> Result<Found, StoreError> {
 
 /// The size of the write-ahead log beside `db` (0 when there is none).
 fn wal_len(db: &Path) -> u64 {
-    crate::io::metadata(wal_path(db)).map_or(0, |m| m.len())
+    flipcard_io::metadata(wal_path(db)).map_or(0, |m| m.len())
 }
 
 pub(super) fn wal_path(db: &Path) -> PathBuf {
@@ -347,19 +347,19 @@ fn immutable_uri(path: &Path) -> String {
 /// read-only or missing dir is reported as such rather than as an obscure
 /// SQLite failure.
 fn prepare_dir(dir: &Path) -> Result<(), StoreError> {
-    crate::io::create_dir_all(dir).map_err(|source| StoreError::DataDir {
+    flipcard_io::create_dir_all(dir).map_err(|source| StoreError::DataDir {
         path: dir.to_path_buf(),
         source,
     })?;
     let probe = dir.join(format!(".flipcard-write-probe-{}", std::process::id()));
-    match crate::io::create_new(&probe) {
+    match flipcard_io::create_new(&probe) {
         Ok(_) => {
-            let _ = crate::io::remove_file(&probe);
+            let _ = flipcard_io::remove_file(&probe);
             Ok(())
         }
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
             // A probe left by a crashed run of this very process id.
-            let _ = crate::io::remove_file(&probe);
+            let _ = flipcard_io::remove_file(&probe);
             Ok(())
         }
         Err(source) => Err(StoreError::NotWritable {
@@ -395,7 +395,7 @@ fn check_length(conn: &Connection, path: &Path) -> Result<(), StoreError> {
         .pragma_query_value(None, "page_size", |r| r.get(0))
         .map_err(sql_err)?;
     let expected = u64::try_from(pages.saturating_mul(page_size)).unwrap_or(0);
-    let actual = crate::io::metadata(path).map(|m| m.len()).unwrap_or(0);
+    let actual = flipcard_io::metadata(path).map(|m| m.len()).unwrap_or(0);
     if expected > actual {
         return Err(StoreError::Corrupt {
             path: path.to_path_buf(),
@@ -425,7 +425,7 @@ fn check_pages(conn: &Connection, path: &Path) -> Result<(), StoreError> {
         .collect::<Vec<_>>()
         .join("; ");
     if problems.len() > 3 {
-        let more = crate::text::plural(problems.len() - 3, "more problem", "more problems");
+        let more = flipcard_text::plural(problems.len() - 3, "more problem", "more problems");
         detail.push_str(&format!("; and {more}"));
     }
     Err(StoreError::Corrupt {

@@ -132,7 +132,7 @@ const NEARLY_FULL: u64 = 1 << 20;
 /// Whether the disk holding `path` has (almost) no space left for it.
 fn disk_nearly_full(path: &std::path::Path) -> bool {
     let dir = path.parent().unwrap_or(path);
-    crate::io::space_left(dir).is_some_and(|left| left < NEARLY_FULL)
+    flipcard_io::space_left(dir).is_some_and(|left| left < NEARLY_FULL)
 }
 
 /// An I/O error's cause in words, without Rust's `(os error N)` suffix.
@@ -144,4 +144,4 @@ pub fn io_cause(e: &std::io::Error) -> String {
     }
 }
 
-pub use crate::io::file_kind;
+pub use flipcard_io::file_kind;

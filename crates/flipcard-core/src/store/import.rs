@@ -77,7 +77,7 @@ pub fn quoted(s: &str) -> String {
         Some((i, _)) => format!("{}…", &s[..i]),
         None => s.to_string(),
     };
-    format!("\"{}\"", crate::text::safe::one_line(&short))
+    format!("\"{}\"", flipcard_text::safe::one_line(&short))
 }
 
 /// A JSON value quoted in a message: its JSON text, on one line and cut
@@ -88,7 +88,7 @@ fn shown(v: &serde_json::Value) -> String {
         Some((i, _)) => format!("{}…", &text[..i]),
         None => text,
     };
-    crate::text::safe::one_line(&short).into_owned()
+    flipcard_text::safe::one_line(&short).into_owned()
 }
 
 fn row_from(f: &dyn Fields, now: DateTime<Utc>) -> Result<IncomingReview, String> {

@@ -34,7 +34,7 @@ pub enum RestoreError {
     BadBackup { path: PathBuf, detail: String },
     #[error(
         "database {path} is sound ({}); restoring would set aside every rating made since the backup. Pass --force to restore anyway",
-        crate::text::plural(*reviews, "review", "reviews")
+        flipcard_text::plural(*reviews, "review", "reviews")
     )]
     Sound { path: PathBuf, reviews: i64 },
     #[error(
@@ -67,7 +67,7 @@ pub fn restore(
     };
     let backup_reviews = check_backup(&backup)?;
 
-    if crate::io::metadata_no_follow(&db).is_ok() {
+    if flipcard_io::metadata_no_follow(&db).is_ok() {
         if in_use(&db)? {
             return Err(RestoreError::InUse { path: db });
         }
@@ -100,7 +100,7 @@ fn check_backup(path: &Path) -> Result<i64, RestoreError> {
         path: path.to_path_buf(),
         detail,
     };
-    let meta = crate::io::metadata(path).map_err(|e| bad(io_cause(&e)))?;
+    let meta = flipcard_io::metadata(path).map_err(|e| bad(io_cause(&e)))?;
     if !meta.is_file() {
         return Err(bad(format!("it is {}", file_kind(&meta))));
     }
@@ -151,12 +151,12 @@ fn in_use(db: &Path) -> Result<bool, RestoreError> {
         path: db.to_path_buf(),
         cause: io_cause(&e),
     };
-    let meta = crate::io::metadata(db).map_err(io)?;
+    let meta = flipcard_io::metadata(db).map_err(io)?;
     if !meta.is_file() {
         // Nothing to probe: it is set aside as it is.
         return Ok(false);
     }
-    let file = crate::io::open(db).map_err(io)?;
+    let file = flipcard_io::open(db).map_err(io)?;
     let mut probe = nix::libc::flock {
         l_type: nix::libc::F_WRLCK as i16,
         l_whence: nix::libc::SEEK_SET as i16,
@@ -180,10 +180,10 @@ fn set_aside(db: &Path, stamp: &str) -> Result<Vec<PathBuf>, RestoreError> {
         (wal_path(db), suffixed(&aside, "-wal")),
         (suffixed(db, "-shm"), suffixed(&aside, "-shm")),
     ] {
-        if crate::io::metadata_no_follow(&from).is_err() {
+        if flipcard_io::metadata_no_follow(&from).is_err() {
             continue;
         }
-        crate::io::rename(&from, &to).map_err(|e| RestoreError::Io {
+        flipcard_io::rename(&from, &to).map_err(|e| RestoreError::Io {
             what: "set aside",
             path: from.clone(),
             cause: io_cause(&e),
@@ -197,7 +197,7 @@ fn unused_name(db: &Path, stamp: &str) -> PathBuf {
     let base = suffixed(db, &format!(".damaged-{stamp}"));
     let mut candidate = base.clone();
     let mut n = 1;
-    while crate::io::metadata_no_follow(&candidate).is_ok() {
+    while flipcard_io::metadata_no_follow(&candidate).is_ok() {
         n += 1;
         candidate = suffixed(&base, &format!("-{n}"));
     }
@@ -213,7 +213,7 @@ fn suffixed(path: &Path, suffix: &str) -> PathBuf {
 /// Copies `from` to `to` through a temporary name, on disk (file and
 /// folder synced) before the rename makes it the database.
 fn copy_durably(from: &Path, to: &Path) -> Result<(), RestoreError> {
-    crate::io::copy_atomic(from, to).map_err(|e| RestoreError::Io {
+    flipcard_io::copy_atomic(from, to).map_err(|e| RestoreError::Io {
         what: "write",
         path: to.to_path_buf(),
         cause: io_cause(&e),

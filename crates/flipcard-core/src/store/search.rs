@@ -125,7 +125,7 @@ impl SearchTexts {
         let per = n.div_ceil(threads).max(1);
         let build = |skip: usize| -> Option<(Vec<Hay>, Vec<u32>)> {
             let mut hay = Vec::new();
-            let mut renderer = crate::text::Renderer::default();
+            let mut renderer = flipcard_text::Renderer::default();
             let mut counts = Vec::with_capacity(per);
             for fields in self.fields(skip).take(per) {
                 if cancel.load(Ordering::Relaxed) {
@@ -181,7 +181,7 @@ impl SearchTexts {
 /// math, also as written (`\omega_2`), so that `omega2` and `ω₂` both find
 /// it. The two are apart: a match lies within one of them (and the written
 /// one, plain ASCII in most decks, takes the matcher's fast path).
-fn searched(written: &str, hay: &mut Vec<Hay>, renderer: &mut crate::text::Renderer) {
+fn searched(written: &str, hay: &mut Vec<Hay>, renderer: &mut flipcard_text::Renderer) {
     hay.push(Hay::new(&renderer.render(written)));
     if written.contains('$') {
         hay.push(Hay::new(written));
@@ -550,7 +550,7 @@ mod tests {
 
     #[test]
     fn formulas_rendered_once_read_as_rendered_each_time() {
-        let mut r = crate::text::Renderer::default();
+        let mut r = flipcard_text::Renderer::default();
         for text in [
             r"$\omega_2$ and $\omega_2$ again, $\vec L$",
             r"$$\dot\omega = \tau$$ then text $\omega_2$",
@@ -558,7 +558,7 @@ mod tests {
             r"a bad one $\frac{a$ twice, and one never closed $x",
             "no math at all",
         ] {
-            assert_eq!(r.render(text), crate::text::render(text), "{text}");
+            assert_eq!(r.render(text), flipcard_text::render(text), "{text}");
         }
     }
 

@@ -42,7 +42,7 @@ use super::merge::IncomingReview;
 use super::status::StatusAction;
 use super::sync_merge::{IncomingStatus, ReviewId, StatusId};
 use crate::sched::{ItemKey, Rating, ReviewKind, clock};
-use crate::text::safe::one_line;
+use flipcard_text::safe::one_line;
 
 /// A `review` line, spelled as the first version of the format wrote it.
 #[derive(Debug, Clone, PartialEq, Eq, Hash, Serialize, Deserialize)]

@@ -12,7 +12,7 @@ use std::time::Duration;
 
 use anyhow::{Context, bail};
 
-use crate::io::{self as disk, Durability, open_regular};
+use flipcard_io::{self as disk, Durability, open_regular};
 
 /// The file that holds the id, in the data dir.
 pub const ID_FILE: &str = "machine-id";
@@ -98,7 +98,7 @@ fn write_new(data: &Path) -> anyhow::Result<PathBuf> {
     Ok(tmp)
 }
 
-pub use crate::io::Wait;
+pub use flipcard_io::Wait;
 
 /// One sync of a data folder at a time: an exclusive lock on
 /// `<data dir>/sync.lock`, released when this is dropped (or the process

@@ -30,13 +30,13 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 use chrono::{DateTime, Utc};
 
-use crate::io::{self as disk, Durability};
 use crate::sched::config::LeechAction;
 use crate::sched::{Config, Scheduler};
 use crate::store::sync::{self, SyncLine};
 use crate::store::sync_merge::LeechRule;
 use crate::store::{OpenOptions, Store};
-use crate::text::plural;
+use flipcard_io::{self as disk, Durability};
+use flipcard_text::plural;
 
 pub use machine::{LockError, Wait};
 use plan::FileLines;

@@ -3,10 +3,10 @@
 
 use nalgebra::Vector3;
 
-use crate::sim::rigid::formula;
-use crate::sim::rigid::model::Body;
-use crate::sim::rigid::scales::scales;
-use crate::sim::solvers::Method;
+use crate::rigid::formula;
+use crate::rigid::model::Body;
+use crate::rigid::scales::scales;
+use crate::solvers::Method;
 
 /// One problem: a body, an initial ω and a span.
 #[derive(Debug, Clone, PartialEq)]

@@ -9,8 +9,8 @@ use std::time::Instant;
 use nalgebra::DMatrix;
 
 use super::Effort;
-use crate::sim::rigid::elliptic;
-use crate::sim::solvers::ode::{
+use crate::rigid::elliptic;
+use crate::solvers::ode::{
     Atol, Method, OdeError, OdeSolver, OdeSystem, Options, StiffnessMode, Work, make,
 };
 

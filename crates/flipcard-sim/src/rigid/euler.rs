@@ -5,7 +5,7 @@
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use crate::sim::rigid::model::{Body, State};
+use crate::rigid::model::{Body, State};
 
 /// A right-hand side y' = f(y) on N components, with the map to and from the
 /// shared [`State`].

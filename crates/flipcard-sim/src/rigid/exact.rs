@@ -30,10 +30,10 @@ use std::sync::OnceLock;
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use crate::sim::rigid::model::{self, Body, State};
-use crate::sim::solvers::{Method, Needs, SimError, Solver, Work};
-use crate::text::num::Num;
+use crate::rigid::model::{self, Body, State};
+use crate::solvers::{Method, Needs, SimError, Solver, Work};
 use attitude::Attitude;
+use flipcard_text::num::Num;
 use frame::Frame;
 use orbit::{Orbit, Shape};
 

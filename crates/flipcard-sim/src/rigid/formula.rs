@@ -5,9 +5,9 @@
 
 use nalgebra::Vector3;
 
-use crate::sim::rigid::exact::{self, Exact, Regime};
-use crate::sim::rigid::model::Body;
-use crate::sim::solvers::Needs;
+use crate::rigid::exact::{self, Exact, Regime};
+use crate::rigid::model::Body;
+use crate::solvers::Needs;
 
 /// Relative difference below which two moments count as equal: a body that
 /// close to symmetric precesses like a symmetric top for far longer than

@@ -6,10 +6,10 @@
 
 use nalgebra::Vector3;
 
-use crate::sim::rigid::model::{self, Body};
-use crate::sim::rigid::scales::Scales;
-use crate::sim::solvers::SimError;
-use crate::text::num::{Num, below};
+use crate::rigid::model::{self, Body};
+use crate::rigid::scales::Scales;
+use crate::solvers::SimError;
+use flipcard_text::num::{Num, below};
 
 /// The largest phase Ωt (rad) of the fastest rate Ω a run may reach: 2³².
 ///
@@ -32,7 +32,7 @@ pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SimError> {
     model::omega([omega0[0], omega0[1], omega0[2]])?;
     let energy = body.energy(omega0);
     let l2 = body.l2(omega0);
-    let w = crate::text::num::triple(&[omega0[0], omega0[1], omega0[2]], ", ");
+    let w = flipcard_text::num::triple(&[omega0[0], omega0[1], omega0[2]], ", ");
     if !(energy.is_finite() && l2.is_finite()) {
         return Err(SimError::Invalid(format!(
             "ω = ({w}) is too large for these moments: its energy overflows f64 (give ω per a shorter time unit, or the moments in a larger unit)"
@@ -84,7 +84,7 @@ pub fn check_span(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::rigid::scales::scales;
+    use crate::rigid::scales::scales;
 
     #[test]
     fn invariants_must_be_normal_numbers() {

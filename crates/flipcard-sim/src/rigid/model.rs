@@ -8,7 +8,7 @@
 //!   at t = 0, and obeys q̇ = ½ q ⊗ (0, ω);
 //! - Euler's equations: I ω̇ = (I ω) × ω, i.e. I₁ω̇₁ = (I₂ − I₃) ω₂ω₃ and cyclic.
 
-use crate::text::num::Num;
+use flipcard_text::num::Num;
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// Why an input is not a physical rigid body or state.

@@ -5,8 +5,8 @@
 
 use nalgebra::Vector3;
 
-use crate::sim::rigid::model::Body;
-use crate::sim::solvers::{SimError, Solver};
+use crate::rigid::model::Body;
+use crate::solvers::{SimError, Solver};
 
 /// Points on each separatrix circle.
 const SEPARATRIX_POINTS: usize = 181;

@@ -5,7 +5,7 @@
 
 use nalgebra::Vector3;
 
-use crate::sim::rigid::model::Body;
+use crate::rigid::model::Body;
 
 /// The fastest rates (rad/s) of one trajectory, and how large each
 /// component of ω can get on it.

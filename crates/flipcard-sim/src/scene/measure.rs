@@ -12,9 +12,9 @@ use std::collections::BTreeMap;
 
 use nalgebra::Vector3;
 
-use crate::sim::rigid::formula::{self, AxisRole};
-use crate::sim::rigid::model::Body;
-use crate::sim::scene::spec::Measure;
+use crate::rigid::formula::{self, AxisRole};
+use crate::rigid::model::Body;
+use crate::scene::spec::Measure;
 
 /// A disturbance counts as small while |ω⊥| stays below this fraction of
 /// |ω|: the linear growth law holds to about a percent there.

@@ -4,10 +4,10 @@
 //! the error) only when the diagnostics are shown. A scene that shows ω
 //! alone integrates three numbers and nothing else.
 
-use crate::sim::rigid::formula;
-use crate::sim::rigid::model::Body;
-use crate::sim::scene::spec::{Panel, Scene};
-use crate::sim::solvers::{Method, Needs};
+use crate::rigid::formula;
+use crate::rigid::model::Body;
+use crate::scene::spec::{Panel, Scene};
+use crate::solvers::{Method, Needs};
 
 /// Which closed form describes a body's free motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -113,8 +113,8 @@ mod tests {
 
     #[test]
     fn omega_only_exact_run_builds_no_orientation() {
-        use crate::sim::rigid::exact::Exact;
-        use crate::sim::solvers::Solver;
+        use crate::rigid::exact::Exact;
+        use crate::solvers::Solver;
         let s = scene([1.0, 2.0, 3.0], &[Panel::Omega, Panel::Polhode]);
         let body = Body::new(s.inertia).unwrap();
         let p = Plan::for_scene(&s, &body);

@@ -22,19 +22,19 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
-use crate::sim::rigid::formula;
-use crate::sim::rigid::limits;
-use crate::sim::rigid::model::{self, Body, State};
-use crate::sim::rigid::polhode::Polhode;
-use crate::sim::rigid::reference;
-use crate::sim::rigid::scales::scales;
-use crate::sim::scene::measure::{Measurements, Meter};
-use crate::sim::scene::plan::Plan;
-use crate::sim::scene::slice::Slice;
-use crate::sim::scene::spec::Scene;
-use crate::sim::solvers::registry::make;
-use crate::sim::solvers::{Method, Needs, SimError, Solver, Work};
-use crate::text::num::{Num, below};
+use crate::rigid::formula;
+use crate::rigid::limits;
+use crate::rigid::model::{self, Body, State};
+use crate::rigid::polhode::Polhode;
+use crate::rigid::reference;
+use crate::rigid::scales::scales;
+use crate::scene::measure::{Measurements, Meter};
+use crate::scene::plan::Plan;
+use crate::scene::slice::Slice;
+use crate::scene::spec::Scene;
+use crate::solvers::registry::make;
+use crate::solvers::{Method, Needs, SimError, Solver, Work};
+use flipcard_text::num::{Num, below};
 
 /// Default number of points of the ω trace (about the width of a wide
 /// Braille plot in dots).

@@ -2,8 +2,8 @@
 //! the panels it shows and what it can measure. Decks validate their TOML
 //! into these; the simulator needs nothing else from a deck.
 
-use crate::sim::system::Name;
-use crate::text::Text;
+use crate::system::Name;
+use flipcard_text::Text;
 
 /// What a scene's simulation can measure; prompts check against these.
 /// Names are the deck format's spelling (`Measure::name`).
@@ -88,7 +88,7 @@ impl Measure {
             .strip_suffix(')')
             .ok_or_else(|| format!("`{text}`: expected `)` at the end"))?
             .trim();
-        if !crate::sim::system::expr::is_name(inner) {
+        if !crate::system::expr::is_name(inner) {
             return Err(format!(
                 "`{text}`: `{inner}` is not a variable or observable name"
             ));

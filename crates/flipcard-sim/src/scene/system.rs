@@ -10,24 +10,24 @@
 //! A value that is not finite is never a measurement: a variable, an
 //! observable or a sketch expression the run computes that becomes NaN or
 //! infinite ends the run with its name, the time and the first operation at
-//! fault ([`crate::sim::system::compile::Cause`]), and a solver that gives
+//! fault ([`crate::system::compile::Cause`]), and a solver that gives
 //! up at a point where an equation leaves its domain (a root of a negative
 //! number, a division by zero) says so instead of "blows up".
 //!
 //! Work is bounded: each run may take at most [`MAX_RUN_WORK`] operations
 //! of its compiled programs, so its step budget is that divided by the cost
-//! of a step ([`crate::sim::system::compile::Cost`]), and `flipcard check`
+//! of a step ([`crate::system::compile::Cost`]), and `flipcard check`
 //! refuses a scene one step of which costs more than [`MAX_STEP_WORK`].
 //! The app advances a run in [`Slice`]s, so a key is answered within a
 //! frame whatever the scene.
 
-use crate::sim::scene::measure::{Measurements, Reading};
-use crate::sim::scene::slice::Slice;
-use crate::sim::scene::spec::{Measure, Stat, SystemPanel, SystemScene};
-use crate::sim::solvers::ode::{self, OdeError, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
-use crate::sim::system::System;
-use crate::sim::system::compile::{Cost, Fault, Source, time};
-use crate::text::num::Num;
+use crate::scene::measure::{Measurements, Reading};
+use crate::scene::slice::Slice;
+use crate::scene::spec::{Measure, Stat, SystemPanel, SystemScene};
+use crate::solvers::ode::{self, OdeError, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
+use crate::system::System;
+use crate::system::compile::{Cost, Fault, Source, time};
+use flipcard_text::num::Num;
 
 /// Dense-output points per accepted step of an adaptive method (RK4's
 /// small fixed steps are sampled at their ends).
@@ -56,10 +56,10 @@ pub fn check_cost(scene: &SystemScene, cost: &Cost) -> Result<(), String> {
     Err(format!(
         "scene {} needs about {} operations per step, more than the {:e} the app can play: its equations compile to {}, run {} times a step and once per variable ({}) for the Jacobian{}",
         scene.id,
-        crate::text::num::sig(per_step, 3),
+        flipcard_text::num::sig(per_step, 3),
         MAX_STEP_WORK,
-        crate::text::plural(cost.rhs, "operation", "operations"),
-        crate::sim::system::compile::EVALS_PER_STEP,
+        flipcard_text::plural(cost.rhs, "operation", "operations"),
+        crate::system::compile::EVALS_PER_STEP,
         cost.n,
         if cost.observables + cost.marks > 0 {
             format!(
@@ -110,7 +110,7 @@ impl std::fmt::Display for RunError {
             RunError::Ode(OdeError::Stiff { t }) => write!(
                 f,
                 "the problem is stiff from t = {}: adaptive (explicit) refuses it; use --method radau or auto",
-                crate::text::num::rounded(*t, 4)
+                flipcard_text::num::rounded(*t, 4)
             ),
             RunError::Ode(e) => write!(f, "{e}"),
             RunError::Domain { message, .. } => f.write_str(message),
@@ -125,7 +125,7 @@ impl std::fmt::Display for RunError {
                 time(*t),
                 Num(*duration),
                 steps,
-                crate::text::num::sig(*per_step, 3),
+                flipcard_text::num::sig(*per_step, 3),
                 MAX_RUN_WORK
             ),
         }

@@ -1,7 +1,7 @@
 //! Step budgets: a stepping solver refuses, with a reason, a run that would
 //! take longer than its budget instead of hanging on a stiff case.
 
-use crate::text::num::Num;
+use flipcard_text::num::Num;
 
 /// Default cap on the steps (accepted and rejected) of one run: a few
 /// seconds of work for the costliest method.

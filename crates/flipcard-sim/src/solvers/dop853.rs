@@ -15,14 +15,14 @@
 
 use nalgebra::Vector3;
 
-use crate::sim::rigid::euler::System;
-use crate::sim::rigid::model::State;
-use crate::sim::rigid::scales::Scales;
-use crate::sim::solvers::budget::Budget;
-use crate::sim::solvers::dop853_tableau::{self as tab, Row};
-use crate::sim::solvers::forward::Forward;
-use crate::sim::solvers::{Method, SimError, Solver, Work};
-use crate::text::num::Num;
+use crate::rigid::euler::System;
+use crate::rigid::model::State;
+use crate::rigid::scales::Scales;
+use crate::solvers::budget::Budget;
+use crate::solvers::dop853_tableau::{self as tab, Row};
+use crate::solvers::forward::Forward;
+use crate::solvers::{Method, SimError, Solver, Work};
+use flipcard_text::num::Num;
 
 const SAFETY: f64 = 0.9;
 /// Bounds of h_new/h: never shrink below a third nor grow beyond six times.

@@ -5,10 +5,10 @@
 //! checked up front, and times only go forward. A method supplies only
 //! what is its own: its point, one step, and the state a point stands for.
 
-use crate::sim::rigid::model::State;
-use crate::sim::solvers::budget::Budget;
-use crate::sim::solvers::forward::Forward;
-use crate::sim::solvers::{Method, SimError, Solver, Work};
+use crate::rigid::model::State;
+use crate::solvers::budget::Budget;
+use crate::solvers::forward::Forward;
+use crate::solvers::{Method, SimError, Solver, Work};
 
 /// One fixed-step method.
 pub trait Stepper {

@@ -2,8 +2,8 @@
 //! forward. A solver keeps its step sequence between calls, so a time
 //! before the previous one cannot be served from it (and a NaN never can).
 
-use crate::sim::solvers::SimError;
-use crate::text::num::Num;
+use crate::solvers::SimError;
+use flipcard_text::num::Num;
 
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Forward {

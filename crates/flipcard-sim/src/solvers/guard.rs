@@ -1,5 +1,5 @@
 //! The last line between a solver and a user: every solver built by
-//! [`crate::sim::solvers::registry::make_with`] hands out its states through a [`Guard`],
+//! [`crate::solvers::registry::make_with`] hands out its states through a [`Guard`],
 //! which refuses a time beyond the span f64 resolves and any state that
 //! cannot belong to the motion, so no caller (the CLI, a scene, the
 //! terminal view, the bench) prints a non-finite number or one that only
@@ -15,11 +15,11 @@
 
 use nalgebra::Vector3;
 
-use crate::sim::rigid::limits;
-use crate::sim::rigid::model::{Body, State};
-use crate::sim::rigid::scales::Scales;
-use crate::sim::solvers::{Method, SimError, Solver, Work};
-use crate::text::num::Num;
+use crate::rigid::limits;
+use crate::rigid::model::{Body, State};
+use crate::rigid::scales::Scales;
+use crate::solvers::{Method, SimError, Solver, Work};
+use flipcard_text::num::Num;
 
 /// How far outside its range on the orbit a component may stray, as a
 /// fraction of the largest |ω| on the orbit.

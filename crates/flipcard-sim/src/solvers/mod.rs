@@ -16,7 +16,7 @@ pub mod registry;
 pub mod rk4;
 pub mod splitting;
 
-use crate::sim::rigid::model::{ModelError, State};
+use crate::rigid::model::{ModelError, State};
 
 /// A solver and its one accuracy knob.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -4,19 +4,19 @@
 
 use nalgebra::Vector3;
 
-use crate::sim::rigid::euler::{OmegaOnly, WithOrientation};
-use crate::sim::rigid::exact::Exact;
-pub use crate::sim::rigid::limits::check_start;
-use crate::sim::rigid::model::Body;
-use crate::sim::rigid::scales::{Scales, momentum_gain, scales};
-pub use crate::sim::solvers::Kind;
-use crate::sim::solvers::budget::Budget;
-use crate::sim::solvers::dop853::Dop853;
-use crate::sim::solvers::guard::Guard;
-use crate::sim::solvers::rk4::rk4;
-use crate::sim::solvers::splitting::{Scheme, splitting};
-use crate::sim::solvers::{Method, Needs, SimError, Solver};
-use crate::text::num::Num;
+use crate::rigid::euler::{OmegaOnly, WithOrientation};
+use crate::rigid::exact::Exact;
+pub use crate::rigid::limits::check_start;
+use crate::rigid::model::Body;
+use crate::rigid::scales::{Scales, momentum_gain, scales};
+pub use crate::solvers::Kind;
+use crate::solvers::budget::Budget;
+use crate::solvers::dop853::Dop853;
+use crate::solvers::guard::Guard;
+use crate::solvers::rk4::rk4;
+use crate::solvers::splitting::{Scheme, splitting};
+use crate::solvers::{Method, Needs, SimError, Solver};
+use flipcard_text::num::Num;
 
 /// Default tolerance of the adaptive solver (relative, and absolute against
 /// |ω₀| for ω): about 1e-9 relative error in ω over the notes' 36 flips.
@@ -180,8 +180,8 @@ fn check_step(method: &Method, rates: &Scales, orientation: bool) -> Result<(), 
         method.name(),
         Num(dt),
         rates.describe(orientation || !matches!(method, Method::Rk4 { .. })),
-        crate::text::num::rounded(rate * dt, 3),
-        Num(crate::text::num::below(std::f64::consts::PI / rate, 3))
+        flipcard_text::num::rounded(rate * dt, 3),
+        Num(flipcard_text::num::below(std::f64::consts::PI / rate, 3))
     )))
 }
 

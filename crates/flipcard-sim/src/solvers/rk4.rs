@@ -1,16 +1,16 @@
 //! Classical fixed-step RK4, the textbook baseline, with q put back on the
 //! unit sphere after every step. The grid, sampling and budget are the
-//! shared fixed-step driver's ([`crate::sim::solvers::fixed`]).
+//! shared fixed-step driver's ([`crate::solvers::fixed`]).
 
 use nalgebra::Vector3;
 
-use crate::sim::rigid::euler::System;
-use crate::sim::rigid::model::State;
-use crate::sim::rigid::scales::Scales;
-use crate::sim::solvers::budget::Budget;
-use crate::sim::solvers::fixed::{FixedSteps, Stepper};
-use crate::sim::solvers::{Method, SimError, Work};
-use crate::text::num::Num;
+use crate::rigid::euler::System;
+use crate::rigid::model::State;
+use crate::rigid::scales::Scales;
+use crate::solvers::budget::Budget;
+use crate::solvers::fixed::{FixedSteps, Stepper};
+use crate::solvers::{Method, SimError, Work};
+use flipcard_text::num::Num;
 
 /// RK4 on one of the rigid body's systems (ω alone, or ω and q).
 pub type Rk4<S, const N: usize> = FixedSteps<Rk4Steps<S, N>>;

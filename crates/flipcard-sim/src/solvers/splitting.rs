@@ -17,11 +17,11 @@
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-use crate::sim::rigid::model::{Body, State};
-use crate::sim::rigid::trig;
-use crate::sim::solvers::budget::Budget;
-use crate::sim::solvers::fixed::{FixedSteps, Stepper};
-use crate::sim::solvers::{Method, Work};
+use crate::rigid::model::{Body, State};
+use crate::rigid::trig;
+use crate::solvers::budget::Budget;
+use crate::solvers::fixed::{FixedSteps, Stepper};
+use crate::solvers::{Method, Work};
 
 /// Which composition of the Strang step to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -24,9 +24,9 @@
 use nalgebra::DMatrix;
 
 use super::expr::{self, Node};
-use crate::sim::scene::spec::SystemScene;
-use crate::sim::solvers::ode::OdeSystem;
-use crate::text::num::Num;
+use crate::scene::spec::SystemScene;
+use crate::solvers::ode::OdeSystem;
+use flipcard_text::num::Num;
 
 /// Most operations in one compiled program (an expression with the
 /// observables it uses, or all the equations, or all the observables).
@@ -339,7 +339,7 @@ impl Fault {
 
 /// A time to four significant digits, always with a decimal point.
 pub fn time(t: f64) -> String {
-    let mut s = crate::text::num::rounded(t, 4);
+    let mut s = flipcard_text::num::rounded(t, 4);
     if !s.contains(['.', 'e', 'E']) {
         s.push_str(".0");
     }
@@ -949,10 +949,10 @@ impl Cost {
     /// Operations one step may run: the stages, the Jacobian (one pass of
     /// the equations per variable), its LU decomposition (about n³), and the
     /// samples of every observable and sketch expression
-    /// ([`crate::sim::scene::system::POINTS_PER_STEP`] a step).
+    /// ([`crate::scene::system::POINTS_PER_STEP`] a step).
     pub fn per_step(&self) -> f64 {
         let n = self.n as f64;
-        let points = crate::sim::scene::system::POINTS_PER_STEP as f64;
+        let points = crate::scene::system::POINTS_PER_STEP as f64;
         (self.rhs as f64) * (EVALS_PER_STEP as f64 + n)
             + n * n * n
             + points * (self.observables + self.marks + self.n) as f64
@@ -1107,9 +1107,21 @@ impl OdeSystem for System {
         }
         // At a point where a derivative is singular (√ at 0), differences
         // (one-sided where f is not finite on one side) still give a matrix.
-        crate::sim::solvers::ode::finite_difference_jacobian(self, t, y, jac);
+        crate::solvers::ode::finite_difference_jacobian(self, t, y, jac);
+    }
+}
+
+/// A balanced sum of 2^levels `x`s, deep only `levels`: the widest
+/// expression of a depth, which tests of the limits (here and in the app)
+/// build their too-long programs from.
+pub fn balanced_sum(levels: usize) -> String {
+    if levels == 0 {
+        "x".to_string()
+    } else {
+        let half = balanced_sum(levels - 1);
+        format!("({half})+({half})")
     }
 }
 
 #[cfg(test)]
-pub(crate) mod tests;
+mod tests;

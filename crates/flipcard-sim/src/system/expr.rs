@@ -462,7 +462,7 @@ impl Parser<'_> {
                             len,
                             format!(
                                 "`{name}` takes {}, found {}",
-                                crate::text::plural(n, "argument", "arguments"),
+                                flipcard_text::plural(n, "argument", "arguments"),
                                 args.len()
                             ),
                         )));

@@ -8,9 +8,9 @@ use crate::deck::raw::{RawAnswer, RawChoice, RawTolerance, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
-use crate::sim::scene::spec::Stat;
-use crate::sim::system::Name;
-use crate::text::num::Num;
+use flipcard_sim::scene::spec::Stat;
+use flipcard_sim::system::Name;
+use flipcard_text::num::Num;
 
 use super::text::{self, Kind, Langs};
 use super::{Targets, id, unique};
@@ -43,7 +43,7 @@ pub fn answer(
                     list.span.clone(),
                     format!(
                         "the answer of {owner} has {}; a choice answer needs at least 2",
-                        crate::text::plural(list.items.len(), "choice", "choices")
+                        flipcard_text::plural(list.items.len(), "choice", "choices")
                     ),
                     None,
                 );

@@ -85,7 +85,7 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
                     .unwrap_or("")
                     .to_string();
                 let mut from = 0;
-                for target in crate::text::markup::links(&body.value) {
+                for target in flipcard_text::markup::links(&body.value) {
                     let anchor = format!("](#{target})");
                     let span = match body.value[from..].find(&anchor) {
                         Some(i) => {

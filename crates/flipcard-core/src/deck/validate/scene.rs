@@ -5,9 +5,9 @@ use crate::deck::model::{Panel, Scene};
 use crate::deck::raw::{Flag, List, Num, RawScene};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
-use crate::sim::rigid::model::{Body, ModelError};
-use crate::sim::scene::{SceneField, check_scene};
-use crate::text::num;
+use flipcard_sim::rigid::model::{Body, ModelError};
+use flipcard_sim::scene::{SceneField, check_scene};
+use flipcard_text::num;
 
 use super::text::{self, Kind, Langs};
 

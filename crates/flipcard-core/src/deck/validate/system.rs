@@ -10,13 +10,13 @@ use crate::deck::raw::{List, Named, Num, RawScene, RawSystem, Span, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
-use crate::sim::scene::spec::{Mark, SystemPanel, SystemScene};
-use crate::sim::scene::system::check_cost;
-use crate::sim::solvers::ode::OdeSystem;
-use crate::sim::system::compile::{Fault, Source};
-use crate::sim::system::expr::{self, BUILTINS, ExprError, FUNCTIONS, MAX_NAME};
-use crate::sim::system::{Name, System};
-use crate::text::num::Num as Shown;
+use flipcard_sim::scene::spec::{Mark, SystemPanel, SystemScene};
+use flipcard_sim::scene::system::check_cost;
+use flipcard_sim::solvers::ode::OdeSystem;
+use flipcard_sim::system::compile::{Fault, Source};
+use flipcard_sim::system::expr::{self, BUILTINS, ExprError, FUNCTIONS, MAX_NAME};
+use flipcard_sim::system::{Name, System};
+use flipcard_text::num::Num as Shown;
 
 use super::text::{self, Kind, Langs};
 
@@ -156,8 +156,8 @@ fn numbers(
             list.span.clone(),
             format!(
                 "`{field}` of {what} has {} for {}",
-                crate::text::plural(list.items.len(), "number", "numbers"),
-                crate::text::plural(count, "variable", "variables")
+                flipcard_text::plural(list.items.len(), "number", "numbers"),
+                flipcard_text::plural(count, "variable", "variables")
             ),
             Some("give one number per variable, in the order of `variables`".to_string()),
         );
@@ -363,8 +363,8 @@ pub fn scene(
                 list.span.clone(),
                 format!(
                     "`equations` of {what} has {} for {}",
-                    crate::text::plural(list.items.len(), "equation", "equations"),
-                    crate::text::plural(n, "variable", "variables")
+                    flipcard_text::plural(list.items.len(), "equation", "equations"),
+                    flipcard_text::plural(n, "variable", "variables")
                 ),
                 Some("give d/dt of each variable, in the order of `variables`".to_string()),
             );

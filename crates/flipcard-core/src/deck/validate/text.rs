@@ -8,7 +8,7 @@ use crate::deck::raw::{RawText, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
-use crate::text::MathError;
+use flipcard_text::MathError;
 
 /// Control characters reported per string at most; one is usually enough to
 /// see the pattern.
@@ -129,7 +129,7 @@ pub fn quoted(list: &[String]) -> String {
 
 /// Checks one string; false when it has an error.
 pub fn string(rep: &mut FileReport, s: &Str, kind: Kind, what: &str) -> bool {
-    string_with(rep, s, kind, what, crate::text::check)
+    string_with(rep, s, kind, what, flipcard_text::check)
 }
 
 /// [`string`] with the math checker given (tests pass their own to pin

@@ -35,7 +35,7 @@
 //! of q (Iω) q⁻¹ in the tests.
 
 use super::orbit::{Orbit, Point, Shape};
-use crate::sim::rigid::elliptic::{Jacobi, carlson};
+use crate::rigid::elliptic::{Jacobi, carlson};
 
 /// A quaternion as (w, x, y, z).
 pub(super) type Quat = [f64; 4];

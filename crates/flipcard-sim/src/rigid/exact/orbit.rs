@@ -23,7 +23,7 @@
 //! are evaluated in double-double, so it is exactly zero when they are equal
 //! and otherwise correct to about 1e-32 of their size.
 
-use crate::sim::rigid::elliptic::{self, Jacobi, Reduced};
+use crate::rigid::elliptic::{self, Jacobi, Reduced};
 
 // One per solver, read on every evaluation: boxing the large variant
 // would only add an indirection.

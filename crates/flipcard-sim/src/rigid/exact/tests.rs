@@ -45,7 +45,7 @@ fn periods_follow_k() {
     let e = exact([1.0, 2.0, 3.0], [0.01, 10.0, 0.01]);
     let (m, mc) = e.parameter().unwrap();
     assert!(m > 0.99 && mc > 0.0 && mc < 1e-4);
-    let k = crate::sim::rigid::elliptic::complete_k(mc);
+    let k = crate::rigid::elliptic::complete_k(mc);
     assert_eq!(e.period(), Some(4.0 * k / e.rate()));
     assert_eq!(e.flip_interval(), Some(2.0 * k / e.rate()));
     assert_eq!(exact([3.0, 4.0, 6.0], [2.0, 0.5, 1.0]).period(), None);

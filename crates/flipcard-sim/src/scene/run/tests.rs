@@ -1,5 +1,5 @@
 use super::*;
-use crate::sim::scene::spec::{Measure, Panel};
+use crate::scene::spec::{Measure, Panel};
 
 fn scene(inertia: [f64; 3], omega: [f64; 3], duration: f64, show: &[Panel]) -> Scene {
     Scene {

@@ -1,7 +1,7 @@
 use super::*;
-use crate::sim::rigid::elliptic::complete_k;
-use crate::sim::scene::spec::Mark;
-use crate::sim::system::Name;
+use crate::rigid::elliptic::complete_k;
+use crate::scene::spec::Mark;
+use crate::system::Name;
 
 fn pendulum(theta0_deg: f64, show: &[SystemPanel]) -> SystemScene {
     SystemScene {
@@ -332,7 +332,7 @@ fn samples_stop_at_the_frame_and_faults_wait_for_the_run_to_get_there() {
     assert!(matches!(
         e,
         RunError::Domain {
-            at: Some(crate::sim::system::compile::Source::Observable(0)),
+            at: Some(crate::system::compile::Source::Observable(0)),
             ..
         }
     ));

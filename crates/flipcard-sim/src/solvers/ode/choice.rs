@@ -97,7 +97,7 @@ impl OdeMethod {
         format!(
             "{} {what} {}",
             self.kind.name(),
-            crate::text::num::show(self.setting)
+            flipcard_text::num::show(self.setting)
         )
     }
 

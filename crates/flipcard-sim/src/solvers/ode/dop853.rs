@@ -15,7 +15,7 @@
 //! evaluation of f), so `auto` hands over to the implicit method early.
 
 use super::{OdeError, OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
-use crate::sim::solvers::dop853_tableau as tab;
+use crate::solvers::dop853_tableau as tab;
 
 const SAFETY: f64 = 0.9;
 /// h_new/h stays within [1/6, 3] (Hairer's FAC1 = 0.333, FAC2 = 6).

@@ -1,5 +1,5 @@
 use super::*;
-use crate::sim::scene::spec::{Mark, SystemPanel};
+use crate::scene::spec::{Mark, SystemPanel};
 
 pub(crate) fn pendulum() -> SystemScene {
     SystemScene {
@@ -72,7 +72,7 @@ fn exact_jacobian_matches_differences() {
     let mut j = DMatrix::zeros(2, 2);
     s.jacobian(1.5, &y, &mut j);
     let mut fd = DMatrix::zeros(2, 2);
-    crate::sim::solvers::ode::finite_difference_jacobian(&s, 1.5, &y, &mut fd);
+    crate::solvers::ode::finite_difference_jacobian(&s, 1.5, &y, &mut fd);
     assert!((&j - &fd).abs().max() < 1e-8, "{j} vs {fd}");
     assert_eq!(j[(0, 1)], 1.0);
     // d/dω of −0.1|ω|ω is −0.2|ω|, exactly.
@@ -127,7 +127,7 @@ fn every_function_is_differentiated_exactly() {
 }
 
 fn finite_difference_jacobian_of(s: &System, t: f64, y: &[f64], j: &mut DMatrix<f64>) {
-    crate::sim::solvers::ode::finite_difference_jacobian(s, t, y, j);
+    crate::solvers::ode::finite_difference_jacobian(s, t, y, j);
 }
 
 #[test]
@@ -187,15 +187,7 @@ fn observables_built_on_each_other_are_compiled_once_each() {
     assert_eq!(j[(1, 1)], 0.0);
 }
 
-/// A balanced sum of 2^levels `x`s: deep only `levels`.
-pub(crate) fn balanced(levels: usize) -> String {
-    if levels == 0 {
-        "x".to_string()
-    } else {
-        let half = balanced(levels - 1);
-        format!("({half})+({half})")
-    }
-}
+use super::balanced_sum as balanced;
 
 #[test]
 fn a_program_too_long_names_its_expression() {
