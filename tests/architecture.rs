@@ -1,7 +1,9 @@
-//! The layers of `src/` as ARCHITECTURE.md draws them, checked on the
-//! source itself: each top-level module uses only the ones listed before it
-//! (so there is no cycle between them), only the terminal app draws, and
-//! only the commands and the terminal app see the command line or print.
+//! The layers as ARCHITECTURE.md draws them, checked on the source itself:
+//! each layer uses only the ones listed before it (so there is no cycle
+//! between them), only the terminal app draws, and only the commands and
+//! the terminal app see the command line or print. The crates of the
+//! workspace hold the coarse order (a crate cannot name one that depends
+//! on it); this test holds the order of the layers inside a crate too.
 //!
 //! Test code (`src/**/tests/`, `#[cfg(test)]` blocks) may reach across
 //! layers for fixtures and is not looked at; neither are comments.
@@ -10,9 +12,19 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// Bottom to top: a module may use those before it.
-const LAYERS: [&str; 10] = [
-    "io", "text", "sim", "deck", "sched", "store", "predict", "sync", "tui", "cmd",
+const LAYERS: [&str; 11] = [
+    "io", "text", "sim", "deck", "sched", "store", "predict", "sync", "bundled", "tui", "cmd",
 ];
+
+/// The layers that are whole crates, by the name code calls them.
+const CRATES: [(&str, &str); 3] = [
+    ("io", "flipcard_io"),
+    ("text", "flipcard_text"),
+    ("sim", "flipcard_sim"),
+];
+
+/// The layers that are modules of `flipcard-core`.
+const CORE: [&str; 5] = ["deck", "sched", "store", "predict", "sync"];
 
 /// Modules that compute and return values: no printing, no exiting, no
 /// command line, no terminal.
@@ -20,18 +32,31 @@ const DOMAIN: [&str; 8] = [
     "io", "text", "sim", "deck", "sched", "store", "predict", "sync",
 ];
 
-fn src() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("src")
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// The code of every non-test file of a top-level module, comments removed.
+fn src() -> PathBuf {
+    root().join("src")
+}
+
+/// The code of every non-test file of a layer, comments removed.
 fn code_of(module: &str) -> Vec<(PathBuf, String)> {
     let mut files = Vec::new();
-    let single = src().join(format!("{module}.rs"));
-    if single.is_file() {
-        files.push(single);
+    if CRATES.iter().any(|(m, _)| *m == module) {
+        collect(&root().join(format!("crates/flipcard-{module}/src")), &mut files);
+    } else {
+        let dir = if CORE.contains(&module) {
+            root().join("crates/flipcard-core/src")
+        } else {
+            src()
+        };
+        let single = dir.join(format!("{module}.rs"));
+        if single.is_file() {
+            files.push(single);
+        }
+        collect(&dir.join(module), &mut files);
     }
-    collect(&src().join(module), &mut files);
     files
         .into_iter()
         .map(|f| {
@@ -73,10 +98,15 @@ fn strip(text: &str) -> String {
         .join("\n")
 }
 
-/// The top-level modules `code` names through `crate::`, including the
-/// grouped form `crate::{a, b::c}`.
+/// The layers `code` names through `crate::` (including the grouped form
+/// `crate::{a, b::c}`) or by their crate's name (`flipcard_sim::`).
 fn uses(code: &str) -> BTreeSet<String> {
     let mut found = BTreeSet::new();
+    for (module, krate) in CRATES {
+        if code.contains(&format!("{krate}::")) {
+            found.insert(module.to_string());
+        }
+    }
     let mut rest = code;
     while let Some(i) = rest.find("crate::") {
         rest = &rest[i + "crate::".len()..];
@@ -107,16 +137,29 @@ fn uses(code: &str) -> BTreeSet<String> {
 
 #[test]
 fn every_top_level_module_has_a_layer() {
-    let lib = std::fs::read_to_string(src().join("lib.rs")).unwrap();
-    let declared: BTreeSet<&str> = lib
-        .lines()
-        .filter_map(|l| l.trim().strip_prefix("pub mod "))
-        .map(|l| l.trim_end_matches(';'))
-        .collect();
+    let mut declared: BTreeSet<String> = BTreeSet::new();
+    for lib in ["src/lib.rs", "crates/flipcard-core/src/lib.rs"] {
+        let lib = std::fs::read_to_string(root().join(lib)).unwrap();
+        declared.extend(
+            lib.lines()
+                .filter_map(|l| l.trim().strip_prefix("pub mod "))
+                .map(|l| l.trim_end_matches(';').to_string()),
+        );
+    }
+    let members = std::fs::read_dir(root().join("crates")).unwrap();
+    for member in members.flatten() {
+        let name = member.file_name().to_string_lossy().into_owned();
+        if let Some(layer) = name.strip_prefix("flipcard-")
+            && layer != "core"
+        {
+            declared.insert(layer.to_string());
+        }
+    }
+    let declared: BTreeSet<&str> = declared.iter().map(String::as_str).collect();
     let layered: BTreeSet<&str> = LAYERS.into_iter().collect();
     assert_eq!(
         declared, layered,
-        "lib.rs and the layers differ: place a new module in LAYERS and ARCHITECTURE.md"
+        "the crates and lib.rs files and the layers differ: place a new module in LAYERS and ARCHITECTURE.md"
     );
 }
 
@@ -225,14 +268,16 @@ fn only_io_touches_the_file_system() {
 #[test]
 fn the_checker_sees_what_it_should() {
     // The checks above pass vacuously if these helpers find nothing.
-    let found = uses("use crate::{sim::Method, text}; let x = crate::deck::load(p);");
+    let found = uses("use crate::{sim::Method, text}; let x = crate::deck::load(p); flipcard_io::open");
     assert_eq!(
         found,
-        ["deck", "sim", "text"]
+        ["deck", "io", "sim", "text"]
             .map(String::from)
             .into_iter()
             .collect()
     );
     assert!(strip("a // crate::cmd\n#[cfg(test)]\ncrate::tui").trim() == "a");
     assert!(code_of("sim").len() > 20, "the sim sources were not found");
+    assert!(code_of("store").len() > 10, "the store sources were not found");
+    assert!(code_of("tui").len() > 20, "the tui sources were not found");
 }
