@@ -10,9 +10,9 @@
 //! (`tests/golden/synthetic_learner.csv`) and its generator's parameters.
 
 use chrono::{NaiveTime, Utc};
+use flipcard::interop::import::read_reviews_csv;
 use flipcard::sched::fit::{self, FitAnswer};
 use flipcard::store::DayGrid;
-use flipcard::store::import::read_reviews_csv;
 use std::collections::BTreeMap;
 
 fn main() {

@@ -10,7 +10,7 @@
 //! line or print. The layers are re-exported under their old names so a
 //! path reads the same from every crate (`flipcard::deck::…`).
 
-pub use flipcard_core::{deck, predict, sched, store, sync};
+pub use flipcard_core::{catalog, deck, interop, predict, sched, store, study, sync};
 pub use flipcard_io as io;
 pub use flipcard_sim as sim;
 pub use flipcard_text as text;

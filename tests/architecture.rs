@@ -12,8 +12,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// Bottom to top: a module may use those before it.
-const LAYERS: [&str; 11] = [
-    "io", "text", "sim", "deck", "sched", "store", "predict", "sync", "bundled", "tui", "cmd",
+const LAYERS: [&str; 14] = [
+    "io", "text", "sim", "deck", "sched", "store", "predict", "catalog", "interop", "sync",
+    "study", "bundled", "tui", "cmd",
 ];
 
 /// The layers that are whole crates, by the name code calls them.
@@ -24,12 +25,15 @@ const CRATES: [(&str, &str); 3] = [
 ];
 
 /// The layers that are modules of `flipcard-core`.
-const CORE: [&str; 5] = ["deck", "sched", "store", "predict", "sync"];
+const CORE: [&str; 8] = [
+    "deck", "sched", "store", "predict", "catalog", "interop", "sync", "study",
+];
 
 /// Modules that compute and return values: no printing, no exiting, no
 /// command line, no terminal.
-const DOMAIN: [&str; 8] = [
-    "io", "text", "sim", "deck", "sched", "store", "predict", "sync",
+const DOMAIN: [&str; 12] = [
+    "io", "text", "sim", "deck", "sched", "store", "predict", "catalog", "interop", "sync",
+    "study", "bundled",
 ];
 
 fn root() -> PathBuf {
@@ -44,7 +48,10 @@ fn src() -> PathBuf {
 fn code_of(module: &str) -> Vec<(PathBuf, String)> {
     let mut files = Vec::new();
     if CRATES.iter().any(|(m, _)| *m == module) {
-        collect(&root().join(format!("crates/flipcard-{module}/src")), &mut files);
+        collect(
+            &root().join(format!("crates/flipcard-{module}/src")),
+            &mut files,
+        );
     } else {
         let dir = if CORE.contains(&module) {
             root().join("crates/flipcard-core/src")
@@ -268,7 +275,8 @@ fn only_io_touches_the_file_system() {
 #[test]
 fn the_checker_sees_what_it_should() {
     // The checks above pass vacuously if these helpers find nothing.
-    let found = uses("use crate::{sim::Method, text}; let x = crate::deck::load(p); flipcard_io::open");
+    let found =
+        uses("use crate::{sim::Method, text}; let x = crate::deck::load(p); flipcard_io::open");
     assert_eq!(
         found,
         ["deck", "io", "sim", "text"]
@@ -278,6 +286,9 @@ fn the_checker_sees_what_it_should() {
     );
     assert!(strip("a // crate::cmd\n#[cfg(test)]\ncrate::tui").trim() == "a");
     assert!(code_of("sim").len() > 20, "the sim sources were not found");
-    assert!(code_of("store").len() > 10, "the store sources were not found");
+    assert!(
+        code_of("store").len() > 10,
+        "the store sources were not found"
+    );
     assert!(code_of("tui").len() > 20, "the tui sources were not found");
 }

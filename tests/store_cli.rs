@@ -6,9 +6,9 @@ use std::process::{Command, Output};
 
 use crate::store_support::{at, back_key, key, review};
 use chrono::Duration;
+use flipcard::interop::export::REVIEW_FIELDS;
 use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::Store;
-use flipcard::store::export::REVIEW_FIELDS;
 
 const NOW: &str = "2026-05-10T12:00:00Z";
 

@@ -10,8 +10,8 @@ use std::process::{Command, Output, Stdio};
 use std::time::Duration;
 
 use chrono::{DateTime, TimeDelta, Utc};
+use flipcard::interop::export::ExportedReview;
 use flipcard::sched::{Config, ItemKey, Rating, Scheduler};
-use flipcard::store::export::ExportedReview;
 use flipcard::store::state::CachedState;
 use flipcard::store::{AfterRating, ItemStatus, StatusAction, Store};
 

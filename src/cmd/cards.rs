@@ -8,14 +8,14 @@ use std::process::ExitCode;
 
 use serde::Serialize;
 
+use crate::catalog::{self, Filter, ItemRow, Search};
 use crate::cmd::args::{CardsArgs, CardsCommand, CardsFormat, Cli};
 use crate::cmd::common::{load_decks, open_store, open_store_read_only};
 use crate::cmd::paths;
 use crate::deck::Deck;
+use crate::interop::export::{MAX_NAMED, rfc3339_with};
 use crate::sched::{Config, Direction, ItemKey, Scheduler};
-use crate::store::StatusAction;
-use crate::store::catalog::{self, Filter, ItemRow, Search};
-use crate::store::export::{MAX_NAMED, rfc3339_with};
+use crate::study::{DayZone, Mark, Study};
 use crate::text::{num, plural};
 
 /// The CSV header, one column per field of [`Listed`].
@@ -158,10 +158,10 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
         CardsCommand::Suspend(items)
         | CardsCommand::Unsuspend(items)
         | CardsCommand::Bury(items) => {
-            let (action, done) = match &args.command {
-                CardsCommand::Suspend(_) => (StatusAction::Suspend, "suspended"),
-                CardsCommand::Unsuspend(_) => (StatusAction::Unsuspend, "unsuspended"),
-                _ => (StatusAction::Bury, "buried until the next day starts"),
+            let (mark, done) = match &args.command {
+                CardsCommand::Suspend(_) => (Mark::Suspend, "suspended"),
+                CardsCommand::Unsuspend(_) => (Mark::Unsuspend, "unsuspended"),
+                _ => (Mark::Bury, "buried until the next day starts"),
             };
             // Every item is resolved before anything is written: one
             // unknown item and nothing changes. An item named twice (or a
@@ -182,10 +182,8 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
                     }
                 }
             }
-            let until = (action == StatusAction::Bury)
-                .then(|| crate::sched::study_day(now, config.day_starts_at, &chrono::Local).1);
-            let mut store = open_store(cli)?;
-            store.set_status(&keys, action, now, until)?;
+            let mut study = Study::new(config, DayZone::Local, open_store(cli)?);
+            study.mark(&keys, mark, now)?;
             crate::outln!("{done}: {}", plural(keys.len(), "item", "items"))?;
             Ok(ExitCode::SUCCESS)
         }

@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use crate::cmd::args::{Cli, ExportArgs, ExportFormat};
 use crate::cmd::common::{find_deck, load_decks, open_store_read_only};
 use crate::deck::csv as csvdeck;
-use crate::store::export::{self, ExportError, Written};
+use crate::interop::export::{self, ExportError, Written};
 use crate::text::plural;
 
 pub fn run(cli: &Cli, args: &ExportArgs) -> anyhow::Result<ExitCode> {

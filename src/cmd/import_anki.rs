@@ -11,8 +11,8 @@ use anyhow::Context as _;
 use crate::cmd::args::{Cli, ImportArgs};
 use crate::cmd::common::open_store;
 use crate::cmd::paths;
+use crate::interop::anki::{AnkiImport, read_package};
 use crate::sched::{Config, Scheduler};
-use crate::store::anki::{AnkiImport, read_package};
 use crate::text::plural;
 
 /// Whether `file` is named as an Anki package.

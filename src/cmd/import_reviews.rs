@@ -6,8 +6,8 @@ use std::process::ExitCode;
 use crate::cmd::args::{Cli, ExportFormat, ImportArgs};
 use crate::cmd::common::open_store;
 use crate::cmd::paths;
+use crate::interop::import::{RowError, read_reviews_csv, read_reviews_json};
 use crate::sched::{Config, Scheduler};
-use crate::store::import::{RowError, read_reviews_csv, read_reviews_json};
 use crate::text::plural;
 
 pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {

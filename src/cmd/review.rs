@@ -5,11 +5,11 @@
 
 use std::process::ExitCode;
 
+use crate::catalog::{Filter, parse_span};
 use crate::cmd::args::{Cli, ReviewArgs};
 use crate::cmd::paths;
 use crate::sched::Config;
 use crate::store::Store;
-use crate::store::catalog::{Filter, parse_span};
 use crate::sync::Wait;
 use crate::tui::app::{App, DeckLoad};
 use crate::tui::services::{Clock, DayZone, Services};
@@ -44,10 +44,7 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let mut services = Services::new(clock, config, config_path, DayZone::Local, store);
     services.bench_csv = paths::bench_csv();
     if let Some(dir) = sync_dir.clone() {
-        services.after_session = Some(Box::new(crate::sync::background::Background::new(
-            data_dir.clone(),
-            dir,
-        )));
+        services.sync_through(data_dir.clone(), dir);
     }
     let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
     app.deck_load = deck_load;
@@ -60,7 +57,7 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
         }
     }
     let ran = crate::tui::run(&mut app);
-    let config = app.services.config.clone();
+    let config = app.services.study.config.clone();
     // A sync still running in the background ends before the last one
     // (the data folder's lock makes the last one wait for it).
     drop(app);

@@ -112,11 +112,8 @@ impl App {
         self.status = None;
         if self.stack.len() > 1 {
             let closed = self.stack.pop();
-            if matches!(
-                closed,
-                Some(Screen::Review(_) | Screen::Exam(_) | Screen::Browser(_))
-            ) {
-                self.after_session();
+            if closed.is_some_and(|c| c.view().ends_session()) {
+                self.start_sync();
             }
             if let Screen::Home(_) = self.screen() {
                 let fresh = super::screens::home::HomeState::new(self);
@@ -131,9 +128,9 @@ impl App {
 
     /// Starts a sync (when `sync_dir` is set) after a session closes; its
     /// end is said on the status line when [`App::poll_sync`] finds it.
-    fn after_session(&mut self) {
-        let config = self.services.config.clone();
-        let Some(syncer) = self.services.after_session.as_mut() else {
+    fn start_sync(&mut self) {
+        let config = self.services.study.config.clone();
+        let Some(syncer) = self.services.sync.as_mut() else {
             return;
         };
         syncer.start(&config);
@@ -142,17 +139,14 @@ impl App {
 
     /// Whether a sync runs in the background (the event loop then ticks).
     pub fn syncing(&self) -> bool {
-        self.services
-            .after_session
-            .as_ref()
-            .is_some_and(|s| s.busy())
+        self.services.sync.as_ref().is_some_and(|s| s.busy())
     }
 
     /// Says what a background sync that just ended did, and counts the home
     /// screen's cards again when it brought something. True when the screen
     /// changed.
     pub fn poll_sync(&mut self) -> bool {
-        let Some(done) = self.services.after_session.as_mut().and_then(|s| s.poll()) else {
+        let Some(done) = self.services.sync.as_mut().and_then(|s| s.poll()) else {
             return false;
         };
         match done {

@@ -38,8 +38,8 @@ pub struct MemoryPanel {
 impl MemoryPanel {
     /// Reads what the panel shows for one deck (drawing does no I/O).
     pub fn open(app: &App, deck: &str) -> Result<MemoryPanel, String> {
-        let s = &app.services;
-        let now = s.now();
+        let now = app.services.now();
+        let s = &app.services.study;
         let starts = s.config.day_starts_at;
         let today_weekday = |today: NaiveDate| today.weekday().num_days_from_monday() as usize;
         let read = |grid_today: NaiveDate| (WEEKS - 1) * 7 + today_weekday(grid_today) + 1;

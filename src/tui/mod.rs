@@ -84,7 +84,7 @@ pub fn open_review(app: &mut App, deck: Option<&str>, cram: bool) -> anyhow::Res
 pub fn open_filtered_review(
     app: &mut App,
     deck: Option<&str>,
-    filter: &crate::store::catalog::Filter,
+    filter: &crate::catalog::Filter,
     cram: bool,
 ) -> anyhow::Result<()> {
     let index = match deck {

@@ -1,15 +1,17 @@
-//! The domain services the screens call: the clock, the learner's config,
-//! the scheduler and the review store.
+//! What the screens call: the clock and the stopwatch, the learner's study
+//! (`crate::study`: config, scheduler, store, and what each action does),
+//! the background sync, and caches kept between screens.
 
-use std::collections::HashMap;
 use std::path::PathBuf;
 use std::time::Instant;
 
 use chrono::{DateTime, Utc};
 
 use crate::deck::Deck;
-use crate::sched::{CardState, Config, ItemKey, Queue, Scheduler};
-use crate::store::{AfterRating, PromptAttempt, Store, StoreError};
+use crate::sched::Config;
+use crate::store::Store;
+pub use crate::study::DayZone;
+use crate::study::Study;
 
 use super::screens::home::{Counts, DeckRow};
 
@@ -66,14 +68,6 @@ impl Stopwatch {
     }
 }
 
-/// Which time zone the study day's boundary (04:00 by default) is read in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DayZone {
-    Local,
-    /// For tests: the same day boundary on every machine.
-    Utc,
-}
-
 /// What a sync after a review session did, for the status line.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Synced {
@@ -86,8 +80,8 @@ pub struct Synced {
 }
 
 /// The sync of `sync_dir` when a session that may have changed the log
-/// closes (a review, an exam share, the browser), run in the background so
-/// the screen never waits for it; given by the command that opened the app.
+/// closes (a screen whose [`super::app::Screen::ends_session`] says so),
+/// run in the background so the screen never waits for it.
 pub trait Syncer {
     /// Starts a sync (or asks for one more when one is running).
     fn start(&mut self, config: &Config);
@@ -118,20 +112,18 @@ impl Syncer for crate::sync::background::Background {
     }
 }
 
-pub type AfterSession = Box<dyn Syncer>;
-
 pub struct Services {
     pub clock: Clock,
     pub stopwatch: Stopwatch,
-    pub config: Config,
+    /// The config, the scheduler, the store, and every action on them.
+    pub study: Study,
     /// Where the language choice is saved (`None`: nowhere to save).
     pub config_path: Option<PathBuf>,
-    pub scheduler: Scheduler,
-    pub zone: DayZone,
-    pub store: Store,
     /// The work–precision table of `flipcard bench`, if one was written.
     pub bench_csv: Option<PathBuf>,
-    pub after_session: Option<AfterSession>,
+    /// The sync the app starts when a screen that ends a study session
+    /// closes (`None`: no `sync_dir`).
+    pub sync: Option<Box<dyn Syncer>>,
     /// The card browser's search index, kept between its openings.
     pub browser_index: super::screens::browser::SearchCache,
     /// The most one frame's simulation may work ([`super::live_system::SLICE`]),
@@ -149,20 +141,23 @@ impl Services {
         zone: DayZone,
         store: Store,
     ) -> Services {
-        let scheduler = Scheduler::new(&config);
         Services {
             clock,
             stopwatch: Stopwatch::Real,
-            config,
+            study: Study::new(config, zone, store),
             config_path,
-            scheduler,
-            zone,
-            store,
             bench_csv: None,
-            after_session: None,
+            sync: None,
             browser_index: Default::default(),
             physics_slice: Some(super::live_system::SLICE),
         }
+    }
+
+    /// Syncs the data folder through `dir` in the background whenever a
+    /// study session ends.
+    pub fn sync_through(&mut self, data_dir: PathBuf, dir: PathBuf) {
+        let background = crate::sync::background::Background::new(data_dir, dir);
+        self.sync = Some(Box::new(background));
     }
 
     /// The slice a frame's simulation works within.
@@ -177,89 +172,34 @@ impl Services {
 
     /// The study day containing `now`: (start, end).
     pub fn study_day(&self, now: DateTime<Utc>) -> (DateTime<Utc>, DateTime<Utc>) {
-        let starts = self.config.day_starts_at;
-        match self.zone {
-            DayZone::Local => crate::sched::study_day(now, starts, &chrono::Local),
-            DayZone::Utc => crate::sched::study_day(now, starts, &Utc),
-        }
-    }
-
-    /// The day's queue of a deck, and the item states it was built from.
-    pub fn queue(
-        &self,
-        deck: &Deck,
-        now: DateTime<Utc>,
-    ) -> Result<(Queue, HashMap<ItemKey, CardState>), StoreError> {
-        let states = self.store.states(&deck.id)?;
-        let (day_start, _) = self.study_day(now);
-        let done = self.store.reviews_today(&deck.id, day_start)?;
-        // Suspended and buried items leave the queue.
-        let statuses = self.store.statuses()?;
-        let mut items = crate::sched::deck_items(deck);
-        items.retain(|k| statuses.get(k).is_none_or(|s| s.studyable(now)));
-        let queue = match self.zone {
-            DayZone::Local => {
-                Queue::build(&items, &states, done, now, &self.config, &chrono::Local)
-            }
-            DayZone::Utc => Queue::build(&items, &states, done, now, &self.config, &Utc),
-        };
-        Ok((queue, states))
+        self.study.study_day(now)
     }
 
     /// Today's counts and the last study time of a deck (blank when the
     /// store cannot say).
     pub fn deck_row(&self, deck: &Deck) -> DeckRow {
         let now = self.now();
-        let counts = self.queue(deck, now).ok().map(|(q, _)| {
-            let c = q.counts();
-            Counts {
-                new: c.new,
-                learning: c.learning,
-                due: c.due,
-            }
+        let counts = self.study.counts(deck, now).ok().map(|c| Counts {
+            new: c.new,
+            learning: c.learning,
+            due: c.due,
         });
         DeckRow {
             counts,
-            last_studied: self.store.last_studied(&deck.id).ok().flatten(),
-        }
-    }
-
-    /// What follows a rating of `key` in `deck`: leech detection as the
-    /// config says, and its siblings buried until the next study day.
-    pub fn after_rating(&self, deck: &Deck, key: &ItemKey, now: DateTime<Utc>) -> AfterRating {
-        let c = &self.config;
-        let bury = match deck.card(&key.card) {
-            Some(card) if c.bury_siblings => crate::store::catalog::card_directions(card)
-                .into_iter()
-                .filter(|d| *d != key.direction)
-                .map(|direction| ItemKey {
-                    direction,
-                    ..key.clone()
-                })
-                .collect(),
-            _ => Vec::new(),
-        };
-        AfterRating {
-            leech_threshold: c.leech_threshold,
-            leech_suspend: c.leech_action == crate::sched::config::LeechAction::Suspend,
-            bury,
-            bury_until: self.study_day(now).1,
+            last_studied: self.study.store.last_studied(&deck.id).ok().flatten(),
         }
     }
 
     /// Remembers the language for the next run.
     pub fn save_language(&mut self, lang: &str) -> Result<(), String> {
-        self.config.language = lang.to_string();
+        self.study.config.language = lang.to_string();
         match &self.config_path {
             Some(path) => self
+                .study
                 .config
                 .save_key(path, "language")
                 .map_err(|e| e.to_string()),
             None => Ok(()),
         }
-    }
-
-    pub fn record_attempt(&mut self, attempt: &PromptAttempt) -> Result<i64, StoreError> {
-        self.store.record_attempt(attempt)
     }
 }

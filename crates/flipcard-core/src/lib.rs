@@ -5,8 +5,11 @@
 //! database), `predict` (grading predictions), `sync` (between a learner's
 //! machines). Nothing here prints, reads the command line or draws.
 
+pub mod catalog;
 pub mod deck;
+pub mod interop;
 pub mod predict;
 pub mod sched;
 pub mod store;
+pub mod study;
 pub mod sync;

@@ -12,7 +12,7 @@
 
 use std::borrow::Cow;
 
-use crate::store::class::ClassReport;
+use crate::interop::class::ClassReport;
 use crate::text::num::Num;
 
 /// The CSV header: a contract for instructors' spreadsheets.

@@ -13,7 +13,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 
 use crate::cmd::args::{Cli, ReportArgs};
-use crate::store::class::{self, ClassReport, Export};
+use crate::interop::class::{self, ClassReport, Export};
 use crate::text::num::rounded;
 pub use crate::text::plural;
 

@@ -15,11 +15,11 @@ use ratatui::layout::{Constraint, Layout, Margin, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table, TableState, Wrap};
 
+use crate::catalog::search::{self, Search, SearchIndex, SearchTexts};
+use crate::catalog::{self, Filter, ItemRow};
 use crate::deck::Deck;
 use crate::sched::{Direction, ItemKey};
-use crate::store::StatusAction;
-use crate::store::catalog::{self, Filter, ItemRow};
-use crate::store::search::{self, Search, SearchIndex, SearchTexts};
+use crate::study::Mark;
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Words};
@@ -401,8 +401,8 @@ impl BrowserState {
         let now = app.services.now();
         let rows = catalog::rows(
             &app.decks,
-            &app.services.store,
-            &app.services.scheduler,
+            &app.services.study.store,
+            &app.services.study.scheduler,
             now,
         )
         .map_err(|e| e.to_string())?;
@@ -647,6 +647,10 @@ fn status_text(row: &ItemRow, now: DateTime<Utc>) -> String {
 }
 
 impl super::View for BrowserState {
+    fn ends_session(&self) -> bool {
+        true
+    }
+
     fn context(&self) -> Context {
         if self.typing {
             Context::BrowserSearch
@@ -738,7 +742,7 @@ fn explain(app: &mut App, s: &BrowserState) -> Nav {
 
 /// Reads the status of `keys` again into the table.
 fn refresh(app: &mut App, s: &mut BrowserState, keys: &[ItemKey]) {
-    let statuses = match app.services.store.statuses() {
+    let statuses = match app.services.study.store.statuses() {
         Ok(st) => st,
         Err(e) => {
             app.error(e.to_string());
@@ -769,19 +773,15 @@ fn mark(app: &mut App, s: &mut BrowserState, action: Action) {
     };
     let key = row.key(&app.decks);
     let now = app.services.now();
-    let (what, until, msg) = match action {
-        Action::Suspend => (StatusAction::Suspend, None, Msg::CardSuspended),
-        Action::Bury => (
-            StatusAction::Bury,
-            Some(app.services.study_day(now).1),
-            Msg::CardBuried,
-        ),
-        _ => (StatusAction::Unsuspend, None, Msg::CardUnsuspended),
+    let (mark, msg) = match action {
+        Action::Suspend => (Mark::Suspend, Msg::CardSuspended),
+        Action::Bury => (Mark::Bury, Msg::CardBuried),
+        _ => (Mark::Unsuspend, Msg::CardUnsuspended),
     };
     if let Err(e) = app
         .services
-        .store
-        .set_status(std::slice::from_ref(&key), what, now, until)
+        .study
+        .mark(std::slice::from_ref(&key), mark, now)
     {
         app.error(e.to_string());
         return;
@@ -799,7 +799,7 @@ fn undo(app: &mut App, s: &mut BrowserState) {
         app.info(app.tr(Msg::NothingToUndo));
         return;
     }
-    match app.services.store.undo_last_change() {
+    match app.services.study.undo() {
         Ok(Some(crate::store::Undone::Status(events))) => {
             s.marks -= 1;
             let keys: Vec<ItemKey> = events.into_iter().map(|e| e.key).collect();

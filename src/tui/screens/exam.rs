@@ -84,6 +84,10 @@ impl ExamState {
 }
 
 impl View for ExamState {
+    fn ends_session(&self) -> bool {
+        true
+    }
+
     fn context(&self) -> Context {
         match &self.phase {
             Phase::Date { .. } => Context::ExamDate,
@@ -137,9 +141,9 @@ pub fn apply(app: &mut App, state: &mut ExamState, action: Action) -> Nav {
 type DayOf = Box<dyn Fn(chrono::DateTime<Utc>) -> NaiveDate>;
 
 fn grid(app: &App) -> (NaiveDate, DayOf) {
-    let starts = app.services.config.day_starts_at;
+    let starts = app.services.study.config.day_starts_at;
     let now = app.services.now();
-    match app.services.zone {
+    match app.services.study.zone {
         DayZone::Local => {
             let g = DayGrid::new(chrono::Local, starts);
             (g.day_of(now), Box::new(move |t| g.day_of(t)))
@@ -162,11 +166,12 @@ fn start(app: &mut App, deck: usize, input: &str) -> Result<Study, Result<Words,
     let keys = deck_items(d);
     let states = app
         .services
+        .study
         .store
         .states(&d.id)
         .map_err(|e| Err(e.to_string()))?;
     let (today, day_of) = grid(app);
-    let config = &app.services.config;
+    let config = &app.services.study.config;
     let problem = plan::exam_problem(
         &keys,
         &states,
@@ -181,7 +186,8 @@ fn start(app: &mut App, deck: usize, input: &str) -> Result<Study, Result<Words,
         PlanError::ExamTooFar { .. } => Ok(words::TOO_FAR),
         other => Err(other.to_string()),
     })?;
-    let plan = plan::plan(&app.services.scheduler, &problem).map_err(|e| Err(e.to_string()))?;
+    let plan =
+        plan::plan(&app.services.study.scheduler, &problem).map_err(|e| Err(e.to_string()))?;
     let todays: Vec<ItemKey> = plan
         .due_on(0)
         .into_iter()
@@ -207,7 +213,10 @@ fn start(app: &mut App, deck: usize, input: &str) -> Result<Study, Result<Words,
 /// answers given today included), with no more reviews.
 fn expected_now(app: &App, study: &Study) -> f64 {
     let (today, day_of) = grid(app);
-    let model = Model::new(&app.services.scheduler, (study.exam - today).num_days());
+    let model = Model::new(
+        &app.services.study.scheduler,
+        (study.exam - today).num_days(),
+    );
     plan::memories(&study.keys, &study.review.states, today, &day_of)
         .iter()
         .map(|m| model.without(m.as_ref()))

@@ -8,7 +8,7 @@ use ratatui::layout::{Margin, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Paragraph, Wrap};
 
-use crate::store::catalog::{self, Filter};
+use crate::catalog::{self, Filter};
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Words, marks};

@@ -35,6 +35,11 @@ pub trait View {
     fn animating(&self) -> bool {
         false
     }
+    /// Whether closing it ends a study session that may have changed the
+    /// log (the app then syncs, when `sync_dir` is set).
+    fn ends_session(&self) -> bool {
+        false
+    }
 }
 
 pub enum Screen {

@@ -93,6 +93,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
     // The last attempt at each prompt: ✓ right, ✗ wrong, · not tried.
     let last = app
         .services
+        .study
         .store
         .last_attempts(&deck.id)
         .unwrap_or_default();

@@ -70,9 +70,9 @@ impl StatsState {
                     deck: Some(&d.id),
                     items: &items,
                 };
-                let s = &app.services;
+                let now = app.services.now();
+                let s = &app.services.study;
                 let starts = s.config.day_starts_at;
-                let now = s.now();
                 let r = match s.zone {
                     DayZone::Local => {
                         s.store

@@ -177,6 +177,7 @@ fn browser_suspends_buries_unsuspends_and_undoes() {
     press(&mut app, KeyCode::Char('s'));
     assert!(
         app.services
+            .study
             .store
             .status(&first)
             .map(|s| s.suspended)
@@ -186,6 +187,7 @@ fn browser_suspends_buries_unsuspends_and_undoes() {
     press(&mut app, KeyCode::Char('u'));
     assert!(
         !app.services
+            .study
             .store
             .status(&first)
             .map(|s| s.suspended)
@@ -196,6 +198,7 @@ fn browser_suspends_buries_unsuspends_and_undoes() {
     let now = app.services.now();
     assert!(
         app.services
+            .study
             .store
             .status(&first)
             .map(|s| s.buried(now))
@@ -204,6 +207,7 @@ fn browser_suspends_buries_unsuspends_and_undoes() {
     press(&mut app, KeyCode::Char('U'));
     assert!(
         app.services
+            .study
             .store
             .status(&first)
             .map(|s| s.studyable(now))
@@ -213,6 +217,7 @@ fn browser_suspends_buries_unsuspends_and_undoes() {
     press_all(&mut app, &[KeyCode::Char('u'), KeyCode::Char('u')]);
     assert!(
         app.services
+            .study
             .store
             .status(&first)
             .map(|s| s.studyable(now))
@@ -255,6 +260,7 @@ fn filter_counts_the_matching_items_and_starts_a_session() {
         press(&mut app, KeyCode::Char('3'));
         let history = app
             .services
+            .study
             .store
             .history(&key("euler-cloze", Direction::Cloze(1)));
         assert_eq!(
@@ -294,7 +300,7 @@ fn filter_refuses_a_bad_span_and_an_unknown_tag() {
 #[test]
 fn review_suspends_and_buries_with_undo_and_buries_siblings() {
     let mut app = app(ENGLISH);
-    app.services.config.bury_siblings = true;
+    app.services.study.config.bury_siblings = true;
     press(&mut app, KeyCode::Enter);
     let current = |app: &TestApp| match app.screen() {
         Screen::Review(r) => r.current.as_ref().map(|(k, _)| k.clone()),
@@ -306,6 +312,7 @@ fn review_suspends_and_buries_with_undo_and_buries_siblings() {
     press(&mut app, KeyCode::Char('s'));
     assert!(
         app.services
+            .study
             .store
             .status(&first)
             .map(|s| s.suspended)
@@ -322,6 +329,7 @@ fn review_suspends_and_buries_with_undo_and_buries_siblings() {
     );
     assert!(
         !app.services
+            .study
             .store
             .status(&first)
             .map(|s| s.suspended)
@@ -342,6 +350,7 @@ fn review_suspends_and_buries_with_undo_and_buries_siblings() {
         let now = app.services.now();
         assert!(
             app.services
+                .study
                 .store
                 .status(&reversed_back)
                 .map(|s| s.buried(now))
@@ -351,8 +360,8 @@ fn review_suspends_and_buries_with_undo_and_buries_siblings() {
         // Undoing the answer unburies it (the next card may be a typed one,
         // where `u` is a letter of the answer: the action is applied).
         crate::tui::update::apply(&mut app, crate::tui::action::Action::Undo);
-        let st = app.services.store.status(&reversed_back);
-        let hist = app.services.store.status_history(&reversed_back);
+        let st = app.services.study.store.status(&reversed_back);
+        let hist = app.services.study.store.status_history(&reversed_back);
         assert!(
             st.as_ref().map(|s| s.studyable(now)).unwrap_or(false),
             "{st:?} {hist:?} {:?}",
@@ -376,7 +385,7 @@ fn a_card_suspended_meanwhile_is_not_rated() {
     press(&mut app, KeyCode::Char(' '));
     // Another window suspends it.
     let now = app.services.now();
-    let done = app.services.store.set_status(
+    let done = app.services.study.store.set_status(
         std::slice::from_ref(&shown),
         StatusAction::Suspend,
         now,
@@ -386,6 +395,7 @@ fn a_card_suspended_meanwhile_is_not_rated() {
     press(&mut app, KeyCode::Char('3'));
     assert_eq!(
         app.services
+            .study
             .store
             .history(&shown)
             .map(|h| h.len())
@@ -408,7 +418,7 @@ fn typing_narrows_the_last_search_without_losing_rows() {
         super::settle(&mut app);
         // What a fresh search over every row finds, in the same order.
         let b = browser(&app);
-        let mut fresh = crate::store::catalog::Search::new(&app.decks, &b.rows);
+        let mut fresh = crate::catalog::Search::new(&app.decks, &b.rows);
         let all: Vec<usize> = (0..b.rows.len()).collect();
         assert_eq!(b.shown, fresh.matching(&typed, &all).best, "{typed:?}");
     }
@@ -457,7 +467,7 @@ fn a_key_typed_before_the_index_is_built_is_drawn_at_once_and_searched_when_it_i
         let _ = release.send(());
         super::settle(&mut app);
         let b = browser(&app);
-        let mut fresh = crate::store::catalog::Search::new(&app.decks, &b.rows);
+        let mut fresh = crate::catalog::Search::new(&app.decks, &b.rows);
         let rows: Vec<usize> = (0..b.rows.len()).collect();
         assert_eq!(b.shown, fresh.matching("e", &rows).best);
         assert_ne!(b.shown, all, "the search narrowed the list");

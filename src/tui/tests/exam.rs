@@ -109,6 +109,7 @@ fn an_again_in_todays_share_comes_back_at_its_step_not_at_the_end() {
     press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('1')]);
     let step = app
         .services
+        .study
         .store
         .state(&first)
         .ok()

@@ -37,7 +37,7 @@ fn current_card(app: &TestApp) -> String {
 /// Every answer in the log, oldest first: (card:direction, rating, kind, undone).
 fn log(app: &TestApp) -> Vec<(String, i64, ReviewKind, bool)> {
     let mut rows = Vec::new();
-    let result = app.services.store.each_review(|r| {
+    let result = app.services.study.store.each_review(|r| {
         rows.push((
             format!("{}:{}", r.record.key.card, r.record.key.direction.as_str()),
             r.record.rating as i64,
@@ -133,7 +133,7 @@ fn undo_reverts_the_last_rating_and_shows_that_card_again() {
     );
     // The state is back to new: the store has no state for it.
     let key = review(&app).current.as_ref().map(|(k, _)| k.clone());
-    let state = key.and_then(|k| app.services.store.state(&k).ok().flatten());
+    let state = key.and_then(|k| app.services.study.store.state(&k).ok().flatten());
     assert!(state.is_none_or(|s| s.state == State::New), "{state:?}");
     // Undo once more reverts the first; a third has nothing left.
     press(&mut app, KeyCode::Char('u'));
@@ -271,7 +271,12 @@ fn cram_logs_cram_answers_and_keeps_the_schedule() {
         log(&app),
         [("body-frame-why:forward".into(), 3, ReviewKind::Cram, false)]
     );
-    let states = app.services.store.states("torque-free").unwrap_or_default();
+    let states = app
+        .services
+        .study
+        .store
+        .states("torque-free")
+        .unwrap_or_default();
     assert!(states.values().all(|s| s.state == State::New), "{states:?}");
 }
 
@@ -293,7 +298,7 @@ fn a_full_disk_keeps_the_rating_on_screen_and_loses_nothing() {
         return;
     };
     let mut app = testkit::app(ENGLISH);
-    app.services.store = match crate::store::Store::open(&disk.dir.path().join("data")) {
+    app.services.study.store = match crate::store::Store::open(&disk.dir.path().join("data")) {
         Ok(s) => s,
         Err(e) => panic!("store on the small disk: {e}"),
     };
@@ -437,7 +442,7 @@ fn the_summary_says_what_comes_next_and_c_crams() {
 #[test]
 fn nothing_due_says_new_cards_are_left_for_tomorrow() {
     let mut app = testkit::app(ENGLISH);
-    app.services.config.new_per_day = 0;
+    app.services.study.config.new_per_day = 0;
     press(&mut app, KeyCode::Enter);
     assert_eq!(app.context(), Context::ReviewDone);
     let next = review(&app).what_next(&app);

@@ -98,6 +98,7 @@ fn count(app: &TestApp) -> Result<usize, String> {
 /// Ratings of `key` not undone.
 fn ratings(app: &TestApp, key: &ItemKey) -> usize {
     app.services
+        .study
         .store
         .history(key)
         .map(|h| h.iter().filter(|r| !r.undone).count())
@@ -176,7 +177,12 @@ fn a_filter_over_every_deck_rates_each_card_against_its_own_deck() {
         assert_eq!(shown(&app), None, "Easy graduates both: nothing comes back");
         assert_eq!(review(&app).session.reviewed, 2);
         assert_eq!((ratings(&app, &first), ratings(&app, &second)), (1, 1));
-        let springs = app.services.store.states("springs").unwrap_or_default();
+        let springs = app
+            .services
+            .study
+            .store
+            .states("springs")
+            .unwrap_or_default();
         assert_eq!(
             springs.get(&second).map(|s| s.state),
             Some(State::Review),
@@ -207,19 +213,20 @@ fn a_lapse_in_a_filtered_session_comes_back_at_its_step_not_at_the_end() {
     let now = testkit::now();
     let first = item("torque-free", "body-frame-why");
     // A card learnt a month ago: Again makes it relearning.
-    let learnt = app.services.scheduler.review(
+    let learnt = app.services.study.scheduler.review(
         &first,
         None,
         Rating::Easy,
         now - chrono::TimeDelta::days(30),
         0,
     );
-    assert!(app.services.store.record(&learnt).is_ok());
+    assert!(app.services.study.store.record(&learnt).is_ok());
     press_all(&mut app, &[KeyCode::Char('f'), KeyCode::Enter]);
     assert_eq!(shown(&app), Some(first.clone()));
     press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('1')]);
     let step = app
         .services
+        .study
         .store
         .state(&first)
         .ok()
@@ -263,7 +270,7 @@ fn cram_over_a_filter_puts_again_at_the_back() {
     press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
     assert_eq!(shown(&app), None);
     // Cram answers leave the schedule as it was.
-    assert_eq!(app.services.store.state(&first).ok().flatten(), None);
+    assert_eq!(app.services.study.store.state(&first).ok().flatten(), None);
 }
 
 /// Four leeches of the fixture deck (one with two lapses, the rest with
@@ -283,7 +290,7 @@ fn leeches(app: &mut TestApp) {
     ];
     for (i, key) in keys.iter().enumerate() {
         let lapses: u32 = if i == 0 { 2 } else { 1 };
-        let s = &app.services.scheduler;
+        let s = &app.services.study.scheduler;
         let mut rec = s.review(key, None, Rating::Easy, now - day * 40, 0);
         let mut records = vec![rec.clone()];
         for n in 0..lapses {
@@ -305,10 +312,10 @@ fn leeches(app: &mut TestApp) {
                 bury: Vec::new(),
                 bury_until: r.reviewed_at,
             };
-            assert!(app.services.store.record_study(r, &follow).is_ok());
+            assert!(app.services.study.store.record_study(r, &follow).is_ok());
         }
     }
-    let bury = app.services.store.set_status(
+    let bury = app.services.study.store.set_status(
         &[item("springs", "period")],
         crate::store::StatusAction::Bury,
         now,

@@ -43,7 +43,7 @@ impl Syncer for Fake {
 /// Installs a sync that counts its runs and reports `result`.
 fn hook(app: &mut TestApp, result: Result<Synced, String>) -> Rc<RefCell<usize>> {
     let runs = Rc::new(RefCell::new(0));
-    app.services.after_session = Some(Box::new(Fake {
+    app.services.sync = Some(Box::new(Fake {
         runs: Rc::clone(&runs),
         result,
         running: false,
@@ -59,7 +59,7 @@ fn the_sync_after_a_session_runs_behind_the_screen() {
     let mut app = testkit::app(ENGLISH);
     let runs = Rc::new(RefCell::new(0));
     let finish = Rc::new(RefCell::new(false));
-    app.services.after_session = Some(Box::new(Fake {
+    app.services.sync = Some(Box::new(Fake {
         runs: Rc::clone(&runs),
         result: Ok(Synced {
             written: 1,
@@ -183,8 +183,8 @@ fn answers_on_a_moving_clock_replay_to_the_same_due_dates_elsewhere() {
     let mut machines = Vec::new();
     for _ in 0..4 {
         let mut app = testkit::app(ENGLISH);
-        app.services.config.fuzz = true;
-        app.services.scheduler = crate::sched::Scheduler::new(&app.services.config);
+        app.services.study.config.fuzz = true;
+        app.services.study.scheduler = crate::sched::Scheduler::new(&app.services.study.config);
         app.services.clock = crate::tui::services::Clock::System;
         // Every new card, Easy: it graduates to a fuzzed interval of days.
         press(&mut app, KeyCode::Enter);
@@ -194,7 +194,7 @@ fn answers_on_a_moving_clock_replay_to_the_same_due_dates_elsewhere() {
             }
             press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('4')]);
         }
-        let cfg = app.services.config.clone();
+        let cfg = app.services.study.config.clone();
         sync_dir(app.dir.path(), folder.path(), &cfg);
         config = Some(cfg);
         machines.push(app);
@@ -268,12 +268,13 @@ fn two_answers_in_one_frozen_millisecond_are_two_answers() {
     };
     let here = app
         .services
+        .study
         .store
         .history(&key)
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(here.len(), 2, "{here:#?}");
     assert_ne!(here[0].record.reviewed_at, here[1].record.reviewed_at);
-    let config = app.services.config.clone();
+    let config = app.services.study.config.clone();
     sync_dir(app.dir.path(), folder.path(), &config);
     sync_dir(other.path(), folder.path(), &config);
     let store = crate::store::Store::open_read_only(other.path()).unwrap_or_else(|e| panic!("{e}"));

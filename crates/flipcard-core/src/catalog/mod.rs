@@ -4,17 +4,19 @@
 //! over the front and back in every language). The card browser, `flipcard
 //! cards` and the filtered review all read items through this.
 
+pub mod search;
+
 use std::collections::{BTreeSet, HashMap};
 
 use chrono::{DateTime, TimeDelta, Utc};
 
-use super::db::Store;
-use super::error::StoreError;
-use super::status::ItemStatus;
 use crate::deck::{CardKind, Deck};
 use crate::sched::{CardState, Direction, ItemKey, Scheduler, State};
+use crate::store::db::Store;
+use crate::store::error::StoreError;
+use crate::store::status::ItemStatus;
 
-pub use super::search::{Found, Search, SearchIndex, SearchTexts};
+pub use self::search::{Found, Search, SearchIndex, SearchTexts};
 
 /// One item as the browser and `flipcard cards list` show it. Its names
 /// and tags are read from the decks it was made from (fifty thousand rows
@@ -422,7 +424,7 @@ mod tests {
     fn deck() -> Deck {
         let loaded = crate::deck::load_dir(std::path::Path::new(concat!(
             env!("CARGO_MANIFEST_DIR"),
-            "/tests/decks/study/decks"
+            "/../../tests/decks/study/decks"
         )));
         loaded
             .decks

@@ -15,7 +15,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use nucleo_matcher::pattern::{AtomKind, CaseMatching, Normalization, Pattern};
 use nucleo_matcher::{Matcher, Utf32Str, Utf32String, chars};
 
-use super::catalog::ItemRow;
+use super::ItemRow;
 use crate::deck::{CardKind, Deck};
 
 /// The least score (per character of the query) a fuzzy match needs: a

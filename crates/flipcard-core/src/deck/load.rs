@@ -393,7 +393,7 @@ mod tests {
 
     #[test]
     fn a_file_named_twice_is_loaded_once() {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/decks/valid/full/decks");
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/decks/valid/full/decks");
         let loaded = load_paths(&[dir.clone(), dir.join("spinning-top.toml")]);
         assert_eq!(loaded.errors(), 0, "{}", loaded.render_all());
         assert_eq!(loaded.decks.len(), 1);

@@ -30,11 +30,11 @@ use chrono::{DateTime, Utc};
 use rusqlite::limits::Limit;
 use rusqlite::{Connection, OpenFlags, OptionalExtension};
 
-use super::merge::IncomingReview;
 use crate::deck::cloze::MAX_NUMBER;
 use crate::deck::csv::{MAX_FIELD_BYTES, slug, toml_string};
 use crate::sched::clock::check_event_time;
 use crate::sched::{Direction, ItemKey, Rating};
+use crate::store::merge::IncomingReview;
 
 /// The largest collection unpacked (compressed size does not matter).
 pub const MAX_COLLECTION_BYTES: u64 = 512 << 20;
@@ -1035,7 +1035,7 @@ mod tests {
     }
 
     proptest::proptest! {
-        /// Run longer with `PROPTEST_CASES=100000 cargo test --lib store::anki`.
+        /// Run longer with `PROPTEST_CASES=100000 cargo test --lib interop::anki`.
         #[test]
         fn the_linear_conversions_equal_the_reference(
             s in "([\\\\()\\[\\]$&;#x0-9a-z ]|amp;|\\\\\\(|\\\\\\[|\\\\\\)|\\\\\\]|é){0,40}",

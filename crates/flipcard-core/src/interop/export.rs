@@ -13,10 +13,10 @@ use std::io::Write;
 use chrono::{DateTime, SecondsFormat, Utc};
 use serde::Serialize;
 
-use super::codec;
-use super::db::Store;
-use super::error::StoreError;
-use super::log::LoggedReview;
+use crate::store::codec;
+use crate::store::db::Store;
+use crate::store::error::StoreError;
+use crate::store::log::LoggedReview;
 
 /// The exported fields, in order (also the CSV header).
 pub const REVIEW_FIELDS: [&str; 14] = [
@@ -263,8 +263,8 @@ pub struct ExportedAttempt {
     pub correct: bool,
 }
 
-impl From<super::attempt::PromptAttempt> for ExportedAttempt {
-    fn from(a: super::attempt::PromptAttempt) -> Self {
+impl From<crate::store::attempt::PromptAttempt> for ExportedAttempt {
+    fn from(a: crate::store::attempt::PromptAttempt) -> Self {
         ExportedAttempt {
             deck: a.deck,
             prompt: a.prompt,
@@ -278,7 +278,10 @@ impl From<super::attempt::PromptAttempt> for ExportedAttempt {
 
 /// The attempt, or why it cannot be written; `n` counts attempts from 1 in
 /// the order they are stored.
-fn checked_attempt(a: super::attempt::PromptAttempt, n: u64) -> Result<ExportedAttempt, String> {
+fn checked_attempt(
+    a: crate::store::attempt::PromptAttempt,
+    n: u64,
+) -> Result<ExportedAttempt, String> {
     let row = format!("attempt {n} ({}/{})", a.deck, a.prompt);
     match unwritable(&row, &[("attempted_at", a.attempted_at)]) {
         Some(why) => Err(why),

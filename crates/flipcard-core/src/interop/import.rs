@@ -13,9 +13,9 @@
 use chrono::{DateTime, Utc};
 use serde_json::value::RawValue;
 
-use super::merge::IncomingReview;
 use crate::sched::clock::check_event_time;
 use crate::sched::{ItemKey, Rating, ReviewKind};
+use crate::store::merge::IncomingReview;
 
 /// A problem with one row (or with the file as a whole, at its line).
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -403,7 +403,7 @@ mod tests {
         /// A file is read exactly when every row has ids of the deck
         /// format and a time from 1970 to a day after now; otherwise every
         /// bad row, and only those, is named at its line. Run longer with
-        /// `PROPTEST_CASES=100000 cargo test --lib store::import`.
+        /// `PROPTEST_CASES=100000 cargo test --lib interop::import`.
         #[test]
         fn rows_are_taken_exactly_when_ids_and_times_are_valid(
             rows in proptest::collection::vec(row_strategy(), 1..8),

@@ -5,23 +5,17 @@
 //! Every write is one transaction committed to disk (`synchronous=FULL`)
 //! before the call returns, so a rating is safe before the next card shows.
 
-pub mod anki;
 pub mod answers;
 pub mod attempt;
 pub mod backup;
-pub mod catalog;
-pub mod class;
-mod codec;
+pub(crate) mod codec;
 pub mod day;
 pub mod db;
 pub mod error;
-pub mod export;
-pub mod import;
 pub mod log;
 pub mod merge;
 pub mod restore;
 pub mod schema;
-pub mod search;
 pub mod state;
 pub mod stats;
 pub mod status;

@@ -20,7 +20,7 @@
 //! card's lapses agree on one leech event instead of each sending its own.
 //!
 //! A machine reads every other file and merges what its log lacks with
-//! [`Store::merge_sync`](super::db::Store::merge_sync), the review merge of
+//! [`Store::merge_sync`](crate::store::Store::merge_sync), the review merge of
 //! `import --reviews` extended to status events and undos: what is already
 //! in the log is skipped, so syncing twice changes nothing, and each touched
 //! card's state is replayed in time order, so both machines end with the
@@ -29,19 +29,14 @@
 //! A file another tool is still copying may end in a half line, or hold a
 //! line cut short: such lines are skipped with a warning and read next time.
 
-use std::collections::HashMap;
-
 use chrono::{DateTime, Utc};
 use serde::{Deserialize, Serialize};
 
-use super::codec::Ms;
-use super::db::Store;
-use super::error::StoreError;
-use super::export::rfc3339;
-use super::merge::IncomingReview;
-use super::status::StatusAction;
-use super::sync_merge::{IncomingStatus, ReviewId, StatusId};
-use crate::sched::{ItemKey, Rating, ReviewKind, clock};
+use crate::interop::export::rfc3339;
+use crate::sched::{ItemKey, Rating, clock};
+use crate::store::merge::IncomingReview;
+use crate::store::status::StatusAction;
+use crate::store::sync_merge::{IncomingStatus, ReviewId, StatusId};
 use flipcard_text::safe::one_line;
 
 /// A `review` line, spelled as the first version of the format wrote it.
@@ -487,90 +482,6 @@ pub fn sync_line(l: &SyncLine) -> String {
     let mut s = l.json().unwrap_or_default();
     s.push('\n');
     s
-}
-
-/// One answer of this machine's log, once per identity and origin, with
-/// the machine it came from (`None`: this one).
-#[derive(Debug, Clone)]
-pub struct LocalReview {
-    /// Undone when every row with its identity and origin is.
-    pub review: IncomingReview,
-    pub origin: Option<String>,
-    /// Written before origins were kept: without one, it may still have
-    /// come from another machine.
-    pub legacy: bool,
-}
-
-/// One status event that travels, once per identity and origin.
-#[derive(Debug, Clone)]
-pub struct LocalStatus {
-    pub status: IncomingStatus,
-    pub origin: Option<String>,
-    pub legacy: bool,
-}
-
-/// This machine's history as sync lines: each review and each status
-/// event that travels once, live when any of its rows is (a review the
-/// merge re-appended after an earlier one arrived is one review), in the
-/// log's order.
-#[derive(Debug, Default)]
-pub struct Local {
-    pub reviews: Vec<LocalReview>,
-    pub statuses: Vec<LocalStatus>,
-}
-
-impl Store {
-    /// Every review and every status event that travels, once each, with
-    /// where each came from.
-    pub fn sync_local(&self) -> Result<Local, StoreError> {
-        let mut order: Vec<(ReviewId, Option<String>)> = Vec::new();
-        let mut by_identity: HashMap<(ReviewId, Option<String>), LocalReview> = HashMap::new();
-        let mut st = self
-            .conn
-            .prepare(
-                "SELECT deck, card, direction, reviewed_at, rating, kind, duration_ms, undone, \
-                 origin, id <= (SELECT review_max FROM sync_legacy) FROM review ORDER BY id",
-            )
-            .map_err(|e| self.err(e))?;
-        let mut rows = st.query([]).map_err(|e| self.err(e))?;
-        while let Some(row) = rows.next().map_err(|e| self.err(e))? {
-            let read = || -> rusqlite::Result<LocalReview> {
-                Ok(LocalReview {
-                    review: IncomingReview {
-                        key: ItemKey {
-                            deck: row.get(0)?,
-                            card: row.get(1)?,
-                            direction: row.get(2)?,
-                        },
-                        reviewed_at: row.get::<_, Ms>(3)?.0,
-                        rating: row.get(4)?,
-                        cram: row.get::<_, ReviewKind>(5)? == ReviewKind::Cram,
-                        duration_ms: row.get(6)?,
-                        undone: row.get::<_, i64>(7)? != 0,
-                    },
-                    origin: row.get(8)?,
-                    legacy: row.get::<_, Option<bool>>(9)?.unwrap_or(false),
-                })
-            };
-            let l = read().map_err(|e| self.err(e))?;
-            let id = (l.review.review_id(), l.origin.clone());
-            match by_identity.get_mut(&id) {
-                Some(e) => e.review.undone &= l.review.undone,
-                None => {
-                    order.push(id.clone());
-                    by_identity.insert(id, l);
-                }
-            }
-        }
-        let reviews = order
-            .into_iter()
-            .filter_map(|id| by_identity.remove(&id))
-            .collect();
-        Ok(Local {
-            reviews,
-            statuses: self.travelling_statuses()?,
-        })
-    }
 }
 
 #[cfg(test)]

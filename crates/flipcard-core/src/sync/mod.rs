@@ -22,6 +22,7 @@
 //!    temporary name, fsynced, renamed over the old one).
 
 pub mod background;
+pub mod line;
 pub mod machine;
 pub mod plan;
 
@@ -30,9 +31,9 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 use chrono::{DateTime, Utc};
 
+use self::line::SyncLine;
 use crate::sched::config::LeechAction;
 use crate::sched::{Config, Scheduler};
-use crate::store::sync::{self, SyncLine};
 use crate::store::sync_merge::LeechRule;
 use crate::store::{OpenOptions, Store};
 use flipcard_io::{self as disk, Durability};
@@ -292,7 +293,7 @@ fn locked(
                 continue;
             }
         };
-        let (lines, skipped) = sync::read_lines(&text, now);
+        let (lines, skipped) = line::read_lines(&text, now);
         outcome.skipped_lines += skipped.len();
         read_again |= skipped.iter().any(|s| s.later);
         // Each problem said once: a written line never changes. Lines that
@@ -392,7 +393,7 @@ fn locked(
     if !plan.write.is_empty() {
         let mine = dir.join(format!("{me}.jsonl"));
         for l in &plan.write {
-            mine_text.push_str(&sync::sync_line(l));
+            mine_text.push_str(&line::sync_line(l));
             match l {
                 SyncLine::Review(_) => outcome.written += 1,
                 SyncLine::Status(_) => outcome.written_statuses += 1,

@@ -36,10 +36,11 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::hash::Hash;
 
-use crate::store::IncomingReview;
-use crate::store::sync::{
-    Checked, Local, SyncLine, review_line, status_line, undo_review_line, undo_status_line,
+use super::line::{
+    Checked, SyncLine, review_line, status_line, undo_review_line, undo_status_line,
 };
+use crate::store::IncomingReview;
+use crate::store::sync::Local;
 use crate::store::sync_merge::{IncomingStatus, ReviewId, StatusId, SyncIncoming};
 
 /// The checked lines of one file of the folder, and the machine that owns

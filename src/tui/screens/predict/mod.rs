@@ -442,7 +442,7 @@ fn record(
         measured: verdict.readings.first().map(|r| r.value),
         correct: verdict.correct,
     };
-    if let Err(e) = app.services.record_attempt(&attempt) {
+    if let Err(e) = app.services.study.record_attempt(&attempt) {
         app.error(e.to_string());
     }
     verdict

@@ -122,12 +122,14 @@ impl ReviewState {
             let d = &app.decks[i];
             states.extend(
                 app.services
+                    .study
                     .store
                     .states(&d.id)
                     .map_err(|e| e.to_string())?,
             );
         }
         app.services
+            .study
             .store
             .start_session()
             .map_err(|e| e.to_string())?;
@@ -166,6 +168,7 @@ impl ReviewState {
         let (source, states) = if cram {
             let states = app
                 .services
+                .study
                 .store
                 .states(&d.id)
                 .map_err(|e| e.to_string())?;
@@ -174,11 +177,16 @@ impl ReviewState {
                 states,
             )
         } else {
-            let (queue, states) = app.services.queue(d, now).map_err(|e| e.to_string())?;
+            let (queue, states) = app
+                .services
+                .study
+                .queue(d, now)
+                .map_err(|e| e.to_string())?;
             (Source::Daily(queue), states)
         };
         // Undo reaches back to the start of this review, never into another deck's.
         app.services
+            .study
             .store
             .start_session()
             .map_err(|e| e.to_string())?;
@@ -214,6 +222,7 @@ impl ReviewState {
         let d = app.decks.get(deck).ok_or("no such deck")?;
         let states = app
             .services
+            .study
             .store
             .states(&d.id)
             .map_err(|e| e.to_string())?;
@@ -352,6 +361,10 @@ impl ReviewState {
 }
 
 impl super::View for ReviewState {
+    fn ends_session(&self) -> bool {
+        true
+    }
+
     fn context(&self) -> Context {
         match &self.phase {
             Phase::Front { .. } if self.typed => Context::ReviewTyping,
@@ -441,11 +454,11 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
         _ => None,
     };
     let previews = (!state.cram).then(|| {
-        Box::new(
-            app.services
-                .scheduler
-                .preview(&key, state.states.get(&key), app.services.now()),
-        )
+        Box::new(app.services.study.scheduler.preview(
+            &key,
+            state.states.get(&key),
+            app.services.now(),
+        ))
     });
     state.phase = Phase::Back { typed, previews };
     state.scroll = 0;
@@ -477,44 +490,32 @@ fn rate(app: &mut App, state: &mut ReviewState, rating: Rating) {
     let Some((key, shown)) = state.current.clone() else {
         return;
     };
-    // To the millisecond, and after the item's latest answer (see
-    // `Store::answer_time`), before anything is drawn from it.
-    let now = match app.services.store.answer_time(&key, app.services.now()) {
-        Ok(t) => t,
-        Err(e) => {
-            app.error(e.to_string());
-            return;
-        }
-    };
     if !state.cram && status::changed_meanwhile(app, state, &key) {
         return;
     }
-    let duration = app.services.stopwatch.elapsed_ms(shown);
-    let before = state.states.get(&key).copied();
-    let s = &app.services.scheduler;
-    let record = if state.cram {
-        s.cram(&key, before.as_ref(), rating, now, duration)
-    } else {
-        s.review(&key, before.as_ref(), rating, now, duration)
-    };
-    let after = match app.decks.get(state.deck) {
-        Some(deck) if !state.cram => app.services.after_rating(deck, &key, now),
-        _ => crate::store::AfterRating {
-            leech_threshold: 0,
-            leech_suspend: false,
-            bury: Vec::new(),
-            bury_until: now,
-        },
+    let now = app.services.now();
+    let answer = crate::study::Answer {
+        key: &key,
+        before: state.states.get(&key),
+        rating,
+        duration_ms: app.services.stopwatch.elapsed_ms(shown),
+        cram: state.cram,
     };
     // Durable before anything else changes: if the write fails, the card
     // stays on screen and the rating can be given again.
-    let recorded = match app.services.store.record_study(&record, &after) {
+    let deck = app.decks.get(state.deck);
+    let rated = match app.services.study.rate(deck, answer, now) {
         Ok(r) => r,
         Err(e) => {
             app.error(e.to_string());
             return;
         }
     };
+    let crate::study::Rated {
+        record,
+        after,
+        recorded,
+    } = rated;
     match &mut state.source {
         Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => q.answered(&record),
         Source::Cram(c) => c.answered(&record),
@@ -537,7 +538,7 @@ fn undo(app: &mut App, state: &mut ReviewState) {
         app.info(app.tr(Msg::NothingToUndo));
         return;
     }
-    let record = match app.services.store.undo_last_change() {
+    let record = match app.services.study.undo() {
         Ok(Some(crate::store::Undone::Review(r))) => r,
         Ok(Some(crate::store::Undone::Status(events))) => {
             status::undone(app, state, &events);
@@ -553,7 +554,7 @@ fn undo(app: &mut App, state: &mut ReviewState) {
         }
     };
     let key = record.record.key.clone();
-    let restored = match app.services.store.state(&key) {
+    let restored = match app.services.study.store.state(&key) {
         Ok(s) => s,
         Err(e) => {
             app.error(e.to_string());
@@ -631,10 +632,10 @@ fn scope_decks(app: &App, deck: Option<usize>) -> Result<Vec<usize>, String> {
 pub fn filtered_items(
     app: &App,
     deck: Option<usize>,
-    filter: &crate::store::catalog::Filter,
+    filter: &crate::catalog::Filter,
     cram: bool,
 ) -> Result<Vec<ItemKey>, String> {
-    use crate::store::catalog;
+    use crate::catalog;
     if !cram && filter.states.iter().any(|s| s == "suspended") {
         return Err(app.tr(Msg::SuspendedNeedsCram).to_string());
     }
@@ -644,8 +645,13 @@ pub fn filtered_items(
     };
     filter.check_names(decks).map_err(|e| e.to_string())?;
     let now = app.services.now();
-    let rows = catalog::rows(decks, &app.services.store, &app.services.scheduler, now)
-        .map_err(|e| e.to_string())?;
+    let rows = catalog::rows(
+        decks,
+        &app.services.study.store,
+        &app.services.study.scheduler,
+        now,
+    )
+    .map_err(|e| e.to_string())?;
     let mut search = catalog::Search::for_text(&filter.text, decks, &rows);
     let mut picked = catalog::select(decks, &rows, &mut search, filter, now);
     picked.sort_unstable();

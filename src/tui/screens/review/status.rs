@@ -2,7 +2,8 @@
 //! siblings buried), and taking those back with undo.
 
 use crate::sched::ItemKey;
-use crate::store::{AfterRating, StatusAction, StatusEvent};
+use crate::store::{AfterRating, StatusEvent};
+use crate::study::Mark;
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
@@ -28,7 +29,7 @@ pub(super) fn bring_back(app: &App, state: &mut ReviewState, keys: &[ItemKey]) {
     for key in keys {
         match &mut state.source {
             Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => {
-                let now_state = app.services.store.state(key).ok().flatten();
+                let now_state = app.services.study.store.state(key).ok().flatten();
                 q.restore(key, now_state.as_ref());
             }
             Source::Cram(c) => c.restore(key),
@@ -43,18 +44,14 @@ pub(super) fn mark(app: &mut App, state: &mut ReviewState, action: Action) {
         return;
     };
     let now = app.services.now();
-    let (what, until, msg) = match action {
-        Action::Suspend => (StatusAction::Suspend, None, Msg::CardSuspended),
-        _ => (
-            StatusAction::Bury,
-            Some(app.services.study_day(now).1),
-            Msg::CardBuried,
-        ),
+    let (mark, msg) = match action {
+        Action::Suspend => (Mark::Suspend, Msg::CardSuspended),
+        _ => (Mark::Bury, Msg::CardBuried),
     };
     if let Err(e) = app
         .services
-        .store
-        .set_status(std::slice::from_ref(&key), what, now, until)
+        .study
+        .mark(std::slice::from_ref(&key), mark, now)
     {
         app.error(e.to_string());
         return;
@@ -67,7 +64,7 @@ pub(super) fn mark(app: &mut App, state: &mut ReviewState, action: Action) {
 
 /// Undo of the last suspend or bury of this screen.
 pub(super) fn undo(app: &mut App, state: &mut ReviewState) {
-    match app.services.store.undo_last_change() {
+    match app.services.study.undo() {
         Ok(Some(crate::store::Undone::Status(events))) => undone(app, state, &events),
         Ok(Some(crate::store::Undone::Review(_))) => {
             // Only possible when a rating of another screen is newer, which
@@ -95,7 +92,7 @@ pub(super) fn undone(app: &mut App, state: &mut ReviewState, events: &[StatusEve
 /// learner is told. True when that is so.
 pub(super) fn changed_meanwhile(app: &mut App, state: &mut ReviewState, key: &ItemKey) -> bool {
     let now = app.services.now();
-    match app.services.store.status(key) {
+    match app.services.study.store.status(key) {
         Ok(s) if s.studyable(now) => false,
         Ok(_) => {
             set_aside(state, key);

@@ -1,0 +1,231 @@
+//! What happens when the learner does something: the one place both front
+//! ends (the terminal app and the subcommands) call to study.
+//!
+//! The shape is Anki's `answer_card → transact(…)`: a front end turns a
+//! key or an argument into one call here; the call decides the policy
+//! (which siblings a rating buries, when a lapse makes a leech, when a bury
+//! ends) and hands the store one write that holds it all. The store only
+//! stores; the screens and commands only draw or print what comes back.
+//!
+//! - [`Study::rate`]: an answer, scheduled, with its leech and bury policy,
+//!   on disk before it returns.
+//! - [`Study::mark`]: suspend, bury (until the next study day) or unsuspend.
+//! - [`Study::undo`]: the last change of this session, answer or mark.
+//! - [`Study::queue`], [`Study::counts`]: what is due today.
+//! - [`Study::record_attempt`]: a prediction, kept as it is made.
+
+use std::collections::HashMap;
+
+use chrono::{DateTime, Utc};
+
+use crate::catalog::card_directions;
+use crate::deck::Deck;
+use crate::sched::config::LeechAction;
+use crate::sched::{CardState, Config, Counts, ItemKey, Queue, Rating, ReviewRecord, Scheduler};
+use crate::store::{AfterRating, PromptAttempt, Recorded, StatusAction, Store, StoreError, Undone};
+
+/// Which clock draws the line between study days.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DayZone {
+    /// The machine's local time zone (the app and every command).
+    Local,
+    /// For tests: the same day boundary on every machine.
+    Utc,
+}
+
+/// A suspend, bury or unsuspend the learner asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mark {
+    /// Out of every queue until unsuspended.
+    Suspend,
+    /// Out of today's queue: back when the next study day starts.
+    Bury,
+    /// Back in the queues.
+    Unsuspend,
+}
+
+/// An answer the learner gives.
+#[derive(Debug, Clone, Copy)]
+pub struct Answer<'a> {
+    pub key: &'a ItemKey,
+    /// The item's state before (`None`: new).
+    pub before: Option<&'a CardState>,
+    pub rating: Rating,
+    /// How long the learner took.
+    pub duration_ms: i64,
+    /// Cramming: logged, never moves a due date, no policy.
+    pub cram: bool,
+}
+
+/// What a rating did, for the screen to show.
+#[derive(Debug, Clone)]
+pub struct Rated {
+    /// The answer as stored (the item's state after it is `record.after`).
+    pub record: ReviewRecord,
+    /// The policy that was applied with it (siblings buried, leech rule).
+    pub after: AfterRating,
+    /// Its row, and whether it made the item a leech.
+    pub recorded: Recorded,
+}
+
+/// The learner's study: the config, the scheduler built from it, where the
+/// day turns, and the store every change lands in.
+pub struct Study {
+    pub config: Config,
+    pub scheduler: Scheduler,
+    pub zone: DayZone,
+    pub store: Store,
+}
+
+impl Study {
+    pub fn new(config: Config, zone: DayZone, store: Store) -> Study {
+        let scheduler = Scheduler::new(&config);
+        Study {
+            config,
+            scheduler,
+            zone,
+            store,
+        }
+    }
+
+    /// The study day containing `now`: (start, end).
+    pub fn study_day(&self, now: DateTime<Utc>) -> (DateTime<Utc>, DateTime<Utc>) {
+        let starts = self.config.day_starts_at;
+        match self.zone {
+            DayZone::Local => crate::sched::study_day(now, starts, &chrono::Local),
+            DayZone::Utc => crate::sched::study_day(now, starts, &Utc),
+        }
+    }
+
+    /// The day's queue of a deck, and the item states it was built from.
+    /// Suspended and buried items are left out.
+    pub fn queue(
+        &self,
+        deck: &Deck,
+        now: DateTime<Utc>,
+    ) -> Result<(Queue, HashMap<ItemKey, CardState>), StoreError> {
+        let states = self.store.states(&deck.id)?;
+        let (day_start, _) = self.study_day(now);
+        let done = self.store.reviews_today(&deck.id, day_start)?;
+        let statuses = self.store.statuses()?;
+        let mut items = crate::sched::deck_items(deck);
+        items.retain(|k| statuses.get(k).is_none_or(|s| s.studyable(now)));
+        let config = &self.config;
+        let queue = match self.zone {
+            DayZone::Local => Queue::build(&items, &states, done, now, config, &chrono::Local),
+            DayZone::Utc => Queue::build(&items, &states, done, now, config, &Utc),
+        };
+        Ok((queue, states))
+    }
+
+    /// Today's new, learning and due counts of a deck.
+    pub fn counts(&self, deck: &Deck, now: DateTime<Utc>) -> Result<Counts, StoreError> {
+        Ok(self.queue(deck, now)?.0.counts())
+    }
+
+    /// The time an answer given at `now` is recorded at: to the
+    /// millisecond, and after the item's latest answer (see
+    /// [`Store::answer_time`]).
+    pub fn answer_time(
+        &self,
+        key: &ItemKey,
+        now: DateTime<Utc>,
+    ) -> Result<DateTime<Utc>, StoreError> {
+        self.store.answer_time(key, now)
+    }
+
+    /// What follows a rating of `key` in `deck`: leech detection as the
+    /// config says, and its siblings buried until the next study day.
+    pub fn policy(&self, deck: &Deck, key: &ItemKey, now: DateTime<Utc>) -> AfterRating {
+        let c = &self.config;
+        let bury = match deck.card(&key.card) {
+            Some(card) if c.bury_siblings => card_directions(card)
+                .into_iter()
+                .filter(|d| *d != key.direction)
+                .map(|direction| ItemKey {
+                    direction,
+                    ..key.clone()
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        AfterRating {
+            leech_threshold: c.leech_threshold,
+            leech_suspend: c.leech_action == LeechAction::Suspend,
+            bury,
+            bury_until: self.study_day(now).1,
+        }
+    }
+
+    /// Records `answer`, given at `now`: at [`Study::answer_time`],
+    /// scheduled, with the policy of a review applied in the same write,
+    /// and on disk when this returns. `deck` is the item's deck when it is
+    /// loaded (without it, or when cramming, no policy applies).
+    pub fn rate(
+        &mut self,
+        deck: Option<&Deck>,
+        answer: Answer<'_>,
+        now: DateTime<Utc>,
+    ) -> Result<Rated, StoreError> {
+        let Answer {
+            key,
+            before,
+            rating,
+            duration_ms,
+            cram,
+        } = answer;
+        let at = self.answer_time(key, now)?;
+        let s = &self.scheduler;
+        let record = if cram {
+            s.cram(key, before, rating, at, duration_ms)
+        } else {
+            s.review(key, before, rating, at, duration_ms)
+        };
+        let after = match deck {
+            Some(deck) if !cram => self.policy(deck, key, at),
+            _ => AfterRating {
+                leech_threshold: 0,
+                leech_suspend: false,
+                bury: Vec::new(),
+                bury_until: at,
+            },
+        };
+        let recorded = self.store.record_study(&record, &after)?;
+        Ok(Rated {
+            record,
+            after,
+            recorded,
+        })
+    }
+
+    /// Suspends, buries (until the next study day starts) or unsuspends
+    /// every item of `keys`, in one write.
+    pub fn mark(
+        &mut self,
+        keys: &[ItemKey],
+        mark: Mark,
+        now: DateTime<Utc>,
+    ) -> Result<(), StoreError> {
+        let (action, until) = match mark {
+            Mark::Suspend => (StatusAction::Suspend, None),
+            Mark::Bury => (StatusAction::Bury, Some(self.study_day(now).1)),
+            Mark::Unsuspend => (StatusAction::Unsuspend, None),
+        };
+        self.store.set_status(keys, action, now, until)?;
+        Ok(())
+    }
+
+    /// Undoes the last change of this session (an answer, or a mark with
+    /// what it brought about); `None` when there is none.
+    pub fn undo(&mut self) -> Result<Option<Undone>, StoreError> {
+        self.store.undo_last_change()
+    }
+
+    /// Keeps a prediction as the learner commits to it.
+    pub fn record_attempt(&mut self, attempt: &PromptAttempt) -> Result<i64, StoreError> {
+        self.store.record_attempt(attempt)
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,173 @@
+//! The policy of a rating and of a mark, through the store as the front
+//! ends reach it.
+
+use super::*;
+use crate::sched::Direction;
+use crate::store::ItemStatus;
+
+fn deck() -> Deck {
+    let loaded = crate::deck::load_dir(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../tests/decks/study/decks"
+    )));
+    loaded
+        .decks
+        .into_iter()
+        .next()
+        .expect("the study deck loads")
+}
+
+fn at(s: &str) -> DateTime<Utc> {
+    DateTime::parse_from_rfc3339(s).unwrap().with_timezone(&Utc)
+}
+
+fn study(config: Config) -> (tempfile::TempDir, Study) {
+    let dir = tempfile::tempdir().unwrap();
+    let store = Store::open(dir.path()).unwrap();
+    (dir, Study::new(config, DayZone::Utc, store))
+}
+
+fn key(card: &str, direction: Direction) -> ItemKey {
+    ItemKey {
+        deck: "study".into(),
+        card: card.into(),
+        direction,
+    }
+}
+
+fn answer(key: &ItemKey, rating: Rating) -> Answer<'_> {
+    Answer {
+        key,
+        before: None,
+        rating,
+        duration_ms: 1200,
+        cram: false,
+    }
+}
+
+#[test]
+fn a_rating_buries_its_siblings_until_the_next_study_day() {
+    let d = deck();
+    let (_dir, mut s) = study(Config {
+        bury_siblings: true,
+        ..Config::default()
+    });
+    let now = at("2026-05-01T10:00:00Z");
+    let front = key("spin-axis", Direction::Forward);
+    let rated = s.rate(Some(&d), answer(&front, Rating::Good), now).unwrap();
+    assert_eq!(
+        rated.after.bury,
+        vec![key("spin-axis", Direction::Backward)]
+    );
+    assert_eq!(rated.after.bury_until, s.study_day(now).1);
+    let statuses = s.store.statuses().unwrap();
+    let back = statuses
+        .get(&key("spin-axis", Direction::Backward))
+        .expect("the sibling has a status");
+    assert!(!back.studyable(now), "{back:?}");
+    assert!(back.studyable(s.study_day(now).1));
+    // The answer is in the log, at the millisecond of `now`.
+    assert_eq!(s.store.state(&front).unwrap(), Some(rated.record.after));
+    assert_eq!(rated.record.reviewed_at, now);
+}
+
+#[test]
+fn cramming_moves_nothing_and_buries_nothing() {
+    let d = deck();
+    let (_dir, mut s) = study(Config {
+        bury_siblings: true,
+        ..Config::default()
+    });
+    let now = at("2026-05-01T10:00:00Z");
+    let front = key("spin-axis", Direction::Forward);
+    let cram = Answer {
+        cram: true,
+        ..answer(&front, Rating::Again)
+    };
+    let rated = s.rate(Some(&d), cram, now).unwrap();
+    assert!(rated.after.bury.is_empty());
+    assert!(s.store.statuses().unwrap().is_empty());
+    assert_eq!(s.store.state(&front).unwrap(), None, "cram leaves it new");
+}
+
+#[test]
+fn lapses_past_the_threshold_suspend_a_leech_when_the_config_says_so() {
+    let d = deck();
+    let (_dir, mut s) = study(Config {
+        leech_threshold: 2,
+        leech_action: LeechAction::Suspend,
+        ..Config::default()
+    });
+    let k = key("middle", Direction::Forward);
+    let mut now = at("2026-05-01T10:00:00Z");
+    let mut leech = false;
+    // Learn it, then forget it until it is a leech.
+    for rating in [Rating::Easy, Rating::Again, Rating::Easy, Rating::Again] {
+        let before = s.store.state(&k).unwrap();
+        let a = Answer {
+            before: before.as_ref(),
+            ..answer(&k, rating)
+        };
+        leech |= s.rate(Some(&d), a, now).unwrap().recorded.leech;
+        now += chrono::TimeDelta::days(30);
+    }
+    assert!(leech, "two lapses reach a threshold of two");
+    let status: ItemStatus = s.store.statuses().unwrap()[&k];
+    assert!(status.leech);
+    assert!(!status.studyable(now), "suspended as a leech");
+}
+
+#[test]
+fn two_answers_in_one_millisecond_are_two_answers() {
+    let (_dir, mut s) = study(Config::default());
+    let k = key("middle", Direction::Forward);
+    let now = at("2026-05-01T10:00:00Z");
+    let first = s.rate(None, answer(&k, Rating::Good), now).unwrap();
+    let before = s.store.state(&k).unwrap();
+    let a = Answer {
+        before: before.as_ref(),
+        ..answer(&k, Rating::Good)
+    };
+    let second = s.rate(None, a, now).unwrap();
+    assert!(second.record.reviewed_at > first.record.reviewed_at);
+    assert_ne!(first.recorded.id, second.recorded.id);
+}
+
+#[test]
+fn marks_bury_to_the_day_suspend_until_undone_and_undo() {
+    let (_dir, mut s) = study(Config::default());
+    let k = key("middle", Direction::Forward);
+    let now = at("2026-05-01T23:30:00Z");
+    s.mark(std::slice::from_ref(&k), Mark::Bury, now).unwrap();
+    let st = s.store.statuses().unwrap()[&k];
+    assert!(!st.studyable(now));
+    assert!(st.studyable(s.study_day(now).1), "back when the day turns");
+    s.mark(std::slice::from_ref(&k), Mark::Suspend, now)
+        .unwrap();
+    assert!(!s.store.statuses().unwrap()[&k].studyable(now + chrono::TimeDelta::days(400)));
+    assert!(matches!(s.undo().unwrap(), Some(Undone::Status(_))));
+    let st = s.store.statuses().unwrap()[&k];
+    assert!(st.studyable(s.study_day(now).1), "the bury is what remains");
+    s.mark(std::slice::from_ref(&k), Mark::Unsuspend, now)
+        .unwrap();
+    assert!(
+        s.store
+            .statuses()
+            .unwrap()
+            .get(&k)
+            .is_none_or(|st| st.studyable(now))
+    );
+}
+
+#[test]
+fn the_queue_leaves_out_what_is_suspended_or_buried() {
+    let d = deck();
+    let (_dir, mut s) = study(Config::default());
+    let now = at("2026-05-01T10:00:00Z");
+    let all = s.counts(&d, now).unwrap().new;
+    assert!(all >= 3, "{all}");
+    let k = key("middle", Direction::Forward);
+    s.mark(std::slice::from_ref(&k), Mark::Suspend, now)
+        .unwrap();
+    assert_eq!(s.counts(&d, now).unwrap().new, all - 1);
+}
