@@ -31,7 +31,7 @@ use std::sync::OnceLock;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::sim::rigid::model::{self, Body, State};
-use crate::sim::solvers::{Method, Needs, SimError, Solver, Work};
+use crate::sim::rigid::solver::{Method, Needs, SimError, Solver, Work};
 use crate::text::num::Num;
 use attitude::Attitude;
 use frame::Frame;

@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 
 use crate::sim::rigid::exact::{self, Exact, Regime};
 use crate::sim::rigid::model::Body;
-use crate::sim::solvers::Needs;
+use crate::sim::rigid::solver::Needs;
 
 /// Relative difference below which two moments count as equal: a body that
 /// close to symmetric precesses like a symmetric top for far longer than

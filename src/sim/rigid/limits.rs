@@ -8,7 +8,7 @@ use nalgebra::Vector3;
 
 use crate::sim::rigid::model::{self, Body};
 use crate::sim::rigid::scales::Scales;
-use crate::sim::solvers::SimError;
+use crate::sim::rigid::solver::SimError;
 use crate::text::num::{Num, below};
 
 /// The largest phase Ωt (rad) of the fastest rate Ω a run may reach: 2³².

@@ -6,7 +6,7 @@
 use nalgebra::Vector3;
 
 use crate::sim::rigid::model::Body;
-use crate::sim::solvers::{SimError, Solver};
+use crate::sim::rigid::solver::{SimError, Solver};
 
 /// Points on each separatrix circle.
 const SEPARATRIX_POINTS: usize = 181;

@@ -26,12 +26,9 @@ use crate::sim::scene::slice::Slice;
 use crate::sim::scene::spec::{Measure, Stat, SystemPanel, SystemScene};
 use crate::sim::solvers::ode::{self, OdeError, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
 use crate::sim::system::System;
-use crate::sim::system::compile::{Cost, Fault, Source, time};
+use crate::sim::system::compile::{Cost, Fault, POINTS_PER_STEP, Source, time};
 use crate::text::num::Num;
 
-/// Dense-output points per accepted step of an adaptive method (RK4's
-/// small fixed steps are sampled at their ends).
-pub const POINTS_PER_STEP: usize = 16;
 /// Points kept for each drawn curve (plot, phase, trail).
 pub const TRACE_LEN: usize = 2048;
 /// The level of |N(0)| below which drift is measured absolutely.
