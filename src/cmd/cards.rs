@@ -14,8 +14,9 @@ use crate::cmd::paths;
 use crate::deck::Deck;
 use crate::sched::{Config, Direction, ItemKey, Scheduler};
 use crate::store::StatusAction;
-use crate::store::catalog::{self, Filter, ItemRow, Search};
+use crate::store::catalog::{self, Filter, ItemRow};
 use crate::store::export::{MAX_NAMED, rfc3339_with};
+use crate::store::search::{Search, select};
 use crate::text::{num, plural};
 
 /// The CSV header, one column per field of [`Listed`].
@@ -110,7 +111,7 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
             let store = open_store_read_only(cli)?;
             let rows = catalog::rows(decks, &store, &Scheduler::new(&config), now)?;
             let mut search = Search::for_text(&filter.text, decks, &rows);
-            let picked = catalog::select(decks, &rows, &mut search, &filter, now);
+            let picked = select(decks, &rows, &mut search, &filter, now);
             if picked.is_empty() && !query.trim().is_empty() {
                 crate::errln!("flipcard: no item matches `{}`", query.trim());
             }

@@ -40,7 +40,7 @@ use super::error::StoreError;
 use super::export::rfc3339;
 use super::merge::IncomingReview;
 use super::status::StatusAction;
-use super::sync_merge::{IncomingStatus, ReviewId, StatusId};
+use super::sync_merge::{IncomingStatus, LocalStatus, ReviewId, StatusId};
 use crate::sched::{ItemKey, Rating, ReviewKind, clock};
 use crate::text::safe::one_line;
 
@@ -498,14 +498,6 @@ pub struct LocalReview {
     pub origin: Option<String>,
     /// Written before origins were kept: without one, it may still have
     /// come from another machine.
-    pub legacy: bool,
-}
-
-/// One status event that travels, once per identity and origin.
-#[derive(Debug, Clone)]
-pub struct LocalStatus {
-    pub status: IncomingStatus,
-    pub origin: Option<String>,
     pub legacy: bool,
 }
 

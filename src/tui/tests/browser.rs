@@ -408,7 +408,7 @@ fn typing_narrows_the_last_search_without_losing_rows() {
         super::settle(&mut app);
         // What a fresh search over every row finds, in the same order.
         let b = browser(&app);
-        let mut fresh = crate::store::catalog::Search::new(&app.decks, &b.rows);
+        let mut fresh = crate::store::search::Search::new(&app.decks, &b.rows);
         let all: Vec<usize> = (0..b.rows.len()).collect();
         assert_eq!(b.shown, fresh.matching(&typed, &all).best, "{typed:?}");
     }
@@ -457,7 +457,7 @@ fn a_key_typed_before_the_index_is_built_is_drawn_at_once_and_searched_when_it_i
         let _ = release.send(());
         super::settle(&mut app);
         let b = browser(&app);
-        let mut fresh = crate::store::catalog::Search::new(&app.decks, &b.rows);
+        let mut fresh = crate::store::search::Search::new(&app.decks, &b.rows);
         let rows: Vec<usize> = (0..b.rows.len()).collect();
         assert_eq!(b.shown, fresh.matching("e", &rows).best);
         assert_ne!(b.shown, all, "the search narrowed the list");

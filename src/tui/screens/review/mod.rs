@@ -635,6 +635,7 @@ pub fn filtered_items(
     cram: bool,
 ) -> Result<Vec<ItemKey>, String> {
     use crate::store::catalog;
+    use crate::store::search::{Search, select};
     if !cram && filter.states.iter().any(|s| s == "suspended") {
         return Err(app.tr(Msg::SuspendedNeedsCram).to_string());
     }
@@ -646,8 +647,8 @@ pub fn filtered_items(
     let now = app.services.now();
     let rows = catalog::rows(decks, &app.services.store, &app.services.scheduler, now)
         .map_err(|e| e.to_string())?;
-    let mut search = catalog::Search::for_text(&filter.text, decks, &rows);
-    let mut picked = catalog::select(decks, &rows, &mut search, filter, now);
+    let mut search = Search::for_text(&filter.text, decks, &rows);
+    let mut picked = select(decks, &rows, &mut search, filter, now);
     picked.sort_unstable();
     Ok(picked
         .into_iter()
