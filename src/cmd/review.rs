@@ -11,7 +11,8 @@ use crate::sched::Config;
 use crate::store::Store;
 use crate::store::catalog::{Filter, parse_span};
 use crate::sync::Wait;
-use crate::tui::app::{App, DeckLoad};
+use crate::tui::Tui;
+use crate::tui::app::DeckLoad;
 use crate::tui::services::{Clock, DayZone, Services};
 use crate::tui::theme::Theme;
 
@@ -49,7 +50,7 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
             dir,
         )));
     }
-    let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
+    let mut app = Tui::new(loaded.decks, services, &lang, Theme::from_env());
     app.deck_load = deck_load;
     if let Some(args) = review {
         let filter = review_filter(args)?;

@@ -3,15 +3,15 @@
 
 use std::collections::HashMap;
 use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use chrono::{DateTime, Utc};
 
 use crate::deck::Deck;
 use crate::sched::{CardState, Config, ItemKey, Queue, Scheduler};
+use crate::store::search::{SearchIndex, SearchTexts};
 use crate::store::{AfterRating, PromptAttempt, Store, StoreError};
-
-use super::screens::home::{Counts, DeckRow};
 
 /// Where "now" comes from: the system clock, or a fixed time
 /// (`FLIPCARD_NOW`, tests).
@@ -133,7 +133,7 @@ pub struct Services {
     pub bench_csv: Option<PathBuf>,
     pub after_session: Option<AfterSession>,
     /// The card browser's search index, kept between its openings.
-    pub browser_index: super::screens::browser::SearchCache,
+    pub browser_index: SearchCache,
     /// The most one frame's simulation may work ([`super::live_system::SLICE`]),
     /// so a key is always read within a frame; `None` lets each frame's run
     /// reach its time however long that takes (tests, so that snapshots do
@@ -206,24 +206,6 @@ impl Services {
         Ok((queue, states))
     }
 
-    /// Today's counts and the last study time of a deck (blank when the
-    /// store cannot say).
-    pub fn deck_row(&self, deck: &Deck) -> DeckRow {
-        let now = self.now();
-        let counts = self.queue(deck, now).ok().map(|(q, _)| {
-            let c = q.counts();
-            Counts {
-                new: c.new,
-                learning: c.learning,
-                due: c.due,
-            }
-        });
-        DeckRow {
-            counts,
-            last_studied: self.store.last_studied(&deck.id).ok().flatten(),
-        }
-    }
-
     /// What follows a rating of `key` in `deck`: leech detection as the
     /// config says, and its siblings buried until the next study day.
     pub fn after_rating(&self, deck: &Deck, key: &ItemKey, now: DateTime<Utc>) -> AfterRating {
@@ -261,5 +243,30 @@ impl Services {
 
     pub fn record_attempt(&mut self, attempt: &PromptAttempt) -> Result<i64, StoreError> {
         self.store.record_attempt(attempt)
+    }
+}
+
+/// The search index kept between openings of the browser, with the texts
+/// it was built from: while the decks say the same, opening the browser
+/// again finds it ready.
+#[derive(Clone, Default)]
+pub struct SearchCache(Arc<Mutex<Option<Kept>>>);
+
+/// An index and the texts it was built from.
+type Kept = (SearchTexts, Arc<SearchIndex>);
+
+impl SearchCache {
+    /// The index kept, when it was built from `texts`.
+    pub fn get(&self, texts: &SearchTexts) -> Option<Arc<SearchIndex>> {
+        let slot = self.0.lock().ok()?;
+        let (t, index) = slot.as_ref()?;
+        (t == texts).then(|| Arc::clone(index))
+    }
+
+    /// Keeps `index`, built from `texts`.
+    pub fn put(&self, texts: SearchTexts, index: Arc<SearchIndex>) {
+        if let Ok(mut slot) = self.0.lock() {
+            *slot = Some((texts, index));
+        }
     }
 }

@@ -453,7 +453,7 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
 
 /// How far the card (or the summary) can scroll at the app's size.
 fn scroll_max(app: &App, state: &ReviewState) -> usize {
-    let body = crate::tui::view::body_rect(app.size);
+    let body = crate::tui::layout::body_rect(app.size);
     // The progress line above; the buttons (up to two lines) and the hints
     // below; the card's borders and margins.
     let rest_h = body.height.saturating_sub(1);
