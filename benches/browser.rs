@@ -22,10 +22,9 @@ use ratatui::backend::TestBackend;
 use flipcard::deck::{Card, CardKind, Deck, Text};
 use flipcard::sched::{Config, Direction, ItemKey, Rating, ReviewKind, Scheduler};
 use flipcard::store::{AfterRating, StatusAction, Store};
-use flipcard::tui::screens::browser::SearchCache;
-use flipcard::tui::services::{Clock, DayZone, Services};
+use flipcard::tui::services::{Clock, DayZone, SearchCache, Services};
 use flipcard::tui::theme::Theme;
-use flipcard::tui::{Action, App, apply, view};
+use flipcard::tui::{Action, Tui, apply, view};
 
 /// Cards of each kind: 30,000 basic + 10,000 reversed (two items each)...
 const BASIC: usize = 30_000;
@@ -194,7 +193,7 @@ fn store(dir: &std::path::Path, deck: &Deck) -> Store {
     store
 }
 
-fn app(dir: &std::path::Path) -> App {
+fn app(dir: &std::path::Path) -> Tui {
     let deck = deck();
     let store = store(dir, &deck);
     let services = Services::new(
@@ -204,12 +203,12 @@ fn app(dir: &std::path::Path) -> App {
         DayZone::Utc,
         store,
     );
-    let mut app = App::new(vec![deck], services, "en", Theme::COLOR);
+    let mut app = Tui::new(vec![deck], services, "en", Theme::COLOR);
     app.size = (120, 40);
     app
 }
 
-fn draw(t: &mut Terminal<TestBackend>, app: &App) {
+fn draw(t: &mut Terminal<TestBackend>, app: &Tui) {
     t.draw(|f| view::draw(f, app))
         .unwrap_or_else(|e| panic!("draw: {e}"));
 }
@@ -259,7 +258,7 @@ impl Timer {
 fn keys(
     clock: Timer,
     n: u64,
-    app: &mut App,
+    app: &mut Tui,
     t: &mut Terminal<TestBackend>,
     step: &[Action],
     reset: &[Action],
@@ -281,14 +280,14 @@ fn keys(
 
 /// Ticks, as the event loop does, until a search waiting for the index
 /// has run.
-fn settle(app: &mut App) {
+fn settle(app: &mut Tui) {
     while app.animating() {
         std::thread::sleep(Duration::from_micros(200));
         apply(app, Action::Tick(Duration::from_micros(200)));
     }
 }
 
-fn typed(app: &mut App, text: &str) {
+fn typed(app: &mut Tui, text: &str) {
     for ch in text.chars() {
         apply(app, Action::Input(ch));
     }

@@ -13,9 +13,9 @@ use flipcard::sched::Config;
 use flipcard::store::Store;
 use flipcard::tui::services::{Clock, DayZone, Services};
 use flipcard::tui::theme::Theme;
-use flipcard::tui::{Action, App, apply, view};
+use flipcard::tui::{Action, Tui, apply, view};
 
-fn app(dir: &std::path::Path) -> App {
+fn app(dir: &std::path::Path) -> Tui {
     let loaded = flipcard::bundled::load();
     let store = Store::open(dir).unwrap_or_else(|e| panic!("store: {e}"));
     let services = Services::new(
@@ -25,7 +25,7 @@ fn app(dir: &std::path::Path) -> App {
         DayZone::Local,
         store,
     );
-    App::new(loaded.decks, services, "en", Theme::COLOR)
+    Tui::new(loaded.decks, services, "en", Theme::COLOR)
 }
 
 fn terminal() -> Terminal<TestBackend> {

@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 use serde::Serialize;
 
+use crate::catalog::search::select;
 use crate::catalog::{self, Filter, ItemRow, Search};
 use crate::cmd::args::{CardsArgs, CardsCommand, CardsFormat, Cli};
 use crate::cmd::common::{load_decks, open_store, open_store_read_only};
@@ -110,7 +111,7 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
             let store = open_store_read_only(cli)?;
             let rows = catalog::rows(decks, &store, &Scheduler::new(&config), now)?;
             let mut search = Search::for_text(&filter.text, decks, &rows);
-            let picked = catalog::select(decks, &rows, &mut search, &filter, now);
+            let picked = select(decks, &rows, &mut search, &filter, now);
             if picked.is_empty() && !query.trim().is_empty() {
                 crate::errln!("flipcard: no item matches `{}`", query.trim());
             }

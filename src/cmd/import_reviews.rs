@@ -23,11 +23,11 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
             ),
         },
     };
-    let bytes = crate::cmd::import::read_limited(file, MAX_LOG_BYTES).map_err(|e| {
+    let bytes = crate::cmd::import_file::read_limited(file, MAX_LOG_BYTES).map_err(|e| {
         anyhow::anyhow!(
             "{}: {}; nothing imported",
             file.display(),
-            crate::cmd::import::cannot_read(&e)
+            crate::cmd::import_file::cannot_read(&e)
         )
     })?;
     let Ok(text) = String::from_utf8(bytes) else {
@@ -72,7 +72,7 @@ pub const MAX_LOG_BYTES: u64 = 512 << 20;
 /// The bad rows as `FILE:LINE: message` (the first few, then how many
 /// more), then the verdict.
 pub fn report_bad_rows(file: &std::path::Path, errors: &[RowError]) -> ExitCode {
-    crate::cmd::import::print_bad_rows(
+    crate::cmd::import_file::print_bad_rows(
         file,
         errors.iter().map(|e| (e.line as u64, e.message.as_str())),
     );

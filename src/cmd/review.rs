@@ -11,7 +11,8 @@ use crate::cmd::paths;
 use crate::sched::Config;
 use crate::store::Store;
 use crate::sync::Wait;
-use crate::tui::app::{App, DeckLoad};
+use crate::tui::Tui;
+use crate::tui::app::DeckLoad;
 use crate::tui::services::{Clock, DayZone, Services};
 use crate::tui::theme::Theme;
 
@@ -46,7 +47,7 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     if let Some(dir) = sync_dir.clone() {
         services.sync_through(data_dir.clone(), dir);
     }
-    let mut app = App::new(loaded.decks, services, &lang, Theme::from_env());
+    let mut app = Tui::new(loaded.decks, services, &lang, Theme::from_env());
     app.deck_load = deck_load;
     if let Some(args) = review {
         let filter = review_filter(args)?;

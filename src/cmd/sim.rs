@@ -7,42 +7,28 @@ use std::io::Write;
 use std::process::ExitCode;
 
 use anyhow::{Context, anyhow, bail};
-use nalgebra::Vector3;
-use serde::Serialize;
 
-use crate::cmd::args::{Cli, MethodArg, SimArgs, SimFormat};
-use crate::sim::rigid::model::{self, Body, State};
+use crate::cmd::args::{Cli, SimArgs};
+use crate::cmd::sim_samples::{Request, write_samples};
+use crate::cmd::{sim_scene, sim_system};
+use crate::sim::Needs;
+use crate::sim::rigid::model::{self, Body};
 use crate::sim::solvers::registry;
-use crate::sim::solvers::{Method, Needs, Solver};
 use crate::text::num::{self, Num};
 use crate::text::plural;
-
-/// The CSV header; columns follow the axes in the order given.
-pub const CSV_HEADER: &str = "t,w1,w2,w3,qw,qx,qy,qz,energy,l2";
-/// The most samples any run prints: 2⁵⁰ + 1 (see [`max_samples`]).
-pub const MAX_SAMPLES: usize = (1 << 50) + 1;
-
-/// The most samples over [0, t_end] whose times k·T/(N−1) stay distinct and
-/// increasing in f64: their spacing must be at least two ulps of T, since
-/// each time is rounded by up to half an ulp. Two samples (0 and T) always
-/// are; past 2⁵⁰ intervals the spacing is under four ulps of any T.
-pub fn max_samples(t_end: f64) -> usize {
-    let ulp = f64::from_bits(t_end.to_bits() + 1) - t_end;
-    let intervals = (t_end / (2.0 * ulp)).floor();
-    if intervals.is_nan() || intervals < 1.0 {
-        return 2;
-    }
-    (intervals.min((MAX_SAMPLES - 1) as f64) as usize + 1).max(2)
-}
 
 pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
     if args.list {
         return list(cli, args);
     }
     if let Some(id) = &args.scene {
-        return crate::cmd::sim_scene::scene(cli, args, id);
+        let decks = sim_scene::load(cli, args)?;
+        if let Some((deck, system)) = decks.iter().find_map(|d| d.system(id).map(|s| (d, s))) {
+            return sim_system::run(args, deck, system);
+        }
+        return sim_scene::scene(args, &decks, id);
     }
-    let request = Request::from_args(args)?;
+    let request = request(args)?;
     let mut solver = registry::make(
         request.method,
         request.body,
@@ -58,7 +44,7 @@ pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
 /// `sim --list`: one line per scene of the decks (`--deck PATH`, else
 /// `--decks`, else the bundled ones): id, deck, setup, panels and title.
 fn list(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
-    let (loaded, label) = crate::cmd::sim_scene::decks_for(cli, args)?;
+    let (loaded, label) = sim_scene::decks_for(cli, args)?;
     if loaded.decks.is_empty() && loaded.errors() > 0 {
         let (place, check) = match &label {
             Some(l) => (format!(" in {l}"), format!("flipcard check {l}")),
@@ -122,80 +108,20 @@ fn system_line(deck: &crate::deck::Deck, s: &crate::deck::SystemScene, lang: &st
     )
 }
 
-/// A checked `sim` request.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Request {
-    pub body: Body,
-    pub omega0: Vector3<f64>,
-    pub t_end: f64,
-    pub samples: usize,
-    pub method: Method,
-}
-
-impl Request {
-    pub fn from_args(args: &SimArgs) -> anyhow::Result<Request> {
-        let inertia = triple("--inertia", args.inertia.as_deref())?;
-        let omega = triple("--omega", args.omega.as_deref())?;
-        let t_end = number("--t-end", args.t_end.as_deref())?;
-        let body = Body::new(inertia).context("--inertia")?;
-        let omega0 = model::omega(omega).context("--omega")?;
-        if !(t_end.is_finite() && t_end > 0.0) {
-            bail!(
-                "--t-end: must be a positive finite time, got {}",
-                Num(t_end)
-            );
-        }
-        Request::new(args, body, omega0, t_end)
-    }
-
-    /// A request for `body` from `omega0` over [0, `t_end`] with the
-    /// arguments' samples and method.
-    pub fn new(
-        args: &SimArgs,
-        body: Body,
-        omega0: Vector3<f64>,
-        t_end: f64,
-    ) -> anyhow::Result<Request> {
-        let samples = check_samples(args.samples.unwrap_or(DEFAULT_SAMPLES), t_end)?;
-        let kind = crate::sim::Kind::try_from(args.method.unwrap_or(MethodArg::Exact))?;
-        let method = registry::method(kind, args.tol, args.dt, &body, &omega0)?;
-        Ok(Request {
-            body,
-            omega0,
-            t_end,
-            samples,
-            method,
-        })
-    }
-
-    /// t = k·T/(N−1), with the last sample exactly T.
-    pub fn time(&self, k: usize) -> f64 {
-        let last = self.samples - 1;
-        if k == last {
-            self.t_end
-        } else {
-            k as f64 * self.t_end / last as f64
-        }
-    }
-}
-
-/// Samples printed when `--samples` is not given.
-pub const DEFAULT_SAMPLES: usize = 101;
-
-/// `--samples N` checked against the span: at least 2, at most what keeps
-/// the sample times distinct.
-pub fn check_samples(samples: usize, t_end: f64) -> anyhow::Result<usize> {
-    if samples < 2 {
-        bail!("--samples: need at least 2 (the start and the end), got {samples}");
-    }
-    let most = max_samples(t_end);
-    if samples > most {
+/// The request `sim --inertia … --omega … --t-end …` makes.
+fn request(args: &SimArgs) -> anyhow::Result<Request> {
+    let inertia = triple("--inertia", args.inertia.as_deref())?;
+    let omega = triple("--omega", args.omega.as_deref())?;
+    let t_end = number("--t-end", args.t_end.as_deref())?;
+    let body = Body::new(inertia).context("--inertia")?;
+    let omega0 = model::omega(omega).context("--omega")?;
+    if !(t_end.is_finite() && t_end > 0.0) {
         bail!(
-            "--samples: at most {most} over t = {}, got {samples} (neighbouring sample times k·T/(N−1) would be less than two ulps apart in f64)",
+            "--t-end: must be a positive finite time, got {}",
             Num(t_end)
         );
     }
-    Ok(samples)
+    Request::new(args, body, omega0, t_end)
 }
 
 fn number(flag: &str, text: Option<&str>) -> anyhow::Result<f64> {
@@ -225,139 +151,6 @@ fn triple(flag: &str, text: Option<&str>) -> anyhow::Result<[f64; 3]> {
     Ok(values)
 }
 
-/// One output row.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Sample {
-    pub t: f64,
-    pub w1: f64,
-    pub w2: f64,
-    pub w3: f64,
-    pub qw: f64,
-    pub qx: f64,
-    pub qy: f64,
-    pub qz: f64,
-    pub energy: f64,
-    pub l2: f64,
-}
-
-impl Sample {
-    pub fn new(body: &Body, t: f64, state: &State) -> Sample {
-        let (w, q) = (state.omega, state.q.quaternion());
-        Sample {
-            t,
-            w1: w[0],
-            w2: w[1],
-            w3: w[2],
-            qw: q.w,
-            qx: q.i,
-            qy: q.j,
-            qz: q.k,
-            energy: body.energy(&w),
-            l2: body.l2(&w),
-        }
-    }
-
-    fn fields(&self) -> [f64; 10] {
-        [
-            self.t,
-            self.w1,
-            self.w2,
-            self.w3,
-            self.qw,
-            self.qx,
-            self.qy,
-            self.qz,
-            self.energy,
-            self.l2,
-        ]
-    }
-
-    fn csv(&self) -> String {
-        let fields: Vec<String> = self.fields().iter().map(|&v| num::show(v)).collect();
-        fields.join(",")
-    }
-}
-
-/// The inputs echoed at the top of the JSON output (effective settings,
-/// defaults filled in).
-#[derive(Debug, Serialize)]
-struct Inputs {
-    inertia: [f64; 3],
-    omega: [f64; 3],
-    t_end: f64,
-    method: &'static str,
-    tol: Option<f64>,
-    dt: Option<f64>,
-}
-
-impl Inputs {
-    fn new(request: &Request) -> Inputs {
-        let (tol, dt) = match request.method {
-            Method::Exact => (None, None),
-            Method::Adaptive { tol } => (Some(tol), None),
-            Method::Splitting { dt } | Method::Splitting4 { dt } | Method::Rk4 { dt } => {
-                (None, Some(dt))
-            }
-        };
-        let i = request.body.inertia;
-        let w = request.omega0;
-        Inputs {
-            inertia: [i[0], i[1], i[2]],
-            omega: [w[0], w[1], w[2]],
-            t_end: request.t_end,
-            method: request.method.name(),
-            tol,
-            dt,
-        }
-    }
-}
-
-/// Streams the samples; a failure midway (the step budget, say) ends the
-/// output there and is reported by the caller.
-pub(super) fn write_samples(
-    request: &Request,
-    solver: &mut dyn Solver,
-    format: SimFormat,
-    out: &mut impl Write,
-) -> anyhow::Result<()> {
-    match format {
-        SimFormat::Csv => writeln!(out, "{CSV_HEADER}")?,
-        SimFormat::Json => {
-            let inputs = serde_json::to_string(&Inputs::new(request))?;
-            // Open the inputs object and append the sample array to it.
-            let head = inputs.strip_suffix('}').unwrap_or(&inputs);
-            writeln!(out, "{head},\"samples\":[")?;
-        }
-    }
-    for k in 0..request.samples {
-        let t = request.time(k);
-        let state = solver.advance(t)?;
-        let sample = Sample::new(&request.body, t, &state);
-        // The solvers refuse non-finite states already; this keeps the
-        // contract of the output itself (JSON would print `null`).
-        if let Some(v) = sample.fields().iter().find(|v| !v.is_finite()) {
-            bail!(
-                "{} gave a non-finite number ({}) at t = {}",
-                request.method.name(),
-                Num(*v),
-                Num(t)
-            );
-        }
-        match format {
-            SimFormat::Csv => writeln!(out, "{}", sample.csv())?,
-            SimFormat::Json => {
-                let sep = if k + 1 < request.samples { "," } else { "" };
-                writeln!(out, "{}{sep}", serde_json::to_string(&sample)?)?;
-            }
-        }
-    }
-    if format == SimFormat::Json {
-        writeln!(out, "]}}")?;
-    }
-    out.flush()?;
-    Ok(())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -374,44 +167,5 @@ mod tests {
         assert!(err.contains("'x' is not a number"), "{err}");
         let err = triple("--omega", None).unwrap_err().to_string();
         assert!(err.contains("required"), "{err}");
-    }
-
-    #[test]
-    fn sample_times_stay_distinct() {
-        assert_eq!(max_samples(1.0), MAX_SAMPLES);
-        assert_eq!(max_samples(1e300), MAX_SAMPLES);
-        assert_eq!(max_samples(5e-324), 2);
-        // 20 subnormal steps: times at least two of them apart.
-        assert_eq!(max_samples(20.0 * 5e-324), 11);
-        for t_end in [5e-324, 1e-322, 3e-310, 1e-300, 1.0] {
-            let n = max_samples(t_end).min(1000);
-            let times: Vec<f64> = (0..n)
-                .map(|k| {
-                    let request = Request {
-                        body: Body::new([1.0, 2.0, 3.0]).unwrap(),
-                        omega0: Vector3::zeros(),
-                        t_end,
-                        samples: n,
-                        method: Method::Exact,
-                    };
-                    request.time(k)
-                })
-                .collect();
-            assert!(
-                times.windows(2).all(|w| w[0] < w[1]),
-                "{t_end:e}: {times:?}"
-            );
-        }
-    }
-
-    #[test]
-    fn csv_row_round_trips() {
-        let body = Body::new([1.0, 2.0, 3.0]).unwrap();
-        let state = State::new(Vector3::new(0.1, 1.0 / 3.0, -2e-300));
-        let row = Sample::new(&body, 0.7, &state).csv();
-        let back: Vec<f64> = row.split(',').map(|v| v.parse().unwrap()).collect();
-        assert_eq!(back[2], 1.0 / 3.0);
-        assert_eq!(back[3], -2e-300);
-        assert_eq!(back[8], body.energy(&state.omega));
     }
 }

@@ -8,6 +8,7 @@ use std::process::ExitCode;
 use anyhow::{Context, bail};
 
 use crate::cmd::args::{Cli, SimArgs};
+use crate::cmd::sim_samples::{Request, write_samples};
 use crate::deck::{Answer, Deck, Loaded, Measure, Prompt, Scene, load_paths};
 use crate::predict::audit::audit;
 use crate::predict::{Prediction, verdict};
@@ -34,7 +35,8 @@ pub(super) fn decks_for(cli: &Cli, args: &SimArgs) -> anyhow::Result<(Loaded, Op
     }
 }
 
-fn load(cli: &Cli, args: &SimArgs) -> anyhow::Result<Vec<Deck>> {
+/// The decks of [`decks_for`], refused when any has an error.
+pub(super) fn load(cli: &Cli, args: &SimArgs) -> anyhow::Result<Vec<Deck>> {
     let (loaded, _) = decks_for(cli, args)?;
     if loaded.errors() > 0 {
         crate::errln!("{}", loaded.render_all());
@@ -56,13 +58,11 @@ pub fn number(v: f64) -> String {
     crate::text::num::rounded(v, 6)
 }
 
-/// `flipcard sim --scene ID`: runs the scene and prints its measurements,
-/// then each prompt on it with the verdict its expected answer gets.
-pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
-    let decks = load(cli, args)?;
-    if let Some((deck, system)) = decks.iter().find_map(|d| d.system(id).map(|s| (d, s))) {
-        return crate::cmd::sim_system::run(args, deck, system);
-    }
+/// `flipcard sim --scene ID` of a rigid scene among `decks` (a system
+/// scene's is [`crate::cmd::sim_system::run`]): runs the scene and prints
+/// its measurements, then each prompt on it with the verdict its expected
+/// answer gets.
+pub fn scene(args: &SimArgs, decks: &[Deck], id: &str) -> anyhow::Result<ExitCode> {
     let Some((deck, scene)) = decks.iter().find_map(|d| d.scene(id).map(|s| (d, s))) else {
         let known: Vec<&str> = decks
             .iter()
@@ -79,7 +79,7 @@ pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
     let omega0 = crate::sim::rigid::model::omega(scene.omega)?;
     if args.samples.is_some() {
         // The scene's run, sampled as `sim --inertia … --omega …` samples.
-        let request = crate::cmd::sim::Request::new(args, body, omega0, scene.duration)?;
+        let request = Request::new(args, body, omega0, scene.duration)?;
         let mut solver = crate::sim::make(
             request.method,
             request.body,
@@ -88,7 +88,7 @@ pub fn scene(cli: &Cli, args: &SimArgs, id: &str) -> anyhow::Result<ExitCode> {
         )?;
         solver.plan(request.t_end)?;
         let mut out = crate::cmd::output::stdout();
-        crate::cmd::sim::write_samples(&request, solver.as_mut(), args.format, &mut out)?;
+        write_samples(&request, solver.as_mut(), args.format, &mut out)?;
         return Ok(ExitCode::SUCCESS);
     }
     let kind =

@@ -45,7 +45,7 @@ pub fn method(args: &SimArgs, scene: &SystemScene) -> anyhow::Result<OdeMethod> 
 pub fn run(args: &SimArgs, deck: &Deck, scene: &SystemScene) -> anyhow::Result<ExitCode> {
     let method = method(args, scene)?;
     if let Some(samples) = args.samples {
-        let samples = crate::cmd::sim::check_samples(samples, scene.duration)?;
+        let samples = crate::cmd::sim_samples::check_samples(samples, scene.duration)?;
         return write_samples(scene, method, samples, args.format);
     }
     if !args.measure.is_empty() {

@@ -177,13 +177,12 @@ pub enum Msg {
 /// What the home screen says when no deck could be opened: how many deck
 /// files failed and the command that shows why, or where decks were looked
 /// for.
-pub fn no_decks(lang: &str, load: &super::app::DeckLoad) -> String {
+/// `from`: the folder (or file) the decks came from; `failed_files`: the
+/// deck files with errors.
+pub fn no_decks(lang: &str, from: Option<&std::path::Path>, failed_files: usize) -> String {
     let hi = lang == HINGLISH;
-    let dir = load
-        .from
-        .as_ref()
-        .map_or_else(|| "decks/".to_string(), |d| d.display().to_string());
-    match (load.failed_files, hi) {
+    let dir = from.map_or_else(|| "decks/".to_string(), |d| d.display().to_string());
+    match (failed_files, hi) {
         (0, false) => {
             format!("No decks found in {dir}. Put deck files (*.toml) there, or pass --decks DIR.")
         }

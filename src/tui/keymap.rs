@@ -1,15 +1,14 @@
-//! Keys → actions. Each screen owns the tables of its modes (in its own
-//! module): one row per help line, listing every key with the action it
-//! stands for. The same rows drive the key handling and the help overlay,
-//! so the help is never out of date; the rows here are the ones every
-//! screen shares.
+//! Keys → actions: the words of the key tables. Each screen owns the tables
+//! of its modes (in its own module, found by [`super::screens::keys`]): one
+//! row per help line, listing every key with the action it stands for. The
+//! same rows drive the key handling ([`super::key_action`]) and the help
+//! overlay, so the help is never out of date; the rows here are the ones
+//! every screen shares.
 
-use crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
+use crossterm::event::KeyCode;
 
 use super::action::Action;
-use super::app::App;
 use super::i18n::Words;
-use super::screens;
 
 /// Where the keyboard is: a screen, or a mode of one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -44,36 +43,6 @@ pub enum Context {
     BrowserSearch,
     /// The study filter's form.
     Filter,
-}
-
-impl Context {
-    /// The screen's own rows for this context (its module holds them).
-    pub fn keys(self) -> &'static [Binding] {
-        match self {
-            Context::Home => screens::home::KEYS,
-            Context::Reader => screens::reader::KEYS,
-            Context::ReaderSearch => screens::reader::SEARCH_KEYS,
-            Context::ReviewFront => screens::review::FRONT_KEYS,
-            Context::ReviewTyping => screens::review::TYPING_KEYS,
-            Context::ReviewBack => screens::review::BACK_KEYS,
-            Context::ReviewDone => screens::review::DONE_KEYS,
-            Context::Prompts => screens::prompts::KEYS,
-            Context::PredictChoice => screens::predict::CHOICE_KEYS,
-            Context::PredictNumber => screens::predict::NUMBER_KEYS,
-            Context::PredictRun => screens::predict::RUN_KEYS,
-            Context::PredictVerdict => screens::predict::VERDICT_KEYS,
-            Context::Stats => screens::stats::KEYS,
-            Context::ExamDate => screens::exam::DATE_KEYS,
-            Context::Browser => screens::browser::KEYS,
-            Context::BrowserSearch => screens::browser::SEARCH_KEYS,
-            Context::Filter => screens::filter::KEYS,
-        }
-    }
-
-    /// Contexts where printable keys are typed into a field.
-    pub fn is_text_input(self) -> bool {
-        self.keys().iter().any(|b| matches!(b.keys, Keys::Text))
-    }
 }
 
 /// What a help line's keys do.
@@ -132,7 +101,8 @@ impl Binding {
         self.help.get(lang)
     }
 
-    fn action(&self, code: KeyCode) -> Option<Action> {
+    /// The action `code` stands for in this row, if any.
+    pub fn action(&self, code: KeyCode) -> Option<Action> {
         match self.keys {
             Keys::Map(keys) => keys.iter().find(|(k, _)| *k == code).map(|(_, a)| *a),
             Keys::Text | Keys::Shown => None,
@@ -173,49 +143,18 @@ const QUIT_AT_ONCE: Binding = Binding {
     keys: Keys::Shown,
 };
 
-/// The rows of a context, in the order the help overlay lists them.
-pub fn bindings(ctx: Context) -> Vec<Binding> {
-    let global = if ctx.is_text_input() {
+/// Whether printable keys are typed into a field where `rows` apply.
+pub fn is_text_input(rows: &[Binding]) -> bool {
+    rows.iter().any(|b| matches!(b.keys, Keys::Text))
+}
+
+/// A screen's `rows`, then the rows every screen has, in the order the
+/// help overlay lists them.
+pub fn with_global(rows: &'static [Binding]) -> Vec<Binding> {
+    let global = if is_text_input(rows) {
         GLOBAL_TYPING
     } else {
         GLOBAL
     };
-    ctx.keys().iter().chain(global).copied().collect()
-}
-
-/// The action a key press stands for in the app's current state.
-pub fn key_action(app: &App, key: KeyEvent) -> Option<Action> {
-    if key.kind == KeyEventKind::Release {
-        return None;
-    }
-    if key.modifiers.contains(KeyModifiers::CONTROL) {
-        return match key.code {
-            Char('c') | Char('d') => Some(Action::Quit),
-            _ => None,
-        };
-    }
-    // While the "please enlarge" message stands in for the screen, keys
-    // would act on something the learner cannot see (a rating, a commit);
-    // only `q`, which the message offers, quits.
-    let (w, h) = app.size;
-    if w < super::view::MIN_WIDTH || h < super::view::MIN_HEIGHT {
-        return (key.code == Char('q')).then_some(Action::Quit);
-    }
-    if app.help {
-        // A help taller than the screen scrolls; any other key closes it.
-        let scrolls = super::view::help_scroll_max(app) > 0;
-        return Some(match key.code {
-            KeyCode::Down | Char('j') if scrolls => Action::HelpDown,
-            KeyCode::Up | Char('k') if scrolls => Action::HelpUp,
-            _ => Action::CloseHelp,
-        });
-    }
-    let rows = bindings(app.context());
-    if let Some(action) = rows.iter().find_map(|b| b.action(key.code)) {
-        return Some(action);
-    }
-    match key.code {
-        Char(c) if rows.iter().any(|b| b.keys == Keys::Text) => Some(Action::Input(c)),
-        _ => None,
-    }
+    rows.iter().chain(global).copied().collect()
 }

@@ -1,8 +1,10 @@
 //! The terminal app. Owns view state only: decks, schedules, the review log
 //! and the simulations come from `deck`, `sched`, `store` and `sim`.
 //!
-//! Every key becomes an [`Action`] (`keymap`) that [`apply`] carries out
-//! without a terminal; [`view::draw`] renders the state. The event loop
+//! Every key becomes an [`Action`] ([`key_action`], through the screens'
+//! `keymap` tables) that [`apply`] carries out without a terminal;
+//! [`view::draw`] renders the state. The screens share the [`App`]; the
+//! [`Tui`] holds it and the stack of open screens. The event loop
 //! blocks on input when idle and ticks at about 30 frames per second only
 //! while a simulation plays.
 
@@ -11,6 +13,7 @@ pub mod app;
 pub mod geometry;
 pub mod i18n;
 pub mod keymap;
+pub mod layout;
 pub mod live;
 pub mod live_system;
 pub mod logplot;
@@ -19,6 +22,7 @@ pub mod plots;
 pub mod screens;
 pub mod services;
 pub mod solid;
+pub mod stack;
 pub mod system_plots;
 #[cfg(test)]
 mod testkit;
@@ -33,11 +37,12 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
-use crossterm::event::{self, Event};
+use crossterm::event::{self, Event, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 use ratatui::DefaultTerminal;
 
 pub use action::Action;
 pub use app::App;
+pub use stack::Tui;
 pub use update::apply;
 
 /// Time between frames while a simulation plays (about 30 per second).
@@ -50,7 +55,7 @@ const SYNC_POLL: Duration = Duration::from_millis(100);
 /// can fail with a message (the store, the decks) is done by the caller
 /// before this switches the terminal to raw mode, so errors print as
 /// ordinary lines.
-pub fn run(app: &mut App) -> anyhow::Result<()> {
+pub fn run(app: &mut Tui) -> anyhow::Result<()> {
     let busy = Arc::new(Mutex::new(()));
     watch_signals(&busy)?;
     let mut terminal = ratatui::try_init().context("cannot set up the terminal")?;
@@ -61,7 +66,7 @@ pub fn run(app: &mut App) -> anyhow::Result<()> {
 
 /// Opens the review of a deck at once (`flipcard review [DECK] [--cram]`);
 /// the first deck when none is named.
-pub fn open_review(app: &mut App, deck: Option<&str>, cram: bool) -> anyhow::Result<()> {
+pub fn open_review(app: &mut Tui, deck: Option<&str>, cram: bool) -> anyhow::Result<()> {
     let deck = match deck {
         Some(id) => app.decks.iter().position(|d| d.id == id).ok_or_else(|| {
             let ids: Vec<&str> = app.decks.iter().map(|d| d.id.as_str()).collect();
@@ -82,7 +87,7 @@ pub fn open_review(app: &mut App, deck: Option<&str>, cram: bool) -> anyhow::Res
 /// that `filter` chooses; a filter no card passes is an error, said before
 /// the terminal switches.
 pub fn open_filtered_review(
-    app: &mut App,
+    app: &mut Tui,
     deck: Option<&str>,
     filter: &crate::catalog::Filter,
     cram: bool,
@@ -142,7 +147,7 @@ fn watch_signals(busy: &Arc<Mutex<()>>) -> anyhow::Result<()> {
 
 fn event_loop(
     terminal: &mut DefaultTerminal,
-    app: &mut App,
+    app: &mut Tui,
     busy: &Mutex<()>,
 ) -> anyhow::Result<()> {
     let size = terminal.size()?;
@@ -211,10 +216,49 @@ fn event_loop(
     }
 }
 
-fn event_action(app: &App, event: Event) -> Option<Action> {
+fn event_action(app: &Tui, event: Event) -> Option<Action> {
     match event {
-        Event::Key(key) => keymap::key_action(app, key),
+        Event::Key(key) => key_action(app, key),
         Event::Resize(w, h) => Some(Action::Resize(w, h)),
+        _ => None,
+    }
+}
+
+/// The action a key press stands for in the app's current state: the top
+/// screen's table for where the keyboard is, then the rows every screen has.
+pub fn key_action(app: &Tui, key: KeyEvent) -> Option<Action> {
+    use KeyCode::Char;
+    if key.kind == KeyEventKind::Release {
+        return None;
+    }
+    if key.modifiers.contains(KeyModifiers::CONTROL) {
+        return match key.code {
+            Char('c') | Char('d') => Some(Action::Quit),
+            _ => None,
+        };
+    }
+    // While the "please enlarge" message stands in for the screen, keys
+    // would act on something the learner cannot see (a rating, a commit);
+    // only `q`, which the message offers, quits.
+    let (w, h) = app.size;
+    if w < layout::MIN_WIDTH || h < layout::MIN_HEIGHT {
+        return (key.code == Char('q')).then_some(Action::Quit);
+    }
+    if app.help {
+        // A help taller than the screen scrolls; any other key closes it.
+        let scrolls = view::help_scroll_max(app) > 0;
+        return Some(match key.code {
+            KeyCode::Down | Char('j') if scrolls => Action::HelpDown,
+            KeyCode::Up | Char('k') if scrolls => Action::HelpUp,
+            _ => Action::CloseHelp,
+        });
+    }
+    let rows = screens::bindings(app.context());
+    if let Some(action) = rows.iter().find_map(|b| b.action(key.code)) {
+        return Some(action);
+    }
+    match key.code {
+        Char(c) if rows.iter().any(|b| b.keys == keymap::Keys::Text) => Some(Action::Input(c)),
         _ => None,
     }
 }

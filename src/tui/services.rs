@@ -3,17 +3,17 @@
 //! the background sync, and caches kept between screens.
 
 use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use chrono::{DateTime, Utc};
 
 use crate::deck::Deck;
+use crate::catalog::{SearchIndex, SearchTexts};
 use crate::sched::Config;
 use crate::store::Store;
 pub use crate::study::DayZone;
 use crate::study::Study;
-
-use super::screens::home::{Counts, DeckRow};
 
 /// Where "now" comes from: the system clock, or a fixed time
 /// (`FLIPCARD_NOW`, tests).
@@ -125,7 +125,7 @@ pub struct Services {
     /// closes (`None`: no `sync_dir`).
     pub sync: Option<Box<dyn Syncer>>,
     /// The card browser's search index, kept between its openings.
-    pub browser_index: super::screens::browser::SearchCache,
+    pub browser_index: SearchCache,
     /// The most one frame's simulation may work ([`super::live_system::SLICE`]),
     /// so a key is always read within a frame; `None` lets each frame's run
     /// reach its time however long that takes (tests, so that snapshots do
@@ -175,20 +175,6 @@ impl Services {
         self.study.study_day(now)
     }
 
-    /// Today's counts and the last study time of a deck (blank when the
-    /// store cannot say).
-    pub fn deck_row(&self, deck: &Deck) -> DeckRow {
-        let now = self.now();
-        let counts = self.study.counts(deck, now).ok().map(|c| Counts {
-            new: c.new,
-            learning: c.learning,
-            due: c.due,
-        });
-        DeckRow {
-            counts,
-            last_studied: self.study.store.last_studied(&deck.id).ok().flatten(),
-        }
-    }
 
     /// Remembers the language for the next run.
     pub fn save_language(&mut self, lang: &str) -> Result<(), String> {
@@ -200,6 +186,31 @@ impl Services {
                 .save_key(path, "language")
                 .map_err(|e| e.to_string()),
             None => Ok(()),
+        }
+    }
+}
+
+/// The search index kept between openings of the browser, with the texts
+/// it was built from: while the decks say the same, opening the browser
+/// again finds it ready.
+#[derive(Clone, Default)]
+pub struct SearchCache(Arc<Mutex<Option<Kept>>>);
+
+/// An index and the texts it was built from.
+type Kept = (SearchTexts, Arc<SearchIndex>);
+
+impl SearchCache {
+    /// The index kept, when it was built from `texts`.
+    pub fn get(&self, texts: &SearchTexts) -> Option<Arc<SearchIndex>> {
+        let slot = self.0.lock().ok()?;
+        let (t, index) = slot.as_ref()?;
+        (t == texts).then(|| Arc::clone(index))
+    }
+
+    /// Keeps `index`, built from `texts`.
+    pub fn put(&self, texts: SearchTexts, index: Arc<SearchIndex>) {
+        if let Ok(mut slot) = self.0.lock() {
+            *slot = Some((texts, index));
         }
     }
 }

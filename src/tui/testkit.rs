@@ -13,7 +13,7 @@ use crate::deck::{
     Text, Tolerance,
 };
 
-use super::app::App;
+use super::stack::Tui;
 use std::ops::{Deref, DerefMut};
 
 use tempfile::TempDir;
@@ -223,19 +223,19 @@ pub fn deck() -> Deck {
 /// An app on the fixture deck with a fresh review store in a temporary
 /// data dir (removed when this is dropped), a fixed clock and no colours.
 pub struct TestApp {
-    pub app: App,
+    pub app: Tui,
     pub dir: TempDir,
 }
 
 impl Deref for TestApp {
-    type Target = App;
-    fn deref(&self) -> &App {
+    type Target = Tui;
+    fn deref(&self) -> &Tui {
         &self.app
     }
 }
 
 impl DerefMut for TestApp {
-    fn deref_mut(&mut self) -> &mut App {
+    fn deref_mut(&mut self) -> &mut Tui {
         &mut self.app
     }
 }
@@ -263,13 +263,13 @@ pub fn app(lang: &str) -> TestApp {
         Ok(d) => d,
         Err(e) => panic!("temp dir: {e}"),
     };
-    let mut app = App::new(vec![deck()], services(&dir), lang, Theme::PLAIN);
+    let mut app = Tui::new(vec![deck()], services(&dir), lang, Theme::PLAIN);
     app.size = (80, 24);
     TestApp { app, dir }
 }
 
 /// The frame's cells, at the app's size.
-pub fn buffer(app: &App) -> ratatui::buffer::Buffer {
+pub fn buffer(app: &Tui) -> ratatui::buffer::Buffer {
     let (w, h) = app.size;
     let mut terminal = match Terminal::new(TestBackend::new(w, h)) {
         Ok(t) => t,
@@ -282,7 +282,7 @@ pub fn buffer(app: &App) -> ratatui::buffer::Buffer {
 }
 
 /// The frame as text, at the app's size.
-pub fn render(app: &App) -> String {
+pub fn render(app: &Tui) -> String {
     let (w, h) = app.size;
     let mut terminal = match Terminal::new(TestBackend::new(w, h)) {
         Ok(t) => t,

@@ -6,8 +6,9 @@ use super::action::Action;
 use super::app::App;
 use super::i18n;
 use super::screens::Nav;
+use super::stack::Tui;
 
-pub fn apply(app: &mut App, action: Action) {
+pub fn apply(app: &mut Tui, action: Action) {
     match action {
         Action::Quit => {
             app.quit = true;

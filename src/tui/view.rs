@@ -9,13 +9,12 @@ use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
 
 use super::app::App;
 use super::i18n::Msg;
-use super::keymap::{self, Context};
+use super::keymap::Context;
+use super::layout::{MIN_HEIGHT, MIN_WIDTH, body_rect};
+use super::screens;
+use super::stack::Tui;
 
-/// The smallest terminal the screens are laid out for.
-pub const MIN_WIDTH: u16 = 40;
-pub const MIN_HEIGHT: u16 = 12;
-
-pub fn draw(frame: &mut Frame, app: &App) {
+pub fn draw(frame: &mut Frame, app: &Tui) {
     let area = frame.area();
     if area.width < MIN_WIDTH || area.height < MIN_HEIGHT {
         let p = Paragraph::new(app.tr(Msg::Enlarge))
@@ -36,7 +35,7 @@ pub fn draw(frame: &mut Frame, app: &App) {
 }
 
 /// What the screen is, without the deck ("Review", "Reader").
-fn screen_name(app: &App) -> &'static str {
+fn screen_name(app: &Tui) -> &'static str {
     app.tr(app.screen().view().name())
 }
 
@@ -46,7 +45,7 @@ fn fit(text: &str, width: usize) -> String {
 }
 
 /// The screen's name, after the deck's title when it is about one deck.
-fn screen_title(app: &App) -> String {
+fn screen_title(app: &Tui) -> String {
     let view = app.screen().view();
     let name = app.tr(view.name());
     match view.deck().and_then(|d| app.decks.get(d)) {
@@ -55,7 +54,7 @@ fn screen_title(app: &App) -> String {
     }
 }
 
-fn draw_header(frame: &mut Frame, area: Rect, app: &App) {
+fn draw_header(frame: &mut Frame, area: Rect, app: &Tui) {
     let t = &app.theme;
     let lang = format!("{} ", app.tr(Msg::LanguageName));
     let [l, _, r] = Layout::horizontal([
@@ -74,7 +73,7 @@ fn draw_header(frame: &mut Frame, area: Rect, app: &App) {
     frame.render_widget(Paragraph::new(Span::styled(lang, t.dim())), r);
 }
 
-fn draw_footer(frame: &mut Frame, area: Rect, app: &App) {
+fn draw_footer(frame: &mut Frame, area: Rect, app: &Tui) {
     let t = &app.theme;
     if let Some(status) = &app.status {
         draw_status(frame, area, app, status);
@@ -88,7 +87,7 @@ fn draw_footer(frame: &mut Frame, area: Rect, app: &App) {
         ]
     };
     let mut spans = vec![Span::raw(" ")];
-    if ctx.is_text_input() {
+    if screens::is_text_input(ctx) {
         spans.extend(hint("F1", Msg::Help));
     } else {
         spans.extend(hint("?", Msg::Help));
@@ -126,10 +125,10 @@ fn draw_status(frame: &mut Frame, footer: Rect, app: &App, status: &super::app::
 }
 
 /// The help overlay's rows wrapped to fit the body, and the popup's size.
-fn help_layout(app: &App, area: Rect) -> (Vec<Line<'static>>, Rect) {
+fn help_layout(app: &Tui, area: Rect) -> (Vec<Line<'static>>, Rect) {
     use super::wrap::{Run, columns, wrap};
     let t = &app.theme;
-    let binds = keymap::bindings(app.context());
+    let binds = screens::bindings(app.context());
     let label_w = binds.iter().map(|b| columns(b.label)).max().unwrap_or(4);
     let help_w = binds
         .iter()
@@ -162,7 +161,7 @@ fn help_layout(app: &App, area: Rect) -> (Vec<Line<'static>>, Rect) {
 }
 
 /// How far the help overlay can scroll at the app's size (0: it fits).
-pub fn help_scroll_max(app: &App) -> usize {
+pub fn help_scroll_max(app: &Tui) -> usize {
     let (lines, popup) = help_layout(app, body_rect(app.size));
     lines
         .len()
@@ -171,7 +170,7 @@ pub fn help_scroll_max(app: &App) -> usize {
 
 /// The help overlay: every key of the current screen, wrapped to the
 /// screen; when it is taller than the screen it scrolls (j/k).
-pub fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
+pub fn draw_help(frame: &mut Frame, area: Rect, app: &Tui) {
     let t = &app.theme;
     let (lines, popup) = help_layout(app, area);
     let room = usize::from(popup.height.saturating_sub(2));
@@ -195,11 +194,4 @@ pub fn draw_help(frame: &mut Frame, area: Rect, app: &App) {
     let shown: Vec<Line> = lines.into_iter().skip(scroll).take(room).collect();
     frame.render_widget(Clear, popup);
     frame.render_widget(Paragraph::new(shown).block(block), popup);
-}
-
-/// The screen body (between header and footer) for a terminal size; the
-/// same split `draw` makes, so actions can reason about what is visible.
-pub fn body_rect(size: (u16, u16)) -> Rect {
-    let (w, h) = size;
-    Rect::new(0, 1.min(h), w, h.saturating_sub(2))
 }

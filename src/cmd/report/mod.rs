@@ -31,29 +31,30 @@ pub fn read(files: &[PathBuf], decks: &[crate::deck::Deck], only: Option<&str>) 
     let mut exports: Vec<Export> = Vec::with_capacity(files.len());
     let mut skipped = Vec::new();
     for path in files {
-        let text =
-            match crate::cmd::import::read_limited(path, crate::cmd::import_reviews::MAX_LOG_BYTES)
-            {
-                Ok(bytes) => match String::from_utf8(bytes) {
-                    Ok(t) => t,
-                    Err(e) => {
-                        let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
-                            .iter()
-                            .filter(|b| **b == b'\n')
-                            .count();
-                        skipped.push(format!("{}:{line}: not valid UTF-8", path.display()));
-                        continue;
-                    }
-                },
+        let text = match crate::cmd::import_file::read_limited(
+            path,
+            crate::cmd::import_reviews::MAX_LOG_BYTES,
+        ) {
+            Ok(bytes) => match String::from_utf8(bytes) {
+                Ok(t) => t,
                 Err(e) => {
-                    skipped.push(format!(
-                        "{}: {}",
-                        path.display(),
-                        crate::cmd::import::cannot_read(&e)
-                    ));
+                    let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()]
+                        .iter()
+                        .filter(|b| **b == b'\n')
+                        .count();
+                    skipped.push(format!("{}:{line}: not valid UTF-8", path.display()));
                     continue;
                 }
-            };
+            },
+            Err(e) => {
+                skipped.push(format!(
+                    "{}: {}",
+                    path.display(),
+                    crate::cmd::import_file::cannot_read(&e)
+                ));
+                continue;
+            }
+        };
         match class::parse(&text) {
             Ok(e) => exports.push(e),
             Err(e) => skipped.push(format!("{}:{}: {}", path.display(), e.line, e.message)),

@@ -6,8 +6,8 @@
 //! same with fifty or fifty thousand items.
 
 use std::cmp::Ordering;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering as AtomicOrdering};
-use std::sync::{Arc, Mutex};
 
 use chrono::{DateTime, Utc};
 use ratatui::Frame;
@@ -24,6 +24,7 @@ use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Words};
 use crate::tui::keymap::{Binding, Context};
+use crate::tui::services::SearchCache;
 use crate::tui::wrap::{Run, wrap};
 
 use super::Nav;
@@ -238,29 +239,6 @@ fn fitting_columns(width: u16) -> Vec<Column> {
         .into_iter()
         .filter(|c| keep.contains(c))
         .collect()
-}
-
-/// The search index kept between openings of the browser, with the texts
-/// it was built from: while the decks say the same, opening the browser
-/// again finds it ready.
-#[derive(Clone, Default)]
-pub struct SearchCache(Arc<Mutex<Option<Kept>>>);
-
-/// An index and the texts it was built from.
-type Kept = (SearchTexts, Arc<SearchIndex>);
-
-impl SearchCache {
-    fn get(&self, texts: &SearchTexts) -> Option<Arc<SearchIndex>> {
-        let slot = self.0.lock().ok()?;
-        let (t, index) = slot.as_ref()?;
-        (t == texts).then(|| Arc::clone(index))
-    }
-
-    fn put(&self, texts: SearchTexts, index: Arc<SearchIndex>) {
-        if let Ok(mut slot) = self.0.lock() {
-            *slot = Some((texts, index));
-        }
-    }
 }
 
 /// The search index: built on a thread of its own when the browser opens

@@ -6,9 +6,11 @@ use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Cell, Paragraph, Row, Table, TableState, Wrap};
 
+use crate::deck::Deck;
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Noun};
+use crate::tui::services::Services;
 
 use super::{Nav, Screen};
 use crate::tui::i18n::Words;
@@ -82,6 +84,25 @@ pub struct DeckRow {
     pub last_studied: Option<DateTime<Utc>>,
 }
 
+impl DeckRow {
+    /// Today's counts and the last study time of a deck (blank when the
+    /// store cannot say).
+    pub fn of(services: &Services, deck: &Deck) -> DeckRow {
+        let now = services.now();
+        let counts = services.study.counts(deck, now).ok().map(|c| {
+            Counts {
+                new: c.new,
+                learning: c.learning,
+                due: c.due,
+            }
+        });
+        DeckRow {
+            counts,
+            last_studied: services.study.store.last_studied(&deck.id).ok().flatten(),
+        }
+    }
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct HomeState {
     pub selected: usize,
@@ -93,7 +114,7 @@ impl HomeState {
         let rows = app
             .decks
             .iter()
-            .map(|deck| app.services.deck_row(deck))
+            .map(|deck| DeckRow::of(&app.services, deck))
             .collect();
         HomeState { selected: 0, rows }
     }
@@ -169,9 +190,13 @@ pub fn ago(app: &App, then: Option<DateTime<Utc>>) -> String {
 pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
     let t = &app.theme;
     if app.decks.is_empty() {
-        let p = Paragraph::new(crate::tui::i18n::no_decks(&app.lang, &app.deck_load))
-            .style(t.warn())
-            .wrap(Wrap { trim: true });
+        let p = Paragraph::new(crate::tui::i18n::no_decks(
+            &app.lang,
+            app.deck_load.from.as_deref(),
+            app.deck_load.failed_files,
+        ))
+        .style(t.warn())
+        .wrap(Wrap { trim: true });
         frame.render_widget(p, area);
         return;
     }

@@ -1,4 +1,6 @@
-//! One module per screen: its state, how actions change it, how it draws.
+//! One module per screen: its state, how actions change it, how it draws,
+//! and its key tables; here, what every screen offers ([`View`]), the
+//! screens the stack holds ([`Screen`]) and which table is whose ([`keys`]).
 
 pub mod browser;
 pub mod exam;
@@ -16,7 +18,7 @@ use ratatui::layout::Rect;
 use super::action::Action;
 use super::app::App;
 use super::i18n::Msg;
-use super::keymap::Context;
+use super::keymap::{self, Binding, Context};
 
 /// What every screen does: say where the keyboard is (and so which of its
 /// key tables applies), carry out actions, draw itself, and name itself in
@@ -96,4 +98,38 @@ pub enum Nav {
     Pop,
     /// Close this screen and open another in its place.
     Replace(Screen),
+}
+
+/// The screen's own rows for a context (its module holds them).
+pub fn keys(ctx: Context) -> &'static [Binding] {
+    match ctx {
+        Context::Home => home::KEYS,
+        Context::Reader => reader::KEYS,
+        Context::ReaderSearch => reader::SEARCH_KEYS,
+        Context::ReviewFront => review::FRONT_KEYS,
+        Context::ReviewTyping => review::TYPING_KEYS,
+        Context::ReviewBack => review::BACK_KEYS,
+        Context::ReviewDone => review::DONE_KEYS,
+        Context::Prompts => prompts::KEYS,
+        Context::PredictChoice => predict::CHOICE_KEYS,
+        Context::PredictNumber => predict::NUMBER_KEYS,
+        Context::PredictRun => predict::RUN_KEYS,
+        Context::PredictVerdict => predict::VERDICT_KEYS,
+        Context::Stats => stats::KEYS,
+        Context::ExamDate => exam::DATE_KEYS,
+        Context::Browser => browser::KEYS,
+        Context::BrowserSearch => browser::SEARCH_KEYS,
+        Context::Filter => filter::KEYS,
+    }
+}
+
+/// The rows of a context, in the order the help overlay lists them: the
+/// screen's, then those every screen has.
+pub fn bindings(ctx: Context) -> Vec<Binding> {
+    keymap::with_global(keys(ctx))
+}
+
+/// Contexts where printable keys are typed into a field.
+pub fn is_text_input(ctx: Context) -> bool {
+    keymap::is_text_input(keys(ctx))
 }

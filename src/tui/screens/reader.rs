@@ -14,8 +14,8 @@ use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
 use crate::tui::i18n::reader as words;
+use crate::tui::layout::body_rect;
 use crate::tui::theme::Theme;
-use crate::tui::view;
 use crate::tui::wrap::{Run, columns, ellipsize, line_text, wrap, wrap_tagged};
 
 use super::Nav;
@@ -374,7 +374,7 @@ pub fn section_lines(app: &App, deck: &Deck, section: usize, width: usize) -> Ve
 
 /// Body text area for the app's terminal size.
 fn text_area(app: &App) -> Rect {
-    let (_, text, _) = areas(view::body_rect(app.size));
+    let (_, text, _) = areas(body_rect(app.size));
     text
 }
 

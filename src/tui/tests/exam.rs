@@ -10,7 +10,7 @@ use crate::tui::screens::Screen;
 use crate::tui::screens::exam::{ExamState, Phase};
 use crate::tui::testkit::{self, render};
 
-fn exam(app: &crate::tui::App) -> &ExamState {
+fn exam(app: &crate::tui::Tui) -> &ExamState {
     match app.screen() {
         Screen::Exam(e) => e,
         _ => panic!("the exam screen is not open"),
@@ -18,7 +18,7 @@ fn exam(app: &crate::tui::App) -> &ExamState {
 }
 
 /// (expected recall on exam day now, planned for today, all items).
-fn progress(app: &crate::tui::App) -> (f64, usize, usize) {
+fn progress(app: &crate::tui::Tui) -> (f64, usize, usize) {
     match &exam(app).phase {
         Phase::Study(s) => (s.now, s.share, s.keys.len()),
         Phase::Date { .. } => panic!("still asking for the date"),
@@ -85,7 +85,7 @@ fn studying_todays_share_raises_the_expected_recall_on_exam_day() {
 }
 
 /// The card on screen in today's share.
-fn shown(app: &crate::tui::App) -> Option<crate::sched::ItemKey> {
+fn shown(app: &crate::tui::Tui) -> Option<crate::sched::ItemKey> {
     match &exam(app).phase {
         Phase::Study(s) => s.review.current.as_ref().map(|(k, _)| k.clone()),
         Phase::Date { .. } => panic!("still asking for the date"),

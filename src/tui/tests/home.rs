@@ -5,7 +5,7 @@ use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 use super::{key, press};
 use crate::tui::action::Action;
 use crate::tui::i18n::{ENGLISH, HINGLISH};
-use crate::tui::keymap::{self, Context};
+use crate::tui::keymap::Context;
 use crate::tui::screens::Screen;
 use crate::tui::testkit::{self, render};
 use crate::tui::update::apply;
@@ -37,7 +37,7 @@ fn ctrl_c_quits_from_anywhere_even_under_help() {
     let mut app = testkit::app(ENGLISH);
     app.help = true;
     let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
-    assert_eq!(keymap::key_action(&app, ctrl_c), Some(Action::Quit));
+    assert_eq!(crate::tui::key_action(&app, ctrl_c), Some(Action::Quit));
     apply(&mut app, Action::Quit);
     assert!(app.quit);
 }
@@ -92,7 +92,7 @@ fn every_context_has_help_for_every_bound_key() {
         PredictVerdict,
         Stats,
     ] {
-        let binds = keymap::bindings(ctx);
+        let binds = crate::tui::screens::bindings(ctx);
         assert!(binds.iter().any(|b| b.label.contains("F1")), "{ctx:?}");
         for b in &binds {
             assert!(
@@ -333,7 +333,7 @@ fn keys_do_nothing_unseen_while_the_terminal_is_too_small() {
     assert!(flat(&render(&app)).contains("press q to quit"));
     let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
     assert_eq!(
-        keymap::key_action(&app, ctrl_c),
+        crate::tui::key_action(&app, ctrl_c),
         Some(Action::Quit),
         "Ctrl-C still quits"
     );
@@ -448,7 +448,7 @@ fn prompts_list_shows_extreme_scene_values_with_exponents() {
     scene.omega = [1e150, 1e150, 5e149];
     scene.duration = 5e-324;
     let dir = tempfile::tempdir().unwrap();
-    let mut app = crate::tui::app::App::new(
+    let mut app = crate::tui::Tui::new(
         vec![deck],
         testkit::services(&dir),
         ENGLISH,

@@ -5,8 +5,7 @@
 use crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
 
 use super::action::Action;
-use super::app::App;
-use super::keymap;
+use super::stack::Tui;
 use super::update::apply;
 
 mod browser;
@@ -21,18 +20,18 @@ mod study;
 mod sync;
 mod system;
 
-pub fn key(app: &App, code: KeyCode) -> Option<Action> {
-    keymap::key_action(app, KeyEvent::new(code, KeyModifiers::NONE))
+pub fn key(app: &Tui, code: KeyCode) -> Option<Action> {
+    crate::tui::key_action(app, KeyEvent::new(code, KeyModifiers::NONE))
 }
 
 /// Presses a key as the event loop would.
-pub fn press(app: &mut App, code: KeyCode) {
+pub fn press(app: &mut Tui, code: KeyCode) {
     if let Some(action) = key(app, code) {
         apply(app, action);
     }
 }
 
-pub fn press_all(app: &mut App, codes: &[KeyCode]) {
+pub fn press_all(app: &mut Tui, codes: &[KeyCode]) {
     for &c in codes {
         press(app, c);
     }
@@ -40,7 +39,7 @@ pub fn press_all(app: &mut App, codes: &[KeyCode]) {
 
 /// Types text into whatever field has the keyboard; a browser search
 /// waiting for its index is let finish, as the event loop's ticks would.
-pub fn type_text(app: &mut App, text: &str) {
+pub fn type_text(app: &mut Tui, text: &str) {
     for c in text.chars() {
         press(app, KeyCode::Char(c));
     }
@@ -49,9 +48,9 @@ pub fn type_text(app: &mut App, text: &str) {
 
 /// Ticks while the browser waits for its search index (bounded: a build
 /// that never ends fails the test instead of hanging it).
-pub fn settle(app: &mut App) {
+pub fn settle(app: &mut Tui) {
     let waiting =
-        |app: &App| matches!(app.screen(), super::screens::Screen::Browser(b) if b.waiting);
+        |app: &Tui| matches!(app.screen(), super::screens::Screen::Browser(b) if b.waiting);
     for _ in 0..30_000 {
         if !waiting(app) {
             return;

@@ -199,7 +199,7 @@ fn every_concept_map_link_is_chosen_on_screen_and_opens_what_was_shown() {
             let mut app = bundled(lang, size);
             let map = deck_of(&app).sections[1].id.clone();
             assert_eq!(map, "concept-map");
-            let (_, text, _) = areas(crate::tui::view::body_rect(size));
+            let (_, text, _) = areas(crate::tui::layout::body_rect(size));
             let links = page(&app, deck_of(&app), 1, text.width as usize, None).links;
             assert!(links.len() >= 16, "{} links", links.len());
             for i in 0..links.len() {
@@ -292,7 +292,7 @@ fn wide_terminals_widen_the_list_and_cut_titles_with_an_ellipsis() {
     assert!(narrow.contains('…'), "{narrow}");
     let wide = bundled(ENGLISH, (160, 48));
     let (list, text, _) =
-        crate::tui::screens::reader::areas(crate::tui::view::body_rect(wide.size));
+        crate::tui::screens::reader::areas(crate::tui::layout::body_rect(wide.size));
     assert!(list.width > 30);
     assert!(text.width <= crate::tui::screens::reader::MEASURE);
     let screen = render(&wide);

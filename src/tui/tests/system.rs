@@ -102,8 +102,7 @@ fn app(lang: &str) -> TestApp {
         tags: vec![],
     });
     let dir = tempfile::tempdir().unwrap();
-    let mut app =
-        crate::tui::app::App::new(vec![deck], testkit::services(&dir), lang, Theme::PLAIN);
+    let mut app = crate::tui::Tui::new(vec![deck], testkit::services(&dir), lang, Theme::PLAIN);
     app.size = (100, 30);
     let mut app = TestApp { app, dir };
     press(&mut app, KeyCode::Char('p'));
@@ -203,8 +202,7 @@ fn app_on(scene: SystemScene, measure: Measure, threshold: f64) -> TestApp {
         tags: vec![],
     });
     let dir = tempfile::tempdir().unwrap();
-    let mut app =
-        crate::tui::app::App::new(vec![deck], testkit::services(&dir), ENGLISH, Theme::PLAIN);
+    let mut app = crate::tui::Tui::new(vec![deck], testkit::services(&dir), ENGLISH, Theme::PLAIN);
     app.size = (100, 30);
     let mut app = TestApp { app, dir };
     press(&mut app, KeyCode::Char('p'));

@@ -1,8 +1,9 @@
 //! Every item of every deck with its schedule and status, and the query
 //! language that selects among them (`deck:`, `tag:`, `state:`, `due:<3d`,
 //! `is:leech`, `is:suspended`, `is:buried`, and free text matched fuzzily
-//! over the front and back in every language). The card browser, `flipcard
-//! cards` and the filtered review all read items through this.
+//! over the front and back in every language, which [`self::search`]
+//! matches). The card browser, `flipcard cards` and the filtered review all
+//! read items through this.
 
 pub mod search;
 
@@ -381,23 +382,10 @@ impl Filter {
     }
 }
 
-/// The rows a query selects, best match first when it has free text.
-pub fn select(
-    decks: &[Deck],
-    rows: &[ItemRow],
-    search: &mut Search,
-    filter: &Filter,
-    now: DateTime<Utc>,
-) -> Vec<usize> {
-    let kept: Vec<usize> = (0..rows.len())
-        .filter(|&i| filter.keeps(&rows[i], decks, now))
-        .collect();
-    search.matching(&filter.text, &kept).best
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::catalog::search::Search;
 
     #[test]
     fn queries_parse_into_fields_and_free_text() {

@@ -12,10 +12,11 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use chrono::{DateTime, Utc};
 use nucleo_matcher::pattern::{AtomKind, CaseMatching, Normalization, Pattern};
 use nucleo_matcher::{Matcher, Utf32Str, Utf32String, chars};
 
-use super::ItemRow;
+use super::{Filter, ItemRow};
 use crate::deck::{CardKind, Deck};
 
 /// The least score (per character of the query) a fuzzy match needs: a
@@ -541,6 +542,20 @@ impl Scan<'_> {
         }
         part
     }
+}
+
+/// The rows a query selects, best match first when it has free text.
+pub fn select(
+    decks: &[Deck],
+    rows: &[ItemRow],
+    search: &mut Search,
+    filter: &Filter,
+    now: DateTime<Utc>,
+) -> Vec<usize> {
+    let kept: Vec<usize> = (0..rows.len())
+        .filter(|&i| filter.keeps(&rows[i], decks, now))
+        .collect();
+    search.matching(&filter.text, &kept).best
 }
 
 #[cfg(test)]

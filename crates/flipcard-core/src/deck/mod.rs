@@ -9,6 +9,7 @@ pub mod cloze;
 pub mod csv;
 pub mod diag;
 pub mod files;
+pub mod id;
 pub mod load;
 pub mod model;
 pub mod places;

@@ -3,65 +3,13 @@
 //! unknown fields; what is missing or mistyped is `None` here, and the deck
 //! it belongs to is never validated into a `Deck`.
 
-use std::ops::Range;
-
 use toml::de::DeTable;
 
 use super::read::{self, Fields};
 use super::report::FileReport;
 use super::suggest;
 
-pub type Span = Range<usize>;
-
-/// A string value with the span of its token (quotes included).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Str {
-    pub value: String,
-    pub span: Span,
-}
-
-/// A number value (integers are widened) with its span.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Num {
-    pub value: f64,
-    pub span: Span,
-}
-
-/// A boolean with its position.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Flag {
-    pub value: bool,
-    pub span: Span,
-}
-
-/// An array with the span of the whole array.
-#[derive(Debug, Clone, PartialEq)]
-pub struct List<T> {
-    pub items: Vec<T>,
-    pub span: Span,
-}
-
-/// A translatable text as written.
-#[derive(Debug, Clone, PartialEq)]
-pub enum RawText {
-    /// A plain string: allowed when the deck declares a single language.
-    Plain(Str),
-    /// `{ en = '...', hi-Latn = '...' }`: each language key (with the key's
-    /// span) and its string.
-    ByLang {
-        span: Span,
-        entries: Vec<(Str, Str)>,
-    },
-}
-
-impl RawText {
-    pub fn span(&self) -> Span {
-        match self {
-            RawText::Plain(s) => s.span.clone(),
-            RawText::ByLang { span, .. } => span.clone(),
-        }
-    }
-}
+pub use super::read::{Flag, List, Num, RawAccept, RawText, Span, Str};
 
 pub const DECK_FILE_FIELDS: &[&str] = &["deck", "card", "prompt", "scene"];
 pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages"];
@@ -120,37 +68,6 @@ pub struct RawDeckHeader {
     pub title: Option<RawText>,
     pub description: Option<RawText>,
     pub languages: Option<List<Str>>,
-}
-
-/// A typed card's accepted answers as written: one list for every
-/// language, or `{ en = [...], hi-Latn = [...] }`.
-#[derive(Debug, Clone, PartialEq)]
-pub enum RawAccept {
-    All(List<Str>),
-    ByLang {
-        span: Span,
-        /// Each language key (with its span) and its list.
-        entries: Vec<(Str, List<Str>)>,
-    },
-}
-
-impl RawAccept {
-    pub fn span(&self) -> Span {
-        match self {
-            RawAccept::All(l) => l.span.clone(),
-            RawAccept::ByLang { span, .. } => span.clone(),
-        }
-    }
-
-    /// Every answer, in the order written.
-    pub fn items(&self) -> Vec<&Str> {
-        match self {
-            RawAccept::All(l) => l.items.iter().collect(),
-            RawAccept::ByLang { entries, .. } => {
-                entries.iter().flat_map(|(_, l)| l.items.iter()).collect()
-            }
-        }
-    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -288,7 +205,7 @@ fn label(kind: &str, fields: &Fields) -> String {
         toml::de::DeValue::String(s) => Some(s.to_string()),
         _ => None,
     }) {
-        Some(id) if super::validate::is_id(&id) => format!("{kind} `{id}`"),
+        Some(id) if super::id::is_id(&id) => format!("{kind} `{id}`"),
         _ => kind.to_string(),
     }
 }

@@ -1,16 +1,100 @@
 //! Reading parsed TOML values with their spans, reporting every wrong type,
-//! missing field and unknown field instead of stopping at the first.
+//! missing field and unknown field instead of stopping at the first. The
+//! values read ([`Str`], [`Num`], [`RawText`], ...) are here too: the raw
+//! stage ([`super::raw`]) builds its files from them and re-exports them.
 
 use std::ops::Range;
 
 use toml::Spanned;
 use toml::de::{DeArray, DeTable, DeValue};
 
-use super::raw::{Flag, List, Num, RawText, Str};
 use super::report::FileReport;
 use super::suggest;
 
 pub type Value<'i> = Spanned<DeValue<'i>>;
+
+pub type Span = Range<usize>;
+
+/// A string value with the span of its token (quotes included).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Str {
+    pub value: String,
+    pub span: Span,
+}
+
+/// A number value (integers are widened) with its span.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Num {
+    pub value: f64,
+    pub span: Span,
+}
+
+/// A boolean with its position.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Flag {
+    pub value: bool,
+    pub span: Span,
+}
+
+/// An array with the span of the whole array.
+#[derive(Debug, Clone, PartialEq)]
+pub struct List<T> {
+    pub items: Vec<T>,
+    pub span: Span,
+}
+
+/// A translatable text as written.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RawText {
+    /// A plain string: allowed when the deck declares a single language.
+    Plain(Str),
+    /// `{ en = '...', hi-Latn = '...' }`: each language key (with the key's
+    /// span) and its string.
+    ByLang {
+        span: Span,
+        entries: Vec<(Str, Str)>,
+    },
+}
+
+impl RawText {
+    pub fn span(&self) -> Span {
+        match self {
+            RawText::Plain(s) => s.span.clone(),
+            RawText::ByLang { span, .. } => span.clone(),
+        }
+    }
+}
+
+/// A typed card's accepted answers as written: one list for every
+/// language, or `{ en = [...], hi-Latn = [...] }`.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RawAccept {
+    All(List<Str>),
+    ByLang {
+        span: Span,
+        /// Each language key (with its span) and its list.
+        entries: Vec<(Str, List<Str>)>,
+    },
+}
+
+impl RawAccept {
+    pub fn span(&self) -> Span {
+        match self {
+            RawAccept::All(l) => l.span.clone(),
+            RawAccept::ByLang { span, .. } => span.clone(),
+        }
+    }
+
+    /// Every answer, in the order written.
+    pub fn items(&self) -> Vec<&Str> {
+        match self {
+            RawAccept::All(l) => l.items.iter().collect(),
+            RawAccept::ByLang { entries, .. } => {
+                entries.iter().flat_map(|(_, l)| l.items.iter()).collect()
+            }
+        }
+    }
+}
 
 /// "a string", "an integer", ... for type errors.
 pub fn type_name(v: &DeValue) -> &'static str {
@@ -161,8 +245,7 @@ impl<'a, 'i> Fields<'a, 'i> {
 
     /// A typed card's `accept`: an array of strings, or a table of such
     /// arrays by language.
-    pub fn accept(&self, rep: &mut FileReport, key: &str) -> Option<super::raw::RawAccept> {
-        use super::raw::RawAccept;
+    pub fn accept(&self, rep: &mut FileReport, key: &str) -> Option<RawAccept> {
         let v = self.get(key)?;
         let strings = |rep: &mut FileReport, v: &Value, what: &str| -> Option<List<Str>> {
             let arr = array(rep, v, what)?;

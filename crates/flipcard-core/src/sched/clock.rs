@@ -3,10 +3,13 @@
 
 use chrono::{DateTime, NaiveDate, Utc};
 
-use crate::sched::scheduler::MAXIMUM_INTERVAL;
-
 /// The environment variable that fixes the clock.
 pub const NOW_VAR: &str = "FLIPCARD_NOW";
+
+/// The longest interval the scheduler gives, in days (py-fsrs's
+/// `maximum_interval`). It is here because it bounds the clock: a due date
+/// that far after [`latest`] must still be a time the app can write.
+pub const MAXIMUM_INTERVAL: i64 = 36_500;
 
 /// The earliest clock accepted: nothing the app stores predates it.
 pub fn earliest() -> DateTime<Utc> {

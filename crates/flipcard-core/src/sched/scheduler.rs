@@ -20,8 +20,7 @@ use chrono::{DateTime, TimeDelta, Utc};
 use super::config::Config;
 use super::types::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord, State};
 
-/// The longest interval, in days (py-fsrs's `maximum_interval`).
-pub const MAXIMUM_INTERVAL: i64 = 36_500;
+pub use super::clock::MAXIMUM_INTERVAL;
 
 const STABILITY_MIN: f64 = 0.001;
 const MIN_DIFFICULTY: f64 = 1.0;

@@ -106,7 +106,7 @@ impl StoreError {
             Some(ErrorCode::DatabaseCorrupt | ErrorCode::NotADatabase) => StoreError::Corrupt {
                 path: path.to_path_buf(),
                 detail: err.to_string(),
-                newest_backup: super::backup::newest_backup(path),
+                newest_backup: super::backup_files::newest_backup(path),
             },
             Some(ErrorCode::DiskFull) => StoreError::DiskFull {
                 path: path.to_path_buf(),

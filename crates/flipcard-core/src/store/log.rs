@@ -126,7 +126,7 @@ impl Store {
         state::refresh_item(&tx, &last.record.key).map_err(sql_err)?;
         tally::count(&tx, &last.record, -1).map_err(sql_err)?;
         // A leech found or siblings buried by this rating go with it.
-        super::status::undo_caused(&tx, last.id).map_err(sql_err)?;
+        super::status_log::undo_caused(&tx, last.id).map_err(sql_err)?;
         tx.commit().map_err(sql_err)?;
         Ok(Some(LoggedReview {
             undone: true,

@@ -236,7 +236,7 @@ pub(super) fn merge_one(
             }
             // A copy an earlier merge re-appended may carry the events
             // the answer brought about.
-            super::status::undo_caused(tx, l.id).map_err(sql_err)?;
+            super::status_log::undo_caused(tx, l.id).map_err(sql_err)?;
             if !l.undone {
                 tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [l.id])
                     .map_err(sql_err)?;

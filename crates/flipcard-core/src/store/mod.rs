@@ -8,6 +8,7 @@
 pub mod answers;
 pub mod attempt;
 pub mod backup;
+pub mod backup_files;
 pub(crate) mod codec;
 pub mod day;
 pub mod db;
@@ -19,6 +20,7 @@ pub mod schema;
 pub mod state;
 pub mod stats;
 pub mod status;
+pub mod status_log;
 pub mod sync;
 pub mod sync_merge;
 pub mod sync_state;

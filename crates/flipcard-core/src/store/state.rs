@@ -200,7 +200,7 @@ impl Store {
         )
         .map_err(sql_err)?;
         let tallies_changed = super::tally::rebuild(&tx).map_err(sql_err)?;
-        let statuses_changed = super::status::rebuild(&tx).map_err(sql_err)?;
+        let statuses_changed = super::status_log::rebuild(&tx).map_err(sql_err)?;
         let reviews: i64 = tx
             .query_row("SELECT count(*) FROM review", [], |r| r.get(0))
             .map_err(sql_err)?;

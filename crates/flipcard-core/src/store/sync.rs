@@ -8,7 +8,7 @@ use super::codec::Ms;
 use super::db::Store;
 use super::error::StoreError;
 use super::merge::IncomingReview;
-use super::sync_merge::{IncomingStatus, ReviewId};
+use super::sync_merge::{LocalStatus, ReviewId};
 use crate::sched::{ItemKey, ReviewKind};
 
 /// One answer of this machine's log, once per identity and origin, with
@@ -20,14 +20,6 @@ pub struct LocalReview {
     pub origin: Option<String>,
     /// Written before origins were kept: without one, it may still have
     /// come from another machine.
-    pub legacy: bool,
-}
-
-/// One status event that travels, once per identity and origin.
-#[derive(Debug, Clone)]
-pub struct LocalStatus {
-    pub status: IncomingStatus,
-    pub origin: Option<String>,
     pub legacy: bool,
 }
 

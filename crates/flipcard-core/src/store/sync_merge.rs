@@ -12,8 +12,7 @@ use super::codec::{Ms, to_ms};
 use super::db::Store;
 use super::error::StoreError;
 use super::merge::{IncomingReview, merge_one};
-use super::status::{self, StatusAction};
-use super::sync::LocalStatus;
+use super::status_log::{self, StatusAction};
 use super::{log, tally};
 use crate::sched::{ItemKey, Rating, Scheduler};
 
@@ -33,6 +32,14 @@ pub struct IncomingStatus {
     /// The answer that brought it about (a sibling bury).
     pub cause: Option<ReviewId>,
     pub undone: bool,
+}
+
+/// One status event that travels, once per identity and origin.
+#[derive(Debug, Clone)]
+pub struct LocalStatus {
+    pub status: IncomingStatus,
+    pub origin: Option<String>,
+    pub legacy: bool,
 }
 
 impl IncomingReview {
@@ -200,8 +207,8 @@ impl Store {
 
         for (s, origin) in &incoming.revive_statuses {
             let session = session_of(&tx, &mut session).map_err(sql_err)?;
-            let batch = status::next_batch(&tx).map_err(sql_err)?;
-            let id = status::append(&tx, session, batch, &s.key, s.at, s.action, s.until, None)
+            let batch = status_log::next_batch(&tx).map_err(sql_err)?;
+            let id = status_log::append(&tx, session, batch, &s.key, s.at, s.action, s.until, None)
                 .map_err(sql_err)?;
             tx.execute(
                 "UPDATE status_event SET origin = ?1 WHERE id = ?2",
@@ -233,7 +240,7 @@ impl Store {
                 )
                 .map_err(sql_err)?;
             if n > 0 {
-                status::refresh(&tx, key).map_err(sql_err)?;
+                status_log::refresh(&tx, key).map_err(sql_err)?;
                 out.undos += 1;
             }
         }
@@ -372,8 +379,8 @@ fn merge_status(
         None => None,
     };
     let session = session_of(tx, session)?;
-    let batch = status::next_batch(tx)?;
-    let id = status::append(tx, session, batch, k, s.at, s.action, s.until, cause)?;
+    let batch = status_log::next_batch(tx)?;
+    let id = status_log::append(tx, session, batch, k, s.at, s.action, s.until, cause)?;
     tx.execute(
         "UPDATE status_event SET origin = ?1 WHERE id = ?2",
         params![origin, id],
@@ -381,7 +388,7 @@ fn merge_status(
     let undone = s.undone || undo.contains(&(s.status_id(), origin.to_string()));
     if undone {
         tx.execute("UPDATE status_event SET undone = 1 WHERE id = ?1", [id])?;
-        status::refresh(tx, k)?;
+        status_log::refresh(tx, k)?;
     }
     Ok((1, undone))
 }
@@ -471,8 +478,8 @@ fn derive_leeches(
         if let Some((cause, at)) = want {
             let at = DateTime::from_timestamp_millis(*at).unwrap_or_default();
             let session = session_of(tx, session)?;
-            let batch = status::next_batch(tx)?;
-            status::append(
+            let batch = status_log::next_batch(tx)?;
+            status_log::append(
                 tx,
                 session,
                 batch,
@@ -483,7 +490,7 @@ fn derive_leeches(
                 Some(*cause),
             )?;
             if rule.suspend {
-                status::append(
+                status_log::append(
                     tx,
                     session,
                     batch,
@@ -495,7 +502,7 @@ fn derive_leeches(
                 )?;
             }
         }
-        status::refresh(tx, key)?;
+        status_log::refresh(tx, key)?;
     }
     Ok(changed)
 }

@@ -31,9 +31,9 @@ use std::sync::OnceLock;
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::rigid::model::{self, Body, State};
-use crate::solvers::{Method, Needs, SimError, Solver, Work};
-use attitude::Attitude;
+use crate::rigid::solver::{Method, Needs, SimError, Solver, Work};
 use flipcard_text::num::Num;
+use attitude::Attitude;
 use frame::Frame;
 use orbit::{Orbit, Shape};
 

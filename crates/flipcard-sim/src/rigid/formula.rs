@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 
 use crate::rigid::exact::{self, Exact, Regime};
 use crate::rigid::model::Body;
-use crate::solvers::Needs;
+use crate::rigid::solver::Needs;
 
 /// Relative difference below which two moments count as equal: a body that
 /// close to symmetric precesses like a symmetric top for far longer than

@@ -8,7 +8,7 @@ use nalgebra::Vector3;
 
 use crate::rigid::model::{self, Body};
 use crate::rigid::scales::Scales;
-use crate::solvers::SimError;
+use crate::rigid::solver::SimError;
 use flipcard_text::num::{Num, below};
 
 /// The largest phase Ωt (rad) of the fastest rate Ω a run may reach: 2³².

@@ -1,5 +1,6 @@
 //! The torque-free rigid body: its model, Euler's equations as a system for
-//! the stepping solvers, the exact Jacobi-elliptic solution, the polhode,
+//! the stepping solvers, the interface every solver of it offers
+//! (`solver`), the exact Jacobi-elliptic solution, the polhode,
 //! the closed-form formulas the measurements are checked against, and the
 //! limits of what f64 can resolve.
 
@@ -12,4 +13,5 @@ pub mod model;
 pub mod polhode;
 pub mod reference;
 pub mod scales;
+pub mod solver;
 pub mod trig;

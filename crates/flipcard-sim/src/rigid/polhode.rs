@@ -6,7 +6,7 @@
 use nalgebra::Vector3;
 
 use crate::rigid::model::Body;
-use crate::solvers::{SimError, Solver};
+use crate::rigid::solver::{SimError, Solver};
 
 /// Points on each separatrix circle.
 const SEPARATRIX_POINTS: usize = 181;

@@ -5,7 +5,7 @@ use nalgebra::Vector3;
 
 use crate::rigid::exact::Exact;
 use crate::rigid::model::Body;
-use crate::solvers::{Needs, SimError, Solver};
+use crate::rigid::solver::{Needs, SimError, Solver};
 
 /// The exact solution for `body` and `omega0`, with q only when `needs` asks.
 pub fn exact(body: Body, omega0: Vector3<f64>, needs: Needs) -> Result<Box<dyn Solver>, SimError> {

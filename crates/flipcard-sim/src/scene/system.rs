@@ -26,12 +26,9 @@ use crate::scene::slice::Slice;
 use crate::scene::spec::{Measure, Stat, SystemPanel, SystemScene};
 use crate::solvers::ode::{self, OdeError, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
 use crate::system::System;
-use crate::system::compile::{Cost, Fault, Source, time};
+use crate::system::compile::{Cost, Fault, POINTS_PER_STEP, Source, time};
 use flipcard_text::num::Num;
 
-/// Dense-output points per accepted step of an adaptive method (RK4's
-/// small fixed steps are sampled at their ends).
-pub const POINTS_PER_STEP: usize = 16;
 /// Points kept for each drawn curve (plot, phase, trail).
 pub const TRACE_LEN: usize = 2048;
 /// The level of |N(0)| below which drift is measured absolutely.

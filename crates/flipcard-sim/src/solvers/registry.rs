@@ -21,8 +21,7 @@ use flipcard_text::num::Num;
 /// Default tolerance of the adaptive solver (relative, and absolute against
 /// |ω₀| for ω): about 1e-9 relative error in ω over the notes' 36 flips.
 pub const DEFAULT_TOL: f64 = 1e-10;
-/// Tolerances tighter than this are below f64 rounding for an 8th-order pair.
-pub const MIN_TOL: f64 = 1e-14;
+pub use crate::rigid::solver::MIN_TOL;
 /// Default fixed step: this many steps per turn (2π) of the fastest rate of
 /// the orbit, nutation or spin.
 pub const DEFAULT_STEPS_PER_TURN: f64 = 256.0;

@@ -24,8 +24,8 @@
 use nalgebra::DMatrix;
 
 use super::expr::{self, Node};
-use crate::scene::spec::SystemScene;
 use crate::solvers::ode::OdeSystem;
+use crate::system::spec::SystemScene;
 use flipcard_text::num::Num;
 
 /// Most operations in one compiled program (an expression with the
@@ -945,14 +945,20 @@ pub struct Cost {
 /// twelve stages and the new point; Radau's Newton iterations are fewer).
 pub const EVALS_PER_STEP: usize = 13;
 
+/// Dense-output points per accepted step of an adaptive method (RK4's
+/// small fixed steps are sampled at their ends): the run samples its
+/// observables and sketch there ([`crate::scene::system`]), and the
+/// cost of a step counts them.
+pub const POINTS_PER_STEP: usize = 16;
+
 impl Cost {
     /// Operations one step may run: the stages, the Jacobian (one pass of
     /// the equations per variable), its LU decomposition (about n³), and the
     /// samples of every observable and sketch expression
-    /// ([`crate::scene::system::POINTS_PER_STEP`] a step).
+    /// ([`POINTS_PER_STEP`] a step).
     pub fn per_step(&self) -> f64 {
         let n = self.n as f64;
-        let points = crate::scene::system::POINTS_PER_STEP as f64;
+        let points = POINTS_PER_STEP as f64;
         (self.rhs as f64) * (EVALS_PER_STEP as f64 + n)
             + n * n * n
             + points * (self.observables + self.marks + self.n) as f64

@@ -5,6 +5,7 @@
 pub mod compile;
 pub mod expr;
 pub mod name;
+pub mod spec;
 
 pub use compile::System;
 pub use name::Name;

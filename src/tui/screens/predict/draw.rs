@@ -249,7 +249,7 @@ fn draw_play(
             t.strong(),
         ),
         Span::styled(
-            format!(" · {} ×{}", app.tr(Msg::Speed), fmt_speed(run.speed)),
+            format!(" · {} ×{}", app.tr(Msg::Speed), super::fmt_speed(run.speed)),
             t.dim(),
         ),
         Span::styled(format!(" · {}", run.method().label()), t.dim()),
@@ -446,13 +446,5 @@ fn sci(x: f64) -> String {
         "0".into()
     } else {
         format!("{x:.1e}")
-    }
-}
-
-pub(super) fn fmt_speed(speed: f64) -> String {
-    if speed >= 1.0 {
-        format!("{speed:.0}")
-    } else {
-        format!("1/{:.0}", 1.0 / speed)
     }
 }

@@ -467,3 +467,13 @@ fn commit_nav(
     }
     Nav::Stay
 }
+
+/// A run's speed as its status line shows it: `4`, `1/8` (the rigid
+/// body's and a system's alike).
+fn fmt_speed(speed: f64) -> String {
+    if speed >= 1.0 {
+        format!("{speed:.0}")
+    } else {
+        format!("1/{:.0}", 1.0 / speed)
+    }
+}

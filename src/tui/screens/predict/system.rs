@@ -257,11 +257,7 @@ pub fn draw(
         t.text(),
     )];
     s.push(Span::styled(
-        format!(
-            " · {} ×{}",
-            app.tr(Msg::Speed),
-            super::draw::fmt_speed(run.speed)
-        ),
+        format!(" · {} ×{}", app.tr(Msg::Speed), super::fmt_speed(run.speed)),
         t.dim(),
     ));
     s.push(Span::styled(

@@ -466,7 +466,7 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
 
 /// How far the card (or the summary) can scroll at the app's size.
 fn scroll_max(app: &App, state: &ReviewState) -> usize {
-    let body = crate::tui::view::body_rect(app.size);
+    let body = crate::tui::layout::body_rect(app.size);
     // The progress line above; the buttons (up to two lines) and the hints
     // below; the card's borders and margins.
     let rest_h = body.height.saturating_sub(1);
@@ -636,6 +636,7 @@ pub fn filtered_items(
     cram: bool,
 ) -> Result<Vec<ItemKey>, String> {
     use crate::catalog;
+    use crate::catalog::search::{Search, select};
     if !cram && filter.states.iter().any(|s| s == "suspended") {
         return Err(app.tr(Msg::SuspendedNeedsCram).to_string());
     }
@@ -652,8 +653,8 @@ pub fn filtered_items(
         now,
     )
     .map_err(|e| e.to_string())?;
-    let mut search = catalog::Search::for_text(&filter.text, decks, &rows);
-    let mut picked = catalog::select(decks, &rows, &mut search, filter, now);
+    let mut search = Search::for_text(&filter.text, decks, &rows);
+    let mut picked = select(decks, &rows, &mut search, filter, now);
     picked.sort_unstable();
     Ok(picked
         .into_iter()

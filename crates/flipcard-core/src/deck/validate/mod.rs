@@ -11,23 +11,13 @@ pub mod text;
 
 use std::collections::HashMap;
 
+pub use crate::deck::id::is_id;
 use crate::deck::model::{Card, CardKind, Prompt, Scene, SystemScene, Text};
 use crate::deck::raw::{List, RawAnswer, RawCard, RawDeckFile, RawPrompt, RawText, Span, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 
 use text::{Kind, Langs};
-
-/// `[a-z0-9]` words joined by single `-`.
-pub fn is_id(s: &str) -> bool {
-    !s.is_empty()
-        && s.split('-').all(|part| {
-            !part.is_empty()
-                && part
-                    .bytes()
-                    .all(|b| b.is_ascii_lowercase() || b.is_ascii_digit())
-        })
-}
 
 /// The id shape of `s` (lowercased, other characters turned into `-`).
 fn slug(s: &str) -> String {

@@ -1,0 +1,171 @@
+//! The interface every solver of the rigid body offers, so scenes, the
+//! CLI, the bench and the terminal view can switch methods freely: the
+//! [`Solver`] trait, the [`Method`] with its one accuracy knob, what a run
+//! [`Needs`], its [`Work`] and its [`SimError`]. The exact solution here in
+//! `rigid` implements it, as do the stepping solvers of
+//! [`crate::solvers`], which build on the rigid body's equations.
+
+use crate::rigid::model::{ModelError, State};
+
+/// Tolerances tighter than this are below f64 rounding for an 8th-order pair.
+pub const MIN_TOL: f64 = 1e-14;
+
+/// A solver and its one accuracy knob.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Method {
+    /// Closed form (Jacobi elliptic functions); the reference for every error figure.
+    Exact,
+    /// Embedded Runge–Kutta pair with error control and dense output.
+    Adaptive { tol: f64 },
+    /// Strang splitting into exactly solvable free-rotor flows (2nd order).
+    Splitting { dt: f64 },
+    /// 4th-order composition of the Strang splitting.
+    Splitting4 { dt: f64 },
+    /// Classical fixed-step RK4 with the quaternion renormalised.
+    Rk4 { dt: f64 },
+}
+
+/// The solver families, before their accuracy knob is chosen, in the order
+/// the live view cycles through them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Kind {
+    Exact,
+    Adaptive,
+    Splitting,
+    Splitting4,
+    Rk4,
+}
+
+impl Kind {
+    pub const ALL: [Kind; 5] = [
+        Kind::Exact,
+        Kind::Adaptive,
+        Kind::Splitting,
+        Kind::Splitting4,
+        Kind::Rk4,
+    ];
+
+    /// The name the command line, the CSV files and the screen use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Exact => "exact",
+            Kind::Adaptive => "adaptive",
+            Kind::Splitting => "splitting",
+            Kind::Splitting4 => "splitting4",
+            Kind::Rk4 => "rk4",
+        }
+    }
+
+    /// The family after this one, wrapping round.
+    pub fn next(self) -> Kind {
+        let i = Kind::ALL.iter().position(|k| *k == self).unwrap_or(0);
+        Kind::ALL[(i + 1) % Kind::ALL.len()]
+    }
+}
+
+impl Method {
+    pub fn kind(&self) -> Kind {
+        match self {
+            Method::Exact => Kind::Exact,
+            Method::Adaptive { .. } => Kind::Adaptive,
+            Method::Splitting { .. } => Kind::Splitting,
+            Method::Splitting4 { .. } => Kind::Splitting4,
+            Method::Rk4 { .. } => Kind::Rk4,
+        }
+    }
+
+    pub fn name(&self) -> &'static str {
+        self.kind().name()
+    }
+
+    /// The accuracy knob as the work–precision CSV writes it: `-`,
+    /// `tol=1e-10`, `dt=2.4544e-3` (five digits, so rows stay distinct).
+    pub fn setting(&self) -> String {
+        match *self {
+            Method::Exact => "-".to_string(),
+            Method::Adaptive { tol } => format!("tol={tol:.0e}"),
+            Method::Splitting { dt } | Method::Splitting4 { dt } | Method::Rk4 { dt } => {
+                format!("dt={dt:.4e}")
+            }
+        }
+    }
+
+    /// The method as the screen shows it: `exact`, `adaptive tol=1e-10`,
+    /// `rk4 dt=2.5e-3` (two digits: a label, not a record).
+    pub fn label(&self) -> String {
+        match *self {
+            Method::Exact => "exact".into(),
+            Method::Adaptive { tol } => format!("adaptive tol={tol:.0e}"),
+            Method::Splitting { dt } | Method::Splitting4 { dt } | Method::Rk4 { dt } => {
+                format!("{} dt={dt:.1e}", self.name())
+            }
+        }
+    }
+
+    /// The same family one notch coarser (`larger`) or finer: the step
+    /// doubled or halved, the tolerance multiplied or divided by 100 within
+    /// `[MIN_TOL, 1e-2]`; `None` for the exact solver, which has no knob.
+    pub fn scaled(&self, larger: bool) -> Option<Method> {
+        let f = if larger { 2.0 } else { 0.5 };
+        match *self {
+            Method::Exact => None,
+            Method::Adaptive { tol } => {
+                let tol = if larger { tol * 100.0 } else { tol / 100.0 };
+                Some(Method::Adaptive {
+                    tol: tol.clamp(MIN_TOL, 1e-2),
+                })
+            }
+            Method::Splitting { dt } => Some(Method::Splitting { dt: dt * f }),
+            Method::Splitting4 { dt } => Some(Method::Splitting4 { dt: dt * f }),
+            Method::Rk4 { dt } => Some(Method::Rk4 { dt: dt * f }),
+        }
+    }
+}
+
+/// What a run must produce: a scene that draws no body asks for no
+/// orientation, and then none is computed (q stays the identity).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Needs {
+    pub orientation: bool,
+}
+
+/// Work counters of a run so far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Work {
+    /// Accepted steps (0 for the exact solver).
+    pub steps: u64,
+    /// Evaluations of the right-hand side (Euler's equations, with or without q).
+    pub rhs_evals: u64,
+    /// Rejected steps of an adaptive solver.
+    pub rejected: u64,
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// The run would need more steps than its budget; `reason` says why and
+    /// what to use instead.
+    #[error("{0}")]
+    Budget(String),
+    #[error("{0}")]
+    Invalid(String),
+}
+
+/// A solver advancing one trajectory forward in time.
+pub trait Solver {
+    fn method(&self) -> Method;
+    /// The state at time `t`; `t` must not go back before the previous call's
+    /// `t` (solvers may keep their internal step sequence and use dense
+    /// output or a trial sub-step to land exactly on `t`).
+    fn advance(&mut self, t: f64) -> Result<State, SimError>;
+    fn work(&self) -> Work;
+    /// Announces the last time the run will ask for, so that a stepping
+    /// solver can refuse at once a span its step budget cannot cover (and
+    /// check its progress against that span while it runs). Solvers without
+    /// a budget accept any span.
+    fn plan(&mut self, t_end: f64) -> Result<(), SimError> {
+        let _ = t_end;
+        Ok(())
+    }
+}

@@ -1,0 +1,102 @@
+//! A system scene as the simulator runs it: its equations, constants,
+//! observables and start as written, and what it shows. Decks validate
+//! their TOML into it; it is here, below the scenes' runs
+//! ([`crate::scene`]), because compiling it is this folder's work.
+
+use flipcard_text::Text;
+
+/// A panel of a system scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum SystemPanel {
+    /// The `plot` quantities against time.
+    Plot,
+    /// The `phase` pair, one against the other.
+    Phase,
+    /// Lines, dots and trails drawn from expressions.
+    Sketch,
+    /// Method, steps, the stiffness switch, drift of the conserved
+    /// observables and the error against a reference run.
+    Diagnostics,
+}
+
+impl SystemPanel {
+    pub const ALL: [SystemPanel; 4] = [
+        SystemPanel::Plot,
+        SystemPanel::Phase,
+        SystemPanel::Sketch,
+        SystemPanel::Diagnostics,
+    ];
+    pub fn name(self) -> &'static str {
+        match self {
+            SystemPanel::Plot => "plot",
+            SystemPanel::Phase => "phase",
+            SystemPanel::Sketch => "sketch",
+            SystemPanel::Diagnostics => "diagnostics",
+        }
+    }
+    pub fn from_name(name: &str) -> Option<SystemPanel> {
+        SystemPanel::ALL.into_iter().find(|p| p.name() == name)
+    }
+}
+
+/// One element of a sketch; each coordinate is an expression.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Mark {
+    /// A segment from (x1, y1) to (x2, y2).
+    Line([String; 4]),
+    /// A dot at (x, y).
+    Dot([String; 2]),
+    /// The path (x, y) has followed so far.
+    Trail([String; 2]),
+}
+
+impl Mark {
+    pub fn key(&self) -> &'static str {
+        match self {
+            Mark::Line(_) => "line",
+            Mark::Dot(_) => "dot",
+            Mark::Trail(_) => "trail",
+        }
+    }
+    pub fn exprs(&self) -> &[String] {
+        match self {
+            Mark::Line(v) => v,
+            Mark::Dot(v) | Mark::Trail(v) => v,
+        }
+    }
+}
+
+/// A system of ordinary differential equations declared by a deck:
+/// d/dt of each variable is its equation, in terms of the variables, the
+/// named constants `params`, time `t` and the observables.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SystemScene {
+    pub id: String,
+    pub title: Option<Text>,
+    /// The state, in the author's order.
+    pub variables: Vec<String>,
+    pub initial: Vec<f64>,
+    /// Named constants, in the author's order.
+    pub params: Vec<(String, f64)>,
+    /// d/dt of each variable, same order, as written.
+    pub equations: Vec<String>,
+    /// Named expressions, in the author's order; each may use the ones
+    /// before it.
+    pub observables: Vec<(String, String)>,
+    /// Observables whose drift the diagnostics report.
+    pub conserved: Vec<String>,
+    pub duration: f64,
+    pub show: Vec<SystemPanel>,
+    /// Variables or observables plotted against time.
+    pub plot: Vec<String>,
+    /// The pair drawn in the phase portrait.
+    pub phase: Option<[String; 2]>,
+    pub sketch: Vec<Mark>,
+    pub time_unit: String,
+}
+
+impl SystemScene {
+    pub fn shows(&self, panel: SystemPanel) -> bool {
+        self.show.contains(&panel)
+    }
+}
