@@ -1070,7 +1070,10 @@ fn the_checker_sees_what_it_should() {
         "{code:?}"
     );
     assert!(code_of("sim").len() > 20, "the sim sources were not found");
-    assert!(code_of("store").len() > 10, "the store sources were not found");
+    assert!(
+        code_of("store").len() > 10,
+        "the store sources were not found"
+    );
     assert!(code_of("tui").len() > 20, "the tui sources were not found");
     assert!(
         uses("flipcard_io::open(p)", &["sim".to_string()]).contains("io"),

@@ -8,7 +8,6 @@ use std::time::Instant;
 
 use chrono::{DateTime, Utc};
 
-use crate::deck::Deck;
 use crate::catalog::{SearchIndex, SearchTexts};
 use crate::sched::Config;
 use crate::store::Store;
@@ -174,7 +173,6 @@ impl Services {
     pub fn study_day(&self, now: DateTime<Utc>) -> (DateTime<Utc>, DateTime<Utc>) {
         self.study.study_day(now)
     }
-
 
     /// Remembers the language for the next run.
     pub fn save_language(&mut self, lang: &str) -> Result<(), String> {

@@ -89,12 +89,10 @@ impl DeckRow {
     /// store cannot say).
     pub fn of(services: &Services, deck: &Deck) -> DeckRow {
         let now = services.now();
-        let counts = services.study.counts(deck, now).ok().map(|c| {
-            Counts {
-                new: c.new,
-                learning: c.learning,
-                due: c.due,
-            }
+        let counts = services.study.counts(deck, now).ok().map(|c| Counts {
+            new: c.new,
+            learning: c.learning,
+            due: c.due,
         });
         DeckRow {
             counts,

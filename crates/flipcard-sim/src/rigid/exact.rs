@@ -32,8 +32,8 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::rigid::model::{self, Body, State};
 use crate::rigid::solver::{Method, Needs, SimError, Solver, Work};
-use flipcard_text::num::Num;
 use attitude::Attitude;
+use flipcard_text::num::Num;
 use frame::Frame;
 use orbit::{Orbit, Shape};
 
