@@ -9,8 +9,8 @@
 //! evaluations of a closed form for the bundled scenes.
 //!
 //! ```no_run
-//! # use flipcard::sim::{Method, scene::SceneRun};
-//! # fn demo(scene: &flipcard::sim::scene::spec::Scene) -> Result<(), flipcard::sim::SimError> {
+//! # use flipcard_sim::{Method, scene::SceneRun};
+//! # fn demo(scene: &flipcard_sim::scene::spec::Scene) -> Result<(), flipcard_sim::SimError> {
 //! let mut run = SceneRun::new(scene, Method::Exact)?;
 //! while !run.finished() {
 //!     let frame = run.advance_to(run.frame().t + 1.0 / 30.0);
