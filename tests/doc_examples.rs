@@ -265,3 +265,21 @@ fn a_broken_example_is_caught() {
         "a deck error in an example must fail the test"
     );
 }
+
+/// The deck format's measure tables say what the vocabulary's table says:
+/// each rigid-body measure with its help text, each statistic as `stat(N)`.
+#[test]
+fn the_measure_tables_in_the_docs_match_the_vocabulary() {
+    use flipcard::sim::scene::vocabulary;
+    let doc =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/deck-format.md"))
+            .unwrap();
+    for (row, _) in vocabulary::rigid_rows() {
+        let line = format!("| `{}` | {} |", row.name, row.help.replace('|', "\\|"));
+        assert!(doc.contains(&line), "docs/deck-format.md lacks {line}");
+    }
+    for (row, _) in vocabulary::stat_rows() {
+        let call = format!("`{}(N)`", row.name);
+        assert!(doc.contains(&call), "docs/deck-format.md lacks {call}");
+    }
+}

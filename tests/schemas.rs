@@ -120,10 +120,13 @@ fn enumerations_come_from_the_model() {
             .map(|v| v.as_str().unwrap().to_string())
             .collect()
     };
-    use flipcard::deck::{Measure, Panel};
+    use flipcard::deck::Panel;
+    use flipcard::sim::scene::vocabulary;
     assert_eq!(
         names("Measure"),
-        Measure::ALL.map(|m| m.name().to_string()).to_vec()
+        vocabulary::rigid_rows()
+            .map(|(r, _)| r.name.to_string())
+            .collect::<Vec<_>>()
     );
     assert_eq!(
         names("Panel"),

@@ -462,36 +462,18 @@ pub fn ago(lang: &str, secs: i64) -> String {
     words.replace("{n}", &n.to_string()).replace("{unit}", unit)
 }
 
-/// How a measurement reads in the verdict.
+/// How a measurement reads in the verdict (its row's `words` in the
+/// measure vocabulary).
 pub fn measure(m: crate::deck::Measure) -> Words {
-    use crate::deck::Measure as M;
-    match m {
-        M::Flips => Words("flips", "flips"),
-        M::FlipPeriod => Words("flip period", "flip period"),
-        M::GrowthRate => Words("growth rate", "growth rate"),
-        M::EfoldTime => Words("e-folding time", "e-folding time"),
-        M::OscillationFreq => Words("oscillation frequency", "oscillation frequency"),
-        M::PrecessionRate => Words("precession rate", "precession rate"),
-        M::PrecessionPeriod => Words("precession period", "precession period"),
-        M::OmegaChange => Words("largest change of ω", "ω ka sabse bada badlaav"),
-        M::EnergyDrift => Words("energy drift", "energy drift"),
-        M::MomentumDrift => Words("|L| drift", "|L| drift"),
-        M::Of(stat, _) => stat_words(stat),
-    }
+    let (en, hi) = crate::sim::scene::vocabulary::row_of(m).words;
+    Words(en, hi)
 }
 
 /// A system measure's statistic, as the verdict reads it.
 pub fn stat_words(stat: crate::sim::scene::spec::Stat) -> Words {
-    use crate::sim::scene::spec::Stat as S;
-    match stat {
-        S::Max => Words("largest", "sabse bada"),
-        S::Min => Words("smallest", "sabse chhota"),
-        S::Final => Words("final", "aakhri"),
-        S::Mean => Words("mean", "ausat"),
-        S::Crossings => Words("zero crossings", "zero crossings"),
-        S::Period => Words("period", "period"),
-        S::Drift => Words("drift", "drift"),
-    }
+    use crate::sim::scene::vocabulary::{MeasureKind, row_kind};
+    let (en, hi) = row_kind(MeasureKind::System(stat)).words;
+    Words(en, hi)
 }
 
 /// How a measurement is named in the verdict: the rigid-body measure's

@@ -11,7 +11,8 @@ use std::borrow::Cow;
 use schemars::generate::SchemaSettings;
 use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
 
-use super::model::{CardKind, Cmp, Measure, Panel, Stat, SystemPanel};
+use super::model::{CardKind, Cmp, Panel, SystemPanel};
+use flipcard_sim::scene::vocabulary;
 
 pub const ID_PATTERN: &str = "^[a-z0-9]+(-[a-z0-9]+)*$";
 /// Holds at least one character that is not white space.
@@ -297,9 +298,8 @@ impl JsonSchema for AnyMeasure {
 
 /// `(max|min|…)\(name\)`.
 fn system_measure_pattern() -> String {
-    let stats = Stat::ALL
-        .iter()
-        .map(|s| s.name())
+    let stats = vocabulary::stat_rows()
+        .map(|(r, _)| r.name)
         .collect::<Vec<_>>()
         .join("|");
     format!(r"({stats})\(\s*[A-Za-z_][A-Za-z0-9_]*\s*\)")
@@ -447,7 +447,7 @@ impl JsonSchema for MeasureName {
     fn json_schema(_: &mut SchemaGenerator) -> Schema {
         names_schema(
             "What a scene's run measures.",
-            Measure::ALL.iter().map(|m| m.name()).collect(),
+            vocabulary::rigid_rows().map(|(r, _)| r.name).collect(),
         )
     }
 }
@@ -474,9 +474,8 @@ impl JsonSchema for Condition {
         "Condition".into()
     }
     fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        let measures = Measure::ALL
-            .iter()
-            .map(|m| m.name())
+        let measures = vocabulary::rigid_rows()
+            .map(|(r, _)| r.name)
             .chain(std::iter::once(system_measure_pattern().as_str()))
             .collect::<Vec<_>>()
             .join("|");

@@ -40,23 +40,12 @@ impl Reading {
     }
 }
 
-/// The formula each measure is compared with.
+/// The formula each measure is compared with (its row's `formula`).
 pub fn formula_name(measure: Measure) -> &'static str {
-    match measure {
-        Measure::Flips => "count",
-        Measure::FlipPeriod => "2K(m)/λ",
-        Measure::GrowthRate => "√k",
-        Measure::EfoldTime => "1/√k",
-        Measure::OscillationFreq => "√−k",
-        Measure::PrecessionRate => "(I₃ − I⊥)ω₃/I⊥",
-        Measure::PrecessionPeriod => "2π/|Ω_b|",
-        Measure::OmegaChange => "steady spin",
-        Measure::EnergyDrift | Measure::MomentumDrift => "invariant",
-        Measure::Of(..) => "",
-    }
+    crate::scene::vocabulary::row_of(measure).formula
 }
 
-/// Everything one run measured, in [`Measure::ALL`] order. A measure that
+/// Everything one run measured, in the vocabulary's order. A measure that
 /// does not apply to the motion (no flips to time, no symmetric top) is
 /// absent.
 #[derive(Debug, Clone, PartialEq, Default)]

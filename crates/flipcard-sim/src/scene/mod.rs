@@ -1,5 +1,6 @@
 //! A deck's scene as the simulator runs it: what it computes (`plan`), the
-//! run itself as the view plays it (`run`), what it measures (`measure`),
+//! run itself as the view plays it (`run`), what it measures (`measure`, whose names, help,
+//! parsing and dispatch sit in one table, `vocabulary`),
 //! and how long one call may advance it (`slice`).
 
 pub mod measure;
@@ -8,5 +9,6 @@ pub mod run;
 pub mod slice;
 pub mod spec;
 pub mod system;
+pub mod vocabulary;
 
 pub use run::*;

@@ -4,12 +4,14 @@
 //! scene's ([`SystemScene`]) is defined beside the systems that compile it,
 //! [`crate::system::spec`], and re-exported here.
 
+use crate::scene::vocabulary::{self, MeasureKind, ParseError};
 use crate::system::Name;
 pub use crate::system::spec::{Mark, SystemPanel, SystemScene};
 use flipcard_text::Text;
 
 /// What a scene's simulation can measure; prompts check against these.
-/// Names are the deck format's spelling (`Measure::name`).
+/// Names, help text and parsing come from the one table,
+/// [`vocabulary::MEASURES`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Measure {
     /// Sign changes of the spin component along the initially dominant axis.
@@ -38,67 +40,38 @@ pub enum Measure {
 }
 
 impl Measure {
-    pub const ALL: [Measure; 10] = [
-        Measure::Flips,
-        Measure::FlipPeriod,
-        Measure::GrowthRate,
-        Measure::EfoldTime,
-        Measure::OscillationFreq,
-        Measure::PrecessionRate,
-        Measure::PrecessionPeriod,
-        Measure::OmegaChange,
-        Measure::EnergyDrift,
-        Measure::MomentumDrift,
-    ];
-
-    /// The rigid-body measure's name, or the statistic's for a system
-    /// measure (whose full spelling, `period(theta)`, is its `Display`).
+    /// The deck format's name of a rigid-body measure, or the statistic's
+    /// for a system measure (whose full spelling, `period(theta)`, is its
+    /// `Display`), from the vocabulary's table.
     pub fn name(self) -> &'static str {
-        match self {
-            Measure::Of(stat, _) => stat.name(),
-            Measure::Flips => "flips",
-            Measure::FlipPeriod => "flip_period",
-            Measure::GrowthRate => "growth_rate",
-            Measure::EfoldTime => "efold_time",
-            Measure::OscillationFreq => "oscillation_freq",
-            Measure::PrecessionRate => "precession_rate",
-            Measure::PrecessionPeriod => "precession_period",
-            Measure::OmegaChange => "omega_change",
-            Measure::EnergyDrift => "energy_drift",
-            Measure::MomentumDrift => "momentum_drift",
-        }
+        vocabulary::row_of(self).name
     }
 
+    /// The rigid-body measure of this name.
     pub fn from_name(name: &str) -> Option<Measure> {
-        Measure::ALL.into_iter().find(|m| m.name() == name)
+        match vocabulary::row_named(name)?.kind {
+            MeasureKind::Rigid(m) => Some(m),
+            MeasureKind::System(_) => None,
+        }
     }
 
     /// A measure as written on the command line: a rigid-body name
     /// (`flips`) or a statistic of a quantity (`period(theta)`).
     pub fn parse(text: &str) -> Result<Measure, String> {
         let text = text.trim();
-        let Some(open) = text.find('(') else {
-            return Measure::from_name(text).ok_or_else(|| {
-                format!(
-                    "unknown measure `{text}` (system measures: max(N), min(N), final(N), mean(N), crossings(N), period(N), drift(N))"
-                )
-            });
-        };
-        let stat_name = text[..open].trim();
-        let stat = Stat::from_name(stat_name)
-            .ok_or_else(|| format!("unknown measure `{stat_name}` in `{text}`"))?;
-        let inner = text[open + 1..]
-            .strip_suffix(')')
-            .ok_or_else(|| format!("`{text}`: expected `)` at the end"))?
-            .trim();
-        if !crate::system::expr::is_name(inner) {
-            return Err(format!(
-                "`{text}`: `{inner}` is not a variable or observable name"
-            ));
+        match vocabulary::parse(text) {
+            Ok(parsed) => parsed.into_measure().map_err(|e| format!("`{text}`: {e}")),
+            Err(ParseError::UnknownName(_)) => Err(format!(
+                "unknown measure `{text}` ({})",
+                vocabulary::system_hint()
+            )),
+            Err(ParseError::UnknownStat { stat, .. }) => {
+                Err(format!("unknown measure `{stat}` in `{text}`"))
+            }
+            Err(ParseError::NoClose | ParseError::Trailing { .. }) => {
+                Err(format!("`{text}`: expected `)` at the end"))
+            }
         }
-        let name =
-            Name::new(inner).ok_or_else(|| format!("`{text}`: the name `{inner}` is too long"))?;
-        Ok(Measure::Of(stat, name))
     }
 
     /// Whether the measure applies to system scenes (else to rigid bodies).
@@ -135,28 +108,9 @@ pub enum Stat {
 }
 
 impl Stat {
-    pub const ALL: [Stat; 7] = [
-        Stat::Max,
-        Stat::Min,
-        Stat::Final,
-        Stat::Mean,
-        Stat::Crossings,
-        Stat::Period,
-        Stat::Drift,
-    ];
+    /// The statistic's name, from the vocabulary's table.
     pub fn name(self) -> &'static str {
-        match self {
-            Stat::Max => "max",
-            Stat::Min => "min",
-            Stat::Final => "final",
-            Stat::Mean => "mean",
-            Stat::Crossings => "crossings",
-            Stat::Period => "period",
-            Stat::Drift => "drift",
-        }
-    }
-    pub fn from_name(name: &str) -> Option<Stat> {
-        Stat::ALL.into_iter().find(|s| s.name() == name)
+        vocabulary::row_kind(MeasureKind::System(self)).name
     }
 }
 

@@ -8,7 +8,7 @@ use crate::deck::raw::{RawAnswer, RawChoice, RawTolerance, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
-use flipcard_sim::scene::spec::Stat;
+use flipcard_sim::scene::vocabulary::{self, ParseError, Parsed};
 use flipcard_sim::system::Name;
 use flipcard_text::num::Num;
 
@@ -278,72 +278,62 @@ fn measure_in(
     let text = text.trim();
     let start = start + lead;
     let span = at(start)..at(start + text.len().max(1));
-    let stats = || Stat::ALL.iter().map(|s| s.name());
-    let system_example =
-        "system measures: max(N), min(N), final(N), mean(N), crossings(N), period(N), drift(N)";
-    let Some(open) = text.find('(') else {
-        // A whole `measure = "…"` string is pointed at as a whole.
-        let span = if lead == 0 && end - start == s.value.len() {
-            s.span.clone()
-        } else {
-            span
-        };
-        let m = measure_name(rep, text, span.clone())?;
-        if let Some(SceneKind::System(_)) = kind {
+    let stats = || vocabulary::stat_rows().map(|(r, _)| r.name);
+    let system_example = vocabulary::system_hint();
+    let (stat, quantity, q_at) = match vocabulary::parse(text) {
+        Ok(Parsed::Of { stat, quantity, at }) => (stat, quantity, at),
+        Ok(Parsed::Rigid(_)) | Err(ParseError::UnknownName(_)) => {
+            // A whole `measure = "…"` string is pointed at as a whole.
+            let span = if lead == 0 && end - start == s.value.len() {
+                s.span.clone()
+            } else {
+                span
+            };
+            let m = measure_name(rep, text, span.clone())?;
+            if let Some(SceneKind::System(_)) = kind {
+                rep.error(
+                    span,
+                    format!("`{text}` is a rigid-body measure, but the prompt's scene is a system"),
+                    Some(system_example),
+                );
+                return None;
+            }
+            return Some(m);
+        }
+        Err(ParseError::UnknownStat { stat, at: stat_at }) => {
+            let hint = suggest::did_you_mean(stat, stats()).unwrap_or(system_example);
             rep.error(
-                span,
-                format!("`{text}` is a rigid-body measure, but the prompt's scene is a system"),
-                Some(system_example.to_string()),
+                at(start)..at(start + stat_at.end.max(1)),
+                format!("unknown measure `{stat}`"),
+                Some(hint),
             );
             return None;
         }
-        return Some(m);
+        Err(ParseError::NoClose) => {
+            let stat_name = text[..text.find('(').unwrap_or(0)].trim();
+            rep.error(
+                at(start + text.len())..at(start + text.len()) + 1,
+                format!("`{text}`: expected `)`"),
+                Some(format!("write {stat_name}(N), N a variable or observable")),
+            );
+            return None;
+        }
+        Err(ParseError::Trailing { close }) => {
+            rep.error(
+                at(start + close + 1)..at(start + text.len()),
+                format!("unexpected text after `{}`", &text[..=close]),
+                None,
+            );
+            return None;
+        }
     };
-    let stat_name = text[..open].trim();
-    let Some(stat) = Stat::from_name(stat_name) else {
-        let hint =
-            suggest::did_you_mean(stat_name, stats()).unwrap_or_else(|| system_example.to_string());
-        rep.error(
-            at(start)..at(start + open.max(1)),
-            format!("unknown measure `{stat_name}`"),
-            Some(hint),
-        );
-        return None;
-    };
-    let Some(close) = text.rfind(')').filter(|&c| c > open) else {
-        rep.error(
-            at(start + text.len())..at(start + text.len()) + 1,
-            format!("`{text}`: expected `)`"),
-            Some(format!("write {stat_name}(N), N a variable or observable")),
-        );
-        return None;
-    };
-    if close + 1 != text.len() {
-        rep.error(
-            at(start + close + 1)..at(start + text.len()),
-            format!("unexpected text after `{}`", &text[..=close]),
-            None,
-        );
-        return None;
-    }
-    let inner = &text[open + 1..close];
-    let q_lead = inner.len() - inner.trim_start().len();
-    let quantity = inner.trim();
-    let q_start = start + open + 1 + q_lead;
-    let q_span = at(q_start)..at(q_start + quantity.len().max(1));
+    let q_span = at(start + q_at.start)..at(start + q_at.start + quantity.len().max(1));
     match kind {
         Some(SceneKind::Rigid) => {
             rep.error(
                 span,
                 format!("`{text}` is a system measure, but the prompt's scene is a rigid body"),
-                Some(format!(
-                    "rigid-body measures: {}",
-                    Measure::ALL
-                        .iter()
-                        .map(|m| m.name())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )),
+                Some(vocabulary::rigid_hint()),
             );
             return None;
         }
@@ -377,7 +367,7 @@ fn measure_name(rep: &mut FileReport, name: &str, span: Range<usize>) -> Option<
     if let Some(m) = Measure::from_name(name) {
         return Some(m);
     }
-    let names = || Measure::ALL.iter().map(|m| m.name());
+    let names = || vocabulary::rigid_rows().map(|(r, _)| r.name);
     let bare = name.strip_prefix("measure.").unwrap_or(name);
     let hint = if bare != name && Measure::from_name(bare).is_some() {
         format!("write just `{bare}`")

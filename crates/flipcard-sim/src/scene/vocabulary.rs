@@ -1,0 +1,426 @@
+//! The measure vocabulary in one table: every measure a prompt, `check`,
+//! `sim --scene … --measure` or the verdict can name, with its spelling,
+//! its help text, whether it is a rigid-body measure or a statistic of a
+//! system's quantity, the closed form it is compared with, and how the
+//! verdict reads it. The name lists (deck validation, the JSON schema, the
+//! error hints), the one parser of measure text ([`parse`]) and the
+//! evaluation dispatch all read [`MEASURES`], so adding a measure is one
+//! row here (plus its variant in `spec.rs` and its evaluation: a reading
+//! in `Meter::finish` for a rigid body, an arm of `Tally::stat` for a
+//! statistic).
+
+use std::ops::Range;
+
+use crate::scene::spec::{Measure, Stat};
+use crate::system::Name;
+
+/// What a row names: a rigid-body measure, read from the run's meter, or a
+/// statistic a system measure takes of a variable or observable N,
+/// written `stat(N)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MeasureKind {
+    Rigid(Measure),
+    System(Stat),
+}
+
+/// One measure of the vocabulary.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeasureRow {
+    /// The deck format's and the command line's spelling (`flips`; `period`
+    /// of `period(theta)`).
+    pub name: &'static str,
+    /// What it measures, as the deck format documents it.
+    pub help: &'static str,
+    pub kind: MeasureKind,
+    /// How the closed form it is compared with reads in a verdict ("√k";
+    /// empty where none applies).
+    pub formula: &'static str,
+    /// How the verdict names it, in English and in Hinglish.
+    pub words: (&'static str, &'static str),
+}
+
+const fn rigid(
+    name: &'static str,
+    measure: Measure,
+    formula: &'static str,
+    words: (&'static str, &'static str),
+    help: &'static str,
+) -> MeasureRow {
+    MeasureRow {
+        name,
+        help,
+        kind: MeasureKind::Rigid(measure),
+        formula,
+        words,
+    }
+}
+
+const fn stat(
+    name: &'static str,
+    stat: Stat,
+    words: (&'static str, &'static str),
+    help: &'static str,
+) -> MeasureRow {
+    MeasureRow {
+        name,
+        help,
+        kind: MeasureKind::System(stat),
+        formula: "",
+        words,
+    }
+}
+
+/// Every measure, rigid-body measures first, each in the order lists and
+/// reports show them.
+pub const MEASURES: &[MeasureRow] = &[
+    rigid(
+        "flips",
+        Measure::Flips,
+        "count",
+        ("flips", "flips"),
+        "sign changes of the spin component along the initially dominant axis",
+    ),
+    rigid(
+        "flip_period",
+        Measure::FlipPeriod,
+        "2K(m)/λ",
+        ("flip period", "flip period"),
+        "mean time between successive flips",
+    ),
+    rigid(
+        "growth_rate",
+        Measure::GrowthRate,
+        "√k",
+        ("growth rate", "growth rate"),
+        "early exponential growth rate of a perturbation about the middle axis (1/time)",
+    ),
+    rigid(
+        "efold_time",
+        Measure::EfoldTime,
+        "1/√k",
+        ("e-folding time", "e-folding time"),
+        "1 / growth rate",
+    ),
+    rigid(
+        "oscillation_freq",
+        Measure::OscillationFreq,
+        "√−k",
+        ("oscillation frequency", "oscillation frequency"),
+        "angular frequency of the small wobble about a stable axis (rad/time)",
+    ),
+    rigid(
+        "precession_rate",
+        Measure::PrecessionRate,
+        "(I₃ − I⊥)ω₃/I⊥",
+        ("precession rate", "precession rate"),
+        "body-frame precession rate of a symmetric top (rad/time, signed)",
+    ),
+    rigid(
+        "precession_period",
+        Measure::PrecessionPeriod,
+        "2π/|Ω_b|",
+        ("precession period", "precession period"),
+        "2π / |precession rate|",
+    ),
+    rigid(
+        "omega_change",
+        Measure::OmegaChange,
+        "steady spin",
+        ("largest change of ω", "ω ka sabse bada badlaav"),
+        "largest change of any body-frame ω component over the run, relative to |ω₀|",
+    ),
+    rigid(
+        "energy_drift",
+        Measure::EnergyDrift,
+        "invariant",
+        ("energy drift", "energy drift"),
+        "largest relative drift of the kinetic energy",
+    ),
+    rigid(
+        "momentum_drift",
+        Measure::MomentumDrift,
+        "invariant",
+        ("|L| drift", "|L| drift"),
+        "largest relative drift of |L|²",
+    ),
+    stat(
+        "max",
+        Stat::Max,
+        ("largest", "sabse bada"),
+        "largest value of N over the run",
+    ),
+    stat(
+        "min",
+        Stat::Min,
+        ("smallest", "sabse chhota"),
+        "smallest value of N over the run",
+    ),
+    stat(
+        "final",
+        Stat::Final,
+        ("final", "aakhri"),
+        "N at the end of the run",
+    ),
+    stat(
+        "mean",
+        Stat::Mean,
+        ("mean", "ausat"),
+        "time average of N over the run (trapezoids between samples)",
+    ),
+    stat(
+        "crossings",
+        Stat::Crossings,
+        ("zero crossings", "zero crossings"),
+        "sign changes of N",
+    ),
+    stat(
+        "period",
+        Stat::Period,
+        ("period", "period"),
+        "mean time between upward crossings of the level halfway between N's minimum and maximum",
+    ),
+    stat(
+        "drift",
+        Stat::Drift,
+        ("drift", "drift"),
+        "largest |N(t) − N(0)| / |N(0)|",
+    ),
+];
+
+/// The rows of the rigid-body measures, in table order.
+pub fn rigid_rows() -> impl Iterator<Item = (&'static MeasureRow, Measure)> {
+    MEASURES.iter().filter_map(|r| match r.kind {
+        MeasureKind::Rigid(m) => Some((r, m)),
+        MeasureKind::System(_) => None,
+    })
+}
+
+/// The rows of the system statistics, in table order.
+pub fn stat_rows() -> impl Iterator<Item = (&'static MeasureRow, Stat)> {
+    MEASURES.iter().filter_map(|r| match r.kind {
+        MeasureKind::System(s) => Some((r, s)),
+        MeasureKind::Rigid(_) => None,
+    })
+}
+
+/// `system measures: max(N), min(N), …`: the hint an unknown measure gets.
+pub fn system_hint() -> String {
+    let calls: Vec<String> = stat_rows().map(|(r, _)| format!("{}(N)", r.name)).collect();
+    format!("system measures: {}", calls.join(", "))
+}
+
+/// `rigid-body measures: flips, flip_period, …`.
+pub fn rigid_hint() -> String {
+    let names: Vec<&str> = rigid_rows().map(|(r, _)| r.name).collect();
+    format!("rigid-body measures: {}", names.join(", "))
+}
+
+/// The row of a rigid-body measure's name or a statistic's name.
+pub fn row_named(name: &str) -> Option<&'static MeasureRow> {
+    MEASURES.iter().find(|r| r.name == name)
+}
+
+/// The row of a measure (the statistic's row for `stat(N)`).
+pub fn row_of(measure: Measure) -> &'static MeasureRow {
+    row_kind(match measure {
+        Measure::Of(s, _) => MeasureKind::System(s),
+        m => MeasureKind::Rigid(m),
+    })
+}
+
+/// The row of a rigid-body measure or a statistic.
+pub fn row_kind(kind: MeasureKind) -> &'static MeasureRow {
+    MEASURES.iter().find(|r| r.kind == kind).unwrap_or(&MISSING)
+}
+
+/// What [`row_of`] gives a variant left out of the table (the test
+/// `every_measure_has_one_row` keeps that from happening).
+const MISSING: MeasureRow = MeasureRow {
+    name: "?",
+    help: "",
+    kind: MeasureKind::Rigid(Measure::Flips),
+    formula: "",
+    words: ("?", "?"),
+};
+
+/// Measure text as written, split but not yet checked against a scene:
+/// a rigid-body measure, or a statistic of the quantity at `quantity`
+/// (byte offsets into the trimmed text).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Parsed<'a> {
+    Rigid(Measure),
+    Of {
+        stat: Stat,
+        quantity: &'a str,
+        /// Where the quantity sits in the trimmed text.
+        at: Range<usize>,
+    },
+}
+
+/// Why measure text does not parse. Ranges are byte offsets into the
+/// trimmed text.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ParseError<'a> {
+    /// A name with no `(…)` that is no rigid-body measure.
+    UnknownName(&'a str),
+    /// `stat(…)` with an unknown statistic, which sits at `at`.
+    UnknownStat { stat: &'a str, at: Range<usize> },
+    /// `stat(…` with no closing `)`.
+    NoClose,
+    /// Text after the closing `)`, which sits at `close`.
+    Trailing { close: usize },
+}
+
+/// The one parser of measure text: `flips`, or `period(theta)` (spaces
+/// allowed around the parts). Whether the quantity names something is left
+/// to the caller ([`Parsed::into_measure`] checks that it is a name at all).
+pub fn parse(text: &str) -> Result<Parsed<'_>, ParseError<'_>> {
+    let Some(open) = text.find('(') else {
+        return match row_named(text).map(|r| r.kind) {
+            Some(MeasureKind::Rigid(m)) => Ok(Parsed::Rigid(m)),
+            _ => Err(ParseError::UnknownName(text)),
+        };
+    };
+    let stat_name = text[..open].trim();
+    let Some(MeasureKind::System(stat)) = row_named(stat_name).map(|r| r.kind) else {
+        return Err(ParseError::UnknownStat {
+            stat: stat_name,
+            at: 0..open,
+        });
+    };
+    let Some(close) = text.rfind(')').filter(|&c| c > open) else {
+        return Err(ParseError::NoClose);
+    };
+    if close + 1 != text.len() {
+        return Err(ParseError::Trailing { close });
+    }
+    let inner = &text[open + 1..close];
+    let lead = inner.len() - inner.trim_start().len();
+    let quantity = inner.trim();
+    let start = open + 1 + lead;
+    Ok(Parsed::Of {
+        stat,
+        quantity,
+        at: start..start + quantity.len(),
+    })
+}
+
+impl Parsed<'_> {
+    /// The measure, once the quantity is a variable or observable name.
+    pub fn into_measure(self) -> Result<Measure, String> {
+        match self {
+            Parsed::Rigid(m) => Ok(m),
+            Parsed::Of { stat, quantity, .. } => {
+                if !crate::system::expr::is_name(quantity) {
+                    return Err(format!("`{quantity}` is not a variable or observable name"));
+                }
+                let name = Name::new(quantity)
+                    .ok_or_else(|| format!("the name `{quantity}` is too long"))?;
+                Ok(Measure::Of(stat, name))
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_measure_has_one_row() {
+        for (i, r) in MEASURES.iter().enumerate() {
+            assert!(
+                MEASURES[..i]
+                    .iter()
+                    .all(|o| o.name != r.name && o.kind != r.kind),
+                "{} twice",
+                r.name
+            );
+            let m = match r.kind {
+                MeasureKind::Rigid(m) => m,
+                MeasureKind::System(s) => Measure::Of(s, Name::new("x").unwrap()),
+            };
+            assert_eq!(row_of(m), r);
+            assert_eq!(m.name(), r.name);
+        }
+        // Every variant, spelled out once here so that the compiler points
+        // at this test when one is added without a row.
+        let check = |m: Measure| assert_ne!(row_of(m).name, "?", "{m:?} has no row");
+        let x = || Name::new("x").unwrap();
+        for m in [
+            Measure::Flips,
+            Measure::FlipPeriod,
+            Measure::GrowthRate,
+            Measure::EfoldTime,
+            Measure::OscillationFreq,
+            Measure::PrecessionRate,
+            Measure::PrecessionPeriod,
+            Measure::OmegaChange,
+            Measure::EnergyDrift,
+            Measure::MomentumDrift,
+            Measure::Of(Stat::Max, x()),
+            Measure::Of(Stat::Min, x()),
+            Measure::Of(Stat::Final, x()),
+            Measure::Of(Stat::Mean, x()),
+            Measure::Of(Stat::Crossings, x()),
+            Measure::Of(Stat::Period, x()),
+            Measure::Of(Stat::Drift, x()),
+        ] {
+            match m {
+                Measure::Flips
+                | Measure::FlipPeriod
+                | Measure::GrowthRate
+                | Measure::EfoldTime
+                | Measure::OscillationFreq
+                | Measure::PrecessionRate
+                | Measure::PrecessionPeriod
+                | Measure::OmegaChange
+                | Measure::EnergyDrift
+                | Measure::MomentumDrift => (),
+                Measure::Of(
+                    Stat::Max
+                    | Stat::Min
+                    | Stat::Final
+                    | Stat::Mean
+                    | Stat::Crossings
+                    | Stat::Period
+                    | Stat::Drift,
+                    _,
+                ) => (),
+            }
+            check(m);
+        }
+    }
+
+    #[test]
+    fn hints_keep_their_spelling() {
+        assert_eq!(
+            system_hint(),
+            "system measures: max(N), min(N), final(N), mean(N), crossings(N), period(N), drift(N)"
+        );
+    }
+
+    #[test]
+    fn parses_both_kinds() {
+        assert_eq!(parse("flips"), Ok(Parsed::Rigid(Measure::Flips)));
+        assert_eq!(
+            parse("period( theta )"),
+            Ok(Parsed::Of {
+                stat: Stat::Period,
+                quantity: "theta",
+                at: 8..13
+            })
+        );
+        assert_eq!(parse("flip"), Err(ParseError::UnknownName("flip")));
+        assert_eq!(parse("max"), Err(ParseError::UnknownName("max")));
+        assert_eq!(
+            parse("flips(x)"),
+            Err(ParseError::UnknownStat {
+                stat: "flips",
+                at: 0..5
+            })
+        );
+        assert_eq!(parse("max(x"), Err(ParseError::NoClose));
+        assert_eq!(parse("max(x)y"), Err(ParseError::Trailing { close: 5 }));
+    }
+}
