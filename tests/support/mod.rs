@@ -14,6 +14,8 @@
 pub mod cli;
 pub mod taylor_dd;
 
+pub use cli::{Flipcard, Output};
+
 use std::collections::HashMap;
 use std::process::{Command, Stdio};
 use std::sync::Mutex;
