@@ -535,23 +535,11 @@ fn esc_and_ctrl_c_answer_at_once_while_a_heavy_scene_plays() {
     let (code, out, err) = run(release(), &["check", d.path().to_str().unwrap()], None);
     assert_eq!(code, 0, "{out}{err}");
     let home = tempfile::tempdir().unwrap();
-    let env = [
-        ("FLIPCARD_NOW", "2026-03-02T09:00:00Z".to_string()),
-        (
-            "FLIPCARD_DATA_DIR",
-            home.path().join("data").display().to_string(),
-        ),
-        (
-            "FLIPCARD_CONFIG",
-            home.path().join("config.toml").display().to_string(),
-        ),
-        (
-            "FLIPCARD_DECKS",
-            d.dir.path().join("decks").display().to_string(),
-        ),
-        ("TERM", "xterm-256color".to_string()),
-    ];
-    let t = crate::tui_e2e::Tmux::start("heavy", &env, "", 100, 32);
+    let app = Flipcard::new(home.path().join("data"))
+        .config(home.path().join("config.toml"))
+        .decks(d.dir.path().join("decks"))
+        .now("2026-03-02T09:00:00Z");
+    let t = crate::tui_e2e::Tmux::start("heavy", app, 100, 32);
     t.wait_for("last studied");
     let decks = flipcard::deck::bundled::load().decks.len();
     // Each key while the run plays: the time until the screen shows what

@@ -59,6 +59,7 @@ pub struct Flipcard {
     dir: Option<PathBuf>,
     stdin: Option<Vec<u8>>,
     stdout: Option<Stdio>,
+    stderr: Option<Stdio>,
 }
 
 impl Flipcard {
@@ -95,6 +96,7 @@ impl Flipcard {
             dir: None,
             stdin: None,
             stdout: None,
+            stderr: None,
         }
     }
 
@@ -188,6 +190,13 @@ impl Flipcard {
         self
     }
 
+    /// Where standard error goes instead of being captured;
+    /// [`Output::stderr`] is then empty.
+    pub fn stderr(mut self, to: Stdio) -> Flipcard {
+        self.stderr = Some(to);
+        self
+    }
+
     /// `flipcard ARGS`, for messages.
     fn describe(&self) -> String {
         let mut words = vec!["flipcard".to_string()];
@@ -226,8 +235,12 @@ impl Flipcard {
         } else {
             Stdio::null()
         });
+        // Unset, they are captured by `run` and inherited by `command`.
         if let Some(to) = self.stdout {
             c.stdout(to);
+        }
+        if let Some(to) = self.stderr {
+            c.stderr(to);
         }
         (c, self.stdin)
     }
@@ -235,20 +248,26 @@ impl Flipcard {
     /// Runs to the end and returns what it wrote and how it exited.
     pub fn run(self) -> Output {
         let what = self.describe();
+        let captured = (self.stdout.is_none(), self.stderr.is_none());
         let (mut command, stdin) = self.build();
         let out = match stdin {
+            // `output` captures what the test did not send elsewhere.
             None => command.output(),
-            Some(bytes) => command
-                .stdout(Stdio::piped())
-                .stderr(Stdio::piped())
-                .spawn()
-                .and_then(|mut child| {
+            Some(bytes) => {
+                if captured.0 {
+                    command.stdout(Stdio::piped());
+                }
+                if captured.1 {
+                    command.stderr(Stdio::piped());
+                }
+                command.spawn().and_then(|mut child| {
                     let mut pipe = child.stdin.take().expect("stdin piped");
                     // A command that stops reading early is not an error here.
                     let _ = pipe.write_all(&bytes);
                     drop(pipe);
                     child.wait_with_output()
-                }),
+                })
+            }
         };
         Output {
             out: out.unwrap_or_else(|e| panic!("cannot run {what}: {e}")),
@@ -262,7 +281,10 @@ impl Flipcard {
     /// the command takes); timing targets live in benchmarks.
     pub fn run_within(self, seconds: u64) -> Output {
         let what = self.describe();
-        assert!(self.stdin.is_none(), "run_within takes no stdin");
+        assert!(
+            self.stdin.is_none() && self.stdout.is_none() && self.stderr.is_none(),
+            "run_within gives no input and captures the output"
+        );
         let mut child = self
             .command()
             .stdout(Stdio::piped())

@@ -14,7 +14,7 @@
 pub mod cli;
 pub mod taylor_dd;
 
-pub use cli::{Flipcard, Output};
+pub use cli::{Flipcard, Output, release_binary};
 
 use std::collections::HashMap;
 use std::process::{Command, Stdio};
