@@ -274,7 +274,7 @@ fn as_nobody(dir: &Path, args: &[&str]) -> Option<Run> {
             .status()
             .is_ok_and(|s| s.success())
     };
-    let mut bin = PathBuf::from(env!("CARGO_BIN_EXE_flipcard"));
+    let mut bin = crate::support::test_binary().to_path_buf();
     if !can_run(&bin) {
         let copy = dir.join("flipcard-bin");
         fs::copy(&bin, &copy).unwrap();

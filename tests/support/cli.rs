@@ -89,7 +89,7 @@ impl Flipcard {
             ),
         );
         Flipcard {
-            program: PathBuf::from(env!("CARGO_BIN_EXE_flipcard")),
+            program: test_binary().to_path_buf(),
             prefix: Vec::new(),
             args: Vec::new(),
             vars,
@@ -361,6 +361,11 @@ impl Flipcard {
 /// `word` in single quotes for `sh`.
 fn quote(word: &OsStr) -> String {
     format!("'{}'", word.to_string_lossy().replace('\'', "'\\''"))
+}
+
+/// The binary cargo built for these tests (the test profile's).
+pub fn test_binary() -> &'static Path {
+    Path::new(env!("CARGO_BIN_EXE_flipcard"))
 }
 
 /// The release binary, built once per test run. Cargo locks each profile's

@@ -14,7 +14,7 @@
 pub mod cli;
 pub mod taylor_dd;
 
-pub use cli::{Flipcard, Output, release_binary};
+pub use cli::{Flipcard, Output, release_binary, test_binary};
 
 use std::collections::HashMap;
 use std::process::{Command, Stdio};
