@@ -5,11 +5,12 @@
 //! written.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use chrono::{DateTime, Utc};
 use flipcard::sched::{Config, Direction, ItemKey, Rating, Scheduler};
 use flipcard::store::Store;
+
+use crate::support::{Flipcard, Output};
 
 const NOW: &str = "2026-03-01T12:00:00Z";
 const T0_MS: i64 = 1_767_600_000_000;
@@ -20,19 +21,7 @@ fn fixture(name: &str) -> String {
 }
 
 fn flipcard(data: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(args)
-        .env("FLIPCARD_DATA_DIR", data)
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env("FLIPCARD_CONFIG", data.join("none.toml"))
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .expect("run flipcard")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    Flipcard::new(data).now(NOW).args(args).run()
 }
 
 /// The card id of the card whose front is `front` in a written deck.
@@ -75,8 +64,8 @@ fn both_layouts_import_decks_that_pass_check_and_their_history() {
             &data,
             &["import", &fixture(package), "--out", out.to_str().unwrap()],
         );
-        let stdout = text(&run.stdout);
-        assert!(run.status.success(), "{package}: {}", text(&run.stderr));
+        let stdout = run.stdout();
+        assert!(run.status.success(), "{package}: {}", run.stderr());
         assert!(
             stdout.contains("media skipped: 1 file in the package, 1 reference"),
             "{stdout}"
@@ -100,11 +89,10 @@ fn both_layouts_import_decks_that_pass_check_and_their_history() {
         assert!(!stdout.contains("cloze note left out"), "{stdout}");
         assert!(deck.contains("kind = \"cloze\""), "{deck}");
         assert!(deck.contains("{{c1::Euler}}"), "{deck}");
-        let check = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+        let check = Flipcard::without_data()
             .args(["check", out.join("decks").to_str().unwrap()])
-            .output()
-            .unwrap();
-        assert!(check.status.success(), "{package}: {}", text(&check.stdout));
+            .run();
+        assert!(check.status.success(), "{package}: {}", check.stdout());
         assert!(out.join("content/physics-rotation/en.toml").is_file());
 
         // The history, replayed through FSRS as if answered here.
@@ -185,9 +173,11 @@ fn both_layouts_import_decks_that_pass_check_and_their_history() {
             ],
         );
         assert!(
-            text(&again.stdout).contains("review history: 0 added, 15 already present"),
+            again
+                .stdout()
+                .contains("review history: 0 added, 15 already present"),
             "{}",
-            text(&again.stdout)
+            again.stdout()
         );
         // Into the same folder: refused, nothing overwritten.
         let clash = flipcard(
@@ -195,7 +185,7 @@ fn both_layouts_import_decks_that_pass_check_and_their_history() {
             &["import", &fixture(package), "--out", out.to_str().unwrap()],
         );
         assert_eq!(clash.status.code(), Some(1));
-        assert!(text(&clash.stderr).contains("already exists"));
+        assert!(clash.stderr().contains("already exists"));
         assert_eq!(std::fs::read_to_string(&deck_path).unwrap(), deck);
     }
 }
@@ -225,7 +215,7 @@ fn bad_packages_are_refused_and_nothing_is_written() {
             &["import", &fixture(name), "--out", out.to_str().unwrap()],
         );
         assert_eq!(run.status.code(), Some(1), "{name}");
-        let err = text(&run.stderr);
+        let err = run.stderr();
         assert_eq!(err.lines().count(), 1, "{name}: {err}");
         assert!(err.contains(want), "{name}: {err}");
         assert!(!out.exists(), "{name}: no deck folder");
@@ -234,7 +224,7 @@ fn bad_packages_are_refused_and_nothing_is_written() {
     let dir = tempfile::tempdir().unwrap();
     let missing = flipcard(dir.path(), &["import", "nowhere.apkg"]);
     assert_eq!(missing.status.code(), Some(1));
-    assert!(text(&missing.stderr).contains("cannot read nowhere.apkg"));
+    assert!(missing.stderr().contains("cannot read nowhere.apkg"));
 }
 
 /// `legacy.apkg` with its collection changed by `change` (SQL run on the
@@ -283,19 +273,12 @@ fn rewritten(dir: &Path, name: &str, change: impl FnOnce(&rusqlite::Connection))
 /// for ever).
 fn import_within(dir: &Path, package: &Path, seconds: u64) -> Output {
     std::fs::create_dir_all(dir.join("tmp")).unwrap();
-    crate::deadline::output_within(
-        Command::new(env!("CARGO_BIN_EXE_flipcard"))
-            .args(["import", package.to_str().unwrap(), "--out"])
-            .arg(dir.join("out"))
-            .env("FLIPCARD_DATA_DIR", dir.join("data"))
-            .env("FLIPCARD_NOW", NOW)
-            .env("TZ", "UTC")
-            .env("FLIPCARD_CONFIG", dir.join("none.toml"))
-            .env("TMPDIR", dir.join("tmp"))
-            .env_remove("FLIPCARD_DECKS"),
-        seconds,
-        &format!("importing {}", package.display()),
-    )
+    Flipcard::new(dir.join("data"))
+        .now(NOW)
+        .env("TMPDIR", dir.join("tmp"))
+        .args(["import", package.to_str().unwrap(), "--out"])
+        .arg(dir.join("out"))
+        .run_within(seconds)
 }
 
 /// The id of the first note (the one asking "What is torque?").
@@ -340,7 +323,7 @@ fn a_view_in_place_of_a_table_is_refused_in_one_line() {
             .unwrap();
         });
         let run = import_within(dir.path(), &package, 60);
-        let err = text(&run.stderr);
+        let err = run.stderr();
         assert_eq!(run.status.code(), Some(1), "{table}: {err}");
         assert_eq!(err.lines().count(), 1, "{table}: {err}");
         assert!(
@@ -365,7 +348,7 @@ fn field_text_is_converted_in_linear_time() {
         let package = rewritten(dir.path(), "long.apkg", |c| set_front(c, &front));
         assert!(std::fs::metadata(&package).unwrap().len() < 64 << 10);
         let run = import_within(dir.path(), &package, 120);
-        assert!(run.status.success(), "{}", text(&run.stderr));
+        assert!(run.status.success(), "{}", run.stderr());
         let deck =
             std::fs::read_to_string(dir.path().join("out/decks/physics-rotation.toml")).unwrap();
         let doc: toml::Table = deck.parse().unwrap();
@@ -386,7 +369,7 @@ fn a_field_longer_than_a_card_can_be_is_refused() {
         set_front(c, &"x".repeat(5 << 20))
     });
     let run = import_within(dir.path(), &package, 120);
-    let err = text(&run.stderr);
+    let err = run.stderr();
     assert_eq!(run.status.code(), Some(1), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(
@@ -423,7 +406,7 @@ fn answers_dated_before_1970_or_in_the_future_are_refused() {
                 .unwrap();
         });
         let run = import_within(dir.path(), &package, 60);
-        let err = text(&run.stderr);
+        let err = run.stderr();
         assert_eq!(run.status.code(), Some(1), "{err}");
         assert_eq!(err.lines().count(), 1, "{err}");
         assert!(err.contains(says), "{err}");
@@ -448,9 +431,9 @@ fn the_summary_escapes_deck_names_from_the_collection() {
         c.execute("UPDATE col SET decks = ?1", [decks]).unwrap();
     });
     let run = import_within(dir.path(), &package, 60);
-    assert!(run.status.success(), "{}", text(&run.stderr));
+    assert!(run.status.success(), "{}", run.stderr());
     assert!(!run.stdout.contains(&0x1b) && !run.stdout.contains(&0x07));
-    let out = text(&run.stdout);
+    let out = run.stdout();
     assert!(
         out.contains("(Physics\\u001b]0;owned\\u0007::Rot\\u001b[2J)"),
         "{out}"
@@ -512,14 +495,12 @@ fn a_killed_import_leaves_no_scratch_copy_behind() {
         }
         found
     };
-    let mut child = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+    let mut child = Flipcard::new(dir.path().join("data"))
+        .now(NOW)
+        .env("TMPDIR", &tmp)
         .args(["import", package.to_str().unwrap(), "--out"])
         .arg(dir.path().join("out"))
-        .env("FLIPCARD_DATA_DIR", dir.path().join("data"))
-        .env("FLIPCARD_NOW", NOW)
-        .env("FLIPCARD_CONFIG", dir.path().join("none.toml"))
-        .env("TMPDIR", &tmp)
-        .env_remove("FLIPCARD_DECKS")
+        .command()
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
         .spawn()
@@ -537,17 +518,13 @@ fn a_killed_import_leaves_no_scratch_copy_behind() {
     child.wait().unwrap();
     // The next import runs to its end, and nothing is left from either.
     let left = tempfile::tempdir().unwrap();
-    let run = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+    let run = Flipcard::new(dir.path().join("data"))
+        .now(NOW)
+        .env("TMPDIR", &tmp)
         .args(["import", &fixture("legacy.apkg"), "--out"])
         .arg(left.path().join("out"))
-        .env("FLIPCARD_DATA_DIR", dir.path().join("data"))
-        .env("FLIPCARD_NOW", NOW)
-        .env("FLIPCARD_CONFIG", dir.path().join("none.toml"))
-        .env("TMPDIR", &tmp)
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .unwrap();
-    assert!(run.status.success(), "{}", text(&run.stderr));
+        .run();
+    assert!(run.status.success(), "{}", run.stderr());
     assert_eq!(
         scratch(),
         Vec::<PathBuf>::new(),

@@ -4,9 +4,9 @@
 //! tightens, and the SVG parses.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::Flipcard;
+
 const HEADER: &str =
     "case,method,setting,steps,rhs_evals,wall_s,err_omega,err_energy,err_l2,err_lspace,err_qnorm";
 
@@ -32,11 +32,10 @@ fn fields(line: &str) -> Vec<String> {
 #[test]
 fn quick_bench_writes_csv_and_svg() {
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(BIN)
+    let out = Flipcard::without_data()
         .args(["bench", "--quick", "--out"])
         .arg(dir.path())
-        .output()
-        .unwrap();
+        .run();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains("bench [1/"), "progress on stderr: {stderr}");
@@ -121,11 +120,10 @@ fn unwritable_output_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("a-file");
     std::fs::write(&file, "x").unwrap();
-    let out = Command::new(BIN)
+    let out = Flipcard::without_data()
         .args(["bench", "--quick", "--out"])
         .arg(&file)
-        .output()
-        .unwrap();
+        .run();
     assert!(!out.status.success());
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("output folder"), "{stderr}");
@@ -138,11 +136,10 @@ const SYSTEMS_HEADER: &str =
 #[test]
 fn quick_bench_writes_the_systems_csv() {
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(BIN)
+    let out = Flipcard::without_data()
         .args(["bench", "--quick", "--out"])
         .arg(dir.path())
-        .output()
-        .unwrap();
+        .run();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
 

@@ -4,7 +4,8 @@
 //! one-line errors.
 
 use std::path::Path;
-use std::process::{Command, Output};
+
+use crate::support::{Flipcard, Output};
 
 const NOW: &str = "2026-05-10T12:00:00Z";
 const HEADER: &str = "deck,card,direction,state,due,stability,difficulty,retrievability,reviews,lapses,suspended,buried,leech,tags";
@@ -19,33 +20,21 @@ fn flipcard(data: &Path, args: &[&str]) -> Output {
     if args.first() == Some(&"review") && args.get(1).is_some_and(|a| a.starts_with("--")) {
         args.insert(1, "study");
     }
-    Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(&args)
-        .env("FLIPCARD_DATA_DIR", data)
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env("FLIPCARD_CONFIG", data.join("no-such-config.toml"))
-        .env(
-            "FLIPCARD_DECKS",
-            concat!(env!("CARGO_MANIFEST_DIR"), "/tests/decks/study/decks"),
-        )
-        .output()
-        .expect("run flipcard")
-}
-
-fn out(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn err(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+    Flipcard::new(data)
+        .now(NOW)
+        .decks(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/decks/study/decks"
+        ))
+        .args(args)
+        .run()
 }
 
 /// (card/direction, suspended, buried) of every row of `cards list QUERY`.
 fn marks(data: &Path, query: &str) -> Vec<(String, String, String)> {
     let o = flipcard(data, &["cards", "list", query]);
-    assert!(o.status.success(), "{}", err(&o));
-    let text = out(&o);
+    assert!(o.status.success(), "{}", o.stderr());
+    let text = o.stdout();
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some(HEADER));
     lines
@@ -80,8 +69,8 @@ fn list_prints_one_row_per_item_in_csv_and_json() {
         dir.path(),
         &["cards", "list", "tag:frames", "--format", "json"],
     );
-    assert!(o.status.success(), "{}", err(&o));
-    let json: serde_json::Value = serde_json::from_str(&out(&o)).unwrap();
+    assert!(o.status.success(), "{}", o.stderr());
+    let json: serde_json::Value = serde_json::from_str(&o.stdout()).unwrap();
     let rows = json.as_array().unwrap();
     assert_eq!(rows.len(), 3);
     let fields: Vec<&str> = rows[0]
@@ -112,7 +101,7 @@ fn suspend_unsuspend_bury_change_all_or_nothing() {
     let o = flipcard(d, &["cards", "suspend", "study/middle", "study/nope"]);
     assert_eq!(o.status.code(), Some(1));
     assert_eq!(
-        err(&o).trim(),
+        o.stderr().trim(),
         "flipcard: error: unknown item `study/nope`: deck `study` has no card `nope`"
     );
     assert!(marks(d, "is:suspended").is_empty());
@@ -124,8 +113,8 @@ fn suspend_unsuspend_bury_change_all_or_nothing() {
     ] {
         let o = flipcard(d, &["cards", "bury", bad]);
         assert_eq!(o.status.code(), Some(1), "{bad}");
-        assert_eq!(err(&o).lines().count(), 1, "{bad}: {}", err(&o));
-        assert!(err(&o).contains(bad), "{bad}: {}", err(&o));
+        assert_eq!(o.stderr().lines().count(), 1, "{bad}: {}", o.stderr());
+        assert!(o.stderr().contains(bad), "{bad}: {}", o.stderr());
     }
     assert!(marks(d, "state:buried").is_empty());
 
@@ -138,8 +127,8 @@ fn suspend_unsuspend_bury_change_all_or_nothing() {
             "study/torque-rate/c2",
         ],
     );
-    assert!(o.status.success(), "{}", err(&o));
-    assert_eq!(out(&o).trim(), "suspended: 3 items");
+    assert!(o.status.success(), "{}", o.stderr());
+    assert_eq!(o.stdout().trim(), "suspended: 3 items");
     let s: Vec<String> = marks(d, "is:suspended").into_iter().map(|r| r.0).collect();
     assert_eq!(
         s,
@@ -147,7 +136,7 @@ fn suspend_unsuspend_bury_change_all_or_nothing() {
     );
 
     let o = flipcard(d, &["cards", "bury", "study/middle/forward"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     assert_eq!(
         marks(d, "is:buried"),
         [(
@@ -165,21 +154,22 @@ fn suspend_unsuspend_bury_change_all_or_nothing() {
             "study/middle",
         ],
     );
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     let s: Vec<String> = marks(d, "is:suspended").into_iter().map(|r| r.0).collect();
     assert_eq!(s, ["torque-rate/c2", "spin-axis/forward"]);
     assert!(marks(d, "is:buried").is_empty(), "unsuspend lifts a bury");
 
     // The marks come from the status log: a rebuild gives them again.
     let o = flipcard(d, &["db", "rebuild"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     let s: Vec<String> = marks(d, "is:suspended").into_iter().map(|r| r.0).collect();
     assert_eq!(s, ["torque-rate/c2", "spin-axis/forward"]);
     let o = flipcard(d, &["stats"]);
     assert!(
-        out(&o).contains("Suspended: 2; buried today: 0; leeches: 0"),
+        o.stdout()
+            .contains("Suspended: 2; buried today: 0; leeches: 0"),
         "{}",
-        out(&o)
+        o.stdout()
     );
 }
 
@@ -224,15 +214,19 @@ fn bad_queries_and_filters_say_what_is_wrong() {
         ),
     ] {
         let o = flipcard(d, &args);
-        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", err(&o));
-        assert!(err(&o).contains(says), "{args:?}: {}", err(&o));
-        assert_eq!(err(&o).lines().count(), 1, "{args:?}: {}", err(&o));
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", o.stderr());
+        assert!(o.stderr().contains(says), "{args:?}: {}", o.stderr());
+        assert_eq!(o.stderr().lines().count(), 1, "{args:?}: {}", o.stderr());
     }
     // A query that matches nothing: the header, and a line saying so.
     let o = flipcard(d, &["cards", "list", "zzqqxx"]);
     assert!(o.status.success());
-    assert_eq!(out(&o).trim(), HEADER);
-    assert!(err(&o).contains("no item matches `zzqqxx"), "{}", err(&o));
+    assert_eq!(o.stdout().trim(), HEADER);
+    assert!(
+        o.stderr().contains("no item matches `zzqqxx"),
+        "{}",
+        o.stderr()
+    );
 }
 
 #[test]
@@ -244,8 +238,8 @@ fn an_item_named_twenty_thousand_times_changes_once() {
     args.extend(std::iter::repeat_n("study/middle/forward", 20_000));
     args.extend(["study/spin-axis", "study/spin-axis/backward"]);
     let o = flipcard(d, &args);
-    assert!(o.status.success(), "{}", err(&o));
-    assert_eq!(out(&o).trim(), "suspended: 3 items");
+    assert!(o.status.success(), "{}", o.stderr());
+    assert_eq!(o.stdout().trim(), "suspended: 3 items");
     let db = rusqlite::Connection::open(d.join("flipcard.db")).unwrap();
     let events: Vec<(String, String)> = db
         .prepare("SELECT card, direction FROM status_event ORDER BY id")
@@ -267,7 +261,7 @@ fn an_item_named_twenty_thousand_times_changes_once() {
         let mut args = vec!["cards", action];
         args.extend(std::iter::repeat_n("study/middle", 20_000));
         let o = flipcard(d, &args);
-        assert!(o.status.success(), "{}", err(&o));
+        assert!(o.status.success(), "{}", o.stderr());
         let n: i64 = db
             .query_row(
                 "SELECT count(*) FROM status_event WHERE action = ?1",
@@ -307,8 +301,8 @@ fn a_due_date_rfc_3339_cannot_hold_is_left_blank_and_named() {
     }
     for format in ["csv", "json"] {
         let o = flipcard(d, &["cards", "list", "--format", format]);
-        assert_eq!(o.status.code(), Some(1), "{format}: {}", err(&o));
-        let text = out(&o);
+        assert_eq!(o.status.code(), Some(1), "{format}: {}", o.stderr());
+        let text = o.stdout();
         assert!(
             !text.contains("+10000") && !text.contains("10000-"),
             "{text}"
@@ -341,14 +335,14 @@ fn a_due_date_rfc_3339_cannot_hold_is_left_blank_and_named() {
         let middle = rows.iter().find(|r| r.0 == "middle/forward").unwrap();
         assert_eq!(middle.1, "", "{text}");
         assert!(
-            err(&o).contains(
+            o.stderr().contains(
                 "study/middle/forward: its due date is stored in the year 10000, which RFC 3339 cannot write; left blank"
             ),
             "{}",
-            err(&o)
+            o.stderr()
         );
         assert!(
-            err(&o)
+            o.stderr()
                 .lines()
                 .last()
                 .unwrap()

@@ -10,9 +10,8 @@
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::Flipcard;
 
 fn manifest_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -105,16 +104,15 @@ struct Run {
 }
 
 fn check(dir: &Path, args: &[&str]) -> Run {
-    let out = Command::new(BIN)
+    let out = Flipcard::without_data()
+        .current_dir(dir)
         .arg("check")
         .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run flipcard");
+        .run();
     Run {
         code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        stdout: out.stdout(),
+        stderr: out.stderr(),
     }
 }
 

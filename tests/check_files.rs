@@ -11,9 +11,9 @@ use std::os::unix::net::UnixListener;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::Flipcard;
 
 /// Long enough for a loaded machine; a FIFO that is opened blocks forever.
 const TIMEOUT: Duration = Duration::from_secs(30);
@@ -71,36 +71,23 @@ fn check(dir: &Path, args: &[&str]) -> Run {
 /// `flipcard ARGS` in `dir` with its data and config there, killed (and
 /// failed) if it does not end.
 fn flipcard(dir: &Path, args: &[&str]) -> Run {
-    let mut cmd = Command::new(BIN);
-    cmd.args(args);
-    run(cmd, dir, args)
+    run(in_dir(dir).args(args))
 }
 
-/// `cmd` (flipcard, perhaps behind a prefix) in `dir`, as [`flipcard`].
-fn run(mut cmd: Command, dir: &Path, args: &[&str]) -> Run {
-    let mut child = cmd
-        .env("FLIPCARD_DATA_DIR", dir.join("data"))
-        .env("FLIPCARD_CONFIG", dir.join("config.toml"))
+/// flipcard run in `dir`, with its data and config there.
+fn in_dir(dir: &Path) -> Flipcard {
+    Flipcard::new(dir.join("data"))
+        .config(dir.join("config.toml"))
         .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run flipcard");
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > TIMEOUT {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("`flipcard {}` hung", args.join(" "));
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let out = child.wait_with_output().unwrap();
+}
+
+/// A run killed (and failed) if it does not end.
+fn run(flipcard: Flipcard) -> Run {
+    let out = flipcard.run_within(TIMEOUT.as_secs());
     Run {
         code: out.status.code().unwrap_or(-1),
-        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
-        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        stdout: out.stdout(),
+        stderr: out.stderr(),
     }
 }
 
@@ -287,7 +274,7 @@ fn as_nobody(dir: &Path, args: &[&str]) -> Option<Run> {
             .status()
             .is_ok_and(|s| s.success())
     };
-    let mut bin = PathBuf::from(BIN);
+    let mut bin = crate::support::test_binary().to_path_buf();
     if !can_run(&bin) {
         let copy = dir.join("flipcard-bin");
         fs::copy(&bin, &copy).unwrap();
@@ -308,9 +295,11 @@ fn as_nobody(dir: &Path, args: &[&str]) -> Option<Run> {
             .success(),
         "nobody can read the unreadable file"
     );
-    let mut cmd = Command::new("setpriv");
-    cmd.args(NOBODY).arg(&bin).args(args);
-    Some(run(cmd, dir, args))
+    let nobody = in_dir(dir)
+        .prefix(["setpriv"].into_iter().chain(NOBODY))
+        .program(&bin)
+        .args(args);
+    Some(run(nobody))
 }
 
 #[test]

@@ -3,9 +3,8 @@
 
 use std::fs;
 use std::path::Path;
-use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::Flipcard;
 
 const CONTENT: &str = "[[section]]\nid = \"s\"\ntitle = 'T'\nbody = 'B'\n";
 
@@ -15,11 +14,10 @@ fn check_bytes(deck: &[u8], content: &[u8]) -> (i32, String) {
     let dir = tempfile::tempdir().unwrap();
     write(dir.path(), "decks/d.toml", deck);
     write(dir.path(), "content/d/en.toml", content);
-    let out = Command::new(BIN)
-        .args(["check", "decks"])
+    let out = Flipcard::without_data()
         .current_dir(dir.path())
-        .output()
-        .unwrap();
+        .args(["check", "decks"])
+        .run();
     (
         out.status.code().unwrap_or(-1),
         String::from_utf8_lossy(&out.stderr).into_owned(),
@@ -75,11 +73,10 @@ fn the_valid_base_deck_passes() {
     let dir = tempfile::tempdir().unwrap();
     write(dir.path(), "decks/d.toml", valid_deck().as_bytes());
     write(dir.path(), "content/d/en.toml", CONTENT.as_bytes());
-    let out = Command::new(BIN)
-        .args(["check", "decks"])
+    let out = Flipcard::without_data()
         .current_dir(dir.path())
-        .output()
-        .unwrap();
+        .args(["check", "decks"])
+        .run();
     assert_eq!(out.status.code(), Some(0));
     assert_eq!(
         String::from_utf8_lossy(&out.stdout),

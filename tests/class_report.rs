@@ -6,20 +6,18 @@
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
+
+use crate::support::{Flipcard, Output};
 
 const DECK: &str = "torque-free-rotation";
 
 fn flipcard(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(args)
+    Flipcard::new(dir.join("data"))
+        .now("2026-05-10T12:00:00Z")
         .current_dir(dir)
-        .env("FLIPCARD_DATA_DIR", dir.join("data"))
-        .env("FLIPCARD_CONFIG", dir.join("no-config.toml"))
-        .env("FLIPCARD_NOW", "2026-05-10T12:00:00Z")
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .expect("run flipcard")
+        .args(args)
+        .run()
 }
 
 fn text(b: &[u8]) -> String {
@@ -141,8 +139,8 @@ fn a_class_of_twelve_is_aggregated_in_the_terminal_csv_and_html() {
     args.extend(["--out".into(), "out".into()]);
     let argv: Vec<&str> = args.iter().map(String::as_str).collect();
     let out = flipcard(dir.path(), &argv);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let term = text(&out.stdout);
+    assert!(out.status.success(), "{}", out.stderr());
+    let term = out.stdout();
     let lapsers = (0..n).filter(|i| i.is_multiple_of(4)).count();
     let right = (0..n).filter(|i| i.is_multiple_of(3)).count();
     assert!(
@@ -223,7 +221,7 @@ fn bad_files_are_named_by_line_and_the_rest_is_reported() {
     let argv: Vec<&str> = args.iter().map(String::as_str).collect();
     let out = flipcard(dir.path(), &argv);
     assert_eq!(out.status.code(), Some(1));
-    let err = text(&out.stderr);
+    let err = out.stderr();
     let line_of = |name: &str| {
         err.lines()
             .find(|l| l.contains(name))
@@ -242,7 +240,7 @@ fn bad_files_are_named_by_line_and_the_rest_is_reported() {
     );
     assert!(line_of("absent.json").contains("no such file"), "{err}");
     assert!(err.contains("4 files skipped"), "{err}");
-    let term = text(&out.stdout);
+    let term = out.stdout();
     assert!(
         term.contains(
             "3 learner files of reviews, 3 learner files of prompt attempts; 4 files skipped"
@@ -290,7 +288,7 @@ fn a_real_export_reads_back_and_deck_keeps_to_one_deck() {
     for format in ["json", "csv"] {
         for what in ["--reviews", "--attempts"] {
             let out = flipcard(dir.path(), &["export", what, "--format", format]);
-            assert!(out.status.success(), "{}", text(&out.stderr));
+            assert!(out.status.success(), "{}", out.stderr());
             let name = format!("me{what}.{format}");
             std::fs::write(dir.path().join(&name), &out.stdout).unwrap();
         }
@@ -304,8 +302,8 @@ fn a_real_export_reads_back_and_deck_keeps_to_one_deck() {
                 DECK,
             ],
         );
-        assert!(out.status.success(), "{format}: {}", text(&out.stderr));
-        let term = text(&out.stdout);
+        assert!(out.status.success(), "{format}: {}", out.stderr());
+        let term = out.stdout();
         assert!(term.contains("torque-free-meaning"), "{term}");
         assert!(term.contains("stable ×1"), "{term}");
         assert!(!term.contains("other"), "--deck keeps to one deck: {term}");
@@ -416,7 +414,7 @@ fn report_csv_cells_cannot_start_a_formula() {
     let mut args = vec!["report", "--out", "out"];
     args.extend(files.iter().map(String::as_str));
     let out = flipcard(dir.path(), &args);
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out.status.success(), "{}", out.stderr());
     let rows = csv_rows(&dir.path().join("out/report.csv"));
     let choices: Vec<&str> = rows
         .iter()
@@ -482,7 +480,7 @@ fn report_html_names_no_learner_file_not_even_a_skipped_one() {
     );
     assert!(html.contains("2 files were left out"), "{html}");
     // The terminal, for the teacher, names them.
-    let err = text(&out.stderr);
+    let err = out.stderr();
     assert!(
         err.contains("carol-white.json:") && err.contains("dave-brown.json"),
         "{err}"
@@ -530,7 +528,7 @@ fn learner_text_reaches_the_terminal_escaped_and_bad_ids_are_refused() {
         !out.stderr.contains(&0x1b) && !out.stderr.contains(&0x07),
         "raw stderr"
     );
-    let err = text(&out.stderr);
+    let err = out.stderr();
     assert!(
         err.contains("loud.attempts.csv:2: prediction \"\\u001b[2J\\u001b]0;owned\\u0007\" holds the control character U+001B"),
         "{err}"
@@ -544,9 +542,5 @@ fn learner_text_reaches_the_terminal_escaped_and_bad_ids_are_refused() {
         "{err}"
     );
     assert!(err.contains("3 files skipped"), "{err}");
-    assert!(
-        text(&out.stdout).contains("stable ×1"),
-        "{}",
-        text(&out.stdout)
-    );
+    assert!(out.stdout().contains("stable ×1"), "{}", out.stdout());
 }

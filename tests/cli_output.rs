@@ -7,14 +7,15 @@
 
 use std::fs::File;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::Stdio;
 
 use crate::store_support::{at, key, review};
 use chrono::Duration;
 use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::Store;
 
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::{Flipcard, Output};
+
 const NOW: &str = "2026-05-10T12:00:00Z";
 const BUNDLED: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/decks");
 const FULL: &str =
@@ -81,29 +82,21 @@ impl Setup {
         Setup { _dir: dir, root }
     }
 
-    fn command(&self, args: &[&str]) -> Command {
-        let mut c = Command::new(BIN);
-        c.args(args)
+    fn command(&self, args: &[&str]) -> Flipcard {
+        Flipcard::new(self.root.join("data"))
+            .decks(self.root.join("decks"))
+            .now(NOW)
             .current_dir(&self.root)
-            .env("FLIPCARD_DATA_DIR", self.root.join("data"))
-            .env("FLIPCARD_DECKS", self.root.join("decks"))
-            .env("FLIPCARD_CONFIG", self.root.join("no-such-config.toml"))
-            .env("FLIPCARD_NOW", NOW)
-            .env("TZ", "UTC")
             .env_remove("RUST_BACKTRACE")
-            .stdin(Stdio::null());
-        c
+            .args(args)
     }
 
     fn run(&self, args: &[&str]) -> Output {
-        self.command(args).output().expect("run flipcard")
+        self.command(args).run()
     }
 
     fn run_to(&self, args: &[&str], stdout: Sink) -> Output {
-        self.command(args)
-            .stdout(stdout.stdio())
-            .output()
-            .expect("run flipcard")
+        self.command(args).stdout(stdout.stdio()).run()
     }
 }
 
@@ -118,10 +111,6 @@ fn mini_deck(root: &Path) {
         [[scene]]\nid = 'spin'\ninertia = [1.0, 2.0, 3.0]\nomega = [0.01, 1.0, 0.01]\n\
         duration = 20.0\nflat = true\nshow = ['omega']\n";
     std::fs::write(root.join("decks/mini.toml"), toml).unwrap();
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// Each command, with the lines it writes to stderr when all goes well.
@@ -190,7 +179,7 @@ fn every_command_writes_its_output_when_stdout_works() {
     let setup = Setup::new();
     for (args, _) in commands() {
         let out = setup.run(&args);
-        assert!(out.status.success(), "{args:?}: {}", stderr(&out));
+        assert!(out.status.success(), "{args:?}: {}", out.stderr());
         assert!(!out.stdout.is_empty(), "{args:?} printed nothing");
     }
 }
@@ -200,7 +189,7 @@ fn a_closed_pipe_on_stdout_is_a_quiet_normal_end_for_every_command() {
     let setup = Setup::new();
     for (args, expected) in commands() {
         let out = setup.run_to(&args, Sink::ClosedPipe);
-        let err = stderr(&out);
+        let err = out.stderr();
         assert!(!err.contains("panicked"), "{args:?}: {err}");
         assert!(
             matches!(out.status.code(), Some(0 | 141)),
@@ -220,7 +209,7 @@ fn a_full_device_on_stdout_is_one_line_and_exit_status_1_for_every_command() {
     let setup = Setup::new();
     for (args, expected) in commands() {
         let out = setup.run_to(&args, Sink::Full);
-        let err = stderr(&out);
+        let err = out.stderr();
         assert!(!err.contains("panicked"), "{args:?}: {err}");
         assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
         assert_eq!(unexpected_stderr(&err, expected), vec![FULL], "{args:?}");
@@ -231,7 +220,7 @@ fn a_full_device_on_stdout_is_one_line_and_exit_status_1_for_every_command() {
 fn bench_writes_its_files_even_when_nobody_reads_the_table() {
     let setup = Setup::new();
     let out = setup.run_to(&["bench", "--quick", "--out", "piped"], Sink::ClosedPipe);
-    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(out.status.code(), Some(0), "{}", out.stderr());
     for file in ["work_precision.csv", "work_precision.svg"] {
         let path = setup.root.join("piped").join(file);
         assert!(path.is_file(), "{} missing", path.display());
@@ -245,15 +234,11 @@ fn check_keeps_its_verdict_when_stderr_is_closed_or_full() {
     let setup = Setup::new();
     std::fs::write(setup.root.join("bad.toml"), "[deck]\nid = 'bad'\n").unwrap();
     let failed = setup.run(&["check", "bad.toml"]);
-    assert_eq!(failed.status.code(), Some(1), "{}", stderr(&failed));
-    assert!(stderr(&failed).contains("error"), "{}", stderr(&failed));
+    assert_eq!(failed.status.code(), Some(1), "{}", failed.stderr());
+    assert!(failed.stderr().contains("error"), "{}", failed.stderr());
     for sink in [Sink::ClosedPipe, Sink::Full] {
         for (path, code) in [("bad.toml", 1), ("decks", 0)] {
-            let out = setup
-                .command(&["check", path])
-                .stderr(sink.stdio())
-                .output()
-                .unwrap();
+            let out = setup.command(&["check", path]).stderr(sink.stdio()).run();
             assert_eq!(out.status.code(), Some(code), "{sink:?} {path}");
             let stdout = String::from_utf8_lossy(&out.stdout);
             if code == 0 {
@@ -274,23 +259,20 @@ fn commands_that_talk_on_stderr_finish_when_stderr_is_closed_or_full() {
         let out = setup
             .command(&["import", "cards.csv", "--deck-id", "imported"])
             .stderr(sink.stdio())
-            .output()
-            .unwrap();
+            .run();
         assert_eq!(out.status.code(), Some(0), "{sink:?}");
         assert!(String::from_utf8_lossy(&out.stdout).contains("[deck]"));
         let out = setup
             .command(&["bench", "--quick", "--out", "b"])
             .stderr(sink.stdio())
-            .output()
-            .unwrap();
+            .run();
         assert_eq!(out.status.code(), Some(0), "{sink:?}");
         assert!(String::from_utf8_lossy(&out.stdout).starts_with("case"));
         // The error message itself has nowhere to go: the status says it.
         let out = setup
             .command(&["stats", "--deck", "nope"])
             .stderr(sink.stdio())
-            .output()
-            .unwrap();
+            .run();
         assert_eq!(out.status.code(), Some(1), "{sink:?}");
     }
 }
@@ -298,8 +280,8 @@ fn commands_that_talk_on_stderr_finish_when_stderr_is_closed_or_full() {
 /// Runs a command expected to fail and returns its one error line.
 fn error_line(setup: &Setup, args: &[&str]) -> String {
     let out = setup.run(args);
-    assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
-    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {}", out.stderr());
+    let err = out.stderr();
     let lines: Vec<&str> = err.lines().collect();
     assert_eq!(lines.len(), 1, "{args:?}: {err}");
     assert!(lines[0].starts_with("flipcard: error: "), "{err}");
@@ -386,19 +368,19 @@ fn counts_of_one_are_singular() {
     // A file with no [deck] table: one error, no warning.
     std::fs::write(setup.root.join("empty.toml"), "").unwrap();
     let out = setup.run(&["check", "empty.toml"]);
-    assert_eq!(stderr(&out).lines().last(), Some("1 error, 0 warnings"));
+    assert_eq!(out.stderr().lines().last(), Some("1 error, 0 warnings"));
 
     std::fs::write(setup.root.join("one-bad.csv"), "front,back,tags\nQ,,\n").unwrap();
     let out = setup.run(&["import", "one-bad.csv", "--deck-id", "x"]);
-    let err = stderr(&out);
+    let err = out.stderr();
     assert!(err.contains("error: 1 bad row in one-bad.csv"), "{err}");
 
     std::fs::write(setup.root.join("one.csv"), "front,back,tags\nQ,A,\n").unwrap();
     let out = setup.run(&["import", "one.csv", "--deck-id", "x"]);
     assert!(
-        stderr(&out).starts_with("flipcard: 1 card. "),
+        out.stderr().starts_with("flipcard: 1 card. "),
         "{}",
-        stderr(&out)
+        out.stderr()
     );
 
     let out = setup.run(&["db", "rebuild"]);
@@ -419,7 +401,7 @@ fn counts_of_one_are_singular() {
     assert!(text.contains("  mini/b forward: 1 review\n"), "{text}");
 
     let out = setup.run(&["sim", "--list", "--deck", "empty.toml"]);
-    assert!(stderr(&out).contains("(1 error; run"), "{}", stderr(&out));
+    assert!(out.stderr().contains("(1 error; run"), "{}", out.stderr());
 }
 
 #[test]
@@ -429,9 +411,8 @@ fn sim_list_reads_the_deck_it_is_given() {
         let out = setup
             .command(&["sim", "--list", "--deck", path])
             .env_remove("FLIPCARD_DECKS")
-            .output()
-            .unwrap();
-        assert!(out.status.success(), "{}", stderr(&out));
+            .run();
+        assert!(out.status.success(), "{}", out.stderr());
         let text = String::from_utf8_lossy(&out.stdout);
         let ids: Vec<&str> = text
             .lines()
@@ -448,7 +429,7 @@ fn sim_list_reads_the_deck_it_is_given() {
     // Without --scene or --list, --deck means nothing: a usage error.
     let out = setup.run(&["sim", "--deck", "decks", "--inertia", "1,2,3"]);
     assert_eq!(out.status.code(), Some(1));
-    assert!(stderr(&out).contains("--list"), "{}", stderr(&out));
+    assert!(out.stderr().contains("--list"), "{}", out.stderr());
 }
 
 #[test]
@@ -465,14 +446,10 @@ fn clocks_beyond_the_supported_range_are_refused() {
             &["stats", "--json"],
             &["export", "--reviews"],
         ] {
-            let out = setup
-                .command(args)
-                .env("FLIPCARD_NOW", now)
-                .output()
-                .unwrap();
+            let out = setup.command(args).now(now).run();
             assert_eq!(out.status.code(), Some(1), "{now} {args:?}");
             assert!(out.stdout.is_empty(), "{now} {args:?}");
-            let err = stderr(&out);
+            let err = out.stderr();
             assert_eq!(err.lines().count(), 1, "{err}");
             assert!(
                 err.contains(
@@ -485,18 +462,16 @@ fn clocks_beyond_the_supported_range_are_refused() {
     // The last second accepted: every time written is still RFC 3339.
     let out = setup
         .command(&["stats", "--json"])
-        .env("FLIPCARD_NOW", "9899-12-31T23:59:59Z")
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", stderr(&out));
+        .now("9899-12-31T23:59:59Z")
+        .run();
+    assert!(out.status.success(), "{}", out.stderr());
     let stats: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(stats["now"], "9899-12-31T23:59:59Z");
     let out = setup
         .command(&["export", "--reviews"])
-        .env("FLIPCARD_NOW", "9899-12-31T23:59:59Z")
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", stderr(&out));
+        .now("9899-12-31T23:59:59Z")
+        .run();
+    assert!(out.status.success(), "{}", out.stderr());
 }
 
 #[test]

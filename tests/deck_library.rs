@@ -4,9 +4,10 @@
 //! remove` keeping the history, and a broken deck hiding nothing else.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 use crate::store_support::{at, key, review};
+use crate::support::{Flipcard, Output};
 use chrono::Duration;
 use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::Store;
@@ -14,24 +15,15 @@ use flipcard::store::Store;
 const BUNDLED: &str = "torque-free-rotation";
 
 fn flipcard(root: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(args)
+    in_root(root).args(args).run()
+}
+
+/// flipcard run in `root`, with its data, config and decks there.
+fn in_root(root: &Path) -> Flipcard {
+    Flipcard::new(root.join("data"))
+        .config(root.join("config.toml"))
+        .now("2026-05-10T12:00:00Z")
         .current_dir(root)
-        .env("FLIPCARD_DATA_DIR", root.join("data"))
-        .env("FLIPCARD_CONFIG", root.join("config.toml"))
-        .env("FLIPCARD_NOW", "2026-05-10T12:00:00Z")
-        .env("TZ", "UTC")
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .expect("run flipcard")
-}
-
-fn out(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn err(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// A deck folder `root/decks/ID.toml` with `content/ID/en.toml`.
@@ -69,12 +61,12 @@ fn every_source_is_listed_in_order_with_counts_and_status() {
     deck(&root.join("cli"), "from-cli", &["a"]);
     std::fs::write(root.join("config.toml"), "deck_paths = ['cfg/decks']\n").unwrap();
     let o = flipcard(root, &["decks", "add", "cli"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     deck(&root.join("cli2"), "only-cli", &["x"]);
 
     let o = flipcard(root, &["decks", "--decks", "cli2/decks"]);
-    assert!(o.status.success(), "{}", err(&o));
-    let listing = out(&o);
+    assert!(o.status.success(), "{}", o.stderr());
+    let listing = o.stdout();
     let ids: Vec<&str> = listing
         .lines()
         .skip(1)
@@ -108,14 +100,14 @@ fn every_source_is_listed_in_order_with_counts_and_status() {
         root,
         &["--decks", "cli2/decks", "export", "--deck", "from-config"],
     );
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     let o = flipcard(root, &["--decks", "cli2/decks", "check"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     let decks = flipcard::bundled::load().decks.len() + 3;
     assert!(
-        out(&o).starts_with(&format!("{decks} decks, ")),
+        o.stdout().starts_with(&format!("{decks} decks, ")),
         "{}",
-        out(&o)
+        o.stdout()
     );
 }
 
@@ -130,7 +122,7 @@ fn a_deck_id_found_twice_names_both_files() {
         &["--decks", "one/decks", "--decks", "two/decks", "check"],
     );
     assert_eq!(o.status.code(), Some(1));
-    let e = err(&o);
+    let e = o.stderr();
     let line = e
         .lines()
         .find(|l| l.contains("deck id `twin` is also used by"))
@@ -144,9 +136,10 @@ fn a_deck_id_found_twice_names_both_files() {
     let o = flipcard(root, &["decks", "add", "clash"]);
     assert_eq!(o.status.code(), Some(1));
     assert!(
-        err(&o).contains(&format!("is also used by decks/{BUNDLED}.toml (bundled)")),
+        o.stderr()
+            .contains(&format!("is also used by decks/{BUNDLED}.toml (bundled)")),
         "{}",
-        err(&o)
+        o.stderr()
     );
     assert!(
         !root
@@ -167,7 +160,7 @@ fn add_refuses_what_check_refuses_and_copies_nothing() {
     std::fs::write(&file, broken).unwrap();
     let o = flipcard(root, &["decks", "add", "src"]);
     assert_eq!(o.status.code(), Some(1));
-    let e = err(&o);
+    let e = o.stderr();
     assert!(e.contains("src/decks/bad.toml:"), "the diagnostics: {e}");
     assert!(e.contains("does not pass `check`"), "{e}");
     assert!(!root.join("data/decks/bad.toml").exists());
@@ -176,9 +169,9 @@ fn add_refuses_what_check_refuses_and_copies_nothing() {
     let o = flipcard(root, &["decks", "add", "nowhere"]);
     assert_eq!(o.status.code(), Some(1));
     assert!(
-        err(&o).contains("nowhere: no such file or directory"),
+        o.stderr().contains("nowhere: no such file or directory"),
         "{}",
-        err(&o)
+        o.stderr()
     );
 }
 
@@ -189,8 +182,8 @@ fn remove_keeps_the_history_which_returns_with_the_deck() {
     deck(&root.join("src"), "mine", &["a", "b"]);
     // Adding the deck file itself works as well as its folder.
     let o = flipcard(root, &["decks", "add", "src/decks/mine.toml"]);
-    assert!(o.status.success(), "{}", err(&o));
-    assert!(out(&o).contains("added mine (2 cards"), "{}", out(&o));
+    assert!(o.status.success(), "{}", o.stderr());
+    assert!(o.stdout().contains("added mine (2 cards"), "{}", o.stdout());
     assert!(root.join("data/content/mine/en.toml").is_file());
     {
         let mut store = Store::open(&root.join("data")).unwrap();
@@ -207,33 +200,33 @@ fn remove_keeps_the_history_which_returns_with_the_deck() {
     }
     let stats = |root: &Path| {
         let o = flipcard(root, &["stats", "--json"]);
-        assert!(o.status.success(), "{}", err(&o));
-        serde_json::from_str::<serde_json::Value>(&out(&o)).unwrap()
+        assert!(o.status.success(), "{}", o.stderr());
+        serde_json::from_str::<serde_json::Value>(&o.stdout()).unwrap()
     };
     assert_eq!(stats(root)["orphans"].as_array().unwrap().len(), 0);
 
     let o = flipcard(root, &["decks", "remove", "mine"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     assert!(!root.join("data/decks/mine.toml").exists());
     assert!(!root.join("data/content/mine").exists());
     let s = stats(root);
     assert_eq!(s["orphans"][0]["card"], "a", "{s}");
 
     let o = flipcard(root, &["decks", "add", "src"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     assert_eq!(stats(root)["orphans"].as_array().unwrap().len(), 0);
 
     // Only library decks can be removed; unknown ids are named.
     let o = flipcard(root, &["decks", "remove", BUNDLED]);
     assert_eq!(o.status.code(), Some(1));
     assert!(
-        err(&o).contains("only library decks can be removed"),
+        o.stderr().contains("only library decks can be removed"),
         "{}",
-        err(&o)
+        o.stderr()
     );
     let o = flipcard(root, &["decks", "remove", "nope"]);
     assert_eq!(o.status.code(), Some(1));
-    assert!(err(&o).contains("library decks: mine"), "{}", err(&o));
+    assert!(o.stderr().contains("library decks: mine"), "{}", o.stderr());
 }
 
 #[test]
@@ -247,8 +240,8 @@ fn a_broken_deck_hides_no_other() {
     )
     .unwrap();
     let o = flipcard(root, &["--decks", "mixed/decks", "decks"]);
-    assert!(o.status.success(), "{}", err(&o));
-    let listing = out(&o);
+    assert!(o.status.success(), "{}", o.stderr());
+    let listing = o.stdout();
     assert!(
         row(&listing, "good").trim_end().ends_with("ok"),
         "{listing}"
@@ -262,57 +255,35 @@ fn a_broken_deck_hides_no_other() {
         "{listing}"
     );
     let o = flipcard(root, &["--decks", "mixed/decks", "sim", "--list"]);
-    assert!(o.status.success(), "{}", err(&o));
-    assert!(out(&o).contains(BUNDLED), "{}", out(&o));
+    assert!(o.status.success(), "{}", o.stderr());
+    assert!(o.stdout().contains(BUNDLED), "{}", o.stdout());
     let o = flipcard(
         root,
         &["--decks", "mixed/decks", "export", "--deck", "good"],
     );
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     assert!(
-        err(&o).contains("mixed/decks/broken.toml"),
+        o.stderr().contains("mixed/decks/broken.toml"),
         "named: {}",
-        err(&o)
+        o.stderr()
     );
     assert!(
-        err(&o).contains("flipcard decks"),
+        o.stderr().contains("flipcard decks"),
         "how to see why: {}",
-        err(&o)
+        o.stderr()
     );
 }
 
 /// `flipcard ARGS`, killed and failed if it has not ended in 30 s (a FIFO
 /// that is opened blocks forever).
 fn flipcard_within(root: &Path, args: &[&str]) -> Output {
-    use std::time::{Duration, Instant};
-    let mut child = Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(args)
-        .current_dir(root)
-        .env("FLIPCARD_DATA_DIR", root.join("data"))
-        .env("FLIPCARD_CONFIG", root.join("config.toml"))
-        .env("FLIPCARD_NOW", "2026-05-10T12:00:00Z")
-        .env("TZ", "UTC")
-        .env_remove("FLIPCARD_DECKS")
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("run flipcard");
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > Duration::from_secs(30) {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("flipcard {args:?} hung");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    child.wait_with_output().unwrap()
+    in_root(root).args(args).run_within(30)
 }
 
 /// Exit 1 with one line on stderr that contains `what`.
 fn refused(o: &Output, what: &str) {
-    assert_eq!(o.status.code(), Some(1), "{}", err(o));
-    let e = err(o);
+    assert_eq!(o.status.code(), Some(1), "{}", o.stderr());
+    let e = o.stderr();
     assert_eq!(e.lines().count(), 1, "one line: {e}");
     assert!(e.contains(what), "{what}: {e}");
 }
@@ -323,7 +294,7 @@ fn refused(o: &Output, what: &str) {
 fn library_and_outside(root: &Path) {
     deck(&root.join("src"), "mine", &["a"]);
     let o = flipcard(root, &["decks", "add", "src"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     let outside = root.join("outside");
     for name in ["X", "mine"] {
         std::fs::create_dir_all(outside.join(name)).unwrap();
@@ -367,7 +338,7 @@ fn remove_takes_a_deck_id_never_a_path() {
     ] {
         let o = flipcard_within(root, &["decks", "remove", arg]);
         refused(&o, "is not a deck id");
-        assert!(err(&o).contains("nothing removed"), "{}", err(&o));
+        assert!(o.stderr().contains("nothing removed"), "{}", o.stderr());
         outside_intact(root);
         assert!(root.join("data/decks/mine.toml").is_file(), "{arg}");
         assert!(root.join("data/content/mine/en.toml").is_file(), "{arg}");
@@ -375,7 +346,7 @@ fn remove_takes_a_deck_id_never_a_path() {
     // A bundled deck is not the library's: said so, nothing touched.
     let o = flipcard_within(root, &["decks", "remove", BUNDLED]);
     refused(&o, "is not in the library but in");
-    assert!(err(&o).contains("(bundled)"), "{}", err(&o));
+    assert!(o.stderr().contains("(bundled)"), "{}", o.stderr());
     // An id that is not installed is named, with what is.
     let o = flipcard_within(root, &["decks", "remove", "nope"]);
     refused(&o, "no deck `nope` in the library; library decks: mine");
@@ -395,7 +366,7 @@ fn remove_never_follows_a_link_out_of_the_library() {
     symlink(root.join("outside/X.toml"), data.join("decks/linked.toml")).unwrap();
     symlink(root.join("outside/X"), data.join("content/linked")).unwrap();
     let o = flipcard_within(root, &["decks", "remove", "linked"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     assert!(std::fs::symlink_metadata(data.join("decks/linked.toml")).is_err());
     assert!(std::fs::symlink_metadata(data.join("content/linked")).is_err());
     outside_intact(root);
@@ -439,7 +410,7 @@ fn add_never_follows_a_link_or_waits_on_a_fifo_in_the_library() {
     symlink(root.join("outside/mine.toml"), data.join("decks/mine.toml")).unwrap();
     symlink(root.join("outside/mine"), data.join("content/mine")).unwrap();
     let o = flipcard_within(root, &["decks", "add", "v2"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     assert!(
         std::fs::symlink_metadata(data.join("decks/mine.toml"))
             .unwrap()
@@ -456,7 +427,7 @@ fn add_never_follows_a_link_or_waits_on_a_fifo_in_the_library() {
     std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
     mkfifo(&data.join("decks/mine.toml"));
     let o = flipcard_within(root, &["decks", "add", "v2"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     assert!(data.join("decks/mine.toml").is_file());
 
     // The library's folders, its lock and its staging folder must be
@@ -479,8 +450,8 @@ fn add_never_follows_a_link_or_waits_on_a_fifo_in_the_library() {
             symlink(root.join("outside"), &path).unwrap();
         }
         let o = flipcard_within(root, &["decks", "add", "v2"]);
-        assert_eq!(o.status.code(), Some(1), "{name}: {}", err(&o));
-        assert_eq!(err(&o).lines().count(), 1, "{name}: {}", err(&o));
+        assert_eq!(o.status.code(), Some(1), "{name}: {}", o.stderr());
+        assert_eq!(o.stderr().lines().count(), 1, "{name}: {}", o.stderr());
         outside_intact(root);
         assert!(
             !root.join("outside/deck.toml").exists() && !root.join("outside/new").exists(),
@@ -492,7 +463,7 @@ fn add_never_follows_a_link_or_waits_on_a_fifo_in_the_library() {
         }
     }
     let o = flipcard_within(root, &["decks", "add", "v2"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
 
     // A folder where the deck file goes is not a deck to replace.
     std::fs::remove_file(data.join("decks/mine.toml")).unwrap();
@@ -525,20 +496,14 @@ const KILL_ENV: &str = "FLIPCARD_TEST_LIBRARY_KILL";
 /// the library's files; whether it was killed.
 fn killed_at(root: &Path, args: &[&str], kill_at: u32) -> bool {
     use std::os::unix::process::ExitStatusExt;
-    let o = Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(args)
-        .current_dir(root)
-        .env("FLIPCARD_DATA_DIR", root.join("data"))
-        .env("FLIPCARD_CONFIG", root.join("config.toml"))
-        .env("FLIPCARD_NOW", "2026-05-10T12:00:00Z")
+    let o = in_root(root)
         .env(KILL_ENV, kill_at.to_string())
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .expect("run flipcard");
+        .args(args)
+        .run();
     match o.status.signal() {
         Some(9) => true,
         _ => {
-            assert!(o.status.success(), "{args:?}: {}", err(&o));
+            assert!(o.status.success(), "{args:?}: {}", o.stderr());
             false
         }
     }
@@ -593,9 +558,9 @@ fn held(data: &Path, settled: bool, context: &str) -> Held {
 /// The deck as every command sees it: `decks` lists it whole, or not.
 fn listed(root: &Path, context: &str) -> Held {
     let o = flipcard(root, &["decks"]);
-    assert!(o.status.success(), "{context}: {}", err(&o));
-    assert!(err(&o).is_empty(), "{context}: {}", err(&o));
-    let listing = out(&o);
+    assert!(o.status.success(), "{context}: {}", o.stderr());
+    assert!(o.stderr().is_empty(), "{context}: {}", o.stderr());
+    let listing = o.stdout();
     match listing
         .lines()
         .find(|l| l.split_whitespace().next() == Some("mine"))
@@ -662,7 +627,7 @@ fn a_change_killed_at_any_point_leaves_a_whole_deck_or_none() {
                     root,
                     &["decks", "add", &src.join("v1").display().to_string()],
                 );
-                assert!(o.status.success(), "{}", err(&o));
+                assert!(o.status.success(), "{}", o.stderr());
             }
             let context = format!("{scenario}, killed before change {n}");
             if !killed_at(root, args, n) {

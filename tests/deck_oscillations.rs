@@ -15,11 +15,11 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use serde_json::Value;
 
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::Flipcard;
+
 const DECK_ID: &str = "oscillations";
 const LANGS: [&str; 2] = ["en", "hi-Latn"];
 
@@ -76,14 +76,11 @@ fn claims() -> Vec<Value> {
 
 /// Each measure of a scene, measured in one run of the binary.
 fn measure(scene: &str, measures: &[&str]) -> Vec<f64> {
-    let mut cmd = Command::new(BIN);
-    cmd.args(["sim", "--scene", scene, "--deck"])
+    let out = Flipcard::without_data()
+        .args(["sim", "--scene", scene, "--deck"])
         .arg(deck_path())
-        .env_remove("FLIPCARD_DECKS");
-    for m in measures {
-        cmd.args(["--measure", m]);
-    }
-    let out = cmd.output().expect("run flipcard");
+        .args(measures.iter().flat_map(|m| ["--measure", *m]))
+        .run();
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         out.status.success(),
@@ -522,12 +519,11 @@ fn driven_amplitude_peaks_below_the_natural_frequency() {
     std::fs::write(&path, toml).unwrap();
     let measures: Vec<String> = (0..ratios.len()).map(|i| format!("final(A{i})")).collect();
     let refs: Vec<&str> = measures.iter().map(String::as_str).collect();
-    let out = Command::new(BIN)
+    let out = Flipcard::without_data()
         .args(["sim", "--scene", "sweep", "--deck"])
         .arg(&path)
         .args(refs.iter().flat_map(|m| ["--measure", *m]))
-        .output()
-        .unwrap();
+        .run();
     assert!(
         out.status.success(),
         "{}",
@@ -623,7 +619,7 @@ fn the_stiff_scene_switches_to_radau_and_no_other_does() {
             assert_eq!(d.stiff_at, None, "{} switched", scene.id);
         }
     }
-    let out = Command::new(BIN)
+    let out = Flipcard::without_data()
         .args([
             "sim",
             "--scene",
@@ -634,8 +630,7 @@ fn the_stiff_scene_switches_to_radau_and_no_other_does() {
         ])
         .arg(deck_path())
         .args(["--measure", "max(x)"])
-        .output()
-        .unwrap();
+        .run();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(out.stdout.is_empty());

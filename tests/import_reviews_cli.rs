@@ -3,30 +3,18 @@
 //! malformed file names every bad row and writes nothing.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use chrono::Duration;
 use flipcard::sched::{Config, Rating, Scheduler};
 use flipcard::store::Store;
 
 use crate::store_support::{at, back_key, key};
+use crate::support::{Flipcard, Output};
 
 const NOW: &str = "2026-05-10T12:00:00Z";
 
 fn flipcard(data: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(args)
-        .env("FLIPCARD_DATA_DIR", data)
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env("FLIPCARD_CONFIG", data.join("no-such-config.toml"))
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .expect("run flipcard")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
+    Flipcard::new(data).now(NOW).args(args).run()
 }
 
 /// A history recorded with the default scheduler (fuzz on, as the app).
@@ -72,29 +60,29 @@ fn export_then_import_moves_a_history_and_twice_changes_nothing() {
         let old = tempfile::tempdir().unwrap();
         history(old.path());
         let out = flipcard(old.path(), &["export", "--reviews", "--format", format]);
-        assert!(out.status.success(), "{}", text(&out.stderr));
+        assert!(out.status.success(), "{}", out.stderr());
         let file = old.path().join(format!("log.{format}"));
         std::fs::write(&file, &out.stdout).unwrap();
 
         let new = tempfile::tempdir().unwrap();
         let first = flipcard(new.path(), &["import", "--reviews", file.to_str().unwrap()]);
-        assert!(first.status.success(), "{}", text(&first.stderr));
+        assert!(first.status.success(), "{}", first.stderr());
         assert!(
-            text(&first.stdout).starts_with("imported 13 reviews from"),
+            first.stdout().starts_with("imported 13 reviews from"),
             "{}",
-            text(&first.stdout)
+            first.stdout()
         );
-        assert!(text(&first.stdout).contains("1 came undone"));
+        assert!(first.stdout().contains("1 came undone"));
         let exported_again = flipcard(new.path(), &["export", "--reviews", "--format", format]);
         // Same rows, states, kinds and flags: the replay reproduces them.
-        assert_eq!(text(&exported_again.stdout), text(&out.stdout), "{format}");
+        assert_eq!(exported_again.stdout(), out.stdout(), "{format}");
 
         let second = flipcard(new.path(), &["import", "--reviews", file.to_str().unwrap()]);
         assert!(second.status.success());
         assert!(
-            text(&second.stdout).starts_with("imported 0 reviews from"),
+            second.stdout().starts_with("imported 0 reviews from"),
             "{}",
-            text(&second.stdout)
+            second.stdout()
         );
         let after = flipcard(new.path(), &["export", "--reviews", "--format", format]);
         assert_eq!(after.stdout, exported_again.stdout);
@@ -124,7 +112,7 @@ fn malformed_files_name_every_bad_row_and_write_nothing() {
     .unwrap();
     let out = flipcard(dir.path(), &["import", "--reviews", csv.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1));
-    let err = text(&out.stderr);
+    let err = out.stderr();
     let name = csv.display().to_string();
     for line in [3, 4, 5] {
         assert!(err.contains(&format!("{name}:{line}: ")), "{err}");
@@ -141,9 +129,10 @@ fn malformed_files_name_every_bad_row_and_write_nothing() {
     let out = flipcard(dir.path(), &["import", "--reviews", json.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1));
     assert!(
-        text(&out.stderr).contains(&format!("{}:2: card is 3, not a string", json.display())),
+        out.stderr()
+            .contains(&format!("{}:2: card is 3, not a string", json.display())),
         "{}",
-        text(&out.stderr)
+        out.stderr()
     );
 
     let unknown = dir.path().join("log.txt");
@@ -153,11 +142,7 @@ fn malformed_files_name_every_bad_row_and_write_nothing() {
         &["import", "--reviews", unknown.to_str().unwrap()],
     );
     assert_eq!(out.status.code(), Some(1));
-    assert!(
-        text(&out.stderr).contains("--format json"),
-        "{}",
-        text(&out.stderr)
-    );
+    assert!(out.stderr().contains("--format json"), "{}", out.stderr());
     let out = flipcard(
         dir.path(),
         &[
@@ -168,7 +153,7 @@ fn malformed_files_name_every_bad_row_and_write_nothing() {
             "json",
         ],
     );
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out.status.success(), "{}", out.stderr());
 }
 
 /// One good row (line 2) and `bad` rows (lines 3…), as CSV and as JSON.
@@ -213,7 +198,7 @@ fn answers_dated_before_1970_or_in_the_future_are_refused_with_their_line() {
     ];
     for file in both_formats(dir.path(), &bad) {
         let out = flipcard(dir.path(), &["import", "--reviews", file.to_str().unwrap()]);
-        let err = text(&out.stderr);
+        let err = out.stderr();
         assert_eq!(out.status.code(), Some(1), "{err}");
         let name = file.display();
         for (line, says) in [
@@ -236,7 +221,7 @@ fn answers_dated_before_1970_or_in_the_future_are_refused_with_their_line() {
         dir.path(),
         &["import", "--reviews", ok[0].to_str().unwrap()],
     );
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out.status.success(), "{}", out.stderr());
 }
 
 #[test]
@@ -262,7 +247,7 @@ fn ids_that_are_not_of_the_deck_format_are_refused_and_quoted_escaped() {
             !out.stderr.contains(&0x07),
             "no raw BEL reaches the terminal"
         );
-        let err = text(&out.stderr);
+        let err = out.stderr();
         let name = file.display();
         for (line, says) in [
             (3, "deck id \"../../etc\" is not an id"),
@@ -288,7 +273,7 @@ fn ids_that_are_not_of_the_deck_format_are_refused_and_quoted_escaped() {
         dir.path(),
         &["import", "--reviews", ok[1].to_str().unwrap()],
     );
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out.status.success(), "{}", out.stderr());
 }
 
 #[test]
@@ -302,7 +287,7 @@ fn a_file_of_garbage_names_twenty_rows_and_counts_the_rest() {
     std::fs::write(&csv, text_).unwrap();
     let out = flipcard(dir.path(), &["import", "--reviews", csv.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1));
-    let err = text(&out.stderr);
+    let err = out.stderr();
     assert_eq!(err.lines().count(), 22, "{err}");
     assert!(err.contains(&format!("{}:21: ", csv.display())), "{err}");
     assert!(!err.contains(&format!("{}:22: ", csv.display())), "{err}");
@@ -319,9 +304,9 @@ fn a_file_of_garbage_names_twenty_rows_and_counts_the_rest() {
     let out = flipcard(dir.path(), &["import", "--reviews", huge.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(1));
     assert!(
-        text(&out.stderr).contains("larger than 512 MiB"),
+        out.stderr().contains("larger than 512 MiB"),
         "{}",
-        text(&out.stderr)
+        out.stderr()
     );
     assert!(!dir.path().join("flipcard.db").exists(), "nothing written");
 }
@@ -345,17 +330,12 @@ fn a_large_log_is_read_in_linear_time() {
     }
     text_.push_str("\n]\n");
     std::fs::write(&file, text_).unwrap();
-    let out = crate::deadline::output_within(
-        Command::new(env!("CARGO_BIN_EXE_flipcard"))
-            .args(["import", "--reviews", file.to_str().unwrap()])
-            .env("FLIPCARD_DATA_DIR", dir.path())
-            .env("FLIPCARD_NOW", NOW)
-            .env("FLIPCARD_CONFIG", dir.path().join("none.toml")),
-        120,
-        "importing 100,000 reviews",
-    );
+    let out = Flipcard::new(dir.path())
+        .now(NOW)
+        .args(["import", "--reviews", file.to_str().unwrap()])
+        .run_within(120);
     assert_eq!(out.status.code(), Some(1));
-    let err = text(&out.stderr);
+    let err = out.stderr();
     // Record k is on line k + 1.
     assert!(
         err.contains(&format!("{}:21: rating 9 is not 1–4", file.display())),

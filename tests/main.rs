@@ -16,7 +16,6 @@ mod check_robustness;
 mod check_sim_agree;
 mod class_report;
 mod cli_output;
-mod deadline;
 mod deck_library;
 mod deck_mutations;
 mod deck_oscillations;

@@ -5,23 +5,16 @@
 //! scheduler and stats using them, and too little data changing nothing.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use flipcard::sched::Config;
 use flipcard::sched::config::PARAMETER_BOUNDS;
 
+use crate::support::{Flipcard, Output};
+
 const NOW: &str = "2026-06-10T12:00:00Z";
 
 fn flipcard(data: &Path, config: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(args)
-        .env("FLIPCARD_DATA_DIR", data)
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env("FLIPCARD_CONFIG", config)
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .expect("run flipcard")
+    Flipcard::new(data).config(config).now(NOW).args(args).run()
 }
 
 fn text(b: &[u8]) -> String {
@@ -43,11 +36,11 @@ fn optimize_fits_reports_and_applies() {
     let original = "# my settings\nlanguage = \"hi-Latn\" # for my sister\n";
     std::fs::write(&config, original).unwrap();
     let imported = flipcard(dir.path(), &config, &["import", "--reviews", &fixture()]);
-    assert!(imported.status.success(), "{}", text(&imported.stderr));
+    assert!(imported.status.success(), "{}", imported.stderr());
 
     let out = flipcard(dir.path(), &config, &["optimize", "--format", "json"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let stdout = text(&out.stdout);
+    assert!(out.status.success(), "{}", out.stderr());
+    let stdout = out.stdout();
     assert_eq!(stdout.lines().count(), 1, "exactly one object: {stdout}");
     let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(v["reviews"], 2779);
@@ -73,7 +66,7 @@ fn optimize_fits_reports_and_applies() {
     assert_eq!(std::fs::read_to_string(&config).unwrap(), original);
 
     let human = flipcard(dir.path(), &config, &["optimize"]);
-    let human_text = text(&human.stdout);
+    let human_text = human.stdout();
     assert!(
         human_text.starts_with("fitted FSRS-6 to 2779 reviews of 300 cards"),
         "{human_text}"
@@ -81,8 +74,8 @@ fn optimize_fits_reports_and_applies() {
     assert!(human_text.contains("not applied"), "{human_text}");
 
     let applied = flipcard(dir.path(), &config, &["optimize", "--apply"]);
-    assert!(applied.status.success(), "{}", text(&applied.stderr));
-    assert!(text(&applied.stdout).contains("applied: written to"));
+    assert!(applied.status.success(), "{}", applied.stderr());
+    assert!(applied.stdout().contains("applied: written to"));
     let written = std::fs::read_to_string(&config).unwrap();
     assert!(written.starts_with(original), "{written}");
     let loaded = Config::load(Some(&config)).unwrap();
@@ -112,7 +105,7 @@ fn optimize_fits_reports_and_applies() {
     std::fs::write(&config, &broken).unwrap();
     let refused = flipcard(dir.path(), &config, &["stats"]);
     assert_eq!(refused.status.code(), Some(1));
-    let msg = text(&refused.stderr);
+    let msg = refused.stderr();
     assert!(
         msg.contains(&format!("{}:3:", config.display())) && msg.contains("fsrs_parameters"),
         "{msg}"
@@ -142,8 +135,8 @@ fn too_few_reviews_change_nothing() {
             &config,
             &["optimize", "--apply", "--format", format],
         );
-        assert!(out.status.success(), "{}", text(&out.stderr));
-        let s = text(&out.stdout);
+        assert!(out.status.success(), "{}", out.stderr());
+        let s = out.stdout();
         if format == "json" {
             let v: serde_json::Value = serde_json::from_str(&s).unwrap();
             assert_eq!(v["applied"], false);
@@ -158,5 +151,5 @@ fn too_few_reviews_change_nothing() {
     assert!(!config.exists(), "no config written");
     let unknown = flipcard(dir.path(), &config, &["optimize", "--deck", "nope"]);
     assert_eq!(unknown.status.code(), Some(1));
-    assert!(text(&unknown.stderr).contains("no reviews of deck `nope`"));
+    assert!(unknown.stderr().contains("no reviews of deck `nope`"));
 }

@@ -3,12 +3,13 @@
 //! for the target, and bad input.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use chrono::{DateTime, Duration, Utc};
 use flipcard::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler};
 use flipcard::store::Store;
 use serde_json::Value;
+
+use crate::support::{Flipcard, Output};
 
 const NOW: &str = "2026-05-10T12:00:00Z";
 
@@ -25,19 +26,12 @@ fn flipcard(root: &Path, args: &[&str]) -> Output {
     if args.first() == Some(&"plan") && !args.contains(&"--deck") {
         args.extend(["--deck", "mini"]);
     }
-    Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(&args)
-        .env("FLIPCARD_DATA_DIR", root.join("data"))
-        .env("FLIPCARD_DECKS", root.join("decks"))
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env("FLIPCARD_CONFIG", root.join("config.toml"))
-        .output()
-        .expect("run flipcard")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+    Flipcard::new(root.join("data"))
+        .decks(root.join("decks"))
+        .config(root.join("config.toml"))
+        .now(NOW)
+        .args(args)
+        .run()
 }
 
 /// A deck `mini` with `n` basic cards c0, c1, … and its content file.
@@ -92,7 +86,7 @@ fn history(root: &Path, n: usize) -> Vec<CardState> {
 }
 
 fn json(out: &Output) -> Value {
-    assert!(out.status.success(), "{}", stderr(out));
+    assert!(out.status.success(), "{}", out.stderr());
     serde_json::from_slice(&out.stdout).expect("one JSON object")
 }
 
@@ -200,7 +194,7 @@ fn a_cap_too_small_says_how_far_the_plan_falls_short() {
     assert!(with > 1.8 && with < 2.0, "{with}");
 
     let text = flipcard(dir.path(), &args);
-    assert!(text.status.success(), "{}", stderr(&text));
+    assert!(text.status.success(), "{}", text.stderr());
     let text = String::from_utf8_lossy(&text.stdout);
     assert!(
         text.contains("Short: 3 cards of 5 stay below 0.9"),
@@ -276,7 +270,7 @@ fn bad_input_is_one_line_and_exit_status_1() {
     ];
     for (args, says) in cases {
         let out = flipcard(dir.path(), &[&["plan"][..], args].concat());
-        let err = stderr(&out);
+        let err = out.stderr();
         assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
         assert!(out.stdout.is_empty(), "{args:?}");
         assert_eq!(err.lines().count(), 1, "{args:?}: {err}");

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-use crate::tui_e2e::release_binary;
+use crate::support::release_binary;
 
 const REPO: &str = env!("CARGO_MANIFEST_DIR");
 

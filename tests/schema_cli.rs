@@ -2,9 +2,8 @@
 //! a deck folder outside the repository.
 
 use std::path::Path;
-use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::Flipcard;
 
 fn checked_in(name: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -17,11 +16,10 @@ fn checked_in(name: &str) -> String {
 fn writes_both_schemas_into_a_new_folder() {
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
     let out = dir.path().join("course").join("schema");
-    let run = Command::new(BIN)
+    let run = Flipcard::without_data()
         .args(["schema", "--out"])
         .arg(&out)
-        .output()
-        .unwrap_or_else(|e| panic!("{e}"));
+        .run();
     assert!(
         run.status.success(),
         "{}",
@@ -42,11 +40,10 @@ fn writes_both_schemas_into_a_new_folder() {
 #[test]
 fn defaults_to_schema_in_the_current_folder() {
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
-    let run = Command::new(BIN)
-        .arg("schema")
+    let run = Flipcard::without_data()
         .current_dir(dir.path())
-        .output()
-        .unwrap_or_else(|e| panic!("{e}"));
+        .arg("schema")
+        .run();
     assert!(run.status.success());
     assert!(dir.path().join("schema/deck.schema.json").is_file());
 }
@@ -56,11 +53,10 @@ fn an_output_path_that_is_a_file_is_one_line_of_error() {
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
     let file = dir.path().join("taken");
     std::fs::write(&file, "x").unwrap_or_else(|e| panic!("{e}"));
-    let run = Command::new(BIN)
+    let run = Flipcard::without_data()
         .args(["schema", "--out"])
         .arg(&file)
-        .output()
-        .unwrap_or_else(|e| panic!("{e}"));
+        .run();
     assert_eq!(run.status.code(), Some(1));
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert_eq!(stderr.lines().count(), 1, "{stderr}");

@@ -1,15 +1,10 @@
 //! `flipcard sim` through the real binary: output format, sample times,
 //! precision, invariants, and a one-line exit-1 answer to every bad input.
 
-use std::process::{Command, Output};
+use crate::support::{Flipcard, Output};
 
 fn sim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .arg("sim")
-        .args(args)
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .expect("binary runs")
+    Flipcard::without_data().arg("sim").args(args).run()
 }
 
 fn stdout(out: &Output) -> String {

@@ -1,21 +1,10 @@
 //! `flipcard sim --scene ID` through the real binary.
 
-use std::process::Command;
-
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::Flipcard;
 
 fn sim(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(BIN)
-        .arg("sim")
-        .args(args)
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .expect("run flipcard");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let out = Flipcard::without_data().arg("sim").args(args).run();
+    (out.status.success(), out.stdout(), out.stderr())
 }
 
 #[test]

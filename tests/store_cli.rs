@@ -2,9 +2,9 @@
 //! `export --reviews`, `export --deck`, `import` and `db rebuild`.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use crate::store_support::{at, back_key, key, review};
+use crate::support::{Flipcard, Output};
 use chrono::Duration;
 use flipcard::interop::export::REVIEW_FIELDS;
 use flipcard::sched::{Rating, ReviewKind, State};
@@ -13,23 +13,7 @@ use flipcard::store::Store;
 const NOW: &str = "2026-05-10T12:00:00Z";
 
 fn flipcard(data: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(args)
-        .env("FLIPCARD_DATA_DIR", data)
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env("FLIPCARD_CONFIG", data.join("no-such-config.toml"))
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .expect("run flipcard")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+    Flipcard::new(data).now(NOW).args(args).run()
 }
 
 /// A deck folder with one deck `mini` holding `cards` (id, kind), and its
@@ -92,8 +76,8 @@ fn export_reviews_as_json_has_exactly_the_contract_fields() {
     let dir = tempfile::tempdir().unwrap();
     some_history(dir.path());
     let out = flipcard(dir.path(), &["export", "--reviews"]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let text = stdout(&out);
+    assert!(out.status.success(), "{}", out.stderr());
+    let text = out.stdout();
     let records: Vec<serde_json::Value> = serde_json::from_str(&text).unwrap();
     assert_eq!(records.len(), 3);
 
@@ -134,8 +118,8 @@ fn export_reviews_as_csv_has_the_contract_header() {
     let dir = tempfile::tempdir().unwrap();
     some_history(dir.path());
     let out = flipcard(dir.path(), &["export", "--reviews", "--format", "csv"]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let text = stdout(&out);
+    assert!(out.status.success(), "{}", out.stderr());
+    let text = out.stdout();
     let mut lines = text.lines();
     assert_eq!(
         lines.next().unwrap(),
@@ -152,9 +136,9 @@ fn export_reviews_as_csv_has_the_contract_header() {
 fn export_of_an_empty_log_is_empty() {
     let dir = tempfile::tempdir().unwrap();
     let out = flipcard(dir.path(), &["export", "--reviews"]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.status.success(), "{}", out.stderr());
     assert_eq!(
-        serde_json::from_str::<Vec<serde_json::Value>>(&stdout(&out))
+        serde_json::from_str::<Vec<serde_json::Value>>(&out.stdout())
             .unwrap()
             .len(),
         0
@@ -172,13 +156,14 @@ fn db_rebuild_restores_a_damaged_cache() {
             .unwrap();
     }
     let out = flipcard(dir.path(), &["db", "rebuild"]);
-    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.status.success(), "{}", out.stderr());
     assert!(
-        stdout(&out).contains("rebuilt 2 card states from 3 log rows"),
+        out.stdout()
+            .contains("rebuilt 2 card states from 3 log rows"),
         "{}",
-        stdout(&out)
+        out.stdout()
     );
-    assert!(stdout(&out).contains("1 differed"), "{}", stdout(&out));
+    assert!(out.stdout().contains("1 differed"), "{}", out.stdout());
     assert_eq!(
         Store::open(dir.path()).unwrap().cached_states().unwrap(),
         before
@@ -215,8 +200,8 @@ fn stats_report_orphans_and_history_returns_with_the_card() {
         &data,
         &["stats", "--decks", decks_arg, "--deck", "mini", "--json"],
     );
-    assert!(out.status.success(), "{}", stderr(&out));
-    let s: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    assert!(out.status.success(), "{}", out.stderr());
+    let s: serde_json::Value = serde_json::from_str(&out.stdout()).unwrap();
     assert_eq!(s["cards"]["total"], 4, "a, r forward and backward, n");
     assert_eq!(s["cards"]["new"], 2);
     assert_eq!(s["cards"]["review"], 1);
@@ -230,8 +215,8 @@ fn stats_report_orphans_and_history_returns_with_the_card() {
     assert_eq!(s["reviews_per_day"][28]["total"], 2);
 
     let text = flipcard(&data, &["stats", "--decks", decks_arg, "--deck", "mini"]);
-    assert!(text.status.success(), "{}", stderr(&text));
-    let t = stdout(&text);
+    assert!(text.status.success(), "{}", text.stderr());
+    let t = text.stdout();
     assert!(
         t.contains("Cards: 4 — new 2, learning 1, review 1, relearning 0"),
         "{t}"
@@ -247,7 +232,7 @@ fn stats_report_orphans_and_history_returns_with_the_card() {
         &data,
         &["stats", "--decks", decks_arg, "--deck", "mini", "--json"],
     );
-    let s: serde_json::Value = serde_json::from_str(&stdout(&out)).unwrap();
+    let s: serde_json::Value = serde_json::from_str(&out.stdout()).unwrap();
     assert_eq!(s["orphans"].as_array().unwrap().len(), 0);
     assert_eq!(s["cards"]["learning"], 2);
     assert_eq!(s["cards"]["new"], 1);
@@ -268,8 +253,8 @@ fn stats_of_an_unknown_deck_is_an_error() {
         ],
     );
     assert_eq!(out.status.code(), Some(1));
-    assert!(stderr(&out).contains("no deck `nope`"), "{}", stderr(&out));
-    assert!(stderr(&out).contains("mini"), "{}", stderr(&out));
+    assert!(out.stderr().contains("no deck `nope`"), "{}", out.stderr());
+    assert!(out.stderr().contains("mini"), "{}", out.stderr());
 }
 
 #[test]
@@ -286,25 +271,25 @@ fn a_deck_exported_to_csv_imports_back_and_passes_check() {
             "csv",
         ],
     );
-    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.status.success(), "{}", out.stderr());
     let csv_path = dir.path().join("cards.csv");
     std::fs::write(&csv_path, &out.stdout).unwrap();
-    assert!(stdout(&out).starts_with("front,back,tags\n"));
+    assert!(out.stdout().starts_with("front,back,tags\n"));
 
     let out = flipcard(
         &data,
         &["import", csv_path.to_str().unwrap(), "--deck-id", "again"],
     );
-    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(out.status.success(), "{}", out.stderr());
     assert!(
-        stderr(&out).contains("decks/again.toml"),
+        out.stderr().contains("decks/again.toml"),
         "{}",
-        stderr(&out)
+        out.stderr()
     );
     assert!(
-        stderr(&out).contains("content/again/en.toml"),
+        out.stderr().contains("content/again/en.toml"),
         "{}",
-        stderr(&out)
+        out.stderr()
     );
     let root = dir.path().join("placed");
     std::fs::create_dir_all(root.join("decks")).unwrap();
@@ -316,8 +301,8 @@ fn a_deck_exported_to_csv_imports_back_and_passes_check() {
     assert!(
         check.status.success(),
         "{}{}",
-        stdout(&check),
-        stderr(&check)
+        check.stdout(),
+        check.stderr()
     );
 
     // Same texts (primary language) and tags, card for card.
@@ -354,7 +339,7 @@ fn import_reports_every_bad_row_and_writes_nothing() {
     );
     assert_eq!(out.status.code(), Some(1));
     assert!(out.stdout.is_empty(), "no deck on stdout");
-    let err = stderr(&out);
+    let err = out.stderr();
     let file = csv_path.display().to_string();
     assert!(err.contains(&format!("{file}:3: front is empty")), "{err}");
     assert!(
@@ -377,7 +362,7 @@ fn import_reports_every_bad_row_and_writes_nothing() {
         ],
     );
     assert_eq!(out.status.code(), Some(1));
-    assert!(stderr(&out).contains("not a deck id"), "{}", stderr(&out));
+    assert!(out.stderr().contains("not a deck id"), "{}", out.stderr());
 
     let out = flipcard(
         dir.path(),
@@ -389,7 +374,7 @@ fn import_reports_every_bad_row_and_writes_nothing() {
         ],
     );
     assert_eq!(out.status.code(), Some(1));
-    assert!(stderr(&out).contains("missing.csv"), "{}", stderr(&out));
+    assert!(out.stderr().contains("missing.csv"), "{}", out.stderr());
 }
 
 #[test]
@@ -412,8 +397,8 @@ fn imported_math_keeps_its_backslashes() {
             "hi-Latn",
         ],
     );
-    assert!(out.status.success(), "{}", stderr(&out));
-    let toml_text = stdout(&out);
+    assert!(out.status.success(), "{}", out.stderr());
+    let toml_text = out.stdout();
     assert!(
         toml_text.contains(r"'Euler: $I_1\dot\omega_1$?'"),
         "{toml_text}"
@@ -493,7 +478,7 @@ fn export_never_writes_a_time_rfc_3339_cannot_hold() {
         ),
     ] {
         let out = flipcard(dir.path(), args);
-        let (text, err) = (stdout(&out), stderr(&out));
+        let (text, err) = (out.stdout(), out.stderr());
         assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
         // Every time written is RFC 3339; the rows that cannot be are left
         // out and named.
@@ -573,10 +558,10 @@ fn stats_escapes_the_ids_of_an_orphan_from_the_log() {
         let mut all = vec!["--decks", decks.to_str().unwrap()];
         all.extend_from_slice(args);
         let out = flipcard(&data, &all);
-        assert!(out.status.success(), "{}", stderr(&out));
+        assert!(out.status.success(), "{}", out.stderr());
         assert!(!out.stdout.contains(&0x1b), "{args:?}: raw ESC");
         assert!(!out.stdout.contains(&0x07), "{args:?}: raw BEL");
-        let text = stdout(&out);
+        let text = out.stdout();
         assert!(text.contains("ghost\\u001b]0;owned\\u0007"), "{text}");
         assert!(text.contains("c\\u001b[2J"), "{text}");
     }
@@ -584,15 +569,10 @@ fn stats_escapes_the_ids_of_an_orphan_from_the_log() {
 
 /// `flipcard import FILE --deck-id mini`, bounded in time.
 fn import_cards(dir: &Path, file: &Path) -> Output {
-    crate::deadline::output_within(
-        Command::new(env!("CARGO_BIN_EXE_flipcard"))
-            .args(["import", file.to_str().unwrap(), "--deck-id", "mini"])
-            .env("FLIPCARD_DATA_DIR", dir)
-            .env("FLIPCARD_NOW", NOW)
-            .env("FLIPCARD_CONFIG", dir.join("none.toml")),
-        120,
-        "importing a CSV of cards",
-    )
+    Flipcard::new(dir)
+        .now(NOW)
+        .args(["import", file.to_str().unwrap(), "--deck-id", "mini"])
+        .run_within(120)
 }
 
 #[test]
@@ -607,8 +587,8 @@ fn a_csv_of_cards_has_the_limits_of_every_import() {
     }
     std::fs::write(&same, csv).unwrap();
     let out = import_cards(dir.path(), &same);
-    assert!(out.status.success(), "{}", stderr(&out));
-    let deck: toml::Table = stdout(&out).parse().unwrap();
+    assert!(out.status.success(), "{}", out.stderr());
+    let deck: toml::Table = out.stdout().parse().unwrap();
     let ids: Vec<&str> = deck["card"]
         .as_array()
         .unwrap()
@@ -625,10 +605,10 @@ fn a_csv_of_cards_has_the_limits_of_every_import() {
     std::fs::write(&garbage, "front,back\n".to_string() + &",\n".repeat(500)).unwrap();
     let out = import_cards(dir.path(), &garbage);
     assert_eq!(out.status.code(), Some(1));
-    let err = stderr(&out);
+    let err = out.stderr();
     assert_eq!(err.lines().count(), 22, "{err}");
     assert!(err.contains("… and 480 more bad rows"), "{err}");
-    assert!(stdout(&out).is_empty(), "no deck written");
+    assert!(out.stdout().is_empty(), "no deck written");
 
     // A field longer than a card's text can be.
     let long = dir.path().join("long.csv");
@@ -640,9 +620,10 @@ fn a_csv_of_cards_has_the_limits_of_every_import() {
     let out = import_cards(dir.path(), &long);
     assert_eq!(out.status.code(), Some(1));
     assert!(
-        stderr(&out).contains("long.csv:3: back is 5 MiB long; a card's text may be at most 4 MiB"),
+        out.stderr()
+            .contains("long.csv:3: back is 5 MiB long; a card's text may be at most 4 MiB"),
         "{}",
-        stderr(&out)
+        out.stderr()
     );
 
     // A file larger than a deck can sensibly be, refused before it is read
@@ -655,8 +636,8 @@ fn a_csv_of_cards_has_the_limits_of_every_import() {
     let out = import_cards(dir.path(), &huge);
     assert_eq!(out.status.code(), Some(1));
     assert!(
-        stderr(&out).contains("huge.csv: it is larger than 64 MiB"),
+        out.stderr().contains("huge.csv: it is larger than 64 MiB"),
         "{}",
-        stderr(&out)
+        out.stderr()
     );
 }

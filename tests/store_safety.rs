@@ -16,7 +16,8 @@ use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::restore::{RestoreError, restore};
 use flipcard::store::{Store, StoreError};
 
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::{Flipcard, Output};
+
 const NOW: &str = "2026-03-02T09:00:00Z";
 
 fn rate(store: &mut Store, card: &str, minutes: i64) -> i64 {
@@ -50,18 +51,8 @@ fn data_with_backup(n: i64) -> tempfile::TempDir {
     dir
 }
 
-fn flipcard(data: &Path, args: &[&str]) -> std::process::Output {
-    Command::new(BIN)
-        .args(args)
-        .env("FLIPCARD_DATA_DIR", data)
-        .env("FLIPCARD_NOW", NOW)
-        .env("FLIPCARD_CONFIG", data.join("no-config.toml"))
-        .output()
-        .unwrap()
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
+fn flipcard(data: &Path, args: &[&str]) -> Output {
+    Flipcard::new(data).now(NOW).args(args).run()
 }
 
 #[test]
@@ -88,7 +79,7 @@ fn an_empty_file_with_backups_beside_it_is_damage_not_a_new_database() {
     // Through the binary: every command refuses, nothing is replaced.
     let out = flipcard(dir.path(), &["db", "rebuild"]);
     assert_eq!(out.status.code(), Some(1));
-    assert!(text(&out.stderr).contains(&newest.display().to_string()));
+    assert!(out.stderr().contains(&newest.display().to_string()));
     assert_eq!(std::fs::metadata(&db).unwrap().len(), 0);
 
     // Without any backup an empty file is a database not yet written.
@@ -110,8 +101,8 @@ fn restore_sets_the_damaged_file_aside_and_brings_the_backup_back() {
     ));
 
     let out = flipcard(dir.path(), &["db", "restore"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let said = text(&out.stdout);
+    assert!(out.status.success(), "{}", out.stderr());
+    let said = out.stdout();
     assert!(said.contains("(4 reviews)"), "{said}");
     // The damaged bytes are kept, under a name that says what they are.
     let aside: Vec<PathBuf> = std::fs::read_dir(dir.path())
@@ -330,10 +321,10 @@ fn a_full_disk_says_so_keeps_every_saved_rating_and_reads_still_work() {
 
     // Reading commands work on the full disk (from another process).
     let out = flipcard(&data, &["export", "--reviews", "--format", "csv"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    assert_eq!(text(&out.stdout).lines().count(), saved.len() + 1);
+    assert!(out.status.success(), "{}", out.stderr());
+    assert_eq!(out.stdout().lines().count(), saved.len() + 1);
     let out = flipcard(&data, &["stats", "--json"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out.status.success(), "{}", out.stderr());
 
     // Space again: writing resumes, nothing acknowledged was lost.
     std::fs::remove_file(&filler).unwrap();
@@ -355,14 +346,14 @@ fn a_full_disk_says_so_keeps_every_saved_rating_and_reads_still_work() {
     // even though SQLite cannot create its index file.
     let filler = disk.fill();
     let out = flipcard(&data, &["export", "--reviews", "--format", "json"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out.status.success(), "{}", out.stderr());
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(rows.as_array().map(Vec::len), Some(saved.len()));
     let out = flipcard(&data, &["stats"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out.status.success(), "{}", out.stderr());
     // A command that writes says "disk full" in one line.
     let out = flipcard(&data, &["db", "rebuild"]);
-    let err = text(&out.stderr);
+    let err = out.stderr();
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert!(
         err.contains("disk full") || err.contains("not writable"),
@@ -403,26 +394,22 @@ fn reading_commands_work_from_a_read_only_data_dir() {
     }
     disk.remount("ro");
     let out = flipcard(&data, &["export", "--reviews", "--format", "csv"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    assert_eq!(text(&out.stdout).lines().count(), 6);
+    assert!(out.status.success(), "{}", out.stderr());
+    assert_eq!(out.stdout().lines().count(), 6);
     let out = flipcard(&data, &["stats", "--json"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(out.status.success(), "{}", out.stderr());
     let stats: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert!(stats.is_object());
     // Writing is refused with the reason.
     let out = flipcard(&data, &["db", "rebuild"]);
     assert_eq!(out.status.code(), Some(1));
-    assert!(
-        text(&out.stderr).contains("not writable"),
-        "{}",
-        text(&out.stderr)
-    );
+    assert!(out.stderr().contains("not writable"), "{}", out.stderr());
     disk.remount("rw");
 
     // A data dir that does not exist reads as empty and is not created.
     let none = disk.path().join("never-made");
     let out = flipcard(&none, &["export", "--reviews", "--format", "json"]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    assert_eq!(text(&out.stdout).trim(), "[]");
+    assert!(out.status.success(), "{}", out.stderr());
+    assert_eq!(out.stdout().trim(), "[]");
     assert!(!none.exists());
 }

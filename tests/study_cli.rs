@@ -6,7 +6,6 @@
 //! screen writes.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use chrono::Duration;
 use flipcard::sched::{Direction, ItemKey, Rating, ReviewKind, State};
@@ -14,23 +13,20 @@ use flipcard::store::{AfterRating, StatusAction, Store};
 use serde_json::Value;
 
 use crate::store_support::{at, review};
+use crate::support::{Flipcard, Output};
 
 const NOW: &str = "2026-05-10T12:00:00Z";
 
 /// The fixture deck opens beside the bundled ones.
 fn flipcard(data: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_flipcard"))
+    Flipcard::new(data)
+        .now(NOW)
+        .decks(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/decks/study/decks"
+        ))
         .args(args)
-        .env("FLIPCARD_DATA_DIR", data)
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env("FLIPCARD_CONFIG", data.join("no-such-config.toml"))
-        .env(
-            "FLIPCARD_DECKS",
-            concat!(env!("CARGO_MANIFEST_DIR"), "/tests/decks/study/decks"),
-        )
-        .output()
-        .expect("run flipcard")
+        .run()
 }
 
 fn item(card: &str, direction: Direction) -> ItemKey {
@@ -100,7 +96,7 @@ fn stats_json_lists_leeches_with_lapses_and_counts_marks() {
     let dir = tempfile::tempdir().unwrap();
     setup(dir.path());
     let o = flipcard(dir.path(), &["stats", "--json"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["suspended"], 1);
     assert_eq!(v["buried"], 1);
@@ -134,7 +130,7 @@ fn stats_json_lists_leeches_with_lapses_and_counts_marks() {
 
     // One deck's stats keep to that deck.
     let o = flipcard(dir.path(), &["stats", "--json", "--deck", "oscillations"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["leeches"], serde_json::json!([]));
     assert_eq!(v["suspended"], 0);
@@ -145,7 +141,7 @@ fn stats_text_names_each_leech_with_its_lapses() {
     let dir = tempfile::tempdir().unwrap();
     setup(dir.path());
     let o = flipcard(dir.path(), &["stats", "--deck", "study"]);
-    assert!(o.status.success(), "{}", err(&o));
+    assert!(o.status.success(), "{}", o.stderr());
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
         text.contains("Suspended: 1; buried today: 1; leeches: 2\n")
@@ -154,10 +150,6 @@ fn stats_text_names_each_leech_with_its_lapses() {
             && !text.contains("torque-rate/c1"),
         "{text}"
     );
-}
-
-fn err(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 #[test]
@@ -194,13 +186,13 @@ fn a_filter_without_a_deck_checks_names_against_every_deck() {
         ),
     ] {
         let o = flipcard(d, &args);
-        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", err(&o));
-        assert!(err(&o).contains(says), "{args:?}: {}", err(&o));
-        assert_eq!(err(&o).lines().count(), 1, "{args:?}: {}", err(&o));
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {}", o.stderr());
+        assert!(o.stderr().contains(says), "{args:?}: {}", o.stderr());
+        assert_eq!(o.stderr().lines().count(), 1, "{args:?}: {}", o.stderr());
     }
     // The tags listed come from every deck: the fixture's and the bundled.
     let o = flipcard(d, &["review", "--tag", "nope"]);
     for tag in ["euler", "pendulum", "stability", "frames"] {
-        assert!(err(&o).contains(tag), "{tag}: {}", err(&o));
+        assert!(o.stderr().contains(tag), "{tag}: {}", o.stderr());
     }
 }

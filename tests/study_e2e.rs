@@ -4,25 +4,19 @@
 //! learning step; then `flipcard export --reviews` has every rating against
 //! the right deck.
 
-use std::process::Command;
+use crate::support::Flipcard;
+use crate::tui_e2e::{Tmux, tmux_available};
 
-use crate::tui_e2e::{Tmux, release_binary, tmux_available};
-
-fn vars(dir: &std::path::Path) -> Vec<(&'static str, String)> {
-    vec![
-        ("FLIPCARD_NOW", "2026-03-02T09:00:00Z".to_string()),
-        ("FLIPCARD_DATA_DIR", dir.join("data").display().to_string()),
-        (
-            "FLIPCARD_CONFIG",
-            dir.join("config.toml").display().to_string(),
-        ),
+fn flipcard(dir: &std::path::Path) -> Flipcard {
+    Flipcard::new(dir.join("data"))
+        .config(dir.join("config.toml"))
+        .now("2026-03-02T09:00:00Z")
         // A deck of its own beside the bundled ones, without the tag.
-        (
-            "FLIPCARD_DECKS",
-            concat!(env!("CARGO_MANIFEST_DIR"), "/tests/decks/study/decks").to_string(),
-        ),
-        ("TERM", "xterm-256color".to_string()),
-    ]
+        .decks(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/decks/study/decks"
+        ))
+        .release()
 }
 
 /// The tagged card of each bundled deck: (deck, card, deck title, a piece
@@ -52,8 +46,7 @@ fn a_tag_without_a_deck_reviews_both_bundled_decks_and_exports_each_rating_under
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
     let t = Tmux::start(
         "study",
-        &vars(dir.path()),
-        "review --tag intuition",
+        flipcard(dir.path()).args(["review", "--tag", "intuition"]),
         110,
         30,
     );
@@ -89,12 +82,9 @@ fn a_tag_without_a_deck_reviews_both_bundled_decks_and_exports_each_rating_under
     t.keys(&["q"]);
     t.wait_for("EXIT=0");
 
-    let mut cmd = Command::new(release_binary());
-    cmd.args(["export", "--reviews", "--format", "json"]);
-    for (k, v) in vars(dir.path()) {
-        cmd.env(k, v);
-    }
-    let out = cmd.output().unwrap_or_else(|e| panic!("export: {e}"));
+    let out = flipcard(dir.path())
+        .args(["export", "--reviews", "--format", "json"])
+        .run();
     assert!(
         out.status.success(),
         "{}",

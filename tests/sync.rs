@@ -6,7 +6,7 @@
 //! card states, status logs and statuses are compared field by field.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use chrono::{DateTime, TimeDelta, Utc};
@@ -15,6 +15,8 @@ use flipcard::sched::{Config, ItemKey, Rating, Scheduler};
 use flipcard::store::state::CachedState;
 use flipcard::store::{AfterRating, ItemStatus, StatusAction, Store};
 
+use crate::support::{Flipcard, Output};
+
 pub(crate) const DECK: &str = "torque-free-rotation";
 pub(crate) const NOW: &str = "2026-06-01T12:00:00Z";
 
@@ -22,26 +24,12 @@ pub(crate) fn t(s: &str) -> DateTime<Utc> {
     DateTime::parse_from_rfc3339(s).unwrap().with_timezone(&Utc)
 }
 
-pub(crate) fn sync_cmd(data: &Path, folder: &Path) -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_flipcard"));
-    c.arg("sync")
-        .arg(folder)
-        .env("FLIPCARD_DATA_DIR", data)
-        .env("FLIPCARD_CONFIG", data.join("no-config.toml"))
-        .env("FLIPCARD_NOW", NOW)
-        .env_remove("FLIPCARD_DECKS");
-    c
+pub(crate) fn sync_cmd(data: &Path, folder: &Path) -> Flipcard {
+    Flipcard::new(data).now(NOW).arg("sync").arg(folder)
 }
 
 pub(crate) fn sync(data: &Path, folder: &Path) -> Output {
-    let out = sync_cmd(data, folder).output().unwrap();
-    assert!(
-        out.status.success(),
-        "sync of {}: {}",
-        data.display(),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    out
+    sync_cmd(data, folder).run().ok()
 }
 
 /// A study session: each (card, rating, minutes after `start`) answered as
@@ -179,20 +167,11 @@ pub(crate) fn statuses(data: &Path) -> Vec<(ItemKey, ItemStatus)> {
 }
 
 pub(crate) fn cards_json(data: &Path) -> serde_json::Value {
-    let out = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+    let out = Flipcard::new(data)
+        .now(NOW)
         .args(["cards", "list", &format!("deck:{DECK}"), "--format", "json"])
-        .env("FLIPCARD_DATA_DIR", data)
-        .env("FLIPCARD_CONFIG", data.join("no-config.toml"))
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .run()
+        .ok();
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
@@ -622,6 +601,7 @@ fn sigkill_at_any_point_of_a_sync_loses_nothing_and_half_merges_nothing() {
     let mut kills = 0;
     while delay_us < 2_000_000 {
         let mut child = sync_cmd(&p.lab, &p.folder)
+            .command()
             .stdout(Stdio::null())
             .stderr(Stdio::null())
             .spawn()
@@ -670,23 +650,14 @@ fn sigkill_at_any_point_of_a_sync_loses_nothing_and_half_merges_nothing() {
 #[test]
 fn sync_needs_a_folder() {
     let p = pair();
-    let out = sync_cmd(&p.laptop, &p.folder.join("missing"))
-        .output()
-        .unwrap();
+    let out = sync_cmd(&p.laptop, &p.folder.join("missing")).run();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("missing: no such folder"));
     std::fs::write(p.folder.join("a-file"), "").unwrap();
-    let out = sync_cmd(&p.laptop, &p.folder.join("a-file"))
-        .output()
-        .unwrap();
+    let out = sync_cmd(&p.laptop, &p.folder.join("a-file")).run();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("a-file: not a folder"));
-    let out = Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .arg("sync")
-        .env("FLIPCARD_DATA_DIR", &p.laptop)
-        .env("FLIPCARD_CONFIG", p.laptop.join("none.toml"))
-        .output()
-        .unwrap();
+    let out = Flipcard::new(&p.laptop).arg("sync").run();
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("sync_dir"));
 }
@@ -712,6 +683,7 @@ fn a_fifo_or_a_folder_in_the_sync_folder_is_skipped_not_waited_on() {
     std::fs::create_dir(p.folder.join("folder.jsonl")).unwrap();
     std::os::unix::fs::symlink("/nonexistent", p.folder.join("gone.jsonl")).unwrap();
     let mut child = sync_cmd(&p.lab, &p.folder)
+        .command()
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -746,7 +718,7 @@ fn a_fifo_or_a_folder_in_the_sync_folder_is_skipped_not_waited_on() {
     let other = p.folder.parent().unwrap().join("third");
     std::fs::create_dir(&other).unwrap();
     mkfifo(&other.join("machine-id"));
-    let out = sync_cmd(&other, &p.folder).output().unwrap();
+    let out = sync_cmd(&other, &p.folder).run();
     assert_eq!(out.status.code(), Some(1));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -946,15 +918,12 @@ fn sync_dir_in_the_config_may_start_with_a_tilde() {
     let config = p.laptop.join("config.toml");
     let run = |text: &str| {
         std::fs::write(&config, text).unwrap();
-        Command::new(env!("CARGO_BIN_EXE_flipcard"))
-            .arg("sync")
-            .env("FLIPCARD_DATA_DIR", &p.laptop)
-            .env("FLIPCARD_CONFIG", &config)
-            .env("FLIPCARD_NOW", NOW)
+        Flipcard::new(&p.laptop)
+            .config(&config)
+            .now(NOW)
             .env("HOME", home)
-            .env_remove("FLIPCARD_DECKS")
-            .output()
-            .unwrap()
+            .arg("sync")
+            .run()
     };
     let out = run("sync_dir = \"~/Sync\"\n");
     assert!(

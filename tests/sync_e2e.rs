@@ -3,35 +3,19 @@
 //! session closes, while the app stays open, and what another machine sent
 //! meanwhile comes in at the next session's close.
 
+use crate::support::Flipcard;
+use crate::tui_e2e::{Tmux, tmux_available};
 use std::path::Path;
-use std::process::Command;
-
-use crate::tui_e2e::{Tmux, release_binary, tmux_available};
 
 const NOW: &str = "2026-06-01T12:00:00Z";
 
-fn vars(data: &Path, config: &Path) -> Vec<(&'static str, String)> {
-    vec![
-        ("FLIPCARD_NOW", NOW.to_string()),
-        ("FLIPCARD_DATA_DIR", data.display().to_string()),
-        ("FLIPCARD_CONFIG", config.display().to_string()),
-        ("TERM", "xterm-256color".to_string()),
-    ]
+/// The release build with its data in `data`, its config `config`.
+fn app(data: &Path, config: &Path) -> Flipcard {
+    Flipcard::new(data).config(config).now(NOW).release()
 }
 
 fn flipcard(data: &Path, config: &Path, args: &[&str]) -> String {
-    let mut cmd = Command::new(release_binary());
-    cmd.args(args).env_remove("FLIPCARD_DECKS");
-    for (k, v) in vars(data, config) {
-        cmd.env(k, v);
-    }
-    let out = cmd.output().unwrap_or_else(|e| panic!("{args:?}: {e}"));
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8_lossy(&out.stdout).into_owned()
+    app(data, config).args(args).run().ok().stdout()
 }
 
 fn reviews(data: &Path, config: &Path) -> Vec<serde_json::Value> {
@@ -55,7 +39,7 @@ fn a_session_syncs_when_it_closes_while_the_app_stays_open() {
         .unwrap_or_else(|e| panic!("{e}"));
     let (laptop, lab) = (dir.path().join("laptop"), dir.path().join("lab"));
 
-    let t = Tmux::start("sync-after-session", &vars(&laptop, &config), "", 100, 30);
+    let t = Tmux::start("sync-after-session", app(&laptop, &config), 100, 30);
     t.wait_for("Torque-free");
     // The first deck's review: one card answered Good, then back home.
     t.keys(&["Enter"]);

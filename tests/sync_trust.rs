@@ -8,10 +8,11 @@
 //! at once.
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 
 use flipcard::sched::Rating;
 
+use crate::support::{Flipcard, Output};
 use crate::sync::{DECK, NOW, live_log, mkfifo, pair, same, statuses, study, sync, sync_cmd};
 
 fn id_of(data: &Path) -> String {
@@ -73,7 +74,7 @@ fn a_restored_database_gets_its_own_answers_back_from_its_file() {
     assert_eq!(live_log(&p.laptop).len(), 2, "the copy is older");
     let old_id = id_of(&p.laptop);
     let out = sync(&p.laptop, &p.folder);
-    let (said, err) = (text(&out.stdout), text(&out.stderr));
+    let (said, err) = (out.stdout(), out.stderr());
     assert!(said.contains("3 reviews merged"), "{said}");
     assert!(err.contains("restored from a backup"), "{err}");
     assert_ne!(id_of(&p.laptop), old_id, "a new id for the restored copy");
@@ -100,23 +101,16 @@ fn flipcard_db_restore_then_sync_brings_back_what_the_copy_lacks() {
         &[("body-frame-why", Rating::Good, 0)],
     );
     sync(&p.laptop, &p.folder);
-    let out = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+    let out = Flipcard::new(&p.laptop)
+        .now(NOW)
         .args(["db", "restore"])
         .arg(&copy)
         .arg("--force")
-        .env("FLIPCARD_DATA_DIR", &p.laptop)
-        .env("FLIPCARD_CONFIG", p.laptop.join("no-config.toml"))
-        .env("FLIPCARD_NOW", NOW)
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", text(&out.stderr));
+        .run();
+    assert!(out.status.success(), "{}", out.stderr());
     assert_eq!(live_log(&p.laptop).len(), 1);
     let out = sync(&p.laptop, &p.folder);
-    assert!(
-        text(&out.stdout).contains("1 review merged"),
-        "{}",
-        text(&out.stdout)
-    );
+    assert!(out.stdout().contains("1 review merged"), "{}", out.stdout());
     assert_eq!(live_log(&p.laptop).len(), 2);
 }
 
@@ -150,13 +144,9 @@ fn a_copied_data_folder_takes_a_new_id_and_the_copies_exchange_everything() {
         &[("l-not-parallel", Rating::Easy, 0)],
     );
     let out = sync(&p.laptop, &p.folder);
-    let err = text(&out.stderr);
+    let err = out.stderr();
     assert!(err.contains("copied to another machine"), "{err}");
-    assert!(
-        text(&out.stdout).contains("1 review merged"),
-        "{}",
-        text(&out.stdout)
-    );
+    assert!(out.stdout().contains("1 review merged"), "{}", out.stdout());
     assert_ne!(
         id_of(&p.laptop),
         id_of(&p.lab),
@@ -209,7 +199,7 @@ fn a_forged_file_cannot_take_back_another_machines_answers() {
     std::fs::write(p.folder.join(format!("{FORGED}.jsonl")), &forged).unwrap();
 
     let out = sync(&p.lab, &p.folder);
-    assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
+    assert!(out.stderr.is_empty(), "{}", out.stderr());
     assert_eq!(live_log(&p.lab).len(), 4, "the lab keeps every answer");
     sync(&p.laptop, &p.folder);
     assert_eq!(
@@ -262,25 +252,19 @@ fn many_answers_taken_back_in_one_sync_are_said_loudly() {
     }
     std::fs::write(&file, more).unwrap();
     let out = sync(&p.lab, &p.folder);
-    let err = text(&out.stderr);
+    let err = out.stderr();
     assert!(err.contains("takes back 7 answers"), "{err}");
     assert!(err.contains(&id_of(&p.laptop)), "{err}");
     assert_eq!(live_log(&p.lab).len(), 0);
 }
 
 fn cards(data: &Path, now: &str, args: &[&str]) -> Output {
-    let out = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+    Flipcard::new(data)
+        .now(now)
         .arg("cards")
         .args(args)
-        .env("FLIPCARD_DATA_DIR", data)
-        .env("FLIPCARD_CONFIG", data.join("no-config.toml"))
-        .env("FLIPCARD_NOW", now)
-        .env("TZ", "UTC")
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    out
+        .run()
+        .ok()
 }
 
 #[test]
@@ -297,9 +281,9 @@ fn an_unsuspend_takes_effect_after_a_suspend_from_a_clock_that_runs_ahead() {
     cards(&p.laptop, "2026-06-01T12:10:00Z", &["unsuspend", &item]);
     let listed = cards(&p.laptop, "2026-06-01T12:10:00Z", &["list", "is:suspended"]);
     assert!(
-        !text(&listed.stdout).contains("body-frame-why"),
+        !listed.stdout().contains("body-frame-why"),
         "{}",
-        text(&listed.stdout)
+        listed.stdout()
     );
     assert!(statuses(&p.laptop).is_empty(), "{:?}", statuses(&p.laptop));
     sync(&p.laptop, &p.folder);
@@ -338,7 +322,7 @@ fn lines_with_impossible_ids_or_dates_are_refused_and_said_once() {
     let file = p.folder.join(format!("{FORGED}.jsonl"));
     std::fs::write(&file, &forged).unwrap();
     let out = sync(&p.lab, &p.folder);
-    let (said, err) = (text(&out.stdout), text(&out.stderr));
+    let (said, err) = (out.stdout(), out.stderr());
     assert!(said.contains("1 review merged"), "{said}");
     assert!(!err.contains('\u{1b}') && !err.contains('\u{7}'), "{err:?}");
     assert_eq!(
@@ -355,7 +339,7 @@ fn lines_with_impossible_ids_or_dates_are_refused_and_said_once() {
     assert_eq!(live[0].card, "good-card");
     // Said once: nothing again at the next sync.
     let out = sync(&p.lab, &p.folder);
-    assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
+    assert!(out.stderr.is_empty(), "{}", out.stderr());
 
     // A file of garbage: one warning, with the count.
     let garbage: String = (0..1000).map(|i| format!("garbage {i}\n")).collect();
@@ -365,7 +349,7 @@ fn lines_with_impossible_ids_or_dates_are_refused_and_said_once() {
     )
     .unwrap();
     let out = sync(&p.lab, &p.folder);
-    let err = text(&out.stderr);
+    let err = out.stderr();
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("(and 999 more)"), "{err}");
 }
@@ -375,17 +359,17 @@ fn a_machine_id_that_links_to_nothing_is_one_line() {
     let p = pair();
     std::fs::create_dir_all(&p.laptop).unwrap();
     std::os::unix::fs::symlink("/nonexistent/machine-id", p.laptop.join("machine-id")).unwrap();
-    let out = sync_cmd(&p.laptop, &p.folder).output().unwrap();
-    let err = text(&out.stderr);
+    let out = sync_cmd(&p.laptop, &p.folder).run();
+    let err = out.stderr();
     assert_eq!(out.status.code(), Some(1), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("machine-id: a link to nothing"), "{err}");
     // A FIFO there is refused too, never waited on.
     std::fs::remove_file(p.laptop.join("machine-id")).unwrap();
     mkfifo(&p.laptop.join("machine-id"));
-    let out = sync_cmd(&p.laptop, &p.folder).output().unwrap();
+    let out = sync_cmd(&p.laptop, &p.folder).run();
     assert_eq!(out.status.code(), Some(1));
-    assert!(text(&out.stderr).contains("FIFO"), "{}", text(&out.stderr));
+    assert!(out.stderr().contains("FIFO"), "{}", out.stderr());
 }
 
 #[test]
@@ -400,6 +384,7 @@ fn two_syncs_of_one_data_folder_at_once_both_succeed() {
         let children: Vec<_> = (0..2)
             .map(|_| {
                 sync_cmd(&p.laptop, &p.folder)
+                    .command()
                     .stdout(Stdio::piped())
                     .stderr(Stdio::piped())
                     .spawn()

@@ -3,9 +3,8 @@
 //! the methods that apply.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::Flipcard;
 
 fn deck() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -13,16 +12,8 @@ fn deck() -> PathBuf {
 }
 
 fn run(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(BIN)
-        .args(args)
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .expect("run flipcard");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let out = Flipcard::without_data().args(args).run();
+    (out.status.code().unwrap_or(-1), out.stdout(), out.stderr())
 }
 
 fn sim(args: &[&str]) -> (i32, String, String) {

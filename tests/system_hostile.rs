@@ -6,9 +6,8 @@
 //! hang, exhausted memory or a NaN measured as if it were a number.
 
 use std::path::PathBuf;
-use std::process::Command;
 
-const BIN: &str = env!("CARGO_BIN_EXE_flipcard");
+use crate::support::Flipcard;
 
 /// A deck `id` in a temporary folder (decks/ID.toml with an empty English
 /// content file): `body` follows the deck header and one card.
@@ -47,40 +46,34 @@ impl Deck {
     }
 
     fn check(&self) -> (i32, String, String) {
-        run(BIN, &["check", self.path().to_str().unwrap()], None)
+        run(
+            Flipcard::without_data(),
+            &["check", self.path().to_str().unwrap()],
+            None,
+        )
     }
 
     fn sim(&self, args: &[&str]) -> (i32, String, String) {
         let d = self.path();
         let mut all = vec!["sim", "--deck", d.to_str().unwrap(), "--scene", "s"];
         all.extend_from_slice(args);
-        run(BIN, &all, None)
+        run(Flipcard::without_data(), &all, None)
     }
 }
 
-/// Runs `bin args`; under `ulimit -v KB` when `memory` is given, so a run
+/// Runs `flipcard args`; under `ulimit -v KB` when `memory` is given, so a run
 /// that would exhaust memory fails instead of taking the machine.
-fn run(bin: &str, args: &[&str], memory: Option<u64>) -> (i32, String, String) {
-    let out = match memory {
-        None => Command::new(bin)
-            .args(args)
-            .env_remove("FLIPCARD_DECKS")
-            .output()
-            .unwrap(),
-        Some(kb) => Command::new("sh")
-            .arg("-c")
-            .arg(format!("ulimit -v {kb} && exec \"$0\" \"$@\""))
-            .arg(bin)
-            .args(args)
-            .env_remove("FLIPCARD_DECKS")
-            .output()
-            .unwrap(),
+fn run(flipcard: Flipcard, args: &[&str], memory: Option<u64>) -> (i32, String, String) {
+    let flipcard = match memory {
+        None => flipcard,
+        Some(kb) => flipcard.prefix([
+            "sh".to_string(),
+            "-c".to_string(),
+            format!("ulimit -v {kb} && exec \"$0\" \"$@\""),
+        ]),
     };
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let out = flipcard.args(args).run();
+    (out.status.code().unwrap_or(-1), out.stdout(), out.stderr())
 }
 
 /// A one-variable scene `s` (x, v) with `equation` for v and `extra`
@@ -228,10 +221,14 @@ fn observables_doubling_each_other_check_in_little_memory_and_compute_exactly() 
     let d = Deck::new("chain", &scene("-x + 0*o25", &doublings(25), 5.0));
     let size = std::fs::metadata(d.path()).unwrap().len();
     assert!(size < 1000, "{size} bytes");
-    let (code, out, err) = run(BIN, &["check", d.path().to_str().unwrap()], Some(1_000_000));
+    let (code, out, err) = run(
+        Flipcard::without_data(),
+        &["check", d.path().to_str().unwrap()],
+        Some(1_000_000),
+    );
     assert_eq!(code, 0, "{out}{err}");
     let (code, out, err) = run(
-        BIN,
+        Flipcard::without_data(),
         &[
             "sim",
             "--deck",
@@ -450,8 +447,8 @@ fn a_value_not_finite_at_the_start_is_named_at_its_expression() {
 }
 
 /// The release binary: the work budget is a second or two of its work.
-fn release() -> String {
-    crate::tui_e2e::release_binary().display().to_string()
+fn release() -> Flipcard {
+    Flipcard::without_data().release()
 }
 
 /// The heavy scene: x'' = −x with 45,056 operations of observables in the
@@ -462,15 +459,14 @@ fn heavy(duration: f64) -> Deck {
 
 #[test]
 fn a_run_past_its_work_budget_is_refused_by_check_with_its_numbers() {
-    let bin = release();
     // Within its budget: checks, and measures.
     let d = heavy(100.0);
-    let (code, out, err) = run(&bin, &["check", d.path().to_str().unwrap()], None);
+    let (code, out, err) = run(release(), &["check", d.path().to_str().unwrap()], None);
     assert_eq!(code, 0, "{out}{err}");
     // Ten times longer it would take ~1.6e9 operations: check refuses it
     // at the duration, with the numbers, and so does the simulator.
     let d = heavy(1000.0);
-    let (code, _, err) = run(&bin, &["check", d.path().to_str().unwrap()], None);
+    let (code, _, err) = run(release(), &["check", d.path().to_str().unwrap()], None);
     assert_eq!(code, 1, "{err}");
     let (line, col, message) = first_error(&err);
     assert_eq!((line, col), (d.line_of("duration = "), 12), "{err}");
@@ -484,7 +480,7 @@ fn a_run_past_its_work_budget_is_refused_by_check_with_its_numbers() {
     );
     let p = d.path();
     let (code, _, err) = run(
-        &bin,
+        release(),
         &[
             "sim",
             "--deck",
@@ -526,7 +522,6 @@ fn esc_and_ctrl_c_answer_at_once_while_a_heavy_scene_plays() {
         eprintln!("skipping the terminal end-to-end test: tmux is not installed");
         return;
     }
-    let bin = release();
     // A scene `check` accepts whose steps cannot keep up with the clock
     // at speed ×64: each frame's physics is cut at its slice.
     let prompt = "[[prompt]]\nid = \"p\"\nquestion = 'Heavy swing?'\nscene = \"s\"\n\n[prompt.answer]\nkind = \"choice\"\nexpected = \"yes\"\nchoices = [\n  { id = \"yes\", label = 'Yes', when = \"max(x) > 0.5\" },\n  { id = \"no\", label = 'No', when = \"max(x) <= 0.5\" },\n]\n\n";
@@ -537,26 +532,14 @@ fn esc_and_ctrl_c_answer_at_once_while_a_heavy_scene_plays() {
             scene("-100*x + 1e-30*a10", &stacked(11), 25.0)
         ),
     );
-    let (code, out, err) = run(&bin, &["check", d.path().to_str().unwrap()], None);
+    let (code, out, err) = run(release(), &["check", d.path().to_str().unwrap()], None);
     assert_eq!(code, 0, "{out}{err}");
     let home = tempfile::tempdir().unwrap();
-    let env = [
-        ("FLIPCARD_NOW", "2026-03-02T09:00:00Z".to_string()),
-        (
-            "FLIPCARD_DATA_DIR",
-            home.path().join("data").display().to_string(),
-        ),
-        (
-            "FLIPCARD_CONFIG",
-            home.path().join("config.toml").display().to_string(),
-        ),
-        (
-            "FLIPCARD_DECKS",
-            d.dir.path().join("decks").display().to_string(),
-        ),
-        ("TERM", "xterm-256color".to_string()),
-    ];
-    let t = crate::tui_e2e::Tmux::start("heavy", &env, "", 100, 32);
+    let app = Flipcard::new(home.path().join("data"))
+        .config(home.path().join("config.toml"))
+        .decks(d.dir.path().join("decks"))
+        .now("2026-03-02T09:00:00Z");
+    let t = crate::tui_e2e::Tmux::start("heavy", app, 100, 32);
     t.wait_for("last studied");
     let decks = flipcard::bundled::load().decks.len();
     // Each key while the run plays: the time until the screen shows what

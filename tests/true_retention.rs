@@ -4,7 +4,6 @@
 //! `true_retention` in the issue's shape.
 
 use std::path::Path;
-use std::process::Command;
 
 use chrono::{DateTime, Duration, NaiveTime, Utc};
 use flipcard::sched::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord, State};
@@ -12,6 +11,7 @@ use flipcard::store::true_retention::PassFail;
 use flipcard::store::{DayGrid, Store};
 
 use crate::store_support::{at, key};
+use crate::support::Flipcard;
 
 const NOW: &str = "2026-05-10T12:00:00Z";
 
@@ -124,15 +124,10 @@ fn the_table_counts_review_answers_by_maturity_and_period() {
 fn stats_json_has_the_table_in_the_issue_shape() {
     let dir = tempfile::tempdir().unwrap();
     history(dir.path());
-    let out = Command::new(env!("CARGO_BIN_EXE_flipcard"))
+    let out = Flipcard::new(dir.path())
+        .now(NOW)
         .args(["stats", "--json"])
-        .env("FLIPCARD_DATA_DIR", dir.path())
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env("FLIPCARD_CONFIG", dir.path().join("none.toml"))
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .unwrap();
+        .run();
     assert!(
         out.status.success(),
         "{}",
@@ -156,15 +151,7 @@ fn stats_json_has_the_table_in_the_issue_shape() {
     assert_eq!(tr["mature"]["today"]["rate"], 0.5);
     assert_eq!(v["fsrs_parameters"]["source"], "default");
 
-    let text = Command::new(env!("CARGO_BIN_EXE_flipcard"))
-        .args(["stats"])
-        .env("FLIPCARD_DATA_DIR", dir.path())
-        .env("FLIPCARD_NOW", NOW)
-        .env("TZ", "UTC")
-        .env("FLIPCARD_CONFIG", dir.path().join("none.toml"))
-        .env_remove("FLIPCARD_DECKS")
-        .output()
-        .unwrap();
+    let text = Flipcard::new(dir.path()).now(NOW).arg("stats").run();
     let text = String::from_utf8_lossy(&text.stdout);
     assert!(text.contains("  month      66.7% (2/3)"), "{text}");
     assert!(text.contains("FSRS parameters: the defaults"), "{text}");

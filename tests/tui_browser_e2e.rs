@@ -3,9 +3,8 @@
 //! list` that exactly that item is suspended; then a filtered session of a
 //! cloze card shows the blank and records its rating under `c1`.
 
-use std::process::Command;
-
-use crate::tui_e2e::{Tmux, release_binary, tmux_available};
+use crate::support::Flipcard;
+use crate::tui_e2e::{Tmux, tmux_available};
 
 const NOW: &str = "2026-03-02T09:00:00Z";
 
@@ -13,33 +12,19 @@ fn decks() -> String {
     concat!(env!("CARGO_MANIFEST_DIR"), "/tests/decks/study/decks").to_string()
 }
 
-fn vars(dir: &std::path::Path) -> Vec<(&'static str, String)> {
-    vec![
-        ("FLIPCARD_NOW", NOW.to_string()),
-        ("FLIPCARD_DATA_DIR", dir.join("data").display().to_string()),
-        (
-            "FLIPCARD_CONFIG",
-            dir.join("config.toml").display().to_string(),
-        ),
-        ("FLIPCARD_DECKS", decks()),
-        ("TERM", "xterm-256color".to_string()),
-    ]
+/// The release build with its data and config in `dir`, the fixture deck
+/// beside the bundled ones.
+fn app(dir: &std::path::Path) -> Flipcard {
+    Flipcard::new(dir.join("data"))
+        .config(dir.join("config.toml"))
+        .now(NOW)
+        .decks(decks())
+        .release()
 }
 
 fn flipcard(dir: &std::path::Path, args: &[&str]) -> (bool, String, String) {
-    let mut cmd = Command::new(release_binary());
-    cmd.args(args);
-    for (k, v) in vars(dir) {
-        cmd.env(k, v);
-    }
-    let out = cmd
-        .output()
-        .unwrap_or_else(|e| panic!("flipcard {args:?}: {e}"));
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let out = app(dir).args(args).run();
+    (out.status.success(), out.stdout(), out.stderr())
 }
 
 #[test]
@@ -48,7 +33,7 @@ fn browse_search_suspend_then_cards_list_shows_it() {
         return;
     }
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
-    let t = Tmux::start("browser", &vars(dir.path()), "", 110, 30);
+    let t = Tmux::start("browser", app(dir.path()), 110, 30);
     t.wait_for("Study");
     t.keys(&["b"]);
     t.wait_for("Card browser");
@@ -102,8 +87,7 @@ fn a_filtered_cloze_session_blanks_one_number_and_records_it() {
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
     let t = Tmux::start(
         "cloze",
-        &vars(dir.path()),
-        "review study --tag euler",
+        app(dir.path()).args(["review", "study", "--tag", "euler"]),
         110,
         30,
     );

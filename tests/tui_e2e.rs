@@ -9,12 +9,12 @@
 //! Skipped, with a message, only when tmux is not installed, and never
 //! under `CI=true` (`.ci/run` installs tmux; there a missing tmux fails).
 
-use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
 use flipcard::deck::{Answer, Deck};
+
+use crate::support::Flipcard;
 
 const NOW: &str = "2026-03-02T09:00:00Z";
 const DECK: &str = "torque-free-rotation";
@@ -25,50 +25,23 @@ pub(crate) fn tmux_available() -> bool {
     crate::support::require_tool("tmux")
 }
 
-/// The release binary, built once per test run. Cargo locks each profile's
-/// output directory separately, so building the release profile from
-/// inside `cargo test` (which holds the test profile's lock) cannot
-/// deadlock.
-pub(crate) fn release_binary() -> &'static Path {
-    static BIN: OnceLock<PathBuf> = OnceLock::new();
-    BIN.get_or_init(|| {
-        let manifest = env!("CARGO_MANIFEST_DIR");
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        let status = Command::new(cargo)
-            .args(["build", "--release", "--quiet", "--bin", "flipcard"])
-            .current_dir(manifest)
-            .status();
-        match status {
-            Ok(s) if s.success() => {}
-            other => panic!("cargo build --release failed: {other:?}"),
-        }
-        let target = std::env::var_os("CARGO_TARGET_DIR")
-            .map(PathBuf::from)
-            .unwrap_or_else(|| Path::new(manifest).join("target"));
-        target.join("release").join("flipcard")
-    })
-}
-
 /// A tmux server of its own (its own socket), killed on drop.
 pub(crate) struct Tmux {
     socket: String,
 }
 
 impl Tmux {
-    /// Starts `command` in a detached session of `w`×`h` cells. The command
-    /// runs under `sh`, which afterwards prints the exit status and whether
-    /// the terminal is back in canonical (cooked) mode, then waits.
-    pub(crate) fn start(name: &str, env: &[(&str, String)], args: &str, w: u16, h: u16) -> Tmux {
+    /// Starts `flipcard` (the release build) in a detached session of
+    /// `w`×`h` cells. It runs under `sh`, which afterwards prints the exit
+    /// status and whether the terminal is back in canonical (cooked) mode,
+    /// then waits.
+    pub(crate) fn start(name: &str, flipcard: Flipcard, w: u16, h: u16) -> Tmux {
         let socket = format!("flipcard-e2e-{}-{name}", std::process::id());
-        let mut exports = String::new();
-        for (k, v) in env {
-            exports.push_str(&format!("{k}='{v}' "));
-        }
         let script = format!(
-            "{exports}'{bin}' {args}; echo \"EXIT=$?\"; \
+            "{app}; echo \"EXIT=$?\"; \
              if stty -a | tr ' ;' '\\n\\n' | grep -qx icanon; then echo TTY=cooked; else echo TTY=raw; fi; \
              sleep 600",
-            bin = release_binary().display()
+            app = flipcard.release().env("TERM", "xterm-256color").shell()
         );
         let t = Tmux { socket };
         t.tmux(&[
@@ -198,26 +171,20 @@ impl Env {
         }
     }
 
-    fn vars(&self) -> Vec<(&'static str, String)> {
+    /// The release build with this data dir, config and clock.
+    fn flipcard(&self) -> Flipcard {
         let d = self.dir.path();
-        vec![
-            ("FLIPCARD_NOW", NOW.to_string()),
-            ("FLIPCARD_DATA_DIR", d.join("data").display().to_string()),
-            (
-                "FLIPCARD_CONFIG",
-                d.join("config.toml").display().to_string(),
-            ),
-            ("TERM", "xterm-256color".to_string()),
-        ]
+        Flipcard::new(d.join("data"))
+            .config(d.join("config.toml"))
+            .now(NOW)
+            .release()
     }
 
     fn export(&self) -> serde_json::Value {
-        let mut cmd = Command::new(release_binary());
-        cmd.args(["export", "--reviews", "--format", "json"]);
-        for (k, v) in self.vars() {
-            cmd.env(k, v);
-        }
-        let out = cmd.output().unwrap_or_else(|e| panic!("export: {e}"));
+        let out = self
+            .flipcard()
+            .args(["export", "--reviews", "--format", "json"])
+            .run();
         assert!(
             out.status.success(),
             "export failed: {}",
@@ -239,7 +206,7 @@ fn review_undo_hinglish_prompt_verdict_and_export() {
     }
     let deck = bundled_deck();
     let env = Env::new();
-    let t = Tmux::start("main", &env.vars(), "", 100, 32);
+    let t = Tmux::start("main", env.flipcard(), 100, 32);
     t.wait_for("last studied");
 
     // Review: the first three new cards in deck order.
@@ -361,7 +328,7 @@ fn ctrl_c_and_sigterm_restore_the_terminal() {
     }
     let env = Env::new();
 
-    let t = Tmux::start("ctrlc", &env.vars(), "", 80, 24);
+    let t = Tmux::start("ctrlc", env.flipcard(), 80, 24);
     t.wait_for("last studied");
     t.keys(&["Enter"]);
     t.wait_for("Space");
@@ -374,7 +341,7 @@ fn ctrl_c_and_sigterm_restore_the_terminal() {
     );
     drop(t);
 
-    let t = Tmux::start("term", &env.vars(), "", 80, 24);
+    let t = Tmux::start("term", env.flipcard(), 80, 24);
     t.wait_for("last studied");
     let pid = t.tmux(&["list-panes", "-t", "e2e", "-F", "#{pane_pid}"]);
     // The pane runs sh; the app is its child.
@@ -410,16 +377,11 @@ fn outside_sqlite_readers_during_a_review_lose_no_rating() {
     let deck = bundled_deck();
     let env = Env::new();
     // An existing database, as a learner has after the first day.
-    let mut cmd = Command::new(release_binary());
-    cmd.args(["db", "rebuild"]);
-    for (k, v) in env.vars() {
-        cmd.env(k, v);
-    }
-    assert!(cmd.status().is_ok_and(|s| s.success()));
+    env.flipcard().args(["db", "rebuild"]).run().ok();
     let db = env.dir.path().join("data").join("flipcard.db");
     assert!(db.is_file());
 
-    let t = Tmux::start("outside", &env.vars(), &format!("review {DECK}"), 100, 32);
+    let t = Tmux::start("outside", env.flipcard().args(["review", DECK]), 100, 32);
     t.wait_for(&opening(deck.cards[0].front.get("en"), 4));
     let app = app_pid(&t);
 
@@ -588,7 +550,7 @@ fn the_fifth_concept_map_link_opens_where_the_screen_showed_the_choice() {
         .section("concept-map")
         .unwrap_or_else(|| panic!("the bundled deck has no concept map"));
     let env = Env::new();
-    let t = Tmux::start("links", &env.vars(), "", 100, 30);
+    let t = Tmux::start("links", env.flipcard(), 100, 30);
     t.wait_for("last studied");
     select_deck(&t);
     t.keys(&["r"]);
@@ -690,7 +652,7 @@ fn sync_dir_syncs_when_the_app_opens_and_closes() {
     )
     .unwrap();
 
-    let t = Tmux::start("sync", &env.vars(), "", 100, 32);
+    let t = Tmux::start("sync", env.flipcard(), 100, 32);
     t.wait_for("last studied");
     let merged = env.export();
     assert_eq!(

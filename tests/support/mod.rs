@@ -1,5 +1,6 @@
-//! Shared by the integration tests: reference solutions for the simulator
-//! tests, and what a test needs from the machine it runs on.
+//! Shared by the integration tests: the one way to run the binary
+//! ([`Flipcard`]), reference solutions for the simulator tests, and what a
+//! test needs from the machine it runs on.
 //!
 //! A test that needs a program (tmux, Chromium, `sqlite3`, Python's
 //! `sqlite3` module, `setpriv`, `unshare`) or a permission (mounting a
@@ -10,7 +11,10 @@
 
 #![allow(dead_code)]
 
+pub mod cli;
 pub mod taylor_dd;
+
+pub use cli::{Flipcard, Output, release_binary, test_binary};
 
 use std::collections::HashMap;
 use std::process::{Command, Stdio};
