@@ -7,9 +7,10 @@ use std::time::Duration as StdDuration;
 
 use crate::store_support::{at, back_key, key, random_review, review};
 use chrono::{Duration, NaiveTime, Utc};
+use flipcard::sched::DayGrid;
 use flipcard::sched::{ItemKey, Rating, ReviewKind, State};
 use flipcard::store::stats::StatsScope;
-use flipcard::store::{DayGrid, OpenOptions, PromptAttempt, Store, StoreError};
+use flipcard::store::{OpenOptions, PromptAttempt, Store, StoreError};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use rusqlite::Connection;

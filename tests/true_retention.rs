@@ -6,9 +6,10 @@
 use std::path::Path;
 
 use chrono::{DateTime, Duration, NaiveTime, Utc};
+use flipcard::sched::DayGrid;
 use flipcard::sched::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord, State};
+use flipcard::store::Store;
 use flipcard::store::true_retention::PassFail;
-use flipcard::store::{DayGrid, Store};
 
 use crate::store_support::{at, key};
 use crate::support::Flipcard;

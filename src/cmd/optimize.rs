@@ -10,8 +10,8 @@ use crate::cmd::args::{Cli, OptimizeArgs, ReportFormat};
 use crate::cmd::common::open_store_read_only;
 use crate::cmd::paths;
 use crate::sched::Config;
+use crate::sched::DayGrid;
 use crate::sched::fit::{self, Evaluation, FitAnswer, FitError};
-use crate::store::DayGrid;
 use crate::text::{num, plural};
 
 #[derive(Serialize)]

@@ -7,8 +7,8 @@ use crate::cmd::args::{Cli, StatsArgs};
 use crate::cmd::common::{load_decks, open_store_read_only};
 use crate::cmd::paths;
 use crate::interop::export;
+use crate::sched::DayGrid;
 use crate::sched::{Config, ItemKey, deck_items};
-use crate::store::DayGrid;
 use crate::store::stats::{Ratio, Stats, StatsScope};
 use crate::text::plural;
 

@@ -9,11 +9,10 @@ use ratatui::style::{Modifier, Style};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Bar, BarChart, BarGroup, Block, Borders, Cell, Paragraph, Row, Table};
 
-use crate::store::DayGrid;
+use crate::sched::DayOf;
 use crate::store::true_retention::{PassFail, TrueRetention};
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
-use crate::tui::services::DayZone;
 use crate::tui::theme::Theme;
 
 /// Weeks the calendar covers.
@@ -40,27 +39,12 @@ impl MemoryPanel {
     pub fn open(app: &App, deck: &str) -> Result<MemoryPanel, String> {
         let now = app.services.now();
         let s = &app.services.study;
-        let starts = s.config.day_starts_at;
         let today_weekday = |today: NaiveDate| today.weekday().num_days_from_monday() as usize;
         let read = |grid_today: NaiveDate| (WEEKS - 1) * 7 + today_weekday(grid_today) + 1;
-        let (calendar, true_retention) = match s.zone {
-            DayZone::Local => {
-                let grid = DayGrid::new(chrono::Local, starts);
-                let days = read(grid.day_of(now));
-                (
-                    s.store.answers_per_day(Some(deck), now, &grid, days),
-                    s.store.true_retention(Some(deck), now, &grid),
-                )
-            }
-            DayZone::Utc => {
-                let grid = DayGrid::new(chrono::Utc, starts);
-                let days = read(grid.day_of(now));
-                (
-                    s.store.answers_per_day(Some(deck), now, &grid, days),
-                    s.store.true_retention(Some(deck), now, &grid),
-                )
-            }
-        };
+        let days = s.days();
+        let read = read(days.day_of(now));
+        let calendar = s.store.answers_per_day(Some(deck), now, &days, read);
+        let true_retention = s.store.true_retention(Some(deck), now, &days);
         let mut recall = [0u64; 10];
         for c in s
             .store

@@ -169,11 +169,6 @@ impl Services {
         self.clock.now()
     }
 
-    /// The study day containing `now`: (start, end).
-    pub fn study_day(&self, now: DateTime<Utc>) -> (DateTime<Utc>, DateTime<Utc>) {
-        self.study.study_day(now)
-    }
-
     /// Remembers the language for the next run.
     pub fn save_language(&mut self, lang: &str) -> Result<(), String> {
         self.study.config.language = lang.to_string();

@@ -10,15 +10,14 @@ use ratatui::layout::{Constraint, Layout, Margin, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Gauge, Paragraph, Wrap};
 
+use crate::sched::DayOf as _;
 use crate::sched::plan::{self, Model, Plan, PlanError};
 use crate::sched::{ItemKey, deck_items};
-use crate::store::DayGrid;
 use crate::text::num::rounded;
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Words, exam as words};
 use crate::tui::keymap::{Binding, Context};
-use crate::tui::services::DayZone;
 
 use super::review::ReviewState;
 use super::{Nav, View};
@@ -141,18 +140,11 @@ pub fn apply(app: &mut App, state: &mut ExamState, action: Action) -> Nav {
 type DayOf = Box<dyn Fn(chrono::DateTime<Utc>) -> NaiveDate>;
 
 fn grid(app: &App) -> (NaiveDate, DayOf) {
-    let starts = app.services.study.config.day_starts_at;
-    let now = app.services.now();
-    match app.services.study.zone {
-        DayZone::Local => {
-            let g = DayGrid::new(chrono::Local, starts);
-            (g.day_of(now), Box::new(move |t| g.day_of(t)))
-        }
-        DayZone::Utc => {
-            let g = DayGrid::new(Utc, starts);
-            (g.day_of(now), Box::new(move |t| g.day_of(t)))
-        }
-    }
+    let days = app.services.study.days();
+    (
+        days.day_of(app.services.now()),
+        Box::new(move |t| days.day_of(t)),
+    )
 }
 
 /// Plans for the date typed and opens today's share. `Err(Ok(words))`: the

@@ -10,11 +10,10 @@ use ratatui::widgets::{
     Bar, BarChart, BarGroup, Block, Borders, Cell, Paragraph, Row, Sparkline, Table, Wrap,
 };
 
-use crate::store::{DayGrid, Stats, StatsScope};
+use crate::store::{Stats, StatsScope};
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Noun, marks, study};
-use crate::tui::services::DayZone;
 use crate::tui::wrap::{Run, ellipsize, wrap};
 
 use super::Nav;
@@ -72,16 +71,7 @@ impl StatsState {
                 };
                 let now = app.services.now();
                 let s = &app.services.study;
-                let starts = s.config.day_starts_at;
-                let r = match s.zone {
-                    DayZone::Local => {
-                        s.store
-                            .stats(scope, now, &DayGrid::new(chrono::Local, starts))
-                    }
-                    DayZone::Utc => s
-                        .store
-                        .stats(scope, now, &DayGrid::new(chrono::Utc, starts)),
-                };
+                let r = s.store.stats(scope, now, &s.days());
                 r.map_err(|e| e.to_string())
             }
             None => Err("no such deck".into()),

@@ -252,7 +252,7 @@ fn attempts(app: &TestApp) -> Option<(u64, u64)> {
         deck: Some("torque-free"),
         items: &items,
     };
-    let grid = crate::store::DayGrid::new(chrono::Utc, app.services.study.config.day_starts_at);
+    let grid = crate::sched::DayGrid::new(chrono::Utc, app.services.study.config.day_starts_at);
     let stats = app
         .services
         .study

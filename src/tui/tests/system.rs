@@ -314,7 +314,7 @@ fn a_scene_that_leaves_its_domain_gives_no_verdict_and_records_nothing() {
         deck: Some(&app.decks[0].id),
         items: &items,
     };
-    let grid = crate::store::DayGrid::new(chrono::Utc, app.services.study.config.day_starts_at);
+    let grid = crate::sched::DayGrid::new(chrono::Utc, app.services.study.config.day_starts_at);
     let stats = app
         .services
         .study

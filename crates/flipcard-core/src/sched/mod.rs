@@ -3,6 +3,7 @@
 
 pub mod clock;
 pub mod config;
+pub mod day;
 pub mod fit;
 pub mod plan;
 pub mod queue;
@@ -11,6 +12,7 @@ pub mod typed;
 pub mod types;
 
 pub use config::{Config, ConfigError};
+pub use day::{DayGrid, DayOf, DayZone, Days};
 pub use queue::{
     Counts, CramQueue, DoneToday, Queue, QueueKind, cram_items, deck_items, study_day,
 };

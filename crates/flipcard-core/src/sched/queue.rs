@@ -10,7 +10,7 @@
 use std::collections::{HashMap, VecDeque};
 use std::fmt;
 
-use chrono::{DateTime, Duration, LocalResult, NaiveDateTime, NaiveTime, TimeDelta, TimeZone, Utc};
+use chrono::{DateTime, NaiveTime, TimeDelta, TimeZone, Utc};
 
 use super::config::Config;
 use super::types::{CardState, Direction, ItemKey, ReviewKind, ReviewRecord, State};
@@ -61,32 +61,7 @@ pub fn study_day<Tz: TimeZone>(
     starts_at: NaiveTime,
     tz: &Tz,
 ) -> (DateTime<Utc>, DateTime<Utc>) {
-    let local_date = now.with_timezone(tz).date_naive();
-    let mut start = local_to_utc(local_date.and_time(starts_at), tz);
-    if start > now {
-        start = local_to_utc((local_date - Duration::days(1)).and_time(starts_at), tz);
-    }
-    let start_date = start.with_timezone(tz).date_naive();
-    let mut end = local_to_utc((start_date + Duration::days(1)).and_time(starts_at), tz);
-    if end <= now {
-        // Only possible around a daylight-saving jump; never end in the past.
-        end = local_to_utc((start_date + Duration::days(2)).and_time(starts_at), tz);
-    }
-    (start, end)
-}
-
-/// A local wall-clock time as an instant: the earlier one when the clock is
-/// set back, the first instant after the gap when it jumps forward.
-fn local_to_utc<Tz: TimeZone>(local: NaiveDateTime, tz: &Tz) -> DateTime<Utc> {
-    let mut probe = local;
-    for _ in 0..4 {
-        match tz.from_local_datetime(&probe) {
-            LocalResult::Single(t) => return t.with_timezone(&Utc),
-            LocalResult::Ambiguous(a, b) => return a.min(b).with_timezone(&Utc),
-            LocalResult::None => probe += Duration::minutes(30),
-        }
-    }
-    local.and_utc()
+    super::day::DayGrid::new(tz.clone(), starts_at).bounds(now)
 }
 
 /// New items and reviews already answered in the current study day.
@@ -392,7 +367,7 @@ mod tests {
     use super::*;
     use crate::sched::scheduler::Scheduler;
     use crate::sched::types::Rating;
-    use chrono::FixedOffset;
+    use chrono::{FixedOffset, LocalResult, NaiveDateTime};
 
     fn key(card: &str) -> ItemKey {
         ItemKey {

@@ -2,13 +2,14 @@
 //! reading rows back.
 
 use chrono::{DateTime, Utc};
-use rusqlite::{Row, Transaction, TransactionBehavior, params};
+use rusqlite::{Row, Transaction, params};
 
-use super::codec::{self, Ms, to_ms};
+use super::codec::{self, Ms};
 use super::db::Store;
 use super::error::StoreError;
 use super::state;
 use super::tally;
+use super::write::insert_session;
 use crate::sched::{ItemKey, ReviewKind, ReviewRecord};
 
 /// One row of the log as stored.
@@ -55,23 +56,14 @@ impl Store {
         for r in reviews {
             validate(r)?;
         }
-        let path = self.path.clone();
-        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
-        let tx = self
-            .conn
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(sql_err)?;
-        let session = match self.session {
-            Some(s) => s,
-            None => insert_session(&tx).map_err(sql_err)?,
-        };
-        let mut ids = Vec::with_capacity(reviews.len());
-        for r in reviews {
-            ids.push(append(&tx, session, r).map_err(sql_err)?);
-        }
-        tx.commit().map_err(sql_err)?;
-        self.session = Some(session);
-        Ok(ids)
+        self.write(|w| {
+            let session = w.session()?;
+            let mut ids = Vec::with_capacity(reviews.len());
+            for r in reviews {
+                ids.push(append(w, session, r)?);
+            }
+            Ok(ids)
+        })
     }
 
     /// Starts a new session: [`Store::undo_last`] reaches back only to the
@@ -98,40 +90,32 @@ impl Store {
         let Some(session) = self.session else {
             return Ok(None);
         };
-        let path = self.path.clone();
-        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
-        let tx = self
-            .conn
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(sql_err)?;
-        let last = {
-            let mut st = tx
-                .prepare_cached(&format!(
+        self.write(|tx| {
+            let last = {
+                let mut st = tx.prepare_cached(&format!(
                     "SELECT {COLUMNS} FROM review WHERE undone = 0 AND origin IS NULL \
                      AND (deck, card, direction, reviewed_at, rating) = ({LAST_ANSWER}) \
                      ORDER BY id DESC LIMIT 1"
-                ))
-                .map_err(sql_err)?;
-            let mut rows = st.query([session]).map_err(sql_err)?;
-            match rows.next().map_err(sql_err)? {
-                Some(row) => Some(read_logged(row).map_err(sql_err)??),
-                None => None,
-            }
-        };
-        let Some(last) = last else {
-            return Ok(None);
-        };
-        tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [last.id])
-            .map_err(sql_err)?;
-        state::refresh_item(&tx, &last.record.key).map_err(sql_err)?;
-        tally::count(&tx, &last.record, -1).map_err(sql_err)?;
-        // A leech found or siblings buried by this rating go with it.
-        super::status_log::undo_caused(&tx, last.id).map_err(sql_err)?;
-        tx.commit().map_err(sql_err)?;
-        Ok(Some(LoggedReview {
-            undone: true,
-            ..last
-        }))
+                ))?;
+                let mut rows = st.query([session])?;
+                match rows.next()? {
+                    Some(row) => Some(read_logged(row)??),
+                    None => None,
+                }
+            };
+            let Some(last) = last else {
+                return Ok(None);
+            };
+            tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [last.id])?;
+            state::refresh_item(tx, &last.record.key)?;
+            tally::count(tx, &last.record, -1)?;
+            // A leech found or siblings buried by this rating go with it.
+            super::status_log::undo_caused(tx, last.id)?;
+            Ok(Some(LoggedReview {
+                undone: true,
+                ..last
+            }))
+        })
     }
 
     /// Every row of the log in id order (undone ones included), handed to
@@ -209,12 +193,6 @@ impl Store {
             .query_row("SELECT count(*) FROM review", [], |r| r.get(0))
             .map_err(|e| self.err(e))
     }
-}
-
-pub(super) fn insert_session(conn: &rusqlite::Connection) -> rusqlite::Result<i64> {
-    let started = crate::sched::clock::now().map(to_ms).unwrap_or(0);
-    conn.execute("INSERT INTO session (started_at) VALUES (?1)", [started])?;
-    Ok(conn.last_insert_rowid())
 }
 
 pub(super) fn append(

@@ -18,13 +18,14 @@
 use std::collections::{BTreeMap, HashSet};
 
 use chrono::{DateTime, Utc};
-use rusqlite::{Transaction, TransactionBehavior, params};
+use rusqlite::{Transaction, params};
 
 use super::codec::to_ms;
 use super::db::Store;
 use super::error::StoreError;
+use super::log::insert_row;
 use super::log::{COLUMNS, LoggedReview, read_logged};
-use super::log::{insert_row, insert_session};
+use super::write::{Failed, session_in};
 use super::{state, tally};
 use crate::sched::{CardState, ItemKey, Rating, ReviewKind, Scheduler};
 
@@ -110,41 +111,36 @@ impl Store {
             offered: rows.len(),
             ..MergeSummary::default()
         };
-        let path = self.path.clone();
-        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
-        let tx = self
-            .conn
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(sql_err)?;
-        // Its own session, not adopted by this store: an undo in the app
-        // must not reach into a merged history.
-        let mut session = None;
-        let none = HashSet::new();
-        for (key, incoming) in by_item {
-            // Answers imported here are this machine's to publish.
-            let incoming: Vec<_> = incoming.into_iter().map(|r| (r, None)).collect();
-            let m = merge_one(
-                &tx,
-                &mut session,
-                key,
-                &incoming,
-                &none,
-                &none,
-                None,
-                false,
-                scheduler,
-            )?;
-            summary.added += m.added;
-            summary.added_undone += m.added_undone;
-            summary.duplicates += m.duplicates;
-            summary.replayed_local += m.replayed_local;
-            summary.items += usize::from(m.added > 0);
-        }
-        if summary.added > 0 {
-            tally::rebuild(&tx).map_err(sql_err)?;
-        }
-        tx.commit().map_err(sql_err)?;
-        Ok(summary)
+        self.write(|tx| {
+            // Its own session, not adopted by this store: an undo in the app
+            // must not reach into a merged history.
+            let mut session = None;
+            let none = HashSet::new();
+            for (key, incoming) in by_item {
+                // Answers imported here are this machine's to publish.
+                let incoming: Vec<_> = incoming.into_iter().map(|r| (r, None)).collect();
+                let m = merge_one(
+                    &tx,
+                    &mut session,
+                    key,
+                    &incoming,
+                    &none,
+                    &none,
+                    None,
+                    false,
+                    scheduler,
+                )?;
+                summary.added += m.added;
+                summary.added_undone += m.added_undone;
+                summary.duplicates += m.duplicates;
+                summary.replayed_local += m.replayed_local;
+                summary.items += usize::from(m.added > 0);
+            }
+            if summary.added > 0 {
+                tally::rebuild(&tx)?;
+            }
+            Ok(summary)
+        })
     }
 }
 
@@ -189,11 +185,10 @@ pub(super) fn merge_one(
     replay_from: Option<DateTime<Utc>>,
     by_origin: bool,
     scheduler: &Scheduler,
-) -> Result<ItemMerge, StoreError> {
-    let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(std::path::Path::new(""), e);
+) -> Result<ItemMerge, Failed> {
     let mut out = ItemMerge::default();
-    let existing = item_rows(tx, key).map_err(sql_err)??;
-    let origins = item_origins(tx, key).map_err(sql_err)?;
+    let existing = item_rows(tx, key)??;
+    let origins = item_origins(tx, key)?;
     let origin_of = |l: &LoggedReview| origins.get(&l.id).cloned();
     let same = |origin: Option<String>| if by_origin { origin } else { None };
     let mut seen: HashSet<(i64, Rating, Option<String>)> = existing
@@ -236,10 +231,9 @@ pub(super) fn merge_one(
             }
             // A copy an earlier merge re-appended may carry the events
             // the answer brought about.
-            super::status_log::undo_caused(tx, l.id).map_err(sql_err)?;
+            super::status_log::undo_caused(tx, l.id)?;
             if !l.undone {
-                tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [l.id])
-                    .map_err(sql_err)?;
+                tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [l.id])?;
                 taken_back.insert(l.id);
                 t0 = Some(t0.map_or(l.record.reviewed_at, |t| t.min(l.record.reviewed_at)));
             }
@@ -258,12 +252,12 @@ pub(super) fn merge_one(
         .collect();
     let session_id = match *session {
         Some(s) => s,
-        None => *session.insert(insert_session(tx).map_err(sql_err)?),
+        None => session_in(tx, session)?,
     };
     out.replayed_local = merge_item(tx, session_id, key, live, &fresh, &origins, t0, scheduler)?;
     out.added = fresh.len();
     out.added_undone = fresh.iter().filter(|(r, _)| r.undone).count();
-    state::refresh_item(tx, key).map_err(sql_err)?;
+    state::refresh_item(tx, key)?;
     Ok(out)
 }
 
@@ -298,8 +292,7 @@ fn merge_item<'a>(
     origins: &'a std::collections::HashMap<i64, String>,
     t0: DateTime<Utc>,
     scheduler: &Scheduler,
-) -> Result<usize, StoreError> {
-    let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(std::path::Path::new(""), e);
+) -> Result<usize, Failed> {
     live.sort_by_key(|l| (l.record.reviewed_at, l.id));
     // The state to replay from: the last live, non-cram local answer before
     // the earliest change (one of the same millisecond is replayed with the
@@ -355,12 +348,11 @@ fn merge_item<'a>(
         }
         super::log::validate(&record)?;
         if let Some(l) = s.local {
-            tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [l.id])
-                .map_err(sql_err)?;
+            tx.execute("UPDATE review SET undone = 1 WHERE id = ?1", [l.id])?;
             relocated += 1;
         }
         appended = true;
-        insert_row(tx, session, &record, s.undone, s.origin).map_err(sql_err)?;
+        insert_row(tx, session, &record, s.undone, s.origin)?;
     }
     Ok(relocated)
 }

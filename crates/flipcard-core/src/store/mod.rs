@@ -10,7 +10,6 @@ pub mod attempt;
 pub mod backup;
 pub mod backup_files;
 pub(crate) mod codec;
-pub mod day;
 pub mod db;
 pub mod error;
 pub mod log;
@@ -27,9 +26,9 @@ pub mod sync_state;
 mod tally;
 pub mod today;
 pub mod true_retention;
+pub(crate) mod write;
 
 pub use attempt::PromptAttempt;
-pub use day::DayGrid;
 pub use db::{OpenOptions, Store};
 pub use error::StoreError;
 pub use log::LoggedReview;

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use rusqlite::{Connection, TransactionBehavior};
+use rusqlite::Connection;
 
 use super::error::StoreError;
 
@@ -413,17 +413,14 @@ pub fn migrate(
     for (i, sql) in migrations.iter().enumerate() {
         // The version is read again inside the write transaction: another
         // instance opening at the same moment may have migrated meanwhile.
-        let tx = conn
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(sql_err)?;
-        let now_at = user_version(&tx).map_err(sql_err)?;
-        if now_at > i as i64 {
-            continue;
-        }
-        tx.execute_batch(sql).map_err(sql_err)?;
-        tx.pragma_update(None, "user_version", i as i64 + 1)
-            .map_err(sql_err)?;
-        tx.commit().map_err(sql_err)?;
+        super::write::immediate(conn, path, None, |tx| {
+            if user_version(tx)? > i as i64 {
+                return Ok(());
+            }
+            tx.execute_batch(sql)?;
+            tx.pragma_update(None, "user_version", i as i64 + 1)?;
+            Ok(())
+        })?;
     }
     if found == 0 {
         // A new database went through every migration at once, leaving the

@@ -5,11 +5,12 @@
 
 use std::collections::HashMap;
 
-use rusqlite::{Connection, Row, Transaction, TransactionBehavior, params};
+use rusqlite::{Connection, Row, Transaction, params};
 
 use super::codec::{self, Count, Ms};
 use super::db::Store;
 use super::error::StoreError;
+use super::write::Failed;
 use crate::sched::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord};
 
 /// One cached item state, with the counts the log gives.
@@ -171,56 +172,46 @@ impl Store {
 
     /// Recomputes the whole cache from the log alone, in one transaction.
     pub fn rebuild(&mut self) -> Result<RebuildReport, StoreError> {
-        let path = self.path.clone();
-        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
-        let tx = self
-            .conn
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(sql_err)?;
-        let before = all_states(&tx, &format!("SELECT {STATE_COLUMNS} FROM card_state"))?
-            .into_iter()
-            .map(|c| (c.key.clone(), c))
-            .collect::<HashMap<_, _>>();
-        let after = all_states(&tx, &from_log_sql(false))?;
-        let mut changed = before.len();
-        for c in &after {
-            if before.get(&c.key) == Some(c) {
-                changed -= 1;
-            } else if !before.contains_key(&c.key) {
-                changed += 1;
+        self.write(|tx| {
+            let before = all_states(tx, &format!("SELECT {STATE_COLUMNS} FROM card_state"))?
+                .into_iter()
+                .map(|c| (c.key.clone(), c))
+                .collect::<HashMap<_, _>>();
+            let after = all_states(tx, &from_log_sql(false))?;
+            let mut changed = before.len();
+            for c in &after {
+                if before.get(&c.key) == Some(c) {
+                    changed -= 1;
+                } else if !before.contains_key(&c.key) {
+                    changed += 1;
+                }
             }
-        }
-        tx.execute("DELETE FROM card_state", []).map_err(sql_err)?;
-        tx.execute(
-            &format!(
-                "INSERT INTO card_state ({STATE_COLUMNS}) {}",
-                from_log_sql(false)
-            ),
-            [],
-        )
-        .map_err(sql_err)?;
-        let tallies_changed = super::tally::rebuild(&tx).map_err(sql_err)?;
-        let statuses_changed = super::status_log::rebuild(&tx).map_err(sql_err)?;
-        let reviews: i64 = tx
-            .query_row("SELECT count(*) FROM review", [], |r| r.get(0))
-            .map_err(sql_err)?;
-        tx.commit().map_err(sql_err)?;
-        Ok(RebuildReport {
-            items: after.len(),
-            changed,
-            reviews,
-            tallies_changed,
-            statuses_changed,
+            tx.execute("DELETE FROM card_state", [])?;
+            tx.execute(
+                &format!(
+                    "INSERT INTO card_state ({STATE_COLUMNS}) {}",
+                    from_log_sql(false)
+                ),
+                [],
+            )?;
+            let tallies_changed = super::tally::rebuild(tx)?;
+            let statuses_changed = super::status_log::rebuild(tx)?;
+            let reviews: i64 = tx.query_row("SELECT count(*) FROM review", [], |r| r.get(0))?;
+            Ok(RebuildReport {
+                items: after.len(),
+                changed,
+                reviews,
+                tallies_changed,
+                statuses_changed,
+            })
         })
     }
 }
 
-fn all_states(conn: &Connection, sql: &str) -> Result<Vec<CachedState>, StoreError> {
-    let path = conn.path().unwrap_or("").to_string();
-    let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(std::path::Path::new(&path), e);
-    let mut st = conn.prepare(sql).map_err(sql_err)?;
-    let rows = read_states(&mut st, []).map_err(sql_err)?;
-    rows.into_iter().collect()
+fn all_states(conn: &Connection, sql: &str) -> Result<Vec<CachedState>, Failed> {
+    let mut st = conn.prepare(sql)?;
+    let rows = read_states(&mut st, [])?;
+    Ok(rows.into_iter().collect::<Result<_, _>>()?)
 }
 
 type StateRows = Vec<Result<CachedState, StoreError>>;

@@ -4,15 +4,15 @@
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
-use chrono::{DateTime, Duration, NaiveDate, TimeZone, Utc};
+use chrono::{DateTime, Duration, NaiveDate, Utc};
 use rusqlite::params_from_iter;
 use serde::Serialize;
 
 use super::codec::to_ms;
-use super::day::DayGrid;
 use super::db::Store;
 use super::error::StoreError;
 use super::state::CachedState;
+use crate::sched::DayOf;
 use crate::sched::{CardState, ItemKey, Rating, ReviewKind, State};
 
 /// Days covered by the forecast and by the reviews-per-day history.
@@ -156,11 +156,11 @@ pub struct Orphan {
 }
 
 impl Store {
-    pub fn stats<Tz: TimeZone>(
+    pub fn stats(
         &self,
         scope: StatsScope<'_>,
         now: DateTime<Utc>,
-        grid: &DayGrid<Tz>,
+        grid: &dyn DayOf,
     ) -> Result<Stats, StoreError> {
         let today = grid.day_of(now);
         let items: Vec<&ItemKey> = scope
@@ -234,11 +234,11 @@ impl Store {
 
     /// Answers per day over the last 30 learning days, and the retention of
     /// their review-kind answers.
-    fn recent_days<Tz: TimeZone>(
+    fn recent_days(
         &self,
         deck: Option<&str>,
         today: NaiveDate,
-        grid: &DayGrid<Tz>,
+        grid: &dyn DayOf,
     ) -> Result<(Vec<DayReviews>, Ratio), StoreError> {
         let days: Vec<NaiveDate> = (0..WINDOW_DAYS as i64)
             .rev()
@@ -381,11 +381,11 @@ fn deck_filter(
     }
 }
 
-fn states_and_forecast<Tz: TimeZone>(
+fn states_and_forecast(
     items: &[&ItemKey],
     states: &HashMap<&ItemKey, &CardState>,
     today: NaiveDate,
-    grid: &DayGrid<Tz>,
+    grid: &dyn DayOf,
 ) -> (StateCounts, Forecast) {
     // ends[i]: when day i (0 = today) ends.
     let ends: Vec<DateTime<Utc>> = (1..=WINDOW_DAYS as i64)

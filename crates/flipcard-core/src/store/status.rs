@@ -9,7 +9,7 @@
 use std::collections::HashMap;
 
 use chrono::{DateTime, Utc};
-use rusqlite::{TransactionBehavior, params};
+use rusqlite::params;
 
 use super::codec::Ms;
 use super::db::Store;
@@ -83,30 +83,21 @@ impl Store {
                 detail: "a bury, and only a bury, has an end time".into(),
             });
         }
-        let path = self.path.clone();
-        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
-        let tx = self
-            .conn
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(sql_err)?;
-        let session = match self.session {
-            Some(s) => s,
-            None => super::log::insert_session(&tx).map_err(sql_err)?,
-        };
-        let mut ids = Vec::with_capacity(keys.len());
-        let batch = next_batch(&tx).map_err(sql_err)?;
-        let at = event_time(&tx, at).map_err(sql_err)?;
-        let mut seen = std::collections::HashSet::with_capacity(keys.len());
-        for key in keys {
-            // One event an item: the same item named twice is one change.
-            if !seen.insert(key) {
-                continue;
+        self.write(|tx| {
+            let session = tx.session()?;
+            let mut ids = Vec::with_capacity(keys.len());
+            let batch = next_batch(tx)?;
+            let at = event_time(tx, at)?;
+            let mut seen = std::collections::HashSet::with_capacity(keys.len());
+            for key in keys {
+                // One event an item: the same item named twice is one change.
+                if !seen.insert(key) {
+                    continue;
+                }
+                ids.push(append(tx, session, batch, key, at, action, until, None)?);
             }
-            ids.push(append(&tx, session, batch, key, at, action, until, None).map_err(sql_err)?);
-        }
-        tx.commit().map_err(sql_err)?;
-        self.session = Some(session);
-        Ok(ids)
+            Ok(ids)
+        })
     }
 
     /// Records a rating and what follows from it, in one transaction: the
@@ -119,80 +110,66 @@ impl Store {
         after: &AfterRating,
     ) -> Result<Recorded, StoreError> {
         super::log::validate(review)?;
-        let path = self.path.clone();
-        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
-        let tx = self
-            .conn
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(sql_err)?;
-        let session = match self.session {
-            Some(s) => s,
-            None => super::log::insert_session(&tx).map_err(sql_err)?,
-        };
-        let id = super::log::append(&tx, session, review).map_err(sql_err)?;
-        let batch = next_batch(&tx).map_err(sql_err)?;
-        let mut leech = false;
-        if review.kind != ReviewKind::Cram {
-            let at = review.reviewed_at;
-            let lapse = review.kind == ReviewKind::Review && review.rating == Rating::Again;
-            if lapse && after.leech_threshold > 0 {
-                let k = &review.key;
-                let (lapses, already): (i64, bool) = tx
-                    .query_row(
+        self.write(|tx| {
+            let session = tx.session()?;
+            let id = super::log::append(tx, session, review)?;
+            let batch = next_batch(tx)?;
+            let mut leech = false;
+            if review.kind != ReviewKind::Cram {
+                let at = review.reviewed_at;
+                let lapse = review.kind == ReviewKind::Review && review.rating == Rating::Again;
+                if lapse && after.leech_threshold > 0 {
+                    let k = &review.key;
+                    let (lapses, already): (i64, bool) = tx.query_row(
                         "SELECT coalesce((SELECT lapses FROM card_state WHERE deck = ?1 \
-                           AND card = ?2 AND direction = ?3), 0), \
-                         coalesce((SELECT leech FROM item_status WHERE deck = ?1 AND card = ?2 \
-                           AND direction = ?3), 0)",
+                               AND card = ?2 AND direction = ?3), 0), \
+                             coalesce((SELECT leech FROM item_status WHERE deck = ?1 AND card = ?2 \
+                               AND direction = ?3), 0)",
                         params![k.deck, k.card, k.direction],
                         |r| Ok((r.get(0)?, r.get::<_, i64>(1)? != 0)),
-                    )
-                    .map_err(sql_err)?;
-                if !already && lapses >= i64::from(after.leech_threshold) {
-                    leech = true;
-                    append(
-                        &tx,
-                        session,
-                        batch,
-                        k,
-                        at,
-                        StatusAction::Leech,
-                        None,
-                        Some(id),
-                    )
-                    .map_err(sql_err)?;
-                    if after.leech_suspend {
+                    )?;
+                    if !already && lapses >= i64::from(after.leech_threshold) {
+                        leech = true;
                         append(
-                            &tx,
+                            tx,
                             session,
                             batch,
                             k,
                             at,
-                            StatusAction::Suspend,
+                            StatusAction::Leech,
                             None,
                             Some(id),
-                        )
-                        .map_err(sql_err)?;
+                        )?;
+                        if after.leech_suspend {
+                            append(
+                                tx,
+                                session,
+                                batch,
+                                k,
+                                at,
+                                StatusAction::Suspend,
+                                None,
+                                Some(id),
+                            )?;
+                        }
                     }
                 }
+                let bury_at = event_time(tx, at)?;
+                for sibling in after.bury.iter().filter(|s| **s != review.key) {
+                    append(
+                        tx,
+                        session,
+                        batch,
+                        sibling,
+                        bury_at,
+                        StatusAction::Bury,
+                        Some(after.bury_until),
+                        Some(id),
+                    )?;
+                }
             }
-            let bury_at = event_time(&tx, at).map_err(sql_err)?;
-            for sibling in after.bury.iter().filter(|s| **s != review.key) {
-                append(
-                    &tx,
-                    session,
-                    batch,
-                    sibling,
-                    bury_at,
-                    StatusAction::Bury,
-                    Some(after.bury_until),
-                    Some(id),
-                )
-                .map_err(sql_err)?;
-            }
-        }
-        tx.commit().map_err(sql_err)?;
-        self.session = Some(session);
-        Ok(Recorded { id, leech })
+            Ok(Recorded { id, leech })
+        })
     }
 
     /// Takes back the last change of this session, a rating (with what it
@@ -235,36 +212,25 @@ impl Store {
             (None, None) => Ok(None),
             (Some(r), Some((_, after))) if r > after => Ok(self.undo_last()?.map(Undone::Review)),
             (Some(_), None) => Ok(self.undo_last()?.map(Undone::Review)),
-            (_, Some((batch, _))) => {
-                let path = self.path.clone();
-                let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
-                let tx = self
-                    .conn
-                    .transaction_with_behavior(TransactionBehavior::Immediate)
-                    .map_err(sql_err)?;
+            (_, Some((batch, _))) => self.write(|tx| {
                 let events: Vec<StatusEvent> = tx
                     .prepare(&format!(
                         "SELECT {EVENT_COLUMNS} FROM status_event WHERE session = ?1 \
-                         AND undone = 0 AND batch = ?2 ORDER BY id"
-                    ))
-                    .map_err(sql_err)?
-                    .query_map(params![session, batch], read_event)
-                    .map_err(sql_err)?
-                    .collect::<Result<_, _>>()
-                    .map_err(sql_err)?;
+                             AND undone = 0 AND batch = ?2 ORDER BY id"
+                    ))?
+                    .query_map(params![session, batch], read_event)?
+                    .collect::<Result<_, _>>()?;
                 for e in &events {
-                    tx.execute("UPDATE status_event SET undone = 1 WHERE id = ?1", [e.id])
-                        .map_err(sql_err)?;
-                    refresh(&tx, &e.key).map_err(sql_err)?;
+                    tx.execute("UPDATE status_event SET undone = 1 WHERE id = ?1", [e.id])?;
+                    refresh(tx, &e.key)?;
                 }
-                tx.commit().map_err(sql_err)?;
                 Ok(Some(Undone::Status(
                     events
                         .into_iter()
                         .map(|e| StatusEvent { undone: true, ..e })
                         .collect(),
                 )))
-            }
+            }),
         }
     }
 

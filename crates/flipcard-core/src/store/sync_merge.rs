@@ -6,14 +6,15 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 use chrono::{DateTime, Utc};
-use rusqlite::{Transaction, TransactionBehavior, params};
+use rusqlite::{Transaction, params};
 
 use super::codec::{Ms, to_ms};
 use super::db::Store;
 use super::error::StoreError;
 use super::merge::{IncomingReview, merge_one};
 use super::status_log::{self, StatusAction};
-use super::{log, tally};
+use super::tally;
+use super::write::session_in;
 use crate::sched::{ItemKey, Rating, Scheduler};
 
 /// A review's identity across machines: item, time (ms), rating.
@@ -128,130 +129,119 @@ impl Store {
                 ),
             })?;
         }
-        let path = self.path.clone();
-        let sql_err = |e: rusqlite::Error| StoreError::from_sqlite(&path, e);
-        let tx = self
-            .conn
-            .transaction_with_behavior(TransactionBehavior::Immediate)
-            .map_err(sql_err)?;
-        let mut session = None;
-        let mut out = SyncMerged::default();
+        self.write(|tx| {
+            let mut session = None;
+            let mut out = SyncMerged::default();
 
-        for ((k, ms, rating), origin) in &incoming.stamp_reviews {
-            tx.execute(
-                "UPDATE review SET origin = ?1 WHERE deck = ?2 AND card = ?3 AND direction = ?4 \
-                 AND reviewed_at = ?5 AND rating = ?6 AND origin IS NULL",
-                params![origin, k.deck, k.card, k.direction, ms, rating],
-            )
-            .map_err(sql_err)?;
-        }
-        for ((k, ms, action), origin) in &incoming.stamp_statuses {
-            tx.execute(
-                "UPDATE status_event SET origin = ?1 WHERE deck = ?2 AND card = ?3 \
-                 AND direction = ?4 AND at = ?5 AND action = ?6 AND origin IS NULL",
-                params![origin, k.deck, k.card, k.direction, ms, action.as_str()],
-            )
-            .map_err(sql_err)?;
-        }
-
-        type Work<'a> = (
-            Vec<(&'a IncomingReview, Option<&'a str>)>,
-            HashSet<(i64, Rating, String)>,
-            Option<DateTime<Utc>>,
-            HashSet<(i64, Rating, String)>,
-        );
-        let mut by_item: BTreeMap<&ItemKey, Work> = BTreeMap::new();
-        for (r, origin) in &incoming.reviews {
-            by_item
-                .entry(&r.key)
-                .or_default()
-                .0
-                .push((r, Some(origin.as_str())));
-        }
-        for (r, origin) in &incoming.revive_reviews {
-            let w = by_item.entry(&r.key).or_default();
-            w.0.push((r, Some(origin.as_str())));
-            let (ms, rating) = (to_ms(r.reviewed_at), r.rating);
-            w.3.insert((ms, rating, origin.clone()));
-        }
-        for ((key, ms, rating), origin) in &incoming.undo_reviews {
-            by_item
-                .entry(key)
-                .or_default()
-                .1
-                .insert((*ms, *rating, origin.clone()));
-        }
-        for (key, ms, _) in &incoming.replay {
-            let at = DateTime::from_timestamp_millis(*ms).unwrap_or_default();
-            let w = by_item.entry(key).or_default();
-            w.2 = Some(w.2.map_or(at, |t| t.min(at)));
-        }
-        let mut reviews_changed = false;
-        for (key, (rows, undo, replay_from, revive)) in &by_item {
-            let m = merge_one(
-                &tx,
-                &mut session,
-                key,
-                rows,
-                undo,
-                revive,
-                *replay_from,
-                true,
-                scheduler,
-            )?;
-            out.reviews += m.added;
-            out.undos += m.undone;
-            out.replayed_local += m.replayed_local;
-            reviews_changed |= m.added + m.undone + m.replayed_local > 0;
-        }
-
-        for (s, origin) in &incoming.revive_statuses {
-            let session = session_of(&tx, &mut session).map_err(sql_err)?;
-            let batch = status_log::next_batch(&tx).map_err(sql_err)?;
-            let id = status_log::append(&tx, session, batch, &s.key, s.at, s.action, s.until, None)
-                .map_err(sql_err)?;
-            tx.execute(
-                "UPDATE status_event SET origin = ?1 WHERE id = ?2",
-                params![origin, id],
-            )
-            .map_err(sql_err)?;
-            out.statuses += 1;
-        }
-        for (s, origin) in &incoming.statuses {
-            let (n, undone) = merge_status(&tx, &mut session, s, origin, &incoming.undo_statuses)
-                .map_err(sql_err)?;
-            out.statuses += n;
-            out.undos += usize::from(undone && !s.undone);
-        }
-        for ((key, ms, action), origin) in &incoming.undo_statuses {
-            let n = tx
-                .execute(
-                    "UPDATE status_event SET undone = 1 WHERE deck = ?1 AND card = ?2 \
-                     AND direction = ?3 AND at = ?4 AND action = ?5 AND origin = ?6 \
-                     AND undone = 0",
-                    params![
-                        key.deck,
-                        key.card,
-                        key.direction,
-                        ms,
-                        action.as_str(),
-                        origin
-                    ],
-                )
-                .map_err(sql_err)?;
-            if n > 0 {
-                status_log::refresh(&tx, key).map_err(sql_err)?;
-                out.undos += 1;
+            for ((k, ms, rating), origin) in &incoming.stamp_reviews {
+                tx.execute(
+                    "UPDATE review SET origin = ?1 WHERE deck = ?2 AND card = ?3 AND direction = ?4 \
+                     AND reviewed_at = ?5 AND rating = ?6 AND origin IS NULL",
+                    params![origin, k.deck, k.card, k.direction, ms, rating],
+                )?;
             }
-        }
-        if leech.threshold > 0 {
-            out.leeches = derive_leeches(&tx, &mut session, leech).map_err(sql_err)?;
-        }
-        if reviews_changed {
-            tally::rebuild(&tx).map_err(sql_err)?;
-        }
-        tx.commit().map_err(sql_err)?;
-        Ok(out)
+            for ((k, ms, action), origin) in &incoming.stamp_statuses {
+                tx.execute(
+                    "UPDATE status_event SET origin = ?1 WHERE deck = ?2 AND card = ?3 \
+                     AND direction = ?4 AND at = ?5 AND action = ?6 AND origin IS NULL",
+                    params![origin, k.deck, k.card, k.direction, ms, action.as_str()],
+                )?;
+            }
+
+            type Work<'a> = (
+                Vec<(&'a IncomingReview, Option<&'a str>)>,
+                HashSet<(i64, Rating, String)>,
+                Option<DateTime<Utc>>,
+                HashSet<(i64, Rating, String)>,
+            );
+            let mut by_item: BTreeMap<&ItemKey, Work> = BTreeMap::new();
+            for (r, origin) in &incoming.reviews {
+                by_item
+                    .entry(&r.key)
+                    .or_default()
+                    .0
+                    .push((r, Some(origin.as_str())));
+            }
+            for (r, origin) in &incoming.revive_reviews {
+                let w = by_item.entry(&r.key).or_default();
+                w.0.push((r, Some(origin.as_str())));
+                let (ms, rating) = (to_ms(r.reviewed_at), r.rating);
+                w.3.insert((ms, rating, origin.clone()));
+            }
+            for ((key, ms, rating), origin) in &incoming.undo_reviews {
+                by_item
+                    .entry(key)
+                    .or_default()
+                    .1
+                    .insert((*ms, *rating, origin.clone()));
+            }
+            for (key, ms, _) in &incoming.replay {
+                let at = DateTime::from_timestamp_millis(*ms).unwrap_or_default();
+                let w = by_item.entry(key).or_default();
+                w.2 = Some(w.2.map_or(at, |t| t.min(at)));
+            }
+            let mut reviews_changed = false;
+            for (key, (rows, undo, replay_from, revive)) in &by_item {
+                let m = merge_one(
+                    tx,
+                    &mut session,
+                    key,
+                    rows,
+                    undo,
+                    revive,
+                    *replay_from,
+                    true,
+                    scheduler,
+                )?;
+                out.reviews += m.added;
+                out.undos += m.undone;
+                out.replayed_local += m.replayed_local;
+                reviews_changed |= m.added + m.undone + m.replayed_local > 0;
+            }
+
+            for (s, origin) in &incoming.revive_statuses {
+                let session = session_in(tx, &mut session)?;
+                let batch = status_log::next_batch(tx)?;
+                let id = status_log::append(tx, session, batch, &s.key, s.at, s.action, s.until, None)?;
+                tx.execute(
+                    "UPDATE status_event SET origin = ?1 WHERE id = ?2",
+                    params![origin, id],
+                )?;
+                out.statuses += 1;
+            }
+            for (s, origin) in &incoming.statuses {
+                let (n, undone) = merge_status(tx, &mut session, s, origin, &incoming.undo_statuses)?;
+                out.statuses += n;
+                out.undos += usize::from(undone && !s.undone);
+            }
+            for ((key, ms, action), origin) in &incoming.undo_statuses {
+                let n = tx
+                    .execute(
+                        "UPDATE status_event SET undone = 1 WHERE deck = ?1 AND card = ?2 \
+                         AND direction = ?3 AND at = ?4 AND action = ?5 AND origin = ?6 \
+                         AND undone = 0",
+                        params![
+                            key.deck,
+                            key.card,
+                            key.direction,
+                            ms,
+                            action.as_str(),
+                            origin
+                        ],
+                    )?;
+                if n > 0 {
+                    status_log::refresh(tx, key)?;
+                    out.undos += 1;
+                }
+            }
+            if leech.threshold > 0 {
+                out.leeches = derive_leeches(tx, &mut session, leech)?;
+            }
+            if reviews_changed {
+                tally::rebuild(tx)?;
+            }
+            Ok(out)
+        })
     }
 
     /// The status events that travel (every one but leech events and the
@@ -324,13 +314,6 @@ impl Store {
     }
 }
 
-fn session_of(tx: &Transaction<'_>, session: &mut Option<i64>) -> rusqlite::Result<i64> {
-    match *session {
-        Some(s) => Ok(s),
-        None => Ok(*session.insert(log::insert_session(tx)?)),
-    }
-}
-
 /// Appends one incoming status event unless one with its identity is in
 /// the log; returns (events appended, whether it was appended undone).
 fn merge_status(
@@ -378,7 +361,7 @@ fn merge_status(
             })?,
         None => None,
     };
-    let session = session_of(tx, session)?;
+    let session = session_in(tx, session)?;
     let batch = status_log::next_batch(tx)?;
     let id = status_log::append(tx, session, batch, k, s.at, s.action, s.until, cause)?;
     tx.execute(
@@ -477,7 +460,7 @@ fn derive_leeches(
         }
         if let Some((cause, at)) = want {
             let at = DateTime::from_timestamp_millis(*at).unwrap_or_default();
-            let session = session_of(tx, session)?;
+            let session = session_in(tx, session)?;
             let batch = status_log::next_batch(tx)?;
             status_log::append(
                 tx,

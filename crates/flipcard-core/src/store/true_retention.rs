@@ -2,13 +2,13 @@
 //! young cards (stability before the answer under 21 days) and mature ones,
 //! over today, yesterday and the last 7, 30 and 365 learning days.
 
-use chrono::{DateTime, Duration, TimeZone, Utc};
+use chrono::{DateTime, Duration, Utc};
 use serde::Serialize;
 
 use super::codec::to_ms;
-use super::day::DayGrid;
 use super::db::Store;
 use super::error::StoreError;
+use crate::sched::DayOf;
 use crate::sched::Rating;
 
 /// Stability (days) from which a card counts as mature.
@@ -67,11 +67,11 @@ pub struct TrueRetention {
 
 impl Store {
     /// True retention of review answers (not undone) of one deck or all.
-    pub fn true_retention<Tz: TimeZone>(
+    pub fn true_retention(
         &self,
         deck: Option<&str>,
         now: DateTime<Utc>,
-        grid: &DayGrid<Tz>,
+        grid: &dyn DayOf,
     ) -> Result<TrueRetention, StoreError> {
         let today = grid.day_of(now);
         let start = |back: i64| to_ms(grid.start_of(today - Duration::days(back)));
@@ -125,11 +125,11 @@ impl Store {
 
     /// Answers (not undone) per learning day from `days` days back to today,
     /// oldest first: the calendar's counts.
-    pub fn answers_per_day<Tz: TimeZone>(
+    pub fn answers_per_day(
         &self,
         deck: Option<&str>,
         now: DateTime<Utc>,
-        grid: &DayGrid<Tz>,
+        grid: &dyn DayOf,
         days: usize,
     ) -> Result<Vec<(chrono::NaiveDate, u32)>, StoreError> {
         let today = grid.day_of(now);

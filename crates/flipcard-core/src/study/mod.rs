@@ -21,17 +21,12 @@ use chrono::{DateTime, Utc};
 use crate::catalog::card_directions;
 use crate::deck::Deck;
 use crate::sched::config::LeechAction;
-use crate::sched::{CardState, Config, Counts, ItemKey, Queue, Rating, ReviewRecord, Scheduler};
+use crate::sched::{
+    CardState, Config, Counts, Days, ItemKey, Queue, Rating, ReviewRecord, Scheduler,
+};
 use crate::store::{AfterRating, PromptAttempt, Recorded, StatusAction, Store, StoreError, Undone};
 
-/// Which clock draws the line between study days.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DayZone {
-    /// The machine's local time zone (the app and every command).
-    Local,
-    /// For tests: the same day boundary on every machine.
-    Utc,
-}
+pub use crate::sched::DayZone;
 
 /// A suspend, bury or unsuspend the learner asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,11 +85,13 @@ impl Study {
 
     /// The study day containing `now`: (start, end).
     pub fn study_day(&self, now: DateTime<Utc>) -> (DateTime<Utc>, DateTime<Utc>) {
-        let starts = self.config.day_starts_at;
-        match self.zone {
-            DayZone::Local => crate::sched::study_day(now, starts, &chrono::Local),
-            DayZone::Utc => crate::sched::study_day(now, starts, &Utc),
-        }
+        self.days().bounds(now)
+    }
+
+    /// The learning days of this study (its zone and the hour the day
+    /// starts), for the statistics that count per day.
+    pub fn days(&self) -> Days {
+        Days::new(self.zone, self.config.day_starts_at)
     }
 
     /// The day's queue of a deck, and the item states it was built from.

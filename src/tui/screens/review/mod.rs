@@ -138,7 +138,7 @@ impl ReviewState {
         let source = if cram {
             Source::Cram(CramQueue::new(items))
         } else {
-            Source::Filtered(Queue::listed(items, app.services.study_day(now)))
+            Source::Filtered(Queue::listed(items, app.services.study.study_day(now)))
         };
         let mut state = ReviewState {
             deck: decks[0],
@@ -227,7 +227,7 @@ impl ReviewState {
             .states(&d.id)
             .map_err(|e| e.to_string())?;
         let mut state = ReviewState::open(app, deck, false)?;
-        let day = app.services.study_day(app.services.now());
+        let day = app.services.study.study_day(app.services.now());
         state.source = Source::Plan(Queue::listed(items, day));
         state.states = states;
         state.next_card(app);
