@@ -8,9 +8,10 @@ use std::hint::black_box;
 
 use chrono::{DateTime, Duration, NaiveTime, Utc};
 use criterion::{Criterion, criterion_group, criterion_main};
+use flipcard::sched::DayGrid;
 use flipcard::sched::{CardState, Direction, ItemKey, Rating, ReviewKind, ReviewRecord, State};
 use flipcard::store::stats::StatsScope;
-use flipcard::store::{DayGrid, OpenOptions, Store};
+use flipcard::store::{OpenOptions, Store};
 
 const CARDS: usize = 5_000;
 const REVIEWS: usize = 1_000_000;

@@ -11,8 +11,8 @@
 
 use chrono::{NaiveTime, Utc};
 use flipcard::interop::import::read_reviews_csv;
+use flipcard::sched::DayGrid;
 use flipcard::sched::fit::{self, FitAnswer};
-use flipcard::store::DayGrid;
 use std::collections::BTreeMap;
 
 fn main() {

@@ -434,3 +434,19 @@ fn check_pages(conn: &Connection, path: &Path) -> Result<(), StoreError> {
         newest_backup: backup::newest_backup(path),
     })
 }
+
+impl Store {
+    /// Runs `work` in one immediate transaction and commits it: on `Ok` the
+    /// change is on disk (WAL, `synchronous=FULL`) when this returns; on any
+    /// error nothing of it is. A session the work started becomes the
+    /// store's session only after the commit.
+    pub(crate) fn write<T>(
+        &mut self,
+        work: impl FnOnce(&mut super::write::Write<'_>) -> Result<T, super::write::Failed>,
+    ) -> Result<T, StoreError> {
+        let (value, session) =
+            super::write::immediate(&mut self.conn, &self.path, self.session, work)?;
+        self.session = session;
+        Ok(value)
+    }
+}

@@ -120,7 +120,7 @@ impl Store {
                 // Answers imported here are this machine's to publish.
                 let incoming: Vec<_> = incoming.into_iter().map(|r| (r, None)).collect();
                 let m = merge_one(
-                    &tx,
+                    tx,
                     &mut session,
                     key,
                     &incoming,
@@ -137,7 +137,7 @@ impl Store {
                 summary.items += usize::from(m.added > 0);
             }
             if summary.added > 0 {
-                tally::rebuild(&tx)?;
+                tally::rebuild(tx)?;
             }
             Ok(summary)
         })

@@ -1,10 +1,11 @@
-//! The one way anything changes the database: [`Store::write`] opens an
-//! immediate transaction (the write lock is taken at the start, so two
-//! writers queue on SQLite's busy timeout instead of failing half-way),
-//! hands the work a [`Write`], commits, and maps every SQLite error to a
-//! [`StoreError`] that names the file. The session row a rating or a status
-//! change is written under is created here, by the first write that needs
-//! one, and kept by the store only once that write is on disk.
+//! The one way anything changes the database:
+//! [`Store::write`](crate::store::Store::write) opens an immediate
+//! transaction (the write lock is taken at the start, so two writers queue
+//! on SQLite's busy timeout instead of failing half-way), hands the work a
+//! [`Write`], commits, and maps every SQLite error to a [`StoreError`] that
+//! names the file. The session row a rating or a status change is written
+//! under is created here, by the first write that needs one, and kept by
+//! the store only once that write is on disk.
 //!
 //! Migrations run before a `Store` exists; they take the same path through
 //! [`immediate`].
@@ -15,7 +16,6 @@ use std::path::Path;
 use rusqlite::{Connection, Transaction, TransactionBehavior};
 
 use super::codec::to_ms;
-use super::db::Store;
 use super::error::StoreError;
 
 /// Why a write's work stopped: an SQLite error (mapped with the database's
@@ -59,24 +59,9 @@ impl Write<'_> {
     }
 }
 
-impl Store {
-    /// Runs `work` in one immediate transaction and commits it: on `Ok` the
-    /// change is on disk (WAL, `synchronous=FULL`) when this returns; on any
-    /// error nothing of it is. A session the work started becomes the
-    /// store's session only after the commit.
-    pub(crate) fn write<T>(
-        &mut self,
-        work: impl FnOnce(&mut Write<'_>) -> Result<T, Failed>,
-    ) -> Result<T, StoreError> {
-        let (value, session) = immediate(&mut self.conn, &self.path, self.session, work)?;
-        self.session = session;
-        Ok(value)
-    }
-}
-
-/// [`Store::write`] on a bare connection (migrations): the transaction, the
-/// commit and the error mapping; returns the work's value and the session
-/// after it.
+/// [`Store::write`](crate::store::Store::write) on a bare connection
+/// (migrations): the transaction, the commit and the error mapping;
+/// returns the work's value and the session after it.
 pub(crate) fn immediate<T>(
     conn: &mut Connection,
     path: &Path,
@@ -118,6 +103,7 @@ pub(super) fn insert_session(conn: &Connection) -> rusqlite::Result<i64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::store::Store;
 
     fn sessions(store: &Store) -> i64 {
         store
