@@ -6,6 +6,7 @@
 //! [`crate::solvers`], which build on the rigid body's equations.
 
 use crate::rigid::model::{ModelError, State};
+use crate::solvers::method::MethodName;
 
 /// Tolerances tighter than this are below f64 rounding for an 8th-order pair.
 pub const MIN_TOL: f64 = 1e-14;
@@ -45,15 +46,10 @@ impl Kind {
         Kind::Rk4,
     ];
 
-    /// The name the command line, the CSV files and the screen use.
+    /// The name the command line, the CSV files and the screen use (from
+    /// the one vocabulary, [`crate::solvers::method`]).
     pub fn name(self) -> &'static str {
-        match self {
-            Kind::Exact => "exact",
-            Kind::Adaptive => "adaptive",
-            Kind::Splitting => "splitting",
-            Kind::Splitting4 => "splitting4",
-            Kind::Rk4 => "rk4",
-        }
+        MethodName::from(self).name()
     }
 
     /// The family after this one, wrapping round.

@@ -2,6 +2,7 @@
 //! line name them, with their one setting (a tolerance, or RK4's step).
 
 use super::{Method, Options, StiffnessMode};
+use crate::solvers::method::MethodName;
 
 /// Default relative tolerance of the adaptive methods on a scene; the
 /// absolute one is this times [`ATOL_FACTOR`].
@@ -33,14 +34,10 @@ impl OdeKind {
         OdeKind::Rk4,
     ];
 
-    /// The command line's spelling.
+    /// The command line's spelling (from the one vocabulary,
+    /// [`crate::solvers::method`]).
     pub fn name(self) -> &'static str {
-        match self {
-            OdeKind::Auto => "auto",
-            OdeKind::Adaptive => "adaptive",
-            OdeKind::Radau => "radau",
-            OdeKind::Rk4 => "rk4",
-        }
+        MethodName::from(self).name()
     }
 
     /// Whether the method solves with the Jacobian (so it is compiled).
