@@ -201,16 +201,8 @@ mod tests {
         let y = [1.0, 0.5];
         let f0 = [0.5, -1.0];
         let scale = [1e-8 + 1e-6, 1e-8 + 0.5e-6];
-        let a = initial_step(Arithmetic::Plain, rhs, &y, &f0, &scale, 8.0, f64::INFINITY);
-        let b = initial_step(
-            Arithmetic::Logarithmic,
-            rhs,
-            &y,
-            &f0,
-            &scale,
-            8.0,
-            f64::INFINITY,
-        );
+        let guess = |how| initial_step(how, rhs, &y, &f0, &scale, 8.0, f64::INFINITY);
+        let (a, b) = (guess(Arithmetic::Plain), guess(Arithmetic::Logarithmic));
         assert!((a / b - 1.0).abs() < 1e-12, "{a} vs {b}");
     }
 
