@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::builder::PossibleValue;
 use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
 
-use crate::sim::solvers::method::MethodName;
+use crate::sim::method::MethodName;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -94,7 +94,7 @@ pub struct CheckArgs {
 }
 
 /// `--method`: a view of the one vocabulary of methods
-/// (`sim::solvers::method`), which gives the spellings, the help and which
+/// (`sim::method`), which gives the spellings, the help and which
 /// scenes take which.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MethodArg {
@@ -148,9 +148,7 @@ impl TryFrom<MethodArg> for crate::sim::Kind {
     type Error = anyhow::Error;
     /// The rigid-body family; `auto` and `radau` are for systems.
     fn try_from(m: MethodArg) -> anyhow::Result<Self> {
-        m.method()
-            .rigid()
-            .map_err(|e| anyhow::anyhow!("--method {}: {e}", m.name()))
+        Self::from_method(m.method()).map_err(|e| anyhow::anyhow!("--method {}: {e}", m.name()))
     }
 }
 

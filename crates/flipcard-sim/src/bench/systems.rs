@@ -237,7 +237,7 @@ impl SysMethod {
         SysMethod::Auto,
     ];
 
-    /// The name, from the one vocabulary ([`crate::solvers::method`]).
+    /// The name, from the one vocabulary ([`crate::method`]).
     pub fn name(self) -> &'static str {
         self.kind().name()
     }

@@ -13,7 +13,6 @@ pub mod dop853_tableau;
 pub mod fixed;
 pub mod forward;
 pub mod guard;
-pub mod method;
 pub mod ode;
 pub mod registry;
 pub mod rk4;
