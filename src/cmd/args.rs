@@ -3,7 +3,10 @@
 
 use std::path::PathBuf;
 
+use clap::builder::PossibleValue;
 use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
+
+use crate::sim::method::MethodName;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -90,50 +93,62 @@ pub struct CheckArgs {
     pub no_simulate: bool,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+/// `--method`: a view of the one vocabulary of methods
+/// (`sim::method`), which gives the spellings, the help and which
+/// scenes take which.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MethodArg {
     Exact,
     Adaptive,
     Splitting,
     Splitting4,
     Rk4,
-    /// Systems only: explicit until stiff, then Radau IIA.
     Auto,
-    /// Systems only: Radau IIA of order 5.
     Radau,
+}
+
+impl MethodArg {
+    const ALL: [MethodArg; 7] = [
+        MethodArg::Exact,
+        MethodArg::Adaptive,
+        MethodArg::Splitting,
+        MethodArg::Splitting4,
+        MethodArg::Rk4,
+        MethodArg::Auto,
+        MethodArg::Radau,
+    ];
+
+    /// The method of the vocabulary (same order).
+    pub fn method(self) -> MethodName {
+        MethodName::ALL[self as usize]
+    }
+
+    /// The spelling on the command line.
+    pub fn name(self) -> &'static str {
+        self.method().name()
+    }
+}
+
+impl ValueEnum for MethodArg {
+    fn value_variants<'a>() -> &'a [Self] {
+        &MethodArg::ALL
+    }
+
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        let row = self.method().row();
+        let value = PossibleValue::new(row.name);
+        Some(match row.help {
+            Some(help) => value.help(help),
+            None => value,
+        })
+    }
 }
 
 impl TryFrom<MethodArg> for crate::sim::Kind {
     type Error = anyhow::Error;
     /// The rigid-body family; `auto` and `radau` are for systems.
     fn try_from(m: MethodArg) -> anyhow::Result<Self> {
-        use crate::sim::Kind;
-        Ok(match m {
-            MethodArg::Exact => Kind::Exact,
-            MethodArg::Adaptive => Kind::Adaptive,
-            MethodArg::Splitting => Kind::Splitting,
-            MethodArg::Splitting4 => Kind::Splitting4,
-            MethodArg::Rk4 => Kind::Rk4,
-            MethodArg::Auto | MethodArg::Radau => anyhow::bail!(
-                "--method {}: only system scenes use it; a rigid body takes exact, adaptive, splitting, splitting4 or rk4",
-                m.name()
-            ),
-        })
-    }
-}
-
-impl MethodArg {
-    /// The spelling on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            MethodArg::Exact => "exact",
-            MethodArg::Adaptive => "adaptive",
-            MethodArg::Splitting => "splitting",
-            MethodArg::Splitting4 => "splitting4",
-            MethodArg::Rk4 => "rk4",
-            MethodArg::Auto => "auto",
-            MethodArg::Radau => "radau",
-        }
+        Self::from_method(m.method()).map_err(|e| anyhow::anyhow!("--method {}: {e}", m.name()))
     }
 }
 

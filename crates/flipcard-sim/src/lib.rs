@@ -1,9 +1,10 @@
-//! The simulator: `solvers` (every integrator and the registry that builds
-//! them), `rigid` (the torque-free rigid body and its exact solution),
+//! The simulator: `method` (the one vocabulary of method names), `solvers`
+//! (every integrator and the registry that builds them), `rigid` (the torque-free rigid body and its exact solution),
 //! `scene` (a deck scene's run and measurements) and `bench` (error against
 //! run time). Never imports ratatui, never prints.
 
 pub mod bench;
+pub mod method;
 pub mod rigid;
 pub mod scene;
 pub mod solvers;

@@ -11,7 +11,7 @@ use nalgebra::DMatrix;
 use super::Effort;
 use crate::rigid::elliptic;
 use crate::solvers::ode::{
-    Atol, Method, OdeError, OdeSolver, OdeSystem, Options, StiffnessMode, Work, make,
+    Atol, Method, OdeError, OdeKind, OdeSolver, OdeSystem, Options, StiffnessMode, Work, make,
 };
 
 /// The exact header of the systems CSV.
@@ -237,12 +237,18 @@ impl SysMethod {
         SysMethod::Auto,
     ];
 
+    /// The name, from the one vocabulary ([`crate::method`]).
     pub fn name(self) -> &'static str {
+        self.kind().name()
+    }
+
+    /// The family ([`OdeKind`]) this method runs.
+    pub fn kind(self) -> OdeKind {
         match self {
-            SysMethod::Adaptive => "adaptive",
-            SysMethod::Radau => "radau",
-            SysMethod::Rk4 => "rk4",
-            SysMethod::Auto => "auto",
+            SysMethod::Adaptive => OdeKind::Adaptive,
+            SysMethod::Radau => OdeKind::Radau,
+            SysMethod::Rk4 => OdeKind::Rk4,
+            SysMethod::Auto => OdeKind::Auto,
         }
     }
 

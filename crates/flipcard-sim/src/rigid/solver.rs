@@ -5,6 +5,7 @@
 //! `rigid` implements it, as do the stepping solvers of
 //! [`crate::solvers`], which build on the rigid body's equations.
 
+use crate::method::MethodName;
 use crate::rigid::model::{ModelError, State};
 
 /// Tolerances tighter than this are below f64 rounding for an 8th-order pair.
@@ -45,15 +46,28 @@ impl Kind {
         Kind::Rk4,
     ];
 
+    /// Its name in the one vocabulary ([`crate::method`]).
+    pub fn method(self) -> MethodName {
+        match self {
+            Kind::Exact => MethodName::Exact,
+            Kind::Adaptive => MethodName::Adaptive,
+            Kind::Splitting => MethodName::Splitting,
+            Kind::Splitting4 => MethodName::Splitting4,
+            Kind::Rk4 => MethodName::Rk4,
+        }
+    }
+
     /// The name the command line, the CSV files and the screen use.
     pub fn name(self) -> &'static str {
-        match self {
-            Kind::Exact => "exact",
-            Kind::Adaptive => "adaptive",
-            Kind::Splitting => "splitting",
-            Kind::Splitting4 => "splitting4",
-            Kind::Rk4 => "rk4",
-        }
+        self.method().name()
+    }
+
+    /// The family a method names, or why a rigid body refuses it.
+    pub fn from_method(method: MethodName) -> Result<Kind, String> {
+        Kind::ALL
+            .into_iter()
+            .find(|k| k.method() == method)
+            .ok_or_else(|| method.rigid_refusal())
     }
 
     /// The family after this one, wrapping round.
@@ -167,5 +181,27 @@ pub trait Solver {
     fn plan(&mut self, t_end: f64) -> Result<(), SimError> {
         let _ = t_end;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::METHODS;
+
+    /// The vocabulary's `rigid` column and the families agree.
+    #[test]
+    fn the_families_are_the_methods_a_rigid_body_takes() {
+        for row in METHODS {
+            assert_eq!(
+                Kind::from_method(row.method).is_ok(),
+                row.rigid,
+                "{}",
+                row.name
+            );
+        }
+        for kind in Kind::ALL {
+            assert_eq!(Kind::from_method(kind.method()), Ok(kind));
+        }
     }
 }

@@ -9,9 +9,8 @@
 //!
 //! Error control follows Hairer's DOP853: the error is measured per component
 //! against `atol + tol·|y|` (atol relative to |ω₀| for ω, to 1 for q) with
-//! the 5th- and 3rd-order estimates combined; the step changes by the PI
-//! factor 0.9·err^(−1/8+0.2β)·err_prev^β, clamped to [1/3, 6], and never
-//! grows right after a rejection.
+//! the 5th- and 3rd-order estimates combined; the step size is the shared
+//! controller's ([`crate::solvers::control`]).
 
 use nalgebra::Vector3;
 
@@ -19,21 +18,15 @@ use crate::rigid::euler::System;
 use crate::rigid::model::State;
 use crate::rigid::scales::Scales;
 use crate::solvers::budget::Budget;
+use crate::solvers::control::{self, Arithmetic, StepControl, norm};
 use crate::solvers::dop853_tableau::{self as tab, Row};
 use crate::solvers::forward::Forward;
 use crate::solvers::{Method, SimError, Solver, Work};
 use flipcard_text::num::Num;
 
-const SAFETY: f64 = 0.9;
-/// Bounds of h_new/h: never shrink below a third nor grow beyond six times.
-const SHRINK_LIMIT: f64 = 1.0 / 0.333;
-const GROW_LIMIT: f64 = 1.0 / 6.0;
-const ORDER_EXPONENT: f64 = 1.0 / 8.0;
-/// Weight of the previous step's error (PI control). With 0.04 instead of
-/// DOP853's default 0 the step sequence is smoother: on flipping bodies it
-/// rejects a few percent of the trials instead of 10–30 %, for the same
-/// error per unit of work.
-const BETA: f64 = 0.04;
+/// DOP853's order (the exponent of the step-size control is its inverse).
+const ORDER: f64 = 8.0;
+const ORDER_EXPONENT: f64 = 1.0 / ORDER;
 /// The projected step count is checked this often during a long advance.
 const PROJECTION_EVERY: u64 = 256;
 /// ...once this many steps give the projection some footing.
@@ -66,9 +59,7 @@ pub struct Dop853<S, const N: usize> {
     f: [f64; N],
     /// Next step to try; zero before the first step.
     h: f64,
-    rejected_last: bool,
-    /// Error of the previous accepted step (PI control).
-    facold: f64,
+    control: StepControl,
     /// The last accepted step [t_old, t] and its stages, for dense output.
     t_old: f64,
     h_last: f64,
@@ -102,8 +93,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             y,
             f,
             h: 0.0,
-            rejected_last: false,
-            facold: 1e-4,
+            control: StepControl::new(ORDER),
             t_old: 0.0,
             h_last: 0.0,
             y_old: y,
@@ -167,49 +157,27 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         self.atol[i] + self.tol * a.abs().max(b.abs())
     }
 
-    /// Hairer's starting step: an explicit Euler step sized from |f|/|y|,
-    /// then corrected by an estimate of the second derivative. The norms are
-    /// taken without squaring large numbers: for |ω| past ~1e140, |f|/sk
-    /// ~ |ω|/tol would overflow when squared.
+    /// Hairer's starting step, in logarithms (|ω| may be past ~1e140).
     fn initial_step(&mut self) -> f64 {
         let mut sk = [0.0; N];
         for (i, s) in sk.iter_mut().enumerate() {
             *s = self.scale(i, self.y[i], self.y[i]);
         }
-        let scaled = |v: &[f64; N]| {
-            let mut out = *v;
-            for (o, s) in out.iter_mut().zip(&sk) {
-                *o /= s;
-            }
-            out
+        let sys = self.sys;
+        let rhs = |_: f64, y: &[f64], f: &mut [f64]| {
+            let y: &[f64; N] = y.try_into().expect("the state's size");
+            f.copy_from_slice(&sys.rhs(y));
         };
-        let dnf = norm(&scaled(&self.f));
-        let dny = norm(&scaled(&self.y));
-        let h0 = if dnf <= 1e-5 || dny <= 1e-5 {
-            1e-6
-        } else {
-            (dny / dnf) * 0.01
-        };
-        let mut y1 = self.y;
-        for (v, f) in y1.iter_mut().zip(&self.f) {
-            *v += h0 * f;
-        }
-        let f1 = self.sys.rhs(&y1);
         self.work.rhs_evals += 1;
-        let mut diff = [0.0; N];
-        for (d, (f1, f0)) in diff.iter_mut().zip(f1.iter().zip(&self.f)) {
-            *d = f1 - f0;
-        }
-        let der2 = norm(&scaled(&diff));
-        // The second derivative over the tolerance grows like |ω|³/tol and
-        // overflows for fast spins: its size is taken in logarithms.
-        let log_der12 = (der2.ln() - h0.ln()).max(dnf.ln());
-        let h1 = if log_der12 <= 1e-15f64.ln() {
-            (h0 * 1e-3).max(1e-6)
-        } else {
-            ((0.01f64.ln() - log_der12) * ORDER_EXPONENT).exp()
-        };
-        (100.0 * h0).min(h1)
+        control::initial_step(
+            Arithmetic::Logarithmic,
+            rhs,
+            &self.y,
+            &self.f,
+            &sk,
+            ORDER,
+            f64::INFINITY,
+        )
     }
 
     /// Error of a trial step relative to the tolerance (accept when ≤ 1):
@@ -262,17 +230,8 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             self.dense = None;
 
             let err = self.error_norm(&y_new, h);
-            let fac11 = err.powf(ORDER_EXPONENT - 0.2 * BETA);
-            // NaN-safe: f64::min/max drop a NaN operand, so a non-finite
-            // error shrinks the step by the largest allowed factor.
             if err <= 1.0 {
-                let fac = fac11 / self.facold.powf(BETA);
-                let fac = GROW_LIMIT.max(SHRINK_LIMIT.min(fac / SAFETY));
-                self.facold = err.max(1e-4);
-                let mut h_new = h / fac;
-                if self.rejected_last {
-                    h_new = h_new.min(h);
-                }
+                let h_new = self.control.accept(h, err);
                 let f_new = sys.rhs(&y_new);
                 self.work.rhs_evals += 1;
                 self.work.steps += 1;
@@ -284,11 +243,9 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
                 self.y = y_new;
                 self.f = f_new;
                 self.h = h_new;
-                self.rejected_last = false;
                 return self.check_progress(end);
             }
-            self.h = h / SHRINK_LIMIT.min(fac11 / SAFETY);
-            self.rejected_last = true;
+            self.h = self.control.reject(h, err);
             self.work.rejected += 1;
             self.check_progress(end)?;
         }
@@ -338,16 +295,6 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         }
         y
     }
-}
-
-/// The 2-norm of v, scaled by its largest entry so that no square
-/// overflows or underflows.
-fn norm<const N: usize>(v: &[f64; N]) -> f64 {
-    let big = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    if big == 0.0 || !big.is_finite() {
-        return big;
-    }
-    big * v.iter().map(|x| (x / big).powi(2)).sum::<f64>().sqrt()
 }
 
 /// y + h Σⱼ aⱼ kⱼ over the nonzero entries of one tableau row.

@@ -3,11 +3,30 @@
 //! as published.
 //!
 //! Rows are stored sparse as (stage, coefficient) so the stage sums skip the
-//! many zero entries. Euler's equations are autonomous, so the nodes c are
-//! not needed (the tests check them as row sums).
+//! many zero entries. The nodes c are needed only where f depends on t (the
+//! systems of a deck; Euler's equations are autonomous); the tests check
+//! them as row sums.
 #![allow(clippy::excessive_precision)]
 
 pub type Row<const M: usize> = [(usize, f64); M];
+
+/// Nodes cᵢ of stages k[1..=11] (published digits); k[12] is f at t + h.
+pub const C: [f64; 12] = [
+    0.0,
+    0.526001519587677318785587544488e-1,
+    0.789002279381515978178381316732e-1,
+    0.118350341907227396726757197510,
+    0.281649658092772603273242802490,
+    0.333333333333333333333333333333,
+    0.25,
+    0.307692307692307692307692307692,
+    0.651282051282051282051282051282,
+    0.6,
+    0.857142857142857142857142857142,
+    1.0,
+];
+/// Nodes of the three extra dense-output stages k[13..=15].
+pub const C_DENSE: [f64; 3] = [0.1, 0.2, 0.777777777777777777777777777778];
 
 pub const A1: Row<1> = [(0, 5.26001519587677318785587544488e-2)];
 pub const A2: Row<2> = [
@@ -244,6 +263,11 @@ mod tests {
         ];
         for (k, (got, want)) in nodes.iter().enumerate() {
             assert!((got - want).abs() < 1e-13, "row {}: {got} vs {want}", k + 1);
+        }
+        // The nodes the stepper uses are the same row sums.
+        let used = C[1..].iter().chain(&[1.0]).chain(&C_DENSE);
+        for (k, (c, (sum, _))) in used.zip(&nodes).enumerate() {
+            assert!((c - sum).abs() < 1e-13, "node {}: {c} vs {sum}", k + 1);
         }
     }
 

@@ -2,6 +2,7 @@
 //! line name them, with their one setting (a tolerance, or RK4's step).
 
 use super::{Method, Options, StiffnessMode};
+use crate::method::{self, MethodName};
 
 /// Default relative tolerance of the adaptive methods on a scene; the
 /// absolute one is this times [`ATOL_FACTOR`].
@@ -33,14 +34,30 @@ impl OdeKind {
         OdeKind::Rk4,
     ];
 
+    /// Its name in the one vocabulary ([`crate::method`]).
+    pub fn method(self) -> MethodName {
+        match self {
+            OdeKind::Auto => MethodName::Auto,
+            OdeKind::Adaptive => MethodName::Adaptive,
+            OdeKind::Radau => MethodName::Radau,
+            OdeKind::Rk4 => MethodName::Rk4,
+        }
+    }
+
     /// The command line's spelling.
     pub fn name(self) -> &'static str {
-        match self {
-            OdeKind::Auto => "auto",
-            OdeKind::Adaptive => "adaptive",
-            OdeKind::Radau => "radau",
-            OdeKind::Rk4 => "rk4",
-        }
+        self.method().name()
+    }
+
+    /// The family a method names, or what a system takes instead.
+    pub fn from_method(m: MethodName) -> Result<OdeKind, String> {
+        OdeKind::ALL
+            .into_iter()
+            .find(|k| k.method() == m)
+            .ok_or_else(|| {
+                let names = OdeKind::ALL.map(OdeKind::name);
+                format!("a system takes {}", method::spoken(&names))
+            })
     }
 
     /// Whether the method solves with the Jacobian (so it is compiled).
@@ -132,5 +149,28 @@ impl OdeMethod {
             }
         };
         (method, opts)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::method::METHODS;
+
+    /// The vocabulary's `system` column and the families agree.
+    #[test]
+    fn the_families_are_the_methods_a_system_takes() {
+        for row in METHODS {
+            assert_eq!(
+                OdeKind::from_method(row.method).is_ok(),
+                row.system,
+                "{}",
+                row.name
+            );
+        }
+        assert_eq!(
+            OdeKind::from_method(MethodName::Exact),
+            Err("a system takes auto, adaptive, radau or rk4".into())
+        );
     }
 }

@@ -2,8 +2,9 @@
 //! estimator, step control, 7th-degree dense output and stiffness detection
 //! (Hairer, Nørsett & Wanner, *Solving ODEs I*, code DOP853).
 //!
-//! The coefficients are the rigid-body solver's (`dop853_tableau`); only the
-//! nodes c are added here, since f may depend on t.
+//! The coefficients, with the nodes c (f may depend on t), are the shared
+//! tableau (`dop853_tableau`); the step size is the shared controller's
+//! (`control`), as in the rigid-body solver.
 //!
 //! Stiffness detection estimates |hλ| for the dominant eigenvalue from two
 //! evaluations of f at t + h, at the 12th stage and at the new point:
@@ -15,39 +16,15 @@
 //! evaluation of f), so `auto` hands over to the implicit method early.
 
 use super::{OdeError, OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
-use crate::solvers::dop853_tableau as tab;
+use crate::solvers::control::StepControl;
+use crate::solvers::dop853_tableau::{self as tab, C, C_DENSE};
 
-const SAFETY: f64 = 0.9;
-/// h_new/h stays within [1/6, 3] (Hairer's FAC1 = 0.333, FAC2 = 6).
-const SHRINK_LIMIT: f64 = 1.0 / 0.333;
-const GROW_LIMIT: f64 = 1.0 / 6.0;
-/// Weight of the previous error (PI control), as in the rigid-body solver.
-const BETA: f64 = 0.04;
-const EXPONENT: f64 = 1.0 / 8.0 - 0.2 * BETA;
+/// DOP853's order (the step-size control's exponent is its inverse).
+const ORDER: f64 = 8.0;
 /// |hλ| on DOP853's stability boundary along the negative real axis.
 const STIFF_RATIO: f64 = 6.1;
 const STIFF_POSITIVE: u32 = 15;
 const STIFF_NEGATIVE: u32 = 6;
-
-/// Nodes cᵢ of stages k[1..=11] (published digits); k[12] is f at t + h.
-#[allow(clippy::excessive_precision)]
-const C: [f64; 12] = [
-    0.0,
-    0.526001519587677318785587544488e-1,
-    0.789002279381515978178381316732e-1,
-    0.118350341907227396726757197510,
-    0.281649658092772603273242802490,
-    0.333333333333333333333333333333,
-    0.25,
-    0.307692307692307692307692307692,
-    0.651282051282051282051282051282,
-    0.6,
-    0.857142857142857142857142857142,
-    1.0,
-];
-/// Nodes of the three extra dense-output stages k[13..=15].
-#[allow(clippy::excessive_precision)]
-const C_DENSE: [f64; 3] = [0.1, 0.2, 0.777777777777777777777777777778];
 
 /// What DOP853 does when its stiffness test fires.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -79,8 +56,7 @@ pub struct Dop853<S> {
     y12: Vec<f64>,
     scratch: Vec<f64>,
     h: f64,
-    rejected_last: bool,
-    facold: f64,
+    control: StepControl,
     t_old: f64,
     h_last: f64,
     y_old: Vec<f64>,
@@ -119,8 +95,7 @@ impl<S: OdeSystem> Dop853<S> {
             y12: vec![0.0; n],
             scratch: vec![0.0; n],
             h: opts.h0.unwrap_or(0.0),
-            rejected_last: false,
-            facold: 1e-4,
+            control: StepControl::new(ORDER),
             t_old: t0,
             h_last: 0.0,
             y_old: y0.to_vec(),
@@ -223,7 +198,7 @@ impl<S: OdeSystem> Dop853<S> {
                 .min(self.t_stop.map_or(f64::INFINITY, |s| s - self.t));
             let f0 = self.k[..n].to_vec();
             self.h = initial_step(
-                &self.sys, self.t, &self.y, &f0, self.rtol, &self.atol, 8.0, h_max,
+                &self.sys, self.t, &self.y, &f0, self.rtol, &self.atol, ORDER, h_max,
             );
             self.work.rhs_evals += 1;
         }
@@ -264,12 +239,11 @@ impl<S: OdeSystem> Dop853<S> {
             }
             self.work.rhs_evals += 11;
 
-            let err = if self.fixed.is_some() {
+            let mut err = if self.fixed.is_some() {
                 0.0
             } else {
                 self.error_norm(h)
             };
-            let mut fac11 = err.powf(EXPONENT);
             let mut accept = err <= 1.0 && is_sane(&self.y_new);
             let t_new = t + h;
             if accept {
@@ -280,17 +254,11 @@ impl<S: OdeSystem> Dop853<S> {
                 // there: treat it as a failed trial, so the step shrinks.
                 if !tail[..n].iter().all(|v| v.is_finite()) {
                     accept = false;
-                    fac11 = f64::NAN;
+                    err = f64::NAN;
                 }
             }
             if accept {
-                let fac = fac11 / self.facold.powf(BETA);
-                let fac = GROW_LIMIT.max(SHRINK_LIMIT.min(fac / SAFETY));
-                self.facold = err.max(1e-4);
-                let mut h_new = h / fac;
-                if self.rejected_last {
-                    h_new = h_new.min(h);
-                }
+                let h_new = self.control.accept(h, err);
                 self.work.steps += 1;
                 self.t_old = t;
                 self.h_last = h;
@@ -301,18 +269,9 @@ impl<S: OdeSystem> Dop853<S> {
                 // The dense stages need k[0] of this step: the new f moves
                 // there only when the next step starts.
                 self.h = self.fixed.unwrap_or(h_new);
-                self.rejected_last = false;
                 return self.stiffness_test(h);
             }
-            // NaN-safe: min/max drop a NaN operand, so a non-finite error
-            // shrinks the step by the largest allowed factor.
-            let shrink = SHRINK_LIMIT.min(fac11 / SAFETY);
-            self.h = h / if shrink.is_nan() {
-                SHRINK_LIMIT
-            } else {
-                shrink
-            };
-            self.rejected_last = true;
+            self.h = self.control.reject(h, err);
             self.work.rejected += 1;
             if self.fixed.is_some() {
                 return Err(OdeError::BlowUp { t: self.t });
@@ -403,12 +362,6 @@ fn weigh(k: &[f64], n: usize, row: &[(usize, f64)], i: usize) -> f64 {
     acc
 }
 
-/// Kept for the row-sum check below: the published nodes are the row sums.
-#[cfg(test)]
-fn row_sum<const M: usize>(row: &tab::Row<M>) -> f64 {
-    row.iter().map(|&(_, a)| a).sum()
-}
-
 impl<S: OdeSystem> Stepper for Dop853<S> {
     fn method_name(&self) -> &'static str {
         "dop853"
@@ -450,37 +403,6 @@ impl<S: OdeSystem> Stepper for Dop853<S> {
             p = (p + d[n + i]) * x1;
             p = (p + d[i]) * x;
             out[i] = self.y_old[i] + p;
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The nodes must be the row sums of A, which pins each node to the
-    /// stage it belongs to.
-    #[test]
-    fn nodes_are_row_sums() {
-        let sums = [
-            row_sum(&tab::A1),
-            row_sum(&tab::A2),
-            row_sum(&tab::A3),
-            row_sum(&tab::A4),
-            row_sum(&tab::A5),
-            row_sum(&tab::A6),
-            row_sum(&tab::A7),
-            row_sum(&tab::A8),
-            row_sum(&tab::A9),
-            row_sum(&tab::A10),
-            row_sum(&tab::A11),
-        ];
-        for (s, sum) in sums.iter().enumerate() {
-            assert!((sum - C[s + 1]).abs() < 1e-13, "stage {}", s + 1);
-        }
-        let dense = [row_sum(&tab::A13), row_sum(&tab::A14), row_sum(&tab::A15)];
-        for (s, sum) in dense.iter().enumerate() {
-            assert!((sum - C_DENSE[s]).abs() < 1e-13, "dense stage {s}");
         }
     }
 }

@@ -25,6 +25,8 @@ mod rk4;
 
 use nalgebra::DMatrix;
 
+use crate::solvers::control::{self, Arithmetic};
+
 pub use auto::Auto;
 pub use choice::{DEFAULT_RTOL, OdeKind, OdeMethod, REFERENCE_RTOL};
 pub use dop853::{Dop853, StiffnessMode};
@@ -365,17 +367,9 @@ pub(crate) fn is_sane(y: &[f64]) -> bool {
     y.iter().all(|v| v.abs() <= BLOW_UP_LIMIT)
 }
 
-/// RMS norm of `v` weighted by 1/`scale`.
-pub(crate) fn rms(v: &[f64], scale: &[f64]) -> f64 {
-    let sum: f64 = v.iter().zip(scale).map(|(v, s)| (v / s).powi(2)).sum();
-    (sum / v.len() as f64).sqrt()
-}
-
-/// Hairer's starting step (HINIT in DOP853 and RADAU5's companions): an
-/// explicit Euler step sized from |f|/|y|, then corrected by an estimate of
-/// the second derivative so that the local error of a method of order
-/// `order − 1` is about the tolerance. Returns the step and uses one
-/// evaluation of f.
+/// Hairer's starting step ([`crate::solvers::control::initial_step`]) at
+/// (t, y) with f(t, y) = `f0`: the scale atol + rtol·|y|, and f at t + h.
+/// Uses one evaluation of f.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn initial_step<S: OdeSystem>(
     sys: &S,
@@ -387,35 +381,13 @@ pub(crate) fn initial_step<S: OdeSystem>(
     order: f64,
     h_max: f64,
 ) -> f64 {
-    let n = y.len();
     let scale: Vec<f64> = y
         .iter()
         .zip(atol)
         .map(|(y, a)| a + rtol * y.abs())
         .collect();
-    let dnf = rms(f0, &scale).powi(2) * n as f64;
-    let dny = rms(y, &scale).powi(2) * n as f64;
-    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-        1e-6
-    } else {
-        (dny / dnf).sqrt() * 0.01
-    };
-    h = h.min(h_max);
-    let y1: Vec<f64> = y.iter().zip(f0).map(|(y, f)| y + h * f).collect();
-    let mut f1 = vec![0.0; n];
-    sys.rhs(t + h, &y1, &mut f1);
-    let diff: Vec<f64> = f1.iter().zip(f0).map(|(a, b)| a - b).collect();
-    let der2 = rms(&diff, &scale) * (n as f64).sqrt() / h;
-    let der12 = der2.max(dnf.sqrt());
-    let h1 = if der12.is_nan() || der12 <= 1e-15 {
-        // Also the branch for a NaN estimate (f not finite after the trial
-        // step): start small and let the step control find its way.
-        (h * 1e-3).max(1e-6)
-    } else {
-        (0.01 / der12).powf(1.0 / order)
-    };
-    let h = (100.0 * h).min(h1).min(h_max);
-    if h.is_finite() && h > 0.0 { h } else { 1e-6 }
+    let rhs = |h: f64, y1: &[f64], f1: &mut [f64]| sys.rhs(t + h, y1, f1);
+    control::initial_step(Arithmetic::Plain, rhs, y, f0, &scale, order, h_max)
 }
 
 /// Bookkeeping shared by the solvers: the monotone request time, the output

@@ -5,10 +5,10 @@
 //! point before it, on a copy, so sampling never changes the trajectory.
 
 use super::{OdeError, OdeSystem, Options, Requests, Stepper, Work, is_sane};
+use crate::solvers::rk4::rk4_step;
 
 pub struct Rk4<S> {
     sys: S,
-    n: usize,
     dt: f64,
     t0: f64,
     /// Grid index of the current point.
@@ -40,7 +40,6 @@ impl<S: OdeSystem> Rk4<S> {
         let n = sys.dim();
         Ok(Rk4 {
             sys,
-            n,
             dt,
             t0,
             index: 0,
@@ -59,21 +58,11 @@ impl<S: OdeSystem> Rk4<S> {
 
     /// One RK4 step of size h from (t, y) into `out`.
     fn rk4(&mut self, t: f64, from_old: bool, h: f64, out: &mut [f64]) {
-        let n = self.n;
         let y: &[f64] = if from_old { &self.y_old } else { &self.y };
-        self.sys.rhs(t, y, &mut self.k[0]);
-        for (s, c) in [(1, 0.5), (2, 0.5), (3, 1.0)] {
-            for ((tmp, y), k) in self.tmp.iter_mut().zip(y).zip(&self.k[s - 1]) {
-                *tmp = y + c * h * k;
-            }
-            let (_, rest) = self.k.split_at_mut(s);
-            self.sys.rhs(t + c * h, &self.tmp, &mut rest[0]);
-        }
+        let sys = &self.sys;
+        let rhs = |t: f64, y: &[f64], dy: &mut [f64]| sys.rhs(t, y, dy);
+        rk4_step(rhs, t, h, y, &mut self.k, &mut self.tmp, out);
         self.work.rhs_evals += 4;
-        let k = &self.k;
-        for i in 0..n {
-            out[i] = y[i] + h / 6.0 * (k[0][i] + 2.0 * (k[1][i] + k[2][i]) + k[3][i]);
-        }
     }
 
     fn grid(&self, index: u64) -> f64 {
