@@ -28,7 +28,7 @@ mod tally;
 pub mod today;
 pub mod true_retention;
 
-pub use attempt::PromptAttempt;
+pub use attempt::{AttemptVerdict, Commitment, Committed, PromptAttempt, StoredAttempt};
 pub use day::DayGrid;
 pub use db::{OpenOptions, Store};
 pub use error::StoreError;

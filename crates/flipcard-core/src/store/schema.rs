@@ -9,7 +9,7 @@ use rusqlite::{Connection, TransactionBehavior};
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
-pub const MIGRATIONS: &[&str] = &[V1, V2, V3];
+pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4];
 
 /// The schema version this build writes.
 pub fn current_version() -> i64 {
@@ -380,6 +380,66 @@ CREATE TABLE sync_file (
 ) STRICT, WITHOUT ROWID;
 "#;
 
+/// Version 4: an attempt is kept when the learner commits to it, before the
+/// run plays, and its verdict is written once when the run ends. `attempt`
+/// numbers the attempts at one prompt from 1 (a later one is a retry);
+/// `judged_at` is when the verdict was written, NULL (with `correct` and
+/// `measured`) until then, and for good when the learner left the run
+/// before its end. Attempts stored before kept their verdict: they were
+/// written at the run's end, so their `judged_at` is their `attempted_at`,
+/// and they are numbered in the order of their times. SQLite cannot drop a
+/// NOT NULL in place, so the table is copied into one that allows the
+/// verdict to wait.
+const V4: &str = r#"
+CREATE TABLE prompt_attempt_v4 (
+    id            INTEGER PRIMARY KEY,
+    session       INTEGER REFERENCES session(id),
+    deck          TEXT NOT NULL CHECK (deck <> ''),
+    prompt        TEXT NOT NULL CHECK (prompt <> ''),
+    attempted_at  INTEGER NOT NULL,
+    prediction    TEXT NOT NULL,
+    measured      REAL,
+    correct       INTEGER CHECK (correct IN (0, 1)),
+    attempt       INTEGER NOT NULL CHECK (attempt >= 1),
+    judged_at     INTEGER,
+    CHECK ((correct IS NULL) = (judged_at IS NULL)),
+    CHECK (judged_at IS NOT NULL OR measured IS NULL)
+) STRICT;
+INSERT INTO prompt_attempt_v4 (id, session, deck, prompt, attempted_at, prediction,
+                               measured, correct, attempt, judged_at)
+    SELECT id, session, deck, prompt, attempted_at, prediction, measured, correct,
+           row_number() OVER (PARTITION BY deck, prompt ORDER BY attempted_at, id),
+           attempted_at
+    FROM prompt_attempt;
+DROP TRIGGER prompt_attempt_no_delete;
+DROP TRIGGER prompt_attempt_no_update;
+DROP TABLE prompt_attempt;
+ALTER TABLE prompt_attempt_v4 RENAME TO prompt_attempt;
+
+CREATE INDEX prompt_attempt_deck ON prompt_attempt(deck, prompt, attempt);
+
+CREATE TRIGGER prompt_attempt_no_delete BEFORE DELETE ON prompt_attempt
+BEGIN
+    SELECT RAISE(ABORT, 'prompt attempts are append-only: rows are never deleted');
+END;
+
+-- The one change a row may see: its verdict (correct, measured, judged_at)
+-- written once, where there was none.
+CREATE TRIGGER prompt_attempt_verdict_once BEFORE UPDATE ON prompt_attempt
+WHEN OLD.judged_at IS NOT NULL
+  OR NEW.judged_at IS NULL
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.prompt IS NOT OLD.prompt
+  OR NEW.attempted_at IS NOT OLD.attempted_at
+  OR NEW.prediction IS NOT OLD.prediction
+  OR NEW.attempt IS NOT OLD.attempt
+BEGIN
+    SELECT RAISE(ABORT, 'prompt attempts are append-only: only the verdict may be written, once');
+END;
+"#;
+
 /// Brings the database at `path` up to the last of `migrations`. Before the
 /// first migration of a database that already holds a schema, a copy is made
 /// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
@@ -544,6 +604,89 @@ mod tests {
             })
             .unwrap();
         assert_eq!(started, 1000);
+    }
+
+    #[test]
+    fn version_4_numbers_old_attempts_and_keeps_their_verdicts() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        conn.pragma_update(None, "recursive_triggers", true)
+            .unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..3], "20260101T000000Z").unwrap();
+        // Version 3 kept an attempt when its run ended, always judged.
+        conn.execute_batch(
+            "INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, measured, correct) VALUES
+               ('d', 'p', 3000, 'b', 2.0, 1),
+               ('d', 'p', 1000, 'a', 2.0, 0),
+               ('d', 'q', 2000, '7', NULL, 0),
+               ('e', 'p', 500, 'x', NULL, 1);",
+        )
+        .unwrap();
+        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), 4);
+        let mut st = conn
+            .prepare(
+                "SELECT deck, prompt, prediction, attempt, correct, judged_at, attempted_at \
+                 FROM prompt_attempt ORDER BY id",
+            )
+            .unwrap();
+        let rows: Vec<(String, String, String, i64, Option<i64>, Option<i64>, i64)> = st
+            .query_map([], |r| {
+                Ok((
+                    r.get(0)?,
+                    r.get(1)?,
+                    r.get(2)?,
+                    r.get(3)?,
+                    r.get(4)?,
+                    r.get(5)?,
+                    r.get(6)?,
+                ))
+            })
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap();
+        let got: Vec<(&str, &str, &str, i64, Option<i64>, bool)> = rows
+            .iter()
+            .map(|r| (&*r.0, &*r.1, &*r.2, r.3, r.4, r.5 == Some(r.6)))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                ("d", "p", "b", 2, Some(1), true),
+                ("d", "p", "a", 1, Some(0), true),
+                ("d", "q", "7", 1, Some(0), true),
+                ("e", "p", "x", 1, Some(1), true),
+            ],
+            "numbered by time per prompt; judged when they were written"
+        );
+        // The triggers hold on the new table: a judged row never changes,
+        // no row is deleted, and an open one takes its verdict once.
+        let upd = conn
+            .execute("UPDATE prompt_attempt SET correct = 1 WHERE prediction = 'a'", [])
+            .unwrap_err();
+        assert!(upd.to_string().contains("append-only"), "{upd}");
+        let del = conn.execute("DELETE FROM prompt_attempt", []).unwrap_err();
+        assert!(del.to_string().contains("append-only"), "{del}");
+        conn.execute(
+            "INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, attempt) \
+             VALUES ('d', 'p', 4000, 'c', 3)",
+            [],
+        )
+        .unwrap();
+        conn.execute(
+            "UPDATE prompt_attempt SET correct = 1, measured = 2.0, judged_at = 4100 \
+             WHERE prediction = 'c'",
+            [],
+        )
+        .unwrap();
+        let twice = conn
+            .execute(
+                "UPDATE prompt_attempt SET correct = 0, judged_at = 4200 WHERE prediction = 'c'",
+                [],
+            )
+            .unwrap_err();
+        assert!(twice.to_string().contains("once"), "{twice}");
     }
 
     #[test]
