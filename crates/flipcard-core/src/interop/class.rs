@@ -655,10 +655,12 @@ pub fn aggregate(
                             a.attempt.unwrap_or(0),
                         )
                     });
+                    let Some((first, later)) = attempts.split_first() else {
+                        continue;
+                    };
                     let e = prompts
                         .entry((deck.to_string(), prompt.to_string()))
                         .or_default();
-                    let (first, later) = attempts.split_first().expect("at least one attempt");
                     e.learners += 1;
                     match graded(first, find_prompt(deck, prompt)) {
                         Some(true) => e.right += 1,
@@ -856,9 +858,11 @@ pub fn bins(wrong: &BTreeMap<String, usize>, tol: crate::deck::Tolerance) -> Vec
         let Some(c) = best else { break };
         let centre = values[c].0;
         let members: Vec<usize> = (0..values.len())
-            .filter(|&i| left[i] && near(centre, values[i].0))
+            .filter(|&i| left[i] && (i == c || near(centre, values[i].0)))
             .collect();
-        let (lo, hi) = (values[members[0]].0, values[*members.last().unwrap_or(&c)].0);
+        // Ascending, and never empty: the centre is a member.
+        let lo = members.first().map_or(centre, |&i| values[i].0);
+        let hi = members.last().map_or(centre, |&i| values[i].0);
         for &i in &members {
             left[i] = false;
         }

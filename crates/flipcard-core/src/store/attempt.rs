@@ -244,20 +244,22 @@ impl Store {
             let attempt = (|| -> rusqlite::Result<StoredAttempt> {
                 let correct: Option<bool> = row.get(7)?;
                 let judged: Option<super::codec::Ms> = row.get(8)?;
+                let attempted_at = row.get::<_, super::codec::Ms>(3)?.0;
                 Ok(StoredAttempt {
                     id: row.get(0)?,
                     deck: row.get(1)?,
                     prompt: row.get(2)?,
-                    attempted_at: row.get::<_, super::codec::Ms>(3)?.0,
+                    attempted_at,
                     prediction: row.get(4)?,
                     attempt: row.get(5)?,
-                    verdict: match (correct, judged) {
-                        (Some(correct), Some(at)) => Some(AttemptVerdict {
+                    verdict: match correct {
+                        Some(correct) => Some(AttemptVerdict {
                             measured: row.get(6)?,
                             correct,
-                            judged_at: at.0,
+                            // A row written whole by another program.
+                            judged_at: judged.map_or(attempted_at, |t| t.0),
                         }),
-                        _ => None,
+                        None => None,
                     },
                 })
             })()
@@ -355,21 +357,26 @@ mod tests {
             .commit_attempt(&commitment("p", "1.5", "2026-01-01T10:00:00Z"))
             .unwrap();
         for sql in [
-            "UPDATE prompt_attempt SET prediction = '2'",
+            "UPDATE prompt_attempt SET prediction = '2', correct = 1",
             "UPDATE prompt_attempt SET attempt = 2",
-            "UPDATE prompt_attempt SET correct = 1",
+            "UPDATE prompt_attempt SET attempted_at = 0",
+            // A measurement without a verdict.
+            "UPDATE prompt_attempt SET measured = 1.0",
             "DELETE FROM prompt_attempt",
         ] {
             let e = store.conn.execute(sql, []).unwrap_err();
-            assert!(e.to_string().contains("append-only") || e.to_string().contains("CHECK"), "{sql}: {e}");
+            assert!(e.to_string().contains("append-only"), "{sql}: {e}");
         }
-        // A verdict without its time, or a measurement without a verdict,
-        // is refused by the table itself.
+        // The verdict, once.
+        store
+            .conn
+            .execute("UPDATE prompt_attempt SET correct = 0", [])
+            .unwrap();
         let e = store
             .conn
-            .execute("UPDATE prompt_attempt SET measured = 1.0", [])
+            .execute("UPDATE prompt_attempt SET correct = 1", [])
             .unwrap_err();
-        assert!(e.to_string().contains("append-only"), "{e}");
+        assert!(e.to_string().contains("once"), "{e}");
         assert_eq!(all(&store)[0].id, a.id);
         assert_eq!(all(&store)[0].prediction, "1.5");
     }

@@ -382,10 +382,10 @@ CREATE TABLE sync_file (
 
 /// Version 4: an attempt is kept when the learner commits to it, before the
 /// run plays, and its verdict is written once when the run ends. `attempt`
-/// numbers the attempts at one prompt from 1 (a later one is a retry);
-/// `judged_at` is when the verdict was written, NULL (with `correct` and
-/// `measured`) until then, and for good when the learner left the run
-/// before its end. Attempts stored before kept their verdict: they were
+/// numbers the attempts at one prompt from 1 (a later one is a retry; a
+/// row another program inserts without one is a first); `correct` is NULL
+/// (with `measured` and `judged_at`, when the verdict was written) until
+/// the run ends, and for good when the learner left the run before. Attempts stored before kept their verdict: they were
 /// written at the run's end, so their `judged_at` is their `attempted_at`,
 /// and they are numbered in the order of their times. SQLite cannot drop a
 /// NOT NULL in place, so the table is copied into one that allows the
@@ -400,10 +400,9 @@ CREATE TABLE prompt_attempt_v4 (
     prediction    TEXT NOT NULL,
     measured      REAL,
     correct       INTEGER CHECK (correct IN (0, 1)),
-    attempt       INTEGER NOT NULL CHECK (attempt >= 1),
+    attempt       INTEGER NOT NULL DEFAULT 1 CHECK (attempt >= 1),
     judged_at     INTEGER,
-    CHECK ((correct IS NULL) = (judged_at IS NULL)),
-    CHECK (judged_at IS NOT NULL OR measured IS NULL)
+    CHECK (correct IS NOT NULL OR (measured IS NULL AND judged_at IS NULL))
 ) STRICT;
 INSERT INTO prompt_attempt_v4 (id, session, deck, prompt, attempted_at, prediction,
                                measured, correct, attempt, judged_at)
@@ -423,11 +422,11 @@ BEGIN
     SELECT RAISE(ABORT, 'prompt attempts are append-only: rows are never deleted');
 END;
 
--- The one change a row may see: its verdict (correct, measured, judged_at)
--- written once, where there was none.
+-- The one change a row may see: its verdict (correct, with measured and
+-- judged_at) written once, where there was none.
 CREATE TRIGGER prompt_attempt_verdict_once BEFORE UPDATE ON prompt_attempt
-WHEN OLD.judged_at IS NOT NULL
-  OR NEW.judged_at IS NULL
+WHEN OLD.correct IS NOT NULL
+  OR NEW.correct IS NULL
   OR NEW.id IS NOT OLD.id
   OR NEW.session IS NOT OLD.session
   OR NEW.deck IS NOT OLD.deck
