@@ -602,7 +602,11 @@ fn cloze_items_numbers_and_retries_make_a_report_an_instructor_can_act_on() {
                     t0 + chrono::Duration::days(2),
                     if again { Rating::Again } else { Rating::Good },
                     ReviewKind::Review,
-                    if again { State::Relearning } else { State::Review },
+                    if again {
+                        State::Relearning
+                    } else {
+                        State::Review
+                    },
                     chrono::Duration::days(5),
                 );
                 r.after.difficulty = Some(if again { 8.0 } else { 4.0 });
@@ -698,11 +702,20 @@ fn cloze_items_numbers_and_retries_make_a_report_an_instructor_can_act_on() {
         // reversed card by the side asked, in the chosen language.
         assert_eq!(row("card", "torque-rate (c1)")[8], gap(lang, 1));
         assert_eq!(row("card", "torque-rate (c2)")[8], gap(lang, 2));
-        assert_eq!(row("card", "spin-axis (backward)")[8], card_back(&deck, lang));
-        assert!(term.contains(&gap(lang, 1).chars().take(30).collect::<String>()), "{term}");
+        assert_eq!(
+            row("card", "spin-axis (backward)")[8],
+            card_back(&deck, lang)
+        );
+        assert!(
+            term.contains(&gap(lang, 1).chars().take(30).collect::<String>()),
+            "{term}"
+        );
         // The hardest card first: the back of spin-axis, lapsed by 3 of 5.
         let first_card = rows.iter().find(|r| r[0] == "card").unwrap();
-        assert_eq!((first_card[2].as_str(), first_card[4].as_str()), ("spin-axis (backward)", "3"));
+        assert_eq!(
+            (first_card[2].as_str(), first_card[4].as_str()),
+            ("spin-axis (backward)", "3")
+        );
         // Retention by tag, worst first: frames (2 of 5) before euler (10 of 10).
         let tags: Vec<(&str, &str, &str)> = rows
             .iter()
@@ -726,7 +739,10 @@ fn cloze_items_numbers_and_retries_make_a_report_an_instructor_can_act_on() {
         let answer = &row("answer", "efold-time")[8];
         let shown_formula = flipcard::text::render(formula.get(lang)).replace('\n', " ");
         assert!(answer.contains("answer 0.1732 s"), "{answer}");
-        assert!(answer.contains(&shown_formula), "{answer} lacks {shown_formula}");
+        assert!(
+            answer.contains(&shown_formula),
+            "{answer} lacks {shown_formula}"
+        );
         assert!(answer.contains("the runs measured 0.1732"), "{answer}");
         assert!(term.contains(answer.as_str()), "{term}");
         // Retries apart: two learners retried once each, both right.

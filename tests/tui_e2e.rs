@@ -709,7 +709,10 @@ fn a_prediction_committed_survives_the_app_killed_mid_run() {
     assert!(killed.is_ok_and(|s| s.success()));
     let s = t.wait_for("EXIT=");
     assert!(s.contains("EXIT=137"), "killed by SIGKILL: {s}");
-    assert!(!s.contains("Sahi") && !s.contains("Right"), "no verdict was reached: {s}");
+    assert!(
+        !s.contains("Sahi") && !s.contains("Right"),
+        "no verdict was reached: {s}"
+    );
     let out = env
         .flipcard()
         .args(["export", "--attempts", "--format", "json"])
@@ -722,7 +725,11 @@ fn a_prediction_committed_survives_the_app_killed_mid_run() {
     assert_eq!(rows[0]["prompt"], "middle-axis");
     assert_eq!(rows[0]["prediction"], "stable");
     assert_eq!(rows[0]["attempted_at"], "2026-03-02T09:00:00.000Z");
-    assert_eq!(rows[0]["correct"], serde_json::Value::Null, "no verdict: {v}");
+    assert_eq!(
+        rows[0]["correct"],
+        serde_json::Value::Null,
+        "no verdict: {v}"
+    );
     assert_eq!(rows[0]["attempt"], 1);
     assert_eq!(rows[0]["retry"], false);
 }

@@ -295,11 +295,19 @@ fn terminal(input: &Input) -> String {
         if text.is_none() && answer.is_none() {
             continue;
         }
-        out.push_str(&format!("\n{}: {}\n", p.prompt, cut(text.unwrap_or(""), 100)));
+        out.push_str(&format!(
+            "\n{}: {}\n",
+            p.prompt,
+            cut(text.unwrap_or(""), 100)
+        ));
         if let Some(a) = answer {
             out.push_str(&format!("  {a}\n"));
         }
-        let bins: Vec<String> = p.wrong.iter().map(|w| format!("{} ×{}", choice_name(w), w.learners)).collect();
+        let bins: Vec<String> = p
+            .wrong
+            .iter()
+            .map(|w| format!("{} ×{}", choice_name(w), w.learners))
+            .collect();
         if !bins.is_empty() {
             out.push_str(&format!("  wrong first predictions: {}\n", bins.join(", ")));
         }

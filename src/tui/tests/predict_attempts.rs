@@ -108,9 +108,15 @@ fn esc_mid_run_then_answering_again_keeps_both_the_second_as_a_retry() {
     crate::interop::export::write_attempts_json(&store, &mut json).unwrap();
     let v: serde_json::Value = serde_json::from_slice(&json).unwrap();
     assert_eq!(v[0]["correct"], serde_json::Value::Null, "{v}");
-    assert_eq!((v[0]["attempt"].as_u64(), v[0]["retry"].as_bool()), (Some(1), Some(false)));
+    assert_eq!(
+        (v[0]["attempt"].as_u64(), v[0]["retry"].as_bool()),
+        (Some(1), Some(false))
+    );
     assert_eq!(v[1]["correct"], serde_json::Value::Bool(true), "{v}");
-    assert_eq!((v[1]["attempt"].as_u64(), v[1]["retry"].as_bool()), (Some(2), Some(true)));
+    assert_eq!(
+        (v[1]["attempt"].as_u64(), v[1]["retry"].as_bool()),
+        (Some(2), Some(true))
+    );
 }
 
 #[test]
@@ -139,6 +145,9 @@ fn a_commitment_that_cannot_be_written_keeps_the_question_on_screen() {
         "the choice stays"
     );
     let screen = render(&app);
-    assert!(screen.contains("disk is full"), "the screen says why: {screen}");
+    assert!(
+        screen.contains("disk is full"),
+        "the screen says why: {screen}"
+    );
     assert!(on_disk(&app).is_empty());
 }

@@ -762,7 +762,9 @@ fn prompt_row(
         Some(Answer::Choice { .. }) => None,
         // Without the deck: numbers when every wrong prediction is one.
         None => (!t.wrong.is_empty()
-            && t.wrong.keys().all(|p| p.parse::<f64>().is_ok_and(f64::is_finite)))
+            && t.wrong
+                .keys()
+                .all(|p| p.parse::<f64>().is_ok_and(f64::is_finite)))
         .then_some(crate::deck::Tolerance::Rel(DEFAULT_BIN)),
     };
     let mut wrong: Vec<Choice> = match tolerance {
@@ -989,7 +991,10 @@ mod tests {
         let Export::Attempts(rows) = parse(old).unwrap() else {
             panic!("attempts")
         };
-        assert_eq!((rows[0].correct, rows[0].attempt, rows[0].retry), (Some(false), None, None));
+        assert_eq!(
+            (rows[0].correct, rows[0].attempt, rows[0].retry),
+            (Some(false), None, None)
+        );
         // Now: a first attempt left without a verdict, then a retry.
         let new = "deck,prompt,attempted_at,prediction,measured,correct,attempt,retry\n\
                    d,p,2026-01-01T00:00:00Z,1.8,,,1,false\n\
@@ -999,15 +1004,24 @@ mod tests {
         };
         assert_eq!(rows[0].correct, None);
         assert_eq!(rows[0].measured, None);
-        assert_eq!((rows[1].measured, rows[1].says_retry()), (Some(2.01), Some(true)));
+        assert_eq!(
+            (rows[1].measured, rows[1].says_retry()),
+            (Some(2.01), Some(true))
+        );
         let json = r#"[{"deck":"d","prompt":"p","attempted_at":"2026-01-01T00:00:00.000Z","prediction":"1.8","measured":null,"correct":null,"attempt":1,"retry":false}]"#;
         let Export::Attempts(rows) = parse(json).unwrap() else {
             panic!("attempts")
         };
         assert_eq!((rows[0].correct, rows[0].attempt), (None, Some(1)));
         for (bad, why) in [
-            (json.replace("\"attempt\":1", "\"attempt\":0"), "attempt 0 is not 1–"),
-            (json.replace("\"retry\":false", "\"retry\":true"), "attempt 1 is not a retry"),
+            (
+                json.replace("\"attempt\":1", "\"attempt\":0"),
+                "attempt 0 is not 1–",
+            ),
+            (
+                json.replace("\"retry\":false", "\"retry\":true"),
+                "attempt 1 is not a retry",
+            ),
             (json.replace("\"measured\":null", "\"measured\":1e999"), ""),
         ] {
             let e = parse(&bad).unwrap_err();
@@ -1020,7 +1034,9 @@ mod tests {
         AttemptRow {
             deck: "d".into(),
             prompt: "p".into(),
-            attempted_at: DateTime::parse_from_rfc3339(at).unwrap().with_timezone(&Utc),
+            attempted_at: DateTime::parse_from_rfc3339(at)
+                .unwrap()
+                .with_timezone(&Utc),
             prediction: prediction.into(),
             measured: correct.map(|_| 2.0),
             correct,
@@ -1043,7 +1059,12 @@ mod tests {
                 attempt("2", "2026-01-02T00:00:00Z", Some(true), None),
                 attempt("1.83", "2026-01-01T00:00:00Z", Some(false), None),
             ]),
-            Export::Attempts(vec![attempt("2", "2026-01-01T00:00:00Z", Some(true), Some(1))]),
+            Export::Attempts(vec![attempt(
+                "2",
+                "2026-01-01T00:00:00Z",
+                Some(true),
+                Some(1),
+            )]),
         ];
         let r = aggregate(&learners, &[], None, "en");
         let p = &r.prompts[0];
@@ -1083,7 +1104,11 @@ mod tests {
         .map(|(p, n)| (p.to_string(), n))
         .collect();
         let mut got = bins(&wrong, crate::deck::Tolerance::Rel(0.05));
-        got.sort_by(|a, b| b.learners.cmp(&a.learners).then(a.prediction.cmp(&b.prediction)));
+        got.sort_by(|a, b| {
+            b.learners
+                .cmp(&a.learners)
+                .then(a.prediction.cmp(&b.prediction))
+        });
         let got: Vec<(String, Option<String>, usize)> = got
             .into_iter()
             .map(|c| (c.prediction, c.label, c.learners))

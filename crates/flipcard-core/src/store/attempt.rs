@@ -319,15 +319,23 @@ mod tests {
             judged_at: at("2026-01-01T10:02:09Z"),
         };
         store.judge_attempt(c.id, &verdict).unwrap();
-        let again = store.judge_attempt(c.id, &AttemptVerdict {
-            correct: false,
-            ..verdict
-        });
+        let again = store.judge_attempt(
+            c.id,
+            &AttemptVerdict {
+                correct: false,
+                ..verdict
+            },
+        );
         assert!(
-            again.is_err_and(|e| e.to_string().contains("only the verdict may be written, once")),
+            again.is_err_and(|e| e
+                .to_string()
+                .contains("only the verdict may be written, once")),
             "a verdict is written once"
         );
-        assert!(store.judge_attempt(999, &verdict).is_err(), "no such attempt");
+        assert!(
+            store.judge_attempt(999, &verdict).is_err(),
+            "no such attempt"
+        );
         let rows = all(&store);
         assert_eq!(rows.len(), 3);
         assert_eq!(rows[0].verdict, None, "left before the end: no verdict");

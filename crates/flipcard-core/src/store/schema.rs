@@ -626,43 +626,33 @@ mod tests {
         assert_eq!(user_version(&conn).unwrap(), 4);
         let mut st = conn
             .prepare(
-                "SELECT deck, prompt, prediction, attempt, correct, judged_at, attempted_at \
-                 FROM prompt_attempt ORDER BY id",
+                "SELECT deck || '/' || prompt || ':' || prediction, attempt, correct, \
+                 judged_at IS attempted_at FROM prompt_attempt ORDER BY id",
             )
             .unwrap();
-        let rows: Vec<(String, String, String, i64, Option<i64>, Option<i64>, i64)> = st
-            .query_map([], |r| {
-                Ok((
-                    r.get(0)?,
-                    r.get(1)?,
-                    r.get(2)?,
-                    r.get(3)?,
-                    r.get(4)?,
-                    r.get(5)?,
-                    r.get(6)?,
-                ))
-            })
+        let got: Vec<(String, i64, Option<i64>, bool)> = st
+            .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?)))
             .unwrap()
             .collect::<Result<_, _>>()
             .unwrap();
-        let got: Vec<(&str, &str, &str, i64, Option<i64>, bool)> = rows
-            .iter()
-            .map(|r| (&*r.0, &*r.1, &*r.2, r.3, r.4, r.5 == Some(r.6)))
-            .collect();
+        let want = [
+            ("d/p:b", 2, Some(1)),
+            ("d/p:a", 1, Some(0)),
+            ("d/q:7", 1, Some(0)),
+            ("e/p:x", 1, Some(1)),
+        ]
+        .map(|(row, n, correct)| (row.to_string(), n, correct, true));
         assert_eq!(
-            got,
-            [
-                ("d", "p", "b", 2, Some(1), true),
-                ("d", "p", "a", 1, Some(0), true),
-                ("d", "q", "7", 1, Some(0), true),
-                ("e", "p", "x", 1, Some(1), true),
-            ],
+            got, want,
             "numbered by time per prompt; judged when they were written"
         );
         // The triggers hold on the new table: a judged row never changes,
         // no row is deleted, and an open one takes its verdict once.
         let upd = conn
-            .execute("UPDATE prompt_attempt SET correct = 1 WHERE prediction = 'a'", [])
+            .execute(
+                "UPDATE prompt_attempt SET correct = 1 WHERE prediction = 'a'",
+                [],
+            )
             .unwrap_err();
         assert!(upd.to_string().contains("append-only"), "{upd}");
         let del = conn.execute("DELETE FROM prompt_attempt", []).unwrap_err();

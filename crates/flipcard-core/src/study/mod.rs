@@ -24,8 +24,8 @@ use crate::deck::Deck;
 use crate::sched::config::LeechAction;
 use crate::sched::{CardState, Config, Counts, ItemKey, Queue, Rating, ReviewRecord, Scheduler};
 use crate::store::{
-    AfterRating, AttemptVerdict, Commitment, Committed, PromptAttempt, Recorded, StatusAction, Store,
-    StoreError, Undone,
+    AfterRating, AttemptVerdict, Commitment, Committed, PromptAttempt, Recorded, StatusAction,
+    Store, StoreError, Undone,
 };
 
 /// Which clock draws the line between study days.

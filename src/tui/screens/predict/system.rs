@@ -123,7 +123,14 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action, prompt: &P
         _ => {}
     }
     if verdict.is_none() && run.finished() {
-        judge(app, prompt, run, (*prediction, *committed), verdict, judging);
+        judge(
+            app,
+            prompt,
+            run,
+            (*prediction, *committed),
+            verdict,
+            judging,
+        );
     }
     Nav::Stay
 }
