@@ -544,3 +544,216 @@ fn learner_text_reaches_the_terminal_escaped_and_bad_ids_are_refused() {
     assert!(err.contains("3 files skipped"), "{err}");
     assert!(out.stdout().contains("stable ×1"), "{}", out.stdout());
 }
+
+/// A class whose learners studied cloze items (`c1`, `c2`) and a reversed
+/// card's back, and predicted a number: each learner's store is written
+/// through the store's own calls (answers, attempts committed then
+/// judged, as the app writes them), exported through the binary, and the
+/// report read through the binary with the deck loaded: cards by their
+/// text (cloze gaps included) in the chosen language, wrong numbers in
+/// bins around the values typed beside the right answer and its formula,
+/// first attempts apart from retries, retention by tag worst first.
+#[test]
+fn cloze_items_numbers_and_retries_make_a_report_an_instructor_can_act_on() {
+    use flipcard::sched::{Direction, ItemKey, Rating, ReviewKind, State};
+    use flipcard::store::{AttemptVerdict, Commitment, Store};
+    let study_decks = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/decks/study/decks");
+    let dir = tempfile::tempdir().unwrap();
+    let t0 = chrono::DateTime::parse_from_rfc3339("2026-05-01T10:00:00Z")
+        .unwrap()
+        .with_timezone(&chrono::Utc);
+    let item = |card: &str, direction| ItemKey {
+        deck: "study".into(),
+        card: card.into(),
+        direction,
+    };
+    // (first prediction, its verdict, retries): efold-time expects 0.1732 s ± 10 %.
+    let predictions: [(&str, Option<bool>, &[&str]); 5] = [
+        ("0.35", Some(false), &[]),
+        ("0.36", Some(false), &[]),
+        ("0.35", Some(false), &[]),
+        ("1", Some(false), &["0.17"]),
+        // Left the run before its end, then answered again.
+        ("0.17", None, &["0.17"]),
+    ];
+    let mut files = Vec::new();
+    for (i, (first, verdict, retries)) in predictions.iter().enumerate() {
+        let data = dir.path().join(format!("l{i}"));
+        {
+            let mut store = Store::open(&data).unwrap();
+            // The back of spin-axis (tag frames) is forgotten by three of
+            // five; the cloze items (tag euler) by none.
+            for (key, again) in [
+                (item("spin-axis", Direction::Backward), i < 3),
+                (item("torque-rate", Direction::Cloze(1)), false),
+                (item("torque-rate", Direction::Cloze(2)), false),
+            ] {
+                let learn = crate::store_support::review(
+                    &key,
+                    t0,
+                    Rating::Good,
+                    ReviewKind::Learn,
+                    State::Review,
+                    chrono::Duration::days(2),
+                );
+                store.record(&learn).unwrap();
+                let mut r = crate::store_support::review(
+                    &key,
+                    t0 + chrono::Duration::days(2),
+                    if again { Rating::Again } else { Rating::Good },
+                    ReviewKind::Review,
+                    if again {
+                        State::Relearning
+                    } else {
+                        State::Review
+                    },
+                    chrono::Duration::days(5),
+                );
+                r.after.difficulty = Some(if again { 8.0 } else { 4.0 });
+                store.record(&r).unwrap();
+            }
+            let mut at = t0;
+            for (k, prediction) in std::iter::once(first).chain(retries.iter()).enumerate() {
+                at += chrono::Duration::minutes(1);
+                let c = store
+                    .commit_attempt(&Commitment {
+                        deck: DECK.into(),
+                        prompt: "efold-time".into(),
+                        committed_at: at,
+                        prediction: prediction.to_string(),
+                    })
+                    .unwrap();
+                let correct = if k == 0 { *verdict } else { Some(true) };
+                if let Some(correct) = correct {
+                    store
+                        .judge_attempt(
+                            c.id,
+                            &AttemptVerdict {
+                                measured: Some(0.1732),
+                                correct,
+                                judged_at: at + chrono::Duration::seconds(9),
+                            },
+                        )
+                        .unwrap();
+                }
+            }
+        }
+        for (what, format) in [("--reviews", "json"), ("--attempts", "csv")] {
+            let out = Flipcard::new(&data)
+                .now("2026-05-10T12:00:00Z")
+                .args(["export", what, "--format", format])
+                .run();
+            assert!(out.status.success(), "{}", out.stderr());
+            let f = dir.path().join(format!("learner-{i}{what}.{format}"));
+            std::fs::write(&f, &out.stdout).unwrap();
+            files.push(f.display().to_string());
+        }
+    }
+    let deck = flipcard::deck::load_dir(Path::new(study_decks))
+        .decks
+        .into_iter()
+        .next()
+        .unwrap();
+    let card = deck.card("torque-rate").unwrap();
+    let gap = |lang: &str, n: u16| {
+        let text: String = flipcard::deck::cloze::front(card.front.get(lang), n)
+            .into_iter()
+            .map(|s| s.text)
+            .collect();
+        flipcard::text::render(&text)
+    };
+    let bundled = flipcard::bundled::load();
+    let efold = bundled
+        .decks
+        .iter()
+        .find(|d| d.id == DECK)
+        .and_then(|d| d.prompt("efold-time"))
+        .unwrap();
+    let flipcard::deck::Answer::Number {
+        formula: Some(formula),
+        ..
+    } = &efold.answer
+    else {
+        panic!("efold-time is a number prompt with a formula");
+    };
+    for lang in ["en", "hi-Latn"] {
+        let mut args = vec!["report", "--lang", lang, "--out", "out"];
+        args.extend(files.iter().map(String::as_str));
+        let out = Flipcard::new(dir.path().join("data"))
+            .now("2026-05-10T12:00:00Z")
+            .current_dir(dir.path())
+            .decks(study_decks)
+            .args(args)
+            .run();
+        assert!(out.status.success(), "{}", out.stderr());
+        let term = out.stdout();
+        assert!(
+            term.contains("5 learner files of reviews, 5 learner files of prompt attempts"),
+            "no file skipped: {term}"
+        );
+        let rows = csv_rows(&dir.path().join("out/report.csv"));
+        let row = |section: &str, id: &str| {
+            rows.iter()
+                .find(|r| r[0] == section && r[2] == id)
+                .unwrap_or_else(|| panic!("no {section} {id} in {rows:?}"))
+                .clone()
+        };
+        // Cards by their text: the cloze items with their gap, the
+        // reversed card by the side asked, in the chosen language.
+        assert_eq!(row("card", "torque-rate (c1)")[8], gap(lang, 1));
+        assert_eq!(row("card", "torque-rate (c2)")[8], gap(lang, 2));
+        assert_eq!(
+            row("card", "spin-axis (backward)")[8],
+            card_back(&deck, lang)
+        );
+        assert!(
+            term.contains(&gap(lang, 1).chars().take(30).collect::<String>()),
+            "{term}"
+        );
+        // The hardest card first: the back of spin-axis, lapsed by 3 of 5.
+        let first_card = rows.iter().find(|r| r[0] == "card").unwrap();
+        assert_eq!(
+            (first_card[2].as_str(), first_card[4].as_str()),
+            ("spin-axis (backward)", "3")
+        );
+        // Retention by tag, worst first: frames (2 of 5) before euler (10 of 10).
+        let tags: Vec<(&str, &str, &str)> = rows
+            .iter()
+            .filter(|r| r[0] == "tag")
+            .map(|r| (r[2].as_str(), r[4].as_str(), r[5].as_str()))
+            .collect();
+        assert_eq!(tags, [("frames", "2", "5"), ("euler", "10", "10")]);
+        // First attempts: the one left before its verdict graded by the
+        // deck's answer (0.17 is within 10 % of 0.1732); the wrong ones in
+        // bins around the values typed.
+        let prompt = row("prompt", "efold-time");
+        assert_eq!((&*prompt[3], &*prompt[4], &*prompt[5]), ("5", "1", "5"));
+        let wrong: Vec<(&str, &str)> = rows
+            .iter()
+            .filter(|r| r[0] == "wrong_choice")
+            .map(|r| (r[8].as_str(), r[4].as_str()))
+            .collect();
+        assert_eq!(wrong, [("0.35 (0.35–0.36)", "3"), ("1", "1")]);
+        assert!(term.contains("0.35 ×3"), "{term}");
+        // The right answer with its formula, and what the runs measured.
+        let answer = &row("answer", "efold-time")[8];
+        let shown_formula = flipcard::text::render(formula.get(lang)).replace('\n', " ");
+        assert!(answer.contains("answer 0.1732 s"), "{answer}");
+        assert!(
+            answer.contains(&shown_formula),
+            "{answer} lacks {shown_formula}"
+        );
+        assert!(answer.contains("the runs measured 0.1732"), "{answer}");
+        assert!(term.contains(answer.as_str()), "{term}");
+        // Retries apart: two learners retried once each, both right.
+        let retry = row("retry", "efold-time");
+        assert_eq!((&*retry[3], &*retry[4], &*retry[5]), ("2", "2", "2"));
+        assert!(term.contains("2 by 2 learners, 100% right"), "{term}");
+        let html = std::fs::read_to_string(dir.path().join("out/report.html")).unwrap();
+        assert!(html.contains("Retries: 2 by 2 learners"), "{html}");
+    }
+}
+
+fn card_back(deck: &flipcard::deck::Deck, lang: &str) -> String {
+    flipcard::text::render(deck.card("spin-axis").unwrap().back.get(lang))
+}

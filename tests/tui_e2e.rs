@@ -675,3 +675,61 @@ fn sync_dir_syncs_when_the_app_opens_and_closes() {
         "this session's answer: {mine}"
     );
 }
+
+/// A prediction is on disk the moment the learner commits, before its run
+/// plays: the app killed with SIGKILL mid-run (no chance to write anything
+/// more) leaves the attempt, without a verdict, for `export --attempts`.
+#[test]
+fn a_prediction_committed_survives_the_app_killed_mid_run() {
+    if !tmux_available() {
+        return;
+    }
+    let deck = bundled_deck();
+    let env = Env::new();
+    let t = Tmux::start("killed", env.flipcard(), 100, 32);
+    t.wait_for("last studied");
+    select_deck(&t);
+    let index = deck
+        .prompts
+        .iter()
+        .position(|p| p.id == "middle-axis")
+        .unwrap_or_else(|| panic!("no middle-axis prompt"));
+    t.keys(&["p"]);
+    t.wait_for(&opening(deck.prompts[0].question.get("en"), 3));
+    for _ in 0..index {
+        t.keys(&["j"]);
+    }
+    t.keys(&["Enter"]);
+    t.wait_for(&opening(deck.prompts[index].question.get("en"), 4));
+    // "Keeps spinning steadily", committed; the 8 s run starts at ×1.
+    t.keys(&["1", "Enter"]);
+    t.wait_for(" t = ");
+    let child = app_pid(&t);
+    let killed = Command::new("kill").args(["-KILL", &child]).status();
+    assert!(killed.is_ok_and(|s| s.success()));
+    let s = t.wait_for("EXIT=");
+    assert!(s.contains("EXIT=137"), "killed by SIGKILL: {s}");
+    assert!(
+        !s.contains("Sahi") && !s.contains("Right"),
+        "no verdict was reached: {s}"
+    );
+    let out = env
+        .flipcard()
+        .args(["export", "--attempts", "--format", "json"])
+        .run();
+    assert!(out.status.success(), "{}", out.stderr());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout)
+        .unwrap_or_else(|e| panic!("not JSON ({e}): {}", out.stdout()));
+    let rows = v.as_array().unwrap_or_else(|| panic!("not an array: {v}"));
+    assert_eq!(rows.len(), 1, "{v}");
+    assert_eq!(rows[0]["prompt"], "middle-axis");
+    assert_eq!(rows[0]["prediction"], "stable");
+    assert_eq!(rows[0]["attempted_at"], "2026-03-02T09:00:00.000Z");
+    assert_eq!(
+        rows[0]["correct"],
+        serde_json::Value::Null,
+        "no verdict: {v}"
+    );
+    assert_eq!(rows[0]["attempt"], 1);
+    assert_eq!(rows[0]["retry"], false);
+}

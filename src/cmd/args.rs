@@ -429,6 +429,10 @@ pub struct ReportArgs {
     /// Where to write report.html and report.csv.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// The language of the cards', prompts' and answers' texts (a BCP 47
+    /// tag such as en or hi-Latn; a deck without it shows its first).
+    #[arg(long, value_name = "TAG", default_value = "en")]
+    pub lang: String,
 }
 
 #[derive(Debug, Args)]

@@ -1,5 +1,12 @@
 //! `report.csv`: every table of the report in one sheet, one row per item,
-//! the `section` column saying which table it belongs to.
+//! the `section` column saying which table it belongs to: `card` (its text
+//! in `text`), `prompt` (first attempts: `count` right of `total` with a
+//! verdict), `answer` (the right answer, formula and median measured in
+//! `text`), `no_verdict` (first attempts left before the run's end that no
+//! answer could grade), `wrong_choice` (a wrong first prediction, or a bin
+//! of numbers around a value typed), `retry` (later attempts: `learners`
+//! who retried, `count` right of `total` judged) and `tag` (worst
+//! retention first). New sections may be added; columns never change.
 //!
 //! A spreadsheet runs a cell that starts with `=`, `+`, `-` or `@` as a
 //! formula (and some read a leading tab or carriage return the same way):
@@ -74,7 +81,7 @@ pub fn table(r: &ClassReport) -> anyhow::Result<String> {
             &share(c.lapsed, c.learners),
             &c.mean_difficulty
                 .map_or_else(String::new, |d| Num(d).to_string()),
-            "",
+            &text_cell(c.text.as_deref().unwrap_or("")),
         ])?;
     }
     for p in &r.prompts {
@@ -84,11 +91,51 @@ pub fn table(r: &ClassReport) -> anyhow::Result<String> {
             &text_cell(&p.prompt),
             &p.learners.to_string(),
             &p.right.to_string(),
-            &p.learners.to_string(),
-            &share(p.right, p.learners),
+            &p.judged().to_string(),
+            &share(p.right, p.judged()),
             "",
             &text_cell(p.text.as_deref().unwrap_or("")),
         ])?;
+        if let Some(a) = super::answer_line(p) {
+            w.write_record([
+                "answer",
+                &text_cell(&p.deck),
+                &text_cell(&p.prompt),
+                "",
+                "",
+                "",
+                "",
+                "",
+                &text_cell(&a),
+            ])?;
+        }
+        if p.no_verdict > 0 {
+            w.write_record([
+                "no_verdict",
+                &text_cell(&p.deck),
+                &text_cell(&p.prompt),
+                &p.learners.to_string(),
+                &p.no_verdict.to_string(),
+                &p.learners.to_string(),
+                &share(p.no_verdict, p.learners),
+                "",
+                "",
+            ])?;
+        }
+        if p.retries.attempts > 0 {
+            let r = &p.retries;
+            w.write_record([
+                "retry",
+                &text_cell(&p.deck),
+                &text_cell(&p.prompt),
+                &r.learners.to_string(),
+                &r.right.to_string(),
+                &r.judged.to_string(),
+                &share(r.right, r.judged),
+                "",
+                &format!("{} retries", r.attempts),
+            ])?;
+        }
         let wrong: usize = p.wrong.iter().map(|c| c.learners).sum();
         for c in &p.wrong {
             w.write_record([

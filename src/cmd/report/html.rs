@@ -107,7 +107,7 @@ pub fn page(input: &Input) -> String {
         .take(30)
         .map(|c| {
             (
-                card_name(c),
+                c.text.clone().unwrap_or_else(|| card_name(c)),
                 c.lapsed as f64 / c.learners.max(1) as f64,
                 "#c0504d",
             )
@@ -115,15 +115,16 @@ pub fn page(input: &Input) -> String {
         .collect();
     h.push_str(&bars("Share of learners who lapsed, per card", &top));
     h.push_str(
-        "<table><tr><th>Deck</th><th>Card</th><th>Learners</th><th>Lapsed</th>\
+        "<table><tr><th>Deck</th><th>Card</th><th>Text</th><th>Learners</th><th>Lapsed</th>\
          <th>Mean difficulty</th></tr>",
     );
     for c in &r.cards {
         let _ = write!(
             h,
-            "<tr><td>{}</td><td>{}</td><td class=\"n\">{}</td><td class=\"n\">{}</td><td class=\"n\">{}</td></tr>",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td class=\"n\">{}</td><td class=\"n\">{}</td><td class=\"n\">{}</td></tr>",
             esc(&c.deck),
             esc(&card_name(c)),
+            esc(c.text.as_deref().unwrap_or("")),
             c.learners,
             percent(c.lapsed, c.learners),
             c.mean_difficulty
@@ -136,16 +137,27 @@ pub fn page(input: &Input) -> String {
     for p in &r.prompts {
         let _ = write!(
             h,
-            "<h3>{} <small>({})</small></h3><p class=\"q\">{}</p><p>{} right of {}.</p>",
+            "<h3>{} <small>({})</small></h3><p class=\"q\">{}</p><p>First predictions: {} right of {}{}.</p>",
             esc(&p.prompt),
             esc(&p.deck),
             esc(p
                 .text
                 .as_deref()
                 .unwrap_or("(the deck is not loaded: no text)")),
-            percent(p.right, p.learners),
-            super::plural(p.learners, "learner", "learners"),
+            percent(p.right, p.judged()),
+            super::plural(p.judged(), "learner", "learners"),
+            if p.no_verdict > 0 {
+                format!(" ({} left the run before a verdict)", p.no_verdict)
+            } else {
+                String::new()
+            },
         );
+        if let Some(a) = super::answer_line(p) {
+            let _ = write!(h, "<p>{}</p>", esc(&a));
+        }
+        if p.retries.attempts > 0 {
+            let _ = write!(h, "<p>Retries: {}.</p>", esc(&super::retries(p)));
+        }
         let mut items = vec![(
             "right".to_string(),
             p.right as f64 / p.learners.max(1) as f64,
@@ -173,7 +185,7 @@ pub fn page(input: &Input) -> String {
         }
     }
 
-    h.push_str("<h2>Retention by tag</h2>");
+    h.push_str("<h2>Retention by tag, worst first</h2>");
     let tags: Vec<(String, f64, &str)> = r
         .tags
         .iter()

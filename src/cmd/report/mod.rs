@@ -1,5 +1,7 @@
-//! `flipcard report FILES… [--deck ID] [--out DIR]`: the class report from
-//! learners' exported reviews and prompt attempts, as a table in the
+//! `flipcard report FILES… [--deck ID] [--lang TAG] [--out DIR]`: the class
+//! report from learners' exported reviews and prompt attempts (cards by
+//! their text, first predictions apart from retries, wrong numbers in bins
+//! beside the right answer, retention by tag worst first), as a table in the
 //! terminal and, with `--out`, `DIR/report.html` (one self-contained page:
 //! tables and SVG bar charts, no scripts, nothing fetched) and
 //! `DIR/report.csv`.
@@ -27,7 +29,12 @@ pub struct Input {
 
 /// Reads every file; a file with a problem is left out whole and named
 /// with its first problem.
-pub fn read(files: &[PathBuf], decks: &[crate::deck::Deck], only: Option<&str>) -> Input {
+pub fn read(
+    files: &[PathBuf],
+    decks: &[crate::deck::Deck],
+    only: Option<&str>,
+    lang: &str,
+) -> Input {
     let mut exports: Vec<Export> = Vec::with_capacity(files.len());
     let mut skipped = Vec::new();
     for path in files {
@@ -61,7 +68,7 @@ pub fn read(files: &[PathBuf], decks: &[crate::deck::Deck], only: Option<&str>) 
         }
     }
     Input {
-        report: class::aggregate(&exports, decks, only, "en"),
+        report: class::aggregate(&exports, decks, only, lang),
         skipped,
         deck: only.map(str::to_string),
     }
@@ -76,7 +83,7 @@ pub fn run(cli: &Cli, args: &ReportArgs) -> anyhow::Result<ExitCode> {
             "flipcard: warning: deck `{id}` is not among the decks loaded; prompt texts and tags are unknown"
         );
     }
-    let input = read(&args.files, &decks, args.deck.as_deref());
+    let input = read(&args.files, &decks, args.deck.as_deref(), &args.lang);
     for s in &input.skipped {
         crate::errln!("{s}");
     }
@@ -181,6 +188,56 @@ pub fn headline(input: &Input) -> String {
     s
 }
 
+/// `text` cut to `width` columns, with `…` where it was cut.
+pub fn cut(text: &str, width: usize) -> String {
+    use unicode_width::{UnicodeWidthChar, UnicodeWidthStr};
+    if text.width() <= width {
+        return text.to_string();
+    }
+    let mut out = String::new();
+    let mut used = 0;
+    for c in text.chars() {
+        let w = c.width().unwrap_or(0);
+        if used + w + 1 > width {
+            break;
+        }
+        used += w;
+        out.push(c);
+    }
+    out.push('…');
+    out
+}
+
+/// A prompt's retries in words: `3 by 2 learners, 67% right`.
+pub fn retries(p: &class::PromptRow) -> String {
+    let r = &p.retries;
+    if r.attempts == 0 {
+        return "–".to_string();
+    }
+    format!(
+        "{} by {}, {} right",
+        r.attempts,
+        plural(r.learners, "learner", "learners"),
+        percent(r.right, r.judged)
+    )
+}
+
+/// The right answer of a prompt with its formula and what the runs
+/// measured, as far as they are known.
+pub fn answer_line(p: &class::PromptRow) -> Option<String> {
+    let mut parts = Vec::new();
+    if let Some(a) = &p.answer {
+        parts.push(format!("answer {a}"));
+    }
+    if let Some(f) = &p.formula {
+        parts.push(format!("from {f}"));
+    }
+    if let Some(m) = p.measured {
+        parts.push(format!("the runs measured {}", rounded(m, 4)));
+    }
+    (!parts.is_empty()).then(|| parts.join("; "))
+}
+
 fn terminal(input: &Input) -> String {
     let r = &input.report;
     let mut out = format!("{}\n\nCards, hardest first\n", headline(input));
@@ -190,6 +247,7 @@ fn terminal(input: &Input) -> String {
         "LEARNERS".into(),
         "LAPSED".into(),
         "MEAN DIFFICULTY".into(),
+        "TEXT".into(),
     ]];
     for c in &r.cards {
         rows.push(vec![
@@ -199,16 +257,18 @@ fn terminal(input: &Input) -> String {
             percent(c.lapsed, c.learners),
             c.mean_difficulty
                 .map_or_else(|| "–".to_string(), |d| rounded(d, 3)),
+            c.text.as_deref().map_or_else(String::new, |t| cut(t, 60)),
         ]);
     }
     out.push_str(&columns(&rows));
-    out.push_str("\nPrompts, least often predicted right first\n");
+    out.push_str("\nPrompts, least often predicted right first (first attempts; retries apart)\n");
     let mut rows = vec![vec![
         "DECK".to_string(),
         "PROMPT".into(),
         "LEARNERS".into(),
         "RIGHT".into(),
-        "WRONG CHOICES".into(),
+        "WRONG FIRST PREDICTIONS".into(),
+        "RETRIES".into(),
     ]];
     for p in &r.prompts {
         let wrong: Vec<String> = p
@@ -216,16 +276,43 @@ fn terminal(input: &Input) -> String {
             .iter()
             .map(|w| format!("{} ×{}", w.prediction, w.learners))
             .collect();
+        let mut right = percent(p.right, p.judged());
+        if p.no_verdict > 0 {
+            right.push_str(&format!(" ({} without verdict)", p.no_verdict));
+        }
         rows.push(vec![
             p.deck.clone(),
             p.prompt.clone(),
             p.learners.to_string(),
-            percent(p.right, p.learners),
+            right,
             wrong.join(", "),
+            retries(p),
         ]);
     }
     out.push_str(&columns(&rows));
-    out.push_str("\nRetention by tag\n");
+    for p in &r.prompts {
+        let (text, answer) = (p.text.as_deref(), answer_line(p));
+        if text.is_none() && answer.is_none() {
+            continue;
+        }
+        out.push_str(&format!(
+            "\n{}: {}\n",
+            p.prompt,
+            cut(text.unwrap_or(""), 100)
+        ));
+        if let Some(a) = answer {
+            out.push_str(&format!("  {a}\n"));
+        }
+        let bins: Vec<String> = p
+            .wrong
+            .iter()
+            .map(|w| format!("{} ×{}", choice_name(w), w.learners))
+            .collect();
+        if !bins.is_empty() {
+            out.push_str(&format!("  wrong first predictions: {}\n", bins.join(", ")));
+        }
+    }
+    out.push_str("\nRetention by tag, worst first\n");
     let mut rows = vec![vec![
         "TAG".to_string(),
         "LEARNERS".into(),

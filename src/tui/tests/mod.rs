@@ -12,6 +12,7 @@ mod browser;
 mod exam;
 mod home;
 mod predict;
+mod predict_attempts;
 mod reader;
 mod review;
 mod sizes;

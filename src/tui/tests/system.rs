@@ -308,7 +308,8 @@ fn a_scene_that_leaves_its_domain_gives_no_verdict_and_records_nothing() {
         panic!("left the predict screen");
     };
     assert!(matches!(p.phase, Phase::System { verdict: None, .. }));
-    // Nothing recorded: the store has no attempt.
+    // No verdict recorded: the attempt kept at the commitment has none,
+    // and counts in no accuracy.
     let items = crate::sched::deck_items(&app.decks[0]);
     let scope = crate::store::StatsScope {
         deck: Some(&app.decks[0].id),

@@ -1,7 +1,10 @@
 //! A class report from learners' exports (`export --reviews`, `export
-//! --attempts`, JSON or CSV), without their databases: per card the share
-//! of learners who lapsed and the mean difficulty, per prompt the share who
-//! predicted right and the wrong choices made, retention by tag.
+//! --attempts`, JSON or CSV), without their databases: per card (by its
+//! text, cloze items included) the share of learners who lapsed and the
+//! mean difficulty; per prompt the share whose first prediction was right,
+//! the wrong ones made (numbers in bins around the values typed) beside
+//! the right answer and its formula, and the retries apart; retention by
+//! tag, worst first.
 //!
 //! A learner is a file and is named by its file name only. A file with any
 //! problem is left out whole, its first problem given with a line number.
@@ -19,7 +22,7 @@ use std::path::Path;
 use chrono::{DateTime, Utc};
 use serde::Deserialize;
 
-use super::export::{ATTEMPT_FIELDS, REVIEW_FIELDS};
+use super::export::{ATTEMPT_FIELDS_V1, REVIEW_FIELDS};
 use super::import::quoted;
 use crate::deck::{Answer, Deck};
 use crate::sched::ItemKey;
@@ -97,8 +100,45 @@ pub struct AttemptRow {
     pub attempted_at: DateTime<Utc>,
     #[serde(deserialize_with = "prediction")]
     pub prediction: String,
-    #[serde(deserialize_with = "flag")]
-    pub correct: bool,
+    /// The value the run measured, when the verdict was on a number.
+    #[serde(default, deserialize_with = "measured")]
+    pub measured: Option<f64>,
+    /// `None` (null, an empty cell): no verdict, the learner left the run
+    /// before its end.
+    #[serde(deserialize_with = "maybe_flag")]
+    pub correct: Option<bool>,
+    /// 1 for a first attempt, 2 … for retries (absent in exports made
+    /// before attempts were kept at commitment: the order of the times
+    /// says then).
+    #[serde(default, deserialize_with = "ordinal")]
+    pub attempt: Option<u32>,
+    #[serde(default, deserialize_with = "maybe_flag")]
+    pub retry: Option<bool>,
+}
+
+/// The largest attempt number read: no learner retries one prompt a
+/// million times.
+pub const MAX_ATTEMPT: u32 = 1_000_000;
+
+impl AttemptRow {
+    /// Whether this is a retry, by the file's own word (`retry`, else
+    /// `attempt`); `None` when the file does not say.
+    pub fn says_retry(&self) -> Option<bool> {
+        self.retry.or(self.attempt.map(|n| n > 1))
+    }
+
+    /// The checks across fields: `retry` agrees with `attempt`.
+    fn check(self) -> Result<AttemptRow, String> {
+        if let (Some(n), Some(r)) = (self.attempt, self.retry)
+            && r != (n > 1)
+        {
+            return Err(format!(
+                "attempt {n} {} a retry but `retry` is {r}",
+                if n > 1 { "is" } else { "is not" }
+            ));
+        }
+        Ok(self)
+    }
 }
 
 /// What one learner's file holds.
@@ -147,6 +187,27 @@ fn prediction<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error
         )));
     }
     Ok(s)
+}
+
+/// A measured value: a finite number, or nothing (null, an empty cell).
+fn measured<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+    match Option::<f64>::deserialize(d)? {
+        Some(v) if !v.is_finite() => Err(serde::de::Error::custom(format!(
+            "measured value {v} is not a finite number"
+        ))),
+        v => Ok(v),
+    }
+}
+
+/// An attempt's number: 1 to [`MAX_ATTEMPT`], or nothing.
+fn ordinal<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {
+    match Option::<i64>::deserialize(d)? {
+        None => Ok(None),
+        Some(n) if (1..=i64::from(MAX_ATTEMPT)).contains(&n) => Ok(Some(n as u32)),
+        Some(n) => Err(serde::de::Error::custom(format!(
+            "attempt {n} is not 1–{MAX_ATTEMPT}"
+        ))),
+    }
 }
 
 fn kind<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
@@ -205,22 +266,38 @@ fn difficulty<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<f64>, D::
     }
 }
 
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Flag {
+    Bool(bool),
+    Text(String),
+    Int(i64),
+}
+
+impl Flag {
+    fn read<E: serde::de::Error>(self) -> Result<bool, E> {
+        match self {
+            Flag::Bool(b) => Ok(b),
+            Flag::Int(0) => Ok(false),
+            Flag::Int(1) => Ok(true),
+            Flag::Text(t) if t == "true" || t == "1" => Ok(true),
+            Flag::Text(t) if t == "false" || t == "0" => Ok(false),
+            _ => Err(E::custom("expected true or false")),
+        }
+    }
+}
+
 /// `true`/`false` (JSON and the CSV export) or 1/0.
 fn flag<'de, D: serde::Deserializer<'de>>(d: D) -> Result<bool, D::Error> {
-    #[derive(Deserialize)]
-    #[serde(untagged)]
-    enum Flag {
-        Bool(bool),
-        Text(String),
-        Int(i64),
-    }
-    match Flag::deserialize(d)? {
-        Flag::Bool(b) => Ok(b),
-        Flag::Int(0) => Ok(false),
-        Flag::Int(1) => Ok(true),
-        Flag::Text(t) if t == "true" || t == "1" => Ok(true),
-        Flag::Text(t) if t == "false" || t == "0" => Ok(false),
-        _ => Err(serde::de::Error::custom("expected true or false")),
+    Flag::deserialize(d)?.read()
+}
+
+/// A flag, or nothing (null, an empty cell).
+fn maybe_flag<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<bool>, D::Error> {
+    match Option::<Flag>::deserialize(d)? {
+        None => Ok(None),
+        Some(Flag::Text(t)) if t.is_empty() => Ok(None),
+        Some(f) => f.read().map(Some),
     }
 }
 
@@ -267,7 +344,7 @@ fn parse_json(text: &str) -> Result<Export, FileError> {
     if first.get("card").is_some() {
         records(text, &values, |f: ReviewFields| ReviewRow::try_from(f)).map(Export::Reviews)
     } else if first.get("prompt").is_some() {
-        records(text, &values, |a: AttemptRow| Ok(a)).map(Export::Attempts)
+        records(text, &values, AttemptRow::check).map(Export::Attempts)
     } else {
         Err(FileError {
             line: 2,
@@ -333,19 +410,22 @@ fn parse_csv(text: &str) -> Result<Export, FileError> {
             rows.push(ReviewRow::try_from(fields).map_err(|message| FileError { line, message })?);
         }
         Ok(Export::Reviews(rows))
-    } else if starts_with(&ATTEMPT_FIELDS) {
-        reader
-            .deserialize::<AttemptRow>()
-            .collect::<Result<Vec<_>, _>>()
-            .map(Export::Attempts)
-            .map_err(csv_error)
+    } else if starts_with(&ATTEMPT_FIELDS_V1) {
+        let mut rows = Vec::new();
+        let mut record = csv::StringRecord::new();
+        while reader.read_record(&mut record).map_err(csv_error)? {
+            let line = record.position().map_or(1, |p| p.line() as usize);
+            let row: AttemptRow = record.deserialize(Some(&headers)).map_err(csv_error)?;
+            rows.push(row.check().map_err(|message| FileError { line, message })?);
+        }
+        Ok(Export::Attempts(rows))
     } else {
         Err(FileError {
             line: 1,
             message: format!(
                 "header is neither `{}` (reviews) nor `{}` (prompt attempts)",
                 REVIEW_FIELDS.join(","),
-                ATTEMPT_FIELDS.join(",")
+                ATTEMPT_FIELDS_V1.join(",")
             ),
         })
     }
@@ -357,6 +437,9 @@ pub struct CardRow {
     pub deck: String,
     pub card: String,
     pub direction: String,
+    /// What the learner is asked, in the report's language, math rendered
+    /// (a cloze item with its gap as `[…]`), when the deck is loaded.
+    pub text: Option<String>,
     /// Learners with at least one review of it.
     pub learners: usize,
     /// Of those, learners who forgot it at least once after learning it
@@ -366,27 +449,62 @@ pub struct CardRow {
     pub mean_difficulty: Option<f64>,
 }
 
-/// A choice (or a number typed) and how many learners made it.
+/// A choice (or a bin of numbers typed) and how many learners made it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Choice {
+    /// A choice id, or the value typed that centres a bin of numbers.
     pub prediction: String,
-    /// The choice's label in the deck, when it is a choice of it.
+    /// The choice's label in the deck, when it is a choice of it; for a
+    /// bin of different numbers, their range (`1.8–1.86`).
     pub label: Option<String>,
     pub learners: usize,
 }
 
+/// Later attempts at a prompt, made after a learner's first.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Retries {
+    /// Learners with at least one retry.
+    pub learners: usize,
+    pub attempts: usize,
+    /// Retries with a verdict, and those right.
+    pub judged: usize,
+    pub right: usize,
+}
+
 /// One predict-then-check prompt across the class. Each learner's first
-/// attempt counts: later ones come after seeing the simulation.
+/// attempt counts (later ones come after seeing the simulation); retries
+/// are counted apart.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PromptRow {
     pub deck: String,
     pub prompt: String,
     /// The question, when the deck is loaded.
     pub text: Option<String>,
+    /// Learners with a first attempt.
     pub learners: usize,
+    /// First attempts right.
     pub right: usize,
-    /// The wrong first predictions, most common first.
+    /// First attempts without a verdict (the learner left the run before
+    /// its end) that the deck's answer could not grade either.
+    pub no_verdict: usize,
+    /// The wrong first predictions, most common first; numbers grouped in
+    /// bins around the values typed.
     pub wrong: Vec<Choice>,
+    /// The right answer: the deck's choice (with its label) or number
+    /// (with its unit), when the deck is loaded.
+    pub answer: Option<String>,
+    /// The formula behind a number's answer, math rendered.
+    pub formula: Option<String>,
+    /// The median of what the runs measured, for a number prompt.
+    pub measured: Option<f64>,
+    pub retries: Retries,
+}
+
+impl PromptRow {
+    /// First attempts with a verdict: the share right is of these.
+    pub fn judged(&self) -> usize {
+        self.learners - self.no_verdict
+    }
 }
 
 /// Retention of one tag: Good, Hard or Easy among reviews of cards due for
@@ -408,6 +526,7 @@ pub struct ClassReport {
     pub cards: Vec<CardRow>,
     /// Least often right first.
     pub prompts: Vec<PromptRow>,
+    /// Worst retention first.
     pub tags: Vec<TagRow>,
 }
 
@@ -419,13 +538,43 @@ pub const NO_TAG: &str = "(no tag)";
 /// Per card across the class: learners, lapsed, difficulty sum, learners
 /// with a difficulty.
 type CardTally = (usize, usize, f64, usize);
-/// Per prompt across the class: learners, right, wrong first predictions.
-type PromptTally = (usize, usize, BTreeMap<String, usize>);
 /// One learner's card: lapsed, and the last difficulty with its time.
 type MyCard = (bool, Option<(DateTime<Utc>, f64)>);
 
-/// Aggregates learners' exports. `decks` give prompt texts, choice labels
-/// and tags; `only` keeps one deck.
+/// Per prompt across the class, as it is gathered.
+#[derive(Default)]
+struct PromptTally {
+    learners: usize,
+    right: usize,
+    no_verdict: usize,
+    /// Wrong first predictions, as typed (trimmed), and how many made each.
+    wrong: BTreeMap<String, usize>,
+    measured: Vec<f64>,
+    retries: Retries,
+}
+
+/// Whether a first attempt was right: its verdict, else (the learner left
+/// the run) the deck's answer, which `flipcard check` holds to the run;
+/// `None` when neither says.
+fn graded(a: &AttemptRow, prompt: Option<&crate::deck::Prompt>) -> Option<bool> {
+    if a.correct.is_some() {
+        return a.correct;
+    }
+    match &prompt?.answer {
+        Answer::Choice { expected, .. } => Some(a.prediction.trim() == expected),
+        Answer::Number {
+            expected,
+            tolerance,
+            ..
+        } => {
+            let v = a.prediction.trim().parse::<f64>().ok()?;
+            v.is_finite().then(|| tolerance.accepts(v, *expected))
+        }
+    }
+}
+
+/// Aggregates learners' exports. `decks` give card and prompt texts,
+/// choice labels, answers and tags in `lang`; `only` keeps one deck.
 pub fn aggregate(
     exports: &[Export],
     decks: &[Deck],
@@ -434,6 +583,11 @@ pub fn aggregate(
 ) -> ClassReport {
     let keep = |deck: &str| only.is_none_or(|o| o == deck);
     let deck_by_id: HashMap<&str, &Deck> = decks.iter().map(|d| (d.id.as_str(), d)).collect();
+    let find_prompt = |deck: &str, prompt: &str| {
+        deck_by_id
+            .get(deck)
+            .and_then(|d| d.prompts.iter().find(|p| p.id == prompt))
+    };
     let mut report = ClassReport::default();
     // (deck, card, direction) -> (learners, lapsed, difficulty sum, with difficulty)
     let mut cards: BTreeMap<(String, String, String), CardTally> = BTreeMap::new();
@@ -487,22 +641,43 @@ pub fn aggregate(
             }
             Export::Attempts(rows) => {
                 report.attempt_files += 1;
-                let mut first: HashMap<(&str, &str), &AttemptRow> = HashMap::new();
+                let mut mine: BTreeMap<(&str, &str), Vec<&AttemptRow>> = BTreeMap::new();
                 for a in rows.iter().filter(|a| keep(&a.deck)) {
-                    let e = first.entry((&a.deck, &a.prompt)).or_insert(a);
-                    if a.attempted_at < e.attempted_at {
-                        *e = a;
-                    }
+                    mine.entry((&a.deck, &a.prompt)).or_default().push(a);
                 }
-                for ((deck, prompt), a) in first {
+                for ((deck, prompt), mut attempts) in mine {
+                    // The first: the one the file does not call a retry,
+                    // the earliest (then the lowest number) among those.
+                    attempts.sort_by_key(|a| {
+                        (
+                            a.says_retry().unwrap_or(false),
+                            a.attempted_at,
+                            a.attempt.unwrap_or(0),
+                        )
+                    });
+                    let Some((first, later)) = attempts.split_first() else {
+                        continue;
+                    };
                     let e = prompts
                         .entry((deck.to_string(), prompt.to_string()))
                         .or_default();
-                    e.0 += 1;
-                    if a.correct {
-                        e.1 += 1;
-                    } else {
-                        *e.2.entry(a.prediction.trim().to_string()).or_default() += 1;
+                    e.learners += 1;
+                    match graded(first, find_prompt(deck, prompt)) {
+                        Some(true) => e.right += 1,
+                        Some(false) => {
+                            *e.wrong
+                                .entry(first.prediction.trim().to_string())
+                                .or_default() += 1;
+                        }
+                        None => e.no_verdict += 1,
+                    }
+                    e.measured
+                        .extend(attempts.iter().filter_map(|a| a.measured).take(1));
+                    if !later.is_empty() {
+                        e.retries.learners += 1;
+                        e.retries.attempts += later.len();
+                        e.retries.judged += later.iter().filter(|a| a.correct.is_some()).count();
+                        e.retries.right += later.iter().filter(|a| a.correct == Some(true)).count();
                     }
                 }
             }
@@ -512,6 +687,7 @@ pub fn aggregate(
         .into_iter()
         .map(
             |((deck, card, direction), (learners, lapsed, sum, n))| CardRow {
+                text: card_text(&deck_by_id, &deck, &card, &direction, lang),
                 deck,
                 card,
                 direction,
@@ -534,42 +710,13 @@ pub fn aggregate(
     });
     report.prompts = prompts
         .into_iter()
-        .map(|((deck, prompt), (learners, right, wrong))| {
-            let found = deck_by_id
-                .get(deck.as_str())
-                .and_then(|d| d.prompts.iter().find(|p| p.id == prompt));
-            let label = |choice: &str| match found.map(|p| &p.answer) {
-                Some(Answer::Choice { choices, .. }) => choices
-                    .iter()
-                    .find(|c| c.id == choice)
-                    .map(|c| flipcard_text::render(c.label.get(lang))),
-                _ => None,
-            };
-            let mut wrong: Vec<Choice> = wrong
-                .into_iter()
-                .map(|(prediction, learners)| Choice {
-                    label: label(&prediction),
-                    prediction,
-                    learners,
-                })
-                .collect();
-            wrong.sort_by(|a, b| {
-                b.learners
-                    .cmp(&a.learners)
-                    .then(a.prediction.cmp(&b.prediction))
-            });
-            PromptRow {
-                text: found.map(|p| flipcard_text::render(p.question.get(lang))),
-                deck,
-                prompt,
-                learners,
-                right,
-                wrong,
-            }
+        .map(|((deck, prompt), t)| {
+            let found = find_prompt(&deck, &prompt);
+            prompt_row(deck, prompt, t, found, lang)
         })
         .collect();
     report.prompts.sort_by(|a, b| {
-        let share = |p: &PromptRow| p.right as f64 / p.learners as f64;
+        let share = |p: &PromptRow| p.right as f64 / p.judged().max(1) as f64;
         share(a)
             .total_cmp(&share(b))
             .then_with(|| (&a.deck, &a.prompt).cmp(&(&b.deck, &b.prompt)))
@@ -583,7 +730,179 @@ pub fn aggregate(
             recalled,
         })
         .collect();
+    report.tags.sort_by(|a, b| {
+        let share = |t: &TagRow| t.recalled as f64 / t.reviews.max(1) as f64;
+        share(a)
+            .total_cmp(&share(b))
+            .then(b.reviews.cmp(&a.reviews))
+            .then_with(|| a.tag.cmp(&b.tag))
+    });
     report
+}
+
+/// A prompt's row from its tally: its texts in `lang` when the deck is
+/// loaded, the wrong numbers binned.
+fn prompt_row(
+    deck: String,
+    prompt: String,
+    t: PromptTally,
+    found: Option<&crate::deck::Prompt>,
+    lang: &str,
+) -> PromptRow {
+    let one_line = |s: &str| flipcard_text::render(s).replace('\n', " ");
+    let label = |choice: &str| match found.map(|p| &p.answer) {
+        Some(Answer::Choice { choices, .. }) => choices
+            .iter()
+            .find(|c| c.id == choice)
+            .map(|c| one_line(c.label.get(lang))),
+        _ => None,
+    };
+    let tolerance = match found.map(|p| &p.answer) {
+        Some(Answer::Number { tolerance, .. }) => Some(*tolerance),
+        Some(Answer::Choice { .. }) => None,
+        // Without the deck: numbers when every wrong prediction is one.
+        None => (!t.wrong.is_empty()
+            && t.wrong
+                .keys()
+                .all(|p| p.parse::<f64>().is_ok_and(f64::is_finite)))
+        .then_some(crate::deck::Tolerance::Rel(DEFAULT_BIN)),
+    };
+    let mut wrong: Vec<Choice> = match tolerance {
+        Some(tol) => bins(&t.wrong, tol),
+        None => t
+            .wrong
+            .into_iter()
+            .map(|(prediction, learners)| Choice {
+                label: label(&prediction),
+                prediction,
+                learners,
+            })
+            .collect(),
+    };
+    wrong.sort_by(|a, b| {
+        b.learners
+            .cmp(&a.learners)
+            .then(a.prediction.cmp(&b.prediction))
+    });
+    let (answer, formula) = match found.map(|p| &p.answer) {
+        Some(Answer::Choice { expected, .. }) => (
+            Some(match label(expected) {
+                Some(l) => format!("{expected} ({l})"),
+                None => expected.clone(),
+            }),
+            None,
+        ),
+        Some(Answer::Number {
+            expected,
+            unit,
+            formula,
+            ..
+        }) => (
+            Some(
+                format!("{} {unit}", flipcard_text::num::show(*expected))
+                    .trim_end()
+                    .to_string(),
+            ),
+            formula.as_ref().map(|f| one_line(f.get(lang))),
+        ),
+        None => (None, None),
+    };
+    let mut measured = t.measured;
+    measured.sort_by(f64::total_cmp);
+    PromptRow {
+        text: found.map(|p| one_line(p.question.get(lang))),
+        deck,
+        prompt,
+        learners: t.learners,
+        right: t.right,
+        no_verdict: t.no_verdict,
+        wrong,
+        answer,
+        formula,
+        measured: measured.get(measured.len() / 2).copied(),
+        retries: t.retries,
+    }
+}
+
+/// The width of a bin of numbers when the deck (and its tolerance) is not
+/// loaded: 5 % of the value.
+pub const DEFAULT_BIN: f64 = 0.05;
+
+/// Wrong numbers typed, grouped: the value typed by most learners (the
+/// smaller on a tie) centres a bin holding every value within the
+/// prompt's tolerance of it, and so on with the rest. Each bin is named by
+/// its centre, a value learners typed, with the range of its values when
+/// they differ. Predictions that are not numbers keep a bin of their own.
+pub fn bins(wrong: &BTreeMap<String, usize>, tol: crate::deck::Tolerance) -> Vec<Choice> {
+    let mut out = Vec::new();
+    let mut values: Vec<(f64, &str, usize)> = Vec::new();
+    for (p, n) in wrong {
+        match p.parse::<f64>() {
+            Ok(v) if v.is_finite() => values.push((v, p, *n)),
+            _ => out.push(Choice {
+                prediction: p.clone(),
+                label: None,
+                learners: *n,
+            }),
+        }
+    }
+    values.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut left: Vec<bool> = vec![true; values.len()];
+    let near = |centre: f64, v: f64| tol.accepts(v, centre);
+    loop {
+        // The centre: the value that most learners typed, within the rest.
+        let best = (0..values.len()).filter(|&i| left[i]).max_by(|&i, &j| {
+            values[i]
+                .2
+                .cmp(&values[j].2)
+                .then(values[j].0.total_cmp(&values[i].0))
+        });
+        let Some(c) = best else { break };
+        let centre = values[c].0;
+        let members: Vec<usize> = (0..values.len())
+            .filter(|&i| left[i] && (i == c || near(centre, values[i].0)))
+            .collect();
+        // Ascending, and never empty: the centre is a member.
+        let lo = members.first().map_or(centre, |&i| values[i].0);
+        let hi = members.last().map_or(centre, |&i| values[i].0);
+        for &i in &members {
+            left[i] = false;
+        }
+        out.push(Choice {
+            prediction: values[c].1.to_string(),
+            label: (lo != hi).then(|| {
+                format!(
+                    "{}–{}",
+                    flipcard_text::num::show(lo),
+                    flipcard_text::num::show(hi)
+                )
+            }),
+            learners: members.iter().map(|&i| values[i].2).sum(),
+        });
+    }
+    out
+}
+
+/// What a card's item asks, in `lang`, on one line: the front (forward),
+/// the back (backward), or the text with deletion `n` as a gap (`cN`).
+fn card_text(
+    decks: &HashMap<&str, &Deck>,
+    deck: &str,
+    card: &str,
+    direction: &str,
+    lang: &str,
+) -> Option<String> {
+    let card = decks.get(deck)?.card(card)?;
+    let key = ItemKey::parse(deck, &card.id, direction).ok()?;
+    let text = match key.direction {
+        crate::sched::Direction::Forward => card.front.get(lang).to_string(),
+        crate::sched::Direction::Backward => card.back.get(lang).to_string(),
+        crate::sched::Direction::Cloze(n) => crate::deck::cloze::front(card.front.get(lang), n)
+            .into_iter()
+            .map(|s| s.text)
+            .collect(),
+    };
+    Some(flipcard_text::render(&text).replace('\n', " "))
 }
 
 fn card_tags(decks: &HashMap<&str, &Deck>, deck: &str, card: &str) -> Vec<String> {
@@ -662,6 +981,205 @@ mod tests {
             assert!(e.message.contains(why), "{why}: {e}");
             assert!(!e.message.contains('\u{1b}'), "{e}");
         }
+    }
+
+    #[test]
+    fn attempts_of_every_version_are_read_with_their_retries() {
+        // Before attempts were kept at commitment: six fields, always judged.
+        let old = "deck,prompt,attempted_at,prediction,measured,correct\n\
+                   d,p,2026-01-01T00:00:00Z,a,2,false\n";
+        let Export::Attempts(rows) = parse(old).unwrap() else {
+            panic!("attempts")
+        };
+        assert_eq!(
+            (rows[0].correct, rows[0].attempt, rows[0].retry),
+            (Some(false), None, None)
+        );
+        // Now: a first attempt left without a verdict, then a retry.
+        let new = "deck,prompt,attempted_at,prediction,measured,correct,attempt,retry\n\
+                   d,p,2026-01-01T00:00:00Z,1.8,,,1,false\n\
+                   d,p,2026-01-01T00:01:00Z,2,2.01,true,2,true\n";
+        let Export::Attempts(rows) = parse(new).unwrap() else {
+            panic!("attempts")
+        };
+        assert_eq!(rows[0].correct, None);
+        assert_eq!(rows[0].measured, None);
+        assert_eq!(
+            (rows[1].measured, rows[1].says_retry()),
+            (Some(2.01), Some(true))
+        );
+        let json = r#"[{"deck":"d","prompt":"p","attempted_at":"2026-01-01T00:00:00.000Z","prediction":"1.8","measured":null,"correct":null,"attempt":1,"retry":false}]"#;
+        let Export::Attempts(rows) = parse(json).unwrap() else {
+            panic!("attempts")
+        };
+        assert_eq!((rows[0].correct, rows[0].attempt), (None, Some(1)));
+        for (bad, why) in [
+            (
+                json.replace("\"attempt\":1", "\"attempt\":0"),
+                "attempt 0 is not 1–",
+            ),
+            (
+                json.replace("\"retry\":false", "\"retry\":true"),
+                "attempt 1 is not a retry",
+            ),
+            (json.replace("\"measured\":null", "\"measured\":1e999"), ""),
+        ] {
+            let e = parse(&bad).unwrap_err();
+            assert_eq!(e.line, 1, "{e}");
+            assert!(e.message.contains(why), "{why}: {e}");
+        }
+    }
+
+    fn attempt(prediction: &str, at: &str, correct: Option<bool>, n: Option<u32>) -> AttemptRow {
+        AttemptRow {
+            deck: "d".into(),
+            prompt: "p".into(),
+            attempted_at: DateTime::parse_from_rfc3339(at)
+                .unwrap()
+                .with_timezone(&Utc),
+            prediction: prediction.into(),
+            measured: correct.map(|_| 2.0),
+            correct,
+            attempt: n,
+            retry: n.map(|n| n > 1),
+        }
+    }
+
+    #[test]
+    fn the_first_attempt_counts_and_retries_are_apart() {
+        let learners = vec![
+            // Left the first run, then retried twice: the first counts, unjudged.
+            Export::Attempts(vec![
+                attempt("1.8", "2026-01-01T00:00:00Z", None, Some(1)),
+                attempt("2", "2026-01-01T00:01:00Z", Some(true), Some(2)),
+                attempt("2", "2026-01-01T00:02:00Z", Some(true), Some(3)),
+            ]),
+            // An old export: no numbers, the earliest is the first.
+            Export::Attempts(vec![
+                attempt("2", "2026-01-02T00:00:00Z", Some(true), None),
+                attempt("1.83", "2026-01-01T00:00:00Z", Some(false), None),
+            ]),
+            Export::Attempts(vec![attempt(
+                "2",
+                "2026-01-01T00:00:00Z",
+                Some(true),
+                Some(1),
+            )]),
+        ];
+        let r = aggregate(&learners, &[], None, "en");
+        let p = &r.prompts[0];
+        assert_eq!((p.learners, p.right, p.no_verdict), (3, 1, 1));
+        assert_eq!(p.judged(), 2);
+        assert_eq!(
+            p.wrong,
+            [Choice {
+                prediction: "1.83".into(),
+                label: None,
+                learners: 1
+            }]
+        );
+        assert_eq!(
+            p.retries,
+            Retries {
+                learners: 2,
+                attempts: 3,
+                judged: 3,
+                right: 3
+            }
+        );
+        assert_eq!(p.measured, Some(2.0));
+    }
+
+    #[test]
+    fn wrong_numbers_gather_around_the_values_typed() {
+        let wrong: BTreeMap<String, usize> = [
+            ("1.83", 3),
+            ("1.8", 1),
+            ("1.86", 1),
+            ("3.6", 2),
+            ("-1.83", 1),
+            ("fast", 1),
+        ]
+        .into_iter()
+        .map(|(p, n)| (p.to_string(), n))
+        .collect();
+        let mut got = bins(&wrong, crate::deck::Tolerance::Rel(0.05));
+        got.sort_by(|a, b| {
+            b.learners
+                .cmp(&a.learners)
+                .then(a.prediction.cmp(&b.prediction))
+        });
+        let got: Vec<(String, Option<String>, usize)> = got
+            .into_iter()
+            .map(|c| (c.prediction, c.label, c.learners))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                ("1.83".to_string(), Some("1.8–1.86".to_string()), 5),
+                ("3.6".to_string(), None, 2),
+                ("-1.83".to_string(), None, 1),
+                ("fast".to_string(), None, 1),
+            ]
+        );
+    }
+
+    proptest::proptest! {
+        /// Any text is read as an attempts export or refused with a line,
+        /// never a panic; a record read back keeps `retry` in agreement
+        /// with `attempt`. Run longer with
+        /// `PROPTEST_CASES=20000 cargo test -p flipcard-core interop::class`.
+        #[test]
+        fn attempt_records_are_read_or_refused(
+            prediction in "[-a-z0-9., \u{1b}]{0,8}",
+            measured in "(|[-0-9.e]{1,6}|inf|NaN)",
+            correct in "(|true|false|1|0|maybe)",
+            n in "(|[-0-9]{1,8})",
+            retry in "(|true|false|x)",
+        ) {
+            let text = format!(
+                "deck,prompt,attempted_at,prediction,measured,correct,attempt,retry\n\
+                 d,p,2026-01-01T00:00:00Z,\"{prediction}\",{measured},{correct},{n},{retry}\n"
+            );
+            match parse(&text) {
+                Ok(Export::Attempts(rows)) => {
+                    proptest::prop_assert_eq!(rows.len(), 1);
+                    let a = &rows[0];
+                    if let (Some(n), Some(r)) = (a.attempt, a.retry) {
+                        proptest::prop_assert_eq!(r, n > 1);
+                    }
+                    proptest::prop_assert!(a.attempt.is_none_or(|n| (1..=MAX_ATTEMPT).contains(&n)));
+                    proptest::prop_assert!(a.measured.is_none_or(f64::is_finite));
+                    let r = aggregate(&rows_of(rows.clone()), &[], None, "en");
+                    proptest::prop_assert_eq!(r.prompts.len(), 1);
+                }
+                Ok(Export::Reviews(_)) => proptest::prop_assert!(false, "read as reviews"),
+                Err(e) => proptest::prop_assert!(e.line >= 1 && !e.message.contains('\u{1b}'), "{}", e),
+            }
+        }
+
+        /// Every wrong number lands in exactly one bin, whose centre is a
+        /// value typed and whose members are within the tolerance of it.
+        #[test]
+        fn bins_hold_every_learner_once(
+            values in proptest::collection::vec((-1000i32..1000, 1usize..4), 0..30),
+            rel in 0.0f64..0.5,
+        ) {
+            let wrong: BTreeMap<String, usize> = values
+                .iter()
+                .map(|(v, n)| (flipcard_text::num::show(f64::from(*v) / 100.0), *n))
+                .collect();
+            let total: usize = wrong.values().sum();
+            let got = bins(&wrong, crate::deck::Tolerance::Rel(rel));
+            proptest::prop_assert_eq!(got.iter().map(|c| c.learners).sum::<usize>(), total);
+            for c in &got {
+                proptest::prop_assert!(wrong.contains_key(&c.prediction), "{:?}", c);
+            }
+        }
+    }
+
+    fn rows_of(rows: Vec<AttemptRow>) -> Vec<Export> {
+        vec![Export::Attempts(rows)]
     }
 
     #[test]

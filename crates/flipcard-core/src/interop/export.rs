@@ -242,8 +242,23 @@ pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<Written, 
 }
 
 /// The fields of `flipcard export --attempts`, in order (also the CSV
-/// header): a contract like [`REVIEW_FIELDS`].
-pub const ATTEMPT_FIELDS: [&str; 6] = [
+/// header): a contract like [`REVIEW_FIELDS`]. The first six are those of
+/// every version; `attempt` and `retry` came with attempts kept at
+/// commitment (schema version 4).
+pub const ATTEMPT_FIELDS: [&str; 8] = [
+    "deck",
+    "prompt",
+    "attempted_at",
+    "prediction",
+    "measured",
+    "correct",
+    "attempt",
+    "retry",
+];
+
+/// The fields every attempts export has had, first in every version's
+/// header.
+pub const ATTEMPT_FIELDS_V1: [&str; 6] = [
     "deck",
     "prompt",
     "attempted_at",
@@ -257,31 +272,37 @@ pub const ATTEMPT_FIELDS: [&str; 6] = [
 pub struct ExportedAttempt {
     pub deck: String,
     pub prompt: String,
+    /// When the learner committed to the prediction.
     pub attempted_at: String,
     pub prediction: String,
     pub measured: Option<f64>,
-    pub correct: bool,
+    /// `None` (null, an empty CSV cell): the learner left the run before
+    /// its end, so there is no verdict.
+    pub correct: Option<bool>,
+    /// 1 for the first attempt at the prompt; 2, 3 … for retries.
+    pub attempt: u32,
+    /// `attempt > 1`: made after an earlier attempt at the same prompt.
+    pub retry: bool,
 }
 
-impl From<crate::store::attempt::PromptAttempt> for ExportedAttempt {
-    fn from(a: crate::store::attempt::PromptAttempt) -> Self {
+impl From<crate::store::StoredAttempt> for ExportedAttempt {
+    fn from(a: crate::store::StoredAttempt) -> Self {
         ExportedAttempt {
+            retry: a.is_retry(),
             deck: a.deck,
             prompt: a.prompt,
             attempted_at: rfc3339(a.attempted_at),
             prediction: a.prediction,
-            measured: a.measured,
-            correct: a.correct,
+            measured: a.verdict.and_then(|v| v.measured),
+            correct: a.verdict.map(|v| v.correct),
+            attempt: a.attempt,
         }
     }
 }
 
 /// The attempt, or why it cannot be written; `n` counts attempts from 1 in
 /// the order they are stored.
-fn checked_attempt(
-    a: crate::store::attempt::PromptAttempt,
-    n: u64,
-) -> Result<ExportedAttempt, String> {
+fn checked_attempt(a: crate::store::StoredAttempt, n: u64) -> Result<ExportedAttempt, String> {
     let row = format!("attempt {n} ({}/{})", a.deck, a.prompt);
     match unwritable(&row, &[("attempted_at", a.attempted_at)]) {
         Some(why) => Err(why),

@@ -28,7 +28,7 @@ pub mod today;
 pub mod true_retention;
 pub(crate) mod write;
 
-pub use attempt::PromptAttempt;
+pub use attempt::{AttemptVerdict, Commitment, Committed, PromptAttempt, StoredAttempt};
 pub use db::{OpenOptions, Store};
 pub use error::StoreError;
 pub use log::LoggedReview;

@@ -9,7 +9,7 @@ use rusqlite::Connection;
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
-pub const MIGRATIONS: &[&str] = &[V1, V2, V3];
+pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4];
 
 /// The schema version this build writes.
 pub fn current_version() -> i64 {
@@ -380,6 +380,65 @@ CREATE TABLE sync_file (
 ) STRICT, WITHOUT ROWID;
 "#;
 
+/// Version 4: an attempt is kept when the learner commits to it, before the
+/// run plays, and its verdict is written once when the run ends. `attempt`
+/// numbers the attempts at one prompt from 1 (a later one is a retry; a
+/// row another program inserts without one is a first); `correct` is NULL
+/// (with `measured` and `judged_at`, when the verdict was written) until
+/// the run ends, and for good when the learner left the run before. Attempts stored before kept their verdict: they were
+/// written at the run's end, so their `judged_at` is their `attempted_at`,
+/// and they are numbered in the order of their times. SQLite cannot drop a
+/// NOT NULL in place, so the table is copied into one that allows the
+/// verdict to wait.
+const V4: &str = r#"
+CREATE TABLE prompt_attempt_v4 (
+    id            INTEGER PRIMARY KEY,
+    session       INTEGER REFERENCES session(id),
+    deck          TEXT NOT NULL CHECK (deck <> ''),
+    prompt        TEXT NOT NULL CHECK (prompt <> ''),
+    attempted_at  INTEGER NOT NULL,
+    prediction    TEXT NOT NULL,
+    measured      REAL,
+    correct       INTEGER CHECK (correct IN (0, 1)),
+    attempt       INTEGER NOT NULL DEFAULT 1 CHECK (attempt >= 1),
+    judged_at     INTEGER,
+    CHECK (correct IS NOT NULL OR (measured IS NULL AND judged_at IS NULL))
+) STRICT;
+INSERT INTO prompt_attempt_v4 (id, session, deck, prompt, attempted_at, prediction,
+                               measured, correct, attempt, judged_at)
+    SELECT id, session, deck, prompt, attempted_at, prediction, measured, correct,
+           row_number() OVER (PARTITION BY deck, prompt ORDER BY attempted_at, id),
+           attempted_at
+    FROM prompt_attempt;
+DROP TRIGGER prompt_attempt_no_delete;
+DROP TRIGGER prompt_attempt_no_update;
+DROP TABLE prompt_attempt;
+ALTER TABLE prompt_attempt_v4 RENAME TO prompt_attempt;
+
+CREATE INDEX prompt_attempt_deck ON prompt_attempt(deck, prompt, attempt);
+
+CREATE TRIGGER prompt_attempt_no_delete BEFORE DELETE ON prompt_attempt
+BEGIN
+    SELECT RAISE(ABORT, 'prompt attempts are append-only: rows are never deleted');
+END;
+
+-- The one change a row may see: its verdict (correct, with measured and
+-- judged_at) written once, where there was none.
+CREATE TRIGGER prompt_attempt_verdict_once BEFORE UPDATE ON prompt_attempt
+WHEN OLD.correct IS NOT NULL
+  OR NEW.correct IS NULL
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.prompt IS NOT OLD.prompt
+  OR NEW.attempted_at IS NOT OLD.attempted_at
+  OR NEW.prediction IS NOT OLD.prediction
+  OR NEW.attempt IS NOT OLD.attempt
+BEGIN
+    SELECT RAISE(ABORT, 'prompt attempts are append-only: only the verdict may be written, once');
+END;
+"#;
+
 /// Brings the database at `path` up to the last of `migrations`. Before the
 /// first migration of a database that already holds a schema, a copy is made
 /// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
@@ -541,6 +600,79 @@ mod tests {
             })
             .unwrap();
         assert_eq!(started, 1000);
+    }
+
+    #[test]
+    fn version_4_numbers_old_attempts_and_keeps_their_verdicts() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        conn.pragma_update(None, "recursive_triggers", true)
+            .unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..3], "20260101T000000Z").unwrap();
+        // Version 3 kept an attempt when its run ended, always judged.
+        conn.execute_batch(
+            "INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, measured, correct) VALUES
+               ('d', 'p', 3000, 'b', 2.0, 1),
+               ('d', 'p', 1000, 'a', 2.0, 0),
+               ('d', 'q', 2000, '7', NULL, 0),
+               ('e', 'p', 500, 'x', NULL, 1);",
+        )
+        .unwrap();
+        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), 4);
+        let mut st = conn
+            .prepare(
+                "SELECT deck || '/' || prompt || ':' || prediction, attempt, correct, \
+                 judged_at IS attempted_at FROM prompt_attempt ORDER BY id",
+            )
+            .unwrap();
+        let got: Vec<(String, i64, Option<i64>, bool)> = st
+            .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?)))
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap();
+        let want = [
+            ("d/p:b", 2, Some(1)),
+            ("d/p:a", 1, Some(0)),
+            ("d/q:7", 1, Some(0)),
+            ("e/p:x", 1, Some(1)),
+        ]
+        .map(|(row, n, correct)| (row.to_string(), n, correct, true));
+        assert_eq!(
+            got, want,
+            "numbered by time per prompt; judged when they were written"
+        );
+        // The triggers hold on the new table: a judged row never changes,
+        // no row is deleted, and an open one takes its verdict once.
+        let upd = conn
+            .execute(
+                "UPDATE prompt_attempt SET correct = 1 WHERE prediction = 'a'",
+                [],
+            )
+            .unwrap_err();
+        assert!(upd.to_string().contains("append-only"), "{upd}");
+        let del = conn.execute("DELETE FROM prompt_attempt", []).unwrap_err();
+        assert!(del.to_string().contains("append-only"), "{del}");
+        conn.execute(
+            "INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, attempt) \
+             VALUES ('d', 'p', 4000, 'c', 3)",
+            [],
+        )
+        .unwrap();
+        conn.execute(
+            "UPDATE prompt_attempt SET correct = 1, measured = 2.0, judged_at = 4100 \
+             WHERE prediction = 'c'",
+            [],
+        )
+        .unwrap();
+        let twice = conn
+            .execute(
+                "UPDATE prompt_attempt SET correct = 0, judged_at = 4200 WHERE prediction = 'c'",
+                [],
+            )
+            .unwrap_err();
+        assert!(twice.to_string().contains("once"), "{twice}");
     }
 
     #[test]

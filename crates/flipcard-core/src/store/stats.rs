@@ -286,8 +286,8 @@ impl Store {
     fn prompt_accuracy(&self, deck: Option<&str>) -> Result<PromptAccuracy, StoreError> {
         let (filter, args) = deck_filter(deck, Vec::new(), "WHERE");
         let sql = format!(
-            "SELECT deck, prompt, count(*), sum(correct) FROM prompt_attempt {filter} \
-             GROUP BY deck, prompt ORDER BY deck, prompt"
+            "SELECT deck, prompt, count(correct), coalesce(sum(correct), 0) FROM prompt_attempt \
+             {filter} GROUP BY deck, prompt ORDER BY deck, prompt"
         );
         let mut st = self.conn.prepare_cached(&sql).map_err(|e| self.err(e))?;
         let lines: Vec<PromptLine> = st

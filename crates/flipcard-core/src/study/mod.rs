@@ -12,7 +12,8 @@
 //! - [`Study::mark`]: suspend, bury (until the next study day) or unsuspend.
 //! - [`Study::undo`]: the last change of this session, answer or mark.
 //! - [`Study::queue`], [`Study::counts`]: what is due today.
-//! - [`Study::record_attempt`]: a prediction, kept as it is made.
+//! - [`Study::commit_attempt`], [`Study::judge_attempt`]: a prediction,
+//!   kept as the learner commits to it, and its verdict when the run ends.
 
 use std::collections::HashMap;
 
@@ -24,7 +25,10 @@ use crate::sched::config::LeechAction;
 use crate::sched::{
     CardState, Config, Counts, Days, ItemKey, Queue, Rating, ReviewRecord, Scheduler,
 };
-use crate::store::{AfterRating, PromptAttempt, Recorded, StatusAction, Store, StoreError, Undone};
+use crate::store::{
+    AfterRating, AttemptVerdict, Commitment, Committed, PromptAttempt, Recorded, StatusAction,
+    Store, StoreError, Undone,
+};
 
 pub use crate::sched::DayZone;
 
@@ -218,7 +222,25 @@ impl Study {
         self.store.undo_last_change()
     }
 
-    /// Keeps a prediction as the learner commits to it.
+    /// Keeps a prediction as the learner commits to it, before the run
+    /// plays: on disk when this returns, numbered after the learner's
+    /// earlier attempts at the prompt (a later one is a retry). A front end
+    /// that gets an error says so and does not start the run.
+    pub fn commit_attempt(&mut self, commitment: &Commitment) -> Result<Committed, StoreError> {
+        self.store.commit_attempt(commitment)
+    }
+
+    /// Writes the verdict of a committed attempt when its run ends, once.
+    pub fn judge_attempt(
+        &mut self,
+        committed: Committed,
+        verdict: &AttemptVerdict,
+    ) -> Result<(), StoreError> {
+        self.store.judge_attempt(committed.id, verdict)
+    }
+
+    /// Keeps a judged attempt whole: commitment and verdict at once (for a
+    /// front end that judges as it commits).
     pub fn record_attempt(&mut self, attempt: &PromptAttempt) -> Result<i64, StoreError> {
         self.store.record_attempt(attempt)
     }

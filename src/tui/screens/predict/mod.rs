@@ -21,6 +21,7 @@ pub use keys::{CHOICE_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
 
 pub use crate::predict::{Prediction, Verdict};
 use crate::sim::scene::measure::Measurements;
+use crate::store::{AttemptVerdict, Commitment, Committed};
 
 pub enum Phase {
     /// Waiting for the commitment: the selected choice or the typed number.
@@ -31,6 +32,8 @@ pub enum Phase {
     },
     Play {
         prediction: Prediction,
+        /// The attempt as stored when the learner committed.
+        committed: Committed,
         run: Box<LiveRun>,
         verdict: Option<Verdict>,
         judging: Judging,
@@ -38,6 +41,8 @@ pub enum Phase {
     /// A system scene playing (see `system.rs`).
     System {
         prediction: Prediction,
+        /// The attempt as stored when the learner committed.
+        committed: Committed,
         run: Box<crate::tui::live_system::LiveSystem>,
         verdict: Option<Verdict>,
         judging: Judging,
@@ -52,7 +57,7 @@ pub enum Judging {
     /// who watched another method: a long run never holds up the keys.
     Measuring(Measuring),
     /// No verdict: the scene's run cannot measure (the status line says
-    /// why); nothing is recorded.
+    /// why); the attempt stays stored without one.
     Failed,
 }
 
@@ -289,6 +294,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
         Phase::Play {
             run,
             prediction,
+            committed,
             verdict,
             judging,
         } => {
@@ -340,11 +346,10 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             {
                 judge(
                     app,
-                    state.deck,
                     &prompt,
                     scene,
                     run,
-                    *prediction,
+                    (*prediction, *committed),
                     verdict,
                     judging,
                 );
@@ -358,23 +363,21 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
 /// The verdict from the run just watched when it was the exact one, else
 /// from an exact run of the scene, made off the UI thread: a learner who
 /// switched to RK4 with a huge step still gets the physics' answer. The
-/// attempt is logged.
-#[allow(clippy::too_many_arguments)]
+/// verdict is written to the attempt stored at the commitment.
 fn judge(
     app: &mut App,
-    deck: usize,
     prompt: &Prompt,
     scene: &crate::deck::Scene,
     run: &LiveRun,
-    prediction: Prediction,
+    attempt: (Prediction, Committed),
     verdict: &mut Option<Verdict>,
     judging: &mut Judging,
 ) {
     if run.method() == Method::Exact && run.error().is_none() {
-        *verdict = Some(record(app, deck, prompt, &run.measurements(), prediction));
+        *verdict = Some(record(app, prompt, &run.measurements(), attempt));
         return;
     }
-    settle(app, deck, prompt, prediction, verdict, judging, || {
+    settle(app, prompt, attempt, verdict, judging, || {
         let scene = scene.clone();
         Measuring::start(move || {
             crate::sim::scene::measure_scene(&scene, Method::Exact).map_err(|e| e.to_string())
@@ -386,9 +389,8 @@ fn judge(
 /// the verdict once it is there (or says why there is none).
 pub(super) fn settle(
     app: &mut App,
-    deck: usize,
     prompt: &Prompt,
-    prediction: Prediction,
+    attempt: (Prediction, Committed),
     verdict: &mut Option<Verdict>,
     judging: &mut Judging,
     start: impl FnOnce() -> Measuring,
@@ -404,7 +406,7 @@ pub(super) fn settle(
     match m.poll() {
         None => {}
         Some(Ok(measured)) => {
-            *verdict = Some(record(app, deck, prompt, &measured, prediction));
+            *verdict = Some(record(app, prompt, &measured, attempt));
             *judging = Judging::Idle;
         }
         Some(Err(e)) => {
@@ -414,38 +416,60 @@ pub(super) fn settle(
     }
 }
 
-/// The verdict on the measurements, with the attempt logged.
+/// The verdict on the measurements, written to the attempt stored at the
+/// commitment (once: a restarted run shows the verdict again but the
+/// attempt keeps its first).
 fn record(
     app: &mut App,
-    deck: usize,
     prompt: &Prompt,
     measurements: &crate::sim::scene::measure::Measurements,
-    prediction: Prediction,
+    (prediction, committed): (Prediction, Committed),
 ) -> Verdict {
     let verdict = crate::predict::verdict(prompt, measurements, prediction);
-    let given = match (prediction, &prompt.answer) {
+    let judged = AttemptVerdict {
+        measured: verdict.readings.first().map(|r| r.value),
+        correct: verdict.correct,
+        judged_at: app.services.now(),
+    };
+    if let Err(e) = app.services.study.judge_attempt(committed, &judged) {
+        app.error(e.to_string());
+    }
+    verdict
+}
+
+/// The prediction as stored: a choice's id, or the number typed.
+fn given(prompt: &Prompt, prediction: Prediction) -> String {
+    match (prediction, &prompt.answer) {
         (Prediction::Choice(i), Answer::Choice { choices, .. }) => {
             choices.get(i).map(|c| c.id.clone()).unwrap_or_default()
         }
         (Prediction::Number(v), _) => crate::text::num::show(v),
         _ => String::new(),
-    };
-    let attempt = crate::store::PromptAttempt {
-        deck: app
-            .decks
-            .get(deck)
-            .map(|d| d.id.clone())
-            .unwrap_or_default(),
-        prompt: prompt.id.clone(),
-        attempted_at: app.services.now(),
-        prediction: given,
-        measured: verdict.readings.first().map(|r| r.value),
-        correct: verdict.correct,
-    };
-    if let Err(e) = app.services.study.record_attempt(&attempt) {
-        app.error(e.to_string());
     }
-    verdict
+}
+
+/// Keeps the learner's commitment, on disk before the run starts (the
+/// rule of a rating). `None` when the write failed: the status line says
+/// why and the screen stays on the question, the answer still typed.
+pub(super) fn keep_commitment(
+    app: &mut App,
+    state: &PredictState,
+    prompt: &Prompt,
+    prediction: Prediction,
+) -> Option<Committed> {
+    let commitment = Commitment {
+        deck: deck(app, state).map(|d| d.id.clone()).unwrap_or_default(),
+        prompt: prompt.id.clone(),
+        committed_at: app.services.now(),
+        prediction: given(prompt, prediction),
+    };
+    match app.services.study.commit_attempt(&commitment) {
+        Ok(c) => Some(c),
+        Err(e) => {
+            app.error(e.to_string());
+            None
+        }
+    }
 }
 
 fn commit_nav(
@@ -454,14 +478,22 @@ fn commit_nav(
     prediction: Prediction,
     scene: &crate::deck::Scene,
 ) -> Nav {
+    let Some(prompt) = prompt(app, state).cloned() else {
+        return Nav::Pop;
+    };
+    // The run is built first (a scene that cannot run stores nothing),
+    // then the commitment is kept, then the run starts.
     match LiveRun::new(scene, Some(Method::Exact)) {
         Ok(run) => {
-            state.phase = Phase::Play {
-                prediction,
-                run: Box::new(run),
-                verdict: None,
-                judging: Judging::Idle,
-            };
+            if let Some(committed) = keep_commitment(app, state, &prompt, prediction) {
+                state.phase = Phase::Play {
+                    prediction,
+                    committed,
+                    run: Box::new(run),
+                    verdict: None,
+                    judging: Judging::Idle,
+                };
+            }
         }
         Err(e) => app.error(format!("{}: {e}", scene.id)),
     }

@@ -47,14 +47,19 @@ pub fn commit(
     let Some(prompt) = super::prompt(app, state).cloned() else {
         return Nav::Pop;
     };
+    // As for a rigid body: the run is built, the commitment kept, then
+    // the run starts.
     match LiveSystem::new(scene, default_method(scene), &measures(&prompt)) {
         Ok(run) => {
-            state.phase = Phase::System {
-                prediction,
-                run: Box::new(run),
-                verdict: None,
-                judging: Judging::Idle,
-            };
+            if let Some(committed) = super::keep_commitment(app, state, &prompt, prediction) {
+                state.phase = Phase::System {
+                    prediction,
+                    committed,
+                    run: Box::new(run),
+                    verdict: None,
+                    judging: Judging::Idle,
+                };
+            }
         }
         Err(e) => app.error(format!("{}: {e}", scene.id)),
     }
@@ -66,6 +71,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action, prompt: &P
     let Phase::System {
         run,
         prediction,
+        committed,
         verdict,
         judging,
     } = &mut state.phase
@@ -117,7 +123,14 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action, prompt: &P
         _ => {}
     }
     if verdict.is_none() && run.finished() {
-        judge(app, deck, prompt, run, *prediction, verdict, judging);
+        judge(
+            app,
+            prompt,
+            run,
+            (*prediction, *committed),
+            verdict,
+            judging,
+        );
     }
     Nav::Stay
 }
@@ -126,13 +139,12 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action, prompt: &P
 /// method to the end; else from a default run of the scene, made off the UI
 /// thread: the physics' answer, whatever method the learner tried. When the
 /// default run itself stops early (the scene leaves its domain), there is
-/// no verdict and nothing is recorded: the status line says why.
+/// no verdict and the attempt stays without one: the status line says why.
 fn judge(
     app: &mut App,
-    deck: usize,
     prompt: &Prompt,
     run: &LiveSystem,
-    prediction: Prediction,
+    attempt: (Prediction, super::Committed),
     verdict: &mut Option<Verdict>,
     judging: &mut Judging,
 ) {
@@ -143,11 +155,11 @@ fn judge(
             *judging = Judging::Failed;
         } else {
             let measured = run.run().measurements(&ms);
-            *verdict = Some(super::record(app, deck, prompt, &measured, prediction));
+            *verdict = Some(super::record(app, prompt, &measured, attempt));
         }
         return;
     }
-    super::settle(app, deck, prompt, prediction, verdict, judging, || {
+    super::settle(app, prompt, attempt, verdict, judging, || {
         let scene = scene.clone();
         Measuring::start(move || {
             let values = measure_system(&scene, default_method(&scene), &ms)?;
