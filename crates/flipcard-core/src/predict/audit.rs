@@ -741,6 +741,108 @@ mod tests {
         assert_eq!(judge(&p, &scene([0.1, 10.0, 0.1], 8.0)), None);
     }
 
+    /// A system's run as the audit reads it: `values` measured over
+    /// `duration`, and the run 1.5× as long.
+    fn system_run(duration: f64, values: &[(Measure, f64)], longer: &[(Measure, f64)]) -> Run {
+        let made = |d: f64, v: &[(Measure, f64)]| Run {
+            duration: d,
+            time_unit: "s".into(),
+            measured: Measurements::from_readings(
+                v.iter()
+                    .map(|&(measure, value)| Reading {
+                        measure,
+                        value,
+                        formula: None,
+                    })
+                    .collect(),
+            )
+            .over(d),
+            missing: Vec::new(),
+            longer: None,
+        };
+        Run {
+            longer: Some(Box::new(made(duration * LONGER, longer))),
+            ..made(duration, values)
+        }
+    }
+
+    fn number_prompt(measure: Measure, expected: f64) -> Prompt {
+        Prompt {
+            answer: Answer::Number {
+                measure,
+                unit: "s".into(),
+                expected,
+                tolerance: crate::deck::Tolerance::Rel(0.02),
+                formula: None,
+            },
+            ..choice_prompt("x", &[])
+        }
+    }
+
+    #[test]
+    fn a_system_answer_that_changes_in_the_longer_run_holds_only_because_the_run_ends() {
+        let max_x = Measure::parse("max(x)").unwrap();
+        let p = Prompt {
+            answer: Answer::Choice {
+                expected: "bounded".into(),
+                choices: [("bounded", Cmp::Lt), ("grows", Cmp::Ge)]
+                    .map(|(id, op)| Choice {
+                        id: id.into(),
+                        label: text(id),
+                        when: Condition {
+                            measure: max_x,
+                            op,
+                            value: 6.0,
+                        },
+                    })
+                    .to_vec(),
+            },
+            ..choice_prompt("x", &[])
+        };
+        let problem = audit_run(&p, &system_run(10.0, &[(max_x, 3.98)], &[(max_x, 7.05)])).unwrap();
+        assert_eq!(problem.target, Target::Expected);
+        assert_eq!(
+            problem.message,
+            "expected `bounded` holds only because this 10 s run ends early: a run of 15 s measures max(x) = 7.05, where `bounded` does not hold: ask about what every run shows, or make the run longer and change the answer"
+        );
+        // The same in both runs: right.
+        assert_eq!(audit_run(&p, &system_run(10.0, &[(max_x, 3.98)], &[(max_x, 4.1)])), None);
+
+        // A number: outside its tolerance in the longer run.
+        let fin = Measure::parse("final(x)").unwrap();
+        let p = number_prompt(fin, 2.0);
+        let problem = audit_run(&p, &system_run(4.0, &[(fin, 2.01)], &[(fin, 3.0)])).unwrap();
+        assert!(
+            problem.message.starts_with(
+                "expected final(x) = 2 s holds only because this 4 s run ends early: a run of 6 s measures 3 s"
+            ),
+            "{problem:?}"
+        );
+        assert_eq!(audit_run(&p, &system_run(4.0, &[(fin, 2.01)], &[(fin, 1.99)])), None);
+        // Wrong on the run itself: said as such, not as the run's length.
+        let problem = audit_run(&p, &system_run(4.0, &[(fin, 5.0)], &[(fin, 5.0)])).unwrap();
+        assert_eq!(
+            problem.message,
+            "expected final(x) = 2 s, but this 4 s run measures 5 s: change `expected` to about 5 or widen `tolerance`"
+        );
+    }
+
+    #[test]
+    fn a_system_measure_the_run_cannot_make_says_why() {
+        let period = Measure::parse("period(theta)").unwrap();
+        let p = number_prompt(period, 4.894);
+        let mut run = system_run(6.0, &[], &[(period, 4.894)]);
+        run.missing.push((
+            period,
+            "period(theta): theta crosses the level halfway between its minimum and maximum upwards once over the run; a period needs two".into(),
+        ));
+        let problem = audit_run(&p, &run).unwrap();
+        assert_eq!(
+            problem.message,
+            "expected period(theta) = 4.894 s, but this 6 s run cannot measure period(theta) (theta crosses the level halfway between its minimum and maximum upwards once over the run; a period needs two): make the run longer (two upward crossings at least) or ask about another measure"
+        );
+    }
+
     #[test]
     fn lists_read_as_prose() {
         let s = |v: &[&str]| list_and(&v.iter().map(|x| x.to_string()).collect::<Vec<_>>());
