@@ -227,6 +227,8 @@ plot = ["x"]
 "#;
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir_all(dir.path().join("decks")).unwrap();
+    std::fs::create_dir_all(dir.path().join("content/blows")).unwrap();
+    std::fs::write(dir.path().join("content/blows/en.toml"), "").unwrap();
     let path = dir.path().join("decks/blows.toml");
     std::fs::write(&path, deck).unwrap();
     let o = run(&["check", path.to_str().unwrap()]);
