@@ -67,7 +67,11 @@ fn a_wrong_number_in_a_copy_of_the_bundled_deck_is_refused_at_its_line() {
         .position(|l| l.starts_with("expected = 4.894"))
         .unwrap()
         + 1;
-    std::fs::write(&path, text.replacen("expected = 4.894", "expected = 9.99", 1)).unwrap();
+    std::fs::write(
+        &path,
+        text.replacen("expected = 4.894", "expected = 9.99", 1),
+    )
+    .unwrap();
     let o = run(&["check", path.to_str().unwrap()]);
     assert_eq!(o.code(), Some(1), "{}", o.stderr());
     let got = errors(&o.stderr());
@@ -79,7 +83,11 @@ fn a_wrong_number_in_a_copy_of_the_bundled_deck_is_refused_at_its_line() {
         "{}",
         o.stderr()
     );
-    assert!(o.stderr().ends_with("1 error, 0 warnings\n"), "{}", o.stderr());
+    assert!(
+        o.stderr().ends_with("1 error, 0 warnings\n"),
+        "{}",
+        o.stderr()
+    );
 }
 
 /// `sim --scene` on a system scene says WRONG and exits 1 when the run
@@ -114,13 +122,7 @@ fn sim_scene_exits_1_on_a_wrong_answer_for_systems_and_rigid_bodies() {
         } else {
             case_deck(name)
         };
-        let o = run(&[
-            "sim",
-            "--deck",
-            deck.to_str().unwrap(),
-            "--scene",
-            scene,
-        ]);
+        let o = run(&["sim", "--deck", deck.to_str().unwrap(), "--scene", scene]);
         assert_eq!(o.code(), Some(1), "{name}: {}{}", o.stdout(), o.stderr());
         assert!(o.stdout().contains(line), "{name}: {}", o.stdout());
     }
@@ -185,7 +187,14 @@ fn decks_add_refuses_a_deck_whose_answers_the_runs_contradict() {
             e.contains("does not pass `check` (1 error); nothing added"),
             "{name}: {e}"
         );
-        assert!(!data.join("decks").exists() || std::fs::read_dir(data.join("decks")).unwrap().next().is_none(), "{name}");
+        assert!(
+            !data.join("decks").exists()
+                || std::fs::read_dir(data.join("decks"))
+                    .unwrap()
+                    .next()
+                    .is_none(),
+            "{name}"
+        );
     }
 }
 

@@ -228,7 +228,10 @@ fn report(deck: &Deck, scene: &SystemScene, method: OdeMethod) -> anyhow::Result
     }
     for m in &measures {
         let name = m.to_string();
-        match (run.measured.get(*m), run.missing.iter().find(|(x, _)| x == m)) {
+        match (
+            run.measured.get(*m),
+            run.missing.iter().find(|(x, _)| x == m),
+        ) {
             (Some(v), _) => {
                 let _ = writeln!(out, "  {name:<18} {}", crate::cmd::sim_scene::number(v));
             }

@@ -141,10 +141,7 @@ fn system_readings(
             Err(why) => missing.push((m, why)),
         }
     }
-    (
-        Measurements::from_readings(readings).over(elapsed),
-        missing,
-    )
+    (Measurements::from_readings(readings).over(elapsed), missing)
 }
 
 /// The measures the prompts on scene `scene_id` use, in order of first use.
@@ -806,7 +803,10 @@ mod tests {
             "expected `bounded` holds only because this 10 s run ends early: a run of 15 s measures max(x) = 7.05, where `bounded` does not hold: ask about what every run shows, or make the run longer and change the answer"
         );
         // The same in both runs: right.
-        assert_eq!(audit_run(&p, &system_run(10.0, &[(max_x, 3.98)], &[(max_x, 4.1)])), None);
+        assert_eq!(
+            audit_run(&p, &system_run(10.0, &[(max_x, 3.98)], &[(max_x, 4.1)])),
+            None
+        );
 
         // A number: outside its tolerance in the longer run.
         let fin = Measure::parse("final(x)").unwrap();
@@ -818,7 +818,10 @@ mod tests {
             ),
             "{problem:?}"
         );
-        assert_eq!(audit_run(&p, &system_run(4.0, &[(fin, 2.01)], &[(fin, 1.99)])), None);
+        assert_eq!(
+            audit_run(&p, &system_run(4.0, &[(fin, 2.01)], &[(fin, 1.99)])),
+            None
+        );
         // Wrong on the run itself: said as such, not as the run's length.
         let problem = audit_run(&p, &system_run(4.0, &[(fin, 5.0)], &[(fin, 5.0)])).unwrap();
         assert_eq!(
