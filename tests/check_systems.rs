@@ -245,8 +245,8 @@ plot = ["x"]
     assert_eq!(
         errors(&o.stderr()),
         [
+            "blows.toml:25:6: error: scene `blowup` does not run to its end: the solution blows up near t = 1.0",
             "blows.toml:21:12: error: the answer cannot be checked: scene `blowup` does not run to its end (the solution blows up near t = 1.0)",
-            "blows.toml:26:6: error: scene `blowup` does not run to its end: the solution blows up near t = 1.0",
         ],
         "{}",
         o.stderr()
