@@ -814,7 +814,7 @@ mod tests {
         let problem = audit_run(&p, &system_run(4.0, &[(fin, 2.01)], &[(fin, 3.0)])).unwrap();
         assert!(
             problem.message.starts_with(
-                "expected final(x) = 2 s holds only because this 4 s run ends early: a run of 6 s measures 3 s"
+                "expected final(x) = 2 s holds only because this 4 s run ends early: a run of 6 s measures 3"
             ),
             "{problem:?}"
         );
