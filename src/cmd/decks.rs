@@ -1,5 +1,7 @@
 //! `flipcard decks`, `flipcard decks add PATH`, `flipcard decks remove ID`:
-//! the deck library. Adding copies a deck that passes `check` into
+//! the deck library. Adding copies a deck that passes `check` (its
+//! validation and its simulations: every prompt's answer against its
+//! scene's run, rigid or system, as `check` judges it) into
 //! `<data dir>/decks/` (content into `<data dir>/content/<id>/`); removing
 //! deletes those files only, so the deck's review history stays in the log
 //! (as orphans) and comes back with the deck. Both take a deck id only and
@@ -113,7 +115,13 @@ fn add(cli: &Cli, path: &Path) -> anyhow::Result<ExitCode> {
     if !crate::io::exists_no_follow(path) {
         bail!("{}: no such file or directory", path.display());
     }
-    let checked = load_paths(&[deck_files_in(path)]);
+    let mut checked = load_paths(&[deck_files_in(path)]);
+    if checked.errors() == 0 {
+        // As `check` judges it: every prompt's answer against its scene's
+        // run, and every system scene run to its end.
+        let judged = crate::predict::audit::check_loaded(&checked);
+        checked.diagnostics.extend(judged);
+    }
     if checked.errors() > 0 || checked.decks.is_empty() {
         if !checked.diagnostics.is_empty() {
             crate::errln!("{}", checked.render_all());

@@ -1,7 +1,8 @@
 //! `flipcard sim --scene ID` on a system scene: the run sampled
 //! (`--samples N`, CSV or JSON, columns `t`, the variables, then the
 //! observables), chosen measures (`--measure 'period(theta)'`), or every
-//! measurement its prompts use with their verdicts.
+//! measurement its prompts use with their verdicts (exit 1 when the run
+//! contradicts a prompt's answer, as `check` says).
 
 use std::fmt::Write as _;
 use std::io::Write;
@@ -10,8 +11,8 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail};
 
 use crate::cmd::args::{MethodArg, SimArgs, SimFormat};
-use crate::deck::{Answer, Deck, Measure, Prompt, SystemScene};
-use crate::predict::{Prediction, verdict};
+use crate::deck::{Deck, Measure, Prompt, SystemScene};
+use crate::predict::audit::{Run, audit_run};
 use crate::sim::scene::system::{SystemPlan, SystemRun, describe, measure_system};
 use crate::sim::solvers::ode::{OdeKind, OdeMethod};
 use crate::sim::system::System;
@@ -51,8 +52,15 @@ pub fn run(args: &SimArgs, deck: &Deck, scene: &SystemScene) -> anyhow::Result<E
     if !args.measure.is_empty() {
         return measures(scene, method, &args.measure);
     }
-    crate::out!("{}", report(deck, scene, method)?)?;
-    Ok(ExitCode::SUCCESS)
+    let (text, wrong) = report(deck, scene, method)?;
+    crate::out!("{text}")?;
+    // An answer the run contradicts is an error in the deck, as `check`
+    // reports it.
+    Ok(if wrong {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
 /// `--measure` on a system: each value on its own line, nothing else.
@@ -187,24 +195,15 @@ fn write_samples(
 
 /// The measures the scene's prompts use, in order of first use.
 pub fn prompt_measures(deck: &Deck, scene_id: &str) -> Vec<Measure> {
-    let mut out = Vec::new();
-    for p in deck.prompts.iter().filter(|p| p.scene == scene_id) {
-        let ms: Vec<Measure> = match &p.answer {
-            Answer::Choice { choices, .. } => choices.iter().map(|c| c.when.measure).collect(),
-            Answer::Number { measure, .. } => vec![*measure],
-        };
-        for m in ms {
-            if !out.contains(&m) {
-                out.push(m);
-            }
-        }
-    }
-    out
+    crate::predict::audit::prompt_measures(deck, scene_id)
 }
 
-fn report(deck: &Deck, scene: &SystemScene, method: OdeMethod) -> anyhow::Result<String> {
+/// The scene's measurements and each prompt's verdict, as `check` judges
+/// them (the same run, and the same run again 1.5× as long); whether any
+/// prompt's answer is wrong.
+fn report(deck: &Deck, scene: &SystemScene, method: OdeMethod) -> anyhow::Result<(String, bool)> {
     let measures = prompt_measures(deck, &scene.id);
-    let values = measure_system(scene, method, &measures).map_err(|e| anyhow!("{e}"))?;
+    let run = Run::system(scene, method, &measures).map_err(|e| anyhow!("{}", describe(&e)))?;
     let mut out = String::new();
     let state: Vec<String> = scene
         .variables
@@ -227,25 +226,21 @@ fn report(deck: &Deck, scene: &SystemScene, method: OdeMethod) -> anyhow::Result
     if measures.is_empty() {
         let _ = writeln!(out, "  (no prompt measures this scene)");
     }
-    let mut readings = Vec::new();
-    for (m, v) in measures.iter().zip(&values) {
+    for m in &measures {
         let name = m.to_string();
-        match v {
-            Ok(v) => {
-                let _ = writeln!(out, "  {name:<18} {}", crate::cmd::sim_scene::number(*v));
-                readings.push(crate::sim::scene::measure::Reading {
-                    measure: *m,
-                    value: *v,
-                    formula: None,
-                });
+        match (
+            run.measured.get(*m),
+            run.missing.iter().find(|(x, _)| x == m),
+        ) {
+            (Some(v), _) => {
+                let _ = writeln!(out, "  {name:<18} {}", crate::cmd::sim_scene::number(v));
             }
-            Err(why) => {
+            (None, why) => {
+                let why = why.map_or("not measured", |(_, w)| w.as_str());
                 let _ = writeln!(out, "  {name:<18} - ({why})");
             }
         }
     }
-    let measured =
-        crate::sim::scene::measure::Measurements::from_readings(readings).over(scene.duration);
     let prompts: Vec<&Prompt> = deck
         .prompts
         .iter()
@@ -254,15 +249,18 @@ fn report(deck: &Deck, scene: &SystemScene, method: OdeMethod) -> anyhow::Result
     if !prompts.is_empty() {
         let _ = writeln!(out, "prompts:");
     }
+    let mut wrong = false;
     for p in prompts {
-        let line = match Prediction::expected(p) {
-            Some(pr) => {
-                let ok = verdict(p, &measured, pr).correct;
-                crate::cmd::sim_scene::prompt_line(p, &measured, ok)
-            }
-            None => format!("{}: expected answer names no choice", p.id),
-        };
-        let _ = writeln!(out, "  {line}");
+        let problem = audit_run(p, &run);
+        wrong |= problem.is_some();
+        let _ = writeln!(
+            out,
+            "  {}",
+            crate::cmd::sim_scene::prompt_line(p, &run.measured, problem.is_none())
+        );
+        if let Some(problem) = problem {
+            let _ = writeln!(out, "    {}", problem.message);
+        }
     }
-    Ok(out)
+    Ok((out, wrong))
 }

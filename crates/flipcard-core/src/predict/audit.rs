@@ -1,19 +1,165 @@
 //! The author's answers against the simulation: every prompt's scene is run
 //! and its expected answer judged as a learner's would be, so that a deck
-//! never teaches what its own run does not show. Besides a plainly wrong
-//! answer, a choice that holds only because the run stops early (no flip
-//! yet, one flip where the body goes on flipping) is reported too: a longer
-//! run of the same scene would give the other verdict.
+//! never teaches what its own run does not show. Rigid bodies and systems
+//! take the one path: a scene's run becomes a [`Run`] (what it measured,
+//! why a measure could not be made, how long it lasted) and [`audit_run`]
+//! judges the prompt on it. Besides a plainly wrong answer, overlapping
+//! choices and a measure the run cannot make, an answer that holds only
+//! because the run stops early is reported too: for a rigid body from its
+//! flips (no flip yet, one flip where the body goes on flipping), for a
+//! system by running the scene again [`LONGER`] times as long and judging
+//! the answer on that run as well.
 
 use std::collections::HashMap;
 
 use crate::deck::diag::{Diagnostic, Severity};
-use crate::deck::places::{AnswerPlaces, Place, answer_places};
-use crate::deck::{Answer, Choice, Condition, Deck, Loaded, Measure, Prompt, Scene};
+use crate::deck::places::{AnswerPlaces, Place, ScenePlaces, answer_places, scene_places};
+use crate::deck::{
+    Answer, Choice, Condition, Deck, Loaded, Measure, Prompt, Scene, Stat, SystemScene,
+};
 use flipcard_sim::Method;
-use flipcard_sim::scene::measure::{Measurements, formula_name};
+use flipcard_sim::scene::measure::{Measurements, Reading, formula_name};
 use flipcard_sim::scene::measure_scene;
+use flipcard_sim::scene::system::{RunError, SystemPlan, SystemRun, measure_system};
+use flipcard_sim::solvers::ode::{OdeKind, OdeMethod};
+use flipcard_sim::system::compile::Source;
 use flipcard_text::num::{Num, sig};
+
+/// How much longer the second run of a system scene is: an answer that
+/// changes when the run goes on this much further holds only because the
+/// run ends where it does.
+pub const LONGER: f64 = 1.5;
+
+/// A run of a prompt's scene as the audit reads it, whatever the kind of
+/// scene: what it measured and over how long.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Run {
+    /// The scene's run length and time unit.
+    pub duration: f64,
+    pub time_unit: String,
+    pub measured: Measurements,
+    /// Why a measure is absent from `measured`, where the run says why (a
+    /// system's measures: "crosses … once over the run; a period needs
+    /// two").
+    pub missing: Vec<(Measure, String)>,
+    /// The same scene run [`LONGER`] times as long, when that run reaches
+    /// its end (a system scene): the answer must hold on it too.
+    pub longer: Option<Box<Run>>,
+}
+
+impl Run {
+    /// A rigid body's run: its flips tell when an answer would change.
+    pub fn rigid(scene: &Scene, measured: Measurements) -> Run {
+        Run {
+            duration: scene.duration,
+            time_unit: scene.time_unit.clone(),
+            measured,
+            missing: Vec::new(),
+            longer: None,
+        }
+    }
+
+    /// A system scene run to its end with `method` as `check` runs it
+    /// (computing every observable and the sketch, so a scene that passes
+    /// plays with any plan), measuring `measures`; then run again
+    /// [`LONGER`] times as long for the same measures. The error is why
+    /// the first run stopped early; a longer run that stops early (its
+    /// budget, a blow-up past the scene's end) is left out.
+    pub fn system(
+        scene: &SystemScene,
+        method: OdeMethod,
+        measures: &[Measure],
+    ) -> Result<Run, RunError> {
+        let plan = SystemPlan {
+            reference: false,
+            sketch: !scene.sketch.is_empty(),
+            observables: vec![true; scene.observables.len()],
+            ..SystemPlan::for_scene(scene, method, measures)
+        };
+        let mut run =
+            SystemRun::with_plan(scene, method, plan).map_err(|message| RunError::Domain {
+                t: 0.0,
+                message,
+                at: None,
+            })?;
+        run.run_to_end()?;
+        let (measured, missing) = system_readings(measures, |m| run.measure(m), scene.duration);
+        let longer_scene = SystemScene {
+            duration: scene.duration * LONGER,
+            ..scene.clone()
+        };
+        let longer = measure_system(&longer_scene, method, measures)
+            .ok()
+            .map(|values| {
+                let mut values = values.into_iter();
+                let (measured, missing) = system_readings(
+                    measures,
+                    |_| values.next().unwrap_or_else(|| Err(String::new())),
+                    longer_scene.duration,
+                );
+                Box::new(Run {
+                    duration: longer_scene.duration,
+                    time_unit: scene.time_unit.clone(),
+                    measured,
+                    missing,
+                    longer: None,
+                })
+            });
+        Ok(Run {
+            duration: scene.duration,
+            time_unit: scene.time_unit.clone(),
+            measured,
+            missing,
+            longer,
+        })
+    }
+
+    /// Why the run has no value for `measure`, as the run said it.
+    fn why_missing(&self, measure: Measure) -> Option<&str> {
+        self.missing
+            .iter()
+            .find(|(m, _)| *m == measure)
+            .map(|(_, why)| why.as_str())
+    }
+}
+
+/// Each measure's value, or why the run could not make it.
+fn system_readings(
+    measures: &[Measure],
+    mut value: impl FnMut(Measure) -> Result<f64, String>,
+    elapsed: f64,
+) -> (Measurements, Vec<(Measure, String)>) {
+    let mut readings = Vec::new();
+    let mut missing = Vec::new();
+    for &m in measures {
+        match value(m) {
+            Ok(v) => readings.push(Reading {
+                measure: m,
+                value: v,
+                formula: None,
+            }),
+            Err(why) => missing.push((m, why)),
+        }
+    }
+    (Measurements::from_readings(readings).over(elapsed), missing)
+}
+
+/// The measures the prompts on scene `scene_id` use, in order of first use.
+pub fn prompt_measures(deck: &Deck, scene_id: &str) -> Vec<Measure> {
+    let mut out = Vec::new();
+    for p in deck.prompts.iter().filter(|p| p.scene == scene_id) {
+        let ms: Vec<Measure> = match &p.answer {
+            Answer::Choice { choices, .. } => choices.iter().map(|c| c.when.measure).collect(),
+            Answer::Number { measure, .. } => vec![*measure],
+        };
+        for m in ms {
+            if !out.contains(&m) {
+                out.push(m);
+            }
+        }
+    }
+    out
+}
 
 /// Which part of the answer a problem is about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,10 +179,45 @@ pub struct Problem {
 }
 
 /// Judges the author's expected answer on `prompt` with the measurements
-/// of a run of its `scene`.
+/// of a run of its rigid `scene` (see [`audit_run`]).
 pub fn audit(prompt: &Prompt, scene: &Scene, m: &Measurements) -> Option<Problem> {
-    match &prompt.answer {
-        Answer::Choice { choices, expected } => audit_choice(choices, expected, scene, m),
+    audit_run(prompt, &Run::rigid(scene, m.clone()))
+}
+
+/// Judges the author's expected answer on `prompt` with a run of its
+/// scene, whatever the kind: contradicted, two choices holding, a measure
+/// the run cannot make, or an answer that holds only because the run ends
+/// early (a rigid body's flips, or the longer run of a system).
+pub fn audit_run(prompt: &Prompt, run: &Run) -> Option<Problem> {
+    if let Some(problem) = judge(prompt, run) {
+        return Some(problem);
+    }
+    let longer = run.longer.as_deref()?;
+    let message = match &prompt.answer {
+        Answer::Choice { choices, expected } => {
+            let e = choices.iter().position(|c| &c.id == expected)?;
+            let holding = holding(choices, &longer.measured);
+            let said_there = |c: &Choice| said(c.when.measure, longer);
+            let shows = if !holding.contains(&e) {
+                format!(
+                    "{}, where `{expected}` does not hold",
+                    said_there(&choices[e])
+                )
+            } else {
+                let other = holding.iter().find(|&&i| i != e)?;
+                format!(
+                    "{}, where `{}` holds too",
+                    said_there(&choices[*other]),
+                    choices[*other].id
+                )
+            };
+            format!(
+                "expected `{expected}` holds only because {} ends early: a run of {} {} measures {shows}: ask about what every run shows, or make the run longer and change the answer",
+                run_name(run),
+                Num(longer.duration),
+                run.time_unit
+            )
+        }
         Answer::Number {
             measure,
             unit,
@@ -44,13 +225,59 @@ pub fn audit(prompt: &Prompt, scene: &Scene, m: &Measurements) -> Option<Problem
             tolerance,
             ..
         } => {
-            let run = run_name(scene);
-            let name = measure.name();
-            let shown = format!("{name} = {} {unit}", Num(*expected));
+            let there = match longer.measured.get(*measure) {
+                Some(v) if tolerance.accepts(*expected, v) => return None,
+                Some(v) => format!("{} {unit}", sig(v, 4)),
+                None => format!(
+                    "nothing ({})",
+                    longer
+                        .why_missing(*measure)
+                        .map_or_else(|| format!("no {measure}"), |w| bare(w, *measure))
+                ),
+            };
+            format!(
+                "expected {measure} = {} {unit} holds only because {} ends early: a run of {} {} measures {there}: ask about what every run shows (a measure that settles), or make the run longer and change `expected`",
+                Num(*expected),
+                run_name(run),
+                Num(longer.duration),
+                run.time_unit
+            )
+        }
+    };
+    Some(Problem {
+        target: Target::Expected,
+        message,
+    })
+}
+
+/// The choices whose condition holds on `m`, in the prompt's order.
+fn holding(choices: &[Choice], m: &Measurements) -> Vec<usize> {
+    (0..choices.len())
+        .filter(|&i| {
+            let c = &choices[i].when;
+            m.get(c.measure).is_some_and(|v| c.holds(v))
+        })
+        .collect()
+}
+
+/// The judgement on the run itself (not yet the longer run).
+fn judge(prompt: &Prompt, run: &Run) -> Option<Problem> {
+    let m = &run.measured;
+    match &prompt.answer {
+        Answer::Choice { choices, expected } => audit_choice(choices, expected, run),
+        Answer::Number {
+            measure,
+            unit,
+            expected,
+            tolerance,
+            ..
+        } => {
+            let name = run_name(run);
+            let shown = format!("{measure} = {} {unit}", Num(*expected));
             let message = match m.reading(*measure) {
                 None => format!(
-                    "expected {shown}, but {run} cannot measure {name}{}",
-                    unmeasured(*measure, scene, m)
+                    "expected {shown}, but {name} cannot measure {measure}{}",
+                    unmeasured(*measure, run)
                 ),
                 Some(r) if !tolerance.accepts(*expected, r.value) => {
                     let formula = r
@@ -64,7 +291,7 @@ pub fn audit(prompt: &Prompt, scene: &Scene, m: &Measurements) -> Option<Problem
                         })
                         .unwrap_or_default();
                     format!(
-                        "expected {shown}, but {run} measures {} {unit}{formula}: change `expected` to about {} or widen `tolerance`",
+                        "expected {shown}, but {name} measures {} {unit}{formula}: change `expected` to about {} or widen `tolerance`",
                         sig(r.value, 4),
                         sig(r.value, 4)
                     )
@@ -79,18 +306,12 @@ pub fn audit(prompt: &Prompt, scene: &Scene, m: &Measurements) -> Option<Problem
     }
 }
 
-fn audit_choice(
-    choices: &[Choice],
-    expected: &str,
-    scene: &Scene,
-    m: &Measurements,
-) -> Option<Problem> {
-    let run = run_name(scene);
+fn audit_choice(choices: &[Choice], expected: &str, run: &Run) -> Option<Problem> {
+    let m = &run.measured;
+    let name = run_name(run);
+    let unit = &run.time_unit;
     let e = choices.iter().position(|c| c.id == expected)?;
-    let holds = |c: &Condition| m.get(c.measure).is_some_and(|v| c.holds(v));
-    let holding: Vec<usize> = (0..choices.len())
-        .filter(|&i| holds(&choices[i].when))
-        .collect();
+    let holding = holding(choices, m);
     let when = choices[e].when;
     let interval = m.evidence().flip_interval;
     let flips = m.get(Measure::Flips).unwrap_or(0.0);
@@ -98,21 +319,20 @@ fn audit_choice(
 
     if !holding.contains(&e) {
         let shows = match m.get(when.measure) {
-            Some(_) => format!("{run} measures {}", said(when.measure, scene, m)),
+            Some(_) => format!("{name} measures {}", said(when.measure, run)),
             None => format!(
-                "{run} cannot measure {}{}",
-                when.measure.name(),
-                unmeasured(when.measure, scene, m)
+                "{name} cannot measure {}{}",
+                when.measure,
+                unmeasured(when.measure, run)
             ),
         };
         let fix = match (flipping, interval) {
             (true, Some(t)) => match count_where(&when, flips, true) {
                 Some(n) => format!(
-                    "make the run longer than {} ({} = {} {} each) or change the answer",
+                    "make the run longer than {} ({} = {} {unit} each) or change the answer",
                     periods(n),
                     formula_name(Measure::FlipPeriod),
                     sig(t, 3),
-                    scene.time_unit
                 ),
                 None => change_to(choices, &holding),
             },
@@ -127,9 +347,9 @@ fn audit_choice(
         return Some(Problem {
             target: Target::When(other),
             message: format!(
-                "choices `{expected}` and `{}` both hold in {run}, which measures {}: make the conditions exclusive",
+                "choices `{expected}` and `{}` both hold in {name}, which measures {}: make the conditions exclusive",
                 choices[other].id,
-                said(choices[other].when.measure, scene, m)
+                said(choices[other].when.measure, run)
             ),
         });
     }
@@ -146,13 +366,11 @@ fn audit_choice(
         return Some(Problem {
             target: Target::Expected,
             message: format!(
-                "expected `{expected}` holds only because {run} ends early: it measures {}, but the body flips every {} {} ({}), so a run of {} {} measures flips = {}: ask about what every run shows, or make the run longer and change the answer",
-                said(Measure::Flips, scene, m),
+                "expected `{expected}` holds only because {name} ends early: it measures {}, but the body flips every {} {unit} ({}), so a run of {} {unit} measures flips = {}: ask about what every run shows, or make the run longer and change the answer",
+                said(Measure::Flips, run),
                 sig(t, 3),
-                scene.time_unit,
                 formula_name(Measure::FlipPeriod),
                 sig(by * 1.01, 3),
-                scene.time_unit,
                 Num(n)
             ),
         });
@@ -188,8 +406,8 @@ fn change_to(choices: &[Choice], holding: &[usize]) -> String {
 }
 
 /// "this 3 s run".
-pub fn run_name(scene: &Scene) -> String {
-    format!("this {} {} run", Num(scene.duration), scene.time_unit)
+pub fn run_name(run: &Run) -> String {
+    format!("this {} {} run", Num(run.duration), run.time_unit)
 }
 
 /// The unit a measure is read in, for a scene in `time_unit`.
@@ -218,11 +436,13 @@ pub fn list_and(items: &[String]) -> String {
 }
 
 /// A measurement as the run gave it, with its evidence: "flips = 1 (at
-/// 1.08 s)", "efold_time = 0.173 s (formula 1/√k = 0.173 s)".
-fn said(measure: Measure, scene: &Scene, m: &Measurements) -> String {
-    let unit = &scene.time_unit;
+/// 1.08 s)", "efold_time = 0.173 s (formula 1/√k = 0.173 s)",
+/// "period(theta) = 2.04".
+fn said(measure: Measure, run: &Run) -> String {
+    let m = &run.measured;
+    let unit = &run.time_unit;
     let Some(r) = m.reading(measure) else {
-        return format!("no {}", measure.name());
+        return format!("no {measure}");
     };
     if measure == Measure::Flips {
         let times: Vec<String> = m.evidence().flip_times.iter().map(|&t| sig(t, 3)).collect();
@@ -238,17 +458,33 @@ fn said(measure: Measure, scene: &Scene, m: &Measurements) -> String {
         .formula
         .map(|f| format!(" (formula {} = {}{u})", formula_name(measure), sig(f, 3)))
         .unwrap_or_default();
-    format!("{} = {}{u}{formula}", measure.name(), sig(r.value, 3))
+    format!("{measure} = {}{u}{formula}", sig(r.value, 3))
+}
+
+/// The run's reason without the measure's name it starts with
+/// ("period(x): x crosses …" → "x crosses …").
+fn bare(why: &str, measure: Measure) -> String {
+    let head = format!("{measure}: ");
+    why.strip_prefix(head.as_str()).unwrap_or(why).to_string()
 }
 
 /// Why a run has no value for `measure`, and what would give it one.
-fn unmeasured(measure: Measure, scene: &Scene, m: &Measurements) -> String {
-    let unit = &scene.time_unit;
-    let interval = m.evidence().flip_interval;
+fn unmeasured(measure: Measure, run: &Run) -> String {
+    let unit = &run.time_unit;
+    let interval = run.measured.evidence().flip_interval;
+    if let Some(why) = run.why_missing(measure) {
+        let fix = match measure {
+            Measure::Of(Stat::Period, _) => {
+                "make the run longer (two upward crossings at least) or ask about another measure"
+            }
+            _ => "change the scene or the measure",
+        };
+        return format!(" ({}): {fix}", bare(why, measure));
+    }
     match (measure, interval) {
         (Measure::FlipPeriod, Some(t)) => format!(
             " (that takes two flips, and it measures {}): make the run longer than three flip periods ({} = {} {unit} each)",
-            said(Measure::Flips, scene, m),
+            said(Measure::Flips, run),
             formula_name(Measure::FlipPeriod),
             sig(t, 3)
         ),
@@ -270,65 +506,131 @@ fn unmeasured(measure: Measure, scene: &Scene, m: &Measurements) -> String {
 
 /// The simulation's verdict on every prompt of the loaded decks, as
 /// diagnostics at each prompt's `expected` value (or at the `when` of a
-/// choice that should not hold). Each scene runs once, with the exact
-/// solution.
+/// choice that should not hold). Each rigid scene runs once, with the exact
+/// solution; each system scene (with prompts or without) runs to its end
+/// with the method the app starts with, computing all it can compute, and
+/// once more [`LONGER`] times as long for its prompts: a run that stops
+/// early is an error at the expression or value to fix, and at each prompt
+/// on the scene.
 pub fn check_loaded(loaded: &Loaded) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     for deck in &loaded.decks {
         let source = loaded.sources.get(&deck.path).map_or("", String::as_str);
         let places = answer_places(&deck.path, source);
-        out.extend(check_deck(deck, &places));
+        let scenes = if deck.systems.is_empty() {
+            HashMap::new()
+        } else {
+            scene_places(&deck.path, source)
+        };
+        out.extend(check_deck(deck, &places, &scenes));
     }
     out
 }
 
-fn check_deck(deck: &Deck, places: &HashMap<String, AnswerPlaces>) -> Vec<Diagnostic> {
-    let mut measured: HashMap<&str, Result<Measurements, String>> = HashMap::new();
+/// A scene's run, or why it did not reach its end (and where to say so).
+enum Ran {
+    Done(Run),
+    Stopped { message: String, hint: String },
+}
+
+fn check_deck(
+    deck: &Deck,
+    places: &HashMap<String, AnswerPlaces>,
+    scenes: &HashMap<String, ScenePlaces>,
+) -> Vec<Diagnostic> {
     let mut out = Vec::new();
+    let diagnostic = |place: Option<Place>, message: String, hint: String| Diagnostic {
+        path: deck.path.clone(),
+        line: place.map_or(0, |p| p.line),
+        col: place.map_or(0, |p| p.col),
+        width: place.map_or(0, |p| p.width),
+        severity: Severity::Error,
+        message,
+        hint: Some(hint),
+    };
+    let mut ran: HashMap<&str, Ran> = HashMap::new();
+    for scene in &deck.scenes {
+        if !deck.prompts.iter().any(|p| p.scene == scene.id) {
+            continue;
+        }
+        let run = match measure_scene(scene, Method::Exact) {
+            Ok(m) => Ran::Done(Run::rigid(scene, m)),
+            Err(e) => Ran::Stopped {
+                message: e.to_string(),
+                hint: sim_hint(&scene.id),
+            },
+        };
+        ran.insert(scene.id.as_str(), run);
+    }
+    for scene in &deck.systems {
+        let measures = prompt_measures(deck, &scene.id);
+        let method = OdeMethod::default_for(OdeKind::Auto, scene.duration);
+        let run = match Run::system(scene, method, &measures) {
+            Ok(run) => Ran::Done(run),
+            Err(e) => {
+                let hint = format!(
+                    "`flipcard sim --scene {} --samples 20` shows the run up to there",
+                    scene.id
+                );
+                let at = scenes.get(&scene.id);
+                let place = at
+                    .and_then(|p| match &e {
+                        RunError::Domain { at: Some(src), .. } => match *src {
+                            Source::Equation(k) => p.equations.get(k).copied(),
+                            Source::Observable(k) => p.observables.get(k).copied(),
+                            Source::Mark(k) => p.marks.get(k).copied(),
+                        },
+                        RunError::Work { .. } => p.duration,
+                        _ => p.id,
+                    })
+                    .or_else(|| at.and_then(|p| p.id));
+                out.push(diagnostic(
+                    place,
+                    format!("scene `{}` does not run to its end: {e}", scene.id),
+                    hint.clone(),
+                ));
+                Ran::Stopped {
+                    message: e.to_string(),
+                    hint,
+                }
+            }
+        };
+        ran.insert(scene.id.as_str(), run);
+    }
     for prompt in &deck.prompts {
-        let Some(scene) = deck.scene(&prompt.scene) else {
+        let Some(run) = ran.get(prompt.scene.as_str()) else {
             continue;
         };
-        let m = measured
-            .entry(scene.id.as_str())
-            .or_insert_with(|| measure_scene(scene, Method::Exact).map_err(|e| e.to_string()));
-        let problem = match m {
-            Ok(m) => audit(prompt, scene, m),
-            Err(e) => Some(Problem {
-                target: Target::Expected,
-                message: format!(
-                    "the answer cannot be checked: scene `{}` does not run to its end ({e})",
-                    scene.id
-                ),
-            }),
+        let at = places.get(&prompt.id);
+        let (problem, hint) = match run {
+            Ran::Done(run) => (audit_run(prompt, run), sim_hint(&prompt.scene)),
+            Ran::Stopped { message, hint, .. } => (
+                Some(Problem {
+                    target: Target::Expected,
+                    message: format!(
+                        "the answer cannot be checked: scene `{}` does not run to its end ({message})",
+                        prompt.scene
+                    ),
+                }),
+                hint.clone(),
+            ),
         };
         let Some(problem) = problem else {
             continue;
         };
-        let at = places.get(&prompt.id);
         let place = match problem.target {
             Target::Expected => at.and_then(|p| p.expected),
             Target::When(i) => at.and_then(|p| p.when.get(i).copied().flatten()),
-        }
-        .unwrap_or(Place {
-            line: 0,
-            col: 0,
-            width: 0,
-        });
-        out.push(Diagnostic {
-            path: deck.path.clone(),
-            line: place.line,
-            col: place.col,
-            severity: Severity::Error,
-            message: problem.message,
-            hint: Some(format!(
-                "the simulation decides the answer; `flipcard sim --scene {}` shows every measurement",
-                scene.id
-            )),
-            width: place.width,
-        });
+        };
+        out.push(diagnostic(place, problem.message, hint));
     }
     out
+}
+
+fn sim_hint(scene: &str) -> String {
+    format!(
+        "the simulation decides the answer; `flipcard sim --scene {scene}` shows every measurement"
+    )
 }
 
 #[cfg(test)]
@@ -434,6 +736,114 @@ mod tests {
             "{problem:?}"
         );
         assert_eq!(judge(&p, &scene([0.1, 10.0, 0.1], 8.0)), None);
+    }
+
+    /// A system's run as the audit reads it: `values` measured over
+    /// `duration`, and the run 1.5× as long.
+    fn system_run(duration: f64, values: &[(Measure, f64)], longer: &[(Measure, f64)]) -> Run {
+        let made = |d: f64, v: &[(Measure, f64)]| Run {
+            duration: d,
+            time_unit: "s".into(),
+            measured: Measurements::from_readings(
+                v.iter()
+                    .map(|&(measure, value)| Reading {
+                        measure,
+                        value,
+                        formula: None,
+                    })
+                    .collect(),
+            )
+            .over(d),
+            missing: Vec::new(),
+            longer: None,
+        };
+        Run {
+            longer: Some(Box::new(made(duration * LONGER, longer))),
+            ..made(duration, values)
+        }
+    }
+
+    fn number_prompt(measure: Measure, expected: f64) -> Prompt {
+        Prompt {
+            answer: Answer::Number {
+                measure,
+                unit: "s".into(),
+                expected,
+                tolerance: crate::deck::Tolerance::Rel(0.02),
+                formula: None,
+            },
+            ..choice_prompt("x", &[])
+        }
+    }
+
+    #[test]
+    fn a_system_answer_that_changes_in_the_longer_run_holds_only_because_the_run_ends() {
+        let max_x = Measure::parse("max(x)").unwrap();
+        let p = Prompt {
+            answer: Answer::Choice {
+                expected: "bounded".into(),
+                choices: [("bounded", Cmp::Lt), ("grows", Cmp::Ge)]
+                    .map(|(id, op)| Choice {
+                        id: id.into(),
+                        label: text(id),
+                        when: Condition {
+                            measure: max_x,
+                            op,
+                            value: 6.0,
+                        },
+                    })
+                    .to_vec(),
+            },
+            ..choice_prompt("x", &[])
+        };
+        let problem = audit_run(&p, &system_run(10.0, &[(max_x, 3.98)], &[(max_x, 7.05)])).unwrap();
+        assert_eq!(problem.target, Target::Expected);
+        assert_eq!(
+            problem.message,
+            "expected `bounded` holds only because this 10 s run ends early: a run of 15 s measures max(x) = 7.05, where `bounded` does not hold: ask about what every run shows, or make the run longer and change the answer"
+        );
+        // The same in both runs: right.
+        assert_eq!(
+            audit_run(&p, &system_run(10.0, &[(max_x, 3.98)], &[(max_x, 4.1)])),
+            None
+        );
+
+        // A number: outside its tolerance in the longer run.
+        let fin = Measure::parse("final(x)").unwrap();
+        let p = number_prompt(fin, 2.0);
+        let problem = audit_run(&p, &system_run(4.0, &[(fin, 2.01)], &[(fin, 3.0)])).unwrap();
+        assert!(
+            problem.message.starts_with(
+                "expected final(x) = 2 s holds only because this 4 s run ends early: a run of 6 s measures 3"
+            ),
+            "{problem:?}"
+        );
+        assert_eq!(
+            audit_run(&p, &system_run(4.0, &[(fin, 2.01)], &[(fin, 1.99)])),
+            None
+        );
+        // Wrong on the run itself: said as such, not as the run's length.
+        let problem = audit_run(&p, &system_run(4.0, &[(fin, 5.0)], &[(fin, 5.0)])).unwrap();
+        assert_eq!(
+            problem.message,
+            "expected final(x) = 2 s, but this 4 s run measures 5 s: change `expected` to about 5 or widen `tolerance`"
+        );
+    }
+
+    #[test]
+    fn a_system_measure_the_run_cannot_make_says_why() {
+        let period = Measure::parse("period(theta)").unwrap();
+        let p = number_prompt(period, 4.894);
+        let mut run = system_run(6.0, &[], &[(period, 4.894)]);
+        run.missing.push((
+            period,
+            "period(theta): theta crosses the level halfway between its minimum and maximum upwards once over the run; a period needs two".into(),
+        ));
+        let problem = audit_run(&p, &run).unwrap();
+        assert_eq!(
+            problem.message,
+            "expected period(theta) = 4.894 s, but this 6 s run cannot measure period(theta) (theta crosses the level halfway between its minimum and maximum upwards once over the run; a period needs two): make the run longer (two upward crossings at least) or ask about another measure"
+        );
     }
 
     #[test]
