@@ -158,9 +158,36 @@ fn string_with(
             let start = s.span.start + at;
             rep.error(start..start + 1, format!("LaTeX: {}", e.message), None);
         }
+        if errors.is_empty() {
+            latex_warnings(rep, s, &token);
+        }
         return errors.is_empty();
     }
     true
+}
+
+/// Warnings for a text that renders, but not as written: LaTeX outside
+/// `$...$` (the learner sees `\mu`), and commands the terminal cannot draw.
+fn latex_warnings(rep: &mut FileReport, s: &Str, token: &str) {
+    for w in flipcard_text::warnings(&s.value) {
+        let (at, _) = tomlstr::locate(token, w.offset);
+        let start = s.span.start + at;
+        let name_len = s.value[w.offset + 1..]
+            .bytes()
+            .take_while(u8::is_ascii_alphabetic)
+            .count();
+        let hint = if w.message.contains("outside") {
+            let name = &s.value[w.offset..w.offset + 1 + name_len];
+            format!("put it in math: `${name}$`")
+        } else {
+            "write the formula without it (say in words what the brace or box marks), or split it in two formulas".to_string()
+        };
+        rep.warning(
+            start..start + 1 + name_len,
+            format!("LaTeX: {}", w.message),
+            Some(hint),
+        );
+    }
 }
 
 /// Reports control characters; false when there are any. A real line break
