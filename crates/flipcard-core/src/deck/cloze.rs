@@ -259,7 +259,10 @@ pub fn numbers(text: &str) -> BTreeSet<u16> {
 }
 
 /// A part of a shown cloze text: markup (with math) and whether it is the
-/// part asked about (the blank on the front, the answer on the back).
+/// part asked about (the blank on the front, the answer on the back). A
+/// formula holding the asked deletion comes already rendered, cut at the
+/// gap (its `$` escaped as `\$`), so rendering every segment as markup
+/// draws the gap inside the formula.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Segment {
     pub text: String,
@@ -414,7 +417,10 @@ impl Out {
         for c in s.chars() {
             match c {
                 GAP | START | END => {
-                    self.push(&escape(&run), asked);
+                    // The marks are atoms to the renderer, which spaces
+                    // them: the asked part is shown without that space.
+                    let part = if asked { run.trim() } else { run.as_str() };
+                    self.push(&escape(part), asked);
                     run.clear();
                     match c {
                         GAP => self.push(&escape(gaps.next().map_or("[…]", |g| g)), true),
@@ -555,6 +561,7 @@ fn shown(text: &str, number: u16, blank: bool) -> (Vec<Segment>, Vec<(usize, Str
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     fn joined(segs: &[Segment]) -> String {
         segs.iter()
@@ -694,6 +701,133 @@ mod tests {
             let e = parse(text).unwrap_err();
             assert_eq!(e.offset, offset, "{text}: {e:?}");
             assert!(e.message.contains(says), "{text}: {}", e.message);
+        }
+    }
+
+    /// One part of a generated cloze text: prose, a formula with
+    /// deletions inside it, or a deletion around prose.
+    #[derive(Debug, Clone)]
+    enum Part {
+        Prose(String),
+        /// LaTeX pieces, each either plain or a deletion (number, answer).
+        Formula(Vec<(String, Option<u16>)>),
+        Deletion(u16, String),
+    }
+
+    fn part() -> impl Strategy<Value = Part> {
+        let prose = "[a-z ,.ω]{1,12}".prop_map(Part::Prose);
+        let latex = prop::sample::select(vec![
+            "x", "I_2", r"\omega_3", " + ", "x^{2}", r"\frac{a}{b}", r"\,", "(I_2 - I_3)", "{{y}}",
+            "=", r"\sqrt{k}", "{c}",
+        ])
+        .prop_map(str::to_string);
+        let answer = prop::sample::select(vec!["a", r"\dot\omega", "(I_2 - I_3)", r"\frac{1}{2}", "{b}c"])
+            .prop_map(str::to_string);
+        let item = prop_oneof![
+            latex.clone().prop_map(|l| (l, None)),
+            (1u16..4, answer).prop_map(|(n, a)| (a, Some(n))),
+        ];
+        prop_oneof![
+            prose,
+            prop::collection::vec(item, 1..6).prop_map(Part::Formula),
+            (1u16..4, "[a-z]{1,6}").prop_map(|(n, a)| Part::Deletion(n, a)),
+        ]
+    }
+
+    /// The text, the text outside the markers, and the text revealed.
+    fn written(parts: &[Part]) -> (String, String, String) {
+        let (mut text, mut outside, mut shown) = (String::new(), String::new(), String::new());
+        for p in parts {
+            match p {
+                Part::Prose(s) => {
+                    for out in [&mut text, &mut outside, &mut shown] {
+                        out.push_str(s);
+                    }
+                }
+                Part::Deletion(n, a) => {
+                    text.push_str(&format!("{{{{c{n}::{a}}}}}"));
+                    shown.push_str(a);
+                }
+                Part::Formula(items) => {
+                    // `$x$$y$` would read `$$`: formulas are kept apart.
+                    let sep = if text.ends_with('$') { " $" } else { "$" };
+                    for out in [&mut text, &mut outside, &mut shown] {
+                        out.push_str(sep);
+                    }
+                    for (l, n) in items {
+                        match n {
+                            None => {
+                                for out in [&mut text, &mut outside, &mut shown] {
+                                    out.push_str(l);
+                                }
+                            }
+                            Some(n) => {
+                                text.push_str(&format!("{{{{c{n}::{l}}}}}"));
+                                shown.push_str(&format!("{{{l}}}"));
+                            }
+                        }
+                    }
+                    for out in [&mut text, &mut outside, &mut shown] {
+                        out.push('$');
+                    }
+                }
+            }
+        }
+        (text, outside, shown)
+    }
+
+    proptest! {
+        /// Deletions inside and outside math are all read, the text outside
+        /// the markers comes back unchanged, and every item's front and back
+        /// can be built.
+        #[test]
+        fn cloze_in_math_round_trips(parts in prop::collection::vec(part(), 0..8)) {
+            let (text, outside, shown) = written(&parts);
+            let pieces = parse(&text).map_err(|e| TestCaseError::fail(format!("{text}: {e:?}")))?;
+            let plain: String = pieces
+                .iter()
+                .filter_map(|p| match p {
+                    Piece::Text(t) => Some(*t),
+                    Piece::Deletion { .. } => None,
+                })
+                .collect();
+            prop_assert_eq!(plain, outside);
+            prop_assert_eq!(revealed(&text), shown);
+            let expected: BTreeSet<u16> = parts
+                .iter()
+                .flat_map(|p| match p {
+                    Part::Deletion(n, _) => vec![*n],
+                    Part::Formula(items) => items.iter().filter_map(|(_, n)| *n).collect(),
+                    Part::Prose(_) => vec![],
+                })
+                .collect();
+            prop_assert_eq!(numbers(&text), expected.clone());
+            prop_assert!(render_errors(&text).is_empty(), "{}: {:?}", text, render_errors(&text));
+            for n in expected {
+                let f = front(&text, n);
+                prop_assert!(f.iter().any(|s| s.asked), "{}: c{} {:?}", text, n, f);
+                let b = back(&text, n);
+                prop_assert!(b.iter().any(|s| s.asked), "{}: c{} {:?}", text, n, b);
+            }
+        }
+
+        /// Any text: parsing, the fronts and backs and the render check
+        /// never panic, and an error's offset is inside the text.
+        #[test]
+        fn any_text_is_read_or_refused(text in r"(\$|\{\{c1::|\{\{c|\}\}|\{|\}|::|\\|[a-z ]|\\frac|\{\{|c2|:|\$\$|é)*") {
+            match parse(&text) {
+                Ok(_) => {
+                    for e in render_errors(&text) {
+                        prop_assert!(e.offset <= text.len() && text.is_char_boundary(e.offset));
+                    }
+                    for n in numbers(&text) {
+                        let _ = front(&text, n);
+                        let _ = back(&text, n);
+                    }
+                }
+                Err(e) => prop_assert!(e.offset <= text.len() && text.is_char_boundary(e.offset), "{:?}", e),
+            }
+            let _ = revealed(&text);
         }
     }
 }
