@@ -14,6 +14,7 @@ mod check_cli;
 mod check_files;
 mod check_robustness;
 mod check_sim_agree;
+mod cloze_math_cli;
 mod class_report;
 mod cli_output;
 mod deck_library;

@@ -29,14 +29,29 @@ pub enum Kind {
     Math,
     /// A name, tag, unit or typed answer: plain characters only.
     Plain,
+    /// The text of a cloze card: math checked as for `Math` once its
+    /// markers read (a marker that does not is the cloze check's one error,
+    /// not a LaTeX error as well).
+    Cloze,
 }
 
 pub fn text(rep: &mut FileReport, raw: &RawText, langs: &Langs, what: &str) -> Option<Text> {
+    text_of(rep, raw, langs, what, Kind::Math)
+}
+
+/// [`text`] for strings of `kind`.
+pub fn text_of(
+    rep: &mut FileReport,
+    raw: &RawText,
+    langs: &Langs,
+    what: &str,
+    kind: Kind,
+) -> Option<Text> {
     let mut out = BTreeMap::new();
     let mut ok = true;
     match raw {
         RawText::Plain(s) => {
-            ok &= string(rep, s, Kind::Math, what);
+            ok &= string(rep, s, kind, what);
             if langs.known && langs.list.len() != 1 {
                 let example = langs
                     .list
@@ -73,7 +88,7 @@ pub fn text(rep: &mut FileReport, raw: &RawText, langs: &Langs, what: &str) -> O
                 ok &= string(
                     rep,
                     s,
-                    Kind::Math,
+                    kind,
                     &format!("the `{}` text of {what}", lang.value),
                 );
                 if langs.known && !langs.list.contains(&lang.value) {
@@ -151,7 +166,10 @@ fn string_with(
         // characters already say what is wrong.
         return false;
     }
-    if kind == Kind::Math {
+    if kind == Kind::Cloze && crate::deck::cloze::parse(&s.value).is_err() {
+        return true;
+    }
+    if kind != Kind::Plain {
         let errors = math_check(&s.value);
         for e in &errors {
             let (at, _) = tomlstr::locate(&token, e.offset);
