@@ -85,7 +85,7 @@ pub fn warnings(text: &str) -> Vec<MathError> {
                         found.push(MathError {
                             offset: offset + at,
                             message: format!(
-                                "LaTeX command `\\{name}` outside `$...$` is shown as written"
+                                "`\\{name}` outside `$...$` is shown as written, backslash and all"
                             ),
                         });
                     }

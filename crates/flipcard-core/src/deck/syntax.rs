@@ -67,6 +67,18 @@ pub fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Sp
     hints.extend(strings_out_of_step(rep, &outline, &mut found, text));
     hints.extend(text_outside_strings(rep, &outline, &mut found, text));
 
+    // A literal string ended at an apostrophe leaves the rest of its line
+    // to be read as TOML, with an error at nearly every word: one error.
+    let mut apostrophe_lines: Vec<usize> = Vec::new();
+    found.retain(|(span, _)| {
+        if apostrophe_hint(text, span.start).is_none() {
+            return true;
+        }
+        let line = rep.line_of(span.start);
+        let first = !apostrophe_lines.contains(&line);
+        apostrophe_lines.push(line);
+        first
+    });
     let extra = found.len().saturating_sub(MAX_SYNTAX_ERRORS);
     for (span, message) in found.iter().take(MAX_SYNTAX_ERRORS) {
         let escape = (message.contains("escape") || message.contains("unicode")).then(|| {
