@@ -8,7 +8,10 @@ const NOW: &str = "2026-05-10T12:00:00Z";
 
 #[test]
 fn every_deletion_inside_math_is_an_item() {
-    let case = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/decks/valid/cloze-in-math");
+    let case = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/decks/valid/cloze-in-math"
+    );
     let data = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
     let out = Flipcard::new(data.path())
         .now(NOW)

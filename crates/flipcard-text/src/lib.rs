@@ -371,7 +371,10 @@ mod tests {
         let errors = check(text);
         assert_eq!(errors.len(), 1, "{errors:?}");
         assert_eq!(errors[0].offset, text.find("$\\omega").unwrap());
-        assert!(errors[0].message.contains("most likely not closed"), "{errors:?}");
+        assert!(
+            errors[0].message.contains("most likely not closed"),
+            "{errors:?}"
+        );
         // A lone last `$` stays where it is.
         let errors = check("a $x$ then $y");
         assert_eq!(errors.len(), 1, "{errors:?}");

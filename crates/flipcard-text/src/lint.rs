@@ -262,7 +262,10 @@ mod tests {
         assert_eq!(likely_unclosed(text, 0), text.find(r"$\omega"));
         // A `$` missing before `\omega`: the closing one is alone.
         let text = r"Spin \omega_3$ is constant, as $L$ is.";
-        assert_eq!(likely_unclosed(text, 10), Some(10 + text.find('$').unwrap()));
+        assert_eq!(
+            likely_unclosed(text, 10),
+            Some(10 + text.find('$').unwrap())
+        );
         // When the last one is as likely as any, nothing better is known.
         assert_eq!(likely_unclosed(r"a $x$ and $y", 0), None);
         assert_eq!(likely_unclosed(r"a $x$ and $y$", 0), None);

@@ -391,9 +391,9 @@ impl Out {
             drawn => {
                 self.errors.push((
                     f.offset,
-                    drawn.err().unwrap_or_else(|| {
-                        "the renderer cannot keep the gap in place".to_string()
-                    }),
+                    drawn
+                        .err()
+                        .unwrap_or_else(|| "the renderer cannot keep the gap in place".to_string()),
                 ));
                 // Shown as written, the asked part still apart.
                 let raw: String = f
@@ -445,7 +445,11 @@ fn delimiters(s: &str) -> impl Iterator<Item = (usize, usize)> + '_ {
             match bytes[i] {
                 b'\\' => i += 2,
                 b'$' => {
-                    let len = if bytes.get(i + 1) == Some(&b'$') { 2 } else { 1 };
+                    let len = if bytes.get(i + 1) == Some(&b'$') {
+                        2
+                    } else {
+                        1
+                    };
                     i += len;
                     return Some((i - len, len));
                 }
@@ -548,11 +552,7 @@ fn shown(text: &str, number: u16, blank: bool) -> (Vec<Segment>, Vec<(usize, Str
     if let Some(f) = formula {
         out.formula(f, "");
     }
-    if out
-        .segs
-        .last()
-        .is_some_and(|s| !s.asked && s.text == "\n")
-    {
+    if out.segs.last().is_some_and(|s| !s.asked && s.text == "\n") {
         out.segs.pop();
     }
     (out.segs, out.errors)
@@ -644,17 +644,17 @@ mod tests {
             joined(&front(hinted, 2)),
             r"Euler: $\tau = {I\alpha}$ and <[…]>."
         );
-        assert_eq!(revealed(EULER), r"$I_1\dot\omega_1 = {(I_2 - I_3)}\,\omega_2\omega_3$");
+        assert_eq!(
+            revealed(EULER),
+            r"$I_1\dot\omega_1 = {(I_2 - I_3)}\,\omega_2\omega_3$"
+        );
         // A whole argument of a command, and braces of its own.
         let frac = r"$\omega = \frac{ {{c1::\sqrt{k}}} }{m}$";
         assert_eq!(joined(&front(frac, 1)), "ω = <[…]>/m");
         assert_eq!(joined(&back(frac, 1)), "ω = <√k>/m");
         assert!(render_errors(frac).is_empty());
         // A dollar in the rendered formula is not read as math again.
-        assert_eq!(
-            joined(&back(r"$\${{c1::x}}$", 1)),
-            r"\$<x>"
-        );
+        assert_eq!(joined(&back(r"$\${{c1::x}}$", 1)), r"\$<x>");
     }
 
     #[test]
@@ -717,12 +717,28 @@ mod tests {
     fn part() -> impl Strategy<Value = Part> {
         let prose = "[a-z ,.ω]{1,12}".prop_map(Part::Prose);
         let latex = prop::sample::select(vec![
-            "x", "I_2", r"\omega_3", " + ", "x^{2}", r"\frac{a}{b}", r"\,", "(I_2 - I_3)", "{{y}}",
-            "=", r"\sqrt{k}", "{c}",
+            "x",
+            "I_2",
+            r"\omega_3",
+            " + ",
+            "x^{2}",
+            r"\frac{a}{b}",
+            r"\,",
+            "(I_2 - I_3)",
+            "{{y}}",
+            "=",
+            r"\sqrt{k}",
+            "{c}",
         ])
         .prop_map(str::to_string);
-        let answer = prop::sample::select(vec!["a", r"\dot\omega", "(I_2 - I_3)", r"\frac{1}{2}", "{b}c"])
-            .prop_map(str::to_string);
+        let answer = prop::sample::select(vec![
+            "a",
+            r"\dot\omega",
+            "(I_2 - I_3)",
+            r"\frac{1}{2}",
+            "{b}c",
+        ])
+        .prop_map(str::to_string);
         let item = prop_oneof![
             latex.clone().prop_map(|l| (l, None)),
             (1u16..4, answer).prop_map(|(n, a)| (a, Some(n))),

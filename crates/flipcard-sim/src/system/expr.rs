@@ -637,7 +637,12 @@ mod tests {
             e.hint.as_deref(),
             Some("did you mean `sin`? (or multiply with *)")
         );
-        for (typo, meant) in [("cso", "cos"), ("sqr", "sqrt"), ("Exp", "exp"), ("sqtr", "sqrt")] {
+        for (typo, meant) in [
+            ("cso", "cos"),
+            ("sqr", "sqrt"),
+            ("Exp", "exp"),
+            ("sqtr", "sqrt"),
+        ] {
             assert_eq!(misspelt_function(typo), Some(meant), "{typo}");
         }
         // Names too far from any function, or too short to be one, are
