@@ -17,6 +17,7 @@ mod check_sim_agree;
 mod check_systems;
 mod class_report;
 mod cli_output;
+mod cloze_math_cli;
 mod deck_library;
 mod deck_mutations;
 mod deck_oscillations;

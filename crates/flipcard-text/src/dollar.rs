@@ -115,7 +115,7 @@ fn closing(text: &str, from: usize, display: bool) -> Option<(usize, usize)> {
 }
 
 /// Whether the line after the newline at `i` is blank (a paragraph break).
-fn is_blank_line_after(bytes: &[u8], i: usize) -> bool {
+pub(crate) fn is_blank_line_after(bytes: &[u8], i: usize) -> bool {
     bytes[i + 1..]
         .iter()
         .take_while(|&&b| b != b'\n')

@@ -9,6 +9,7 @@ mod count;
 mod dollar;
 mod glyphs;
 mod lang;
+mod lint;
 mod locate;
 pub mod markup;
 pub mod num;
@@ -21,6 +22,7 @@ mod seed_tests;
 
 pub use count::plural;
 pub use lang::{Lang, Text};
+pub use lint::{CANNOT_DRAW, warnings};
 
 use pulldown_latex::{Parser, Storage};
 
@@ -38,8 +40,67 @@ pub struct MathError {
 
 /// Every LaTeX problem in `text` (empty when it all renders): formulas that
 /// do not parse, at the place the parser points to (else at the formula's
-/// opening `$`), and `$` or `$$` that are never closed.
+/// opening `$`), and `$` or `$$` that are never closed. An unclosed `$` is
+/// reported where its partner is most likely missing (see
+/// `lint::likely_unclosed`), not at the last `$` of the paragraph; the
+/// formulas the wrong pairing made after it are not reported.
 pub fn check(text: &str) -> Vec<MathError> {
+    let mut errors = check_in_order(text);
+    let Some(last) = errors.last() else {
+        return errors;
+    };
+    if !last.message.starts_with("`$` is not closed") {
+        return errors;
+    }
+    let at = last.offset;
+    let start = paragraph_start(text, at);
+    let end = paragraph_end(text, at);
+    let Some(culprit) = lint::likely_unclosed(&text[start..end], start) else {
+        return errors;
+    };
+    errors.pop();
+    errors.retain(|e| e.offset < culprit);
+    errors.push(MathError {
+        offset: culprit,
+        message: "`$` is most likely not closed here: paired in order, the `$` after it make \
+                  formulas of prose and leave LaTeX outside them; end this formula with `$`, \
+                  or write a literal dollar as `\\$`"
+            .to_string(),
+    });
+    errors
+}
+
+/// The start of the paragraph (after the last blank line) holding `at`.
+fn paragraph_start(text: &str, at: usize) -> usize {
+    let bytes = text.as_bytes();
+    let mut line = text[..at].rfind('\n').map_or(0, |n| n + 1);
+    loop {
+        if line == 0 {
+            return 0;
+        }
+        let prev = text[..line - 1].rfind('\n').map_or(0, |n| n + 1);
+        if bytes[prev..line - 1].iter().all(u8::is_ascii_whitespace) {
+            return line;
+        }
+        line = prev;
+    }
+}
+
+/// The end of the paragraph (the newline before a blank line) holding `at`.
+fn paragraph_end(text: &str, at: usize) -> usize {
+    let mut i = at;
+    while let Some(n) = text[i..].find('\n') {
+        let newline = i + n;
+        if dollar::is_blank_line_after(text.as_bytes(), newline) {
+            return newline;
+        }
+        i = newline + 1;
+    }
+    text.len()
+}
+
+/// [`check`] with every `$` paired in order.
+fn check_in_order(text: &str) -> Vec<MathError> {
     let mut errors = Vec::new();
     let mut scratch = String::new();
     for piece in dollar::pieces(text) {
@@ -302,6 +363,22 @@ mod tests {
         assert_eq!(offsets, vec![1, 19, 45], "{errors:?}");
         assert!(errors[1].message.contains("unbalanced group"), "{errors:?}");
         assert!(errors[2].message.contains("not closed"), "{errors:?}");
+    }
+
+    #[test]
+    fn an_unclosed_dollar_is_reported_where_its_partner_is_missing() {
+        let text = "Intro.\n\nThe moment $I = mr^2$ holds, and the speed $\\omega is measured in radians per second while $L = I\\omega$ follows.\n\nMore $x$.";
+        let errors = check(text);
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        assert_eq!(errors[0].offset, text.find("$\\omega").unwrap());
+        assert!(
+            errors[0].message.contains("most likely not closed"),
+            "{errors:?}"
+        );
+        // A lone last `$` stays where it is.
+        let errors = check("a $x$ then $y");
+        assert_eq!(errors.len(), 1, "{errors:?}");
+        assert_eq!(errors[0].offset, 11);
     }
 
     #[test]

@@ -67,6 +67,18 @@ pub fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Sp
     hints.extend(strings_out_of_step(rep, &outline, &mut found, text));
     hints.extend(text_outside_strings(rep, &outline, &mut found, text));
 
+    // A literal string ended at an apostrophe leaves the rest of its line
+    // to be read as TOML, with an error at nearly every word: one error.
+    let mut apostrophe_lines: Vec<usize> = Vec::new();
+    found.retain(|(span, _)| {
+        if apostrophe_hint(text, span.start).is_none() {
+            return true;
+        }
+        let line = rep.line_of(span.start);
+        let first = !apostrophe_lines.contains(&line);
+        apostrophe_lines.push(line);
+        first
+    });
     let extra = found.len().saturating_sub(MAX_SYNTAX_ERRORS);
     for (span, message) in found.iter().take(MAX_SYNTAX_ERRORS) {
         let escape = (message.contains("escape") || message.contains("unicode")).then(|| {
@@ -77,7 +89,8 @@ pub fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Sp
             .iter()
             .find(|(at, _)| *at == span.start)
             .map(|(_, hint)| hint.clone())
-            .or(escape);
+            .or(escape)
+            .or_else(|| apostrophe_hint(text, span.start));
         rep.error(
             span.clone(),
             format!("TOML: {}", escape_list(message)),
@@ -93,6 +106,38 @@ pub fn parse<'s>(rep: &mut FileReport, text: &'s str) -> Option<(DeTable<'s>, Sp
         );
     }
     None
+}
+
+/// The hint for an error on a line where a literal string `'...'` ends
+/// early at an apostrophe (`'Euler's equation'`): the README's advice,
+/// with the word as written.
+fn apostrophe_hint(text: &str, at: usize) -> Option<String> {
+    let at = at.min(text.len());
+    let line_start = text[..at].rfind('\n').map_or(0, |n| n + 1);
+    let line_end = text[at..].find('\n').map_or(text.len(), |n| at + n);
+    let line = &text[line_start..line_end];
+    // A value opening a one-line literal string: `= '` but not `= '''`.
+    let open = line.find("= '").map(|e| e + 2)?;
+    if line[open..].starts_with("'''") {
+        return None;
+    }
+    let body = &line[open + 1..];
+    let close = body.find('\'')?;
+    let before = body[..close].chars().next_back()?;
+    let after = body[close + 1..].chars().next()?;
+    if !(before.is_alphanumeric() && after.is_alphanumeric()) {
+        return None;
+    }
+    let word_start = body[..close]
+        .rfind(|c: char| !c.is_alphanumeric())
+        .map_or(0, |i| i + 1);
+    let word_end = body[close + 1..]
+        .find(|c: char| !c.is_alphanumeric())
+        .map_or(body.len(), |i| close + 1 + i);
+    let word = &body[word_start..word_end];
+    Some(format!(
+        "a literal string '...' cannot hold `'`: it ends at the apostrophe of `{word}`; write the text in '''...''' (or in a basic string \"...\" when it has no backslash)"
+    ))
 }
 
 /// Every escape TOML allows in a basic string. The parser's own list
@@ -980,6 +1025,30 @@ mod tests {
             "{found:?}"
         );
         assert_eq!(found[1], (10, None));
+    }
+
+    #[test]
+    fn an_apostrophe_in_a_literal_string_gets_the_readme_hint() {
+        let text = "[[card]]\nid = \"euler\"\nfront.en = 'Euler's equation for $\\omega$?'\n";
+        let mut rep = FileReport::new(Path::new("x.toml"), text);
+        assert!(parse(&mut rep, text).is_none());
+        let found = rep.finish();
+        assert!(!found.is_empty());
+        assert_eq!(found[0].line, 3, "{found:?}");
+        let hint = found[0].hint.as_deref().unwrap_or("");
+        assert!(hint.contains("cannot hold `'`"), "{found:?}");
+        assert!(hint.contains("`Euler's`"), "{found:?}");
+        // A quote that is not an apostrophe inside a word gets no such hint.
+        let text = "a = 'x' y\n";
+        let mut rep = FileReport::new(Path::new("x.toml"), text);
+        assert!(parse(&mut rep, text).is_none());
+        let found = rep.finish();
+        assert!(
+            found
+                .iter()
+                .all(|d| !d.hint.as_deref().unwrap_or("").contains("apostrophe")),
+            "{found:?}"
+        );
     }
 
     #[test]

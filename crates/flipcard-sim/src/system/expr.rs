@@ -54,6 +54,23 @@ pub const MAX_NESTING: usize = 64;
 /// Most operations (numbers, names, operators, calls) in one expression.
 pub const MAX_NODES: usize = 10_000;
 
+/// The function `name` is most likely a misspelling of: the nearest by
+/// edit distance, at most one edit for names up to five characters and two
+/// beyond (a one- or two-letter name before `(` is a product, not a typo).
+pub fn misspelt_function(name: &str) -> Option<&'static str> {
+    let len = name.chars().count();
+    if len < 3 {
+        return None;
+    }
+    let limit = if len <= 5 { 1 } else { 2 };
+    FUNCTIONS
+        .iter()
+        .map(|(f, _)| (strsim::damerau_levenshtein(&name.to_lowercase(), f), *f))
+        .filter(|&(d, _)| d <= limit)
+        .min_by_key(|&(d, _)| d)
+        .map(|(_, f)| f)
+}
+
 /// The arity of a function name, if it is one.
 pub fn arity(name: &str) -> Option<usize> {
     FUNCTIONS.iter().find(|(f, _)| *f == name).map(|(_, n)| *n)
@@ -436,9 +453,13 @@ impl Parser<'_> {
                 self.pos += 1;
                 if let Some(Tok::Open) = self.peek() {
                     let Some(n) = arity(&name) else {
+                        let hint = match misspelt_function(&name) {
+                            Some(f) => format!("did you mean `{f}`? (or multiply with *)"),
+                            None => "multiply with *, e.g. x*(y + 1)".to_string(),
+                        };
                         return Err(Box::new(
                             ExprError::new(at, len, format!("`{name}` is not a function"))
-                                .hint("multiply with *, e.g. x*(y + 1)"),
+                                .hint(hint),
                         ));
                     };
                     self.enter()?;
@@ -604,6 +625,31 @@ mod tests {
         assert_eq!(err("  ").message, "the expression is empty");
         let e = err("theta(2)");
         assert_eq!(e.message, "`theta` is not a function");
+        assert!(e.hint.unwrap().contains("multiply with *"));
+    }
+
+    #[test]
+    fn a_misspelt_function_gets_the_function_it_was_meant_to_be() {
+        let e = err("-g/L*sinn(theta)");
+        assert_eq!((e.at, e.len), (5, 4));
+        assert_eq!(e.message, "`sinn` is not a function");
+        assert_eq!(
+            e.hint.as_deref(),
+            Some("did you mean `sin`? (or multiply with *)")
+        );
+        for (typo, meant) in [
+            ("cso", "cos"),
+            ("sqr", "sqrt"),
+            ("Exp", "exp"),
+            ("sqtr", "sqrt"),
+        ] {
+            assert_eq!(misspelt_function(typo), Some(meant), "{typo}");
+        }
+        // Names too far from any function, or too short to be one, are
+        // products: `k(x + 1)`, `omega(t)`.
+        for name in ["k", "om", "omega", "theta", "mass"] {
+            assert_eq!(misspelt_function(name), None, "{name}");
+        }
     }
 
     #[test]

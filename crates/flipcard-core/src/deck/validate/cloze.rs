@@ -1,5 +1,6 @@
 //! The deletions of a cloze card: well formed in every language, the same
-//! numbers in each, at least one.
+//! numbers in each, at least one, and every formula holding one drawable
+//! with its gap and with its answer.
 
 use std::collections::BTreeSet;
 
@@ -26,6 +27,14 @@ pub fn deletions(rep: &mut FileReport, raw: &RawText, what: &str) -> bool {
                 rep.error(start..start + 2, format!("{what}: {}", e.message), e.hint);
             }
             Ok(_) => {
+                // A deletion inside math: the formula must draw with its
+                // gap and with its answer.
+                for e in cloze::render_errors(&s.value) {
+                    ok = false;
+                    let (at, _) = tomlstr::locate(&token, e.offset);
+                    let start = s.span.start + at;
+                    rep.error(start..start + 1, format!("{what}: {}", e.message), e.hint);
+                }
                 let numbers = cloze::numbers(&s.value);
                 if numbers.is_empty() {
                     ok = false;

@@ -516,7 +516,13 @@ fn card(
     }
     let front = if kind == Some(CardKind::Cloze) {
         raw.text.as_ref().and_then(|t| {
-            let text = text::text(rep, t, langs, &format!("the text of {what}"));
+            let text = text::text_of(
+                rep,
+                t,
+                langs,
+                &format!("the text of {what}"),
+                text::Kind::Cloze,
+            );
             let deletions = cloze::deletions(rep, t, &what);
             text.filter(|_| deletions)
         })

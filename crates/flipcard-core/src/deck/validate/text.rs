@@ -29,14 +29,29 @@ pub enum Kind {
     Math,
     /// A name, tag, unit or typed answer: plain characters only.
     Plain,
+    /// The text of a cloze card: math checked as for `Math` once its
+    /// markers read (a marker that does not is the cloze check's one error,
+    /// not a LaTeX error as well).
+    Cloze,
 }
 
 pub fn text(rep: &mut FileReport, raw: &RawText, langs: &Langs, what: &str) -> Option<Text> {
+    text_of(rep, raw, langs, what, Kind::Math)
+}
+
+/// [`text`] for strings of `kind`.
+pub fn text_of(
+    rep: &mut FileReport,
+    raw: &RawText,
+    langs: &Langs,
+    what: &str,
+    kind: Kind,
+) -> Option<Text> {
     let mut out = BTreeMap::new();
     let mut ok = true;
     match raw {
         RawText::Plain(s) => {
-            ok &= string(rep, s, Kind::Math, what);
+            ok &= string(rep, s, kind, what);
             if langs.known && langs.list.len() != 1 {
                 let example = langs
                     .list
@@ -73,7 +88,7 @@ pub fn text(rep: &mut FileReport, raw: &RawText, langs: &Langs, what: &str) -> O
                 ok &= string(
                     rep,
                     s,
-                    Kind::Math,
+                    kind,
                     &format!("the `{}` text of {what}", lang.value),
                 );
                 if langs.known && !langs.list.contains(&lang.value) {
@@ -151,16 +166,46 @@ fn string_with(
         // characters already say what is wrong.
         return false;
     }
-    if kind == Kind::Math {
+    if kind == Kind::Cloze && crate::deck::cloze::parse(&s.value).is_err() {
+        return true;
+    }
+    if kind != Kind::Plain {
         let errors = math_check(&s.value);
         for e in &errors {
             let (at, _) = tomlstr::locate(&token, e.offset);
             let start = s.span.start + at;
             rep.error(start..start + 1, format!("LaTeX: {}", e.message), None);
         }
+        if errors.is_empty() {
+            latex_warnings(rep, s, &token);
+        }
         return errors.is_empty();
     }
     true
+}
+
+/// Warnings for a text that renders, but not as written: LaTeX outside
+/// `$...$` (the learner sees `\mu`), and commands the terminal cannot draw.
+fn latex_warnings(rep: &mut FileReport, s: &Str, token: &str) {
+    for w in flipcard_text::warnings(&s.value) {
+        let (at, _) = tomlstr::locate(token, w.offset);
+        let start = s.span.start + at;
+        let name_len = s.value[w.offset + 1..]
+            .bytes()
+            .take_while(u8::is_ascii_alphabetic)
+            .count();
+        let hint = if w.message.contains("outside") {
+            let name = &s.value[w.offset..w.offset + 1 + name_len];
+            format!("put it in math: `${name}$`")
+        } else {
+            "write the formula without it (say in words what the brace or box marks), or split it in two formulas".to_string()
+        };
+        rep.warning(
+            start..start + 1 + name_len,
+            format!("LaTeX: {}", w.message),
+            Some(hint),
+        );
+    }
 }
 
 /// Reports control characters; false when there are any. A real line break
