@@ -963,29 +963,5 @@ pub fn measure_system(
     Ok(measures.iter().map(|&m| run.measure(m)).collect())
 }
 
-/// The run `flipcard check` makes of a scene: with `method`, computing
-/// every observable and the sketch (all that any other run of the scene
-/// computes) and the measures of its prompts, to the end. A scene that
-/// passes runs everywhere: in `sim`, and in the app with any plan.
-pub fn check_run(
-    scene: &SystemScene,
-    method: OdeMethod,
-    measures: &[Measure],
-) -> Result<(), RunError> {
-    let plan = SystemPlan {
-        reference: false,
-        sketch: !scene.sketch.is_empty(),
-        observables: vec![true; scene.observables.len()],
-        ..SystemPlan::for_scene(scene, method, measures)
-    };
-    let mut run =
-        SystemRun::with_plan(scene, method, plan).map_err(|message| RunError::Domain {
-            t: 0.0,
-            message,
-            at: None,
-        })?;
-    run.run_to_end()
-}
-
 #[cfg(test)]
 mod tests;
