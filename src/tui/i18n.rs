@@ -676,6 +676,26 @@ pub mod sim_words {
     pub const WRONG: Words = Words("Wrong", "Galat");
     /// `{d}`: the run's length with its unit.
     pub const IN_THIS_RUN: Words = Words("in this {d} run", "is {d} ke run mein");
+    /// `{m}`: the reference run's method (the scene's default).
+    pub const VERDICT_OF_REFERENCE: Words = Words(
+        "This verdict describes the reference run ({m}), not the run on screen.",
+        "Yeh verdict reference run ({m}) ka hai, screen wale run ka nahi.",
+    );
+    /// `{m}`: the method of the run on screen.
+    pub const ON_SCREEN_AGREES: Words = Words(
+        "With {m} the run on screen shows the same.",
+        "{m} ke saath screen wala run bhi yahi dikhata hai.",
+    );
+    /// `{m}`: the method of the run on screen; `{said}`: its readings.
+    pub const ON_SCREEN_DIFFERS: Words = Words(
+        "With {m} the run on screen shows {said}; the reference run shows {ref}: the method, not the physics, made the difference.",
+        "{m} ke saath screen wala run {said} dikhata hai; reference run {ref} dikhata hai: fark method ka hai, physics ka nahi.",
+    );
+    /// `{m}`: the method of the run on screen; `{e}`: why it stopped.
+    pub const ON_SCREEN_STOPPED: Words = Words(
+        "With {m} the run on screen stopped ({e}); the reference run reached its end.",
+        "{m} ke saath screen wala run ruk gaya ({e}); reference run apne end tak chala.",
+    );
     pub const FLIPPED_NONE: Words = Words("did not flip", "ek baar bhi nahi palta");
     pub const FLIPPED_ONCE: Words = Words("flipped once: at {times}", "ek baar palta: {times} par");
     pub const FLIPPED_MANY: Words = Words(

@@ -324,3 +324,95 @@ fn a_scene_that_leaves_its_domain_gives_no_verdict_and_records_nothing() {
         .unwrap();
     assert_eq!(stats.prompts.overall.total, 0);
 }
+
+/// x'' = −x for 100 s, energy ½(x² + v²) = 0.5 throughout: RK4 at a step of
+/// one second loses most of it, the reference run none.
+fn spring() -> SystemScene {
+    SystemScene {
+        id: "spring".into(),
+        title: Some(text("Spring", "Spring")),
+        variables: vec!["x".into(), "v".into()],
+        initial: vec![1.0, 0.0],
+        params: vec![],
+        equations: vec!["v".into(), "-x".into()],
+        observables: vec![("energy".into(), "0.5*(x^2 + v^2)".into())],
+        conserved: vec!["energy".into()],
+        duration: 100.0,
+        show: vec![SystemPanel::Plot],
+        plot: vec!["energy".into()],
+        phase: None,
+        sketch: vec![],
+        time_unit: "s".into(),
+    }
+}
+
+fn verdict_text(app: &mut TestApp) -> String {
+    for _ in 0..2000 {
+        if !app.animating() {
+            break;
+        }
+        tick(app, 100);
+    }
+    assert!(!app.animating(), "the run ends");
+    // One paragraph, whatever the wrapping.
+    render(app)
+        .lines()
+        .map(|l| l.trim_matches('"').trim())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+#[test]
+fn the_verdict_says_which_run_it_describes_when_the_learner_changed_the_method() {
+    let min_energy = Measure::Of(Stat::Min, Name::new("energy").unwrap());
+    // The reference run's method: nothing more is said.
+    let mut app = app_on(spring(), min_energy, 0.45);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    let screen = verdict_text(&mut app);
+    assert!(screen.contains("Right"), "{screen}");
+    assert!(!screen.contains("reference run"), "{screen}");
+
+    // RK4 at a coarse step: the run on screen loses its energy and would
+    // say "below"; the verdict is the reference run's, and says so.
+    let mut app = app_on(spring(), min_energy, 0.45);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    for _ in 0..3 {
+        press(&mut app, KeyCode::Char('m'));
+    }
+    assert_eq!(running(&app).method().kind.name(), "rk4");
+    for _ in 0..20 {
+        if running(&app).method().setting >= 1.0 {
+            break;
+        }
+        press(&mut app, KeyCode::Char(']'));
+    }
+    let dt = running(&app).method().setting;
+    assert!(dt >= 0.5, "a coarse step: {dt}");
+    let label = running(&app).method().label();
+    let screen = verdict_text(&mut app);
+    assert!(screen.contains("Right"), "the physics decides: {screen}");
+    // The evidence is the reference run's, over the whole scene.
+    assert!(screen.contains("in this 100 s run"), "{screen}");
+    assert!(
+        screen.contains("This verdict describes the reference run (auto"),
+        "{screen}"
+    );
+    assert!(
+        screen.contains(&format!("With {label} the run on screen shows")),
+        "{screen}"
+    );
+    assert!(screen.contains("the method, not the physics"), "{screen}");
+
+    // RK4 at its own default step agrees with the reference: said as such.
+    let mut app = app_on(spring(), min_energy, 0.45);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    for _ in 0..3 {
+        press(&mut app, KeyCode::Char('m'));
+    }
+    let label = running(&app).method().label();
+    let screen = verdict_text(&mut app);
+    assert!(
+        screen.contains(&format!("With {label} the run on screen shows the same")),
+        "{screen}"
+    );
+}

@@ -163,6 +163,9 @@ fn judge(
         let scene = scene.clone();
         Measuring::start(move || {
             let values = measure_system(&scene, default_method(&scene), &ms)?;
+            // The reference run reaches the scene's end (else it is an
+            // error): its evidence covers the whole duration.
+            let elapsed = scene.duration;
             Ok(Measurements::from_readings(
                 ms.iter()
                     .zip(values)
@@ -174,7 +177,8 @@ fn judge(
                         })
                     })
                     .collect(),
-            ))
+            )
+            .over(elapsed))
         })
     });
 }
@@ -215,14 +219,38 @@ pub fn draw(
     // The same banner, prediction and evidence as a rigid body's verdict.
     let verdict_lines = verdict
         .map(|v| {
-            super::verdict::lines(
-                app,
-                prompt,
-                &run.scene().time_unit,
-                prediction,
-                v,
-                area.width as usize,
-            )
+            let unit = &run.scene().time_unit;
+            let width = area.width as usize;
+            let mut lines = super::verdict::lines(app, prompt, unit, prediction, v, width);
+            // Another method (or step) than the reference: the verdict is
+            // the reference run's; say what the run on screen showed.
+            let reference = default_method(run.scene());
+            if run.method() != reference {
+                // A run on screen that has not reached its end (Esc asked
+                // for the verdict) has nothing whole to compare.
+                let mine = match run.error() {
+                    Some(e) => Some(Err(e)),
+                    None if run.finished() => Some(Ok(crate::predict::verdict(
+                        prompt,
+                        &run.run().measurements(&measures(prompt)),
+                        prediction,
+                    ))),
+                    None => None,
+                };
+                let shown = mine.as_ref().map(|m| match m {
+                    Ok(m) => Ok(m),
+                    Err(e) => Err(e.as_str()),
+                });
+                lines.extend(super::verdict::run_on_screen(
+                    app,
+                    prompt,
+                    unit,
+                    (v, &reference.label()),
+                    (shown, &run.method().label()),
+                    width,
+                ));
+            }
+            lines
         })
         .unwrap_or_default();
     let verdict_h = (verdict_lines.len() as u16).min(area.height.saturating_sub(6));

@@ -40,6 +40,66 @@ pub fn evidence(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String 
         lang,
         &[("{d}", &format!("{} {unit}", Num(v.evidence.elapsed)))],
     );
+    format!("{run}: {}", readings(lang, unit, v, answer))
+}
+
+/// What the learner's own run on screen showed, when the verdict came from
+/// the reference run because the learner played another method (or step):
+/// said plainly, so a run that flies apart on screen is never mistaken for
+/// the physics. `on_screen` is the verdict on the run on screen, or why
+/// that run stopped (`None`: it has not reached its end).
+pub fn run_on_screen(
+    app: &App,
+    prompt: &Prompt,
+    unit: &str,
+    reference: (&Verdict, &str),
+    on_screen: (Option<Result<&Verdict, &str>>, &str),
+    width: usize,
+) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let (v, ref_method) = reference;
+    let (shown, method) = on_screen;
+    let mut said = vec![fill(w::VERDICT_OF_REFERENCE, lang, &[("{m}", ref_method)])];
+    let Some(shown) = shown else {
+        return wrap(
+            &[Run::new(said.join(" "), t.dim())],
+            width.saturating_sub(1),
+            Run::new(" ", t.dim()),
+            Run::new("   ", t.dim()),
+        );
+    };
+    said.push(match shown {
+        Err(why) => fill(w::ON_SCREEN_STOPPED, lang, &[("{m}", method), ("{e}", why)]),
+        Ok(mine) => {
+            let ours = readings(lang, unit, mine, &prompt.answer);
+            let theirs = readings(lang, unit, v, &prompt.answer);
+            if ours == theirs && mine.correct == v.correct {
+                fill(w::ON_SCREEN_AGREES, lang, &[("{m}", method)])
+            } else {
+                fill(
+                    w::ON_SCREEN_DIFFERS,
+                    lang,
+                    &[("{m}", method), ("{said}", &ours), ("{ref}", &theirs)],
+                )
+            }
+        }
+    });
+    let style = if matches!(shown, Ok(mine) if mine.correct == v.correct) {
+        t.dim()
+    } else {
+        t.bad()
+    };
+    wrap(
+        &[Run::new(said.join(" "), style)],
+        width.saturating_sub(1),
+        Run::new(" ", style),
+        Run::new("   ", style),
+    )
+}
+
+/// The readings a verdict rests on, joined ("period(x) = 4.894 s; …").
+fn readings(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String {
     let mut said: Vec<String> = v
         .readings
         .iter()
@@ -58,7 +118,7 @@ pub fn evidence(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String 
             ));
         }
     }
-    format!("{run}: {}", said.join("; "))
+    said.join("; ")
 }
 
 fn reading(lang: &str, unit: &str, v: &Verdict, r: &Reading) -> String {
