@@ -666,3 +666,34 @@ fn the_ask_phase_keeps_answers_and_hint_at_40x12() {
         }
     }
 }
+
+/// Played with another method than the exact solution, the verdict says it
+/// is the exact run's and what the run on screen showed; with the exact
+/// solution nothing more is said.
+#[test]
+fn the_verdict_names_the_exact_run_when_the_learner_played_another_method() {
+    let mut app = open(ENGLISH, 0);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    play_to_the_end(&mut app);
+    let exact = flat(&render(&app));
+    assert!(!exact.contains("reference run"), "{exact}");
+
+    let mut app = open(ENGLISH, 0);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    press(&mut app, KeyCode::Char('m'));
+    let label = match &predict(&app).phase {
+        Phase::Play { run, .. } => run.method().label(),
+        _ => panic!("not running"),
+    };
+    assert!(label.starts_with("adaptive"), "{label}");
+    play_to_the_end(&mut app);
+    let screen = flat(&render(&app));
+    assert!(
+        screen.contains("This verdict describes the reference run (exact), not the run on screen."),
+        "{screen}"
+    );
+    assert!(
+        screen.contains(&format!("With {label} the run on screen shows the same.")),
+        "{screen}"
+    );
+}

@@ -7,6 +7,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use crate::deck::{Answer, Measure, Panel, Prompt};
+use crate::sim::Method;
 use crate::text::num::Num;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, sim_words as w};
@@ -150,7 +151,36 @@ fn draw_play(
     let width = area.width as usize;
     let diag = u16::from(run.scene().shows(Panel::Diagnostics));
     let verdict_lines = verdict
-        .map(|v| super::verdict::lines(app, prompt, &run.scene().time_unit, prediction, v, width))
+        .map(|v| {
+            let unit = &run.scene().time_unit;
+            let mut lines = super::verdict::lines(app, prompt, unit, prediction, v, width);
+            // Another method than the exact solution: the verdict is the
+            // exact run's; say what the run on screen showed.
+            if run.method() != Method::Exact {
+                let mine = match run.error() {
+                    Some(e) => Some(Err(e)),
+                    None if run.finished() => Some(Ok(crate::predict::verdict(
+                        prompt,
+                        &run.measurements(),
+                        prediction,
+                    ))),
+                    None => None,
+                };
+                let shown = mine.as_ref().map(|m| match m {
+                    Ok(m) => Ok(m),
+                    Err(e) => Err(e.as_str()),
+                });
+                lines.extend(super::verdict::run_on_screen(
+                    app,
+                    prompt,
+                    unit,
+                    (v, &Method::Exact.label()),
+                    (shown, &run.method().label()),
+                    width,
+                ));
+            }
+            lines
+        })
         .unwrap_or_default();
     let question = question_lines(app, prompt, width.saturating_sub(1).max(1));
     // Who gives way when rows are short: the panels first, then the
