@@ -826,7 +826,7 @@ mod tests {
         let problem = audit_run(&p, &system_run(4.0, &[(fin, 5.0)], &[(fin, 5.0)])).unwrap();
         assert_eq!(
             problem.message,
-            "expected final(x) = 2 s, but this 4 s run measures 5 s: change `expected` to about 5 or widen `tolerance`"
+            "expected final(x) = 2 s, but this 4 s run measures 5.000 s: change `expected` to about 5.000 or widen `tolerance`"
         );
     }
 
