@@ -584,14 +584,20 @@ fn the_prompt_list_marks_the_last_attempt() {
     let mut app = open(ENGLISH, 0);
     press(&mut app, KeyCode::Esc);
     let list = render(&app);
-    assert!(list.contains(" 1. · A racket spins about its middle axis"), "{list}");
+    assert!(
+        list.contains(" 1. · A racket spins about its middle axis"),
+        "{list}"
+    );
     press(&mut app, KeyCode::Enter);
     press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
     play_to_the_end(&mut app);
     press(&mut app, KeyCode::Esc);
     let list = render(&app);
     assert!(list.contains(" 1. ✗ A racket spins"), "{list}");
-    assert!(list.contains(" 2. · How fast does the wobble grow"), "{list}");
+    assert!(
+        list.contains(" 2. · How fast does the wobble grow"),
+        "{list}"
+    );
     press(&mut app, KeyCode::Enter);
     press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
     play_to_the_end(&mut app);
