@@ -99,11 +99,13 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
         .unwrap_or_default();
     let room = usize::from(list_area.width).saturating_sub(2 + 4 + 2);
     let items = deck.prompts.iter().enumerate().map(|(i, p)| {
-        let title = deck
-            .scene(&p.scene)
-            .and_then(|s| s.title.as_ref())
-            .map(|title| crate::text::render(title.get(&app.lang)))
-            .unwrap_or_else(|| p.id.clone());
+        // The question's first line names the prompt (its id is for authors).
+        let question = crate::text::render(p.question.get(&app.lang));
+        let title = question
+            .lines()
+            .map(str::trim)
+            .find(|l| !l.is_empty())
+            .map_or_else(|| p.id.clone(), str::to_string);
         let (mark, style) = match last.get(&p.id) {
             Some(true) => ("✓ ", t.good()),
             Some(false) => ("✗ ", t.bad()),

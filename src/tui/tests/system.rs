@@ -416,3 +416,40 @@ fn the_verdict_says_which_run_it_describes_when_the_learner_changed_the_method()
         "{screen}"
     );
 }
+
+#[test]
+fn a_long_question_wraps_above_the_running_scene_and_the_list_names_prompts_by_it() {
+    let mut app = app(ENGLISH);
+    // The list names each prompt by its question, not its id.
+    press(&mut app, KeyCode::Esc);
+    let list = render(&app);
+    assert!(
+        list.contains("Released at 170°, is the period"),
+        "the list shows the question:\n{list}"
+    );
+    assert!(!list.contains("pendulum-period"), "not the id:\n{list}");
+    press(&mut app, KeyCode::Enter);
+    // Narrow enough that the question needs two lines.
+    app.size = (48, 30);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    assert!(app.animating());
+    let screen = render(&app);
+    // The backend quotes each row.
+    let words: Vec<&str> = screen
+        .split(|c: char| c.is_whitespace() || c == '"')
+        .collect();
+    for word in [
+        "Released",
+        "170°,",
+        "period",
+        "longer",
+        "twice",
+        "small-swing",
+        "one?",
+    ] {
+        assert!(
+            words.contains(&word),
+            "`{word}` is shown whole above the run:\n{screen}"
+        );
+    }
+}

@@ -21,6 +21,9 @@ use crate::tui::system_plots;
 use super::{Judging, Measuring, Nav, Phase, PredictState, Prediction, Verdict};
 use crate::sim::scene::measure::{Measurements, Reading};
 
+/// Rows the question may take above a running scene.
+const QUESTION_ROWS: usize = 3;
+
 /// The measures a prompt's verdict needs.
 pub fn measures(prompt: &Prompt) -> Vec<Measure> {
     let mut out: Vec<Measure> = match &prompt.answer {
@@ -255,8 +258,22 @@ pub fn draw(
         .unwrap_or_default();
     let verdict_h = (verdict_lines.len() as u16).min(area.height.saturating_sub(6));
     let hints_h = u16::from(verdict.is_none());
+    // The question wraps (up to three lines, the last cut with "…") above
+    // the prediction, so a long one is never cut mid-word.
+    let q = crate::text::render(prompt.question.get(&app.lang));
+    let width = usize::from(area.width).max(1);
+    let mut question = crate::tui::wrap::wrap_plain(&q, t.strong(), width);
+    if question.len() > QUESTION_ROWS {
+        question.truncate(QUESTION_ROWS);
+        if let Some(last) = question.pop() {
+            let text: String = last.spans.iter().map(|s| s.content.as_ref()).collect();
+            let cut = crate::tui::wrap::ellipsize(&format!("{text} …"), width);
+            question.push(Line::styled(cut, t.strong()));
+        }
+    }
+    let top_h = question.len().max(1) as u16 + 1;
     let [top, panels, status, diag_area, hints, verdict_area] = Layout::vertical([
-        Constraint::Length(2),
+        Constraint::Length(top_h),
         Constraint::Fill(1),
         Constraint::Length(1),
         Constraint::Length(u16::from(diag)),
@@ -264,20 +281,14 @@ pub fn draw(
         Constraint::Length(verdict_h),
     ])
     .areas(area);
-    let q = crate::text::render(prompt.question.get(&app.lang));
-    frame.render_widget(
-        Paragraph::new(vec![
-            Line::styled(q, t.strong()),
-            Line::from(vec![
-                Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
-                Span::styled(
-                    super::verdict::prediction_text(app, prompt, prediction),
-                    t.heading(),
-                ),
-            ]),
-        ]),
-        top,
-    );
+    question.push(Line::from(vec![
+        Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
+        Span::styled(
+            super::verdict::prediction_text(app, prompt, prediction),
+            t.heading(),
+        ),
+    ]));
+    frame.render_widget(Paragraph::new(question), top);
     let sys = run.run();
     for (panel, rect) in panel_areas(panels, &run.scene().show) {
         match panel {
