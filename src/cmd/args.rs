@@ -35,7 +35,8 @@ pub enum Command {
     Review(ReviewArgs),
     /// Validate decks and their explanation texts; report every problem.
     Check(CheckArgs),
-    /// Run the rigid-body simulator headless.
+    /// Run the simulator headless: a rigid body from its inertia and spin, or
+    /// any deck scene (`--scene`), a rigid body or an ODE system.
     Sim(SimArgs),
     /// Work–precision sweep of every solver: error against run time.
     Bench(BenchArgs),
