@@ -18,6 +18,7 @@ use crate::cmd::args::{Cli, ReportArgs};
 use crate::interop::class::{self, ClassReport, Export};
 use crate::text::num::rounded;
 pub use crate::text::plural;
+use crate::tui::wrap::ellipsize;
 
 /// The report and what went into it.
 pub struct Input {
@@ -188,26 +189,6 @@ pub fn headline(input: &Input) -> String {
     s
 }
 
-/// `text` cut to `width` columns, with `…` where it was cut.
-pub fn cut(text: &str, width: usize) -> String {
-    use unicode_width::{UnicodeWidthChar, UnicodeWidthStr};
-    if text.width() <= width {
-        return text.to_string();
-    }
-    let mut out = String::new();
-    let mut used = 0;
-    for c in text.chars() {
-        let w = c.width().unwrap_or(0);
-        if used + w + 1 > width {
-            break;
-        }
-        used += w;
-        out.push(c);
-    }
-    out.push('…');
-    out
-}
-
 /// A prompt's retries in words: `3 by 2 learners, 67% right`.
 pub fn retries(p: &class::PromptRow) -> String {
     let r = &p.retries;
@@ -257,7 +238,9 @@ fn terminal(input: &Input) -> String {
             percent(c.lapsed, c.learners),
             c.mean_difficulty
                 .map_or_else(|| "–".to_string(), |d| rounded(d, 3)),
-            c.text.as_deref().map_or_else(String::new, |t| cut(t, 60)),
+            c.text
+                .as_deref()
+                .map_or_else(String::new, |t| ellipsize(t, 60)),
         ]);
     }
     out.push_str(&columns(&rows));
@@ -298,7 +281,7 @@ fn terminal(input: &Input) -> String {
         out.push_str(&format!(
             "\n{}: {}\n",
             p.prompt,
-            cut(text.unwrap_or(""), 100)
+            ellipsize(text.unwrap_or(""), 100)
         ));
         if let Some(a) = answer {
             out.push_str(&format!("  {a}\n"));

@@ -157,18 +157,8 @@ fn draw_play(
             // Another method than the exact solution: the verdict is the
             // exact run's; say what the run on screen showed.
             if run.method() != Method::Exact {
-                let mine = match run.error() {
-                    Some(e) => Some(Err(e)),
-                    None if run.finished() => Some(Ok(crate::predict::verdict(
-                        prompt,
-                        &run.measurements(),
-                        prediction,
-                    ))),
-                    None => None,
-                };
-                let shown = mine.as_ref().map(|m| match m {
-                    Ok(m) => Ok(m),
-                    Err(e) => Err(e.as_str()),
+                let shown = super::verdict::on_screen(run.error(), run.finished(), || {
+                    crate::predict::verdict(prompt, &run.measurements(), prediction)
                 });
                 lines.extend(super::verdict::run_on_screen(
                     app,

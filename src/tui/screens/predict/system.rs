@@ -229,20 +229,12 @@ pub fn draw(
             // the reference run's; say what the run on screen showed.
             let reference = default_method(run.scene());
             if run.method() != reference {
-                // A run on screen that has not reached its end (Esc asked
-                // for the verdict) has nothing whole to compare.
-                let mine = match run.error() {
-                    Some(e) => Some(Err(e)),
-                    None if run.finished() => Some(Ok(crate::predict::verdict(
+                let shown = super::verdict::on_screen(run.error(), run.finished(), || {
+                    crate::predict::verdict(
                         prompt,
                         &run.run().measurements(&measures(prompt)),
                         prediction,
-                    ))),
-                    None => None,
-                };
-                let shown = mine.as_ref().map(|m| match m {
-                    Ok(m) => Ok(m),
-                    Err(e) => Err(e.as_str()),
+                    )
                 });
                 lines.extend(super::verdict::run_on_screen(
                     app,

@@ -43,6 +43,21 @@ pub fn evidence(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String 
     format!("{run}: {}", readings(lang, unit, v, answer))
 }
 
+/// The run on screen, to set beside a reference verdict: why it stopped,
+/// its own verdict (`judge`) once it reached its end, or `None` before
+/// (Esc asked for the verdict: nothing whole to compare).
+pub fn on_screen(
+    error: Option<String>,
+    finished: bool,
+    judge: impl FnOnce() -> Verdict,
+) -> Option<Result<Verdict, String>> {
+    match error {
+        Some(e) => Some(Err(e)),
+        None if finished => Some(Ok(judge())),
+        None => None,
+    }
+}
+
 /// What the learner's own run on screen showed, when the verdict came from
 /// the reference run because the learner played another method (or step):
 /// said plainly, so a run that flies apart on screen is never mistaken for
@@ -53,7 +68,7 @@ pub fn run_on_screen(
     prompt: &Prompt,
     unit: &str,
     reference: (&Verdict, &str),
-    on_screen: (Option<Result<&Verdict, &str>>, &str),
+    on_screen: (Option<Result<Verdict, String>>, &str),
     width: usize,
 ) -> Vec<Line<'static>> {
     let t = &app.theme;
@@ -69,7 +84,7 @@ pub fn run_on_screen(
             Run::new("   ", t.dim()),
         );
     };
-    said.push(match shown {
+    said.push(match &shown {
         Err(why) => fill(w::ON_SCREEN_STOPPED, lang, &[("{m}", method), ("{e}", why)]),
         Ok(mine) => {
             let ours = readings(lang, unit, mine, &prompt.answer);
@@ -85,7 +100,7 @@ pub fn run_on_screen(
             }
         }
     });
-    let style = if matches!(shown, Ok(mine) if mine.correct == v.correct) {
+    let style = if matches!(&shown, Ok(mine) if mine.correct == v.correct) {
         t.dim()
     } else {
         t.bad()
