@@ -13,14 +13,14 @@ use ratatui::widgets::canvas::{Canvas, Context, Line, Points};
 use ratatui::widgets::{Block, Borders};
 
 use crate::sim::rigid::formula;
+use crate::sim::scene::SceneRun;
 use crate::text::num::Num;
 use crate::tui::i18n::sim_words as w;
-use crate::tui::live::LiveRun;
 use crate::tui::plots::{dashed, fitted_title};
 use crate::tui::theme::Theme;
 
 /// log10 |ω⊥| at each trace point so far, skipping exact zeros.
-pub fn log_perp(run: &LiveRun) -> Vec<(f64, f64)> {
+pub fn log_perp(run: &SceneRun) -> Vec<(f64, f64)> {
     let axis = formula::dominant_axis(&run.omega0());
     let perp = |o: &Vector3<f64>| o[(axis + 1) % 3].hypot(o[(axis + 2) % 3]);
     let now = run.frame();
@@ -45,11 +45,11 @@ fn decade(e: i32) -> String {
     format!("10{}{digits}", if e < 0 { "⁻" } else { "" })
 }
 
-pub fn growth(frame: &mut Frame, area: Rect, run: &LiveRun, lang: &str, theme: &Theme) {
+pub fn growth(frame: &mut Frame, area: Rect, run: &SceneRun, lang: &str, theme: &Theme) {
     let omega0 = run.omega0();
     let axis = formula::dominant_axis(&omega0);
     let perp0 = omega0[(axis + 1) % 3].hypot(omega0[(axis + 2) % 3]);
-    let bound = run.omega_bound().max(f64::MIN_POSITIVE);
+    let bound = run.body().omega_bound(&run.omega0()).max(f64::MIN_POSITIVE);
     let (lo, hi) = if perp0 > 0.0 {
         ((perp0.log10() - 0.5).floor(), (bound.log10() + 0.3).ceil())
     } else {

@@ -15,7 +15,6 @@ pub mod i18n;
 pub mod keymap;
 pub mod layout;
 pub mod live;
-pub mod live_system;
 pub mod logplot;
 pub mod memory;
 pub mod plots;

@@ -13,8 +13,8 @@ use ratatui::widgets::{Block, Borders};
 use crate::text::num::Num;
 
 use super::geometry::Camera;
-use super::live::LiveRun;
 use super::theme::Theme;
+use crate::sim::scene::SceneRun;
 
 const AXIS_NAMES: [&str; 3] = ["ω₁", "ω₂", "ω₃"];
 
@@ -87,8 +87,8 @@ pub fn fitted_title(parts: Vec<Span<'static>>, width: usize) -> TextLine<'static
 /// flip marked where it happened. The legend is in the title and the time
 /// range on the bottom edge, so neither covers the curves; without colour
 /// the three curves are solid, dotted and dashed.
-pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
-    let m = run.omega_bound().max(f64::MIN_POSITIVE) * 1.1;
+pub fn omega(frame: &mut Frame, area: Rect, run: &SceneRun, title: String, theme: &Theme) {
+    let m = run.body().omega_bound(&run.omega0()).max(f64::MIN_POSITIVE) * 1.1;
     let d = run.scene().duration;
     let unit = run.scene().time_unit.clone();
     let dim = theme.plot(Color::DarkGray);
@@ -174,7 +174,7 @@ pub fn omega(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme:
 /// The path of the body-frame angular momentum L = Iω on the sphere
 /// |L| = const (drawn as the unit sphere), with the separatrix through the
 /// middle axis, the orbit's closed curve, and the path so far.
-pub fn polhode(frame: &mut Frame, area: Rect, run: &LiveRun, title: String, theme: &Theme) {
+pub fn polhode(frame: &mut Frame, area: Rect, run: &SceneRun, title: String, theme: &Theme) {
     let Some(picture) = run.polhode() else {
         frame.render_widget(block(title, theme, area.width), area);
         return;

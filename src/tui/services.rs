@@ -125,7 +125,7 @@ pub struct Services {
     pub sync: Option<Box<dyn Syncer>>,
     /// The card browser's search index, kept between its openings.
     pub browser_index: SearchCache,
-    /// The most one frame's simulation may work ([`super::live_system::SLICE`]),
+    /// The most one frame's simulation may work ([`super::live::SLICE`]),
     /// so a key is always read within a frame; `None` lets each frame's run
     /// reach its time however long that takes (tests, so that snapshots do
     /// not depend on how fast the machine is).
@@ -148,7 +148,7 @@ impl Services {
             bench_csv: None,
             sync: None,
             browser_index: Default::default(),
-            physics_slice: Some(super::live_system::SLICE),
+            physics_slice: Some(super::live::SLICE),
         }
     }
 

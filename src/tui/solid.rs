@@ -17,9 +17,9 @@ use ratatui::text::{Line as TextLine, Span};
 use ratatui::widgets::canvas::{Canvas, Context, Line, Points};
 use ratatui::widgets::{Block, Borders};
 
+use crate::sim::scene::SceneRun;
 use crate::tui::geometry::{Camera, box_half_sides};
 use crate::tui::i18n::{Msg, Words, sim_words as w};
-use crate::tui::live::LiveRun;
 use crate::tui::plots::fitted_title;
 use crate::tui::theme::Theme;
 
@@ -227,7 +227,7 @@ pub fn raster(
 
 /// The body panel: the solid, its axes labelled 1, 2, 3 at their tips,
 /// and the fixed L drawn up from the centre.
-pub fn draw(frame: &mut Frame, area: Rect, run: &LiveRun, lang: &str, theme: &Theme) {
+pub fn draw(frame: &mut Frame, area: Rect, run: &SceneRun, lang: &str, theme: &Theme) {
     let shape = Shape::of(run.scene().inertia);
     let title = format!(
         " {}: {} ",

@@ -94,7 +94,7 @@ fn run_controls_pause_speed_restart_method_and_step() {
     let mut app = open(ENGLISH, 0);
     press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
     let run_t = |app: &TestApp| match &predict(app).phase {
-        Phase::Play { run, .. } => (run.t(), run.speed, run.paused, run.method().label()),
+        Phase::Play { run, .. } => (run.t(), run.speed, run.paused, run.method_label()),
         _ => panic!("not running"),
     };
     // Scene time follows the wall clock: 0.5 s of ticks, 0.5 s of scene.
@@ -689,7 +689,7 @@ fn the_verdict_names_the_exact_run_when_the_learner_played_another_method() {
     press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
     press(&mut app, KeyCode::Char('m'));
     let label = match &predict(&app).phase {
-        Phase::Play { run, .. } => run.method().label(),
+        Phase::Play { run, .. } => run.method_label(),
         _ => panic!("not running"),
     };
     assert!(label.starts_with("adaptive"), "{label}");

@@ -115,10 +115,18 @@ fn tick(app: &mut TestApp, ms: u64) {
     crate::tui::update::apply(app, Action::Tick(Duration::from_millis(ms)));
 }
 
-fn running(app: &TestApp) -> &crate::tui::live_system::LiveSystem {
+/// The system's run playing on the predict screen.
+fn system_run(app: &TestApp) -> &crate::sim::scene::system::SystemRun {
+    match running(app).sim() {
+        crate::tui::live::Sim::System { run, .. } => run,
+        crate::tui::live::Sim::Rigid(_) => panic!("not a system run"),
+    }
+}
+
+fn running(app: &TestApp) -> &crate::tui::live::Live {
     match app.screen() {
         Screen::Predict(p) => match &p.phase {
-            Phase::System { run, .. } => run,
+            Phase::Play { run, .. } => run,
             _ => panic!("not a system run"),
         },
         _ => panic!("not on the predict screen"),
@@ -142,17 +150,17 @@ fn a_system_scene_plays_with_the_run_controls() {
     press(&mut app, KeyCode::Char(' '));
     press(&mut app, KeyCode::Char('+'));
     assert_eq!(running(&app).speed, 2.0);
-    let mut seen = vec![running(&app).method().kind.name()];
+    let mut seen = vec![system_run(&app).method().kind.name()];
     for _ in 0..4 {
         press(&mut app, KeyCode::Char('m'));
-        seen.push(running(&app).method().kind.name());
+        seen.push(system_run(&app).method().kind.name());
     }
     assert_eq!(seen, ["auto", "adaptive", "radau", "rk4", "auto"]);
     assert_eq!(running(&app).t(), 0.0, "a new method restarts");
     press(&mut app, KeyCode::Char('['));
-    assert_eq!(running(&app).method().setting, 1e-9);
+    assert_eq!(system_run(&app).method().setting, 1e-9);
     press_all(&mut app, &[KeyCode::Char(']'), KeyCode::Char(']')]);
-    assert_eq!(running(&app).method().setting, 1e-7);
+    assert_eq!(system_run(&app).method().setting, 1e-7);
 }
 
 #[test]
@@ -257,7 +265,7 @@ fn a_frame_of_a_heavy_scene_stops_at_its_slice_and_esc_answers() {
         // A second of wall clock asks for 25 s of scene time.
         tick(&mut app, 1000);
         let run = running(&app);
-        assert_eq!(run.run().work().steps, frame, "one step a frame");
+        assert_eq!(system_run(&app).work().steps, frame, "one step a frame");
         assert!(run.t() > 0.0 && run.t() < 25.0, "{}", run.t());
         assert!(!run.finished() && app.animating());
     }
@@ -307,7 +315,7 @@ fn a_scene_that_leaves_its_domain_gives_no_verdict_and_records_nothing() {
     let Screen::Predict(p) = app.screen() else {
         panic!("left the predict screen");
     };
-    assert!(matches!(p.phase, Phase::System { verdict: None, .. }));
+    assert!(matches!(p.phase, Phase::Play { verdict: None, .. }));
     // No verdict recorded: the attempt kept at the commitment has none,
     // and counts in no accuracy.
     let items = crate::sched::deck_items(&app.decks[0]);
@@ -379,16 +387,16 @@ fn the_verdict_says_which_run_it_describes_when_the_learner_changed_the_method()
     for _ in 0..3 {
         press(&mut app, KeyCode::Char('m'));
     }
-    assert_eq!(running(&app).method().kind.name(), "rk4");
+    assert_eq!(system_run(&app).method().kind.name(), "rk4");
     for _ in 0..20 {
-        if running(&app).method().setting >= 1.0 {
+        if system_run(&app).method().setting >= 1.0 {
             break;
         }
         press(&mut app, KeyCode::Char(']'));
     }
-    let dt = running(&app).method().setting;
+    let dt = system_run(&app).method().setting;
     assert!(dt >= 0.5, "a coarse step: {dt}");
-    let label = running(&app).method().label();
+    let label = system_run(&app).method().label();
     let screen = verdict_text(&mut app);
     assert!(screen.contains("Right"), "the physics decides: {screen}");
     // The evidence is the reference run's, over the whole scene.
@@ -409,7 +417,7 @@ fn the_verdict_says_which_run_it_describes_when_the_learner_changed_the_method()
     for _ in 0..3 {
         press(&mut app, KeyCode::Char('m'));
     }
-    let label = running(&app).method().label();
+    let label = system_run(&app).method().label();
     let screen = verdict_text(&mut app);
     assert!(
         screen.contains(&format!("With {label} the run on screen shows the same")),

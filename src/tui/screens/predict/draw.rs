@@ -7,11 +7,11 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use crate::deck::{Answer, Measure, Panel, Prompt};
-use crate::sim::Method;
+use crate::sim::scene::SceneRun;
 use crate::text::num::Num;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, sim_words as w};
-use crate::tui::live::LiveRun;
+use crate::tui::live::{Live, Sim};
 use crate::tui::plots;
 use crate::tui::wrap::{Run, wrap};
 
@@ -45,13 +45,17 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
             run,
             verdict,
             ..
-        } => draw_play(frame, area, app, prompt, *prediction, run, verdict.as_ref()),
-        Phase::System {
-            prediction,
-            run,
-            verdict,
-            ..
-        } => super::system::draw(frame, area, app, prompt, *prediction, run, verdict.as_ref()),
+        } => {
+            let verdict = verdict.as_ref();
+            match run.sim() {
+                Sim::Rigid(r) => {
+                    draw_play(frame, area, app, prompt, *prediction, (run, r), verdict)
+                }
+                Sim::System { run: sys, .. } => {
+                    super::system::draw(frame, area, app, prompt, *prediction, (run, sys), verdict)
+                }
+            }
+        }
     }
 }
 
@@ -144,33 +148,14 @@ fn draw_play(
     app: &App,
     prompt: &Prompt,
     prediction: Prediction,
-    run: &LiveRun,
+    (live, run): (&Live, &SceneRun),
     verdict: Option<&Verdict>,
 ) {
     let t = &app.theme;
     let width = area.width as usize;
     let diag = u16::from(run.scene().shows(Panel::Diagnostics));
     let verdict_lines = verdict
-        .map(|v| {
-            let unit = &run.scene().time_unit;
-            let mut lines = super::verdict::lines(app, prompt, unit, prediction, v, width);
-            // Another method than the exact solution: the verdict is the
-            // exact run's; say what the run on screen showed.
-            if run.method() != Method::Exact {
-                let shown = super::verdict::on_screen(run.error(), run.finished(), || {
-                    crate::predict::verdict(prompt, &run.measurements(), prediction)
-                });
-                lines.extend(super::verdict::run_on_screen(
-                    app,
-                    prompt,
-                    unit,
-                    (v, &Method::Exact.label()),
-                    (shown, &run.method().label()),
-                    width,
-                ));
-            }
-            lines
-        })
+        .map(|v| super::verdict::for_run(app, prompt, prediction, v, live, width))
         .unwrap_or_default();
     let question = question_lines(app, prompt, width.saturating_sub(1).max(1));
     // Who gives way when rows are short: the panels first, then the
@@ -258,7 +243,7 @@ fn draw_play(
         Span::styled(
             format!(
                 " t = {:.2} / {} {}",
-                run.t(),
+                live.t(),
                 Num(run.scene().duration),
                 run.scene().time_unit
             ),
@@ -269,18 +254,22 @@ fn draw_play(
             t.strong(),
         ),
         Span::styled(
-            format!(" · {} ×{}", app.tr(Msg::Speed), super::fmt_speed(run.speed)),
+            format!(
+                " · {} ×{}",
+                app.tr(Msg::Speed),
+                super::fmt_speed(live.speed)
+            ),
             t.dim(),
         ),
         Span::styled(format!(" · {}", run.method().label()), t.dim()),
     ];
-    if run.paused {
+    if live.paused {
         s.push(Span::styled(
             format!(" · {}", app.tr(Msg::Paused)),
             t.warn(),
         ));
     }
-    if let Some(e) = run.error() {
+    if let Some(e) = live.error() {
         s.push(Span::styled(format!(" · {e}"), t.bad()));
     }
     frame.render_widget(Paragraph::new(fit_spans(s, status.width as usize)), status);

@@ -1,6 +1,10 @@
 //! Predict, then check: the learner commits to an answer, then the scene's
 //! simulation plays live, then the verdict compares the prediction with
-//! what was measured.
+//! what was measured. One flow for rigid bodies and systems: the commitment
+//! (kept on disk before the run starts), the run's keys on the one player
+//! ([`Live`]), and the verdict from the reference run (the one watched, or
+//! one made off the UI thread when the learner played another method).
+//! Only the panels are drawn apart (`draw.rs`, `system.rs`).
 
 use crate::deck::{Answer, Deck, Prompt};
 use crate::sim::Method;
@@ -8,7 +12,7 @@ use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
 use crate::tui::keymap::Context;
-use crate::tui::live::LiveRun;
+use crate::tui::live::{Live, system_reference};
 
 use super::Nav;
 
@@ -30,20 +34,12 @@ pub enum Phase {
         input: String,
         error: Option<String>,
     },
+    /// The run playing, then its verdict.
     Play {
         prediction: Prediction,
         /// The attempt as stored when the learner committed.
         committed: Committed,
-        run: Box<LiveRun>,
-        verdict: Option<Verdict>,
-        judging: Judging,
-    },
-    /// A system scene playing (see `system.rs`).
-    System {
-        prediction: Prediction,
-        /// The attempt as stored when the learner committed.
-        committed: Committed,
-        run: Box<crate::tui::live_system::LiveSystem>,
+        run: Box<Live>,
         verdict: Option<Verdict>,
         judging: Judging,
     },
@@ -118,13 +114,11 @@ impl PredictState {
     pub fn animating(&self) -> bool {
         match &self.phase {
             // Ticks poll a measurement under way.
-            Phase::Play { judging, .. } | Phase::System { judging, .. }
-                if matches!(judging, Judging::Measuring(_)) =>
-            {
-                true
-            }
+            Phase::Play {
+                judging: Judging::Measuring(_),
+                ..
+            } => true,
             Phase::Play { run, .. } => run.playing(),
-            Phase::System { run, .. } => run.playing(),
             Phase::Ask { .. } => false,
         }
     }
@@ -179,10 +173,8 @@ impl super::View for PredictState {
         match &self.phase {
             Phase::Ask { .. } if self.choice => Context::PredictChoice,
             Phase::Ask { .. } => Context::PredictNumber,
-            Phase::Play { verdict: None, .. } | Phase::System { verdict: None, .. } => {
-                Context::PredictRun
-            }
-            Phase::Play { .. } | Phase::System { .. } => Context::PredictVerdict,
+            Phase::Play { verdict: None, .. } => Context::PredictRun,
+            Phase::Play { .. } => Context::PredictVerdict,
         }
     }
     fn apply(&mut self, app: &mut App, action: Action) -> Nav {
@@ -206,16 +198,9 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
     let Some(prompt) = prompt(app, state).cloned() else {
         return Nav::Pop;
     };
-    if matches!(state.phase, Phase::System { .. }) {
-        return system::apply(app, state, action, &prompt);
-    }
-    let system_scene = deck(app, state)
-        .and_then(|d| d.system(&prompt.scene))
-        .cloned();
-    let scene = deck(app, state)
-        .and_then(|d| d.scene(&prompt.scene))
-        .cloned();
-    if scene.is_none() && system_scene.is_none() {
+    let known = deck(app, state)
+        .is_some_and(|d| d.system(&prompt.scene).is_some() || d.scene(&prompt.scene).is_some());
+    if !known {
         app.error(format!("scene {} not found", prompt.scene));
         return Nav::Pop;
     }
@@ -265,11 +250,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                 },
             };
             if let Some(p) = committed {
-                return match (&system_scene, &scene) {
-                    (Some(sys), _) => system::commit(app, state, p, sys),
-                    (None, Some(scene)) => commit_nav(app, state, p, scene),
-                    (None, None) => Nav::Pop,
-                };
+                return commit(app, state, p);
             }
             Nav::Stay
         }
@@ -298,12 +279,11 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             verdict,
             judging,
         } => {
-            let replace = |run: &mut Box<LiveRun>,
-                           next: Result<LiveRun, crate::sim::SimError>,
-                           app: &mut App| match next {
-                Ok(r) => **run = r,
-                Err(e) => app.error(e.to_string()),
-            };
+            let replace =
+                |run: &mut Box<Live>, next: Result<Live, String>, app: &mut App| match next {
+                    Ok(r) => **run = r,
+                    Err(e) => app.error(e),
+                };
             match action {
                 Action::Back => return Nav::Pop,
                 Action::Tick(dt) => {
@@ -325,29 +305,22 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                     replace(run, next, app);
                 }
                 Action::NextMethod => {
-                    let next = run.next_method().and_then(|m| run.restart_with(m));
+                    let next = run.next_method();
                     replace(run, next, app);
                 }
                 Action::SmallerStep | Action::LargerStep => {
-                    match run.method().scaled(action == Action::LargerStep) {
-                        Some(m) => {
-                            let next = run.restart_with(m);
-                            replace(run, next, app);
-                        }
+                    match run.step(action == Action::LargerStep) {
+                        Some(next) => replace(run, next, app),
                         None => app.info(app.tr(Msg::NoStepToChange)),
                     }
                 }
                 _ => {}
             }
             // The first time a run reaches the end, the verdict.
-            if verdict.is_none()
-                && run.finished()
-                && let Some(scene) = &scene
-            {
+            if verdict.is_none() && run.finished() {
                 judge(
                     app,
                     &prompt,
-                    scene,
                     run,
                     (*prediction, *committed),
                     verdict,
@@ -356,38 +329,41 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             }
             Nav::Stay
         }
-        Phase::System { .. } => system::apply(app, state, action, &prompt),
     }
 }
 
-/// The verdict from the run just watched when it was the exact one, else
-/// from an exact run of the scene, made off the UI thread: a learner who
-/// switched to RK4 with a huge step still gets the physics' answer. The
-/// verdict is written to the attempt stored at the commitment.
+/// The verdict from the run just watched when it was the reference run
+/// (a rigid body's exact solution, a system's auto method at its default
+/// tolerance), else from a reference run of the scene made off the UI
+/// thread: a learner who switched to RK4 with a huge step still gets the
+/// physics' answer. When the reference run itself stops early (the scene
+/// leaves its domain) there is no verdict and the attempt stays without
+/// one: the status line says why. The verdict is written to the attempt
+/// stored at the commitment.
 fn judge(
     app: &mut App,
     prompt: &Prompt,
-    scene: &crate::deck::Scene,
-    run: &LiveRun,
+    run: &Live,
     attempt: (Prediction, Committed),
     verdict: &mut Option<Verdict>,
     judging: &mut Judging,
 ) {
-    if run.method() == Method::Exact && run.error().is_none() {
-        *verdict = Some(record(app, prompt, &run.measurements(), attempt));
+    if run.is_reference() {
+        if run.error().is_some() {
+            *judging = Judging::Failed;
+        } else {
+            *verdict = Some(record(app, prompt, &run.measurements(), attempt));
+        }
         return;
     }
     settle(app, prompt, attempt, verdict, judging, || {
-        let scene = scene.clone();
-        Measuring::start(move || {
-            crate::sim::scene::measure_scene(&scene, Method::Exact).map_err(|e| e.to_string())
-        })
+        Measuring::start(run.reference_measurement())
     });
 }
 
 /// Starts the measurement `start` makes when none is under way, and gives
 /// the verdict once it is there (or says why there is none).
-pub(super) fn settle(
+fn settle(
     app: &mut App,
     prompt: &Prompt,
     attempt: (Prediction, Committed),
@@ -451,7 +427,7 @@ fn given(prompt: &Prompt, prediction: Prediction) -> String {
 /// Keeps the learner's commitment, on disk before the run starts (the
 /// rule of a rating). `None` when the write failed: the status line says
 /// why and the screen stays on the question, the answer still typed.
-pub(super) fn keep_commitment(
+fn keep_commitment(
     app: &mut App,
     state: &PredictState,
     prompt: &Prompt,
@@ -472,18 +448,25 @@ pub(super) fn keep_commitment(
     }
 }
 
-fn commit_nav(
-    app: &mut App,
-    state: &mut PredictState,
-    prediction: Prediction,
-    scene: &crate::deck::Scene,
-) -> Nav {
+/// The commitment: the run is built first (a scene that cannot run stores
+/// nothing), then the commitment is kept, then the run starts.
+fn commit(app: &mut App, state: &mut PredictState, prediction: Prediction) -> Nav {
     let Some(prompt) = prompt(app, state).cloned() else {
         return Nav::Pop;
     };
-    // The run is built first (a scene that cannot run stores nothing),
-    // then the commitment is kept, then the run starts.
-    match LiveRun::new(scene, Some(Method::Exact)) {
+    let Some(deck) = deck(app, state) else {
+        return Nav::Pop;
+    };
+    let run = if let Some(sys) = deck.system(&prompt.scene) {
+        Live::system(sys, system_reference(sys), &system::measures(&prompt))
+            .map_err(|e| format!("{}: {e}", sys.id))
+    } else if let Some(scene) = deck.scene(&prompt.scene) {
+        Live::rigid(scene, Method::Exact).map_err(|e| format!("{}: {e}", scene.id))
+    } else {
+        app.error(format!("scene {} not found", prompt.scene));
+        return Nav::Pop;
+    };
+    match run {
         Ok(run) => {
             if let Some(committed) = keep_commitment(app, state, &prompt, prediction) {
                 state.phase = Phase::Play {
@@ -495,7 +478,7 @@ fn commit_nav(
                 };
             }
         }
-        Err(e) => app.error(format!("{}: {e}", scene.id)),
+        Err(e) => app.error(e),
     }
     Nav::Stay
 }

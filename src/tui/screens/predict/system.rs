@@ -1,25 +1,22 @@
-//! Predict, then check on a system scene: the same commitment and controls
-//! as a rigid body's, with the system's panels (plot, phase, sketch,
-//! diagnostics) and a verdict from the measures of its variables and
-//! observables.
+//! Drawing a system scene on the predict screen: the system's panels
+//! (plot, phase, sketch, diagnostics) beside the same question, status and
+//! verdict as a rigid body's. The keys, the commitment and the verdict are
+//! the one flow of `mod.rs`, the run the one player of [`Live`].
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
-use crate::deck::{Answer, Measure, Prompt, SystemPanel, SystemScene};
-use crate::sim::scene::system::measure_system;
-use crate::sim::solvers::ode::{OdeKind, OdeMethod};
+use crate::deck::{Answer, Measure, Prompt, SystemPanel};
+use crate::sim::scene::system::SystemRun;
 use crate::text::num::Num;
-use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
-use crate::tui::live_system::LiveSystem;
+use crate::tui::live::Live;
 use crate::tui::system_plots;
 
-use super::{Judging, Measuring, Nav, Phase, PredictState, Prediction, Verdict};
-use crate::sim::scene::measure::{Measurements, Reading};
+use super::{Prediction, Verdict};
 
 /// Rows the question may take above a running scene.
 const QUESTION_ROWS: usize = 3;
@@ -33,157 +30,6 @@ pub fn measures(prompt: &Prompt) -> Vec<Measure> {
     out.sort();
     out.dedup();
     out
-}
-
-/// The method a system scene plays with first: auto at its default
-/// tolerance.
-pub fn default_method(scene: &SystemScene) -> OdeMethod {
-    OdeMethod::default_for(OdeKind::Auto, scene.duration)
-}
-
-pub fn commit(
-    app: &mut App,
-    state: &mut PredictState,
-    prediction: Prediction,
-    scene: &SystemScene,
-) -> Nav {
-    let Some(prompt) = super::prompt(app, state).cloned() else {
-        return Nav::Pop;
-    };
-    // As for a rigid body: the run is built, the commitment kept, then
-    // the run starts.
-    match LiveSystem::new(scene, default_method(scene), &measures(&prompt)) {
-        Ok(run) => {
-            if let Some(committed) = super::keep_commitment(app, state, &prompt, prediction) {
-                state.phase = Phase::System {
-                    prediction,
-                    committed,
-                    run: Box::new(run),
-                    verdict: None,
-                    judging: Judging::Idle,
-                };
-            }
-        }
-        Err(e) => app.error(format!("{}: {e}", scene.id)),
-    }
-    Nav::Stay
-}
-
-pub fn apply(app: &mut App, state: &mut PredictState, action: Action, prompt: &Prompt) -> Nav {
-    let deck = state.deck;
-    let Phase::System {
-        run,
-        prediction,
-        committed,
-        verdict,
-        judging,
-    } = &mut state.phase
-    else {
-        return Nav::Stay;
-    };
-    if action == Action::Explain {
-        if verdict.is_some()
-            && let Some(id) = &prompt.explain
-        {
-            return super::super::reader::open_at(app, deck, id);
-        }
-        return Nav::Stay;
-    }
-    let replace =
-        |run: &mut Box<LiveSystem>, next: Result<LiveSystem, String>, app: &mut App| match next {
-            Ok(r) => **run = r,
-            Err(e) => app.error(e),
-        };
-    match action {
-        Action::Back => return Nav::Pop,
-        Action::Tick(dt) => {
-            let slice = app.services.physics_slice();
-            run.tick_within(dt.as_secs_f64(), slice);
-        }
-        Action::TogglePause => {
-            if run.finished() {
-                let next = run.restart();
-                replace(run, next, app);
-            } else {
-                run.paused = !run.paused;
-            }
-        }
-        Action::Faster => run.speed = (run.speed * 2.0).min(64.0),
-        Action::Slower => run.speed = (run.speed / 2.0).max(1.0 / 64.0),
-        Action::Restart => {
-            let next = run.restart();
-            replace(run, next, app);
-        }
-        Action::NextMethod => {
-            let next = run.restart_with(run.next_method());
-            replace(run, next, app);
-        }
-        Action::SmallerStep | Action::LargerStep => {
-            let m = run.method().finer(action == Action::SmallerStep);
-            let next = run.restart_with(m);
-            replace(run, next, app);
-        }
-        _ => {}
-    }
-    if verdict.is_none() && run.finished() {
-        judge(
-            app,
-            prompt,
-            run,
-            (*prediction, *committed),
-            verdict,
-            judging,
-        );
-    }
-    Nav::Stay
-}
-
-/// The verdict from the run just watched when it ran with the default
-/// method to the end; else from a default run of the scene, made off the UI
-/// thread: the physics' answer, whatever method the learner tried. When the
-/// default run itself stops early (the scene leaves its domain), there is
-/// no verdict and the attempt stays without one: the status line says why.
-fn judge(
-    app: &mut App,
-    prompt: &Prompt,
-    run: &LiveSystem,
-    attempt: (Prediction, super::Committed),
-    verdict: &mut Option<Verdict>,
-    judging: &mut Judging,
-) {
-    let ms = measures(prompt);
-    let scene = run.scene();
-    if run.method() == default_method(scene) {
-        if run.error().is_some() {
-            *judging = Judging::Failed;
-        } else {
-            let measured = run.run().measurements(&ms);
-            *verdict = Some(super::record(app, prompt, &measured, attempt));
-        }
-        return;
-    }
-    super::settle(app, prompt, attempt, verdict, judging, || {
-        let scene = scene.clone();
-        Measuring::start(move || {
-            let values = measure_system(&scene, default_method(&scene), &ms)?;
-            // The reference run reaches the scene's end (else it is an
-            // error): its evidence covers the whole duration.
-            let elapsed = scene.duration;
-            Ok(Measurements::from_readings(
-                ms.iter()
-                    .zip(values)
-                    .filter_map(|(m, v)| {
-                        v.ok().map(|value| Reading {
-                            measure: *m,
-                            value,
-                            formula: None,
-                        })
-                    })
-                    .collect(),
-            )
-            .over(elapsed))
-        })
-    });
 }
 
 /// The panels the scene shows, side by side in rows of two.
@@ -214,39 +60,14 @@ pub fn draw(
     app: &App,
     prompt: &Prompt,
     prediction: Prediction,
-    run: &LiveSystem,
+    (live, run): (&Live, &SystemRun),
     verdict: Option<&Verdict>,
 ) {
     let t = &app.theme;
     let diag = run.scene().shows(SystemPanel::Diagnostics);
     // The same banner, prediction and evidence as a rigid body's verdict.
     let verdict_lines = verdict
-        .map(|v| {
-            let unit = &run.scene().time_unit;
-            let width = area.width as usize;
-            let mut lines = super::verdict::lines(app, prompt, unit, prediction, v, width);
-            // Another method (or step) than the reference: the verdict is
-            // the reference run's; say what the run on screen showed.
-            let reference = default_method(run.scene());
-            if run.method() != reference {
-                let shown = super::verdict::on_screen(run.error(), run.finished(), || {
-                    crate::predict::verdict(
-                        prompt,
-                        &run.run().measurements(&measures(prompt)),
-                        prediction,
-                    )
-                });
-                lines.extend(super::verdict::run_on_screen(
-                    app,
-                    prompt,
-                    unit,
-                    (v, &reference.label()),
-                    (shown, &run.method().label()),
-                    width,
-                ));
-            }
-            lines
-        })
+        .map(|v| super::verdict::for_run(app, prompt, prediction, v, live, area.width as usize))
         .unwrap_or_default();
     let verdict_h = (verdict_lines.len() as u16).min(area.height.saturating_sub(6));
     let hints_h = u16::from(verdict.is_none());
@@ -281,7 +102,7 @@ pub fn draw(
         ),
     ]));
     frame.render_widget(Paragraph::new(question), top);
-    let sys = run.run();
+    let sys = run;
     for (panel, rect) in panel_areas(panels, &run.scene().show) {
         match panel {
             SystemPanel::Plot => system_plots::plot(frame, rect, sys, &app.lang, t),
@@ -293,27 +114,31 @@ pub fn draw(
     let mut s = vec![Span::styled(
         format!(
             " t = {:.2} / {} {}",
-            run.t(),
+            live.t(),
             Num(run.scene().duration),
             run.scene().time_unit
         ),
         t.text(),
     )];
     s.push(Span::styled(
-        format!(" · {} ×{}", app.tr(Msg::Speed), super::fmt_speed(run.speed)),
+        format!(
+            " · {} ×{}",
+            app.tr(Msg::Speed),
+            super::fmt_speed(live.speed)
+        ),
         t.dim(),
     ));
     s.push(Span::styled(
         format!(" · {}", run.method().label()),
         t.dim(),
     ));
-    if run.paused {
+    if live.paused {
         s.push(Span::styled(
             format!(" · {}", app.tr(Msg::Paused)),
             t.warn(),
         ));
     }
-    if let Some(e) = run.error() {
+    if let Some(e) = live.error() {
         s.push(Span::styled(format!(" · {e}"), t.bad()));
     }
     frame.render_widget(Paragraph::new(Line::from(s)), status);

@@ -12,6 +12,7 @@ use crate::sim::scene::measure::{Reading, formula_name};
 use crate::text::num::{Num, sig};
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Words, sim_words as w};
+use crate::tui::live::Live;
 use crate::tui::wrap::{Run, wrap};
 
 use super::{Prediction, Verdict};
@@ -43,10 +44,40 @@ pub fn evidence(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String 
     format!("{run}: {}", readings(lang, unit, v, answer))
 }
 
+/// The verdict's lines for `run`, the run on screen: the verdict's own
+/// lines and, when the learner played another method (or step) than the
+/// reference run the verdict describes, what the run on screen showed. The
+/// same for a rigid body and a system.
+pub fn for_run(
+    app: &App,
+    prompt: &Prompt,
+    prediction: Prediction,
+    v: &Verdict,
+    run: &Live,
+    width: usize,
+) -> Vec<Line<'static>> {
+    let (_, unit) = run.timing();
+    let mut out = lines(app, prompt, unit, prediction, v, width);
+    if !run.is_reference() {
+        let shown = on_screen(run.error(), run.finished(), || {
+            crate::predict::verdict(prompt, &run.measurements(), prediction)
+        });
+        out.extend(run_on_screen(
+            app,
+            prompt,
+            unit,
+            (v, &run.reference_label()),
+            (shown, &run.method_label()),
+            width,
+        ));
+    }
+    out
+}
+
 /// The run on screen, to set beside a reference verdict: why it stopped,
 /// its own verdict (`judge`) once it reached its end, or `None` before
 /// (Esc asked for the verdict: nothing whole to compare).
-pub fn on_screen(
+fn on_screen(
     error: Option<String>,
     finished: bool,
     judge: impl FnOnce() -> Verdict,
@@ -63,7 +94,7 @@ pub fn on_screen(
 /// said plainly, so a run that flies apart on screen is never mistaken for
 /// the physics. `on_screen` is the verdict on the run on screen, or why
 /// that run stopped (`None`: it has not reached its end).
-pub fn run_on_screen(
+fn run_on_screen(
     app: &App,
     prompt: &Prompt,
     unit: &str,
