@@ -461,3 +461,29 @@ fn a_long_question_wraps_above_the_running_scene_and_the_list_names_prompts_by_i
         );
     }
 }
+
+#[test]
+fn after_a_system_verdict_n_opens_the_next_prompt_as_after_a_rigid_one() {
+    // The one predict flow: the verdict keys of a rigid body's run work on
+    // a system's too, and its hint line lists them.
+    let mut app = app(ENGLISH);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    for _ in 0..200 {
+        tick(&mut app, 100);
+    }
+    let screen = render(&app);
+    assert!(screen.contains("Right"), "{screen}");
+    assert!(screen.contains("n next prompt"), "{screen}");
+    let Screen::Predict(before) = app.screen() else {
+        panic!("left the predict screen");
+    };
+    let (deck, prompt) = (before.deck, before.prompt);
+    let n = app.decks[deck].prompts.len();
+    assert!(n > 1, "the deck has another prompt to go to");
+    press(&mut app, KeyCode::Char('n'));
+    let Screen::Predict(after) = app.screen() else {
+        panic!("left the predict screen");
+    };
+    assert_eq!(after.prompt, (prompt + 1) % n);
+    assert!(matches!(after.phase, Phase::Ask { .. }));
+}

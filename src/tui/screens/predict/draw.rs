@@ -300,27 +300,8 @@ fn draw_play(
         );
     }
 
-    // The run's keys stay listed after the verdict, with what it adds.
-    let key = |k: &'static str, what: &str| {
-        [
-            Span::styled(k, t.key()),
-            Span::styled(format!(" {what}  "), t.dim()),
-        ]
-    };
-    let mut spans = vec![Span::raw(" ")];
-    if verdict.is_some() {
-        spans.extend(key("n", w::NEXT.get(&app.lang)));
-        if prompt.explain.is_some() {
-            spans.extend(key("e", app.tr(Msg::Explanation)));
-        }
-    }
-    spans.extend(key("Space", app.tr(Msg::Pause)));
-    spans.extend(key("+ -", app.tr(Msg::Speed)));
-    spans.extend(key("r", app.tr(Msg::Restart)));
-    spans.extend(key("m", app.tr(Msg::Method)));
-    spans.extend(key("[ ]", app.tr(Msg::Step)));
     frame.render_widget(
-        Paragraph::new(fit_spans(spans, hints.width as usize)),
+        hints_line(app, prompt, verdict.is_some(), hints.width),
         hints,
     );
     if verdict.is_some() {
@@ -331,6 +312,37 @@ fn draw_play(
         );
         frame.render_widget(Paragraph::new(shown), verdict_area);
     }
+}
+
+/// The run's keys, one line; they stay listed after the verdict, with what
+/// it adds (the next prompt, the explanation). A rigid body's and a
+/// system's alike.
+pub(super) fn hints_line(
+    app: &App,
+    prompt: &Prompt,
+    judged: bool,
+    width: u16,
+) -> Paragraph<'static> {
+    let t = &app.theme;
+    let key = |k: &'static str, what: &str| {
+        [
+            Span::styled(k, t.key()),
+            Span::styled(format!(" {what}  "), t.dim()),
+        ]
+    };
+    let mut spans = vec![Span::raw(" ")];
+    if judged {
+        spans.extend(key("n", w::NEXT.get(&app.lang)));
+        if prompt.explain.is_some() {
+            spans.extend(key("e", app.tr(Msg::Explanation)));
+        }
+    }
+    spans.extend(key("Space", app.tr(Msg::Pause)));
+    spans.extend(key("+ -", app.tr(Msg::Speed)));
+    spans.extend(key("r", app.tr(Msg::Restart)));
+    spans.extend(key("m", app.tr(Msg::Method)));
+    spans.extend(key("[ ]", app.tr(Msg::Step)));
+    Paragraph::new(fit_spans(spans, width as usize))
 }
 
 /// What the panel area holds: the scene's panels and, for a growth-rate

@@ -70,7 +70,7 @@ pub fn draw(
         .map(|v| super::verdict::for_run(app, prompt, prediction, v, live, area.width as usize))
         .unwrap_or_default();
     let verdict_h = (verdict_lines.len() as u16).min(area.height.saturating_sub(6));
-    let hints_h = u16::from(verdict.is_none());
+    let hints_h = 1;
     // The question wraps (up to three lines, the last cut with "…") above
     // the prediction, so a long one is never cut mid-word.
     let q = crate::text::render(prompt.question.get(&app.lang));
@@ -151,30 +151,11 @@ pub fn draw(
             diag_area,
         );
     }
-    if verdict.is_none() {
-        run_hints(frame, hints, app);
-    }
+    frame.render_widget(
+        super::draw::hints_line(app, prompt, verdict.is_some(), hints.width),
+        hints,
+    );
     if !verdict_lines.is_empty() {
         frame.render_widget(Paragraph::new(verdict_lines), verdict_area);
-    }
-}
-
-/// The run's keys, one line.
-fn run_hints(frame: &mut Frame, hints: Rect, app: &App) {
-    let t = &app.theme;
-    {
-        let key = |k: &'static str, what: Msg| {
-            [
-                Span::styled(k, t.key()),
-                Span::styled(format!(" {}  ", app.tr(what)), t.dim()),
-            ]
-        };
-        let mut spans = vec![Span::raw(" ")];
-        spans.extend(key("Space", Msg::Pause));
-        spans.extend(key("+ -", Msg::Speed));
-        spans.extend(key("r", Msg::Restart));
-        spans.extend(key("m", Msg::Method));
-        spans.extend(key("[ ]", Msg::Step));
-        frame.render_widget(Paragraph::new(Line::from(spans)), hints);
     }
 }
