@@ -66,11 +66,6 @@ pub fn exists_no_follow(path: impl AsRef<Path>) -> bool {
     fs::symlink_metadata(path).is_ok()
 }
 
-/// The size of the file `path` names, 0 when there is none.
-pub fn len_or_zero(path: impl AsRef<Path>) -> u64 {
-    fs::metadata(path).map_or(0, |m| m.len())
-}
-
 /// Where the link at `path` points.
 pub fn read_link(path: impl AsRef<Path>) -> io::Result<PathBuf> {
     fs::read_link(path)

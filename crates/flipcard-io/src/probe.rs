@@ -132,7 +132,7 @@ pub fn cannot_read(e: &io::Error) -> String {
 }
 
 /// "a FIFO", "a directory", ...; `None` for a regular file.
-pub fn kind_name(t: &FileType) -> Option<&'static str> {
+pub(crate) fn kind_name(t: &FileType) -> Option<&'static str> {
     if t.is_file() {
         return None;
     }

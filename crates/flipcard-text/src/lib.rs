@@ -22,7 +22,7 @@ mod seed_tests;
 
 pub use count::plural;
 pub use lang::{Lang, Text};
-pub use lint::{CANNOT_DRAW, warnings};
+pub use lint::warnings;
 
 use pulldown_latex::{Parser, Storage};
 
@@ -227,7 +227,7 @@ pub(crate) struct FormulaError {
 /// Longest formula rendered, in bytes: real formulas are a few hundred
 /// bytes, and a runaway one (a stray `$` in a huge text) must not cost
 /// seconds and hundreds of megabytes.
-pub const MAX_FORMULA_BYTES: usize = 10_000;
+pub(crate) const MAX_FORMULA_BYTES: usize = 10_000;
 
 /// Append the rendered formula to `out` (on error `out` may hold part of
 /// it).

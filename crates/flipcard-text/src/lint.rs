@@ -13,7 +13,7 @@ use super::{MathError, write_math};
 /// comes out as `(T + V)_⏟_E`), colours (dropped), stretched arrows and
 /// stacked symbols (drawn as a superscript). The reader sees something
 /// else than the author wrote.
-pub const CANNOT_DRAW: &[&str] = &[
+pub(crate) const CANNOT_DRAW: &[&str] = &[
     "underbrace",
     "overbrace",
     "undergroup",
