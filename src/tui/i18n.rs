@@ -69,6 +69,7 @@ pub enum Msg {
     Right,
     Wrong,
     Paused,
+    CannotKeepUp,
     Speed,
     Method,
     Step,
@@ -271,6 +272,10 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         Right => pick!("Right!", "Sahi!"),
         Wrong => pick!("Not quite.", "Galat."),
         Paused => pick!("paused", "ruka hua"),
+        CannotKeepUp => pick!(
+            "slower than shown: the steps cannot keep up",
+            "dikhaye se dheema: steps saath nahi de pa rahe"
+        ),
         Speed => pick!("speed", "speed"),
         Method => pick!("method", "method"),
         Step => pick!("step", "step"),

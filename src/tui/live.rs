@@ -44,6 +44,10 @@ pub struct Live {
     /// Speed multiplier (`+`/`-`), a power of two.
     pub speed: f64,
     pub paused: bool,
+    /// The last tick stopped at its slice before the time the clock asked
+    /// for: the steps cannot keep up, and the run plays slower than its
+    /// speed says.
+    lagging: bool,
 }
 
 /// The method a system scene plays with first and is judged by: auto at
@@ -78,6 +82,7 @@ impl Live {
             sim,
             speed: 1.0,
             paused: false,
+            lagging: false,
         }
     }
 
@@ -134,6 +139,17 @@ impl Live {
         }
     }
 
+    /// Scene time per wall-clock second now: the base rate times the
+    /// learner's speed.
+    pub fn rate(&self) -> f64 {
+        self.base_rate() * self.speed
+    }
+
+    /// Whether the last tick fell behind the clock (see [`Live::tick_within`]).
+    pub fn lagging(&self) -> bool {
+        self.lagging && self.playing()
+    }
+
     /// Advances by `wall` seconds of wall-clock time, working for at most
     /// [`SLICE`].
     pub fn tick(&mut self, wall: f64) {
@@ -147,11 +163,13 @@ impl Live {
         if !self.playing() {
             return true;
         }
-        let target = self.t() + wall * self.base_rate() * self.speed;
-        match &mut self.sim {
+        let target = self.t() + wall * self.rate();
+        let reached = match &mut self.sim {
             Sim::Rigid(r) => r.advance_within(target, slice),
             Sim::System { run, .. } => run.advance_within(target, slice),
-        }
+        };
+        self.lagging = !reached;
+        reached
     }
 
     /// The method's label as the status line shows it ("exact",

@@ -268,6 +268,12 @@ fn a_frame_of_a_heavy_scene_stops_at_its_slice_and_esc_answers() {
         assert_eq!(system_run(&app).work().steps, frame, "one step a frame");
         assert!(run.t() > 0.0 && run.t() < 25.0, "{}", run.t());
         assert!(!run.finished() && app.animating());
+        // The status line says the run plays slower than its speed.
+        let screen = render(&app);
+        assert!(
+            screen.contains("slower than shown: the steps cannot keep up"),
+            "{screen}"
+        );
     }
     // Esc is the next event: the run is dropped, the prompt list is back.
     press(&mut app, KeyCode::Esc);
@@ -486,4 +492,32 @@ fn after_a_system_verdict_n_opens_the_next_prompt_as_after_a_rigid_one() {
     };
     assert_eq!(after.prompt, (prompt + 1) % n);
     assert!(matches!(after.phase, Phase::Ask { .. }));
+}
+
+#[test]
+fn the_status_line_says_how_fast_scene_time_runs() {
+    // A scene in seconds: its speed against real time (20 s play in 12 s).
+    let mut app = app(ENGLISH);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    tick(&mut app, 100);
+    let screen = render(&app);
+    assert!(screen.contains("speed ×1.67 ·"), "{screen}");
+    assert!(!screen.contains("cannot keep up"), "{screen}");
+    press(&mut app, KeyCode::Char('-'));
+    assert!(render(&app).contains("speed ×0.833 ·"), "{}", render(&app));
+    // A 130-year scene plays in 10 s: 13 years a second, shown as such.
+    let mut years = spring();
+    years.duration = 130.0;
+    years.time_unit = "yr".into();
+    let min_energy = Measure::Of(Stat::Min, Name::new("energy").unwrap());
+    let mut app = app_on(years, min_energy, 0.45);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    for _ in 0..10 {
+        tick(&mut app, 100);
+    }
+    let screen = render(&app);
+    assert!(screen.contains("speed ×1 · 13.0 yr/s"), "{screen}");
+    assert!((running(&app).t() - 13.0).abs() < 1e-9, "{screen}");
+    press(&mut app, KeyCode::Char('+'));
+    assert!(render(&app).contains("speed ×2 · 26.0 yr/s"), "{}", render(&app));
 }

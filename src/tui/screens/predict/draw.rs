@@ -254,11 +254,7 @@ fn draw_play(
             t.strong(),
         ),
         Span::styled(
-            format!(
-                " · {} ×{}",
-                app.tr(Msg::Speed),
-                super::fmt_speed(live.speed)
-            ),
+            format!(" · {}", super::speed_text(app, live)),
             t.dim(),
         ),
         Span::styled(format!(" · {}", run.method().label()), t.dim()),

@@ -483,12 +483,38 @@ fn commit(app: &mut App, state: &mut PredictState, prediction: Prediction) -> Na
     Nav::Stay
 }
 
-/// A run's speed as its status line shows it: `4`, `1/8` (the rigid
-/// body's and a system's alike).
-fn fmt_speed(speed: f64) -> String {
-    if speed >= 1.0 {
-        format!("{speed:.0}")
+/// A run's speed as its status line shows it, the rigid body's and a
+/// system's alike. A scene in seconds shows how fast it plays against real
+/// time (`speed ×1`, `×1.67`, `×64`, `×1/8`); a scene in other units
+/// shows the learner's multiplier and the scene time a second of the clock
+/// covers (`speed ×1 · 13 yr/s`). A run whose steps cannot keep up with
+/// the clock says so: it plays slower than shown.
+pub(super) fn speed_text(app: &App, live: &Live) -> String {
+    let (_, unit) = live.timing();
+    let mut out = if unit == "s" {
+        format!("{} ×{}", app.tr(Msg::Speed), ratio(live.rate()))
     } else {
-        format!("1/{:.0}", 1.0 / speed)
+        format!(
+            "{} ×{} · {} {unit}/s",
+            app.tr(Msg::Speed),
+            ratio(live.speed),
+            crate::text::num::sig(live.rate(), 3)
+        )
+    };
+    if live.lagging() {
+        out.push_str(&format!(" · {}", app.tr(Msg::CannotKeepUp)));
+    }
+    out
+}
+
+/// A speed factor: `4`, `1.67`, `1/8`.
+fn ratio(x: f64) -> String {
+    let whole = |v: f64| (v - v.round()).abs() < 1e-9 * v.max(1.0);
+    if x >= 1.0 && whole(x) {
+        format!("{x:.0}")
+    } else if x > 0.0 && x < 1.0 && whole(1.0 / x) {
+        format!("1/{:.0}", 1.0 / x)
+    } else {
+        crate::text::num::sig(x, 3)
     }
 }

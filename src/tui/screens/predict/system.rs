@@ -121,11 +121,7 @@ pub fn draw(
         t.text(),
     )];
     s.push(Span::styled(
-        format!(
-            " · {} ×{}",
-            app.tr(Msg::Speed),
-            super::fmt_speed(live.speed)
-        ),
+        format!(" · {}", super::speed_text(app, live)),
         t.dim(),
     ));
     s.push(Span::styled(
