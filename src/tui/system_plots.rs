@@ -183,6 +183,7 @@ pub fn sketch(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme:
         .y_bounds(yb)
         .paint(move |ctx: &mut Context| {
             let mut k = 0;
+            let mut dots = Vec::new();
             for (i, m) in marks.iter().enumerate() {
                 let color = theme.axis(i % 3);
                 match m {
@@ -193,10 +194,7 @@ pub fn sketch(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme:
                         now[k + 3],
                         color,
                     )),
-                    Mark::Dot(_) => ctx.draw(&Points {
-                        coords: &[(now[k], now[k + 1])],
-                        color: Color::White,
-                    }),
+                    Mark::Dot(_) => dots.push((now[k], now[k + 1])),
                     Mark::Trail(_) => {
                         for w in trail.windows(2) {
                             ctx.draw(&Line::new(
@@ -211,9 +209,28 @@ pub fn sketch(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme:
                 }
                 k += m.exprs().len();
             }
+            // Dots last, on top, each its own glyph and colour: the Sun and
+            // the planet are two objects, not two identical points.
+            for (j, (x, y)) in dots.into_iter().enumerate() {
+                let (glyph, color) = DOTS[j % DOTS.len()];
+                ctx.print(
+                    x,
+                    y,
+                    TextLine::styled(glyph, Style::new().fg(theme.plot(color))),
+                );
+            }
         });
     frame.render_widget(canvas, area);
 }
+
+/// The glyph and colour of the sketch's first, second, … dot.
+const DOTS: [(&str, Color); 5] = [
+    ("●", Color::White),
+    ("◆", Color::Yellow),
+    ("■", Color::LightCyan),
+    ("▲", Color::LightMagenta),
+    ("★", Color::LightGreen),
+];
 
 /// `radau rtol 1e-8 · 412 steps · stiff from t = 0.8 s: switched to radau ·
 /// drift energy 2.1e-9 · error vs reference 3.4e-7`.

@@ -367,6 +367,13 @@ fn verdict_text(app: &mut TestApp) -> String {
         }
         tick(app, 100);
     }
+    // The reference run may still be measuring on its thread (slow when
+    // the machine is busy): wait for it, boundedly.
+    let waited = std::time::Instant::now();
+    while app.animating() && waited.elapsed() < Duration::from_secs(120) {
+        std::thread::sleep(Duration::from_millis(20));
+        tick(app, 0);
+    }
     assert!(!app.animating(), "the run ends");
     // One paragraph, whatever the wrapping.
     render(app)
@@ -520,4 +527,31 @@ fn the_status_line_says_how_fast_scene_time_runs() {
     assert!((running(&app).t() - 13.0).abs() < 1e-9, "{screen}");
     press(&mut app, KeyCode::Char('+'));
     assert!(render(&app).contains("speed ×2 · 26.0 yr/s"), "{}", render(&app));
+}
+
+#[test]
+fn two_dots_of_a_sketch_are_two_glyphs() {
+    // A planet around a Sun at the origin: two objects, told apart.
+    let mut scene = spring();
+    scene.id = "orbit".into();
+    scene.observables = vec![
+        ("energy".into(), "0.5*(x^2 + v^2)".into()),
+        ("sx".into(), "0".into()),
+        ("sy".into(), "0".into()),
+    ];
+    scene.show = vec![SystemPanel::Sketch];
+    scene.sketch = vec![
+        Mark::Dot(["sx".into(), "sy".into()]),
+        Mark::Dot(["x".into(), "v".into()]),
+        Mark::Trail(["x".into(), "v".into()]),
+    ];
+    let min_energy = Measure::Of(Stat::Min, Name::new("energy").unwrap());
+    let mut app = app_on(scene, min_energy, 0.45);
+    press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+    for _ in 0..5 {
+        tick(&mut app, 100);
+    }
+    let screen = render(&app);
+    assert_eq!(screen.matches('●').count(), 1, "{screen}");
+    assert_eq!(screen.matches('◆').count(), 1, "{screen}");
 }
