@@ -113,6 +113,7 @@ pub enum Msg {
     UnitOptional,
     CommitFirst,
     NoStepToChange,
+    EscOnHome,
     Relearning,
     InReview,
     AllTime,
@@ -330,6 +331,10 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         CommitFirst => pick!(
             "Commit first (Enter): the simulation runs only after you answer.",
             "Pehle jawab pakka karo (Enter): simulation uske baad hi chalega."
+        ),
+        EscOnHome => pick!(
+            "you are on the first screen: q quits",
+            "yeh pehli screen hai: band karne ke liye q dabao"
         ),
         NoStepToChange => pick!(
             "exact: no step to change (press m for another method)",

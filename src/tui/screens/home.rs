@@ -66,7 +66,7 @@ pub const KEYS: &[Binding] = &[
     Binding::new(
         "q",
         Words("quit", "band karo"),
-        &[(Char('q'), Action::Quit), (Esc, Action::Quit)],
+        &[(Char('q'), Action::Quit), (Esc, Action::Back)],
     ),
 ];
 
@@ -147,7 +147,10 @@ pub fn apply(app: &mut App, state: &mut HomeState, action: Action) -> Nav {
         Action::Down => state.selected = (state.selected + 1).min(n.saturating_sub(1)),
         Action::Top => state.selected = 0,
         Action::Bottom => state.selected = n.saturating_sub(1),
-        Action::Back => app.quit = true,
+        // Esc backs out of every other screen: here, where there is
+        // nothing to back out of, it says how to quit rather than closing
+        // the app under a learner who pressed it once too often.
+        Action::Back => app.info(app.tr(Msg::EscOnHome)),
         _ if n == 0 => {}
         Action::OpenPrompts => {
             return Nav::Push(Screen::Prompts(super::prompts::PromptsState::new(deck)));

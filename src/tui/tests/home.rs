@@ -487,3 +487,19 @@ fn decks_left_out_are_named_above_the_ones_that_opened() {
         );
     }
 }
+
+#[test]
+fn esc_on_home_says_how_to_quit_and_q_quits() {
+    // Esc backs out of every screen; on the first one it used to close the
+    // app under a learner who pressed it once too often.
+    let mut app = testkit::app(ENGLISH);
+    press(&mut app, KeyCode::Esc);
+    assert!(!app.quit, "Esc on home closed the app");
+    assert!(
+        render(&app).contains("you are on the first screen: q quits"),
+        "{}",
+        render(&app)
+    );
+    press(&mut app, KeyCode::Char('q'));
+    assert!(app.quit);
+}

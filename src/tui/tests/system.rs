@@ -367,13 +367,8 @@ fn verdict_text(app: &mut TestApp) -> String {
         }
         tick(app, 100);
     }
-    // The reference run may still be measuring on its thread (slow when
-    // the machine is busy): wait for it, boundedly.
-    let waited = std::time::Instant::now();
-    while app.animating() && waited.elapsed() < Duration::from_secs(120) {
-        std::thread::sleep(Duration::from_millis(20));
-        tick(app, 0);
-    }
+    // The reference run may still be measuring on its thread.
+    super::predict::settle_verdict(app);
     assert!(!app.animating(), "the run ends");
     // One paragraph, whatever the wrapping.
     render(app)
