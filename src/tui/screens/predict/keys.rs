@@ -79,14 +79,17 @@ const RESTART: Binding = Binding::new(
 const METHOD: Binding = Binding::new(
     "m",
     Words(
-        "switch method (exact, adaptive, splitting, RK4)",
-        "method badlo (exact, adaptive, splitting, RK4)",
+        "next method (its name on the status line)",
+        "agla method (naam status line pe)",
     ),
     &[(Char('m'), Action::NextMethod)],
 );
 const STEP: Binding = Binding::new(
     "[ ]",
-    Words("smaller / larger step", "chhota / bada step"),
+    Words(
+        "smaller / larger step (or tolerance)",
+        "chhota / bada step (ya tolerance)",
+    ),
     &[
         (Char('['), Action::SmallerStep),
         (Char(']'), Action::LargerStep),
