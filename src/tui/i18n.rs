@@ -661,6 +661,10 @@ pub enum SystemWord {
     SwitchedToRadau,
     Drift,
     ErrorVsReference,
+    /// Before the smallest value plotted so far.
+    Lowest,
+    /// Before the largest value plotted so far.
+    Highest,
 }
 
 pub fn system_word(w: SystemWord) -> Words {
@@ -675,6 +679,8 @@ pub fn system_word(w: SystemWord) -> Words {
         W::SwitchedToRadau => Words("switched to radau", "radau pe switch kiya"),
         W::Drift => Words("drift", "drift"),
         W::ErrorVsReference => Words("error vs reference", "reference se error"),
+        W::Lowest => Words("min", "min"),
+        W::Highest => Words("max", "max"),
     }
 }
 

@@ -25,16 +25,61 @@ fn block<'a>(title: String, theme: &Theme) -> Block<'a> {
         .title(Span::styled(title, theme.heading()))
 }
 
-/// [lo, hi] of `values`, widened a little and never empty.
-fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+/// A variable's name as a panel shows it: a Greek letter's name as the
+/// letter, with its index as a subscript (`theta` → θ, `omega2` → ω₂,
+/// `phi_1` → φ₁); any other name as written.
+pub fn shown_name(name: &str) -> String {
+    const GREEK: [&str; 24] = [
+        "alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa",
+        "lambda", "mu", "nu", "xi", "pi", "rho", "sigma", "tau", "upsilon", "phi", "chi", "psi",
+        "omega", "varphi",
+    ];
+    let letters = name.trim_end_matches(|c: char| c.is_ascii_digit() || c == '_');
+    let index = name[letters.len()..].trim_start_matches('_');
+    let capital = letters
+        .strip_prefix(|c: char| c.is_ascii_uppercase())
+        .is_some_and(|rest| rest.chars().all(|c| c.is_ascii_lowercase()));
+    let lower = letters.to_ascii_lowercase();
+    if !GREEK.contains(&lower.as_str()) || !(index.chars().all(|c| c.is_ascii_digit())) {
+        return name.to_string();
+    }
+    // LaTeX has capitals only for the letters that differ from Latin ones.
+    let latex = if capital {
+        let mut c = lower.chars();
+        c.next()
+            .map(|f| format!("{}{}", f.to_ascii_uppercase(), c.as_str()))
+            .unwrap_or_default()
+    } else {
+        lower
+    };
+    let sub = if index.is_empty() {
+        String::new()
+    } else {
+        format!("_{{{index}}}")
+    };
+    let shown = crate::text::render(&format!("$\\{latex}{sub}$"));
+    if shown.contains('\\') {
+        name.to_string()
+    } else {
+        shown
+    }
+}
+
+/// The smallest and largest finite value, `None` when there is none.
+fn extent(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     let (lo, hi) = values
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         });
-    if !lo.is_finite() {
+    lo.is_finite().then_some((lo, hi))
+}
+
+/// [lo, hi] of `values`, widened a little and never empty.
+fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let Some((lo, hi)) = extent(values) else {
         return (-1.0, 1.0);
-    }
+    };
     let pad = ((hi - lo) * 0.05)
         .max(hi.abs().max(lo.abs()) * 1e-9)
         .max(1e-300);
@@ -47,9 +92,13 @@ pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &
     let k = run.plot_count();
     let trace = run.trace();
     let d = scene.duration;
-    let (lo, hi) = range(trace.iter().flat_map(|p| p.values[..k].iter().copied()));
+    let values = || trace.iter().flat_map(|p| p.values[..k].iter().copied());
+    let (lo, hi) = range(values());
+    // The labels give the data's own extremes, not the padded frame's
+    // (a swing to 2.97 rad is not labelled past π).
+    let data = extent(values());
     let dim = theme.plot(Color::DarkGray);
-    let names = scene.plot.clone();
+    let names: Vec<String> = scene.plot.iter().map(|n| shown_name(n)).collect();
     let unit = scene.time_unit.clone();
     let title = format!(
         " {} {} ",
@@ -84,8 +133,18 @@ pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &
                     TextLine::styled(name.clone(), Style::new().fg(color)),
                 );
             }
-            let low = crate::text::num::rounded(lo, 3);
-            ctx.print(0.0, lo, TextLine::styled(low, Style::new().fg(dim)));
+            if let Some((min, max)) = data {
+                let label = |word: SystemWord, v: f64| {
+                    let text = format!(
+                        "{} {}",
+                        system_word(word).get(lang),
+                        crate::text::num::rounded(v, 3)
+                    );
+                    TextLine::styled(text, Style::new().fg(dim))
+                };
+                ctx.print(0.0, lo, label(SystemWord::Lowest, min));
+                ctx.print(d * 0.6, hi, label(SystemWord::Highest, max));
+            }
             ctx.print(
                 d * 0.85,
                 lo,
@@ -106,7 +165,12 @@ pub fn phase(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: 
     let (y0, y1) = range(trace.iter().map(|p| p.values[k + 1]));
     let color = theme.axis(0);
     let dim = theme.plot(Color::DarkGray);
-    let title = format!(" {} ({a}, {b}) ", system_word(SystemWord::Phase).get(lang));
+    let title = format!(
+        " {} ({}, {}) ",
+        system_word(SystemWord::Phase).get(lang),
+        shown_name(&a),
+        shown_name(&b)
+    );
     let canvas = Canvas::default()
         .block(block(title, theme))
         .marker(Marker::Braille)
@@ -129,8 +193,8 @@ pub fn phase(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: 
                     color: Color::White,
                 });
             }
-            ctx.print(x0, y0, TextLine::styled(a.clone(), Style::new().fg(dim)));
-            ctx.print(x0, y1, TextLine::styled(b.clone(), Style::new().fg(dim)));
+            ctx.print(x0, y0, TextLine::styled(shown_name(&a), Style::new().fg(dim)));
+            ctx.print(x0, y1, TextLine::styled(shown_name(&b), Style::new().fg(dim)));
         });
     frame.render_widget(canvas, area);
 }
@@ -279,4 +343,22 @@ pub fn diagnostics_line(run: &SystemRun, lang: &str) -> String {
         ));
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::shown_name;
+
+    #[test]
+    fn greek_names_show_as_letters_and_others_as_written() {
+        assert_eq!(shown_name("theta"), "θ");
+        assert_eq!(shown_name("omega2"), "ω₂");
+        assert_eq!(shown_name("phi_1"), "ϕ₁");
+        assert_eq!(shown_name("Omega"), "Ω");
+        assert_eq!(shown_name("x"), "x");
+        assert_eq!(shown_name("xc"), "xc");
+        assert_eq!(shown_name("thetadot"), "thetadot");
+        assert_eq!(shown_name("energy"), "energy");
+        assert_eq!(shown_name("eta_b"), "eta_b");
+    }
 }

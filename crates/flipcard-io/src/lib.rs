@@ -23,8 +23,7 @@ mod write;
 pub use lock::{Lock, Wait};
 pub use ops::*;
 pub use probe::{
-    Probe, cannot_read, open_regular, probe, read_regular, read_regular_limited,
-    read_text,
+    Probe, cannot_read, open_regular, probe, read_regular, read_regular_limited, read_text,
 };
 pub use write::{Durability, copy_atomic, sync_dir, write_atomic, write_new};
 

@@ -521,7 +521,11 @@ fn the_status_line_says_how_fast_scene_time_runs() {
     assert!(screen.contains("speed ×1 · 13.0 yr/s"), "{screen}");
     assert!((running(&app).t() - 13.0).abs() < 1e-9, "{screen}");
     press(&mut app, KeyCode::Char('+'));
-    assert!(render(&app).contains("speed ×2 · 26.0 yr/s"), "{}", render(&app));
+    assert!(
+        render(&app).contains("speed ×2 · 26.0 yr/s"),
+        "{}",
+        render(&app)
+    );
 }
 
 #[test]

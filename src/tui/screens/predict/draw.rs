@@ -253,10 +253,7 @@ fn draw_play(
             format!(" · {}: {flips}", w::FLIPS.get(&app.lang)),
             t.strong(),
         ),
-        Span::styled(
-            format!(" · {}", super::speed_text(app, live)),
-            t.dim(),
-        ),
+        Span::styled(format!(" · {}", super::speed_text(app, live)), t.dim()),
         Span::styled(format!(" · {}", run.method().label()), t.dim()),
     ];
     if live.paused {
