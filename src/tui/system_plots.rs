@@ -193,8 +193,16 @@ pub fn phase(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: 
                     color: Color::White,
                 });
             }
-            ctx.print(x0, y0, TextLine::styled(shown_name(&a), Style::new().fg(dim)));
-            ctx.print(x0, y1, TextLine::styled(shown_name(&b), Style::new().fg(dim)));
+            ctx.print(
+                x0,
+                y0,
+                TextLine::styled(shown_name(&a), Style::new().fg(dim)),
+            );
+            ctx.print(
+                x0,
+                y1,
+                TextLine::styled(shown_name(&b), Style::new().fg(dim)),
+            );
         });
     frame.render_widget(canvas, area);
 }

@@ -172,7 +172,10 @@ fn system_panels_snapshot_in_both_languages() {
             tick(&mut app, 100);
         }
         let screen = render(&app);
-        assert!(screen.contains("theta"), "{screen}");
+        assert!(
+            screen.contains("θ against time") || screen.contains("θ time ke saath"),
+            "{screen}"
+        );
         insta::assert_snapshot!(format!("system_run_{lang}"), screen);
         // To the end: the verdict from period(theta).
         for _ in 0..200 {
