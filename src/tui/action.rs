@@ -87,6 +87,8 @@ pub enum Action {
     LargerStep,
     /// After a verdict: the deck's next prompt.
     NextPrompt,
+    /// Show or hide the solver's diagnostics line.
+    ToggleDiagnostics,
 
     /// Stats: show or hide the solvers' work–precision table.
     ToggleBench,

@@ -706,3 +706,38 @@ fn the_verdict_names_the_exact_run_when_the_learner_played_another_method() {
         "{screen}"
     );
 }
+
+#[test]
+fn diagnostics_wait_behind_d_and_come_by_themselves_for_another_method() {
+    let mut app = open(ENGLISH, 0);
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    apply_tick(&mut app, 100);
+    // The exact run: the solver's numbers are not the lesson; hidden.
+    assert!(!render(&app).contains("ΔE/E"), "{}", render(&app));
+    press(&mut app, KeyCode::Char('d'));
+    assert!(render(&app).contains("ΔE/E"), "{}", render(&app));
+    press(&mut app, KeyCode::Char('d'));
+    assert!(!render(&app).contains("ΔE/E"), "{}", render(&app));
+    // Another method: its error against the exact run is the lesson, shown
+    // unless the learner hid it.
+    let mut app = open(ENGLISH, 0);
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    press(&mut app, KeyCode::Char('m'));
+    apply_tick(&mut app, 100);
+    assert!(render(&app).contains("ΔE/E"), "{}", render(&app));
+    // Narrow: folded at its separators, never cut inside a part.
+    app.size = (60, 30);
+    let screen = render(&app);
+    let diag: Vec<&str> = screen
+        .lines()
+        .map(|l| l.trim_matches('"').trim_end())
+        .skip_while(|l| !l.contains("ΔE/E"))
+        .take_while(|l| !l.trim_start().starts_with("Space") && !l.is_empty())
+        .collect();
+    assert!(diag.len() >= 2, "{screen}");
+    for line in &diag {
+        assert!(!line.ends_with('…'), "cut: {line}\n{screen}");
+        assert!(!line.trim_end().ends_with('·'), "{line}");
+    }
+    assert!(screen.contains("µs draw"), "{screen}");
+}

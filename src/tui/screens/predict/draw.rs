@@ -47,12 +47,12 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
             ..
         } => {
             let verdict = verdict.as_ref();
+            let diag = state.shows_diagnostics();
+            let said = (prompt, *prediction);
             match run.sim() {
-                Sim::Rigid(r) => {
-                    draw_play(frame, area, app, prompt, *prediction, (run, r), verdict)
-                }
+                Sim::Rigid(r) => draw_play(frame, area, app, said, (run, r), verdict, diag),
                 Sim::System { run: sys, .. } => {
-                    super::system::draw(frame, area, app, prompt, *prediction, (run, sys), verdict)
+                    super::system::draw(frame, area, app, said, (run, sys), verdict, diag)
                 }
             }
         }
@@ -146,14 +146,36 @@ fn draw_play(
     frame: &mut Frame,
     area: Rect,
     app: &App,
-    prompt: &Prompt,
-    prediction: Prediction,
+    (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SceneRun),
     verdict: Option<&Verdict>,
+    show_diagnostics: bool,
 ) {
     let t = &app.theme;
     let width = area.width as usize;
-    let diag = u16::from(run.scene().shows(Panel::Diagnostics));
+    let diag_lines = match run.diagnostics() {
+        Some(d) if show_diagnostics && run.scene().shows(Panel::Diagnostics) => {
+            let err = d.error.map_or("—".to_string(), sci);
+            let mut line = format!(
+                "{} · ΔE/E {} · Δ|L|²/|L|² {} · {} {}",
+                run.method().label(),
+                sci(d.energy_drift),
+                sci(d.momentum_drift),
+                app.tr(Msg::ErrorVsExact),
+                err,
+            );
+            line.push_str(&format!(
+                " · {} µs phys + {} µs draw",
+                app.frame_us.physics, app.frame_us.draw
+            ));
+            if let Some(q) = d.qnorm_drift {
+                line.push_str(&format!(" · ||q|−1| {}", sci(q)));
+            }
+            fold_parts(&line, width)
+        }
+        _ => Vec::new(),
+    };
+    let diag = diag_lines.len() as u16;
     let verdict_lines = verdict
         .map(|v| super::verdict::for_run(app, prompt, prediction, v, live, width))
         .unwrap_or_default();
@@ -267,31 +289,11 @@ fn draw_play(
     }
     frame.render_widget(Paragraph::new(fit_spans(s, status.width as usize)), status);
 
-    if let Some(d) = run.diagnostics() {
-        let err = d.error.map_or("—".to_string(), sci);
-        let mut line = format!(
-            " {} · ΔE/E {} · Δ|L|²/|L|² {} · {} {}",
-            run.method().label(),
-            sci(d.energy_drift),
-            sci(d.momentum_drift),
-            app.tr(Msg::ErrorVsExact),
-            err,
-        );
-        line.push_str(&format!(
-            " · {} µs phys + {} µs draw",
-            app.frame_us.physics, app.frame_us.draw
-        ));
-        if let Some(q) = d.qnorm_drift {
-            line.push_str(&format!(" · ||q|−1| {}", sci(q)));
-        }
-        frame.render_widget(
-            Paragraph::new(fit_spans(
-                vec![Span::styled(line, t.dim())],
-                diag_area.width as usize,
-            )),
-            diag_area,
-        );
-    }
+    let lines: Vec<Line> = diag_lines
+        .into_iter()
+        .map(|l| Line::styled(l, t.dim()))
+        .collect();
+    frame.render_widget(Paragraph::new(lines), diag_area);
 
     frame.render_widget(
         hints_line(app, prompt, verdict.is_some(), hints.width),
@@ -395,6 +397,40 @@ fn pane_areas(area: Rect, panes: &[Pane]) -> Vec<(Pane, Rect)> {
             out
         }
     }
+}
+
+/// A diagnostics text ("a · b · c") folded to `width` at its separators,
+/// never inside a part, at most three lines (the last ending in "…" when
+/// parts were left out); a part wider than a line is cut with "…". Each
+/// line starts with a space.
+pub(super) fn fold_parts(text: &str, width: usize) -> Vec<String> {
+    const MAX_LINES: usize = 3;
+    let room = width.saturating_sub(1).max(1);
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for part in text.split(" · ") {
+        let part = crate::tui::wrap::ellipsize(part, room);
+        let joined = if line.is_empty() {
+            part.clone()
+        } else {
+            format!("{line} · {part}")
+        };
+        if unicode_width::UnicodeWidthStr::width(joined.as_str()) <= room {
+            line = joined;
+        } else {
+            lines.push(std::mem::replace(&mut line, part));
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    if lines.len() > MAX_LINES {
+        lines.truncate(MAX_LINES);
+        if let Some(last) = lines.pop() {
+            lines.push(crate::tui::wrap::ellipsize(&format!("{last} …"), room));
+        }
+    }
+    lines.into_iter().map(|l| format!(" {l}")).collect()
 }
 
 /// The first `n` of `lines`, the last one ending in "…" when some were

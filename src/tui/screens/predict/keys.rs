@@ -96,8 +96,17 @@ const STEP: Binding = Binding::new(
     ],
 );
 
+const DIAGNOSTICS: Binding = Binding::new(
+    "d",
+    Words(
+        "solver diagnostics (shown by themselves for another method)",
+        "solver diagnostics (doosre method pe khud dikhte hain)",
+    ),
+    &[(Char('d'), Action::ToggleDiagnostics)],
+);
+
 /// The simulation plays.
-pub const RUN_KEYS: &[Binding] = &[PAUSE, SPEED, RESTART, METHOD, STEP, BACK];
+pub const RUN_KEYS: &[Binding] = &[PAUSE, SPEED, RESTART, METHOD, STEP, DIAGNOSTICS, BACK];
 
 /// The verdict is shown under the last frame.
 pub const VERDICT_KEYS: &[Binding] = &[
@@ -106,6 +115,7 @@ pub const VERDICT_KEYS: &[Binding] = &[
     RESTART,
     METHOD,
     STEP,
+    DIAGNOSTICS,
     Binding::new(
         "e",
         Words("open the explanation", "samjhaav kholo"),

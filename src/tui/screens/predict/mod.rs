@@ -90,6 +90,10 @@ pub struct PredictState {
     /// A choice prompt (else a number).
     pub choice: bool,
     pub phase: Phase,
+    /// The learner asked for the solver's diagnostics (`d`); a run with
+    /// another method than the reference shows them anyway, unless the
+    /// learner hid them.
+    pub diagnostics: Option<bool>,
 }
 
 impl PredictState {
@@ -103,11 +107,23 @@ impl PredictState {
             deck,
             prompt,
             choice,
+            diagnostics: None,
             phase: Phase::Ask {
                 selected: 0,
                 input: String::new(),
                 error: None,
             },
+        }
+    }
+
+    /// Whether the diagnostics line is shown (when the scene has one): the
+    /// learner's choice, else only for a run with another method than the
+    /// reference, where the error it reports is the lesson.
+    pub fn shows_diagnostics(&self) -> bool {
+        match (&self.phase, self.diagnostics) {
+            (_, Some(shown)) => shown,
+            (Phase::Play { run, .. }, None) => !run.is_reference(),
+            (Phase::Ask { .. }, None) => false,
         }
     }
 
@@ -198,6 +214,10 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
     let Some(prompt) = prompt(app, state).cloned() else {
         return Nav::Pop;
     };
+    if action == Action::ToggleDiagnostics {
+        state.diagnostics = Some(!state.shows_diagnostics());
+        return Nav::Stay;
+    }
     let known = deck(app, state)
         .is_some_and(|d| d.system(&prompt.scene).is_some() || d.scene(&prompt.scene).is_some());
     if !known {

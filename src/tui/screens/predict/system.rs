@@ -58,13 +58,18 @@ pub fn draw(
     frame: &mut Frame,
     area: Rect,
     app: &App,
-    prompt: &Prompt,
-    prediction: Prediction,
+    (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SystemRun),
     verdict: Option<&Verdict>,
+    show_diagnostics: bool,
 ) {
     let t = &app.theme;
-    let diag = run.scene().shows(SystemPanel::Diagnostics);
+    let diag_lines = if show_diagnostics && run.scene().shows(SystemPanel::Diagnostics) {
+        let line = system_plots::diagnostics_line(run, &app.lang);
+        super::draw::fold_parts(line.trim_start(), area.width as usize)
+    } else {
+        Vec::new()
+    };
     // The same banner, prediction and evidence as a rigid body's verdict.
     let verdict_lines = verdict
         .map(|v| super::verdict::for_run(app, prompt, prediction, v, live, area.width as usize))
@@ -89,7 +94,7 @@ pub fn draw(
         Constraint::Length(top_h),
         Constraint::Fill(1),
         Constraint::Length(1),
-        Constraint::Length(u16::from(diag)),
+        Constraint::Length(diag_lines.len() as u16),
         Constraint::Length(hints_h),
         Constraint::Length(verdict_h),
     ])
@@ -138,15 +143,11 @@ pub fn draw(
         s.push(Span::styled(format!(" · {e}"), t.bad()));
     }
     frame.render_widget(Paragraph::new(Line::from(s)), status);
-    if diag {
-        frame.render_widget(
-            Paragraph::new(Span::styled(
-                system_plots::diagnostics_line(sys, &app.lang),
-                t.dim(),
-            )),
-            diag_area,
-        );
-    }
+    let lines: Vec<Line> = diag_lines
+        .into_iter()
+        .map(|l| Line::styled(l, t.dim()))
+        .collect();
+    frame.render_widget(Paragraph::new(lines), diag_area);
     frame.render_widget(
         super::draw::hints_line(app, prompt, verdict.is_some(), hints.width),
         hints,
