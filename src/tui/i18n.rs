@@ -487,12 +487,18 @@ pub fn stat_words(stat: crate::sim::scene::spec::Stat) -> Words {
 }
 
 /// How a measurement is named in the verdict: the rigid-body measure's
-/// words, or the statistic with the quantity it is of ("period of theta").
+/// words, or the statistic with the quantity it is of ("period of θ",
+/// "θ ka period").
 pub fn measure_label(m: crate::deck::Measure, lang: &str) -> String {
     match m {
         crate::deck::Measure::Of(stat, name) => {
-            let of = Words("of", "ka").get(lang);
-            format!("{} {of} {name}", stat_words(stat).get(lang))
+            let name = crate::tui::system_plots::shown_name(name.as_str());
+            let stat = stat_words(stat).get(lang);
+            if lang == HINGLISH {
+                format!("{name} ka {stat}")
+            } else {
+                format!("{stat} of {name}")
+            }
         }
         m => measure(m).get(lang).to_string(),
     }

@@ -557,3 +557,41 @@ fn two_dots_of_a_sketch_are_two_glyphs() {
     assert_eq!(screen.matches('●').count(), 1, "{screen}");
     assert_eq!(screen.matches('◆').count(), 1, "{screen}");
 }
+
+#[test]
+fn a_number_verdict_names_its_measurement_with_its_unit_and_no_empty_formula() {
+    // The pendulum's period asked as a number: "period of θ 4.89 s", and
+    // the deck's answer on its own line (the prompt has no closed form).
+    let mut deck = testkit::deck();
+    deck.systems.push(pendulum());
+    deck.prompts.push(Prompt {
+        id: "period-number".into(),
+        question: text("Its period, in seconds?", "Iska period, seconds mein?"),
+        scene: "pendulum-170".into(),
+        explain: None,
+        answer: Answer::Number {
+            measure: Measure::Of(Stat::Period, Name::new("theta").unwrap()),
+            unit: "s".into(),
+            expected: 4.89,
+            tolerance: crate::deck::Tolerance::Rel(0.01),
+            formula: None,
+        },
+        tags: vec![],
+    });
+    let dir = tempfile::tempdir().unwrap();
+    let mut app = crate::tui::Tui::new(vec![deck], testkit::services(&dir), ENGLISH, Theme::PLAIN);
+    app.size = (100, 30);
+    let mut app = TestApp { app, dir };
+    press(&mut app, KeyCode::Char('p'));
+    press_all(&mut app, &[KeyCode::Char('j'), KeyCode::Char('j')]);
+    press(&mut app, KeyCode::Enter);
+    for c in "4.9".chars() {
+        press(&mut app, KeyCode::Char(c));
+    }
+    press(&mut app, KeyCode::Enter);
+    let screen = verdict_text(&mut app);
+    assert!(screen.contains("Right"), "{screen}");
+    assert!(screen.contains("period of θ 4.89 s"), "{screen}");
+    assert!(screen.contains("the deck's answer: 4.89 s"), "{screen}");
+    assert!(!screen.contains("formula:"), "{screen}");
+}

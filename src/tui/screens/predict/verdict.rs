@@ -6,7 +6,7 @@
 use ratatui::style::Modifier;
 use ratatui::text::{Line, Span};
 
-use crate::deck::{Answer, Measure, Prompt};
+use crate::deck::{Answer, Measure, Prompt, Stat};
 use crate::predict::audit::measure_unit;
 use crate::sim::scene::measure::{Reading, formula_name};
 use crate::text::num::{Num, sig};
@@ -149,7 +149,7 @@ fn readings(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String {
     let mut said: Vec<String> = v
         .readings
         .iter()
-        .map(|r| reading(lang, unit, v, r))
+        .map(|r| reading(lang, unit, v, r, answer))
         .collect();
     if said.is_empty() {
         let measure = match answer {
@@ -159,7 +159,7 @@ fn readings(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String {
         if let Some(m) = measure {
             said.push(format!(
                 "{} {}",
-                crate::tui::i18n::measure(m).get(lang),
+                crate::tui::i18n::measure_label(m, lang),
                 w::NOT_MEASURED.get(lang)
             ));
         }
@@ -167,7 +167,11 @@ fn readings(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String {
     said.join("; ")
 }
 
-fn reading(lang: &str, unit: &str, v: &Verdict, r: &Reading) -> String {
+/// One measurement as the verdict reads it: named in words, with the
+/// variable it is of ("period of θ"), and with its unit: the measure's own,
+/// a period's time unit, or the prompt's unit when the prompt asks for this
+/// very number.
+fn reading(lang: &str, unit: &str, v: &Verdict, r: &Reading, answer: &Answer) -> String {
     if r.measure == Measure::Flips {
         let times: Vec<String> = v.evidence.flip_times.iter().map(|&t| sig(t, 3)).collect();
         let times = format!("{} {unit}", list_and(lang, &times));
@@ -181,9 +185,16 @@ fn reading(lang: &str, unit: &str, v: &Verdict, r: &Reading) -> String {
             ),
         };
     }
-    let u = measure_unit(r.measure, unit);
+    let mut u = measure_unit(r.measure, unit);
+    if u.is_empty() {
+        u = match (r.measure, answer) {
+            (Measure::Of(Stat::Period, _), _) => unit.to_string(),
+            (m, Answer::Number { measure, unit, .. }) if m == *measure => unit.clone(),
+            _ => String::new(),
+        };
+    }
     let u = if u.is_empty() { u } else { format!(" {u}") };
-    let name = crate::tui::i18n::measure(r.measure).get(lang);
+    let name = crate::tui::i18n::measure_label(r.measure, lang);
     let value = sig(r.value, 3);
     let fname = formula_name(r.measure);
     match r.formula {
@@ -281,16 +292,24 @@ pub fn lines(
                 .readings
                 .iter()
                 .find_map(|r| r.formula.map(|f| (formula_name(r.measure), f)));
-            let mut text = match closed {
-                Some((name, f)) => format!("{name} = {} {unit} · ", sig(f, 3)),
-                None => String::new(),
-            };
-            text.push_str(&format!(
-                "{}: {} {unit}",
-                w::DECK_ANSWER.get(lang),
-                Num(*expected)
-            ));
-            out.extend(labelled(w::FORMULA.get(lang), text, t.text()));
+            // The formula's value beside the deck's answer; without a
+            // closed form, the deck's answer alone (no empty "formula:").
+            match closed {
+                Some((name, f)) => {
+                    let text = format!(
+                        "{name} = {} {unit} · {}: {} {unit}",
+                        sig(f, 3),
+                        w::DECK_ANSWER.get(lang),
+                        Num(*expected)
+                    );
+                    out.extend(labelled(w::FORMULA.get(lang), text, t.text()));
+                }
+                None => out.extend(labelled(
+                    w::DECK_ANSWER.get(lang),
+                    format!("{} {unit}", Num(*expected)),
+                    t.text(),
+                )),
+            }
             if let Some(f) = formula {
                 out.extend(labelled(
                     w::WORKED.get(lang),
