@@ -3,6 +3,7 @@
 //! here, between the deck's prompt and the measurements.
 
 pub mod audit;
+pub mod typed;
 
 use crate::deck::{Answer, Measure, Prompt};
 use flipcard_sim::scene::measure::{Evidence, Measurements, Reading};

@@ -148,41 +148,7 @@ pub(super) fn prompt<'a>(app: &'a App, s: &PredictState) -> Option<&'a Prompt> {
     deck(app, s).and_then(|d| d.prompts.get(s.prompt))
 }
 
-/// Parses "5.77", "5.77 1/s", "-3,2 rad/s": a number and, optionally, the
-/// prompt's unit (spaces and case ignored). A unicode minus is accepted.
-pub fn parse_number(input: &str, unit: &str) -> Result<f64, ParseError> {
-    let text = input.trim().replace('−', "-");
-    let end = text
-        .char_indices()
-        .find(|&(i, c)| {
-            !(c.is_ascii_digit()
-                || c == '.'
-                || c == ','
-                || ((c == '-' || c == '+') && (i == 0 || text[..i].ends_with(['e', 'E'])))
-                || ((c == 'e' || c == 'E')
-                    && text[i + 1..]
-                        .starts_with(|d: char| d.is_ascii_digit() || d == '-' || d == '+')))
-        })
-        .map_or(text.len(), |(i, _)| i);
-    let number = text[..end].replace(',', ".");
-    let value: f64 = number.parse().map_err(|_| ParseError::NotANumber)?;
-    if !value.is_finite() {
-        return Err(ParseError::NotANumber);
-    }
-    let squash = |s: &str| s.split_whitespace().collect::<String>().to_lowercase();
-    let rest = squash(&text[end..]);
-    if rest.is_empty() || rest == squash(unit) {
-        Ok(value)
-    } else {
-        Err(ParseError::WrongUnit)
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ParseError {
-    NotANumber,
-    WrongUnit,
-}
+pub use crate::predict::typed::{ParseError, parse_number};
 
 impl super::View for PredictState {
     fn context(&self) -> Context {
