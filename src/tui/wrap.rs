@@ -67,7 +67,10 @@ fn tokens(runs: &[Run]) -> Vec<Token> {
     };
     for run in runs {
         let mut frag = String::new();
-        let piece = |frag: String| Run::new(frag, run.style).tagged(run.tag);
+        let piece = |frag: String| Run {
+            text: frag,
+            ..run.clone()
+        };
         for c in run.text.chars() {
             if c == '\n' || (c.is_whitespace() && !run.glue) {
                 if !frag.is_empty() {
@@ -88,6 +91,39 @@ fn tokens(runs: &[Run]) -> Vec<Token> {
         }
     }
     flush(&mut word, &mut out);
+    glue_units(out)
+}
+
+/// Units a number keeps on its line ("1 m", "2.006 s", "9.81 m/s²").
+const UNITS: &[&str] = &[
+    "s", "ms", "µs", "min", "h", "d", "yr", "m", "cm", "mm", "km", "kg", "g", "N", "J", "W", "Hz",
+    "rad", "deg", "°", "K", "%", "AU", "m/s", "m/s²", "rad/s", "rad/s²", "1/s", "km/s", "N·m",
+    "kg·m²", "days", "years", "seconds", "din", "saal",
+];
+
+/// A number and the unit after it made one word: `Word, Space, Word`
+/// where the first ends in a digit and the second is a unit (followed at
+/// most by punctuation).
+fn glue_units(tokens: Vec<Token>) -> Vec<Token> {
+    let text = |w: &Word| w.iter().map(|r| r.text.as_str()).collect::<String>();
+    let mut out: Vec<Token> = Vec::with_capacity(tokens.len());
+    let mut it = tokens.into_iter().peekable();
+    let is_unit = |t: &Token| {
+        matches!(t, Token::Word(w)
+            if UNITS.contains(&text(w).trim_end_matches([',', '.', ';', ':', ')', '!', '?'])))
+    };
+    while let Some(token) = it.next() {
+        if let Token::Space(style) = token
+            && let Some(Token::Word(prev)) = out.last_mut()
+            && text(prev).ends_with(|c: char| c.is_ascii_digit())
+            && let Some(Token::Word(next)) = it.next_if(is_unit)
+        {
+            prev.push(Run::new(" ", style));
+            prev.extend(next);
+            continue;
+        }
+        out.push(token);
+    }
     out
 }
 
@@ -159,6 +195,19 @@ impl Builder {
             }
             return;
         }
+        // A formula longer than a whole line: break it where mathematics
+        // breaks (beside a top-level operator), else between factors, else
+        // inside brackets; never inside a symbol or a number.
+        if let Some(pieces) = split_formula(&word, self.available()) {
+            let style = word.first().map_or(Style::default(), |r| r.style);
+            for (i, piece) in pieces.into_iter().enumerate() {
+                if i > 0 {
+                    self.pending_space = Some(style);
+                }
+                self.word(piece);
+            }
+            return;
+        }
         // Longer than a whole line: break it by characters, keeping
         // zero-width combining marks with their base character.
         for run in word {
@@ -184,6 +233,73 @@ impl Builder {
             }
         }
     }
+}
+
+/// `word` (a formula, with what sticks to it) cut at its glued spaces of
+/// the best rank ([`crate::text::math_breaks`]) whose pieces each fit in
+/// `room` columns; `None` when it has no glued space or no rank does.
+fn split_formula(word: &Word, room: usize) -> Option<Vec<Word>> {
+    // (run, byte offset of the space, rank)
+    let mut spaces = Vec::new();
+    for (i, run) in word.iter().enumerate() {
+        if run.glue {
+            spaces.extend(
+                crate::text::math_breaks(&run.text)
+                    .into_iter()
+                    .map(|(at, rank)| (i, at, rank)),
+            );
+        }
+    }
+    let cut = |max_rank: u8| -> Option<Vec<Word>> {
+        let mut pieces: Vec<Word> = vec![Vec::new()];
+        for (i, run) in word.iter().enumerate() {
+            let mut from = 0;
+            for &(_, at, _) in spaces.iter().filter(|s| s.0 == i && s.2 <= max_rank) {
+                if at > from {
+                    let text = run.text[from..at].to_string();
+                    pieces.last_mut()?.push(Run {
+                        text,
+                        ..run.clone()
+                    });
+                }
+                pieces.push(Vec::new());
+                from = at + 1;
+            }
+            if from < run.text.len() {
+                let text = run.text[from..].to_string();
+                pieces.last_mut()?.push(Run {
+                    text,
+                    ..run.clone()
+                });
+            }
+        }
+        pieces.retain(|p| !p.is_empty());
+        Some(pieces)
+    };
+    let cut = |rank| cut(rank).unwrap_or_default();
+    (0..=2).find_map(|rank| {
+        if !spaces.iter().any(|s| s.2 <= rank) {
+            return None;
+        }
+        let pieces = cut(rank);
+        let fits = pieces
+            .iter()
+            .all(|p| p.iter().map(|r| width(&r.text)).sum::<usize>() <= room);
+        fits.then_some(pieces)
+    })
+}
+
+/// The runs of `text` with its formulas rendered and glued (their spaces
+/// break a line only when the formula is longer than a line, and then where
+/// mathematics breaks), all in `style`.
+pub fn math_runs(text: &str, style: Style) -> Vec<Run> {
+    crate::text::render_pieces(text)
+        .into_iter()
+        .map(|(piece, math)| {
+            let run = Run::new(piece, style);
+            if math { run.glued() } else { run }
+        })
+        .collect()
 }
 
 /// Wraps `runs` to `width` columns. The first line starts with

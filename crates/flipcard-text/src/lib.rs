@@ -125,7 +125,71 @@ fn check_in_order(text: &str) -> Vec<MathError> {
 /// rest is unchanged. Display math (`$$...$$`) is put on a line of its own.
 /// A formula that does not parse is left as written (see [`check`]).
 pub fn render(text: &str) -> String {
-    render_with(text, &mut |latex, out| write_math(latex, out).is_ok())
+    render_with(text, &mut |latex, out| write_math(latex, out).is_ok(), None)
+}
+
+/// [`render`], in pieces: each formula rendered (`true`) apart from the
+/// text around it (`false`), so that a wrapper can keep a formula whole
+/// and break it only where mathematics breaks (see [`math_breaks`]).
+/// The pieces joined are [`render`]'s output.
+pub fn render_pieces(text: &str) -> Vec<(String, bool)> {
+    let mut ranges = Vec::new();
+    let out = render_with(
+        text,
+        &mut |latex, out| write_math(latex, out).is_ok(),
+        Some(&mut ranges),
+    );
+    let mut pieces = Vec::new();
+    let mut at = 0;
+    for r in ranges {
+        if r.start > at {
+            pieces.push((out[at..r.start].to_string(), false));
+        }
+        if r.end > r.start {
+            pieces.push((out[r.clone()].to_string(), true));
+        }
+        at = r.end;
+    }
+    if at < out.len() {
+        pieces.push((out[at..].to_string(), false));
+    }
+    pieces
+}
+
+/// Where a rendered formula may break across lines, best first: the byte
+/// offsets of its spaces, each with a rank. Rank 0: beside a relation or
+/// binary operator outside every bracket (`a + b`, `T ≈ …`): the place
+/// mathematics breaks. Rank 1: any other space outside brackets (between
+/// factors: `I₂ I₃`, `ln x`). Rank 2: a space inside brackets. A break
+/// inside a symbol with its scripts, or inside a number, is never offered.
+pub fn math_breaks(rendered: &str) -> Vec<(usize, u8)> {
+    const OPERATORS: &[char] = &[
+        '=', '≈', '≠', '<', '>', '≤', '≥', '≡', '∝', '→', '⇒', '⇔', '↔', '∼', '~', '+', '−', '-',
+        '±', '∓', '×', '·', '⋅', '÷', ',', ';',
+    ];
+    let mut depth: i32 = 0;
+    let mut out = Vec::new();
+    let chars: Vec<(usize, char)> = rendered.char_indices().collect();
+    for (k, &(i, c)) in chars.iter().enumerate() {
+        match c {
+            '(' | '[' | '{' | '⟨' | '⌊' | '⌈' => depth += 1,
+            ')' | ']' | '}' | '⟩' | '⌋' | '⌉' => depth = (depth - 1).max(0),
+            ' ' => {
+                let before = chars[..k].iter().rev().map(|&(_, c)| c).find(|c| *c != ' ');
+                let after = chars[k + 1..].iter().map(|&(_, c)| c).find(|c| *c != ' ');
+                let beside_op = before.is_some_and(|c| OPERATORS.contains(&c))
+                    || after.is_some_and(|c| OPERATORS.contains(&c));
+                let rank = match (depth, beside_op) {
+                    (0, true) => 0,
+                    (0, false) => 1,
+                    _ => 2,
+                };
+                out.push((i, rank));
+            }
+            _ => {}
+        }
+    }
+    out
 }
 
 /// Renders many texts, each distinct formula once (decks repeat their
@@ -139,7 +203,7 @@ pub struct Renderer {
 
 impl Renderer {
     pub fn render(&mut self, text: &str) -> String {
-        render_with(text, &mut |latex, out| {
+        let mut math = |latex: &str, out: &mut String| {
             if let Some(done) = self.memo.get(latex) {
                 return done.as_deref().map(|d| out.push_str(d)).is_some();
             }
@@ -150,13 +214,19 @@ impl Renderer {
             }
             self.memo.insert(latex.to_string(), ok.then_some(one));
             ok
-        })
+        };
+        render_with(text, &mut math, None)
     }
 }
 
 /// [`render`], with `math` appending one formula to the text (false: it
-/// does not parse, and what it appended is taken back).
-fn render_with(text: &str, write: &mut dyn FnMut(&str, &mut String) -> bool) -> String {
+/// does not parse, and what it appended is taken back); `ranges`, when
+/// given, receives the byte range of each formula rendered.
+fn render_with(
+    text: &str,
+    write: &mut dyn FnMut(&str, &mut String) -> bool,
+    mut ranges: Option<&mut Vec<std::ops::Range<usize>>>,
+) -> String {
     let mut out = String::with_capacity(text.len());
     let mut after_display = false;
     for piece in dollar::pieces(text) {
@@ -191,6 +261,8 @@ fn render_with(text: &str, write: &mut dyn FnMut(&str, &mut String) -> bool) -> 
                 if !write(math.latex, &mut out) {
                     out.truncate(start);
                     out.push_str(math.source);
+                } else if let Some(r) = ranges.as_deref_mut() {
+                    r.push(start..out.len());
                 }
             }
             Piece::Unclosed { offset, .. } => {

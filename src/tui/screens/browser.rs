@@ -944,11 +944,12 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
     frame.render_widget(block, area);
     let width = inner.width as usize;
     let lang = &app.lang;
+    use crate::tui::wrap::math_runs;
     let segs = |segs: Vec<crate::deck::cloze::Segment>| -> Vec<Run> {
         segs.into_iter()
-            .map(|seg| {
+            .flat_map(|seg| {
                 let style = if seg.asked { t.highlight() } else { t.text() };
-                Run::new(crate::text::render(&seg.text), style)
+                crate::tui::wrap::math_runs(&seg.text, style)
             })
             .collect()
     };
@@ -966,21 +967,12 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             (segs(crate::deck::cloze::front(text, n)), back)
         }
         Direction::Forward => (
-            vec![Run::new(
-                crate::text::render(card.front.get(lang)),
-                t.strong(),
-            )],
-            vec![Run::new(crate::text::render(card.back.get(lang)), t.text())],
+            math_runs(card.front.get(lang), t.strong()),
+            math_runs(card.back.get(lang), t.text()),
         ),
         Direction::Backward => (
-            vec![Run::new(
-                crate::text::render(card.back.get(lang)),
-                t.strong(),
-            )],
-            vec![Run::new(
-                crate::text::render(card.front.get(lang)),
-                t.text(),
-            )],
+            math_runs(card.back.get(lang), t.strong()),
+            math_runs(card.front.get(lang), t.text()),
         ),
     };
     let blank = Run::new("", t.text());

@@ -61,3 +61,4 @@ pub fn settle(app: &mut Tui) {
     }
     panic!("the browser's search index was never ready");
 }
+mod formulas;

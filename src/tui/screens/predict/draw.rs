@@ -61,9 +61,8 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
 
 fn question_lines(app: &App, prompt: &Prompt, width: usize) -> Vec<Line<'static>> {
     let t = &app.theme;
-    let q = crate::text::render(prompt.question.get(&app.lang));
     wrap(
-        &[Run::new(q, t.strong())],
+        &crate::tui::wrap::math_runs(prompt.question.get(&app.lang), t.strong()),
         width,
         Run::new("", t.text()),
         Run::new("", t.text()),

@@ -311,10 +311,14 @@ pub fn lines(
                 )),
             }
             if let Some(f) = formula {
-                out.extend(labelled(
-                    w::WORKED.get(lang),
-                    crate::text::render(f.get(lang)),
-                    t.math(),
+                // The author's working, its formulas kept whole.
+                let mut runs = vec![Run::new(format!("{}: ", w::WORKED.get(lang)), t.dim())];
+                runs.extend(crate::tui::wrap::math_runs(f.get(lang), t.math()));
+                out.extend(wrap(
+                    &runs,
+                    width.saturating_sub(1),
+                    Run::new(" ", t.dim()),
+                    Run::new("   ", t.dim()),
                 ));
             }
         }

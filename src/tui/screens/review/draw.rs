@@ -62,7 +62,7 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
     };
     let para = |text: &str, style| {
         wrap(
-            &[Run::new(crate::text::render(text), style)],
+            &crate::tui::wrap::math_runs(text, style),
             width,
             Run::new("", style),
             Run::new("", style),
@@ -72,9 +72,9 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
     let cloze = |segs: Vec<crate::deck::cloze::Segment>, plain, asked| {
         let r: Vec<Run> = segs
             .into_iter()
-            .map(|s| {
+            .flat_map(|s| {
                 let style = if s.asked { asked } else { plain };
-                Run::new(crate::text::render(&s.text), style)
+                crate::tui::wrap::math_runs(&s.text, style)
             })
             .collect();
         wrap(&r, width, Run::new("", plain), Run::new("", plain))
