@@ -435,6 +435,9 @@ pub enum Noun {
     Prompt,
     Section,
     DeckProblem,
+    Link,
+    /// A count of new cards: "1 new", "1 naya", "20 naye".
+    New,
 }
 
 /// `n` with its noun, agreeing: "1 card", "3 cards". Hinglish borrows the
@@ -446,6 +449,9 @@ pub fn count(lang: &str, n: usize, noun: Noun) -> String {
         Noun::Card => ("card", "cards"),
         Noun::Prompt => ("prompt", "prompts"),
         Noun::Section => ("section", "sections"),
+        Noun::Link => ("link", "links"),
+        Noun::New if hi => ("naya", "naye"),
+        Noun::New => ("new", "new"),
         Noun::DeckProblem if hi => (
             "decks mein galti (`flipcard check` chalao)",
             "decks mein galtiyan (`flipcard check` chalao)",
@@ -492,7 +498,7 @@ pub fn stat_words(stat: crate::sim::scene::spec::Stat) -> Words {
 pub fn measure_label(m: crate::deck::Measure, lang: &str) -> String {
     match m {
         crate::deck::Measure::Of(stat, name) => {
-            let name = crate::tui::system_plots::shown_name(name.as_str());
+            let name = crate::text::variable_name(name.as_str());
             let stat = stat_words(stat).get(lang);
             if lang == HINGLISH {
                 format!("{name} ka {stat}")
@@ -591,8 +597,6 @@ pub mod exam {
 pub mod reader {
     use super::Words;
 
-    /// "Tab: 17 links" before one is chosen.
-    pub const LINKS: Words = Words("links", "links");
     pub const TAB_TO_CHOOSE: Words = Words("Tab chooses", "Tab se chuno");
     pub const ENTER_OPENS: Words = Words("Enter opens", "Enter se kholo");
     /// Before "12–31/80".
@@ -620,6 +624,7 @@ pub mod study {
     pub const HIDE_BENCH: Words = Words("hide the table", "table chhupao");
     /// What comes next, after a session.
     pub const DUE_TOMORROW: Words = Words("due tomorrow", "kal baaki");
+    pub const LATER_TODAY: Words = Words("due later today", "aaj baad mein baaki");
     pub const NEW_LEFT: Words = Words("new cards not yet seen", "naye cards jo abhi dekhe nahi");
     pub const NEW_TOMORROW: Words = Words(
         "new ones come tomorrow (limit per day)",
@@ -782,4 +787,19 @@ pub mod browser {
 
     /// In place of the count while the search index is still being built.
     pub const SEARCHING: Words = Words("searching…", "dhoondh rahe…");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counted_words_agree_in_both_languages() {
+        assert_eq!(count(ENGLISH, 1, Noun::Link), "1 link");
+        assert_eq!(count(ENGLISH, 17, Noun::Link), "17 links");
+        assert_eq!(count(HINGLISH, 1, Noun::New), "1 naya");
+        assert_eq!(count(HINGLISH, 20, Noun::New), "20 naye");
+        assert_eq!(count(ENGLISH, 1, Noun::New), "1 new");
+        assert_eq!(count(ENGLISH, 0, Noun::New), "0 new");
+    }
 }

@@ -121,6 +121,46 @@ fn check_in_order(text: &str) -> Vec<MathError> {
     errors
 }
 
+/// A variable's name as a panel shows it: a Greek letter's name as the
+/// letter, with its index as a subscript (`theta` → θ, `omega2` → ω₂,
+/// `phi_1` → φ₁); any other name as written.
+pub fn variable_name(name: &str) -> String {
+    const GREEK: [&str; 24] = [
+        "alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "iota", "kappa",
+        "lambda", "mu", "nu", "xi", "pi", "rho", "sigma", "tau", "upsilon", "phi", "chi", "psi",
+        "omega", "varphi",
+    ];
+    let letters = name.trim_end_matches(|c: char| c.is_ascii_digit() || c == '_');
+    let index = name[letters.len()..].trim_start_matches('_');
+    let capital = letters
+        .strip_prefix(|c: char| c.is_ascii_uppercase())
+        .is_some_and(|rest| rest.chars().all(|c| c.is_ascii_lowercase()));
+    let lower = letters.to_ascii_lowercase();
+    if !GREEK.contains(&lower.as_str()) || !(index.chars().all(|c| c.is_ascii_digit())) {
+        return name.to_string();
+    }
+    // LaTeX has capitals only for the letters that differ from Latin ones.
+    let latex = if capital {
+        let mut c = lower.chars();
+        c.next()
+            .map(|f| format!("{}{}", f.to_ascii_uppercase(), c.as_str()))
+            .unwrap_or_default()
+    } else {
+        lower
+    };
+    let sub = if index.is_empty() {
+        String::new()
+    } else {
+        format!("_{{{index}}}")
+    };
+    let shown = render(&format!("$\\{latex}{sub}$"));
+    if shown.contains('\\') {
+        name.to_string()
+    } else {
+        shown
+    }
+}
+
 /// `text` with every math span rendered as Unicode and `\$` as `$`; the
 /// rest is unchanged. Display math (`$$...$$`) is put on a line of its own.
 /// A formula that does not parse is left as written (see [`check`]).
@@ -623,5 +663,23 @@ mod tests {
             let _ = render(text);
             let _ = check(text);
         }
+    }
+}
+
+#[cfg(test)]
+mod variable_names {
+    use super::variable_name as shown_name;
+
+    #[test]
+    fn greek_names_show_as_letters_and_others_as_written() {
+        assert_eq!(shown_name("theta"), "θ");
+        assert_eq!(shown_name("omega2"), "ω₂");
+        assert_eq!(shown_name("phi_1"), "ϕ₁");
+        assert_eq!(shown_name("Omega"), "Ω");
+        assert_eq!(shown_name("x"), "x");
+        assert_eq!(shown_name("xc"), "xc");
+        assert_eq!(shown_name("thetadot"), "thetadot");
+        assert_eq!(shown_name("energy"), "energy");
+        assert_eq!(shown_name("eta_b"), "eta_b");
     }
 }

@@ -8,7 +8,7 @@ use crossterm::event::KeyCode::{Backspace, Enter, Esc};
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Margin, Rect};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Gauge, Paragraph, Wrap};
+use ratatui::widgets::{Paragraph, Wrap};
 
 use crate::sched::DayOf as _;
 use crate::sched::plan::{self, Model, Plan, PlanError};
@@ -246,7 +246,8 @@ fn draw_date(frame: &mut Frame, area: Rect, app: &App, input: &str, error: Optio
 fn draw_study(frame: &mut Frame, area: Rect, app: &App, study: &Study) {
     let t = &app.theme;
     let short = study.plan.shortfall();
-    let [head, gauge, note, rest] = Layout::vertical([
+    let [head, said, gauge, note, rest] = Layout::vertical([
+        Constraint::Length(1),
         Constraint::Length(1),
         Constraint::Length(1),
         Constraint::Length(u16::from(short > 0)),
@@ -279,11 +280,22 @@ fn draw_study(frame: &mut Frame, area: Rect, app: &App, study: &Study) {
     } else {
         (study.now / n as f64).clamp(0.0, 1.0)
     };
+    // The words on their own line and the bar under them: a label drawn
+    // over the bar was overprinted by its blocks.
     frame.render_widget(
-        Gauge::default()
-            .gauge_style(t.good())
-            .ratio(ratio)
-            .label(Span::styled(label, t.strong())),
+        Paragraph::new(Span::styled(format!(" {label}"), t.strong())),
+        said,
+    );
+    // Blocks, not colour alone: the bar reads with NO_COLOR too.
+    let room = usize::from(gauge.width).saturating_sub(7);
+    let filled = ((ratio * room as f64).round() as usize).min(room);
+    frame.render_widget(
+        Paragraph::new(Line::from(vec![
+            Span::raw(" "),
+            Span::styled("█".repeat(filled), t.good()),
+            Span::styled("░".repeat(room - filled), t.dim()),
+            Span::styled(format!(" {:>3.0}%", 100.0 * ratio), t.dim()),
+        ])),
         gauge,
     );
     if short > 0 {

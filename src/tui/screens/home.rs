@@ -283,7 +283,10 @@ fn details(app: &App, state: &HomeState, narrow: bool, width: u16) -> Vec<Line<'
                     t.warn(),
                 ),
                 Span::styled(" · ", t.dim()),
-                Span::styled(format!("{} {}", c.new, app.tr(Msg::New)), t.title()),
+                Span::styled(
+                    crate::tui::i18n::count(&app.lang, c.new, Noun::New),
+                    t.title(),
+                ),
                 Span::styled(
                     format!(
                         " · {} {}",

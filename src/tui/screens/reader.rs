@@ -828,9 +828,8 @@ fn status_line(
             None if !links.is_empty() => (
                 vec![(
                     format!(
-                        " {} {} · {}",
-                        links.len(),
-                        words::LINKS.get(lang),
+                        " {} · {}",
+                        crate::tui::i18n::count(lang, links.len(), crate::tui::i18n::Noun::Link),
                         words::TAB_TO_CHOOSE.get(lang)
                     ),
                     t.dim(),

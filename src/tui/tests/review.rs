@@ -411,14 +411,26 @@ fn the_summary_says_what_comes_next_and_c_crams() {
     assert_eq!(app.context(), Context::ReviewDone);
     let next = review(&app).what_next(&app);
     assert_eq!(next.new_cards, 0);
-    // Counted from the stored states: due before the end of tomorrow.
+    // Counted from the stored states: due during tomorrow's study day, not
+    // later today (a learning step minutes away is not "tomorrow").
     let r = review(&app);
     let Source::Daily(q) = &r.source else {
         panic!("a daily review");
     };
-    let end = q.day().1 + chrono::TimeDelta::days(1);
-    let expected = r.states.values().filter(|s| s.due < end).count();
+    let (today_end, end) = (q.day().1, q.day().1 + chrono::TimeDelta::days(1));
+    let expected = r
+        .states
+        .values()
+        .filter(|s| s.due >= today_end && s.due < end)
+        .count();
     assert_eq!(next.due_tomorrow, expected);
+    let now = app.services.now();
+    let today = r
+        .states
+        .values()
+        .filter(|s| s.due >= now && s.due < today_end && s.state != crate::sched::State::New)
+        .count();
+    assert_eq!(next.later_today, today);
     let screen = render(&app);
     assert!(
         screen.contains(&format!("due tomorrow: {}", next.due_tomorrow)),

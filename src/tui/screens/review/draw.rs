@@ -409,6 +409,13 @@ pub fn summary_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'
         ));
     }
     if !state.cram {
+        if next.later_today > 0 {
+            lines.extend(wrap_plain(
+                &format!("{}: {}", study::LATER_TODAY.get(lang), next.later_today),
+                t.text(),
+                width,
+            ));
+        }
         lines.extend(wrap_plain(
             &format!("{}: {}", study::DUE_TOMORROW.get(lang), next.due_tomorrow),
             t.text(),

@@ -96,8 +96,11 @@ pub struct ReviewState {
 /// What comes after a session, for its summary.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct WhatNext {
-    /// Review items due by the end of the next study day.
+    /// Review items due during the next study day (not those due later
+    /// today: a learning step ten minutes away is not "tomorrow").
     pub due_tomorrow: usize,
+    /// Review items due later in this study day.
+    pub later_today: usize,
     /// Cards with a direction never reviewed.
     pub new_cards: usize,
     /// Today's limit of new cards is used up (more come tomorrow).
@@ -282,6 +285,7 @@ impl ReviewState {
         let now = app.services.now();
         let mut next = WhatNext {
             due_tomorrow: 0,
+            later_today: 0,
             new_cards: 0,
             new_limit_reached: false,
             learning_in: None,
@@ -296,8 +300,10 @@ impl ReviewState {
             for key in crate::sched::deck_items(deck) {
                 match self.states.get(&key) {
                     Some(s) if s.state != crate::sched::State::New => {
-                        if s.due < tomorrow_end && s.due >= now {
+                        if s.due >= day_end && s.due < tomorrow_end {
                             next.due_tomorrow += 1;
+                        } else if s.due >= now && s.due < day_end {
+                            next.later_today += 1;
                         }
                     }
                     _ => {
@@ -330,13 +336,12 @@ impl ReviewState {
             Source::Daily(q) => {
                 let c = q.counts();
                 format!(
-                    "{} {} · {} {} · {} {}",
+                    "{} {} · {} {} · {}",
                     c.due,
                     app.tr(Msg::Due),
                     c.learning,
                     app.tr(Msg::Learning),
-                    c.new,
-                    app.tr(Msg::New)
+                    crate::tui::i18n::count(&app.lang, c.new, crate::tui::i18n::Noun::New)
                 )
             }
             Source::Cram(c) => format!(
