@@ -10,7 +10,7 @@ use crate::sim::rigid::polhode::Polhode;
 use crate::sim::scene::measure::Measurements;
 use crate::sim::scene::slice::Slice;
 use crate::sim::scene::{Diagnostics, Frame, Sample, SceneRun};
-use crate::sim::{self, Body, Method, SimError};
+use crate::sim::{self, Body, Method, SolveError};
 use crate::tui::live_system::SLICE;
 
 pub struct LiveRun {
@@ -22,7 +22,7 @@ pub struct LiveRun {
 
 impl LiveRun {
     /// A run of `scene` with `method` (the closed form when `None`).
-    pub fn new(scene: &Scene, method: Option<Method>) -> Result<LiveRun, SimError> {
+    pub fn new(scene: &Scene, method: Option<Method>) -> Result<LiveRun, SolveError> {
         Ok(LiveRun {
             run: SceneRun::new(scene, method.unwrap_or(Method::Exact))?,
             speed: 1.0,
@@ -110,18 +110,18 @@ impl LiveRun {
     }
 
     /// The same scene from t = 0 with another method, at the same speed.
-    pub fn restart_with(&self, method: Method) -> Result<LiveRun, SimError> {
+    pub fn restart_with(&self, method: Method) -> Result<LiveRun, SolveError> {
         let mut run = LiveRun::new(self.run.scene(), Some(method))?;
         run.speed = self.speed;
         Ok(run)
     }
 
-    pub fn restart(&self) -> Result<LiveRun, SimError> {
+    pub fn restart(&self) -> Result<LiveRun, SolveError> {
         self.restart_with(self.method())
     }
 
     /// The next method family, with its default setting.
-    pub fn next_method(&self) -> Result<Method, SimError> {
+    pub fn next_method(&self) -> Result<Method, SolveError> {
         let kind = self.method().kind().next();
         sim::solvers::registry::method(kind, None, None, self.run.body(), &self.run.omega0())
     }

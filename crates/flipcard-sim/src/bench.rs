@@ -12,6 +12,7 @@ mod cases;
 mod plot;
 mod systems;
 
+use crate::error::SolveError;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -29,7 +30,7 @@ use crate::rigid::model::{Body, State};
 use crate::rigid::reference;
 use crate::solvers::budget::Budget;
 use crate::solvers::registry::{Options, make_with};
-use crate::solvers::{Method, Needs, SimError, Work};
+use crate::solvers::{Method, Needs, Work};
 
 /// Points at which every run is compared with the exact solution.
 pub const POINTS: usize = 1001;
@@ -104,7 +105,7 @@ pub struct Reference {
 }
 
 impl Reference {
-    pub fn new(case: &Case) -> Result<Reference, SimError> {
+    pub fn new(case: &Case) -> Result<Reference, SolveError> {
         let times: Vec<f64> = (0..POINTS)
             .map(|k| case.t_end * k as f64 / (POINTS - 1) as f64)
             .collect();
@@ -122,7 +123,7 @@ fn run_once(
     method: Method,
     times: &[f64],
     budget: Budget,
-) -> Result<(Vec<State>, Work, f64), SimError> {
+) -> Result<(Vec<State>, Work, f64), SolveError> {
     let start = Instant::now();
     let mut solver = make_with(
         method,
@@ -184,7 +185,7 @@ pub fn measure(case: &Case, method: Method, reference: &Reference, effort: &Effo
             spent += wall;
             runs += 1;
         }
-        Ok::<_, SimError>(Measured {
+        Ok::<_, SolveError>(Measured {
             work,
             wall: best,
             errors: errors(&case.body, &case.omega0, &states, &reference.states),

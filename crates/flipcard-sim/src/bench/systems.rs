@@ -9,9 +9,10 @@ use std::time::Instant;
 use nalgebra::DMatrix;
 
 use super::Effort;
+use crate::error::SolveError;
 use crate::rigid::elliptic;
 use crate::solvers::ode::{
-    Atol, Method, OdeError, OdeKind, OdeSolver, OdeSystem, Options, StiffnessMode, Work, make,
+    Atol, Method, OdeKind, OdeSolver, OdeSystem, Options, StiffnessMode, Work, make,
 };
 
 /// The exact header of the systems CSV.
@@ -293,7 +294,7 @@ fn run(
     method: Method,
     opts: &Options,
     times: &[f64],
-) -> Result<(Vec<Vec<f64>>, Work, f64), OdeError> {
+) -> Result<(Vec<Vec<f64>>, Work, f64), SolveError> {
     let start = Instant::now();
     let mut solver: Box<dyn OdeSolver> = make(method, case.sys, 0.0, &case.y0, opts)?;
     let mut states = Vec::with_capacity(times.len());
@@ -360,7 +361,7 @@ impl SystemReference {
     /// a tight tolerance, confirmed by DOP853 (Van der Pol, full sweep) or
     /// by Radau at a tenfold looser tolerance (Robertson, where an explicit
     /// method would need ~10¹⁴ steps, and the quick sweep).
-    pub fn new(case: &SystemCase, quick: bool) -> Result<SystemReference, OdeError> {
+    pub fn new(case: &SystemCase, quick: bool) -> Result<SystemReference, SolveError> {
         let times = case.times();
         let mut reference = match case.sys {
             Sys::Pendulum => {

@@ -4,11 +4,11 @@
 //! simulator refuses, with the reason, what would otherwise print numbers
 //! that look plausible and mean nothing.
 
+use crate::error::SolveError;
 use nalgebra::Vector3;
 
 use crate::rigid::model::{self, Body};
 use crate::rigid::scales::Scales;
-use crate::rigid::solver::SimError;
 use flipcard_text::num::{Num, below};
 
 /// The largest phase Ωt (rad) of the fastest rate Ω a run may reach: 2³².
@@ -28,19 +28,19 @@ pub const MAX_PHASE: f64 = 4294967296.0;
 /// (they would print as 0 or with a few bits left). This is the one test
 /// of representability: the simulator runs it before every run and
 /// `flipcard check` runs it on every scene.
-pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SimError> {
+pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SolveError> {
     model::omega([omega0[0], omega0[1], omega0[2]])?;
     let energy = body.energy(omega0);
     let l2 = body.l2(omega0);
     let w = flipcard_text::num::triple(&[omega0[0], omega0[1], omega0[2]], ", ");
     if !(energy.is_finite() && l2.is_finite()) {
-        return Err(SimError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "ω = ({w}) is too large for these moments: its energy overflows f64 (give ω per a shorter time unit, or the moments in a larger unit)"
         )));
     }
     let moving = omega0.iter().any(|&v| v != 0.0);
     if moving && !(energy >= f64::MIN_POSITIVE && l2 >= f64::MIN_POSITIVE) {
-        return Err(SimError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "ω = ({w}) is too small for these moments: its energy underflows f64 (give ω per a longer time unit, or the moments in a smaller unit)"
         )));
     }
@@ -67,13 +67,13 @@ pub fn check_span(
     orientation: bool,
     t_end: f64,
     what: &str,
-) -> Result<(), SimError> {
+) -> Result<(), SolveError> {
     let limit = max_span(scales, orientation);
     // A NaN time is the solvers' to refuse, with their own message.
     if t_end.is_nan() || t_end <= limit {
         return Ok(());
     }
-    Err(SimError::Invalid(format!(
+    Err(SolveError::Invalid(format!(
         "{what} {} is beyond {}, the longest span whose phase f64 resolves for this motion ({} turns the phase by 2^32 rad there, where one ulp of it is 1e-6 rad); use a shorter span",
         Num(t_end),
         Num(below(limit, 4)),

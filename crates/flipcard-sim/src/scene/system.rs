@@ -21,10 +21,11 @@
 //! The app advances a run in [`Slice`]s, so a key is answered within a
 //! frame whatever the scene.
 
+use crate::error::SolveError;
 use crate::scene::measure::{Measurements, Reading};
 use crate::scene::slice::Slice;
 use crate::scene::spec::{Measure, Stat, SystemPanel, SystemScene};
-use crate::solvers::ode::{self, OdeError, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
+use crate::solvers::ode::{self, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
 use crate::system::System;
 use crate::system::compile::{Cost, Fault, POINTS_PER_STEP, Source, time};
 use flipcard_text::num::Num;
@@ -75,7 +76,7 @@ pub fn check_cost(scene: &SystemScene, cost: &Cost) -> Result<(), String> {
 pub enum RunError {
     /// The solver stopped (a blow-up, a refused stiff problem, its step
     /// budget, a bad setting).
-    Ode(OdeError),
+    Ode(SolveError),
     /// A quantity left its domain: its name, the time and the cause, and
     /// the expression the operation at fault was written in.
     Domain {
@@ -92,8 +93,8 @@ pub enum RunError {
     },
 }
 
-impl From<OdeError> for RunError {
-    fn from(e: OdeError) -> RunError {
+impl From<SolveError> for RunError {
+    fn from(e: SolveError) -> RunError {
         RunError::Ode(e)
     }
 }
@@ -101,10 +102,10 @@ impl From<OdeError> for RunError {
 impl std::fmt::Display for RunError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            RunError::Ode(OdeError::BlowUp { t }) => {
+            RunError::Ode(SolveError::BlowUp { t }) => {
                 write!(f, "the solution blows up near t = {}", time(*t))
             }
-            RunError::Ode(OdeError::Stiff { t }) => write!(
+            RunError::Ode(SolveError::Stiff { t }) => write!(
                 f,
                 "the problem is stiff from t = {}: adaptive (explicit) refuses it; use --method radau or auto",
                 flipcard_text::num::rounded(*t, 4)
@@ -637,9 +638,9 @@ impl SystemRun {
     /// Why the solver stopped: at a point where an equation leaves its
     /// domain (NaN just ahead of the last good state, or a divisor that
     /// crosses zero there), that cause; else what the solver said.
-    fn solver_error(&self, e: OdeError) -> RunError {
-        let OdeError::BlowUp { t } = e else {
-            if let OdeError::StepBudget { t, steps, .. } = e
+    fn solver_error(&self, e: SolveError) -> RunError {
+        let SolveError::BlowUp { t } = e else {
+            if let SolveError::StepBudget { t, steps, .. } = e
                 && self.work_limited
             {
                 return RunError::Work {
@@ -689,7 +690,7 @@ impl SystemRun {
             }
             h *= 2.0;
         }
-        RunError::Ode(OdeError::BlowUp { t })
+        RunError::Ode(SolveError::BlowUp { t })
     }
 
     /// Samples every step up to `target`, then sets the frame there.

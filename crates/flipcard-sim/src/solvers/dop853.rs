@@ -12,6 +12,7 @@
 //! the 5th- and 3rd-order estimates combined; the step size is the shared
 //! controller's ([`crate::solvers::control`]).
 
+use crate::error::SolveError;
 use nalgebra::Vector3;
 
 use crate::rigid::euler::System;
@@ -21,7 +22,7 @@ use crate::solvers::budget::Budget;
 use crate::solvers::control::{self, Arithmetic, StepControl, norm};
 use crate::solvers::dop853_tableau::{self as tab, Row};
 use crate::solvers::forward::Forward;
-use crate::solvers::{Method, SimError, Solver, Work};
+use crate::solvers::{Method, Solver, Work};
 use flipcard_text::num::Num;
 
 /// DOP853's order (the exponent of the step-size control is its inverse).
@@ -112,15 +113,18 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         self.work.steps + self.work.rejected
     }
 
-    fn stiff(&self, steps: f64) -> SimError {
-        SimError::Budget(
-            self.budget
+    fn stiff(&self, steps: f64) -> SolveError {
+        SolveError::StepBudget {
+            t: self.t,
+            steps: self.attempts(),
+            reason: self
+                .budget
                 .stiff(&self.scales.describe(self.orientation), steps),
-        )
+        }
     }
 
     /// Refuses up front a span the budget clearly cannot cover.
-    fn check_estimate(&self, end: f64) -> Result<(), SimError> {
+    fn check_estimate(&self, end: f64) -> Result<(), SolveError> {
         let more = estimated_steps(
             self.scales.fastest(self.orientation),
             end - self.t,
@@ -134,7 +138,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
 
     /// During the run: extrapolates the steps taken so far to the end of the
     /// span, and stops at the hard cap whatever the projection says.
-    fn check_progress(&self, end: f64) -> Result<(), SimError> {
+    fn check_progress(&self, end: f64) -> Result<(), SolveError> {
         let taken = self.attempts();
         let projected = if self.t > 0.0 {
             taken as f64 * (end / self.t).max(1.0)
@@ -199,12 +203,12 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
     }
 
     /// One accepted step (after as many rejected trials as it takes).
-    fn step(&mut self, end: f64) -> Result<(), SimError> {
+    fn step(&mut self, end: f64) -> Result<(), SolveError> {
         loop {
             let h = self.h;
             let resolvable = h > 4.0 * f64::EPSILON * self.t.abs();
             if !resolvable || !self.y.iter().all(|v| v.is_finite()) {
-                return Err(SimError::Invalid(format!(
+                return Err(SolveError::Invalid(format!(
                     "adaptive: step size underflow at t = {} (the solution is not resolvable at tol = {})",
                     Num(self.t),
                     Num(self.tol)
@@ -327,7 +331,7 @@ impl<S: System<N>, const N: usize> Solver for Dop853<S, N> {
         Method::Adaptive { tol: self.tol }
     }
 
-    fn advance(&mut self, t: f64) -> Result<State, SimError> {
+    fn advance(&mut self, t: f64) -> Result<State, SolveError> {
         self.forward.accept(t)?;
         if t > self.t {
             let end = t.max(self.horizon);
@@ -351,7 +355,7 @@ impl<S: System<N>, const N: usize> Solver for Dop853<S, N> {
         self.work
     }
 
-    fn plan(&mut self, t_end: f64) -> Result<(), SimError> {
+    fn plan(&mut self, t_end: f64) -> Result<(), SolveError> {
         self.horizon = self.horizon.max(t_end);
         self.check_estimate(self.horizon.max(self.t))
     }

@@ -18,4 +18,4 @@ pub mod registry;
 pub mod rk4;
 pub mod splitting;
 
-pub use crate::rigid::solver::{Kind, Method, Needs, SimError, Solver, Work};
+pub use crate::rigid::solver::{Kind, Method, Needs, Solver, Work};

@@ -4,6 +4,7 @@
 //! unit sphere after every step. Its grid, sampling and budget are the
 //! shared fixed-step driver's ([`crate::solvers::fixed`]).
 
+use crate::error::SolveError;
 use nalgebra::Vector3;
 
 use crate::rigid::euler::System;
@@ -11,7 +12,7 @@ use crate::rigid::model::State;
 use crate::rigid::scales::Scales;
 use crate::solvers::budget::Budget;
 use crate::solvers::fixed::{FixedSteps, Stepper};
-use crate::solvers::{Method, SimError, Work};
+use crate::solvers::{Method, Work};
 use flipcard_text::num::Num;
 
 /// RK4 on one of the rigid body's systems (ω alone, or ω and q).
@@ -71,12 +72,12 @@ impl<S: System<N>, const N: usize> Stepper for Rk4Steps<S, N> {
         self.sys.state(y)
     }
 
-    fn check(&self, y: &[f64; N], t: f64) -> Result<(), SimError> {
+    fn check(&self, y: &[f64; N], t: f64) -> Result<(), SolveError> {
         if y.iter().all(|v| v.is_finite()) {
             return Ok(());
         }
         let rate = self.scales.fastest(self.orientation);
-        Err(SimError::Invalid(format!(
+        Err(SolveError::Invalid(format!(
             "rk4 diverged before t = {}: dt = {} is too coarse for {} (try dt ≤ {:.1e})",
             Num(t),
             Num(self.dt),

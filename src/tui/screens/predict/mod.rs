@@ -299,7 +299,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             judging,
         } => {
             let replace = |run: &mut Box<LiveRun>,
-                           next: Result<LiveRun, crate::sim::SimError>,
+                           next: Result<LiveRun, crate::sim::SolveError>,
                            app: &mut App| match next {
                 Ok(r) => **run = r,
                 Err(e) => app.error(e.to_string()),
