@@ -12,7 +12,7 @@ use std::time::Duration;
 
 use crate::deck::{Measure, SystemScene};
 use crate::sim::scene::slice::Slice;
-use crate::sim::scene::system::{SystemRun, describe};
+use crate::sim::scene::system::{StartError, SystemRun, describe};
 use crate::sim::solvers::ode::{OdeKind, OdeMethod};
 
 /// The most one frame's physics may take; the rest of the frame draws and
@@ -32,7 +32,7 @@ impl LiveSystem {
         scene: &SystemScene,
         method: OdeMethod,
         measures: &[Measure],
-    ) -> Result<LiveSystem, String> {
+    ) -> Result<LiveSystem, StartError> {
         Ok(LiveSystem {
             run: SystemRun::new(scene, method, measures)?,
             measures: measures.to_vec(),
@@ -91,13 +91,13 @@ impl LiveSystem {
         self.run.advance_within(target, slice)
     }
 
-    pub fn restart_with(&self, method: OdeMethod) -> Result<LiveSystem, String> {
+    pub fn restart_with(&self, method: OdeMethod) -> Result<LiveSystem, StartError> {
         let mut next = LiveSystem::new(self.run.scene(), method, &self.measures)?;
         next.speed = self.speed;
         Ok(next)
     }
 
-    pub fn restart(&self) -> Result<LiveSystem, String> {
+    pub fn restart(&self) -> Result<LiveSystem, StartError> {
         self.restart_with(self.method())
     }
 

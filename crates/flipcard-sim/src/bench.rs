@@ -87,7 +87,7 @@ pub struct Errors {
 pub struct Row {
     pub case: &'static str,
     pub method: Method,
-    pub outcome: Result<Measured, String>,
+    pub outcome: Result<Measured, SolveError>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -190,8 +190,7 @@ pub fn measure(case: &Case, method: Method, reference: &Reference, effort: &Effo
             wall: best,
             errors: errors(&case.body, &case.omega0, &states, &reference.states),
         })
-    })()
-    .map_err(|e| e.to_string());
+    })();
     Row {
         case: case.id,
         method,
@@ -358,7 +357,7 @@ mod tests {
         let m = ok.outcome.as_ref().unwrap();
         assert!(m.errors.omega > 0.0 && m.errors.omega < 1e-4, "{m:?}");
         assert!(m.work.steps > 0 && m.wall > 0.0);
-        let reason = refused.outcome.as_ref().unwrap_err();
+        let reason = refused.outcome.as_ref().unwrap_err().to_string();
         assert!(reason.contains("budget"), "{reason}");
 
         let text = csv(&[ok, refused]);
@@ -383,7 +382,11 @@ mod tests {
         Row {
             case: "e",
             method: Method::Rk4 { dt: 1e-3 },
-            outcome: Err("rk4: needs ~2e7 steps (budget 5e6)".into()),
+            outcome: Err(SolveError::StepBudget {
+                t: 0.0,
+                steps: 0,
+                reason: "rk4: needs ~2e7 steps (budget 5e6)".into(),
+            }),
         }
     }
 

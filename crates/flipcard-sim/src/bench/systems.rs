@@ -455,13 +455,35 @@ pub struct SystemMeasured {
     pub err_conserved: Option<f64>,
 }
 
+/// Why a row of the systems sweep has no numbers: RK4 refused up front, or
+/// the solver stopped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Refusal {
+    /// RK4's step is beyond its stability limit on this problem.
+    #[error(
+        "rk4: dt·|λ|max = {product:.1e} > {limit} (unstable; a stable step needs ~{stable:.1e} steps){advice}",
+        limit = RK4_STABILITY,
+        advice = if *stiff { ": radau suits this stiff problem" } else { "" }
+    )]
+    Unstable {
+        product: f64,
+        stable: f64,
+        stiff: bool,
+    },
+    /// RK4 would take more steps than the sweep allows.
+    #[error("rk4: {0:.1e} steps exceed {limit:e}", limit = RK4_MAX_STEPS)]
+    TooManySteps(f64),
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+}
+
 /// One row of the systems sweep.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SystemRow {
     pub case: &'static str,
     pub method: SysMethod,
     pub setting: f64,
-    pub outcome: Result<SystemMeasured, String>,
+    pub outcome: Result<SystemMeasured, Refusal>,
 }
 
 /// Times one method × setting on a case (minimum of several runs) and
@@ -478,18 +500,14 @@ pub fn measure_system(
             let steps = case.t_end / setting;
             let stable = case.t_end * reference.stiffest / RK4_STABILITY;
             if steps < stable {
-                let advice = if case.stiff {
-                    ": radau suits this stiff problem"
-                } else {
-                    ""
-                };
-                return Err(format!(
-                    "rk4: dt·|λ|max = {:.1e} > {RK4_STABILITY} (unstable; a stable step needs ~{stable:.1e} steps){advice}",
-                    setting * reference.stiffest
-                ));
+                return Err(Refusal::Unstable {
+                    product: setting * reference.stiffest,
+                    stable,
+                    stiff: case.stiff,
+                });
             }
             if steps > RK4_MAX_STEPS {
-                return Err(format!("rk4: {steps:.1e} steps exceed {RK4_MAX_STEPS:e}"));
+                return Err(Refusal::TooManySteps(steps));
             }
         }
         let opts = if method == SysMethod::Rk4 {
@@ -501,7 +519,7 @@ pub fn measure_system(
             case.options(setting)
         };
         let solver = method.solver(setting);
-        let run_it = || run(case, solver, &opts, &reference.times).map_err(|e| e.to_string());
+        let run_it = || run(case, solver, &opts, &reference.times);
         let (states, work, first) = run_it()?;
         let limit = effort.time_per_setting.as_secs_f64();
         let (mut best, mut spent, mut runs) = (first, first, 1);
@@ -643,9 +661,22 @@ mod tests {
         let reference = SystemReference::new(vdp, true).unwrap();
         assert!(reference.stiffest > 2000.0, "{}", reference.stiffest);
         let rk4 = measure_system(vdp, SysMethod::Rk4, 0.3, &reference, &effort);
-        assert!(rk4.outcome.as_ref().unwrap_err().contains("stiff"));
+        assert!(
+            rk4.outcome
+                .as_ref()
+                .unwrap_err()
+                .to_string()
+                .contains("stiff")
+        );
         let adaptive = measure_system(vdp, SysMethod::Adaptive, 1e-4, &reference, &effort);
-        assert!(adaptive.outcome.as_ref().unwrap_err().contains("stiff"));
+        assert!(
+            adaptive
+                .outcome
+                .as_ref()
+                .unwrap_err()
+                .to_string()
+                .contains("stiff")
+        );
         let radau = measure_system(vdp, SysMethod::Radau, 1e-6, &reference, &effort);
         let m = radau.outcome.as_ref().unwrap();
         // Sampled through the fast jumps, a small shift in time is a large

@@ -6,7 +6,7 @@
 //! [`crate::solvers`], which build on the rigid body's equations.
 
 use crate::error::SolveError;
-use crate::method::MethodName;
+use crate::method::{MethodError, MethodName};
 use crate::rigid::model::State;
 
 /// Tolerances tighter than this are below f64 rounding for an 8th-order pair.
@@ -64,11 +64,11 @@ impl Kind {
     }
 
     /// The family a method names, or why a rigid body refuses it.
-    pub fn from_method(method: MethodName) -> Result<Kind, String> {
+    pub fn from_method(method: MethodName) -> Result<Kind, MethodError> {
         Kind::ALL
             .into_iter()
             .find(|k| k.method() == method)
-            .ok_or_else(|| method.rigid_refusal())
+            .ok_or(MethodError::NotRigid(method))
     }
 
     /// The family after this one, wrapping round.

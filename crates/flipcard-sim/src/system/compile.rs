@@ -243,6 +243,8 @@ impl std::fmt::Display for CompileError {
     }
 }
 
+impl std::error::Error for CompileError {}
+
 /// Why a value is not finite: the first operation that made it so.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Cause {

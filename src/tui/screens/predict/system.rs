@@ -9,7 +9,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use crate::deck::{Answer, Measure, Prompt, SystemPanel, SystemScene};
-use crate::sim::scene::system::measure_system;
+use crate::sim::scene::system::{StartError, measure_system};
 use crate::sim::solvers::ode::{OdeKind, OdeMethod};
 use crate::text::num::Num;
 use crate::tui::action::Action;
@@ -89,11 +89,12 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action, prompt: &P
         }
         return Nav::Stay;
     }
-    let replace =
-        |run: &mut Box<LiveSystem>, next: Result<LiveSystem, String>, app: &mut App| match next {
-            Ok(r) => **run = r,
-            Err(e) => app.error(e),
-        };
+    let replace = |run: &mut Box<LiveSystem>,
+                   next: Result<LiveSystem, StartError>,
+                   app: &mut App| match next {
+        Ok(r) => **run = r,
+        Err(e) => app.error(e.to_string()),
+    };
     match action {
         Action::Back => return Nav::Pop,
         Action::Tick(dt) => {
@@ -165,7 +166,8 @@ fn judge(
     super::settle(app, prompt, attempt, verdict, judging, || {
         let scene = scene.clone();
         Measuring::start(move || {
-            let values = measure_system(&scene, default_method(&scene), &ms)?;
+            let values =
+                measure_system(&scene, default_method(&scene), &ms).map_err(|e| e.to_string())?;
             // The reference run reaches the scene's end (else it is an
             // error): its evidence covers the whole duration.
             let elapsed = scene.duration;
