@@ -596,3 +596,42 @@ fn long_splitting_run_over_1e5_periods_stays_on_its_orbit() {
     }
     assert!(worst < 1e-2, "energy error {worst}");
 }
+
+/// The rigid body is a system like a deck's: the solvers of deck systems
+/// (Radau IIA, auto, DOP853 with stiffness detection) integrate its Euler
+/// equations through the one right-hand side, and agree with the exact
+/// solution.
+#[test]
+fn the_solvers_of_deck_systems_integrate_the_rigid_body() {
+    use flipcard::sim::rigid::euler::{OmegaOnly, RigidSystem, WithOrientation};
+    use flipcard::sim::solvers::ode;
+    let b = body([1.0, 2.0, 2.5]);
+    let w = Vector3::new(1.0, 0.3, 2.0);
+    let opts = ode::Options::with_tol(1e-11, 1e-13);
+    let mut exact = make(Method::Exact, b, w, BOTH).unwrap();
+    let want = exact.advance(5.0).unwrap();
+    let methods = [
+        ode::Method::Radau5,
+        ode::Method::Auto,
+        ode::Method::Dop853 {
+            stiffness: ode::StiffnessMode::Report,
+        },
+    ];
+    for method in methods {
+        let sys = OmegaOnly::new(&b, &w);
+        let mut s = ode::make(method, sys, 0.0, &sys.initial(&w), &opts).unwrap();
+        let got = sys.state(&s.advance(5.0).unwrap().try_into().unwrap());
+        assert!(
+            (got.omega - want.omega).norm() < 1e-7,
+            "{method:?}: {got:?}"
+        );
+        let sys = WithOrientation::new(&b, &w);
+        let mut s = ode::make(method, sys, 0.0, &sys.initial(&w), &opts).unwrap();
+        let got = sys.state(&s.advance(5.0).unwrap().try_into().unwrap());
+        assert!(
+            (got.omega - want.omega).norm() < 1e-7,
+            "{method:?}: {got:?}"
+        );
+        assert!(got.q.angle_to(&want.q) < 1e-6, "{method:?}: {got:?}");
+    }
+}

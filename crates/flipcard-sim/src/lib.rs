@@ -6,6 +6,7 @@
 pub mod bench;
 pub mod error;
 pub mod method;
+pub mod rhs;
 pub mod rigid;
 pub mod scene;
 pub mod solvers;

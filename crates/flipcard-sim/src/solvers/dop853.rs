@@ -15,7 +15,7 @@
 use crate::error::SolveError;
 use nalgebra::Vector3;
 
-use crate::rigid::euler::System;
+use crate::rigid::euler::RigidSystem;
 use crate::rigid::model::State;
 use crate::rigid::scales::Scales;
 use crate::solvers::budget::Budget;
@@ -72,7 +72,7 @@ pub struct Dop853<S, const N: usize> {
     work: Work,
 }
 
-impl<S: System<N>, const N: usize> Dop853<S, N> {
+impl<S: RigidSystem<N>, const N: usize> Dop853<S, N> {
     pub fn new(
         sys: S,
         omega0: &Vector3<f64>,
@@ -82,7 +82,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         orientation: bool,
     ) -> Dop853<S, N> {
         let y = sys.initial(omega0);
-        let f = sys.rhs(&y);
+        let f = sys.f(&y);
         Dop853 {
             sys,
             tol,
@@ -168,10 +168,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             *s = self.scale(i, self.y[i], self.y[i]);
         }
         let sys = self.sys;
-        let rhs = |_: f64, y: &[f64], f: &mut [f64]| {
-            let y: &[f64; N] = y.try_into().expect("the state's size");
-            f.copy_from_slice(&sys.rhs(y));
-        };
+        let rhs = |_: f64, y: &[f64], f: &mut [f64]| sys.rhs(0.0, y, f);
         self.work.rhs_evals += 1;
         control::initial_step(
             Arithmetic::Logarithmic,
@@ -218,17 +215,17 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             let sys = self.sys;
             let k = &mut self.k;
             k[0] = self.f;
-            k[1] = sys.rhs(&stage(&y, h, k, &tab::A1));
-            k[2] = sys.rhs(&stage(&y, h, k, &tab::A2));
-            k[3] = sys.rhs(&stage(&y, h, k, &tab::A3));
-            k[4] = sys.rhs(&stage(&y, h, k, &tab::A4));
-            k[5] = sys.rhs(&stage(&y, h, k, &tab::A5));
-            k[6] = sys.rhs(&stage(&y, h, k, &tab::A6));
-            k[7] = sys.rhs(&stage(&y, h, k, &tab::A7));
-            k[8] = sys.rhs(&stage(&y, h, k, &tab::A8));
-            k[9] = sys.rhs(&stage(&y, h, k, &tab::A9));
-            k[10] = sys.rhs(&stage(&y, h, k, &tab::A10));
-            k[11] = sys.rhs(&stage(&y, h, k, &tab::A11));
+            k[1] = sys.f(&stage(&y, h, k, &tab::A1));
+            k[2] = sys.f(&stage(&y, h, k, &tab::A2));
+            k[3] = sys.f(&stage(&y, h, k, &tab::A3));
+            k[4] = sys.f(&stage(&y, h, k, &tab::A4));
+            k[5] = sys.f(&stage(&y, h, k, &tab::A5));
+            k[6] = sys.f(&stage(&y, h, k, &tab::A6));
+            k[7] = sys.f(&stage(&y, h, k, &tab::A7));
+            k[8] = sys.f(&stage(&y, h, k, &tab::A8));
+            k[9] = sys.f(&stage(&y, h, k, &tab::A9));
+            k[10] = sys.f(&stage(&y, h, k, &tab::A10));
+            k[11] = sys.f(&stage(&y, h, k, &tab::A11));
             let y_new = stage(&y, h, k, &tab::B);
             self.work.rhs_evals += 11;
             self.dense = None;
@@ -236,7 +233,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             let err = self.error_norm(&y_new, h);
             if err <= 1.0 {
                 let h_new = self.control.accept(h, err);
-                let f_new = sys.rhs(&y_new);
+                let f_new = sys.f(&y_new);
                 self.work.rhs_evals += 1;
                 self.work.steps += 1;
                 self.k[12] = f_new;
@@ -263,9 +260,9 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         }
         let (h, y_old, sys) = (self.h_last, self.y_old, self.sys);
         let k = &mut self.k;
-        k[13] = sys.rhs(&stage(&y_old, h, k, &tab::A13));
-        k[14] = sys.rhs(&stage(&y_old, h, k, &tab::A14));
-        k[15] = sys.rhs(&stage(&y_old, h, k, &tab::A15));
+        k[13] = sys.f(&stage(&y_old, h, k, &tab::A13));
+        k[14] = sys.f(&stage(&y_old, h, k, &tab::A14));
+        k[15] = sys.f(&stage(&y_old, h, k, &tab::A15));
         self.work.rhs_evals += 3;
         let mut d = [[0.0; N]; 7];
         for i in 0..N {
@@ -326,7 +323,7 @@ fn weigh<const N: usize, const M: usize>(k: &[[f64; N]; 16], row: &Row<M>, i: us
     acc
 }
 
-impl<S: System<N>, const N: usize> Solver for Dop853<S, N> {
+impl<S: RigidSystem<N>, const N: usize> Solver for Dop853<S, N> {
     fn method(&self) -> Method {
         Method::Adaptive { tol: self.tol }
     }

@@ -7,7 +7,7 @@
 use crate::error::SolveError;
 use nalgebra::Vector3;
 
-use crate::rigid::euler::System;
+use crate::rigid::euler::RigidSystem;
 use crate::rigid::model::State;
 use crate::rigid::scales::Scales;
 use crate::solvers::budget::Budget;
@@ -27,7 +27,7 @@ pub struct Rk4Steps<S, const N: usize> {
 }
 
 /// An RK4 run from `omega0` with step `dt`.
-pub fn rk4<S: System<N>, const N: usize>(
+pub fn rk4<S: RigidSystem<N>, const N: usize>(
     sys: S,
     omega0: &Vector3<f64>,
     dt: f64,
@@ -45,7 +45,7 @@ pub fn rk4<S: System<N>, const N: usize>(
     FixedSteps::new(steps, dt, budget)
 }
 
-impl<S: System<N>, const N: usize> Stepper for Rk4Steps<S, N> {
+impl<S: RigidSystem<N>, const N: usize> Stepper for Rk4Steps<S, N> {
     type Point = [f64; N];
 
     fn method(&self) -> Method {
@@ -58,10 +58,7 @@ impl<S: System<N>, const N: usize> Stepper for Rk4Steps<S, N> {
 
     fn step(&self, y: &mut [f64; N], h: f64, work: &mut Work) {
         let sys = self.sys;
-        let rhs = |_: f64, y: &[f64], f: &mut [f64]| {
-            let y: &[f64; N] = y.try_into().expect("the state's size");
-            f.copy_from_slice(&sys.rhs(y));
-        };
+        let rhs = |_: f64, y: &[f64], f: &mut [f64]| sys.rhs(0.0, y, f);
         let (y0, mut k, mut tmp) = (*y, [[0.0; N]; 4], [0.0; N]);
         rk4_step(rhs, 0.0, h, &y0, &mut k, &mut tmp, y);
         sys.normalize(y);
