@@ -21,10 +21,8 @@ use anyhow::Context;
 use nalgebra::Vector3;
 
 pub use cases::{Case, cases, methods};
-pub use systems::{
-    SYSTEMS_CSV_HEADER, SysMethod, SystemCase, SystemMeasured, SystemReference, SystemRow,
-    measure_system, sweep_systems, system_cases, systems_csv,
-};
+pub use systems::{Refusal, SysMethod, SystemMeasured, SystemRow, sweep_systems};
+pub(crate) use systems::{SystemCase, system_cases, systems_csv};
 
 use crate::rigid::model::{Body, State};
 use crate::rigid::reference;

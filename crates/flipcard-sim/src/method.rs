@@ -34,7 +34,7 @@ pub struct MethodRow {
 }
 
 /// The table.
-pub const METHODS: [MethodRow; 7] = [
+pub(crate) const METHODS: [MethodRow; 7] = [
     MethodRow {
         method: MethodName::Exact,
         name: "exact",
@@ -138,7 +138,7 @@ fn rigid_names() -> Vec<&'static str> {
 }
 
 /// Names as a sentence says them: `a, b or c`.
-pub fn spoken(names: &[&str]) -> String {
+pub(crate) fn spoken(names: &[&str]) -> String {
     match names.split_last() {
         Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
         Some((last, _)) => last.to_string(),

@@ -16,11 +16,11 @@ use crate::solvers::ode::{
 };
 
 /// The exact header of the systems CSV.
-pub const SYSTEMS_CSV_HEADER: &str =
+pub(crate) const SYSTEMS_CSV_HEADER: &str =
     "case,method,setting,steps,rhs_evals,jac_evals,lu_decomps,wall_s,err_state,err_conserved";
 
 /// The pendulum's release angle, 170° in radians.
-pub const THETA0: f64 = 2.9670597283903604;
+pub(crate) const THETA0: f64 = 2.9670597283903604;
 const G: f64 = 9.81;
 const L: f64 = 1.0;
 const MU: f64 = 1000.0;
@@ -32,7 +32,7 @@ const RK4_MAX_STEPS: f64 = 2e6;
 
 /// The three systems, with their analytic Jacobians.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Sys {
+pub(crate) enum Sys {
     /// θ'' = −(g/L) sin θ as (θ, ω).
     Pendulum,
     /// x'' − μ(1 − x²)x' + x = 0 as (x, v).
@@ -98,7 +98,7 @@ impl OdeSystem for Sys {
 }
 
 /// The pendulum's exact period 4K(m)√(L/g), m = sin²(θ₀/2).
-pub fn pendulum_period() -> f64 {
+pub(crate) fn pendulum_period() -> f64 {
     let mc = (THETA0 / 2.0).cos().powi(2);
     4.0 * elliptic::complete_k(mc) * (L / G).sqrt()
 }
@@ -106,7 +106,7 @@ pub fn pendulum_period() -> f64 {
 /// The pendulum's exact state at t, released at rest from θ₀:
 /// sin(θ/2) = k sn(K − t√(g/L) | m) with k = sin(θ₀/2), so
 /// θ = 2 asin(k sn) and ω = −2k√(g/L) cn.
-pub fn pendulum_exact(jacobi: &elliptic::Jacobi, t: f64) -> [f64; 2] {
+pub(crate) fn pendulum_exact(jacobi: &elliptic::Jacobi, t: f64) -> [f64; 2] {
     let k = (THETA0 / 2.0).sin();
     let rate = (G / L).sqrt();
     let (sn, cn, _) = jacobi.sncndn(jacobi.k() - t * rate);
@@ -115,7 +115,7 @@ pub fn pendulum_exact(jacobi: &elliptic::Jacobi, t: f64) -> [f64; 2] {
 
 /// One system case of the sweep.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SystemCase {
+pub(crate) struct SystemCase {
     /// Id used in the CSV.
     pub id: &'static str,
     pub name: &'static str,
@@ -186,7 +186,7 @@ impl SystemCase {
 
 /// The pendulum at 170° over whole periods, Van der Pol μ = 1000 over
 /// [0, 3000], Robertson to 10¹¹. `quick` shortens only the pendulum.
-pub fn system_cases(quick: bool) -> Vec<SystemCase> {
+pub(crate) fn system_cases(quick: bool) -> Vec<SystemCase> {
     let periods = if quick { 2.0 } else { 10.0 };
     vec![
         SystemCase {
@@ -276,7 +276,7 @@ impl SysMethod {
 /// The states a run is compared with, and how far a second, independent
 /// run agrees with them.
 #[derive(Debug, Clone)]
-pub struct SystemReference {
+pub(crate) struct SystemReference {
     pub times: Vec<f64>,
     pub states: Vec<Vec<f64>>,
     /// The largest |yᵢ| of each component over the reference (the error's
@@ -316,7 +316,7 @@ fn scales(states: &[Vec<f64>]) -> Vec<f64> {
 
 /// The largest error of `states` over the samples and components, each
 /// component relative to its largest magnitude over the reference.
-pub fn state_error(states: &[Vec<f64>], reference: &SystemReference) -> f64 {
+pub(crate) fn state_error(states: &[Vec<f64>], reference: &SystemReference) -> f64 {
     states
         .iter()
         .zip(&reference.states)
@@ -331,7 +331,7 @@ pub fn state_error(states: &[Vec<f64>], reference: &SystemReference) -> f64 {
 
 /// The drift of the case's conserved quantity (energy relative to its
 /// start, mass absolutely), `None` for Van der Pol.
-pub fn conserved_error(case: &SystemCase, states: &[Vec<f64>]) -> Option<f64> {
+pub(crate) fn conserved_error(case: &SystemCase, states: &[Vec<f64>]) -> Option<f64> {
     let quantity = |y: &[f64]| match case.sys {
         Sys::Pendulum => Some(0.5 * L * L * y[1] * y[1] + G * L * (1.0 - y[0].cos())),
         Sys::Robertson => Some(y[0] + y[1] + y[2]),
@@ -584,7 +584,7 @@ pub fn sweep_systems(
 
 /// The systems CSV: one line per row; a refused run leaves the numbers
 /// empty and gives its reason after the setting.
-pub fn systems_csv(rows: &[SystemRow]) -> String {
+pub(crate) fn systems_csv(rows: &[SystemRow]) -> String {
     let mut out = String::from(SYSTEMS_CSV_HEADER);
     out.push('\n');
     for row in rows {

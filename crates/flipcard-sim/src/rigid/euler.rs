@@ -70,7 +70,7 @@ impl Coupling {
 
 /// q̇ = ½ q ⊗ (0, ω).
 #[inline(always)]
-pub fn quaternion_dot(q: [f64; 4], w: [f64; 3]) -> [f64; 4] {
+pub(crate) fn quaternion_dot(q: [f64; 4], w: [f64; 3]) -> [f64; 4] {
     let [qw, qx, qy, qz] = q;
     [
         -0.5 * (qx * w[0] + qy * w[1] + qz * w[2]),

@@ -167,7 +167,8 @@ impl Exact {
     /// For a body with exactly two equal moments I⊥ and symmetry axis s:
     /// Ω = (I_s − I⊥) ω_s / I⊥, the rate at which ω (and L) turn about the
     /// symmetry axis in the body frame (dω/dt = Ω e_s × ω). None otherwise.
-    pub fn precession_rate(&self) -> Option<f64> {
+    #[cfg(test)]
+    pub(crate) fn precession_rate(&self) -> Option<f64> {
         let i = self.body.inertia;
         let axis = (0..3).find(|&k| i[(k + 1) % 3] == i[(k + 2) % 3] && i[k] != i[(k + 1) % 3])?;
         let perp = i[(axis + 1) % 3];

@@ -20,7 +20,7 @@ use flipcard_text::num::{Num, below};
 /// the phase is 2⁻²⁰ ≈ 1e-6 rad, so ω and q are still right to about six
 /// digits; far beyond, the states look just as plausible and are noise
 /// (at Ωt = 2⁵² the phase is not even known to a radian).
-pub const MAX_PHASE: f64 = 4294967296.0;
+pub(crate) const MAX_PHASE: f64 = 4294967296.0;
 
 /// Checks that ω₀ is finite and that the invariants it carries, T = ½ Σ Iᵢωᵢ²
 /// and |L|² = Σ (Iᵢωᵢ)², are normal f64 numbers: neither overflows (every
@@ -28,7 +28,7 @@ pub const MAX_PHASE: f64 = 4294967296.0;
 /// (they would print as 0 or with a few bits left). This is the one test
 /// of representability: the simulator runs it before every run and
 /// `flipcard check` runs it on every scene.
-pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SolveError> {
+pub(crate) fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SolveError> {
     model::omega([omega0[0], omega0[1], omega0[2]])?;
     let energy = body.energy(omega0);
     let l2 = body.l2(omega0);
@@ -51,7 +51,7 @@ pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SolveError>
 /// time at which the fastest rate (the nutation of ω, and the spin as well
 /// when the orientation is computed) has turned by [`MAX_PHASE`]. Infinite
 /// when nothing moves.
-pub fn max_span(scales: &Scales, orientation: bool) -> f64 {
+pub(crate) fn max_span(scales: &Scales, orientation: bool) -> f64 {
     let rate = scales.fastest(orientation);
     if rate > 0.0 {
         MAX_PHASE / rate
@@ -62,7 +62,7 @@ pub fn max_span(scales: &Scales, orientation: bool) -> f64 {
 
 /// Refuses a run to `t_end` beyond [`max_span`], naming the limit; `what`
 /// names the time in the message (`t =`, `duration`).
-pub fn check_span(
+pub(crate) fn check_span(
     scales: &Scales,
     orientation: bool,
     t_end: f64,

@@ -10,7 +10,7 @@ use crate::method::{MethodError, MethodName};
 use crate::rigid::model::State;
 
 /// Tolerances tighter than this are below f64 rounding for an 8th-order pair.
-pub const MIN_TOL: f64 = 1e-14;
+pub(crate) const MIN_TOL: f64 = 1e-14;
 
 /// A solver and its one accuracy knob.
 #[derive(Debug, Clone, Copy, PartialEq)]

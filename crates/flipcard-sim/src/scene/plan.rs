@@ -67,7 +67,7 @@ impl Plan {
 
     /// Whether a run with `method` also runs the exact solution beside it
     /// (for the error shown in the diagnostics).
-    pub fn reference_run(&self, method: &Method) -> bool {
+    pub(crate) fn reference_run(&self, method: &Method) -> bool {
         self.diagnostics && *method != Method::Exact
     }
 }

@@ -39,19 +39,19 @@ use flipcard_text::num::{Num, below};
 
 /// Default number of points of the ω trace (about the width of a wide
 /// Braille plot in dots).
-pub const DEFAULT_TRACE_LEN: usize = 512;
+pub(crate) const DEFAULT_TRACE_LEN: usize = 512;
 /// The measurement grid has at least this many points over the run...
 const MIN_METER_POINTS: usize = 2048;
 /// ...and this many per radian of the nutation phase λt. ω is a function of
 /// λt whose period is at least 2π, so a flip, a wobble or an e-folding
 /// (1/√k ≥ 1/λ) spans at least 16 points and is resolved whatever the
 /// duration: sparser samples alias a fast motion into a slow one.
-pub const METER_POINTS_PER_RADIAN: f64 = 16.0;
+pub(crate) const METER_POINTS_PER_RADIAN: f64 = 16.0;
 /// The most points a measurement takes (a few seconds of evaluations for
 /// the slowest method): a scene whose nutation turns by more than
 /// `MAX_METER_POINTS / METER_POINTS_PER_RADIAN` = 65536 rad is refused,
 /// not sampled too sparsely.
-pub const MAX_METER_POINTS: usize = 1 << 20;
+pub(crate) const MAX_METER_POINTS: usize = 1 << 20;
 
 /// Which input of a scene a refusal is about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,7 +70,7 @@ pub struct SceneProblem {
 
 /// The longest duration whose measurements resolve the motion:
 /// [`MAX_METER_POINTS`] at [`METER_POINTS_PER_RADIAN`] of the nutation.
-pub fn max_measured_duration(body: &Body, omega0: &Vector3<f64>) -> f64 {
+pub(crate) fn max_measured_duration(body: &Body, omega0: &Vector3<f64>) -> f64 {
     let rate = scales(body, omega0).nutation;
     if rate > 0.0 {
         MAX_METER_POINTS as f64 / (METER_POINTS_PER_RADIAN * rate)
@@ -376,7 +376,8 @@ impl SceneRun {
     }
 
     /// Whether an exact run goes along for the error figure.
-    pub fn has_reference(&self) -> bool {
+    #[cfg(test)]
+    pub(crate) fn has_reference(&self) -> bool {
         self.reference.is_some()
     }
 

@@ -32,19 +32,19 @@ use crate::system::compile::{CompileError, Cost, Fault, POINTS_PER_STEP, Source,
 use flipcard_text::num::Num;
 
 /// Points kept for each drawn curve (plot, phase, trail).
-pub const TRACE_LEN: usize = 2048;
+pub(crate) const TRACE_LEN: usize = 2048;
 /// The level of |N(0)| below which drift is measured absolutely.
-pub const TINY: f64 = 1e-300;
+pub(crate) const TINY: f64 = 1e-300;
 
 /// Most operations of a scene's compiled programs one run may take (about a
 /// second or two of work): a scene's step budget is this divided by
 /// [`Cost::per_step`], below the solvers' own step budget.
-pub const MAX_RUN_WORK: f64 = 1e9;
+pub(crate) const MAX_RUN_WORK: f64 = 1e9;
 /// Most operations one step of a scene may take (a few milliseconds), so
 /// that the app, which advances a run a step at a time between frames,
 /// always answers a key promptly; `flipcard check` refuses a scene beyond
 /// it.
-pub const MAX_STEP_WORK: f64 = 2e6;
+pub(crate) const MAX_STEP_WORK: f64 = 2e6;
 
 /// Why a scene cannot run at all: one step costs too much.
 pub fn check_cost(scene: &SystemScene, cost: &Cost) -> Result<(), CostError> {
@@ -400,7 +400,7 @@ pub struct Point {
 /// A fixed-length record of a run for drawing: every k-th sample, k
 /// doubling when full, so it always spans the whole run so far.
 #[derive(Debug, Clone, Default)]
-pub struct Trace {
+pub(crate) struct Trace {
     pub points: Vec<Point>,
     stride: usize,
     seen: usize,
@@ -916,7 +916,8 @@ impl SystemRun {
     pub fn cost(&self) -> Cost {
         self.cost
     }
-    pub fn has_reference(&self) -> bool {
+    #[cfg(test)]
+    pub(crate) fn has_reference(&self) -> bool {
         self.reference.is_some()
     }
     /// The plotted quantities, then the phase pair, over the run so far.

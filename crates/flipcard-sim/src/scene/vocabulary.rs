@@ -180,7 +180,7 @@ const fn stat(
 
 /// Every measure, rigid-body measures first, each in the order lists and
 /// reports show them.
-pub const MEASURES: &[MeasureRow] = &[
+pub(crate) const MEASURES: &[MeasureRow] = &[
     rigid(
         "flips",
         Measure::Flips,
@@ -324,7 +324,7 @@ pub fn rigid_hint() -> String {
 }
 
 /// The row of a rigid-body measure's name or a statistic's name.
-pub fn row_named(name: &str) -> Option<&'static MeasureRow> {
+pub(crate) fn row_named(name: &str) -> Option<&'static MeasureRow> {
     MEASURES.iter().find(|r| r.name == name)
 }
 
@@ -415,7 +415,7 @@ pub fn parse(text: &str) -> Result<Parsed<'_>, ParseError<'_>> {
 
 impl Parsed<'_> {
     /// The measure, once the quantity is a variable or observable name.
-    pub fn into_measure(self) -> Result<Measure, QuantityError> {
+    pub(crate) fn into_measure(self) -> Result<Measure, QuantityError> {
         match self {
             Parsed::Rigid(m) => Ok(m),
             Parsed::Of { stat, quantity, .. } => {

@@ -43,7 +43,7 @@ fn steps_per_radian(tol: f64) -> f64 {
 }
 
 /// Expected steps to cover `span` at `tol` when the fastest rate is `rate`.
-pub fn estimated_steps(rate: f64, span: f64, tol: f64) -> f64 {
+pub(crate) fn estimated_steps(rate: f64, span: f64, tol: f64) -> f64 {
     rate * span * steps_per_radian(tol)
 }
 

@@ -12,7 +12,7 @@ use crate::solvers::forward::Forward;
 use crate::solvers::{Method, Solver, Work};
 
 /// One fixed-step method.
-pub trait Stepper {
+pub(crate) trait Stepper {
     /// What the method carries from step to step.
     type Point: Copy;
     fn method(&self) -> Method;
@@ -55,10 +55,6 @@ impl<M: Stepper> FixedSteps<M> {
             forward: Forward::default(),
             work: Work::default(),
         }
-    }
-
-    pub fn stepper(&self) -> &M {
-        &self.method
     }
 
     fn check_budget(&self, t: f64) -> Result<(), SolveError> {

@@ -24,7 +24,7 @@ use flipcard_text::num::Num;
 
 /// How far outside its range on the orbit a component may stray, as a
 /// fraction of the largest |ω| on the orbit.
-pub const SLACK: f64 = 0.25;
+pub(crate) const SLACK: f64 = 0.25;
 /// The largest factor by which the energy or |L|² may drift.
 const INVARIANT_FACTOR: f64 = 2.0;
 

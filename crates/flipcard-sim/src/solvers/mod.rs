@@ -22,15 +22,15 @@
 //! the tableau, the step-size controller, the RK4 step, the error type.
 
 pub mod budget;
-pub mod control;
-pub mod dop853;
-pub mod dop853_tableau;
-pub mod fixed;
-pub mod forward;
-pub mod guard;
+pub(crate) mod control;
+pub(crate) mod dop853;
+pub(crate) mod dop853_tableau;
+pub(crate) mod fixed;
+pub(crate) mod forward;
+pub(crate) mod guard;
 pub mod ode;
 pub mod registry;
-pub mod rk4;
-pub mod splitting;
+pub(crate) mod rk4;
+pub(crate) mod splitting;
 
 pub use crate::rigid::solver::{Kind, Method, Needs, Solver, Work};

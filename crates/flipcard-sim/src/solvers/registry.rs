@@ -7,7 +7,7 @@ use nalgebra::Vector3;
 
 use crate::rigid::euler::{OmegaOnly, WithOrientation};
 use crate::rigid::exact::Exact;
-pub use crate::rigid::limits::check_start;
+pub(crate) use crate::rigid::limits::check_start;
 use crate::rigid::model::Body;
 use crate::rigid::scales::{Scales, momentum_gain, scales};
 pub use crate::solvers::Kind;
@@ -21,18 +21,18 @@ use flipcard_text::num::Num;
 
 /// Default tolerance of the adaptive solver (relative, and absolute against
 /// |ω₀| for ω): about 1e-9 relative error in ω over the notes' 36 flips.
-pub const DEFAULT_TOL: f64 = 1e-10;
-pub use crate::rigid::solver::MIN_TOL;
+pub(crate) const DEFAULT_TOL: f64 = 1e-10;
+pub(crate) use crate::rigid::solver::MIN_TOL;
 /// Default fixed step: this many steps per turn (2π) of the fastest rate of
 /// the orbit, nutation or spin.
-pub const DEFAULT_STEPS_PER_TURN: f64 = 256.0;
+pub(crate) const DEFAULT_STEPS_PER_TURN: f64 = 256.0;
 /// The largest [`momentum_gain`] the splitting accepts. It carries L and
 /// divides by the moments for ω, so each rounding of L (ε relative) shows
 /// in ω multiplied by the gain. A budget's worth of steps is up to 1e8
 /// rotations, whose roundings add up like a random walk (√1e8 = 1e4), so a
 /// gain of 1e-8/ε ≈ 4.5e7 keeps their sum in ω below ~1e-4 of |ω|. Needles
 /// thinner than that are left to the methods that carry ω itself.
-pub const MAX_SPLITTING_GAIN: f64 = 1e-8 / f64::EPSILON;
+pub(crate) const MAX_SPLITTING_GAIN: f64 = 1e-8 / f64::EPSILON;
 
 /// Settings of one run beyond the method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

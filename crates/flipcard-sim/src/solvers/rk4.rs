@@ -88,7 +88,7 @@ impl<S: RigidSystem<N>, const N: usize> Stepper for Rk4Steps<S, N> {
 /// written as `rhs(t, y, dy)`; `k` holds the four stages and `tmp` the
 /// argument of the next, each of y's length. Uses four evaluations of f.
 #[inline(always)]
-pub fn rk4_step<K: AsRef<[f64]> + AsMut<[f64]>>(
+pub(crate) fn rk4_step<K: AsRef<[f64]> + AsMut<[f64]>>(
     mut rhs: impl FnMut(f64, &[f64], &mut [f64]),
     t: f64,
     h: f64,

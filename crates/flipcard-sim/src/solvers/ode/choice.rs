@@ -6,12 +6,12 @@ use crate::method::{MethodError, MethodName};
 
 /// Default relative tolerance of the adaptive methods on a scene; the
 /// absolute one is this times [`ATOL_FACTOR`].
-pub const DEFAULT_RTOL: f64 = 1e-8;
-pub const ATOL_FACTOR: f64 = 1e-2;
+pub(crate) const DEFAULT_RTOL: f64 = 1e-8;
+pub(crate) const ATOL_FACTOR: f64 = 1e-2;
 /// RK4's default step: this many steps over the run.
-pub const DEFAULT_RK4_STEPS: f64 = 20_000.0;
+pub(crate) const DEFAULT_RK4_STEPS: f64 = 20_000.0;
 /// The reference run of the diagnostics.
-pub const REFERENCE_RTOL: f64 = 1e-11;
+pub(crate) const REFERENCE_RTOL: f64 = 1e-11;
 
 /// A method family for systems.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -61,7 +61,7 @@ impl OdeKind {
     }
 
     /// Whether the method solves with the Jacobian (so it is compiled).
-    pub fn implicit(self) -> bool {
+    pub(crate) fn implicit(self) -> bool {
         matches!(self, OdeKind::Radau | OdeKind::Auto)
     }
 }

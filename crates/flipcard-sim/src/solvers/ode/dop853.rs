@@ -134,7 +134,7 @@ impl<S: OdeSystem> Dop853<S> {
     }
 
     /// The suggested size of the next step (0 before the first).
-    pub fn next_step_size(&self) -> f64 {
+    pub(crate) fn next_step_size(&self) -> f64 {
         self.h
     }
 

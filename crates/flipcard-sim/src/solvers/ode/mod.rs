@@ -29,17 +29,18 @@ pub use crate::rhs::{OdeSystem, finite_difference_jacobian};
 use crate::solvers::control::{self, Arithmetic};
 
 pub use auto::Auto;
-pub use choice::{DEFAULT_RTOL, OdeKind, OdeMethod, REFERENCE_RTOL};
+pub(crate) use choice::REFERENCE_RTOL;
+pub use choice::{OdeKind, OdeMethod};
 pub use dop853::{Dop853, StiffnessMode};
 pub use radau5::Radau5;
 pub use rk4::Rk4;
 
 /// Default cap on the step attempts (accepted and rejected) of one run.
-pub const DEFAULT_MAX_STEPS: u64 = 5_000_000;
+pub(crate) const DEFAULT_MAX_STEPS: u64 = 5_000_000;
 
 /// A state component beyond this magnitude counts as a blow-up: its square
 /// would overflow, so no method could go on meaningfully.
-pub const BLOW_UP_LIMIT: f64 = 1e150;
+pub(crate) const BLOW_UP_LIMIT: f64 = 1e150;
 
 /// Absolute tolerance: one for all components or one each.
 #[derive(Debug, Clone, PartialEq)]
@@ -277,7 +278,7 @@ pub(crate) fn initial_step<S: OdeSystem>(
 /// Bookkeeping shared by the solvers: the monotone request time, the output
 /// buffer `advance` lends out, and the error that stopped the run.
 #[derive(Debug, Clone)]
-pub struct Requests {
+pub(crate) struct Requests {
     pub last: f64,
     pub out: Vec<f64>,
     pub failed: Option<SolveError>,
@@ -293,7 +294,7 @@ impl Requests {
     }
 
     /// Refuses a request before the previous one, or any once the run failed.
-    pub fn admit(&mut self, t: f64, t_stop: Option<f64>) -> Result<(), SolveError> {
+    pub(crate) fn admit(&mut self, t: f64, t_stop: Option<f64>) -> Result<(), SolveError> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
@@ -323,7 +324,7 @@ impl Requests {
 
 /// The parts of a one-step method that the shared driver needs; every
 /// `Stepper` is an [`OdeSolver`] through the blanket impl below.
-pub trait Stepper {
+pub(crate) trait Stepper {
     /// Short name of the method now stepping.
     fn method_name(&self) -> &'static str;
     fn size(&self) -> usize {

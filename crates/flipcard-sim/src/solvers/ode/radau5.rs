@@ -684,11 +684,6 @@ impl<S: OdeSystem> Radau5<S> {
         }
         Ok(())
     }
-
-    /// The size of the next step to try (0 before the first is chosen).
-    pub fn next_step_size(&self) -> f64 {
-        self.h
-    }
 }
 
 impl<S: OdeSystem> Stepper for Radau5<S> {
