@@ -84,7 +84,7 @@ pub fn cases(quick: bool) -> Vec<Case> {
 }
 
 /// Tolerances of the adaptive sweep.
-pub fn tolerances(quick: bool) -> Vec<f64> {
+pub(crate) fn tolerances(quick: bool) -> Vec<f64> {
     let exponents: Vec<i32> = if quick {
         vec![3, 5, 7, 9, 11, 13]
     } else {

@@ -40,7 +40,7 @@ fn ceil_log(x: f64) -> f64 {
 }
 
 /// The SVG document.
-pub fn svg(
+pub(crate) fn svg(
     rows: &[Row],
     cases: &[Case],
     systems: &[SystemRow],

@@ -128,7 +128,7 @@ pub(crate) struct SystemCase {
 
 impl SystemCase {
     /// The times every run is compared at.
-    pub fn times(&self) -> Vec<f64> {
+    pub(crate) fn times(&self) -> Vec<f64> {
         match self.sys {
             // Quarter decades from 10⁻⁶: the fast transient and the slow
             // tail of Robertson's problem both get points.
@@ -142,7 +142,7 @@ impl SystemCase {
 
     /// Tolerances of the adaptive methods, or `dt`s of RK4 (as steps over
     /// the run).
-    pub fn settings(&self, method: SysMethod, quick: bool) -> Vec<f64> {
+    pub(crate) fn settings(&self, method: SysMethod, quick: bool) -> Vec<f64> {
         match method {
             SysMethod::Rk4 => {
                 let steps: &[f64] = match (self.sys, quick) {
@@ -231,7 +231,7 @@ pub enum SysMethod {
 }
 
 impl SysMethod {
-    pub const ALL: [SysMethod; 4] = [
+    pub(crate) const ALL: [SysMethod; 4] = [
         SysMethod::Adaptive,
         SysMethod::Radau,
         SysMethod::Rk4,
@@ -244,7 +244,7 @@ impl SysMethod {
     }
 
     /// The family ([`OdeKind`]) this method runs.
-    pub fn kind(self) -> OdeKind {
+    pub(crate) fn kind(self) -> OdeKind {
         match self {
             SysMethod::Adaptive => OdeKind::Adaptive,
             SysMethod::Radau => OdeKind::Radau,
@@ -361,7 +361,7 @@ impl SystemReference {
     /// a tight tolerance, confirmed by DOP853 (Van der Pol, full sweep) or
     /// by Radau at a tenfold looser tolerance (Robertson, where an explicit
     /// method would need ~10¹⁴ steps, and the quick sweep).
-    pub fn new(case: &SystemCase, quick: bool) -> Result<SystemReference, SolveError> {
+    pub(crate) fn new(case: &SystemCase, quick: bool) -> Result<SystemReference, SolveError> {
         let times = case.times();
         let mut reference = match case.sys {
             Sys::Pendulum => {
@@ -488,7 +488,7 @@ pub struct SystemRow {
 
 /// Times one method × setting on a case (minimum of several runs) and
 /// measures its errors; a refused or failed run gives its reason.
-pub fn measure_system(
+pub(crate) fn measure_system(
     case: &SystemCase,
     method: SysMethod,
     setting: f64,

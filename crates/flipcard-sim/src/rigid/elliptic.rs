@@ -32,7 +32,7 @@ const MAX_LEVELS: usize = 20;
 
 /// The Gauss–Landen ladder for one value of m_c, with K(m).
 #[derive(Debug, Clone)]
-pub struct Jacobi {
+pub(crate) struct Jacobi {
     mc: f64,
     kc: f64,
     levels: usize,
@@ -87,7 +87,7 @@ impl Reduced {
 impl Jacobi {
     /// The ladder for 0 ≤ m_c ≤ 1 (m_c = 0 is the separatrix, where
     /// sn = tanh, cn = dn = sech and K = ∞). Values outside are clamped.
-    pub fn new(mc: f64) -> Jacobi {
+    pub(crate) fn new(mc: f64) -> Jacobi {
         let mc = if mc.is_nan() { 0.0 } else { mc.clamp(0.0, 1.0) };
         let mut jacobi = Jacobi {
             mc,
@@ -125,7 +125,7 @@ impl Jacobi {
     }
 
     /// The complementary parameter m_c = 1 − m.
-    pub fn mc(&self) -> f64 {
+    pub(crate) fn mc(&self) -> f64 {
         self.mc
     }
 
@@ -135,7 +135,7 @@ impl Jacobi {
     }
 
     /// The complete integral K(m) (∞ on the separatrix).
-    pub fn k(&self) -> f64 {
+    pub(crate) fn k(&self) -> f64 {
         self.k
     }
 

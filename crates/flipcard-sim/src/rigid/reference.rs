@@ -9,7 +9,7 @@ use crate::rigid::model::Body;
 use crate::rigid::solver::{Needs, Solver};
 
 /// The exact solution for `body` and `omega0`, with q only when `needs` asks.
-pub fn exact(
+pub(crate) fn exact(
     body: Body,
     omega0: Vector3<f64>,
     needs: Needs,

@@ -341,7 +341,8 @@ impl SceneRun {
         &self.scene
     }
 
-    pub fn plan(&self) -> &Plan {
+    #[cfg(test)]
+    pub(crate) fn plan(&self) -> &Plan {
         &self.plan
     }
 

@@ -39,7 +39,7 @@ pub(crate) struct StepControl {
 impl StepControl {
     /// A controller for a method whose error estimate is of order
     /// `order − 1` (8 for DOP853).
-    pub fn new(order: f64) -> StepControl {
+    pub(crate) fn new(order: f64) -> StepControl {
         StepControl {
             exponent: 1.0 / order - 0.2 * BETA,
             facold: FACOLD_FLOOR,
@@ -48,7 +48,7 @@ impl StepControl {
     }
 
     /// The next step after an accepted trial of size `h` with error `err`.
-    pub fn accept(&mut self, h: f64, err: f64) -> f64 {
+    pub(crate) fn accept(&mut self, h: f64, err: f64) -> f64 {
         let fac11 = err.powf(self.exponent);
         let fac = fac11 / self.facold.powf(BETA);
         let fac = GROW_LIMIT.max(SHRINK_LIMIT.min(fac / SAFETY));
@@ -167,7 +167,7 @@ pub(crate) fn rms(v: &[f64], scale: &[f64]) -> f64 {
 
 /// The 2-norm of v, scaled by its largest entry so that no square
 /// overflows or underflows.
-pub fn norm(v: &[f64]) -> f64 {
+pub(crate) fn norm(v: &[f64]) -> f64 {
     let big = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     if big == 0.0 || !big.is_finite() {
         return big;

@@ -47,7 +47,7 @@ pub(crate) fn estimated_steps(rate: f64, span: f64, tol: f64) -> f64 {
     rate * span * steps_per_radian(tol)
 }
 
-pub struct Dop853<S, const N: usize> {
+pub(crate) struct Dop853<S, const N: usize> {
     sys: S,
     tol: f64,
     atol: [f64; N],
@@ -73,7 +73,7 @@ pub struct Dop853<S, const N: usize> {
 }
 
 impl<S: RigidSystem<N>, const N: usize> Dop853<S, N> {
-    pub fn new(
+    pub(crate) fn new(
         sys: S,
         omega0: &Vector3<f64>,
         tol: f64,

@@ -8,10 +8,10 @@
 //! them as row sums.
 #![allow(clippy::excessive_precision)]
 
-pub type Row<const M: usize> = [(usize, f64); M];
+pub(crate) type Row<const M: usize> = [(usize, f64); M];
 
 /// Nodes cᵢ of stages k[1..=11] (published digits); k[12] is f at t + h.
-pub const C: [f64; 12] = [
+pub(crate) const C: [f64; 12] = [
     0.0,
     0.526001519587677318785587544488e-1,
     0.789002279381515978178381316732e-1,
@@ -28,8 +28,8 @@ pub const C: [f64; 12] = [
 /// Nodes of the three extra dense-output stages k[13..=15].
 pub(crate) const C_DENSE: [f64; 3] = [0.1, 0.2, 0.777777777777777777777777777778];
 
-pub const A1: Row<1> = [(0, 5.26001519587677318785587544488e-2)];
-pub const A2: Row<2> = [
+pub(crate) const A1: Row<1> = [(0, 5.26001519587677318785587544488e-2)];
+pub(crate) const A2: Row<2> = [
     (0, 1.97250569845378994544595329183e-2),
     (1, 5.91751709536136983633785987549e-2),
 ];
@@ -99,7 +99,7 @@ pub(crate) const A11: Row<9> = [
     (10, 6.43392746015763530355970484046e-1),
 ];
 /// Weights of the 8th-order solution (row 12 of A).
-pub const B: Row<8> = [
+pub(crate) const B: Row<8> = [
     (0, 5.42937341165687622380535766363e-2),
     (5, 4.45031289275240888144113950566),
     (6, 1.89151789931450038304281599044),
@@ -212,7 +212,7 @@ pub(crate) const D3: Row<12> = [
     (15, -0.14972683625798562581422125276e3),
 ];
 /// The four rows together.
-pub const D: [Row<12>; 4] = [D0, D1, D2, D3];
+pub(crate) const D: [Row<12>; 4] = [D0, D1, D2, D3];
 
 /// Weights of the embedded 3rd-order solution where they differ from B.
 const BHH: [f64; 3] = [

@@ -33,7 +33,7 @@ pub(crate) trait Stepper {
     }
 }
 
-pub struct FixedSteps<M: Stepper> {
+pub(crate) struct FixedSteps<M: Stepper> {
     method: M,
     dt: f64,
     budget: Budget,
@@ -45,7 +45,7 @@ pub struct FixedSteps<M: Stepper> {
 }
 
 impl<M: Stepper> FixedSteps<M> {
-    pub fn new(method: M, dt: f64, budget: Budget) -> FixedSteps<M> {
+    pub(crate) fn new(method: M, dt: f64, budget: Budget) -> FixedSteps<M> {
         FixedSteps {
             point: method.start(),
             method,

@@ -6,13 +6,13 @@ use crate::error::SolveError;
 use flipcard_text::num::Num;
 
 #[derive(Debug, Clone, Copy, Default)]
-pub struct Forward {
+pub(crate) struct Forward {
     last: f64,
 }
 
 impl Forward {
     /// Accepts `t` and remembers it, or refuses a time before the last one.
-    pub fn accept(&mut self, t: f64) -> Result<(), SolveError> {
+    pub(crate) fn accept(&mut self, t: f64) -> Result<(), SolveError> {
         if !t.is_finite() || t < self.last {
             return Err(SolveError::Invalid(format!(
                 "time {} is before the previous sample {} (runs only go forward)",

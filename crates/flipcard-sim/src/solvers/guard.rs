@@ -28,7 +28,7 @@ pub(crate) const SLACK: f64 = 0.25;
 /// The largest factor by which the energy or |L|² may drift.
 const INVARIANT_FACTOR: f64 = 2.0;
 
-pub struct Guard {
+pub(crate) struct Guard {
     inner: Box<dyn Solver>,
     body: Body,
     scales: Scales,
@@ -38,7 +38,7 @@ pub struct Guard {
 }
 
 impl Guard {
-    pub fn new(
+    pub(crate) fn new(
         inner: Box<dyn Solver>,
         body: Body,
         omega0: &Vector3<f64>,

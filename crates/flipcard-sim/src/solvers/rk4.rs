@@ -16,9 +16,9 @@ use crate::solvers::{Method, Work};
 use flipcard_text::num::Num;
 
 /// RK4 on one of the rigid body's systems (ω alone, or ω and q).
-pub type Rk4<S, const N: usize> = FixedSteps<Rk4Steps<S, N>>;
+pub(crate) type Rk4<S, const N: usize> = FixedSteps<Rk4Steps<S, N>>;
 
-pub struct Rk4Steps<S, const N: usize> {
+pub(crate) struct Rk4Steps<S, const N: usize> {
     sys: S,
     y0: [f64; N],
     dt: f64,
@@ -27,7 +27,7 @@ pub struct Rk4Steps<S, const N: usize> {
 }
 
 /// An RK4 run from `omega0` with step `dt`.
-pub fn rk4<S: RigidSystem<N>, const N: usize>(
+pub(crate) fn rk4<S: RigidSystem<N>, const N: usize>(
     sys: S,
     omega0: &Vector3<f64>,
     dt: f64,

@@ -514,7 +514,13 @@ impl Program {
     /// between (t0, y0) and (t1, y1), among the operations of the outputs:
     /// the equation then grows without bound there, which a step-size
     /// collapse alone would call a blow-up.
-    pub(crate) fn divisor_crossing(&self, t0: f64, y0: &[f64], t1: f64, y1: &[f64]) -> Option<Fault> {
+    pub(crate) fn divisor_crossing(
+        &self,
+        t0: f64,
+        y0: &[f64],
+        t1: f64,
+        y1: &[f64],
+    ) -> Option<Fault> {
         let mut a = vec![0.0; self.ops.len()];
         let mut b = vec![0.0; self.ops.len()];
         self.run(t0, y0, &mut a);

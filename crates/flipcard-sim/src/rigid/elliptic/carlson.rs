@@ -106,7 +106,7 @@ pub(crate) fn rj(x: f64, y: f64, z: f64, p: f64) -> f64 {
 
 /// R_C(x, y) = ½ ∫₀^∞ dt / ((t+y) √(t+x)), for x ≥ 0, y > 0.
 #[cfg(test)]
-pub fn rc(x: f64, y: f64) -> f64 {
+pub(crate) fn rc(x: f64, y: f64) -> f64 {
     if x == 0.0 {
         return std::f64::consts::FRAC_PI_2 / y.sqrt();
     }

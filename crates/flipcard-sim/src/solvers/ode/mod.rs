@@ -23,7 +23,6 @@ mod dop853;
 mod radau5;
 mod rk4;
 
-
 use crate::error::SolveError;
 pub use crate::rhs::{OdeSystem, finite_difference_jacobian};
 use crate::solvers::control::{self, Arithmetic};
