@@ -2,9 +2,10 @@
 //! oscillators and kinetics, a stiff linear system with a closed-form
 //! solution, orders of convergence, blow-up and dense output.
 
+use flipcard::sim::error::SolveError;
 use flipcard::sim::solvers::ode::{
-    Atol, Auto, Dop853, Method, OdeError, OdeSolver, OdeSystem, Options, Radau5, Rk4,
-    StiffnessMode, finite_difference_jacobian, make,
+    Atol, Auto, Dop853, Method, OdeSolver, OdeSystem, Options, Radau5, Rk4, StiffnessMode,
+    finite_difference_jacobian, make,
 };
 use nalgebra::DMatrix;
 
@@ -315,11 +316,11 @@ fn van_der_pol_dop853_refuses_when_told() {
         .unwrap()
         .with_stiffness(StiffnessMode::Refuse);
     match dop.advance(3000.0) {
-        Err(OdeError::Stiff { t }) => {
+        Err(SolveError::Stiff { t }) => {
             assert!(t > 0.0 && t < 1.0, "stiff at {t}");
             assert!(dop.work().steps < 1000, "{:?}", dop.work());
             // The refusal is final.
-            assert!(matches!(dop.advance(3000.0), Err(OdeError::Stiff { .. })));
+            assert!(matches!(dop.advance(3000.0), Err(SolveError::Stiff { .. })));
         }
         other => panic!("expected a refusal, got {other:?}"),
     }
@@ -602,13 +603,13 @@ fn blow_up_stops_every_method_near_the_singularity() {
             }
         }
         match failure {
-            Some(OdeError::BlowUp { t }) => {
+            Some(SolveError::BlowUp { t }) => {
                 assert!((t - 1.0).abs() < 1e-3, "{method:?} stopped at {t}")
             }
             other => panic!("{method:?}: {other:?}"),
         }
         // Stopped for good, still without a panic.
-        assert!(matches!(s.advance(2.0), Err(OdeError::BlowUp { .. })));
+        assert!(matches!(s.advance(2.0), Err(SolveError::BlowUp { .. })));
     }
 }
 
@@ -738,7 +739,8 @@ fn finite_difference_jacobian_matches_the_analytic_one() {
 #[test]
 fn bad_inputs_are_errors_not_panics() {
     let opts = Options::default();
-    let invalid = |r: Result<Box<dyn OdeSolver>, OdeError>| matches!(r, Err(OdeError::Invalid(_)));
+    let invalid =
+        |r: Result<Box<dyn OdeSolver>, SolveError>| matches!(r, Err(SolveError::Invalid(_)));
     let methods = [
         Method::Dop853 {
             stiffness: StiffnessMode::Report,
@@ -763,11 +765,11 @@ fn bad_inputs_are_errors_not_panics() {
         let mut s = make(m, Spin, 0.0, &[1.0, 0.0], &opts).unwrap();
         s.advance(1.0).unwrap();
         assert!(
-            matches!(s.advance(0.5), Err(OdeError::Invalid(_))),
+            matches!(s.advance(0.5), Err(SolveError::Invalid(_))),
             "{m:?}: backwards"
         );
         assert!(
-            matches!(s.advance(f64::NAN), Err(OdeError::Invalid(_))),
+            matches!(s.advance(f64::NAN), Err(SolveError::Invalid(_))),
             "{m:?}: NaN t"
         );
         // A refused request does not stop the run.
@@ -833,11 +835,14 @@ fn step_budget_is_a_value() {
     let mut dop = Dop853::new(VanDerPol { mu: MU }, 0.0, &[2.0, 0.0], &opts).unwrap();
     assert!(matches!(
         dop.advance(3000.0),
-        Err(OdeError::StepBudget { .. })
+        Err(SolveError::StepBudget { .. })
     ));
     let mut rk4 = Rk4::new(Spin, 0.0, &[1.0, 0.0], 1e-3, &opts).unwrap();
     // Refused before stepping: 1000 steps would be needed.
-    assert!(matches!(rk4.advance(1.0), Err(OdeError::StepBudget { .. })));
+    assert!(matches!(
+        rk4.advance(1.0),
+        Err(SolveError::StepBudget { .. })
+    ));
     assert_eq!(rk4.work().steps, 0);
 }
 
@@ -859,7 +864,7 @@ fn t_stop_lands_exactly_and_bounds_requests() {
         assert_eq!(s.t(), 1.0, "{m:?}");
         // x = 0.5/(1 − 0.5 t) = 1 at t = 1.
         assert!((y - 1.0).abs() < 1e-6, "{m:?}: {y}");
-        assert!(matches!(s.advance(1.5), Err(OdeError::Invalid(_))));
+        assert!(matches!(s.advance(1.5), Err(SolveError::Invalid(_))));
     }
 }
 
@@ -898,7 +903,7 @@ fn leaving_the_domain_of_f_stops_without_nan() {
             }
         }
         match failure {
-            Some(OdeError::BlowUp { t }) => assert!((t - 2.0).abs() < 0.02, "{method:?}: {t}"),
+            Some(SolveError::BlowUp { t }) => assert!((t - 2.0).abs() < 0.02, "{method:?}: {t}"),
             other => panic!("{method:?}: {other:?}"),
         }
     }

@@ -2,9 +2,10 @@
 //! separatrix of I = (3, 4, 6)), their orders of convergence, their
 //! invariants, their step budgets and the extreme cases of the model.
 
+use flipcard::sim::error::SolveError;
 use flipcard::sim::solvers::budget::Budget;
 use flipcard::sim::solvers::registry::{Kind, default_dt_for};
-use flipcard::sim::{Body, Method, Needs, Options, SimError, Solver, State, make, make_with};
+use flipcard::sim::{Body, Method, Needs, Options, Solver, State, make, make_with};
 use nalgebra::{UnitQuaternion, Vector3};
 
 const OMEGA: Needs = Needs { orientation: false };
@@ -266,8 +267,8 @@ fn going_back_in_time_is_refused() {
     ] {
         let mut s = solver(method, b, [1.0, 1.0, 1.0], BOTH);
         s.advance(1.0).unwrap();
-        assert!(matches!(s.advance(0.5), Err(SimError::Invalid(_))));
-        assert!(matches!(s.advance(f64::NAN), Err(SimError::Invalid(_))));
+        assert!(matches!(s.advance(0.5), Err(SolveError::Invalid(_))));
+        assert!(matches!(s.advance(f64::NAN), Err(SolveError::Invalid(_))));
     }
 }
 
@@ -366,7 +367,7 @@ fn budget_refuses_fast_spins_up_front() {
     for needs in [OMEGA, BOTH] {
         let mut s = make(Method::Adaptive { tol: 1e-10 }, b, w, needs).unwrap();
         let err = s.plan(3.0).unwrap_err();
-        let SimError::Budget(msg) = &err else {
+        let SolveError::StepBudget { reason: msg, .. } = &err else {
             panic!("{err:?}")
         };
         assert!(msg.starts_with("stiff: "), "{msg}");
@@ -376,13 +377,13 @@ fn budget_refuses_fast_spins_up_front() {
         );
         // Without a plan, the first advance refuses just the same, unstepped.
         let mut s = make(Method::Adaptive { tol: 1e-10 }, b, w, needs).unwrap();
-        assert!(matches!(s.advance(3.0), Err(SimError::Budget(_))));
+        assert!(matches!(s.advance(3.0), Err(SolveError::StepBudget { .. })));
         assert_eq!(s.work().steps, 0);
     }
     let mut s = make(Method::Rk4 { dt: 1e-9 }, b, w, BOTH).unwrap();
-    assert!(matches!(s.plan(3.0), Err(SimError::Budget(_))));
+    assert!(matches!(s.plan(3.0), Err(SolveError::StepBudget { .. })));
     let mut s = make(Method::Splitting { dt: 1e-9 }, b, w, BOTH).unwrap();
-    assert!(matches!(s.advance(3.0), Err(SimError::Budget(_))));
+    assert!(matches!(s.advance(3.0), Err(SolveError::StepBudget { .. })));
     assert_eq!(s.work().steps, 0);
 }
 
@@ -404,7 +405,10 @@ fn budget_stops_a_run_that_outgrows_its_estimate() {
             break;
         }
     }
-    assert!(matches!(outcome, Err(SimError::Budget(_))), "{outcome:?}");
+    assert!(
+        matches!(outcome, Err(SolveError::StepBudget { .. })),
+        "{outcome:?}"
+    );
     let w = s.work();
     assert!(w.steps + w.rejected <= 1001, "{w:?}");
 }
@@ -591,4 +595,43 @@ fn long_splitting_run_over_1e5_periods_stays_on_its_orbit() {
         assert!((b.l2(&state.omega) / l0 - 1.0).abs() < 1e-11);
     }
     assert!(worst < 1e-2, "energy error {worst}");
+}
+
+/// The rigid body is a system like a deck's: the solvers of deck systems
+/// (Radau IIA, auto, DOP853 with stiffness detection) integrate its Euler
+/// equations through the one right-hand side, and agree with the exact
+/// solution.
+#[test]
+fn the_solvers_of_deck_systems_integrate_the_rigid_body() {
+    use flipcard::sim::rigid::euler::{OmegaOnly, RigidSystem, WithOrientation};
+    use flipcard::sim::solvers::ode;
+    let b = body([1.0, 2.0, 2.5]);
+    let w = Vector3::new(1.0, 0.3, 2.0);
+    let opts = ode::Options::with_tol(1e-11, 1e-13);
+    let mut exact = make(Method::Exact, b, w, BOTH).unwrap();
+    let want = exact.advance(5.0).unwrap();
+    let methods = [
+        ode::Method::Radau5,
+        ode::Method::Auto,
+        ode::Method::Dop853 {
+            stiffness: ode::StiffnessMode::Report,
+        },
+    ];
+    for method in methods {
+        let sys = OmegaOnly::new(&b, &w);
+        let mut s = ode::make(method, sys, 0.0, &sys.initial(&w), &opts).unwrap();
+        let got = sys.state(&s.advance(5.0).unwrap().try_into().unwrap());
+        assert!(
+            (got.omega - want.omega).norm() < 1e-7,
+            "{method:?}: {got:?}"
+        );
+        let sys = WithOrientation::new(&b, &w);
+        let mut s = ode::make(method, sys, 0.0, &sys.initial(&w), &opts).unwrap();
+        let got = sys.state(&s.advance(5.0).unwrap().try_into().unwrap());
+        assert!(
+            (got.omega - want.omega).norm() < 1e-7,
+            "{method:?}: {got:?}"
+        );
+        assert!(got.q.angle_to(&want.q) < 1e-6, "{method:?}: {got:?}");
+    }
 }

@@ -22,7 +22,7 @@ pub fn run(_cli: &Cli, args: &BenchArgs) -> anyhow::Result<ExitCode> {
                 bench::sci(m.wall),
                 bench::sci(m.errors.omega)
             ),
-            Err(reason) => reason.clone(),
+            Err(reason) => reason.to_string(),
         };
         crate::errln!(
             "bench [{k}/{total}] case {} {} {}: {what}",
@@ -40,7 +40,7 @@ pub fn run(_cli: &Cli, args: &BenchArgs) -> anyhow::Result<ExitCode> {
                     bench::sci(m.wall),
                     bench::sci(m.err_state)
                 ),
-                Err(reason) => reason.clone(),
+                Err(reason) => reason.to_string(),
             };
             crate::errln!(
                 "bench systems [{k}/{total}] {} {} {}: {what}",

@@ -12,6 +12,7 @@ mod cases;
 mod plot;
 mod systems;
 
+use crate::error::SolveError;
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -20,16 +21,14 @@ use anyhow::Context;
 use nalgebra::Vector3;
 
 pub use cases::{Case, cases, methods};
-pub use systems::{
-    SYSTEMS_CSV_HEADER, SysMethod, SystemCase, SystemMeasured, SystemReference, SystemRow,
-    measure_system, sweep_systems, system_cases, systems_csv,
-};
+pub use systems::{Refusal, SysMethod, SystemMeasured, SystemRow, sweep_systems};
+pub(crate) use systems::{SystemCase, system_cases, systems_csv};
 
 use crate::rigid::model::{Body, State};
 use crate::rigid::reference;
 use crate::solvers::budget::Budget;
 use crate::solvers::registry::{Options, make_with};
-use crate::solvers::{Method, Needs, SimError, Work};
+use crate::solvers::{Method, Needs, Work};
 
 /// Points at which every run is compared with the exact solution.
 pub const POINTS: usize = 1001;
@@ -86,7 +85,7 @@ pub struct Errors {
 pub struct Row {
     pub case: &'static str,
     pub method: Method,
-    pub outcome: Result<Measured, String>,
+    pub outcome: Result<Measured, SolveError>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -104,7 +103,7 @@ pub struct Reference {
 }
 
 impl Reference {
-    pub fn new(case: &Case) -> Result<Reference, SimError> {
+    pub fn new(case: &Case) -> Result<Reference, SolveError> {
         let times: Vec<f64> = (0..POINTS)
             .map(|k| case.t_end * k as f64 / (POINTS - 1) as f64)
             .collect();
@@ -122,7 +121,7 @@ fn run_once(
     method: Method,
     times: &[f64],
     budget: Budget,
-) -> Result<(Vec<State>, Work, f64), SimError> {
+) -> Result<(Vec<State>, Work, f64), SolveError> {
     let start = Instant::now();
     let mut solver = make_with(
         method,
@@ -184,13 +183,12 @@ pub fn measure(case: &Case, method: Method, reference: &Reference, effort: &Effo
             spent += wall;
             runs += 1;
         }
-        Ok::<_, SimError>(Measured {
+        Ok::<_, SolveError>(Measured {
             work,
             wall: best,
             errors: errors(&case.body, &case.omega0, &states, &reference.states),
         })
-    })()
-    .map_err(|e| e.to_string());
+    })();
     Row {
         case: case.id,
         method,
@@ -357,7 +355,7 @@ mod tests {
         let m = ok.outcome.as_ref().unwrap();
         assert!(m.errors.omega > 0.0 && m.errors.omega < 1e-4, "{m:?}");
         assert!(m.work.steps > 0 && m.wall > 0.0);
-        let reason = refused.outcome.as_ref().unwrap_err();
+        let reason = refused.outcome.as_ref().unwrap_err().to_string();
         assert!(reason.contains("budget"), "{reason}");
 
         let text = csv(&[ok, refused]);
@@ -382,7 +380,11 @@ mod tests {
         Row {
             case: "e",
             method: Method::Rk4 { dt: 1e-3 },
-            outcome: Err("rk4: needs ~2e7 steps (budget 5e6)".into()),
+            outcome: Err(SolveError::StepBudget {
+                t: 0.0,
+                steps: 0,
+                reason: "rk4: needs ~2e7 steps (budget 5e6)".into(),
+            }),
         }
     }
 

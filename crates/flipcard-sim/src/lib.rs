@@ -4,12 +4,15 @@
 //! run time). Never imports ratatui, never prints.
 
 pub mod bench;
+pub mod error;
 pub mod method;
+pub mod rhs;
 pub mod rigid;
 pub mod scene;
 pub mod solvers;
 pub mod system;
 
-pub use rigid::model::{Body, ModelError, State};
+pub use error::{ModelError, SolveError};
+pub use rigid::model::{Body, State};
 pub use solvers::registry::{Kind, Options, make, make_with};
-pub use solvers::{Method, Needs, SimError, Solver, Work};
+pub use solvers::{Method, Needs, Solver, Work};

@@ -34,7 +34,7 @@ pub struct MethodRow {
 }
 
 /// The table.
-pub const METHODS: [MethodRow; 7] = [
+pub(crate) const METHODS: [MethodRow; 7] = [
     MethodRow {
         method: MethodName::Exact,
         name: "exact",
@@ -110,19 +110,35 @@ impl MethodName {
     pub fn parse(s: &str) -> Option<MethodName> {
         METHODS.iter().find(|r| r.name == s).map(|r| r.method)
     }
+}
 
-    /// Why a rigid body refuses this method (it is for systems only).
-    pub fn rigid_refusal(self) -> String {
-        let names: Vec<&str> = METHODS.iter().filter(|r| r.rigid).map(|r| r.name).collect();
-        format!(
-            "only system scenes use it; a rigid body takes {}",
-            spoken(&names)
-        )
-    }
+/// Why a scene refuses a method, or a method its setting.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MethodError {
+    /// A rigid body refuses a method for systems only.
+    #[error("only system scenes use it; a rigid body takes {}", spoken(&rigid_names()))]
+    NotRigid(MethodName),
+    /// A system refuses a method; `takes` lists what it takes instead.
+    #[error("a system takes {}", spoken(takes))]
+    NotSystem {
+        method: MethodName,
+        takes: Vec<&'static str>,
+    },
+    /// RK4's step is not positive and finite.
+    #[error("the step of rk4 must be positive and finite, not {0}")]
+    Step(f64),
+    /// An adaptive method's tolerance is outside (1e-14, 1).
+    #[error("the tolerance of {} must lie between 1e-14 and 1, not {setting}", method.name())]
+    Tolerance { method: MethodName, setting: f64 },
+}
+
+/// The methods a rigid body takes, in the table's order.
+fn rigid_names() -> Vec<&'static str> {
+    METHODS.iter().filter(|r| r.rigid).map(|r| r.name).collect()
 }
 
 /// Names as a sentence says them: `a, b or c`.
-pub fn spoken(names: &[&str]) -> String {
+pub(crate) fn spoken(names: &[&str]) -> String {
     match names.split_last() {
         Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
         Some((last, _)) => last.to_string(),
@@ -146,7 +162,7 @@ mod tests {
     #[test]
     fn a_rigid_body_says_what_it_takes() {
         assert_eq!(
-            MethodName::Radau.rigid_refusal(),
+            MethodError::NotRigid(MethodName::Radau).to_string(),
             "only system scenes use it; a rigid body takes exact, adaptive, splitting, splitting4 or rk4"
         );
         assert_eq!(spoken(&["a"]), "a");

@@ -76,14 +76,17 @@ impl Run {
             observables: vec![true; scene.observables.len()],
             ..SystemPlan::for_scene(scene, method, measures)
         };
-        let mut run =
-            SystemRun::with_plan(scene, method, plan).map_err(|message| RunError::Domain {
-                t: 0.0,
-                message,
-                at: None,
-            })?;
+        let mut run = SystemRun::with_plan(scene, method, plan).map_err(|e| RunError::Domain {
+            t: 0.0,
+            message: e.to_string(),
+            at: None,
+        })?;
         run.run_to_end()?;
-        let (measured, missing) = system_readings(measures, |m| run.measure(m), scene.duration);
+        let (measured, missing) = system_readings(
+            measures,
+            |m| run.measure(m).map_err(|e| e.to_string()),
+            scene.duration,
+        );
         let longer_scene = SystemScene {
             duration: scene.duration * LONGER,
             ..scene.clone()
@@ -94,7 +97,11 @@ impl Run {
                 let mut values = values.into_iter();
                 let (measured, missing) = system_readings(
                     measures,
-                    |_| values.next().unwrap_or_else(|| Err(String::new())),
+                    |_| {
+                        values
+                            .next()
+                            .map_or_else(|| Err(String::new()), |v| v.map_err(|e| e.to_string()))
+                    },
                     longer_scene.duration,
                 );
                 Box::new(Run {

@@ -20,7 +20,7 @@ pub struct Case {
 }
 
 /// Distance of case (c) from the separatrix: (L² − 2E·I₂)/L².
-pub const SEPARATRIX_DISTANCE: f64 = 1e-9;
+pub(crate) const SEPARATRIX_DISTANCE: f64 = 1e-9;
 
 fn body(i: [f64; 3]) -> Body {
     // The moments below are all physical; a typo would fail every bench test.
@@ -84,7 +84,7 @@ pub fn cases(quick: bool) -> Vec<Case> {
 }
 
 /// Tolerances of the adaptive sweep.
-pub fn tolerances(quick: bool) -> Vec<f64> {
+pub(crate) fn tolerances(quick: bool) -> Vec<f64> {
     let exponents: Vec<i32> = if quick {
         vec![3, 5, 7, 9, 11, 13]
     } else {
@@ -94,7 +94,7 @@ pub fn tolerances(quick: bool) -> Vec<f64> {
 }
 
 /// Fixed steps per turn of the fastest rate (of ω's nutation and of q).
-pub fn steps_per_turn(quick: bool) -> Vec<f64> {
+pub(crate) fn steps_per_turn(quick: bool) -> Vec<f64> {
     if quick {
         vec![16.0, 64.0, 256.0]
     } else {

@@ -21,7 +21,7 @@ const SYSTEM_METHODS: [(&str, RGBColor); 4] = [
 ];
 /// Errors are drawn no lower than this: the exact solver's own error
 /// against itself is 0, and sits on this floor.
-pub const ERROR_FLOOR: f64 = 1e-17;
+pub(crate) const ERROR_FLOOR: f64 = 1e-17;
 
 const METHODS: [(&str, RGBColor); 5] = [
     ("exact", RGBColor(0, 0, 0)),
@@ -40,7 +40,7 @@ fn ceil_log(x: f64) -> f64 {
 }
 
 /// The SVG document.
-pub fn svg(
+pub(crate) fn svg(
     rows: &[Row],
     cases: &[Case],
     systems: &[SystemRow],

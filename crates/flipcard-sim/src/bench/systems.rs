@@ -9,17 +9,18 @@ use std::time::Instant;
 use nalgebra::DMatrix;
 
 use super::Effort;
+use crate::error::SolveError;
 use crate::rigid::elliptic;
 use crate::solvers::ode::{
-    Atol, Method, OdeError, OdeKind, OdeSolver, OdeSystem, Options, StiffnessMode, Work, make,
+    Atol, Method, OdeKind, OdeSolver, OdeSystem, Options, StiffnessMode, Work, make,
 };
 
 /// The exact header of the systems CSV.
-pub const SYSTEMS_CSV_HEADER: &str =
+pub(crate) const SYSTEMS_CSV_HEADER: &str =
     "case,method,setting,steps,rhs_evals,jac_evals,lu_decomps,wall_s,err_state,err_conserved";
 
 /// The pendulum's release angle, 170° in radians.
-pub const THETA0: f64 = 2.9670597283903604;
+pub(crate) const THETA0: f64 = 2.9670597283903604;
 const G: f64 = 9.81;
 const L: f64 = 1.0;
 const MU: f64 = 1000.0;
@@ -31,7 +32,7 @@ const RK4_MAX_STEPS: f64 = 2e6;
 
 /// The three systems, with their analytic Jacobians.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Sys {
+pub(crate) enum Sys {
     /// θ'' = −(g/L) sin θ as (θ, ω).
     Pendulum,
     /// x'' − μ(1 − x²)x' + x = 0 as (x, v).
@@ -97,7 +98,7 @@ impl OdeSystem for Sys {
 }
 
 /// The pendulum's exact period 4K(m)√(L/g), m = sin²(θ₀/2).
-pub fn pendulum_period() -> f64 {
+pub(crate) fn pendulum_period() -> f64 {
     let mc = (THETA0 / 2.0).cos().powi(2);
     4.0 * elliptic::complete_k(mc) * (L / G).sqrt()
 }
@@ -105,7 +106,7 @@ pub fn pendulum_period() -> f64 {
 /// The pendulum's exact state at t, released at rest from θ₀:
 /// sin(θ/2) = k sn(K − t√(g/L) | m) with k = sin(θ₀/2), so
 /// θ = 2 asin(k sn) and ω = −2k√(g/L) cn.
-pub fn pendulum_exact(jacobi: &elliptic::Jacobi, t: f64) -> [f64; 2] {
+pub(crate) fn pendulum_exact(jacobi: &elliptic::Jacobi, t: f64) -> [f64; 2] {
     let k = (THETA0 / 2.0).sin();
     let rate = (G / L).sqrt();
     let (sn, cn, _) = jacobi.sncndn(jacobi.k() - t * rate);
@@ -114,7 +115,7 @@ pub fn pendulum_exact(jacobi: &elliptic::Jacobi, t: f64) -> [f64; 2] {
 
 /// One system case of the sweep.
 #[derive(Debug, Clone, PartialEq)]
-pub struct SystemCase {
+pub(crate) struct SystemCase {
     /// Id used in the CSV.
     pub id: &'static str,
     pub name: &'static str,
@@ -127,7 +128,7 @@ pub struct SystemCase {
 
 impl SystemCase {
     /// The times every run is compared at.
-    pub fn times(&self) -> Vec<f64> {
+    pub(crate) fn times(&self) -> Vec<f64> {
         match self.sys {
             // Quarter decades from 10⁻⁶: the fast transient and the slow
             // tail of Robertson's problem both get points.
@@ -141,7 +142,7 @@ impl SystemCase {
 
     /// Tolerances of the adaptive methods, or `dt`s of RK4 (as steps over
     /// the run).
-    pub fn settings(&self, method: SysMethod, quick: bool) -> Vec<f64> {
+    pub(crate) fn settings(&self, method: SysMethod, quick: bool) -> Vec<f64> {
         match method {
             SysMethod::Rk4 => {
                 let steps: &[f64] = match (self.sys, quick) {
@@ -185,7 +186,7 @@ impl SystemCase {
 
 /// The pendulum at 170° over whole periods, Van der Pol μ = 1000 over
 /// [0, 3000], Robertson to 10¹¹. `quick` shortens only the pendulum.
-pub fn system_cases(quick: bool) -> Vec<SystemCase> {
+pub(crate) fn system_cases(quick: bool) -> Vec<SystemCase> {
     let periods = if quick { 2.0 } else { 10.0 };
     vec![
         SystemCase {
@@ -230,7 +231,7 @@ pub enum SysMethod {
 }
 
 impl SysMethod {
-    pub const ALL: [SysMethod; 4] = [
+    pub(crate) const ALL: [SysMethod; 4] = [
         SysMethod::Adaptive,
         SysMethod::Radau,
         SysMethod::Rk4,
@@ -243,7 +244,7 @@ impl SysMethod {
     }
 
     /// The family ([`OdeKind`]) this method runs.
-    pub fn kind(self) -> OdeKind {
+    pub(crate) fn kind(self) -> OdeKind {
         match self {
             SysMethod::Adaptive => OdeKind::Adaptive,
             SysMethod::Radau => OdeKind::Radau,
@@ -275,7 +276,7 @@ impl SysMethod {
 /// The states a run is compared with, and how far a second, independent
 /// run agrees with them.
 #[derive(Debug, Clone)]
-pub struct SystemReference {
+pub(crate) struct SystemReference {
     pub times: Vec<f64>,
     pub states: Vec<Vec<f64>>,
     /// The largest |yᵢ| of each component over the reference (the error's
@@ -293,7 +294,7 @@ fn run(
     method: Method,
     opts: &Options,
     times: &[f64],
-) -> Result<(Vec<Vec<f64>>, Work, f64), OdeError> {
+) -> Result<(Vec<Vec<f64>>, Work, f64), SolveError> {
     let start = Instant::now();
     let mut solver: Box<dyn OdeSolver> = make(method, case.sys, 0.0, &case.y0, opts)?;
     let mut states = Vec::with_capacity(times.len());
@@ -315,7 +316,7 @@ fn scales(states: &[Vec<f64>]) -> Vec<f64> {
 
 /// The largest error of `states` over the samples and components, each
 /// component relative to its largest magnitude over the reference.
-pub fn state_error(states: &[Vec<f64>], reference: &SystemReference) -> f64 {
+pub(crate) fn state_error(states: &[Vec<f64>], reference: &SystemReference) -> f64 {
     states
         .iter()
         .zip(&reference.states)
@@ -330,7 +331,7 @@ pub fn state_error(states: &[Vec<f64>], reference: &SystemReference) -> f64 {
 
 /// The drift of the case's conserved quantity (energy relative to its
 /// start, mass absolutely), `None` for Van der Pol.
-pub fn conserved_error(case: &SystemCase, states: &[Vec<f64>]) -> Option<f64> {
+pub(crate) fn conserved_error(case: &SystemCase, states: &[Vec<f64>]) -> Option<f64> {
     let quantity = |y: &[f64]| match case.sys {
         Sys::Pendulum => Some(0.5 * L * L * y[1] * y[1] + G * L * (1.0 - y[0].cos())),
         Sys::Robertson => Some(y[0] + y[1] + y[2]),
@@ -360,7 +361,7 @@ impl SystemReference {
     /// a tight tolerance, confirmed by DOP853 (Van der Pol, full sweep) or
     /// by Radau at a tenfold looser tolerance (Robertson, where an explicit
     /// method would need ~10¹⁴ steps, and the quick sweep).
-    pub fn new(case: &SystemCase, quick: bool) -> Result<SystemReference, OdeError> {
+    pub(crate) fn new(case: &SystemCase, quick: bool) -> Result<SystemReference, SolveError> {
         let times = case.times();
         let mut reference = match case.sys {
             Sys::Pendulum => {
@@ -454,18 +455,40 @@ pub struct SystemMeasured {
     pub err_conserved: Option<f64>,
 }
 
+/// Why a row of the systems sweep has no numbers: RK4 refused up front, or
+/// the solver stopped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Refusal {
+    /// RK4's step is beyond its stability limit on this problem.
+    #[error(
+        "rk4: dt·|λ|max = {product:.1e} > {limit} (unstable; a stable step needs ~{stable:.1e} steps){advice}",
+        limit = RK4_STABILITY,
+        advice = if *stiff { ": radau suits this stiff problem" } else { "" }
+    )]
+    Unstable {
+        product: f64,
+        stable: f64,
+        stiff: bool,
+    },
+    /// RK4 would take more steps than the sweep allows.
+    #[error("rk4: {0:.1e} steps exceed {limit:e}", limit = RK4_MAX_STEPS)]
+    TooManySteps(f64),
+    #[error(transparent)]
+    Solve(#[from] SolveError),
+}
+
 /// One row of the systems sweep.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SystemRow {
     pub case: &'static str,
     pub method: SysMethod,
     pub setting: f64,
-    pub outcome: Result<SystemMeasured, String>,
+    pub outcome: Result<SystemMeasured, Refusal>,
 }
 
 /// Times one method × setting on a case (minimum of several runs) and
 /// measures its errors; a refused or failed run gives its reason.
-pub fn measure_system(
+pub(crate) fn measure_system(
     case: &SystemCase,
     method: SysMethod,
     setting: f64,
@@ -477,18 +500,14 @@ pub fn measure_system(
             let steps = case.t_end / setting;
             let stable = case.t_end * reference.stiffest / RK4_STABILITY;
             if steps < stable {
-                let advice = if case.stiff {
-                    ": radau suits this stiff problem"
-                } else {
-                    ""
-                };
-                return Err(format!(
-                    "rk4: dt·|λ|max = {:.1e} > {RK4_STABILITY} (unstable; a stable step needs ~{stable:.1e} steps){advice}",
-                    setting * reference.stiffest
-                ));
+                return Err(Refusal::Unstable {
+                    product: setting * reference.stiffest,
+                    stable,
+                    stiff: case.stiff,
+                });
             }
             if steps > RK4_MAX_STEPS {
-                return Err(format!("rk4: {steps:.1e} steps exceed {RK4_MAX_STEPS:e}"));
+                return Err(Refusal::TooManySteps(steps));
             }
         }
         let opts = if method == SysMethod::Rk4 {
@@ -500,7 +519,7 @@ pub fn measure_system(
             case.options(setting)
         };
         let solver = method.solver(setting);
-        let run_it = || run(case, solver, &opts, &reference.times).map_err(|e| e.to_string());
+        let run_it = || run(case, solver, &opts, &reference.times);
         let (states, work, first) = run_it()?;
         let limit = effort.time_per_setting.as_secs_f64();
         let (mut best, mut spent, mut runs) = (first, first, 1);
@@ -565,7 +584,7 @@ pub fn sweep_systems(
 
 /// The systems CSV: one line per row; a refused run leaves the numbers
 /// empty and gives its reason after the setting.
-pub fn systems_csv(rows: &[SystemRow]) -> String {
+pub(crate) fn systems_csv(rows: &[SystemRow]) -> String {
     let mut out = String::from(SYSTEMS_CSV_HEADER);
     out.push('\n');
     for row in rows {
@@ -642,9 +661,22 @@ mod tests {
         let reference = SystemReference::new(vdp, true).unwrap();
         assert!(reference.stiffest > 2000.0, "{}", reference.stiffest);
         let rk4 = measure_system(vdp, SysMethod::Rk4, 0.3, &reference, &effort);
-        assert!(rk4.outcome.as_ref().unwrap_err().contains("stiff"));
+        assert!(
+            rk4.outcome
+                .as_ref()
+                .unwrap_err()
+                .to_string()
+                .contains("stiff")
+        );
         let adaptive = measure_system(vdp, SysMethod::Adaptive, 1e-4, &reference, &effort);
-        assert!(adaptive.outcome.as_ref().unwrap_err().contains("stiff"));
+        assert!(
+            adaptive
+                .outcome
+                .as_ref()
+                .unwrap_err()
+                .to_string()
+                .contains("stiff")
+        );
         let radau = measure_system(vdp, SysMethod::Radau, 1e-6, &reference, &effort);
         let m = radau.outcome.as_ref().unwrap();
         // Sampled through the fast jumps, a small shift in time is a large

@@ -15,7 +15,7 @@
 //! sn(K − w) = cd w, cn(K − w) = √m_c sd w, dn(K − w) = √m_c nd w), so the
 //! relative accuracy carries over up to the rounding of the argument itself.
 
-pub mod carlson;
+pub(crate) mod carlson;
 
 use std::f64::consts::FRAC_PI_2;
 
@@ -32,7 +32,7 @@ const MAX_LEVELS: usize = 20;
 
 /// The Gauss–Landen ladder for one value of m_c, with K(m).
 #[derive(Debug, Clone)]
-pub struct Jacobi {
+pub(crate) struct Jacobi {
     mc: f64,
     kc: f64,
     levels: usize,
@@ -53,7 +53,7 @@ pub struct Jacobi {
 /// at w = K − |r| instead, from which the caller can form well-conditioned
 /// integrals; [`Jacobi::at_point`] converts back.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Quarter {
+pub(crate) struct Quarter {
     /// `false`: `arg` = |r| ≤ K/2; `true`: `arg` = w = K − |r| < K/2.
     pub reflected: bool,
     pub arg: f64,
@@ -64,7 +64,7 @@ pub struct Quarter {
 
 /// A phase u split as u = 2jK + r with |r| ≤ K.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Reduced {
+pub(crate) struct Reduced {
     /// Number of half periods 2K (an integer, kept as f64 for huge phases).
     pub half_periods: f64,
     pub r: f64,
@@ -73,7 +73,7 @@ pub struct Reduced {
 impl Reduced {
     /// −1 when an odd number of half periods was removed (sn and cn change
     /// sign every 2K), +1 otherwise.
-    pub fn parity(&self) -> f64 {
+    pub(crate) fn parity(&self) -> f64 {
         let j = self.half_periods;
         let odd = if j.abs() < 9.0e15 {
             (j as i64) & 1 == 1
@@ -87,7 +87,7 @@ impl Reduced {
 impl Jacobi {
     /// The ladder for 0 ≤ m_c ≤ 1 (m_c = 0 is the separatrix, where
     /// sn = tanh, cn = dn = sech and K = ∞). Values outside are clamped.
-    pub fn new(mc: f64) -> Jacobi {
+    pub(crate) fn new(mc: f64) -> Jacobi {
         let mc = if mc.is_nan() { 0.0 } else { mc.clamp(0.0, 1.0) };
         let mut jacobi = Jacobi {
             mc,
@@ -125,22 +125,22 @@ impl Jacobi {
     }
 
     /// The complementary parameter m_c = 1 − m.
-    pub fn mc(&self) -> f64 {
+    pub(crate) fn mc(&self) -> f64 {
         self.mc
     }
 
     /// √m_c = k'.
-    pub fn kc(&self) -> f64 {
+    pub(crate) fn kc(&self) -> f64 {
         self.kc
     }
 
     /// The complete integral K(m) (∞ on the separatrix).
-    pub fn k(&self) -> f64 {
+    pub(crate) fn k(&self) -> f64 {
         self.k
     }
 
     /// Splits u = 2jK + r with |r| ≤ K.
-    pub fn reduce(&self, u: f64) -> Reduced {
+    pub(crate) fn reduce(&self, u: f64) -> Reduced {
         if !self.k.is_finite() {
             return Reduced {
                 half_periods: 0.0,
@@ -157,7 +157,7 @@ impl Jacobi {
 
     /// The three functions at |r| for |r| ≤ K, evaluated on whichever side
     /// of K/2 keeps them relatively accurate.
-    pub fn quarter(&self, r: f64) -> Quarter {
+    pub(crate) fn quarter(&self, r: f64) -> Quarter {
         let ra = r.abs();
         if ra <= 0.5 * self.k {
             let (sn, cn, dn) = self.landen(ra);
@@ -184,7 +184,7 @@ impl Jacobi {
     /// sn, cn, dn at |r| (not at `arg`) from a [`Quarter`]: when reflected,
     /// sn(K − w) = cd w = 1 − m_c sn²w / (dn w (dn w + cn w)) (so its distance
     /// from 1 keeps its digits), cn(K − w) = √m_c sd w, dn(K − w) = √m_c nd w.
-    pub fn at_point(&self, q: &Quarter) -> (f64, f64, f64) {
+    pub(crate) fn at_point(&self, q: &Quarter) -> (f64, f64, f64) {
         if q.reflected {
             let inv = 1.0 / q.dn;
             let sn = 1.0 - self.mc * q.sn * q.sn * inv / (q.dn + q.cn);
@@ -195,7 +195,7 @@ impl Jacobi {
     }
 
     /// sn(u), cn(u), dn(u) for any real u.
-    pub fn sncndn(&self, u: f64) -> (f64, f64, f64) {
+    pub(crate) fn sncndn(&self, u: f64) -> (f64, f64, f64) {
         let reduced = self.reduce(u);
         let (sn, cn, dn) = self.at_point(&self.quarter(reduced.r));
         let parity = reduced.parity();
@@ -268,21 +268,16 @@ const INV_FACTORIAL: [f64; 21] = {
     table
 };
 
-/// sn, cn, dn of (u, m) given m_c = 1 − m. Builds the ladder each call; keep
-/// a [`Jacobi`] to evaluate many points at one parameter.
-pub fn sncndn(u: f64, mc: f64) -> (f64, f64, f64) {
-    Jacobi::new(mc).sncndn(u)
-}
-
 /// K(m) = π / (2 AGM(1, √m_c)) given m_c = 1 − m.
-pub fn complete_k(mc: f64) -> f64 {
+pub(crate) fn complete_k(mc: f64) -> f64 {
     Jacobi::new(mc).k()
 }
 
 /// Π(n | m) − K(m) = (n/3) R_J(0, m_c, 1, 1 − n), for n < 1 and m_c > 0:
 /// the part of the complete third-kind integral beyond K, without forming
 /// the difference.
-pub fn complete_pi_minus_k(n: f64, mc: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn complete_pi_minus_k(n: f64, mc: f64) -> f64 {
     if n == 0.0 {
         return 0.0;
     }
@@ -291,7 +286,7 @@ pub fn complete_pi_minus_k(n: f64, mc: f64) -> f64 {
 
 /// F(φ | m) for |φ| ≤ π/2 from sin φ, cos²φ and Δ² = 1 − m sin²φ supplied
 /// separately (so Δ² = cos²φ + m_c sin²φ keeps its relative accuracy).
-pub fn incomplete_f(sin_phi: f64, cos2: f64, delta2: f64) -> f64 {
+pub(crate) fn incomplete_f(sin_phi: f64, cos2: f64, delta2: f64) -> f64 {
     sin_phi * carlson::rf(cos2, delta2, 1.0)
 }
 

@@ -2,15 +2,31 @@
 //! solvers: either ω alone (3 components) or ω with the orientation
 //! quaternion (7 components: ω₁ ω₂ ω₃ q_w q_x q_y q_z). Plain arrays keep the
 //! inner loops free of allocation.
+//!
+//! The rigid body is a system like any other: its right-hand side is the
+//! one [`OdeSystem::rhs`] every solver of deck systems steps too (so Radau
+//! IIA or `auto` can integrate a rigid body), and [`RigidSystem`] adds only
+//! what a rigid body has beyond it: the map to and from the shared
+//! [`State`], the quaternion's return to the unit sphere, and its error
+//! floor.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
+use crate::rhs::OdeSystem;
 use crate::rigid::model::{Body, State};
 
-/// A right-hand side y' = f(y) on N components, with the map to and from the
-/// shared [`State`].
-pub trait System<const N: usize>: Copy {
-    fn rhs(&self, y: &[f64; N]) -> [f64; N];
+/// A rigid body's system y' = f(y) on N components (f is its
+/// [`OdeSystem::rhs`]), with the map to and from the shared [`State`].
+pub trait RigidSystem<const N: usize>: OdeSystem + Copy {
+    /// f(y) by value, for the fixed-size solvers' inner loops: the one
+    /// right-hand side, [`OdeSystem::rhs`], at t = 0 (the body's equations
+    /// do not depend on t).
+    #[inline(always)]
+    fn f(&self, y: &[f64; N]) -> [f64; N] {
+        let mut dy = [0.0; N];
+        self.rhs(0.0, y, &mut dy);
+        dy
+    }
     fn initial(&self, omega: &Vector3<f64>) -> [f64; N];
     /// The state a vector stands for; q is passed through as integrated (its
     /// norm drift is part of what a solver is judged by), identity without q.
@@ -54,7 +70,7 @@ impl Coupling {
 
 /// q̇ = ½ q ⊗ (0, ω).
 #[inline(always)]
-pub fn quaternion_dot(q: [f64; 4], w: [f64; 3]) -> [f64; 4] {
+pub(crate) fn quaternion_dot(q: [f64; 4], w: [f64; 3]) -> [f64; 4] {
     let [qw, qx, qy, qz] = q;
     [
         -0.5 * (qx * w[0] + qy * w[1] + qz * w[2]),
@@ -102,12 +118,18 @@ fn omega_atol(tol: f64, scale: f64) -> f64 {
     if scale > 0.0 { tol * scale } else { tol }
 }
 
-impl System<3> for OmegaOnly {
-    #[inline(always)]
-    fn rhs(&self, y: &[f64; 3]) -> [f64; 3] {
-        self.coupling.omega_dot(*y)
+impl OdeSystem for OmegaOnly {
+    fn dim(&self) -> usize {
+        3
     }
 
+    #[inline(always)]
+    fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
+        dy.copy_from_slice(&self.coupling.omega_dot([y[0], y[1], y[2]]));
+    }
+}
+
+impl RigidSystem<3> for OmegaOnly {
     fn initial(&self, omega: &Vector3<f64>) -> [f64; 3] {
         [omega[0], omega[1], omega[2]]
     }
@@ -123,15 +145,21 @@ impl System<3> for OmegaOnly {
     }
 }
 
-impl System<7> for WithOrientation {
+impl OdeSystem for WithOrientation {
+    fn dim(&self) -> usize {
+        7
+    }
+
     #[inline(always)]
-    fn rhs(&self, y: &[f64; 7]) -> [f64; 7] {
+    fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
         let w = [y[0], y[1], y[2]];
         let dw = self.coupling.omega_dot(w);
         let dq = quaternion_dot([y[3], y[4], y[5], y[6]], w);
-        [dw[0], dw[1], dw[2], dq[0], dq[1], dq[2], dq[3]]
+        dy.copy_from_slice(&[dw[0], dw[1], dw[2], dq[0], dq[1], dq[2], dq[3]]);
     }
+}
 
+impl RigidSystem<7> for WithOrientation {
     fn initial(&self, omega: &Vector3<f64>) -> [f64; 7] {
         [omega[0], omega[1], omega[2], 1.0, 0.0, 0.0, 0.0]
     }

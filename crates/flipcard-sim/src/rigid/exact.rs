@@ -26,12 +26,13 @@ mod attitude;
 mod frame;
 mod orbit;
 
+use crate::error::SolveError;
 use std::sync::OnceLock;
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::rigid::model::{self, Body, State};
-use crate::rigid::solver::{Method, Needs, SimError, Solver, Work};
+use crate::rigid::solver::{Method, Needs, Solver, Work};
 use attitude::Attitude;
 use flipcard_text::num::Num;
 use frame::Frame;
@@ -86,7 +87,7 @@ pub struct Exact {
 
 impl Exact {
     /// Validates the body and ω₀ and sets up the closed form.
-    pub fn new(body: Body, omega0: Vector3<f64>, needs: Needs) -> Result<Exact, SimError> {
+    pub fn new(body: Body, omega0: Vector3<f64>, needs: Needs) -> Result<Exact, SolveError> {
         let body = Body::new([body.inertia[0], body.inertia[1], body.inertia[2]])?;
         let omega0 = model::omega([omega0[0], omega0[1], omega0[2]])?;
         let motion = Motion::new(&body.inertia, &omega0);
@@ -166,7 +167,8 @@ impl Exact {
     /// For a body with exactly two equal moments I⊥ and symmetry axis s:
     /// Ω = (I_s − I⊥) ω_s / I⊥, the rate at which ω (and L) turn about the
     /// symmetry axis in the body frame (dω/dt = Ω e_s × ω). None otherwise.
-    pub fn precession_rate(&self) -> Option<f64> {
+    #[cfg(test)]
+    pub(crate) fn precession_rate(&self) -> Option<f64> {
         let i = self.body.inertia;
         let axis = (0..3).find(|&k| i[(k + 1) % 3] == i[(k + 2) % 3] && i[k] != i[(k + 1) % 3])?;
         let perp = i[(axis + 1) % 3];
@@ -322,9 +324,9 @@ impl Solver for Exact {
         Method::Exact
     }
 
-    fn advance(&mut self, t: f64) -> Result<State, SimError> {
+    fn advance(&mut self, t: f64) -> Result<State, SolveError> {
         if !t.is_finite() {
-            return Err(SimError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "time t = {} is not finite",
                 Num(t)
             )));
@@ -337,7 +339,7 @@ impl Solver for Exact {
         let finite = state.omega.iter().all(|v| v.is_finite())
             && state.q.coords.iter().all(|v| v.is_finite());
         if !finite {
-            return Err(SimError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "t = {} puts the phase beyond what double precision can represent for this spin",
                 Num(t)
             )));

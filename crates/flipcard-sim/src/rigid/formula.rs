@@ -12,7 +12,7 @@ use crate::rigid::solver::Needs;
 /// Relative difference below which two moments count as equal: a body that
 /// close to symmetric precesses like a symmetric top for far longer than
 /// any scene runs.
-pub const SYMMETRY_TOL: f64 = 1e-9;
+pub(crate) const SYMMETRY_TOL: f64 = 1e-9;
 
 /// The axis (0-based) with the largest |ωᵢ| at t = 0, the first one on a tie.
 pub fn dominant_axis(omega0: &Vector3<f64>) -> usize {
@@ -34,7 +34,7 @@ pub fn stability(body: &Body, axis: usize, spin: f64) -> f64 {
 
 /// Where the moments of a body put a given axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum AxisRole {
+pub(crate) enum AxisRole {
     /// The unstable middle axis of three distinct moments.
     Middle,
     /// The largest or smallest moment, or the symmetry axis of a top.
@@ -44,7 +44,7 @@ pub enum AxisRole {
     Neutral,
 }
 
-pub fn axis_role(body: &Body, axis: usize) -> AxisRole {
+pub(crate) fn axis_role(body: &Body, axis: usize) -> AxisRole {
     let i = body.inertia;
     let a = axis % 3;
     let (j, l) = ((a + 1) % 3, (a + 2) % 3);
@@ -63,7 +63,7 @@ fn close(a: f64, b: f64) -> bool {
 
 /// The symmetry axis of a body with exactly two (nearly) equal moments; none
 /// for a sphere or an asymmetric body.
-pub fn symmetry_axis(body: &Body) -> Option<usize> {
+pub(crate) fn symmetry_axis(body: &Body) -> Option<usize> {
     let i = body.inertia;
     (0..3).find(|&k| close(i[(k + 1) % 3], i[(k + 2) % 3]) && !close(i[k], i[(k + 1) % 3]))
 }

@@ -4,11 +4,11 @@
 //! simulator refuses, with the reason, what would otherwise print numbers
 //! that look plausible and mean nothing.
 
+use crate::error::SolveError;
 use nalgebra::Vector3;
 
 use crate::rigid::model::{self, Body};
 use crate::rigid::scales::Scales;
-use crate::rigid::solver::SimError;
 use flipcard_text::num::{Num, below};
 
 /// The largest phase Ωt (rad) of the fastest rate Ω a run may reach: 2³².
@@ -20,7 +20,7 @@ use flipcard_text::num::{Num, below};
 /// the phase is 2⁻²⁰ ≈ 1e-6 rad, so ω and q are still right to about six
 /// digits; far beyond, the states look just as plausible and are noise
 /// (at Ωt = 2⁵² the phase is not even known to a radian).
-pub const MAX_PHASE: f64 = 4294967296.0;
+pub(crate) const MAX_PHASE: f64 = 4294967296.0;
 
 /// Checks that ω₀ is finite and that the invariants it carries, T = ½ Σ Iᵢωᵢ²
 /// and |L|² = Σ (Iᵢωᵢ)², are normal f64 numbers: neither overflows (every
@@ -28,19 +28,19 @@ pub const MAX_PHASE: f64 = 4294967296.0;
 /// (they would print as 0 or with a few bits left). This is the one test
 /// of representability: the simulator runs it before every run and
 /// `flipcard check` runs it on every scene.
-pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SimError> {
+pub(crate) fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SolveError> {
     model::omega([omega0[0], omega0[1], omega0[2]])?;
     let energy = body.energy(omega0);
     let l2 = body.l2(omega0);
     let w = flipcard_text::num::triple(&[omega0[0], omega0[1], omega0[2]], ", ");
     if !(energy.is_finite() && l2.is_finite()) {
-        return Err(SimError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "ω = ({w}) is too large for these moments: its energy overflows f64 (give ω per a shorter time unit, or the moments in a larger unit)"
         )));
     }
     let moving = omega0.iter().any(|&v| v != 0.0);
     if moving && !(energy >= f64::MIN_POSITIVE && l2 >= f64::MIN_POSITIVE) {
-        return Err(SimError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "ω = ({w}) is too small for these moments: its energy underflows f64 (give ω per a longer time unit, or the moments in a smaller unit)"
         )));
     }
@@ -51,7 +51,7 @@ pub fn check_start(body: &Body, omega0: &Vector3<f64>) -> Result<(), SimError> {
 /// time at which the fastest rate (the nutation of ω, and the spin as well
 /// when the orientation is computed) has turned by [`MAX_PHASE`]. Infinite
 /// when nothing moves.
-pub fn max_span(scales: &Scales, orientation: bool) -> f64 {
+pub(crate) fn max_span(scales: &Scales, orientation: bool) -> f64 {
     let rate = scales.fastest(orientation);
     if rate > 0.0 {
         MAX_PHASE / rate
@@ -62,18 +62,18 @@ pub fn max_span(scales: &Scales, orientation: bool) -> f64 {
 
 /// Refuses a run to `t_end` beyond [`max_span`], naming the limit; `what`
 /// names the time in the message (`t =`, `duration`).
-pub fn check_span(
+pub(crate) fn check_span(
     scales: &Scales,
     orientation: bool,
     t_end: f64,
     what: &str,
-) -> Result<(), SimError> {
+) -> Result<(), SolveError> {
     let limit = max_span(scales, orientation);
     // A NaN time is the solvers' to refuse, with their own message.
     if t_end.is_nan() || t_end <= limit {
         return Ok(());
     }
-    Err(SimError::Invalid(format!(
+    Err(SolveError::Invalid(format!(
         "{what} {} is beyond {}, the longest span whose phase f64 resolves for this motion ({} turns the phase by 2^32 rad there, where one ulp of it is 1e-6 rad); use a shorter span",
         Num(t_end),
         Num(below(limit, 4)),

@@ -4,14 +4,14 @@
 //! the closed-form formulas the measurements are checked against, and the
 //! limits of what f64 can resolve.
 
-pub mod elliptic;
+pub(crate) mod elliptic;
 pub mod euler;
 pub mod exact;
 pub mod formula;
-pub mod limits;
+pub(crate) mod limits;
 pub mod model;
 pub mod polhode;
-pub mod reference;
+pub(crate) mod reference;
 pub mod scales;
-pub mod solver;
-pub mod trig;
+pub(crate) mod solver;
+pub(crate) mod trig;

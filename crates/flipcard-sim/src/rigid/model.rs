@@ -8,31 +8,8 @@
 //!   at t = 0, and obeys q̇ = ½ q ⊗ (0, ω);
 //! - Euler's equations: I ω̇ = (I ω) × ω, i.e. I₁ω̇₁ = (I₂ − I₃) ω₂ω₃ and cyclic.
 
-use flipcard_text::num::Num;
+use crate::error::ModelError;
 use nalgebra::{UnitQuaternion, Vector3};
-
-/// Why an input is not a physical rigid body or state.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum ModelError {
-    #[error("moment of inertia I{axis} = {} is not finite", Num(*.value))]
-    NonFiniteInertia { axis: usize, value: f64 },
-    #[error("moment of inertia I{axis} = {} is not positive", Num(*.value))]
-    NonPositiveInertia { axis: usize, value: f64 },
-    #[error(
-        "moments break the triangle inequality: I{i} + I{j} = {} < I{k} = {} (no rigid body has these principal moments)",
-        Num(*.sum),
-        Num(*.value)
-    )]
-    Triangle {
-        i: usize,
-        j: usize,
-        k: usize,
-        sum: f64,
-        value: f64,
-    },
-    #[error("angular velocity ω{axis} = {} is not finite", Num(*.value))]
-    NonFiniteOmega { axis: usize, value: f64 },
-}
 
 /// A rigid body by its principal moments of inertia (kg·m²), in the order given.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -3,10 +3,11 @@
 //! Σ Lᵢ²/Iᵢ = 2T. Everything here is scaled to the unit sphere (L/|L|).
 //! Built only for scenes that draw the polhode.
 
+use crate::error::SolveError;
 use nalgebra::Vector3;
 
 use crate::rigid::model::Body;
-use crate::rigid::solver::{SimError, Solver};
+use crate::rigid::solver::Solver;
 
 /// Points on each separatrix circle.
 const SEPARATRIX_POINTS: usize = 181;
@@ -37,7 +38,7 @@ impl Polhode {
         omega0: &Vector3<f64>,
         solver: &mut dyn Solver,
         span: f64,
-    ) -> Result<Polhode, SimError> {
+    ) -> Result<Polhode, SolveError> {
         let radius = body.l2(omega0).sqrt();
         let two_t = 2.0 * body.energy(omega0);
         let scale = if radius > 0.0 { radius } else { 1.0 };

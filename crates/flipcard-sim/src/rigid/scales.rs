@@ -82,7 +82,7 @@ pub fn scales(body: &Body, omega: &Vector3<f64>) -> Scales {
 /// (a sphere) and I_max/I_min (a needle turning about its thin axis). A
 /// solver that carries L instead of ω (the splitting) sees its every error
 /// multiplied by this much in ω.
-pub fn momentum_gain(body: &Body, omega: &Vector3<f64>) -> f64 {
+pub(crate) fn momentum_gain(body: &Body, omega: &Vector3<f64>) -> f64 {
     let largest = omega.amax();
     if largest == 0.0 || !largest.is_finite() {
         return 1.0;

@@ -1,15 +1,16 @@
 //! The interface every solver of the rigid body offers, so scenes, the
 //! CLI, the bench and the terminal view can switch methods freely: the
 //! [`Solver`] trait, the [`Method`] with its one accuracy knob, what a run
-//! [`Needs`], its [`Work`] and its [`SimError`]. The exact solution here in
+//! [`Needs`], its [`Work`] and its [`SolveError`]. The exact solution here in
 //! `rigid` implements it, as do the stepping solvers of
 //! [`crate::solvers`], which build on the rigid body's equations.
 
-use crate::method::MethodName;
-use crate::rigid::model::{ModelError, State};
+use crate::error::SolveError;
+use crate::method::{MethodError, MethodName};
+use crate::rigid::model::State;
 
 /// Tolerances tighter than this are below f64 rounding for an 8th-order pair.
-pub const MIN_TOL: f64 = 1e-14;
+pub(crate) const MIN_TOL: f64 = 1e-14;
 
 /// A solver and its one accuracy knob.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,11 +64,11 @@ impl Kind {
     }
 
     /// The family a method names, or why a rigid body refuses it.
-    pub fn from_method(method: MethodName) -> Result<Kind, String> {
+    pub fn from_method(method: MethodName) -> Result<Kind, MethodError> {
         Kind::ALL
             .into_iter()
             .find(|k| k.method() == method)
-            .ok_or_else(|| method.rigid_refusal())
+            .ok_or(MethodError::NotRigid(method))
     }
 
     /// The family after this one, wrapping round.
@@ -154,31 +155,19 @@ pub struct Work {
     pub rejected: u64,
 }
 
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum SimError {
-    #[error(transparent)]
-    Model(#[from] ModelError),
-    /// The run would need more steps than its budget; `reason` says why and
-    /// what to use instead.
-    #[error("{0}")]
-    Budget(String),
-    #[error("{0}")]
-    Invalid(String),
-}
-
 /// A solver advancing one trajectory forward in time.
 pub trait Solver {
     fn method(&self) -> Method;
     /// The state at time `t`; `t` must not go back before the previous call's
     /// `t` (solvers may keep their internal step sequence and use dense
     /// output or a trial sub-step to land exactly on `t`).
-    fn advance(&mut self, t: f64) -> Result<State, SimError>;
+    fn advance(&mut self, t: f64) -> Result<State, SolveError>;
     fn work(&self) -> Work;
     /// Announces the last time the run will ask for, so that a stepping
     /// solver can refuse at once a span its step budget cannot cover (and
     /// check its progress against that span while it runs). Solvers without
     /// a budget accept any span.
-    fn plan(&mut self, t_end: f64) -> Result<(), SimError> {
+    fn plan(&mut self, t_end: f64) -> Result<(), SolveError> {
         let _ = t_end;
         Ok(())
     }

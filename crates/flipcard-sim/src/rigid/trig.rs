@@ -32,7 +32,7 @@ const COS: [f64; 7] = [
 
 /// (sin x, cos x).
 #[inline(always)]
-pub fn sin_cos(x: f64) -> (f64, f64) {
+pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     if x.abs() > FRAC_PI_4 {
         return x.sin_cos();
     }

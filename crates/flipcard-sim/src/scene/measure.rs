@@ -170,7 +170,7 @@ impl Crossings {
 
 /// Measures a trajectory fed to it in time order.
 #[derive(Debug, Clone)]
-pub struct Meter {
+pub(crate) struct Meter {
     body: Body,
     omega0: Vector3<f64>,
     dominant: usize,

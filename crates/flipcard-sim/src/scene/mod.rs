@@ -4,8 +4,8 @@
 //! and how long one call may advance it (`slice`).
 
 pub mod measure;
-pub mod plan;
-pub mod run;
+pub(crate) mod plan;
+pub(crate) mod run;
 pub mod slice;
 pub mod spec;
 pub mod system;

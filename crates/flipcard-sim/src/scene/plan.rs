@@ -11,7 +11,7 @@ use crate::solvers::{Method, Needs};
 
 /// Which closed form describes a body's free motion.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Shape {
+pub(crate) enum Shape {
     /// Three equal moments: ω never changes, the body turns uniformly.
     Sphere,
     /// Two equal moments: ω precesses uniformly about the symmetry `axis`
@@ -22,7 +22,7 @@ pub enum Shape {
 }
 
 impl Shape {
-    pub fn of(body: &Body) -> Shape {
+    pub(crate) fn of(body: &Body) -> Shape {
         let i = body.inertia;
         if i[0] == i[1] && i[1] == i[2] {
             Shape::Sphere
@@ -36,7 +36,7 @@ impl Shape {
 
 /// The per-scene plan.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Plan {
+pub(crate) struct Plan {
     /// The solver integrates q only when the body is drawn.
     pub needs: Needs,
     /// The momentum sphere, separatrix and orbit are built only when the
@@ -53,7 +53,7 @@ pub struct Plan {
 }
 
 impl Plan {
-    pub fn for_scene(scene: &Scene, body: &Body) -> Plan {
+    pub(crate) fn for_scene(scene: &Scene, body: &Body) -> Plan {
         Plan {
             needs: Needs {
                 orientation: scene.shows(Panel::Body),
@@ -67,7 +67,7 @@ impl Plan {
 
     /// Whether a run with `method` also runs the exact solution beside it
     /// (for the error shown in the diagnostics).
-    pub fn reference_run(&self, method: &Method) -> bool {
+    pub(crate) fn reference_run(&self, method: &Method) -> bool {
         self.diagnostics && *method != Method::Exact
     }
 }

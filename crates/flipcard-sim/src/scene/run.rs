@@ -10,7 +10,7 @@
 //!
 //! ```no_run
 //! # use flipcard_sim::{Method, scene::SceneRun};
-//! # fn demo(scene: &flipcard_sim::scene::spec::Scene) -> Result<(), flipcard_sim::SimError> {
+//! # fn demo(scene: &flipcard_sim::scene::spec::Scene) -> Result<(), flipcard_sim::SolveError> {
 //! let mut run = SceneRun::new(scene, Method::Exact)?;
 //! while !run.finished() {
 //!     let frame = run.advance_to(run.frame().t + 1.0 / 30.0);
@@ -22,6 +22,7 @@
 
 use nalgebra::{UnitQuaternion, Vector3};
 
+use crate::error::SolveError;
 use crate::rigid::formula;
 use crate::rigid::limits;
 use crate::rigid::model::{self, Body, State};
@@ -33,24 +34,24 @@ use crate::scene::plan::Plan;
 use crate::scene::slice::Slice;
 use crate::scene::spec::Scene;
 use crate::solvers::registry::make;
-use crate::solvers::{Method, Needs, SimError, Solver, Work};
+use crate::solvers::{Method, Needs, Solver, Work};
 use flipcard_text::num::{Num, below};
 
 /// Default number of points of the ω trace (about the width of a wide
 /// Braille plot in dots).
-pub const DEFAULT_TRACE_LEN: usize = 512;
+pub(crate) const DEFAULT_TRACE_LEN: usize = 512;
 /// The measurement grid has at least this many points over the run...
 const MIN_METER_POINTS: usize = 2048;
 /// ...and this many per radian of the nutation phase λt. ω is a function of
 /// λt whose period is at least 2π, so a flip, a wobble or an e-folding
 /// (1/√k ≥ 1/λ) spans at least 16 points and is resolved whatever the
 /// duration: sparser samples alias a fast motion into a slow one.
-pub const METER_POINTS_PER_RADIAN: f64 = 16.0;
+pub(crate) const METER_POINTS_PER_RADIAN: f64 = 16.0;
 /// The most points a measurement takes (a few seconds of evaluations for
 /// the slowest method): a scene whose nutation turns by more than
 /// `MAX_METER_POINTS / METER_POINTS_PER_RADIAN` = 65536 rad is refused,
 /// not sampled too sparsely.
-pub const MAX_METER_POINTS: usize = 1 << 20;
+pub(crate) const MAX_METER_POINTS: usize = 1 << 20;
 
 /// Which input of a scene a refusal is about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -64,12 +65,12 @@ pub enum SceneField {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneProblem {
     pub field: SceneField,
-    pub error: SimError,
+    pub error: SolveError,
 }
 
 /// The longest duration whose measurements resolve the motion:
 /// [`MAX_METER_POINTS`] at [`METER_POINTS_PER_RADIAN`] of the nutation.
-pub fn max_measured_duration(body: &Body, omega0: &Vector3<f64>) -> f64 {
+pub(crate) fn max_measured_duration(body: &Body, omega0: &Vector3<f64>) -> f64 {
     let rate = scales(body, omega0).nutation;
     if rate > 0.0 {
         MAX_METER_POINTS as f64 / (METER_POINTS_PER_RADIAN * rate)
@@ -79,11 +80,11 @@ pub fn max_measured_duration(body: &Body, omega0: &Vector3<f64>) -> f64 {
 }
 
 /// Points of the measurement grid over `duration`.
-fn meter_points(body: &Body, omega0: &Vector3<f64>, duration: f64) -> Result<usize, SimError> {
+fn meter_points(body: &Body, omega0: &Vector3<f64>, duration: f64) -> Result<usize, SolveError> {
     let rate = scales(body, omega0).nutation;
     let needed = (METER_POINTS_PER_RADIAN * rate * duration).ceil();
     if needed > MAX_METER_POINTS as f64 {
-        return Err(SimError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "duration {} is longer than the measurements can resolve: they sample ω {} times per radian of its nutation at {} rad/s, at most {} times, which covers {} time units",
             Num(duration),
             Num(METER_POINTS_PER_RADIAN),
@@ -107,16 +108,16 @@ pub fn check_scene(
     duration: f64,
     orientation: bool,
 ) -> Result<(Body, Vector3<f64>), SceneProblem> {
-    let at = |field: SceneField| move |error: SimError| SceneProblem { field, error };
+    let at = |field: SceneField| move |error: SolveError| SceneProblem { field, error };
     let body = Body::new(inertia)
-        .map_err(SimError::from)
+        .map_err(SolveError::from)
         .map_err(at(SceneField::Inertia))?;
     let omega0 = model::omega(omega)
-        .map_err(SimError::from)
+        .map_err(SolveError::from)
         .map_err(at(SceneField::Omega))?;
     limits::check_start(&body, &omega0).map_err(at(SceneField::Omega))?;
     if !(duration.is_finite() && duration > 0.0) {
-        return Err(at(SceneField::Duration)(SimError::Invalid(format!(
+        return Err(at(SceneField::Duration)(SolveError::Invalid(format!(
             "duration must be a positive number, got {}",
             Num(duration)
         ))));
@@ -208,7 +209,7 @@ pub struct SceneRun {
     frame: Frame,
     /// Time of the last state the solver handed out.
     evaluated: f64,
-    error: Option<SimError>,
+    error: Option<SolveError>,
     energy0: f64,
     l2_0: f64,
     lspace0: Vector3<f64>,
@@ -217,7 +218,7 @@ pub struct SceneRun {
 impl SceneRun {
     /// A run of `scene` with `method` ([`Plan::default_method`] is the
     /// closed form) and a trace of [`DEFAULT_TRACE_LEN`] points.
-    pub fn new(scene: &Scene, method: Method) -> Result<SceneRun, SimError> {
+    pub fn new(scene: &Scene, method: Method) -> Result<SceneRun, SolveError> {
         SceneRun::with_trace_len(scene, method, DEFAULT_TRACE_LEN)
     }
 
@@ -227,7 +228,7 @@ impl SceneRun {
         scene: &Scene,
         method: Method,
         trace_len: usize,
-    ) -> Result<SceneRun, SimError> {
+    ) -> Result<SceneRun, SolveError> {
         let body = Body::new(scene.inertia)?;
         let plan = Plan::for_scene(scene, &body);
         SceneRun::build(scene, plan, body, method, trace_len)
@@ -235,7 +236,7 @@ impl SceneRun {
 
     /// A run that only measures: no orientation, polhode, diagnostics or
     /// trace, whatever the scene shows.
-    pub fn headless(scene: &Scene, method: Method) -> Result<SceneRun, SimError> {
+    pub fn headless(scene: &Scene, method: Method) -> Result<SceneRun, SolveError> {
         let body = Body::new(scene.inertia)?;
         let mut plan = Plan::for_scene(scene, &body);
         plan.needs = Needs { orientation: false };
@@ -250,7 +251,7 @@ impl SceneRun {
         body: Body,
         method: Method,
         trace_len: usize,
-    ) -> Result<SceneRun, SimError> {
+    ) -> Result<SceneRun, SolveError> {
         let (_, omega0) = check_scene(
             scene.inertia,
             scene.omega,
@@ -258,7 +259,7 @@ impl SceneRun {
             plan.needs.orientation,
         )
         .map_err(|p| match p.error {
-            SimError::Invalid(m) => SimError::Invalid(format!("scene {}: {m}", scene.id)),
+            SolveError::Invalid(m) => SolveError::Invalid(format!("scene {}: {m}", scene.id)),
             other => other,
         })?;
         let mut solver = make(method, body, omega0, plan.needs)?;
@@ -340,7 +341,8 @@ impl SceneRun {
         &self.scene
     }
 
-    pub fn plan(&self) -> &Plan {
+    #[cfg(test)]
+    pub(crate) fn plan(&self) -> &Plan {
         &self.plan
     }
 
@@ -375,12 +377,13 @@ impl SceneRun {
     }
 
     /// Whether an exact run goes along for the error figure.
-    pub fn has_reference(&self) -> bool {
+    #[cfg(test)]
+    pub(crate) fn has_reference(&self) -> bool {
         self.reference.is_some()
     }
 
     /// Why the run stopped early (a step budget, a diverging step).
-    pub fn error(&self) -> Option<&SimError> {
+    pub fn error(&self) -> Option<&SolveError> {
         self.error.as_ref()
     }
 
@@ -536,7 +539,7 @@ fn orbit_span(body: &Body, omega0: &Vector3<f64>, duration: f64) -> f64 {
 
 /// Runs `scene` to its end with `method` and measures it; an error when the
 /// run cannot reach the end (a step budget).
-pub fn measure_scene(scene: &Scene, method: Method) -> Result<Measurements, SimError> {
+pub fn measure_scene(scene: &Scene, method: Method) -> Result<Measurements, SolveError> {
     let mut run = SceneRun::headless(scene, method)?;
     run.advance_to(scene.duration);
     match run.error {

@@ -21,53 +21,108 @@
 //! The app advances a run in [`Slice`]s, so a key is answered within a
 //! frame whatever the scene.
 
+use crate::error::SolveError;
+use crate::method::MethodError;
 use crate::scene::measure::{Measurements, Reading};
 use crate::scene::slice::Slice;
 use crate::scene::spec::{Measure, Stat, SystemPanel, SystemScene};
-use crate::solvers::ode::{self, OdeError, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
+use crate::solvers::ode::{self, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
 use crate::system::System;
-use crate::system::compile::{Cost, Fault, POINTS_PER_STEP, Source, time};
+use crate::system::compile::{CompileError, Cost, Fault, POINTS_PER_STEP, Source, time};
 use flipcard_text::num::Num;
 
 /// Points kept for each drawn curve (plot, phase, trail).
-pub const TRACE_LEN: usize = 2048;
+pub(crate) const TRACE_LEN: usize = 2048;
 /// The level of |N(0)| below which drift is measured absolutely.
-pub const TINY: f64 = 1e-300;
+pub(crate) const TINY: f64 = 1e-300;
 
 /// Most operations of a scene's compiled programs one run may take (about a
 /// second or two of work): a scene's step budget is this divided by
 /// [`Cost::per_step`], below the solvers' own step budget.
-pub const MAX_RUN_WORK: f64 = 1e9;
+pub(crate) const MAX_RUN_WORK: f64 = 1e9;
 /// Most operations one step of a scene may take (a few milliseconds), so
 /// that the app, which advances a run a step at a time between frames,
 /// always answers a key promptly; `flipcard check` refuses a scene beyond
 /// it.
-pub const MAX_STEP_WORK: f64 = 2e6;
+pub(crate) const MAX_STEP_WORK: f64 = 2e6;
 
 /// Why a scene cannot run at all: one step costs too much.
-pub fn check_cost(scene: &SystemScene, cost: &Cost) -> Result<(), String> {
-    let per_step = cost.per_step();
-    if per_step <= MAX_STEP_WORK {
+pub fn check_cost(scene: &SystemScene, cost: &Cost) -> Result<(), CostError> {
+    if cost.per_step() <= MAX_STEP_WORK {
         return Ok(());
     }
-    Err(format!(
-        "scene {} needs about {} operations per step, more than the {:e} the app can play: its equations compile to {}, run {} times a step and once per variable ({}) for the Jacobian{}",
-        scene.id,
-        flipcard_text::num::sig(per_step, 3),
-        MAX_STEP_WORK,
-        flipcard_text::plural(cost.rhs, "operation", "operations"),
-        crate::system::compile::EVALS_PER_STEP,
-        cost.n,
-        if cost.observables + cost.marks > 0 {
-            format!(
-                "; its observables and sketch compile to {}, run {} times a step",
-                cost.observables + cost.marks,
-                POINTS_PER_STEP
-            )
-        } else {
-            String::new()
-        }
-    ))
+    Err(CostError {
+        scene: scene.id.clone(),
+        cost: *cost,
+    })
+}
+
+/// A scene whose step costs more than [`MAX_STEP_WORK`]: its id and what a
+/// step of it costs.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{}", self.describe())]
+pub struct CostError {
+    pub scene: String,
+    pub cost: Cost,
+}
+
+impl CostError {
+    fn describe(&self) -> String {
+        let cost = &self.cost;
+        format!(
+            "scene {} needs about {} operations per step, more than the {:e} the app can play: its equations compile to {}, run {} times a step and once per variable ({}) for the Jacobian{}",
+            self.scene,
+            flipcard_text::num::sig(cost.per_step(), 3),
+            MAX_STEP_WORK,
+            flipcard_text::plural(cost.rhs, "operation", "operations"),
+            crate::system::compile::EVALS_PER_STEP,
+            cost.n,
+            if cost.observables + cost.marks > 0 {
+                format!(
+                    "; its observables and sketch compile to {}, run {} times a step",
+                    cost.observables + cost.marks,
+                    POINTS_PER_STEP
+                )
+            } else {
+                String::new()
+            }
+        )
+    }
+}
+
+/// Why a run of a scene cannot start, or (for [`measure_system`]) did not
+/// reach its end.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StartError {
+    /// The scene's equations do not compile.
+    #[error(transparent)]
+    Compile(#[from] CompileError),
+    #[error(transparent)]
+    Cost(#[from] CostError),
+    #[error(transparent)]
+    Method(#[from] MethodError),
+    /// The solver refused to start, or the run stopped early.
+    #[error(transparent)]
+    Run(#[from] RunError),
+}
+
+/// Why a measure cannot be read from a run.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ReadingError {
+    #[error("{}({name}): the run has no samples", stat.name())]
+    NoSamples { stat: Stat, name: String },
+    /// `period(name)`: `name` crossed its mid level upwards fewer than
+    /// twice (`upward` times).
+    #[error("period({name}): {name} crosses the level halfway between its minimum and maximum upwards {} over the run; a period needs two", if *upward == 0 { "never" } else { "once" })]
+    NoPeriod { name: String, upward: usize },
+    #[error("`{0}` is a rigid-body measure; this scene is a system")]
+    Rigid(Measure),
+    #[error("`{name}` is not a variable or observable of scene {scene}")]
+    Unknown { name: String, scene: String },
+    #[error("{0} was not planned for this run")]
+    NotPlanned(Measure),
+    #[error("{0} is not a finite number")]
+    NotFinite(Measure),
 }
 
 /// Why a run stopped early.
@@ -75,7 +130,7 @@ pub fn check_cost(scene: &SystemScene, cost: &Cost) -> Result<(), String> {
 pub enum RunError {
     /// The solver stopped (a blow-up, a refused stiff problem, its step
     /// budget, a bad setting).
-    Ode(OdeError),
+    Ode(SolveError),
     /// A quantity left its domain: its name, the time and the cause, and
     /// the expression the operation at fault was written in.
     Domain {
@@ -92,8 +147,8 @@ pub enum RunError {
     },
 }
 
-impl From<OdeError> for RunError {
-    fn from(e: OdeError) -> RunError {
+impl From<SolveError> for RunError {
+    fn from(e: SolveError) -> RunError {
         RunError::Ode(e)
     }
 }
@@ -101,10 +156,10 @@ impl From<OdeError> for RunError {
 impl std::fmt::Display for RunError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            RunError::Ode(OdeError::BlowUp { t }) => {
+            RunError::Ode(SolveError::BlowUp { t }) => {
                 write!(f, "the solution blows up near t = {}", time(*t))
             }
-            RunError::Ode(OdeError::Stiff { t }) => write!(
+            RunError::Ode(SolveError::Stiff { t }) => write!(
                 f,
                 "the problem is stiff from t = {}: adaptive (explicit) refuses it; use --method radau or auto",
                 flipcard_text::num::rounded(*t, 4)
@@ -128,6 +183,8 @@ impl std::fmt::Display for RunError {
         }
     }
 }
+
+impl std::error::Error for RunError {}
 
 /// The solver's step budget for a scene of `cost`: its share of
 /// [`MAX_RUN_WORK`], within the solvers' own budget; and whether the work
@@ -286,9 +343,12 @@ impl Tally {
         }
     }
 
-    fn stat(&self, stat: Stat, name: &str) -> Result<f64, String> {
+    fn stat(&self, stat: Stat, name: &str) -> Result<f64, ReadingError> {
         if self.count == 0 {
-            return Err(format!("{}({name}): the run has no samples", stat.name()));
+            return Err(ReadingError::NoSamples {
+                stat,
+                name: name.to_string(),
+            });
         }
         Ok(match stat {
             Stat::Max => self.max,
@@ -309,7 +369,7 @@ impl Tally {
     }
 
     /// Mean time between successive upward crossings of the mid level.
-    fn period(&self, name: &str) -> Result<f64, String> {
+    fn period(&self, name: &str) -> Result<f64, ReadingError> {
         let level = 0.5 * (self.min + self.max);
         let mut times = Vec::new();
         for w in self.samples.windows(2) {
@@ -320,13 +380,10 @@ impl Tally {
             }
         }
         if times.len() < 2 {
-            return Err(format!(
-                "period({name}): {name} crosses the level halfway between its minimum and maximum upwards {} over the run; a period needs two",
-                match times.len() {
-                    0 => "never".to_string(),
-                    _ => "once".to_string(),
-                }
-            ));
+            return Err(ReadingError::NoPeriod {
+                name: name.to_string(),
+                upward: times.len(),
+            });
         }
         Ok((times[times.len() - 1] - times[0]) / (times.len() - 1) as f64)
     }
@@ -343,7 +400,7 @@ pub struct Point {
 /// A fixed-length record of a run for drawing: every k-th sample, k
 /// doubling when full, so it always spans the whole run so far.
 #[derive(Debug, Clone, Default)]
-pub struct Trace {
+pub(crate) struct Trace {
     pub points: Vec<Point>,
     stride: usize,
     seen: usize,
@@ -430,7 +487,7 @@ impl SystemRun {
         scene: &SystemScene,
         method: OdeMethod,
         measures: &[Measure],
-    ) -> Result<SystemRun, String> {
+    ) -> Result<SystemRun, StartError> {
         let plan = SystemPlan::for_scene(scene, method, measures);
         SystemRun::with_plan(scene, method, plan)
     }
@@ -439,21 +496,21 @@ impl SystemRun {
         scene: &SystemScene,
         method: OdeMethod,
         plan: SystemPlan,
-    ) -> Result<SystemRun, String> {
-        let system = System::compile(scene, plan.jacobian).map_err(|e| e.to_string())?;
+    ) -> Result<SystemRun, StartError> {
+        let system = System::compile(scene, plan.jacobian)?;
         let cost = system.cost();
         check_cost(scene, &cost)?;
         let (m, mut opts) = method.solver(scene.duration);
         let (max_steps, work_limited) = step_budget(&cost, opts.max_steps);
         opts.max_steps = max_steps;
-        let solver = ode::make(m, system.clone(), 0.0, &scene.initial, &opts)
-            .map_err(|e| describe(&e.into()))?;
+        let solver =
+            ode::make(m, system.clone(), 0.0, &scene.initial, &opts).map_err(RunError::from)?;
         let reference = if plan.reference {
             let r = OdeMethod::with_setting(OdeKind::Radau, ode::REFERENCE_RTOL)?;
             let (m, mut opts) = r.solver(scene.duration);
             opts.max_steps = step_budget(&cost, opts.max_steps).0;
-            let sys = System::compile(scene, true).map_err(|e| e.to_string())?;
-            Some(ode::make(m, sys, 0.0, &scene.initial, &opts).map_err(|e| describe(&e.into()))?)
+            let sys = System::compile(scene, true)?;
+            Some(ode::make(m, sys, 0.0, &scene.initial, &opts).map_err(RunError::from)?)
         } else {
             None
         };
@@ -637,9 +694,9 @@ impl SystemRun {
     /// Why the solver stopped: at a point where an equation leaves its
     /// domain (NaN just ahead of the last good state, or a divisor that
     /// crosses zero there), that cause; else what the solver said.
-    fn solver_error(&self, e: OdeError) -> RunError {
-        let OdeError::BlowUp { t } = e else {
-            if let OdeError::StepBudget { t, steps, .. } = e
+    fn solver_error(&self, e: SolveError) -> RunError {
+        let SolveError::BlowUp { t } = e else {
+            if let SolveError::StepBudget { t, steps, .. } = e
                 && self.work_limited
             {
                 return RunError::Work {
@@ -689,7 +746,7 @@ impl SystemRun {
             }
             h *= 2.0;
         }
-        RunError::Ode(OdeError::BlowUp { t })
+        RunError::Ode(SolveError::BlowUp { t })
     }
 
     /// Samples every step up to `target`, then sets the frame there.
@@ -859,7 +916,8 @@ impl SystemRun {
     pub fn cost(&self) -> Cost {
         self.cost
     }
-    pub fn has_reference(&self) -> bool {
+    #[cfg(test)]
+    pub(crate) fn has_reference(&self) -> bool {
         self.reference.is_some()
     }
     /// The plotted quantities, then the phase pair, over the run so far.
@@ -905,28 +963,26 @@ impl SystemRun {
     }
 
     /// One measure of the run so far, or why it cannot be made.
-    pub fn measure(&self, m: Measure) -> Result<f64, String> {
+    pub fn measure(&self, m: Measure) -> Result<f64, ReadingError> {
         let Measure::Of(stat, name) = m else {
-            return Err(format!(
-                "`{m}` is a rigid-body measure; this scene is a system"
-            ));
+            return Err(ReadingError::Rigid(m));
         };
-        let q = self.quantity(name.as_str()).ok_or_else(|| {
-            format!(
-                "`{name}` is not a variable or observable of scene {}",
-                self.scene.id
-            )
-        })?;
+        let q = self
+            .quantity(name.as_str())
+            .ok_or_else(|| ReadingError::Unknown {
+                name: name.as_str().to_string(),
+                scene: self.scene.id.clone(),
+            })?;
         let (_, tally) = self
             .tallies
             .iter()
             .find(|(k, _)| *k == q)
-            .ok_or_else(|| format!("{m} was not planned for this run"))?;
+            .ok_or(ReadingError::NotPlanned(m))?;
         let v = tally.stat(stat, name.as_str())?;
         if v.is_finite() {
             Ok(v)
         } else {
-            Err(format!("{m} is not a finite number"))
+            Err(ReadingError::NotFinite(m))
         }
     }
 
@@ -952,14 +1008,14 @@ pub fn measure_system(
     scene: &SystemScene,
     method: OdeMethod,
     measures: &[Measure],
-) -> Result<Vec<Result<f64, String>>, String> {
+) -> Result<Vec<Result<f64, ReadingError>>, StartError> {
     let plan = SystemPlan {
         reference: false,
         sketch: false,
         ..SystemPlan::for_scene(scene, method, measures)
     };
     let mut run = SystemRun::with_plan(scene, method, plan)?;
-    run.run_to_end().map_err(|e| describe(&e))?;
+    run.run_to_end()?;
     Ok(measures.iter().map(|&m| run.measure(m)).collect())
 }
 

@@ -61,18 +61,23 @@ impl Measure {
 
     /// A measure as written on the command line: a rigid-body name
     /// (`flips`) or a statistic of a quantity (`period(theta)`).
-    pub fn parse(text: &str) -> Result<Measure, String> {
+    pub fn parse(text: &str) -> Result<Measure, MeasureTextError> {
         let text = text.trim();
+        let owned = || text.to_string();
         match parse(text) {
-            Ok(parsed) => parsed.into_measure().map_err(|e| format!("`{text}`: {e}")),
-            Err(ParseError::UnknownName(_)) => {
-                Err(format!("unknown measure `{text}` ({})", system_hint()))
-            }
-            Err(ParseError::UnknownStat { stat, .. }) => {
-                Err(format!("unknown measure `{stat}` in `{text}`"))
-            }
+            Ok(parsed) => parsed
+                .into_measure()
+                .map_err(|reason| MeasureTextError::Quantity {
+                    text: owned(),
+                    reason,
+                }),
+            Err(ParseError::UnknownName(_)) => Err(MeasureTextError::UnknownName(owned())),
+            Err(ParseError::UnknownStat { stat, .. }) => Err(MeasureTextError::UnknownStat {
+                stat: stat.to_string(),
+                text: owned(),
+            }),
             Err(ParseError::NoClose | ParseError::Trailing { .. }) => {
-                Err(format!("`{text}`: expected `)` at the end"))
+                Err(MeasureTextError::NoClose(owned()))
             }
         }
     }
@@ -175,7 +180,7 @@ const fn stat(
 
 /// Every measure, rigid-body measures first, each in the order lists and
 /// reports show them.
-pub const MEASURES: &[MeasureRow] = &[
+pub(crate) const MEASURES: &[MeasureRow] = &[
     rigid(
         "flips",
         Measure::Flips,
@@ -319,7 +324,7 @@ pub fn rigid_hint() -> String {
 }
 
 /// The row of a rigid-body measure's name or a statistic's name.
-pub fn row_named(name: &str) -> Option<&'static MeasureRow> {
+pub(crate) fn row_named(name: &str) -> Option<&'static MeasureRow> {
     MEASURES.iter().find(|r| r.name == name)
 }
 
@@ -410,19 +415,45 @@ pub fn parse(text: &str) -> Result<Parsed<'_>, ParseError<'_>> {
 
 impl Parsed<'_> {
     /// The measure, once the quantity is a variable or observable name.
-    pub fn into_measure(self) -> Result<Measure, String> {
+    pub(crate) fn into_measure(self) -> Result<Measure, QuantityError> {
         match self {
             Parsed::Rigid(m) => Ok(m),
             Parsed::Of { stat, quantity, .. } => {
                 if !crate::system::expr::is_name(quantity) {
-                    return Err(format!("`{quantity}` is not a variable or observable name"));
+                    return Err(QuantityError::NotAName(quantity.to_string()));
                 }
                 let name = Name::new(quantity)
-                    .ok_or_else(|| format!("the name `{quantity}` is too long"))?;
+                    .ok_or_else(|| QuantityError::TooLong(quantity.to_string()))?;
                 Ok(Measure::Of(stat, name))
             }
         }
     }
+}
+
+/// Why measure text written on the command line names no measure.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum MeasureTextError {
+    /// `stat(q)` where `q` is no usable name.
+    #[error("`{text}`: {reason}")]
+    Quantity { text: String, reason: QuantityError },
+    /// Neither a rigid-body measure nor `stat(…)`.
+    #[error("unknown measure `{0}` ({hint})", hint = system_hint())]
+    UnknownName(String),
+    /// `stat(…)` with an unknown statistic.
+    #[error("unknown measure `{stat}` in `{text}`")]
+    UnknownStat { stat: String, text: String },
+    /// `stat(…` with no `)` at the end.
+    #[error("`{0}`: expected `)` at the end")]
+    NoClose(String),
+}
+
+/// Why the quantity of `stat(q)` is not a name a measure can hold.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum QuantityError {
+    #[error("`{0}` is not a variable or observable name")]
+    NotAName(String),
+    #[error("the name `{0}` is too long")]
+    TooLong(String),
 }
 
 #[cfg(test)]

@@ -5,7 +5,7 @@ use flipcard_text::num::Num;
 
 /// Default cap on the steps (accepted and rejected) of one run: a few
 /// seconds of work for the costliest method.
-pub const DEFAULT_MAX_STEPS: u64 = 5_000_000;
+pub(crate) const DEFAULT_MAX_STEPS: u64 = 5_000_000;
 
 /// How many steps one run may take.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,7 +23,7 @@ impl Default for Budget {
 
 impl Budget {
     /// True when `taken` steps so far plus `more` expected ones exceed the cap.
-    pub fn exceeded(&self, taken: u64, more: f64) -> bool {
+    pub(crate) fn exceeded(&self, taken: u64, more: f64) -> bool {
         taken as f64 + more > self.max_steps as f64
     }
 

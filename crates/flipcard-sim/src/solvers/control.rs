@@ -13,23 +13,23 @@
 //! of every printed number.
 
 /// Safety factor on the optimal step.
-pub const SAFETY: f64 = 0.9;
+pub(crate) const SAFETY: f64 = 0.9;
 /// Bounds of h_new/h: never shrink below a third nor grow beyond six times
 /// (Hairer's FAC1 = 0.333, FAC2 = 6, as the divisors h/h_new).
-pub const SHRINK_LIMIT: f64 = 1.0 / 0.333;
-pub const GROW_LIMIT: f64 = 1.0 / 6.0;
+pub(crate) const SHRINK_LIMIT: f64 = 1.0 / 0.333;
+pub(crate) const GROW_LIMIT: f64 = 1.0 / 6.0;
 /// Weight of the previous step's error (PI control). With 0.04 instead of
 /// DOP853's default 0 the step sequence is smoother: on flipping bodies it
 /// rejects a few percent of the trials instead of 10–30 %, for the same
 /// error per unit of work.
-pub const BETA: f64 = 0.04;
+pub(crate) const BETA: f64 = 0.04;
 /// The previous error starts here and never falls below it.
 const FACOLD_FLOOR: f64 = 1e-4;
 
 /// The controller's state along one run: the previous accepted error and
 /// whether the last trial was rejected.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StepControl {
+pub(crate) struct StepControl {
     /// 1/order − 0.2β, the exponent of the current error.
     exponent: f64,
     facold: f64,
@@ -39,7 +39,7 @@ pub struct StepControl {
 impl StepControl {
     /// A controller for a method whose error estimate is of order
     /// `order − 1` (8 for DOP853).
-    pub fn new(order: f64) -> StepControl {
+    pub(crate) fn new(order: f64) -> StepControl {
         StepControl {
             exponent: 1.0 / order - 0.2 * BETA,
             facold: FACOLD_FLOOR,
@@ -48,7 +48,7 @@ impl StepControl {
     }
 
     /// The next step after an accepted trial of size `h` with error `err`.
-    pub fn accept(&mut self, h: f64, err: f64) -> f64 {
+    pub(crate) fn accept(&mut self, h: f64, err: f64) -> f64 {
         let fac11 = err.powf(self.exponent);
         let fac = fac11 / self.facold.powf(BETA);
         let fac = GROW_LIMIT.max(SHRINK_LIMIT.min(fac / SAFETY));
@@ -64,7 +64,7 @@ impl StepControl {
     /// The step to try after a rejected trial of size `h` with error `err`.
     /// NaN-safe: `f64::min` drops a NaN operand, so a non-finite error
     /// shrinks the step by the largest allowed factor.
-    pub fn reject(&mut self, h: f64, err: f64) -> f64 {
+    pub(crate) fn reject(&mut self, h: f64, err: f64) -> f64 {
         let fac11 = err.powf(self.exponent);
         self.rejected_last = true;
         h / SHRINK_LIMIT.min(fac11 / SAFETY)
@@ -79,7 +79,7 @@ impl StepControl {
 /// `Arithmetic::Logarithmic` the norms are taken without squaring and the
 /// sizes compared in logarithms, so that spins past ~1e140 (|f|/sk ~ |ω|/tol,
 /// and the second derivative ~ |ω|³/tol) do not overflow.
-pub fn initial_step(
+pub(crate) fn initial_step(
     arithmetic: Arithmetic,
     mut rhs: impl FnMut(f64, &[f64], &mut [f64]),
     y: &[f64],
@@ -151,7 +151,7 @@ pub fn initial_step(
 
 /// How [`initial_step`] takes its norms.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Arithmetic {
+pub(crate) enum Arithmetic {
     /// Hairer's sums of squares (the systems of a deck).
     Plain,
     /// Norms scaled by their largest entry and sizes in logarithms (the
@@ -160,14 +160,14 @@ pub enum Arithmetic {
 }
 
 /// RMS norm of `v` weighted by 1/`scale`.
-pub fn rms(v: &[f64], scale: &[f64]) -> f64 {
+pub(crate) fn rms(v: &[f64], scale: &[f64]) -> f64 {
     let sum: f64 = v.iter().zip(scale).map(|(v, s)| (v / s).powi(2)).sum();
     (sum / v.len() as f64).sqrt()
 }
 
 /// The 2-norm of v, scaled by its largest entry so that no square
 /// overflows or underflows.
-pub fn norm(v: &[f64]) -> f64 {
+pub(crate) fn norm(v: &[f64]) -> f64 {
     let big = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     if big == 0.0 || !big.is_finite() {
         return big;

@@ -12,16 +12,17 @@
 //! the 5th- and 3rd-order estimates combined; the step size is the shared
 //! controller's ([`crate::solvers::control`]).
 
+use crate::error::SolveError;
 use nalgebra::Vector3;
 
-use crate::rigid::euler::System;
+use crate::rigid::euler::RigidSystem;
 use crate::rigid::model::State;
 use crate::rigid::scales::Scales;
 use crate::solvers::budget::Budget;
 use crate::solvers::control::{self, Arithmetic, StepControl, norm};
 use crate::solvers::dop853_tableau::{self as tab, Row};
 use crate::solvers::forward::Forward;
-use crate::solvers::{Method, SimError, Solver, Work};
+use crate::solvers::{Method, Solver, Work};
 use flipcard_text::num::Num;
 
 /// DOP853's order (the exponent of the step-size control is its inverse).
@@ -42,11 +43,11 @@ fn steps_per_radian(tol: f64) -> f64 {
 }
 
 /// Expected steps to cover `span` at `tol` when the fastest rate is `rate`.
-pub fn estimated_steps(rate: f64, span: f64, tol: f64) -> f64 {
+pub(crate) fn estimated_steps(rate: f64, span: f64, tol: f64) -> f64 {
     rate * span * steps_per_radian(tol)
 }
 
-pub struct Dop853<S, const N: usize> {
+pub(crate) struct Dop853<S, const N: usize> {
     sys: S,
     tol: f64,
     atol: [f64; N],
@@ -71,8 +72,8 @@ pub struct Dop853<S, const N: usize> {
     work: Work,
 }
 
-impl<S: System<N>, const N: usize> Dop853<S, N> {
-    pub fn new(
+impl<S: RigidSystem<N>, const N: usize> Dop853<S, N> {
+    pub(crate) fn new(
         sys: S,
         omega0: &Vector3<f64>,
         tol: f64,
@@ -81,7 +82,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         orientation: bool,
     ) -> Dop853<S, N> {
         let y = sys.initial(omega0);
-        let f = sys.rhs(&y);
+        let f = sys.f(&y);
         Dop853 {
             sys,
             tol,
@@ -112,15 +113,18 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         self.work.steps + self.work.rejected
     }
 
-    fn stiff(&self, steps: f64) -> SimError {
-        SimError::Budget(
-            self.budget
+    fn stiff(&self, steps: f64) -> SolveError {
+        SolveError::StepBudget {
+            t: self.t,
+            steps: self.attempts(),
+            reason: self
+                .budget
                 .stiff(&self.scales.describe(self.orientation), steps),
-        )
+        }
     }
 
     /// Refuses up front a span the budget clearly cannot cover.
-    fn check_estimate(&self, end: f64) -> Result<(), SimError> {
+    fn check_estimate(&self, end: f64) -> Result<(), SolveError> {
         let more = estimated_steps(
             self.scales.fastest(self.orientation),
             end - self.t,
@@ -134,7 +138,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
 
     /// During the run: extrapolates the steps taken so far to the end of the
     /// span, and stops at the hard cap whatever the projection says.
-    fn check_progress(&self, end: f64) -> Result<(), SimError> {
+    fn check_progress(&self, end: f64) -> Result<(), SolveError> {
         let taken = self.attempts();
         let projected = if self.t > 0.0 {
             taken as f64 * (end / self.t).max(1.0)
@@ -164,10 +168,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             *s = self.scale(i, self.y[i], self.y[i]);
         }
         let sys = self.sys;
-        let rhs = |_: f64, y: &[f64], f: &mut [f64]| {
-            let y: &[f64; N] = y.try_into().expect("the state's size");
-            f.copy_from_slice(&sys.rhs(y));
-        };
+        let rhs = |_: f64, y: &[f64], f: &mut [f64]| sys.rhs(0.0, y, f);
         self.work.rhs_evals += 1;
         control::initial_step(
             Arithmetic::Logarithmic,
@@ -199,12 +200,12 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
     }
 
     /// One accepted step (after as many rejected trials as it takes).
-    fn step(&mut self, end: f64) -> Result<(), SimError> {
+    fn step(&mut self, end: f64) -> Result<(), SolveError> {
         loop {
             let h = self.h;
             let resolvable = h > 4.0 * f64::EPSILON * self.t.abs();
             if !resolvable || !self.y.iter().all(|v| v.is_finite()) {
-                return Err(SimError::Invalid(format!(
+                return Err(SolveError::Invalid(format!(
                     "adaptive: step size underflow at t = {} (the solution is not resolvable at tol = {})",
                     Num(self.t),
                     Num(self.tol)
@@ -214,17 +215,17 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             let sys = self.sys;
             let k = &mut self.k;
             k[0] = self.f;
-            k[1] = sys.rhs(&stage(&y, h, k, &tab::A1));
-            k[2] = sys.rhs(&stage(&y, h, k, &tab::A2));
-            k[3] = sys.rhs(&stage(&y, h, k, &tab::A3));
-            k[4] = sys.rhs(&stage(&y, h, k, &tab::A4));
-            k[5] = sys.rhs(&stage(&y, h, k, &tab::A5));
-            k[6] = sys.rhs(&stage(&y, h, k, &tab::A6));
-            k[7] = sys.rhs(&stage(&y, h, k, &tab::A7));
-            k[8] = sys.rhs(&stage(&y, h, k, &tab::A8));
-            k[9] = sys.rhs(&stage(&y, h, k, &tab::A9));
-            k[10] = sys.rhs(&stage(&y, h, k, &tab::A10));
-            k[11] = sys.rhs(&stage(&y, h, k, &tab::A11));
+            k[1] = sys.f(&stage(&y, h, k, &tab::A1));
+            k[2] = sys.f(&stage(&y, h, k, &tab::A2));
+            k[3] = sys.f(&stage(&y, h, k, &tab::A3));
+            k[4] = sys.f(&stage(&y, h, k, &tab::A4));
+            k[5] = sys.f(&stage(&y, h, k, &tab::A5));
+            k[6] = sys.f(&stage(&y, h, k, &tab::A6));
+            k[7] = sys.f(&stage(&y, h, k, &tab::A7));
+            k[8] = sys.f(&stage(&y, h, k, &tab::A8));
+            k[9] = sys.f(&stage(&y, h, k, &tab::A9));
+            k[10] = sys.f(&stage(&y, h, k, &tab::A10));
+            k[11] = sys.f(&stage(&y, h, k, &tab::A11));
             let y_new = stage(&y, h, k, &tab::B);
             self.work.rhs_evals += 11;
             self.dense = None;
@@ -232,7 +233,7 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
             let err = self.error_norm(&y_new, h);
             if err <= 1.0 {
                 let h_new = self.control.accept(h, err);
-                let f_new = sys.rhs(&y_new);
+                let f_new = sys.f(&y_new);
                 self.work.rhs_evals += 1;
                 self.work.steps += 1;
                 self.k[12] = f_new;
@@ -259,9 +260,9 @@ impl<S: System<N>, const N: usize> Dop853<S, N> {
         }
         let (h, y_old, sys) = (self.h_last, self.y_old, self.sys);
         let k = &mut self.k;
-        k[13] = sys.rhs(&stage(&y_old, h, k, &tab::A13));
-        k[14] = sys.rhs(&stage(&y_old, h, k, &tab::A14));
-        k[15] = sys.rhs(&stage(&y_old, h, k, &tab::A15));
+        k[13] = sys.f(&stage(&y_old, h, k, &tab::A13));
+        k[14] = sys.f(&stage(&y_old, h, k, &tab::A14));
+        k[15] = sys.f(&stage(&y_old, h, k, &tab::A15));
         self.work.rhs_evals += 3;
         let mut d = [[0.0; N]; 7];
         for i in 0..N {
@@ -322,12 +323,12 @@ fn weigh<const N: usize, const M: usize>(k: &[[f64; N]; 16], row: &Row<M>, i: us
     acc
 }
 
-impl<S: System<N>, const N: usize> Solver for Dop853<S, N> {
+impl<S: RigidSystem<N>, const N: usize> Solver for Dop853<S, N> {
     fn method(&self) -> Method {
         Method::Adaptive { tol: self.tol }
     }
 
-    fn advance(&mut self, t: f64) -> Result<State, SimError> {
+    fn advance(&mut self, t: f64) -> Result<State, SolveError> {
         self.forward.accept(t)?;
         if t > self.t {
             let end = t.max(self.horizon);
@@ -351,7 +352,7 @@ impl<S: System<N>, const N: usize> Solver for Dop853<S, N> {
         self.work
     }
 
-    fn plan(&mut self, t_end: f64) -> Result<(), SimError> {
+    fn plan(&mut self, t_end: f64) -> Result<(), SolveError> {
         self.horizon = self.horizon.max(t_end);
         self.check_estimate(self.horizon.max(self.t))
     }

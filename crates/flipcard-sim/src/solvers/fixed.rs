@@ -5,13 +5,14 @@
 //! checked up front, and times only go forward. A method supplies only
 //! what is its own: its point, one step, and the state a point stands for.
 
+use crate::error::SolveError;
 use crate::rigid::model::State;
 use crate::solvers::budget::Budget;
 use crate::solvers::forward::Forward;
-use crate::solvers::{Method, SimError, Solver, Work};
+use crate::solvers::{Method, Solver, Work};
 
 /// One fixed-step method.
-pub trait Stepper {
+pub(crate) trait Stepper {
     /// What the method carries from step to step.
     type Point: Copy;
     fn method(&self) -> Method;
@@ -21,7 +22,7 @@ pub trait Stepper {
     fn state(&self, p: &Self::Point) -> State;
     /// Refuses a point the run cannot go on from (a step that diverged)
     /// reached on the way to `t`.
-    fn check(&self, p: &Self::Point, t: f64) -> Result<(), SimError> {
+    fn check(&self, p: &Self::Point, t: f64) -> Result<(), SolveError> {
         let _ = (p, t);
         Ok(())
     }
@@ -32,7 +33,7 @@ pub trait Stepper {
     }
 }
 
-pub struct FixedSteps<M: Stepper> {
+pub(crate) struct FixedSteps<M: Stepper> {
     method: M,
     dt: f64,
     budget: Budget,
@@ -44,7 +45,7 @@ pub struct FixedSteps<M: Stepper> {
 }
 
 impl<M: Stepper> FixedSteps<M> {
-    pub fn new(method: M, dt: f64, budget: Budget) -> FixedSteps<M> {
+    pub(crate) fn new(method: M, dt: f64, budget: Budget) -> FixedSteps<M> {
         FixedSteps {
             point: method.start(),
             method,
@@ -56,19 +57,19 @@ impl<M: Stepper> FixedSteps<M> {
         }
     }
 
-    pub fn stepper(&self) -> &M {
-        &self.method
-    }
-
-    fn check_budget(&self, t: f64) -> Result<(), SimError> {
+    fn check_budget(&self, t: f64) -> Result<(), SolveError> {
         let more = (t / self.dt).floor() - self.n as f64;
         if self.budget.exceeded(self.work.steps, more) {
-            return Err(SimError::Budget(self.budget.fixed(
-                self.method.method().name(),
-                self.dt,
-                t,
-                self.work.steps as f64 + more,
-            )));
+            return Err(SolveError::StepBudget {
+                t: self.n as f64 * self.dt,
+                steps: self.work.steps,
+                reason: self.budget.fixed(
+                    self.method.method().name(),
+                    self.dt,
+                    t,
+                    self.work.steps as f64 + more,
+                ),
+            });
         }
         Ok(())
     }
@@ -79,7 +80,7 @@ impl<M: Stepper> Solver for FixedSteps<M> {
         self.method.method()
     }
 
-    fn advance(&mut self, t: f64) -> Result<State, SimError> {
+    fn advance(&mut self, t: f64) -> Result<State, SolveError> {
         self.forward.accept(t)?;
         self.check_budget(t)?;
         let mut p = self.point;
@@ -105,7 +106,7 @@ impl<M: Stepper> Solver for FixedSteps<M> {
         self.work
     }
 
-    fn plan(&mut self, t_end: f64) -> Result<(), SimError> {
+    fn plan(&mut self, t_end: f64) -> Result<(), SolveError> {
         self.check_budget(t_end)
     }
 }

@@ -2,19 +2,19 @@
 //! forward. A solver keeps its step sequence between calls, so a time
 //! before the previous one cannot be served from it (and a NaN never can).
 
-use crate::solvers::SimError;
+use crate::error::SolveError;
 use flipcard_text::num::Num;
 
 #[derive(Debug, Clone, Copy, Default)]
-pub struct Forward {
+pub(crate) struct Forward {
     last: f64,
 }
 
 impl Forward {
     /// Accepts `t` and remembers it, or refuses a time before the last one.
-    pub fn accept(&mut self, t: f64) -> Result<(), SimError> {
+    pub(crate) fn accept(&mut self, t: f64) -> Result<(), SolveError> {
         if !t.is_finite() || t < self.last {
-            return Err(SimError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "time {} is before the previous sample {} (runs only go forward)",
                 Num(t),
                 Num(self.last)

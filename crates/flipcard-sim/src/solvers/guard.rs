@@ -13,21 +13,22 @@
 //! inside; a step that diverges, or a splitting whose ω of a needle's thin
 //! axis is its rounding error divided by a tiny moment, does not.
 
+use crate::error::SolveError;
 use nalgebra::Vector3;
 
 use crate::rigid::limits;
 use crate::rigid::model::{Body, State};
 use crate::rigid::scales::Scales;
-use crate::solvers::{Method, SimError, Solver, Work};
+use crate::solvers::{Method, Solver, Work};
 use flipcard_text::num::Num;
 
 /// How far outside its range on the orbit a component may stray, as a
 /// fraction of the largest |ω| on the orbit.
-pub const SLACK: f64 = 0.25;
+pub(crate) const SLACK: f64 = 0.25;
 /// The largest factor by which the energy or |L|² may drift.
 const INVARIANT_FACTOR: f64 = 2.0;
 
-pub struct Guard {
+pub(crate) struct Guard {
     inner: Box<dyn Solver>,
     body: Body,
     scales: Scales,
@@ -37,7 +38,7 @@ pub struct Guard {
 }
 
 impl Guard {
-    pub fn new(
+    pub(crate) fn new(
         inner: Box<dyn Solver>,
         body: Body,
         omega0: &Vector3<f64>,
@@ -68,13 +69,13 @@ impl Guard {
         }
     }
 
-    fn check(&self, t: f64, state: &State) -> Result<(), SimError> {
+    fn check(&self, t: f64, state: &State) -> Result<(), SolveError> {
         let name = self.inner.method().name();
         let w = state.omega;
         let finite = w.iter().all(|v| v.is_finite())
             && (!self.orientation || state.q.coords.iter().all(|v| v.is_finite()));
         if !finite {
-            return Err(SimError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "{name} diverged before t = {}: ω is no longer a finite number; {}",
                 Num(t),
                 self.advice()
@@ -85,7 +86,7 @@ impl Guard {
             let (lo, hi) = (self.scales.floor[k] - slack, self.scales.extent[k] + slack);
             let v = w[k].abs();
             if v > hi || v < lo {
-                return Err(SimError::Invalid(format!(
+                return Err(SolveError::Invalid(format!(
                     "{name} left the motion at t = {}: ω{} = {}, but on this orbit |ω{}| stays within [{}, {}]; {}",
                     Num(t),
                     k + 1,
@@ -100,7 +101,7 @@ impl Guard {
         let off = |x: f64, x0: f64| !(x <= x0 * INVARIANT_FACTOR && x >= x0 / INVARIANT_FACTOR);
         let (energy, l2) = (self.body.energy(&w), self.body.l2(&w));
         if self.energy0 > 0.0 && (off(energy, self.energy0) || off(l2, self.l2_0)) {
-            return Err(SimError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "{name} left the motion at t = {}: energy {} and |L|² {} against {} and {} at the start; {}",
                 Num(t),
                 Num(energy),
@@ -119,7 +120,7 @@ impl Solver for Guard {
         self.inner.method()
     }
 
-    fn advance(&mut self, t: f64) -> Result<State, SimError> {
+    fn advance(&mut self, t: f64) -> Result<State, SolveError> {
         limits::check_span(&self.scales, self.orientation, t, "t =")?;
         let state = self.inner.advance(t)?;
         self.check(t, &state)?;
@@ -130,7 +131,7 @@ impl Solver for Guard {
         self.inner.work()
     }
 
-    fn plan(&mut self, t_end: f64) -> Result<(), SimError> {
+    fn plan(&mut self, t_end: f64) -> Result<(), SolveError> {
         limits::check_span(&self.scales, self.orientation, t_end, "t =")?;
         self.inner.plan(t_end)
     }

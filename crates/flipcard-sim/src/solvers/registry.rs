@@ -2,11 +2,12 @@
 //! setting, fills in defaults and picks what to integrate (ω alone, or ω and
 //! q) from what the run needs.
 
+use crate::error::SolveError;
 use nalgebra::Vector3;
 
 use crate::rigid::euler::{OmegaOnly, WithOrientation};
 use crate::rigid::exact::Exact;
-pub use crate::rigid::limits::check_start;
+pub(crate) use crate::rigid::limits::check_start;
 use crate::rigid::model::Body;
 use crate::rigid::scales::{Scales, momentum_gain, scales};
 pub use crate::solvers::Kind;
@@ -15,23 +16,23 @@ use crate::solvers::dop853::Dop853;
 use crate::solvers::guard::Guard;
 use crate::solvers::rk4::rk4;
 use crate::solvers::splitting::{Scheme, splitting};
-use crate::solvers::{Method, Needs, SimError, Solver};
+use crate::solvers::{Method, Needs, Solver};
 use flipcard_text::num::Num;
 
 /// Default tolerance of the adaptive solver (relative, and absolute against
 /// |ω₀| for ω): about 1e-9 relative error in ω over the notes' 36 flips.
-pub const DEFAULT_TOL: f64 = 1e-10;
-pub use crate::rigid::solver::MIN_TOL;
+pub(crate) const DEFAULT_TOL: f64 = 1e-10;
+pub(crate) use crate::rigid::solver::MIN_TOL;
 /// Default fixed step: this many steps per turn (2π) of the fastest rate of
 /// the orbit, nutation or spin.
-pub const DEFAULT_STEPS_PER_TURN: f64 = 256.0;
+pub(crate) const DEFAULT_STEPS_PER_TURN: f64 = 256.0;
 /// The largest [`momentum_gain`] the splitting accepts. It carries L and
 /// divides by the moments for ω, so each rounding of L (ε relative) shows
 /// in ω multiplied by the gain. A budget's worth of steps is up to 1e8
 /// rotations, whose roundings add up like a random walk (√1e8 = 1e4), so a
 /// gain of 1e-8/ε ≈ 4.5e7 keeps their sum in ω below ~1e-4 of |ω|. Needles
 /// thinner than that are left to the methods that carry ω itself.
-pub const MAX_SPLITTING_GAIN: f64 = 1e-8 / f64::EPSILON;
+pub(crate) const MAX_SPLITTING_GAIN: f64 = 1e-8 / f64::EPSILON;
 
 /// Settings of one run beyond the method.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -67,7 +68,7 @@ pub fn default_dt_for(kind: Kind, body: &Body, omega0: &Vector3<f64>) -> f64 {
 
 /// Refuses the splitting for a body whose [`momentum_gain`] is past
 /// [`MAX_SPLITTING_GAIN`].
-fn check_splitting(method: &Method, body: &Body, omega0: &Vector3<f64>) -> Result<(), SimError> {
+fn check_splitting(method: &Method, body: &Body, omega0: &Vector3<f64>) -> Result<(), SolveError> {
     if !matches!(method, Method::Splitting { .. } | Method::Splitting4 { .. }) {
         return Ok(());
     }
@@ -76,7 +77,7 @@ fn check_splitting(method: &Method, body: &Body, omega0: &Vector3<f64>) -> Resul
         return Ok(());
     }
     let i = body.inertia;
-    Err(SimError::Invalid(format!(
+    Err(SolveError::Invalid(format!(
         "{} carries L = Iω and divides by the moments to get ω; for this body (I_max/I_min = {:.1e}) that multiplies every rounding of L by {:.1e} in ω, beyond the {:.1e} it can afford: use the exact method (or rk4 or adaptive, which carry ω)",
         method.name(),
         i.max() / i.min(),
@@ -93,18 +94,18 @@ pub fn method(
     dt: Option<f64>,
     body: &Body,
     omega0: &Vector3<f64>,
-) -> Result<Method, SimError> {
+) -> Result<Method, SolveError> {
     let name = kind.name();
     check_start(body, omega0)?;
     let fixed_step = matches!(kind, Kind::Splitting | Kind::Splitting4 | Kind::Rk4);
     if tol.is_some() && kind != Kind::Adaptive {
-        return Err(SimError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "tol applies only to the adaptive method, not to {name}{}",
             if fixed_step { " (use dt)" } else { "" }
         )));
     }
     if dt.is_some() && !fixed_step {
-        return Err(SimError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "dt applies only to the fixed-step methods (splitting, splitting4, rk4), not to {name}"
         )));
     }
@@ -123,23 +124,23 @@ pub fn method(
     Ok(method)
 }
 
-fn check_method(method: &Method) -> Result<(), SimError> {
+fn check_method(method: &Method) -> Result<(), SolveError> {
     match *method {
         Method::Exact => Ok(()),
         Method::Adaptive { tol } => {
             if !(tol.is_finite() && tol > 0.0) {
-                Err(SimError::Invalid(format!(
+                Err(SolveError::Invalid(format!(
                     "tol must be a positive number, got {}",
                     Num(tol)
                 )))
             } else if tol < MIN_TOL {
-                Err(SimError::Invalid(format!(
+                Err(SolveError::Invalid(format!(
                     "tol = {} is below what f64 arithmetic can deliver (use at least {})",
                     Num(tol),
                     Num(MIN_TOL)
                 )))
             } else if tol >= 1.0 {
-                Err(SimError::Invalid(format!(
+                Err(SolveError::Invalid(format!(
                     "tol = {} is not a tolerance (use a value below 1, e.g. 1e-8)",
                     Num(tol)
                 )))
@@ -151,7 +152,7 @@ fn check_method(method: &Method) -> Result<(), SimError> {
             if dt.is_finite() && dt > 0.0 {
                 Ok(())
             } else {
-                Err(SimError::Invalid(format!(
+                Err(SolveError::Invalid(format!(
                     "dt must be a positive number, got {}",
                     Num(dt)
                 )))
@@ -165,7 +166,7 @@ fn check_method(method: &Method) -> Result<(), SimError> {
 /// motion is aliased whatever the method does with it (RK4 also diverges
 /// past Ωdt = 2√2). The splitting turns L by ωᵢdt about each axis even
 /// when q is not wanted, so its rate includes the spin.
-fn check_step(method: &Method, rates: &Scales, orientation: bool) -> Result<(), SimError> {
+fn check_step(method: &Method, rates: &Scales, orientation: bool) -> Result<(), SolveError> {
     let (dt, rate) = match *method {
         Method::Splitting { dt } | Method::Splitting4 { dt } => (dt, rates.fastest(true)),
         Method::Rk4 { dt } => (dt, rates.fastest(orientation)),
@@ -174,7 +175,7 @@ fn check_step(method: &Method, rates: &Scales, orientation: bool) -> Result<(), 
     if rate * dt <= std::f64::consts::PI {
         return Ok(());
     }
-    Err(SimError::Invalid(format!(
+    Err(SolveError::Invalid(format!(
         "{}: dt = {} turns the {} by {} rad per step, more than half a turn, so the motion aliases; use dt ≤ {} or the exact method",
         method.name(),
         Num(dt),
@@ -190,7 +191,7 @@ pub fn make(
     body: Body,
     omega0: Vector3<f64>,
     needs: Needs,
-) -> Result<Box<dyn Solver>, SimError> {
+) -> Result<Box<dyn Solver>, SolveError> {
     make_with(method, body, omega0, needs, Options::default())
 }
 
@@ -203,7 +204,7 @@ pub fn make_with(
     omega0: Vector3<f64>,
     needs: Needs,
     options: Options,
-) -> Result<Box<dyn Solver>, SimError> {
+) -> Result<Box<dyn Solver>, SolveError> {
     // `Body` has a public field: check it again rather than trust it.
     let body = Body::new([body.inertia[0], body.inertia[1], body.inertia[2]])?;
     check_start(&body, &omega0)?;

@@ -4,20 +4,21 @@
 //! unit sphere after every step. Its grid, sampling and budget are the
 //! shared fixed-step driver's ([`crate::solvers::fixed`]).
 
+use crate::error::SolveError;
 use nalgebra::Vector3;
 
-use crate::rigid::euler::System;
+use crate::rigid::euler::RigidSystem;
 use crate::rigid::model::State;
 use crate::rigid::scales::Scales;
 use crate::solvers::budget::Budget;
 use crate::solvers::fixed::{FixedSteps, Stepper};
-use crate::solvers::{Method, SimError, Work};
+use crate::solvers::{Method, Work};
 use flipcard_text::num::Num;
 
 /// RK4 on one of the rigid body's systems (ω alone, or ω and q).
-pub type Rk4<S, const N: usize> = FixedSteps<Rk4Steps<S, N>>;
+pub(crate) type Rk4<S, const N: usize> = FixedSteps<Rk4Steps<S, N>>;
 
-pub struct Rk4Steps<S, const N: usize> {
+pub(crate) struct Rk4Steps<S, const N: usize> {
     sys: S,
     y0: [f64; N],
     dt: f64,
@@ -26,7 +27,7 @@ pub struct Rk4Steps<S, const N: usize> {
 }
 
 /// An RK4 run from `omega0` with step `dt`.
-pub fn rk4<S: System<N>, const N: usize>(
+pub(crate) fn rk4<S: RigidSystem<N>, const N: usize>(
     sys: S,
     omega0: &Vector3<f64>,
     dt: f64,
@@ -44,7 +45,7 @@ pub fn rk4<S: System<N>, const N: usize>(
     FixedSteps::new(steps, dt, budget)
 }
 
-impl<S: System<N>, const N: usize> Stepper for Rk4Steps<S, N> {
+impl<S: RigidSystem<N>, const N: usize> Stepper for Rk4Steps<S, N> {
     type Point = [f64; N];
 
     fn method(&self) -> Method {
@@ -57,10 +58,7 @@ impl<S: System<N>, const N: usize> Stepper for Rk4Steps<S, N> {
 
     fn step(&self, y: &mut [f64; N], h: f64, work: &mut Work) {
         let sys = self.sys;
-        let rhs = |_: f64, y: &[f64], f: &mut [f64]| {
-            let y: &[f64; N] = y.try_into().expect("the state's size");
-            f.copy_from_slice(&sys.rhs(y));
-        };
+        let rhs = |_: f64, y: &[f64], f: &mut [f64]| sys.rhs(0.0, y, f);
         let (y0, mut k, mut tmp) = (*y, [[0.0; N]; 4], [0.0; N]);
         rk4_step(rhs, 0.0, h, &y0, &mut k, &mut tmp, y);
         sys.normalize(y);
@@ -71,12 +69,12 @@ impl<S: System<N>, const N: usize> Stepper for Rk4Steps<S, N> {
         self.sys.state(y)
     }
 
-    fn check(&self, y: &[f64; N], t: f64) -> Result<(), SimError> {
+    fn check(&self, y: &[f64; N], t: f64) -> Result<(), SolveError> {
         if y.iter().all(|v| v.is_finite()) {
             return Ok(());
         }
         let rate = self.scales.fastest(self.orientation);
-        Err(SimError::Invalid(format!(
+        Err(SolveError::Invalid(format!(
             "rk4 diverged before t = {}: dt = {} is too coarse for {} (try dt ≤ {:.1e})",
             Num(t),
             Num(self.dt),
@@ -90,7 +88,7 @@ impl<S: System<N>, const N: usize> Stepper for Rk4Steps<S, N> {
 /// written as `rhs(t, y, dy)`; `k` holds the four stages and `tmp` the
 /// argument of the next, each of y's length. Uses four evaluations of f.
 #[inline(always)]
-pub fn rk4_step<K: AsRef<[f64]> + AsMut<[f64]>>(
+pub(crate) fn rk4_step<K: AsRef<[f64]> + AsMut<[f64]>>(
     mut rhs: impl FnMut(f64, &[f64], &mut [f64]),
     t: f64,
     h: f64,

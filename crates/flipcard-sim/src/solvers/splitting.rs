@@ -25,7 +25,7 @@ use crate::solvers::{Method, Work};
 
 /// Which composition of the Strang step to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Scheme {
+pub(crate) enum Scheme {
     /// 2nd order.
     Strang,
     /// 4th order, Suzuki's 5-stage composition.
@@ -88,15 +88,15 @@ fn axis_order(inertia: &Vector3<f64>) -> [usize; 3] {
 
 /// Body-frame L and, when needed, q = (w, x, y, z).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Point {
+pub(crate) struct Point {
     l: [f64; 3],
     q: Option<[f64; 4]>,
 }
 
 /// A splitting run: the shared fixed-step driver over [`SplittingSteps`].
-pub type Splitting = FixedSteps<SplittingSteps>;
+pub(crate) type Splitting = FixedSteps<SplittingSteps>;
 
-pub struct SplittingSteps {
+pub(crate) struct SplittingSteps {
     inertia: [f64; 3],
     inverse: [f64; 3],
     scheme: Scheme,
@@ -109,7 +109,7 @@ pub struct SplittingSteps {
 
 /// A splitting run from `omega0` with step `dt`, carrying q when
 /// `orientation`; the a–b–c–b–a axes put the smallest moment innermost.
-pub fn splitting(
+pub(crate) fn splitting(
     body: &Body,
     omega0: &Vector3<f64>,
     dt: f64,

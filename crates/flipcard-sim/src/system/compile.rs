@@ -30,7 +30,7 @@ use flipcard_text::num::Num;
 
 /// Most operations in one compiled program (an expression with the
 /// observables it uses, or all the equations, or all the observables).
-pub const MAX_PROGRAM: usize = 50_000;
+pub(crate) const MAX_PROGRAM: usize = 50_000;
 
 /// The functions of [`expr::FUNCTIONS`], as the tape runs them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -243,6 +243,8 @@ impl std::fmt::Display for CompileError {
     }
 }
 
+impl std::error::Error for CompileError {}
+
 /// Why a value is not finite: the first operation that made it so.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Cause {
@@ -265,7 +267,7 @@ pub enum Cause {
 impl Cause {
     /// A value outside the domain of an operation (as opposed to a value
     /// too large to hold, which is what a solution blowing up looks like).
-    pub fn is_domain(&self) -> bool {
+    pub(crate) fn is_domain(&self) -> bool {
         !matches!(self, Cause::Overflow(_))
     }
 }
@@ -436,12 +438,8 @@ pub struct Program {
 
 impl Program {
     /// Operations run per evaluation.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.ops.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.ops.is_empty()
     }
 
     fn run(&self, t: f64, y: &[f64], vals: &mut [f64]) {
@@ -451,7 +449,7 @@ impl Program {
     }
 
     /// Every output at (t, y), into `out`.
-    pub fn eval_into(&self, t: f64, y: &[f64], out: &mut [f64]) {
+    pub(crate) fn eval_into(&self, t: f64, y: &[f64], out: &mut [f64]) {
         with_values(self.ops.len(), |vals| {
             self.run(t, y, vals);
             for (o, (k, _)) in out.iter_mut().zip(&self.outputs) {
@@ -461,7 +459,7 @@ impl Program {
     }
 
     /// Output `k` alone at (t, y): only the operations up to it run.
-    pub fn eval_one(&self, k: usize, t: f64, y: &[f64]) -> f64 {
+    pub(crate) fn eval_one(&self, k: usize, t: f64, y: &[f64]) -> f64 {
         let Some(&(last, _)) = self.outputs.get(k) else {
             return f64::NAN;
         };
@@ -476,7 +474,7 @@ impl Program {
 
     /// Outputs `0..=k` at (t, y), into `out[..=k]`: only the operations up
     /// to output k run.
-    pub fn eval_upto(&self, k: usize, t: f64, y: &[f64], out: &mut [f64]) {
+    pub(crate) fn eval_upto(&self, k: usize, t: f64, y: &[f64], out: &mut [f64]) {
         let Some(&(last, _)) = self.outputs.get(k) else {
             return;
         };
@@ -494,7 +492,7 @@ impl Program {
     /// The first output `which` picks that is not finite at (t, y), with
     /// the first operation that made it so; `None` when each is finite (or
     /// the first that is not has no operation to blame).
-    pub fn fault(&self, t: f64, y: &[f64], which: &dyn Fn(usize) -> bool) -> Option<Fault> {
+    pub(crate) fn fault(&self, t: f64, y: &[f64], which: &dyn Fn(usize) -> bool) -> Option<Fault> {
         let mut vals = vec![0.0; self.ops.len()];
         self.run(t, y, &mut vals);
         let &(out, source) = self
@@ -516,7 +514,13 @@ impl Program {
     /// between (t0, y0) and (t1, y1), among the operations of the outputs:
     /// the equation then grows without bound there, which a step-size
     /// collapse alone would call a blow-up.
-    pub fn divisor_crossing(&self, t0: f64, y0: &[f64], t1: f64, y1: &[f64]) -> Option<Fault> {
+    pub(crate) fn divisor_crossing(
+        &self,
+        t0: f64,
+        y0: &[f64],
+        t1: f64,
+        y1: &[f64],
+    ) -> Option<Fault> {
         let mut a = vec![0.0; self.ops.len()];
         let mut b = vec![0.0; self.ops.len()];
         self.run(t0, y0, &mut a);
@@ -943,20 +947,20 @@ pub struct Cost {
 
 /// Right-hand side evaluations of one step of the costliest method (DOP853's
 /// twelve stages and the new point; Radau's Newton iterations are fewer).
-pub const EVALS_PER_STEP: usize = 13;
+pub(crate) const EVALS_PER_STEP: usize = 13;
 
 /// Dense-output points per accepted step of an adaptive method (RK4's
 /// small fixed steps are sampled at their ends): the run samples its
 /// observables and sketch there ([`crate::scene::system`]), and the
 /// cost of a step counts them.
-pub const POINTS_PER_STEP: usize = 16;
+pub(crate) const POINTS_PER_STEP: usize = 16;
 
 impl Cost {
     /// Operations one step may run: the stages, the Jacobian (one pass of
     /// the equations per variable), its LU decomposition (about n³), and the
     /// samples of every observable and sketch expression
     /// ([`POINTS_PER_STEP`] a step).
-    pub fn per_step(&self) -> f64 {
+    pub(crate) fn per_step(&self) -> f64 {
         let n = self.n as f64;
         let points = POINTS_PER_STEP as f64;
         (self.rhs as f64) * (EVALS_PER_STEP as f64 + n)
@@ -1022,11 +1026,6 @@ impl System {
         })
     }
 
-    /// Whether the solvers get the exact Jacobian.
-    pub fn has_jacobian(&self) -> bool {
-        self.jacobian
-    }
-
     pub fn cost(&self) -> Cost {
         Cost {
             n: self.n,
@@ -1056,16 +1055,16 @@ impl System {
     }
 
     /// Every sketch coordinate at (t, y), into `out`.
-    pub fn marks_into(&self, t: f64, y: &[f64], out: &mut [f64]) {
+    pub(crate) fn marks_into(&self, t: f64, y: &[f64], out: &mut [f64]) {
         self.marks.eval_into(t, y, out);
     }
 
-    pub fn mark_count(&self) -> usize {
+    pub(crate) fn mark_count(&self) -> usize {
         self.marks.outputs.len()
     }
 
     /// Observables `0..=k` at (t, y), into `out[..=k]`.
-    pub fn observables_upto(&self, k: usize, t: f64, y: &[f64], out: &mut [f64]) {
+    pub(crate) fn observables_upto(&self, k: usize, t: f64, y: &[f64], out: &mut [f64]) {
         self.observables.eval_upto(k, t, y, out);
     }
 
@@ -1073,10 +1072,10 @@ impl System {
     pub fn equations(&self) -> &Program {
         &self.rhs
     }
-    pub fn observable_program(&self) -> &Program {
+    pub(crate) fn observable_program(&self) -> &Program {
         &self.observables
     }
-    pub fn mark_program(&self) -> &Program {
+    pub(crate) fn mark_program(&self) -> &Program {
         &self.marks
     }
 

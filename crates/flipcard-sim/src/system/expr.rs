@@ -49,15 +49,15 @@ pub const MAX_DEPTH: usize = 200;
 
 /// Most parentheses and calls open at once: the parser recurses into each
 /// (sums, products, signs and powers it reads without recursion).
-pub const MAX_NESTING: usize = 64;
+pub(crate) const MAX_NESTING: usize = 64;
 
 /// Most operations (numbers, names, operators, calls) in one expression.
-pub const MAX_NODES: usize = 10_000;
+pub(crate) const MAX_NODES: usize = 10_000;
 
 /// The function `name` is most likely a misspelling of: the nearest by
 /// edit distance, at most one edit for names up to five characters and two
 /// beyond (a one- or two-letter name before `(` is a product, not a typo).
-pub fn misspelt_function(name: &str) -> Option<&'static str> {
+pub(crate) fn misspelt_function(name: &str) -> Option<&'static str> {
     let len = name.chars().count();
     if len < 3 {
         return None;
@@ -72,7 +72,7 @@ pub fn misspelt_function(name: &str) -> Option<&'static str> {
 }
 
 /// The arity of a function name, if it is one.
-pub fn arity(name: &str) -> Option<usize> {
+pub(crate) fn arity(name: &str) -> Option<usize> {
     FUNCTIONS.iter().find(|(f, _)| *f == name).map(|(_, n)| *n)
 }
 

@@ -4,8 +4,8 @@
 
 pub mod compile;
 pub mod expr;
-pub mod name;
-pub mod spec;
+pub(crate) mod name;
+pub(crate) mod spec;
 
 pub use compile::System;
 pub use name::Name;

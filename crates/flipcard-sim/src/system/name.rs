@@ -4,7 +4,7 @@
 use std::fmt;
 
 /// Longest name held, in bytes.
-pub const CAPACITY: usize = 31;
+pub(crate) const CAPACITY: usize = 31;
 
 #[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Name {

@@ -5,7 +5,8 @@ use crate::deck::model::{Panel, Scene};
 use crate::deck::raw::{Flag, List, Num, RawScene};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
-use flipcard_sim::rigid::model::{Body, ModelError};
+use flipcard_sim::error::ModelError;
+use flipcard_sim::rigid::model::Body;
 use flipcard_sim::scene::{SceneField, check_scene};
 use flipcard_text::num;
 

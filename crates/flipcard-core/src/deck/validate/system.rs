@@ -557,7 +557,7 @@ pub fn scene(
     if let Err(e) = check_cost(&scene, &system.cost()) {
         rep.error(
             list.span.clone(),
-            e,
+            e.to_string(),
             Some("use fewer variables or shorter equations".to_string()),
         );
         return None;

@@ -16,7 +16,7 @@ const MAX_STEPS: usize = 64;
 
 /// R_F(x, y, z) = ½ ∫₀^∞ dt / √((t+x)(t+y)(t+z)), for x, y, z ≥ 0 with at
 /// most one of them zero.
-pub fn rf(x: f64, y: f64, z: f64) -> f64 {
+pub(crate) fn rf(x: f64, y: f64, z: f64) -> f64 {
     let a0 = (x + y + z) / 3.0;
     let q = TOLERANCE_FACTOR * (a0 - x).abs().max((a0 - y).abs()).max((a0 - z).abs());
     let (mut xn, mut yn, mut zn, mut an) = (x, y, z, a0);
@@ -51,7 +51,7 @@ pub fn rf(x: f64, y: f64, z: f64) -> f64 {
 ///
 /// Fast path: when (p−x)(p−y)(p−z) ≥ 0, which holds for every call made by
 /// the rigid-body solver, each R_C term is an arctangent (or its series).
-pub fn rj(x: f64, y: f64, z: f64, p: f64) -> f64 {
+pub(crate) fn rj(x: f64, y: f64, z: f64, p: f64) -> f64 {
     let a0 = (x + y + z + p + p) / 5.0;
     let delta = (p - x) * (p - y) * (p - z);
     let q = TOLERANCE_FACTOR
@@ -105,7 +105,8 @@ pub fn rj(x: f64, y: f64, z: f64, p: f64) -> f64 {
 }
 
 /// R_C(x, y) = ½ ∫₀^∞ dt / ((t+y) √(t+x)), for x ≥ 0, y > 0.
-pub fn rc(x: f64, y: f64) -> f64 {
+#[cfg(test)]
+pub(crate) fn rc(x: f64, y: f64) -> f64 {
     if x == 0.0 {
         return std::f64::consts::FRAC_PI_2 / y.sqrt();
     }

@@ -3,7 +3,7 @@
 //! fractions of K from tiny arguments through several periods.
 
 #![allow(clippy::approx_constant)] // computed values that happen to equal constants
-pub const TABLE: &[(f64, f64, f64, f64, f64)] = &[
+pub(crate) const TABLE: &[(f64, f64, f64, f64, f64)] = &[
     // m_c = 1.0: K = 1.5707963267948966192
     // m_c = 0.999999999999: K = 1.5707963267952893096
     // m_c = 0.999: K = 1.5711892469233444187

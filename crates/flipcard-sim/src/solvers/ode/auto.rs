@@ -9,8 +9,9 @@
 //! costlier per step) on non-stiff stretches too.
 
 use super::{
-    Dop853, OdeError, OdeSolver, OdeSystem, Options, Radau5, Requests, Stepper, StiffnessMode, Work,
+    Dop853, OdeSolver, OdeSystem, Options, Radau5, Requests, Stepper, StiffnessMode, Work,
 };
+use crate::error::SolveError;
 
 enum Phase<S> {
     Explicit(Box<Dop853<S>>),
@@ -29,11 +30,11 @@ pub struct Auto<S> {
 }
 
 impl<S: OdeSystem> Auto<S> {
-    pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Auto<S>, OdeError> {
+    pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Auto<S>, SolveError> {
         let dop = Dop853::new(sys, t0, y0, opts)?.with_stiffness(StiffnessMode::Report);
         // Radau's own checks, so a bad setting shows now and not at the switch.
         if opts.rtol <= 10.0 * f64::EPSILON {
-            return Err(OdeError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "auto needs rtol above {:e} (for radau5), not {}",
                 10.0 * f64::EPSILON,
                 opts.rtol
@@ -54,9 +55,11 @@ impl<S: OdeSystem> Auto<S> {
         self.switched_at
     }
 
-    fn switch(&mut self) -> Result<(), OdeError> {
+    fn switch(&mut self) -> Result<(), SolveError> {
         let Phase::Explicit(dop) = std::mem::replace(&mut self.phase, Phase::Moving) else {
-            return Err(OdeError::Invalid("auto: no explicit phase to leave".into()));
+            return Err(SolveError::Invalid(
+                "auto: no explicit phase to leave".into(),
+            ));
         };
         let h = dop.next_step_size();
         let (sys, t, y, work) = dop.into_parts();
@@ -117,7 +120,7 @@ impl<S: OdeSystem> Stepper for Auto<S> {
             Phase::Moving => &[],
         }
     }
-    fn raw_step(&mut self) -> Result<(), OdeError> {
+    fn raw_step(&mut self) -> Result<(), SolveError> {
         if let Phase::Explicit(d) = &self.phase
             && let Some(t) = d.stiffness()
         {
@@ -127,7 +130,7 @@ impl<S: OdeSystem> Stepper for Auto<S> {
         match &mut self.phase {
             Phase::Explicit(d) => d.raw_step(),
             Phase::Implicit(r) => r.raw_step(),
-            Phase::Moving => Err(OdeError::Invalid("auto: lost its solver".into())),
+            Phase::Moving => Err(SolveError::Invalid("auto: lost its solver".into())),
         }
     }
     fn interpolate(&mut self, t: f64, out: &mut [f64]) {

@@ -2,16 +2,16 @@
 //! line name them, with their one setting (a tolerance, or RK4's step).
 
 use super::{Method, Options, StiffnessMode};
-use crate::method::{self, MethodName};
+use crate::method::{MethodError, MethodName};
 
 /// Default relative tolerance of the adaptive methods on a scene; the
 /// absolute one is this times [`ATOL_FACTOR`].
-pub const DEFAULT_RTOL: f64 = 1e-8;
-pub const ATOL_FACTOR: f64 = 1e-2;
+pub(crate) const DEFAULT_RTOL: f64 = 1e-8;
+pub(crate) const ATOL_FACTOR: f64 = 1e-2;
 /// RK4's default step: this many steps over the run.
-pub const DEFAULT_RK4_STEPS: f64 = 20_000.0;
+pub(crate) const DEFAULT_RK4_STEPS: f64 = 20_000.0;
 /// The reference run of the diagnostics.
-pub const REFERENCE_RTOL: f64 = 1e-11;
+pub(crate) const REFERENCE_RTOL: f64 = 1e-11;
 
 /// A method family for systems.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -50,18 +50,18 @@ impl OdeKind {
     }
 
     /// The family a method names, or what a system takes instead.
-    pub fn from_method(m: MethodName) -> Result<OdeKind, String> {
+    pub fn from_method(m: MethodName) -> Result<OdeKind, MethodError> {
         OdeKind::ALL
             .into_iter()
             .find(|k| k.method() == m)
-            .ok_or_else(|| {
-                let names = OdeKind::ALL.map(OdeKind::name);
-                format!("a system takes {}", method::spoken(&names))
+            .ok_or_else(|| MethodError::NotSystem {
+                method: m,
+                takes: OdeKind::ALL.map(OdeKind::name).to_vec(),
             })
     }
 
     /// Whether the method solves with the Jacobian (so it is compiled).
-    pub fn implicit(self) -> bool {
+    pub(crate) fn implicit(self) -> bool {
         matches!(self, OdeKind::Radau | OdeKind::Auto)
     }
 }
@@ -85,20 +85,18 @@ impl OdeMethod {
     }
 
     /// The kind with `tol` (a tolerance, or RK4's step), checked.
-    pub fn with_setting(kind: OdeKind, setting: f64) -> Result<OdeMethod, String> {
+    pub fn with_setting(kind: OdeKind, setting: f64) -> Result<OdeMethod, MethodError> {
         let ok = match kind {
             OdeKind::Rk4 => setting.is_finite() && setting > 0.0,
             _ => setting.is_finite() && setting > 1e-14 && setting < 1.0,
         };
         if !ok {
             return Err(match kind {
-                OdeKind::Rk4 => {
-                    format!("the step of rk4 must be positive and finite, not {setting}")
-                }
-                _ => format!(
-                    "the tolerance of {} must lie between 1e-14 and 1, not {setting}",
-                    kind.name()
-                ),
+                OdeKind::Rk4 => MethodError::Step(setting),
+                _ => MethodError::Tolerance {
+                    method: kind.method(),
+                    setting,
+                },
             });
         }
         Ok(OdeMethod { kind, setting })
@@ -169,7 +167,7 @@ mod tests {
             );
         }
         assert_eq!(
-            OdeKind::from_method(MethodName::Exact),
+            OdeKind::from_method(MethodName::Exact).map_err(|e| e.to_string()),
             Err("a system takes auto, adaptive, radau or rk4".into())
         );
     }

@@ -15,7 +15,8 @@
 //! until it first fires; here it runs after every step (two norms, no
 //! evaluation of f), so `auto` hands over to the implicit method early.
 
-use super::{OdeError, OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
+use super::{OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
+use crate::error::SolveError;
 use crate::solvers::control::StepControl;
 use crate::solvers::dop853_tableau::{self as tab, C, C_DENSE};
 
@@ -32,7 +33,7 @@ pub enum StiffnessMode {
     /// Record the time ([`OdeSolver::stiffness`]) and go on.
     #[default]
     Report,
-    /// Stop with [`OdeError::Stiff`].
+    /// Stop with [`SolveError::Stiff`].
     Refuse,
 }
 
@@ -73,7 +74,7 @@ pub struct Dop853<S> {
 impl<S: OdeSystem> Dop853<S> {
     /// An adaptive solver from (t0, y0); the first step is chosen when the
     /// run starts.
-    pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Dop853<S>, OdeError> {
+    pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Dop853<S>, SolveError> {
         super::check_start(&sys, t0, y0)?;
         let n = sys.dim();
         let atol = opts.validated_atol(n)?;
@@ -115,9 +116,11 @@ impl<S: OdeSystem> Dop853<S> {
 
     /// Steps of exactly `h`, without error control (for convergence
     /// studies; the dense output still works).
-    pub fn new_fixed(sys: S, t0: f64, y0: &[f64], h: f64) -> Result<Dop853<S>, OdeError> {
+    pub fn new_fixed(sys: S, t0: f64, y0: &[f64], h: f64) -> Result<Dop853<S>, SolveError> {
         if !(h.is_finite() && h > 0.0) {
-            return Err(OdeError::Invalid(format!("step h = {h} must be positive")));
+            return Err(SolveError::Invalid(format!(
+                "step h = {h} must be positive"
+            )));
         }
         let mut s = Dop853::new(sys, t0, y0, &Options::default())?;
         s.fixed = Some(h);
@@ -131,7 +134,7 @@ impl<S: OdeSystem> Dop853<S> {
     }
 
     /// The suggested size of the next step (0 before the first).
-    pub fn next_step_size(&self) -> f64 {
+    pub(crate) fn next_step_size(&self) -> f64 {
         self.h
     }
 
@@ -177,8 +180,8 @@ impl<S: OdeSystem> Dop853<S> {
         if err.is_nan() { f64::INFINITY } else { err }
     }
 
-    fn budget_error(&self) -> OdeError {
-        OdeError::StepBudget {
+    fn budget_error(&self) -> SolveError {
+        SolveError::StepBudget {
             t: self.t,
             steps: self.max_steps,
             reason: format!(
@@ -190,7 +193,7 @@ impl<S: OdeSystem> Dop853<S> {
     }
 
     /// One accepted step, after as many rejected trials as it takes.
-    fn try_step(&mut self) -> Result<(), OdeError> {
+    fn try_step(&mut self) -> Result<(), SolveError> {
         let n = self.n;
         if self.h == 0.0 {
             let h_max = self
@@ -213,7 +216,7 @@ impl<S: OdeSystem> Dop853<S> {
                 h = stop - self.t;
             }
             if h.is_nan() || h <= 10.0 * f64::EPSILON * self.t.abs() {
-                return Err(OdeError::BlowUp { t: self.t });
+                return Err(SolveError::BlowUp { t: self.t });
             }
             let t = self.t;
             let rows: [&[(usize, f64)]; 11] = [
@@ -274,13 +277,13 @@ impl<S: OdeSystem> Dop853<S> {
             self.h = self.control.reject(h, err);
             self.work.rejected += 1;
             if self.fixed.is_some() {
-                return Err(OdeError::BlowUp { t: self.t });
+                return Err(SolveError::BlowUp { t: self.t });
             }
         }
     }
 
     /// Hairer's test on the step just accepted, ending at `self.t`.
-    fn stiffness_test(&mut self, h: f64) -> Result<(), OdeError> {
+    fn stiffness_test(&mut self, h: f64) -> Result<(), SolveError> {
         let n = self.n;
         let (mut num, mut den) = (0.0, 0.0);
         for i in 0..n {
@@ -297,7 +300,7 @@ impl<S: OdeSystem> Dop853<S> {
             if self.stiff_count == STIFF_POSITIVE && self.stiff_at.is_none() {
                 self.stiff_at = Some(self.t);
                 if self.mode == StiffnessMode::Refuse {
-                    return Err(OdeError::Stiff { t: self.t });
+                    return Err(SolveError::Stiff { t: self.t });
                 }
             }
         } else {
@@ -384,7 +387,7 @@ impl<S: OdeSystem> Stepper for Dop853<S> {
     fn current(&self) -> &[f64] {
         &self.y
     }
-    fn raw_step(&mut self) -> Result<(), OdeError> {
+    fn raw_step(&mut self) -> Result<(), SolveError> {
         self.start_next();
         self.try_step()
     }

@@ -8,7 +8,7 @@
 //! sampled.
 //!
 //! - [`Dop853`]: explicit Dormand–Prince 8(5,3) with Hairer's stiffness
-//!   detection (report and go on, or refuse with [`OdeError::Stiff`]).
+//!   detection (report and go on, or refuse with [`SolveError::Stiff`]).
 //! - [`Radau5`]: implicit Radau IIA of order 5 for stiff systems.
 //! - [`Rk4`]: classical fixed-step RK4, for teaching comparisons.
 //! - [`Auto`]: DOP853 until it detects stiffness, then Radau IIA from that
@@ -23,121 +23,23 @@ mod dop853;
 mod radau5;
 mod rk4;
 
-use nalgebra::DMatrix;
-
+use crate::error::SolveError;
+pub use crate::rhs::{OdeSystem, finite_difference_jacobian};
 use crate::solvers::control::{self, Arithmetic};
 
 pub use auto::Auto;
-pub use choice::{DEFAULT_RTOL, OdeKind, OdeMethod, REFERENCE_RTOL};
+pub(crate) use choice::REFERENCE_RTOL;
+pub use choice::{OdeKind, OdeMethod};
 pub use dop853::{Dop853, StiffnessMode};
 pub use radau5::Radau5;
 pub use rk4::Rk4;
 
 /// Default cap on the step attempts (accepted and rejected) of one run.
-pub const DEFAULT_MAX_STEPS: u64 = 5_000_000;
+pub(crate) const DEFAULT_MAX_STEPS: u64 = 5_000_000;
 
 /// A state component beyond this magnitude counts as a blow-up: its square
 /// would overflow, so no method could go on meaningfully.
-pub const BLOW_UP_LIMIT: f64 = 1e150;
-
-/// A system y' = f(t, y) of fixed dimension.
-pub trait OdeSystem {
-    /// Number of components of y (at least 1).
-    fn dim(&self) -> usize;
-
-    /// Writes f(t, y) into `dy` (both of length `dim()`). A value of f that
-    /// is not finite is not an error here: the solvers shrink the step, and
-    /// stop with [`OdeError::BlowUp`] if that does not help.
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]);
-
-    /// Writes the Jacobian ∂f/∂y at (t, y) into `jac` (n×n, `jac[(i, j)]` =
-    /// ∂fᵢ/∂yⱼ). The default is [`finite_difference_jacobian`]; systems
-    /// that know their derivatives should override it (implicit methods
-    /// converge faster with an exact Jacobian, and save 2n evaluations of f
-    /// per Jacobian).
-    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
-        finite_difference_jacobian(self, t, y, jac);
-    }
-}
-
-impl<S: OdeSystem + ?Sized> OdeSystem for &S {
-    fn dim(&self) -> usize {
-        (**self).dim()
-    }
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        (**self).rhs(t, y, dy)
-    }
-    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
-        (**self).jacobian(t, y, jac)
-    }
-}
-
-impl<S: OdeSystem + ?Sized> OdeSystem for Box<S> {
-    fn dim(&self) -> usize {
-        (**self).dim()
-    }
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        (**self).rhs(t, y, dy)
-    }
-    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
-        (**self).jacobian(t, y, jac)
-    }
-}
-
-/// Central differences (error O(δ²) instead of O(δ) for forward ones) with
-/// δⱼ = ε^(1/3)·max(|yⱼ|, 10⁻³), the increment that balances truncation
-/// against rounding for a second-order formula. The floor keeps δ from
-/// vanishing at yⱼ = 0; where f is not finite on one side of y (the edge of
-/// its domain, say √y at y = 0) the one-sided difference on the other side
-/// is used instead.
-pub fn finite_difference_jacobian<S: OdeSystem + ?Sized>(
-    sys: &S,
-    t: f64,
-    y: &[f64],
-    jac: &mut DMatrix<f64>,
-) {
-    let n = y.len();
-    if jac.nrows() != n || jac.ncols() != n {
-        *jac = DMatrix::zeros(n, n);
-    }
-    let cbrt_eps = f64::EPSILON.cbrt();
-    let mut yp = y.to_vec();
-    let mut f_plus = vec![0.0; n];
-    let mut f_minus = vec![0.0; n];
-    let mut f_mid: Option<Vec<f64>> = None;
-    for j in 0..n {
-        let yj = y[j];
-        let raw = cbrt_eps * yj.abs().max(1e-3);
-        // Rounding yⱼ ± δ back gives the increments actually applied.
-        yp[j] = yj + raw;
-        let up = yp[j] - yj;
-        sys.rhs(t, &yp, &mut f_plus);
-        yp[j] = yj - raw;
-        let down = yj - yp[j];
-        sys.rhs(t, &yp, &mut f_minus);
-        yp[j] = yj;
-        let plus_ok = f_plus.iter().all(|v| v.is_finite());
-        let minus_ok = f_minus.iter().all(|v| v.is_finite());
-        if plus_ok && minus_ok {
-            for i in 0..n {
-                jac[(i, j)] = (f_plus[i] - f_minus[i]) / (up + down);
-            }
-            continue;
-        }
-        let mid = f_mid.get_or_insert_with(|| {
-            let mut f = vec![0.0; n];
-            sys.rhs(t, y, &mut f);
-            f
-        });
-        for i in 0..n {
-            jac[(i, j)] = if plus_ok {
-                (f_plus[i] - mid[i]) / up
-            } else {
-                (mid[i] - f_minus[i]) / down
-            };
-        }
-    }
-}
+pub(crate) const BLOW_UP_LIMIT: f64 = 1e150;
 
 /// Absolute tolerance: one for all components or one each.
 #[derive(Debug, Clone, PartialEq)]
@@ -154,7 +56,7 @@ pub struct Options {
     pub rtol: f64,
     pub atol: Atol,
     /// Cap on step attempts (accepted and rejected) before
-    /// [`OdeError::StepBudget`].
+    /// [`SolveError::StepBudget`].
     pub max_steps: u64,
     /// First step to try; `None` chooses it by Hairer's heuristic.
     pub h0: Option<f64>,
@@ -191,9 +93,9 @@ impl Options {
 
     /// The absolute tolerance of each of `n` components, after checking
     /// every setting.
-    pub(crate) fn validated_atol(&self, n: usize) -> Result<Vec<f64>, OdeError> {
+    pub(crate) fn validated_atol(&self, n: usize) -> Result<Vec<f64>, SolveError> {
         if !(self.rtol.is_finite() && self.rtol >= 0.0 && self.rtol < 1.0) {
-            return Err(OdeError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "rtol = {} must lie in [0, 1)",
                 self.rtol
             )));
@@ -202,25 +104,25 @@ impl Options {
             Atol::Scalar(a) => vec![*a; n],
             Atol::PerComponent(v) if v.len() == n => v.clone(),
             Atol::PerComponent(v) => {
-                return Err(OdeError::Invalid(format!(
+                return Err(SolveError::Invalid(format!(
                     "atol has {} components for a system of {n}",
                     v.len()
                 )));
             }
         };
         if let Some(a) = atol.iter().find(|a| !(a.is_finite() && **a > 0.0)) {
-            return Err(OdeError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "atol = {a} must be positive and finite"
             )));
         }
         if self.max_steps == 0 {
-            return Err(OdeError::Invalid("max_steps must be at least 1".into()));
+            return Err(SolveError::Invalid("max_steps must be at least 1".into()));
         }
         for (name, v) in [("h0", self.h0), ("max_step", self.max_step)] {
             if let Some(v) = v
                 && !(v.is_finite() && v > 0.0)
             {
-                return Err(OdeError::Invalid(format!(
+                return Err(SolveError::Invalid(format!(
                     "{name} = {v} must be positive and finite"
                 )));
             }
@@ -228,7 +130,7 @@ impl Options {
         if let Some(v) = self.t_stop
             && !v.is_finite()
         {
-            return Err(OdeError::Invalid(format!("t_stop = {v} must be finite")));
+            return Err(SolveError::Invalid(format!("t_stop = {v} must be finite")));
         }
         Ok(atol)
     }
@@ -265,24 +167,6 @@ impl std::ops::Add for Work {
     }
 }
 
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum OdeError {
-    /// A component became non-finite or exceeded [`BLOW_UP_LIMIT`], or the
-    /// step size fell below what t can resolve: the solution (or f) is
-    /// singular near `t`, the last time reached with a valid state.
-    #[error("the solution blows up near t = {t}")]
-    BlowUp { t: f64 },
-    /// The run needed more step attempts than its budget.
-    #[error("{reason}")]
-    StepBudget { t: f64, steps: u64, reason: String },
-    /// The explicit method found the problem stiff at `t` and was told to
-    /// refuse stiff problems.
-    #[error("the problem is stiff from t = {t}; an implicit method (radau) suits it")]
-    Stiff { t: f64 },
-    #[error("{0}")]
-    Invalid(String),
-}
-
 /// A solver advancing one trajectory forward in time.
 pub trait OdeSolver {
     /// Short name of the method now stepping ("dop853", "radau5", "rk4").
@@ -293,14 +177,14 @@ pub trait OdeSolver {
     /// The state at `t`. Requests must not go back before the previous one;
     /// between steps the state comes from the dense output of the step that
     /// covers `t`, so the step sequence does not depend on the requests.
-    fn advance(&mut self, t: f64) -> Result<&[f64], OdeError>;
+    fn advance(&mut self, t: f64) -> Result<&[f64], SolveError>;
 
     /// Takes one accepted step and returns its interval [t_old, t_new] (for
     /// event location: search the interval with [`OdeSolver::dense`]).
-    fn step(&mut self) -> Result<(f64, f64), OdeError>;
+    fn step(&mut self) -> Result<(f64, f64), SolveError>;
 
     /// The state at a time within the last step's interval, into `out`.
-    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), OdeError>;
+    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), SolveError>;
 
     /// Time of the last accepted step (the initial time before any).
     fn t(&self) -> f64;
@@ -327,7 +211,7 @@ pub fn make<S: OdeSystem + 'static>(
     t0: f64,
     y0: &[f64],
     opts: &Options,
-) -> Result<Box<dyn OdeSolver>, OdeError> {
+) -> Result<Box<dyn OdeSolver>, SolveError> {
     Ok(match method {
         Method::Dop853 { stiffness } => {
             Box::new(Dop853::new(sys, t0, y0, opts)?.with_stiffness(stiffness))
@@ -340,22 +224,22 @@ pub fn make<S: OdeSystem + 'static>(
 
 /// Checks what every constructor needs: a finite start in a system of the
 /// right, nonzero size.
-pub(crate) fn check_start<S: OdeSystem>(sys: &S, t0: f64, y0: &[f64]) -> Result<(), OdeError> {
+pub(crate) fn check_start<S: OdeSystem>(sys: &S, t0: f64, y0: &[f64]) -> Result<(), SolveError> {
     let n = sys.dim();
     if n == 0 {
-        return Err(OdeError::Invalid("the system has no components".into()));
+        return Err(SolveError::Invalid("the system has no components".into()));
     }
     if y0.len() != n {
-        return Err(OdeError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "the initial state has {} components for a system of {n}",
             y0.len()
         )));
     }
     if !t0.is_finite() {
-        return Err(OdeError::Invalid(format!("t0 = {t0} must be finite")));
+        return Err(SolveError::Invalid(format!("t0 = {t0} must be finite")));
     }
     if let Some(v) = y0.iter().find(|v| !v.is_finite()) {
-        return Err(OdeError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "the initial state holds {v}, not a finite number"
         )));
     }
@@ -393,10 +277,10 @@ pub(crate) fn initial_step<S: OdeSystem>(
 /// Bookkeeping shared by the solvers: the monotone request time, the output
 /// buffer `advance` lends out, and the error that stopped the run.
 #[derive(Debug, Clone)]
-pub struct Requests {
+pub(crate) struct Requests {
     pub last: f64,
     pub out: Vec<f64>,
-    pub failed: Option<OdeError>,
+    pub failed: Option<SolveError>,
 }
 
 impl Requests {
@@ -409,12 +293,12 @@ impl Requests {
     }
 
     /// Refuses a request before the previous one, or any once the run failed.
-    pub fn admit(&mut self, t: f64, t_stop: Option<f64>) -> Result<(), OdeError> {
+    pub(crate) fn admit(&mut self, t: f64, t_stop: Option<f64>) -> Result<(), SolveError> {
         if let Some(e) = &self.failed {
             return Err(e.clone());
         }
         if !t.is_finite() || t < self.last {
-            return Err(OdeError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "time {t} is before the previous request {} (runs only go forward)",
                 self.last
             )));
@@ -422,7 +306,7 @@ impl Requests {
         if let Some(stop) = t_stop
             && t > stop
         {
-            return Err(OdeError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "time {t} is beyond t_stop = {stop}"
             )));
         }
@@ -431,7 +315,7 @@ impl Requests {
     }
 
     /// Records a failure so every later call reports it too.
-    pub fn fail<T>(&mut self, e: OdeError) -> Result<T, OdeError> {
+    pub fn fail<T>(&mut self, e: SolveError) -> Result<T, SolveError> {
         self.failed = Some(e.clone());
         Err(e)
     }
@@ -439,7 +323,7 @@ impl Requests {
 
 /// The parts of a one-step method that the shared driver needs; every
 /// `Stepper` is an [`OdeSolver`] through the blanket impl below.
-pub trait Stepper {
+pub(crate) trait Stepper {
     /// Short name of the method now stepping.
     fn method_name(&self) -> &'static str;
     fn size(&self) -> usize {
@@ -457,11 +341,11 @@ pub trait Stepper {
     fn current(&self) -> &[f64];
     /// Refuses at once a request the budget clearly cannot reach (fixed-step
     /// methods know their step count in advance).
-    fn check_span(&self, t: f64) -> Result<(), OdeError> {
+    fn check_span(&self, t: f64) -> Result<(), SolveError> {
         let _ = t;
         Ok(())
     }
-    fn raw_step(&mut self) -> Result<(), OdeError>;
+    fn raw_step(&mut self) -> Result<(), SolveError>;
     /// Dense output at t in the window (no checks).
     fn interpolate(&mut self, t: f64, out: &mut [f64]);
 }
@@ -473,13 +357,13 @@ impl<M: Stepper> OdeSolver for M {
     fn dim(&self) -> usize {
         Stepper::size(self)
     }
-    fn advance(&mut self, t: f64) -> Result<&[f64], OdeError> {
+    fn advance(&mut self, t: f64) -> Result<&[f64], SolveError> {
         drive_advance(self, t)
     }
-    fn step(&mut self) -> Result<(f64, f64), OdeError> {
+    fn step(&mut self) -> Result<(f64, f64), SolveError> {
         drive_step(self)
     }
-    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), OdeError> {
+    fn dense(&mut self, t: f64, out: &mut [f64]) -> Result<(), SolveError> {
         drive_dense(self, t, out)
     }
     fn t(&self) -> f64 {
@@ -495,7 +379,7 @@ impl<M: Stepper> OdeSolver for M {
 
 /// `advance` for every method: step until the request is covered, then read
 /// the dense output, so requests never influence the steps.
-pub(crate) fn drive_advance<M: Stepper>(m: &mut M, t: f64) -> Result<&[f64], OdeError> {
+pub(crate) fn drive_advance<M: Stepper>(m: &mut M, t: f64) -> Result<&[f64], SolveError> {
     let t_stop = m.t_stop();
     m.requests().admit(t, t_stop)?;
     if let Err(e) = m.check_span(t) {
@@ -514,7 +398,7 @@ pub(crate) fn drive_advance<M: Stepper>(m: &mut M, t: f64) -> Result<&[f64], Ode
         return Ok(&m.requests().out);
     }
     if t < t_old {
-        return Err(OdeError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "time {t} lies before the last step [{t_old}, {t_new}] (it was stepped past)"
         )));
     }
@@ -522,20 +406,20 @@ pub(crate) fn drive_advance<M: Stepper>(m: &mut M, t: f64) -> Result<&[f64], Ode
     m.interpolate(t, &mut out);
     m.requests().out = out;
     if !is_sane(&m.requests().out) {
-        return m.requests().fail(OdeError::BlowUp { t: t_old });
+        return m.requests().fail(SolveError::BlowUp { t: t_old });
     }
     Ok(&m.requests().out)
 }
 
 /// `step` for every method.
-pub(crate) fn drive_step<M: Stepper>(m: &mut M) -> Result<(f64, f64), OdeError> {
+pub(crate) fn drive_step<M: Stepper>(m: &mut M) -> Result<(f64, f64), SolveError> {
     if let Some(e) = &m.requests().failed {
         return Err(e.clone());
     }
     if let Some(stop) = m.t_stop()
         && m.window().1 >= stop
     {
-        return Err(OdeError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "the run has reached t_stop = {stop}"
         )));
     }
@@ -546,20 +430,24 @@ pub(crate) fn drive_step<M: Stepper>(m: &mut M) -> Result<(f64, f64), OdeError> 
 }
 
 /// `dense` for every method.
-pub(crate) fn drive_dense<M: Stepper>(m: &mut M, t: f64, out: &mut [f64]) -> Result<(), OdeError> {
+pub(crate) fn drive_dense<M: Stepper>(
+    m: &mut M,
+    t: f64,
+    out: &mut [f64],
+) -> Result<(), SolveError> {
     if let Some(e) = &m.requests().failed {
         return Err(e.clone());
     }
     let (t_old, t_new) = m.window();
     if out.len() != m.current().len() {
-        return Err(OdeError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "dense output needs a buffer of {} components, not {}",
             m.current().len(),
             out.len()
         )));
     }
     if !(t >= t_old && t <= t_new) {
-        return Err(OdeError::Invalid(format!(
+        return Err(SolveError::Invalid(format!(
             "time {t} is outside the last step [{t_old}, {t_new}]"
         )));
     }
@@ -569,7 +457,7 @@ pub(crate) fn drive_dense<M: Stepper>(m: &mut M, t: f64, out: &mut [f64]) -> Res
         m.interpolate(t, out);
     }
     if !is_sane(out) {
-        return Err(OdeError::BlowUp { t: t_old });
+        return Err(SolveError::BlowUp { t: t_old });
     }
     Ok(())
 }

@@ -28,9 +28,10 @@
 //! - the step size follows Gustafsson's predictive controller, with
 //!   h_new/h within [1/8, 5].
 
+use crate::error::SolveError;
 use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
-use super::{OdeError, OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
+use super::{OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
 
 /// T and T⁻¹ with T⁻¹ A⁻¹ T = [[γ, 0, 0], [0, α, −β], [0, β, α]] (RADAU5's
 /// published digits; the unit test rebuilds A⁻¹ from them).
@@ -179,12 +180,12 @@ pub struct Radau5<S> {
 }
 
 impl<S: OdeSystem> Radau5<S> {
-    pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Radau5<S>, OdeError> {
+    pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Radau5<S>, SolveError> {
         super::check_start(&sys, t0, y0)?;
         let n = sys.dim();
         let user_atol = opts.validated_atol(n)?;
         if opts.rtol <= 10.0 * f64::EPSILON {
-            return Err(OdeError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "radau5 needs rtol above {:e}, not {}",
                 10.0 * f64::EPSILON,
                 opts.rtol
@@ -251,9 +252,11 @@ impl<S: OdeSystem> Radau5<S> {
     /// Steps of exactly `h`, each with a fresh Jacobian and Newton iterated
     /// to convergence, without error control: the bare collocation method,
     /// for convergence studies.
-    pub fn new_fixed(sys: S, t0: f64, y0: &[f64], h: f64) -> Result<Radau5<S>, OdeError> {
+    pub fn new_fixed(sys: S, t0: f64, y0: &[f64], h: f64) -> Result<Radau5<S>, SolveError> {
         if !(h.is_finite() && h > 0.0) {
-            return Err(OdeError::Invalid(format!("step h = {h} must be positive")));
+            return Err(SolveError::Invalid(format!(
+                "step h = {h} must be positive"
+            )));
         }
         let mut s = Radau5::new(sys, t0, y0, &Options::default())?;
         s.fixed = Some(h);
@@ -272,8 +275,8 @@ impl<S: OdeSystem> Radau5<S> {
         }
     }
 
-    fn budget_error(&self) -> OdeError {
-        OdeError::StepBudget {
+    fn budget_error(&self) -> SolveError {
+        SolveError::StepBudget {
             t: self.t,
             steps: self.max_steps,
             reason: format!(
@@ -283,11 +286,11 @@ impl<S: OdeSystem> Radau5<S> {
         }
     }
 
-    fn compute_jacobian(&mut self) -> Result<(), OdeError> {
+    fn compute_jacobian(&mut self) -> Result<(), SolveError> {
         self.sys.jacobian(self.t, &self.y, &mut self.jac);
         self.work.jac_evals += 1;
         if self.jac.nrows() != self.n || self.jac.ncols() != self.n {
-            return Err(OdeError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "the Jacobian is {}×{} for a system of {}",
                 self.jac.nrows(),
                 self.jac.ncols(),
@@ -295,7 +298,7 @@ impl<S: OdeSystem> Radau5<S> {
             )));
         }
         if !self.jac.iter().all(|v| v.is_finite()) {
-            return Err(OdeError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "the Jacobian of f is not finite at t = {}",
                 self.t
             )));
@@ -349,7 +352,7 @@ impl<S: OdeSystem> Radau5<S> {
     }
 
     /// One accepted step, after as many rejected attempts as it takes.
-    fn try_step(&mut self) -> Result<(), OdeError> {
+    fn try_step(&mut self) -> Result<(), SolveError> {
         if self.h == 0.0 {
             let h_max = self
                 .max_step
@@ -370,7 +373,7 @@ impl<S: OdeSystem> Radau5<S> {
             let h = self.clipped(self.h);
             self.h = h;
             if h.is_nan() || 0.1 * h <= self.t.abs() * f64::EPSILON {
-                return Err(OdeError::BlowUp { t: self.t });
+                return Err(SolveError::BlowUp { t: self.t });
             }
             if self.fixed.is_some() && !self.jac_fresh {
                 self.need_jac = true;
@@ -381,7 +384,7 @@ impl<S: OdeSystem> Radau5<S> {
             if self.h_lu != h && !self.decompose(h) {
                 self.singular += 1;
                 if self.singular >= MAX_SINGULAR {
-                    return Err(OdeError::Invalid(format!(
+                    return Err(SolveError::Invalid(format!(
                         "radau5: the Newton matrix is repeatedly singular near t = {}",
                         self.t
                     )));
@@ -410,9 +413,9 @@ impl<S: OdeSystem> Radau5<S> {
 
     /// Rejects the attempt and scales h, refreshing the Jacobian unless it
     /// is already the current point's.
-    fn reject_with(&mut self, factor: f64) -> Result<(), OdeError> {
+    fn reject_with(&mut self, factor: f64) -> Result<(), SolveError> {
         if self.fixed.is_some() {
-            return Err(OdeError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "radau5: Newton does not converge with the fixed step h = {} at t = {}",
                 self.h, self.t
             )));
@@ -681,11 +684,6 @@ impl<S: OdeSystem> Radau5<S> {
         }
         Ok(())
     }
-
-    /// The size of the next step to try (0 before the first is chosen).
-    pub fn next_step_size(&self) -> f64 {
-        self.h
-    }
 }
 
 impl<S: OdeSystem> Stepper for Radau5<S> {
@@ -707,7 +705,7 @@ impl<S: OdeSystem> Stepper for Radau5<S> {
     fn current(&self) -> &[f64] {
         &self.y
     }
-    fn raw_step(&mut self) -> Result<(), OdeError> {
+    fn raw_step(&mut self) -> Result<(), SolveError> {
         self.try_step()
     }
     fn interpolate(&mut self, t: f64, out: &mut [f64]) {

@@ -4,7 +4,8 @@
 //! between grid points is reached by one partial RK4 step from the grid
 //! point before it, on a copy, so sampling never changes the trajectory.
 
-use super::{OdeError, OdeSystem, Options, Requests, Stepper, Work, is_sane};
+use super::{OdeSystem, Options, Requests, Stepper, Work, is_sane};
+use crate::error::SolveError;
 use crate::solvers::rk4::rk4_step;
 
 pub struct Rk4<S> {
@@ -27,15 +28,15 @@ pub struct Rk4<S> {
 
 impl<S: OdeSystem> Rk4<S> {
     /// Steps of `dt` from (t0, y0); only `opts.max_steps` applies.
-    pub fn new(sys: S, t0: f64, y0: &[f64], dt: f64, opts: &Options) -> Result<Rk4<S>, OdeError> {
+    pub fn new(sys: S, t0: f64, y0: &[f64], dt: f64, opts: &Options) -> Result<Rk4<S>, SolveError> {
         super::check_start(&sys, t0, y0)?;
         if !(dt.is_finite() && dt > 0.0) {
-            return Err(OdeError::Invalid(format!(
+            return Err(SolveError::Invalid(format!(
                 "rk4: dt = {dt} must be positive"
             )));
         }
         if opts.max_steps == 0 {
-            return Err(OdeError::Invalid("max_steps must be at least 1".into()));
+            return Err(SolveError::Invalid("max_steps must be at least 1".into()));
         }
         let n = sys.dim();
         Ok(Rk4 {
@@ -89,11 +90,11 @@ impl<S: OdeSystem> Stepper for Rk4<S> {
     fn current(&self) -> &[f64] {
         &self.y
     }
-    fn check_span(&self, t: f64) -> Result<(), OdeError> {
+    fn check_span(&self, t: f64) -> Result<(), SolveError> {
         let more = ((t - self.t) / self.dt).ceil().max(0.0);
         let total = self.work.steps as f64 + more;
         if total > self.max_steps as f64 {
-            return Err(OdeError::StepBudget {
+            return Err(SolveError::StepBudget {
                 t: self.t,
                 steps: self.max_steps,
                 reason: format!(
@@ -105,7 +106,7 @@ impl<S: OdeSystem> Stepper for Rk4<S> {
         }
         Ok(())
     }
-    fn raw_step(&mut self) -> Result<(), OdeError> {
+    fn raw_step(&mut self) -> Result<(), SolveError> {
         self.check_span(self.t + self.dt)?;
         let t_new = self.grid(self.index + 1);
         let h = t_new - self.t;
@@ -114,7 +115,7 @@ impl<S: OdeSystem> Stepper for Rk4<S> {
         let sane = is_sane(&out);
         self.y_new = out;
         if !sane {
-            return Err(OdeError::BlowUp { t: self.t });
+            return Err(SolveError::BlowUp { t: self.t });
         }
         std::mem::swap(&mut self.y_old, &mut self.y);
         std::mem::swap(&mut self.y, &mut self.y_new);
