@@ -492,3 +492,35 @@ proptest! {
         run(&ops)?;
     }
 }
+
+/// A sequence the property search once found failing (under CI's case
+/// count): an answer, a machine copied from a synced one, a bury, then an
+/// answer on the copy with its clock a minute behind.
+#[test]
+fn a_copied_machine_a_minute_behind_converges() {
+    let ops = [
+        Op::Answer {
+            m: 0,
+            card: 0,
+            back: false,
+            rating: 1,
+        },
+        Op::Sync { m: 3 },
+        Op::Copy { m: 3 },
+        Op::Status {
+            m: 0,
+            card: 0,
+            action: 2,
+        },
+        Op::Skew { m: 3, minutes: -1 },
+        Op::Answer {
+            m: 3,
+            card: 0,
+            back: true,
+            rating: 1,
+        },
+    ];
+    if let Err(e) = run(&ops) {
+        panic!("{e}");
+    }
+}

@@ -123,15 +123,37 @@ impl<'a, Id: Clone + Eq + Hash, T> Seen<'a, Id, T> {
     }
 }
 
+/// Whether two lines with one identity say the same thing. Two copies of
+/// a data folder syncing under one id can make two different events with
+/// one identity (a sibling bury on one and a bury by hand on the other, in
+/// the same millisecond after the same answer): they must not pass for one.
+trait Same {
+    fn same(&self, other: &Self) -> bool;
+}
+
+impl Same for IncomingStatus {
+    fn same(&self, other: &Self) -> bool {
+        self.until == other.until && self.cause == other.cause
+    }
+}
+
+impl Same for IncomingReview {
+    fn same(&self, other: &Self) -> bool {
+        self.cram == other.cram
+    }
+}
+
 /// Where one of this machine's rows came from, when the log does not say:
 /// this machine, unless its own file lacks it and the file of one of its
 /// previous ids (or, for a row written before origins were kept, of any
-/// other machine) holds it.
+/// other machine) holds it, the same (`holds`: whether that machine's
+/// line says what the row says).
 fn origin_of<'a>(
     me: &'a str,
     previous: &[String],
     legacy: bool,
     holders: Option<&Vec<&'a str>>,
+    holds: impl Fn(&str) -> bool,
 ) -> (&'a str, bool) {
     let Some(holders) = holders else {
         return (me, false);
@@ -143,6 +165,7 @@ fn origin_of<'a>(
         .iter()
         .copied()
         .filter(|m| legacy || previous.iter().any(|p| p == m))
+        .filter(|m| holds(m))
         .collect();
     from.sort_unstable();
     match from.first() {
@@ -152,21 +175,22 @@ fn origin_of<'a>(
 }
 
 /// How many lines of `me`'s own files this log never wrote: an answer or a
-/// status event it does not have as its own, or one it has live shown
-/// undone. Zero unless the database was restored from a backup or the data
-/// folder was copied to a machine that writes under the same id.
+/// status event it does not have as its own (or has, under the same
+/// identity, saying something else), or one it has live shown undone. Zero
+/// unless the database was restored from a backup or the data folder was
+/// copied to a machine that writes under the same id.
 pub fn foreign_in_own(me: &str, files: &[FileLines], local: &Local) -> usize {
-    let reviews: HashMap<ReviewId, bool> = local
+    let reviews: HashMap<ReviewId, &IncomingReview> = local
         .reviews
         .iter()
         .filter(|r| r.origin.as_deref().is_none_or(|o| o == me))
-        .map(|r| (r.review.review_id(), r.review.undone))
+        .map(|r| (r.review.review_id(), &r.review))
         .collect();
-    let statuses: HashMap<StatusId, bool> = local
+    let statuses: HashMap<StatusId, &IncomingStatus> = local
         .statuses
         .iter()
         .filter(|s| s.origin.as_deref().is_none_or(|o| o == me))
-        .map(|s| (s.status.status_id(), s.status.undone))
+        .map(|s| (s.status.status_id(), &s.status))
         .collect();
     let mut foreign = 0;
     for file in files.iter().filter(|f| f.machine == me) {
@@ -174,14 +198,14 @@ pub fn foreign_in_own(me: &str, files: &[FileLines], local: &Local) -> usize {
             let never_written = match line {
                 Checked::Review(r) => match reviews.get(&r.review_id()) {
                     None => true,
-                    Some(undone) => r.undone && !undone,
+                    Some(mine) => !r.same(mine) || (r.undone && !mine.undone),
                 },
-                Checked::UndoReview(id) => reviews.get(id).is_none_or(|undone| !undone),
+                Checked::UndoReview(id) => reviews.get(id).is_none_or(|mine| !mine.undone),
                 Checked::Status(s) => match statuses.get(&s.status_id()) {
                     None => true,
-                    Some(undone) => s.undone && !undone,
+                    Some(mine) => !s.same(mine) || (s.undone && !mine.undone),
                 },
-                Checked::UndoStatus(id) => statuses.get(id).is_none_or(|undone| !undone),
+                Checked::UndoStatus(id) => statuses.get(id).is_none_or(|mine| !mine.undone),
             };
             foreign += usize::from(never_written);
         }
@@ -223,7 +247,12 @@ pub fn plan(me: &str, previous: &[String], files: &[FileLines], local: &Local) -
         let origin: String = match &l.origin {
             Some(o) => o.clone(),
             None => {
-                let (o, stamp) = origin_of(me, previous, l.legacy, reviews.holders.get(&id));
+                let holds = |m: &str| {
+                    let line = reviews.get(&id, index.get(m).copied()).and_then(|o| o.line);
+                    line.is_some_and(|line| line.same(&l.review))
+                };
+                let (o, stamp) =
+                    origin_of(me, previous, l.legacy, reviews.holders.get(&id), holds);
                 if stamp {
                     incoming.stamp_reviews.push((id.clone(), o.to_string()));
                 }
@@ -285,7 +314,12 @@ pub fn plan(me: &str, previous: &[String], files: &[FileLines], local: &Local) -
         let origin: String = match &l.origin {
             Some(o) => o.clone(),
             None => {
-                let (o, stamp) = origin_of(me, previous, l.legacy, statuses.holders.get(&id));
+                let holds = |m: &str| {
+                    let line = statuses.get(&id, index.get(m).copied()).and_then(|o| o.line);
+                    line.is_some_and(|line| line.same(&l.status))
+                };
+                let (o, stamp) =
+                    origin_of(me, previous, l.legacy, statuses.holders.get(&id), holds);
                 if stamp {
                     incoming.stamp_statuses.push((id.clone(), o.to_string()));
                 }
