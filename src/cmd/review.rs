@@ -96,12 +96,8 @@ fn auto_sync(data_dir: &std::path::Path, dir: &std::path::Path, config: &Config)
     let done = crate::sched::clock::now()
         .map_err(anyhow::Error::from)
         .and_then(|now| {
-            crate::sync::sync_with(data_dir, dir, config, now, Wait::Up(AUTO_SYNC_WAIT)).map_err(
-                |e| match e {
-                    crate::sync::LockError::Other(e) => e,
-                    busy => anyhow::anyhow!("{busy}"),
-                },
-            )
+            crate::sync::sync_with(data_dir, dir, config, now, Wait::Up(AUTO_SYNC_WAIT))
+                .map_err(anyhow::Error::from)
         });
     match done {
         Ok(outcome) => {

@@ -732,7 +732,11 @@ fn read_collection(
                     // An answer's id is its time in milliseconds.
                     let when = DateTime::<Utc>::from_timestamp_millis(at)
                         .ok_or_else(|| "its time is out of any calendar's range".to_string())
-                        .and_then(|t| check_event_time(t, now).map(|()| t))
+                        .and_then(|t| {
+                            check_event_time(t, now)
+                                .map(|()| t)
+                                .map_err(|e| e.to_string())
+                        })
                         .map_err(|detail| {
                             ReadError::Anki(AnkiError::BadAnswer {
                                 path: path.to_path_buf(),

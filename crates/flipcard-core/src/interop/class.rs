@@ -71,8 +71,8 @@ struct ReviewFields {
 }
 
 impl TryFrom<ReviewFields> for ReviewRow {
-    type Error = String;
-    fn try_from(f: ReviewFields) -> Result<ReviewRow, String> {
+    type Error = RowError;
+    fn try_from(f: ReviewFields) -> Result<ReviewRow, RowError> {
         let key = ItemKey::parse(&f.deck, &f.card, &f.direction)?;
         Ok(ReviewRow {
             item: Item {
@@ -128,17 +128,29 @@ impl AttemptRow {
     }
 
     /// The checks across fields: `retry` agrees with `attempt`.
-    fn check(self) -> Result<AttemptRow, String> {
+    fn check(self) -> Result<AttemptRow, RowError> {
         if let (Some(n), Some(r)) = (self.attempt, self.retry)
             && r != (n > 1)
         {
-            return Err(format!(
-                "attempt {n} {} a retry but `retry` is {r}",
-                if n > 1 { "is" } else { "is not" }
-            ));
+            return Err(RowError::RetryDisagrees {
+                attempt: n,
+                retry: r,
+            });
         }
         Ok(self)
     }
+}
+
+/// Why a record that read well is refused: the checks across its fields.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum RowError {
+    #[error(transparent)]
+    Key(#[from] crate::sched::KeyError),
+    #[error(
+        "attempt {attempt} {} a retry but `retry` is {retry}",
+        if *attempt > 1 { "is" } else { "is not" }
+    )]
+    RetryDisagrees { attempt: u32, retry: bool },
 }
 
 /// What one learner's file holds.
@@ -358,7 +370,7 @@ fn parse_json(text: &str) -> Result<Export, FileError> {
 fn records<T: serde::de::DeserializeOwned, U>(
     text: &str,
     values: &[&serde_json::value::RawValue],
-    check: impl Fn(T) -> Result<U, String>,
+    check: impl Fn(T) -> Result<U, RowError>,
 ) -> Result<Vec<U>, FileError> {
     let mut lines = super::import::Lines::new(text);
     let mut out = Vec::with_capacity(values.len());
@@ -369,7 +381,10 @@ fn records<T: serde::de::DeserializeOwned, U>(
             at.line += line - 1;
             at
         })?;
-        out.push(check(record).map_err(|message| FileError { line, message })?);
+        out.push(check(record).map_err(|e| FileError {
+            line,
+            message: e.to_string(),
+        })?);
     }
     Ok(out)
 }
@@ -407,7 +422,10 @@ fn parse_csv(text: &str) -> Result<Export, FileError> {
         while reader.read_record(&mut record).map_err(csv_error)? {
             let line = record.position().map_or(1, |p| p.line() as usize);
             let fields: ReviewFields = record.deserialize(Some(&headers)).map_err(csv_error)?;
-            rows.push(ReviewRow::try_from(fields).map_err(|message| FileError { line, message })?);
+            rows.push(ReviewRow::try_from(fields).map_err(|e| FileError {
+                line,
+                message: e.to_string(),
+            })?);
         }
         Ok(Export::Reviews(rows))
     } else if starts_with(&ATTEMPT_FIELDS_V1) {
@@ -416,7 +434,10 @@ fn parse_csv(text: &str) -> Result<Export, FileError> {
         while reader.read_record(&mut record).map_err(csv_error)? {
             let line = record.position().map_or(1, |p| p.line() as usize);
             let row: AttemptRow = record.deserialize(Some(&headers)).map_err(csv_error)?;
-            rows.push(row.check().map_err(|message| FileError { line, message })?);
+            rows.push(row.check().map_err(|e| FileError {
+                line,
+                message: e.to_string(),
+            })?);
         }
         Ok(Export::Attempts(rows))
     } else {

@@ -120,19 +120,31 @@ pub struct Written {
 pub const MAX_NAMED: usize = 20;
 
 impl Written {
-    fn leave_out(&mut self, why: String) {
+    fn leave_out(&mut self, why: Unwritable) {
         self.left_out += 1;
         if self.named.len() < MAX_NAMED {
-            self.named.push(why);
+            self.named.push(why.to_string());
         }
     }
 }
 
 /// Why a row cannot be written: its first time outside RFC 3339's years.
-fn unwritable(row: &str, times: &[(&str, DateTime<Utc>)]) -> Option<String> {
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{row}: its {field} is in the year {year}, which RFC 3339 cannot write")]
+pub struct Unwritable {
+    /// The row in words (`review 12`, `attempt 3 (deck/prompt)`).
+    pub row: String,
+    pub field: &'static str,
+    pub year: i32,
+}
+
+/// The first time of `times` that RFC 3339 cannot write.
+fn unwritable(row: &str, times: &[(&'static str, DateTime<Utc>)]) -> Option<Unwritable> {
     times.iter().find_map(|(field, t)| {
-        rfc3339_checked(*t).err().map(|year| {
-            format!("{row}: its {field} is in the year {year}, which RFC 3339 cannot write")
+        rfc3339_checked(*t).err().map(|year| Unwritable {
+            row: row.to_string(),
+            field,
+            year,
         })
     })
 }
@@ -161,7 +173,7 @@ impl From<LoggedReview> for ExportedReview {
 
 impl ExportedReview {
     /// The record, or why it cannot be written.
-    pub fn checked(l: LoggedReview) -> Result<ExportedReview, String> {
+    pub fn checked(l: LoggedReview) -> Result<ExportedReview, Unwritable> {
         let r = &l.record;
         match unwritable(
             &format!("review {}", l.id),
@@ -175,7 +187,9 @@ impl ExportedReview {
 
 /// Each record of a store's table, or why it cannot be written, handed to
 /// a writer (the row counted as left out when it cannot).
-type Records<'a, R> = dyn FnOnce(&mut dyn FnMut(Result<R, String>) -> Result<(), ExportError>) -> Result<(), ExportError>
+type Records<'a, R> = dyn FnOnce(
+        &mut dyn FnMut(Result<R, Unwritable>) -> Result<(), ExportError>,
+    ) -> Result<(), ExportError>
     + 'a;
 
 /// Writes records as a JSON array, one a line, streaming.
@@ -302,7 +316,7 @@ impl From<crate::store::StoredAttempt> for ExportedAttempt {
 
 /// The attempt, or why it cannot be written; `n` counts attempts from 1 in
 /// the order they are stored.
-fn checked_attempt(a: crate::store::StoredAttempt, n: u64) -> Result<ExportedAttempt, String> {
+fn checked_attempt(a: crate::store::StoredAttempt, n: u64) -> Result<ExportedAttempt, Unwritable> {
     let row = format!("attempt {n} ({}/{})", a.deck, a.prompt);
     match unwritable(&row, &[("attempted_at", a.attempted_at)]) {
         Some(why) => Err(why),

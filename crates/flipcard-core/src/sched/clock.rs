@@ -70,19 +70,31 @@ pub const FUTURE_SKEW: chrono::TimeDelta = chrono::TimeDelta::days(1);
 /// write (a sync line, a learner's export, an Anki revlog): from 1970 up to
 /// [`FUTURE_SKEW`] after `now`, and never past [`latest`], so every time the
 /// app stores can be written back as RFC 3339.
-pub fn check_event_time(t: DateTime<Utc>, now: DateTime<Utc>) -> Result<(), String> {
+pub fn check_event_time(t: DateTime<Utc>, now: DateTime<Utc>) -> Result<(), EventTimeError> {
     if t < earliest() {
-        return Err(format!("{} is before 1970", rfc3339(t)));
+        return Err(EventTimeError::Before1970 { t });
     }
     let bound = (now + FUTURE_SKEW).min(latest());
     if t > bound {
-        return Err(format!(
-            "{} is in the future (this machine's clock says {})",
-            rfc3339_or_year(t),
-            rfc3339(now)
-        ));
+        return Err(EventTimeError::InTheFuture { t, now });
     }
     Ok(())
+}
+
+/// Why [`check_event_time`] refused a time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum EventTimeError {
+    #[error("{} is before 1970", rfc3339(*t))]
+    Before1970 { t: DateTime<Utc> },
+    #[error(
+        "{} is in the future (this machine's clock says {})",
+        rfc3339_or_year(*t),
+        rfc3339(*now)
+    )]
+    InTheFuture {
+        t: DateTime<Utc>,
+        now: DateTime<Utc>,
+    },
 }
 
 /// A time for a message: RFC 3339 when it has one (years 0–9999), else
@@ -126,14 +138,18 @@ mod tests {
         assert!(check_event_time(now, now).is_ok());
         assert!(check_event_time(earliest(), now).is_ok());
         assert!(check_event_time(now + TimeDelta::hours(23), now).is_ok());
-        let err = check_event_time(now + TimeDelta::hours(25), now).unwrap_err();
+        let err = check_event_time(now + TimeDelta::hours(25), now)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("in the future"), "{err}");
-        let err = check_event_time(earliest() - TimeDelta::milliseconds(1), now).unwrap_err();
+        let err = check_event_time(earliest() - TimeDelta::milliseconds(1), now)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("before 1970"), "{err}");
         let far = DateTime::parse_from_rfc3339("9999-12-31T23:59:59.999-23:59")
             .unwrap()
             .with_timezone(&Utc);
-        let err = check_event_time(far, latest()).unwrap_err();
+        let err = check_event_time(far, latest()).unwrap_err().to_string();
         assert!(err.contains("year 10000"), "{err}");
     }
 
