@@ -16,7 +16,7 @@ use crate::sync::{SyncError, Wait};
 const WAIT_FOR_OTHER_SYNC: Duration = Duration::from_secs(120);
 
 pub fn run(cli: &Cli, args: &SyncArgs) -> anyhow::Result<ExitCode> {
-    let now = crate::sched::clock::now()?;
+    let now = crate::cmd::clock::now()?;
     let config = Config::load(paths::config_file(cli.config.clone()).as_deref())?;
     let Some(dir) = args.dir.clone().or_else(|| config.sync_dir.clone()) else {
         bail!(

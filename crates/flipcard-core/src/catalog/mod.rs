@@ -428,7 +428,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let store = Store::open(dir.path()).unwrap();
         let sched = Scheduler::new(&crate::sched::Config::default());
-        let now = crate::sched::clock::now().unwrap();
+        let now = chrono::Utc::now();
         let rows = rows(decks, &store, &sched, now).unwrap();
         assert_eq!(rows.len(), 6, "3 cloze numbers, 2 directions, 1 basic");
         let mut search = Search::new(decks, &rows);

@@ -1,9 +1,12 @@
-//! The one clock of the app. `FLIPCARD_NOW` (RFC 3339) replaces the system
-//! clock everywhere, for tests, demos and exam planning.
+//! The one clock of the app, as a value: the system clock, or a time fixed
+//! by `FLIPCARD_NOW` (RFC 3339) for tests, demos and exam planning. The app
+//! reads the environment once and hands the library a [`Clock`] or a time;
+//! no library code reads the environment.
 
 use chrono::{DateTime, NaiveDate, Utc};
 
-/// The environment variable that fixes the clock.
+/// The environment variable that fixes the app's clock (named in
+/// [`ClockError`]'s messages; the app reads it).
 pub const NOW_VAR: &str = "FLIPCARD_NOW";
 
 /// The longest interval the scheduler gives, in days (py-fsrs's
@@ -26,15 +29,21 @@ pub fn latest() -> DateTime<Utc> {
         .map_or(DateTime::<Utc>::MIN_UTC, |t| t.and_utc())
 }
 
-/// The current time, or the time fixed by `FLIPCARD_NOW`.
-///
-/// An unparsable `FLIPCARD_NOW` is an error rather than a silent fallback to
-/// the system clock: a demo or test that meant to fix the time must not run
-/// on the real one.
-pub fn now() -> Result<DateTime<Utc>, ClockError> {
-    match std::env::var(NOW_VAR) {
-        Ok(text) => parse(&text),
-        Err(_) => Ok(Utc::now()),
+/// Where "now" comes from: the system clock, or a fixed time
+/// (`FLIPCARD_NOW`, tests).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Clock {
+    #[default]
+    System,
+    Fixed(DateTime<Utc>),
+}
+
+impl Clock {
+    pub fn now(&self) -> DateTime<Utc> {
+        match self {
+            Clock::System => Utc::now(),
+            Clock::Fixed(t) => *t,
+        }
     }
 }
 

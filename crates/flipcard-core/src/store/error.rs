@@ -3,8 +3,6 @@
 
 use std::path::PathBuf;
 
-use crate::sched::clock::ClockError;
-
 #[derive(Debug, thiserror::Error)]
 pub enum StoreError {
     #[error("cannot use data dir {path}: {source}; pass --data-dir or set FLIPCARD_DATA_DIR")]
@@ -75,9 +73,6 @@ pub enum StoreError {
         path: PathBuf,
         error: rusqlite::Error,
     },
-
-    #[error(transparent)]
-    Clock(#[from] ClockError),
 }
 
 fn corrupt_message(path: &std::path::Path, detail: &str, backup: Option<&PathBuf>) -> String {

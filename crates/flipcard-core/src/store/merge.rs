@@ -25,7 +25,7 @@ use super::db::Store;
 use super::error::StoreError;
 use super::log::insert_row;
 use super::log::{COLUMNS, LoggedReview, read_logged};
-use super::write::{Failed, session_in};
+use super::write::{Failed, Write, session_in};
 use super::{state, tally};
 use crate::sched::{CardState, ItemKey, Rating, ReviewKind, Scheduler};
 
@@ -185,7 +185,7 @@ pub(super) type UndoneBy = (i64, Rating, String);
 /// row of the same time and rating is it.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn merge_one(
-    tx: &Transaction<'_>,
+    tx: &Write<'_>,
     session: &mut Option<i64>,
     key: &ItemKey,
     incoming: &[(&IncomingReview, Option<&str>)],

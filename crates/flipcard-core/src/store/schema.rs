@@ -6,6 +6,8 @@ use std::path::{Path, PathBuf};
 
 use rusqlite::Connection;
 
+use crate::sched::clock::Clock;
+
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
@@ -472,7 +474,7 @@ pub fn migrate(
     for (i, sql) in migrations.iter().enumerate() {
         // The version is read again inside the write transaction: another
         // instance opening at the same moment may have migrated meanwhile.
-        super::write::immediate(conn, path, None, |tx| {
+        super::write::immediate(conn, path, None, Clock::System, |tx| {
             if user_version(tx)? > i as i64 {
                 return Ok(());
             }

@@ -6,7 +6,7 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 use chrono::{DateTime, Utc};
-use rusqlite::{Transaction, params};
+use rusqlite::params;
 
 use super::codec::{Ms, to_ms};
 use super::db::Store;
@@ -14,7 +14,7 @@ use super::error::StoreError;
 use super::merge::{IncomingReview, merge_one};
 use super::status_log::{self, StatusAction};
 use super::tally;
-use super::write::session_in;
+use super::write::{Write, session_in};
 use crate::sched::{ItemKey, Rating, Scheduler};
 
 /// A review's identity across machines: item, time (ms), rating.
@@ -317,7 +317,7 @@ impl Store {
 /// Appends one incoming status event unless one with its identity is in
 /// the log; returns (events appended, whether it was appended undone).
 fn merge_status(
-    tx: &Transaction<'_>,
+    tx: &Write<'_>,
     session: &mut Option<i64>,
     s: &IncomingStatus,
     origin: &str,
@@ -383,7 +383,7 @@ fn merge_status(
 /// the suspend it brought, and the right one appended. Returns how many
 /// items changed.
 fn derive_leeches(
-    tx: &Transaction<'_>,
+    tx: &Write<'_>,
     session: &mut Option<i64>,
     rule: LeechRule,
 ) -> rusqlite::Result<usize> {

@@ -9,6 +9,7 @@ use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::time::Duration;
 
 use crate::sched::Config;
+use crate::sched::clock::Clock;
 
 use super::{Outcome, SyncError, Wait};
 
@@ -21,16 +22,19 @@ const WAIT: Duration = Duration::from_secs(30);
 pub struct Background {
     data: PathBuf,
     dir: PathBuf,
+    /// The time each sync runs at.
+    clock: Clock,
     running: Option<Receiver<Result<Outcome, SyncError>>>,
     /// The config of a sync asked for while one ran.
     again: Option<Config>,
 }
 
 impl Background {
-    pub fn new(data: PathBuf, dir: PathBuf) -> Background {
+    pub fn new(data: PathBuf, dir: PathBuf, clock: Clock) -> Background {
         Background {
             data,
             dir,
+            clock,
             running: None,
             again: None,
         }
@@ -48,12 +52,11 @@ impl Background {
         }
         let (tx, rx) = mpsc::channel();
         let (data, dir, config) = (self.data.clone(), self.dir.clone(), config.clone());
+        let now = self.clock.now();
         let spawned = std::thread::Builder::new()
             .name("sync".into())
             .spawn(move || {
-                let done = crate::sched::clock::now()
-                    .map_err(SyncError::from)
-                    .and_then(|now| super::sync_with(&data, &dir, &config, now, Wait::Up(WAIT)));
+                let done = super::sync_with(&data, &dir, &config, now, Wait::Up(WAIT));
                 let _ = tx.send(done);
             });
         match spawned {

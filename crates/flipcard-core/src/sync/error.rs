@@ -6,7 +6,6 @@
 
 use std::path::PathBuf;
 
-use crate::sched::clock::ClockError;
 use crate::store::StoreError;
 
 /// Why a sync (or the machine id it needs) failed.
@@ -60,8 +59,6 @@ pub enum SyncError {
     NoFolder(PathBuf),
     #[error(transparent)]
     Store(#[from] StoreError),
-    #[error(transparent)]
-    Clock(#[from] ClockError),
     /// The thread of a background sync could not be started.
     #[error("cannot start a sync: {0}")]
     Spawn(std::io::Error),

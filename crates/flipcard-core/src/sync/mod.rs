@@ -32,6 +32,7 @@ use std::path::{Path, PathBuf};
 use chrono::{DateTime, Utc};
 
 use self::line::SyncLine;
+use crate::sched::clock::Clock;
 use crate::sched::config::LeechAction;
 use crate::sched::{Config, Scheduler};
 use crate::store::sync_merge::LeechRule;
@@ -146,6 +147,7 @@ pub fn sync_with(
     let lock = machine::Lock::take(data, wait)?;
     let options = OpenOptions {
         daily_backup: false,
+        clock: Clock::Fixed(now),
         ..OpenOptions::default()
     };
     let mut store = Store::open_with(data, &options)?;
