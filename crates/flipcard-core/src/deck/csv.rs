@@ -22,7 +22,7 @@ use crate::deck::Deck;
 use crate::deck::validate::is_id;
 
 /// The CSV header of an exported deck.
-pub const DECK_COLUMNS: [&str; 3] = ["front", "back", "tags"];
+pub(crate) const DECK_COLUMNS: [&str; 3] = ["front", "back", "tags"];
 
 /// Writes a deck's cards as CSV. Returns the number of cards written.
 pub fn write_deck_csv(deck: &Deck, out: &mut dyn Write) -> Result<usize, csv::Error> {
@@ -259,7 +259,7 @@ fn describe(cols: Columns) -> String {
 /// The longest text of a card field, in bytes: a card is read on one
 /// screen, and every step after the import (the check, the search index,
 /// the app) handles each text whole.
-pub const MAX_FIELD_BYTES: usize = 4 << 20;
+pub(crate) const MAX_FIELD_BYTES: usize = 4 << 20;
 
 /// Why a row of the CSV gives no card.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -373,7 +373,7 @@ fn unique(base: String, taken: &mut HashSet<String>, next: &mut HashMap<String, 
 /// A TOML string that reads back as exactly `s`: a literal string when
 /// possible (backslashes stay as typed), a plain basic string for a text
 /// with an apostrophe and nothing to escape, else a basic string with escapes.
-pub fn toml_string(s: &str) -> String {
+pub(crate) fn toml_string(s: &str) -> String {
     let plain = |c: char| !c.is_control();
     let multiline = s.contains('\n');
     if !s.contains('\'') && s.chars().all(plain) {

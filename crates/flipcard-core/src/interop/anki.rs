@@ -37,7 +37,7 @@ use crate::sched::{Direction, ItemKey, Rating};
 use crate::store::merge::IncomingReview;
 
 /// The largest collection unpacked (compressed size does not matter).
-pub const MAX_COLLECTION_BYTES: u64 = 512 << 20;
+pub(crate) const MAX_COLLECTION_BYTES: u64 = 512 << 20;
 
 #[derive(Debug, thiserror::Error)]
 pub enum AnkiError {
@@ -783,7 +783,7 @@ fn plain(s: &str) -> String {
 /// and `$$…$$`, other dollars escaped. Images and sounds are dropped; the
 /// count of them is returned beside the text. Math that flipcard cannot
 /// render is kept as plain text.
-pub fn html_to_text(html: &str) -> (String, usize) {
+pub(crate) fn html_to_text(html: &str) -> (String, usize) {
     let mut media = html.matches("[sound:").count();
     let mut text = String::new();
     let mut rest = html;

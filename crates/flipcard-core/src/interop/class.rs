@@ -17,7 +17,6 @@
 //! quoted in an error is cut short and escaped.
 
 use std::collections::{BTreeMap, HashMap};
-use std::path::Path;
 
 use chrono::{DateTime, Utc};
 use serde::Deserialize;
@@ -29,7 +28,7 @@ use crate::sched::ItemKey;
 use crate::sched::clock;
 
 /// The longest prediction read: a choice id or a number typed.
-pub const MAX_PREDICTION_BYTES: usize = 200;
+pub(crate) const MAX_PREDICTION_BYTES: usize = 200;
 
 /// A review's item: ids of the deck format's shape, checked together with
 /// [`ItemKey::parse`].
@@ -118,12 +117,12 @@ pub struct AttemptRow {
 
 /// The largest attempt number read: no learner retries one prompt a
 /// million times.
-pub const MAX_ATTEMPT: u32 = 1_000_000;
+pub(crate) const MAX_ATTEMPT: u32 = 1_000_000;
 
 impl AttemptRow {
     /// Whether this is a retry, by the file's own word (`retry`, else
     /// `attempt`); `None` when the file does not say.
-    pub fn says_retry(&self) -> Option<bool> {
+    pub(crate) fn says_retry(&self) -> Option<bool> {
         self.retry.or(self.attempt.map(|n| n > 1))
     }
 
@@ -552,9 +551,9 @@ pub struct ClassReport {
 }
 
 /// The tag of cards whose deck is not among those loaded.
-pub const NO_DECK: &str = "(deck not loaded)";
+pub(crate) const NO_DECK: &str = "(deck not loaded)";
 /// The tag of cards without tags.
-pub const NO_TAG: &str = "(no tag)";
+pub(crate) const NO_TAG: &str = "(no tag)";
 
 /// Per card across the class: learners, lapsed, difficulty sum, learners
 /// with a difficulty.
@@ -847,7 +846,7 @@ fn prompt_row(
 
 /// The width of a bin of numbers when the deck (and its tolerance) is not
 /// loaded: 5 % of the value.
-pub const DEFAULT_BIN: f64 = 0.05;
+pub(crate) const DEFAULT_BIN: f64 = 0.05;
 
 /// Wrong numbers typed, grouped: the value typed by most learners (the
 /// smaller on a tie) centres a bin holding every value within the
@@ -934,14 +933,6 @@ fn card_tags(decks: &HashMap<&str, &Deck>, deck: &str, card: &str) -> Vec<String
         Some(c) if !c.tags.is_empty() => c.tags.clone(),
         _ => vec![NO_TAG.to_string()],
     }
-}
-
-/// A learner's name: the file name, nothing from inside the file.
-pub fn learner_name(path: &Path) -> String {
-    path.file_name().map_or_else(
-        || path.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    )
 }
 
 #[cfg(test)]

@@ -48,22 +48,6 @@ pub enum ExportError {
     Json(#[from] serde_json::Error),
 }
 
-impl ExportError {
-    /// The reader went away (`flipcard export … | head`): not a failure.
-    pub fn is_broken_pipe(&self) -> bool {
-        let kind = match self {
-            ExportError::Io(e) => Some(e.kind()),
-            ExportError::Csv(e) => match e.kind() {
-                csv::ErrorKind::Io(e) => Some(e.kind()),
-                _ => None,
-            },
-            ExportError::Json(e) => e.io_error_kind(),
-            ExportError::Store(_) => None,
-        };
-        kind == Some(std::io::ErrorKind::BrokenPipe)
-    }
-}
-
 /// One exported record. Times are RFC 3339 in UTC with milliseconds.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ExportedReview {
@@ -102,7 +86,7 @@ pub fn rfc3339_with(t: DateTime<Utc>, precision: SecondsFormat) -> Result<String
 }
 
 /// [`rfc3339`], or the year when RFC 3339 cannot write it.
-pub fn rfc3339_checked(t: DateTime<Utc>) -> Result<String, i32> {
+pub(crate) fn rfc3339_checked(t: DateTime<Utc>) -> Result<String, i32> {
     rfc3339_with(t, SecondsFormat::Millis)
 }
 
@@ -259,7 +243,7 @@ pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<Written, 
 /// header): a contract like [`REVIEW_FIELDS`]. The first six are those of
 /// every version; `attempt` and `retry` came with attempts kept at
 /// commitment (schema version 4).
-pub const ATTEMPT_FIELDS: [&str; 8] = [
+pub(crate) const ATTEMPT_FIELDS: [&str; 8] = [
     "deck",
     "prompt",
     "attempted_at",
@@ -272,7 +256,7 @@ pub const ATTEMPT_FIELDS: [&str; 8] = [
 
 /// The fields every attempts export has had, first in every version's
 /// header.
-pub const ATTEMPT_FIELDS_V1: [&str; 6] = [
+pub(crate) const ATTEMPT_FIELDS_V1: [&str; 6] = [
     "deck",
     "prompt",
     "attempted_at",
@@ -283,7 +267,7 @@ pub const ATTEMPT_FIELDS_V1: [&str; 6] = [
 
 /// One exported prompt attempt.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ExportedAttempt {
+pub(crate) struct ExportedAttempt {
     pub deck: String,
     pub prompt: String,
     /// When the learner committed to the prediction.

@@ -15,7 +15,7 @@ pub const NOW_VAR: &str = "FLIPCARD_NOW";
 pub const MAXIMUM_INTERVAL: i64 = 36_500;
 
 /// The earliest clock accepted: nothing the app stores predates it.
-pub fn earliest() -> DateTime<Utc> {
+pub(crate) fn earliest() -> DateTime<Utc> {
     DateTime::UNIX_EPOCH
 }
 
@@ -66,20 +66,20 @@ pub fn parse(text: &str) -> Result<DateTime<Utc>, ClockError> {
 /// `t` to the millisecond, the precision the log and sync files keep:
 /// every choice that shapes a state (the interval fuzz) is made from the
 /// time as it is stored, so replaying a synced answer gives the same state.
-pub fn to_millisecond(t: DateTime<Utc>) -> DateTime<Utc> {
+pub(crate) fn to_millisecond(t: DateTime<Utc>) -> DateTime<Utc> {
     DateTime::from_timestamp_millis(t.timestamp_millis()).unwrap_or(t)
 }
 
 /// How far ahead of this machine's clock a time from elsewhere may be: two
 /// machines' clocks rarely agree to the second, and a hardware clock kept
 /// in local time is off by up to fourteen hours.
-pub const FUTURE_SKEW: chrono::TimeDelta = chrono::TimeDelta::days(1);
+pub(crate) const FUTURE_SKEW: chrono::TimeDelta = chrono::TimeDelta::days(1);
 
 /// Checks the time of an answer or event read from a file flipcard did not
 /// write (a sync line, a learner's export, an Anki revlog): from 1970 up to
 /// [`FUTURE_SKEW`] after `now`, and never past [`latest`], so every time the
 /// app stores can be written back as RFC 3339.
-pub fn check_event_time(t: DateTime<Utc>, now: DateTime<Utc>) -> Result<(), EventTimeError> {
+pub(crate) fn check_event_time(t: DateTime<Utc>, now: DateTime<Utc>) -> Result<(), EventTimeError> {
     if t < earliest() {
         return Err(EventTimeError::Before1970 { t });
     }

@@ -14,10 +14,10 @@ use serde::Deserialize;
 use toml::Spanned;
 
 /// The languages the app speaks (decks may declare these).
-pub const LANGUAGES: [&str; 2] = ["en", "hi-Latn"];
+pub(crate) const LANGUAGES: [&str; 2] = ["en", "hi-Latn"];
 
 /// Allowed range of `desired_retention`.
-pub const RETENTION_RANGE: (f64, f64) = (0.70, 0.97);
+pub(crate) const RETENTION_RANGE: (f64, f64) = (0.70, 0.97);
 
 /// The longest learning or relearning step accepted.
 const MAX_STEP: TimeDelta = TimeDelta::days(365);
@@ -393,7 +393,7 @@ impl Config {
     }
 
     /// The value of `key` as it is written in a config file.
-    pub fn value_of(&self, key: &str) -> Result<toml::Value, ConfigError> {
+    pub(crate) fn value_of(&self, key: &str) -> Result<toml::Value, ConfigError> {
         let steps = |s: &[TimeDelta]| {
             toml::Value::Array(
                 s.iter()
@@ -427,7 +427,7 @@ impl Config {
     }
 
     /// The value of one of [`FITTED_KEYS`], `None` while unset.
-    pub fn fitted_value_of(&self, key: &str) -> Option<toml::Value> {
+    pub(crate) fn fitted_value_of(&self, key: &str) -> Option<toml::Value> {
         match key {
             "fsrs_parameters" => self
                 .fsrs_parameters
@@ -490,7 +490,7 @@ impl Config {
 
 /// A learning step as written in the config: a whole number and a unit,
 /// `30s`, `1m`, `10m`, `1h`, `1d`.
-pub fn parse_step(text: &str) -> Result<TimeDelta, StepError> {
+pub(crate) fn parse_step(text: &str) -> Result<TimeDelta, StepError> {
     let t = text.trim();
     let split = t.find(|c: char| !c.is_ascii_digit()).unwrap_or(t.len());
     let (number, unit) = t.split_at(split);
@@ -513,7 +513,7 @@ pub fn parse_step(text: &str) -> Result<TimeDelta, StepError> {
 
 /// Why [`parse_step`] refused a step; each holds the text as written.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub enum StepError {
+pub(crate) enum StepError {
     #[error("{0:?} is not a duration; {STEP_HINT}")]
     NotADuration(String),
     #[error("{0:?} has no known unit; {STEP_HINT}")]
@@ -527,7 +527,7 @@ pub enum StepError {
 const STEP_HINT: &str = "write a whole number and a unit: 30s, 1m, 10m, 1h, 1d";
 
 /// The inverse of [`parse_step`]: the largest unit that divides the step.
-pub fn format_step(d: TimeDelta) -> String {
+pub(crate) fn format_step(d: TimeDelta) -> String {
     let s = d.num_seconds();
     for (unit, size) in [("d", 86_400), ("h", 3_600), ("m", 60)] {
         if s != 0 && s % size == 0 {

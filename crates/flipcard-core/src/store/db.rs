@@ -12,10 +12,10 @@ use super::schema;
 use crate::sched::clock::Clock;
 
 /// The database file inside the data dir.
-pub const FILE_NAME: &str = "flipcard.db";
+pub(crate) const FILE_NAME: &str = "flipcard.db";
 
 /// How long a write waits for another running flipcard before giving up.
-pub const DEFAULT_BUSY_TIMEOUT: Duration = Duration::from_secs(5);
+pub(crate) const DEFAULT_BUSY_TIMEOUT: Duration = Duration::from_secs(5);
 
 #[derive(Debug, Clone)]
 pub struct OpenOptions {
@@ -46,8 +46,6 @@ pub struct Store {
     pub(super) session: Option<i64>,
     /// The time a session starts at.
     pub(super) clock: Clock,
-    /// Opened with [`Store::open_read_only`]: every write fails.
-    read_only: bool,
     warnings: Vec<String>,
 }
 
@@ -123,7 +121,6 @@ impl Store {
             data_dir: data_dir.to_path_buf(),
             session: None,
             clock: options.clock,
-            read_only: false,
             warnings,
         };
         if backup_due
@@ -177,7 +174,6 @@ impl Store {
             data_dir: data_dir.to_path_buf(),
             session: None,
             clock: Clock::System,
-            read_only: true,
             warnings: Vec::new(),
         })
     }
@@ -189,11 +185,6 @@ impl Store {
 
     pub fn data_dir(&self) -> &Path {
         &self.data_dir
-    }
-
-    /// Whether this store was opened with [`Store::open_read_only`].
-    pub fn is_read_only(&self) -> bool {
-        self.read_only
     }
 
     /// Problems met while opening that did not stop it (e.g. a daily backup

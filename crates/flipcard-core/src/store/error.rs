@@ -131,7 +131,7 @@ fn disk_nearly_full(path: &std::path::Path) -> bool {
 }
 
 /// An I/O error's cause in words, without Rust's `(os error N)` suffix.
-pub fn io_cause(e: &std::io::Error) -> String {
+pub(crate) fn io_cause(e: &std::io::Error) -> String {
     let text = e.to_string();
     match text.find(" (os error") {
         Some(at) => text[..at].to_string(),

@@ -18,10 +18,10 @@ use super::write::{Write, session_in};
 use crate::sched::{ItemKey, Rating, Scheduler};
 
 /// A review's identity across machines: item, time (ms), rating.
-pub type ReviewId = (ItemKey, i64, Rating);
+pub(crate) type ReviewId = (ItemKey, i64, Rating);
 
 /// A status event's identity across machines: item, time (ms), action.
-pub type StatusId = (ItemKey, i64, StatusAction);
+pub(crate) type StatusId = (ItemKey, i64, StatusAction);
 
 /// One status event to merge.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,7 +50,7 @@ impl IncomingReview {
 }
 
 impl IncomingStatus {
-    pub fn status_id(&self) -> StatusId {
+    pub(crate) fn status_id(&self) -> StatusId {
         (self.key.clone(), to_ms(self.at), self.action)
     }
 }
@@ -83,7 +83,7 @@ pub struct SyncIncoming {
 
 /// How this machine marks leeches (from its config).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct LeechRule {
+pub(crate) struct LeechRule {
     /// Lapses at which an item becomes a leech (0: never, and leech events
     /// are left as they are).
     pub threshold: u32,
@@ -93,7 +93,7 @@ pub struct LeechRule {
 
 /// What a sync merge did.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct SyncMerged {
+pub(crate) struct SyncMerged {
     pub reviews: usize,
     pub statuses: usize,
     /// Answers and status events taken back because another machine
@@ -112,7 +112,7 @@ impl Store {
     /// cause found by identity), undone ones taken back; then each item's
     /// leech event is put where its live lapses first reach
     /// `leech.threshold`.
-    pub fn merge_sync(
+    pub(crate) fn merge_sync(
         &mut self,
         incoming: &SyncIncoming,
         scheduler: &Scheduler,
@@ -247,7 +247,7 @@ impl Store {
     /// The status events that travel (every one but leech events and the
     /// suspend of a new leech, which each machine derives), once each: live
     /// when any row with its identity is; with the machine each came from.
-    pub fn travelling_statuses(&self) -> Result<Vec<LocalStatus>, StoreError> {
+    pub(crate) fn travelling_statuses(&self) -> Result<Vec<LocalStatus>, StoreError> {
         let mut st = self
             .conn
             .prepare(

@@ -134,7 +134,7 @@ pub enum Checked {
 
 /// The longest line read from a sync file: a line of this format is a few
 /// hundred bytes, and a longer one is not parsed at all.
-pub const MAX_LINE_BYTES: usize = 16 * 1024;
+pub(crate) const MAX_LINE_BYTES: usize = 16 * 1024;
 
 fn time(s: &str, now: DateTime<Utc>) -> Result<DateTime<Utc>, LineError> {
     let t = DateTime::parse_from_rfc3339(s)
@@ -377,7 +377,7 @@ pub struct Skipped {
 /// clock `now`. A last line without its newline is a write still under
 /// way; a line that does not parse was garbled, or forged. Both are left
 /// out and reported.
-pub fn read_lines(text: &str, now: DateTime<Utc>) -> (Vec<Checked>, Vec<Skipped>) {
+pub(crate) fn read_lines(text: &str, now: DateTime<Utc>) -> (Vec<Checked>, Vec<Skipped>) {
     let mut lines_out = Vec::new();
     let mut skipped = Vec::new();
     let complete = text.ends_with('\n');
@@ -487,7 +487,7 @@ pub fn line(event: &SyncEvent) -> String {
 }
 
 /// One line of any kind, with its newline.
-pub fn sync_line(l: &SyncLine) -> String {
+pub(crate) fn sync_line(l: &SyncLine) -> String {
     let mut s = l.json().unwrap_or_default();
     s.push('\n');
     s

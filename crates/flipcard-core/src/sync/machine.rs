@@ -8,18 +8,17 @@
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 use flipcard_io::{self as disk, Durability, open_regular};
 
 use super::error::SyncError;
 
 /// The file that holds the id, in the data dir.
-pub const ID_FILE: &str = "machine-id";
+pub(crate) const ID_FILE: &str = "machine-id";
 
 /// Whether `s` is spelled like a machine id (32 lowercase hexadecimal
 /// digits).
-pub fn is_machine_id(s: &str) -> bool {
+pub(crate) fn is_machine_id(s: &str) -> bool {
     s.len() == 32
         && s.bytes()
             .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
@@ -54,7 +53,7 @@ pub fn id(data: &Path) -> Result<String, SyncError> {
 
 /// Gives this machine a new id (the old one is in use by another copy of
 /// this data folder); returns it.
-pub fn renew(data: &Path) -> Result<String, SyncError> {
+pub(crate) fn renew(data: &Path) -> Result<String, SyncError> {
     let path = data.join(ID_FILE);
     let id = format!("{:032x}", rand::random::<u128>());
     if let Err(source) = disk::write_atomic(&path, id.as_bytes(), Durability::Synced) {
@@ -122,6 +121,3 @@ impl Lock {
         }
     }
 }
-
-/// How long a sync waits for another by default.
-pub const DEFAULT_WAIT: Wait = Wait::Up(Duration::from_secs(30));

@@ -46,10 +46,10 @@ use plan::FileLines;
 
 /// The largest sync file read: a machine's file grows by about 200 bytes an
 /// answer, so this is millions of answers.
-pub const MAX_FILE_BYTES: u64 = 1 << 30;
+pub(crate) const MAX_FILE_BYTES: u64 = 1 << 30;
 
 /// How many answers one sync may take back before it says so loudly.
-pub const LOUD_UNDOS: usize = 5;
+pub(crate) const LOUD_UNDOS: usize = 5;
 
 /// What one sync did.
 #[derive(Debug, Default)]
@@ -156,19 +156,6 @@ pub fn sync_with(
     drop(lock);
     outcome.warnings.splice(0..0, warnings);
     Ok(outcome)
-}
-
-/// [`sync_with`] through a store already open.
-pub fn sync_store(
-    store: &mut Store,
-    data: &Path,
-    dir: &Path,
-    config: &Config,
-    now: DateTime<Utc>,
-    wait: Wait,
-) -> Result<Outcome, SyncError> {
-    let _lock = machine::Lock::take(data, wait)?;
-    locked(store, data, dir, config, now)
 }
 
 /// One file of the folder, as found.

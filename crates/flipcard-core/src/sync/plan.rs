@@ -63,7 +63,7 @@ pub struct Plan {
 }
 
 impl Plan {
-    pub fn undos_of_answers(&self) -> usize {
+    pub(crate) fn undos_of_answers(&self) -> usize {
         self.undone_by.values().sum()
     }
 }
@@ -155,7 +155,7 @@ fn origin_of<'a>(
 /// status event it does not have as its own, or one it has live shown
 /// undone. Zero unless the database was restored from a backup or the data
 /// folder was copied to a machine that writes under the same id.
-pub fn foreign_in_own(me: &str, files: &[FileLines], local: &Local) -> usize {
+pub(crate) fn foreign_in_own(me: &str, files: &[FileLines], local: &Local) -> usize {
     let reviews: HashMap<ReviewId, bool> = local
         .reviews
         .iter()
@@ -343,6 +343,6 @@ pub fn plan(me: &str, previous: &[String], files: &[FileLines], local: &Local) -
 /// The machine a sync file belongs to: its name up to the first dot (a
 /// copy a sync tool made of a conflicting version, `<id>.sync-conflict-….jsonl`,
 /// belongs to the same machine).
-pub fn machine_of(file_name: &str) -> &str {
+pub(crate) fn machine_of(file_name: &str) -> &str {
     file_name.split('.').next().unwrap_or(file_name)
 }
