@@ -1038,6 +1038,53 @@ fn only_io_touches_the_file_system() {
     );
 }
 
+/// The files under `crates/` that may read the environment, and why. The
+/// app's clock (`FLIPCARD_NOW`) is read by the app (`cmd::clock`) and
+/// handed to the library as a `Clock` or a time, so the library's tests and
+/// the in-process tests run the same whatever the shell exports.
+const ENV_READERS: [(&str, &str); 1] = [(
+    "crates/flipcard-core/src/sched/config.rs",
+    "`~` in deck_paths and sync_dir is $HOME, as a shell expands it; not a clock",
+)];
+
+/// The places in `s` that read the environment (`env::var`, `var_os`,
+/// `vars`, `vars_os`); `env!` (a build-time constant) is not a read.
+fn env_reads(s: &Source) -> Vec<String> {
+    const READS: [&str; 4] = ["var", "var_os", "vars", "vars_os"];
+    tokens(&s.code)
+        .windows(3)
+        .filter(|w| w[0].0 == "env" && w[1].0 == "::" && READS.contains(&w[2].0.as_str()))
+        .map(|w| format!("{} `env::{}`", s.at(w[0].1), w[2].0))
+        .collect()
+}
+
+/// Library code takes what it needs to know (the time above all) as a
+/// value; only the app reads the environment.
+#[test]
+fn library_crates_never_read_the_environment() {
+    let in_crates = |s: &&Source| s.root.starts_with(manifest().join("crates"));
+    let wrong: Vec<String> = sources()
+        .iter()
+        .filter(in_crates)
+        .filter(|s| !ENV_READERS.iter().any(|(file, _)| s.show() == *file))
+        .flat_map(env_reads)
+        .collect();
+    assert!(
+        wrong.is_empty(),
+        "the environment read in a library crate (read it in the app and pass the value):\n{}",
+        wrong.join("\n")
+    );
+    for (file, why) in ENV_READERS {
+        assert!(
+            sources()
+                .iter()
+                .filter(in_crates)
+                .any(|s| s.show() == file && !env_reads(s).is_empty()),
+            "{file} no longer reads the environment ({why}): take it out of ENV_READERS"
+        );
+    }
+}
+
 /// Sources made from text, as if they were the files of `src/`.
 fn fixture(files: &[(&str, &str)]) -> Vec<Source> {
     let files = files
@@ -1201,5 +1248,25 @@ fn a_cycle_through_a_re_export_is_found() {
     assert!(
         text.contains("y -> x: src/a/y.rs:2 `a::x::Thing`"),
         "{text}"
+    );
+}
+
+#[test]
+fn environment_reads_are_found_outside_literals_and_comments() {
+    let files = [(
+        "sched/clock.rs",
+        "pub fn now() {\n    match std::env::var(NOW_VAR) {}\n    \
+         let s = \"env::var\"; // std::env::var_os\n    let h = env::var_os(\"HOME\");\n    \
+         let m = env!(\"CARGO_MANIFEST_DIR\");\n}\n#[cfg(test)]\n\
+         mod tests { fn t() { std::env::var(\"X\"); } }",
+    )];
+    let sources = fixture(&files);
+    let found: Vec<String> = sources.iter().flat_map(env_reads).collect();
+    assert_eq!(
+        found,
+        [
+            "src/sched/clock.rs:2 `env::var`",
+            "src/sched/clock.rs:4 `env::var_os`"
+        ]
     );
 }

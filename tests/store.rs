@@ -820,6 +820,7 @@ fn locked_database_gives_a_clear_error_and_no_damage() {
     let quick = OpenOptions {
         busy_timeout: StdDuration::from_millis(200),
         daily_backup: true,
+        ..OpenOptions::default()
     };
     let mut store = Store::open_with(dir.path(), &quick).unwrap();
     let t = at("2026-01-01T00:00:00Z");

@@ -12,6 +12,7 @@ use std::process::{Command, Stdio};
 
 use crate::store_support::{at, key, review};
 use chrono::Duration;
+use flipcard::sched::clock::Clock;
 use flipcard::sched::{Rating, ReviewKind, State};
 use flipcard::store::restore::{RestoreError, restore};
 use flipcard::store::{Store, StoreError};
@@ -127,7 +128,7 @@ fn restore_refuses_a_sound_database_unless_forced_and_a_database_in_use() {
         let mut store = Store::open(dir.path()).unwrap();
         rate(&mut store, "after-backup", 100);
     }
-    let err = restore(dir.path(), None, false).unwrap_err();
+    let err = restore(dir.path(), None, false, Clock::System).unwrap_err();
     assert!(
         matches!(err, RestoreError::Sound { reviews: 3, .. }),
         "{err}"
@@ -137,12 +138,12 @@ fn restore_refuses_a_sound_database_unless_forced_and_a_database_in_use() {
 
     // Another program has it open: never pulled from under it.
     let mut holder = hold_open(dir.path());
-    let err = restore(dir.path(), None, true).unwrap_err();
+    let err = restore(dir.path(), None, true, Clock::System).unwrap_err();
     assert!(matches!(err, RestoreError::InUse { .. }), "{err}");
     holder.stdin.take().unwrap().write_all(b"quit\n").unwrap();
     holder.wait().unwrap();
 
-    let done = restore(dir.path(), None, true).unwrap();
+    let done = restore(dir.path(), None, true, Clock::System).unwrap();
     assert_eq!(done.reviews, 2);
     // The rating made after the backup is still there, in the file set aside.
     let aside = &done.set_aside[0];
@@ -155,7 +156,7 @@ fn restore_refuses_a_sound_database_unless_forced_and_a_database_in_use() {
     // A named backup that is not one is refused before anything moves.
     let junk = dir.path().join("junk.db");
     std::fs::write(&junk, b"not a database at all, not even close......").unwrap();
-    let err = restore(dir.path(), Some(&junk), true).unwrap_err();
+    let err = restore(dir.path(), Some(&junk), true, Clock::System).unwrap_err();
     assert!(matches!(err, RestoreError::BadBackup { .. }), "{err}");
     assert_eq!(Store::open(dir.path()).unwrap().review_count().unwrap(), 2);
 }

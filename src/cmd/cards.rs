@@ -100,7 +100,7 @@ fn listed(
 
 pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
     let config = Config::load(paths::config_file(cli.config.clone()).as_deref())?;
-    let now = crate::sched::clock::now()?;
+    let now = crate::cmd::clock::now()?;
     let loaded = load_decks(cli);
     let decks = &loaded.decks;
     match &args.command {

@@ -12,14 +12,19 @@ pub fn open_store_read_only(cli: &Cli) -> anyhow::Result<Store> {
     // Reading needs no clock, but a FLIPCARD_NOW the app would refuse when
     // writing is refused here too: one rule for every command over the
     // review data, so a script learns of its bad clock on its first call.
-    crate::sched::clock::now()?;
+    crate::cmd::clock::now()?;
     let dir = paths::data_dir(cli.data_dir.clone())?;
     Ok(Store::open_read_only(&dir)?)
 }
 
 pub fn open_store(cli: &Cli) -> anyhow::Result<Store> {
+    let clock = crate::cmd::clock::from_env()?;
     let dir = paths::data_dir(cli.data_dir.clone())?;
-    let store = Store::open(&dir)?;
+    let options = crate::store::OpenOptions {
+        clock,
+        ..crate::store::OpenOptions::default()
+    };
+    let store = Store::open_with(&dir, &options)?;
     for w in store.warnings() {
         crate::errln!("flipcard: warning: {w}");
     }

@@ -10,9 +10,14 @@ use crate::text::plural;
 pub fn run(cli: &Cli, args: &DbArgs) -> anyhow::Result<ExitCode> {
     match &args.command {
         DbCommand::Restore(restore) => {
+            let clock = crate::cmd::clock::from_env()?;
             let dir = paths::data_dir(cli.data_dir.clone())?;
-            let done =
-                crate::store::restore::restore(&dir, restore.backup.as_deref(), restore.force)?;
+            let done = crate::store::restore::restore(
+                &dir,
+                restore.backup.as_deref(),
+                restore.force,
+                clock,
+            )?;
             crate::outln!(
                 "restored {} ({}) as {}",
                 done.backup.display(),

@@ -26,7 +26,7 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
     if crate::io::metadata(&args.file).is_ok_and(|m| m.is_dir()) {
         anyhow::bail!("cannot read {}: it is a folder", args.file.display());
     }
-    let now = crate::sched::clock::now()?;
+    let now = crate::cmd::clock::now()?;
     let mut import = read_package(&args.file, true, now)?;
     let out = args
         .out

@@ -33,7 +33,7 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
     let Ok(text) = String::from_utf8(bytes) else {
         anyhow::bail!("{} is not UTF-8 text; nothing imported", file.display());
     };
-    let now = crate::sched::clock::now()?;
+    let now = crate::cmd::clock::now()?;
     let parsed = match format {
         ExportFormat::Json => read_reviews_json(&text, now),
         ExportFormat::Csv => read_reviews_csv(&text, now),

@@ -6,6 +6,7 @@ pub mod args;
 pub mod bench;
 pub mod cards;
 pub mod check;
+pub mod clock;
 mod common;
 pub mod db;
 pub mod decks;

@@ -106,7 +106,7 @@ pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
         };
         let mut updated = config.clone();
         updated.fsrs_parameters = Some(result.parameters);
-        updated.fsrs_fitted_at = Some(crate::sched::clock::now()?.fixed_offset());
+        updated.fsrs_fitted_at = Some(crate::cmd::clock::now()?.fixed_offset());
         updated.save_key(path, "fsrs_parameters")?;
         updated.save_key(path, "fsrs_fitted_at")?;
         report.applied = true;

@@ -41,7 +41,7 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
         keys.extend(deck_items(deck));
         states.extend(store.states(&deck.id)?);
     }
-    let now = crate::sched::clock::now()?;
+    let now = crate::cmd::clock::now()?;
     let grid = DayGrid::new(chrono::Local, config.day_starts_at);
     let today = grid.day_of(now);
     let day_of = |t| grid.day_of(t);

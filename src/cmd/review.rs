@@ -13,11 +13,11 @@ use crate::store::Store;
 use crate::sync::Wait;
 use crate::tui::Tui;
 use crate::tui::app::DeckLoad;
-use crate::tui::services::{Clock, DayZone, Services};
+use crate::tui::services::{DayZone, Services};
 use crate::tui::theme::Theme;
 
 pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
-    let clock = Clock::from_env()?;
+    let clock = crate::cmd::clock::from_env()?;
     let config_path = paths::config_file(cli.config.clone());
     let config = Config::load(config_path.as_deref())?;
     let data_dir = paths::data_dir(cli.data_dir.clone())?;
@@ -27,7 +27,11 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     if let Some(dir) = &sync_dir {
         auto_sync(&data_dir, dir, &config);
     }
-    let store = Store::open(&data_dir)?;
+    let options = crate::store::OpenOptions {
+        clock,
+        ..crate::store::OpenOptions::default()
+    };
+    let store = Store::open_with(&data_dir, &options)?;
     let sources = crate::cmd::library::sources(cli, &config);
     let library = crate::cmd::library::load_with(sources);
     let failed = library.failed();
@@ -93,15 +97,11 @@ fn review_filter(args: &ReviewArgs) -> anyhow::Result<Filter> {
 /// A sync the config asks for: a failure is a warning, never a reason to
 /// keep the learner from studying.
 fn auto_sync(data_dir: &std::path::Path, dir: &std::path::Path, config: &Config) {
-    let done = crate::sched::clock::now()
+    let done = crate::cmd::clock::now()
         .map_err(anyhow::Error::from)
         .and_then(|now| {
-            crate::sync::sync_with(data_dir, dir, config, now, Wait::Up(AUTO_SYNC_WAIT)).map_err(
-                |e| match e {
-                    crate::sync::LockError::Other(e) => e,
-                    busy => anyhow::anyhow!("{busy}"),
-                },
-            )
+            crate::sync::sync_with(data_dir, dir, config, now, Wait::Up(AUTO_SYNC_WAIT))
+                .map_err(anyhow::Error::from)
         });
     match done {
         Ok(outcome) => {

@@ -31,7 +31,7 @@ pub fn run(cli: &Cli, args: &StatsArgs) -> anyhow::Result<ExitCode> {
         );
     }
     let items: Vec<ItemKey> = loaded.decks.iter().flat_map(deck_items).collect();
-    let now = crate::sched::clock::now()?;
+    let now = crate::cmd::clock::now()?;
     let grid = DayGrid::new(chrono::Local, config.day_starts_at);
     let scope = StatsScope {
         deck: args.deck.as_deref(),

@@ -10,13 +10,13 @@ use anyhow::bail;
 use crate::cmd::args::{Cli, SyncArgs};
 use crate::cmd::paths;
 use crate::sched::Config;
-use crate::sync::{LockError, Wait};
+use crate::sync::{SyncError, Wait};
 
 /// How long the command waits for another sync of the same data folder.
 const WAIT_FOR_OTHER_SYNC: Duration = Duration::from_secs(120);
 
 pub fn run(cli: &Cli, args: &SyncArgs) -> anyhow::Result<ExitCode> {
-    let now = crate::sched::clock::now()?;
+    let now = crate::cmd::clock::now()?;
     let config = Config::load(paths::config_file(cli.config.clone()).as_deref())?;
     let Some(dir) = args.dir.clone().or_else(|| config.sync_dir.clone()) else {
         bail!(
@@ -25,7 +25,7 @@ pub fn run(cli: &Cli, args: &SyncArgs) -> anyhow::Result<ExitCode> {
     };
     let data = paths::data_dir(cli.data_dir.clone())?;
     let outcome = match crate::sync::sync_with(&data, &dir, &config, now, Wait::No) {
-        Err(LockError::Busy(_)) => {
+        Err(SyncError::Busy(_)) => {
             crate::errln!(
                 "flipcard: waiting for another sync of {} to end…",
                 data.display()
@@ -33,11 +33,7 @@ pub fn run(cli: &Cli, args: &SyncArgs) -> anyhow::Result<ExitCode> {
             crate::sync::sync_with(&data, &dir, &config, now, Wait::Up(WAIT_FOR_OTHER_SYNC))
         }
         other => other,
-    }
-    .map_err(|e| match e {
-        LockError::Other(e) => e,
-        busy => anyhow::anyhow!("{busy}"),
-    })?;
+    }?;
     for w in &outcome.warnings {
         crate::errln!("flipcard: warning: {w}");
     }

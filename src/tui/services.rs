@@ -14,31 +14,8 @@ use crate::store::Store;
 pub use crate::study::DayZone;
 use crate::study::Study;
 
-/// Where "now" comes from: the system clock, or a fixed time
-/// (`FLIPCARD_NOW`, tests).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Clock {
-    System,
-    Fixed(DateTime<Utc>),
-}
-
-impl Clock {
-    /// The clock the environment asks for (`FLIPCARD_NOW` fixes it).
-    pub fn from_env() -> Result<Clock, crate::sched::clock::ClockError> {
-        if std::env::var_os(crate::sched::clock::NOW_VAR).is_some() {
-            crate::sched::clock::now().map(Clock::Fixed)
-        } else {
-            Ok(Clock::System)
-        }
-    }
-
-    pub fn now(&self) -> DateTime<Utc> {
-        match self {
-            Clock::System => Utc::now(),
-            Clock::Fixed(t) => *t,
-        }
-    }
-}
+/// Where "now" comes from (the command builds it from `FLIPCARD_NOW`).
+pub use crate::sched::clock::Clock;
 
 /// How long the learner took: real elapsed time, or always zero (tests,
 /// so that snapshots do not depend on how fast the machine is).
@@ -155,7 +132,7 @@ impl Services {
     /// Syncs the data folder through `dir` in the background whenever a
     /// study session ends.
     pub fn sync_through(&mut self, data_dir: PathBuf, dir: PathBuf) {
-        let background = crate::sync::background::Background::new(data_dir, dir);
+        let background = crate::sync::background::Background::new(data_dir, dir, self.clock);
         self.sync = Some(Box::new(background));
     }
 

@@ -12,7 +12,7 @@
 //! | `FLIPCARD_DATA_DIR` | `cmd/args.rs` | the data dir given to [`Flipcard::new`]; unset for [`Flipcard::without_data`] |
 //! | `FLIPCARD_CONFIG` | `cmd/args.rs` | `no-config.toml` in the data dir (a file that is not there: the defaults) |
 //! | `FLIPCARD_DECKS` | `cmd/args.rs` | unset: the bundled decks only ([`Flipcard::decks`] adds a folder) |
-//! | `FLIPCARD_NOW` | `sched/clock.rs` | unset: the real clock ([`Flipcard::now`] fixes it) |
+//! | `FLIPCARD_NOW` | `cmd/clock.rs` | unset: the real clock ([`Flipcard::now`] fixes it) |
 //! | `TZ` | `chrono::Local` (the study day) | `UTC` ([`Flipcard::tz`]) |
 //! | `NO_COLOR` | `tui/theme.rs` | unset |
 //! | `FLIPCARD_TEST_LIBRARY_KILL` | `cmd/library.rs` (a test hook) | unset |

@@ -89,26 +89,6 @@ pub fn card_directions(card: &crate::deck::Card) -> Vec<Direction> {
     }
 }
 
-/// What free text is searched in for each card, as written, one field
-/// each: its id, then per language its front and back together. A match
-/// must lie within one field: letters strewn over a whole card in both
-/// languages are no match.
-pub fn card_fields(card: &crate::deck::Card) -> Vec<String> {
-    let mut fields = vec![card.id.clone()];
-    let langs: BTreeSet<&String> = card.front.0.keys().chain(card.back.0.keys()).collect();
-    for lang in langs {
-        let front = card.front.0.get(lang).map_or("", String::as_str);
-        let front = if card.kind == CardKind::Cloze {
-            crate::deck::cloze::revealed(front)
-        } else {
-            front.to_string()
-        };
-        let back = card.back.0.get(lang).map_or("", String::as_str);
-        fields.push(format!("{front} {back}"));
-    }
-    fields
-}
-
 /// The items of `decks`, with their states and statuses at `now`.
 pub fn rows(
     decks: &[Deck],
@@ -428,7 +408,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let store = Store::open(dir.path()).unwrap();
         let sched = Scheduler::new(&crate::sched::Config::default());
-        let now = crate::sched::clock::now().unwrap();
+        let now = chrono::Utc::now();
         let rows = rows(decks, &store, &sched, now).unwrap();
         assert_eq!(rows.len(), 6, "3 cloze numbers, 2 directions, 1 basic");
         let mut search = Search::new(decks, &rows);

@@ -88,8 +88,8 @@ impl SearchTexts {
         self.ends.push(self.text.len());
     }
 
-    /// The fields of each card (see [`super::catalog::card_fields`]), in
-    /// order, from card `first` on.
+    /// The fields of each card (its id, then per language its front and
+    /// back together), in order, from card `first` on.
     fn fields(&self, first: usize) -> impl Iterator<Item = Vec<String>> + '_ {
         let first = first.min(self.cards.len());
         let mut piece: usize = self.cards[..first]

@@ -14,7 +14,7 @@ use std::collections::BTreeSet;
 
 /// The largest deletion number accepted (Anki's own limit is far above
 /// anything a card needs; this keeps `c` numbers short and finite).
-pub const MAX_NUMBER: u16 = 999;
+pub(crate) const MAX_NUMBER: u16 = 999;
 
 /// One part of a cloze text.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -294,7 +294,7 @@ pub fn revealed(text: &str) -> String {
 /// every formula holding one of its deletions renders with the gap in it
 /// and with the answer in it (empty when the text does not parse, which
 /// [`parse`] reports).
-pub fn render_errors(text: &str) -> Vec<ClozeError> {
+pub(crate) fn render_errors(text: &str) -> Vec<ClozeError> {
     let mut errors: Vec<ClozeError> = Vec::new();
     for number in numbers(text) {
         for blank in [true, false] {

@@ -22,7 +22,7 @@ use crate::deck::Deck;
 use crate::deck::validate::is_id;
 
 /// The CSV header of an exported deck.
-pub const DECK_COLUMNS: [&str; 3] = ["front", "back", "tags"];
+pub(crate) const DECK_COLUMNS: [&str; 3] = ["front", "back", "tags"];
 
 /// Writes a deck's cards as CSV. Returns the number of cards written.
 pub fn write_deck_csv(deck: &Deck, out: &mut dyn Write) -> Result<usize, csv::Error> {
@@ -79,7 +79,7 @@ impl Columns {
     };
 
     /// Reads a header row, if `fields` is one.
-    fn from_header(fields: &[String]) -> Option<Result<Columns, String>> {
+    fn from_header(fields: &[String]) -> Option<Result<Columns, CardError>> {
         let names: Vec<String> = fields.iter().map(|f| f.trim().to_lowercase()).collect();
         if !names.iter().any(|n| n == "front") || !names.iter().any(|n| n == "back") {
             return None;
@@ -87,13 +87,10 @@ impl Columns {
         let find = |name: &str| names.iter().position(|n| n == name);
         for (i, n) in names.iter().enumerate() {
             if !["front", "back", "tags", "id"].contains(&n.as_str()) {
-                return Some(Err(format!(
-                    "unknown column {:?} in the header (known: front, back, tags, id)",
-                    fields[i]
-                )));
+                return Some(Err(CardError::UnknownColumn(fields[i].clone())));
             }
             if names[..i].contains(n) {
-                return Some(Err(format!("column {n:?} appears twice in the header")));
+                return Some(Err(CardError::ColumnTwice(n.clone())));
             }
         }
         Some(Ok(Columns {
@@ -156,8 +153,11 @@ pub fn read_cards_csv(input: impl Read) -> Result<Vec<ImportedCard>, Vec<RowErro
                         columns = Some(c);
                         continue;
                     }
-                    Some(Err(message)) => {
-                        errors.push(RowError { line, message });
+                    Some(Err(e)) => {
+                        errors.push(RowError {
+                            line,
+                            message: e.to_string(),
+                        });
                         return Err(errors);
                     }
                     None => {}
@@ -174,7 +174,10 @@ pub fn read_cards_csv(input: impl Read) -> Result<Vec<ImportedCard>, Vec<RowErro
             &mut next_of,
         ) {
             Ok(card) => cards.push(card),
-            Err(message) => errors.push(RowError { line, message }),
+            Err(e) => errors.push(RowError {
+                line,
+                message: e.to_string(),
+            }),
         }
     }
     if cards.is_empty() && errors.is_empty() {
@@ -196,15 +199,14 @@ fn read_row(
     ids_taken: &mut HashSet<String>,
     explicit_ids: &mut HashSet<String>,
     next_of: &mut HashMap<String, u64>,
-) -> Result<ImportedCard, String> {
+) -> Result<ImportedCard, CardError> {
     let accepts_two = cols.tags == Some(2) && cols.width == 3 && cols.id.is_none();
     if fields.len() != cols.width && !(accepts_two && fields.len() == 2) {
-        return Err(format!(
-            "expected {} columns ({}), found {}",
-            cols.width,
-            describe(cols),
-            fields.len()
-        ));
+        return Err(CardError::Columns {
+            width: cols.width,
+            names: describe(cols),
+            found: fields.len(),
+        });
     }
     let front = text(fields, cols.front, "front")?;
     let back = text(fields, cols.back, "back")?;
@@ -221,17 +223,13 @@ fn read_row(
     let id = match cols.id.and_then(|i| fields.get(i)).map(|s| s.trim()) {
         Some(id) if !id.is_empty() => {
             if !is_id(id) {
-                return Err(format!(
-                    "card id {id:?} is not lowercase a-z/0-9 words joined by '-'"
-                ));
+                return Err(CardError::NotAnId(id.to_string()));
             }
             if !explicit_ids.insert(id.to_string()) {
-                return Err(format!("card id {id:?} is used by an earlier row"));
+                return Err(CardError::IdUsed(id.to_string()));
             }
             if !ids_taken.insert(id.to_string()) {
-                return Err(format!(
-                    "card id {id:?} was already given to an earlier card made from its front text; give that row an id too"
-                ));
+                return Err(CardError::IdTaken(id.to_string()));
             }
             id.to_string()
         }
@@ -261,15 +259,49 @@ fn describe(cols: Columns) -> String {
 /// The longest text of a card field, in bytes: a card is read on one
 /// screen, and every step after the import (the check, the search index,
 /// the app) handles each text whole.
-pub const MAX_FIELD_BYTES: usize = 4 << 20;
+pub(crate) const MAX_FIELD_BYTES: usize = 4 << 20;
 
-fn text(fields: &[String], i: usize, name: &str) -> Result<String, String> {
+/// Why a row of the CSV gives no card.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+enum CardError {
+    #[error("unknown column {0:?} in the header (known: front, back, tags, id)")]
+    UnknownColumn(String),
+    #[error("column {0:?} appears twice in the header")]
+    ColumnTwice(String),
+    #[error("expected {width} columns ({names}), found {found}")]
+    Columns {
+        width: usize,
+        names: String,
+        found: usize,
+    },
+    #[error("card id {0:?} is not lowercase a-z/0-9 words joined by '-'")]
+    NotAnId(String),
+    #[error("card id {0:?} is used by an earlier row")]
+    IdUsed(String),
+    #[error(
+        "card id {0:?} was already given to an earlier card made from its front text; give that row an id too"
+    )]
+    IdTaken(String),
+    #[error("{name} is {mib} MiB long; a card's text may be at most {} MiB", MAX_FIELD_BYTES >> 20)]
+    TooLong { name: &'static str, mib: usize },
+    #[error("{0} is empty")]
+    Empty(&'static str),
+    #[error("{name} holds the control character U+{code:04X}")]
+    Control { name: &'static str, code: u32 },
+    #[error("{name}: LaTeX: {message} (at character {at})")]
+    Latex {
+        name: &'static str,
+        message: String,
+        at: usize,
+    },
+}
+
+fn text(fields: &[String], i: usize, name: &'static str) -> Result<String, CardError> {
     if let Some(f) = fields.get(i).filter(|f| f.len() > MAX_FIELD_BYTES) {
-        return Err(format!(
-            "{name} is {} MiB long; a card's text may be at most {} MiB",
-            f.len().div_ceil(1 << 20),
-            MAX_FIELD_BYTES >> 20
-        ));
+        return Err(CardError::TooLong {
+            name,
+            mib: f.len().div_ceil(1 << 20),
+        });
     }
     let t = fields
         .get(i)
@@ -277,17 +309,21 @@ fn text(fields: &[String], i: usize, name: &str) -> Result<String, String> {
         .unwrap_or_default();
     let t = t.trim().to_string();
     if t.is_empty() {
-        return Err(format!("{name} is empty"));
+        return Err(CardError::Empty(name));
     }
     if let Some(c) = t.chars().find(|c| c.is_control() && *c != '\n') {
-        return Err(format!(
-            "{name} holds the control character U+{:04X}",
-            c as u32
-        ));
+        return Err(CardError::Control {
+            name,
+            code: c as u32,
+        });
     }
     if let Some(e) = flipcard_text::check(&t).first() {
         let at = t.get(..e.offset).map_or(0, |s| s.chars().count()) + 1;
-        return Err(format!("{name}: LaTeX: {} (at character {at})", e.message));
+        return Err(CardError::Latex {
+            name,
+            message: e.message.to_string(),
+            at,
+        });
     }
     Ok(t)
 }
@@ -337,7 +373,7 @@ fn unique(base: String, taken: &mut HashSet<String>, next: &mut HashMap<String, 
 /// A TOML string that reads back as exactly `s`: a literal string when
 /// possible (backslashes stay as typed), a plain basic string for a text
 /// with an apostrophe and nothing to escape, else a basic string with escapes.
-pub fn toml_string(s: &str) -> String {
+pub(crate) fn toml_string(s: &str) -> String {
     let plain = |c: char| !c.is_control();
     let multiline = s.contains('\n');
     if !s.contains('\'') && s.chars().all(plain) {

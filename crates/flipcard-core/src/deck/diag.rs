@@ -47,7 +47,7 @@ const SHOWN_CHARS: usize = 150;
 
 impl Diagnostic {
     /// An error about the file as a whole, which has no line to point at.
-    pub fn whole_file(path: PathBuf, message: String, hint: Option<String>) -> Diagnostic {
+    pub(crate) fn whole_file(path: PathBuf, message: String, hint: Option<String>) -> Diagnostic {
         Diagnostic {
             path,
             line: 0,
@@ -64,7 +64,7 @@ impl Diagnostic {
     }
 
     /// Whether the diagnostic points into the file (see [`Diagnostic::whole_file`]).
-    pub fn has_position(&self) -> bool {
+    pub(crate) fn has_position(&self) -> bool {
         self.line > 0
     }
 
@@ -97,7 +97,7 @@ impl Diagnostic {
 
     /// [`Diagnostic::render`] given the text of `self.line` only (`None`:
     /// headline and help alone, e.g. when the file could not be read).
-    pub fn render_line(&self, line_text: Option<&str>) -> String {
+    pub(crate) fn render_line(&self, line_text: Option<&str>) -> String {
         let mut out = self.headline();
         out.push('\n');
         if let Some(text) = line_text.filter(|_| self.has_position()) {
@@ -154,7 +154,7 @@ fn excerpt(line: &str, col: usize, width: usize) -> (String, usize, usize) {
 
 /// Byte offsets → (line, column) for one source text.
 #[derive(Debug, Clone)]
-pub struct LineIndex {
+pub(crate) struct LineIndex {
     starts: Vec<usize>,
 }
 

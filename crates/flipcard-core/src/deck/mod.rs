@@ -19,7 +19,7 @@ pub mod report;
 pub mod schema;
 mod suggest;
 mod syntax;
-pub mod tomlstr;
+pub(crate) mod tomlstr;
 pub mod validate;
 
 pub use diag::{Diagnostic, Severity};

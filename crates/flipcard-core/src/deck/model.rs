@@ -97,7 +97,7 @@ impl CardKind {
 impl Card {
     /// The deletion numbers of a cloze card (the same in every language,
     /// as validation ensures); empty for other kinds.
-    pub fn cloze_numbers(&self) -> Vec<u16> {
+    pub(crate) fn cloze_numbers(&self) -> Vec<u16> {
         if self.kind != CardKind::Cloze {
             return Vec::new();
         }

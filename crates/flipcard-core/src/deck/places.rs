@@ -14,7 +14,7 @@ use super::syntax;
 /// A position in a file: 1-based line and character column, and how many
 /// characters to underline.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Place {
+pub(crate) struct Place {
     pub line: usize,
     pub col: usize,
     pub width: usize,
@@ -22,7 +22,7 @@ pub struct Place {
 
 /// Where one prompt's answer is written.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct AnswerPlaces {
+pub(crate) struct AnswerPlaces {
     /// The `expected` value.
     pub expected: Option<Place>,
     /// Each choice's `when`, in the prompt's order.
@@ -49,7 +49,7 @@ fn place(index: &LineIndex, source: &str, span: &std::ops::Range<usize>) -> Plac
 
 /// The answer places of every prompt of the deck file `source`, by prompt
 /// id. A file that does not parse has none (the loader reports it).
-pub fn answer_places(path: &Path, source: &str) -> HashMap<String, AnswerPlaces> {
+pub(crate) fn answer_places(path: &Path, source: &str) -> HashMap<String, AnswerPlaces> {
     let Some(file) = read(path, source) else {
         return HashMap::new();
     };
@@ -87,7 +87,7 @@ pub fn answer_places(path: &Path, source: &str) -> HashMap<String, AnswerPlaces>
 /// Where a system scene is written: its `id`, `duration`, each equation,
 /// each observable's expression and each sketch expression (in order).
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct ScenePlaces {
+pub(crate) struct ScenePlaces {
     pub id: Option<Place>,
     pub duration: Option<Place>,
     pub equations: Vec<Place>,
@@ -96,7 +96,7 @@ pub struct ScenePlaces {
 }
 
 /// The places of every system scene of the deck file `source`, by scene id.
-pub fn scene_places(path: &Path, source: &str) -> HashMap<String, ScenePlaces> {
+pub(crate) fn scene_places(path: &Path, source: &str) -> HashMap<String, ScenePlaces> {
     let Some(file) = read(path, source) else {
         return HashMap::new();
     };

@@ -48,7 +48,7 @@ pub const SCENE_FIELDS: &[&str] = &[
     "sketch",
 ];
 /// The keys of a sketch element (each takes an array of expressions).
-pub const MARK_KEYS: &[&str] = &["line", "dot", "trail"];
+pub(crate) const MARK_KEYS: &[&str] = &["line", "dot", "trail"];
 pub const CONTENT_FILE_FIELDS: &[&str] = &["section"];
 pub const SECTION_FIELDS: &[&str] = &["id", "title", "body", "see"];
 pub const ANSWER_KINDS: &[&str] = &["choice", "number"];
@@ -210,7 +210,7 @@ fn label(kind: &str, fields: &Fields) -> String {
     }
 }
 
-pub fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Span) -> RawDeckFile {
+pub(crate) fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Span) -> RawDeckFile {
     let has = |key: &str| {
         root.iter().any(|(k, _)| {
             let name: &str = k.get_ref();
@@ -644,7 +644,11 @@ fn sketch(rep: &mut FileReport, f: &Fields) -> Option<List<RawMark>> {
     })
 }
 
-pub fn read_content_file(rep: &mut FileReport, root: &DeTable, root_span: Span) -> RawContentFile {
+pub(crate) fn read_content_file(
+    rep: &mut FileReport,
+    root: &DeTable,
+    root_span: Span,
+) -> RawContentFile {
     let top = Fields::open(
         rep,
         root,

@@ -97,7 +97,7 @@ impl RawAccept {
 }
 
 /// "a string", "an integer", ... for type errors.
-pub fn type_name(v: &DeValue) -> &'static str {
+pub(crate) fn type_name(v: &DeValue) -> &'static str {
     match v {
         DeValue::String(_) => "a string",
         DeValue::Integer(_) => "an integer",
@@ -122,7 +122,7 @@ fn wrong_type(rep: &mut FileReport, v: &Value, what: &str, expected: &str) {
 
 /// The fields of one table: unknown keys are reported when it is opened,
 /// missing required ones when asked for.
-pub struct Fields<'a, 'i> {
+pub(crate) struct Fields<'a, 'i> {
     table: &'a DeTable<'i>,
     span: Range<usize>,
     /// How the table is named in messages, e.g. "[[card]] `c1`".

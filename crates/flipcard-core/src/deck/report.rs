@@ -37,7 +37,7 @@ impl<'s> FileReport<'s> {
     /// An error that may come up again with the same `cause` (a link to a
     /// section that does not exist, from every card that explains with
     /// it): reported once, at the first place, with the others' lines.
-    pub fn error_once(
+    pub(crate) fn error_once(
         &mut self,
         cause: String,
         span: Range<usize>,
@@ -89,7 +89,7 @@ impl<'s> FileReport<'s> {
         self.index.position(self.source, offset).0
     }
 
-    pub fn has_errors(&self) -> bool {
+    pub(crate) fn has_errors(&self) -> bool {
         self.found.iter().any(|(_, d)| d.is_error())
     }
 
@@ -113,7 +113,7 @@ impl<'s> FileReport<'s> {
 const LINES_LISTED: usize = 3;
 
 /// "line 7", "lines 7 and 9", "lines 7, 9, 12 and 4 more".
-pub fn at_lines(lines: &[usize]) -> String {
+pub(crate) fn at_lines(lines: &[usize]) -> String {
     let shown: Vec<String> = lines
         .iter()
         .take(LINES_LISTED)

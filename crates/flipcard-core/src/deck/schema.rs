@@ -14,10 +14,10 @@ use schemars::{JsonSchema, Schema, SchemaGenerator, json_schema};
 use super::model::{CardKind, Cmp, Panel, SystemPanel};
 use flipcard_sim::scene::vocabulary;
 
-pub const ID_PATTERN: &str = "^[a-z0-9]+(-[a-z0-9]+)*$";
+pub(crate) const ID_PATTERN: &str = "^[a-z0-9]+(-[a-z0-9]+)*$";
 /// Holds at least one character that is not white space.
-pub const NOT_BLANK: &str = r"\S";
-pub const LANG_PATTERN: &str = "^[A-Za-z]{2,8}(-[A-Za-z0-9]{1,8})*$";
+pub(crate) const NOT_BLANK: &str = r"\S";
+pub(crate) const LANG_PATTERN: &str = "^[A-Za-z]{2,8}(-[A-Za-z0-9]{1,8})*$";
 
 /// A deck file: `decks/<deck-id>.toml`.
 #[derive(JsonSchema)]
@@ -438,7 +438,7 @@ impl JsonSchema for CardKindName {
     }
 }
 
-pub struct MeasureName;
+pub(crate) struct MeasureName;
 
 impl JsonSchema for MeasureName {
     fn schema_name() -> Cow<'static, str> {
@@ -452,7 +452,7 @@ impl JsonSchema for MeasureName {
     }
 }
 
-pub struct PanelName;
+pub(crate) struct PanelName;
 
 impl JsonSchema for PanelName {
     fn schema_name() -> Cow<'static, str> {

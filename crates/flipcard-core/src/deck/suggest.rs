@@ -3,7 +3,10 @@
 /// The candidate closest to `name`, if it is close enough to be a likely
 /// typo: at most a third of the name's length in edits (at least one), or
 /// else the shortest candidate the name (3 characters or more) begins.
-pub fn closest<'c>(name: &str, candidates: impl IntoIterator<Item = &'c str>) -> Option<&'c str> {
+pub(crate) fn closest<'c>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'c str>,
+) -> Option<&'c str> {
     let candidates: Vec<&'c str> = candidates.into_iter().collect();
     let name_lower = name.to_lowercase();
     let limit = (name.chars().count() / 3).max(1);
@@ -28,7 +31,7 @@ pub fn closest<'c>(name: &str, candidates: impl IntoIterator<Item = &'c str>) ->
 }
 
 /// `did you mean `x`?` for the closest candidate.
-pub fn did_you_mean<'c>(
+pub(crate) fn did_you_mean<'c>(
     name: &str,
     candidates: impl IntoIterator<Item = &'c str>,
 ) -> Option<String> {

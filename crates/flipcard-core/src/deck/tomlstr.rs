@@ -9,7 +9,7 @@
 /// included) where the decoded character at byte `decoded` begins, and
 /// whether that character came from an escape sequence. Offsets past the end
 /// map to the closing delimiter.
-pub fn locate(token: &str, decoded: usize) -> (usize, bool) {
+pub(crate) fn locate(token: &str, decoded: usize) -> (usize, bool) {
     let (start, basic) = content_start(token);
     let end = content_end(token);
     if !basic {
@@ -111,7 +111,7 @@ fn utf8_len(first: u8) -> usize {
 }
 
 /// Whether the token is a multi-line string (where a real line break is fine).
-pub fn is_multiline(token: &str) -> bool {
+pub(crate) fn is_multiline(token: &str) -> bool {
     token.starts_with("'''") || token.starts_with("\"\"\"")
 }
 

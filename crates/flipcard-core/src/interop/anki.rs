@@ -37,7 +37,7 @@ use crate::sched::{Direction, ItemKey, Rating};
 use crate::store::merge::IncomingReview;
 
 /// The largest collection unpacked (compressed size does not matter).
-pub const MAX_COLLECTION_BYTES: u64 = 512 << 20;
+pub(crate) const MAX_COLLECTION_BYTES: u64 = 512 << 20;
 
 #[derive(Debug, thiserror::Error)]
 pub enum AnkiError {
@@ -732,7 +732,11 @@ fn read_collection(
                     // An answer's id is its time in milliseconds.
                     let when = DateTime::<Utc>::from_timestamp_millis(at)
                         .ok_or_else(|| "its time is out of any calendar's range".to_string())
-                        .and_then(|t| check_event_time(t, now).map(|()| t))
+                        .and_then(|t| {
+                            check_event_time(t, now)
+                                .map(|()| t)
+                                .map_err(|e| e.to_string())
+                        })
                         .map_err(|detail| {
                             ReadError::Anki(AnkiError::BadAnswer {
                                 path: path.to_path_buf(),
@@ -779,7 +783,7 @@ fn plain(s: &str) -> String {
 /// and `$$…$$`, other dollars escaped. Images and sounds are dropped; the
 /// count of them is returned beside the text. Math that flipcard cannot
 /// render is kept as plain text.
-pub fn html_to_text(html: &str) -> (String, usize) {
+pub(crate) fn html_to_text(html: &str) -> (String, usize) {
     let mut media = html.matches("[sound:").count();
     let mut text = String::new();
     let mut rest = html;

@@ -17,7 +17,6 @@
 //! quoted in an error is cut short and escaped.
 
 use std::collections::{BTreeMap, HashMap};
-use std::path::Path;
 
 use chrono::{DateTime, Utc};
 use serde::Deserialize;
@@ -29,7 +28,7 @@ use crate::sched::ItemKey;
 use crate::sched::clock;
 
 /// The longest prediction read: a choice id or a number typed.
-pub const MAX_PREDICTION_BYTES: usize = 200;
+pub(crate) const MAX_PREDICTION_BYTES: usize = 200;
 
 /// A review's item: ids of the deck format's shape, checked together with
 /// [`ItemKey::parse`].
@@ -71,8 +70,8 @@ struct ReviewFields {
 }
 
 impl TryFrom<ReviewFields> for ReviewRow {
-    type Error = String;
-    fn try_from(f: ReviewFields) -> Result<ReviewRow, String> {
+    type Error = RowError;
+    fn try_from(f: ReviewFields) -> Result<ReviewRow, RowError> {
         let key = ItemKey::parse(&f.deck, &f.card, &f.direction)?;
         Ok(ReviewRow {
             item: Item {
@@ -118,27 +117,39 @@ pub struct AttemptRow {
 
 /// The largest attempt number read: no learner retries one prompt a
 /// million times.
-pub const MAX_ATTEMPT: u32 = 1_000_000;
+pub(crate) const MAX_ATTEMPT: u32 = 1_000_000;
 
 impl AttemptRow {
     /// Whether this is a retry, by the file's own word (`retry`, else
     /// `attempt`); `None` when the file does not say.
-    pub fn says_retry(&self) -> Option<bool> {
+    pub(crate) fn says_retry(&self) -> Option<bool> {
         self.retry.or(self.attempt.map(|n| n > 1))
     }
 
     /// The checks across fields: `retry` agrees with `attempt`.
-    fn check(self) -> Result<AttemptRow, String> {
+    fn check(self) -> Result<AttemptRow, RowError> {
         if let (Some(n), Some(r)) = (self.attempt, self.retry)
             && r != (n > 1)
         {
-            return Err(format!(
-                "attempt {n} {} a retry but `retry` is {r}",
-                if n > 1 { "is" } else { "is not" }
-            ));
+            return Err(RowError::RetryDisagrees {
+                attempt: n,
+                retry: r,
+            });
         }
         Ok(self)
     }
+}
+
+/// Why a record that read well is refused: the checks across its fields.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum RowError {
+    #[error(transparent)]
+    Key(#[from] crate::sched::KeyError),
+    #[error(
+        "attempt {attempt} {} a retry but `retry` is {retry}",
+        if *attempt > 1 { "is" } else { "is not" }
+    )]
+    RetryDisagrees { attempt: u32, retry: bool },
 }
 
 /// What one learner's file holds.
@@ -358,7 +369,7 @@ fn parse_json(text: &str) -> Result<Export, FileError> {
 fn records<T: serde::de::DeserializeOwned, U>(
     text: &str,
     values: &[&serde_json::value::RawValue],
-    check: impl Fn(T) -> Result<U, String>,
+    check: impl Fn(T) -> Result<U, RowError>,
 ) -> Result<Vec<U>, FileError> {
     let mut lines = super::import::Lines::new(text);
     let mut out = Vec::with_capacity(values.len());
@@ -369,7 +380,10 @@ fn records<T: serde::de::DeserializeOwned, U>(
             at.line += line - 1;
             at
         })?;
-        out.push(check(record).map_err(|message| FileError { line, message })?);
+        out.push(check(record).map_err(|e| FileError {
+            line,
+            message: e.to_string(),
+        })?);
     }
     Ok(out)
 }
@@ -407,7 +421,10 @@ fn parse_csv(text: &str) -> Result<Export, FileError> {
         while reader.read_record(&mut record).map_err(csv_error)? {
             let line = record.position().map_or(1, |p| p.line() as usize);
             let fields: ReviewFields = record.deserialize(Some(&headers)).map_err(csv_error)?;
-            rows.push(ReviewRow::try_from(fields).map_err(|message| FileError { line, message })?);
+            rows.push(ReviewRow::try_from(fields).map_err(|e| FileError {
+                line,
+                message: e.to_string(),
+            })?);
         }
         Ok(Export::Reviews(rows))
     } else if starts_with(&ATTEMPT_FIELDS_V1) {
@@ -416,7 +433,10 @@ fn parse_csv(text: &str) -> Result<Export, FileError> {
         while reader.read_record(&mut record).map_err(csv_error)? {
             let line = record.position().map_or(1, |p| p.line() as usize);
             let row: AttemptRow = record.deserialize(Some(&headers)).map_err(csv_error)?;
-            rows.push(row.check().map_err(|message| FileError { line, message })?);
+            rows.push(row.check().map_err(|e| FileError {
+                line,
+                message: e.to_string(),
+            })?);
         }
         Ok(Export::Attempts(rows))
     } else {
@@ -531,9 +551,9 @@ pub struct ClassReport {
 }
 
 /// The tag of cards whose deck is not among those loaded.
-pub const NO_DECK: &str = "(deck not loaded)";
+pub(crate) const NO_DECK: &str = "(deck not loaded)";
 /// The tag of cards without tags.
-pub const NO_TAG: &str = "(no tag)";
+pub(crate) const NO_TAG: &str = "(no tag)";
 
 /// Per card across the class: learners, lapsed, difficulty sum, learners
 /// with a difficulty.
@@ -826,7 +846,7 @@ fn prompt_row(
 
 /// The width of a bin of numbers when the deck (and its tolerance) is not
 /// loaded: 5 % of the value.
-pub const DEFAULT_BIN: f64 = 0.05;
+pub(crate) const DEFAULT_BIN: f64 = 0.05;
 
 /// Wrong numbers typed, grouped: the value typed by most learners (the
 /// smaller on a tie) centres a bin holding every value within the
@@ -913,14 +933,6 @@ fn card_tags(decks: &HashMap<&str, &Deck>, deck: &str, card: &str) -> Vec<String
         Some(c) if !c.tags.is_empty() => c.tags.clone(),
         _ => vec![NO_TAG.to_string()],
     }
-}
-
-/// A learner's name: the file name, nothing from inside the file.
-pub fn learner_name(path: &Path) -> String {
-    path.file_name().map_or_else(
-        || path.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    )
 }
 
 #[cfg(test)]

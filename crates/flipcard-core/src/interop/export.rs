@@ -48,22 +48,6 @@ pub enum ExportError {
     Json(#[from] serde_json::Error),
 }
 
-impl ExportError {
-    /// The reader went away (`flipcard export … | head`): not a failure.
-    pub fn is_broken_pipe(&self) -> bool {
-        let kind = match self {
-            ExportError::Io(e) => Some(e.kind()),
-            ExportError::Csv(e) => match e.kind() {
-                csv::ErrorKind::Io(e) => Some(e.kind()),
-                _ => None,
-            },
-            ExportError::Json(e) => e.io_error_kind(),
-            ExportError::Store(_) => None,
-        };
-        kind == Some(std::io::ErrorKind::BrokenPipe)
-    }
-}
-
 /// One exported record. Times are RFC 3339 in UTC with milliseconds.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ExportedReview {
@@ -102,7 +86,7 @@ pub fn rfc3339_with(t: DateTime<Utc>, precision: SecondsFormat) -> Result<String
 }
 
 /// [`rfc3339`], or the year when RFC 3339 cannot write it.
-pub fn rfc3339_checked(t: DateTime<Utc>) -> Result<String, i32> {
+pub(crate) fn rfc3339_checked(t: DateTime<Utc>) -> Result<String, i32> {
     rfc3339_with(t, SecondsFormat::Millis)
 }
 
@@ -120,19 +104,31 @@ pub struct Written {
 pub const MAX_NAMED: usize = 20;
 
 impl Written {
-    fn leave_out(&mut self, why: String) {
+    fn leave_out(&mut self, why: Unwritable) {
         self.left_out += 1;
         if self.named.len() < MAX_NAMED {
-            self.named.push(why);
+            self.named.push(why.to_string());
         }
     }
 }
 
 /// Why a row cannot be written: its first time outside RFC 3339's years.
-fn unwritable(row: &str, times: &[(&str, DateTime<Utc>)]) -> Option<String> {
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{row}: its {field} is in the year {year}, which RFC 3339 cannot write")]
+pub struct Unwritable {
+    /// The row in words (`review 12`, `attempt 3 (deck/prompt)`).
+    pub row: String,
+    pub field: &'static str,
+    pub year: i32,
+}
+
+/// The first time of `times` that RFC 3339 cannot write.
+fn unwritable(row: &str, times: &[(&'static str, DateTime<Utc>)]) -> Option<Unwritable> {
     times.iter().find_map(|(field, t)| {
-        rfc3339_checked(*t).err().map(|year| {
-            format!("{row}: its {field} is in the year {year}, which RFC 3339 cannot write")
+        rfc3339_checked(*t).err().map(|year| Unwritable {
+            row: row.to_string(),
+            field,
+            year,
         })
     })
 }
@@ -161,7 +157,7 @@ impl From<LoggedReview> for ExportedReview {
 
 impl ExportedReview {
     /// The record, or why it cannot be written.
-    pub fn checked(l: LoggedReview) -> Result<ExportedReview, String> {
+    pub fn checked(l: LoggedReview) -> Result<ExportedReview, Unwritable> {
         let r = &l.record;
         match unwritable(
             &format!("review {}", l.id),
@@ -175,7 +171,9 @@ impl ExportedReview {
 
 /// Each record of a store's table, or why it cannot be written, handed to
 /// a writer (the row counted as left out when it cannot).
-type Records<'a, R> = dyn FnOnce(&mut dyn FnMut(Result<R, String>) -> Result<(), ExportError>) -> Result<(), ExportError>
+type Records<'a, R> = dyn FnOnce(
+        &mut dyn FnMut(Result<R, Unwritable>) -> Result<(), ExportError>,
+    ) -> Result<(), ExportError>
     + 'a;
 
 /// Writes records as a JSON array, one a line, streaming.
@@ -245,7 +243,7 @@ pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<Written, 
 /// header): a contract like [`REVIEW_FIELDS`]. The first six are those of
 /// every version; `attempt` and `retry` came with attempts kept at
 /// commitment (schema version 4).
-pub const ATTEMPT_FIELDS: [&str; 8] = [
+pub(crate) const ATTEMPT_FIELDS: [&str; 8] = [
     "deck",
     "prompt",
     "attempted_at",
@@ -258,7 +256,7 @@ pub const ATTEMPT_FIELDS: [&str; 8] = [
 
 /// The fields every attempts export has had, first in every version's
 /// header.
-pub const ATTEMPT_FIELDS_V1: [&str; 6] = [
+pub(crate) const ATTEMPT_FIELDS_V1: [&str; 6] = [
     "deck",
     "prompt",
     "attempted_at",
@@ -269,7 +267,7 @@ pub const ATTEMPT_FIELDS_V1: [&str; 6] = [
 
 /// One exported prompt attempt.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ExportedAttempt {
+pub(crate) struct ExportedAttempt {
     pub deck: String,
     pub prompt: String,
     /// When the learner committed to the prediction.
@@ -302,7 +300,7 @@ impl From<crate::store::StoredAttempt> for ExportedAttempt {
 
 /// The attempt, or why it cannot be written; `n` counts attempts from 1 in
 /// the order they are stored.
-fn checked_attempt(a: crate::store::StoredAttempt, n: u64) -> Result<ExportedAttempt, String> {
+fn checked_attempt(a: crate::store::StoredAttempt, n: u64) -> Result<ExportedAttempt, Unwritable> {
     let row = format!("attempt {n} ({}/{})", a.deck, a.prompt);
     match unwritable(&row, &[("attempted_at", a.attempted_at)]) {
         Some(why) => Err(why),

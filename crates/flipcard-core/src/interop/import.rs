@@ -91,7 +91,36 @@ fn shown(v: &serde_json::Value) -> String {
     flipcard_text::safe::one_line(&short).into_owned()
 }
 
-fn row_from(f: &dyn Fields, now: DateTime<Utc>) -> Result<IncomingReview, String> {
+/// Why one record is refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+enum RecordError {
+    /// A field of the wrong type, or a record that is not one: the reader's
+    /// own words.
+    #[error("{0}")]
+    Field(String),
+    #[error("missing {}", .0.join(", "))]
+    Missing(Vec<&'static str>),
+    #[error(transparent)]
+    Key(#[from] crate::sched::KeyError),
+    #[error("reviewed_at {quoted} is not an RFC 3339 time ({reason})")]
+    NotRfc3339 { quoted: String, reason: String },
+    #[error("reviewed_at {0}")]
+    Time(#[from] crate::sched::clock::EventTimeError),
+    #[error("rating {0} is not 1–4")]
+    Rating(i64),
+    #[error("kind {0} is not one of learn, review, relearn, cram")]
+    Kind(String),
+    #[error("duration_ms {0} is negative")]
+    NegativeDuration(i64),
+}
+
+impl From<String> for RecordError {
+    fn from(s: String) -> RecordError {
+        RecordError::Field(s)
+    }
+}
+
+fn row_from(f: &dyn Fields, now: DateTime<Utc>) -> Result<IncomingReview, RecordError> {
     let mut missing = Vec::new();
     let mut texts = Vec::new();
     for name in &REQUIRED[..4] {
@@ -108,22 +137,21 @@ fn row_from(f: &dyn Fields, now: DateTime<Utc>) -> Result<IncomingReview, String
         missing.push("rating");
     }
     if !missing.is_empty() {
-        return Err(format!("missing {}", missing.join(", ")));
+        return Err(RecordError::Missing(missing));
     }
-    let [deck, card, direction, reviewed_at]: [String; 4] =
-        texts.try_into().map_err(|_| "missing fields".to_string())?;
+    let [deck, card, direction, reviewed_at]: [String; 4] = texts
+        .try_into()
+        .map_err(|_| RecordError::Field("missing fields".to_string()))?;
     let key = ItemKey::parse(&deck, &card, &direction)?;
     let reviewed_at = DateTime::parse_from_rfc3339(&reviewed_at)
-        .map_err(|e| {
-            format!(
-                "reviewed_at {} is not an RFC 3339 time ({e})",
-                quoted(&reviewed_at)
-            )
+        .map_err(|e| RecordError::NotRfc3339 {
+            quoted: quoted(&reviewed_at),
+            reason: e.to_string(),
         })?
         .with_timezone(&Utc);
-    check_event_time(reviewed_at, now).map_err(|e| format!("reviewed_at {e}"))?;
+    check_event_time(reviewed_at, now)?;
     let n = rating.unwrap_or(0);
-    let rating = Rating::from_number(n).ok_or_else(|| format!("rating {n} is not 1–4"))?;
+    let rating = Rating::from_number(n).ok_or(RecordError::Rating(n))?;
     let cram = match f.text("kind")? {
         None => false,
         Some(k) if k.is_empty() => false,
@@ -134,18 +162,16 @@ fn row_from(f: &dyn Fields, now: DateTime<Utc>) -> Result<IncomingReview, String
                 ReviewKind::Relearn,
                 ReviewKind::Cram,
             ];
-            let kind = kinds.into_iter().find(|x| x.as_str() == k).ok_or_else(|| {
-                format!(
-                    "kind {} is not one of learn, review, relearn, cram",
-                    quoted(&k)
-                )
-            })?;
+            let kind = kinds
+                .into_iter()
+                .find(|x| x.as_str() == k)
+                .ok_or_else(|| RecordError::Kind(quoted(&k)))?;
             kind == ReviewKind::Cram
         }
     };
     let duration_ms = f.integer("duration_ms")?.unwrap_or(0);
     if duration_ms < 0 {
-        return Err(format!("duration_ms {duration_ms} is negative"));
+        return Err(RecordError::NegativeDuration(duration_ms));
     }
     Ok(IncomingReview {
         key,
@@ -205,15 +231,18 @@ pub fn read_reviews_json(
         let line = lines.of(raw.get());
         let parsed = match serde_json::from_str::<serde_json::Value>(raw.get()) {
             Ok(serde_json::Value::Object(map)) => row_from(&JsonRow(&map), now),
-            Ok(other) => Err(format!(
+            Ok(other) => Err(RecordError::Field(format!(
                 "{} is not an object of review fields",
                 shown(&other)
-            )),
-            Err(e) => Err(e.to_string()),
+            ))),
+            Err(e) => Err(RecordError::Field(e.to_string())),
         };
         match parsed {
             Ok(r) => rows.push(r),
-            Err(message) => errors.push(RowError { line, message }),
+            Err(e) => errors.push(RowError {
+                line,
+                message: e.to_string(),
+            }),
         }
     }
     if errors.is_empty() {
@@ -318,7 +347,10 @@ pub fn read_reviews_csv(
                     now,
                 ) {
                     Ok(r) => rows.push(r),
-                    Err(message) => errors.push(RowError { line, message }),
+                    Err(e) => errors.push(RowError {
+                        line,
+                        message: e.to_string(),
+                    }),
                 }
             }
             Err(e) => {

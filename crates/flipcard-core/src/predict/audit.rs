@@ -28,7 +28,7 @@ use flipcard_text::num::{Num, sig};
 /// How much longer the second run of a system scene is: an answer that
 /// changes when the run goes on this much further holds only because the
 /// run ends where it does.
-pub const LONGER: f64 = 1.5;
+pub(crate) const LONGER: f64 = 1.5;
 
 /// A run of a prompt's scene as the audit reads it, whatever the kind of
 /// scene: what it measured and over how long.
@@ -413,7 +413,7 @@ fn change_to(choices: &[Choice], holding: &[usize]) -> String {
 }
 
 /// "this 3 s run".
-pub fn run_name(run: &Run) -> String {
+pub(crate) fn run_name(run: &Run) -> String {
     format!("this {} {} run", Num(run.duration), run.time_unit)
 }
 

@@ -1,9 +1,12 @@
-//! The one clock of the app. `FLIPCARD_NOW` (RFC 3339) replaces the system
-//! clock everywhere, for tests, demos and exam planning.
+//! The one clock of the app, as a value: the system clock, or a time fixed
+//! by `FLIPCARD_NOW` (RFC 3339) for tests, demos and exam planning. The app
+//! reads the environment once and hands the library a [`Clock`] or a time;
+//! no library code reads the environment.
 
 use chrono::{DateTime, NaiveDate, Utc};
 
-/// The environment variable that fixes the clock.
+/// The environment variable that fixes the app's clock (named in
+/// [`ClockError`]'s messages; the app reads it).
 pub const NOW_VAR: &str = "FLIPCARD_NOW";
 
 /// The longest interval the scheduler gives, in days (py-fsrs's
@@ -12,7 +15,7 @@ pub const NOW_VAR: &str = "FLIPCARD_NOW";
 pub const MAXIMUM_INTERVAL: i64 = 36_500;
 
 /// The earliest clock accepted: nothing the app stores predates it.
-pub fn earliest() -> DateTime<Utc> {
+pub(crate) fn earliest() -> DateTime<Utc> {
     DateTime::UNIX_EPOCH
 }
 
@@ -26,15 +29,21 @@ pub fn latest() -> DateTime<Utc> {
         .map_or(DateTime::<Utc>::MIN_UTC, |t| t.and_utc())
 }
 
-/// The current time, or the time fixed by `FLIPCARD_NOW`.
-///
-/// An unparsable `FLIPCARD_NOW` is an error rather than a silent fallback to
-/// the system clock: a demo or test that meant to fix the time must not run
-/// on the real one.
-pub fn now() -> Result<DateTime<Utc>, ClockError> {
-    match std::env::var(NOW_VAR) {
-        Ok(text) => parse(&text),
-        Err(_) => Ok(Utc::now()),
+/// Where "now" comes from: the system clock, or a fixed time
+/// (`FLIPCARD_NOW`, tests).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Clock {
+    #[default]
+    System,
+    Fixed(DateTime<Utc>),
+}
+
+impl Clock {
+    pub fn now(&self) -> DateTime<Utc> {
+        match self {
+            Clock::System => Utc::now(),
+            Clock::Fixed(t) => *t,
+        }
     }
 }
 
@@ -57,32 +66,44 @@ pub fn parse(text: &str) -> Result<DateTime<Utc>, ClockError> {
 /// `t` to the millisecond, the precision the log and sync files keep:
 /// every choice that shapes a state (the interval fuzz) is made from the
 /// time as it is stored, so replaying a synced answer gives the same state.
-pub fn to_millisecond(t: DateTime<Utc>) -> DateTime<Utc> {
+pub(crate) fn to_millisecond(t: DateTime<Utc>) -> DateTime<Utc> {
     DateTime::from_timestamp_millis(t.timestamp_millis()).unwrap_or(t)
 }
 
 /// How far ahead of this machine's clock a time from elsewhere may be: two
 /// machines' clocks rarely agree to the second, and a hardware clock kept
 /// in local time is off by up to fourteen hours.
-pub const FUTURE_SKEW: chrono::TimeDelta = chrono::TimeDelta::days(1);
+pub(crate) const FUTURE_SKEW: chrono::TimeDelta = chrono::TimeDelta::days(1);
 
 /// Checks the time of an answer or event read from a file flipcard did not
 /// write (a sync line, a learner's export, an Anki revlog): from 1970 up to
 /// [`FUTURE_SKEW`] after `now`, and never past [`latest`], so every time the
 /// app stores can be written back as RFC 3339.
-pub fn check_event_time(t: DateTime<Utc>, now: DateTime<Utc>) -> Result<(), String> {
+pub(crate) fn check_event_time(t: DateTime<Utc>, now: DateTime<Utc>) -> Result<(), EventTimeError> {
     if t < earliest() {
-        return Err(format!("{} is before 1970", rfc3339(t)));
+        return Err(EventTimeError::Before1970 { t });
     }
     let bound = (now + FUTURE_SKEW).min(latest());
     if t > bound {
-        return Err(format!(
-            "{} is in the future (this machine's clock says {})",
-            rfc3339_or_year(t),
-            rfc3339(now)
-        ));
+        return Err(EventTimeError::InTheFuture { t, now });
     }
     Ok(())
+}
+
+/// Why [`check_event_time`] refused a time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum EventTimeError {
+    #[error("{} is before 1970", rfc3339(*t))]
+    Before1970 { t: DateTime<Utc> },
+    #[error(
+        "{} is in the future (this machine's clock says {})",
+        rfc3339_or_year(*t),
+        rfc3339(*now)
+    )]
+    InTheFuture {
+        t: DateTime<Utc>,
+        now: DateTime<Utc>,
+    },
 }
 
 /// A time for a message: RFC 3339 when it has one (years 0–9999), else
@@ -126,14 +147,18 @@ mod tests {
         assert!(check_event_time(now, now).is_ok());
         assert!(check_event_time(earliest(), now).is_ok());
         assert!(check_event_time(now + TimeDelta::hours(23), now).is_ok());
-        let err = check_event_time(now + TimeDelta::hours(25), now).unwrap_err();
+        let err = check_event_time(now + TimeDelta::hours(25), now)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("in the future"), "{err}");
-        let err = check_event_time(earliest() - TimeDelta::milliseconds(1), now).unwrap_err();
+        let err = check_event_time(earliest() - TimeDelta::milliseconds(1), now)
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("before 1970"), "{err}");
         let far = DateTime::parse_from_rfc3339("9999-12-31T23:59:59.999-23:59")
             .unwrap()
             .with_timezone(&Utc);
-        let err = check_event_time(far, latest()).unwrap_err();
+        let err = check_event_time(far, latest()).unwrap_err().to_string();
         assert!(err.contains("year 10000"), "{err}");
     }
 

@@ -14,10 +14,10 @@ use serde::Deserialize;
 use toml::Spanned;
 
 /// The languages the app speaks (decks may declare these).
-pub const LANGUAGES: [&str; 2] = ["en", "hi-Latn"];
+pub(crate) const LANGUAGES: [&str; 2] = ["en", "hi-Latn"];
 
 /// Allowed range of `desired_retention`.
-pub const RETENTION_RANGE: (f64, f64) = (0.70, 0.97);
+pub(crate) const RETENTION_RANGE: (f64, f64) = (0.70, 0.97);
 
 /// The longest learning or relearning step accepted.
 const MAX_STEP: TimeDelta = TimeDelta::days(365);
@@ -255,7 +255,7 @@ impl Config {
                     .enumerate()
                     .map(|(i, s)| {
                         parse_step(s.get_ref())
-                            .map_err(|m| invalid(&format!("{key}[{i}]"), s.span(), m))
+                            .map_err(|m| invalid(&format!("{key}[{i}]"), s.span(), m.to_string()))
                     })
                     .collect::<Result<_, _>>()?;
             }
@@ -287,7 +287,7 @@ impl Config {
         }
         if let Some(t) = raw.day_starts_at {
             config.day_starts_at = parse_time_of_day(t.get_ref())
-                .map_err(|m| invalid("day_starts_at", t.span(), m))?;
+                .map_err(|m| invalid("day_starts_at", t.span(), m.to_string()))?;
         }
         if let Some(l) = raw.language {
             let lang = l.get_ref();
@@ -374,7 +374,7 @@ impl Config {
                 ));
             }
             let dir = expand_home(p.get_ref(), home.as_deref())
-                .map_err(|m| invalid(&format!("deck_paths[{i}]"), p.span(), m))?;
+                .map_err(|m| invalid(&format!("deck_paths[{i}]"), p.span(), m.to_string()))?;
             config.deck_paths.push(base.join(dir));
         }
         if let Some(d) = raw.sync_dir {
@@ -386,14 +386,14 @@ impl Config {
                 ));
             }
             let dir = expand_home(d.get_ref(), home.as_deref())
-                .map_err(|m| invalid("sync_dir", d.span(), m))?;
+                .map_err(|m| invalid("sync_dir", d.span(), m.to_string()))?;
             config.sync_dir = Some(base.join(dir));
         }
         Ok(config)
     }
 
     /// The value of `key` as it is written in a config file.
-    pub fn value_of(&self, key: &str) -> Result<toml::Value, ConfigError> {
+    pub(crate) fn value_of(&self, key: &str) -> Result<toml::Value, ConfigError> {
         let steps = |s: &[TimeDelta]| {
             toml::Value::Array(
                 s.iter()
@@ -427,7 +427,7 @@ impl Config {
     }
 
     /// The value of one of [`FITTED_KEYS`], `None` while unset.
-    pub fn fitted_value_of(&self, key: &str) -> Option<toml::Value> {
+    pub(crate) fn fitted_value_of(&self, key: &str) -> Option<toml::Value> {
         match key {
             "fsrs_parameters" => self
                 .fsrs_parameters
@@ -445,11 +445,10 @@ impl Config {
     pub fn save_key(&self, path: &Path, key: &str) -> Result<(), ConfigError> {
         let value = self.value_of(key)?;
         let text = read_or_empty(path)?;
-        let updated =
-            set_key_in_text(&text, key, &value).map_err(|message| ConfigError::Parse {
-                path: path.to_path_buf(),
-                message,
-            })?;
+        let updated = set_key_in_text(&text, key, &value).map_err(|e| ConfigError::Parse {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
         write_atomically(path, &updated)
     }
 
@@ -466,22 +465,20 @@ impl Config {
         for key in KEYS {
             let (mine, theirs) = (self.value_of(key)?, on_file.value_of(key)?);
             if mine != theirs {
-                text =
-                    set_key_in_text(&text, key, &mine).map_err(|message| ConfigError::Parse {
-                        path: path.to_path_buf(),
-                        message,
-                    })?;
+                text = set_key_in_text(&text, key, &mine).map_err(|e| ConfigError::Parse {
+                    path: path.to_path_buf(),
+                    message: e.to_string(),
+                })?;
             }
         }
         for key in FITTED_KEYS {
             if let Some(mine) = self.fitted_value_of(key)
                 && Some(&mine) != on_file.fitted_value_of(key).as_ref()
             {
-                text =
-                    set_key_in_text(&text, key, &mine).map_err(|message| ConfigError::Parse {
-                        path: path.to_path_buf(),
-                        message,
-                    })?;
+                text = set_key_in_text(&text, key, &mine).map_err(|e| ConfigError::Parse {
+                    path: path.to_path_buf(),
+                    message: e.to_string(),
+                })?;
             }
         }
         if text == original && path.exists() {
@@ -493,30 +490,44 @@ impl Config {
 
 /// A learning step as written in the config: a whole number and a unit,
 /// `30s`, `1m`, `10m`, `1h`, `1d`.
-pub fn parse_step(text: &str) -> Result<TimeDelta, String> {
+pub(crate) fn parse_step(text: &str) -> Result<TimeDelta, StepError> {
     let t = text.trim();
     let split = t.find(|c: char| !c.is_ascii_digit()).unwrap_or(t.len());
     let (number, unit) = t.split_at(split);
-    let hint = "write a whole number and a unit: 30s, 1m, 10m, 1h, 1d";
     let n: i64 = number
         .parse()
-        .map_err(|_| format!("{text:?} is not a duration; {hint}"))?;
+        .map_err(|_| StepError::NotADuration(text.to_string()))?;
     let step = match unit {
         "s" => TimeDelta::try_seconds(n),
         "m" => TimeDelta::try_minutes(n),
         "h" => TimeDelta::try_hours(n),
         "d" => TimeDelta::try_days(n),
-        _ => return Err(format!("{text:?} has no known unit; {hint}")),
+        _ => return Err(StepError::NoUnit(text.to_string())),
     }
-    .ok_or_else(|| format!("{text:?} is too long"))?;
+    .ok_or_else(|| StepError::TooLong(text.to_string()))?;
     if step <= TimeDelta::zero() || step > MAX_STEP {
-        return Err(format!("{text:?} must be between 1s and 365d"));
+        return Err(StepError::OutOfRange(text.to_string()));
     }
     Ok(step)
 }
 
+/// Why [`parse_step`] refused a step; each holds the text as written.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub(crate) enum StepError {
+    #[error("{0:?} is not a duration; {STEP_HINT}")]
+    NotADuration(String),
+    #[error("{0:?} has no known unit; {STEP_HINT}")]
+    NoUnit(String),
+    #[error("{0:?} is too long")]
+    TooLong(String),
+    #[error("{0:?} must be between 1s and 365d")]
+    OutOfRange(String),
+}
+
+const STEP_HINT: &str = "write a whole number and a unit: 30s, 1m, 10m, 1h, 1d";
+
 /// The inverse of [`parse_step`]: the largest unit that divides the step.
-pub fn format_step(d: TimeDelta) -> String {
+pub(crate) fn format_step(d: TimeDelta) -> String {
     let s = d.num_seconds();
     for (unit, size) in [("d", 86_400), ("h", 3_600), ("m", 60)] {
         if s != 0 && s % size == 0 {
@@ -526,8 +537,13 @@ pub fn format_step(d: TimeDelta) -> String {
     format!("{s}s")
 }
 
-fn parse_time_of_day(text: &str) -> Result<NaiveTime, String> {
-    let bad = || format!("{text:?} is not a time of day; write HH:MM, e.g. \"04:00\"");
+/// A `day_starts_at` that is not `HH:MM`.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0:?} is not a time of day; write HH:MM, e.g. \"04:00\"")]
+struct NotATimeOfDay(String);
+
+fn parse_time_of_day(text: &str) -> Result<NaiveTime, NotATimeOfDay> {
+    let bad = || NotATimeOfDay(text.to_string());
     let (h, m) = text.trim().split_once(':').ok_or_else(bad)?;
     if h.is_empty() || h.len() > 2 || m.len() != 2 {
         return Err(bad());
@@ -566,8 +582,14 @@ fn read_or_empty(path: &Path) -> Result<String, ConfigError> {
 
 /// Replaces the value of a top-level `key` in TOML text, or appends the key.
 /// Only the value's bytes change, so comments and the rest stay put.
-fn set_key_in_text(text: &str, key: &str, value: &toml::Value) -> Result<String, String> {
-    let doc = toml::de::DeTable::parse(text).map_err(|e| e.to_string().trim_end().to_string())?;
+/// A config file that is not TOML, in the parser's words.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+struct NotToml(String);
+
+fn set_key_in_text(text: &str, key: &str, value: &toml::Value) -> Result<String, NotToml> {
+    let doc = toml::de::DeTable::parse(text)
+        .map_err(|e| NotToml(e.to_string().trim_end().to_string()))?;
     let existing = doc
         .get_ref()
         .iter()
@@ -618,25 +640,28 @@ impl fmt::Display for Config {
 /// A config path as a shell would take it: a leading `~` or `~/` is the
 /// home folder. `~user` is refused rather than looked up (and never taken
 /// as a folder named `~user`), and so is `~` without `$HOME`.
-fn expand_home(raw: &str, home: Option<&std::ffi::OsStr>) -> Result<PathBuf, String> {
+fn expand_home(raw: &str, home: Option<&std::ffi::OsStr>) -> Result<PathBuf, HomeError> {
     let Some(rest) = raw.strip_prefix('~') else {
         return Ok(PathBuf::from(raw));
     };
     let rest = match rest.strip_prefix('/') {
         Some(rest) => rest,
         None if rest.is_empty() => "",
-        None => {
-            return Err(format!(
-                "{raw:?}: `~user` is not expanded; write the full path (or `~/…` for your own home)"
-            ));
-        }
+        None => return Err(HomeError::OtherUser(raw.to_string())),
     };
     match home.filter(|h| !h.is_empty()) {
         Some(h) => Ok(Path::new(h).join(rest)),
-        None => Err(format!(
-            "{raw:?} starts with `~` but $HOME is not set; write the full path"
-        )),
+        None => Err(HomeError::NoHome(raw.to_string())),
     }
+}
+
+/// Why [`expand_home`] refused a path; each holds the path as written.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+enum HomeError {
+    #[error("{0:?}: `~user` is not expanded; write the full path (or `~/…` for your own home)")]
+    OtherUser(String),
+    #[error("{0:?} starts with `~` but $HOME is not set; write the full path")]
+    NoHome(String),
 }
 
 #[cfg(test)]
@@ -733,9 +758,9 @@ language = "hi-Latn"
                 "{raw}"
             );
         }
-        let e = expand_home("~asha/Sync", home).unwrap_err();
+        let e = expand_home("~asha/Sync", home).unwrap_err().to_string();
         assert!(e.contains("`~user` is not expanded"), "{e}");
-        let e = expand_home("~/Sync", None).unwrap_err();
+        let e = expand_home("~/Sync", None).unwrap_err().to_string();
         assert!(e.contains("$HOME is not set"), "{e}");
         // In a file, the error names the key and where it is.
         let e = parse("deck_paths = ['decks', '~bob/decks']\n")

@@ -32,7 +32,7 @@ impl<Tz: TimeZone> DayGrid<Tz> {
     /// When `day` starts: the earlier instant when the clock is set back
     /// over the start time, the first instant after the gap when it jumps
     /// forward over it.
-    pub fn start_of(&self, day: NaiveDate) -> DateTime<Utc> {
+    pub(crate) fn start_of(&self, day: NaiveDate) -> DateTime<Utc> {
         let local = day.and_time(self.starts_at);
         let mut probe = local;
         for _ in 0..4 {

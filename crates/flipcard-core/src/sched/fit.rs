@@ -19,7 +19,7 @@ use super::types::Rating;
 
 /// The crate trains the full model only from this many training items;
 /// with fewer it returns the defaults or fits the first four only.
-pub const MIN_ITEMS: usize = 64;
+pub(crate) const MIN_ITEMS: usize = 64;
 
 /// Folds of the time-series split (the crate's own choice).
 const SPLITS: usize = 5;

@@ -30,12 +30,12 @@ use super::types::{CardState, ItemKey, Rating};
 
 /// The most reviews planned for one item: an item that needs more is
 /// reported short rather than drilled.
-pub const MAX_REVIEWS_PER_ITEM: usize = 8;
+pub(crate) const MAX_REVIEWS_PER_ITEM: usize = 8;
 
 /// Multi-review schedules are searched over this many of the last free
 /// days before the exam: earlier reviews are forgotten by then anyway, and
 /// the search grows with the square of the days.
-pub const SEARCH_WINDOW: usize = 64;
+pub(crate) const SEARCH_WINDOW: usize = 64;
 
 /// The longest planning horizon, in days.
 pub const MAX_DAYS: i64 = 3650;
@@ -186,7 +186,7 @@ impl<'a> Model<'a> {
 
     /// Retrievability on the exam day of an item last reviewed on `last_day`
     /// with `stability` left.
-    pub fn on_exam(&self, stability: f64, last_day: i64) -> f64 {
+    pub(crate) fn on_exam(&self, stability: f64, last_day: i64) -> f64 {
         self.scheduler
             .forgetting_curve((self.days - last_day) as f64, stability)
     }

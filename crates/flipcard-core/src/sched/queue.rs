@@ -17,7 +17,7 @@ use super::types::{CardState, Direction, ItemKey, ReviewKind, ReviewRecord, Stat
 use crate::deck::model::{CardKind, Deck};
 
 /// How far ahead a learning item may be shown when nothing else is left.
-pub const LEARN_AHEAD: TimeDelta = TimeDelta::minutes(20);
+pub(crate) const LEARN_AHEAD: TimeDelta = TimeDelta::minutes(20);
 
 /// The review items of a deck in deck order: one per card, two for a
 /// reversed card (front → back, then back → front), one per deletion

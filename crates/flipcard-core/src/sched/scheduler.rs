@@ -404,7 +404,7 @@ impl Scheduler {
 
 /// The whole-day range py-fsrs fuzzes an interval of `days` into, or `None`
 /// for intervals under 2.5 days (left alone).
-pub fn fuzz_range(days: i64, maximum_interval: i64) -> Option<(i64, i64)> {
+pub(crate) fn fuzz_range(days: i64, maximum_interval: i64) -> Option<(i64, i64)> {
     let d = days as f64;
     if d < 2.5 {
         return None;
@@ -481,7 +481,7 @@ fn clamp_difficulty(d: f64) -> f64 {
 }
 
 /// Whole days in `d`, rounded down (Python's `timedelta.days`).
-pub fn floor_days(d: TimeDelta) -> i64 {
+pub(crate) fn floor_days(d: TimeDelta) -> i64 {
     let days = d.num_days();
     if d < TimeDelta::days(days) {
         days - 1

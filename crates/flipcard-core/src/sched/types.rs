@@ -82,20 +82,17 @@ impl ItemKey {
     /// format's pattern (`[a-z0-9]` words joined by `-`),
     /// a direction `forward`, `backward` or `c1` … `c999`. The error quotes
     /// the value on one line, control characters escaped.
-    pub fn parse(deck: &str, card: &str, direction: &str) -> Result<ItemKey, String> {
+    pub fn parse(deck: &str, card: &str, direction: &str) -> Result<ItemKey, KeyError> {
         for (what, id) in [("deck", deck), ("card", card)] {
             if !crate::deck::validate::is_id(id) {
-                return Err(format!(
-                    "{what} id \"{}\" is not an id (lowercase letters and digits in words joined by -)",
-                    flipcard_text::safe::one_line(&shorten(id))
-                ));
+                return Err(KeyError::NotAnId {
+                    what,
+                    quoted: flipcard_text::safe::one_line(&shorten(id)).into_owned(),
+                });
             }
         }
-        let direction = Direction::parse(direction).ok_or_else(|| {
-            format!(
-                "direction \"{}\" is not forward, backward or c1 … c999",
-                flipcard_text::safe::one_line(&shorten(direction))
-            )
+        let direction = Direction::parse(direction).ok_or_else(|| KeyError::NotADirection {
+            quoted: flipcard_text::safe::one_line(&shorten(direction)).into_owned(),
         })?;
         Ok(ItemKey {
             deck: deck.into(),
@@ -103,6 +100,19 @@ impl ItemKey {
             direction,
         })
     }
+}
+
+/// Why [`ItemKey::parse`] refused an item: the value is quoted on one line,
+/// shortened, control characters escaped.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum KeyError {
+    /// `what` is `deck` or `card`.
+    #[error(
+        "{what} id \"{quoted}\" is not an id (lowercase letters and digits in words joined by -)"
+    )]
+    NotAnId { what: &'static str, quoted: String },
+    #[error("direction \"{quoted}\" is not forward, backward or c1 … c999")]
+    NotADirection { quoted: String },
 }
 
 /// At most 40 characters of a value quoted in a message.
@@ -183,7 +193,7 @@ mod tests {
             ("d", "c", "c0", "c999"),
             ("d", "c", "sideways", "c999"),
         ] {
-            let err = ItemKey::parse(deck, card, dir).unwrap_err();
+            let err = ItemKey::parse(deck, card, dir).unwrap_err().to_string();
             assert!(err.contains(why), "{deck} {card} {dir}: {err}");
             assert!(!err.contains('\u{1b}'), "{err}");
         }

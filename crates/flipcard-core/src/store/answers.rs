@@ -9,7 +9,7 @@ use super::error::StoreError;
 use crate::sched::{ItemKey, Rating};
 
 /// One item with its answers (time, rating) in time order.
-pub type ItemAnswers = (ItemKey, Vec<(DateTime<Utc>, Rating)>);
+pub(crate) type ItemAnswers = (ItemKey, Vec<(DateTime<Utc>, Rating)>);
 
 impl Store {
     /// Every item's live, non-cram answers (time, rating) in time order, for

@@ -12,10 +12,10 @@ pub use super::backup_files::{backups_dir, daily_backups, daily_path, newest_bac
 use super::error::StoreError;
 
 /// How many daily copies are kept.
-pub const KEEP_DAILY: usize = 7;
+pub(crate) const KEEP_DAILY: usize = 7;
 
 /// A consistent copy of the open database at `target` (which must not exist).
-pub fn vacuum_into(conn: &Connection, target: &Path) -> Result<(), StoreError> {
+pub(crate) fn vacuum_into(conn: &Connection, target: &Path) -> Result<(), StoreError> {
     let fail = |detail: String| StoreError::Backup {
         path: target.to_path_buf(),
         detail,

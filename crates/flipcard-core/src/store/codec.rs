@@ -23,7 +23,7 @@ pub fn card_state(row: &rusqlite::Row<'_>, at: [usize; 6]) -> rusqlite::Result<C
     })
 }
 
-pub fn state_str(s: State) -> &'static str {
+pub(crate) fn state_str(s: State) -> &'static str {
     match s {
         State::New => "new",
         State::Learning => "learning",
@@ -130,7 +130,7 @@ impl FromSql for Ms {
 
 /// A count or step stored as an integer that must fit `u32`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Count(pub u32);
+pub(crate) struct Count(pub u32);
 
 impl FromSql for Count {
     fn column_result(value: ValueRef<'_>) -> FromSqlResult<Self> {
@@ -141,17 +141,17 @@ impl FromSql for Count {
     }
 }
 
-pub fn to_ms(t: DateTime<Utc>) -> i64 {
+pub(crate) fn to_ms(t: DateTime<Utc>) -> i64 {
     t.timestamp_millis()
 }
 
-pub fn from_ms(ms: i64) -> Option<DateTime<Utc>> {
+pub(crate) fn from_ms(ms: i64) -> Option<DateTime<Utc>> {
     DateTime::from_timestamp_millis(ms)
 }
 
 /// A decoding failure of one row: SQLite's own errors stay SQLite errors,
 /// a value this build cannot interpret becomes the row's own problem.
-pub fn bad_value(err: rusqlite::Error) -> Result<String, rusqlite::Error> {
+pub(crate) fn bad_value(err: rusqlite::Error) -> Result<String, rusqlite::Error> {
     match err {
         rusqlite::Error::FromSqlConversionFailure(_, _, cause) => Ok(cause.to_string()),
         rusqlite::Error::IntegralValueOutOfRange(_, n) => Ok(format!("{n} is out of range")),

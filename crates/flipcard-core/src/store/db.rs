@@ -9,18 +9,21 @@ use rusqlite::{Connection, OpenFlags};
 use super::backup;
 use super::error::StoreError;
 use super::schema;
+use crate::sched::clock::Clock;
 
 /// The database file inside the data dir.
-pub const FILE_NAME: &str = "flipcard.db";
+pub(crate) const FILE_NAME: &str = "flipcard.db";
 
 /// How long a write waits for another running flipcard before giving up.
-pub const DEFAULT_BUSY_TIMEOUT: Duration = Duration::from_secs(5);
+pub(crate) const DEFAULT_BUSY_TIMEOUT: Duration = Duration::from_secs(5);
 
 #[derive(Debug, Clone)]
 pub struct OpenOptions {
     pub busy_timeout: Duration,
     /// Write the daily copy on the first open of a day.
     pub daily_backup: bool,
+    /// The time of the daily copy and of each session's start.
+    pub clock: Clock,
 }
 
 impl Default for OpenOptions {
@@ -28,6 +31,7 @@ impl Default for OpenOptions {
         OpenOptions {
             busy_timeout: DEFAULT_BUSY_TIMEOUT,
             daily_backup: true,
+            clock: Clock::System,
         }
     }
 }
@@ -40,8 +44,8 @@ pub struct Store {
     pub(super) data_dir: PathBuf,
     /// The session this store writes under, started with the first write.
     pub(super) session: Option<i64>,
-    /// Opened with [`Store::open_read_only`]: every write fails.
-    read_only: bool,
+    /// The time a session starts at.
+    pub(super) clock: Clock,
     warnings: Vec<String>,
 }
 
@@ -77,7 +81,7 @@ impl Store {
         let mut conn = Connection::open_with_flags(&path, flags).map_err(sql_err)?;
         conn.busy_timeout(options.busy_timeout).map_err(sql_err)?;
 
-        let now = crate::sched::clock::now()?;
+        let now = options.clock.now();
         let today = now.with_timezone(&chrono::Local).date_naive();
         let backup_due = options.daily_backup && !backup::daily_path(data_dir, today).exists();
 
@@ -116,7 +120,7 @@ impl Store {
             path,
             data_dir: data_dir.to_path_buf(),
             session: None,
-            read_only: false,
+            clock: options.clock,
             warnings,
         };
         if backup_due
@@ -169,7 +173,7 @@ impl Store {
             path,
             data_dir: data_dir.to_path_buf(),
             session: None,
-            read_only: true,
+            clock: Clock::System,
             warnings: Vec::new(),
         })
     }
@@ -181,11 +185,6 @@ impl Store {
 
     pub fn data_dir(&self) -> &Path {
         &self.data_dir
-    }
-
-    /// Whether this store was opened with [`Store::open_read_only`].
-    pub fn is_read_only(&self) -> bool {
-        self.read_only
     }
 
     /// Problems met while opening that did not stop it (e.g. a daily backup
@@ -445,7 +444,7 @@ impl Store {
         work: impl FnOnce(&mut super::write::Write<'_>) -> Result<T, super::write::Failed>,
     ) -> Result<T, StoreError> {
         let (value, session) =
-            super::write::immediate(&mut self.conn, &self.path, self.session, work)?;
+            super::write::immediate(&mut self.conn, &self.path, self.session, self.clock, work)?;
         self.session = session;
         Ok(value)
     }

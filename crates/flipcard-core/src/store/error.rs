@@ -3,8 +3,6 @@
 
 use std::path::PathBuf;
 
-use crate::sched::clock::ClockError;
-
 #[derive(Debug, thiserror::Error)]
 pub enum StoreError {
     #[error("cannot use data dir {path}: {source}; pass --data-dir or set FLIPCARD_DATA_DIR")]
@@ -75,9 +73,6 @@ pub enum StoreError {
         path: PathBuf,
         error: rusqlite::Error,
     },
-
-    #[error(transparent)]
-    Clock(#[from] ClockError),
 }
 
 fn corrupt_message(path: &std::path::Path, detail: &str, backup: Option<&PathBuf>) -> String {
@@ -136,7 +131,7 @@ fn disk_nearly_full(path: &std::path::Path) -> bool {
 }
 
 /// An I/O error's cause in words, without Rust's `(os error N)` suffix.
-pub fn io_cause(e: &std::io::Error) -> String {
+pub(crate) fn io_cause(e: &std::io::Error) -> String {
     let text = e.to_string();
     match text.find(" (os error") {
         Some(at) => text[..at].to_string(),

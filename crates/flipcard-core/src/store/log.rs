@@ -70,7 +70,7 @@ impl Store {
     /// start of the current session. A session starts by itself with the
     /// first write.
     pub fn start_session(&mut self) -> Result<i64, StoreError> {
-        let id = insert_session(&self.conn).map_err(|e| self.err(e))?;
+        let id = insert_session(&self.conn, self.clock.now()).map_err(|e| self.err(e))?;
         self.session = Some(id);
         Ok(id)
     }

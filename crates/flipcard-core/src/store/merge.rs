@@ -25,7 +25,7 @@ use super::db::Store;
 use super::error::StoreError;
 use super::log::insert_row;
 use super::log::{COLUMNS, LoggedReview, read_logged};
-use super::write::{Failed, session_in};
+use super::write::{Failed, Write, session_in};
 use super::{state, tally};
 use crate::sched::{CardState, ItemKey, Rating, ReviewKind, Scheduler};
 
@@ -71,15 +71,24 @@ impl IncomingReview {
     }
 
     /// Refused before anything is written: what the log cannot hold.
-    pub(super) fn check(&self) -> Result<(), String> {
+    pub(super) fn check(&self) -> Result<(), Unfit> {
         if self.key.deck.is_empty() || self.key.card.is_empty() {
-            return Err("empty deck or card id".into());
+            return Err(Unfit::EmptyId);
         }
         if self.duration_ms < 0 {
-            return Err(format!("negative duration {} ms", self.duration_ms));
+            return Err(Unfit::NegativeDuration(self.duration_ms));
         }
         Ok(())
     }
+}
+
+/// What the log cannot hold of an incoming answer.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub(super) enum Unfit {
+    #[error("empty deck or card id")]
+    EmptyId,
+    #[error("negative duration {0} ms")]
+    NegativeDuration(i64),
 }
 
 impl Store {
@@ -176,7 +185,7 @@ pub(super) type UndoneBy = (i64, Rating, String);
 /// row of the same time and rating is it.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn merge_one(
-    tx: &Transaction<'_>,
+    tx: &Write<'_>,
     session: &mut Option<i64>,
     key: &ItemKey,
     incoming: &[(&IncomingReview, Option<&str>)],

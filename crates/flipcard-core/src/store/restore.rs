@@ -14,6 +14,7 @@ use rusqlite::{Connection, OpenFlags};
 use super::backup;
 use super::db::{FILE_NAME, Store, wal_path};
 use super::error::{StoreError, file_kind, io_cause};
+use crate::sched::clock::Clock;
 
 /// What a restore did.
 #[derive(Debug, Clone, PartialEq)]
@@ -52,11 +53,13 @@ pub enum RestoreError {
 }
 
 /// Restores `backup` (default: the newest one) as the database of
-/// `data_dir`. A sound database is replaced only with `force`.
+/// `data_dir`. A sound database is replaced only with `force`. The
+/// database set aside is named by the time of `clock`.
 pub fn restore(
     data_dir: &Path,
     backup: Option<&Path>,
     force: bool,
+    clock: Clock,
 ) -> Result<Restored, RestoreError> {
     let db = data_dir.join(FILE_NAME);
     let backup = match backup {
@@ -76,14 +79,15 @@ pub fn restore(
         }
     }
 
-    let stamp = crate::sched::clock::now()
-        .map_err(StoreError::from)?
-        .format("%Y%m%dT%H%M%SZ")
-        .to_string();
+    let stamp = clock.now().format("%Y%m%dT%H%M%SZ").to_string();
     let set_aside = set_aside(&db, &stamp)?;
     copy_durably(&backup, &db)?;
     // Opening brings the copy up to this build's schema and WAL mode.
-    let store = Store::open(data_dir)?;
+    let options = super::OpenOptions {
+        clock,
+        ..super::OpenOptions::default()
+    };
+    let store = Store::open_with(data_dir, &options)?;
     let reviews = store.review_count()?;
     debug_assert_eq!(reviews, backup_reviews);
     Ok(Restored {

@@ -6,13 +6,15 @@ use std::path::{Path, PathBuf};
 
 use rusqlite::Connection;
 
+use crate::sched::clock::Clock;
+
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
 pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4];
 
 /// The schema version this build writes.
-pub fn current_version() -> i64 {
+pub(crate) fn current_version() -> i64 {
     MIGRATIONS.len() as i64
 }
 
@@ -442,7 +444,7 @@ END;
 /// Brings the database at `path` up to the last of `migrations`. Before the
 /// first migration of a database that already holds a schema, a copy is made
 /// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
-pub fn migrate(
+pub(crate) fn migrate(
     conn: &mut Connection,
     path: &Path,
     migrations: &[&str],
@@ -472,7 +474,7 @@ pub fn migrate(
     for (i, sql) in migrations.iter().enumerate() {
         // The version is read again inside the write transaction: another
         // instance opening at the same moment may have migrated meanwhile.
-        super::write::immediate(conn, path, None, |tx| {
+        super::write::immediate(conn, path, None, Clock::System, |tx| {
             if user_version(tx)? > i as i64 {
                 return Ok(());
             }
@@ -505,7 +507,7 @@ fn has_tables(conn: &Connection) -> rusqlite::Result<bool> {
 
 /// The path of the copy made before migrating from `old` (unique: a counter
 /// is added when a copy with the same stamp exists).
-pub fn migration_backup_path(db: &Path, old: i64, stamp: &str) -> PathBuf {
+pub(crate) fn migration_backup_path(db: &Path, old: i64, stamp: &str) -> PathBuf {
     let name = db
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())

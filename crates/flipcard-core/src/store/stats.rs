@@ -16,7 +16,7 @@ use crate::sched::DayOf;
 use crate::sched::{CardState, ItemKey, Rating, ReviewKind, State};
 
 /// Days covered by the forecast and by the reviews-per-day history.
-pub const WINDOW_DAYS: usize = 30;
+pub(crate) const WINDOW_DAYS: usize = 30;
 
 /// What the statistics are about.
 #[derive(Debug, Clone, Copy)]

@@ -36,7 +36,7 @@ pub struct Local {
 impl Store {
     /// Every review and every status event that travels, once each, with
     /// where each came from.
-    pub fn sync_local(&self) -> Result<Local, StoreError> {
+    pub(crate) fn sync_local(&self) -> Result<Local, StoreError> {
         let mut order: Vec<(ReviewId, Option<String>)> = Vec::new();
         let mut by_identity: HashMap<(ReviewId, Option<String>), LocalReview> = HashMap::new();
         let mut st = self

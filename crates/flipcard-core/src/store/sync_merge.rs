@@ -6,7 +6,7 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 use chrono::{DateTime, Utc};
-use rusqlite::{Transaction, params};
+use rusqlite::params;
 
 use super::codec::{Ms, to_ms};
 use super::db::Store;
@@ -14,14 +14,14 @@ use super::error::StoreError;
 use super::merge::{IncomingReview, merge_one};
 use super::status_log::{self, StatusAction};
 use super::tally;
-use super::write::session_in;
+use super::write::{Write, session_in};
 use crate::sched::{ItemKey, Rating, Scheduler};
 
 /// A review's identity across machines: item, time (ms), rating.
-pub type ReviewId = (ItemKey, i64, Rating);
+pub(crate) type ReviewId = (ItemKey, i64, Rating);
 
 /// A status event's identity across machines: item, time (ms), action.
-pub type StatusId = (ItemKey, i64, StatusAction);
+pub(crate) type StatusId = (ItemKey, i64, StatusAction);
 
 /// One status event to merge.
 #[derive(Debug, Clone, PartialEq)]
@@ -50,7 +50,7 @@ impl IncomingReview {
 }
 
 impl IncomingStatus {
-    pub fn status_id(&self) -> StatusId {
+    pub(crate) fn status_id(&self) -> StatusId {
         (self.key.clone(), to_ms(self.at), self.action)
     }
 }
@@ -83,7 +83,7 @@ pub struct SyncIncoming {
 
 /// How this machine marks leeches (from its config).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct LeechRule {
+pub(crate) struct LeechRule {
     /// Lapses at which an item becomes a leech (0: never, and leech events
     /// are left as they are).
     pub threshold: u32,
@@ -93,7 +93,7 @@ pub struct LeechRule {
 
 /// What a sync merge did.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct SyncMerged {
+pub(crate) struct SyncMerged {
     pub reviews: usize,
     pub statuses: usize,
     /// Answers and status events taken back because another machine
@@ -112,7 +112,7 @@ impl Store {
     /// cause found by identity), undone ones taken back; then each item's
     /// leech event is put where its live lapses first reach
     /// `leech.threshold`.
-    pub fn merge_sync(
+    pub(crate) fn merge_sync(
         &mut self,
         incoming: &SyncIncoming,
         scheduler: &Scheduler,
@@ -247,7 +247,7 @@ impl Store {
     /// The status events that travel (every one but leech events and the
     /// suspend of a new leech, which each machine derives), once each: live
     /// when any row with its identity is; with the machine each came from.
-    pub fn travelling_statuses(&self) -> Result<Vec<LocalStatus>, StoreError> {
+    pub(crate) fn travelling_statuses(&self) -> Result<Vec<LocalStatus>, StoreError> {
         let mut st = self
             .conn
             .prepare(
@@ -317,7 +317,7 @@ impl Store {
 /// Appends one incoming status event unless one with its identity is in
 /// the log; returns (events appended, whether it was appended undone).
 fn merge_status(
-    tx: &Transaction<'_>,
+    tx: &Write<'_>,
     session: &mut Option<i64>,
     s: &IncomingStatus,
     origin: &str,
@@ -383,7 +383,7 @@ fn merge_status(
 /// the suspend it brought, and the right one appended. Returns how many
 /// items changed.
 fn derive_leeches(
-    tx: &Transaction<'_>,
+    tx: &Write<'_>,
     session: &mut Option<i64>,
     rule: LeechRule,
 ) -> rusqlite::Result<usize> {

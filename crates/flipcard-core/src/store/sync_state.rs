@@ -14,7 +14,7 @@ use super::error::StoreError;
 impl Store {
     /// What changes when the log does: its newest rows and how many are
     /// undone (an undo marks a row, it adds none).
-    pub fn log_fingerprint(&self) -> Result<String, StoreError> {
+    pub(crate) fn log_fingerprint(&self) -> Result<String, StoreError> {
         self.conn
             .query_row(
                 "SELECT * FROM \
@@ -39,7 +39,7 @@ impl Store {
     }
 
     /// The fingerprint the last complete sync through `dir` left.
-    pub fn sync_fingerprint(&self, dir: &str) -> Result<Option<String>, StoreError> {
+    pub(crate) fn sync_fingerprint(&self, dir: &str) -> Result<Option<String>, StoreError> {
         self.conn
             .query_row(
                 "SELECT fingerprint FROM sync_folder WHERE dir = ?1",
@@ -52,7 +52,7 @@ impl Store {
 
     /// Keeps `fingerprint` for `dir` (`None`: forget it, so the next sync
     /// reads everything).
-    pub fn set_sync_fingerprint(
+    pub(crate) fn set_sync_fingerprint(
         &mut self,
         dir: &str,
         fingerprint: Option<&str>,
@@ -72,7 +72,7 @@ impl Store {
     }
 
     /// The ids this data folder synced under before its current one.
-    pub fn previous_machine_ids(&self) -> Result<Vec<String>, StoreError> {
+    pub(crate) fn previous_machine_ids(&self) -> Result<Vec<String>, StoreError> {
         let mut st = self
             .conn
             .prepare_cached("SELECT id FROM machine_history ORDER BY id")
@@ -82,7 +82,7 @@ impl Store {
     }
 
     /// Notes that this data folder synced under `id` before.
-    pub fn add_previous_machine_id(&mut self, id: &str) -> Result<(), StoreError> {
+    pub(crate) fn add_previous_machine_id(&mut self, id: &str) -> Result<(), StoreError> {
         self.conn
             .execute(
                 "INSERT INTO machine_history (id) VALUES (?1) ON CONFLICT DO NOTHING",
@@ -93,7 +93,7 @@ impl Store {
     }
 
     /// For each file of `dir`, the line up to which its problems were said.
-    pub fn reported_through(&self, dir: &str) -> Result<HashMap<String, usize>, StoreError> {
+    pub(crate) fn reported_through(&self, dir: &str) -> Result<HashMap<String, usize>, StoreError> {
         let mut st = self
             .conn
             .prepare_cached("SELECT name, reported_through FROM sync_file WHERE dir = ?1")
@@ -107,7 +107,7 @@ impl Store {
     }
 
     /// Notes that the problems of `name` up to `line` were said.
-    pub fn set_reported_through(
+    pub(crate) fn set_reported_through(
         &mut self,
         dir: &str,
         name: &str,

@@ -15,8 +15,11 @@ use std::path::Path;
 
 use rusqlite::{Connection, Transaction, TransactionBehavior};
 
+use chrono::{DateTime, Utc};
+
 use super::codec::to_ms;
 use super::error::StoreError;
+use crate::sched::clock::Clock;
 
 /// Why a write's work stopped: an SQLite error (mapped with the database's
 /// path when the write ends) or a store error the work raised itself. Both
@@ -39,10 +42,12 @@ impl From<StoreError> for Failed {
     }
 }
 
-/// An open immediate transaction and the session it writes under.
+/// An open immediate transaction, the session it writes under and the
+/// clock a new session starts by.
 pub(crate) struct Write<'c> {
     tx: Transaction<'c>,
     session: Option<i64>,
+    clock: Clock,
 }
 
 impl<'c> Deref for Write<'c> {
@@ -55,7 +60,8 @@ impl<'c> Deref for Write<'c> {
 impl Write<'_> {
     /// The store's session, started by this write if none has been.
     pub(crate) fn session(&mut self) -> rusqlite::Result<i64> {
-        session_in(&self.tx, &mut self.session)
+        let started = self.clock.now();
+        session_in_at(&self.tx, &mut self.session, started)
     }
 }
 
@@ -66,37 +72,48 @@ pub(crate) fn immediate<T>(
     conn: &mut Connection,
     path: &Path,
     session: Option<i64>,
+    clock: Clock,
     work: impl FnOnce(&mut Write<'_>) -> Result<T, Failed>,
 ) -> Result<(T, Option<i64>), StoreError> {
     let sql = |e: rusqlite::Error| StoreError::from_sqlite(path, e);
     let tx = conn
         .transaction_with_behavior(TransactionBehavior::Immediate)
         .map_err(sql)?;
-    let mut w = Write { tx, session };
+    let mut w = Write { tx, session, clock };
     let value = match work(&mut w) {
         Ok(v) => v,
         // Dropping the transaction rolls it back.
         Err(Failed::Sql(e)) => return Err(sql(e)),
         Err(Failed::Store(e)) => return Err(e),
     };
-    let Write { tx, session } = w;
+    let Write { tx, session, .. } = w;
     tx.commit().map_err(sql)?;
     Ok((value, session))
 }
 
 /// `session`, or a new session row kept in it: merges write under a
 /// session of their own that the store does not adopt.
-pub(super) fn session_in(conn: &Connection, session: &mut Option<i64>) -> rusqlite::Result<i64> {
+pub(super) fn session_in(w: &Write<'_>, session: &mut Option<i64>) -> rusqlite::Result<i64> {
+    session_in_at(&w.tx, session, w.clock.now())
+}
+
+fn session_in_at(
+    conn: &Connection,
+    session: &mut Option<i64>,
+    started: DateTime<Utc>,
+) -> rusqlite::Result<i64> {
     match *session {
         Some(s) => Ok(s),
-        None => Ok(*session.insert(insert_session(conn)?)),
+        None => Ok(*session.insert(insert_session(conn, started)?)),
     }
 }
 
 /// A new session row (the time the session started, by the app's clock).
-pub(super) fn insert_session(conn: &Connection) -> rusqlite::Result<i64> {
-    let started = crate::sched::clock::now().map(to_ms).unwrap_or(0);
-    conn.execute("INSERT INTO session (started_at) VALUES (?1)", [started])?;
+pub(super) fn insert_session(conn: &Connection, started: DateTime<Utc>) -> rusqlite::Result<i64> {
+    conn.execute(
+        "INSERT INTO session (started_at) VALUES (?1)",
+        [to_ms(started)],
+    )?;
     Ok(conn.last_insert_rowid())
 }
 

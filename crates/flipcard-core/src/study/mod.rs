@@ -137,7 +137,7 @@ impl Study {
 
     /// What follows a rating of `key` in `deck`: leech detection as the
     /// config says, and its siblings buried until the next study day.
-    pub fn policy(&self, deck: &Deck, key: &ItemKey, now: DateTime<Utc>) -> AfterRating {
+    pub(crate) fn policy(&self, deck: &Deck, key: &ItemKey, now: DateTime<Utc>) -> AfterRating {
         let c = &self.config;
         let bury = match deck.card(&key.card) {
             Some(card) if c.bury_siblings => card_directions(card)

@@ -9,8 +9,9 @@ use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::time::Duration;
 
 use crate::sched::Config;
+use crate::sched::clock::Clock;
 
-use super::{Outcome, Wait};
+use super::{Outcome, SyncError, Wait};
 
 /// How long a background sync waits for another sync of the same data
 /// folder (the `flipcard sync` command, another app).
@@ -21,16 +22,19 @@ const WAIT: Duration = Duration::from_secs(30);
 pub struct Background {
     data: PathBuf,
     dir: PathBuf,
-    running: Option<Receiver<Result<Outcome, String>>>,
+    /// The time each sync runs at.
+    clock: Clock,
+    running: Option<Receiver<Result<Outcome, SyncError>>>,
     /// The config of a sync asked for while one ran.
     again: Option<Config>,
 }
 
 impl Background {
-    pub fn new(data: PathBuf, dir: PathBuf) -> Background {
+    pub fn new(data: PathBuf, dir: PathBuf, clock: Clock) -> Background {
         Background {
             data,
             dir,
+            clock,
             running: None,
             again: None,
         }
@@ -48,34 +52,30 @@ impl Background {
         }
         let (tx, rx) = mpsc::channel();
         let (data, dir, config) = (self.data.clone(), self.dir.clone(), config.clone());
+        let now = self.clock.now();
         let spawned = std::thread::Builder::new()
             .name("sync".into())
             .spawn(move || {
-                let done = crate::sched::clock::now()
-                    .map_err(|e| e.to_string())
-                    .and_then(|now| {
-                        super::sync_with(&data, &dir, &config, now, Wait::Up(WAIT))
-                            .map_err(|e| e.to_string())
-                    });
+                let done = super::sync_with(&data, &dir, &config, now, Wait::Up(WAIT));
                 let _ = tx.send(done);
             });
         match spawned {
             Ok(_) => self.running = Some(rx),
             Err(e) => {
                 let (tx, rx) = mpsc::channel();
-                let _ = tx.send(Err(format!("cannot start a sync: {e}")));
+                let _ = tx.send(Err(SyncError::Spawn(e)));
                 self.running = Some(rx);
             }
         }
     }
 
     /// The result of a sync that ended since the last call.
-    pub fn poll(&mut self) -> Option<Result<Outcome, String>> {
+    pub fn poll(&mut self) -> Option<Result<Outcome, SyncError>> {
         let rx = self.running.as_ref()?;
         let done = match rx.try_recv() {
             Ok(done) => done,
             Err(TryRecvError::Empty) => return None,
-            Err(TryRecvError::Disconnected) => Err("the sync stopped without a word".into()),
+            Err(TryRecvError::Disconnected) => Err(SyncError::Stopped),
         };
         self.running = None;
         if let Some(config) = self.again.take() {
@@ -85,13 +85,10 @@ impl Background {
     }
 
     /// Waits for the running sync (if any) to end, and returns its result.
-    pub fn wait(&mut self) -> Option<Result<Outcome, String>> {
+    pub fn wait(&mut self) -> Option<Result<Outcome, SyncError>> {
         let rx = self.running.take()?;
         self.again = None;
-        Some(
-            rx.recv()
-                .unwrap_or_else(|_| Err("the sync stopped without a word".into())),
-        )
+        Some(rx.recv().unwrap_or(Err(SyncError::Stopped)))
     }
 
     pub fn busy(&self) -> bool {

@@ -33,7 +33,7 @@ use chrono::{DateTime, Utc};
 use serde::{Deserialize, Serialize};
 
 use crate::interop::export::rfc3339;
-use crate::sched::{ItemKey, Rating, clock};
+use crate::sched::{ItemKey, KeyError, Rating, clock};
 use crate::store::merge::IncomingReview;
 use crate::store::status::StatusAction;
 use crate::store::sync_merge::{IncomingStatus, ReviewId, StatusId};
@@ -134,12 +134,15 @@ pub enum Checked {
 
 /// The longest line read from a sync file: a line of this format is a few
 /// hundred bytes, and a longer one is not parsed at all.
-pub const MAX_LINE_BYTES: usize = 16 * 1024;
+pub(crate) const MAX_LINE_BYTES: usize = 16 * 1024;
 
 fn time(s: &str, now: DateTime<Utc>) -> Result<DateTime<Utc>, LineError> {
     let t = DateTime::parse_from_rfc3339(s)
         .map(|t| t.with_timezone(&Utc))
-        .map_err(|e| LineError::Bad(format!("time \"{}\": {e}", one_line(s))))?;
+        .map_err(|e| BadLine::NotRfc3339 {
+            quoted: one_line(s).into_owned(),
+            reason: e.to_string(),
+        })?;
     match clock::check_event_time(t, now) {
         Ok(()) => Ok(t),
         // Dated a little later than this machine's clock allows: it may be
@@ -148,7 +151,7 @@ fn time(s: &str, now: DateTime<Utc>) -> Result<DateTime<Utc>, LineError> {
         Err(why) if t > now && t <= now + chrono::TimeDelta::days(LATER_DAYS) => {
             Err(LineError::Later(why))
         }
-        Err(why) => Err(LineError::Bad(why)),
+        Err(why) => Err(LineError::Bad(BadLine::Time(why))),
     }
 }
 
@@ -157,31 +160,56 @@ fn time(s: &str, now: DateTime<Utc>) -> Result<DateTime<Utc>, LineError> {
 const LATER_DAYS: i64 = 30;
 
 /// Why a line is not merged now.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LineError {
     /// It never will be: the line is written and will not change.
-    Bad(String),
+    #[error(transparent)]
+    Bad(#[from] BadLine),
     /// Dated after this machine's clock (plus the skew allowed): it is read
     /// again at the next sync.
-    Later(String),
+    #[error(transparent)]
+    Later(clock::EventTimeError),
 }
 
-impl From<String> for LineError {
-    fn from(s: String) -> LineError {
-        LineError::Bad(s)
+impl From<KeyError> for LineError {
+    fn from(e: KeyError) -> LineError {
+        LineError::Bad(BadLine::Key(e))
     }
 }
 
-impl std::fmt::Display for LineError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            LineError::Bad(s) | LineError::Later(s) => f.write_str(s),
-        }
-    }
+/// Why a line can never be merged. Values are quoted on one line, control
+/// characters escaped.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum BadLine {
+    /// Not JSON of any line kind: serde's words.
+    #[error("{0}")]
+    Json(String),
+    #[error("unknown event \"{0}\" (written by a newer flipcard?)")]
+    NewerEvent(String),
+    #[error("unknown event \"{0}\"")]
+    UnknownEvent(String),
+    #[error(transparent)]
+    Key(#[from] KeyError),
+    #[error("time \"{quoted}\": {reason}")]
+    NotRfc3339 { quoted: String, reason: String },
+    #[error(transparent)]
+    Time(clock::EventTimeError),
+    #[error("rating {0} is not 1–4")]
+    Rating(u8),
+    #[error("duration {0} ms is not between 0 and a day")]
+    Duration(i64),
+    #[error("action \"{0}\" is not suspend, unsuspend or bury")]
+    Action(String),
+    #[error("the end of the bury, \"{0}\", is outside 1970 to 9899")]
+    BuryEnd(String),
+    #[error("a bury, and only a bury, has an end time (until)")]
+    UntilWithoutBury,
+    #[error("the suspend of a leech is derived on each machine")]
+    LeechSuspend,
 }
 
-fn rating(n: u8) -> Result<Rating, String> {
-    Rating::from_number(i64::from(n)).ok_or_else(|| format!("rating {n} is not 1–4"))
+fn rating(n: u8) -> Result<Rating, BadLine> {
+    Rating::from_number(i64::from(n)).ok_or(BadLine::Rating(n))
 }
 
 fn review_id(
@@ -203,17 +231,13 @@ impl SyncEvent {
     /// The review to merge, or why the line cannot be one.
     pub fn incoming(&self, now: DateTime<Utc>) -> Result<IncomingReview, LineError> {
         if self.event != "review" {
-            return Err(format!("unknown event \"{}\"", one_line(&self.event)).into());
+            return Err(BadLine::UnknownEvent(one_line(&self.event).into_owned()).into());
         }
         let key = ItemKey::parse(&self.deck, &self.card, &self.direction)?;
         let rating = rating(self.rating)?;
         let at = time(&self.reviewed_at, now)?;
         if !(0..=MAX_DURATION_MS).contains(&self.duration_ms) {
-            return Err(format!(
-                "duration {} ms is not between 0 and a day",
-                self.duration_ms
-            )
-            .into());
+            return Err(BadLine::Duration(self.duration_ms).into());
         }
         Ok(IncomingReview {
             key,
@@ -241,23 +265,20 @@ impl SyncLine {
                 let at = time(&s.at, now)?;
                 let action = StatusAction::parse(&s.action)
                     .filter(|a| *a != StatusAction::Leech)
-                    .ok_or_else(|| {
-                        format!(
-                            "action \"{}\" is not suspend, unsuspend or bury",
-                            one_line(&s.action)
-                        )
-                    })?;
+                    .ok_or_else(|| BadLine::Action(one_line(&s.action).into_owned()))?;
                 let until = match s.until.as_deref() {
                     Some(u) => {
                         let u = DateTime::parse_from_rfc3339(u)
                             .map(|t| t.with_timezone(&Utc))
-                            .map_err(|e| format!("time \"{}\": {e}", one_line(u)))?;
+                            .map_err(|e| BadLine::NotRfc3339 {
+                                quoted: one_line(u).into_owned(),
+                                reason: e.to_string(),
+                            })?;
                         // Any end the log can write back (an unsuspend lifts
                         // a bury, however long).
                         if u < clock::earliest() || u > clock::latest() {
-                            return Err(format!(
-                                "the end of the bury, \"{}\", is outside 1970 to 9899",
-                                one_line(s.until.as_deref().unwrap_or_default())
+                            return Err(BadLine::BuryEnd(
+                                one_line(s.until.as_deref().unwrap_or_default()).into_owned(),
                             )
                             .into());
                         }
@@ -266,9 +287,7 @@ impl SyncLine {
                     None => None,
                 };
                 if (action == StatusAction::Bury) != until.is_some() {
-                    return Err("a bury, and only a bury, has an end time (until)"
-                        .to_string()
-                        .into());
+                    return Err(BadLine::UntilWithoutBury.into());
                 }
                 let cause = match &s.cause {
                     Some(c) => Some(review_id(
@@ -282,9 +301,7 @@ impl SyncLine {
                     None => None,
                 };
                 if action == StatusAction::Suspend && cause.is_some() {
-                    return Err("the suspend of a leech is derived on each machine"
-                        .to_string()
-                        .into());
+                    return Err(BadLine::LeechSuspend.into());
                 }
                 Ok(Checked::Status(IncomingStatus {
                     key,
@@ -309,25 +326,20 @@ impl SyncLine {
                 let at = time(&u.at, now)?;
                 let action = StatusAction::parse(&u.action)
                     .filter(|a| *a != StatusAction::Leech)
-                    .ok_or_else(|| {
-                        format!(
-                            "action \"{}\" is not suspend, unsuspend or bury",
-                            one_line(&u.action)
-                        )
-                    })?;
+                    .ok_or_else(|| BadLine::Action(one_line(&u.action).into_owned()))?;
                 Ok(Checked::UndoStatus((key, at.timestamp_millis(), action)))
             }
         }
     }
 
-    fn parse(line: &str) -> Result<SyncLine, String> {
+    fn parse(line: &str) -> Result<SyncLine, BadLine> {
         #[derive(Deserialize)]
         struct Kind<'a> {
             #[serde(borrow)]
             event: std::borrow::Cow<'a, str>,
         }
-        let kind: Kind = serde_json::from_str(line).map_err(|e| e.to_string())?;
-        let e = |e: serde_json::Error| e.to_string();
+        let kind: Kind = serde_json::from_str(line).map_err(|e| BadLine::Json(e.to_string()))?;
+        let e = |e: serde_json::Error| BadLine::Json(e.to_string());
         match kind.event.as_ref() {
             "review" => serde_json::from_str(line).map(SyncLine::Review).map_err(e),
             "status" => serde_json::from_str(line).map(SyncLine::Status).map_err(e),
@@ -337,10 +349,7 @@ impl SyncLine {
             "undo_status" => serde_json::from_str(line)
                 .map(SyncLine::UndoStatus)
                 .map_err(e),
-            other => Err(format!(
-                "unknown event \"{}\" (written by a newer flipcard?)",
-                one_line(other)
-            )),
+            other => Err(BadLine::NewerEvent(one_line(other).into_owned())),
         }
     }
 
@@ -368,7 +377,7 @@ pub struct Skipped {
 /// clock `now`. A last line without its newline is a write still under
 /// way; a line that does not parse was garbled, or forged. Both are left
 /// out and reported.
-pub fn read_lines(text: &str, now: DateTime<Utc>) -> (Vec<Checked>, Vec<Skipped>) {
+pub(crate) fn read_lines(text: &str, now: DateTime<Utc>) -> (Vec<Checked>, Vec<Skipped>) {
     let mut lines_out = Vec::new();
     let mut skipped = Vec::new();
     let complete = text.ends_with('\n');
@@ -478,7 +487,7 @@ pub fn line(event: &SyncEvent) -> String {
 }
 
 /// One line of any kind, with its newline.
-pub fn sync_line(l: &SyncLine) -> String {
+pub(crate) fn sync_line(l: &SyncLine) -> String {
     let mut s = l.json().unwrap_or_default();
     s.push('\n');
     s

@@ -8,30 +8,31 @@
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::time::Duration;
-
-use anyhow::{Context, bail};
 
 use flipcard_io::{self as disk, Durability, open_regular};
 
+use super::error::SyncError;
+
 /// The file that holds the id, in the data dir.
-pub const ID_FILE: &str = "machine-id";
+pub(crate) const ID_FILE: &str = "machine-id";
 
 /// Whether `s` is spelled like a machine id (32 lowercase hexadecimal
 /// digits).
-pub fn is_machine_id(s: &str) -> bool {
+pub(crate) fn is_machine_id(s: &str) -> bool {
     s.len() == 32
         && s.bytes()
             .all(|b| b.is_ascii_digit() || (b'a'..=b'f').contains(&b))
 }
 
 /// This machine's id, made on first use.
-pub fn id(data: &Path) -> anyhow::Result<String> {
+pub fn id(data: &Path) -> Result<String, SyncError> {
     let path = data.join(ID_FILE);
     match disk::metadata_no_follow(&path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            disk::create_dir_all(data)
-                .with_context(|| format!("cannot create {}", data.display()))?;
+            disk::create_dir_all(data).map_err(|source| SyncError::Create {
+                path: data.to_path_buf(),
+                source,
+            })?;
             let tmp = write_new(data)?;
             // Two processes making an id at once: the first link wins for
             // both (the second finds it there).
@@ -40,13 +41,11 @@ pub fn id(data: &Path) -> anyhow::Result<String> {
             match linked {
                 Ok(()) => disk::sync_dir(data),
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
-                Err(e) => {
-                    return Err(e).with_context(|| format!("cannot write {}", path.display()));
-                }
+                Err(source) => return Err(SyncError::Write { path, source }),
             }
             read(&path)
         }
-        Err(e) => Err(e).with_context(|| format!("cannot read {}", path.display())),
+        Err(source) => Err(SyncError::Read { path, source }),
         // A file, or a link (followed; a link to nothing is said as such).
         Ok(_) => read(&path),
     }
@@ -54,15 +53,16 @@ pub fn id(data: &Path) -> anyhow::Result<String> {
 
 /// Gives this machine a new id (the old one is in use by another copy of
 /// this data folder); returns it.
-pub fn renew(data: &Path) -> anyhow::Result<String> {
+pub(crate) fn renew(data: &Path) -> Result<String, SyncError> {
     let path = data.join(ID_FILE);
     let id = format!("{:032x}", rand::random::<u128>());
-    disk::write_atomic(&path, id.as_bytes(), Durability::Synced)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+    if let Err(source) = disk::write_atomic(&path, id.as_bytes(), Durability::Synced) {
+        return Err(SyncError::Write { path, source });
+    }
     read(&path)
 }
 
-fn read(path: &Path) -> anyhow::Result<String> {
+fn read(path: &Path) -> Result<String, SyncError> {
     let mut text = String::new();
     open_regular(path)
         .and_then(|f| f.take(256).read_to_string(&mut text))
@@ -73,29 +73,27 @@ fn read(path: &Path) -> anyhow::Result<String> {
                 }
                 _ => e.to_string(),
             };
-            anyhow::anyhow!(
-                "{}: {why}; remove it to make a new machine id",
-                path.display()
-            )
+            SyncError::IdUnreadable {
+                path: path.to_path_buf(),
+                why,
+            }
         })?;
     let id = text.trim().to_ascii_lowercase();
     if !is_machine_id(&id) {
-        bail!(
-            "{}: not a machine id (32 hexadecimal digits); remove it to make a new one",
-            path.display()
-        );
+        return Err(SyncError::NotAnId(path.to_path_buf()));
     }
     Ok(id)
 }
 
 /// A new id written and synced under a temporary name; returns that name.
-fn write_new(data: &Path) -> anyhow::Result<PathBuf> {
+fn write_new(data: &Path) -> Result<PathBuf, SyncError> {
     let id = format!("{:032x}", rand::random::<u128>());
     let tmp = data.join(format!(".machine-id.{}.tmp", std::process::id()));
     let _ = disk::remove_file(&tmp);
-    disk::write_new(&tmp, id.as_bytes())
-        .with_context(|| format!("cannot write {}", tmp.display()))?;
-    Ok(tmp)
+    match disk::write_new(&tmp, id.as_bytes()) {
+        Ok(()) => Ok(tmp),
+        Err(source) => Err(SyncError::Write { path: tmp, source }),
+    }
 }
 
 pub use flipcard_io::Wait;
@@ -108,26 +106,18 @@ pub struct Lock {
     _lock: disk::Lock,
 }
 
-/// Why the lock was not taken.
-#[derive(Debug, thiserror::Error)]
-pub enum LockError {
-    #[error("another sync of {0} is running; try again when it ends")]
-    Busy(PathBuf),
-    #[error("{0}")]
-    Other(#[from] anyhow::Error),
-}
-
 impl Lock {
-    pub fn take(data: &Path, wait: Wait) -> Result<Lock, LockError> {
-        disk::create_dir_all(data).with_context(|| format!("cannot create {}", data.display()))?;
+    /// The lock, or [`SyncError::Busy`] when another sync holds it.
+    pub fn take(data: &Path, wait: Wait) -> Result<Lock, SyncError> {
+        disk::create_dir_all(data).map_err(|source| SyncError::Create {
+            path: data.to_path_buf(),
+            source,
+        })?;
         let path = data.join("sync.lock");
         match disk::Lock::take(&path, wait) {
             Ok(Some(lock)) => Ok(Lock { _lock: lock }),
-            Ok(None) => Err(LockError::Busy(data.to_path_buf())),
-            Err(e) => Err(anyhow::anyhow!("cannot lock {}: {e}", path.display()).into()),
+            Ok(None) => Err(SyncError::Busy(data.to_path_buf())),
+            Err(source) => Err(SyncError::Lock { path, source }),
         }
     }
 }
-
-/// How long a sync waits for another by default.
-pub const DEFAULT_WAIT: Wait = Wait::Up(Duration::from_secs(30));

@@ -22,16 +22,17 @@
 //!    temporary name, fsynced, renamed over the old one).
 
 pub mod background;
+pub mod error;
 pub mod line;
 pub mod machine;
 pub mod plan;
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, bail};
 use chrono::{DateTime, Utc};
 
 use self::line::SyncLine;
+use crate::sched::clock::Clock;
 use crate::sched::config::LeechAction;
 use crate::sched::{Config, Scheduler};
 use crate::store::sync_merge::LeechRule;
@@ -39,15 +40,16 @@ use crate::store::{OpenOptions, Store};
 use flipcard_io::{self as disk, Durability};
 use flipcard_text::plural;
 
-pub use machine::{LockError, Wait};
+pub use error::SyncError;
+pub use machine::Wait;
 use plan::FileLines;
 
 /// The largest sync file read: a machine's file grows by about 200 bytes an
 /// answer, so this is millions of answers.
-pub const MAX_FILE_BYTES: u64 = 1 << 30;
+pub(crate) const MAX_FILE_BYTES: u64 = 1 << 30;
 
 /// How many answers one sync may take back before it says so loudly.
-pub const LOUD_UNDOS: usize = 5;
+pub(crate) const LOUD_UNDOS: usize = 5;
 
 /// What one sync did.
 #[derive(Debug, Default)]
@@ -141,13 +143,14 @@ pub fn sync_with(
     config: &Config,
     now: DateTime<Utc>,
     wait: Wait,
-) -> Result<Outcome, LockError> {
+) -> Result<Outcome, SyncError> {
     let lock = machine::Lock::take(data, wait)?;
     let options = OpenOptions {
         daily_backup: false,
+        clock: Clock::Fixed(now),
         ..OpenOptions::default()
     };
-    let mut store = Store::open_with(data, &options).map_err(anyhow::Error::from)?;
+    let mut store = Store::open_with(data, &options)?;
     let warnings: Vec<String> = store.warnings().iter().map(|w| w.to_string()).collect();
     let mut outcome = locked(&mut store, data, dir, config, now)?;
     drop(lock);
@@ -155,47 +158,36 @@ pub fn sync_with(
     Ok(outcome)
 }
 
-/// [`sync_with`] through a store already open.
-pub fn sync_store(
-    store: &mut Store,
-    data: &Path,
-    dir: &Path,
-    config: &Config,
-    now: DateTime<Utc>,
-    wait: Wait,
-) -> Result<Outcome, LockError> {
-    let _lock = machine::Lock::take(data, wait)?;
-    Ok(locked(store, data, dir, config, now)?)
-}
-
 /// One file of the folder, as found.
 struct Found {
     path: PathBuf,
     name: String,
-    /// What changes when the file does (size, time, inode), or why it is
-    /// not a file to read.
-    stamp: Result<String, String>,
+    /// What changes when the file does (size, time, inode); `None` when it
+    /// is not a file to read.
+    stamp: Option<String>,
 }
 
 /// The sync files of `dir`: `*.jsonl`, not hidden (temporary files are),
 /// by name.
-fn sync_files(dir: &Path) -> anyhow::Result<Vec<Found>> {
+fn sync_files(dir: &Path) -> Result<Vec<Found>, SyncError> {
     use std::os::unix::fs::MetadataExt;
-    let files = disk::visible_files(dir, "jsonl")
-        .with_context(|| format!("cannot read the sync folder {}", dir.display()))?;
+    let files = disk::visible_files(dir, "jsonl").map_err(|source| SyncError::ReadFolder {
+        path: dir.to_path_buf(),
+        source,
+    })?;
     Ok(files
         .into_iter()
         .map(|(path, name)| {
             let stamp = match disk::metadata(&path) {
-                Ok(m) if m.is_file() => Ok(format!(
+                Ok(m) if m.is_file() => Some(format!(
                     "{}.{}.{}.{}",
                     m.len(),
                     m.mtime(),
                     m.mtime_nsec(),
                     m.ino()
                 )),
-                Ok(_) => Err("not a regular file".to_string()),
-                Err(e) => Err(e.to_string()),
+                // Not a regular file, or gone: read as "unreadable".
+                _ => None,
             };
             Found { path, name, stamp }
         })
@@ -207,7 +199,7 @@ fn fingerprint(
     leech: LeechRule,
     store: &Store,
     files: &[Found],
-) -> anyhow::Result<String> {
+) -> Result<String, SyncError> {
     let mut fp = format!(
         "v1 {me} {} {} {}",
         leech.threshold,
@@ -224,13 +216,18 @@ fn fingerprint(
     Ok(fp)
 }
 
-fn read_file(path: &Path) -> Result<String, String> {
+/// A sync file's text, or the error its warning says.
+fn read_file(path: &Path) -> std::io::Result<String> {
     disk::read_regular_limited(path, MAX_FILE_BYTES)
         .map(|bytes| String::from_utf8_lossy(&bytes).into_owned())
-        .map_err(|e| match e.kind() {
-            std::io::ErrorKind::Other => e.to_string(),
-            _ => disk::cannot_read(&e),
-        })
+}
+
+/// Why a sync file was not read, for its warning.
+fn unread(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::Other => e.to_string(),
+        _ => disk::cannot_read(e),
+    }
 }
 
 fn locked(
@@ -239,18 +236,12 @@ fn locked(
     dir: &Path,
     config: &Config,
     now: DateTime<Utc>,
-) -> anyhow::Result<Outcome> {
+) -> Result<Outcome, SyncError> {
     if !dir.is_dir() {
         if dir.exists() {
-            bail!(
-                "{}: not a folder (sync goes through a folder another tool keeps in step)",
-                dir.display()
-            );
+            return Err(SyncError::NotAFolder(dir.to_path_buf()));
         }
-        bail!(
-            "{}: no such folder (create it, or point the sync tool's folder there)",
-            dir.display()
-        );
+        return Err(SyncError::NoFolder(dir.to_path_buf()));
     }
     let dir_key = dir
         .canonicalize()
@@ -283,10 +274,11 @@ fn locked(
     for f in &found {
         let text = match read_file(&f.path) {
             Ok(text) => text,
-            Err(why) => {
+            Err(e) => {
                 outcome.warnings.push(format!(
-                    "{}: {why}; skipped, to be read next time",
-                    f.path.display()
+                    "{}: {}; skipped, to be read next time",
+                    f.path.display(),
+                    unread(&e)
                 ));
                 outcome.skipped_files += 1;
                 read_again = true;
@@ -405,14 +397,15 @@ fn locked(
         for stale in disk::entries_starting_with(dir, &format!(".{me}.jsonl.")) {
             let _ = disk::remove_file(stale);
         }
-        disk::write_atomic(&mine, mine_text.as_bytes(), Durability::Synced)
-            .with_context(|| format!("cannot write {}", mine.display()))?;
+        if let Err(source) = disk::write_atomic(&mine, mine_text.as_bytes(), Durability::Synced) {
+            return Err(SyncError::Write { path: mine, source });
+        }
     }
 
     // What the next sync compares with: the folder and the log as this one
     // leaves them (not kept when a line is to be read again).
     let after = (!read_again)
-        .then(|| -> anyhow::Result<String> { fingerprint(&me, leech, store, &sync_files(dir)?) })
+        .then(|| fingerprint(&me, leech, store, &sync_files(dir)?))
         .transpose()?;
     store.set_sync_fingerprint(&dir_key, after.as_deref())?;
     Ok(outcome)

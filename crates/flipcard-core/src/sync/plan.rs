@@ -63,7 +63,7 @@ pub struct Plan {
 }
 
 impl Plan {
-    pub fn undos_of_answers(&self) -> usize {
+    pub(crate) fn undos_of_answers(&self) -> usize {
         self.undone_by.values().sum()
     }
 }
@@ -179,7 +179,7 @@ fn origin_of<'a>(
 /// identity, saying something else), or one it has live shown undone. Zero
 /// unless the database was restored from a backup or the data folder was
 /// copied to a machine that writes under the same id.
-pub fn foreign_in_own(me: &str, files: &[FileLines], local: &Local) -> usize {
+pub(crate) fn foreign_in_own(me: &str, files: &[FileLines], local: &Local) -> usize {
     let reviews: HashMap<ReviewId, &IncomingReview> = local
         .reviews
         .iter()
@@ -251,8 +251,7 @@ pub fn plan(me: &str, previous: &[String], files: &[FileLines], local: &Local) -
                     let line = reviews.get(&id, index.get(m).copied()).and_then(|o| o.line);
                     line.is_some_and(|line| line.same(&l.review))
                 };
-                let (o, stamp) =
-                    origin_of(me, previous, l.legacy, reviews.holders.get(&id), holds);
+                let (o, stamp) = origin_of(me, previous, l.legacy, reviews.holders.get(&id), holds);
                 if stamp {
                     incoming.stamp_reviews.push((id.clone(), o.to_string()));
                 }
@@ -315,7 +314,9 @@ pub fn plan(me: &str, previous: &[String], files: &[FileLines], local: &Local) -
             Some(o) => o.clone(),
             None => {
                 let holds = |m: &str| {
-                    let line = statuses.get(&id, index.get(m).copied()).and_then(|o| o.line);
+                    let line = statuses
+                        .get(&id, index.get(m).copied())
+                        .and_then(|o| o.line);
                     line.is_some_and(|line| line.same(&l.status))
                 };
                 let (o, stamp) =
@@ -377,6 +378,6 @@ pub fn plan(me: &str, previous: &[String], files: &[FileLines], local: &Local) -
 /// The machine a sync file belongs to: its name up to the first dot (a
 /// copy a sync tool made of a conflicting version, `<id>.sync-conflict-….jsonl`,
 /// belongs to the same machine).
-pub fn machine_of(file_name: &str) -> &str {
+pub(crate) fn machine_of(file_name: &str) -> &str {
     file_name.split('.').next().unwrap_or(file_name)
 }

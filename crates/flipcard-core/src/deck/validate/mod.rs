@@ -53,7 +53,7 @@ pub fn id(rep: &mut FileReport, s: &Str, kind: &str) -> bool {
 }
 
 /// Reports each id used a second time, pointing back at the first.
-pub fn unique(rep: &mut FileReport, ids: &[&Str], kind: &str) -> bool {
+pub(crate) fn unique(rep: &mut FileReport, ids: &[&Str], kind: &str) -> bool {
     let mut seen: HashMap<&str, &Span> = HashMap::new();
     let mut ok = true;
     for s in ids {
@@ -114,7 +114,7 @@ impl Targets {
     /// Whether `name` may be the id of an item whose id is broken: one has
     /// none, or one is close to it once made an id (`Stability`, or
     /// `$\frac{body-frame` where an escape ate a letter and more was pasted).
-    pub fn may_mean(&self, name: &str) -> bool {
+    pub(crate) fn may_mean(&self, name: &str) -> bool {
         let wanted = slug(name);
         let near = |m: &String| {
             let contains = wanted.len() >= 3 && m.len() >= 3;

@@ -14,7 +14,7 @@ use super::text::{self, Kind, Langs};
 
 /// Longest run a scene may ask for, in its time unit: beyond this a typo
 /// (a missing decimal point) is far likelier than intent.
-pub const MAX_DURATION: f64 = 1e6;
+pub(crate) const MAX_DURATION: f64 = 1e6;
 
 pub fn scene(rep: &mut FileReport, raw: &RawScene, langs: &Langs, what: &str) -> Option<Scene> {
     let title = raw

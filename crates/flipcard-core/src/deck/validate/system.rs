@@ -13,9 +13,9 @@ use crate::deck::tomlstr;
 use flipcard_sim::scene::spec::{Mark, SystemPanel, SystemScene};
 use flipcard_sim::scene::system::check_cost;
 use flipcard_sim::solvers::ode::OdeSystem;
+use flipcard_sim::system::System;
 use flipcard_sim::system::compile::{Fault, Source};
 use flipcard_sim::system::expr::{self, BUILTINS, ExprError, FUNCTIONS, MAX_NAME};
-use flipcard_sim::system::{Name, System};
 use flipcard_text::num::Num as Shown;
 
 use super::text::{self, Kind, Langs};
@@ -37,7 +37,7 @@ pub fn quantities(raw: &RawSystem) -> Vec<String> {
 }
 
 /// The file span of bytes `at..at + len` of the decoded string `s`.
-pub fn span_in(rep: &FileReport, s: &Str, at: usize, len: usize) -> Span {
+pub(crate) fn span_in(rep: &FileReport, s: &Str, at: usize, len: usize) -> Span {
     let token = rep.source.get(s.span.clone()).unwrap_or("");
     let start = s.span.start + tomlstr::locate(token, at).0;
     let end = s.span.start + tomlstr::locate(token, at + len.max(1)).0;
@@ -639,9 +639,4 @@ fn source_span(sys: &RawSystem, source: Source) -> Option<Span> {
             .nth(k)
             .map(|s| s.span.clone()),
     }
-}
-
-/// The name of a measure's quantity, for a system scene's measures.
-pub fn measure_name(s: &str) -> Option<Name> {
-    Name::new(s)
 }

@@ -40,7 +40,7 @@ pub fn text(rep: &mut FileReport, raw: &RawText, langs: &Langs, what: &str) -> O
 }
 
 /// [`text`] for strings of `kind`.
-pub fn text_of(
+pub(crate) fn text_of(
     rep: &mut FileReport,
     raw: &RawText,
     langs: &Langs,
