@@ -101,6 +101,12 @@ fn app(lang: &str) -> TestApp {
         },
         tags: vec![],
     });
+    open_third_prompt(deck, lang)
+}
+
+/// The app on `deck` at 100×30 in `lang`, on the predict screen of the
+/// deck's third prompt (the test deck has two before the one added).
+fn open_third_prompt(deck: crate::deck::Deck, lang: &str) -> TestApp {
     let dir = tempfile::tempdir().unwrap();
     let mut app = crate::tui::Tui::new(vec![deck], testkit::services(&dir), lang, Theme::PLAIN);
     app.size = (100, 30);
@@ -212,14 +218,7 @@ fn app_on(scene: SystemScene, measure: Measure, threshold: f64) -> TestApp {
         },
         tags: vec![],
     });
-    let dir = tempfile::tempdir().unwrap();
-    let mut app = crate::tui::Tui::new(vec![deck], testkit::services(&dir), ENGLISH, Theme::PLAIN);
-    app.size = (100, 30);
-    let mut app = TestApp { app, dir };
-    press(&mut app, KeyCode::Char('p'));
-    press_all(&mut app, &[KeyCode::Char('j'), KeyCode::Char('j')]);
-    press(&mut app, KeyCode::Enter);
-    app
+    open_third_prompt(deck, ENGLISH)
 }
 
 /// x'' = −x with 45,056 compiled operations of observables in the
@@ -578,13 +577,7 @@ fn a_number_verdict_names_its_measurement_with_its_unit_and_no_empty_formula() {
         },
         tags: vec![],
     });
-    let dir = tempfile::tempdir().unwrap();
-    let mut app = crate::tui::Tui::new(vec![deck], testkit::services(&dir), ENGLISH, Theme::PLAIN);
-    app.size = (100, 30);
-    let mut app = TestApp { app, dir };
-    press(&mut app, KeyCode::Char('p'));
-    press_all(&mut app, &[KeyCode::Char('j'), KeyCode::Char('j')]);
-    press(&mut app, KeyCode::Enter);
+    let mut app = open_third_prompt(deck, ENGLISH);
     for c in "4.9".chars() {
         press(&mut app, KeyCode::Char(c));
     }

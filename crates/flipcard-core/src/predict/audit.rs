@@ -82,11 +82,7 @@ impl Run {
             at: None,
         })?;
         run.run_to_end()?;
-        let (measured, missing) = system_readings(
-            measures,
-            |m| run.measure(m).map_err(|e| e.to_string()),
-            scene.duration,
-        );
+        let (measured, missing) = system_readings(measures, |m| run.measure(m), scene.duration);
         let longer_scene = SystemScene {
             duration: scene.duration * LONGER,
             ..scene.clone()
@@ -98,9 +94,10 @@ impl Run {
                 let (measured, missing) = system_readings(
                     measures,
                     |_| {
-                        values
-                            .next()
-                            .map_or_else(|| Err(String::new()), |v| v.map_err(|e| e.to_string()))
+                        values.next().map_or_else(
+                            || Err("not measured".to_string()),
+                            |v| v.map_err(|e| e.to_string()),
+                        )
                     },
                     longer_scene.duration,
                 );
@@ -131,9 +128,9 @@ impl Run {
 }
 
 /// Each measure's value, or why the run could not make it.
-fn system_readings(
+fn system_readings<E: std::fmt::Display>(
     measures: &[Measure],
-    mut value: impl FnMut(Measure) -> Result<f64, String>,
+    mut value: impl FnMut(Measure) -> Result<f64, E>,
     elapsed: f64,
 ) -> (Measurements, Vec<(Measure, String)>) {
     let mut readings = Vec::new();
@@ -145,7 +142,7 @@ fn system_readings(
                 value: v,
                 formula: None,
             }),
-            Err(why) => missing.push((m, why)),
+            Err(why) => missing.push((m, why.to_string())),
         }
     }
     (Measurements::from_readings(readings).over(elapsed), missing)

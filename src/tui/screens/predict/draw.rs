@@ -8,13 +8,13 @@ use ratatui::widgets::Paragraph;
 
 use crate::deck::{Answer, Measure, Panel, Prompt};
 use crate::sim::scene::SceneRun;
-use crate::text::num::Num;
 use crate::tui::app::App;
-use crate::tui::i18n::{Msg, sim_words as w};
+use crate::tui::i18n::Msg;
 use crate::tui::live::{Live, Sim};
 use crate::tui::plots;
 use crate::tui::wrap::{Run, wrap};
 
+use super::parts::{diagnostics, fit_spans, fold_parts, hints_line, status_line};
 use super::{Phase, PredictState, Prediction, Verdict, prompt};
 
 /// A number as the verdict shows it: integers plainly, others with 3
@@ -259,40 +259,9 @@ fn draw_play(
         }
     }
 
-    let flips = run.flip_times().len();
-    let mut s = vec![
-        Span::styled(
-            format!(
-                " t = {:.2} / {} {}",
-                live.t(),
-                Num(run.scene().duration),
-                run.scene().time_unit
-            ),
-            t.strong(),
-        ),
-        Span::styled(
-            format!(" · {}: {flips}", w::FLIPS.get(&app.lang)),
-            t.strong(),
-        ),
-        Span::styled(format!(" · {}", super::speed_text(app, live)), t.dim()),
-        Span::styled(format!(" · {}", run.method().label()), t.dim()),
-    ];
-    if live.paused {
-        s.push(Span::styled(
-            format!(" · {}", app.tr(Msg::Paused)),
-            t.warn(),
-        ));
-    }
-    if let Some(e) = live.error() {
-        s.push(Span::styled(format!(" · {e}"), t.bad()));
-    }
-    frame.render_widget(Paragraph::new(fit_spans(s, status.width as usize)), status);
-
-    let lines: Vec<Line> = diag_lines
-        .into_iter()
-        .map(|l| Line::styled(l, t.dim()))
-        .collect();
-    frame.render_widget(Paragraph::new(lines), diag_area);
+    let flips = Some(run.flip_times().len());
+    frame.render_widget(status_line(app, live, flips, status.width), status);
+    frame.render_widget(diagnostics(app, diag_lines), diag_area);
 
     frame.render_widget(
         hints_line(app, prompt, verdict.is_some(), hints.width),
@@ -306,37 +275,6 @@ fn draw_play(
         );
         frame.render_widget(Paragraph::new(shown), verdict_area);
     }
-}
-
-/// The run's keys, one line; they stay listed after the verdict, with what
-/// it adds (the next prompt, the explanation). A rigid body's and a
-/// system's alike.
-pub(super) fn hints_line(
-    app: &App,
-    prompt: &Prompt,
-    judged: bool,
-    width: u16,
-) -> Paragraph<'static> {
-    let t = &app.theme;
-    let key = |k: &'static str, what: &str| {
-        [
-            Span::styled(k, t.key()),
-            Span::styled(format!(" {what}  "), t.dim()),
-        ]
-    };
-    let mut spans = vec![Span::raw(" ")];
-    if judged {
-        spans.extend(key("n", w::NEXT.get(&app.lang)));
-        if prompt.explain.is_some() {
-            spans.extend(key("e", app.tr(Msg::Explanation)));
-        }
-    }
-    spans.extend(key("Space", app.tr(Msg::Pause)));
-    spans.extend(key("+ -", app.tr(Msg::Speed)));
-    spans.extend(key("r", app.tr(Msg::Restart)));
-    spans.extend(key("m", app.tr(Msg::Method)));
-    spans.extend(key("[ ]", app.tr(Msg::Step)));
-    Paragraph::new(fit_spans(spans, width as usize))
 }
 
 /// What the panel area holds: the scene's panels and, for a growth-rate
@@ -398,40 +336,6 @@ fn pane_areas(area: Rect, panes: &[Pane]) -> Vec<(Pane, Rect)> {
     }
 }
 
-/// A diagnostics text ("a · b · c") folded to `width` at its separators,
-/// never inside a part, at most three lines (the last ending in "…" when
-/// parts were left out); a part wider than a line is cut with "…". Each
-/// line starts with a space.
-pub(super) fn fold_parts(text: &str, width: usize) -> Vec<String> {
-    const MAX_LINES: usize = 3;
-    let room = width.saturating_sub(1).max(1);
-    let mut lines: Vec<String> = Vec::new();
-    let mut line = String::new();
-    for part in text.split(" · ") {
-        let part = crate::tui::wrap::ellipsize(part, room);
-        let joined = if line.is_empty() {
-            part.clone()
-        } else {
-            format!("{line} · {part}")
-        };
-        if unicode_width::UnicodeWidthStr::width(joined.as_str()) <= room {
-            line = joined;
-        } else {
-            lines.push(std::mem::replace(&mut line, part));
-        }
-    }
-    if !line.is_empty() {
-        lines.push(line);
-    }
-    if lines.len() > MAX_LINES {
-        lines.truncate(MAX_LINES);
-        if let Some(last) = lines.pop() {
-            lines.push(crate::tui::wrap::ellipsize(&format!("{last} …"), room));
-        }
-    }
-    lines.into_iter().map(|l| format!(" {l}")).collect()
-}
-
 /// The first `n` of `lines`, the last one ending in "…" when some were
 /// left out.
 fn cut_lines(mut lines: Vec<Line<'static>>, n: usize, width: usize) -> Vec<Line<'static>> {
@@ -456,37 +360,6 @@ fn cut_lines(mut lines: Vec<Line<'static>>, n: usize, width: usize) -> Vec<Line<
         lines.push(Line::from(spans));
     }
     lines
-}
-
-/// Spans cut to `width` columns, ending in "…" where cut.
-fn fit_spans(spans: Vec<Span<'static>>, width: usize) -> Line<'static> {
-    use unicode_width::UnicodeWidthChar;
-    let total: usize = spans.iter().map(|s| s.width()).sum();
-    if total <= width {
-        return Line::from(spans);
-    }
-    let mut out = Vec::new();
-    let mut used = 0;
-    for s in spans {
-        let mut text = String::new();
-        for c in s.content.chars() {
-            let w = c.width().unwrap_or(0);
-            if used + w + 1 > width {
-                break;
-            }
-            used += w;
-            text.push(c);
-        }
-        let full = text.len() == s.content.len();
-        out.push(Span::styled(text, s.style));
-        if !full {
-            break;
-        }
-    }
-    if width > 0 {
-        out.push(Span::raw("…"));
-    }
-    Line::from(out)
 }
 
 /// A drift or error: "0" when exactly zero, else two significant digits.

@@ -18,6 +18,7 @@ use super::Nav;
 
 mod draw;
 mod keys;
+mod parts;
 mod system;
 pub mod verdict;
 pub use draw::{draw, fmt_value};

@@ -10,7 +10,6 @@ use ratatui::widgets::Paragraph;
 
 use crate::deck::{Answer, Measure, Prompt, SystemPanel};
 use crate::sim::scene::system::SystemRun;
-use crate::text::num::Num;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
 use crate::tui::live::Live;
@@ -66,7 +65,7 @@ pub fn draw(
     let t = &app.theme;
     let diag_lines = if show_diagnostics && run.scene().shows(SystemPanel::Diagnostics) {
         let line = system_plots::diagnostics_line(run, &app.lang);
-        super::draw::fold_parts(line.trim_start(), area.width as usize)
+        super::parts::fold_parts(line.trim_start(), area.width as usize)
     } else {
         Vec::new()
     };
@@ -116,40 +115,13 @@ pub fn draw(
             SystemPanel::Diagnostics => {}
         }
     }
-    let mut s = vec![Span::styled(
-        format!(
-            " t = {:.2} / {} {}",
-            live.t(),
-            Num(run.scene().duration),
-            run.scene().time_unit
-        ),
-        t.text(),
-    )];
-    s.push(Span::styled(
-        format!(" · {}", super::speed_text(app, live)),
-        t.dim(),
-    ));
-    s.push(Span::styled(
-        format!(" · {}", run.method().label()),
-        t.dim(),
-    ));
-    if live.paused {
-        s.push(Span::styled(
-            format!(" · {}", app.tr(Msg::Paused)),
-            t.warn(),
-        ));
-    }
-    if let Some(e) = live.error() {
-        s.push(Span::styled(format!(" · {e}"), t.bad()));
-    }
-    frame.render_widget(Paragraph::new(Line::from(s)), status);
-    let lines: Vec<Line> = diag_lines
-        .into_iter()
-        .map(|l| Line::styled(l, t.dim()))
-        .collect();
-    frame.render_widget(Paragraph::new(lines), diag_area);
     frame.render_widget(
-        super::draw::hints_line(app, prompt, verdict.is_some(), hints.width),
+        super::parts::status_line(app, live, None, status.width),
+        status,
+    );
+    frame.render_widget(super::parts::diagnostics(app, diag_lines), diag_area);
+    frame.render_widget(
+        super::parts::hints_line(app, prompt, verdict.is_some(), hints.width),
         hints,
     );
     if !verdict_lines.is_empty() {

@@ -1,0 +1,159 @@
+//! What the predict screen draws alike for a rigid body and a system: the
+//! run's status line, its keys, the solver's diagnostics folded to the
+//! width. Below both panels' drawings (`draw.rs`, `system.rs`).
+
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+
+use crate::deck::Prompt;
+use crate::text::num::Num;
+use crate::tui::app::App;
+use crate::tui::i18n::{Msg, sim_words as w};
+use crate::tui::live::Live;
+
+/// The run's status line, a rigid body's and a system's alike: scene time,
+/// the flips so far (a rigid body), why the run stopped, the speed, the
+/// method, paused; cut with "…" to `width`.
+pub(super) fn status_line(
+    app: &App,
+    live: &Live,
+    flips: Option<usize>,
+    width: u16,
+) -> Paragraph<'static> {
+    let t = &app.theme;
+    let (duration, unit) = live.timing();
+    let mut s = vec![Span::styled(
+        format!(" t = {:.2} / {} {unit}", live.t(), Num(duration)),
+        t.strong(),
+    )];
+    if let Some(flips) = flips {
+        s.push(Span::styled(
+            format!(" · {}: {flips}", w::FLIPS.get(&app.lang)),
+            t.strong(),
+        ));
+    }
+    // Why the run stopped comes before what the learner can change: a
+    // narrow line keeps it.
+    if let Some(e) = live.error() {
+        s.push(Span::styled(format!(" · {e}"), t.bad()));
+    }
+    s.push(Span::styled(
+        format!(" · {}", super::speed_text(app, live)),
+        t.dim(),
+    ));
+    s.push(Span::styled(format!(" · {}", live.method_label()), t.dim()));
+    if live.paused {
+        s.push(Span::styled(
+            format!(" · {}", app.tr(Msg::Paused)),
+            t.warn(),
+        ));
+    }
+    Paragraph::new(fit_spans(s, usize::from(width)))
+}
+
+/// The diagnostics lines (see [`fold_parts`]), dim.
+pub(super) fn diagnostics(app: &App, lines: Vec<String>) -> Paragraph<'static> {
+    let t = &app.theme;
+    Paragraph::new(
+        lines
+            .into_iter()
+            .map(|l| Line::styled(l, t.dim()))
+            .collect::<Vec<_>>(),
+    )
+}
+
+/// The run's keys, one line; they stay listed after the verdict, with what
+/// it adds (the next prompt, the explanation). A rigid body's and a
+/// system's alike.
+pub(super) fn hints_line(
+    app: &App,
+    prompt: &Prompt,
+    judged: bool,
+    width: u16,
+) -> Paragraph<'static> {
+    let t = &app.theme;
+    let key = |k: &'static str, what: &str| {
+        [
+            Span::styled(k, t.key()),
+            Span::styled(format!(" {what}  "), t.dim()),
+        ]
+    };
+    let mut spans = vec![Span::raw(" ")];
+    if judged {
+        spans.extend(key("n", w::NEXT.get(&app.lang)));
+        if prompt.explain.is_some() {
+            spans.extend(key("e", app.tr(Msg::Explanation)));
+        }
+    }
+    spans.extend(key("Space", app.tr(Msg::Pause)));
+    spans.extend(key("+ -", app.tr(Msg::Speed)));
+    spans.extend(key("r", app.tr(Msg::Restart)));
+    spans.extend(key("m", app.tr(Msg::Method)));
+    spans.extend(key("[ ]", app.tr(Msg::Step)));
+    Paragraph::new(fit_spans(spans, width as usize))
+}
+
+/// A diagnostics text ("a · b · c") folded to `width` at its separators,
+/// never inside a part, at most three lines (the last ending in "…" when
+/// parts were left out); a part wider than a line is cut with "…". Each
+/// line starts with a space.
+pub(super) fn fold_parts(text: &str, width: usize) -> Vec<String> {
+    const MAX_LINES: usize = 3;
+    let room = width.saturating_sub(1).max(1);
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for part in text.split(" · ") {
+        let part = crate::tui::wrap::ellipsize(part, room);
+        let joined = if line.is_empty() {
+            part.clone()
+        } else {
+            format!("{line} · {part}")
+        };
+        if unicode_width::UnicodeWidthStr::width(joined.as_str()) <= room {
+            line = joined;
+        } else {
+            lines.push(std::mem::replace(&mut line, part));
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    if lines.len() > MAX_LINES {
+        lines.truncate(MAX_LINES);
+        if let Some(last) = lines.pop() {
+            lines.push(crate::tui::wrap::ellipsize(&format!("{last} …"), room));
+        }
+    }
+    lines.into_iter().map(|l| format!(" {l}")).collect()
+}
+
+/// Spans cut to `width` columns, ending in "…" where cut.
+pub(super) fn fit_spans(spans: Vec<Span<'static>>, width: usize) -> Line<'static> {
+    use unicode_width::UnicodeWidthChar;
+    let total: usize = spans.iter().map(|s| s.width()).sum();
+    if total <= width {
+        return Line::from(spans);
+    }
+    let mut out = Vec::new();
+    let mut used = 0;
+    for s in spans {
+        let mut text = String::new();
+        for c in s.content.chars() {
+            let w = c.width().unwrap_or(0);
+            if used + w + 1 > width {
+                break;
+            }
+            used += w;
+            text.push(c);
+        }
+        let full = text.len() == s.content.len();
+        out.push(Span::styled(text, s.style));
+        if !full {
+            break;
+        }
+    }
+    if width > 0 {
+        out.push(Span::raw("…"));
+    }
+    Line::from(out)
+}
