@@ -139,7 +139,7 @@ impl Same for IncomingStatus {
 
 impl Same for IncomingReview {
     fn same(&self, other: &Self) -> bool {
-        self.cram == other.cram
+        self.cram == other.cram && self.duration_ms == other.duration_ms
     }
 }
 
