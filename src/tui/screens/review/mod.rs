@@ -466,7 +466,30 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
         ))
     });
     state.phase = Phase::Back { typed, previews };
-    state.scroll = 0;
+    state.scroll = answer_scroll(app, state);
+}
+
+/// Where a card taller than the screen stands when its answer appears: at
+/// the rule above the answer, so the answer is in view (on a small screen
+/// it was below the fold, several `j` away); 0 when the card fits.
+fn answer_scroll(app: &App, state: &ReviewState) -> usize {
+    let max = scroll_max(app, state);
+    if max == 0 {
+        return 0;
+    }
+    let body = crate::tui::layout::body_rect(app.size);
+    let rest = ratatui::layout::Rect::new(0, 0, body.width, body.height.saturating_sub(1));
+    let kind = app
+        .decks
+        .get(state.deck)
+        .and_then(|d| state.card(d))
+        .map_or(CardKind::Basic, |(c, _)| c.kind);
+    let lines = draw::layout(app, state, kind, rest).lines;
+    let rule = lines.iter().position(|l| {
+        let text = crate::tui::wrap::line_text(l);
+        !text.is_empty() && text.chars().all(|c| c == '─')
+    });
+    rule.unwrap_or(0).min(max)
 }
 
 /// How far the card (or the summary) can scroll at the app's size.
