@@ -114,6 +114,7 @@ pub enum Msg {
     CommitFirst,
     NoStepToChange,
     EscOnHome,
+    SiblingWaits,
     Relearning,
     InReview,
     AllTime,
@@ -331,6 +332,10 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         CommitFirst => pick!(
             "Commit first (Enter): the simulation runs only after you answer.",
             "Pehle jawab pakka karo (Enter): simulation uske baad hi chalega."
+        ),
+        SiblingWaits => pick!(
+            "its other direction waits until tomorrow (siblings are buried)",
+            "iski doosri direction kal aayegi (siblings bury hote hain)"
         ),
         EscOnHome => pick!(
             "you are on the first screen: q quits",

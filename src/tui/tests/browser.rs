@@ -357,6 +357,12 @@ fn review_suspends_and_buries_with_undo_and_buries_siblings() {
                 .unwrap_or(false),
             "the other direction is buried"
         );
+        // Said once, on screen: why the counts moved by two.
+        let screen = render(&app);
+        assert!(
+            screen.contains("its other direction waits until tomorrow"),
+            "{screen}"
+        );
         // Undoing the answer unburies it (the next card may be a typed one,
         // where `u` is a letter of the answer: the action is applied).
         crate::tui::update::apply(&mut app, crate::tui::action::Action::Undo);

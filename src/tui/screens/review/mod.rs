@@ -91,6 +91,9 @@ pub struct ReviewState {
     pub typed: bool,
     /// First line of the card shown, when it is taller than the screen.
     pub scroll: usize,
+    /// The learner was told, once this session, why a card's other
+    /// direction left the queue with its answer.
+    pub bury_said: bool,
 }
 
 /// What comes after a session, for its summary.
@@ -160,6 +163,7 @@ impl ReviewState {
             listed,
             typed: false,
             scroll: 0,
+            bury_said: false,
         };
         state.next_card(app);
         Ok(state)
@@ -210,6 +214,7 @@ impl ReviewState {
             listed: Vec::new(),
             typed: false,
             scroll: 0,
+            bury_said: false,
         };
         state.next_card(app);
         Ok(state)

@@ -122,7 +122,14 @@ pub(super) fn after_rating(
             aside.push(sibling.clone());
         }
     }
+    // The first sibling set aside in a session says why the counts moved
+    // by two (the new count jumped with no word before).
+    let said_bury = !aside.is_empty() && !state.bury_said;
+    state.bury_said |= said_bury;
     state.aside.push(aside);
+    if said_bury && !leech {
+        app.info(app.tr(Msg::SiblingWaits));
+    }
     if leech {
         if after.leech_suspend {
             set_aside(state, key);
