@@ -294,6 +294,10 @@ pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option
     for block in markup::parse(sec.body.get(&app.lang)) {
         match block {
             MBlock::Paragraph(spans) => {
+                // A list ends with a blank line before the next paragraph.
+                if lines.last().is_some_and(|l| !l.spans.is_empty()) {
+                    lines.push(Line::default());
+                }
                 let r = runs(&spans, t, &mut links, chosen);
                 extend(
                     &mut lines,

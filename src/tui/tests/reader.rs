@@ -301,3 +301,29 @@ fn wide_terminals_widen_the_list_and_cut_titles_with_an_ellipsis() {
         "{screen}"
     );
 }
+
+#[test]
+fn a_list_ends_with_a_blank_line_before_the_next_paragraph() {
+    let mut app = testkit::app(ENGLISH);
+    let deck = &mut app.decks[0];
+    let text = |s: &str| {
+        let mut m = std::collections::BTreeMap::new();
+        m.insert("en".to_string(), s.to_string());
+        crate::text::Text(m)
+    };
+    deck.sections.insert(
+        0,
+        crate::deck::Section {
+            id: "list".into(),
+            title: text("A list"),
+            body: text("Before.\n\n- one\n- two\n\nAfter the list."),
+            see: vec![],
+        },
+    );
+    let deck = app.decks[0].clone();
+    let page = crate::tui::screens::reader::page(&app, &deck, 0, 60, None);
+    let lines: Vec<String> = page.lines.iter().map(crate::tui::wrap::line_text).collect();
+    let two = lines.iter().position(|l| l.contains("• two")).unwrap();
+    assert_eq!(lines[two + 1].trim(), "", "{lines:#?}");
+    assert_eq!(lines[two + 2], "After the list.", "{lines:#?}");
+}
