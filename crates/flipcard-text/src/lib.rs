@@ -161,6 +161,22 @@ pub fn variable_name(name: &str) -> String {
     }
 }
 
+/// `c` with a compatibility character folded to its usual form when that
+/// is one character (NFKC): the micro sign µ is the Greek μ, `Ω` the ohm
+/// sign is Ω, fullwidth letters are letters. One character in, one out, so
+/// a search can fold texts and still point at their characters.
+pub fn compat_char(c: char) -> char {
+    if c.is_ascii() {
+        return c;
+    }
+    use unicode_normalization::UnicodeNormalization;
+    let mut folded = std::iter::once(c).nfkc();
+    match (folded.next(), folded.next()) {
+        (Some(f), None) => f,
+        _ => c,
+    }
+}
+
 /// `text` with every math span rendered as Unicode and `\$` as `$`; the
 /// rest is unchanged. Display math (`$$...$$`) is put on a line of its own.
 /// A formula that does not parse is left as written (see [`check`]).
@@ -681,5 +697,29 @@ mod variable_names {
         assert_eq!(shown_name("thetadot"), "thetadot");
         assert_eq!(shown_name("energy"), "energy");
         assert_eq!(shown_name("eta_b"), "eta_b");
+    }
+}
+
+#[cfg(test)]
+mod compat {
+    use super::{compat_char, warnings};
+
+    #[test]
+    fn compatibility_characters_fold_one_for_one() {
+        assert_eq!(compat_char('\u{b5}'), '\u{3bc}');
+        assert_eq!(compat_char('\u{2126}'), '\u{3a9}');
+        assert_eq!(compat_char('a'), 'a');
+        assert_eq!(compat_char('ω'), 'ω');
+        // A ligature would be two letters: kept as it is.
+        assert_eq!(compat_char('\u{fb01}'), '\u{fb01}');
+    }
+
+    #[test]
+    fn the_micro_sign_in_prose_is_a_warning_at_its_place() {
+        let w = warnings("a muon lives 2.2 \u{b5}s");
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert_eq!(w[0].offset, "a muon lives 2.2 ".len());
+        assert!(w[0].message.contains("micro sign"), "{}", w[0].message);
+        assert!(warnings("a muon lives 2.2 \u{3bc}s").is_empty());
     }
 }

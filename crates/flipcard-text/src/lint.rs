@@ -80,6 +80,14 @@ pub fn warnings(text: &str) -> Vec<MathError> {
     for piece in dollar::pieces(text) {
         match piece {
             Piece::Text(t) => {
+                for (at, _) in t.match_indices('\u{b5}') {
+                    found.push(MathError {
+                        offset: offset + at,
+                        message: "the micro sign `µ` (U+00B5) looks like the Greek `μ` (U+03BC) but is \
+                                  another character: write `μ` (or `$\\mu$`) so the deck says one thing"
+                            .to_string(),
+                    });
+                }
                 for (at, name) in commands(t) {
                     if is_latex_command(name) {
                         found.push(MathError {

@@ -388,8 +388,11 @@ fn max_scroll(app: &App, deck: &Deck, state: &ReaderState) -> usize {
     n.saturating_sub(area.height as usize)
 }
 
+/// `s` as search compares it: lower case, compatibility characters folded
+/// (the micro sign finds the Greek mu), one char for each char of `s`.
 fn lowercase_chars(s: &str) -> Vec<char> {
     s.chars()
+        .map(crate::text::compat_char)
         .map(|c| c.to_lowercase().next().unwrap_or(c))
         .collect()
 }

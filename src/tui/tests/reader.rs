@@ -327,3 +327,29 @@ fn a_list_ends_with_a_blank_line_before_the_next_paragraph() {
     assert_eq!(lines[two + 1].trim(), "", "{lines:#?}");
     assert_eq!(lines[two + 2], "After the list.", "{lines:#?}");
 }
+
+#[test]
+fn search_folds_the_micro_sign_and_the_greek_mu() {
+    let mut app = testkit::app(ENGLISH);
+    let text = |s: &str| {
+        let mut m = std::collections::BTreeMap::new();
+        m.insert("en".to_string(), s.to_string());
+        crate::text::Text(m)
+    };
+    app.decks[0].sections.insert(
+        0,
+        crate::deck::Section {
+            id: "muon".into(),
+            title: text("Muons"),
+            body: text("A muon lives 2.2 \u{b5}s; the \u{3bc} of its mass is a different \u{3bc}."),
+            see: vec![],
+        },
+    );
+    press(&mut app, KeyCode::Char('r'));
+    assert_eq!(reader(&app).section, 0);
+    press(&mut app, KeyCode::Char('/'));
+    type_text(&mut app, "\u{3bc}");
+    press(&mut app, KeyCode::Enter);
+    let screen = render(&app);
+    assert!(screen.contains("match 1/3"), "{screen}");
+}

@@ -279,9 +279,20 @@ impl Hay {
 /// into graphemes: between two ASCII characters (but CR LF) there is
 /// always a boundary, so the rest need not be looked at (cutting a whole
 /// index into graphemes cost more than rendering its math).
+/// A query with its compatibility characters folded as the texts are.
+fn compat(query: &str) -> String {
+    query.chars().map(flipcard_text::compat_char).collect()
+}
+
 fn utf32(text: &str) -> Utf32String {
     if text.is_ascii() {
         return Utf32String::from(text);
+    }
+    // A text its folding makes ASCII (`ω₂` is not, `x₂` is) is kept as the
+    // matcher keeps ASCII.
+    let folded = compat(text);
+    if folded.is_ascii() {
+        return Utf32String::from(folded.as_str());
     }
     let b = text.as_bytes();
     // A boundary is certain before `k` when `k - 1` and `k` are ASCII and
@@ -319,7 +330,8 @@ fn utf32(text: &str) -> Utf32String {
         while !certain(next) {
             next += 1;
         }
-        out.extend(chars::graphemes(&text[cut..next]));
+        // Compatibility characters folded (the micro sign is the Greek mu).
+        out.extend(chars::graphemes(&text[cut..next]).map(flipcard_text::compat_char));
         at = next;
     }
     Utf32String::Unicode(out.into_boxed_slice())
@@ -436,7 +448,7 @@ impl Search {
                 any: candidates.to_vec(),
             };
         }
-        let pattern = Pattern::parse(text, CaseMatching::Ignore, Normalization::Smart);
+        let pattern = Pattern::parse(&compat(text), CaseMatching::Ignore, Normalization::Smart);
         let chars = text.chars().filter(|c| !c.is_whitespace()).count() as u32;
         let scan = Scan {
             index: &self.index,
@@ -577,6 +589,28 @@ mod tests {
         }
     }
 
+    #[test]
+    fn compatibility_characters_in_texts_and_queries_find_each_other() {
+        // The micro sign and the Greek mu; a subscript typed as one (the
+        // matcher read a text's `₂` as `2` but a query's as `₂`: `ω₂`
+        // found nothing).
+        let mut matcher = Matcher::new(nucleo_matcher::Config::DEFAULT);
+        for (text, query) in [
+            ("decays in 2.2 \u{b5}s", "\u{3bc}s"),
+            ("decays in 2.2 \u{3bc}s", "\u{b5}s"),
+            ("the spin \u{3c9}\u{2082} grows", "\u{3c9}\u{2082}"),
+            ("the spin \u{3c9}\u{2082} grows", "'\u{3c9}\u{2082}"),
+        ] {
+            let hay = Hay::new(text);
+            let pattern =
+                Pattern::parse(&compat(query), CaseMatching::Ignore, Normalization::Smart);
+            assert!(
+                hay.score(&pattern, &mut matcher).is_some(),
+                "{query:?} in {text:?}"
+            );
+        }
+    }
+
     proptest! {
         /// Reading only the stretch a fuzzy needle can match gives the
         /// score of the whole text.
@@ -586,7 +620,7 @@ mod tests {
             query in "[!^']?[a-dA-Dé ω/_]{1,6}[$]?( [a-d]{1,3})?",
         ) {
             let hay = Hay::new(&text);
-            let pattern = Pattern::parse(&query, CaseMatching::Ignore, Normalization::Smart);
+            let pattern = Pattern::parse(&compat(&query), CaseMatching::Ignore, Normalization::Smart);
             let mut matcher = Matcher::new(nucleo_matcher::Config::DEFAULT);
             let whole = pattern.score(hay.text.slice(..), &mut matcher);
             prop_assert_eq!(hay.score(&pattern, &mut matcher), whole, "{:?} in {:?}", query, text);
@@ -599,7 +633,8 @@ mod tests {
         fn texts_convert_as_the_matcher_converts_them(
             text in "[a-zA-Z \r\n\u{301}\u{20D7}\u{200D}\u{1F1EE}\u{1F1F3}\u{1100}\u{1161}\u{600}\u{1F600}ω₂é]{0,30}",
         ) {
-            prop_assert_eq!(utf32(&text), Utf32String::from(text.as_str()));
+            // As the matcher converts it, compatibility characters folded.
+            prop_assert_eq!(utf32(&text), Utf32String::from(compat(&text).as_str()));
         }
 
         /// The check before the matcher never turns away a text the
@@ -611,7 +646,7 @@ mod tests {
             query in "[!^'$]?[a-zA-Zé ωΩ₂K2_{}]{1,6}[$]?",
         ) {
             let hay = Hay::new(&text);
-            let pattern = Pattern::parse(&query, CaseMatching::Ignore, Normalization::Smart);
+            let pattern = Pattern::parse(&compat(&query), CaseMatching::Ignore, Normalization::Smart);
             let mut matcher = Matcher::new(nucleo_matcher::Config::DEFAULT);
             if pattern.score(hay.text.slice(..), &mut matcher).is_some() {
                 prop_assert!(hay.may_match(&ascii_needles(&pattern)), "{query:?} in {text:?}");
