@@ -341,6 +341,16 @@ pub fn number(rep: &mut FileReport, v: &Value, what: &str) -> Option<Num> {
                 return None;
             }
         },
+        DeValue::String(text) => {
+            // "27.39 AU/yr" or "2.04": what was meant, said back.
+            let help = number_in_quotes(text, what);
+            rep.error(
+                v.span(),
+                format!("{what} must be a number, found a string"),
+                help,
+            );
+            return None;
+        }
         _ => {
             wrong_type(rep, v, what, "a number");
             return None;
@@ -349,6 +359,38 @@ pub fn number(rep: &mut FileReport, v: &Value, what: &str) -> Option<Num> {
     Some(Num {
         value,
         span: v.span(),
+    })
+}
+
+/// The help for a number written as a string: `10.32` without its quotes,
+/// or `27.39 AU/yr` as the number and its unit apart (`unit` is where a
+/// number prompt's unit goes). `None` when the text does not start with a
+/// number.
+fn number_in_quotes(text: &str, what: &str) -> Option<String> {
+    let text = text.trim();
+    let end = text
+        .char_indices()
+        .find(|&(i, c)| {
+            !(c.is_ascii_digit()
+                || c == '.'
+                || ((c == '-' || c == '+') && (i == 0 || text[..i].ends_with(['e', 'E'])))
+                || ((c == 'e' || c == 'E') && i > 0))
+        })
+        .map_or(text.len(), |(i, _)| i);
+    let number: f64 = text[..end].parse().ok().filter(|n: &f64| n.is_finite())?;
+    let key = what.strip_prefix('`')?.strip_suffix('`')?;
+    let unit = text[end..].trim();
+    let number = flipcard_text::num::show(number);
+    if unit.is_empty() {
+        return Some(format!("write it without quotes: {key} = {number}"));
+    }
+    // Said back only when it reads plainly between quotes.
+    let plain = unit.len() <= 32
+        && !unit
+            .chars()
+            .any(|c| c.is_control() || c == '"' || c == '\\');
+    plain.then(|| {
+        format!("write the number and the unit apart: {key} = {number} and unit = \"{unit}\"")
     })
 }
 
