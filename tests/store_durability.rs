@@ -120,11 +120,16 @@ fn sigkill_at_random_moments_loses_no_committed_rating() {
         assert_eq!(store.integrity_check().unwrap(), ["ok"], "{context}");
 
         let mut rows: HashMap<i64, (u64, bool)> = HashMap::new();
+        // Each rating's item, read in the same pass (one scan a round: a
+        // scan per printed leech made the test quadratic in the ratings a
+        // fast machine writes).
+        let mut keys: HashMap<i64, flipcard::sched::ItemKey> = HashMap::new();
         let mut max_seq = None;
         store
             .each_review(|r| -> Result<(), StoreError> {
                 let seq = r.record.duration_ms as u64;
                 rows.insert(r.id, (seq, r.undone));
+                keys.insert(r.id, r.record.key.clone());
                 max_seq = max_seq.max(Some(seq));
                 Ok(())
             })
@@ -158,11 +163,13 @@ fn sigkill_at_random_moments_loses_no_committed_rating() {
         // all of it taken back.
         consequences = check_consequences(&store).unwrap_or_else(|e| panic!("{context}: {e}"));
         for id in &printed_leeches {
-            let leeched = store
-                .status_history(&rows_key(&store, *id))
-                .unwrap()
-                .iter()
-                .any(|e| e.cause == Some(*id) && e.action == flipcard::store::StatusAction::Leech);
+            let Some(key) = keys.get(id) else {
+                panic!("{context}: no rating {id}");
+            };
+            let leeched =
+                store.status_history(key).unwrap().iter().any(|e| {
+                    e.cause == Some(*id) && e.action == flipcard::store::StatusAction::Leech
+                });
             assert!(
                 leeched,
                 "{context}: rating {id} was printed as a leech; no leech event"
@@ -202,20 +209,6 @@ fn sigkill_at_random_moments_loses_no_committed_rating() {
         "only {} ratings written",
         committed.len()
     );
-}
-
-/// The key of rating `id`.
-fn rows_key(store: &Store, id: i64) -> flipcard::sched::ItemKey {
-    let mut found = None;
-    store
-        .each_review(|r| -> Result<(), StoreError> {
-            if r.id == id {
-                found = Some(r.record.key);
-            }
-            Ok(())
-        })
-        .unwrap();
-    found.unwrap_or_else(|| panic!("no rating {id}"))
 }
 
 /// The child: ratings as fast as possible through `record_study`, each id
