@@ -427,7 +427,7 @@ fn parse_csv(text: &str) -> Result<Export, FileError> {
             })?);
         }
         Ok(Export::Reviews(rows))
-    } else if starts_with(&ATTEMPT_FIELDS_V1) {
+    } else if starts_with(ATTEMPT_FIELDS_V1) {
         let mut rows = Vec::new();
         let mut record = csv::StringRecord::new();
         while reader.read_record(&mut record).map_err(csv_error)? {

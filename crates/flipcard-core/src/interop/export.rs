@@ -255,16 +255,8 @@ pub(crate) const ATTEMPT_FIELDS: [&str; 8] = [
 ];
 
 /// The fields every attempts export has had, first in every version's
-/// header.
-pub(crate) const ATTEMPT_FIELDS_V1: [&str; 6] = [
-    "deck",
-    "prompt",
-    "attempted_at",
-    "prediction",
-    "measured",
-    "correct",
-];
-
+/// header: the first six of [`ATTEMPT_FIELDS`].
+pub(crate) const ATTEMPT_FIELDS_V1: &[&str] = ATTEMPT_FIELDS.split_at(6).0;
 /// One exported prompt attempt.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub(crate) struct ExportedAttempt {
