@@ -12,7 +12,6 @@
 #![allow(dead_code)]
 
 pub mod cli;
-pub mod taylor_dd;
 
 pub use cli::{Flipcard, Output, release_binary, test_binary};
 

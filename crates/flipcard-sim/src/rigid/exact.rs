@@ -17,7 +17,7 @@
 //! sech; every other case the elliptic functions with m_c computed directly
 //! from inertia differences (`orbit`). Orientation: `attitude`.
 //!
-//! Accuracy (tests/sim_exact.rs, against a 32-digit Taylor integration):
+//! Accuracy (crates/flipcard-sim/tests/sim_exact.rs, against a 32-digit Taylor integration):
 //! ω and q within a few 1e-16 · (1 + λt) across all regimes, including
 //! needles of inertia ratio 1e6, bodies symmetric to 1e-12 and orbits within
 //! 1e-12 of the separatrix.

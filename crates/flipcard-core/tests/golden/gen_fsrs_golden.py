@@ -4,7 +4,7 @@
 Needs the PyPI package `fsrs` (py-fsrs) 6.x:
 
     pip install 'fsrs>=6,<7'
-    python3 tests/golden/gen_fsrs_golden.py > tests/golden/fsrs_py.json
+    python3 crates/flipcard-core/tests/golden/gen_fsrs_golden.py > crates/flipcard-core/tests/golden/fsrs_py.json
 
 Every sequence starts from a new card (or from a stated card, for the edge
 cases where the steps were changed under a card), reviews it with fuzzing off
@@ -224,7 +224,7 @@ def main():
             reviews = random_sequence(rng, scheduler, length)
             sequences.append(sequence(f"{config[0]}-random-{i}", config, reviews))
     doc = {
-        "generator": "tests/golden/gen_fsrs_golden.py",
+        "generator": "crates/flipcard-core/tests/golden/gen_fsrs_golden.py",
         "fsrs_version": version("fsrs"),
         "enable_fuzzing": False,
         "maximum_interval": scheduler_for(CONFIGS[0]).maximum_interval,

@@ -2,8 +2,8 @@
 //! oscillators and kinetics, a stiff linear system with a closed-form
 //! solution, orders of convergence, blow-up and dense output.
 
-use flipcard::sim::error::SolveError;
-use flipcard::sim::solvers::ode::{
+use flipcard_sim::error::SolveError;
+use flipcard_sim::solvers::ode::{
     Atol, Auto, Dop853, Method, OdeSolver, OdeSystem, Options, Radau5, Rk4, StiffnessMode,
     finite_difference_jacobian, make,
 };

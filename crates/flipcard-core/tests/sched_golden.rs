@@ -4,8 +4,8 @@
 //! stability, difficulty, due time and last review.
 
 use chrono::{DateTime, TimeDelta, Utc};
-use flipcard::sched::scheduler::{MAXIMUM_INTERVAL, default_parameters};
-use flipcard::sched::{
+use flipcard_core::sched::scheduler::{MAXIMUM_INTERVAL, default_parameters};
+use flipcard_core::sched::{
     CardState, Config, Direction, ItemKey, Rating, ReviewKind, Scheduler, State,
 };
 use serde::Deserialize;

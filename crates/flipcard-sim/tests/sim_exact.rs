@@ -5,8 +5,8 @@
 
 use crate::support::taylor_dd;
 
-use flipcard::sim::rigid::exact::{Exact, Regime, linear_stability};
-use flipcard::sim::{Body, Needs, Solver, State};
+use flipcard_sim::rigid::exact::{Exact, Regime, linear_stability};
+use flipcard_sim::{Body, Needs, Solver, State};
 use nalgebra::{UnitQuaternion, Vector3};
 
 /// Error bound asserted: error ≤ TARGET · (1 + λt), relative to |ω| for ω,

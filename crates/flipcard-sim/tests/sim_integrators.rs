@@ -2,10 +2,10 @@
 //! separatrix of I = (3, 4, 6)), their orders of convergence, their
 //! invariants, their step budgets and the extreme cases of the model.
 
-use flipcard::sim::error::SolveError;
-use flipcard::sim::solvers::budget::Budget;
-use flipcard::sim::solvers::registry::{Kind, default_dt_for};
-use flipcard::sim::{Body, Method, Needs, Options, Solver, State, make, make_with};
+use flipcard_sim::error::SolveError;
+use flipcard_sim::solvers::budget::Budget;
+use flipcard_sim::solvers::registry::{Kind, default_dt_for};
+use flipcard_sim::{Body, Method, Needs, Options, Solver, State, make, make_with};
 use nalgebra::{UnitQuaternion, Vector3};
 
 const OMEGA: Needs = Needs { orientation: false };
@@ -480,7 +480,7 @@ fn extreme_cases_stay_finite_and_keep_invariants() {
     ];
     for (name, i, w, t_end, bound) in cases {
         let b = body(i);
-        let dt = flipcard::sim::solvers::registry::default_dt(&b, &Vector3::from(w));
+        let dt = flipcard_sim::solvers::registry::default_dt(&b, &Vector3::from(w));
         let (de, dl) = invariant_drift(Method::Adaptive { tol: 1e-10 }, i, w, t_end);
         assert!(de < 1e-8 && dl < 1e-8, "adaptive {name}: {de} {dl}");
         let (ew, eq) = exact_errors(Method::Adaptive { tol: 1e-10 }, b, w, t_end, 400);
@@ -583,7 +583,7 @@ fn long_splitting_run_over_1e5_periods_stays_on_its_orbit() {
     // 1e5 periods at 24 steps per period, ω only.
     let b = body([1.0, 2.0, 3.0]);
     let w0 = Vector3::new(0.3, 0.2, 1.0);
-    let lambda = flipcard::sim::rigid::scales::scales(&b, &w0).nutation;
+    let lambda = flipcard_sim::rigid::scales::scales(&b, &w0).nutation;
     let period = std::f64::consts::TAU / lambda;
     let t_end = 1e5 * period;
     let (e0, l0) = (b.energy(&w0), b.l2(&w0));
@@ -603,8 +603,8 @@ fn long_splitting_run_over_1e5_periods_stays_on_its_orbit() {
 /// solution.
 #[test]
 fn the_solvers_of_deck_systems_integrate_the_rigid_body() {
-    use flipcard::sim::rigid::euler::{OmegaOnly, RigidSystem, WithOrientation};
-    use flipcard::sim::solvers::ode;
+    use flipcard_sim::rigid::euler::{OmegaOnly, RigidSystem, WithOrientation};
+    use flipcard_sim::solvers::ode;
     let b = body([1.0, 2.0, 2.5]);
     let w = Vector3::new(1.0, 0.3, 2.0);
     let opts = ode::Options::with_tol(1e-11, 1e-13);

@@ -4,8 +4,8 @@
 //! `tests/golden/gen_fsrs_custom_golden.py` with fuzzing off).
 
 use chrono::{DateTime, TimeDelta, Utc};
-use flipcard::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler, State};
-use flipcard::store::{IncomingReview, Store};
+use flipcard_core::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler, State};
+use flipcard_core::store::{IncomingReview, Store};
 use serde::Deserialize;
 
 /// py-fsrs and the scheduler evaluate the same formulas in the same order
@@ -138,7 +138,7 @@ fn custom_parameters_match_py_fsrs_card_for_card() {
         let config = config_for(&g, seq);
         assert_ne!(
             config.fsrs_parameters,
-            Some(flipcard::sched::scheduler::default_parameters())
+            Some(flipcard_core::sched::scheduler::default_parameters())
         );
         let scheduler = Scheduler::new(&config);
         let mut card: Option<CardState> = None;

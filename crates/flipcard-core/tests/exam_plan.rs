@@ -6,8 +6,8 @@ use chrono::{DateTime, Duration, TimeZone, Utc};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 
-use flipcard::sched::plan::{self, Memory, Problem};
-use flipcard::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler, State};
+use flipcard_core::sched::plan::{self, Memory, Problem};
+use flipcard_core::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler, State};
 
 fn scheduler() -> Scheduler {
     Scheduler::new(&Config {

@@ -5,7 +5,7 @@
 Needs the PyPI package `fsrs` (py-fsrs) 6.x:
 
     pip install 'fsrs>=6,<7'
-    python3 tests/golden/gen_fsrs_custom_golden.py > tests/golden/fsrs_py_custom.json
+    python3 crates/flipcard-core/tests/golden/gen_fsrs_custom_golden.py > crates/flipcard-core/tests/golden/fsrs_py_custom.json
 
 The same review paths as `gen_fsrs_golden.py`, but each parameter set below
 stands for what `flipcard optimize --apply` may write: every number inside
@@ -68,7 +68,7 @@ def main():
                     "reviews": reviews,
                 })
     doc = {
-        "generator": "tests/golden/gen_fsrs_custom_golden.py",
+        "generator": "crates/flipcard-core/tests/golden/gen_fsrs_custom_golden.py",
         "fsrs_version": version("fsrs"),
         "enable_fuzzing": False,
         "learning_steps": [60, 600],

@@ -12,7 +12,7 @@
 //!   undo changes nothing);
 //! - `db rebuild` changes nothing on any machine.
 //!
-//! In-process, through `flipcard::sync::sync_with` and the store calls the
+//! In-process, through `flipcard_core::sync::sync_with` and the store calls the
 //! app makes (`answer_time`, `record_study`, `set_status`,
 //! `undo_last_change`). Runs `PROPTEST_CASES` sequences (default 24); for a
 //! longer search: `PROPTEST_CASES=500 cargo test --test main sync_props::`.
@@ -21,10 +21,10 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use chrono::{DateTime, TimeDelta, Utc};
-use flipcard::sched::config::LeechAction;
-use flipcard::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler};
-use flipcard::store::{AfterRating, ItemStatus, StatusAction, Store, StoreError};
-use flipcard::sync::{Wait, sync_with};
+use flipcard_core::sched::config::LeechAction;
+use flipcard_core::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler};
+use flipcard_core::store::{AfterRating, ItemStatus, StatusAction, Store, StoreError};
+use flipcard_core::sync::{Wait, sync_with};
 use proptest::prelude::*;
 
 const DECK: &str = "props";
