@@ -30,11 +30,10 @@ use crate::solvers::ode::{self, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
 use crate::system::System;
 use crate::system::compile::{CompileError, Cost, Fault, POINTS_PER_STEP, Source, time};
 use flipcard_text::num::Num;
+use tally::{InStep, Tally, brent_max};
 
 /// Points kept for each drawn curve (plot, phase, trail).
 pub(crate) const TRACE_LEN: usize = 2048;
-/// The level of |N(0)| below which drift is measured absolutely.
-pub(crate) const TINY: f64 = 1e-300;
 
 /// Most operations of a scene's compiled programs one run may take (about a
 /// second or two of work): a scene's step budget is this divided by
@@ -214,6 +213,9 @@ pub struct SystemPlan {
     pub jacobian: bool,
     /// Quantities whose every sample is kept (for their period).
     pub periods: Vec<usize>,
+    /// Quantities whose extremes are located on the dense output (their
+    /// `max` or `min` is measured).
+    pub extremes: Vec<usize>,
 }
 
 impl SystemPlan {
@@ -238,11 +240,15 @@ impl SystemPlan {
             }
         };
         let mut periods = Vec::new();
+        let mut extremes = Vec::new();
         for m in measures {
             if let Measure::Of(stat, name) = m {
                 add(index(name.as_str()), &mut metered);
                 if *stat == Stat::Period {
                     add(index(name.as_str()), &mut periods);
+                }
+                if matches!(stat, Stat::Max | Stat::Min) {
+                    add(index(name.as_str()), &mut extremes);
                 }
             }
         }
@@ -278,114 +284,8 @@ impl SystemPlan {
             reference: diagnostics,
             jacobian: method.kind.implicit(),
             periods,
+            extremes,
         }
-    }
-}
-
-/// Running statistics of one quantity.
-#[derive(Debug, Clone)]
-struct Tally {
-    first: f64,
-    last: f64,
-    t_first: f64,
-    t_last: f64,
-    max: f64,
-    min: f64,
-    integral: f64,
-    sign: f64,
-    crossings: u64,
-    drift: f64,
-    /// (t, value) for the period, which needs the run's extent first.
-    samples: Vec<(f64, f64)>,
-    count: u64,
-}
-
-impl Tally {
-    fn new() -> Tally {
-        Tally {
-            first: f64::NAN,
-            last: f64::NAN,
-            t_first: 0.0,
-            t_last: 0.0,
-            max: f64::NEG_INFINITY,
-            min: f64::INFINITY,
-            integral: 0.0,
-            sign: 0.0,
-            crossings: 0,
-            drift: 0.0,
-            samples: Vec::new(),
-            count: 0,
-        }
-    }
-
-    fn add(&mut self, t: f64, v: f64, keep: bool) {
-        if self.count == 0 {
-            self.first = v;
-            self.t_first = t;
-        } else {
-            self.integral += 0.5 * (v + self.last) * (t - self.t_last);
-        }
-        self.count += 1;
-        self.last = v;
-        self.t_last = t;
-        self.max = self.max.max(v);
-        self.min = self.min.min(v);
-        if v != 0.0 {
-            let s = v.signum();
-            if self.sign != 0.0 && s != self.sign {
-                self.crossings += 1;
-            }
-            self.sign = s;
-        }
-        self.drift = self.drift.max((v - self.first).abs());
-        if keep {
-            self.samples.push((t, v));
-        }
-    }
-
-    fn stat(&self, stat: Stat, name: &str) -> Result<f64, ReadingError> {
-        if self.count == 0 {
-            return Err(ReadingError::NoSamples {
-                stat,
-                name: name.to_string(),
-            });
-        }
-        Ok(match stat {
-            Stat::Max => self.max,
-            Stat::Min => self.min,
-            Stat::Final => self.last,
-            Stat::Mean => {
-                let span = self.t_last - self.t_first;
-                if span > 0.0 {
-                    self.integral / span
-                } else {
-                    self.first
-                }
-            }
-            Stat::Crossings => self.crossings as f64,
-            Stat::Drift => self.drift / self.first.abs().max(TINY),
-            Stat::Period => return self.period(name),
-        })
-    }
-
-    /// Mean time between successive upward crossings of the mid level.
-    fn period(&self, name: &str) -> Result<f64, ReadingError> {
-        let level = 0.5 * (self.min + self.max);
-        let mut times = Vec::new();
-        for w in self.samples.windows(2) {
-            let ((t0, v0), (t1, v1)) = (w[0], w[1]);
-            if v0 < level && v1 >= level {
-                let f = (level - v0) / (v1 - v0);
-                times.push(t0 + f * (t1 - t0));
-            }
-        }
-        if times.len() < 2 {
-            return Err(ReadingError::NoPeriod {
-                name: name.to_string(),
-                upward: times.len(),
-            });
-        }
-        Ok((times[times.len() - 1] - times[0]) / (times.len() - 1) as f64)
     }
 }
 
@@ -460,6 +360,10 @@ pub struct SystemRun {
     error: Option<RunError>,
     ref_error: f64,
     scratch: Vec<f64>,
+    /// A state and observables at a time between samples (where an
+    /// extreme is searched).
+    probe: Vec<f64>,
+    probe_obs: Vec<f64>,
     /// The observables computed at each sample (the plan's, up to the last
     /// of them), and their values at the last sample.
     observables_upto: Option<usize>,
@@ -544,6 +448,7 @@ impl SystemRun {
         let mut run = SystemRun {
             scene: scene.clone(),
             obs: vec![0.0; system.observable_count()],
+            probe_obs: vec![0.0; system.observable_count()],
             marks: vec![0.0; system.mark_count()],
             system,
             plan,
@@ -561,6 +466,7 @@ impl SystemRun {
             error: None,
             ref_error: 0.0,
             scratch: vec![0.0; n],
+            probe: vec![0.0; n],
             observables_upto,
             good: scene.initial.clone(),
             cost,
@@ -568,7 +474,7 @@ impl SystemRun {
             span: None,
         };
         let y0 = scene.initial.clone();
-        if let Err(e) = run.sample(0.0, &y0) {
+        if let Err(e) = run.sample(0.0, &y0, None) {
             run.error = Some(e);
         }
         Ok(run)
@@ -636,13 +542,13 @@ impl SystemRun {
         }
     }
 
-    fn sample(&mut self, t: f64, y: &[f64]) -> Result<(), RunError> {
+    fn sample(&mut self, t: f64, y: &[f64], at: Option<InStep>) -> Result<(), RunError> {
         self.compute(t, y)?;
         for k in 0..self.tallies.len() {
             let q = self.tallies[k].0;
             let v = self.value(q, y);
             let keep = self.plan.periods.contains(&q);
-            self.tallies[k].1.add(t, v, keep);
+            self.tallies[k].1.add(t, v, keep, at);
         }
         let mut drawn: Vec<usize> = self.plot.clone();
         if let Some([a, b]) = self.phase {
@@ -795,7 +701,8 @@ impl SystemRun {
                         self.stop(self.solver_error(e));
                         return true;
                     }
-                    if let Err(e) = self.sample(t, &y.clone()) {
+                    let at = InStep { k, per_step, t0 };
+                    if let Err(e) = self.sample(t, &y.clone(), Some(at)) {
                         let e = match e {
                             RunError::Domain { .. } => {
                                 let (tb, yb) = self.first_bad(t);
@@ -807,6 +714,7 @@ impl SystemRun {
                         self.stop(e);
                         return true;
                     }
+                    self.locate(at);
                 }
                 self.scratch = y;
             }
@@ -844,6 +752,44 @@ impl SystemRun {
         }
         self.follow_reference(slice);
         true
+    }
+
+    /// Searches the dense output of the current step for the extremes the
+    /// samples so far point at ([`Tally::brackets`]).
+    fn locate(&mut self, at: InStep) {
+        let step_end = at.k == at.per_step;
+        for i in 0..self.tallies.len() {
+            let q = self.tallies[i].0;
+            if !self.plan.extremes.contains(&q) {
+                continue;
+            }
+            for br in self.tallies[i].1.brackets(at.t0, step_end) {
+                let s = if br.max { 1.0 } else { -1.0 };
+                if let Some((_, v)) =
+                    brent_max(br.a, br.b, |t| self.quantity_at(q, t).map(|v| s * v))
+                {
+                    self.tallies[i].1.found(s * v, br.max);
+                }
+            }
+        }
+    }
+
+    /// Quantity `q` at time `t` of the current step, from the dense output
+    /// (None if it cannot be evaluated or is not finite).
+    fn quantity_at(&mut self, q: usize, t: f64) -> Option<f64> {
+        let mut y = std::mem::take(&mut self.probe);
+        let n = y.len();
+        let v = if self.solver.dense(t, &mut y).is_err() {
+            None
+        } else if q < n {
+            Some(y[q])
+        } else {
+            self.system
+                .observables_upto(q - n, t, &y, &mut self.probe_obs);
+            Some(self.probe_obs[q - n])
+        };
+        self.probe = y;
+        v.filter(|v| v.is_finite())
     }
 
     /// Ends the run with `e`, the frame at the last good sample.
@@ -1019,5 +965,6 @@ pub fn measure_system(
     Ok(measures.iter().map(|&m| run.measure(m)).collect())
 }
 
+mod tally;
 #[cfg(test)]
 mod tests;
