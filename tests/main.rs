@@ -24,6 +24,7 @@ mod deck_oscillations;
 mod deck_physics;
 mod doc_examples;
 mod import_reviews_cli;
+mod measure_accuracy;
 mod optimize_cli;
 mod plan_cli;
 mod portable;

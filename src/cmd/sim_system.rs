@@ -13,7 +13,7 @@ use anyhow::{anyhow, bail};
 use crate::cmd::args::{MethodArg, SimArgs, SimFormat};
 use crate::deck::{Deck, Measure, Prompt, SystemScene};
 use crate::predict::audit::{Run, audit_run};
-use crate::sim::scene::system::{SystemPlan, SystemRun, describe, measure_system};
+use crate::sim::scene::system::{SystemPlan, SystemRun, describe, measure_system_noting};
 use crate::sim::solvers::ode::{OdeKind, OdeMethod};
 use crate::sim::system::System;
 use crate::text::num::{self, Num};
@@ -95,13 +95,18 @@ fn measures(
         }
         list.push(m);
     }
-    let values = measure_system(scene, method, &list).map_err(|e| anyhow!("{e}"))?;
+    let values = measure_system_noting(scene, method, &list).map_err(|e| anyhow!("{e}"))?;
     let mut out = String::new();
-    for v in values {
+    let mut notes = Vec::new();
+    for (v, caveat) in values {
         let v = v.map_err(|e| anyhow!("{e}"))?;
         let _ = writeln!(out, "{}", Num(v));
+        notes.extend(caveat);
     }
     crate::out!("{out}")?;
+    for note in notes {
+        crate::errln!("warning: {note}");
+    }
     Ok(ExitCode::SUCCESS)
 }
 

@@ -45,6 +45,9 @@ pub struct Run {
     /// The same scene run [`LONGER`] times as long, when that run reaches
     /// its end (a system scene): the answer must hold on it too.
     pub longer: Option<Box<Run>>,
+    /// What a reader of a measure's value should know (`period` of a
+    /// quantity whose crossings are not evenly spaced).
+    pub caveats: Vec<(Measure, String)>,
 }
 
 impl Run {
@@ -56,6 +59,7 @@ impl Run {
             measured,
             missing: Vec::new(),
             longer: None,
+            caveats: Vec::new(),
         }
     }
 
@@ -83,6 +87,10 @@ impl Run {
         })?;
         run.run_to_end()?;
         let (measured, missing) = system_readings(measures, |m| run.measure(m), scene.duration);
+        let caveats = measures
+            .iter()
+            .filter_map(|&m| run.caveat(m).map(|c| (m, c)))
+            .collect();
         let longer_scene = SystemScene {
             duration: scene.duration * LONGER,
             ..scene.clone()
@@ -107,6 +115,7 @@ impl Run {
                     measured,
                     missing,
                     longer: None,
+                    caveats: Vec::new(),
                 })
             });
         Ok(Run {
@@ -115,6 +124,7 @@ impl Run {
             measured,
             missing,
             longer,
+            caveats,
         })
     }
 
@@ -148,15 +158,19 @@ fn system_readings<E: std::fmt::Display>(
     (Measurements::from_readings(readings).over(elapsed), missing)
 }
 
+/// The measures one prompt's answer uses.
+fn prompt_uses(p: &Prompt) -> Vec<Measure> {
+    match &p.answer {
+        Answer::Choice { choices, .. } => choices.iter().map(|c| c.when.measure).collect(),
+        Answer::Number { measure, .. } => vec![*measure],
+    }
+}
+
 /// The measures the prompts on scene `scene_id` use, in order of first use.
 pub fn prompt_measures(deck: &Deck, scene_id: &str) -> Vec<Measure> {
     let mut out = Vec::new();
     for p in deck.prompts.iter().filter(|p| p.scene == scene_id) {
-        let ms: Vec<Measure> = match &p.answer {
-            Answer::Choice { choices, .. } => choices.iter().map(|c| c.when.measure).collect(),
-            Answer::Number { measure, .. } => vec![*measure],
-        };
-        for m in ms {
+        for m in prompt_uses(p) {
             if !out.contains(&m) {
                 out.push(m);
             }
@@ -606,6 +620,21 @@ fn check_deck(
             continue;
         };
         let at = places.get(&prompt.id);
+        if let Ran::Done(run) = run {
+            let used = prompt_uses(prompt);
+            for (m, caveat) in &run.caveats {
+                if used.contains(m) {
+                    out.push(Diagnostic {
+                        severity: Severity::Warning,
+                        ..diagnostic(
+                            at.and_then(|p| p.expected),
+                            caveat.clone(),
+                            sim_hint(&prompt.scene),
+                        )
+                    });
+                }
+            }
+        }
         let (problem, hint) = match run {
             Ran::Done(run) => (audit_run(prompt, run), sim_hint(&prompt.scene)),
             Ran::Stopped { message, hint, .. } => (

@@ -114,6 +114,19 @@ pub enum ReadingError {
     /// twice (`upward` times).
     #[error("period({name}): {name} crosses the level halfway between its minimum and maximum upwards {} over the run; a period needs two", if *upward == 0 { "never" } else { "once" })]
     NoPeriod { name: String, upward: usize },
+    /// `beat(name)`: the envelope through `name`'s peaks crossed its mid
+    /// level upwards fewer than twice.
+    #[error("beat({name}): the envelope through its {peaks} peaks crosses the level halfway between the lowest and highest peak upwards {} over the run; a beat needs two", if *upward == 0 { "never" } else { "once" })]
+    NoBeat {
+        name: String,
+        peaks: usize,
+        upward: usize,
+    },
+    /// `beat(name)`: the peaks do not vary, so there is no envelope.
+    #[error(
+        "beat({name}): its peaks are all the same height ({peaks} peaks over the run): there is no envelope to time; for the time between peaks measure period({name})"
+    )]
+    FlatBeat { name: String, peaks: usize },
     #[error("`{0}` is a rigid-body measure; this scene is a system")]
     Rigid(Measure),
     #[error("`{name}` is not a variable or observable of scene {scene}")]
@@ -214,8 +227,10 @@ pub struct SystemPlan {
     /// Quantities whose every sample is kept (for their period).
     pub periods: Vec<usize>,
     /// Quantities whose extremes are located on the dense output (their
-    /// `max` or `min` is measured).
+    /// `max`, `min`, `amplitude` or `beat` is measured).
     pub extremes: Vec<usize>,
+    /// Quantities whose every peak is kept (their `beat` is measured).
+    pub peaks: Vec<usize>,
 }
 
 impl SystemPlan {
@@ -241,14 +256,18 @@ impl SystemPlan {
         };
         let mut periods = Vec::new();
         let mut extremes = Vec::new();
+        let mut peaks = Vec::new();
         for m in measures {
             if let Measure::Of(stat, name) = m {
                 add(index(name.as_str()), &mut metered);
                 if *stat == Stat::Period {
                     add(index(name.as_str()), &mut periods);
                 }
-                if matches!(stat, Stat::Max | Stat::Min) {
+                if matches!(stat, Stat::Max | Stat::Min | Stat::Amplitude | Stat::Beat) {
                     add(index(name.as_str()), &mut extremes);
+                }
+                if *stat == Stat::Beat {
+                    add(index(name.as_str()), &mut peaks);
                 }
             }
         }
@@ -285,6 +304,7 @@ impl SystemPlan {
             jacobian: method.kind.implicit(),
             periods,
             extremes,
+            peaks,
         }
     }
 }
@@ -443,7 +463,11 @@ impl SystemRun {
             .as_ref()
             .filter(|_| scene.shows(SystemPanel::Phase))
             .map(|[a, b]| [index(a), index(b)]);
-        let tallies = plan.metered.iter().map(|&q| (q, Tally::new())).collect();
+        let tallies = plan
+            .metered
+            .iter()
+            .map(|&q| (q, Tally::new(plan.peaks.contains(&q))))
+            .collect();
         let observables_upto = plan.observables.iter().rposition(|&o| o);
         let mut run = SystemRun {
             scene: scene.clone(),
@@ -765,10 +789,10 @@ impl SystemRun {
             }
             for br in self.tallies[i].1.brackets(at.t0, step_end) {
                 let s = if br.max { 1.0 } else { -1.0 };
-                if let Some((_, v)) =
+                if let Some((t, v)) =
                     brent_max(br.a, br.b, |t| self.quantity_at(q, t).map(|v| s * v))
                 {
-                    self.tallies[i].1.found(s * v, br.max);
+                    self.tallies[i].1.found(br, t, s * v);
                 }
             }
         }
@@ -932,6 +956,25 @@ impl SystemRun {
         }
     }
 
+    /// What a reader of measure `m` should know about its value: `period`
+    /// on a quantity whose upward crossings are not evenly spaced (not
+    /// periodic at one frequency: two close frequencies beat, or a peak
+    /// grazes the mid level).
+    pub fn caveat(&self, m: Measure) -> Option<String> {
+        let Measure::Of(Stat::Period, name) = m else {
+            return None;
+        };
+        let q = self.quantity(name.as_str())?;
+        let (_, tally) = self.tallies.iter().find(|(k, _)| *k == q)?;
+        let (lo, hi, _) = tally.period_spread()?;
+        Some(format!(
+            "{m}: the upward crossings of its mid level are not evenly spaced (from {} to {} {} apart): {name} is not periodic at one frequency; for the period of its envelope (a beat) measure beat({name})",
+            flipcard_text::num::sig(lo, 3),
+            flipcard_text::num::sig(hi, 3),
+            self.scene.time_unit
+        ))
+    }
+
     /// The readings of `measures` the run could make.
     pub fn measurements(&self, measures: &[Measure]) -> Measurements {
         let readings = measures
@@ -963,6 +1006,25 @@ pub fn measure_system(
     let mut run = SystemRun::with_plan(scene, method, plan)?;
     run.run_to_end()?;
     Ok(measures.iter().map(|&m| run.measure(m)).collect())
+}
+
+/// As [`measure_system`], with each measure's caveat ([`SystemRun::caveat`]).
+pub fn measure_system_noting(
+    scene: &SystemScene,
+    method: OdeMethod,
+    measures: &[Measure],
+) -> Result<Vec<(Result<f64, ReadingError>, Option<String>)>, StartError> {
+    let plan = SystemPlan {
+        reference: false,
+        sketch: false,
+        ..SystemPlan::for_scene(scene, method, measures)
+    };
+    let mut run = SystemRun::with_plan(scene, method, plan)?;
+    run.run_to_end()?;
+    Ok(measures
+        .iter()
+        .map(|&m| (run.measure(m), run.caveat(m)))
+        .collect())
 }
 
 mod tally;

@@ -104,7 +104,7 @@ pub enum Stat {
     Min,
     /// N at the end of the run.
     Final,
-    /// The time average of N over the run (trapezoids between samples).
+    /// The time average of N over the run (Simpson's rule over each step).
     Mean,
     /// Sign changes of N.
     Crossings,
@@ -113,6 +113,12 @@ pub enum Stat {
     Period,
     /// Largest |N(t) − N(0)| / max(|N(0)|, tiny).
     Drift,
+    /// Half the distance between N's maximum and minimum.
+    Amplitude,
+    /// The period of N's envelope: mean time between successive upward
+    /// crossings, by the sequence of N's peaks, of the level halfway between
+    /// the lowest and the highest peak (the beat of two close frequencies).
+    Beat,
 }
 
 impl Stat {
@@ -273,7 +279,13 @@ pub(crate) const MEASURES: &[MeasureRow] = &[
         "mean",
         Stat::Mean,
         ("mean", "ausat"),
-        "time average of N over the run (trapezoids between samples)",
+        "time average of N over the run",
+    ),
+    stat(
+        "amplitude",
+        Stat::Amplitude,
+        ("amplitude", "amplitude"),
+        "half the distance between N's maximum and minimum",
     ),
     stat(
         "crossings",
@@ -286,6 +298,12 @@ pub(crate) const MEASURES: &[MeasureRow] = &[
         Stat::Period,
         ("period", "period"),
         "mean time between upward crossings of the level halfway between N's minimum and maximum",
+    ),
+    stat(
+        "beat",
+        Stat::Beat,
+        ("beat period", "beat period"),
+        "period of N's envelope: mean time between upward crossings, by N's peaks, of the level halfway between the lowest and highest peak",
     ),
     stat(
         "drift",
@@ -499,6 +517,8 @@ mod tests {
             Measure::Of(Stat::Crossings, x()),
             Measure::Of(Stat::Period, x()),
             Measure::Of(Stat::Drift, x()),
+            Measure::Of(Stat::Amplitude, x()),
+            Measure::Of(Stat::Beat, x()),
         ] {
             match m {
                 Measure::Flips
@@ -518,7 +538,9 @@ mod tests {
                     | Stat::Mean
                     | Stat::Crossings
                     | Stat::Period
-                    | Stat::Drift,
+                    | Stat::Drift
+                    | Stat::Amplitude
+                    | Stat::Beat,
                     _,
                 ) => (),
             }
@@ -530,7 +552,7 @@ mod tests {
     fn hints_keep_their_spelling() {
         assert_eq!(
             system_hint(),
-            "system measures: max(N), min(N), final(N), mean(N), crossings(N), period(N), drift(N)"
+            "system measures: max(N), min(N), final(N), mean(N), amplitude(N), crossings(N), period(N), beat(N), drift(N)"
         );
     }
 

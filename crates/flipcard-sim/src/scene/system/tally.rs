@@ -32,13 +32,37 @@ use crate::scene::spec::Stat;
 pub(crate) const TINY: f64 = 1e-300;
 
 /// An interval of the current step where an extreme may lie, to be
-/// searched on the dense output: `max` says which kind.
+/// searched on the dense output: `max` says which kind, `edge` where it
+/// sits.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Bracket {
     pub a: f64,
     pub b: f64,
     pub max: bool,
+    pub edge: Edge,
 }
+
+/// Where a bracket sits in its step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Edge {
+    /// Around a sample inside the step.
+    Inside,
+    /// The step's first interval, falling from a start the quantity rose
+    /// into: the peak is in it or at its start.
+    Start,
+    /// The step's last interval, rising into its end: the peak is in it,
+    /// or at or past the end (then the next step says).
+    End,
+}
+
+/// Least relative variation of the squared peaks that makes an envelope
+/// (below it they differ only by the solver's error).
+const ENVELOPE: f64 = 1e-4;
+
+/// Relative spread of the intervals between upward crossings above which
+/// `period` is flagged as measured on a signal that is not periodic at one
+/// frequency.
+pub(super) const UNEVEN: f64 = 0.02;
 
 /// Running statistics of one quantity.
 #[derive(Debug, Clone)]
@@ -63,6 +87,14 @@ pub(super) struct Tally {
     /// The two samples before the last, oldest first (NaN before there
     /// are any).
     before: [(f64, f64); 2],
+    /// Every peak of |N| (time, |N|) when `beat` is measured (N's maxima
+    /// above zero and minima below), and the end of the interval the last
+    /// maximum and minimum were found in (a peak at a step's edge is found
+    /// from both sides).
+    peaks: Option<Vec<(f64, f64)>>,
+    peak_end: [f64; 2],
+    /// Where in `peaks` the last maximum and minimum are.
+    peak_at: [usize; 2],
 }
 
 /// Where a sample sits in its step: the `k`-th of `per_step` after the
@@ -76,7 +108,8 @@ pub(super) struct InStep {
 }
 
 impl Tally {
-    pub(super) fn new() -> Tally {
+    /// A tally; `peaks`: keep every peak (for `beat`).
+    pub(super) fn new(peaks: bool) -> Tally {
         Tally {
             first: f64::NAN,
             last: f64::NAN,
@@ -93,6 +126,9 @@ impl Tally {
             samples: Vec::new(),
             count: 0,
             before: [(f64::NAN, f64::NAN); 2],
+            peaks: peaks.then(Vec::new),
+            peak_end: [f64::NAN; 2],
+            peak_at: [0; 2],
         }
     }
 
@@ -164,42 +200,115 @@ impl Tally {
             let s = if max { 1.0 } else { -1.0 };
             let best = if max { self.max } else { -self.min };
             // Worth a search only if the extreme nearby can beat the best
-            // so far: it exceeds its samples by less than they vary.
+            // so far (it exceeds its samples by less than they vary), or if
+            // every peak is kept.
+            let all = self.peaks.is_some();
             let worth = |vals: &[f64]| {
                 let hi = vals.iter().fold(f64::NEG_INFINITY, |m, &x| m.max(s * x));
                 let lo = vals.iter().fold(f64::INFINITY, |m, &x| m.min(s * x));
-                hi + (hi - lo) >= best
+                all || hi + (hi - lo) >= best
             };
+            let bracket = |a, b, edge| Bracket { a, b, max, edge };
             if t1 > t0 {
                 // t1 inside the step: a peak at t1 lies in [t2, t].
                 if t2 >= t0 && s * v1 >= s * v2 && s * v1 >= s * v && worth(&[v2, v1, v]) {
-                    out.push(Bracket { a: t2, b: t, max });
+                    out.push(bracket(t2, t, Edge::Inside));
                 }
-            } else if s * v1 >= s * v && worth(&[v1, v]) {
-                // The step's first interval, falling from its start: the
-                // peak's part in this step is here (the part before was
-                // searched at the previous step's end).
-                out.push(Bracket { a: t1, b: t, max });
+            } else if s * v1 >= s * v && !(s * v2 > s * v1) && worth(&[v1, v]) {
+                // The step's first interval, falling from a start the
+                // quantity rose into: the peak's part in this step is here
+                // (the part before was searched at the previous step's end).
+                out.push(bracket(t1, t, Edge::Start));
             }
             if step_end && s * v >= s * v1 && worth(&[v1, v]) {
                 // Rising into the step's end: the peak's part in this step.
-                out.push(Bracket { a: t1, b: t, max });
+                out.push(bracket(t1, t, Edge::End));
             }
         }
         out.dedup();
         out
     }
 
-    /// Takes an extreme found by searching a bracket.
-    pub(super) fn found(&mut self, v: f64, max: bool) {
+    /// Takes the extreme `v` at `t` found by searching `br`.
+    pub(super) fn found(&mut self, br: Bracket, t: f64, v: f64) {
         if !v.is_finite() {
             return;
         }
-        if max {
+        if br.max {
             self.max = self.max.max(v);
         } else {
             self.min = self.min.min(v);
         }
+        let Some(peaks) = &mut self.peaks else {
+            return;
+        };
+        // A peak of |N|: a maximum above zero or a minimum below.
+        if (br.max && v < 0.0) || (!br.max && v > 0.0) {
+            return;
+        }
+        // A peak at the end of a step rising into it is the next step's to
+        // find (or, at the boundary itself, found again from there); the
+        // run's start is no turning point.
+        if (br.edge == Edge::End && t >= br.b) || t <= self.t_first {
+            return;
+        }
+        let kind = usize::from(!br.max);
+        let same = br.a <= self.peak_end[kind];
+        self.peak_end[kind] = br.b;
+        // The same peak from the other side of a step's edge, or from
+        // overlapping intervals of a flat top.
+        if same && let Some(last) = peaks.get_mut(self.peak_at[kind]) {
+            if v.abs() > last.1 {
+                *last = (t, v.abs());
+            }
+            return;
+        }
+        self.peak_at[kind] = peaks.len();
+        peaks.push((t, v.abs()));
+    }
+
+    /// The intervals between the upward crossings `period` uses, and the
+    /// level: for the caveat that they are not evenly spaced.
+    pub(super) fn period_spread(&self) -> Option<(f64, f64, f64)> {
+        let times = upward_crossings(&self.samples, 0.5 * (self.min + self.max));
+        let gaps: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
+        if gaps.len() < 2 {
+            return None;
+        }
+        let lo = gaps.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = gaps.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let mean = gaps.iter().sum::<f64>() / gaps.len() as f64;
+        ((hi - lo) > UNEVEN * mean).then_some((lo, hi, mean))
+    }
+
+    /// The period of the envelope through the peaks of |N|, read on their
+    /// squares (N² has a smooth envelope where |N|'s has a corner at each
+    /// node of the beat).
+    fn beat(&self, name: &str) -> Result<f64, ReadingError> {
+        let peaks: Vec<(f64, f64)> = self
+            .peaks
+            .as_deref()
+            .unwrap_or(&[])
+            .iter()
+            .map(|&(t, v)| (t, v * v))
+            .collect();
+        let lo = peaks.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+        let hi = peaks.iter().map(|p| p.1).fold(f64::NEG_INFINITY, f64::max);
+        if peaks.len() >= 2 && hi - lo <= ENVELOPE * hi {
+            return Err(ReadingError::FlatBeat {
+                name: name.to_string(),
+                peaks: peaks.len(),
+            });
+        }
+        let times = upward_crossings(&peaks, 0.5 * (lo + hi));
+        if times.len() < 2 {
+            return Err(ReadingError::NoBeat {
+                name: name.to_string(),
+                peaks: peaks.len(),
+                upward: times.len(),
+            });
+        }
+        Ok((times[times.len() - 1] - times[0]) / (times.len() - 1) as f64)
     }
 
     pub(super) fn stat(&self, stat: Stat, name: &str) -> Result<f64, ReadingError> {
@@ -224,6 +333,8 @@ impl Tally {
             Stat::Crossings => self.crossings as f64,
             Stat::Drift => self.drift / self.first.abs().max(TINY),
             Stat::Period => return self.period(name),
+            Stat::Amplitude => 0.5 * (self.max - self.min),
+            Stat::Beat => return self.beat(name),
         })
     }
 
@@ -443,7 +554,7 @@ mod tests {
     #[test]
     fn simpson_integrates_each_finished_step() {
         // N = t² over two steps of 4 sub-intervals: Simpson is exact.
-        let mut tally = Tally::new();
+        let mut tally = Tally::new(false);
         tally.add(0.0, 0.0, false, None);
         for (t0, t1) in [(0.0, 1.0), (1.0, 3.0)] {
             for k in 1..=4 {
