@@ -1008,12 +1008,15 @@ pub fn measure_system(
     Ok(measures.iter().map(|&m| run.measure(m)).collect())
 }
 
+/// A measure's value (or why there is none) and its caveat.
+pub type Noted = (Result<f64, ReadingError>, Option<String>);
+
 /// As [`measure_system`], with each measure's caveat ([`SystemRun::caveat`]).
 pub fn measure_system_noting(
     scene: &SystemScene,
     method: OdeMethod,
     measures: &[Measure],
-) -> Result<Vec<(Result<f64, ReadingError>, Option<String>)>, StartError> {
+) -> Result<Vec<Noted>, StartError> {
     let plan = SystemPlan {
         reference: false,
         sketch: false,

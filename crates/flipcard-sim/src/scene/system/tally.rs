@@ -214,7 +214,7 @@ impl Tally {
                 if t2 >= t0 && s * v1 >= s * v2 && s * v1 >= s * v && worth(&[v2, v1, v]) {
                     out.push(bracket(t2, t, Edge::Inside));
                 }
-            } else if s * v1 >= s * v && !(s * v2 > s * v1) && worth(&[v1, v]) {
+            } else if s * v1 >= s * v && (v2.is_nan() || s * v2 <= s * v1) && worth(&[v1, v]) {
                 // The step's first interval, falling from a start the
                 // quantity rose into: the peak's part in this step is here
                 // (the part before was searched at the previous step's end).
@@ -526,7 +526,7 @@ mod tests {
         assert!((t - 1.234_567_89).abs() < 1e-7, "{t}");
         assert!((v - 1.0).abs() < 1e-15, "{v}");
         // Monotone: the end.
-        let (t, _) = brent_max(0.0, 1.0, |t| Some(t)).unwrap();
+        let (t, _) = brent_max(0.0, 1.0, Some).unwrap();
         assert_eq!(t, 1.0);
     }
 
