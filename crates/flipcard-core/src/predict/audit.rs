@@ -788,6 +788,7 @@ mod tests {
             )
             .over(d),
             missing: Vec::new(),
+            caveats: Vec::new(),
             longer: None,
         };
         Run {
