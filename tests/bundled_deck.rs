@@ -285,7 +285,7 @@ fn choice_answers_follow_from_their_scenes() {
         let scene = deck.scene(&prompt.scene).expect("scene exists");
         let mut right = Vec::new();
         for choice in choices {
-            let value = predicted(scene, choice.when.measure).unwrap_or_else(|| {
+            let value = predicted(scene, choice.when.measure()).unwrap_or_else(|| {
                 panic!("prompt {}: no closed form for {:?}", prompt.id, choice.when)
             });
             assert!(

@@ -206,13 +206,10 @@ fn an_answer_check_accepts_stays_right_in_a_longer_run() {
             let long = measure_scene(&scene(duration * 4.0), Method::Exact).unwrap();
             for &(op, value) in &conditions {
                 // The condition, and its complement as the other choice.
-                let when = Condition {
-                    measure: Measure::Flips,
-                    op,
-                    value,
-                };
-                let other = Condition {
-                    op: match op {
+                let when = Condition::compare(Measure::Flips, op, value);
+                let other = Condition::compare(
+                    Measure::Flips,
+                    match op {
                         Cmp::Eq => Cmp::Ne,
                         Cmp::Ne => Cmp::Eq,
                         Cmp::Lt => Cmp::Ge,
@@ -220,8 +217,8 @@ fn an_answer_check_accepts_stays_right_in_a_longer_run() {
                         Cmp::Gt => Cmp::Le,
                         Cmp::Ge => Cmp::Lt,
                     },
-                    ..when
-                };
+                    value,
+                );
                 let prompt = Prompt {
                     id: "p".into(),
                     question: text("?"),

@@ -27,7 +27,7 @@ fn decks() -> Vec<Deck> {
 /// The measures a prompt's answer depends on.
 fn prompt_measures(prompt: &Prompt) -> Vec<Measure> {
     let mut measures = match &prompt.answer {
-        Answer::Choice { choices, .. } => choices.iter().map(|c| c.when.measure).collect(),
+        Answer::Choice { choices, .. } => choices.iter().flat_map(|c| c.when.measures()).collect(),
         Answer::Number { measure, .. } => vec![*measure],
     };
     measures.sort();

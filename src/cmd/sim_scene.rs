@@ -195,15 +195,13 @@ pub(super) fn prompt_line(p: &Prompt, m: &Measurements, ok: bool) -> String {
                 .iter()
                 .map(|&i| {
                     let c = &choices[i];
-                    format!(
-                        "{} ({} = {}: {} {} {})",
-                        c.id,
-                        c.when.measure,
-                        m.get(c.when.measure).map_or("-".into(), number),
-                        c.when.measure,
-                        c.when.op.as_str(),
-                        Num(c.when.value),
-                    )
+                    let values: Vec<String> = c
+                        .when
+                        .measures()
+                        .into_iter()
+                        .map(|x| format!("{x} = {}", m.get(x).map_or("-".into(), number)))
+                        .collect();
+                    format!("{} ({}: {})", c.id, values.join(", "), c.when)
                 })
                 .collect();
             let holds = if holding.is_empty() {

@@ -121,20 +121,12 @@ pub fn deck() -> Deck {
                         Choice {
                             id: "stable".into(),
                             label: text("It stays stable", "Stable rahega"),
-                            when: Condition {
-                                measure: Measure::Flips,
-                                op: Cmp::Eq,
-                                value: 0.0,
-                            },
+                            when: Condition::compare(Measure::Flips, Cmp::Eq, 0.0),
                         },
                         Choice {
                             id: "flips".into(),
                             label: text("It flips over and over", "Baar baar flip karega"),
-                            when: Condition {
-                                measure: Measure::Flips,
-                                op: Cmp::Gt,
-                                value: 0.0,
-                            },
+                            when: Condition::compare(Measure::Flips, Cmp::Gt, 0.0),
                         },
                     ],
                     expected: "flips".into(),

@@ -81,20 +81,12 @@ fn app(lang: &str) -> TestApp {
                 Choice {
                     id: "longer".into(),
                     label: text("Longer than 2 T₀", "2 T₀ se zyada"),
-                    when: Condition {
-                        measure: period,
-                        op: Cmp::Gt,
-                        value: 4.0121,
-                    },
+                    when: Condition::compare(period, Cmp::Gt, 4.0121),
                 },
                 Choice {
                     id: "shorter".into(),
                     label: text("At most 2 T₀", "2 T₀ tak"),
-                    when: Condition {
-                        measure: period,
-                        op: Cmp::Le,
-                        value: 4.0121,
-                    },
+                    when: Condition::compare(period, Cmp::Le, 4.0121),
                 },
             ],
             expected: "longer".into(),
@@ -201,11 +193,7 @@ fn app_on(scene: SystemScene, measure: Measure, threshold: f64) -> TestApp {
     let choice = |id: &str, op: Cmp| Choice {
         id: id.into(),
         label: text(id, id),
-        when: Condition {
-            measure,
-            op,
-            value: threshold,
-        },
+        when: Condition::compare(measure, op, threshold),
     };
     deck.prompts.push(Prompt {
         id: "p".into(),

@@ -174,24 +174,168 @@ pub struct Choice {
     pub when: Condition,
 }
 
-/// `measure op value`, e.g. `flips > 0`.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A choice's `when`: comparisons joined by `and` and `or` (`and` binds
+/// tighter), each a chain of terms (`flips > 0`, `0.2 < max(f2) < 0.9`,
+/// `period(x1) < period(x2)`, `abs(final(x)) < 0.1 or flips > 2`). Every
+/// chain names a measure. Kept as alternatives of conjunctions.
+#[derive(Debug, Clone, PartialEq)]
 pub struct Condition {
-    pub measure: Measure,
+    /// `or` of `and`s of comparisons; never empty, nor any of its parts.
+    pub any: Vec<Vec<Comparison>>,
+}
+
+/// One comparison of two terms, `left op right`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Comparison {
+    pub left: Term,
     pub op: Cmp,
-    pub value: f64,
+    pub right: Term,
+}
+
+/// What a comparison compares: a number, a measure, or a measure's size.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Term {
+    Number(f64),
+    Measure(Measure),
+    /// `abs(measure)`.
+    Abs(Measure),
+}
+
+impl Term {
+    fn measure(self) -> Option<Measure> {
+        match self {
+            Term::Number(_) => None,
+            Term::Measure(m) | Term::Abs(m) => Some(m),
+        }
+    }
+
+    /// The term's value, with `get` for the measures (None where the run
+    /// has none).
+    fn value(self, get: &impl Fn(Measure) -> Option<f64>) -> Option<f64> {
+        match self {
+            Term::Number(v) => Some(v),
+            Term::Measure(m) => get(m),
+            Term::Abs(m) => get(m).map(f64::abs),
+        }
+    }
+}
+
+impl std::fmt::Display for Term {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Term::Number(v) => write!(f, "{}", flipcard_text::num::Num(*v)),
+            Term::Measure(m) => write!(f, "{m}"),
+            Term::Abs(m) => write!(f, "abs({m})"),
+        }
+    }
+}
+
+impl Cmp {
+    /// Whether `a op b`.
+    pub fn holds(self, a: f64, b: f64) -> bool {
+        match self {
+            Cmp::Eq => a == b,
+            Cmp::Ne => a != b,
+            Cmp::Lt => a < b,
+            Cmp::Le => a <= b,
+            Cmp::Gt => a > b,
+            Cmp::Ge => a >= b,
+        }
+    }
 }
 
 impl Condition {
-    pub fn holds(&self, measured: f64) -> bool {
-        match self.op {
-            Cmp::Eq => measured == self.value,
-            Cmp::Ne => measured != self.value,
-            Cmp::Lt => measured < self.value,
-            Cmp::Le => measured <= self.value,
-            Cmp::Gt => measured > self.value,
-            Cmp::Ge => measured >= self.value,
+    /// `measure op value`, the simplest condition.
+    pub fn compare(measure: Measure, op: Cmp, value: f64) -> Condition {
+        Condition {
+            any: vec![vec![Comparison {
+                left: Term::Measure(measure),
+                op,
+                right: Term::Number(value),
+            }]],
         }
+    }
+
+    /// The measures it names, in order of first appearance.
+    pub fn measures(&self) -> Vec<Measure> {
+        let mut out = Vec::new();
+        for c in self.any.iter().flatten() {
+            for m in [c.left.measure(), c.right.measure()].into_iter().flatten() {
+                if !out.contains(&m) {
+                    out.push(m);
+                }
+            }
+        }
+        out
+    }
+
+    /// The first measure it names (what a verdict reads first).
+    pub fn measure(&self) -> Measure {
+        self.measures().first().copied().unwrap_or(Measure::Flips)
+    }
+
+    /// `measure op number` when that is all it says.
+    pub fn single(&self) -> Option<(Measure, Cmp, f64)> {
+        match self.any.as_slice() {
+            [conj] => match conj.as_slice() {
+                [
+                    Comparison {
+                        left: Term::Measure(m),
+                        op,
+                        right: Term::Number(v),
+                    },
+                ] => Some((*m, *op, *v)),
+                _ => None,
+            },
+            _ => None,
+        }
+    }
+
+    /// Whether it holds with the run's values from `get`; None when a
+    /// measure it needs is missing (a condition on a measure the run could
+    /// not make never holds).
+    pub fn holds_on(&self, get: impl Fn(Measure) -> Option<f64>) -> Option<bool> {
+        let mut any = false;
+        for conj in &self.any {
+            let mut all = true;
+            for c in conj {
+                let (a, b) = (c.left.value(&get)?, c.right.value(&get)?);
+                all &= c.op.holds(a, b);
+            }
+            any |= all;
+        }
+        Some(any)
+    }
+
+    /// Whether it holds when every measure it names reads `measured` (for
+    /// a condition on one measure).
+    pub fn holds(&self, measured: f64) -> bool {
+        self.holds_on(|_| Some(measured)).unwrap_or(false)
+    }
+}
+
+impl std::fmt::Display for Condition {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (i, conj) in self.any.iter().enumerate() {
+            if i > 0 {
+                f.write_str(" or ")?;
+            }
+            // A chain `a < m < b` is two comparisons sharing `m`: written
+            // once.
+            let mut prev: Option<Term> = None;
+            for (j, c) in conj.iter().enumerate() {
+                if prev == Some(c.left) {
+                    write!(f, " {} {}", c.op.as_str(), c.right)?;
+                } else {
+                    if j > 0 {
+                        f.write_str(" and ")?;
+                    }
+                    write!(f, "{} {} {}", c.left, c.op.as_str(), c.right)?;
+                }
+                prev = Some(c.right);
+            }
+        }
+        Ok(())
     }
 }
 

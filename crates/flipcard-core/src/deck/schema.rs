@@ -466,7 +466,8 @@ impl JsonSchema for PanelName {
     }
 }
 
-/// `measure op number`, e.g. `flips > 0`.
+/// Comparisons of measures and numbers joined by `and`/`or`, e.g.
+/// `flips > 0` or `0.2 < max(x) < 0.9`.
 pub struct Condition;
 
 impl JsonSchema for Condition {
@@ -484,11 +485,12 @@ impl JsonSchema for Condition {
             .map(|(s, _)| *s)
             .collect::<Vec<_>>()
             .join("|");
-        let pattern = format!(
-            r"^\s*({measures})\s*({ops})\s*[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?\s*$"
-        );
+        let number = r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?";
+        let term = format!(r"(({measures})|abs\(\s*({measures})\s*\)|{number})");
+        let chain = format!(r"{term}(\s*({ops})\s*{term})+");
+        let pattern = format!(r"^\s*{chain}(\s+(and|or)\s+{chain})*\s*$");
         json_schema!({
-            "description": "`measure op number`, e.g. `flips > 0`; op is one of == != < <= > >=.",
+            "description": "Comparisons of measures and numbers joined by `and` / `or` (`and` binds tighter), e.g. `flips > 0`, `0.2 < max(x) < 0.9`, `period(a) < period(b)`, `abs(final(x)) < 0.1 or flips > 2`; op is one of == != < <= > >=.",
             "type": "string",
             "pattern": pattern,
         })

@@ -161,7 +161,7 @@ fn system_readings<E: std::fmt::Display>(
 /// The measures one prompt's answer uses.
 fn prompt_uses(p: &Prompt) -> Vec<Measure> {
     match &p.answer {
-        Answer::Choice { choices, .. } => choices.iter().map(|c| c.when.measure).collect(),
+        Answer::Choice { choices, .. } => choices.iter().flat_map(|c| c.when.measures()).collect(),
         Answer::Number { measure, .. } => vec![*measure],
     }
 }
@@ -215,7 +215,7 @@ pub fn audit_run(prompt: &Prompt, run: &Run) -> Option<Problem> {
         Answer::Choice { choices, expected } => {
             let e = choices.iter().position(|c| &c.id == expected)?;
             let holding = holding(choices, &longer.measured);
-            let said_there = |c: &Choice| said(c.when.measure, longer);
+            let said_there = |c: &Choice| said_all(&c.when, longer);
             let shows = if !holding.contains(&e) {
                 format!(
                     "{}, where `{expected}` does not hold",
@@ -271,10 +271,7 @@ pub fn audit_run(prompt: &Prompt, run: &Run) -> Option<Problem> {
 /// The choices whose condition holds on `m`, in the prompt's order.
 fn holding(choices: &[Choice], m: &Measurements) -> Vec<usize> {
     (0..choices.len())
-        .filter(|&i| {
-            let c = &choices[i].when;
-            m.get(c.measure).is_some_and(|v| c.holds(v))
-        })
+        .filter(|&i| choices[i].when.holds_on(|x| m.get(x)).unwrap_or(false))
         .collect()
 }
 
@@ -330,22 +327,19 @@ fn audit_choice(choices: &[Choice], expected: &str, run: &Run) -> Option<Problem
     let unit = &run.time_unit;
     let e = choices.iter().position(|c| c.id == expected)?;
     let holding = holding(choices, m);
-    let when = choices[e].when;
+    let when = &choices[e].when;
     let interval = m.evidence().flip_interval;
     let flips = m.get(Measure::Flips).unwrap_or(0.0);
-    let flipping = when.measure == Measure::Flips && interval.is_some();
+    let flipping = when.single().is_some_and(|(m, ..)| m == Measure::Flips) && interval.is_some();
 
     if !holding.contains(&e) {
-        let shows = match m.get(when.measure) {
-            Some(_) => format!("{name} measures {}", said(when.measure, run)),
-            None => format!(
-                "{name} cannot measure {}{}",
-                when.measure,
-                unmeasured(when.measure, run)
-            ),
+        let missing = when.measures().into_iter().find(|&x| m.get(x).is_none());
+        let shows = match missing {
+            None => format!("{name} measures {}", said_all(when, run)),
+            Some(x) => format!("{name} cannot measure {x}{}", unmeasured(x, run)),
         };
         let fix = match (flipping, interval) {
-            (true, Some(t)) => match count_where(&when, flips, true) {
+            (true, Some(t)) => match count_where(when, flips, true) {
                 Some(n) => format!(
                     "make the run longer than {} ({} = {} {unit} each) or change the answer",
                     periods(n),
@@ -367,14 +361,14 @@ fn audit_choice(choices: &[Choice], expected: &str, run: &Run) -> Option<Problem
             message: format!(
                 "choices `{expected}` and `{}` both hold in {name}, which measures {}: make the conditions exclusive",
                 choices[other].id,
-                said(choices[other].when.measure, run)
+                said_all(&choices[other].when, run)
             ),
         });
     }
     // The flips go on after the run ends: the answer must hold for every
     // longer run too, or it teaches an accident of the run's length.
     if let (true, Some(t)) = (flipping, interval)
-        && let Some(n) = count_where(&when, flips, false)
+        && let Some(n) = count_where(when, flips, false)
     {
         let times = &m.evidence().flip_times;
         let by = match times.first() {
@@ -477,6 +471,13 @@ fn said(measure: Measure, run: &Run) -> String {
         .map(|f| format!(" (formula {} = {}{u})", formula_name(measure), sig(f, 3)))
         .unwrap_or_default();
     format!("{measure} = {}{u}{formula}", sig(r.value, 3))
+}
+
+/// Every measure a condition names, as the run gave it ("period(a) = 2.04,
+/// period(b) = 2.31").
+fn said_all(when: &Condition, run: &Run) -> String {
+    let all: Vec<String> = when.measures().into_iter().map(|m| said(m, run)).collect();
+    all.join(", ")
 }
 
 /// The run's reason without the measure's name it starts with
@@ -701,11 +702,7 @@ mod tests {
                     .map(|&(id, op, value)| Choice {
                         id: id.into(),
                         label: text(id),
-                        when: Condition {
-                            measure: Measure::Flips,
-                            op,
-                            value,
-                        },
+                        when: Condition::compare(Measure::Flips, op, value),
                     })
                     .collect(),
             },
@@ -820,11 +817,7 @@ mod tests {
                     .map(|(id, op)| Choice {
                         id: id.into(),
                         label: text(id),
-                        when: Condition {
-                            measure: max_x,
-                            op,
-                            value: 6.0,
-                        },
+                        when: Condition::compare(max_x, op, 6.0),
                     })
                     .to_vec(),
             },

@@ -58,10 +58,11 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
             let holding: Vec<usize> = choices
                 .iter()
                 .enumerate()
-                .filter(|(_, c)| m.get(c.when.measure).is_some_and(|v| c.when.holds(v)))
+                .filter(|(_, c)| c.when.holds_on(|x| m.get(x)).unwrap_or(false))
                 .map(|(i, _)| i)
                 .collect();
-            let mut measures: Vec<Measure> = choices.iter().map(|c| c.when.measure).collect();
+            let mut measures: Vec<Measure> =
+                choices.iter().flat_map(|c| c.when.measures()).collect();
             measures.sort();
             measures.dedup();
             let correct = matches!(prediction, Prediction::Choice(i) if holding.contains(&i));

@@ -23,7 +23,7 @@ const QUESTION_ROWS: usize = 3;
 /// The measures a prompt's verdict needs.
 pub fn measures(prompt: &Prompt) -> Vec<Measure> {
     let mut out: Vec<Measure> = match &prompt.answer {
-        Answer::Choice { choices, .. } => choices.iter().map(|c| c.when.measure).collect(),
+        Answer::Choice { choices, .. } => choices.iter().flat_map(|c| c.when.measures()).collect(),
         Answer::Number { measure, .. } => vec![*measure],
     };
     out.sort();

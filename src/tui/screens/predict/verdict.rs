@@ -154,7 +154,7 @@ fn readings(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String {
     if said.is_empty() {
         let measure = match answer {
             Answer::Number { measure, .. } => Some(*measure),
-            Answer::Choice { choices, .. } => choices.first().map(|c| c.when.measure),
+            Answer::Choice { choices, .. } => choices.first().map(|c| c.when.measure()),
         };
         if let Some(m) = measure {
             said.push(format!(

@@ -3,7 +3,7 @@
 
 use std::ops::Range;
 
-use crate::deck::model::{Answer, Choice, Cmp, Condition, Measure, Tolerance};
+use crate::deck::model::{Answer, Choice, Cmp, Comparison, Condition, Measure, Term, Tolerance};
 use crate::deck::raw::{RawAnswer, RawChoice, RawTolerance, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
@@ -182,83 +182,274 @@ fn tolerance(rep: &mut FileReport, t: &RawTolerance) -> Option<Tolerance> {
     Some(make(value.value))
 }
 
-/// Parses `measure op number` (e.g. `flips > 0`), reporting at the exact
-/// character of the string that is wrong.
+/// A token of a condition, with its byte range in the text.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Tok {
+    Op(&'static str, Cmp),
+    /// A lone `=` (meant `==`).
+    Equals,
+    Number,
+    /// A name, with its `(…)` when it has one.
+    Word {
+        call: bool,
+    },
+    And,
+    Or,
+    Other,
+}
+
+/// Splits a condition into tokens.
+fn tokens(text: &str) -> Vec<(Tok, Range<usize>)> {
+    let bytes = text.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < text.len() {
+        let c = text[i..].chars().next().unwrap_or(' ');
+        if c.is_whitespace() {
+            i += c.len_utf8();
+            continue;
+        }
+        let start = i;
+        if let Some(&(op, cmp)) = Cmp::ALL.iter().find(|(o, _)| text[i..].starts_with(o)) {
+            i += op.len();
+            out.push((Tok::Op(op, cmp), start..i));
+            continue;
+        }
+        if c == '=' {
+            i += 1;
+            out.push((Tok::Equals, start..i));
+            continue;
+        }
+        let digit_next = text[i + 1..].starts_with(|d: char| d.is_ascii_digit() || d == '.');
+        if c.is_ascii_digit() || (c == '.' || c == '-' || c == '+') && digit_next {
+            i += 1;
+            while i < text.len() {
+                let d = bytes[i];
+                let exp_sign = (d == b'-' || d == b'+') && matches!(bytes[i - 1], b'e' | b'E');
+                if d.is_ascii_alphanumeric() || d == b'.' || exp_sign {
+                    i += 1;
+                } else {
+                    break;
+                }
+            }
+            out.push((Tok::Number, start..i));
+            continue;
+        }
+        if c.is_alphabetic() || c == '_' {
+            while i < text.len() {
+                let d = text[i..].chars().next().unwrap_or(' ');
+                if d.is_alphanumeric() || d == '_' || d == '.' {
+                    i += d.len_utf8();
+                } else {
+                    break;
+                }
+            }
+            let word = &text[start..i];
+            if text[i..].starts_with('(') {
+                // To the matching `)`, or the end.
+                let mut depth = 0;
+                while i < text.len() {
+                    let d = bytes[i];
+                    i += 1;
+                    if d == b'(' {
+                        depth += 1;
+                    } else if d == b')' {
+                        depth -= 1;
+                        if depth == 0 {
+                            break;
+                        }
+                    }
+                }
+                out.push((Tok::Word { call: true }, start..i));
+            } else if word == "and" {
+                out.push((Tok::And, start..i));
+            } else if word == "or" {
+                out.push((Tok::Or, start..i));
+            } else {
+                out.push((Tok::Word { call: false }, start..i));
+            }
+            continue;
+        }
+        // A run of other symbols (`&&`, `||`) is one token.
+        i += c.len_utf8();
+        while let Some(d) = text[i..].chars().next() {
+            if d.is_whitespace() || d.is_alphanumeric() || "()_.=<>!".contains(d) {
+                break;
+            }
+            i += d.len_utf8();
+        }
+        out.push((Tok::Other, start..i));
+    }
+    out
+}
+
+/// Parses a choice's `when` (see [`Condition`]: `flips > 0`,
+/// `0.2 < max(f2) < 0.9`, `period(x1) < period(x2)`, `abs(final(x)) < 0.1
+/// or flips > 2`), reporting at the exact character of the string that is
+/// wrong.
 pub fn condition(rep: &mut FileReport, s: &Str, kind: Option<SceneKind>) -> Option<Condition> {
     let text = s.value.as_str();
     let token = rep.source.get(s.span.clone()).unwrap_or("").to_string();
     let at = |offset: usize| s.span.start + tomlstr::locate(&token, offset).0;
-    let example = "a condition is `measure op number`, e.g. \"flips > 0\"";
-
-    let name_start = text.len() - text.trim_start().len();
-    let mut name_len = text[name_start..]
-        .find(|c: char| !(c.is_alphanumeric() || c == '_' || c == '.'))
-        .unwrap_or(text.len() - name_start);
-    // A system measure runs to its closing parenthesis: `period(theta)`.
-    if text[name_start + name_len..].starts_with('(') {
-        name_len = text[name_start..]
-            .find(')')
-            .map_or(text.len() - name_start, |i| i + 1);
-    }
-    if name_len == 0 {
-        rep.error(
-            at(name_start)..at(name_start) + 1,
-            format!("`when = \"{text}\"` does not start with a measure name"),
-            Some(example.to_string()),
-        );
-        return None;
-    }
-    let name = &text[name_start..name_start + name_len];
-    let measure = measure_in(rep, s, name_start, name_start + name_len, kind);
-
-    let op_start = name_start
-        + name_len
-        + (text[name_start + name_len..].len() - text[name_start + name_len..].trim_start().len());
-    let rest = &text[op_start..];
-    let Some(&(op_str, op)) = Cmp::ALL.iter().find(|(o, _)| rest.starts_with(o)) else {
-        let hint = if rest.starts_with('=') {
-            "use `==` to compare".to_string()
-        } else {
-            "operators: == != < <= > >=".to_string()
-        };
-        let found = if rest.is_empty() {
-            "nothing".to_string()
-        } else {
-            format!("`{}`", rest.chars().next().unwrap_or(' '))
-        };
-        rep.error(
-            at(op_start)..at(op_start) + 1,
-            format!("`when = \"{text}\"`: expected a comparison after `{name}`, found {found}"),
-            Some(hint),
-        );
-        return None;
+    let example = "a condition is `measure op number`, e.g. \"flips > 0\", \"0.2 < max(x) < 0.9\" or \"period(a) < period(b) and max(x) > 1\"";
+    let toks = tokens(text);
+    let mut k = 0;
+    let mut any = Vec::new();
+    let mut conj: Vec<Comparison> = Vec::new();
+    let found = |k: usize| match toks.get(k) {
+        Some((_, r)) => format!("`{}`", &text[r.clone()]),
+        None => "nothing".to_string(),
     };
-    let num_start = op_start + op_str.len();
-    let num_text = text[num_start..].trim();
-    let num_at = num_start + (text[num_start..].len() - text[num_start..].trim_start().len());
-    let value = match num_text.parse::<f64>() {
-        Ok(v) if v.is_finite() => v,
-        _ => {
-            let found = if num_text.is_empty() {
-                "nothing".to_string()
+    let place = |k: usize| match toks.get(k) {
+        Some((_, r)) => at(r.start)..at(r.end).max(at(r.start) + 1),
+        None => at(text.len())..at(text.len()) + 1,
+    };
+    loop {
+        // One chain: term (op term)+.
+        let chain_start = k;
+        let mut left = term(rep, s, &toks, k, None, kind, example)?;
+        k += 1;
+        let mut chain = Vec::new();
+        while let Some(&(Tok::Op(op_str, op), _)) = toks.get(k) {
+            let right = term(rep, s, &toks, k + 1, Some(op_str), kind, example)?;
+            chain.push(Comparison { left, op, right });
+            left = right;
+            k += 2;
+        }
+        if chain.is_empty() {
+            let hint = if matches!(toks.get(k), Some((Tok::Equals, _))) {
+                "use `==` to compare".to_string()
             } else {
-                format!("`{num_text}`")
+                "operators: == != < <= > >=".to_string()
             };
+            let after = &text[toks[chain_start].1.clone()];
             rep.error(
-                at(num_at)..at(num_at) + num_text.len().max(1),
+                place(k),
                 format!(
-                    "`when = \"{text}\"`: expected a finite number after `{op_str}`, found {found}"
+                    "`when = \"{text}\"`: expected a comparison after `{after}`, found {}",
+                    found(k)
+                ),
+                Some(hint),
+            );
+            return None;
+        }
+        if chain
+            .iter()
+            .all(|c| matches!((c.left, c.right), (Term::Number(_), Term::Number(_))))
+        {
+            let span = toks[chain_start].1.start..toks[k - 1].1.end;
+            rep.error(
+                at(span.start)..at(span.end),
+                format!(
+                    "`when = \"{text}\"`: `{}` compares numbers only; name a measure",
+                    &text[span.clone()]
                 ),
                 Some(example.to_string()),
             );
             return None;
         }
+        conj.extend(chain);
+        match toks.get(k) {
+            None => break,
+            Some((Tok::And, _)) => k += 1,
+            Some((Tok::Or, _)) => {
+                any.push(std::mem::take(&mut conj));
+                k += 1;
+            }
+            Some(_) => {
+                let before = &text[toks[k - 1].1.clone()];
+                rep.error(
+                    place(k),
+                    format!(
+                        "`when = \"{text}\"`: expected `and` or `or` after `{before}`, found {}",
+                        found(k)
+                    ),
+                    Some(match toks.get(k).map(|(_, r)| &text[r.clone()]) {
+                        Some("&&" | "&") => "write `and` for `&&`".to_string(),
+                        Some("||" | "|") => "write `or` for `||`".to_string(),
+                        _ => "join comparisons with `and` or `or`".to_string(),
+                    }),
+                );
+                return None;
+            }
+        }
+    }
+    any.push(conj);
+    Some(Condition { any })
+}
+
+/// The term at token `k` of a condition (`after` the operator before it,
+/// if any): a number, a measure, or `abs(measure)`.
+fn term(
+    rep: &mut FileReport,
+    s: &Str,
+    toks: &[(Tok, Range<usize>)],
+    k: usize,
+    after: Option<&str>,
+    kind: Option<SceneKind>,
+    example: &str,
+) -> Option<Term> {
+    let text = s.value.as_str();
+    let token = rep.source.get(s.span.clone()).unwrap_or("").to_string();
+    let at = |offset: usize| s.span.start + tomlstr::locate(&token, offset).0;
+    let not_a_number = |rep: &mut FileReport, r: Option<Range<usize>>| {
+        let (span, found) = match r {
+            Some(r) => (
+                at(r.start)..at(r.end).max(at(r.start) + 1),
+                format!("`{}`", &text[r]),
+            ),
+            None => (at(text.len())..at(text.len()) + 1, "nothing".to_string()),
+        };
+        match after {
+            Some(op) => rep.error(
+                span,
+                format!(
+                    "`when = \"{text}\"`: expected a finite number after `{op}`, found {found}"
+                ),
+                Some(example.to_string()),
+            ),
+            None => rep.error(
+                span,
+                format!("`when = \"{text}\"` does not start with a measure name"),
+                Some(example.to_string()),
+            ),
+        }
     };
-    Some(Condition {
-        measure: measure?,
-        op,
-        value,
-    })
+    let Some((tok, r)) = toks.get(k).cloned() else {
+        not_a_number(rep, None);
+        return None;
+    };
+    match tok {
+        Tok::Number => match text[r.clone()].parse::<f64>() {
+            Ok(v) if v.is_finite() => Some(Term::Number(v)),
+            _ => {
+                not_a_number(rep, Some(r));
+                None
+            }
+        },
+        Tok::Word { call: true } if text[r.clone()].starts_with("abs(") => {
+            let inner_start = r.start + "abs(".len();
+            let inner_end = if text[r.clone()].ends_with(')') {
+                r.end - 1
+            } else {
+                r.end
+            };
+            measure_in(rep, s, inner_start, inner_end.max(inner_start), kind).map(Term::Abs)
+        }
+        Tok::Word { call } => {
+            // After an operator a bare word that names no measure was
+            // meant as a number.
+            if after.is_some() && !call && Measure::from_name(&text[r.clone()]).is_none() {
+                not_a_number(rep, Some(r));
+                return None;
+            }
+            measure_in(rep, s, r.start, r.end, kind).map(Term::Measure)
+        }
+        _ => {
+            not_a_number(rep, Some(r));
+            None
+        }
+    }
 }
 
 /// The measure written in bytes `start..end` of `s` (`flips`, or
@@ -377,4 +568,133 @@ fn measure_name(rep: &mut FileReport, name: &str, span: Range<usize>) -> Option<
     };
     rep.error(span, format!("unknown measure `{name}`"), Some(hint));
     None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::deck::Stat;
+    use proptest::prelude::*;
+
+    /// The condition `text` (as a TOML basic string) on a system scene with
+    /// quantities x, y; its diagnostics' messages.
+    fn parse(text: &str) -> (Option<Condition>, Vec<String>) {
+        let source = format!("\"{text}\"");
+        let mut rep = FileReport::new(std::path::Path::new("d.toml"), &source);
+        let s = Str {
+            value: text.to_string(),
+            span: 0..source.len(),
+        };
+        let names = ["x".to_string(), "y".to_string()];
+        let c = condition(&mut rep, &s, Some(SceneKind::System(&names)));
+        let msgs = rep.finish().into_iter().map(|d| d.message).collect();
+        (c, msgs)
+    }
+
+    fn of(stat: Stat, name: &str) -> Measure {
+        Measure::Of(stat, Name::new(name).unwrap())
+    }
+
+    #[test]
+    fn ranges_comparisons_and_or_abs() {
+        let (max_x, min_y) = (of(Stat::Max, "x"), of(Stat::Min, "y"));
+        let get = |v: [f64; 2]| {
+            move |m: Measure| {
+                if m == max_x {
+                    Some(v[0])
+                } else if m == min_y {
+                    Some(v[1])
+                } else {
+                    None
+                }
+            }
+        };
+        let (c, msgs) = parse("0.2 < max(x) < 0.9");
+        assert!(msgs.is_empty(), "{msgs:?}");
+        let c = c.unwrap();
+        assert_eq!(c.holds_on(get([0.5, 0.0])), Some(true));
+        assert_eq!(c.holds_on(get([0.95, 0.0])), Some(false));
+        assert_eq!(c.holds_on(get([0.2, 0.0])), Some(false));
+        assert_eq!(c.to_string(), "0.2 < max(x) < 0.9");
+
+        let c = parse("max(x) > min(y)").0.unwrap();
+        assert_eq!(c.measures(), vec![max_x, min_y]);
+        assert_eq!(c.holds_on(get([1.0, 0.5])), Some(true));
+        assert_eq!(c.holds_on(get([0.1, 0.5])), Some(false));
+        assert!(c.single().is_none());
+
+        // `and` binds tighter than `or`.
+        let c = parse("max(x) > 1 and min(y) > 1 or abs(min(y)) > 5")
+            .0
+            .unwrap();
+        assert_eq!(c.any.len(), 2);
+        assert_eq!(c.holds_on(get([2.0, 2.0])), Some(true));
+        assert_eq!(c.holds_on(get([2.0, 0.0])), Some(false));
+        assert_eq!(c.holds_on(get([0.0, -6.0])), Some(true));
+        // A measure the run could not make: undecided, never true.
+        assert_eq!(c.holds_on(|_| None), None);
+
+        // A rigid-body measure on a system scene is named as such.
+        let (c, msgs) = parse("flips > 0 or max(x) > 1");
+        assert!(c.is_none());
+        assert!(msgs[0].contains("rigid-body measure"), "{msgs:?}");
+    }
+
+    #[test]
+    fn each_mistake_is_named() {
+        let first = |t: &str| parse(t).1.first().cloned().unwrap_or_default();
+        assert!(first("1 < 2").contains("compares numbers only"));
+        assert!(first("max(x) > 1 && max(x) < 2").contains("found `&&`"));
+        assert!(first("max(x) = 1").contains("expected a comparison after `max(x)`"));
+        assert!(first("max(x) > many").contains("expected a finite number after `>`"));
+        assert!(first("max(x) >").contains("found nothing"));
+        assert!(first("max(z) > 1").contains("`z` is not a variable or observable"));
+        assert!(first("abs(max(q)) > 1").contains("`q` is not a variable"));
+        assert!(first("> 1").contains("does not start with a measure name"));
+        assert!(first("max(x) > 1 and").contains("does not start with a measure name"));
+        assert!(first("max(x) > 1e999").contains("finite number"));
+    }
+
+    fn term() -> impl Strategy<Value = String> {
+        prop_oneof![
+            (-1e6f64..1e6).prop_map(|v| flipcard_text::num::Num(v).to_string()),
+            Just("max(x)".to_string()),
+            Just("min(y)".to_string()),
+            Just("abs(final(x))".to_string()),
+        ]
+    }
+
+    proptest! {
+        /// Whatever is written, the parser answers (a condition or a
+        /// diagnostic) without panicking; a condition it accepts reads
+        /// back the same from its own text.
+        #[test]
+        fn any_text_parses_or_is_reported(text in "[ -~]{0,40}") {
+            let (c, msgs) = parse(&text.replace(['"', '\\'], ""));
+            prop_assert!(c.is_some() || !msgs.is_empty());
+        }
+
+        #[test]
+        fn accepted_conditions_read_back_the_same(
+            chains in prop::collection::vec(
+                (term(), prop::sample::select(vec!["<", "<=", ">", ">=", "==", "!="]), term()),
+                1..4,
+            ),
+            joins in prop::collection::vec(prop::sample::select(vec!["and", "or"]), 3),
+        ) {
+            let mut text = String::new();
+            for (i, (a, op, b)) in chains.iter().enumerate() {
+                if i > 0 {
+                    text.push_str(&format!(" {} ", joins[i - 1]));
+                }
+                text.push_str(&format!("{a} {op} {b}"));
+            }
+            let (c, _) = parse(&text);
+            if let Some(c) = c {
+                let (again, msgs) = parse(&c.to_string());
+                prop_assert!(msgs.is_empty(), "{msgs:?}");
+                prop_assert_eq!(again, Some(c));
+            }
+        }
+    }
 }
