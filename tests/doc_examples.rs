@@ -278,8 +278,8 @@ fn the_measure_tables_in_the_docs_match_the_vocabulary() {
         let line = format!("| `{}` | {} |", row.name, row.help.replace('|', "\\|"));
         assert!(doc.contains(&line), "docs/deck-format.md lacks {line}");
     }
-    for (row, _) in vocabulary::stat_rows() {
-        let call = format!("`{}(N)`", row.name);
+    for (row, stat) in vocabulary::stat_rows() {
+        let call = format!("`{}`", vocabulary::call(row.name, stat));
         assert!(doc.contains(&call), "docs/deck-format.md lacks {call}");
     }
 }

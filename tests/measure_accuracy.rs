@@ -100,6 +100,43 @@ fn kepler_orbit_measures_are_exact() {
 }
 
 #[test]
+fn kepler_orbit_times_and_counts_are_exact() {
+    // Kepler's equation: t = (E − e sin E)/(2π) yr at eccentric anomaly E.
+    let e: f64 = 0.9;
+    let t_of = |ecc_anomaly: f64| (ecc_anomaly - e * ecc_anomaly.sin()) / (2.0 * PI);
+    let got = measure(
+        "kepler",
+        &[
+            "time_of(x < 0)",
+            "time_of(r = 1)",
+            "time_of(r >= 0.1)",
+            "count(r > 1)",
+            "count(x = 0)",
+        ],
+    );
+    // x < 0 past a true anomaly of 90°, where cos E = e.
+    close("time_of(x < 0)", got[0], t_of(e.acos()), TARGET);
+    // r = a(1 − e cos E) = 1 at E = 90°.
+    close("time_of(r = 1)", got[1], t_of(PI / 2.0), TARGET);
+    // Holds at the start.
+    assert_eq!(got[2], 0.0);
+    // Beyond r = a once an orbit; x = 0 twice.
+    assert_eq!(got[3], 3.0);
+    assert_eq!(got[4], 6.0);
+    let out = Flipcard::without_data()
+        .args(["sim", "--decks", &decks(), "--scene", "kepler"])
+        .args(["--measure", "time_of(r > 2)"])
+        .run();
+    assert!(!out.status.success());
+    assert!(
+        out.stderr()
+            .contains("time_of(r > 2): r > 2 never holds over the run"),
+        "{}",
+        out.stderr()
+    );
+}
+
+#[test]
 fn rosette_orbit_radial_measures_are_exact() {
     // r'' = (h² − c)/r³ − GM/r²: Kepler's radial equation with h² − c.
     let (r0, v0) = (0.1, 2.0 * PI * 19f64.sqrt());

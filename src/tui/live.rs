@@ -29,11 +29,11 @@ pub const SLICE: Duration = Duration::from_millis(20);
 /// What plays.
 pub enum Sim {
     /// A torque-free rigid body (its exact solution or a numerical method).
-    Rigid(SceneRun),
+    Rigid(Box<SceneRun>),
     /// A deck's ODE system, with the measures its prompt needs (kept so a
     /// restart plans the same).
     System {
-        run: SystemRun,
+        run: Box<SystemRun>,
         measures: Vec<Measure>,
     },
 }
@@ -60,7 +60,7 @@ impl Live {
     /// A rigid body's run of `scene` with `method`.
     pub fn rigid(scene: &Scene, method: Method) -> Result<Live, String> {
         let run = SceneRun::new(scene, method).map_err(|e| e.to_string())?;
-        Ok(Live::playing_from(Sim::Rigid(run)))
+        Ok(Live::playing_from(Sim::Rigid(Box::new(run))))
     }
 
     /// A system's run of `scene` with `method`, planned to measure
@@ -72,7 +72,7 @@ impl Live {
     ) -> Result<Live, String> {
         let run = SystemRun::new(scene, method, measures).map_err(|e| e.to_string())?;
         Ok(Live::playing_from(Sim::System {
-            run,
+            run: Box::new(run),
             measures: measures.to_vec(),
         }))
     }

@@ -298,11 +298,19 @@ impl JsonSchema for AnyMeasure {
 
 /// `(max|min|…)\(name\)`.
 fn system_measure_pattern() -> String {
-    let stats = vocabulary::stat_rows()
-        .map(|(r, _)| r.name)
-        .collect::<Vec<_>>()
-        .join("|");
-    format!(r"({stats})\(\s*[A-Za-z_][A-Za-z0-9_]*\s*\)")
+    let names = |level: bool| {
+        vocabulary::stat_rows()
+            .filter(|(_, s)| s.event().is_some() == level)
+            .map(|(r, _)| r.name)
+            .collect::<Vec<_>>()
+            .join("|")
+    };
+    let (plain, with_level) = (names(false), names(true));
+    let name = r"[A-Za-z_][A-Za-z0-9_]*";
+    let number = r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?";
+    format!(
+        r"(({plain})\(\s*{name}\s*\)|({with_level})\(\s*{name}\s*(==|>=|<=|=|>|<)\s*{number}\s*\))"
+    )
 }
 
 /// A content file: `content/<deck-id>/<lang>.toml`.

@@ -425,9 +425,10 @@ pub(crate) fn run_name(run: &Run) -> String {
 /// The unit a measure is read in, for a scene in `time_unit`.
 pub fn measure_unit(measure: Measure, time_unit: &str) -> String {
     match measure {
-        Measure::FlipPeriod | Measure::EfoldTime | Measure::PrecessionPeriod => {
-            time_unit.to_string()
-        }
+        Measure::FlipPeriod
+        | Measure::EfoldTime
+        | Measure::PrecessionPeriod
+        | Measure::Of(Stat::Period | Stat::Beat | Stat::TimeOf(_), _) => time_unit.to_string(),
         Measure::GrowthRate => format!("1/{time_unit}"),
         Measure::OscillationFreq | Measure::PrecessionRate => format!("rad/{time_unit}"),
         Measure::Flips
@@ -495,6 +496,12 @@ fn unmeasured(measure: Measure, run: &Run) -> String {
         let fix = match measure {
             Measure::Of(Stat::Period, _) => {
                 "make the run longer (two upward crossings at least) or ask about another measure"
+            }
+            Measure::Of(Stat::Beat, _) => {
+                "make the run longer (two beats at least), or measure period() where the peaks do not vary"
+            }
+            Measure::Of(Stat::TimeOf(_), _) => {
+                "make the run longer, or ask about a level the run reaches"
             }
             _ => "change the scene or the measure",
         };

@@ -30,7 +30,7 @@ use crate::solvers::ode::{self, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
 use crate::system::System;
 use crate::system::compile::{CompileError, Cost, Fault, POINTS_PER_STEP, Source, time};
 use flipcard_text::num::Num;
-use tally::{InStep, Tally, brent_max};
+use tally::{InStep, Tally, Watch, brent_max};
 
 /// Points kept for each drawn curve (plot, phase, trail).
 pub(crate) const TRACE_LEN: usize = 2048;
@@ -127,6 +127,9 @@ pub enum ReadingError {
         "beat({name}): its peaks are all the same height ({peaks} peaks over the run): there is no envelope to time; for the time between peaks measure period({name})"
     )]
     FlatBeat { name: String, peaks: usize },
+    /// `time_of(…)`: the relation never held over the run.
+    #[error("{measure}: {what} never holds over the run")]
+    Never { measure: String, what: String },
     #[error("`{0}` is a rigid-body measure; this scene is a system")]
     Rigid(Measure),
     #[error("`{name}` is not a variable or observable of scene {scene}")]
@@ -231,6 +234,8 @@ pub struct SystemPlan {
     pub extremes: Vec<usize>,
     /// Quantities whose every peak is kept (their `beat` is measured).
     pub peaks: Vec<usize>,
+    /// `time_of` and `count` measures, by quantity.
+    pub events: Vec<(usize, Stat)>,
 }
 
 impl SystemPlan {
@@ -257,6 +262,7 @@ impl SystemPlan {
         let mut periods = Vec::new();
         let mut extremes = Vec::new();
         let mut peaks = Vec::new();
+        let mut events = Vec::new();
         for m in measures {
             if let Measure::Of(stat, name) = m {
                 add(index(name.as_str()), &mut metered);
@@ -268,6 +274,12 @@ impl SystemPlan {
                 }
                 if *stat == Stat::Beat {
                     add(index(name.as_str()), &mut peaks);
+                }
+                if stat.event().is_some()
+                    && let Some(q) = index(name.as_str())
+                    && !events.contains(&(q, *stat))
+                {
+                    events.push((q, *stat));
                 }
             }
         }
@@ -305,6 +317,7 @@ impl SystemPlan {
             periods,
             extremes,
             peaks,
+            events,
         }
     }
 }
@@ -375,6 +388,7 @@ pub struct SystemRun {
     /// Last sampled time (the meter's frontier).
     sampled: f64,
     tallies: Vec<(usize, Tally)>,
+    watches: Vec<Watch>,
     trace: Trace,
     trail: Trace,
     error: Option<RunError>,
@@ -468,6 +482,11 @@ impl SystemRun {
             .iter()
             .map(|&q| (q, Tally::new(plan.peaks.contains(&q))))
             .collect();
+        let watches = plan
+            .events
+            .iter()
+            .filter_map(|&(q, stat)| Watch::new(q, stat))
+            .collect();
         let observables_upto = plan.observables.iter().rposition(|&o| o);
         let mut run = SystemRun {
             scene: scene.clone(),
@@ -485,6 +504,7 @@ impl SystemRun {
             state: scene.initial.clone(),
             sampled: 0.0,
             tallies,
+            watches,
             trace: Trace::default(),
             trail: Trace::default(),
             error: None,
@@ -573,6 +593,10 @@ impl SystemRun {
             let v = self.value(q, y);
             let keep = self.plan.periods.contains(&q);
             self.tallies[k].1.add(t, v, keep, at);
+        }
+        for k in 0..self.watches.len() {
+            let v = self.value(self.watches[k].q, y);
+            self.watches[k].add(t, v);
         }
         let mut drawn: Vec<usize> = self.plot.clone();
         if let Some([a, b]) = self.phase {
@@ -739,6 +763,7 @@ impl SystemRun {
                         return true;
                     }
                     self.locate(at);
+                    self.locate_events();
                 }
                 self.scratch = y;
             }
@@ -795,6 +820,20 @@ impl SystemRun {
                     self.tallies[i].1.found(br, t, s * v);
                 }
             }
+        }
+    }
+
+    /// Locates on the current step's dense output the first time a
+    /// watched relation held, between the last two samples.
+    fn locate_events(&mut self) {
+        for k in 0..self.watches.len() {
+            if self.watches[k].pending.is_none() {
+                continue;
+            }
+            let q = self.watches[k].q;
+            let mut w = self.watches[k].clone();
+            w.locate(|t| self.quantity_at(q, t));
+            self.watches[k] = w;
         }
     }
 
@@ -943,6 +982,14 @@ impl SystemRun {
                 name: name.as_str().to_string(),
                 scene: self.scene.id.clone(),
             })?;
+        if stat.event().is_some() {
+            let w = self
+                .watches
+                .iter()
+                .find(|w| w.q == q && w.stat == stat)
+                .ok_or(ReadingError::NotPlanned(m))?;
+            return w.value(name.as_str());
+        }
         let (_, tally) = self
             .tallies
             .iter()

@@ -79,6 +79,9 @@ impl Measure {
             Err(ParseError::NoClose | ParseError::Trailing { .. }) => {
                 Err(MeasureTextError::NoClose(owned()))
             }
+            Err(ParseError::NoRelation { .. } | ParseError::BadLevel { .. }) => {
+                Err(MeasureTextError::Relation(owned()))
+            }
         }
     }
 
@@ -91,7 +94,16 @@ impl Measure {
 impl std::fmt::Display for Measure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Measure::Of(stat, name) => write!(f, "{}({name})", stat.name()),
+            Measure::Of(stat, name) => match stat.event() {
+                Some(e) => write!(
+                    f,
+                    "{}({name} {} {})",
+                    stat.name(),
+                    e.rel.symbol(),
+                    flipcard_text::num::Num(e.level.get())
+                ),
+                None => write!(f, "{}({name})", stat.name()),
+            },
             m => f.write_str(m.name()),
         }
     }
@@ -119,12 +131,117 @@ pub enum Stat {
     /// crossings, by the sequence of N's peaks, of the level halfway between
     /// the lowest and the highest peak (the beat of two close frequencies).
     Beat,
+    /// `time_of(N > level)`: the first time the relation holds (0 if it
+    /// holds at the start), located on the dense output.
+    TimeOf(Event),
+    /// `count(N > level)`: how many times the relation starts to hold (the
+    /// start counts when it holds there); `count(N = level)`: how many
+    /// times N crosses the level.
+    Count(Event),
+}
+
+/// `N > level`, `N < level` or `N = level`: what `time_of` and `count`
+/// watch for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Event {
+    pub rel: Rel,
+    pub level: Level,
+}
+
+/// How N stands to the level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Rel {
+    /// N crosses (or touches) the level: written `=` or `==`.
+    Crosses,
+    /// N above the level: `>`.
+    Above,
+    /// `>=`.
+    AtLeast,
+    /// N below the level: `<`.
+    Below,
+    /// `<=`.
+    AtMost,
+}
+
+impl Rel {
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Rel::Crosses => "=",
+            Rel::Above => ">",
+            Rel::AtLeast => ">=",
+            Rel::Below => "<",
+            Rel::AtMost => "<=",
+        }
+    }
+}
+
+/// A finite level, ordered and hashed by its bits so that a measure can be
+/// a key.
+#[derive(Debug, Clone, Copy)]
+pub struct Level(f64);
+
+impl Level {
+    /// None unless finite.
+    pub fn new(v: f64) -> Option<Level> {
+        // −0 and 0 are one level.
+        v.is_finite().then_some(Level(v + 0.0))
+    }
+    pub fn get(self) -> f64 {
+        self.0
+    }
+}
+
+impl PartialEq for Level {
+    fn eq(&self, o: &Level) -> bool {
+        self.0.to_bits() == o.0.to_bits()
+    }
+}
+impl Eq for Level {}
+impl std::hash::Hash for Level {
+    fn hash<H: std::hash::Hasher>(&self, h: &mut H) {
+        self.0.to_bits().hash(h);
+    }
+}
+impl PartialOrd for Level {
+    fn partial_cmp(&self, o: &Level) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+impl Ord for Level {
+    fn cmp(&self, o: &Level) -> std::cmp::Ordering {
+        self.0.total_cmp(&o.0)
+    }
+}
+
+impl Event {
+    /// What the vocabulary's table holds for the statistics with a level.
+    const ANY: Event = Event {
+        rel: Rel::Crosses,
+        level: Level(0.0),
+    };
 }
 
 impl Stat {
     /// The statistic's name, from the vocabulary's table.
     pub fn name(self) -> &'static str {
         row_kind(MeasureKind::System(self)).name
+    }
+
+    /// The statistic as its row of the table holds it (any level).
+    pub fn base(self) -> Stat {
+        match self {
+            Stat::TimeOf(_) => Stat::TimeOf(Event::ANY),
+            Stat::Count(_) => Stat::Count(Event::ANY),
+            s => s,
+        }
+    }
+
+    /// The relation and level of `time_of` and `count`.
+    pub fn event(self) -> Option<Event> {
+        match self {
+            Stat::TimeOf(e) | Stat::Count(e) => Some(e),
+            _ => None,
+        }
     }
 }
 
@@ -306,6 +423,18 @@ pub(crate) const MEASURES: &[MeasureRow] = &[
         "period of N's envelope: mean time between upward crossings, by N's peaks, of the level halfway between the lowest and highest peak",
     ),
     stat(
+        "time_of",
+        Stat::TimeOf(Event::ANY),
+        ("time when", "kab"),
+        "first time the relation holds (0 if it holds at the start), e.g. time_of(x > 0.5); the relation is N = level (N reaches the level), N > level or N < level",
+    ),
+    stat(
+        "count",
+        Stat::Count(Event::ANY),
+        ("count of", "ginti"),
+        "how many times the relation starts to hold (the start counts), e.g. count(x > 0.5); count(x = 0.5) counts crossings of the level",
+    ),
+    stat(
         "drift",
         Stat::Drift,
         ("drift", "drift"),
@@ -331,8 +460,17 @@ pub fn stat_rows() -> impl Iterator<Item = (&'static MeasureRow, Stat)> {
 
 /// `system measures: max(N), min(N), …`: the hint an unknown measure gets.
 pub fn system_hint() -> String {
-    let calls: Vec<String> = stat_rows().map(|(r, _)| format!("{}(N)", r.name)).collect();
+    let calls: Vec<String> = stat_rows().map(|(r, s)| call(r.name, s)).collect();
     format!("system measures: {}", calls.join(", "))
+}
+
+/// How a statistic is written: `max(N)`, `time_of(N > level)`.
+pub fn call(name: &str, stat: Stat) -> String {
+    if stat.event().is_some() {
+        format!("{name}(N > level)")
+    } else {
+        format!("{name}(N)")
+    }
 }
 
 /// `rigid-body measures: flips, flip_period, …`.
@@ -354,8 +492,12 @@ pub fn row_of(measure: Measure) -> &'static MeasureRow {
     })
 }
 
-/// The row of a rigid-body measure or a statistic.
+/// The row of a rigid-body measure or a statistic (at any level).
 pub fn row_kind(kind: MeasureKind) -> &'static MeasureRow {
+    let kind = match kind {
+        MeasureKind::System(s) => MeasureKind::System(s.base()),
+        k => k,
+    };
     MEASURES.iter().find(|r| r.kind == kind).unwrap_or(&MISSING)
 }
 
@@ -395,6 +537,11 @@ pub enum ParseError<'a> {
     NoClose,
     /// Text after the closing `)`, which sits at `close`.
     Trailing { close: usize },
+    /// `time_of(x)` or `count(x)` without `> level`; the inside sits at
+    /// `at`.
+    NoRelation { at: Range<usize> },
+    /// The level is not a finite number; it sits at `at`.
+    BadLevel { at: Range<usize> },
 }
 
 /// The one parser of measure text: `flips`, or `period(theta)` (spaces
@@ -422,8 +569,51 @@ pub fn parse(text: &str) -> Result<Parsed<'_>, ParseError<'_>> {
     }
     let inner = &text[open + 1..close];
     let lead = inner.len() - inner.trim_start().len();
-    let quantity = inner.trim();
     let start = open + 1 + lead;
+    if stat.event().is_none() {
+        let quantity = inner.trim();
+        return Ok(Parsed::Of {
+            stat,
+            quantity,
+            at: start..start + quantity.len(),
+        });
+    }
+    // `quantity rel level`.
+    let body = inner.trim();
+    let Some(op_at) = body.find(['=', '<', '>']) else {
+        return Err(ParseError::NoRelation {
+            at: start..start + body.len(),
+        });
+    };
+    let quantity = body[..op_at].trim_end();
+    let rest = &body[op_at..];
+    let (rel, len) = [
+        ("==", Rel::Crosses),
+        (">=", Rel::AtLeast),
+        ("<=", Rel::AtMost),
+        ("=", Rel::Crosses),
+        (">", Rel::Above),
+        ("<", Rel::Below),
+    ]
+    .into_iter()
+    .find(|(o, _)| rest.starts_with(o))
+    .map(|(o, r)| (r, o.len()))
+    .unwrap_or((Rel::Crosses, 1));
+    let level_text = rest[len..].trim();
+    let level_at = start + op_at + len + (rest[len..].len() - rest[len..].trim_start().len());
+    let level =
+        level_text
+            .parse::<f64>()
+            .ok()
+            .and_then(Level::new)
+            .ok_or(ParseError::BadLevel {
+                at: level_at..level_at + level_text.len(),
+            })?;
+    let event = Event { rel, level };
+    let stat = match stat {
+        Stat::TimeOf(_) => Stat::TimeOf(event),
+        _ => Stat::Count(event),
+    };
     Ok(Parsed::Of {
         stat,
         quantity,
@@ -463,6 +653,9 @@ pub enum MeasureTextError {
     /// `stat(…` with no `)` at the end.
     #[error("`{0}`: expected `)` at the end")]
     NoClose(String),
+    /// `time_of(…)`, `count(…)` without `N > level` (a finite level).
+    #[error("`{0}`: write the quantity, a relation and a finite level, e.g. time_of(x > 0.5)")]
+    Relation(String),
 }
 
 /// Why the quantity of `stat(q)` is not a name a measure can hold.
@@ -519,6 +712,8 @@ mod tests {
             Measure::Of(Stat::Drift, x()),
             Measure::Of(Stat::Amplitude, x()),
             Measure::Of(Stat::Beat, x()),
+            Measure::Of(Stat::TimeOf(Event::ANY), x()),
+            Measure::Of(Stat::Count(Event::ANY), x()),
         ] {
             match m {
                 Measure::Flips
@@ -540,7 +735,9 @@ mod tests {
                     | Stat::Period
                     | Stat::Drift
                     | Stat::Amplitude
-                    | Stat::Beat,
+                    | Stat::Beat
+                    | Stat::TimeOf(_)
+                    | Stat::Count(_),
                     _,
                 ) => (),
             }
@@ -552,7 +749,7 @@ mod tests {
     fn hints_keep_their_spelling() {
         assert_eq!(
             system_hint(),
-            "system measures: max(N), min(N), final(N), mean(N), amplitude(N), crossings(N), period(N), beat(N), drift(N)"
+            "system measures: max(N), min(N), final(N), mean(N), amplitude(N), crossings(N), period(N), beat(N), time_of(N > level), count(N > level), drift(N)"
         );
     }
 
@@ -578,5 +775,33 @@ mod tests {
         );
         assert_eq!(parse("max(x"), Err(ParseError::NoClose));
         assert_eq!(parse("max(x)y"), Err(ParseError::Trailing { close: 5 }));
+    }
+
+    #[test]
+    fn a_relation_and_its_level_are_part_of_the_measure() {
+        let x = Name::new("x").unwrap();
+        let m = Measure::parse("time_of( x >= 0.5 )").unwrap();
+        let e = Event {
+            rel: Rel::AtLeast,
+            level: Level::new(0.5).unwrap(),
+        };
+        assert_eq!(m, Measure::Of(Stat::TimeOf(e), x));
+        assert_eq!(m.to_string(), "time_of(x >= 0.5)");
+        assert_eq!(Measure::parse(&m.to_string()), Ok(m));
+        let c = Measure::parse("count(x == -1e-3)").unwrap();
+        assert_eq!(c.to_string(), "count(x = -0.001)");
+        assert_eq!(c.name(), "count");
+        assert!(matches!(
+            Measure::parse("time_of(x)"),
+            Err(MeasureTextError::Relation(_))
+        ));
+        assert!(matches!(
+            Measure::parse("count(x > inf)"),
+            Err(MeasureTextError::Relation(_))
+        ));
+        assert_eq!(
+            parse("time_of(x > y)"),
+            Err(ParseError::BadLevel { at: 12..13 })
+        );
     }
 }

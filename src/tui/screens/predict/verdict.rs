@@ -188,7 +188,7 @@ fn reading(lang: &str, unit: &str, v: &Verdict, r: &Reading, answer: &Answer) ->
     let mut u = measure_unit(r.measure, unit);
     if u.is_empty() {
         u = match (r.measure, answer) {
-            (Measure::Of(Stat::Period, _), _) => unit.to_string(),
+            (Measure::Of(Stat::Period | Stat::Beat | Stat::TimeOf(_), _), _) => unit.to_string(),
             (m, Answer::Number { measure, unit, .. }) if m == *measure => unit.clone(),
             _ => String::new(),
         };

@@ -509,6 +509,33 @@ fn measure_in(
             );
             return None;
         }
+        Err(ParseError::NoRelation { at: inner }) => {
+            let stat_name = text[..text.find('(').unwrap_or(0)].trim();
+            rep.error(
+                at(start + inner.start)..at(start + inner.end.max(inner.start + 1)),
+                format!("`{text}`: expected the quantity, a relation and a level"),
+                Some(format!(
+                    "e.g. {stat_name}(x > 0.5); the relation is =, > or <"
+                )),
+            );
+            return None;
+        }
+        Err(ParseError::BadLevel { at: level }) => {
+            let found = &text[level.clone()];
+            rep.error(
+                at(start + level.start)..at(start + level.end.max(level.start + 1)),
+                format!(
+                    "`{text}`: expected a finite number as the level, found {}",
+                    if found.is_empty() {
+                        "nothing".to_string()
+                    } else {
+                        format!("`{found}`")
+                    }
+                ),
+                None,
+            );
+            return None;
+        }
         Err(ParseError::Trailing { close }) => {
             rep.error(
                 at(start + close + 1)..at(start + text.len()),
@@ -633,6 +660,21 @@ mod tests {
         assert_eq!(c.holds_on(get([0.0, -6.0])), Some(true));
         // A measure the run could not make: undecided, never true.
         assert_eq!(c.holds_on(|_| None), None);
+
+        // Measures with a relation inside, in a condition.
+        let (c, msgs) = parse("time_of(x > 0.5) < 3 and count(y = 0) >= 2");
+        assert!(msgs.is_empty(), "{msgs:?}");
+        assert_eq!(c.unwrap().measures().len(), 2);
+        let (_, msgs) = parse("time_of(x) < 3");
+        assert!(
+            msgs[0].contains("expected the quantity, a relation and a level"),
+            "{msgs:?}"
+        );
+        let (_, msgs) = parse("count(x > lots) < 3");
+        assert!(
+            msgs[0].contains("expected a finite number as the level, found `lots`"),
+            "{msgs:?}"
+        );
 
         // A rigid-body measure on a system scene is named as such.
         let (c, msgs) = parse("flips > 0 or max(x) > 1");

@@ -27,6 +27,7 @@
 
 use super::ReadingError;
 use crate::scene::spec::Stat;
+use crate::scene::vocabulary::{Event, Rel};
 
 /// The level of |N(0)| below which drift is measured absolutely.
 pub(crate) const TINY: f64 = 1e-300;
@@ -335,6 +336,13 @@ impl Tally {
             Stat::Period => return self.period(name),
             Stat::Amplitude => 0.5 * (self.max - self.min),
             Stat::Beat => return self.beat(name),
+            // Kept by their own [`Watch`].
+            Stat::TimeOf(_) | Stat::Count(_) => {
+                return Err(ReadingError::NoSamples {
+                    stat,
+                    name: name.to_string(),
+                });
+            }
         })
     }
 
@@ -565,5 +573,120 @@ mod tests {
         }
         let mean = tally.stat(Stat::Mean, "x").unwrap();
         assert!((mean - 3.0).abs() < 1e-14, "{mean}");
+    }
+}
+
+/// What `time_of(N rel level)` and `count(N rel level)` watch: how often
+/// the relation has started to hold, and when first (the crossing between
+/// two samples is located on the dense output by the run).
+#[derive(Debug, Clone)]
+pub(super) struct Watch {
+    pub q: usize,
+    pub stat: Stat,
+    event: Event,
+    count: u64,
+    /// When the relation first held, once located.
+    time: Option<f64>,
+    /// The samples either side of the first time, to locate.
+    pub pending: Option<(f64, f64)>,
+    /// The last sample, and the side of the level N was last on (±1).
+    prev: Option<(f64, f64)>,
+    side: f64,
+}
+
+impl Watch {
+    pub(super) fn new(q: usize, stat: Stat) -> Option<Watch> {
+        Some(Watch {
+            q,
+            stat,
+            event: stat.event()?,
+            count: 0,
+            time: None,
+            pending: None,
+            prev: None,
+            side: 0.0,
+        })
+    }
+
+    /// Whether `v` satisfies the relation (for `=`: touches the level).
+    fn holds(&self, v: f64) -> bool {
+        let l = self.event.level.get();
+        match self.event.rel {
+            Rel::Above => v > l,
+            Rel::AtLeast => v >= l,
+            Rel::Below => v < l,
+            Rel::AtMost => v <= l,
+            Rel::Crosses => v == l,
+        }
+    }
+
+    pub(super) fn add(&mut self, t: f64, v: f64) {
+        let l = self.event.level.get();
+        let started = match (self.event.rel, self.prev) {
+            (Rel::Crosses, _) => {
+                let s = (v - l).signum();
+                let crossed = v != l && self.side != 0.0 && s != self.side;
+                if v != l {
+                    self.side = s;
+                }
+                if crossed {
+                    self.count += 1;
+                }
+                crossed || (v == l && self.time.is_none())
+            }
+            (_, None) => self.holds(v),
+            (_, Some((_, pv))) => !self.holds(pv) && self.holds(v),
+        };
+        if started && self.event.rel != Rel::Crosses {
+            self.count += 1;
+        }
+        if started && self.time.is_none() {
+            match self.prev {
+                Some((pt, _)) if v != l => self.pending = Some((pt, t)),
+                _ => self.time = Some(t),
+            }
+        }
+        self.prev = Some((t, v));
+    }
+
+    /// The first time, located in `pending` by bisection on `f` (N on the
+    /// dense output there).
+    pub(super) fn locate(&mut self, mut f: impl FnMut(f64) -> Option<f64>) {
+        let Some((mut a, mut b)) = self.pending.take() else {
+            return;
+        };
+        let l = self.event.level.get();
+        let side_a = f(a).map(|v| (v - l).signum());
+        for _ in 0..200 {
+            let m = 0.5 * (a + b);
+            if m <= a || m >= b {
+                break;
+            }
+            match (f(m), side_a) {
+                (Some(v), Some(sa)) if (v - l).signum() == sa && v != l => a = m,
+                (Some(_), Some(_)) => b = m,
+                _ => break,
+            }
+        }
+        self.time = Some(b);
+    }
+
+    pub(super) fn value(&self, name: &str) -> Result<f64, ReadingError> {
+        match self.stat {
+            Stat::Count(_) => Ok(self.count as f64),
+            _ => self.time.ok_or_else(|| ReadingError::Never {
+                measure: format!(
+                    "{}({name} {} {})",
+                    self.stat.name(),
+                    self.event.rel.symbol(),
+                    flipcard_text::num::Num(self.event.level.get())
+                ),
+                what: format!(
+                    "{name} {} {}",
+                    self.event.rel.symbol(),
+                    flipcard_text::num::Num(self.event.level.get())
+                ),
+            }),
+        }
     }
 }
