@@ -115,6 +115,7 @@ fn deck() -> Deck {
         scenes: Vec::new(),
         systems: Vec::new(),
         sections: Vec::new(),
+        units: Vec::new(),
         path: "big.toml".into(),
     }
 }

@@ -208,6 +208,7 @@ pub fn deck() -> Deck {
                 see: vec!["setup".into()],
             },
         ],
+        units: Vec::new(),
         path: PathBuf::from("tests/decks/valid/torque-free.toml"),
     }
 }

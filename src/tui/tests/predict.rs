@@ -75,6 +75,31 @@ fn number_prompt_takes_a_number_with_its_unit() {
 }
 
 #[test]
+fn a_number_prompt_takes_the_units_its_deck_declares() {
+    let mut app = testkit::app(ENGLISH);
+    // The deck declares "per_min" (the prompt's unit is 1/s).
+    app.app.decks[0].units = vec![crate::predict::typed::declare("per_min", "1 1/min").unwrap()];
+    press_all(
+        &mut app,
+        &[KeyCode::Char('p'), KeyCode::Char('j'), KeyCode::Enter],
+    );
+    type_text(&mut app, "342 per_min");
+    press(&mut app, KeyCode::Enter);
+    let Phase::Play { prediction, .. } = &predict(&app).phase else {
+        panic!("not running: {}", render(&app));
+    };
+    let Prediction::Number(v) = prediction else {
+        panic!("{prediction:?}");
+    };
+    assert!((v - 5.7).abs() < 1e-12, "{v}");
+    // Another deck's unit is refused with the prompt's.
+    let mut app = open(ENGLISH, 1);
+    type_text(&mut app, "342 per_min");
+    press(&mut app, KeyCode::Enter);
+    assert!(render(&app).contains("unit should be 1/s"));
+}
+
+#[test]
 fn run_controls_pause_speed_restart_method_and_step() {
     let mut app = open(ENGLISH, 0);
     press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);

@@ -331,6 +331,7 @@ fn load_deck(
                 scenes: body.scenes,
                 systems: body.systems,
                 sections,
+                units: h.units,
                 path: path.to_path_buf(),
             })
         })(),

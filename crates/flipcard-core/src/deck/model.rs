@@ -26,6 +26,8 @@ pub struct Deck {
     /// Explanation sections in reading order (the order of the primary
     /// language's content file); titles and bodies per language.
     pub sections: Vec<Section>,
+    /// Units the deck declares for typed answers, besides the known ones.
+    pub units: Vec<crate::predict::typed::Declared>,
     /// The deck file this was loaded from.
     pub path: PathBuf,
 }

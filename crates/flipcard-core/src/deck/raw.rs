@@ -12,7 +12,7 @@ use super::suggest;
 pub use super::read::{Flag, List, Num, RawAccept, RawText, Span, Str};
 
 pub const DECK_FILE_FIELDS: &[&str] = &["deck", "card", "prompt", "scene"];
-pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages"];
+pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages", "units"];
 pub const CARD_FIELDS: &[&str] = &[
     "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text",
 ];
@@ -68,6 +68,8 @@ pub struct RawDeckHeader {
     pub title: Option<RawText>,
     pub description: Option<RawText>,
     pub languages: Option<List<Str>>,
+    /// Units the deck's learners may type (`units = { ly = "9.4607e15 m" }`).
+    pub units: Option<Named<Str>>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -284,6 +286,7 @@ fn read_header(rep: &mut FileReport, t: &DeTable, span: Span) -> RawDeckHeader {
         title: f.text(rep, "title", true),
         description: f.text(rep, "description", false),
         languages: f.strings(rep, "languages", true),
+        units: named(rep, &f, "units", read::string),
     }
 }
 

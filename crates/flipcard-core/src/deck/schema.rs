@@ -44,6 +44,9 @@ pub struct DeckHeader {
     /// BCP 47 tags (`en`, `hi-Latn`); the first is the primary language.
     #[schemars(length(min = 1))]
     pub languages: Vec<LangTag>,
+    /// Units a learner may type in a number answer besides the known ones,
+    /// each a positive number and a known unit: `{ ly = "9.4607e15 m" }`.
+    pub units: Option<std::collections::BTreeMap<String, String>>,
 }
 
 /// A flashcard. A cloze card has `text` (and an optional `back` of notes);

@@ -22,6 +22,11 @@ pub enum ParseError {
 /// optionally, a unit (spaces and case ignored where unambiguous) that is
 /// the prompt's `unit` or converts to it. A unicode minus is accepted.
 pub fn parse_number(input: &str, unit: &str) -> Result<f64, ParseError> {
+    parse_number_in(input, unit, &[])
+}
+
+/// As [`parse_number`], knowing also the units a deck declares.
+pub fn parse_number_in(input: &str, unit: &str, declared: &[Declared]) -> Result<f64, ParseError> {
     let text = input.trim().replace('−', "-");
     let end = text
         .char_indices()
@@ -45,7 +50,8 @@ pub fn parse_number(input: &str, unit: &str) -> Result<f64, ParseError> {
     if typed.is_empty() || typed.to_lowercase() == squash(unit).to_lowercase() {
         return Ok(value);
     }
-    let converted = convert(value, &typed, &squash(unit)).ok_or(ParseError::WrongUnit)?;
+    let converted =
+        convert_in(value, &typed, &squash(unit), declared).ok_or(ParseError::WrongUnit)?;
     if converted.is_finite() {
         Ok(converted)
     } else {
@@ -56,9 +62,82 @@ pub fn parse_number(input: &str, unit: &str) -> Result<f64, ParseError> {
 /// `value` in unit `from` expressed in unit `to`, when both are known and
 /// of the same kind.
 pub fn convert(value: f64, from: &str, to: &str) -> Option<f64> {
-    let a = Unit::parse(from)?;
-    let b = Unit::parse(to)?;
+    convert_in(value, from, to, &[])
+}
+
+fn convert_in(value: f64, from: &str, to: &str, declared: &[Declared]) -> Option<f64> {
+    // A prompt without a unit asks for a pure number.
+    let to = if to.is_empty() { "1" } else { to };
+    let a = Unit::parse(from, declared)?;
+    let b = Unit::parse(to, declared)?;
     (a.dims == b.dims).then(|| value * a.factor / b.factor)
+}
+
+/// A unit a deck declares (`units = { ly = "9.4607e15 m" }`): its name and
+/// what it is in the known units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Declared {
+    pub name: String,
+    unit: Unit,
+}
+
+/// Why a deck's unit declaration is refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DeclareError {
+    #[error(
+        "`{0}` is not a unit name: letters, digits and `_`, starting with a letter, at most 32 bytes"
+    )]
+    BadName(String),
+    #[error("`{0}` is already a unit flipcard knows")]
+    Known(String),
+    #[error(
+        "`{0}` is not a positive number followed by a unit flipcard knows (e.g. \"9.4607e15 m\", \"27.32 d\", \"1e-3 rad/s\")"
+    )]
+    BadValue(String),
+}
+
+/// The unit `name` declared as `definition`, a positive number and a known
+/// unit (none: a pure number).
+pub fn declare(name: &str, definition: &str) -> Result<Declared, DeclareError> {
+    let word = name.len() <= 32
+        && name.starts_with(|c: char| c.is_alphabetic())
+        && name.chars().all(|c| c.is_alphanumeric() || c == '_');
+    if !word {
+        return Err(DeclareError::BadName(name.to_string()));
+    }
+    if Unit::parse(name, &[]).is_some() {
+        return Err(DeclareError::Known(name.to_string()));
+    }
+    let bad = || DeclareError::BadValue(definition.to_string());
+    let text = definition.trim();
+    let end = text
+        .find(|c: char| c.is_whitespace() || !(c.is_ascii_alphanumeric() || "+-.".contains(c)))
+        .unwrap_or(text.len());
+    let (number, rest) = text.split_at(end);
+    let factor: f64 = number.parse().map_err(|_| bad())?;
+    if !(factor.is_finite() && factor > 0.0) {
+        return Err(bad());
+    }
+    let rest: String = rest.split_whitespace().collect();
+    let base = if rest.is_empty() {
+        Unit {
+            factor: 1.0,
+            dims: NONE,
+        }
+    } else {
+        Unit::parse(&rest, &[]).ok_or_else(bad)?
+    };
+    let factor = factor * base.factor;
+    if !(factor.is_finite() && factor > 0.0) {
+        return Err(bad());
+    }
+    Ok(Declared {
+        name: name.to_string(),
+        unit: Unit {
+            factor,
+            dims: base.dims,
+        },
+    })
 }
 
 /// Exponents of (time, angle, length).
@@ -127,7 +206,7 @@ const PREFIXES: &[(&str, f64)] = &[
 impl Unit {
     /// A unit written as `a`, `a/b`, `a/b^2`, `a*b`, `Hz`; `None` when a
     /// part is unknown. At most 64 bytes are read.
-    fn parse(text: &str) -> Option<Unit> {
+    fn parse(text: &str, declared: &[Declared]) -> Option<Unit> {
         if text.is_empty() || text.len() > 64 {
             return None;
         }
@@ -135,9 +214,9 @@ impl Unit {
             Some((n, d)) => (n, Some(d)),
             None => (text, None),
         };
-        let mut unit = Unit::product(num)?;
+        let mut unit = Unit::product(num, declared)?;
         if let Some(den) = den {
-            let d = Unit::product(den)?;
+            let d = Unit::product(den, declared)?;
             unit.factor /= d.factor;
             for i in 0..3 {
                 unit.dims[i] -= d.dims[i];
@@ -147,7 +226,7 @@ impl Unit {
     }
 
     /// `a*b*c` (or `a·b`), each with an optional integer power `^n`.
-    fn product(text: &str) -> Option<Unit> {
+    fn product(text: &str, declared: &[Declared]) -> Option<Unit> {
         let mut unit = Unit {
             factor: 1.0,
             dims: NONE,
@@ -157,7 +236,10 @@ impl Unit {
                 Some((n, p)) => (n, p.parse::<i8>().ok().filter(|p| (-4..=4).contains(p))?),
                 None => (part, 1),
             };
-            let one = Unit::one(name)?;
+            let one = match declared.iter().find(|d| d.name == name) {
+                Some(d) => d.unit,
+                None => Unit::one(name)?,
+            };
             unit.factor *= one.factor.powi(i32::from(power));
             for i in 0..3 {
                 unit.dims[i] += one.dims[i] * power;
@@ -199,6 +281,52 @@ impl Unit {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_deck_declares_units_in_known_ones() {
+        let ly = declare("ly", "9.4607e15 m").unwrap();
+        let month = declare("lunar_month", "27.321661 d").unwrap();
+        let both = [ly, month];
+        let v = parse_number_in("13.368 lunar_month", "yr", &both).unwrap();
+        assert!((v - 13.368 * 27.321661 / 365.25).abs() < 1e-12, "{v}");
+        let v = parse_number_in("1 ly/yr", "km/s", &both).unwrap();
+        assert!((v - 9.4607e15 / 31_557_600.0 / 1e3).abs() < 1e-9, "{v}");
+        // The prompt's own unit may be a declared one.
+        let v = parse_number_in("2 yr", "lunar_month", &both).unwrap();
+        assert!((v - 2.0 * 365.25 / 27.321661).abs() < 1e-12, "{v}");
+        // A declared unit of another kind is still refused.
+        assert_eq!(
+            parse_number_in("2 ly", "s", &both),
+            Err(ParseError::WrongUnit)
+        );
+        // Not known without the deck.
+        assert_eq!(parse_number("2 ly", "m"), Err(ParseError::WrongUnit));
+        // A pure number.
+        let dozen = declare("dozen", "12").unwrap();
+        assert_eq!(parse_number_in("2 dozen", "", &[dozen]), Ok(24.0));
+    }
+
+    #[test]
+    fn a_declaration_is_refused_with_its_reason() {
+        assert_eq!(declare("s", "2 s"), Err(DeclareError::Known("s".into())));
+        assert_eq!(declare("km", "1 m"), Err(DeclareError::Known("km".into())));
+        assert!(matches!(
+            declare("light year", "1 m"),
+            Err(DeclareError::BadName(_))
+        ));
+        assert!(matches!(
+            declare("2x", "1 m"),
+            Err(DeclareError::BadName(_))
+        ));
+        for bad in [
+            "", "m", "-1 m", "0 s", "1 parsec", "inf s", "1e308 yr", "nan",
+        ] {
+            assert!(
+                matches!(declare("u", bad), Err(DeclareError::BadValue(_))),
+                "{bad:?}"
+            );
+        }
+    }
 
     #[test]
     fn numbers_with_the_prompts_unit_or_none() {

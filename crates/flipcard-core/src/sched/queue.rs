@@ -897,6 +897,7 @@ mod deck_tests {
             systems: vec![],
             scenes: vec![],
             sections: vec![],
+            units: vec![],
             path: "rot.toml".into(),
         }
     }

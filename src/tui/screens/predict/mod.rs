@@ -149,7 +149,7 @@ pub(super) fn prompt<'a>(app: &'a App, s: &PredictState) -> Option<&'a Prompt> {
     deck(app, s).and_then(|d| d.prompts.get(s.prompt))
 }
 
-pub use crate::predict::typed::{ParseError, parse_number};
+pub use crate::predict::typed::{ParseError, parse_number, parse_number_in};
 
 impl super::View for PredictState {
     fn context(&self) -> Context {
@@ -191,6 +191,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
         app.error(format!("scene {} not found", prompt.scene));
         return Nav::Pop;
     }
+    let units = app.decks.get(state.deck).map_or(&[][..], |d| &d.units[..]);
     match &mut state.phase {
         Phase::Ask {
             selected,
@@ -222,7 +223,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                         *error = None;
                         None
                     }
-                    Action::Submit => match parse_number(input, unit) {
+                    Action::Submit => match parse_number_in(input, unit, units) {
                         Ok(v) => Some(Prediction::Number(v)),
                         Err(ParseError::NotANumber) => {
                             *error = Some(app.tr(Msg::NotANumber).to_string());

@@ -177,6 +177,8 @@ pub struct Header {
     pub langs: Langs,
     /// Each declared language with the span of its entry in `languages`.
     pub lang_spans: Vec<(String, Span)>,
+    /// The units the deck declares.
+    pub units: Vec<crate::predict::typed::Declared>,
 }
 
 /// A BCP 47 tag's shape: a 2-8 letter language subtag, then subtags of
@@ -230,6 +232,22 @@ pub fn header(rep: &mut FileReport, raw: &RawDeckFile, file_stem: &str) -> Heade
         .title
         .as_ref()
         .and_then(|t| text::text(rep, t, &h.langs, "the deck title"));
+    for e in d.units.iter().flat_map(|u| &u.entries) {
+        match crate::predict::typed::declare(&e.key.value, &e.value.value) {
+            Ok(unit) => h.units.push(unit),
+            Err(err @ crate::predict::typed::DeclareError::BadValue(_)) => {
+                rep.error(e.value.span.clone(), err.to_string(), None)
+            }
+            Err(err) => rep.error(
+                e.key.span.clone(),
+                err.to_string(),
+                Some(
+                    "declare a unit the learner may type, e.g. units = { ly = \"9.4607e15 m\" }"
+                        .to_string(),
+                ),
+            ),
+        }
+    }
     h.description = match &d.description {
         None => Some(None),
         Some(t) => text::text(rep, t, &h.langs, "the deck description").map(Some),
