@@ -46,7 +46,7 @@ fn pendulum() -> SystemScene {
         phase: Some(["theta".into(), "omega".into()]),
         sketch: vec![
             Mark::Line(["0".into(), "0".into(), "x".into(), "y".into()]),
-            Mark::Dot(["x".into(), "y".into()]),
+            Mark::Dot(["x".into(), "y".into()], None),
             Mark::Trail(["x".into(), "y".into()]),
         ],
         time_unit: "s".into(),

@@ -227,7 +227,9 @@ pub fn sketch(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme:
                         now[k + 3],
                         color,
                     )),
-                    Mark::Dot(_) => dots.push((now[k], now[k + 1])),
+                    Mark::Dot(_, label) => {
+                        dots.push((now[k], now[k + 1], label.as_ref().map(|l| l.get(lang))))
+                    }
                     Mark::Trail(_) => {
                         for w in trail.windows(2) {
                             ctx.draw(&Line::new(
@@ -244,13 +246,15 @@ pub fn sketch(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme:
             }
             // Dots last, on top, each its own glyph and colour: the Sun and
             // the planet are two objects, not two identical points.
-            for (j, (x, y)) in dots.into_iter().enumerate() {
+            for (j, (x, y, label)) in dots.into_iter().enumerate() {
                 let (glyph, color) = DOTS[j % DOTS.len()];
-                ctx.print(
-                    x,
-                    y,
-                    TextLine::styled(glyph, Style::new().fg(theme.plot(color))),
-                );
+                let style = Style::new().fg(theme.plot(color));
+                let text = match label {
+                    // The label after the glyph, on the dot's row.
+                    Some(l) => format!("{glyph} {}", crate::text::safe::one_line(l)),
+                    None => glyph.to_string(),
+                };
+                ctx.print(x, y, TextLine::styled(text, style));
             }
         });
     frame.render_widget(canvas, area);

@@ -14,6 +14,7 @@ mod locate;
 pub mod markup;
 pub mod num;
 pub mod safe;
+pub mod units;
 mod tree;
 mod unicode;
 

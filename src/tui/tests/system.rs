@@ -57,7 +57,7 @@ fn pendulum() -> SystemScene {
         phase: Some(["theta".into(), "omega".into()]),
         sketch: vec![
             Mark::Line(["0".into(), "0".into(), "x".into(), "y".into()]),
-            Mark::Dot(["x".into(), "y".into()]),
+            Mark::Dot(["x".into(), "y".into()], None),
             Mark::Trail(["x".into(), "y".into()]),
         ],
         time_unit: "s".into(),
@@ -530,8 +530,8 @@ fn two_dots_of_a_sketch_are_two_glyphs() {
     ];
     scene.show = vec![SystemPanel::Sketch];
     scene.sketch = vec![
-        Mark::Dot(["sx".into(), "sy".into()]),
-        Mark::Dot(["x".into(), "v".into()]),
+        Mark::Dot(["sx".into(), "sy".into()], None),
+        Mark::Dot(["x".into(), "v".into()], None),
         Mark::Trail(["x".into(), "v".into()]),
     ];
     let min_energy = Measure::Of(Stat::Min, Name::new("energy").unwrap());
@@ -543,6 +543,35 @@ fn two_dots_of_a_sketch_are_two_glyphs() {
     let screen = render(&app);
     assert_eq!(screen.matches('●').count(), 1, "{screen}");
     assert_eq!(screen.matches('◆').count(), 1, "{screen}");
+}
+
+#[test]
+fn a_dot_is_drawn_with_its_label_in_the_learners_language() {
+    let mut scene = spring();
+    scene.id = "orbit".into();
+    scene.observables = vec![
+        ("energy".into(), "0.5*(x^2 + v^2)".into()),
+        ("sx".into(), "0".into()),
+        ("sy".into(), "0".into()),
+    ];
+    scene.show = vec![SystemPanel::Sketch];
+    scene.sketch = vec![
+        Mark::Dot(["sx".into(), "sy".into()], Some(text("Sun", "Suraj"))),
+        Mark::Dot(["x".into(), "v".into()], Some(text("planet", "grah"))),
+    ];
+    let min_energy = Measure::Of(Stat::Min, Name::new("energy").unwrap());
+    for (lang, sun, planet) in [
+        (ENGLISH, "● Sun", "◆ planet"),
+        (HINGLISH, "● Suraj", "◆ grah"),
+    ] {
+        let mut app = app_on(scene.clone(), min_energy, 0.45);
+        app.app.lang = lang.to_string();
+        press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
+        tick(&mut app, 300);
+        let screen = render(&app);
+        assert!(screen.contains(sun), "{screen}");
+        assert!(screen.contains(planet), "{screen}");
+    }
 }
 
 #[test]

@@ -27,7 +27,7 @@ pub struct Deck {
     /// language's content file); titles and bodies per language.
     pub sections: Vec<Section>,
     /// Units the deck declares for typed answers, besides the known ones.
-    pub units: Vec<crate::predict::typed::Declared>,
+    pub units: Vec<flipcard_text::units::Declared>,
     /// The deck file this was loaded from.
     pub path: PathBuf,
 }

@@ -167,6 +167,8 @@ pub struct RawMark {
     pub span: Span,
     pub key: Str,
     pub exprs: List<Str>,
+    /// A dot's `label`.
+    pub label: Option<RawText>,
 }
 
 /// The fields of a system scene as written.
@@ -588,7 +590,9 @@ fn sketch(rep: &mut FileReport, f: &Fields) -> Option<List<RawMark>> {
             ok = false;
             continue;
         };
-        let keys: Vec<_> = t.iter().collect();
+        // A dot may carry a label beside its one key.
+        let label_value = t.get("label");
+        let keys: Vec<_> = t.iter().filter(|(k, _)| k.get_ref() != "label").collect();
         if keys.len() != 1 {
             rep.error(
                 item.span(),
@@ -629,6 +633,25 @@ fn sketch(rep: &mut FileReport, f: &Fields) -> Option<List<RawMark>> {
             ok = false;
             continue;
         }
+        let label = match label_value {
+            Some(l) if name == "dot" => match read::text(rep, l, "`label`") {
+                Some(t) => Some(t),
+                None => {
+                    ok = false;
+                    continue;
+                }
+            },
+            Some(l) => {
+                rep.error(
+                    l.span(),
+                    format!("a `{name}` has no `label`; only a `dot` does"),
+                    Some("{ dot = [\"x\", \"y\"], label = 'Sun' }".to_string()),
+                );
+                ok = false;
+                continue;
+            }
+            None => None,
+        };
         items.push(RawMark {
             span: item.span(),
             key: Str {
@@ -639,6 +662,7 @@ fn sketch(rep: &mut FileReport, f: &Fields) -> Option<List<RawMark>> {
                 items: exprs,
                 span: value.span(),
             },
+            label,
         });
     }
     ok.then_some(List {

@@ -240,7 +240,8 @@ impl JsonSchema for Expression {
     }
 }
 
-/// `{ line = [x1, y1, x2, y2] }`, `{ dot = [x, y] }` or `{ trail = [x, y] }`.
+/// `{ line = [x1, y1, x2, y2] }`, `{ dot = [x, y] }` (with an optional
+/// `label`) or `{ trail = [x, y] }`.
 pub struct SketchMark;
 
 impl JsonSchema for SketchMark {
@@ -249,10 +250,26 @@ impl JsonSchema for SketchMark {
     }
     fn json_schema(g: &mut SchemaGenerator) -> Schema {
         let e = g.subschema_for::<Expression>().to_value();
+        let text = g.subschema_for::<Text>().to_value();
         let one = |key: &str, n: usize| {
+            let mut properties = serde_json::Map::new();
+            properties.insert(
+                key.to_string(),
+                serde_json::json!({ "type": "array", "items": e.clone(), "minItems": n, "maxItems": n }),
+            );
+            if key == "dot" {
+                let mut label = text.clone();
+                if let Some(o) = label.as_object_mut() {
+                    o.insert(
+                        "description".into(),
+                        "Drawn beside the dot (e.g. 'Sun').".into(),
+                    );
+                }
+                properties.insert("label".into(), label);
+            }
             serde_json::json!({
                 "type": "object",
-                "properties": { key: { "type": "array", "items": e.clone(), "minItems": n, "maxItems": n } },
+                "properties": properties,
                 "required": [key],
                 "additionalProperties": false,
             })

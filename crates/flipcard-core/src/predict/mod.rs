@@ -3,7 +3,9 @@
 //! here, between the deck's prompt and the measurements.
 
 pub mod audit;
-pub mod typed;
+/// How a typed number and its unit are read (in `flipcard-text`, below
+/// the deck, which declares units).
+pub use flipcard_text::units as typed;
 
 use crate::deck::{Answer, Measure, Prompt};
 use flipcard_sim::scene::measure::{Evidence, Measurements, Reading};

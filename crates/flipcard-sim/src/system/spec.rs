@@ -44,8 +44,8 @@ impl SystemPanel {
 pub enum Mark {
     /// A segment from (x1, y1) to (x2, y2).
     Line([String; 4]),
-    /// A dot at (x, y).
-    Dot([String; 2]),
+    /// A dot at (x, y), with an optional label drawn beside it.
+    Dot([String; 2], Option<Text>),
     /// The path (x, y) has followed so far.
     Trail([String; 2]),
 }
@@ -54,14 +54,14 @@ impl Mark {
     pub fn key(&self) -> &'static str {
         match self {
             Mark::Line(_) => "line",
-            Mark::Dot(_) => "dot",
+            Mark::Dot(..) => "dot",
             Mark::Trail(_) => "trail",
         }
     }
     pub fn exprs(&self) -> &[String] {
         match self {
             Mark::Line(v) => v,
-            Mark::Dot(v) | Mark::Trail(v) => v,
+            Mark::Dot(v, _) | Mark::Trail(v) => v,
         }
     }
 }

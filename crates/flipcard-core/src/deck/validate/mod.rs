@@ -178,7 +178,7 @@ pub struct Header {
     /// Each declared language with the span of its entry in `languages`.
     pub lang_spans: Vec<(String, Span)>,
     /// The units the deck declares.
-    pub units: Vec<crate::predict::typed::Declared>,
+    pub units: Vec<flipcard_text::units::Declared>,
 }
 
 /// A BCP 47 tag's shape: a 2-8 letter language subtag, then subtags of
@@ -233,9 +233,9 @@ pub fn header(rep: &mut FileReport, raw: &RawDeckFile, file_stem: &str) -> Heade
         .as_ref()
         .and_then(|t| text::text(rep, t, &h.langs, "the deck title"));
     for e in d.units.iter().flat_map(|u| &u.entries) {
-        match crate::predict::typed::declare(&e.key.value, &e.value.value) {
+        match flipcard_text::units::declare(&e.key.value, &e.value.value) {
             Ok(unit) => h.units.push(unit),
-            Err(err @ crate::predict::typed::DeclareError::BadValue(_)) => {
+            Err(err @ flipcard_text::units::DeclareError::BadValue(_)) => {
                 rep.error(e.value.span.clone(), err.to_string(), None)
             }
             Err(err) => rep.error(

@@ -472,7 +472,17 @@ pub fn scene(
             let e: Vec<String> = m.exprs.items.iter().map(|s| s.value.clone()).collect();
             sketch.push(match m.key.value.as_str() {
                 "line" => Mark::Line([e[0].clone(), e[1].clone(), e[2].clone(), e[3].clone()]),
-                "dot" => Mark::Dot([e[0].clone(), e[1].clone()]),
+                "dot" => {
+                    let label = match &m.label {
+                        Some(l) => {
+                            let t = text::text(rep, l, langs, "a dot's `label`");
+                            ok &= t.is_some();
+                            t
+                        }
+                        None => None,
+                    };
+                    Mark::Dot([e[0].clone(), e[1].clone()], label)
+                }
                 _ => Mark::Trail([e[0].clone(), e[1].clone()]),
             });
         }
