@@ -14,9 +14,9 @@ mod locate;
 pub mod markup;
 pub mod num;
 pub mod safe;
-pub mod units;
 mod tree;
 mod unicode;
+pub mod units;
 
 #[cfg(test)]
 mod seed_tests;
