@@ -152,6 +152,22 @@ fn rosette_orbit_radial_measures_are_exact() {
 }
 
 #[test]
+fn a_gated_apsidal_angle_is_exact() {
+    // φ while the comet climbs to aphelion, 0 after: its largest value is
+    // the apsidal angle π/γ, γ = √(1 − c/h²) = √0.95, reached at half the
+    // radial period.
+    let (r0, v0) = (0.1, 2.0 * PI * 19f64.sqrt());
+    let h = r0 * v0;
+    let c = 0.05 * h * h;
+    let energy = (h * h - c) / (2.0 * r0 * r0) - GM / r0;
+    let a = -GM / (2.0 * energy);
+    let radial = 2.0 * PI * (a.powi(3) / GM).sqrt();
+    let got = measure("rosette-apsis", &["max(apsis)", "time_of(vr < 0)"]);
+    close("max(apsis)", got[0], 180.0 / 0.95f64.sqrt(), TARGET);
+    close("time_of(vr < 0)", got[1], radial / 2.0, TARGET);
+}
+
+#[test]
 fn a_beat_without_an_envelope_is_refused_with_its_reason() {
     // The rosette's radial speed peaks at the same height every turn.
     let out = Flipcard::without_data()
