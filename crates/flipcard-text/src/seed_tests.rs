@@ -129,11 +129,11 @@ fn spin_about_axis_three() {
     renders(r"\omega_1,\omega_2", "ω₁, ω₂");
     renders(
         r"\dot\omega_1 = \frac{I_2-I_3}{I_1}\Omega\,\omega_2,\qquad \dot\omega_2 = \frac{I_3-I_1}{I_2}\Omega\,\omega_1",
-        "ω̇₁ = (I₂ − I₃)/I₁ Ω ω₂,    ω̇₂ = (I₃ − I₁)/I₂ Ω ω₁",
+        "ω̇₁ = ((I₂ − I₃)/I₁)Ω ω₂,    ω̇₂ = ((I₃ − I₁)/I₂)Ω ω₁",
     );
     renders(
         r"\Rightarrow \ddot\omega_1 = \frac{(I_2-I_3)(I_3-I_1)}{I_1 I_2}\Omega^2\,\omega_1",
-        "⇒ ω̈₁ = (I₂ − I₃)(I₃ − I₁)/(I₁I₂) Ω² ω₁",
+        "⇒ ω̈₁ = ((I₂ − I₃)(I₃ − I₁)/(I₁I₂))Ω² ω₁",
     );
     renders(r"\ddot\omega_1 = k\,\omega_1", "ω̈₁ = k ω₁");
 }
@@ -153,7 +153,7 @@ fn growth_criterion() {
     renders(r"\ddot\omega_1=k\omega_1", "ω̈₁ = kω₁");
     renders(
         r"k=\frac{(I_b-I_c)(I_c-I_a)}{I_aI_b}\Omega^2",
-        "k = (I_b − I_c)(I_c − Iₐ)/(IₐI_b) Ω²",
+        "k = ((I_b − I_c)(I_c − Iₐ)/(IₐI_b))Ω²",
     );
     renders(r"(I_a-I_b)(I_b-I_c)", "(Iₐ − I_b)(I_b − I_c)");
 }
@@ -168,7 +168,7 @@ fn symmetric_top() {
     );
     renders(
         r"\dot\omega_1 = \frac{I_\perp-I_3}{I_\perp}\omega_3\,\omega_2 \equiv -\Omega_b\,\omega_2,\quad \dot\omega_2 = +\Omega_b\,\omega_1",
-        "ω̇₁ = (I_⟂ − I₃)/I_⟂ ω₃ ω₂ ≡ −Ω_b ω₂,  ω̇₂ = +Ω_b ω₁",
+        "ω̇₁ = ((I_⟂ − I₃)/I_⟂)ω₃ ω₂ ≡ −Ω_b ω₂,  ω̇₂ = +Ω_b ω₁",
     );
 }
 
@@ -176,11 +176,11 @@ fn symmetric_top() {
 fn body_precession_rate() {
     renders(
         r"\Omega_b=\dfrac{I_3-I_\perp}{I_\perp}\,\omega_3",
-        "Ω_b = (I₃ − I_⟂)/I_⟂ ω₃",
+        "Ω_b = ((I₃ − I_⟂)/I_⟂) ω₃",
     );
     renders(
         r"\Omega_b = \frac{I_3-I_\perp}{I_\perp}\omega_3",
-        "Ω_b = (I₃ − I_⟂)/I_⟂ ω₃",
+        "Ω_b = ((I₃ − I_⟂)/I_⟂)ω₃",
     );
     renders(r"\omega_3", "ω₃");
 }
@@ -201,7 +201,7 @@ fn worked_example_three() {
     renders(r"\Omega = 10\ \text{rad/s}", "Ω = 10 rad/s");
     renders(
         r"k = \frac{(I_3-I_2)(I_2-I_1)}{I_1I_3}\Omega^2 = \frac{(1)(1)}{3}\cdot 100 = 33.3 > 0",
-        "k = (I₃ − I₂)(I₂ − I₁)/(I₁I₃) Ω² = (1)(1)/3 ⋅ 100 = 33.3 > 0",
+        "k = ((I₃ − I₂)(I₂ − I₁)/(I₁I₃))Ω² = (1)(1)/3 ⋅ 100 = 33.3 > 0",
     );
     renders(
         r"k>0 \Rightarrow \text{growth rate } \sqrt{k}\approx 5.8\ \text{s}^{-1}",

@@ -65,6 +65,8 @@ fn list(nodes: &[Node<'_>], out: &mut String, mode: Mode) -> Shape {
     let mut shape = Shape::default();
     let mut prev: Option<Class> = None;
     let mut prev_open_tail = false;
+    // The last node was an operator with limits (`lim_{x→0}`, `Σ_k`).
+    let mut prev_limits = false;
     let mut pending: u8 = 0;
     let mut first_item = 0..0;
     // Bracket nesting: what sits inside `( ... )` or `| ... |` is one item
@@ -100,9 +102,28 @@ fn list(nodes: &[Node<'_>], out: &mut String, mode: Mode) -> Shape {
                 }
             }
         }
+        // A fraction next to another factor or a function is bracketed so
+        // that it cannot be misread: `(1/2)mv²`, `(4/ω₀) ln(8/(π − θ₀))`,
+        // not `1/2 mv²`, `4/ω₀ ln 8/(π − θ₀)`. Bracketed, it spaces as a
+        // bracket does.
+        let factor = |c: Option<Class>| {
+            matches!(
+                c,
+                Some(Class::Ord | Class::Frac | Class::Radical | Class::Function | Class::Op)
+            )
+        };
+        // (After a big operator, `lim (sin x)/x`, the fraction is its
+        // operand as written.)
+        let bracketed_frac = class == Class::Frac
+            && mode == Mode::Text
+            && ((factor(prev) && prev != Some(Class::Op) && !prev_limits)
+                || matches!(prev, Some(Class::Close))
+                || factor(next_class(&nodes[i + 1..]))
+                || matches!(next_class(&nodes[i + 1..]), Some(Class::Open)));
         let top = depth == 0;
         if let Some(p) = prev {
-            let mut gap = gap(p, class, mode).max(pending);
+            let shown = if bracketed_frac { Class::Open } else { class };
+            let mut gap = gap(p, shown, mode).max(pending);
             // `Ω_b t`, not `Ω_bt`: a plain `_b` must not run into the
             // next letter.
             if prev_open_tail
@@ -136,7 +157,11 @@ fn list(nodes: &[Node<'_>], out: &mut String, mode: Mode) -> Shape {
         }
         pending = 0;
         let start = out.len();
-        let inner = node_shape(node, out, mode);
+        let mut inner = node_shape(node, out, mode);
+        if bracketed_frac {
+            wrap(out, start);
+            inner.frac = false;
+        }
         if top {
             shape.frac |= inner.frac && inner.items == 1 && !inner.loose;
             shape.items += 1;
@@ -147,7 +172,9 @@ fn list(nodes: &[Node<'_>], out: &mut String, mode: Mode) -> Shape {
         }
         last_closes = closes && depth == 0;
         prev_open_tail = inner.open_tail;
-        prev = Some(class);
+        prev = Some(if bracketed_frac { Class::Close } else { class });
+        prev_limits = matches!(node, Node::Script(sc)
+            if sc.sub.is_some() && matches!(class_of(&sc.base), Class::Op | Class::Function));
     }
     shape.bracketed = shape.items == 1 && first_opens && last_closes;
     shape.open_tail = prev_open_tail;
@@ -629,16 +656,23 @@ mod tests {
 
     #[test]
     fn fraction_is_set_apart_from_a_neighbouring_factor() {
-        renders(r"\frac{1}{2}mv^2", "1/2 mv²");
-        renders(r"2\frac{a}{b}", "2 a/b");
+        renders(r"\frac{1}{2}mv^2", "(1/2)mv²");
+        renders(r"2\frac{a}{b}", "2(a/b)");
         renders(r"\frac{a}{b} + c", "a/b + c");
+        renders(r"x = \frac{a}{b}", "x = a/b");
+        renders(
+            r"T \approx \frac{4}{\omega_0}\ln\frac{8}{\pi - \theta_0}",
+            "T ≈ (4/ω₀) ln(8/(π − θ₀))",
+        );
+        renders(r"-\frac{g}{L}\sin\theta", "−(g/L) sin θ");
+        renders(r"\frac{a}{b}(x+y)", "(a/b)(x + y)");
     }
 
     #[test]
     fn display_and_text_fractions() {
         renders(r"\dfrac{a}{b}", "a/b");
         renders(r"\tfrac{x+1}{y}", "(x + 1)/y");
-        renders(r"\dfrac{a}{b}c", "a/b c");
+        renders(r"\dfrac{a}{b}c", "(a/b)c");
     }
 
     #[test]
