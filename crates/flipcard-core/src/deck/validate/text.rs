@@ -190,18 +190,28 @@ fn latex_warnings(rep: &mut FileReport, s: &Str, token: &str) {
     for w in flipcard_text::warnings(&s.value) {
         let (at, _) = tomlstr::locate(token, w.offset);
         let start = s.span.start + at;
-        let name_len = s.value[w.offset + 1..]
-            .bytes()
-            .take_while(u8::is_ascii_alphabetic)
-            .count();
-        let hint = if w.message.contains("outside") {
-            let name = &s.value[w.offset..w.offset + 1 + name_len];
+        // The character warned about (a `\` or a micro sign, which is two
+        // bytes) and, after a `\`, the command's name.
+        let first = s.value[w.offset..].chars().next().map_or(1, char::len_utf8);
+        let name_len = if s.value[w.offset..].starts_with('\\') {
+            s.value[w.offset + first..]
+                .bytes()
+                .take_while(u8::is_ascii_alphabetic)
+                .count()
+        } else {
+            0
+        };
+        let hint = if s.value[w.offset..].starts_with('\u{b5}') {
+            "replace it with the Greek `μ` (U+03BC)".to_string()
+        } else if w.message.contains("outside") {
+            let name = &s.value[w.offset..w.offset + first + name_len];
             format!("put it in math: `${name}$`")
         } else {
             "write the formula without it (say in words what the brace or box marks), or split it in two formulas".to_string()
         };
+        let end = s.span.start + tomlstr::locate(token, w.offset + first + name_len).0;
         rep.warning(
-            start..start + 1 + name_len,
+            start..end.max(start + 1),
             format!("LaTeX: {}", w.message),
             Some(hint),
         );
