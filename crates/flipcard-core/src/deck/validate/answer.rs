@@ -220,7 +220,8 @@ fn tokens(text: &str) -> Vec<(Tok, Range<usize>)> {
             out.push((Tok::Equals, start..i));
             continue;
         }
-        let digit_next = text[i + 1..].starts_with(|d: char| d.is_ascii_digit() || d == '.');
+        let digit_next =
+            text[i + c.len_utf8()..].starts_with(|d: char| d.is_ascii_digit() || d == '.');
         if c.is_ascii_digit() || (c == '.' || c == '-' || c == '+') && digit_next {
             i += 1;
             while i < text.len() {
@@ -695,6 +696,9 @@ mod tests {
         assert!(first("> 1").contains("does not start with a measure name"));
         assert!(first("max(x) > 1 and").contains("does not start with a measure name"));
         assert!(first("max(x) > 1e999").contains("finite number"));
+        assert!(first("µ > 1").contains("unknown measure `µ`"));
+        assert!(first("max(x) > µ").contains("expected a finite number after `>`, found `µ`"));
+        assert!(first("max(x) > 1 é").contains("found `é`"));
     }
 
     fn term() -> impl Strategy<Value = String> {
@@ -711,7 +715,7 @@ mod tests {
         /// diagnostic) without panicking; a condition it accepts reads
         /// back the same from its own text.
         #[test]
-        fn any_text_parses_or_is_reported(text in "[ -~]{0,40}") {
+        fn any_text_parses_or_is_reported(text in "([ -~]|[µμ→é∞½])*") {
             let (c, msgs) = parse(&text.replace(['"', '\\'], ""));
             prop_assert!(c.is_some() || !msgs.is_empty());
         }
