@@ -66,6 +66,10 @@ impl Theme {
     pub fn math(&self) -> Style {
         self.fg(Color::LightMagenta)
     }
+    /// A command or name written as code in a section (`` `flipcard sim` ``).
+    pub fn code(&self) -> Style {
+        self.fg(Color::Cyan)
+    }
     pub fn good(&self) -> Style {
         self.fg(Color::Green).add_modifier(Modifier::BOLD)
     }

@@ -11,7 +11,10 @@
 //!   paragraph becomes a block of its own. A formula that does not parse is
 //!   shown as written;
 //! - `[text](#section-id)` links its text to another section; brackets that
-//!   do not form a link stay as written.
+//!   do not form a link stay as written;
+//! - `` `code` `` (a command, a file name) is shown as written, without its
+//!   backticks and without markup inside; a backtick that closes nothing
+//!   stays a backtick.
 
 use super::dollar::{self, Piece};
 use super::write_math;
@@ -42,6 +45,8 @@ pub enum Style {
     Strong,
     /// Rendered math (inside emphasis too).
     Math,
+    /// `` `code` ``, as written.
+    Code,
 }
 
 impl Span {
@@ -159,6 +164,8 @@ fn raw_blocks(body: &str) -> Vec<(Kind, String)> {
 enum Tok<'a> {
     /// Text as written (newlines become spaces when it is pushed).
     Text(&'a str),
+    /// `` `code` ``, its text without the backticks.
+    Code(&'a str),
     Math(String),
     Display(String),
     /// `[`, which opens a link when a `](#id)` follows in the block
@@ -184,7 +191,7 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
     let mut toks = Vec::new();
     for piece in dollar::pieces(text) {
         match piece {
-            Piece::Text(s) => links_stars_and_text(text, s, &mut toks),
+            Piece::Text(s) => code_links_stars_and_text(text, s, &mut toks),
             Piece::Dollar => toks.push(Tok::Text("$")),
             Piece::Math(m) => {
                 let mut rendered = String::new();
@@ -199,7 +206,7 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
                 });
             }
             Piece::Unclosed { offset, .. } => {
-                links_stars_and_text(text, &text[offset..], &mut toks)
+                code_links_stars_and_text(text, &text[offset..], &mut toks)
             }
         }
     }
@@ -231,6 +238,7 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
         match tok {
             Tok::Text(s) => push_span(&mut spans, s, style, to),
             Tok::Math(s) => push_span(&mut spans, &s, Style::Math, to),
+            Tok::Code(s) => push_span(&mut spans, s, Style::Code, to),
             Tok::Display(s) => {
                 finish(&mut spans, blocks);
                 blocks.push(Block::Display(s));
@@ -266,6 +274,28 @@ fn inline(text: &str, kind: Kind, blocks: &mut Vec<Block>) {
         }
     }
     finish(&mut spans, blocks);
+}
+
+/// Split a text piece at pairs of backticks: what is between two is code,
+/// the rest goes through [`links_stars_and_text`]; a backtick left alone
+/// stays.
+fn code_links_stars_and_text<'a>(whole: &str, piece: &'a str, toks: &mut Vec<Tok<'a>>) {
+    let mut rest = piece;
+    while let Some(open) = rest.find('`') {
+        let Some(len) = rest[open + 1..].find('`') else {
+            break;
+        };
+        if len == 0 {
+            // `` `` ``: two backticks, no code.
+            links_stars_and_text(whole, &rest[..open + 2], toks);
+            rest = &rest[open + 2..];
+            continue;
+        }
+        links_stars_and_text(whole, &rest[..open], toks);
+        toks.push(Tok::Code(&rest[open + 1..open + 1 + len]));
+        rest = &rest[open + 2 + len..];
+    }
+    links_stars_and_text(whole, rest, toks);
 }
 
 /// Split a text piece (a slice of `whole`) at link brackets (`[` and
@@ -454,6 +484,30 @@ fn trim_spans(spans: &mut Vec<Span>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn code_is_shown_as_written_without_its_backticks() {
+        let blocks = parse("Run `flipcard sim --scene a*b*c` *now*; a lone ` stays.");
+        let Block::Paragraph(spans) = &blocks[0] else {
+            panic!("{blocks:?}");
+        };
+        assert_eq!(spans[0], Span::new("Run ", Style::Plain));
+        assert_eq!(
+            spans[1],
+            Span::new("flipcard sim --scene a*b*c", Style::Code)
+        );
+        assert!(
+            spans.contains(&Span::new("now", Style::Emphasis)),
+            "{spans:?}"
+        );
+        assert!(
+            blocks[0].text().ends_with("a lone ` stays."),
+            "{}",
+            blocks[0].text()
+        );
+        // Two backticks together are not code; math keeps its own rules.
+        assert_eq!(plain("a `` b and $x$ `y`"), "a `` b and x y");
+    }
 
     fn plain_span(s: &str) -> Span {
         Span::new(s, Style::Plain)

@@ -203,6 +203,7 @@ fn style_of(s: &markup::Span, theme: &Theme) -> Style {
         MStyle::Emphasis => theme.emphasis(),
         MStyle::Strong => theme.strong(),
         MStyle::Math => theme.math(),
+        MStyle::Code => theme.code(),
     }
 }
 

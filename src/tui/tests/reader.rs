@@ -353,3 +353,31 @@ fn search_folds_the_micro_sign_and_the_greek_mu() {
     let screen = render(&app);
     assert!(screen.contains("match 1/3"), "{screen}");
 }
+
+#[test]
+fn code_in_a_bundled_section_is_shown_without_its_backticks() {
+    // The oscillations deck's stiffness section names a command in code.
+    let app = testkit::app(ENGLISH);
+    let deck = crate::bundled::load()
+        .decks
+        .into_iter()
+        .find(|d| d.id == "oscillations")
+        .expect("the oscillations deck");
+    let mut found = false;
+    for i in 0..deck.sections.len() {
+        let page = crate::tui::screens::reader::page(&app, &deck, i, 100, None);
+        let text: String = page
+            .lines
+            .iter()
+            .map(crate::tui::wrap::line_text)
+            .collect::<Vec<_>>()
+            .join("\n");
+        assert!(
+            !text.contains('`'),
+            "a backtick shown in section {i}:\n{text}"
+        );
+        found |= text.contains("flipcard sim --scene vdp-stiff --method adaptive")
+            || text.contains("flipcard sim --scene vdp-stiff --method\nadaptive");
+    }
+    assert!(found, "the command in code is shown");
+}
