@@ -163,6 +163,40 @@ fn blow_up_stops_with_its_time_and_no_garbage() {
 }
 
 #[test]
+fn a_refusal_midway_leaves_well_formed_json_with_its_reason() {
+    for m in ["auto", "adaptive", "radau", "rk4"] {
+        let (code, out, err) = sim(&[
+            "--scene",
+            "blowup",
+            "--method",
+            m,
+            "--samples",
+            "5",
+            "--format",
+            "json",
+        ]);
+        assert_eq!(code, 1, "{m}: {err}");
+        let doc: serde_json::Value =
+            serde_json::from_str(&out).unwrap_or_else(|e| panic!("{m}: not JSON ({e}):\n{out}"));
+        let why = doc["error"].as_str().unwrap_or_default();
+        assert!(why.contains("blows up near t = 1.0"), "{m}: {out}");
+        assert!(err.contains(why), "{m}: {err}");
+        let samples = doc["samples"].as_array().unwrap();
+        assert!(!samples.is_empty() && samples.len() < 5, "{m}: {out}");
+        assert_eq!(samples[0]["t"], 0.0, "{m}");
+    }
+    // A run that ends: the same document without `error`.
+    let (code, out, err) = sim(&["--scene", "blowup", "--samples", "3", "--format", "json"]);
+    assert_eq!(code, 1, "{err}");
+    let (code2, out2, _) = sim(&["--scene", "vdp", "--samples", "3", "--format", "json"]);
+    assert_eq!(code2, 0);
+    let doc: serde_json::Value = serde_json::from_str(&out2).unwrap();
+    assert!(doc.get("error").is_none(), "{out2}");
+    assert_eq!(doc["samples"].as_array().unwrap().len(), 3);
+    assert!(out.contains("\"error\""));
+}
+
+#[test]
 fn rigid_scenes_sample_and_measure_too() {
     let (code, out, err) = run(&["sim", "--scene", "middle-axis-spin", "--samples", "3"]);
     assert_eq!(code, 0, "{err}");

@@ -182,9 +182,35 @@ impl Inputs {
     }
 }
 
+/// Closes the JSON document after the rows written so far: `]}`, or with
+/// the reason the run stopped, `],"error":"…"}`, so that a refusal midway
+/// still leaves well-formed JSON (the CSV simply ends; the reason goes to
+/// stderr either way).
+pub(super) fn close_json(out: &mut impl Write, error: Option<&str>) -> anyhow::Result<()> {
+    match error {
+        None => writeln!(out, "\n]}}")?,
+        Some(e) => writeln!(out, "\n],\"error\":{}}}", serde_json::to_string(e)?)?,
+    }
+    Ok(())
+}
+
 /// Streams the samples; a failure midway (the step budget, say) ends the
-/// output there and is reported by the caller.
+/// output there and is reported by the caller (the JSON closed with it).
 pub(super) fn write_samples(
+    request: &Request,
+    solver: &mut dyn Solver,
+    format: SimFormat,
+    out: &mut impl Write,
+) -> anyhow::Result<()> {
+    let rows = write_rows(request, solver, format, out);
+    if format == SimFormat::Json {
+        close_json(out, rows.as_ref().err().map(|e| e.to_string()).as_deref())?;
+    }
+    out.flush()?;
+    rows
+}
+
+fn write_rows(
     request: &Request,
     solver: &mut dyn Solver,
     format: SimFormat,
@@ -196,7 +222,7 @@ pub(super) fn write_samples(
             let inputs = serde_json::to_string(&Inputs::new(request))?;
             // Open the inputs object and append the sample array to it.
             let head = inputs.strip_suffix('}').unwrap_or(&inputs);
-            writeln!(out, "{head},\"samples\":[")?;
+            write!(out, "{head},\"samples\":[")?;
         }
     }
     for k in 0..request.samples {
@@ -216,15 +242,13 @@ pub(super) fn write_samples(
         match format {
             SimFormat::Csv => writeln!(out, "{}", sample.csv())?,
             SimFormat::Json => {
-                let sep = if k + 1 < request.samples { "," } else { "" };
-                writeln!(out, "{}{sep}", serde_json::to_string(&sample)?)?;
+                // Each row after a separator, so that the document can be
+                // closed after any of them.
+                let sep = if k > 0 { "," } else { "" };
+                write!(out, "{sep}\n{}", serde_json::to_string(&sample)?)?;
             }
         }
     }
-    if format == SimFormat::Json {
-        writeln!(out, "]}}")?;
-    }
-    out.flush()?;
     Ok(())
 }
 

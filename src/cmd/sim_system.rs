@@ -136,7 +136,7 @@ fn write_samples(
     let mut out = crate::cmd::output::stdout();
     match format {
         SimFormat::Csv => writeln!(out, "{}", columns.join(","))?,
-        SimFormat::Json => writeln!(
+        SimFormat::Json => write!(
             out,
             "{{\"scene\":{},\"method\":{},\"setting\":{},\"t_end\":{},\"samples\":[",
             serde_json::to_string(&scene.id)?,
@@ -145,6 +145,27 @@ fn write_samples(
             serde_json::to_string(&scene.duration)?
         )?,
     }
+    let rows = write_rows(
+        scene, &mut run, &system, &columns, samples, format, &mut out,
+    );
+    if format == SimFormat::Json {
+        let why = rows.as_ref().err().map(|e| e.to_string());
+        crate::cmd::sim_samples::close_json(&mut out, why.as_deref())?;
+    }
+    out.flush()?;
+    rows.map(|()| ExitCode::SUCCESS)
+}
+
+/// The rows of [`write_samples`]; an error ends them where the run stops.
+fn write_rows(
+    scene: &SystemScene,
+    run: &mut SystemRun,
+    system: &System,
+    columns: &[&str],
+    samples: usize,
+    format: SimFormat,
+    out: &mut impl Write,
+) -> anyhow::Result<()> {
     let last = samples - 1;
     let mut observables = vec![0.0; system.observable_count()];
     for k in 0..samples {
@@ -155,7 +176,6 @@ fn write_samples(
         };
         run.advance_to(t);
         if let Some(e) = run.error() {
-            out.flush()?;
             bail!("{} (the run stops here)", describe(e));
         }
         let y = run.state().to_vec();
@@ -165,7 +185,6 @@ fn write_samples(
                 .observable_fault(t, &y)
                 .map(|f| f.describe(scene, t))
                 .unwrap_or_else(|| format!("an observable is not finite at t = {}", Num(t)));
-            out.flush()?;
             bail!("{why} (the run stops here)");
         }
         let mut row = Vec::with_capacity(columns.len());
@@ -186,16 +205,12 @@ fn write_samples(
                         serde_json::to_string(v)?
                     ));
                 }
-                let sep = if k < last { "," } else { "" };
-                writeln!(out, "{{{}}}{sep}", cells.join(","))?;
+                let sep = if k > 0 { "," } else { "" };
+                write!(out, "{sep}\n{{{}}}", cells.join(","))?;
             }
         }
     }
-    if format == SimFormat::Json {
-        writeln!(out, "]}}")?;
-    }
-    out.flush()?;
-    Ok(ExitCode::SUCCESS)
+    Ok(())
 }
 
 /// The measures the scene's prompts use, in order of first use.
