@@ -197,6 +197,49 @@ fn a_refusal_midway_leaves_well_formed_json_with_its_reason() {
 }
 
 #[test]
+fn a_sampled_run_says_what_it_did() {
+    // The bundled stiff Van der Pol: auto switches to Radau IIA early.
+    let (code, out, err) = run(&["sim", "--scene", "vdp-stiff", "--samples", "3", "--stats"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(out.lines().count(), 4, "{out}");
+    let line = err
+        .lines()
+        .find(|l| l.starts_with("stats: "))
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!(
+        line.contains("LU decompositions") && line.contains("switched to radau"),
+        "{line}"
+    );
+    let (code, out, err) = run(&[
+        "sim",
+        "--scene",
+        "vdp-stiff",
+        "--samples",
+        "3",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let doc: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let stats = &doc["stats"];
+    let n = |k: &str| {
+        stats[k]
+            .as_u64()
+            .unwrap_or_else(|| panic!("{k} in {stats}"))
+    };
+    assert!(n("steps") > 0 && n("rhs_evals") > n("steps"), "{stats}");
+    assert!(
+        n("jacobian_evals") > 0 && n("lu_decompositions") >= n("jacobian_evals"),
+        "{stats}"
+    );
+    let t = stats["stiff_from"].as_f64().unwrap();
+    assert!(t > 0.0 && t < 0.1, "{stats}");
+    // Without --stats the CSV run says nothing more.
+    let (_, _, err) = run(&["sim", "--scene", "vdp-stiff", "--samples", "3"]);
+    assert!(!err.contains("stats:"), "{err}");
+}
+
+#[test]
 fn rigid_scenes_sample_and_measure_too() {
     let (code, out, err) = run(&["sim", "--scene", "middle-axis-spin", "--samples", "3"]);
     assert_eq!(code, 0, "{err}");

@@ -197,6 +197,12 @@ pub struct SimArgs {
     pub dt: Option<f64>,
     #[arg(long, value_enum, default_value_t = SimFormat::Csv)]
     pub format: SimFormat,
+    /// With --samples: say what the run did (steps, rejected steps,
+    /// right-hand-side and Jacobian evaluations, LU decompositions, when
+    /// auto switched), one line on stderr after the CSV. JSON always holds
+    /// it, as "stats".
+    #[arg(long)]
+    pub stats: bool,
     /// Run a deck scene and print its measurements.
     #[arg(long, value_name = "ID", conflicts_with_all = ["inertia", "omega", "t_end", "list"])]
     pub scene: Option<String>,

@@ -37,7 +37,7 @@ pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
     )?;
     solver.plan(request.t_end)?;
     let mut out = crate::cmd::output::stdout();
-    write_samples(&request, solver.as_mut(), args.format, &mut out)?;
+    write_samples(&request, solver.as_mut(), args.format, args.stats, &mut out)?;
     Ok(ExitCode::SUCCESS)
 }
 

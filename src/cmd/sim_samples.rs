@@ -186,12 +186,45 @@ impl Inputs {
 /// the reason the run stopped, `],"error":"…"}`, so that a refusal midway
 /// still leaves well-formed JSON (the CSV simply ends; the reason goes to
 /// stderr either way).
-pub(super) fn close_json(out: &mut impl Write, error: Option<&str>) -> anyhow::Result<()> {
-    match error {
-        None => writeln!(out, "\n]}}")?,
-        Some(e) => writeln!(out, "\n],\"error\":{}}}", serde_json::to_string(e)?)?,
+pub(super) fn close_json(
+    out: &mut impl Write,
+    error: Option<&str>,
+    stats: &Stats,
+) -> anyhow::Result<()> {
+    write!(out, "\n]")?;
+    if let Some(e) = error {
+        write!(out, ",\"error\":{}", serde_json::to_string(e)?)?;
     }
+    writeln!(out, ",\"stats\":{}}}", serde_json::to_string(stats)?)?;
     Ok(())
+}
+
+/// What a sampled run did: its work counters and, for `auto`, when it
+/// switched to the implicit method. The JSON's `stats`; `--stats` prints
+/// it as a line on stderr.
+#[derive(Debug, Default, Serialize)]
+pub(super) struct Stats {
+    pub steps: u64,
+    pub rejected: u64,
+    pub rhs_evals: u64,
+    pub jacobian_evals: u64,
+    pub lu_decompositions: u64,
+    /// The time `auto` found the problem stiff and switched, if it did.
+    pub stiff_from: Option<f64>,
+}
+
+impl Stats {
+    /// `stats: 412 steps, 3 rejected, 5,101 right-hand sides, …`.
+    pub(super) fn line(&self) -> String {
+        let mut s = format!(
+            "stats: {} steps, {} rejected, {} right-hand sides, {} Jacobians, {} LU decompositions",
+            self.steps, self.rejected, self.rhs_evals, self.jacobian_evals, self.lu_decompositions
+        );
+        if let Some(t) = self.stiff_from {
+            s.push_str(&format!(", stiff from t = {}: switched to radau", Num(t)));
+        }
+        s
+    }
 }
 
 /// Streams the samples; a failure midway (the step budget, say) ends the
@@ -200,11 +233,25 @@ pub(super) fn write_samples(
     request: &Request,
     solver: &mut dyn Solver,
     format: SimFormat,
+    show_stats: bool,
     out: &mut impl Write,
 ) -> anyhow::Result<()> {
     let rows = write_rows(request, solver, format, out);
+    let work = solver.work();
+    let stats = Stats {
+        steps: work.steps,
+        rejected: work.rejected,
+        rhs_evals: work.rhs_evals,
+        ..Stats::default()
+    };
     if format == SimFormat::Json {
-        close_json(out, rows.as_ref().err().map(|e| e.to_string()).as_deref())?;
+        close_json(
+            out,
+            rows.as_ref().err().map(|e| e.to_string()).as_deref(),
+            &stats,
+        )?;
+    } else if show_stats {
+        crate::errln!("{}", stats.line());
     }
     out.flush()?;
     rows

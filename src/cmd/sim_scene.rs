@@ -88,7 +88,7 @@ pub fn scene(args: &SimArgs, decks: &[Deck], id: &str) -> anyhow::Result<ExitCod
         )?;
         solver.plan(request.t_end)?;
         let mut out = crate::cmd::output::stdout();
-        write_samples(&request, solver.as_mut(), args.format, &mut out)?;
+        write_samples(&request, solver.as_mut(), args.format, args.stats, &mut out)?;
         return Ok(ExitCode::SUCCESS);
     }
     let kind =

@@ -11,6 +11,7 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail};
 
 use crate::cmd::args::{MethodArg, SimArgs, SimFormat};
+use crate::cmd::sim_samples::Stats;
 use crate::deck::{Deck, Measure, Prompt, SystemScene};
 use crate::predict::audit::{Run, audit_run};
 use crate::sim::scene::system::{SystemPlan, SystemRun, describe, measure_system_noting};
@@ -47,7 +48,7 @@ pub fn run(args: &SimArgs, deck: &Deck, scene: &SystemScene) -> anyhow::Result<E
     let method = method(args, scene)?;
     if let Some(samples) = args.samples {
         let samples = crate::cmd::sim_samples::check_samples(samples, scene.duration)?;
-        return write_samples(scene, method, samples, args.format);
+        return write_samples(scene, method, samples, args.format, args.stats);
     }
     if !args.measure.is_empty() {
         return measures(scene, method, &args.measure);
@@ -115,6 +116,7 @@ fn write_samples(
     method: OdeMethod,
     samples: usize,
     format: SimFormat,
+    show_stats: bool,
 ) -> anyhow::Result<ExitCode> {
     // The run measures and the app play, computing every observable: a
     // row is written only where the state and every observable are
@@ -148,9 +150,20 @@ fn write_samples(
     let rows = write_rows(
         scene, &mut run, &system, &columns, samples, format, &mut out,
     );
+    let work = run.work();
+    let stats = Stats {
+        steps: work.steps,
+        rejected: work.rejected,
+        rhs_evals: work.rhs_evals,
+        jacobian_evals: work.jac_evals,
+        lu_decompositions: work.lu_decomps,
+        stiff_from: run.diagnostics().stiff_at,
+    };
     if format == SimFormat::Json {
         let why = rows.as_ref().err().map(|e| e.to_string());
-        crate::cmd::sim_samples::close_json(&mut out, why.as_deref())?;
+        crate::cmd::sim_samples::close_json(&mut out, why.as_deref(), &stats)?;
+    } else if show_stats {
+        crate::errln!("{}", stats.line());
     }
     out.flush()?;
     rows.map(|()| ExitCode::SUCCESS)
