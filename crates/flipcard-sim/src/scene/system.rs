@@ -1045,14 +1045,10 @@ pub fn measure_system(
     method: OdeMethod,
     measures: &[Measure],
 ) -> Result<Vec<Result<f64, ReadingError>>, StartError> {
-    let plan = SystemPlan {
-        reference: false,
-        sketch: false,
-        ..SystemPlan::for_scene(scene, method, measures)
-    };
-    let mut run = SystemRun::with_plan(scene, method, plan)?;
-    run.run_to_end()?;
-    Ok(measures.iter().map(|&m| run.measure(m)).collect())
+    Ok(measure_system_noting(scene, method, measures)?
+        .into_iter()
+        .map(|(value, _)| value)
+        .collect())
 }
 
 /// A measure's value (or why there is none) and its caveat.
