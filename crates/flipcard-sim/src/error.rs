@@ -30,6 +30,21 @@ pub enum SolveError {
     /// refuse stiff problems.
     #[error("the problem is stiff from t = {t}; an implicit method (radau) suits it")]
     Stiff { t: f64 },
+    /// A fixed-step method whose step is past its stability bound: near
+    /// `t` the system's fastest rate (the spectral radius of its Jacobian,
+    /// estimated) is `rate`, and `dt`·`rate` exceeds `limit`; every step
+    /// from there would amplify errors instead of the solution.
+    #[error(
+        "{method} with dt = {} is unstable here: near t = {} the system's fastest rate is about {} per time unit, and {method} is stable only while dt·rate < {} (dt < {}); take a smaller dt, or auto",
+        Num(*dt), flipcard_text::num::sig(*t, 4), flipcard_text::num::sig(*rate, 3), Num(*limit), flipcard_text::num::sig(limit / rate, 2)
+    )]
+    Unstable {
+        method: &'static str,
+        t: f64,
+        rate: f64,
+        dt: f64,
+        limit: f64,
+    },
     /// A setting or a request the solver cannot take.
     #[error("{0}")]
     Invalid(String),

@@ -908,3 +908,81 @@ fn leaving_the_domain_of_f_stops_without_nan() {
         }
     }
 }
+
+/// x' = −λx.
+struct Decay(f64);
+
+impl OdeSystem for Decay {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
+        dy[0] = -self.0 * y[0];
+    }
+}
+
+/// x'' = −ω²x as (x, v): a non-normal Jacobian whose rate is ω, not ω².
+struct Spring(f64);
+
+impl OdeSystem for Spring {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
+        dy[0] = y[1];
+        dy[1] = -self.0 * self.0 * y[0];
+    }
+}
+
+#[test]
+fn rk4_past_its_stability_bound_is_refused_with_the_rate_and_the_bound() {
+    let opts = Options::default();
+    // x' = −100x: stable while dt·100 < 2.78.
+    let mut s = make(Method::Rk4 { dt: 0.03 }, Decay(100.0), 0.0, &[1.0], &opts).unwrap();
+    match s.advance(1.0) {
+        Err(SolveError::Unstable {
+            rate, dt, limit, ..
+        }) => {
+            assert!((rate - 100.0).abs() < 1.0, "{rate}");
+            assert_eq!((dt, limit), (0.03, 2.78));
+        }
+        other => panic!("{other:?}"),
+    }
+    let e = make(Method::Rk4 { dt: 0.03 }, Decay(100.0), 0.0, &[1.0], &opts)
+        .unwrap()
+        .advance(1.0)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("dt < 0.028") && e.contains("about 100 per time unit"),
+        "{e}"
+    );
+    // Inside the bound it runs, and decays (R(−2) = 1/3 a step).
+    let mut s = make(Method::Rk4 { dt: 0.02 }, Decay(100.0), 0.0, &[1.0], &opts).unwrap();
+    let x = s.advance(1.0).unwrap()[0];
+    assert!(x > 0.0 && x < 1e-20, "{x}");
+    // A stiff spring ω = 1000 written as (x, v): the rate is 1000 (not
+    // ω² = 1e6), so dt = 3e-3 is refused and 1e-4 runs accurately.
+    let mut s = make(
+        Method::Rk4 { dt: 3e-3 },
+        Spring(1000.0),
+        0.0,
+        &[1.0, 0.0],
+        &opts,
+    )
+    .unwrap();
+    match s.advance(0.1) {
+        Err(SolveError::Unstable { rate, .. }) => assert!((rate - 1000.0).abs() < 20.0, "{rate}"),
+        other => panic!("{other:?}"),
+    }
+    let mut s = make(
+        Method::Rk4 { dt: 1e-4 },
+        Spring(1000.0),
+        0.0,
+        &[1.0, 0.0],
+        &opts,
+    )
+    .unwrap();
+    let y = s.advance(0.1).unwrap().to_vec();
+    assert!((y[0] - (1000.0f64 * 0.1).cos()).abs() < 1e-3, "{y:?}");
+}
