@@ -600,3 +600,27 @@ fn esc_and_ctrl_c_answer_at_once_while_a_heavy_scene_plays() {
     // the run, let the key through.
     assert!(playing > 0, "every run ended before Esc");
 }
+
+#[test]
+fn a_solution_that_outgrows_f64_is_named_as_such_not_stiff_or_infinite() {
+    // x'' = 1e6 x: x grows like e^(1000 t), past 1e150 by t ≈ 0.35 — a
+    // finite solution too large to compute, not a singularity.
+    let d = Deck::new("grow", &scene("1e6*x", "", 1.0));
+    for method in ["auto", "adaptive", "radau"] {
+        let (code, out, err) = d.sim(&["--samples", "3", "--method", method]);
+        assert_eq!(code, 1, "{method}: {out}{err}");
+        assert!(
+            err.contains("` reached ") && err.contains("past 1e150 its square overflows f64"),
+            "{method}: {err}"
+        );
+        assert!(
+            !err.contains("stiff") && !err.contains("blows up"),
+            "{method}: {err}"
+        );
+        assert_eq!(
+            out.lines().count(),
+            2,
+            "{method}: only t = 0 is printed: {out}"
+        );
+    }
+}

@@ -45,6 +45,10 @@ pub(crate) const MAX_RUN_WORK: f64 = 1e9;
 /// it.
 pub(crate) const MAX_STEP_WORK: f64 = 2e6;
 
+/// A variable this large when the solver gives up stopped the run by its
+/// size (the solvers' cap is 1e150), not by a singularity.
+const NEAR_CAP: f64 = 1e140;
+
 /// Why a scene cannot run at all: one step costs too much.
 pub fn check_cost(scene: &SystemScene, cost: &Cost) -> Result<(), CostError> {
     if cost.per_step() <= MAX_STEP_WORK {
@@ -153,6 +157,9 @@ pub enum RunError {
         message: String,
         at: Option<Source>,
     },
+    /// A variable grew to `value` near `t`, close to the magnitude past
+    /// which no method can go on (1e150: its square would overflow f64).
+    TooLarge { t: f64, name: String, value: f64 },
     /// The run took the most work a scene may ([`MAX_RUN_WORK`]).
     Work {
         t: f64,
@@ -181,6 +188,12 @@ impl std::fmt::Display for RunError {
             ),
             RunError::Ode(e) => write!(f, "{e}"),
             RunError::Domain { message, .. } => f.write_str(message),
+            RunError::TooLarge { t, name, value } => write!(
+                f,
+                "`{name}` reached {} near t = {}, where the run stops: past 1e150 its square overflows f64, so no method can go on; the solution grows past what flipcard can compute (if it is meant to be this large, measure it in larger units)",
+                flipcard_text::num::sig(*value, 3),
+                time(*t)
+            ),
             RunError::Work {
                 t,
                 steps,
@@ -649,6 +662,23 @@ impl SystemRun {
     /// domain (NaN just ahead of the last good state, or a divisor that
     /// crosses zero there), that cause; else what the solver said.
     fn solver_error(&self, e: SolveError) -> RunError {
+        let (y, t0) = (&self.good, self.sampled);
+        // Near the magnitude cap (a blow-up, or a budget spent on steps
+        // refused for their size): the run stops because the numbers grow
+        // past what f64 arithmetic can carry, which is not the same as a
+        // solution going to infinity at a finite time.
+        if let Some((k, v)) = y
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            .filter(|(_, v)| v.abs() >= NEAR_CAP)
+        {
+            return RunError::TooLarge {
+                t: t0,
+                name: self.scene.variables.get(k).cloned().unwrap_or_default(),
+                value: *v,
+            };
+        }
         let SolveError::BlowUp { t } = e else {
             if let SolveError::StepBudget { t, steps, .. } = e
                 && self.work_limited
@@ -662,8 +692,6 @@ impl SystemRun {
             }
             return RunError::Ode(e);
         };
-        let y = &self.good;
-        let t0 = self.sampled;
         if let Some(f) = self.system.rhs_fault(t0, y)
             && f.cause.is_domain()
         {
