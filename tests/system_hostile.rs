@@ -624,3 +624,31 @@ fn a_solution_that_outgrows_f64_is_named_as_such_not_stiff_or_infinite() {
         );
     }
 }
+
+#[test]
+fn a_run_that_loses_what_the_scene_conserves_is_refused_not_printed() {
+    // Kepler at e = 0.99 (r = 0.01 AU at perihelion): RK4 at the default
+    // step takes H from −18.4 to −105 in its first step (it printed H
+    // climbing to +3199 with exit 0); a fine step keeps it.
+    let body = "[[scene]]\nid = \"s\"\nvariables = [\"x\", \"y\", \"vx\", \"vy\"]\ninitial = [0.01, 0.0, 0.0, 88.65]\nparams = { GM = 39.47841760435743 }\nequations = [\"vx\", \"vy\", \"-GM*x/(x^2 + y^2)^1.5\", \"-GM*y/(x^2 + y^2)^1.5\"]\nobservables = { H = \"0.5*(vx^2 + vy^2) - GM/sqrt(x^2 + y^2)\" }\nconserved = [\"H\"]\nduration = 3.0\nshow = [\"plot\"]\nplot = [\"x\"]\n";
+    let d = Deck::new("kepler", body);
+    let (code, out, err) = d.sim(&["--samples", "3", "--method", "rk4"]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        err.contains("`H`, declared conserved, went from -18.43 at the start to"),
+        "{err}"
+    );
+    assert_eq!(out.lines().count(), 2, "only t = 0 is printed: {out}");
+    let (code, out, err) = d.sim(&["--samples", "3", "--method", "rk4", "--dt", "1e-5"]);
+    assert_eq!(code, 0, "{err}");
+    let h: f64 = out
+        .lines()
+        .last()
+        .unwrap()
+        .rsplit(',')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((h + 18.4305).abs() < 0.01, "{out}");
+}

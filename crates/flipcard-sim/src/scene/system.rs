@@ -157,6 +157,16 @@ pub enum RunError {
         message: String,
         at: Option<Source>,
     },
+    /// A quantity the scene declares conserved moved from `from` (at the
+    /// start) to `to` near `t`, by more than its own size: the run no
+    /// longer follows the motion (the guard the rigid body's methods have,
+    /// for every system method).
+    NotConserved {
+        name: String,
+        t: f64,
+        from: f64,
+        to: f64,
+    },
     /// A variable grew to `value` near `t`, close to the magnitude past
     /// which no method can go on (1e150: its square would overflow f64).
     TooLarge { t: f64, name: String, value: f64 },
@@ -188,6 +198,13 @@ impl std::fmt::Display for RunError {
             ),
             RunError::Ode(e) => write!(f, "{e}"),
             RunError::Domain { message, .. } => f.write_str(message),
+            RunError::NotConserved { name, t, from, to } => write!(
+                f,
+                "`{name}`, declared conserved, went from {} at the start to {} near t = {}: the run no longer follows the motion (its method or step cannot keep what the equations conserve); tighten the tolerance, take a smaller dt, or use auto",
+                flipcard_text::num::sig(*from, 4),
+                flipcard_text::num::sig(*to, 4),
+                time(*t)
+            ),
             RunError::TooLarge { t, name, value } => write!(
                 f,
                 "`{name}` reached {} near t = {}, where the run stops: past 1e150 its square overflows f64, so no method can go on; the solution grows past what flipcard can compute (if it is meant to be this large, measure it in larger units)",
@@ -402,6 +419,9 @@ pub struct SystemRun {
     sampled: f64,
     tallies: Vec<(usize, Tally)>,
     watches: Vec<Watch>,
+    /// Each conserved quantity this run computes, with its value at the
+    /// start (set by the first sample).
+    conserved: Option<Vec<(usize, f64)>>,
     trace: Trace,
     trail: Trace,
     error: Option<RunError>,
@@ -518,6 +538,7 @@ impl SystemRun {
             sampled: 0.0,
             tallies,
             watches,
+            conserved: None,
             trace: Trace::default(),
             trail: Trace::default(),
             error: None,
@@ -601,6 +622,7 @@ impl SystemRun {
 
     fn sample(&mut self, t: f64, y: &[f64], at: Option<InStep>) -> Result<(), RunError> {
         self.compute(t, y)?;
+        self.check_conserved(t, y)?;
         for k in 0..self.tallies.len() {
             let q = self.tallies[k].0;
             let v = self.value(q, y);
@@ -628,6 +650,48 @@ impl SystemRun {
         }
         self.sampled = t;
         self.good.copy_from_slice(y);
+        Ok(())
+    }
+
+    /// Refuses a sample where a quantity the scene declares conserved has
+    /// moved by more than its own size from the start (none whose start is
+    /// 0, where no size says what "more" is; an observable only when this
+    /// run computes it).
+    fn check_conserved(&mut self, t: f64, y: &[f64]) -> Result<(), RunError> {
+        let n = y.len();
+        let computed = |q: usize, plan: &SystemPlan| {
+            q < n || plan.observables.get(q - n).copied().unwrap_or(false)
+        };
+        if self.conserved.is_none() {
+            let list = self
+                .scene
+                .conserved
+                .iter()
+                .filter_map(|c| self.quantity(c))
+                .filter(|&q| computed(q, &self.plan))
+                .map(|q| (q, self.value(q, y)))
+                .filter(|(_, v)| v.is_finite() && v.abs() >= 1e-300)
+                .collect();
+            self.conserved = Some(list);
+            return Ok(());
+        }
+        for &(q, from) in self.conserved.as_deref().unwrap_or(&[]) {
+            let to = self.value(q, y);
+            if (to - from).abs() > from.abs() {
+                let names = self
+                    .scene
+                    .variables
+                    .iter()
+                    .map(String::as_str)
+                    .chain(self.scene.observables.iter().map(|(o, _)| o.as_str()));
+                return Err(RunError::NotConserved {
+                    name: names.clone().nth(q).unwrap_or_default().to_string(),
+                    t,
+                    from,
+                    to,
+                });
+            }
+        }
         Ok(())
     }
 
