@@ -182,6 +182,9 @@ fn tolerance(rep: &mut FileReport, t: &RawTolerance) -> Option<Tolerance> {
     Some(make(value.value))
 }
 
+/// The longest `when` read (a few dozen comparisons).
+const MAX_CONDITION_BYTES: usize = 1024;
+
 /// A token of a condition, with its byte range in the text.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Tok {
@@ -290,6 +293,20 @@ fn tokens(text: &str) -> Vec<(Tok, Range<usize>)> {
 /// wrong.
 pub fn condition(rep: &mut FileReport, s: &Str, kind: Option<SceneKind>) -> Option<Condition> {
     let text = s.value.as_str();
+    // Work is bounded: each term is placed in the file by walking the
+    // string from its start, so a condition thousands of comparisons long
+    // would take minutes (20,000 took 44 s). No condition needs that much.
+    if text.len() > MAX_CONDITION_BYTES {
+        rep.error(
+            s.span.clone(),
+            format!(
+                "this `when` is {} bytes long; a condition may be at most {MAX_CONDITION_BYTES}",
+                text.len()
+            ),
+            Some("split the cases across choices, or ask about fewer measures".to_string()),
+        );
+        return None;
+    }
     let token = rep.source.get(s.span.clone()).unwrap_or("").to_string();
     let at = |offset: usize| s.span.start + tomlstr::locate(&token, offset).0;
     let example = "a condition is `measure op number`, e.g. \"flips > 0\", \"0.2 < max(x) < 0.9\" or \"period(a) < period(b) and max(x) > 1\"";
@@ -699,6 +716,8 @@ mod tests {
         assert!(first("µ > 1").contains("unknown measure `µ`"));
         assert!(first("max(x) > µ").contains("expected a finite number after `>`, found `µ`"));
         assert!(first("max(x) > 1 é").contains("found `é`"));
+        let long = vec!["max(x) > 1"; 200].join(" and ");
+        assert!(first(&long).contains("bytes long; a condition may be at most 1024"));
     }
 
     fn term() -> impl Strategy<Value = String> {
