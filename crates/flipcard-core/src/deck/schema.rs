@@ -317,6 +317,9 @@ impl JsonSchema for AnyMeasure {
 }
 
 /// `(max|min|…)\(name\)`.
+/// A decimal number as a deck writes it (`2`, `-0.5`, `1e-3`).
+const NUMBER: &str = r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?";
+
 fn system_measure_pattern() -> String {
     let names = |level: bool| {
         vocabulary::stat_rows()
@@ -327,7 +330,7 @@ fn system_measure_pattern() -> String {
     };
     let (plain, with_level) = (names(false), names(true));
     let name = r"[A-Za-z_][A-Za-z0-9_]*";
-    let number = r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?";
+    let number = NUMBER;
     format!(
         r"(({plain})\(\s*{name}\s*\)|({with_level})\(\s*{name}\s*(==|>=|<=|=|>|<)\s*{number}\s*\))"
     )
@@ -513,7 +516,7 @@ impl JsonSchema for Condition {
             .map(|(s, _)| *s)
             .collect::<Vec<_>>()
             .join("|");
-        let number = r"[-+]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][-+]?[0-9]+)?";
+        let number = NUMBER;
         let term = format!(r"(({measures})|abs\(\s*({measures})\s*\)|{number})");
         let chain = format!(r"{term}(\s*({ops})\s*{term})+");
         let pattern = format!(r"^\s*{chain}(\s+(and|or)\s+{chain})*\s*$");

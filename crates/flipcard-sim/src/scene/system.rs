@@ -670,7 +670,7 @@ impl SystemRun {
                 .filter_map(|c| self.quantity(c))
                 .filter(|&q| computed(q, &self.plan))
                 .map(|q| (q, self.value(q, y)))
-                .filter(|(_, v)| v.is_finite() && v.abs() >= 1e-300)
+                .filter(|(_, v)| v.is_finite() && v.abs() >= tally::TINY)
                 .collect();
             self.conserved = Some(list);
             return Ok(());
@@ -678,14 +678,14 @@ impl SystemRun {
         for &(q, from) in self.conserved.as_deref().unwrap_or(&[]) {
             let to = self.value(q, y);
             if (to - from).abs() > from.abs() {
-                let names = self
+                let mut names = self
                     .scene
                     .variables
                     .iter()
                     .map(String::as_str)
                     .chain(self.scene.observables.iter().map(|(o, _)| o.as_str()));
                 return Err(RunError::NotConserved {
-                    name: names.clone().nth(q).unwrap_or_default().to_string(),
+                    name: names.nth(q).unwrap_or_default().to_string(),
                     t,
                     from,
                     to,
@@ -1080,7 +1080,7 @@ impl SystemRun {
                 .iter()
                 .find(|w| w.q == q && w.stat == stat)
                 .ok_or(ReadingError::NotPlanned(m))?;
-            return w.value(name.as_str());
+            return w.value(m);
         }
         let (_, tally) = self
             .tallies

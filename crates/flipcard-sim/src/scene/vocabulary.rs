@@ -95,13 +95,7 @@ impl std::fmt::Display for Measure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Measure::Of(stat, name) => match stat.event() {
-                Some(e) => write!(
-                    f,
-                    "{}({name} {} {})",
-                    stat.name(),
-                    e.rel.symbol(),
-                    flipcard_text::num::Num(e.level.get())
-                ),
+                Some(e) => write!(f, "{}({})", stat.name(), e.relation(name.as_str())),
                 None => write!(f, "{}({name})", stat.name()),
             },
             m => f.write_str(m.name()),
@@ -214,6 +208,15 @@ impl Ord for Level {
 }
 
 impl Event {
+    /// `x > 0.5`: the relation as written, of quantity `name`.
+    pub fn relation(&self, name: &str) -> String {
+        format!(
+            "{name} {} {}",
+            self.rel.symbol(),
+            flipcard_text::num::Num(self.level.get())
+        )
+    }
+
     /// What the vocabulary's table holds for the statistics with a level.
     const ANY: Event = Event {
         rel: Rel::Crosses,

@@ -182,6 +182,13 @@ fn tolerance(rep: &mut FileReport, t: &RawTolerance) -> Option<Tolerance> {
     Some(make(value.value))
 }
 
+/// Where byte `offset` of the decoded string `s` is in the file.
+fn locator(rep: &FileReport, s: &Str) -> impl Fn(usize) -> usize + use<> {
+    let token = rep.source.get(s.span.clone()).unwrap_or("").to_string();
+    let start = s.span.start;
+    move |offset| start + tomlstr::locate(&token, offset).0
+}
+
 /// The longest `when` read (a few dozen comparisons).
 const MAX_CONDITION_BYTES: usize = 1024;
 
@@ -307,8 +314,7 @@ pub fn condition(rep: &mut FileReport, s: &Str, kind: Option<SceneKind>) -> Opti
         );
         return None;
     }
-    let token = rep.source.get(s.span.clone()).unwrap_or("").to_string();
-    let at = |offset: usize| s.span.start + tomlstr::locate(&token, offset).0;
+    let at = locator(rep, s);
     let example = "a condition is `measure op number`, e.g. \"flips > 0\", \"0.2 < max(x) < 0.9\" or \"period(a) < period(b) and max(x) > 1\"";
     let toks = tokens(text);
     let mut k = 0;
@@ -408,8 +414,7 @@ fn term(
     example: &str,
 ) -> Option<Term> {
     let text = s.value.as_str();
-    let token = rep.source.get(s.span.clone()).unwrap_or("").to_string();
-    let at = |offset: usize| s.span.start + tomlstr::locate(&token, offset).0;
+    let at = locator(rep, s);
     let not_a_number = |rep: &mut FileReport, r: Option<Range<usize>>| {
         let (span, found) = match r {
             Some(r) => (
@@ -480,8 +485,7 @@ fn measure_in(
     end: usize,
     kind: Option<SceneKind>,
 ) -> Option<Measure> {
-    let token = rep.source.get(s.span.clone()).unwrap_or("").to_string();
-    let at = |offset: usize| s.span.start + tomlstr::locate(&token, offset).0;
+    let at = locator(rep, s);
     let text = &s.value[start..end];
     let lead = text.len() - text.trim_start().len();
     let text = text.trim();

@@ -27,7 +27,7 @@
 
 use super::ReadingError;
 use crate::scene::spec::Stat;
-use crate::scene::vocabulary::{Event, Rel};
+use crate::scene::vocabulary::{Event, Measure, Rel};
 
 /// The level of |N(0)| below which drift is measured absolutely.
 pub(crate) const TINY: f64 = 1e-300;
@@ -63,7 +63,7 @@ const ENVELOPE: f64 = 1e-4;
 /// Relative spread of the intervals between upward crossings above which
 /// `period` is flagged as measured on a signal that is not periodic at one
 /// frequency.
-pub(super) const UNEVEN: f64 = 0.02;
+const UNEVEN: f64 = 0.02;
 
 /// Running statistics of one quantity.
 #[derive(Debug, Clone)]
@@ -72,8 +72,8 @@ pub(super) struct Tally {
     last: f64,
     t_first: f64,
     t_last: f64,
-    pub(super) max: f64,
-    pub(super) min: f64,
+    max: f64,
+    min: f64,
     /// ∫N dt over the finished steps (Simpson), and over the current
     /// step's samples so far (trapezoids) with its Simpson sum.
     integral: f64,
@@ -271,7 +271,7 @@ impl Tally {
     /// The intervals between the upward crossings `period` uses, and the
     /// level: for the caveat that they are not evenly spaced.
     pub(super) fn period_spread(&self) -> Option<(f64, f64, f64)> {
-        let times = upward_crossings(&self.samples, 0.5 * (self.min + self.max));
+        let times = self.period_crossings();
         let gaps: Vec<f64> = times.windows(2).map(|w| w[1] - w[0]).collect();
         if gaps.len() < 2 {
             return None;
@@ -302,14 +302,11 @@ impl Tally {
             });
         }
         let times = upward_crossings(&peaks, 0.5 * (lo + hi));
-        if times.len() < 2 {
-            return Err(ReadingError::NoBeat {
-                name: name.to_string(),
-                peaks: peaks.len(),
-                upward: times.len(),
-            });
-        }
-        Ok((times[times.len() - 1] - times[0]) / (times.len() - 1) as f64)
+        mean_spacing(&times).ok_or(ReadingError::NoBeat {
+            name: name.to_string(),
+            peaks: peaks.len(),
+            upward: times.len(),
+        })
     }
 
     pub(super) fn stat(&self, stat: Stat, name: &str) -> Result<f64, ReadingError> {
@@ -348,15 +345,25 @@ impl Tally {
 
     /// Mean time between successive upward crossings of the mid level.
     fn period(&self, name: &str) -> Result<f64, ReadingError> {
-        let level = 0.5 * (self.min + self.max);
-        let times = upward_crossings(&self.samples, level);
-        if times.len() < 2 {
-            return Err(ReadingError::NoPeriod {
-                name: name.to_string(),
-                upward: times.len(),
-            });
-        }
-        Ok((times[times.len() - 1] - times[0]) / (times.len() - 1) as f64)
+        let times = self.period_crossings();
+        mean_spacing(&times).ok_or(ReadingError::NoPeriod {
+            name: name.to_string(),
+            upward: times.len(),
+        })
+    }
+
+    /// The upward crossings of the level halfway between the extremes.
+    fn period_crossings(&self) -> Vec<f64> {
+        upward_crossings(&self.samples, 0.5 * (self.min + self.max))
+    }
+}
+
+/// The mean time between the first and last of `times` (None with fewer
+/// than two).
+fn mean_spacing(times: &[f64]) -> Option<f64> {
+    match times {
+        [first, .., last] => Some((last - first) / (times.len() - 1) as f64),
+        _ => None,
     }
 }
 
@@ -671,22 +678,15 @@ impl Watch {
         self.time = Some(b);
     }
 
-    pub(super) fn value(&self, name: &str) -> Result<f64, ReadingError> {
-        match self.stat {
-            Stat::Count(_) => Ok(self.count as f64),
-            _ => self.time.ok_or_else(|| ReadingError::Never {
-                measure: format!(
-                    "{}({name} {} {})",
-                    self.stat.name(),
-                    self.event.rel.symbol(),
-                    flipcard_text::num::Num(self.event.level.get())
-                ),
-                what: format!(
-                    "{name} {} {}",
-                    self.event.rel.symbol(),
-                    flipcard_text::num::Num(self.event.level.get())
-                ),
+    /// The reading of `measure` (this watch's) so far.
+    pub(super) fn value(&self, measure: Measure) -> Result<f64, ReadingError> {
+        match (self.stat, measure) {
+            (Stat::Count(_), _) => Ok(self.count as f64),
+            (_, Measure::Of(_, name)) => self.time.ok_or_else(|| ReadingError::Never {
+                measure: measure.to_string(),
+                what: self.event.relation(name.as_str()),
             }),
+            _ => Err(ReadingError::Rigid(measure)),
         }
     }
 }
