@@ -1,16 +1,17 @@
-//! The step-size controller of the adaptive explicit solvers: both DOP853s
-//! (the rigid body's, over fixed-size arrays, and the systems', over slices)
-//! decide here whether a trial step is accepted and how large the next one
-//! is, and take their first step from Hairer's starting-step guess here.
+//! The step-size controller of the adaptive explicit solver: DOP853 (one
+//! implementation, [`crate::solvers::ode::Dop853`], stepping deck systems
+//! and the rigid body alike) decides here whether a trial step is accepted
+//! and how large the next one is, and takes its first step from Hairer's
+//! starting-step guess here.
 //!
 //! The control is Hairer's DOP853 with a PI term (the shape of ode-solvers'
 //! shared controller): after a trial with error `err` (relative to the
 //! tolerance, accept when ≤ 1) the step changes by
 //! 0.9·err^(−1/8+0.2β)·err_prev^β, clamped to [1/3, 6], and never grows
-//! right after a rejection. The steppers keep their own error norms (the
-//! rigid body's is arranged so that no square overflows, the systems' is
-//! Hairer's plain sum of squares): merging them would change the last bits
-//! of every printed number.
+//! right after a rejection. Norms come in two arithmetics ([`Arithmetic`]):
+//! the rigid body's arranged so that no square overflows, the systems'
+//! Hairer's plain sum of squares; one would change the last bits of every
+//! number the other prints, so a run says which it takes.
 
 /// Safety factor on the optimal step.
 pub(crate) const SAFETY: f64 = 0.9;

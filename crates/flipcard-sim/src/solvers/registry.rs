@@ -12,7 +12,7 @@ use crate::rigid::model::Body;
 use crate::rigid::scales::{Scales, momentum_gain, scales};
 pub use crate::solvers::Kind;
 use crate::solvers::budget::Budget;
-use crate::solvers::dop853::Dop853;
+use crate::solvers::dop853::Adaptive;
 use crate::solvers::guard::Guard;
 use crate::solvers::rk4::rk4;
 use crate::solvers::splitting::{Scheme, splitting};
@@ -216,7 +216,7 @@ pub fn make_with(
     check_step(&method, &rates, q)?;
     let solver: Box<dyn Solver> = match method {
         Method::Exact => Box::new(Exact::new(body, omega0, needs)?),
-        Method::Adaptive { tol } if q => Box::new(Dop853::<_, 7>::new(
+        Method::Adaptive { tol } if q => Box::new(Adaptive::<_, 7>::new(
             WithOrientation::new(&body, &omega0),
             &omega0,
             tol,
@@ -224,7 +224,7 @@ pub fn make_with(
             rates,
             q,
         )),
-        Method::Adaptive { tol } => Box::new(Dop853::<_, 3>::new(
+        Method::Adaptive { tol } => Box::new(Adaptive::<_, 3>::new(
             OmegaOnly::new(&body, &omega0),
             &omega0,
             tol,

@@ -15,10 +15,10 @@
 //! until it first fires; here it runs after every step (two norms, no
 //! evaluation of f), so `auto` hands over to the implicit method early.
 
-use super::{OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
+use super::{BLOW_UP_LIMIT, OdeSystem, Options, Requests, Stepper, Work, initial_step};
 use crate::error::SolveError;
-use crate::solvers::control::StepControl;
-use crate::solvers::dop853_tableau::{self as tab, C, C_DENSE};
+use crate::solvers::control::{self, Arithmetic, StepControl, norm};
+use crate::solvers::dop853_tableau::{self as tab, C, C_DENSE, Row};
 
 /// DOP853's order (the step-size control's exponent is its inverse).
 const ORDER: f64 = 8.0;
@@ -37,7 +37,10 @@ pub enum StiffnessMode {
     Refuse,
 }
 
-pub struct Dop853<S> {
+/// `N` is the system's size when it is known when compiling (the rigid
+/// body's 3 or 7, so that the loops over components unroll), or 0 for a
+/// size known only at run time (a deck's system).
+pub struct Dop853<S, const N: usize = 0> {
     sys: S,
     n: usize,
     rtol: f64,
@@ -47,6 +50,13 @@ pub struct Dop853<S> {
     t_stop: Option<f64>,
     fixed: Option<f64>,
     mode: StiffnessMode,
+    /// How the error norm and the starting step are taken: Hairer's sums of
+    /// squares, or without squares (the rigid body, whose spins may be
+    /// past 1e140).
+    arithmetic: Arithmetic,
+    /// Components beyond this magnitude end the run (the systems' cap; the
+    /// rigid body, whose size is bounded by its energy, has none).
+    limit: f64,
     t: f64,
     y: Vec<f64>,
     /// Stages, 16 rows of n: k[0] = f(t, y) ... k[12] = f at the new point,
@@ -55,6 +65,11 @@ pub struct Dop853<S> {
     y_new: Vec<f64>,
     /// Argument of the 12th stage (for the stiffness test).
     y12: Vec<f64>,
+    /// The two weighted error estimates (for the unsquared norm).
+    d5: Vec<f64>,
+    d3: Vec<f64>,
+    /// One tableau row's weighted sum of the stages.
+    acc: Vec<f64>,
     scratch: Vec<f64>,
     h: f64,
     control: StepControl,
@@ -76,11 +91,53 @@ impl<S: OdeSystem> Dop853<S> {
     /// run starts.
     pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Dop853<S>, SolveError> {
         super::check_start(&sys, t0, y0)?;
+        let atol = opts.validated_atol(sys.dim())?;
+        Ok(Dop853::checked(sys, t0, y0, opts, atol))
+    }
+
+    /// Steps of exactly `h`, without error control (for convergence
+    /// studies; the dense output still works).
+    pub fn new_fixed(sys: S, t0: f64, y0: &[f64], h: f64) -> Result<Dop853<S>, SolveError> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(SolveError::Invalid(format!(
+                "step h = {h} must be positive"
+            )));
+        }
+        let mut s = Dop853::new(sys, t0, y0, &Options::default())?;
+        s.fixed = Some(h);
+        s.h = h;
+        Ok(s)
+    }
+}
+
+impl<S: OdeSystem, const N: usize> Dop853<S, N> {
+    /// The size of the system.
+    #[inline(always)]
+    fn n(&self) -> usize {
+        if N == 0 { self.n } else { N }
+    }
+
+    /// The rigid body's stepper: `rtol` with the body's own absolute
+    /// tolerances (ω against its initial size, q against 1), norms taken
+    /// without squares and no magnitude cap. Its caller keeps the budget
+    /// and drives the trials ([`Dop853::trial`]).
+    pub(crate) fn rigid(sys: S, y0: &[f64], rtol: f64, atol: Vec<f64>) -> Dop853<S, N> {
+        debug_assert_eq!(sys.dim(), N);
+        let opts = Options {
+            rtol,
+            ..Options::default()
+        };
+        let mut s = Dop853::checked(sys, 0.0, y0, &opts, atol);
+        s.arithmetic = Arithmetic::Logarithmic;
+        s.limit = f64::INFINITY;
+        s
+    }
+
+    fn checked(sys: S, t0: f64, y0: &[f64], opts: &Options, atol: Vec<f64>) -> Dop853<S, N> {
         let n = sys.dim();
-        let atol = opts.validated_atol(n)?;
         let mut k = vec![0.0; 16 * n];
         sys.rhs(t0, y0, &mut k[..n]);
-        Ok(Dop853 {
+        Dop853 {
             n,
             rtol: opts.rtol,
             atol,
@@ -89,11 +146,16 @@ impl<S: OdeSystem> Dop853<S> {
             t_stop: opts.t_stop,
             fixed: None,
             mode: StiffnessMode::Report,
+            arithmetic: Arithmetic::Plain,
+            limit: BLOW_UP_LIMIT,
             t: t0,
             y: y0.to_vec(),
             k,
             y_new: vec![0.0; n],
             y12: vec![0.0; n],
+            d5: vec![0.0; n],
+            d3: vec![0.0; n],
+            acc: vec![0.0; n],
             scratch: vec![0.0; n],
             h: opts.h0.unwrap_or(0.0),
             control: StepControl::new(ORDER),
@@ -111,31 +173,12 @@ impl<S: OdeSystem> Dop853<S> {
                 ..Work::default()
             },
             sys,
-        })
-    }
-
-    /// Steps of exactly `h`, without error control (for convergence
-    /// studies; the dense output still works).
-    pub fn new_fixed(sys: S, t0: f64, y0: &[f64], h: f64) -> Result<Dop853<S>, SolveError> {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(SolveError::Invalid(format!(
-                "step h = {h} must be positive"
-            )));
         }
-        let mut s = Dop853::new(sys, t0, y0, &Options::default())?;
-        s.fixed = Some(h);
-        s.h = h;
-        Ok(s)
     }
 
-    pub fn with_stiffness(mut self, mode: StiffnessMode) -> Dop853<S> {
+    pub fn with_stiffness(mut self, mode: StiffnessMode) -> Dop853<S, N> {
         self.mode = mode;
         self
-    }
-
-    /// The suggested size of the next step (0 before the first).
-    pub(crate) fn next_step_size(&self) -> f64 {
-        self.h
     }
 
     /// Hands the system and the current point over (for `auto`).
@@ -143,25 +186,52 @@ impl<S: OdeSystem> Dop853<S> {
         (self.sys, self.t, self.y, self.work)
     }
 
-    fn stage_arg(&mut self, h: f64, row: &[(usize, f64)]) {
-        let n = self.n;
+    /// Stage `stage` of a trial step of size `h` from (t, y): its argument
+    /// y + h Σⱼ aⱼ kⱼ over `row`, and f there.
+    #[inline(always)]
+    fn stage<const M: usize>(&mut self, stage: usize, t: f64, h: f64, row: &Row<M>) {
+        let n = self.n();
+        weigh_all(&self.k, n, row, &mut self.acc);
+        let (scratch, y, acc) = (&mut self.scratch[..n], &self.y[..n], &self.acc[..n]);
         for i in 0..n {
-            let mut acc = 0.0;
-            for &(j, a) in row {
-                acc += a * self.k[j * n + i];
-            }
-            self.scratch[i] = self.y[i] + h * acc;
+            scratch[i] = y[i] + h * acc[i];
+        }
+        let (_, rest) = self.k.split_at_mut(stage * n);
+        self.sys
+            .rhs(t + C[stage] * h, &self.scratch, &mut rest[..n]);
+    }
+
+    /// The error of a trial step relative to the tolerance (accept when
+    /// ≤ 1), from the 5th- and 3rd-order estimates, in the run's arithmetic.
+    fn error_norm(&mut self, h: f64) -> f64 {
+        match self.arithmetic {
+            Arithmetic::Plain => self.error_norm_plain(h),
+            Arithmetic::Logarithmic => self.error_norm_unsquared(h),
         }
     }
 
-    fn eval(&mut self, stage: usize, t: f64) {
-        let n = self.n;
-        let (_, rest) = self.k.split_at_mut(stage * n);
-        self.sys.rhs(t, &self.scratch, &mut rest[..n]);
+    /// h·e5²/√(n(e5² + 0.01·e3²)) with e5, e3 the 2-norms of the two
+    /// weighted estimates, arranged so that no norm is squared (a NaN
+    /// stays NaN: the controller shrinks the step for it).
+    fn error_norm_unsquared(&mut self, h: f64) -> f64 {
+        let n = self.n();
+        weigh_all(&self.k, n, &tab::E5, &mut self.d5);
+        weigh_all(&self.k, n, &tab::E3, &mut self.d3);
+        for i in 0..n {
+            let sk = self.atol[i] + self.rtol * self.y[i].abs().max(self.y_new[i].abs());
+            self.d5[i] /= sk;
+            self.d3[i] /= sk;
+        }
+        let (e5, e3) = (norm(&self.d5), norm(&self.d3));
+        let denominator = e5.hypot(0.1 * e3);
+        if denominator <= 0.0 {
+            return 0.0;
+        }
+        h.abs() * e5 * (e5 / denominator) / (n as f64).sqrt()
     }
 
-    fn error_norm(&self, h: f64) -> f64 {
-        let n = self.n;
+    fn error_norm_plain(&self, h: f64) -> f64 {
+        let n = self.n();
         let (mut e5, mut e3) = (0.0, 0.0);
         for i in 0..n {
             let sk = self.atol[i] + self.rtol * self.y[i].abs().max(self.y_new[i].abs());
@@ -194,22 +264,11 @@ impl<S: OdeSystem> Dop853<S> {
 
     /// One accepted step, after as many rejected trials as it takes.
     fn try_step(&mut self) -> Result<(), SolveError> {
-        let n = self.n;
-        if self.h == 0.0 {
-            let h_max = self
-                .max_step
-                .min(self.t_stop.map_or(f64::INFINITY, |s| s - self.t));
-            let f0 = self.k[..n].to_vec();
-            self.h = initial_step(
-                &self.sys, self.t, &self.y, &f0, self.rtol, &self.atol, ORDER, h_max,
-            );
-            self.work.rhs_evals += 1;
-        }
         loop {
             if self.work.steps + self.work.rejected >= self.max_steps {
                 return Err(self.budget_error());
             }
-            let mut h = self.h.min(self.max_step);
+            let mut h = self.step_to_try().min(self.max_step);
             if let Some(stop) = self.t_stop
                 && self.t + 1.01 * h >= stop
             {
@@ -218,80 +277,132 @@ impl<S: OdeSystem> Dop853<S> {
             if h.is_nan() || h <= 10.0 * f64::EPSILON * self.t.abs() {
                 return Err(SolveError::BlowUp { t: self.t });
             }
-            let t = self.t;
-            let rows: [&[(usize, f64)]; 11] = [
-                &tab::A1,
-                &tab::A2,
-                &tab::A3,
-                &tab::A4,
-                &tab::A5,
-                &tab::A6,
-                &tab::A7,
-                &tab::A8,
-                &tab::A9,
-                &tab::A10,
-                &tab::A11,
-            ];
-            for (s, row) in rows.iter().enumerate() {
-                self.stage_arg(h, row);
-                self.eval(s + 1, t + C[s + 1] * h);
-            }
-            self.y12.copy_from_slice(&self.scratch);
-            for i in 0..n {
-                self.y_new[i] = self.y[i] + h * weigh(&self.k, n, &tab::B, i);
-            }
-            self.work.rhs_evals += 11;
-
-            let mut err = if self.fixed.is_some() {
-                0.0
-            } else {
-                self.error_norm(h)
-            };
-            // An accurate step to finite values past the magnitude cap: the
-            // solution grows out of what f64 can carry; shrinking the step
-            // would only spend the budget getting there (x' = 1000x took
-            // 5e6 attempts).
-            if err <= 1.0 && !is_sane(&self.y_new) && self.y_new.iter().all(|v| v.is_finite()) {
-                return Err(SolveError::BlowUp { t: self.t });
-            }
-            let mut accept = err <= 1.0 && is_sane(&self.y_new);
-            let t_new = t + h;
-            if accept {
-                let (_, tail) = self.k.split_at_mut(12 * n);
-                self.sys.rhs(t_new, &self.y_new, &mut tail[..n]);
-                self.work.rhs_evals += 1;
-                // With f not finite at the new point no step could start
-                // there: treat it as a failed trial, so the step shrinks.
-                if !tail[..n].iter().all(|v| v.is_finite()) {
-                    accept = false;
-                    err = f64::NAN;
-                }
-            }
-            if accept {
-                let h_new = self.control.accept(h, err);
-                self.work.steps += 1;
-                self.t_old = t;
-                self.h_last = h;
-                self.y_old.copy_from_slice(&self.y);
-                self.y.copy_from_slice(&self.y_new);
-                self.t = t_new;
-                self.dense_ready = false;
-                // The dense stages need k[0] of this step: the new f moves
-                // there only when the next step starts.
-                self.h = self.fixed.unwrap_or(h_new);
+            if self.trial(h)? {
                 return self.stiffness_test(h);
             }
-            self.h = self.control.reject(h, err);
-            self.work.rejected += 1;
             if self.fixed.is_some() {
                 return Err(SolveError::BlowUp { t: self.t });
             }
         }
     }
 
+    /// The suggested size of the next step (0 before the first).
+    pub(crate) fn next_step_size(&self) -> f64 {
+        self.h
+    }
+
+    /// The step to try next: Hairer's guess before the first (one more
+    /// evaluation of f), then the controller's.
+    pub(crate) fn step_to_try(&mut self) -> f64 {
+        if self.h == 0.0 {
+            let n = self.n();
+            let h_max = self
+                .max_step
+                .min(self.t_stop.map_or(f64::INFINITY, |s| s - self.t));
+            let f0 = self.k[..n].to_vec();
+            self.h = match self.arithmetic {
+                Arithmetic::Plain => initial_step(
+                    &self.sys, self.t, &self.y, &f0, self.rtol, &self.atol, ORDER, h_max,
+                ),
+                Arithmetic::Logarithmic => {
+                    let scale: Vec<f64> = (self.y.iter().zip(&self.atol))
+                        .map(|(y, a)| a + self.rtol * y.abs())
+                        .collect();
+                    let (sys, t) = (&self.sys, self.t);
+                    let rhs = |h: f64, y1: &[f64], f1: &mut [f64]| sys.rhs(t + h, y1, f1);
+                    control::initial_step(
+                        Arithmetic::Logarithmic,
+                        rhs,
+                        &self.y,
+                        &f0,
+                        &scale,
+                        ORDER,
+                        h_max,
+                    )
+                }
+            };
+            self.work.rhs_evals += 1;
+        }
+        self.h
+    }
+
+    /// One trial step of size `h` from the current point: accepted (the
+    /// point moves on, `true`) or rejected (`false`); either way the
+    /// controller sets the next step size. The caller owns the budget.
+    pub(crate) fn trial(&mut self, h: f64) -> Result<bool, SolveError> {
+        let n = self.n();
+        let t = self.t;
+        self.stage(1, t, h, &tab::A1);
+        self.stage(2, t, h, &tab::A2);
+        self.stage(3, t, h, &tab::A3);
+        self.stage(4, t, h, &tab::A4);
+        self.stage(5, t, h, &tab::A5);
+        self.stage(6, t, h, &tab::A6);
+        self.stage(7, t, h, &tab::A7);
+        self.stage(8, t, h, &tab::A8);
+        self.stage(9, t, h, &tab::A9);
+        self.stage(10, t, h, &tab::A10);
+        self.stage(11, t, h, &tab::A11);
+        self.y12.copy_from_slice(&self.scratch);
+        weigh_all(&self.k, n, &tab::B, &mut self.acc);
+        let (y_new, y, acc) = (&mut self.y_new[..n], &self.y[..n], &self.acc[..n]);
+        for i in 0..n {
+            y_new[i] = y[i] + h * acc[i];
+        }
+        self.work.rhs_evals += 11;
+
+        let mut err = if self.fixed.is_some() {
+            0.0
+        } else {
+            self.error_norm(h)
+        };
+        let limit = self.limit;
+        let sane = self
+            .y_new
+            .iter()
+            .all(|v| v.is_finite() && v.abs() <= limit);
+        // An accurate step to finite values past the magnitude cap: the
+        // solution grows out of what f64 can carry; shrinking the step
+        // would only spend the budget getting there (x' = 1000x took
+        // 5e6 attempts).
+        if err <= 1.0 && !sane && self.y_new.iter().all(|v| v.is_finite()) {
+            return Err(SolveError::BlowUp { t: self.t });
+        }
+        let mut accept = err <= 1.0 && sane;
+        let t_new = t + h;
+        if accept {
+            let (_, tail) = self.k.split_at_mut(12 * n);
+            self.sys.rhs(t_new, &self.y_new, &mut tail[..n]);
+            self.work.rhs_evals += 1;
+            // With f not finite at the new point no step could start
+            // there: treat it as a failed trial, so the step shrinks.
+            if !tail[..n].iter().all(|v| v.is_finite()) {
+                accept = false;
+                err = f64::NAN;
+            }
+        }
+        if accept {
+            let h_new = self.control.accept(h, err);
+            self.work.steps += 1;
+            self.t_old = t;
+            self.h_last = h;
+            self.y_old.copy_from_slice(&self.y);
+            self.y.copy_from_slice(&self.y_new);
+            self.t = t_new;
+            self.dense_ready = false;
+            // The dense stages need k[0] of this step: the new f moves
+            // there only when the next step starts.
+            self.h = self.fixed.unwrap_or(h_new);
+            return Ok(true);
+        }
+        self.h = self.control.reject(h, err);
+        self.work.rejected += 1;
+        Ok(false)
+    }
+
     /// Hairer's test on the step just accepted, ending at `self.t`.
     fn stiffness_test(&mut self, h: f64) -> Result<(), SolveError> {
-        let n = self.n;
+        let n = self.n();
         let (mut num, mut den) = (0.0, 0.0);
         for i in 0..n {
             num += (self.k[12 * n + i] - self.k[11 * n + i]).powi(2);
@@ -325,7 +436,7 @@ impl<S: OdeSystem> Dop853<S> {
         if self.dense_ready {
             return;
         }
-        let n = self.n;
+        let n = self.n();
         let h = self.h_last;
         let t = self.t_old;
         let extra: [&[(usize, f64)]; 3] = [&tab::A13, &tab::A14, &tab::A15];
@@ -353,11 +464,25 @@ impl<S: OdeSystem> Dop853<S> {
 
     /// Moves f at the new point into k[0] before the next step (which
     /// ends the dense output of the finished one).
-    fn start_next(&mut self) {
-        let n = self.n;
+    pub(crate) fn start_next(&mut self) {
+        let n = self.n();
         if self.work.steps > 0 {
             self.k.copy_within(12 * n..13 * n, 0);
             self.dense_ready = false;
+        }
+    }
+}
+
+/// Σⱼ aⱼ kⱼ over one sparse row, for every component at once (the same
+/// sums, term by term, as [`weigh`]).
+#[inline(always)]
+fn weigh_all<const M: usize>(k: &[f64], n: usize, row: &Row<M>, acc: &mut [f64]) {
+    let acc = &mut acc[..n];
+    acc.fill(0.0);
+    for &(j, a) in row {
+        let kj = &k[j * n..j * n + n];
+        for i in 0..n {
+            acc[i] += a * kj[i];
         }
     }
 }
@@ -372,7 +497,7 @@ fn weigh(k: &[f64], n: usize, row: &[(usize, f64)], i: usize) -> f64 {
     acc
 }
 
-impl<S: OdeSystem> Stepper for Dop853<S> {
+impl<S: OdeSystem, const N: usize> Stepper for Dop853<S, N> {
     fn method_name(&self) -> &'static str {
         "dop853"
     }
@@ -400,7 +525,7 @@ impl<S: OdeSystem> Stepper for Dop853<S> {
     }
     fn interpolate(&mut self, t: f64, out: &mut [f64]) {
         self.dense_coefficients();
-        let n = self.n;
+        let n = self.n();
         let x = (t - self.t_old) / self.h_last;
         let x1 = 1.0 - x;
         let d = &self.dense;
