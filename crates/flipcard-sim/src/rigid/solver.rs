@@ -2,8 +2,9 @@
 //! CLI, the bench and the terminal view can switch methods freely: the
 //! [`Solver`] trait, the [`Method`] with its one accuracy knob, what a run
 //! [`Needs`], its [`Work`] and its [`SolveError`]. The exact solution here in
-//! `rigid` implements it, as do the stepping solvers of
-//! [`crate::solvers`], which build on the rigid body's equations.
+//! `rigid` implements it, and so does every stepper of [`crate::solvers`]
+//! through [`crate::solvers::stepped::Stepped`] (DOP853, RK4 and the
+//! splittings on the rigid body's equations).
 
 use crate::error::SolveError;
 use crate::method::{MethodError, MethodName};

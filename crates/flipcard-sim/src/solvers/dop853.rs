@@ -20,10 +20,10 @@ use nalgebra::Vector3;
 use crate::rigid::euler::RigidSystem;
 use crate::rigid::model::State;
 use crate::rigid::scales::Scales;
+use crate::solvers::Method;
 use crate::solvers::budget::Budget;
-use crate::solvers::forward::Forward;
-use crate::solvers::ode::{Dop853, Stepper};
-use crate::solvers::{Method, Solver, Work};
+use crate::solvers::ode::{Dop853, Requests, Stepper, Work};
+use crate::solvers::stepped::RigidStepper;
 use flipcard_text::num::Num;
 
 /// DOP853's order (the exponent of the step-size control is its inverse).
@@ -57,8 +57,10 @@ pub(crate) struct Adaptive<S, const N: usize> {
     scales: Scales,
     orientation: bool,
     horizon: f64,
-    forward: Forward,
-    out: [f64; N],
+    /// The end the step budget is projected to (the time asked for, or
+    /// the planned end if later).
+    end: f64,
+    requests: Requests,
 }
 
 impl<S: RigidSystem<N>, const N: usize> Adaptive<S, N> {
@@ -79,8 +81,8 @@ impl<S: RigidSystem<N>, const N: usize> Adaptive<S, N> {
             scales,
             orientation,
             horizon: 0.0,
-            forward: Forward::default(),
-            out: y,
+            end: 0.0,
+            requests: Requests::new(0.0, &y),
         }
     }
 
@@ -139,7 +141,8 @@ impl<S: RigidSystem<N>, const N: usize> Adaptive<S, N> {
     }
 
     /// One accepted step (after as many rejected trials as it takes).
-    fn step(&mut self, end: f64) -> Result<(), SolveError> {
+    fn step(&mut self) -> Result<(), SolveError> {
+        let end = self.end;
         self.stepper.start_next();
         loop {
             let h = self.stepper.step_to_try();
@@ -161,35 +164,53 @@ impl<S: RigidSystem<N>, const N: usize> Adaptive<S, N> {
     }
 }
 
-impl<S: RigidSystem<N>, const N: usize> Solver for Adaptive<S, N> {
+impl<S: RigidSystem<N>, const N: usize> Stepper for Adaptive<S, N> {
+    fn method_name(&self) -> &'static str {
+        self.stepper.method_name()
+    }
+    fn work_done(&self) -> Work {
+        self.stepper.work_done()
+    }
+    fn requests(&mut self) -> &mut Requests {
+        &mut self.requests
+    }
+    fn t_stop(&self) -> Option<f64> {
+        None
+    }
+    fn window(&self) -> (f64, f64) {
+        self.stepper.window()
+    }
+    fn current(&self) -> &[f64] {
+        self.stepper.current()
+    }
+    fn check_span(&self, t: f64) -> Result<(), SolveError> {
+        self.check_estimate(t.max(self.horizon))
+    }
+    fn raw_step(&mut self) -> Result<(), SolveError> {
+        self.step()
+    }
+    fn interpolate(&mut self, t: f64, out: &mut [f64]) {
+        self.stepper.interpolate(t, out)
+    }
+}
+
+impl<S: RigidSystem<N>, const N: usize> RigidStepper for Adaptive<S, N> {
     fn method(&self) -> Method {
         Method::Adaptive { tol: self.tol }
     }
 
-    fn advance(&mut self, t: f64) -> Result<State, SolveError> {
-        self.forward.accept(t)?;
-        if t > self.t() {
-            let end = t.max(self.horizon);
-            self.check_estimate(end)?;
-            while self.t() < t {
-                self.step(end)?;
-            }
-        }
-        if t == self.t() {
-            self.out.copy_from_slice(self.stepper.current());
-        } else {
-            self.stepper.interpolate(t, &mut self.out);
-        }
-        Ok(self.sys.state(&self.out))
+    fn state_at(&self, y: &[f64]) -> State {
+        let mut point = [0.0; N];
+        point.copy_from_slice(y);
+        self.sys.state(&point)
     }
 
-    fn work(&self) -> Work {
-        let w = self.stepper.work_done();
-        Work {
-            steps: w.steps,
-            rhs_evals: w.rhs_evals,
-            rejected: w.rejected,
+    fn aim(&mut self, t: f64) -> Result<(), SolveError> {
+        if t > self.t() {
+            self.end = t.max(self.horizon);
+            self.check_estimate(self.end)?;
         }
+        Ok(())
     }
 
     fn plan(&mut self, t_end: f64) -> Result<(), SolveError> {

@@ -1,67 +1,83 @@
-//! The driver every fixed-step method shares (RK4, the splittings): steps
-//! lie on the grid tₙ = n·dt whatever the sample times, a sample between
-//! grid points is reached by one partial step from a copy (so the
-//! trajectory is the same however often it is sampled), the step budget is
-//! checked up front, and times only go forward. A method supplies only
-//! what is its own: its point, one step, and the state a point stands for.
+//! The driver every fixed-step method of the rigid body shares (RK4, the
+//! splittings): steps lie on the grid tₙ = n·dt whatever the sample times, a
+//! sample between grid points is reached by one partial step from a copy
+//! (so the trajectory is the same however often it is sampled, and no step
+//! is taken past the last time asked for), the step budget is checked up
+//! front, and times only go forward. A method supplies only its rule
+//! ([`StepRule`]): its point, one step, and the state a point stands for.
+//! The driver is a [`Stepper`] like every other solver, and a
+//! [`RigidStepper`].
 
 use crate::error::SolveError;
 use crate::rigid::model::State;
+use crate::solvers::Method;
 use crate::solvers::budget::Budget;
-use crate::solvers::forward::Forward;
-use crate::solvers::{Method, Solver, Work};
+use crate::solvers::ode::{Requests, Stepper, Work};
+use crate::solvers::stepped::RigidStepper;
 
-/// One fixed-step method.
-pub(crate) trait Stepper {
-    /// What the method carries from step to step.
-    type Point: Copy;
+/// One fixed-step method's rule.
+pub(crate) trait StepRule {
+    /// What the method carries from step to step: its coordinates, of
+    /// which the first [`StepRule::size`] are used.
+    type Point: Copy + AsRef<[f64]> + AsMut<[f64]>;
     fn method(&self) -> Method;
+    fn size(&self) -> usize;
     fn start(&self) -> Self::Point;
     /// Advances `p` by `h`, counting the right-hand sides it evaluated.
     fn step(&self, p: &mut Self::Point, h: f64, work: &mut Work);
-    fn state(&self, p: &Self::Point) -> State;
+    fn state(&self, p: &[f64]) -> State;
     /// Refuses a point the run cannot go on from (a step that diverged)
     /// reached on the way to `t`.
-    fn check(&self, p: &Self::Point, t: f64) -> Result<(), SolveError> {
+    fn check(&self, p: &[f64], t: f64) -> Result<(), SolveError> {
         let _ = (p, t);
         Ok(())
     }
     /// The state at t = 0: the start as given (a method whose point is not
     /// ω may not give it back bit for bit).
     fn initial(&self) -> State {
-        self.state(&self.start())
+        self.state(self.start().as_ref())
     }
 }
 
-pub(crate) struct FixedSteps<M: Stepper> {
+pub(crate) struct FixedSteps<M: StepRule> {
     method: M,
     dt: f64,
     budget: Budget,
-    /// Grid points done, and the point at n·dt.
+    /// Grid points done, and the points at n·dt and (n − 1)·dt.
     n: u64,
     point: M::Point,
-    forward: Forward,
+    previous: M::Point,
+    /// The time the run is being advanced to (named when a step diverges).
+    target: f64,
+    requests: Requests,
     work: Work,
 }
 
-impl<M: Stepper> FixedSteps<M> {
+impl<M: StepRule> FixedSteps<M> {
     pub(crate) fn new(method: M, dt: f64, budget: Budget) -> FixedSteps<M> {
+        let point = method.start();
         FixedSteps {
-            point: method.start(),
+            requests: Requests::new(0.0, &point.as_ref()[..method.size()]),
+            point,
+            previous: point,
             method,
             dt,
             budget,
             n: 0,
-            forward: Forward::default(),
+            target: 0.0,
             work: Work::default(),
         }
+    }
+
+    fn grid(&self, n: u64) -> f64 {
+        n as f64 * self.dt
     }
 
     fn check_budget(&self, t: f64) -> Result<(), SolveError> {
         let more = (t / self.dt).floor() - self.n as f64;
         if self.budget.exceeded(self.work.steps, more) {
             return Err(SolveError::StepBudget {
-                t: self.n as f64 * self.dt,
+                t: self.grid(self.n),
                 steps: self.work.steps,
                 reason: self.budget.fixed(
                     self.method.method().name(),
@@ -75,38 +91,75 @@ impl<M: Stepper> FixedSteps<M> {
     }
 }
 
-impl<M: Stepper> Solver for FixedSteps<M> {
+impl<M: StepRule> Stepper for FixedSteps<M> {
+    fn method_name(&self) -> &'static str {
+        self.method.method().name()
+    }
+    fn work_done(&self) -> Work {
+        self.work
+    }
+    fn requests(&mut self) -> &mut Requests {
+        &mut self.requests
+    }
+    fn t_stop(&self) -> Option<f64> {
+        None
+    }
+    fn window(&self) -> (f64, f64) {
+        (self.grid(self.n.saturating_sub(1)), self.grid(self.n))
+    }
+    fn current(&self) -> &[f64] {
+        &self.point.as_ref()[..self.method.size()]
+    }
+    fn check_span(&self, t: f64) -> Result<(), SolveError> {
+        self.check_budget(t)
+    }
+    fn next_grid(&self) -> Option<f64> {
+        Some(self.grid(self.n + 1))
+    }
+    fn raw_step(&mut self) -> Result<(), SolveError> {
+        let mut p = self.point;
+        self.method.step(&mut p, self.dt, &mut self.work);
+        self.previous = self.point;
+        self.point = p;
+        self.n += 1;
+        self.work.steps += 1;
+        self.method.check(self.current(), self.target)
+    }
+    /// Within the last step, a partial step from its start; ahead of it (up
+    /// to the next grid point), a partial step from the current point.
+    fn interpolate(&mut self, t: f64, out: &mut [f64]) {
+        let (t_old, t_new) = self.window();
+        let (mut p, from) = if t >= t_new {
+            (self.point, t_new)
+        } else {
+            (self.previous, t_old)
+        };
+        let rest = t - from;
+        if rest > 0.0 {
+            self.method.step(&mut p, rest, &mut self.work);
+        }
+        out.copy_from_slice(&p.as_ref()[..self.method.size()]);
+    }
+}
+
+impl<M: StepRule> RigidStepper for FixedSteps<M> {
     fn method(&self) -> Method {
         self.method.method()
     }
-
-    fn advance(&mut self, t: f64) -> Result<State, SolveError> {
-        self.forward.accept(t)?;
-        self.check_budget(t)?;
-        let mut p = self.point;
-        while (self.n + 1) as f64 * self.dt <= t {
-            self.method.step(&mut p, self.dt, &mut self.work);
-            self.n += 1;
-            self.work.steps += 1;
-            self.method.check(&p, t)?;
-        }
-        self.point = p;
-        if t == 0.0 {
-            return Ok(self.method.initial());
-        }
-        let rest = t - self.n as f64 * self.dt;
-        if rest > 0.0 {
-            self.method.step(&mut p, rest, &mut self.work);
-            self.method.check(&p, t)?;
-        }
-        Ok(self.method.state(&p))
+    fn state_at(&self, y: &[f64]) -> State {
+        self.method.state(y)
     }
-
-    fn work(&self) -> Work {
-        self.work
+    fn initial(&self) -> State {
+        self.method.initial()
     }
-
+    fn aim(&mut self, t: f64) -> Result<(), SolveError> {
+        self.target = t;
+        self.check_budget(t)
+    }
     fn plan(&mut self, t_end: f64) -> Result<(), SolveError> {
         self.check_budget(t_end)
+    }
+    fn check(&self, y: &[f64], t: f64) -> Result<(), SolveError> {
+        self.method.check(y, t)
     }
 }

@@ -1,25 +1,26 @@
-//! The solvers. Shared by both stacks: the DOP853 tableau and its
-//! step-size controller (`control`). The rigid body's: the adaptive DOP853,
-//! RK4, the splitting methods, and the registry that builds any of them behind the guard, all
-//! behind the interface of [`crate::rigid::solver`] (so scenes, the
-//! CLI, the bench and the terminal view can switch methods freely). `ode`:
-//! the same family, with Radau IIA and stiffness detection, for systems of
-//! any size written in a deck.
+//! The solvers: one stepping stack for deck systems and the rigid body.
 //!
-//! Both stacks step one kind of thing: a right-hand side
-//! [`crate::rhs::OdeSystem`], which the rigid body implements too
-//! ([`crate::rigid::euler`]), so the solvers of deck systems integrate a
-//! rigid body as well. Two stepping interfaces stay apart, on purpose:
-//! [`crate::rigid::solver::Solver`] gives the physical state (ω and the
-//! orientation) and has a member that takes no steps at all (the exact
-//! solution), while [`ode::OdeSolver`] gives a vector and exposes its steps
-//! and dense output for event location. The rigid body's stepping solvers
-//! are not the systems' ones over its equations either: they keep their own
-//! numerics (a starting step computed in logarithms for |ω| up to ~1e150,
-//! a step budget refused up front from the body's time scales, the
-//! quaternion renormalised after each RK4 step), and the printed numbers of
-//! every rigid scene depend on them bit for bit. What they share is below:
-//! the tableau, the step-size controller, the RK4 step, the error type.
+//! Everything that steps is one [`ode::Stepper`] (a point, one step, the
+//! window of the last step and the values inside it), over one right-hand
+//! side [`crate::rhs::OdeSystem`] which the rigid body implements too
+//! ([`crate::rigid::euler`]). DOP853 has one implementation
+//! ([`ode::Dop853`]: the shared tableau `dop853_tableau`, the one step-size
+//! controller `control`), RK4 one step (`rk4::rk4_step`), and every method
+//! stops with the one [`crate::error::SolveError`].
+//!
+//! A deck's system is driven through [`ode::OdeSolver`] (a vector, its
+//! steps and dense output for event location): DOP853 with stiffness
+//! detection, Radau IIA, RK4, `auto`. The rigid body is a system with what
+//! only it has: its exact solution (no steps at all), the splitting
+//! methods (exact flows of (L, q), `splitting`), the orientation, a step
+//! budget refused up front from the body's time scales (`budget`), the
+//! quaternion renormalised after each RK4 step, norms taken without
+//! squares for spins up to ~1e150. [`stepped::RigidStepper`] is what its
+//! steppers add, [`stepped::Stepped`] turns one into the rigid body's
+//! [`crate::rigid::solver::Solver`] (the state: ω and the orientation), and
+//! `registry` builds any of them behind the `guard`. The fixed-step methods
+//! of the rigid body (RK4, the splittings) are rules ([`fixed::StepRule`])
+//! of one fixed-step stepper ([`fixed::FixedSteps`]).
 
 pub mod budget;
 pub(crate) mod control;
@@ -32,5 +33,6 @@ pub mod ode;
 pub mod registry;
 pub(crate) mod rk4;
 pub(crate) mod splitting;
+pub(crate) mod stepped;
 
 pub use crate::rigid::solver::{Kind, Method, Needs, Solver, Work};

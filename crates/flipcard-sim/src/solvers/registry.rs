@@ -16,6 +16,7 @@ use crate::solvers::dop853::Adaptive;
 use crate::solvers::guard::Guard;
 use crate::solvers::rk4::rk4;
 use crate::solvers::splitting::{Scheme, splitting};
+use crate::solvers::stepped::Stepped;
 use crate::solvers::{Method, Needs, Solver};
 use flipcard_text::num::Num;
 
@@ -216,44 +217,54 @@ pub fn make_with(
     check_step(&method, &rates, q)?;
     let solver: Box<dyn Solver> = match method {
         Method::Exact => Box::new(Exact::new(body, omega0, needs)?),
-        Method::Adaptive { tol } if q => Box::new(Adaptive::<_, 7>::new(
+        Method::Adaptive { tol } if q => Box::new(Stepped::new(Adaptive::<_, 7>::new(
             WithOrientation::new(&body, &omega0),
             &omega0,
             tol,
             budget,
             rates,
             q,
-        )),
-        Method::Adaptive { tol } => Box::new(Adaptive::<_, 3>::new(
+        ))),
+        Method::Adaptive { tol } => Box::new(Stepped::new(Adaptive::<_, 3>::new(
             OmegaOnly::new(&body, &omega0),
             &omega0,
             tol,
             budget,
             rates,
             q,
-        )),
-        Method::Rk4 { dt } if q => Box::new(rk4::<_, 7>(
+        ))),
+        Method::Rk4 { dt } if q => Box::new(Stepped::new(rk4::<_, 7>(
             WithOrientation::new(&body, &omega0),
             &omega0,
             dt,
             budget,
             rates,
             q,
-        )),
-        Method::Rk4 { dt } => Box::new(rk4::<_, 3>(
+        ))),
+        Method::Rk4 { dt } => Box::new(Stepped::new(rk4::<_, 3>(
             OmegaOnly::new(&body, &omega0),
             &omega0,
             dt,
             budget,
             rates,
             q,
-        )),
-        Method::Splitting { dt } => {
-            Box::new(splitting(&body, &omega0, dt, Scheme::Strang, q, budget))
-        }
-        Method::Splitting4 { dt } => {
-            Box::new(splitting(&body, &omega0, dt, Scheme::Suzuki, q, budget))
-        }
+        ))),
+        Method::Splitting { dt } => Box::new(Stepped::new(splitting(
+            &body,
+            &omega0,
+            dt,
+            Scheme::Strang,
+            q,
+            budget,
+        ))),
+        Method::Splitting4 { dt } => Box::new(Stepped::new(splitting(
+            &body,
+            &omega0,
+            dt,
+            Scheme::Suzuki,
+            q,
+            budget,
+        ))),
     };
     Ok(Box::new(Guard::new(solver, body, &omega0, rates, q)))
 }

@@ -10,9 +10,10 @@ use nalgebra::Vector3;
 use crate::rigid::euler::RigidSystem;
 use crate::rigid::model::State;
 use crate::rigid::scales::Scales;
+use crate::solvers::Method;
 use crate::solvers::budget::Budget;
-use crate::solvers::fixed::{FixedSteps, Stepper};
-use crate::solvers::{Method, Work};
+use crate::solvers::fixed::{FixedSteps, StepRule};
+use crate::solvers::ode::Work;
 use flipcard_text::num::Num;
 
 /// RK4 on one of the rigid body's systems (ω alone, or ω and q).
@@ -45,11 +46,15 @@ pub(crate) fn rk4<S: RigidSystem<N>, const N: usize>(
     FixedSteps::new(steps, dt, budget)
 }
 
-impl<S: RigidSystem<N>, const N: usize> Stepper for Rk4Steps<S, N> {
+impl<S: RigidSystem<N>, const N: usize> StepRule for Rk4Steps<S, N> {
     type Point = [f64; N];
 
     fn method(&self) -> Method {
         Method::Rk4 { dt: self.dt }
+    }
+
+    fn size(&self) -> usize {
+        N
     }
 
     fn start(&self) -> [f64; N] {
@@ -65,11 +70,13 @@ impl<S: RigidSystem<N>, const N: usize> Stepper for Rk4Steps<S, N> {
         work.rhs_evals += 4;
     }
 
-    fn state(&self, y: &[f64; N]) -> State {
-        self.sys.state(y)
+    fn state(&self, y: &[f64]) -> State {
+        let mut point = [0.0; N];
+        point.copy_from_slice(y);
+        self.sys.state(&point)
     }
 
-    fn check(&self, y: &[f64; N], t: f64) -> Result<(), SolveError> {
+    fn check(&self, y: &[f64], t: f64) -> Result<(), SolveError> {
         if y.iter().all(|v| v.is_finite()) {
             return Ok(());
         }

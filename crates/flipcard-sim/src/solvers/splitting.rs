@@ -19,9 +19,10 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use crate::rigid::model::{Body, State};
 use crate::rigid::trig;
+use crate::solvers::Method;
 use crate::solvers::budget::Budget;
-use crate::solvers::fixed::{FixedSteps, Stepper};
-use crate::solvers::{Method, Work};
+use crate::solvers::fixed::{FixedSteps, StepRule};
+use crate::solvers::ode::Work;
 
 /// Which composition of the Strang step to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -86,12 +87,8 @@ fn axis_order(inertia: &Vector3<f64>) -> [usize; 3] {
     axes
 }
 
-/// Body-frame L and, when needed, q = (w, x, y, z).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Point {
-    l: [f64; 3],
-    q: Option<[f64; 4]>,
-}
+/// Body-frame L, then q = (w, x, y, z) when the run carries it.
+pub(crate) type Point = [f64; 7];
 
 /// A splitting run: the shared fixed-step driver over [`SplittingSteps`].
 pub(crate) type Splitting = FixedSteps<SplittingSteps>;
@@ -101,6 +98,7 @@ pub(crate) struct SplittingSteps {
     inverse: [f64; 3],
     scheme: Scheme,
     sequence: Sequence,
+    orientation: bool,
     dt: f64,
     /// The start exactly as given (L/I need not give back ω bit for bit).
     omega0: Vector3<f64>,
@@ -134,17 +132,15 @@ pub(crate) fn splitting(
         inverse: [1.0 / inertia[0], 1.0 / inertia[1], 1.0 / inertia[2]],
         scheme,
         sequence: Sequence::new(axis_order(&body.inertia), scheme),
+        orientation,
         dt,
         omega0: *omega0,
-        start: Point {
-            l: [l[0], l[1], l[2]],
-            q: orientation.then_some([1.0, 0.0, 0.0, 0.0]),
-        },
+        start: [l[0], l[1], l[2], 1.0, 0.0, 0.0, 0.0],
     };
     FixedSteps::new(steps, dt, budget)
 }
 
-impl Stepper for SplittingSteps {
+impl StepRule for SplittingSteps {
     type Point = Point;
 
     fn method(&self) -> Method {
@@ -154,18 +150,24 @@ impl Stepper for SplittingSteps {
         }
     }
 
+    fn size(&self) -> usize {
+        if self.orientation { 7 } else { 3 }
+    }
+
     fn start(&self) -> Point {
         self.start
     }
 
     fn step(&self, p: &mut Point, h: f64, work: &mut Work) {
+        let q = self.orientation;
         for &(axis, fraction) in self.sequence.flows() {
-            rotate(p, axis, p.l[axis] * self.inverse[axis] * fraction * h);
+            rotate(p, q, axis, p[axis] * self.inverse[axis] * fraction * h);
         }
         // Each turn keeps |q| only to rounding, and with nearly equal angles
         // step after step the roundings line up into a drift; rescaling q
         // (the same rotation) keeps |q| = 1 to an ulp for any run length.
-        if let Some(q) = &mut p.q {
+        if q {
+            let q = &mut p[3..];
             let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
             for v in q.iter_mut() {
                 *v /= n;
@@ -175,17 +177,19 @@ impl Stepper for SplittingSteps {
         work.rhs_evals += self.sequence.len as u64;
     }
 
-    fn state(&self, p: &Point) -> State {
+    fn state(&self, p: &[f64]) -> State {
         let omega = Vector3::new(
-            p.l[0] / self.inertia[0],
-            p.l[1] / self.inertia[1],
-            p.l[2] / self.inertia[2],
+            p[0] / self.inertia[0],
+            p[1] / self.inertia[1],
+            p[2] / self.inertia[2],
         );
         State {
             omega,
-            q: match p.q {
-                Some([w, x, y, z]) => UnitQuaternion::new_unchecked(Quaternion::new(w, x, y, z)),
-                None => UnitQuaternion::identity(),
+            q: match p {
+                [_, _, _, w, x, y, z] => {
+                    UnitQuaternion::new_unchecked(Quaternion::new(*w, *x, *y, *z))
+                }
+                _ => UnitQuaternion::identity(),
             },
         }
     }
@@ -198,20 +202,21 @@ impl Stepper for SplittingSteps {
 /// The exact flow of Lᵢ²/2Iᵢ for a body angle `angle` = Lᵢh/Iᵢ: L turns by
 /// −angle about eᵢ, and q by +angle (so q L q⁻¹ is unchanged).
 #[inline(always)]
-fn rotate(p: &mut Point, i: usize, angle: f64) {
+fn rotate(p: &mut Point, orientation: bool, i: usize, angle: f64) {
     let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-    let (lj, lk) = (p.l[j], p.l[k]);
-    match &mut p.q {
-        None => {
+    let (lj, lk) = (p[j], p[k]);
+    match orientation {
+        false => {
             let (s, c) = trig::sin_cos(angle);
-            p.l[j] = c * lj + s * lk;
-            p.l[k] = c * lk - s * lj;
+            p[j] = c * lj + s * lk;
+            p[k] = c * lk - s * lj;
         }
-        Some(q) => {
+        true => {
             let (sh, ch) = trig::sin_cos(0.5 * angle);
             let (s, c) = (2.0 * sh * ch, 1.0 - 2.0 * sh * sh);
-            p.l[j] = c * lj + s * lk;
-            p.l[k] = c * lk - s * lj;
+            p[j] = c * lj + s * lk;
+            p[k] = c * lk - s * lj;
+            let q = &mut p[3..];
             // q ⊗ (cos ½θ, sin ½θ eᵢ), written in the cyclic frame (i, j, k).
             let w = q[0];
             let (vi, vj, vk) = (q[1 + i], q[1 + j], q[1 + k]);
@@ -251,23 +256,20 @@ mod tests {
     #[test]
     fn one_rotation_matches_the_sub_flow() {
         // Flow of L₃²/2I₃: L̇ = L × (L₃/I₃)e₃, q̇ = ½ q ⊗ (0, (L₃/I₃)e₃).
-        let mut p = Point {
-            l: [1.0, 2.0, 3.0],
-            q: Some([1.0, 0.0, 0.0, 0.0]),
-        };
+        let mut p: Point = [1.0, 2.0, 3.0, 1.0, 0.0, 0.0, 0.0];
         let theta = 0.7;
-        rotate(&mut p, 2, theta);
+        rotate(&mut p, true, 2, theta);
         let (s, c) = theta.sin_cos();
         let expected = [c * 1.0 + s * 2.0, c * 2.0 - s * 1.0, 3.0];
-        for (got, want) in p.l.iter().zip(&expected) {
+        for (got, want) in p[..3].iter().zip(&expected) {
             assert!((got - want).abs() < 1e-15);
         }
-        let q = p.q.unwrap();
+        let q = &p[3..];
         let want = UnitQuaternion::from_axis_angle(&Vector3::z_axis(), theta);
         assert!((q[0] - want.w).abs() < 1e-15 && (q[3] - want.k).abs() < 1e-15);
         // Space-frame L unchanged.
         let uq = UnitQuaternion::new_unchecked(Quaternion::new(q[0], q[1], q[2], q[3]));
-        let l_space = uq * Vector3::from(p.l);
+        let l_space = uq * Vector3::new(p[0], p[1], p[2]);
         assert!((l_space - Vector3::new(1.0, 2.0, 3.0)).norm() < 1e-14);
     }
 }

@@ -357,10 +357,7 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
             self.error_norm(h)
         };
         let limit = self.limit;
-        let sane = self
-            .y_new
-            .iter()
-            .all(|v| v.is_finite() && v.abs() <= limit);
+        let sane = self.y_new.iter().all(|v| v.is_finite() && v.abs() <= limit);
         // An accurate step to finite values past the magnitude cap: the
         // solution grows out of what f64 can carry; shrinking the step
         // would only spend the budget getting there (x' = 1000x took

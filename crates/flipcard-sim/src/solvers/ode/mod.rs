@@ -345,8 +345,15 @@ pub(crate) trait Stepper {
         let _ = t;
         Ok(())
     }
+    /// A fixed-step method that serves a time before its next grid point
+    /// without stepping (by a partial step from its current point, so a
+    /// run never steps past the last time asked for): that grid point.
+    fn next_grid(&self) -> Option<f64> {
+        None
+    }
     fn raw_step(&mut self) -> Result<(), SolveError>;
-    /// Dense output at t in the window (no checks).
+    /// Dense output at t in the window, or ahead of it up to
+    /// [`Stepper::next_grid`] (no checks).
     fn interpolate(&mut self, t: f64, out: &mut [f64]);
 }
 
@@ -385,7 +392,7 @@ pub(crate) fn drive_advance<M: Stepper>(m: &mut M, t: f64) -> Result<&[f64], Sol
     if let Err(e) = m.check_span(t) {
         return m.requests().fail(e);
     }
-    while m.window().1 < t {
+    while m.window().1 < t && m.next_grid().is_none_or(|g| g <= t) {
         if let Err(e) = m.raw_step() {
             return m.requests().fail(e);
         }
