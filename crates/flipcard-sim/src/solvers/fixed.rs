@@ -163,3 +163,58 @@ impl<M: StepRule> RigidStepper for FixedSteps<M> {
         self.method.check(y, t)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rigid::model::Body;
+    use crate::solvers::Solver;
+    use crate::solvers::ode::OdeSolver;
+    use crate::solvers::splitting::{Scheme, splitting};
+    use crate::solvers::stepped::Stepped;
+    use nalgebra::Vector3;
+
+    fn run(orientation: bool) -> FixedSteps<crate::solvers::splitting::SplittingSteps> {
+        let body = Body::new([1.0, 2.0, 3.0]).unwrap();
+        let omega = Vector3::new(0.3, 2.0, 0.1);
+        splitting(
+            &body,
+            &omega,
+            0.01,
+            Scheme::Strang,
+            orientation,
+            Budget::default(),
+        )
+    }
+
+    /// The fixed-step stepper is a stepper like every other: driven through
+    /// the systems' interface it serves the same points as the rigid body's
+    /// solver, and neither takes a step past the last time asked for.
+    #[test]
+    fn both_interfaces_serve_the_same_points_without_stepping_past_a_request() {
+        for orientation in [false, true] {
+            let mut rigid = Stepped::new(run(orientation));
+            let mut ode = run(orientation);
+            let size = ode.current().len();
+            assert_eq!(size, if orientation { 7 } else { 3 });
+            for t in [0.0, 0.004, 0.01, 0.0371, 0.5, 0.503, 1.25] {
+                let state = rigid.advance(t).unwrap();
+                let y = OdeSolver::advance(&mut ode, t).unwrap().to_vec();
+                assert_eq!(y.len(), size);
+                // (At t = 0 the rigid body gives back its start as given.)
+                if t > 0.0 {
+                    let other = ode.state_at(&y);
+                    let pairs = state.omega.iter().zip(other.omega.iter());
+                    let pairs = pairs.chain(state.q.coords.iter().zip(other.q.coords.iter()));
+                    for (a, b) in pairs {
+                        assert_eq!(a.to_bits(), b.to_bits(), "t = {t}");
+                    }
+                }
+                // Grid points at or before t only: floor(t/dt) steps.
+                let steps = (0..).take_while(|&n| n as f64 * 0.01 <= t).last().unwrap();
+                assert_eq!(rigid.work().steps, steps, "t = {t}");
+                assert_eq!(OdeSolver::work(&ode).steps, steps, "t = {t}");
+            }
+        }
+    }
+}
