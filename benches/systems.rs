@@ -50,6 +50,7 @@ fn pendulum() -> SystemScene {
             Mark::Trail(["x".into(), "y".into()]),
         ],
         time_unit: "s".into(),
+        atol: None,
     }
 }
 

@@ -652,3 +652,95 @@ fn a_run_that_loses_what_the_scene_conserves_is_refused_not_printed() {
         .unwrap();
     assert!((h + 18.4305).abs() < 0.01, "{out}");
 }
+
+/// E5 (chemical pyrolysis, Hairer & Wanner's test set): y1 starts at 1.76e-3
+/// and y2…y4 stay near 1e-11 and below, a bounded solution throughout.
+fn e5(atol: &str) -> Deck {
+    Deck::new(
+        "pyrolysis",
+        &format!(
+            "[[scene]]\nid = \"s\"\nvariables = [\"y1\", \"y2\", \"y3\", \"y4\"]\ninitial = [1.76e-3, 0.0, 0.0, 0.0]\nparams = {{ A = 7.89e-10, B = 1.1e7, C = 1.13e3, M = 1e6 }}\nequations = [\"-A*y1 - B*y1*y3\", \"A*y1 - M*C*y2*y3\", \"A*y1 - B*y1*y3 - M*C*y2*y3 + C*y4\", \"B*y1*y3 - C*y4\"]\nduration = 1e13\nshow = [\"plot\"]\nplot = [\"y1\"]\n{atol}"
+        ),
+    )
+}
+
+/// A bounded solution whose small components the default absolute
+/// tolerance does not control is never called infinite: the run says the
+/// step size collapsed, that this is no blow-up, and which variables lie
+/// below their absolute tolerance; with `atol` (in the scene or
+/// `--atol`) it runs to its end.
+#[test]
+fn a_bounded_solution_is_never_called_a_blow_up_and_atol_is_named_as_the_cure() {
+    let d = e5("");
+    for method in ["radau", "auto"] {
+        let (code, out, err) = d.sim(&["--samples", "5", "--method", method, "--tol", "1e-3"]);
+        assert_eq!(code, 1, "{method}: {out}{err}");
+        assert!(!err.contains("blows up"), "{method}: {err}");
+        assert!(err.contains("not a blow-up"), "{method}: {err}");
+        for y in ["`y2`", "`y3`", "`y4`"] {
+            assert!(err.contains(y), "{method}: {err}");
+        }
+        assert!(!err.contains("`y1`"), "{method}: {err}");
+        assert!(err.contains("atol = { y2 = "), "{method}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    // The same run with an absolute tolerance for the small components,
+    // from the command line and from the scene, to its end (10^13).
+    let scene = e5("atol = { y2 = 1e-20, y3 = 1e-20, y4 = 1e-20 }\n");
+    let (code, err, _) = scene.check();
+    assert_eq!(code, 0, "{err}");
+    for (deck, args) in [
+        (&d, vec!["--atol", "1e-20"]),
+        (&d, vec!["--atol", "y2=1e-20,y3=1e-20,y4=1e-20"]),
+        (&scene, vec![]),
+    ] {
+        let mut all = vec!["--samples", "5", "--method", "radau", "--tol", "1e-6"];
+        all.extend(args.iter().copied());
+        let (code, out, err) = deck.sim(&all);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        let last: Vec<f64> = out
+            .lines()
+            .last()
+            .unwrap()
+            .split(',')
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert_eq!(last[0], 1e13, "{args:?}: {out}");
+        // y2…y4 stay tiny and y1 is used up (Hairer's reference at 1e13:
+        // y1 ≈ 1e-290, y2 ≈ 8.9e-21, y3 ≈ 8.9e-21 ... within 1e-20).
+        for v in &last[1..] {
+            assert!(v.abs() < 1e-19, "{args:?}: {out}");
+        }
+    }
+    // A genuine blow-up is still called one (x' = x², above), and --atol
+    // is checked like the deck key.
+    for (bad, says) in [
+        ("0", "not an absolute tolerance"),
+        ("y9=1e-20", "`y9` is not a variable of scene s"),
+        ("y2", "not an absolute tolerance"),
+        ("y2:1e-9,y3=1", "is not NAME=VALUE"),
+    ] {
+        let (code, _, err) = d.sim(&["--samples", "5", "--atol", bad]);
+        assert_eq!(code, 1, "{bad}: {err}");
+        assert!(err.contains(says), "{bad}: {err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+    for (atol, says) in [
+        (
+            "atol = { y9 = 1e-20 }\n",
+            "`atol` names `y9`, which is not one of the scene's variables",
+        ),
+        (
+            "atol = -1.0\n",
+            "`atol` is -1: an absolute tolerance is a positive, finite number",
+        ),
+        (
+            "atol = { y2 = 0.0 }\n",
+            "`atol` of `y2` is 0: an absolute tolerance",
+        ),
+    ] {
+        let (code, _, err) = e5(atol).check();
+        assert_eq!(code, 1, "{atol}: {err}");
+        assert!(err.contains(says), "{atol}: {err}");
+    }
+}

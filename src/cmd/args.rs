@@ -191,6 +191,11 @@ pub struct SimArgs {
     /// systems; the step for rk4 on a system).
     #[arg(long, value_name = "TOL", allow_hyphen_values = true)]
     pub tol: Option<f64>,
+    /// With a system scene: the absolute tolerance, one number for every
+    /// variable or NAME=VALUE pairs for some (`y2=1e-20,y3=1e-20`; the
+    /// others keep the scene's or the default); replaces the scene's `atol`.
+    #[arg(long, value_name = "ATOL", requires = "scene")]
+    pub atol: Option<String>,
     /// Step of the fixed-step solvers (default: 256 steps per turn of the
     /// fastest rate of the motion).
     #[arg(long, value_name = "DT", allow_hyphen_values = true)]

@@ -24,7 +24,13 @@ pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
     if let Some(id) = &args.scene {
         let decks = sim_scene::load(cli, args)?;
         if let Some((deck, system)) = decks.iter().find_map(|d| d.system(id).map(|s| (d, s))) {
-            return sim_system::run(args, deck, system);
+            let system = sim_system::with_atol(args, system)?;
+            return sim_system::run(args, deck, &system);
+        }
+        if args.atol.is_some() {
+            anyhow::bail!(
+                "--atol: scene {id} is a rigid body; only a system scene takes an absolute tolerance"
+            );
         }
         return sim_scene::scene(args, &decks, id);
     }

@@ -14,6 +14,7 @@ use crate::cmd::args::{MethodArg, SimArgs, SimFormat};
 use crate::cmd::sim_samples::Stats;
 use crate::deck::{Deck, Measure, Prompt, SystemScene};
 use crate::predict::audit::{Run, audit_run};
+use crate::sim::scene::spec::SceneAtol;
 use crate::sim::scene::system::{SystemPlan, SystemRun, describe, measure_system_noting};
 use crate::sim::solvers::ode::{OdeKind, OdeMethod};
 use crate::sim::system::System;
@@ -42,6 +43,54 @@ pub fn method(args: &SimArgs, scene: &SystemScene) -> anyhow::Result<OdeMethod> 
         None => Ok(OdeMethod::default_for(kind, scene.duration)),
         Some(s) => OdeMethod::with_setting(kind, s).map_err(|e| anyhow!("{e}")),
     }
+}
+
+/// The scene with `--atol` in place of its own `atol`: one number, or
+/// `NAME=VALUE` pairs naming variables, each value positive and finite.
+pub fn with_atol(args: &SimArgs, scene: &SystemScene) -> anyhow::Result<SystemScene> {
+    let mut scene = scene.clone();
+    let Some(text) = &args.atol else {
+        return Ok(scene);
+    };
+    let value = |v: &str| -> anyhow::Result<f64> {
+        match v.trim().parse::<f64>() {
+            Ok(a) if a.is_finite() && a >= 1e-300 => Ok(a),
+            _ => bail!(
+                "--atol: `{}` is not an absolute tolerance (a positive, finite number of at least 1e-300)",
+                crate::text::safe::one_line(v)
+            ),
+        }
+    };
+    if !text.contains('=') {
+        scene.atol = Some(SceneAtol::All(value(text)?));
+        return Ok(scene);
+    }
+    let mut each: Vec<(String, f64)> = match scene.atol.take() {
+        Some(SceneAtol::Each(each)) => each,
+        _ => Vec::new(),
+    };
+    for pair in text.split(',') {
+        let Some((name, v)) = pair.split_once('=') else {
+            bail!(
+                "--atol: `{}` is not NAME=VALUE (write y2=1e-20,y3=1e-20, or one number for every variable)",
+                crate::text::safe::one_line(pair)
+            );
+        };
+        let name = name.trim();
+        if !scene.variables.iter().any(|x| x == name) {
+            bail!(
+                "--atol: `{}` is not a variable of scene {} (its variables: {})",
+                crate::text::safe::one_line(name),
+                scene.id,
+                scene.variables.join(", ")
+            );
+        }
+        let v = value(v)?;
+        each.retain(|(n, _)| n != name);
+        each.push((name.to_string(), v));
+    }
+    scene.atol = Some(SceneAtol::Each(each));
+    Ok(scene)
 }
 
 pub fn run(args: &SimArgs, deck: &Deck, scene: &SystemScene) -> anyhow::Result<ExitCode> {

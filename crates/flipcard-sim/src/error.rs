@@ -16,10 +16,21 @@ pub enum SolveError {
     Model(#[from] ModelError),
     /// A component became non-finite or exceeded
     /// [`crate::solvers::ode::BLOW_UP_LIMIT`], or the step size fell below
-    /// what t can resolve: the solution (or f) is singular near `t`, the
-    /// last time reached with a valid state.
+    /// what t can resolve while the solution grew past a million times its
+    /// starting size: the solution is singular near `t`, the last time
+    /// reached with a valid state.
     #[error("the solution blows up near t = {t}")]
     BlowUp { t: f64 },
+    /// The step size fell to `h`, below what t can resolve, near `t`, while
+    /// the solution stayed within a million times its starting size: not a
+    /// blow-up — the method cannot meet its tolerance there (a component
+    /// the absolute tolerance does not control, a right-hand side that
+    /// leaves its domain or jumps).
+    #[error(
+        "the step size fell to {} near t = {} while the solution stayed bounded: the tolerance cannot be met here",
+        flipcard_text::num::sig(*h, 2), flipcard_text::num::sig(*t, 4)
+    )]
+    StepSize { t: f64, h: f64 },
     /// The run needed (or would need) more step attempts than its budget:
     /// `t` is the time reached and `steps` the attempts made when it
     /// stopped (a span refused up front stops at its start); `reason`

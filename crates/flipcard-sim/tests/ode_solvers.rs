@@ -902,8 +902,15 @@ fn leaving_the_domain_of_f_stops_without_nan() {
                 }
             }
         }
+        // y stays within [0, 1]: the steps collapse at the edge of f's
+        // domain, which is no blow-up (the scene names the domain).
         match failure {
-            Some(SolveError::BlowUp { t }) => assert!((t - 2.0).abs() < 0.02, "{method:?}: {t}"),
+            Some(SolveError::StepSize { t, .. }) => {
+                assert!((t - 2.0).abs() < 0.02, "{method:?}: {t}")
+            }
+            Some(SolveError::BlowUp { t }) if matches!(method, Method::Rk4 { .. }) => {
+                assert!((t - 2.0).abs() < 0.02, "{method:?}: {t}")
+            }
             other => panic!("{method:?}: {other:?}"),
         }
     }

@@ -61,6 +61,7 @@ fn pendulum() -> SystemScene {
             Mark::Trail(["x".into(), "y".into()]),
         ],
         time_unit: "s".into(),
+        atol: None,
     }
 }
 
@@ -233,6 +234,7 @@ fn heavy() -> SystemScene {
         phase: None,
         sketch: vec![],
         time_unit: "s".into(),
+        atol: None,
     }
 }
 
@@ -347,6 +349,7 @@ fn spring() -> SystemScene {
         phase: None,
         sketch: vec![],
         time_unit: "s".into(),
+        atol: None,
     }
 }
 

@@ -3,7 +3,7 @@
 //! unknown fields; what is missing or mistyped is `None` here, and the deck
 //! it belongs to is never validated into a `Deck`.
 
-use toml::de::DeTable;
+use toml::de::{DeTable, DeValue};
 
 use super::read::{self, Fields};
 use super::report::FileReport;
@@ -46,6 +46,7 @@ pub const SCENE_FIELDS: &[&str] = &[
     "plot",
     "phase",
     "sketch",
+    "atol",
 ];
 /// The keys of a sketch element (each takes an array of expressions).
 pub(crate) const MARK_KEYS: &[&str] = &["line", "dot", "trail"];
@@ -183,6 +184,15 @@ pub struct RawSystem {
     pub plot: Option<List<Str>>,
     pub phase: Option<List<Str>>,
     pub sketch: Option<List<RawMark>>,
+    pub atol: Option<RawAtol>,
+}
+
+/// A system scene's absolute tolerance: one number for every variable, or
+/// a table of some variables' own (`atol = { y2 = 1e-20 }`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum RawAtol {
+    All(Num),
+    Each(Named<Num>),
 }
 
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -504,6 +514,13 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
                 plot: f.strings(rep, "plot", false),
                 phase: f.strings(rep, "phase", false),
                 sketch: sketch(rep, &f),
+                atol: match f.get("atol") {
+                    Some(v) if matches!(v.get_ref(), DeValue::Table(_)) => {
+                        named(rep, &f, "atol", read::number).map(RawAtol::Each)
+                    }
+                    Some(v) => read::number(rep, v, "`atol`").map(RawAtol::All),
+                    None => None,
+                },
             })
     } else {
         for key in [
@@ -515,6 +532,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
             "plot",
             "phase",
             "sketch",
+            "atol",
         ] {
             if let Some(v) = f.get(key) {
                 rep.error(

@@ -151,6 +151,25 @@ impl JsonSchema for Tolerance {
     }
 }
 
+/// A system's absolute tolerance: one number, or a table of variables'.
+pub struct AtolSchema;
+
+impl JsonSchema for AtolSchema {
+    fn schema_name() -> Cow<'static, str> {
+        "Atol".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        let positive = serde_json::json!({ "type": "number", "minimum": 1e-300 });
+        json_schema!({
+            "description": "Absolute tolerance of the error control: one number for every variable, or a table naming some variables (the others keep the method's default, 1e-2 × rtol). About a millionth of the size a variable reaches.",
+            "oneOf": [
+                positive,
+                { "type": "object", "additionalProperties": positive, "minProperties": 1 },
+            ],
+        })
+    }
+}
+
 /// A simulation: a torque-free rigid body (`inertia`, `omega`) or a system
 /// of equations (`variables`, `initial`, `equations`), never both.
 #[derive(JsonSchema)]
@@ -194,6 +213,9 @@ pub struct Scene {
     pub observables: Option<std::collections::BTreeMap<String, Expression>>,
     /// System: observables whose drift the diagnostics report.
     pub conserved: Option<Vec<VarName>>,
+    /// System: the absolute tolerance, one positive number for every
+    /// variable or a table of some variables' own (`{ y2 = 1e-20 }`).
+    pub atol: Option<AtolSchema>,
     /// System: variables or observables plotted against time.
     pub plot: Option<Vec<VarName>>,
     /// System: the pair of the phase portrait (horizontal, vertical).

@@ -170,6 +170,18 @@ pub enum RunError {
     /// A variable grew to `value` near `t`, close to the magnitude past
     /// which no method can go on (1e150: its square would overflow f64).
     TooLarge { t: f64, name: String, value: f64 },
+    /// The step size fell to `h` near `t` while the solution stayed
+    /// bounded: the run cannot meet its tolerance. `uncontrolled` are the
+    /// variables whose typical size over the samples (the median of
+    /// |value|) lies below their absolute tolerance: (name, size, atol).
+    Inaccurate {
+        t: f64,
+        h: f64,
+        uncontrolled: Vec<(String, f64, f64)>,
+        rtol: f64,
+        /// The method was already the implicit one.
+        radau: bool,
+    },
     /// The run took the most work a scene may ([`MAX_RUN_WORK`]).
     Work {
         t: f64,
@@ -211,6 +223,54 @@ impl std::fmt::Display for RunError {
                 flipcard_text::num::sig(*value, 3),
                 time(*t)
             ),
+            RunError::Inaccurate {
+                t,
+                h,
+                uncontrolled,
+                rtol,
+                radau,
+            } => {
+                write!(
+                    f,
+                    "the step size fell to {} near t = {} while no value grew past a million times the size the run started from: not a blow-up, the run cannot meet its tolerance here",
+                    flipcard_text::num::sig(*h, 2),
+                    time(*t),
+                )?;
+                if uncontrolled.is_empty() {
+                    return write!(
+                        f,
+                        "; tighten the tolerance (now rtol {}){}",
+                        Num(*rtol),
+                        if *radau { "" } else { " or use --method radau" }
+                    );
+                }
+                let one = uncontrolled.len() == 1;
+                let named: Vec<String> = (uncontrolled.iter())
+                    .map(|(n, size, atol)| {
+                        format!(
+                            "`{n}` (typically {}, atol {})",
+                            flipcard_text::num::sig(*size, 2),
+                            Num(*atol)
+                        )
+                    })
+                    .collect();
+                let (first, size, _) = &uncontrolled[0];
+                let suggest = if *size > 0.0 {
+                    flipcard_text::num::sig(10f64.powf((size * 1e-6).log10().floor()), 1)
+                } else {
+                    "1e-20".to_string()
+                };
+                write!(
+                    f,
+                    ". {} {} below {} absolute tolerance, so {} errors go unchecked; give {} an absolute tolerance of about a millionth of {} size (`atol = {{ {first} = {suggest} }}` in the scene, or --atol {first}={suggest})",
+                    named.join(", "),
+                    if one { "stays" } else { "stay" },
+                    if one { "its" } else { "their" },
+                    if one { "its" } else { "their" },
+                    if one { "it" } else { "them" },
+                    if one { "its" } else { "their" },
+                )
+            }
             RunError::Work {
                 t,
                 steps,
@@ -242,6 +302,25 @@ fn step_budget(cost: &Cost, default: u64) -> (u64, bool) {
         (default, false)
     }
 }
+
+/// The absolute tolerance of a run of `scene`: the one the scene declares
+/// for a variable, the method's own for the others; a reference run
+/// (`reference`) keeps its own default where that is tighter. A
+/// fixed-step run has none.
+fn with_scene_atol(scene: &SystemScene, opts: &mut ode::Options, reference: bool) {
+    let (Some(declared), ode::Atol::Scalar(default)) = (&scene.atol, &opts.atol) else {
+        return;
+    };
+    let each = declared.per_variable(&scene.variables, *default);
+    let each = each.into_iter();
+    opts.atol = ode::Atol::PerComponent(match reference {
+        true => each.map(|a| a.min(*default)).collect(),
+        false => each.collect(),
+    });
+}
+
+/// Sizes of each variable kept for its median (see `SystemRun::sizes`).
+const SIZES_KEPT: usize = 1024;
 
 /// What a system scene computes, from what it shows and measures.
 #[derive(Debug, Clone, PartialEq)]
@@ -438,6 +517,14 @@ pub struct SystemRun {
     marks: Vec<f64>,
     /// The last sample that passed (its time is `sampled`).
     good: Vec<f64>,
+    /// |value| of each variable at the samples, each weighted by the time
+    /// since the one before, at most [`SIZES_KEPT`] of them (neighbours
+    /// merged when full): their weighted median is the typical size of
+    /// each over the run's time, which the many short steps before a
+    /// failure do not move; with the absolute tolerance of each, to name
+    /// the ones it does not control when the run cannot meet its tolerance.
+    sizes: Vec<Vec<(f64, f64)>>,
+    atol: Vec<f64>,
     cost: Cost,
     /// The step budget comes from [`MAX_RUN_WORK`].
     work_limited: bool,
@@ -472,6 +559,8 @@ impl SystemRun {
         let cost = system.cost();
         check_cost(scene, &cost)?;
         let (m, mut opts) = method.solver(scene.duration);
+        with_scene_atol(scene, &mut opts, false);
+        let opts_atol = opts.atol.clone();
         let (max_steps, work_limited) = step_budget(&cost, opts.max_steps);
         opts.max_steps = max_steps;
         let solver =
@@ -479,6 +568,7 @@ impl SystemRun {
         let reference = if plan.reference {
             let r = OdeMethod::with_setting(OdeKind::Radau, ode::REFERENCE_RTOL)?;
             let (m, mut opts) = r.solver(scene.duration);
+            with_scene_atol(scene, &mut opts, true);
             opts.max_steps = step_budget(&cost, opts.max_steps).0;
             let sys = System::compile(scene, true)?;
             Some(ode::make(m, sys, 0.0, &scene.initial, &opts).map_err(RunError::from)?)
@@ -547,6 +637,11 @@ impl SystemRun {
             probe: vec![0.0; n],
             observables_upto,
             good: scene.initial.clone(),
+            sizes: vec![Vec::new(); n],
+            atol: match &opts_atol {
+                ode::Atol::Scalar(a) => vec![*a; n],
+                ode::Atol::PerComponent(v) => v.clone(),
+            },
             cost,
             work_limited,
             span: None,
@@ -648,6 +743,16 @@ impl SystemRun {
                 values: self.marks.clone(),
             });
         }
+        let weight = (t - self.sampled).max(0.0);
+        for (kept, v) in self.sizes.iter_mut().zip(y) {
+            kept.push((v.abs(), weight));
+            if kept.len() >= SIZES_KEPT {
+                *kept = kept
+                    .chunks(2)
+                    .map(|p| (p[0].0, p.iter().map(|q| q.1).sum()))
+                    .collect();
+            }
+        }
         self.sampled = t;
         self.good.copy_from_slice(y);
         Ok(())
@@ -743,7 +848,7 @@ impl SystemRun {
                 value: *v,
             };
         }
-        let SolveError::BlowUp { t } = e else {
+        let (SolveError::BlowUp { t } | SolveError::StepSize { t, .. }) = e else {
             if let SolveError::StepBudget { t, steps, .. } = e
                 && self.work_limited
             {
@@ -792,7 +897,44 @@ impl SystemRun {
             }
             h *= 2.0;
         }
-        RunError::Ode(SolveError::BlowUp { t })
+        match e {
+            SolveError::StepSize { t, h } => self.inaccurate(t, h),
+            _ => RunError::Ode(SolveError::BlowUp { t }),
+        }
+    }
+
+    /// The step size collapsed while the solution stayed bounded: which
+    /// variables the absolute tolerance does not control (their largest
+    /// size over the run below it), with an `atol` that would.
+    fn inaccurate(&self, t: f64, h: f64) -> RunError {
+        let typical = |kept: &Vec<(f64, f64)>| {
+            let mut v = kept.clone();
+            v.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let total: f64 = v.iter().map(|p| p.1).sum();
+            if total <= 0.0 {
+                return v.get(v.len() / 2).map_or(0.0, |p| p.0);
+            }
+            let mut acc = 0.0;
+            for (size, w) in &v {
+                acc += w;
+                if acc >= 0.5 * total {
+                    return *size;
+                }
+            }
+            v.last().map_or(0.0, |p| p.0)
+        };
+        let uncontrolled = (self.sizes.iter().zip(&self.atol).enumerate())
+            .map(|(k, (kept, a))| (k, typical(kept), *a))
+            .filter(|(_, size, a)| size < a)
+            .map(|(k, size, a)| (self.scene.variables[k].clone(), size, a))
+            .collect();
+        RunError::Inaccurate {
+            t,
+            h,
+            uncontrolled,
+            rtol: self.method.setting,
+            radau: self.method.kind == OdeKind::Radau,
+        }
     }
 
     /// Samples every step up to `target`, then sets the frame there.

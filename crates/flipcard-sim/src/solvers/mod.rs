@@ -5,7 +5,7 @@
 //! side [`crate::rhs::OdeSystem`] which the rigid body implements too
 //! ([`crate::rigid::euler`]). DOP853 has one implementation
 //! ([`ode::Dop853`]: the shared tableau `dop853_tableau`, the one step-size
-//! controller `control`), RK4 one step (`rk4::rk4_step`), and every method
+//! controller `control`), RK4 one step (`ode::rk4_step`), and every method
 //! stops with the one [`crate::error::SolveError`].
 //!
 //! A deck's system is driven through [`ode::OdeSolver`] (a vector, its

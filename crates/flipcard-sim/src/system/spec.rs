@@ -93,6 +93,34 @@ pub struct SystemScene {
     pub phase: Option<[String; 2]>,
     pub sketch: Vec<Mark>,
     pub time_unit: String,
+    /// The absolute tolerance the scene declares (`atol`), if any.
+    pub atol: Option<SceneAtol>,
+}
+
+/// A scene's absolute tolerance: one for every variable, or some
+/// variables' own (the others keep the method's default).
+#[derive(Debug, Clone, PartialEq)]
+pub enum SceneAtol {
+    All(f64),
+    Each(Vec<(String, f64)>),
+}
+
+impl SceneAtol {
+    /// The tolerance of each variable of `scene`, those it does not name at
+    /// `default`.
+    pub fn per_variable(&self, variables: &[String], default: f64) -> Vec<f64> {
+        match self {
+            SceneAtol::All(a) => vec![*a; variables.len()],
+            SceneAtol::Each(each) => variables
+                .iter()
+                .map(|v| {
+                    each.iter()
+                        .find(|(n, _)| n == v)
+                        .map_or(default, |(_, a)| *a)
+                })
+                .collect(),
+        }
+    }
 }
 
 impl SystemScene {

@@ -6,11 +6,11 @@
 
 use std::collections::HashMap;
 
-use crate::deck::raw::{List, Named, Num, RawScene, RawSystem, Span, Str};
+use crate::deck::raw::{List, Named, Num, RawAtol, RawScene, RawSystem, Span, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
-use flipcard_sim::scene::spec::{Mark, SystemPanel, SystemScene};
+use flipcard_sim::scene::spec::{Mark, SceneAtol, SystemPanel, SystemScene};
 use flipcard_sim::scene::system::check_cost;
 use flipcard_sim::solvers::ode::OdeSystem;
 use flipcard_sim::system::System;
@@ -140,6 +140,27 @@ fn names_one(rep: &mut FileReport, s: &Str, known: &[&str], field: &str, kinds: 
             s.value
         ),
         hint,
+    );
+    false
+}
+
+/// An absolute tolerance: a positive, finite number (below 1e-300 no
+/// error estimate is meaningful).
+fn tolerance(rep: &mut FileReport, n: &Num, what: &str) -> bool {
+    let v = n.value;
+    if v.is_finite() && v >= 1e-300 {
+        return true;
+    }
+    rep.error(
+        n.span.clone(),
+        format!(
+            "{what} is {}: an absolute tolerance is a positive, finite number of at least 1e-300",
+            Shown(v)
+        ),
+        Some(
+            "about a millionth of the size the variable reaches, e.g. atol = { y2 = 1e-20 }"
+                .to_string(),
+        ),
     );
     false
 }
@@ -420,6 +441,22 @@ pub fn scene(
             plot.push(s.value.clone());
         }
     }
+    let atol = match &sys.atol {
+        None => None,
+        Some(RawAtol::All(n)) => {
+            ok &= tolerance(rep, n, "`atol`");
+            Some(SceneAtol::All(n.value))
+        }
+        Some(RawAtol::Each(table)) => {
+            let mut each = Vec::new();
+            for e in &table.entries {
+                ok &= names_one(rep, &e.key, &vars, "atol", "variables");
+                ok &= tolerance(rep, &e.value, &format!("`atol` of `{}`", e.key.value));
+                each.push((e.key.value.clone(), e.value.value));
+            }
+            Some(SceneAtol::Each(each))
+        }
+    };
     let mut conserved = Vec::new();
     if let Some(list) = &sys.conserved {
         for s in &list.items {
@@ -540,6 +577,7 @@ pub fn scene(
         phase,
         sketch,
         time_unit: time_unit?,
+        atol,
     };
     if !ok {
         return None;

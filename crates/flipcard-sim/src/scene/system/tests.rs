@@ -29,6 +29,7 @@ fn pendulum(theta0_deg: f64, show: &[SystemPanel]) -> SystemScene {
             Mark::Trail(["x".into(), "y".into()]),
         ],
         time_unit: "s".into(),
+        atol: None,
     }
 }
 
@@ -140,6 +141,7 @@ fn blow_up_is_reported_near_its_time() {
         phase: None,
         sketch: vec![],
         time_unit: "s".into(),
+        atol: None,
     };
     for kind in OdeKind::ALL {
         let e = measure_system(
@@ -225,6 +227,7 @@ fn van_der_pol(mu: f64) -> SystemScene {
         phase: None,
         sketch: vec![],
         time_unit: "s".into(),
+        atol: None,
     }
 }
 
@@ -322,6 +325,7 @@ fn samples_stop_at_the_frame_and_faults_wait_for_the_run_to_get_there() {
         phase: None,
         sketch: vec![],
         time_unit: "s".into(),
+        atol: None,
     };
     let method = OdeMethod::default_for(OdeKind::Adaptive, scene.duration);
     let mut run = SystemRun::new(&scene, method, &[]).unwrap();

@@ -57,6 +57,8 @@ pub struct Dop853<S, const N: usize = 0> {
     /// Components beyond this magnitude end the run (the systems' cap; the
     /// rigid body, whose size is bounded by its energy, has none).
     limit: f64,
+    /// The size the run started from ([`super::start_size`]).
+    start: f64,
     t: f64,
     y: Vec<f64>,
     /// Stages, 16 rows of n: k[0] = f(t, y) ... k[12] = f at the new point,
@@ -148,6 +150,7 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
             mode: StiffnessMode::Report,
             arithmetic: Arithmetic::Plain,
             limit: BLOW_UP_LIMIT,
+            start: super::start_size(y0),
             t: t0,
             y: y0.to_vec(),
             k,
@@ -275,7 +278,7 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
                 h = stop - self.t;
             }
             if h.is_nan() || h <= 10.0 * f64::EPSILON * self.t.abs() {
-                return Err(SolveError::BlowUp { t: self.t });
+                return Err(super::collapse(self.t, h, &self.y, self.start));
             }
             if self.trial(h)? {
                 return self.stiffness_test(h);

@@ -33,6 +33,7 @@ pub use choice::{OdeKind, OdeMethod};
 pub use dop853::{Dop853, StiffnessMode};
 pub use radau5::Radau5;
 pub use rk4::Rk4;
+pub(crate) use rk4::rk4_step;
 
 /// Default cap on the step attempts (accepted and rejected) of one run.
 pub(crate) const DEFAULT_MAX_STEPS: u64 = 5_000_000;
@@ -244,6 +245,29 @@ pub(crate) fn check_start<S: OdeSystem>(sys: &S, t0: f64, y0: &[f64]) -> Result<
         )));
     }
     Ok(())
+}
+
+/// A step-size collapse is called a blow-up only when the solution has
+/// grown past this many times its starting size (at least 1).
+pub(crate) const GROWTH: f64 = 1e6;
+
+/// The size a run starts from, for [`collapse`]: the largest |y0ᵢ|, at
+/// least 1.
+pub(crate) fn start_size(y0: &[f64]) -> f64 {
+    y0.iter().fold(1.0f64, |m, v| m.max(v.abs()))
+}
+
+/// Why the step size collapsed to `h` near `t` at the state `y` of a run
+/// that started at size `start`: a blow-up if the solution has grown past
+/// [`GROWTH`] times that size (or is no longer finite), else a step size
+/// the tolerance cannot be met with ([`SolveError::StepSize`]).
+pub(crate) fn collapse(t: f64, h: f64, y: &[f64], start: f64) -> SolveError {
+    let grown = y.iter().any(|v| !v.is_finite() || v.abs() > GROWTH * start);
+    if grown || h.is_nan() {
+        SolveError::BlowUp { t }
+    } else {
+        SolveError::StepSize { t, h }
+    }
 }
 
 /// True when every component is finite and within [`BLOW_UP_LIMIT`].

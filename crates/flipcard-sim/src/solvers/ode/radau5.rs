@@ -141,6 +141,8 @@ pub struct Radau5<S> {
     fixed: Option<f64>,
     t: f64,
     y: Vec<f64>,
+    /// The size the run started from ([`super::start_size`]).
+    start: f64,
     /// f(t, y) at the current point.
     f0: Vec<f64>,
     h: f64,
@@ -210,6 +212,7 @@ impl<S: OdeSystem> Radau5<S> {
             fixed: None,
             t: t0,
             y: y0.to_vec(),
+            start: super::start_size(y0),
             f0,
             h: opts.h0.unwrap_or(0.0),
             h_old: 0.0,
@@ -373,7 +376,7 @@ impl<S: OdeSystem> Radau5<S> {
             let h = self.clipped(self.h);
             self.h = h;
             if h.is_nan() || 0.1 * h <= self.t.abs() * f64::EPSILON {
-                return Err(SolveError::BlowUp { t: self.t });
+                return Err(super::collapse(self.t, h, &self.y, self.start));
             }
             if self.fixed.is_some() && !self.jac_fresh {
                 self.need_jac = true;

@@ -25,6 +25,7 @@ pub(crate) fn pendulum() -> SystemScene {
         phase: None,
         sketch: vec![Mark::Line(["0".into(), "0".into(), "x".into(), "y".into()])],
         time_unit: "s".into(),
+        atol: None,
     }
 }
 
