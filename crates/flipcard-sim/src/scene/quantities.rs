@@ -19,7 +19,10 @@ pub const RIGID: [(&str, &str); 7] = [
     ("I1", "the first principal moment, as `inertia` gives it"),
     ("I2", "the second principal moment"),
     ("I3", "the third principal moment"),
-    ("w1", "the first component of ω at t = 0, as `omega` gives it"),
+    (
+        "w1",
+        "the first component of ω at t = 0, as `omega` gives it",
+    ),
     ("w2", "the second component of ω at t = 0"),
     ("w3", "the third component of ω at t = 0"),
     (

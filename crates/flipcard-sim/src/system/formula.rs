@@ -105,7 +105,10 @@ mod tests {
     fn a_value_that_is_not_finite_says_why() {
         let k = names(&[("k", -4.0), ("z", 0.0)]);
         let e = evaluate("1/sqrt(k)", &k).unwrap_err();
-        assert!(e.message.contains("square root of a negative number"), "{e}");
+        assert!(
+            e.message.contains("square root of a negative number"),
+            "{e}"
+        );
         let e = evaluate("1/z", &k).unwrap_err();
         assert!(e.message.contains("division by zero"), "{e}");
     }
