@@ -600,7 +600,15 @@ fn explain_link(
         let quoted: Vec<String> = lacking.iter().map(|l| format!("`{l}`")).collect();
         format!("the {} content file", quoted.join(" and "))
     };
-    let hint = suggest::did_you_mean(anchor, known.iter().copied()).or_else(|| {
+    let elsewhere = lacking.len() < langs.len();
+    let hint = if elsewhere {
+        Some(format!(
+            "put a line {{#{anchor}}} above the same paragraph of section `{section}` in {files}; every language opens at the anchor"
+        ))
+    } else {
+        suggest::did_you_mean(anchor, known.iter().copied())
+    };
+    let hint = hint.or_else(|| {
         Some(if known.is_empty() {
             format!(
                 "put a line {{#{anchor}}} above the paragraph in section `{section}` of every language's file"
