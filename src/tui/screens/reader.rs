@@ -309,8 +309,8 @@ pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option
     // The line each block starts on.
     let mut starts: Vec<usize> = Vec::with_capacity(blocks.len());
     for block in blocks {
-        let opens_apart = !matches!(block, MBlock::Item(_))
-            && lines.last().is_some_and(|l| !l.spans.is_empty());
+        let opens_apart =
+            !matches!(block, MBlock::Item(_)) && lines.last().is_some_and(|l| !l.spans.is_empty());
         starts.push(lines.len() + usize::from(opens_apart));
         match block {
             MBlock::Paragraph(spans) => {

@@ -273,10 +273,7 @@ pub fn lines(
     ));
     // The slip a wrong number matches, beside what the run measured: what
     // that number is, and what it means.
-    if let (
-        Answer::Number { slips, unit, .. },
-        Some((i, value)),
-    ) = (&prompt.answer, v.slip)
+    if let (Answer::Number { slips, unit, .. }, Some((i, value))) = (&prompt.answer, v.slip)
         && let Some(slip) = slips.get(i)
     {
         let u = if unit.is_empty() {
