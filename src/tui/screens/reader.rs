@@ -127,6 +127,10 @@ pub struct ReaderState {
     pub hit: Option<(usize, usize, usize)>,
     /// Where following links came from, so Esc walks back.
     pub history: Vec<(usize, usize)>,
+    /// Opened at an anchor: the section and the line its paragraph starts
+    /// on. That section scrolls at least this far, so the paragraph is the
+    /// first line shown even near the section's end.
+    pub anchored: Option<(usize, usize)>,
 }
 
 impl ReaderState {
@@ -140,7 +144,7 @@ impl ReaderState {
 
 /// Opens the reader at a section (from a card or a verdict), scrolled so
 /// that the paragraph its anchor names (`section#anchor`) is the first
-/// line shown, as far as the section scrolls.
+/// line shown (below the section's end, the page is blank).
 pub fn open_at(app: &App, deck: usize, explain: &Explain) -> Nav {
     let Some(d) = app.decks.get(deck) else {
         return Nav::Stay;
@@ -155,8 +159,9 @@ pub fn open_at(app: &App, deck: usize, explain: &Explain) -> Nav {
     if let Some(anchor) = &explain.anchor {
         let width = text_area(app).width as usize;
         let page = page(app, d, i, width, None);
-        if let Some((_, line)) = page.anchors.iter().find(|(a, _)| a == anchor) {
-            state.scroll = (*line).min(max_scroll(app, d, &state));
+        if let Some(&(_, line)) = page.anchors.iter().find(|(a, _)| a == anchor) {
+            state.scroll = line;
+            state.anchored = Some((i, line));
         }
     }
     Nav::Push(super::Screen::Reader(state))
@@ -414,6 +419,16 @@ fn max_scroll(app: &App, deck: &Deck, state: &ReaderState) -> usize {
     let area = text_area(app);
     let n = section_lines(app, deck, state.section, area.width as usize).len();
     n.saturating_sub(area.height as usize)
+        .max(anchored_line(state))
+}
+
+/// How far the section on screen scrolls to keep the paragraph it was
+/// opened at on the first line (0 when not opened at an anchor).
+fn anchored_line(state: &ReaderState) -> usize {
+    match state.anchored {
+        Some((section, line)) if section == state.section => line,
+        _ => 0,
+    }
 }
 
 /// `s` as search compares it: lower case, compatibility characters folded
@@ -754,7 +769,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
     );
     let total = lines.len();
     let height = text_area.height as usize;
-    let max = total.saturating_sub(height);
+    let max = total.saturating_sub(height).max(anchored_line(state));
     let scroll = state.scroll.min(max);
     let query = state.query.as_deref().map(lowercase_chars);
     let current = state

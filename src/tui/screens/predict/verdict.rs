@@ -282,7 +282,7 @@ pub fn lines(
             format!(" {unit}")
         };
         let mut runs = vec![
-            Run::new(format!("{}: ", w::YOUR_NUMBER_IS.get(lang)), t.dim()),
+            Run::new(format!("{} ", w::YOUR_NUMBER_IS.get(lang)), t.dim()),
             Run::new(format!("{} = {}{u}: ", slip.value, sig(value, 3)), t.bad()),
         ];
         runs.extend(crate::tui::wrap::math_runs(slip.says.get(lang), t.strong()));
