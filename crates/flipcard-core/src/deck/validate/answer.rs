@@ -26,13 +26,17 @@ pub enum SceneKind<'a> {
     System(&'a [String]),
 }
 
+/// The numbers of a prompt's scene a slip's formula may name, with their
+/// values (see `flipcard_sim::scene::quantities`).
+pub type Scope<'a> = &'a [(String, f64)];
+
 pub fn answer(
     rep: &mut FileReport,
     raw: &RawAnswer,
     langs: &Langs,
     owner: &str,
     kind: Option<SceneKind>,
-    scope: Option<&[(String, f64)]>,
+    scope: Option<Scope>,
 ) -> Option<Answer> {
     match raw {
         RawAnswer::Choice {
@@ -157,7 +161,7 @@ fn slip(
     rep: &mut FileReport,
     raw: &RawSlip,
     langs: &Langs,
-    scope: Option<&[(String, f64)]>,
+    scope: Option<Scope>,
     right: Option<(f64, Tolerance)>,
     unit: Option<&str>,
 ) -> Option<Slip> {
@@ -190,9 +194,7 @@ fn slip(
     let at = |rep: &FileReport, e: &flipcard_sim::system::expr::ExprError| {
         super::system::span_in(rep, value, e.at, e.len)
     };
-    let Some(scope) = scope else {
-        return None;
-    };
+    let scope = scope?;
     let names: Vec<&str> = scope
         .iter()
         .map(|(n, _)| n.as_str())

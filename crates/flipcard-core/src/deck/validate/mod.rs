@@ -813,7 +813,7 @@ fn prompt(
     langs: &Langs,
     sections: (Option<&Targets>, &Anchors),
     scene_ids: &Targets,
-    (kind, scope): (Option<answer::SceneKind>, Option<&[(String, f64)]>),
+    (kind, scope): (Option<answer::SceneKind>, Option<answer::Scope>),
 ) -> Option<Prompt> {
     let what = named("prompt", &raw.id);
     let question = raw
