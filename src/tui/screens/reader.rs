@@ -127,10 +127,11 @@ pub struct ReaderState {
     pub hit: Option<(usize, usize, usize)>,
     /// Where following links came from, so Esc walks back.
     pub history: Vec<(usize, usize)>,
-    /// Opened at an anchor: the section and the line its paragraph starts
-    /// on. That section scrolls at least this far, so the paragraph is the
-    /// first line shown even near the section's end.
-    pub anchored: Option<(usize, usize)>,
+    /// Opened at an anchor: the section and the anchor. That section
+    /// scrolls at least as far as the anchor's paragraph (in the language
+    /// and width on screen), so the paragraph is the first line shown even
+    /// near the section's end.
+    pub anchored: Option<(usize, String)>,
 }
 
 impl ReaderState {
@@ -161,7 +162,7 @@ pub fn open_at(app: &App, deck: usize, explain: &Explain) -> Nav {
         let page = page(app, d, i, width, None);
         if let Some(&(_, line)) = page.anchors.iter().find(|(a, _)| a == anchor) {
             state.scroll = line;
-            state.anchored = Some((i, line));
+            state.anchored = Some((i, anchor.clone()));
         }
     }
     Nav::Push(super::Screen::Reader(state))
@@ -417,16 +418,22 @@ fn text_area(app: &App) -> Rect {
 
 fn max_scroll(app: &App, deck: &Deck, state: &ReaderState) -> usize {
     let area = text_area(app);
-    let n = section_lines(app, deck, state.section, area.width as usize).len();
-    n.saturating_sub(area.height as usize)
-        .max(anchored_line(state))
+    let page = page(app, deck, state.section, area.width as usize, None);
+    page.lines
+        .len()
+        .saturating_sub(area.height as usize)
+        .max(anchored_line(state, &page.anchors))
 }
 
 /// How far the section on screen scrolls to keep the paragraph it was
-/// opened at on the first line (0 when not opened at an anchor).
-fn anchored_line(state: &ReaderState) -> usize {
-    match state.anchored {
-        Some((section, line)) if section == state.section => line,
+/// opened at on the first line: the line of its anchor among `anchors`
+/// (the page's), 0 when not opened at an anchor of this section.
+fn anchored_line(state: &ReaderState, anchors: &[(String, usize)]) -> usize {
+    match &state.anchored {
+        Some((section, name)) if *section == state.section => anchors
+            .iter()
+            .find(|(a, _)| a == name)
+            .map_or(0, |&(_, line)| line),
         _ => 0,
     }
 }
@@ -759,7 +766,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
         lines,
         links,
         text_lines,
-        ..
+        anchors,
     } = page(
         app,
         deck,
@@ -769,7 +776,9 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
     );
     let total = lines.len();
     let height = text_area.height as usize;
-    let max = total.saturating_sub(height).max(anchored_line(state));
+    let max = total
+        .saturating_sub(height)
+        .max(anchored_line(state, &anchors));
     let scroll = state.scroll.min(max);
     let query = state.query.as_deref().map(lowercase_chars);
     let current = state

@@ -424,10 +424,7 @@ pub fn body(
     let scopes: HashMap<&str, Vec<(String, f64)>> = raw
         .scenes
         .iter()
-        .filter_map(|s| {
-            let id = s.id.as_ref()?.value.as_str();
-            Some((id, scope(s)))
-        })
+        .filter_map(|s| Some((s.id.as_ref()?.value.as_str(), scope(s)?)))
         .collect();
     let mut prompts = Vec::new();
     for p in &raw.prompts {
@@ -503,17 +500,19 @@ fn tags(rep: &mut FileReport, tags: &Option<List<Str>>) -> Option<Vec<String>> {
 
 /// The numbers of a scene as written that a slip's formula may name (see
 /// `flipcard_sim::scene::quantities`): a rigid body's moments, initial spin
-/// and k, or a system's params. Values that are not yet valid are left
-/// out (the scene's own check reports them).
-fn scope(s: &crate::deck::raw::RawScene) -> Vec<(String, f64)> {
+/// and k, or a system's params. `None` for a rigid body whose numbers are
+/// no body's: the scene's own check reports them, and a slip on it is not
+/// reported again for naming `k`.
+fn scope(s: &crate::deck::raw::RawScene) -> Option<Vec<(String, f64)>> {
     if let Some(sys) = &s.system {
-        return sys
-            .params
-            .iter()
-            .flat_map(|p| &p.entries)
-            .filter(|e| e.value.value.is_finite())
-            .map(|e| (e.key.value.clone(), e.value.value))
-            .collect();
+        return Some(
+            sys.params
+                .iter()
+                .flat_map(|p| &p.entries)
+                .filter(|e| e.value.value.is_finite())
+                .map(|e| (e.key.value.clone(), e.value.value))
+                .collect(),
+        );
     }
     let three = |l: &Option<List<crate::deck::raw::Num>>| -> Option<[f64; 3]> {
         let l = l.as_ref()?;
@@ -521,10 +520,8 @@ fn scope(s: &crate::deck::raw::RawScene) -> Vec<(String, f64)> {
         let a: [f64; 3] = v.try_into().ok()?;
         a.iter().all(|x| x.is_finite()).then_some(a)
     };
-    match (three(&s.inertia), three(&s.omega)) {
-        (Some(i), Some(w)) => flipcard_sim::scene::quantities::rigid(i, w),
-        _ => Vec::new(),
-    }
+    let names = flipcard_sim::scene::quantities::rigid(three(&s.inertia)?, three(&s.omega)?);
+    (names.len() == flipcard_sim::scene::quantities::RIGID.len()).then_some(names)
 }
 
 /// The anchors (`{#name}` lines) of each section in each content file that
