@@ -772,6 +772,76 @@ mod tests {
         Measure::Of(stat, Name::new(name).unwrap())
     }
 
+    /// One slip `value` (a TOML basic string) with a one-language `says`,
+    /// on a scene with k = 100 and `expected` 0.1 (rel 0.1): the slip, and
+    /// the diagnostics' messages.
+    fn slip_of(value: &str) -> (Option<Slip>, Vec<String>) {
+        let source = format!("\"{value}\" 'says'");
+        let mut rep = FileReport::new(std::path::Path::new("d.toml"), &source);
+        let raw = RawSlip {
+            span: 0..source.len(),
+            value: Some(Str {
+                value: value.to_string(),
+                span: 0..value.len() + 2,
+            }),
+            says: Some(crate::deck::raw::RawText::Plain(Str {
+                value: "says".to_string(),
+                span: value.len() + 3..source.len(),
+            })),
+        };
+        let langs = Langs {
+            list: vec!["en".to_string()],
+            known: true,
+        };
+        let scope = [("k".to_string(), 100.0)];
+        let s = slip(
+            &mut rep,
+            &raw,
+            &langs,
+            Some(&scope),
+            Some((0.1, Tolerance::Rel(0.1))),
+            Some("s"),
+        );
+        let msgs = rep.finish().into_iter().map(|d| d.message).collect();
+        (s, msgs)
+    }
+
+    #[test]
+    fn a_slip_reads_its_formula_and_refuses_what_is_no_slip() {
+        let (s, msgs) = slip_of("1/k");
+        assert!(msgs.is_empty(), "{msgs:?}");
+        let s = s.unwrap();
+        assert_eq!(s.value_for(0.1), Some(0.01));
+        // `measured` is the run's value, given at the verdict.
+        let (s, msgs) = slip_of("2*measured");
+        assert!(msgs.is_empty(), "{msgs:?}");
+        assert_eq!(s.unwrap().value_for(0.25), Some(0.5));
+        for (value, says) in [
+            ("1/sqrt(k)", "within the tolerance of `expected` 0.1 s"),
+            (
+                "1/(k-k)",
+                "has no value for this scene: the formula is infinite: division by zero",
+            ),
+            ("1/kk", "unknown name `kk`"),
+            ("t", "unknown name `t`"),
+            ("1 +", "slip `value`: expected"),
+            ("", "empty"),
+        ] {
+            let (s, msgs) = slip_of(value);
+            assert!(s.is_none(), "{value}");
+            assert_eq!(msgs.len(), 1, "{value}: {msgs:?}");
+            assert!(msgs[0].contains(says), "{value}: {msgs:?}");
+        }
+        // Hostile input: bounded before it is parsed.
+        let long = "k+".repeat(200) + "k";
+        let (s, msgs) = slip_of(&long);
+        assert!(s.is_none());
+        assert!(
+            msgs[0].contains("bytes long; a formula may be at most 256"),
+            "{msgs:?}"
+        );
+    }
+
     #[test]
     fn ranges_comparisons_and_or_abs() {
         let (max_x, min_y) = (of(Stat::Max, "x"), of(Stat::Min, "y"));
