@@ -135,7 +135,8 @@ fn every_card_opens_an_explanation() {
     for card in &deck.cards {
         let section = card
             .explain
-            .as_deref()
+            .as_ref()
+            .map(|e| e.section.as_str())
             .unwrap_or_else(|| panic!("card {} has no explanation", card.id));
         assert!(
             deck.section(section).is_some(),

@@ -757,3 +757,50 @@ fn cloze_items_numbers_and_retries_make_a_report_an_instructor_can_act_on() {
 fn card_back(deck: &flipcard::deck::Deck, lang: &str) -> String {
     flipcard::text::render(deck.card("spin-axis").unwrap().back.get(lang))
 }
+
+/// The class's wrong numbers that are known slips of the prompt are named
+/// by the slip (the bundled e-folding prompt: 0.03 s is 1/k, 5.77 s is
+/// √k), beside the range of the numbers typed; a wrong number that is no
+/// slip keeps its value alone.
+#[test]
+fn wrong_numbers_that_are_known_slips_are_named_by_them() {
+    use flipcard::interop::class::{AttemptRow, Export, aggregate};
+    let decks = flipcard::bundled::load().decks;
+    let t0 = chrono::DateTime::parse_from_rfc3339("2026-05-01T10:00:00Z")
+        .unwrap()
+        .with_timezone(&chrono::Utc);
+    let learners: Vec<Export> = ["0.03", "0.03", "0.031", "5.77", "0.35"]
+        .iter()
+        .map(|p| {
+            Export::Attempts(vec![AttemptRow {
+                deck: DECK.into(),
+                prompt: "efold-time".into(),
+                attempted_at: t0,
+                prediction: p.to_string(),
+                measured: Some(0.1732),
+                correct: Some(false),
+                attempt: Some(1),
+                retry: Some(false),
+            }])
+        })
+        .collect();
+    let report = aggregate(&learners, &decks, None, "en");
+    let row = report
+        .prompts
+        .iter()
+        .find(|p| p.prompt == "efold-time")
+        .unwrap();
+    let wrong: Vec<(&str, Option<&str>, usize)> = row
+        .wrong
+        .iter()
+        .map(|c| (c.prediction.as_str(), c.label.as_deref(), c.learners))
+        .collect();
+    assert_eq!(
+        wrong,
+        [
+            ("0.03", Some("1/k, 0.03–0.031"), 3),
+            ("0.35", None, 1),
+            ("5.77", Some("sqrt(k)"), 1),
+        ]
+    );
+}

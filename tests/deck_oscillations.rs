@@ -236,6 +236,8 @@ fn has_the_promised_amount_of_content_in_both_languages() {
     let linked: BTreeSet<&str> = array(&deck, "card")
         .iter()
         .filter_map(|c| c.get("explain").and_then(|v| v.as_str()))
+        // `section#anchor` links into its section (the loader checks the anchor).
+        .map(|e| e.split('#').next().unwrap_or(e))
         .collect();
     for id in &linked {
         assert!(ids[0].iter().any(|s| s == id), "cards link {id}");

@@ -99,6 +99,7 @@ fn schemas_name_the_fields_the_reader_knows() {
         .flat_map(keys)
         .collect();
     assert_eq!(tolerance, set(raw::TOLERANCE_FIELDS));
+    assert_eq!(keys(&defs["Slip"]), set(raw::SLIP_FIELDS));
 
     let content = schema::content_schema();
     assert_eq!(keys(&content), set(raw::CONTENT_FILE_FIELDS));

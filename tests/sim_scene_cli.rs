@@ -137,3 +137,46 @@ fn a_wrong_expected_answer_fails_the_scene() {
     assert!(ok, "{out}{err}");
     assert!(out.contains("middle-axis: expected flips: ok"), "{out}");
 }
+
+/// Each known slip is worked out on the run and printed beside the
+/// measurement (1/k and √k from the e-folding time the run measures: τ² and
+/// 1/τ, since τ = 1/√k); a slip the run makes a right answer fails the scene
+/// as `check` fails the deck.
+#[test]
+fn scene_prints_each_slip_and_refuses_one_the_run_makes_right() {
+    let (ok, out, err) = sim(&["--scene", "efold"]);
+    assert!(ok, "{err}");
+    let line = out
+        .lines()
+        .find(|l| l.contains("efold-time: expected"))
+        .unwrap_or_else(|| panic!("{out}"));
+    let after = |key: &str| -> f64 {
+        let rest = line
+            .split(key)
+            .nth(1)
+            .unwrap_or_else(|| panic!("{key}: {line}"));
+        rest.split_whitespace().next().unwrap().parse().unwrap()
+    };
+    let tau = after("measured ");
+    let inverse_k = after("1/k = ");
+    let root_k = after("sqrt(k) = ");
+    assert!((inverse_k - tau * tau).abs() < 2e-3 * inverse_k, "{line}");
+    assert!((root_k - 1.0 / tau).abs() < 2e-3 * root_k, "{line}");
+
+    let deck = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/decks/invalid/slip-right-in-the-run/decks/slip-run.toml"
+    );
+    let (ok, out, _) = sim(&["--scene", "sc1", "--deck", deck]);
+    assert!(!ok, "{out}");
+    assert!(
+        out.contains("p1: expected efold_time = 0.165 s: WRONG"),
+        "{out}"
+    );
+    assert!(
+        out.contains(
+            "slip `0.19` gives 0.1900 s, within the tolerance of what this 2 s run measures"
+        ),
+        "{out}"
+    );
+}

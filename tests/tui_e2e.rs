@@ -733,3 +733,77 @@ fn a_prediction_committed_survives_the_app_killed_mid_run() {
     assert_eq!(rows[0]["attempt"], 1);
     assert_eq!(rows[0]["retry"], false);
 }
+
+/// Opens prompt `id` of DECK from the home screen (the prompt list, down
+/// to it, Enter), in English.
+fn open_prompt(t: &Tmux, deck: &Deck, id: &str) {
+    let index = deck
+        .prompts
+        .iter()
+        .position(|p| p.id == id)
+        .unwrap_or_else(|| panic!("no prompt {id}"));
+    t.keys(&["p"]);
+    t.wait_for(&opening(deck.prompts[0].question.get("en"), 3));
+    for _ in 0..index {
+        t.keys(&["j"]);
+    }
+    t.keys(&["Enter"]);
+    t.wait_for(&opening(deck.prompts[index].question.get("en"), 4));
+}
+
+/// Issue 27 §2 in the real terminal: a wrong number that is a known slip
+/// is told which formula it is and what that means; after a verdict, `e`
+/// opens the explanation at the paragraph the prompt's anchor names, not
+/// at the top of the section.
+#[test]
+fn a_known_slip_is_named_and_e_opens_the_anchored_paragraph() {
+    if !tmux_available() {
+        return;
+    }
+    let deck = bundled_deck();
+    let env = Env::new();
+    let t = Tmux::start("slip", env.flipcard(), 100, 32);
+    t.wait_for("last studied");
+    select_deck(&t);
+    open_prompt(&t, &deck, "efold-time");
+    t.keys(&["0", ".", "0", "3", "Enter", "+", "+", "+"]);
+    let s = t.wait_for("✗ Wrong ✗");
+    let prompt = deck.prompt("efold-time").unwrap();
+    let Answer::Number { slips, .. } = &prompt.answer else {
+        panic!("efold-time is a number prompt");
+    };
+    let slip = slips
+        .iter()
+        .find(|s| s.value == "1/k")
+        .expect("the 1/k slip");
+    assert!(s.contains("your number is 1/k = 0.0300 s:"), "{s}");
+    assert!(s.contains(&opening(slip.says.get("en"), 5)), "{s}");
+
+    // Back to the list and home, then a prompt whose explanation has an
+    // anchor.
+    t.keys(&["Escape", "Escape"]);
+    t.wait_for("last studied");
+    let id = "wobble-frequency";
+    let explain = deck.prompt(id).unwrap().explain.clone().unwrap();
+    let anchor = explain.anchor.clone().expect("an anchored explanation");
+    open_prompt(&t, &deck, id);
+    t.keys(&["1", "0", "Enter", "+", "+", "+"]);
+    t.wait_for("✓ Right ✓");
+    t.keys(&["e"]);
+    let section = deck.section(&explain.section).unwrap();
+    let body = section.body.get("en");
+    let marker = format!("{{#{anchor}}}");
+    let after = body
+        .lines()
+        .skip_while(|l| l.trim() != marker)
+        .nth(1)
+        .unwrap_or_else(|| panic!("no {marker} in {}", explain.section));
+    let anchored = opening(after, 3).replace('*', "");
+    let s = t.wait_for(&anchored);
+    // The section's opening paragraph is scrolled away above it.
+    let top = opening(body.lines().next().unwrap_or(""), 4);
+    assert!(!s.contains(&top), "{top:?} still shown:\n{s}");
+    t.keys(&["Escape"]);
+    t.wait_for("✓ Right ✓");
+    t.keys(&["q"]);
+}

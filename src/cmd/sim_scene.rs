@@ -10,7 +10,7 @@ use anyhow::{Context, bail};
 use crate::cmd::args::{Cli, SimArgs};
 use crate::cmd::sim_samples::{Request, write_samples};
 use crate::deck::{Answer, Deck, Loaded, Measure, Prompt, Scene, load_paths};
-use crate::predict::audit::audit;
+use crate::predict::audit::{Run, audit, audit_slips};
 use crate::predict::{Prediction, verdict};
 use crate::sim::scene::measure::{Measurements, formula_name};
 use crate::sim::scene::measure_scene;
@@ -124,7 +124,10 @@ pub fn scene(args: &SimArgs, decks: &[Deck], id: &str) -> anyhow::Result<ExitCod
         .prompts
         .iter()
         .filter(|p| p.scene == scene.id)
-        .any(|p| audit(p, scene, &measured).is_some());
+        .any(|p| {
+            audit(p, scene, &measured).is_some()
+                || !audit_slips(p, &Run::rigid(scene, measured.clone())).is_empty()
+        });
     Ok(if wrong {
         ExitCode::from(1)
     } else {
@@ -172,9 +175,14 @@ fn report(deck: &Deck, scene: &Scene, m: &Measurements, method: &str) -> String 
     }
     for p in prompts {
         let problem = audit(p, scene, m);
-        let _ = writeln!(out, "  {}", prompt_line(p, m, problem.is_none()));
+        let slips = audit_slips(p, &Run::rigid(scene, m.clone()));
+        let ok = problem.is_none() && slips.is_empty();
+        let _ = writeln!(out, "  {}", prompt_line(p, m, ok));
         if let Some(problem) = problem {
             let _ = writeln!(out, "    {}", problem.message);
+        }
+        for (_, message) in slips {
+            let _ = writeln!(out, "    {message}");
         }
     }
     out
@@ -215,11 +223,28 @@ pub(super) fn prompt_line(p: &Prompt, m: &Measurements, ok: bool) -> String {
             measure,
             expected,
             unit,
+            slips,
             ..
         } => {
             let measured = m.get(*measure).map_or("-".into(), number);
+            // Each known slip's value on this run, as the verdict takes it.
+            let slips: Vec<String> = slips
+                .iter()
+                .map(|s| {
+                    let value = m
+                        .get(*measure)
+                        .and_then(|r| s.value_for(r))
+                        .map_or("-".into(), number);
+                    format!("{} = {value} {unit}", s.value)
+                })
+                .collect();
+            let slips = if slips.is_empty() {
+                String::new()
+            } else {
+                format!("; slips: {}", slips.join(", "))
+            };
             format!(
-                "{}: expected {} = {} {unit}: {status}; measured {measured} {unit}",
+                "{}: expected {} = {} {unit}: {status}; measured {measured} {unit}{slips}",
                 p.id,
                 measure,
                 number(*expected)

@@ -13,7 +13,7 @@ use anyhow::{anyhow, bail};
 use crate::cmd::args::{MethodArg, SimArgs, SimFormat};
 use crate::cmd::sim_samples::Stats;
 use crate::deck::{Deck, Measure, Prompt, SystemScene};
-use crate::predict::audit::{Run, audit_run};
+use crate::predict::audit::{Run, audit_run, audit_slips};
 use crate::sim::scene::spec::SceneAtol;
 use crate::sim::scene::system::{SystemPlan, SystemRun, describe, measure_system_noting};
 use crate::sim::solvers::ode::{OdeKind, OdeMethod};
@@ -334,14 +334,19 @@ fn report(deck: &Deck, scene: &SystemScene, method: OdeMethod) -> anyhow::Result
     let mut wrong = false;
     for p in prompts {
         let problem = audit_run(p, &run);
-        wrong |= problem.is_some();
+        let slips = audit_slips(p, &run);
+        wrong |= problem.is_some() || !slips.is_empty();
+        let ok = problem.is_none() && slips.is_empty();
         let _ = writeln!(
             out,
             "  {}",
-            crate::cmd::sim_scene::prompt_line(p, &run.measured, problem.is_none())
+            crate::cmd::sim_scene::prompt_line(p, &run.measured, ok)
         );
         if let Some(problem) = problem {
             let _ = writeln!(out, "    {}", problem.message);
+        }
+        for (_, message) in slips {
+            let _ = writeln!(out, "    {message}");
         }
     }
     Ok((out, wrong))

@@ -742,6 +742,9 @@ pub mod sim_words {
     pub const FORMULA: Words = Words("formula", "formula");
     pub const DECK_ANSWER: Words = Words("the deck's answer", "deck ka jawaab");
     pub const WORKED: Words = Words("worked out", "hisaab");
+    /// Before a known slip the learner's number matches: "your number is
+    /// 1/k = 0.03 s: …".
+    pub const YOUR_NUMBER_IS: Words = Words("your number is", "tumhara number hai");
     pub const RIGHT_IN_RUN: Words = Words("right in this run", "is run mein sahi");
     pub const NEXT: Words = Words("next prompt", "agla prompt");
     pub const FLIPS: Words = Words("flips", "flips");

@@ -150,6 +150,7 @@ pub fn deck() -> Deck {
                         "$\\sqrt{k} = \\Omega\\sqrt{(I_2-I_1)(I_3-I_2)/(I_1 I_3)}$",
                         "$\\sqrt{k} = \\Omega\\sqrt{(I_2-I_1)(I_3-I_2)/(I_1 I_3)}$",
                     )),
+                    slips: Vec::new(),
                 },
                 tags: vec![],
             },

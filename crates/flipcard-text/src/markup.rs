@@ -14,7 +14,11 @@
 //!   do not form a link stay as written;
 //! - `` `code` `` (a command, a file name) is shown as written, without its
 //!   backticks and without markup inside; a backtick that closes nothing
-//!   stays a backtick.
+//!   stays a backtick;
+//! - a line that is only `{#name}` is an anchor: it is not shown, and it
+//!   names the block that follows it, so that a prompt or card can open the
+//!   section there (`explain = "section-id#name"`). It ends the paragraph
+//!   or item before it.
 
 use super::dollar::{self, Piece};
 use super::write_math;
@@ -101,11 +105,45 @@ impl Block {
 
 /// The blocks of `body`, in order.
 pub fn parse(body: &str) -> Vec<Block> {
+    parse_anchored(body).0
+}
+
+/// The blocks of `body`, and each anchor (`{#name}` on a line of its own)
+/// with the index of the block it names: the first block after it
+/// (`blocks.len()` for an anchor after the last block).
+pub fn parse_anchored(body: &str) -> (Vec<Block>, Vec<(String, usize)>) {
     let mut blocks = Vec::new();
-    for (kind, text) in raw_blocks(body) {
-        inline(&text, kind, &mut blocks);
+    let mut anchors = Vec::new();
+    for raw in raw_blocks(body) {
+        match raw {
+            Raw::Anchor(name) => anchors.push((name, blocks.len())),
+            Raw::Block(kind, text) => inline(&text, kind, &mut blocks),
+        }
     }
-    blocks
+    (blocks, anchors)
+}
+
+/// The anchor a line declares: the line, trimmed, is `{#name}` with a name
+/// of no spaces or braces.
+pub fn anchor_of(line: &str) -> Option<&str> {
+    let name = line.trim().strip_prefix("{#")?.strip_suffix('}')?;
+    let fits = !name.is_empty() && !name.contains(|c: char| c.is_whitespace() || "{}#".contains(c));
+    fits.then_some(name)
+}
+
+/// The anchors `body` declares, in order (repeats kept), each with the
+/// byte offset of its name in `body`.
+pub fn anchors(body: &str) -> Vec<(String, usize)> {
+    let mut out = Vec::new();
+    let mut at = 0;
+    for line in body.split_inclusive('\n') {
+        if let Some(name) = anchor_of(line) {
+            let offset = line.find("{#").map_or(0, |i| i + 2);
+            out.push((name.to_string(), at + offset));
+        }
+        at += line.len();
+    }
+    out
 }
 
 /// `body` rendered without markup: one line per block, items as `• `.
@@ -135,9 +173,16 @@ enum Kind {
     Item,
 }
 
-/// Blocks as trimmed lines joined with `\n` (math may span lines).
-fn raw_blocks(body: &str) -> Vec<(Kind, String)> {
-    let mut blocks: Vec<(Kind, String)> = Vec::new();
+/// A block as written, or an anchor between blocks.
+enum Raw {
+    Block(Kind, String),
+    Anchor(String),
+}
+
+/// Blocks as trimmed lines joined with `\n` (math may span lines), and
+/// the anchors between them.
+fn raw_blocks(body: &str) -> Vec<Raw> {
+    let mut blocks: Vec<Raw> = Vec::new();
     let mut open = false;
     for line in body.lines() {
         let line = line.trim();
@@ -145,14 +190,19 @@ fn raw_blocks(body: &str) -> Vec<(Kind, String)> {
             open = false;
             continue;
         }
+        if let Some(name) = anchor_of(line) {
+            blocks.push(Raw::Anchor(name.to_string()));
+            open = false;
+            continue;
+        }
         let item = line.strip_prefix("- ").or((line == "-").then_some(""));
         match (item, blocks.last_mut()) {
-            (Some(rest), _) => blocks.push((Kind::Item, rest.trim_start().to_string())),
-            (None, Some((_, text))) if open => {
+            (Some(rest), _) => blocks.push(Raw::Block(Kind::Item, rest.trim_start().to_string())),
+            (None, Some(Raw::Block(_, text))) if open => {
                 text.push('\n');
                 text.push_str(line);
             }
-            (None, _) => blocks.push((Kind::Paragraph, line.to_string())),
+            (None, _) => blocks.push(Raw::Block(Kind::Paragraph, line.to_string())),
         }
         open = true;
     }
@@ -710,5 +760,71 @@ mod tests {
         assert!(parse("").is_empty());
         assert!(parse("\n  \n\n").is_empty());
         assert_eq!(plain(""), "");
+    }
+
+    #[test]
+    fn an_anchor_line_names_the_block_after_it_and_is_not_shown() {
+        let body = "First paragraph\nstill first.\n{#second}\nSecond paragraph.\n\n- an item\n  {#after-item}\n\n$$x^2$$\n{#end}\n";
+        let (blocks, anchors) = parse_anchored(body);
+        assert_eq!(blocks.len(), 4, "{blocks:?}");
+        assert_eq!(blocks[0].text(), "First paragraph still first.");
+        assert_eq!(blocks[1].text(), "Second paragraph.");
+        assert_eq!(
+            anchors,
+            vec![
+                ("second".to_string(), 1),
+                ("after-item".to_string(), 3),
+                ("end".to_string(), 4)
+            ]
+        );
+        assert!(!plain(body).contains("{#"), "{}", plain(body));
+        let found = super::anchors(body);
+        let names: Vec<&str> = found.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["second", "after-item", "end"]);
+        for (name, at) in &found {
+            assert_eq!(&body[*at..*at + name.len()], name.as_str());
+        }
+        // Not an anchor: braces inside text, a space, an empty name.
+        for line in ["see {#a} here", "{# a}", "{#}", "{#a b}", "{#a}}"] {
+            assert_eq!(anchor_of(line), None, "{line}");
+        }
+    }
+
+    proptest::proptest! {
+        /// Any body: the anchors the reader places are the ones `check`
+        /// finds, in order, each naming a block that exists (or the end),
+        /// and every other line's text is still shown.
+        #[test]
+        fn anchors_are_found_alike_and_name_blocks_in_order(
+            lines in proptest::collection::vec(
+                proptest::prop_oneof![
+                    "[a-z]{1,6}( [a-z]{1,6}){0,3}",
+                    "- [a-z]{1,6}",
+                    "\\{#[a-z0-9-]{1,8}\\}",
+                    " *",
+                    "[{}#a ]{0,6}",
+                ],
+                0..24,
+            )
+        ) {
+            let body = lines.join("\n");
+            let (blocks, anchors) = parse_anchored(&body);
+            let found = super::anchors(&body);
+            let names: Vec<&String> = anchors.iter().map(|(n, _)| n).collect();
+            let found_names: Vec<&String> = found.iter().map(|(n, _)| n).collect();
+            proptest::prop_assert_eq!(names, found_names);
+            let mut last = 0;
+            for (_, i) in &anchors {
+                proptest::prop_assert!(*i >= last && *i <= blocks.len());
+                last = *i;
+            }
+            let shown: String = blocks.iter().map(Block::text).collect::<Vec<_>>().join(" ");
+            for line in &lines {
+                let word = line.trim().trim_start_matches("- ");
+                if anchor_of(line).is_none() && !word.is_empty() && !word.contains(['{', '}', '#', '*', '-']) {
+                    proptest::prop_assert!(shown.contains(word), "{word:?} not in {shown:?}");
+                }
+            }
+        }
     }
 }

@@ -8,7 +8,7 @@ use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, List, ListItem, ListState, Paragraph};
 
-use crate::deck::Deck;
+use crate::deck::{Deck, Explain};
 use crate::text::markup::{self, Block as MBlock, Style as MStyle};
 use crate::tui::action::Action;
 use crate::tui::app::App;
@@ -127,6 +127,11 @@ pub struct ReaderState {
     pub hit: Option<(usize, usize, usize)>,
     /// Where following links came from, so Esc walks back.
     pub history: Vec<(usize, usize)>,
+    /// Opened at an anchor: the section and the anchor. That section
+    /// scrolls at least as far as the anchor's paragraph (in the language
+    /// and width on screen), so the paragraph is the first line shown even
+    /// near the section's end.
+    pub anchored: Option<(usize, String)>,
 }
 
 impl ReaderState {
@@ -138,19 +143,29 @@ impl ReaderState {
     }
 }
 
-/// Opens the reader at a section (from a card or a verdict).
-pub fn open_at(app: &App, deck: usize, section: &str) -> Nav {
-    let index = app
-        .decks
-        .get(deck)
-        .and_then(|d| d.sections.iter().position(|s| s.id == section));
-    match index {
-        Some(i) => Nav::Push(super::Screen::Reader(ReaderState {
-            section: i,
-            ..ReaderState::new(deck)
-        })),
-        None => Nav::Stay,
+/// Opens the reader at a section (from a card or a verdict), scrolled so
+/// that the paragraph its anchor names (`section#anchor`) is the first
+/// line shown (below the section's end, the page is blank).
+pub fn open_at(app: &App, deck: usize, explain: &Explain) -> Nav {
+    let Some(d) = app.decks.get(deck) else {
+        return Nav::Stay;
+    };
+    let Some(i) = d.sections.iter().position(|s| s.id == explain.section) else {
+        return Nav::Stay;
+    };
+    let mut state = ReaderState {
+        section: i,
+        ..ReaderState::new(deck)
+    };
+    if let Some(anchor) = &explain.anchor {
+        let width = text_area(app).width as usize;
+        let page = page(app, d, i, width, None);
+        if let Some(&(_, line)) = page.anchors.iter().find(|(a, _)| a == anchor) {
+            state.scroll = line;
+            state.anchored = Some((i, anchor.clone()));
+        }
     }
+    Nav::Push(super::Screen::Reader(state))
 }
 
 /// The widest the text runs, in columns: longer lines are hard to follow
@@ -195,6 +210,9 @@ pub struct Page {
     /// Lines of the section's own text, before "see also" (which search
     /// leaves out: it names other sections).
     pub text_lines: usize,
+    /// Each anchor of the section's body (`{#name}`) with the line its
+    /// block starts on.
+    pub anchors: Vec<(String, usize)>,
 }
 
 fn style_of(s: &markup::Span, theme: &Theme) -> Style {
@@ -278,6 +296,7 @@ pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option
             lines: Vec::new(),
             links: Vec::new(),
             text_lines: 0,
+            anchors: Vec::new(),
         };
     };
     let none = || Run::new("", Style::new());
@@ -292,7 +311,13 @@ pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option
     );
     lines.push(Line::default());
     let mut links: Vec<LinkAt> = Vec::new();
-    for block in markup::parse(sec.body.get(&app.lang)) {
+    let (blocks, anchored) = markup::parse_anchored(sec.body.get(&app.lang));
+    // The line each block starts on.
+    let mut starts: Vec<usize> = Vec::with_capacity(blocks.len());
+    for block in blocks {
+        let opens_apart =
+            !matches!(block, MBlock::Item(_)) && lines.last().is_some_and(|l| !l.spans.is_empty());
+        starts.push(lines.len() + usize::from(opens_apart));
         match block {
             MBlock::Paragraph(spans) => {
                 // A list ends with a blank line before the next paragraph.
@@ -334,6 +359,13 @@ pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option
     while lines.last().is_some_and(|l| l.spans.is_empty()) && lines.len() > 1 {
         lines.pop();
     }
+    let anchors = anchored
+        .into_iter()
+        .map(|(name, block)| {
+            let line = starts.get(block).copied().unwrap_or(lines.len());
+            (name, line.min(lines.len().saturating_sub(1)))
+        })
+        .collect();
     // "See also": the linked sections the text does not link to already,
     // one per line so that every one is seen.
     let text_lines = lines.len();
@@ -369,6 +401,7 @@ pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option
         lines,
         links,
         text_lines,
+        anchors,
     }
 }
 
@@ -385,8 +418,24 @@ fn text_area(app: &App) -> Rect {
 
 fn max_scroll(app: &App, deck: &Deck, state: &ReaderState) -> usize {
     let area = text_area(app);
-    let n = section_lines(app, deck, state.section, area.width as usize).len();
-    n.saturating_sub(area.height as usize)
+    let page = page(app, deck, state.section, area.width as usize, None);
+    page.lines
+        .len()
+        .saturating_sub(area.height as usize)
+        .max(anchored_line(state, &page.anchors))
+}
+
+/// How far the section on screen scrolls to keep the paragraph it was
+/// opened at on the first line: the line of its anchor among `anchors`
+/// (the page's), 0 when not opened at an anchor of this section.
+fn anchored_line(state: &ReaderState, anchors: &[(String, usize)]) -> usize {
+    match &state.anchored {
+        Some((section, name)) if *section == state.section => anchors
+            .iter()
+            .find(|(a, _)| a == name)
+            .map_or(0, |&(_, line)| line),
+        _ => 0,
+    }
 }
 
 /// `s` as search compares it: lower case, compatibility characters folded
@@ -717,6 +766,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
         lines,
         links,
         text_lines,
+        anchors,
     } = page(
         app,
         deck,
@@ -726,7 +776,9 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
     );
     let total = lines.len();
     let height = text_area.height as usize;
-    let max = total.saturating_sub(height);
+    let max = total
+        .saturating_sub(height)
+        .max(anchored_line(state, &anchors));
     let scroll = state.scroll.min(max);
     let query = state.query.as_deref().map(lowercase_chars);
     let current = state

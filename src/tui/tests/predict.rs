@@ -439,13 +439,14 @@ fn every_bundled_prompt_plays_to_a_verdict_at_any_size() {
 /// The bundled deck's prompt `id` on the predict screen, at `size`, with
 /// the answer `choice` committed.
 fn bundled_prompt(lang: &str, id: &str, size: (u16, u16)) -> TestApp {
+    bundled_prompt_in("torque-free-rotation", lang, id, size)
+}
+
+/// Prompt `id` of the bundled deck `deck`, open at `size`.
+fn bundled_prompt_in(deck: &str, lang: &str, id: &str, size: (u16, u16)) -> TestApp {
     let loaded = crate::bundled::load();
     let mut app = testkit::app(lang);
-    app.decks = loaded
-        .decks
-        .into_iter()
-        .filter(|d| d.id == "torque-free-rotation")
-        .collect();
+    app.decks = loaded.decks.into_iter().filter(|d| d.id == deck).collect();
     app.size = size;
     let i = app.decks[0]
         .prompts
@@ -750,4 +751,159 @@ fn diagnostics_wait_behind_d_and_come_by_themselves_for_another_method() {
         assert!(!line.trim_end().ends_with('·'), "{line}");
     }
     assert!(screen.contains("µs draw"), "{screen}");
+}
+
+/// The line of the reader's page for `section` of deck 0 that starts the
+/// block whose text begins with `words` (found in the laid-out lines, not
+/// from the anchors).
+fn line_starting(app: &TestApp, section: usize, words: &str) -> usize {
+    let body = crate::tui::layout::body_rect(app.size);
+    let (_, text, _) = crate::tui::screens::reader::areas(body);
+    let page =
+        crate::tui::screens::reader::page(app, &app.decks[0], section, text.width as usize, None);
+    page.lines
+        .iter()
+        .position(|l| {
+            crate::tui::wrap::line_text(l)
+                .trim_start()
+                .starts_with(words)
+        })
+        .unwrap_or_else(|| panic!("no line starts with {words:?}"))
+}
+
+/// The first words of the block an anchor of `section` names, in `lang`,
+/// read from the deck's own body (the line after `{#anchor}`).
+fn anchored_words(app: &TestApp, section: &str, anchor: &str, lang: &str) -> String {
+    let sec = app.decks[0].section(section).unwrap();
+    let body = sec.body.get(lang);
+    let marker = format!("{{#{anchor}}}");
+    let after = body
+        .lines()
+        .skip_while(|l| l.trim() != marker)
+        .nth(1)
+        .unwrap_or_else(|| panic!("no {marker} in {section}"));
+    // The first three words, as the reader shows them (markup and math
+    // rendered): the block's own text.
+    let block = crate::text::markup::parse(after);
+    block[0]
+        .text()
+        .split_whitespace()
+        .take(3)
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A wrong number that is a known slip: the verdict says which formula it
+/// is and what it means, in each language, beside what the run measured;
+/// a wrong number that is no slip gets no such line.
+#[test]
+fn a_wrong_number_that_is_a_known_slip_is_told_what_it_is() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = bundled_prompt(lang, "efold-time", (100, 30));
+        type_text(&mut app, "0.03");
+        press(&mut app, KeyCode::Enter);
+        play_to_the_end(&mut app);
+        let Phase::Play {
+            verdict: Some(v), ..
+        } = &predict(&app).phase
+        else {
+            panic!("no verdict");
+        };
+        assert!(!v.correct, "{v:?}");
+        let (i, value) = v.slip.expect("0.03 s is the slip 1/k");
+        let prompt = app.decks[0].prompt("efold-time").unwrap();
+        let crate::deck::Answer::Number { slips, .. } = &prompt.answer else {
+            panic!("a number prompt");
+        };
+        assert_eq!(slips[i].value, "1/k");
+        let screen = flat(&render(&app));
+        let said = match lang {
+            ENGLISH => "your number is",
+            _ => "tumhara number hai",
+        };
+        let head = format!("{said} 1/k = {} s:", crate::text::num::sig(value, 3));
+        assert!(screen.contains(&head), "{head}\n{screen}");
+        // What the slip says, rendered, follows in the learner's language.
+        let says = crate::text::render(slips[i].says.get(lang));
+        let start: String = says
+            .split_whitespace()
+            .take(6)
+            .collect::<Vec<_>>()
+            .join(" ");
+        assert!(screen.contains(&start), "{start}\n{screen}");
+        // Beside the measured fact.
+        assert!(screen.contains("0.173"), "{screen}");
+        insta::assert_snapshot!(
+            format!("predict_verdict_slip_{lang}"),
+            redact_drifts(&render(&app))
+        );
+    }
+    let mut app = bundled_prompt(ENGLISH, "efold-time", (100, 30));
+    type_text(&mut app, "0.5");
+    press(&mut app, KeyCode::Enter);
+    play_to_the_end(&mut app);
+    let Phase::Play {
+        verdict: Some(v), ..
+    } = &predict(&app).phase
+    else {
+        panic!("no verdict");
+    };
+    assert!(!v.correct && v.slip.is_none(), "{v:?}");
+    assert!(!flat(&render(&app)).contains("your number is"));
+}
+
+/// `e` after a verdict opens the reader with the paragraph the prompt's
+/// anchor names on the first line: a rigid body's choice prompt, and a
+/// system scene's number prompt whose wrong number is a slip too.
+#[test]
+fn e_after_a_verdict_opens_the_anchored_paragraph() {
+    for (deck, id, key, size) in [
+        ("torque-free-rotation", "largest-axis", "1", (80, 24)),
+        ("oscillations", "damping-efold", "1.6", (100, 30)),
+    ] {
+        for lang in [ENGLISH, HINGLISH] {
+            let mut app = bundled_prompt_in(deck, lang, id, size);
+            let explain = app.decks[0].prompt(id).unwrap().explain.clone().unwrap();
+            let anchor = explain
+                .anchor
+                .clone()
+                .expect("the bundled prompt names an anchor");
+            if key.contains('.') {
+                type_text(&mut app, key);
+                press(&mut app, KeyCode::Enter);
+            } else {
+                press_all(
+                    &mut app,
+                    &[KeyCode::Char(key.chars().next().unwrap()), KeyCode::Enter],
+                );
+            }
+            play_to_the_end(&mut app);
+            if key.contains('.') {
+                // 1.6 s is the energy's e-folding time, a known slip.
+                let screen = flat(&render(&app));
+                assert!(screen.contains("1/(2*zeta*w0) = 1.59 s"), "{screen}");
+            }
+            press(&mut app, KeyCode::Char('e'));
+            let Screen::Reader(r) = app.screen() else {
+                panic!("explanation not open");
+            };
+            let section = app.decks[0]
+                .sections
+                .iter()
+                .position(|s| s.id == explain.section)
+                .unwrap();
+            assert_eq!(r.section, section);
+            let words = anchored_words(&app, &explain.section, &anchor, lang);
+            let line = line_starting(&app, section, &words);
+            assert!(line > 0, "{id}: the anchor is not the top of the section");
+            assert_eq!(
+                r.scroll, line,
+                "{id} in {lang}: {words:?} on the first line"
+            );
+            let screen = render(&app);
+            assert!(flat(&screen).contains(&words), "{words}\n{screen}");
+            press(&mut app, KeyCode::Esc);
+            assert_eq!(app.context(), Context::PredictVerdict);
+        }
+    }
 }

@@ -204,6 +204,53 @@ fn explanation_opens_and_returns_to_the_same_card() {
     );
 }
 
+/// A card whose `explain` names an anchor deep in a long section opens the
+/// reader with that paragraph on the first line, in either language.
+#[test]
+fn explanation_opens_at_the_anchored_paragraph() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = open(lang);
+        let filler: String = (1..=30)
+            .map(|i| format!("Filler paragraph {i}.\n\n"))
+            .collect();
+        let deck = &mut app.decks[0];
+        for (_, body) in deck.sections[0].body.0.iter_mut() {
+            *body = format!("{filler}{{#deep}}\nThe anchored paragraph.\n\nAfter it.");
+        }
+        let card = deck
+            .cards
+            .iter_mut()
+            .find(|c| c.id == "body-frame-why")
+            .unwrap();
+        card.explain = Some("setup#deep".into());
+        press(&mut app, KeyCode::Char(' '));
+        press(&mut app, KeyCode::Char('e'));
+        let Screen::Reader(r) = app.screen() else {
+            panic!("reader not open");
+        };
+        let (section, scroll) = (r.section, r.scroll);
+        assert_eq!(section, 0);
+        let body = crate::tui::layout::body_rect(app.size);
+        let (_, text, _) = crate::tui::screens::reader::areas(body);
+        let page =
+            crate::tui::screens::reader::page(&app, &app.decks[0], 0, text.width as usize, None);
+        let line = page
+            .lines
+            .iter()
+            .position(|l| crate::tui::wrap::line_text(l).contains("The anchored paragraph."))
+            .unwrap();
+        assert_eq!(
+            scroll, line,
+            "the anchored paragraph is the first line shown"
+        );
+        let screen = render(&app);
+        assert!(screen.contains("The anchored paragraph."), "{screen}");
+        assert!(!screen.contains("Filler paragraph 1."), "{screen}");
+        press(&mut app, KeyCode::Esc);
+        assert_eq!(current_card(&app), "body-frame-why:forward");
+    }
+}
+
 #[test]
 fn linked_prompt_is_offered_after_the_answer() {
     let mut app = open(ENGLISH);

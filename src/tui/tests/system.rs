@@ -594,6 +594,7 @@ fn a_number_verdict_names_its_measurement_with_its_unit_and_no_empty_formula() {
             expected: 4.89,
             tolerance: crate::deck::Tolerance::Rel(0.01),
             formula: None,
+            slips: Vec::new(),
         },
         tags: vec![],
     });

@@ -312,11 +312,18 @@ fn load_deck(
         validate::content::Sections {
             sections: None,
             ids: None,
+            anchors: validate::Anchors::default(),
         }
     } else {
         validate::content::sections(&mut files)
     };
-    let body = validate::body(&mut rep, &raw, &header.langs, sections.ids.as_ref());
+    let body = validate::body(
+        &mut rep,
+        &raw,
+        &header.langs,
+        sections.ids.as_ref(),
+        &sections.anchors,
+    );
 
     let clean = !rep.has_errors() && files.iter().all(|f| !f.rep.has_errors());
     let deck = match (clean, header, body, sections.sections) {

@@ -126,7 +126,7 @@ pub struct Card {
     /// empty when one list serves every language.
     pub accept_by_lang: BTreeMap<String, Vec<String>>,
     /// Section id of the linked explanation.
-    pub explain: Option<String>,
+    pub explain: Option<Explain>,
     /// Prompt id offered after the answer is shown.
     pub prompt: Option<String>,
     pub tags: Vec<String>,
@@ -140,7 +140,7 @@ pub struct Prompt {
     pub question: Text,
     /// Scene id that is run to check the prediction.
     pub scene: String,
-    pub explain: Option<String>,
+    pub explain: Option<Explain>,
     pub answer: Answer,
     pub tags: Vec<String>,
 }
@@ -165,7 +165,73 @@ pub enum Answer {
         tolerance: Tolerance,
         /// The formula behind `expected`, shown in the verdict (may hold math).
         formula: Option<Text>,
+        /// Known wrong numbers (`slips`): what a learner gets by a known
+        /// mistake, and what it means, in the author's order.
+        slips: Vec<Slip>,
     },
+}
+
+/// Where `e` opens the reader: a section, and a place inside it
+/// (`explain = "section-id#anchor"`, the anchor a `{#anchor}` line of the
+/// section's body in every language).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Explain {
+    pub section: String,
+    pub anchor: Option<String>,
+}
+
+impl From<&str> for Explain {
+    /// `"section"` or `"section#anchor"`, as a deck writes it.
+    fn from(s: &str) -> Explain {
+        match s.split_once('#') {
+            Some((section, anchor)) => Explain {
+                section: section.to_string(),
+                anchor: Some(anchor.to_string()),
+            },
+            None => Explain {
+                section: s.to_string(),
+                anchor: None,
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for Explain {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.section)?;
+        match &self.anchor {
+            Some(a) => write!(f, "#{a}"),
+            None => Ok(()),
+        }
+    }
+}
+
+/// A known wrong number of a number answer: `value` is a formula over the
+/// scene's numbers (see `flipcard_sim::scene::quantities`) and `measured`,
+/// the run's value of the prompt's measure; a learner's number within the
+/// prompt's tolerance of it gets `says` in the verdict.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Slip {
+    /// The formula as written (`1/k`), shown in the verdict.
+    pub value: String,
+    /// What that number means, in every language.
+    pub says: Text,
+    /// The scene's numbers the formula may read, with their values.
+    pub scope: Vec<(String, f64)>,
+}
+
+impl Slip {
+    /// The slip's number when the run measured `measured`; `None` when it
+    /// is not finite there (or the formula does not read, which a loaded
+    /// deck's never does).
+    pub fn value_for(&self, measured: f64) -> Option<f64> {
+        let mut names = self.scope.clone();
+        names.push((
+            flipcard_sim::scene::quantities::MEASURED.to_string(),
+            measured,
+        ));
+        flipcard_sim::system::formula::evaluate(&self.value, &names).ok()
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]

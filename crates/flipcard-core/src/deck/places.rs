@@ -27,6 +27,8 @@ pub(crate) struct AnswerPlaces {
     pub expected: Option<Place>,
     /// Each choice's `when`, in the prompt's order.
     pub when: Vec<Option<Place>>,
+    /// Each slip's `value` (a number answer), in the prompt's order.
+    pub slips: Vec<Option<Place>>,
 }
 
 /// The deck file `source` read raw; `None` when it does not parse (the
@@ -73,10 +75,22 @@ pub(crate) fn answer_places(path: &Path, source: &str) -> HashMap<String, Answer
                                 .collect()
                         })
                         .unwrap_or_default(),
+                    slips: Vec::new(),
                 },
-                RawAnswer::Number { expected, .. } => AnswerPlaces {
+                RawAnswer::Number {
+                    expected, slips, ..
+                } => AnswerPlaces {
                     expected: expected.as_ref().map(|e| place(&e.span)),
                     when: Vec::new(),
+                    slips: slips
+                        .as_ref()
+                        .map(|l| {
+                            l.items
+                                .iter()
+                                .map(|s| s.value.as_ref().map(|v| place(&v.span)))
+                                .collect()
+                        })
+                        .unwrap_or_default(),
                 },
             };
             Some((id, places))

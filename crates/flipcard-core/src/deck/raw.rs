@@ -25,7 +25,10 @@ pub const NUMBER_ANSWER_FIELDS: &[&str] = &[
     "expected",
     "tolerance",
     "formula",
+    "slips",
 ];
+/// The keys of one known slip of a number answer.
+pub const SLIP_FIELDS: &[&str] = &["value", "says"];
 pub const CHOICE_FIELDS: &[&str] = &["id", "label", "when"];
 pub const TOLERANCE_FIELDS: &[&str] = &["abs", "rel"];
 pub const SCENE_FIELDS: &[&str] = &[
@@ -113,7 +116,16 @@ pub enum RawAnswer {
         expected: Option<Num>,
         tolerance: Option<RawTolerance>,
         formula: Option<RawText>,
+        /// Known wrong numbers (`slips = [{ value = "1/k", says = … }]`).
+        slips: Option<List<RawSlip>>,
     },
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawSlip {
+    pub span: Span,
+    pub value: Option<Str>,
+    pub says: Option<RawText>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -435,6 +447,36 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
                 expected: f.number(rep, "expected", true),
                 tolerance,
                 formula: f.text(rep, "formula", false),
+                slips: f.get("slips").and_then(|v| {
+                    let arr = read::array(rep, v, "`slips`")?;
+                    let items = arr
+                        .iter()
+                        .filter_map(|item| {
+                            let t = read::table(rep, item, "each slip")?;
+                            let f =
+                                Fields::open(rep, t, item.span(), "a slip", SLIP_FIELDS, |name| {
+                                    match name {
+                                        "formula" | "expr" => {
+                                            Some("did you mean `value`?".to_string())
+                                        }
+                                        "means" | "label" | "text" | "why" => {
+                                            Some("did you mean `says`?".to_string())
+                                        }
+                                        _ => None,
+                                    }
+                                });
+                            Some(RawSlip {
+                                span: item.span(),
+                                value: f.string(rep, "value", true),
+                                says: f.text(rep, "says", true),
+                            })
+                        })
+                        .collect();
+                    Some(List {
+                        items,
+                        span: v.span(),
+                    })
+                }),
             })
         }
         other => {

@@ -72,8 +72,10 @@ pub struct Card {
     pub text: Option<Text>,
     /// Accepted typed answers (typed cards only), compared ignoring case and spaces.
     pub accept: Option<Accept>,
-    /// Id of the explanation section opened with `e`.
-    pub explain: Option<Id>,
+    /// Id of the explanation section opened with `e`, or
+    /// `section-id#anchor` to open it at the paragraph after the body's
+    /// `{#anchor}` line.
+    pub explain: Option<ExplainLink>,
     /// Id of a prompt offered after the answer is shown.
     pub prompt: Option<Id>,
     pub tags: Option<Vec<NonEmpty>>,
@@ -88,7 +90,9 @@ pub struct Prompt {
     pub question: Text,
     /// Id of the scene run to check the prediction.
     pub scene: Id,
-    pub explain: Option<Id>,
+    /// The explanation section opened with `e` after the verdict, or
+    /// `section-id#anchor` to open it at the paragraph that answers.
+    pub explain: Option<ExplainLink>,
     pub tags: Option<Vec<NonEmpty>>,
     pub answer: Answer,
 }
@@ -114,7 +118,40 @@ pub enum Answer {
         tolerance: Tolerance,
         /// How `expected` follows (may hold math).
         formula: Option<Text>,
+        /// Known wrong numbers: a learner's number within `tolerance` of
+        /// one is told what it is and what it means.
+        slips: Option<Vec<Slip>>,
     },
+}
+
+/// A known wrong number of a number answer.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct Slip {
+    /// A formula (system-scene expression syntax) over the scene's numbers
+    /// (a rigid body: `I1 I2 I3`, `w1 w2 w3`, `k`; a system: its `params`),
+    /// `measured` (the run's value of the measure), `pi` and `e`: `1/k`.
+    #[schemars(length(min = 1, max = 256))]
+    pub value: String,
+    /// What that number means, shown in the verdict (may hold math).
+    pub says: Text,
+}
+
+/// `section-id` or `section-id#anchor`.
+pub struct ExplainLink;
+
+impl JsonSchema for ExplainLink {
+    fn schema_name() -> Cow<'static, str> {
+        "ExplainLink".into()
+    }
+    fn json_schema(_: &mut SchemaGenerator) -> Schema {
+        let id = ID_PATTERN.trim_start_matches('^').trim_end_matches('$');
+        json_schema!({
+            "description": "A section id, or `section-id#anchor` where the section's body has a line `{#anchor}` above the paragraph to open at.",
+            "type": "string",
+            "pattern": format!("^{id}(#{id})?$"),
+        })
+    }
 }
 
 #[derive(JsonSchema)]

@@ -475,7 +475,8 @@ pub struct Choice {
     /// A choice id, or the value typed that centres a bin of numbers.
     pub prediction: String,
     /// The choice's label in the deck, when it is a choice of it; for a
-    /// bin of different numbers, their range (`1.8–1.86`).
+    /// bin of numbers, the known slip its centre is (`1/k`) and the range
+    /// of its numbers when they differ (`1.8–1.86`).
     pub label: Option<String>,
     pub learners: usize,
 }
@@ -799,6 +800,39 @@ fn prompt_row(
             })
             .collect(),
     };
+    // A bin whose centre is a known slip of the prompt is named by it
+    // (`1/k`, with its range when the bin has one), its value taken at
+    // what the runs measured (else the deck's answer).
+    if let Some(Answer::Number {
+        slips,
+        tolerance,
+        expected,
+        ..
+    }) = found.map(|p| &p.answer)
+        && !slips.is_empty()
+    {
+        let mut measured = t.measured.clone();
+        measured.sort_by(f64::total_cmp);
+        let at = measured
+            .get(measured.len() / 2)
+            .copied()
+            .unwrap_or(*expected);
+        for c in &mut wrong {
+            let Some(centre) = c.prediction.parse::<f64>().ok().filter(|v| v.is_finite()) else {
+                continue;
+            };
+            let slip = slips.iter().find(|s| {
+                s.value_for(at)
+                    .is_some_and(|w| tolerance.accepts(centre, w))
+            });
+            if let Some(slip) = slip {
+                c.label = Some(match &c.label {
+                    Some(range) => format!("{}, {range}", slip.value),
+                    None => slip.value.clone(),
+                });
+            }
+        }
+    }
     wrong.sort_by(|a, b| {
         b.learners
             .cmp(&a.learners)

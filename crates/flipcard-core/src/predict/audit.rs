@@ -268,6 +268,54 @@ pub fn audit_run(prompt: &Prompt, run: &Run) -> Option<Problem> {
     })
 }
 
+/// The known slips of a number prompt that are right answers on `run`:
+/// each slip's value (with `measured` the run's value) within the
+/// tolerance of what the run measures, so a learner typing it is told it
+/// is right and the slip is never said. Each with its index and why.
+pub fn audit_slips(prompt: &Prompt, run: &Run) -> Vec<(usize, String)> {
+    let Answer::Number {
+        measure,
+        unit,
+        tolerance,
+        slips,
+        ..
+    } = &prompt.answer
+    else {
+        return Vec::new();
+    };
+    let Some(measured) = run.measured.get(*measure) else {
+        return Vec::new();
+    };
+    let u = if unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    };
+    slips
+        .iter()
+        .enumerate()
+        .filter_map(|(i, slip)| {
+            let message = match slip.value_for(measured) {
+                None => format!(
+                    "slip `{}` has no finite value on {}, which measures {measure} = {}{u}: give a formula the run can take",
+                    slip.value,
+                    run_name(run),
+                    sig(measured, 4)
+                ),
+                Some(w) if tolerance.accepts(w, measured) => format!(
+                    "slip `{}` gives {}{u}, within the tolerance of what {} measures ({measure} = {}{u}): a learner who types it is right, so it is never a slip; give the formula of the wrong answer, or narrow `tolerance`",
+                    slip.value,
+                    sig(w, 4),
+                    run_name(run),
+                    sig(measured, 4)
+                ),
+                Some(_) => return None,
+            };
+            Some((i, message))
+        })
+        .collect()
+}
+
 /// The choices whose condition holds on `m`, in the prompt's order.
 fn holding(choices: &[Choice], m: &Measurements) -> Vec<usize> {
     (0..choices.len())
@@ -643,6 +691,15 @@ fn check_deck(
                 }
             }
         }
+        if let Ran::Done(run) = run {
+            for (i, message) in audit_slips(prompt, run) {
+                out.push(diagnostic(
+                    at.and_then(|p| p.slips.get(i).copied().flatten()),
+                    message,
+                    sim_hint(&prompt.scene),
+                ));
+            }
+        }
         let (problem, hint) = match run {
             Ran::Done(run) => (audit_run(prompt, run), sim_hint(&prompt.scene)),
             Ran::Stopped { message, hint, .. } => (
@@ -753,6 +810,52 @@ mod tests {
     }
 
     #[test]
+    fn a_slip_that_the_run_makes_a_right_answer_is_reported_and_a_wrong_one_is_not() {
+        let sc = scene([0.01, 10.0, 0.01], 2.0);
+        let scope = flipcard_sim::scene::quantities::rigid(sc.inertia, sc.omega);
+        let slip = |value: &str| crate::deck::Slip {
+            value: value.to_string(),
+            says: text("says"),
+            scope: scope.clone(),
+        };
+        let p = Prompt {
+            answer: Answer::Number {
+                measure: Measure::EfoldTime,
+                unit: "s".into(),
+                expected: 0.1732,
+                tolerance: crate::deck::Tolerance::Rel(0.1),
+                formula: None,
+                // 1/k is the slip; 1/sqrt(k) and 1.05*measured are right answers.
+                slips: vec![
+                    slip("1/k"),
+                    slip("1/sqrt(k)"),
+                    slip("1.05*measured"),
+                    slip("1/(k-k)"),
+                ],
+            },
+            ..choice_prompt("x", &[])
+        };
+        let run = Run::rigid(&sc, measure_scene(&sc, Method::Exact).unwrap());
+        let found = audit_slips(&p, &run);
+        let which: Vec<usize> = found.iter().map(|(i, _)| *i).collect();
+        assert_eq!(which, [1, 2, 3], "{found:?}");
+        assert!(
+            found[0].1.contains("slip `1/sqrt(k)` gives 0.17"),
+            "{found:?}"
+        );
+        assert!(found[2].1.contains("no finite value"), "{found:?}");
+        // The learner's 0.03 s is the slip 1/k, said by the verdict.
+        let v =
+            crate::predict::verdict(&p, &run.measured, crate::predict::Prediction::Number(0.03));
+        assert!(!v.correct);
+        let (i, w) = v.slip.unwrap();
+        assert_eq!(i, 0);
+        assert!((w - 0.03).abs() < 1e-12, "{w}");
+        let v = crate::predict::verdict(&p, &run.measured, crate::predict::Prediction::Number(0.5));
+        assert_eq!(v.slip, None);
+    }
+
+    #[test]
     fn a_measure_the_run_cannot_make_says_what_it_needs() {
         let p = Prompt {
             answer: Answer::Number {
@@ -761,6 +864,7 @@ mod tests {
                 expected: 1.96,
                 tolerance: crate::deck::Tolerance::Rel(0.1),
                 formula: None,
+                slips: Vec::new(),
             },
             ..choice_prompt("x", &[])
         };
@@ -809,6 +913,7 @@ mod tests {
                 expected,
                 tolerance: crate::deck::Tolerance::Rel(0.02),
                 formula: None,
+                slips: Vec::new(),
             },
             ..choice_prompt("x", &[])
         }

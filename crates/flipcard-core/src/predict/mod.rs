@@ -48,6 +48,10 @@ pub struct Verdict {
     /// What the run showed besides the numbers (its length, the flip
     /// times), so the verdict says no more than that.
     pub evidence: Evidence,
+    /// A wrong number that is a known slip of the prompt: its index in the
+    /// answer's `slips` and its value on this run (the first slip whose
+    /// value is within the prompt's tolerance of the learner's number).
+    pub slip: Option<(usize, f64)>,
 }
 
 /// Judges `prediction` against the measurements of the prompt's scene: a
@@ -77,15 +81,29 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
                     .filter_map(|x| m.reading(x).copied())
                     .collect(),
                 evidence: m.evidence().clone(),
+                slip: None,
             }
         }
         Answer::Number {
-            measure, tolerance, ..
+            measure,
+            tolerance,
+            slips,
+            ..
         } => {
             let reading = m.reading(*measure).copied();
             let correct = match (prediction, reading) {
                 (Prediction::Number(given), Some(r)) => tolerance.accepts(given, r.value),
                 _ => false,
+            };
+            // A wrong number that a known slip gives, taken on this run.
+            let slip = match (correct, prediction, reading) {
+                (false, Prediction::Number(given), Some(r)) => {
+                    slips.iter().enumerate().find_map(|(i, s)| {
+                        let w = s.value_for(r.value)?;
+                        tolerance.accepts(given, w).then_some((i, w))
+                    })
+                }
+                _ => None,
             };
             Verdict {
                 correct,
@@ -93,6 +111,7 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
                 right_choice: None,
                 readings: reading.into_iter().collect(),
                 evidence: m.evidence().clone(),
+                slip,
             }
         }
     }

@@ -5,6 +5,7 @@
 
 pub mod measure;
 pub(crate) mod plan;
+pub mod quantities;
 pub(crate) mod run;
 pub mod slice;
 pub mod spec;

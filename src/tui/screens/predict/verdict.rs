@@ -271,6 +271,28 @@ pub fn lines(
         Run::new(" ", t.text()),
         Run::new("   ", t.text()),
     ));
+    // The slip a wrong number matches, beside what the run measured: what
+    // that number is, and what it means.
+    if let (Answer::Number { slips, unit, .. }, Some((i, value))) = (&prompt.answer, v.slip)
+        && let Some(slip) = slips.get(i)
+    {
+        let u = if unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
+        let mut runs = vec![
+            Run::new(format!("{} ", w::YOUR_NUMBER_IS.get(lang)), t.dim()),
+            Run::new(format!("{} = {}{u}: ", slip.value, sig(value, 3)), t.bad()),
+        ];
+        runs.extend(crate::tui::wrap::math_runs(slip.says.get(lang), t.strong()));
+        out.extend(wrap(
+            &runs,
+            width.saturating_sub(1),
+            Run::new(" ", t.dim()),
+            Run::new("   ", t.dim()),
+        ));
+    }
     match &prompt.answer {
         Answer::Choice { choices, .. } => {
             let right = v.right_choice.and_then(|i| choices.get(i));

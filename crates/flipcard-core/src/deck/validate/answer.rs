@@ -3,14 +3,16 @@
 
 use std::ops::Range;
 
-use crate::deck::model::{Answer, Choice, Cmp, Comparison, Condition, Measure, Term, Tolerance};
-use crate::deck::raw::{RawAnswer, RawChoice, RawTolerance, Str};
+use crate::deck::model::{
+    Answer, Choice, Cmp, Comparison, Condition, Measure, Slip, Term, Tolerance,
+};
+use crate::deck::raw::{RawAnswer, RawChoice, RawSlip, RawTolerance, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
 use flipcard_sim::scene::vocabulary::{self, ParseError, Parsed};
 use flipcard_sim::system::Name;
-use flipcard_text::num::Num;
+use flipcard_text::num::{Num, sig};
 
 use super::text::{self, Kind, Langs};
 use super::{Targets, id, unique};
@@ -24,12 +26,17 @@ pub enum SceneKind<'a> {
     System(&'a [String]),
 }
 
+/// The numbers of a prompt's scene a slip's formula may name, with their
+/// values (see `flipcard_sim::scene::quantities`).
+pub type Scope<'a> = &'a [(String, f64)];
+
 pub fn answer(
     rep: &mut FileReport,
     raw: &RawAnswer,
     langs: &Langs,
     owner: &str,
     kind: Option<SceneKind>,
+    scope: Option<Scope>,
 ) -> Option<Answer> {
     match raw {
         RawAnswer::Choice {
@@ -89,6 +96,7 @@ pub fn answer(
             expected,
             tolerance: tol,
             formula,
+            slips,
         } => {
             let measure = measure
                 .as_ref()
@@ -113,15 +121,135 @@ pub fn answer(
             let formula = formula
                 .as_ref()
                 .map(|f| text::text(rep, f, langs, "`formula`"));
+            let slips = match slips {
+                None => Some(Vec::new()),
+                Some(list) => {
+                    let right = expected.zip(tolerance);
+                    let mut out = Vec::new();
+                    let mut ok = true;
+                    for raw in &list.items {
+                        match slip(rep, raw, langs, scope, right, unit.as_deref()) {
+                            Some(s) => out.push(s),
+                            None => ok = false,
+                        }
+                    }
+                    ok.then_some(out)
+                }
+            };
             Some(Answer::Number {
                 measure: measure?,
                 unit: unit?,
                 expected: expected?,
                 tolerance: tolerance?,
                 formula: formula.map_or(Some(None), |f| f.map(Some))?,
+                slips: slips?,
             })
         }
     }
+}
+
+/// The longest slip `value` read: a formula, not a program.
+pub(crate) const MAX_SLIP_BYTES: usize = 256;
+
+/// One known slip of a number answer: its `value` a formula over the
+/// scene's numbers (`scope`, `None` where the scene link is broken) and
+/// `measured`, its `says` a text in every language. With the author's
+/// answer (`right`: `expected` and the tolerance), the slip's number taken
+/// there must not be a right answer: a learner typing it would be told it
+/// is right, and the slip would never be said.
+fn slip(
+    rep: &mut FileReport,
+    raw: &RawSlip,
+    langs: &Langs,
+    scope: Option<Scope>,
+    right: Option<(f64, Tolerance)>,
+    unit: Option<&str>,
+) -> Option<Slip> {
+    let says = raw.says.as_ref().and_then(|t| {
+        let what = match &raw.value {
+            Some(v) => format!(
+                "what slip `{}` says",
+                flipcard_text::safe::one_line(&v.value)
+            ),
+            None => "what a slip says".to_string(),
+        };
+        text::text(rep, t, langs, &what)
+    });
+    let value = raw.value.as_ref()?;
+    if !text::string(rep, value, Kind::Plain, "a slip's `value`") {
+        return None;
+    }
+    if value.value.len() > MAX_SLIP_BYTES {
+        rep.error(
+            value.span.clone(),
+            format!(
+                "this slip's `value` is {} bytes long; a formula may be at most {MAX_SLIP_BYTES}",
+                value.value.len()
+            ),
+            None,
+        );
+        return None;
+    }
+    let measured = flipcard_sim::scene::quantities::MEASURED;
+    let at = |rep: &FileReport, e: &flipcard_sim::system::expr::ExprError| {
+        super::system::span_in(rep, value, e.at, e.len)
+    };
+    let scope = scope?;
+    let names: Vec<&str> = scope
+        .iter()
+        .map(|(n, _)| n.as_str())
+        .chain([measured])
+        .collect();
+    if let Err(e) = flipcard_sim::system::formula::check(&value.value, &|n| names.contains(&n)) {
+        let hint = match &e.unknown {
+            Some(name) => suggest::did_you_mean(name, names.iter().copied())
+                .or_else(|| Some(format!("names here: {}, pi, e", names.join(", ")))),
+            None => e.hint.clone(),
+        };
+        let span = at(rep, &e);
+        rep.error(span, format!("slip `value`: {}", e.message), hint);
+        return None;
+    }
+    if let Some((expected, tolerance)) = right {
+        let mut with = scope.to_vec();
+        with.push((measured.to_string(), expected));
+        let unit = unit
+            .filter(|u| !u.is_empty())
+            .map_or(String::new(), |u| format!(" {u}"));
+        match flipcard_sim::system::formula::evaluate(&value.value, &with) {
+            Err(e) => {
+                rep.error(
+                    value.span.clone(),
+                    format!(
+                        "slip `{}` has no value for this scene: {}",
+                        flipcard_text::safe::one_line(&value.value),
+                        e.message
+                    ),
+                    None,
+                );
+                return None;
+            }
+            Ok(w) if tolerance.accepts(w, expected) => {
+                rep.error(
+                    value.span.clone(),
+                    format!(
+                        "slip `{}` gives {}{unit}, within the tolerance of `expected` {}{unit}: a learner who types it is right, so it is never a slip",
+                        flipcard_text::safe::one_line(&value.value),
+                        sig(w, 4),
+                        Num(expected)
+                    ),
+                    Some("give the formula of the wrong answer, or narrow `tolerance`".to_string()),
+                );
+                return None;
+            }
+            Ok(_) => {}
+        }
+    }
+    Some(Slip {
+        value: value.value.clone(),
+        says: says?,
+        scope: scope.to_vec(),
+    })
 }
 
 fn choice(
@@ -642,6 +770,76 @@ mod tests {
 
     fn of(stat: Stat, name: &str) -> Measure {
         Measure::Of(stat, Name::new(name).unwrap())
+    }
+
+    /// One slip `value` (a TOML basic string) with a one-language `says`,
+    /// on a scene with k = 100 and `expected` 0.1 (rel 0.1): the slip, and
+    /// the diagnostics' messages.
+    fn slip_of(value: &str) -> (Option<Slip>, Vec<String>) {
+        let source = format!("\"{value}\" 'says'");
+        let mut rep = FileReport::new(std::path::Path::new("d.toml"), &source);
+        let raw = RawSlip {
+            span: 0..source.len(),
+            value: Some(Str {
+                value: value.to_string(),
+                span: 0..value.len() + 2,
+            }),
+            says: Some(crate::deck::raw::RawText::Plain(Str {
+                value: "says".to_string(),
+                span: value.len() + 3..source.len(),
+            })),
+        };
+        let langs = Langs {
+            list: vec!["en".to_string()],
+            known: true,
+        };
+        let scope = [("k".to_string(), 100.0)];
+        let s = slip(
+            &mut rep,
+            &raw,
+            &langs,
+            Some(&scope),
+            Some((0.1, Tolerance::Rel(0.1))),
+            Some("s"),
+        );
+        let msgs = rep.finish().into_iter().map(|d| d.message).collect();
+        (s, msgs)
+    }
+
+    #[test]
+    fn a_slip_reads_its_formula_and_refuses_what_is_no_slip() {
+        let (s, msgs) = slip_of("1/k");
+        assert!(msgs.is_empty(), "{msgs:?}");
+        let s = s.unwrap();
+        assert_eq!(s.value_for(0.1), Some(0.01));
+        // `measured` is the run's value, given at the verdict.
+        let (s, msgs) = slip_of("2*measured");
+        assert!(msgs.is_empty(), "{msgs:?}");
+        assert_eq!(s.unwrap().value_for(0.25), Some(0.5));
+        for (value, says) in [
+            ("1/sqrt(k)", "within the tolerance of `expected` 0.1 s"),
+            (
+                "1/(k-k)",
+                "has no value for this scene: the formula is infinite: division by zero",
+            ),
+            ("1/kk", "unknown name `kk`"),
+            ("t", "unknown name `t`"),
+            ("1 +", "slip `value`: expected"),
+            ("", "empty"),
+        ] {
+            let (s, msgs) = slip_of(value);
+            assert!(s.is_none(), "{value}");
+            assert_eq!(msgs.len(), 1, "{value}: {msgs:?}");
+            assert!(msgs[0].contains(says), "{value}: {msgs:?}");
+        }
+        // Hostile input: bounded before it is parsed.
+        let long = "k+".repeat(200) + "k";
+        let (s, msgs) = slip_of(&long);
+        assert!(s.is_none());
+        assert!(
+            msgs[0].contains("bytes long; a formula may be at most 256"),
+            "{msgs:?}"
+        );
     }
 
     #[test]

@@ -27,6 +27,8 @@ pub struct ContentFile<'s> {
 pub struct Sections {
     pub sections: Option<Vec<Section>>,
     pub ids: Option<Targets>,
+    /// The anchors of each section in each file read.
+    pub anchors: super::Anchors,
 }
 
 /// Checks every content file; `files[0]` is the primary language's.
@@ -66,11 +68,21 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
     // Each file's sections: its own checks, and links against the primary
     // file's ids (the ones used; a translation with other ids is reported
     // below, once, rather than again at every link to them).
+    let mut anchors = super::Anchors::default();
     for (f, own_ids) in files.iter_mut().zip(&ids_of) {
         let Some(raw) = &f.raw else { continue };
         let targets = primary_ids.as_ref().or(own_ids.as_ref());
         for s in &raw.sections {
             ok &= section_texts(&mut f.rep, s);
+            if let (Some(sid), Some(body)) = (&s.id, &s.body) {
+                let (names, fine) = section_anchors(&mut f.rep, sid, body);
+                ok &= fine;
+                anchors
+                    .of
+                    .entry(sid.value.clone())
+                    .or_default()
+                    .push((f.lang.clone(), names));
+            }
             if let Some(see) = &s.see {
                 for target in &see.items {
                     ok &= link(&mut f.rep, target, targets, "section", "see");
@@ -123,7 +135,46 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
     Sections {
         sections,
         ids: primary_ids,
+        anchors,
     }
+}
+
+/// The anchors of a section's body (`{#name}` lines), each an id used once
+/// in the body; false (and reported at the name) when one is not.
+fn section_anchors(rep: &mut FileReport, sid: &Str, body: &Str) -> (Vec<String>, bool) {
+    let mut names: Vec<String> = Vec::new();
+    let mut ok = true;
+    for (name, at) in flipcard_text::markup::anchors(&body.value) {
+        let span = super::system::span_in(rep, body, at, name.len());
+        if !super::is_id(&name) {
+            rep.error(
+                span,
+                format!(
+                    "anchor `{}` in section `{}` is not a valid id",
+                    flipcard_text::safe::one_line(&name),
+                    sid.value
+                ),
+                Some(
+                    "anchors are ids like section ids: lowercase letters and digits joined by single hyphens"
+                        .to_string(),
+                ),
+            );
+            ok = false;
+        } else if names.contains(&name) {
+            rep.error(
+                span,
+                format!(
+                    "anchor `{name}` is declared twice in section `{}`",
+                    sid.value
+                ),
+                Some("each anchor names one place of the section".to_string()),
+            );
+            ok = false;
+        } else {
+            names.push(name);
+        }
+    }
+    (names, ok)
 }
 
 /// Compares translation `i`'s section ids with the primary file's. Ids that

@@ -12,7 +12,7 @@ pub mod text;
 use std::collections::HashMap;
 
 pub use crate::deck::id::is_id;
-use crate::deck::model::{Card, CardKind, Prompt, Scene, SystemScene, Text};
+use crate::deck::model::{Card, CardKind, Explain, Prompt, Scene, SystemScene, Text};
 use crate::deck::raw::{List, RawAnswer, RawCard, RawDeckFile, RawPrompt, RawText, Span, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
@@ -378,6 +378,7 @@ pub fn body(
     raw: &RawDeckFile,
     langs: &Langs,
     section_ids: Option<&Targets>,
+    anchors: &Anchors,
 ) -> Option<Body> {
     let card_ids: Vec<&Str> = raw.cards.iter().filter_map(|c| c.id.as_ref()).collect();
     let prompt_ids: Vec<&Str> = raw.prompts.iter().filter_map(|p| p.id.as_ref()).collect();
@@ -406,7 +407,7 @@ pub fn body(
 
     let mut cards = Vec::new();
     for c in &raw.cards {
-        match card(rep, c, langs, section_ids, &prompt_names) {
+        match card(rep, c, langs, (section_ids, anchors), &prompt_names) {
             Some(c) => cards.push(c),
             None => ok = false,
         }
@@ -419,6 +420,12 @@ pub fn body(
             Some((id, s.system.as_ref().map(system::quantities)))
         })
         .collect();
+    // The numbers of each scene a number answer's slips may name.
+    let scopes: HashMap<&str, Vec<(String, f64)>> = raw
+        .scenes
+        .iter()
+        .filter_map(|s| Some((s.id.as_ref()?.value.as_str(), scope(s)?)))
+        .collect();
     let mut prompts = Vec::new();
     for p in &raw.prompts {
         let kind = p
@@ -429,7 +436,19 @@ pub fn body(
                 Some(names) => answer::SceneKind::System(names),
                 None => answer::SceneKind::Rigid,
             });
-        match prompt(rep, p, langs, section_ids, &scene_names, kind) {
+        let scope = p
+            .scene
+            .as_ref()
+            .and_then(|s| scopes.get(s.value.as_str()))
+            .map(Vec::as_slice);
+        match prompt(
+            rep,
+            p,
+            langs,
+            (section_ids, anchors),
+            &scene_names,
+            (kind, scope),
+        ) {
             Some(p) => prompts.push(p),
             None => ok = false,
         }
@@ -479,6 +498,132 @@ fn tags(rep: &mut FileReport, tags: &Option<List<Str>>) -> Option<Vec<String>> {
     ok.then(|| list.items.iter().map(|t| t.value.clone()).collect())
 }
 
+/// The numbers of a scene as written that a slip's formula may name (see
+/// `flipcard_sim::scene::quantities`): a rigid body's moments, initial spin
+/// and k, or a system's params. `None` for a rigid body whose numbers are
+/// no body's: the scene's own check reports them, and a slip on it is not
+/// reported again for naming `k`.
+fn scope(s: &crate::deck::raw::RawScene) -> Option<Vec<(String, f64)>> {
+    if let Some(sys) = &s.system {
+        return Some(
+            sys.params
+                .iter()
+                .flat_map(|p| &p.entries)
+                .filter(|e| e.value.value.is_finite())
+                .map(|e| (e.key.value.clone(), e.value.value))
+                .collect(),
+        );
+    }
+    let three = |l: &Option<List<crate::deck::raw::Num>>| -> Option<[f64; 3]> {
+        let l = l.as_ref()?;
+        let v: Vec<f64> = l.items.iter().map(|n| n.value).collect();
+        let a: [f64; 3] = v.try_into().ok()?;
+        a.iter().all(|x| x.is_finite()).then_some(a)
+    };
+    let names = flipcard_sim::scene::quantities::rigid(three(&s.inertia)?, three(&s.omega)?);
+    (names.len() == flipcard_sim::scene::quantities::RIGID.len()).then_some(names)
+}
+
+/// The anchors (`{#name}` lines) of each section in each content file that
+/// could be read, for `explain = "section#anchor"`.
+#[derive(Debug, Clone, Default)]
+pub struct Anchors {
+    /// By section id: each language read, with the anchors of the section's
+    /// body there (a language whose file lacks the section is left out;
+    /// its own error says so).
+    pub of: HashMap<String, Vec<(String, Vec<String>)>>,
+}
+
+/// An `explain` link: a section, or `section#anchor` with the anchor in
+/// the section's body in every language.
+fn explain_link(
+    rep: &mut FileReport,
+    s: &Option<Str>,
+    (targets, anchors): (Option<&Targets>, &Anchors),
+) -> Option<Option<Explain>> {
+    let Some(s) = s else {
+        return Some(None);
+    };
+    let Some((section, anchor)) = s.value.split_once('#') else {
+        return link(rep, s, targets, "section", "explain")
+            .then(|| Some(Explain::from(s.value.as_str())));
+    };
+    let section_at = Str {
+        value: section.to_string(),
+        span: system::span_in(rep, s, 0, section.len()),
+    };
+    let anchor_span = system::span_in(rep, s, section.len() + 1, anchor.len());
+    if !link(rep, &section_at, targets, "section", "explain") {
+        return None;
+    }
+    if !is_id(anchor) {
+        rep.error(
+            anchor_span,
+            format!(
+                "anchor `{}` in `explain` is not a valid id",
+                flipcard_text::safe::one_line(anchor)
+            ),
+            Some(
+                "explain = \"section-id#anchor\", where the section's body has a line {#anchor} above the paragraph"
+                    .to_string(),
+            ),
+        );
+        return None;
+    }
+    let Some(langs) = anchors.of.get(section) else {
+        // Content that could not be read: its own errors say why.
+        return Some(Some(Explain::from(s.value.as_str())));
+    };
+    let lacking: Vec<&str> = langs
+        .iter()
+        .filter(|(_, names)| !names.iter().any(|n| n == anchor))
+        .map(|(lang, _)| lang.as_str())
+        .collect();
+    if lacking.is_empty() {
+        return Some(Some(Explain::from(s.value.as_str())));
+    }
+    let known: Vec<&str> = {
+        let mut all: Vec<&str> = langs
+            .iter()
+            .flat_map(|(_, names)| names.iter().map(String::as_str))
+            .collect();
+        all.sort_unstable();
+        all.dedup();
+        all
+    };
+    let files = if lacking.len() == langs.len() {
+        "any language's content file".to_string()
+    } else {
+        let quoted: Vec<String> = lacking.iter().map(|l| format!("`{l}`")).collect();
+        format!("the {} content file", quoted.join(" and "))
+    };
+    let elsewhere = lacking.len() < langs.len();
+    let hint = if elsewhere {
+        Some(format!(
+            "put a line {{#{anchor}}} above the same paragraph of section `{section}` in {files}; every language opens at the anchor"
+        ))
+    } else {
+        suggest::did_you_mean(anchor, known.iter().copied())
+    };
+    let hint = hint.or_else(|| {
+        Some(if known.is_empty() {
+            format!(
+                "put a line {{#{anchor}}} above the paragraph in section `{section}` of every language's file"
+            )
+        } else {
+            format!("anchors of section `{section}`: {}", known.join(", "))
+        })
+    });
+    rep.error(
+        anchor_span,
+        format!(
+            "`explain` links to anchor `{anchor}` of section `{section}`, which is not in {files}"
+        ),
+        hint,
+    );
+    None
+}
+
 fn optional_link(
     rep: &mut FileReport,
     s: &Option<Str>,
@@ -496,7 +641,7 @@ fn card(
     rep: &mut FileReport,
     raw: &RawCard,
     langs: &Langs,
-    section_ids: Option<&Targets>,
+    sections: (Option<&Targets>, &Anchors),
     prompt_ids: &Targets,
 ) -> Option<Card> {
     let what = named("card", &raw.id);
@@ -555,7 +700,7 @@ fn card(
         None => Some(Text::default()),
     };
     let accept = accept(rep, raw, kind, &what, langs);
-    let explain = optional_link(rep, &raw.explain, section_ids, "section", "explain");
+    let explain = explain_link(rep, &raw.explain, sections);
     let prompt = optional_link(rep, &raw.prompt, Some(prompt_ids), "prompt", "prompt");
     let tags = tags(rep, &raw.tags);
     Some(Card {
@@ -663,9 +808,9 @@ fn prompt(
     rep: &mut FileReport,
     raw: &RawPrompt,
     langs: &Langs,
-    section_ids: Option<&Targets>,
+    sections: (Option<&Targets>, &Anchors),
     scene_ids: &Targets,
-    kind: Option<answer::SceneKind>,
+    (kind, scope): (Option<answer::SceneKind>, Option<answer::Scope>),
 ) -> Option<Prompt> {
     let what = named("prompt", &raw.id);
     let question = raw
@@ -676,12 +821,12 @@ fn prompt(
         .scene
         .as_ref()
         .and_then(|s| link(rep, s, Some(scene_ids), "scene", "scene").then(|| s.value.clone()));
-    let explain = optional_link(rep, &raw.explain, section_ids, "section", "explain");
+    let explain = explain_link(rep, &raw.explain, sections);
     let tags = tags(rep, &raw.tags);
     let answer = raw
         .answer
         .as_ref()
-        .and_then(|a| answer::answer(rep, a, langs, &what, kind));
+        .and_then(|a| answer::answer(rep, a, langs, &what, kind, scope));
     Some(Prompt {
         id: raw.id.as_ref()?.value.clone(),
         question: question?,
