@@ -142,6 +142,32 @@ pub enum ReadingError {
     NotPlanned(Measure),
     #[error("{0} is not a finite number")]
     NotFinite(Measure),
+    /// The run (`method`) does not show the measure (`why`), a finer run
+    /// of the same scene (`finer`) does: its value there.
+    #[error(
+        "{measure}: the run at {method} is too coarse for it ({why}); at {finer} it is {}: run at {finer} or finer",
+        flipcard_text::num::sig(*value, 4)
+    )]
+    TooCoarse {
+        measure: String,
+        why: String,
+        method: String,
+        finer: String,
+        value: f64,
+    },
+}
+
+impl ReadingError {
+    /// The measure needs crossings or an event the run did not show, which
+    /// a run too coarse to follow the motion may miss.
+    pub fn may_be_too_coarse(&self) -> bool {
+        matches!(
+            self,
+            ReadingError::NoPeriod { .. }
+                | ReadingError::NoBeat { .. }
+                | ReadingError::Never { .. }
+        )
+    }
 }
 
 /// Why a run stopped early.
@@ -1301,10 +1327,63 @@ pub fn measure_system_noting(
     };
     let mut run = SystemRun::with_plan(scene, method, plan)?;
     run.run_to_end()?;
-    Ok(measures
+    let mut noted: Vec<Noted> = measures
         .iter()
         .map(|&m| (run.measure(m), run.caveat(m)))
-        .collect())
+        .collect();
+    // A crossing or an event the run never shows may be the run's fault
+    // (a pendulum released at 179.9° that a loose tolerance tips over the
+    // top never swings back): the same scene, a hundred and then ten
+    // thousand times finer, says whether the measure exists, and how fine
+    // a run must be to show it.
+    let missing: Vec<usize> = (noted.iter().enumerate())
+        .filter(|(_, (v, _))| matches!(v, Err(e) if e.may_be_too_coarse()))
+        .map(|(k, _)| k)
+        .collect();
+    let mut finer = method;
+    for _ in 0..2 {
+        if missing.iter().all(|&k| noted[k].0.is_ok()) {
+            break;
+        }
+        let next = finer.finer(true).finer(true);
+        if next == finer {
+            break;
+        }
+        // Two tenfold steps leave 1.0000000000000002e-7: the setting
+        // rounded to three digits, as a person would write it.
+        let next = OdeMethod {
+            setting: format!("{:.2e}", next.setting)
+                .parse()
+                .unwrap_or(next.setting),
+            ..next
+        };
+        finer = next;
+        let plan = SystemPlan {
+            reference: false,
+            sketch: false,
+            ..SystemPlan::for_scene(scene, finer, measures)
+        };
+        let Ok(mut run) = SystemRun::with_plan(scene, finer, plan) else {
+            break;
+        };
+        if run.run_to_end().is_err() {
+            break;
+        }
+        for &k in &missing {
+            if let (Err(e), Ok(value)) = (&noted[k].0, run.measure(measures[k])) {
+                let text = e.to_string();
+                let (measure, why) = text.split_once(": ").unwrap_or(("", &text));
+                noted[k].0 = Err(ReadingError::TooCoarse {
+                    measure: measure.to_string(),
+                    why: why.to_string(),
+                    method: method.label(),
+                    finer: finer.label(),
+                    value,
+                });
+            }
+        }
+    }
+    Ok(noted)
 }
 
 mod tally;

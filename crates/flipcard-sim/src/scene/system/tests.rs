@@ -353,3 +353,37 @@ fn samples_stop_at_the_frame_and_faults_wait_for_the_run_to_get_there() {
     );
     assert!(run.finished());
 }
+
+/// A pendulum released at 179.9°: a loose tolerance tips it over the top,
+/// so the run never swings back and shows no period. The measure says the
+/// run is too coarse, at which tolerance the period shows, and its value
+/// there (near the elliptic integral's); the default tolerance measures it.
+#[test]
+fn a_period_a_coarse_run_misses_is_named_with_the_tolerance_that_shows_it() {
+    let mut scene = pendulum(179.9, &[SystemPanel::Plot]);
+    scene.duration = 40.0;
+    let exact = exact_period(179.9);
+    let period = [of(Stat::Period, "theta")];
+    let coarse = OdeMethod::with_setting(OdeKind::Auto, 1e-3).unwrap();
+    let got = measure_system(&scene, coarse, &period).unwrap();
+    match &got[0] {
+        Err(ReadingError::TooCoarse {
+            measure,
+            method,
+            finer,
+            value,
+            ..
+        }) => {
+            assert_eq!(measure, "period(theta)");
+            assert_eq!(method, "auto rtol 0.001");
+            assert!(finer.starts_with("auto rtol 1e-"), "{finer}");
+            assert!((value / exact - 1.0).abs() < 0.02, "{value} vs {exact}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let text = got[0].clone().unwrap_err().to_string();
+    assert!(text.contains("too coarse"), "{text}");
+    let fine = measure_system(&scene, auto(), &period).unwrap();
+    let value = fine[0].clone().unwrap();
+    assert!((value / exact - 1.0).abs() < 1e-3, "{value} vs {exact}");
+}
