@@ -744,3 +744,67 @@ fn a_bounded_solution_is_never_called_a_blow_up_and_atol_is_named_as_the_cure() 
         assert!(err.contains(says), "{atol}: {err}");
     }
 }
+
+/// No row past the point a run can vouch for: x' = x² (x = 1/(1 − t)) is
+/// infinite at t = 1, where every method printed a finite number (1.05e9
+/// with auto, 5.5e9 radau, 8.2e3 rk4); x' = 1 + x² (x = tan t) keeps its row
+/// at t = 1.5, well before π/2, and rk4's coarse steps past the pole do not
+/// print the row at 1.6.
+#[test]
+fn no_row_is_printed_where_a_blow_up_leaves_it_unvouched() {
+    let square = Deck::new(
+        "square",
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [1.0]\nequations = [\"x^2\"]\nduration = 2.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+    );
+    let tangent = Deck::new(
+        "tangent",
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [0.0]\nequations = [\"1 + x^2\"]\nduration = 2.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+    );
+    let last_row = |out: &str| -> Vec<f64> {
+        out.lines()
+            .last()
+            .unwrap()
+            .split(',')
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    for method in [
+        vec!["--method", "auto"],
+        vec!["--method", "radau"],
+        vec!["--method", "adaptive"],
+        vec!["--method", "rk4", "--dt", "0.001"],
+        vec!["--method", "rk4", "--dt", "0.03"],
+    ] {
+        let mut args = vec!["--samples", "21"];
+        args.extend(method.iter().copied());
+        let (code, out, err) = square.sim(&args);
+        assert_eq!(code, 1, "{method:?}: {err}");
+        let row = last_row(&out);
+        assert_eq!(row[0], 0.9, "{method:?}: {out}");
+        assert!((row[1] - 10.0).abs() < 1e-2, "{method:?}: {out}");
+        assert!(
+            (err.contains("the solution blows up near t = 1.0")
+                || err.contains("the solution blows up near t = 1.05"))
+                && err.contains("the row at t = 1 is not printed"),
+            "{method:?}: {err}"
+        );
+        let (code, out, err) = tangent.sim(&args);
+        assert_eq!(code, 1, "{method:?}: {err}");
+        let row = last_row(&out);
+        assert_eq!(row[0], 1.5, "{method:?}: {out}");
+        assert!((row[1] - 1.5f64.tan()).abs() < 1e-2, "{method:?}: {out}");
+        assert!(
+            err.contains("blows up near t = 1.5") || err.contains("blows up near t = 1.6"),
+            "{method:?}: {err}"
+        );
+    }
+    // JSON alike: well formed, the last sample at 0.9, the reason given.
+    let (_, out, _) = square.sim(&["--samples", "21", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let samples = v["samples"].as_array().unwrap();
+    assert_eq!(samples.last().unwrap()["t"], 0.9);
+    assert!(
+        v["error"].as_str().unwrap().contains("is not printed"),
+        "{v}"
+    );
+}

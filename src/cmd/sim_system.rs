@@ -14,8 +14,9 @@ use crate::cmd::args::{MethodArg, SimArgs, SimFormat};
 use crate::cmd::sim_samples::Stats;
 use crate::deck::{Deck, Measure, Prompt, SystemScene};
 use crate::predict::audit::{Run, audit_run, audit_slips};
+use crate::sim::error::SolveError;
 use crate::sim::scene::spec::SceneAtol;
-use crate::sim::scene::system::{SystemPlan, SystemRun, describe, measure_system_noting};
+use crate::sim::scene::system::{RunError, SystemPlan, SystemRun, describe, measure_system_noting};
 use crate::sim::solvers::ode::{OdeKind, OdeMethod};
 use crate::sim::system::System;
 use crate::text::num::{self, Num};
@@ -230,6 +231,22 @@ fn write_rows(
 ) -> anyhow::Result<()> {
     let last = samples - 1;
     let mut observables = vec![0.0; system.observable_count()];
+    // Each row waits for the next sample: a run that then blows up may
+    // have reached the row only by a step across the singularity
+    // (x' = x² printed 1.05e9 at t = 1, where the solution is infinite).
+    let mut pending: Option<(f64, String)> = None;
+    let mut written = 0;
+    let mut flush = |row: String, out: &mut dyn Write| -> anyhow::Result<()> {
+        match format {
+            SimFormat::Csv => writeln!(out, "{row}")?,
+            SimFormat::Json => {
+                let sep = if written > 0 { "," } else { "" };
+                write!(out, "{sep}\n{{{row}}}")?;
+            }
+        }
+        written += 1;
+        Ok(())
+    };
     for k in 0..samples {
         let t = if k == last {
             scene.duration
@@ -238,11 +255,31 @@ fn write_rows(
         };
         run.advance_to(t);
         if let Some(e) = run.error() {
-            bail!("{} (the run stops here)", describe(e));
+            let why = describe(e);
+            if let Some((t_row, row)) = pending.take() {
+                // Within four steps of a blow-up (or a millionth of the
+                // time, at the singularity) no method vouches for a value.
+                if let RunError::Ode(SolveError::BlowUp { t: t_b }) = e {
+                    let step = run.last_step().map_or(0.0, |(t0, t1)| t1 - t0);
+                    let near = (4.0 * step).max(1e-6 * t_b.abs().max(1.0));
+                    if t_b - t_row <= near {
+                        bail!(
+                            "{why} (the run stops here; the row at t = {} is not printed: it lies within {} of the blow-up, where no step can vouch for a value)",
+                            Num(t_row),
+                            num::sig(t_b - t_row, 2)
+                        );
+                    }
+                }
+                flush(row, out)?;
+            }
+            bail!("{why} (the run stops here)");
         }
         let y = run.state().to_vec();
         system.observables_into(t, &y, &mut observables);
         if observables.iter().any(|v| !v.is_finite()) {
+            if let Some((_, row)) = pending.take() {
+                flush(row, out)?;
+            }
             let why = system
                 .observable_fault(t, &y)
                 .map(|f| f.describe(scene, t))
@@ -253,10 +290,10 @@ fn write_rows(
         row.push(t);
         row.extend_from_slice(&y);
         row.extend_from_slice(&observables);
-        match format {
+        let text = match format {
             SimFormat::Csv => {
                 let cells: Vec<String> = row.iter().map(|v| num::show(*v)).collect();
-                writeln!(out, "{}", cells.join(","))?;
+                cells.join(",")
             }
             SimFormat::Json => {
                 let mut cells = Vec::with_capacity(row.len());
@@ -267,10 +304,15 @@ fn write_rows(
                         serde_json::to_string(v)?
                     ));
                 }
-                let sep = if k > 0 { "," } else { "" };
-                write!(out, "{sep}\n{{{}}}", cells.join(","))?;
+                cells.join(",")
             }
+        };
+        if let Some((_, row)) = pending.replace((t, text)) {
+            flush(row, out)?;
         }
+    }
+    if let Some((_, row)) = pending.take() {
+        flush(row, out)?;
     }
     Ok(())
 }

@@ -1181,6 +1181,10 @@ impl SystemRun {
     pub fn error(&self) -> Option<&RunError> {
         self.error.as_ref()
     }
+    /// The last step the solver took, [t0, t1].
+    pub fn last_step(&self) -> Option<(f64, f64)> {
+        self.span
+    }
     /// What a step of this scene costs.
     pub fn cost(&self) -> Cost {
         self.cost
