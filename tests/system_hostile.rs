@@ -808,3 +808,41 @@ fn no_row_is_printed_where_a_blow_up_leaves_it_unvouched() {
         "{v}"
     );
 }
+
+/// RK4 steps across the end of a solution without noticing: x' = −1/x
+/// (x = √(1 − 2t)) ends at t = 0.5, and rk4 printed finite rows up to t = 1
+/// (0.58 at dt 0.01, 5.07 at dt 0.03) with exit 0. A step across a zero of
+/// a divisor now stops the run with the cause, as the adaptive methods do.
+#[test]
+fn rk4_stops_where_a_divisor_crosses_zero_instead_of_printing_past_the_end() {
+    let d = Deck::new(
+        "ending",
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [1.0]\nequations = [\"-1/x\"]\nduration = 1.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+    );
+    for dt in ["0.01", "0.03"] {
+        let (code, out, err) = d.sim(&["--samples", "11", "--method", "rk4", "--dt", dt]);
+        assert_eq!(code, 1, "dt {dt}: {out}{err}");
+        assert!(err.contains("division by zero"), "dt {dt}: {err}");
+        for line in out.lines().skip(1) {
+            let t: f64 = line.split(',').next().unwrap().parse().unwrap();
+            assert!(t <= 0.5, "dt {dt}: a row past the end: {out}");
+        }
+    }
+    // The same equations where x stays away from 0 run to the end.
+    let d = Deck::new(
+        "away",
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [2.0]\nequations = [\"-1/x\"]\nduration = 1.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+    );
+    let (code, out, err) = d.sim(&["--samples", "11", "--method", "rk4", "--dt", "0.01"]);
+    assert_eq!(code, 0, "{err}");
+    let last: f64 = out
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!((last - 2f64.sqrt()).abs() < 1e-6, "{out}");
+}

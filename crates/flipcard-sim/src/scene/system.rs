@@ -551,6 +551,8 @@ pub struct SystemRun {
     /// the ones it does not control when the run cannot meet its tolerance.
     sizes: Vec<Vec<(f64, f64)>>,
     atol: Vec<f64>,
+    /// The state at the start of the next RK4 step (for the domain check).
+    step_start: Option<Vec<f64>>,
     cost: Cost,
     /// The step budget comes from [`MAX_RUN_WORK`].
     work_limited: bool,
@@ -664,6 +666,7 @@ impl SystemRun {
             observables_upto,
             good: scene.initial.clone(),
             sizes: vec![Vec::new(); n],
+            step_start: None,
             atol: match &opts_atol {
                 ode::Atol::Scalar(a) => vec![*a; n],
                 ode::Atol::PerComponent(v) => v.clone(),
@@ -728,6 +731,26 @@ impl SystemRun {
             }
         }
         Ok(())
+    }
+
+    /// RK4 takes its steps whatever the equations do between them: a step
+    /// across a zero of a divisor (x' = −1/x past t = 0.5, where
+    /// x = √(1 − 2t) ends) lands on finite numbers that belong to no
+    /// solution, and the run would go on printing them. So after each RK4
+    /// step the divisors at its two ends are compared (the adaptive
+    /// methods' steps collapse there instead, and `solver_error` names the
+    /// cause).
+    fn fixed_step_left_the_domain(&mut self, t0: f64, t1: f64) -> Option<RunError> {
+        if self.method.kind != OdeKind::Rk4 {
+            return None;
+        }
+        let n = self.good.len();
+        let mut y1 = vec![0.0; n];
+        self.solver.dense(t1, &mut y1).ok()?;
+        let y0 = self.step_start.replace(y1.clone());
+        let y0 = y0.unwrap_or_else(|| self.scene.initial.clone());
+        let fault = self.system.equations().divisor_crossing(t0, &y0, t1, &y1)?;
+        Some(self.domain(t1, Some(fault)))
     }
 
     fn domain(&self, t: f64, fault: Option<Fault>) -> RunError {
@@ -1039,7 +1062,13 @@ impl SystemRun {
                 return false;
             }
             match self.solver.step() {
-                Ok((t0, t1)) => self.span = Some((t0, t1.min(self.scene.duration))),
+                Ok((t0, t1)) => {
+                    self.span = Some((t0, t1.min(self.scene.duration)));
+                    if let Some(e) = self.fixed_step_left_the_domain(t0, t1) {
+                        self.stop(e);
+                        return true;
+                    }
+                }
                 Err(e) => {
                     self.stop(self.solver_error(e));
                     return true;
