@@ -50,7 +50,7 @@ fn a_tag_without_a_deck_reviews_both_bundled_decks_and_exports_each_rating_under
         110,
         30,
     );
-    let screen = t.wait_for("2 cards · filtered");
+    let screen = t.wait_for("2 cards left in this filter");
     // Deck order is the library's: find which card comes first.
     let first = CARDS
         .iter()

@@ -135,6 +135,10 @@ pub enum Msg {
     Exam,
     // Suspend, bury, leeches, the card browser and the study filter.
     Filtered,
+    /// After the cards left of a session from the exam plan.
+    LeftInExamPlan,
+    /// After the cards left of a filtered session.
+    LeftInFilter,
     CardSuspended,
     CardBuried,
     CardUnsuspended,
@@ -363,6 +367,8 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         FsrsFitted => pick!("FSRS fitted", "FSRS fit kiya"),
         Exam => pick!("Exam", "Exam"),
         Filtered => pick!("filtered", "filtered"),
+        LeftInExamPlan => pick!("left today in the exam plan", "exam plan mein aaj baaki"),
+        LeftInFilter => pick!("left in this filter", "is filter mein baaki"),
         CardSuspended => pick!(
             "card suspended (u undoes)",
             "card suspend kiya (u se wapas)"

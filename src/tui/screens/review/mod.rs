@@ -355,16 +355,19 @@ impl ReviewState {
                 app.tr(Msg::Cram)
             ),
             Source::Filtered(q) | Source::Plan(q) => {
+                // "0 cards · Exam" said nothing of what the count is:
+                // the cards left of this session, named by where it came
+                // from.
                 let c = q.counts();
-                let mut line = app.count(c.total(), Noun::Card);
+                let label = match self.source {
+                    Source::Plan(_) => Msg::LeftInExamPlan,
+                    _ => Msg::LeftInFilter,
+                };
+                let mut line = format!("{} {}", app.count(c.total(), Noun::Card), app.tr(label));
                 if c.learning > 0 {
                     line.push_str(&format!(" · {} {}", c.learning, app.tr(Msg::Learning)));
                 }
-                let label = match self.source {
-                    Source::Plan(_) => Msg::Exam,
-                    _ => Msg::Filtered,
-                };
-                format!("{line} · {}", app.tr(label))
+                line
             }
         }
     }
