@@ -221,13 +221,16 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
     // Narrow: the deck titles alone in the list, their counts below.
     let narrow = area.width < 60;
     let details = details(app, state, narrow, area.width);
-    // The deck list keeps at least its header and one deck.
+    // The deck list keeps its header and up to five decks before the
+    // details get a row (at 40×12 the selected deck's details hid every
+    // other deck): the details are cut from their end, the description.
     // Decks that failed to load are named above the list (with how to see
     // why), so one broken file hides none of the others.
     let warn_rows = u16::from(!app.deck_load.failed.is_empty()) * 2;
+    let list_rows = 1 + app.decks.len().clamp(1, 5) as u16;
     let room = area
         .height
-        .saturating_sub(keys.len() as u16 + 2 + warn_rows);
+        .saturating_sub(keys.len() as u16 + list_rows + warn_rows);
     let [warn_area, table_area, detail_area, keys_area] = Layout::vertical([
         Constraint::Length(warn_rows),
         Constraint::Fill(1),

@@ -503,3 +503,24 @@ fn esc_on_home_says_how_to_quit_and_q_quits() {
     press(&mut app, KeyCode::Char('q'));
     assert!(app.quit);
 }
+
+/// At 40×12 the selected deck's details took every row below the list's
+/// first deck, hiding the others: the list keeps its decks (up to five) and
+/// the details are cut from their end instead, in both languages.
+#[test]
+fn a_small_terminal_still_lists_every_deck() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = testkit::app(lang);
+        app.decks = crate::bundled::load().decks;
+        assert!(app.decks.len() >= 2, "the test needs two decks");
+        app.size = (40, 12);
+        let text = render(&app);
+        for deck in &app.decks {
+            let title: String = deck.title.get(&app.lang).chars().take(20).collect();
+            assert!(text.contains(&title), "{title} missing at 40×12:\n{text}");
+        }
+        // The keys stay, and the selected deck's counts still show.
+        assert!(text.contains("q "), "{text}");
+        assert!(text.contains(" · 0 "), "{text}");
+    }
+}
