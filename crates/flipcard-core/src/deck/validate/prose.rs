@@ -9,8 +9,11 @@
 //! `also` and by `section` / `the section` (then `on`, `about`, `called`,
 //! `titled` or `named`):
 //!
-//! - an emphasised title, `*Title*` or `**Title**`, or a quoted one,
-//!   `"Title"` / `“Title”` / `‘Title’`, starting with a capital letter;
+//! - an emphasised title, `*Title*` or `**Title**`, starting with a capital
+//!   letter and not ending in `:` or `.` (a bold lead-in is no title); a
+//!   quoted one, `"Title"` / `“Title”` / `‘Title’`, likewise, but only in
+//!   parentheses or after `section` (in running text quotes are more often
+//!   what the learner sees on screen);
 //! - after `section …`, the words up to the next punctuation, whatever
 //!   their case (`see the section on damping`);
 //! - inside parentheses right after the `(`, everything up to the `)`, when
@@ -373,7 +376,11 @@ fn after(text: &str, b: &[u8], start: usize, end: usize) -> Option<Reference> {
         }
     }
     if let Some(r) = marked(text, b, p) {
-        return capitalised(&r.title).then_some(r);
+        // Quotes in running text are more often what is seen (`you see
+        // "Wrong"`) than a title.
+        let quoted = !text[p..].starts_with('*');
+        let titled = !quoted || in_paren || explicit;
+        return (titled && is_title(&r.title)).then_some(r);
     }
     if explicit {
         let stop = (p..b.len())
@@ -419,7 +426,7 @@ fn before(text: &str, b: &[u8], start: usize, end: usize) -> Option<Reference> {
             return None;
         }
         let title = text[from..to].to_string();
-        return capitalised(&title).then_some(Reference { at: from, title });
+        return is_title(&title).then_some(Reference { at: from, title });
     }
     // `(Applications dekhiye)`
     let after_verb = skip_spaces(b, end);
@@ -489,6 +496,12 @@ fn bare(text: &str, b: &[u8], from: usize, to: usize, strict: bool) -> Option<Re
     })
 }
 
+/// Whether marked words read as a title: a capital first, and no lead-in
+/// label (`**Experiment:** dekho ki …`, `*Note.*`).
+fn is_title(title: &str) -> bool {
+    capitalised(title) && !title.trim_end().ends_with([':', '.'])
+}
+
 /// Whether a title starts with a capital letter (a title, not prose).
 fn capitalised(title: &str) -> bool {
     title
@@ -517,7 +530,7 @@ mod tests {
                 &["Earth's free wobble"],
             ),
             (
-                "see “Why we work in the body frame”.",
+                "(see “Why we work in the body frame”).",
                 &["Why we work in the body frame"],
             ),
             ("see the section on damping, which", &["damping"]),
@@ -537,6 +550,10 @@ mod tests {
             ("(see [Applications](#applications))", &[]),
             ("(see $\\omega$)", &[]),
             ("axis 3 ki tip se dekho to counter-clockwise", &[]),
+            ("see the section \"Damping\".", &["Damping"]),
+            ("**Experiment:** dekho ki kya hota hai", &[]),
+            ("*Note.* See *why* below", &[]),
+            ("press Enter and see \"Wrong\" on the screen", &[]),
             ("body se dekho to $\\vec\\omega$", &[]),
             ("a (long aside that goes on) and see", &[]),
             (
