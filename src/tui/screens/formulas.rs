@@ -5,6 +5,9 @@
 //! order); formulas are wrapped whole, breaking only where mathematics
 //! breaks (`wrap`, as the reader's formulas).
 
+use std::cell::RefCell;
+use std::rc::Rc;
+
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::Style;
@@ -69,6 +72,47 @@ pub const KEYS: &[Binding] = &[
 pub struct FormulaSheet {
     pub deck: usize,
     pub scroll: usize,
+    /// The sheet as last laid out: every key and every frame needs it, and
+    /// it changes only with the language and the width.
+    laid_out: RefCell<Option<LaidOut>>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct LaidOut {
+    lang: String,
+    width: usize,
+    lines: Rc<Vec<Line<'static>>>,
+    count: usize,
+}
+
+impl FormulaSheet {
+    /// The sheet of deck `deck`, at its top.
+    pub fn new(deck: usize) -> FormulaSheet {
+        FormulaSheet {
+            deck,
+            ..FormulaSheet::default()
+        }
+    }
+
+    /// [`lines`] at `width` in the app's language, laid out again only
+    /// when either changed.
+    fn lines(&self, app: &App, deck: &Deck, width: usize) -> (Rc<Vec<Line<'static>>>, usize) {
+        let mut cache = self.laid_out.borrow_mut();
+        match &*cache {
+            Some(l) if l.lang == app.lang && l.width == width => (l.lines.clone(), l.count),
+            _ => {
+                let (lines, count) = lines(app, deck, width);
+                let lines = Rc::new(lines);
+                *cache = Some(LaidOut {
+                    lang: app.lang.clone(),
+                    width,
+                    lines: lines.clone(),
+                    count,
+                });
+                (lines, count)
+            }
+        }
+    }
 }
 
 /// Where formulas are written, and the formulas first written there.
@@ -236,9 +280,9 @@ fn text_area(app: &App) -> Rect {
     areas(body_rect(app.size)).0
 }
 
-fn max_scroll(app: &App, deck: &Deck) -> usize {
+fn max_scroll(app: &App, deck: &Deck, state: &FormulaSheet) -> usize {
     let area = text_area(app);
-    let (lines, _) = lines(app, deck, area.width as usize);
+    let (lines, _) = state.lines(app, deck, area.width as usize);
     lines.len().saturating_sub(area.height as usize)
 }
 
@@ -252,7 +296,7 @@ impl super::View for FormulaSheet {
             return Nav::Pop;
         };
         // The language or the size may have changed since the last key.
-        let max = max_scroll(app, deck);
+        let max = max_scroll(app, deck, self);
         self.scroll = self.scroll.min(max);
         let page = (text_area(app).height as usize).saturating_sub(1).max(1);
         match action {
@@ -288,11 +332,11 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &FormulaSheet) {
     };
     let lang = app.lang.as_str();
     let (text_area, status_area) = areas(area);
-    let (lines, count) = lines(app, deck, text_area.width as usize);
+    let (lines, count) = state.lines(app, deck, text_area.width as usize);
     let total = lines.len();
     let height = text_area.height as usize;
     let scroll = state.scroll.min(total.saturating_sub(height));
-    let shown: Vec<Line> = lines.into_iter().skip(scroll).take(height).collect();
+    let shown: Vec<Line> = lines.iter().skip(scroll).take(height).cloned().collect();
     frame.render_widget(Paragraph::new(shown), text_area);
 
     let counted = format!(" {count} {}", words::FORMULAS.get(lang));

@@ -661,10 +661,9 @@ pub fn apply(app: &mut App, state: &mut ReaderState, action: Action) -> Nav {
         },
         Action::StartSearch => state.search = Some(String::new()),
         Action::OpenFormulas => {
-            return Nav::Push(super::Screen::Formulas(super::formulas::FormulaSheet {
-                deck: state.deck,
-                scroll: 0,
-            }));
+            return Nav::Push(super::Screen::Formulas(super::formulas::FormulaSheet::new(
+                state.deck,
+            )));
         }
         Action::NextMatch | Action::PrevMatch => {
             if let Some(q) = state.query.clone() {

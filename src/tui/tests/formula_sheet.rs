@@ -199,6 +199,13 @@ fn the_sheet_scrolls_and_stops_at_its_end() {
     press(&mut app, KeyCode::Char('g'));
     assert_eq!(state(&app).scroll, 0);
     insta::assert_snapshot!("formula_sheet_small", render(&app));
+    // Laid out again for a larger terminal, where it all fits: the end is
+    // the top.
+    press(&mut app, KeyCode::Char('G'));
+    app.size = (100, 30);
+    press(&mut app, KeyCode::Char('j'));
+    assert_eq!(state(&app).scroll, 0);
+    assert!(render(&app).contains("Section · The tennis-racket theorem"));
 }
 
 #[test]
@@ -264,7 +271,7 @@ fn bundled_sheets_fit_every_size_without_tearing_a_formula() {
                 }
                 // The screen itself: its first pages, its end, and back up.
                 app.stack.truncate(1);
-                app.push(Screen::Formulas(FormulaSheet { deck: d, scroll: 0 }));
+                app.push(Screen::Formulas(FormulaSheet::new(d)));
                 for code in [KeyCode::PageDown; 4].into_iter().chain([
                     KeyCode::Char('G'),
                     KeyCode::Char('j'),
