@@ -651,4 +651,73 @@ mod tests {
         assert_eq!(closest("Wobble", "en", &t), None);
         assert_eq!(closest("Gyroscopes", "en", &t), None);
     }
+
+    /// Pieces of prose a reference is made of, and of the marks around it.
+    const PIECES: &[&str] = &[
+        "see",
+        "See",
+        "dekho",
+        "dekhiye",
+        "also",
+        "the",
+        "section",
+        "on",
+        "(",
+        ")",
+        "*",
+        "**",
+        "\"",
+        "“",
+        "”",
+        "‘",
+        "’",
+        "$",
+        "`",
+        "[",
+        "](#a)",
+        "é",
+        "ω₂",
+        ":",
+        ",",
+        ".",
+        "\n",
+        "Applications",
+        "Damping",
+        "why",
+        "Figure",
+        "2",
+        "(see ",
+        "see *",
+        "(dekho *",
+        "* dekho)",
+        " dekhiye)",
+        "see the section on ",
+        "(see “",
+        "”)",
+        "Earth’s free wobble",
+    ];
+
+    proptest::proptest! {
+        /// Any text, however its marks, parentheses, quotes, `$` and
+        /// non-ASCII letters fall: no panic, and each reference is the text
+        /// at its offset.
+        #[test]
+        fn any_text_gives_references_at_their_place(
+            pieces in proptest::collection::vec(
+                (proptest::sample::select(PIECES), proptest::bool::ANY),
+                0..24,
+            )
+        ) {
+            let text: String = pieces
+                .iter()
+                .map(|(p, space)| if *space { format!("{p} ") } else { p.to_string() })
+                .collect();
+            for r in references(&text) {
+                proptest::prop_assert_eq!(
+                    text.get(r.at..r.at + r.title.len()),
+                    Some(r.title.as_str())
+                );
+            }
+        }
+    }
 }
