@@ -149,8 +149,8 @@ fn body_formulas(body: &str) -> Vec<String> {
         match block {
             MBlock::Display(math) => out.push(math.trim().to_string()),
             MBlock::Paragraph(spans) | MBlock::Item(spans) => {
-                // Consecutive math spans are one formula only when written
-                // as one; the markup keeps each `$…$` a span of its own.
+                // Each math span is a formula (the markup joins two only
+                // when nothing stands between them).
                 out.extend(
                     spans
                         .into_iter()

@@ -291,3 +291,30 @@ fn bundled_sheets_fit_every_size_without_tearing_a_formula() {
 fn squash_words(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
+
+#[test]
+fn a_deck_without_formulas_says_so() {
+    let mut deck = testkit::deck();
+    deck.sections.clear();
+    for c in &mut deck.cards {
+        for t in [&mut c.front, &mut c.back] {
+            for v in t.0.values_mut() {
+                *v = v.replace('$', "");
+            }
+        }
+    }
+    let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
+    let mut app = crate::tui::stack::Tui::new(
+        vec![deck],
+        testkit::services(&dir),
+        ENGLISH,
+        crate::tui::theme::Theme::PLAIN,
+    );
+    app.size = (40, 12);
+    press_all(&mut app, &[KeyCode::Char('r'), KeyCode::Char('F')]);
+    assert_eq!(app.context(), Context::Formulas);
+    press_all(&mut app, &[KeyCode::Char('G'), KeyCode::PageDown]);
+    let screen = render(&app);
+    assert!(screen.contains("This deck has no formulas."), "{screen}");
+    assert!(screen.contains(" 0 formulas"), "{screen}");
+}
