@@ -367,3 +367,14 @@ fn no_simulate_skips_the_runs_and_only_them() {
         assert!(skipped.stdout.ends_with(": ok\n"), "{}", skipped.stdout);
     }
 }
+
+/// The bundled decks check without a warning: every prose reference to a
+/// section (`see *Title*`, `dekho *Title*`) names a real title or is a
+/// link, so a new check that finds something there finds a real mistake.
+#[test]
+fn the_bundled_decks_check_without_warnings() {
+    let run = check(&manifest_dir(), &["--no-simulate", "decks"]);
+    assert_eq!(run.code, 0, "{}", run.stderr);
+    assert_eq!(run.stderr, "", "warnings on the bundled decks");
+    assert!(run.stdout.ends_with(": ok\n"), "{}", run.stdout);
+}

@@ -2,7 +2,8 @@
 //! (tmux), with a temporary data dir and a fixed clock. Review three cards,
 //! undo one, switch to Hinglish, answer the middle-axis prompt and see the
 //! verdict, quit, and check through `flipcard export --reviews` that exactly
-//! the expected reviews were stored. Also: shrink the terminal to 20×6 and
+//! the expected reviews were stored. Also: the reader's formula sheet in
+//! both languages; shrink the terminal to 20×6 and
 //! back without a crash, and find the terminal restored after Ctrl-C and
 //! SIGTERM.
 //!
@@ -806,4 +807,42 @@ fn a_known_slip_is_named_and_e_opens_the_anchored_paragraph() {
     t.keys(&["Escape"]);
     t.wait_for("✓ Right ✓");
     t.keys(&["q"]);
+}
+
+/// `F` in the reader opens the deck's formula sheet: the first place that
+/// writes a formula is its first heading, with its first formula; `l`
+/// turns the sheet into Hinglish, and Esc goes back to the reader.
+#[test]
+fn f_opens_the_formula_sheet_in_both_languages_and_esc_goes_back() {
+    if !tmux_available() {
+        return;
+    }
+    use flipcard::tui::screens::formulas;
+    let deck = bundled_deck();
+    let (en, hi) = (
+        formulas::groups(&deck, "en"),
+        formulas::groups(&deck, "hi-Latn"),
+    );
+    let squash = |s: &str| s.split_whitespace().collect::<String>();
+    let env = Env::new();
+    let t = Tmux::start("sheet", env.flipcard(), 100, 30);
+    t.wait_for("last studied");
+    select_deck(&t);
+    t.keys(&["r"]);
+    t.wait_for("spinning with no torque");
+    t.keys(&["F"]);
+    let s = t.wait_for("Formula sheet");
+    assert!(
+        s.contains(&format!("Card · {}", opening(&en[0].heading, 3))),
+        "{s}"
+    );
+    assert!(squash(&s).contains(&squash(&en[0].formulas[0])), "{s}");
+    t.keys(&["l"]);
+    let s = t.wait_for(&format!("Card · {}", opening(&hi[0].heading, 3)));
+    assert!(squash(&s).contains(&squash(&hi[0].formulas[0])), "{s}");
+    t.keys(&["Escape"]);
+    t.wait_for("Bada picture");
+    let s = t.screen();
+    assert!(!s.contains("Formula sheet"), "{s}");
+    t.keys(&["q", "q"]);
 }

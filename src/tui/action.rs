@@ -70,6 +70,8 @@ pub enum Action {
     NextLink,
     PrevLink,
     FollowLink,
+    /// The deck's formula sheet.
+    OpenFormulas,
 
     // Text fields (typed answers, numeric predictions, search)
     Input(char),

@@ -34,6 +34,7 @@ pub enum Msg {
     Language,
     LanguageName,
     Reader,
+    FormulaSheet,
     Search,
     NoMatch,
     SeeAlso,
@@ -237,6 +238,7 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         Language => pick!("language", "bhasha"),
         LanguageName => pick!("English", "Hinglish"),
         Reader => pick!("Reader", "Reader"),
+        FormulaSheet => pick!("Formula sheet", "Formula sheet"),
         Search => pick!("search", "khojo"),
         NoMatch => pick!("no match", "kuch nahi mila"),
         SeeAlso => pick!("See also", "Yeh bhi dekho"),
@@ -614,6 +616,22 @@ pub mod reader {
     pub const LINES: Words = Words("lines", "lines");
     /// The search match count ("match 3/9").
     pub const MATCH: Words = Words("match", "match");
+}
+
+/// Words of the formula sheet.
+pub mod formulas {
+    use super::Words;
+
+    /// Before a card's front.
+    pub const CARD: Words = Words("Card", "Card");
+    /// Before a section's title.
+    pub const SECTION: Words = Words("Section", "Section");
+    /// After the count ("42 formulas").
+    pub const FORMULAS: Words = Words("formulas", "formulas");
+    pub const NONE: Words = Words(
+        "This deck has no formulas.",
+        "Is deck mein koi formula nahi hai.",
+    );
 }
 
 /// Words of the study screens: counts with what they count, what comes

@@ -17,6 +17,8 @@ pub enum Context {
     Reader,
     /// Typing a search in the reader.
     ReaderSearch,
+    /// The formula sheet of the reader's deck.
+    Formulas,
     /// A card's front, waiting for the reveal.
     ReviewFront,
     /// A typed card: the answer field has the keyboard.

@@ -9,6 +9,11 @@ use ratatui::layout::Rect;
 pub const MIN_WIDTH: u16 = 40;
 pub const MIN_HEIGHT: u16 = 12;
 
+/// The widest a text to read runs, in columns (the reader's sections, the
+/// formula sheet): longer lines are hard to follow from one end to the
+/// next on a wide terminal.
+pub const MEASURE: u16 = 80;
+
 /// The screen body (between header and footer) for a terminal size; the
 /// same split `view::draw` makes, so actions can reason about what is
 /// visible.

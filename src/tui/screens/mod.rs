@@ -5,6 +5,7 @@
 pub mod browser;
 pub mod exam;
 pub mod filter;
+pub mod formulas;
 pub mod home;
 pub mod predict;
 pub mod prompts;
@@ -48,6 +49,7 @@ pub enum Screen {
     Home(home::HomeState),
     Review(Box<review::ReviewState>),
     Reader(reader::ReaderState),
+    Formulas(formulas::FormulaSheet),
     Prompts(prompts::PromptsState),
     Predict(Box<predict::PredictState>),
     Stats(Box<stats::StatsState>),
@@ -62,6 +64,7 @@ impl Screen {
             Screen::Home(s) => s,
             Screen::Review(s) => s.as_ref(),
             Screen::Reader(s) => s,
+            Screen::Formulas(s) => s,
             Screen::Prompts(s) => s,
             Screen::Predict(s) => s.as_ref(),
             Screen::Stats(s) => s.as_ref(),
@@ -76,6 +79,7 @@ impl Screen {
             Screen::Home(s) => s,
             Screen::Review(s) => s.as_mut(),
             Screen::Reader(s) => s,
+            Screen::Formulas(s) => s,
             Screen::Prompts(s) => s,
             Screen::Predict(s) => s.as_mut(),
             Screen::Stats(s) => s.as_mut(),
@@ -106,6 +110,7 @@ pub fn keys(ctx: Context) -> &'static [Binding] {
         Context::Home => home::KEYS,
         Context::Reader => reader::KEYS,
         Context::ReaderSearch => reader::SEARCH_KEYS,
+        Context::Formulas => formulas::KEYS,
         Context::ReviewFront => review::FRONT_KEYS,
         Context::ReviewTyping => review::TYPING_KEYS,
         Context::ReviewBack => review::BACK_KEYS,

@@ -14,7 +14,7 @@ use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::Msg;
 use crate::tui::i18n::reader as words;
-use crate::tui::layout::body_rect;
+use crate::tui::layout::{MEASURE, body_rect};
 use crate::tui::theme::Theme;
 use crate::tui::wrap::{Run, columns, ellipsize, line_text, wrap, wrap_tagged};
 
@@ -89,6 +89,11 @@ pub const KEYS: &[Binding] = &[
         "Enter",
         Words("follow the chosen link", "chuna hua link kholo"),
         &[(Enter, Action::FollowLink)],
+    ),
+    Binding::new(
+        "F",
+        Words("formula sheet", "formula sheet"),
+        &[(Char('F'), Action::OpenFormulas)],
     ),
     Binding::new(
         "Esc q",
@@ -167,10 +172,6 @@ pub fn open_at(app: &App, deck: usize, explain: &Explain) -> Nav {
     }
     Nav::Push(super::Screen::Reader(state))
 }
-
-/// The widest the text runs, in columns: longer lines are hard to follow
-/// from one end to the next on a wide terminal.
-pub const MEASURE: u16 = 80;
 
 /// The reader's areas inside the screen body: section list, text, and the
 /// status line (the chosen link, the search, the position).
@@ -659,6 +660,11 @@ pub fn apply(app: &mut App, state: &mut ReaderState, action: Action) -> Nav {
             None => {}
         },
         Action::StartSearch => state.search = Some(String::new()),
+        Action::OpenFormulas => {
+            return Nav::Push(super::Screen::Formulas(super::formulas::FormulaSheet::new(
+                state.deck,
+            )));
+        }
         Action::NextMatch | Action::PrevMatch => {
             if let Some(q) = state.query.clone() {
                 jump(app, state, &q, action == Action::NextMatch, false);

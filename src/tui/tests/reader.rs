@@ -294,7 +294,7 @@ fn wide_terminals_widen_the_list_and_cut_titles_with_an_ellipsis() {
     let (list, text, _) =
         crate::tui::screens::reader::areas(crate::tui::layout::body_rect(wide.size));
     assert!(list.width > 30);
-    assert!(text.width <= crate::tui::screens::reader::MEASURE);
+    assert!(text.width <= crate::tui::layout::MEASURE);
     let screen = render(&wide);
     assert!(
         screen.contains("The transport theorem, and deriving Euler’s equations"),

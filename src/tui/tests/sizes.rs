@@ -91,6 +91,11 @@ fn reader_help(app: &mut TestApp) {
     press_all(app, &[Char('r'), Char('?')]);
 }
 
+fn formula_sheet(app: &mut TestApp) {
+    press_all(app, &[Char('r'), Char('F')]);
+    assert_eq!(app.context(), Context::Formulas);
+}
+
 fn stats(app: &mut TestApp) {
     app.services.bench_csv = None;
     press(app, Char('t'));
@@ -127,6 +132,7 @@ const SCREENS: &[(&str, Route)] = &[
     ("reader_link", reader_link),
     ("reader_search", reader_search),
     ("reader_help", reader_help),
+    ("formula_sheet", formula_sheet),
     ("stats", stats),
     ("prompts", prompts),
     ("browser", browser),

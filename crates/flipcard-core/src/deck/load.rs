@@ -313,6 +313,7 @@ fn load_deck(
             sections: None,
             ids: None,
             anchors: validate::Anchors::default(),
+            titles: validate::prose::Titles::default(),
         }
     } else {
         validate::content::sections(&mut files)
@@ -322,7 +323,7 @@ fn load_deck(
         &raw,
         &header.langs,
         sections.ids.as_ref(),
-        &sections.anchors,
+        (&sections.anchors, &sections.titles),
     );
 
     let clean = !rep.has_errors() && files.iter().all(|f| !f.rep.has_errors());

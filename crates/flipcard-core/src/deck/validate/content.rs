@@ -7,6 +7,7 @@ use crate::deck::model::{Section, Text};
 use crate::deck::raw::{RawContentFile, RawSection, Str};
 use crate::deck::report::FileReport;
 
+use super::prose::{self, Place};
 use super::text::{self, Kind};
 use super::{Targets, id, link, unique};
 use crate::deck::suggest;
@@ -29,6 +30,9 @@ pub struct Sections {
     pub ids: Option<Targets>,
     /// The anchors of each section in each file read.
     pub anchors: super::Anchors,
+    /// The titles of each section in each file read, for prose that
+    /// names a section by its title.
+    pub titles: prose::Titles,
 }
 
 /// Checks every content file; `files[0]` is the primary language's.
@@ -68,6 +72,7 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
     // Each file's sections: its own checks, and links against the primary
     // file's ids (the ones used; a translation with other ids is reported
     // below, once, rather than again at every link to them).
+    let titles = titles(files);
     let mut anchors = super::Anchors::default();
     for (f, own_ids) in files.iter_mut().zip(&ids_of) {
         let Some(raw) = &f.raw else { continue };
@@ -75,6 +80,8 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
         for s in &raw.sections {
             ok &= section_texts(&mut f.rep, s);
             if let (Some(sid), Some(body)) = (&s.id, &s.body) {
+                let what = format!("the body of section `{}`", sid.value);
+                prose::check(&mut f.rep, body, &f.lang, &titles, Place::Body, &what);
                 let (names, fine) = section_anchors(&mut f.rep, sid, body);
                 ok &= fine;
                 anchors
@@ -136,7 +143,27 @@ pub fn sections(files: &mut [ContentFile]) -> Sections {
         sections,
         ids: primary_ids,
         anchors,
+        titles,
     }
+}
+
+/// Every section's title in every file read; unknown when a file could
+/// not be read.
+fn titles(files: &[ContentFile]) -> prose::Titles {
+    let mut t = prose::Titles {
+        of: Vec::new(),
+        known: files
+            .iter()
+            .all(|f| f.raw.as_ref().is_some_and(|r| !r.unread)),
+    };
+    for f in files {
+        for s in f.raw.iter().flat_map(|r| &r.sections) {
+            if let (Some(id), Some(title)) = (&s.id, &s.title) {
+                t.of.push((id.value.clone(), f.lang.clone(), title.value.clone()));
+            }
+        }
+    }
+    t
 }
 
 /// The anchors of a section's body (`{#name}` lines), each an id used once

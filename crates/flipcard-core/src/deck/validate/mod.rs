@@ -5,6 +5,7 @@
 pub mod answer;
 pub mod cloze;
 pub mod content;
+pub mod prose;
 pub mod scene;
 pub mod system;
 pub mod text;
@@ -378,7 +379,7 @@ pub fn body(
     raw: &RawDeckFile,
     langs: &Langs,
     section_ids: Option<&Targets>,
-    anchors: &Anchors,
+    (anchors, titles): (&Anchors, &prose::Titles),
 ) -> Option<Body> {
     let card_ids: Vec<&Str> = raw.cards.iter().filter_map(|c| c.id.as_ref()).collect();
     let prompt_ids: Vec<&Str> = raw.prompts.iter().filter_map(|p| p.id.as_ref()).collect();
@@ -407,6 +408,7 @@ pub fn body(
 
     let mut cards = Vec::new();
     for c in &raw.cards {
+        back_prose(rep, c, langs, titles);
         match card(rep, c, langs, (section_ids, anchors), &prompt_names) {
             Some(c) => cards.push(c),
             None => ok = false,
@@ -478,6 +480,26 @@ pub fn body(
         scenes,
         systems,
     })
+}
+
+/// Prose on a card's back that names a section by a title none has.
+fn back_prose(rep: &mut FileReport, c: &RawCard, langs: &Langs, titles: &prose::Titles) {
+    let what = named("card", &c.id);
+    match &c.back {
+        Some(RawText::Plain(s)) => {
+            if let Some(lang) = langs.list.first() {
+                let what = format!("the back of {what}");
+                prose::check(rep, s, lang, titles, prose::Place::Card, &what);
+            }
+        }
+        Some(RawText::ByLang { entries, .. }) => {
+            for (lang, s) in entries {
+                let what = format!("the `{}` text of the back of {what}", lang.value);
+                prose::check(rep, s, &lang.value, titles, prose::Place::Card, &what);
+            }
+        }
+        None => {}
+    }
 }
 
 fn named(kind: &str, id: &Option<Str>) -> String {
