@@ -169,6 +169,18 @@ fn key(formula: &str) -> String {
     formula.split_whitespace().collect()
 }
 
+/// A formula that relates or computes something (`T₀ = 2π√(L/g)`,
+/// `ζ < 1`, `e^{-t/τ}`), not a bare symbol a sentence names (`L`, `θ₀`,
+/// `K(m)`), which would bury the sheet's formulas among its letters.
+fn states_something(formula: &str) -> bool {
+    const MARKS: [&str; 24] = [
+        "=", "<", ">", "+", "-", "/", "^", "\\frac", "\\sqrt", "\\approx", "\\propto", "\\le",
+        "\\ge", "\\sim", "\\cdot", "\\times", "\\int", "\\sum", "\\ll", "\\gg", "\\neq", "\\to",
+        "\\equiv", "\\pm",
+    ];
+    !formula.is_empty() && MARKS.iter().any(|m| formula.contains(m))
+}
+
 /// The sheet's groups in `lang`: each place with the formulas it writes
 /// first; places without a new formula are left out.
 pub fn groups(deck: &Deck, lang: &str) -> Vec<Group> {
@@ -177,7 +189,7 @@ pub fn groups(deck: &Deck, lang: &str) -> Vec<Group> {
     let mut add = |from: Source, heading: &str, formulas: Vec<String>| {
         let new: Vec<String> = formulas
             .into_iter()
-            .filter(|f| !f.is_empty() && seen.insert(key(f)))
+            .filter(|f| states_something(f) && seen.insert(key(f)))
             .collect();
         if !new.is_empty() {
             out.push(Group {
@@ -353,4 +365,24 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &FormulaSheet) {
         Span::styled(position, t.dim()),
     ]);
     frame.render_widget(Paragraph::new(status), status_area);
+}
+
+#[cfg(test)]
+mod states {
+    use super::states_something;
+
+    #[test]
+    fn a_bare_symbol_is_no_formula_of_the_sheet() {
+        for bare in ["L", "\\theta_0", "K(m)", "\\dot\\theta", "\\vec L", ""] {
+            assert!(!states_something(bare), "{bare}");
+        }
+        for formula in [
+            "T_0 = 2\\pi\\sqrt{L/g}",
+            "\\zeta < 1",
+            "e^{-t/\\tau}",
+            "Q \\approx 10",
+        ] {
+            assert!(states_something(formula), "{formula}");
+        }
+    }
 }
