@@ -769,7 +769,7 @@ pub mod sim_words {
     /// Before a known slip the learner's number matches: "your number is
     /// 1/k = 0.03 s: …".
     pub const YOUR_NUMBER_IS: Words = Words("your number is", "tumhara number hai");
-    pub const RIGHT_IN_RUN: Words = Words("right in this run", "is run mein sahi");
+    pub const RIGHT_IN_RUN: Words = Words("right in this run", "is run ke hisaab se sahi");
     pub const NEXT: Words = Words("next prompt", "agla prompt");
     pub const FLIPS: Words = Words("flips", "flips");
     pub const GROWTH: Words = Words("|ω⊥|, log scale", "|ω⊥|, log scale");
