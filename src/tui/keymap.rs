@@ -90,6 +90,40 @@ impl Binding {
         Binding::new("↑↓ j k", help, UP_DOWN)
     }
 
+    /// The three rows of a page of text that scrolls (the reader, the
+    /// formula sheet): lines, pages, the ends.
+    pub const SCROLL: [Binding; 3] = [
+        Binding::new(
+            "j k ↑↓",
+            Words("scroll", "scroll karo"),
+            &[
+                (KeyCode::Down, Action::Down),
+                (KeyCode::Up, Action::Up),
+                (KeyCode::Char('j'), Action::Down),
+                (KeyCode::Char('k'), Action::Up),
+            ],
+        ),
+        Binding::new(
+            "PgUp PgDn",
+            Words("scroll a page", "ek page scroll"),
+            &[
+                (KeyCode::PageUp, Action::PageUp),
+                (KeyCode::PageDown, Action::PageDown),
+                (KeyCode::Char(' '), Action::PageDown),
+            ],
+        ),
+        Binding::new(
+            "g G",
+            Words("top / bottom", "shuru / ant"),
+            &[
+                (KeyCode::Char('g'), Action::Top),
+                (KeyCode::Char('G'), Action::Bottom),
+                (KeyCode::Home, Action::Top),
+                (KeyCode::End, Action::Bottom),
+            ],
+        ),
+    ];
+
     /// The row of a text field: what typing enters.
     pub const fn typing(help: Words) -> Self {
         Binding {

@@ -24,38 +24,12 @@ use crate::tui::layout::{MEASURE, body_rect};
 use crate::tui::wrap::{Run, columns, math_runs, wrap};
 
 use super::Nav;
-use crossterm::event::KeyCode::{Char, Down, End, Esc, Home, PageDown, PageUp, Up};
+use crossterm::event::KeyCode::{Char, Esc};
 
 pub const KEYS: &[Binding] = &[
-    Binding::new(
-        "j k ↑↓",
-        Words("scroll", "scroll karo"),
-        &[
-            (Down, Action::Down),
-            (Up, Action::Up),
-            (Char('j'), Action::Down),
-            (Char('k'), Action::Up),
-        ],
-    ),
-    Binding::new(
-        "PgUp PgDn",
-        Words("scroll a page", "ek page scroll"),
-        &[
-            (PageUp, Action::PageUp),
-            (PageDown, Action::PageDown),
-            (Char(' '), Action::PageDown),
-        ],
-    ),
-    Binding::new(
-        "g G",
-        Words("top / bottom", "shuru / ant"),
-        &[
-            (Char('g'), Action::Top),
-            (Char('G'), Action::Bottom),
-            (Home, Action::Top),
-            (End, Action::Bottom),
-        ],
-    ),
+    Binding::SCROLL[0],
+    Binding::SCROLL[1],
+    Binding::SCROLL[2],
     Binding::new(
         "Esc F q",
         Words("back to the reader", "reader pe wapas"),

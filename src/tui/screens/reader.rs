@@ -21,40 +21,12 @@ use crate::tui::wrap::{Run, columns, ellipsize, line_text, wrap, wrap_tagged};
 use super::Nav;
 use crate::tui::i18n::Words;
 use crate::tui::keymap::Binding;
-use crossterm::event::KeyCode::{
-    BackTab, Backspace, Char, Down, End, Enter, Esc, Home, Left, PageDown, PageUp, Right, Tab, Up,
-};
+use crossterm::event::KeyCode::{BackTab, Backspace, Char, Enter, Esc, Left, Right, Tab};
 
 pub const KEYS: &[Binding] = &[
-    Binding::new(
-        "j k ↑↓",
-        Words("scroll", "scroll karo"),
-        &[
-            (Down, Action::Down),
-            (Up, Action::Up),
-            (Char('j'), Action::Down),
-            (Char('k'), Action::Up),
-        ],
-    ),
-    Binding::new(
-        "PgUp PgDn",
-        Words("scroll a page", "ek page scroll"),
-        &[
-            (PageUp, Action::PageUp),
-            (PageDown, Action::PageDown),
-            (Char(' '), Action::PageDown),
-        ],
-    ),
-    Binding::new(
-        "g G",
-        Words("top / bottom", "shuru / ant"),
-        &[
-            (Char('g'), Action::Top),
-            (Char('G'), Action::Bottom),
-            (Home, Action::Top),
-            (End, Action::Bottom),
-        ],
-    ),
+    Binding::SCROLL[0],
+    Binding::SCROLL[1],
+    Binding::SCROLL[2],
     Binding::new(
         "← → h",
         Words("previous / next section", "pichhla / agla section"),
