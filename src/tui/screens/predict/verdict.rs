@@ -283,7 +283,10 @@ pub fn lines(
         };
         let mut runs = vec![
             Run::new(format!("{} ", w::YOUR_NUMBER_IS.get(lang)), t.dim()),
-            Run::new(format!("{} = {}{u}: ", slip.value, sig(value, 3)), t.bad()),
+            Run::new(
+                format!("{} = {}{u}: ", readable(&slip.value), sig(value, 3)),
+                t.bad(),
+            ),
         ];
         runs.extend(crate::tui::wrap::math_runs(slip.says.get(lang), t.strong()));
         out.extend(wrap(
@@ -346,4 +349,45 @@ pub fn lines(
         }
     }
     out
+}
+
+/// A slip's formula as a reader writes it: `2*pi*sqrt(L/g)` → `2·π·√(L/g)`
+/// (Greek names as letters, `sqrt` as √, `*` as ·); the deck's text is the
+/// system scenes' expression syntax.
+fn readable(formula: &str) -> String {
+    let mut out = String::new();
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        if !word.is_empty() {
+            out.push_str(&match word.as_str() {
+                "sqrt" => "√".to_string(),
+                w => crate::text::variable_name(w),
+            });
+            word.clear();
+        }
+    };
+    for c in formula.chars() {
+        if c.is_ascii_alphanumeric() || c == '_' || c == '.' {
+            word.push(c);
+            continue;
+        }
+        flush(&mut word, &mut out);
+        match c {
+            '*' => out.push('·'),
+            ' ' => {}
+            c => out.push(c),
+        }
+    }
+    flush(&mut word, &mut out);
+    out
+}
+
+#[cfg(test)]
+mod readable_tests {
+    #[test]
+    fn a_slip_formula_reads_as_written_mathematics() {
+        assert_eq!(super::readable("2*pi*sqrt(L/g)"), "2·π·√(L/g)");
+        assert_eq!(super::readable("1/(2*zeta*w0)"), "1/(2·ζ·w0)");
+        assert_eq!(super::readable("1/k"), "1/k");
+    }
 }
