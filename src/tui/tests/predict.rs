@@ -881,7 +881,7 @@ fn e_after_a_verdict_opens_the_anchored_paragraph() {
             if key.contains('.') {
                 // 1.6 s is the energy's e-folding time, a known slip.
                 let screen = flat(&render(&app));
-                assert!(screen.contains("1/(2*zeta*w0) = 1.59 s"), "{screen}");
+                assert!(screen.contains("1/(2·ζ·w0) = 1.59 s"), "{screen}");
             }
             press(&mut app, KeyCode::Char('e'));
             let Screen::Reader(r) = app.screen() else {
