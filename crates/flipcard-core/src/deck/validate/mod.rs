@@ -408,7 +408,9 @@ pub fn body(
 
     let mut cards = Vec::new();
     for c in &raw.cards {
-        back_prose(rep, c, langs, titles);
+        let owner = named("card", &c.id);
+        text_prose(rep, &c.front, "the front", &owner, langs, titles);
+        text_prose(rep, &c.back, "the back", &owner, langs, titles);
         match card(rep, c, langs, (section_ids, anchors), &prompt_names) {
             Some(c) => cards.push(c),
             None => ok = false,
@@ -430,6 +432,8 @@ pub fn body(
         .collect();
     let mut prompts = Vec::new();
     for p in &raw.prompts {
+        let owner = named("prompt", &p.id);
+        text_prose(rep, &p.question, "the question", &owner, langs, titles);
         let kind = p
             .scene
             .as_ref()
@@ -482,19 +486,26 @@ pub fn body(
     })
 }
 
-/// Prose on a card's back that names a section by a title none has.
-fn back_prose(rep: &mut FileReport, c: &RawCard, langs: &Langs, titles: &prose::Titles) {
-    let what = named("card", &c.id);
-    match &c.back {
+/// Prose on a card (front and back) or a prompt's question that names a
+/// section by a title none has.
+fn text_prose(
+    rep: &mut FileReport,
+    text: &Option<RawText>,
+    part: &str,
+    owner: &str,
+    langs: &Langs,
+    titles: &prose::Titles,
+) {
+    match text {
         Some(RawText::Plain(s)) => {
             if let Some(lang) = langs.list.first() {
-                let what = format!("the back of {what}");
+                let what = format!("{part} of {owner}");
                 prose::check(rep, s, lang, titles, prose::Place::Card, &what);
             }
         }
         Some(RawText::ByLang { entries, .. }) => {
             for (lang, s) in entries {
-                let what = format!("the `{}` text of the back of {what}", lang.value);
+                let what = format!("the `{}` text of {part} of {owner}", lang.value);
                 prose::check(rep, s, &lang.value, titles, prose::Place::Card, &what);
             }
         }
