@@ -653,6 +653,16 @@ fn a_run_that_loses_what_the_scene_conserves_is_refused_not_printed() {
     assert!((h + 18.4305).abs() < 0.01, "{out}");
 }
 
+/// The numbers of the last CSV row `flipcard sim --samples` printed.
+fn last_row(out: &str) -> Vec<f64> {
+    out.lines()
+        .last()
+        .unwrap_or_else(|| panic!("no rows: {out}"))
+        .split(',')
+        .map(|v| v.parse().unwrap_or_else(|e| panic!("{v}: {e}")))
+        .collect()
+}
+
 /// E5 (chemical pyrolysis, Hairer & Wanner's test set): y1 starts at 1.76e-3
 /// and y2…y4 stay near 1e-11 and below, a bounded solution throughout.
 fn e5(atol: &str) -> Deck {
@@ -698,16 +708,9 @@ fn a_bounded_solution_is_never_called_a_blow_up_and_atol_is_named_as_the_cure() 
         all.extend(args.iter().copied());
         let (code, out, err) = deck.sim(&all);
         assert_eq!(code, 0, "{args:?}: {err}");
-        let last: Vec<f64> = out
-            .lines()
-            .last()
-            .unwrap()
-            .split(',')
-            .map(|v| v.parse().unwrap())
-            .collect();
+        let last = last_row(&out);
         assert_eq!(last[0], 1e13, "{args:?}: {out}");
-        // y2…y4 stay tiny and y1 is used up (Hairer's reference at 1e13:
-        // y1 ≈ 1e-290, y2 ≈ 8.9e-21, y3 ≈ 8.9e-21 ... within 1e-20).
+        // y1 is used up and y2…y4 have fallen to the order of 1e-20.
         for v in &last[1..] {
             assert!(v.abs() < 1e-19, "{args:?}: {out}");
         }
@@ -760,14 +763,6 @@ fn no_row_is_printed_where_a_blow_up_leaves_it_unvouched() {
         "tangent",
         "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [0.0]\nequations = [\"1 + x^2\"]\nduration = 2.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
     );
-    let last_row = |out: &str| -> Vec<f64> {
-        out.lines()
-            .last()
-            .unwrap()
-            .split(',')
-            .map(|v| v.parse().unwrap())
-            .collect()
-    };
     for method in [
         vec!["--method", "auto"],
         vec!["--method", "radau"],
@@ -835,14 +830,6 @@ fn rk4_stops_where_a_divisor_crosses_zero_instead_of_printing_past_the_end() {
     );
     let (code, out, err) = d.sim(&["--samples", "11", "--method", "rk4", "--dt", "0.01"]);
     assert_eq!(code, 0, "{err}");
-    let last: f64 = out
-        .lines()
-        .last()
-        .unwrap()
-        .split(',')
-        .nth(1)
-        .unwrap()
-        .parse()
-        .unwrap();
+    let last = last_row(&out)[1];
     assert!((last - 2f64.sqrt()).abs() < 1e-6, "{out}");
 }

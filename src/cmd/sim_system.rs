@@ -55,7 +55,7 @@ pub fn with_atol(args: &SimArgs, scene: &SystemScene) -> anyhow::Result<SystemSc
     };
     let value = |v: &str| -> anyhow::Result<f64> {
         match v.trim().parse::<f64>() {
-            Ok(a) if a.is_finite() && a >= 1e-300 => Ok(a),
+            Ok(a) if SceneAtol::allowed(a) => Ok(a),
             _ => bail!(
                 "--atol: `{}` is not an absolute tolerance (a positive, finite number of at least 1e-300)",
                 crate::text::safe::one_line(v)

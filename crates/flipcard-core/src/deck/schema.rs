@@ -196,7 +196,10 @@ impl JsonSchema for AtolSchema {
         "Atol".into()
     }
     fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        let positive = serde_json::json!({ "type": "number", "minimum": 1e-300 });
+        let positive = serde_json::json!({
+            "type": "number",
+            "minimum": flipcard_sim::scene::spec::SceneAtol::MIN
+        });
         json_schema!({
             "description": "Absolute tolerance of the error control: one number for every variable, or a table naming some variables (the others keep the method's default, 1e-2 × rtol). About a millionth of the size a variable reaches.",
             "oneOf": [

@@ -551,8 +551,10 @@ pub struct SystemRun {
     /// the ones it does not control when the run cannot meet its tolerance.
     sizes: Vec<Vec<(f64, f64)>>,
     atol: Vec<f64>,
-    /// The state at the start of the next RK4 step (for the domain check).
-    step_start: Option<Vec<f64>>,
+    /// Every operation's value at the start and the end of an RK4 step,
+    /// and the state at its end (for the domain check).
+    step_tapes: [Vec<f64>; 2],
+    step_end: Vec<f64>,
     cost: Cost,
     /// The step budget comes from [`MAX_RUN_WORK`].
     work_limited: bool,
@@ -666,7 +668,8 @@ impl SystemRun {
             observables_upto,
             good: scene.initial.clone(),
             sizes: vec![Vec::new(); n],
-            step_start: None,
+            step_tapes: [Vec::new(), Vec::new()],
+            step_end: Vec::new(),
             atol: match &opts_atol {
                 ode::Atol::Scalar(a) => vec![*a; n],
                 ode::Atol::PerComponent(v) => v.clone(),
@@ -744,13 +747,18 @@ impl SystemRun {
         if self.method.kind != OdeKind::Rk4 {
             return None;
         }
-        let n = self.good.len();
-        let mut y1 = vec![0.0; n];
-        self.solver.dense(t1, &mut y1).ok()?;
-        let y0 = self.step_start.replace(y1.clone());
-        let y0 = y0.unwrap_or_else(|| self.scene.initial.clone());
-        let fault = self.system.equations().divisor_crossing(t0, &y0, t1, &y1)?;
-        Some(self.domain(t1, Some(fault)))
+        // The tape at the step's start is the previous step's end.
+        let equations = self.system.equations();
+        if self.step_tapes[0].is_empty() {
+            equations.tape(t0, &self.scene.initial, &mut self.step_tapes[0]);
+        }
+        self.step_end.resize(self.good.len(), 0.0);
+        self.solver.dense(t1, &mut self.step_end).ok()?;
+        let [start, end] = &mut self.step_tapes;
+        equations.tape(t1, &self.step_end, end);
+        let fault = equations.crossing(start, end);
+        self.step_tapes.swap(0, 1);
+        Some(self.domain(t1, Some(fault?)))
     }
 
     fn domain(&self, t: f64, fault: Option<Fault>) -> RunError {
@@ -1404,11 +1412,16 @@ pub fn measure_system_noting(
         }
         for &k in &missing {
             if let (Err(e), Ok(value)) = (&noted[k].0, run.measure(measures[k])) {
+                // The reason without the measure's name it starts with.
+                let measure = measures[k].to_string();
                 let text = e.to_string();
-                let (measure, why) = text.split_once(": ").unwrap_or(("", &text));
+                let why = text
+                    .strip_prefix(&format!("{measure}: "))
+                    .unwrap_or(&text)
+                    .to_string();
                 noted[k].0 = Err(ReadingError::TooCoarse {
-                    measure: measure.to_string(),
-                    why: why.to_string(),
+                    measure,
+                    why,
                     method: method.label(),
                     finer: finer.label(),
                     value,

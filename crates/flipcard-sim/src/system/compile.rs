@@ -525,10 +525,32 @@ impl Program {
         let mut b = vec![0.0; self.ops.len()];
         self.run(t0, y0, &mut a);
         self.run(t1, y1, &mut b);
+        self.crossing(&a, &b)
+    }
+
+    /// Every operation's value at (t, y), into `vals` (resized to the
+    /// program), for [`Program::crossing`] between two points.
+    pub(crate) fn tape(&self, t: f64, y: &[f64], vals: &mut Vec<f64>) {
+        vals.resize(self.ops.len(), 0.0);
+        self.run(t, y, vals);
+    }
+
+    /// [`Program::divisor_crossing`] between two points whose tapes are
+    /// `a` and `b` ([`Program::tape`]). A step where no divisor anywhere
+    /// crosses (nearly every step) costs one pass over the operations.
+    pub(crate) fn crossing(&self, a: &[f64], b: &[f64]) -> Option<Fault> {
         let crossed = |k: u32| {
             let (p, q) = (a[k as usize], b[k as usize]);
             p.is_finite() && q.is_finite() && (q == 0.0 || p.signum() != q.signum())
         };
+        let any = self.ops.iter().any(|op| match *op {
+            Op::Div(_, d) => crossed(d),
+            Op::Pow(base, e) => crossed(base) && b[e as usize] < 0.0,
+            _ => false,
+        });
+        if !any {
+            return None;
+        }
         for (&(out, source), _) in self.outputs.iter().zip(0..) {
             let mut needed = vec![false; out as usize + 1];
             needed[out as usize] = true;

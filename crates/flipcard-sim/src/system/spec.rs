@@ -106,6 +106,16 @@ pub enum SceneAtol {
 }
 
 impl SceneAtol {
+    /// The smallest absolute tolerance a scene or `--atol` may set (below
+    /// it no error estimate means anything).
+    pub const MIN: f64 = 1e-300;
+
+    /// Whether `a` may be an absolute tolerance: finite and at least
+    /// [`SceneAtol::MIN`] (the deck key and `--atol` alike).
+    pub fn allowed(a: f64) -> bool {
+        a.is_finite() && a >= SceneAtol::MIN
+    }
+
     /// The tolerance of each variable of `scene`, those it does not name at
     /// `default`.
     pub fn per_variable(&self, variables: &[String], default: f64) -> Vec<f64> {

@@ -148,7 +148,7 @@ fn names_one(rep: &mut FileReport, s: &Str, known: &[&str], field: &str, kinds: 
 /// error estimate is meaningful).
 fn tolerance(rep: &mut FileReport, n: &Num, what: &str) -> bool {
     let v = n.value;
-    if v.is_finite() && v >= 1e-300 {
+    if SceneAtol::allowed(v) {
         return true;
     }
     rep.error(
