@@ -686,7 +686,13 @@ fn a_bounded_solution_is_never_called_a_blow_up_and_atol_is_named_as_the_cure() 
         let (code, out, err) = d.sim(&["--samples", "5", "--method", method, "--tol", "1e-3"]);
         assert_eq!(code, 1, "{method}: {out}{err}");
         assert!(!err.contains("blows up"), "{method}: {err}");
-        assert!(err.contains("not a blow-up"), "{method}: {err}");
+        // Either the step size collapses while everything stays bounded, or
+        // the unchecked small components run away below zero (where E5's
+        // equations are unstable): named as what it is, not a blow-up.
+        assert!(
+            err.contains("not a blow-up") || err.contains("may be the unchecked error's"),
+            "{method}: {err}"
+        );
         for y in ["`y2`", "`y3`", "`y4`"] {
             assert!(err.contains(y), "{method}: {err}");
         }
@@ -695,13 +701,16 @@ fn a_bounded_solution_is_never_called_a_blow_up_and_atol_is_named_as_the_cure() 
         assert_eq!(err.lines().count(), 1, "{err}");
     }
     // The same run with an absolute tolerance for the small components,
-    // from the command line and from the scene, to its end (10^13).
-    let scene = e5("atol = { y2 = 1e-20, y3 = 1e-20, y4 = 1e-20 }\n");
+    // from the command line and from the scene, to its end (10^13). The
+    // components fall to ~1e-22 late in the run; at atol 1e-20 they go
+    // unchecked there and may turn negative, where E5 is unstable (Hairer &
+    // Wanner ask for 1.1e-24 on this problem).
+    let scene = e5("atol = { y2 = 1e-24, y3 = 1e-24, y4 = 1e-24 }\n");
     let (code, err, _) = scene.check();
     assert_eq!(code, 0, "{err}");
     for (deck, args) in [
-        (&d, vec!["--atol", "1e-20"]),
-        (&d, vec!["--atol", "y2=1e-20,y3=1e-20,y4=1e-20"]),
+        (&d, vec!["--atol", "1e-24"]),
+        (&d, vec!["--atol", "y2=1e-24,y3=1e-24,y4=1e-24"]),
         (&scene, vec![]),
     ] {
         let mut all = vec!["--samples", "5", "--method", "radau", "--tol", "1e-6"];
@@ -710,7 +719,7 @@ fn a_bounded_solution_is_never_called_a_blow_up_and_atol_is_named_as_the_cure() 
         assert_eq!(code, 0, "{args:?}: {err}");
         let last = last_row(&out);
         assert_eq!(last[0], 1e13, "{args:?}: {out}");
-        // y1 is used up and y2…y4 have fallen to the order of 1e-20.
+        // y1 is used up and y2…y4 have fallen to 1e-20 and below.
         for v in &last[1..] {
             assert!(v.abs() < 1e-19, "{args:?}: {out}");
         }
@@ -832,4 +841,46 @@ fn rk4_stops_where_a_divisor_crosses_zero_instead_of_printing_past_the_end() {
     assert_eq!(code, 0, "{err}");
     let last = last_row(&out)[1];
     assert!((last - 2f64.sqrt()).abs() < 1e-6, "{out}");
+}
+
+/// Prothero–Robinson, x' = −k(x − cos t) − sin t with x(0) = 1: the
+/// solution is cos t for every k. Radau IIA's step ends are exact here at
+/// any h, so its step control lets h grow to whole units of time, and the
+/// collocation polynomial between the ends (what `--samples` and every
+/// measure read) was off by 0.6 at k = 1e6 and by 1.1 at k = 1e12 at every
+/// tolerance. The dense output is error-controlled now: every sample,
+/// including those between steps, lies within 10× the tolerance of cos t.
+#[test]
+fn samples_between_stiff_steps_follow_the_solution_within_the_tolerance() {
+    for k in ["1e6", "1e12"] {
+        let d = Deck::new(
+            "prothero",
+            &format!(
+                "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [1.0]\nparams = {{ k = {k} }}\nequations = [\"-k*(x - cos(t)) - sin(t)\"]\nduration = 10.0\nshow = [\"plot\"]\nplot = [\"x\"]\n"
+            ),
+        );
+        for method in ["radau", "auto"] {
+            for tol in [1e-3, 1e-6, 1e-9] {
+                let tol_arg = format!("{tol:e}");
+                let (code, out, err) =
+                    d.sim(&["--samples", "1001", "--method", method, "--tol", &tol_arg]);
+                assert_eq!(code, 0, "k {k} {method} {tol_arg}: {err}");
+                let mut worst = (0.0f64, 0.0);
+                for line in out.lines().skip(1) {
+                    let row: Vec<f64> = line.split(',').map(|v| v.parse().unwrap()).collect();
+                    let off = (row[1] - row[0].cos()).abs();
+                    if off > worst.0 {
+                        worst = (off, row[0]);
+                    }
+                }
+                assert_eq!(out.lines().count(), 1002, "{out}");
+                assert!(
+                    worst.0 <= 10.0 * tol,
+                    "k {k} {method} tol {tol_arg}: off by {} at t = {}",
+                    worst.0,
+                    worst.1
+                );
+            }
+        }
+    }
 }

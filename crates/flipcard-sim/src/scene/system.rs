@@ -197,7 +197,9 @@ pub enum RunError {
     /// which no method can go on (1e150: its square would overflow f64).
     TooLarge { t: f64, name: String, value: f64 },
     /// The step size fell to `h` near `t` while the solution stayed
-    /// bounded: the run cannot meet its tolerance. `uncontrolled` are the
+    /// bounded, or (with `grew`) the run grew without bound led by a
+    /// variable the tolerance left unchecked: the run cannot meet its
+    /// tolerance. `uncontrolled` are the
     /// variables whose typical size over the samples (the median of
     /// |value|) lies below their absolute tolerance: (name, size, atol).
     Inaccurate {
@@ -207,6 +209,10 @@ pub enum RunError {
         rtol: f64,
         /// The method was already the implicit one.
         radau: bool,
+        /// The run did grow without bound, led by this variable and value,
+        /// one of those the absolute tolerance did not control: the growth
+        /// may be the unchecked error's rather than the equations'.
+        grew: Option<(String, f64)>,
     },
     /// The run took the most work a scene may ([`MAX_RUN_WORK`]).
     Work {
@@ -255,13 +261,22 @@ impl std::fmt::Display for RunError {
                 uncontrolled,
                 rtol,
                 radau,
+                grew,
             } => {
-                write!(
-                    f,
-                    "the step size fell to {} near t = {} while no value grew past a million times the size the run started from: not a blow-up, the run cannot meet its tolerance here",
-                    flipcard_text::num::sig(*h, 2),
-                    time(*t),
-                )?;
+                match grew {
+                    Some((name, value)) => write!(
+                        f,
+                        "the run grows without bound near t = {} (`{name}` reached {}), but it grew from below its absolute tolerance: the growth may be the unchecked error's, not the equations'",
+                        time(*t),
+                        flipcard_text::num::sig(*value, 2),
+                    )?,
+                    None => write!(
+                        f,
+                        "the step size fell to {} near t = {} while no value grew past a million times the size the run started from: not a blow-up, the run cannot meet its tolerance here",
+                        flipcard_text::num::sig(*h, 2),
+                        time(*t),
+                    )?,
+                }
                 if uncontrolled.is_empty() {
                     return write!(
                         f,
@@ -280,12 +295,15 @@ impl std::fmt::Display for RunError {
                         )
                     })
                     .collect();
-                let (first, size, _) = &uncontrolled[0];
-                let suggest = if *size > 0.0 {
-                    flipcard_text::num::sig(10f64.powf((size * 1e-6).log10().floor()), 1)
+                let (first, size, atol) = &uncontrolled[0];
+                // A size of 0 says only that the value sat below its
+                // tolerance everywhere: ask for ten thousand times less.
+                let target = if *size > 0.0 {
+                    size * 1e-6
                 } else {
-                    "1e-20".to_string()
+                    atol * 1e-4
                 };
+                let suggest = flipcard_text::num::sig(10f64.powf(target.log10().floor()), 1);
                 write!(
                     f,
                     ". {} {} below {} absolute tolerance, so {} errors go unchecked; give {} an absolute tolerance of about a millionth of {} size (`atol = {{ {first} = {suggest} }}` in the scene, or --atol {first}={suggest})",
@@ -955,33 +973,60 @@ impl SystemRun {
             h *= 2.0;
         }
         match e {
-            SolveError::StepSize { t, h } => self.inaccurate(t, h),
-            _ => RunError::Ode(SolveError::BlowUp { t }),
+            SolveError::StepSize { t, h } => self.inaccurate(t, h, None),
+            _ => self.unchecked_growth(t, y),
+        }
+    }
+
+    /// A blow-up led by a variable that sat below its absolute tolerance
+    /// (so its error went unchecked) and has grown past a million times
+    /// that tolerance is not called one: E5 at the default tolerance lets
+    /// y2…y4 (~1e-11 under an atol of 1e-5) wander below zero, where the
+    /// equations do run away. Any other blow-up stays one.
+    fn unchecked_growth(&self, t: f64, y: &[f64]) -> RunError {
+        let RunError::Inaccurate { uncontrolled, .. } = self.inaccurate(t, f64::NAN, None) else {
+            return RunError::Ode(SolveError::BlowUp { t });
+        };
+        let led = (uncontrolled.iter())
+            // A size of 0 is a variable sampled only at its start (or never
+            // off zero): no evidence that it ever sat below its tolerance.
+            .filter(|(_, size, _)| *size > 0.0)
+            .filter_map(|(name, _, atol)| {
+                let k = self.scene.variables.iter().position(|v| v == name)?;
+                let v = *y.get(k)?;
+                (v.is_finite() && v.abs() > 1e6 * atol).then(|| (name.clone(), v))
+            })
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
+        match led {
+            Some(grew) => self.inaccurate(t, f64::NAN, Some(grew)),
+            None => RunError::Ode(SolveError::BlowUp { t }),
         }
     }
 
     /// The step size collapsed while the solution stayed bounded: which
     /// variables the absolute tolerance does not control (their largest
     /// size over the run below it), with an `atol` that would.
-    fn inaccurate(&self, t: f64, h: f64) -> RunError {
+    fn inaccurate(&self, t: f64, h: f64, grew: Option<(String, f64)>) -> RunError {
         let typical = |kept: &Vec<(f64, f64)>| {
             let mut v = kept.clone();
             v.sort_by(|a, b| a.0.total_cmp(&b.0));
             let total: f64 = v.iter().map(|p| p.1).sum();
             if total <= 0.0 {
-                return v.get(v.len() / 2).map_or(0.0, |p| p.0);
+                // No stretch of the run sampled yet: nothing is known of
+                // the variable's size, so it is not called uncontrolled.
+                return None;
             }
             let mut acc = 0.0;
             for (size, w) in &v {
                 acc += w;
                 if acc >= 0.5 * total {
-                    return *size;
+                    return Some(*size);
                 }
             }
-            v.last().map_or(0.0, |p| p.0)
+            v.last().map(|p| p.0)
         };
         let uncontrolled = (self.sizes.iter().zip(&self.atol).enumerate())
-            .map(|(k, (kept, a))| (k, typical(kept), *a))
+            .filter_map(|(k, (kept, a))| Some((k, typical(kept)?, *a)))
             .filter(|(_, size, a)| size < a)
             .map(|(k, size, a)| (self.scene.variables[k].clone(), size, a))
             .collect();
@@ -991,6 +1036,7 @@ impl SystemRun {
             uncontrolled,
             rtol: self.method.setting,
             radau: self.method.kind == OdeKind::Radau,
+            grew,
         }
     }
 

@@ -387,3 +387,31 @@ fn a_period_a_coarse_run_misses_is_named_with_the_tolerance_that_shows_it() {
     let value = fine[0].clone().unwrap();
     assert!((value / exact - 1.0).abs() < 1e-3, "{value} vs {exact}");
 }
+
+/// A variable whose samples all sat below its absolute tolerance has a
+/// typical size of 0: the cure named is a tolerance ten thousand times
+/// tighter than the one it has, never the one that already failed (E5
+/// with atol 1e-20 on y2 was told to set atol y2 = 1e-20).
+#[test]
+fn an_uncontrolled_variable_of_size_zero_is_told_a_tighter_tolerance() {
+    let e = RunError::Inaccurate {
+        t: 4.07e12,
+        h: 0.0084,
+        uncontrolled: vec![("y2".into(), 0.0, 1e-20)],
+        rtol: 1e-6,
+        radau: true,
+        grew: None,
+    };
+    let text = e.to_string();
+    assert!(text.contains("`atol = { y2 = 1e-24 }`"), "{text}");
+    assert!(text.contains("--atol y2=1e-24"), "{text}");
+    let sized = RunError::Inaccurate {
+        t: 1.0,
+        h: 1e-12,
+        uncontrolled: vec![("y2".into(), 3.5e-11, 1e-5)],
+        rtol: 1e-3,
+        radau: true,
+        grew: None,
+    };
+    assert!(sized.to_string().contains("y2 = 1e-17"), "{sized}");
+}
