@@ -91,14 +91,23 @@ fn sampled_runs_report_each_conserved_quantitys_largest_drift() {
     assert_eq!(v["stats"]["conserved"][0]["start"], -0.5);
     // The CSV's --stats line says the same.
     let (code, _, err) = run(&[
-        "sim", "--deck", &path, "--scene", "s", "--samples", "3", "--stats",
+        "sim",
+        "--deck",
+        &path,
+        "--scene",
+        "s",
+        "--samples",
+        "3",
+        "--stats",
     ]);
     assert_eq!(code, 0, "{err}");
     let line = err.lines().find(|l| l.starts_with("stats:")).unwrap();
     assert!(line.contains(", H drifts by up to "), "{line}");
     assert!(line.contains(" of its start, L drifts by up to "), "{line}");
     // A scene that declares nothing conserved has no such field.
-    let (_d2, plain) = deck("variables = [\"x\"]\ninitial = [1.0]\nequations = [\"-x\"]\nduration = 1.0\nshow = [\"plot\"]\nplot = [\"x\"]\n");
+    let (_d2, plain) = deck(
+        "variables = [\"x\"]\ninitial = [1.0]\nequations = [\"-x\"]\nduration = 1.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+    );
     let (_, v, _) = json(&plain, &["--samples", "2"]);
     assert!(v["stats"].get("conserved").is_none(), "{v}");
 }
@@ -113,7 +122,10 @@ fn rk4_losing_keplers_energy_is_stopped_and_says_how_far_it_drifted() {
     let (code, v, _) = json(&path, &["--samples", "3", "--method", "rk4"]);
     assert_eq!(code, 1);
     let why = v["error"].as_str().unwrap();
-    assert!(why.contains("rk4 with dt = 0.0314") && why.contains("is unstable here"), "{why}");
+    assert!(
+        why.contains("rk4 with dt = 0.0314") && why.contains("is unstable here"),
+        "{why}"
+    );
     let (code, v, _) = json(
         &path,
         &["--samples", "3", "--method", "rk4", "--dt", "0.0019"],
@@ -137,7 +149,16 @@ fn rk4_past_its_stability_bound_is_refused() {
         "variables = [\"x\"]\ninitial = [1.0]\nequations = [\"-100*x\"]\nduration = 2.5\nshow = [\"plot\"]\nplot = [\"x\"]\n",
     );
     let (code, out, err) = run(&[
-        "sim", "--deck", &path, "--scene", "s", "--samples", "3", "--method", "rk4", "--dt",
+        "sim",
+        "--deck",
+        &path,
+        "--scene",
+        "s",
+        "--samples",
+        "3",
+        "--method",
+        "rk4",
+        "--dt",
         "0.03",
     ]);
     assert_eq!(code, 1, "{out}");
@@ -147,11 +168,28 @@ fn rk4_past_its_stability_bound_is_refused() {
         "{err}"
     );
     let (code, out, err) = run(&[
-        "sim", "--deck", &path, "--scene", "s", "--samples", "3", "--method", "rk4", "--dt",
+        "sim",
+        "--deck",
+        &path,
+        "--scene",
+        "s",
+        "--samples",
+        "3",
+        "--method",
+        "rk4",
+        "--dt",
         "0.02",
     ]);
     assert_eq!(code, 0, "{err}");
-    let last: f64 = out.lines().last().unwrap().split(',').nth(1).unwrap().parse().unwrap();
+    let last: f64 = out
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(1)
+        .unwrap()
+        .parse()
+        .unwrap();
     // Stable: each step multiplies x by R(−2) = 1/3 (e^−2 exactly), so x
     // decays, to 3^−125 ≈ 2e-60 at t = 2.5.
     assert!(last > 0.0 && last < 1e-55, "{out}");
@@ -162,23 +200,53 @@ fn verlet_needs_a_declared_separable_hamiltonian() {
     let (_dir, path) = deck(&kepler(0.9, 1.0, false));
     for method in ["verlet", "verlet4"] {
         let (code, out, err) = run(&[
-            "sim", "--deck", &path, "--scene", "s", "--samples", "3", "--method", method,
+            "sim",
+            "--deck",
+            &path,
+            "--scene",
+            "s",
+            "--samples",
+            "3",
+            "--method",
+            method,
         ]);
         assert_eq!(code, 1, "{out}");
         assert_eq!(
             err.trim_end(),
-            format!("flipcard: error: {method} needs a separable Hamiltonian: scene s declares none (`hamiltonian = {{ q = [...], p = [...] }}`, positions and their momenta); use rk4 or auto")
+            format!(
+                "flipcard: error: {method} needs a separable Hamiltonian: scene s declares none (`hamiltonian = {{ q = [...], p = [...] }}`, positions and their momenta); use rk4 or auto"
+            )
         );
     }
     let (_d2, with) = deck(&kepler(0.9, 1.0, true));
     let (code, _, err) = run(&[
-        "sim", "--deck", &with, "--scene", "s", "--samples", "3", "--method", "verlet", "--tol",
+        "sim",
+        "--deck",
+        &with,
+        "--scene",
+        "s",
+        "--samples",
+        "3",
+        "--method",
+        "verlet",
+        "--tol",
         "1e-6",
     ]);
     assert_eq!(code, 1);
-    assert!(err.contains("--tol: verlet takes a step (--dt), not a tolerance"), "{err}");
+    assert!(
+        err.contains("--tol: verlet takes a step (--dt), not a tolerance"),
+        "{err}"
+    );
     let (code, out, err) = run(&[
-        "sim", "--deck", &with, "--scene", "s", "--samples", "3", "--method", "verlet4",
+        "sim",
+        "--deck",
+        &with,
+        "--scene",
+        "s",
+        "--samples",
+        "3",
+        "--method",
+        "verlet4",
     ]);
     assert_eq!(code, 0, "{err}");
     assert_eq!(out.lines().count(), 4, "{out}");

@@ -878,7 +878,7 @@ impl SystemRun {
             let change = (self.value(q, y) - from).abs();
             let largest = &mut self.drift[k].2;
             // NaN (a value that is not finite) counts as the largest.
-            if !(change <= *largest) {
+            if change > *largest || change.is_nan() {
                 *largest = change;
             }
         }

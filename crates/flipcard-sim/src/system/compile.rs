@@ -1112,7 +1112,10 @@ impl System {
             ));
         }
         let reads = self.rhs.reads(self.n);
-        for (own, what, other) in [(&split.q, "position", "momenta"), (&split.p, "momentum", "positions")] {
+        for (own, what, other) in [
+            (&split.q, "position", "momenta"),
+            (&split.p, "momentum", "positions"),
+        ] {
             for &i in own {
                 if let Some(&j) = own.iter().find(|&&j| reads[i][j]) {
                     return Some(format!(

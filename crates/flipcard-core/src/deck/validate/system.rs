@@ -6,9 +6,7 @@
 
 use std::collections::HashMap;
 
-use crate::deck::raw::{
-    List, Named, Num, RawAtol, RawHamiltonian, RawScene, RawSystem, Span, Str,
-};
+use crate::deck::raw::{List, Named, Num, RawAtol, RawHamiltonian, RawScene, RawSystem, Span, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;

@@ -122,11 +122,7 @@ impl OdeMethod {
 
     /// `radau rtol 1e-8`, `rk4 dt 0.001`.
     pub fn label(&self) -> String {
-        let what = if self.kind.fixed_step() {
-            "dt"
-        } else {
-            "rtol"
-        };
+        let what = if self.kind.fixed_step() { "dt" } else { "rtol" };
         format!(
             "{} {what} {}",
             self.kind.name(),

@@ -30,6 +30,7 @@ use crate::error::SolveError;
 pub use crate::rhs::{OdeSystem, finite_difference_jacobian};
 use crate::solvers::control::{self, Arithmetic};
 
+pub use crate::rhs::Split;
 pub use auto::Auto;
 pub(crate) use choice::REFERENCE_RTOL;
 pub use choice::{OdeKind, OdeMethod};
@@ -38,7 +39,6 @@ pub use radau5::Radau5;
 pub use rk4::Rk4;
 pub(crate) use rk4::rk4_step;
 pub use verlet::Verlet;
-pub use crate::rhs::Split;
 
 /// Default cap on the step attempts (accepted and rejected) of one run.
 pub(crate) const DEFAULT_MAX_STEPS: u64 = 5_000_000;
@@ -204,13 +204,20 @@ pub trait OdeSolver {
 /// Which solver [`make`] builds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
-    Dop853 { stiffness: StiffnessMode },
+    Dop853 {
+        stiffness: StiffnessMode,
+    },
     Radau5,
-    Rk4 { dt: f64 },
+    Rk4 {
+        dt: f64,
+    },
     Auto,
     /// Störmer–Verlet (`order` 2) or its triple jump (4), for a system
     /// with a [`Split`].
-    Verlet { dt: f64, order: u8 },
+    Verlet {
+        dt: f64,
+        order: u8,
+    },
 }
 
 /// A boxed solver of the chosen method for `sys` from (t0, y0).

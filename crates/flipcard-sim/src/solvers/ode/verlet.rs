@@ -321,9 +321,6 @@ mod tests {
             .unwrap();
         assert!(e.to_string().contains("separable Hamiltonian"), "{e}");
         let mut s = Verlet::new(Oscillator, 0.0, &[1.0, 0.0], 2.5, 2, &Options::default()).unwrap();
-        assert!(matches!(
-            s.advance(10.0),
-            Err(SolveError::Unstable { .. })
-        ));
+        assert!(matches!(s.advance(10.0), Err(SolveError::Unstable { .. })));
     }
 }
