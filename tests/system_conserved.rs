@@ -274,3 +274,107 @@ fn verlet_keeps_keplers_energy_bounded_where_rk4_at_the_same_step_drifts() {
     // rounding; RK4 does not.
     assert!(v100.1 < 1e-12 && r100.1 > 1e-5, "L: {v100:?}, {r100:?}");
 }
+
+mod hamiltonian_key {
+    //! Property: any `hamiltonian` a scene declares (names drawn from its
+    //! variables and from elsewhere, repeated, missing, or not a list; the
+    //! equations separable or not) loads without a panic, and the deck is
+    //! accepted exactly when the declaration names every variable once, as
+    //! many positions as momenta, and the equations split by it; a refused
+    //! declaration is an error at a real place of the file. The default
+    //! 256 cases take a second or two; for a longer search:
+    //!
+    //! ```sh
+    //! PROPTEST_CASES=20000 cargo test --test main system_conserved::hamiltonian_key
+    //! ```
+
+    use proptest::prelude::*;
+
+    const VARS: [&str; 4] = ["x", "y", "vx", "vy"];
+    /// Equations of each variable, with the variables each reads.
+    const EQUATIONS: [[(&str, &[&str]); 3]; 4] = [
+        [
+            ("vx", &["vx"]),
+            ("vx + 0*x", &["vx", "x"]),
+            ("vy*vx", &["vx", "vy"]),
+        ],
+        [("vy", &["vy"]), ("vy - y", &["vy", "y"]), ("2", &[])],
+        [
+            ("-x/(x^2 + y^2 + 1)^1.5", &["x", "y"]),
+            ("-x - vx", &["x", "vx"]),
+            ("-x", &["x"]),
+        ],
+        [
+            ("-y/(x^2 + y^2 + 1)^1.5", &["x", "y"]),
+            ("t - y", &["y"]),
+            ("-vy*y", &["y", "vy"]),
+        ],
+    ];
+    const NAMES: [&str; 7] = ["x", "y", "vx", "vy", "z", "X", "t"];
+
+    fn cases() -> u32 {
+        std::env::var("PROPTEST_CASES")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(256)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(cases()))]
+
+        #[test]
+        fn any_declaration_is_accepted_exactly_when_it_splits_the_equations(
+            eqs in proptest::collection::vec(0usize..3, 4),
+            q in proptest::collection::vec(0usize..NAMES.len(), 0..4),
+            p in proptest::collection::vec(0usize..NAMES.len(), 0..4),
+            shape in 0u8..4,
+            perm in Just(vec![0usize, 1, 2, 3]).prop_shuffle(),
+            proper in any::<bool>(),
+        ) {
+            // Half the cases name each variable once, two and two, so
+            // that separability itself decides.
+            let (q, p) = match proper {
+                true => (perm[..2].to_vec(), perm[2..].to_vec()),
+                false => (q, p),
+            };
+            let equations: Vec<&str> = (0..4).map(|k| EQUATIONS[k][eqs[k]].0).collect();
+            let list = |v: &[usize]| {
+                let names: Vec<String> = v.iter().map(|&i| format!("{:?}", NAMES[i])).collect();
+                format!("[{}]", names.join(", "))
+            };
+            let declared = match shape {
+                0 => format!("{{ q = {}, p = {} }}", list(&q), list(&p)),
+                1 => format!("{{ q = {} }}", list(&q)),
+                2 => format!("{{ q = {}, p = {}, r = [\"x\"] }}", list(&q), list(&p)),
+                _ => list(&q),
+            };
+            let body = format!(
+                "variables = [\"x\", \"y\", \"vx\", \"vy\"]\ninitial = [1.0, 0.0, 0.0, 1.0]\nequations = [{}]\nhamiltonian = {declared}\nduration = 1.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+                equations.iter().map(|e| format!("{e:?}")).collect::<Vec<_>>().join(", ")
+            );
+            let (dir, _) = super::deck(&body);
+            let loaded = flipcard::deck::load_dir(&dir.path().join("decks"));
+            let _ = loaded.render_all();
+            let (qn, pn): (Vec<&str>, Vec<&str>) = (
+                q.iter().map(|&i| NAMES[i]).collect(),
+                p.iter().map(|&i| NAMES[i]).collect(),
+            );
+            let each_once = VARS.iter().all(|v| qn.iter().chain(&pn).filter(|n| *n == v).count() == 1)
+                && qn.len() + pn.len() == 4;
+            // The variables the equation of `v` reads (`v` a variable).
+            let reads = |v: &str| {
+                let k = VARS.iter().position(|x| *x == v).unwrap();
+                EQUATIONS[k][eqs[k]].1
+            };
+            let splits = || {
+                qn.iter().all(|v| reads(v).iter().all(|r| !qn.contains(r)))
+                    && pn.iter().all(|v| reads(v).iter().all(|r| !pn.contains(r)))
+            };
+            let valid = shape == 0 && each_once && qn.len() == pn.len() && splits();
+            prop_assert_eq!(loaded.errors() == 0, valid, "{}\n{}", body, loaded.render_all());
+            for d in &loaded.diagnostics {
+                prop_assert!(d.line >= 1 && d.col >= 1, "{}", d.headline());
+            }
+        }
+    }
+}
