@@ -46,6 +46,7 @@ mod sync;
 mod sync_e2e;
 mod sync_trust;
 mod system_cli;
+mod system_conserved;
 mod system_hostile;
 mod true_retention;
 mod tui_browser_e2e;

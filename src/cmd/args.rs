@@ -106,10 +106,12 @@ pub enum MethodArg {
     Rk4,
     Auto,
     Radau,
+    Verlet,
+    Verlet4,
 }
 
 impl MethodArg {
-    const ALL: [MethodArg; 7] = [
+    const ALL: [MethodArg; 9] = [
         MethodArg::Exact,
         MethodArg::Adaptive,
         MethodArg::Splitting,
@@ -117,6 +119,8 @@ impl MethodArg {
         MethodArg::Rk4,
         MethodArg::Auto,
         MethodArg::Radau,
+        MethodArg::Verlet,
+        MethodArg::Verlet4,
     ];
 
     /// The method of the vocabulary (same order).

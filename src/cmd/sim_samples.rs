@@ -211,6 +211,23 @@ pub(super) struct Stats {
     pub lu_decompositions: u64,
     /// The time `auto` found the problem stiff and switched, if it did.
     pub stiff_from: Option<f64>,
+    /// A system scene's `conserved` quantities: how far each moved over
+    /// the run (absent when the scene declares none).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub conserved: Vec<Conserved>,
+}
+
+/// How far a quantity the scene declares conserved moved over a run.
+#[derive(Debug, Serialize)]
+pub(super) struct Conserved {
+    pub name: String,
+    /// Its value at the start.
+    pub start: f64,
+    /// The largest |value − start| over every sample the run computed
+    /// (each step's, not only the printed rows).
+    pub max_change: f64,
+    /// `max_change` / |start|; null when the start is 0.
+    pub max_drift: Option<f64>,
 }
 
 impl Stats {
@@ -222,6 +239,19 @@ impl Stats {
         );
         if let Some(t) = self.stiff_from {
             s.push_str(&format!(", stiff from t = {}: switched to radau", Num(t)));
+        }
+        for c in &self.conserved {
+            let name = crate::text::safe::one_line(&c.name);
+            match c.max_drift {
+                Some(d) => s.push_str(&format!(
+                    ", {name} drifts by up to {} of its start",
+                    num::sig(d, 3)
+                )),
+                None => s.push_str(&format!(
+                    ", {name} moves by up to {} from 0",
+                    num::sig(c.max_change, 3)
+                )),
+            }
         }
         s
     }

@@ -11,7 +11,7 @@ use std::process::ExitCode;
 use anyhow::{anyhow, bail};
 
 use crate::cmd::args::{MethodArg, SimArgs, SimFormat};
-use crate::cmd::sim_samples::Stats;
+use crate::cmd::sim_samples::{Conserved, Stats};
 use crate::deck::{Deck, Measure, Prompt, SystemScene};
 use crate::predict::audit::{Run, audit_run, audit_slips};
 use crate::sim::error::SolveError;
@@ -28,16 +28,24 @@ pub fn method(args: &SimArgs, scene: &SystemScene) -> anyhow::Result<OdeMethod> 
         MethodArg::Adaptive => OdeKind::Adaptive,
         MethodArg::Radau => OdeKind::Radau,
         MethodArg::Rk4 => OdeKind::Rk4,
+        MethodArg::Verlet => OdeKind::Verlet,
+        MethodArg::Verlet4 => OdeKind::Verlet4,
         m @ (MethodArg::Exact | MethodArg::Splitting | MethodArg::Splitting4) => bail!(
             "--method {}: scene {} is a system, which takes auto, adaptive, radau or rk4",
             m.name(),
             scene.id
         ),
     };
-    let setting = match (kind, args.tol, args.dt) {
-        (OdeKind::Rk4, Some(_), _) => bail!("--tol: rk4 takes a step (--dt), not a tolerance"),
-        (OdeKind::Rk4, None, dt) => dt,
-        (_, _, Some(_)) => bail!("--dt: only rk4 takes a step; {} takes --tol", kind.name()),
+    let setting = match (kind.fixed_step(), args.tol, args.dt) {
+        (true, Some(_), _) => bail!(
+            "--tol: {} takes a step (--dt), not a tolerance",
+            kind.name()
+        ),
+        (true, None, dt) => dt,
+        (_, _, Some(_)) => bail!(
+            "--dt: only rk4, verlet and verlet4 take a step; {} takes --tol",
+            kind.name()
+        ),
         (_, tol, None) => tol,
     };
     match setting {
@@ -208,6 +216,14 @@ fn write_samples(
         jacobian_evals: work.jac_evals,
         lu_decompositions: work.lu_decomps,
         stiff_from: run.diagnostics().stiff_at,
+        conserved: (run.conserved_drift().into_iter())
+            .map(|d| Conserved {
+                name: d.name,
+                start: d.start,
+                max_change: d.change,
+                max_drift: d.relative,
+            })
+            .collect(),
     };
     if format == SimFormat::Json {
         let why = rows.as_ref().err().map(|e| e.to_string());

@@ -17,6 +17,8 @@ pub enum MethodName {
     Rk4,
     Auto,
     Radau,
+    Verlet,
+    Verlet4,
 }
 
 /// One row of the vocabulary.
@@ -34,7 +36,7 @@ pub struct MethodRow {
 }
 
 /// The table.
-pub(crate) const METHODS: [MethodRow; 7] = [
+pub(crate) const METHODS: [MethodRow; 9] = [
     MethodRow {
         method: MethodName::Exact,
         name: "exact",
@@ -84,11 +86,27 @@ pub(crate) const METHODS: [MethodRow; 7] = [
         rigid: false,
         system: true,
     },
+    MethodRow {
+        method: MethodName::Verlet,
+        name: "verlet",
+        help: Some(
+            "Systems declaring a separable `hamiltonian` only: Störmer–Verlet, symplectic, fixed step (--dt)",
+        ),
+        rigid: false,
+        system: true,
+    },
+    MethodRow {
+        method: MethodName::Verlet4,
+        name: "verlet4",
+        help: Some("As verlet, of order 4 (Yoshida's triple jump)"),
+        rigid: false,
+        system: true,
+    },
 ];
 
 impl MethodName {
     /// Every method, in the table's order.
-    pub const ALL: [MethodName; 7] = [
+    pub const ALL: [MethodName; 9] = [
         MethodName::Exact,
         MethodName::Adaptive,
         MethodName::Splitting,
@@ -96,6 +114,8 @@ impl MethodName {
         MethodName::Rk4,
         MethodName::Auto,
         MethodName::Radau,
+        MethodName::Verlet,
+        MethodName::Verlet4,
     ];
 
     pub fn row(self) -> &'static MethodRow {
@@ -124,8 +144,8 @@ pub enum MethodError {
         method: MethodName,
         takes: Vec<&'static str>,
     },
-    /// RK4's step is not positive and finite.
-    #[error("the step of rk4 must be positive and finite, not {0}")]
+    /// A fixed step (RK4's, Verlet's) is not positive and finite.
+    #[error("the step (--dt) must be positive and finite, not {0}")]
     Step(f64),
     /// An adaptive method's tolerance is outside (1e-14, 1).
     #[error("the tolerance of {} must lie between 1e-14 and 1, not {setting}", method.name())]

@@ -24,6 +24,23 @@ pub trait OdeSystem {
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
         finite_difference_jacobian(self, t, y, jac);
     }
+
+    /// The positions and momenta of a separable Hamiltonian system, for
+    /// the symplectic methods ([`crate::solvers::ode::Verlet`]): `None`
+    /// (the default) for a system that declares none.
+    fn split(&self) -> Option<Split> {
+        None
+    }
+}
+
+/// A separable Hamiltonian H = T(p) + V(q) written as y' = f(t, y): the
+/// components that are positions (`q`, whose rates read only momenta) and
+/// momenta (`p`, same length, whose rates read only positions), each
+/// component in exactly one of them.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Split {
+    pub q: Vec<usize>,
+    pub p: Vec<usize>,
 }
 
 impl<S: OdeSystem + ?Sized> OdeSystem for &S {
@@ -36,6 +53,9 @@ impl<S: OdeSystem + ?Sized> OdeSystem for &S {
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
         (**self).jacobian(t, y, jac)
     }
+    fn split(&self) -> Option<Split> {
+        (**self).split()
+    }
 }
 
 impl<S: OdeSystem + ?Sized> OdeSystem for Box<S> {
@@ -47,6 +67,9 @@ impl<S: OdeSystem + ?Sized> OdeSystem for Box<S> {
     }
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
         (**self).jacobian(t, y, jac)
+    }
+    fn split(&self) -> Option<Split> {
+        (**self).split()
     }
 }
 

@@ -62,6 +62,7 @@ fn pendulum() -> SystemScene {
         ],
         time_unit: "s".into(),
         atol: None,
+        hamiltonian: None,
     }
 }
 
@@ -235,6 +236,7 @@ fn heavy() -> SystemScene {
         sketch: vec![],
         time_unit: "s".into(),
         atol: None,
+        hamiltonian: None,
     }
 }
 
@@ -350,6 +352,7 @@ fn spring() -> SystemScene {
         sketch: vec![],
         time_unit: "s".into(),
         atol: None,
+        hamiltonian: None,
     }
 }
 

@@ -50,7 +50,10 @@ pub const SCENE_FIELDS: &[&str] = &[
     "phase",
     "sketch",
     "atol",
+    "hamiltonian",
 ];
+/// The keys of a system scene's `hamiltonian` (positions, momenta).
+pub const HAMILTONIAN_FIELDS: &[&str] = &["q", "p"];
 /// The keys of a sketch element (each takes an array of expressions).
 pub(crate) const MARK_KEYS: &[&str] = &["line", "dot", "trail"];
 pub const CONTENT_FILE_FIELDS: &[&str] = &["section"];
@@ -197,6 +200,15 @@ pub struct RawSystem {
     pub phase: Option<List<Str>>,
     pub sketch: Option<List<RawMark>>,
     pub atol: Option<RawAtol>,
+    pub hamiltonian: Option<RawHamiltonian>,
+}
+
+/// A separable Hamiltonian as written: `hamiltonian = { q = [...], p = [...] }`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawHamiltonian {
+    pub span: Span,
+    pub q: List<Str>,
+    pub p: List<Str>,
 }
 
 /// A system scene's absolute tolerance: one number for every variable, or
@@ -563,6 +575,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
                     Some(v) => read::number(rep, v, "`atol`").map(RawAtol::All),
                     None => None,
                 },
+                hamiltonian: hamiltonian(rep, &f),
             })
     } else {
         for key in [
@@ -575,6 +588,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
             "phase",
             "sketch",
             "atol",
+            "hamiltonian",
         ] {
             if let Some(v) = f.get(key) {
                 rep.error(
@@ -637,6 +651,26 @@ fn named<T>(
     ok.then_some(Named {
         entries,
         span: v.span(),
+    })
+}
+
+/// `hamiltonian = { q = [...], p = [...] }`, both lists required.
+fn hamiltonian(rep: &mut FileReport, f: &Fields) -> Option<RawHamiltonian> {
+    let v = f.get("hamiltonian")?;
+    let t = read::table(rep, v, "`hamiltonian`")?;
+    let h = Fields::open(
+        rep,
+        t,
+        v.span(),
+        "`hamiltonian`",
+        HAMILTONIAN_FIELDS,
+        |_| None,
+    );
+    let (q, p) = (h.strings(rep, "q", true), h.strings(rep, "p", true));
+    Some(RawHamiltonian {
+        span: v.span(),
+        q: q?,
+        p: p?,
     })
 }
 

@@ -256,6 +256,10 @@ pub struct Scene {
     /// System: the absolute tolerance, one positive number for every
     /// variable or a table of some variables' own (`{ y2 = 1e-20 }`).
     pub atol: Option<AtolSchema>,
+    /// System: a separable Hamiltonian H = T(p) + V(q), for the symplectic
+    /// methods (`verlet`, `verlet4`): every variable once, as a position
+    /// or a momentum.
+    pub hamiltonian: Option<HamiltonianSchema>,
     /// System: variables or observables plotted against time.
     pub plot: Option<Vec<VarName>>,
     /// System: the pair of the phase portrait (horizontal, vertical).
@@ -263,6 +267,19 @@ pub struct Scene {
     pub phase: Option<Vec<VarName>>,
     /// System: lines, dots and trails drawn from expressions.
     pub sketch: Option<Vec<SketchMark>>,
+}
+
+/// A system's separable Hamiltonian: its positions and their momenta.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct HamiltonianSchema {
+    /// Positions: variables whose rates read only momenta.
+    #[schemars(length(min = 1))]
+    pub q: Vec<VarName>,
+    /// Momenta, one per position: variables whose rates read only
+    /// positions.
+    #[schemars(length(min = 1))]
+    pub p: Vec<VarName>,
 }
 
 /// A name of a variable, parameter or observable.

@@ -13,11 +13,13 @@ const HEIGHT: u32 = 1140;
 const SYSTEMS_HEIGHT: u32 = 380;
 
 /// Colours of the generic ODE methods in the systems panels.
-const SYSTEM_METHODS: [(&str, RGBColor); 4] = [
+const SYSTEM_METHODS: [(&str, RGBColor); 6] = [
     ("adaptive", RGBColor(31, 119, 180)),
     ("radau", RGBColor(148, 103, 189)),
     ("rk4", RGBColor(255, 127, 14)),
     ("auto", RGBColor(140, 86, 75)),
+    ("verlet", RGBColor(44, 160, 44)),
+    ("verlet4", RGBColor(214, 39, 40)),
 ];
 /// Errors are drawn no lower than this: the exact solver's own error
 /// against itself is 0, and sits on this floor.
@@ -58,7 +60,7 @@ pub(crate) fn svg(
             )
             .map_err(|e| anyhow::anyhow!("{e}"))?;
         let (body, bottom) = body.split_vertically(HEIGHT - 36 - SYSTEMS_HEIGHT);
-        let system_panels = bottom.split_evenly((1, 4));
+        let system_panels = bottom.split_evenly((1, system_cases.len() + 1));
         for (case, area) in system_cases.iter().zip(system_panels.iter()) {
             system_panel(area, case, systems)
                 .map_err(|e| anyhow::anyhow!("case {}: {e}", case.id))?;
@@ -224,7 +226,8 @@ fn system_legend(area: &Area<'_>) -> Result<(), Box<dyn std::error::Error>> {
     let lines = [
         "generic ODE solvers on systems",
         "error: max over samples of |yᵢ − refᵢ| / max|refᵢ|",
-        "pendulum: exact (Jacobi sn); others: tight radau",
+        "pendulum: exact (Jacobi sn); kepler: Kepler's equation",
+        "vdp, robertson: tight radau",
         "missing curves: refused (stiff), see the CSV",
     ];
     for (k, line) in lines.iter().enumerate() {

@@ -6,7 +6,7 @@
 //! live with their table in [`crate::scene::vocabulary`].
 
 pub use crate::scene::vocabulary::{Measure, Stat};
-pub use crate::system::spec::{Mark, SceneAtol, SystemPanel, SystemScene};
+pub use crate::system::spec::{Hamiltonian, Mark, SceneAtol, SystemPanel, SystemScene};
 use flipcard_text::Text;
 
 /// A panel a scene shows. A scene computes only what its panels need.

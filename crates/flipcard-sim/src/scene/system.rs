@@ -107,6 +107,10 @@ pub enum StartError {
     /// The solver refused to start, or the run stopped early.
     #[error(transparent)]
     Run(#[from] RunError),
+    /// A symplectic method on a scene that declares no separable
+    /// Hamiltonian, or whose declaration does not split its equations.
+    #[error("{method} needs a separable Hamiltonian: {why}")]
+    NotHamiltonian { method: &'static str, why: String },
 }
 
 /// Why a measure cannot be read from a run.
@@ -524,6 +528,17 @@ pub struct SystemDiagnostics {
     pub error: Option<f64>,
 }
 
+/// How far a quantity declared conserved moved over a run: the largest
+/// |value − start| over every sample, and that relative to |start| (none
+/// when the start is 0, where no size says what is large).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConservedDrift {
+    pub name: String,
+    pub start: f64,
+    pub change: f64,
+    pub relative: Option<f64>,
+}
+
 /// A system scene running.
 pub struct SystemRun {
     scene: SystemScene,
@@ -545,6 +560,9 @@ pub struct SystemRun {
     /// Each conserved quantity this run computes, with its value at the
     /// start (set by the first sample).
     conserved: Option<Vec<(usize, f64)>>,
+    /// Every declared conserved quantity this run computes: its index, its
+    /// value at the start and its largest change from it over the samples.
+    drift: Vec<(usize, f64, f64)>,
     trace: Trace,
     trail: Trace,
     error: Option<RunError>,
@@ -604,6 +622,21 @@ impl SystemRun {
         plan: SystemPlan,
     ) -> Result<SystemRun, StartError> {
         let system = System::compile(scene, plan.jacobian)?;
+        if OdeKind::SYMPLECTIC.contains(&method.kind) {
+            let why = match &scene.hamiltonian {
+                None => Some(format!(
+                    "scene {} declares none (`hamiltonian = {{ q = [...], p = [...] }}`, positions and their momenta); use rk4 or auto",
+                    scene.id
+                )),
+                Some(_) => system.hamiltonian_error(scene),
+            };
+            if let Some(why) = why {
+                return Err(StartError::NotHamiltonian {
+                    method: method.kind.name(),
+                    why,
+                });
+            }
+        }
         let cost = system.cost();
         check_cost(scene, &cost)?;
         let (m, mut opts) = method.solver(scene.duration);
@@ -677,6 +710,7 @@ impl SystemRun {
             tallies,
             watches,
             conserved: None,
+            drift: Vec::new(),
             trace: Trace::default(),
             trail: Trace::default(),
             error: None,
@@ -762,7 +796,7 @@ impl SystemRun {
     /// methods' steps collapse there instead, and `solver_error` names the
     /// cause).
     fn fixed_step_left_the_domain(&mut self, t0: f64, t1: f64) -> Option<RunError> {
-        if self.method.kind != OdeKind::Rk4 {
+        if !self.method.kind.fixed_step() {
             return None;
         }
         // The tape at the step's start is the previous step's end.
@@ -843,17 +877,28 @@ impl SystemRun {
             q < n || plan.observables.get(q - n).copied().unwrap_or(false)
         };
         if self.conserved.is_none() {
-            let list = self
-                .scene
-                .conserved
-                .iter()
+            let all: Vec<(usize, f64)> = (self.scene.conserved.iter())
                 .filter_map(|c| self.quantity(c))
                 .filter(|&q| computed(q, &self.plan))
                 .map(|q| (q, self.value(q, y)))
-                .filter(|(_, v)| v.is_finite() && v.abs() >= tally::TINY)
+                .filter(|(_, v)| v.is_finite())
+                .collect();
+            self.drift = all.iter().map(|&(q, v)| (q, v, 0.0)).collect();
+            let list = all
+                .into_iter()
+                .filter(|(_, v)| v.abs() >= tally::TINY)
                 .collect();
             self.conserved = Some(list);
             return Ok(());
+        }
+        for k in 0..self.drift.len() {
+            let (q, from, _) = self.drift[k];
+            let change = (self.value(q, y) - from).abs();
+            let largest = &mut self.drift[k].2;
+            // NaN (a value that is not finite) counts as the largest.
+            if change > *largest || change.is_nan() {
+                *largest = change;
+            }
         }
         for &(q, from) in self.conserved.as_deref().unwrap_or(&[]) {
             let to = self.value(q, y);
@@ -1057,7 +1102,7 @@ impl SystemRun {
         if target <= self.t {
             return true;
         }
-        let per_step = if self.method.kind == OdeKind::Rk4 {
+        let per_step = if self.method.kind.fixed_step() {
             1
         } else {
             POINTS_PER_STEP
@@ -1316,6 +1361,25 @@ impl SystemRun {
             drift,
             error: self.reference.as_ref().map(|_| self.ref_error),
         }
+    }
+
+    /// How far each quantity the scene declares conserved has moved so
+    /// far (those this run computes), in the scene's order of `conserved`.
+    pub fn conserved_drift(&self) -> Vec<ConservedDrift> {
+        let n = self.scene.variables.len();
+        let name = |q: usize| match q < n {
+            true => self.scene.variables[q].clone(),
+            false => self.scene.observables[q - n].0.clone(),
+        };
+        self.drift
+            .iter()
+            .map(|&(q, start, change)| ConservedDrift {
+                name: name(q),
+                start,
+                change,
+                relative: (start.abs() >= tally::TINY).then(|| change / start.abs()),
+            })
+            .collect()
     }
 
     /// One measure of the run so far, or why it cannot be made.

@@ -24,6 +24,7 @@
 use nalgebra::DMatrix;
 
 use super::expr::{self, Node};
+use crate::rhs::Split;
 use crate::solvers::ode::OdeSystem;
 use crate::system::spec::SystemScene;
 use flipcard_text::num::Num;
@@ -456,6 +457,31 @@ impl Program {
                 *o = vals[*k as usize];
             }
         });
+    }
+
+    /// Which of the `n` variables each output reads, by the operations it
+    /// is computed from (structurally: `0*x` reads `x`).
+    pub(crate) fn reads(&self, n: usize) -> Vec<Vec<bool>> {
+        let mut by_op: Vec<Vec<bool>> = Vec::with_capacity(self.ops.len());
+        for op in &self.ops {
+            let mut r = vec![false; n];
+            if let Op::Slot(k) = op
+                && (*k as usize) < n
+            {
+                r[*k as usize] = true;
+            }
+            let (a, b) = op.operands();
+            for k in [a, b].into_iter().flatten() {
+                for (x, y) in r.iter_mut().zip(&by_op[k as usize]) {
+                    *x |= *y;
+                }
+            }
+            by_op.push(r);
+        }
+        self.outputs
+            .iter()
+            .map(|(k, _)| by_op[*k as usize].clone())
+            .collect()
     }
 
     /// Output `k` alone at (t, y): only the operations up to it run.
@@ -1000,6 +1026,8 @@ pub struct System {
     marks: Program,
     /// The exact Jacobian is used (implicit methods); else differences.
     jacobian: bool,
+    /// The positions and momenta the scene declares, by index.
+    split: Option<Split>,
 }
 
 impl System {
@@ -1039,13 +1067,65 @@ impl System {
             .map(|(k, e)| (Source::Mark(k), e))
             .collect();
         let marks = Builder::new(scene).outputs(&parsed, &marks)?;
+        let index = |name: &String| scene.variables.iter().position(|v| v == name);
+        let split = scene.hamiltonian.as_ref().and_then(|h| {
+            Some(Split {
+                q: h.q.iter().map(index).collect::<Option<_>>()?,
+                p: h.p.iter().map(index).collect::<Option<_>>()?,
+            })
+        });
         Ok(System {
             n: scene.variables.len(),
             rhs,
             observables,
             marks,
             jacobian,
+            split,
         })
+    }
+
+    /// Why the scene's `hamiltonian` is not a separable split of its
+    /// equations, if it is not: a variable named twice or not at all, or a
+    /// position whose rate reads a position (or a momentum whose rate
+    /// reads a momentum), after observables are expanded.
+    pub fn hamiltonian_error(&self, scene: &SystemScene) -> Option<String> {
+        let h = scene.hamiltonian.as_ref()?;
+        let Some(split) = &self.split else {
+            return Some("`hamiltonian` names a quantity that is not a variable".into());
+        };
+        if h.q.len() != h.p.len() {
+            return Some(format!(
+                "`hamiltonian` declares {} positions and {} momenta; a position needs its momentum",
+                h.q.len(),
+                h.p.len()
+            ));
+        }
+        let mut seen = vec![0u8; self.n];
+        for &i in split.q.iter().chain(&split.p) {
+            seen[i] += 1;
+        }
+        if let Some(i) = seen.iter().position(|&c| c != 1) {
+            return Some(format!(
+                "`hamiltonian` names `{}` {}; it must name every variable once, in `q` or in `p`",
+                scene.variables[i],
+                if seen[i] == 0 { "nowhere" } else { "twice" }
+            ));
+        }
+        let reads = self.rhs.reads(self.n);
+        for (own, what, other) in [
+            (&split.q, "position", "momenta"),
+            (&split.p, "momentum", "positions"),
+        ] {
+            for &i in own {
+                if let Some(&j) = own.iter().find(|&&j| reads[i][j]) {
+                    return Some(format!(
+                        "the rate of the {what} `{}` reads the {what} `{}`: not a separable Hamiltonian (the rate of each {what} may read only {other})",
+                        scene.variables[i], scene.variables[j]
+                    ));
+                }
+            }
+        }
+        None
     }
 
     pub fn cost(&self) -> Cost {
@@ -1119,6 +1199,10 @@ impl OdeSystem for System {
 
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         self.rhs.eval_into(t, y, dy);
+    }
+
+    fn split(&self) -> Option<Split> {
+        self.split.clone()
     }
 
     fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {

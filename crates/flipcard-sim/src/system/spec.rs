@@ -95,6 +95,20 @@ pub struct SystemScene {
     pub time_unit: String,
     /// The absolute tolerance the scene declares (`atol`), if any.
     pub atol: Option<SceneAtol>,
+    /// The separable Hamiltonian the scene declares (`hamiltonian`), if
+    /// any: what the symplectic methods need.
+    pub hamiltonian: Option<Hamiltonian>,
+}
+
+/// A separable Hamiltonian H = T(p) + V(q) as a scene declares it
+/// (`hamiltonian = { q = ["x", "y"], p = ["vx", "vy"] }`): its positions and
+/// momenta by variable name, each variable in one of them, as many of
+/// each. The rate of each position must read only momenta, the rate of
+/// each momentum only positions ([`crate::system::System::hamiltonian_error`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Hamiltonian {
+    pub q: Vec<String>,
+    pub p: Vec<String>,
 }
 
 /// A scene's absolute tolerance: one for every variable, or some

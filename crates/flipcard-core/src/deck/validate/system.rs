@@ -6,11 +6,11 @@
 
 use std::collections::HashMap;
 
-use crate::deck::raw::{List, Named, Num, RawAtol, RawScene, RawSystem, Span, Str};
+use crate::deck::raw::{List, Named, Num, RawAtol, RawHamiltonian, RawScene, RawSystem, Span, Str};
 use crate::deck::report::FileReport;
 use crate::deck::suggest;
 use crate::deck::tomlstr;
-use flipcard_sim::scene::spec::{Mark, SceneAtol, SystemPanel, SystemScene};
+use flipcard_sim::scene::spec::{Hamiltonian, Mark, SceneAtol, SystemPanel, SystemScene};
 use flipcard_sim::scene::system::check_cost;
 use flipcard_sim::solvers::ode::OdeSystem;
 use flipcard_sim::system::System;
@@ -142,6 +142,51 @@ fn names_one(rep: &mut FileReport, s: &Str, known: &[&str], field: &str, kinds: 
         hint,
     );
     false
+}
+
+/// `hamiltonian`'s names: each a variable, every variable once (in `q` or
+/// in `p`), as many positions as momenta.
+fn hamiltonian_names(rep: &mut FileReport, h: &RawHamiltonian, vars: &[&str]) -> bool {
+    let mut ok = true;
+    let mut seen: Vec<&str> = Vec::new();
+    for s in h.q.items.iter().chain(&h.p.items) {
+        if !names_one(rep, s, vars, "hamiltonian", "variables") {
+            ok = false;
+        } else if seen.contains(&s.value.as_str()) {
+            rep.error(
+                s.span.clone(),
+                format!("`hamiltonian` names `{}` twice", s.value),
+                Some("each variable is a position (`q`) or a momentum (`p`), once".to_string()),
+            );
+            ok = false;
+        } else {
+            seen.push(&s.value);
+        }
+    }
+    if !ok {
+        return false;
+    }
+    if h.q.items.len() != h.p.items.len() {
+        rep.error(
+            h.span.clone(),
+            format!(
+                "`hamiltonian` declares {} and {}; each position needs its momentum",
+                flipcard_text::plural(h.q.items.len(), "position", "positions"),
+                flipcard_text::plural(h.p.items.len(), "momentum", "momenta")
+            ),
+            Some("hamiltonian = { q = [\"x\", \"y\"], p = [\"vx\", \"vy\"] }".to_string()),
+        );
+        return false;
+    }
+    if let Some(missing) = vars.iter().find(|v| !seen.contains(v)) {
+        rep.error(
+            h.span.clone(),
+            format!("`hamiltonian` leaves out the variable `{missing}`; every variable is a position or a momentum"),
+            Some("a symplectic method moves the whole state; name it in `q` or `p`".to_string()),
+        );
+        return false;
+    }
+    true
 }
 
 /// An absolute tolerance: a positive, finite number (below 1e-300 no
@@ -464,6 +509,13 @@ pub fn scene(
             conserved.push(s.value.clone());
         }
     }
+    let hamiltonian = sys.hamiltonian.as_ref().map(|h| {
+        ok &= hamiltonian_names(rep, h, &vars);
+        Hamiltonian {
+            q: h.q.items.iter().map(|s| s.value.clone()).collect(),
+            p: h.p.items.iter().map(|s| s.value.clone()).collect(),
+        }
+    });
     let mut phase = None;
     if let Some(list) = &sys.phase {
         if list.items.len() != 2 {
@@ -578,6 +630,7 @@ pub fn scene(
         sketch,
         time_unit: time_unit?,
         atol,
+        hamiltonian,
     };
     if !ok {
         return None;
@@ -607,6 +660,14 @@ pub fn scene(
             list.span.clone(),
             e.to_string(),
             Some("use fewer variables or shorter equations".to_string()),
+        );
+        return None;
+    }
+    if let (Some(h), Some(why)) = (&sys.hamiltonian, system.hamiltonian_error(&scene)) {
+        rep.error(
+            h.span.clone(),
+            format!("`hamiltonian` of {what}: {why}"),
+            Some("declare `hamiltonian` only for x' = f(p), p' = g(q): positions whose rates read momenta, momenta whose rates read positions".to_string()),
         );
         return None;
     }

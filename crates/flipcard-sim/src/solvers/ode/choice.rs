@@ -24,6 +24,11 @@ pub enum OdeKind {
     Radau,
     /// Classical RK4 with a fixed step.
     Rk4,
+    /// Störmer–Verlet, symplectic, fixed step: a scene that declares a
+    /// separable Hamiltonian only.
+    Verlet,
+    /// Its fourth-order triple jump (Yoshida).
+    Verlet4,
 }
 
 impl OdeKind {
@@ -34,6 +39,16 @@ impl OdeKind {
         OdeKind::Rk4,
     ];
 
+    /// The symplectic methods, which only a scene declaring a separable
+    /// Hamiltonian takes (so not among [`OdeKind::ALL`], which every
+    /// system takes).
+    pub const SYMPLECTIC: [OdeKind; 2] = [OdeKind::Verlet, OdeKind::Verlet4];
+
+    /// Whether the method steps by a fixed `dt` (its setting).
+    pub fn fixed_step(self) -> bool {
+        matches!(self, OdeKind::Rk4 | OdeKind::Verlet | OdeKind::Verlet4)
+    }
+
     /// Its name in the one vocabulary ([`crate::method`]).
     pub fn method(self) -> MethodName {
         match self {
@@ -41,6 +56,8 @@ impl OdeKind {
             OdeKind::Adaptive => MethodName::Adaptive,
             OdeKind::Radau => MethodName::Radau,
             OdeKind::Rk4 => MethodName::Rk4,
+            OdeKind::Verlet => MethodName::Verlet,
+            OdeKind::Verlet4 => MethodName::Verlet4,
         }
     }
 
@@ -51,12 +68,13 @@ impl OdeKind {
 
     /// The family a method names, or what a system takes instead.
     pub fn from_method(m: MethodName) -> Result<OdeKind, MethodError> {
-        OdeKind::ALL
-            .into_iter()
+        let kinds = OdeKind::ALL.into_iter().chain(OdeKind::SYMPLECTIC);
+        kinds
+            .clone()
             .find(|k| k.method() == m)
             .ok_or_else(|| MethodError::NotSystem {
                 method: m,
-                takes: OdeKind::ALL.map(OdeKind::name).to_vec(),
+                takes: kinds.map(OdeKind::name).collect(),
             })
     }
 
@@ -77,22 +95,22 @@ pub struct OdeMethod {
 impl OdeMethod {
     /// The kind with its default setting for a run of `duration`.
     pub fn default_for(kind: OdeKind, duration: f64) -> OdeMethod {
-        let setting = match kind {
-            OdeKind::Rk4 => duration / DEFAULT_RK4_STEPS,
-            _ => DEFAULT_RTOL,
+        let setting = match kind.fixed_step() {
+            true => duration / DEFAULT_RK4_STEPS,
+            false => DEFAULT_RTOL,
         };
         OdeMethod { kind, setting }
     }
 
     /// The kind with `tol` (a tolerance, or RK4's step), checked.
     pub fn with_setting(kind: OdeKind, setting: f64) -> Result<OdeMethod, MethodError> {
-        let ok = match kind {
-            OdeKind::Rk4 => setting.is_finite() && setting > 0.0,
-            _ => setting.is_finite() && setting > 1e-14 && setting < 1.0,
+        let ok = match kind.fixed_step() {
+            true => setting.is_finite() && setting > 0.0,
+            false => setting.is_finite() && setting > 1e-14 && setting < 1.0,
         };
         if !ok {
             return Err(match kind {
-                OdeKind::Rk4 => MethodError::Step(setting),
+                k if k.fixed_step() => MethodError::Step(setting),
                 _ => MethodError::Tolerance {
                     method: kind.method(),
                     setting,
@@ -104,11 +122,7 @@ impl OdeMethod {
 
     /// `radau rtol 1e-8`, `rk4 dt 0.001`.
     pub fn label(&self) -> String {
-        let what = if self.kind == OdeKind::Rk4 {
-            "dt"
-        } else {
-            "rtol"
-        };
+        let what = if self.kind.fixed_step() { "dt" } else { "rtol" };
         format!(
             "{} {what} {}",
             self.kind.name(),
@@ -119,9 +133,9 @@ impl OdeMethod {
     /// The tolerance tightened or loosened tenfold (the step halved or
     /// doubled for RK4), within the allowed range.
     pub fn finer(&self, finer: bool) -> OdeMethod {
-        let setting = match (self.kind, finer) {
-            (OdeKind::Rk4, true) => self.setting / 2.0,
-            (OdeKind::Rk4, false) => self.setting * 2.0,
+        let setting = match (self.kind.fixed_step(), finer) {
+            (true, true) => self.setting / 2.0,
+            (true, false) => self.setting * 2.0,
             (_, true) => (self.setting / 10.0).max(1e-13),
             (_, false) => (self.setting * 10.0).min(1e-2),
         };
@@ -144,6 +158,17 @@ impl OdeMethod {
                     ..Options::default()
                 };
                 Method::Rk4 { dt: self.setting }
+            }
+            OdeKind::Verlet | OdeKind::Verlet4 => {
+                opts = Options {
+                    t_stop: Some(t_end),
+                    ..Options::default()
+                };
+                let order = if self.kind == OdeKind::Verlet4 { 4 } else { 2 };
+                Method::Verlet {
+                    dt: self.setting,
+                    order,
+                }
             }
         };
         (method, opts)
@@ -168,7 +193,7 @@ mod tests {
         }
         assert_eq!(
             OdeKind::from_method(MethodName::Exact).map_err(|e| e.to_string()),
-            Err("a system takes auto, adaptive, radau or rk4".into())
+            Err("a system takes auto, adaptive, radau, rk4, verlet or verlet4".into())
         );
     }
 }

@@ -11,6 +11,8 @@
 //!   detection (report and go on, or refuse with [`SolveError::Stiff`]).
 //! - [`Radau5`]: implicit Radau IIA of order 5 for stiff systems.
 //! - [`Rk4`]: classical fixed-step RK4, for teaching comparisons.
+//! - [`Verlet`]: Störmer–Verlet (and its order-4 triple jump), symplectic
+//!   and fixed-step, for a separable Hamiltonian the system declares.
 //! - [`Auto`]: DOP853 until it detects stiffness, then Radau IIA from that
 //!   point on the same trajectory.
 //!
@@ -22,11 +24,13 @@ mod choice;
 mod dop853;
 mod radau5;
 mod rk4;
+mod verlet;
 
 use crate::error::SolveError;
 pub use crate::rhs::{OdeSystem, finite_difference_jacobian};
 use crate::solvers::control::{self, Arithmetic};
 
+pub use crate::rhs::Split;
 pub use auto::Auto;
 pub(crate) use choice::REFERENCE_RTOL;
 pub use choice::{OdeKind, OdeMethod};
@@ -34,6 +38,7 @@ pub use dop853::{Dop853, StiffnessMode};
 pub use radau5::Radau5;
 pub use rk4::Rk4;
 pub(crate) use rk4::rk4_step;
+pub use verlet::Verlet;
 
 /// Default cap on the step attempts (accepted and rejected) of one run.
 pub(crate) const DEFAULT_MAX_STEPS: u64 = 5_000_000;
@@ -199,10 +204,20 @@ pub trait OdeSolver {
 /// Which solver [`make`] builds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
-    Dop853 { stiffness: StiffnessMode },
+    Dop853 {
+        stiffness: StiffnessMode,
+    },
     Radau5,
-    Rk4 { dt: f64 },
+    Rk4 {
+        dt: f64,
+    },
     Auto,
+    /// Störmer–Verlet (`order` 2) or its triple jump (4), for a system
+    /// with a [`Split`].
+    Verlet {
+        dt: f64,
+        order: u8,
+    },
 }
 
 /// A boxed solver of the chosen method for `sys` from (t0, y0).
@@ -220,6 +235,7 @@ pub fn make<S: OdeSystem + 'static>(
         Method::Radau5 => Box::new(Radau5::new(sys, t0, y0, opts)?),
         Method::Rk4 { dt } => Box::new(Rk4::new(sys, t0, y0, dt, opts)?),
         Method::Auto => Box::new(Auto::new(sys, t0, y0, opts)?),
+        Method::Verlet { dt, order } => Box::new(Verlet::new(sys, t0, y0, dt, order, opts)?),
     })
 }
 

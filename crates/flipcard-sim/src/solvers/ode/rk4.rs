@@ -88,50 +88,9 @@ impl<S: OdeSystem> Rk4<S> {
         self.t0 + index as f64 * self.dt
     }
 
-    /// The system's fastest rate at the current point: the spectral radius
-    /// of its Jacobian J by power iteration, J v by a forward difference of
-    /// the right-hand side, read as the geometric mean of the growth
-    /// |J v| / |v| over the last [`SETTLED`] iterations (a single ratio
-    /// overstates it for a non-normal J: for x'' = −ω²x written as (x, v),
-    /// |J v| / |v| alternates between ω² and 1 while the rate is ω). 0 where
-    /// it cannot be evaluated.
+    /// The system's fastest rate at the current point ([`fastest_rate`]).
     fn fastest_rate(&mut self) -> f64 {
-        let n = self.y.len();
-        let mut f0 = vec![0.0; n];
-        self.sys.rhs(self.t, &self.y, &mut f0);
-        self.work.rhs_evals += 1;
-        let scale = self.y.iter().fold(1.0f64, |m, v| m.max(v.abs()));
-        let eps = f64::EPSILON.sqrt() * scale;
-        // A fixed start with every component, unequal so that no
-        // symmetric mode is missed.
-        let mut v: Vec<f64> = (0..n).map(|i| 1.0 + 0.37 * i as f64).collect();
-        let mut growth: Vec<f64> = Vec::with_capacity(ITERATIONS);
-        let (mut yp, mut fp) = (vec![0.0; n], vec![0.0; n]);
-        for _ in 0..ITERATIONS {
-            let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-            if !(norm.is_finite() && norm > 0.0) {
-                break;
-            }
-            for i in 0..n {
-                v[i] /= norm;
-                yp[i] = self.y[i] + eps * v[i];
-            }
-            self.sys.rhs(self.t, &yp, &mut fp);
-            self.work.rhs_evals += 1;
-            for i in 0..n {
-                v[i] = (fp[i] - f0[i]) / eps;
-            }
-            let jv = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-            if !(jv.is_finite() && jv > 0.0) {
-                break;
-            }
-            growth.push(jv.ln());
-        }
-        let last = &growth[growth.len().saturating_sub(SETTLED)..];
-        if last.is_empty() {
-            return 0.0;
-        }
-        (last.iter().sum::<f64>() / last.len() as f64).exp()
+        fastest_rate(&self.sys, self.t, &self.y, &mut self.work)
     }
 }
 
@@ -206,6 +165,52 @@ impl<S: OdeSystem> Stepper for Rk4<S> {
         self.rk4(self.t_old, true, h, out);
     }
 }
+/// The fastest rate of `sys` at (t, y): the spectral radius
+/// of its Jacobian J by power iteration, J v by a forward difference of
+/// the right-hand side, read as the geometric mean of the growth
+/// |J v| / |v| over the last [`SETTLED`] iterations (a single ratio
+/// overstates it for a non-normal J: for x'' = −ω²x written as (x, v),
+/// |J v| / |v| alternates between ω² and 1 while the rate is ω). 0 where
+/// it cannot be evaluated.
+pub(crate) fn fastest_rate<S: OdeSystem>(sys: &S, t: f64, y: &[f64], work: &mut Work) -> f64 {
+    let n = y.len();
+    let mut f0 = vec![0.0; n];
+    sys.rhs(t, y, &mut f0);
+    work.rhs_evals += 1;
+    let scale = y.iter().fold(1.0f64, |m, v| m.max(v.abs()));
+    let eps = f64::EPSILON.sqrt() * scale;
+    // A fixed start with every component, unequal so that no
+    // symmetric mode is missed.
+    let mut v: Vec<f64> = (0..n).map(|i| 1.0 + 0.37 * i as f64).collect();
+    let mut growth: Vec<f64> = Vec::with_capacity(ITERATIONS);
+    let (mut yp, mut fp) = (vec![0.0; n], vec![0.0; n]);
+    for _ in 0..ITERATIONS {
+        let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(norm.is_finite() && norm > 0.0) {
+            break;
+        }
+        for i in 0..n {
+            v[i] /= norm;
+            yp[i] = y[i] + eps * v[i];
+        }
+        sys.rhs(t, &yp, &mut fp);
+        work.rhs_evals += 1;
+        for i in 0..n {
+            v[i] = (fp[i] - f0[i]) / eps;
+        }
+        let jv = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(jv.is_finite() && jv > 0.0) {
+            break;
+        }
+        growth.push(jv.ln());
+    }
+    let last = &growth[growth.len().saturating_sub(SETTLED)..];
+    if last.is_empty() {
+        return 0.0;
+    }
+    (last.iter().sum::<f64>() / last.len() as f64).exp()
+}
+
 /// One classical RK4 step of size `h` from (t, y) into `out`, for f
 /// written as `rhs(t, y, dy)`; `k` holds the four stages and `tmp` the
 /// argument of the next, each of y's length. Uses four evaluations of f.
