@@ -551,7 +551,7 @@ fn a_growth_prompt_shows_the_growth_on_a_log_axis() {
     let screen = redact_drifts(&render(&app));
     assert!(screen.contains("|ω⊥|, log scale"), "{screen}");
     assert!(
-        screen.contains("e-folding time 0.173 s, formula 1/√k = 0.173 s"),
+        screen.contains("e-folding time: 0.173 s, formula 1/√k = 0.173 s"),
         "{screen}"
     );
     assert!(
@@ -904,6 +904,88 @@ fn e_after_a_verdict_opens_the_anchored_paragraph() {
             assert!(flat(&screen).contains(&words), "{words}\n{screen}");
             press(&mut app, KeyCode::Esc);
             assert_eq!(app.context(), Context::PredictVerdict);
+        }
+    }
+}
+
+/// A rigid body's prompt and a system's through the same assertions, at
+/// 100×30 and 80×24 in both languages: the question whole (no word of it
+/// torn or left out) while the run plays and under the verdict, the
+/// measurement named in words with its unit, and `n` opening the next
+/// prompt.
+#[test]
+fn both_scene_kinds_keep_the_question_whole_name_the_measure_and_go_on_with_n() {
+    // (deck, prompt, choice, what the verdict reads in English, in Hinglish)
+    let cases = [
+        (
+            "torque-free-rotation",
+            "middle-axis",
+            '2',
+            "flipped 3 times: at 1.49, 4.24 and 7.00 s",
+            "3 baar palta: 1.49, 4.24 aur 7.00 s par",
+        ),
+        (
+            "oscillations",
+            "damping-settle",
+            '2',
+            "time for B to get within 1% of rest: 4.30 s",
+            "B ko rest ke 1% ke andar aane mein laga time: 4.30 s",
+        ),
+    ];
+    for (deck, id, choice, en, hi) in cases {
+        for (lang, reads) in [(ENGLISH, en), (HINGLISH, hi)] {
+            for size in [(100, 30), (80, 24)] {
+                let mut app = bundled_prompt_in(deck, lang, id, size);
+                let question = {
+                    let Screen::Predict(p) = app.screen() else {
+                        panic!("not on the predict screen");
+                    };
+                    crate::text::render(app.decks[0].prompts[p.prompt].question.get(lang))
+                };
+                let whole = |screen: &str, when: &str| {
+                    let shown: std::collections::HashSet<&str> = screen
+                        .split(|c: char| c.is_whitespace() || c == '"')
+                        .collect();
+                    for word in question.split_whitespace() {
+                        assert!(
+                            shown.contains(word),
+                            "{deck}/{id} {lang} {size:?} {when}: `{word}` of the question is not shown whole:\n{screen}"
+                        );
+                    }
+                };
+                press_all(&mut app, &[KeyCode::Char(choice), KeyCode::Enter]);
+                apply_tick(&mut app, 300);
+                whole(&render(&app), "while the run plays");
+                play_to_the_end(&mut app);
+                let screen = render(&app);
+                whole(&screen, "under the verdict");
+                // The keys' row lists whole entries: none cut mid-word.
+                for line in screen.lines().filter(|l| l.contains("Space ")) {
+                    assert!(
+                        !line.trim_matches('"').trim_end().ends_with('…'),
+                        "{deck}/{id} {lang} {size:?}: a key cut short:\n{screen}"
+                    );
+                }
+                assert!(
+                    flat(&screen).contains(reads),
+                    "{deck}/{id} {lang} {size:?}: the verdict reads `{reads}`:\n{screen}"
+                );
+                let Screen::Predict(before) = app.screen() else {
+                    panic!("left the predict screen");
+                };
+                let (d, p) = (before.deck, before.prompt);
+                let n = app.decks[d].prompts.len();
+                press(&mut app, KeyCode::Char('n'));
+                let Screen::Predict(after) = app.screen() else {
+                    panic!("{deck}/{id}: `n` left the predict screen");
+                };
+                assert_eq!(
+                    after.prompt,
+                    (p + 1) % n,
+                    "{deck}/{id}: `n` opens the next prompt"
+                );
+                assert!(matches!(after.phase, Phase::Ask { .. }));
+            }
         }
     }
 }

@@ -93,6 +93,7 @@ fn app(lang: &str) -> TestApp {
             expected: "longer".into(),
         },
         tags: vec![],
+        measured: None,
     });
     open_third_prompt(deck, lang)
 }
@@ -206,6 +207,7 @@ fn app_on(scene: SystemScene, measure: Measure, threshold: f64) -> TestApp {
             expected: "above".into(),
         },
         tags: vec![],
+        measured: None,
     });
     open_third_prompt(deck, ENGLISH)
 }
@@ -597,6 +599,7 @@ fn a_number_verdict_names_its_measurement_with_its_unit_and_no_empty_formula() {
             slips: Vec::new(),
         },
         tags: vec![],
+        measured: None,
     });
     let mut app = open_third_prompt(deck, ENGLISH);
     for c in "4.9".chars() {
@@ -605,7 +608,7 @@ fn a_number_verdict_names_its_measurement_with_its_unit_and_no_empty_formula() {
     press(&mut app, KeyCode::Enter);
     let screen = verdict_text(&mut app);
     assert!(screen.contains("Right"), "{screen}");
-    assert!(screen.contains("period of θ 4.89 s"), "{screen}");
+    assert!(screen.contains("period of θ: 4.89 s"), "{screen}");
     assert!(screen.contains("the deck's answer: 4.89 s"), "{screen}");
     assert!(!screen.contains("formula:"), "{screen}");
 }

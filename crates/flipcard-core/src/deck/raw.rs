@@ -17,7 +17,7 @@ pub const CARD_FIELDS: &[&str] = &[
     "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text",
 ];
 pub const PROMPT_FIELDS: &[&str] = &["id", "question", "scene", "explain", "tags", "answer"];
-pub const CHOICE_ANSWER_FIELDS: &[&str] = &["kind", "expected", "choices"];
+pub const CHOICE_ANSWER_FIELDS: &[&str] = &["kind", "expected", "choices", "label", "unit"];
 pub const NUMBER_ANSWER_FIELDS: &[&str] = &[
     "kind",
     "measure",
@@ -26,6 +26,7 @@ pub const NUMBER_ANSWER_FIELDS: &[&str] = &[
     "tolerance",
     "formula",
     "slips",
+    "label",
 ];
 /// The keys of one known slip of a number answer.
 pub const SLIP_FIELDS: &[&str] = &["value", "says"];
@@ -108,6 +109,10 @@ pub enum RawAnswer {
         span: Span,
         expected: Option<Str>,
         choices: Option<List<RawChoice>>,
+        /// What the choices' one measure is, in words (`label`), and its
+        /// unit (`unit`), for the verdict.
+        label: Option<RawText>,
+        unit: Option<Str>,
     },
     Number {
         span: Span,
@@ -118,6 +123,8 @@ pub enum RawAnswer {
         formula: Option<RawText>,
         /// Known wrong numbers (`slips = [{ value = "1/k", says = … }]`).
         slips: Option<List<RawSlip>>,
+        /// What `measure` is, in words, for the verdict.
+        label: Option<RawText>,
     },
 }
 
@@ -423,6 +430,8 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
                 span,
                 expected: f.string(rep, "expected", true),
                 choices,
+                label: f.text(rep, "label", false),
+                unit: f.string(rep, "unit", false),
             })
         }
         "number" => {
@@ -477,6 +486,7 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
                         span: v.span(),
                     })
                 }),
+                label: f.text(rep, "label", false),
             })
         }
         other => {

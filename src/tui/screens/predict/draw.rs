@@ -59,7 +59,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
     }
 }
 
-fn question_lines(app: &App, prompt: &Prompt, width: usize) -> Vec<Line<'static>> {
+pub(super) fn question_lines(app: &App, prompt: &Prompt, width: usize) -> Vec<Line<'static>> {
     let t = &app.theme;
     wrap(
         &crate::tui::wrap::math_runs(prompt.question.get(&app.lang), t.strong()),
@@ -179,51 +179,14 @@ fn draw_play(
         .map(|v| super::verdict::for_run(app, prompt, prediction, v, live, width))
         .unwrap_or_default();
     let question = question_lines(app, prompt, width.saturating_sub(1).max(1));
-    // Who gives way when rows are short: the panels first, then the
-    // question's later lines; the verdict and one question line stay.
-    let before = u16::from(verdict.is_none());
-    let mut rest = area.height.saturating_sub(1 + diag + 1 + before);
-    let verdict_h = (verdict_lines.len() as u16).min(rest.saturating_sub(1));
-    rest -= verdict_h;
-    let question_min = rest.min(1);
-    rest -= question_min;
-    let mut panels_min = rest.min(6);
-    rest -= panels_min;
-    if panels_min < 3 {
-        rest += panels_min;
-        panels_min = 0;
-    }
-    let question_h = question_min + (question.len() as u16).saturating_sub(1).min(rest);
-    rest -= question_h - question_min;
-    let panels_h = panels_min + rest;
-    let [top, said, panels, status, diag_area, hints, verdict_area] = Layout::vertical([
-        Constraint::Length(question_h),
-        Constraint::Length(before),
-        Constraint::Length(panels_h),
-        Constraint::Length(1),
-        Constraint::Length(diag),
-        Constraint::Length(1),
-        Constraint::Length(verdict_h),
-    ])
-    .areas(area);
-
-    let shown = cut_lines(question, question_h as usize, top.width as usize);
-    frame.render_widget(Paragraph::new(shown), top);
-    if verdict.is_none() {
-        frame.render_widget(
-            Paragraph::new(fit_spans(
-                vec![
-                    Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
-                    Span::styled(
-                        super::verdict::prediction_text(app, prompt, prediction),
-                        t.heading(),
-                    ),
-                ],
-                said.width as usize,
-            )),
-            said,
-        );
-    }
+    let [top, said, panels, status, diag_area, hints, verdict_area] = play_areas(
+        area,
+        question.len(),
+        verdict_lines.len(),
+        diag,
+        verdict.is_none(),
+    );
+    draw_question(frame, app, (prompt, prediction), question, (top, said));
 
     // A small screen after the verdict keeps the evidence: ω (and the
     // growth on its log scale) rather than every panel squeezed.
@@ -270,10 +233,79 @@ fn draw_play(
     if verdict.is_some() {
         let shown = cut_lines(
             verdict_lines,
-            verdict_h as usize,
+            verdict_area.height as usize,
             verdict_area.width as usize,
         );
         frame.render_widget(Paragraph::new(shown), verdict_area);
+    }
+}
+
+/// The rows of a playing scene, a rigid body's and a system's alike:
+/// question, prediction (before the verdict), panels, status, diagnostics,
+/// hints, verdict. Who gives way when rows are short: the panels first
+/// (kept at 6 rows while the question needs more, dropped below 3), then
+/// the question's later lines; the verdict and one question line stay.
+pub(super) fn play_areas(
+    area: Rect,
+    question: usize,
+    verdict: usize,
+    diag: u16,
+    before_verdict: bool,
+) -> [Rect; 7] {
+    let before = u16::from(before_verdict);
+    let mut rest = area.height.saturating_sub(1 + diag + 1 + before);
+    let verdict_h = (verdict as u16).min(rest.saturating_sub(1));
+    rest -= verdict_h;
+    let question_min = rest.min(1);
+    rest -= question_min;
+    let mut panels_min = rest.min(6);
+    rest -= panels_min;
+    if panels_min < 3 {
+        rest += panels_min;
+        panels_min = 0;
+    }
+    let question_h = question_min + (question as u16).saturating_sub(1).min(rest);
+    rest -= question_h - question_min;
+    let panels_h = panels_min + rest;
+    Layout::vertical([
+        Constraint::Length(question_h),
+        Constraint::Length(before),
+        Constraint::Length(panels_h),
+        Constraint::Length(1),
+        Constraint::Length(diag),
+        Constraint::Length(1),
+        Constraint::Length(verdict_h),
+    ])
+    .areas(area)
+}
+
+/// The question (wrapped, its math kept whole; cut with "…" only when not
+/// even the panels' giving way leaves it room) and, before the verdict,
+/// the learner's prediction under it.
+pub(super) fn draw_question(
+    frame: &mut Frame,
+    app: &App,
+    (prompt, prediction): (&Prompt, Prediction),
+    question: Vec<Line<'static>>,
+    (top, said): (Rect, Rect),
+) {
+    let t = &app.theme;
+    let shown = cut_lines(question, top.height as usize, top.width as usize);
+    frame.render_widget(Paragraph::new(shown), top);
+    if said.height > 0 {
+        frame.render_widget(
+            Paragraph::new(fit_spans(
+                vec![
+                    Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
+                    Span::styled(
+                        super::verdict::prediction_text(app, prompt, prediction),
+                        t.heading(),
+                    ),
+                ],
+                said.width as usize,
+            )),
+            said,
+        );
     }
 }
 

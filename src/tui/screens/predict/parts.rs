@@ -72,25 +72,40 @@ pub(super) fn hints_line(
     width: u16,
 ) -> Paragraph<'static> {
     let t = &app.theme;
-    let key = |k: &'static str, what: &str| {
-        [
-            Span::styled(k, t.key()),
-            Span::styled(format!(" {what}  "), t.dim()),
-        ]
-    };
-    let mut spans = vec![Span::raw(" ")];
+    let mut keys: Vec<(&str, &str)> = Vec::new();
     if judged {
-        spans.extend(key("n", w::NEXT.get(&app.lang)));
+        keys.push(("n", w::NEXT.get(&app.lang)));
         if prompt.explain.is_some() {
-            spans.extend(key("e", app.tr(Msg::Explanation)));
+            keys.push(("e", app.tr(Msg::Explanation)));
         }
     }
-    spans.extend(key("Space", app.tr(Msg::Pause)));
-    spans.extend(key("+ -", app.tr(Msg::Speed)));
-    spans.extend(key("r", app.tr(Msg::Restart)));
-    spans.extend(key("m", app.tr(Msg::Method)));
-    spans.extend(key("[ ]", app.tr(Msg::Step)));
-    Paragraph::new(fit_spans(spans, width as usize))
+    keys.extend([
+        ("Space", app.tr(Msg::Pause)),
+        ("+ -", app.tr(Msg::Speed)),
+        ("r", app.tr(Msg::Restart)),
+        ("m", app.tr(Msg::Method)),
+        ("[ ]", app.tr(Msg::Step)),
+    ]);
+    // Whole entries only: what does not fit is left to the help (`?`),
+    // never cut mid-word.
+    let mut spans = vec![Span::raw(" ")];
+    let mut used = 1;
+    for (k, what) in keys {
+        let entry = format!(" {what}");
+        let w = unicode_width::UnicodeWidthStr::width(k)
+            + unicode_width::UnicodeWidthStr::width(entry.as_str());
+        let gap = if used > 1 { 2 } else { 0 };
+        if used + gap + w > usize::from(width) {
+            break;
+        }
+        if gap > 0 {
+            spans.push(Span::raw("  "));
+        }
+        spans.push(Span::styled(k.to_string(), t.key()));
+        spans.push(Span::styled(entry, t.dim()));
+        used += gap + w;
+    }
+    Paragraph::new(Line::from(spans))
 }
 
 /// A diagnostics text ("a · b · c") folded to `width` at its separators,
