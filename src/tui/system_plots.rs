@@ -60,7 +60,13 @@ pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &
     let data = extent(values());
     let dim = theme.plot(Color::DarkGray);
     let names: Vec<String> = scene.plot.iter().map(|n| shown_name(n)).collect();
-    let unit = scene.time_unit.clone();
+    // The run's length with its time unit at the right end of the time
+    // axis, moved left as far as it needs to show whole ("50 time units",
+    // never "50 time u").
+    let end_label = format!("{} {}", Num(d), scene.time_unit);
+    let inner = f64::from(area.width.saturating_sub(2)).max(1.0);
+    let room = inner - unicode_width::UnicodeWidthStr::width(end_label.as_str()) as f64 - 1.0;
+    let end_at = d * (room / inner).clamp(0.0, 0.85);
     let title = format!(
         " {} {} ",
         names.join(", "),
@@ -107,9 +113,9 @@ pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &
                 ctx.print(d * 0.6, hi, label(SystemWord::Highest, max));
             }
             ctx.print(
-                d * 0.85,
+                end_at,
                 lo,
-                TextLine::styled(format!("{} {unit}", Num(d)), Style::new().fg(dim)),
+                TextLine::styled(end_label.clone(), Style::new().fg(dim)),
             );
         });
     frame.render_widget(canvas, area);

@@ -989,3 +989,26 @@ fn both_scene_kinds_keep_the_question_whole_name_the_measure_and_go_on_with_n() 
         }
     }
 }
+
+/// A scene in its own time unit says so on the plot's time axis as in the
+/// status line and the verdict, the axis label shown whole: "50 time
+/// units", not "50 time u" cut by the panel's border.
+#[test]
+fn the_time_axis_shows_the_scenes_time_unit_whole() {
+    for size in [(100, 30), (80, 24)] {
+        let mut app = bundled_prompt_in("oscillations", ENGLISH, "vdp-period", size);
+        type_text(&mut app, "19");
+        press(&mut app, KeyCode::Enter);
+        play_to_the_end(&mut app);
+        let screen = render(&app);
+        let axis = screen
+            .lines()
+            .find(|l| l.contains("min -2.01"))
+            .unwrap_or_else(|| panic!("the plot's lower edge:\n{screen}"));
+        assert!(axis.contains("50 time units"), "{size:?}:\n{screen}");
+        assert!(
+            flat(&screen).contains("period of x: 19.1 time units"),
+            "{size:?}:\n{screen}"
+        );
+    }
+}
