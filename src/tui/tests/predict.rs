@@ -1012,3 +1012,62 @@ fn the_time_axis_shows_the_scenes_time_unit_whole() {
         );
     }
 }
+
+/// The words of a frame (runs of letters and digits).
+fn frame_words(frame: &str) -> std::collections::HashSet<String> {
+    frame
+        .split(|c: char| !c.is_alphanumeric())
+        .filter(|w| !w.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
+/// A rigid body's prompt and a system's, at every size in both languages,
+/// while the run plays and under the verdict: no row ends in a piece of a
+/// word (the status line drops the method or the speed whole, the keys'
+/// row whole entries, the prediction is cut at a word with "…"); the
+/// same screen drawn wide enough is the judge of what a whole word is.
+#[test]
+fn no_row_of_either_scene_kind_is_cut_mid_word() {
+    let cases = [
+        ("torque-free-rotation", "middle-axis", '1'),
+        ("oscillations", "pendulum-over-the-top", '1'),
+    ];
+    for (deck, id, choice) in cases {
+        for lang in [ENGLISH, HINGLISH] {
+            for size in [(40, 12), (80, 24), (100, 30)] {
+                let mut app = bundled_prompt_in(deck, lang, id, size);
+                press_all(&mut app, &[KeyCode::Char(choice), KeyCode::Enter]);
+                apply_tick(&mut app, 300);
+                let mut check = |app: &mut TestApp, when: &str| {
+                    app.size = (400, 60);
+                    let known = frame_words(&render(app));
+                    app.size = size;
+                    let frame = render(app);
+                    for line in frame.lines() {
+                        let line = line.trim_matches('"').trim_end();
+                        let body = line.trim_end_matches('…');
+                        let tail: String = body
+                            .chars()
+                            .rev()
+                            .take_while(|c| c.is_alphanumeric())
+                            .collect::<Vec<_>>()
+                            .into_iter()
+                            .rev()
+                            .collect();
+                        if tail.is_empty() || body.len() == line.len() && line.len() < 2 {
+                            continue;
+                        }
+                        assert!(
+                            known.contains(&tail),
+                            "{deck}/{id} {lang} {size:?} {when}: `{tail}` is a piece of a word:\n{frame}"
+                        );
+                    }
+                };
+                check(&mut app, "while the run plays");
+                play_to_the_end(&mut app);
+                check(&mut app, "under the verdict");
+            }
+        }
+    }
+}

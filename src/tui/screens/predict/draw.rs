@@ -293,17 +293,22 @@ pub(super) fn draw_question(
     let shown = cut_lines(question, top.height as usize, top.width as usize);
     frame.render_widget(Paragraph::new(shown), top);
     if said.height > 0 {
+        // One row: cut at a word with "…" when the prediction is longer
+        // (the verdict repeats it whole).
+        let lines = wrap(
+            &[
+                Run::new(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
+                Run::new(
+                    super::verdict::prediction_text(app, prompt, prediction),
+                    t.heading(),
+                ),
+            ],
+            (said.width as usize).saturating_sub(1).max(1),
+            Run::new("", t.dim()),
+            Run::new("", t.dim()),
+        );
         frame.render_widget(
-            Paragraph::new(fit_spans(
-                vec![
-                    Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
-                    Span::styled(
-                        super::verdict::prediction_text(app, prompt, prediction),
-                        t.heading(),
-                    ),
-                ],
-                said.width as usize,
-            )),
+            Paragraph::new(cut_lines(lines, 1, said.width as usize)),
             said,
         );
     }

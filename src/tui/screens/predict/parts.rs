@@ -37,17 +37,42 @@ pub(super) fn status_line(
     if let Some(e) = live.error() {
         s.push(Span::styled(format!(" · {e}"), t.bad()));
     }
-    s.push(Span::styled(
-        format!(" · {}", super::speed_text(app, live)),
-        t.dim(),
-    ));
-    s.push(Span::styled(format!(" · {}", live.method_label()), t.dim()));
+    // What the learner can change, kept whole or left out (most wanted
+    // first: paused, the speed, the method), never cut mid-word.
+    let mut optional = vec![
+        (
+            1,
+            Span::styled(format!(" · {}", super::speed_text(app, live)), t.dim()),
+        ),
+        (
+            2,
+            Span::styled(format!(" · {}", live.method_label()), t.dim()),
+        ),
+    ];
     if live.paused {
-        s.push(Span::styled(
-            format!(" · {}", app.tr(Msg::Paused)),
-            t.warn(),
+        optional.push((
+            0,
+            Span::styled(format!(" · {}", app.tr(Msg::Paused)), t.warn()),
         ));
     }
+    let mut used: usize = s.iter().map(|x| x.width()).sum();
+    let mut rank: Vec<usize> = (0..optional.len()).collect();
+    rank.sort_by_key(|&i| optional[i].0);
+    let mut keep = vec![false; optional.len()];
+    for i in rank {
+        let w = optional[i].1.width();
+        if used + w <= usize::from(width) {
+            used += w;
+            keep[i] = true;
+        }
+    }
+    s.extend(
+        optional
+            .into_iter()
+            .zip(keep)
+            .filter(|(_, k)| *k)
+            .map(|((_, span), _)| span),
+    );
     Paragraph::new(fit_spans(s, usize::from(width)))
 }
 
