@@ -243,8 +243,9 @@ fn draw_play(
 /// The rows of a playing scene, a rigid body's and a system's alike:
 /// question, prediction (before the verdict), panels, status, diagnostics,
 /// hints, verdict. Who gives way when rows are short: the panels first
-/// (kept at 6 rows while the question needs more, dropped below 3), then
-/// the question's later lines; the verdict and one question line stay.
+/// (they take what the question leaves, and are dropped below 3 rows),
+/// then the question's later lines; the verdict and one question line
+/// stay.
 pub(super) fn play_areas(
     area: Rect,
     question: usize,
@@ -256,17 +257,14 @@ pub(super) fn play_areas(
     let mut rest = area.height.saturating_sub(1 + diag + 1 + before);
     let verdict_h = (verdict as u16).min(rest.saturating_sub(1));
     rest -= verdict_h;
-    let question_min = rest.min(1);
-    rest -= question_min;
-    let mut panels_min = rest.min(6);
-    rest -= panels_min;
-    if panels_min < 3 {
-        rest += panels_min;
-        panels_min = 0;
-    }
-    let question_h = question_min + (question as u16).saturating_sub(1).min(rest);
-    rest -= question_h - question_min;
-    let panels_h = panels_min + rest;
+    let question_h = (question as u16).max(1).min(rest);
+    rest -= question_h;
+    // Below three rows a panel is all border: the question keeps them.
+    let (question_h, panels_h) = if rest < 3 {
+        (question_h + rest, 0)
+    } else {
+        (question_h, rest)
+    };
     Layout::vertical([
         Constraint::Length(question_h),
         Constraint::Length(before),
