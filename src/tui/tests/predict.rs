@@ -1071,3 +1071,52 @@ fn no_row_of_either_scene_kind_is_cut_mid_word() {
         }
     }
 }
+
+/// The README's example of a verdict (the middle axis, in Hinglish, at
+/// 100×30) is what the app shows: its status line, keys and verdict rows,
+/// and the question above them.
+#[test]
+fn the_readmes_example_verdict_is_what_the_app_shows() {
+    let readme = include_str!("../../../README.md");
+    let block = readme
+        .split("Predict, then check — spin about the middle axis, in Hinglish, after the run:")
+        .nth(1)
+        .and_then(|rest| rest.split("```").nth(1))
+        .expect("the README's example block");
+    let shown: Vec<&str> = block.lines().skip(1).map(str::trim_end).collect();
+    let mut app = bundled_prompt(HINGLISH, "middle-axis", (100, 30));
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    let mut ticks = 0;
+    while app.animating() && ticks < 1000 {
+        apply_tick(&mut app, 100);
+        ticks += 1;
+    }
+    settle_verdict(&mut app);
+    let screen = render(&app);
+    let rows: Vec<String> = screen
+        .lines()
+        .map(|l| l.trim_matches('"').trim_end().to_string())
+        .collect();
+    let from = |rows: &[&str]| rows.iter().position(|l| l.starts_with(" t = ")).unwrap();
+    let readme_tail = &shown[from(&shown)..];
+    let rows_ref: Vec<&str> = rows.iter().map(String::as_str).collect();
+    let app_tail: Vec<&str> = rows_ref[from(&rows_ref)..]
+        .iter()
+        .copied()
+        .filter(|l| !l.is_empty())
+        .collect();
+    assert_eq!(readme_tail, app_tail.as_slice(), "{screen}");
+    // Above them, row for row: the title, the question, where the panels
+    // stand (their drawings, sampled as frames come, and their legends,
+    // marked without colour here, are left out).
+    let frame = |rows: &[&str]| -> Vec<String> {
+        rows[..from(rows)]
+            .iter()
+            .map(|l| match l.chars().next() {
+                Some(c @ ('│' | '┌' | '└')) => c.to_string(),
+                _ => l.to_string(),
+            })
+            .collect()
+    };
+    assert_eq!(frame(&shown), frame(&rows_ref), "{screen}");
+}
