@@ -72,15 +72,15 @@ pub fn draw(
     // (the panels give way first), the prediction under it until the
     // verdict, which repeats it.
     let width = usize::from(area.width).max(1);
-    let question = super::draw::question_lines(app, prompt, width.saturating_sub(1).max(1));
-    let [top, said, panels, status, diag_area, hints, verdict_area] = super::draw::play_areas(
+    let question = super::parts::question_lines(app, prompt, width.saturating_sub(1).max(1));
+    let [top, said, panels, status, diag_area, hints, verdict_area] = super::parts::play_areas(
         area,
         question.len(),
         verdict_lines.len(),
         diag_lines.len() as u16,
         verdict.is_none(),
     );
-    super::draw::draw_question(frame, app, (prompt, prediction), question, (top, said));
+    super::parts::draw_question(frame, app, (prompt, prediction), question, (top, said));
     let sys = run;
     for (panel, rect) in panel_areas(panels, &run.scene().show) {
         match panel {
