@@ -51,6 +51,7 @@ fn pendulum() -> SystemScene {
         ],
         time_unit: "s".into(),
         atol: None,
+        labels: Vec::new(),
     }
 }
 

@@ -47,6 +47,15 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// How the plots name a quantity: the scene's label for it (the name the
+/// question uses, `A` for `xc`), else its own name with Greek names as
+/// letters (`theta` → θ).
+fn label(scene: &crate::deck::SystemScene, name: &str) -> String {
+    scene
+        .label(name)
+        .map_or_else(|| shown_name(name), str::to_string)
+}
+
 /// The plotted quantities against time over the whole run, drawn up to now.
 pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &Theme) {
     let scene = run.scene();
@@ -59,7 +68,7 @@ pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &
     // (a swing to 2.97 rad is not labelled past π).
     let data = extent(values());
     let dim = theme.plot(Color::DarkGray);
-    let names: Vec<String> = scene.plot.iter().map(|n| shown_name(n)).collect();
+    let names: Vec<String> = scene.plot.iter().map(|n| label(scene, n)).collect();
     // The run's length with its time unit at the right end of the time
     // axis, moved left as far as it needs to show whole ("50 time units",
     // never "50 time u").
@@ -135,9 +144,10 @@ pub fn phase(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: 
     let title = format!(
         " {} ({}, {}) ",
         system_word(SystemWord::Phase).get(lang),
-        shown_name(&a),
-        shown_name(&b)
+        label(run.scene(), &a),
+        label(run.scene(), &b)
     );
+    let (a_shown, b_shown) = (label(run.scene(), &a), label(run.scene(), &b));
     let canvas = Canvas::default()
         .block(block(title, theme))
         .marker(Marker::Braille)
@@ -163,12 +173,12 @@ pub fn phase(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: 
             ctx.print(
                 x0,
                 y0,
-                TextLine::styled(shown_name(&a), Style::new().fg(dim)),
+                TextLine::styled(a_shown.clone(), Style::new().fg(dim)),
             );
             ctx.print(
                 x0,
                 y1,
-                TextLine::styled(shown_name(&b), Style::new().fg(dim)),
+                TextLine::styled(b_shown.clone(), Style::new().fg(dim)),
             );
         });
     frame.render_widget(canvas, area);

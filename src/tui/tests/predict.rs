@@ -1120,3 +1120,26 @@ fn the_readmes_example_verdict_is_what_the_app_shows() {
     };
     assert_eq!(frame(&shown), frame(&rows_ref), "{screen}");
 }
+
+/// A scene that labels its quantities has its plots name them as the
+/// question does: A and B, not the equations' `xc` and `xh`.
+#[test]
+fn the_plots_name_the_quantities_as_the_question_does() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = bundled_prompt_in("oscillations", lang, "damping-settle", (100, 30));
+        press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+        apply_tick(&mut app, 300);
+        let screen = render(&app);
+        let plot = if lang == ENGLISH {
+            "┌ A, B against time"
+        } else {
+            "┌ A, B time ke saath"
+        };
+        assert!(screen.contains(plot), "{lang}:\n{screen}");
+        assert!(
+            screen.contains("phase portrait (A, v(A))"),
+            "{lang}:\n{screen}"
+        );
+        assert!(!screen.contains("xc"), "{lang}:\n{screen}");
+    }
+}

@@ -62,6 +62,7 @@ fn pendulum() -> SystemScene {
         ],
         time_unit: "s".into(),
         atol: None,
+        labels: Vec::new(),
     }
 }
 
@@ -237,6 +238,7 @@ fn heavy() -> SystemScene {
         sketch: vec![],
         time_unit: "s".into(),
         atol: None,
+        labels: Vec::new(),
     }
 }
 
@@ -352,6 +354,7 @@ fn spring() -> SystemScene {
         sketch: vec![],
         time_unit: "s".into(),
         atol: None,
+        labels: Vec::new(),
     }
 }
 

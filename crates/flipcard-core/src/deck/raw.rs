@@ -51,6 +51,7 @@ pub const SCENE_FIELDS: &[&str] = &[
     "phase",
     "sketch",
     "atol",
+    "labels",
 ];
 /// The keys of a sketch element (each takes an array of expressions).
 pub(crate) const MARK_KEYS: &[&str] = &["line", "dot", "trail"];
@@ -204,6 +205,8 @@ pub struct RawSystem {
     pub phase: Option<List<Str>>,
     pub sketch: Option<List<RawMark>>,
     pub atol: Option<RawAtol>,
+    /// How the plots name some quantities (`labels = { xc = "A" }`).
+    pub labels: Option<Named<Str>>,
 }
 
 /// A system scene's absolute tolerance: one number for every variable, or
@@ -573,6 +576,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
                     Some(v) => read::number(rep, v, "`atol`").map(RawAtol::All),
                     None => None,
                 },
+                labels: named(rep, &f, "labels", |rep, v, what| read::string(rep, v, what)),
             })
     } else {
         for key in [
@@ -585,6 +589,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
             "phase",
             "sketch",
             "atol",
+            "labels",
         ] {
             if let Some(v) = f.get(key) {
                 rep.error(

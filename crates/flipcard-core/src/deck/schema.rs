@@ -271,6 +271,9 @@ pub struct Scene {
     pub phase: Option<Vec<VarName>>,
     /// System: lines, dots and trails drawn from expressions.
     pub sketch: Option<Vec<SketchMark>>,
+    /// System: how the plots name some variables or observables, the
+    /// names the question uses (`{ xc = "A" }`), 1 to 24 characters.
+    pub labels: Option<std::collections::BTreeMap<String, String>>,
 }
 
 /// A name of a variable, parameter or observable.

@@ -48,6 +48,7 @@ pub fn evaluate(text: &str, names: &[(String, f64)]) -> Result<f64, ExprError> {
         sketch: Vec::new(),
         time_unit: String::new(),
         atol: None,
+        labels: Vec::new(),
     };
     let whole = |message: String| ExprError {
         at: 0,

@@ -95,6 +95,9 @@ pub struct SystemScene {
     pub time_unit: String,
     /// The absolute tolerance the scene declares (`atol`), if any.
     pub atol: Option<SceneAtol>,
+    /// How the plots name some variables or observables (`labels`): the
+    /// names the question uses (`xc` shown as `A`), in the author's order.
+    pub labels: Vec<(String, String)>,
 }
 
 /// A scene's absolute tolerance: one for every variable, or some
@@ -134,6 +137,14 @@ impl SceneAtol {
 }
 
 impl SystemScene {
+    /// How the plots show `name`: its label when the scene gives one.
+    pub fn label(&self, name: &str) -> Option<&str> {
+        self.labels
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, l)| l.as_str())
+    }
+
     pub fn shows(&self, panel: SystemPanel) -> bool {
         self.show.contains(&panel)
     }

@@ -30,6 +30,7 @@ fn pendulum(theta0_deg: f64, show: &[SystemPanel]) -> SystemScene {
         ],
         time_unit: "s".into(),
         atol: None,
+        labels: Vec::new(),
     }
 }
 
@@ -142,6 +143,7 @@ fn blow_up_is_reported_near_its_time() {
         sketch: vec![],
         time_unit: "s".into(),
         atol: None,
+        labels: Vec::new(),
     };
     for kind in OdeKind::ALL {
         let e = measure_system(
@@ -228,6 +230,7 @@ fn van_der_pol(mu: f64) -> SystemScene {
         sketch: vec![],
         time_unit: "s".into(),
         atol: None,
+        labels: Vec::new(),
     }
 }
 
@@ -326,6 +329,7 @@ fn samples_stop_at_the_frame_and_faults_wait_for_the_run_to_get_there() {
         sketch: vec![],
         time_unit: "s".into(),
         atol: None,
+        labels: Vec::new(),
     };
     let method = OdeMethod::default_for(OdeKind::Adaptive, scene.duration);
     let mut run = SystemRun::new(&scene, method, &[]).unwrap();

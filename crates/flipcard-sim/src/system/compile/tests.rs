@@ -26,6 +26,7 @@ pub(crate) fn pendulum() -> SystemScene {
         sketch: vec![Mark::Line(["0".into(), "0".into(), "x".into(), "y".into()])],
         time_unit: "s".into(),
         atol: None,
+        labels: Vec::new(),
     }
 }
 
