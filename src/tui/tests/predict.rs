@@ -1039,7 +1039,7 @@ fn no_row_of_either_scene_kind_is_cut_mid_word() {
                 let mut app = bundled_prompt_in(deck, lang, id, size);
                 press_all(&mut app, &[KeyCode::Char(choice), KeyCode::Enter]);
                 apply_tick(&mut app, 300);
-                let mut check = |app: &mut TestApp, when: &str| {
+                let check = |app: &mut TestApp, when: &str| {
                     app.size = (400, 60);
                     let known = frame_words(&render(app));
                     app.size = size;

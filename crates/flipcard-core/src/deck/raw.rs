@@ -576,7 +576,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
                     Some(v) => read::number(rep, v, "`atol`").map(RawAtol::All),
                     None => None,
                 },
-                labels: named(rep, &f, "labels", |rep, v, what| read::string(rep, v, what)),
+                labels: named(rep, &f, "labels", read::string),
             })
     } else {
         for key in [
