@@ -52,6 +52,7 @@ fn pendulum() -> SystemScene {
         time_unit: "s".into(),
         atol: None,
         hamiltonian: None,
+        labels: Vec::new(),
     }
 }
 

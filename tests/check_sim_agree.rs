@@ -240,6 +240,7 @@ fn an_answer_check_accepts_stays_right_in_a_longer_run() {
                             },
                         ],
                     },
+                    measured: None,
                 };
                 let expected = Prediction::Choice(0);
                 if audit(&prompt, &scene(duration), &short).is_none() {

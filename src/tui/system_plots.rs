@@ -47,6 +47,15 @@ fn range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// How the plots name a quantity: the scene's label for it (the name the
+/// question uses, `A` for `xc`), else its own name with Greek names as
+/// letters (`theta` → θ).
+fn label(scene: &crate::deck::SystemScene, name: &str) -> String {
+    scene
+        .label(name)
+        .map_or_else(|| shown_name(name), str::to_string)
+}
+
 /// The plotted quantities against time over the whole run, drawn up to now.
 pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &Theme) {
     let scene = run.scene();
@@ -59,8 +68,14 @@ pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &
     // (a swing to 2.97 rad is not labelled past π).
     let data = extent(values());
     let dim = theme.plot(Color::DarkGray);
-    let names: Vec<String> = scene.plot.iter().map(|n| shown_name(n)).collect();
-    let unit = scene.time_unit.clone();
+    let names: Vec<String> = scene.plot.iter().map(|n| label(scene, n)).collect();
+    // The run's length with its time unit at the right end of the time
+    // axis, moved left as far as it needs to show whole ("50 time units",
+    // never "50 time u").
+    let end_label = format!("{} {}", Num(d), scene.time_unit);
+    let inner = f64::from(area.width.saturating_sub(2)).max(1.0);
+    let room = inner - unicode_width::UnicodeWidthStr::width(end_label.as_str()) as f64 - 1.0;
+    let end_at = d * (room / inner).clamp(0.0, 0.85);
     let title = format!(
         " {} {} ",
         names.join(", "),
@@ -107,9 +122,9 @@ pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &
                 ctx.print(d * 0.6, hi, label(SystemWord::Highest, max));
             }
             ctx.print(
-                d * 0.85,
+                end_at,
                 lo,
-                TextLine::styled(format!("{} {unit}", Num(d)), Style::new().fg(dim)),
+                TextLine::styled(end_label.clone(), Style::new().fg(dim)),
             );
         });
     frame.render_widget(canvas, area);
@@ -129,9 +144,10 @@ pub fn phase(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: 
     let title = format!(
         " {} ({}, {}) ",
         system_word(SystemWord::Phase).get(lang),
-        shown_name(&a),
-        shown_name(&b)
+        label(run.scene(), &a),
+        label(run.scene(), &b)
     );
+    let (a_shown, b_shown) = (label(run.scene(), &a), label(run.scene(), &b));
     let canvas = Canvas::default()
         .block(block(title, theme))
         .marker(Marker::Braille)
@@ -157,12 +173,12 @@ pub fn phase(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: 
             ctx.print(
                 x0,
                 y0,
-                TextLine::styled(shown_name(&a), Style::new().fg(dim)),
+                TextLine::styled(a_shown.clone(), Style::new().fg(dim)),
             );
             ctx.print(
                 x0,
                 y1,
-                TextLine::styled(shown_name(&b), Style::new().fg(dim)),
+                TextLine::styled(b_shown.clone(), Style::new().fg(dim)),
             );
         });
     frame.render_widget(canvas, area);

@@ -132,6 +132,7 @@ pub fn deck() -> Deck {
                     expected: "flips".into(),
                 },
                 tags: vec![],
+                measured: None,
             },
             Prompt {
                 id: "growth".into(),
@@ -153,6 +154,7 @@ pub fn deck() -> Deck {
                     slips: Vec::new(),
                 },
                 tags: vec![],
+                measured: None,
             },
         ],
         systems: vec![],

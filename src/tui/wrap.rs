@@ -235,11 +235,16 @@ impl Builder {
     }
 }
 
-/// `word` (a formula, with what sticks to it) cut at its glued spaces of
-/// the best rank ([`crate::text::math_breaks`]) whose pieces each fit in
-/// `room` columns; `None` when it has no glued space or no rank does.
+/// `word` (a formula, with what sticks to it) cut at its glued spaces
+/// ([`crate::text::math_breaks`]) so that its pieces fit in `room`
+/// columns, breaking where mathematics breaks: at every top-level
+/// operator first, then, only inside a piece still too wide, between
+/// top-level factors, and only inside such a piece again, inside brackets
+/// (so `tan δ = 2ζω₀ω/(ω₀² − ω²)` after a wide `A(ω) = …` keeps its
+/// bracket whole). `None` when it has no glued space. A piece no break
+/// can make fit is left for the caller to break.
 fn split_formula(word: &Word, room: usize) -> Option<Vec<Word>> {
-    // (run, byte offset of the space, rank)
+    // (run, byte offset of the space, rank), in order.
     let mut spaces = Vec::new();
     for (i, run) in word.iter().enumerate() {
         if run.glue {
@@ -250,43 +255,78 @@ fn split_formula(word: &Word, room: usize) -> Option<Vec<Word>> {
             );
         }
     }
-    let cut = |max_rank: u8| -> Option<Vec<Word>> {
-        let mut pieces: Vec<Word> = vec![Vec::new()];
+    if spaces.is_empty() {
+        return None;
+    }
+    // The columns between two positions (run, byte), the space at `from`
+    // excluded.
+    let columns = |from: (usize, usize), to: (usize, usize)| -> usize {
+        let mut w = 0;
         for (i, run) in word.iter().enumerate() {
-            let mut from = 0;
-            for &(_, at, _) in spaces.iter().filter(|s| s.0 == i && s.2 <= max_rank) {
-                if at > from {
-                    let text = run.text[from..at].to_string();
-                    pieces.last_mut()?.push(Run {
-                        text,
-                        ..run.clone()
-                    });
-                }
-                pieces.push(Vec::new());
-                from = at + 1;
+            if i < from.0 || i > to.0 {
+                continue;
             }
-            if from < run.text.len() {
-                let text = run.text[from..].to_string();
+            let a = if i == from.0 { from.1 } else { 0 };
+            let b = if i == to.0 { to.1 } else { run.text.len() };
+            if a < b {
+                w += width(&run.text[a..b]);
+            }
+        }
+        w
+    };
+    let start = (0, 0);
+    let end = (
+        word.len().saturating_sub(1),
+        word.last().map_or(0, |r| r.text.len()),
+    );
+    // The chosen cuts, refined rank by rank inside the pieces too wide.
+    let mut chosen: Vec<(usize, usize)> = Vec::new();
+    for rank in 0..=2u8 {
+        let mut bounds = vec![start];
+        bounds.extend(chosen.iter().map(|&(i, at)| (i, at + 1)));
+        let mut ends: Vec<(usize, usize)> = chosen.clone();
+        ends.push(end);
+        let mut more = Vec::new();
+        for (&from, &to) in bounds.iter().zip(ends.iter()) {
+            if columns(from, to) <= room {
+                continue;
+            }
+            more.extend(
+                spaces
+                    .iter()
+                    .filter(|s| s.2 == rank && (s.0, s.1) > from && (s.0, s.1) < to)
+                    .map(|s| (s.0, s.1)),
+            );
+        }
+        chosen.extend(more);
+        chosen.sort_unstable();
+        chosen.dedup();
+    }
+    if chosen.is_empty() {
+        return None;
+    }
+    let mut pieces: Vec<Word> = vec![Vec::new()];
+    for (i, run) in word.iter().enumerate() {
+        let mut from = 0;
+        for &(_, at) in chosen.iter().filter(|c| c.0 == i) {
+            if at > from {
                 pieces.last_mut()?.push(Run {
-                    text,
+                    text: run.text[from..at].to_string(),
                     ..run.clone()
                 });
             }
+            pieces.push(Vec::new());
+            from = at + 1;
         }
-        pieces.retain(|p| !p.is_empty());
-        Some(pieces)
-    };
-    let cut = |rank| cut(rank).unwrap_or_default();
-    (0..=2).find_map(|rank| {
-        if !spaces.iter().any(|s| s.2 <= rank) {
-            return None;
+        if from < run.text.len() {
+            pieces.last_mut()?.push(Run {
+                text: run.text[from..].to_string(),
+                ..run.clone()
+            });
         }
-        let pieces = cut(rank);
-        let fits = pieces
-            .iter()
-            .all(|p| p.iter().map(|r| width(&r.text)).sum::<usize>() <= room);
-        fits.then_some(pieces)
-    })
+    }
+    pieces.retain(|p| !p.is_empty());
+    Some(pieces)
 }
 
 /// The runs of `text` with its formulas rendered and glued (their spaces

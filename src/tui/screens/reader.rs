@@ -261,6 +261,18 @@ fn extend(
     lines.extend(wrapped);
 }
 
+/// One row of a display equation at `width`: indented, whole on a line
+/// when it fits, else folded where mathematics breaks (at a top-level
+/// operator first) with the folds indented further.
+pub fn display_lines(row: &str, style: Style, width: usize) -> Vec<Line<'static>> {
+    wrap(
+        &[Run::new(row, style).glued()],
+        width,
+        Run::new("    ", style),
+        Run::new("      ", style),
+    )
+}
+
 /// A section laid out at `width`, with link `chosen` drawn as chosen.
 pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option<usize>) -> Page {
     let t = &app.theme;
@@ -318,12 +330,7 @@ pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option
                     lines.push(Line::default());
                 }
                 for row in math.lines() {
-                    lines.extend(wrap(
-                        &[Run::new(row, t.math()).glued()],
-                        width,
-                        Run::new("    ", t.math()),
-                        Run::new("    ", t.math()),
-                    ));
+                    lines.extend(display_lines(row, t.math(), width));
                 }
                 lines.push(Line::default());
             }

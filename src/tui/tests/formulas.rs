@@ -119,3 +119,73 @@ fn a_long_formula_breaks_at_a_top_level_operator_before_inside_brackets() {
         assert!(!l.trim_end().ends_with('('), "{lines:#?}");
     }
 }
+
+/// Every row of a display equation in the bundled decks' sections, both
+/// languages.
+fn display_rows() -> Vec<String> {
+    let loaded = crate::bundled::load();
+    let mut out = Vec::new();
+    for deck in &loaded.decks {
+        for s in &deck.sections {
+            for text in s.body.0.values() {
+                let (blocks, _) = crate::text::markup::parse_anchored(text);
+                for b in blocks {
+                    if let crate::text::markup::Block::Display(math) = b {
+                        out.extend(math.lines().map(str::to_string));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// A display equation wider than the reader folds at its top-level
+/// operators, its folds indented further, and breaks inside a bracket only
+/// in a piece that does not fit without: at 40×12 (26 columns of text),
+/// `tan δ = 2ζω₀ω/(ω₀² − ω²)` after the wide `A(ω) = …` keeps its bracket.
+#[test]
+fn a_display_equation_folds_at_top_level_operators_with_an_indent() {
+    let rows = display_rows();
+    assert!(rows.len() > 20, "only {} display rows", rows.len());
+    let row = rows
+        .iter()
+        .find(|r| r.starts_with("A(ω) =") && r.contains("tan δ"))
+        .expect("the driven oscillator's display equation");
+    let lines: Vec<String> = crate::tui::screens::reader::display_lines(row, Style::default(), 26)
+        .iter()
+        .map(line_text)
+        .collect();
+    assert!(
+        lines.iter().any(|l| l.contains("2ζω₀ω/(ω₀² − ω²)")),
+        "{lines:#?}"
+    );
+    assert!(lines[0].starts_with("    ") && !lines[0].starts_with("     "));
+    for l in &lines[1..] {
+        assert!(
+            l.starts_with("      "),
+            "a fold is indented further: {lines:#?}"
+        );
+    }
+    // Every row at every width: the folds give the row back, and no line
+    // is wider than the screen unless one token is.
+    for row in &rows {
+        let longest = row
+            .split_whitespace()
+            .map(crate::tui::wrap::columns)
+            .max()
+            .unwrap_or(0);
+        // Below that, a token wider than a line must be cut somewhere.
+        for width in (longest + 6).max(20)..=160 {
+            let lines: Vec<String> =
+                crate::tui::screens::reader::display_lines(row, Style::default(), width)
+                    .iter()
+                    .map(line_text)
+                    .collect();
+            assert_eq!(squash(&lines.join(" ")), squash(row), "{width}: {lines:#?}");
+            for l in &lines {
+                assert!(crate::tui::wrap::columns(l) <= width, "{width}: {lines:#?}");
+            }
+        }
+    }
+}

@@ -551,7 +551,7 @@ fn a_growth_prompt_shows_the_growth_on_a_log_axis() {
     let screen = redact_drifts(&render(&app));
     assert!(screen.contains("|ω⊥|, log scale"), "{screen}");
     assert!(
-        screen.contains("e-folding time 0.173 s, formula 1/√k = 0.173 s"),
+        screen.contains("e-folding time: 0.173 s, formula 1/√k = 0.173 s"),
         "{screen}"
     );
     assert!(
@@ -905,5 +905,241 @@ fn e_after_a_verdict_opens_the_anchored_paragraph() {
             press(&mut app, KeyCode::Esc);
             assert_eq!(app.context(), Context::PredictVerdict);
         }
+    }
+}
+
+/// A rigid body's prompt and a system's through the same assertions, at
+/// 100×30 and 80×24 in both languages: the question whole (no word of it
+/// torn or left out) while the run plays and under the verdict, the
+/// measurement named in words with its unit, and `n` opening the next
+/// prompt.
+#[test]
+fn both_scene_kinds_keep_the_question_whole_name_the_measure_and_go_on_with_n() {
+    // (deck, prompt, choice, what the verdict reads in English, in Hinglish)
+    let cases = [
+        (
+            "torque-free-rotation",
+            "middle-axis",
+            '2',
+            "flipped 3 times: at 1.49, 4.24 and 7.00 s",
+            "3 baar palta: 1.49, 4.24 aur 7.00 s par",
+        ),
+        (
+            "oscillations",
+            "damping-settle",
+            '2',
+            "time for B to get within 1% of rest: 4.30 s",
+            "B ko rest ke 1% ke andar aane mein laga time: 4.30 s",
+        ),
+    ];
+    for (deck, id, choice, en, hi) in cases {
+        for (lang, reads) in [(ENGLISH, en), (HINGLISH, hi)] {
+            for size in [(100, 30), (80, 24)] {
+                let mut app = bundled_prompt_in(deck, lang, id, size);
+                let question = {
+                    let Screen::Predict(p) = app.screen() else {
+                        panic!("not on the predict screen");
+                    };
+                    crate::text::render(app.decks[0].prompts[p.prompt].question.get(lang))
+                };
+                let whole = |screen: &str, when: &str| {
+                    let shown: std::collections::HashSet<&str> = screen
+                        .split(|c: char| c.is_whitespace() || c == '"')
+                        .collect();
+                    for word in question.split_whitespace() {
+                        assert!(
+                            shown.contains(word),
+                            "{deck}/{id} {lang} {size:?} {when}: `{word}` of the question is not shown whole:\n{screen}"
+                        );
+                    }
+                };
+                press_all(&mut app, &[KeyCode::Char(choice), KeyCode::Enter]);
+                apply_tick(&mut app, 300);
+                whole(&render(&app), "while the run plays");
+                play_to_the_end(&mut app);
+                let screen = render(&app);
+                whole(&screen, "under the verdict");
+                // The keys' row lists whole entries: none cut mid-word.
+                for line in screen.lines().filter(|l| l.contains("Space ")) {
+                    assert!(
+                        !line.trim_matches('"').trim_end().ends_with('…'),
+                        "{deck}/{id} {lang} {size:?}: a key cut short:\n{screen}"
+                    );
+                }
+                assert!(
+                    flat(&screen).contains(reads),
+                    "{deck}/{id} {lang} {size:?}: the verdict reads `{reads}`:\n{screen}"
+                );
+                let Screen::Predict(before) = app.screen() else {
+                    panic!("left the predict screen");
+                };
+                let (d, p) = (before.deck, before.prompt);
+                let n = app.decks[d].prompts.len();
+                press(&mut app, KeyCode::Char('n'));
+                let Screen::Predict(after) = app.screen() else {
+                    panic!("{deck}/{id}: `n` left the predict screen");
+                };
+                assert_eq!(
+                    after.prompt,
+                    (p + 1) % n,
+                    "{deck}/{id}: `n` opens the next prompt"
+                );
+                assert!(matches!(after.phase, Phase::Ask { .. }));
+            }
+        }
+    }
+}
+
+/// A scene in its own time unit says so on the plot's time axis as in the
+/// status line and the verdict, the axis label shown whole: "50 time
+/// units", not "50 time u" cut by the panel's border.
+#[test]
+fn the_time_axis_shows_the_scenes_time_unit_whole() {
+    for size in [(100, 30), (80, 24)] {
+        let mut app = bundled_prompt_in("oscillations", ENGLISH, "vdp-period", size);
+        type_text(&mut app, "19");
+        press(&mut app, KeyCode::Enter);
+        play_to_the_end(&mut app);
+        let screen = render(&app);
+        let axis = screen
+            .lines()
+            .find(|l| l.contains("min -2.01"))
+            .unwrap_or_else(|| panic!("the plot's lower edge:\n{screen}"));
+        assert!(axis.contains("50 time units"), "{size:?}:\n{screen}");
+        assert!(
+            flat(&screen).contains("period of x: 19.1 time units"),
+            "{size:?}:\n{screen}"
+        );
+    }
+}
+
+/// The words of a frame (runs of letters and digits).
+fn frame_words(frame: &str) -> std::collections::HashSet<String> {
+    frame
+        .split(|c: char| !c.is_alphanumeric())
+        .filter(|w| !w.is_empty())
+        .map(str::to_string)
+        .collect()
+}
+
+/// A rigid body's prompt and a system's, at every size in both languages,
+/// while the run plays and under the verdict: no row ends in a piece of a
+/// word (the status line drops the method or the speed whole, the keys'
+/// row whole entries, the prediction is cut at a word with "…"); the
+/// same screen drawn wide enough is the judge of what a whole word is.
+#[test]
+fn no_row_of_either_scene_kind_is_cut_mid_word() {
+    let cases = [
+        ("torque-free-rotation", "middle-axis", '1'),
+        ("oscillations", "pendulum-over-the-top", '1'),
+    ];
+    for (deck, id, choice) in cases {
+        for lang in [ENGLISH, HINGLISH] {
+            for size in [(40, 12), (80, 24), (100, 30)] {
+                let mut app = bundled_prompt_in(deck, lang, id, size);
+                press_all(&mut app, &[KeyCode::Char(choice), KeyCode::Enter]);
+                apply_tick(&mut app, 300);
+                let check = |app: &mut TestApp, when: &str| {
+                    app.size = (400, 60);
+                    let known = frame_words(&render(app));
+                    app.size = size;
+                    let frame = render(app);
+                    for line in frame.lines() {
+                        let line = line.trim_matches('"').trim_end();
+                        let body = line.trim_end_matches('…');
+                        let tail: String = body
+                            .chars()
+                            .rev()
+                            .take_while(|c| c.is_alphanumeric())
+                            .collect::<Vec<_>>()
+                            .into_iter()
+                            .rev()
+                            .collect();
+                        if tail.is_empty() || body.len() == line.len() && line.len() < 2 {
+                            continue;
+                        }
+                        assert!(
+                            known.contains(&tail),
+                            "{deck}/{id} {lang} {size:?} {when}: `{tail}` is a piece of a word:\n{frame}"
+                        );
+                    }
+                };
+                check(&mut app, "while the run plays");
+                play_to_the_end(&mut app);
+                check(&mut app, "under the verdict");
+            }
+        }
+    }
+}
+
+/// The README's example of a verdict (the middle axis, in Hinglish, at
+/// 100×30) is what the app shows: its status line, keys and verdict rows,
+/// and the question above them.
+#[test]
+fn the_readmes_example_verdict_is_what_the_app_shows() {
+    let readme = include_str!("../../../README.md");
+    let block = readme
+        .split("Predict, then check — spin about the middle axis, in Hinglish, after the run:")
+        .nth(1)
+        .and_then(|rest| rest.split("```").nth(1))
+        .expect("the README's example block");
+    let shown: Vec<&str> = block.lines().skip(1).map(str::trim_end).collect();
+    let mut app = bundled_prompt(HINGLISH, "middle-axis", (100, 30));
+    press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+    let mut ticks = 0;
+    while app.animating() && ticks < 1000 {
+        apply_tick(&mut app, 100);
+        ticks += 1;
+    }
+    settle_verdict(&mut app);
+    let screen = render(&app);
+    let rows: Vec<String> = screen
+        .lines()
+        .map(|l| l.trim_matches('"').trim_end().to_string())
+        .collect();
+    let from = |rows: &[&str]| rows.iter().position(|l| l.starts_with(" t = ")).unwrap();
+    let readme_tail = &shown[from(&shown)..];
+    let rows_ref: Vec<&str> = rows.iter().map(String::as_str).collect();
+    let app_tail: Vec<&str> = rows_ref[from(&rows_ref)..]
+        .iter()
+        .copied()
+        .filter(|l| !l.is_empty())
+        .collect();
+    assert_eq!(readme_tail, app_tail.as_slice(), "{screen}");
+    // Above them, row for row: the title, the question, where the panels
+    // stand (their drawings, sampled as frames come, and their legends,
+    // marked without colour here, are left out).
+    let frame = |rows: &[&str]| -> Vec<String> {
+        rows[..from(rows)]
+            .iter()
+            .map(|l| match l.chars().next() {
+                Some(c @ ('│' | '┌' | '└')) => c.to_string(),
+                _ => l.to_string(),
+            })
+            .collect()
+    };
+    assert_eq!(frame(&shown), frame(&rows_ref), "{screen}");
+}
+
+/// A scene that labels its quantities has its plots name them as the
+/// question does: A and B, not the equations' `xc` and `xh`.
+#[test]
+fn the_plots_name_the_quantities_as_the_question_does() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = bundled_prompt_in("oscillations", lang, "damping-settle", (100, 30));
+        press_all(&mut app, &[KeyCode::Char('2'), KeyCode::Enter]);
+        apply_tick(&mut app, 300);
+        let screen = render(&app);
+        let plot = if lang == ENGLISH {
+            "┌ A, B against time"
+        } else {
+            "┌ A, B time ke saath"
+        };
+        assert!(screen.contains(plot), "{lang}:\n{screen}");
+        assert!(
+            screen.contains("phase portrait (A, v(A))"),
+            "{lang}:\n{screen}"
+        );
+        assert!(!screen.contains("xc"), "{lang}:\n{screen}");
     }
 }

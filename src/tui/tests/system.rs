@@ -63,6 +63,7 @@ fn pendulum() -> SystemScene {
         time_unit: "s".into(),
         atol: None,
         hamiltonian: None,
+        labels: Vec::new(),
     }
 }
 
@@ -94,6 +95,7 @@ fn app(lang: &str) -> TestApp {
             expected: "longer".into(),
         },
         tags: vec![],
+        measured: None,
     });
     open_third_prompt(deck, lang)
 }
@@ -207,6 +209,7 @@ fn app_on(scene: SystemScene, measure: Measure, threshold: f64) -> TestApp {
             expected: "above".into(),
         },
         tags: vec![],
+        measured: None,
     });
     open_third_prompt(deck, ENGLISH)
 }
@@ -237,6 +240,7 @@ fn heavy() -> SystemScene {
         time_unit: "s".into(),
         atol: None,
         hamiltonian: None,
+        labels: Vec::new(),
     }
 }
 
@@ -353,6 +357,7 @@ fn spring() -> SystemScene {
         time_unit: "s".into(),
         atol: None,
         hamiltonian: None,
+        labels: Vec::new(),
     }
 }
 
@@ -600,6 +605,7 @@ fn a_number_verdict_names_its_measurement_with_its_unit_and_no_empty_formula() {
             slips: Vec::new(),
         },
         tags: vec![],
+        measured: None,
     });
     let mut app = open_third_prompt(deck, ENGLISH);
     for c in "4.9".chars() {
@@ -608,7 +614,7 @@ fn a_number_verdict_names_its_measurement_with_its_unit_and_no_empty_formula() {
     press(&mut app, KeyCode::Enter);
     let screen = verdict_text(&mut app);
     assert!(screen.contains("Right"), "{screen}");
-    assert!(screen.contains("period of θ 4.89 s"), "{screen}");
+    assert!(screen.contains("period of θ: 4.89 s"), "{screen}");
     assert!(screen.contains("the deck's answer: 4.89 s"), "{screen}");
     assert!(!screen.contains("formula:"), "{screen}");
 }

@@ -143,6 +143,24 @@ pub struct Prompt {
     pub explain: Option<Explain>,
     pub answer: Answer,
     pub tags: Vec<String>,
+    /// What the prompt measures, named in words by the deck (`label` in
+    /// `[prompt.answer]`), when the measure's own name cannot say it.
+    pub measured: Option<Measured>,
+}
+
+/// A prompt's measure named by its deck: the verdict reads it as
+/// "time for B to get within 1% of rest: 4.30 s" rather than by the
+/// measure's own name ("largest settle_h 4.30").
+#[derive(Debug, Clone, PartialEq)]
+pub struct Measured {
+    /// The measure it names: a number answer's `measure`, or the one
+    /// measure a choice answer's conditions read.
+    pub measure: Measure,
+    /// What it is, in words, in every language.
+    pub label: Text,
+    /// Its unit, "" for none: a number answer's `unit`, a choice answer's
+    /// own `unit`.
+    pub unit: String,
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -17,7 +17,7 @@ pub const CARD_FIELDS: &[&str] = &[
     "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text",
 ];
 pub const PROMPT_FIELDS: &[&str] = &["id", "question", "scene", "explain", "tags", "answer"];
-pub const CHOICE_ANSWER_FIELDS: &[&str] = &["kind", "expected", "choices"];
+pub const CHOICE_ANSWER_FIELDS: &[&str] = &["kind", "expected", "choices", "label", "unit"];
 pub const NUMBER_ANSWER_FIELDS: &[&str] = &[
     "kind",
     "measure",
@@ -26,6 +26,7 @@ pub const NUMBER_ANSWER_FIELDS: &[&str] = &[
     "tolerance",
     "formula",
     "slips",
+    "label",
 ];
 /// The keys of one known slip of a number answer.
 pub const SLIP_FIELDS: &[&str] = &["value", "says"];
@@ -51,6 +52,7 @@ pub const SCENE_FIELDS: &[&str] = &[
     "sketch",
     "atol",
     "hamiltonian",
+    "labels",
 ];
 /// The keys of a system scene's `hamiltonian` (positions, momenta).
 pub const HAMILTONIAN_FIELDS: &[&str] = &["q", "p"];
@@ -111,6 +113,10 @@ pub enum RawAnswer {
         span: Span,
         expected: Option<Str>,
         choices: Option<List<RawChoice>>,
+        /// What the choices' one measure is, in words (`label`), and its
+        /// unit (`unit`), for the verdict.
+        label: Option<RawText>,
+        unit: Option<Str>,
     },
     Number {
         span: Span,
@@ -121,6 +127,8 @@ pub enum RawAnswer {
         formula: Option<RawText>,
         /// Known wrong numbers (`slips = [{ value = "1/k", says = … }]`).
         slips: Option<List<RawSlip>>,
+        /// What `measure` is, in words, for the verdict.
+        label: Option<RawText>,
     },
 }
 
@@ -201,6 +209,8 @@ pub struct RawSystem {
     pub sketch: Option<List<RawMark>>,
     pub atol: Option<RawAtol>,
     pub hamiltonian: Option<RawHamiltonian>,
+    /// How the plots name some quantities (`labels = { xc = "A" }`).
+    pub labels: Option<Named<Str>>,
 }
 
 /// A separable Hamiltonian as written: `hamiltonian = { q = [...], p = [...] }`.
@@ -435,6 +445,8 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
                 span,
                 expected: f.string(rep, "expected", true),
                 choices,
+                label: f.text(rep, "label", false),
+                unit: f.string(rep, "unit", false),
             })
         }
         "number" => {
@@ -489,6 +501,7 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
                         span: v.span(),
                     })
                 }),
+                label: f.text(rep, "label", false),
             })
         }
         other => {
@@ -576,6 +589,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
                     None => None,
                 },
                 hamiltonian: hamiltonian(rep, &f),
+                labels: named(rep, &f, "labels", read::string),
             })
     } else {
         for key in [
@@ -589,6 +603,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
             "sketch",
             "atol",
             "hamiltonian",
+            "labels",
         ] {
             if let Some(v) = f.get(key) {
                 rep.error(

@@ -107,6 +107,11 @@ pub enum Answer {
         expected: Id,
         #[schemars(length(min = 2))]
         choices: Vec<Choice>,
+        /// The one measure the choices' conditions read, in words, for the
+        /// verdict ("time for B to get within 1% of rest"); may hold math.
+        label: Option<Text>,
+        /// The unit of what `label` names, shown after its value (only with `label`).
+        unit: Option<String>,
     },
     /// Type a number (with an optional unit), right within `tolerance` of the measurement.
     Number {
@@ -121,6 +126,9 @@ pub enum Answer {
         /// Known wrong numbers: a learner's number within `tolerance` of
         /// one is told what it is and what it means.
         slips: Option<Vec<Slip>>,
+        /// What `measure` is, in words, for the verdict ("time for the
+        /// amplitude to fall to 1/e"); may hold math.
+        label: Option<Text>,
     },
 }
 
@@ -267,6 +275,9 @@ pub struct Scene {
     pub phase: Option<Vec<VarName>>,
     /// System: lines, dots and trails drawn from expressions.
     pub sketch: Option<Vec<SketchMark>>,
+    /// System: how the plots name some variables or observables, the
+    /// names the question uses (`{ xc = "A" }`), 1 to 24 characters.
+    pub labels: Option<std::collections::BTreeMap<String, String>>,
 }
 
 /// A system's separable Hamiltonian: its positions and their momenta.

@@ -49,6 +49,7 @@ pub fn evaluate(text: &str, names: &[(String, f64)]) -> Result<f64, ExprError> {
         time_unit: String::new(),
         atol: None,
         hamiltonian: None,
+        labels: Vec::new(),
     };
     let whole = |message: String| ExprError {
         at: 0,

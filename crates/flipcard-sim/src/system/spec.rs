@@ -98,6 +98,9 @@ pub struct SystemScene {
     /// The separable Hamiltonian the scene declares (`hamiltonian`), if
     /// any: what the symplectic methods need.
     pub hamiltonian: Option<Hamiltonian>,
+    /// How the plots name some variables or observables (`labels`): the
+    /// names the question uses (`xc` shown as `A`), in the author's order.
+    pub labels: Vec<(String, String)>,
 }
 
 /// A separable Hamiltonian H = T(p) + V(q) as a scene declares it
@@ -148,6 +151,14 @@ impl SceneAtol {
 }
 
 impl SystemScene {
+    /// How the plots show `name`: its label when the scene gives one.
+    pub fn label(&self, name: &str) -> Option<&str> {
+        self.labels
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, l)| l.as_str())
+    }
+
     pub fn shows(&self, panel: SystemPanel) -> bool {
         self.show.contains(&panel)
     }

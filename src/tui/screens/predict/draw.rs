@@ -14,7 +14,10 @@ use crate::tui::live::{Live, Sim};
 use crate::tui::plots;
 use crate::tui::wrap::{Run, wrap};
 
-use super::parts::{diagnostics, fit_spans, fold_parts, hints_line, status_line};
+use super::parts::{
+    cut_lines, diagnostics, draw_question, fold_parts, hints_line, play_areas, question_lines,
+    status_line,
+};
 use super::{Phase, PredictState, Prediction, Verdict, prompt};
 
 /// A number as the verdict shows it: integers plainly, others with 3
@@ -57,16 +60,6 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
             }
         }
     }
-}
-
-fn question_lines(app: &App, prompt: &Prompt, width: usize) -> Vec<Line<'static>> {
-    let t = &app.theme;
-    wrap(
-        &crate::tui::wrap::math_runs(prompt.question.get(&app.lang), t.strong()),
-        width,
-        Run::new("", t.text()),
-        Run::new("", t.text()),
-    )
 }
 
 fn draw_ask(
@@ -179,51 +172,14 @@ fn draw_play(
         .map(|v| super::verdict::for_run(app, prompt, prediction, v, live, width))
         .unwrap_or_default();
     let question = question_lines(app, prompt, width.saturating_sub(1).max(1));
-    // Who gives way when rows are short: the panels first, then the
-    // question's later lines; the verdict and one question line stay.
-    let before = u16::from(verdict.is_none());
-    let mut rest = area.height.saturating_sub(1 + diag + 1 + before);
-    let verdict_h = (verdict_lines.len() as u16).min(rest.saturating_sub(1));
-    rest -= verdict_h;
-    let question_min = rest.min(1);
-    rest -= question_min;
-    let mut panels_min = rest.min(6);
-    rest -= panels_min;
-    if panels_min < 3 {
-        rest += panels_min;
-        panels_min = 0;
-    }
-    let question_h = question_min + (question.len() as u16).saturating_sub(1).min(rest);
-    rest -= question_h - question_min;
-    let panels_h = panels_min + rest;
-    let [top, said, panels, status, diag_area, hints, verdict_area] = Layout::vertical([
-        Constraint::Length(question_h),
-        Constraint::Length(before),
-        Constraint::Length(panels_h),
-        Constraint::Length(1),
-        Constraint::Length(diag),
-        Constraint::Length(1),
-        Constraint::Length(verdict_h),
-    ])
-    .areas(area);
-
-    let shown = cut_lines(question, question_h as usize, top.width as usize);
-    frame.render_widget(Paragraph::new(shown), top);
-    if verdict.is_none() {
-        frame.render_widget(
-            Paragraph::new(fit_spans(
-                vec![
-                    Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
-                    Span::styled(
-                        super::verdict::prediction_text(app, prompt, prediction),
-                        t.heading(),
-                    ),
-                ],
-                said.width as usize,
-            )),
-            said,
-        );
-    }
+    let [top, said, panels, status, diag_area, hints, verdict_area] = play_areas(
+        area,
+        question.len(),
+        verdict_lines.len(),
+        diag,
+        verdict.is_none(),
+    );
+    draw_question(frame, app, (prompt, prediction), question, (top, said));
 
     // A small screen after the verdict keeps the evidence: ω (and the
     // growth on its log scale) rather than every panel squeezed.
@@ -270,7 +226,7 @@ fn draw_play(
     if verdict.is_some() {
         let shown = cut_lines(
             verdict_lines,
-            verdict_h as usize,
+            verdict_area.height as usize,
             verdict_area.width as usize,
         );
         frame.render_widget(Paragraph::new(shown), verdict_area);
@@ -334,32 +290,6 @@ fn pane_areas(area: Rect, panes: &[Pane]) -> Vec<(Pane, Rect)> {
             out
         }
     }
-}
-
-/// The first `n` of `lines`, the last one ending in "…" when some were
-/// left out.
-fn cut_lines(mut lines: Vec<Line<'static>>, n: usize, width: usize) -> Vec<Line<'static>> {
-    if lines.len() <= n {
-        return lines;
-    }
-    lines.truncate(n);
-    if let Some(last) = lines.pop() {
-        let mut spans = last.spans;
-        spans.push(Span::raw("…"));
-        let used: usize = spans.iter().map(|s| s.width()).sum();
-        // Room for the ellipsis inside the width.
-        let spans = if used > width {
-            fit_spans(spans[..spans.len() - 1].to_vec(), width.saturating_sub(1))
-                .spans
-                .into_iter()
-                .chain([Span::raw("…")])
-                .collect()
-        } else {
-            spans
-        };
-        lines.push(Line::from(spans));
-    }
-    lines
 }
 
 /// A drift or error: "0" when exactly zero, else two significant digits.

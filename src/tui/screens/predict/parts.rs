@@ -1,7 +1,11 @@
 //! What the predict screen draws alike for a rigid body and a system: the
-//! run's status line, its keys, the solver's diagnostics folded to the
-//! width. Below both panels' drawings (`draw.rs`, `system.rs`).
+//! rows of a playing scene (who gives way when rows are short), the
+//! question above the run, the run's status line, its keys, the solver's
+//! diagnostics folded to the width. Below both panels' drawings
+//! (`draw.rs`, `system.rs`).
 
+use ratatui::Frame;
+use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
@@ -10,6 +14,9 @@ use crate::text::num::Num;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, sim_words as w};
 use crate::tui::live::Live;
+use crate::tui::wrap::{Run, wrap};
+
+use super::Prediction;
 
 /// The run's status line, a rigid body's and a system's alike: scene time,
 /// the flips so far (a rigid body), why the run stopped, the speed, the
@@ -37,17 +44,42 @@ pub(super) fn status_line(
     if let Some(e) = live.error() {
         s.push(Span::styled(format!(" · {e}"), t.bad()));
     }
-    s.push(Span::styled(
-        format!(" · {}", super::speed_text(app, live)),
-        t.dim(),
-    ));
-    s.push(Span::styled(format!(" · {}", live.method_label()), t.dim()));
+    // What the learner can change, kept whole or left out (most wanted
+    // first: paused, the speed, the method), never cut mid-word.
+    let mut optional = vec![
+        (
+            1,
+            Span::styled(format!(" · {}", super::speed_text(app, live)), t.dim()),
+        ),
+        (
+            2,
+            Span::styled(format!(" · {}", live.method_label()), t.dim()),
+        ),
+    ];
     if live.paused {
-        s.push(Span::styled(
-            format!(" · {}", app.tr(Msg::Paused)),
-            t.warn(),
+        optional.push((
+            0,
+            Span::styled(format!(" · {}", app.tr(Msg::Paused)), t.warn()),
         ));
     }
+    let mut used: usize = s.iter().map(|x| x.width()).sum();
+    let mut rank: Vec<usize> = (0..optional.len()).collect();
+    rank.sort_by_key(|&i| optional[i].0);
+    let mut keep = vec![false; optional.len()];
+    for i in rank {
+        let w = optional[i].1.width();
+        if used + w <= usize::from(width) {
+            used += w;
+            keep[i] = true;
+        }
+    }
+    s.extend(
+        optional
+            .into_iter()
+            .zip(keep)
+            .filter(|(_, k)| *k)
+            .map(|((_, span), _)| span),
+    );
     Paragraph::new(fit_spans(s, usize::from(width)))
 }
 
@@ -72,25 +104,40 @@ pub(super) fn hints_line(
     width: u16,
 ) -> Paragraph<'static> {
     let t = &app.theme;
-    let key = |k: &'static str, what: &str| {
-        [
-            Span::styled(k, t.key()),
-            Span::styled(format!(" {what}  "), t.dim()),
-        ]
-    };
-    let mut spans = vec![Span::raw(" ")];
+    let mut keys: Vec<(&str, &str)> = Vec::new();
     if judged {
-        spans.extend(key("n", w::NEXT.get(&app.lang)));
+        keys.push(("n", w::NEXT.get(&app.lang)));
         if prompt.explain.is_some() {
-            spans.extend(key("e", app.tr(Msg::Explanation)));
+            keys.push(("e", app.tr(Msg::Explanation)));
         }
     }
-    spans.extend(key("Space", app.tr(Msg::Pause)));
-    spans.extend(key("+ -", app.tr(Msg::Speed)));
-    spans.extend(key("r", app.tr(Msg::Restart)));
-    spans.extend(key("m", app.tr(Msg::Method)));
-    spans.extend(key("[ ]", app.tr(Msg::Step)));
-    Paragraph::new(fit_spans(spans, width as usize))
+    keys.extend([
+        ("Space", app.tr(Msg::Pause)),
+        ("+ -", app.tr(Msg::Speed)),
+        ("r", app.tr(Msg::Restart)),
+        ("m", app.tr(Msg::Method)),
+        ("[ ]", app.tr(Msg::Step)),
+    ]);
+    // Whole entries only: what does not fit is left to the help (`?`),
+    // never cut mid-word.
+    let mut spans = vec![Span::raw(" ")];
+    let mut used = 1;
+    for (k, what) in keys {
+        let entry = format!(" {what}");
+        let w = unicode_width::UnicodeWidthStr::width(k)
+            + unicode_width::UnicodeWidthStr::width(entry.as_str());
+        let gap = if used > 1 { 2 } else { 0 };
+        if used + gap + w > usize::from(width) {
+            break;
+        }
+        if gap > 0 {
+            spans.push(Span::raw("  "));
+        }
+        spans.push(Span::styled(k.to_string(), t.key()));
+        spans.push(Span::styled(entry, t.dim()));
+        used += gap + w;
+    }
+    Paragraph::new(Line::from(spans))
 }
 
 /// A diagnostics text ("a · b · c") folded to `width` at its separators,
@@ -156,4 +203,116 @@ pub(super) fn fit_spans(spans: Vec<Span<'static>>, width: usize) -> Line<'static
         out.push(Span::raw("…"));
     }
     Line::from(out)
+}
+
+pub(super) fn question_lines(app: &App, prompt: &Prompt, width: usize) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    wrap(
+        &crate::tui::wrap::math_runs(prompt.question.get(&app.lang), t.strong()),
+        width,
+        Run::new("", t.text()),
+        Run::new("", t.text()),
+    )
+}
+
+/// The rows of a playing scene, a rigid body's and a system's alike:
+/// question, prediction (before the verdict), panels, status, diagnostics,
+/// hints, verdict. Who gives way when rows are short: the panels first
+/// (they take what the question leaves, and are dropped below 3 rows),
+/// then the question's later lines; the verdict and one question line
+/// stay.
+pub(super) fn play_areas(
+    area: Rect,
+    question: usize,
+    verdict: usize,
+    diag: u16,
+    before_verdict: bool,
+) -> [Rect; 7] {
+    let before = u16::from(before_verdict);
+    let mut rest = area.height.saturating_sub(1 + diag + 1 + before);
+    let verdict_h = (verdict as u16).min(rest.saturating_sub(1));
+    rest -= verdict_h;
+    let question_h = (question as u16).max(1).min(rest);
+    rest -= question_h;
+    // Below three rows a panel is all border: the question keeps them.
+    let (question_h, panels_h) = if rest < 3 {
+        (question_h + rest, 0)
+    } else {
+        (question_h, rest)
+    };
+    Layout::vertical([
+        Constraint::Length(question_h),
+        Constraint::Length(before),
+        Constraint::Length(panels_h),
+        Constraint::Length(1),
+        Constraint::Length(diag),
+        Constraint::Length(1),
+        Constraint::Length(verdict_h),
+    ])
+    .areas(area)
+}
+
+/// The question (wrapped, its math kept whole; cut with "…" only when not
+/// even the panels' giving way leaves it room) and, before the verdict,
+/// the learner's prediction under it.
+pub(super) fn draw_question(
+    frame: &mut Frame,
+    app: &App,
+    (prompt, prediction): (&Prompt, Prediction),
+    question: Vec<Line<'static>>,
+    (top, said): (Rect, Rect),
+) {
+    let t = &app.theme;
+    let shown = cut_lines(question, top.height as usize, top.width as usize);
+    frame.render_widget(Paragraph::new(shown), top);
+    if said.height > 0 {
+        // One row: cut at a word with "…" when the prediction is longer
+        // (the verdict repeats it whole).
+        let lines = wrap(
+            &[
+                Run::new(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
+                Run::new(
+                    super::verdict::prediction_text(app, prompt, prediction),
+                    t.heading(),
+                ),
+            ],
+            (said.width as usize).saturating_sub(1).max(1),
+            Run::new("", t.dim()),
+            Run::new("", t.dim()),
+        );
+        frame.render_widget(
+            Paragraph::new(cut_lines(lines, 1, said.width as usize)),
+            said,
+        );
+    }
+}
+
+/// The first `n` of `lines`, the last one ending in "…" when some were
+/// left out.
+pub(super) fn cut_lines(
+    mut lines: Vec<Line<'static>>,
+    n: usize,
+    width: usize,
+) -> Vec<Line<'static>> {
+    if lines.len() <= n {
+        return lines;
+    }
+    lines.truncate(n);
+    if let Some(last) = lines.pop() {
+        let mut spans = last.spans;
+        spans.push(Span::raw("…"));
+        let used: usize = spans.iter().map(|s| s.width()).sum();
+        // Room for the ellipsis inside the width.
+        let spans = if used > width {
+            fit_spans(spans[..spans.len() - 1].to_vec(), width.saturating_sub(1))
+                .spans
+                .into_iter()
+                .chain([Span::raw("…")])
+                .collect()
+        } else {
+            spans
+        };
+        lines.push(Line::from(spans));
+    }
+    lines
 }

@@ -5,20 +5,15 @@
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
-use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 
 use crate::deck::{Answer, Measure, Prompt, SystemPanel};
 use crate::sim::scene::system::SystemRun;
 use crate::tui::app::App;
-use crate::tui::i18n::Msg;
 use crate::tui::live::Live;
 use crate::tui::system_plots;
 
 use super::{Prediction, Verdict};
-
-/// Rows the question may take above a running scene.
-const QUESTION_ROWS: usize = 3;
 
 /// The measures a prompt's verdict needs.
 pub fn measures(prompt: &Prompt) -> Vec<Measure> {
@@ -73,39 +68,19 @@ pub fn draw(
     let verdict_lines = verdict
         .map(|v| super::verdict::for_run(app, prompt, prediction, v, live, area.width as usize))
         .unwrap_or_default();
-    let verdict_h = (verdict_lines.len() as u16).min(area.height.saturating_sub(6));
-    let hints_h = 1;
-    // The question wraps (up to three lines, the last cut with "…") above
-    // the prediction, so a long one is never cut mid-word.
-    let q = crate::text::render(prompt.question.get(&app.lang));
+    // The same rows as a rigid body's: the question whole above the run
+    // (the panels give way first), the prediction under it until the
+    // verdict, which repeats it.
     let width = usize::from(area.width).max(1);
-    let mut question = crate::tui::wrap::wrap_plain(&q, t.strong(), width);
-    if question.len() > QUESTION_ROWS {
-        question.truncate(QUESTION_ROWS);
-        if let Some(last) = question.pop() {
-            let text: String = last.spans.iter().map(|s| s.content.as_ref()).collect();
-            let cut = crate::tui::wrap::ellipsize(&format!("{text} …"), width);
-            question.push(Line::styled(cut, t.strong()));
-        }
-    }
-    let top_h = question.len().max(1) as u16 + 1;
-    let [top, panels, status, diag_area, hints, verdict_area] = Layout::vertical([
-        Constraint::Length(top_h),
-        Constraint::Fill(1),
-        Constraint::Length(1),
-        Constraint::Length(diag_lines.len() as u16),
-        Constraint::Length(hints_h),
-        Constraint::Length(verdict_h),
-    ])
-    .areas(area);
-    question.push(Line::from(vec![
-        Span::styled(format!("{}: ", app.tr(Msg::YourPrediction)), t.dim()),
-        Span::styled(
-            super::verdict::prediction_text(app, prompt, prediction),
-            t.heading(),
-        ),
-    ]));
-    frame.render_widget(Paragraph::new(question), top);
+    let question = super::parts::question_lines(app, prompt, width.saturating_sub(1).max(1));
+    let [top, said, panels, status, diag_area, hints, verdict_area] = super::parts::play_areas(
+        area,
+        question.len(),
+        verdict_lines.len(),
+        diag_lines.len() as u16,
+        verdict.is_none(),
+    );
+    super::parts::draw_question(frame, app, (prompt, prediction), question, (top, said));
     let sys = run;
     for (panel, rect) in panel_areas(panels, &run.scene().show) {
         match panel {

@@ -35,13 +35,13 @@ fn fill(words: Words, lang: &str, pairs: &[(&str, &str)]) -> String {
 /// "in this 8 s run: flipped 3 times: at 1.49, 4.24 and 7.00 s; …": every
 /// reading the verdict rests on, with the flip times or the formula value
 /// beside it.
-pub fn evidence(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String {
+pub fn evidence(lang: &str, unit: &str, v: &Verdict, prompt: &Prompt) -> String {
     let run = fill(
         w::IN_THIS_RUN,
         lang,
         &[("{d}", &format!("{} {unit}", Num(v.evidence.elapsed)))],
     );
-    format!("{run}: {}", readings(lang, unit, v, answer))
+    format!("{run}: {}", readings(lang, unit, v, prompt))
 }
 
 /// The verdict's lines for `run`, the run on screen: the verdict's own
@@ -118,8 +118,8 @@ fn run_on_screen(
     said.push(match &shown {
         Err(why) => fill(w::ON_SCREEN_STOPPED, lang, &[("{m}", method), ("{e}", why)]),
         Ok(mine) => {
-            let ours = readings(lang, unit, mine, &prompt.answer);
-            let theirs = readings(lang, unit, v, &prompt.answer);
+            let ours = readings(lang, unit, mine, prompt);
+            let theirs = readings(lang, unit, v, prompt);
             if ours == theirs && mine.correct == v.correct {
                 fill(w::ON_SCREEN_AGREES, lang, &[("{m}", method)])
             } else {
@@ -145,11 +145,12 @@ fn run_on_screen(
 }
 
 /// The readings a verdict rests on, joined ("period(x) = 4.894 s; …").
-fn readings(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String {
+fn readings(lang: &str, unit: &str, v: &Verdict, prompt: &Prompt) -> String {
+    let answer = &prompt.answer;
     let mut said: Vec<String> = v
         .readings
         .iter()
-        .map(|r| reading(lang, unit, v, r, answer))
+        .map(|r| reading(lang, unit, v, r, prompt))
         .collect();
     if said.is_empty() {
         let measure = match answer {
@@ -157,21 +158,23 @@ fn readings(lang: &str, unit: &str, v: &Verdict, answer: &Answer) -> String {
             Answer::Choice { choices, .. } => choices.first().map(|c| c.when.measure()),
         };
         if let Some(m) = measure {
-            said.push(format!(
-                "{} {}",
-                crate::tui::i18n::measure_label(m, lang),
-                w::NOT_MEASURED.get(lang)
-            ));
+            let name = match &prompt.measured {
+                Some(d) if d.measure == m => crate::text::render(d.label.get(lang)),
+                _ => crate::tui::i18n::measure_label(m, lang),
+            };
+            said.push(format!("{name} {}", w::NOT_MEASURED.get(lang)));
         }
     }
     said.join("; ")
 }
 
-/// One measurement as the verdict reads it: named in words, with the
-/// variable it is of ("period of θ"), and with its unit: the measure's own,
-/// a period's time unit, or the prompt's unit when the prompt asks for this
-/// very number.
-fn reading(lang: &str, unit: &str, v: &Verdict, r: &Reading, answer: &Answer) -> String {
+/// One measurement as the verdict reads it: named in words ("time for B
+/// to get within 1% of rest", the deck's `label` when it gives one, else
+/// the measure with the variable it is of: "period of θ"), then its value
+/// with its unit: the label's, the measure's own, a period's time unit, or
+/// the prompt's unit when the prompt asks for this very number.
+fn reading(lang: &str, unit: &str, v: &Verdict, r: &Reading, prompt: &Prompt) -> String {
+    let answer = &prompt.answer;
     if r.measure == Measure::Flips {
         let times: Vec<String> = v.evidence.flip_times.iter().map(|&t| sig(t, 3)).collect();
         let times = format!("{} {unit}", list_and(lang, &times));
@@ -193,22 +196,31 @@ fn reading(lang: &str, unit: &str, v: &Verdict, r: &Reading, answer: &Answer) ->
             _ => String::new(),
         };
     }
+    let labelled = prompt.measured.as_ref().filter(|d| d.measure == r.measure);
+    if let Some(d) = labelled
+        && !d.unit.is_empty()
+    {
+        u = d.unit.clone();
+    }
     let u = if u.is_empty() { u } else { format!(" {u}") };
-    let name = crate::tui::i18n::measure_label(r.measure, lang);
+    let name = match labelled {
+        Some(d) => crate::text::render(d.label.get(lang)),
+        None => crate::tui::i18n::measure_label(r.measure, lang),
+    };
     let value = sig(r.value, 3);
     let fname = formula_name(r.measure);
     match r.formula {
         // A named expectation ("steady spin", "invariant") rather than a
         // formula: what it expects, without an equation.
         Some(f) if fname.chars().all(|c| c.is_ascii_alphabetic() || c == ' ') => {
-            format!("{name} {value}{u} ({fname}: {}{u})", sig(f, 3))
+            format!("{name}: {value}{u} ({fname}: {}{u})", sig(f, 3))
         }
         Some(f) => format!(
-            "{name} {value}{u}, {} {fname} = {}{u}",
+            "{name}: {value}{u}, {} {fname} = {}{u}",
             w::FORMULA.get(lang),
             sig(f, 3)
         ),
-        None => format!("{name} {value}{u}"),
+        None => format!("{name}: {value}{u}"),
     }
 }
 
@@ -264,7 +276,7 @@ pub fn lines(
         prediction_text(app, prompt, prediction),
         t.strong(),
     ));
-    let said = evidence(lang, time_unit, v, &prompt.answer);
+    let said = evidence(lang, time_unit, v, prompt);
     out.extend(wrap(
         &[Run::new(said, t.text())],
         width.saturating_sub(1),

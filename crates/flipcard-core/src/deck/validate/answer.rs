@@ -4,7 +4,7 @@
 use std::ops::Range;
 
 use crate::deck::model::{
-    Answer, Choice, Cmp, Comparison, Condition, Measure, Slip, Term, Tolerance,
+    Answer, Choice, Cmp, Comparison, Condition, Measure, Measured, Slip, Term, Tolerance,
 };
 use crate::deck::raw::{RawAnswer, RawChoice, RawSlip, RawTolerance, Str};
 use crate::deck::report::FileReport;
@@ -43,6 +43,8 @@ pub fn answer(
             span: _,
             expected,
             choices,
+            label: _,
+            unit: _,
         } => {
             let list = choices.as_ref()?;
             if list.items.len() < 2 {
@@ -97,6 +99,7 @@ pub fn answer(
             tolerance: tol,
             formula,
             slips,
+            label: _,
         } => {
             let measure = measure
                 .as_ref()
@@ -146,6 +149,67 @@ pub fn answer(
             })
         }
     }
+}
+
+/// The deck's words for what a prompt measures (`label`, and a choice
+/// answer's `unit`), checked against the answer they name: a choice
+/// answer's label names the one measure its conditions read, so choices
+/// reading two or more are an error at `label`, as is a `unit` without a
+/// `label`. `None` inside: no label; `None` outside: an error.
+pub fn measured(
+    rep: &mut FileReport,
+    raw: &RawAnswer,
+    answer: &Answer,
+    langs: &Langs,
+) -> Option<Option<Measured>> {
+    let (label, unit) = match raw {
+        RawAnswer::Choice { label, unit, .. } => (label.as_ref(), unit.as_ref()),
+        RawAnswer::Number { label, .. } => (label.as_ref(), None),
+    };
+    let Some(label) = label else {
+        if let Some(u) = unit {
+            rep.error(
+                u.span.clone(),
+                "a choice answer's `unit` is the unit of what its `label` names; this answer has no `label`".to_string(),
+                Some("add `label = { en = '…', … }` naming the measured quantity in words, or remove `unit`".to_string()),
+            );
+            return None;
+        }
+        return Some(None);
+    };
+    let (measure, unit) = match answer {
+        Answer::Number { measure, unit, .. } => (*measure, unit.clone()),
+        Answer::Choice { choices, .. } => {
+            let mut measures: Vec<Measure> =
+                choices.iter().flat_map(|c| c.when.measures()).collect();
+            measures.sort();
+            measures.dedup();
+            let [one] = measures.as_slice() else {
+                let names: Vec<String> = measures.iter().map(|m| format!("`{m}`")).collect();
+                rep.error(
+                    label.span(),
+                    format!(
+                        "`label` names the one measure the choices read, but they read {}: {}",
+                        measures.len(),
+                        names.join(", ")
+                    ),
+                    Some("remove `label`; each measure is then named by itself".to_string()),
+                );
+                return None;
+            };
+            let unit = match unit {
+                Some(u) => text::string(rep, u, Kind::Plain, "`unit`").then(|| u.value.clone())?,
+                None => String::new(),
+            };
+            (*one, unit)
+        }
+    };
+    let label = text::text(rep, label, langs, "`label`")?;
+    Some(Some(Measured {
+        measure,
+        label,
+        unit,
+    }))
 }
 
 /// The longest slip `value` read: a formula, not a program.

@@ -860,6 +860,10 @@ fn prompt(
         .answer
         .as_ref()
         .and_then(|a| answer::answer(rep, a, langs, &what, kind, scope));
+    let measured = match (raw.answer.as_ref(), answer.as_ref()) {
+        (Some(r), Some(a)) => answer::measured(rep, r, a, langs)?,
+        _ => None,
+    };
     Some(Prompt {
         id: raw.id.as_ref()?.value.clone(),
         question: question?,
@@ -867,6 +871,7 @@ fn prompt(
         explain: explain?,
         answer: answer?,
         tags: tags?,
+        measured,
     })
 }
 

@@ -122,6 +122,9 @@ fn name(rep: &mut FileReport, s: &Str, kind: &str) -> bool {
 }
 
 /// Looks `s` up among `known`; reported with a did-you-mean when missing.
+/// The longest label a scene may give a quantity (`labels`).
+const MAX_LABEL_CHARS: usize = 24;
+
 fn names_one(rep: &mut FileReport, s: &Str, known: &[&str], field: &str, kinds: &str) -> bool {
     if known.contains(&s.value.as_str()) {
         return true;
@@ -502,6 +505,41 @@ pub fn scene(
             Some(SceneAtol::Each(each))
         }
     };
+    // The plots' names for some quantities: each a quantity of the scene,
+    // each label a short plain name.
+    let mut labels = Vec::new();
+    if let Some(table) = &sys.labels {
+        for e in &table.entries {
+            ok &= names_one(
+                rep,
+                &e.key,
+                &quantities,
+                "labels",
+                "variables and observables",
+            );
+            let l = &e.value;
+            let chars = l.value.chars().count();
+            if l.value.trim().is_empty() || chars > MAX_LABEL_CHARS {
+                rep.error(
+                    l.span.clone(),
+                    format!(
+                        "the label of `{}` is {chars} characters long; a label is a short name, 1 to {MAX_LABEL_CHARS} characters",
+                        e.key.value
+                    ),
+                    Some("the name the question uses, e.g. labels = { xc = \"A\" }".to_string()),
+                );
+                ok = false;
+            } else {
+                ok &= text::string(
+                    rep,
+                    l,
+                    text::Kind::Plain,
+                    &format!("the label of `{}`", e.key.value),
+                );
+            }
+            labels.push((e.key.value.clone(), l.value.clone()));
+        }
+    }
     let mut conserved = Vec::new();
     if let Some(list) = &sys.conserved {
         for s in &list.items {
@@ -631,6 +669,7 @@ pub fn scene(
         time_unit: time_unit?,
         atol,
         hamiltonian,
+        labels,
     };
     if !ok {
         return None;

@@ -31,6 +31,7 @@ fn pendulum(theta0_deg: f64, show: &[SystemPanel]) -> SystemScene {
         time_unit: "s".into(),
         atol: None,
         hamiltonian: None,
+        labels: Vec::new(),
     }
 }
 
@@ -144,6 +145,7 @@ fn blow_up_is_reported_near_its_time() {
         time_unit: "s".into(),
         atol: None,
         hamiltonian: None,
+        labels: Vec::new(),
     };
     for kind in OdeKind::ALL {
         let e = measure_system(
@@ -231,6 +233,7 @@ fn van_der_pol(mu: f64) -> SystemScene {
         time_unit: "s".into(),
         atol: None,
         hamiltonian: None,
+        labels: Vec::new(),
     }
 }
 
@@ -330,6 +333,7 @@ fn samples_stop_at_the_frame_and_faults_wait_for_the_run_to_get_there() {
         time_unit: "s".into(),
         atol: None,
         hamiltonian: None,
+        labels: Vec::new(),
     };
     let method = OdeMethod::default_for(OdeKind::Adaptive, scene.duration);
     let mut run = SystemRun::new(&scene, method, &[]).unwrap();

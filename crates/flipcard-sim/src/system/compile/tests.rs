@@ -27,6 +27,7 @@ pub(crate) fn pendulum() -> SystemScene {
         time_unit: "s".into(),
         atol: None,
         hamiltonian: None,
+        labels: Vec::new(),
     }
 }
 
