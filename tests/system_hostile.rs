@@ -884,3 +884,42 @@ fn samples_between_stiff_steps_follow_the_solution_within_the_tolerance() {
         }
     }
 }
+
+/// Robertson's problem at rtol 1e-10: DOP853's step sat at |hλ| ≈ 5.25,
+/// just under its stiffness test's 6.1, for ~3,900 steps before the test
+/// fired at t ≈ 3, and `auto` took 1,685 steps where Radau IIA alone takes
+/// 567. Its switch is by cost now (a probe once |hλ| stays above half the
+/// boundary): it hands over before t = 1 and takes at most 1.2× Radau's
+/// steps, at every tolerance.
+#[test]
+fn auto_switches_by_cost_before_the_stiffness_test_fires() {
+    let d = Deck::new(
+        "robertson",
+        "[[scene]]\nid = \"s\"\nvariables = [\"y1\", \"y2\", \"y3\"]\ninitial = [1.0, 0.0, 0.0]\nequations = [\"-0.04*y1 + 1e4*y2*y3\", \"0.04*y1 - 1e4*y2*y3 - 3e7*y2^2\", \"3e7*y2^2\"]\natol = { y1 = 1e-10, y2 = 1e-14, y3 = 1e-10 }\nduration = 1e5\nshow = [\"plot\"]\nplot = [\"y1\"]\n",
+    );
+    let stats = |method: &str, tol: &str| {
+        let (code, out, err) = d.sim(&[
+            "--samples",
+            "2",
+            "--format",
+            "json",
+            "--method",
+            method,
+            "--tol",
+            tol,
+        ]);
+        assert_eq!(code, 0, "{method} {tol}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        v["stats"].clone()
+    };
+    for tol in ["1e-6", "1e-8", "1e-10"] {
+        let (auto, radau) = (stats("auto", tol), stats("radau", tol));
+        let (a, r) = (
+            auto["steps"].as_f64().unwrap(),
+            radau["steps"].as_f64().unwrap(),
+        );
+        assert!(a <= 1.2 * r, "tol {tol}: auto {auto}, radau {radau}");
+        let from = auto["stiff_from"].as_f64().expect("auto switches");
+        assert!(from < 1.0, "tol {tol}: switched at {from}");
+    }
+}

@@ -84,6 +84,9 @@ pub struct Dop853<S, const N: usize = 0> {
     stiff_count: u32,
     nonstiff_count: u32,
     stiff_at: Option<f64>,
+    /// |hλ| of the stiffness test on the last accepted step (0 when the
+    /// test could not tell).
+    h_lambda: f64,
     requests: Requests,
     work: Work,
 }
@@ -170,6 +173,7 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
             stiff_count: 0,
             nonstiff_count: 0,
             stiff_at: None,
+            h_lambda: 0.0,
             requests: Requests::new(t0, y0),
             work: Work {
                 rhs_evals: 1,
@@ -287,6 +291,11 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
                 return Err(SolveError::BlowUp { t: self.t });
             }
         }
+    }
+
+    /// |hλ| on the last accepted step, from the stiffness test.
+    pub(crate) fn h_lambda(&self) -> f64 {
+        self.h_lambda
     }
 
     /// The suggested size of the next step (0 before the first).
@@ -409,9 +418,11 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
             den += (self.y[i] - self.y12[i]).powi(2);
         }
         if den <= 0.0 {
+            self.h_lambda = 0.0;
             return Ok(());
         }
         let hlamb = h.abs() * (num / den).sqrt();
+        self.h_lambda = hlamb;
         if hlamb > STIFF_RATIO {
             self.nonstiff_count = 0;
             self.stiff_count += 1;

@@ -310,6 +310,12 @@ impl<S: OdeSystem> Radau5<S> {
         Ok(s)
     }
 
+    /// Hands the system, the current point and the next step size over
+    /// (for `auto`, going back to the explicit method).
+    pub(crate) fn into_parts(self) -> (S, f64, Vec<f64>, Work, f64) {
+        (self.sys, self.t, self.y, self.work, self.h)
+    }
+
     fn update_scale(&mut self) {
         for i in 0..self.n {
             self.scal[i] = self.atol[i] + self.rtol * self.y[i].abs();
