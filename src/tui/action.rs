@@ -91,6 +91,8 @@ pub enum Action {
     NextPrompt,
     /// Show or hide the solver's diagnostics line.
     ToggleDiagnostics,
+    /// The question whole first (the verdict and panels give way), or back.
+    ToggleQuestion,
 
     /// Stats: show or hide the solvers' work–precision table.
     ToggleBench,

@@ -1143,3 +1143,60 @@ fn the_plots_name_the_quantities_as_the_question_does() {
         assert!(!screen.contains("xc"), "{lang}:\n{screen}");
     }
 }
+
+/// At 40×12 a long question cannot stand whole beside the verdict (the
+/// Hinglish damping question wraps to 9 lines): the keys' row offers `w`,
+/// which shows the question whole with the verdict giving way, and `w`
+/// again brings the verdict back. Both scene kinds, both languages.
+#[test]
+fn a_question_too_long_for_a_small_screen_is_read_whole_with_w() {
+    let cases = [
+        ("torque-free-rotation", "middle-axis", '2'),
+        ("oscillations", "damping-settle", '2'),
+    ];
+    for (deck, id, choice) in cases {
+        for lang in [ENGLISH, HINGLISH] {
+            let mut app = bundled_prompt_in(deck, lang, id, (40, 12));
+            let question = {
+                let Screen::Predict(p) = app.screen() else {
+                    panic!("not on the predict screen");
+                };
+                crate::text::render(app.decks[0].prompts[p.prompt].question.get(lang))
+            };
+            let missing = |screen: &str| -> Vec<String> {
+                let shown: std::collections::HashSet<&str> = screen
+                    .split(|c: char| c.is_whitespace() || c == '"')
+                    .collect();
+                question
+                    .split_whitespace()
+                    .filter(|w| !shown.contains(w))
+                    .map(str::to_string)
+                    .collect()
+            };
+            press_all(&mut app, &[KeyCode::Char(choice), KeyCode::Enter]);
+            play_to_the_end(&mut app);
+            let screen = render(&app);
+            assert!(
+                !missing(&screen).is_empty(),
+                "{deck}/{id} {lang}: the question fits at 40×12, the case tests nothing:\n{screen}"
+            );
+            assert!(
+                screen.lines().any(|l| l.contains(" w ")),
+                "{deck}/{id} {lang}: the keys' row offers no `w`:\n{screen}"
+            );
+            press(&mut app, KeyCode::Char('w'));
+            let screen = render(&app);
+            assert_eq!(
+                missing(&screen),
+                Vec::<String>::new(),
+                "{deck}/{id} {lang}: `w` shows the question whole:\n{screen}"
+            );
+            press(&mut app, KeyCode::Char('w'));
+            let screen = render(&app);
+            assert!(
+                screen.contains('✗') || screen.contains('✓'),
+                "{deck}/{id} {lang}: `w` again brings the verdict back:\n{screen}"
+            );
+        }
+    }
+}

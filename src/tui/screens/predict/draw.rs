@@ -50,7 +50,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
             ..
         } => {
             let verdict = verdict.as_ref();
-            let diag = state.shows_diagnostics();
+            let diag = (state.shows_diagnostics(), state.question_first);
             let said = (prompt, *prediction);
             match run.sim() {
                 Sim::Rigid(r) => draw_play(frame, area, app, said, (run, r), verdict, diag),
@@ -141,7 +141,7 @@ fn draw_play(
     (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SceneRun),
     verdict: Option<&Verdict>,
-    show_diagnostics: bool,
+    (show_diagnostics, question_first): (bool, bool),
 ) {
     let t = &app.theme;
     let width = area.width as usize;
@@ -177,8 +177,9 @@ fn draw_play(
         question.len(),
         verdict_lines.len(),
         diag,
-        verdict.is_none(),
+        (verdict.is_none(), question_first),
     );
+    let question_cut = question_first || question.len() > usize::from(top.height);
     draw_question(frame, app, (prompt, prediction), question, (top, said));
 
     // A small screen after the verdict keeps the evidence: ω (and the
@@ -220,7 +221,7 @@ fn draw_play(
     frame.render_widget(diagnostics(app, diag_lines), diag_area);
 
     frame.render_widget(
-        hints_line(app, prompt, verdict.is_some(), hints.width),
+        hints_line(app, prompt, (verdict.is_some(), question_cut), hints.width),
         hints,
     );
     if verdict.is_some() {

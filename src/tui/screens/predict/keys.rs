@@ -105,8 +105,26 @@ const DIAGNOSTICS: Binding = Binding::new(
     &[(Char('d'), Action::ToggleDiagnostics)],
 );
 
+const QUESTION: Binding = Binding::new(
+    "w",
+    Words(
+        "the whole question first, on a small screen (or back)",
+        "poora sawaal pehle, chhoti screen pe (ya wapas)",
+    ),
+    &[(Char('w'), Action::ToggleQuestion)],
+);
+
 /// The simulation plays.
-pub const RUN_KEYS: &[Binding] = &[PAUSE, SPEED, RESTART, METHOD, STEP, DIAGNOSTICS, BACK];
+pub const RUN_KEYS: &[Binding] = &[
+    PAUSE,
+    SPEED,
+    RESTART,
+    METHOD,
+    STEP,
+    DIAGNOSTICS,
+    QUESTION,
+    BACK,
+];
 
 /// The verdict is shown under the last frame.
 pub const VERDICT_KEYS: &[Binding] = &[
@@ -116,6 +134,7 @@ pub const VERDICT_KEYS: &[Binding] = &[
     METHOD,
     STEP,
     DIAGNOSTICS,
+    QUESTION,
     Binding::new(
         "e",
         Words("open the explanation", "samjhaav kholo"),

@@ -95,6 +95,9 @@ pub struct PredictState {
     /// another method than the reference shows them anyway, unless the
     /// learner hid them.
     pub diagnostics: Option<bool>,
+    /// The learner asked for the whole question first (`w`): on a screen
+    /// too small for it beside the verdict, the verdict gives way.
+    pub question_first: bool,
 }
 
 impl PredictState {
@@ -109,6 +112,7 @@ impl PredictState {
             prompt,
             choice,
             diagnostics: None,
+            question_first: false,
             phase: Phase::Ask {
                 selected: 0,
                 input: String::new(),
@@ -183,6 +187,10 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
     };
     if action == Action::ToggleDiagnostics {
         state.diagnostics = Some(!state.shows_diagnostics());
+        return Nav::Stay;
+    }
+    if action == Action::ToggleQuestion {
+        state.question_first = !state.question_first;
         return Nav::Stay;
     }
     let known = deck(app, state)

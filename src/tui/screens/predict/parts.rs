@@ -97,14 +97,22 @@ pub(super) fn diagnostics(app: &App, lines: Vec<String>) -> Paragraph<'static> {
 /// The run's keys, one line; they stay listed after the verdict, with what
 /// it adds (the next prompt, the explanation). A rigid body's and a
 /// system's alike.
+/// The hint for `w` on the keys' row.
+const WHOLE_QUESTION: crate::tui::i18n::Words = crate::tui::i18n::Words("question", "sawaal");
+
 pub(super) fn hints_line(
     app: &App,
     prompt: &Prompt,
-    judged: bool,
+    (judged, question_cut): (bool, bool),
     width: u16,
 ) -> Paragraph<'static> {
     let t = &app.theme;
     let mut keys: Vec<(&str, &str)> = Vec::new();
+    // A question the screen cuts (or one shown first) says how to read it
+    // whole before anything else.
+    if question_cut {
+        keys.push(("w", WHOLE_QUESTION.get(&app.lang)));
+    }
     if judged {
         keys.push(("n", w::NEXT.get(&app.lang)));
         if prompt.explain.is_some() {
@@ -220,20 +228,25 @@ pub(super) fn question_lines(app: &App, prompt: &Prompt, width: usize) -> Vec<Li
 /// hints, verdict. Who gives way when rows are short: the panels first
 /// (they take what the question leaves, and are dropped below 3 rows),
 /// then the question's later lines; the verdict and one question line
-/// stay.
+/// stay. With `question_first` (the `w` key) the question keeps its rows
+/// and the verdict takes what is left.
 pub(super) fn play_areas(
     area: Rect,
     question: usize,
     verdict: usize,
     diag: u16,
-    before_verdict: bool,
+    (before_verdict, question_first): (bool, bool),
 ) -> [Rect; 7] {
     let before = u16::from(before_verdict);
     let mut rest = area.height.saturating_sub(1 + diag + 1 + before);
-    let verdict_h = (verdict as u16).min(rest.saturating_sub(1));
-    rest -= verdict_h;
-    let question_h = (question as u16).max(1).min(rest);
-    rest -= question_h;
+    let (question_h, verdict_h) = if question_first {
+        let q = (question as u16).max(1).min(rest);
+        (q, (verdict as u16).min(rest - q))
+    } else {
+        let v = (verdict as u16).min(rest.saturating_sub(1));
+        (((question as u16).max(1)).min(rest - v), v)
+    };
+    rest -= verdict_h + question_h;
     // Below three rows a panel is all border: the question keeps them.
     let (question_h, panels_h) = if rest < 3 {
         (question_h + rest, 0)

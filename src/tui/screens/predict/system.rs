@@ -55,7 +55,7 @@ pub fn draw(
     (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SystemRun),
     verdict: Option<&Verdict>,
-    show_diagnostics: bool,
+    (show_diagnostics, question_first): (bool, bool),
 ) {
     let t = &app.theme;
     let diag_lines = if show_diagnostics && run.scene().shows(SystemPanel::Diagnostics) {
@@ -78,8 +78,9 @@ pub fn draw(
         question.len(),
         verdict_lines.len(),
         diag_lines.len() as u16,
-        verdict.is_none(),
+        (verdict.is_none(), question_first),
     );
+    let question_cut = question_first || question.len() > usize::from(top.height);
     super::parts::draw_question(frame, app, (prompt, prediction), question, (top, said));
     let sys = run;
     for (panel, rect) in panel_areas(panels, &run.scene().show) {
@@ -96,7 +97,7 @@ pub fn draw(
     );
     frame.render_widget(super::parts::diagnostics(app, diag_lines), diag_area);
     frame.render_widget(
-        super::parts::hints_line(app, prompt, verdict.is_some(), hints.width),
+        super::parts::hints_line(app, prompt, (verdict.is_some(), question_cut), hints.width),
         hints,
     );
     if !verdict_lines.is_empty() {
