@@ -923,3 +923,44 @@ fn auto_switches_by_cost_before_the_stiffness_test_fires() {
         assert!(from < 1.0, "tol {tol}: switched at {from}");
     }
 }
+
+/// A mildly stiff problem, x' = −50(x − cos t) − sin t over 100 s: DOP853's
+/// step is held down by the error on the damped component at |hλ| ≈ 0.6–1.4,
+/// where neither its stiffness test nor the probe at half its stability
+/// boundary fires, and `auto` took DOP853's 3,512 steps (rtol 1e-7) and
+/// 7,754 (1e-9), ten times Radau's cost. A routine probe every 200 explicit
+/// steps (doubling after each lost) finds Radau cheaper and keeps it.
+#[test]
+fn auto_tries_radau_on_a_mildly_stiff_problem_and_keeps_it_when_cheaper() {
+    let d = Deck::new(
+        "mild",
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [1.0]\nparams = { k = 50.0 }\nequations = [\"-k*(x - cos(t)) - sin(t)\"]\nduration = 100.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+    );
+    let stats = |method: &str, tol: &str| {
+        let (code, out, err) = d.sim(&[
+            "--samples",
+            "2",
+            "--format",
+            "json",
+            "--method",
+            method,
+            "--tol",
+            tol,
+        ]);
+        assert_eq!(code, 0, "{method} {tol}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        v["stats"].clone()
+    };
+    for tol in ["1e-7", "1e-9"] {
+        let (auto, explicit) = (stats("auto", tol), stats("adaptive", tol));
+        let rhs = |s: &serde_json::Value| s["rhs_evals"].as_f64().unwrap();
+        assert!(
+            auto["stiff_from"].as_f64().is_some(),
+            "tol {tol}: auto never tried radau: {auto}"
+        );
+        assert!(
+            rhs(&auto) < rhs(&explicit) / 3.0,
+            "tol {tol}: auto {auto}, adaptive {explicit}"
+        );
+    }
+}

@@ -14,7 +14,10 @@
 //!   compared with DOP853's over its last [`WINDOW`] steps; if Radau costs
 //!   more than [`HYSTERESIS`] times as much, DOP853 takes the run back and
 //!   the next probe needs twice as many steps (so a non-stiff problem that
-//!   brushes the threshold pays a probe rarely, and never thrashes).
+//!   brushes the threshold pays a probe rarely, and never thrashes). A
+//!   mildly stiff problem, where DOP853's step is held down by the error on
+//!   its damped component at a low |hλ| rather than by instability, is
+//!   probed every [`ROUTINE_COUNT`] explicit steps (doubling likewise).
 //!
 //! Costs are counted in evaluations of f: one per evaluation, n per
 //! Jacobian (what finite differences would take), and 1 + n²/6 per LU
@@ -40,12 +43,28 @@ const PROBE_RATIO: f64 = 3.05;
 /// count) before the first probe.
 const PROBE_COUNT: u32 = 15;
 const PROBE_RESET: u32 = 6;
+/// A second, slower way to a probe, whatever |hλ| says: every
+/// [`ROUTINE_COUNT`] explicit steps. On a mildly stiff problem DOP853's
+/// step is held down by the error its stability function makes on the
+/// fast, damped component, not by instability, and |hλ| stays low: on
+/// x' = −50(x − cos t) it takes 3,512 steps at |hλ| ≈ 1.4 (rtol 1e-7) and
+/// 7,754 at 0.6 (rtol 1e-9) where Radau takes 864 and 2,649 at a tenth of
+/// the cost. Only trying tells; the count is long enough that a short run
+/// never pays a probe, and doubles after each lost probe like the other.
+const ROUTINE_COUNT: u32 = 200;
 /// Explicit steps whose cost per unit time a probe is measured against.
 const WINDOW: usize = 20;
 /// Implicit steps a probe takes before the costs are compared.
 const PROBE_STEPS: u64 = 20;
 /// Radau keeps the run while it costs at most this many times DOP853.
 const HYSTERESIS: f64 = 1.2;
+/// After a routine probe (no sign of stiffness in |hλ|) Radau must cost at
+/// most this much of DOP853: the count of evaluations leaves out Radau's
+/// own work per step (the transformed stages, two solves a Newton
+/// iteration), which on a small system is as much again (Van der Pol at
+/// μ = 10: a Radau step takes 0.9 of a DOP853 step's instructions where
+/// the count says 0.56), so only a clear win is taken.
+const ROUTINE_BAR: f64 = 0.5;
 
 enum Phase<S> {
     Explicit(Box<Dop853<S>>),
@@ -65,6 +84,8 @@ struct Probe {
     steps0: u64,
     /// DOP853's last step size, to go back with.
     h_explicit: f64,
+    /// The most Radau may cost, as a multiple of DOP853's rate.
+    bar: f64,
 }
 
 pub struct Auto<S> {
@@ -78,7 +99,10 @@ pub struct Auto<S> {
     /// Explicit steps above [`PROBE_RATIO`], and below it since the last.
     probe_count: u32,
     probe_below: u32,
-    /// Steps above the ratio that start a probe (doubles after each lost).
+    /// Explicit steps since the run started or came back to DOP853.
+    explicit_steps: u32,
+    /// Steps above the ratio that start a probe (doubles after each lost;
+    /// [`ROUTINE_COUNT`] scaled alike).
     probe_needed: u32,
     /// [`PROBE_RATIO`] (a field so a test can make every step count).
     probe_ratio: f64,
@@ -116,6 +140,7 @@ impl<S: OdeSystem> Auto<S> {
             requests: Requests::new(t0, y0),
             probe_count: 0,
             probe_below: 0,
+            explicit_steps: 0,
             probe_needed: PROBE_COUNT,
             probe_ratio: PROBE_RATIO,
             window: VecDeque::with_capacity(WINDOW + 1),
@@ -191,6 +216,7 @@ impl<S: OdeSystem> Auto<S> {
         self.window.clear();
         self.probe_count = 0;
         self.probe_below = 0;
+        self.explicit_steps = 0;
         Ok(())
     }
 
@@ -202,7 +228,9 @@ impl<S: OdeSystem> Auto<S> {
                     self.switched_at = Some(t);
                     return self.hand_to_implicit(None);
                 }
-                if self.probe_count >= self.probe_needed {
+                let routine = ROUTINE_COUNT.saturating_mul(self.probe_needed / PROBE_COUNT);
+                let pinned = self.probe_count >= self.probe_needed;
+                if pinned || self.explicit_steps >= routine {
                     let rate = self.explicit_rate();
                     if rate.is_finite() {
                         let (t0, cost0) = (d.window().1, self.cost_now());
@@ -214,6 +242,7 @@ impl<S: OdeSystem> Auto<S> {
                             // The implicit solver starts with no steps.
                             steps0: 0,
                             h_explicit: 0.0,
+                            bar: if pinned { HYSTERESIS } else { ROUTINE_BAR },
                         }));
                     }
                 }
@@ -229,7 +258,7 @@ impl<S: OdeSystem> Auto<S> {
                 let t = r.window().1;
                 let rate = (self.cost_now() - p.cost0) / (t - p.t0);
                 self.probe = None;
-                if rate.is_finite() && rate <= HYSTERESIS * p.explicit_rate {
+                if rate.is_finite() && rate <= p.bar * p.explicit_rate {
                     return Ok(());
                 }
                 self.probes_lost += 1;
@@ -247,6 +276,7 @@ impl<S: OdeSystem> Auto<S> {
             return;
         };
         let (t, hl) = (d.window().1, d.h_lambda());
+        self.explicit_steps += 1;
         if hl > self.probe_ratio {
             self.probe_count += 1;
             self.probe_below = 0;
