@@ -239,9 +239,10 @@ impl Builder {
 /// ([`crate::text::math_breaks`]) so that its pieces fit in `room`
 /// columns, breaking where mathematics breaks: at every top-level
 /// operator first, then, only inside a piece still too wide, between
-/// top-level factors, and only inside such a piece again, inside brackets
-/// (so `tan δ = 2ζω₀ω/(ω₀² − ω²)` after a wide `A(ω) = …` keeps its
-/// bracket whole). `None` when it has no glued space. A piece no break
+/// top-level factors, and only inside such a piece again, inside brackets,
+/// outermost first (so `tan δ = 2ζω₀ω/(ω₀² − ω²)` after a wide `A(ω) = …`
+/// keeps its bracket whole, and `√((ω₀² − ω²)² + (2ζω₀ω)²)` breaks at its
+/// `+`). `None` when it has no glued space. A piece no break
 /// can make fit is left for the caller to break.
 fn split_formula(word: &Word, room: usize) -> Option<Vec<Word>> {
     // (run, byte offset of the space, rank), in order.
@@ -281,7 +282,8 @@ fn split_formula(word: &Word, room: usize) -> Option<Vec<Word>> {
     );
     // The chosen cuts, refined rank by rank inside the pieces too wide.
     let mut chosen: Vec<(usize, usize)> = Vec::new();
-    for rank in 0..=2u8 {
+    let deepest = spaces.iter().map(|s| s.2).max().unwrap_or(0);
+    for rank in 0..=deepest {
         let mut bounds = vec![start];
         bounds.extend(chosen.iter().map(|&(i, at)| (i, at + 1)));
         let mut ends: Vec<(usize, usize)> = chosen.clone();

@@ -217,8 +217,12 @@ pub fn render_pieces(text: &str) -> Vec<(String, bool)> {
 /// offsets of its spaces, each with a rank. Rank 0: beside a relation or
 /// binary operator outside every bracket (`a + b`, `T ≈ …`): the place
 /// mathematics breaks. Rank 1: any other space outside brackets (between
-/// factors: `I₂ I₃`, `ln x`). Rank 2: a space inside brackets. A break
-/// inside a symbol with its scripts, or inside a number, is never offered.
+/// factors: `I₂ I₃`, `ln x`). Inside brackets the same two ranks follow
+/// per level of depth (2 and 3 at depth 1, 4 and 5 at depth 2, …), so a
+/// formula that must break inside a bracket breaks in the outermost one
+/// it can: `√((ω₀² − ω²)² + (2ζω₀ω)²)` at its `+`, not inside `(ω₀² − ω²)`.
+/// A break inside a symbol with its scripts, or inside a number, is never
+/// offered.
 pub fn math_breaks(rendered: &str) -> Vec<(usize, u8)> {
     const OPERATORS: &[char] = &[
         '=', '≈', '≠', '<', '>', '≤', '≥', '≡', '∝', '→', '⇒', '⇔', '↔', '∼', '~', '+', '−', '-',
@@ -236,11 +240,8 @@ pub fn math_breaks(rendered: &str) -> Vec<(usize, u8)> {
                 let after = chars[k + 1..].iter().map(|&(_, c)| c).find(|c| *c != ' ');
                 let beside_op = before.is_some_and(|c| OPERATORS.contains(&c))
                     || after.is_some_and(|c| OPERATORS.contains(&c));
-                let rank = match (depth, beside_op) {
-                    (0, true) => 0,
-                    (0, false) => 1,
-                    _ => 2,
-                };
+                let level = u8::try_from(depth).unwrap_or(u8::MAX / 2).min(100);
+                let rank = 2 * level + u8::from(!beside_op);
                 out.push((i, rank));
             }
             _ => {}

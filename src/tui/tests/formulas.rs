@@ -160,6 +160,12 @@ fn a_display_equation_folds_at_top_level_operators_with_an_indent() {
         lines.iter().any(|l| l.contains("2ζω₀ω/(ω₀² − ω²)")),
         "{lines:#?}"
     );
+    // A(ω) too wide for one line breaks in its outermost bracket (at the
+    // `+` under the root), never inside the inner `(ω₀² − ω²)`.
+    assert!(
+        lines.iter().any(|l| l.contains("(ω₀² − ω²)²")),
+        "the inner bracket is torn: {lines:#?}"
+    );
     assert!(lines[0].starts_with("    ") && !lines[0].starts_with("     "));
     for l in &lines[1..] {
         assert!(
