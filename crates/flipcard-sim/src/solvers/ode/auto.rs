@@ -65,6 +65,12 @@ const HYSTERESIS: f64 = 1.2;
 /// μ = 10: a Radau step takes 0.9 of a DOP853 step's instructions where
 /// the count says 0.56), so only a clear win is taken.
 const ROUTINE_BAR: f64 = 0.5;
+/// After a routine probe won, Radau's cost is checked every this many
+/// steps against DOP853's rate before the probe, and the run goes back to
+/// DOP853 when Radau has come to cost more: a probe wins where the problem
+/// happens to be slow (Kepler far from the Sun, e = 0.9 at rtol 1e-6) and
+/// must not keep Radau through the fast stretches that follow.
+const RECHECK_STEPS: u64 = 50;
 
 enum Phase<S> {
     Explicit(Box<Dop853<S>>),
@@ -252,13 +258,31 @@ impl<S: OdeSystem> Auto<S> {
                 let Some(p) = self.probe else {
                     return Ok(());
                 };
-                if r.work().steps - p.steps0 < PROBE_STEPS {
+                if r.work().steps.saturating_sub(p.steps0) < PROBE_STEPS {
                     return Ok(());
                 }
                 let t = r.window().1;
                 let rate = (self.cost_now() - p.cost0) / (t - p.t0);
                 self.probe = None;
-                if rate.is_finite() && rate <= p.bar * p.explicit_rate {
+                let routine = p.bar < HYSTERESIS;
+                // A won routine probe is checked again (against DOP853's
+                // rate, not the stricter bar: hysteresis), a pinned one
+                // not: its step was held by stability.
+                let recheck = |steps: u64| Probe {
+                    t0: t,
+                    cost0: self.cost_now(),
+                    steps0: steps,
+                    bar: 1.0,
+                    ..p
+                };
+                if p.steps0 > 0 && rate.is_finite() && rate <= p.explicit_rate {
+                    self.probe = Some(recheck(r.work().steps + RECHECK_STEPS - PROBE_STEPS));
+                    return Ok(());
+                }
+                if p.steps0 == 0 && rate.is_finite() && rate <= p.bar * p.explicit_rate {
+                    if routine {
+                        self.probe = Some(recheck(r.work().steps + RECHECK_STEPS - PROBE_STEPS));
+                    }
                     return Ok(());
                 }
                 self.probes_lost += 1;
