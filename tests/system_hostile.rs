@@ -965,8 +965,8 @@ fn auto_tries_radau_on_a_mildly_stiff_problem_and_keeps_it_when_cheaper() {
     }
     // And a probe that wins where a non-stiff problem happens to be slow
     // (Kepler e = 0.9 far from the Sun) is checked again and gives the run
-    // back before the fast stretch: it had kept Radau for 634 steps and
-    // twice DOP853's work on the solve.
+    // back before the fast stretch: it had kept Radau for 634 steps, 1.58×
+    // DOP853's work (9,309 evaluations' worth against 5,892; now 6,863).
     let kepler = Deck::new(
         "kepler",
         "[[scene]]\nid = \"s\"\nvariables = [\"x\", \"y\", \"vx\", \"vy\"]\ninitial = [0.1, 0.0, 0.0, 4.358898943540674]\nequations = [\"vx\", \"vy\", \"-x/(x^2 + y^2)^1.5\", \"-y/(x^2 + y^2)^1.5\"]\nduration = 62.83185307179586\nshow = [\"plot\"]\nplot = [\"x\"]\n",
@@ -985,7 +985,13 @@ fn auto_tries_radau_on_a_mildly_stiff_problem_and_keeps_it_when_cheaper() {
             ]);
             assert_eq!(code, 0, "{method} {tol}: {err}");
             let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-            v["stats"]["rhs_evals"].as_f64().unwrap()
+            // Work in evaluations of f, as `auto` counts it: n per
+            // Jacobian, 1 + n²/6 per LU pair (n = 4).
+            let s = &v["stats"];
+            let count = |k: &str| s[k].as_f64().unwrap();
+            count("rhs_evals")
+                + 4.0 * count("jacobian_evals")
+                + (1.0 + 16.0 / 6.0) * count("lu_decompositions")
         };
         let (auto, explicit) = (run("auto"), run("adaptive"));
         assert!(
