@@ -241,7 +241,12 @@ fn reference(p: &Problem) -> Vec<f64> {
         }
         let values: Vec<f64> = words.map(|w| w.parse().expect("a number")).collect();
         assert_eq!(values[0], p.t_end, "{}: the fixture's end time", p.name);
-        assert_eq!(values.len() - 1, p.y0.len(), "{}: the fixture's state", p.name);
+        assert_eq!(
+            values.len() - 1,
+            p.y0.len(),
+            "{}: the fixture's state",
+            p.name
+        );
         return values[1..].to_vec();
     }
     panic!("{} is not in benches/stiff_reference.txt", p.name)
@@ -404,7 +409,13 @@ fn compare(p: &'static Problem) -> Option<(f64, f64)> {
     let rtols = decades(4, 9, 1);
     let ours = sweep(p, "radau5", radau, &reference, &rtols);
     let autos = sweep(p, "auto", auto, &reference, &rtols);
-    let theirs = sweep(p, "diffsol bdf", diffsol_bdf, &reference, &decades(4, 10, 1));
+    let theirs = sweep(
+        p,
+        "diffsol bdf",
+        diffsol_bdf,
+        &reference,
+        &decades(4, 10, 1),
+    );
     let (y, _) = radau(p, RADAU_RTOL).ok()?;
     let err = max_rel_error(&y, &reference);
     let our_time = time_at_error(&ours, err).unwrap_or(f64::NAN);
