@@ -48,6 +48,10 @@ const MU: f64 = 1000.0;
 const RADAU_RTOL: f64 = 1e-6;
 const REFERENCE: &str = include_str!("stiff_reference.txt");
 
+/// Hands the Jacobian's non-zero entries at a state to a callback as
+/// (row, column, value).
+type JacFn = fn(&[f64], &mut dyn FnMut(usize, usize, f64));
+
 /// A problem: f, the non-zero entries of its Jacobian (each given to a
 /// callback as (row, column, value), from which both the dense Jacobian for
 /// flipcard and the Jacobian-vector product for diffsol are built), the
@@ -57,7 +61,7 @@ struct Problem {
     y0: &'static [f64],
     t_end: f64,
     rhs: fn(&[f64], &mut [f64]),
-    jac: fn(&[f64], &mut dyn FnMut(usize, usize, f64)),
+    jac: JacFn,
     atol: fn(f64) -> Vec<f64>,
 }
 
