@@ -1,210 +1,322 @@
-//! flipcard's Radau IIA against diffsol's BDF on two stiff problems, at
-//! equal error:
+//! flipcard's Radau IIA (and `auto`) against diffsol's BDF on five stiff
+//! problems, at equal achieved error:
 //!
 //! - Van der Pol, x'' − μ(1 − x²)x' + x = 0, μ = 1000, (x, v)(0) = (2, 0),
-//!   t ∈ [0, 3000] (two relaxation jumps);
-//! - Robertson's kinetics, y(0) = (1, 0, 0), t ∈ [0, 10¹¹].
+//!   t ∈ [0, 3000] (two relaxation jumps); atol = rtol;
+//! - Robertson's kinetics, y(0) = (1, 0, 0), t ∈ [0, 10¹¹];
+//!   atol = rtol·(10⁻⁴, 10⁻¹⁰, 10⁻⁴) (y₂ lives near 10⁻¹³ late in the run);
+//! - HIRES (8 components, Hairer & Wanner's test set), t ∈ [0, 321.8122];
+//!   atol = rtol·10⁻⁶ (components down to 6·10⁻⁵ at the end);
+//! - the Oregonator, y(0) = (1, 2, 3), t ∈ [0, 360]; atol = rtol;
+//! - E5 (chemical pyrolysis: y₁ ≈ 10⁻³ beside y₂…y₄ ≈ 10⁻¹²),
+//!   y(0) = (1.76·10⁻³, 0, 0, 0), t ∈ [0, 10⁵] — not the test set's 10¹³,
+//!   where SciPy's Radau, BDF and LSODA at rtol 1e-12 disagree in the
+//!   leading digit, so no reference could be confirmed; atol = 10⁻²⁴ for
+//!   every component at every rtol.
 //!
-//! Both solvers get the analytic Jacobian (diffsol as Jacobian-vector
+//! Every solver gets the analytic Jacobian (diffsol as Jacobian-vector
 //! products, from which it assembles the dense matrix) and the same
-//! tolerances: rtol, with atol = rtol for Van der Pol and
-//! atol = rtol·(10⁻⁴, 10⁻¹⁰, 10⁻⁴) for Robertson (y₂ lives near 10⁻¹³ late
-//! in the run). The error of a run is the largest relative error of a
-//! component of the final state against a reference from flipcard's Radau
-//! at rtol 1e-12 (checked against diffsol at rtol 1e-11).
+//! tolerances. The error of a run is the largest relative error of a
+//! component of the final state against the reference in
+//! `benches/stiff_reference.txt`: SciPy's Radau at rtol 1e-12, confirmed by
+//! SciPy's BDF and LSODA at rtol 1e-12 (their distances are in the file,
+//! which `python3 benches/stiff_reference.py` writes). This benchmark also
+//! prints how far flipcard's Radau at rtol 1e-12 and diffsol at 1e-11 land
+//! from it.
 //!
-//! First both solvers sweep their tolerance; a table of error, time
-//! (best of several runs) and steps goes to stderr, then the time of each
-//! at the error flipcard's Radau reaches at rtol 1e-6 (diffsol's read off
-//! its sweep by log-log interpolation). Then criterion times Radau at
-//! rtol 1e-6 and diffsol at the loosest tolerance of a fine sweep whose
-//! error is no worse. The last lines give the arguments for
-//! `benches/compare_scipy_stiff.py`.
+//! First every solver sweeps its tolerance; a table of error, time (best of
+//! several runs) and steps goes to stderr, then the time of each at the
+//! error flipcard's Radau reaches at rtol 1e-6 (the others' read off their
+//! sweeps by log-log interpolation) and the ratios. Then criterion times
+//! Radau at rtol 1e-6 and diffsol at the loosest tolerance of a finer sweep
+//! whose error is no worse. The `for compare_scipy_stiff.py` lines give the
+//! arguments for `benches/compare_scipy_stiff.py` (SciPy's Radau, BDF and
+//! LSODA on the same problems). Not run by `cargo test`.
 //!
 //!     cargo bench --bench stiff
+//!     cargo bench --bench stiff -- hires     # one problem (criterion's filter)
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use diffsol::{NalgebraLU, NalgebraMat, OdeBuilder, OdeSolverMethod, OdeSolverStopReason};
-use flipcard::sim::solvers::ode::{Atol, OdeSolver, OdeSystem, Options, Radau5};
+use flipcard::sim::solvers::ode::{Atol, Auto, OdeSolver, OdeSystem, Options, Radau5};
 use nalgebra::DMatrix;
 
 const MU: f64 = 1000.0;
-const VDP_END: f64 = 3000.0;
-const ROB_END: f64 = 1e11;
 const RADAU_RTOL: f64 = 1e-6;
+const REFERENCE: &str = include_str!("stiff_reference.txt");
 
-struct VanDerPol;
+/// Hands the Jacobian's non-zero entries at a state to a callback as
+/// (row, column, value).
+type JacFn = fn(&[f64], &mut dyn FnMut(usize, usize, f64));
 
-impl OdeSystem for VanDerPol {
+/// A problem: f, the non-zero entries of its Jacobian (each given to a
+/// callback as (row, column, value), from which both the dense Jacobian for
+/// flipcard and the Jacobian-vector product for diffsol are built), the
+/// initial state, the end time and atol as a function of rtol.
+struct Problem {
+    name: &'static str,
+    y0: &'static [f64],
+    t_end: f64,
+    rhs: fn(&[f64], &mut [f64]),
+    jac: JacFn,
+    atol: fn(f64) -> Vec<f64>,
+}
+
+fn vdp_rhs(x: &[f64], y: &mut [f64]) {
+    y[0] = x[1];
+    y[1] = MU * (1.0 - x[0] * x[0]) * x[1] - x[0];
+}
+
+fn vdp_jac(x: &[f64], j: &mut dyn FnMut(usize, usize, f64)) {
+    j(0, 1, 1.0);
+    j(1, 0, -2.0 * MU * x[0] * x[1] - 1.0);
+    j(1, 1, MU * (1.0 - x[0] * x[0]));
+}
+
+fn rober_rhs(x: &[f64], y: &mut [f64]) {
+    y[0] = -0.04 * x[0] + 1e4 * x[1] * x[2];
+    y[1] = 0.04 * x[0] - 1e4 * x[1] * x[2] - 3e7 * x[1] * x[1];
+    y[2] = 3e7 * x[1] * x[1];
+}
+
+fn rober_jac(x: &[f64], j: &mut dyn FnMut(usize, usize, f64)) {
+    j(0, 0, -0.04);
+    j(0, 1, 1e4 * x[2]);
+    j(0, 2, 1e4 * x[1]);
+    j(1, 0, 0.04);
+    j(1, 1, -1e4 * x[2] - 6e7 * x[1]);
+    j(1, 2, -1e4 * x[1]);
+    j(2, 1, 6e7 * x[1]);
+}
+
+fn hires_rhs(x: &[f64], y: &mut [f64]) {
+    let r = 280.0 * x[5] * x[7];
+    y[0] = -1.71 * x[0] + 0.43 * x[1] + 8.32 * x[2] + 0.0007;
+    y[1] = 1.71 * x[0] - 8.75 * x[1];
+    y[2] = -10.03 * x[2] + 0.43 * x[3] + 0.035 * x[4];
+    y[3] = 8.32 * x[1] + 1.71 * x[2] - 1.12 * x[3];
+    y[4] = -1.745 * x[4] + 0.43 * x[5] + 0.43 * x[6];
+    y[5] = -r + 0.69 * x[3] + 1.71 * x[4] - 0.43 * x[5] + 0.69 * x[6];
+    y[6] = r - 1.81 * x[6];
+    y[7] = -r + 1.81 * x[6];
+}
+
+fn hires_jac(x: &[f64], j: &mut dyn FnMut(usize, usize, f64)) {
+    j(0, 0, -1.71);
+    j(0, 1, 0.43);
+    j(0, 2, 8.32);
+    j(1, 0, 1.71);
+    j(1, 1, -8.75);
+    j(2, 2, -10.03);
+    j(2, 3, 0.43);
+    j(2, 4, 0.035);
+    j(3, 1, 8.32);
+    j(3, 2, 1.71);
+    j(3, 3, -1.12);
+    j(4, 4, -1.745);
+    j(4, 5, 0.43);
+    j(4, 6, 0.43);
+    j(5, 3, 0.69);
+    j(5, 4, 1.71);
+    j(5, 5, -280.0 * x[7] - 0.43);
+    j(5, 6, 0.69);
+    j(5, 7, -280.0 * x[5]);
+    j(6, 5, 280.0 * x[7]);
+    j(6, 6, -1.81);
+    j(6, 7, 280.0 * x[5]);
+    j(7, 5, -280.0 * x[7]);
+    j(7, 6, 1.81);
+    j(7, 7, -280.0 * x[5]);
+}
+
+fn oregonator_rhs(x: &[f64], y: &mut [f64]) {
+    y[0] = 77.27 * (x[1] + x[0] * (1.0 - 8.375e-6 * x[0] - x[1]));
+    y[1] = (x[2] - (1.0 + x[0]) * x[1]) / 77.27;
+    y[2] = 0.161 * (x[0] - x[2]);
+}
+
+fn oregonator_jac(x: &[f64], j: &mut dyn FnMut(usize, usize, f64)) {
+    j(0, 0, 77.27 * (1.0 - 2.0 * 8.375e-6 * x[0] - x[1]));
+    j(0, 1, 77.27 * (1.0 - x[0]));
+    j(1, 0, -x[1] / 77.27);
+    j(1, 1, -(1.0 + x[0]) / 77.27);
+    j(1, 2, 1.0 / 77.27);
+    j(2, 0, 0.161);
+    j(2, 2, -0.161);
+}
+
+const E5_A: f64 = 7.89e-10;
+const E5_B: f64 = 1.1e7;
+const E5_C: f64 = 1.13e3;
+const E5_M: f64 = 1e6;
+
+fn e5_rhs(x: &[f64], y: &mut [f64]) {
+    let (a, b, c, m) = (E5_A, E5_B, E5_C, E5_M);
+    y[0] = -a * x[0] - b * x[0] * x[2];
+    y[1] = a * x[0] - m * c * x[1] * x[2];
+    y[2] = a * x[0] - b * x[0] * x[2] - m * c * x[1] * x[2] + c * x[3];
+    y[3] = b * x[0] * x[2] - c * x[3];
+}
+
+fn e5_jac(x: &[f64], j: &mut dyn FnMut(usize, usize, f64)) {
+    let (a, b, c, m) = (E5_A, E5_B, E5_C, E5_M);
+    j(0, 0, -a - b * x[2]);
+    j(0, 2, -b * x[0]);
+    j(1, 0, a);
+    j(1, 1, -m * c * x[2]);
+    j(1, 2, -m * c * x[1]);
+    j(2, 0, a - b * x[2]);
+    j(2, 1, -m * c * x[2]);
+    j(2, 2, -b * x[0] - m * c * x[1]);
+    j(2, 3, c);
+    j(3, 0, b * x[2]);
+    j(3, 2, b * x[0]);
+    j(3, 3, -c);
+}
+
+const PROBLEMS: [Problem; 5] = [
+    Problem {
+        name: "van-der-pol",
+        y0: &[2.0, 0.0],
+        t_end: 3000.0,
+        rhs: vdp_rhs,
+        jac: vdp_jac,
+        atol: |r| vec![r; 2],
+    },
+    Problem {
+        name: "robertson",
+        y0: &[1.0, 0.0, 0.0],
+        t_end: 1e11,
+        rhs: rober_rhs,
+        jac: rober_jac,
+        atol: |r| vec![r * 1e-4, r * 1e-10, r * 1e-4],
+    },
+    Problem {
+        name: "hires",
+        y0: &[1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0057],
+        t_end: 321.8122,
+        rhs: hires_rhs,
+        jac: hires_jac,
+        atol: |r| vec![r * 1e-6; 8],
+    },
+    Problem {
+        name: "oregonator",
+        y0: &[1.0, 2.0, 3.0],
+        t_end: 360.0,
+        rhs: oregonator_rhs,
+        jac: oregonator_jac,
+        atol: |r| vec![r; 3],
+    },
+    Problem {
+        name: "e5",
+        y0: &[1.76e-3, 0.0, 0.0, 0.0],
+        t_end: 1e5,
+        rhs: e5_rhs,
+        jac: e5_jac,
+        atol: |_| vec![1e-24; 4],
+    },
+];
+
+/// A problem as flipcard sees it.
+struct Sys(&'static Problem);
+
+impl OdeSystem for Sys {
     fn dim(&self) -> usize {
-        2
+        self.0.y0.len()
     }
     fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
-        dy[0] = y[1];
-        dy[1] = MU * (1.0 - y[0] * y[0]) * y[1] - y[0];
+        (self.0.rhs)(y, dy);
     }
     fn jacobian(&self, _t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
-        jac[(0, 0)] = 0.0;
-        jac[(0, 1)] = 1.0;
-        jac[(1, 0)] = -2.0 * MU * y[0] * y[1] - 1.0;
-        jac[(1, 1)] = MU * (1.0 - y[0] * y[0]);
+        jac.fill(0.0);
+        (self.0.jac)(y, &mut |i, j, v| jac[(i, j)] = v);
     }
 }
 
-struct Robertson;
-
-impl OdeSystem for Robertson {
-    fn dim(&self) -> usize {
-        3
-    }
-    fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
-        dy[0] = -0.04 * y[0] + 1e4 * y[1] * y[2];
-        dy[1] = 0.04 * y[0] - 1e4 * y[1] * y[2] - 3e7 * y[1] * y[1];
-        dy[2] = 3e7 * y[1] * y[1];
-    }
-    fn jacobian(&self, _t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
-        jac[(0, 0)] = -0.04;
-        jac[(0, 1)] = 1e4 * y[2];
-        jac[(0, 2)] = 1e4 * y[1];
-        jac[(1, 0)] = 0.04;
-        jac[(1, 1)] = -1e4 * y[2] - 6e7 * y[1];
-        jac[(1, 2)] = -1e4 * y[1];
-        jac[(2, 0)] = 0.0;
-        jac[(2, 1)] = 6e7 * y[1];
-        jac[(2, 2)] = 0.0;
-    }
-}
-
-#[derive(Clone, Copy, PartialEq)]
-enum Problem {
-    VanDerPol,
-    Robertson,
-}
-
-impl Problem {
-    fn name(self) -> &'static str {
-        match self {
-            Problem::VanDerPol => "van der pol",
-            Problem::Robertson => "robertson",
+/// The reference final state of `p` from the fixture (its end time checked).
+fn reference(p: &Problem) -> Vec<f64> {
+    for line in REFERENCE.lines().filter(|l| !l.starts_with('#')) {
+        let mut words = line.split_whitespace();
+        if words.next() != Some(p.name) {
+            continue;
         }
+        let values: Vec<f64> = words.map(|w| w.parse().expect("a number")).collect();
+        assert_eq!(values[0], p.t_end, "{}: the fixture's end time", p.name);
+        assert_eq!(
+            values.len() - 1,
+            p.y0.len(),
+            "{}: the fixture's state",
+            p.name
+        );
+        return values[1..].to_vec();
     }
-    fn atol(self, rtol: f64) -> Vec<f64> {
-        match self {
-            Problem::VanDerPol => vec![rtol; 2],
-            Problem::Robertson => vec![rtol * 1e-4, rtol * 1e-10, rtol * 1e-4],
-        }
-    }
+    panic!("{} is not in benches/stiff_reference.txt", p.name)
 }
 
-/// Final state and step count of flipcard's Radau IIA.
-fn radau(p: Problem, rtol: f64) -> (Vec<f64>, u64) {
-    let opts = Options {
+type Outcome = Result<(Vec<f64>, u64), String>;
+
+fn options(p: &Problem, rtol: f64) -> Options {
+    Options {
         rtol,
-        atol: Atol::PerComponent(p.atol(rtol)),
-        t_stop: Some(match p {
-            Problem::VanDerPol => VDP_END,
-            Problem::Robertson => ROB_END,
-        }),
+        atol: Atol::PerComponent((p.atol)(rtol)),
+        t_stop: Some(p.t_end),
         ..Options::default()
-    };
-    let (y, steps) = match p {
-        Problem::VanDerPol => {
-            let mut s = Radau5::new(VanDerPol, 0.0, &[2.0, 0.0], &opts).expect("valid");
-            let y = s.advance(VDP_END).expect("runs").to_vec();
-            (y, s.work().steps)
-        }
-        Problem::Robertson => {
-            let mut s = Radau5::new(Robertson, 0.0, &[1.0, 0.0, 0.0], &opts).expect("valid");
-            let y = s.advance(ROB_END).expect("runs").to_vec();
-            (y, s.work().steps)
-        }
-    };
-    (y, steps)
+    }
 }
 
-/// Final state and step count of diffsol's BDF (nalgebra, dense LU).
-fn diffsol_bdf(p: Problem, rtol: f64) -> (Vec<f64>, u64) {
-    type M = NalgebraMat<f64>;
-    let atol = p.atol(rtol);
-    macro_rules! run {
-        ($problem:expr, $n:expr, $end:expr) => {{
-            let problem = $problem;
-            let mut solver = problem.bdf::<NalgebraLU<f64>>().expect("bdf");
-            solver.set_stop_time($end).expect("stop time");
-            loop {
-                match solver.step() {
-                    Ok(OdeSolverStopReason::TstopReached) => break,
-                    Ok(_) => {}
-                    Err(e) => panic!("diffsol: {e}"),
-                }
-            }
-            let y = &solver.state().y;
-            let out: Vec<f64> = (0..$n).map(|i| y[i]).collect();
-            (out, solver.get_statistics().number_of_steps as u64)
-        }};
+fn finish(mut s: impl OdeSolver, t_end: f64) -> Outcome {
+    let y = s.advance(t_end).map_err(|e| e.to_string())?.to_vec();
+    Ok((y, s.work().steps))
+}
+
+/// Final state and accepted steps of flipcard's Radau IIA.
+fn radau(p: &'static Problem, rtol: f64) -> Outcome {
+    let s = Radau5::new(Sys(p), 0.0, p.y0, &options(p, rtol)).map_err(|e| e.to_string())?;
+    finish(s, p.t_end)
+}
+
+/// Final state and accepted steps (both phases) of flipcard's `auto`.
+fn auto(p: &'static Problem, rtol: f64) -> Outcome {
+    let s = Auto::new(Sys(p), 0.0, p.y0, &options(p, rtol)).map_err(|e| e.to_string())?;
+    finish(s, p.t_end)
+}
+
+/// Final state and steps of diffsol's BDF (nalgebra, dense LU).
+fn diffsol_bdf(p: &'static Problem, rtol: f64) -> Outcome {
+    let n = p.y0.len();
+    let problem = OdeBuilder::<NalgebraMat<f64>>::new()
+        .rtol(rtol)
+        .atol((p.atol)(rtol))
+        .rhs_implicit(
+            |x: &[f64], _p: &[f64], _t: f64, y: &mut [f64]| (p.rhs)(x, y),
+            |x: &[f64], _p: &[f64], _t: f64, v: &[f64], y: &mut [f64]| {
+                y.fill(0.0);
+                (p.jac)(x, &mut |i, j, a| y[i] += a * v[j]);
+            },
+        )
+        .init(
+            |_p: &[f64], _t: f64, y: &mut [f64]| y.copy_from_slice(p.y0),
+            n,
+        )
+        .build()
+        .map_err(|e| e.to_string())?;
+    let mut solver = problem
+        .bdf::<NalgebraLU<f64>>()
+        .map_err(|e| e.to_string())?;
+    solver.set_stop_time(p.t_end).map_err(|e| e.to_string())?;
+    loop {
+        match solver.step() {
+            Ok(OdeSolverStopReason::TstopReached) => break,
+            Ok(_) => {}
+            Err(e) => return Err(format!("diffsol: {e}")),
+        }
     }
-    match p {
-        Problem::VanDerPol => run!(
-            OdeBuilder::<M>::new()
-                .rtol(rtol)
-                .atol(atol)
-                .rhs_implicit(
-                    |x: &[f64], _p: &[f64], _t: f64, y: &mut [f64]| {
-                        y[0] = x[1];
-                        y[1] = MU * (1.0 - x[0] * x[0]) * x[1] - x[0];
-                    },
-                    |x: &[f64], _p: &[f64], _t: f64, v: &[f64], y: &mut [f64]| {
-                        y[0] = v[1];
-                        y[1] = (-2.0 * MU * x[0] * x[1] - 1.0) * v[0]
-                            + MU * (1.0 - x[0] * x[0]) * v[1];
-                    },
-                )
-                .init(
-                    |_p: &[f64], _t: f64, y: &mut [f64]| {
-                        y[0] = 2.0;
-                        y[1] = 0.0;
-                    },
-                    2,
-                )
-                .build()
-                .expect("problem"),
-            2,
-            VDP_END
-        ),
-        Problem::Robertson => run!(
-            OdeBuilder::<M>::new()
-                .rtol(rtol)
-                .atol(atol)
-                .rhs_implicit(
-                    |x: &[f64], _p: &[f64], _t: f64, y: &mut [f64]| {
-                        y[0] = -0.04 * x[0] + 1e4 * x[1] * x[2];
-                        y[1] = 0.04 * x[0] - 1e4 * x[1] * x[2] - 3e7 * x[1] * x[1];
-                        y[2] = 3e7 * x[1] * x[1];
-                    },
-                    |x: &[f64], _p: &[f64], _t: f64, v: &[f64], y: &mut [f64]| {
-                        y[0] = -0.04 * v[0] + 1e4 * v[1] * x[2] + 1e4 * x[1] * v[2];
-                        y[1] =
-                            0.04 * v[0] - 1e4 * v[1] * x[2] - 1e4 * x[1] * v[2] - 6e7 * x[1] * v[1];
-                        y[2] = 6e7 * x[1] * v[1];
-                    },
-                )
-                .init(
-                    |_p: &[f64], _t: f64, y: &mut [f64]| {
-                        y[0] = 1.0;
-                        y[1] = 0.0;
-                        y[2] = 0.0;
-                    },
-                    3,
-                )
-                .build()
-                .expect("problem"),
-            3,
-            ROB_END
-        ),
-    }
+    let y = &solver.state().y;
+    let out: Vec<f64> = (0..n).map(|i| y[i]).collect();
+    Ok((out, solver.get_statistics().number_of_steps as u64))
 }
 
 fn max_rel_error(y: &[f64], reference: &[f64]) -> f64 {
@@ -228,22 +340,36 @@ fn best_time(mut f: impl FnMut()) -> Duration {
     best
 }
 
-type Solve = fn(Problem, f64) -> (Vec<f64>, u64);
+type Solve = fn(&'static Problem, f64) -> Outcome;
 
-/// (rtol, error, seconds, steps) along a tolerance sweep.
-fn sweep(p: Problem, solve: Solve, reference: &[f64], rtols: &[f64]) -> Vec<(f64, f64, f64, u64)> {
-    rtols
-        .iter()
-        .map(|&rtol| {
-            let (y, steps) = solve(p, rtol);
-            let err = max_rel_error(&y, reference);
-            let secs = best_time(|| {
-                black_box(solve(p, black_box(rtol)));
-            })
-            .as_secs_f64();
-            (rtol, err, secs, steps)
-        })
-        .collect()
+/// (rtol, error, seconds, steps) along a tolerance sweep; a failed run is
+/// printed with its reason and left out.
+fn sweep(
+    p: &'static Problem,
+    name: &str,
+    solve: Solve,
+    reference: &[f64],
+    rtols: &[f64],
+) -> Vec<(f64, f64, f64, u64)> {
+    let mut rows = Vec::new();
+    for &rtol in rtols {
+        match solve(p, rtol) {
+            Ok((y, steps)) => {
+                let err = max_rel_error(&y, reference);
+                let secs = best_time(|| {
+                    let _ = black_box(solve(p, black_box(rtol)));
+                })
+                .as_secs_f64();
+                eprintln!(
+                    "  {name:<12} {rtol:>7.0e}  {err:>9.2e}  {:>10.1} µs  {steps:>6}",
+                    secs * 1e6
+                );
+                rows.push((rtol, err, secs, steps));
+            }
+            Err(e) => eprintln!("  {name:<12} {rtol:>7.0e}  failed: {e}"),
+        }
+    }
+    rows
 }
 
 /// Time at `error` by log-log interpolation along a sweep (errors are
@@ -268,68 +394,83 @@ fn decades(from: i32, to: i32, per_decade: i32) -> Vec<f64> {
         .collect()
 }
 
-/// The comparison table, and diffsol's loosest rtol matching Radau's error.
-fn compare(p: Problem) -> (f64, f64) {
-    let (reference, _) = radau(p, 1e-12);
-    let (check, _) = diffsol_bdf(p, 1e-11);
+/// The comparison table, and diffsol's loosest rtol matching Radau's error
+/// (None if diffsol never reaches it or Radau fails at [`RADAU_RTOL`]).
+fn compare(p: &'static Problem) -> Option<(f64, f64)> {
+    let reference = reference(p);
+    let distance = |r: Outcome| match r {
+        Ok((y, _)) => format!("{:.1e}", max_rel_error(&y, &reference)),
+        Err(e) => format!("failed ({e})"),
+    };
     eprintln!(
-        "\n{}: reference (radau rtol 1e-12) {reference:?}; diffsol bdf at rtol 1e-11 differs by {:.1e}",
-        p.name(),
-        max_rel_error(&check, &reference)
+        "\n{} to t = {}: reference SciPy Radau rtol 1e-12 (benches/stiff_reference.txt) {reference:?};\n  flipcard radau at rtol 1e-12 differs by {}, diffsol bdf at rtol 1e-11 by {}",
+        p.name,
+        p.t_end,
+        distance(radau(p, 1e-12)),
+        distance(diffsol_bdf(p, 1e-11)),
     );
+    eprintln!("  method          rtol      error          time   steps");
     let rtols = decades(4, 9, 1);
-    let ours = sweep(p, radau, &reference, &rtols);
-    let theirs = sweep(p, diffsol_bdf, &reference, &decades(4, 10, 1));
-    eprintln!("  method        rtol     error      time        steps");
-    for (name, rows) in [("radau5", &ours), ("diffsol bdf", &theirs)] {
-        for (rtol, err, secs, steps) in rows.iter() {
-            eprintln!(
-                "  {name:<12} {rtol:>7.0e}  {err:>9.2e}  {:>9.1} µs  {steps:>6}",
-                secs * 1e6
-            );
-        }
-    }
-    let (y, _) = radau(p, RADAU_RTOL);
+    let ours = sweep(p, "radau5", radau, &reference, &rtols);
+    let autos = sweep(p, "auto", auto, &reference, &rtols);
+    let theirs = sweep(
+        p,
+        "diffsol bdf",
+        diffsol_bdf,
+        &reference,
+        &decades(4, 10, 1),
+    );
+    let (y, _) = radau(p, RADAU_RTOL).ok()?;
     let err = max_rel_error(&y, &reference);
     let our_time = time_at_error(&ours, err).unwrap_or(f64::NAN);
-    match time_at_error(&theirs, err) {
-        Some(t) => eprintln!(
-            "  at radau's error {err:.2e} (rtol {RADAU_RTOL:e}): radau {:.1} µs, diffsol bdf {:.1} µs (ratio {:.2})",
-            our_time * 1e6,
-            t * 1e6,
-            t / our_time
-        ),
-        None => eprintln!("  diffsol's sweep does not reach radau's error {err:.2e}"),
-    }
-    // The loosest rtol of a fine sweep whose error is no worse.
-    let matched = decades(3, 12, 8)
-        .into_iter()
-        .find(|&r| max_rel_error(&diffsol_bdf(p, r).0, &reference) <= err)
-        .unwrap_or(1e-12);
+    let show = |name: &str, rows: &[(f64, f64, f64, u64)]| match time_at_error(rows, err) {
+        Some(t) => format!("{name} {:.1} µs ({:.2}×)", t * 1e6, t / our_time),
+        None => format!("{name}: sweep does not reach it"),
+    };
+    eprintln!(
+        "  at radau's error {err:.2e} (rtol {RADAU_RTOL:e}): radau {:.1} µs; {}; {}",
+        our_time * 1e6,
+        show("auto", &autos),
+        show("diffsol bdf", &theirs),
+    );
     let radau_secs = best_time(|| {
-        black_box(radau(p, RADAU_RTOL));
+        let _ = black_box(radau(p, RADAU_RTOL));
     });
     eprintln!(
         "  for compare_scipy_stiff.py: --{}-ms {:.4} --{}-error {err:.3e}",
-        p.name().replace(' ', "-"),
+        p.name,
         radau_secs.as_secs_f64() * 1e3,
-        p.name().replace(' ', "-"),
+        p.name,
     );
-    (matched, err)
+    // The loosest rtol of a finer sweep whose error is no worse.
+    decades(3, 12, 4)
+        .into_iter()
+        .find(|&r| diffsol_bdf(p, r).is_ok_and(|(y, _)| max_rel_error(&y, &reference) <= err))
+        .map(|matched| (matched, err))
 }
 
 fn bench(c: &mut Criterion) {
+    let filter: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
     let mut group = c.benchmark_group("stiff");
-    group.measurement_time(Duration::from_secs(4));
-    for p in [Problem::VanDerPol, Problem::Robertson] {
-        let (matched, err) = compare(p);
+    group.measurement_time(Duration::from_secs(3));
+    for p in &PROBLEMS {
+        if !filter.is_empty() && !filter.iter().any(|f| p.name.contains(f.as_str())) {
+            continue;
+        }
+        let Some((matched, err)) = compare(p) else {
+            eprintln!("  no criterion run: radau or diffsol does not reach the error");
+            continue;
+        };
         eprintln!(
             "  criterion: diffsol bdf at rtol {matched:.2e} (error ≤ {err:.2e}) against radau at rtol {RADAU_RTOL:e}"
         );
-        group.bench_function(format!("radau5 {} rtol 1e-6", p.name()), |b| {
+        group.bench_function(format!("radau5 {} rtol 1e-6", p.name), |b| {
             b.iter(|| radau(p, black_box(RADAU_RTOL)))
         });
-        group.bench_function(format!("diffsol bdf {} at equal error", p.name()), |b| {
+        group.bench_function(format!("diffsol bdf {} at equal error", p.name), |b| {
             b.iter(|| diffsol_bdf(p, black_box(matched)))
         });
     }
