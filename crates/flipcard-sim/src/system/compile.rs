@@ -31,6 +31,7 @@ use nalgebra::DMatrix;
 use super::expr::{self, Node};
 use crate::rhs::Split;
 use crate::solvers::ode::OdeSystem;
+use crate::solvers::ode::band::Band;
 use crate::system::spec::SystemScene;
 use flipcard_text::num::Num;
 
@@ -682,7 +683,8 @@ impl Program {
     /// by forward differentiation along the tape, into `jac` (outputs ×
     /// n). A derivative of an operation none of whose operands moves with
     /// y_j is zero, so a singular rule (√ at 0) elsewhere cannot spoil it.
-    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>, deps: Option<&Deps>) {
+    /// True when every entry is finite.
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>, deps: Option<&Deps>) -> bool {
         let len = self.ops.len();
         let mut vals = vec![0.0; len];
         self.run(t, y, &mut vals);
@@ -690,20 +692,23 @@ impl Program {
         if let Some(deps) = deps {
             // Only the operations that move with y_j; every other tangent
             // stays 0 (reset after each pass).
-            jac.fill(0.0);
+            jac.as_mut_slice().fill(0.0);
+            let mut finite = true;
             for (j, ops) in deps.ops.iter().enumerate() {
                 for &i in ops {
                     let i = i as usize;
                     dot[i] = derivative(&self.ops[i], &vals, &dot, i, j);
                 }
                 for &(r, k) in &deps.outputs[j] {
-                    jac[(r as usize, j)] = dot[k as usize];
+                    let d = dot[k as usize];
+                    finite &= d.is_finite();
+                    jac[(r as usize, j)] = d;
                 }
                 for &i in ops {
                     dot[i as usize] = 0.0;
                 }
             }
-            return;
+            return finite;
         }
         for j in 0..y.len() {
             for (i, op) in self.ops.iter().enumerate() {
@@ -713,6 +718,7 @@ impl Program {
                 jac[(r, j)] = dot[*k as usize];
             }
         }
+        jac.as_slice().iter().all(|v| v.is_finite())
     }
 }
 
@@ -1079,7 +1085,7 @@ pub struct Cost {
     /// Operations of one exact Jacobian (the passes over the operations
     /// that read each variable; at most `rhs` × `n`).
     pub jacobian: usize,
-    /// Flops of one LU factorisation (dense: n³).
+    /// Flops of one LU factorisation (dense n³, or the band's).
     pub lu: usize,
 }
 
@@ -1096,7 +1102,7 @@ pub(crate) const POINTS_PER_STEP: usize = 16;
 impl Cost {
     /// Operations one step may run: the stages, the Jacobian (one pass per
     /// variable over the operations that read it), its LU decomposition
-    /// (about n³), and the
+    /// (about n³, or the band's n·kl·(kl + ku)), and the
     /// samples of every observable and sketch expression
     /// ([`POINTS_PER_STEP`] a step).
     pub(crate) fn per_step(&self) -> f64 {
@@ -1226,6 +1232,10 @@ impl System {
 
     pub fn cost(&self) -> Cost {
         let n = self.n;
+        let lu = match self.sparsity().and_then(|rows| Band::plan(&rows)) {
+            Some(band) => band.cost() as usize,
+            None => n * n * n,
+        };
         Cost {
             n,
             rhs: self.rhs.len(),
@@ -1235,7 +1245,7 @@ impl System {
                 Some(d) => d.work(),
                 None => self.rhs.len() * n,
             },
-            lu: n * n * n,
+            lu,
         }
     }
 
@@ -1313,8 +1323,7 @@ impl OdeSystem for System {
             *jac = DMatrix::zeros(n, n);
         }
         if self.jacobian {
-            self.rhs.jacobian(t, y, jac, self.deps.as_ref());
-            if jac.iter().all(|v| v.is_finite()) {
+            if self.rhs.jacobian(t, y, jac, self.deps.as_ref()) {
                 return;
             }
         }

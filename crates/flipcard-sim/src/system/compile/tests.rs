@@ -571,8 +571,8 @@ fn sparse_jacobian_passes_equal_full_passes() {
     let n = 30;
     let y: Vec<f64> = (0..n).map(|i| 0.3 + 0.05 * i as f64).collect();
     let (mut sparse, mut full) = (DMatrix::zeros(n, n), DMatrix::zeros(n, n));
-    s.rhs.jacobian(0.4, &y, &mut sparse, Some(deps));
-    s.rhs.jacobian(0.4, &y, &mut full, None);
+    assert!(s.rhs.jacobian(0.4, &y, &mut sparse, Some(deps)));
+    assert!(s.rhs.jacobian(0.4, &y, &mut full, None));
     for i in 0..n {
         for j in 0..n {
             assert_eq!(sparse[(i, j)], full[(i, j)], "({i}, {j})");
