@@ -1322,10 +1322,8 @@ impl OdeSystem for System {
         if jac.nrows() != n || jac.ncols() != n {
             *jac = DMatrix::zeros(n, n);
         }
-        if self.jacobian {
-            if self.rhs.jacobian(t, y, jac, self.deps.as_ref()) {
-                return;
-            }
+        if self.jacobian && self.rhs.jacobian(t, y, jac, self.deps.as_ref()) {
+            return;
         }
         // At a point where a derivative is singular (√ at 0), differences
         // (one-sided where f is not finite on one side) still give a matrix.

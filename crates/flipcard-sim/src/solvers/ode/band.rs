@@ -216,6 +216,7 @@ impl<T: ComplexField<RealField = f64> + Copy> BandLu<T> {
     }
 
     /// Solves in place; false when the matrix is singular.
+    #[allow(clippy::needless_range_loop)] // the band's (i, j) indexing
     pub fn solve_mut(&self, b: &mut [T]) -> bool {
         if !self.invertible {
             return false;
