@@ -48,6 +48,7 @@ mod sync_trust;
 mod system_cli;
 mod system_conserved;
 mod system_hostile;
+mod system_large;
 mod true_retention;
 mod tui_browser_e2e;
 mod tui_e2e;

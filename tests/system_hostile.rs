@@ -303,17 +303,24 @@ fn a_compiled_expression_too_long_is_refused_naming_it() {
 
 #[test]
 fn a_step_too_costly_to_play_is_refused_with_its_numbers() {
-    // 40 variables whose equations share a 45,056-operation observable:
-    // each step runs it 13 times and 40 more for the Jacobian.
+    // 40 variables whose equations share a 45,056-operation observable
+    // that reads every variable (through `s`): each step runs it 13 times
+    // and 41 more for the Jacobian (whose pass for a variable runs the
+    // operations that read it: here all of them).
     let n = 40;
     let vars: Vec<String> = (0..n).map(|i| format!("\"y{i}\"")).collect();
     let eqs: Vec<String> = (0..n).map(|i| format!("\"-y{i} + 0*a10\"")).collect();
+    let sum: Vec<String> = (0..n).map(|i| format!("y{i}")).collect();
+    let observables = stacked(11).replace("(x)", "(s)").replace(
+        "observables = { ",
+        &format!("observables = {{ s = \"x + {}\", ", sum.join(" + ")),
+    );
     let body = format!(
         "[[scene]]\nid = \"s\"\nvariables = [\"x\", {}]\ninitial = [1.0{}]\nequations = [\"-x\", {}]\n{}duration = 1.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
         vars.join(", "),
         ", 1.0".repeat(n),
         eqs.join(", "),
-        stacked(11)
+        observables
     );
     let d = Deck::new("costly", &body);
     let (code, out, err) = d.check();
@@ -321,7 +328,7 @@ fn a_step_too_costly_to_play_is_refused_with_its_numbers() {
     let (line, _, message) = first_error(&err);
     assert_eq!(line, d.line_of("equations = "), "{err}");
     assert!(
-        message.starts_with("scene s needs about 3.23e6 operations per step, more than the 2e6 the app can play: its equations compile to 45257 operations, run 13 times a step and once per variable (41) for the Jacobian; its observables and sketch compile to 45056, run 16 times a step"),
+        message.starts_with("scene s needs about 3.23e6 operations per step, more than the 2e6 the app can play: its equations compile to 45297 operations, run 13 times a step and once per variable (41) for the Jacobian; its observables and sketch compile to 45136, run 16 times a step"),
         "{message}"
     );
     // And the simulator refuses it the same way, at once.
@@ -475,7 +482,7 @@ fn a_run_past_its_work_budget_is_refused_by_check_with_its_numbers() {
         "{message}"
     );
     assert!(
-        message.contains("steps of about 1.40e6 operations each reach the 1e9 a scene may take"),
+        message.contains("steps of about 1.35e6 operations each reach the 1e9 a scene may take"),
         "{message}"
     );
     let p = d.path();

@@ -31,6 +31,14 @@ pub trait OdeSystem {
     fn split(&self) -> Option<Split> {
         None
     }
+
+    /// The columns each row of the Jacobian may have non-zero
+    /// (`rows[i]`: the variables fᵢ reads), when the system knows them:
+    /// Radau IIA then factors large systems as banded matrices
+    /// ([`crate::solvers::ode::band`]). `None` (the default): dense.
+    fn sparsity(&self) -> Option<Vec<Vec<usize>>> {
+        None
+    }
 }
 
 /// A separable Hamiltonian H = T(p) + V(q) written as y' = f(t, y): the
@@ -56,6 +64,9 @@ impl<S: OdeSystem + ?Sized> OdeSystem for &S {
     fn split(&self) -> Option<Split> {
         (**self).split()
     }
+    fn sparsity(&self) -> Option<Vec<Vec<usize>>> {
+        (**self).sparsity()
+    }
 }
 
 impl<S: OdeSystem + ?Sized> OdeSystem for Box<S> {
@@ -70,6 +81,9 @@ impl<S: OdeSystem + ?Sized> OdeSystem for Box<S> {
     }
     fn split(&self) -> Option<Split> {
         (**self).split()
+    }
+    fn sparsity(&self) -> Option<Vec<Vec<usize>>> {
+        (**self).sparsity()
     }
 }
 

@@ -15,6 +15,11 @@
 //! right-hand side, by forward differentiation along the same tape: one
 //! pass per variable, never a symbolic expression that could grow (every
 //! function has its rule, `abs`, `sign`, `min`, `max` and `atan2` too).
+//! The pass for a variable runs only the operations that read it
+//! ([`Deps`]), so a large sparse system (a 200-variable reaction–diffusion
+//! chain) costs the entries that can be non-zero, not n² of them, and the
+//! same lists give the solvers the Jacobian's pattern
+//! ([`OdeSystem::sparsity`]).
 //!
 //! When a value is not finite, [`Program::fault`] runs the tape again at
 //! that point and finds the first operation that made it so, and why (a
@@ -26,6 +31,7 @@ use nalgebra::DMatrix;
 use super::expr::{self, Node};
 use crate::rhs::Split;
 use crate::solvers::ode::OdeSystem;
+use crate::solvers::ode::band::Band;
 use crate::system::spec::SystemScene;
 use flipcard_text::num::Num;
 
@@ -427,6 +433,68 @@ fn with_values<R>(len: usize, f: impl FnOnce(&mut [f64]) -> R) -> R {
     })
 }
 
+/// Most (variable, operation) pairs [`Deps`] lists; a scene with more
+/// (every operation reading every one of many variables) runs the full
+/// pass per variable instead.
+const MAX_DEPS: usize = 4_000_000;
+
+/// For each variable, the operations whose value moves with it (in tape
+/// order) and the outputs among them: the only work of its pass of the
+/// Jacobian.
+#[derive(Debug, Clone, Default)]
+struct Deps {
+    ops: Vec<Vec<u32>>,
+    /// (row, operation) of each output that reads the variable.
+    outputs: Vec<Vec<(u32, u32)>>,
+}
+
+impl Deps {
+    /// The lists of `prog` for `n` variables; `None` past [`MAX_DEPS`].
+    fn of(prog: &Program, n: usize) -> Option<Deps> {
+        let mut by_op: Vec<Vec<u32>> = Vec::with_capacity(prog.ops.len());
+        let mut total = 0usize;
+        for op in &prog.ops {
+            let mut r: Vec<u32> = Vec::new();
+            if let Op::Slot(k) = op
+                && (*k as usize) < n
+            {
+                r.push(*k);
+            }
+            let (a, b) = op.operands();
+            for k in [a, b].into_iter().flatten() {
+                r.extend_from_slice(&by_op[k as usize]);
+            }
+            r.sort_unstable();
+            r.dedup();
+            total += r.len();
+            if total > MAX_DEPS {
+                return None;
+            }
+            by_op.push(r);
+        }
+        let mut deps = Deps {
+            ops: vec![Vec::new(); n],
+            outputs: vec![Vec::new(); n],
+        };
+        for (i, vars) in by_op.iter().enumerate() {
+            for &v in vars {
+                deps.ops[v as usize].push(i as u32);
+            }
+        }
+        for (row, (k, _)) in prog.outputs.iter().enumerate() {
+            for &v in &by_op[*k as usize] {
+                deps.outputs[v as usize].push((row as u32, *k));
+            }
+        }
+        Some(deps)
+    }
+
+    /// Operations of one Jacobian.
+    fn work(&self) -> usize {
+        self.ops.iter().map(Vec::len).sum()
+    }
+}
+
 /// A compiled tape with its outputs.
 #[derive(Debug, Clone, Default)]
 pub struct Program {
@@ -615,11 +683,33 @@ impl Program {
     /// by forward differentiation along the tape, into `jac` (outputs ×
     /// n). A derivative of an operation none of whose operands moves with
     /// y_j is zero, so a singular rule (√ at 0) elsewhere cannot spoil it.
-    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>) {
+    /// True when every entry is finite.
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut DMatrix<f64>, deps: Option<&Deps>) -> bool {
         let len = self.ops.len();
         let mut vals = vec![0.0; len];
         self.run(t, y, &mut vals);
         let mut dot = vec![0.0; len];
+        if let Some(deps) = deps {
+            // Only the operations that move with y_j; every other tangent
+            // stays 0 (reset after each pass).
+            jac.as_mut_slice().fill(0.0);
+            let mut finite = true;
+            for (j, ops) in deps.ops.iter().enumerate() {
+                for &i in ops {
+                    let i = i as usize;
+                    dot[i] = derivative(&self.ops[i], &vals, &dot, i, j);
+                }
+                for &(r, k) in &deps.outputs[j] {
+                    let d = dot[k as usize];
+                    finite &= d.is_finite();
+                    jac[(r as usize, j)] = d;
+                }
+                for &i in ops {
+                    dot[i as usize] = 0.0;
+                }
+            }
+            return finite;
+        }
         for j in 0..y.len() {
             for (i, op) in self.ops.iter().enumerate() {
                 dot[i] = derivative(op, &vals, &dot, i, j);
@@ -628,6 +718,7 @@ impl Program {
                 jac[(r, j)] = dot[*k as usize];
             }
         }
+        jac.as_slice().iter().all(|v| v.is_finite())
     }
 }
 
@@ -991,6 +1082,11 @@ pub struct Cost {
     /// Of all the observables, and of the sketch's expressions.
     pub observables: usize,
     pub marks: usize,
+    /// Operations of one exact Jacobian (the passes over the operations
+    /// that read each variable; at most `rhs` × `n`).
+    pub jacobian: usize,
+    /// Flops of one LU factorisation (dense n³, or the band's).
+    pub lu: usize,
 }
 
 /// Right-hand side evaluations of one step of the costliest method (DOP853's
@@ -1004,15 +1100,16 @@ pub(crate) const EVALS_PER_STEP: usize = 13;
 pub(crate) const POINTS_PER_STEP: usize = 16;
 
 impl Cost {
-    /// Operations one step may run: the stages, the Jacobian (one pass of
-    /// the equations per variable), its LU decomposition (about n³), and the
+    /// Operations one step may run: the stages, the Jacobian (one pass per
+    /// variable over the operations that read it), its LU decomposition
+    /// (about n³, or the band's n·kl·(kl + ku)), and the
     /// samples of every observable and sketch expression
     /// ([`POINTS_PER_STEP`] a step).
     pub(crate) fn per_step(&self) -> f64 {
-        let n = self.n as f64;
         let points = POINTS_PER_STEP as f64;
-        (self.rhs as f64) * (EVALS_PER_STEP as f64 + n)
-            + n * n * n
+        (self.rhs as f64) * EVALS_PER_STEP as f64
+            + self.jacobian as f64
+            + self.lu as f64
             + points * (self.observables + self.marks + self.n) as f64
     }
 }
@@ -1026,6 +1123,8 @@ pub struct System {
     marks: Program,
     /// The exact Jacobian is used (implicit methods); else differences.
     jacobian: bool,
+    /// The operations each variable's pass of the Jacobian runs.
+    deps: Option<Deps>,
     /// The positions and momenta the scene declares, by index.
     split: Option<Split>,
 }
@@ -1074,8 +1173,11 @@ impl System {
                 p: h.p.iter().map(index).collect::<Option<_>>()?,
             })
         });
+        let n = scene.variables.len();
+        let deps = Deps::of(&rhs, n);
         Ok(System {
-            n: scene.variables.len(),
+            n,
+            deps,
             rhs,
             observables,
             marks,
@@ -1129,11 +1231,21 @@ impl System {
     }
 
     pub fn cost(&self) -> Cost {
+        let n = self.n;
+        let lu = match self.sparsity().and_then(|rows| Band::plan(&rows)) {
+            Some(band) => band.cost() as usize,
+            None => n * n * n,
+        };
         Cost {
-            n: self.n,
+            n,
             rhs: self.rhs.len(),
             observables: self.observables.len(),
             marks: self.marks.len(),
+            jacobian: match &self.deps {
+                Some(d) => d.work(),
+                None => self.rhs.len() * n,
+            },
+            lu,
         }
     }
 
@@ -1210,15 +1322,23 @@ impl OdeSystem for System {
         if jac.nrows() != n || jac.ncols() != n {
             *jac = DMatrix::zeros(n, n);
         }
-        if self.jacobian {
-            self.rhs.jacobian(t, y, jac);
-            if jac.iter().all(|v| v.is_finite()) {
-                return;
-            }
+        if self.jacobian && self.rhs.jacobian(t, y, jac, self.deps.as_ref()) {
+            return;
         }
         // At a point where a derivative is singular (√ at 0), differences
         // (one-sided where f is not finite on one side) still give a matrix.
         crate::solvers::ode::finite_difference_jacobian(self, t, y, jac);
+    }
+
+    fn sparsity(&self) -> Option<Vec<Vec<usize>>> {
+        let deps = self.deps.as_ref()?;
+        let mut rows = vec![Vec::new(); self.n];
+        for (j, outs) in deps.outputs.iter().enumerate() {
+            for &(r, _) in outs {
+                rows[r as usize].push(j);
+            }
+        }
+        Some(rows)
     }
 }
 

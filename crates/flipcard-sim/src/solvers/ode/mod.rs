@@ -20,6 +20,7 @@
 //! leave the solver stopped: no state containing NaN or ∞ is ever returned.
 
 mod auto;
+pub mod band;
 mod choice;
 mod dop853;
 mod radau5;

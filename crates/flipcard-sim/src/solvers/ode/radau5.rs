@@ -47,6 +47,8 @@
 use crate::error::SolveError;
 use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
+use super::band::{Band, BandLu};
+
 use super::{OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
 
 /// T and T⁻¹ with T⁻¹ A⁻¹ T = [[γ, 0, 0], [0, α, −β], [0, β, α]] (RADAU5's
@@ -194,8 +196,10 @@ pub struct Radau5<S> {
     scal: Vec<f64>,
     tmp: Vec<f64>,
     jac: DMatrix<f64>,
-    lu_real: Option<LU<f64, Dyn, Dyn>>,
-    lu_complex: Option<LU<Complex<f64>, Dyn, Dyn>>,
+    /// The variables' order and band when the system is large and its
+    /// Jacobian banded under it ([`Band::plan`]); else dense LU.
+    band: Option<Band>,
+    lu: Option<Factors>,
     rhs_real: DVector<f64>,
     rhs_complex: DVector<Complex<f64>>,
     /// The Jacobian was computed at the current point.
@@ -215,6 +219,45 @@ pub struct Radau5<S> {
     singular: u32,
     requests: Requests,
     work: Work,
+}
+
+/// The LU factors of the real and the complex matrix of a step: dense, or
+/// banded in the variables' band order.
+#[derive(Debug, Clone)]
+enum Factors {
+    Dense(LU<f64, Dyn, Dyn>, LU<Complex<f64>, Dyn, Dyn>),
+    Band(Vec<usize>, BandLu<f64>, BandLu<Complex<f64>>),
+}
+
+impl Factors {
+    /// Solves the real system in place; false when it is singular.
+    fn solve_real(&self, b: &mut DVector<f64>) -> bool {
+        match self {
+            Factors::Dense(lu, _) => lu.solve_mut(b),
+            Factors::Band(order, lu, _) => Self::permuted(order, b, |x| lu.solve_mut(x)),
+        }
+    }
+
+    /// Solves the complex system in place; false when it is singular.
+    fn solve_complex(&self, b: &mut DVector<Complex<f64>>) -> bool {
+        match self {
+            Factors::Dense(_, lu) => lu.solve_mut(b),
+            Factors::Band(order, _, lu) => Self::permuted(order, b, |x| lu.solve_mut(x)),
+        }
+    }
+
+    fn permuted<T: Copy>(
+        order: &[usize],
+        b: &mut DVector<T>,
+        solve: impl FnOnce(&mut [T]) -> bool,
+    ) -> bool {
+        let mut x: Vec<T> = order.iter().map(|&v| b[v]).collect();
+        let ok = solve(&mut x);
+        for (&v, x) in order.iter().zip(x) {
+            b[v] = x;
+        }
+        ok
+    }
 }
 
 impl<S: OdeSystem> Radau5<S> {
@@ -262,8 +305,8 @@ impl<S: OdeSystem> Radau5<S> {
             scal: vec![0.0; n],
             tmp: vec![0.0; n],
             jac: DMatrix::zeros(n, n),
-            lu_real: None,
-            lu_complex: None,
+            band: sys.sparsity().and_then(|rows| Band::plan(&rows)),
+            lu: None,
             rhs_real: DVector::zeros(n),
             rhs_complex: DVector::zeros(n),
             jac_fresh: false,
@@ -344,7 +387,7 @@ impl<S: OdeSystem> Radau5<S> {
                 self.n
             )));
         }
-        if !self.jac.iter().all(|v| v.is_finite()) {
+        if !self.jac.as_slice().iter().all(|v| v.is_finite()) {
             return Err(SolveError::Invalid(format!(
                 "the Jacobian of f is not finite at t = {}",
                 self.t
@@ -363,6 +406,26 @@ impl<S: OdeSystem> Radau5<S> {
         let fac1 = self.k.gamma / h;
         let (alphn, betan) = (self.k.alpha / h, self.k.beta / h);
         let jac = &self.jac;
+        if let Some(band) = &self.band {
+            let o = &band.order;
+            let lu1 = BandLu::new(n, band.kl, band.ku, |i, j| {
+                let v = -jac[(o[i], o[j])];
+                if i == j { fac1 + v } else { v }
+            });
+            let lu2 = BandLu::new(n, band.kl, band.ku, |i, j| {
+                let v = -jac[(o[i], o[j])];
+                if i == j {
+                    Complex::new(alphn + v, betan)
+                } else {
+                    Complex::new(v, 0.0)
+                }
+            });
+            self.work.lu_decomps += 1;
+            let ok = lu1.is_invertible() && lu2.is_invertible();
+            self.lu = Some(Factors::Band(o.clone(), lu1, lu2));
+            self.h_lu = if ok { h } else { 0.0 };
+            return ok;
+        }
         let e1 = DMatrix::from_fn(n, n, |i, j| {
             if i == j {
                 fac1 - jac[(i, j)]
@@ -380,8 +443,7 @@ impl<S: OdeSystem> Radau5<S> {
         let (lu1, lu2) = (e1.lu(), e2.lu());
         self.work.lu_decomps += 1;
         let ok = lu1.is_invertible() && lu2.is_invertible();
-        self.lu_real = Some(lu1);
-        self.lu_complex = Some(lu2);
+        self.lu = Some(Factors::Dense(lu1, lu2));
         self.h_lu = if ok { h } else { 0.0 };
         ok
     }
@@ -534,10 +596,10 @@ impl<S: OdeSystem> Radau5<S> {
                 t(2) + s3 * alphn + s2 * betan,
             );
         }
-        let (Some(lu1), Some(lu2)) = (&self.lu_real, &self.lu_complex) else {
+        let Some(lu) = &self.lu else {
             return false;
         };
-        lu1.solve_mut(&mut self.rhs_real) && lu2.solve_mut(&mut self.rhs_complex)
+        lu.solve_real(&mut self.rhs_real) && lu.solve_complex(&mut self.rhs_complex)
     }
 
     /// One attempt at a step of size h with the current factors.
@@ -629,10 +691,10 @@ impl<S: OdeSystem> Radau5<S> {
             self.tmp[i] = e;
             self.rhs_real[i] = e + self.f0[i];
         }
-        let Some(lu1) = &self.lu_real else {
+        let Some(lu1) = &self.lu else {
             return f64::INFINITY;
         };
-        lu1.solve_mut(&mut self.rhs_real);
+        lu1.solve_real(&mut self.rhs_real);
         let mut err = self.scaled_rms_real();
         if err >= 1.0 && (self.first || self.reject) {
             // A stiff component can make the first estimate pessimistic;
@@ -644,7 +706,7 @@ impl<S: OdeSystem> Radau5<S> {
             for (i, f) in f.iter().enumerate() {
                 self.rhs_real[i] = f + self.tmp[i];
             }
-            lu1.solve_mut(&mut self.rhs_real);
+            lu1.solve_real(&mut self.rhs_real);
             err = self.scaled_rms_real();
         }
         err
