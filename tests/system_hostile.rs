@@ -904,21 +904,7 @@ fn auto_switches_by_cost_before_the_stiffness_test_fires() {
         "robertson",
         "[[scene]]\nid = \"s\"\nvariables = [\"y1\", \"y2\", \"y3\"]\ninitial = [1.0, 0.0, 0.0]\nequations = [\"-0.04*y1 + 1e4*y2*y3\", \"0.04*y1 - 1e4*y2*y3 - 3e7*y2^2\", \"3e7*y2^2\"]\natol = { y1 = 1e-10, y2 = 1e-14, y3 = 1e-10 }\nduration = 1e5\nshow = [\"plot\"]\nplot = [\"y1\"]\n",
     );
-    let stats = |method: &str, tol: &str| {
-        let (code, out, err) = d.sim(&[
-            "--samples",
-            "2",
-            "--format",
-            "json",
-            "--method",
-            method,
-            "--tol",
-            tol,
-        ]);
-        assert_eq!(code, 0, "{method} {tol}: {err}");
-        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-        v["stats"].clone()
-    };
+    let stats = |method: &str, tol: &str| run_stats(&d, method, tol);
     for tol in ["1e-6", "1e-8", "1e-10"] {
         let (auto, radau) = (stats("auto", tol), stats("radau", tol));
         let (a, r) = (
@@ -943,21 +929,7 @@ fn auto_tries_radau_on_a_mildly_stiff_problem_and_keeps_it_when_cheaper() {
         "mild",
         "[[scene]]\nid = \"s\"\nvariables = [\"x\"]\ninitial = [1.0]\nparams = { k = 50.0 }\nequations = [\"-k*(x - cos(t)) - sin(t)\"]\nduration = 100.0\nshow = [\"plot\"]\nplot = [\"x\"]\n",
     );
-    let stats = |method: &str, tol: &str| {
-        let (code, out, err) = d.sim(&[
-            "--samples",
-            "2",
-            "--format",
-            "json",
-            "--method",
-            method,
-            "--tol",
-            tol,
-        ]);
-        assert_eq!(code, 0, "{method} {tol}: {err}");
-        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-        v["stats"].clone()
-    };
+    let stats = |method: &str, tol: &str| run_stats(&d, method, tol);
     for tol in ["1e-7", "1e-9"] {
         let (auto, explicit) = (stats("auto", tol), stats("adaptive", tol));
         let rhs = |s: &serde_json::Value| s["rhs_evals"].as_f64().unwrap();
@@ -980,21 +952,9 @@ fn auto_tries_radau_on_a_mildly_stiff_problem_and_keeps_it_when_cheaper() {
     );
     for tol in ["1e-6", "1e-8"] {
         let run = |method: &str| {
-            let (code, out, err) = kepler.sim(&[
-                "--samples",
-                "2",
-                "--format",
-                "json",
-                "--method",
-                method,
-                "--tol",
-                tol,
-            ]);
-            assert_eq!(code, 0, "{method} {tol}: {err}");
-            let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+            let s = run_stats(&kepler, method, tol);
             // Work in evaluations of f, as `auto` counts it: n per
             // Jacobian, 1 + n²/6 per LU pair (n = 4).
-            let s = &v["stats"];
             let count = |k: &str| s[k].as_f64().unwrap();
             count("rhs_evals")
                 + 4.0 * count("jacobian_evals")
@@ -1006,4 +966,22 @@ fn auto_tries_radau_on_a_mildly_stiff_problem_and_keeps_it_when_cheaper() {
             "tol {tol}: auto {auto}, adaptive {explicit}"
         );
     }
+}
+
+/// `sim --samples 2 --format json` of `d`'s scene with `method` at `tol`:
+/// its `stats` (the run must succeed).
+fn run_stats(d: &Deck, method: &str, tol: &str) -> serde_json::Value {
+    let (code, out, err) = d.sim(&[
+        "--samples",
+        "2",
+        "--format",
+        "json",
+        "--method",
+        method,
+        "--tol",
+        tol,
+    ]);
+    assert_eq!(code, 0, "{method} {tol}: {err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    v["stats"].clone()
 }
