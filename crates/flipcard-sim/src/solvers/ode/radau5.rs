@@ -111,8 +111,8 @@ const DENSE_REJECT: f64 = 10.0;
 /// Prothero–Robinson (k = 1e6, 1e12, 2001 samples) and on the bundled Van
 /// der Pol μ = 1000 scene (1435 steps without the cap): at 1.0 the worst
 /// sample is within 6.1× the tolerance (radau 4.1×, auto 6.1×) at rtol
-/// 1e-3 and 1e-6…1e-10, for 1872 steps (0.8: 1981 steps). At rtol 1e-4 and 1e-5 one step still
-/// escapes the estimate (worst sample 13× and 15× the tolerance, median
+/// 1e-3 and 1e-6…1e-10, for 1872 steps (0.8: 1981 steps). At rtol 1e-4
+/// and 1e-5 one step still escapes the estimate (worst sample 13× and 15× the tolerance, median
 /// a quarter of it, step ends exact) whatever the target (2.0 gives the
 /// same 10–13×): not yet understood.
 const DENSE_TARGET: f64 = 1.0;
@@ -183,8 +183,8 @@ pub struct Radau5<S> {
     h: f64,
     /// Size of the last accepted step (dense output, Newton start).
     h_old: f64,
-    /// Steps accepted since the last change of method or restart: the
-    /// dense-output estimate needs a previous polynomial.
+    /// A step has been accepted since this solver started (the
+    /// dense-output estimate needs a previous polynomial).
     dense_ready: bool,
     t_old: f64,
     /// Collocation polynomial of the last step: y_new and three divided
