@@ -205,6 +205,9 @@ pub struct Radau5<S> {
     lu: Option<Factors>,
     rhs_real: DVector<f64>,
     rhs_complex: DVector<Complex<f64>>,
+    /// The right-hand sides in band order, for banded solves.
+    band_real: Vec<f64>,
+    band_complex: Vec<Complex<f64>>,
     /// The Jacobian was computed at the current point.
     jac_fresh: bool,
     need_jac: bool,
@@ -234,30 +237,38 @@ enum Factors {
 
 impl Factors {
     /// Solves the real system in place; false when it is singular.
-    fn solve_real(&self, b: &mut DVector<f64>) -> bool {
+    /// `scratch` holds the band order's copy (kept by the solver, so the
+    /// Newton iterations allocate nothing).
+    fn solve_real(&self, b: &mut DVector<f64>, scratch: &mut Vec<f64>) -> bool {
         match self {
             Factors::Dense(lu, _) => lu.solve_mut(b),
-            Factors::Band(order, lu, _) => Self::permuted(order, b, |x| lu.solve_mut(x)),
+            Factors::Band(order, lu, _) => Self::permuted(order, b, scratch, |x| lu.solve_mut(x)),
         }
     }
 
     /// Solves the complex system in place; false when it is singular.
-    fn solve_complex(&self, b: &mut DVector<Complex<f64>>) -> bool {
+    fn solve_complex(
+        &self,
+        b: &mut DVector<Complex<f64>>,
+        scratch: &mut Vec<Complex<f64>>,
+    ) -> bool {
         match self {
             Factors::Dense(_, lu) => lu.solve_mut(b),
-            Factors::Band(order, _, lu) => Self::permuted(order, b, |x| lu.solve_mut(x)),
+            Factors::Band(order, _, lu) => Self::permuted(order, b, scratch, |x| lu.solve_mut(x)),
         }
     }
 
     fn permuted<T: Copy>(
         order: &[usize],
         b: &mut DVector<T>,
+        x: &mut Vec<T>,
         solve: impl FnOnce(&mut [T]) -> bool,
     ) -> bool {
-        let mut x: Vec<T> = order.iter().map(|&v| b[v]).collect();
-        let ok = solve(&mut x);
-        for (&v, x) in order.iter().zip(x) {
-            b[v] = x;
+        x.clear();
+        x.extend(order.iter().map(|&v| b[v]));
+        let ok = solve(x);
+        for (&v, x) in order.iter().zip(x.iter()) {
+            b[v] = *x;
         }
         ok
     }
@@ -312,6 +323,8 @@ impl<S: OdeSystem> Radau5<S> {
             lu: None,
             rhs_real: DVector::zeros(n),
             rhs_complex: DVector::zeros(n),
+            band_real: Vec::new(),
+            band_complex: Vec::new(),
             jac_fresh: false,
             need_jac: true,
             h_lu: 0.0,
@@ -602,7 +615,8 @@ impl<S: OdeSystem> Radau5<S> {
         let Some(lu) = &self.lu else {
             return false;
         };
-        lu.solve_real(&mut self.rhs_real) && lu.solve_complex(&mut self.rhs_complex)
+        lu.solve_real(&mut self.rhs_real, &mut self.band_real)
+            && lu.solve_complex(&mut self.rhs_complex, &mut self.band_complex)
     }
 
     /// One attempt at a step of size h with the current factors.
@@ -697,7 +711,7 @@ impl<S: OdeSystem> Radau5<S> {
         let Some(lu1) = &self.lu else {
             return f64::INFINITY;
         };
-        lu1.solve_real(&mut self.rhs_real);
+        lu1.solve_real(&mut self.rhs_real, &mut self.band_real);
         let mut err = self.scaled_rms_real();
         if err >= 1.0 && (self.first || self.reject) {
             // A stiff component can make the first estimate pessimistic;
@@ -709,7 +723,7 @@ impl<S: OdeSystem> Radau5<S> {
             for (i, f) in f.iter().enumerate() {
                 self.rhs_real[i] = f + self.tmp[i];
             }
-            lu1.solve_real(&mut self.rhs_real);
+            lu1.solve_real(&mut self.rhs_real, &mut self.band_real);
             err = self.scaled_rms_real();
         }
         err
