@@ -29,6 +29,7 @@ use crate::scene::spec::{Measure, Stat, SystemPanel, SystemScene};
 use crate::solvers::ode::{self, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
 use crate::system::System;
 use crate::system::compile::{CompileError, Cost, Fault, POINTS_PER_STEP, Source, time};
+use crate::system::spec::SceneAtol;
 use flipcard_text::num::Num;
 use tally::{InStep, Tally, Watch, brent_max};
 
@@ -295,28 +296,41 @@ impl std::fmt::Display for RunError {
                         format!(
                             "`{n}` (typically {}, atol {})",
                             flipcard_text::num::sig(*size, 2),
-                            Num(*atol)
+                            flipcard_text::num::sig(*atol, 2)
                         )
                     })
                     .collect();
-                let (first, size, atol) = &uncontrolled[0];
-                // A size of 0 says only that the value sat below its
-                // tolerance everywhere: ask for ten thousand times less.
-                let target = if *size > 0.0 {
-                    size * 1e-6
-                } else {
-                    atol * 1e-4
+                // A millionth of each one's typical size, as a power of ten;
+                // a size of 0 says only that the value sat below its
+                // tolerance everywhere: ten thousand times less, then.
+                let suggest: Vec<(String, String)> = (uncontrolled.iter())
+                    .map(|(n, size, atol)| {
+                        let target = if *size > 0.0 {
+                            size * 1e-6
+                        } else {
+                            atol * 1e-4
+                        };
+                        let power = 10f64.powf(target.log10().floor());
+                        (n.clone(), flipcard_text::num::sig(power, 1))
+                    })
+                    .collect();
+                let each = |sep: &str, eq: &str| {
+                    (suggest.iter())
+                        .map(|(n, a)| format!("{n}{eq}{a}"))
+                        .collect::<Vec<_>>()
+                        .join(sep)
                 };
-                let suggest = flipcard_text::num::sig(10f64.powf(target.log10().floor()), 1);
                 write!(
                     f,
-                    ". {} {} below {} absolute tolerance, so {} errors go unchecked; give {} an absolute tolerance of about a millionth of {} size (`atol = {{ {first} = {suggest} }}` in the scene, or --atol {first}={suggest})",
+                    ". {} {} below {} absolute tolerance, so {} errors go unchecked; give {} an absolute tolerance of about a millionth of {} size (`atol = {{ {} }}` in the scene, or --atol {})",
                     named.join(", "),
                     if one { "stays" } else { "stay" },
                     if one { "its" } else { "their" },
                     if one { "its" } else { "their" },
                     if one { "it" } else { "them" },
                     if one { "its" } else { "their" },
+                    each(", ", " = "),
+                    each(",", "="),
                 )
             }
             RunError::Work {
@@ -352,19 +366,24 @@ fn step_budget(cost: &Cost, default: u64) -> (u64, bool) {
 }
 
 /// The absolute tolerance of a run of `scene`: the one the scene declares
-/// for a variable, the method's own for the others; a reference run
-/// (`reference`) keeps its own default where that is tighter. A
-/// fixed-step run has none.
+/// for a variable, and for the others the method's own, which follows each
+/// one's size over the run ([`ode::BySize`]); a reference run
+/// (`reference`) keeps the method's where that is tighter. A fixed-step
+/// run has none.
 fn with_scene_atol(scene: &SystemScene, opts: &mut ode::Options, reference: bool) {
-    let (Some(declared), ode::Atol::Scalar(default)) = (&scene.atol, &opts.atol) else {
+    let (Some(declared), ode::Atol::BySize(by_size)) = (&scene.atol, &mut opts.atol) else {
         return;
     };
-    let each = declared.per_variable(&scene.variables, *default);
-    let each = each.into_iter();
-    opts.atol = ode::Atol::PerComponent(match reference {
-        true => each.map(|a| a.min(*default)).collect(),
-        false => each.collect(),
-    });
+    let named = |v: &String| match declared {
+        SceneAtol::All(a) => Some(*a),
+        SceneAtol::Each(each) => each.iter().find(|(n, _)| n == v).map(|(_, a)| *a),
+    };
+    by_size.fixed = (scene.variables.iter()).map(named).collect();
+    if reference {
+        // The reference follows the sizes too, within what the scene asks.
+        by_size.fixed = vec![None; scene.variables.len()];
+        by_size.cap = (scene.variables.iter()).map(named).collect();
+    }
 }
 
 /// Sizes of each variable kept for its median (see `SystemRun::sizes`).
@@ -583,10 +602,9 @@ pub struct SystemRun {
     /// since the one before, at most [`SIZES_KEPT`] of them (neighbours
     /// merged when full): their weighted median is the typical size of
     /// each over the run's time, which the many short steps before a
-    /// failure do not move; with the absolute tolerance of each, to name
+    /// failure do not move; with the solver's absolute tolerance of each, to name
     /// the ones it does not control when the run cannot meet its tolerance.
     sizes: Vec<Vec<(f64, f64)>>,
-    atol: Vec<f64>,
     /// Every operation's value at the start and the end of an RK4 step,
     /// and the state at its end (for the domain check).
     step_tapes: [Vec<f64>; 2],
@@ -641,7 +659,6 @@ impl SystemRun {
         check_cost(scene, &cost)?;
         let (m, mut opts) = method.solver(scene.duration);
         with_scene_atol(scene, &mut opts, false);
-        let opts_atol = opts.atol.clone();
         let (max_steps, work_limited) = step_budget(&cost, opts.max_steps);
         opts.max_steps = max_steps;
         let solver =
@@ -722,10 +739,6 @@ impl SystemRun {
             sizes: vec![Vec::new(); n],
             step_tapes: [Vec::new(), Vec::new()],
             step_end: Vec::new(),
-            atol: match &opts_atol {
-                ode::Atol::Scalar(a) => vec![*a; n],
-                ode::Atol::PerComponent(v) => v.clone(),
-            },
             cost,
             work_limited,
             span: None,
@@ -1070,7 +1083,9 @@ impl SystemRun {
             }
             v.last().map(|p| p.0)
         };
-        let uncontrolled = (self.sizes.iter().zip(&self.atol).enumerate())
+        // The tolerances the solver holds now (they follow the sizes).
+        let atol = self.solver.atol().unwrap_or(&[]);
+        let uncontrolled = (self.sizes.iter().zip(atol).enumerate())
             .filter_map(|(k, (kept, a))| Some((k, typical(kept)?, *a)))
             .filter(|(_, size, a)| size < a)
             .map(|(k, size, a)| (self.scene.variables[k].clone(), size, a))

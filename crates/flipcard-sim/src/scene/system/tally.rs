@@ -447,11 +447,70 @@ fn newton(nodes: &[(f64, f64)]) -> (Vec<f64>, Vec<f64>) {
 /// Minimization without Derivatives*, ch. 5), to a relative resolution of
 /// about 1e-10 in t. `f` returns None where it cannot be evaluated; the
 /// search then stops with the best point so far.
+///
+/// Brent's method assumes a peak the function climbs to and falls from.
+/// A quantity that drops at a jump (a gated observable, `phi·(1 +
+/// sign(vr))/2`, whose peak is its value just before vr turns) breaks ties
+/// away from the jump: the search finds only equal values past it and
+/// ends at the far end, and the peak right beside the near end is never
+/// seen (the rosette's apsidal angle read 184.658° for 184.676°). So when
+/// an end beats every point inside, the peak lies at that end or between
+/// it and the first point inside that falls below it: bisection finds where
+/// the quantity falls below the end's value, and a second search between
+/// the end and there finds the peak.
 pub(super) fn brent_max(
     a: f64,
     b: f64,
     mut f: impl FnMut(f64) -> Option<f64>,
 ) -> Option<(f64, f64)> {
+    let (a, b) = (a.min(b), a.max(b));
+    let (x, fx, fa, fb) = brent_inside(a, b, &mut f)?;
+    let mut best = (x, fx);
+    for (end, fe) in [(a, fa), (b, fb)] {
+        if fe <= best.1 {
+            continue;
+        }
+        best = (end, fe);
+        // The quantity stays at or above the end's value on [end, lo] and
+        // falls below it at hi.
+        let (mut lo, mut hi) = (end, x);
+        for _ in 0..BISECTIONS {
+            let mid = 0.5 * (lo + hi);
+            if mid == lo || mid == hi {
+                break;
+            }
+            match f(mid) {
+                Some(v) if v >= fe => {
+                    lo = mid;
+                    if v > best.1 {
+                        best = (mid, v);
+                    }
+                }
+                Some(_) => hi = mid,
+                None => break,
+            }
+        }
+        if lo != end
+            && let Some((t, v, _, _)) = brent_inside(end.min(lo), end.max(lo), &mut f)
+            && v > best.1
+        {
+            best = (t, v);
+        }
+    }
+    Some(best)
+}
+
+/// Bisections that find where a quantity falls below an end's value: the
+/// place to within 2⁻⁴⁰ of the bracket.
+const BISECTIONS: usize = 40;
+
+/// Brent's search inside [a, b]: the best point it found and its value, and
+/// the values at a and b.
+fn brent_inside(
+    a: f64,
+    b: f64,
+    f: &mut impl FnMut(f64) -> Option<f64>,
+) -> Option<(f64, f64, f64, f64)> {
     const GOLD: f64 = 0.381_966_011_250_105_1;
     let g = |v: f64| -v;
     let (mut a, mut b) = (a.min(b), a.max(b));
@@ -521,14 +580,7 @@ pub(super) fn brent_max(
             }
         }
     }
-    // The ends count too: a monotone stretch peaks at one of them.
-    let mut best = (x, -fx);
-    for (t, y) in [(a, fa), (b, fb)] {
-        if y > best.1 {
-            best = (t, y);
-        }
-    }
-    Some(best)
+    Some((x, -fx, fa, fb))
 }
 
 #[cfg(test)]
@@ -543,6 +595,34 @@ mod tests {
         // Monotone: the end.
         let (t, _) = brent_max(0.0, 1.0, Some).unwrap();
         assert_eq!(t, 1.0);
+        let (t, _) = brent_max(0.0, 1.0, |t| Some(-t)).unwrap();
+        assert_eq!(t, 0.0);
+    }
+
+    /// A quantity that climbs from one end and drops to zero at a jump
+    /// peaks just before the jump, wherever the jump lies (Brent's search
+    /// alone ended at the far end and kept the near end's value for every
+    /// jump here); and a smooth peak right beside an end is found too.
+    #[test]
+    fn brent_finds_a_peak_just_before_a_jump_beside_either_end() {
+        for c in [0.3, 0.1, 0.05, 0.0345, 1e-4] {
+            let (t, v) =
+                brent_max(0.0, 1.0, |t| Some(if t < c { 100.0 + t } else { 0.0 })).unwrap();
+            assert!(t < c && c - t < 1e-9, "{c}: {t}");
+            assert!((v - (100.0 + c)).abs() < 1e-9, "{c}: {v}");
+            let (t, v) = brent_max(0.0, 1.0, |t| {
+                Some(if t > 1.0 - c { 101.0 - t } else { 0.0 })
+            })
+            .unwrap();
+            assert!(t > 1.0 - c && t - (1.0 - c) < 1e-9, "{c}: {t}");
+            assert!((v - (100.0 + c)).abs() < 1e-9, "{c}: {v}");
+            let peak = c / 2.0;
+            let (t, _) = brent_max(0.0, 1.0, |t| {
+                Some(if t < c { -(t - peak).powi(2) } else { -1.0 })
+            })
+            .unwrap();
+            assert!((t - peak).abs() < 1e-7 * c.max(1e-3), "{c}: {t}");
+        }
     }
 
     #[test]

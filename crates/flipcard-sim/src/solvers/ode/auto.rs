@@ -32,7 +32,7 @@
 use std::collections::VecDeque;
 
 use super::{
-    Dop853, OdeSolver, OdeSystem, Options, Radau5, Requests, Stepper, StiffnessMode, Work,
+    Atol, Dop853, OdeSolver, OdeSystem, Options, Radau5, Requests, Stepper, StiffnessMode, Work,
 };
 use crate::error::SolveError;
 
@@ -189,9 +189,12 @@ impl<S: OdeSystem> Auto<S> {
             ));
         };
         let h = dop.next_step_size();
+        let mut opts = self.opts.clone();
+        if let Some(b) = dop.by_size() {
+            opts.atol = Atol::BySize(b.clone());
+        }
         let (sys, t, y, work) = dop.into_parts();
         self.done = self.done + work;
-        let mut opts = self.opts.clone();
         // DOP853's last step is bounded by stability, so it is a safe start;
         // Radau's step control lengthens it within a few steps.
         if h > 0.0 && h.is_finite() {
@@ -209,9 +212,12 @@ impl<S: OdeSystem> Auto<S> {
                 "auto: no implicit phase to leave".into(),
             ));
         };
+        let mut opts = self.opts.clone();
+        if let Some(b) = radau.by_size() {
+            opts.atol = Atol::BySize(b.clone());
+        }
         let (sys, t, y, work, _) = radau.into_parts();
         self.done = self.done + work;
-        let mut opts = self.opts.clone();
         if h > 0.0 && h.is_finite() {
             opts.h0 = Some(h);
         }
@@ -340,6 +346,13 @@ impl<S: OdeSystem> Stepper for Auto<S> {
         match &self.phase {
             Phase::Explicit(d) => d.stiffness(),
             _ => self.switched_at,
+        }
+    }
+    fn abs_tol(&self) -> Option<&[f64]> {
+        match &self.phase {
+            Phase::Explicit(d) => Some(d.atol_now()),
+            Phase::Implicit(r) => Some(r.atol_now()),
+            Phase::Moving => None,
         }
     }
     fn requests(&mut self) -> &mut Requests {

@@ -1,11 +1,12 @@
 //! The methods a system scene can run with, as the learner and the command
 //! line name them, with their one setting (a tolerance, or RK4's step).
 
-use super::{Method, Options, StiffnessMode};
+use super::{Atol, BySize, Method, Options, StiffnessMode};
 use crate::method::{MethodError, MethodName};
 
 /// Default relative tolerance of the adaptive methods on a scene; the
-/// absolute one is this times [`ATOL_FACTOR`].
+/// absolute one of each variable is this times [`ATOL_FACTOR`] times the
+/// largest size the variable has reached ([`super::BySize`]).
 pub(crate) const DEFAULT_RTOL: f64 = 1e-8;
 pub(crate) const ATOL_FACTOR: f64 = 1e-2;
 /// RK4's default step: this many steps over the run.
@@ -144,8 +145,12 @@ impl OdeMethod {
 
     /// The solver and its options for a run ending at `t_end`.
     pub fn solver(&self, t_end: f64) -> (Method, Options) {
-        let mut opts = Options::with_tol(self.setting, self.setting * ATOL_FACTOR);
-        opts.t_stop = Some(t_end);
+        let mut opts = Options {
+            rtol: self.setting,
+            atol: Atol::BySize(BySize::new(self.setting * ATOL_FACTOR)),
+            t_stop: Some(t_end),
+            ..Options::default()
+        };
         let method = match self.kind {
             OdeKind::Auto => Method::Auto,
             OdeKind::Adaptive => Method::Dop853 {

@@ -15,7 +15,7 @@
 //! until it first fires; here it runs after every step (two norms, no
 //! evaluation of f), so `auto` hands over to the implicit method early.
 
-use super::{BLOW_UP_LIMIT, OdeSystem, Options, Requests, Stepper, Work, initial_step};
+use super::{BLOW_UP_LIMIT, BySize, OdeSystem, Options, Requests, Stepper, Work, initial_step};
 use crate::error::SolveError;
 use crate::solvers::control::{self, Arithmetic, StepControl, norm};
 use crate::solvers::dop853_tableau::{self as tab, C, C_DENSE, Row};
@@ -45,6 +45,8 @@ pub struct Dop853<S, const N: usize = 0> {
     n: usize,
     rtol: f64,
     atol: Vec<f64>,
+    /// What `atol` follows, when it follows the sizes.
+    by_size: Option<BySize>,
     max_steps: u64,
     max_step: f64,
     t_stop: Option<f64>,
@@ -96,8 +98,10 @@ impl<S: OdeSystem> Dop853<S> {
     /// run starts.
     pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Dop853<S>, SolveError> {
         super::check_start(&sys, t0, y0)?;
-        let atol = opts.validated_atol(sys.dim())?;
-        Ok(Dop853::checked(sys, t0, y0, opts, atol))
+        let (atol, by_size) = opts.validated_atol(y0)?;
+        let mut s = Dop853::checked(sys, t0, y0, opts, atol);
+        s.by_size = by_size;
+        Ok(s)
     }
 
     /// Steps of exactly `h`, without error control (for convergence
@@ -146,6 +150,7 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
             n,
             rtol: opts.rtol,
             atol,
+            by_size: None,
             max_steps: opts.max_steps,
             max_step: opts.max_step.unwrap_or(f64::INFINITY),
             t_stop: opts.t_stop,
@@ -189,6 +194,16 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
     }
 
     /// Hands the system and the current point over (for `auto`).
+    /// The absolute tolerance of each component now.
+    pub(crate) fn atol_now(&self) -> &[f64] {
+        &self.atol
+    }
+
+    /// The sizes the tolerances follow, when they do.
+    pub(crate) fn by_size(&self) -> Option<&BySize> {
+        self.by_size.as_ref()
+    }
+
     pub(crate) fn into_parts(self) -> (S, f64, Vec<f64>, Work) {
         (self.sys, self.t, self.y, self.work)
     }
@@ -399,6 +414,9 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
             self.y.copy_from_slice(&self.y_new);
             self.t = t_new;
             self.dense_ready = false;
+            if let Some(b) = &mut self.by_size {
+                b.follow(&self.y, &mut self.atol);
+            }
             // The dense stages need k[0] of this step: the new f moves
             // there only when the next step starts.
             self.h = self.fixed.unwrap_or(h_new);
@@ -509,6 +527,9 @@ fn weigh(k: &[f64], n: usize, row: &[(usize, f64)], i: usize) -> f64 {
 }
 
 impl<S: OdeSystem, const N: usize> Stepper for Dop853<S, N> {
+    fn abs_tol(&self) -> Option<&[f64]> {
+        Some(&self.atol)
+    }
     fn method_name(&self) -> &'static str {
         "dop853"
     }

@@ -48,11 +48,95 @@ pub(crate) const DEFAULT_MAX_STEPS: u64 = 5_000_000;
 /// would overflow, so no method could go on meaningfully.
 pub(crate) const BLOW_UP_LIMIT: f64 = 1e150;
 
-/// Absolute tolerance: one for all components or one each.
+/// Absolute tolerance: one for all components, one each, or one each that
+/// follows each component's size over the run.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Atol {
     Scalar(f64),
     PerComponent(Vec<f64>),
+    BySize(BySize),
+}
+
+/// Absolute tolerances set as one would set them knowing the solution:
+/// each component's is `factor` times the largest |yᵢ| it has reached so
+/// far, so a component that lives near 1e-12 is controlled at its own size
+/// and not swamped by a tolerance made for components near 1 (E5's
+/// y2…y4), and a large one wastes no work on digits below its size. A
+/// component the scene gives its own tolerance (`fixed`) keeps it. The
+/// largest so far, not the present size: a component crossing zero keeps
+/// the tolerance of its amplitude (pure relative control would creep near
+/// every zero). Every tolerance is at least [`BySize::NOISE`] times the
+/// largest size any component has reached, so a component that should be
+/// zero but carries rounding noise is not chased to the last bit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BySize {
+    pub factor: f64,
+    /// Each component's own tolerance, if it has one (empty: none has).
+    pub fixed: Vec<Option<f64>>,
+    /// A bound on each component's tolerance, if it has one (empty: none
+    /// has): a reference run follows the sizes within what the scene asks.
+    pub cap: Vec<Option<f64>>,
+    /// The largest |yᵢ| reached so far (empty: nothing seen yet).
+    pub seen: Vec<f64>,
+}
+
+impl BySize {
+    /// The floor of every tolerance, as a fraction of the largest size
+    /// reached: a hundred roundings of it.
+    pub const NOISE: f64 = 1e-14;
+    /// Sizes above this count as this: a large component keeps the
+    /// tolerance a component of size 1 has. Following the whole size
+    /// loosened the control where such a component dips low, and on the
+    /// Oregonator (sizes up to 1e5, troughs near 1) the timing of its spikes
+    /// drifted: its error grew 80–100× (at rtol 1e-3, 1e-6 and 1e-9).
+    const CEILING: f64 = 1.0;
+    /// The smallest floor: far enough from f64's least numbers that an
+    /// error divided by it, and squared, stays finite.
+    const TINY: f64 = 1e-100;
+
+    /// Every component's tolerance at factor `factor`, none fixed.
+    pub fn new(factor: f64) -> BySize {
+        BySize {
+            factor,
+            fixed: Vec::new(),
+            cap: Vec::new(),
+            seen: Vec::new(),
+        }
+    }
+
+    /// Takes the sizes of `y` into those seen and writes each component's
+    /// tolerance into `atol`.
+    pub(crate) fn follow(&mut self, y: &[f64], atol: &mut [f64]) {
+        let n = y.len();
+        if self.seen.len() != n {
+            self.seen = vec![0.0; n];
+        }
+        let mut top = 0.0f64;
+        for (s, v) in self.seen.iter_mut().zip(y) {
+            if v.is_finite() {
+                *s = s.max(v.abs());
+            }
+            top = top.max(*s);
+        }
+        // Nothing has a size yet (a start at rest): the tolerance a
+        // component of size 1 has, until something moves.
+        let floor = match top > 0.0 {
+            true => (Self::NOISE * top).max(Self::TINY),
+            false => self.factor,
+        };
+        for (i, a) in atol.iter_mut().enumerate().take(n) {
+            *a = match self.fixed.get(i).copied().flatten() {
+                Some(fixed) => fixed,
+                None => {
+                    let follow = (self.factor * self.seen[i].min(Self::CEILING)).max(floor);
+                    match self.cap.get(i).copied().flatten() {
+                        Some(cap) => follow.min(cap),
+                        None => follow,
+                    }
+                }
+            };
+        }
+    }
 }
 
 /// Settings shared by the adaptive methods (RK4 uses only `max_steps`).
@@ -98,15 +182,21 @@ impl Options {
         }
     }
 
-    /// The absolute tolerance of each of `n` components, after checking
-    /// every setting.
-    pub(crate) fn validated_atol(&self, n: usize) -> Result<Vec<f64>, SolveError> {
+    /// The absolute tolerance of each component at the start `y0`, and
+    /// what makes it follow the sizes when it does, after checking every
+    /// setting.
+    pub(crate) fn validated_atol(
+        &self,
+        y0: &[f64],
+    ) -> Result<(Vec<f64>, Option<BySize>), SolveError> {
+        let n = y0.len();
         if !(self.rtol.is_finite() && self.rtol >= 0.0 && self.rtol < 1.0) {
             return Err(SolveError::Invalid(format!(
                 "rtol = {} must lie in [0, 1)",
                 self.rtol
             )));
         }
+        let mut by_size = None;
         let atol = match &self.atol {
             Atol::Scalar(a) => vec![*a; n],
             Atol::PerComponent(v) if v.len() == n => v.clone(),
@@ -115,6 +205,26 @@ impl Options {
                     "atol has {} components for a system of {n}",
                     v.len()
                 )));
+            }
+            Atol::BySize(b) => {
+                if !(b.factor.is_finite() && b.factor > 0.0) {
+                    return Err(SolveError::Invalid(format!(
+                        "the atol factor {} must be positive and finite",
+                        b.factor
+                    )));
+                }
+                let lens = [b.fixed.len(), b.cap.len(), b.seen.len()];
+                if lens.iter().any(|&l| l != 0 && l != n) {
+                    return Err(SolveError::Invalid(format!(
+                        "atol has {} components for a system of {n}",
+                        lens.iter().max().unwrap_or(&0)
+                    )));
+                }
+                let mut b = b.clone();
+                let mut atol = vec![0.0; n];
+                b.follow(y0, &mut atol);
+                by_size = Some(b);
+                atol
             }
         };
         if let Some(a) = atol.iter().find(|a| !(a.is_finite() && **a > 0.0)) {
@@ -139,7 +249,7 @@ impl Options {
         {
             return Err(SolveError::Invalid(format!("t_stop = {v} must be finite")));
         }
-        Ok(atol)
+        Ok((atol, by_size))
     }
 }
 
@@ -200,6 +310,10 @@ pub trait OdeSolver {
 
     /// The time stiffness was detected, if it was (DOP853 and auto).
     fn stiffness(&self) -> Option<f64>;
+
+    /// The absolute tolerance of each component now (they may follow the
+    /// sizes, [`Atol::BySize`]); `None` for a fixed-step method.
+    fn atol(&self) -> Option<&[f64]>;
 }
 
 /// Which solver [`make`] builds.
@@ -375,6 +489,10 @@ pub(crate) trait Stepper {
     fn stiff_from(&self) -> Option<f64> {
         None
     }
+    /// The absolute tolerances now, for a method with error control.
+    fn abs_tol(&self) -> Option<&[f64]> {
+        None
+    }
     fn requests(&mut self) -> &mut Requests;
     fn t_stop(&self) -> Option<f64>;
     /// (t_old, t_new) of the last accepted step.
@@ -422,6 +540,9 @@ impl<M: Stepper> OdeSolver for M {
     }
     fn stiffness(&self) -> Option<f64> {
         Stepper::stiff_from(self)
+    }
+    fn atol(&self) -> Option<&[f64]> {
+        Stepper::abs_tol(self)
     }
 }
 
@@ -508,4 +629,72 @@ pub(crate) fn drive_dense<M: Stepper>(
         return Err(SolveError::BlowUp { t: t_old });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each tolerance follows the largest size its component has reached
+    /// (sizes above 1 counting as 1), never below the noise floor of the
+    /// largest size of all; a fixed one stays; a cap bounds one that follows.
+    #[test]
+    fn tolerances_follow_the_largest_size_reached() {
+        let mut b = BySize::new(1e-8);
+        let mut atol = [0.0; 4];
+        b.follow(&[1e-12, 0.0, 5.0, 0.5], &mut atol);
+        assert_eq!(atol, [1e-20, 5e-14, 1e-8, 5e-9]);
+        // The sizes fall: the tolerances keep the largest reached.
+        b.follow(&[1e-15, 0.0, -0.001, 0.1], &mut atol);
+        assert_eq!(atol, [1e-20, 5e-14, 1e-8, 5e-9]);
+        // A component that grows takes its tolerance with it.
+        b.follow(&[2e-12, 1e-3, 0.0, f64::NAN], &mut atol);
+        assert_eq!(atol, [2e-20, 1e-11, 1e-8, 5e-9]);
+        let mut b = BySize {
+            fixed: vec![Some(1e-30), None, None, None],
+            cap: vec![None, Some(1e-16), None, None],
+            ..BySize::new(1e-8)
+        };
+        b.follow(&[1.0, 1.0, 0.0, 0.0], &mut atol);
+        assert_eq!(atol, [1e-30, 1e-16, 1e-14, 1e-14]);
+        // Everything still exactly zero (a start at rest): the tolerance of
+        // a component of size 1, until something moves.
+        let mut b = BySize::new(1e-8);
+        b.follow(&[0.0, 0.0, 0.0, 0.0], &mut atol);
+        assert_eq!(atol, [1e-8; 4]);
+        b.follow(&[1e-200, 0.0, 0.0, 0.0], &mut atol);
+        assert_eq!(atol, [1e-100; 4]);
+    }
+
+    /// A `BySize` of the wrong length or factor is refused like any other
+    /// atol, and its start is the tolerance of the initial state.
+    #[test]
+    fn a_by_size_tolerance_is_validated_and_starts_from_y0() {
+        let opts = |b: BySize| Options {
+            atol: Atol::BySize(b),
+            ..Options::default()
+        };
+        let (atol, b) = opts(BySize::new(1e-8))
+            .validated_atol(&[2.0, 1e-6])
+            .unwrap();
+        assert_eq!(atol, vec![1e-8, 1e-14]);
+        assert_eq!(b.unwrap().seen, vec![2.0, 1e-6]);
+        for bad in [
+            BySize::new(0.0),
+            BySize::new(f64::NAN),
+            BySize {
+                fixed: vec![None],
+                ..BySize::new(1e-8)
+            },
+            BySize {
+                fixed: vec![Some(-1.0), None],
+                ..BySize::new(1e-8)
+            },
+        ] {
+            assert!(
+                opts(bad.clone()).validated_atol(&[2.0, 1e-6]).is_err(),
+                "{bad:?}"
+            );
+        }
+    }
 }

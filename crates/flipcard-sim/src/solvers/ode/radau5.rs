@@ -50,7 +50,7 @@ use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
 use super::band::{Band, BandLu};
 
-use super::{OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
+use super::{BySize, OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
 
 /// T and T⁻¹ with T⁻¹ A⁻¹ T = [[γ, 0, 0], [0, α, −β], [0, β, α]] (RADAU5's
 /// published digits; the unit test rebuilds A⁻¹ from them).
@@ -169,6 +169,8 @@ pub struct Radau5<S> {
     atol: Vec<f64>,
     user_rtol: f64,
     user_atol: Vec<f64>,
+    /// What `user_atol` follows, when it follows the sizes.
+    by_size: Option<BySize>,
     fnewt: f64,
     max_steps: u64,
     max_step: f64,
@@ -278,7 +280,7 @@ impl<S: OdeSystem> Radau5<S> {
     pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Radau5<S>, SolveError> {
         super::check_start(&sys, t0, y0)?;
         let n = sys.dim();
-        let user_atol = opts.validated_atol(n)?;
+        let (user_atol, by_size) = opts.validated_atol(y0)?;
         if opts.rtol <= 10.0 * f64::EPSILON {
             return Err(SolveError::Invalid(format!(
                 "radau5 needs rtol above {:e}, not {}",
@@ -298,6 +300,7 @@ impl<S: OdeSystem> Radau5<S> {
             atol,
             user_rtol: opts.rtol,
             user_atol,
+            by_size,
             fnewt,
             max_steps: opts.max_steps,
             max_step: opts.max_step.unwrap_or(f64::INFINITY),
@@ -371,6 +374,17 @@ impl<S: OdeSystem> Radau5<S> {
 
     /// Hands the system, the current point and the next step size over
     /// (for `auto`, going back to the explicit method).
+    /// The absolute tolerance of each component now (the user's, before
+    /// RADAU5's map).
+    pub(crate) fn atol_now(&self) -> &[f64] {
+        &self.user_atol
+    }
+
+    /// The sizes the tolerances follow, when they do.
+    pub(crate) fn by_size(&self) -> Option<&BySize> {
+        self.by_size.as_ref()
+    }
+
     pub(crate) fn into_parts(self) -> (S, f64, Vec<f64>, Work, f64) {
         (self.sys, self.t, self.y, self.work, self.h)
     }
@@ -835,6 +849,12 @@ impl<S: OdeSystem> Radau5<S> {
         self.y.copy_from_slice(&self.tmp);
         std::mem::swap(&mut self.f0, &mut self.fz[0]);
         self.jac_fresh = false;
+        if let Some(b) = &mut self.by_size {
+            b.follow(&self.y, &mut self.user_atol);
+            for (a, u) in self.atol.iter_mut().zip(&self.user_atol) {
+                *a = self.rtol * u / self.user_rtol;
+            }
+        }
         self.update_scale();
         if let Some(fixed) = self.fixed {
             self.h = fixed;
@@ -862,6 +882,9 @@ impl<S: OdeSystem> Radau5<S> {
 }
 
 impl<S: OdeSystem> Stepper for Radau5<S> {
+    fn abs_tol(&self) -> Option<&[f64]> {
+        Some(&self.user_atol)
+    }
     fn method_name(&self) -> &'static str {
         "radau5"
     }
