@@ -640,23 +640,31 @@ mod tests {
     /// largest size of all; a fixed one stays; a cap bounds one that follows.
     #[test]
     fn tolerances_follow_the_largest_size_reached() {
-        let mut b = BySize::new(1e-8);
+        let close = |got: [f64; 4], want: [f64; 4]| {
+            for (g, w) in got.iter().zip(want) {
+                assert!((g - w).abs() <= 1e-12 * w, "{got:?} against {want:?}");
+            }
+        };
+        let mut b = BySize::new(1e-2);
         let mut atol = [0.0; 4];
-        b.follow(&[1e-12, 0.0, 5.0, 0.5], &mut atol);
-        assert_eq!(atol, [1e-20, 5e-14, 1e-8, 5e-9]);
+        // 1e-9 at its own size; 0 at the noise floor (1e-14 × 5); 5 as 1.
+        b.follow(&[1e-9, 0.0, 5.0, 0.5], &mut atol);
+        close(atol, [1e-11, 5e-14, 1e-2, 5e-3]);
         // The sizes fall: the tolerances keep the largest reached.
-        b.follow(&[1e-15, 0.0, -0.001, 0.1], &mut atol);
-        assert_eq!(atol, [1e-20, 5e-14, 1e-8, 5e-9]);
-        // A component that grows takes its tolerance with it.
-        b.follow(&[2e-12, 1e-3, 0.0, f64::NAN], &mut atol);
-        assert_eq!(atol, [2e-20, 1e-11, 1e-8, 5e-9]);
+        b.follow(&[1e-12, 0.0, -0.001, 0.1], &mut atol);
+        close(atol, [1e-11, 5e-14, 1e-2, 5e-3]);
+        // A component that grows takes its tolerance with it; NaN is no size.
+        b.follow(&[2e-9, 1e-3, 0.0, f64::NAN], &mut atol);
+        close(atol, [2e-11, 1e-5, 1e-2, 5e-3]);
+        // Beside a component of size 1, one of size 1e-20 is held at the
+        // noise floor, not at 1e-22.
         let mut b = BySize {
             fixed: vec![Some(1e-30), None, None, None],
             cap: vec![None, Some(1e-16), None, None],
-            ..BySize::new(1e-8)
+            ..BySize::new(1e-2)
         };
-        b.follow(&[1.0, 1.0, 0.0, 0.0], &mut atol);
-        assert_eq!(atol, [1e-30, 1e-16, 1e-14, 1e-14]);
+        b.follow(&[1.0, 1.0, 1e-20, 0.0], &mut atol);
+        close(atol, [1e-30, 1e-16, 1e-14, 1e-14]);
         // Everything still exactly zero (a start at rest): the tolerance of
         // a component of size 1, until something moves.
         let mut b = BySize::new(1e-8);
@@ -677,7 +685,8 @@ mod tests {
         let (atol, b) = opts(BySize::new(1e-8))
             .validated_atol(&[2.0, 1e-6])
             .unwrap();
-        assert_eq!(atol, vec![1e-8, 1e-14]);
+        // 2 counts as 1; 1e-6 is held at the noise floor, 1e-14 × 2.
+        assert_eq!(atol, vec![1e-8, 2e-14]);
         assert_eq!(b.unwrap().seen, vec![2.0, 1e-6]);
         for bad in [
             BySize::new(0.0),
