@@ -300,6 +300,34 @@ pub(super) fn draw_question(
     }
 }
 
+/// The verdict's rows: every line when they fit; otherwise the learner's
+/// window on them (`scroll`, from `j`/`k`, kept within the lines) and a
+/// last row saying how many lines are below, so no text is ever cut
+/// where the learner cannot reach it.
+pub(super) fn verdict_window(
+    app: &App,
+    mut lines: Vec<Line<'static>>,
+    scroll: usize,
+    area: Rect,
+) -> Vec<Line<'static>> {
+    let rows = usize::from(area.height);
+    if lines.len() <= rows || rows < 2 {
+        return lines;
+    }
+    let body = rows - 1;
+    let from = scroll.min(lines.len() - body);
+    let below = lines.len() - from - body;
+    let mut shown: Vec<Line<'static>> = lines.drain(from..from + body).collect();
+    let words = crate::tui::i18n::sim_words::VERDICT_MORE;
+    let more = if below > 0 {
+        words.get(&app.lang).replace("{n}", &below.to_string())
+    } else {
+        "↑ k".to_string()
+    };
+    shown.push(Line::from(Span::styled(more, app.theme.dim())));
+    shown
+}
+
 /// The first `n` of `lines`, the last one ending in "…" when some were
 /// left out.
 pub(super) fn cut_lines(
