@@ -629,6 +629,7 @@ fn cloze_items_numbers_and_retries_make_a_report_an_instructor_can_act_on() {
                         .judge_attempt(
                             c.id,
                             &AttemptVerdict {
+                                misconception: None,
                                 measured: Some(0.1732),
                                 correct,
                                 judged_at: at + chrono::Duration::seconds(9),

@@ -93,7 +93,7 @@ fn esc_mid_run_then_answering_again_keeps_both_the_second_as_a_retry() {
                 a.prediction.as_str(),
                 a.attempt,
                 a.is_retry(),
-                a.verdict.map(|v| v.correct),
+                a.verdict.as_ref().map(|v| v.correct),
             )
         })
         .collect();

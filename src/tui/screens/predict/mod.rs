@@ -197,7 +197,13 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
         return Nav::Stay;
     }
     if matches!(action, Action::Down | Action::Up)
-        && matches!(state.phase, Phase::Play { verdict: Some(_), .. })
+        && matches!(
+            state.phase,
+            Phase::Play {
+                verdict: Some(_),
+                ..
+            }
+        )
     {
         // Drawing keeps it within the verdict's lines.
         state.verdict_scroll = match action {

@@ -376,11 +376,19 @@ fn misconception(app: &App, prompt: &Prompt, v: &Verdict, width: usize) -> Vec<L
         .decks
         .iter()
         .find(|d| d.prompts.iter().any(|p| std::ptr::eq(p, prompt)))
-        .or_else(|| app.decks.iter().find(|d| d.prompt(&prompt.id) == Some(prompt)))
+        .or_else(|| {
+            app.decks
+                .iter()
+                .find(|d| d.prompt(&prompt.id) == Some(prompt))
+        })
     else {
         return Vec::new();
     };
-    let Some(m) = v.misconception.as_deref().and_then(|id| deck.misconception(id)) else {
+    let Some(m) = v
+        .misconception
+        .as_deref()
+        .and_then(|id| deck.misconception(id))
+    else {
         return Vec::new();
     };
     let block = |label: &str, text: &str, style| {
