@@ -774,6 +774,7 @@ fn wrong_numbers_that_are_known_slips_are_named_by_them() {
         .iter()
         .map(|p| {
             Export::Attempts(vec![AttemptRow {
+                misconception: None,
                 deck: DECK.into(),
                 prompt: "efold-time".into(),
                 attempted_at: t0,

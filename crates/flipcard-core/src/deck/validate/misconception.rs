@@ -236,3 +236,112 @@ pub fn ranges(
     }
     ok.then_some(out)
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::PathBuf;
+
+    use proptest::prelude::*;
+
+    use crate::deck::files::Memory;
+
+    /// A deck whose number prompt (right at 5.774 ± 5 %) maps `range` to a
+    /// misconception, loaded from memory: its misconceptions' ranges, or
+    /// the diagnostics' lines and messages.
+    fn load(range: &str) -> Result<Vec<crate::deck::model::WrongRange>, Vec<String>> {
+        let deck = format!(
+            "[deck]\nid = \"d\"\ntitle = 'D'\nlanguages = [\"en\"]\n\n\
+             [[prompt]]\nid = \"p\"\nquestion = 'How fast?'\nscene = \"s\"\n\n\
+             [prompt.answer]\nkind = \"number\"\nmeasure = \"growth_rate\"\nunit = \"1/s\"\n\
+             expected = 5.774\ntolerance = {{ rel = 0.05 }}\n\
+             misconceptions = [{{ range = {range}, id = \"m\" }}]\n\n\
+             [[scene]]\nid = \"s\"\ninertia = [1.0, 2.0, 3.0]\nflat = true\n\
+             omega = [0.001, 10.0, 0.001]\nduration = 4.0\nshow = [\"omega\"]\n\n\
+             [[misconception]]\nid = \"m\"\ntitle = 'T'\nwhy_it_seems_right = 'W'\nfix = 'F'\n"
+        );
+        let bytes: &'static [u8] = Box::leak(deck.into_bytes().into_boxed_slice());
+        let tree = Memory::new([
+            (PathBuf::from("/r/decks/d.toml"), bytes),
+            (PathBuf::from("/r/content/d/en.toml"), &b""[..]),
+        ]);
+        let (loaded, _) = crate::deck::load_sources(&[(&tree, PathBuf::from("/r/decks"))]);
+        if loaded.errors() > 0 {
+            return Err(loaded
+                .diagnostics
+                .iter()
+                .map(|d| format!("{}:{}: {}", d.line, d.col, d.message))
+                .collect());
+        }
+        let d = loaded.decks.first().expect("a deck without errors loads");
+        match &d.prompts[0].answer {
+            crate::deck::model::Answer::Number { misconceptions, .. } => Ok(misconceptions.clone()),
+            _ => unreachable!(),
+        }
+    }
+
+    fn toml_number(v: f64) -> String {
+        if v.is_nan() {
+            "nan".into()
+        } else if v.is_infinite() {
+            if v > 0.0 { "inf".into() } else { "-inf".into() }
+        } else {
+            format!("{v:?}")
+        }
+    }
+
+    fn end() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            8 => -20.0f64..20.0,
+            1 => Just(f64::INFINITY),
+            1 => Just(f64::NEG_INFINITY),
+            1 => Just(f64::NAN),
+            2 => Just(5.774 * 0.95),
+            2 => Just(5.774 * 1.05),
+        ]
+    }
+
+    proptest! {
+        /// Any two numbers as a range are loaded as written exactly when
+        /// both are finite, low first, and clear of the right answer's
+        /// tolerance; otherwise one error, on the range's line, and no
+        /// deck. Run longer with
+        /// `PROPTEST_CASES=20000 cargo test --lib validate::misconception`.
+        #[test]
+        fn a_range_is_loaded_or_refused_by_its_numbers(lo in end(), hi in end()) {
+            let radius = 0.05 * 5.774f64;
+            let fine = lo.is_finite()
+                && hi.is_finite()
+                && lo <= hi
+                && !(lo <= 5.774 + radius && hi >= 5.774 - radius);
+            let got = load(&format!("[{}, {}]", toml_number(lo), toml_number(hi)));
+            match got {
+                Ok(ranges) => {
+                    prop_assert!(fine, "[{lo}, {hi}] was loaded");
+                    prop_assert_eq!(ranges.len(), 1);
+                    prop_assert_eq!((ranges[0].lo, ranges[0].hi), (lo, hi));
+                    prop_assert_eq!(&ranges[0].id, "m");
+                }
+                Err(errors) => {
+                    prop_assert!(!fine, "[{lo}, {hi}] refused: {errors:?}");
+                    prop_assert!(
+                        errors.iter().all(|e| e.starts_with("15:")),
+                        "{errors:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_range_of_one_or_three_numbers_is_refused_at_the_range() {
+        for range in ["[1.0]", "[1.0, 2.0, 3.0]", "[]"] {
+            let errors = load(range).unwrap_err();
+            assert!(
+                errors
+                    .iter()
+                    .any(|e| e.starts_with("15:") && e.contains("two numbers, [low, high]")),
+                "{range}: {errors:?}"
+            );
+        }
+    }
+}
