@@ -143,9 +143,7 @@ fn report_groups_wrong_answers_by_misconception_across_prompts() {
     assert_eq!(out.code(), Some(1), "a file was skipped");
     let err = out.stderr();
     assert!(
-        err.contains(
-            "bad.csv:2: misconception \"Omega Constant\" is not an id"
-        ),
+        err.contains("bad.csv:2: misconception \"Omega Constant\" is not an id"),
         "{err}"
     );
     let text = out.stdout();
