@@ -792,7 +792,7 @@ pub mod sim_words {
     /// `{s}`: the title of the section `e` opens.
     pub const READ_MORE: Words = Words("e: read more in {s}", "e: {s} mein aur padho");
     /// `{n}`: lines of the verdict below the screen's last row.
-    pub const VERDICT_MORE: Words = Words("↓ j: {n} more lines", "↓ j: {n} aur lines");
+    pub const VERDICT_MORE: Words = Words("↓ {n} more lines (j)", "↓ {n} aur lines (j)");
 }
 
 /// Words of filtered study across decks and of the leech list on the stats

@@ -27,9 +27,9 @@ fn rows(app: &TestApp) -> Vec<String> {
 fn marker(rows: &[String]) -> Option<(usize, bool)> {
     rows.iter().enumerate().find_map(|(i, r)| {
         let t = r.trim();
-        if t.starts_with("↓ j:") {
+        if t.starts_with('↓') && t.ends_with("(j)") {
             Some((i, false))
-        } else if t == "↑ k" {
+        } else if t == "↑ (k)" {
             Some((i, true))
         } else {
             None

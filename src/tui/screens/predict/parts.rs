@@ -322,7 +322,7 @@ pub(super) fn verdict_window(
     let more = if below > 0 {
         words.get(&app.lang).replace("{n}", &below.to_string())
     } else {
-        "↑ k".to_string()
+        "↑ (k)".to_string()
     };
     shown.push(Line::from(Span::styled(more, app.theme.dim())));
     shown
