@@ -791,8 +791,11 @@ pub mod sim_words {
     pub const FIX: Words = Words("Fix", "Sudhaar");
     /// `{s}`: the title of the section `e` opens.
     pub const READ_MORE: Words = Words("e: read more in {s}", "e: {s} mein aur padho");
-    /// `{n}`: lines of the verdict below the screen's last row.
-    pub const VERDICT_MORE: Words = Words("↓ {n} more lines (j)", "↓ {n} aur lines (j)");
+    /// `{n}`: lines of the verdict below the screen's last row, counted
+    /// (`MORE_LINE`, `MORE_LINES`).
+    pub const VERDICT_MORE: Words = Words("↓ {n} (j)", "↓ {n} (j)");
+    pub const MORE_LINE: Words = Words("more line", "aur line");
+    pub const MORE_LINES: Words = Words("more lines", "aur lines");
 }
 
 /// Words of filtered study across decks and of the leech list on the stats

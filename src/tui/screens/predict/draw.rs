@@ -1,6 +1,8 @@
 //! Drawing the predict screen: the question and the commitment, then the
 //! scene's panels, the run's status and diagnostics, and the verdict.
 
+use std::cell::Cell;
+
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
@@ -52,7 +54,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
             let verdict = verdict.as_ref();
             let diag = (state.shows_diagnostics(), state.question_first);
             let said = (prompt, *prediction);
-            let verdict = verdict.map(|v| (v, state.verdict_scroll));
+            let verdict = verdict.map(|v| (v, &state.verdict_scroll));
             match run.sim() {
                 Sim::Rigid(r) => draw_play(frame, area, app, said, (run, r), verdict, diag),
                 Sim::System { run: sys, .. } => {
@@ -141,10 +143,10 @@ fn draw_play(
     app: &App,
     (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SceneRun),
-    verdict: Option<(&Verdict, usize)>,
+    verdict: Option<(&Verdict, &Cell<usize>)>,
     (show_diagnostics, question_first): (bool, bool),
 ) {
-    let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map_or(0, |v| v.1));
+    let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
     let t = &app.theme;
     let width = area.width as usize;
     let diag_lines = match run.diagnostics() {

@@ -98,8 +98,10 @@ pub struct PredictState {
     /// The learner asked for the whole question first (`w`): on a screen
     /// too small for it beside the verdict, the verdict gives way.
     pub question_first: bool,
-    /// How far the learner scrolled a verdict taller than its rows (`j`).
-    pub verdict_scroll: usize,
+    /// How far the learner scrolled a verdict taller than its rows (`j`):
+    /// drawing keeps it within the verdict's lines, so `k` brings it back
+    /// at once however often `j` was pressed.
+    pub verdict_scroll: std::cell::Cell<usize>,
 }
 
 impl PredictState {
@@ -115,7 +117,7 @@ impl PredictState {
             choice,
             diagnostics: None,
             question_first: false,
-            verdict_scroll: 0,
+            verdict_scroll: std::cell::Cell::new(0),
             phase: Phase::Ask {
                 selected: 0,
                 input: String::new(),
@@ -205,11 +207,11 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             }
         )
     {
-        // Drawing keeps it within the verdict's lines.
-        state.verdict_scroll = match action {
-            Action::Down => state.verdict_scroll.saturating_add(1),
-            _ => state.verdict_scroll.saturating_sub(1),
-        };
+        let now = state.verdict_scroll.get();
+        state.verdict_scroll.set(match action {
+            Action::Down => now.saturating_add(1),
+            _ => now.saturating_sub(1),
+        });
         return Nav::Stay;
     }
     let known = deck(app, state)

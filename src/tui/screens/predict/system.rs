@@ -54,10 +54,10 @@ pub fn draw(
     app: &App,
     (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SystemRun),
-    verdict: Option<(&Verdict, usize)>,
+    verdict: Option<(&Verdict, &std::cell::Cell<usize>)>,
     (show_diagnostics, question_first): (bool, bool),
 ) {
-    let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map_or(0, |v| v.1));
+    let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
     let t = &app.theme;
     let diag_lines = if show_diagnostics && run.scene().shows(SystemPanel::Diagnostics) {
         let line = system_plots::diagnostics_line(run, &app.lang);
