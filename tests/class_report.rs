@@ -12,7 +12,7 @@ use crate::support::{Flipcard, Output};
 
 const DECK: &str = "torque-free-rotation";
 
-fn flipcard(dir: &Path, args: &[&str]) -> Output {
+pub(crate) fn flipcard(dir: &Path, args: &[&str]) -> Output {
     Flipcard::new(dir.join("data"))
         .now("2026-05-10T12:00:00Z")
         .current_dir(dir)

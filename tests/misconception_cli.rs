@@ -6,17 +6,9 @@
 
 use std::path::Path;
 
-use crate::support::{Flipcard, Output};
+use crate::class_report::flipcard;
 
 const DECK: &str = "torque-free-rotation";
-
-fn flipcard(dir: &Path, args: &[&str]) -> Output {
-    Flipcard::new(dir.join("data"))
-        .now("2026-05-10T12:00:00Z")
-        .current_dir(dir)
-        .args(args)
-        .run()
-}
 
 fn at(s: &str) -> chrono::DateTime<chrono::Utc> {
     chrono::DateTime::parse_from_rfc3339(s)

@@ -7,8 +7,8 @@
 use crossterm::event::KeyCode;
 
 use super::predict::{bundled_prompt_in, flat, play_to_the_end, predict};
+use super::predict_attempts::on_disk;
 use super::{press, press_all, type_text};
-use crate::store::{Store, StoredAttempt};
 use crate::tui::i18n::{ENGLISH, HINGLISH};
 use crate::tui::keymap::Context;
 use crate::tui::screens::Screen;
@@ -63,18 +63,6 @@ fn words(s: &str) -> String {
         .split_whitespace()
         .collect::<Vec<_>>()
         .join(" ")
-}
-
-fn stored(app: &TestApp) -> Vec<StoredAttempt> {
-    let store = Store::open_read_only(app.dir.path()).expect("the store opens");
-    let mut out = Vec::new();
-    store
-        .each_attempt(|a| {
-            out.push(a);
-            Ok::<_, crate::store::StoreError>(())
-        })
-        .expect("attempts read");
-    out
 }
 
 /// Choosing the choice that stands for misconception A of the torque-free
@@ -137,7 +125,7 @@ fn a_misconception_choice_shows_the_steel_man_and_the_fix_at_every_size() {
             }
             // Beside the evidence: the run's flips.
             assert!(said.contains("flip") || said.contains("palat"), "{said}");
-            let rows = stored(&app);
+            let rows = on_disk(&app);
             let last = rows.last().expect("the attempt is kept");
             assert_eq!(last.prediction, "stable");
             assert_eq!(
@@ -174,7 +162,7 @@ fn a_right_choice_names_no_misconception() {
     let screen = flat(&render(&app));
     assert!(screen.contains("✓ Right ✓"), "{screen}");
     assert!(!screen.contains("Common mistake"), "{screen}");
-    let rows = stored(&app);
+    let rows = on_disk(&app);
     let v = rows.last().unwrap().verdict.as_ref().unwrap();
     assert!(v.correct && v.misconception.is_none(), "{v:?}");
 }
@@ -198,7 +186,7 @@ fn a_number_in_a_misconception_range_names_it() {
                 .get(ENGLISH),
         );
         assert_eq!(said.contains(&title), named.is_some(), "{typed}: {said}");
-        let rows = stored(&app);
+        let rows = on_disk(&app);
         let v = rows.last().unwrap().verdict.as_ref().unwrap();
         assert!(!v.correct);
         assert_eq!(v.misconception.as_deref(), named, "{typed}");
