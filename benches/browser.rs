@@ -106,6 +106,7 @@ fn deck() -> Deck {
         ));
     }
     Deck {
+        misconceptions: Vec::new(),
         id: "big".into(),
         title: text("Big".into(), "Bada".into()),
         description: None,

@@ -229,11 +229,13 @@ fn an_answer_check_accepts_stays_right_in_a_longer_run() {
                         expected: "a".into(),
                         choices: vec![
                             Choice {
+                                misconception: None,
                                 id: "a".into(),
                                 label: text("a"),
                                 when,
                             },
                             Choice {
+                                misconception: None,
                                 id: "b".into(),
                                 label: text("b"),
                                 when: other,

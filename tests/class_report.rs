@@ -12,7 +12,7 @@ use crate::support::{Flipcard, Output};
 
 const DECK: &str = "torque-free-rotation";
 
-fn flipcard(dir: &Path, args: &[&str]) -> Output {
+pub(crate) fn flipcard(dir: &Path, args: &[&str]) -> Output {
     Flipcard::new(dir.join("data"))
         .now("2026-05-10T12:00:00Z")
         .current_dir(dir)
@@ -629,6 +629,7 @@ fn cloze_items_numbers_and_retries_make_a_report_an_instructor_can_act_on() {
                         .judge_attempt(
                             c.id,
                             &AttemptVerdict {
+                                misconception: None,
                                 measured: Some(0.1732),
                                 correct,
                                 judged_at: at + chrono::Duration::seconds(9),
@@ -773,6 +774,7 @@ fn wrong_numbers_that_are_known_slips_are_named_by_them() {
         .iter()
         .map(|p| {
             Export::Attempts(vec![AttemptRow {
+                misconception: None,
                 deck: DECK.into(),
                 prompt: "efold-time".into(),
                 attempted_at: t0,

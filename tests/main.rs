@@ -25,6 +25,7 @@ mod deck_physics;
 mod doc_examples;
 mod import_reviews_cli;
 mod measure_accuracy;
+mod misconception_cli;
 mod optimize_cli;
 mod plan_cli;
 mod portable;

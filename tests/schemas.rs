@@ -100,6 +100,14 @@ fn schemas_name_the_fields_the_reader_knows() {
         .collect();
     assert_eq!(tolerance, set(raw::TOLERANCE_FIELDS));
     assert_eq!(keys(&defs["Slip"]), set(raw::SLIP_FIELDS));
+    assert_eq!(
+        keys(&defs["Misconception"]),
+        set(flipcard::deck::raw_misconception::MISCONCEPTION_FIELDS)
+    );
+    assert_eq!(
+        keys(&defs["WrongRange"]),
+        set(flipcard::deck::raw_misconception::RANGE_FIELDS)
+    );
 
     let content = schema::content_schema();
     assert_eq!(keys(&content), set(raw::CONTENT_FILE_FIELDS));

@@ -783,6 +783,19 @@ pub mod sim_words {
     pub const OBLATE: Words = Words("oblate spheroid", "chapta spheroid");
     pub const PROLATE: Words = Words("prolate spheroid", "lamba spheroid");
     pub const NEEDLE: Words = Words("needle", "needle (sui)");
+
+    /// A wrong answer that stands for one of the deck's misconceptions:
+    /// its name, the steel-man and the fix.
+    pub const MISCONCEPTION: Words = Words("Common mistake", "Aam galti");
+    pub const WHY_IT_SEEMS_RIGHT: Words = Words("Why it seems right", "Sahi kyun lagta hai");
+    pub const FIX: Words = Words("Fix", "Sudhaar");
+    /// `{s}`: the title of the section `e` opens.
+    pub const READ_MORE: Words = Words("e: read more in {s}", "e: {s} mein aur padho");
+    /// `{n}`: lines of the verdict below the screen's last row, counted
+    /// (`MORE_LINE`, `MORE_LINES`).
+    pub const VERDICT_MORE: Words = Words("↓ {n} (j)", "↓ {n} (j)");
+    pub const MORE_LINE: Words = Words("more line", "aur line");
+    pub const MORE_LINES: Words = Words("more lines", "aur lines");
 }
 
 /// Words of filtered study across decks and of the leech list on the stats

@@ -39,6 +39,7 @@ fn text(en: &str, hi: &str) -> Text {
 
 pub fn deck() -> Deck {
     Deck {
+        misconceptions: Vec::new(),
         id: "torque-free".into(),
         title: text("Torque-free rotation", "Torque-free rotation (Hinglish)"),
         description: Some(text(
@@ -119,11 +120,13 @@ pub fn deck() -> Deck {
                 answer: Answer::Choice {
                     choices: vec![
                         Choice {
+                            misconception: None,
                             id: "stable".into(),
                             label: text("It stays stable", "Stable rahega"),
                             when: Condition::compare(Measure::Flips, Cmp::Eq, 0.0),
                         },
                         Choice {
+                            misconception: None,
                             id: "flips".into(),
                             label: text("It flips over and over", "Baar baar flip karega"),
                             when: Condition::compare(Measure::Flips, Cmp::Gt, 0.0),
@@ -143,6 +146,7 @@ pub fn deck() -> Deck {
                 scene: "tennis-racket".into(),
                 explain: Some("stability".into()),
                 answer: Answer::Number {
+                    misconceptions: Vec::new(),
                     measure: Measure::GrowthRate,
                     unit: "1/s".into(),
                     expected: 5.0,

@@ -5,8 +5,10 @@
 //! `text`), `no_verdict` (first attempts left before the run's end that no
 //! answer could grade), `wrong_choice` (a wrong first prediction, or a bin
 //! of numbers around a value typed), `retry` (later attempts: `learners`
-//! who retried, `count` right of `total` judged) and `tag` (worst
-//! retention first). New sections may be added; columns never change.
+//! who retried, `count` right of `total` judged), `misconception` (the
+//! deck's misconception in `id`, `learners` whose wrong answers stood for
+//! it, `count` such attempts, its title and prompts in `text`) and `tag`
+//! (worst retention first). New sections may be added; columns never change.
 //!
 //! A spreadsheet runs a cell that starts with `=`, `+`, `-` or `@` as a
 //! formula (and some read a leading tab or carriage return the same way):
@@ -150,6 +152,19 @@ pub fn table(r: &ClassReport) -> anyhow::Result<String> {
                 &text_cell(&super::choice_name(c)),
             ])?;
         }
+    }
+    for m in &r.misconceptions {
+        w.write_record([
+            "misconception",
+            &text_cell(&m.deck),
+            &text_cell(&m.id),
+            &m.learners.to_string(),
+            &m.attempts.to_string(),
+            "",
+            "",
+            "",
+            &text_cell(&super::misconception_text(m)),
+        ])?;
     }
     for t in &r.tags {
         w.write_record([

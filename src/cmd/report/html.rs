@@ -185,6 +185,25 @@ pub fn page(input: &Input) -> String {
         }
     }
 
+    if !r.misconceptions.is_empty() {
+        h.push_str("<h2>Misconceptions behind wrong answers, most learners first</h2>");
+        h.push_str("<table><tr><th>Deck</th><th>Misconception</th><th>Learners</th><th>Attempts</th><th>Prompts</th></tr>");
+        for m in &r.misconceptions {
+            let _ = write!(
+                h,
+                "<tr><td>{}</td><td>{}</td><td class=\"n\">{}</td><td class=\"n\">{}</td><td>{}</td></tr>",
+                esc(&m.deck),
+                esc(&m
+                    .title
+                    .as_ref()
+                    .map_or(m.id.clone(), |t| format!("{t} ({})", m.id))),
+                m.learners,
+                m.attempts,
+                esc(&m.prompts.join(", "))
+            );
+        }
+        h.push_str("</table>");
+    }
     h.push_str("<h2>Retention by tag, worst first</h2>");
     let tags: Vec<(String, f64, &str)> = r
         .tags

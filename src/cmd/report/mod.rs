@@ -1,7 +1,8 @@
 //! `flipcard report FILES… [--deck ID] [--lang TAG] [--out DIR]`: the class
 //! report from learners' exported reviews and prompt attempts (cards by
 //! their text, first predictions apart from retries, wrong numbers in bins
-//! beside the right answer, retention by tag worst first), as a table in the
+//! beside the right answer, the misconceptions wrong answers stood for
+//! across prompts, retention by tag worst first), as a table in the
 //! terminal and, with `--out`, `DIR/report.html` (one self-contained page:
 //! tables and SVG bar charts, no scripts, nothing fetched) and
 //! `DIR/report.csv`.
@@ -142,6 +143,16 @@ pub fn choice_name(c: &class::Choice) -> String {
     match &c.label {
         Some(l) => format!("{} ({l})", c.prediction),
         None => c.prediction.clone(),
+    }
+}
+
+/// A misconception's title (when the deck is loaded) and the prompts its
+/// wrong answers came from, for the CSV's `text`.
+pub fn misconception_text(m: &class::MisconceptionRow) -> String {
+    let prompts = format!("prompts: {}", m.prompts.join(", "));
+    match &m.title {
+        Some(t) => format!("{t}; {prompts}"),
+        None => prompts,
     }
 }
 
@@ -294,6 +305,32 @@ fn terminal(input: &Input) -> String {
         if !bins.is_empty() {
             out.push_str(&format!("  wrong first predictions: {}\n", bins.join(", ")));
         }
+    }
+    if !r.misconceptions.is_empty() {
+        out.push_str(
+            "\nMisconceptions behind wrong answers, most learners first (every wrong attempt)\n",
+        );
+        let mut rows = vec![vec![
+            "DECK".to_string(),
+            "MISCONCEPTION".into(),
+            "LEARNERS".into(),
+            "ATTEMPTS".into(),
+            "PROMPTS".into(),
+            "TITLE".into(),
+        ]];
+        for m in &r.misconceptions {
+            rows.push(vec![
+                m.deck.clone(),
+                m.id.clone(),
+                m.learners.to_string(),
+                m.attempts.to_string(),
+                m.prompts.join(", "),
+                m.title
+                    .as_deref()
+                    .map_or_else(String::new, |t| ellipsize(t, 60)),
+            ]);
+        }
+        out.push_str(&columns(&rows));
     }
     out.push_str("\nRetention by tag, worst first\n");
     let mut rows = vec![vec![

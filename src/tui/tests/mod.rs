@@ -12,6 +12,7 @@ mod browser;
 mod exam;
 mod formula_sheet;
 mod home;
+mod misconception;
 mod predict;
 mod predict_attempts;
 mod reader;

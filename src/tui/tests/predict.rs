@@ -24,7 +24,7 @@ fn open(lang: &str, n: usize) -> TestApp {
     app
 }
 
-fn predict(app: &TestApp) -> &PredictState {
+pub(super) fn predict(app: &TestApp) -> &PredictState {
     match app.screen() {
         Screen::Predict(p) => p,
         _ => panic!("not on the predict screen"),
@@ -443,7 +443,7 @@ fn bundled_prompt(lang: &str, id: &str, size: (u16, u16)) -> TestApp {
 }
 
 /// Prompt `id` of the bundled deck `deck`, open at `size`.
-fn bundled_prompt_in(deck: &str, lang: &str, id: &str, size: (u16, u16)) -> TestApp {
+pub(super) fn bundled_prompt_in(deck: &str, lang: &str, id: &str, size: (u16, u16)) -> TestApp {
     let loaded = crate::bundled::load();
     let mut app = testkit::app(lang);
     app.decks = loaded.decks.into_iter().filter(|d| d.id == deck).collect();
@@ -458,7 +458,7 @@ fn bundled_prompt_in(deck: &str, lang: &str, id: &str, size: (u16, u16)) -> Test
     app
 }
 
-fn play_to_the_end(app: &mut TestApp) {
+pub(super) fn play_to_the_end(app: &mut TestApp) {
     for _ in 0..6 {
         press(app, KeyCode::Char('+'));
     }
@@ -579,7 +579,7 @@ fn n_goes_to_the_next_prompt_after_the_verdict() {
 
 /// The screen's text as one line: rows joined, runs of spaces made one, so
 /// a wrapped sentence reads whole.
-fn flat(screen: &str) -> String {
+pub(super) fn flat(screen: &str) -> String {
     let joined: String = screen
         .lines()
         .map(|l| l.trim_matches('"'))

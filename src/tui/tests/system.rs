@@ -82,11 +82,13 @@ fn app(lang: &str) -> TestApp {
         answer: Answer::Choice {
             choices: vec![
                 Choice {
+                    misconception: None,
                     id: "longer".into(),
                     label: text("Longer than 2 T₀", "2 T₀ se zyada"),
                     when: Condition::compare(period, Cmp::Gt, 4.0121),
                 },
                 Choice {
+                    misconception: None,
                     id: "shorter".into(),
                     label: text("At most 2 T₀", "2 T₀ tak"),
                     when: Condition::compare(period, Cmp::Le, 4.0121),
@@ -195,6 +197,7 @@ fn app_on(scene: SystemScene, measure: Measure, threshold: f64) -> TestApp {
     let id = scene.id.clone();
     deck.systems.push(scene);
     let choice = |id: &str, op: Cmp| Choice {
+        misconception: None,
         id: id.into(),
         label: text(id, id),
         when: Condition::compare(measure, op, threshold),
@@ -597,6 +600,7 @@ fn a_number_verdict_names_its_measurement_with_its_unit_and_no_empty_formula() {
         scene: "pendulum-170".into(),
         explain: None,
         answer: Answer::Number {
+            misconceptions: Vec::new(),
             measure: Measure::Of(Stat::Period, Name::new("theta").unwrap()),
             unit: "s".into(),
             expected: 4.89,

@@ -340,6 +340,7 @@ fn load_deck(
                 systems: body.systems,
                 sections,
                 units: h.units,
+                misconceptions: body.misconceptions,
                 path: path.to_path_buf(),
             })
         })(),

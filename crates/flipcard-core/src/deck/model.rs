@@ -28,6 +28,9 @@ pub struct Deck {
     pub sections: Vec<Section>,
     /// Units the deck declares for typed answers, besides the known ones.
     pub units: Vec<flipcard_text::units::Declared>,
+    /// Named misconceptions (`[[misconception]]`) the prompts' wrong
+    /// answers stand for.
+    pub misconceptions: Vec<Misconception>,
     /// The deck file this was loaded from.
     pub path: PathBuf,
 }
@@ -47,6 +50,36 @@ impl Deck {
     }
     pub fn section(&self, id: &str) -> Option<&Section> {
         self.sections.iter().find(|s| s.id == id)
+    }
+    pub fn misconception(&self, id: &str) -> Option<&Misconception> {
+        self.misconceptions.iter().find(|m| m.id == id)
+    }
+}
+
+/// A misconception a wrong answer stands for (`[[misconception]]`): its
+/// name, why it seems right (the steel-man) and the fix, in every language.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Misconception {
+    pub id: String,
+    pub title: Text,
+    pub why_it_seems_right: Text,
+    pub fix: Text,
+    /// The explanation section (and anchor) that treats it.
+    pub explain: Option<Explain>,
+}
+
+/// Wrong numbers from `lo` to `hi` (both included) stand for the
+/// misconception `id` (`misconceptions = [{ range = [lo, hi], id }]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WrongRange {
+    pub lo: f64,
+    pub hi: f64,
+    pub id: String,
+}
+
+impl WrongRange {
+    pub fn contains(&self, v: f64) -> bool {
+        self.lo <= v && v <= self.hi
     }
 }
 
@@ -186,6 +219,9 @@ pub enum Answer {
         /// Known wrong numbers (`slips`): what a learner gets by a known
         /// mistake, and what it means, in the author's order.
         slips: Vec<Slip>,
+        /// Ranges of wrong numbers that stand for a misconception, in the
+        /// author's order.
+        misconceptions: Vec<WrongRange>,
     },
 }
 
@@ -236,6 +272,8 @@ pub struct Slip {
     pub says: Text,
     /// The scene's numbers the formula may read, with their values.
     pub scope: Vec<(String, f64)>,
+    /// The misconception this slip stands for.
+    pub misconception: Option<String>,
 }
 
 impl Slip {
@@ -258,6 +296,8 @@ pub struct Choice {
     pub label: Text,
     /// This choice is right when the condition holds for the measurements.
     pub when: Condition,
+    /// The misconception this choice stands for, when it is wrong.
+    pub misconception: Option<String>,
 }
 
 /// A choice's `when`: comparisons joined by `and` and `or` (`and` binds

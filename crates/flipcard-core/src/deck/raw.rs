@@ -9,9 +9,10 @@ use super::read::{self, Fields};
 use super::report::FileReport;
 use super::suggest;
 
+pub use super::raw_misconception::{RawMisconception, RawRange};
 pub use super::read::{Flag, List, Num, RawAccept, RawText, Span, Str};
 
-pub const DECK_FILE_FIELDS: &[&str] = &["deck", "card", "prompt", "scene"];
+pub const DECK_FILE_FIELDS: &[&str] = &["deck", "card", "prompt", "scene", "misconception"];
 pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages", "units"];
 pub const CARD_FIELDS: &[&str] = &[
     "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text",
@@ -27,10 +28,11 @@ pub const NUMBER_ANSWER_FIELDS: &[&str] = &[
     "formula",
     "slips",
     "label",
+    "misconceptions",
 ];
 /// The keys of one known slip of a number answer.
-pub const SLIP_FIELDS: &[&str] = &["value", "says"];
-pub const CHOICE_FIELDS: &[&str] = &["id", "label", "when"];
+pub const SLIP_FIELDS: &[&str] = &["value", "says", "misconception"];
+pub const CHOICE_FIELDS: &[&str] = &["id", "label", "when", "misconception"];
 pub const TOLERANCE_FIELDS: &[&str] = &["abs", "rel"];
 pub const SCENE_FIELDS: &[&str] = &[
     "id",
@@ -68,6 +70,8 @@ pub struct RawDeckFile {
     pub cards: Vec<RawCard>,
     pub prompts: Vec<RawPrompt>,
     pub scenes: Vec<RawScene>,
+    /// `[[misconception]]` tables (see `raw_misconception`).
+    pub misconceptions: Vec<RawMisconception>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -129,6 +133,8 @@ pub enum RawAnswer {
         slips: Option<List<RawSlip>>,
         /// What `measure` is, in words, for the verdict.
         label: Option<RawText>,
+        /// Ranges of wrong numbers that stand for a misconception.
+        misconceptions: Option<List<RawRange>>,
     },
 }
 
@@ -137,6 +143,8 @@ pub struct RawSlip {
     pub span: Span,
     pub value: Option<Str>,
     pub says: Option<RawText>,
+    /// The misconception this slip stands for.
+    pub misconception: Option<Str>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -145,6 +153,8 @@ pub struct RawChoice {
     pub id: Option<Str>,
     pub label: Option<RawText>,
     pub when: Option<Str>,
+    /// The misconception this choice stands for.
+    pub misconception: Option<Str>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -321,6 +331,12 @@ pub(crate) fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Sp
             file.scenes.push(read_scene(rep, t, span));
         }
     }
+    if let Some(v) = top.get("misconception") {
+        for (t, span) in read::tables(rep, v, "misconception") {
+            file.misconceptions
+                .push(super::raw_misconception::read_misconception(rep, t, span));
+        }
+    }
     file
 }
 
@@ -493,6 +509,7 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
                                 span: item.span(),
                                 value: f.string(rep, "value", true),
                                 says: f.text(rep, "says", true),
+                                misconception: f.string(rep, "misconception", false),
                             })
                         })
                         .collect();
@@ -502,6 +519,7 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
                     })
                 }),
                 label: f.text(rep, "label", false),
+                misconceptions: super::raw_misconception::read_ranges(rep, &f),
             })
         }
         other => {
@@ -525,6 +543,7 @@ fn read_choice(rep: &mut FileReport, t: &DeTable, span: Span) -> RawChoice {
         id: f.string(rep, "id", true),
         label: f.text(rep, "label", true),
         when: f.string(rep, "when", true),
+        misconception: f.string(rep, "misconception", false),
     }
 }
 

@@ -30,6 +30,36 @@ pub struct DeckFile {
     pub prompt: Option<Vec<Prompt>>,
     /// Simulations the prompts run, each under `[[scene]]`.
     pub scene: Option<Vec<Scene>>,
+    /// Misconceptions a wrong answer may stand for, each under
+    /// `[[misconception]]`.
+    pub misconception: Option<Vec<Misconception>>,
+}
+
+/// A misconception: what learners believe, why it seems right (the
+/// steel-man) and the fix, shown when a wrong answer stands for it.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct Misconception {
+    /// Named by choices (`misconception = "…"`), slips and ranges.
+    pub id: Id,
+    pub title: Text,
+    /// Why the wrong idea seems right (may hold math).
+    pub why_it_seems_right: Text,
+    /// What is true instead (may hold math).
+    pub fix: Text,
+    /// The section (and anchor) `e` opens after the verdict.
+    pub explain: Option<ExplainLink>,
+}
+
+/// Wrong numbers from `range[0]` to `range[1]` stand for misconception `id`.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct WrongRange {
+    /// `[low, high]`, finite, both ends included; no number in it may be
+    /// within the tolerance of `expected`.
+    #[schemars(length(min = 2, max = 2))]
+    pub range: Vec<f64>,
+    pub id: Id,
 }
 
 /// The deck's identity, title and languages.
@@ -129,6 +159,9 @@ pub enum Answer {
         /// What `measure` is, in words, for the verdict ("time for the
         /// amplitude to fall to 1/e"); may hold math.
         label: Option<Text>,
+        /// Ranges of wrong numbers that stand for a misconception (a slip
+        /// that matches says its own first).
+        misconceptions: Option<Vec<WrongRange>>,
     },
 }
 
@@ -143,6 +176,8 @@ pub struct Slip {
     pub value: String,
     /// What that number means, shown in the verdict (may hold math).
     pub says: Text,
+    /// The misconception this wrong number stands for.
+    pub misconception: Option<Id>,
 }
 
 /// `section-id` or `section-id#anchor`.
@@ -168,6 +203,8 @@ pub struct Choice {
     pub id: Id,
     pub label: Text,
     pub when: Condition,
+    /// The misconception this (wrong) choice stands for.
+    pub misconception: Option<Id>,
 }
 
 /// `{ abs = x }`: |given − measured| ≤ x; `{ rel = r }`: ≤ r·|measured|.

@@ -3,8 +3,9 @@
 //! text, cloze items included) the share of learners who lapsed and the
 //! mean difficulty; per prompt the share whose first prediction was right,
 //! the wrong ones made (numbers in bins around the values typed) beside
-//! the right answer and its formula, and the retries apart; retention by
-//! tag, worst first.
+//! the right answer and its formula, and the retries apart; the deck's
+//! misconceptions behind wrong answers, across prompts; retention by tag,
+//! worst first.
 //!
 //! A learner is a file and is named by its file name only. A file with any
 //! problem is left out whole, its first problem given with a line number.
@@ -113,6 +114,10 @@ pub struct AttemptRow {
     pub attempt: Option<u32>,
     #[serde(default, deserialize_with = "maybe_flag")]
     pub retry: Option<bool>,
+    /// The deck's misconception the wrong answer stood for (absent in
+    /// exports made before schema version 5; null or an empty cell: none).
+    #[serde(default, deserialize_with = "maybe_id")]
+    pub misconception: Option<String>,
 }
 
 /// The largest attempt number read: no learner retries one prompt a
@@ -177,6 +182,19 @@ fn id<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
         )));
     }
     Ok(s)
+}
+
+/// An id of the deck format's pattern, or nothing (null, an empty cell).
+fn maybe_id<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<String>, D::Error> {
+    match Option::<String>::deserialize(d)? {
+        None => Ok(None),
+        Some(s) if s.is_empty() => Ok(None),
+        Some(s) if crate::deck::validate::is_id(&s) => Ok(Some(s)),
+        Some(s) => Err(serde::de::Error::custom(format!(
+            "misconception {} is not an id (lowercase letters and digits in words joined by -)",
+            quoted(&s)
+        ))),
+    }
 }
 
 fn prediction<'de, D: serde::Deserializer<'de>>(d: D) -> Result<String, D::Error> {
@@ -549,6 +567,27 @@ pub struct ClassReport {
     pub prompts: Vec<PromptRow>,
     /// Worst retention first.
     pub tags: Vec<TagRow>,
+    /// The misconceptions wrong answers stood for, across prompts: most
+    /// learners first.
+    pub misconceptions: Vec<MisconceptionRow>,
+}
+
+/// One misconception of a deck across the class: every judged wrong
+/// attempt (first or retry) that stood for it, by the learner's file
+/// (`misconception`), else by the loaded deck (the choice's, or the slip
+/// or range the number falls in).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MisconceptionRow {
+    pub deck: String,
+    pub id: String,
+    /// Its title in the report's language, when the deck is loaded and
+    /// declares it.
+    pub title: Option<String>,
+    /// Learners with at least one wrong answer standing for it.
+    pub learners: usize,
+    pub attempts: usize,
+    /// The prompts those answers were given at, in id order.
+    pub prompts: Vec<String>,
 }
 
 /// The tag of cards whose deck is not among those loaded.
@@ -742,6 +781,7 @@ pub fn aggregate(
             .total_cmp(&share(b))
             .then_with(|| (&a.deck, &a.prompt).cmp(&(&b.deck, &b.prompt)))
     });
+    report.misconceptions = misconceptions(exports, &deck_by_id, &keep, lang);
     report.tags = tags
         .into_iter()
         .map(|(tag, (learners, reviews, recalled))| TagRow {
@@ -759,6 +799,105 @@ pub fn aggregate(
             .then_with(|| a.tag.cmp(&b.tag))
     });
     report
+}
+
+/// What a wrong attempt stood for: the file's word, else what the loaded
+/// deck says of its prediction (a choice's `misconception`; for a number,
+/// the slip it matches at the attempt's measurement, else the first range
+/// holding it).
+fn stood_for(a: &AttemptRow, prompt: Option<&crate::deck::Prompt>) -> Option<String> {
+    if a.misconception.is_some() {
+        return a.misconception.clone();
+    }
+    match &prompt?.answer {
+        Answer::Choice { choices, .. } => choices
+            .iter()
+            .find(|c| c.id == a.prediction.trim())?
+            .misconception
+            .clone(),
+        Answer::Number {
+            slips,
+            tolerance,
+            misconceptions,
+            ..
+        } => {
+            let v = a
+                .prediction
+                .trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())?;
+            let slip = a.measured.and_then(|m| {
+                slips
+                    .iter()
+                    .find(|s| s.value_for(m).is_some_and(|w| tolerance.accepts(v, w)))
+            });
+            match slip {
+                Some(s) if s.misconception.is_some() => s.misconception.clone(),
+                _ => misconceptions
+                    .iter()
+                    .find(|r| r.contains(v))
+                    .map(|r| r.id.clone()),
+            }
+        }
+    }
+}
+
+/// The misconceptions behind the class's wrong answers, most learners
+/// first (then most attempts, then by deck and id).
+fn misconceptions(
+    exports: &[Export],
+    decks: &HashMap<&str, &Deck>,
+    keep: &dyn Fn(&str) -> bool,
+    lang: &str,
+) -> Vec<MisconceptionRow> {
+    type Tally = (usize, usize, std::collections::BTreeSet<String>);
+    let mut by: BTreeMap<(String, String), Tally> = BTreeMap::new();
+    for export in exports {
+        let Export::Attempts(rows) = export else {
+            continue;
+        };
+        let mut mine: std::collections::BTreeSet<(String, String)> = Default::default();
+        for a in rows.iter().filter(|a| keep(&a.deck)) {
+            let prompt = decks.get(a.deck.as_str()).and_then(|d| d.prompt(&a.prompt));
+            if graded(a, prompt) != Some(false) {
+                continue;
+            }
+            let Some(id) = stood_for(a, prompt) else {
+                continue;
+            };
+            let e = by.entry((a.deck.clone(), id.clone())).or_default();
+            e.1 += 1;
+            e.2.insert(a.prompt.clone());
+            mine.insert((a.deck.clone(), id));
+        }
+        for key in mine {
+            by.entry(key).or_default().0 += 1;
+        }
+    }
+    let mut out: Vec<MisconceptionRow> = by
+        .into_iter()
+        .map(
+            |((deck, id), (learners, attempts, prompts))| MisconceptionRow {
+                title: decks
+                    .get(deck.as_str())
+                    .and_then(|d| d.misconception(&id))
+                    .map(|m| flipcard_text::render(m.title.get(lang)).replace('\n', " ")),
+                deck,
+                id,
+                learners,
+                attempts,
+                prompts: prompts.into_iter().collect(),
+            },
+        )
+        .collect();
+    out.sort_by(|a, b| {
+        b.learners
+            .cmp(&a.learners)
+            .then(b.attempts.cmp(&a.attempts))
+            .then_with(|| (&a.deck, &a.id).cmp(&(&b.deck, &b.id)))
+    });
+    out
 }
 
 /// A prompt's row from its tally: its texts in `lang` when the deck is
@@ -1078,6 +1217,7 @@ mod tests {
 
     fn attempt(prediction: &str, at: &str, correct: Option<bool>, n: Option<u32>) -> AttemptRow {
         AttemptRow {
+            misconception: None,
             deck: "d".into(),
             prompt: "p".into(),
             attempted_at: DateTime::parse_from_rfc3339(at)
@@ -1201,6 +1341,37 @@ mod tests {
                 }
                 Ok(Export::Reviews(_)) => proptest::prop_assert!(false, "read as reviews"),
                 Err(e) => proptest::prop_assert!(e.line >= 1 && !e.message.contains('\u{1b}'), "{}", e),
+            }
+        }
+
+        /// A misconception cell is read as an id, nothing (empty) or
+        /// refused at its line, never a panic or a control character in
+        /// the message; a wrong attempt that names one is counted once,
+        /// a right one never. Run longer with
+        /// `PROPTEST_CASES=20000 cargo test --lib interop::class`.
+        #[test]
+        fn misconception_cells_are_ids_or_refused(
+            id in "[-a-zA-Z0-9 \u{1b}]{0,10}",
+            correct in proptest::bool::ANY,
+        ) {
+            let text = format!(
+                "deck,prompt,attempted_at,prediction,measured,correct,attempt,retry,misconception\n\
+                 d,p,2026-01-01T00:00:00Z,x,,{correct},1,false,\"{id}\"\n"
+            );
+            match parse(&text) {
+                Ok(Export::Attempts(rows)) => {
+                    let named = rows[0].misconception.clone();
+                    proptest::prop_assert_eq!(named.is_some(), !id.is_empty());
+                    proptest::prop_assert!(named.as_deref().is_none_or(crate::deck::validate::is_id));
+                    let r = aggregate(&rows_of(rows), &[], None, "en");
+                    let counted: usize = r.misconceptions.iter().map(|m| m.attempts).sum();
+                    proptest::prop_assert_eq!(counted, usize::from(!correct && !id.is_empty()));
+                }
+                Ok(Export::Reviews(_)) => proptest::prop_assert!(false, "read as reviews"),
+                Err(e) => {
+                    proptest::prop_assert!(!id.is_empty() && !crate::deck::validate::is_id(&id));
+                    proptest::prop_assert!(e.line == 2 && !e.message.contains('\u{1b}'), "{}", e);
+                }
             }
         }
 

@@ -242,8 +242,9 @@ pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<Written, 
 /// The fields of `flipcard export --attempts`, in order (also the CSV
 /// header): a contract like [`REVIEW_FIELDS`]. The first six are those of
 /// every version; `attempt` and `retry` came with attempts kept at
-/// commitment (schema version 4).
-pub(crate) const ATTEMPT_FIELDS: [&str; 8] = [
+/// commitment (schema version 4), `misconception` with named
+/// misconceptions (schema version 5).
+pub(crate) const ATTEMPT_FIELDS: [&str; 9] = [
     "deck",
     "prompt",
     "attempted_at",
@@ -252,6 +253,7 @@ pub(crate) const ATTEMPT_FIELDS: [&str; 8] = [
     "correct",
     "attempt",
     "retry",
+    "misconception",
 ];
 
 /// The fields every attempts export has had, first in every version's
@@ -273,6 +275,9 @@ pub(crate) struct ExportedAttempt {
     pub attempt: u32,
     /// `attempt > 1`: made after an earlier attempt at the same prompt.
     pub retry: bool,
+    /// The deck's misconception a wrong answer stands for (null, an empty
+    /// CSV cell: none named, or no verdict).
+    pub misconception: Option<String>,
 }
 
 impl From<crate::store::StoredAttempt> for ExportedAttempt {
@@ -283,8 +288,9 @@ impl From<crate::store::StoredAttempt> for ExportedAttempt {
             prompt: a.prompt,
             attempted_at: rfc3339(a.attempted_at),
             prediction: a.prediction,
-            measured: a.verdict.and_then(|v| v.measured),
-            correct: a.verdict.map(|v| v.correct),
+            measured: a.verdict.as_ref().and_then(|v| v.measured),
+            correct: a.verdict.as_ref().map(|v| v.correct),
+            misconception: a.verdict.and_then(|v| v.misconception),
             attempt: a.attempt,
         }
     }

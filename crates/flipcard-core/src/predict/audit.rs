@@ -764,6 +764,7 @@ mod tests {
                 choices: conditions
                     .iter()
                     .map(|&(id, op, value)| Choice {
+                        misconception: None,
                         id: id.into(),
                         label: text(id),
                         when: Condition::compare(Measure::Flips, op, value),
@@ -815,12 +816,14 @@ mod tests {
         let sc = scene([0.01, 10.0, 0.01], 2.0);
         let scope = flipcard_sim::scene::quantities::rigid(sc.inertia, sc.omega);
         let slip = |value: &str| crate::deck::Slip {
+            misconception: None,
             value: value.to_string(),
             says: text("says"),
             scope: scope.clone(),
         };
         let p = Prompt {
             answer: Answer::Number {
+                misconceptions: Vec::new(),
                 measure: Measure::EfoldTime,
                 unit: "s".into(),
                 expected: 0.1732,
@@ -860,6 +863,7 @@ mod tests {
     fn a_measure_the_run_cannot_make_says_what_it_needs() {
         let p = Prompt {
             answer: Answer::Number {
+                misconceptions: Vec::new(),
                 measure: Measure::FlipPeriod,
                 unit: "s".into(),
                 expected: 1.96,
@@ -909,6 +913,7 @@ mod tests {
     fn number_prompt(measure: Measure, expected: f64) -> Prompt {
         Prompt {
             answer: Answer::Number {
+                misconceptions: Vec::new(),
                 measure,
                 unit: "s".into(),
                 expected,
@@ -928,6 +933,7 @@ mod tests {
                 expected: "bounded".into(),
                 choices: [("bounded", Cmp::Lt), ("grows", Cmp::Ge)]
                     .map(|(id, op)| Choice {
+                        misconception: None,
                         id: id.into(),
                         label: text(id),
                         when: Condition::compare(max_x, op, 6.0),

@@ -52,6 +52,12 @@ pub struct Verdict {
     /// answer's `slips` and its value on this run (the first slip whose
     /// value is within the prompt's tolerance of the learner's number).
     pub slip: Option<(usize, f64)>,
+    /// A wrong answer that stands for one of the deck's misconceptions:
+    /// its id (a wrong choice's `misconception`; for a number, the matched
+    /// slip's `misconception`, else the first of the answer's
+    /// `misconceptions` ranges that holds the number). Never on a right
+    /// answer.
+    pub misconception: Option<String>,
 }
 
 /// Judges `prediction` against the measurements of the prompt's scene: a
@@ -72,6 +78,12 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
             measures.sort();
             measures.dedup();
             let correct = matches!(prediction, Prediction::Choice(i) if holding.contains(&i));
+            let misconception = match prediction {
+                Prediction::Choice(i) if !correct => {
+                    choices.get(i).and_then(|c| c.misconception.clone())
+                }
+                _ => None,
+            };
             Verdict {
                 correct,
                 right_choice: holding.first().copied(),
@@ -82,12 +94,14 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
                     .collect(),
                 evidence: m.evidence().clone(),
                 slip: None,
+                misconception,
             }
         }
         Answer::Number {
             measure,
             tolerance,
             slips,
+            misconceptions,
             ..
         } => {
             let reading = m.reading(*measure).copied();
@@ -105,6 +119,17 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
                 }
                 _ => None,
             };
+            let misconception = match prediction {
+                Prediction::Number(given) if !correct => slip
+                    .and_then(|(i, _)| slips.get(i)?.misconception.clone())
+                    .or_else(|| {
+                        misconceptions
+                            .iter()
+                            .find(|r| r.contains(given))
+                            .map(|r| r.id.clone())
+                    }),
+                _ => None,
+            };
             Verdict {
                 correct,
                 holding: Vec::new(),
@@ -112,6 +137,7 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
                 readings: reading.into_iter().collect(),
                 evidence: m.evidence().clone(),
                 slip,
+                misconception,
             }
         }
     }

@@ -884,6 +884,7 @@ mod deck_tests {
 
     fn deck() -> Deck {
         Deck {
+            misconceptions: Vec::new(),
             id: "rot".into(),
             title: Text::default(),
             description: None,

@@ -6,7 +6,9 @@
 //! who leaves the run and answers again has both answers kept, the first as
 //! the first attempt, the second as a retry. The verdict is written once,
 //! when the run ends ([`Store::judge_attempt`]); the schema's trigger
-//! refuses every other change (schema version 4).
+//! refuses every other change (schema version 4). Since version 5 the
+//! verdict names the misconception a wrong answer stands for, when the
+//! deck names one.
 
 use chrono::{DateTime, Utc};
 use rusqlite::params;
@@ -55,12 +57,15 @@ impl Committed {
 }
 
 /// What the run said of an attempt.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct AttemptVerdict {
     /// The measured value the verdict compared against, if a number.
     pub measured: Option<f64>,
     pub correct: bool,
     pub judged_at: DateTime<Utc>,
+    /// The id of the deck's misconception a wrong answer stands for
+    /// (`predict::Verdict::misconception`); never on a right answer.
+    pub misconception: Option<String>,
 }
 
 /// An attempt as stored, verdict or not.
@@ -136,16 +141,23 @@ impl Store {
         // NaN or infinite measurements are kept as unknown: SQLite cannot
         // store NaN, and an infinite value is no measurement.
         let measured = verdict.measured.filter(|m| m.is_finite());
+        if verdict.correct && verdict.misconception.is_some() {
+            return Err(StoreError::BadRow {
+                id,
+                detail: "a right answer stands for no misconception".into(),
+            });
+        }
         let n = self.write(|w| {
             let mut st = w.prepare_cached(
-                "UPDATE prompt_attempt SET measured = ?2, correct = ?3, judged_at = ?4 \
-                 WHERE id = ?1",
+                "UPDATE prompt_attempt SET measured = ?2, correct = ?3, judged_at = ?4, \
+                 misconception = ?5 WHERE id = ?1",
             )?;
             Ok(st.execute(params![
                 id,
                 measured,
                 verdict.correct,
-                to_ms(verdict.judged_at)
+                to_ms(verdict.judged_at),
+                verdict.misconception,
             ])?)
         })?;
         if n == 0 {
@@ -223,7 +235,7 @@ impl Store {
             .conn
             .prepare(
                 "SELECT id, deck, prompt, attempted_at, prediction, attempt, measured, \
-                 correct, judged_at FROM prompt_attempt ORDER BY id",
+                 correct, judged_at, misconception FROM prompt_attempt ORDER BY id",
             )
             .map_err(|e| self.err(e))?;
         let mut rows = st.query([]).map_err(|e| self.err(e))?;
@@ -245,6 +257,7 @@ impl Store {
                             correct,
                             // A row written whole by another program.
                             judged_at: judged.map_or(attempted_at, |t| t.0),
+                            misconception: row.get(9)?,
                         }),
                         None => None,
                     },
@@ -304,13 +317,14 @@ mod tests {
             measured: Some(2.0),
             correct: true,
             judged_at: at("2026-01-01T10:02:09Z"),
+            misconception: None,
         };
         store.judge_attempt(c.id, &verdict).unwrap();
         let again = store.judge_attempt(
             c.id,
             &AttemptVerdict {
                 correct: false,
-                ..verdict
+                ..verdict.clone()
             },
         );
         assert!(

@@ -11,7 +11,7 @@ use crate::sched::clock::Clock;
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
-pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4];
+pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5];
 
 /// The schema version this build writes.
 pub(crate) fn current_version() -> i64 {
@@ -441,6 +441,17 @@ BEGIN
 END;
 "#;
 
+/// Version 5: an attempt's verdict names the misconception a wrong answer
+/// stands for (issue 24 §3), the deck's misconception id, written with the
+/// verdict (the one UPDATE the trigger of version 4 allows: `correct` goes
+/// from NULL to a value in the same statement) and never on a right
+/// answer. Earlier attempts keep every column and have none. A column
+/// added in place keeps the table, its rows and its append-only triggers.
+const V5: &str = r#"
+ALTER TABLE prompt_attempt ADD COLUMN misconception TEXT
+    CHECK (misconception IS NULL OR (misconception <> '' AND correct = 0));
+"#;
+
 /// Brings the database at `path` up to the last of `migrations`. Before the
 /// first migration of a database that already holds a schema, a copy is made
 /// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
@@ -488,6 +499,11 @@ pub(crate) fn migrate(
         // pages of the tables later ones replaced free inside the file;
         // they are given back so the file is as small as a fresh one.
         conn.execute_batch("VACUUM").map_err(sql_err)?;
+        // In WAL mode the vacuumed pages sit in the write-ahead log until
+        // a checkpoint a thousand pages later: copied into the file now,
+        // the log starts empty (a small disk is not half filled by it).
+        conn.query_row("PRAGMA wal_checkpoint(TRUNCATE)", [], |_| Ok(()))
+            .map_err(sql_err)?;
     }
     Ok(())
 }
@@ -621,7 +637,7 @@ mod tests {
                ('e', 'p', 500, 'x', NULL, 1);",
         )
         .unwrap();
-        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..4], "20260102T000000Z").unwrap();
         assert_eq!(user_version(&conn).unwrap(), 4);
         let mut st = conn
             .prepare(
@@ -675,6 +691,103 @@ mod tests {
             )
             .unwrap_err();
         assert!(twice.to_string().contains("once"), "{twice}");
+    }
+
+    #[test]
+    fn version_5_keeps_every_attempt_and_names_misconceptions_with_the_verdict() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        conn.pragma_update(None, "recursive_triggers", true)
+            .unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..4], "20260101T000000Z").unwrap();
+        // Version 4: judged, open (left before the end) and retried attempts.
+        conn.execute_batch(
+            "INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, measured, \
+               correct, attempt, judged_at) VALUES
+               ('d', 'p', 1000, 'stays', NULL, 0, 1, 1100),
+               ('d', 'p', 2000, 'flips', NULL, 1, 2, 2100),
+               ('d', 'q', 3000, '4.5', 5.3, 0, 1, 3100);
+             INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, attempt) \
+               VALUES ('d', 'q', 4000, '5.3', 2);",
+        )
+        .unwrap();
+        let rows = |conn: &Connection| -> Vec<String> {
+            let mut st = conn
+                .prepare(
+                    "SELECT id || ' ' || deck || '/' || prompt || ' ' || attempted_at || ' ' || \
+                     prediction || ' ' || coalesce(measured, '-') || ' ' || \
+                     coalesce(correct, '-') || ' ' || attempt || ' ' || \
+                     coalesce(judged_at, '-') FROM prompt_attempt ORDER BY id",
+                )
+                .unwrap();
+            st.query_map([], |r| r.get(0))
+                .unwrap()
+                .collect::<Result<_, _>>()
+                .unwrap()
+        };
+        let before = rows(&conn);
+        drop(conn);
+        // Opened by this build: a backup, then version 5.
+        let mut conn = Connection::open(&path).unwrap();
+        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), 5);
+        assert_eq!(rows(&conn), before, "every attempt kept, every column");
+        assert!(
+            path.with_file_name("flipcard.db.bak-v4-20260102T000000Z")
+                .exists(),
+            "the version 4 file is kept"
+        );
+        let none: i64 = conn
+            .query_row(
+                "SELECT count(*) FROM prompt_attempt WHERE misconception IS NOT NULL",
+                [],
+                |r| r.get(0),
+            )
+            .unwrap();
+        assert_eq!(none, 0, "older attempts name no misconception");
+        // The open attempt takes its verdict with its misconception, once.
+        conn.execute(
+            "UPDATE prompt_attempt SET correct = 0, measured = 5.3, judged_at = 4100, \
+             misconception = 'small-angle-formula' WHERE prediction = '5.3'",
+            [],
+        )
+        .unwrap();
+        let again = conn
+            .execute(
+                "UPDATE prompt_attempt SET misconception = 'other' WHERE prediction = '5.3'",
+                [],
+            )
+            .unwrap_err();
+        assert!(again.to_string().contains("append-only"), "{again}");
+        let judged = conn
+            .execute(
+                "UPDATE prompt_attempt SET misconception = 'x' WHERE prediction = 'stays'",
+                [],
+            )
+            .unwrap_err();
+        assert!(judged.to_string().contains("append-only"), "{judged}");
+        let del = conn.execute("DELETE FROM prompt_attempt", []).unwrap_err();
+        assert!(del.to_string().contains("append-only"), "{del}");
+        // Never on a right answer, never empty.
+        for (correct, id) in [(1, "'m'"), (0, "''")] {
+            conn.execute(
+                "INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, attempt) \
+                 VALUES ('d', 'r', 5000, 'a', 1)",
+                [],
+            )
+            .unwrap();
+            let e = conn
+                .execute(
+                    &format!(
+                        "UPDATE prompt_attempt SET correct = {correct}, judged_at = 5100, \
+                         misconception = {id} WHERE prompt = 'r' AND correct IS NULL"
+                    ),
+                    [],
+                )
+                .unwrap_err();
+            assert!(e.to_string().contains("CHECK"), "{e}");
+        }
     }
 
     #[test]

@@ -1,6 +1,8 @@
 //! Drawing the predict screen: the question and the commitment, then the
 //! scene's panels, the run's status and diagnostics, and the verdict.
 
+use std::cell::Cell;
+
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
@@ -52,6 +54,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
             let verdict = verdict.as_ref();
             let diag = (state.shows_diagnostics(), state.question_first);
             let said = (prompt, *prediction);
+            let verdict = verdict.map(|v| (v, &state.verdict_scroll));
             match run.sim() {
                 Sim::Rigid(r) => draw_play(frame, area, app, said, (run, r), verdict, diag),
                 Sim::System { run: sys, .. } => {
@@ -140,9 +143,10 @@ fn draw_play(
     app: &App,
     (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SceneRun),
-    verdict: Option<&Verdict>,
+    verdict: Option<(&Verdict, &Cell<usize>)>,
     (show_diagnostics, question_first): (bool, bool),
 ) {
+    let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
     let t = &app.theme;
     let width = area.width as usize;
     let diag_lines = match run.diagnostics() {
@@ -225,11 +229,7 @@ fn draw_play(
         hints,
     );
     if verdict.is_some() {
-        let shown = cut_lines(
-            verdict_lines,
-            verdict_area.height as usize,
-            verdict_area.width as usize,
-        );
+        let shown = super::parts::verdict_window(app, verdict_lines, scroll, verdict_area);
         frame.render_widget(Paragraph::new(shown), verdict_area);
     }
 }

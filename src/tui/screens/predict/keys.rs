@@ -1,6 +1,6 @@
 //! The predict-then-check screen's keys, one table per mode.
 
-use crossterm::event::KeyCode::{Backspace, Char, Enter, Esc};
+use crossterm::event::KeyCode::{Backspace, Char, Down, Enter, Esc, Up};
 
 use crate::tui::action::Action;
 use crate::tui::i18n::Words;
@@ -135,6 +135,19 @@ pub const VERDICT_KEYS: &[Binding] = &[
     STEP,
     DIAGNOSTICS,
     QUESTION,
+    Binding::new(
+        "j k ↑↓",
+        Words(
+            "scroll the verdict, on a small screen",
+            "verdict scroll karo, chhoti screen pe",
+        ),
+        &[
+            (Down, Action::Down),
+            (Up, Action::Up),
+            (Char('j'), Action::Down),
+            (Char('k'), Action::Up),
+        ],
+    ),
     Binding::new(
         "e",
         Words("open the explanation", "samjhaav kholo"),

@@ -98,6 +98,10 @@ pub struct PredictState {
     /// The learner asked for the whole question first (`w`): on a screen
     /// too small for it beside the verdict, the verdict gives way.
     pub question_first: bool,
+    /// How far the learner scrolled a verdict taller than its rows (`j`):
+    /// drawing keeps it within the verdict's lines, so `k` brings it back
+    /// at once however often `j` was pressed.
+    pub verdict_scroll: std::cell::Cell<usize>,
 }
 
 impl PredictState {
@@ -113,6 +117,7 @@ impl PredictState {
             choice,
             diagnostics: None,
             question_first: false,
+            verdict_scroll: std::cell::Cell::new(0),
             phase: Phase::Ask {
                 selected: 0,
                 input: String::new(),
@@ -193,6 +198,22 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
         state.question_first = !state.question_first;
         return Nav::Stay;
     }
+    if matches!(action, Action::Down | Action::Up)
+        && matches!(
+            state.phase,
+            Phase::Play {
+                verdict: Some(_),
+                ..
+            }
+        )
+    {
+        let now = state.verdict_scroll.get();
+        state.verdict_scroll.set(match action {
+            Action::Down => now.saturating_add(1),
+            _ => now.saturating_sub(1),
+        });
+        return Nav::Stay;
+    }
     let known = deck(app, state)
         .is_some_and(|d| d.system(&prompt.scene).is_some() || d.scene(&prompt.scene).is_some());
     if !known {
@@ -200,6 +221,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
         return Nav::Pop;
     }
     let units = app.decks.get(state.deck).map_or(&[][..], |d| &d.units[..]);
+    let deck_index = state.deck;
     match &mut state.phase {
         Phase::Ask {
             selected,
@@ -261,8 +283,14 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             Nav::Replace(super::Screen::Predict(Box::new(next)))
         }
         Phase::Play { verdict, .. } if action == Action::Explain => {
+            // A wrong answer's misconception opens where the deck explains
+            // it; otherwise the prompt's own explanation.
+            let named = verdict
+                .as_ref()
+                .and_then(|v| v.misconception.as_deref())
+                .and_then(|m| app.decks.get(deck_index)?.misconception(m)?.explain.clone());
             if verdict.is_some()
-                && let Some(id) = &prompt.explain
+                && let Some(id) = named.as_ref().or(prompt.explain.as_ref())
             {
                 return super::reader::open_at(app, state.deck, id);
             }
@@ -402,6 +430,7 @@ fn record(
         measured: verdict.readings.first().map(|r| r.value),
         correct: verdict.correct,
         judged_at: app.services.now(),
+        misconception: verdict.misconception.clone(),
     };
     if let Err(e) = app.services.study.judge_attempt(committed, &judged) {
         app.error(e.to_string());

@@ -4,6 +4,8 @@
 //! diagnostics folded to the width. Below both panels' drawings
 //! (`draw.rs`, `system.rs`).
 
+use std::cell::Cell;
+
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
@@ -298,6 +300,44 @@ pub(super) fn draw_question(
             said,
         );
     }
+}
+
+/// The verdict's rows: every line when they fit; otherwise the learner's
+/// window on them (`scroll`, from `j`/`k`, kept here within the lines) and
+/// a last row saying how many lines are below, so no text is ever cut
+/// where the learner cannot reach it.
+pub(super) fn verdict_window(
+    app: &App,
+    mut lines: Vec<Line<'static>>,
+    scroll: Option<&std::cell::Cell<usize>>,
+    area: Rect,
+) -> Vec<Line<'static>> {
+    let rows = usize::from(area.height);
+    if lines.len() <= rows || rows < 2 {
+        if let Some(s) = scroll {
+            s.set(0);
+        }
+        return lines;
+    }
+    let body = rows - 1;
+    let from = scroll.map_or(0, Cell::get).min(lines.len() - body);
+    if let Some(s) = scroll {
+        s.set(from);
+    }
+    let below = lines.len() - from - body;
+    let mut shown: Vec<Line<'static>> = lines.drain(from..from + body).collect();
+    let more = if below > 0 {
+        let n = crate::text::plural(
+            below,
+            w::MORE_LINE.get(&app.lang),
+            w::MORE_LINES.get(&app.lang),
+        );
+        w::VERDICT_MORE.get(&app.lang).replace("{n}", &n)
+    } else {
+        "↑ (k)".to_string()
+    };
+    shown.push(Line::from(Span::styled(more, app.theme.dim())));
+    shown
 }
 
 /// The first `n` of `lines`, the last one ending in "…" when some were

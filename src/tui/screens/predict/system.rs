@@ -54,9 +54,10 @@ pub fn draw(
     app: &App,
     (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SystemRun),
-    verdict: Option<&Verdict>,
+    verdict: Option<(&Verdict, &std::cell::Cell<usize>)>,
     (show_diagnostics, question_first): (bool, bool),
 ) {
+    let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
     let t = &app.theme;
     let diag_lines = if show_diagnostics && run.scene().shows(SystemPanel::Diagnostics) {
         let line = system_plots::diagnostics_line(run, &app.lang);
@@ -101,6 +102,7 @@ pub fn draw(
         hints,
     );
     if !verdict_lines.is_empty() {
-        frame.render_widget(Paragraph::new(verdict_lines), verdict_area);
+        let shown = super::parts::verdict_window(app, verdict_lines, scroll, verdict_area);
+        frame.render_widget(Paragraph::new(shown), verdict_area);
     }
 }

@@ -308,6 +308,7 @@ pub fn lines(
             Run::new("   ", t.dim()),
         ));
     }
+    out.extend(misconception(app, prompt, v, width));
     match &prompt.answer {
         Answer::Choice { choices, .. } => {
             let right = v.right_choice.and_then(|i| choices.get(i));
@@ -359,6 +360,65 @@ pub fn lines(
                 ));
             }
         }
+    }
+    out
+}
+
+/// The misconception a wrong answer stands for, beside the evidence: its
+/// title, why it seems right (the steel-man) and the fix, each whole and
+/// in the learner's language, and the section `e` opens when the deck
+/// explains it. Nothing for an answer that names none.
+fn misconception(app: &App, prompt: &Prompt, v: &Verdict, width: usize) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    // The deck whose prompt this is (the screen draws the deck's own).
+    let Some(deck) = app
+        .decks
+        .iter()
+        .find(|d| d.prompts.iter().any(|p| std::ptr::eq(p, prompt)))
+        .or_else(|| {
+            app.decks
+                .iter()
+                .find(|d| d.prompt(&prompt.id) == Some(prompt))
+        })
+    else {
+        return Vec::new();
+    };
+    let Some(m) = v
+        .misconception
+        .as_deref()
+        .and_then(|id| deck.misconception(id))
+    else {
+        return Vec::new();
+    };
+    let block = |label: &str, text: &str, style| {
+        let mut runs = vec![Run::new(format!("{label}: "), t.dim())];
+        runs.extend(crate::tui::wrap::math_runs(text, style));
+        wrap(
+            &runs,
+            width.saturating_sub(1),
+            Run::new(" ", t.dim()),
+            Run::new("   ", t.dim()),
+        )
+    };
+    let mut out = block(w::MISCONCEPTION.get(lang), m.title.get(lang), t.bad());
+    out.extend(block(
+        w::WHY_IT_SEEMS_RIGHT.get(lang),
+        m.why_it_seems_right.get(lang),
+        t.text(),
+    ));
+    out.extend(block(w::FIX.get(lang), m.fix.get(lang), t.strong()));
+    if let Some(section) = m.explain.as_ref().and_then(|e| deck.section(&e.section)) {
+        let title = crate::text::render(section.title.get(lang));
+        out.extend(wrap(
+            &[Run::new(
+                fill(w::READ_MORE, lang, &[("{s}", &title)]),
+                t.dim(),
+            )],
+            width.saturating_sub(1),
+            Run::new(" ", t.dim()),
+            Run::new("   ", t.dim()),
+        ));
     }
     out
 }

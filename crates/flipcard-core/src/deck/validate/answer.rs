@@ -100,6 +100,7 @@ pub fn answer(
             formula,
             slips,
             label: _,
+            misconceptions,
         } => {
             let measure = measure
                 .as_ref()
@@ -139,6 +140,12 @@ pub fn answer(
                     ok.then_some(out)
                 }
             };
+            let ranges = super::misconception::ranges(
+                rep,
+                misconceptions.as_ref(),
+                expected.zip(tolerance),
+                unit.as_deref(),
+            );
             Some(Answer::Number {
                 measure: measure?,
                 unit: unit?,
@@ -146,6 +153,7 @@ pub fn answer(
                 tolerance: tolerance?,
                 formula: formula.map_or(Some(None), |f| f.map(Some))?,
                 slips: slips?,
+                misconceptions: ranges?,
             })
         }
     }
@@ -313,6 +321,7 @@ fn slip(
         value: value.value.clone(),
         says: says?,
         scope: scope.to_vec(),
+        misconception: raw.misconception.as_ref().map(|m| m.value.clone()),
     })
 }
 
@@ -336,6 +345,7 @@ fn choice(
         id: raw.id.as_ref().filter(|_| id_ok)?.value.clone(),
         label: label?,
         when: when?,
+        misconception: raw.misconception.as_ref().map(|m| m.value.clone()),
     })
 }
 
@@ -852,6 +862,7 @@ mod tests {
                 value: "says".to_string(),
                 span: value.len() + 3..source.len(),
             })),
+            misconception: None,
         };
         let langs = Langs {
             list: vec!["en".to_string()],

@@ -5,6 +5,7 @@
 pub mod answer;
 pub mod cloze;
 pub mod content;
+pub mod misconception;
 pub mod prose;
 pub mod scene;
 pub mod system;
@@ -353,6 +354,9 @@ fn texts_by_language(raw: &RawDeckFile) -> Vec<Vec<&str>> {
     for s in &raw.scenes {
         texts.extend(&s.title);
     }
+    for m in &raw.misconceptions {
+        texts.extend(m.title.iter().chain(&m.why_it_seems_right).chain(&m.fix));
+    }
     texts
         .into_iter()
         .filter_map(|t| match t {
@@ -370,6 +374,7 @@ pub struct Body {
     pub prompts: Vec<Prompt>,
     pub scenes: Vec<Scene>,
     pub systems: Vec<SystemScene>,
+    pub misconceptions: Vec<crate::deck::model::Misconception>,
 }
 
 /// Checks cards, prompts and scenes; `section_ids` are the explanation
@@ -478,11 +483,14 @@ pub fn body(
             None => ok = false,
         }
     }
+    let misconceptions = misconception::declared(rep, raw, langs, (section_ids, anchors));
+    ok &= misconception::uses(rep, raw);
     ok.then_some(Body {
         cards,
         prompts,
         scenes,
         systems,
+        misconceptions: misconceptions?,
     })
 }
 
