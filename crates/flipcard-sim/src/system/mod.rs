@@ -4,6 +4,7 @@
 
 pub mod compile;
 pub mod expr;
+pub mod equiv;
 pub mod formula;
 pub(crate) mod name;
 pub(crate) mod spec;
