@@ -591,6 +591,7 @@ fn graded(a: &AttemptRow, prompt: Option<&crate::deck::Prompt>) -> Option<bool> 
             let v = a.prediction.trim().parse::<f64>().ok()?;
             v.is_finite().then(|| tolerance.accepts(v, *expected))
         }
+        Answer::Formula(key) => Some(flipcard_sim::system::equiv::grade(key, &a.prediction).is_right()),
     }
 }
 
@@ -780,7 +781,7 @@ fn prompt_row(
     };
     let tolerance = match found.map(|p| &p.answer) {
         Some(Answer::Number { tolerance, .. }) => Some(*tolerance),
-        Some(Answer::Choice { .. }) => None,
+        Some(Answer::Choice { .. } | Answer::Formula(_)) => None,
         // Without the deck: numbers when every wrong prediction is one.
         None => (!t.wrong.is_empty()
             && t.wrong
@@ -859,6 +860,7 @@ fn prompt_row(
             ),
             formula.as_ref().map(|f| one_line(f.get(lang))),
         ),
+        Some(Answer::Formula(key)) => (Some(one_line(&key.expected)), None),
         None => (None, None),
     };
     let mut measured = t.measured;

@@ -57,6 +57,24 @@ pub const NUMBER_KEYS: &[Binding] = &[
     Binding::new("Esc", Words("back", "wapas"), &[(Esc, Action::Back)]),
 ];
 
+pub const FORMULA_KEYS: &[Binding] = &[
+    Binding::typing(Words(
+        "a formula: (I2-I3)*w2*w3/I1, ^ for powers, 2x for 2*x",
+        "ek formula: (I2-I3)*w2*w3/I1, power ke liye ^, 2*x ke liye 2x",
+    )),
+    Binding::new(
+        "Enter",
+        Words("commit and check", "pakka karo aur jaancho"),
+        &[(Enter, Action::Submit)],
+    ),
+    Binding::new(
+        "Backspace",
+        Words("delete a character", "ek akshar mitao"),
+        &[(Backspace, Action::Backspace)],
+    ),
+    Binding::new("Esc", Words("back", "wapas"), &[(Esc, Action::Back)]),
+];
+
 const PAUSE: Binding = Binding::new(
     "Space",
     Words("pause / play", "roko / chalao"),
