@@ -790,7 +790,7 @@ pub mod formula_words {
                 Slip::Sign => SIGN.get(lang).to_string(),
                 Slip::Factor(c) => FACTOR
                     .get(lang)
-                    .replace("{c}", &crate::text::num::sig(*c, 6)),
+                    .replace("{c}", &crate::text::num::rounded(*c, 6)),
                 Slip::Reciprocal => RECIPROCAL.get(lang).to_string(),
                 Slip::Missing(vars) => MISSING.get(lang).replace("{v}", &quote(vars)),
                 Slip::Extra(names) => EXTRA.get(lang).replace("{v}", &quote(names)),
