@@ -63,6 +63,7 @@ pub fn deck() -> Deck {
                 explain: Some("setup".into()),
                 prompt: None,
                 tags: vec!["frames".into()],
+                formula: None,
             },
             Card {
                 id: "euler-1".into(),
@@ -80,6 +81,7 @@ pub fn deck() -> Deck {
                 explain: Some("euler".into()),
                 prompt: None,
                 tags: vec![],
+                formula: None,
             },
             Card {
                 id: "unstable-axis".into(),
@@ -105,6 +107,7 @@ pub fn deck() -> Deck {
                 explain: Some("stability".into()),
                 prompt: Some("middle-axis".into()),
                 tags: vec![],
+                formula: None,
             },
         ],
         prompts: vec![

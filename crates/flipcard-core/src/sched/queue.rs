@@ -881,6 +881,7 @@ mod deck_tests {
             explain: None,
             prompt: None,
             tags: tags.iter().map(|t| t.to_string()).collect(),
+            formula: None,
         }
     }
 
