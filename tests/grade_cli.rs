@@ -36,9 +36,15 @@ fn each_slip_is_named_and_exits_1() {
         ("(I3-I2)*w2*w3/I1", "wrong: the sign is wrong"),
         ("2(I2-I3)*w2*w3/I1", "yours is 2 times the answer"),
         ("(I2-I3)*w2*w3/(4 I1)", "yours is 0.25 times the answer"),
-        ("I1/((I2-I3)*w2*w3)", "upside down: yours is 1 over the answer"),
+        (
+            "I1/((I2-I3)*w2*w3)",
+            "upside down: yours is 1 over the answer",
+        ),
         ("(I2-I3)*w2/I1", "it leaves out `omega3`"),
-        ("(I2-I3)*w2*w3/I1 + q", "`q`: not a variable of this problem"),
+        (
+            "(I2-I3)*w2*w3/I1 + q",
+            "`q`: not a variable of this problem",
+        ),
         ("(I2+I3)*w2*w3/I1", "it differs from the answer"),
     ] {
         let out = grade("--card", CARD, answer).fails();
@@ -50,7 +56,11 @@ fn each_slip_is_named_and_exits_1() {
         );
     }
     let out = grade("--prompt", PROMPT, "(I2-I3)(I2-I1)Omega^2/(I1 I3)").fails();
-    assert!(out.stdout().contains("the sign is wrong"), "{}", out.stdout());
+    assert!(
+        out.stdout().contains("the sign is wrong"),
+        "{}",
+        out.stdout()
+    );
 }
 
 #[test]

@@ -130,7 +130,10 @@ fn a_formula_card_names_the_slip_in_the_learners_language() {
     assert_eq!(t.check.suggested, Rating::Again);
     let screen = render(&app);
     assert!(screen.contains("the sign is wrong"), "{screen}");
-    assert!(screen.contains("(I_2 - I_3) omega_2 omega_3 / I_1"), "{screen}");
+    assert!(
+        screen.contains("(I_2 - I_3) omega_2 omega_3 / I_1"),
+        "{screen}"
+    );
     let app = card_answered(HINGLISH, "2(I2-I3)*w2*w3/I1");
     let screen = render(&app);
     assert!(screen.contains("2 guna"), "{screen}");
@@ -140,7 +143,10 @@ fn a_formula_card_names_the_slip_in_the_learners_language() {
 fn a_typed_control_character_never_reaches_the_terminal() {
     let app = card_answered(ENGLISH, "w2\u{1b}[2J\u{7}");
     let screen = render(&app);
-    assert!(!screen.contains('\u{1b}') && !screen.contains('\u{7}'), "{screen:?}");
+    assert!(
+        !screen.contains('\u{1b}') && !screen.contains('\u{7}'),
+        "{screen:?}"
+    );
 }
 
 fn open_prompt(lang: &str) -> TestApp {

@@ -591,7 +591,9 @@ fn graded(a: &AttemptRow, prompt: Option<&crate::deck::Prompt>) -> Option<bool> 
             let v = a.prediction.trim().parse::<f64>().ok()?;
             v.is_finite().then(|| tolerance.accepts(v, *expected))
         }
-        Answer::Formula(key) => Some(flipcard_sim::system::equiv::grade(key, &a.prediction).is_right()),
+        Answer::Formula(key) => {
+            Some(flipcard_sim::system::equiv::grade(key, &a.prediction).is_right())
+        }
     }
 }
 

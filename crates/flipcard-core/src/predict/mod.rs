@@ -59,7 +59,7 @@ pub struct Verdict {
     pub slip: Option<(usize, f64)>,
     /// Formula prompts: the formula typed and its verdict (no measurement
     /// decides it, see [`formula`]).
-    pub formula: Option<(String, flipcard_sim::system::equiv::Verdict)>,
+    pub formula: Option<Box<(String, flipcard_sim::system::equiv::Verdict)>>,
 }
 
 /// Judges `prediction` against the measurements of the prompt's scene: a
@@ -154,6 +154,6 @@ pub fn formula(prompt: &Prompt, typed: &str) -> Option<Verdict> {
         readings: Vec::new(),
         evidence: Measurements::from_readings(Vec::new()).evidence().clone(),
         slip: None,
-        formula: Some((typed.to_string(), v)),
+        formula: Some(Box::new((typed.to_string(), v))),
     })
 }

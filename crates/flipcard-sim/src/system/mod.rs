@@ -3,8 +3,8 @@
 //! observables and Jacobian ([`compile`]), and short names for measures.
 
 pub mod compile;
-pub mod expr;
 pub mod equiv;
+pub mod expr;
 pub mod formula;
 pub(crate) mod name;
 pub(crate) mod spec;

@@ -245,11 +245,15 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                         *error = None;
                         return Nav::Stay;
                     }
-                    Action::Submit => match crate::predict::formula(&prompt, input) {
-                        Some(Verdict {
-                            formula: Some((_, crate::sim::system::equiv::Verdict::Unreadable(e))),
-                            ..
-                        }) => {
+                    Action::Submit => {
+                        let Some(v) = crate::predict::formula(&prompt, input) else {
+                            return Nav::Stay;
+                        };
+                        // A formula that does not read is not committed:
+                        // the field stays, with where and why.
+                        if let Some(f) = &v.formula
+                            && let crate::sim::system::equiv::Verdict::Unreadable(e) = &f.1
+                        {
                             *error = Some(format!(
                                 "{}: {}",
                                 app.tr(Msg::FormulaUnreadable),
@@ -257,9 +261,8 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                             ));
                             return Nav::Stay;
                         }
-                        Some(v) => return commit_formula(app, state, v),
-                        None => return Nav::Stay,
-                    },
+                        return commit_formula(app, state, v);
+                    }
                     _ => return Nav::Stay,
                 },
                 (Answer::Number { unit, .. }, a) => match a {
@@ -456,7 +459,12 @@ fn record(
 /// equivalence, not by the run); the scene then plays as the evidence to
 /// look at. A scene that cannot run stores nothing, as for any prompt.
 fn commit_formula(app: &mut App, state: &mut PredictState, v: Verdict) -> Nav {
-    let nav = commit(app, state, Prediction::Formula, v.formula.as_ref().map(|f| f.0.clone()));
+    let nav = commit(
+        app,
+        state,
+        Prediction::Formula,
+        v.formula.as_ref().map(|f| f.0.clone()),
+    );
     if let Phase::Play {
         committed, verdict, ..
     } = &mut state.phase

@@ -301,7 +301,8 @@ pub fn lines(
             Run::new("   ", t.dim()),
         )
     };
-    if let Some((typed, fv)) = &v.formula {
+    if let Some(f) = &v.formula {
+        let (typed, fv) = &**f;
         out.extend(formula_lines(app, (typed, fv), prompt, &labelled));
         return out;
     }

@@ -39,7 +39,10 @@ pub fn key(rep: &mut FileReport, raw: &RawFormula, what: &str) -> Option<Key> {
         rep.error(
             vars.span.clone(),
             format!("`vars` of {what} declares no variable"),
-            Some("vars = { x = [1, 2] }: each variable with the interval its values are drawn from".to_string()),
+            Some(
+                "vars = { x = [1, 2] }: each variable with the interval its values are drawn from"
+                    .to_string(),
+            ),
         );
         return None;
     }
@@ -78,17 +81,17 @@ pub fn key(rep: &mut FileReport, raw: &RawFormula, what: &str) -> Option<Key> {
         match p {
             KeyProblem::Expected(e) => {
                 let hint = match &e.unknown {
-                    Some(name) => suggest::did_you_mean(
-                        name,
-                        key.vars.iter().map(|v| v.name.as_str()),
-                    )
-                    .or_else(|| {
-                        let names: Vec<&str> = key.vars.iter().map(|v| v.name.as_str()).collect();
-                        Some(format!(
-                            "add it to `vars`, or use one of: {}, pi, e",
-                            names.join(", ")
-                        ))
-                    }),
+                    Some(name) => {
+                        suggest::did_you_mean(name, key.vars.iter().map(|v| v.name.as_str()))
+                            .or_else(|| {
+                                let names: Vec<&str> =
+                                    key.vars.iter().map(|v| v.name.as_str()).collect();
+                                Some(format!(
+                                    "add it to `vars`, or use one of: {}, pi, e",
+                                    names.join(", ")
+                                ))
+                            })
+                    }
                     None => e.hint.clone(),
                 };
                 let span = super::system::span_in(rep, expected, e.at, e.len);

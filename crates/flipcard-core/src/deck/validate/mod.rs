@@ -737,7 +737,10 @@ fn card(
     let key = match (&raw.formula, kind) {
         (Some(f), Some(CardKind::Formula)) => formula::key(rep, f, &what).map(Some),
         (Some(f), _) => {
-            let span = f.expected.as_ref().map_or(f.span.clone(), |e| e.span.clone());
+            let span = f
+                .expected
+                .as_ref()
+                .map_or(f.span.clone(), |e| e.span.clone());
             rep.error(
                 span,
                 format!("`expected` and `vars` belong to formula cards; {what} is not one"),

@@ -75,7 +75,10 @@ fn an_answer_that_does_not_read_says_where() {
     let long = "w2+".repeat(400) + "w2";
     assert!(matches!(grade(&key, &long), Verdict::Unreadable(_)));
     let deep = "(".repeat(5000) + "w2" + &")".repeat(5000);
-    assert!(matches!(grade(&key, &deep[..MAX_ANSWER]), Verdict::Unreadable(_)));
+    assert!(matches!(
+        grade(&key, &deep[..MAX_ANSWER]),
+        Verdict::Unreadable(_)
+    ));
 }
 
 #[test]
@@ -153,7 +156,10 @@ fn time_may_be_a_variable() {
     };
     assert_eq!(check(&key), vec![]);
     assert_eq!(grade(&key, "A*cos(w*t)"), Verdict::Right);
-    assert_eq!(grade(&key, "A*cos(w)"), Verdict::Wrong(Some(Slip::Missing(vec!["t".into()]))));
+    assert_eq!(
+        grade(&key, "A*cos(w)"),
+        Verdict::Wrong(Some(Slip::Missing(vec!["t".into()])))
+    );
 }
 
 /// A formula over x, y, z from a small grammar that stays finite on
