@@ -456,7 +456,7 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
         rep.error(
             span,
             format!("the answer of {owner} is missing the required field `kind`"),
-            Some("kind = \"choice\" or kind = \"number\"".to_string()),
+            Some("kind = \"choice\", kind = \"number\" or kind = \"formula\"".to_string()),
         );
         return None;
     };
@@ -554,8 +554,9 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
             rep.error(
                 kind.span.clone(),
                 format!("unknown answer kind `{other}`"),
-                suggest::did_you_mean(other, ANSWER_KINDS.iter().copied())
-                    .or_else(|| Some("kind = \"choice\" or kind = \"number\"".to_string())),
+                suggest::did_you_mean(other, ANSWER_KINDS.iter().copied()).or_else(|| {
+                    Some("kind = \"choice\", kind = \"number\" or kind = \"formula\"".to_string())
+                }),
             );
             None
         }
