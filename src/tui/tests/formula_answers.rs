@@ -11,7 +11,6 @@ use super::{press, type_text};
 use crate::deck::{Answer, Card, CardKind, Deck, FormulaKey, Prompt, Text};
 use crate::sched::Rating;
 use crate::sim::system::equiv::{Domain, Slip, Verdict as Equiv};
-use crate::store::Store;
 use crate::tui::i18n::{ENGLISH, HINGLISH};
 use crate::tui::keymap::Context;
 use crate::tui::screens::Screen;
@@ -164,16 +163,9 @@ fn predict_phase(app: &TestApp) -> &Ask {
     }
 }
 
+/// Every attempt on disk (read as `predict_attempts` reads them).
 fn attempts(app: &TestApp) -> Vec<crate::store::StoredAttempt> {
-    let store = Store::open_read_only(app.dir.path()).expect("the store opens");
-    let mut out = Vec::new();
-    store
-        .each_attempt(|a| {
-            out.push(a);
-            Ok::<_, crate::store::StoreError>(())
-        })
-        .expect("attempts read");
-    out
+    super::predict_attempts::on_disk(app)
 }
 
 #[test]

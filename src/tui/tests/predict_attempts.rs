@@ -20,7 +20,7 @@ fn tick(app: &mut TestApp, ms: u64) {
 
 /// Every attempt on disk, read through a connection of its own (what a
 /// killed app leaves is what another process finds).
-fn on_disk(app: &TestApp) -> Vec<StoredAttempt> {
+pub(super) fn on_disk(app: &TestApp) -> Vec<StoredAttempt> {
     let store = Store::open_read_only(app.dir.path()).expect("the store opens");
     let mut out = Vec::new();
     store

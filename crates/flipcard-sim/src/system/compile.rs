@@ -1016,25 +1016,11 @@ impl<'a> Builder<'a> {
 /// program with one output, by the same builder as a scene's expressions
 /// (a formula answer, [`super::equiv`]).
 pub(crate) fn formula_program(node: &Node, vars: &[String]) -> Result<Program, CompileError> {
-    let scene = SystemScene {
-        id: String::new(),
-        title: None,
-        variables: vars.to_vec(),
-        initial: Vec::new(),
-        params: Vec::new(),
-        equations: Vec::new(),
-        observables: vec![("the formula".to_string(), String::new())],
-        conserved: Vec::new(),
-        duration: 1.0,
-        show: Vec::new(),
-        plot: Vec::new(),
-        phase: None,
-        sketch: Vec::new(),
-        time_unit: String::new(),
-        atol: None,
-        hamiltonian: None,
-        labels: Vec::new(),
-    };
+    let scene = super::formula::scene(
+        vars.to_vec(),
+        Vec::new(),
+        ("the formula".to_string(), String::new()),
+    );
     let mut b = Builder::new(&scene);
     b.source = Source::Observable(0);
     let v = b.expr(node)?;
