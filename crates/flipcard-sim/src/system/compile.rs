@@ -1016,7 +1016,7 @@ impl<'a> Builder<'a> {
 /// program with one output, by the same builder as a scene's expressions
 /// (a formula answer, [`super::equiv`]).
 pub(crate) fn formula_program(node: &Node, vars: &[String]) -> Result<Program, CompileError> {
-    let scene = super::formula::scene(
+    let scene = SystemScene::one_formula(
         vars.to_vec(),
         Vec::new(),
         ("the formula".to_string(), String::new()),

@@ -32,7 +32,7 @@ pub fn evaluate(text: &str, names: &[(String, f64)]) -> Result<f64, ExprError> {
     // Names an author may not give a scene (`t` aside, which `check`
     // refused) are never in `names` from a deck; a name the compiler
     // cannot take is refused like an unknown one.
-    let scene = scene(
+    let scene = SystemScene::one_formula(
         Vec::new(),
         names.to_vec(),
         ("value".to_string(), text.to_string()),
@@ -56,34 +56,6 @@ pub fn evaluate(text: &str, names: &[(String, f64)]) -> Result<f64, ExprError> {
         }
         _ => format!("the formula is {what}"),
     }))
-}
-
-/// A scene holding one formula and nothing to run: `variables` read from
-/// the state, `params` fixed numbers, the formula its one observable.
-pub(crate) fn scene(
-    variables: Vec<String>,
-    params: Vec<(String, f64)>,
-    observable: (String, String),
-) -> SystemScene {
-    SystemScene {
-        id: String::new(),
-        title: None,
-        variables,
-        initial: Vec::new(),
-        params,
-        equations: Vec::new(),
-        observables: vec![observable],
-        conserved: Vec::new(),
-        duration: 1.0,
-        show: Vec::new(),
-        plot: Vec::new(),
-        phase: None,
-        sketch: Vec::new(),
-        time_unit: String::new(),
-        atol: None,
-        hamiltonian: None,
-        labels: Vec::new(),
-    }
 }
 
 #[cfg(test)]
