@@ -51,6 +51,7 @@ fn deck() -> Deck {
         explain: None,
         prompt: None,
         tags: vec![tag.to_string()],
+        formula: None,
     };
     for i in 0..BASIC {
         cards.push(card(

@@ -26,6 +26,7 @@ fn texts(deck: &Deck) -> Vec<(String, &Text)> {
                     out.push((format!("prompt {} formula", p.id), f));
                 }
             }
+            Answer::Formula(_) => {}
         }
     }
     for s in &deck.scenes {

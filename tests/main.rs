@@ -23,6 +23,7 @@ mod deck_mutations;
 mod deck_oscillations;
 mod deck_physics;
 mod doc_examples;
+mod grade_cli;
 mod import_reviews_cli;
 mod measure_accuracy;
 mod misconception_cli;

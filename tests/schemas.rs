@@ -141,5 +141,8 @@ fn enumerations_come_from_the_model() {
         names("Panel"),
         Panel::ALL.map(|p| p.name().to_string()).to_vec()
     );
-    assert_eq!(names("CardKind"), ["basic", "reversed", "typed", "cloze"]);
+    assert_eq!(
+        names("CardKind"),
+        ["basic", "reversed", "typed", "cloze", "formula"]
+    );
 }

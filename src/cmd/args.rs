@@ -40,6 +40,10 @@ pub enum Command {
     Sim(SimArgs),
     /// Work–precision sweep of every solver: error against run time.
     Bench(BenchArgs),
+    /// Grade a formula answer against a deck's formula card or prompt, as
+    /// the app would (exit 0 right, 1 wrong, 2 a usage or deck error): for
+    /// testing answer keys in CI.
+    Grade(GradeArgs),
     /// Review statistics.
     Stats(StatsArgs),
     /// Export the review log or a deck's cards.
@@ -92,6 +96,24 @@ pub struct CheckArgs {
     /// Skip running each prompt's scene to check its expected answer.
     #[arg(long)]
     pub no_simulate: bool,
+}
+
+#[derive(Debug, Args)]
+#[command(group(ArgGroup::new("item").args(["prompt", "card"]).required(true)))]
+pub struct GradeArgs {
+    /// The deck's id (among the bundled decks, the library and --decks).
+    #[arg(long, value_name = "ID")]
+    pub deck: String,
+    /// A formula prompt of the deck.
+    #[arg(long, value_name = "P")]
+    pub prompt: Option<String>,
+    /// A formula card of the deck.
+    #[arg(long, value_name = "C")]
+    pub card: Option<String>,
+    /// The answer, as a learner types it: (I2-I3)*w2*w3/I1, ^ for powers,
+    /// 2x for 2*x, I_2 or I2 alike.
+    #[arg(allow_hyphen_values = true, value_name = "ANSWER")]
+    pub answer: String,
 }
 
 /// `--method`: a view of the one vocabulary of methods

@@ -11,6 +11,7 @@ mod common;
 pub mod db;
 pub mod decks;
 pub mod export;
+pub mod grade;
 pub mod import;
 pub mod import_anki;
 pub mod import_file;
@@ -48,6 +49,7 @@ pub fn run(cli: &Cli) -> ExitCode {
         Some(Command::Check(args)) => check::run(cli, args),
         Some(Command::Sim(args)) => sim::run(cli, args),
         Some(Command::Bench(args)) => bench::run(cli, args),
+        Some(Command::Grade(args)) => grade::run(cli, args),
         Some(Command::Stats(args)) => stats::run(cli, args),
         Some(Command::Export(args)) => export::run(cli, args),
         Some(Command::Import(args)) => import::run(cli, args),

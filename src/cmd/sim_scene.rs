@@ -191,12 +191,21 @@ fn report(deck: &Deck, scene: &Scene, m: &Measurements, method: &str) -> String 
 /// `middle-axis: expected flips: holds (flips = 3: flips > 0)`.
 /// `ok`: the run agrees with the expected answer (see [`audit`]).
 pub(super) fn prompt_line(p: &Prompt, m: &Measurements, ok: bool) -> String {
+    if let Answer::Formula(key) = &p.answer {
+        // No run decides a formula: `flipcard grade` checks answers to it.
+        return format!(
+            "{}: expected formula {} (graded by `flipcard grade`, not by the run)",
+            p.id,
+            crate::text::safe::one_line(&key.expected)
+        );
+    }
     let Some(prediction) = Prediction::expected(p) else {
         return format!("{}: expected answer names no choice", p.id);
     };
     let v = verdict(p, m, prediction);
     let status = if ok { "ok" } else { "WRONG" };
     match &p.answer {
+        Answer::Formula(_) => String::new(),
         Answer::Choice { choices, expected } => {
             let holding: Vec<String> = v
                 .holding

@@ -82,6 +82,7 @@ pub enum Msg {
     Running,
     Verdict,
     NotANumber,
+    FormulaUnreadable,
     WrongUnit,
     Stats,
     DueForecast,
@@ -295,6 +296,7 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         Running => pick!("running", "chal raha"),
         Verdict => pick!("Verdict", "Faisla"),
         NotANumber => pick!("not a number", "number nahi hai"),
+        FormulaUnreadable => pick!("cannot read this formula", "yeh formula padha nahi gaya"),
         WrongUnit => pick!("unit should be", "unit hona chahiye"),
         Stats => pick!("Stats", "Stats"),
         DueForecast => pick!("Due forecast", "Aane wale din"),
@@ -725,6 +727,87 @@ pub fn system_word(w: SystemWord) -> Words {
 }
 
 /// The words of a prediction's verdict and of the simulation around it.
+/// The words of a formula answer's verdict (a formula card, a formula
+/// prompt, and `flipcard grade`, which reads the English).
+pub mod formula_words {
+    use super::Words;
+    use crate::sim::system::equiv::{Slip, Verdict};
+
+    pub const SIGN: Words = Words(
+        "the sign is wrong: yours is minus the answer",
+        "sign ulta hai: tumhara jawaab ka minus hai",
+    );
+    /// `{c}`: the constant.
+    pub const FACTOR: Words = Words(
+        "off by a constant factor: yours is {c} times the answer",
+        "ek constant factor ka farq: tumhara jawaab ka {c} guna hai",
+    );
+    pub const RECIPROCAL: Words = Words(
+        "upside down: yours is 1 over the answer",
+        "ulta: tumhara 1/(jawaab) hai",
+    );
+    /// `{v}`: the variables.
+    pub const MISSING: Words = Words(
+        "it leaves out {v}, which the answer depends on",
+        "isme {v} nahi hai, jis par jawaab nirbhar hai",
+    );
+    /// `{v}`: the names.
+    pub const EXTRA: Words = Words(
+        "{v}: not a variable of this problem",
+        "{v}: is sawaal ka variable nahi",
+    );
+    pub const UNDEFINED: Words = Words(
+        "it is undefined over most of the domain",
+        "yeh zyadatar domain par defined nahi hai",
+    );
+    pub const DIFFERS: Words = Words(
+        "it differs from the answer at points of the domain",
+        "domain ke points par yeh jawaab se alag hai",
+    );
+    /// `{why}`: why the key cannot decide.
+    pub const UNDECIDED: Words = Words(
+        "the deck's answer key cannot decide: {why}",
+        "deck ki answer key faisla nahi kar sakti: {why}",
+    );
+    pub const EXPECTED: Words = Words("the answer", "jawaab");
+
+    /// What the verdict says beyond right or wrong, in `lang`: the slip a
+    /// wrong formula makes, why it does not read, or why the key cannot
+    /// decide; `None` for a right one. Names typed by the learner are
+    /// quoted on one line (escaped).
+    pub fn feedback(v: &Verdict, lang: &str) -> Option<String> {
+        let quote = |names: &[String]| {
+            names
+                .iter()
+                .map(|n| format!("`{}`", crate::text::safe::one_line(n)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        Some(match v {
+            Verdict::Right => return None,
+            Verdict::Wrong(None) => DIFFERS.get(lang).to_string(),
+            Verdict::Wrong(Some(slip)) => match slip {
+                Slip::Sign => SIGN.get(lang).to_string(),
+                Slip::Factor(c) => FACTOR
+                    .get(lang)
+                    .replace("{c}", &crate::text::num::rounded(*c, 6)),
+                Slip::Reciprocal => RECIPROCAL.get(lang).to_string(),
+                Slip::Missing(vars) => MISSING.get(lang).replace("{v}", &quote(vars)),
+                Slip::Extra(names) => EXTRA.get(lang).replace("{v}", &quote(names)),
+                Slip::Undefined => UNDEFINED.get(lang).to_string(),
+            },
+            Verdict::Unreadable(e) => format!(
+                "{}: {}",
+                super::tr(lang, super::Msg::FormulaUnreadable),
+                crate::text::safe::one_line(&e.to_string())
+            ),
+            Verdict::Undecided(why) => UNDECIDED
+                .get(lang)
+                .replace("{why}", &crate::text::safe::one_line(why)),
+        })
+    }
+}
+
 pub mod sim_words {
     use super::Words;
 

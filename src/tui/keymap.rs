@@ -32,6 +32,8 @@ pub enum Context {
     PredictChoice,
     /// Type a number (with an optional unit).
     PredictNumber,
+    /// Type a formula.
+    PredictFormula,
     /// The simulation plays.
     PredictRun,
     /// The verdict is shown under the last frame.

@@ -64,6 +64,7 @@ pub fn deck() -> Deck {
                 explain: Some("setup".into()),
                 prompt: None,
                 tags: vec!["frames".into()],
+                formula: None,
             },
             Card {
                 id: "euler-1".into(),
@@ -81,6 +82,7 @@ pub fn deck() -> Deck {
                 explain: Some("euler".into()),
                 prompt: None,
                 tags: vec![],
+                formula: None,
             },
             Card {
                 id: "unstable-axis".into(),
@@ -106,6 +108,7 @@ pub fn deck() -> Deck {
                 explain: Some("stability".into()),
                 prompt: Some("middle-axis".into()),
                 tags: vec![],
+                formula: None,
             },
         ],
         prompts: vec![

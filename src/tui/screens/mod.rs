@@ -118,6 +118,7 @@ pub fn keys(ctx: Context) -> &'static [Binding] {
         Context::Prompts => prompts::KEYS,
         Context::PredictChoice => predict::CHOICE_KEYS,
         Context::PredictNumber => predict::NUMBER_KEYS,
+        Context::PredictFormula => predict::FORMULA_KEYS,
         Context::PredictRun => predict::RUN_KEYS,
         Context::PredictVerdict => predict::VERDICT_KEYS,
         Context::Stats => stats::KEYS,

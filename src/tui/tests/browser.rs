@@ -39,6 +39,7 @@ fn app(lang: &str) -> TestApp {
         explain: None,
         prompt: None,
         tags: vec!["euler".into()],
+        formula: None,
     });
     app
 }

@@ -88,6 +88,7 @@ fn every_context_has_help_for_every_bound_key() {
         Prompts,
         PredictChoice,
         PredictNumber,
+        PredictFormula,
         PredictRun,
         PredictVerdict,
         Stats,

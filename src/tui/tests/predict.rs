@@ -395,14 +395,27 @@ fn every_bundled_prompt_plays_to_a_verdict_at_any_size() {
             app.decks = loaded.decks.clone();
             let mut state = PredictState::new(&app, d, i);
             let answer = crate::predict::Prediction::expected(prompt);
-            let Some(answer) = answer else {
-                panic!("{}: no expected answer", prompt.id);
+            // A formula prompt's answer is its key's formula, typed.
+            let answer = match (&prompt.answer, answer) {
+                (crate::deck::Answer::Formula(key), _) => {
+                    for ch in key.expected.chars() {
+                        crate::tui::screens::predict::apply(
+                            &mut app,
+                            &mut state,
+                            Action::Input(ch),
+                        );
+                    }
+                    None
+                }
+                (_, Some(a)) => Some(a),
+                (_, None) => panic!("{}: no expected answer", prompt.id),
             };
             match answer {
-                Prediction::Choice(c) => {
+                None | Some(Prediction::Formula) => {}
+                Some(Prediction::Choice(c)) => {
                     crate::tui::screens::predict::apply(&mut app, &mut state, Action::Choose(c));
                 }
-                Prediction::Number(v) => {
+                Some(Prediction::Number(v)) => {
                     for ch in format!("{v}").chars() {
                         crate::tui::screens::predict::apply(
                             &mut app,

@@ -36,6 +36,7 @@ fn springs() -> Deck {
         explain: Some("hooke-law".into()),
         prompt: None,
         tags: tags.iter().map(|t| t.to_string()).collect(),
+        formula: None,
     };
     d.cards = vec![
         card(

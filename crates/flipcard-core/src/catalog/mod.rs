@@ -85,7 +85,7 @@ pub fn card_directions(card: &crate::deck::Card) -> Vec<Direction> {
             .map(Direction::Cloze)
             .collect(),
         CardKind::Reversed => vec![Direction::Forward, Direction::Backward],
-        CardKind::Basic | CardKind::Typed => vec![Direction::Forward],
+        CardKind::Basic | CardKind::Typed | CardKind::Formula => vec![Direction::Forward],
     }
 }
 

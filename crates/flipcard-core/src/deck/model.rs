@@ -8,6 +8,7 @@ pub use flipcard_sim::scene::spec::{Measure, Panel, Scene, Stat, SystemPanel, Sy
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
+pub use flipcard_sim::system::equiv::Key as FormulaKey;
 pub use flipcard_text::{Lang, Text};
 
 /// A fully loaded and validated deck with its explanation sections.
@@ -109,6 +110,9 @@ pub enum CardKind {
     /// A text with deletions `{{c1::…}}`: `front` holds it, each number
     /// is its own review item, `back` holds optional extra notes.
     Cloze,
+    /// The learner types a formula; compared with `Card::formula` at
+    /// points of its domain (`flipcard_sim::system::equiv`).
+    Formula,
 }
 
 impl CardKind {
@@ -118,14 +122,21 @@ impl CardKind {
             CardKind::Reversed => "reversed",
             CardKind::Typed => "typed",
             CardKind::Cloze => "cloze",
+            CardKind::Formula => "formula",
         }
     }
 
-    pub const ALL: [CardKind; 4] = [
+    /// Whether the learner types the answer (a typed or formula card).
+    pub fn is_typed(self) -> bool {
+        matches!(self, CardKind::Typed | CardKind::Formula)
+    }
+
+    pub const ALL: [CardKind; 5] = [
         CardKind::Basic,
         CardKind::Reversed,
         CardKind::Typed,
         CardKind::Cloze,
+        CardKind::Formula,
     ];
 }
 
@@ -163,6 +174,9 @@ pub struct Card {
     /// Prompt id offered after the answer is shown.
     pub prompt: Option<String>,
     pub tags: Vec<String>,
+    /// The key of a formula card (only for `CardKind::Formula`, always
+    /// there).
+    pub formula: Option<FormulaKey>,
 }
 
 /// A predict-then-check prompt: the learner commits to an answer, the scene
@@ -223,6 +237,9 @@ pub enum Answer {
         /// author's order.
         misconceptions: Vec<WrongRange>,
     },
+    /// A typed formula, right when it equals `expected` over the domain
+    /// (`flipcard_sim::system::equiv`); no measurement decides it.
+    Formula(FormulaKey),
 }
 
 /// Where `e` opens the reader: a section, and a place inside it

@@ -77,6 +77,11 @@ pub(crate) fn answer_places(path: &Path, source: &str) -> HashMap<String, Answer
                         .unwrap_or_default(),
                     slips: Vec::new(),
                 },
+                RawAnswer::Formula(f) => AnswerPlaces {
+                    expected: f.expected.as_ref().map(|e| place(&e.span)),
+                    when: Vec::new(),
+                    slips: Vec::new(),
+                },
                 RawAnswer::Number {
                     expected, slips, ..
                 } => AnswerPlaces {

@@ -15,7 +15,8 @@ pub use super::read::{Flag, List, Num, RawAccept, RawText, Span, Str};
 pub const DECK_FILE_FIELDS: &[&str] = &["deck", "card", "prompt", "scene", "misconception"];
 pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages", "units"];
 pub const CARD_FIELDS: &[&str] = &[
-    "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text",
+    "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text", "expected",
+    "vars",
 ];
 pub const PROMPT_FIELDS: &[&str] = &["id", "question", "scene", "explain", "tags", "answer"];
 pub const CHOICE_ANSWER_FIELDS: &[&str] = &["kind", "expected", "choices", "label", "unit"];
@@ -62,7 +63,9 @@ pub const HAMILTONIAN_FIELDS: &[&str] = &["q", "p"];
 pub(crate) const MARK_KEYS: &[&str] = &["line", "dot", "trail"];
 pub const CONTENT_FILE_FIELDS: &[&str] = &["section"];
 pub const SECTION_FIELDS: &[&str] = &["id", "title", "body", "see"];
-pub const ANSWER_KINDS: &[&str] = &["choice", "number"];
+pub const ANSWER_KINDS: &[&str] = &["choice", "number", "formula"];
+/// The keys of a formula answer (`kind = "formula"`).
+pub const FORMULA_ANSWER_FIELDS: &[&str] = &["kind", "expected", "vars"];
 
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RawDeckFile {
@@ -98,6 +101,17 @@ pub struct RawCard {
     pub explain: Option<Str>,
     pub prompt: Option<Str>,
     pub tags: Option<List<Str>>,
+    /// A formula card's key (`expected`, `vars`), when either is written.
+    pub formula: Option<RawFormula>,
+}
+
+/// The key of a formula answer as written: the expected formula and
+/// `vars = { I1 = [1, 3], … }`, each variable's interval.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RawFormula {
+    pub span: Span,
+    pub expected: Option<Str>,
+    pub vars: Option<Named<List<Num>>>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -136,6 +150,8 @@ pub enum RawAnswer {
         /// Ranges of wrong numbers that stand for a misconception.
         misconceptions: Option<List<RawRange>>,
     },
+    /// A typed formula compared with `expected` over `vars`.
+    Formula(RawFormula),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -369,6 +385,10 @@ fn read_card(rep: &mut FileReport, t: &DeTable, span: Span) -> RawCard {
     let f = probe.named(what);
     let kind = f.string(rep, "kind", false);
     let cloze = kind.as_ref().is_some_and(|k| k.value == "cloze");
+    let formula = kind.as_ref().is_some_and(|k| k.value == "formula")
+        || f.get("expected").is_some()
+        || f.get("vars").is_some();
+    let formula = formula.then(|| read_formula(rep, &f, span.clone()));
     RawCard {
         span,
         id: f.string(rep, "id", true),
@@ -388,6 +408,28 @@ fn read_card(rep: &mut FileReport, t: &DeTable, span: Span) -> RawCard {
         explain: f.string(rep, "explain", false),
         prompt: f.string(rep, "prompt", false),
         tags: f.strings(rep, "tags", false),
+        formula,
+    }
+}
+
+/// `expected` and `vars` of a formula card or answer.
+fn read_formula(rep: &mut FileReport, f: &Fields, span: Span) -> RawFormula {
+    RawFormula {
+        span,
+        expected: f.string(rep, "expected", true),
+        vars: f.require(rep, "vars").and_then(|_| {
+            named(rep, f, "vars", |rep, v, what| {
+                let arr = read::array(rep, v, what)?;
+                let items = arr
+                    .iter()
+                    .map(|n| read::number(rep, n, &format!("each end of {what}")))
+                    .collect::<Option<Vec<_>>>()?;
+                Some(List {
+                    items,
+                    span: v.span(),
+                })
+            })
+        }),
     }
 }
 
@@ -430,7 +472,7 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
         rep.error(
             span,
             format!("the answer of {owner} is missing the required field `kind`"),
-            Some("kind = \"choice\" or kind = \"number\"".to_string()),
+            Some("kind = \"choice\", kind = \"number\" or kind = \"formula\"".to_string()),
         );
         return None;
     };
@@ -522,12 +564,17 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
                 misconceptions: super::raw_misconception::read_ranges(rep, &f),
             })
         }
+        "formula" => {
+            let f = Fields::open(rep, t, span.clone(), &what, FORMULA_ANSWER_FIELDS, |_| None);
+            Some(RawAnswer::Formula(read_formula(rep, &f, span)))
+        }
         other => {
             rep.error(
                 kind.span.clone(),
                 format!("unknown answer kind `{other}`"),
-                suggest::did_you_mean(other, ANSWER_KINDS.iter().copied())
-                    .or_else(|| Some("kind = \"choice\" or kind = \"number\"".to_string())),
+                suggest::did_you_mean(other, ANSWER_KINDS.iter().copied()).or_else(|| {
+                    Some("kind = \"choice\", kind = \"number\" or kind = \"formula\"".to_string())
+                }),
             );
             None
         }

@@ -91,8 +91,9 @@ pub struct DeckHeader {
 pub struct Card {
     /// Stable identity: edit the texts freely, never the id.
     pub id: Id,
-    /// `basic` (default), `reversed` (also asked back → front), `typed` or
-    /// `cloze` (each deletion number of `text` asked on its own).
+    /// `basic` (default), `reversed` (also asked back → front), `typed`,
+    /// `cloze` (each deletion number of `text` asked on its own) or
+    /// `formula` (the learner types a formula, compared with `expected`).
     pub kind: Option<CardKindName>,
     pub front: Option<Text>,
     pub back: Option<Text>,
@@ -109,7 +110,16 @@ pub struct Card {
     /// Id of a prompt offered after the answer is shown.
     pub prompt: Option<Id>,
     pub tags: Option<Vec<NonEmpty>>,
+    /// A formula card's expected formula: `(I_2 - I_3) omega_2 omega_3 / I_1`.
+    #[schemars(length(min = 1, max = 1000))]
+    pub expected: Option<String>,
+    /// A formula card's variables, each with its `[low, high]` domain.
+    pub vars: Option<Vars>,
 }
+
+/// Each variable of a formula answer with the interval its values are
+/// drawn from: `{ I1 = [1, 3], omega2 = [-2, 2] }`.
+pub type Vars = std::collections::BTreeMap<String, [f64; 2]>;
 
 /// Predict, then check: the learner answers, the scene runs, the
 /// measurements decide.
@@ -162,6 +172,15 @@ pub enum Answer {
         /// Ranges of wrong numbers that stand for a misconception (a slip
         /// that matches says its own first).
         misconceptions: Option<Vec<WrongRange>>,
+    },
+    /// Type a formula, right when it equals `expected` at random points
+    /// of the domain `vars` gives (no measurement decides it).
+    Formula {
+        /// The formula: `(I_3 - I_2)(I_2 - I_1) Omega^2 / (I_1 I_3)`.
+        #[schemars(length(min = 1, max = 1000))]
+        expected: String,
+        /// Each variable with its `[low, high]` domain.
+        vars: Vars,
     },
 }
 

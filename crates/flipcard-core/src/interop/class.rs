@@ -630,6 +630,9 @@ fn graded(a: &AttemptRow, prompt: Option<&crate::deck::Prompt>) -> Option<bool> 
             let v = a.prediction.trim().parse::<f64>().ok()?;
             v.is_finite().then(|| tolerance.accepts(v, *expected))
         }
+        Answer::Formula(key) => {
+            Some(flipcard_sim::system::equiv::grade(key, &a.prediction).is_right())
+        }
     }
 }
 
@@ -840,6 +843,9 @@ fn stood_for(a: &AttemptRow, prompt: Option<&crate::deck::Prompt>) -> Option<Str
                     .map(|r| r.id.clone()),
             }
         }
+        // A formula key names no misconception (its slips are named by
+        // the grader, not by the deck).
+        Answer::Formula(_) => None,
     }
 }
 
@@ -919,7 +925,7 @@ fn prompt_row(
     };
     let tolerance = match found.map(|p| &p.answer) {
         Some(Answer::Number { tolerance, .. }) => Some(*tolerance),
-        Some(Answer::Choice { .. }) => None,
+        Some(Answer::Choice { .. } | Answer::Formula(_)) => None,
         // Without the deck: numbers when every wrong prediction is one.
         None => (!t.wrong.is_empty()
             && t.wrong
@@ -998,6 +1004,7 @@ fn prompt_row(
             ),
             formula.as_ref().map(|f| one_line(f.get(lang))),
         ),
+        Some(Answer::Formula(key)) => (Some(one_line(&key.expected)), None),
         None => (None, None),
     };
     let mut measured = t.measured;

@@ -163,6 +163,7 @@ fn prompt_uses(p: &Prompt) -> Vec<Measure> {
     match &p.answer {
         Answer::Choice { choices, .. } => choices.iter().flat_map(|c| c.when.measures()).collect(),
         Answer::Number { measure, .. } => vec![*measure],
+        Answer::Formula(_) => Vec::new(),
     }
 }
 
@@ -212,6 +213,8 @@ pub fn audit_run(prompt: &Prompt, run: &Run) -> Option<Problem> {
     }
     let longer = run.longer.as_deref()?;
     let message = match &prompt.answer {
+        // No run decides a formula (its key is checked by `check`).
+        Answer::Formula(_) => return None,
         Answer::Choice { choices, expected } => {
             let e = choices.iter().position(|c| &c.id == expected)?;
             let holding = holding(choices, &longer.measured);
@@ -327,6 +330,7 @@ fn holding(choices: &[Choice], m: &Measurements) -> Vec<usize> {
 fn judge(prompt: &Prompt, run: &Run) -> Option<Problem> {
     let m = &run.measured;
     match &prompt.answer {
+        Answer::Formula(_) => None,
         Answer::Choice { choices, expected } => audit_choice(choices, expected, run),
         Answer::Number {
             measure,

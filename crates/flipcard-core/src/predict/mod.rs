@@ -16,6 +16,9 @@ pub enum Prediction {
     /// Index into the prompt's choices.
     Choice(usize),
     Number(f64),
+    /// A typed formula (the text and its verdict are the `Verdict`'s
+    /// `formula`, see [`formula`]).
+    Formula,
 }
 
 impl Prediction {
@@ -28,6 +31,8 @@ impl Prediction {
                 .position(|c| &c.id == expected)
                 .map(Prediction::Choice),
             Answer::Number { expected, .. } => Some(Prediction::Number(*expected)),
+            // A typed formula is graded by `formula`, never by a run.
+            Answer::Formula(_) => None,
         }
     }
 }
@@ -58,6 +63,9 @@ pub struct Verdict {
     /// `misconceptions` ranges that holds the number). Never on a right
     /// answer.
     pub misconception: Option<String>,
+    /// Formula prompts: the formula typed and its verdict (no measurement
+    /// decides it, see [`formula`]).
+    pub formula: Option<Box<(String, flipcard_sim::system::equiv::Verdict)>>,
 }
 
 /// Judges `prediction` against the measurements of the prompt's scene: a
@@ -95,6 +103,7 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
                 evidence: m.evidence().clone(),
                 slip: None,
                 misconception,
+                formula: None,
             }
         }
         Answer::Number {
@@ -138,7 +147,41 @@ pub fn verdict(prompt: &Prompt, m: &Measurements, prediction: Prediction) -> Ver
                 evidence: m.evidence().clone(),
                 slip,
                 misconception,
+                formula: None,
             }
         }
+        // A formula is graded by [`formula`], not by measurements: no
+        // prediction of a run is one.
+        Answer::Formula(_) => Verdict {
+            correct: false,
+            holding: Vec::new(),
+            right_choice: None,
+            readings: Vec::new(),
+            evidence: m.evidence().clone(),
+            slip: None,
+            misconception: None,
+            formula: None,
+        },
     }
+}
+
+/// The verdict on a formula prompt's typed prediction: right when it
+/// equals the key's `expected` over its domain (with the slip it makes
+/// when it does not), decided without a run. `None` when the prompt's
+/// answer is no formula.
+pub fn formula(prompt: &Prompt, typed: &str) -> Option<Verdict> {
+    let Answer::Formula(key) = &prompt.answer else {
+        return None;
+    };
+    let v = flipcard_sim::system::equiv::grade(key, typed);
+    Some(Verdict {
+        correct: v.is_right(),
+        holding: Vec::new(),
+        right_choice: None,
+        readings: Vec::new(),
+        evidence: Measurements::from_readings(Vec::new()).evidence().clone(),
+        slip: None,
+        misconception: None,
+        formula: Some(Box::new((typed.to_string(), v))),
+    })
 }

@@ -48,7 +48,9 @@ pub fn cram_items(deck: &Deck, tag: Option<&str>) -> Vec<ItemKey> {
                 items.push(key(Direction::Forward));
                 items.push(key(Direction::Backward));
             }
-            CardKind::Basic | CardKind::Typed => items.push(key(Direction::Forward)),
+            CardKind::Basic | CardKind::Typed | CardKind::Formula => {
+                items.push(key(Direction::Forward))
+            }
         }
     }
     items
@@ -879,6 +881,7 @@ mod deck_tests {
             explain: None,
             prompt: None,
             tags: tags.iter().map(|t| t.to_string()).collect(),
+            formula: None,
         }
     }
 

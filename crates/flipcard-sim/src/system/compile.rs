@@ -1011,6 +1011,23 @@ impl<'a> Builder<'a> {
     }
 }
 
+/// One formula's tree compiled over `vars` (each read from the state
+/// vector, in this order; the name `t` reads the time argument) into a
+/// program with one output, by the same builder as a scene's expressions
+/// (a formula answer, [`super::equiv`]).
+pub(crate) fn formula_program(node: &Node, vars: &[String]) -> Result<Program, CompileError> {
+    let scene = SystemScene::one_formula(
+        vars.to_vec(),
+        Vec::new(),
+        ("the formula".to_string(), String::new()),
+    );
+    let mut b = Builder::new(&scene);
+    b.source = Source::Observable(0);
+    let v = b.expr(node)?;
+    b.prog.outputs.push((v, Source::Observable(0)));
+    Ok(b.prog)
+}
+
 /// The parsed expressions of a scene, and which observables each
 /// observable uses.
 struct Parsed {

@@ -141,7 +141,7 @@ fn describe(t: &Tok) -> String {
     }
 }
 
-fn lex(text: &str) -> Result<Vec<(Tok, usize, usize)>, ExprError> {
+fn lex(text: &str, implicit: bool) -> Result<Vec<(Tok, usize, usize)>, ExprError> {
     let b = text.as_bytes();
     let mut out = Vec::new();
     let mut i = 0;
@@ -172,6 +172,8 @@ fn lex(text: &str) -> Result<Vec<(Tok, usize, usize)>, ExprError> {
                         j += 1;
                     }
                     i = j;
+                } else if implicit {
+                    // `2e` is 2 times e, `2exp(x)` 2 times exp(x).
                 } else {
                     return Err(ExprError::new(
                         start,
@@ -181,7 +183,7 @@ fn lex(text: &str) -> Result<Vec<(Tok, usize, usize)>, ExprError> {
                     .hint("an exponent needs digits, as in 1e-3"));
                 }
             }
-            if i < b.len() && (b[i].is_ascii_alphabetic() || b[i] == b'_') {
+            if !implicit && i < b.len() && (b[i].is_ascii_alphabetic() || b[i] == b'_') {
                 return Err(ExprError::new(
                     i,
                     1,
@@ -259,6 +261,9 @@ struct Parser<'a> {
     level: usize,
     /// Nodes built so far (bounded by [`MAX_NODES`]).
     nodes: usize,
+    /// Juxtaposition multiplies (`2x`, `a b`, `x(y + 1)`), as in a
+    /// formula answer ([`parse_formula`]).
+    implicit: bool,
 }
 
 /// A node with the depth of its tree (a leaf is 1).
@@ -325,6 +330,8 @@ impl Parser<'_> {
         loop {
             let next = match self.peek() {
                 Some(Tok::Op(c @ ('+' | '-' | '*' | '/'))) => Some(*c),
+                // Juxtaposition: a product, as tight as `*`.
+                Some(Tok::Num(_) | Tok::Name(_) | Tok::Open) if self.implicit => Some(' '),
                 _ => None,
             };
             // Apply what binds at least as tightly as the next operator
@@ -343,8 +350,10 @@ impl Parser<'_> {
             let Some(c) = next else {
                 break;
             };
-            ops.push((c, self.at()));
-            self.pos += 1;
+            ops.push((if c == ' ' { '*' } else { c }, self.at()));
+            if c != ' ' {
+                self.pos += 1;
+            }
             operands.push(self.operand()?);
         }
         Ok(operands.pop().unwrap_or((Node::Num(0.0), 1)))
@@ -451,7 +460,8 @@ impl Parser<'_> {
             }
             Tok::Name(name) => {
                 self.pos += 1;
-                if let Some(Tok::Open) = self.peek() {
+                let product = self.implicit && arity(&name).is_none();
+                if let Some(Tok::Open) = self.peek().filter(|_| !product) {
                     let Some(n) = arity(&name) else {
                         let hint = match misspelt_function(&name) {
                             Some(f) => format!("did you mean `{f}`? (or multiply with *)"),
@@ -522,7 +532,20 @@ fn too_deep(at: usize, len: usize) -> ExprError {
 /// Parses `text` (syntax and arity only; names are checked by
 /// [`check_names`]).
 pub fn parse(text: &str) -> Result<Node, ExprError> {
-    let toks = lex(text)?;
+    parse_with(text, false)
+}
+
+/// Parses a formula as a learner types it: [`parse`]'s grammar, where
+/// juxtaposition also multiplies, as tightly as `*` and left to right
+/// (`2x`, `(I_2 - I_3) omega_2 omega_3 / I_1`, `x(y + 1)`, `2 pi r`), so
+/// `1/2x` is (1/2)·x. A name before `(` is a call only when it is a
+/// function.
+pub fn parse_formula(text: &str) -> Result<Node, ExprError> {
+    parse_with(text, true)
+}
+
+fn parse_with(text: &str, implicit: bool) -> Result<Node, ExprError> {
+    let toks = lex(text, implicit)?;
     if toks.is_empty() {
         return Err(ExprError::new(0, 1, "the expression is empty"));
     }
@@ -532,6 +555,7 @@ pub fn parse(text: &str) -> Result<Node, ExprError> {
         end: text.len(),
         level: 0,
         nodes: 0,
+        implicit,
     };
     let (node, _) = p.expression().map_err(|e| *e)?;
     if p.pos < toks.len() {

@@ -32,25 +32,11 @@ pub fn evaluate(text: &str, names: &[(String, f64)]) -> Result<f64, ExprError> {
     // Names an author may not give a scene (`t` aside, which `check`
     // refused) are never in `names` from a deck; a name the compiler
     // cannot take is refused like an unknown one.
-    let scene = SystemScene {
-        id: String::new(),
-        title: None,
-        variables: Vec::new(),
-        initial: Vec::new(),
-        params: names.to_vec(),
-        equations: Vec::new(),
-        observables: vec![("value".to_string(), text.to_string())],
-        conserved: Vec::new(),
-        duration: 1.0,
-        show: Vec::new(),
-        plot: Vec::new(),
-        phase: None,
-        sketch: Vec::new(),
-        time_unit: String::new(),
-        atol: None,
-        hamiltonian: None,
-        labels: Vec::new(),
-    };
+    let scene = SystemScene::one_formula(
+        Vec::new(),
+        names.to_vec(),
+        ("value".to_string(), text.to_string()),
+    );
     let whole = |message: String| ExprError {
         at: 0,
         len: text.len().max(1),

@@ -3,6 +3,7 @@
 //! observables and Jacobian ([`compile`]), and short names for measures.
 
 pub mod compile;
+pub mod equiv;
 pub mod expr;
 pub mod formula;
 pub(crate) mod name;

@@ -162,4 +162,32 @@ impl SystemScene {
     pub fn shows(&self, panel: SystemPanel) -> bool {
         self.show.contains(&panel)
     }
+
+    /// A scene holding one formula and nothing to run: `variables` read from
+    /// the state, `params` fixed numbers, the formula its one observable.
+    pub(crate) fn one_formula(
+        variables: Vec<String>,
+        params: Vec<(String, f64)>,
+        observable: (String, String),
+    ) -> SystemScene {
+        SystemScene {
+            id: String::new(),
+            title: None,
+            variables,
+            initial: Vec::new(),
+            params,
+            equations: Vec::new(),
+            observables: vec![observable],
+            conserved: Vec::new(),
+            duration: 1.0,
+            show: Vec::new(),
+            plot: Vec::new(),
+            phase: None,
+            sketch: Vec::new(),
+            time_unit: String::new(),
+            atol: None,
+            hamiltonian: None,
+            labels: Vec::new(),
+        }
+    }
 }

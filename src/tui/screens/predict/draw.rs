@@ -94,6 +94,18 @@ fn draw_ask(
                 ]));
             }
         }
+        Answer::Formula(_) => {
+            answer.push(Line::from(vec![
+                Span::styled("> ", t.key()),
+                Span::styled(
+                    format!("{}▏", crate::text::safe::one_line(input)),
+                    t.strong(),
+                ),
+            ]));
+            if let Some(e) = error {
+                answer.push(Line::styled(e.to_string(), t.bad()));
+            }
+        }
         Answer::Number { unit, .. } => {
             answer.push(Line::from(vec![
                 Span::styled("> ", t.key()),

@@ -38,6 +38,14 @@ pub const CHOICE_KEYS: &[Binding] = &[
     BACK,
 ];
 
+/// The rows of a typed answer's field (a number's or a formula's).
+const DELETE: Binding = Binding::new(
+    "Backspace",
+    Words("delete a character", "ek akshar mitao"),
+    &[(Backspace, Action::Backspace)],
+);
+const ESC_BACK: Binding = Binding::new("Esc", Words("back", "wapas"), &[(Esc, Action::Back)]);
+
 /// Type a number (with an optional unit).
 pub const NUMBER_KEYS: &[Binding] = &[
     Binding::typing(Words(
@@ -49,12 +57,23 @@ pub const NUMBER_KEYS: &[Binding] = &[
         Words("commit and run", "pakka karo aur chalao"),
         &[(Enter, Action::Submit)],
     ),
+    DELETE,
+    ESC_BACK,
+];
+
+/// Type a formula (graded at the commitment, see `predict::formula`).
+pub const FORMULA_KEYS: &[Binding] = &[
+    Binding::typing(Words(
+        "a formula: (I2-I3)*w2*w3/I1, ^ for powers, 2x for 2*x",
+        "ek formula: (I2-I3)*w2*w3/I1, power ke liye ^, 2*x ke liye 2x",
+    )),
     Binding::new(
-        "Backspace",
-        Words("delete a character", "ek akshar mitao"),
-        &[(Backspace, Action::Backspace)],
+        "Enter",
+        Words("commit and check", "pakka karo aur jaancho"),
+        &[(Enter, Action::Submit)],
     ),
-    Binding::new("Esc", Words("back", "wapas"), &[(Esc, Action::Back)]),
+    DELETE,
+    ESC_BACK,
 ];
 
 const PAUSE: Binding = Binding::new(

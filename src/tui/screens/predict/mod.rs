@@ -22,7 +22,7 @@ mod parts;
 mod system;
 pub mod verdict;
 pub use draw::{draw, fmt_value};
-pub use keys::{CHOICE_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
+pub use keys::{CHOICE_KEYS, FORMULA_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
 
 pub use crate::predict::{Prediction, Verdict};
 use crate::sim::scene::measure::Measurements;
@@ -88,8 +88,11 @@ impl Measuring {
 pub struct PredictState {
     pub deck: usize,
     pub prompt: usize,
-    /// A choice prompt (else a number).
+    /// A choice prompt (else a number or a formula).
     pub choice: bool,
+    /// A formula prompt: the learner types a formula, graded at the
+    /// commitment by equivalence (`predict::formula`), not by the run.
+    pub formula: bool,
     pub phase: Phase,
     /// The learner asked for the solver's diagnostics (`d`); a run with
     /// another method than the reference shows them anyway, unless the
@@ -111,10 +114,16 @@ impl PredictState {
             .get(deck)
             .and_then(|d| d.prompts.get(prompt))
             .is_some_and(|p| matches!(p.answer, Answer::Choice { .. }));
+        let formula = app
+            .decks
+            .get(deck)
+            .and_then(|d| d.prompts.get(prompt))
+            .is_some_and(|p| matches!(p.answer, Answer::Formula(_)));
         PredictState {
             deck,
             prompt,
             choice,
+            formula,
             diagnostics: None,
             question_first: false,
             verdict_scroll: std::cell::Cell::new(0),
@@ -164,6 +173,7 @@ impl super::View for PredictState {
     fn context(&self) -> Context {
         match &self.phase {
             Phase::Ask { .. } if self.choice => Context::PredictChoice,
+            Phase::Ask { .. } if self.formula => Context::PredictFormula,
             Phase::Ask { .. } => Context::PredictNumber,
             Phase::Play { verdict: None, .. } => Context::PredictRun,
             Phase::Play { .. } => Context::PredictVerdict,
@@ -242,6 +252,41 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                     (a == Action::Submit && n > 0)
                         .then(|| Prediction::Choice((*selected).min(n - 1)))
                 }
+                (Answer::Formula(_), a) => match a {
+                    Action::Input(c) => {
+                        // A formula is short: the grader reads at most
+                        // `MAX_ANSWER` bytes, so typing stops there.
+                        if input.len() + c.len_utf8() <= crate::sim::system::equiv::MAX_ANSWER {
+                            input.push(c);
+                        }
+                        *error = None;
+                        return Nav::Stay;
+                    }
+                    Action::Backspace => {
+                        input.pop();
+                        *error = None;
+                        return Nav::Stay;
+                    }
+                    Action::Submit => {
+                        let Some(v) = crate::predict::formula(&prompt, input) else {
+                            return Nav::Stay;
+                        };
+                        // A formula that does not read is not committed:
+                        // the field stays, with where and why.
+                        if let Some(f) = &v.formula
+                            && let crate::sim::system::equiv::Verdict::Unreadable(e) = &f.1
+                        {
+                            *error = Some(format!(
+                                "{}: {}",
+                                app.tr(Msg::FormulaUnreadable),
+                                crate::text::safe::one_line(&e.to_string())
+                            ));
+                            return Nav::Stay;
+                        }
+                        return commit_formula(app, state, v);
+                    }
+                    _ => return Nav::Stay,
+                },
                 (Answer::Number { unit, .. }, a) => match a {
                     Action::Input(c) => {
                         input.push(c);
@@ -268,7 +313,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                 },
             };
             if let Some(p) = committed {
-                return commit(app, state, p);
+                return commit(app, state, p, None);
             }
             Nav::Stay
         }
@@ -438,7 +483,37 @@ fn record(
     verdict
 }
 
-/// The prediction as stored: a choice's id, or the number typed.
+/// A formula prompt's commitment: the typed formula is stored as the
+/// attempt's prediction and judged at once (its verdict is `v`, decided by
+/// equivalence, not by the run); the scene then plays as the evidence to
+/// look at. A scene that cannot run stores nothing, as for any prompt.
+fn commit_formula(app: &mut App, state: &mut PredictState, v: Verdict) -> Nav {
+    let nav = commit(
+        app,
+        state,
+        Prediction::Formula,
+        v.formula.as_ref().map(|f| f.0.clone()),
+    );
+    if let Phase::Play {
+        committed, verdict, ..
+    } = &mut state.phase
+    {
+        let judged = AttemptVerdict {
+            measured: None,
+            correct: v.correct,
+            judged_at: app.services.now(),
+            misconception: v.misconception.clone(),
+        };
+        if let Err(e) = app.services.study.judge_attempt(*committed, &judged) {
+            app.error(e.to_string());
+        }
+        *verdict = Some(v);
+    }
+    nav
+}
+
+/// The prediction as stored: a choice's id, or the number typed (a
+/// formula's text is given by the caller).
 fn given(prompt: &Prompt, prediction: Prediction) -> String {
     match (prediction, &prompt.answer) {
         (Prediction::Choice(i), Answer::Choice { choices, .. }) => {
@@ -457,12 +532,13 @@ fn keep_commitment(
     state: &PredictState,
     prompt: &Prompt,
     prediction: Prediction,
+    typed: Option<String>,
 ) -> Option<Committed> {
     let commitment = Commitment {
         deck: deck(app, state).map(|d| d.id.clone()).unwrap_or_default(),
         prompt: prompt.id.clone(),
         committed_at: app.services.now(),
-        prediction: given(prompt, prediction),
+        prediction: typed.unwrap_or_else(|| given(prompt, prediction)),
     };
     match app.services.study.commit_attempt(&commitment) {
         Ok(c) => Some(c),
@@ -475,7 +551,12 @@ fn keep_commitment(
 
 /// The commitment: the run is built first (a scene that cannot run stores
 /// nothing), then the commitment is kept, then the run starts.
-fn commit(app: &mut App, state: &mut PredictState, prediction: Prediction) -> Nav {
+fn commit(
+    app: &mut App,
+    state: &mut PredictState,
+    prediction: Prediction,
+    typed: Option<String>,
+) -> Nav {
     let Some(prompt) = prompt(app, state).cloned() else {
         return Nav::Pop;
     };
@@ -493,7 +574,7 @@ fn commit(app: &mut App, state: &mut PredictState, prediction: Prediction) -> Na
     };
     match run {
         Ok(run) => {
-            if let Some(committed) = keep_commitment(app, state, &prompt, prediction) {
+            if let Some(committed) = keep_commitment(app, state, &prompt, prediction, typed) {
                 state.phase = Phase::Play {
                     prediction,
                     committed,

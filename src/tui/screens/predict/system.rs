@@ -20,6 +20,7 @@ pub fn measures(prompt: &Prompt) -> Vec<Measure> {
     let mut out: Vec<Measure> = match &prompt.answer {
         Answer::Choice { choices, .. } => choices.iter().flat_map(|c| c.when.measures()).collect(),
         Answer::Number { measure, .. } => vec![*measure],
+        Answer::Formula(_) => Vec::new(),
     };
     out.sort();
     out.dedup();

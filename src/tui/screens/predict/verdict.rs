@@ -154,6 +154,7 @@ fn readings(lang: &str, unit: &str, v: &Verdict, prompt: &Prompt) -> String {
         .collect();
     if said.is_empty() {
         let measure = match answer {
+            Answer::Formula(_) => None,
             Answer::Number { measure, .. } => Some(*measure),
             Answer::Choice { choices, .. } => choices.first().map(|c| c.when.measure()),
         };
@@ -236,6 +237,35 @@ pub fn prediction_text(app: &App, prompt: &Prompt, p: Prediction) -> String {
     }
 }
 
+/// A formula prompt's verdict lines: the banner, the formula typed
+/// (escaped: it is the learner's text), the slip it makes, and the
+/// deck's formula. No measurement is said: none decided it.
+fn formula_lines(
+    app: &App,
+    (typed, v): (&str, &crate::sim::system::equiv::Verdict),
+    prompt: &Prompt,
+    labelled: &dyn Fn(&str, String, ratatui::style::Style) -> Vec<Line<'static>>,
+) -> Vec<Line<'static>> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let mut out = labelled(
+        app.tr(Msg::YourPrediction),
+        crate::text::safe::one_line(typed).into_owned(),
+        t.strong(),
+    );
+    if let Some(said) = crate::tui::i18n::formula_words::feedback(v, lang) {
+        out.extend(labelled(w::WRONG.get(lang), said, t.bad()));
+    }
+    if let Answer::Formula(key) = &prompt.answer {
+        out.extend(labelled(
+            w::DECK_ANSWER.get(lang),
+            crate::text::safe::one_line(&key.expected).into_owned(),
+            t.text(),
+        ));
+    }
+    out
+}
+
 /// The verdict's lines, wrapped to `width`: banner, prediction, evidence,
 /// then the right choice (when the prediction missed it) or, for a number,
 /// the formula's value beside the deck's answer and the author's working.
@@ -271,6 +301,11 @@ pub fn lines(
             Run::new("   ", t.dim()),
         )
     };
+    if let Some(f) = &v.formula {
+        let (typed, fv) = &**f;
+        out.extend(formula_lines(app, (typed, fv), prompt, &labelled));
+        return out;
+    }
     out.extend(labelled(
         app.tr(Msg::YourPrediction),
         prediction_text(app, prompt, prediction),
@@ -310,6 +345,7 @@ pub fn lines(
     }
     out.extend(misconception(app, prompt, v, width));
     match &prompt.answer {
+        Answer::Formula(_) => {}
         Answer::Choice { choices, .. } => {
             let right = v.right_choice.and_then(|i| choices.get(i));
             if let (false, Some(c)) = (v.correct, right) {

@@ -95,10 +95,13 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
     lines.push(Line::default());
     match &state.phase {
         Phase::Front { input } => {
-            if card.kind == CardKind::Typed {
+            if card.kind.is_typed() {
                 lines.push(Line::styled(app.tr(Msg::TypeAnswer), t.dim()));
                 lines.extend(wrap(
-                    &[Run::new(format!("{input}▏"), t.strong())],
+                    &[Run::new(
+                        format!("{}▏", crate::text::safe::one_line(input)),
+                        t.strong(),
+                    )],
                     width,
                     Run::new("> ", t.key()),
                     Run::new("  ", t.key()),
@@ -152,7 +155,10 @@ fn typed_lines(app: &App, ta: &super::TypedAnswer, width: usize) -> Vec<Line<'st
     let label_w = columns(typed_label).max(columns(expected_label));
     let pad = |label: &str| format!("{label}:{} ", " ".repeat(label_w - columns(label)));
     let mut out = wrap(
-        &[Run::new(ta.text.clone(), t.strong())],
+        &[Run::new(
+            crate::text::safe::one_line(&ta.text).into_owned(),
+            t.strong(),
+        )],
         width,
         Run::new(format!("{mark} {}", pad(typed_label)), style),
         Run::new(" ".repeat(label_w + 4), style),
@@ -164,6 +170,19 @@ fn typed_lines(app: &App, ta: &super::TypedAnswer, width: usize) -> Vec<Line<'st
             &[Run::new(n.clone(), t.good())],
             width,
             Run::new(format!("  {}", pad(expected_label)), t.dim()),
+            Run::new(" ".repeat(label_w + 4), t.dim()),
+        ));
+    }
+    // A formula's slip, named.
+    if let Some(said) = ta
+        .formula
+        .as_ref()
+        .and_then(|v| crate::tui::i18n::formula_words::feedback(v, lang))
+    {
+        out.extend(wrap(
+            &[Run::new(said, t.bad())],
+            width,
+            Run::new(" ".repeat(label_w + 4), t.dim()),
             Run::new(" ".repeat(label_w + 4), t.dim()),
         ));
     }
@@ -302,7 +321,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
 fn button_lines(app: &App, state: &ReviewState, kind: CardKind, width: u16) -> Vec<Line<'static>> {
     let t = &app.theme;
     let Phase::Back { typed, previews } = &state.phase else {
-        let (key, what) = if kind == CardKind::Typed {
+        let (key, what) = if kind.is_typed() {
             (" Enter ", study::CHECK.get(&app.lang))
         } else {
             (" Space ", app.tr(Msg::ShowAnswer))

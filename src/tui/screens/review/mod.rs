@@ -41,6 +41,9 @@ pub enum Source {
 pub struct TypedAnswer {
     pub text: String,
     pub check: TypedCheck,
+    /// A formula card's verdict by equivalence (`check` then says right
+    /// or wrong, and its `nearest` is the deck's formula).
+    pub formula: Option<crate::sim::system::equiv::Verdict>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -264,7 +267,7 @@ impl ReviewState {
                     .decks
                     .get(self.deck)
                     .and_then(|d| d.card(&key.card))
-                    .is_some_and(|c| c.kind == CardKind::Typed);
+                    .is_some_and(|c| c.kind.is_typed());
                 self.current = Some((key, app.services.stopwatch.stamp()));
                 self.phase = Phase::Front {
                     input: String::new(),
@@ -462,7 +465,11 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
             Some(TypedAnswer {
                 text: input.clone(),
                 check: typed::check(input, &card.accepted(&app.lang)),
+                formula: None,
             })
+        }
+        (Phase::Front { input }, Some((card, _))) if card.kind == CardKind::Formula => {
+            card.formula.as_ref().map(|key| formula_answer(key, input))
         }
         _ => None,
     };
@@ -475,6 +482,28 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
     });
     state.phase = Phase::Back { typed, previews };
     state.scroll = answer_scroll(app, state);
+}
+
+/// A formula card's answer graded by equivalence: right suggests Good,
+/// anything else Again (the learner may change it), with the deck's
+/// formula beside what was typed.
+fn formula_answer(key: &crate::deck::FormulaKey, input: &str) -> TypedAnswer {
+    let v = crate::sim::system::equiv::grade(key, input);
+    let right = v.is_right();
+    TypedAnswer {
+        text: input.to_string(),
+        check: TypedCheck {
+            verdict: if right {
+                typed::Verdict::Exact
+            } else {
+                typed::Verdict::Wrong
+            },
+            suggested: if right { Rating::Good } else { Rating::Again },
+            nearest: Some(key.expected.clone()),
+            distance: 0,
+        },
+        formula: Some(v),
+    }
 }
 
 /// Where a card taller than the screen stands when its answer appears: at

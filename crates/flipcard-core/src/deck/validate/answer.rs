@@ -39,6 +39,7 @@ pub fn answer(
     scope: Option<Scope>,
 ) -> Option<Answer> {
     match raw {
+        RawAnswer::Formula(f) => super::formula::key(rep, f, owner).map(Answer::Formula),
         RawAnswer::Choice {
             span: _,
             expected,
@@ -173,6 +174,7 @@ pub fn measured(
     let (label, unit) = match raw {
         RawAnswer::Choice { label, unit, .. } => (label.as_ref(), unit.as_ref()),
         RawAnswer::Number { label, .. } => (label.as_ref(), None),
+        RawAnswer::Formula(_) => return Some(None),
     };
     let Some(label) = label else {
         if let Some(u) = unit {
@@ -186,6 +188,7 @@ pub fn measured(
         return Some(None);
     };
     let (measure, unit) = match answer {
+        Answer::Formula(_) => return Some(None),
         Answer::Number { measure, unit, .. } => (*measure, unit.clone()),
         Answer::Choice { choices, .. } => {
             let mut measures: Vec<Measure> =

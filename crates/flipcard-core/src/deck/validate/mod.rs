@@ -5,6 +5,7 @@
 pub mod answer;
 pub mod cloze;
 pub mod content;
+pub mod formula;
 pub mod misconception;
 pub mod prose;
 pub mod scene;
@@ -741,6 +742,22 @@ fn card(
         None => Some(Text::default()),
     };
     let accept = accept(rep, raw, kind, &what, langs);
+    let key = match (&raw.formula, kind) {
+        (Some(f), Some(CardKind::Formula)) => formula::key(rep, f, &what).map(Some),
+        (Some(f), _) => {
+            let span = f
+                .expected
+                .as_ref()
+                .map_or(f.span.clone(), |e| e.span.clone());
+            rep.error(
+                span,
+                format!("`expected` and `vars` belong to formula cards; {what} is not one"),
+                Some("did you mean kind = \"formula\"?".to_string()),
+            );
+            None
+        }
+        (None, _) => Some(None),
+    };
     let explain = explain_link(rep, &raw.explain, sections);
     let prompt = optional_link(rep, &raw.prompt, Some(prompt_ids), "prompt", "prompt");
     let tags = tags(rep, &raw.tags);
@@ -754,6 +771,7 @@ fn card(
         explain: explain?,
         prompt: prompt?,
         tags: tags?,
+        formula: key?,
     })
 }
 
