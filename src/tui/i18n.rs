@@ -848,6 +848,9 @@ pub mod sim_words {
     );
     pub const FORMULA: Words = Words("formula", "formula");
     pub const DECK_ANSWER: Words = Words("the deck's answer", "deck ka jawaab");
+    /// Before what a wrong formula gets wrong (the banner already says it
+    /// is wrong).
+    pub const WHERE_WRONG: Words = Words("where it goes wrong", "galti kahan hai");
     pub const WORKED: Words = Words("worked out", "hisaab");
     /// Before a known slip the learner's number matches: "your number is
     /// 1/k = 0.03 s: …".

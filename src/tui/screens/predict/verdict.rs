@@ -254,7 +254,7 @@ fn formula_lines(
         t.strong(),
     );
     if let Some(said) = crate::tui::i18n::formula_words::feedback(v, lang) {
-        out.extend(labelled(w::WRONG.get(lang), said, t.bad()));
+        out.extend(labelled(w::WHERE_WRONG.get(lang), said, t.bad()));
     }
     if let Answer::Formula(key) = &prompt.answer {
         out.extend(labelled(
