@@ -6,13 +6,12 @@
 
 use crossterm::event::KeyCode;
 
-use super::predict::{bundled_prompt_in, flat, play_to_the_end, predict};
+use super::predict::{bundled_prompt_in, flat, play_to_the_end, verdict_of};
 use super::predict_attempts::on_disk;
 use super::{press, press_all, type_text};
 use crate::tui::i18n::{ENGLISH, HINGLISH};
 use crate::tui::keymap::Context;
 use crate::tui::screens::Screen;
-use crate::tui::screens::predict::Phase;
 use crate::tui::testkit::{TestApp, render};
 
 /// The rows of the screen, each as drawn.
@@ -76,12 +75,7 @@ fn a_misconception_choice_shows_the_steel_man_and_the_fix_at_every_size() {
             let mut app = bundled_prompt_in("torque-free-rotation", lang, "middle-axis", size);
             press_all(&mut app, &[KeyCode::Char('1'), KeyCode::Enter]);
             play_to_the_end(&mut app);
-            let Phase::Play {
-                verdict: Some(v), ..
-            } = &predict(&app).phase
-            else {
-                panic!("no verdict");
-            };
+            let v = verdict_of(&app);
             assert!(!v.correct);
             assert_eq!(v.misconception.as_deref(), Some("omega-constant"));
             let m = app.decks[0]

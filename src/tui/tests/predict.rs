@@ -24,6 +24,16 @@ fn open(lang: &str, n: usize) -> TestApp {
     app
 }
 
+/// The verdict on the screen's run (the run must have ended).
+pub(super) fn verdict_of(app: &TestApp) -> &crate::predict::Verdict {
+    match &predict(app).phase {
+        Phase::Play {
+            verdict: Some(v), ..
+        } => v,
+        _ => panic!("no verdict"),
+    }
+}
+
 pub(super) fn predict(app: &TestApp) -> &PredictState {
     match app.screen() {
         Screen::Predict(p) => p,
@@ -286,12 +296,7 @@ fn predict_run_verdict_right_and_logged() {
         apply_tick(&mut app, 100);
     }
     assert_eq!(app.context(), Context::PredictVerdict);
-    let Phase::Play {
-        verdict: Some(v), ..
-    } = &predict(&app).phase
-    else {
-        panic!("no verdict at the end of the run");
-    };
+    let v = verdict_of(&app);
     assert!(v.correct, "{v:?}");
     assert_eq!(v.right_choice, Some(1), "the racket flips");
     let flips = v
@@ -340,12 +345,7 @@ fn a_wrong_prediction_is_wrong_and_shows_the_right_one() {
     }
     // The exact run that decides measures off the UI thread.
     settle_verdict(&mut app);
-    let Phase::Play {
-        verdict: Some(v), ..
-    } = &predict(&app).phase
-    else {
-        panic!("no verdict");
-    };
+    let v = verdict_of(&app);
     assert!(!v.correct);
     let text = render(&app);
     assert!(text.contains("✗ Wrong ✗"), "{text}");
@@ -373,12 +373,7 @@ fn a_number_prediction_is_checked_against_the_measured_rate() {
     for _ in 0..7 {
         apply_tick(&mut app, 100);
     }
-    let Phase::Play {
-        verdict: Some(v), ..
-    } = &predict(&app).phase
-    else {
-        panic!("no verdict");
-    };
+    let v = verdict_of(&app);
     let rate = v.readings.first().map(|r| r.value).unwrap_or(f64::NAN);
     assert!((rate - 5.77).abs() < 0.1, "measured growth rate {rate}");
     assert!(v.correct, "{v:?}");
@@ -816,12 +811,7 @@ fn a_wrong_number_that_is_a_known_slip_is_told_what_it_is() {
         type_text(&mut app, "0.03");
         press(&mut app, KeyCode::Enter);
         play_to_the_end(&mut app);
-        let Phase::Play {
-            verdict: Some(v), ..
-        } = &predict(&app).phase
-        else {
-            panic!("no verdict");
-        };
+        let v = verdict_of(&app);
         assert!(!v.correct, "{v:?}");
         let (i, value) = v.slip.expect("0.03 s is the slip 1/k");
         let prompt = app.decks[0].prompt("efold-time").unwrap();
@@ -855,12 +845,7 @@ fn a_wrong_number_that_is_a_known_slip_is_told_what_it_is() {
     type_text(&mut app, "0.5");
     press(&mut app, KeyCode::Enter);
     play_to_the_end(&mut app);
-    let Phase::Play {
-        verdict: Some(v), ..
-    } = &predict(&app).phase
-    else {
-        panic!("no verdict");
-    };
+    let v = verdict_of(&app);
     assert!(!v.correct && v.slip.is_none(), "{v:?}");
     assert!(!flat(&render(&app)).contains("your number is"));
 }
