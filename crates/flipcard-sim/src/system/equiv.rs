@@ -378,7 +378,15 @@ pub fn grade(key: &Key, answer: &str) -> Verdict {
     }
     let given = match read(answer, &space.canon) {
         Ok(r) => r,
-        Err(e) => return Verdict::Unreadable(e),
+        // Where, in characters of what was typed (it may hold ω or I₂),
+        // as the error's "at character" says.
+        Err(mut e) => {
+            let chars = |bytes: usize| answer.get(..bytes).map_or(bytes, |s| s.chars().count());
+            let end = chars(e.at + e.len);
+            e.at = chars(e.at);
+            e.len = end.saturating_sub(e.at).max(1);
+            return Verdict::Unreadable(e);
+        }
     };
     if !given.unknown.is_empty() {
         let names = given.unknown.into_iter().map(|(n, _, _)| n).collect();

@@ -141,6 +141,51 @@ fn describe(t: &Tok) -> String {
     }
 }
 
+/// The name a learner means by a Greek letter typed as itself (`ω` for
+/// `omega`, `Ω` for `Omega`, `π` for `pi`): formulas typed as answers only.
+fn greek_name(c: char) -> Option<&'static str> {
+    const GREEK: &[(char, &str)] = &[
+        ('α', "alpha"),
+        ('β', "beta"),
+        ('γ', "gamma"),
+        ('δ', "delta"),
+        ('ε', "epsilon"),
+        ('ζ', "zeta"),
+        ('η', "eta"),
+        ('θ', "theta"),
+        ('κ', "kappa"),
+        ('λ', "lambda"),
+        ('μ', "mu"),
+        ('ν', "nu"),
+        ('ξ', "xi"),
+        ('π', "pi"),
+        ('ρ', "rho"),
+        ('σ', "sigma"),
+        ('τ', "tau"),
+        ('φ', "phi"),
+        ('χ', "chi"),
+        ('ψ', "psi"),
+        ('ω', "omega"),
+        ('Γ', "Gamma"),
+        ('Δ', "Delta"),
+        ('Θ', "Theta"),
+        ('Λ', "Lambda"),
+        ('Ξ', "Xi"),
+        ('Π', "Pi"),
+        ('Σ', "Sigma"),
+        ('Φ', "Phi"),
+        ('Ψ', "Psi"),
+        ('Ω', "Omega"),
+    ];
+    GREEK.iter().find(|(g, _)| *g == c).map(|(_, n)| *n)
+}
+
+/// The digit a subscript digit (₀ … ₉) stands for.
+fn subscript_digit(c: char) -> Option<char> {
+    let k = (c as u32).checked_sub('₀' as u32)?;
+    (k < 10).then(|| char::from_digit(k, 10)).flatten()
+}
+
 fn lex(text: &str, implicit: bool) -> Result<Vec<(Tok, usize, usize)>, ExprError> {
     let b = text.as_bytes();
     let mut out = Vec::new();
@@ -208,12 +253,47 @@ fn lex(text: &str, implicit: bool) -> Result<Vec<(Tok, usize, usize)>, ExprError
             out.push((Tok::Num(value), start, i - start));
             continue;
         }
-        if c.is_ascii_alphabetic() || c == b'_' {
-            while i < b.len() && (b[i].is_ascii_alphanumeric() || b[i] == b'_') {
-                i += 1;
+        let greek = match implicit {
+            true => text[i..].chars().next().and_then(greek_name),
+            false => None,
+        };
+        if c.is_ascii_alphabetic() || c == b'_' || greek.is_some() {
+            let mut name = String::new();
+            if let Some(g) = greek {
+                name.push_str(g);
+                i += text[i..].chars().next().map_or(1, char::len_utf8);
             }
-            out.push((Tok::Name(text[start..i].to_string()), start, i - start));
+            loop {
+                if i < b.len() && (b[i].is_ascii_alphanumeric() || b[i] == b'_') {
+                    name.push(b[i] as char);
+                    i += 1;
+                    continue;
+                }
+                // A typed answer may write I₂ for I2.
+                match text[i..].chars().next().and_then(subscript_digit) {
+                    Some(d) if implicit => {
+                        name.push(d);
+                        i += '₀'.len_utf8();
+                    }
+                    _ => break,
+                }
+            }
+            out.push((Tok::Name(name), start, i - start));
             continue;
+        }
+        // A typed answer may use the signs a keyboard with math symbols
+        // gives: × and · multiply, − subtracts.
+        if implicit && let Some(ch) = text[i..].chars().next() {
+            let op = match ch {
+                '×' | '·' => Some('*'),
+                '−' => Some('-'),
+                _ => None,
+            };
+            if let Some(op) = op {
+                out.push((Tok::Op(op), start, ch.len_utf8()));
+                i += ch.len_utf8();
+                continue;
+            }
         }
         let tok = match c {
             b'+' | b'-' | b'*' | b'/' | b'^' => Tok::Op(c as char),

@@ -34,9 +34,27 @@ fn every_spelling_of_the_right_formula_is_right() {
         "-(I3-I2)*omega2*omega3*I1^-1",
         "(I2 w2 w3 - I3 w2 w3)/I1",
         "2(I2-I3)w2 w3/(2I1)",
+        // As a keyboard with math symbols types it: Greek letters,
+        // subscript digits, × · and the Unicode minus.
+        "(I₂ − I₃)·ω₂×ω₃/I₁",
+        "(I_2 − I_3) ω_2 ω_3 / I_1",
     ] {
         assert_eq!(grade(&key, answer), Verdict::Right, "{answer}");
     }
+    // A slip typed in Greek is named in the key's names.
+    assert_eq!(
+        grade(&key, "(I₂ − I₃)ω₂/I₁"),
+        Verdict::Wrong(Some(Slip::Missing(vec!["omega3".to_string()])))
+    );
+    // Where a typed answer fails to read is counted in characters, Greek
+    // or not: `?` is the 10th.
+    let Verdict::Unreadable(e) = grade(&key, "(I₂ − I₃)?ω₂ω₃") else {
+        panic!()
+    };
+    assert_eq!((e.at, e.len), (9, 1), "{e:?}");
+    assert!(e.to_string().contains("at character 10"), "{e}");
+    // A deck's equations stay ASCII: the Greek letter is refused there.
+    assert!(crate::system::expr::parse("ω + 1").is_err());
 }
 
 #[test]
