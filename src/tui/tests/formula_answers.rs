@@ -213,6 +213,9 @@ fn a_formula_prompt_stores_the_text_and_judges_it_at_the_commitment() {
     assert_eq!(rows[0].verdict.as_ref().map(|v| v.correct), Some(false));
     let screen = render(&app);
     assert!(screen.contains("upside down"), "{screen}");
+    // The deck's answer as the reader shows math, not as the key is typed.
+    assert!(screen.contains("(I₂ − I₃)ω₂ω₃/I₁"), "{screen}");
+    assert!(!screen.contains("omega_2"), "{screen}");
     // A right one, in Hinglish.
     let mut app = open_prompt(HINGLISH);
     type_text(&mut app, "(I_2-I_3) omega2 omega3/I_1");

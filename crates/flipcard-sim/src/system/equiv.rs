@@ -474,3 +474,129 @@ pub fn equivalent(a: &str, b: &str, vars: &[Domain]) -> Option<bool> {
 
 #[cfg(test)]
 mod tests;
+
+/// A formula written in the deck's expression language, as LaTeX for the
+/// math renderer (`(I_3 - I_2)(I_2 - I_1) Omega^2 / (I_1 I_3)` →
+/// `\left(I_{3} - I_{2}\right)…`), so a verdict shows the deck's answer as
+/// the reader shows math: Greek names as letters, trailing digits as
+/// subscripts, powers raised. `None` when it does not read.
+pub fn latex(formula: &str) -> Option<String> {
+    let node = expr::parse_formula(formula).ok()?;
+    let mut out = String::new();
+    tex(&node, &mut out);
+    Some(out)
+}
+
+/// Binding strength of a node, for parentheses: sums 1, products 2,
+/// unary minus 3, powers 4, atoms 5.
+fn strength(n: &Node) -> u8 {
+    match n {
+        Node::Bin('+' | '-', ..) => 1,
+        Node::Bin('*' | '/', ..) => 2,
+        Node::Neg(_) => 3,
+        Node::Bin(..) => 4,
+        Node::Num(v) if *v < 0.0 => 3,
+        _ => 5,
+    }
+}
+
+fn tex_in(n: &Node, at_least: u8, out: &mut String) {
+    if strength(n) < at_least {
+        out.push('(');
+        tex(n, out);
+        out.push(')');
+    } else {
+        tex(n, out);
+    }
+}
+
+fn tex(n: &Node, out: &mut String) {
+    match n {
+        Node::Num(v) => out.push_str(&flipcard_text::num::show(*v)),
+        Node::Name(name, _) => out.push_str(&tex_name(name)),
+        Node::Neg(a) => {
+            out.push('-');
+            tex_in(a, 3, out);
+        }
+        Node::Bin('+', a, b) => {
+            tex(a, out);
+            out.push_str(" + ");
+            tex_in(b, 1, out);
+        }
+        Node::Bin('-', a, b) => {
+            tex(a, out);
+            out.push_str(" - ");
+            tex_in(b, 2, out);
+        }
+        Node::Bin('*', a, b) => {
+            tex_in(a, 2, out);
+            // Side by side, as written by hand, unless two numbers meet.
+            let numbers = matches!(**b, Node::Num(_))
+                || matches!(**a, Node::Num(_)) && matches!(**b, Node::Neg(_));
+            out.push_str(if numbers { " \\cdot " } else { " " });
+            tex_in(b, 3, out);
+        }
+        Node::Bin('/', a, b) => {
+            tex_in(a, 2, out);
+            out.push_str(" / ");
+            tex_in(b, 3, out);
+        }
+        Node::Bin(_, a, b) => {
+            tex_in(a, 5, out);
+            out.push_str("^{");
+            tex(b, out);
+            out.push('}');
+        }
+        Node::Call(f, args) if f == "sqrt" && args.len() == 1 => {
+            out.push_str("\\sqrt{");
+            tex(&args[0], out);
+            out.push('}');
+        }
+        Node::Call(f, args) => {
+            match f.as_str() {
+                "sin" | "cos" | "tan" | "exp" | "ln" | "sinh" | "cosh" | "tanh" => {
+                    out.push('\\');
+                    out.push_str(f);
+                }
+                _ => {
+                    out.push_str("\\mathrm{");
+                    out.push_str(f);
+                    out.push('}');
+                }
+            }
+            out.push('(');
+            for (k, a) in args.iter().enumerate() {
+                if k > 0 {
+                    out.push_str(", ");
+                }
+                tex(a, out);
+            }
+            out.push(')');
+        }
+    }
+}
+
+/// `omega_2` and `omega2` as `\omega_{2}`, `I_2` as `I_{2}`, `Omega` as
+/// `\Omega`, `pi` as `\pi`; any other name as written.
+fn tex_name(name: &str) -> String {
+    const GREEK: &[&str] = &[
+        "alpha", "beta", "gamma", "delta", "epsilon", "zeta", "eta", "theta", "kappa", "lambda",
+        "mu", "nu", "xi", "pi", "rho", "sigma", "tau", "phi", "chi", "psi", "omega", "Gamma",
+        "Delta", "Theta", "Lambda", "Xi", "Pi", "Sigma", "Phi", "Psi", "Omega",
+    ];
+    let (stem, digits) = match name.trim_end_matches(|c: char| c.is_ascii_digit()) {
+        s if s.len() < name.len() && !s.is_empty() => (s.trim_end_matches('_'), &name[s.len()..]),
+        _ => match name.split_once('_') {
+            Some((s, sub)) if !s.is_empty() && !sub.is_empty() && !sub.contains('_') => (s, sub),
+            _ => (name, ""),
+        },
+    };
+    let stem = match GREEK.contains(&stem) {
+        true => format!("\\{stem}"),
+        false => stem.to_string(),
+    };
+    match digits {
+        "" => stem,
+        d => format!("{stem}_{{{d}}}"),
+    }
+}

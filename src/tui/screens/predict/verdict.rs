@@ -259,7 +259,11 @@ fn formula_lines(
     if let Answer::Formula(key) = &prompt.answer {
         out.extend(labelled(
             w::DECK_ANSWER.get(lang),
-            crate::text::safe::one_line(&key.expected).into_owned(),
+            // As the reader shows math; as written if it does not read.
+            match crate::sim::system::equiv::latex(&key.expected) {
+                Some(tex) => crate::text::render(&format!("${tex}$")),
+                None => crate::text::safe::one_line(&key.expected).into_owned(),
+            },
             t.text(),
         ));
     }

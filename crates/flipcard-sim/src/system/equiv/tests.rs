@@ -231,3 +231,25 @@ proptest! {
         prop_assert_eq!(equivalent(&a, &c, &vars), Some(true));
     }
 }
+
+/// The deck's answer as the reader shows math: Greek names as letters,
+/// trailing digits as subscripts, powers raised, parentheses only where
+/// the order needs them.
+#[test]
+fn a_formula_is_shown_as_math() {
+    let shown = |f: &str| flipcard_text::render(&format!("${}$", latex(f).unwrap()));
+    for (f, want) in [
+        (
+            "(I_3 - I_2)(I_2 - I_1) Omega^2 / (I_1 I_3)",
+            "(I₃ − I₂)(I₂ − I₁)Ω²/(I₁I₃)",
+        ),
+        ("(I2-I3)*w2*w3/I1", "(I₂ − I₃)w₂w₃/I₁"),
+        ("-(a - b)^2 + 2*3 + sqrt(x)", "−(a − b)² + 2 ⋅ 3 + √x"),
+        ("a - (b - c)", "a − (b − c)"),
+        ("a / (b c)", "a/(bc)"),
+        ("omega_2 t + sin(theta)", "ω₂t + sin(θ)"),
+    ] {
+        assert_eq!(shown(f), want, "{f}");
+    }
+    assert!(latex("(a").is_none());
+}
