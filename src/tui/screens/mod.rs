@@ -120,6 +120,7 @@ pub fn keys(ctx: Context) -> &'static [Binding] {
         Context::PredictNumber => predict::NUMBER_KEYS,
         Context::PredictRun => predict::RUN_KEYS,
         Context::PredictVerdict => predict::VERDICT_KEYS,
+        Context::PredictExplore => predict::EXPLORE_KEYS,
         Context::Stats => stats::KEYS,
         Context::ExamDate => exam::DATE_KEYS,
         Context::Browser => browser::KEYS,

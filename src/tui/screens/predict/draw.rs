@@ -62,6 +62,13 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
                 }
             }
         }
+        Phase::Explore { run, explore } => super::explore::draw(
+            frame,
+            area,
+            app,
+            (run, explore),
+            state.shows_diagnostics(),
+        ),
     }
 }
 
@@ -195,6 +202,33 @@ fn draw_play(
             ..
         }
     );
+    rigid_panels(frame, panels, app, run, (growth, verdict.is_some()));
+
+    let flips = Some(run.flip_times().len());
+    frame.render_widget(status_line(app, live, flips, status.width), status);
+    frame.render_widget(diagnostics(app, diag_lines), diag_area);
+
+    frame.render_widget(
+        hints_line(app, prompt, (verdict.is_some(), question_cut), hints.width),
+        hints,
+    );
+    if verdict.is_some() {
+        let shown = super::parts::verdict_window(app, verdict_lines, scroll, verdict_area);
+        frame.render_widget(Paragraph::new(shown), verdict_area);
+    }
+}
+
+/// A rigid body's panels in `panels`: the scene's, with |ω⊥| on a log
+/// scale for a growth prompt (`growth`); a small area beside other text
+/// (`crowded`: the verdict) keeps ω only.
+pub(super) fn rigid_panels(
+    frame: &mut Frame,
+    panels: Rect,
+    app: &App,
+    run: &SceneRun,
+    (growth, crowded): (bool, bool),
+) {
+    let t = &app.theme;
     let mut panes: Vec<Pane> = run.scene().show.iter().map(|p| Pane::Scene(*p)).collect();
     if growth {
         let at = panes
@@ -203,7 +237,7 @@ fn draw_play(
             .map_or(0, |i| i + 1);
         panes.insert(at, Pane::Growth);
     }
-    if verdict.is_some() && panels.height < 12 {
+    if crowded && panels.height < 12 {
         panes.retain(|p| matches!(p, Pane::Scene(Panel::Omega) | Pane::Growth));
     }
     for (pane, rect) in pane_areas(panels, &panes) {
@@ -218,19 +252,6 @@ fn draw_play(
             Pane::Scene(Panel::Diagnostics) => {}
             Pane::Growth => crate::tui::logplot::growth(frame, rect, run, &app.lang, t),
         }
-    }
-
-    let flips = Some(run.flip_times().len());
-    frame.render_widget(status_line(app, live, flips, status.width), status);
-    frame.render_widget(diagnostics(app, diag_lines), diag_area);
-
-    frame.render_widget(
-        hints_line(app, prompt, (verdict.is_some(), question_cut), hints.width),
-        hints,
-    );
-    if verdict.is_some() {
-        let shown = super::parts::verdict_window(app, verdict_lines, scroll, verdict_area);
-        frame.render_widget(Paragraph::new(shown), verdict_area);
     }
 }
 
