@@ -90,6 +90,7 @@ fn every_context_has_help_for_every_bound_key() {
         PredictNumber,
         PredictRun,
         PredictVerdict,
+        PredictExplore,
         Stats,
     ] {
         let binds = crate::tui::screens::bindings(ctx);

@@ -214,6 +214,41 @@ mod tests {
         assert_eq!(k.middle(), 90.0);
     }
 
+    // Longer: PROPTEST_CASES=100000 cargo test --lib knob::
+    proptest::proptest! {
+        #[test]
+        fn stepping_stays_on_the_grid_within_the_range(
+            min in -1e3f64..1e3,
+            span in 1e-3f64..1e3,
+            steps in 1u32..400,
+            start in 0f64..=1.0,
+            presses in proptest::collection::vec(proptest::bool::ANY, 1..60),
+        ) {
+            let max = min + span;
+            let step = span / f64::from(steps) * 1.37;
+            let k = knob(min, max, step);
+            // From any value in the range (the scene's own may be off the grid).
+            let mut v = min + start * span;
+            for up in presses {
+                let next = k.stepped(v, up);
+                proptest::prop_assert!((min..=max).contains(&next), "{next} outside [{min}, {max}]");
+                let at = (next - min) / step;
+                let on_grid = (at - at.round()).abs() <= 1e-9 * at.abs().max(1.0);
+                proptest::prop_assert!(
+                    on_grid || next == min || next == max,
+                    "{next} is neither min + k·{step} nor an end"
+                );
+                // It moves the way pressed, unless at that end.
+                if up {
+                    proptest::prop_assert!(next > v || next == max, "{v} → {next} up");
+                } else {
+                    proptest::prop_assert!(next < v || next == min, "{v} → {next} down");
+                }
+                v = next;
+            }
+        }
+    }
+
     #[test]
     fn names_read_back() {
         assert_eq!(Target::rigid("inertia[1]"), Some(Target::Inertia(1)));
