@@ -90,7 +90,7 @@ impl Knob {
     pub fn stepped(&self, value: f64, up: bool) -> f64 {
         let (min, max, step) = (self.min, self.max, self.step);
         if !(min.is_finite() && max.is_finite() && step.is_finite() && step > 0.0 && min < max) {
-            return value.clamp(min.min(max), max.max(min));
+            return value;
         }
         let value = if value.is_finite() {
             value.clamp(min, max)

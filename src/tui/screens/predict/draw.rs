@@ -154,7 +154,6 @@ fn draw_play(
     (show_diagnostics, question_first): (bool, bool),
 ) {
     let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
-    let t = &app.theme;
     let width = area.width as usize;
     let diag_lines = match run.diagnostics() {
         Some(d) if show_diagnostics && run.scene().shows(Panel::Diagnostics) => {

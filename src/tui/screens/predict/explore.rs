@@ -12,7 +12,6 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
-use ratatui::style::Style;
 use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Line as Segment, Points};
 use ratatui::widgets::{Block, Borders, Paragraph};
@@ -528,7 +527,7 @@ fn draw_curve(frame: &mut Frame, area: Rect, app: &App, e: &Exploring) {
     frame.render_widget(
         Paragraph::new(Line::styled(
             crate::tui::wrap::ellipsize(&ends, usize::from(axis.width)),
-            Style::from(t.dim()),
+            t.dim(),
         )),
         axis,
     );

@@ -447,12 +447,13 @@ fn explore_apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav
         Action::Restart => restart = true,
         _ => {}
     }
-    let next = restart.then(|| explore.run(deck, run.speed));
-    if let Some(Ok(next)) = next {
-        **run = next;
-    } else if let Some(Err(e)) = next {
-        app.error(e);
-        return Nav::Stay;
+    match restart.then(|| explore.run(deck, run.speed)) {
+        Some(Ok(next)) => **run = next,
+        Some(Err(e)) => {
+            app.error(e);
+            return Nav::Stay;
+        }
+        None => {}
     }
     if let Some(deck) = app.decks.get(deck_index) {
         explore.poll(deck);

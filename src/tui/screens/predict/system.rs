@@ -71,7 +71,6 @@ pub fn draw(
     (show_diagnostics, question_first): (bool, bool),
 ) {
     let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
-    let t = &app.theme;
     let diag_lines = if show_diagnostics && run.scene().shows(SystemPanel::Diagnostics) {
         let line = system_plots::diagnostics_line(run, &app.lang);
         super::parts::fold_parts(line.trim_start(), area.width as usize)
