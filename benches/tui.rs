@@ -94,10 +94,9 @@ fn knob_change(c: &mut Criterion) {
         .iter()
         .position(|p| p.scene == "pendulum-30")
         .unwrap_or_else(|| panic!("no prompt on pendulum-30"));
-    app.stack
-        .push(flipcard::tui::screens::Screen::Prompts(
-            flipcard::tui::screens::prompts::PromptsState { deck, selected },
-        ));
+    app.stack.push(flipcard::tui::screens::Screen::Prompts(
+        flipcard::tui::screens::prompts::PromptsState { deck, selected },
+    ));
     apply(&mut app, Action::Explore);
     assert_eq!(
         app.context(),

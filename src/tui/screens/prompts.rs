@@ -80,8 +80,11 @@ pub fn apply(app: &mut App, state: &mut PromptsState, action: Action) -> Nav {
             return Nav::Push(super::Screen::Predict(Box::new(p)));
         }
         Action::Explore if n > 0 => {
-            match super::predict::PredictState::exploring(app, state.deck, state.selected.min(n - 1))
-            {
+            match super::predict::PredictState::exploring(
+                app,
+                state.deck,
+                state.selected.min(n - 1),
+            ) {
                 Ok(p) => return Nav::Push(super::Screen::Predict(Box::new(p))),
                 Err(e) => app.info(e),
             }

@@ -35,7 +35,8 @@ fn prompt_list(lang: &str, deck_id: &str, scene: &str) -> TestApp {
         .iter()
         .position(|p| p.scene == scene)
         .unwrap_or_else(|| panic!("no prompt on {scene}"));
-    app.stack.push(Screen::Prompts(PromptsState { deck, selected }));
+    app.stack
+        .push(Screen::Prompts(PromptsState { deck, selected }));
     app.size = (100, 30);
     app
 }
@@ -93,7 +94,11 @@ fn x_explores_and_a_knob_restarts_the_run_at_its_new_value() {
     let (run, e) = exploring(&app);
     assert_eq!(run.t(), 0.0, "a turned knob restarts the run");
     assert_eq!(e.values, vec![35.0]);
-    assert!((theta0(&app) - 35.0 * DEG).abs() < 1e-12, "{}", theta0(&app));
+    assert!(
+        (theta0(&app) - 35.0 * DEG).abs() < 1e-12,
+        "{}",
+        theta0(&app)
+    );
     assert!(render(&app).contains("‹ release angle θ₀ (deg) 35 ›"));
     until_points(&mut app, 2);
     // h and l turn it too (l is not the language here).
@@ -156,13 +161,20 @@ fn tab_selects_the_next_knob_of_a_rigid_body() {
     press(&mut app, KeyCode::Right);
     let (inertia, omega) = rigid(&app);
     assert_eq!(omega[1], 11.0);
-    assert!((inertia[1] - 2.1).abs() < 1e-12, "the first knob keeps its value");
+    assert!(
+        (inertia[1] - 2.1).abs() < 1e-12,
+        "the first knob keeps its value"
+    );
     let screen = render(&app);
     assert!(screen.contains("‹ spin ω₂ (rad/s) 11 ›"), "{screen}");
     assert!(screen.contains("middle moment I₂ (kg·m²) 2.1"), "{screen}");
     // The flip time at this spin: a point, plotted against the spin.
     until_points(&mut app, 1);
-    assert!(render(&app).contains("flip_period at 11: "), "{}", render(&app));
+    assert!(
+        render(&app).contains("flip_period at 11: "),
+        "{}",
+        render(&app)
+    );
 }
 
 #[test]
@@ -209,7 +221,10 @@ fn the_knob_row_in_both_languages_at_every_size() {
         for (size, curve) in [((100, 30), true), ((80, 24), true), ((40, 12), false)] {
             app.size = size;
             let screen = render(&app);
-            assert!(screen.contains(&format!("{label} 35")), "{size:?}\n{screen}");
+            assert!(
+                screen.contains(&format!("{label} 35")),
+                "{size:?}\n{screen}"
+            );
             // The reading stays whole; the curve's panel (its ends) only
             // where there is room.
             assert!(screen.contains("period(theta)"), "{size:?}\n{screen}");

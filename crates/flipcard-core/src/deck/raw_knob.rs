@@ -29,8 +29,13 @@ pub(crate) fn read_knobs(rep: &mut FileReport, f: &Fields) -> Option<List<RawKno
         .iter()
         .filter_map(|item| {
             let t = read::table(rep, item, "each knob")?;
-            let f = Fields::open(rep, t, item.span(), "a knob", KNOB_FIELDS, |name| {
-                match name {
+            let f = Fields::open(
+                rep,
+                t,
+                item.span(),
+                "a knob",
+                KNOB_FIELDS,
+                |name| match name {
                     "param" | "var" | "variable" | "target" => {
                         Some("did you mean `name`?".to_string())
                     }
@@ -38,8 +43,8 @@ pub(crate) fn read_knobs(rep: &mut FileReport, f: &Fields) -> Option<List<RawKno
                     "to" | "hi" | "high" => Some("did you mean `max`?".to_string()),
                     "by" | "increment" => Some("did you mean `step`?".to_string()),
                     _ => None,
-                }
-            });
+                },
+            );
             Some(RawKnob {
                 span: item.span(),
                 name: f.string(rep, "name", true),

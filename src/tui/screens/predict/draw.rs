@@ -62,13 +62,9 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
                 }
             }
         }
-        Phase::Explore { run, explore } => super::explore::draw(
-            frame,
-            area,
-            app,
-            (run, explore),
-            state.shows_diagnostics(),
-        ),
+        Phase::Explore { run, explore } => {
+            super::explore::draw(frame, area, app, (run, explore), state.shows_diagnostics())
+        }
     }
 }
 

@@ -26,7 +26,10 @@ use crate::tui::live::{Live, Sim, system_reference};
 
 /// Words of the explore view (English, Hinglish).
 const MEASURING: Words = Words("measuring…", "naap rahe hain…");
-const NOT_MEASURABLE: Words = Words("not measurable at this value", "is value pe naapa nahi ja sakta");
+const NOT_MEASURABLE: Words = Words(
+    "not measurable at this value",
+    "is value pe naapa nahi ja sakta",
+);
 const NOT_YET: Words = Words("not measurable yet", "abhi naapa nahi ja sakta");
 const NO_KNOBS: Words = Words(
     "this scene has no knobs to explore",
@@ -314,9 +317,14 @@ fn knob_lines(app: &App, e: &Exploring, width: usize) -> Vec<Line<'static>> {
 /// why there is none.
 fn reading(app: &App, e: &Exploring, unit: &str) -> Option<String> {
     let m = e.explore.measure?;
-    let at = e.knob().map(|_| shown(e.values[e.selected])).unwrap_or_default();
+    let at = e
+        .knob()
+        .map(|_| shown(e.values[e.selected]))
+        .unwrap_or_default();
     let value = match e.point_here() {
-        Some(Point { measured: Ok(v), .. }) => {
+        Some(Point {
+            measured: Ok(v), ..
+        }) => {
             let unit = if m.name() == "period" || m.name() == "flip_period" {
                 format!(" {unit}")
             } else {
@@ -358,7 +366,9 @@ pub fn draw(
     let (_, unit) = live.timing();
     let reading = reading(app, e, unit);
     let diag = match (live.sim(), show_diagnostics) {
-        (Sim::System { run, .. }, true) if run.scene().shows(crate::deck::SystemPanel::Diagnostics) => {
+        (Sim::System { run, .. }, true)
+            if run.scene().shows(crate::deck::SystemPanel::Diagnostics) =>
+        {
             let line = crate::tui::system_plots::diagnostics_line(run, &app.lang);
             super::parts::fold_parts(line.trim_start(), width)
         }
@@ -386,8 +396,7 @@ pub fn draw(
     let curve_room = e.explore.measure.is_some() && body.width >= 60 && body.height >= 6;
     let (panels, curve) = if curve_room {
         let cw = (body.width / 3).max(24);
-        let [p, c] =
-            Layout::horizontal([Constraint::Fill(1), Constraint::Length(cw)]).areas(body);
+        let [p, c] = Layout::horizontal([Constraint::Fill(1), Constraint::Length(cw)]).areas(body);
         (p, Some(c))
     } else {
         (body, None)
@@ -414,7 +423,10 @@ pub fn draw(
         Sim::Rigid(r) => Some(r.flip_times().len()),
         Sim::System { .. } => None,
     };
-    frame.render_widget(super::parts::status_line(app, live, flips, status.width), status);
+    frame.render_widget(
+        super::parts::status_line(app, live, flips, status.width),
+        status,
+    );
     frame.render_widget(super::parts::diagnostics(app, diag), diag_area);
     frame.render_widget(hints_line(app, hints.width), hints);
 }
@@ -428,7 +440,10 @@ fn hints_line(app: &App, width: u16) -> Paragraph<'static> {
         ("Tab", NEXT_KNOB.get(&app.lang)),
         ("Space", app.tr(crate::tui::i18n::Msg::Pause)),
         ("r", app.tr(crate::tui::i18n::Msg::Restart)),
-        ("Esc", crate::tui::i18n::Words("back", "wapas").get(&app.lang)),
+        (
+            "Esc",
+            crate::tui::i18n::Words("back", "wapas").get(&app.lang),
+        ),
     ];
     let mut spans = vec![Span::raw(" ")];
     let mut used = 1;
@@ -477,7 +492,9 @@ fn draw_curve(frame: &mut Frame, area: Rect, app: &App, e: &Exploring) {
             (a.min(v), b.max(v))
         });
     let (lo, hi) = if lo.is_finite() && hi.is_finite() {
-        let pad = ((hi - lo) * 0.1).max(hi.abs().max(lo.abs()) * 0.05).max(1e-12);
+        let pad = ((hi - lo) * 0.1)
+            .max(hi.abs().max(lo.abs()) * 0.05)
+            .max(1e-12);
         (lo - pad, hi + pad)
     } else {
         (0.0, 1.0)
@@ -487,8 +504,7 @@ fn draw_curve(frame: &mut Frame, area: Rect, app: &App, e: &Exploring) {
     if inner.height < 2 || inner.width < 4 {
         return;
     }
-    let [plot, axis] =
-        Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(inner);
+    let [plot, axis] = Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(inner);
     let now = e.values.get(e.selected).copied().unwrap_or(k.min);
     let color = t.plot(t.axis(0));
     let canvas = Canvas::default()

@@ -806,7 +806,11 @@ fn measure_in(
 
 /// A whole string that names one measure (a scene's `explore`), checked
 /// as a prompt's measure is.
-pub(crate) fn measure_text(rep: &mut FileReport, s: &Str, kind: Option<SceneKind>) -> Option<Measure> {
+pub(crate) fn measure_text(
+    rep: &mut FileReport,
+    s: &Str,
+    kind: Option<SceneKind>,
+) -> Option<Measure> {
     measure_in(rep, s, 0, s.value.len(), kind)
 }
 

@@ -101,9 +101,12 @@ fn system_refusal(scene: &SystemScene) -> Option<String> {
     }
     let mut dy = vec![0.0; scene.initial.len()];
     system.rhs(0.0, &scene.initial, &mut dy);
-    dy.iter()
-        .position(|d| !d.is_finite())
-        .map(|k| format!("the equation of `{}` is not finite at t = 0", scene.variables[k]))
+    dy.iter().position(|d| !d.is_finite()).map(|k| {
+        format!(
+            "the equation of `{}` is not finite at t = 0",
+            scene.variables[k]
+        )
+    })
 }
 
 /// The scene's knobs and explore measure; `None` after an error (reported),
@@ -190,7 +193,10 @@ fn finite(rep: &mut FileReport, n: &Num, field: &str) -> bool {
     }
     rep.error(
         n.span.clone(),
-        format!("a knob's `{field}` is {}, not a finite number", Shown(n.value)),
+        format!(
+            "a knob's `{field}` is {}, not a finite number",
+            Shown(n.value)
+        ),
         None,
     );
     false
@@ -198,10 +204,14 @@ fn finite(rep: &mut FileReport, n: &Num, field: &str) -> bool {
 
 fn one(rep: &mut FileReport, k: &RawKnob, langs: &Langs, scene: Turned) -> Option<Knob> {
     let name: &Str = k.name.as_ref()?;
-    let label = k
-        .label
-        .as_ref()
-        .and_then(|l| text::text(rep, l, langs, &format!("the label of knob `{}`", name.value)));
+    let label = k.label.as_ref().and_then(|l| {
+        text::text(
+            rep,
+            l,
+            langs,
+            &format!("the label of knob `{}`", name.value),
+        )
+    });
     let Some(target) = scene.target(&name.value) else {
         let names = scene.names();
         let hint = suggest::did_you_mean(&name.value, names.iter().map(String::as_str))
