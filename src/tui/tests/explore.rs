@@ -146,7 +146,7 @@ fn a_value_where_the_measure_is_undefined_says_so() {
 
 #[test]
 fn tab_selects_the_next_knob_of_a_rigid_body() {
-    let mut app = prompt_list(ENGLISH, "torque-free", "middle-axis-spin");
+    let mut app = prompt_list(ENGLISH, "torque-free-rotation", "middle-axis-spin");
     press(&mut app, KeyCode::Char('x'));
     assert_eq!(app.context(), Context::PredictExplore);
     press(&mut app, KeyCode::Right);
