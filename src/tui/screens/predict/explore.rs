@@ -94,7 +94,16 @@ impl Exploring {
                 deck.scene(&prompt.scene)
                     .and_then(|s| knob::rigid_value(s, &k.target))
             };
-            v.map_or(k.min, |v| (v / k.scale).clamp(k.min, k.max))
+            let v = v.map_or(k.min, |v| (v / k.scale).clamp(k.min, k.max));
+            // On the grid but for the rounding of the unit's conversion
+            // (30° is 30.000000000000004 after radians and back): the grid
+            // point, so a value visited again is the same point.
+            let grid = k.min + ((v - k.min) / k.step).round() * k.step;
+            if (v - grid).abs() <= 1e-9 * v.abs().max(1.0) && grid <= k.max {
+                grid
+            } else {
+                v
+            }
         };
         let values = explore.knobs.iter().map(own).collect();
         Some(Exploring {
