@@ -387,12 +387,9 @@ pub fn draw(
     };
     let fixed = knobs.len() as u16 + u16::from(reading.is_some()) + 1 + diag.len() as u16 + 1;
     let rest = area.height.saturating_sub(fixed);
-    let (knobs_h, rest) = if rest == 0 {
-        // Too short for every line: the knobs keep one row.
-        (1.min(area.height), area.height.saturating_sub(1 + 1 + 1))
-    } else {
-        (knobs.len() as u16, rest)
-    };
+    // Too short for every line: the knobs keep one row (the selected knob
+    // is listed first on it when it is the first).
+    let knobs_h = if rest == 0 { 1 } else { knobs.len() as u16 };
     let [knob_area, body, reading_area, status, diag_area, hints] = Layout::vertical([
         Constraint::Length(knobs_h),
         Constraint::Length(rest),
