@@ -387,8 +387,7 @@ pub fn draw(
     };
     let fixed = knobs.len() as u16 + u16::from(reading.is_some()) + 1 + diag.len() as u16 + 1;
     let rest = area.height.saturating_sub(fixed);
-    // Too short for every line: the knobs keep one row (the selected knob
-    // is listed first on it when it is the first).
+    // Too short for every line: the knobs keep one row.
     let knobs_h = if rest == 0 { 1 } else { knobs.len() as u16 };
     let [knob_area, body, reading_area, status, diag_area, hints] = Layout::vertical([
         Constraint::Length(knobs_h),
