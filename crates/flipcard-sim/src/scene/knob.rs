@@ -124,6 +124,13 @@ impl Knob {
     }
 }
 
+/// `v` to 10 significant digits: a knob value as people read it, without
+/// the rounding of `min + k·step` or of a unit's conversion
+/// (`0.30000000000000004` → 0.3, 29.999999999999996 → 30).
+pub fn tidy(v: f64) -> f64 {
+    format!("{v:.9e}").parse().unwrap_or(v)
+}
+
 /// What a scene offers to explore: its knobs and the measure plotted
 /// against the selected one.
 #[derive(Debug, Clone, PartialEq)]

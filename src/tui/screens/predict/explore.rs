@@ -260,8 +260,7 @@ impl Exploring {
 /// A knob value as shown: its shortest form once the rounding of
 /// `min + k·step` is taken off (`0.3`, not `0.30000000000000004`).
 pub fn shown(v: f64) -> String {
-    let rounded: f64 = format!("{v:.9e}").parse().unwrap_or(v);
-    crate::text::num::show(rounded)
+    crate::text::num::show(knob::tidy(v))
 }
 
 /// Enters explore mode on `prompt`'s scene: the run restarts at the

@@ -295,7 +295,7 @@ fn one(rep: &mut FileReport, k: &RawKnob, langs: &Langs, scene: Turned) -> Optio
                 format!(
                     "knob `{}`: the scene's own value {} is outside its range [{}, {}]",
                     name.value,
-                    Shown(own),
+                    Shown(knob::tidy(own)),
                     Shown(min),
                     Shown(max)
                 ),
