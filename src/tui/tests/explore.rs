@@ -260,3 +260,22 @@ fn the_help_lists_the_knob_keys_once() {
             .any(|b| b.label.starts_with('x'))
     );
 }
+
+#[test]
+fn explore_screens_snapshot_in_both_languages() {
+    for lang in [ENGLISH, HINGLISH] {
+        let mut app = prompt_list(lang, "oscillations", "pendulum-30");
+        press(&mut app, KeyCode::Char('x'));
+        press_all(&mut app, &[KeyCode::Right, KeyCode::Right]);
+        until_points(&mut app, 2);
+        press(&mut app, KeyCode::Left);
+        until_points(&mut app, 3);
+        for _ in 0..12 {
+            tick(&mut app, 100);
+        }
+        for (w, h) in [(100, 30), (80, 24), (40, 12)] {
+            app.size = (w, h);
+            insta::assert_snapshot!(format!("explore_pendulum_{lang}_{w}x{h}"), render(&app));
+        }
+    }
+}

@@ -16,7 +16,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Line as Segment, Points};
 use ratatui::widgets::{Block, Borders, Paragraph};
 
-use crate::deck::{Deck, Explore, Measure, Prompt};
+use crate::deck::{Deck, Explore, Measure, Prompt, SystemPanel};
 use crate::sim::Method;
 use crate::sim::scene::knob::{self, Knob};
 use crate::text::num::sig;
@@ -407,9 +407,15 @@ pub fn draw(
     } else {
         (body, None)
     };
+    // A few rows keep one panel whole rather than every panel squeezed:
+    // ω for a rigid body, the plot against time for a system.
+    let few = panels.height < 8;
     if panels.height >= 3 {
         match live.sim() {
-            Sim::Rigid(r) => super::draw::rigid_panels(frame, panels, app, r, (false, false)),
+            Sim::Rigid(r) => super::draw::rigid_panels(frame, panels, app, r, (false, few)),
+            Sim::System { run, .. } if few && run.scene().shows(SystemPanel::Plot) => {
+                crate::tui::system_plots::plot(frame, panels, run, &app.lang, t)
+            }
             Sim::System { run, .. } => super::system::system_panels(frame, panels, app, run),
         }
     }
@@ -512,7 +518,9 @@ fn draw_curve(frame: &mut Frame, area: Rect, app: &App, e: &Exploring) {
     }
     let [plot, axis] = Layout::vertical([Constraint::Fill(1), Constraint::Length(1)]).areas(inner);
     let now = e.values.get(e.selected).copied().unwrap_or(k.min);
+    let here: Vec<(f64, f64)> = points.iter().filter(|p| p.0 == now).copied().collect();
     let color = t.plot(t.axis(0));
+    let mark = t.plot(t.axis(1));
     let canvas = Canvas::default()
         .x_bounds([k.min, k.max])
         .y_bounds([lo, hi])
@@ -530,12 +538,10 @@ fn draw_curve(frame: &mut Frame, area: Rect, app: &App, e: &Exploring) {
                 coords: &points,
                 color,
             });
-            ctx.draw(&Segment {
-                x1: now,
-                y1: lo,
-                x2: now,
-                y2: hi,
-                color: ratatui::style::Color::DarkGray,
+            // The value now, on top.
+            ctx.draw(&Points {
+                coords: &here,
+                color: mark,
             });
         });
     frame.render_widget(canvas, plot);
