@@ -885,7 +885,7 @@ mod deck_tests {
     fn deck() -> Deck {
         Deck {
             misconceptions: Vec::new(),
-        explore: Vec::new(),
+            explore: Vec::new(),
             id: "rot".into(),
             title: Text::default(),
             description: None,

@@ -70,13 +70,17 @@ pub struct Exploring {
     /// The prompt's measures (kept so a system run plans the same).
     measures: Vec<Measure>,
     /// A measurement under way: the values it is for.
-    pending: Option<(Vec<f64>, Receiver<Result<Option<f64>, String>>)>,
+    pending: Option<(Vec<f64>, Receiver<Measured>)>,
 }
+
+/// What a measurement thread sends: the measure's value (`None`: undefined
+/// there), or why the run failed.
+type Measured = Result<Option<f64>, String>;
 
 /// The scene as the knobs set it: a rigid body's or a system's.
 enum Turned {
-    Rigid(crate::deck::Scene),
-    System(crate::deck::SystemScene),
+    Rigid(Box<crate::deck::Scene>),
+    System(Box<crate::deck::SystemScene>),
 }
 
 impl Exploring {
@@ -149,13 +153,13 @@ impl Exploring {
             for (k, v) in set {
                 s = knob::set_system(&s, &k.target, v * k.scale);
             }
-            return Some(Turned::System(s));
+            return Some(Turned::System(Box::new(s)));
         }
         let mut s = deck.scene(id)?.clone();
         for (k, v) in set {
             s = knob::set_rigid(&s, &k.target, v * k.scale);
         }
-        Some(Turned::Rigid(s))
+        Some(Turned::Rigid(Box::new(s)))
     }
 
     /// The run of the scene at the knobs' values, at `speed`.
