@@ -50,16 +50,20 @@ fn simulation_frame(c: &mut Criterion) {
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
     let mut app = app(dir.path());
     app.size = (120, 40);
-    // The seed prompt: the middle axis of the bundled deck.
-    let index = app
+    // The seed prompt: the middle axis of the torque-free deck (whichever
+    // place the bundled decks give it).
+    let (deck, selected) = app
         .decks
-        .first()
-        .and_then(|d| d.prompts.iter().position(|p| p.id == "middle-axis"))
-        .unwrap_or_else(|| panic!("no middle-axis prompt in the bundled deck"));
-    apply(&mut app, Action::OpenPrompts);
-    for _ in 0..index {
-        apply(&mut app, Action::Down);
-    }
+        .iter()
+        .enumerate()
+        .find_map(|(d, deck)| {
+            let i = deck.prompts.iter().position(|p| p.id == "middle-axis")?;
+            Some((d, i))
+        })
+        .unwrap_or_else(|| panic!("no middle-axis prompt in the bundled decks"));
+    app.stack.push(flipcard::tui::screens::Screen::Prompts(
+        flipcard::tui::screens::prompts::PromptsState { deck, selected },
+    ));
     apply(&mut app, Action::Open);
     apply(&mut app, Action::Choose(1));
     apply(&mut app, Action::Submit);
