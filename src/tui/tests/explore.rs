@@ -63,7 +63,8 @@ fn tick(app: &mut TestApp, ms: u64) {
     crate::tui::update::apply(app, Action::Tick(Duration::from_millis(ms)));
 }
 
-/// Ticks (as the event loop does) until the curve holds `n` points, the
+/// Ticks (as the event loop does, but taking no scene time, so the run
+/// stands where the test put it) until the curve holds `n` points, the
 /// measurements running on their thread (bounded: a curve that never
 /// grows fails the test).
 fn until_points(app: &mut TestApp, n: usize) {
@@ -71,7 +72,7 @@ fn until_points(app: &mut TestApp, n: usize) {
         if exploring(app).1.curve.len() >= n {
             return;
         }
-        tick(app, 1);
+        tick(app, 0);
         std::thread::sleep(Duration::from_millis(2));
     }
     panic!("the curve has {} points", exploring(app).1.curve.len());
@@ -134,7 +135,7 @@ fn a_value_where_the_measure_is_undefined_says_so() {
         if e.point_here().is_some() && !e.measuring() {
             break;
         }
-        tick(&mut app, 1);
+        tick(&mut app, 0);
         std::thread::sleep(Duration::from_millis(2));
     }
     let screen = render(&app);
