@@ -62,9 +62,9 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
                 }
             }
         }
-        Phase::Explore { run, explore } => {
-            super::explore::draw(frame, area, app, (run, explore), state.shows_diagnostics())
-        }
+        // Drawn by `explore.rs` (which draws the panels with this module's
+        // helpers), chosen in `mod.rs`.
+        Phase::Explore { .. } => {}
     }
 }
 

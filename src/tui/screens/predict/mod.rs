@@ -201,7 +201,12 @@ impl super::View for PredictState {
         apply(app, self, action)
     }
     fn draw(&self, frame: &mut ratatui::Frame, area: ratatui::layout::Rect, app: &App) {
-        draw(frame, area, app, self)
+        match &self.phase {
+            Phase::Explore { run, explore } => {
+                explore::draw(frame, area, app, (run, explore), self.shows_diagnostics())
+            }
+            _ => draw(frame, area, app, self),
+        }
     }
     fn name(&self) -> Msg {
         Msg::Predict
