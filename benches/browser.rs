@@ -108,6 +108,7 @@ fn deck() -> Deck {
     }
     Deck {
         misconceptions: Vec::new(),
+        explore: Vec::new(),
         id: "big".into(),
         title: text("Big".into(), "Bada".into()),
         description: None,

@@ -1,7 +1,9 @@
 //! The terminal app's time budgets: the first frame after start with the
 //! bundled decks (target < 100 ms), and one frame of the seed simulation
 //! (physics step + drawing; at 30 frames per second, < 5% of one core
-//! leaves about 1.6 ms per frame).
+//! leaves about 1.6 ms per frame), and a knob change while exploring the
+//! pendulum, from the key to the first new frame (target < 50 ms: the new
+//! run built, one 33 ms frame of its physics, the frame drawn).
 
 use std::time::Duration;
 
@@ -48,16 +50,20 @@ fn simulation_frame(c: &mut Criterion) {
     let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
     let mut app = app(dir.path());
     app.size = (120, 40);
-    // The seed prompt: the middle axis of the bundled deck.
-    let index = app
+    // The seed prompt: the middle axis of the torque-free deck (whichever
+    // place the bundled decks give it).
+    let (deck, selected) = app
         .decks
-        .first()
-        .and_then(|d| d.prompts.iter().position(|p| p.id == "middle-axis"))
-        .unwrap_or_else(|| panic!("no middle-axis prompt in the bundled deck"));
-    apply(&mut app, Action::OpenPrompts);
-    for _ in 0..index {
-        apply(&mut app, Action::Down);
-    }
+        .iter()
+        .enumerate()
+        .find_map(|(d, deck)| {
+            let i = deck.prompts.iter().position(|p| p.id == "middle-axis")?;
+            Some((d, i))
+        })
+        .unwrap_or_else(|| panic!("no middle-axis prompt in the bundled decks"));
+    app.stack.push(flipcard::tui::screens::Screen::Prompts(
+        flipcard::tui::screens::prompts::PromptsState { deck, selected },
+    ));
     apply(&mut app, Action::Open);
     apply(&mut app, Action::Choose(1));
     apply(&mut app, Action::Submit);
@@ -78,5 +84,45 @@ fn simulation_frame(c: &mut Criterion) {
     );
 }
 
-criterion_group!(benches, first_frame, simulation_frame);
+fn knob_change(c: &mut Criterion) {
+    let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("temp dir: {e}"));
+    let mut app = app(dir.path());
+    app.size = (120, 40);
+    let deck = app
+        .decks
+        .iter()
+        .position(|d| d.id == "oscillations")
+        .unwrap_or_else(|| panic!("no oscillations deck"));
+    let selected = app.decks[deck]
+        .prompts
+        .iter()
+        .position(|p| p.scene == "pendulum-30")
+        .unwrap_or_else(|| panic!("no prompt on pendulum-30"));
+    app.stack.push(flipcard::tui::screens::Screen::Prompts(
+        flipcard::tui::screens::prompts::PromptsState { deck, selected },
+    ));
+    apply(&mut app, Action::Explore);
+    assert_eq!(
+        app.context(),
+        flipcard::tui::keymap::Context::PredictExplore,
+        "exploring the pendulum"
+    );
+    let mut t = terminal();
+    let mut up = true;
+    c.bench_function(
+        "tui/knob_change (pendulum: key → new run → 33 ms of physics → frame drawn)",
+        |b| {
+            b.iter(|| {
+                // Back and forth between two values, so every key is a change.
+                apply(&mut app, if up { Action::KnobUp } else { Action::KnobDown });
+                up = !up;
+                apply(&mut app, Action::Tick(Duration::from_millis(33)));
+                t.draw(|f| view::draw(f, &app))
+                    .unwrap_or_else(|e| panic!("draw: {e}"));
+            })
+        },
+    );
+}
+
+criterion_group!(benches, first_frame, simulation_frame, knob_change);
 criterion_main!(benches);

@@ -60,6 +60,10 @@ fn schemas_name_the_fields_the_reader_knows() {
     assert_eq!(keys(&defs["Prompt"]), set(raw::PROMPT_FIELDS));
     assert_eq!(keys(&defs["Choice"]), set(raw::CHOICE_FIELDS));
     assert_eq!(keys(&defs["Scene"]), set(raw::SCENE_FIELDS));
+    assert_eq!(
+        keys(&defs["Knob"]),
+        set(flipcard::deck::raw_knob::KNOB_FIELDS)
+    );
     // One `if kind == … then …` branch per kind of answer.
     let answers: Vec<&Value> = defs["Answer"]["allOf"]
         .as_array()

@@ -89,6 +89,13 @@ pub enum Action {
     LargerStep,
     /// After a verdict: the deck's next prompt.
     NextPrompt,
+    /// Explore the scene with its knobs (the prompt list, after a verdict).
+    Explore,
+    /// Turn the selected knob one step up or down.
+    KnobUp,
+    KnobDown,
+    /// Select the scene's next knob.
+    NextKnob,
     /// Show or hide the solver's diagnostics line.
     ToggleDiagnostics,
     /// The question whole first (the verdict and panels give way), or back.

@@ -38,6 +38,8 @@ pub enum Context {
     PredictRun,
     /// The verdict is shown under the last frame.
     PredictVerdict,
+    /// Exploring the scene with its knobs.
+    PredictExplore,
     Stats,
     /// Typing the exam date.
     ExamDate,
@@ -194,5 +196,15 @@ pub fn with_global(rows: &'static [Binding]) -> Vec<Binding> {
     } else {
         GLOBAL
     };
-    rows.iter().chain(global).copied().collect()
+    // A row of the screen's wins over a shared row on the same keys (the
+    // explore view's `l` turns a knob): the help lists only what a key does.
+    let taken = |code: KeyCode| rows.iter().any(|b| b.action(code).is_some());
+    let shadowed = |b: &Binding| match b.keys {
+        Keys::Map(keys) => keys.iter().all(|(k, _)| taken(*k)),
+        Keys::Text | Keys::Shown => false,
+    };
+    rows.iter()
+        .chain(global.iter().filter(|b| !shadowed(b)))
+        .copied()
+        .collect()
 }

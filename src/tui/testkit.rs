@@ -40,6 +40,7 @@ fn text(en: &str, hi: &str) -> Text {
 pub fn deck() -> Deck {
     Deck {
         misconceptions: Vec::new(),
+        explore: Vec::new(),
         id: "torque-free".into(),
         title: text("Torque-free rotation", "Torque-free rotation (Hinglish)"),
         description: Some(text(

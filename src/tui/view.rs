@@ -91,7 +91,16 @@ fn draw_footer(frame: &mut Frame, area: Rect, app: &Tui) {
         spans.extend(hint("F1", Msg::Help));
     } else {
         spans.extend(hint("?", Msg::Help));
-        spans.extend(hint("l", Msg::Language));
+        // The language's key where this screen has it (the explore view's
+        // `l` turns a knob; `L` changes the language there).
+        let language = screens::bindings(ctx)
+            .into_iter()
+            .find(|b| {
+                matches!(b.keys, super::keymap::Keys::Map(keys)
+                    if keys.iter().any(|(_, a)| *a == super::action::Action::ToggleLanguage))
+            })
+            .map_or("l", |b| b.label);
+        spans.extend(hint(language, Msg::Language));
     }
     let back = if ctx == Context::Home {
         Msg::Quit

@@ -121,6 +121,7 @@ pub fn keys(ctx: Context) -> &'static [Binding] {
         Context::PredictFormula => predict::FORMULA_KEYS,
         Context::PredictRun => predict::RUN_KEYS,
         Context::PredictVerdict => predict::VERDICT_KEYS,
+        Context::PredictExplore => predict::EXPLORE_KEYS,
         Context::Stats => stats::KEYS,
         Context::ExamDate => exam::DATE_KEYS,
         Context::Browser => browser::KEYS,

@@ -23,6 +23,14 @@ pub const KEYS: &[Binding] = &[
         &[(Enter, Action::Open)],
     ),
     Binding::new(
+        "x",
+        Words(
+            "explore the scene with its knobs",
+            "scene ko uske knobs se explore karo",
+        ),
+        &[(Char('x'), Action::Explore)],
+    ),
+    Binding::new(
         "Esc q",
         Words("back", "wapas"),
         &[(Esc, Action::Back), (Char('q'), Action::Back)],
@@ -70,6 +78,16 @@ pub fn apply(app: &mut App, state: &mut PromptsState, action: Action) -> Nav {
         Action::Open if n > 0 => {
             let p = super::predict::PredictState::new(app, state.deck, state.selected.min(n - 1));
             return Nav::Push(super::Screen::Predict(Box::new(p)));
+        }
+        Action::Explore if n > 0 => {
+            match super::predict::PredictState::exploring(
+                app,
+                state.deck,
+                state.selected.min(n - 1),
+            ) {
+                Ok(p) => return Nav::Push(super::Screen::Predict(Box::new(p))),
+                Err(e) => app.info(e),
+            }
         }
         _ => {}
     }

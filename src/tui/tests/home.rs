@@ -91,6 +91,7 @@ fn every_context_has_help_for_every_bound_key() {
         PredictFormula,
         PredictRun,
         PredictVerdict,
+        PredictExplore,
         Stats,
     ] {
         let binds = crate::tui::screens::bindings(ctx);

@@ -10,6 +10,7 @@ use super::update::apply;
 
 mod browser;
 mod exam;
+mod explore;
 mod formula_answers;
 mod formula_sheet;
 mod home;

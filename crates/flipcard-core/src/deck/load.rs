@@ -341,6 +341,7 @@ fn load_deck(
                 sections,
                 units: h.units,
                 misconceptions: body.misconceptions,
+                explore: body.explore,
                 path: path.to_path_buf(),
             })
         })(),

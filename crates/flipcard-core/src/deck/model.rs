@@ -4,6 +4,7 @@
 //! A value of these types has passed validation: ids are unique, every text
 //! exists in every declared language, links resolve, scene numbers are physical.
 
+pub use flipcard_sim::scene::knob::{Explore, Knob};
 pub use flipcard_sim::scene::spec::{Measure, Panel, Scene, Stat, SystemPanel, SystemScene};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -32,6 +33,9 @@ pub struct Deck {
     /// Named misconceptions (`[[misconception]]`) the prompts' wrong
     /// answers stand for.
     pub misconceptions: Vec<Misconception>,
+    /// The knobs of the scenes that have them, and what each plots
+    /// against its knob (`knobs`, `explore`).
+    pub explore: Vec<Explore>,
     /// The deck file this was loaded from.
     pub path: PathBuf,
 }
@@ -51,6 +55,10 @@ impl Deck {
     }
     pub fn section(&self, id: &str) -> Option<&Section> {
         self.sections.iter().find(|s| s.id == id)
+    }
+    /// The knobs of scene `id`, when it has any.
+    pub fn explore(&self, id: &str) -> Option<&Explore> {
+        self.explore.iter().find(|e| e.scene == id)
     }
     pub fn misconception(&self, id: &str) -> Option<&Misconception> {
         self.misconceptions.iter().find(|m| m.id == id)

@@ -9,6 +9,7 @@ use super::read::{self, Fields};
 use super::report::FileReport;
 use super::suggest;
 
+pub use super::raw_knob::RawKnob;
 pub use super::raw_misconception::{RawMisconception, RawRange};
 pub use super::read::{Flag, List, Num, RawAccept, RawText, Span, Str};
 
@@ -56,6 +57,8 @@ pub const SCENE_FIELDS: &[&str] = &[
     "atol",
     "hamiltonian",
     "labels",
+    "knobs",
+    "explore",
 ];
 /// The keys of a system scene's `hamiltonian` (positions, momenta).
 pub const HAMILTONIAN_FIELDS: &[&str] = &["q", "p"];
@@ -193,6 +196,10 @@ pub struct RawScene {
     pub flat: Option<Flag>,
     /// Present only in a system scene (`variables` makes one).
     pub system: Option<RawSystem>,
+    /// Numbers the learner may turn while exploring (`raw_knob`).
+    pub knobs: Option<List<RawKnob>>,
+    /// The measure plotted against a knob (`explore = "period(theta)"`).
+    pub explore: Option<Str>,
 }
 
 /// A named value of a table written inline (`params = { g = 9.81 }`), the
@@ -703,6 +710,8 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
         time_unit: f.string(rep, "time_unit", false),
         flat: if is_system { None } else { f.flag(rep, "flat") },
         system,
+        knobs: super::raw_knob::read_knobs(rep, &f),
+        explore: f.string(rep, "explore", false),
     }
 }
 

@@ -334,6 +334,35 @@ pub struct Scene {
     /// System: how the plots name some variables or observables, the
     /// names the question uses (`{ xc = "A" }`), 1 to 24 characters.
     pub labels: Option<std::collections::BTreeMap<String, String>>,
+    /// Numbers the learner may turn while exploring the scene; the run
+    /// restarts at each new value.
+    pub knobs: Option<Vec<Knob>>,
+    /// The measure plotted against a knob as the learner explores
+    /// (`period(theta)`, `flip_period`); only with `knobs`.
+    pub explore: Option<String>,
+}
+
+/// A knob: `name` is a system's parameter or `initial.VAR`, a rigid body's
+/// `inertia[i]` or `omega[i]`; the scene gets value × `scale`; `check`
+/// runs the scene at `min`, the middle and `max`.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct Knob {
+    /// `g`, `initial.theta`, `inertia[1]`, `omega[2]`.
+    #[schemars(length(min = 1))]
+    pub name: String,
+    /// Lower end, in the knob's unit; holds the scene's own value with `max`.
+    pub min: f64,
+    /// Upper end, above `min`.
+    pub max: f64,
+    /// What one key turns: positive.
+    #[schemars(extend("exclusiveMinimum" = 0))]
+    pub step: f64,
+    /// The scene gets value × scale (degrees shown, radians run:
+    /// 0.017453292519943295); not 0. Default 1.
+    pub scale: Option<f64>,
+    /// What the knob turns, in words.
+    pub label: Text,
 }
 
 /// A system's separable Hamiltonian: its positions and their momenta.

@@ -888,6 +888,7 @@ mod deck_tests {
     fn deck() -> Deck {
         Deck {
             misconceptions: Vec::new(),
+            explore: Vec::new(),
             id: "rot".into(),
             title: Text::default(),
             description: None,

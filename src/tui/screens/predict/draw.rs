@@ -62,6 +62,9 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
                 }
             }
         }
+        // Drawn by `explore.rs` (which draws the panels with this module's
+        // helpers), chosen in `mod.rs`.
+        Phase::Explore { .. } => {}
     }
 }
 
@@ -159,7 +162,6 @@ fn draw_play(
     (show_diagnostics, question_first): (bool, bool),
 ) {
     let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
-    let t = &app.theme;
     let width = area.width as usize;
     let diag_lines = match run.diagnostics() {
         Some(d) if show_diagnostics && run.scene().shows(Panel::Diagnostics) => {
@@ -207,6 +209,33 @@ fn draw_play(
             ..
         }
     );
+    rigid_panels(frame, panels, app, run, (growth, verdict.is_some()));
+
+    let flips = Some(run.flip_times().len());
+    frame.render_widget(status_line(app, live, flips, status.width), status);
+    frame.render_widget(diagnostics(app, diag_lines), diag_area);
+
+    frame.render_widget(
+        hints_line(app, prompt, (verdict.is_some(), question_cut), hints.width),
+        hints,
+    );
+    if verdict.is_some() {
+        let shown = super::parts::verdict_window(app, verdict_lines, scroll, verdict_area);
+        frame.render_widget(Paragraph::new(shown), verdict_area);
+    }
+}
+
+/// A rigid body's panels in `panels`: the scene's, with |ω⊥| on a log
+/// scale for a growth prompt (`growth`); a small area beside other text
+/// (`crowded`: the verdict) keeps ω only.
+pub(super) fn rigid_panels(
+    frame: &mut Frame,
+    panels: Rect,
+    app: &App,
+    run: &SceneRun,
+    (growth, crowded): (bool, bool),
+) {
+    let t = &app.theme;
     let mut panes: Vec<Pane> = run.scene().show.iter().map(|p| Pane::Scene(*p)).collect();
     if growth {
         let at = panes
@@ -215,7 +244,7 @@ fn draw_play(
             .map_or(0, |i| i + 1);
         panes.insert(at, Pane::Growth);
     }
-    if verdict.is_some() && panels.height < 12 {
+    if crowded && panels.height < 12 {
         panes.retain(|p| matches!(p, Pane::Scene(Panel::Omega) | Pane::Growth));
     }
     for (pane, rect) in pane_areas(panels, &panes) {
@@ -230,19 +259,6 @@ fn draw_play(
             Pane::Scene(Panel::Diagnostics) => {}
             Pane::Growth => crate::tui::logplot::growth(frame, rect, run, &app.lang, t),
         }
-    }
-
-    let flips = Some(run.flip_times().len());
-    frame.render_widget(status_line(app, live, flips, status.width), status);
-    frame.render_widget(diagnostics(app, diag_lines), diag_area);
-
-    frame.render_widget(
-        hints_line(app, prompt, (verdict.is_some(), question_cut), hints.width),
-        hints,
-    );
-    if verdict.is_some() {
-        let shown = super::parts::verdict_window(app, verdict_lines, scroll, verdict_area);
-        frame.render_widget(Paragraph::new(shown), verdict_area);
     }
 }
 

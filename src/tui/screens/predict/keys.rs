@@ -1,6 +1,6 @@
 //! The predict-then-check screen's keys, one table per mode.
 
-use crossterm::event::KeyCode::{Backspace, Char, Down, Enter, Esc, Up};
+use crossterm::event::KeyCode::{Backspace, Char, Down, Enter, Esc, Left, Right, Tab, Up};
 
 use crate::tui::action::Action;
 use crate::tui::i18n::Words;
@@ -176,6 +176,51 @@ pub const VERDICT_KEYS: &[Binding] = &[
         "n",
         Words("next prompt", "agla prompt"),
         &[(Char('n'), Action::NextPrompt)],
+    ),
+    Binding::new(
+        "x ← → Tab",
+        Words(
+            "explore: turn the scene's knobs (when it has some)",
+            "explore: scene ke knobs ghumao (agar hain)",
+        ),
+        &[
+            (Char('x'), Action::Explore),
+            (Left, Action::KnobDown),
+            (Right, Action::KnobUp),
+            (Tab, Action::NextKnob),
+        ],
+    ),
+    BACK,
+];
+
+/// Exploring the scene: the knobs turn, the run restarts at once.
+pub const EXPLORE_KEYS: &[Binding] = &[
+    Binding::new(
+        "← → h l",
+        Words(
+            "turn the selected knob one step (the run restarts)",
+            "chune hue knob ko ek step ghumao (run phir se shuru)",
+        ),
+        &[
+            (Left, Action::KnobDown),
+            (Right, Action::KnobUp),
+            (Char('h'), Action::KnobDown),
+            (Char('l'), Action::KnobUp),
+        ],
+    ),
+    Binding::new(
+        "Tab",
+        Words("select the next knob", "agla knob chuno"),
+        &[(Tab, Action::NextKnob)],
+    ),
+    PAUSE,
+    SPEED,
+    RESTART,
+    DIAGNOSTICS,
+    Binding::new(
+        "L",
+        Words("English ⇄ Hinglish", "English ⇄ Hinglish"),
+        &[(Char('L'), Action::ToggleLanguage)],
     ),
     BACK,
 ];

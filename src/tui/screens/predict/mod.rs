@@ -4,7 +4,9 @@
 //! (kept on disk before the run starts), the run's keys on the one player
 //! ([`Live`]), and the verdict from the reference run (the one watched, or
 //! one made off the UI thread when the learner played another method).
-//! Only the panels are drawn apart (`draw.rs`, `system.rs`).
+//! Only the panels are drawn apart (`draw.rs`, `system.rs`). After the
+//! verdict, or from the prompt list, the scene's knobs may be turned
+//! (`explore.rs`).
 
 use crate::deck::{Answer, Deck, Prompt};
 use crate::sim::Method;
@@ -17,12 +19,13 @@ use crate::tui::live::{Live, system_reference};
 use super::Nav;
 
 mod draw;
+pub mod explore;
 mod keys;
 mod parts;
 mod system;
 pub mod verdict;
 pub use draw::{draw, fmt_value};
-pub use keys::{CHOICE_KEYS, FORMULA_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
+pub use keys::{CHOICE_KEYS, EXPLORE_KEYS, FORMULA_KEYS, NUMBER_KEYS, RUN_KEYS, VERDICT_KEYS};
 
 pub use crate::predict::{Prediction, Verdict};
 use crate::sim::scene::measure::Measurements;
@@ -43,6 +46,12 @@ pub enum Phase {
         run: Box<Live>,
         verdict: Option<Verdict>,
         judging: Judging,
+    },
+    /// Exploring the scene with its knobs: no prediction, the run
+    /// restarted at the knobs' values.
+    Explore {
+        run: Box<Live>,
+        explore: Box<explore::Exploring>,
     },
 }
 
@@ -135,13 +144,29 @@ impl PredictState {
         }
     }
 
+    /// The predict screen of `prompt` exploring its scene's knobs at once
+    /// (the prompt list's `x`); `Err` with what the status line says when
+    /// the scene has no knobs or cannot run.
+    pub fn exploring(app: &App, deck: usize, prompt: usize) -> Result<PredictState, String> {
+        let mut state = PredictState::new(app, deck, prompt);
+        let (Some(d), Some(p)) = (
+            app.decks.get(deck),
+            app.decks.get(deck).and_then(|d| d.prompts.get(prompt)),
+        ) else {
+            return Err(explore::no_knobs(app).to_string());
+        };
+        let (run, explore) = explore::enter(app, d, p, 1.0)?;
+        state.phase = Phase::Explore { run, explore };
+        Ok(state)
+    }
+
     /// Whether the diagnostics line is shown (when the scene has one): the
     /// learner's choice, else only for a run with another method than the
     /// reference, where the error it reports is the lesson.
     pub fn shows_diagnostics(&self) -> bool {
         match (&self.phase, self.diagnostics) {
             (_, Some(shown)) => shown,
-            (Phase::Play { run, .. }, None) => !run.is_reference(),
+            (Phase::Play { run, .. } | Phase::Explore { run, .. }, None) => !run.is_reference(),
             (Phase::Ask { .. }, None) => false,
         }
     }
@@ -154,6 +179,8 @@ impl PredictState {
                 ..
             } => true,
             Phase::Play { run, .. } => run.playing(),
+            // Ticks poll the curve's measurement too.
+            Phase::Explore { run, explore } => run.playing() || explore.measuring(),
             Phase::Ask { .. } => false,
         }
     }
@@ -177,13 +204,19 @@ impl super::View for PredictState {
             Phase::Ask { .. } => Context::PredictNumber,
             Phase::Play { verdict: None, .. } => Context::PredictRun,
             Phase::Play { .. } => Context::PredictVerdict,
+            Phase::Explore { .. } => Context::PredictExplore,
         }
     }
     fn apply(&mut self, app: &mut App, action: Action) -> Nav {
         apply(app, self, action)
     }
     fn draw(&self, frame: &mut ratatui::Frame, area: ratatui::layout::Rect, app: &App) {
-        draw(frame, area, app, self)
+        match &self.phase {
+            Phase::Explore { run, explore } => {
+                explore::draw(frame, area, app, (run, explore), self.shows_diagnostics())
+            }
+            _ => draw(frame, area, app, self),
+        }
     }
     fn name(&self) -> Msg {
         Msg::Predict
@@ -223,6 +256,35 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             _ => now.saturating_sub(1),
         });
         return Nav::Stay;
+    }
+    if matches!(state.phase, Phase::Explore { .. }) {
+        return explore_apply(app, state, action);
+    }
+    // After the verdict the knobs turn the scene (`x`, or a knob's keys).
+    if matches!(
+        action,
+        Action::Explore | Action::KnobUp | Action::KnobDown | Action::NextKnob
+    ) && let Phase::Play {
+        verdict: Some(_),
+        run,
+        ..
+    } = &state.phase
+    {
+        let speed = run.speed;
+        let Some(d) = deck(app, state) else {
+            return Nav::Pop;
+        };
+        match explore::enter(app, d, &prompt, speed) {
+            Ok((run, explore)) => state.phase = Phase::Explore { run, explore },
+            Err(e) => {
+                app.info(e);
+                return Nav::Stay;
+            }
+        }
+        if action == Action::Explore {
+            return Nav::Stay;
+        }
+        return explore_apply(app, state, action);
     }
     let known = deck(app, state)
         .is_some_and(|d| d.system(&prompt.scene).is_some() || d.scene(&prompt.scene).is_some());
@@ -317,6 +379,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             }
             Nav::Stay
         }
+        Phase::Explore { .. } => Nav::Stay,
         Phase::Play {
             verdict: Some(_), ..
         } if action == Action::NextPrompt => {
@@ -399,6 +462,53 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             Nav::Stay
         }
     }
+}
+
+/// A key while exploring: a knob turned or another selected restarts the
+/// run at once with the knobs' values; the run's own keys as in a run.
+fn explore_apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
+    let deck_index = state.deck;
+    let Phase::Explore { run, explore } = &mut state.phase else {
+        return Nav::Stay;
+    };
+    let Some(deck) = app.decks.get(deck_index) else {
+        return Nav::Pop;
+    };
+    let mut restart = false;
+    match action {
+        Action::Back => return Nav::Pop,
+        Action::KnobUp | Action::KnobDown => {
+            restart = explore.turn(action == Action::KnobUp);
+        }
+        Action::NextKnob => explore.next_knob(),
+        Action::Tick(dt) => {
+            let slice = app.services.physics_slice();
+            run.tick_within(dt.as_secs_f64(), slice);
+        }
+        Action::TogglePause => {
+            if run.finished() {
+                restart = true;
+            } else {
+                run.paused = !run.paused;
+            }
+        }
+        Action::Faster => run.speed = (run.speed * 2.0).min(64.0),
+        Action::Slower => run.speed = (run.speed / 2.0).max(1.0 / 64.0),
+        Action::Restart => restart = true,
+        _ => {}
+    }
+    match restart.then(|| explore.run(deck, run.speed)) {
+        Some(Ok(next)) => **run = next,
+        Some(Err(e)) => {
+            app.error(e);
+            return Nav::Stay;
+        }
+        None => {}
+    }
+    if let Some(deck) = app.decks.get(deck_index) {
+        explore.poll(deck);
+    }
+    Nav::Stay
 }
 
 /// The verdict from the run just watched when it was the reference run

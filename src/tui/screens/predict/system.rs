@@ -49,6 +49,19 @@ fn panel_areas(area: Rect, show: &[SystemPanel]) -> Vec<(SystemPanel, Rect)> {
     out
 }
 
+/// A system's panels in `area`.
+pub(super) fn system_panels(frame: &mut Frame, area: Rect, app: &App, sys: &SystemRun) {
+    let t = &app.theme;
+    for (panel, rect) in panel_areas(area, &sys.scene().show) {
+        match panel {
+            SystemPanel::Plot => system_plots::plot(frame, rect, sys, &app.lang, t),
+            SystemPanel::Phase => system_plots::phase(frame, rect, sys, &app.lang, t),
+            SystemPanel::Sketch => system_plots::sketch(frame, rect, sys, &app.lang, t),
+            SystemPanel::Diagnostics => {}
+        }
+    }
+}
+
 pub fn draw(
     frame: &mut Frame,
     area: Rect,
@@ -59,7 +72,6 @@ pub fn draw(
     (show_diagnostics, question_first): (bool, bool),
 ) {
     let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
-    let t = &app.theme;
     let diag_lines = if show_diagnostics && run.scene().shows(SystemPanel::Diagnostics) {
         let line = system_plots::diagnostics_line(run, &app.lang);
         super::parts::fold_parts(line.trim_start(), area.width as usize)
@@ -84,15 +96,7 @@ pub fn draw(
     );
     let question_cut = question_first || question.len() > usize::from(top.height);
     super::parts::draw_question(frame, app, (prompt, prediction), question, (top, said));
-    let sys = run;
-    for (panel, rect) in panel_areas(panels, &run.scene().show) {
-        match panel {
-            SystemPanel::Plot => system_plots::plot(frame, rect, sys, &app.lang, t),
-            SystemPanel::Phase => system_plots::phase(frame, rect, sys, &app.lang, t),
-            SystemPanel::Sketch => system_plots::sketch(frame, rect, sys, &app.lang, t),
-            SystemPanel::Diagnostics => {}
-        }
-    }
+    system_panels(frame, panels, app, run);
     frame.render_widget(
         super::parts::status_line(app, live, None, status.width),
         status,

@@ -807,6 +807,16 @@ fn measure_in(
     }
 }
 
+/// A whole string that names one measure (a scene's `explore`), checked
+/// as a prompt's measure is.
+pub(crate) fn measure_text(
+    rep: &mut FileReport,
+    s: &Str,
+    kind: Option<SceneKind>,
+) -> Option<Measure> {
+    measure_in(rep, s, 0, s.value.len(), kind)
+}
+
 /// A measure by name, reported at `span` when unknown.
 fn measure_name(rep: &mut FileReport, name: &str, span: Range<usize>) -> Option<Measure> {
     if let Some(m) = Measure::from_name(name) {

@@ -6,6 +6,7 @@ pub mod answer;
 pub mod cloze;
 pub mod content;
 pub mod formula;
+pub mod knob;
 pub mod misconception;
 pub mod prose;
 pub mod scene;
@@ -376,6 +377,8 @@ pub struct Body {
     pub scenes: Vec<Scene>,
     pub systems: Vec<SystemScene>,
     pub misconceptions: Vec<crate::deck::model::Misconception>,
+    /// The scenes' knobs and explore measures (`knob`).
+    pub explore: Vec<crate::deck::model::Explore>,
 }
 
 /// Checks cards, prompts and scenes; `section_ids` are the explanation
@@ -467,6 +470,7 @@ pub fn body(
     }
     let mut scenes = Vec::new();
     let mut systems = Vec::new();
+    let mut explore = Vec::new();
     for s in &raw.scenes {
         let what =
             s.id.as_ref()
@@ -474,13 +478,25 @@ pub fn body(
                 .map_or("a scene".to_string(), |i| format!("scene `{}`", i.value));
         if let Some(sys) = &s.system {
             match system::scene(rep, s, sys, langs, &what) {
-                Some(s) => systems.push(s),
+                Some(sys) => {
+                    match knob::explore(rep, s, langs, &what, knob::Turned::System(&sys)) {
+                        Some(e) => explore.extend(e),
+                        None => ok = false,
+                    }
+                    systems.push(sys)
+                }
                 None => ok = false,
             }
             continue;
         }
         match scene::scene(rep, s, langs, &what) {
-            Some(s) => scenes.push(s),
+            Some(body) => {
+                match knob::explore(rep, s, langs, &what, knob::Turned::Rigid(&body)) {
+                    Some(e) => explore.extend(e),
+                    None => ok = false,
+                }
+                scenes.push(body)
+            }
             None => ok = false,
         }
     }
@@ -492,6 +508,7 @@ pub fn body(
         scenes,
         systems,
         misconceptions: misconceptions?,
+        explore,
     })
 }
 
