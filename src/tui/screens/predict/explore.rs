@@ -450,7 +450,6 @@ pub fn draw(
 /// The keys' row of the explore view: whole entries, what does not fit
 /// left to the help.
 fn hints_line(app: &App, width: u16) -> Paragraph<'static> {
-    let t = &app.theme;
     let keys = [
         ("← →", TURN.get(&app.lang)),
         ("Tab", NEXT_KNOB.get(&app.lang)),
@@ -461,24 +460,7 @@ fn hints_line(app: &App, width: u16) -> Paragraph<'static> {
             crate::tui::i18n::Words("back", "wapas").get(&app.lang),
         ),
     ];
-    let mut spans = vec![Span::raw(" ")];
-    let mut used = 1;
-    for (k, what) in keys {
-        let entry = format!(" {what}");
-        let w = unicode_width::UnicodeWidthStr::width(k)
-            + unicode_width::UnicodeWidthStr::width(entry.as_str());
-        let gap = if used > 1 { 2 } else { 0 };
-        if used + gap + w > usize::from(width) {
-            break;
-        }
-        if gap > 0 {
-            spans.push(Span::raw("  "));
-        }
-        spans.push(Span::styled(k.to_string(), t.key()));
-        spans.push(Span::styled(entry, t.dim()));
-        used += gap + w;
-    }
-    Paragraph::new(Line::from(spans))
+    super::parts::key_row(app, &keys, width)
 }
 
 /// The measure against the selected knob: a dot per point measured, joined

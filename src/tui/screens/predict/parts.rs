@@ -108,7 +108,6 @@ pub(super) fn hints_line(
     (judged, question_cut): (bool, bool),
     width: u16,
 ) -> Paragraph<'static> {
-    let t = &app.theme;
     let mut keys: Vec<(&str, &str)> = Vec::new();
     // A question the screen cuts (or one shown first) says how to read it
     // whole before anything else.
@@ -128,13 +127,18 @@ pub(super) fn hints_line(
         ("m", app.tr(Msg::Method)),
         ("[ ]", app.tr(Msg::Step)),
     ]);
-    // Whole entries only: what does not fit is left to the help (`?`),
-    // never cut mid-word.
+    key_row(app, &keys, width)
+}
+
+/// A row of keys and what they do, `width` wide: whole entries only; what
+/// does not fit is left to the help (`?`), never cut mid-word.
+pub(super) fn key_row(app: &App, keys: &[(&str, &str)], width: u16) -> Paragraph<'static> {
+    let t = &app.theme;
     let mut spans = vec![Span::raw(" ")];
     let mut used = 1;
     for (k, what) in keys {
         let entry = format!(" {what}");
-        let w = unicode_width::UnicodeWidthStr::width(k)
+        let w = unicode_width::UnicodeWidthStr::width(*k)
             + unicode_width::UnicodeWidthStr::width(entry.as_str());
         let gap = if used > 1 { 2 } else { 0 };
         if used + gap + w > usize::from(width) {
