@@ -194,6 +194,9 @@ fn after_the_verdict_a_knob_key_explores() {
         std::thread::sleep(Duration::from_millis(1));
     }
     assert_eq!(app.context(), Context::PredictVerdict);
+    // The verdict's key row offers it (this scene has knobs).
+    let screen = render(&app);
+    assert!(screen.contains("x explore"), "{screen}");
     press(&mut app, KeyCode::Right);
     assert_eq!(app.context(), Context::PredictExplore);
     assert_eq!(exploring(&app).1.values, vec![35.0]);

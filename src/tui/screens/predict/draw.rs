@@ -52,7 +52,13 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
             ..
         } => {
             let verdict = verdict.as_ref();
-            let diag = (state.shows_diagnostics(), state.question_first);
+            // Whether the scene has knobs: the key row then offers `x`.
+            let explorable = app
+                .decks
+                .get(state.deck)
+                .and_then(|d| d.explore(&prompt.scene))
+                .is_some_and(|e| !e.knobs.is_empty());
+            let diag = (state.shows_diagnostics(), state.question_first, explorable);
             let said = (prompt, *prediction);
             let verdict = verdict.map(|v| (v, &state.verdict_scroll));
             match run.sim() {
@@ -159,7 +165,7 @@ fn draw_play(
     (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SceneRun),
     verdict: Option<(&Verdict, &Cell<usize>)>,
-    (show_diagnostics, question_first): (bool, bool),
+    (show_diagnostics, question_first, explorable): (bool, bool, bool),
 ) {
     let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
     let width = area.width as usize;
@@ -216,7 +222,12 @@ fn draw_play(
     frame.render_widget(diagnostics(app, diag_lines), diag_area);
 
     frame.render_widget(
-        hints_line(app, prompt, (verdict.is_some(), question_cut), hints.width),
+        hints_line(
+            app,
+            prompt,
+            (verdict.is_some(), question_cut, explorable),
+            hints.width,
+        ),
         hints,
     );
     if verdict.is_some() {

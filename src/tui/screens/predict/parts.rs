@@ -105,7 +105,7 @@ const WHOLE_QUESTION: crate::tui::i18n::Words = crate::tui::i18n::Words("questio
 pub(super) fn hints_line(
     app: &App,
     prompt: &Prompt,
-    (judged, question_cut): (bool, bool),
+    (judged, question_cut, explorable): (bool, bool, bool),
     width: u16,
 ) -> Paragraph<'static> {
     let mut keys: Vec<(&str, &str)> = Vec::new();
@@ -116,6 +116,9 @@ pub(super) fn hints_line(
     }
     if judged {
         keys.push(("n", w::NEXT.get(&app.lang)));
+        if explorable {
+            keys.push(("x", EXPLORE.get(&app.lang)));
+        }
         if prompt.explain.is_some() {
             keys.push(("e", app.tr(Msg::Explanation)));
         }
@@ -129,6 +132,9 @@ pub(super) fn hints_line(
     ]);
     key_row(app, &keys, width)
 }
+
+/// After the verdict, on a scene with knobs.
+const EXPLORE: crate::tui::i18n::Words = crate::tui::i18n::Words("explore", "explore karo");
 
 /// A row of keys and what they do, `width` wide: whole entries only; what
 /// does not fit is left to the help (`?`), never cut mid-word.

@@ -69,7 +69,7 @@ pub fn draw(
     (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SystemRun),
     verdict: Option<(&Verdict, &std::cell::Cell<usize>)>,
-    (show_diagnostics, question_first): (bool, bool),
+    (show_diagnostics, question_first, explorable): (bool, bool, bool),
 ) {
     let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
     let diag_lines = if show_diagnostics && run.scene().shows(SystemPanel::Diagnostics) {
@@ -103,7 +103,12 @@ pub fn draw(
     );
     frame.render_widget(super::parts::diagnostics(app, diag_lines), diag_area);
     frame.render_widget(
-        super::parts::hints_line(app, prompt, (verdict.is_some(), question_cut), hints.width),
+        super::parts::hints_line(
+            app,
+            prompt,
+            (verdict.is_some(), question_cut, explorable),
+            hints.width,
+        ),
         hints,
     );
     if !verdict_lines.is_empty() {
