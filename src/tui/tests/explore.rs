@@ -119,6 +119,12 @@ fn x_explores_and_a_knob_restarts_the_run_at_its_new_value() {
     assert!(t40 > t30, "{curve:?}");
     let screen = render(&app);
     assert!(screen.contains("period(theta)"), "{screen}");
+    // The curve is read by its measured range, written on it.
+    let top = curve.iter().map(|p| p.1).fold(f64::MIN, f64::max);
+    let low = curve.iter().map(|p| p.1).fold(f64::MAX, f64::min);
+    let sig = |v: f64| crate::text::num::sig(v, 4);
+    assert!(screen.contains(&format!("max {}", sig(top))), "{screen}");
+    assert!(screen.contains(&format!("min {}", sig(low))), "{screen}");
 }
 
 #[test]

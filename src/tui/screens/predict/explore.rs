@@ -21,7 +21,7 @@ use crate::sim::Method;
 use crate::sim::scene::knob::{self, Knob};
 use crate::text::num::sig;
 use crate::tui::app::App;
-use crate::tui::i18n::Words;
+use crate::tui::i18n::{SystemWord, Words};
 use crate::tui::live::{Live, Sim, system_reference};
 
 /// Words of the explore view (English, Hinglish).
@@ -483,12 +483,16 @@ fn draw_curve(frame: &mut Frame, area: Rect, app: &App, e: &Exploring) {
             t.heading(),
         ));
     let points = e.curve_now();
+    let points_drawn = points.clone();
     let (lo, hi) = points
         .iter()
         .map(|p| p.1)
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
             (a.min(v), b.max(v))
         });
+    // The measured range, written on the panel as the time plots write
+    // theirs (max at the top, min below), so the curve can be read.
+    let measured = (lo.is_finite() && hi.is_finite()).then_some((lo, hi));
     let (lo, hi) = if lo.is_finite() && hi.is_finite() {
         let pad = ((hi - lo) * 0.1)
             .max(hi.abs().max(lo.abs()) * 0.05)
@@ -531,6 +535,44 @@ fn draw_curve(frame: &mut Frame, area: Rect, app: &App, e: &Exploring) {
             });
         });
     frame.render_widget(canvas, plot);
+    let word = |w| crate::tui::i18n::system_word(w).get(&app.lang);
+    // In the corners the curve leaves empty: a rising curve ends top
+    // right, so there max goes left and min right; a falling one the other
+    // way round.
+    let rising = match (points_drawn.first(), points_drawn.last()) {
+        (Some(a), Some(b)) => b.1 > a.1,
+        _ => false,
+    };
+    if let Some((bottom, top)) = measured
+        && plot.height >= 2
+    {
+        for (text, row, right) in [
+            (
+                format!("{} {}", word(SystemWord::Highest), sig(top, 4)),
+                Rect { height: 1, ..plot },
+                !rising,
+            ),
+            (
+                format!("{} {}", word(SystemWord::Lowest), sig(bottom, 4)),
+                Rect {
+                    y: plot.y + plot.height - 1,
+                    height: 1,
+                    ..plot
+                },
+                rising,
+            ),
+        ] {
+            let line = Paragraph::new(Line::styled(
+                crate::tui::wrap::ellipsize(&text, usize::from(row.width)),
+                t.dim(),
+            ));
+            let line = match right {
+                true => line.alignment(ratatui::layout::Alignment::Right),
+                false => line,
+            };
+            frame.render_widget(line, row);
+        }
+    }
     let ends = format!(
         "{} … {}  ({}: {})",
         shown(k.min),
