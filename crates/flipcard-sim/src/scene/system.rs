@@ -378,11 +378,11 @@ fn with_scene_atol(scene: &SystemScene, opts: &mut ode::Options, reference: bool
         SceneAtol::All(a) => Some(*a),
         SceneAtol::Each(each) => each.iter().find(|(n, _)| n == v).map(|(_, a)| *a),
     };
-    by_size.fixed = (scene.variables.iter()).map(named).collect();
-    if reference {
+    let each = (scene.variables.iter()).map(named).collect();
+    match reference {
         // The reference follows the sizes too, within what the scene asks.
-        by_size.fixed = vec![None; scene.variables.len()];
-        by_size.cap = (scene.variables.iter()).map(named).collect();
+        true => by_size.cap = each,
+        false => by_size.fixed = each,
     }
 }
 

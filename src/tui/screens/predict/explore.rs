@@ -483,7 +483,14 @@ fn draw_curve(frame: &mut Frame, area: Rect, app: &App, e: &Exploring) {
             t.heading(),
         ));
     let points = e.curve_now();
-    let points_drawn = points.clone();
+    let count = points.len();
+    // In the corners the curve leaves empty: a rising curve ends top
+    // right, so there max goes left and min right; a falling one the other
+    // way round.
+    let rising = match (points.first(), points.last()) {
+        (Some(a), Some(b)) => b.1 > a.1,
+        _ => false,
+    };
     let (lo, hi) = points
         .iter()
         .map(|p| p.1)
@@ -536,13 +543,6 @@ fn draw_curve(frame: &mut Frame, area: Rect, app: &App, e: &Exploring) {
         });
     frame.render_widget(canvas, plot);
     let word = |w| crate::tui::i18n::system_word(w).get(&app.lang);
-    // In the corners the curve leaves empty: a rising curve ends top
-    // right, so there max goes left and min right; a falling one the other
-    // way round.
-    let rising = match (points_drawn.first(), points_drawn.last()) {
-        (Some(a), Some(b)) => b.1 > a.1,
-        _ => false,
-    };
     if let Some((bottom, top)) = measured
         && plot.height >= 2
     {
@@ -578,7 +578,7 @@ fn draw_curve(frame: &mut Frame, area: Rect, app: &App, e: &Exploring) {
         shown(k.min),
         shown(k.max),
         POINTS.get(&app.lang),
-        e.curve_now().len()
+        count
     );
     frame.render_widget(
         Paragraph::new(Line::styled(

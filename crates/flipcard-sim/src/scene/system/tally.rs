@@ -471,6 +471,13 @@ pub(super) fn brent_max(
             continue;
         }
         best = (end, fe);
+        // Just inside the end first: a quantity that falls away from the
+        // end at once (rising into a step's end, the common case, every
+        // step) has no jump beside it, and needs no bisection.
+        let inside = end + (x - end) * 2f64.powi(-(BISECTIONS as i32));
+        if !f(inside).is_some_and(|v| v > fe) {
+            continue;
+        }
         // The quantity stays at or above the end's value on [end, lo] and
         // falls below it at hi.
         let (mut lo, mut hi) = (end, x);
