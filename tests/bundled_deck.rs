@@ -258,8 +258,11 @@ fn number_answers_follow_from_their_scenes() {
     let deck = deck();
     let mut checked = 0;
     for prompt in &deck.prompts {
+        // A varied prompt's answer is each variant's run's (`varied_prompts`).
         let Answer::Number {
-            measure, expected, ..
+            measure,
+            expected: Some(expected),
+            ..
         } = &prompt.answer
         else {
             continue;
@@ -282,7 +285,11 @@ fn choice_answers_follow_from_their_scenes() {
     let deck = deck();
     let mut checked = 0;
     for prompt in &deck.prompts {
-        let Answer::Choice { choices, expected } = &prompt.answer else {
+        let Answer::Choice {
+            choices,
+            expected: Some(expected),
+        } = &prompt.answer
+        else {
             continue;
         };
         let scene = deck.scene(&prompt.scene).expect("scene exists");

@@ -226,7 +226,7 @@ fn an_answer_check_accepts_stays_right_in_a_longer_run() {
                     explain: None,
                     tags: vec![],
                     answer: Answer::Choice {
-                        expected: "a".into(),
+                        expected: Some("a".into()),
                         choices: vec![
                             Choice {
                                 misconception: None,
@@ -243,6 +243,7 @@ fn an_answer_check_accepts_stays_right_in_a_longer_run() {
                         ],
                     },
                     measured: None,
+                    vary: Vec::new(),
                 };
                 let expected = Prediction::Choice(0);
                 if audit(&prompt, &scene(duration), &short).is_none() {

@@ -618,6 +618,7 @@ fn cloze_items_numbers_and_retries_make_a_report_an_instructor_can_act_on() {
                 let c = store
                     .commit_attempt(&Commitment {
                         deck: DECK.into(),
+                        variant: None,
                         prompt: "efold-time".into(),
                         committed_at: at,
                         prediction: prediction.to_string(),

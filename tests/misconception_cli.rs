@@ -33,6 +33,7 @@ fn store_with_attempts(data: &Path) {
         let c = store
             .commit_attempt(&Commitment {
                 deck: DECK.into(),
+                variant: None,
                 prompt: prompt.into(),
                 committed_at: t,
                 prediction: prediction.into(),

@@ -251,8 +251,8 @@ fn review_undo_hinglish_prompt_verdict_and_export() {
     };
     let choice = choices
         .iter()
-        .position(|c| &c.id == expected)
-        .unwrap_or_else(|| panic!("expected choice {expected} missing"));
+        .position(|c| Some(&c.id) == expected.as_ref())
+        .unwrap_or_else(|| panic!("expected choice {expected:?} missing"));
     t.keys(&["Escape"]);
     t.wait_for("pichhli padhai");
     t.keys(&["p"]);

@@ -245,6 +245,15 @@ pub struct SimArgs {
     /// decks).
     #[arg(long, conflicts_with_all = ["inertia", "omega", "t_end"])]
     pub list: bool,
+    /// With --scene: a prompt on the scene; prints its question and the
+    /// answer the run gives (with --variant, of that variant).
+    #[arg(long, value_name = "P", requires = "scene", conflicts_with_all = ["samples", "measure"])]
+    pub prompt: Option<String>,
+    /// With --prompt: the seed of a varied prompt's numbers (0 to 2^53 − 1,
+    /// as an attempt stores it): prints the drawn values, the question and
+    /// the computed answer.
+    #[arg(long, value_name = "SEED", requires = "prompt")]
+    pub variant: Option<u64>,
 }
 
 #[derive(Debug, Args)]

@@ -28,6 +28,7 @@ pub mod sim;
 pub mod sim_samples;
 pub mod sim_scene;
 pub mod sim_system;
+pub mod sim_variant;
 pub mod stats;
 pub mod sync;
 

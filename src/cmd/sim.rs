@@ -23,6 +23,9 @@ pub fn run(cli: &Cli, args: &SimArgs) -> anyhow::Result<ExitCode> {
     }
     if let Some(id) = &args.scene {
         let decks = sim_scene::load(cli, args)?;
+        if let Some(prompt) = &args.prompt {
+            return crate::cmd::sim_variant::run(args, &decks, id, prompt);
+        }
         if let Some((deck, system)) = decks.iter().find_map(|d| d.system(id).map(|s| (d, s))) {
             let system = sim_system::with_atol(args, system)?;
             return sim_system::run(args, deck, &system);

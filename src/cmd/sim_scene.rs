@@ -226,6 +226,7 @@ pub(super) fn prompt_line(p: &Prompt, m: &Measurements, ok: bool) -> String {
             } else {
                 holding.join(", ")
             };
+            let expected = expected.as_deref().unwrap_or("(the run decides)");
             format!("{}: expected {expected}: {status}; holds: {holds}", p.id)
         }
         Answer::Number {
@@ -256,7 +257,7 @@ pub(super) fn prompt_line(p: &Prompt, m: &Measurements, ok: bool) -> String {
                 "{}: expected {} = {} {unit}: {status}; measured {measured} {unit}{slips}",
                 p.id,
                 measure,
-                number(*expected)
+                expected.map_or_else(|| measured.clone(), number)
             )
         }
     }

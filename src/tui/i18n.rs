@@ -115,6 +115,11 @@ pub enum Msg {
     UnitOptional,
     CommitFirst,
     NoStepToChange,
+    PromptScheduled,
+    BackIn,
+    NotRatedPractice,
+    PredictItem,
+    PredictItemHint,
     EscOnHome,
     SiblingWaits,
     Relearning,
@@ -348,6 +353,17 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         EscOnHome => pick!(
             "you are on the first screen: q quits",
             "yeh pehli screen hai: band karne ke liye q dabao"
+        ),
+        PromptScheduled => pick!("prediction scheduled", "prediction schedule hua"),
+        BackIn => pick!("back in", "wapas aayega"),
+        NotRatedPractice => pick!(
+            "practice: this prompt was not due, so its schedule is unchanged",
+            "practice: yeh prompt due nahi tha, iska schedule wahi hai"
+        ),
+        PredictItem => pick!("Predict, then check", "Pehle predict, phir check"),
+        PredictItemHint => pick!(
+            "Enter opens it with new numbers; the verdict rates it (wrong: Again, right: Good)",
+            "Enter se naye numbers ke saath khulega; verdict hi rating dega (galat: Again, sahi: Good)"
         ),
         NoStepToChange => pick!(
             "exact: no step to change (press m for another method)",

@@ -66,7 +66,14 @@ impl Tui {
     pub fn pop(&mut self) {
         self.status = None;
         if self.stack.len() > 1 {
-            let closed = self.stack.pop();
+            let mut closed = self.stack.pop();
+            // A prompt opened from the review screen hands its rating back.
+            if let Some(Screen::Predict(p)) = &mut closed
+                && let Some(rated) = p.rated.take()
+                && let Some(Screen::Review(r)) = self.stack.last_mut()
+            {
+                r.answered_elsewhere(&self.app, rated);
+            }
             if closed.is_some_and(|c| c.view().ends_session()) {
                 self.start_sync();
             }

@@ -7,6 +7,7 @@
 
 mod count;
 mod dollar;
+pub mod fill;
 mod glyphs;
 mod lang;
 mod lint;

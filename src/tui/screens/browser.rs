@@ -704,11 +704,10 @@ fn explain(app: &mut App, s: &BrowserState) -> Nav {
     let Some(row) = s.current() else {
         return Nav::Stay;
     };
-    let section = app
-        .decks
-        .get(row.deck)
-        .and_then(|d| d.cards.get(row.card))
-        .and_then(|c| c.explain.clone());
+    let section = app.decks.get(row.deck).and_then(|d| match row.direction {
+        Direction::Predict => d.prompts.get(row.card)?.explain.clone(),
+        _ => d.cards.get(row.card)?.explain.clone(),
+    });
     match section {
         Some(id) => super::reader::open_at(app, row.deck, &id),
         None => {
@@ -928,9 +927,6 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
     let Some(row) = s.current() else {
         return;
     };
-    let Some(card) = app.decks.get(row.deck).and_then(|d| d.cards.get(row.card)) else {
-        return;
-    };
     let block = Block::default()
         .borders(Borders::ALL)
         .border_style(t.border())
@@ -953,7 +949,49 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             })
             .collect()
     };
+    let Some(deck) = app.decks.get(row.deck) else {
+        return;
+    };
+    // A prompt (a `predict` item): its question, and the scene that
+    // answers it.
+    let card = match row.direction {
+        Direction::Predict => {
+            let Some(p) = deck.prompts.get(row.card) else {
+                return;
+            };
+            let scene = deck
+                .system(&p.scene)
+                .and_then(|s| s.title.as_ref())
+                .or_else(|| deck.scene(&p.scene).and_then(|s| s.title.as_ref()))
+                .map(|t| t.get(lang).to_string())
+                .unwrap_or_else(|| p.scene.clone());
+            let blank = Run::new("", t.text());
+            let mut lines = wrap(
+                &math_runs(p.question.get(lang), t.strong()),
+                width,
+                blank.clone(),
+                blank.clone(),
+            );
+            lines.push(Line::styled("─".repeat(width.min(40)), t.dim()));
+            lines.extend(wrap(
+                &[Run::new(
+                    format!("{}: {}", app.tr(Msg::PredictItem), scene),
+                    t.text(),
+                )],
+                width,
+                blank.clone(),
+                blank,
+            ));
+            frame.render_widget(Paragraph::new(lines), inner);
+            return;
+        }
+        _ => match deck.cards.get(row.card) {
+            Some(c) => c,
+            None => return,
+        },
+    };
     let (question, answer): (Vec<Run>, Vec<Run>) = match row.direction {
+        Direction::Predict => return,
         Direction::Cloze(n) => {
             let text = card.front.get(lang);
             let mut back = segs(crate::deck::cloze::back(text, n));

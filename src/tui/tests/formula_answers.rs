@@ -73,6 +73,7 @@ fn formula_deck() -> Deck {
         answer: Answer::Formula(euler()),
         tags: vec![],
         measured: None,
+        vary: Vec::new(),
     }];
     deck
 }

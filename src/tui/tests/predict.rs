@@ -296,6 +296,7 @@ fn predict_run_verdict_right_and_logged() {
         apply_tick(&mut app, 100);
     }
     assert_eq!(app.context(), Context::PredictVerdict);
+    eprintln!("STATUS {:?}", app.status);
     let v = verdict_of(&app);
     assert!(v.correct, "{v:?}");
     assert_eq!(v.right_choice, Some(1), "the racket flips");

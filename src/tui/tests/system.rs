@@ -94,10 +94,11 @@ fn app(lang: &str) -> TestApp {
                     when: Condition::compare(period, Cmp::Le, 4.0121),
                 },
             ],
-            expected: "longer".into(),
+            expected: Some("longer".into()),
         },
         tags: vec![],
         measured: None,
+        vary: Vec::new(),
     });
     open_third_prompt(deck, lang)
 }
@@ -209,10 +210,11 @@ fn app_on(scene: SystemScene, measure: Measure, threshold: f64) -> TestApp {
         explain: None,
         answer: Answer::Choice {
             choices: vec![choice("above", Cmp::Gt), choice("below", Cmp::Le)],
-            expected: "above".into(),
+            expected: Some("above".into()),
         },
         tags: vec![],
         measured: None,
+        vary: Vec::new(),
     });
     open_third_prompt(deck, ENGLISH)
 }
@@ -603,13 +605,14 @@ fn a_number_verdict_names_its_measurement_with_its_unit_and_no_empty_formula() {
             misconceptions: Vec::new(),
             measure: Measure::Of(Stat::Period, Name::new("theta").unwrap()),
             unit: "s".into(),
-            expected: 4.89,
+            expected: Some(4.89),
             tolerance: crate::deck::Tolerance::Rel(0.01),
             formula: None,
             slips: Vec::new(),
         },
         tags: vec![],
         measured: None,
+        vary: Vec::new(),
     });
     let mut app = open_third_prompt(deck, ENGLISH);
     for c in "4.9".chars() {

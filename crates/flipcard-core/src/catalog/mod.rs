@@ -50,13 +50,20 @@ impl ItemRow {
     pub fn deck_id<'a>(&self, decks: &'a [Deck]) -> &'a str {
         &decks[self.deck].id
     }
-    /// The id of its card.
+    /// The id of its card (of its prompt, for a `predict` item: `card`
+    /// is then the prompt's position among the deck's prompts).
     pub fn card_id<'a>(&self, decks: &'a [Deck]) -> &'a str {
-        &decks[self.deck].cards[self.card].id
+        match self.direction {
+            Direction::Predict => &decks[self.deck].prompts[self.card].id,
+            _ => &decks[self.deck].cards[self.card].id,
+        }
     }
-    /// The tags of its card.
+    /// The tags of its card (or prompt).
     pub fn tags<'a>(&self, decks: &'a [Deck]) -> &'a [String] {
-        &decks[self.deck].cards[self.card].tags
+        match self.direction {
+            Direction::Predict => &decks[self.deck].prompts[self.card].tags,
+            _ => &decks[self.deck].cards[self.card].tags,
+        }
     }
     pub fn key(&self, decks: &[Deck]) -> ItemKey {
         ItemKey {
@@ -120,9 +127,27 @@ pub fn rows(
         }
     }
     starts.push(out.len());
+    // Then every deck's prompts, each one item (direction `predict`).
+    let mut prompt_starts = Vec::with_capacity(decks.len());
+    for (di, deck) in decks.iter().enumerate() {
+        prompt_starts.push(out.len());
+        for pi in 0..deck.prompts.len() {
+            out.push(ItemRow {
+                deck: di,
+                card: pi,
+                direction: Direction::Predict,
+                state: None,
+                retrievability: None,
+                reviews: 0,
+                lapses: 0,
+                status: ItemStatus::default(),
+            });
+        }
+    }
     // The store's items are found among the rows by name: a map of the
     // card ids of a deck is made when the store first names that deck.
     let mut find = RowFinder::new(decks, &starts);
+    find.prompt_starts = prompt_starts;
     for c in &cached {
         if let Some(row) = find.row(&out, &c.key) {
             let state = c.state;
@@ -150,6 +175,8 @@ struct RowFinder<'a> {
     /// by id (made when first needed).
     first: Vec<usize>,
     cards: Vec<Option<HashMap<&'a str, usize>>>,
+    /// Per deck: the row of its first prompt.
+    prompt_starts: Vec<usize>,
 }
 
 impl<'a> RowFinder<'a> {
@@ -165,12 +192,17 @@ impl<'a> RowFinder<'a> {
             starts,
             first,
             cards: vec![None; decks.len()],
+            prompt_starts: Vec::new(),
         }
     }
 
     fn row(&mut self, rows: &[ItemRow], key: &ItemKey) -> Option<usize> {
         let d = self.decks.iter().position(|d| d.id == key.deck)?;
         let deck = &self.decks[d];
+        if key.direction == Direction::Predict {
+            let i = deck.prompts.iter().position(|p| p.id == key.card)?;
+            return Some(self.prompt_starts.get(d)? + i);
+        }
         let cards = self.cards[d].get_or_insert_with(|| {
             let mut m = HashMap::with_capacity(deck.cards.len());
             for (i, c) in deck.cards.iter().enumerate() {

@@ -80,6 +80,16 @@ impl SearchTexts {
             }
             t.cards.push((card.kind == CardKind::Cloze, langs));
         }
+        // Then every prompt (a `predict` item): its id, and per language
+        // its question (with nothing for a back).
+        for prompt in decks.iter().flat_map(|d| &d.prompts) {
+            t.push(&prompt.id);
+            for q in prompt.question.0.values() {
+                t.push(q);
+                t.push("");
+            }
+            t.cards.push((false, prompt.question.0.len() as u32));
+        }
         t
     }
 
@@ -397,7 +407,9 @@ pub fn threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get().min(4))
 }
 
-/// For each row, the position of its card among every card of `decks`.
+/// For each row, the position of its card among every card of `decks`
+/// (a prompt's: after every card, among every prompt, as
+/// [`SearchTexts`] gathers them).
 pub fn card_of_row(decks: &[Deck], rows: &[ItemRow]) -> Vec<u32> {
     let mut first = Vec::with_capacity(decks.len());
     let mut n = 0u32;
@@ -405,7 +417,17 @@ pub fn card_of_row(decks: &[Deck], rows: &[ItemRow]) -> Vec<u32> {
         first.push(n);
         n += d.cards.len() as u32;
     }
-    rows.iter().map(|r| first[r.deck] + r.card as u32).collect()
+    let mut first_prompt = Vec::with_capacity(decks.len());
+    for d in decks {
+        first_prompt.push(n);
+        n += d.prompts.len() as u32;
+    }
+    rows.iter()
+        .map(|r| match r.direction {
+            crate::sched::Direction::Predict => first_prompt[r.deck] + r.card as u32,
+            _ => first[r.deck] + r.card as u32,
+        })
+        .collect()
 }
 
 impl Search {

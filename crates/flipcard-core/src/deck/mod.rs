@@ -16,6 +16,7 @@ pub mod places;
 pub mod raw;
 pub mod raw_knob;
 pub mod raw_misconception;
+pub mod raw_vary;
 mod read;
 pub mod report;
 pub mod schema;

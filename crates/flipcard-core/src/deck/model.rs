@@ -201,6 +201,106 @@ pub struct Prompt {
     /// What the prompt measures, named in words by the deck (`label` in
     /// `[prompt.answer]`), when the measure's own name cannot say it.
     pub measured: Option<Measured>,
+    /// The numbers each attempt draws anew (`vary`), in name order;
+    /// empty for a prompt asked the same way every time. A varied
+    /// prompt's answer is computed from each variant's run
+    /// (`predict::variant`).
+    pub vary: Vec<Varied>,
+}
+
+/// One number a varied prompt draws for each attempt: shown in the
+/// question as `{name}` (in its own unit), set into the scene as its value
+/// × `scale`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Varied {
+    pub name: String,
+    /// What it sets in the prompt's scene.
+    pub target: flipcard_sim::scene::knob::Target,
+    pub draw: Draw,
+    /// The scene gets the drawn value × `scale`.
+    pub scale: f64,
+    /// The decimals the question shows it with (the most any `{name:.N}`
+    /// asks for): a uniform draw is rounded to them, so the number read is
+    /// the number run. `None`: three significant digits.
+    pub decimals: Option<u8>,
+}
+
+impl Varied {
+    /// The number a uniform `u` in [0, 1) draws: on the grid of a step,
+    /// one of the values, or in the range rounded as the question shows it
+    /// (to its decimals, else to three significant digits), never outside
+    /// the range.
+    pub fn value_at(&self, u: f64) -> f64 {
+        let u = if u.is_finite() {
+            u.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        match &self.draw {
+            Draw::Values(v) => {
+                let i = ((u * v.len() as f64) as usize).min(v.len().saturating_sub(1));
+                v.get(i).copied().unwrap_or(f64::NAN)
+            }
+            Draw::Range {
+                min,
+                max,
+                step: Some(step),
+            } => {
+                let last = ((max - min) / step).floor().max(0.0);
+                let k = (u * (last + 1.0)).floor().min(last);
+                flipcard_sim::scene::knob::tidy((min + k * step).clamp(*min, *max))
+            }
+            Draw::Range {
+                min,
+                max,
+                step: None,
+            } => {
+                let v = min + u * (max - min);
+                let rounded = match self.decimals {
+                    Some(d) => {
+                        let f = 10f64.powi(i32::from(d));
+                        (v * f).round() / f
+                    }
+                    None => flipcard_text::num::sig(v, 3).parse().unwrap_or(v),
+                };
+                let r = if rounded.is_finite() { rounded } else { v };
+                r.clamp(*min, *max)
+            }
+        }
+    }
+
+    /// The numbers `deck check` tries alone: the ends and the middle of
+    /// the range (on its grid), or the first, middle and last value.
+    pub fn samples(&self) -> Vec<f64> {
+        match &self.draw {
+            Draw::Values(v) => {
+                let mut out = vec![v[0], v[v.len() / 2], v[v.len() - 1]];
+                out.dedup();
+                out
+            }
+            Draw::Range { min, max, step } => {
+                let mid = match step {
+                    Some(s) => (min + ((max - min) / s / 2.0).floor() * s).clamp(*min, *max),
+                    None => (min + max) / 2.0,
+                };
+                vec![*min, mid, *max]
+            }
+        }
+    }
+}
+
+/// How a varied number is drawn.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Draw {
+    /// Uniformly in `[min, max]`; on the grid `min + k·step` when a step
+    /// is given.
+    Range {
+        min: f64,
+        max: f64,
+        step: Option<f64>,
+    },
+    /// One of these, each as likely.
+    Values(Vec<f64>),
 }
 
 /// A prompt's measure named by its deck: the verdict reads it as
@@ -225,16 +325,19 @@ pub enum Answer {
     Choice {
         choices: Vec<Choice>,
         /// The choice id the physics gives, worked out by hand by the author;
-        /// tests compare it with the simulation.
-        expected: String,
+        /// tests compare it with the simulation. `None` on a varied prompt
+        /// without one: the choice whose `when` holds in the variant's run.
+        expected: Option<String>,
     },
     /// A number (with optional unit) compared with a measurement.
     Number {
         measure: Measure,
         /// Unit shown to the learner and accepted after the number (`s`, `d`, `rad/s`).
         unit: String,
-        /// The value the formula gives, worked out by hand by the author.
-        expected: f64,
+        /// The value the formula gives, worked out by hand by the author;
+        /// `None` on a varied prompt (`expected = "period(theta)"`): the
+        /// value the variant's run measures.
+        expected: Option<f64>,
         tolerance: Tolerance,
         /// The formula behind `expected`, shown in the verdict (may hold math).
         formula: Option<Text>,

@@ -29,6 +29,9 @@ pub(crate) struct AnswerPlaces {
     pub when: Vec<Option<Place>>,
     /// Each slip's `value` (a number answer), in the prompt's order.
     pub slips: Vec<Option<Place>>,
+    /// The prompt's `vary`, when it varies: where a variant that its run
+    /// cannot decide is reported.
+    pub vary: Option<Place>,
 }
 
 /// The deck file `source` read raw; `None` when it does not parse (the
@@ -76,16 +79,25 @@ pub(crate) fn answer_places(path: &Path, source: &str) -> HashMap<String, Answer
                         })
                         .unwrap_or_default(),
                     slips: Vec::new(),
+                    vary: None,
                 },
                 RawAnswer::Formula(f) => AnswerPlaces {
                     expected: f.expected.as_ref().map(|e| place(&e.span)),
                     when: Vec::new(),
                     slips: Vec::new(),
+                    vary: None,
                 },
                 RawAnswer::Number {
-                    expected, slips, ..
+                    expected,
+                    computed,
+                    slips,
+                    ..
                 } => AnswerPlaces {
-                    expected: expected.as_ref().map(|e| place(&e.span)),
+                    expected: expected
+                        .as_ref()
+                        .map(|e| place(&e.span))
+                        .or_else(|| computed.as_ref().map(|e| place(&e.span))),
+                    vary: None,
                     when: Vec::new(),
                     slips: slips
                         .as_ref()
@@ -97,6 +109,10 @@ pub(crate) fn answer_places(path: &Path, source: &str) -> HashMap<String, Answer
                         })
                         .unwrap_or_default(),
                 },
+            };
+            let places = AnswerPlaces {
+                vary: p.vary.as_ref().map(|v| place(&v.span)),
+                ..places
             };
             Some((id, places))
         })

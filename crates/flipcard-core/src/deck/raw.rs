@@ -11,6 +11,7 @@ use super::suggest;
 
 pub use super::raw_knob::RawKnob;
 pub use super::raw_misconception::{RawMisconception, RawRange};
+pub use super::raw_vary::{RawVaried, RawVary};
 pub use super::read::{Flag, List, Num, RawAccept, RawText, Span, Str};
 
 pub const DECK_FILE_FIELDS: &[&str] = &["deck", "card", "prompt", "scene", "misconception"];
@@ -19,7 +20,9 @@ pub const CARD_FIELDS: &[&str] = &[
     "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text", "expected",
     "vars",
 ];
-pub const PROMPT_FIELDS: &[&str] = &["id", "question", "scene", "explain", "tags", "answer"];
+pub const PROMPT_FIELDS: &[&str] = &[
+    "id", "question", "scene", "explain", "tags", "answer", "vary",
+];
 pub const CHOICE_ANSWER_FIELDS: &[&str] = &["kind", "expected", "choices", "label", "unit"];
 pub const NUMBER_ANSWER_FIELDS: &[&str] = &[
     "kind",
@@ -126,6 +129,8 @@ pub struct RawPrompt {
     pub explain: Option<Str>,
     pub tags: Option<List<Str>>,
     pub answer: Option<RawAnswer>,
+    /// The numbers each attempt draws anew (`raw_vary`).
+    pub vary: Option<RawVary>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -144,6 +149,9 @@ pub enum RawAnswer {
         measure: Option<Str>,
         unit: Option<Str>,
         expected: Option<Num>,
+        /// `expected = "period(theta)"`: the answer is what the run of each
+        /// variant measures (a varied prompt's).
+        computed: Option<Str>,
         tolerance: Option<RawTolerance>,
         formula: Option<RawText>,
         /// Known wrong numbers (`slips = [{ value = "1/k", says = … }]`).
@@ -466,6 +474,7 @@ fn read_prompt(rep: &mut FileReport, t: &DeTable, span: Span) -> RawPrompt {
         explain: f.string(rep, "explain", false),
         tags: f.strings(rep, "tags", false),
         answer,
+        vary: super::raw_vary::read_vary(rep, &f),
     }
 }
 
@@ -508,7 +517,8 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
             });
             Some(RawAnswer::Choice {
                 span,
-                expected: f.string(rep, "expected", true),
+                // Required unless the prompt varies: checked with `vary`.
+                expected: f.string(rep, "expected", false),
                 choices,
                 label: f.text(rep, "label", false),
                 unit: f.string(rep, "unit", false),
@@ -531,9 +541,16 @@ fn read_answer(rep: &mut FileReport, t: &DeTable, span: Span, owner: &str) -> Op
             });
             Some(RawAnswer::Number {
                 span,
-                measure: f.string(rep, "measure", true),
+                measure: f.string(rep, "measure", false),
                 unit: f.string(rep, "unit", false),
-                expected: f.number(rep, "expected", true),
+                expected: f
+                    .get("expected")
+                    .filter(|v| !matches!(v.get_ref(), toml::de::DeValue::String(_)))
+                    .and_then(|v| read::number(rep, v, "`expected`")),
+                computed: f.get("expected").and_then(|v| match v.get_ref() {
+                    toml::de::DeValue::String(_) => read::string(rep, v, "`expected`"),
+                    _ => None,
+                }),
                 tolerance,
                 formula: f.text(rep, "formula", false),
                 slips: f.get("slips").and_then(|v| {

@@ -621,14 +621,16 @@ fn graded(a: &AttemptRow, prompt: Option<&crate::deck::Prompt>) -> Option<bool> 
         return a.correct;
     }
     match &prompt?.answer {
-        Answer::Choice { expected, .. } => Some(a.prediction.trim() == expected),
+        // A varied prompt's answer was its variant's: only the verdict says.
+        Answer::Choice { expected, .. } => Some(a.prediction.trim() == expected.as_deref()?),
         Answer::Number {
             expected,
             tolerance,
             ..
         } => {
             let v = a.prediction.trim().parse::<f64>().ok()?;
-            v.is_finite().then(|| tolerance.accepts(v, *expected))
+            let expected = (*expected)?;
+            v.is_finite().then(|| tolerance.accepts(v, expected))
         }
         Answer::Formula(key) => {
             Some(flipcard_sim::system::equiv::grade(key, &a.prediction).is_right())
@@ -961,7 +963,8 @@ fn prompt_row(
         let at = measured
             .get(measured.len() / 2)
             .copied()
-            .unwrap_or(*expected);
+            .or(*expected)
+            .unwrap_or(f64::NAN);
         for c in &mut wrong {
             let Some(centre) = c.prediction.parse::<f64>().ok().filter(|v| v.is_finite()) else {
                 continue;
@@ -984,24 +987,29 @@ fn prompt_row(
             .then(a.prediction.cmp(&b.prediction))
     });
     let (answer, formula) = match found.map(|p| &p.answer) {
-        Some(Answer::Choice { expected, .. }) => (
+        Some(Answer::Choice {
+            expected: Some(expected),
+            ..
+        }) => (
             Some(match label(expected) {
                 Some(l) => format!("{expected} ({l})"),
                 None => expected.clone(),
             }),
             None,
         ),
+        // Varied: each learner's variant had its own answer.
+        Some(Answer::Choice { expected: None, .. }) => (None, None),
         Some(Answer::Number {
             expected,
             unit,
             formula,
             ..
         }) => (
-            Some(
-                format!("{} {unit}", flipcard_text::num::show(*expected))
+            expected.map(|e| {
+                format!("{} {unit}", flipcard_text::num::show(e))
                     .trim_end()
-                    .to_string(),
-            ),
+                    .to_string()
+            }),
             formula.as_ref().map(|f| one_line(f.get(lang))),
         ),
         Some(Answer::Formula(key)) => (Some(one_line(&key.expected)), None),
@@ -1092,6 +1100,15 @@ fn card_text(
     direction: &str,
     lang: &str,
 ) -> Option<String> {
+    if direction == "predict" {
+        let q = decks
+            .get(deck)?
+            .prompt(card)?
+            .question
+            .get(lang)
+            .to_string();
+        return Some(flipcard_text::render(&q).replace('\n', " "));
+    }
     let card = decks.get(deck)?.card(card)?;
     let key = ItemKey::parse(deck, &card.id, direction).ok()?;
     let text = match key.direction {
@@ -1101,6 +1118,7 @@ fn card_text(
             .into_iter()
             .map(|s| s.text)
             .collect(),
+        crate::sched::Direction::Predict => return None,
     };
     Some(flipcard_text::render(&text).replace('\n', " "))
 }

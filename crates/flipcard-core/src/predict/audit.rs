@@ -25,6 +25,8 @@ use flipcard_sim::solvers::ode::{OdeKind, OdeMethod};
 use flipcard_sim::system::compile::Source;
 use flipcard_text::num::{Num, sig};
 
+use super::variant::{self, Resolved, SceneOf, Undecided};
+
 /// How much longer the second run of a system scene is: an answer that
 /// changes when the run goes on this much further holds only because the
 /// run ends where it does.
@@ -216,7 +218,10 @@ pub fn audit_run(prompt: &Prompt, run: &Run) -> Option<Problem> {
         // No run decides a formula (its key is checked by `check`).
         Answer::Formula(_) => return None,
         Answer::Choice { choices, expected } => {
-            let e = choices.iter().position(|c| &c.id == expected)?;
+            // A varied prompt's answer is each variant's run's (`decided`
+            // writes it in before its audit).
+            let expected = expected.as_deref()?;
+            let e = choices.iter().position(|c| c.id == expected)?;
             let holding = holding(choices, &longer.measured);
             let said_there = |c: &Choice| said_all(&c.when, longer);
             let shows = if !holding.contains(&e) {
@@ -246,6 +251,7 @@ pub fn audit_run(prompt: &Prompt, run: &Run) -> Option<Problem> {
             tolerance,
             ..
         } => {
+            let expected = &(*expected)?;
             let there = match longer.measured.get(*measure) {
                 Some(v) if tolerance.accepts(*expected, v) => return None,
                 Some(v) => format!("{} {unit}", sig(v, 4)),
@@ -331,7 +337,7 @@ fn judge(prompt: &Prompt, run: &Run) -> Option<Problem> {
     let m = &run.measured;
     match &prompt.answer {
         Answer::Formula(_) => None,
-        Answer::Choice { choices, expected } => audit_choice(choices, expected, run),
+        Answer::Choice { choices, expected } => audit_choice(choices, expected.as_deref()?, run),
         Answer::Number {
             measure,
             unit,
@@ -339,6 +345,7 @@ fn judge(prompt: &Prompt, run: &Run) -> Option<Problem> {
             tolerance,
             ..
         } => {
+            let expected = &(*expected)?;
             let name = run_name(run);
             let shown = format!("{measure} = {} {unit}", Num(*expected));
             let message = match m.reading(*measure) {
@@ -680,6 +687,17 @@ fn check_deck(
             continue;
         };
         let at = places.get(&prompt.id);
+        if !prompt.vary.is_empty() {
+            if let Some((message, hint)) = audit_variants(deck, prompt) {
+                out.push(diagnostic(
+                    at.and_then(|p| p.vary)
+                        .or_else(|| at.and_then(|p| p.expected)),
+                    message,
+                    hint,
+                ));
+            }
+            continue;
+        }
         if let Ran::Done(run) = run {
             let used = prompt_uses(prompt);
             for (m, caveat) in &run.caveats {
@@ -729,6 +747,98 @@ fn check_deck(
     out
 }
 
+/// A run of one variant of a prompt's scene, as `check` and `sim
+/// --variant` make it: the rigid body's exact solution, a system's auto
+/// method to its end (and once more [`LONGER`] times as long).
+pub fn variant_run(deck: &Deck, resolved: &Resolved) -> Result<Run, String> {
+    match &resolved.scene {
+        SceneOf::Rigid(s) => measure_scene(s, Method::Exact)
+            .map(|m| Run::rigid(s, m))
+            .map_err(|e| e.to_string()),
+        SceneOf::System(s) => {
+            let measures = prompt_measures(deck, &s.id);
+            let method = OdeMethod::default_for(OdeKind::Auto, s.duration);
+            Run::system(s, method, &measures).map_err(|e| e.to_string())
+        }
+    }
+}
+
+/// Runs the variants `check` samples of a varied prompt
+/// ([`variant::samples`]: the ends and middle of every range, and seeded
+/// draws) and judges each on its own run: the run must reach its end, the
+/// answer be decided (the measure made, exactly one choice holding, the
+/// deck's `expected` choice when it names one), and hold on the longer
+/// run. The first variant that fails, named by its numbers, with how many
+/// others fail too.
+fn audit_variants(deck: &Deck, prompt: &Prompt) -> Option<(String, String)> {
+    let mut first: Option<String> = None;
+    let mut failing = 0usize;
+    let samples = variant::samples(prompt);
+    for v in &samples {
+        let Some(resolved) = variant::resolve(deck, prompt, Some(v)) else {
+            return None;
+        };
+        let why = match variant_run(deck, &resolved) {
+            Err(e) => Some(format!("the scene does not run to its end ({e})")),
+            Ok(run) => match variant::decided(&resolved.prompt, &run.measured) {
+                Err(u) => Some(undecided(&resolved.prompt, &run, &u)),
+                Ok(p) => audit_run(&p, &run)
+                    .map(|problem| problem.message)
+                    .or_else(|| audit_slips(&p, &run).into_iter().next().map(|(_, m)| m)),
+            },
+        };
+        if let Some(why) = why {
+            failing += 1;
+            first.get_or_insert_with(|| format!("variant {}: {why}", v.describe()));
+        }
+    }
+    let first = first?;
+    let more = match failing {
+        1 => String::new(),
+        n => format!(" ({} of the {} variants checked fail)", n, samples.len()),
+    };
+    Some((
+        format!("{first}{more}"),
+        format!(
+            "narrow `vary` to numbers whose runs decide the answer; `flipcard sim --scene {} --prompt {} --variant SEED` shows one variant",
+            prompt.scene, prompt.id
+        ),
+    ))
+}
+
+/// Why a variant's run does not decide the answer, in words.
+fn undecided(prompt: &Prompt, run: &Run, u: &Undecided) -> String {
+    match (u, &prompt.answer) {
+        (Undecided::NotMeasured, Answer::Number { measure, .. }) => format!(
+            "{} cannot measure {measure}{}",
+            run_name(run),
+            unmeasured(*measure, run)
+        ),
+        (Undecided::NoChoice, Answer::Choice { choices, .. }) => {
+            let said: Vec<String> = choices
+                .iter()
+                .map(|c| said_all(&c.when, run))
+                .collect::<Vec<_>>();
+            let mut said = said;
+            said.dedup();
+            format!(
+                "no choice holds: {} measures {}",
+                run_name(run),
+                said.join("; ")
+            )
+        }
+        (Undecided::Several(ids), _) => format!(
+            "choices {} all hold in {}: make the conditions exclusive",
+            ids.iter()
+                .map(|i| format!("`{i}`"))
+                .collect::<Vec<_>>()
+                .join(", "),
+            run_name(run)
+        ),
+        _ => "the run does not decide the answer".to_string(),
+    }
+}
+
 fn sim_hint(scene: &str) -> String {
     format!(
         "the simulation decides the answer; `flipcard sim --scene {scene}` shows every measurement"
@@ -764,7 +874,7 @@ mod tests {
             explain: None,
             tags: vec![],
             answer: Answer::Choice {
-                expected: expected.into(),
+                expected: Some(expected.into()),
                 choices: conditions
                     .iter()
                     .map(|&(id, op, value)| Choice {
@@ -776,6 +886,7 @@ mod tests {
                     .collect(),
             },
             measured: None,
+            vary: Vec::new(),
         }
     }
 
@@ -830,7 +941,7 @@ mod tests {
                 misconceptions: Vec::new(),
                 measure: Measure::EfoldTime,
                 unit: "s".into(),
-                expected: 0.1732,
+                expected: Some(0.1732),
                 tolerance: crate::deck::Tolerance::Rel(0.1),
                 formula: None,
                 // 1/k is the slip; 1/sqrt(k) and 1.05*measured are right answers.
@@ -870,7 +981,7 @@ mod tests {
                 misconceptions: Vec::new(),
                 measure: Measure::FlipPeriod,
                 unit: "s".into(),
-                expected: 1.96,
+                expected: Some(1.96),
                 tolerance: crate::deck::Tolerance::Rel(0.1),
                 formula: None,
                 slips: Vec::new(),
@@ -920,7 +1031,7 @@ mod tests {
                 misconceptions: Vec::new(),
                 measure,
                 unit: "s".into(),
-                expected,
+                expected: Some(expected),
                 tolerance: crate::deck::Tolerance::Rel(0.02),
                 formula: None,
                 slips: Vec::new(),
@@ -934,7 +1045,7 @@ mod tests {
         let max_x = Measure::parse("max(x)").unwrap();
         let p = Prompt {
             answer: Answer::Choice {
-                expected: "bounded".into(),
+                expected: Some("bounded".into()),
                 choices: [("bounded", Cmp::Lt), ("grows", Cmp::Ge)]
                     .map(|(id, op)| Choice {
                         misconception: None,

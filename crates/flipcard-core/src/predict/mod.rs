@@ -3,6 +3,7 @@
 //! here, between the deck's prompt and the measurements.
 
 pub mod audit;
+pub mod variant;
 /// How a typed number and its unit are read (in `flipcard-text`, below
 /// the deck, which declares units).
 pub use flipcard_text::units as typed;
@@ -28,9 +29,9 @@ impl Prediction {
         match &prompt.answer {
             Answer::Choice { choices, expected } => choices
                 .iter()
-                .position(|c| &c.id == expected)
+                .position(|c| Some(&c.id) == expected.as_ref())
                 .map(Prediction::Choice),
-            Answer::Number { expected, .. } => Some(Prediction::Number(*expected)),
+            Answer::Number { expected, .. } => expected.map(Prediction::Number),
             // A typed formula is graded by `formula`, never by a run.
             Answer::Formula(_) => None,
         }

@@ -21,7 +21,8 @@ pub(crate) const LEARN_AHEAD: TimeDelta = TimeDelta::minutes(20);
 
 /// The review items of a deck in deck order: one per card, two for a
 /// reversed card (front → back, then back → front), one per deletion
-/// number of a cloze card.
+/// number of a cloze card; then one per predict-then-check prompt
+/// (direction `predict`).
 pub fn deck_items(deck: &Deck) -> Vec<ItemKey> {
     cram_items(deck, None)
 }
@@ -52,6 +53,16 @@ pub fn cram_items(deck: &Deck, tag: Option<&str>) -> Vec<ItemKey> {
                 items.push(key(Direction::Forward))
             }
         }
+    }
+    for prompt in &deck.prompts {
+        if tag.is_some_and(|t| !prompt.tags.iter().any(|c| c == t)) {
+            continue;
+        }
+        items.push(ItemKey {
+            deck: deck.id.clone(),
+            card: prompt.id.clone(),
+            direction: Direction::Predict,
+        });
     }
     items
 }

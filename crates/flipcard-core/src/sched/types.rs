@@ -38,6 +38,9 @@ pub enum Direction {
     Backward,
     /// The text with deletion number `n` hidden.
     Cloze(u16),
+    /// A predict-then-check prompt, scheduled as a review item: the
+    /// item's `card` is the prompt's id (issue 24 §2).
+    Predict,
 }
 
 impl Direction {
@@ -46,12 +49,14 @@ impl Direction {
             Direction::Forward => "forward".into(),
             Direction::Backward => "backward".into(),
             Direction::Cloze(n) => format!("c{n}").into(),
+            Direction::Predict => "predict".into(),
         }
     }
     pub fn parse(s: &str) -> Option<Direction> {
         match s {
             "forward" => Some(Direction::Forward),
             "backward" => Some(Direction::Backward),
+            "predict" => Some(Direction::Predict),
             _ => {
                 let digits = s.strip_prefix('c')?;
                 // One spelling per number: `c01` would be a second key for `c1`.
@@ -111,7 +116,7 @@ pub enum KeyError {
         "{what} id \"{quoted}\" is not an id (lowercase letters and digits in words joined by -)"
     )]
     NotAnId { what: &'static str, quoted: String },
-    #[error("direction \"{quoted}\" is not forward, backward or c1 … c999")]
+    #[error("direction \"{quoted}\" is not forward, backward, predict or c1 … c999")]
     NotADirection { quoted: String },
 }
 

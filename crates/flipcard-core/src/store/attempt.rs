@@ -39,6 +39,9 @@ pub struct Commitment {
     pub committed_at: DateTime<Utc>,
     /// A choice id, or the number typed.
     pub prediction: String,
+    /// The seed of a varied prompt's numbers (`predict::variant`), at
+    /// most 2⁵³ − 1; `None` for a prompt asked the same way every time.
+    pub variant: Option<u64>,
 }
 
 /// A commitment as stored.
@@ -80,6 +83,8 @@ pub struct StoredAttempt {
     pub prediction: String,
     /// 1 for the first attempt at the prompt; 2, 3 … for retries.
     pub attempt: u32,
+    /// The seed of a varied prompt's numbers.
+    pub variant: Option<u64>,
     /// `None`: the learner left before the run's end.
     pub verdict: Option<AttemptVerdict>,
 }
@@ -100,6 +105,44 @@ fn refuse_empty(deck: &str, prompt: &str) -> Result<(), StoreError> {
     Ok(())
 }
 
+/// A right answer names no misconception.
+pub(crate) fn refuse_misconception(id: i64, verdict: &AttemptVerdict) -> Result<(), StoreError> {
+    if verdict.correct && verdict.misconception.is_some() {
+        return Err(StoreError::BadRow {
+            id,
+            detail: "a right answer stands for no misconception".into(),
+        });
+    }
+    Ok(())
+}
+
+/// Writes the verdict of attempt `id` inside a write; the number of rows
+/// changed (0: no such attempt; the trigger refuses a second verdict).
+pub(crate) fn judge_in(
+    w: &rusqlite::Connection,
+    id: i64,
+    verdict: &AttemptVerdict,
+) -> rusqlite::Result<usize> {
+    // NaN or infinite measurements are kept as unknown: SQLite cannot
+    // store NaN, and an infinite value is no measurement.
+    let measured = verdict.measured.filter(|m| m.is_finite());
+    let mut st = w.prepare_cached(
+        "UPDATE prompt_attempt SET measured = ?2, correct = ?3, judged_at = ?4, \
+         misconception = ?5 WHERE id = ?1",
+    )?;
+    st.execute(params![
+        id,
+        measured,
+        verdict.correct,
+        to_ms(verdict.judged_at),
+        verdict.misconception,
+    ])
+}
+
+/// The largest variant seed the schema keeps (2⁵³ − 1, as the CHECK of
+/// version 6; the generator's `MAX_SEED`).
+pub const MAX_VARIANT: u64 = (1 << 53) - 1;
+
 /// The next attempt's number at the prompt `?2`/`?3` of an INSERT: one
 /// statement, so two apps committing at once cannot both take the same.
 const NEXT_ATTEMPT: &str =
@@ -112,8 +155,18 @@ impl Store {
         refuse_empty(&c.deck, &c.prompt)?;
         let sql = format!(
             "INSERT INTO prompt_attempt (session, deck, prompt, attempted_at, prediction, \
-             attempt) VALUES (?1, ?2, ?3, ?4, ?5, {NEXT_ATTEMPT}) RETURNING id, attempt"
+             attempt, variant) VALUES (?1, ?2, ?3, ?4, ?5, {NEXT_ATTEMPT}, ?6) RETURNING id, attempt"
         );
+        let variant = match c.variant {
+            None => None,
+            Some(v) if v <= MAX_VARIANT => Some(v as i64),
+            Some(_) => {
+                return Err(StoreError::BadRow {
+                    id: 0,
+                    detail: "a variant seed is at most 2^53 - 1".into(),
+                });
+            }
+        };
         self.write(|w| {
             let session = w.session()?;
             let mut st = w.prepare_cached(&sql)?;
@@ -123,7 +176,8 @@ impl Store {
                     c.deck,
                     c.prompt,
                     to_ms(c.committed_at),
-                    c.prediction
+                    c.prediction,
+                    variant
                 ],
                 |r| {
                     Ok(Committed {
@@ -138,28 +192,8 @@ impl Store {
     /// Writes the verdict of attempt `id`, once: an attempt already judged,
     /// or one that does not exist, is an error and nothing changes.
     pub fn judge_attempt(&mut self, id: i64, verdict: &AttemptVerdict) -> Result<(), StoreError> {
-        // NaN or infinite measurements are kept as unknown: SQLite cannot
-        // store NaN, and an infinite value is no measurement.
-        let measured = verdict.measured.filter(|m| m.is_finite());
-        if verdict.correct && verdict.misconception.is_some() {
-            return Err(StoreError::BadRow {
-                id,
-                detail: "a right answer stands for no misconception".into(),
-            });
-        }
-        let n = self.write(|w| {
-            let mut st = w.prepare_cached(
-                "UPDATE prompt_attempt SET measured = ?2, correct = ?3, judged_at = ?4, \
-                 misconception = ?5 WHERE id = ?1",
-            )?;
-            Ok(st.execute(params![
-                id,
-                measured,
-                verdict.correct,
-                to_ms(verdict.judged_at),
-                verdict.misconception,
-            ])?)
-        })?;
+        refuse_misconception(id, verdict)?;
+        let n = self.write(|w| Ok(judge_in(w, id, verdict)?))?;
         if n == 0 {
             return Err(StoreError::BadRow {
                 id,
@@ -222,6 +256,26 @@ impl Store {
 }
 
 impl Store {
+    /// How many attempts the prompt has had, and the variant seed of the
+    /// latest (for a new attempt to draw other numbers).
+    pub fn attempts_at(&self, deck: &str, prompt: &str) -> Result<(u32, Option<u64>), StoreError> {
+        self.conn
+            .query_row(
+                "SELECT count(*), (SELECT variant FROM prompt_attempt WHERE deck = ?1 \
+                 AND prompt = ?2 ORDER BY id DESC LIMIT 1) \
+                 FROM prompt_attempt WHERE deck = ?1 AND prompt = ?2",
+                [deck, prompt],
+                |r| {
+                    Ok((
+                        u32::try_from(r.get::<_, i64>(0)?).unwrap_or(u32::MAX),
+                        r.get::<_, Option<i64>>(1)?
+                            .and_then(|v| u64::try_from(v).ok()),
+                    ))
+                },
+            )
+            .map_err(|e| self.err(e))
+    }
+
     /// Every prompt attempt in id order, handed to `each` one at a time;
     /// stops at the first error `each` returns.
     pub fn each_attempt<E>(
@@ -235,7 +289,7 @@ impl Store {
             .conn
             .prepare(
                 "SELECT id, deck, prompt, attempted_at, prediction, attempt, measured, \
-                 correct, judged_at, misconception FROM prompt_attempt ORDER BY id",
+                 correct, judged_at, misconception, variant FROM prompt_attempt ORDER BY id",
             )
             .map_err(|e| self.err(e))?;
         let mut rows = st.query([]).map_err(|e| self.err(e))?;
@@ -251,6 +305,9 @@ impl Store {
                     attempted_at,
                     prediction: row.get(4)?,
                     attempt: row.get(5)?,
+                    variant: row
+                        .get::<_, Option<i64>>(10)?
+                        .and_then(|v| u64::try_from(v).ok()),
                     verdict: match correct {
                         Some(correct) => Some(AttemptVerdict {
                             measured: row.get(6)?,
@@ -281,6 +338,7 @@ mod tests {
     fn commitment(prompt: &str, prediction: &str, t: &str) -> Commitment {
         Commitment {
             deck: "d".into(),
+            variant: None,
             prompt: prompt.into(),
             committed_at: at(t),
             prediction: prediction.into(),

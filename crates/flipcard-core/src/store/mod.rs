@@ -28,7 +28,9 @@ pub mod today;
 pub mod true_retention;
 pub(crate) mod write;
 
-pub use attempt::{AttemptVerdict, Commitment, Committed, PromptAttempt, StoredAttempt};
+pub use attempt::{
+    AttemptVerdict, Commitment, Committed, MAX_VARIANT, PromptAttempt, StoredAttempt,
+};
 pub use db::{OpenOptions, Store};
 pub use error::StoreError;
 pub use log::LoggedReview;

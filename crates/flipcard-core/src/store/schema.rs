@@ -11,7 +11,7 @@ use crate::sched::clock::Clock;
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
-pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5];
+pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5, V6];
 
 /// The schema version this build writes.
 pub(crate) fn current_version() -> i64 {
@@ -452,6 +452,194 @@ ALTER TABLE prompt_attempt ADD COLUMN misconception TEXT
     CHECK (misconception IS NULL OR (misconception <> '' AND correct = 0));
 "#;
 
+/// Version 6 (issue 24): prompts and derivations are review items, so the
+/// logs take their directions, `predict` and `derive`, beside `forward`,
+/// `backward` and `cN`; and an attempt at a varied prompt keeps the seed
+/// its numbers were drawn from (`variant`, written with the commitment, at
+/// most 2⁵³ − 1, exact in JSON; NULL for a prompt asked the same way every
+/// time and for every earlier attempt), held by the append-only trigger as
+/// the prediction is. SQLite cannot change a CHECK in place, so `review`
+/// and `status_event` are copied into tables that allow the new
+/// directions (every row, id and column kept), as version 2 did: the
+/// caches that refer to them (`card_state`, and the events' `cause`) are
+/// set aside meanwhile, and every index and append-only trigger is made
+/// again as it was.
+const V6: &str = r#"
+CREATE TABLE review_v6 (
+    id              INTEGER PRIMARY KEY,
+    session         INTEGER REFERENCES session(id),
+    deck            TEXT NOT NULL CHECK (deck <> ''),
+    card            TEXT NOT NULL CHECK (card <> ''),
+    direction       TEXT NOT NULL CHECK (direction IN ('forward', 'backward', 'predict', 'derive')
+                        OR (direction GLOB 'c[1-9]*' AND direction NOT GLOB 'c*[^0-9]*')),
+    reviewed_at     INTEGER NOT NULL,
+    rating          INTEGER NOT NULL CHECK (rating BETWEEN 1 AND 4),
+    kind            TEXT NOT NULL CHECK (kind IN ('learn', 'review', 'relearn', 'cram')),
+    elapsed_days    INTEGER NOT NULL,
+    scheduled_days  INTEGER NOT NULL,
+    stability       REAL,
+    difficulty      REAL,
+    state           TEXT NOT NULL CHECK (state IN ('new', 'learning', 'review', 'relearning')),
+    step            INTEGER CHECK (step >= 0),
+    due             INTEGER NOT NULL,
+    last_review     INTEGER,
+    duration_ms     INTEGER NOT NULL CHECK (duration_ms >= 0),
+    undone          INTEGER NOT NULL DEFAULT 0 CHECK (undone IN (0, 1)),
+    origin          TEXT CHECK (origin <> '')
+) STRICT;
+INSERT INTO review_v6 SELECT * FROM review;
+
+CREATE TABLE status_event_v6 (
+    id            INTEGER PRIMARY KEY,
+    session       INTEGER REFERENCES session(id),
+    deck          TEXT NOT NULL CHECK (deck <> ''),
+    card          TEXT NOT NULL CHECK (card <> ''),
+    direction     TEXT NOT NULL CHECK (direction IN ('forward', 'backward', 'predict', 'derive')
+                      OR (direction GLOB 'c[1-9]*' AND direction NOT GLOB 'c*[^0-9]*')),
+    at            INTEGER NOT NULL,
+    action        TEXT NOT NULL CHECK (action IN ('suspend', 'unsuspend', 'bury', 'leech')),
+    until         INTEGER,
+    cause         INTEGER,
+    after_review  INTEGER NOT NULL DEFAULT 0,
+    batch         INTEGER NOT NULL,
+    undone        INTEGER NOT NULL DEFAULT 0 CHECK (undone IN (0, 1)),
+    origin        TEXT CHECK (origin <> ''),
+    CHECK ((action = 'bury') = (until IS NOT NULL))
+) STRICT;
+INSERT INTO status_event_v6 SELECT * FROM status_event;
+
+-- The cache is kept in a table without constraints meanwhile: a row
+-- referring to the old log while it is dropped would count as a violation.
+CREATE TABLE card_state_copy AS SELECT * FROM card_state;
+DROP TABLE card_state;
+DROP TRIGGER status_event_no_delete;
+DROP TRIGGER status_event_only_undo;
+DROP TABLE status_event;
+DROP TRIGGER review_no_delete;
+DROP TRIGGER review_only_undo;
+DROP TABLE review;
+ALTER TABLE review_v6 RENAME TO review;
+
+CREATE TABLE status_event (
+    id            INTEGER PRIMARY KEY,
+    session       INTEGER REFERENCES session(id),
+    deck          TEXT NOT NULL CHECK (deck <> ''),
+    card          TEXT NOT NULL CHECK (card <> ''),
+    direction     TEXT NOT NULL CHECK (direction IN ('forward', 'backward', 'predict', 'derive')
+                      OR (direction GLOB 'c[1-9]*' AND direction NOT GLOB 'c*[^0-9]*')),
+    at            INTEGER NOT NULL,
+    action        TEXT NOT NULL CHECK (action IN ('suspend', 'unsuspend', 'bury', 'leech')),
+    until         INTEGER,
+    cause         INTEGER REFERENCES review(id),
+    after_review  INTEGER NOT NULL DEFAULT 0,
+    batch         INTEGER NOT NULL,
+    undone        INTEGER NOT NULL DEFAULT 0 CHECK (undone IN (0, 1)),
+    origin        TEXT CHECK (origin <> ''),
+    CHECK ((action = 'bury') = (until IS NOT NULL))
+) STRICT;
+INSERT INTO status_event SELECT * FROM status_event_v6;
+DROP TABLE status_event_v6;
+
+CREATE TABLE card_state (
+    deck         TEXT NOT NULL,
+    card         TEXT NOT NULL,
+    direction    TEXT NOT NULL,
+    state        TEXT NOT NULL CHECK (state IN ('new', 'learning', 'review', 'relearning')),
+    step         INTEGER,
+    stability    REAL,
+    difficulty   REAL,
+    due          INTEGER NOT NULL,
+    last_review  INTEGER,
+    reps         INTEGER NOT NULL CHECK (reps >= 0),
+    lapses       INTEGER NOT NULL CHECK (lapses >= 0),
+    review_id    INTEGER NOT NULL REFERENCES review(id),
+    PRIMARY KEY (deck, card, direction)
+) STRICT, WITHOUT ROWID;
+INSERT INTO card_state SELECT * FROM card_state_copy;
+DROP TABLE card_state_copy;
+
+CREATE INDEX review_item ON review(deck, card, direction, id);
+CREATE INDEX review_time ON review(reviewed_at);
+CREATE INDEX review_deck_time ON review(deck, reviewed_at);
+CREATE INDEX review_session ON review(session, id);
+CREATE INDEX review_cram ON review(deck, card, direction, undone) WHERE kind = 'cram';
+CREATE INDEX card_state_due ON card_state(deck, due);
+CREATE INDEX status_event_item ON status_event(deck, card, direction, id);
+CREATE INDEX status_event_session ON status_event(session, id);
+CREATE INDEX status_event_cause ON status_event(cause) WHERE cause IS NOT NULL;
+CREATE INDEX status_event_at ON status_event(at);
+
+CREATE TRIGGER review_no_delete BEFORE DELETE ON review
+BEGIN
+    SELECT RAISE(ABORT, 'the review log is append-only: rows are never deleted');
+END;
+
+CREATE TRIGGER review_only_undo BEFORE UPDATE ON review
+WHEN (NEW.undone IS NOT OLD.undone AND NEW.undone IS NOT 1)
+  OR (NEW.origin IS NOT OLD.origin AND OLD.origin IS NOT NULL)
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.card IS NOT OLD.card
+  OR NEW.direction IS NOT OLD.direction
+  OR NEW.reviewed_at IS NOT OLD.reviewed_at
+  OR NEW.rating IS NOT OLD.rating
+  OR NEW.kind IS NOT OLD.kind
+  OR NEW.elapsed_days IS NOT OLD.elapsed_days
+  OR NEW.scheduled_days IS NOT OLD.scheduled_days
+  OR NEW.stability IS NOT OLD.stability
+  OR NEW.difficulty IS NOT OLD.difficulty
+  OR NEW.state IS NOT OLD.state
+  OR NEW.step IS NOT OLD.step
+  OR NEW.due IS NOT OLD.due
+  OR NEW.last_review IS NOT OLD.last_review
+  OR NEW.duration_ms IS NOT OLD.duration_ms
+BEGIN
+    SELECT RAISE(ABORT, 'the review log is append-only: only undone may change, to 1, and origin, once');
+END;
+
+CREATE TRIGGER status_event_no_delete BEFORE DELETE ON status_event
+BEGIN
+    SELECT RAISE(ABORT, 'the status log is append-only: rows are never deleted');
+END;
+
+CREATE TRIGGER status_event_only_undo BEFORE UPDATE ON status_event
+WHEN (NEW.undone IS NOT OLD.undone AND NEW.undone IS NOT 1)
+  OR (NEW.origin IS NOT OLD.origin AND OLD.origin IS NOT NULL)
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.card IS NOT OLD.card
+  OR NEW.direction IS NOT OLD.direction
+  OR NEW.at IS NOT OLD.at
+  OR NEW.action IS NOT OLD.action
+  OR NEW.until IS NOT OLD.until
+  OR NEW.cause IS NOT OLD.cause
+  OR NEW.after_review IS NOT OLD.after_review
+  OR NEW.batch IS NOT OLD.batch
+BEGIN
+    SELECT RAISE(ABORT, 'the status log is append-only: only undone may change, to 1, and origin, once');
+END;
+
+ALTER TABLE prompt_attempt ADD COLUMN variant INTEGER
+    CHECK (variant IS NULL OR (variant >= 0 AND variant <= 9007199254740991));
+DROP TRIGGER prompt_attempt_verdict_once;
+CREATE TRIGGER prompt_attempt_verdict_once BEFORE UPDATE ON prompt_attempt
+WHEN OLD.correct IS NOT NULL
+  OR NEW.correct IS NULL
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.prompt IS NOT OLD.prompt
+  OR NEW.attempted_at IS NOT OLD.attempted_at
+  OR NEW.prediction IS NOT OLD.prediction
+  OR NEW.attempt IS NOT OLD.attempt
+  OR NEW.variant IS NOT OLD.variant
+BEGIN
+    SELECT RAISE(ABORT, 'prompt attempts are append-only: only the verdict may be written, once');
+END;
+"#;
+
 /// Brings the database at `path` up to the last of `migrations`. Before the
 /// first migration of a database that already holds a schema, a copy is made
 /// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
@@ -728,9 +916,9 @@ mod tests {
         };
         let before = rows(&conn);
         drop(conn);
-        // Opened by this build: a backup, then version 5.
+        // Opened by the build of version 5: a backup, then version 5.
         let mut conn = Connection::open(&path).unwrap();
-        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..5], "20260102T000000Z").unwrap();
         assert_eq!(user_version(&conn).unwrap(), 5);
         assert_eq!(rows(&conn), before, "every attempt kept, every column");
         assert!(
@@ -788,6 +976,137 @@ mod tests {
                 .unwrap_err();
             assert!(e.to_string().contains("CHECK"), "{e}");
         }
+    }
+
+    #[test]
+    fn version_6_keeps_every_row_and_takes_prompts_as_review_items() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        conn.pragma_update(None, "foreign_keys", true).unwrap();
+        conn.pragma_update(None, "recursive_triggers", true)
+            .unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..5], "20260101T000000Z").unwrap();
+        // Version 5: answers (one merged from another machine, one undone),
+        // their cached state, status events (one caused by an answer, a
+        // bury with its end) and an attempt.
+        conn.execute_batch(
+            "INSERT INTO session (id, started_at) VALUES (1, 1000);
+             INSERT INTO review (id, session, deck, card, direction, reviewed_at, rating, kind, \
+               elapsed_days, scheduled_days, stability, difficulty, state, step, due, \
+               last_review, duration_ms, undone, origin) VALUES
+               (1, 1, 'd', 'a', 'forward', 1000, 3, 'learn', 0, 0, 2.3, 5.1, 'learning', 1, \
+                1600, 1000, 4000, 0, NULL),
+               (2, 1, 'd', 'a', 'backward', 2000, 1, 'learn', 0, 0, 0.4, 7.2, 'learning', 0, \
+                2060, 2000, 3000, 1, NULL),
+               (3, NULL, 'd', 'c', 'c12', 3000, 4, 'review', 3, 9, 30.5, 2.2, 'review', NULL, \
+                900000, 3000, 2500, 0, 'machine-b');
+             INSERT INTO card_state VALUES
+               ('d', 'a', 'forward', 'learning', 1, 2.3, 5.1, 1600, 1000, 1, 0, 1),
+               ('d', 'c', 'c12', 'review', NULL, 30.5, 2.2, 900000, 3000, 1, 0, 3);
+             INSERT INTO status_event (id, session, deck, card, direction, at, action, until, \
+               cause, after_review, batch, undone, origin) VALUES
+               (1, 1, 'd', 'a', 'backward', 1000, 'bury', 86400000, 1, 1, 1, 0, NULL),
+               (2, 1, 'd', 'c', 'c12', 3100, 'suspend', NULL, NULL, 3, 2, 1, 'machine-b');
+             INSERT INTO item_status VALUES ('d', 'a', 'backward', 0, 86400000, 0);
+             INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, measured, \
+               correct, attempt, judged_at) VALUES ('d', 'p', 1000, 'flips', NULL, 1, 1, 1100);",
+        )
+        .unwrap();
+        let dump = |conn: &Connection, table: &str| -> Vec<String> {
+            let mut st = conn
+                .prepare(&format!("SELECT * FROM {table} ORDER BY 1, 2, 3"))
+                .unwrap();
+            let n = st.column_count();
+            st.query_map([], |r| {
+                Ok((0..n)
+                    .map(|i| format!("{:?}", r.get_ref(i).unwrap()))
+                    .collect::<Vec<_>>()
+                    .join(" "))
+            })
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap()
+        };
+        let tables = ["review", "card_state", "status_event", "item_status"];
+        let before: Vec<Vec<String>> = tables.iter().map(|t| dump(&conn, t)).collect();
+        let attempts = dump(&conn, "prompt_attempt");
+        drop(conn);
+        let mut conn = Connection::open(&path).unwrap();
+        conn.pragma_update(None, "foreign_keys", true).unwrap();
+        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), 6);
+        for (t, rows) in tables.iter().zip(&before) {
+            assert_eq!(&dump(&conn, t), rows, "every row of {t} kept, every column");
+        }
+        // The attempts gain an empty `variant` column, nothing else.
+        let after: Vec<String> = dump(&conn, "prompt_attempt")
+            .into_iter()
+            .map(|r| r.strip_suffix(" Null").unwrap().to_string())
+            .collect();
+        assert_eq!(after, attempts);
+        let fk: i64 = conn
+            .query_row("SELECT count(*) FROM pragma_foreign_key_check", [], |r| {
+                r.get(0)
+            })
+            .unwrap();
+        assert_eq!(fk, 0, "every reference still points at its row");
+        // Prompts and derivations are review items now.
+        for (id, direction) in [(4, "predict"), (5, "derive")] {
+            conn.execute(
+                &format!(
+                    "INSERT INTO review (id, deck, card, direction, reviewed_at, rating, kind, \
+                     elapsed_days, scheduled_days, state, due, duration_ms) VALUES \
+                     ({id}, 'd', 'p', '{direction}', 5000, 3, 'learn', 0, 0, 'learning', 5600, 10)"
+                ),
+                [],
+            )
+            .unwrap();
+        }
+        let bad = conn
+            .execute(
+                "INSERT INTO review (deck, card, direction, reviewed_at, rating, kind, \
+                 elapsed_days, scheduled_days, state, due, duration_ms) VALUES \
+                 ('d', 'p', 'sideways', 5000, 3, 'learn', 0, 0, 'learning', 5600, 10)",
+                [],
+            )
+            .unwrap_err();
+        assert!(bad.to_string().contains("CHECK"), "{bad}");
+        // The logs are still append-only.
+        for (sql, word) in [
+            ("DELETE FROM review WHERE id = 1", "append-only"),
+            ("UPDATE review SET rating = 4 WHERE id = 1", "append-only"),
+            ("DELETE FROM status_event WHERE id = 1", "append-only"),
+            ("UPDATE status_event SET action = 'leech' WHERE id = 1", "append-only"),
+        ] {
+            let e = conn.execute(sql, []).unwrap_err();
+            assert!(e.to_string().contains(word), "{sql}: {e}");
+        }
+        conn.execute("UPDATE review SET undone = 1 WHERE id = 1", [])
+            .unwrap();
+        // A varied attempt keeps its seed, as its prediction: once, in range.
+        conn.execute(
+            "INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, attempt, variant) \
+             VALUES ('d', 'v', 6000, '2.1', 1, 9007199254740991)",
+            [],
+        )
+        .unwrap();
+        let e = conn
+            .execute(
+                "UPDATE prompt_attempt SET correct = 1, judged_at = 6100, variant = 3 \
+                 WHERE prompt = 'v'",
+                [],
+            )
+            .unwrap_err();
+        assert!(e.to_string().contains("append-only"), "{e}");
+        let e = conn
+            .execute(
+                "INSERT INTO prompt_attempt (deck, prompt, attempted_at, prediction, attempt, \
+                 variant) VALUES ('d', 'v', 7000, '2.1', 2, 9007199254740992)",
+                [],
+            )
+            .unwrap_err();
+        assert!(e.to_string().contains("CHECK"), "{e}");
     }
 
     #[test]

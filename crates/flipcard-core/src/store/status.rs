@@ -109,8 +109,32 @@ impl Store {
         review: &ReviewRecord,
         after: &AfterRating,
     ) -> Result<Recorded, StoreError> {
+        self.record_study_judged(review, after, None)
+    }
+
+    /// [`Store::record_study`] with the verdict of the prompt attempt
+    /// `judged` (its row id) written in the same transaction: a prompt
+    /// rated by its verdict (issue 24 §2) has both or neither on disk.
+    pub fn record_study_judged(
+        &mut self,
+        review: &ReviewRecord,
+        after: &AfterRating,
+        judged: Option<(i64, &super::attempt::AttemptVerdict)>,
+    ) -> Result<Recorded, StoreError> {
         super::log::validate(review)?;
+        if let Some((id, v)) = judged {
+            super::attempt::refuse_misconception(id, v)?;
+        }
         self.write(|tx| {
+            if let Some((id, v)) = judged
+                && super::attempt::judge_in(tx, id, v)? == 0
+            {
+                return Err(StoreError::BadRow {
+                    id,
+                    detail: "no such prompt attempt to judge".into(),
+                }
+                .into());
+            }
             let session = tx.session()?;
             let id = super::log::append(tx, session, review)?;
             let batch = next_batch(tx)?;

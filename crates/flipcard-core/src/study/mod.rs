@@ -139,7 +139,11 @@ impl Study {
     /// config says, and its siblings buried until the next study day.
     pub(crate) fn policy(&self, deck: &Deck, key: &ItemKey, now: DateTime<Utc>) -> AfterRating {
         let c = &self.config;
-        let bury = match deck.card(&key.card) {
+        // A prompt has no siblings (a card of the same id is another item).
+        let card = (key.direction != crate::sched::Direction::Predict)
+            .then(|| deck.card(&key.card))
+            .flatten();
+        let bury = match card {
             Some(card) if c.bury_siblings => card_directions(card)
                 .into_iter()
                 .filter(|d| *d != key.direction)
@@ -237,6 +241,83 @@ impl Study {
         verdict: &AttemptVerdict,
     ) -> Result<(), StoreError> {
         self.store.judge_attempt(committed.id, verdict)
+    }
+
+    /// Writes the verdict of an attempt at a prompt and, when the prompt
+    /// (as a review item, direction `predict`) is new or due by the end
+    /// of the study day, its rating from the verdict in the same write:
+    /// wrong is Again, right is Good ([`Study::lower_to_hard`] then lowers
+    /// it). An attempt at a prompt not yet due is practice: judged, not
+    /// rated, its schedule left as it is. `None` when not rated.
+    pub fn judge_and_rate(
+        &mut self,
+        deck: &Deck,
+        committed: Committed,
+        verdict: &AttemptVerdict,
+        prompt: &str,
+        duration_ms: i64,
+    ) -> Result<Option<Rated>, StoreError> {
+        let key = ItemKey {
+            deck: deck.id.clone(),
+            card: prompt.to_string(),
+            direction: crate::sched::Direction::Predict,
+        };
+        let now = verdict.judged_at;
+        let before = self.store.state(&key)?;
+        let due = before
+            .as_ref()
+            .is_none_or(|s| s.state == crate::sched::State::New || s.due < self.study_day(now).1);
+        if !due {
+            self.store.judge_attempt(committed.id, verdict)?;
+            return Ok(None);
+        }
+        let rating = if verdict.correct {
+            Rating::Good
+        } else {
+            Rating::Again
+        };
+        let at = self.answer_time(&key, now)?;
+        let record = self
+            .scheduler
+            .review(&key, before.as_ref(), rating, at, duration_ms);
+        let after = self.policy(deck, &key, at);
+        let recorded =
+            self.store
+                .record_study_judged(&record, &after, Some((committed.id, verdict)))?;
+        Ok(Some(Rated {
+            record,
+            after,
+            recorded,
+        }))
+    }
+
+    /// Lowers a prompt's rating of Good, given by its verdict just now, to
+    /// Hard, as the learner asks: the Good is undone and Hard recorded
+    /// with the same time taken. `None` when the last change of this
+    /// session is not that rating.
+    pub fn lower_to_hard(
+        &mut self,
+        deck: &Deck,
+        rated: &Rated,
+        now: DateTime<Utc>,
+    ) -> Result<Option<Rated>, StoreError> {
+        let r = &rated.record;
+        if r.rating != Rating::Good {
+            return Ok(None);
+        }
+        match self.undo()? {
+            Some(crate::store::Undone::Review(u)) if u.record.key == r.key => {}
+            Some(_) | None => return Ok(None),
+        }
+        let before = self.store.state(&r.key)?;
+        let answer = Answer {
+            key: &r.key,
+            before: before.as_ref(),
+            rating: Rating::Hard,
+            duration_ms: r.duration_ms,
+            cram: false,
+        };
+        self.rate(Some(deck), answer, now).map(Some)
     }
 
     /// Keeps a judged attempt whole: commitment and verdict at once (for a

@@ -178,6 +178,14 @@ pub const VERDICT_KEYS: &[Binding] = &[
         &[(Char('n'), Action::NextPrompt)],
     ),
     Binding::new(
+        "2",
+        Words(
+            "right but hard: schedule it sooner (Hard, not Good)",
+            "sahi par mushkil: jaldi wapas lao (Good nahi, Hard)",
+        ),
+        &[(Char('2'), Action::Rate(crate::sched::Rating::Hard))],
+    ),
+    Binding::new(
         "x ← → Tab",
         Words(
             "explore: turn the scene's knobs (when it has some)",

@@ -114,6 +114,14 @@ pub struct PredictState {
     /// drawing keeps it within the verdict's lines, so `k` brings it back
     /// at once however often `j` was pressed.
     pub verdict_scroll: std::cell::Cell<usize>,
+    /// A varied prompt as this attempt asks it: its numbers drawn, the
+    /// question filled in, the scene set (issue 24 §2).
+    pub variant: Option<Box<crate::predict::variant::Resolved>>,
+    /// The prompt's rating from its verdict, when it was due (or new):
+    /// handed to the review screen that opened it.
+    pub rated: Option<crate::study::Rated>,
+    /// When the question appeared (the answer's duration).
+    pub shown: crate::tui::services::Stamp,
 }
 
 impl PredictState {
@@ -136,6 +144,9 @@ impl PredictState {
             diagnostics: None,
             question_first: false,
             verdict_scroll: std::cell::Cell::new(0),
+            variant: draw_variant(app, deck, prompt).map(Box::new),
+            rated: None,
+            shown: app.services.stopwatch.stamp(),
             phase: Phase::Ask {
                 selected: 0,
                 input: String::new(),
@@ -186,11 +197,43 @@ impl PredictState {
     }
 }
 
+/// A new variant of a varied prompt: the seed from the deck, the prompt,
+/// its attempts so far and the time; other numbers than the last attempt's
+/// when the prompt has others. `None` for a prompt that does not vary.
+fn draw_variant(
+    app: &App,
+    deck: usize,
+    prompt: usize,
+) -> Option<crate::predict::variant::Resolved> {
+    use crate::predict::variant;
+    let d = app.decks.get(deck)?;
+    let p = d.prompts.get(prompt)?;
+    if p.vary.is_empty() {
+        return None;
+    }
+    // A store that cannot say counts as none: the draw is fresh anyway.
+    let (attempts, last) = app
+        .services
+        .study
+        .store
+        .attempts_at(&d.id, &p.id)
+        .unwrap_or((0, None));
+    let now = app.services.now().timestamp_millis();
+    let seed = variant::seed_for(&d.id, &p.id, attempts, now);
+    let last = last.map(|s| variant::draw(p, s));
+    let v = variant::fresh(p, seed, last.as_ref());
+    variant::resolve(d, p, Some(&v))
+}
+
 fn deck<'a>(app: &'a App, s: &PredictState) -> Option<&'a Deck> {
     app.decks.get(s.deck)
 }
 
-pub(super) fn prompt<'a>(app: &'a App, s: &PredictState) -> Option<&'a Prompt> {
+/// The prompt as this attempt asks it (a varied prompt's variant).
+pub(super) fn prompt<'a>(app: &'a App, s: &'a PredictState) -> Option<&'a Prompt> {
+    if let Some(v) = &s.variant {
+        return Some(&v.prompt);
+    }
     deck(app, s).and_then(|d| d.prompts.get(s.prompt))
 }
 
@@ -294,6 +337,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
     }
     let units = app.decks.get(state.deck).map_or(&[][..], |d| &d.units[..]);
     let deck_index = state.deck;
+    let shown = state.shown;
     match &mut state.phase {
         Phase::Ask {
             selected,
@@ -390,6 +434,12 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
             let next = PredictState::new(app, state.deck, (state.prompt + 1) % n);
             Nav::Replace(super::Screen::Predict(Box::new(next)))
         }
+        Phase::Play {
+            verdict: Some(_), ..
+        } if action == Action::Rate(crate::sched::Rating::Hard) => {
+            lower_to_hard(app, state);
+            Nav::Stay
+        }
         Phase::Play { verdict, .. } if action == Action::Explain => {
             // A wrong answer's misconception opens where the deck explains
             // it; otherwise the prompt's own explanation.
@@ -457,6 +507,7 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
                     (*prediction, *committed),
                     verdict,
                     judging,
+                    (deck_index, shown, &mut state.rated),
                 );
             }
             Nav::Stay
@@ -526,19 +577,30 @@ fn judge(
     attempt: (Prediction, Committed),
     verdict: &mut Option<Verdict>,
     judging: &mut Judging,
+    rate: Rate<'_>,
 ) {
     if run.is_reference() {
         if run.error().is_some() {
             *judging = Judging::Failed;
         } else {
-            *verdict = Some(record(app, prompt, &run.measurements(), attempt));
+            let (v, r) = record(app, prompt, &run.measurements(), attempt, (rate.0, rate.1));
+            *verdict = Some(v);
+            *rate.2 = r;
         }
         return;
     }
-    settle(app, prompt, attempt, verdict, judging, || {
+    settle(app, prompt, attempt, verdict, judging, rate, || {
         Measuring::start(run.reference_measurement())
     });
 }
+
+/// Where a verdict's rating goes: the deck, when the question appeared,
+/// and the screen's `rated`.
+type Rate<'a> = (
+    usize,
+    crate::tui::services::Stamp,
+    &'a mut Option<crate::study::Rated>,
+);
 
 /// Starts the measurement `start` makes when none is under way, and gives
 /// the verdict once it is there (or says why there is none).
@@ -548,6 +610,7 @@ fn settle(
     attempt: (Prediction, Committed),
     verdict: &mut Option<Verdict>,
     judging: &mut Judging,
+    rate: Rate<'_>,
     start: impl FnOnce() -> Measuring,
 ) {
     match judging {
@@ -561,7 +624,9 @@ fn settle(
     match m.poll() {
         None => {}
         Some(Ok(measured)) => {
-            *verdict = Some(record(app, prompt, &measured, attempt));
+            let (v, r) = record(app, prompt, &measured, attempt, (rate.0, rate.1));
+            *verdict = Some(v);
+            *rate.2 = r;
             *judging = Judging::Idle;
         }
         Some(Err(e)) => {
@@ -579,7 +644,8 @@ fn record(
     prompt: &Prompt,
     measurements: &crate::sim::scene::measure::Measurements,
     (prediction, committed): (Prediction, Committed),
-) -> Verdict {
+    (deck, shown): (usize, crate::tui::services::Stamp),
+) -> (Verdict, Option<crate::study::Rated>) {
     let verdict = crate::predict::verdict(prompt, measurements, prediction);
     let judged = AttemptVerdict {
         measured: verdict.readings.first().map(|r| r.value),
@@ -587,10 +653,82 @@ fn record(
         judged_at: app.services.now(),
         misconception: verdict.misconception.clone(),
     };
-    if let Err(e) = app.services.study.judge_attempt(committed, &judged) {
-        app.error(e.to_string());
+    let rated = judge_and_rate(app, deck, committed, &judged, &prompt.id, shown);
+    (verdict, rated)
+}
+
+/// The verdict written and, when the prompt is due or new, its rating in
+/// the same write (wrong Again, right Good); the status line says what was
+/// scheduled. A retry rates nothing: the first attempt did.
+fn judge_and_rate(
+    app: &mut App,
+    deck: usize,
+    committed: Committed,
+    judged: &AttemptVerdict,
+    prompt: &str,
+    shown: crate::tui::services::Stamp,
+) -> Option<crate::study::Rated> {
+    let duration = app.services.stopwatch.elapsed_ms(shown);
+    let d = app.decks.get(deck)?.clone();
+    let result = if committed.is_retry() {
+        app.services
+            .study
+            .judge_attempt(committed, judged)
+            .map(|()| None)
+    } else {
+        app.services
+            .study
+            .judge_and_rate(&d, committed, judged, prompt, duration)
+    };
+    match result {
+        Ok(Some(r)) => {
+            say_scheduled(app, &r);
+            Some(r)
+        }
+        Ok(None) => None,
+        Err(e) => {
+            app.error(e.to_string());
+            None
+        }
     }
-    verdict
+}
+
+/// "Scheduled: Good · back in 3 days", on the status line.
+fn say_scheduled(app: &mut App, r: &crate::study::Rated) {
+    let rating = match r.record.rating {
+        crate::sched::Rating::Again => Msg::Again,
+        crate::sched::Rating::Hard => Msg::Hard,
+        crate::sched::Rating::Good => Msg::Good,
+        crate::sched::Rating::Easy => Msg::Easy,
+    };
+    let msg = format!(
+        "{}: {} · {} {}",
+        app.tr(Msg::PromptScheduled),
+        app.tr(rating),
+        app.tr(Msg::BackIn),
+        crate::sched::format_interval(r.record.after.due - r.record.reviewed_at)
+    );
+    app.info(msg);
+}
+
+/// `2` after a right verdict: the prompt's Good becomes Hard.
+fn lower_to_hard(app: &mut App, state: &mut PredictState) {
+    let Some(rated) = state.rated.clone() else {
+        app.info(app.tr(Msg::NotRatedPractice));
+        return;
+    };
+    let Some(d) = app.decks.get(state.deck).cloned() else {
+        return;
+    };
+    let now = app.services.now();
+    match app.services.study.lower_to_hard(&d, &rated, now) {
+        Ok(Some(r)) => {
+            say_scheduled(app, &r);
+            state.rated = Some(r);
+        }
+        Ok(None) => app.info(app.tr(Msg::NotRatedPractice)),
+        Err(e) => app.error(e.to_string()),
+    }
 }
 
 /// A formula prompt's commitment: the typed formula is stored as the
@@ -614,10 +752,10 @@ fn commit_formula(app: &mut App, state: &mut PredictState, v: Verdict) -> Nav {
             judged_at: app.services.now(),
             misconception: v.misconception.clone(),
         };
-        if let Err(e) = app.services.study.judge_attempt(*committed, &judged) {
-            app.error(e.to_string());
-        }
+        let committed = *committed;
         *verdict = Some(v);
+        let id = prompt(app, state).map(|p| p.id.clone()).unwrap_or_default();
+        state.rated = judge_and_rate(app, state.deck, committed, &judged, &id, state.shown);
     }
     nav
 }
@@ -649,6 +787,11 @@ fn keep_commitment(
         prompt: prompt.id.clone(),
         committed_at: app.services.now(),
         prediction: typed.unwrap_or_else(|| given(prompt, prediction)),
+        variant: state
+            .variant
+            .as_ref()
+            .and_then(|v| v.variant.as_ref())
+            .and_then(|v| v.seed),
     };
     match app.services.study.commit_attempt(&commitment) {
         Ok(c) => Some(c),
@@ -673,7 +816,17 @@ fn commit(
     let Some(deck) = deck(app, state) else {
         return Nav::Pop;
     };
-    let run = if let Some(sys) = deck.system(&prompt.scene) {
+    let run = if let Some(v) = &state.variant {
+        match &v.scene {
+            crate::predict::variant::SceneOf::System(sys) => {
+                Live::system(sys, system_reference(sys), &system::measures(&prompt))
+                    .map_err(|e| format!("{}: {e}", sys.id))
+            }
+            crate::predict::variant::SceneOf::Rigid(scene) => {
+                Live::rigid(scene, Method::Exact).map_err(|e| format!("{}: {e}", scene.id))
+            }
+        }
+    } else if let Some(sys) = deck.system(&prompt.scene) {
         Live::system(sys, system_reference(sys), &system::measures(&prompt))
             .map_err(|e| format!("{}: {e}", sys.id))
     } else if let Some(scene) = deck.scene(&prompt.scene) {

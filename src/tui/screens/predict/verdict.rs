@@ -372,8 +372,10 @@ pub fn lines(
                 .find_map(|r| r.formula.map(|f| (formula_name(r.measure), f)));
             // The formula's value beside the deck's answer; without a
             // closed form, the deck's answer alone (no empty "formula:").
-            match closed {
-                Some((name, f)) => {
+            // A varied prompt's answer is what this variant's run measured
+            // (said above): no deck answer to show beside it.
+            match (closed, expected) {
+                (Some((name, f)), Some(expected)) => {
                     let text = format!(
                         "{name} = {} {unit} · {}: {} {unit}",
                         sig(f, 3),
@@ -382,11 +384,16 @@ pub fn lines(
                     );
                     out.extend(labelled(w::FORMULA.get(lang), text, t.text()));
                 }
-                None => out.extend(labelled(
+                (Some((name, f)), None) => {
+                    let text = format!("{name} = {} {unit}", sig(f, 3));
+                    out.extend(labelled(w::FORMULA.get(lang), text, t.text()));
+                }
+                (None, Some(expected)) => out.extend(labelled(
                     w::DECK_ANSWER.get(lang),
                     format!("{} {unit}", Num(*expected)),
                     t.text(),
                 )),
+                (None, None) => {}
             }
             if let Some(f) = formula {
                 // The author's working, its formulas kept whole.

@@ -57,9 +57,6 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
     let Some(deck) = app.decks.get(state.deck) else {
         return Vec::new();
     };
-    let Some((card, direction)) = state.card(deck) else {
-        return Vec::new();
-    };
     let para = |text: &str, style| {
         wrap(
             &crate::tui::wrap::math_runs(text, style),
@@ -79,7 +76,52 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
             .collect();
         wrap(&r, width, Run::new("", plain), Run::new("", plain))
     };
+    if let Some(i) = state.prompt(deck) {
+        // A prompt due as a review item: what it is, and how it is
+        // answered (on its own screen, with new numbers when it varies).
+        let p = &deck.prompts[i];
+        let mut lines = wrap(
+            &[Run::new(app.tr(Msg::PredictItem).to_string(), t.heading())],
+            width,
+            Run::new("", t.text()),
+            Run::new("", t.text()),
+        );
+        lines.push(Line::default());
+        let question = if p.vary.is_empty() {
+            p.question.get(lang).to_string()
+        } else {
+            // The numbers are drawn when it opens: shown as "…" here.
+            let blanks: Vec<(&str, f64)> = Vec::new();
+            let names: Vec<&str> = p.vary.iter().map(|v| v.name.as_str()).collect();
+            let text = p.question.get(lang);
+            let mut out = flipcard_text::fill::fill(text, &blanks);
+            if let Ok(found) = flipcard_text::fill::placeholders(text, &names) {
+                out = String::new();
+                let mut at = 0;
+                for ph in found {
+                    out.push_str(&text[at..ph.range.start]);
+                    out.push('…');
+                    at = ph.range.end;
+                }
+                out.push_str(&text[at..]);
+            }
+            out
+        };
+        lines.extend(para(&question, t.strong()));
+        lines.push(Line::default());
+        lines.extend(wrap(
+            &[Run::new(app.tr(Msg::PredictItemHint).to_string(), t.dim())],
+            width,
+            Run::new("", t.dim()),
+            Run::new("", t.dim()),
+        ));
+        return lines;
+    }
+    let Some((card, direction)) = state.card(deck) else {
+        return Vec::new();
+    };
     let (mut lines, answer) = match direction {
+        Direction::Predict => return Vec::new(),
         Direction::Forward => (para(card.front.get(lang), t.strong()), &card.back),
         Direction::Backward => (para(card.back.get(lang), t.strong()), &card.front),
         Direction::Cloze(n) => {

@@ -263,11 +263,12 @@ impl ReviewState {
                 if let Some(i) = app.decks.iter().position(|d| d.id == key.deck) {
                     self.deck = i;
                 }
-                self.typed = app
-                    .decks
-                    .get(self.deck)
-                    .and_then(|d| d.card(&key.card))
-                    .is_some_and(|c| c.kind.is_typed());
+                self.typed = key.direction != Direction::Predict
+                    && app
+                        .decks
+                        .get(self.deck)
+                        .and_then(|d| d.card(&key.card))
+                        .is_some_and(|c| c.kind.is_typed());
                 self.current = Some((key, app.services.stopwatch.stamp()));
                 self.phase = Phase::Front {
                     input: String::new(),
@@ -281,10 +282,47 @@ impl ReviewState {
         }
     }
 
-    /// The card shown and which way it is asked.
+    /// The card shown and which way it is asked (`None` for a prompt).
     pub fn card<'a>(&self, deck: &'a Deck) -> Option<(&'a Card, Direction)> {
         let (key, _) = self.current.as_ref()?;
+        if key.direction == Direction::Predict {
+            return None;
+        }
         deck.card(&key.card).map(|c| (c, key.direction))
+    }
+
+    /// The prompt shown, when the item is one (direction `predict`): its
+    /// position in the deck's prompts.
+    pub fn prompt(&self, deck: &Deck) -> Option<usize> {
+        let (key, _) = self.current.as_ref()?;
+        (key.direction == Direction::Predict)
+            .then(|| deck.prompts.iter().position(|p| p.id == key.card))
+            .flatten()
+    }
+
+    /// The prompt opened from this screen was answered there: its rating
+    /// (from the verdict) moves the queue on as a card's would. A rating
+    /// of another item (none should come) changes nothing here.
+    pub fn answered_elsewhere(&mut self, app: &App, rated: crate::study::Rated) {
+        let Some((key, _)) = self.current.clone() else {
+            return;
+        };
+        if rated.record.key != key {
+            return;
+        }
+        let record = rated.record;
+        match &mut self.source {
+            Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => q.answered(&record),
+            Source::Cram(c) => c.answered(&record),
+        }
+        self.states.insert(key.clone(), record.after);
+        self.session.reviewed += 1;
+        if record.rating == Rating::Again {
+            self.session.again += 1;
+        }
+        self.rated.push((key, record.rating));
+        self.aside.push(Vec::new());
+        self.next_card(app);
     }
 
     /// Due tomorrow, new cards left, the next learning step: what the
@@ -440,7 +478,16 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
         (Phase::Front { input }, Action::Backspace) => {
             input.pop();
         }
-        (Phase::Front { .. }, Action::Reveal | Action::Submit) => reveal(app, state),
+        (Phase::Front { .. }, Action::Reveal | Action::Submit) => {
+            // A prompt is answered on its own screen, with new numbers;
+            // its verdict's rating comes back (`answered_elsewhere`).
+            if let Some(i) = app.decks.get(state.deck).and_then(|d| state.prompt(d)) {
+                return Nav::Push(super::Screen::Predict(Box::new(
+                    super::predict::PredictState::new(app, state.deck, i),
+                )));
+            }
+            reveal(app, state)
+        }
         (Phase::Back { .. }, Action::Rate(r)) => rate(app, state, r),
         (Phase::Back { typed, .. }, Action::Submit) => {
             let r = typed.as_ref().map_or(Rating::Good, |t| t.check.suggested);

@@ -37,11 +37,12 @@ pub fn answer(
     owner: &str,
     kind: Option<SceneKind>,
     scope: Option<Scope>,
+    varied: bool,
 ) -> Option<Answer> {
     match raw {
         RawAnswer::Formula(f) => super::formula::key(rep, f, owner).map(Answer::Formula),
         RawAnswer::Choice {
-            span: _,
+            span,
             expected,
             choices,
             label: _,
@@ -68,7 +69,21 @@ pub fn answer(
                     None => ok = false,
                 }
             }
-            let expected = expected.as_ref()?;
+            let Some(expected) = expected.as_ref() else {
+                // A varied prompt's right choice is the one its variant's
+                // run makes hold.
+                if !varied {
+                    rep.error(
+                        span.clone(),
+                        format!("the answer of {owner} is missing the required field `expected`"),
+                        Some("the id of the choice the physics gives (a prompt with `vary` may leave it out: each variant's run decides)".into()),
+                    );
+                }
+                return (ok && varied).then(|| Answer::Choice {
+                    choices: out,
+                    expected: None,
+                });
+            };
             let known: Vec<&str> = ids.iter().map(|s| s.value.as_str()).collect();
             let targets = Targets::of(list.items.iter().map(|c| c.id.as_ref()));
             if !targets.contains(&expected.value) && targets.may_mean(&expected.value) {
@@ -89,23 +104,89 @@ pub fn answer(
             }
             ok.then(|| Answer::Choice {
                 choices: out,
-                expected: expected.value.clone(),
+                expected: Some(expected.value.clone()),
             })
         }
         RawAnswer::Number {
-            span: _,
+            span,
             measure,
             unit,
             expected,
+            computed,
             tolerance: tol,
             formula,
             slips,
             label: _,
             misconceptions,
         } => {
-            let measure = measure
-                .as_ref()
-                .and_then(|m| measure_in(rep, m, 0, m.value.len(), kind));
+            // `expected = "period(theta)"` names the measure a varied
+            // prompt's answer is computed from: `measure` may be left out,
+            // and when written it must be the same.
+            let measure = match (measure, computed) {
+                (Some(m), Some(c)) if m.value.trim() != c.value.trim() => {
+                    rep.error(
+                        c.span.clone(),
+                        format!(
+                            "`expected` computes `{}` but `measure` is `{}`",
+                            c.value, m.value
+                        ),
+                        Some("leave out `measure`, or make them the same".into()),
+                    );
+                    None
+                }
+                (Some(m), _) | (None, Some(m)) => measure_in(rep, m, 0, m.value.len(), kind),
+                (None, None) => {
+                    rep.error(
+                        span.clone(),
+                        format!("the answer of {owner} is missing the required field `measure`"),
+                        None,
+                    );
+                    None
+                }
+            };
+            let computed_ok = match (computed, varied) {
+                (Some(c), false) => {
+                    rep.error(
+                        c.span.clone(),
+                        "`expected` names a measure, which only a prompt with `vary` may do: a prompt asked the same way every time states its answer",
+                        Some("write the number the physics gives: expected = 2.04".into()),
+                    );
+                    false
+                }
+                (None, true) if expected.is_none() => {
+                    rep.error(
+                        span.clone(),
+                        format!("the answer of {owner} is missing the required field `expected`"),
+                        Some("on a prompt with `vary`, name the measure each variant's answer is: expected = \"period(theta)\"".into()),
+                    );
+                    false
+                }
+                _ => true,
+            };
+            if varied && let Some(e) = expected {
+                rep.error(
+                    e.span.clone(),
+                    "`expected` is one number, but the prompt varies: each variant has its own answer",
+                    Some("name the measure instead: expected = \"period(theta)\"".into()),
+                );
+                return None;
+            }
+            if !varied && computed.is_none() && expected.is_none() {
+                rep.error(
+                    span.clone(),
+                    format!("the answer of {owner} is missing the required field `expected`"),
+                    None,
+                );
+                return None;
+            }
+            if varied && let Some(m) = misconceptions {
+                rep.error(
+                    m.span.clone(),
+                    "`misconceptions` ranges are fixed numbers, but the prompt varies: a range right for one variant is wrong for another",
+                    Some("name the wrong number as a slip over the scene's numbers instead: slips = [{ value = \"2*pi*sqrt(L/g)\", misconception = \"…\", says = … }]".into()),
+                );
+                return None;
+            }
             let unit = match unit {
                 Some(u) => text::string(rep, u, Kind::Plain, "`unit`").then(|| u.value.clone()),
                 None => Some(String::new()),
@@ -147,10 +228,13 @@ pub fn answer(
                 expected.zip(tolerance),
                 unit.as_deref(),
             );
+            if !computed_ok || (!varied && expected.is_none()) {
+                return None;
+            }
             Some(Answer::Number {
                 measure: measure?,
                 unit: unit?,
-                expected: expected?,
+                expected,
                 tolerance: tolerance?,
                 formula: formula.map_or(Some(None), |f| f.map(Some))?,
                 slips: slips?,

@@ -28,7 +28,7 @@ pub enum Turned<'a> {
 }
 
 impl Turned<'_> {
-    fn target(&self, name: &str) -> Option<Target> {
+    pub(super) fn target(&self, name: &str) -> Option<Target> {
         match self {
             Turned::Rigid(_) => Target::rigid(name),
             Turned::System(s) => Target::system(s, name),
@@ -43,7 +43,7 @@ impl Turned<'_> {
     }
 
     /// The names a knob of this scene may take, for a hint.
-    fn names(&self) -> Vec<String> {
+    pub(super) fn names(&self) -> Vec<String> {
         match self {
             Turned::Rigid(_) => ["inertia", "omega"]
                 .iter()
@@ -60,7 +60,7 @@ impl Turned<'_> {
 
     /// Why the simulator refuses this scene with `target` at `value`
     /// (scene units), if it does.
-    fn refusal(&self, target: &Target, value: f64) -> Option<String> {
+    pub(super) fn refusal(&self, target: &Target, value: f64) -> Option<String> {
         match self {
             Turned::Rigid(s) => {
                 let s = knob::set_rigid(s, target, value);

@@ -12,6 +12,7 @@ pub mod prose;
 pub mod scene;
 pub mod system;
 pub mod text;
+pub mod vary;
 
 use std::collections::HashMap;
 
@@ -500,6 +501,41 @@ pub fn body(
             None => ok = false,
         }
     }
+    // Each varied prompt against the scene it varies.
+    for p in raw.prompts.iter().filter(|p| p.vary.is_some()) {
+        let (Some(id), Some(scene)) = (&p.id, &p.scene) else {
+            continue;
+        };
+        let Some(prompt) = prompts.iter_mut().find(|q| q.id == id.value) else {
+            continue;
+        };
+        let what = format!("prompt `{}`", id.value);
+        let turned = match (
+            systems.iter().find(|s| s.id == scene.value),
+            scenes.iter().find(|s| s.id == scene.value),
+        ) {
+            (Some(sys), _) => knob::Turned::System(sys),
+            (None, Some(body)) => knob::Turned::Rigid(body),
+            // The scene's own error is reported.
+            (None, None) => {
+                ok = false;
+                continue;
+            }
+        };
+        if matches!(prompt.answer, crate::deck::model::Answer::Formula(_)) {
+            rep.error(
+                p.vary.as_ref().map_or(p.span.clone(), |v| v.span.clone()),
+                format!("{what} is answered by a formula, which `vary` cannot change"),
+                Some("vary a prompt whose answer the run measures (a choice or a number)".into()),
+            );
+            ok = false;
+            continue;
+        }
+        match vary::vary(rep, p, &prompt.question, &what, turned) {
+            Some(v) => prompt.vary = v,
+            None => ok = false,
+        }
+    }
     let misconceptions = misconception::declared(rep, raw, langs, (section_ids, anchors));
     ok &= misconception::uses(rep, raw);
     ok.then_some(Body {
@@ -902,7 +938,7 @@ fn prompt(
     let answer = raw
         .answer
         .as_ref()
-        .and_then(|a| answer::answer(rep, a, langs, &what, kind, scope));
+        .and_then(|a| answer::answer(rep, a, langs, &what, kind, scope, raw.vary.is_some()));
     let measured = match (raw.answer.as_ref(), answer.as_ref()) {
         (Some(r), Some(a)) => answer::measured(rep, r, a, langs)?,
         _ => None,
@@ -915,6 +951,8 @@ fn prompt(
         answer: answer?,
         tags: tags?,
         measured,
+        // Checked against the scene once the scenes are (`body`).
+        vary: Vec::new(),
     })
 }
 
