@@ -347,3 +347,63 @@ impl Drop for SmallDisk {
             .status();
     }
 }
+
+/// Answers the prompt the review queue opened (direction `predict`): the
+/// first choice, or 1 typed, or a formula; the run played to its verdict
+/// (ticks as the event loop gives them), then back to the review.
+pub fn answer_prompt(app: &mut Tui) {
+    use crate::tui::action::Action;
+    use crate::tui::keymap::Context;
+    let apply = |app: &mut Tui, a: Action| crate::tui::update::apply(app, a);
+    // The deck's answer when it states one (right: Good, so the prompt
+    // graduates), else the first choice or 1.
+    let expected = match app.screen() {
+        crate::tui::screens::Screen::Predict(p) => app
+            .decks
+            .get(p.deck)
+            .and_then(|d| d.prompts.get(p.prompt))
+            .and_then(crate::predict::Prediction::expected),
+        _ => None,
+    };
+    // Whatever was typed before (a rating key pressed as the screen
+    // opened) goes.
+    for _ in 0..32 {
+        apply(app, Action::Backspace);
+    }
+    match (app.context(), expected) {
+        (Context::PredictChoice, Some(crate::predict::Prediction::Choice(i))) => {
+            apply(app, Action::Choose(i));
+            apply(app, Action::Submit);
+        }
+        (Context::PredictChoice, _) => apply(app, Action::Submit),
+        (Context::PredictNumber, Some(crate::predict::Prediction::Number(v))) => {
+            for c in crate::text::num::show(v).chars() {
+                apply(app, Action::Input(c));
+            }
+            apply(app, Action::Submit);
+        }
+        (Context::PredictNumber | Context::PredictFormula, _) => {
+            apply(app, Action::Input('1'));
+            apply(app, Action::Submit);
+        }
+        (c, _) => panic!("not asking a prompt: {c:?}"),
+    }
+    for _ in 0..6 {
+        apply(app, Action::Faster);
+    }
+    for _ in 0..30_000 {
+        if app.context() == Context::PredictVerdict && !app.animating() {
+            break;
+        }
+        apply(app, Action::Tick(std::time::Duration::from_millis(100)));
+        if app.animating() {
+            std::thread::sleep(std::time::Duration::from_micros(200));
+        }
+    }
+    assert_eq!(
+        app.context(),
+        Context::PredictVerdict,
+        "the prompt's run ends"
+    );
+    apply(app, Action::Back);
+}

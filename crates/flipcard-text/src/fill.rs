@@ -110,6 +110,23 @@ pub fn fill(text: &str, values: &[(&str, f64)]) -> String {
     out
 }
 
+/// `text` with each placeholder of `names` shown as `blank` (the numbers
+/// are not drawn yet).
+pub fn blanked(text: &str, names: &[&str], blank: &str) -> String {
+    let Ok(found) = placeholders(text, names) else {
+        return text.to_string();
+    };
+    let mut out = String::with_capacity(text.len());
+    let mut at = 0;
+    for p in found {
+        out.push_str(&text[at..p.range.start]);
+        out.push_str(blank);
+        at = p.range.end;
+    }
+    out.push_str(&text[at..]);
+    out
+}
+
 /// A drawn number as a placeholder shows it.
 pub fn shown(v: f64, decimals: Option<u8>) -> String {
     match decimals {

@@ -264,8 +264,9 @@ fn details(app: &App, state: &HomeState, narrow: bool, width: u16) -> Vec<Line<'
     let mut out: Vec<Line<'static>> = Vec::new();
     if let Some(deck) = app.decks.get(state.selected) {
         // The counts in the table are review items: a card asked both ways
-        // is two, which is said here so that the numbers add up.
-        let items = crate::sched::deck_items(deck).len();
+        // is two, which is said here so that the numbers add up (each
+        // prompt is one more, counted beside it).
+        let items = crate::sched::deck_items(deck).len() - deck.prompts.len();
         let cards = if items == deck.cards.len() {
             app.count(deck.cards.len(), Noun::Card)
         } else {

@@ -192,13 +192,24 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
     let c = &stats.cards;
     let lang = app.lang.as_str();
     let cards = app.decks.get(state.deck).map_or(0, |d| d.cards.len());
-    // Review items, not cards: a card asked both ways is two items.
+    let prompts = app.decks.get(state.deck).map_or(0, |d| d.prompts.len());
+    // Review items, not cards: a card asked both ways is two items, and
+    // each prompt is one.
+    let from = if prompts == 0 {
+        app.count(cards, Noun::Card)
+    } else {
+        format!(
+            "{} + {}",
+            app.count(cards, Noun::Card),
+            app.count(prompts, Noun::Prompt)
+        )
+    };
     let states = format!(
         "{} {} ({} {}): {} {} · {} {} · {} {} · {} {}",
         c.total,
         study::REVIEW_ITEMS.get(lang),
         study::FROM_CARDS.get(lang),
-        app.count(cards, Noun::Card),
+        from,
         c.new,
         app.tr(Msg::New),
         c.learning,

@@ -79,8 +79,9 @@ fn browser_lists_every_item_searches_and_previews() {
         let mut app = app(lang);
         press(&mut app, KeyCode::Char('b'));
         assert_eq!(app.context(), Context::Browser);
-        // Basic, reversed (two), typed, cloze (two numbers).
-        assert_eq!(browser(&app).rows.len(), 6);
+        // Basic, reversed (two), typed, cloze (two numbers), and the two
+        // prompts (direction `predict`).
+        assert_eq!(browser(&app).rows.len(), 8);
         insta::assert_snapshot!(format!("browser_{lang}"), render(&app));
 
         press(&mut app, KeyCode::Char('/'));
@@ -238,7 +239,7 @@ fn filter_counts_the_matching_items_and_starts_a_session() {
             Screen::Filter(f) => f.count.clone(),
             _ => panic!("not on the filter"),
         };
-        assert_eq!(count(&app), Ok(6));
+        assert_eq!(count(&app), Ok(8), "six card items and two prompts");
         type_text(&mut app, "euler");
         assert_eq!(count(&app), Ok(2), "the cloze card's two numbers");
         press(&mut app, KeyCode::Tab);

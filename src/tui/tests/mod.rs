@@ -17,6 +17,7 @@ mod home;
 mod misconception;
 mod predict;
 mod predict_attempts;
+mod prompt_items;
 mod reader;
 mod review;
 mod sizes;

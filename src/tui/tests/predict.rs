@@ -390,7 +390,17 @@ fn every_bundled_prompt_plays_to_a_verdict_at_any_size() {
             let mut app = testkit::app(ENGLISH);
             app.decks = loaded.decks.clone();
             let mut state = PredictState::new(&app, d, i);
-            let answer = crate::predict::Prediction::expected(prompt);
+            // A varied prompt's answer is the one its variant's run decides.
+            let answer = match &state.variant {
+                Some(v) => {
+                    let run = crate::predict::audit::variant_run(deck, v)
+                        .unwrap_or_else(|e| panic!("{}: {e}", prompt.id));
+                    let p = crate::predict::variant::decided(&v.prompt, &run.measured)
+                        .unwrap_or_else(|e| panic!("{}: {e:?}", prompt.id));
+                    crate::predict::Prediction::expected(&p)
+                }
+                None => crate::predict::Prediction::expected(prompt),
+            };
             // A formula prompt's answer is its key's formula, typed.
             let answer = match (&prompt.answer, answer) {
                 (crate::deck::Answer::Formula(key), _) => {

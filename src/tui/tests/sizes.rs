@@ -60,12 +60,17 @@ fn review_typed_back(app: &mut TestApp) {
 
 fn review_done(app: &mut TestApp) {
     press(app, Enter);
-    for _ in 0..10 {
+    for _ in 0..40 {
         match app.context() {
             Context::ReviewDone => return,
             Context::ReviewTyping => {
                 type_text(app, "middle");
                 press_all(app, &[Enter, Char('4')]);
+            }
+            // The deck's prompts are in the queue too: answered on their
+            // own screen.
+            Context::PredictChoice | Context::PredictNumber | Context::PredictFormula => {
+                crate::tui::testkit::answer_prompt(app)
             }
             _ => press_all(app, &[Char(' '), Char('4')]),
         }

@@ -45,7 +45,7 @@ fn stats_show_todays_reviews_and_the_bench_table() {
         assert!(!first.contains("3e-9"), "{first}");
         assert!(first.contains("w "), "{first}");
         assert!(
-            first.contains("review items (from 3 cards)") || lang == HINGLISH,
+            first.contains("review items (from 3 cards + 2 prompts)") || lang == HINGLISH,
             "{first}"
         );
         assert!(first.contains("Due today") || lang == HINGLISH, "{first}");

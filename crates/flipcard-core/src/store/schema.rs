@@ -1077,7 +1077,10 @@ mod tests {
             ("DELETE FROM review WHERE id = 1", "append-only"),
             ("UPDATE review SET rating = 4 WHERE id = 1", "append-only"),
             ("DELETE FROM status_event WHERE id = 1", "append-only"),
-            ("UPDATE status_event SET action = 'leech' WHERE id = 1", "append-only"),
+            (
+                "UPDATE status_event SET action = 'leech' WHERE id = 1",
+                "append-only",
+            ),
         ] {
             let e = conn.execute(sql, []).unwrap_err();
             assert!(e.to_string().contains(word), "{sql}: {e}");

@@ -244,8 +244,8 @@ impl Study {
     }
 
     /// Writes the verdict of an attempt at a prompt and, when the prompt
-    /// (as a review item, direction `predict`) is new or due by the end
-    /// of the study day, its rating from the verdict in the same write:
+    /// (as a review item, direction `predict`) is due as the day's queue
+    /// would offer it, its rating from the verdict in the same write:
     /// wrong is Again, right is Good ([`Study::lower_to_hard`] then lowers
     /// it). An attempt at a prompt not yet due is practice: judged, not
     /// rated, its schedule left as it is. `None` when not rated.
@@ -264,9 +264,15 @@ impl Study {
         };
         let now = verdict.judged_at;
         let before = self.store.state(&key)?;
-        let due = before
-            .as_ref()
-            .is_none_or(|s| s.state == crate::sched::State::New || s.due < self.study_day(now).1);
+        // Due as the day's queue offers it: new; a review due by the end of
+        // the study day; a learning step within the learn-ahead limit.
+        let due = before.as_ref().is_none_or(|s| match s.state {
+            crate::sched::State::New => true,
+            crate::sched::State::Review => s.due < self.study_day(now).1,
+            crate::sched::State::Learning | crate::sched::State::Relearning => {
+                s.due <= now + crate::sched::queue::LEARN_AHEAD
+            }
+        });
         if !due {
             self.store.judge_attempt(committed.id, verdict)?;
             return Ok(None);

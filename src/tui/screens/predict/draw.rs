@@ -60,7 +60,8 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PredictState) {
                 .is_some_and(|e| !e.knobs.is_empty());
             let diag = (state.shows_diagnostics(), state.question_first, explorable);
             let said = (prompt, *prediction);
-            let verdict = verdict.map(|v| (v, &state.verdict_scroll));
+            let scheduled = state.rated.as_ref().map(|r| super::scheduled_text(app, r));
+            let verdict = verdict.map(|v| (v, &state.verdict_scroll, scheduled.as_deref()));
             match run.sim() {
                 Sim::Rigid(r) => draw_play(frame, area, app, said, (run, r), verdict, diag),
                 Sim::System { run: sys, .. } => {
@@ -164,9 +165,10 @@ fn draw_play(
     app: &App,
     (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SceneRun),
-    verdict: Option<(&Verdict, &Cell<usize>)>,
+    verdict: Option<(&Verdict, &Cell<usize>, Option<&str>)>,
     (show_diagnostics, question_first, explorable): (bool, bool, bool),
 ) {
+    let scheduled = verdict.and_then(|v| v.2);
     let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
     let width = area.width as usize;
     let diag_lines = match run.diagnostics() {
@@ -192,9 +194,10 @@ fn draw_play(
         _ => Vec::new(),
     };
     let diag = diag_lines.len() as u16;
-    let verdict_lines = verdict
+    let mut verdict_lines = verdict
         .map(|v| super::verdict::for_run(app, prompt, prediction, v, live, width))
         .unwrap_or_default();
+    super::parts::push_scheduled(app, &mut verdict_lines, scheduled, width);
     let question = question_lines(app, prompt, width.saturating_sub(1).max(1));
     let [top, said, panels, status, diag_area, hints, verdict_area] = play_areas(
         area,

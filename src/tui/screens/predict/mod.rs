@@ -658,8 +658,8 @@ fn record(
 }
 
 /// The verdict written and, when the prompt is due or new, its rating in
-/// the same write (wrong Again, right Good); the status line says what was
-/// scheduled. A retry rates nothing: the first attempt did.
+/// the same write (wrong Again, right Good); the verdict's last line says
+/// what was scheduled.
 fn judge_and_rate(
     app: &mut App,
     deck: usize,
@@ -670,21 +670,12 @@ fn judge_and_rate(
 ) -> Option<crate::study::Rated> {
     let duration = app.services.stopwatch.elapsed_ms(shown);
     let d = app.decks.get(deck)?.clone();
-    let result = if committed.is_retry() {
-        app.services
-            .study
-            .judge_attempt(committed, judged)
-            .map(|()| None)
-    } else {
-        app.services
-            .study
-            .judge_and_rate(&d, committed, judged, prompt, duration)
-    };
+    let result = app
+        .services
+        .study
+        .judge_and_rate(&d, committed, judged, prompt, duration);
     match result {
-        Ok(Some(r)) => {
-            say_scheduled(app, &r);
-            Some(r)
-        }
+        Ok(Some(r)) => Some(r),
         Ok(None) => None,
         Err(e) => {
             app.error(e.to_string());
@@ -693,22 +684,21 @@ fn judge_and_rate(
     }
 }
 
-/// "Scheduled: Good · back in 3 days", on the status line.
-fn say_scheduled(app: &mut App, r: &crate::study::Rated) {
+/// "prediction scheduled: Good · back in 3d", the verdict's last line.
+pub(super) fn scheduled_text(app: &App, r: &crate::study::Rated) -> String {
     let rating = match r.record.rating {
         crate::sched::Rating::Again => Msg::Again,
         crate::sched::Rating::Hard => Msg::Hard,
         crate::sched::Rating::Good => Msg::Good,
         crate::sched::Rating::Easy => Msg::Easy,
     };
-    let msg = format!(
+    format!(
         "{}: {} · {} {}",
         app.tr(Msg::PromptScheduled),
         app.tr(rating),
         app.tr(Msg::BackIn),
         crate::sched::format_interval(r.record.after.due - r.record.reviewed_at)
-    );
-    app.info(msg);
+    )
 }
 
 /// `2` after a right verdict: the prompt's Good becomes Hard.
@@ -722,10 +712,7 @@ fn lower_to_hard(app: &mut App, state: &mut PredictState) {
     };
     let now = app.services.now();
     match app.services.study.lower_to_hard(&d, &rated, now) {
-        Ok(Some(r)) => {
-            say_scheduled(app, &r);
-            state.rated = Some(r);
-        }
+        Ok(Some(r)) => state.rated = Some(r),
         Ok(None) => app.info(app.tr(Msg::NotRatedPractice)),
         Err(e) => app.error(e.to_string()),
     }

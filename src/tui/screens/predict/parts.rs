@@ -379,3 +379,27 @@ pub(super) fn cut_lines(
     }
     lines
 }
+
+/// What the verdict's rating scheduled (`prediction scheduled: Good · back
+/// in 10m`), as the verdict's last line: the lesson comes first, and a
+/// small screen scrolls to it.
+pub(super) fn push_scheduled(
+    app: &App,
+    lines: &mut Vec<Line<'static>>,
+    scheduled: Option<&str>,
+    width: usize,
+) {
+    let Some(text) = scheduled else {
+        return;
+    };
+    if lines.is_empty() {
+        return;
+    }
+    let style = app.theme.dim();
+    lines.extend(crate::tui::wrap::wrap(
+        &[crate::tui::wrap::Run::new(text.to_string(), style)],
+        width.max(1),
+        crate::tui::wrap::Run::new(" ", style),
+        crate::tui::wrap::Run::new(" ", style),
+    ));
+}

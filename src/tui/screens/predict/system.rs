@@ -68,9 +68,10 @@ pub fn draw(
     app: &App,
     (prompt, prediction): (&Prompt, Prediction),
     (live, run): (&Live, &SystemRun),
-    verdict: Option<(&Verdict, &std::cell::Cell<usize>)>,
+    verdict: Option<(&Verdict, &std::cell::Cell<usize>, Option<&str>)>,
     (show_diagnostics, question_first, explorable): (bool, bool, bool),
 ) {
+    let scheduled = verdict.and_then(|v| v.2);
     let (verdict, scroll) = (verdict.map(|v| v.0), verdict.map(|v| v.1));
     let diag_lines = if show_diagnostics && run.scene().shows(SystemPanel::Diagnostics) {
         let line = system_plots::diagnostics_line(run, &app.lang);
@@ -79,9 +80,10 @@ pub fn draw(
         Vec::new()
     };
     // The same banner, prediction and evidence as a rigid body's verdict.
-    let verdict_lines = verdict
+    let mut verdict_lines = verdict
         .map(|v| super::verdict::for_run(app, prompt, prediction, v, live, area.width as usize))
         .unwrap_or_default();
+    super::parts::push_scheduled(app, &mut verdict_lines, scheduled, area.width as usize);
     // The same rows as a rigid body's: the question whole above the run
     // (the panels give way first), the prediction under it until the
     // verdict, which repeats it.

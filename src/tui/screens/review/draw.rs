@@ -91,21 +91,8 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
             p.question.get(lang).to_string()
         } else {
             // The numbers are drawn when it opens: shown as "…" here.
-            let blanks: Vec<(&str, f64)> = Vec::new();
             let names: Vec<&str> = p.vary.iter().map(|v| v.name.as_str()).collect();
-            let text = p.question.get(lang);
-            let mut out = flipcard_text::fill::fill(text, &blanks);
-            if let Ok(found) = flipcard_text::fill::placeholders(text, &names) {
-                out = String::new();
-                let mut at = 0;
-                for ph in found {
-                    out.push_str(&text[at..ph.range.start]);
-                    out.push('…');
-                    at = ph.range.end;
-                }
-                out.push_str(&text[at..]);
-            }
-            out
+            flipcard_text::fill::blanked(p.question.get(lang), &names, "…")
         };
         lines.extend(para(&question, t.strong()));
         lines.push(Line::default());
@@ -301,8 +288,11 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
         draw_summary(frame, rest, app, state);
         return;
     }
-    let Some((card, _)) = state.card(deck) else {
-        return;
+    // A prompt is drawn as a basic card's front (its lines say what it is).
+    let kind = match state.card(deck) {
+        Some((card, _)) => card.kind,
+        None if state.prompt(deck).is_some() => CardKind::Basic,
+        None => return,
     };
     let CardLayout {
         lines,
@@ -312,7 +302,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
         hints,
         margin,
         room,
-    } = layout(app, state, card.kind, rest);
+    } = layout(app, state, kind, rest);
     let max_scroll = lines.len().saturating_sub(room);
     let scroll = state.scroll.min(max_scroll);
     let typing = state.typed && matches!(state.phase, Phase::Front { .. });
@@ -345,7 +335,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     // not offered there.
     let mut h = vec![Span::raw(" ")];
     if !typing {
-        if card.explain.is_some() {
+        if state.card(deck).is_some_and(|(c, _)| c.explain.is_some()) {
             h.push(Span::styled("e ", t.key()));
             h.push(Span::styled(
                 format!("{}  ", app.tr(Msg::Explanation)),
