@@ -121,8 +121,19 @@ pub fn render_stats(s: &Stats) -> String {
         percent(&s.prompts.overall)
     ));
     for p in &s.prompts.by_prompt {
+        // Accuracy over time: each week's judged attempts right.
+        let weeks: Vec<String> = p
+            .weeks
+            .iter()
+            .map(|w| format!("{} {}/{}", w.week, w.correct, w.attempts))
+            .collect();
+        let weeks = if weeks.is_empty() {
+            String::new()
+        } else {
+            format!(" · by week: {}", weeks.join(", "))
+        };
         line(format!(
-            "  {}/{}: {}/{} right",
+            "  {}/{}: {}/{} right{weeks}",
             p.deck, p.prompt, p.correct, p.attempts
         ));
     }

@@ -660,6 +660,7 @@ pub mod study {
     /// A card asked both ways is two review items.
     pub const REVIEW_ITEMS: Words = Words("review items", "review items");
     pub const FROM_CARDS: Words = Words("from", "inse:");
+    pub const BY_WEEK: Words = Words("right, week by week", "sahi, hafte dar hafte");
     pub const DUE: Words = Words("Due", "Baaki");
     pub const TODAY: Words = Words("today", "aaj");
     pub const TOMORROW: Words = Words("tomorrow", "kal");

@@ -267,6 +267,33 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
             Span::styled(format!(" ({})", study::REVIEW_ITEMS.get(lang)), t.dim()),
         ]),
     ];
+    // Prediction accuracy over time, per prompt (the three most attempted;
+    // `flipcard stats` lists every one): each week's share right.
+    let mut by_prompt: Vec<&crate::store::stats::PromptLine> = stats
+        .prompts
+        .by_prompt
+        .iter()
+        .filter(|p| !p.weeks.is_empty())
+        .collect();
+    by_prompt.sort_by(|a, b| b.attempts.cmp(&a.attempts).then(a.prompt.cmp(&b.prompt)));
+    for p in by_prompt.into_iter().take(3) {
+        let weeks: Vec<String> = p
+            .weeks
+            .iter()
+            .rev()
+            .take(4)
+            .rev()
+            .map(|w| format!("{}/{}", w.correct, w.attempts))
+            .collect();
+        lines.push(Line::from(vec![
+            Span::styled(
+                format!("   {}: ", crate::text::safe::one_line(&p.prompt)),
+                t.dim(),
+            ),
+            Span::styled(weeks.join(" → "), t.text()),
+            Span::styled(format!(" ({})", study::BY_WEEK.get(lang)), t.dim()),
+        ]));
+    }
     lines.extend(marks_lines(app, stats));
     // The summary wraps; the charts get what is left, and on a screen too
     // short for them the summary's numbers come first.

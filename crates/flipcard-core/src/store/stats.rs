@@ -142,7 +142,23 @@ pub struct PromptLine {
     pub prompt: String,
     pub attempts: u64,
     pub correct: u64,
+    /// Accuracy over time: the judged attempts of each week (UTC, from
+    /// Monday) that has any, oldest first.
+    pub weeks: Vec<PromptWeek>,
 }
+
+/// A prompt's judged attempts in one week.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct PromptWeek {
+    /// The Monday the week starts on (`2026-11-23`).
+    pub week: String,
+    pub attempts: u64,
+    pub correct: u64,
+}
+
+/// A week's number counted from the Monday before 1970-01-01 (a Thursday).
+const WEEK_MS: i64 = 7 * 86_400_000;
+const MONDAY_MS: i64 = 3 * 86_400_000;
 
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct Orphan {
@@ -297,10 +313,46 @@ impl Store {
                     prompt: r.get(1)?,
                     attempts: r.get::<_, i64>(2)? as u64,
                     correct: r.get::<_, i64>(3)? as u64,
+                    weeks: Vec::new(),
                 })
             })
             .and_then(|rows| rows.collect())
             .map_err(|e| self.err(e))?;
+        let mut lines = lines;
+        let (filter, args) = deck_filter(deck, Vec::new(), "AND");
+        let sql = format!(
+            "SELECT deck, prompt, (attempted_at + {MONDAY_MS}) / {WEEK_MS} AS w, count(correct), \
+             coalesce(sum(correct), 0) FROM prompt_attempt WHERE correct IS NOT NULL {filter} \
+             GROUP BY deck, prompt, w ORDER BY deck, prompt, w"
+        );
+        let mut st = self.conn.prepare_cached(&sql).map_err(|e| self.err(e))?;
+        let weeks: Vec<(String, String, i64, u64, u64)> = st
+            .query_map(params_from_iter(args), |r| {
+                Ok((
+                    r.get(0)?,
+                    r.get(1)?,
+                    r.get(2)?,
+                    r.get::<_, i64>(3)? as u64,
+                    r.get::<_, i64>(4)? as u64,
+                ))
+            })
+            .and_then(|rows| rows.collect())
+            .map_err(|e| self.err(e))?;
+        for (d, p, w, attempts, correct) in weeks {
+            let Some(line) = lines.iter_mut().find(|l| l.deck == d && l.prompt == p) else {
+                continue;
+            };
+            let start = w
+                .checked_mul(WEEK_MS)
+                .and_then(|ms| ms.checked_sub(MONDAY_MS))
+                .and_then(chrono::DateTime::from_timestamp_millis)
+                .map_or_else(|| "?".to_string(), |t| t.format("%Y-%m-%d").to_string());
+            line.weeks.push(PromptWeek {
+                week: start,
+                attempts,
+                correct,
+            });
+        }
         let attempts = lines.iter().map(|l| l.attempts).sum();
         let correct = lines.iter().map(|l| l.correct).sum();
         Ok(PromptAccuracy {
