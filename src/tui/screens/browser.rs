@@ -967,7 +967,7 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
                 .unwrap_or_else(|| p.scene.clone());
             let blank = Run::new("", t.text());
             let mut lines = wrap(
-                &math_runs(p.question.get(lang), t.strong()),
+                &math_runs(&p.question_listed(lang), t.strong()),
                 width,
                 blank.clone(),
                 blank.clone(),

@@ -118,7 +118,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
     let room = usize::from(list_area.width).saturating_sub(2 + 4 + 2);
     let items = deck.prompts.iter().enumerate().map(|(i, p)| {
         // The question's first line names the prompt (its id is for authors).
-        let question = crate::text::render(p.question.get(&app.lang));
+        let question = crate::text::render(&p.question_listed(&app.lang));
         let title = question
             .lines()
             .map(str::trim)
@@ -143,7 +143,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &PromptsState) {
 
     if let Some(p) = deck.prompts.get(state.selected) {
         let scene = deck.scene(&p.scene);
-        let question = crate::text::render(p.question.get(&app.lang));
+        let question = crate::text::render(&p.question_listed(&app.lang));
         let mut lines = crate::tui::wrap::wrap_plain(&question, t.strong(), detail.width as usize);
         lines.truncate(4);
         lines.push(Line::from(vec![

@@ -208,6 +208,19 @@ pub struct Prompt {
     pub vary: Vec<Varied>,
 }
 
+impl Prompt {
+    /// The question in `lang` as a list shows it before any numbers are
+    /// drawn: a varied prompt's `{name}` placeholders read "…".
+    pub fn question_listed(&self, lang: &str) -> std::borrow::Cow<'_, str> {
+        let text = self.question.get(lang);
+        if self.vary.is_empty() {
+            return text.into();
+        }
+        let names: Vec<&str> = self.vary.iter().map(|v| v.name.as_str()).collect();
+        flipcard_text::fill::blanked(text, &names, "…").into()
+    }
+}
+
 /// One number a varied prompt draws for each attempt: shown in the
 /// question as `{name}` (in its own unit), set into the scene as its value
 /// × `scale`.

@@ -135,6 +135,48 @@ pub struct Prompt {
     pub explain: Option<ExplainLink>,
     pub tags: Option<Vec<NonEmpty>>,
     pub answer: Answer,
+    /// Numbers drawn anew for each attempt, shown as `{name}` (or
+    /// `{name:.N}`) in the question: `theta0 = [20.0, 80.0]`, or a table.
+    /// The answer is then computed from each variant's run.
+    #[schemars(with = "Option<std::collections::BTreeMap<String, Varied>>")]
+    pub vary: Option<()>,
+}
+
+/// One varied number: `[lo, hi]`, or a table.
+#[derive(JsonSchema)]
+#[serde(untagged)]
+pub enum Varied {
+    /// Drawn uniformly in `[lo, hi]`.
+    Range([f64; 2]),
+    Table(VariedTable),
+}
+
+/// A varied number as a table.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct VariedTable {
+    /// Drawn uniformly in `[lo, hi]` (or on the grid of `step`).
+    pub range: Option<[f64; 2]>,
+    /// One of these, each as likely.
+    #[schemars(length(min = 2, max = 1000))]
+    pub values: Option<Vec<f64>>,
+    /// With `range`: drawn on the grid lo + k·step.
+    pub step: Option<f64>,
+    /// What it sets: a parameter or `initial.VAR`, `inertia[i]` or
+    /// `omega[i]` (the name itself when left out).
+    pub target: Option<String>,
+    /// The scene gets value × `scale`.
+    pub scale: Option<f64>,
+}
+
+/// A number answer's `expected`: the number the physics gives, or (a
+/// varied prompt) the measure each variant's answer is.
+#[derive(JsonSchema)]
+#[serde(untagged)]
+pub enum NumberExpected {
+    Number(f64),
+    /// The measure, as `measure` is written: `period(theta)`.
+    Computed(String),
 }
 
 /// How the prediction is given and judged.
@@ -143,8 +185,9 @@ pub struct Prompt {
 pub enum Answer {
     /// Pick one choice; the choice whose `when` holds after the run is right.
     Choice {
-        /// The choice id the physics gives (worked out by the author).
-        expected: Id,
+        /// The choice id the physics gives (worked out by the author); a
+        /// varied prompt may leave it out (each variant's run decides).
+        expected: Option<Id>,
         #[schemars(length(min = 2))]
         choices: Vec<Choice>,
         /// The one measure the choices' conditions read, in words, for the
@@ -155,11 +198,13 @@ pub enum Answer {
     },
     /// Type a number (with an optional unit), right within `tolerance` of the measurement.
     Number {
-        measure: AnyMeasure,
+        /// What is measured (may be left out when `expected` names it).
+        measure: Option<AnyMeasure>,
         /// Unit shown and accepted after the number, e.g. `s`.
         unit: Option<String>,
-        /// The value the formula gives.
-        expected: f64,
+        /// The value the formula gives; on a varied prompt, the measure
+        /// each variant's answer is (`"period(theta)"`).
+        expected: NumberExpected,
         tolerance: Tolerance,
         /// How `expected` follows (may hold math).
         formula: Option<Text>,

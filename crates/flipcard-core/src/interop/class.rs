@@ -1018,7 +1018,7 @@ fn prompt_row(
     let mut measured = t.measured;
     measured.sort_by(f64::total_cmp);
     PromptRow {
-        text: found.map(|p| one_line(p.question.get(lang))),
+        text: found.map(|p| one_line(&p.question_listed(lang))),
         deck,
         prompt,
         learners: t.learners,
@@ -1104,9 +1104,8 @@ fn card_text(
         let q = decks
             .get(deck)?
             .prompt(card)?
-            .question
-            .get(lang)
-            .to_string();
+            .question_listed(lang)
+            .into_owned();
         return Some(flipcard_text::render(&q).replace('\n', " "));
     }
     let card = decks.get(deck)?.card(card)?;

@@ -87,14 +87,8 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
             Run::new("", t.text()),
         );
         lines.push(Line::default());
-        let question = if p.vary.is_empty() {
-            p.question.get(lang).to_string()
-        } else {
-            // The numbers are drawn when it opens: shown as "…" here.
-            let names: Vec<&str> = p.vary.iter().map(|v| v.name.as_str()).collect();
-            flipcard_text::fill::blanked(p.question.get(lang), &names, "…")
-        };
-        lines.extend(para(&question, t.strong()));
+        // The numbers are drawn when it opens: shown as "…" here.
+        lines.extend(para(&p.question_listed(lang), t.strong()));
         lines.push(Line::default());
         lines.extend(wrap(
             &[Run::new(app.tr(Msg::PredictItemHint).to_string(), t.dim())],
@@ -149,7 +143,7 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
             }
             if let Some(p) = card.prompt.as_ref().and_then(|id| deck.prompt(id)) {
                 lines.push(Line::default());
-                let q = crate::text::render(p.question.get(lang));
+                let q = crate::text::render(&p.question_listed(lang));
                 lines.extend(wrap(
                     &[
                         Run::new(format!("{}: ", app.tr(Msg::TryPrompt)), t.heading()),
