@@ -177,7 +177,7 @@ fn every_number_the_texts_state_is_measured() {
     DECK.assert_quoted("section", "example-eccentric", "361");
     DECK.assert_quoted("section", "example-eccentric", "0.9 AU");
     DECK.assert_quoted("card", "kepler-first", "0.9 AU");
-    DECK.assert_quoted("card", "symplectic", "361-fold");
+    DECK.assert_quoted("card", "symplectic", "361");
     for id in ["eccentric-period", "mistake-eccentric"] {
         DECK.assert_quoted("card", id, "1 yr");
     }
@@ -240,8 +240,8 @@ fn every_number_the_texts_state_is_measured() {
         1.0,
         1e-6,
     );
-    DECK.assert_quoted("card", "mistake-heavy", "300 times");
-    DECK.assert_quoted("section", "mistakes", "300 times");
+    DECK.assert_quoted("card", "mistake-heavy", "300");
+    DECK.assert_quoted("section", "mistakes", "300");
 }
 
 /// E ≥ 0 exactly from √2 times the circular speed: just below it the probe
@@ -258,14 +258,13 @@ fn escape_speed_is_root_two_times_circular() {
     }
     let at = |vy: f64| {
         let dir = tempfile::tempdir().unwrap();
-        let path = DECK.edited(dir.path(), "escape", |s| {
-            crate::support::deck::set_value(s, "initial.vy", vy)
-        });
+        let path = DECK.edited(dir.path(), "escape", &[("initial.vy", vy)]);
         crate::support::deck::measure_in(&path, "escape", &["final(E)", "max(r)", "final(r)"])
     };
-    let below = at(0.98 * v_esc);
+    // 0.9 × v_esc: a = 2.6 AU, back within the 10 yr run.
+    let below = at(0.9 * v_esc);
     assert!(below[0] < 0.0 && below[2] < below[1], "{below:?}");
-    let above = at(1.02 * v_esc);
+    let above = at(1.05 * v_esc);
     assert!(above[0] > 0.0 && above[2] == above[1], "{above:?}");
 }
 
@@ -277,10 +276,11 @@ fn periods_follow_keplers_third_law() {
     close("T2/T1", v[1] / v[0], 4f64.powf(1.5), 1e-6);
     for vy in [4.0, 5.5, 7.0, 8.0] {
         let dir = tempfile::tempdir().unwrap();
-        let path = DECK.edited(dir.path(), "launch", |s| {
-            crate::support::deck::set_value(s, "initial.vy", vy);
-            s.insert("duration".into(), toml::Value::Float(12.0));
-        });
+        let path = DECK.edited(
+            dir.path(),
+            "launch",
+            &[("initial.vy", vy), ("duration", 12.0)],
+        );
         let t = crate::support::deck::measure_in(&path, "launch", &["period(x)"])[0];
         let a = 1.0 / (2.0 - vy * vy / GM);
         close(
@@ -293,21 +293,29 @@ fn periods_follow_keplers_third_law() {
 }
 
 /// The perihelion moves by 360° (1/√(1 − λ/L²) − 1) per orbit: forward
-/// for an extra pull, backward for an extra push.
+/// for an extra pull, backward for an extra push, within 1e-4° however
+/// small the turn.
 #[test]
 fn precession_follows_the_closed_form_both_ways() {
-    for lam in [-2.0, -1.28, 0.3, 1.28, 3.0] {
+    for lam in [-2.0, -1.28, -0.2, 0.1, 0.3, 1.28, 3.0] {
         let dir = tempfile::tempdir().unwrap();
-        let path = DECK.edited(dir.path(), "precession", |s| {
-            crate::support::deck::set_value(s, "lam", lam)
-        });
+        let path = DECK.edited(dir.path(), "precession", &[("lam", lam)]);
         let v = crate::support::deck::measure_in(&path, "precession", &["max(adv)", "max(ret)"]);
         let want = 360.0 * (1.0 / (1.0 - lam / 64.0_f64).sqrt() - 1.0);
         if lam > 0.0 {
-            close(&format!("advance at λ = {lam}"), v[0], want, 1e-5);
+            assert!(
+                (v[0] - want).abs() < 1e-4,
+                "advance at λ = {lam}: {} against {want}",
+                v[0]
+            );
             assert_eq!(v[1], 0.0, "λ = {lam}");
         } else {
-            close(&format!("regress at λ = {lam}"), v[1], -want, 1e-5);
+            assert!(
+                (v[1] + want).abs() < 1e-4,
+                "regress at λ = {lam}: {} against {}",
+                v[1],
+                -want
+            );
             assert_eq!(v[0], 0.0, "λ = {lam}");
         }
     }

@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 
 use crate::support::deck::{
     BundledDeck, LANGS, Verdict, array, assert_checks_clean, find, measure_in, run_prompt,
-    run_varied, set_value, varied,
+    run_varied, varied,
 };
 
 const DECK: BundledDeck = BundledDeck {
@@ -34,10 +34,7 @@ fn modes(k: f64) -> (f64, f64) {
 
 /// The beats scene with spring `k`, `duration` long: the deck file.
 fn beats_with(dir: &std::path::Path, k: f64, duration: f64) -> std::path::PathBuf {
-    DECK.edited(dir, "beats", |s| {
-        set_value(s, "k", k);
-        s.insert("duration".into(), toml::Value::Float(duration));
-    })
+    DECK.edited(dir, "beats", &[("k", k), ("duration", duration)])
 }
 
 #[test]
@@ -170,7 +167,7 @@ fn every_number_the_texts_state_is_measured() {
     DECK.assert_quoted("card", "round-trip-typed", "40.34");
     // Weak coupling: π m ω1 / k ≈ 19.7 s; k = 0.25 gives 79.7 s and still
     // the full 0.1 m.
-    close("π m ω1/k", PI * w1 / 0.5, 19.7, 1e-3);
+    close("π m ω1/k", PI * w1 / 0.5, 19.7, 2e-3);
     let v = DECK.measure("weak-spring", &["beat(x1)", "max(x2)"]);
     close("round trip at k = 0.25", v[0], 79.7, 1e-3);
     close("pendulum 2's swing at k = 0.25", v[1], 0.1, 1e-3);
@@ -184,7 +181,7 @@ fn every_number_the_texts_state_is_measured() {
     for (k, want) in [(0.3, 66.6), (2.0, 10.8)] {
         let dir = tempfile::tempdir().unwrap();
         let got = measure_in(&beats_with(dir.path(), k, 160.0), "beats", &["beat(x1)"])[0];
-        close(&format!("round trip at k = {k}"), got, want, 2e-3);
+        close(&format!("round trip at k = {k}"), got, want, 5e-3);
     }
     DECK.assert_quoted("section", "example-numbers", "66.6");
     DECK.assert_quoted("section", "example-numbers", "10.8");
@@ -218,11 +215,12 @@ fn every_number_the_texts_state_is_measured() {
 /// 2π/(ω₂ − ω₁), over a range of springs.
 #[test]
 fn normal_modes_and_beats_follow_the_closed_forms() {
-    for k in [0.2, 0.5, 1.0, 2.0] {
+    // Within the beats scene's knob, 0.3 to 2 N/m.
+    for k in [0.3, 0.5, 1.0, 2.0] {
         let (w1, w2) = modes(k);
         for (scene, w) in [("in-phase", w1), ("out-of-phase", w2)] {
             let dir = tempfile::tempdir().unwrap();
-            let path = DECK.edited(dir.path(), scene, |s| set_value(s, "k", k));
+            let path = DECK.edited(dir.path(), scene, &[("k", k)]);
             let t = measure_in(&path, scene, &["period(x1)"])[0];
             close(&format!("{scene} at k = {k}"), t, 2.0 * PI / w, 1e-6);
         }
@@ -243,7 +241,7 @@ fn normal_modes_and_beats_follow_the_closed_forms() {
 fn detuning_makes_the_transfer_incomplete() {
     for l2 in [0.6, 0.8, 0.9, 1.0, 1.2] {
         let dir = tempfile::tempdir().unwrap();
-        let path = DECK.edited(dir.path(), "detuned", |s| set_value(s, "L2", l2));
+        let path = DECK.edited(dir.path(), "detuned", &[("L2", l2)]);
         let got = measure_in(&path, "detuned", &["max(x2)"])[0];
         let delta: f64 = 0.5 * (G / l2 - G);
         let want = 0.1 * 0.5 / (0.25 + delta * delta).sqrt();

@@ -118,35 +118,101 @@ impl BundledDeck {
         }
     }
 
-    /// The deck with one scene changed by `edit`, written with its content
-    /// files into `dir`; the path of the new deck file.
-    pub fn edited(&self, dir: &Path, scene: &str, edit: impl FnOnce(&mut toml::Table)) -> PathBuf {
-        let mut deck = self.deck();
-        let scenes = deck
-            .get_mut("scene")
-            .and_then(|v| v.as_array_mut())
-            .unwrap();
-        let s = scenes
-            .iter_mut()
-            .filter_map(|v| v.as_table_mut())
-            .find(|t| t.get("id").and_then(|v| v.as_str()) == Some(scene))
-            .unwrap_or_else(|| panic!("no scene {scene}"));
-        edit(s);
+    /// The deck's scenes, one with values changed (`name`: a parameter,
+    /// `initial.VAR` or `duration`), written into `dir` as a deck of its
+    /// own (the cards, prompts and sections left out: a prompt's expected
+    /// number is the deck's value's, not the changed one's); the path of the
+    /// new deck file. The edit is made in the text, so that everything else
+    /// (the order of the observables included) stays as written.
+    pub fn edited(&self, dir: &Path, scene: &str, values: &[(&str, f64)]) -> PathBuf {
+        let mut text = self.source();
+        for (name, value) in values {
+            text = set_in_scene(&text, scene, name, *value);
+        }
+        // The header, then the scenes: every block that starts `[[scene]]`
+        // up to the next `[[`.
+        let first = text.find("\n[[").expect("a deck with tables") + 1;
+        let mut kept = text[..first].to_string();
+        for block in text[first..]
+            .split("\n[[")
+            .map(|b| b.trim_start_matches("[["))
+        {
+            if block.starts_with("scene]]") {
+                kept.push_str("\n[[");
+                kept.push_str(block);
+            }
+        }
         let decks = dir.join("decks");
         let content = dir.join("content").join(self.id);
         std::fs::create_dir_all(&decks).unwrap();
         std::fs::create_dir_all(&content).unwrap();
         for lang in LANGS {
-            std::fs::copy(
-                self.content_path(lang),
-                content.join(format!("{lang}.toml")),
-            )
-            .unwrap();
+            std::fs::write(content.join(format!("{lang}.toml")), "").unwrap();
         }
         let path = decks.join(format!("{}.toml", self.id));
-        std::fs::write(&path, toml::to_string(&deck).unwrap()).unwrap();
+        std::fs::write(&path, kept).unwrap();
         path
     }
+}
+
+/// `text` (a deck) with `name` of scene `scene` set to `value`: a
+/// parameter (in its `params = { … }` line), `initial.VAR` (the variable's
+/// place in `initial = [ … ]`) or `duration`.
+pub fn set_in_scene(text: &str, scene: &str, name: &str, value: f64) -> String {
+    let header = format!("[[scene]]\nid = \"{scene}\"\n");
+    let start = text
+        .find(&header)
+        .unwrap_or_else(|| panic!("no scene {scene}"));
+    let end = text[start + header.len()..]
+        .find("\n[[")
+        .map_or(text.len(), |i| start + header.len() + i);
+    let block = &text[start..end];
+    let line_of = |key: &str| -> (usize, usize) {
+        let at = block
+            .find(&format!("\n{key} = "))
+            .unwrap_or_else(|| panic!("scene {scene} has no {key}"))
+            + 1;
+        (at, at + block[at..].find('\n').unwrap_or(block.len() - at))
+    };
+    let v = format!("{value:?}");
+    let (key, new_line) = if name == "duration" {
+        ("duration", format!("duration = {v}"))
+    } else if let Some(var) = name.strip_prefix("initial.") {
+        let (a, _) = line_of("variables");
+        let vars_line = &block[a..a + block[a..].find('\n').unwrap()];
+        let i = vars_line
+            .split('"')
+            .skip(1)
+            .step_by(2)
+            .position(|n| n == var)
+            .unwrap_or_else(|| panic!("no variable {var}"));
+        let (a, b) = line_of("initial");
+        let inside = block[a..b]
+            .trim_start_matches("initial = [")
+            .trim_end_matches(']');
+        let mut items: Vec<String> = inside.split(',').map(|x| x.trim().to_string()).collect();
+        items[i] = v;
+        ("initial", format!("initial = [{}]", items.join(", ")))
+    } else {
+        let (a, b) = line_of("params");
+        let line = &block[a..b];
+        let mut out = Vec::new();
+        let mut found = false;
+        let inside = line.trim_start_matches("params = {").trim_end_matches('}');
+        for item in inside.split(',') {
+            let (k, old) = item.split_once('=').expect("name = value");
+            if k.trim() == name {
+                found = true;
+                out.push(format!("{} = {v}", k.trim()));
+            } else {
+                out.push(format!("{} = {}", k.trim(), old.trim()));
+            }
+        }
+        assert!(found, "scene {scene} has no parameter {name}");
+        ("params", format!("params = {{ {} }}", out.join(", ")))
+    };
+    let (a, b) = line_of(key);
+    format!("{}{}{}", &text[..start + a], new_line, &text[start + b..])
 }
 
 /// Each measure of `scene` of the deck file `deck`, by the real binary.
@@ -372,23 +438,6 @@ pub fn varied(source: &str) -> BTreeMap<String, (String, f64, f64)> {
     out
 }
 
-/// Sets `name` of a scene table: a parameter, or `initial.VAR`.
-pub fn set_value(scene: &mut toml::Table, name: &str, value: f64) {
-    if let Some(var) = name.strip_prefix("initial.") {
-        let i = scene["variables"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .position(|v| v.as_str() == Some(var))
-            .unwrap_or_else(|| panic!("no variable {var}"));
-        scene.get_mut("initial").unwrap().as_array_mut().unwrap()[i] = toml::Value::Float(value);
-    } else {
-        let params = scene.get_mut("params").unwrap().as_table_mut().unwrap();
-        assert!(params.contains_key(name), "no parameter {name}");
-        params.insert(name.to_string(), toml::Value::Float(value));
-    }
-}
-
 /// Each varied prompt at the low end, the middle and the high end of its
 /// range: (prompt id, value, verdict).
 pub fn run_varied(deck: &BundledDeck) -> Vec<(String, f64, Verdict)> {
@@ -399,7 +448,7 @@ pub fn run_varied(deck: &BundledDeck) -> Vec<(String, f64, Verdict)> {
         let scene = prompt["scene"].as_str().unwrap();
         for x in [lo, 0.5 * (lo + hi), hi] {
             let dir = tempfile::tempdir().unwrap();
-            let path = deck.edited(dir.path(), scene, |s| set_value(s, &name, x));
+            let path = deck.edited(dir.path(), scene, &[(name.as_str(), x)]);
             out.push((id.clone(), x, run_prompt(&path, prompt)));
         }
     }
