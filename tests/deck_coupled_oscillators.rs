@@ -130,11 +130,13 @@ fn every_number_the_texts_state_is_measured() {
     close("each pendulum's share", v[1], 0.05405, 1e-4);
     close("each pendulum's share", v[2], 0.05405, 1e-4);
     close("total", v[3], 0.1081, 1e-3);
-    for t in ["2.006"] {
-        DECK.assert_quoted("card", "in-phase-mode", t);
-        DECK.assert_quoted("card", "mistake-spring-slows-all", t);
-        DECK.assert_quoted("section", "normal-modes", t);
-        DECK.assert_quoted("section", "example-numbers", t);
+    for (kind, id) in [
+        ("card", "in-phase-mode"),
+        ("card", "mistake-spring-slows-all"),
+        ("section", "normal-modes"),
+        ("section", "example-numbers"),
+    ] {
+        DECK.assert_quoted(kind, id, "2.006");
     }
     for t in ["3.288", "1.911"] {
         DECK.assert_quoted("card", "out-of-phase-mode", t);
