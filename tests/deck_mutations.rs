@@ -30,7 +30,7 @@ use proptest::sample::Index;
 const DEFAULT_CASES: u32 = 256;
 
 /// Each bundled deck: its deck file and its two content files.
-const DECKS: [[&str; 3]; 2] = [
+const DECKS: [[&str; 3]; 4] = [
     [
         "decks/torque-free-rotation.toml",
         "content/torque-free-rotation/en.toml",
@@ -40,6 +40,16 @@ const DECKS: [[&str; 3]; 2] = [
         "decks/oscillations.toml",
         "content/oscillations/en.toml",
         "content/oscillations/hi-Latn.toml",
+    ],
+    [
+        "decks/central-forces.toml",
+        "content/central-forces/en.toml",
+        "content/central-forces/hi-Latn.toml",
+    ],
+    [
+        "decks/coupled-oscillators.toml",
+        "content/coupled-oscillators/en.toml",
+        "content/coupled-oscillators/hi-Latn.toml",
     ],
 ];
 

@@ -18,6 +18,8 @@ mod check_systems;
 mod class_report;
 mod cli_output;
 mod cloze_math_cli;
+mod deck_central_forces;
+mod deck_coupled_oscillators;
 mod deck_library;
 mod deck_mutations;
 mod deck_oscillations;

@@ -333,3 +333,98 @@ pub fn diagnostics_line(run: &SystemRun, lang: &str) -> String {
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use ratatui::Terminal;
+    use ratatui::backend::TestBackend;
+
+    use super::*;
+    use crate::deck::SystemScene;
+    use crate::sim::solvers::ode::{OdeKind, OdeMethod};
+    use crate::tui::theme::Theme;
+
+    /// A scene of the bundled deck `central-forces`.
+    fn bundled_scene(id: &str) -> SystemScene {
+        let loaded = crate::bundled::load();
+        let deck = loaded
+            .decks
+            .iter()
+            .find(|d| d.id == "central-forces")
+            .expect("the bundled deck central-forces");
+        deck.systems
+            .iter()
+            .find(|s| s.id == id)
+            .unwrap_or_else(|| panic!("no scene {id}"))
+            .clone()
+    }
+
+    /// The scene run to its end and its sketch drawn in a `w` × `h`
+    /// terminal: the columns and rows the trail's Braille dots cover
+    /// (inclusive), counted in cells.
+    fn drawn_extent(scene: &SystemScene, w: u16, h: u16) -> (usize, usize) {
+        let method = OdeMethod::default_for(OdeKind::Auto, scene.duration);
+        let mut run = SystemRun::new(scene, method, &[]).expect("the run starts");
+        run.run_to_end().expect("the run ends");
+        let mut terminal = Terminal::new(TestBackend::new(w, h)).expect("test backend");
+        terminal
+            .draw(|f| sketch(f, f.area(), &run, "en", &Theme::PLAIN))
+            .expect("draw");
+        let buffer = terminal.backend().buffer().clone();
+        let (mut cols, mut rows) = (Vec::new(), Vec::new());
+        for y in 0..h {
+            for x in 0..w {
+                let c = buffer[(x, y)].symbol().chars().next().unwrap_or(' ');
+                // A Braille cell with at least one dot raised.
+                if ('\u{2801}'..='\u{28FF}').contains(&c) {
+                    cols.push(x);
+                    rows.push(y);
+                }
+            }
+        }
+        assert!(!cols.is_empty(), "nothing drawn");
+        let span = |v: &[u16]| usize::from(*v.iter().max().unwrap() - *v.iter().min().unwrap()) + 1;
+        (span(&cols), span(&rows))
+    }
+
+    /// The launch scene at the circular speed 2π AU/yr: a circle of 1 AU.
+    fn circle() -> SystemScene {
+        let mut scene = bundled_scene("launch");
+        let vy = scene.variables.iter().position(|v| v == "vy").unwrap();
+        scene.initial[vy] = 2.0 * std::f64::consts::PI;
+        scene
+    }
+
+    /// A circular orbit is drawn as a circle, whatever the panel's shape:
+    /// a terminal cell is about twice as tall as wide, so its curve covers
+    /// twice as many columns as rows.
+    #[test]
+    fn a_circular_orbit_is_drawn_round_in_any_panel() {
+        let scene = circle();
+        for (w, h) in [(60, 20), (100, 14), (40, 30), (120, 40)] {
+            let (cols, rows) = drawn_extent(&scene, w, h);
+            let ratio = cols as f64 / rows as f64;
+            assert!(
+                (ratio - 2.0).abs() <= 0.25,
+                "{w}×{h}: the circle covers {cols} columns and {rows} rows ({ratio:.2}:1, not 2:1)"
+            );
+        }
+    }
+
+    /// The e = 0.9 orbit keeps its shape: 2a = 2 AU across and 2b =
+    /// 2 sqrt(1 − e²) = 0.872 AU high, so 2 × 2/0.872 = 4.6 times as many
+    /// columns as rows.
+    #[test]
+    fn an_eccentric_orbit_keeps_its_aspect() {
+        let scene = bundled_scene("eccentric");
+        let want = 2.0 * 2.0 / (2.0 * (1.0f64 - 0.81).sqrt());
+        for (w, h) in [(100, 30), (120, 24)] {
+            let (cols, rows) = drawn_extent(&scene, w, h);
+            let ratio = cols as f64 / rows as f64;
+            assert!(
+                (ratio / want - 1.0).abs() <= 0.12,
+                "{w}×{h}: the ellipse covers {cols} columns and {rows} rows ({ratio:.2}:1, not {want:.2}:1)"
+            );
+        }
+    }
+}

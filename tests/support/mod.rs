@@ -12,6 +12,7 @@
 #![allow(dead_code)]
 
 pub mod cli;
+pub mod deck;
 
 pub use cli::{Flipcard, Output, release_binary, test_binary};
 
