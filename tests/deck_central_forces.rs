@@ -91,6 +91,12 @@ fn check_passes_it_without_a_warning() {
 fn every_prompt_answer_is_what_the_simulator_measures() {
     let deck = DECK.deck();
     for p in array(&deck, "prompt") {
+        // A varied prompt's answer is each variant's run's: `check` runs
+        // its variants, and `varied_prompts_stay_decidable_over_their_range`
+        // holds them to the closed forms.
+        if p.contains_key("vary") {
+            continue;
+        }
         let answer = p["answer"].as_table().unwrap();
         match run_prompt(&DECK.path(), p) {
             Verdict::Number(got) => {
@@ -342,13 +348,12 @@ fn varied_prompts_stay_decidable_over_their_range() {
     for (id, x, verdict) in runs {
         let p = find(&deck, "prompt", &id);
         match verdict {
-            Verdict::Choices(holding) => {
-                assert_eq!(
-                    holding,
-                    [p["answer"]["expected"].as_str().unwrap()],
-                    "{id} at {x}"
-                );
-            }
+            // The deck's answer when it states one; else exactly one
+            // choice holds (the variant's run decides).
+            Verdict::Choices(holding) => match p["answer"].get("expected") {
+                Some(e) => assert_eq!(holding, [e.as_str().unwrap()], "{id} at {x}"),
+                None => assert_eq!(holding.len(), 1, "{id} at {x}: {holding:?}"),
+            },
             Verdict::Number(got) => {
                 let want = match id.as_str() {
                     // From perihelion 0.1 AU at speed x: the other root of

@@ -87,6 +87,12 @@ fn every_prompt_answer_is_what_the_simulator_measures() {
     let deck = DECK.deck();
     let mut measured = 0;
     for p in array(&deck, "prompt") {
+        // A varied prompt's answer is each variant's run's: `check` runs
+        // its variants, and `varied_prompts_stay_decidable_over_their_range`
+        // holds them to the closed forms.
+        if p.contains_key("vary") {
+            continue;
+        }
         let answer = p["answer"].as_table().unwrap();
         if answer["kind"].as_str() == Some("formula") {
             continue;
@@ -108,7 +114,8 @@ fn every_prompt_answer_is_what_the_simulator_measures() {
             }
         }
     }
-    assert_eq!(measured, 7);
+    // Seven run-decided prompts, four of them varied.
+    assert_eq!(measured, 3);
 }
 
 /// The numbers the cards and sections state, each measured (or computed
@@ -276,13 +283,12 @@ fn varied_prompts_stay_decidable_over_their_range() {
     for (id, x, verdict) in runs {
         let p = find(&deck, "prompt", &id);
         match verdict {
-            Verdict::Choices(holding) => {
-                assert_eq!(
-                    holding,
-                    [p["answer"]["expected"].as_str().unwrap()],
-                    "{id} at {x}"
-                );
-            }
+            // The deck's answer when it states one; else exactly one
+            // choice holds (the variant's run decides).
+            Verdict::Choices(holding) => match p["answer"].get("expected") {
+                Some(e) => assert_eq!(holding, [e.as_str().unwrap()], "{id} at {x}"),
+                None => assert_eq!(holding.len(), 1, "{id} at {x}: {holding:?}"),
+            },
             Verdict::Number(got) => {
                 let want = match id.as_str() {
                     "in-phase-period" => 2.0 * PI / modes(x).0,
