@@ -746,3 +746,154 @@ fn every_stock_note_type_and_state_of_an_anki_collection_is_imported() {
     assert!(rebuild.status.success(), "{}", rebuild.stderr());
     assert_eq!(check_dues(&Store::open(&data).unwrap()), 10);
 }
+
+/// Anki's own library (the `anki` package on PyPI), through
+/// [`crate::support::require`]: `.ci/run` installs the version pinned there.
+fn require_anki_library() -> bool {
+    crate::support::require(
+        crate::support::works("python3", &["-c", "import anki.collection"]),
+        "Python 3 with Anki's library (`anki`)",
+        "pip install anki==26.9.3",
+    )
+}
+
+#[test]
+fn an_anki_collection_goes_through_flipcard_and_back_into_anki() {
+    if !require_anki_library() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let out = dir.path().join("out");
+    let run = flipcard(
+        &data,
+        &[
+            "import",
+            &fixture("stock.apkg"),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr());
+    let package = dir.path().join("back.apkg");
+    let export = Flipcard::new(&data)
+        .now(NOW)
+        .args([
+            "--decks",
+            out.join("decks").to_str().unwrap(),
+            "export",
+            "--apkg",
+            package.to_str().unwrap(),
+        ])
+        .run();
+    assert!(export.status.success(), "{}", export.stderr());
+    assert!(
+        export.stdout().contains("38 reviews"),
+        "{}",
+        export.stdout()
+    );
+    // One deck only: the others are not in the package.
+    let one = dir.path().join("one.apkg");
+    let export_one = Flipcard::new(&data)
+        .now(NOW)
+        .args([
+            "--decks",
+            out.join("decks").to_str().unwrap(),
+            "export",
+            "--apkg",
+            one.to_str().unwrap(),
+            "--deck",
+            "oscillations-anki",
+        ])
+        .run();
+    assert!(export_one.status.success(), "{}", export_one.stderr());
+    assert!(
+        export_one
+            .stdout()
+            .contains("1 deck, 2 notes, 2 cards, 9 reviews"),
+        "{}",
+        export_one.stdout()
+    );
+
+    // Anki's own library imports it into a fresh collection.
+    let script = format!(
+        "{}/tests/golden/anki/roundtrip.py",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let read = std::process::Command::new("python3")
+        .args([script.as_str(), package.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        read.status.success(),
+        "{}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    let back: serde_json::Value = serde_json::from_slice(&read.stdout).unwrap();
+    let today = back["today"].as_i64().unwrap();
+    let cutoff = back["cutoff"].as_i64().unwrap();
+    let expect = stock_expectations();
+    let crt = expect["crt"].as_i64().unwrap();
+    let mut compared = 0;
+    for card in expect["cards"].as_array().unwrap() {
+        let fields: Vec<&str> = card["fields"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f.as_str().unwrap())
+            .collect();
+        if fields[0].starts_with("<img") {
+            continue;
+        }
+        let key = stock_key(card);
+        let guid = format!("flipcard/{}/{}", key.deck, key.card);
+        let note = back["notes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|n| n["guid"] == guid.as_str())
+            .unwrap_or_else(|| panic!("no note {guid} back in Anki"));
+        // The same text where the field had no HTML to convert.
+        let front = note["fields"][0].as_str().unwrap();
+        if !fields[0].contains(['<', '&']) {
+            assert_eq!(front, fields[0], "{guid}");
+        }
+        let ord = card["ord"].as_i64().unwrap();
+        let again = note["cards"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["ord"].as_i64() == Some(ord))
+            .unwrap_or_else(|| panic!("{guid}: no card {ord} back in Anki"));
+        // The same revlog: its ids (answer times) and eases.
+        assert_eq!(again["revlog"], card["revlog"], "{guid} card {ord}");
+        assert_eq!(again["eases"], card["eases"], "{guid} card {ord}");
+        // The same state: type, queue (suspended, buried), due date.
+        assert_eq!(again["type"], card["type"], "{guid} card {ord}");
+        assert_eq!(again["queue"], card["queue"], "{guid} card {ord}");
+        let due = again["due"].as_i64().unwrap();
+        match card["type"].as_i64().unwrap() {
+            2 => {
+                // Day numbers count from each collection's own day 0: the
+                // date they name is the same.
+                let date = cutoff - 86_400 + (due - today) * 86_400;
+                assert_eq!(
+                    DateTime::from_timestamp(date, 0),
+                    Some(anki_due(crt, card)),
+                    "{guid} card {ord}"
+                );
+                compared += 1;
+            }
+            1 | 3 => {
+                assert_eq!(
+                    DateTime::from_timestamp(due, 0),
+                    Some(anki_due(crt, card)),
+                    "{guid} card {ord}"
+                );
+                compared += 1;
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(compared, 10, "every card with a history compared");
+}

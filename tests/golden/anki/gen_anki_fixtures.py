@@ -4,7 +4,7 @@
 Needs the PyPI packages genanki (the legacy layout), anki (Anki's own
 library, for the current zstd layout) and zstandard:
 
-    pip install genanki anki zstandard
+    pip install anki==26.9.3 genanki==0.13.1 zstandard==0.25.0
     python3 tests/golden/anki/gen_anki_fixtures.py tests/golden/anki
 
 Writes:

@@ -1787,6 +1787,138 @@ mod tests {
         }
     }
 
+    /// A varint as protobuf writes it.
+    fn encode_varint(mut v: u64, out: &mut Vec<u8>) {
+        loop {
+            let b = (v & 0x7f) as u8;
+            v >>= 7;
+            if v == 0 {
+                out.push(b);
+                return;
+            }
+            out.push(b | 0x80);
+        }
+    }
+
+    proptest::proptest! {
+        /// Any bytes: read without a panic, and never past the message.
+        #[test]
+        fn protobuf_fields_of_any_bytes_are_read_without_panic(
+            bytes in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..64),
+        ) {
+            let _ = proto_fields(&bytes);
+            let _ = proto_varint(&bytes, 1);
+        }
+
+        /// Fields written are read back, in order: varints, strings, packed
+        /// floats and fixed32 floats.
+        #[test]
+        fn protobuf_fields_written_are_read_back(
+            fields in proptest::collection::vec(
+                (1u64..300, proptest::prelude::any::<u64>(), proptest::collection::vec(-1e6f32..1e6, 0..5), 0u8..3),
+                0..8,
+            ),
+        ) {
+            let mut buf = Vec::new();
+            for (field, v, floats, wire) in &fields {
+                match wire {
+                    0 => {
+                        encode_varint(field << 3, &mut buf);
+                        encode_varint(*v, &mut buf);
+                    }
+                    1 => {
+                        encode_varint((field << 3) | 2, &mut buf);
+                        encode_varint(floats.len() as u64 * 4, &mut buf);
+                        for f in floats {
+                            buf.extend(f.to_le_bytes());
+                        }
+                    }
+                    _ => {
+                        encode_varint((field << 3) | 5, &mut buf);
+                        buf.extend((*v as u32).to_le_bytes());
+                    }
+                }
+            }
+            let read = proto_fields(&buf);
+            proptest::prop_assert_eq!(read.len(), fields.len());
+            for ((field, v, floats, wire), (f, got)) in fields.iter().zip(read) {
+                proptest::prop_assert_eq!(f, *field);
+                match wire {
+                    0 => proptest::prop_assert_eq!(got, Proto::Varint(*v)),
+                    1 => proptest::prop_assert_eq!(
+                        got.floats(),
+                        floats.iter().map(|x| f64::from(*x)).collect::<Vec<_>>()
+                    ),
+                    _ => proptest::prop_assert_eq!(got, Proto::Fixed32(*v as u32)),
+                }
+            }
+        }
+
+        /// flipcard text written as Anki HTML (`export --apkg`) reads back
+        /// as the same text (`import`): math, escaped dollars, `<`, `&`,
+        /// line breaks, cloze deletions inside math.
+        #[test]
+        fn text_written_as_anki_html_reads_back_the_same(
+            lines in proptest::collection::vec(
+                proptest::collection::vec(
+                    proptest::sample::select(vec![
+                        "force", "a", "<", "&", "a&b", "\\$5", "$x^2$", "$\\omega_1$",
+                        "$$E = mc^2$$", "×", "θ", "$F = -{{c1::k}} x$", "{{c2::mass}}",
+                    ]),
+                    1..6,
+                ),
+                1..4,
+            ),
+        ) {
+            let text = lines
+                .iter()
+                .map(|words| words.join(" "))
+                .collect::<Vec<_>>()
+                .join("\n");
+            let html = crate::interop::apkg::to_html(&text);
+            let (back, media, rendered) = html_to_text(&html, true);
+            proptest::prop_assert!(rendered);
+            proptest::prop_assert_eq!(media, 0);
+            proptest::prop_assert_eq!(back, text);
+        }
+
+        /// Any HTML: converted without a panic, no tag left, no control
+        /// character.
+        #[test]
+        fn any_html_converts_without_panic_or_tags(
+            s in "(<sup>|</sup>|<sub>|</sub>|<b>|</b>|<i>|<li>|</li>|<td>|</tr>|<br>|[a-z0-9 ]|&minus;|−|é|\\\\\\(|\\\\\\)){0,40}",
+        ) {
+            let (t, _, _) = html_to_text(&s, false);
+            proptest::prop_assert!(!t.contains("<sup") && !t.contains("<b>") && !t.contains("<br"));
+            proptest::prop_assert!(!t.chars().any(|c| c.is_control() && c != '\n'));
+        }
+    }
+
+    #[test]
+    fn scripts_become_unicode_or_stay_readable() {
+        assert_eq!(html_to_text("10<sup>−10</sup> m", false).0, "10⁻¹⁰ m");
+        assert_eq!(html_to_text("10<SUP>&minus;3</SUP>", false).0, "10⁻³");
+        assert_eq!(html_to_text("v<sub>max</sub>", false).0, "vₘₐₓ");
+        assert_eq!(html_to_text("x<sub>Q</sub>", false).0, "x_(Q)");
+        assert_eq!(
+            html_to_text("<b>F</b> = m<i>a</i>", false).0,
+            "**F** = m*a*"
+        );
+        assert_eq!(
+            html_to_text("<ul><li>one</li><li>two</li></ul>", false).0,
+            "- one\n- two"
+        );
+        assert_eq!(
+            html_to_text(
+                "<table><tr><td>a</td><td>b</td></tr><tr><td>c</td><td>d</td></tr></table>",
+                false
+            )
+            .0,
+            "a | b\nc | d"
+        );
+        assert_eq!(html_to_text("", false).0, "");
+    }
+
     #[test]
     fn protobuf_kind_is_found_past_other_fields() {
         // field 3 (string "ab"), then field 1 = 1 (cloze)

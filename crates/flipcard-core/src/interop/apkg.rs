@@ -154,13 +154,9 @@ pub fn write_apkg(
                         k => k,
                     }
                 };
-                // A learning card due on a later day is in the day-learn
-                // queue, with a day number.
-                let (queue, due) = if queue == 1 && sched.due >= crt + 86_400 {
-                    (3, (sched.due - crt).div_euclid(86_400))
-                } else {
-                    (queue, sched.due)
-                };
+                // A learning card stays in the learning queue with its due
+                // time in seconds, however far off (Anki shows it then).
+                let due = sched.due;
                 let (reps, lapses) = state.map_or((0, 0), |s| (s.reps, s.lapses));
                 conn.execute(
                     "INSERT INTO cards (id, nid, did, ord, mod, usn, type, queue, due, ivl, factor, \
