@@ -1424,13 +1424,23 @@ fn renders(text: &str, cloze: bool) -> bool {
 }
 
 /// The structure of a field's HTML as text (entities not yet decoded), and
-/// the count of images, sounds and videos.
+/// the count of images, sounds and videos. Linear in the text: the closing
+/// tag of a `<sup>` or `<sub>` is searched for once from where the last
+/// search ended (remembered per name), and a script's own text is read once
+/// more, its tags dropped.
 fn strip_tags(html: &str) -> (String, usize) {
+    strip(html, true)
+}
+
+fn strip(html: &str, scripts: bool) -> (String, usize) {
     let mut media = html.matches("[sound:").count();
     let mut text = String::new();
     let mut rest = html;
     // Whether a cell of the current table row was written.
     let mut cell = false;
+    // The next `</sup` and `</sub` at or after where each was last looked
+    // for (`None`: there is none after it).
+    let mut closers: [Option<Option<usize>>; 2] = [None, None];
     while let Some(i) = rest.find('<') {
         text.push_str(&rest[..i]);
         let Some(end) = rest[i..].find('>') else {
@@ -1448,19 +1458,21 @@ fn strip_tags(html: &str) -> (String, usize) {
         rest = &rest[i + end + 1..];
         match name.as_str() {
             "br" => text.push('\n'),
-            "sup" | "sub" if !closing => {
+            "sup" | "sub" if scripts && !closing => {
                 // The script's text runs to its closing tag (tags inside it
                 // are dropped); the rest goes on after it.
-                let close = format!("</{name}");
-                let mut k = rest.len().min(4096);
-                while !rest.is_char_boundary(k) {
-                    k -= 1;
-                }
-                let j = rest[..k].to_ascii_lowercase().find(&close);
-                let Some(j) = j else { continue };
-                let (inner, m) = strip_tags(&rest[..j]);
+                let at = html.len() - rest.len();
+                let slot = &mut closers[usize::from(name == "sub")];
+                let close = match *slot {
+                    Some(Some(c)) if c >= at => Some(c),
+                    Some(None) => None,
+                    _ => find_ascii_ci(html, at, if name == "sup" { "</sup" } else { "</sub" }),
+                };
+                *slot = Some(close);
+                let Some(c) = close else { continue };
+                let (inner, m) = strip(&html[at..c], false);
                 media += m;
-                let after = &rest[j..];
+                let after = &html[c..];
                 rest = after.find('>').map_or("", |k| &after[k + 1..]);
                 let inner = inner.trim();
                 match script(&decode_entities(inner), name == "sup") {
@@ -1496,6 +1508,14 @@ fn strip_tags(html: &str) -> (String, usize) {
     }
     text.push_str(rest);
     (text, media)
+}
+
+/// The first `needle` (ASCII, lower case) in `hay` at or after `from`,
+/// ignoring ASCII case.
+fn find_ascii_ci(hay: &str, from: usize, needle: &str) -> Option<usize> {
+    let h = hay.as_bytes();
+    let n = needle.as_bytes();
+    (from..h.len().saturating_sub(n.len() - 1)).find(|&i| h[i..i + n.len()].eq_ignore_ascii_case(n))
 }
 
 /// `s` as Unicode superscript (or subscript) characters, when every
@@ -1731,6 +1751,12 @@ mod tests {
         assert!(t.bytes().all(|b| b == b'&'));
         let (t, _, _) = html_to_text(&"\\(x^2\\)".repeat(250_000), false);
         assert_eq!(t, "$x^2$".repeat(250_000));
+        // Scripts without a closing tag, and nested ones: each closer is
+        // searched for once.
+        let (t, _, _) = html_to_text(&"<sup>2".repeat(400_000), false);
+        assert_eq!(t, "2".repeat(400_000));
+        let nested = format!("{}x{}", "<sub>".repeat(200_000), "</sub>".repeat(200_000));
+        assert_eq!(html_to_text(&nested, false).0, "ₓ");
     }
 
     #[test]
