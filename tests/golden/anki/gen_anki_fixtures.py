@@ -6,6 +6,7 @@ library, for the current zstd layout) and zstandard:
 
     pip install anki==26.9.3 genanki==0.13.1 zstandard==0.25.0
     python3 tests/golden/anki/gen_anki_fixtures.py tests/golden/anki
+    python3 tests/golden/anki/gen_anki_fixtures.py tests/golden/anki stock   # stock.* only
 
 Writes:
 - legacy.apkg     genanki's collection.anki2 (schema 11): Basic, Basic (and
@@ -27,7 +28,11 @@ Writes:
                   intervals set as Anki's scheduler leaves them, FSRS on,
                   changed deck options, sub-decks and a deck named like a
                   bundled one. `stock.json` beside it holds what the tests
-                  compare with (due dates, revlog ids), read from Anki.
+                  compare with (due dates, revlog ids and eases, fields),
+                  read from Anki. Anki's scheduler runs on this machine's
+                  clock (only the answer times are set), so due dates and
+                  ids differ from one generation to the next: the tests
+                  read them from stock.json, never hard-code them.
 Deterministic apart from Anki's own ids in modern.* (the tests read them
 through the notes' content, not their ids).
 """
