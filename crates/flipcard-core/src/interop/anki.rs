@@ -1282,7 +1282,10 @@ fn read_collection(
             if leech_notes.contains(&c.nid) {
                 out.states.leeches.push(key.clone());
             }
-            if let Some(due) = anki_due(c, catalog.crt) {
+            // Anki's longest interval is 36,500 days: a due date further
+            // off than that from now is not one Anki gave.
+            let bound = now + chrono::TimeDelta::days(36_600);
+            if let Some(due) = anki_due(c, catalog.crt).filter(|d| *d <= bound) {
                 let (stability, difficulty) = memory_state(&c.data);
                 out.states.due.insert(
                     key,
