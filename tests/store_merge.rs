@@ -244,3 +244,59 @@ fn random_splits_of_one_history_merge_to_its_replay() {
         assert_eq!(store.cached_states().unwrap(), cache);
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+    /// `merge_reviews_keeping`: whatever the history, the item ends with the
+    /// due date and memory state kept (an Anki import keeps Anki's), the
+    /// cache agrees with `rebuild`, the other answers are replayed as
+    /// ever, and merging again changes nothing.
+    #[test]
+    fn a_kept_state_ends_the_item_whatever_its_history(
+        answers in proptest::collection::vec((0i64..2_000_000, 1u8..=4), 1..12),
+        due_days in 0i64..4_000,
+        stability in proptest::option::of(0.1f64..5_000.0),
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let mut store = Store::open(dir.path()).unwrap();
+        let s = scheduler();
+        let k = key("d", "c");
+        let t0 = at("2026-01-05T08:00:00Z");
+        let mut rows: Vec<IncomingReview> = answers
+            .iter()
+            .map(|(min, r)| incoming(&k, t0 + Duration::minutes(*min), Rating::from_number(i64::from(*r)).unwrap()))
+            .collect();
+        rows.sort_by_key(|r| r.reviewed_at);
+        rows.dedup_by_key(|r| r.reviewed_at);
+        let last = rows.last().unwrap().reviewed_at;
+        let kept = flipcard::store::KeptState {
+            due: last + Duration::days(due_days) + Duration::seconds(1),
+            stability,
+            difficulty: Some(5.5),
+        };
+        let map = std::collections::HashMap::from([(k.clone(), kept)]);
+        let summary = store.merge_reviews_keeping(&rows, &s, &map).unwrap();
+        proptest::prop_assert_eq!(summary.added, rows.len());
+        let state = store.state(&k).unwrap().unwrap();
+        proptest::prop_assert_eq!(state.due, kept.due);
+        proptest::prop_assert_eq!(state.difficulty, Some(5.5));
+        if let Some(st) = stability {
+            proptest::prop_assert_eq!(state.stability, Some(st));
+        }
+        // Every answer but the last is the replay.
+        let answers: Vec<(DateTime<Utc>, Rating)> =
+            rows.iter().map(|r| (r.reviewed_at, r.rating)).collect();
+        let history = store.history(&k).unwrap();
+        if answers.len() > 1 {
+            let before = replayed(&s, &k, &answers[..answers.len() - 1]).unwrap();
+            proptest::prop_assert_eq!(history[history.len() - 2].record.after, before);
+        }
+        let before = log_rows(&store);
+        let again = store.merge_reviews_keeping(&rows, &s, &map).unwrap();
+        proptest::prop_assert_eq!(again.added, 0);
+        proptest::prop_assert_eq!(log_rows(&store), before);
+        let report = store.rebuild().unwrap();
+        proptest::prop_assert_eq!(report.changed, 0);
+        proptest::prop_assert_eq!(store.state(&k).unwrap().unwrap().due, kept.due);
+    }
+}

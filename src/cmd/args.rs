@@ -285,18 +285,23 @@ pub struct ExportArgs {
     /// Export the whole review log.
     #[arg(
         long,
-        conflicts_with_all = ["deck", "attempts"],
-        required_unless_present_any = ["deck", "attempts"]
+        conflicts_with_all = ["deck", "attempts", "apkg"],
+        required_unless_present_any = ["deck", "attempts", "apkg"]
     )]
     pub reviews: bool,
     /// Export every predict-then-check attempt.
-    #[arg(long, conflicts_with = "deck")]
+    #[arg(long, conflicts_with_all = ["deck", "apkg"])]
     pub attempts: bool,
-    /// Export a deck's cards (front, back, tags).
+    /// Export a deck's cards (front, back, tags); with --apkg, only that
+    /// deck goes into the package.
     #[arg(long, value_name = "ID")]
     pub deck: Option<String>,
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, conflicts_with = "apkg")]
     pub format: Option<ExportFormat>,
+    /// Write an Anki package (.apkg) to FILE: every deck (or --deck ID)
+    /// with its notes, tags, card states and review history.
+    #[arg(long, value_name = "FILE")]
+    pub apkg: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

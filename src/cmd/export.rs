@@ -1,6 +1,7 @@
 //! `flipcard export --reviews [--format json|csv]`,
 //! `flipcard export --attempts [--format json|csv]` and
-//! `flipcard export --deck ID --format csv`.
+//! `flipcard export --deck ID --format csv` and
+//! `flipcard export --apkg FILE [--deck ID]` (an Anki package).
 
 use std::io::Write;
 use std::process::ExitCode;
@@ -30,6 +31,9 @@ pub fn run(cli: &Cli, args: &ExportArgs) -> anyhow::Result<ExitCode> {
         };
         out.flush()?;
         return Ok(verdict(&written, "attempt", "attempts"));
+    }
+    if let Some(file) = &args.apkg {
+        return apkg(cli, file, args.deck.as_deref());
     }
     let Some(id) = &args.deck else {
         anyhow::bail!("say what to export: --reviews, --attempts or --deck ID");
@@ -65,4 +69,31 @@ fn verdict(written: &Written, one: &str, many: &str) -> ExitCode {
         written.rows
     );
     ExitCode::FAILURE
+}
+
+/// `export --apkg FILE [--deck ID]`: the decks loaded (or one), their states
+/// and history as an Anki package, written atomically.
+fn apkg(cli: &Cli, file: &std::path::Path, deck: Option<&str>) -> anyhow::Result<ExitCode> {
+    let loaded = load_decks(cli);
+    let decks: Vec<&crate::deck::Deck> = match deck {
+        Some(id) => vec![find_deck(&loaded, id)?],
+        None => loaded.decks.iter().collect(),
+    };
+    if decks.is_empty() {
+        anyhow::bail!("no decks loaded: nothing to export");
+    }
+    let store = open_store_read_only(cli)?;
+    let now = crate::cmd::clock::now()?;
+    let (bytes, summary) = crate::interop::apkg::write_apkg(&decks, &store, "en", now)?;
+    crate::io::write_atomic(file, &bytes, crate::io::Durability::Synced)
+        .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", file.display()))?;
+    crate::outln!(
+        "wrote {}: {}, {}, {}, {}",
+        file.display(),
+        plural(summary.decks, "deck", "decks"),
+        plural(summary.notes, "note", "notes"),
+        plural(summary.cards, "card", "cards"),
+        plural(summary.reviews, "review", "reviews")
+    )?;
+    Ok(ExitCode::SUCCESS)
 }

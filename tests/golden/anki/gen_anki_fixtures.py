@@ -4,8 +4,9 @@
 Needs the PyPI packages genanki (the legacy layout), anki (Anki's own
 library, for the current zstd layout) and zstandard:
 
-    pip install genanki anki zstandard
+    pip install anki==26.9.3 genanki==0.13.1 zstandard==0.25.0
     python3 tests/golden/anki/gen_anki_fixtures.py tests/golden/anki
+    python3 tests/golden/anki/gen_anki_fixtures.py tests/golden/anki stock   # stock.* only
 
 Writes:
 - legacy.apkg     genanki's collection.anki2 (schema 11): Basic, Basic (and
@@ -17,7 +18,21 @@ Writes:
 - unknown-type.apkg  a note type with three fields;
 - damaged.apkg    a collection whose pages are overwritten;
 - bomb.apkg       a zstd collection that unpacks to 600 MiB of zeros;
-- not-a-zip.apkg  plain text.
+- not-a-zip.apkg  plain text;
+- stock.apkg      made by Anki itself (`stock(out)`): every stock note type
+                  (Basic, Basic (and reversed card), Basic (optional reversed
+                  card), Basic (type in the answer), Cloze) and a custom one,
+                  deletions inside MathJax, <sup>/<sub>, bold and italic, a
+                  list, a table, an empty field, suspended, buried, flagged
+                  and leech cards, review history with their due dates and
+                  intervals set as Anki's scheduler leaves them, FSRS on,
+                  changed deck options, sub-decks and a deck named like a
+                  bundled one. `stock.json` beside it holds what the tests
+                  compare with (due dates, revlog ids and eases, fields),
+                  read from Anki. Anki's scheduler runs on this machine's
+                  clock (only the answer times are set), so due dates and
+                  ids differ from one generation to the next: the tests
+                  read them from stock.json, never hard-code them.
 Deterministic apart from Anki's own ids in modern.* (the tests read them
 through the notes' content, not their ids).
 """
@@ -199,8 +214,143 @@ def broken(out):
         f.write("front,back\nthis is a CSV file, not an Anki package\n")
 
 
+# (deck, note type, fields, tags)
+STOCK_NOTES = [
+    ("Physics::Waves", "Basic", ["Speed of light in vacuum", "<b>c</b> = 3.00 × 10<sup>8</sup> m/s"], ["constants"]),
+    ("Physics::Waves", "Basic", ["Bohr radius", "a<sub>0</sub> ≈ 5.3 × 10<sup>−11</sup> m, about <i>half</i> an ångström"], []),
+    ("Physics::Waves", "Basic (and reversed card)", ["<i>Snell's law</i>", "n<sub>1</sub> sin θ<sub>1</sub> = n<sub>2</sub> sin θ<sub>2</sub>"], ["optics"]),
+    ("Physics::Waves", "Basic (optional reversed card)", ["Hooke's law", "F = −kx", "y"], []),
+    ("Physics::Waves", "Basic (optional reversed card)", ["Unit of frequency", "hertz", ""], []),
+    ("Physics::Waves", "Basic (type in the answer)", ["SI unit of force", "newton"], []),
+    ("Physics::Waves", "Cloze", ["Hooke's law: \\(F = -{{c1::k}} x\\)", ""], []),
+    ("Physics::Waves", "Cloze", ["The {{c1::speed of light}} is \\(c = 1/\\sqrt{ {{c2::\\mu_0\\varepsilon_0}} }\\)", "Maxwell, 1865"], ["em"]),
+    ("Physics::Waves", "Basic", ["Base quantities of mechanics", "<ul><li>mass</li><li>length</li><li>time</li></ul>"], []),
+    ("Physics::Waves", "Basic", ["Units", "<table><tr><td>Force</td><td>N</td></tr><tr><td>Energy</td><td>J</td></tr></table>"], []),
+    ("Physics::Waves", "Basic", ["Nothing on the back", ""], []),
+    ("Physics::Waves", "Basic", ["<img src=\"only.png\">", "a picture only"], []),
+    ("Physics::Waves", "Basic", ["Expectation value of the energy", "\\(\\bra{\\psi} H \\ket{\\psi}\\) costs $0"], []),
+    ("Oscillations", "Physics constant", ["Planck constant", "h", "6.626 × 10<sup>−34</sup> J s"], ["constants"]),
+    ("Oscillations", "Basic", ["Period of a pendulum", "\\(T = 2\\pi\\sqrt{L/g}\\)"], ["leech"]),
+]
+
+# Answers per (note index, card ord): [(days after T0, ease)], answered
+# through Anki's own scheduler (its clock set to each answer's time).
+STOCK_REVLOG = {
+    (0, 0): [(0, 3), (1, 3), (4, 3), (12, 3)],
+    (1, 0): [(0, 3), (2, 4)],
+    (2, 0): [(0, 3), (1, 3), (5, 3)],
+    (2, 1): [(0, 1), (0.01, 3), (1, 3)],
+    (3, 1): [(0, 3), (3, 3)],
+    (5, 0): [(0, 4)],
+    (6, 0): [(0, 3), (3, 3)],
+    (7, 1): [(0, 3), (1, 3), (2, 1), (2.01, 3), (5, 3), (9, 3), (20, 3), (30, 3), (40, 3), (45, 3), (50, 3), (52, 3)],
+    (13, 0): [(0, 3), (2, 3)],
+    (14, 0): [(0, 3), (1, 1), (1.01, 3), (3, 1), (3.01, 3), (6, 1), (6.01, 3)],
+}
+
+
+def stock(out):
+    """A collection made and scheduled by Anki itself (see the module doc)."""
+    import json
+    import time
+    from unittest import mock
+    from anki.collection import Collection, ExportAnkiPackageOptions
+    from anki.collection import DeckIdLimit
+
+    with tempfile.TemporaryDirectory() as d:
+        col = Collection(os.path.join(d, "collection.anki2"))
+        col.set_config("fsrs", True)
+        # The collection's day 0 is T0's day (its day numbers count from it).
+        col.db.execute("UPDATE col SET crt = ?", T0 // 1000 - 4 * 3600)
+        custom = col.models.new("Physics constant")
+        for name in ["Name", "Symbol", "Value"]:
+            col.models.add_field(custom, col.models.new_field(name))
+        tmpl = col.models.new_template("Card 1")
+        tmpl["qfmt"] = "{{Name}}"
+        tmpl["afmt"] = "{{FrontSide}}<hr id=answer>{{Symbol}} = {{Value}}"
+        col.models.add_template(custom, tmpl)
+        col.models.add(custom)
+        waves = col.decks.id("Physics::Waves")
+        osc = col.decks.id("Oscillations")
+        conf = col.decks.add_config_returning_id("Physics preset")
+        c = col.decks.get_config(conf)
+        c["new"]["perDay"] = 7
+        c["rev"]["perDay"] = 70
+        c["new"]["delays"] = [2.0, 15.0]
+        c["lapse"]["delays"] = [5.0]
+        c["desiredRetention"] = 0.85
+        c["fsrsParams6"] = [0.2172, 1.1771, 3.2602, 16.1507, 7.0114, 0.57, 2.0966, 0.0069, 1.5261,
+                            0.112, 1.0178, 1.849, 0.1133, 0.3127, 2.2934, 0.2191, 3.0004, 0.7536,
+                            0.3332, 0.1437, 0.2]
+        col.decks.update_config(c)
+        deck = col.decks.get(waves)
+        deck["conf"] = conf
+        col.decks.save(deck)
+        with open(os.path.join(col.media.dir(), "only.png"), "wb") as f:
+            f.write(b"\x89PNG\r\n\x1a\n" + b"\0" * 16)
+        nids = []
+        for deck_name, kind, fields, tags in STOCK_NOTES:
+            note = col.new_note(col.models.by_name(kind))
+            for i, value in enumerate(fields):
+                note.fields[i] = value
+            note.tags = tags
+            col.add_note(note, waves if deck_name == "Physics::Waves" else osc)
+            nids.append(note.id)
+        cards = {}
+        for i, nid in enumerate(nids):
+            for cid, ord_ in col.db.all("SELECT id, ord FROM cards WHERE nid = ?", nid):
+                cards[(i, ord_)] = cid
+        # Answer through Anki's scheduler, in time order, at each answer's time.
+        answers = sorted(
+            (T0 + int(days * DAY) + i * 60_000 + o * 7_000, i, o, ease)
+            for (i, o), rows in STOCK_REVLOG.items()
+            for days, ease in rows
+        )
+        for at, i, o, ease in answers:
+            with mock.patch("time.time", return_value=at / 1000):
+                card = col.get_card(cards[(i, o)])
+                card.start_timer()
+                states = col._backend.get_scheduling_states(card.id)
+                rating = {1: 0, 2: 1, 3: 2, 4: 3}[ease]
+                from anki.scheduler_pb2 import CardAnswer
+                answer = col.sched.build_answer(card=card, states=states, rating=rating)
+                answer.answered_at_millis = at
+                answer.milliseconds_taken = 5000 + i * 100
+                col.sched.answer_card(answer)
+        col.sched.suspend_cards([cards[(1, 0)]])
+        col.sched.bury_cards([cards[(5, 0)]], manual=True)
+        col.set_user_flag_for_cards(1, [cards[(0, 0)]])
+        col.set_user_flag_for_cards(4, [cards[(2, 1)]])
+        path = os.path.join(out, "stock.apkg")
+        col.export_anki_package(
+            out_path=path,
+            options=ExportAnkiPackageOptions(with_scheduling=True, with_deck_configs=True, with_media=True, legacy=False),
+            limit=None,
+        )
+        # What the tests compare with, as Anki has it.
+        crt = col.db.scalar("SELECT crt FROM col")
+        expect = {"crt": crt, "made_at": int(time.time()), "cards": []}
+        for (i, o), cid in sorted(cards.items()):
+            ctype, queue, due, ivl, flags, data = col.db.first("SELECT type, queue, due, ivl, flags, data FROM cards WHERE id = ?", cid)
+            revlog = col.db.list("SELECT id FROM revlog WHERE cid = ? ORDER BY id", cid)
+            eases = col.db.list("SELECT ease FROM revlog WHERE cid = ? ORDER BY id", cid)
+            fields = col.get_note(nids[i]).fields
+            expect["cards"].append({"note": i, "nid": nids[i], "note_type": STOCK_NOTES[i][1], "ord": o,
+                                    "front": STOCK_NOTES[i][2][0], "type": ctype, "queue": queue,
+                                    "due": due, "ivl": ivl, "flags": flags, "data": data, "revlog": revlog,
+                                    "eases": eases, "fields": fields})
+        with open(os.path.join(out, "stock.json"), "w") as f:
+            json.dump(expect, f, indent=1, ensure_ascii=False)
+            f.write("\n")
+        col.close()
+
+
 if __name__ == "__main__":
     os.makedirs(OUT, exist_ok=True)
+    if sys.argv[2:] == ["stock"]:
+        stock(OUT)
+        sys.exit(0)
     legacy(OUT)
     modern(OUT)
     broken(OUT)
+    stock(OUT)

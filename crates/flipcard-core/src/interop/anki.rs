@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use chrono::{DateTime, Utc};
+use chrono::{DateTime, Datelike, Utc};
 use rusqlite::limits::Limit;
 use rusqlite::{Connection, OpenFlags, OptionalExtension};
 
@@ -34,7 +34,7 @@ use crate::deck::cloze::MAX_NUMBER;
 use crate::deck::csv::{MAX_FIELD_BYTES, slug, toml_string};
 use crate::sched::clock::check_event_time;
 use crate::sched::{Direction, ItemKey, Rating};
-use crate::store::merge::IncomingReview;
+use crate::store::merge::{IncomingReview, KeptState};
 
 /// The largest collection unpacked (compressed size does not matter).
 pub(crate) const MAX_COLLECTION_BYTES: u64 = 512 << 20;
@@ -63,15 +63,6 @@ pub enum AnkiError {
         entry: String,
         detail: String,
     },
-    #[error(
-        "{path}: note type {name:?} ({fields} fields, {templates} card types) is not Basic, Basic (and reversed card) or Cloze; nothing imported"
-    )]
-    UnknownNoteType {
-        path: PathBuf,
-        name: String,
-        fields: usize,
-        templates: usize,
-    },
     #[error("{path}: the collection has no notes to import")]
     Empty { path: PathBuf },
     #[error("{path}: revlog row {id}: the answer time {detail}; nothing imported")]
@@ -80,24 +71,6 @@ pub enum AnkiError {
         id: i64,
         detail: String,
     },
-    #[error(
-        "{path}: note {note}: field {field} is {mib} MiB of text; a card's text may be at most {limit} MiB; nothing imported",
-        limit = MAX_FIELD_BYTES >> 20
-    )]
-    FieldTooLarge {
-        path: PathBuf,
-        note: i64,
-        field: usize,
-        mib: usize,
-    },
-}
-
-/// What a note type is to flipcard.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Kind {
-    Basic,
-    Reversed,
-    Cloze,
 }
 
 /// One deck made from the package.
@@ -109,6 +82,8 @@ pub struct ImportedDeck {
     /// The deck file's text.
     pub toml: String,
     pub cards: usize,
+    /// The options (preset) the Anki deck had.
+    pub options: Option<DeckOptions>,
 }
 
 /// Everything taken from a package.
@@ -130,6 +105,17 @@ pub struct AnkiImport {
     pub reviews_skipped: usize,
     /// Cloze notes left out (read with `with_cloze` false).
     pub cloze_left_out: usize,
+    /// Every note type used, and what its notes became.
+    pub note_types: Vec<MappedType>,
+    /// Notes that could not be converted, each with why.
+    pub skipped: Vec<SkippedNote>,
+    /// Fields whose math flipcard cannot render (kept as text).
+    pub math_not_rendered: Vec<UnrenderedMath>,
+    /// Suspended, buried, flagged and leech cards, and each card's due
+    /// date as Anki had it.
+    pub states: KeptStates,
+    /// Decks named like a bundled deck, given another id.
+    pub renamed: Vec<RenamedDeck>,
 }
 
 /// A card of a note, as the review log names it.
@@ -140,12 +126,14 @@ struct CardRef {
 }
 
 /// Reads a package. With `with_cloze` false, Cloze notes are counted but
-/// left out (for decks that have no cloze cards).
+/// left out (for decks that have no cloze cards). No deck gets an id of
+/// `reserved` (the bundled decks'): such a deck is renamed, and said so.
 /// `now` is this machine's clock: an answer in the revlog dated after it
 /// (by more than a day) or before 1970 is refused.
 pub fn read_package(
     path: &Path,
     with_cloze: bool,
+    reserved: &HashSet<String>,
     now: DateTime<Utc>,
 ) -> Result<AnkiImport, AnkiError> {
     let file = crate::deck::files::open_regular(path).map_err(|source| AnkiError::Read {
@@ -269,7 +257,7 @@ pub fn read_package(
             first.join("; ")
         )));
     }
-    let mut out = read_collection(&conn, path, with_cloze, now).map_err(|e| match e {
+    let mut out = read_collection(&conn, path, with_cloze, reserved, now).map_err(|e| match e {
         ReadError::Sql(e) => sql(e),
         ReadError::Bad(detail) => damaged(detail),
         ReadError::Anki(e) => e,
@@ -330,7 +318,7 @@ fn open_in_memory(bytes: &[u8]) -> rusqlite::Result<(Connection, Arc<AtomicU64>)
 const MAX_VALUE_BYTES: i32 = 64 << 20;
 
 /// The tables this import reads, in either layout.
-const TABLES_READ: [&str; 8] = [
+const TABLES_READ: [&str; 9] = [
     "col",
     "notes",
     "cards",
@@ -339,6 +327,7 @@ const TABLES_READ: [&str; 8] = [
     "fields",
     "templates",
     "decks",
+    "deck_config",
 ];
 
 /// Refuses a collection in which a name this import reads is not a plain
@@ -410,214 +399,759 @@ fn has_table(conn: &Connection, name: &str) -> rusqlite::Result<bool> {
     .map(|n| n > 0)
 }
 
-/// (note types by id as (name, kind, fields, templates), deck names by id)
-type Catalog = (
-    HashMap<i64, (String, bool, usize, usize)>,
-    HashMap<i64, String>,
-);
+/// A note type, as either layout stores it.
+#[derive(Debug, Clone, Default)]
+struct NoteType {
+    name: String,
+    cloze: bool,
+    /// Field names, in order.
+    fields: Vec<String>,
+    /// Each card type's question template, in order.
+    questions: Vec<String>,
+    /// Anki's `originalStockKind` (1 Basic, 2 and reversed, 3 optional
+    /// reversed, 4 type in the answer, 5 Cloze, 6 Image Occlusion), kept by
+    /// Anki on its stock note types and their copies.
+    stock: Option<u64>,
+}
+
+/// A deck of the collection: its name (levels joined by `::`) and its
+/// options' id.
+struct DeckInfo {
+    name: String,
+    config: Option<i64>,
+}
+
+/// Deck options as Anki had them (Anki's "preset").
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct DeckOptions {
+    /// The preset's name in Anki.
+    pub preset: String,
+    pub new_per_day: Option<u32>,
+    pub reviews_per_day: Option<u32>,
+    /// Steps in minutes.
+    pub learning_steps: Vec<f64>,
+    pub relearning_steps: Vec<f64>,
+    pub desired_retention: Option<f64>,
+    /// FSRS parameters (the newest set Anki kept: 21 for FSRS-6).
+    pub fsrs_parameters: Vec<f64>,
+}
+
+struct Catalog {
+    types: HashMap<i64, NoteType>,
+    decks: HashMap<i64, DeckInfo>,
+    options: HashMap<i64, DeckOptions>,
+    /// The collection's day 0 (seconds): review due dates count from it.
+    crt: i64,
+}
+
+/// Steps read from Anki (minutes), finite and positive, at most 20.
+fn steps(v: impl IntoIterator<Item = f64>) -> Vec<f64> {
+    v.into_iter()
+        .filter(|m| m.is_finite() && *m > 0.0 && *m < 1e7)
+        .take(20)
+        .collect()
+}
+
+fn per_day(v: Option<i64>) -> Option<u32> {
+    v.and_then(|n| u32::try_from(n).ok())
+        .filter(|n| *n <= 1_000_000)
+}
+
+fn retention(v: Option<f64>) -> Option<f64> {
+    v.filter(|r| r.is_finite() && (0.5..=0.999).contains(r))
+}
+
+fn fsrs_params(v: Vec<f64>) -> Vec<f64> {
+    if v.len() <= 21 && v.iter().all(|w| w.is_finite()) {
+        v
+    } else {
+        Vec::new()
+    }
+}
 
 fn catalog_legacy(conn: &Connection) -> Result<Catalog, ReadError> {
-    let (models, decks): (String, String) =
-        conn.query_row("SELECT models, decks FROM col", [], |r| {
-            Ok((r.get(0)?, r.get(1)?))
-        })?;
+    let (models, decks, dconf, crt): (String, String, String, i64) = conn.query_row(
+        "SELECT models, decks, coalesce(dconf, '{}'), crt FROM col",
+        [],
+        |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?, r.get(3)?)),
+    )?;
     let bad = |what: &str, e: serde_json::Error| ReadError::Bad(format!("col.{what}: {e}"));
     let models: serde_json::Value = serde_json::from_str(&models).map_err(|e| bad("models", e))?;
     let decks: serde_json::Value = serde_json::from_str(&decks).map_err(|e| bad("decks", e))?;
+    // Options are no reason to refuse the notes: unreadable ones are none.
+    let dconf: serde_json::Value = serde_json::from_str(&dconf).unwrap_or_default();
     let mut types = HashMap::new();
     for (id, m) in models.as_object().into_iter().flatten() {
         let id: i64 = id
             .parse()
             .map_err(|_| ReadError::Bad(format!("note type id {id:?}")))?;
-        let count = |k: &str| m[k].as_array().map_or(0, Vec::len);
+        let strings = |list: &str, key: &str| -> Vec<String> {
+            m[list]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .map(|x| x[key].as_str().unwrap_or("").to_string())
+                .collect()
+        };
         types.insert(
             id,
-            (
-                m["name"].as_str().unwrap_or("?").to_string(),
-                m["type"].as_i64() == Some(1),
-                count("flds"),
-                count("tmpls"),
-            ),
+            NoteType {
+                name: m["name"].as_str().unwrap_or("?").to_string(),
+                cloze: m["type"].as_i64() == Some(1),
+                fields: strings("flds", "name"),
+                questions: strings("tmpls", "qfmt"),
+                stock: m["originalStockKind"].as_u64(),
+            },
         );
     }
     let mut names = HashMap::new();
     for (id, d) in decks.as_object().into_iter().flatten() {
         if let (Ok(id), Some(name)) = (id.parse::<i64>(), d["name"].as_str()) {
-            names.insert(id, name.to_string());
+            names.insert(
+                id,
+                DeckInfo {
+                    name: name.to_string(),
+                    config: d["conf"].as_i64(),
+                },
+            );
         }
     }
-    Ok((types, names))
+    let mut options = HashMap::new();
+    for (id, c) in dconf.as_object().into_iter().flatten() {
+        let Ok(id) = id.parse::<i64>() else { continue };
+        let floats = |v: &serde_json::Value| -> Vec<f64> {
+            v.as_array()
+                .into_iter()
+                .flatten()
+                .filter_map(serde_json::Value::as_f64)
+                .collect()
+        };
+        let params = ["fsrsParams6", "fsrsParams5", "fsrsWeights"]
+            .into_iter()
+            .map(|k| floats(&c[k]))
+            .find(|v| !v.is_empty())
+            .unwrap_or_default();
+        options.insert(
+            id,
+            DeckOptions {
+                preset: plain(c["name"].as_str().unwrap_or("")),
+                new_per_day: per_day(c["new"]["perDay"].as_i64()),
+                reviews_per_day: per_day(c["rev"]["perDay"].as_i64()),
+                learning_steps: steps(floats(&c["new"]["delays"])),
+                relearning_steps: steps(floats(&c["lapse"]["delays"])),
+                desired_retention: retention(c["desiredRetention"].as_f64()),
+                fsrs_parameters: fsrs_params(params),
+            },
+        );
+    }
+    Ok(Catalog {
+        types,
+        decks: names,
+        options,
+        crt,
+    })
 }
 
 fn catalog_v18(conn: &Connection) -> Result<Catalog, ReadError> {
-    let mut types = HashMap::new();
-    let mut st = conn.prepare(
-        "SELECT id, name, config, \
-           (SELECT count(*) FROM fields f WHERE f.ntid = n.id), \
-           (SELECT count(*) FROM templates t WHERE t.ntid = n.id) \
-         FROM notetypes n",
-    )?;
+    let mut types: HashMap<i64, NoteType> = HashMap::new();
+    let mut st = conn.prepare("SELECT id, name, config FROM notetypes")?;
     let mut rows = st.query([])?;
     while let Some(r) = rows.next()? {
         let config: Vec<u8> = r.get(2)?;
         types.insert(
             r.get::<_, i64>(0)?,
-            (
-                r.get::<_, String>(1)?,
-                proto_varint(&config, 1) == Some(1),
-                r.get::<_, i64>(3)? as usize,
-                r.get::<_, i64>(4)? as usize,
-            ),
+            NoteType {
+                name: r.get::<_, String>(1)?,
+                cloze: proto_varint(&config, 1) == Some(1),
+                stock: proto_varint(&config, 9).filter(|k| *k > 0),
+                ..NoteType::default()
+            },
         );
     }
-    let mut names = HashMap::new();
-    let mut st = conn.prepare("SELECT id, name FROM decks")?;
+    let mut st = conn.prepare("SELECT ntid, name FROM fields ORDER BY ntid, ord")?;
     let mut rows = st.query([])?;
     while let Some(r) = rows.next()? {
-        // Levels are joined by U+001F in this schema.
-        names.insert(r.get(0)?, r.get::<_, String>(1)?.replace('\u{1f}', "::"));
+        if let Some(t) = types.get_mut(&r.get::<_, i64>(0)?) {
+            t.fields.push(r.get(1)?);
+        }
     }
-    Ok((types, names))
+    let mut st = conn.prepare("SELECT ntid, config FROM templates ORDER BY ntid, ord")?;
+    let mut rows = st.query([])?;
+    while let Some(r) = rows.next()? {
+        let config: Vec<u8> = r.get(1)?;
+        if let Some(t) = types.get_mut(&r.get::<_, i64>(0)?) {
+            let q = proto_fields(&config)
+                .into_iter()
+                .find_map(|(f, v)| match (f, v) {
+                    (1, Proto::Bytes(b)) => Some(String::from_utf8_lossy(b).into_owned()),
+                    _ => None,
+                })
+                .unwrap_or_default();
+            t.questions.push(q);
+        }
+    }
+    let mut names = HashMap::new();
+    let mut st = conn.prepare("SELECT id, name, kind FROM decks")?;
+    let mut rows = st.query([])?;
+    while let Some(r) = rows.next()? {
+        let kind: Vec<u8> = r.get::<_, Option<Vec<u8>>>(2)?.unwrap_or_default();
+        // DeckKind: field 1 is a normal deck, whose field 1 is its options.
+        let config = proto_fields(&kind)
+            .into_iter()
+            .find_map(|(f, v)| match (f, v) {
+                (1, Proto::Bytes(normal)) => proto_varint(normal, 1).map(|c| c as i64),
+                _ => None,
+            });
+        // Levels are joined by U+001F in this schema.
+        names.insert(
+            r.get(0)?,
+            DeckInfo {
+                name: r.get::<_, String>(1)?.replace('\u{1f}', "::"),
+                config,
+            },
+        );
+    }
+    let mut options = HashMap::new();
+    if has_table(conn, "deck_config")? {
+        let mut st = conn.prepare("SELECT id, name, config FROM deck_config")?;
+        let mut rows = st.query([])?;
+        while let Some(r) = rows.next()? {
+            let config: Vec<u8> = r.get::<_, Option<Vec<u8>>>(2)?.unwrap_or_default();
+            let mut o = DeckOptions {
+                preset: plain(&r.get::<_, String>(1)?),
+                ..DeckOptions::default()
+            };
+            let (mut p5, mut p6) = (Vec::new(), Vec::new());
+            for (f, v) in proto_fields(&config) {
+                match (f, v) {
+                    (1, v) => o.learning_steps.extend(v.floats()),
+                    (2, v) => o.relearning_steps.extend(v.floats()),
+                    (5, v) => p5.extend(v.floats()),
+                    (6, v) => p6.extend(v.floats()),
+                    (9, Proto::Varint(n)) => o.new_per_day = per_day(i64::try_from(n).ok()),
+                    (10, Proto::Varint(n)) => o.reviews_per_day = per_day(i64::try_from(n).ok()),
+                    (37, Proto::Fixed32(x)) => {
+                        o.desired_retention = retention(Some(f64::from(f32::from_bits(x))))
+                    }
+                    _ => {}
+                }
+            }
+            o.learning_steps = steps(o.learning_steps);
+            o.relearning_steps = steps(o.relearning_steps);
+            o.fsrs_parameters = fsrs_params(if p6.is_empty() { p5 } else { p6 });
+            options.insert(r.get(0)?, o);
+        }
+    }
+    let crt: i64 = conn.query_row("SELECT crt FROM col", [], |r| r.get(0))?;
+    Ok(Catalog {
+        types,
+        decks: names,
+        options,
+        crt,
+    })
+}
+
+/// One top-level value of a protobuf message.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Proto<'a> {
+    Varint(u64),
+    Fixed64(u64),
+    Bytes(&'a [u8]),
+    Fixed32(u32),
+}
+
+impl Proto<'_> {
+    /// The floats this value holds: one (`fixed32`) or a packed list.
+    fn floats(self) -> Vec<f64> {
+        match self {
+            Proto::Fixed32(x) => vec![f64::from(f32::from_bits(x))],
+            Proto::Bytes(b) if b.len() % 4 == 0 => b
+                .chunks_exact(4)
+                .map(|c| f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])))
+                .collect(),
+            _ => Vec::new(),
+        }
+    }
+}
+
+fn varint(buf: &mut &[u8]) -> Option<u64> {
+    let mut v = 0u64;
+    for shift in (0..64).step_by(7) {
+        let (&b, rest) = buf.split_first()?;
+        *buf = rest;
+        v |= u64::from(b & 0x7f) << shift;
+        if b & 0x80 == 0 {
+            return Some(v);
+        }
+    }
+    None
+}
+
+/// The top-level fields of a protobuf message, in order; reading stops at
+/// the first that cannot be read (a damaged message gives what came before).
+fn proto_fields(mut buf: &[u8]) -> Vec<(u64, Proto<'_>)> {
+    let mut out = Vec::new();
+    while !buf.is_empty() {
+        let Some(key) = varint(&mut buf) else { break };
+        let value = match key & 7 {
+            0 => varint(&mut buf).map(Proto::Varint),
+            1 => buf.get(..8).map(|b| {
+                let v = u64::from_le_bytes(b.try_into().unwrap_or([0; 8]));
+                buf = &buf[8..];
+                Proto::Fixed64(v)
+            }),
+            2 => varint(&mut buf).and_then(|n| {
+                let n = usize::try_from(n).ok()?;
+                let b = buf.get(..n)?;
+                buf = &buf[n..];
+                Some(Proto::Bytes(b))
+            }),
+            5 => buf.get(..4).map(|b| {
+                let v = u32::from_le_bytes(b.try_into().unwrap_or([0; 4]));
+                buf = &buf[4..];
+                Proto::Fixed32(v)
+            }),
+            _ => None,
+        };
+        let Some(value) = value else { break };
+        out.push((key >> 3, value));
+    }
+    out
 }
 
 /// The value of top-level varint field `field` of a protobuf message
 /// (`None` when absent, i.e. zero).
-fn proto_varint(mut buf: &[u8], field: u64) -> Option<u64> {
-    fn varint(buf: &mut &[u8]) -> Option<u64> {
-        let mut v = 0u64;
-        for shift in (0..64).step_by(7) {
-            let (&b, rest) = buf.split_first()?;
-            *buf = rest;
-            v |= u64::from(b & 0x7f) << shift;
-            if b & 0x80 == 0 {
-                return Some(v);
-            }
+fn proto_varint(buf: &[u8], field: u64) -> Option<u64> {
+    proto_fields(buf).into_iter().find_map(|(f, v)| match v {
+        Proto::Varint(v) if f == field => Some(v),
+        _ => None,
+    })
+}
+
+/// What a note becomes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Basic,
+    Reversed,
+    Cloze,
+    Typed,
+    /// Reversed when its third field is filled, else basic.
+    OptionalReversed,
+    /// A note type of its own: the first field its first card type asks is
+    /// the front, the others (labelled) the back.
+    Custom {
+        front: usize,
+    },
+    /// Image Occlusion: a picture is the card.
+    Image,
+}
+
+/// The kind of a note type: by Anki's stock kind where kept, else by its
+/// name, else by its shape.
+fn kind_of(t: &NoteType) -> Kind {
+    let (fields, templates) = (t.fields.len(), t.questions.len());
+    // A note type made from a stock one keeps its stock kind whatever its
+    // fields became: trusted only with the stock shape.
+    match (t.stock, t.cloze, fields, templates) {
+        (Some(1), false, 2, 1) => return Kind::Basic,
+        (Some(2), false, 2, 2) => return Kind::Reversed,
+        (Some(3), false, 3, 2) => return Kind::OptionalReversed,
+        (Some(4), false, 2, 1) => return Kind::Typed,
+        (Some(5), true, _, _) => return Kind::Cloze,
+        (Some(6), _, _, _) => return Kind::Image,
+        _ => {}
+    }
+    if t.cloze {
+        return Kind::Cloze;
+    }
+    match (t.name.as_str(), fields, templates) {
+        ("Basic", 2, 1) => Kind::Basic,
+        ("Basic (and reversed card)", 2, 2) => Kind::Reversed,
+        ("Basic (optional reversed card)", 3, 2) => Kind::OptionalReversed,
+        ("Basic (type in the answer)", 2, 1) => Kind::Typed,
+        (_, 2, 1) if t.questions[0].contains("{{type:") => Kind::Typed,
+        (_, 2, 1) if first_asked(t) == 0 => Kind::Basic,
+        (_, 2, 2) if first_asked(t) == 0 => Kind::Reversed,
+        _ => Kind::Custom {
+            front: first_asked(t),
+        },
+    }
+}
+
+/// The index of the first field the first card type's question shows
+/// (`{{Name}}`, `{{text:Name}}`, not a `{{#section}}`); the first field when
+/// it names none.
+fn first_asked(t: &NoteType) -> usize {
+    let q = t.questions.first().map_or("", String::as_str);
+    let mut rest = q;
+    while let Some(i) = rest.find("{{") {
+        let after = &rest[i + 2..];
+        let Some(j) = after.find("}}") else { break };
+        let inner = after[..j].trim();
+        rest = &after[j + 2..];
+        if inner.starts_with(['#', '^', '/', '!']) {
+            continue;
         }
-        None
+        let name = inner.rsplit(':').next().unwrap_or(inner).trim();
+        if let Some(k) = t.fields.iter().position(|f| f == name) {
+            return k;
+        }
     }
-    while !buf.is_empty() {
-        let key = varint(&mut buf)?;
-        let skip = match key & 7 {
-            0 => {
-                let v = varint(&mut buf)?;
-                if key >> 3 == field {
-                    return Some(v);
-                }
-                0
-            }
-            1 => 8,
-            2 => varint(&mut buf)? as usize,
-            5 => 4,
-            _ => return None,
-        };
-        buf = buf.get(skip..)?;
+    0
+}
+
+/// What a kind of note type is called in the summary.
+fn kind_word(kind: Kind, t: &NoteType) -> String {
+    match kind {
+        Kind::Basic => "basic".into(),
+        Kind::Reversed => "reversed".into(),
+        Kind::Cloze => "cloze".into(),
+        Kind::Typed => "typed".into(),
+        Kind::OptionalReversed => {
+            "reversed where its Add Reverse field is filled, else basic".into()
+        }
+        Kind::Custom { front } => format!(
+            "basic: front {:?}, the other fields labelled on the back",
+            plain(t.fields.get(front).map_or("", String::as_str))
+        ),
+        Kind::Image => "not imported (image occlusion)".into(),
     }
-    None
+}
+
+/// A note type as it was mapped, for the summary.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MappedType {
+    /// Its name in Anki.
+    pub name: String,
+    /// What its notes became.
+    pub becomes: String,
+    pub notes: usize,
+}
+
+/// A note left out, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SkippedNote {
+    pub note: i64,
+    pub note_type: String,
+    pub why: String,
+}
+
+/// A field whose math flipcard cannot render, kept as text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct UnrenderedMath {
+    pub deck: String,
+    pub card: String,
+    pub field: String,
+}
+
+/// Card states kept: the items to mark (applied by the caller through the
+/// store), and how many cards were flagged (their flags are tags).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct KeptStates {
+    pub suspended: Vec<ItemKey>,
+    pub buried: Vec<ItemKey>,
+    pub leeches: Vec<ItemKey>,
+    pub flagged: usize,
+    /// Due date, interval and memory state of every item with a history.
+    pub due: HashMap<ItemKey, KeptState>,
+}
+
+/// A deck whose id would have been a bundled deck's.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenamedDeck {
+    pub name: String,
+    pub wanted: String,
+    pub id: String,
+}
+
+/// Anki's flag numbers as tags.
+const FLAGS: [&str; 7] = [
+    "flag:red",
+    "flag:orange",
+    "flag:green",
+    "flag:blue",
+    "flag:pink",
+    "flag:turquoise",
+    "flag:purple",
+];
+
+/// One card of the collection, as read.
+struct CardRow {
+    id: i64,
+    nid: i64,
+    ord: i64,
+    deck: i64,
+    kind: i64,
+    queue: i64,
+    due: i64,
+    flags: i64,
+    data: String,
+}
+
+/// The due date Anki gives a card: a day number from the collection's day
+/// 0 for review cards (and learning cards across days), a time in seconds
+/// for learning cards within a day. `None` for a new card or a date out of
+/// range.
+fn anki_due(c: &CardRow, crt: i64) -> Option<DateTime<Utc>> {
+    let secs = match c.kind {
+        2 => crt.checked_add(c.due.checked_mul(86_400)?)?,
+        1 | 3 if c.due > 1_000_000_000 => c.due,
+        1 | 3 => crt.checked_add(c.due.checked_mul(86_400)?)?,
+        _ => return None,
+    };
+    DateTime::<Utc>::from_timestamp(secs, 0).filter(|t| (1970..=9999).contains(&t.year()))
+}
+
+/// The FSRS memory state Anki keeps in a card's `data` (`s`, `d`).
+fn memory_state(data: &str) -> (Option<f64>, Option<f64>) {
+    let v: serde_json::Value = serde_json::from_str(data).unwrap_or_default();
+    (v["s"].as_f64(), v["d"].as_f64())
 }
 
 fn read_collection(
     conn: &Connection,
     path: &Path,
     with_cloze: bool,
+    reserved: &HashSet<String>,
     now: DateTime<Utc>,
 ) -> Result<AnkiImport, ReadError> {
-    let (types, deck_names) = if has_table(conn, "notetypes")? {
+    let catalog = if has_table(conn, "notetypes")? {
         catalog_v18(conn)?
     } else {
         catalog_legacy(conn)?
     };
-    // Every note type in use must be one flipcard knows.
-    let mut note_types: HashMap<i64, Kind> = HashMap::new();
-    let used: Vec<i64> = {
-        let mut st = conn.prepare("SELECT DISTINCT mid FROM notes")?;
-        st.query_map([], |r| r.get(0))?
-            .collect::<rusqlite::Result<_>>()?
-    };
-    for mid in used {
-        let (name, cloze, fields, templates) = types.get(&mid).cloned().ok_or_else(|| {
-            ReadError::Bad(format!("notes use note type {mid}, which is missing"))
-        })?;
-        let kind = match (cloze, fields, templates) {
-            (true, 1..=2, _) => Kind::Cloze,
-            (false, 2, 1) => Kind::Basic,
-            (false, 2, 2) => Kind::Reversed,
-            _ => {
-                return Err(ReadError::Anki(AnkiError::UnknownNoteType {
-                    path: path.to_path_buf(),
-                    name,
-                    fields,
-                    templates,
-                }));
-            }
-        };
-        note_types.insert(mid, kind);
-    }
+    let mut out = AnkiImport::default();
 
-    // A note belongs to the deck of its first card.
-    let mut note_deck: HashMap<i64, i64> = HashMap::new();
+    // Cards by note, in card order; a card in a filtered deck belongs to
+    // its home deck, with its due date there.
+    let mut cards_of: HashMap<i64, Vec<CardRow>> = HashMap::new();
     {
-        let mut st = conn.prepare("SELECT nid, did FROM cards ORDER BY nid, ord")?;
+        let mut st = conn.prepare(
+            "SELECT id, nid, ord, CASE WHEN odid <> 0 THEN odid ELSE did END, type, queue, \
+             CASE WHEN odid <> 0 AND odue <> 0 THEN odue ELSE due END, flags, coalesce(data, '') \
+             FROM cards ORDER BY nid, ord",
+        )?;
         let mut rows = st.query([])?;
         while let Some(r) = rows.next()? {
-            note_deck.entry(r.get(0)?).or_insert(r.get(1)?);
+            let c = CardRow {
+                id: r.get(0)?,
+                nid: r.get(1)?,
+                ord: r.get(2)?,
+                deck: r.get(3)?,
+                kind: r.get(4)?,
+                queue: r.get(5)?,
+                due: r.get(6)?,
+                flags: r.get(7)?,
+                data: r.get(8)?,
+            };
+            cards_of.entry(c.nid).or_default().push(c);
         }
     }
 
     struct Note {
         id: i64,
         kind: Kind,
-        fields: Vec<String>,
+        /// The note type's fields, converted.
+        fields: Vec<(String, bool)>,
         tags: Vec<String>,
+        leech: bool,
+        /// The note type's field names (a custom type labels its back).
+        labels: Vec<String>,
     }
     let mut by_deck: BTreeMap<String, Vec<Note>> = BTreeMap::new();
-    let mut out = AnkiImport::default();
+    let mut mapped: BTreeMap<i64, (usize, BTreeMap<&'static str, usize>)> = BTreeMap::new();
+    let mut seen_any = false;
     {
         let mut st = conn.prepare("SELECT id, mid, flds, tags FROM notes ORDER BY id")?;
         let mut rows = st.query([])?;
         while let Some(r) = rows.next()? {
+            seen_any = true;
             let id: i64 = r.get(0)?;
             let mid: i64 = r.get(1)?;
             let flds: String = r.get(2)?;
             let tags: String = r.get(3)?;
-            let Some(kind) = note_types.get(&mid).copied() else {
+            let Some(t) = catalog.types.get(&mid) else {
+                out.skipped.push(SkippedNote {
+                    note: id,
+                    note_type: format!("#{mid}"),
+                    why: "its note type is missing from the collection".into(),
+                });
                 continue;
             };
+            let kind = kind_of(t);
+            let skip = |why: String| SkippedNote {
+                note: id,
+                note_type: plain(&t.name),
+                why,
+            };
+            if kind == Kind::Image {
+                out.skipped.push(skip(
+                    "an image occlusion note is a picture, which flipcard cannot show".into(),
+                ));
+                mapped.entry(mid).or_default().0 += 1;
+                continue;
+            }
             if kind == Kind::Cloze && !with_cloze {
                 out.cloze_left_out += 1;
                 continue;
             }
-            let deck = note_deck
-                .get(&id)
-                .and_then(|d| deck_names.get(d))
-                .cloned()
+            let mut fields = Vec::new();
+            let mut too_large = None;
+            for (i, html) in flds.split('\u{1f}').enumerate() {
+                let (text, media, rendered) = html_to_text(html, kind == Kind::Cloze);
+                out.media_refs += media;
+                if text.len() > MAX_FIELD_BYTES {
+                    too_large = Some((i, text.len()));
+                }
+                fields.push((text, rendered));
+            }
+            if let Some((i, len)) = too_large {
+                out.skipped.push(skip(format!(
+                    "field {} is {} MiB of text; a card's text may be at most {} MiB",
+                    i + 1,
+                    len.div_ceil(1 << 20),
+                    MAX_FIELD_BYTES >> 20
+                )));
+                continue;
+            }
+            let text = |i: usize| fields.get(i).map_or("", |f| f.0.as_str());
+            let kind = match kind {
+                Kind::OptionalReversed if text(2).is_empty() => Kind::Basic,
+                Kind::OptionalReversed => Kind::Reversed,
+                Kind::Typed if text(1).is_empty() => Kind::Basic,
+                k => k,
+            };
+            let front = match kind {
+                Kind::Custom { front } => front,
+                _ => 0,
+            };
+            if text(front).is_empty() {
+                let why = if flds
+                    .split('\u{1f}')
+                    .nth(front)
+                    .unwrap_or("")
+                    .trim()
+                    .is_empty()
+                {
+                    "its front is empty"
+                } else {
+                    "its front is only media, which is not imported"
+                };
+                out.skipped.push(skip(why.into()));
+                continue;
+            }
+            if kind == Kind::Cloze {
+                match crate::deck::cloze::parse(text(0)) {
+                    Err(e) => {
+                        out.skipped.push(skip(format!(
+                            "its cloze text cannot be read ({})",
+                            flipcard_text::safe::one_line(&e.message)
+                        )));
+                        continue;
+                    }
+                    Ok(pieces)
+                        if !pieces
+                            .iter()
+                            .any(|p| matches!(p, crate::deck::cloze::Piece::Deletion { .. })) =>
+                    {
+                        out.skipped
+                            .push(skip("its text has no cloze deletion".into()));
+                        continue;
+                    }
+                    Ok(_) => {}
+                }
+            }
+            let entry = mapped.entry(mid).or_default();
+            entry.0 += 1;
+            *entry
+                .1
+                .entry(match kind {
+                    Kind::Basic | Kind::Custom { .. } => "basic",
+                    Kind::Reversed => "reversed",
+                    Kind::Cloze => "cloze",
+                    _ => "typed",
+                })
+                .or_default() += 1;
+            let cards = cards_of.get(&id).map_or(&[][..], Vec::as_slice);
+            let deck = cards
+                .first()
+                .and_then(|c| catalog.decks.get(&c.deck))
+                .map(|d| d.name.clone())
                 .unwrap_or_else(|| "Default".to_string());
+            let mut tags: Vec<String> = tags
+                .split_whitespace()
+                .map(tag)
+                .filter(|t| !t.is_empty())
+                .collect();
+            let leech = tags.iter().any(|t| t.eq_ignore_ascii_case("leech"));
+            tags.retain(|t| !t.eq_ignore_ascii_case("leech"));
+            for c in cards {
+                if let Some(flag) = usize::try_from(c.flags & 7)
+                    .ok()
+                    .and_then(|f| f.checked_sub(1))
+                    .and_then(|f| FLAGS.get(f))
+                {
+                    out.states.flagged += 1;
+                    if !tags.iter().any(|t| t == flag) {
+                        tags.push(flag.to_string());
+                    }
+                }
+            }
             by_deck.entry(deck).or_default().push(Note {
                 id,
                 kind,
-                fields: flds.split('\u{1f}').map(str::to_string).collect(),
-                tags: tags
-                    .split_whitespace()
-                    .map(tag)
-                    .filter(|t| !t.is_empty())
-                    .collect(),
+                fields,
+                tags,
+                leech,
+                labels: t.fields.clone(),
             });
             out.notes += 1;
         }
     }
-    if out.notes == 0 && out.cloze_left_out == 0 {
+    if !seen_any {
         return Err(ReadError::Anki(AnkiError::Empty {
             path: path.to_path_buf(),
         }));
     }
+    for (mid, (notes, kinds)) in &mapped {
+        let t = &catalog.types[mid];
+        let kind = kind_of(t);
+        let becomes = if kind == Kind::OptionalReversed {
+            kinds
+                .iter()
+                .map(|(k, n)| format!("{k} ({n})"))
+                .collect::<Vec<_>>()
+                .join(", ")
+                + " by its Add Reverse field"
+        } else {
+            kind_word(kind, t)
+        };
+        out.note_types.push(MappedType {
+            name: plain(&t.name),
+            becomes,
+            notes: *notes,
+        });
+    }
 
-    // Deck ids from the names, unique.
-    let mut taken = HashSet::new();
+    // Deck ids from the names, unique, none a bundled deck's.
+    let mut taken: HashSet<String> = reserved.clone();
     // Where each base's count stopped: many names of one slug take one
     // step each.
     let mut next_of: HashMap<String, u64> = HashMap::new();
     let mut card_of_note: HashMap<i64, (String, String, Kind)> = HashMap::new();
+    let deck_options: HashMap<&str, &DeckOptions> = catalog
+        .decks
+        .values()
+        .filter_map(|d| Some((d.name.as_str(), catalog.options.get(&d.config?)?)))
+        .collect();
+    let mut leech_notes = HashSet::new();
     for (name, notes) in &by_deck {
-        let base = slug(&name.replace("::", " "));
+        let wanted = slug(&name.replace("::", " "));
+        let base = if reserved.contains(&wanted) {
+            format!("{wanted}-anki")
+        } else {
+            wanted.clone()
+        };
         let n = next_of.entry(base.clone()).or_insert(1);
         let mut id = if *n == 1 {
             base.clone()
@@ -628,6 +1162,13 @@ fn read_collection(
             *n += 1;
             id = format!("{base}-{n}");
         }
+        if reserved.contains(&wanted) {
+            out.renamed.push(RenamedDeck {
+                name: plain(name),
+                wanted,
+                id: id.clone(),
+            });
+        }
         let mut text = String::new();
         text.push_str("# Imported from Anki");
         text.push_str(&format!(" (deck {name:?}).\n[deck]\n"));
@@ -636,30 +1177,47 @@ fn read_collection(
         text.push_str("languages = [\"en\"]\n");
         for note in notes {
             let card_id = format!("n{}", note.id);
-            let field = |i: usize, refs: &mut usize| {
-                let (t, media) = html_to_text(note.fields.get(i).map_or("", String::as_str));
-                *refs += media;
-                if t.len() > MAX_FIELD_BYTES {
-                    return Err(ReadError::Anki(AnkiError::FieldTooLarge {
-                        path: path.to_path_buf(),
-                        note: note.id,
-                        field: i + 1,
-                        mib: t.len().div_ceil(1 << 20),
-                    }));
+            let t = |i: usize| note.fields.get(i).map_or("", |f| f.0.as_str());
+            let (front_i, back): (usize, String) = match note.kind {
+                Kind::Custom { front } => {
+                    let names = &note.labels;
+                    let back = note
+                        .fields
+                        .iter()
+                        .enumerate()
+                        .filter(|(i, f)| *i != front && !f.0.is_empty())
+                        .map(|(i, f)| {
+                            let label = names
+                                .get(i)
+                                .map_or_else(|| format!("Field {}", i + 1), |n| plain(n));
+                            format!("{label}: {}", f.0)
+                        })
+                        .collect::<Vec<_>>()
+                        .join("\n");
+                    (front, back)
                 }
-                Ok(t)
+                _ => (0, t(1).to_string()),
             };
-            let mut front = field(0, &mut out.media_refs)?;
-            let mut back = field(1, &mut out.media_refs)?;
+            for (i, f) in note.fields.iter().enumerate() {
+                let used = i == front_i || matches!(note.kind, Kind::Custom { .. }) || i == 1;
+                if used && !f.1 {
+                    out.math_not_rendered.push(UnrenderedMath {
+                        deck: id.clone(),
+                        card: card_id.clone(),
+                        field: note
+                            .labels
+                            .get(i)
+                            .map_or_else(|| format!("field {}", i + 1), |n| plain(n)),
+                    });
+                }
+            }
             text.push_str("\n[[card]]\n");
             text.push_str(&format!("id = {}\n", toml_string(&card_id)));
             match note.kind {
-                Kind::Basic => {}
                 Kind::Reversed => text.push_str("kind = \"reversed\"\n"),
                 Kind::Cloze => text.push_str("kind = \"cloze\"\n"),
-            }
-            if front.is_empty() {
-                front = "(media not imported)".into();
+                Kind::Typed => text.push_str("kind = \"typed\"\n"),
+                _ => {}
             }
             // A cloze card keeps its deletions in `text`; the others ask `front`.
             let key = if note.kind == Kind::Cloze {
@@ -667,16 +1225,20 @@ fn read_collection(
             } else {
                 "front"
             };
-            text.push_str(&format!("{key} = {}\n", toml_string(&front)));
+            text.push_str(&format!("{key} = {}\n", toml_string(t(front_i))));
+            // An empty field stays empty (`back = ''`).
             if note.kind != Kind::Cloze || !back.is_empty() {
-                if back.is_empty() {
-                    back = "(media not imported)".into();
-                }
                 text.push_str(&format!("back = {}\n", toml_string(&back)));
+            }
+            if note.kind == Kind::Typed {
+                text.push_str(&format!("accept = [{}]\n", toml_string(&back)));
             }
             if !note.tags.is_empty() {
                 let tags: Vec<String> = note.tags.iter().map(|t| toml_string(t)).collect();
                 text.push_str(&format!("tags = [{}]\n", tags.join(", ")));
+            }
+            if note.leech {
+                leech_notes.insert(note.id);
             }
             card_of_note.insert(note.id, (id.clone(), card_id, note.kind));
         }
@@ -685,38 +1247,64 @@ fn read_collection(
             name: name.clone(),
             toml: text,
             cards: notes.len(),
+            options: deck_options.get(name.as_str()).map(|o| (*o).clone()),
         });
     }
 
-    // Cards (by Anki card id) as the log names them.
+    // Cards (by Anki card id) as the log names them, and their states.
     let mut cards: HashMap<i64, CardRef> = HashMap::new();
-    {
-        let mut st = conn.prepare("SELECT id, nid, ord FROM cards")?;
-        let mut rows = st.query([])?;
-        while let Some(r) = rows.next()? {
-            let (cid, nid, ord): (i64, i64, i64) = (r.get(0)?, r.get(1)?, r.get(2)?);
-            let Some((deck, card, kind)) = card_of_note.get(&nid) else {
-                continue;
+    for c in cards_of.values().flatten() {
+        let Some((deck, card, kind)) = card_of_note.get(&c.nid) else {
+            continue;
+        };
+        let direction = match (kind, c.ord) {
+            (Kind::Reversed, 1) => Some(Direction::Backward),
+            // Anki's card `ord` n of a cloze note is deletion c(n+1);
+            // a deck numbers its deletions up to c999.
+            (Kind::Cloze, n) if (0..i64::from(MAX_NUMBER)).contains(&n) => {
+                Some(Direction::Cloze(n as u16 + 1))
+            }
+            (Kind::Cloze, _) => None,
+            (_, 0) => Some(Direction::Forward),
+            _ => None,
+        };
+        if let Some(direction) = direction {
+            let key = ItemKey {
+                deck: deck.clone(),
+                card: card.clone(),
+                direction,
             };
-            let direction = match (kind, ord) {
-                (Kind::Basic, 0) | (Kind::Reversed, 0) => Some(Direction::Forward),
-                (Kind::Reversed, 1) => Some(Direction::Backward),
-                // Anki's card `ord` n of a cloze note is deletion c(n+1);
-                // a deck numbers its deletions up to c999.
-                (Kind::Cloze, n) if (0..i64::from(MAX_NUMBER)).contains(&n) => {
-                    Some(Direction::Cloze(n as u16 + 1))
-                }
-                _ => None,
-            };
-            cards.insert(
-                cid,
-                CardRef {
-                    deck: deck.clone(),
-                    card: card.clone(),
-                    direction,
-                },
-            );
+            match c.queue {
+                -1 => out.states.suspended.push(key.clone()),
+                -2 | -3 => out.states.buried.push(key.clone()),
+                _ => {}
+            }
+            if leech_notes.contains(&c.nid) {
+                out.states.leeches.push(key.clone());
+            }
+            // Anki's longest interval is 36,500 days: a due date further
+            // off than that from now is not one Anki gave.
+            let bound = now + chrono::TimeDelta::days(36_600);
+            if let Some(due) = anki_due(c, catalog.crt).filter(|d| *d <= bound) {
+                let (stability, difficulty) = memory_state(&c.data);
+                out.states.due.insert(
+                    key,
+                    KeptState {
+                        due,
+                        stability,
+                        difficulty,
+                    },
+                );
+            }
         }
+        cards.insert(
+            c.id,
+            CardRef {
+                deck: deck.clone(),
+                card: card.clone(),
+                direction,
+            },
+        );
     }
     {
         let mut st = conn.prepare("SELECT id, cid, ease, time, type FROM revlog ORDER BY id")?;
@@ -779,38 +1367,17 @@ fn plain(s: &str) -> String {
 }
 
 /// A field's HTML as flipcard text: tags dropped (line breaks where blocks
-/// and `<br>` were), entities decoded, MathJax `\(…\)` and `\[…\]` as `$…$`
-/// and `$$…$$`, other dollars escaped. Images and sounds are dropped; the
-/// count of them is returned beside the text. Math that flipcard cannot
-/// render is kept as plain text.
-pub(crate) fn html_to_text(html: &str) -> (String, usize) {
-    let mut media = html.matches("[sound:").count();
-    let mut text = String::new();
-    let mut rest = html;
-    while let Some(i) = rest.find('<') {
-        text.push_str(&rest[..i]);
-        let Some(end) = rest[i..].find('>') else {
-            text.push_str(&rest[i..]);
-            rest = "";
-            break;
-        };
-        let tag = rest[i + 1..i + end].trim().to_ascii_lowercase();
-        let name: String = tag
-            .trim_start_matches('/')
-            .chars()
-            .take_while(|c| c.is_ascii_alphanumeric())
-            .collect();
-        match name.as_str() {
-            "br" => text.push('\n'),
-            "div" | "p" | "li" | "tr" | "h1" | "h2" | "h3" | "h4" if tag.starts_with('/') => {
-                text.push('\n')
-            }
-            "img" | "audio" | "video" => media += 1,
-            _ => {}
-        }
-        rest = &rest[i + end + 1..];
-    }
-    text.push_str(rest);
+/// and `<br>` were; list items as `- ` lines; table cells apart, ` | `
+/// between them), bold as `**…**` and italic as `*…*` (the reader's
+/// markup), `<sup>`/`<sub>` as Unicode super- and subscripts (`^(…)` and
+/// `_(…)` where a character has none), entities decoded, MathJax `\(…\)`
+/// and `\[…\]` as `$…$` and `$$…$$`, other dollars escaped. Images and
+/// sounds are dropped; the count of them is returned beside the text, and
+/// whether its math (if any) renders. Math that flipcard cannot render is
+/// kept as plain text. With `cloze`, deletions inside math (`\(F =
+/// {{c1::k}} x\)`) stay inside it: the math is checked as revealed.
+pub(crate) fn html_to_text(html: &str, cloze: bool) -> (String, usize, bool) {
+    let (text, media) = strip_tags(html);
     let mut sound_free = String::new();
     let mut r = text.as_str();
     while let Some(i) = r.find("[sound:") {
@@ -832,16 +1399,140 @@ pub(crate) fn html_to_text(html: &str) -> (String, usize) {
                 .filter(|c| !c.is_control())
                 .collect::<String>()
         })
-        .filter(|l| !l.is_empty())
+        .filter(|l| !l.is_empty() && l != "-" && l != "|")
         .collect();
     let joined = lines.join("\n");
     let with_math = convert_math(&joined, true);
-    let t = if flipcard_text::check(&with_math).is_empty() {
-        with_math
+    if renders(&with_math, cloze) {
+        (with_math, media, true)
     } else {
-        convert_math(&joined, false)
-    };
-    (t, media)
+        (convert_math(&joined, false), media, false)
+    }
+}
+
+/// Whether the math of `text` renders; a cloze text's as revealed (each
+/// deletion replaced by its answer).
+fn renders(text: &str, cloze: bool) -> bool {
+    if cloze && let Ok(pieces) = crate::deck::cloze::parse(text) {
+        let revealed: String = pieces
+            .iter()
+            .map(|p| match p {
+                crate::deck::cloze::Piece::Text(t) => *t,
+                crate::deck::cloze::Piece::Deletion { answer, .. } => answer,
+            })
+            .collect();
+        return flipcard_text::check(&revealed).is_empty();
+    }
+    flipcard_text::check(text).is_empty()
+}
+
+/// The structure of a field's HTML as text (entities not yet decoded), and
+/// the count of images, sounds and videos. Linear in the text: the closing
+/// tag of a `<sup>` or `<sub>` is searched for once from where the last
+/// search ended (remembered per name), and a script's own text is read once
+/// more, its tags dropped.
+fn strip_tags(html: &str) -> (String, usize) {
+    strip(html, true)
+}
+
+fn strip(html: &str, scripts: bool) -> (String, usize) {
+    let mut media = html.matches("[sound:").count();
+    let mut text = String::new();
+    let mut rest = html;
+    // Whether a cell of the current table row was written.
+    let mut cell = false;
+    // The next `</sup` and `</sub` at or after where each was last looked
+    // for (`None`: there is none after it).
+    let mut closers: [Option<Option<usize>>; 2] = [None, None];
+    while let Some(i) = rest.find('<') {
+        text.push_str(&rest[..i]);
+        let Some(end) = rest[i..].find('>') else {
+            text.push_str(&rest[i..]);
+            rest = "";
+            break;
+        };
+        let tag = rest[i + 1..i + end].trim().to_ascii_lowercase();
+        let closing = tag.starts_with('/');
+        let name: String = tag
+            .trim_start_matches('/')
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric())
+            .collect();
+        rest = &rest[i + end + 1..];
+        match name.as_str() {
+            "br" => text.push('\n'),
+            "sup" | "sub" if scripts && !closing => {
+                // The script's text runs to its closing tag (tags inside it
+                // are dropped); the rest goes on after it.
+                let at = html.len() - rest.len();
+                let slot = &mut closers[usize::from(name == "sub")];
+                let close = match *slot {
+                    Some(Some(c)) if c >= at => Some(c),
+                    Some(None) => None,
+                    _ => find_ascii_ci(html, at, if name == "sup" { "</sup" } else { "</sub" }),
+                };
+                *slot = Some(close);
+                let Some(c) = close else { continue };
+                let (inner, m) = strip(&html[at..c], false);
+                media += m;
+                let after = &html[c..];
+                rest = after.find('>').map_or("", |k| &after[k + 1..]);
+                let inner = inner.trim();
+                match script(&decode_entities(inner), name == "sup") {
+                    Some(s) => text.push_str(&s),
+                    None if inner.is_empty() => {}
+                    None => {
+                        text.push(if name == "sup" { '^' } else { '_' });
+                        text.push('(');
+                        text.push_str(inner);
+                        text.push(')');
+                    }
+                }
+            }
+            "b" | "strong" => text.push_str("**"),
+            "i" | "em" => text.push('*'),
+            "li" if !closing => text.push_str("\n- "),
+            "tr" => {
+                cell = false;
+                text.push('\n');
+            }
+            "td" | "th" if !closing => {
+                if cell {
+                    text.push_str(" | ");
+                }
+                cell = true;
+            }
+            "div" | "p" | "li" | "ul" | "ol" | "table" | "h1" | "h2" | "h3" | "h4" if closing => {
+                text.push('\n')
+            }
+            "img" | "audio" | "video" => media += 1,
+            _ => {}
+        }
+    }
+    text.push_str(rest);
+    (text, media)
+}
+
+/// The first `needle` (ASCII, lower case) in `hay` at or after `from`,
+/// ignoring ASCII case.
+fn find_ascii_ci(hay: &str, from: usize, needle: &str) -> Option<usize> {
+    let h = hay.as_bytes();
+    let n = needle.as_bytes();
+    (from..h.len().saturating_sub(n.len() - 1)).find(|&i| h[i..i + n.len()].eq_ignore_ascii_case(n))
+}
+
+/// `s` as Unicode superscript (or subscript) characters, when every
+/// character has one.
+fn script(s: &str, sup: bool) -> Option<String> {
+    const SUP: &str = "0⁰1¹2²3³4⁴5⁵6⁶7⁷8⁸9⁹+⁺-⁻−⁻=⁼(⁽)⁾nⁿiⁱ";
+    const SUB: &str = "0₀1₁2₂3₃4₄5₅6₆7₇8₈9₉+₊-₋−₋=₌(₍)₎aₐeₑoₒxₓhₕkₖlₗmₘnₙpₚsₛtₜiᵢrᵣuᵤvᵥjⱼ";
+    let table: Vec<char> = (if sup { SUP } else { SUB }).chars().collect();
+    if s.is_empty() {
+        return None;
+    }
+    s.chars()
+        .map(|c| table.chunks_exact(2).find(|p| p[0] == c).map(|p| p[1]))
+        .collect()
 }
 
 /// `\(…\)` → `$…$`, `\[…\]` → `$$…$$` (or left as written when `math` is
@@ -966,21 +1657,24 @@ mod tests {
 
     #[test]
     fn html_becomes_text_with_math_and_media_counted() {
-        let (t, media) = html_to_text(
+        let (t, media, rendered) = html_to_text(
             "<div>Torque &amp; spin:&nbsp;\\(\\tau = I\\alpha\\)</div><div><img src=\"a.png\"></div>costs $5<br>\\[E = mc^2\\][sound:x.mp3]",
+            false,
         );
+        assert!(rendered);
         assert_eq!(
             t,
             "Torque & spin: $\\tau = I\\alpha$\ncosts \\$5\n$$E = mc^2$$"
         );
         assert_eq!(media, 2);
         assert_eq!(
-            html_to_text("L = I&omega; &amp;c &bogus; &#8594;").0,
+            html_to_text("L = I&omega; &amp;c &bogus; &#8594;", false).0,
             "L = Iω &c &bogus; →"
         );
         assert!(flipcard_text::check(&t).is_empty());
         // Math flipcard cannot render stays as written, dollars escaped.
-        let (t, _) = html_to_text("\\(\\unknowncommand x\\) for $1");
+        let (t, _, rendered) = html_to_text("\\(\\unknowncommand x\\) for $1", false);
+        assert!(!rendered);
         assert_eq!(t, "\\(\\unknowncommand x\\) for \\$1");
         assert!(flipcard_text::check(&t).is_empty());
     }
@@ -1055,11 +1749,17 @@ mod tests {
         // 2 MB of `&` and 1.8 MB of `\(x^2\)` took minutes when each `&`
         // searched the rest for a `;` and each opener the rest for the other
         // opener; counted in steps, not seconds: the output is exact.
-        let (t, _) = html_to_text(&"&".repeat(2_000_000));
+        let (t, _, _) = html_to_text(&"&".repeat(2_000_000), false);
         assert_eq!(t.len(), 2_000_000);
         assert!(t.bytes().all(|b| b == b'&'));
-        let (t, _) = html_to_text(&"\\(x^2\\)".repeat(250_000));
+        let (t, _, _) = html_to_text(&"\\(x^2\\)".repeat(250_000), false);
         assert_eq!(t, "$x^2$".repeat(250_000));
+        // Scripts without a closing tag, and nested ones: each closer is
+        // searched for once.
+        let (t, _, _) = html_to_text(&"<sup>2".repeat(400_000), false);
+        assert_eq!(t, "2".repeat(400_000));
+        let nested = format!("{}x{}", "<sub>".repeat(200_000), "</sub>".repeat(200_000));
+        assert_eq!(html_to_text(&nested, false).0, "ₓ");
     }
 
     #[test]
@@ -1114,6 +1814,138 @@ mod tests {
                 _ => panic!("{sql}: not refused"),
             }
         }
+    }
+
+    /// A varint as protobuf writes it.
+    fn encode_varint(mut v: u64, out: &mut Vec<u8>) {
+        loop {
+            let b = (v & 0x7f) as u8;
+            v >>= 7;
+            if v == 0 {
+                out.push(b);
+                return;
+            }
+            out.push(b | 0x80);
+        }
+    }
+
+    proptest::proptest! {
+        /// Any bytes: read without a panic, and never past the message.
+        #[test]
+        fn protobuf_fields_of_any_bytes_are_read_without_panic(
+            bytes in proptest::collection::vec(proptest::prelude::any::<u8>(), 0..64),
+        ) {
+            let _ = proto_fields(&bytes);
+            let _ = proto_varint(&bytes, 1);
+        }
+
+        /// Fields written are read back, in order: varints, strings, packed
+        /// floats and fixed32 floats.
+        #[test]
+        fn protobuf_fields_written_are_read_back(
+            fields in proptest::collection::vec(
+                (1u64..300, proptest::prelude::any::<u64>(), proptest::collection::vec(-1e6f32..1e6, 0..5), 0u8..3),
+                0..8,
+            ),
+        ) {
+            let mut buf = Vec::new();
+            for (field, v, floats, wire) in &fields {
+                match wire {
+                    0 => {
+                        encode_varint(field << 3, &mut buf);
+                        encode_varint(*v, &mut buf);
+                    }
+                    1 => {
+                        encode_varint((field << 3) | 2, &mut buf);
+                        encode_varint(floats.len() as u64 * 4, &mut buf);
+                        for f in floats {
+                            buf.extend(f.to_le_bytes());
+                        }
+                    }
+                    _ => {
+                        encode_varint((field << 3) | 5, &mut buf);
+                        buf.extend((*v as u32).to_le_bytes());
+                    }
+                }
+            }
+            let read = proto_fields(&buf);
+            proptest::prop_assert_eq!(read.len(), fields.len());
+            for ((field, v, floats, wire), (f, got)) in fields.iter().zip(read) {
+                proptest::prop_assert_eq!(f, *field);
+                match wire {
+                    0 => proptest::prop_assert_eq!(got, Proto::Varint(*v)),
+                    1 => proptest::prop_assert_eq!(
+                        got.floats(),
+                        floats.iter().map(|x| f64::from(*x)).collect::<Vec<_>>()
+                    ),
+                    _ => proptest::prop_assert_eq!(got, Proto::Fixed32(*v as u32)),
+                }
+            }
+        }
+
+        /// flipcard text written as Anki HTML (`export --apkg`) reads back
+        /// as the same text (`import`): math, escaped dollars, `<`, `&`,
+        /// line breaks, cloze deletions inside math.
+        #[test]
+        fn text_written_as_anki_html_reads_back_the_same(
+            lines in proptest::collection::vec(
+                proptest::collection::vec(
+                    proptest::sample::select(vec![
+                        "force", "a", "<", "&", "a&b", "\\$5", "$x^2$", "$\\omega_1$",
+                        "$$E = mc^2$$", "×", "θ", "$F = -{{c1::k}} x$", "{{c2::mass}}",
+                    ]),
+                    1..6,
+                ),
+                1..4,
+            ),
+        ) {
+            let text = lines
+                .iter()
+                .map(|words| words.join(" "))
+                .collect::<Vec<_>>()
+                .join("\n");
+            let html = crate::interop::apkg::to_html(&text);
+            let (back, media, rendered) = html_to_text(&html, true);
+            proptest::prop_assert!(rendered);
+            proptest::prop_assert_eq!(media, 0);
+            proptest::prop_assert_eq!(back, text);
+        }
+
+        /// Any HTML: converted without a panic, no tag left, no control
+        /// character.
+        #[test]
+        fn any_html_converts_without_panic_or_tags(
+            s in "(<sup>|</sup>|<sub>|</sub>|<b>|</b>|<i>|<li>|</li>|<td>|</tr>|<br>|[a-z0-9 ]|&minus;|−|é|\\\\\\(|\\\\\\)){0,40}",
+        ) {
+            let (t, _, _) = html_to_text(&s, false);
+            proptest::prop_assert!(!t.contains("<sup") && !t.contains("<b>") && !t.contains("<br"));
+            proptest::prop_assert!(!t.chars().any(|c| c.is_control() && c != '\n'));
+        }
+    }
+
+    #[test]
+    fn scripts_become_unicode_or_stay_readable() {
+        assert_eq!(html_to_text("10<sup>−10</sup> m", false).0, "10⁻¹⁰ m");
+        assert_eq!(html_to_text("10<SUP>&minus;3</SUP>", false).0, "10⁻³");
+        assert_eq!(html_to_text("v<sub>max</sub>", false).0, "vₘₐₓ");
+        assert_eq!(html_to_text("x<sub>Q</sub>", false).0, "x_(Q)");
+        assert_eq!(
+            html_to_text("<b>F</b> = m<i>a</i>", false).0,
+            "**F** = m*a*"
+        );
+        assert_eq!(
+            html_to_text("<ul><li>one</li><li>two</li></ul>", false).0,
+            "- one\n- two"
+        );
+        assert_eq!(
+            html_to_text(
+                "<table><tr><td>a</td><td>b</td></tr><tr><td>c</td><td>d</td></tr></table>",
+                false
+            )
+            .0,
+            "a | b\nc | d"
+        );
+        assert_eq!(html_to_text("", false).0, "");
     }
 
     #[test]

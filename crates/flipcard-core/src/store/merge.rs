@@ -44,6 +44,41 @@ pub struct IncomingReview {
     pub undone: bool,
 }
 
+/// The state another program left an item in after its last answer,
+/// kept instead of the replayed one (an Anki import: the due date and
+/// interval Anki gave, not a replay re-fuzzed here). Written into the row
+/// of the item's last incoming answer, so the card-state cache and
+/// `flipcard db rebuild` end with it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KeptState {
+    pub due: DateTime<Utc>,
+    /// The memory state that program had (FSRS), when it had one.
+    pub stability: Option<f64>,
+    pub difficulty: Option<f64>,
+}
+
+impl KeptState {
+    /// `record` (the replay of the last answer) with this due date, its
+    /// interval and memory state. A due before the answer is left as
+    /// replayed (that program's clock and this one disagree).
+    fn apply(&self, record: &mut crate::sched::ReviewRecord) {
+        if self.due < record.reviewed_at {
+            return;
+        }
+        record.after.due = self.due;
+        record.scheduled_days = (self.due - record.reviewed_at).num_days();
+        if let Some(s) = self.stability.filter(|s| s.is_finite() && *s > 0.0) {
+            record.after.stability = Some(s);
+        }
+        if let Some(d) = self
+            .difficulty
+            .filter(|d| d.is_finite() && (1.0..=10.0).contains(d))
+        {
+            record.after.difficulty = Some(d);
+        }
+    }
+}
+
 /// What a merge did.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct MergeSummary {
@@ -100,6 +135,18 @@ impl Store {
         rows: &[IncomingReview],
         scheduler: &Scheduler,
     ) -> Result<MergeSummary, StoreError> {
+        self.merge_reviews_keeping(rows, scheduler, &std::collections::HashMap::new())
+    }
+
+    /// [`Store::merge_reviews`], where the items of `kept` end in the state
+    /// given there (due date, interval, memory state) rather than the
+    /// replayed one, when their last live answer is an incoming one.
+    pub fn merge_reviews_keeping(
+        &mut self,
+        rows: &[IncomingReview],
+        scheduler: &Scheduler,
+        kept: &std::collections::HashMap<ItemKey, KeptState>,
+    ) -> Result<MergeSummary, StoreError> {
         for (i, r) in rows.iter().enumerate() {
             r.check().map_err(|detail| StoreError::BadRow {
                 id: 0,
@@ -138,6 +185,7 @@ impl Store {
                     None,
                     false,
                     scheduler,
+                    kept.get(key),
                 )?;
                 summary.added += m.added;
                 summary.added_undone += m.added_undone;
@@ -194,6 +242,7 @@ pub(super) fn merge_one(
     replay_from: Option<DateTime<Utc>>,
     by_origin: bool,
     scheduler: &Scheduler,
+    kept: Option<&KeptState>,
 ) -> Result<ItemMerge, Failed> {
     let mut out = ItemMerge::default();
     let existing = item_rows(tx, key)??;
@@ -263,7 +312,9 @@ pub(super) fn merge_one(
         Some(s) => s,
         None => session_in(tx, session)?,
     };
-    out.replayed_local = merge_item(tx, session_id, key, live, &fresh, &origins, t0, scheduler)?;
+    out.replayed_local = merge_item(
+        tx, session_id, key, live, &fresh, &origins, t0, scheduler, kept,
+    )?;
     out.added = fresh.len();
     out.added_undone = fresh.iter().filter(|(r, _)| r.undone).count();
     state::refresh_item(tx, key)?;
@@ -301,6 +352,7 @@ fn merge_item<'a>(
     origins: &'a std::collections::HashMap<i64, String>,
     t0: DateTime<Utc>,
     scheduler: &Scheduler,
+    kept: Option<&KeptState>,
 ) -> Result<usize, Failed> {
     live.sort_by_key(|l| (l.record.reviewed_at, l.id));
     // The state to replay from: the last live, non-cram local answer before
@@ -337,14 +389,22 @@ fn merge_item<'a>(
     // In time order; answers of the same millisecond (two machines, or a
     // frozen clock) by rating, so every machine replays them alike.
     steps.sort_by_key(|s| (s.at, s.rating, s.cram, s.incoming));
+    // The step whose state is kept: the last that counts, when incoming.
+    let last_counted = steps.iter().rposition(|s| !s.cram && !s.undone);
+    let keep_at = last_counted.filter(|&i| steps[i].incoming && kept.is_some());
 
     let mut appended = false;
     let mut relocated = 0;
-    for s in &steps {
+    for (i, s) in steps.iter().enumerate() {
         let record = if s.cram {
             scheduler.cram(key, state.as_ref(), s.rating, s.at, s.duration_ms)
         } else {
-            let r = scheduler.review(key, state.as_ref(), s.rating, s.at, s.duration_ms);
+            let mut r = scheduler.review(key, state.as_ref(), s.rating, s.at, s.duration_ms);
+            if keep_at == Some(i)
+                && let Some(k) = kept
+            {
+                k.apply(&mut r);
+            }
             // An undone answer keeps the state it gave, as the log recorded
             // it, but the next answer starts from the state it found.
             if !s.undone {

@@ -192,6 +192,7 @@ impl Store {
                     *replay_from,
                     true,
                     scheduler,
+                    None,
                 )?;
                 out.reviews += m.added;
                 out.undos += m.undone;

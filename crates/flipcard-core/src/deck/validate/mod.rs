@@ -790,6 +790,9 @@ fn card(
             .and_then(|t| text::text(rep, t, langs, &format!("the front of {what}")))
     };
     let back = match &raw.back {
+        // `back = ''`, written so: a card whose back is empty (an imported
+        // Anki note's empty field); a back of only spaces is a mistake.
+        Some(RawText::Plain(s)) if s.value.is_empty() => Some(Text::default()),
         Some(t) => text::text(rep, t, langs, &format!("the back of {what}")),
         // Only cloze cards may leave the back out (it holds extra notes).
         None => Some(Text::default()),
