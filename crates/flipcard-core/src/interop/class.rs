@@ -118,6 +118,10 @@ pub struct AttemptRow {
     /// exports made before schema version 5; null or an empty cell: none).
     #[serde(default, deserialize_with = "maybe_id")]
     pub misconception: Option<String>,
+    /// A varied prompt's seed (absent in exports made before schema
+    /// version 6; null or an empty cell: the prompt did not vary).
+    #[serde(default, deserialize_with = "seed")]
+    pub variant: Option<u64>,
 }
 
 /// The largest attempt number read: no learner retries one prompt a
@@ -229,6 +233,20 @@ fn measured<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Er
 }
 
 /// An attempt's number: 1 to [`MAX_ATTEMPT`], or nothing.
+/// A variant seed: 0 to 2⁵³ − 1, as the schema keeps it.
+fn seed<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<u64>, D::Error> {
+    match Option::<i64>::deserialize(d)? {
+        None => Ok(None),
+        Some(n) if u64::try_from(n).is_ok_and(|n| n <= crate::store::MAX_VARIANT) => {
+            Ok(Some(n as u64))
+        }
+        Some(n) => Err(serde::de::Error::custom(format!(
+            "variant {n} is not 0–{}",
+            crate::store::MAX_VARIANT
+        ))),
+    }
+}
+
 fn ordinal<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {
     match Option::<i64>::deserialize(d)? {
         None => Ok(None),
@@ -1384,6 +1402,7 @@ mod tests {
             );
             match parse(&text) {
                 Ok(Export::Attempts(rows)) => {
+                    proptest::prop_assert_eq!(rows[0].variant, None);
                     let named = rows[0].misconception.clone();
                     proptest::prop_assert_eq!(named.is_some(), !id.is_empty());
                     proptest::prop_assert!(named.as_deref().is_none_or(crate::deck::validate::is_id));

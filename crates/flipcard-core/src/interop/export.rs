@@ -243,8 +243,9 @@ pub fn write_reviews_csv(store: &Store, out: &mut dyn Write) -> Result<Written, 
 /// header): a contract like [`REVIEW_FIELDS`]. The first six are those of
 /// every version; `attempt` and `retry` came with attempts kept at
 /// commitment (schema version 4), `misconception` with named
-/// misconceptions (schema version 5).
-pub(crate) const ATTEMPT_FIELDS: [&str; 9] = [
+/// misconceptions (schema version 5), `variant` (a varied prompt's seed)
+/// with version 6.
+pub(crate) const ATTEMPT_FIELDS: [&str; 10] = [
     "deck",
     "prompt",
     "attempted_at",
@@ -254,6 +255,7 @@ pub(crate) const ATTEMPT_FIELDS: [&str; 9] = [
     "attempt",
     "retry",
     "misconception",
+    "variant",
 ];
 
 /// The fields every attempts export has had, first in every version's
@@ -278,6 +280,10 @@ pub(crate) struct ExportedAttempt {
     /// The deck's misconception a wrong answer stands for (null, an empty
     /// CSV cell: none named, or no verdict).
     pub misconception: Option<String>,
+    /// A varied prompt's seed (`flipcard sim --scene … --prompt … --variant
+    /// SEED` shows its numbers); null, an empty CSV cell, for a prompt
+    /// asked the same way every time.
+    pub variant: Option<u64>,
 }
 
 impl From<crate::store::StoredAttempt> for ExportedAttempt {
@@ -292,6 +298,7 @@ impl From<crate::store::StoredAttempt> for ExportedAttempt {
             correct: a.verdict.as_ref().map(|v| v.correct),
             misconception: a.verdict.and_then(|v| v.misconception),
             attempt: a.attempt,
+            variant: a.variant,
         }
     }
 }
