@@ -783,7 +783,12 @@ fn audit_variants(deck: &Deck, prompt: &Prompt) -> Option<(String, String)> {
             Ok(run) => match variant::decided(&resolved.prompt, &run.measured) {
                 Err(u) => Some(undecided(&resolved.prompt, &run, &u)),
                 Ok(p) => audit_run(&p, &run)
-                    .map(|problem| problem.message)
+                    // The fixes for one run ("change the answer to …") do
+                    // not fit every variant: the help says what does.
+                    .map(|problem| match problem.message.split_once(": change ") {
+                        Some((what, _)) => what.to_string(),
+                        None => problem.message,
+                    })
                     .or_else(|| audit_slips(&p, &run).into_iter().next().map(|(_, m)| m)),
             },
         };
