@@ -704,11 +704,10 @@ fn explain(app: &mut App, s: &BrowserState) -> Nav {
     let Some(row) = s.current() else {
         return Nav::Stay;
     };
-    let section = app
-        .decks
-        .get(row.deck)
-        .and_then(|d| d.cards.get(row.card))
-        .and_then(|c| c.explain.clone());
+    let section = app.decks.get(row.deck).and_then(|d| match row.direction {
+        Direction::Derive => d.derivations.get(row.card)?.explain.clone(),
+        _ => d.cards.get(row.card)?.explain.clone(),
+    });
     match section {
         Some(id) => super::reader::open_at(app, row.deck, &id),
         None => {
@@ -928,9 +927,11 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
     let Some(row) = s.current() else {
         return;
     };
-    let Some(card) = app.decks.get(row.deck).and_then(|d| d.cards.get(row.card)) else {
+    let Some(deck) = app.decks.get(row.deck) else {
         return;
     };
+    let card = deck.cards.get(row.card);
+    let derivation = deck.derivations.get(row.card);
     let block = Block::default()
         .borders(Borders::ALL)
         .border_style(t.border())
@@ -953,8 +954,24 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             })
             .collect()
     };
-    let (question, answer): (Vec<Run>, Vec<Run>) = match row.direction {
-        Direction::Cloze(n) => {
+    let (question, answer): (Vec<Run>, Vec<Run>) = match (row.direction, card) {
+        // A derivation: its title, then each step's math.
+        (Direction::Derive, _) => {
+            let Some(d) = derivation else {
+                return;
+            };
+            let mut steps = Vec::new();
+            for (i, step) in d.steps.iter().enumerate() {
+                if i > 0 {
+                    steps.push(Run::new("  ", t.text()));
+                }
+                steps.push(Run::new(format!("{}. ", i + 1), t.dim()));
+                steps.extend(math_runs(step.math.get(lang), t.text()));
+            }
+            (math_runs(d.title.get(lang), t.strong()), steps)
+        }
+        (_, None) => return,
+        (Direction::Cloze(n), Some(card)) => {
             let text = card.front.get(lang);
             let mut back = segs(crate::deck::cloze::back(text, n));
             let extra = card.back.get(lang);
@@ -966,11 +983,11 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             }
             (segs(crate::deck::cloze::front(text, n)), back)
         }
-        Direction::Forward => (
+        (Direction::Forward, Some(card)) => (
             math_runs(card.front.get(lang), t.strong()),
             math_runs(card.back.get(lang), t.text()),
         ),
-        Direction::Backward => (
+        (Direction::Backward, Some(card)) => (
             math_runs(card.back.get(lang), t.strong()),
             math_runs(card.front.get(lang), t.text()),
         ),

@@ -24,7 +24,8 @@ pub use self::search::{Found, Search, SearchIndex, SearchTexts};
 /// copy no strings).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ItemRow {
-    /// Positions of the deck in the list given and of the card in its deck.
+    /// Positions of the deck in the list given and of the card in its deck
+    /// (of the derivation in `Deck::derivations`, for a `derive` item).
     pub deck: usize,
     pub card: usize,
     pub direction: Direction,
@@ -50,13 +51,19 @@ impl ItemRow {
     pub fn deck_id<'a>(&self, decks: &'a [Deck]) -> &'a str {
         &decks[self.deck].id
     }
-    /// The id of its card.
+    /// The id of its card (of its derivation, for a `derive` item).
     pub fn card_id<'a>(&self, decks: &'a [Deck]) -> &'a str {
-        &decks[self.deck].cards[self.card].id
+        match self.direction {
+            Direction::Derive => &decks[self.deck].derivations[self.card].id,
+            _ => &decks[self.deck].cards[self.card].id,
+        }
     }
-    /// The tags of its card.
+    /// The tags of its card (or derivation).
     pub fn tags<'a>(&self, decks: &'a [Deck]) -> &'a [String] {
-        &decks[self.deck].cards[self.card].tags
+        match self.direction {
+            Direction::Derive => &decks[self.deck].derivations[self.card].tags,
+            _ => &decks[self.deck].cards[self.card].tags,
+        }
     }
     pub fn key(&self, decks: &[Deck]) -> ItemKey {
         ItemKey {
@@ -120,9 +127,28 @@ pub fn rows(
         }
     }
     starts.push(out.len());
+    // Each deck's derivations after every card, one row each.
+    let mut derive_rows: Vec<HashMap<&str, usize>> = Vec::with_capacity(decks.len());
+    for (di, deck) in decks.iter().enumerate() {
+        let mut m = HashMap::with_capacity(deck.derivations.len());
+        for (i, d) in deck.derivations.iter().enumerate() {
+            m.entry(d.id.as_str()).or_insert(out.len());
+            out.push(ItemRow {
+                deck: di,
+                card: i,
+                direction: Direction::Derive,
+                state: None,
+                retrievability: None,
+                reviews: 0,
+                lapses: 0,
+                status: ItemStatus::default(),
+            });
+        }
+        derive_rows.push(m);
+    }
     // The store's items are found among the rows by name: a map of the
     // card ids of a deck is made when the store first names that deck.
-    let mut find = RowFinder::new(decks, &starts);
+    let mut find = RowFinder::new(decks, &starts, derive_rows);
     for c in &cached {
         if let Some(row) = find.row(&out, &c.key) {
             let state = c.state;
@@ -150,10 +176,16 @@ struct RowFinder<'a> {
     /// by id (made when first needed).
     first: Vec<usize>,
     cards: Vec<Option<HashMap<&'a str, usize>>>,
+    /// Per deck: the row of each derivation, by id.
+    derivations: Vec<HashMap<&'a str, usize>>,
 }
 
 impl<'a> RowFinder<'a> {
-    fn new(decks: &'a [Deck], starts: &'a [usize]) -> RowFinder<'a> {
+    fn new(
+        decks: &'a [Deck],
+        starts: &'a [usize],
+        derivations: Vec<HashMap<&'a str, usize>>,
+    ) -> RowFinder<'a> {
         let mut first = Vec::with_capacity(decks.len());
         let mut n = 0;
         for d in decks {
@@ -165,11 +197,15 @@ impl<'a> RowFinder<'a> {
             starts,
             first,
             cards: vec![None; decks.len()],
+            derivations,
         }
     }
 
     fn row(&mut self, rows: &[ItemRow], key: &ItemKey) -> Option<usize> {
         let d = self.decks.iter().position(|d| d.id == key.deck)?;
+        if key.direction == Direction::Derive {
+            return self.derivations[d].get(key.card.as_str()).copied();
+        }
         let deck = &self.decks[d];
         let cards = self.cards[d].get_or_insert_with(|| {
             let mut m = HashMap::with_capacity(deck.cards.len());
@@ -314,15 +350,23 @@ impl Filter {
                 )));
             }
         }
-        let cards = || decks.iter().flat_map(|d| &d.cards);
+        // The tags of every card and derivation.
+        let tagged = || {
+            decks.iter().flat_map(|d| {
+                d.cards
+                    .iter()
+                    .map(|c| &c.tags)
+                    .chain(d.derivations.iter().map(|x| &x.tags))
+            })
+        };
         for t in &self.tags {
-            // Checked card by card, stopping at the first that has it: the
+            // Checked item by item, stopping at the first that has it: the
             // list of every tag is made only for the error.
-            if cards().any(|c| c.tags.contains(t)) {
+            if tagged().any(|tags| tags.contains(t)) {
                 continue;
             }
-            let known: BTreeSet<&str> = cards()
-                .flat_map(|c| c.tags.iter().map(String::as_str))
+            let known: BTreeSet<&str> = tagged()
+                .flat_map(|tags| tags.iter().map(String::as_str))
                 .collect();
             let list: Vec<&str> = known.into_iter().collect();
             return Err(QueryError(if list.is_empty() {

@@ -9,11 +9,19 @@ use super::read::{self, Fields};
 use super::report::FileReport;
 use super::suggest;
 
+pub use super::raw_derivation::{RawAsk, RawAskChoice, RawAskKind, RawDerivation, RawStep};
 pub use super::raw_knob::RawKnob;
 pub use super::raw_misconception::{RawMisconception, RawRange};
 pub use super::read::{Flag, List, Num, RawAccept, RawText, Span, Str};
 
-pub const DECK_FILE_FIELDS: &[&str] = &["deck", "card", "prompt", "scene", "misconception"];
+pub const DECK_FILE_FIELDS: &[&str] = &[
+    "deck",
+    "card",
+    "prompt",
+    "scene",
+    "misconception",
+    "derivation",
+];
 pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages", "units"];
 pub const CARD_FIELDS: &[&str] = &[
     "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text", "expected",
@@ -78,6 +86,8 @@ pub struct RawDeckFile {
     pub scenes: Vec<RawScene>,
     /// `[[misconception]]` tables (see `raw_misconception`).
     pub misconceptions: Vec<RawMisconception>,
+    /// `[[derivation]]` tables (see `raw_derivation`).
+    pub derivations: Vec<RawDerivation>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -360,6 +370,12 @@ pub(crate) fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Sp
                 .push(super::raw_misconception::read_misconception(rep, t, span));
         }
     }
+    if let Some(v) = top.get("derivation") {
+        for (t, span) in read::tables(rep, v, "derivation") {
+            file.derivations
+                .push(super::raw_derivation::read_derivation(rep, t, span));
+        }
+    }
     file
 }
 
@@ -420,7 +436,7 @@ fn read_card(rep: &mut FileReport, t: &DeTable, span: Span) -> RawCard {
 }
 
 /// `expected` and `vars` of a formula card or answer.
-fn read_formula(rep: &mut FileReport, f: &Fields, span: Span) -> RawFormula {
+pub(crate) fn read_formula(rep: &mut FileReport, f: &Fields, span: Span) -> RawFormula {
     RawFormula {
         span,
         expected: f.string(rep, "expected", true),
@@ -867,7 +883,7 @@ pub(crate) fn read_content_file(
         "a content file",
         CONTENT_FILE_FIELDS,
         |name| match name {
-            "deck" | "card" | "prompt" | "scene" => Some(format!(
+            "deck" | "card" | "prompt" | "scene" | "derivation" => Some(format!(
                 "[[{name}]] belongs in the deck file decks/<deck-id>.toml; content files hold [[section]] only"
             )),
             _ => None,

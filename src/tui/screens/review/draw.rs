@@ -57,6 +57,13 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
     let Some(deck) = app.decks.get(state.deck) else {
         return Vec::new();
     };
+    if let (Some(walk), Some(d)) = (&state.walk, state.derivation(deck)) {
+        let input = match &state.phase {
+            Phase::Front { input } => input.as_str(),
+            _ => "",
+        };
+        return walk.lines(app, d, input, width);
+    }
     let Some((card, direction)) = state.card(deck) else {
         return Vec::new();
     };
@@ -82,6 +89,8 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
     let (mut lines, answer) = match direction {
         Direction::Forward => (para(card.front.get(lang), t.strong()), &card.back),
         Direction::Backward => (para(card.back.get(lang), t.strong()), &card.front),
+        // Drawn by the walk, above.
+        Direction::Derive => return Vec::new(),
         Direction::Cloze(n) => {
             let text = card.front.get(lang);
             let shown = if matches!(state.phase, Phase::Back { .. }) {
@@ -259,8 +268,11 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
         draw_summary(frame, rest, app, state);
         return;
     }
-    let Some((card, _)) = state.card(deck) else {
-        return;
+    // What the item is: a card, or a derivation.
+    let (kind, explain) = match (state.card(deck), state.derivation(deck)) {
+        (Some((card, _)), _) => (card.kind, card.explain.is_some()),
+        (None, Some(d)) => (CardKind::Basic, d.explain.is_some()),
+        (None, None) => return,
     };
     let CardLayout {
         lines,
@@ -270,7 +282,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
         hints,
         margin,
         room,
-    } = layout(app, state, card.kind, rest);
+    } = layout(app, state, kind, rest);
     let max_scroll = lines.len().saturating_sub(room);
     let scroll = state.scroll.min(max_scroll);
     let typing = state.typed && matches!(state.phase, Phase::Front { .. });
@@ -303,7 +315,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     // not offered there.
     let mut h = vec![Span::raw(" ")];
     if !typing {
-        if card.explain.is_some() {
+        if explain {
             h.push(Span::styled("e ", t.key()));
             h.push(Span::styled(
                 format!("{}  ", app.tr(Msg::Explanation)),
@@ -321,7 +333,20 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
 fn button_lines(app: &App, state: &ReviewState, kind: CardKind, width: u16) -> Vec<Line<'static>> {
     let t = &app.theme;
     let Phase::Back { typed, previews } = &state.phase else {
-        let (key, what) = if kind.is_typed() {
+        let next = app
+            .decks
+            .get(state.deck)
+            .and_then(|deck| Some(state.walk.as_ref()?.next(state.derivation(deck)?)));
+        let (key, what) = if let Some(next) = next {
+            use super::Next;
+            use crate::tui::i18n::derive as words;
+            match next {
+                Next::Step | Next::Done => (" Space ", words::NEXT_STEP.get(&app.lang)),
+                Next::Reveal => (" Space ", words::REVEAL.get(&app.lang)),
+                Next::Choose => (" 1-9 Enter ", words::CHECK.get(&app.lang)),
+                Next::Type => (" Enter ", words::CHECK.get(&app.lang)),
+            }
+        } else if kind.is_typed() {
             (" Enter ", study::CHECK.get(&app.lang))
         } else {
             (" Space ", app.tr(Msg::ShowAnswer))
@@ -331,7 +356,12 @@ fn button_lines(app: &App, state: &ReviewState, kind: CardKind, width: u16) -> V
             Span::styled(what, t.dim()),
         ])];
     };
-    let suggested = typed.as_ref().map(|t| t.check.suggested);
+    let suggested = match &state.walk {
+        // A derivation with faded steps suggests from their verdicts.
+        Some(w) if w.faded_count() > 0 => Some(w.suggested()),
+        Some(_) => None,
+        None => typed.as_ref().map(|t| t.check.suggested),
+    };
     let mut groups: Vec<Vec<Span<'static>>> = Vec::new();
     for (i, r) in Rating::ALL.into_iter().enumerate() {
         let interval = previews
