@@ -11,7 +11,7 @@ use crate::sched::clock::Clock;
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
-pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5];
+pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5, V6];
 
 /// The schema version this build writes.
 pub(crate) fn current_version() -> i64 {
@@ -452,6 +452,154 @@ ALTER TABLE prompt_attempt ADD COLUMN misconception TEXT
     CHECK (misconception IS NULL OR (misconception <> '' AND correct = 0));
 "#;
 
+/// Version 6: the review items of issue 24's own directions: `derive` (a
+/// derivation worked step by step, §5) and `predict` (a prompt as a review
+/// item), in the review log and the status log. SQLite cannot change a
+/// CHECK constraint in place, so both logs are copied into tables that
+/// allow them, every row, column (with `origin`), index and append-only
+/// trigger kept; the caches are set aside meanwhile, as in version 2.
+const V6: &str = r#"
+CREATE TABLE review_v6 (
+    id              INTEGER PRIMARY KEY,
+    session         INTEGER REFERENCES session(id),
+    deck            TEXT NOT NULL CHECK (deck <> ''),
+    card            TEXT NOT NULL CHECK (card <> ''),
+    direction       TEXT NOT NULL CHECK (direction IN ('forward', 'backward', 'derive', 'predict')
+                        OR (direction GLOB 'c[1-9]*' AND direction NOT GLOB 'c*[^0-9]*')),
+    reviewed_at     INTEGER NOT NULL,
+    rating          INTEGER NOT NULL CHECK (rating BETWEEN 1 AND 4),
+    kind            TEXT NOT NULL CHECK (kind IN ('learn', 'review', 'relearn', 'cram')),
+    elapsed_days    INTEGER NOT NULL,
+    scheduled_days  INTEGER NOT NULL,
+    stability       REAL,
+    difficulty      REAL,
+    state           TEXT NOT NULL CHECK (state IN ('new', 'learning', 'review', 'relearning')),
+    step            INTEGER CHECK (step >= 0),
+    due             INTEGER NOT NULL,
+    last_review     INTEGER,
+    duration_ms     INTEGER NOT NULL CHECK (duration_ms >= 0),
+    undone          INTEGER NOT NULL DEFAULT 0 CHECK (undone IN (0, 1)),
+    origin          TEXT CHECK (origin <> '')
+) STRICT;
+INSERT INTO review_v6 SELECT id, session, deck, card, direction, reviewed_at, rating, kind,
+    elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review,
+    duration_ms, undone, origin FROM review;
+
+-- What refers to the review log is set aside while it is replaced.
+CREATE TABLE card_state_copy AS SELECT * FROM card_state;
+DROP TABLE card_state;
+CREATE TABLE status_event_copy AS SELECT id, session, deck, card, direction, at, action,
+    until, cause, after_review, batch, undone, origin FROM status_event;
+DROP TRIGGER status_event_no_delete;
+DROP TRIGGER status_event_only_undo;
+DROP TABLE status_event;
+DROP TRIGGER review_no_delete;
+DROP TRIGGER review_only_undo;
+DROP TABLE review;
+ALTER TABLE review_v6 RENAME TO review;
+
+CREATE TABLE status_event (
+    id            INTEGER PRIMARY KEY,
+    session       INTEGER REFERENCES session(id),
+    deck          TEXT NOT NULL CHECK (deck <> ''),
+    card          TEXT NOT NULL CHECK (card <> ''),
+    direction     TEXT NOT NULL CHECK (direction IN ('forward', 'backward', 'derive', 'predict')
+                      OR (direction GLOB 'c[1-9]*' AND direction NOT GLOB 'c*[^0-9]*')),
+    at            INTEGER NOT NULL,
+    action        TEXT NOT NULL CHECK (action IN ('suspend', 'unsuspend', 'bury', 'leech')),
+    until         INTEGER,
+    cause         INTEGER REFERENCES review(id),
+    after_review  INTEGER NOT NULL DEFAULT 0,
+    batch         INTEGER NOT NULL,
+    undone        INTEGER NOT NULL DEFAULT 0 CHECK (undone IN (0, 1)),
+    origin        TEXT CHECK (origin <> ''),
+    CHECK ((action = 'bury') = (until IS NOT NULL))
+) STRICT;
+INSERT INTO status_event SELECT * FROM status_event_copy;
+DROP TABLE status_event_copy;
+
+CREATE TABLE card_state (
+    deck         TEXT NOT NULL,
+    card         TEXT NOT NULL,
+    direction    TEXT NOT NULL,
+    state        TEXT NOT NULL CHECK (state IN ('new', 'learning', 'review', 'relearning')),
+    step         INTEGER,
+    stability    REAL,
+    difficulty   REAL,
+    due          INTEGER NOT NULL,
+    last_review  INTEGER,
+    reps         INTEGER NOT NULL CHECK (reps >= 0),
+    lapses       INTEGER NOT NULL CHECK (lapses >= 0),
+    review_id    INTEGER NOT NULL REFERENCES review(id),
+    PRIMARY KEY (deck, card, direction)
+) STRICT, WITHOUT ROWID;
+INSERT INTO card_state SELECT * FROM card_state_copy;
+DROP TABLE card_state_copy;
+
+CREATE INDEX review_item ON review(deck, card, direction, id);
+CREATE INDEX review_time ON review(reviewed_at);
+CREATE INDEX review_deck_time ON review(deck, reviewed_at);
+CREATE INDEX review_session ON review(session, id);
+CREATE INDEX review_cram ON review(deck, card, direction, undone) WHERE kind = 'cram';
+CREATE INDEX card_state_due ON card_state(deck, due);
+CREATE INDEX status_event_item ON status_event(deck, card, direction, id);
+CREATE INDEX status_event_session ON status_event(session, id);
+CREATE INDEX status_event_cause ON status_event(cause) WHERE cause IS NOT NULL;
+CREATE INDEX status_event_at ON status_event(at);
+
+CREATE TRIGGER review_no_delete BEFORE DELETE ON review
+BEGIN
+    SELECT RAISE(ABORT, 'the review log is append-only: rows are never deleted');
+END;
+
+CREATE TRIGGER review_only_undo BEFORE UPDATE ON review
+WHEN (NEW.undone IS NOT OLD.undone AND NEW.undone IS NOT 1)
+  OR (NEW.origin IS NOT OLD.origin AND OLD.origin IS NOT NULL)
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.card IS NOT OLD.card
+  OR NEW.direction IS NOT OLD.direction
+  OR NEW.reviewed_at IS NOT OLD.reviewed_at
+  OR NEW.rating IS NOT OLD.rating
+  OR NEW.kind IS NOT OLD.kind
+  OR NEW.elapsed_days IS NOT OLD.elapsed_days
+  OR NEW.scheduled_days IS NOT OLD.scheduled_days
+  OR NEW.stability IS NOT OLD.stability
+  OR NEW.difficulty IS NOT OLD.difficulty
+  OR NEW.state IS NOT OLD.state
+  OR NEW.step IS NOT OLD.step
+  OR NEW.due IS NOT OLD.due
+  OR NEW.last_review IS NOT OLD.last_review
+  OR NEW.duration_ms IS NOT OLD.duration_ms
+BEGIN
+    SELECT RAISE(ABORT, 'the review log is append-only: only undone may change, to 1, and origin, once');
+END;
+
+CREATE TRIGGER status_event_no_delete BEFORE DELETE ON status_event
+BEGIN
+    SELECT RAISE(ABORT, 'the status log is append-only: rows are never deleted');
+END;
+
+CREATE TRIGGER status_event_only_undo BEFORE UPDATE ON status_event
+WHEN (NEW.undone IS NOT OLD.undone AND NEW.undone IS NOT 1)
+  OR (NEW.origin IS NOT OLD.origin AND OLD.origin IS NOT NULL)
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.card IS NOT OLD.card
+  OR NEW.direction IS NOT OLD.direction
+  OR NEW.at IS NOT OLD.at
+  OR NEW.action IS NOT OLD.action
+  OR NEW.until IS NOT OLD.until
+  OR NEW.cause IS NOT OLD.cause
+  OR NEW.after_review IS NOT OLD.after_review
+  OR NEW.batch IS NOT OLD.batch
+BEGIN
+    SELECT RAISE(ABORT, 'the status log is append-only: only undone may change, to 1, and origin, once');
+END;
+"#;
+
 /// Brings the database at `path` up to the last of `migrations`. Before the
 /// first migration of a database that already holds a schema, a copy is made
 /// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
@@ -730,7 +878,7 @@ mod tests {
         drop(conn);
         // Opened by this build: a backup, then version 5.
         let mut conn = Connection::open(&path).unwrap();
-        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..5], "20260102T000000Z").unwrap();
         assert_eq!(user_version(&conn).unwrap(), 5);
         assert_eq!(rows(&conn), before, "every attempt kept, every column");
         assert!(
@@ -849,5 +997,110 @@ mod tests {
             .query_row("SELECT rating FROM review WHERE id = 1", [], |r| r.get(0))
             .unwrap();
         assert_eq!(rating, 3);
+    }
+
+    #[test]
+    fn version_6_takes_derive_items_and_keeps_every_row_and_trigger() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        conn.pragma_update(None, "foreign_keys", true).unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..5], "20260101T000000Z").unwrap();
+        conn.execute_batch(
+            "INSERT INTO session (id, started_at) VALUES (1, 10);
+             INSERT INTO review (session, deck, card, direction, reviewed_at, rating, kind,
+               elapsed_days, scheduled_days, stability, difficulty, state, step, due,
+               last_review, duration_ms, undone, origin) VALUES
+               (1, 'd', 'a', 'forward', 1000, 3, 'learn', 0, 0, 2.0, 5.0, 'learning', 0, 2000,
+                1000, 10, 0, NULL),
+               (1, 'd', 'b', 'c2', 1100, 1, 'learn', 0, 0, 0.5, 7.0, 'learning', 0, 2100,
+                1100, 20, 1, 'machine-b');
+             INSERT INTO card_state VALUES ('d', 'a', 'forward', 'learning', 0, 2.0, 5.0, 2000,
+               1000, 1, 0, 1);
+             INSERT INTO status_event (session, deck, card, direction, at, action, until, cause,
+               after_review, batch, undone, origin) VALUES
+               (1, 'd', 'a', 'backward', 1000, 'bury', 5000, 1, 1, 1, 0, NULL);",
+        )
+        .unwrap();
+        let dump = |conn: &Connection, table: &str| -> Vec<String> {
+            let mut st = conn
+                .prepare(&format!("SELECT * FROM {table} ORDER BY 1, 2, 3"))
+                .unwrap();
+            let n = st.column_count();
+            st.query_map([], |r| {
+                Ok((0..n)
+                    .map(|i| format!("{:?}", r.get_ref(i).unwrap()))
+                    .collect::<Vec<_>>()
+                    .join(" "))
+            })
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap()
+        };
+        let tables = ["review", "card_state", "status_event"];
+        let before: Vec<Vec<String>> = tables.iter().map(|t| dump(&conn, t)).collect();
+        let derive = "INSERT INTO review (deck, card, direction, reviewed_at, rating, kind, \
+             elapsed_days, scheduled_days, state, due, duration_ms) VALUES \
+             ('d', 'euler', 'derive', 3000, 3, 'learn', 0, 0, 'learning', 4000, 5)";
+        assert!(conn.execute(derive, []).is_err(), "version 5 has no derive");
+        drop(conn);
+        let mut conn = Connection::open(&path).unwrap();
+        conn.pragma_update(None, "foreign_keys", true).unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..6], "20260102T000000Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), 6);
+        let after: Vec<Vec<String>> = tables.iter().map(|t| dump(&conn, t)).collect();
+        assert_eq!(after, before, "every row and column kept");
+        conn.execute(derive, []).unwrap();
+        conn.execute(
+            "INSERT INTO status_event (deck, card, direction, at, action, batch) \
+             VALUES ('d', 'euler', 'derive', 3100, 'suspend', 2)",
+            [],
+        )
+        .unwrap();
+        for bad in [
+            derive.replace("'derive'", "'derived'"),
+            derive.replace("'derive'", "'c0'"),
+        ] {
+            assert!(conn.execute(&bad, []).is_err(), "{bad}");
+        }
+        // The logs stay append-only.
+        for (sql, says) in [
+            ("DELETE FROM review WHERE card = 'euler'", "append-only"),
+            (
+                "UPDATE review SET direction = 'forward' WHERE card = 'euler'",
+                "append-only",
+            ),
+            ("DELETE FROM status_event", "append-only"),
+            ("UPDATE review SET undone = 1 WHERE card = 'euler'", ""),
+        ] {
+            match conn.execute(sql, []) {
+                Ok(_) => assert!(says.is_empty(), "{sql} was allowed"),
+                Err(e) => assert!(
+                    !says.is_empty() && e.to_string().contains(says),
+                    "{sql}: {e}"
+                ),
+            }
+        }
+        for index in [
+            "review_item",
+            "review_cram",
+            "status_event_at",
+            "card_state_due",
+        ] {
+            let n: i64 = conn
+                .query_row(
+                    "SELECT count(*) FROM sqlite_schema WHERE type = 'index' AND name = ?1",
+                    [index],
+                    |r| r.get(0),
+                )
+                .unwrap();
+            assert_eq!(n, 1, "{index}");
+        }
+        let fk: i64 = conn
+            .query_row("SELECT count(*) FROM pragma_foreign_key_check", [], |r| {
+                r.get(0)
+            })
+            .unwrap();
+        assert_eq!(fk, 0);
     }
 }

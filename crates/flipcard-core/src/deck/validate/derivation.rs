@@ -51,7 +51,7 @@ pub fn derivations(
                 s.span.clone(),
                 format!("derivation id `{}` is also a card's id", s.value),
                 Some(format!(
-                    "the card is on line {line}; cards and derivations share one id space (review history is kept by id)"
+                    "the card is on line {line}; cards and derivations share one id space, as review history is kept by id"
                 )),
             );
             ok = false;
@@ -260,4 +260,233 @@ pub(super) fn texts(raw: &RawDeckFile) -> Vec<&RawText> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::PathBuf;
+
+    use proptest::prelude::*;
+
+    use crate::deck::files::Memory;
+    use crate::deck::model::{AskKind, Derivation};
+
+    const HEAD: &str = "[deck]\nid = \"d\"\ntitle = 'D'\nlanguages = [\"en\"]\n\n\
+                        [[card]]\nid = \"c\"\nfront = 'F'\nback = 'B'\n\n";
+
+    /// The deck `HEAD` + `body`, loaded from memory: its derivations, or
+    /// every diagnostic as `line:col: message`.
+    fn load(body: &str) -> Result<Vec<Derivation>, Vec<String>> {
+        let deck = format!("{HEAD}{body}");
+        let bytes: &'static [u8] = Box::leak(deck.into_bytes().into_boxed_slice());
+        let content: &'static [u8] = b"[[section]]\nid = \"s\"\ntitle = 'S'\nbody = 'B.'\n";
+        let tree = Memory::new([
+            (PathBuf::from("/r/decks/d.toml"), bytes),
+            (PathBuf::from("/r/content/d/en.toml"), content),
+        ]);
+        let (loaded, _) = crate::deck::load_sources(&[(&tree, PathBuf::from("/r/decks"))]);
+        if loaded.errors() > 0 {
+            return Err(loaded
+                .diagnostics
+                .iter()
+                .map(|d| {
+                    let hint = d.hint.as_deref().unwrap_or_default();
+                    format!("{}:{}: {} ({hint})", d.line, d.col, d.message)
+                })
+                .collect());
+        }
+        Ok(loaded.decks[0].derivations.clone())
+    }
+
+    /// The errors of `body`, each `line:col: message`; panics when it loads.
+    fn errors(body: &str) -> Vec<String> {
+        match load(body) {
+            Ok(d) => panic!("loaded: {d:?}\n{body}"),
+            Err(e) => e,
+        }
+    }
+
+    fn has(errors: &[String], at: &str, says: &str) {
+        assert!(
+            errors.iter().any(|e| e.starts_with(at) && e.contains(says)),
+            "no `{says}` at {at}: {errors:?}"
+        );
+    }
+
+    // HEAD has 10 lines: a body starts on line 11.
+    const STEP: &str = "[[derivation.step]]\nmath = '$x = 1$'\nwhy = 'Because.'\n";
+
+    #[test]
+    fn a_derivation_loads_with_its_steps_and_asks() {
+        let d = load(
+            "[[derivation]]\nid = \"x\"\ntitle = 'X'\nexplain = \"s\"\ntags = [\"t\"]\n\
+             [[derivation.step]]\nmath = '$a$'\nwhy = 'W1'\nask = { kind = \"reveal\" }\n\
+             [[derivation.step]]\nmath = '$b$'\nwhy = 'W2'\n\
+             ask = { kind = \"choice\", answer = \"y\", choices = [{ id = \"n\", label = 'No' }, { id = \"y\", label = '$y$' }] }\n\
+             [[derivation.step]]\nmath = '$c$'\nwhy = 'W3'\n\
+             ask = { kind = \"formula\", question = 'Q $k$', expected = \"2 x\", vars = { x = [1, 2] } }\n\
+             [[derivation.step]]\nmath = '$d$'\nwhy = 'W4'\n",
+        )
+        .unwrap();
+        assert_eq!(d.len(), 1);
+        let x = &d[0];
+        assert_eq!((x.id.as_str(), x.steps.len()), ("x", 4));
+        assert_eq!(x.tags, ["t"]);
+        assert_eq!(x.explain.as_ref().map(|e| e.section.as_str()), Some("s"));
+        assert_eq!(x.steps[0].math.get("en"), "$a$");
+        assert!(matches!(
+            x.steps[0].ask.as_ref().map(|a| &a.kind),
+            Some(AskKind::Reveal)
+        ));
+        match x.steps[1].ask.as_ref().map(|a| &a.kind) {
+            Some(AskKind::Choice { choices, answer }) => {
+                assert_eq!(answer, "y");
+                assert_eq!(choices.len(), 2);
+            }
+            other => panic!("{other:?}"),
+        }
+        match x.steps[2].ask.as_ref() {
+            Some(a) => {
+                assert_eq!(a.question.as_ref().map(|q| q.get("en")), Some("Q $k$"));
+                assert!(matches!(&a.kind, AskKind::Formula(k) if k.expected == "2 x"));
+            }
+            None => panic!("no ask"),
+        }
+        assert!(x.steps[3].ask.is_none());
+    }
+
+    #[test]
+    fn problems_are_reported_at_their_place() {
+        // Unknown keys, in the derivation, a step and an ask.
+        let e = errors(&format!(
+            "[[derivation]]\nid = \"x\"\ntitle = 'X'\nsection = \"s\"\n{STEP}reason = 'R'\n\
+             ask = {{ kind = \"reveal\", answer = \"a\" }}\n"
+        ));
+        has(&e, "14:1:", "unknown field `section`");
+        has(&e, "18:1:", "unknown field `reason`");
+        has(&e, "19:", "`answer` belongs to kind = \"choice\" asks");
+        // No steps; duplicate ids; an id that is a card's.
+        let e = errors(
+            "[[derivation]]\nid = \"x\"\ntitle = 'X'\nstep = []\n\
+             [[derivation]]\nid = \"c\"\ntitle = 'C'\n[[derivation.step]]\nmath = '$a$'\nwhy = 'W'\n\
+             [[derivation]]\nid = \"c\"\ntitle = 'C'\n[[derivation.step]]\nmath = '$a$'\nwhy = 'W'\n",
+        );
+        has(&e, "14:8:", "derivation `x` has no steps");
+        has(&e, "16:6:", "derivation id `c` is also a card's id");
+        has(&e, "22:6:", "duplicate derivation id `c`");
+        // A missing step table and a bad id.
+        let e = errors("[[derivation]]\nid = \"Bad Id\"\ntitle = 'X'\n");
+        has(&e, "11:1:", "missing the required field `step`");
+        has(&e, "12:6:", "derivation id `Bad Id` is not a valid id");
+        // Asks: unknown kind, an answer none of the choices, one choice.
+        let e = errors(&format!(
+            "[[derivation]]\nid = \"x\"\ntitle = 'X'\n{STEP}ask = {{ kind = \"guess\" }}\n\
+             {STEP}ask = {{ kind = \"choice\", answer = \"z\", choices = [{{ id = \"a\", label = 'A' }}, {{ id = \"b\", label = 'B' }}] }}\n\
+             {STEP}ask = {{ kind = \"choice\", answer = \"a\", choices = [{{ id = \"a\", label = 'A' }}] }}\n"
+        ));
+        has(&e, "17:", "unknown ask kind `guess`");
+        has(
+            &e,
+            "21:",
+            "`answer` of the ask of step 2 of derivation `x` is `z`",
+        );
+        has(&e, "25:", "has 1 choice; a choice needs 2 to 9");
+        // A formula key checked as a formula card's: an unknown name at
+        // its place, an unused variable.
+        let e = errors(&format!(
+            "[[derivation]]\nid = \"x\"\ntitle = 'X'\n{STEP}\
+             ask = {{ kind = \"formula\", expected = \"2 y\", vars = {{ x = [1, 2] }} }}\n"
+        ));
+        has(
+            &e,
+            "17:",
+            "`expected` of the ask of step 1 of derivation `x`",
+        );
+        // Math that does not render; a text in a language not declared.
+        let e = errors(
+            "[[derivation]]\nid = \"x\"\ntitle = 'X'\n[[derivation.step]]\nmath = '$\\frac{a$'\nwhy = { en = 'W', fr = 'P' }\n",
+        );
+        has(&e, "15:", "");
+        has(&e, "16:", "language `fr` is not declared");
+    }
+
+    #[test]
+    fn more_than_forty_steps_are_refused() {
+        let body = format!(
+            "[[derivation]]\nid = \"x\"\ntitle = 'X'\n{}",
+            STEP.repeat(super::MAX_STEPS + 1)
+        );
+        let e = errors(&body);
+        // The 41st step's table starts on this line.
+        let line = 14 + 3 * super::MAX_STEPS;
+        has(
+            &e,
+            &format!("{line}:"),
+            "has 41 steps; a derivation may have at most 40",
+        );
+        assert_eq!(
+            load(&format!(
+                "[[derivation]]\nid = \"x\"\ntitle = 'X'\n{}",
+                STEP.repeat(super::MAX_STEPS)
+            ))
+            .unwrap()[0]
+                .steps
+                .len(),
+            super::MAX_STEPS
+        );
+    }
+
+    fn ask() -> impl Strategy<Value = (String, bool)> {
+        prop_oneof![
+            Just((String::new(), true)),
+            Just(("ask = { kind = \"reveal\" }\n".to_string(), true)),
+            Just((
+                "ask = { kind = \"choice\", answer = \"a\", choices = [{ id = \"a\", label = 'A' }, { id = \"b\", label = 'B' }] }\n"
+                    .to_string(),
+                true
+            )),
+            Just((
+                "ask = { kind = \"formula\", expected = \"x^2\", vars = { x = [1, 2] } }\n"
+                    .to_string(),
+                true
+            )),
+            Just(("ask = { kind = \"formula\", expected = \"x^2\", vars = { y = [1, 2] } }\n".to_string(), false)),
+            Just(("ask = { kind = \"choice\", answer = \"q\", choices = [] }\n".to_string(), false)),
+            Just(("ask = \"reveal\"\n".to_string(), false)),
+            Just(("ask = { question = 'Q' }\n".to_string(), false)),
+        ]
+    }
+
+    proptest! {
+        /// Any number of steps (0 to 45) with any mix of asks, good and
+        /// broken: loaded exactly when every step is sound and the count
+        /// is within 1..=40, with every step in order; otherwise refused
+        /// with errors, never a panic.
+        #[test]
+        fn steps_load_in_order_or_are_refused(asks in proptest::collection::vec(ask(), 0..45)) {
+            let mut body = "[[derivation]]\nid = \"x\"\ntitle = 'X'\n".to_string();
+            if asks.is_empty() {
+                body.push_str("step = []\n");
+            }
+            for (i, (ask, _)) in asks.iter().enumerate() {
+                body.push_str(&format!("[[derivation.step]]\nmath = '$s_{{{i}}}$'\nwhy = 'W{i}'\n{ask}"));
+            }
+            let fine = (1..=super::MAX_STEPS).contains(&asks.len()) && asks.iter().all(|(_, ok)| *ok);
+            match load(&body) {
+                Ok(d) => {
+                    prop_assert!(fine, "loaded: {body}");
+                    prop_assert_eq!(d[0].steps.len(), asks.len());
+                    for (i, s) in d[0].steps.iter().enumerate() {
+                        let math = format!("$s_{{{i}}}$");
+                        prop_assert_eq!(s.math.get("en"), math.as_str());
+                        prop_assert_eq!(s.ask.is_some(), !asks[i].0.is_empty());
+                    }
+                }
+                Err(e) => {
+                    prop_assert!(!fine, "refused: {e:?}\n{body}");
+                    prop_assert!(!e.is_empty());
+                }
+            }
+        }
+    }
 }
