@@ -26,7 +26,11 @@ fn deck() -> Deck {
         env!("CARGO_MANIFEST_DIR"),
         "/tests/decks/derive/decks"
     )));
-    let errors: Vec<String> = loaded.diagnostics.iter().map(|d| d.to_string()).collect();
+    let errors: Vec<&str> = loaded
+        .diagnostics
+        .iter()
+        .map(|d| d.message.as_str())
+        .collect();
     assert!(errors.is_empty(), "{errors:?}");
     loaded
         .decks
