@@ -81,8 +81,8 @@ fn report(mut loaded: Loaded, no_simulate: bool) -> anyhow::Result<ExitCode> {
 }
 
 /// `N decks, M cards, P prompts, S scenes, X sections: ok` (`1 deck`, `1
-/// card`...), with `, D derivations` before `: ok` when there are any; a
-/// section counts once however many languages it is written in.
+/// card`...), with `D derivations, ` before the sections when there are
+/// any; a section counts once however many languages it is written in.
 pub fn summary(loaded: &Loaded) -> String {
     let count = |f: fn(&crate::deck::Deck) -> usize| loaded.decks.iter().map(f).sum::<usize>();
     let derivations = count(|d| d.derivations.len());
@@ -96,11 +96,11 @@ pub fn summary(loaded: &Loaded) -> String {
             "scene",
             "scenes"
         ),
-        plural(count(|d| d.sections.len()), "section", "sections"),
         if derivations > 0 {
-            format!(", {}", plural(derivations, "derivation", "derivations"))
+            format!("{}, ", plural(derivations, "derivation", "derivations"))
         } else {
             String::new()
         },
+        plural(count(|d| d.sections.len()), "section", "sections"),
     )
 }

@@ -15,6 +15,7 @@ pub mod model;
 pub mod places;
 pub mod raw;
 pub mod raw_derivation;
+pub mod raw_formula;
 pub mod raw_knob;
 pub mod raw_misconception;
 mod read;

@@ -10,6 +10,8 @@ use super::report::FileReport;
 use super::suggest;
 
 pub use super::raw_derivation::{RawAsk, RawAskChoice, RawAskKind, RawDerivation, RawStep};
+pub use super::raw_formula::{Entry, Named, RawFormula};
+pub(crate) use super::raw_formula::{named, read_formula};
 pub use super::raw_knob::RawKnob;
 pub use super::raw_misconception::{RawMisconception, RawRange};
 pub use super::read::{Flag, List, Num, RawAccept, RawText, Span, Str};
@@ -118,15 +120,6 @@ pub struct RawCard {
     pub formula: Option<RawFormula>,
 }
 
-/// The key of a formula answer as written: the expected formula and
-/// `vars = { I1 = [1, 3], … }`, each variable's interval.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RawFormula {
-    pub span: Span,
-    pub expected: Option<Str>,
-    pub vars: Option<Named<List<Num>>>,
-}
-
 #[derive(Debug, Clone, PartialEq)]
 pub struct RawPrompt {
     pub span: Span,
@@ -210,21 +203,6 @@ pub struct RawScene {
     pub knobs: Option<List<RawKnob>>,
     /// The measure plotted against a knob (`explore = "period(theta)"`).
     pub explore: Option<Str>,
-}
-
-/// A named value of a table written inline (`params = { g = 9.81 }`), the
-/// key with its span.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Entry<T> {
-    pub key: Str,
-    pub value: T,
-}
-
-/// A table of named values, in the order written.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Named<T> {
-    pub entries: Vec<Entry<T>>,
-    pub span: Span,
 }
 
 /// One sketch element: `{ line = [...] }`, `{ dot = [...] }` or
@@ -432,27 +410,6 @@ fn read_card(rep: &mut FileReport, t: &DeTable, span: Span) -> RawCard {
         prompt: f.string(rep, "prompt", false),
         tags: f.strings(rep, "tags", false),
         formula,
-    }
-}
-
-/// `expected` and `vars` of a formula card or answer.
-pub(crate) fn read_formula(rep: &mut FileReport, f: &Fields, span: Span) -> RawFormula {
-    RawFormula {
-        span,
-        expected: f.string(rep, "expected", true),
-        vars: f.require(rep, "vars").and_then(|_| {
-            named(rep, f, "vars", |rep, v, what| {
-                let arr = read::array(rep, v, what)?;
-                let items = arr
-                    .iter()
-                    .map(|n| read::number(rep, n, &format!("each end of {what}")))
-                    .collect::<Option<Vec<_>>>()?;
-                Some(List {
-                    items,
-                    span: v.span(),
-                })
-            })
-        }),
     }
 }
 
@@ -729,35 +686,6 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
         knobs: super::raw_knob::read_knobs(rep, &f),
         explore: f.string(rep, "explore", false),
     }
-}
-
-/// An optional inline table of named values, in the order written.
-fn named<T>(
-    rep: &mut FileReport,
-    f: &Fields,
-    key: &str,
-    value: impl Fn(&mut FileReport, &read::Value, &str) -> Option<T>,
-) -> Option<Named<T>> {
-    let v = f.get(key)?;
-    let t = read::table(rep, v, &format!("`{key}`"))?;
-    let mut entries = Vec::new();
-    let mut ok = true;
-    for (k, item) in t.iter() {
-        let name = Str {
-            value: k.get_ref().to_string(),
-            span: k.span(),
-        };
-        match value(rep, item, &format!("`{}` in `{key}`", name.value)) {
-            Some(value) => entries.push(Entry { key: name, value }),
-            None => ok = false,
-        }
-    }
-    // The table keeps keys sorted; the author's order is the source order.
-    entries.sort_by_key(|e| e.key.span.start);
-    ok.then_some(Named {
-        entries,
-        span: v.span(),
-    })
 }
 
 /// `hamiltonian = { q = [...], p = [...] }`, both lists required.

@@ -5,7 +5,7 @@
 
 use toml::de::{DeTable, DeValue};
 
-use super::raw::{RawFormula, read_formula};
+use super::raw_formula::{RawFormula, read_formula};
 use super::read::{self, Fields, List, RawText, Span, Str};
 use super::report::FileReport;
 use super::suggest;
