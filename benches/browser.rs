@@ -109,6 +109,7 @@ fn deck() -> Deck {
     Deck {
         misconceptions: Vec::new(),
         explore: Vec::new(),
+        derivations: Vec::new(),
         id: "big".into(),
         title: text("Big".into(), "Bada".into()),
         description: None,

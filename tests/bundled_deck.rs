@@ -344,3 +344,85 @@ fn the_earth_scene_is_in_days_and_covers_two_wobbles() {
     );
     assert!(earth.duration >= 2.0 * period, "run {} d", earth.duration);
 }
+
+/// The seed's two derivations (issue 24 §5): Euler's equations from the
+/// transport theorem and the stability criterion, every text in both
+/// languages, at least one formula and one choice ask among them, every
+/// ask's own answer graded right as the review screen grades it, and the
+/// criterion's k the same formula as the deck's growth-rate prompt (spin
+/// about axis 2) with the axes 1 and 2 exchanged.
+#[test]
+fn the_derivations_are_sound_and_agree_with_the_prompts() {
+    use flipcard::deck::AskKind;
+    use flipcard::study::derive::{StepAnswer, StepVerdict, check};
+    let d = deck();
+    let ids: Vec<&str> = d.derivations.iter().map(|x| x.id.as_str()).collect();
+    assert_eq!(ids, ["derive-euler-equations", "derive-stability"]);
+    let mut problems = Vec::new();
+    let (mut formulas, mut choices) = (0, 0);
+    for x in &d.derivations {
+        assert_full(&x.title, &x.id, &mut problems);
+        for (i, s) in x.steps.iter().enumerate() {
+            let what = format!("{} step {}", x.id, i + 1);
+            assert_full(&s.math, &what, &mut problems);
+            assert_full(&s.why, &what, &mut problems);
+            let Some(ask) = &s.ask else { continue };
+            let right = match &ask.kind {
+                AskKind::Reveal => continue,
+                AskKind::Choice { answer, choices: c } => {
+                    choices += 1;
+                    for choice in c {
+                        assert_full(&choice.label, &what, &mut problems);
+                    }
+                    check(Some(ask), &StepAnswer::Chose(answer))
+                }
+                AskKind::Formula(key) => {
+                    formulas += 1;
+                    check(Some(ask), &StepAnswer::Typed(&key.expected))
+                }
+            };
+            assert_eq!(right, StepVerdict::Right, "{what}");
+        }
+    }
+    assert!(problems.is_empty(), "{problems:#?}");
+    assert!(
+        formulas >= 1 && choices >= 1,
+        "{formulas} formula, {choices} choice asks"
+    );
+
+    // k about axis 1 is the prompt's k about axis 2 with 1 and 2 exchanged.
+    let prompt = d
+        .prompt("middle-axis-growth-formula")
+        .expect("the growth-rate formula prompt");
+    let Answer::Formula(about_2) = &prompt.answer else {
+        panic!("a formula prompt")
+    };
+    // The moments' indices exchanged (not the power of Omega).
+    let swapped = about_2
+        .expected
+        .replace("I_1", "I_#")
+        .replace("I_2", "I_1")
+        .replace("I_#", "I_2");
+    assert_ne!(swapped, about_2.expected);
+    let k = d
+        .derivation("derive-stability")
+        .expect("the stability derivation")
+        .steps
+        .iter()
+        .filter_map(|s| s.ask.as_ref())
+        .find(|a| matches!(a.kind, AskKind::Formula(_)))
+        .expect("the stability derivation asks for k");
+    assert_eq!(
+        check(Some(k), &StepAnswer::Typed(&swapped)),
+        StepVerdict::Right,
+        "{swapped}"
+    );
+    // The sign matters: the other order of one factor is wrong.
+    assert!(
+        check(
+            Some(k),
+            &StepAnswer::Typed("(I_1 - I_3)(I_1 - I_2) Omega^2 / (I_2 I_3)")
+        )
+        .is_wrong()
+    );
+}

@@ -129,7 +129,10 @@ fn deck_fragment(e: &Example) {
         .map(str::trim)
         .find(|l| l.starts_with('['))
         .unwrap_or("");
-    let deck = if first_header.starts_with("[[card]]") || first_header.starts_with("[[scene]]") {
+    let deck = if first_header.starts_with("[[card]]")
+        || first_header.starts_with("[[scene]]")
+        || first_header.starts_with("[[derivation]]")
+    {
         format!("{HEADER}\n{}", e.text)
     } else if first_header.starts_with("[prompt.answer]") {
         format!(

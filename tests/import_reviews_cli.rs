@@ -258,7 +258,7 @@ fn ids_that_are_not_of_the_deck_format_are_refused_and_quoted_escaped() {
             ),
             (
                 6,
-                "direction \"c1000\" is not forward, backward or c1 … c999",
+                "direction \"c1000\" is not forward, backward, c1 … c999 or derive",
             ),
             (7, "direction \"sideways\\u001b[31m\""),
             (8, "reviewed_at \"when\\u001b[2J\" is not an RFC 3339 time"),
@@ -274,6 +274,22 @@ fn ids_that_are_not_of_the_deck_format_are_refused_and_quoted_escaped() {
         &["import", "--reviews", ok[1].to_str().unwrap()],
     );
     assert!(out.status.success(), "{}", out.stderr());
+    // So is a derivation (direction `derive`), whatever id no deck knows:
+    // kept, as another unknown id's history is.
+    let ok = both_formats(dir.path(), &[("mech", "no-such-derivation", "derive", t)]);
+    let out = flipcard(
+        dir.path(),
+        &["import", "--reviews", ok[0].to_str().unwrap()],
+    );
+    assert!(out.status.success(), "{}", out.stderr());
+    let listed = flipcard(dir.path(), &["export", "--reviews"]);
+    assert!(
+        listed
+            .stdout()
+            .contains("\"card\":\"no-such-derivation\",\"direction\":\"derive\""),
+        "{}",
+        listed.stdout()
+    );
 }
 
 #[test]

@@ -64,7 +64,10 @@ fn export_writes_the_misconception_last_in_csv_and_json() {
         lines[0],
         "deck,prompt,attempted_at,prediction,measured,correct,attempt,retry,misconception,variant"
     );
-    assert!(lines[1].ends_with(",false,1,false,omega-constant,"), "{csv}");
+    assert!(
+        lines[1].ends_with(",false,1,false,omega-constant,"),
+        "{csv}"
+    );
     assert!(lines[2].ends_with(",false,1,false,,"), "{csv}");
     assert!(lines[3].ends_with(",true,1,false,,"), "{csv}");
     let json = flipcard(dir.path(), &["export", "--attempts"]).ok();

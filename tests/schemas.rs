@@ -113,6 +113,23 @@ fn schemas_name_the_fields_the_reader_knows() {
         set(flipcard::deck::raw_misconception::RANGE_FIELDS)
     );
 
+    // Derivations, their steps and each kind of a step's ask.
+    use flipcard::deck::raw_derivation as rd;
+    assert_eq!(keys(&defs["Derivation"]), set(rd::DERIVATION_FIELDS));
+    assert_eq!(keys(&defs["DerivationStep"]), set(rd::STEP_FIELDS));
+    assert_eq!(keys(&defs["StepChoice"]), set(rd::ASK_CHOICE_FIELDS));
+    let asks = defs["StepAsk"]["allOf"].as_array().unwrap();
+    let ask = |kind: &str| {
+        &asks
+            .iter()
+            .find(|b| b["if"]["properties"]["kind"]["const"] == kind)
+            .unwrap_or_else(|| panic!("no {kind} ask in the schema"))["then"]
+    };
+    assert_eq!(asks.len(), rd::ASK_KINDS.len());
+    assert_eq!(keys(ask("reveal")), set(rd::REVEAL_ASK_FIELDS));
+    assert_eq!(keys(ask("choice")), set(rd::CHOICE_ASK_FIELDS));
+    assert_eq!(keys(ask("formula")), set(rd::FORMULA_ASK_FIELDS));
+
     let content = schema::content_schema();
     assert_eq!(keys(&content), set(raw::CONTENT_FILE_FIELDS));
     assert_eq!(

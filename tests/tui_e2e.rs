@@ -846,3 +846,86 @@ fn f_opens_the_formula_sheet_in_both_languages_and_esc_goes_back() {
     assert!(!s.contains("Formula sheet"), "{s}");
     t.keys(&["q", "q"]);
 }
+
+/// A derivation as a learner walks it (issue 24 §5), in the release binary:
+/// the first day a worked example stepped through with Space and rated; a
+/// day later (the app's clock, `FLIPCARD_NOW`) its last step faded, the
+/// learner types the formula with the wrong sign, sees the slip named and
+/// the math revealed, and takes the suggested rating; `flipcard export`
+/// shows both ratings under the direction `derive`.
+#[test]
+fn a_derivation_is_worked_then_faded_and_checked_in_a_terminal() {
+    if !tmux_available() {
+        return;
+    }
+    let data = tempfile::tempdir().unwrap();
+    let decks = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/decks/derive/decks");
+    let app = |now: &str| {
+        Flipcard::new(data.path())
+            .now(now)
+            .decks(decks)
+            .args(["review", "derive"])
+    };
+    let t = Tmux::start("derive1", app("2026-03-02T09:00:00Z"), 100, 30);
+    // The card first, then the derivation, a worked example.
+    t.wait_for("Which axis is unstable?");
+    t.keys(&["Space"]);
+    t.wait_for("Again");
+    t.keys(&["3"]);
+    let s = t.wait_for("Worked example");
+    assert!(s.contains("why: The transport theorem."), "{s}");
+    t.keys(&["Space"]);
+    t.wait_for("why: Cross product by components.");
+    t.keys(&["Space"]);
+    let s = t.wait_for("why: Set the torque to zero.");
+    assert!(!s.contains("your step"), "{s}");
+    t.keys(&["3"]);
+    // Both items are learning now (the card comes back within the
+    // learn-ahead time).
+    t.wait_for("2 learning");
+    t.keys(&["q"]);
+    std::thread::sleep(Duration::from_millis(300));
+    t.keys(&["q"]);
+    t.wait_for("EXIT=0");
+    drop(t);
+
+    let t = Tmux::start("derive2", app("2026-03-03T09:00:00Z"), 100, 30);
+    t.wait_for("Which axis is unstable?");
+    t.keys(&["Space"]);
+    t.wait_for("Again");
+    t.keys(&["3"]);
+    t.wait_for("steps to supply: 1 of 3");
+    t.keys(&["Space"]);
+    let s = t.wait_for("[ your step ]");
+    assert!(s.contains("hint: Set the torque to zero."), "{s}");
+    assert!(!s.contains("I₁ω̇₁ = (I₂ − I₃)"), "the math is hidden:\n{s}");
+    for c in "(I3-I2)*w2*w3/I1".chars() {
+        t.keys(&[&c.to_string()]);
+    }
+    t.keys(&["Enter"]);
+    let s = t.wait_for("not quite");
+    assert!(s.contains("the sign is wrong"), "{s}");
+    assert!(s.contains("I₁ω̇₁ = (I₂ − I₃) ω₂ω₃"), "revealed:\n{s}");
+    assert!(s.contains("suggested: Hard"), "{s}");
+    t.keys(&["Enter"]);
+    // Hard keeps it learning: shown again within the learn-ahead time,
+    // now with two steps faded (Good and Hard are two successes).
+    t.wait_for("steps to supply: 2 of 3");
+    t.keys(&["q"]);
+    std::thread::sleep(Duration::from_millis(300));
+    t.keys(&["q"]);
+    t.wait_for("EXIT=0");
+    drop(t);
+
+    let out = Flipcard::new(data.path())
+        .now("2026-03-03T10:00:00Z")
+        .decks(decks)
+        .args(["export", "--reviews", "--format", "csv"])
+        .run();
+    let text = out.stdout();
+    let derive: Vec<&str> = text
+        .lines()
+        .filter(|l| l.contains(",euler,derive,"))
+        .collect();
+    assert_eq!(derive.len(), 2, "{text}");
+}

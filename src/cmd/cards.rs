@@ -194,22 +194,40 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
 /// The cards of the decks by deck and card id, so that a long list of
 /// items is resolved in time linear in its length.
 struct Index<'a> {
-    decks: HashMap<&'a str, HashMap<&'a str, &'a crate::deck::Card>>,
+    /// Per deck, each card's (and derivation's) id with its directions.
+    decks: HashMap<&'a str, HashMap<&'a str, Vec<Direction>>>,
 }
 
 impl<'a> Index<'a> {
     fn new(decks: &'a [Deck]) -> Index<'a> {
-        let mut index: HashMap<&str, HashMap<&str, &crate::deck::Card>> = HashMap::new();
+        let mut index: HashMap<&str, HashMap<&str, Vec<Direction>>> = HashMap::new();
         for d in decks {
             let cards = index.entry(d.id.as_str()).or_default();
             for c in &d.cards {
-                cards.entry(c.id.as_str()).or_insert(c);
+                cards
+                    .entry(c.id.as_str())
+                    .or_insert_with(|| catalog::card_directions(c));
+            }
+            for x in &d.derivations {
+                cards
+                    .entry(x.id.as_str())
+                    .or_insert_with(|| vec![Direction::Derive]);
+            }
+            // A prompt is one item, `DECK/ID/predict` (its id may also be
+            // a card's: `DECK/ID` then names both).
+            for p in &d.prompts {
+                cards
+                    .entry(p.id.as_str())
+                    .or_default()
+                    .push(Direction::Predict);
             }
         }
         Index { decks: index }
     }
 
-    /// `DECK/CARD` (every item of the card) or `DECK/CARD/DIRECTION`.
+    /// `DECK/CARD` (every item of the card) or `DECK/CARD/DIRECTION`; a
+    /// derivation or a prompt is named as a card is (`DECK/ID`,
+    /// `DECK/ID/derive`, `DECK/ID/predict`).
     fn resolve(&self, item: &str) -> anyhow::Result<Vec<ItemKey>> {
         let parts: Vec<&str> = item.split('/').collect();
         let (deck_id, card_id, direction) = match parts.as_slice() {
@@ -221,10 +239,9 @@ impl<'a> Index<'a> {
             .decks
             .get(deck_id)
             .ok_or_else(|| anyhow::anyhow!("unknown item `{item}`: no deck `{deck_id}`"))?;
-        let card = cards.get(card_id).ok_or_else(|| {
+        let all = cards.get(card_id).cloned().ok_or_else(|| {
             anyhow::anyhow!("unknown item `{item}`: deck `{deck_id}` has no card `{card_id}`")
         })?;
-        let all = catalog::card_directions(card);
         let key = |direction| ItemKey {
             deck: deck_id.to_string(),
             card: card_id.to_string(),

@@ -81,12 +81,13 @@ fn report(mut loaded: Loaded, no_simulate: bool) -> anyhow::Result<ExitCode> {
 }
 
 /// `N decks, M cards, P prompts, S scenes, X sections: ok` (`1 deck`, `1
-/// card`...); a section counts once however many languages it is written
-/// in.
+/// card`...), with `D derivations, ` before the sections when there are
+/// any; a section counts once however many languages it is written in.
 pub fn summary(loaded: &Loaded) -> String {
     let count = |f: fn(&crate::deck::Deck) -> usize| loaded.decks.iter().map(f).sum::<usize>();
+    let derivations = count(|d| d.derivations.len());
     format!(
-        "{}, {}, {}, {}, {}: ok",
+        "{}, {}, {}, {}, {}{}: ok",
         plural(loaded.decks.len(), "deck", "decks"),
         plural(count(|d| d.cards.len()), "card", "cards"),
         plural(count(|d| d.prompts.len()), "prompt", "prompts"),
@@ -95,6 +96,11 @@ pub fn summary(loaded: &Loaded) -> String {
             "scene",
             "scenes"
         ),
+        if derivations > 0 {
+            format!("{}, ", plural(derivations, "derivation", "derivations"))
+        } else {
+            String::new()
+        },
         plural(count(|d| d.sections.len()), "section", "sections"),
     )
 }

@@ -694,6 +694,59 @@ pub mod study {
     pub const MORE_BELOW_TYPING: Words = Words("↓ more: ↓", "↓ aur: ↓");
 }
 
+/// A derivation step by step: in the review screen and the reader.
+pub mod derive {
+    use super::Words;
+
+    /// Above the steps the first time: every step is shown.
+    pub const WORKED: Words = Words(
+        "Worked example: every step with its reason",
+        "Worked example: har step uski wajah ke saath",
+    );
+    /// Before "2 of 5": how many steps the learner supplies.
+    pub const FADED: Words = Words(
+        "Your turn: steps to supply",
+        "Aapki baari: khud bharne wale steps",
+    );
+    pub const OF: Words = Words("of", "mein se");
+    pub const STEP: Words = Words("Step", "Step");
+    pub const WHY: Words = Words("why", "kyun");
+    pub const HINT: Words = Words("hint", "ishaara");
+    /// The faded step's place, before its math is shown.
+    pub const HIDDEN: Words = Words("[ your step ]", "[ aapka step ]");
+    /// A reveal ask (or a faded step without one).
+    pub const THINK: Words = Words(
+        "Work this step out, then press Space to see it.",
+        "Yeh step khud nikaalo, phir dekhne ke liye Space dabao.",
+    );
+    pub const CHOOSE: Words = Words(
+        "Choose with 1–9, then Enter to check.",
+        "1–9 se chuno, phir jaanchne ke liye Enter.",
+    );
+    pub const TYPE: Words = Words(
+        "Type the formula, then Enter to check.",
+        "Formula type karo, phir jaanchne ke liye Enter.",
+    );
+    pub const CHOOSE_FIRST: Words = Words("Choose one first (1–9).", "Pehle ek chuno (1–9).");
+    pub const RIGHT: Words = Words("✓ right", "✓ sahi");
+    pub const WRONG: Words = Words("✗ not quite", "✗ theek nahi");
+    pub const SEEN: Words = Words("seen", "dekha");
+    pub const YOU_CHOSE: Words = Words("you chose", "aapne chuna");
+    pub const YOU_TYPED: Words = Words("you typed", "aapne likha");
+    /// The key row in the review screen.
+    pub const NEXT_STEP: Words = Words("next step", "agla step");
+    pub const REVEAL: Words = Words("reveal the step", "step dikhao");
+    pub const CHECK: Words = Words("check", "jaancho");
+    /// After the last step: how the walk went.
+    pub const RESULT: Words = Words("steps you supplied right", "aapke sahi bhare steps");
+    /// The reader's list of derivations.
+    pub const DERIVATIONS: Words = Words("Derivations", "Derivations");
+    pub const NONE: Words = Words(
+        "This deck has no derivations.",
+        "Is deck mein koi derivation nahi hai.",
+    );
+}
+
 /// The home screen's line when some decks opened and others did not: which
 /// deck files were left out and the command that shows why.
 pub fn decks_left_out(lang: &str, files: &[String]) -> String {

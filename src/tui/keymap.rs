@@ -23,6 +23,8 @@ pub enum Context {
     ReviewFront,
     /// A typed card: the answer field has the keyboard.
     ReviewTyping,
+    /// A derivation walked step by step (a faded step's choice by digit).
+    ReviewDerive,
     /// The answer is shown: rate it.
     ReviewBack,
     /// Nothing left to review: the session summary.

@@ -10,6 +10,7 @@
 
 pub mod action;
 pub mod app;
+pub mod derivation;
 pub mod geometry;
 pub mod i18n;
 pub mod keymap;

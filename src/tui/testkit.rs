@@ -41,6 +41,7 @@ pub fn deck() -> Deck {
     Deck {
         misconceptions: Vec::new(),
         explore: Vec::new(),
+        derivations: Vec::new(),
         id: "torque-free".into(),
         title: text("Torque-free rotation", "Torque-free rotation (Hinglish)"),
         description: Some(text(

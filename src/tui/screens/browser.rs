@@ -706,6 +706,7 @@ fn explain(app: &mut App, s: &BrowserState) -> Nav {
     };
     let section = app.decks.get(row.deck).and_then(|d| match row.direction {
         Direction::Predict => d.prompts.get(row.card)?.explain.clone(),
+        Direction::Derive => d.derivations.get(row.card)?.explain.clone(),
         _ => d.cards.get(row.card)?.explain.clone(),
     });
     match section {
@@ -927,6 +928,11 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
     let Some(row) = s.current() else {
         return;
     };
+    let Some(deck) = app.decks.get(row.deck) else {
+        return;
+    };
+    let card = deck.cards.get(row.card);
+    let derivation = deck.derivations.get(row.card);
     let block = Block::default()
         .borders(Borders::ALL)
         .border_style(t.border())
@@ -949,50 +955,56 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             })
             .collect()
     };
-    let Some(deck) = app.decks.get(row.deck) else {
-        return;
-    };
     // A prompt (a `predict` item): its question, and the scene that
     // answers it.
-    let card = match row.direction {
-        Direction::Predict => {
-            let Some(p) = deck.prompts.get(row.card) else {
+    if row.direction == Direction::Predict {
+        let Some(p) = deck.prompts.get(row.card) else {
+            return;
+        };
+        let scene = deck
+            .system(&p.scene)
+            .and_then(|s| s.title.as_ref())
+            .or_else(|| deck.scene(&p.scene).and_then(|s| s.title.as_ref()))
+            .map(|t| t.get(lang).to_string())
+            .unwrap_or_else(|| p.scene.clone());
+        let blank = Run::new("", t.text());
+        let mut lines = wrap(
+            &math_runs(&p.question_listed(lang), t.strong()),
+            width,
+            blank.clone(),
+            blank.clone(),
+        );
+        lines.push(Line::styled("─".repeat(width.min(40)), t.dim()));
+        lines.extend(wrap(
+            &[Run::new(
+                format!("{}: {}", app.tr(Msg::PredictItem), scene),
+                t.text(),
+            )],
+            width,
+            blank.clone(),
+            blank,
+        ));
+        frame.render_widget(Paragraph::new(lines), inner);
+        return;
+    }
+    let (question, answer): (Vec<Run>, Vec<Run>) = match (row.direction, card) {
+        // A derivation: its title, then each step's math.
+        (Direction::Derive, _) => {
+            let Some(d) = derivation else {
                 return;
             };
-            let scene = deck
-                .system(&p.scene)
-                .and_then(|s| s.title.as_ref())
-                .or_else(|| deck.scene(&p.scene).and_then(|s| s.title.as_ref()))
-                .map(|t| t.get(lang).to_string())
-                .unwrap_or_else(|| p.scene.clone());
-            let blank = Run::new("", t.text());
-            let mut lines = wrap(
-                &math_runs(&p.question_listed(lang), t.strong()),
-                width,
-                blank.clone(),
-                blank.clone(),
-            );
-            lines.push(Line::styled("─".repeat(width.min(40)), t.dim()));
-            lines.extend(wrap(
-                &[Run::new(
-                    format!("{}: {}", app.tr(Msg::PredictItem), scene),
-                    t.text(),
-                )],
-                width,
-                blank.clone(),
-                blank,
-            ));
-            frame.render_widget(Paragraph::new(lines), inner);
-            return;
+            let mut steps = Vec::new();
+            for (i, step) in d.steps.iter().enumerate() {
+                if i > 0 {
+                    steps.push(Run::new("  ", t.text()));
+                }
+                steps.push(Run::new(format!("{}. ", i + 1), t.dim()));
+                steps.extend(math_runs(step.math.get(lang), t.text()));
+            }
+            (math_runs(d.title.get(lang), t.strong()), steps)
         }
-        _ => match deck.cards.get(row.card) {
-            Some(c) => c,
-            None => return,
-        },
-    };
-    let (question, answer): (Vec<Run>, Vec<Run>) = match row.direction {
-        Direction::Predict => return,
-        Direction::Cloze(n) => {
+        (Direction::Predict, _) | (_, None) => return,
+        (Direction::Cloze(n), Some(card)) => {
             let text = card.front.get(lang);
             let mut back = segs(crate::deck::cloze::back(text, n));
             let extra = card.back.get(lang);
@@ -1004,11 +1016,11 @@ fn draw_preview(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             }
             (segs(crate::deck::cloze::front(text, n)), back)
         }
-        Direction::Forward => (
+        (Direction::Forward, Some(card)) => (
             math_runs(card.front.get(lang), t.strong()),
             math_runs(card.back.get(lang), t.text()),
         ),
-        Direction::Backward => (
+        (Direction::Backward, Some(card)) => (
             math_runs(card.back.get(lang), t.strong()),
             math_runs(card.front.get(lang), t.text()),
         ),

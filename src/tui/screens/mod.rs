@@ -113,6 +113,7 @@ pub fn keys(ctx: Context) -> &'static [Binding] {
         Context::Formulas => formulas::KEYS,
         Context::ReviewFront => review::FRONT_KEYS,
         Context::ReviewTyping => review::TYPING_KEYS,
+        Context::ReviewDerive => review::DERIVE_KEYS,
         Context::ReviewBack => review::BACK_KEYS,
         Context::ReviewDone => review::DONE_KEYS,
         Context::Prompts => prompts::KEYS,

@@ -1,6 +1,8 @@
 //! The reader: a deck's explanation sections, the list beside the body,
 //! math rendered, wrapped to the width, searchable, with the links between
-//! sections (the concept map) followable.
+//! sections (the concept map) followable. After the sections come the
+//! deck's derivations, each a page of its steps in order with their
+//! reasons (a worked example).
 
 use ratatui::Frame;
 use ratatui::layout::{Constraint, Layout, Rect};
@@ -274,8 +276,49 @@ pub fn display_lines(row: &str, style: Style, width: usize) -> Vec<Line<'static>
 }
 
 /// A section laid out at `width`, with link `chosen` drawn as chosen.
+/// The pages of a deck: its sections, then its derivations.
+pub fn pages(deck: &Deck) -> usize {
+    deck.sections.len() + deck.derivations.len()
+}
+
+/// Before a derivation's title, in the list and on its page.
+const DERIVATION_MARK: &str = "∴ ";
+
+/// A derivation's page: its title, then every step with its reason.
+fn derivation_page(app: &App, d: &crate::deck::Derivation, width: usize) -> Page {
+    let t = &app.theme;
+    let none = || Run::new("", Style::new());
+    let mut lines = wrap(
+        &crate::tui::wrap::math_runs(d.title.get(&app.lang), t.heading()),
+        width,
+        Run::new(DERIVATION_MARK, t.heading()),
+        none(),
+    );
+    lines.extend(crate::tui::wrap::wrap_plain(
+        crate::tui::i18n::derive::WORKED.get(&app.lang),
+        t.dim(),
+        width,
+    ));
+    for (i, step) in d.steps.iter().enumerate() {
+        lines.push(Line::default());
+        lines.extend(crate::tui::derivation::step_lines(app, step, i, width));
+    }
+    Page {
+        text_lines: lines.len(),
+        lines,
+        links: Vec::new(),
+        anchors: Vec::new(),
+    }
+}
+
 pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option<usize>) -> Page {
     let t = &app.theme;
+    if let Some(d) = section
+        .checked_sub(deck.sections.len())
+        .and_then(|i| deck.derivations.get(i))
+    {
+        return derivation_page(app, d, width);
+    }
     let Some(sec) = deck.sections.get(section) else {
         return Page {
             lines: Vec::new(),
@@ -494,7 +537,7 @@ fn occurrences(app: &App, deck: &Deck, query: &str) -> Vec<(usize, usize, usize)
     let q = lowercase_chars(query);
     let width = text_area(app).width as usize;
     let mut out = Vec::new();
-    for s in 0..deck.sections.len() {
+    for s in 0..pages(deck) {
         let p = page(app, deck, s, width, None);
         for (i, l) in p.lines.iter().take(p.text_lines).enumerate() {
             for (a, _) in matches(&line_text(l), &q) {
@@ -573,7 +616,7 @@ pub fn apply(app: &mut App, state: &mut ReaderState, action: Action) -> Nav {
     let area = text_area(app);
     let height = area.height as usize;
     let page_len = height.saturating_sub(1).max(1);
-    let n_sections = deck.sections.len();
+    let n_sections = pages(deck);
     let links = page(app, deck, state.section, area.width as usize, None).links;
     let visible = |scroll: usize, l: &LinkAt| l.line >= scroll && l.line < scroll + height;
 
@@ -725,7 +768,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
     let Some(deck) = app.decks.get(state.deck) else {
         return;
     };
-    if deck.sections.is_empty() {
+    if pages(deck) == 0 {
         frame.render_widget(Paragraph::new(app.tr(Msg::NoSections)), area);
         return;
     }
@@ -733,10 +776,19 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
 
     // Titles that do not fit end with "…" (one column goes to the border).
     let title_w = usize::from(list_area.width.saturating_sub(1));
-    let items = deck.sections.iter().map(|s| {
-        let title = crate::text::render(s.title.get(&app.lang));
-        ListItem::new(Line::from(ellipsize(&title, title_w)))
+    let sections = deck
+        .sections
+        .iter()
+        .map(|s| crate::text::render(s.title.get(&app.lang)));
+    let derivations = deck.derivations.iter().map(|d| {
+        format!(
+            "{DERIVATION_MARK}{}",
+            crate::text::render(d.title.get(&app.lang))
+        )
     });
+    let items = sections
+        .chain(derivations)
+        .map(|title| ListItem::new(Line::from(ellipsize(&title, title_w))));
     let list = List::new(items)
         .block(
             Block::default()
@@ -847,7 +899,7 @@ fn status_line(
         }
         // The list beside shows which section this is.
         if words_too {
-            right.push(format!("§{}/{}", state.section + 1, deck.sections.len()));
+            right.push(format!("§{}/{}", state.section + 1, pages(deck)));
         }
         format!(" {} ", right.join(" · "))
     };

@@ -83,6 +83,7 @@ fn every_context_has_help_for_every_bound_key() {
         ReaderSearch,
         ReviewFront,
         ReviewTyping,
+        ReviewDerive,
         ReviewBack,
         ReviewDone,
         Prompts,

@@ -9,6 +9,7 @@ use super::stack::Tui;
 use super::update::apply;
 
 mod browser;
+mod derive;
 mod exam;
 mod explore;
 mod formula_answers;

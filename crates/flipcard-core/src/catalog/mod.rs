@@ -24,7 +24,8 @@ pub use self::search::{Found, Search, SearchIndex, SearchTexts};
 /// copy no strings).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ItemRow {
-    /// Positions of the deck in the list given and of the card in its deck.
+    /// Positions of the deck in the list given and of the card in its deck
+    /// (of the derivation in `Deck::derivations`, for a `derive` item).
     pub deck: usize,
     pub card: usize,
     pub direction: Direction,
@@ -50,18 +51,21 @@ impl ItemRow {
     pub fn deck_id<'a>(&self, decks: &'a [Deck]) -> &'a str {
         &decks[self.deck].id
     }
-    /// The id of its card (of its prompt, for a `predict` item: `card`
-    /// is then the prompt's position among the deck's prompts).
+    /// The id of its card (of its prompt, for a `predict` item, or its
+    /// derivation, for a `derive` item: `card` is then the position among
+    /// the deck's prompts or derivations).
     pub fn card_id<'a>(&self, decks: &'a [Deck]) -> &'a str {
         match self.direction {
             Direction::Predict => &decks[self.deck].prompts[self.card].id,
+            Direction::Derive => &decks[self.deck].derivations[self.card].id,
             _ => &decks[self.deck].cards[self.card].id,
         }
     }
-    /// The tags of its card (or prompt).
+    /// The tags of its card (or prompt, or derivation).
     pub fn tags<'a>(&self, decks: &'a [Deck]) -> &'a [String] {
         match self.direction {
             Direction::Predict => &decks[self.deck].prompts[self.card].tags,
+            Direction::Derive => &decks[self.deck].derivations[self.card].tags,
             _ => &decks[self.deck].cards[self.card].tags,
         }
     }
@@ -144,9 +148,28 @@ pub fn rows(
             });
         }
     }
+    // Each deck's derivations after every card, one row each.
+    let mut derive_rows: Vec<HashMap<&str, usize>> = Vec::with_capacity(decks.len());
+    for (di, deck) in decks.iter().enumerate() {
+        let mut m = HashMap::with_capacity(deck.derivations.len());
+        for (i, d) in deck.derivations.iter().enumerate() {
+            m.entry(d.id.as_str()).or_insert(out.len());
+            out.push(ItemRow {
+                deck: di,
+                card: i,
+                direction: Direction::Derive,
+                state: None,
+                retrievability: None,
+                reviews: 0,
+                lapses: 0,
+                status: ItemStatus::default(),
+            });
+        }
+        derive_rows.push(m);
+    }
     // The store's items are found among the rows by name: a map of the
     // card ids of a deck is made when the store first names that deck.
-    let mut find = RowFinder::new(decks, &starts);
+    let mut find = RowFinder::new(decks, &starts, derive_rows);
     find.prompt_starts = prompt_starts;
     for c in &cached {
         if let Some(row) = find.row(&out, &c.key) {
@@ -177,10 +200,16 @@ struct RowFinder<'a> {
     cards: Vec<Option<HashMap<&'a str, usize>>>,
     /// Per deck: the row of its first prompt.
     prompt_starts: Vec<usize>,
+    /// Per deck: the row of each derivation, by id.
+    derivations: Vec<HashMap<&'a str, usize>>,
 }
 
 impl<'a> RowFinder<'a> {
-    fn new(decks: &'a [Deck], starts: &'a [usize]) -> RowFinder<'a> {
+    fn new(
+        decks: &'a [Deck],
+        starts: &'a [usize],
+        derivations: Vec<HashMap<&'a str, usize>>,
+    ) -> RowFinder<'a> {
         let mut first = Vec::with_capacity(decks.len());
         let mut n = 0;
         for d in decks {
@@ -193,11 +222,15 @@ impl<'a> RowFinder<'a> {
             first,
             cards: vec![None; decks.len()],
             prompt_starts: Vec::new(),
+            derivations,
         }
     }
 
     fn row(&mut self, rows: &[ItemRow], key: &ItemKey) -> Option<usize> {
         let d = self.decks.iter().position(|d| d.id == key.deck)?;
+        if key.direction == Direction::Derive {
+            return self.derivations[d].get(key.card.as_str()).copied();
+        }
         let deck = &self.decks[d];
         if key.direction == Direction::Predict {
             let i = deck.prompts.iter().position(|p| p.id == key.card)?;
@@ -346,15 +379,23 @@ impl Filter {
                 )));
             }
         }
-        let cards = || decks.iter().flat_map(|d| &d.cards);
+        // The tags of every card and derivation.
+        let tagged = || {
+            decks.iter().flat_map(|d| {
+                d.cards
+                    .iter()
+                    .map(|c| &c.tags)
+                    .chain(d.derivations.iter().map(|x| &x.tags))
+            })
+        };
         for t in &self.tags {
-            // Checked card by card, stopping at the first that has it: the
+            // Checked item by item, stopping at the first that has it: the
             // list of every tag is made only for the error.
-            if cards().any(|c| c.tags.contains(t)) {
+            if tagged().any(|tags| tags.contains(t)) {
                 continue;
             }
-            let known: BTreeSet<&str> = cards()
-                .flat_map(|c| c.tags.iter().map(String::as_str))
+            let known: BTreeSet<&str> = tagged()
+                .flat_map(|tags| tags.iter().map(String::as_str))
                 .collect();
             let list: Vec<&str> = known.into_iter().collect();
             return Err(QueryError(if list.is_empty() {

@@ -45,7 +45,10 @@ pub struct SearchTexts {
 impl SearchTexts {
     pub fn new(decks: &[Deck]) -> SearchTexts {
         let mut t = SearchTexts::default();
-        let total: usize = decks.iter().map(|d| d.cards.len()).sum();
+        let total: usize = decks
+            .iter()
+            .map(|d| d.cards.len() + d.derivations.len() + d.prompts.len())
+            .sum();
         t.cards.reserve(total);
         t.ends.reserve(total * 5);
         // One allocation for the text (growing it would copy it again).
@@ -57,13 +60,35 @@ impl SearchTexts {
                 .map(|c| c.id.len() + bytes(&c.front) + bytes(&c.back))
                 .sum(),
         );
-        for card in decks.iter().flat_map(|d| &d.cards) {
-            t.push(&card.id);
+        // Each deck's cards, then its derivations (searched by id, title
+        // and the steps' math and reasons), then its prompts (by id and
+        // question), as `card_of_row` counts them.
+        let none = crate::deck::Text::default();
+        for deck in decks {
+            for c in &deck.cards {
+                t.card(&c.id, &c.front, &c.back, c.kind == CardKind::Cloze);
+            }
+            for x in &deck.derivations {
+                t.card(&x.id, &x.title, &derivation_text(x), false);
+            }
+            for p in &deck.prompts {
+                t.card(&p.id, &p.question, &none, false);
+            }
+        }
+        t
+    }
+
+    /// Pushes one card's pieces: its id, then a front and a back per
+    /// language.
+    fn card(&mut self, id: &str, front: &crate::deck::Text, back: &crate::deck::Text, cloze: bool) {
+        let t = self;
+        {
+            t.push(id);
             let mut langs = 0;
             // Front and back keep their languages in order: walk both at
             // once, a language missing on one side giving an empty text.
-            let mut front = card.front.0.iter().peekable();
-            let mut back = card.back.0.iter().peekable();
+            let mut front = front.0.iter().peekable();
+            let mut back = back.0.iter().peekable();
             loop {
                 let (f, b) = match (front.peek(), back.peek()) {
                     (None, None) => break,
@@ -78,19 +103,8 @@ impl SearchTexts {
                 t.push(b.map_or("", String::as_str));
                 langs += 1;
             }
-            t.cards.push((card.kind == CardKind::Cloze, langs));
+            t.cards.push((cloze, langs));
         }
-        // Then every prompt (a `predict` item): its id, and per language
-        // its question (with nothing for a back).
-        for prompt in decks.iter().flat_map(|d| &d.prompts) {
-            t.push(&prompt.id);
-            for q in prompt.question.0.values() {
-                t.push(q);
-                t.push("");
-            }
-            t.cards.push((false, prompt.question.0.len() as u32));
-        }
-        t
     }
 
     fn push(&mut self, piece: &str) {
@@ -407,25 +421,41 @@ pub fn threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get().min(4))
 }
 
+/// Every step of a derivation in one text per language: the math and why
+/// of each step, in order.
+fn derivation_text(d: &crate::deck::Derivation) -> crate::deck::Text {
+    let mut out = crate::deck::Text::default();
+    for lang in d.title.0.keys() {
+        let mut text = String::new();
+        for s in &d.steps {
+            for piece in [s.math.get(lang), s.why.get(lang)] {
+                text.push_str(piece);
+                text.push(' ');
+            }
+        }
+        out.0.insert(lang.clone(), text);
+    }
+    out
+}
+
 /// For each row, the position of its card among every card of `decks`
-/// (a prompt's: after every card, among every prompt, as
-/// [`SearchTexts`] gathers them).
+/// (each deck's derivations counted after its cards, then its prompts).
 pub fn card_of_row(decks: &[Deck], rows: &[ItemRow]) -> Vec<u32> {
     let mut first = Vec::with_capacity(decks.len());
     let mut n = 0u32;
     for d in decks {
         first.push(n);
-        n += d.cards.len() as u32;
-    }
-    let mut first_prompt = Vec::with_capacity(decks.len());
-    for d in decks {
-        first_prompt.push(n);
-        n += d.prompts.len() as u32;
+        n += (d.cards.len() + d.derivations.len() + d.prompts.len()) as u32;
     }
     rows.iter()
-        .map(|r| match r.direction {
-            crate::sched::Direction::Predict => first_prompt[r.deck] + r.card as u32,
-            _ => first[r.deck] + r.card as u32,
+        .map(|r| {
+            let d = &decks[r.deck];
+            let within = match r.direction {
+                crate::sched::Direction::Derive => d.cards.len() + r.card,
+                crate::sched::Direction::Predict => d.cards.len() + d.derivations.len() + r.card,
+                _ => r.card,
+            };
+            first[r.deck] + within as u32
         })
         .collect()
 }

@@ -342,6 +342,7 @@ fn load_deck(
                 units: h.units,
                 misconceptions: body.misconceptions,
                 explore: body.explore,
+                derivations: body.derivations,
                 path: path.to_path_buf(),
             })
         })(),

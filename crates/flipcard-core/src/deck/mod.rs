@@ -14,6 +14,8 @@ pub mod load;
 pub mod model;
 pub mod places;
 pub mod raw;
+pub mod raw_derivation;
+pub mod raw_formula;
 pub mod raw_knob;
 pub mod raw_misconception;
 pub mod raw_vary;

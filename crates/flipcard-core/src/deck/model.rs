@@ -36,6 +36,9 @@ pub struct Deck {
     /// The knobs of the scenes that have them, and what each plots
     /// against its knob (`knobs`, `explore`).
     pub explore: Vec<Explore>,
+    /// Derivations step by step (`[[derivation]]`), each a review item
+    /// asked in the direction `derive`, in deck order.
+    pub derivations: Vec<Derivation>,
     /// The deck file this was loaded from.
     pub path: PathBuf,
 }
@@ -63,6 +66,64 @@ impl Deck {
     pub fn misconception(&self, id: &str) -> Option<&Misconception> {
         self.misconceptions.iter().find(|m| m.id == id)
     }
+    pub fn derivation(&self, id: &str) -> Option<&Derivation> {
+        self.derivations.iter().find(|d| d.id == id)
+    }
+}
+
+/// A derivation shown step by step (`[[derivation]]`): a worked example
+/// the first time, later with steps faded for the learner to supply
+/// (`study::derive`). Its id shares the card id space (review history is
+/// keyed by deck, id and direction `derive`, and no card has its id).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Derivation {
+    pub id: String,
+    pub title: Text,
+    /// The explanation section (and anchor) it belongs to.
+    pub explain: Option<Explain>,
+    pub tags: Vec<String>,
+    /// The steps in order, at least one, at most
+    /// `validate::derivation::MAX_STEPS`.
+    pub steps: Vec<Step>,
+}
+
+/// One step of a derivation: its math, why it is taken, and what the
+/// learner is asked before the math is shown when the step is faded.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Step {
+    /// The step's math (`$…$`), in every language (the same string where
+    /// the deck wrote one for all).
+    pub math: Text,
+    /// Why this step: shown with the math, and as the hint of a faded step.
+    pub why: Text,
+    pub ask: Option<Ask>,
+}
+
+/// What a faded step asks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ask {
+    /// The question put to the learner (`None`: the screen's own words).
+    pub question: Option<Text>,
+    pub kind: AskKind,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum AskKind {
+    /// Think, then reveal: nothing is checked.
+    Reveal,
+    /// Pick one; `answer` is the id of the right choice.
+    Choice {
+        choices: Vec<AskChoice>,
+        answer: String,
+    },
+    /// Type a formula, checked by equivalence as a formula card's.
+    Formula(FormulaKey),
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct AskChoice {
+    pub id: String,
+    pub label: Text,
 }
 
 /// A misconception a wrong answer stands for (`[[misconception]]`): its

@@ -9,12 +9,22 @@ use super::read::{self, Fields};
 use super::report::FileReport;
 use super::suggest;
 
+pub use super::raw_derivation::{RawAsk, RawAskChoice, RawAskKind, RawDerivation, RawStep};
+pub use super::raw_formula::{Entry, Named, RawFormula};
+pub(crate) use super::raw_formula::{named, read_formula};
 pub use super::raw_knob::RawKnob;
 pub use super::raw_misconception::{RawMisconception, RawRange};
 pub use super::raw_vary::{RawVaried, RawVary};
 pub use super::read::{Flag, List, Num, RawAccept, RawText, Span, Str};
 
-pub const DECK_FILE_FIELDS: &[&str] = &["deck", "card", "prompt", "scene", "misconception"];
+pub const DECK_FILE_FIELDS: &[&str] = &[
+    "deck",
+    "card",
+    "prompt",
+    "scene",
+    "misconception",
+    "derivation",
+];
 pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages", "units"];
 pub const CARD_FIELDS: &[&str] = &[
     "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text", "expected",
@@ -81,6 +91,8 @@ pub struct RawDeckFile {
     pub scenes: Vec<RawScene>,
     /// `[[misconception]]` tables (see `raw_misconception`).
     pub misconceptions: Vec<RawMisconception>,
+    /// `[[derivation]]` tables (see `raw_derivation`).
+    pub derivations: Vec<RawDerivation>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -109,15 +121,6 @@ pub struct RawCard {
     pub tags: Option<List<Str>>,
     /// A formula card's key (`expected`, `vars`), when either is written.
     pub formula: Option<RawFormula>,
-}
-
-/// The key of a formula answer as written: the expected formula and
-/// `vars = { I1 = [1, 3], … }`, each variable's interval.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RawFormula {
-    pub span: Span,
-    pub expected: Option<Str>,
-    pub vars: Option<Named<List<Num>>>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -208,21 +211,6 @@ pub struct RawScene {
     pub knobs: Option<List<RawKnob>>,
     /// The measure plotted against a knob (`explore = "period(theta)"`).
     pub explore: Option<Str>,
-}
-
-/// A named value of a table written inline (`params = { g = 9.81 }`), the
-/// key with its span.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Entry<T> {
-    pub key: Str,
-    pub value: T,
-}
-
-/// A table of named values, in the order written.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Named<T> {
-    pub entries: Vec<Entry<T>>,
-    pub span: Span,
 }
 
 /// One sketch element: `{ line = [...] }`, `{ dot = [...] }` or
@@ -368,6 +356,12 @@ pub(crate) fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Sp
                 .push(super::raw_misconception::read_misconception(rep, t, span));
         }
     }
+    if let Some(v) = top.get("derivation") {
+        for (t, span) in read::tables(rep, v, "derivation") {
+            file.derivations
+                .push(super::raw_derivation::read_derivation(rep, t, span));
+        }
+    }
     file
 }
 
@@ -424,27 +418,6 @@ fn read_card(rep: &mut FileReport, t: &DeTable, span: Span) -> RawCard {
         prompt: f.string(rep, "prompt", false),
         tags: f.strings(rep, "tags", false),
         formula,
-    }
-}
-
-/// `expected` and `vars` of a formula card or answer.
-fn read_formula(rep: &mut FileReport, f: &Fields, span: Span) -> RawFormula {
-    RawFormula {
-        span,
-        expected: f.string(rep, "expected", true),
-        vars: f.require(rep, "vars").and_then(|_| {
-            named(rep, f, "vars", |rep, v, what| {
-                let arr = read::array(rep, v, what)?;
-                let items = arr
-                    .iter()
-                    .map(|n| read::number(rep, n, &format!("each end of {what}")))
-                    .collect::<Option<Vec<_>>>()?;
-                Some(List {
-                    items,
-                    span: v.span(),
-                })
-            })
-        }),
     }
 }
 
@@ -732,35 +705,6 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
     }
 }
 
-/// An optional inline table of named values, in the order written.
-fn named<T>(
-    rep: &mut FileReport,
-    f: &Fields,
-    key: &str,
-    value: impl Fn(&mut FileReport, &read::Value, &str) -> Option<T>,
-) -> Option<Named<T>> {
-    let v = f.get(key)?;
-    let t = read::table(rep, v, &format!("`{key}`"))?;
-    let mut entries = Vec::new();
-    let mut ok = true;
-    for (k, item) in t.iter() {
-        let name = Str {
-            value: k.get_ref().to_string(),
-            span: k.span(),
-        };
-        match value(rep, item, &format!("`{}` in `{key}`", name.value)) {
-            Some(value) => entries.push(Entry { key: name, value }),
-            None => ok = false,
-        }
-    }
-    // The table keeps keys sorted; the author's order is the source order.
-    entries.sort_by_key(|e| e.key.span.start);
-    ok.then_some(Named {
-        entries,
-        span: v.span(),
-    })
-}
-
 /// `hamiltonian = { q = [...], p = [...] }`, both lists required.
 fn hamiltonian(rep: &mut FileReport, f: &Fields) -> Option<RawHamiltonian> {
     let v = f.get("hamiltonian")?;
@@ -884,7 +828,7 @@ pub(crate) fn read_content_file(
         "a content file",
         CONTENT_FILE_FIELDS,
         |name| match name {
-            "deck" | "card" | "prompt" | "scene" => Some(format!(
+            "deck" | "card" | "prompt" | "scene" | "derivation" => Some(format!(
                 "[[{name}]] belongs in the deck file decks/<deck-id>.toml; content files hold [[section]] only"
             )),
             _ => None,

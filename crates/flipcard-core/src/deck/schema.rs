@@ -33,6 +33,74 @@ pub struct DeckFile {
     /// Misconceptions a wrong answer may stand for, each under
     /// `[[misconception]]`.
     pub misconception: Option<Vec<Misconception>>,
+    /// Derivations shown step by step, each under `[[derivation]]` with
+    /// its steps under `[[derivation.step]]`: a review item (direction
+    /// `derive`) whose later reviews leave steps for the learner.
+    pub derivation: Option<Vec<Derivation>>,
+}
+
+/// A derivation: ordered steps, each with its math, why it is taken and
+/// what the learner is asked when the step is faded.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct Derivation {
+    /// Stable identity, like a card's (no card may have it).
+    pub id: Id,
+    pub title: Text,
+    /// The section (and anchor) `e` opens.
+    pub explain: Option<ExplainLink>,
+    pub tags: Option<Vec<NonEmpty>>,
+    /// The steps in order: 1 to 40.
+    #[schemars(length(min = 1, max = 40))]
+    pub step: Vec<DerivationStep>,
+}
+
+/// One step of a derivation.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct DerivationStep {
+    /// The step's math (`$…$`): one string for every language, or a text
+    /// per language.
+    pub math: Text,
+    /// Why this step is taken; the hint when the step is faded.
+    pub why: Text,
+    /// What a faded step asks before its math is shown (without it, the
+    /// learner thinks, then reveals).
+    pub ask: Option<StepAsk>,
+}
+
+/// What a faded step asks.
+#[derive(JsonSchema)]
+#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
+pub enum StepAsk {
+    /// Think, then reveal: nothing is checked.
+    Reveal {
+        /// The question put to the learner (may hold math).
+        question: Option<Text>,
+    },
+    /// Pick one of 2 to 9 choices; `answer` is the right one's id.
+    Choice {
+        question: Option<Text>,
+        #[schemars(length(min = 2, max = 9))]
+        choices: Vec<StepChoice>,
+        answer: Id,
+    },
+    /// Type a formula, right when it equals `expected` at random points
+    /// of the domain `vars` gives (as a formula card).
+    Formula {
+        question: Option<Text>,
+        #[schemars(length(min = 1, max = 1000))]
+        expected: String,
+        vars: Vars,
+    },
+}
+
+/// A choice of a step's ask.
+#[derive(JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct StepChoice {
+    pub id: Id,
+    pub label: Text,
 }
 
 /// A misconception: what learners believe, why it seems right (the
@@ -795,8 +863,10 @@ fn strip_null(value: &mut serde_json::Value) {
 /// The schema of deck files.
 pub fn deck_schema() -> serde_json::Value {
     let mut schema = generate::<DeckFile>();
-    if let Some(answer) = schema.pointer_mut("/definitions/Answer") {
-        split_on_kind(answer);
+    for kinds in ["/definitions/Answer", "/definitions/StepAsk"] {
+        if let Some(answer) = schema.pointer_mut(kinds) {
+            split_on_kind(answer);
+        }
     }
     schema
 }

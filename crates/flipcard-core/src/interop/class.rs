@@ -1118,17 +1118,20 @@ fn card_text(
     direction: &str,
     lang: &str,
 ) -> Option<String> {
+    let d = decks.get(deck)?;
     if direction == "predict" {
-        let q = decks
-            .get(deck)?
-            .prompt(card)?
-            .question_listed(lang)
-            .into_owned();
+        let q = d.prompt(card)?.question_listed(lang).into_owned();
         return Some(flipcard_text::render(&q).replace('\n', " "));
     }
-    let card = decks.get(deck)?.card(card)?;
-    let key = ItemKey::parse(deck, &card.id, direction).ok()?;
+    let key = ItemKey::parse(deck, card, direction).ok()?;
+    if key.direction == crate::sched::Direction::Derive {
+        // A derivation is named by its title.
+        let title = d.derivation(card)?.title.get(lang);
+        return Some(flipcard_text::render(title).replace('\n', " "));
+    }
+    let card = d.card(card)?;
     let text = match key.direction {
+        crate::sched::Direction::Derive => return None,
         crate::sched::Direction::Forward => card.front.get(lang).to_string(),
         crate::sched::Direction::Backward => card.back.get(lang).to_string(),
         crate::sched::Direction::Cloze(n) => crate::deck::cloze::front(card.front.get(lang), n)
@@ -1144,8 +1147,12 @@ fn card_tags(decks: &HashMap<&str, &Deck>, deck: &str, card: &str) -> Vec<String
     let Some(d) = decks.get(deck) else {
         return vec![NO_DECK.to_string()];
     };
-    match d.cards.iter().find(|c| c.id == card) {
-        Some(c) if !c.tags.is_empty() => c.tags.clone(),
+    let tags = match d.cards.iter().find(|c| c.id == card) {
+        Some(c) => Some(&c.tags),
+        None => d.derivation(card).map(|x| &x.tags),
+    };
+    match tags {
+        Some(t) if !t.is_empty() => t.clone(),
         _ => vec![NO_TAG.to_string()],
     }
 }

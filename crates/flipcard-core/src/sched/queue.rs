@@ -22,14 +22,15 @@ pub(crate) const LEARN_AHEAD: TimeDelta = TimeDelta::minutes(20);
 /// The review items of a deck in deck order: one per card, two for a
 /// reversed card (front → back, then back → front), one per deletion
 /// number of a cloze card; then one per predict-then-check prompt
-/// (direction `predict`).
+/// (direction `predict`), then one per derivation (direction `derive`).
 pub fn deck_items(deck: &Deck) -> Vec<ItemKey> {
     cram_items(deck, None)
 }
 
-/// The items of a deck, or only of its cards carrying `tag`, in deck order.
+/// The items of a deck, or only of its cards (and derivations) carrying
+/// `tag`, in deck order: the cards', then the derivations'.
 pub fn cram_items(deck: &Deck, tag: Option<&str>) -> Vec<ItemKey> {
-    let mut items = Vec::with_capacity(deck.cards.len());
+    let mut items = Vec::with_capacity(deck.cards.len() + deck.derivations.len());
     for card in &deck.cards {
         if tag.is_some_and(|t| !card.tags.iter().any(|c| c == t)) {
             continue;
@@ -62,6 +63,16 @@ pub fn cram_items(deck: &Deck, tag: Option<&str>) -> Vec<ItemKey> {
             deck: deck.id.clone(),
             card: prompt.id.clone(),
             direction: Direction::Predict,
+        });
+    }
+    for d in &deck.derivations {
+        if tag.is_some_and(|t| !d.tags.iter().any(|c| c == t)) {
+            continue;
+        }
+        items.push(ItemKey {
+            deck: deck.id.clone(),
+            card: d.id.clone(),
+            direction: Direction::Derive,
         });
     }
     items
@@ -900,6 +911,7 @@ mod deck_tests {
         Deck {
             misconceptions: Vec::new(),
             explore: Vec::new(),
+            derivations: Vec::new(),
             id: "rot".into(),
             title: Text::default(),
             description: None,

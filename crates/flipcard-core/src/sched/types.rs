@@ -41,6 +41,9 @@ pub enum Direction {
     /// A predict-then-check prompt, scheduled as a review item: the
     /// item's `card` is the prompt's id (issue 24 §2).
     Predict,
+    /// A derivation worked step by step (`[[derivation]]`; the item's
+    /// `card` is the derivation's id).
+    Derive,
 }
 
 impl Direction {
@@ -50,6 +53,7 @@ impl Direction {
             Direction::Backward => "backward".into(),
             Direction::Cloze(n) => format!("c{n}").into(),
             Direction::Predict => "predict".into(),
+            Direction::Derive => "derive".into(),
         }
     }
     pub fn parse(s: &str) -> Option<Direction> {
@@ -57,6 +61,7 @@ impl Direction {
             "forward" => Some(Direction::Forward),
             "backward" => Some(Direction::Backward),
             "predict" => Some(Direction::Predict),
+            "derive" => Some(Direction::Derive),
             _ => {
                 let digits = s.strip_prefix('c')?;
                 // One spelling per number: `c01` would be a second key for `c1`.
@@ -85,7 +90,7 @@ impl ItemKey {
     /// An item named by a file flipcard did not write (a sync line, a
     /// learner's export, an imported log): deck and card ids of the deck
     /// format's pattern (`[a-z0-9]` words joined by `-`),
-    /// a direction `forward`, `backward` or `c1` … `c999`. The error quotes
+    /// a direction `forward`, `backward`, `c1` … `c999` or `derive`. The error quotes
     /// the value on one line, control characters escaped.
     pub fn parse(deck: &str, card: &str, direction: &str) -> Result<ItemKey, KeyError> {
         for (what, id) in [("deck", deck), ("card", card)] {
@@ -116,7 +121,7 @@ pub enum KeyError {
         "{what} id \"{quoted}\" is not an id (lowercase letters and digits in words joined by -)"
     )]
     NotAnId { what: &'static str, quoted: String },
-    #[error("direction \"{quoted}\" is not forward, backward, predict or c1 … c999")]
+    #[error("direction \"{quoted}\" is not forward, backward, c1 … c999, predict or derive")]
     NotADirection { quoted: String },
 }
 
@@ -188,6 +193,9 @@ mod tests {
     fn item_keys_from_other_files_are_ids_of_the_deck_format() {
         let k = ItemKey::parse("euler", "card-2", "c999").unwrap();
         assert_eq!(k.direction, Direction::Cloze(999));
+        let k = ItemKey::parse("euler", "euler-equations", "derive").unwrap();
+        assert_eq!(k.direction, Direction::Derive);
+        assert_eq!(k.direction.as_str(), "derive");
         for (deck, card, dir, why) in [
             ("../x", "c", "forward", "deck id"),
             ("d", "a/b", "forward", "card id"),
@@ -197,6 +205,8 @@ mod tests {
             ("d", "c", "c1000", "c999"),
             ("d", "c", "c0", "c999"),
             ("d", "c", "sideways", "c999"),
+            ("d", "c", "Derive", "derive"),
+            ("d", "c", "derived", "derive"),
         ] {
             let err = ItemKey::parse(deck, card, dir).unwrap_err().to_string();
             assert!(err.contains(why), "{deck} {card} {dir}: {err}");

@@ -1172,4 +1172,109 @@ mod tests {
             .unwrap();
         assert_eq!(rating, 3);
     }
+
+    #[test]
+    fn version_6_takes_derive_items_and_keeps_every_row_and_trigger() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        conn.pragma_update(None, "foreign_keys", true).unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..5], "20260101T000000Z").unwrap();
+        conn.execute_batch(
+            "INSERT INTO session (id, started_at) VALUES (1, 10);
+             INSERT INTO review (session, deck, card, direction, reviewed_at, rating, kind,
+               elapsed_days, scheduled_days, stability, difficulty, state, step, due,
+               last_review, duration_ms, undone, origin) VALUES
+               (1, 'd', 'a', 'forward', 1000, 3, 'learn', 0, 0, 2.0, 5.0, 'learning', 0, 2000,
+                1000, 10, 0, NULL),
+               (1, 'd', 'b', 'c2', 1100, 1, 'learn', 0, 0, 0.5, 7.0, 'learning', 0, 2100,
+                1100, 20, 1, 'machine-b');
+             INSERT INTO card_state VALUES ('d', 'a', 'forward', 'learning', 0, 2.0, 5.0, 2000,
+               1000, 1, 0, 1);
+             INSERT INTO status_event (session, deck, card, direction, at, action, until, cause,
+               after_review, batch, undone, origin) VALUES
+               (1, 'd', 'a', 'backward', 1000, 'bury', 5000, 1, 1, 1, 0, NULL);",
+        )
+        .unwrap();
+        let dump = |conn: &Connection, table: &str| -> Vec<String> {
+            let mut st = conn
+                .prepare(&format!("SELECT * FROM {table} ORDER BY 1, 2, 3"))
+                .unwrap();
+            let n = st.column_count();
+            st.query_map([], |r| {
+                Ok((0..n)
+                    .map(|i| format!("{:?}", r.get_ref(i).unwrap()))
+                    .collect::<Vec<_>>()
+                    .join(" "))
+            })
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap()
+        };
+        let tables = ["review", "card_state", "status_event"];
+        let before: Vec<Vec<String>> = tables.iter().map(|t| dump(&conn, t)).collect();
+        let derive = "INSERT INTO review (deck, card, direction, reviewed_at, rating, kind, \
+             elapsed_days, scheduled_days, state, due, duration_ms) VALUES \
+             ('d', 'euler', 'derive', 3000, 3, 'learn', 0, 0, 'learning', 4000, 5)";
+        assert!(conn.execute(derive, []).is_err(), "version 5 has no derive");
+        drop(conn);
+        let mut conn = Connection::open(&path).unwrap();
+        conn.pragma_update(None, "foreign_keys", true).unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..6], "20260102T000000Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), 6);
+        let after: Vec<Vec<String>> = tables.iter().map(|t| dump(&conn, t)).collect();
+        assert_eq!(after, before, "every row and column kept");
+        conn.execute(derive, []).unwrap();
+        conn.execute(
+            "INSERT INTO status_event (deck, card, direction, at, action, batch) \
+             VALUES ('d', 'euler', 'derive', 3100, 'suspend', 2)",
+            [],
+        )
+        .unwrap();
+        for bad in [
+            derive.replace("'derive'", "'derived'"),
+            derive.replace("'derive'", "'c0'"),
+        ] {
+            assert!(conn.execute(&bad, []).is_err(), "{bad}");
+        }
+        // The logs stay append-only.
+        for (sql, says) in [
+            ("DELETE FROM review WHERE card = 'euler'", "append-only"),
+            (
+                "UPDATE review SET direction = 'forward' WHERE card = 'euler'",
+                "append-only",
+            ),
+            ("DELETE FROM status_event", "append-only"),
+            ("UPDATE review SET undone = 1 WHERE card = 'euler'", ""),
+        ] {
+            match conn.execute(sql, []) {
+                Ok(_) => assert!(says.is_empty(), "{sql} was allowed"),
+                Err(e) => assert!(
+                    !says.is_empty() && e.to_string().contains(says),
+                    "{sql}: {e}"
+                ),
+            }
+        }
+        for index in [
+            "review_item",
+            "review_cram",
+            "status_event_at",
+            "card_state_due",
+        ] {
+            let n: i64 = conn
+                .query_row(
+                    "SELECT count(*) FROM sqlite_schema WHERE type = 'index' AND name = ?1",
+                    [index],
+                    |r| r.get(0),
+                )
+                .unwrap();
+            assert_eq!(n, 1, "{index}");
+        }
+        let fk: i64 = conn
+            .query_row("SELECT count(*) FROM pragma_foreign_key_check", [], |r| {
+                r.get(0)
+            })
+            .unwrap();
+        assert_eq!(fk, 0);
+    }
 }

@@ -14,6 +14,10 @@
 //! - [`Study::queue`], [`Study::counts`]: what is due today.
 //! - [`Study::commit_attempt`], [`Study::judge_attempt`]: a prediction,
 //!   kept as the learner commits to it, and its verdict when the run ends.
+//! - [`derive`]: a derivation's faded steps (Renkl's backward fading, from
+//!   [`Study::progress`]) and the verdict on a faded step's ask.
+
+pub mod derive;
 
 use std::collections::HashMap;
 
@@ -139,10 +143,12 @@ impl Study {
     /// config says, and its siblings buried until the next study day.
     pub(crate) fn policy(&self, deck: &Deck, key: &ItemKey, now: DateTime<Utc>) -> AfterRating {
         let c = &self.config;
-        // A prompt has no siblings (a card of the same id is another item).
-        let card = (key.direction != crate::sched::Direction::Predict)
-            .then(|| deck.card(&key.card))
-            .flatten();
+        let card = match key.direction {
+            // A derivation or a prompt is one item: it has no siblings (a
+            // card of the same id is another item).
+            crate::sched::Direction::Derive | crate::sched::Direction::Predict => None,
+            _ => deck.card(&key.card),
+        };
         let bury = match card {
             Some(card) if c.bury_siblings => card_directions(card)
                 .into_iter()

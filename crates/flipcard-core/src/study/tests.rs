@@ -171,3 +171,47 @@ fn the_queue_leaves_out_what_is_suspended_or_buried() {
         .unwrap();
     assert_eq!(s.counts(&d, now).unwrap().new, all - 1);
 }
+
+#[test]
+fn a_derivation_is_rated_as_one_item_stored_and_exported_as_derive() {
+    let d = deck();
+    let (_dir, mut s) = study(Config {
+        bury_siblings: true,
+        ..Config::default()
+    });
+    let now = at("2026-05-01T10:00:00Z");
+    // The study deck has no derivation of this id: a derive item is named
+    // by id as any item is (an orphan's history is kept, as a card's).
+    let k = key("euler", Direction::Derive);
+    let rated = s.rate(Some(&d), answer(&k, Rating::Good), now).unwrap();
+    assert!(rated.after.bury.is_empty(), "a derivation has no siblings");
+    let later = at("2026-05-03T10:00:00Z");
+    let before = s.store.state(&k).unwrap();
+    s.rate(
+        Some(&d),
+        Answer {
+            before: before.as_ref(),
+            ..answer(&k, Rating::Again)
+        },
+        later,
+    )
+    .unwrap();
+    assert_eq!(
+        s.progress(&k).unwrap(),
+        derive::Progress {
+            successes: 1,
+            lapses: 1
+        }
+    );
+    let history = s.store.history(&k).unwrap();
+    assert_eq!(history.len(), 2);
+    assert!(
+        history
+            .iter()
+            .all(|r| r.record.key.direction == Direction::Derive)
+    );
+    let mut csv = Vec::new();
+    crate::interop::export::write_reviews_csv(&s.store, &mut csv).unwrap();
+    let csv = String::from_utf8(csv).unwrap();
+    assert_eq!(csv.matches("study,euler,derive,").count(), 2, "{csv}");
+}

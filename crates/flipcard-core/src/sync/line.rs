@@ -596,4 +596,23 @@ mod tests {
             assert!(skipped[0].why.contains(why), "{bad}: {skipped:?}");
         }
     }
+
+    #[test]
+    fn a_derivation_is_an_item_a_line_may_name() {
+        let mut e = event("derive-euler-equations", 1000);
+        e.direction = "derive".into();
+        let (events, skipped) = read_events(&line(&e));
+        assert!(skipped.is_empty(), "{skipped:?}");
+        assert_eq!(events[0].key.direction, Direction::Derive);
+        assert_eq!(events[0].key.card, "derive-euler-equations");
+        // An id no deck has is read like any other (the merge keeps its
+        // history as an orphan's); a direction that is none is skipped.
+        e.card = "no-such-derivation".into();
+        let (events, _) = read_events(&line(&e));
+        assert_eq!(events[0].key.card, "no-such-derivation");
+        e.direction = "derived".into();
+        let (events, skipped) = read_events(&line(&e));
+        assert!(events.is_empty());
+        assert!(skipped[0].why.contains("derived"), "{skipped:?}");
+    }
 }

@@ -57,6 +57,13 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
     let Some(deck) = app.decks.get(state.deck) else {
         return Vec::new();
     };
+    if let (Some(walk), Some(d)) = (&state.walk, state.derivation(deck)) {
+        let input = match &state.phase {
+            Phase::Front { input } => input.as_str(),
+            _ => "",
+        };
+        return walk.lines(app, d, input, width);
+    }
     let para = |text: &str, style| {
         wrap(
             &crate::tui::wrap::math_runs(text, style),
@@ -105,6 +112,8 @@ pub fn card_lines(app: &App, state: &ReviewState, width: usize) -> Vec<Line<'sta
         Direction::Predict => return Vec::new(),
         Direction::Forward => (para(card.front.get(lang), t.strong()), &card.back),
         Direction::Backward => (para(card.back.get(lang), t.strong()), &card.front),
+        // Drawn by the walk, above.
+        Direction::Derive => return Vec::new(),
         Direction::Cloze(n) => {
             let text = card.front.get(lang);
             let shown = if matches!(state.phase, Phase::Back { .. }) {
@@ -282,11 +291,13 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
         draw_summary(frame, rest, app, state);
         return;
     }
-    // A prompt is drawn as a basic card's front (its lines say what it is).
-    let kind = match state.card(deck) {
-        Some((card, _)) => card.kind,
-        None if state.prompt(deck).is_some() => CardKind::Basic,
-        None => return,
+    // What the item is: a card, a derivation, or a prompt (drawn as a
+    // basic card's front: its lines say what it is).
+    let (kind, explain) = match (state.card(deck), state.derivation(deck)) {
+        (Some((card, _)), _) => (card.kind, card.explain.is_some()),
+        (None, Some(d)) => (CardKind::Basic, d.explain.is_some()),
+        (None, None) if state.prompt(deck).is_some() => (CardKind::Basic, false),
+        (None, None) => return,
     };
     let CardLayout {
         lines,
@@ -329,7 +340,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
     // not offered there.
     let mut h = vec![Span::raw(" ")];
     if !typing {
-        if state.card(deck).is_some_and(|(c, _)| c.explain.is_some()) {
+        if explain {
             h.push(Span::styled("e ", t.key()));
             h.push(Span::styled(
                 format!("{}  ", app.tr(Msg::Explanation)),
@@ -347,7 +358,20 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReviewState) {
 fn button_lines(app: &App, state: &ReviewState, kind: CardKind, width: u16) -> Vec<Line<'static>> {
     let t = &app.theme;
     let Phase::Back { typed, previews } = &state.phase else {
-        let (key, what) = if kind.is_typed() {
+        let next = app
+            .decks
+            .get(state.deck)
+            .and_then(|deck| Some(state.walk.as_ref()?.next(state.derivation(deck)?)));
+        let (key, what) = if let Some(next) = next {
+            use super::Next;
+            use crate::tui::i18n::derive as words;
+            match next {
+                Next::Step | Next::Done => (" Space ", words::NEXT_STEP.get(&app.lang)),
+                Next::Reveal => (" Space ", words::REVEAL.get(&app.lang)),
+                Next::Choose => (" 1-9 Enter ", words::CHECK.get(&app.lang)),
+                Next::Type => (" Enter ", words::CHECK.get(&app.lang)),
+            }
+        } else if kind.is_typed() {
             (" Enter ", study::CHECK.get(&app.lang))
         } else {
             (" Space ", app.tr(Msg::ShowAnswer))
@@ -357,7 +381,12 @@ fn button_lines(app: &App, state: &ReviewState, kind: CardKind, width: u16) -> V
             Span::styled(what, t.dim()),
         ])];
     };
-    let suggested = typed.as_ref().map(|t| t.check.suggested);
+    let suggested = match &state.walk {
+        // A derivation with faded steps suggests from their verdicts.
+        Some(w) if w.faded_count() > 0 => Some(w.suggested()),
+        Some(_) => None,
+        None => typed.as_ref().map(|t| t.check.suggested),
+    };
     let mut groups: Vec<Vec<Span<'static>>> = Vec::new();
     for (i, r) in Rating::ALL.into_iter().enumerate() {
         let interval = previews

@@ -77,6 +77,43 @@ pub const FRONT_KEYS: &[Binding] = &[
     END_SESSION,
 ];
 
+/// A derivation walked step by step: on to the next step (or check the
+/// faded one), a faded step's choice by its number.
+pub const DERIVE_KEYS: &[Binding] = &[
+    Binding::new(
+        "Space Enter",
+        Words(
+            "next step; on a faded step, check (or reveal) it",
+            "agla step; faded step pe jaancho (ya dikhao)",
+        ),
+        &[(Char(' '), Action::Reveal), (Enter, Action::Reveal)],
+    ),
+    Binding::new(
+        "1-9",
+        Words(
+            "choose an answer of a faded step",
+            "faded step ka jawab chuno",
+        ),
+        &[
+            (Char('1'), Action::Choose(0)),
+            (Char('2'), Action::Choose(1)),
+            (Char('3'), Action::Choose(2)),
+            (Char('4'), Action::Choose(3)),
+            (Char('5'), Action::Choose(4)),
+            (Char('6'), Action::Choose(5)),
+            (Char('7'), Action::Choose(6)),
+            (Char('8'), Action::Choose(7)),
+            (Char('9'), Action::Choose(8)),
+        ],
+    ),
+    SCROLL,
+    EXPLAIN,
+    SUSPEND,
+    BURY,
+    UNDO,
+    END_SESSION,
+];
+
 /// A typed card: the answer field has the keyboard.
 pub const TYPING_KEYS: &[Binding] = &[
     Binding::typing(Words("your answer", "apna jawab")),

@@ -14,11 +14,13 @@ use crate::tui::services::Stamp;
 
 use super::Nav;
 
+mod derive;
 mod draw;
 mod keys;
 mod status;
+pub use derive::{Given, Next, Walk};
 pub use draw::{draw, fmt_duration};
-pub use keys::{BACK_KEYS, DONE_KEYS, FRONT_KEYS, TYPING_KEYS};
+pub use keys::{BACK_KEYS, DERIVE_KEYS, DONE_KEYS, FRONT_KEYS, TYPING_KEYS};
 
 /// Where the cards come from.
 pub enum Source {
@@ -97,6 +99,8 @@ pub struct ReviewState {
     /// The learner was told, once this session, why a card's other
     /// direction left the queue with its answer.
     pub bury_said: bool,
+    /// The item shown is a derivation: how far it is walked.
+    pub walk: Option<Walk>,
 }
 
 /// What comes after a session, for its summary.
@@ -167,6 +171,7 @@ impl ReviewState {
             typed: false,
             scroll: 0,
             bury_said: false,
+            walk: None,
         };
         state.next_card(app);
         Ok(state)
@@ -218,6 +223,7 @@ impl ReviewState {
             typed: false,
             scroll: 0,
             bury_said: false,
+            walk: None,
         };
         state.next_card(app);
         Ok(state)
@@ -269,6 +275,22 @@ impl ReviewState {
                         .get(self.deck)
                         .and_then(|d| d.card(&key.card))
                         .is_some_and(|c| c.kind.is_typed());
+                // A derivation: faded by the item's own record.
+                self.walk = match key.direction {
+                    Direction::Derive => app
+                        .decks
+                        .get(self.deck)
+                        .and_then(|d| d.derivation(&key.card))
+                        .map(|d| {
+                            // Cramming leaves the schedule alone, and so the
+                            // fading: a cram walk fades as a review would.
+                            let progress = app.services.study.progress(&key).unwrap_or_default();
+                            let walk = Walk::new(d, progress);
+                            self.typed = walk.typing(d);
+                            walk
+                        }),
+                    _ => None,
+                };
                 self.current = Some((key, app.services.stopwatch.stamp()));
                 self.phase = Phase::Front {
                     input: String::new(),
@@ -277,15 +299,17 @@ impl ReviewState {
             None => {
                 self.current = None;
                 self.typed = false;
+                self.walk = None;
                 self.phase = Phase::Done;
             }
         }
     }
 
-    /// The card shown and which way it is asked (`None` for a prompt).
+    /// The card shown and which way it is asked (`None` for a prompt or
+    /// a derivation).
     pub fn card<'a>(&self, deck: &'a Deck) -> Option<(&'a Card, Direction)> {
         let (key, _) = self.current.as_ref()?;
-        if key.direction == Direction::Predict {
+        if matches!(key.direction, Direction::Predict | Direction::Derive) {
             return None;
         }
         deck.card(&key.card).map(|c| (c, key.direction))
@@ -325,6 +349,14 @@ impl ReviewState {
         self.next_card(app);
     }
 
+    /// The derivation shown, when the item is one.
+    pub fn derivation<'a>(&self, deck: &'a Deck) -> Option<&'a crate::deck::Derivation> {
+        let (key, _) = self.current.as_ref()?;
+        (key.direction == Direction::Derive)
+            .then(|| deck.derivation(&key.card))
+            .flatten()
+    }
+
     /// Due tomorrow, new cards left, the next learning step: what the
     /// summary says comes next.
     pub fn what_next(&self, app: &App) -> WhatNext {
@@ -353,10 +385,14 @@ impl ReviewState {
                         }
                     }
                     _ => {
-                        if !new_cards.contains(&key.card.as_str())
-                            && let Some(c) = deck.card(&key.card)
+                        let id = match key.direction {
+                            Direction::Derive => deck.derivation(&key.card).map(|d| d.id.as_str()),
+                            _ => deck.card(&key.card).map(|c| c.id.as_str()),
+                        };
+                        if let Some(id) = id
+                            && !new_cards.contains(&id)
                         {
-                            new_cards.push(c.id.as_str());
+                            new_cards.push(id);
                         }
                     }
                 }
@@ -422,6 +458,7 @@ impl super::View for ReviewState {
     fn context(&self) -> Context {
         match &self.phase {
             Phase::Front { .. } if self.typed => Context::ReviewTyping,
+            Phase::Front { .. } if self.walk.is_some() => Context::ReviewDerive,
             Phase::Front { .. } => Context::ReviewFront,
             Phase::Back { .. } => Context::ReviewBack,
             Phase::Done => Context::ReviewDone,
@@ -478,6 +515,19 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
         (Phase::Front { input }, Action::Backspace) => {
             input.pop();
         }
+        (Phase::Front { .. }, Action::Choose(i)) => {
+            if let (Some(walk), Some(d)) = (
+                state.walk.as_mut(),
+                app.decks
+                    .get(state.deck)
+                    .and_then(|d| state_derivation(d, &state.current)),
+            ) {
+                walk.choose(d, i);
+            }
+        }
+        (Phase::Front { .. }, Action::Reveal | Action::Submit) if state.walk.is_some() => {
+            step(app, state)
+        }
         (Phase::Front { .. }, Action::Reveal | Action::Submit) => {
             // A prompt is answered on its own screen, with new numbers;
             // its verdict's rating comes back (`answered_elsewhere`).
@@ -490,7 +540,10 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
         }
         (Phase::Back { .. }, Action::Rate(r)) => rate(app, state, r),
         (Phase::Back { typed, .. }, Action::Submit) => {
-            let r = typed.as_ref().map_or(Rating::Good, |t| t.check.suggested);
+            let r = match &state.walk {
+                Some(walk) => walk.suggested(),
+                None => typed.as_ref().map_or(Rating::Good, |t| t.check.suggested),
+            };
             rate(app, state, r);
         }
         (Phase::Back { .. }, Action::OpenCardPrompt) => return open_prompt(app, state),
@@ -498,6 +551,48 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
         _ => {}
     }
     Nav::Stay
+}
+
+/// The derivation an item names (`None` for a card).
+fn state_derivation<'a>(
+    deck: &'a Deck,
+    current: &Option<(ItemKey, Stamp)>,
+) -> Option<&'a crate::deck::Derivation> {
+    let (key, _) = current.as_ref()?;
+    (key.direction == Direction::Derive)
+        .then(|| deck.derivation(&key.card))
+        .flatten()
+}
+
+/// One step on through a derivation: a worked step shown, a faded one
+/// checked and shown with its verdict; after the last, the rating.
+fn step(app: &mut App, state: &mut ReviewState) {
+    let Some(d) = app
+        .decks
+        .get(state.deck)
+        .and_then(|d| state.derivation(d))
+        .cloned()
+    else {
+        return;
+    };
+    let d = &d;
+    let Phase::Front { input } = &mut state.phase else {
+        return;
+    };
+    let Some(walk) = state.walk.as_mut() else {
+        return;
+    };
+    if let Err(said) = walk.advance(d, input, &app.lang) {
+        app.info(said);
+        return;
+    }
+    input.clear();
+    state.typed = walk.typing(d);
+    if walk.shown >= d.steps.len() {
+        reveal(app, state);
+    }
+    // The step just shown (or asked) is in view.
+    state.scroll = scroll_max(app, state);
 }
 
 fn reveal(app: &mut App, state: &mut ReviewState) {
@@ -702,7 +797,10 @@ fn explain(app: &mut App, state: &ReviewState) -> Nav {
     let Some(deck) = app.decks.get(state.deck) else {
         return Nav::Stay;
     };
-    let section = state.card(deck).and_then(|(c, _)| c.explain.clone());
+    let section = match state.derivation(deck) {
+        Some(d) => d.explain.clone(),
+        None => state.card(deck).and_then(|(c, _)| c.explain.clone()),
+    };
     match section {
         Some(id) => super::reader::open_at(app, state.deck, &id),
         None => Nav::Stay,

@@ -5,6 +5,7 @@
 pub mod answer;
 pub mod cloze;
 pub mod content;
+pub mod derivation;
 pub mod formula;
 pub mod knob;
 pub mod misconception;
@@ -360,6 +361,7 @@ fn texts_by_language(raw: &RawDeckFile) -> Vec<Vec<&str>> {
     for m in &raw.misconceptions {
         texts.extend(m.title.iter().chain(&m.why_it_seems_right).chain(&m.fix));
     }
+    texts.extend(derivation::texts(raw));
     texts
         .into_iter()
         .filter_map(|t| match t {
@@ -380,6 +382,8 @@ pub struct Body {
     pub misconceptions: Vec<crate::deck::model::Misconception>,
     /// The scenes' knobs and explore measures (`knob`).
     pub explore: Vec<crate::deck::model::Explore>,
+    /// The deck's derivations (`derivation`).
+    pub derivations: Vec<crate::deck::model::Derivation>,
 }
 
 /// Checks cards, prompts and scenes; `section_ids` are the explanation
@@ -408,7 +412,11 @@ pub fn body(
     let prompt_names = Targets::of(raw.prompts.iter().map(|p| p.id.as_ref()));
     let scene_names = Targets::of(raw.scenes.iter().map(|s| s.id.as_ref()));
 
-    if raw.deck.is_some() && raw.cards.is_empty() && raw.prompts.is_empty() {
+    if raw.deck.is_some()
+        && raw.cards.is_empty()
+        && raw.prompts.is_empty()
+        && raw.derivations.is_empty()
+    {
         rep.warning(
             raw.deck.as_ref().map_or(0..0, |d| d.span.clone()),
             "the deck has no cards and no prompts",
@@ -538,7 +546,9 @@ pub fn body(
     }
     let misconceptions = misconception::declared(rep, raw, langs, (section_ids, anchors));
     ok &= misconception::uses(rep, raw);
+    let derivations = derivation::derivations(rep, raw, langs, (section_ids, anchors));
     ok.then_some(Body {
+        derivations: derivations?,
         cards,
         prompts,
         scenes,
