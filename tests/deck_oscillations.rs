@@ -265,6 +265,11 @@ fn the_claims_list_every_prompt_as_the_deck_writes_it() {
     let deck = deck();
     let claims = claims();
     for p in array(&deck, "prompt") {
+        // A varied prompt states no one answer to claim: its variants are
+        // run by `check` and by `varied_prompts`.
+        if p.contains_key("vary") {
+            continue;
+        }
         let id = p["id"].as_str().unwrap();
         let answer = p["answer"].as_table().unwrap();
         let claim = claims

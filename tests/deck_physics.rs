@@ -141,6 +141,10 @@ fn every_expected_answer_is_what_the_adaptive_solver_gives() {
 fn a_wrong_prediction_is_judged_wrong() {
     for deck in decks() {
         for prompt in &deck.prompts {
+            // A varied prompt's answer is each variant's run's.
+            if !prompt.vary.is_empty() {
+                continue;
+            }
             if let Answer::Formula(key) = &prompt.answer {
                 let negated = format!("-({})", key.expected);
                 let v = flipcard::sim::system::equiv::grade(key, &negated);

@@ -258,7 +258,7 @@ fn ids_that_are_not_of_the_deck_format_are_refused_and_quoted_escaped() {
             ),
             (
                 6,
-                "direction \"c1000\" is not forward, backward, c1 … c999 or derive",
+                "direction \"c1000\" is not forward, backward, c1 … c999, predict or derive",
             ),
             (7, "direction \"sideways\\u001b[31m\""),
             (8, "reviewed_at \"when\\u001b[2J\" is not an RFC 3339 time"),

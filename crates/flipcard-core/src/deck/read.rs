@@ -366,7 +366,7 @@ pub fn number(rep: &mut FileReport, v: &Value, what: &str) -> Option<Num> {
 /// or `27.39 AU/yr` as the number and its unit apart (`unit` is where a
 /// number prompt's unit goes). `None` when the text does not start with a
 /// number.
-fn number_in_quotes(text: &str, what: &str) -> Option<String> {
+pub(crate) fn number_in_quotes(text: &str, what: &str) -> Option<String> {
     let text = text.trim();
     let end = text
         .char_indices()

@@ -122,6 +122,18 @@ pub fn answer(
             // `expected = "period(theta)"` names the measure a varied
             // prompt's answer is computed from: `measure` may be left out,
             // and when written it must be the same.
+            // On a prompt that does not vary, a string `expected` is a
+            // number written in quotes (`"2.04 s"`), said as before.
+            if !varied && let Some(c) = computed {
+                rep.error(
+                    c.span.clone(),
+                    "`expected` must be a number, found a string",
+                    crate::deck::read::number_in_quotes(&c.value, "`expected`").or_else(|| {
+                        Some("a measure as `expected` is for a prompt with `vary`; here write the number the physics gives: expected = 2.04".into())
+                    }),
+                );
+                return None;
+            }
             let measure = match (measure, computed) {
                 (Some(m), Some(c)) if m.value.trim() != c.value.trim() => {
                     rep.error(
@@ -145,14 +157,6 @@ pub fn answer(
                 }
             };
             let computed_ok = match (computed, varied) {
-                (Some(c), false) => {
-                    rep.error(
-                        c.span.clone(),
-                        "`expected` names a measure, which only a prompt with `vary` may do: a prompt asked the same way every time states its answer",
-                        Some("write the number the physics gives: expected = 2.04".into()),
-                    );
-                    false
-                }
                 (None, true) if expected.is_none() => {
                     rep.error(
                         span.clone(),
