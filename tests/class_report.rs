@@ -776,6 +776,7 @@ fn wrong_numbers_that_are_known_slips_are_named_by_them() {
         .map(|p| {
             Export::Attempts(vec![AttemptRow {
                 misconception: None,
+                variant: None,
                 deck: DECK.into(),
                 prompt: "efold-time".into(),
                 attempted_at: t0,

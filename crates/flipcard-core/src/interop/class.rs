@@ -1267,6 +1267,7 @@ mod tests {
     fn attempt(prediction: &str, at: &str, correct: Option<bool>, n: Option<u32>) -> AttemptRow {
         AttemptRow {
             misconception: None,
+            variant: None,
             deck: "d".into(),
             prompt: "p".into(),
             attempted_at: DateTime::parse_from_rfc3339(at)
