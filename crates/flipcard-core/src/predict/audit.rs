@@ -775,9 +775,7 @@ fn audit_variants(deck: &Deck, prompt: &Prompt) -> Option<(String, String)> {
     let mut failing = 0usize;
     let samples = variant::samples(prompt);
     for v in &samples {
-        let Some(resolved) = variant::resolve(deck, prompt, Some(v)) else {
-            return None;
-        };
+        let resolved = variant::resolve(deck, prompt, Some(v))?;
         let why = match variant_run(deck, &resolved) {
             Err(e) => Some(format!("the scene does not run to its end ({e})")),
             Ok(run) => match variant::decided(&resolved.prompt, &run.measured) {

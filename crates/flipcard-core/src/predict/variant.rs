@@ -144,7 +144,7 @@ pub fn samples(prompt: &Prompt) -> Vec<Variant> {
 #[derive(Debug, Clone, PartialEq)]
 pub enum SceneOf {
     Rigid(Scene),
-    System(SystemScene),
+    System(Box<SystemScene>),
 }
 
 /// A prompt as one attempt asks it: the question (and every text that
@@ -162,7 +162,7 @@ pub struct Resolved {
 /// deck.
 pub fn resolve(deck: &Deck, prompt: &Prompt, variant: Option<&Variant>) -> Option<Resolved> {
     let mut scene = match (deck.system(&prompt.scene), deck.scene(&prompt.scene)) {
-        (Some(s), _) => SceneOf::System(s.clone()),
+        (Some(s), _) => SceneOf::System(Box::new(s.clone())),
         (None, Some(s)) => SceneOf::Rigid(s.clone()),
         (None, None) => return None,
     };
@@ -180,7 +180,7 @@ pub fn resolve(deck: &Deck, prompt: &Prompt, variant: Option<&Variant>) -> Optio
         };
         let x = value * v.scale;
         scene = match scene {
-            SceneOf::System(s) => SceneOf::System(knob::set_system(&s, &v.target, x)),
+            SceneOf::System(s) => SceneOf::System(Box::new(knob::set_system(&s, &v.target, x))),
             SceneOf::Rigid(s) => SceneOf::Rigid(knob::set_rigid(&s, &v.target, x)),
         };
     }

@@ -79,7 +79,7 @@ pub fn answer(
                         Some("the id of the choice the physics gives (a prompt with `vary` may leave it out: each variant's run decides)".into()),
                     );
                 }
-                return (ok && varied).then(|| Answer::Choice {
+                return (ok && varied).then_some(Answer::Choice {
                     choices: out,
                     expected: None,
                 });
