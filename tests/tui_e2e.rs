@@ -302,7 +302,7 @@ fn review_undo_hinglish_prompt_verdict_and_export() {
             )
         })
         .collect();
-    let want: Vec<(String, String, u64, String, bool)> = cards
+    let mut want: Vec<(String, String, u64, String, bool)> = cards
         .iter()
         .zip([(3, false), (1, false), (4, true)])
         .map(|(c, (rating, undone))| {
@@ -315,7 +315,17 @@ fn review_undo_hinglish_prompt_verdict_and_export() {
             )
         })
         .collect();
+    // The prompt, new, was rated by its right verdict: Good, as a review
+    // item of its own (direction `predict`).
+    want.push((
+        DECK.to_string(),
+        "middle-axis".to_string(),
+        3,
+        "2026-03-02T09:00:00.000Z".to_string(),
+        false,
+    ));
     assert_eq!(got, want);
+    assert_eq!(rows[3]["direction"].as_str(), Some("predict"), "{log}");
 
     // The language choice was saved for the next run.
     let config = std::fs::read_to_string(env.dir.path().join("config.toml")).unwrap_or_default();
