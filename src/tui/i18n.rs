@@ -699,6 +699,10 @@ pub mod derive {
     use super::Words;
 
     /// Above the steps the first time: every step is shown.
+    pub const READER_NEXT: Words = Words(
+        "Enter: the next step, once you have thought what it is",
+        "Enter: agla step, pehle khud socho woh kya hoga",
+    );
     pub const WORKED: Words = Words(
         "Worked example: every step with its reason",
         "Worked example: har step uski wajah ke saath",

@@ -61,7 +61,10 @@ pub const KEYS: &[Binding] = &[
     ),
     Binding::new(
         "Enter",
-        Words("follow the chosen link", "chuna hua link kholo"),
+        Words(
+            "follow the chosen link (a derivation: its next step)",
+            "chuna hua link kholo (derivation mein: agla step)",
+        ),
         &[(Enter, Action::FollowLink)],
     ),
     Binding::new(
@@ -111,6 +114,9 @@ pub struct ReaderState {
     /// and width on screen), so the paragraph is the first line shown even
     /// near the section's end.
     pub anchored: Option<(usize, String)>,
+    /// On a derivation's page, how many of its steps are shown: one at a
+    /// time, Enter the next (0 counts as 1).
+    pub steps: usize,
 }
 
 impl ReaderState {
@@ -284,8 +290,9 @@ pub fn pages(deck: &Deck) -> usize {
 /// Before a derivation's title, in the list and on its page.
 const DERIVATION_MARK: &str = "∴ ";
 
-/// A derivation's page: its title, then every step with its reason.
-fn derivation_page(app: &App, d: &crate::deck::Derivation, width: usize) -> Page {
+/// A derivation's page: its title, then its first `shown` steps with their
+/// reasons, and what brings the next.
+fn derivation_page(app: &App, d: &crate::deck::Derivation, width: usize, shown: usize) -> Page {
     let t = &app.theme;
     let none = || Run::new("", Style::new());
     let mut lines = wrap(
@@ -299,9 +306,22 @@ fn derivation_page(app: &App, d: &crate::deck::Derivation, width: usize) -> Page
         t.dim(),
         width,
     ));
-    for (i, step) in d.steps.iter().enumerate() {
+    for (i, step) in d.steps.iter().enumerate().take(shown.max(1)) {
         lines.push(Line::default());
         lines.extend(crate::tui::derivation::step_lines(app, step, i, width));
+    }
+    if shown.max(1) < d.steps.len() {
+        lines.push(Line::default());
+        lines.extend(crate::tui::wrap::wrap_plain(
+            &format!(
+                "{} ({}/{})",
+                crate::tui::i18n::derive::READER_NEXT.get(&app.lang),
+                shown.max(1),
+                d.steps.len()
+            ),
+            t.key(),
+            width,
+        ));
     }
     Page {
         text_lines: lines.len(),
@@ -311,13 +331,27 @@ fn derivation_page(app: &App, d: &crate::deck::Derivation, width: usize) -> Page
     }
 }
 
-pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option<usize>) -> Page {
-    let t = &app.theme;
-    if let Some(d) = section
+/// A page as the reader shows it now: a derivation's steps so far.
+fn page_shown(app: &App, deck: &Deck, state: &ReaderState, width: usize) -> Page {
+    match derivation_at(deck, state.section) {
+        Some(d) => derivation_page(app, d, width, state.steps),
+        None => page(app, deck, state.section, width, state.link),
+    }
+}
+
+/// The derivation on page `section`, when it is one.
+fn derivation_at(deck: &Deck, section: usize) -> Option<&crate::deck::Derivation> {
+    section
         .checked_sub(deck.sections.len())
         .and_then(|i| deck.derivations.get(i))
-    {
-        return derivation_page(app, d, width);
+}
+
+/// Page `section` whole (a derivation with every step: what a search
+/// reads).
+pub fn page(app: &App, deck: &Deck, section: usize, width: usize, chosen: Option<usize>) -> Page {
+    let t = &app.theme;
+    if let Some(d) = derivation_at(deck, section) {
+        return derivation_page(app, d, width, usize::MAX);
     }
     let Some(sec) = deck.sections.get(section) else {
         return Page {
@@ -441,7 +475,7 @@ fn text_area(app: &App) -> Rect {
 
 fn max_scroll(app: &App, deck: &Deck, state: &ReaderState) -> usize {
     let area = text_area(app);
-    let page = page(app, deck, state.section, area.width as usize, None);
+    let page = page_shown(app, deck, state, area.width as usize);
     page.lines
         .len()
         .saturating_sub(area.height as usize)
@@ -668,6 +702,14 @@ pub fn apply(app: &mut App, state: &mut ReaderState, action: Action) -> Nav {
             state.link = Some(next);
             reveal(state, links[next].line, height, max);
         }
+        // On a derivation's page Enter shows the next step, scrolled into
+        // view.
+        Action::FollowLink if derivation_at(deck, state.section).is_some() => {
+            let n = derivation_at(deck, state.section).map_or(0, |d| d.steps.len());
+            state.steps = (state.steps.max(1) + 1).min(n.max(1));
+            let max = max_scroll(app, deck, state);
+            state.scroll = max;
+        }
         // Enter opens only a link the learner sees chosen; with none
         // chosen it chooses the first on screen.
         Action::FollowLink => match state.link.and_then(|i| links.get(i)) {
@@ -730,6 +772,7 @@ fn go(state: &mut ReaderState, section: usize, remember: bool) {
     state.section = section;
     state.scroll = 0;
     state.link = None;
+    state.steps = 1;
 }
 
 fn jump(app: &mut App, state: &mut ReaderState, query: &str, forward: bool, from_here: bool) {
@@ -741,6 +784,8 @@ fn jump(app: &mut App, state: &mut ReaderState, query: &str, forward: bool, from
             state.section = section;
             state.hit = Some((section, line, col));
             state.link = None;
+            // A match in a derivation's step: every step shown, so it is.
+            state.steps = usize::MAX;
             let max = max_scroll(app, deck, state);
             state.scroll = line.min(max);
             app.status = None;
@@ -804,13 +849,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &ReaderState) {
         links,
         text_lines,
         anchors,
-    } = page(
-        app,
-        deck,
-        state.section,
-        text_area.width as usize,
-        state.link,
-    );
+    } = page_shown(app, deck, state, text_area.width as usize);
     let total = lines.len();
     let height = text_area.height as usize;
     let max = total

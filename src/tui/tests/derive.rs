@@ -286,15 +286,36 @@ fn the_reader_lists_derivations_after_the_sections_as_worked_examples() {
     let list = render(&app);
     assert!(list.contains("∴ Euler from the"), "{list}");
     press(&mut app, KeyCode::Right);
+    // One step at a time: the first with its reason, then Enter for each
+    // next one, until every step is there with its reason.
     let page = render(&app);
     for said in [
         "Worked example",
         "1. (dL⃗/dt)_(body) + ω⃗ × L⃗ = N⃗",
+        "why: The transport theorem.",
+        "Enter: the next step",
+        "(1/3)",
+    ] {
+        assert!(page.contains(said), "{said}:\n{page}");
+    }
+    assert!(!page.contains("Cross product by components"), "{page}");
+    press(&mut app, Enter);
+    let page = render(&app);
+    assert!(page.contains("why: Cross product by components."), "{page}");
+    assert!(page.contains("(2/3)"), "{page}");
+    assert!(!page.contains("Set the torque to zero"), "{page}");
+    press(&mut app, Enter);
+    let page = render(&app);
+    for said in [
         "why: The transport theorem.",
         "why: Cross product by components.",
         "why: Set the torque to zero.",
     ] {
         assert!(page.contains(said), "{said}:\n{page}");
     }
+    assert!(!page.contains("Enter: the next step"), "{page}");
     assert!(!page.contains("your step"), "{page}");
+    // Another page and back: one step again.
+    press_all(&mut app, &[KeyCode::Left, KeyCode::Right]);
+    assert!(!render(&app).contains("Set the torque to zero"));
 }
