@@ -595,6 +595,14 @@ fn stats_count_states_forecast_days_retention_and_prompts() {
         ),
         (2, 1)
     );
+    // Accuracy over time: the week (from Monday, UTC) of each attempt;
+    // 2026-05-10 is a Sunday.
+    let weeks: Vec<(String, u64, u64)> = s.prompts.by_prompt[0]
+        .weeks
+        .iter()
+        .map(|w| (w.week.clone(), w.attempts, w.correct))
+        .collect();
+    assert_eq!(weeks, [("2026-05-04".to_string(), 2, 1)]);
 
     let json = serde_json::to_value(&s).unwrap();
     assert_eq!(json["cards"]["new"], 2);
