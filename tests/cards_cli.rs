@@ -8,7 +8,7 @@ use std::path::Path;
 use crate::support::{Flipcard, Output};
 
 const NOW: &str = "2026-05-10T12:00:00Z";
-const HEADER: &str = "deck,card,direction,state,due,stability,difficulty,retrievability,reviews,lapses,suspended,buried,leech,tags";
+const HEADER: &str = "deck,card,direction,state,due,stability,difficulty,retrievability,reviews,lapses,suspended,buried,leech,tags,front";
 
 fn flipcard(data: &Path, args: &[&str]) -> Output {
     // The bundled decks are open too: a listing looks at the fixture deck
@@ -85,6 +85,14 @@ fn list_prints_one_row_per_item_in_csv_and_json() {
     got.sort();
     assert_eq!(got, want);
     assert_eq!(rows[2]["tags"], "euler frames");
+    // What each item asks, math rendered, on one line.
+    for r in &rows {
+        let front = r["front"].as_str().unwrap();
+        assert!(
+            !front.is_empty() && !front.contains('\n') && !front.contains('$'),
+            "{r}"
+        );
+    }
     assert_eq!(rows[0]["state"], "new");
     assert_eq!(rows[0]["due"], "");
 

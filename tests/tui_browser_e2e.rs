@@ -63,7 +63,7 @@ fn browse_search_suspend_then_cards_list_shows_it() {
     let rows: Vec<&str> = out.lines().collect();
     assert_eq!(
         rows[0],
-        "deck,card,direction,state,due,stability,difficulty,retrievability,reviews,lapses,suspended,buried,leech,tags"
+        "deck,card,direction,state,due,stability,difficulty,retrievability,reviews,lapses,suspended,buried,leech,tags,front"
     );
     assert_eq!(rows.len(), 2, "exactly one item is suspended: {out}");
     assert!(

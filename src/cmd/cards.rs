@@ -19,8 +19,9 @@ use crate::sched::{Config, Direction, ItemKey, Scheduler};
 use crate::study::{DayZone, Mark, Study};
 use crate::text::{num, plural};
 
-/// The CSV header, one column per field of [`Listed`].
-pub const HEADER: [&str; 14] = [
+/// The CSV header, one column per field of [`Listed`]; columns are only
+/// ever added at the end (`front` came with issue 25).
+pub const HEADER: [&str; 15] = [
     "deck",
     "card",
     "direction",
@@ -35,6 +36,7 @@ pub const HEADER: [&str; 14] = [
     "buried",
     "leech",
     "tags",
+    "front",
 ];
 
 /// One row as printed; numbers in shortest form, blank when unknown.
@@ -54,6 +56,9 @@ struct Listed {
     buried: bool,
     leech: bool,
     tags: String,
+    /// What the item asks, math rendered, on one line, in the learner's
+    /// language (the config's `language`, else the deck's first).
+    front: String,
 }
 
 /// One row to print, and why its due date is left blank when it cannot be
@@ -63,6 +68,7 @@ fn listed(
     decks: &[Deck],
     row: &ItemRow,
     now: chrono::DateTime<chrono::Utc>,
+    lang: &str,
 ) -> (Listed, Option<String>) {
     let opt = |x: Option<f64>| x.map(num::show).unwrap_or_default();
     let (due, bad_due) = match row
@@ -88,6 +94,7 @@ fn listed(
         buried: row.buried(now),
         leech: row.status.leech,
         tags: row.tags(decks).join(" "),
+        front: crate::text::safe::one_line(&row.text(decks, lang)).into_owned(),
     };
     let why = bad_due.map(|year| {
         format!(
@@ -118,7 +125,13 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
             let mut out = crate::cmd::output::stdout();
             let mut bad = Vec::new();
             let mut each = picked.iter().map(|&i| {
-                let (row, why) = listed(decks, &rows[i], now);
+                let deck = &decks[rows[i].deck];
+                let lang = if deck.languages.iter().any(|l| l.as_str() == config.language) {
+                    config.language.as_str()
+                } else {
+                    deck.languages.first().map_or("en", |l| l.as_str())
+                };
+                let (row, why) = listed(decks, &rows[i], now, lang);
                 bad.extend(why);
                 row
             });

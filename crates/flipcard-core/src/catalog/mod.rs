@@ -69,6 +69,30 @@ impl ItemRow {
             _ => &decks[self.deck].cards[self.card].tags,
         }
     }
+    /// What the item asks, in `lang`, math rendered, on one line: a
+    /// card's front (its back, asked backwards; the text with deletion
+    /// `n` as a gap), a prompt's question (a varied one's numbers as `…`),
+    /// a derivation's title. Control characters are the caller's to
+    /// escape.
+    pub fn text(&self, decks: &[Deck], lang: &str) -> String {
+        let deck = &decks[self.deck];
+        let raw = match self.direction {
+            Direction::Predict => deck.prompts[self.card].question_listed(lang).into_owned(),
+            Direction::Derive => deck.derivations[self.card].title.get(lang).to_string(),
+            Direction::Forward => deck.cards[self.card].front.get(lang).to_string(),
+            Direction::Backward => deck.cards[self.card].back.get(lang).to_string(),
+            Direction::Cloze(n) => {
+                crate::deck::cloze::front(deck.cards[self.card].front.get(lang), n)
+                    .into_iter()
+                    .map(|s| s.text)
+                    .collect()
+            }
+        };
+        flipcard_text::render(&raw)
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ")
+    }
     pub fn key(&self, decks: &[Deck]) -> ItemKey {
         ItemKey {
             deck: self.deck_id(decks).to_string(),
