@@ -86,7 +86,7 @@ fn list_prints_one_row_per_item_in_csv_and_json() {
     assert_eq!(got, want);
     assert_eq!(rows[2]["tags"], "euler frames");
     // What each item asks, math rendered, on one line.
-    for r in &rows {
+    for r in rows.iter() {
         let front = r["front"].as_str().unwrap();
         assert!(
             !front.is_empty() && !front.contains('\n') && !front.contains('$'),
