@@ -139,6 +139,8 @@ pub const SEARCH_KEYS: &[Binding] = &[
 pub enum Column {
     Deck,
     Card,
+    /// What the item asks, rendered, in the app's language.
+    Question,
     Direction,
     State,
     Due,
@@ -151,9 +153,10 @@ pub enum Column {
 }
 
 impl Column {
-    pub const ALL: [Column; 11] = [
+    pub const ALL: [Column; 12] = [
         Column::Deck,
         Column::Card,
+        Column::Question,
         Column::Direction,
         Column::State,
         Column::Due,
@@ -169,6 +172,7 @@ impl Column {
         match self {
             Column::Deck => Msg::ColDeck,
             Column::Card => Msg::ColCard,
+            Column::Question => Msg::ColQuestion,
             Column::Direction => Msg::ColDirection,
             Column::State => Msg::ColState,
             Column::Due => Msg::ColDue,
@@ -187,6 +191,7 @@ impl Column {
         match self.width() {
             Constraint::Length(n) => n,
             _ if self == Column::Card => 12,
+            _ if self == Column::Question => 16,
             _ => 8,
         }
     }
@@ -195,6 +200,7 @@ impl Column {
         match self {
             Column::Deck => Constraint::Fill(1),
             Column::Card => Constraint::Fill(2),
+            Column::Question => Constraint::Fill(4),
             Column::Direction => Constraint::Length(8),
             Column::State => Constraint::Length(10),
             Column::Due => Constraint::Length(6),
@@ -212,11 +218,12 @@ impl Column {
 /// first, then what says where it stands, the rest as room allows
 /// (columns left out can still be sorted by).
 fn fitting_columns(width: u16) -> Vec<Column> {
-    const PRIORITY: [Column; 11] = [
+    const PRIORITY: [Column; 12] = [
         Column::Card,
         Column::State,
         Column::Due,
         Column::Status,
+        Column::Question,
         Column::Deck,
         Column::Direction,
         Column::Retrievability,
@@ -556,6 +563,18 @@ fn ranks(rows: &[ItemRow], decks: &[Deck], col: Column, now: DateTime<Utc>) -> V
     match col {
         Column::Deck => by(&|a, b| a.deck_id(decks).cmp(b.deck_id(decks)), &mut order),
         Column::Card => by(&|a, b| a.card_id(decks).cmp(b.card_id(decks)), &mut order),
+        Column::Question => {
+            // In each deck's first language: the order does not change
+            // with the language shown.
+            let texts: Vec<String> = rows
+                .iter()
+                .map(|r| {
+                    let lang = decks[r.deck].languages.first().map_or("en", |l| l.as_str());
+                    r.text(decks, lang)
+                })
+                .collect();
+            order.sort_by(|&i, &j| texts[i].cmp(&texts[j]).then(i.cmp(&j)));
+        }
         Column::Direction => by(&|a, b| a.direction.cmp(&b.direction), &mut order),
         Column::State => by(&|a, b| a.state_name().cmp(b.state_name()), &mut order),
         Column::Due => by(&|a, b| a.due().cmp(&b.due()), &mut order),
@@ -903,6 +922,9 @@ fn draw_table(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             Row::new(columns.iter().map(|c| match c {
                 Column::Deck => Cell::from(app.decks[r.deck].id.clone()),
                 Column::Card => Cell::from(r.card_id(&app.decks)),
+                Column::Question => Cell::from(
+                    crate::text::safe::one_line(&r.text(&app.decks, &app.lang)).into_owned(),
+                ),
                 Column::Direction => Cell::from(r.direction.as_str().into_owned()),
                 Column::State => Cell::from(r.state_name()),
                 Column::Due => Cell::from(due.clone()),

@@ -151,6 +151,21 @@ fn browser_sorts_by_any_column() {
         shown_cards(&app).iter().map(card).collect::<Vec<_>>(),
         reversed
     );
+    // The question: what each item asks, in text order.
+    press(&mut app, KeyCode::Char('o'));
+    let b = browser(&app);
+    assert_eq!(
+        b.sort.map(|s| s.0),
+        Some(crate::tui::screens::browser::Column::Question)
+    );
+    let texts: Vec<String> = b
+        .shown
+        .iter()
+        .map(|&i| b.rows[i].text(&app.decks, "en"))
+        .collect();
+    let mut in_order = texts.clone();
+    in_order.sort();
+    assert_eq!(texts, in_order);
     // Lapses: every item has none, so the order is the deck's.
     for _ in 0..8 {
         press(&mut app, KeyCode::Char('o'));
