@@ -161,6 +161,28 @@ fn json_has_the_contract_fields_and_a_plan_that_reaches_the_target() {
 }
 
 #[test]
+fn a_suspended_card_is_never_planned() {
+    let dir = tempfile::tempdir().unwrap();
+    deck(dir.path(), 4);
+    history(dir.path(), 2);
+    let out = flipcard(dir.path(), &["cards", "suspend", "mini/c3"]);
+    assert!(out.status.success(), "{}", out.stderr());
+    let out = flipcard(
+        dir.path(),
+        &["plan", "--exam", "2026-05-24", "--format", "json"],
+    );
+    let v = json(&out);
+    assert_eq!(v["items"], 3, "c3 is suspended: {v}");
+    let cards: Vec<&str> = v["per_item"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| i["card"].as_str().unwrap())
+        .collect();
+    assert_eq!(cards, ["c0", "c1", "c2"]);
+}
+
+#[test]
 fn a_cap_too_small_says_how_far_the_plan_falls_short() {
     let dir = tempfile::tempdir().unwrap();
     deck(dir.path(), 5);

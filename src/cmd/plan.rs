@@ -41,6 +41,9 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
         keys.extend(deck_items(deck));
         states.extend(store.states(&deck.id)?);
     }
+    // A suspended item is out of every queue: no plan schedules it.
+    let statuses = store.statuses()?;
+    keys.retain(|k| !statuses.get(k).is_some_and(|s| s.suspended));
     let now = crate::cmd::clock::now()?;
     let grid = DayGrid::new(chrono::Local, config.day_starts_at);
     let today = grid.day_of(now);

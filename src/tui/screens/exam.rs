@@ -155,7 +155,15 @@ fn start(app: &mut App, deck: usize, input: &str) -> Result<Study, Result<Words,
     let Some(d) = app.decks.get(deck) else {
         return Err(Err("no such deck".into()));
     };
-    let keys = deck_items(d);
+    // A suspended item is out of every queue: no plan schedules it.
+    let statuses = app
+        .services
+        .study
+        .store
+        .statuses()
+        .map_err(|e| Err(e.to_string()))?;
+    let mut keys = deck_items(d);
+    keys.retain(|k| !statuses.get(k).is_some_and(|s| s.suspended));
     let states = app
         .services
         .study
