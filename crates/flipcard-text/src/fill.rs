@@ -92,35 +92,32 @@ pub fn placeholders<'a>(
 /// not read is left as written too (a loaded deck's never is).
 pub fn fill(text: &str, values: &[(&str, f64)]) -> String {
     let names: Vec<&str> = values.iter().map(|(n, _)| *n).collect();
-    let Ok(found) = placeholders(text, &names) else {
-        return text.to_string();
-    };
-    let mut out = String::with_capacity(text.len() + 8 * found.len());
-    let mut at = 0;
-    for p in found {
-        out.push_str(&text[at..p.range.start]);
+    replaced(text, &names, |p| {
         let v = values
             .iter()
             .find(|(n, _)| *n == p.name)
             .map_or(f64::NAN, |(_, v)| *v);
-        out.push_str(&shown(v, p.decimals));
-        at = p.range.end;
-    }
-    out.push_str(&text[at..]);
-    out
+        shown(v, p.decimals)
+    })
 }
 
 /// `text` with each placeholder of `names` shown as `blank` (the numbers
 /// are not drawn yet).
 pub fn blanked(text: &str, names: &[&str], blank: &str) -> String {
+    replaced(text, names, |_| blank.to_string())
+}
+
+/// `text` with each placeholder of `names` replaced by `with` of it; as
+/// written when a placeholder's format does not read.
+fn replaced(text: &str, names: &[&str], with: impl Fn(&Placeholder) -> String) -> String {
     let Ok(found) = placeholders(text, names) else {
         return text.to_string();
     };
-    let mut out = String::with_capacity(text.len());
+    let mut out = String::with_capacity(text.len() + 8 * found.len());
     let mut at = 0;
-    for p in found {
+    for p in &found {
         out.push_str(&text[at..p.range.start]);
-        out.push_str(blank);
+        out.push_str(&with(p));
         at = p.range.end;
     }
     out.push_str(&text[at..]);

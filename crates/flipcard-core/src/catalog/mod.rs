@@ -75,20 +75,8 @@ impl ItemRow {
     /// a derivation's title. Control characters are the caller's to
     /// escape.
     pub fn text(&self, decks: &[Deck], lang: &str) -> String {
-        let deck = &decks[self.deck];
-        let raw = match self.direction {
-            Direction::Predict => deck.prompts[self.card].question_listed(lang).into_owned(),
-            Direction::Derive => deck.derivations[self.card].title.get(lang).to_string(),
-            Direction::Forward => deck.cards[self.card].front.get(lang).to_string(),
-            Direction::Backward => deck.cards[self.card].back.get(lang).to_string(),
-            Direction::Cloze(n) => {
-                crate::deck::cloze::front(deck.cards[self.card].front.get(lang), n)
-                    .into_iter()
-                    .map(|s| s.text)
-                    .collect()
-            }
-        };
-        flipcard_text::render(&raw)
+        asked(&decks[self.deck], self.direction, self.card, lang)
+            .unwrap_or_default()
             .split_whitespace()
             .collect::<Vec<_>>()
             .join(" ")
@@ -100,6 +88,26 @@ impl ItemRow {
             direction: self.direction,
         }
     }
+}
+
+/// What the item `direction` of entry `index` of `deck` asks, in `lang`,
+/// math rendered (line breaks kept): a card's front, its back when asked
+/// backwards, the text with deletion `n` as a gap; a prompt's question (a
+/// varied one's numbers as `…`); a derivation's title. `index` counts in
+/// the deck's cards, prompts or derivations, as the direction says; `None`
+/// past their end.
+pub fn asked(deck: &Deck, direction: Direction, index: usize, lang: &str) -> Option<String> {
+    let raw = match direction {
+        Direction::Predict => deck.prompts.get(index)?.question_listed(lang).into_owned(),
+        Direction::Derive => deck.derivations.get(index)?.title.get(lang).to_string(),
+        Direction::Forward => deck.cards.get(index)?.front.get(lang).to_string(),
+        Direction::Backward => deck.cards.get(index)?.back.get(lang).to_string(),
+        Direction::Cloze(n) => crate::deck::cloze::front(deck.cards.get(index)?.front.get(lang), n)
+            .into_iter()
+            .map(|s| s.text)
+            .collect(),
+    };
+    Some(flipcard_text::render(&raw))
 }
 
 pub fn state_name(s: State) -> &'static str {

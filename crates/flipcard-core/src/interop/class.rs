@@ -1119,28 +1119,13 @@ fn card_text(
     lang: &str,
 ) -> Option<String> {
     let d = decks.get(deck)?;
-    if direction == "predict" {
-        let q = d.prompt(card)?.question_listed(lang).into_owned();
-        return Some(flipcard_text::render(&q).replace('\n', " "));
-    }
     let key = ItemKey::parse(deck, card, direction).ok()?;
-    if key.direction == crate::sched::Direction::Derive {
-        // A derivation is named by its title.
-        let title = d.derivation(card)?.title.get(lang);
-        return Some(flipcard_text::render(title).replace('\n', " "));
-    }
-    let card = d.card(card)?;
-    let text = match key.direction {
-        crate::sched::Direction::Derive => return None,
-        crate::sched::Direction::Forward => card.front.get(lang).to_string(),
-        crate::sched::Direction::Backward => card.back.get(lang).to_string(),
-        crate::sched::Direction::Cloze(n) => crate::deck::cloze::front(card.front.get(lang), n)
-            .into_iter()
-            .map(|s| s.text)
-            .collect(),
-        crate::sched::Direction::Predict => return None,
-    };
-    Some(flipcard_text::render(&text).replace('\n', " "))
+    let index = match key.direction {
+        crate::sched::Direction::Predict => d.prompts.iter().position(|p| p.id == card),
+        crate::sched::Direction::Derive => d.derivations.iter().position(|x| x.id == card),
+        _ => d.cards.iter().position(|c| c.id == card),
+    }?;
+    crate::catalog::asked(d, key.direction, index, lang).map(|t| t.replace('\n', " "))
 }
 
 fn card_tags(decks: &HashMap<&str, &Deck>, deck: &str, card: &str) -> Vec<String> {

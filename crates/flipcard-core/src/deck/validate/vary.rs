@@ -234,6 +234,18 @@ fn one(
                     return None;
                 }
             }
+            if !(hi.value - lo.value).is_finite() {
+                rep.error(
+                    r.span.clone(),
+                    format!(
+                        "`vary.{name}`: the range [{}, {}] is wider than a number can span",
+                        Shown(lo.value),
+                        Shown(hi.value)
+                    ),
+                    None,
+                );
+                return None;
+            }
             if lo.value >= hi.value {
                 rep.error(
                     r.span.clone(),
