@@ -27,6 +27,7 @@ mod deck_physics;
 mod doc_examples;
 mod grade_cli;
 mod import_reviews_cli;
+mod large_deck;
 mod measure_accuracy;
 mod misconception_cli;
 mod optimize_cli;

@@ -68,16 +68,22 @@ fn report(mut loaded: Loaded, no_simulate: bool) -> anyhow::Result<ExitCode> {
     if !loaded.diagnostics.is_empty() {
         crate::errln!("{}", loaded.render_all());
     }
-    if loaded.errors() > 0 {
+    let code = if loaded.errors() > 0 {
         crate::errln!(
             "{}, {}",
             plural(loaded.errors(), "error", "errors"),
             plural(loaded.warnings(), "warning", "warnings")
         );
-        return Ok(ExitCode::from(1));
-    }
-    crate::outln!("{}", summary(&loaded))?;
-    Ok(ExitCode::SUCCESS)
+        ExitCode::from(1)
+    } else {
+        crate::outln!("{}", summary(&loaded))?;
+        ExitCode::SUCCESS
+    };
+    // The process ends here: freeing every card of a large deck one by
+    // one would only delay the exit (a tenth of `check`'s time at 50,000
+    // cards); the system takes the memory back at once.
+    std::mem::forget(loaded);
+    Ok(code)
 }
 
 /// `N decks, M cards, P prompts, S scenes, X sections: ok` (`1 deck`, `1

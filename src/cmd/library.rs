@@ -16,7 +16,7 @@ use crate::bundled;
 use crate::cmd::args::Cli;
 use crate::cmd::paths;
 use crate::deck::files::{Disk, Tree};
-use crate::deck::{FileStatus, Loaded, load_sources};
+use crate::deck::{DeckCache, FileStatus, Loaded, load_sources_cached};
 use crate::sched::Config;
 use crate::text::plural;
 
@@ -122,6 +122,33 @@ pub fn sources(cli: &Cli, config: &Config) -> Vec<Source> {
 
 /// Loads every source's decks.
 pub fn load_with(sources: Vec<Source>) -> Library {
+    load_cached(sources, None)
+}
+
+/// The cache of validated decks in the data folder `data`, for this build
+/// of flipcard (see `deck::cache`): its version and the executable's size
+/// and modification time, so a rebuilt binary validates every deck afresh.
+pub fn deck_cache(data: &Path) -> DeckCache {
+    let exe = std::env::current_exe()
+        .ok()
+        .and_then(|p| disk::metadata(p).ok())
+        .map(|m| {
+            let modified = m
+                .modified()
+                .ok()
+                .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
+                .map_or(0, |d| d.as_nanos());
+            format!("{} {modified}", m.len())
+        })
+        .unwrap_or_default();
+    DeckCache::new(
+        data.join("cache").join("decks"),
+        format!("flipcard {} {exe}", env!("CARGO_PKG_VERSION")),
+    )
+}
+
+/// [`load_with`], taking large decks that have not changed from `cache`.
+pub fn load_cached(sources: Vec<Source>, cache: Option<&DeckCache>) -> Library {
     let memory = bundled::tree();
     let pairs: Vec<(&dyn Tree, PathBuf)> = sources
         .iter()
@@ -133,7 +160,7 @@ pub fn load_with(sources: Vec<Source>) -> Library {
             (tree, s.path.clone())
         })
         .collect();
-    let (loaded, files) = load_sources(&pairs);
+    let (loaded, files) = load_sources_cached(&pairs, cache);
     Library {
         sources,
         loaded,
@@ -149,7 +176,10 @@ pub fn load(cli: &Cli) -> Library {
 /// [`load`], with a warning naming the deck files left out and the command
 /// that shows why.
 pub fn load_warn(cli: &Cli) -> Library {
-    let lib = load(cli);
+    let cache = paths::data_dir(cli.data_dir.clone())
+        .ok()
+        .map(|d| deck_cache(&d));
+    let lib = load_cached(sources(cli, &config(cli)), cache.as_ref());
     let failed = lib.failed();
     if !failed.is_empty() {
         let names: Vec<String> = failed

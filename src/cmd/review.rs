@@ -33,7 +33,8 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     };
     let store = Store::open_with(&data_dir, &options)?;
     let sources = crate::cmd::library::sources(cli, &config);
-    let library = crate::cmd::library::load_with(sources);
+    let cache = crate::cmd::library::deck_cache(&data_dir);
+    let library = crate::cmd::library::load_cached(sources, Some(&cache));
     let failed = library.failed();
     let deck_load = DeckLoad {
         from: None,

@@ -4,6 +4,8 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Component, Path, PathBuf};
 
+use super::cache::{DeckCache, MIN_CACHED_BYTES};
+use super::chunked;
 use super::diag::{Diagnostic, LineIndex, Severity};
 use super::files::{Disk, Probe, Tree};
 use super::model::Deck;
@@ -92,6 +94,15 @@ pub struct FileStatus {
 /// tree, in order: a deck id found in two files is an error at the second,
 /// naming the first. Returns what was loaded and, per deck file, its fate.
 pub fn load_sources(sources: &[(&dyn Tree, PathBuf)]) -> (Loaded, Vec<FileStatus>) {
+    load_sources_cached(sources, None)
+}
+
+/// [`load_sources`], taking a large deck file that has not changed from
+/// `cache` (and keeping one that loads clean there): see [`DeckCache`].
+pub fn load_sources_cached(
+    sources: &[(&dyn Tree, PathBuf)],
+    cache: Option<&DeckCache>,
+) -> (Loaded, Vec<FileStatus>) {
     let mut loaded = Loaded::default();
     let mut statuses = Vec::new();
     let mut seen_ids: HashMap<String, PathBuf> = HashMap::new();
@@ -114,7 +125,7 @@ pub fn load_sources(sources: &[(&dyn Tree, PathBuf)]) -> (Loaded, Vec<FileStatus
                 continue;
             }
             let (diags, decks) = (loaded.diagnostics.len(), loaded.decks.len());
-            load_deck(*tree, &file, &mut loaded, &mut seen_ids);
+            load_deck(*tree, &file, &mut loaded, &mut seen_ids, cache);
             let errors = loaded.diagnostics[diags..]
                 .iter()
                 .filter(|d| d.is_error())
@@ -230,6 +241,7 @@ fn load_deck(
     path: &Path,
     loaded: &mut Loaded,
     seen_ids: &mut HashMap<String, PathBuf>,
+    cache: Option<&DeckCache>,
 ) {
     let Some(text) = read_text(tree, path, loaded) else {
         return;
@@ -238,9 +250,34 @@ fn load_deck(
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
+    let cached = cache
+        .filter(|_| text.len() >= MIN_CACHED_BYTES)
+        .map(|c| (c, c.key(&stem, &text)));
+    if let Some((c, key)) = &cached {
+        let dir = content_dir(path, &stem);
+        let content = |lang: &str| {
+            let file = dir.join(format!("{lang}.toml"));
+            if tree.probe(&file) != Probe::Regular {
+                return None;
+            }
+            let text = String::from_utf8(tree.read(&file).ok()?).ok()?;
+            Some((file, text))
+        };
+        if let Some((deck, texts)) = c.get(key, text.len(), content, path)
+            && !seen_ids.contains_key(&deck.id)
+        {
+            seen_ids.insert(deck.id.clone(), path.to_path_buf());
+            loaded
+                .diagnostics
+                .extend(stray_content_files(tree, &dir, &deck.languages));
+            loaded.sources.insert(path.to_path_buf(), text);
+            loaded.sources.extend(texts);
+            loaded.decks.push(deck);
+            return;
+        }
+    }
     let mut rep = FileReport::new(path, &text);
-    let parsed = syntax::parse(&mut rep, &text)
-        .map(|(root, span)| raw::read_deck_file(&mut rep, &root, span));
+    let parsed = chunked::read_deck(&mut rep, &text);
     let Some(raw) = parsed else {
         loaded.diagnostics.extend(rep.finish());
         loaded.sources.insert(path.to_path_buf(), text);
@@ -348,12 +385,22 @@ fn load_deck(
         })(),
         _ => None,
     };
-    loaded.diagnostics.extend(rep.finish());
+    let mut diagnostics = rep.finish();
     for f in files {
-        loaded.diagnostics.extend(f.rep.finish());
+        diagnostics.extend(f.rep.finish());
     }
-    loaded.diagnostics.extend(unreadable);
-    loaded.diagnostics.extend(stray);
+    diagnostics.extend(unreadable);
+    diagnostics.extend(stray);
+    // Only a deck with nothing at all to say is kept: a cached deck is
+    // shown without its file's warnings.
+    if let (Some((c, key)), Some(deck), true) = (&cached, &deck, diagnostics.is_empty()) {
+        let content: Vec<(String, &str)> = texts
+            .iter()
+            .filter_map(|(lang, _, text)| Some((lang.clone(), text.as_deref()?)))
+            .collect();
+        c.put(key, deck, &content);
+    }
+    loaded.diagnostics.extend(diagnostics);
     loaded.sources.insert(path.to_path_buf(), text);
     for (_, file, text) in texts {
         if let Some(text) = text {

@@ -5,6 +5,8 @@
 //! [`validate`] checks ids, languages, links, texts and physics and builds
 //! the [`model`] types. Every problem of every file is collected in one run.
 
+pub mod cache;
+mod chunked;
 pub mod cloze;
 pub mod csv;
 pub mod diag;
@@ -27,6 +29,10 @@ mod syntax;
 pub(crate) mod tomlstr;
 pub mod validate;
 
+pub use cache::DeckCache;
 pub use diag::{Diagnostic, Severity};
-pub use load::{FileStatus, Loaded, content_dir, load_dir, load_paths, load_sources, load_tree};
+pub use load::{
+    FileStatus, Loaded, content_dir, load_dir, load_paths, load_sources, load_sources_cached,
+    load_tree,
+};
 pub use model::*;

@@ -9,7 +9,6 @@ use std::path::Path;
 use super::diag::LineIndex;
 use super::raw::{self, RawAnswer};
 use super::report::FileReport;
-use super::syntax;
 
 /// A position in a file: 1-based line and character column, and how many
 /// characters to underline.
@@ -38,8 +37,7 @@ pub(crate) struct AnswerPlaces {
 /// loader reports it).
 fn read(path: &Path, source: &str) -> Option<raw::RawDeckFile> {
     let mut rep = FileReport::new(path, source);
-    let (root, span) = syntax::parse(&mut rep, source)?;
-    Some(raw::read_deck_file(&mut rep, &root, span))
+    super::chunked::read_deck(&mut rep, source)
 }
 
 /// Where `span` of `source` is.

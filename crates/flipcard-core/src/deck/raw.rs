@@ -368,6 +368,20 @@ pub(crate) fn read_deck_file(rep: &mut FileReport, root: &DeTable, root_span: Sp
     file
 }
 
+/// The cards of a tree holding only `[[card]]` tables (a part of a large
+/// deck file, `super::chunked`), appended to `out`, as
+/// [`read_deck_file`] reads them.
+pub(crate) fn read_cards_into(rep: &mut FileReport, root: &DeTable, out: &mut Vec<RawCard>) {
+    for (k, v) in root.iter() {
+        let key: &str = k.get_ref();
+        if key == "card" {
+            for (t, span) in read::tables(rep, v, "card") {
+                out.push(read_card(rep, t, span));
+            }
+        }
+    }
+}
+
 fn read_header(rep: &mut FileReport, t: &DeTable, span: Span) -> RawDeckHeader {
     let f = Fields::open(rep, t, span.clone(), "[deck]", DECK_FIELDS, |_| None);
     RawDeckHeader {

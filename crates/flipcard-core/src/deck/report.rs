@@ -89,6 +89,11 @@ impl<'s> FileReport<'s> {
         self.index.position(self.source, offset).0
     }
 
+    /// Nothing found yet, not even a warning.
+    pub(crate) fn is_empty(&self) -> bool {
+        self.found.is_empty()
+    }
+
     pub(crate) fn has_errors(&self) -> bool {
         self.found.iter().any(|(_, d)| d.is_error())
     }

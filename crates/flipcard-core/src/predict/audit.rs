@@ -601,7 +601,13 @@ pub fn check_loaded(loaded: &Loaded) -> Vec<Diagnostic> {
     let mut out = Vec::new();
     for deck in &loaded.decks {
         let source = loaded.sources.get(&deck.path).map_or("", String::as_str);
-        let places = answer_places(&deck.path, source);
+        // Reading the file again for places costs as much as loading it:
+        // only a deck with prompts has answers to place.
+        let places = if deck.prompts.is_empty() {
+            HashMap::new()
+        } else {
+            answer_places(&deck.path, source)
+        };
         let scenes = if deck.systems.is_empty() {
             HashMap::new()
         } else {

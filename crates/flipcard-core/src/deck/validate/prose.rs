@@ -344,6 +344,11 @@ pub fn references(text: &str) -> Vec<Reference> {
     let mut out = Vec::new();
     let mut i = 0;
     while i < b.len() {
+        // Every verb starts with `s` or `d`: most bytes are passed at once.
+        if !matches!(b[i], b's' | b'S' | b'd' | b'D') {
+            i += 1;
+            continue;
+        }
         if let Some(end) = word_at(&b, i, SEE).or_else(|| word_at(&b, i, DEKHO)) {
             let hinglish = word_at(&b, i, DEKHO).is_some();
             if let Some(r) = after(text, &b, i, end) {

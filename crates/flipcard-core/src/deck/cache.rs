@@ -1,0 +1,329 @@
+//! A validated deck kept between runs, so a large collection opens without
+//! reading its TOML again.
+//!
+//! Reading and validating a deck of 50,000 cards (an Anki collection
+//! brought over) takes most of a second and a few hundred megabytes: the
+//! TOML tree with its spans is large. Yet a deck file that has not changed
+//! validates to the same deck every time. So after a deck file loads with
+//! no diagnostic at all, the deck is written to the cache folder (in the
+//! data folder, `cache/decks/`), under the SHA-256 of what decides the
+//! result: the build of flipcard that validated it (`stamp`: its version
+//! and the executable's size and time, so any other build validates
+//! afresh), the file's name and every byte of it. The next load that finds
+//! an entry under that key, with the same bytes in each of the deck's
+//! content files, takes the deck from it.
+//!
+//! What is kept is deliberately narrow: decks of cards only (no prompts,
+//! scenes, sections, misconceptions, derivations, declared units, formula
+//! cards or links to explanations), which is what a large collection is;
+//! a deck with any of them loads from its TOML every time. An entry is
+//! untrusted like any file: read only as a regular file (no link, no FIFO),
+//! bounded in size, checked against the length and CRC-32 written at its
+//! start, and decoded with every length bounded by the bytes present. Any
+//! problem with it (missing, damaged, another format, written by another
+//! build) is a miss: the deck is read from its TOML as if there were no
+//! cache, and the entry written again. A cache that cannot be written (a
+//! read-only data folder, a full disk) is skipped without a word: it only
+//! ever saves time.
+//!
+//! `flipcard check` never reads the cache: it validates every deck afresh.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use super::model::{Card, CardKind, Deck, Text};
+
+/// The first bytes of an entry; a change of the entry's layout changes it.
+const MAGIC: &[u8] = b"flipcard deck cache v1\n";
+
+/// Bytes after [`MAGIC`] before the payload: its length and CRC-32, each
+/// little-endian (the key already proves which deck file it is for; the
+/// CRC catches an entry damaged on disk).
+const HEADER: usize = 12;
+
+/// Deck files smaller than this load fast enough from their TOML.
+pub const MIN_CACHED_BYTES: usize = 64 * 1024;
+
+/// An entry larger than this many times its deck file (plus a margin) is
+/// not read: a cached deck is never much larger than the file it came from.
+const MAX_ENTRY_FACTOR: u64 = 4;
+
+/// Where validated decks are kept, and the build that validated them.
+#[derive(Debug, Clone)]
+pub struct DeckCache {
+    dir: PathBuf,
+    stamp: String,
+}
+
+/// A SHA-256 digest.
+type Digest32 = [u8; 32];
+
+#[derive(Serialize, Deserialize)]
+struct Entry {
+    /// The SHA-256 of each content file read with the deck, by language.
+    content: Vec<(String, Digest32)>,
+    id: String,
+    title: BTreeMap<String, String>,
+    description: Option<BTreeMap<String, String>>,
+    languages: Vec<String>,
+    cards: Vec<CachedCard>,
+}
+
+#[derive(Serialize, Deserialize)]
+enum CachedKind {
+    Basic,
+    Reversed,
+    Typed,
+    Cloze,
+}
+
+#[derive(Serialize, Deserialize)]
+struct CachedCard {
+    id: String,
+    kind: CachedKind,
+    front: BTreeMap<String, String>,
+    back: BTreeMap<String, String>,
+    accept: Vec<String>,
+    accept_by_lang: BTreeMap<String, Vec<String>>,
+    tags: Vec<String>,
+}
+
+/// What a deck file's lookup needs to know before its TOML is read.
+pub(crate) struct Key {
+    digest: Digest32,
+    /// The digest of the file's name alone: every entry of one deck file
+    /// starts with it, so writing a new one removes the old ones.
+    prefix: String,
+}
+
+fn sha256(parts: &[&[u8]]) -> Digest32 {
+    let mut h = Sha256::new();
+    for p in parts {
+        // Each part's length first, so no two lists of parts hash alike.
+        h.update((p.len() as u64).to_le_bytes());
+        h.update(p);
+    }
+    h.finalize().into()
+}
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+impl DeckCache {
+    /// A cache in `dir` for decks validated by the build `stamp`.
+    pub fn new(dir: PathBuf, stamp: String) -> DeckCache {
+        DeckCache { dir, stamp }
+    }
+
+    pub(crate) fn key(&self, stem: &str, text: &str) -> Key {
+        let name = sha256(&[self.stamp.as_bytes(), stem.as_bytes()]);
+        Key {
+            digest: sha256(&[
+                MAGIC,
+                self.stamp.as_bytes(),
+                stem.as_bytes(),
+                text.as_bytes(),
+            ]),
+            prefix: hex(&name[..8]),
+        }
+    }
+
+    fn path(&self, key: &Key) -> PathBuf {
+        self.dir
+            .join(format!("{}-{}.bin", key.prefix, hex(&key.digest)))
+    }
+
+    /// The deck kept under `key` for the deck file `path`, when there is
+    /// one whose content files are the ones it was validated with
+    /// (`content` reads a language's file: its path and text, `None` when
+    /// it cannot be read), with those files. `size` is the deck file's
+    /// size, which bounds the entry's.
+    pub(crate) fn get(
+        &self,
+        key: &Key,
+        size: usize,
+        content: impl Fn(&str) -> Option<(PathBuf, String)>,
+        path: &Path,
+    ) -> Option<(Deck, Vec<(PathBuf, String)>)> {
+        let limit = (size as u64)
+            .saturating_mul(MAX_ENTRY_FACTOR)
+            .saturating_add(1 << 20);
+        let bytes = flipcard_io::read_regular_limited(&self.path(key), limit).ok()?;
+        if bytes.len() as u64 > limit {
+            return None;
+        }
+        let entry = decode(&bytes)?;
+        let mut texts = Vec::new();
+        if entry.content.len() != entry.languages.len() {
+            return None;
+        }
+        for ((lang, digest), declared) in entry.content.iter().zip(&entry.languages) {
+            if lang != declared {
+                return None;
+            }
+            let (file, text) = content(lang)?;
+            if sha256(&[text.as_bytes()]) != *digest {
+                return None;
+            }
+            texts.push((file, text));
+        }
+        Some((entry.into_deck(path), texts))
+    }
+
+    /// Keeps `deck` under `key` (validated with these content files'
+    /// texts, by language), replacing what was kept for the same file. A
+    /// deck the cache does not hold (see the module) is not written;
+    /// nothing here fails loudly.
+    pub(crate) fn put(&self, key: &Key, deck: &Deck, content: &[(String, &str)]) {
+        let Some(entry) = Entry::of(deck, content) else {
+            return;
+        };
+        let Ok(payload) = postcard::to_allocvec(&entry) else {
+            return;
+        };
+        let mut bytes = Vec::with_capacity(MAGIC.len() + HEADER + payload.len());
+        bytes.extend_from_slice(MAGIC);
+        bytes.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+        bytes.extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
+        bytes.extend_from_slice(&payload);
+        let path = self.path(key);
+        // Never through a link or onto something that is not a file.
+        if let Ok(meta) = flipcard_io::metadata_no_follow(&path)
+            && !meta.is_file()
+        {
+            return;
+        }
+        if flipcard_io::create_dir_all(&self.dir).is_err() {
+            return;
+        }
+        for old in flipcard_io::entries_starting_with(&self.dir, &key.prefix) {
+            if old != path && flipcard_io::metadata_no_follow(&old).is_ok_and(|m| m.is_file()) {
+                let _ = flipcard_io::remove_file(&old);
+            }
+        }
+        let _ = flipcard_io::write_atomic(&path, &bytes, flipcard_io::Durability::Whole);
+    }
+}
+
+/// An entry's deck, when its bytes are whole and of this format.
+fn decode(bytes: &[u8]) -> Option<Entry> {
+    let rest = bytes.strip_prefix(MAGIC)?;
+    if rest.len() < HEADER {
+        return None;
+    }
+    let (header, payload) = rest.split_at(HEADER);
+    let len = u64::from_le_bytes(header[..8].try_into().ok()?);
+    let crc = u32::from_le_bytes(header[8..].try_into().ok()?);
+    if len != payload.len() as u64 || crc32fast::hash(payload) != crc {
+        return None;
+    }
+    let (entry, left): (Entry, &[u8]) = postcard::take_from_bytes(payload).ok()?;
+    left.is_empty().then_some(entry)
+}
+
+impl Entry {
+    /// The entry of a deck the cache holds: cards only.
+    fn of(deck: &Deck, content: &[(String, &str)]) -> Option<Entry> {
+        let plain = deck.prompts.is_empty()
+            && deck.scenes.is_empty()
+            && deck.systems.is_empty()
+            && deck.sections.is_empty()
+            && deck.units.is_empty()
+            && deck.misconceptions.is_empty()
+            && deck.explore.is_empty()
+            && deck.derivations.is_empty();
+        if !plain {
+            return None;
+        }
+        let cards = deck
+            .cards
+            .iter()
+            .map(CachedCard::of)
+            .collect::<Option<Vec<_>>>()?;
+        let languages: Vec<String> = deck.languages.clone();
+        let content: Vec<(String, Digest32)> = content
+            .iter()
+            .map(|(lang, text)| (lang.clone(), sha256(&[text.as_bytes()])))
+            .collect();
+        let same_languages = content.len() == languages.len()
+            && content.iter().zip(&languages).all(|((l, _), d)| l == d);
+        if !same_languages {
+            return None;
+        }
+        Some(Entry {
+            content,
+            id: deck.id.clone(),
+            title: deck.title.0.clone(),
+            description: deck.description.as_ref().map(|t| t.0.clone()),
+            languages,
+            cards,
+        })
+    }
+
+    fn into_deck(self, path: &Path) -> Deck {
+        Deck {
+            id: self.id,
+            title: Text(self.title),
+            description: self.description.map(Text),
+            languages: self.languages,
+            cards: self.cards.into_iter().map(CachedCard::into_card).collect(),
+            prompts: Vec::new(),
+            scenes: Vec::new(),
+            systems: Vec::new(),
+            sections: Vec::new(),
+            units: Vec::new(),
+            misconceptions: Vec::new(),
+            explore: Vec::new(),
+            derivations: Vec::new(),
+            path: path.to_path_buf(),
+        }
+    }
+}
+
+impl CachedCard {
+    fn of(card: &Card) -> Option<CachedCard> {
+        let kind = match card.kind {
+            CardKind::Basic => CachedKind::Basic,
+            CardKind::Reversed => CachedKind::Reversed,
+            CardKind::Typed => CachedKind::Typed,
+            CardKind::Cloze => CachedKind::Cloze,
+            CardKind::Formula => return None,
+        };
+        if card.explain.is_some() || card.prompt.is_some() || card.formula.is_some() {
+            return None;
+        }
+        Some(CachedCard {
+            id: card.id.clone(),
+            kind,
+            front: card.front.0.clone(),
+            back: card.back.0.clone(),
+            accept: card.accept.clone(),
+            accept_by_lang: card.accept_by_lang.clone(),
+            tags: card.tags.clone(),
+        })
+    }
+
+    fn into_card(self) -> Card {
+        Card {
+            id: self.id,
+            kind: match self.kind {
+                CachedKind::Basic => CardKind::Basic,
+                CachedKind::Reversed => CardKind::Reversed,
+                CachedKind::Typed => CardKind::Typed,
+                CachedKind::Cloze => CardKind::Cloze,
+            },
+            front: Text(self.front),
+            back: Text(self.back),
+            accept: self.accept,
+            accept_by_lang: self.accept_by_lang,
+            explain: None,
+            prompt: None,
+            tags: self.tags,
+            formula: None,
+        }
+    }
+}
