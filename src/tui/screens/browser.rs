@@ -438,7 +438,7 @@ impl BrowserState {
         match filter {
             Ok(f) => {
                 self.error = None;
-                self.waiting = !f.text.trim().is_empty() && !self.index.ready();
+                self.waiting = f.needs_index() && !self.index.ready();
                 if self.waiting {
                     return;
                 }
@@ -478,8 +478,13 @@ impl BrowserState {
             if fields.is_empty() {
                 (0..self.rows.len()).collect()
             } else {
+                let hits = if fields.needs_index() {
+                    search::Hits::find(&fields, self.index.get(decks), self.rows.len())
+                } else {
+                    search::Hits::default()
+                };
                 (0..self.rows.len())
-                    .filter(|&i| fields.keeps(&self.rows[i], decks, self.now))
+                    .filter(|&i| fields.keeps(i, &self.rows, decks, self.now, &hits))
                     .collect()
             }
         });

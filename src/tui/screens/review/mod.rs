@@ -847,7 +847,7 @@ pub fn filtered_items(
 ) -> Result<Vec<ItemKey>, String> {
     use crate::catalog;
     use crate::catalog::search::{Search, select};
-    if !cram && filter.states.iter().any(|s| s == "suspended") {
+    if !cram && filter.asks_suspended() {
         return Err(app.tr(Msg::SuspendedNeedsCram).to_string());
     }
     let decks: &[Deck] = match deck {
@@ -863,7 +863,7 @@ pub fn filtered_items(
         now,
     )
     .map_err(|e| e.to_string())?;
-    let mut search = Search::for_text(&filter.text, decks, &rows);
+    let mut search = Search::for_filter(filter, decks, &rows);
     let mut picked = select(decks, &rows, &mut search, filter, now);
     picked.sort_unstable();
     Ok(picked
