@@ -161,6 +161,7 @@ pub enum Msg {
     ColQuestion,
     ColDirection,
     ColState,
+    CardInfo,
     ColDue,
     ColStability,
     ColDifficulty,
@@ -420,6 +421,7 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         ColQuestion => pick!("question", "sawaal"),
         ColDirection => pick!("dir", "dir"),
         ColState => pick!("state", "state"),
+        CardInfo => pick!("Card info", "Card info"),
         ColDue => pick!("due", "baaki"),
         ColStability => pick!("stab", "stab"),
         ColDifficulty => pick!("diff", "diff"),
@@ -994,6 +996,37 @@ pub mod browser {
 
     /// In place of the count while the search index is still being built.
     pub const SEARCHING: Words = Words("searching…", "dhoondh rahe…");
+}
+
+/// Words of the card info screen (`i`).
+pub mod info {
+    use super::Words;
+
+    pub const STATE: Words = Words("state", "state");
+    pub const REVIEWS: Words = Words("reviews", "reviews");
+    pub const LAPSES: Words = Words("lapses", "kitni baar bhoole");
+    pub const DUE: Words = Words("due", "agli baar");
+    pub const INTERVAL: Words = Words("interval", "antaraal");
+    pub const STABILITY: Words = Words("stability", "stability (tikaav)");
+    pub const DIFFICULTY: Words = Words("difficulty", "difficulty (kathinai)");
+    pub const RECALL_NOW: Words = Words("recall now", "abhi yaad rehne ka chance");
+    pub const NO_REVIEWS: Words = Words(
+        "Not answered yet: no history.",
+        "Abhi tak jawab nahi diya: koi history nahi.",
+    );
+    /// Column names of the history.
+    pub const DATE: Words = Words("date", "tareekh");
+    pub const RATING: Words = Words("rating", "rating");
+    pub const IVL: Words = Words("ivl", "antrl");
+    pub const TOOK: Words = Words("took", "samay");
+    pub const LEGEND: Words = Words(
+        "R: recall when answered · S, D: stability, difficulty after",
+        "R: jawab ke waqt yaad · S, D: uske baad stability, difficulty",
+    );
+    pub const CRAM_NOTE: Words = Words(
+        "*: crammed, the schedule stayed as it was",
+        "*: cram, schedule waisa hi raha",
+    );
 }
 
 #[cfg(test)]

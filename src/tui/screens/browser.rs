@@ -84,6 +84,7 @@ pub const KEYS: &[Binding] = &[
         Words("open its explanation", "uska samjhaav kholo"),
         &[(Char('e'), Action::Explain)],
     ),
+    super::info::OPEN,
     Binding::new(
         "s b U",
         Words(
@@ -716,6 +717,15 @@ pub fn apply(app: &mut App, s: &mut BrowserState, action: Action) -> Nav {
         Action::Back if s.preview => s.preview = false,
         Action::Back => return Nav::Pop,
         Action::Explain => return explain(app, s),
+        Action::CardInfo => {
+            if let Some(row) = s.current() {
+                let key = row.key(&app.decks);
+                match super::info::InfoState::open(app, row.deck, key) {
+                    Ok(i) => return Nav::Push(super::Screen::Info(Box::new(i))),
+                    Err(e) => app.error(e),
+                }
+            }
+        }
         Action::Suspend | Action::Bury | Action::Unsuspend => mark(app, s, action),
         Action::Undo => undo(app, s),
         Action::Tick(_) if s.waiting && s.index.ready() => s.refilter(&app.decks),

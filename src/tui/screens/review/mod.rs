@@ -511,6 +511,20 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
             status::mark(app, state, action)
         }
         (_, Action::Explain) => return explain(app, state),
+        (Phase::Front { .. } | Phase::Back { .. }, Action::CardInfo) => {
+            if let Some((key, _)) = &state.current {
+                // The item's own deck (a filtered session spans decks).
+                let deck = app
+                    .decks
+                    .iter()
+                    .position(|d| d.id == key.deck)
+                    .unwrap_or(state.deck);
+                match super::info::InfoState::open(app, deck, key.clone()) {
+                    Ok(i) => return Nav::Push(super::Screen::Info(Box::new(i))),
+                    Err(e) => app.error(e),
+                }
+            }
+        }
         (Phase::Front { input }, Action::Input(c)) => input.push(c),
         (Phase::Front { input }, Action::Backspace) => {
             input.pop();
