@@ -375,7 +375,7 @@ fn queries_as_anki_users_type_them() {
         items("(is:suspended or -tag:euler)"),
         [&spin[..], &["middle/forward"]].concat()
     );
-    assert_eq!(items("-tag:fram*"), torque);
+    assert_eq!(items("is:new -tag:fram*"), torque);
     assert_eq!(items("(-(tag:euler or tag:frames))"), Vec::<String>::new());
     assert_eq!(items("tag:euler -is:suspended"), torque);
     assert_eq!(items("tor*ue"), torque);

@@ -103,8 +103,11 @@ fn stats_json_lists_leeches_with_lapses_and_counts_marks() {
     assert_eq!(
         v["leeches"],
         serde_json::json!([
-            {"deck": "study", "card": "middle", "direction": "forward", "lapses": 3},
-            {"deck": "study", "card": "spin-axis", "direction": "backward", "lapses": 4},
+            {"deck": "study", "card": "middle", "direction": "forward", "lapses": 3,
+             "front": "Middle axis spin?"},
+            // Asked backwards: what it asks is the back.
+            {"deck": "study", "card": "spin-axis", "direction": "backward", "lapses": 4,
+             "front": "Stable spin"},
         ])
     );
     // The fields before these are a contract: the new ones only add.
@@ -145,8 +148,8 @@ fn stats_text_names_each_leech_with_its_lapses() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
         text.contains("Suspended: 1; buried today: 1; leeches: 2\n")
-            && text.contains("  leech study/middle/forward (3 lapses)\n")
-            && text.contains("  leech study/spin-axis/backward (4 lapses)\n")
+            && text.contains("  leech study/middle/forward (3 lapses): Middle axis spin?\n")
+            && text.contains("  leech study/spin-axis/backward (4 lapses): Stable spin\n")
             && !text.contains("torque-rate/c1"),
         "{text}"
     );

@@ -37,7 +37,8 @@ pub fn run(cli: &Cli, args: &StatsArgs) -> anyhow::Result<ExitCode> {
         deck: args.deck.as_deref(),
         items: &items,
     };
-    let stats = store.stats(scope, now, &grid)?;
+    let mut stats = store.stats(scope, now, &grid)?;
+    crate::catalog::name_leeches(&mut stats.leeches, &loaded.decks, &config.language);
     let mut out = crate::cmd::output::stdout();
     if args.json {
         let mut value = serde_json::to_value(&stats)?;
@@ -231,11 +232,15 @@ pub fn render_marks(s: &Stats) -> String {
     );
     for l in &s.leeches {
         o.push_str(&format!(
-            "  leech {}/{}/{} ({})\n",
+            "  leech {}/{}/{} ({}){}\n",
             l.deck,
             l.card,
             l.direction,
-            plural(l.lapses, "lapse", "lapses")
+            plural(l.lapses, "lapse", "lapses"),
+            l.front
+                .as_deref()
+                .filter(|f| !f.is_empty())
+                .map_or(String::new(), |f| format!(": {f}"))
         ));
     }
     o

@@ -162,6 +162,9 @@ pub enum Msg {
     ColDirection,
     ColState,
     CardInfo,
+    SuspendUndone,
+    BuryUndone,
+    UnsuspendUndone,
     ColDue,
     ColStability,
     ColDifficulty,
@@ -422,6 +425,9 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         ColDirection => pick!("dir", "dir"),
         ColState => pick!("state", "state"),
         CardInfo => pick!("Card info", "Card info"),
+        SuspendUndone => pick!("suspend undone", "suspend wapas liya"),
+        BuryUndone => pick!("bury undone", "bury wapas liya"),
+        UnsuspendUndone => pick!("unsuspend undone", "unsuspend wapas liya"),
         ColDue => pick!("due", "baaki"),
         ColStability => pick!("stab", "stab"),
         ColDifficulty => pick!("diff", "diff"),
@@ -435,8 +441,8 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         Items => pick!("items", "items"),
         SortedBy => pick!("sorted by", "sort"),
         SearchHint => pick!(
-            "/ search: text, deck: tag: state: due:<3d is:leech is:suspended",
-            "/ khojo: text, deck: tag: state: due:<3d is:leech is:suspended"
+            "/ search: text deck: tag: is:due|new|leech rated:7 prop:ivl>30 or - ()",
+            "/ khojo: text deck: tag: is:due|new|leech rated:7 prop:ivl>30 or - ()"
         ),
         NothingMatches => pick!("nothing matches", "kuch nahi mila"),
         FieldTag => pick!("tag", "tag"),
@@ -996,6 +1002,8 @@ pub mod browser {
 
     /// In place of the count while the search index is still being built.
     pub const SEARCHING: Words = Words("searching…", "dhoondh rahe…");
+    /// The count when the query keeps some items: `{n}` of `{total}`.
+    pub const MATCHES: Words = Words("{n} of {total} items", "{total} mein se {n} items");
 }
 
 /// Words of the card info screen (`i`).

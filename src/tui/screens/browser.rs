@@ -58,8 +58,8 @@ pub const KEYS: &[Binding] = &[
     Binding::new(
         "/",
         Words(
-            "search: text, deck: tag: state: due:<3d is:leech is:suspended",
-            "khojo: text, deck: tag: state: due:<3d is:leech is:suspended",
+            "search: text deck: tag: is:due|new|leech rated:7 prop:ivl>30 or - ()",
+            "khojo: text deck: tag: is:due|new|leech rated:7 prop:ivl>30 or - ()",
         ),
         &[(Char('/'), Action::StartSearch)],
     ),
@@ -814,9 +814,10 @@ fn undo(app: &mut App, s: &mut BrowserState) {
     match app.services.study.undo() {
         Ok(Some(crate::store::Undone::Status(events))) => {
             s.marks -= 1;
+            let msg = super::review::status::undone_msg(&events);
             let keys: Vec<ItemKey> = events.into_iter().map(|e| e.key).collect();
             refresh(app, s, &keys);
-            app.info(app.tr(Msg::Undone));
+            app.info(app.tr(msg));
         }
         Ok(Some(crate::store::Undone::Review(_))) | Ok(None) => {
             app.info(app.tr(Msg::NothingToUndo));
@@ -852,10 +853,16 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             t.dim(),
         ));
     } else {
-        q.push(Span::styled(
-            format!("  {} {}", s.shown.len(), app.tr(Msg::Items)),
-            t.dim(),
-        ));
+        // What the query keeps, of every item.
+        let count = if s.shown.len() == s.rows.len() {
+            format!("{} {}", s.shown.len(), app.tr(Msg::Items))
+        } else {
+            crate::tui::i18n::browser::MATCHES
+                .get(&app.lang)
+                .replace("{n}", &s.shown.len().to_string())
+                .replace("{total}", &s.rows.len().to_string())
+        };
+        q.push(Span::styled(format!("  {count}"), t.dim()));
     }
     if let Some((c, rev)) = s.sort {
         q.push(Span::styled(

@@ -61,8 +61,8 @@ pub const KEYS: &[Binding] = &[
 pub const OPEN: Binding = Binding::new(
     "i",
     Words(
-        "card info: review history, stability, difficulty, recall",
-        "card info: review history, stability, difficulty, yaad",
+        "card info: its review history",
+        "card info: iski review history",
     ),
     &[(Char('i'), Action::CardInfo)],
 );

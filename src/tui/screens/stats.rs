@@ -72,7 +72,11 @@ impl StatsState {
                 let now = app.services.now();
                 let s = &app.services.study;
                 let r = s.store.stats(scope, now, &s.days());
-                r.map_err(|e| e.to_string())
+                r.map(|mut st| {
+                    crate::catalog::name_leeches(&mut st.leeches, &app.decks, &app.lang);
+                    st
+                })
+                .map_err(|e| e.to_string())
             }
             None => Err("no such deck".into()),
         };
@@ -439,10 +443,14 @@ fn marks_lines(app: &App, stats: &Stats) -> Vec<Line<'static>> {
         } else {
             marks::LAPSES
         };
-        lines.push(Line::from(vec![
+        let mut spans = vec![
             Span::styled(format!("   {}/{} ", l.card, l.direction), t.text()),
             Span::styled(format!("{} {}", l.lapses, lapses.get(lang)), t.dim()),
-        ]));
+        ];
+        if let Some(front) = l.front.as_deref().filter(|f| !f.is_empty()) {
+            spans.push(Span::styled(format!(" · {front}"), t.text()));
+        }
+        lines.push(Line::from(spans));
     }
     if stats.leeches.len() > LEECHES_SHOWN {
         lines.push(Line::styled(

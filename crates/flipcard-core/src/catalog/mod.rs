@@ -112,6 +112,45 @@ pub fn asked(deck: &Deck, direction: Direction, index: usize, lang: &str) -> Opt
     Some(flipcard_text::render(&raw))
 }
 
+/// What the item `key` of `deck` asks, in `lang` (the deck's first
+/// language when it has not that one), math rendered, on one line; `None`
+/// when the deck has no such item. Control characters are the caller's to
+/// escape.
+pub fn asked_item(deck: &Deck, key: &ItemKey, lang: &str) -> Option<String> {
+    let index = match key.direction {
+        Direction::Predict => deck.prompts.iter().position(|p| p.id == key.card),
+        Direction::Derive => deck.derivations.iter().position(|x| x.id == key.card),
+        _ => deck.cards.iter().position(|c| c.id == key.card),
+    }?;
+    let lang = if deck.languages.iter().any(|l| l.as_str() == lang) {
+        lang
+    } else {
+        deck.languages.first().map_or("en", |l| l.as_str())
+    };
+    let text = asked(deck, key.direction, index, lang)?;
+    Some(text.split_whitespace().collect::<Vec<_>>().join(" "))
+}
+
+/// Fills in what each leech asks ([`asked_item`]), from the deck loaded
+/// that has it, control characters escaped.
+pub fn name_leeches(leeches: &mut [crate::store::stats::Leech], decks: &[Deck], lang: &str) {
+    for l in leeches {
+        let Some(direction) = Direction::parse(&l.direction) else {
+            continue;
+        };
+        let key = ItemKey {
+            deck: l.deck.clone(),
+            card: l.card.clone(),
+            direction,
+        };
+        l.front = decks
+            .iter()
+            .find(|d| d.id == l.deck)
+            .and_then(|d| asked_item(d, &key, lang))
+            .map(|t| flipcard_text::safe::one_line(&t).into_owned());
+    }
+}
+
 pub fn state_name(s: State) -> &'static str {
     match s {
         State::New => "new",

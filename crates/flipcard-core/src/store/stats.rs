@@ -61,6 +61,9 @@ pub struct Leech {
     pub card: String,
     pub direction: String,
     pub lapses: u32,
+    /// What the item asks, on one line (`catalog::name_leeches` fills it
+    /// from the decks; `None` for an item no deck loaded has).
+    pub front: Option<String>,
 }
 
 /// The current items of the scope by state.
@@ -243,6 +246,7 @@ impl Store {
                 card: k.card.clone(),
                 direction: k.direction.as_str().to_string(),
                 lapses: lapses.get(k).copied().unwrap_or(0),
+                front: None,
             })
             .collect();
         Ok((suspended, buried, leeches))

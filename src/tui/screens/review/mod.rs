@@ -17,7 +17,7 @@ use super::Nav;
 mod derive;
 mod draw;
 mod keys;
-mod status;
+pub(crate) mod status;
 pub use derive::{Given, Next, Walk};
 pub use draw::{draw, fmt_duration};
 pub use keys::{BACK_KEYS, DERIVE_KEYS, DONE_KEYS, FRONT_KEYS, TYPING_KEYS};
