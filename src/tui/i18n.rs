@@ -1006,6 +1006,18 @@ pub mod browser {
     pub const MATCHES: Words = Words("{n} of {total} items", "{total} mein se {n} items");
 }
 
+/// Words of the stats screen's added lines: the long forecast, time
+/// spent and the answer buttons.
+pub mod stats_more {
+    use super::Words;
+
+    pub const NEXT_90_DAYS: Words = Words("next 90 days", "agle 90 din");
+    pub const TIME: Words = Words("time", "samay");
+    pub const TODAY: Words = Words("today", "aaj");
+    pub const DAYS_30: Words = Words("30 days", "30 din");
+    pub const MATURE_RIGHT: Words = Words("mature right", "mature sahi");
+}
+
 /// Words of the card info screen (`i`).
 pub mod info {
     use super::Words;

@@ -201,7 +201,7 @@ impl InfoState {
                 facts.push((w::INTERVAL.get(lang), span(s.due - last)));
             }
             if let Some(x) = s.stability {
-                facts.push((w::STABILITY.get(lang), format!("{}", days(x))));
+                facts.push((w::STABILITY.get(lang), days(x)));
             }
             if let Some(x) = s.difficulty {
                 facts.push((w::DIFFICULTY.get(lang), format!("{x:.1}")));
