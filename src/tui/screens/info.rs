@@ -67,6 +67,10 @@ pub const OPEN: Binding = Binding::new(
     &[(Char('i'), Action::CardInfo)],
 );
 
+/// The width (cells) from which the history shows the full date and the
+/// time taken.
+pub const WIDE: u16 = 58;
+
 /// One answer of the item's history.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Answer {
@@ -172,8 +176,11 @@ impl InfoState {
         }
     }
 
-    /// The lines of the screen: the head, then the history.
-    pub fn lines(&self, app: &App) -> (Vec<Line<'static>>, Vec<Line<'static>>) {
+    /// The lines of the screen: the head, then the history (narrower
+    /// than [`WIDE`] cells: the date without its year and time, and no
+    /// time taken).
+    pub fn lines(&self, app: &App, width: u16) -> (Vec<Line<'static>>, Vec<Line<'static>>) {
+        let wide = width >= WIDE;
         let t = &app.theme;
         let lang = app.lang.as_str();
         let mut head = vec![
@@ -225,16 +232,22 @@ impl InfoState {
             )));
             return (head, body);
         }
+        let row = |date: &str, rating: &str, ivl: &str, took: &str, r: &str, s: &str, d: &str| {
+            if wide {
+                format!("{date:<16} {rating:<8} {ivl:>6} {took:>6} {r:>5} {s:>6} {d:>4}")
+            } else {
+                format!("{date:<5} {rating:<7} {ivl:>6} {r:>5} {s:>6} {d:>4}")
+            }
+        };
         body.push(Line::from(Span::styled(
-            format!(
-                "{:<16} {:<8} {:>6} {:>6} {:>5} {:>6} {:>4}",
+            row(
                 w::DATE.get(lang),
                 w::RATING.get(lang),
                 w::IVL.get(lang),
                 w::TOOK.get(lang),
                 "R",
                 "S",
-                "D"
+                "D",
             ),
             t.dim(),
         )));
@@ -244,15 +257,19 @@ impl InfoState {
                 ReviewKind::Cram => format!("{}*", rating_name(app, a.rating)),
                 _ => rating_name(app, a.rating).to_string(),
             };
-            body.push(Line::from(format!(
-                "{:<16} {:<8} {:>6} {:>6} {:>5} {:>6} {:>4}",
-                self.date(a.at),
-                ellipsize(&rating, 8),
-                span(a.interval),
-                format!("{:.1}s", a.took_ms as f64 / 1000.0),
-                a.recall.map_or("—".to_string(), percent),
-                a.stability.map_or("—".to_string(), days),
-                a.difficulty.map_or("—".to_string(), |d| format!("{d:.1}")),
+            let date = if wide {
+                self.date(a.at)
+            } else {
+                self.date(a.at).get(5..10).unwrap_or_default().to_string()
+            };
+            body.push(Line::from(row(
+                &date,
+                &ellipsize(&rating, if wide { 8 } else { 7 }),
+                &span(a.interval),
+                &format!("{:.1}s", a.took_ms as f64 / 1000.0),
+                &a.recall.map_or("—".to_string(), percent),
+                &a.stability.map_or("—".to_string(), days),
+                &a.difficulty.map_or("—".to_string(), |d| format!("{d:.1}")),
             )));
         }
         body.push(Line::from(Span::styled(
@@ -343,7 +360,7 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, s: &InfoState) {
     if inner.width == 0 || inner.height == 0 {
         return;
     }
-    let (head, body) = s.lines(app);
+    let (head, body) = s.lines(app, inner.width);
     // The head stays; the history scrolls below it (its column names
     // kept on top), and the head gives way when the screen is short.
     let head_h = (head.len() as u16).min(inner.height / 2);

@@ -147,6 +147,14 @@ fn card_info_opens_from_the_review_screen_and_comes_back() {
 #[test]
 fn card_info_draws_at_every_size() {
     let mut app = answered_twice(ENGLISH);
+    // Narrow: the date without its year, no time taken, and R, S, D kept.
+    app.size = (40, 12);
+    let screen = render(&app);
+    let hard = screen
+        .lines()
+        .find(|l| l.contains("03-03 Hard"))
+        .unwrap_or_else(|| panic!("{screen}"));
+    assert!(hard.contains("95%") && hard.contains("4.8"), "{screen}");
     for (w, h) in [
         (80, 24),
         (40, 12),

@@ -249,6 +249,13 @@ pub fn prop(p: Prop, row: &ItemRow, now: DateTime<Utc>) -> Option<f64> {
 /// Whether `text` matches `pattern`, `*` standing for any characters
 /// (none included), letters compared without case.
 pub fn glob(pattern: &str, text: &str) -> bool {
+    // Most patterns have no `*`: compared as they stand, nothing copied.
+    if !pattern.contains('*') {
+        return pattern
+            .chars()
+            .flat_map(char::to_lowercase)
+            .eq(text.chars().flat_map(char::to_lowercase));
+    }
     let p: Vec<char> = pattern.chars().collect();
     let t: Vec<char> = text.chars().collect();
     let same = |a: char, b: char| a == b || a.to_lowercase().eq(b.to_lowercase());
