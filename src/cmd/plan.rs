@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use anyhow::Context as _;
 use chrono::{Duration, NaiveDate};
 use serde_json::json;
+use unicode_width::UnicodeWidthStr;
 
 use crate::cmd::args::{Cli, PlanArgs, PlanFormat};
 use crate::cmd::common::{find_deck, load_decks, open_store_read_only};
@@ -90,15 +91,24 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The widest the text table's "Asks" column gets, in characters.
+/// The widest the text table's "Asks" column gets, in terminal cells.
 const ASKS: usize = 32;
 
-/// `text` cut to `width` characters, a cut marked with `…`.
+/// `text` cut to `width` cells, a cut marked with `…`.
 fn cut(text: &str, width: usize) -> String {
-    if text.chars().count() <= width {
+    if text.width() <= width {
         return text.to_string();
     }
-    let mut s: String = text.chars().take(width.saturating_sub(1)).collect();
+    let mut s = String::new();
+    let mut used = 0;
+    for c in text.chars() {
+        let w = unicode_width::UnicodeWidthChar::width(c).unwrap_or(0);
+        if used + w + 1 > width {
+            break;
+        }
+        used += w;
+        s.push(c);
+    }
     s.push('…');
     s
 }
@@ -260,17 +270,15 @@ impl Report<'_> {
                 .max(4);
             // What each item asks, cut to a column.
             let asks: Vec<String> = self.asks.iter().map(|a| cut(a, ASKS)).collect();
-            let a = asks
-                .iter()
-                .map(|s| s.chars().count())
-                .max()
-                .unwrap_or(4)
-                .max(4);
+            let a = asks.iter().map(|s| s.width()).max().unwrap_or(4).max(4);
+            // Padded by the cells it takes (`L⃗` is two characters, one cell).
+            let pad = |s: &str| format!("{s}{}", " ".repeat(a - s.width().min(a)));
             line(format!(
                 "{:<w$}  {:<a$}  {:>6}  {:>12}  {:>9}  Reviews on",
                 "Card", "Asks", "Now", "Exam, as is", "With plan"
             ));
             for (((name, i), now), asks) in names.iter().zip(&p.items).zip(self.now_r).zip(&asks) {
+                let asks = pad(asks);
                 let on: Vec<String> = i
                     .reviews
                     .iter()
@@ -278,7 +286,7 @@ impl Report<'_> {
                     .collect();
                 let mark = if i.with < p.target { " (short)" } else { "" };
                 line(format!(
-                    "{name:<w$}  {asks:<a$}  {:>6}  {:>12}  {:>9}  {}{mark}",
+                    "{name:<w$}  {asks}  {:>6}  {:>12}  {:>9}  {}{mark}",
                     rounded(*now, 3),
                     rounded(i.without, 3),
                     rounded(i.with, 3),
