@@ -358,3 +358,50 @@ fn a_due_date_rfc_3339_cannot_hold_is_left_blank_and_named() {
         );
     }
 }
+
+/// The query as Anki users type it, through the real binary: `or`, `-`,
+/// parentheses, `*` in tags, decks and text, `is:`, `prop:`, `rated:`, and
+/// errors that name the column.
+#[test]
+fn queries_as_anki_users_type_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = flipcard(dir.path(), &["cards", "suspend", "study/middle"]);
+    assert!(o.status.success(), "{}", o.stderr());
+    let items =
+        |q: &str| -> Vec<String> { marks(dir.path(), q).into_iter().map(|r| r.0).collect() };
+    let spin = ["spin-axis/forward", "spin-axis/backward"];
+    let torque = ["torque-rate/c1", "torque-rate/c2", "torque-rate/c3"];
+    assert_eq!(
+        items("(is:suspended or -tag:euler)"),
+        [&spin[..], &["middle/forward"]].concat()
+    );
+    assert_eq!(items("is:new -tag:fram*"), torque);
+    assert_eq!(items("(-(tag:euler or tag:frames))"), Vec::<String>::new());
+    assert_eq!(items("tag:euler -is:suspended"), torque);
+    assert_eq!(items("tor*ue"), torque);
+    assert_eq!(items("(\"largest moment\" or ax*larg*)"), spin);
+    assert_eq!(
+        items("deck:stu* is:new -is:suspended prop:reps=0"),
+        [&torque[..], &spin[..]].concat()
+    );
+    // Nothing was answered: nothing has an interval or was rated.
+    assert_eq!(
+        items("(prop:ivl>=0 or rated:365 or is:due)"),
+        Vec::<String>::new()
+    );
+    for (q, says) in [
+        (
+            "(tag:euler or is:new",
+            "at column 1: this `(` is never closed",
+        ),
+        ("is:soon", "at column 4: unknown state `soon`"),
+        ("prop:ivl>>3", "at column 10: `>3` is not a number"),
+        ("flag:8", "at column 6: `flag:8`: flags are 0 (none), 1 red"),
+    ] {
+        let o = flipcard(dir.path(), &["cards", "list", q]);
+        assert_eq!(o.status.code(), Some(1), "{q}");
+        let err = o.stderr();
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(err.contains(says), "{q}: {err}");
+    }
+}

@@ -302,3 +302,41 @@ fn bad_input_is_one_line_and_exit_status_1() {
         );
     }
 }
+
+/// Each planned item says what it asks: `front` in JSON (a field added,
+/// none renamed), an "Asks" column in the text.
+#[test]
+fn the_plan_shows_what_each_item_asks() {
+    let dir = tempfile::tempdir().unwrap();
+    deck(dir.path(), 3);
+    history(dir.path(), 2);
+    let out = flipcard(
+        dir.path(),
+        &["plan", "--exam", "2026-05-24", "--format", "json"],
+    );
+    let v = json(&out);
+    let items = v["per_item"].as_array().unwrap();
+    for (i, item) in items.iter().enumerate() {
+        assert_eq!(item["card"], format!("c{i}"));
+        assert_eq!(item["front"], format!("Front {i}"));
+        for k in ["deck", "direction", "retrievability_now", "reviews"] {
+            assert!(item.get(k).is_some(), "{k} kept: {item}");
+        }
+    }
+    let out = flipcard(dir.path(), &["plan", "--exam", "2026-05-24"]);
+    assert!(out.status.success(), "{}", out.stderr());
+    let text = out.stdout();
+    let head = text
+        .lines()
+        .find(|l| l.starts_with("Card"))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(head.contains("Asks"), "{head}");
+    for i in 0..3 {
+        assert!(
+            text.lines()
+                .any(|l| l.starts_with(&format!("mini/c{i} forward"))
+                    && l.contains(&format!("Front {i}"))),
+            "{text}"
+        );
+    }
+}

@@ -1005,3 +1005,163 @@ fn the_log_is_append_only_even_for_other_programs() {
         .unwrap();
     assert_eq!(seen.into_values().collect::<Vec<_>>(), [Rating::Good]);
 }
+
+/// Time spent per day, answer buttons by kind (young and mature reviews
+/// apart), the interval and difficulty distributions and the 90-day
+/// forecast, from a log written as the app writes it.
+#[test]
+fn stats_count_time_buttons_intervals_difficulty_and_a_long_forecast() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut store = open(dir.path());
+    let grid = DayGrid::new(Utc, NaiveTime::from_hms_opt(4, 0, 0).unwrap());
+    let now = at("2026-05-10T12:00:00Z");
+    let d = Duration::days;
+    let k = |c: &str| key("mech", c);
+    // (card, days back, rating, kind, days since the answer before, state,
+    // due in, difficulty, milliseconds taken)
+    let plan = [
+        (
+            "mature",
+            2,
+            Rating::Good,
+            ReviewKind::Review,
+            30,
+            State::Review,
+            d(100),
+            2.0,
+            3_000,
+        ),
+        (
+            "young",
+            2,
+            Rating::Hard,
+            ReviewKind::Review,
+            5,
+            State::Review,
+            d(50),
+            6.5,
+            7_500,
+        ),
+        (
+            "young2",
+            0,
+            Rating::Easy,
+            ReviewKind::Review,
+            20,
+            State::Review,
+            d(10),
+            10.0,
+            1_250,
+        ),
+        (
+            "lapsed",
+            0,
+            Rating::Again,
+            ReviewKind::Review,
+            40,
+            State::Relearning,
+            d(2),
+            9.2,
+            12_000,
+        ),
+        (
+            "step",
+            0,
+            Rating::Again,
+            ReviewKind::Learn,
+            0,
+            State::Learning,
+            Duration::minutes(10),
+            5.0,
+            2_000,
+        ),
+        (
+            "crammed",
+            0,
+            Rating::Good,
+            ReviewKind::Cram,
+            0,
+            State::Review,
+            d(400),
+            5.0,
+            500,
+        ),
+    ];
+    for (card, back, rating, kind, elapsed, state, due_in, difficulty, ms) in plan {
+        let mut r = review(&k(card), now - d(back), rating, kind, state, due_in);
+        r.elapsed_days = elapsed;
+        r.after.difficulty = Some(difficulty);
+        r.duration_ms = ms;
+        store.record(&r).unwrap();
+    }
+    let items: Vec<ItemKey> = ["mature", "young", "young2", "lapsed", "step", "new"]
+        .iter()
+        .map(|c| k(c))
+        .collect();
+    let s = store
+        .stats(
+            StatsScope {
+                deck: Some("mech"),
+                items: &items,
+            },
+            now,
+            &grid,
+        )
+        .unwrap();
+    let today = s.reviews_per_day.last().unwrap();
+    assert_eq!(today.seconds, 1.25 + 12.0 + 2.0 + 0.5);
+    assert_eq!(s.reviews_per_day[27].seconds, 3.0 + 7.5);
+    assert_eq!(
+        s.reviews_per_day.iter().map(|d| d.seconds).sum::<f64>(),
+        26.25
+    );
+
+    let b = &s.answer_buttons;
+    let row = |x: flipcard::store::stats::Buttons| (x.again, x.hard, x.good, x.easy);
+    assert_eq!(
+        row(b.mature),
+        (1, 0, 1, 0),
+        "30 and 40 days since the answer before"
+    );
+    assert_eq!(row(b.young), (0, 1, 0, 1));
+    assert_eq!(row(b.learn), (1, 0, 0, 0));
+    assert_eq!(row(b.relearn), (0, 0, 0, 0));
+    assert_eq!(row(b.cram), (0, 0, 1, 0));
+
+    // Review and relearning items only: 100, 50, 10 and 2 days.
+    let counts: Vec<(Option<f64>, u32)> = s.intervals.iter().map(|x| (x.up_to, x.items)).collect();
+    assert_eq!(
+        counts,
+        [
+            (Some(1.0), 0),
+            (Some(3.0), 1),
+            (Some(7.0), 0),
+            (Some(14.0), 1),
+            (Some(30.0), 0),
+            (Some(90.0), 1),
+            (Some(180.0), 1),
+            (Some(365.0), 0),
+            (None, 0)
+        ]
+    );
+    // Every item with a state (not the crammed one, not in the deck, and
+    // not the new one): 2.0 → ≤2, 6.5 → ≤7, 10.0 → ≤10, 9.2 → ≤10, 5.0 → ≤5.
+    let diff: Vec<u32> = s.difficulty.iter().map(|x| x.items).collect();
+    assert_eq!(diff, [0, 1, 0, 0, 1, 0, 1, 0, 0, 2]);
+
+    // 90 days: the one due in 100 days is past it; 30 days: only 2 and 10
+    // days (and the learning step today) of the 50.
+    assert_eq!(s.due.per_day_90.len(), 90);
+    assert_eq!(s.due.per_day_90[..30], s.due.per_day[..]);
+    assert_eq!(s.due.next_30_days, 3);
+    assert_eq!(s.due.next_90_days, 4);
+    assert_eq!(
+        s.due.per_day_90.iter().map(|x| x.due).sum::<u32>(),
+        s.due.next_90_days
+    );
+    let json = serde_json::to_value(&s).unwrap();
+    assert_eq!(json["answer_buttons"]["young"]["easy"], 1);
+    assert_eq!(json["due"]["next_90_days"], 4);
+    assert_eq!(json["reviews_per_day"][29]["seconds"], 15.75);
+    assert_eq!(json["intervals"][8]["up_to"], serde_json::Value::Null);
+}

@@ -103,8 +103,11 @@ fn stats_json_lists_leeches_with_lapses_and_counts_marks() {
     assert_eq!(
         v["leeches"],
         serde_json::json!([
-            {"deck": "study", "card": "middle", "direction": "forward", "lapses": 3},
-            {"deck": "study", "card": "spin-axis", "direction": "backward", "lapses": 4},
+            {"deck": "study", "card": "middle", "direction": "forward", "lapses": 3,
+             "front": "Middle axis spin?"},
+            // Asked backwards: what it asks is the back.
+            {"deck": "study", "card": "spin-axis", "direction": "backward", "lapses": 4,
+             "front": "Stable spin"},
         ])
     );
     // The fields before these are a contract: the new ones only add.
@@ -145,8 +148,8 @@ fn stats_text_names_each_leech_with_its_lapses() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
         text.contains("Suspended: 1; buried today: 1; leeches: 2\n")
-            && text.contains("  leech study/middle/forward (3 lapses)\n")
-            && text.contains("  leech study/spin-axis/backward (4 lapses)\n")
+            && text.contains("  leech study/middle/forward (3 lapses): Middle axis spin?\n")
+            && text.contains("  leech study/spin-axis/backward (4 lapses): Stable spin\n")
             && !text.contains("torque-rate/c1"),
         "{text}"
     );
@@ -194,5 +197,67 @@ fn a_filter_without_a_deck_checks_names_against_every_deck() {
     let o = flipcard(d, &["review", "--tag", "nope"]);
     for tag in ["euler", "pendulum", "stability", "frames"] {
         assert!(o.stderr().contains(tag), "{tag}: {}", o.stderr());
+    }
+}
+
+/// `flipcard stats` adds time spent, answer buttons, the interval and
+/// difficulty distributions and a 90-day forecast, in text and JSON (the
+/// fields before stay as they were).
+#[test]
+fn stats_show_time_buttons_distributions_and_a_long_forecast() {
+    let dir = tempfile::tempdir().unwrap();
+    setup(dir.path());
+    let o = flipcard(dir.path(), &["stats", "--json", "--deck", "study"]);
+    assert!(o.status.success(), "{}", o.stderr());
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    // Nine review answers rated Again (3 + 4 + 2 lapses), each asked the
+    // day of the answer before as the fixture writes them: young.
+    let young = &v["answer_buttons"]["young"];
+    assert_eq!(
+        (
+            &young["again"],
+            &young["hard"],
+            &young["good"],
+            &young["easy"]
+        ),
+        (
+            &Value::from(9),
+            &Value::from(0),
+            &Value::from(0),
+            &Value::from(0)
+        )
+    );
+    assert_eq!(v["answer_buttons"]["mature"]["again"], 0);
+    assert_eq!(v["due"]["per_day_90"].as_array().unwrap().len(), 90);
+    assert_eq!(v["due"]["per_day"].as_array().unwrap().len(), 30);
+    assert_eq!(v["intervals"].as_array().unwrap().len(), 9);
+    assert_eq!(v["difficulty"].as_array().unwrap().len(), 10);
+    // Every answer takes 4 s in the fixture: a day's seconds are 4 × its
+    // answers.
+    for day in v["reviews_per_day"].as_array().unwrap() {
+        assert_eq!(
+            day["seconds"].as_f64().unwrap(),
+            4.0 * day["total"].as_f64().unwrap(),
+            "{day}"
+        );
+    }
+    let o = flipcard(dir.path(), &["stats", "--deck", "study"]);
+    assert!(o.status.success(), "{}", o.stderr());
+    let text = String::from_utf8_lossy(&o.stdout);
+    let next_90 = v["due"]["next_90_days"].as_u64().unwrap();
+    let seconds: f64 = v["reviews_per_day"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d["seconds"].as_f64().unwrap())
+        .sum();
+    for want in [
+        format!("next 90 days {next_90}\n"),
+        "  young          9       0       0       0  0.0%\n".to_string(),
+        format!("Time spent, last 30 days: {}s in all", seconds as u64),
+        "Intervals (review and relearning items".to_string(),
+        "Difficulty (FSRS".to_string(),
+    ] {
+        assert!(text.contains(&want), "{want:?} in\n{text}");
     }
 }

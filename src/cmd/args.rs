@@ -408,7 +408,7 @@ pub enum CardsFormat {
 
 #[derive(Debug, Args)]
 pub struct CardsListArgs {
-    /// Free text and filters: deck:ID tag:T state:new|learning|review|relearning|suspended|leech|buried due:<3d is:leech is:suspended.
+    /// Free text and filters as in Anki's browser: deck:ID tag:T state:S is:due|new|suspended|buried|leech rated:N prop:ivl>30 flag:N due:<3d, `or`, `-term`, parentheses, `*` (a query starting with `-` goes after `--`: cards list -- -tag:T).
     pub query: Vec<String>,
     #[arg(long, value_enum, default_value_t = CardsFormat::Csv)]
     pub format: CardsFormat,

@@ -117,7 +117,7 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
             filter.check_names(decks)?;
             let store = open_store_read_only(cli)?;
             let rows = catalog::rows(decks, &store, &Scheduler::new(&config), now)?;
-            let mut search = Search::for_text(&filter.text, decks, &rows);
+            let mut search = Search::for_filter(&filter, decks, &rows);
             let picked = select(decks, &rows, &mut search, &filter, now);
             if picked.is_empty() && !query.trim().is_empty() {
                 crate::errln!("flipcard: no item matches `{}`", query.trim());

@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use anyhow::Context as _;
 use chrono::{Duration, NaiveDate};
 use serde_json::json;
+use unicode_width::UnicodeWidthStr;
 
 use crate::cmd::args::{Cli, PlanArgs, PlanFormat};
 use crate::cmd::common::{find_deck, load_decks, open_store_read_only};
@@ -60,7 +61,19 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
                 .map_or(0.0, |s| scheduler.retrievability(s, now))
         })
         .collect();
+    let asks: Vec<String> = keys
+        .iter()
+        .map(|k| {
+            decks
+                .iter()
+                .find(|d| d.id == k.deck)
+                .and_then(|d| crate::catalog::asked_item(d, k, &config.language))
+                .map(|t| crate::text::safe::one_line(&t).into_owned())
+                .unwrap_or_default()
+        })
+        .collect();
     let report = Report {
+        asks: &asks,
         today,
         exam,
         deck: args.deck.as_deref(),
@@ -76,6 +89,28 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
         PlanFormat::Text => out!("{}", report.text())?,
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The widest the text table's "Asks" column gets, in terminal cells.
+const ASKS: usize = 32;
+
+/// `text` cut to `width` cells, a cut marked with `…`.
+fn cut(text: &str, width: usize) -> String {
+    if text.width() <= width {
+        return text.to_string();
+    }
+    let mut s = String::new();
+    let mut used = 0;
+    for c in text.chars() {
+        let w = unicode_width::UnicodeWidthChar::width(c).unwrap_or(0);
+        if used + w + 1 > width {
+            break;
+        }
+        used += w;
+        s.push(c);
+    }
+    s.push('…');
+    s
 }
 
 fn parse_date(text: &str) -> anyhow::Result<NaiveDate> {
@@ -105,6 +140,8 @@ struct Report<'a> {
     exam: NaiveDate,
     deck: Option<&'a str>,
     keys: &'a [ItemKey],
+    /// What each item asks, on one line, escaped.
+    asks: &'a [String],
     now_r: &'a [f64],
     plan: &'a Plan,
     cap_needed: Option<usize>,
@@ -128,11 +165,13 @@ impl Report<'_> {
             .iter()
             .zip(&p.items)
             .zip(self.now_r)
-            .map(|((k, i), now)| {
+            .zip(self.asks)
+            .map(|(((k, i), now), front)| {
                 json!({
                     "deck": k.deck,
                     "card": k.card,
                     "direction": k.direction.as_str(),
+                    "front": front,
                     "retrievability_now": now,
                     "retrievability_without_plan": i.without,
                     "retrievability_with_plan": i.with,
@@ -229,11 +268,17 @@ impl Report<'_> {
                 .max()
                 .unwrap_or(4)
                 .max(4);
+            // What each item asks, cut to a column.
+            let asks: Vec<String> = self.asks.iter().map(|a| cut(a, ASKS)).collect();
+            let a = asks.iter().map(|s| s.width()).max().unwrap_or(4).max(4);
+            // Padded by the cells it takes (`L⃗` is two characters, one cell).
+            let pad = |s: &str| format!("{s}{}", " ".repeat(a - s.width().min(a)));
             line(format!(
-                "{:<w$}  {:>6}  {:>12}  {:>9}  Reviews on",
-                "Card", "Now", "Exam, as is", "With plan"
+                "{:<w$}  {:<a$}  {:>6}  {:>12}  {:>9}  Reviews on",
+                "Card", "Asks", "Now", "Exam, as is", "With plan"
             ));
-            for ((name, i), now) in names.iter().zip(&p.items).zip(self.now_r) {
+            for (((name, i), now), asks) in names.iter().zip(&p.items).zip(self.now_r).zip(&asks) {
+                let asks = pad(asks);
                 let on: Vec<String> = i
                     .reviews
                     .iter()
@@ -241,7 +286,7 @@ impl Report<'_> {
                     .collect();
                 let mark = if i.with < p.target { " (short)" } else { "" };
                 line(format!(
-                    "{name:<w$}  {:>6}  {:>12}  {:>9}  {}{mark}",
+                    "{name:<w$}  {asks}  {:>6}  {:>12}  {:>9}  {}{mark}",
                     rounded(*now, 3),
                     rounded(i.without, 3),
                     rounded(i.with, 3),

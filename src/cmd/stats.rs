@@ -37,7 +37,8 @@ pub fn run(cli: &Cli, args: &StatsArgs) -> anyhow::Result<ExitCode> {
         deck: args.deck.as_deref(),
         items: &items,
     };
-    let stats = store.stats(scope, now, &grid)?;
+    let mut stats = store.stats(scope, now, &grid)?;
+    crate::catalog::name_leeches(&mut stats.leeches, &loaded.decks, &config.language);
     let mut out = crate::cmd::output::stdout();
     if args.json {
         let mut value = serde_json::to_value(&stats)?;
@@ -86,9 +87,12 @@ pub fn render_stats(s: &Stats) -> String {
     ));
     let d = &s.due;
     line(format!(
-        "Due: today {}, tomorrow {}, next 7 days {}, next 30 days {}",
-        d.today, d.tomorrow, d.next_7_days, d.next_30_days
+        "Due: today {}, tomorrow {}, next 7 days {}, next 30 days {}, next 90 days {}",
+        d.today, d.tomorrow, d.next_7_days, d.next_30_days, d.next_90_days
     ));
+    for l in forecast_lines(&d.per_day_90) {
+        line(l);
+    }
     line(String::new());
     let total: u32 = s.reviews_per_day.iter().map(|d| d.total).sum();
     line(format!("Reviews per day, last 30 days ({total} in all):"));
@@ -106,6 +110,60 @@ pub fn render_stats(s: &Stats) -> String {
             "█".repeat(bar)
         ));
     }
+    let seconds: f64 = s.reviews_per_day.iter().map(|d| d.seconds).sum();
+    let studied: Vec<&crate::store::stats::DayReviews> =
+        s.reviews_per_day.iter().filter(|d| d.total > 0).collect();
+    line(format!(
+        "Time spent, last 30 days: {} in all{}",
+        duration(seconds),
+        if studied.is_empty() {
+            String::new()
+        } else {
+            format!(
+                ", {} a study day on average",
+                duration(seconds / studied.len() as f64)
+            )
+        }
+    ));
+    for day in studied {
+        line(format!("  {}  {:>8}", day.date, duration(day.seconds)));
+    }
+    line(String::new());
+    line(
+        "Answer buttons (all answers; young: asked within 21 days of the answer before):"
+            .to_string(),
+    );
+    line(format!(
+        "  {:<8} {:>7} {:>7} {:>7} {:>7}  {}",
+        "", "Again", "Hard", "Good", "Easy", "correct"
+    ));
+    let b = &s.answer_buttons;
+    for (name, x) in [
+        ("learn", b.learn),
+        ("relearn", b.relearn),
+        ("young", b.young),
+        ("mature", b.mature),
+        ("cram", b.cram),
+    ] {
+        let n = x.again + x.hard + x.good + x.easy;
+        line(format!(
+            "  {name:<8} {:>7} {:>7} {:>7} {:>7}  {}",
+            x.again,
+            x.hard,
+            x.good,
+            x.easy,
+            if n == 0 {
+                "–".to_string()
+            } else {
+                format!("{:.1}%", (n - x.again) as f64 * 100.0 / n as f64)
+            }
+        ));
+    }
+    line(String::new());
+    line("Intervals (review and relearning items, last review to due date):".to_string());
+    line(buckets(&s.intervals, "d"));
+    line("Difficulty (FSRS, 1 easiest to 10 hardest):".to_string());
+    line(buckets(&s.difficulty, ""));
     line(String::new());
     line("True retention (review answers not rated Again):".to_string());
     line(format!(
@@ -159,6 +217,44 @@ pub fn render_stats(s: &Stats) -> String {
         }
     }
     o
+}
+
+/// Seconds as `45s`, `12m 5s`, `2h 3m`.
+fn duration(seconds: f64) -> String {
+    let s = seconds.max(0.0).round() as u64;
+    match s {
+        0..60 => format!("{s}s"),
+        60..3600 => format!("{}m {}s", s / 60, s % 60),
+        _ => format!("{}h {}m", s / 3600, s % 3600 / 60),
+    }
+}
+
+/// Counted ranges on one line: `≤1d 3 · ≤3d 0 · … · >365d 1`.
+fn buckets(b: &[crate::store::stats::Bucket], unit: &str) -> String {
+    let mut last = 0.0;
+    let cells: Vec<String> = b
+        .iter()
+        .map(|x| match x.up_to {
+            Some(up) => {
+                last = up;
+                format!("≤{}{unit} {}", crate::text::num::rounded(up, 3), x.items)
+            }
+            None => format!(">{}{unit} {}", crate::text::num::rounded(last, 3), x.items),
+        })
+        .collect();
+    format!("  {}", cells.join(" · "))
+}
+
+/// The 90-day forecast by week (days 1–7, 8–14, …): reviews coming due.
+fn forecast_lines(per_day: &[crate::store::stats::DayDue]) -> Vec<String> {
+    let weeks: Vec<String> = per_day
+        .chunks(7)
+        .map(|w| {
+            let n: u32 = w.iter().map(|d| d.due).sum();
+            format!("{} {n}", w[0].date.format("%m-%d"))
+        })
+        .collect();
+    vec![format!("  by week (first day, due): {}", weeks.join(" · "))]
 }
 
 /// Anki's true-retention table as text lines.
@@ -231,11 +327,15 @@ pub fn render_marks(s: &Stats) -> String {
     );
     for l in &s.leeches {
         o.push_str(&format!(
-            "  leech {}/{}/{} ({})\n",
+            "  leech {}/{}/{} ({}){}\n",
             l.deck,
             l.card,
             l.direction,
-            plural(l.lapses, "lapse", "lapses")
+            plural(l.lapses, "lapse", "lapses"),
+            l.front
+                .as_deref()
+                .filter(|f| !f.is_empty())
+                .map_or(String::new(), |f| format!(": {f}"))
         ));
     }
     o

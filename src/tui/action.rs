@@ -43,6 +43,8 @@ pub enum Action {
     Undo,
     /// Open the explanation the card (or prompt) links to.
     Explain,
+    /// Card info: the item's history and memory (`i`).
+    CardInfo,
     /// Open the prompt the card links to.
     OpenCardPrompt,
 

@@ -161,6 +161,10 @@ pub enum Msg {
     ColQuestion,
     ColDirection,
     ColState,
+    CardInfo,
+    SuspendUndone,
+    BuryUndone,
+    UnsuspendUndone,
     ColDue,
     ColStability,
     ColDifficulty,
@@ -420,6 +424,10 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         ColQuestion => pick!("question", "sawaal"),
         ColDirection => pick!("dir", "dir"),
         ColState => pick!("state", "state"),
+        CardInfo => pick!("Card info", "Card info"),
+        SuspendUndone => pick!("suspend undone", "suspend wapas liya"),
+        BuryUndone => pick!("bury undone", "bury wapas liya"),
+        UnsuspendUndone => pick!("unsuspend undone", "unsuspend wapas liya"),
         ColDue => pick!("due", "baaki"),
         ColStability => pick!("stab", "stab"),
         ColDifficulty => pick!("diff", "diff"),
@@ -433,8 +441,8 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
         Items => pick!("items", "items"),
         SortedBy => pick!("sorted by", "sort"),
         SearchHint => pick!(
-            "/ search: text, deck: tag: state: due:<3d is:leech is:suspended",
-            "/ khojo: text, deck: tag: state: due:<3d is:leech is:suspended"
+            "/ search: text deck: tag: is:due|new|leech rated:7 prop:ivl>30 or - ()",
+            "/ khojo: text deck: tag: is:due|new|leech rated:7 prop:ivl>30 or - ()"
         ),
         NothingMatches => pick!("nothing matches", "kuch nahi mila"),
         FieldTag => pick!("tag", "tag"),
@@ -994,6 +1002,51 @@ pub mod browser {
 
     /// In place of the count while the search index is still being built.
     pub const SEARCHING: Words = Words("searching…", "dhoondh rahe…");
+    /// The count when the query keeps some items: `{n}` of `{total}`.
+    pub const MATCHES: Words = Words("{n} of {total} items", "{total} mein se {n} items");
+}
+
+/// Words of the stats screen's added lines: the long forecast, time
+/// spent and the answer buttons.
+pub mod stats_more {
+    use super::Words;
+
+    pub const NEXT_90_DAYS: Words = Words("next 90 days", "agle 90 din");
+    pub const TIME: Words = Words("time", "samay");
+    pub const TODAY: Words = Words("today", "aaj");
+    pub const DAYS_30: Words = Words("30 days", "30 din");
+    pub const MATURE_RIGHT: Words = Words("mature right", "mature sahi");
+}
+
+/// Words of the card info screen (`i`).
+pub mod info {
+    use super::Words;
+
+    pub const STATE: Words = Words("state", "state");
+    pub const REVIEWS: Words = Words("reviews", "reviews");
+    pub const LAPSES: Words = Words("lapses", "kitni baar bhoole");
+    pub const DUE: Words = Words("due", "agli baar");
+    pub const INTERVAL: Words = Words("interval", "antaraal");
+    pub const STABILITY: Words = Words("stability", "stability (tikaav)");
+    pub const DIFFICULTY: Words = Words("difficulty", "difficulty (kathinai)");
+    pub const RECALL_NOW: Words = Words("recall now", "abhi yaad rehne ka chance");
+    pub const NO_REVIEWS: Words = Words(
+        "Not answered yet: no history.",
+        "Abhi tak jawab nahi diya: koi history nahi.",
+    );
+    /// Column names of the history.
+    pub const DATE: Words = Words("date", "tareekh");
+    pub const RATING: Words = Words("rating", "rating");
+    pub const IVL: Words = Words("ivl", "antrl");
+    pub const TOOK: Words = Words("took", "samay");
+    pub const LEGEND: Words = Words(
+        "R: recall when answered · S, D: stability, difficulty after",
+        "R: jawab ke waqt yaad · S, D: uske baad stability, difficulty",
+    );
+    pub const CRAM_NOTE: Words = Words(
+        "*: crammed, the schedule stayed as it was",
+        "*: cram, schedule waisa hi raha",
+    );
 }
 
 #[cfg(test)]

@@ -51,6 +51,8 @@ pub enum Context {
     BrowserSearch,
     /// The study filter's form.
     Filter,
+    /// Card info: an item's review history.
+    Info,
 }
 
 /// What a help line's keys do.

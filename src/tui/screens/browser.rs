@@ -58,8 +58,8 @@ pub const KEYS: &[Binding] = &[
     Binding::new(
         "/",
         Words(
-            "search: text, deck: tag: state: due:<3d is:leech is:suspended",
-            "khojo: text, deck: tag: state: due:<3d is:leech is:suspended",
+            "search: text deck: tag: is:due|new|leech rated:7 prop:ivl>30 or - ()",
+            "khojo: text deck: tag: is:due|new|leech rated:7 prop:ivl>30 or - ()",
         ),
         &[(Char('/'), Action::StartSearch)],
     ),
@@ -84,6 +84,7 @@ pub const KEYS: &[Binding] = &[
         Words("open its explanation", "uska samjhaav kholo"),
         &[(Char('e'), Action::Explain)],
     ),
+    super::info::OPEN,
     Binding::new(
         "s b U",
         Words(
@@ -438,7 +439,7 @@ impl BrowserState {
         match filter {
             Ok(f) => {
                 self.error = None;
-                self.waiting = !f.text.trim().is_empty() && !self.index.ready();
+                self.waiting = f.needs_index() && !self.index.ready();
                 if self.waiting {
                     return;
                 }
@@ -478,8 +479,13 @@ impl BrowserState {
             if fields.is_empty() {
                 (0..self.rows.len()).collect()
             } else {
+                let hits = if fields.needs_index() {
+                    search::Hits::find(&fields, self.index.get(decks), self.rows.len())
+                } else {
+                    search::Hits::default()
+                };
                 (0..self.rows.len())
-                    .filter(|&i| fields.keeps(&self.rows[i], decks, self.now))
+                    .filter(|&i| fields.keeps(i, &self.rows, decks, self.now, &hits))
                     .collect()
             }
         });
@@ -711,6 +717,15 @@ pub fn apply(app: &mut App, s: &mut BrowserState, action: Action) -> Nav {
         Action::Back if s.preview => s.preview = false,
         Action::Back => return Nav::Pop,
         Action::Explain => return explain(app, s),
+        Action::CardInfo => {
+            if let Some(row) = s.current() {
+                let key = row.key(&app.decks);
+                match super::info::InfoState::open(app, row.deck, key) {
+                    Ok(i) => return Nav::Push(super::Screen::Info(Box::new(i))),
+                    Err(e) => app.error(e),
+                }
+            }
+        }
         Action::Suspend | Action::Bury | Action::Unsuspend => mark(app, s, action),
         Action::Undo => undo(app, s),
         Action::Tick(_) if s.waiting && s.index.ready() => s.refilter(&app.decks),
@@ -799,9 +814,10 @@ fn undo(app: &mut App, s: &mut BrowserState) {
     match app.services.study.undo() {
         Ok(Some(crate::store::Undone::Status(events))) => {
             s.marks -= 1;
+            let msg = super::review::status::undone_msg(&events);
             let keys: Vec<ItemKey> = events.into_iter().map(|e| e.key).collect();
             refresh(app, s, &keys);
-            app.info(app.tr(Msg::Undone));
+            app.info(app.tr(msg));
         }
         Ok(Some(crate::store::Undone::Review(_))) | Ok(None) => {
             app.info(app.tr(Msg::NothingToUndo));
@@ -837,10 +853,16 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, s: &BrowserState) {
             t.dim(),
         ));
     } else {
-        q.push(Span::styled(
-            format!("  {} {}", s.shown.len(), app.tr(Msg::Items)),
-            t.dim(),
-        ));
+        // What the query keeps, of every item.
+        let count = if s.shown.len() == s.rows.len() {
+            format!("{} {}", s.shown.len(), app.tr(Msg::Items))
+        } else {
+            crate::tui::i18n::browser::MATCHES
+                .get(&app.lang)
+                .replace("{n}", &s.shown.len().to_string())
+                .replace("{total}", &s.rows.len().to_string())
+        };
+        q.push(Span::styled(format!("  {count}"), t.dim()));
     }
     if let Some((c, rev)) = s.sort {
         q.push(Span::styled(

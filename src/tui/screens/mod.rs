@@ -7,6 +7,7 @@ pub mod exam;
 pub mod filter;
 pub mod formulas;
 pub mod home;
+pub mod info;
 pub mod predict;
 pub mod prompts;
 pub mod reader;
@@ -56,6 +57,7 @@ pub enum Screen {
     Exam(Box<exam::ExamState>),
     Browser(Box<browser::BrowserState>),
     Filter(Box<filter::FilterState>),
+    Info(Box<info::InfoState>),
 }
 
 impl Screen {
@@ -71,6 +73,7 @@ impl Screen {
             Screen::Exam(s) => s.as_ref(),
             Screen::Browser(s) => s.as_ref(),
             Screen::Filter(s) => s.as_ref(),
+            Screen::Info(s) => s.as_ref(),
         }
     }
 
@@ -86,6 +89,7 @@ impl Screen {
             Screen::Exam(s) => s.as_mut(),
             Screen::Browser(s) => s.as_mut(),
             Screen::Filter(s) => s.as_mut(),
+            Screen::Info(s) => s.as_mut(),
         }
     }
 
@@ -128,6 +132,7 @@ pub fn keys(ctx: Context) -> &'static [Binding] {
         Context::Browser => browser::KEYS,
         Context::BrowserSearch => browser::SEARCH_KEYS,
         Context::Filter => filter::KEYS,
+        Context::Info => info::KEYS,
     }
 }
 

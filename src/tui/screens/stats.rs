@@ -13,7 +13,7 @@ use ratatui::widgets::{
 use crate::store::{Stats, StatsScope};
 use crate::tui::action::Action;
 use crate::tui::app::App;
-use crate::tui::i18n::{Msg, Noun, marks, study};
+use crate::tui::i18n::{Msg, Noun, marks, stats_more as more, study};
 use crate::tui::wrap::{Run, ellipsize, wrap};
 
 use super::Nav;
@@ -72,7 +72,11 @@ impl StatsState {
                 let now = app.services.now();
                 let s = &app.services.study;
                 let r = s.store.stats(scope, now, &s.days());
-                r.map_err(|e| e.to_string())
+                r.map(|mut st| {
+                    crate::catalog::name_leeches(&mut st.leeches, &app.decks, &app.lang);
+                    st
+                })
+                .map_err(|e| e.to_string())
             }
             None => Err("no such deck".into()),
         };
@@ -264,6 +268,14 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
                 ),
                 t.dim(),
             ),
+            Span::styled(
+                format!(
+                    " · {} {}",
+                    more::NEXT_90_DAYS.get(lang),
+                    stats.due.next_90_days
+                ),
+                t.dim(),
+            ),
             Span::styled(format!(" ({})", study::REVIEW_ITEMS.get(lang)), t.dim()),
         ]),
     ];
@@ -295,6 +307,8 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
         ]));
     }
     lines.extend(marks_lines(app, stats));
+    // Last: on a short screen the counts above come first.
+    lines.push(time_and_buttons(app, stats));
     // The summary wraps; the charts get what is left, and on a screen too
     // short for them the summary's numbers come first.
     let width = usize::from(area.width.max(1));
@@ -401,6 +415,59 @@ pub fn draw(frame: &mut Frame, area: Rect, app: &App, state: &StatsState) {
     frame.render_widget(spark, per_day);
 }
 
+/// Time spent today and over 30 days, and the answers by rating (every
+/// kind together), with the share right of mature reviews.
+fn time_and_buttons(app: &App, stats: &Stats) -> Line<'static> {
+    let t = &app.theme;
+    let lang = app.lang.as_str();
+    let today = stats.reviews_per_day.last().map_or(0.0, |d| d.seconds);
+    let month: f64 = stats.reviews_per_day.iter().map(|d| d.seconds).sum();
+    let b = &stats.answer_buttons;
+    let all = [b.learn, b.relearn, b.young, b.mature, b.cram];
+    let sum = |f: fn(&crate::store::stats::Buttons) -> u64| all.iter().map(f).sum::<u64>();
+    let m = b.mature;
+    let mature = m.again + m.hard + m.good + m.easy;
+    let right = if mature == 0 {
+        "—".to_string()
+    } else {
+        format!("{:.0}%", (mature - m.again) as f64 * 100.0 / mature as f64)
+    };
+    Line::from(vec![
+        Span::styled(format!(" {} ", more::TIME.get(lang)), t.dim()),
+        Span::styled(
+            format!("{} {}", more::TODAY.get(lang), duration(today)),
+            t.good(),
+        ),
+        Span::styled(
+            format!(
+                " · {} {} · {} {} {} {} {} {} {} {} · {} {right}",
+                more::DAYS_30.get(lang),
+                duration(month),
+                app.tr(Msg::Again),
+                sum(|x| x.again),
+                app.tr(Msg::Hard),
+                sum(|x| x.hard),
+                app.tr(Msg::Good),
+                sum(|x| x.good),
+                app.tr(Msg::Easy),
+                sum(|x| x.easy),
+                more::MATURE_RIGHT.get(lang),
+            ),
+            t.dim(),
+        ),
+    ])
+}
+
+/// Seconds as `45s`, `12m`, `2h 3m`.
+fn duration(seconds: f64) -> String {
+    let s = seconds.max(0.0).round() as u64;
+    match s {
+        0..60 => format!("{s}s"),
+        60..3600 => format!("{}m", s / 60),
+        _ => format!("{}h {}m", s / 3600, s % 3600 / 60),
+    }
+}
+
 /// The most leeches named on the screen; `flipcard stats` lists them all.
 const LEECHES_SHOWN: usize = 3;
 
@@ -439,10 +506,14 @@ fn marks_lines(app: &App, stats: &Stats) -> Vec<Line<'static>> {
         } else {
             marks::LAPSES
         };
-        lines.push(Line::from(vec![
+        let mut spans = vec![
             Span::styled(format!("   {}/{} ", l.card, l.direction), t.text()),
             Span::styled(format!("{} {}", l.lapses, lapses.get(lang)), t.dim()),
-        ]));
+        ];
+        if let Some(front) = l.front.as_deref().filter(|f| !f.is_empty()) {
+            spans.push(Span::styled(format!(" · {front}"), t.text()));
+        }
+        lines.push(Line::from(spans));
     }
     if stats.leeches.len() > LEECHES_SHOWN {
         lines.push(Line::styled(

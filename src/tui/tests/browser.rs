@@ -202,6 +202,12 @@ fn browser_suspends_buries_unsuspends_and_undoes() {
     );
     insta::assert_snapshot!("browser_suspended_en", render(&app));
     press(&mut app, KeyCode::Char('u'));
+    // Said as what it was, not as a rating.
+    let screen = render(&app);
+    assert!(
+        screen.contains("suspend undone") && !screen.contains("rating"),
+        "{screen}"
+    );
     assert!(
         !app.services
             .study
@@ -230,8 +236,16 @@ fn browser_suspends_buries_unsuspends_and_undoes() {
             .map(|s| s.studyable(now))
             .unwrap_or(false)
     );
-    // Two changes made, two undone; then nothing is left to undo here.
-    press_all(&mut app, &[KeyCode::Char('u'), KeyCode::Char('u')]);
+    // Two changes made, two undone, each said as what it was; then
+    // nothing is left to undo here.
+    press(&mut app, KeyCode::Char('u'));
+    assert!(
+        render(&app).contains("unsuspend undone"),
+        "{}",
+        render(&app)
+    );
+    press(&mut app, KeyCode::Char('u'));
+    assert!(render(&app).contains("bury undone"), "{}", render(&app));
     assert!(
         app.services
             .study
@@ -339,6 +353,11 @@ fn review_suspends_and_buries_with_undo_and_buries_siblings() {
     let screen = render(&app);
     assert!(screen.contains("card suspended"), "{screen}");
     press(&mut app, KeyCode::Char('u'));
+    let screen = render(&app);
+    assert!(
+        screen.contains("suspend undone") && !screen.contains("last rating undone"),
+        "{screen}"
+    );
     assert_eq!(
         current(&app),
         Some(first.clone()),
@@ -496,4 +515,47 @@ fn a_key_typed_before_the_index_is_built_is_drawn_at_once_and_searched_when_it_i
         assert_ne!(b.shown, all, "the search narrowed the list");
         assert!(!app.animating());
     }
+}
+
+/// The count follows the query ("3 of 9 items"), and the query is read as
+/// Anki users type it: `or`, `-`, parentheses, `*`, `is:`, `prop:`; a
+/// mistake names its column and the list stays.
+#[test]
+fn browser_count_follows_an_anki_query() {
+    let mut app = app(ENGLISH);
+    press(&mut app, KeyCode::Char('b'));
+    let total = browser(&app).rows.len();
+    assert!(render(&app).contains(&format!("{total} items")));
+    press(&mut app, KeyCode::Char('/'));
+    type_text(&mut app, "-tag:euler");
+    super::settle(&mut app);
+    let b = browser(&app);
+    let kept = b.shown.len();
+    assert!(kept > 0 && kept < total, "{kept} of {total}");
+    for &i in &b.shown {
+        assert!(!b.rows[i].tags(&app.decks).iter().any(|t| t == "euler"));
+    }
+    assert!(
+        render(&app).contains(&format!("{kept} of {total} items")),
+        "{}",
+        render(&app)
+    );
+    // Its complement and it make every item.
+    for _ in 0.."-tag:euler".len() {
+        press(&mut app, KeyCode::Backspace);
+    }
+    type_text(&mut app, "(tag:eul* or is:suspended)");
+    super::settle(&mut app);
+    assert_eq!(browser(&app).shown.len(), total - kept);
+    type_text(&mut app, ")");
+    super::settle(&mut app);
+    let b = browser(&app);
+    assert_eq!(b.shown.len(), total - kept, "the list stays");
+    assert!(
+        b.error
+            .as_deref()
+            .is_some_and(|e| e.starts_with("at column ")),
+        "{:?}",
+        b.error
+    );
 }

@@ -15,6 +15,7 @@ mod explore;
 mod formula_answers;
 mod formula_sheet;
 mod home;
+mod info;
 mod misconception;
 mod predict;
 mod predict_attempts;

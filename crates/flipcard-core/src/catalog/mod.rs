@@ -1,10 +1,12 @@
 //! Every item of every deck with its schedule and status, and the query
-//! language that selects among them (`deck:`, `tag:`, `state:`, `due:<3d`,
-//! `is:leech`, `is:suspended`, `is:buried`, and free text matched fuzzily
-//! over the front and back in every language, which [`self::search`]
-//! matches). The card browser, `flipcard cards` and the filtered review all
-//! read items through this.
+//! language that selects among them, as Anki's browser reads it
+//! ([`self::query`]: `deck:`, `tag:`, `state:`, `is:due`, `rated:`,
+//! `prop:ivl>30`, `flag:`, `or`, `-`, parentheses, `*`, and free text
+//! matched fuzzily over the front and back in every language, which
+//! [`self::search`] matches). The card browser, `flipcard cards` and the
+//! filtered review all read items through this.
 
+pub mod query;
 pub mod search;
 
 use std::collections::{BTreeSet, HashMap};
@@ -108,6 +110,45 @@ pub fn asked(deck: &Deck, direction: Direction, index: usize, lang: &str) -> Opt
             .collect(),
     };
     Some(flipcard_text::render(&raw))
+}
+
+/// What the item `key` of `deck` asks, in `lang` (the deck's first
+/// language when it has not that one), math rendered, on one line; `None`
+/// when the deck has no such item. Control characters are the caller's to
+/// escape.
+pub fn asked_item(deck: &Deck, key: &ItemKey, lang: &str) -> Option<String> {
+    let index = match key.direction {
+        Direction::Predict => deck.prompts.iter().position(|p| p.id == key.card),
+        Direction::Derive => deck.derivations.iter().position(|x| x.id == key.card),
+        _ => deck.cards.iter().position(|c| c.id == key.card),
+    }?;
+    let lang = if deck.languages.iter().any(|l| l.as_str() == lang) {
+        lang
+    } else {
+        deck.languages.first().map_or("en", |l| l.as_str())
+    };
+    let text = asked(deck, key.direction, index, lang)?;
+    Some(text.split_whitespace().collect::<Vec<_>>().join(" "))
+}
+
+/// Fills in what each leech asks ([`asked_item`]), from the deck loaded
+/// that has it, control characters escaped.
+pub fn name_leeches(leeches: &mut [crate::store::stats::Leech], decks: &[Deck], lang: &str) {
+    for l in leeches {
+        let Some(direction) = Direction::parse(&l.direction) else {
+            continue;
+        };
+        let key = ItemKey {
+            deck: l.deck.clone(),
+            card: l.card.clone(),
+            direction,
+        };
+        l.front = decks
+            .iter()
+            .find(|d| d.id == l.deck)
+            .and_then(|d| asked_item(d, &key, lang))
+            .map(|t| flipcard_text::safe::one_line(&t).into_owned());
+    }
 }
 
 pub fn state_name(s: State) -> &'static str {
@@ -283,14 +324,20 @@ impl<'a> RowFinder<'a> {
 /// A parsed query: every condition must hold.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Filter {
+    /// Deck patterns (`deck:`, see [`query::deck_matches`]): any of them.
     pub decks: Vec<String>,
+    /// Tag patterns (`tag:`, see [`query::tag_matches`]): all of them.
     pub tags: Vec<String>,
     /// `new`, `learning`, `review`, `relearning`, `suspended`, `leech`,
     /// `buried`: any of them.
     pub states: Vec<String>,
     pub due_within: Option<TimeDelta>,
-    /// Free text, matched fuzzily.
+    /// Free text, matched fuzzily (best match first).
     pub text: String,
+    /// Every other term of a typed query (`is:`, `rated:`, `prop:`,
+    /// `flag:`, `or`, `-`, parentheses, text with `*` or in quotes): all
+    /// of them.
+    pub terms: Vec<query::Expr>,
 }
 
 /// The values `state:` (and `--state`) accepts.
@@ -304,8 +351,7 @@ pub const STATES: [&str; 7] = [
     "buried",
 ];
 
-/// The filter fields of the query language.
-pub const FIELDS: [&str; 5] = ["deck:", "tag:", "state:", "due:", "is:"];
+pub use self::query::FIELDS;
 
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{0}")]
@@ -334,48 +380,28 @@ pub fn parse_span(text: &str) -> Result<TimeDelta, QueryError> {
 }
 
 impl Filter {
-    /// Parses a query. Unknown fields, states and malformed spans are
-    /// errors naming what is accepted.
-    pub fn parse(query: &str) -> Result<Filter, QueryError> {
+    /// Parses a query ([`query::parse`]): the terms at its top level that
+    /// the fields hold go there (plain words into the fuzzy text), the rest
+    /// into `terms`. Errors name the column.
+    pub fn parse(text: &str) -> Result<Filter, QueryError> {
+        use query::Expr;
         let mut f = Filter::default();
+        let top = match query::parse(text)? {
+            Expr::All(xs) => xs,
+            x => vec![x],
+        };
         let mut words = Vec::new();
-        for word in query.split_whitespace() {
-            let Some((field, value)) = word.split_once(':') else {
-                words.push(word);
-                continue;
-            };
-            if field.is_empty() || !field.chars().all(|c| c.is_ascii_alphabetic()) {
-                words.push(word);
-                continue;
-            }
-            let need = |what: &str| {
-                if value.is_empty() {
-                    Err(QueryError(format!("`{field}:` needs {what}")))
-                } else {
-                    Ok(value.to_string())
-                }
-            };
-            match field {
-                "deck" => f.decks.push(need("a deck id")?),
-                "tag" => f.tags.push(need("a tag")?),
-                "state" | "is" => {
-                    let v = need("a state")?;
-                    f.add_state(&v)?;
-                }
-                "due" => {
-                    let span = value.strip_prefix('<').ok_or_else(|| {
-                        QueryError(format!(
-                            "`due:{value}`: write due:<3d for items due within three days"
-                        ))
-                    })?;
-                    f.due_within = Some(parse_span(span)?);
-                }
-                other => {
-                    return Err(QueryError(format!(
-                        "unknown filter `{other}:`; filters are {}",
-                        FIELDS.join(" ")
-                    )));
-                }
+        for x in top {
+            match x {
+                Expr::Text {
+                    text,
+                    quoted: false,
+                } if !text.contains('*') => words.push(text),
+                Expr::Deck(d) => f.decks.push(d),
+                Expr::Tag(t) => f.tags.push(t),
+                Expr::State(s) => f.states.push(s),
+                Expr::DueWithin(d) if f.due_within.is_none() => f.due_within = Some(d),
+                other => f.terms.push(other),
             }
         }
         f.text = words.join(" ");
@@ -398,12 +424,37 @@ impl Filter {
         *self == Filter::default()
     }
 
-    /// Names in the filter no deck knows (a deck id or tag): a filter that
-    /// can never match is an error the learner should see, not an empty
-    /// list.
+    /// Whether the filter asks for suspended items (by `state:` or an `is:`
+    /// that must hold).
+    pub fn asks_suspended(&self) -> bool {
+        self.states.iter().any(|s| s == "suspended")
+            || self
+                .terms
+                .iter()
+                .any(|t| matches!(t, query::Expr::Is(s) if s == "suspended"))
+    }
+
+    /// The text terms in `terms` (each matched by the search before the
+    /// rows are kept: see [`search::select`]).
+    pub fn text_terms(&self) -> Vec<(&str, bool)> {
+        let mut out = Vec::new();
+        for t in &self.terms {
+            t.texts(&mut out);
+        }
+        out
+    }
+
+    /// Whether the filter needs the search index (it has text).
+    pub fn needs_index(&self) -> bool {
+        !self.text.trim().is_empty() || !self.text_terms().is_empty()
+    }
+
+    /// Names in the filter no deck knows (a deck or tag pattern that
+    /// matches none): a filter that can never match is an error the learner
+    /// should see, not an empty list.
     pub fn check_names(&self, decks: &[Deck]) -> Result<(), QueryError> {
         for d in &self.decks {
-            if !decks.iter().any(|x| &x.id == d) {
+            if !(0..decks.len()).any(|i| query::deck_matches(d, decks, i)) {
                 let ids: Vec<&str> = decks.iter().map(|x| x.id.as_str()).collect();
                 return Err(QueryError(format!(
                     "no deck `{d}`; decks are {}",
@@ -418,12 +469,13 @@ impl Filter {
                     .iter()
                     .map(|c| &c.tags)
                     .chain(d.derivations.iter().map(|x| &x.tags))
+                    .chain(d.prompts.iter().map(|x| &x.tags))
             })
         };
         for t in &self.tags {
             // Checked item by item, stopping at the first that has it: the
             // list of every tag is made only for the error.
-            if tagged().any(|tags| tags.contains(t)) {
+            if tagged().any(|tags| tags.iter().any(|x| query::tag_matches(t, x))) {
                 continue;
             }
             let known: BTreeSet<&str> = tagged()
@@ -439,22 +491,33 @@ impl Filter {
         Ok(())
     }
 
-    /// Whether `row` passes every condition but the free text.
-    pub fn keeps(&self, row: &ItemRow, decks: &[Deck], now: DateTime<Utc>) -> bool {
-        if !self.decks.is_empty() && !self.decks.iter().any(|d| decks[row.deck].id == *d) {
-            return false;
-        }
-        if !self.tags.iter().all(|t| row.tags(decks).contains(t)) {
-            return false;
-        }
-        if !self.states.is_empty()
-            && !self.states.iter().any(|s| match s.as_str() {
-                "suspended" => row.status.suspended,
-                "leech" => row.status.leech,
-                "buried" => row.buried(now),
-                name => row.state_name() == name,
-            })
+    /// Whether row `i` of `rows` passes every condition but the free text;
+    /// `hits` answers the text terms (`query::NoText` when there are none).
+    pub fn keeps(
+        &self,
+        i: usize,
+        rows: &[ItemRow],
+        decks: &[Deck],
+        now: DateTime<Utc>,
+        hits: &dyn query::TextHits,
+    ) -> bool {
+        let row = &rows[i];
+        if !self.decks.is_empty()
+            && !self
+                .decks
+                .iter()
+                .any(|d| query::deck_matches(d, decks, row.deck))
         {
+            return false;
+        }
+        if !self
+            .tags
+            .iter()
+            .all(|t| row.tags(decks).iter().any(|x| query::tag_matches(t, x)))
+        {
+            return false;
+        }
+        if !self.states.is_empty() && !self.states.iter().any(|s| query::state_holds(s, row, now)) {
             return false;
         }
         if let Some(within) = self.due_within {
@@ -462,6 +525,15 @@ impl Filter {
                 Some(due) if due <= now + within => {}
                 _ => return false,
             }
+        }
+        if !self.terms.is_empty() {
+            let cx = query::Ctx {
+                rows,
+                decks,
+                now,
+                hits,
+            };
+            return self.terms.iter().all(|t| t.holds(i, &cx));
         }
         true
     }
@@ -477,11 +549,12 @@ mod tests {
         let f = Filter::parse("deck:rot tag:euler  omega2 due:<3d is:leech state:new").unwrap();
         assert_eq!(f.decks, ["rot"]);
         assert_eq!(f.tags, ["euler"]);
-        assert_eq!(f.states, ["leech", "new"]);
+        assert_eq!(f.states, ["new"]);
+        assert_eq!(f.terms, [query::Expr::Is("leech".into())]);
         assert_eq!(f.due_within, Some(TimeDelta::days(3)));
         assert_eq!(f.text, "omega2");
         for (bad, says) in [
-            ("state:sleeping", "unknown state `sleeping`"),
+            ("state:sleeping", "at column 7: unknown state `sleeping`"),
             ("colour:red", "unknown filter `colour:`"),
             ("due:3d", "due:<3d"),
             ("due:<3x", "not a span"),

@@ -608,6 +608,118 @@ impl Scan<'_> {
     }
 }
 
+/// The rows each text term of a filter matches (its words in `or`, `-`,
+/// parentheses, quotes or with `*`), found by one pass of the search each.
+#[derive(Debug, Default)]
+pub struct Hits {
+    sets: Vec<(String, bool, Vec<bool>)>,
+}
+
+impl super::query::TextHits for Hits {
+    fn hit(&self, text: &str, exact: bool, row: usize) -> bool {
+        self.sets
+            .iter()
+            .find(|(t, e, _)| t == text && *e == exact)
+            .is_some_and(|(_, _, set)| set.get(row).copied().unwrap_or(false))
+    }
+}
+
+impl Hits {
+    /// Matches every text term of `filter` against all `n` rows: a term
+    /// in quotes or with `*` by [`Search::glob`], any other fuzzily as the
+    /// free text is (its well-scored matches).
+    pub fn find(filter: &Filter, search: &mut Search, n: usize) -> Hits {
+        let all: Vec<usize> = (0..n).collect();
+        let sets = filter
+            .text_terms()
+            .into_iter()
+            .map(|(t, exact)| {
+                let rows = if exact {
+                    search.glob(t, &all)
+                } else {
+                    search.matching(t, &all).best
+                };
+                let mut set = vec![false; n];
+                for r in rows {
+                    set[r] = true;
+                }
+                (t.to_string(), exact, set)
+            })
+            .collect();
+        Hits { sets }
+    }
+}
+
+impl Search {
+    /// A search for `filter` among `rows`: the index is built only when
+    /// the filter has text (a query of filters alone needs none).
+    pub fn for_filter(filter: &Filter, decks: &[Deck], rows: &[ItemRow]) -> Search {
+        if filter.needs_index() {
+            Search::new(decks, rows)
+        } else {
+            Search::with_index(Arc::default(), Vec::new())
+        }
+    }
+
+    /// The rows among `candidates` one of whose texts holds the pieces of
+    /// `pattern` between its `*`s, in order, letters compared without case
+    /// or accents (Anki's text search with wildcards).
+    pub fn glob(&self, pattern: &str, candidates: &[usize]) -> Vec<usize> {
+        let pieces: Vec<Vec<char>> = compat(pattern)
+            .split('*')
+            .filter(|p| !p.is_empty())
+            .map(|p| p.chars().map(fold).collect())
+            .collect();
+        let mut last: Option<(u32, bool)> = None;
+        candidates
+            .iter()
+            .copied()
+            .filter(|&i| {
+                let Some(&card) = self.card_of_row.get(i) else {
+                    return false;
+                };
+                match last {
+                    Some((c, hit)) if c == card => hit,
+                    _ => {
+                        let hit = (card as usize) < self.index.card_ends.len()
+                            && self.index.card(card).iter().any(|h| h.holds(&pieces));
+                        last = Some((card, hit));
+                        hit
+                    }
+                }
+            })
+            .collect()
+    }
+}
+
+/// A character as [`Search::glob`] compares it: lower case, accents off.
+fn fold(c: char) -> char {
+    chars::to_lower_case(chars::normalize(c))
+}
+
+impl Hay {
+    /// Whether the text holds each of `pieces`, in order, folded.
+    fn holds(&self, pieces: &[Vec<char>]) -> bool {
+        let text: Vec<char> = match self.text.slice(..) {
+            Utf32Str::Ascii(b) => b
+                .iter()
+                .map(|&b| (b as char).to_ascii_lowercase())
+                .collect(),
+            Utf32Str::Unicode(cs) => cs.iter().map(|&c| fold(c)).collect(),
+        };
+        let mut rest = &text[..];
+        pieces
+            .iter()
+            .all(|p| match rest.windows(p.len()).position(|w| w == &p[..]) {
+                Some(at) => {
+                    rest = &rest[at + p.len()..];
+                    true
+                }
+                None => false,
+            })
+    }
+}
+
 /// The rows a query selects, best match first when it has free text.
 pub fn select(
     decks: &[Deck],
@@ -616,8 +728,9 @@ pub fn select(
     filter: &Filter,
     now: DateTime<Utc>,
 ) -> Vec<usize> {
+    let hits = Hits::find(filter, search, rows.len());
     let kept: Vec<usize> = (0..rows.len())
-        .filter(|&i| filter.keeps(&rows[i], decks, now))
+        .filter(|&i| filter.keeps(i, rows, decks, now, &hits))
         .collect();
     search.matching(&filter.text, &kept).best
 }

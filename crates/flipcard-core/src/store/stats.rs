@@ -51,7 +51,53 @@ pub struct Stats {
     /// Items whose lapses reached `leech_threshold`, by deck, card and
     /// direction.
     pub leeches: Vec<Leech>,
+    /// Answers by rating, per kind of answer, over the whole log.
+    pub answer_buttons: AnswerButtons,
+    /// The current intervals of the items past learning (from the last
+    /// review to the due date), counted in ranges.
+    pub intervals: Vec<Bucket>,
+    /// FSRS difficulty (1–10) of the items with a memory state, counted
+    /// by whole number (Anki's ease distribution, for FSRS).
+    pub difficulty: Vec<Bucket>,
 }
+
+/// How many answers of one kind were rated each way.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub struct Buttons {
+    pub again: u64,
+    pub hard: u64,
+    pub good: u64,
+    pub easy: u64,
+}
+
+/// Answers by rating, as Anki's answer-buttons graph: learning and
+/// relearning steps, reviews of young items (asked less than 21 days after
+/// the answer before) and of mature ones, and crams.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+pub struct AnswerButtons {
+    pub learn: Buttons,
+    pub relearn: Buttons,
+    pub young: Buttons,
+    pub mature: Buttons,
+    pub cram: Buttons,
+}
+
+/// Items whose value is at most `up_to` (and above the bucket before);
+/// `up_to` absent: above every bound.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Bucket {
+    pub up_to: Option<f64>,
+    pub items: u32,
+}
+
+/// The upper bounds (days) of the interval ranges.
+pub const INTERVAL_BOUNDS: [f64; 8] = [1.0, 3.0, 7.0, 14.0, 30.0, 90.0, 180.0, 365.0];
+
+/// Days since the last answer from which a review counts as mature.
+pub const MATURE_DAYS: i64 = 21;
+
+/// Days of the longer due forecast.
+pub const FORECAST_LONG_DAYS: usize = 90;
 
 /// An item marked as a leech, with its lapses (review answers rated Again)
 /// as the log has them now.
@@ -61,6 +107,9 @@ pub struct Leech {
     pub card: String,
     pub direction: String,
     pub lapses: u32,
+    /// What the item asks, on one line (`catalog::name_leeches` fills it
+    /// from the decks; `None` for an item no deck loaded has).
+    pub front: Option<String>,
 }
 
 /// The current items of the scope by state.
@@ -84,6 +133,10 @@ pub struct Forecast {
     pub next_30_days: u32,
     /// Today first.
     pub per_day: Vec<DayDue>,
+    /// Cumulative from today, as `next_30_days`.
+    pub next_90_days: u32,
+    /// The next 90 days, today first.
+    pub per_day_90: Vec<DayDue>,
 }
 
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
@@ -93,7 +146,7 @@ pub struct DayDue {
 }
 
 /// Answers of one learning day (undone ones excluded).
-#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
 pub struct DayReviews {
     pub date: NaiveDate,
     pub total: u32,
@@ -103,6 +156,9 @@ pub struct DayReviews {
     pub cram: u32,
     /// Answers rated Again, of any kind.
     pub again: u32,
+    /// Time spent answering that day, in seconds (each answer from the
+    /// card shown to the rating).
+    pub seconds: f64,
 }
 
 /// True retention: the share of review-kind answers not rated Again.
@@ -200,7 +256,12 @@ impl Store {
         let orphans = self.orphans(scope.deck, &items, &cached)?;
         let true_retention = self.true_retention(scope.deck, now, grid)?;
         let (suspended, buried, leeches) = self.marks(scope.deck, &cached, now)?;
+        let answer_buttons = self.answer_buttons(scope.deck)?;
+        let (intervals, difficulty) = distributions(&items, &states);
         Ok(Stats {
+            answer_buttons,
+            intervals,
+            difficulty,
             deck: scope.deck.map(str::to_string),
             now,
             today,
@@ -243,6 +304,7 @@ impl Store {
                 card: k.card.clone(),
                 direction: k.direction.as_str().to_string(),
                 lapses: lapses.get(k).copied().unwrap_or(0),
+                front: None,
             })
             .collect();
         Ok((suspended, buried, leeches))
@@ -272,7 +334,7 @@ impl Store {
         let (mut review_total, mut review_passed) = (0u64, 0u64);
         let (filter, args) = deck_filter(deck, vec![starts[0].into(), end.into()], "AND");
         let sql = format!(
-            "SELECT reviewed_at, kind, rating FROM review \
+            "SELECT reviewed_at, kind, rating, duration_ms FROM review \
              WHERE reviewed_at >= ?1 AND reviewed_at < ?2 AND undone = 0 {filter}"
         );
         let mut st = self.conn.prepare_cached(&sql).map_err(|e| self.err(e))?;
@@ -281,9 +343,11 @@ impl Store {
             let at: i64 = row.get(0).map_err(|e| self.err(e))?;
             let kind: ReviewKind = row.get(1).map_err(|e| self.err(e))?;
             let again = row.get::<_, Rating>(2).map_err(|e| self.err(e))? == Rating::Again;
+            let ms: i64 = row.get(3).map_err(|e| self.err(e))?;
             let i = starts.partition_point(|s| *s <= at).saturating_sub(1);
             let day = &mut out[i];
             day.total += 1;
+            day.seconds += ms.max(0) as f64 / 1000.0;
             match kind {
                 ReviewKind::Learn => day.learn += 1,
                 ReviewKind::Review => {
@@ -297,6 +361,41 @@ impl Store {
             day.again += u32::from(again);
         }
         Ok((out, Ratio::new(review_total, review_passed)))
+    }
+
+    /// Answers by kind and rating over the whole log (undone ones left
+    /// out); a review is mature when at least [`MATURE_DAYS`] passed since
+    /// the answer before.
+    fn answer_buttons(&self, deck: Option<&str>) -> Result<AnswerButtons, StoreError> {
+        let (filter, args) = deck_filter(deck, Vec::new(), "AND");
+        let sql = format!(
+            "SELECT kind, rating, elapsed_days >= {MATURE_DAYS}, count(*) FROM review \
+             WHERE undone = 0 {filter} GROUP BY 1, 2, 3"
+        );
+        let mut st = self.conn.prepare_cached(&sql).map_err(|e| self.err(e))?;
+        let mut rows = st.query(params_from_iter(args)).map_err(|e| self.err(e))?;
+        let mut out = AnswerButtons::default();
+        while let Some(row) = rows.next().map_err(|e| self.err(e))? {
+            let kind: ReviewKind = row.get(0).map_err(|e| self.err(e))?;
+            let rating: Rating = row.get(1).map_err(|e| self.err(e))?;
+            let mature: bool = row.get(2).map_err(|e| self.err(e))?;
+            let n: i64 = row.get(3).map_err(|e| self.err(e))?;
+            let b = match kind {
+                ReviewKind::Learn => &mut out.learn,
+                ReviewKind::Relearn => &mut out.relearn,
+                ReviewKind::Review if mature => &mut out.mature,
+                ReviewKind::Review => &mut out.young,
+                ReviewKind::Cram => &mut out.cram,
+            };
+            let slot = match rating {
+                Rating::Again => &mut b.again,
+                Rating::Hard => &mut b.hard,
+                Rating::Good => &mut b.good,
+                Rating::Easy => &mut b.easy,
+            };
+            *slot += n.max(0) as u64;
+        }
+        Ok(out)
     }
 
     fn prompt_accuracy(&self, deck: Option<&str>) -> Result<PromptAccuracy, StoreError> {
@@ -440,10 +539,10 @@ fn states_and_forecast(
     grid: &dyn DayOf,
 ) -> (StateCounts, Forecast) {
     // ends[i]: when day i (0 = today) ends.
-    let ends: Vec<DateTime<Utc>> = (1..=WINDOW_DAYS as i64)
+    let ends: Vec<DateTime<Utc>> = (1..=FORECAST_LONG_DAYS as i64)
         .map(|i| grid.start_of(today + Duration::days(i)))
         .collect();
-    let mut per_day = [0u32; WINDOW_DAYS];
+    let mut per_day = [0u32; FORECAST_LONG_DAYS];
     let mut counts = StateCounts::default();
     for key in items {
         counts.total += 1;
@@ -468,8 +567,18 @@ fn states_and_forecast(
         tomorrow: per_day[1],
         next_7_days: sum(7),
         next_30_days: sum(WINDOW_DAYS),
+        next_90_days: sum(FORECAST_LONG_DAYS),
+        per_day_90: per_day
+            .iter()
+            .enumerate()
+            .map(|(i, n)| DayDue {
+                date: today + Duration::days(i as i64),
+                due: *n,
+            })
+            .collect(),
         per_day: per_day
             .iter()
+            .take(WINDOW_DAYS)
             .enumerate()
             .map(|(i, n)| DayDue {
                 date: today + Duration::days(i as i64),
@@ -478,4 +587,49 @@ fn states_and_forecast(
             .collect(),
     };
     (counts, forecast)
+}
+
+/// The interval ranges ([`INTERVAL_BOUNDS`]) of the items past learning
+/// (review and relearning, from the last review to the due date) and the
+/// difficulty (by whole number, 1 to 10) of every item with one.
+fn distributions(
+    items: &[&ItemKey],
+    states: &HashMap<&ItemKey, &CardState>,
+) -> (Vec<Bucket>, Vec<Bucket>) {
+    let mut intervals: Vec<Bucket> = INTERVAL_BOUNDS
+        .iter()
+        .map(|b| Bucket {
+            up_to: Some(*b),
+            items: 0,
+        })
+        .chain([Bucket {
+            up_to: None,
+            items: 0,
+        }])
+        .collect();
+    let mut difficulty: Vec<Bucket> = (1..=10)
+        .map(|d| Bucket {
+            up_to: Some(f64::from(d)),
+            items: 0,
+        })
+        .collect();
+    for key in items {
+        let Some(st) = states.get(*key).filter(|s| s.state != State::New) else {
+            continue;
+        };
+        if matches!(st.state, State::Review | State::Relearning)
+            && let Some(last) = st.last_review
+        {
+            let days = (st.due - last).num_seconds() as f64 / 86_400.0;
+            let i = INTERVAL_BOUNDS.partition_point(|b| *b < days);
+            intervals[i].items += 1;
+        }
+        if let Some(d) = st.difficulty.filter(|d| d.is_finite()) {
+            // 1–10; a value on a whole number counts below it (1.0 in the
+            // first, 2.0 in the second).
+            let i = (d.ceil() as i64 - 1).clamp(0, 9) as usize;
+            difficulty[i].items += 1;
+        }
+    }
+    (intervals, difficulty)
 }

@@ -17,7 +17,7 @@ use super::Nav;
 mod derive;
 mod draw;
 mod keys;
-mod status;
+pub(crate) mod status;
 pub use derive::{Given, Next, Walk};
 pub use draw::{draw, fmt_duration};
 pub use keys::{BACK_KEYS, DERIVE_KEYS, DONE_KEYS, FRONT_KEYS, TYPING_KEYS};
@@ -511,6 +511,20 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
             status::mark(app, state, action)
         }
         (_, Action::Explain) => return explain(app, state),
+        (Phase::Front { .. } | Phase::Back { .. }, Action::CardInfo) => {
+            if let Some((key, _)) = &state.current {
+                // The item's own deck (a filtered session spans decks).
+                let deck = app
+                    .decks
+                    .iter()
+                    .position(|d| d.id == key.deck)
+                    .unwrap_or(state.deck);
+                match super::info::InfoState::open(app, deck, key.clone()) {
+                    Ok(i) => return Nav::Push(super::Screen::Info(Box::new(i))),
+                    Err(e) => app.error(e),
+                }
+            }
+        }
         (Phase::Front { input }, Action::Input(c)) => input.push(c),
         (Phase::Front { input }, Action::Backspace) => {
             input.pop();
@@ -847,7 +861,7 @@ pub fn filtered_items(
 ) -> Result<Vec<ItemKey>, String> {
     use crate::catalog;
     use crate::catalog::search::{Search, select};
-    if !cram && filter.states.iter().any(|s| s == "suspended") {
+    if !cram && filter.asks_suspended() {
         return Err(app.tr(Msg::SuspendedNeedsCram).to_string());
     }
     let decks: &[Deck] = match deck {
@@ -863,7 +877,7 @@ pub fn filtered_items(
         now,
     )
     .map_err(|e| e.to_string())?;
-    let mut search = Search::for_text(&filter.text, decks, &rows);
+    let mut search = Search::for_filter(filter, decks, &rows);
     let mut picked = select(decks, &rows, &mut search, filter, now);
     picked.sort_unstable();
     Ok(picked

@@ -2,7 +2,7 @@
 //! siblings buried), and taking those back with undo.
 
 use crate::sched::ItemKey;
-use crate::store::{AfterRating, StatusEvent};
+use crate::store::{AfterRating, StatusAction, StatusEvent};
 use crate::study::Mark;
 use crate::tui::action::Action;
 use crate::tui::app::App;
@@ -84,7 +84,18 @@ pub(super) fn undone(app: &mut App, state: &mut ReviewState, events: &[StatusEve
     if let Some(first) = keys.first() {
         state.show(app, Some(first.clone()));
     }
-    app.info(app.tr(Msg::Undone));
+    app.info(app.tr(undone_msg(events)));
+}
+
+/// What an undone status change was, said so ("bury undone"), not as a
+/// rating.
+pub(crate) fn undone_msg(events: &[StatusEvent]) -> Msg {
+    match events.first().map(|e| e.action) {
+        Some(StatusAction::Suspend) => Msg::SuspendUndone,
+        Some(StatusAction::Bury) => Msg::BuryUndone,
+        Some(StatusAction::Unsuspend) => Msg::UnsuspendUndone,
+        Some(StatusAction::Leech) | None => Msg::Undone,
+    }
 }
 
 /// A card suspended or buried elsewhere (the browser, `flipcard cards`, a
