@@ -51,6 +51,8 @@ pub enum Context {
     BrowserSearch,
     /// The study filter's form.
     Filter,
+    /// An edited deck failed its check: edit again or revert.
+    EditCheck,
 }
 
 /// What a help line's keys do.

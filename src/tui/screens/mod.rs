@@ -3,6 +3,7 @@
 //! screens the stack holds ([`Screen`]) and which table is whose ([`keys`]).
 
 pub mod browser;
+pub mod edit_check;
 pub mod exam;
 pub mod filter;
 pub mod formulas;
@@ -56,6 +57,7 @@ pub enum Screen {
     Exam(Box<exam::ExamState>),
     Browser(Box<browser::BrowserState>),
     Filter(Box<filter::FilterState>),
+    EditCheck(Box<edit_check::EditCheckState>),
 }
 
 impl Screen {
@@ -71,6 +73,7 @@ impl Screen {
             Screen::Exam(s) => s.as_ref(),
             Screen::Browser(s) => s.as_ref(),
             Screen::Filter(s) => s.as_ref(),
+            Screen::EditCheck(s) => s.as_ref(),
         }
     }
 
@@ -86,6 +89,7 @@ impl Screen {
             Screen::Exam(s) => s.as_mut(),
             Screen::Browser(s) => s.as_mut(),
             Screen::Filter(s) => s.as_mut(),
+            Screen::EditCheck(s) => s.as_mut(),
         }
     }
 
@@ -128,6 +132,7 @@ pub fn keys(ctx: Context) -> &'static [Binding] {
         Context::Browser => browser::KEYS,
         Context::BrowserSearch => browser::SEARCH_KEYS,
         Context::Filter => filter::KEYS,
+        Context::EditCheck => edit_check::KEYS,
     }
 }
 

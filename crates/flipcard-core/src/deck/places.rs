@@ -188,3 +188,46 @@ mod tests {
         assert_eq!(p.when[1].map(|w| w.line), Some(8));
     }
 }
+
+/// What kind of table an item of a deck file is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ItemTable {
+    Card,
+    Prompt,
+    Derivation,
+}
+
+/// The line (1-based) of the `id` of the card, prompt or derivation `id`
+/// in the deck file `source`: where an editor opens it. `None` when the
+/// file does not parse or has no such item.
+pub fn item_line(path: &Path, source: &str, table: ItemTable, id: &str) -> Option<usize> {
+    let file = read(path, source)?;
+    let ids: Vec<&super::raw::Str> = match table {
+        ItemTable::Card => file.cards.iter().filter_map(|c| c.id.as_ref()).collect(),
+        ItemTable::Prompt => file.prompts.iter().filter_map(|p| p.id.as_ref()).collect(),
+        ItemTable::Derivation => file
+            .derivations
+            .iter()
+            .filter_map(|d| d.id.as_ref())
+            .collect(),
+    };
+    let found = ids.into_iter().find(|s| s.value == id)?;
+    let index = LineIndex::new(source);
+    Some(index.position(source, found.span.start).0)
+}
+
+#[cfg(test)]
+mod item_line_tests {
+    use super::*;
+
+    #[test]
+    fn an_items_line_is_the_line_of_its_id() {
+        let src = "[deck]\nid = \"d\"\ntitle.en = 'D'\nlanguages = [\"en\"]\n\n[[card]]\nid = \"a\"\nfront.en = 'x'\nback.en = 'y'\n\n[[card]]\n\nid = \"b\"\nfront.en = 'x'\nback.en = 'y'\n";
+        let p = Path::new("d.toml");
+        assert_eq!(item_line(p, src, ItemTable::Card, "a"), Some(7));
+        assert_eq!(item_line(p, src, ItemTable::Card, "b"), Some(13));
+        assert_eq!(item_line(p, src, ItemTable::Card, "c"), None);
+        assert_eq!(item_line(p, src, ItemTable::Prompt, "a"), None);
+        assert_eq!(item_line(p, "[[card", ItemTable::Card, "a"), None);
+    }
+}

@@ -37,6 +37,24 @@ const BURY: Binding = Binding::new(
     &[(Char('b'), Action::Bury)],
 );
 
+const EDIT: Binding = Binding::new(
+    "E",
+    Words(
+        "edit this card in its deck file ($VISUAL, $EDITOR or vi)",
+        "yeh card uski deck file mein edit karo ($VISUAL, $EDITOR ya vi)",
+    ),
+    &[(Char('E'), Action::EditItem)],
+);
+
+const ADD: Binding = Binding::new(
+    "A",
+    Words(
+        "add a new card of this kind to the deck, in the editor",
+        "deck mein isi kind ka naya card jodo, editor mein",
+    ),
+    &[(Char('A'), Action::AddCard)],
+);
+
 /// A card taller than the screen scrolls.
 const SCROLL: Binding = Binding::new(
     "j k ↑↓",
@@ -73,6 +91,8 @@ pub const FRONT_KEYS: &[Binding] = &[
     EXPLAIN,
     SUSPEND,
     BURY,
+    EDIT,
+    ADD,
     UNDO,
     END_SESSION,
 ];
@@ -110,6 +130,8 @@ pub const DERIVE_KEYS: &[Binding] = &[
     EXPLAIN,
     SUSPEND,
     BURY,
+    EDIT,
+    ADD,
     UNDO,
     END_SESSION,
 ];
@@ -173,6 +195,8 @@ pub const BACK_KEYS: &[Binding] = &[
     ),
     SUSPEND,
     BURY,
+    EDIT,
+    ADD,
     SCROLL,
     UNDO,
     END_SESSION,
