@@ -897,3 +897,106 @@ fn an_anki_collection_goes_through_flipcard_and_back_into_anki() {
     }
     assert_eq!(compared, 10, "every card with a history compared");
 }
+
+/// `no-history.json`: what Anki had in `no-history.apkg`.
+fn no_history_expectations() -> serde_json::Value {
+    let text = std::fs::read_to_string(fixture("no-history.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+/// Cards Anki scheduled whose review history is not in the package keep
+/// Anki's state (due date, interval, memory state): in the store, in
+/// `cards list` and in the queue; a new card stays new, and a card with
+/// its history keeps Anki's due date as before.
+#[test]
+fn cards_with_a_schedule_and_no_review_history_keep_ankis_state() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let out = dir.path().join("out");
+    let run = flipcard(
+        &data,
+        &[
+            "import",
+            &fixture("no-history.apkg"),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr());
+    let stdout = run.stdout();
+    assert!(
+        stdout.contains(
+            "due dates and intervals as Anki had them: 4 cards (3 with no review history"
+        ),
+        "{stdout}"
+    );
+    let expect = no_history_expectations();
+    let crt = expect["crt"].as_i64().unwrap();
+    let store = Store::open(&data).unwrap();
+    let key = |card: &serde_json::Value| ItemKey {
+        deck: "scheduled".into(),
+        card: format!("n{}", card["nid"].as_i64().unwrap()),
+        direction: Direction::Forward,
+    };
+    let mut kept = Vec::new();
+    for card in expect["cards"].as_array().unwrap() {
+        let front = card["front"].as_str().unwrap();
+        let state = store.state(&key(card)).unwrap();
+        if card["type"].as_i64().unwrap() == 0 {
+            assert_eq!(state, None, "{front}: new stays new");
+            continue;
+        }
+        let state = state.unwrap_or_else(|| panic!("{front}: Anki's state was not kept"));
+        assert_eq!(state.due, anki_due(crt, card), "{front}: Anki's due");
+        let data: serde_json::Value = serde_json::from_str(card["data"].as_str().unwrap()).unwrap();
+        assert_eq!(state.stability, data["s"].as_f64(), "{front}");
+        assert_eq!(state.difficulty, data["d"].as_f64(), "{front}");
+        let want = match card["type"].as_i64().unwrap() {
+            1 => flipcard::sched::State::Learning,
+            2 => flipcard::sched::State::Review,
+            _ => flipcard::sched::State::Relearning,
+        };
+        assert_eq!(state.state, want, "{front}");
+        if card["revlog"].as_array().unwrap().is_empty() {
+            assert!(store.history(&key(card)).unwrap().is_empty(), "{front}");
+            assert_eq!(
+                state.last_review.map(|t| t.timestamp()),
+                data["lrt"].as_i64(),
+                "{front}"
+            );
+        }
+        kept.push((key(card), state));
+    }
+    assert_eq!(kept.len(), 4);
+    // `cards list` shows them as Anki had them.
+    let deck = out.join("decks");
+    let list = Flipcard::new(&data)
+        .now(NOW)
+        .decks(&deck)
+        .args(["cards", "list", "deck:scheduled", "--format", "json"])
+        .run();
+    assert!(list.status.success(), "{}", list.stderr());
+    let rows: serde_json::Value = serde_json::from_str(&list.stdout()).unwrap();
+    for (key, state) in &kept {
+        let row = rows
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["card"] == key.card.as_str())
+            .unwrap_or_else(|| panic!("{} not listed", key.card));
+        assert_ne!(row["state"], "new", "{row}");
+        let due: DateTime<Utc> = row["due"].as_str().unwrap().parse().unwrap();
+        assert_eq!(due, state.due, "{row}");
+    }
+    // The day's queue: the review card due by then is a review, not new.
+    let config = Config::default();
+    let study = flipcard::study::Study::new(config, flipcard::study::DayZone::Utc, store);
+    let loaded = flipcard::deck::load_dir(&deck);
+    let d = loaded.decks.iter().find(|d| d.id == "scheduled").unwrap();
+    let late: DateTime<Utc> =
+        kept.iter().map(|(_, s)| s.due).max().unwrap() + chrono::TimeDelta::days(1);
+    let (queue, _) = study.queue(d, late).unwrap();
+    let counts = queue.counts();
+    assert_eq!(counts.new, 1, "only the new card is new: {counts:?}");
+    assert_eq!(counts.due + counts.learning, 4, "{counts:?}");
+}

@@ -364,3 +364,88 @@ fn e_in_the_browser_edits_the_selected_item_and_the_list_shows_the_edit() {
     let screen = render(&f.app);
     assert!(screen.contains("The SI unit of force?"), "{screen}");
 }
+
+/// A bundled deck is copied into the library (with its explanations) and
+/// the copy edited; the next load takes the copy in place of the bundled
+/// deck, with no clash of ids.
+#[test]
+fn a_bundled_deck_is_copied_into_the_library_and_the_copy_edited() {
+    use crate::cmd::library::{EditLibrary, Origin, Source, library_dir, load_with};
+    let dir = tempfile::tempdir().unwrap();
+    let lib = library_dir(dir.path());
+    std::fs::create_dir_all(&lib).unwrap();
+    let sources = || {
+        vec![
+            Source {
+                origin: Origin::Bundled,
+                path: PathBuf::from(crate::bundled::DECKS),
+            },
+            Source {
+                origin: Origin::Library,
+                path: lib.clone(),
+            },
+        ]
+    };
+    let library = load_with(sources());
+    let mut app = Tui::new(
+        library.loaded.decks.clone(),
+        services(&dir),
+        "en",
+        Theme::PLAIN,
+    );
+    app.size = (100, 30);
+    let editor = Scripted::default();
+    editor.steps.borrow_mut().push(replace(
+        "front.en = '''What is the exact equation",
+        "front.en = '''Edited: what is the exact equation",
+    ));
+    app.services.editor = Box::new(editor.clone());
+    app.services.library = Some(Box::new(EditLibrary::new(
+        dir.path().to_path_buf(),
+        &library,
+    )));
+    crate::tui::open_review(&mut app, Some("oscillations"), false).unwrap();
+    let key = shown(&app).unwrap();
+    assert_eq!(key.card, "pendulum-equation");
+    key(&mut app, 'E');
+    let copy = lib.join("oscillations.toml");
+    assert_eq!(*editor.opened.borrow(), [(copy.clone(), 28)]);
+    let said = status(&app);
+    assert!(
+        said.contains("bundled deck copied into your library"),
+        "{said}"
+    );
+    assert!(said.contains(&copy.display().to_string()), "{said}");
+    for lang in ["en", "hi-Latn"] {
+        let content = dir.path().join(format!("content/oscillations/{lang}.toml"));
+        assert!(content.is_file(), "{}", content.display());
+    }
+    let i = app
+        .decks
+        .iter()
+        .position(|d| d.id == "oscillations")
+        .unwrap();
+    assert_eq!(app.decks[i].path, copy);
+    assert!(
+        app.decks[i]
+            .card("pendulum-equation")
+            .unwrap()
+            .front
+            .get("en")
+            .starts_with("Edited: ")
+    );
+    assert_eq!(shown(&app), Some(key));
+    // Loaded again, the copy stands in for the bundled deck.
+    let again = load_with(sources());
+    assert_eq!(again.loaded.errors(), 0, "{}", again.loaded.render_all());
+    let from: Vec<_> = again
+        .files
+        .iter()
+        .filter(|f| {
+            f.deck
+                .is_some_and(|d| again.loaded.decks[d].id == "oscillations")
+        })
+        .map(|f| again.source_of(f).origin)
+        .collect();
+    assert_eq!(from, [Origin::Library]);
+}

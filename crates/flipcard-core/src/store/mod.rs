@@ -12,6 +12,7 @@ pub(crate) mod backup_files;
 pub(crate) mod codec;
 pub mod db;
 pub mod error;
+mod kept;
 pub mod log;
 pub mod merge;
 pub mod restore;

@@ -11,7 +11,7 @@ use crate::sched::clock::Clock;
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
-pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5, V6];
+pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5, V6, V7];
 
 /// The schema version this build writes.
 pub(crate) fn current_version() -> i64 {
@@ -638,6 +638,29 @@ WHEN OLD.correct IS NOT NULL
 BEGIN
     SELECT RAISE(ABORT, 'prompt attempts are append-only: only the verdict may be written, once');
 END;
+"#;
+
+/// Version 7: the state another program left an item in (an Anki import:
+/// Anki's due date, interval and memory state), kept as the base its
+/// answers are replayed from (`store::kept`). It holds from `at` (that
+/// program's last answer, or its last review when the log has none of its
+/// answers): answers up to then are that program's and end in this state,
+/// later ones are replayed from it. An item with no answer in the log
+/// takes it as its state.
+const V7: &str = r#"
+CREATE TABLE kept_state (
+    deck         TEXT NOT NULL,
+    card         TEXT NOT NULL,
+    direction    TEXT NOT NULL,
+    at           INTEGER NOT NULL,
+    state        TEXT NOT NULL CHECK (state IN ('learning', 'review', 'relearning')),
+    step         INTEGER,
+    stability    REAL,
+    difficulty   REAL,
+    due          INTEGER NOT NULL,
+    last_review  INTEGER,
+    PRIMARY KEY (deck, card, direction)
+) STRICT, WITHOUT ROWID;
 "#;
 
 /// Brings the database at `path` up to the last of `migrations`. Before the
