@@ -99,8 +99,8 @@ pub const KEYS: &[Binding] = &[
     Binding::new(
         "E A",
         Words(
-            "edit the item in its deck file ($VISUAL, $EDITOR or vi) / add a new card of its kind",
-            "item ko uski deck file mein edit karo ($VISUAL, $EDITOR ya vi) / uski kind ka naya card jodo",
+            "edit the item in its deck file / add a card of its kind",
+            "item uski deck file mein badlo / uski kind ka naya card jodo",
         ),
         &[(Char('E'), Action::EditItem), (Char('A'), Action::AddCard)],
     ),

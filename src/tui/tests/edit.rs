@@ -405,8 +405,8 @@ fn a_bundled_deck_is_copied_into_the_library_and_the_copy_edited() {
         &library,
     )));
     crate::tui::open_review(&mut app, Some("oscillations"), false).unwrap();
-    let key = shown(&app).unwrap();
-    assert_eq!(key.card, "pendulum-equation");
+    let first = shown(&app).unwrap();
+    assert_eq!(first.card, "pendulum-equation");
     key(&mut app, 'E');
     let copy = lib.join("oscillations.toml");
     assert_eq!(*editor.opened.borrow(), [(copy.clone(), 28)]);
@@ -434,7 +434,7 @@ fn a_bundled_deck_is_copied_into_the_library_and_the_copy_edited() {
             .get("en")
             .starts_with("Edited: ")
     );
-    assert_eq!(shown(&app), Some(key));
+    assert_eq!(shown(&app), Some(first));
     // Loaded again, the copy stands in for the bundled deck.
     let again = load_with(sources());
     assert_eq!(again.loaded.errors(), 0, "{}", again.loaded.render_all());

@@ -774,6 +774,44 @@ mod tests {
     }
 
     #[test]
+    fn version_7_adds_the_kept_states_and_keeps_every_row() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..6], "20260101T000000Z").unwrap();
+        conn.execute("INSERT INTO session (id, started_at) VALUES (1, 0)", [])
+            .unwrap();
+        let count = |conn: &Connection, t: &str| -> i64 {
+            conn.query_row(&format!("SELECT count(*) FROM {t}"), [], |r| r.get(0))
+                .unwrap()
+        };
+        let before: Vec<i64> = ["review", "card_state", "status_event"]
+            .iter()
+            .map(|t| count(&conn, t))
+            .collect();
+        drop(conn);
+        let mut conn = Connection::open(&path).unwrap();
+        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), 7);
+        let after: Vec<i64> = ["review", "card_state", "status_event"]
+            .iter()
+            .map(|t| count(&conn, t))
+            .collect();
+        assert_eq!(after, before);
+        assert_eq!(count(&conn, "kept_state"), 0);
+        // A kept state is learning, review or relearning, never new.
+        let insert = |state: &str| {
+            conn.execute(
+                "INSERT INTO kept_state (deck, card, direction, at, state, due) \
+                 VALUES ('d', ?1, 'forward', 0, ?1, 0)",
+                [state],
+            )
+        };
+        assert!(insert("review").is_ok());
+        assert!(insert("new").is_err());
+    }
+
+    #[test]
     fn fresh_database_gets_every_table_and_no_backup() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("flipcard.db");
@@ -785,6 +823,7 @@ mod tests {
             [
                 "card_state",
                 "item_status",
+                "kept_state",
                 "machine_history",
                 "prompt_attempt",
                 "review",
@@ -1057,7 +1096,7 @@ mod tests {
         drop(conn);
         let mut conn = Connection::open(&path).unwrap();
         conn.pragma_update(None, "foreign_keys", true).unwrap();
-        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..6], "20260102T000000Z").unwrap();
         assert_eq!(user_version(&conn).unwrap(), 6);
         for (t, rows) in tables.iter().zip(&before) {
             assert_eq!(&dump(&conn, t), rows, "every row of {t} kept, every column");

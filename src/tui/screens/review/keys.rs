@@ -40,8 +40,8 @@ const BURY: Binding = Binding::new(
 const EDIT: Binding = Binding::new(
     "E",
     Words(
-        "edit this card in its deck file ($VISUAL, $EDITOR or vi)",
-        "yeh card uski deck file mein edit karo ($VISUAL, $EDITOR ya vi)",
+        "edit this card in its deck file",
+        "yeh card uski deck file mein badlo",
     ),
     &[(Char('E'), Action::EditItem)],
 );
@@ -49,8 +49,8 @@ const EDIT: Binding = Binding::new(
 const ADD: Binding = Binding::new(
     "A",
     Words(
-        "add a new card of this kind to the deck, in the editor",
-        "deck mein isi kind ka naya card jodo, editor mein",
+        "add a card of this kind, in the editor",
+        "isi kind ka naya card jodo, editor mein",
     ),
     &[(Char('A'), Action::AddCard)],
 );
