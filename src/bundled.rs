@@ -39,9 +39,12 @@ pub fn tree_without(hidden: &[String]) -> Memory {
     )
 }
 
+/// A deck's content files: each language with the file's bytes.
+pub type ContentFiles = Vec<(String, Vec<u8>)>;
+
 /// The bundled deck `id`'s file and its content files by language, as
 /// `decks add` installs a deck; `None` when no bundled deck has that id.
-pub fn deck_files(id: &str) -> Option<(Vec<u8>, Vec<(String, Vec<u8>)>)> {
+pub fn deck_files(id: &str) -> Option<(Vec<u8>, ContentFiles)> {
     let file = format!("{DECKS}/{id}.toml");
     let deck = embedded::FILES.iter().find(|(p, _)| *p == file)?.1.to_vec();
     let prefix = format!("content/{id}/");

@@ -240,10 +240,11 @@ fn finish(tui: &mut Tui, mut session: Session, before: &[u8], ran: Result<(), St
     {
         // Nothing was edited: a template appended for it goes again.
         let mut said = e.clone();
-        if session.template.is_some() && !matches!(tui.screen(), Screen::EditCheck(_)) {
-            if let Err(e) = revert(&session) {
-                said = format!("{said}; {e}");
-            }
+        if session.template.is_some()
+            && !matches!(tui.screen(), Screen::EditCheck(_))
+            && let Err(e) = revert(&session)
+        {
+            said = format!("{said}; {e}");
         }
         tui.error(said);
         return;

@@ -231,3 +231,43 @@ mod item_line_tests {
         assert_eq!(item_line(p, "[[card", ItemTable::Card, "a"), None);
     }
 }
+
+#[cfg(test)]
+mod item_line_props {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Any text: an answer or none, never a panic, and a line of the
+        /// file when there is one.
+        #[test]
+        fn any_text_gives_a_line_of_it_or_none(text in "\\PC{0,400}", id in "[a-z]{1,6}") {
+            if let Some(line) = item_line(Path::new("x.toml"), &text, ItemTable::Card, &id) {
+                prop_assert!(line >= 1 && line <= text.lines().count().max(1));
+            }
+        }
+
+        /// Cards separated by any number of blank lines and comments: each
+        /// id's line is the line its `id = …` is written on.
+        #[test]
+        fn each_cards_line_is_where_its_id_is_written(gaps in proptest::collection::vec((0usize..4, any::<bool>()), 1..8)) {
+            let mut text = String::from("[deck]\nid = \"d\"\ntitle.en = 'D'\nlanguages = [\"en\"]\n");
+            let mut want = Vec::new();
+            for (i, (blank, comment)) in gaps.iter().enumerate() {
+                text.push_str("\n[[card]]\n");
+                for _ in 0..*blank {
+                    text.push('\n');
+                }
+                if *comment {
+                    text.push_str("# a comment\n");
+                }
+                want.push(text.lines().count() + 1);
+                text.push_str(&format!("id = \"c{i}\"\nfront.en = 'x'\nback.en = 'y'\n"));
+            }
+            for (i, line) in want.iter().enumerate() {
+                let id = format!("c{i}");
+                prop_assert_eq!(item_line(Path::new("d.toml"), &text, ItemTable::Card, &id), Some(*line));
+            }
+        }
+    }
+}
