@@ -49,7 +49,7 @@ pub struct App {
     /// by the event loop; shown in the diagnostics line.
     pub frame_us: FrameTimes,
     /// An edit a screen asked for (`E`, `A`), carried out by the event
-    /// loop, which owns the terminal ([`super::edit::run_pending`]).
+    /// loop, which owns the terminal ([`super::edit_run::run_pending`]).
     pub edit: Option<super::edit::Pending>,
     /// What the check screen of an edit says once it has closed (closing
     /// a screen clears the status line).
@@ -100,6 +100,11 @@ impl App {
     /// Whether a sync runs in the background (the event loop then ticks).
     pub fn syncing(&self) -> bool {
         self.services.sync.as_ref().is_some_and(|s| s.busy())
+    }
+
+    /// Asks the event loop to edit `target` of deck `deck` (`E`, `A`).
+    pub fn request_edit(&mut self, deck: usize, target: super::edit::Target) {
+        self.edit = Some(super::edit::Pending::Start { deck, target });
     }
 
     pub fn info(&mut self, text: impl Into<String>) {

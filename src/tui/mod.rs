@@ -12,6 +12,7 @@ pub mod action;
 pub mod app;
 pub mod derivation;
 pub mod edit;
+pub mod edit_run;
 pub mod geometry;
 pub mod i18n;
 pub mod keymap;
@@ -213,7 +214,7 @@ fn event_loop(
         {
             apply(app, action);
             if app.edit.is_some() {
-                edit::run_pending(app, &mut GivenUp(terminal));
+                edit_run::run_pending(app, &mut GivenUp(terminal));
             }
             dirty = true;
         }

@@ -761,7 +761,7 @@ pub fn apply(app: &mut App, s: &mut BrowserState, action: Action) -> Nav {
 
 /// `E` and `A` on the selected item: its deck file in the editor.
 fn edit(app: &mut App, s: &BrowserState, action: Action) {
-    use crate::tui::edit::{Target, request};
+    use crate::tui::edit::Target;
     let Some(row) = s.current() else {
         app.info(crate::tui::i18n::edit::NOTHING_TO_EDIT.get(&app.lang));
         return;
@@ -779,7 +779,7 @@ fn edit(app: &mut App, s: &BrowserState, action: Action) {
     } else {
         Target::Item(row.key(&app.decks))
     };
-    request(app, row.deck, target);
+    app.request_edit(row.deck, target);
 }
 
 fn explain(app: &mut App, s: &BrowserState) -> Nav {

@@ -11,7 +11,8 @@ use crossterm::event::KeyCode::{Char, Enter};
 
 use super::press;
 use crate::sched::{Direction, ItemKey};
-use crate::tui::edit::{NoTerminal, run_pending};
+use crate::tui::edit::NoTerminal;
+use crate::tui::edit_run::run_pending;
 use crate::tui::screens::Screen;
 use crate::tui::services::{EditorRun, Spawn};
 use crate::tui::stack::Tui;

@@ -34,7 +34,7 @@ use crate::deck::cloze::MAX_NUMBER;
 use crate::deck::csv::{MAX_FIELD_BYTES, slug, toml_string};
 use crate::sched::clock::check_event_time;
 use crate::sched::{Direction, ItemKey, Rating, State};
-use crate::store::merge::{IncomingReview, KeptState};
+use crate::store::{IncomingReview, KeptState};
 
 /// The largest collection unpacked (compressed size does not matter).
 pub(crate) const MAX_COLLECTION_BYTES: u64 = 512 << 20;

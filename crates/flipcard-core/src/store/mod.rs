@@ -34,8 +34,9 @@ pub use attempt::{
 };
 pub use db::{OpenOptions, Store};
 pub use error::StoreError;
+pub use kept::KeptState;
 pub use log::LoggedReview;
-pub use merge::{IncomingReview, KeptState, MergeSummary};
+pub use merge::{IncomingReview, MergeSummary};
 pub use state::{CachedState, RebuildReport};
 pub use stats::{Stats, StatsScope};
 pub use status::{AfterRating, ItemStatus, Recorded, StatusAction, StatusEvent, Undone};

@@ -558,9 +558,7 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
         (_, Action::Explain) => return explain(app, state),
         (Phase::Front { .. } | Phase::Back { .. }, Action::EditItem) => {
             match state.current.clone() {
-                Some((key, _)) => {
-                    crate::tui::edit::request(app, state.deck, crate::tui::edit::Target::Item(key))
-                }
+                Some((key, _)) => app.request_edit(state.deck, crate::tui::edit::Target::Item(key)),
                 None => app.info(crate::tui::i18n::edit::NOTHING_TO_EDIT.get(&app.lang)),
             }
         }
@@ -570,7 +568,7 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
                 .get(state.deck)
                 .and_then(|d| state.card(d))
                 .map_or(CardKind::Basic, |(c, _)| c.kind);
-            crate::tui::edit::request(app, state.deck, crate::tui::edit::Target::NewCard(kind));
+            app.request_edit(state.deck, crate::tui::edit::Target::NewCard(kind));
         }
         (Phase::Front { input }, Action::Input(c)) => input.push(c),
         (Phase::Front { input }, Action::Backspace) => {
