@@ -1000,3 +1000,72 @@ fn cards_with_a_schedule_and_no_review_history_keep_ankis_state() {
     assert_eq!(counts.new, 1, "only the new card is new: {counts:?}");
     assert_eq!(counts.due + counts.learning, 4, "{counts:?}");
 }
+
+/// A sync that brings another machine's answer from before Anki's last
+/// review leaves Anki's due date as it was; one from after it is scheduled
+/// from Anki's state (a review card stays a review card).
+#[test]
+fn a_sync_of_an_earlier_answer_keeps_ankis_due_date() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let out = dir.path().join("out");
+    let run = flipcard(
+        &data,
+        &[
+            "import",
+            &fixture("no-history.apkg"),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr());
+    let expect = no_history_expectations();
+    let crt = expect["crt"].as_i64().unwrap();
+    let card = &expect["cards"][0];
+    assert_eq!(card["type"].as_i64(), Some(2), "a review card");
+    let key = ItemKey {
+        deck: "scheduled".into(),
+        card: format!("n{}", card["nid"].as_i64().unwrap()),
+        direction: Direction::Forward,
+    };
+    let data_json: serde_json::Value =
+        serde_json::from_str(card["data"].as_str().unwrap()).unwrap();
+    let lrt = DateTime::<Utc>::from_timestamp(data_json["lrt"].as_i64().unwrap(), 0).unwrap();
+    let anki = anki_due(crt, card);
+    let folder = dir.path().join("sync");
+    std::fs::create_dir_all(&folder).unwrap();
+    let other = folder.join("0123456789abcdef0123456789abcdef.jsonl");
+    let line = |at: DateTime<Utc>, rating: u8| {
+        format!(
+            "{{\"event\":\"review\",\"deck\":\"scheduled\",\"card\":\"{}\",\"direction\":\"forward\",\"reviewed_at\":\"{}\",\"rating\":{rating},\"cram\":false,\"duration_ms\":2000,\"undone\":false}}\n",
+            key.card,
+            at.format("%Y-%m-%dT%H:%M:%S%.3fZ")
+        )
+    };
+    let earlier = lrt - chrono::TimeDelta::days(2);
+    std::fs::write(&other, line(earlier, 1)).unwrap();
+    let synced = flipcard(&data, &["sync", folder.to_str().unwrap()]);
+    assert!(synced.status.success(), "{}", synced.stderr());
+    let store = Store::open_read_only(&data).unwrap();
+    assert_eq!(store.history(&key).unwrap().len(), 1, "the answer merged");
+    let state = store.state(&key).unwrap().unwrap();
+    assert_eq!(state.due, anki, "Anki's due date replayed away");
+    assert_eq!(state.stability, data_json["s"].as_f64());
+    drop(store);
+    // An answer after Anki's last review: scheduled from Anki's state.
+    let later = lrt + chrono::TimeDelta::days(30);
+    let mut text = std::fs::read_to_string(&other).unwrap();
+    text.push_str(&line(later, 3));
+    std::fs::write(&other, text).unwrap();
+    let synced = flipcard(&data, &["sync", folder.to_str().unwrap()]);
+    assert!(synced.status.success(), "{}", synced.stderr());
+    let store = Store::open_read_only(&data).unwrap();
+    let state = store.state(&key).unwrap().unwrap();
+    assert_eq!(state.state, flipcard::sched::State::Review);
+    assert!(state.due > later + chrono::TimeDelta::days(30), "{state:?}");
+    // Good on a card Anki held for 400+ days grows its stability.
+    assert!(
+        state.stability.unwrap() > data_json["s"].as_f64().unwrap(),
+        "{state:?}"
+    );
+}
