@@ -37,7 +37,10 @@ pub fn run_pending(tui: &mut Tui, terminal: &mut dyn Suspend) {
     let before = match crate::io::read_regular(&session.path) {
         Ok(b) => b,
         Err(e) => {
-            tui.error(format!("{}: {e}", session.path.display()));
+            tui.error(
+                crate::text::safe::one_line(&format!("{}: {e}", session.path.display()))
+                    .into_owned(),
+            );
             return;
         }
     };
@@ -130,7 +133,10 @@ fn finish(tui: &mut Tui, mut session: Session, before: &[u8], ran: Result<(), St
     let now = match crate::io::read_regular(&session.path) {
         Ok(b) => b,
         Err(e) => {
-            tui.error(format!("{}: {e}", session.path.display()));
+            tui.error(
+                crate::text::safe::one_line(&format!("{}: {e}", session.path.display()))
+                    .into_owned(),
+            );
             return;
         }
     };
@@ -191,10 +197,11 @@ fn finish(tui: &mut Tui, mut session: Session, before: &[u8], ran: Result<(), St
         app_words(tui, words::SAVED)
     }];
     if session.copied {
+        let path = session.path.display().to_string();
         said.push(format!(
             "{}: {}",
             app_words(tui, words::COPIED),
-            session.path.display()
+            crate::text::safe::one_line(&path)
         ));
     }
     let d = &tui.decks[index];

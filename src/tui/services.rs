@@ -175,7 +175,7 @@ pub trait EditorRun {
 }
 
 /// The real editor: a command and its arguments (`$VISUAL`, else
-/// `$EDITOR`, else `vi`, split on whitespace as git does), run without a
+/// `$EDITOR`, else `vi`, split on whitespace), run without a
 /// shell as `ARGS… +LINE FILE`, so nothing in the file's name is ever
 /// read as shell syntax.
 #[derive(Debug, Clone, PartialEq, Eq)]
