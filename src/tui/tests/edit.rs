@@ -450,3 +450,35 @@ fn a_bundled_deck_is_copied_into_the_library_and_the_copy_edited() {
         .collect();
     assert_eq!(from, [Origin::Library]);
 }
+
+#[test]
+fn esc_on_the_check_keeps_the_broken_file_and_says_the_deck_is_left_out() {
+    let mut f = fixture(vec![replace("back = { en = 'Four.'", "back = { en = 42")]);
+    key(&mut f.app, 'E');
+    assert!(matches!(f.app.screen(), Screen::EditCheck(_)));
+    press(&mut f.app, crossterm::event::KeyCode::Esc);
+    assert!(matches!(f.app.screen(), Screen::Review(_)));
+    assert!(std::fs::read_to_string(&f.file).unwrap().contains("en = 42"));
+    assert!(status(&f.app).contains("left out"), "{}", status(&f.app));
+    // The app goes on with the deck as it was loaded.
+    assert_eq!(f.app.decks[0].card("two").unwrap().back.get("en"), "Four.");
+}
+
+#[test]
+fn a_in_the_browser_adds_a_card_of_the_selected_kind_and_selects_it() {
+    let mut f = fixture(vec![replace("'''The question.'''", "'''Mass of the proton?'''")]);
+    let browser = crate::tui::screens::browser::BrowserState::open(&f.app).unwrap();
+    f.app.push(Screen::Browser(Box::new(browser)));
+    key(&mut f.app, 'A');
+    let card = f.app.decks[0].card("new-card-1").expect("the new card");
+    assert_eq!(card.kind, crate::deck::CardKind::Basic);
+    let Screen::Browser(b) = f.app.screen() else {
+        panic!("not the browser");
+    };
+    assert_eq!(
+        b.current().map(|r| r.key(&f.app.decks)),
+        Some(item("new-card-1"))
+    );
+    let screen = render(&f.app);
+    assert!(screen.contains("Mass of the proton?"), "{screen}");
+}
