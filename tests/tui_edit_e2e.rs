@@ -32,6 +32,7 @@ if stty -a | tr ' ;' '\n\n' | grep -qx icanon; then echo cooked >> "$here/tty"; 
 case "$(cat "$here/mode")" in
   fix) sed -i "s/'Four\.'/'Four, surely.'/" "$2" ;;
   break) sed -i "s/back = { en = 'Four, surely.'/back = { en = 42/" "$2" ;;
+  add) sed -i "s/'''The question.'''/'''Mass of the proton?'''/" "$2" ;;
 esac
 "#;
 
@@ -91,7 +92,29 @@ fn e_edits_the_card_in_visual_and_a_broken_edit_is_reverted() {
     let tty = std::fs::read_to_string(root.join("bin/tty")).unwrap_or_default();
     assert_eq!(tty, "cooked\ncooked\n", "the editor ran in raw mode");
 
+    // `A`: a new card, written in the editor, studied at once.
+    write(&root.join("bin/mode"), "add");
+    t.keys(&["A"]);
+    t.wait_for("card added `new-card-1`");
+    t.wait_for("Mass of the proton?");
+    t.keys(&["Space"]);
+    t.wait_for("The answer.");
+    t.keys(&["3"]);
+    t.wait_for("What is two plus two?");
+
     t.keys(&["q", "q"]);
     let s = t.wait_for("TTY=");
     assert!(s.contains("EXIT=0") && s.contains("TTY=cooked"), "{s}");
+    let list = Flipcard::new(root.join("data"))
+        .now(NOW)
+        .decks(root.join("course/decks"))
+        .args(["cards", "list", "deck:mini", "--format", "json"])
+        .run();
+    let rows: serde_json::Value =
+        serde_json::from_str(&list.stdout()).unwrap_or_else(|e| panic!("{e}: {}", list.stdout()));
+    let new = rows
+        .as_array()
+        .and_then(|r| r.iter().find(|r| r["card"] == "new-card-1"))
+        .unwrap_or_else(|| panic!("no new-card-1 in {rows}"));
+    assert_eq!(new["reviews"], 1, "{new}");
 }

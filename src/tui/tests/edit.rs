@@ -458,7 +458,11 @@ fn esc_on_the_check_keeps_the_broken_file_and_says_the_deck_is_left_out() {
     assert!(matches!(f.app.screen(), Screen::EditCheck(_)));
     press(&mut f.app, crossterm::event::KeyCode::Esc);
     assert!(matches!(f.app.screen(), Screen::Review(_)));
-    assert!(std::fs::read_to_string(&f.file).unwrap().contains("en = 42"));
+    assert!(
+        std::fs::read_to_string(&f.file)
+            .unwrap()
+            .contains("en = 42")
+    );
     assert!(status(&f.app).contains("left out"), "{}", status(&f.app));
     // The app goes on with the deck as it was loaded.
     assert_eq!(f.app.decks[0].card("two").unwrap().back.get("en"), "Four.");
@@ -466,7 +470,10 @@ fn esc_on_the_check_keeps_the_broken_file_and_says_the_deck_is_left_out() {
 
 #[test]
 fn a_in_the_browser_adds_a_card_of_the_selected_kind_and_selects_it() {
-    let mut f = fixture(vec![replace("'''The question.'''", "'''Mass of the proton?'''")]);
+    let mut f = fixture(vec![replace(
+        "'''The question.'''",
+        "'''Mass of the proton?'''",
+    )]);
     let browser = crate::tui::screens::browser::BrowserState::open(&f.app).unwrap();
     f.app.push(Screen::Browser(Box::new(browser)));
     key(&mut f.app, 'A');
