@@ -897,3 +897,175 @@ fn an_anki_collection_goes_through_flipcard_and_back_into_anki() {
     }
     assert_eq!(compared, 10, "every card with a history compared");
 }
+
+/// `no-history.json`: what Anki had in `no-history.apkg`.
+fn no_history_expectations() -> serde_json::Value {
+    let text = std::fs::read_to_string(fixture("no-history.json")).unwrap();
+    serde_json::from_str(&text).unwrap()
+}
+
+/// Cards Anki scheduled whose review history is not in the package keep
+/// Anki's state (due date, interval, memory state): in the store, in
+/// `cards list` and in the queue; a new card stays new, and a card with
+/// its history keeps Anki's due date as before.
+#[test]
+fn cards_with_a_schedule_and_no_review_history_keep_ankis_state() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let out = dir.path().join("out");
+    let run = flipcard(
+        &data,
+        &[
+            "import",
+            &fixture("no-history.apkg"),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr());
+    let stdout = run.stdout();
+    assert!(
+        stdout.contains(
+            "due dates and intervals as Anki had them: 4 cards (3 with no review history"
+        ),
+        "{stdout}"
+    );
+    let expect = no_history_expectations();
+    let crt = expect["crt"].as_i64().unwrap();
+    let store = Store::open(&data).unwrap();
+    let key = |card: &serde_json::Value| ItemKey {
+        deck: "scheduled".into(),
+        card: format!("n{}", card["nid"].as_i64().unwrap()),
+        direction: Direction::Forward,
+    };
+    let mut kept = Vec::new();
+    for card in expect["cards"].as_array().unwrap() {
+        let front = card["front"].as_str().unwrap();
+        let state = store.state(&key(card)).unwrap();
+        if card["type"].as_i64().unwrap() == 0 {
+            assert_eq!(state, None, "{front}: new stays new");
+            continue;
+        }
+        let state = state.unwrap_or_else(|| panic!("{front}: Anki's state was not kept"));
+        assert_eq!(state.due, anki_due(crt, card), "{front}: Anki's due");
+        let data: serde_json::Value = serde_json::from_str(card["data"].as_str().unwrap()).unwrap();
+        assert_eq!(state.stability, data["s"].as_f64(), "{front}");
+        assert_eq!(state.difficulty, data["d"].as_f64(), "{front}");
+        let want = match card["type"].as_i64().unwrap() {
+            1 => flipcard::sched::State::Learning,
+            2 => flipcard::sched::State::Review,
+            _ => flipcard::sched::State::Relearning,
+        };
+        assert_eq!(state.state, want, "{front}");
+        if card["revlog"].as_array().unwrap().is_empty() {
+            assert!(store.history(&key(card)).unwrap().is_empty(), "{front}");
+            assert_eq!(
+                state.last_review.map(|t| t.timestamp()),
+                data["lrt"].as_i64(),
+                "{front}"
+            );
+        }
+        kept.push((key(card), state));
+    }
+    assert_eq!(kept.len(), 4);
+    // `cards list` shows them as Anki had them.
+    let deck = out.join("decks");
+    let list = Flipcard::new(&data)
+        .now(NOW)
+        .decks(&deck)
+        .args(["cards", "list", "deck:scheduled", "--format", "json"])
+        .run();
+    assert!(list.status.success(), "{}", list.stderr());
+    let rows: serde_json::Value = serde_json::from_str(&list.stdout()).unwrap();
+    for (key, state) in &kept {
+        let row = rows
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|r| r["card"] == key.card.as_str())
+            .unwrap_or_else(|| panic!("{} not listed", key.card));
+        assert_ne!(row["state"], "new", "{row}");
+        let due: DateTime<Utc> = row["due"].as_str().unwrap().parse().unwrap();
+        assert_eq!(due, state.due, "{row}");
+    }
+    // The day's queue: the review card due by then is a review, not new.
+    let config = Config::default();
+    let study = flipcard::study::Study::new(config, flipcard::study::DayZone::Utc, store);
+    let loaded = flipcard::deck::load_dir(&deck);
+    let d = loaded.decks.iter().find(|d| d.id == "scheduled").unwrap();
+    let late: DateTime<Utc> =
+        kept.iter().map(|(_, s)| s.due).max().unwrap() + chrono::TimeDelta::days(1);
+    let (queue, _) = study.queue(d, late).unwrap();
+    let counts = queue.counts();
+    assert_eq!(counts.new, 1, "only the new card is new: {counts:?}");
+    assert_eq!(counts.due + counts.learning, 4, "{counts:?}");
+}
+
+/// A sync that brings another machine's answer from before Anki's last
+/// review leaves Anki's due date as it was; one from after it is scheduled
+/// from Anki's state (a review card stays a review card).
+#[test]
+fn a_sync_of_an_earlier_answer_keeps_ankis_due_date() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let out = dir.path().join("out");
+    let run = flipcard(
+        &data,
+        &[
+            "import",
+            &fixture("no-history.apkg"),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(run.status.success(), "{}", run.stderr());
+    let expect = no_history_expectations();
+    let crt = expect["crt"].as_i64().unwrap();
+    let card = &expect["cards"][0];
+    assert_eq!(card["type"].as_i64(), Some(2), "a review card");
+    let key = ItemKey {
+        deck: "scheduled".into(),
+        card: format!("n{}", card["nid"].as_i64().unwrap()),
+        direction: Direction::Forward,
+    };
+    let data_json: serde_json::Value =
+        serde_json::from_str(card["data"].as_str().unwrap()).unwrap();
+    let lrt = DateTime::<Utc>::from_timestamp(data_json["lrt"].as_i64().unwrap(), 0).unwrap();
+    let anki = anki_due(crt, card);
+    let folder = dir.path().join("sync");
+    std::fs::create_dir_all(&folder).unwrap();
+    let other = folder.join("0123456789abcdef0123456789abcdef.jsonl");
+    let line = |at: DateTime<Utc>, rating: u8| {
+        format!(
+            "{{\"event\":\"review\",\"deck\":\"scheduled\",\"card\":\"{}\",\"direction\":\"forward\",\"reviewed_at\":\"{}\",\"rating\":{rating},\"cram\":false,\"duration_ms\":2000,\"undone\":false}}\n",
+            key.card,
+            at.format("%Y-%m-%dT%H:%M:%S%.3fZ")
+        )
+    };
+    let earlier = lrt - chrono::TimeDelta::days(2);
+    std::fs::write(&other, line(earlier, 1)).unwrap();
+    let synced = flipcard(&data, &["sync", folder.to_str().unwrap()]);
+    assert!(synced.status.success(), "{}", synced.stderr());
+    let store = Store::open_read_only(&data).unwrap();
+    assert_eq!(store.history(&key).unwrap().len(), 1, "the answer merged");
+    let state = store.state(&key).unwrap().unwrap();
+    assert_eq!(state.due, anki, "Anki's due date replayed away");
+    assert_eq!(state.stability, data_json["s"].as_f64());
+    drop(store);
+    // An answer after Anki's last review: scheduled from Anki's state.
+    let later = lrt + chrono::TimeDelta::days(30);
+    let mut text = std::fs::read_to_string(&other).unwrap();
+    text.push_str(&line(later, 3));
+    std::fs::write(&other, text).unwrap();
+    let synced = flipcard(&data, &["sync", folder.to_str().unwrap()]);
+    assert!(synced.status.success(), "{}", synced.stderr());
+    let store = Store::open_read_only(&data).unwrap();
+    let state = store.state(&key).unwrap().unwrap();
+    assert_eq!(state.state, flipcard::sched::State::Review);
+    assert!(state.due > later + chrono::TimeDelta::days(30), "{state:?}");
+    // Good on a card Anki held for 400+ days grows its stability.
+    assert!(
+        state.stability.unwrap() > data_json["s"].as_f64().unwrap(),
+        "{state:?}"
+    );
+}

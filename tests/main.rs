@@ -57,3 +57,4 @@ mod system_large;
 mod true_retention;
 mod tui_browser_e2e;
 mod tui_e2e;
+mod tui_edit_e2e;

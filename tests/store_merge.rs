@@ -270,9 +270,12 @@ proptest::proptest! {
         rows.dedup_by_key(|r| r.reviewed_at);
         let last = rows.last().unwrap().reviewed_at;
         let kept = flipcard::store::KeptState {
+            at: last,
+            state: flipcard::sched::State::Review,
             due: last + Duration::days(due_days) + Duration::seconds(1),
             stability,
             difficulty: Some(5.5),
+            last_review: Some(last),
         };
         let map = std::collections::HashMap::from([(k.clone(), kept)]);
         let summary = store.merge_reviews_keeping(&rows, &s, &map).unwrap();
@@ -298,5 +301,73 @@ proptest::proptest! {
         let report = store.rebuild().unwrap();
         proptest::prop_assert_eq!(report.changed, 0);
         proptest::prop_assert_eq!(store.state(&k).unwrap().unwrap().due, kept.due);
+    }
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(48))]
+    /// A kept state stays the base later merges replay from (a sync that
+    /// brings answers of another machine goes through the same merge):
+    /// answers up to its time end in it, so Anki's due date survives
+    /// them; an answer after it is replayed from it; `rebuild` agrees.
+    /// An item with no answer at all (Anki's schedule without its review
+    /// history) has the kept state as its state, as the queue reads it.
+    #[test]
+    fn a_kept_state_survives_later_merges_of_earlier_answers(
+        anki in proptest::collection::vec((0i64..200_000, 1u8..=4), 0..6),
+        earlier in proptest::collection::vec((0i64..200_000, 1u8..=4), 1..5),
+        later in proptest::option::of((1i64..100_000, 1u8..=4)),
+        due_days in 1i64..400,
+        stability in 0.5f64..500.0,
+        learning in proptest::bool::ANY,
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let mut store = Store::open(dir.path()).unwrap();
+        let s = scheduler();
+        let k = key("d", "c");
+        let t0 = at("2026-01-05T08:00:00Z");
+        let answer = |(min, r): &(i64, u8)| incoming(&k, t0 + Duration::minutes(*min), Rating::from_number(i64::from(*r)).unwrap());
+        let mut rows: Vec<IncomingReview> = anki.iter().map(answer).collect();
+        rows.sort_by_key(|r| r.reviewed_at);
+        rows.dedup_by_key(|r| r.reviewed_at);
+        // Anki's last answer, or its last review when none came along.
+        let last = rows.last().map_or(t0 + Duration::minutes(200_000), |r| r.reviewed_at);
+        let kept = flipcard::store::KeptState {
+            at: last,
+            state: if learning { flipcard::sched::State::Learning } else { flipcard::sched::State::Review },
+            due: last + Duration::days(due_days),
+            stability: Some(stability),
+            difficulty: Some(4.5),
+            last_review: Some(last),
+        };
+        let map = std::collections::HashMap::from([(k.clone(), kept)]);
+        store.merge_reviews_keeping(&rows, &s, &map).unwrap();
+        let state = store.state(&k).unwrap().unwrap();
+        proptest::prop_assert_eq!(state.due, kept.due);
+        proptest::prop_assert_eq!(state.state, kept.state);
+        proptest::prop_assert_eq!(state.stability, Some(stability));
+        // Answers from elsewhere, up to Anki's last: absorbed in its state.
+        let seen: std::collections::HashSet<_> = rows.iter().map(|r| r.reviewed_at).collect();
+        let mut more: Vec<IncomingReview> = earlier
+            .iter()
+            .map(|(min, r)| answer(&(min % 200_000, *r)))
+            .filter(|r| r.reviewed_at <= last && !seen.contains(&r.reviewed_at))
+            .collect();
+        more.sort_by_key(|r| r.reviewed_at);
+        more.dedup_by_key(|r| r.reviewed_at);
+        store.merge_reviews(&more, &s).unwrap();
+        let state = store.state(&k).unwrap().unwrap();
+        proptest::prop_assert_eq!(state.due, kept.due, "an earlier answer replayed Anki's due away");
+        proptest::prop_assert_eq!(state.stability, Some(stability));
+        proptest::prop_assert_eq!(store.rebuild().unwrap().changed, 0);
+        // An answer after it: replayed from Anki's state.
+        if let Some((min, r)) = later {
+            let when = last + Duration::minutes(min);
+            let rating = Rating::from_number(i64::from(r)).unwrap();
+            store.merge_reviews(&[incoming(&k, when, rating)], &s).unwrap();
+            let want = s.review(&k, Some(&kept.base()), rating, when, 3_000).after;
+            proptest::prop_assert_eq!(store.state(&k).unwrap().unwrap(), want);
+            proptest::prop_assert_eq!(store.rebuild().unwrap().changed, 0);
+        }
     }
 }

@@ -143,19 +143,27 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
         import.reviews_skipped,
         plural(summary.items, "card state", "card states")
     )?;
-    let kept_due = import
+    let kept_due = import.states.due.len();
+    let without_history = import
         .states
         .due
         .keys()
-        .filter(|k| import.reviews.iter().any(|r| &r.key == *k))
+        .filter(|k| !import.reviews.iter().any(|r| &r.key == *k))
         .count();
     crate::outln!(
-        "states kept: suspended {}, buried {}, flagged {} (as flag: tags), leeches {}; due dates and intervals as Anki had them: {}",
+        "states kept: suspended {}, buried {}, flagged {} (as flag: tags), leeches {}; due dates and intervals as Anki had them: {}{}",
         states.suspended.len(),
         states.buried.len(),
         states.flagged,
         states.leeches.len(),
-        plural(kept_due, "card", "cards")
+        plural(kept_due, "card", "cards"),
+        if without_history > 0 {
+            format!(
+                " ({without_history} with no review history: scheduled as Anki had them, their answers not in the package)"
+            )
+        } else {
+            String::new()
+        }
     )?;
     if !import.note_types.is_empty() {
         crate::outln!("note types mapped:")?;

@@ -120,6 +120,24 @@ pub fn sources(cli: &Cli, config: &Config) -> Vec<Source> {
     out
 }
 
+/// The ids of the library's deck files (`<id>.toml`) that are also
+/// bundled decks' ids: the library's copy (made by editing a bundled deck
+/// in the app) replaces the bundled deck.
+fn copies_of_bundled(sources: &[Source]) -> Vec<String> {
+    let Some(lib) = sources.iter().find(|s| s.origin == Origin::Library) else {
+        return Vec::new();
+    };
+    let Ok(entries) = crate::io::entries(&lib.path) else {
+        return Vec::new();
+    };
+    entries
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .filter_map(|p| p.file_stem()?.to_str().map(str::to_string))
+        .filter(|id| bundled::deck_files(id).is_some())
+        .collect()
+}
+
 /// Loads every source's decks.
 pub fn load_with(sources: Vec<Source>) -> Library {
     load_cached(sources, None)
@@ -149,7 +167,7 @@ pub fn deck_cache(data: &Path) -> DeckCache {
 
 /// [`load_with`], taking large decks that have not changed from `cache`.
 pub fn load_cached(sources: Vec<Source>, cache: Option<&DeckCache>) -> Library {
-    let memory = bundled::tree();
+    let memory = bundled::tree_without(&copies_of_bundled(&sources));
     let pairs: Vec<(&dyn Tree, PathBuf)> = sources
         .iter()
         .map(|s| {
@@ -165,6 +183,53 @@ pub fn load_cached(sources: Vec<Source>, cache: Option<&DeckCache>) -> Library {
         sources,
         loaded,
         files,
+    }
+}
+
+/// What the app needs of the library to edit a deck (`E`, `A`): which
+/// decks are bundled, and copying one into the library first.
+pub struct EditLibrary {
+    data_dir: PathBuf,
+    bundled: Vec<String>,
+}
+
+impl EditLibrary {
+    /// The library of `data_dir`, over the decks `library` loaded.
+    pub fn new(data_dir: PathBuf, library: &Library) -> EditLibrary {
+        let bundled = library
+            .files
+            .iter()
+            .filter(|f| library.source_of(f).origin == Origin::Bundled)
+            .filter_map(|f| f.deck.map(|i| library.loaded.decks[i].id.clone()))
+            .collect();
+        EditLibrary { data_dir, bundled }
+    }
+}
+
+impl crate::tui::services::DeckLibrary for EditLibrary {
+    fn is_bundled(&self, id: &str) -> bool {
+        self.bundled.iter().any(|b| b == id)
+    }
+
+    fn copy_bundled(&mut self, id: &str) -> Result<PathBuf, String> {
+        let (file, content) =
+            bundled::deck_files(id).ok_or_else(|| format!("no bundled deck `{id}`"))?;
+        install(
+            &self.data_dir,
+            &NewDeck {
+                id: id.to_string(),
+                file,
+                content,
+            },
+        )
+        .map_err(|e| {
+            format!(
+                "cannot copy the bundled deck `{id}` into the library: {}",
+                crate::cmd::output::chain_text(&e)
+            )
+        })?;
+        self.bundled.retain(|b| b != id);
+        Ok(library_dir(&self.data_dir).join(format!("{id}.toml")))
     }
 }
 

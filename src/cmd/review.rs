@@ -45,10 +45,13 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
             .map(|f| f.path.display().to_string())
             .collect(),
     };
+    let edit_library = crate::cmd::library::EditLibrary::new(data_dir.clone(), &library);
     let loaded = library.loaded;
     let lang = config.language.clone();
     let mut services = Services::new(clock, config, config_path, DayZone::Local, store);
     services.bench_csv = paths::bench_csv();
+    services.editor = Box::new(editor_from_env());
+    services.library = Some(Box::new(edit_library));
     if let Some(dir) = sync_dir.clone() {
         services.sync_through(data_dir.clone(), dir);
     }
@@ -72,6 +75,15 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     }
     ran?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The editor `E` and `A` open: `$VISUAL`, else `$EDITOR`, else `vi`
+/// (an empty or blank variable counts as unset), split on whitespace.
+fn editor_from_env() -> crate::tui::services::Spawn {
+    let set = |name: &str| std::env::var(name).ok().filter(|v| !v.trim().is_empty());
+    crate::tui::services::Spawn::from_setting(
+        &set("VISUAL").or_else(|| set("EDITOR")).unwrap_or_default(),
+    )
 }
 
 /// The filter `--tag`, `--state` and `--due-within` ask for (empty when

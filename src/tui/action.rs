@@ -48,6 +48,14 @@ pub enum Action {
     /// Open the prompt the card links to.
     OpenCardPrompt,
 
+    // Editing the deck file (review screen and card browser)
+    /// Open the item in the learner's editor (`E`; on the check screen, `e`).
+    EditItem,
+    /// Append a new card of the current card's kind and open it (`A`).
+    AddCard,
+    /// Put the deck file back as it was before the edit (`r`).
+    Revert,
+
     // Suspend and bury (review screen and card browser)
     Suspend,
     Unsuspend,

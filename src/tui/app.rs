@@ -48,6 +48,12 @@ pub struct App {
     /// Time the last simulation step and the last frame took (µs), measured
     /// by the event loop; shown in the diagnostics line.
     pub frame_us: FrameTimes,
+    /// An edit a screen asked for (`E`, `A`), carried out by the event
+    /// loop, which owns the terminal ([`super::edit_run::run_pending`]).
+    pub edit: Option<super::edit::Pending>,
+    /// What the check screen of an edit says once it has closed (closing
+    /// a screen clears the status line).
+    pub edit_said: Option<String>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -77,6 +83,8 @@ impl App {
             status: None,
             services,
             frame_us: FrameTimes::default(),
+            edit: None,
+            edit_said: None,
         }
     }
 
@@ -92,6 +100,11 @@ impl App {
     /// Whether a sync runs in the background (the event loop then ticks).
     pub fn syncing(&self) -> bool {
         self.services.sync.as_ref().is_some_and(|s| s.busy())
+    }
+
+    /// Asks the event loop to edit `target` of deck `deck` (`E`, `A`).
+    pub fn request_edit(&mut self, deck: usize, target: super::edit::Target) {
+        self.edit = Some(super::edit::Pending::Start { deck, target });
     }
 
     pub fn info(&mut self, text: impl Into<String>) {

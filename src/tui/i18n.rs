@@ -153,6 +153,7 @@ pub enum Msg {
     LeechSuspended,
     LeechMarked,
     Browser,
+    DeckCheck,
     FilterTitle,
     KeyBrowse,
     KeyFilter,
@@ -416,6 +417,7 @@ pub fn tr(lang: &str, msg: Msg) -> &'static str {
             "leech: baar baar bhoola (browser mein nishaan laga)"
         ),
         Browser => pick!("Card browser", "Card browser"),
+        DeckCheck => pick!("Deck check", "Deck check"),
         FilterTitle => pick!("Study filter", "Padhai filter"),
         KeyBrowse => pick!("browse", "browse"),
         KeyFilter => pick!("filter", "filter"),
@@ -1047,6 +1049,58 @@ pub mod info {
         "*: crammed, the schedule stayed as it was",
         "*: cram, schedule waisa hi raha",
     );
+}
+
+/// Editing a deck from the review screen and the browser (`E`, `A`).
+pub mod edit {
+    use super::Words;
+
+    /// The screen's name in the header while a deck's check fails.
+    pub const TITLE: Words = Words("Deck check", "Deck check");
+    /// Before the copy's path: a bundled deck was copied to be edited.
+    pub const COPIED: Words = Words(
+        "bundled deck copied into your library, editing the copy",
+        "bundled deck aapki library mein copy hua, copy edit ho rahi hai",
+    );
+    pub const SAVED: Words = Words(
+        "deck checked and reloaded",
+        "deck check hua aur dobara load hua",
+    );
+    pub const UNCHANGED: Words = Words("the deck file is unchanged", "deck file nahi badli");
+    pub const NOTHING_ADDED: Words = Words(
+        "the new card was left as the template: nothing added",
+        "naya card template jaisa hi chhoda: kuch nahi joda",
+    );
+    /// Before the new card's id.
+    pub const ADDED: Words = Words("card added", "card joda gaya");
+    /// After the old id: the card's history did not follow it.
+    pub const ID_CHANGED: Words = Words(
+        "is no longer in the deck: its history stays with that id (give the card its old id back to keep it)",
+        "ab deck mein nahi hai: uski history usi id ke saath rehti hai (history rakhni ho to card ko purani id wapas do)",
+    );
+    /// Above the first error of a deck that fails its check.
+    pub const FAILED: Words = Words(
+        "The deck does not pass its check after the edit:",
+        "Edit ke baad deck check pass nahi karta:",
+    );
+    pub const CHOICES: Words = Words(
+        "e: edit again at the error · r: revert the file to what it was before the edit",
+        "e: error par phir se edit karo · r: file ko edit se pehle jaisi wapas karo",
+    );
+    pub const REVERTED: Words = Words(
+        "the deck file is back as it was before the edit",
+        "deck file edit se pehle jaisi wapas ho gayi",
+    );
+    pub const KEPT_BROKEN: Words = Words(
+        "the deck file keeps the error: the deck is left out when flipcard next opens, until it passes `flipcard check`",
+        "deck file mein error reh gaya: agli baar flipcard khulne par deck bahar rahega, jab tak `flipcard check` pass na ho",
+    );
+    pub const NOT_A_FILE: Words = Words(
+        "this deck has no file to edit",
+        "is deck ki edit karne layak file nahi hai",
+    );
+    pub const NOTHING_TO_EDIT: Words =
+        Words("no card to edit here", "yahan edit karne ko card nahi");
 }
 
 #[cfg(test)]

@@ -53,6 +53,8 @@ pub enum Context {
     Filter,
     /// Card info: an item's review history.
     Info,
+    /// An edited deck failed its check: edit again or revert.
+    EditCheck,
 }
 
 /// What a help line's keys do.

@@ -11,6 +11,8 @@
 pub mod action;
 pub mod app;
 pub mod derivation;
+pub mod edit;
+pub mod edit_run;
 pub mod geometry;
 pub mod i18n;
 pub mod keymap;
@@ -211,8 +213,27 @@ fn event_loop(
             && let Some(action) = event_action(app, event)
         {
             apply(app, action);
+            if app.edit.is_some() {
+                edit_run::run_pending(app, &mut GivenUp(terminal));
+            }
             dirty = true;
         }
+    }
+}
+
+/// The terminal handed to the learner's editor and taken back: cooked
+/// mode and the main screen while the editor runs, then raw mode, the
+/// alternate screen and a full redraw.
+struct GivenUp<'a>(&'a mut DefaultTerminal);
+
+impl edit::Suspend for GivenUp<'_> {
+    fn leave(&mut self) {
+        ratatui::restore();
+    }
+    fn enter(&mut self) {
+        let _ = crossterm::terminal::enable_raw_mode();
+        let _ = crossterm::execute!(std::io::stdout(), crossterm::terminal::EnterAlternateScreen);
+        let _ = self.0.clear();
     }
 }
 

@@ -2,7 +2,7 @@
 //! (`crate::study`: config, scheduler, store, and what each action does),
 //! the background sync, and caches kept between screens.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -107,6 +107,11 @@ pub struct Services {
     /// reach its time however long that takes (tests, so that snapshots do
     /// not depend on how fast the machine is).
     pub physics_slice: Option<std::time::Duration>,
+    /// The editor `E` and `A` open a deck file in ([`super::edit`]).
+    pub editor: Box<dyn EditorRun>,
+    /// The learner's deck library, where a bundled deck is copied before
+    /// it is edited (`None`: no library, bundled decks cannot be edited).
+    pub library: Option<Box<dyn DeckLibrary>>,
 }
 
 impl Services {
@@ -126,6 +131,8 @@ impl Services {
             sync: None,
             browser_index: Default::default(),
             physics_slice: Some(super::live::SLICE),
+            editor: Box::new(Spawn::vi()),
+            library: None,
         }
     }
 
@@ -158,6 +165,71 @@ impl Services {
             None => Ok(()),
         }
     }
+}
+
+/// Runs the learner's editor on a deck file, waiting for it to close.
+pub trait EditorRun {
+    /// Opens `file` at `line`; an error is one line saying why the editor
+    /// could not run (or that it failed).
+    fn run(&mut self, file: &Path, line: usize) -> Result<(), String>;
+}
+
+/// The real editor: a command and its arguments (`$VISUAL`, else
+/// `$EDITOR`, else `vi`, split on whitespace), run without a
+/// shell as `ARGS… +LINE FILE`, so nothing in the file's name is ever
+/// read as shell syntax.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Spawn {
+    pub argv: Vec<String>,
+}
+
+impl Spawn {
+    pub fn vi() -> Spawn {
+        Spawn {
+            argv: vec!["vi".to_string()],
+        }
+    }
+
+    /// The editor a setting names (`$VISUAL` or `$EDITOR`): its words;
+    /// `vi` when it is empty or blank.
+    pub fn from_setting(setting: &str) -> Spawn {
+        let argv: Vec<String> = setting.split_whitespace().map(str::to_string).collect();
+        if argv.is_empty() {
+            Spawn::vi()
+        } else {
+            Spawn { argv }
+        }
+    }
+}
+
+impl EditorRun for Spawn {
+    fn run(&mut self, file: &Path, line: usize) -> Result<(), String> {
+        let name = crate::text::safe::one_line(&self.argv[0]);
+        let status = std::process::Command::new(&self.argv[0])
+            .args(&self.argv[1..])
+            .arg(format!("+{}", line.max(1)))
+            .arg(file)
+            .status()
+            .map_err(|e| {
+                format!("cannot start the editor `{name}`: {e} (set $VISUAL or $EDITOR)")
+            })?;
+        if status.success() {
+            Ok(())
+        } else {
+            Err(format!("the editor `{name}` failed ({status})"))
+        }
+    }
+}
+
+/// What the app needs of the learner's deck library to edit a deck.
+pub trait DeckLibrary {
+    /// Whether the deck `id` is one of the bundled decks (its file is in
+    /// the binary, not on disk).
+    fn is_bundled(&self, id: &str) -> bool;
+    /// Copies the bundled deck `id` (its file and explanations) into the
+    /// library, where it replaces the bundled one; returns the copy's
+    /// deck file.
+    fn copy_bundled(&mut self, id: &str) -> Result<PathBuf, String>;
 }
 
 /// The search index kept between openings of the browser, with the texts

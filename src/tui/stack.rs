@@ -133,6 +133,14 @@ impl Tui {
         true
     }
 
+    /// Calls `f` on each open screen, bottom first, with the shared app
+    /// (after an edit, each screen takes the reloaded deck).
+    pub fn each_screen(&mut self, mut f: impl FnMut(&App, &mut Screen)) {
+        for screen in self.stack.iter_mut() {
+            f(&self.app, screen);
+        }
+    }
+
     /// Whether a simulation is playing, so the event loop must tick.
     pub fn animating(&self) -> bool {
         self.screen().view().animating()

@@ -50,7 +50,12 @@ pub fn apply(app: &mut Tui, action: Action) {
     match nav {
         Nav::Stay => {}
         Nav::Push(screen) => app.push(screen),
-        Nav::Pop => app.pop(),
+        Nav::Pop => {
+            app.pop();
+            if let Some(said) = app.edit_said.take() {
+                app.info(said);
+            }
+        }
         Nav::Replace(screen) => {
             app.pop();
             app.push(screen);

@@ -98,6 +98,14 @@ pub const KEYS: &[Binding] = &[
         ],
     ),
     Binding::new(
+        "E A",
+        Words(
+            "edit the item in its deck file / add a card of its kind",
+            "item uski deck file mein badlo / uski kind ka naya card jodo",
+        ),
+        &[(Char('E'), Action::EditItem), (Char('A'), Action::AddCard)],
+    ),
+    Binding::new(
         "u",
         Words(
             "undo the last suspend, bury or unsuspend",
@@ -557,6 +565,37 @@ impl BrowserState {
     pub fn current(&self) -> Option<&ItemRow> {
         self.shown.get(self.selected).map(|&i| &self.rows[i])
     }
+
+    /// A deck was edited and reloaded (`E`, `A`): the rows are read again
+    /// (their places in the decks may have moved), with the same query
+    /// and sort, on the item edited (or the card added) when it is shown.
+    pub fn deck_edited(&mut self, app: &App, edited: &crate::tui::edit::Edited) {
+        let want = match (&edited.new_card, &edited.target) {
+            (Some(id), _) => app.decks.get(edited.deck).and_then(|d| {
+                crate::sched::deck_items(d)
+                    .into_iter()
+                    .find(|k| &k.card == id)
+            }),
+            (None, crate::tui::edit::Target::Item(key)) => Some(key.clone()),
+            _ => None,
+        }
+        .or_else(|| self.current().map(|r| r.key(&app.decks)));
+        let Ok(mut fresh) = BrowserState::open(app) else {
+            return;
+        };
+        fresh.query = self.query.clone();
+        fresh.sort = self.sort;
+        fresh.refilter(&app.decks);
+        fresh.selected = want
+            .and_then(|k| {
+                fresh
+                    .shown
+                    .iter()
+                    .position(|&i| fresh.rows[i].key(&app.decks) == k)
+            })
+            .unwrap_or(self.selected.min(fresh.shown.len().saturating_sub(1)));
+        *self = fresh;
+    }
 }
 
 /// The rank of each row in the order of `col` (ties in deck order).
@@ -728,10 +767,34 @@ pub fn apply(app: &mut App, s: &mut BrowserState, action: Action) -> Nav {
         }
         Action::Suspend | Action::Bury | Action::Unsuspend => mark(app, s, action),
         Action::Undo => undo(app, s),
+        Action::EditItem | Action::AddCard => edit(app, s, action),
         Action::Tick(_) if s.waiting && s.index.ready() => s.refilter(&app.decks),
         _ => {}
     }
     Nav::Stay
+}
+
+/// `E` and `A` on the selected item: its deck file in the editor.
+fn edit(app: &mut App, s: &BrowserState, action: Action) {
+    use crate::tui::edit::Target;
+    let Some(row) = s.current() else {
+        app.info(crate::tui::i18n::edit::NOTHING_TO_EDIT.get(&app.lang));
+        return;
+    };
+    let target = if action == Action::AddCard {
+        let kind = match row.direction {
+            Direction::Predict | Direction::Derive => crate::deck::CardKind::Basic,
+            _ => app
+                .decks
+                .get(row.deck)
+                .and_then(|d| d.cards.get(row.card))
+                .map_or(crate::deck::CardKind::Basic, |c| c.kind),
+        };
+        Target::NewCard(kind)
+    } else {
+        Target::Item(row.key(&app.decks))
+    };
+    app.request_edit(row.deck, target);
 }
 
 fn explain(app: &mut App, s: &BrowserState) -> Nav {

@@ -3,6 +3,7 @@
 //! screens the stack holds ([`Screen`]) and which table is whose ([`keys`]).
 
 pub mod browser;
+pub mod edit_check;
 pub mod exam;
 pub mod filter;
 pub mod formulas;
@@ -58,6 +59,7 @@ pub enum Screen {
     Browser(Box<browser::BrowserState>),
     Filter(Box<filter::FilterState>),
     Info(Box<info::InfoState>),
+    EditCheck(Box<edit_check::EditCheckState>),
 }
 
 impl Screen {
@@ -74,6 +76,7 @@ impl Screen {
             Screen::Browser(s) => s.as_ref(),
             Screen::Filter(s) => s.as_ref(),
             Screen::Info(s) => s.as_ref(),
+            Screen::EditCheck(s) => s.as_ref(),
         }
     }
 
@@ -90,6 +93,7 @@ impl Screen {
             Screen::Browser(s) => s.as_mut(),
             Screen::Filter(s) => s.as_mut(),
             Screen::Info(s) => s.as_mut(),
+            Screen::EditCheck(s) => s.as_mut(),
         }
     }
 
@@ -133,6 +137,7 @@ pub fn keys(ctx: Context) -> &'static [Binding] {
         Context::BrowserSearch => browser::SEARCH_KEYS,
         Context::Filter => filter::KEYS,
         Context::Info => info::KEYS,
+        Context::EditCheck => edit_check::KEYS,
     }
 }
 

@@ -10,6 +10,7 @@ use super::update::apply;
 
 mod browser;
 mod derive;
+mod edit;
 mod exam;
 mod explore;
 mod formula_answers;

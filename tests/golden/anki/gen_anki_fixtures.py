@@ -7,6 +7,7 @@ library, for the current zstd layout) and zstandard:
     pip install anki==26.9.3 genanki==0.13.1 zstandard==0.25.0
     python3 tests/golden/anki/gen_anki_fixtures.py tests/golden/anki
     python3 tests/golden/anki/gen_anki_fixtures.py tests/golden/anki stock   # stock.* only
+    python3 tests/golden/anki/gen_anki_fixtures.py tests/golden/anki no-history   # no-history.* only
 
 Writes:
 - legacy.apkg     genanki's collection.anki2 (schema 11): Basic, Basic (and
@@ -33,6 +34,13 @@ Writes:
                   clock (only the answer times are set), so due dates and
                   ids differ from one generation to the next: the tests
                   read them from stock.json, never hard-code them.
+- no-history.apkg  made by Anki itself (`no_history(out)`): cards Anki
+                  scheduled (review, learning and relearning, FSRS on) whose
+                  review history was then deleted, as a shared deck with
+                  scheduling or a collection whose revlog was cleared has
+                  them, beside a new card and a card that keeps its
+                  history. `no-history.json` holds what Anki had (type,
+                  due, ivl, data, revlog ids) for the tests to compare.
 Deterministic apart from Anki's own ids in modern.* (the tests read them
 through the notes' content, not their ids).
 """
@@ -345,12 +353,75 @@ def stock(out):
         col.close()
 
 
+def no_history(out):
+    """Cards with a schedule and no review history (see the module doc)."""
+    import json
+    from unittest import mock
+    from anki.collection import Collection, ExportAnkiPackageOptions
+    from anki.scheduler_pb2 import CardAnswer  # noqa: F401 (the answers below)
+
+    with tempfile.TemporaryDirectory() as d:
+        col = Collection(os.path.join(d, "collection.anki2"))
+        col.set_config("fsrs", True)
+        col.db.execute("UPDATE col SET crt = ?", T0 // 1000 - 4 * 3600)
+        deck = col.decks.id("Scheduled")
+        fronts = [
+            ("Wavelength of red light", "about 700 nm"),
+            ("Speed of sound in air", "about 343 m/s"),
+            ("Charge of the electron", "1.602 × 10⁻¹⁹ C"),
+            ("Boltzmann constant", "1.381 × 10⁻²³ J/K"),
+            ("Avogadro constant", "6.022 × 10²³ /mol"),
+        ]
+        nids = []
+        for front, back in fronts:
+            note = col.new_note(col.models.by_name("Basic"))
+            note.fields[0], note.fields[1] = front, back
+            col.add_note(note, deck)
+            nids.append(note.id)
+        cid = {i: col.db.scalar("SELECT id FROM cards WHERE nid = ?", nid) for i, nid in enumerate(nids)}
+        # 0: a review card; 1: a review card lapsed into relearning;
+        # 2: a learning card; 3: new; 4: a review card that keeps its history.
+        plan = {0: [(0, 3), (3, 3), (12, 3)], 1: [(0, 3), (4, 3), (15, 1)], 2: [(20, 3)], 4: [(0, 3), (5, 4)]}
+        answers = sorted((T0 + int(days * DAY) + i * 60_000, i, ease) for i, rows in plan.items() for days, ease in rows)
+        for at, i, ease in answers:
+            with mock.patch("time.time", return_value=at / 1000):
+                card = col.get_card(cid[i])
+                card.start_timer()
+                states = col._backend.get_scheduling_states(card.id)
+                answer = col.sched.build_answer(card=card, states=states, rating={1: 0, 2: 1, 3: 2, 4: 3}[ease])
+                answer.answered_at_millis = at
+                answer.milliseconds_taken = 4000
+                col.sched.answer_card(answer)
+        col.db.execute("DELETE FROM revlog WHERE cid IN (?, ?, ?)", cid[0], cid[1], cid[2])
+        path = os.path.join(out, "no-history.apkg")
+        col.export_anki_package(
+            out_path=path,
+            options=ExportAnkiPackageOptions(with_scheduling=True, with_deck_configs=True, with_media=False, legacy=False),
+            limit=None,
+        )
+        crt = col.db.scalar("SELECT crt FROM col")
+        expect = {"crt": crt, "cards": []}
+        for i, nid in enumerate(nids):
+            ctype, queue, due, ivl, data = col.db.first("SELECT type, queue, due, ivl, data FROM cards WHERE id = ?", cid[i])
+            revlog = col.db.list("SELECT id FROM revlog WHERE cid = ? ORDER BY id", cid[i])
+            expect["cards"].append({"nid": nid, "front": fronts[i][0], "type": ctype, "queue": queue,
+                                    "due": due, "ivl": ivl, "data": data, "revlog": revlog})
+        with open(os.path.join(out, "no-history.json"), "w") as f:
+            json.dump(expect, f, indent=1, ensure_ascii=False)
+            f.write("\n")
+        col.close()
+
+
 if __name__ == "__main__":
     os.makedirs(OUT, exist_ok=True)
     if sys.argv[2:] == ["stock"]:
         stock(OUT)
         sys.exit(0)
+    if sys.argv[2:] == ["no-history"]:
+        no_history(OUT)
+        sys.exit(0)
     legacy(OUT)
     modern(OUT)
     broken(OUT)
     stock(OUT)
+    no_history(OUT)

@@ -26,6 +26,7 @@ pub mod report;
 pub mod schema;
 mod suggest;
 mod syntax;
+pub mod template;
 pub(crate) mod tomlstr;
 pub mod validate;
 

@@ -186,3 +186,86 @@ mod tests {
         assert_eq!(p.when[1].map(|w| w.line), Some(8));
     }
 }
+
+/// What kind of table an item of a deck file is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ItemTable {
+    Card,
+    Prompt,
+    Derivation,
+}
+
+/// The line (1-based) of the `id` of the card, prompt or derivation `id`
+/// in the deck file `source`: where an editor opens it. `None` when the
+/// file does not parse or has no such item.
+pub fn item_line(path: &Path, source: &str, table: ItemTable, id: &str) -> Option<usize> {
+    let file = read(path, source)?;
+    let ids: Vec<&super::raw::Str> = match table {
+        ItemTable::Card => file.cards.iter().filter_map(|c| c.id.as_ref()).collect(),
+        ItemTable::Prompt => file.prompts.iter().filter_map(|p| p.id.as_ref()).collect(),
+        ItemTable::Derivation => file
+            .derivations
+            .iter()
+            .filter_map(|d| d.id.as_ref())
+            .collect(),
+    };
+    let found = ids.into_iter().find(|s| s.value == id)?;
+    let index = LineIndex::new(source);
+    Some(index.position(source, found.span.start).0)
+}
+
+#[cfg(test)]
+mod item_line_tests {
+    use super::*;
+
+    #[test]
+    fn an_items_line_is_the_line_of_its_id() {
+        let src = "[deck]\nid = \"d\"\ntitle.en = 'D'\nlanguages = [\"en\"]\n\n[[card]]\nid = \"a\"\nfront.en = 'x'\nback.en = 'y'\n\n[[card]]\n\nid = \"b\"\nfront.en = 'x'\nback.en = 'y'\n";
+        let p = Path::new("d.toml");
+        assert_eq!(item_line(p, src, ItemTable::Card, "a"), Some(7));
+        assert_eq!(item_line(p, src, ItemTable::Card, "b"), Some(13));
+        assert_eq!(item_line(p, src, ItemTable::Card, "c"), None);
+        assert_eq!(item_line(p, src, ItemTable::Prompt, "a"), None);
+        assert_eq!(item_line(p, "[[card", ItemTable::Card, "a"), None);
+    }
+}
+
+#[cfg(test)]
+mod item_line_props {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// Any text: an answer or none, never a panic, and a line of the
+        /// file when there is one.
+        #[test]
+        fn any_text_gives_a_line_of_it_or_none(text in "\\PC{0,400}", id in "[a-z]{1,6}") {
+            if let Some(line) = item_line(Path::new("x.toml"), &text, ItemTable::Card, &id) {
+                prop_assert!(line >= 1 && line <= text.lines().count().max(1));
+            }
+        }
+
+        /// Cards separated by any number of blank lines and comments: each
+        /// id's line is the line its `id = …` is written on.
+        #[test]
+        fn each_cards_line_is_where_its_id_is_written(gaps in proptest::collection::vec((0usize..4, any::<bool>()), 1..8)) {
+            let mut text = String::from("[deck]\nid = \"d\"\ntitle.en = 'D'\nlanguages = [\"en\"]\n");
+            let mut want = Vec::new();
+            for (i, (blank, comment)) in gaps.iter().enumerate() {
+                text.push_str("\n[[card]]\n");
+                for _ in 0..*blank {
+                    text.push('\n');
+                }
+                if *comment {
+                    text.push_str("# a comment\n");
+                }
+                want.push(text.lines().count() + 1);
+                text.push_str(&format!("id = \"c{i}\"\nfront.en = 'x'\nback.en = 'y'\n"));
+            }
+            for (i, line) in want.iter().enumerate() {
+                let id = format!("c{i}");
+                prop_assert_eq!(item_line(Path::new("d.toml"), &text, ItemTable::Card, &id), Some(*line));
+            }
+        }
+    }
+}

@@ -33,8 +33,8 @@ use rusqlite::{Connection, OpenFlags, OptionalExtension};
 use crate::deck::cloze::MAX_NUMBER;
 use crate::deck::csv::{MAX_FIELD_BYTES, slug, toml_string};
 use crate::sched::clock::check_event_time;
-use crate::sched::{Direction, ItemKey, Rating};
-use crate::store::merge::{IncomingReview, KeptState};
+use crate::sched::{Direction, ItemKey, Rating, State};
+use crate::store::{IncomingReview, KeptState};
 
 /// The largest collection unpacked (compressed size does not matter).
 pub(crate) const MAX_COLLECTION_BYTES: u64 = 512 << 20;
@@ -886,6 +886,8 @@ struct CardRow {
     due: i64,
     flags: i64,
     data: String,
+    /// The interval in days (review cards).
+    ivl: i64,
 }
 
 /// The due date Anki gives a card: a day number from the collection's day
@@ -908,6 +910,40 @@ fn memory_state(data: &str) -> (Option<f64>, Option<f64>) {
     (v["s"].as_f64(), v["d"].as_f64())
 }
 
+/// What Anki had of a card with a schedule, as the state flipcard keeps:
+/// its state by Anki's card type, its due date, memory state, and when it
+/// was last reviewed (Anki's `lrt` in the card's data; else its due date
+/// less its interval). Without an FSRS memory state, a review card's
+/// stability is its interval (the interval at which recall is at the
+/// desired retention). The state holds from that last review (at most
+/// `now`); the caller moves it to the card's last answer when the review
+/// history has some.
+fn kept_state(c: &CardRow, due: DateTime<Utc>, now: DateTime<Utc>) -> Option<KeptState> {
+    let state = match c.kind {
+        1 => State::Learning,
+        2 => State::Review,
+        3 => State::Relearning,
+        _ => return None,
+    };
+    let (s, difficulty) = memory_state(&c.data);
+    let v: serde_json::Value = serde_json::from_str(&c.data).unwrap_or_default();
+    let ivl = c.ivl.clamp(0, 36_500);
+    let last_review = v["lrt"]
+        .as_i64()
+        .and_then(|t| DateTime::<Utc>::from_timestamp(t, 0))
+        .or_else(|| (state == State::Review).then(|| due - chrono::TimeDelta::days(ivl)))
+        .filter(|t| t.year() >= 1970 && *t <= now);
+    let stability = s.or_else(|| (state == State::Review && ivl > 0).then_some(ivl as f64));
+    Some(KeptState {
+        at: last_review.unwrap_or(now),
+        state,
+        due,
+        stability,
+        difficulty,
+        last_review,
+    })
+}
+
 fn read_collection(
     conn: &Connection,
     path: &Path,
@@ -928,8 +964,8 @@ fn read_collection(
     {
         let mut st = conn.prepare(
             "SELECT id, nid, ord, CASE WHEN odid <> 0 THEN odid ELSE did END, type, queue, \
-             CASE WHEN odid <> 0 AND odue <> 0 THEN odue ELSE due END, flags, coalesce(data, '') \
-             FROM cards ORDER BY nid, ord",
+             CASE WHEN odid <> 0 AND odue <> 0 THEN odue ELSE due END, flags, coalesce(data, ''), \
+             ivl FROM cards ORDER BY nid, ord",
         )?;
         let mut rows = st.query([])?;
         while let Some(r) = rows.next()? {
@@ -943,6 +979,7 @@ fn read_collection(
                 due: r.get(6)?,
                 flags: r.get(7)?,
                 data: r.get(8)?,
+                ivl: r.get(9)?,
             };
             cards_of.entry(c.nid).or_default().push(c);
         }
@@ -1285,16 +1322,11 @@ fn read_collection(
             // Anki's longest interval is 36,500 days: a due date further
             // off than that from now is not one Anki gave.
             let bound = now + chrono::TimeDelta::days(36_600);
-            if let Some(due) = anki_due(c, catalog.crt).filter(|d| *d <= bound) {
-                let (stability, difficulty) = memory_state(&c.data);
-                out.states.due.insert(
-                    key,
-                    KeptState {
-                        due,
-                        stability,
-                        difficulty,
-                    },
-                );
+            if let Some(kept) = anki_due(c, catalog.crt)
+                .filter(|d| *d <= bound)
+                .and_then(|due| kept_state(c, due, now))
+            {
+                out.states.due.insert(key, kept);
             }
         }
         cards.insert(
@@ -1347,6 +1379,13 @@ fn read_collection(
                 }
                 _ => out.reviews_skipped += 1,
             }
+        }
+    }
+    // A kept state holds from the card's last answer Anki had, when the
+    // review history has it (the answers are in time order).
+    for r in &out.reviews {
+        if let Some(k) = out.states.due.get_mut(&r.key) {
+            k.at = r.reviewed_at;
         }
     }
     Ok(out)

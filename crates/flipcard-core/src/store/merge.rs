@@ -23,6 +23,7 @@ use rusqlite::{Transaction, params};
 use super::codec::to_ms;
 use super::db::Store;
 use super::error::StoreError;
+use super::kept::KeptState;
 use super::log::insert_row;
 use super::log::{COLUMNS, LoggedReview, read_logged};
 use super::write::{Failed, Write, session_in};
@@ -42,41 +43,6 @@ pub struct IncomingReview {
     pub duration_ms: i64,
     /// Undone where it comes from: kept, and undone here too.
     pub undone: bool,
-}
-
-/// The state another program left an item in after its last answer,
-/// kept instead of the replayed one (an Anki import: the due date and
-/// interval Anki gave, not a replay re-fuzzed here). Written into the row
-/// of the item's last incoming answer, so the card-state cache and
-/// `flipcard db rebuild` end with it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct KeptState {
-    pub due: DateTime<Utc>,
-    /// The memory state that program had (FSRS), when it had one.
-    pub stability: Option<f64>,
-    pub difficulty: Option<f64>,
-}
-
-impl KeptState {
-    /// `record` (the replay of the last answer) with this due date, its
-    /// interval and memory state. A due before the answer is left as
-    /// replayed (that program's clock and this one disagree).
-    fn apply(&self, record: &mut crate::sched::ReviewRecord) {
-        if self.due < record.reviewed_at {
-            return;
-        }
-        record.after.due = self.due;
-        record.scheduled_days = (self.due - record.reviewed_at).num_days();
-        if let Some(s) = self.stability.filter(|s| s.is_finite() && *s > 0.0) {
-            record.after.stability = Some(s);
-        }
-        if let Some(d) = self
-            .difficulty
-            .filter(|d| d.is_finite() && (1.0..=10.0).contains(d))
-        {
-            record.after.difficulty = Some(d);
-        }
-    }
 }
 
 /// What a merge did.
@@ -138,9 +104,12 @@ impl Store {
         self.merge_reviews_keeping(rows, scheduler, &std::collections::HashMap::new())
     }
 
-    /// [`Store::merge_reviews`], where the items of `kept` end in the state
-    /// given there (due date, interval, memory state) rather than the
-    /// replayed one, when their last live answer is an incoming one.
+    /// [`Store::merge_reviews`], where the items of `kept` take the state
+    /// given there (due date, interval, memory state) at its time rather
+    /// than the replayed one, and keep it as the base later merges replay
+    /// from. An item of `kept` with no answer in `rows` takes it as its
+    /// state, unless this log already has answers of it (its own state
+    /// then stands).
     pub fn merge_reviews_keeping(
         &mut self,
         rows: &[IncomingReview],
@@ -172,6 +141,12 @@ impl Store {
             // must not reach into a merged history.
             let mut session = None;
             let none = HashSet::new();
+            for (key, k) in kept {
+                if !by_item.contains_key(key) && item_rows(tx, key)??.iter().any(|l| !l.undone) {
+                    continue;
+                }
+                super::kept::put(tx, key, k)?;
+            }
             for (key, incoming) in by_item {
                 // Answers imported here are this machine's to publish.
                 let incoming: Vec<_> = incoming.into_iter().map(|r| (r, None)).collect();
@@ -245,6 +220,11 @@ pub(super) fn merge_one(
     kept: Option<&KeptState>,
 ) -> Result<ItemMerge, Failed> {
     let mut out = ItemMerge::default();
+    let stored = match kept {
+        Some(_) => None,
+        None => super::kept::get(tx, key)?,
+    };
+    let kept = kept.or(stored.as_ref());
     let existing = item_rows(tx, key)??;
     let origins = item_origins(tx, key)?;
     let origin_of = |l: &LoggedReview| origins.get(&l.id).cloned();
@@ -389,9 +369,21 @@ fn merge_item<'a>(
     // In time order; answers of the same millisecond (two machines, or a
     // frozen clock) by rating, so every machine replays them alike.
     steps.sort_by_key(|s| (s.at, s.rating, s.cram, s.incoming));
-    // The step whose state is kept: the last that counts, when incoming.
-    let last_counted = steps.iter().rposition(|s| !s.cram && !s.undone);
-    let keep_at = last_counted.filter(|&i| steps[i].incoming && kept.is_some());
+    // The step whose state is kept: the last that counts up to the kept
+    // state's time. With none (every answer replayed here came after it),
+    // the replay starts from the kept state itself when no earlier answer
+    // of the log gives one.
+    let keep_at = kept.and_then(|k| {
+        steps
+            .iter()
+            .rposition(|s| !s.cram && !s.undone && s.at <= k.at)
+    });
+    if keep_at.is_none()
+        && state.is_none()
+        && let Some(k) = kept
+    {
+        state = Some(k.base());
+    }
 
     let mut appended = false;
     let mut relocated = 0;

@@ -12,6 +12,7 @@ pub(crate) mod backup_files;
 pub(crate) mod codec;
 pub mod db;
 pub mod error;
+mod kept;
 pub mod log;
 pub mod merge;
 pub mod restore;
@@ -33,8 +34,9 @@ pub use attempt::{
 };
 pub use db::{OpenOptions, Store};
 pub use error::StoreError;
+pub use kept::KeptState;
 pub use log::LoggedReview;
-pub use merge::{IncomingReview, KeptState, MergeSummary};
+pub use merge::{IncomingReview, MergeSummary};
 pub use state::{CachedState, RebuildReport};
 pub use stats::{Stats, StatsScope};
 pub use status::{AfterRating, ItemStatus, Recorded, StatusAction, StatusEvent, Undone};

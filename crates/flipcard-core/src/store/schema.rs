@@ -11,7 +11,7 @@ use crate::sched::clock::Clock;
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
-pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5, V6];
+pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5, V6, V7];
 
 /// The schema version this build writes.
 pub(crate) fn current_version() -> i64 {
@@ -640,6 +640,29 @@ BEGIN
 END;
 "#;
 
+/// Version 7: the state another program left an item in (an Anki import:
+/// Anki's due date, interval and memory state), kept as the base its
+/// answers are replayed from (`store::kept`). It holds from `at` (that
+/// program's last answer, or its last review when the log has none of its
+/// answers): answers up to then are that program's and end in this state,
+/// later ones are replayed from it. An item with no answer in the log
+/// takes it as its state.
+const V7: &str = r#"
+CREATE TABLE kept_state (
+    deck         TEXT NOT NULL,
+    card         TEXT NOT NULL,
+    direction    TEXT NOT NULL,
+    at           INTEGER NOT NULL,
+    state        TEXT NOT NULL CHECK (state IN ('learning', 'review', 'relearning')),
+    step         INTEGER,
+    stability    REAL,
+    difficulty   REAL,
+    due          INTEGER NOT NULL,
+    last_review  INTEGER,
+    PRIMARY KEY (deck, card, direction)
+) STRICT, WITHOUT ROWID;
+"#;
+
 /// Brings the database at `path` up to the last of `migrations`. Before the
 /// first migration of a database that already holds a schema, a copy is made
 /// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
@@ -751,6 +774,44 @@ mod tests {
     }
 
     #[test]
+    fn version_7_adds_the_kept_states_and_keeps_every_row() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..6], "20260101T000000Z").unwrap();
+        conn.execute("INSERT INTO session (id, started_at) VALUES (1, 0)", [])
+            .unwrap();
+        let count = |conn: &Connection, t: &str| -> i64 {
+            conn.query_row(&format!("SELECT count(*) FROM {t}"), [], |r| r.get(0))
+                .unwrap()
+        };
+        let before: Vec<i64> = ["review", "card_state", "status_event"]
+            .iter()
+            .map(|t| count(&conn, t))
+            .collect();
+        drop(conn);
+        let mut conn = Connection::open(&path).unwrap();
+        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), 7);
+        let after: Vec<i64> = ["review", "card_state", "status_event"]
+            .iter()
+            .map(|t| count(&conn, t))
+            .collect();
+        assert_eq!(after, before);
+        assert_eq!(count(&conn, "kept_state"), 0);
+        // A kept state is learning, review or relearning, never new.
+        let insert = |state: &str| {
+            conn.execute(
+                "INSERT INTO kept_state (deck, card, direction, at, state, due) \
+                 VALUES ('d', ?1, 'forward', 0, ?1, 0)",
+                [state],
+            )
+        };
+        assert!(insert("review").is_ok());
+        assert!(insert("new").is_err());
+    }
+
+    #[test]
     fn fresh_database_gets_every_table_and_no_backup() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("flipcard.db");
@@ -762,6 +823,7 @@ mod tests {
             [
                 "card_state",
                 "item_status",
+                "kept_state",
                 "machine_history",
                 "prompt_attempt",
                 "review",
@@ -1034,7 +1096,7 @@ mod tests {
         drop(conn);
         let mut conn = Connection::open(&path).unwrap();
         conn.pragma_update(None, "foreign_keys", true).unwrap();
-        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..6], "20260102T000000Z").unwrap();
         assert_eq!(user_version(&conn).unwrap(), 6);
         for (t, rows) in tables.iter().zip(&before) {
             assert_eq!(&dump(&conn, t), rows, "every row of {t} kept, every column");

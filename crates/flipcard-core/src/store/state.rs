@@ -131,11 +131,17 @@ impl Store {
 
     /// The cached state of one item with its counts (`None`: new).
     pub fn cached_state(&self, key: &ItemKey) -> Result<Option<CachedState>, StoreError> {
+        // An item no answer of the log counts for may have a kept state
+        // (an Anki card with a schedule and no review history).
         let mut st = self
             .conn
             .prepare_cached(&format!(
                 "SELECT {STATE_COLUMNS} FROM card_state \
-                 WHERE deck = ?1 AND card = ?2 AND direction = ?3"
+                 WHERE deck = ?1 AND card = ?2 AND direction = ?3 \
+                 UNION ALL {}",
+                super::kept::as_cached_sql(
+                    "WHERE k.deck = ?1 AND k.card = ?2 AND k.direction = ?3"
+                )
             ))
             .map_err(|e| self.err(e))?;
         let rows = read_states(&mut st, params![key.deck, key.card, key.direction.as_str()])
@@ -151,15 +157,19 @@ impl Store {
     /// The cache of one deck (or all), ordered by deck, card, direction.
     pub fn cached_states_in(&self, deck: Option<&str>) -> Result<Vec<CachedState>, StoreError> {
         // Two spellings, so that one deck is read through the primary key.
-        let filter = if deck.is_some() {
-            "WHERE deck = ?1"
+        let (filter, kept) = if deck.is_some() {
+            ("WHERE deck = ?1", "WHERE k.deck = ?1")
         } else {
-            ""
+            ("", "")
         };
+        // With the kept states of items no answer of the log counts for
+        // (an Anki card with a schedule and no review history).
         let mut st = self
             .conn
             .prepare_cached(&format!(
-                "SELECT {STATE_COLUMNS} FROM card_state {filter} ORDER BY deck, card, direction"
+                "SELECT * FROM (SELECT {STATE_COLUMNS} FROM card_state {filter} \
+                 UNION ALL {}) ORDER BY deck, card, direction",
+                super::kept::as_cached_sql(kept)
             ))
             .map_err(|e| self.err(e))?;
         let rows = match deck {

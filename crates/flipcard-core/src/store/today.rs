@@ -41,7 +41,8 @@ impl Store {
                     GROUP BY r.card, r.direction) AS t \
                  JOIN card_state AS c \
                    ON c.deck = ?1 AND c.card = t.card AND c.direction = t.direction \
-                 WHERE c.reps = t.n",
+                 WHERE c.reps = t.n AND NOT EXISTS (SELECT 1 FROM kept_state AS k \
+                   WHERE k.deck = ?1 AND k.card = t.card AND k.direction = t.direction)",
             )
             .and_then(|mut st| st.query_row(params![deck, since], |r| r.get(0)))
             .map_err(|e| self.err(e))?;

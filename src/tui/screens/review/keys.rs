@@ -37,6 +37,24 @@ const BURY: Binding = Binding::new(
     &[(Char('b'), Action::Bury)],
 );
 
+const EDIT: Binding = Binding::new(
+    "E",
+    Words(
+        "edit this card in its deck file",
+        "yeh card uski deck file mein badlo",
+    ),
+    &[(Char('E'), Action::EditItem)],
+);
+
+const ADD: Binding = Binding::new(
+    "A",
+    Words(
+        "add a card of this kind, in the editor",
+        "isi kind ka naya card jodo, editor mein",
+    ),
+    &[(Char('A'), Action::AddCard)],
+);
+
 /// A card taller than the screen scrolls.
 const SCROLL: Binding = Binding::new(
     "j k ↑↓",
@@ -74,6 +92,8 @@ pub const FRONT_KEYS: &[Binding] = &[
     super::super::info::OPEN,
     SUSPEND,
     BURY,
+    EDIT,
+    ADD,
     UNDO,
     END_SESSION,
 ];
@@ -112,6 +132,8 @@ pub const DERIVE_KEYS: &[Binding] = &[
     super::super::info::OPEN,
     SUSPEND,
     BURY,
+    EDIT,
+    ADD,
     UNDO,
     END_SESSION,
 ];
@@ -176,6 +198,8 @@ pub const BACK_KEYS: &[Binding] = &[
     super::super::info::OPEN,
     SUSPEND,
     BURY,
+    EDIT,
+    ADD,
     SCROLL,
     UNDO,
     END_SESSION,

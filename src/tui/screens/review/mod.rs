@@ -349,6 +349,51 @@ impl ReviewState {
         self.next_card(app);
     }
 
+    /// The deck `edited.deck` was edited and reloaded (`E`, `A`): the
+    /// card shown is shown again as the file has it now (from its front);
+    /// one whose id is gone leaves the queue (its history stays with the
+    /// old id); a new card joins the queue and is shown at once.
+    pub fn deck_edited(&mut self, app: &App, edited: &crate::tui::edit::Edited) {
+        if !self.decks.contains(&edited.deck) {
+            return;
+        }
+        let Some(deck) = app.decks.get(edited.deck) else {
+            return;
+        };
+        if let Some(id) = &edited.new_card {
+            let keys: Vec<ItemKey> = crate::sched::deck_items(deck)
+                .into_iter()
+                .filter(|k| &k.card == id)
+                .collect();
+            for k in keys.iter().rev() {
+                match &mut self.source {
+                    Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => q.restore(k, None),
+                    Source::Cram(c) => c.restore(k),
+                }
+            }
+            self.listed.extend(keys.iter().cloned());
+            if let Some(first) = keys.first() {
+                self.show(app, Some(first.clone()));
+            }
+            return;
+        }
+        let Some((key, _)) = self.current.clone() else {
+            return;
+        };
+        if key.deck != deck.id {
+            return;
+        }
+        if crate::tui::edit::item_exists(deck, &key) {
+            self.show(app, Some(key));
+        } else {
+            match &mut self.source {
+                Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => q.set_aside(&key),
+                Source::Cram(c) => c.set_aside(&key),
+            }
+            self.next_card(app);
+        }
+    }
+
     /// The derivation shown, when the item is one.
     pub fn derivation<'a>(&self, deck: &'a Deck) -> Option<&'a crate::deck::Derivation> {
         let (key, _) = self.current.as_ref()?;
@@ -524,6 +569,20 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
                     Err(e) => app.error(e),
                 }
             }
+        }
+        (Phase::Front { .. } | Phase::Back { .. }, Action::EditItem) => {
+            match state.current.clone() {
+                Some((key, _)) => app.request_edit(state.deck, crate::tui::edit::Target::Item(key)),
+                None => app.info(crate::tui::i18n::edit::NOTHING_TO_EDIT.get(&app.lang)),
+            }
+        }
+        (Phase::Front { .. } | Phase::Back { .. }, Action::AddCard) => {
+            let kind = app
+                .decks
+                .get(state.deck)
+                .and_then(|d| state.card(d))
+                .map_or(CardKind::Basic, |(c, _)| c.kind);
+            app.request_edit(state.deck, crate::tui::edit::Target::NewCard(kind));
         }
         (Phase::Front { input }, Action::Input(c)) => input.push(c),
         (Phase::Front { input }, Action::Backspace) => {
