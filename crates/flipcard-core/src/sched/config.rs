@@ -5,6 +5,7 @@
 //! fall back to a default. Saving one key edits the file in place, so the
 //! learner's comments and other keys survive.
 
+use std::collections::BTreeMap;
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -12,6 +13,8 @@ use std::path::{Path, PathBuf};
 use chrono::{NaiveTime, TimeDelta, Timelike};
 use serde::Deserialize;
 use toml::Spanned;
+
+use super::preset::{DeckSettings, Preset, RawDeckSettings, RawPreset};
 
 /// The languages the app speaks (decks may declare these).
 pub(crate) const LANGUAGES: [&str; 2] = ["en", "hi-Latn"];
@@ -23,7 +26,7 @@ pub(crate) const RETENTION_RANGE: (f64, f64) = (0.70, 0.97);
 const MAX_STEP: TimeDelta = TimeDelta::days(365);
 
 /// Every key a config file may hold, in the order `save` writes them.
-pub const KEYS: [&str; 11] = [
+pub const KEYS: [&str; 13] = [
     "desired_retention",
     "learning_steps",
     "relearning_steps",
@@ -35,6 +38,8 @@ pub const KEYS: [&str; 11] = [
     "bury_siblings",
     "leech_threshold",
     "leech_action",
+    "maximum_interval",
+    "hide_bundled",
 ];
 
 /// Keys written only once they have a value: FSRS parameters fitted to the
@@ -117,6 +122,15 @@ pub struct Config {
     /// A folder another tool keeps in step between the learner's machines
     /// (`flipcard sync`), relative to the config file's folder.
     pub sync_dir: Option<PathBuf>,
+    /// The longest interval the scheduler gives, in days (Anki's maximum
+    /// interval).
+    pub maximum_interval: u32,
+    /// Leave the bundled decks off home and the deck lists.
+    pub hide_bundled: bool,
+    /// `[preset.NAME]` tables (see [`super::preset`]).
+    pub presets: BTreeMap<String, Preset>,
+    /// `[deck.ID]` tables: which preset each deck uses.
+    pub decks: BTreeMap<String, DeckSettings>,
 }
 
 impl Default for Config {
@@ -137,6 +151,10 @@ impl Default for Config {
             leech_action: LeechAction::Suspend,
             deck_paths: Vec::new(),
             sync_dir: None,
+            maximum_interval: super::preset::MAX_INTERVAL_DAYS,
+            hide_bundled: false,
+            presets: BTreeMap::new(),
+            decks: BTreeMap::new(),
         }
     }
 }
@@ -188,6 +206,10 @@ struct RawConfig {
     leech_action: Option<Spanned<String>>,
     deck_paths: Option<Vec<Spanned<String>>>,
     sync_dir: Option<Spanned<String>>,
+    maximum_interval: Option<Spanned<i64>>,
+    hide_bundled: Option<bool>,
+    preset: Option<BTreeMap<String, Spanned<RawPreset>>>,
+    deck: Option<BTreeMap<String, Spanned<RawDeckSettings>>>,
 }
 
 impl Config {
@@ -389,6 +411,17 @@ impl Config {
                 .map_err(|m| invalid("sync_dir", d.span(), m.to_string()))?;
             config.sync_dir = Some(base.join(dir));
         }
+        if let Some(n) = raw.maximum_interval {
+            config.maximum_interval = super::preset::maximum_interval("maximum_interval", &n)
+                .map_err(|(k, s, m)| invalid(&k, s, m))?;
+        }
+        if let Some(b) = raw.hide_bundled {
+            config.hide_bundled = b;
+        }
+        config.presets = super::preset::read_presets(raw.preset.unwrap_or_default())
+            .map_err(|(k, s, m)| invalid(&k, s, m))?;
+        config.decks = super::preset::read_decks(raw.deck.unwrap_or_default(), &config.presets)
+            .map_err(|(k, s, m)| invalid(&k, s, m))?;
         Ok(config)
     }
 
@@ -422,6 +455,8 @@ impl Config {
             "bury_siblings" => toml::Value::Boolean(self.bury_siblings),
             "leech_threshold" => toml::Value::Integer(i64::from(self.leech_threshold)),
             "leech_action" => toml::Value::String(self.leech_action.as_str().to_string()),
+            "maximum_interval" => toml::Value::Integer(i64::from(self.maximum_interval)),
+            "hide_bundled" => toml::Value::Boolean(self.hide_bundled),
             other => return Err(ConfigError::UnknownKey(other.to_string())),
         })
     }
@@ -481,10 +516,80 @@ impl Config {
                 })?;
             }
         }
+        text = self
+            .set_tables_in_text(&text, &on_file)
+            .map_err(|message| ConfigError::Parse {
+                path: path.to_path_buf(),
+                message,
+            })?;
         if text == original && path.exists() {
             return Ok(());
         }
         write_atomically(path, &text)
+    }
+
+    /// Writes the preset and deck tables that differ from `on_file` into
+    /// `text` (a key a preset no longer has is left as it is).
+    fn set_tables_in_text(&self, text: &str, on_file: &Config) -> Result<String, String> {
+        let mut text = text.to_string();
+        for (name, preset) in &self.presets {
+            let theirs = on_file.presets.get(name);
+            if theirs.is_none() {
+                // A preset with no key of its own is still a preset.
+                text = super::preset::ensure_table(&text, &["preset", name])?;
+            }
+            for key in super::preset::PRESET_KEYS {
+                if let Some(mine) = preset.value_of(key)
+                    && theirs.and_then(|p| p.value_of(key)) != Some(mine.clone())
+                {
+                    text = super::preset::set_table_key(&text, &["preset", name], key, &mine)?;
+                }
+            }
+        }
+        for (id, deck) in &self.decks {
+            if let Some(mine) = &deck.preset
+                && on_file.preset_of(id) != Some(mine.as_str())
+            {
+                let value = toml::Value::String(mine.clone());
+                text = super::preset::set_table_key(&text, &["deck", id], "preset", &value)?;
+            }
+        }
+        Ok(text)
+    }
+
+    /// Writes one preset's `key` (one of [`super::preset::PRESET_KEYS`])
+    /// into the file, creating the `[preset.NAME]` table when missing,
+    /// keeping every other line.
+    pub fn save_preset_key(&self, path: &Path, name: &str, key: &str) -> Result<(), ConfigError> {
+        let value = self
+            .presets
+            .get(name)
+            .and_then(|p| p.value_of(key))
+            .ok_or_else(|| ConfigError::UnknownKey(format!("preset.{name}.{key}")))?;
+        let text = read_or_empty(path)?;
+        let updated = super::preset::set_table_key(&text, &["preset", name], key, &value).map_err(
+            |message| ConfigError::Parse {
+                path: path.to_path_buf(),
+                message,
+            },
+        )?;
+        write_atomically(path, &updated)
+    }
+
+    /// Writes which preset deck `id` uses into the file (`[deck.ID]
+    /// preset = "NAME"`), keeping every other line.
+    pub fn save_deck_preset(&self, path: &Path, id: &str) -> Result<(), ConfigError> {
+        let name = self
+            .preset_of(id)
+            .ok_or_else(|| ConfigError::UnknownKey(format!("deck.{id}.preset")))?;
+        let text = read_or_empty(path)?;
+        let value = toml::Value::String(name.to_string());
+        let updated = super::preset::set_table_key(&text, &["deck", id], "preset", &value)
+            .map_err(|message| ConfigError::Parse {
+                path: path.to_path_buf(),
+                message,
+            })?;
+        write_atomically(path, &updated)
     }
 }
 
@@ -598,6 +703,15 @@ fn set_key_in_text(text: &str, key: &str, value: &toml::Value) -> Result<String,
     let rendered = value.to_string();
     Ok(match existing {
         Some(span) => format!("{}{rendered}{}", &text[..span.start], &text[span.end..]),
+        // After a table a new line would belong to it: the key goes
+        // before the first table.
+        None if doc
+            .get_ref()
+            .iter()
+            .any(|(_, v)| matches!(v.get_ref(), toml::de::DeValue::Table(_))) =>
+        {
+            super::preset::set_top_key(text, key, value).map_err(NotToml)?
+        }
         None => {
             let sep = if text.is_empty() || text.ends_with('\n') {
                 ""
@@ -631,6 +745,15 @@ impl fmt::Display for Config {
         for key in FITTED_KEYS {
             if let Some(v) = self.fitted_value_of(key) {
                 writeln!(f, "{key} = {v}")?;
+            }
+        }
+        for (name, preset) in &self.presets {
+            write!(f, "\n[preset.{name}]\n{}", preset.to_toml())?;
+        }
+        for (id, deck) in &self.decks {
+            writeln!(f, "\n[deck.{id}]")?;
+            if let Some(p) = &deck.preset {
+                writeln!(f, "preset = {}", toml::Value::String(p.clone()))?;
             }
         }
         Ok(())

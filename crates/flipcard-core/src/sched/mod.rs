@@ -6,6 +6,7 @@ pub mod config;
 pub mod day;
 pub mod fit;
 pub mod plan;
+pub mod preset;
 pub mod queue;
 pub mod scheduler;
 pub mod typed;

@@ -80,7 +80,7 @@ impl Scheduler {
             desired_retention: config.desired_retention,
             learning_steps: config.learning_steps.clone(),
             relearning_steps: config.relearning_steps.clone(),
-            maximum_interval: MAXIMUM_INTERVAL,
+            maximum_interval: i64::from(config.maximum_interval).clamp(1, MAXIMUM_INTERVAL),
             fuzz: config.fuzz,
         }
     }
