@@ -33,7 +33,10 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     };
     let store = Store::open_with(&data_dir, &options)?;
     let sources = crate::cmd::library::sources(cli, &config);
-    let library = crate::cmd::library::load_with(sources);
+    let mut library = crate::cmd::library::load_with(sources);
+    if config.hide_bundled {
+        library.hide_bundled();
+    }
     let failed = library.failed();
     let deck_load = DeckLoad {
         from: None,

@@ -96,6 +96,7 @@ pub fn load_sources(sources: &[(&dyn Tree, PathBuf)]) -> (Loaded, Vec<FileStatus
     let mut statuses = Vec::new();
     let mut seen_ids: HashMap<String, PathBuf> = HashMap::new();
     let mut seen_files: HashSet<PathBuf> = HashSet::new();
+    let mut parents: Vec<super::tree::ParentAt> = Vec::new();
     for (source, (tree, path)) in sources.iter().enumerate() {
         let before = loaded.diagnostics.len();
         let files = deck_files(*tree, path, &mut loaded);
@@ -114,7 +115,7 @@ pub fn load_sources(sources: &[(&dyn Tree, PathBuf)]) -> (Loaded, Vec<FileStatus
                 continue;
             }
             let (diags, decks) = (loaded.diagnostics.len(), loaded.decks.len());
-            load_deck(*tree, &file, &mut loaded, &mut seen_ids);
+            load_deck(*tree, &file, &mut loaded, &mut seen_ids, &mut parents);
             let errors = loaded.diagnostics[diags..]
                 .iter()
                 .filter(|d| d.is_error())
@@ -126,6 +127,32 @@ pub fn load_sources(sources: &[(&dyn Tree, PathBuf)]) -> (Loaded, Vec<FileStatus
                 warnings: loaded.diagnostics.len() - diags - errors,
                 deck: (loaded.decks.len() > decks).then_some(decks),
             });
+        }
+    }
+    // Parents across every source: missing ones said, cycles refused.
+    let (said, refused) = super::tree::check_parents(&loaded.decks, &parents, &loaded.sources);
+    for d in &said {
+        if let Some(s) = statuses.iter_mut().find(|s| s.path == d.path) {
+            if d.is_error() {
+                s.errors += 1;
+            } else {
+                s.warnings += 1;
+            }
+        }
+    }
+    loaded.diagnostics.extend(said);
+    if !refused.is_empty() {
+        let mut kept = Vec::with_capacity(loaded.decks.len());
+        let mut new_index = vec![None; loaded.decks.len()];
+        for (i, d) in std::mem::take(&mut loaded.decks).into_iter().enumerate() {
+            if !refused.contains(&i) {
+                new_index[i] = Some(kept.len());
+                kept.push(d);
+            }
+        }
+        loaded.decks = kept;
+        for s in &mut statuses {
+            s.deck = s.deck.and_then(|i| new_index.get(i).copied().flatten());
         }
     }
     (loaded, statuses)
@@ -230,6 +257,7 @@ fn load_deck(
     path: &Path,
     loaded: &mut Loaded,
     seen_ids: &mut HashMap<String, PathBuf>,
+    parents: &mut Vec<super::tree::ParentAt>,
 ) {
     let Some(text) = read_text(tree, path, loaded) else {
         return;
@@ -344,6 +372,7 @@ fn load_deck(
                 explore: body.explore,
                 derivations: body.derivations,
                 path: path.to_path_buf(),
+                parent: h.parent,
             })
         })(),
         _ => None,
@@ -359,6 +388,20 @@ fn load_deck(
         if let Some(text) = text {
             loaded.sources.insert(file, text);
         }
+    }
+    if let (Some(deck), Some(span)) = (
+        &deck,
+        raw.deck
+            .as_ref()
+            .and_then(|d| d.parent.as_ref())
+            .map(|p| p.span.clone()),
+    ) && deck.parent.is_some()
+    {
+        parents.push(super::tree::ParentAt {
+            deck: loaded.decks.len(),
+            path: path.to_path_buf(),
+            span,
+        });
     }
     loaded.decks.extend(deck);
 }

@@ -25,8 +25,10 @@ pub mod schema;
 mod suggest;
 mod syntax;
 pub(crate) mod tomlstr;
+pub mod tree;
 pub mod validate;
 
 pub use diag::{Diagnostic, Severity};
 pub use load::{FileStatus, Loaded, content_dir, load_dir, load_paths, load_sources, load_tree};
 pub use model::*;
+pub use tree::DeckTree;

@@ -1095,6 +1095,7 @@ mod deck_tests {
 
     fn deck() -> Deck {
         Deck {
+            parent: None,
             misconceptions: Vec::new(),
             explore: Vec::new(),
             derivations: Vec::new(),
