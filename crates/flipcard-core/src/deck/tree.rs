@@ -253,6 +253,8 @@ mod tests {
         ];
         let t = DeckTree::new(&decks);
         assert_eq!(t.order.len(), 3);
-        assert!(t.parent[0].is_none() && t.parent[1].is_none());
+        // The cycle is cut where it is first met: `a` is a root.
+        assert_eq!(t.parent, vec![None, Some(0), Some(0)]);
+        assert_eq!(t.subtree(0).len(), 3);
     }
 }
