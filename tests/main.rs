@@ -31,6 +31,7 @@ mod measure_accuracy;
 mod misconception_cli;
 mod optimize_cli;
 mod plan_cli;
+mod presets_cli;
 mod portable;
 mod schema_cli;
 mod schemas;
