@@ -28,7 +28,8 @@ fn fixture() -> String {
 fn optimize_deck_apply_writes_the_decks_preset() {
     let dir = tempfile::tempdir().unwrap();
     let config = dir.path().join("config.toml");
-    let original = "# mine\nnew_per_day = 12 # enough\n\n[preset.other]\ndesired_retention = 0.95\n";
+    let original =
+        "# mine\nnew_per_day = 12 # enough\n\n[preset.other]\ndesired_retention = 0.95\n";
     std::fs::write(&config, original).unwrap();
     let imported = flipcard(dir.path(), &config, &["import", "--reviews", &fixture()]);
     assert!(imported.status.success(), "{}", imported.stderr());
@@ -75,7 +76,11 @@ fn optimize_deck_apply_writes_the_decks_preset() {
 fn an_unknown_preset_is_refused_with_file_line_and_key() {
     let dir = tempfile::tempdir().unwrap();
     let config = dir.path().join("config.toml");
-    std::fs::write(&config, "[preset.fast]\nnew_per_day = 40\n\n[deck.rotation]\npreset = \"fats\"\n").unwrap();
+    std::fs::write(
+        &config,
+        "[preset.fast]\nnew_per_day = 40\n\n[deck.rotation]\npreset = \"fats\"\n",
+    )
+    .unwrap();
     for args in [&["stats"][..], &["review"][..], &["optimize"][..]] {
         let out = flipcard(dir.path(), &config, args);
         assert!(!out.status.success(), "{args:?}");

@@ -147,7 +147,9 @@ pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
                     (&config_path, &report.preset, &args.deck)
             {
                 let new = if config.preset_of(id).is_none() {
-                    format!(" (a new preset, now deck {id}'s: its other settings are the top level's)")
+                    format!(
+                        " (a new preset, now deck {id}'s: its other settings are the top level's)"
+                    )
                 } else {
                     String::new()
                 };
