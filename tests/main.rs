@@ -24,6 +24,7 @@ mod deck_library;
 mod deck_mutations;
 mod deck_oscillations;
 mod deck_physics;
+mod deck_tree_cli;
 mod doc_examples;
 mod grade_cli;
 mod import_reviews_cli;
