@@ -22,6 +22,7 @@ mod deck_central_forces;
 mod deck_coupled_oscillators;
 mod deck_library;
 mod deck_mutations;
+mod deck_options_e2e;
 mod deck_oscillations;
 mod deck_physics;
 mod deck_tree_cli;
