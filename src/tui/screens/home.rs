@@ -373,6 +373,7 @@ fn details(app: &App, state: &HomeState, narrow: bool, width: u16) -> Vec<Line<'
 
 /// One row per deck: due, learning and new review items, last studied.
 fn draw_table(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
+    let rows = rows_of(app, state);
     let t = &app.theme;
     // What the fixed columns, their spacing and the "› " leave.
     let title_w = usize::from(area.width).saturating_sub(7 + 11 + 6 + 16 + 4 + 2);
@@ -384,7 +385,7 @@ fn draw_table(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
         Cell::from(app.tr(Msg::LastStudied)),
     ])
     .style(t.heading());
-    let rows = state.rows.iter().filter_map(|row| {
+    let rows = rows.iter().filter_map(|row| {
         let deck = app.decks.get(row.deck)?;
         let count = |f: fn(&Counts) -> usize| {
             row.counts
@@ -417,9 +418,10 @@ fn draw_table(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
 /// A narrow screen: the deck titles alone; the selected deck's counts go
 /// in the details below.
 fn draw_narrow(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
+    let rows = rows_of(app, state);
     let t = &app.theme;
     let title_w = usize::from(area.width.saturating_sub(2));
-    let rows = state.rows.iter().filter_map(|row| {
+    let rows = rows.iter().filter_map(|row| {
         let deck = app.decks.get(row.deck)?;
         Some(Row::new(vec![Cell::from(titled(
             app, deck, row.depth, title_w,
@@ -442,4 +444,25 @@ fn titled(app: &App, deck: &Deck, depth: usize, width: usize) -> String {
         width.saturating_sub(indent.len()),
     );
     format!("{indent}{title}")
+}
+
+/// The rows to draw: the state's, or (when the decks changed since it was
+/// counted) every deck in tree order without counts, so no deck is left
+/// off the list.
+fn rows_of<'s>(app: &App, state: &'s HomeState) -> std::borrow::Cow<'s, [DeckRow]> {
+    if state.rows.len() == app.decks.len() {
+        return std::borrow::Cow::Borrowed(&state.rows);
+    }
+    let tree = DeckTree::new(&app.decks);
+    std::borrow::Cow::Owned(
+        tree.order
+            .iter()
+            .map(|&(deck, depth)| DeckRow {
+                deck,
+                depth,
+                counts: None,
+                last_studied: None,
+            })
+            .collect(),
+    )
 }

@@ -269,3 +269,52 @@ fn a_parent_shows_its_subtree_and_studies_it_within_each_limit() {
     assert_eq!(new_on_home(&app, "mech-springs"), 1);
     assert_eq!(new_on_home(&app, "mech"), 0);
 }
+
+#[test]
+fn a_due_review_whose_other_direction_is_due_too_is_set_aside_and_said() {
+    let mut app = testkit::app(ENGLISH);
+    app.decks = vec![reversed("both-ways", 1)];
+    set_config(
+        &mut app,
+        Config {
+            fuzz: false,
+            bury_siblings: true,
+            ..Config::default()
+        },
+    );
+    // Both directions learnt long ago and due now.
+    let now = testkit::now();
+    let then = now - TimeDelta::days(10);
+    let sched = app.services.study.scheduler.clone();
+    for direction in [Direction::Forward, Direction::Backward] {
+        let key = ItemKey {
+            deck: "both-ways".into(),
+            card: "c00".into(),
+            direction,
+        };
+        let rec = sched.review(&key, None, crate::sched::Rating::Easy, then, 0);
+        let after = crate::store::AfterRating {
+            leech_threshold: 0,
+            leech_suspend: false,
+            bury: Vec::new(),
+            bury_until: then,
+        };
+        app.services.study.store.record_study(&rec, &after).unwrap();
+    }
+    refresh_home(&mut app);
+    let row = home(&app).rows[0].counts.unwrap();
+    assert_eq!((row.due, row.new), (2, 0));
+    press(&mut app, KeyCode::Enter);
+    press(&mut app, KeyCode::Char(' '));
+    press(&mut app, KeyCode::Char('3'));
+    // The other direction left the queue with the answer, and that is said.
+    let screen = render(&app);
+    assert!(
+        screen.contains("its other direction waits until tomorrow"),
+        "{screen}"
+    );
+    let Screen::Review(r) = app.screen() else {
+        panic!("not reviewing")
+    };
+    assert!(r.current.is_none(), "nothing left today");
+}
