@@ -1,8 +1,11 @@
 //! Deck presets: `[preset.NAME]` tables of the config, and `[deck.ID]
 //! preset = "NAME"` choosing one for a deck (Anki's deck options presets).
 //!
+//! It also holds the checks of the values both the top level and a preset
+//! take (steps, limits, retention, FSRS parameters), below `config`.
+//!
 //! Every key of a preset is optional: what a preset leaves out is the
-//! config's top-level value. [`Config::for_deck`] gives the settings a deck
+//! config's top-level value. [`crate::sched::Config::for_deck`] gives the settings a deck
 //! studies with, which its queue, its scheduler and its limits all read.
 
 use std::collections::BTreeMap;
@@ -11,8 +14,6 @@ use std::ops::Range;
 use chrono::TimeDelta;
 use serde::Deserialize;
 use toml::Spanned;
-
-use super::config::{Config, PARAMETER_BOUNDS, format_step, parse_step};
 
 /// The highest `desired_retention` a preset may ask for (Anki allows up
 /// to 0.99; the top-level value stays within 0.97).
@@ -33,6 +34,38 @@ pub const PRESET_KEYS: [&str; 7] = [
     "fsrs_parameters",
 ];
 
+/// Allowed range of `desired_retention`.
+pub const RETENTION_RANGE: (f64, f64) = (0.70, 0.97);
+
+/// The longest learning or relearning step accepted.
+pub(crate) const MAX_STEP: TimeDelta = TimeDelta::days(365);
+
+/// The range the `fsrs` crate clamps each FSRS-6 parameter to while fitting
+/// (its `parameter_clipper`, with one relearning step and the short-term
+/// terms enabled): parameters outside it were not produced by a fit.
+pub const PARAMETER_BOUNDS: [(f64, f64); 21] = [
+    (0.001, 100.0),
+    (0.001, 100.0),
+    (0.001, 100.0),
+    (0.001, 100.0),
+    (1.0, 10.0),
+    (0.001, 4.0),
+    (0.001, 4.0),
+    (0.001, 0.75),
+    (0.0, 4.5),
+    (0.0, 0.8),
+    (0.001, 3.5),
+    (0.001, 5.0),
+    (0.001, 0.25),
+    (0.001, 0.9),
+    (0.0, 4.0),
+    (0.0, 1.0),
+    (1.0, 6.0),
+    (0.0, 2.0),
+    (0.0, 2.0),
+    (0.0, 0.8),
+    (0.1, 0.8),
+];
 /// Longest preset name accepted.
 const NAME_MAX: usize = 64;
 
@@ -203,7 +236,7 @@ pub(crate) fn read_presets(
                     retention(
                         &key("desired_retention"),
                         &r,
-                        (super::config::RETENTION_RANGE.0, PRESET_RETENTION_MAX),
+                        (RETENTION_RANGE.0, PRESET_RETENTION_MAX),
                     )
                 })
                 .transpose()?,
@@ -304,44 +337,6 @@ impl Preset {
     }
 }
 
-impl Config {
-    /// The settings deck `id` studies with: its preset's values over the
-    /// top-level ones (the config itself when it has no preset).
-    pub fn for_deck(&self, id: &str) -> Config {
-        let Some(p) = self.preset_of(id).and_then(|n| self.presets.get(n)) else {
-            return self.clone();
-        };
-        let mut c = self.clone();
-        if let Some(v) = p.new_per_day {
-            c.new_per_day = v;
-        }
-        if let Some(v) = p.reviews_per_day {
-            c.reviews_per_day = v;
-        }
-        if let Some(v) = &p.learning_steps {
-            c.learning_steps = v.clone();
-        }
-        if let Some(v) = &p.relearning_steps {
-            c.relearning_steps = v.clone();
-        }
-        if let Some(v) = p.desired_retention {
-            c.desired_retention = v;
-        }
-        if let Some(v) = p.maximum_interval {
-            c.maximum_interval = v;
-        }
-        if let Some(v) = p.fsrs_parameters {
-            c.fsrs_parameters = Some(v);
-        }
-        c
-    }
-
-    /// The name of the preset deck `id` uses, if any.
-    pub fn preset_of(&self, id: &str) -> Option<&str> {
-        self.decks.get(id).and_then(|d| d.preset.as_deref())
-    }
-}
-
 /// Adds the (empty) table at `path` when the text lacks it.
 pub(crate) fn ensure_table(text: &str, path: &[&str]) -> Result<String, String> {
     let mut doc: toml_edit::DocumentMut = text
@@ -408,6 +403,55 @@ pub(crate) fn set_table_key(
 /// table, so that it does not land inside a `[preset.NAME]`.
 pub(crate) fn set_top_key(text: &str, key: &str, value: &toml::Value) -> Result<String, String> {
     set_table_key(text, &[], key, value)
+}
+
+/// A learning step as written in the config: a whole number and a unit,
+/// `30s`, `1m`, `10m`, `1h`, `1d`.
+pub(crate) fn parse_step(text: &str) -> Result<TimeDelta, StepError> {
+    let t = text.trim();
+    let split = t.find(|c: char| !c.is_ascii_digit()).unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let n: i64 = number
+        .parse()
+        .map_err(|_| StepError::NotADuration(text.to_string()))?;
+    let step = match unit {
+        "s" => TimeDelta::try_seconds(n),
+        "m" => TimeDelta::try_minutes(n),
+        "h" => TimeDelta::try_hours(n),
+        "d" => TimeDelta::try_days(n),
+        _ => return Err(StepError::NoUnit(text.to_string())),
+    }
+    .ok_or_else(|| StepError::TooLong(text.to_string()))?;
+    if step <= TimeDelta::zero() || step > MAX_STEP {
+        return Err(StepError::OutOfRange(text.to_string()));
+    }
+    Ok(step)
+}
+
+/// Why [`parse_step`] refused a step; each holds the text as written.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub(crate) enum StepError {
+    #[error("{0:?} is not a duration; {STEP_HINT}")]
+    NotADuration(String),
+    #[error("{0:?} has no known unit; {STEP_HINT}")]
+    NoUnit(String),
+    #[error("{0:?} is too long")]
+    TooLong(String),
+    #[error("{0:?} must be between 1s and 365d")]
+    OutOfRange(String),
+}
+
+const STEP_HINT: &str = "write a whole number and a unit: 30s, 1m, 10m, 1h, 1d";
+
+/// The inverse of [`parse_step`]: the largest unit that divides the step.
+pub(crate) fn format_step(d: TimeDelta) -> String {
+    let s = d.num_seconds();
+    for (unit, size) in [("d", 86_400), ("h", 3_600), ("m", 60)] {
+        if s != 0 && s % size == 0 {
+            return format!("{}{unit}", s / size);
+        }
+    }
+    format!("{s}s")
 }
 
 #[cfg(test)]
