@@ -20,7 +20,7 @@ use std::collections::HashSet;
 
 use crate::interop::anki::{AnkiImport, DeckOptions, read_package};
 use crate::sched::preset::Preset;
-use crate::sched::{Config, Scheduler};
+use crate::sched::{Config, Schedulers};
 use crate::store::StatusAction;
 use crate::study::{DayZone, Mark, Study};
 use crate::text::plural;
@@ -111,7 +111,7 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
     }
     let summary = match store.merge_reviews_keeping(
         &import.reviews,
-        &Scheduler::new(&config),
+        &Schedulers::new(&config),
         &import.states.due,
     ) {
         Ok(s) => s,

@@ -17,5 +17,5 @@ pub use day::{DayGrid, DayOf, DayZone, Days};
 pub use queue::{
     Counts, CramQueue, DoneToday, Queue, QueueKind, cram_items, deck_items, study_day,
 };
-pub use scheduler::{Preview, Scheduler, format_interval};
+pub use scheduler::{Preview, Scheduler, Schedulers, format_interval};
 pub use types::*;
