@@ -107,6 +107,7 @@ fn deck() -> Deck {
         ));
     }
     Deck {
+        parent: None,
         misconceptions: Vec::new(),
         explore: Vec::new(),
         derivations: Vec::new(),

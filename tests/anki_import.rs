@@ -674,16 +674,38 @@ fn every_stock_note_type_and_state_of_an_anki_collection_is_imported() {
         "{osc}"
     );
     assert!(!osc.contains("leech"), "the leech tag is a mark: {osc}");
-    let options = std::fs::read_to_string(out.join("anki-deck-options.toml")).unwrap();
-    let options: toml::Table = options.parse().unwrap();
-    let waves_options = &options["anki_deck"]["physics-waves"];
-    assert_eq!(waves_options["new_per_day"].as_integer(), Some(7));
-    assert_eq!(waves_options["learning_steps"].as_array().unwrap().len(), 2);
-    assert_eq!(waves_options["desired_retention"].as_float(), Some(0.85));
+    // The options as presets the config reads, and `A::B` under `A`.
+    let presets = std::fs::read_to_string(out.join("anki-presets.toml")).unwrap();
+    let c = Config::parse(&presets, Path::new("anki-presets.toml")).unwrap();
+    assert_eq!(c.preset_of("physics-waves"), Some("anki-physics-preset"));
+    let waves_preset = c.for_deck("physics-waves");
+    assert_eq!(waves_preset.new_per_day, 7);
+    assert_eq!(waves_preset.reviews_per_day, 70);
     assert_eq!(
-        waves_options["fsrs_parameters"].as_array().unwrap().len(),
-        21
+        waves_preset.learning_steps,
+        [
+            chrono::TimeDelta::minutes(2),
+            chrono::TimeDelta::minutes(15)
+        ]
     );
+    assert_eq!(
+        waves_preset.relearning_steps,
+        [chrono::TimeDelta::minutes(5)]
+    );
+    assert_eq!(waves_preset.desired_retention, 0.85);
+    assert_eq!(waves_preset.maximum_interval, 36500);
+    assert!(waves_preset.fsrs_parameters.is_some());
+    assert_eq!(c.preset_of("oscillations-anki"), Some("anki-default"));
+    assert!(
+        stdout.contains("written to ")
+            && stdout.contains(
+                "anki-presets.toml as presets [preset.anki-default], [preset.anki-physics-preset]"
+            ),
+        "{stdout}"
+    );
+    assert!(waves.contains("parent = 'physics'\n"), "{waves}");
+    let physics = std::fs::read_to_string(out.join("decks/physics.toml")).unwrap();
+    assert!(physics.contains("title = 'Physics'"), "{physics}");
 
     // Every card with a history: its reviews, and Anki's due date exactly.
     let expect = stock_expectations();
@@ -1068,4 +1090,48 @@ fn a_sync_of_an_earlier_answer_keeps_ankis_due_date() {
         state.stability.unwrap() > data_json["s"].as_f64().unwrap(),
         "{state:?}"
     );
+}
+
+#[test]
+fn merge_presets_puts_the_decks_options_into_the_config() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = dir.path().join("data");
+    let out = dir.path().join("out");
+    let config = dir.path().join("config.toml");
+    let original = "# mine\nnew_per_day = 15 # enough\n";
+    std::fs::write(&config, original).unwrap();
+    let run = Flipcard::new(&data)
+        .now(NOW)
+        .config(&config)
+        .args([
+            "import",
+            &fixture("stock.apkg"),
+            "--out",
+            out.to_str().unwrap(),
+            "--merge-presets",
+        ])
+        .run();
+    assert!(run.status.success(), "{}", run.stderr());
+    let stdout = run.stdout();
+    assert!(
+        stdout.contains(&format!(
+            "merged into {} as presets: [preset.anki-default], [preset.anki-physics-preset]; decks: oscillations-anki → anki-default, physics → anki-default, physics-waves → anki-physics-preset",
+            config.display()
+        )),
+        "{stdout}"
+    );
+    let text = std::fs::read_to_string(&config).unwrap();
+    assert!(text.starts_with(original), "{text}");
+    let c = Config::load(Some(&config)).unwrap();
+    assert_eq!(c.new_per_day, 15);
+    assert_eq!(c.for_deck("physics-waves").new_per_day, 7);
+    assert_eq!(c.for_deck("physics-waves").desired_retention, 0.85);
+
+    // The imported decks open with it: the child under its parent, each
+    // within its preset's limits (`flipcard cards list` reads the decks).
+    let check = Flipcard::without_data()
+        .config(&config)
+        .args(["check", out.join("decks").to_str().unwrap()])
+        .run();
+    assert!(check.status.success(), "{}", check.stderr());
 }

@@ -112,6 +112,29 @@ fn every_source_is_listed_in_order_with_counts_and_status() {
 }
 
 #[test]
+fn hide_bundled_marks_the_bundled_decks_in_the_listing() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = dir.path();
+    deck(&root.join("cfg"), "mine", &["a"]);
+    std::fs::write(
+        root.join("config.toml"),
+        "deck_paths = ['cfg/decks']
+hide_bundled = true
+",
+    )
+    .unwrap();
+    let o = flipcard(root, &["decks"]);
+    assert!(o.status.success(), "{}", o.stderr());
+    let listing = o.stdout();
+    assert!(
+        row(&listing, BUNDLED).contains(" bundled (hidden) "),
+        "{listing}"
+    );
+    assert!(row(&listing, "mine").contains(" config "), "{listing}");
+    assert!(!row(&listing, "mine").contains("hidden"), "{listing}");
+}
+
+#[test]
 fn a_deck_id_found_twice_names_both_files() {
     let dir = tempfile::tempdir().unwrap();
     let root = dir.path();

@@ -201,7 +201,13 @@ fn every_toml_example_in_the_docs_loads() {
             continue;
         }
         let t = table(e);
-        if t.contains_key("deck") {
+        // A config's `[deck.ID]` tables hold tables; a deck's `[deck]` has
+        // its id.
+        let config_tables = t.contains_key("preset")
+            || t.get("deck")
+                .and_then(|d| d.as_table())
+                .is_some_and(|d| !d.is_empty() && d.values().all(|v| v.is_table()));
+        if t.contains_key("deck") && !config_tables {
             // A whole deck: the content files follow, each introduced by
             // its path (`content/<id>/<lang>.toml`).
             let id = t["deck"]
@@ -234,7 +240,7 @@ fn every_toml_example_in_the_docs_loads() {
                 let k = k.as_str();
                 flipcard::sched::config::KEYS.contains(&k)
                     || flipcard::sched::config::FITTED_KEYS.contains(&k)
-                    || ["deck_paths", "sync_dir"].contains(&k)
+                    || ["deck_paths", "sync_dir", "preset", "deck"].contains(&k)
             })
         {
             Config::parse(&e.text, Path::new("config.toml"))

@@ -324,6 +324,11 @@ pub struct ImportArgs {
     /// Where an Anki import writes its deck folder (default: ./anki-import).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Anki import: merge the decks' options into config.toml as presets
+    /// (`[preset.NAME]`, `[deck.ID] preset = "NAME"`) instead of only
+    /// writing them to DIR/anki-presets.toml.
+    #[arg(long, conflicts_with = "reviews")]
+    pub merge_presets: bool,
 }
 
 #[derive(Debug, Args)]

@@ -41,6 +41,9 @@ fn counts(deck: &Deck) -> String {
 /// `check` status, in aligned columns.
 fn list(cli: &Cli) -> anyhow::Result<ExitCode> {
     let lib = library::load(cli);
+    // `hide_bundled`: the bundled decks are listed, marked as off home.
+    let hidden = crate::sched::Config::load(paths::config_file(cli.config.clone()).as_deref())
+        .is_ok_and(|c| c.hide_bundled);
     let mut rows: Vec<[String; 5]> = vec![[
         "DECK".into(),
         "SOURCE".into(),
@@ -69,9 +72,14 @@ fn list(cli: &Cli) -> anyhow::Result<ExitCode> {
         } else {
             "ok".to_string()
         };
+        let origin = lib.source_of(f).origin;
         rows.push([
             id,
-            lib.source_of(f).origin.name().to_string(),
+            if hidden && origin == Origin::Bundled {
+                format!("{} (hidden)", origin.name())
+            } else {
+                origin.name().to_string()
+            },
             f.path.display().to_string(),
             deck.map_or_else(|| "-".to_string(), counts),
             status,

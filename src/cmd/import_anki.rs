@@ -3,8 +3,10 @@
 //! `DIR/content/<id>/en.toml` per Anki deck), and its review history joins
 //! the log, replayed through FSRS, each card ending with the due date,
 //! interval and memory state Anki gave it. Suspended, buried and leech
-//! cards are marked so here; the decks' options are written to
-//! `DIR/anki-deck-options.toml`. The summary says every change of meaning.
+//! cards are marked so here; the decks' options become presets, written to
+//! `DIR/anki-presets.toml` as `[preset.NAME]` and `[deck.ID]` tables (and
+//! merged into `config.toml` with `--merge-presets`); an Anki deck `A::B`
+//! sits under `A` (`parent`). The summary says every change of meaning.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -17,7 +19,8 @@ use crate::cmd::paths;
 use std::collections::HashSet;
 
 use crate::interop::anki::{AnkiImport, DeckOptions, read_package};
-use crate::sched::{Config, Scheduler};
+use crate::sched::preset::Preset;
+use crate::sched::{Config, Schedulers};
 use crate::store::StatusAction;
 use crate::study::{DayZone, Mark, Study};
 use crate::text::plural;
@@ -82,24 +85,33 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
             problems.join("; ")
         );
     }
-    let options_file = out.join("anki-deck-options.toml");
-    let options = options_text(&import);
-    if let Some(text) = &options {
+    // The decks' options as presets, checked as the config would read
+    // them, written beside the decks; merged into the config on request.
+    let presets = Presets::of(&import, &config);
+    let presets_file = out.join("anki-presets.toml");
+    if !presets.decks.is_empty() {
+        let text = presets.text();
+        if let Err(e) = Config::parse(&text, &presets_file) {
+            remove(&written);
+            anyhow::bail!(
+                "the presets made from the decks' options do not load ({e}); nothing imported"
+            );
+        }
         if let Err(e) = crate::io::write_atomic(
-            &options_file,
+            &presets_file,
             text.as_bytes(),
             crate::io::Durability::Synced,
         ) {
             remove(&written);
             return Err(
-                anyhow::Error::new(e).context(format!("cannot write {}", options_file.display()))
+                anyhow::Error::new(e).context(format!("cannot write {}", presets_file.display()))
             );
         }
-        written.push(options_file.clone());
+        written.push(presets_file.clone());
     }
     let summary = match store.merge_reviews_keeping(
         &import.reviews,
-        &Scheduler::new(&config),
+        &Schedulers::new(&config),
         &import.states.due,
     ) {
         Ok(s) => s,
@@ -203,16 +215,38 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
             r.wanted
         )?;
     }
-    if options.is_some() {
+    if !presets.decks.is_empty() {
         for d in &import.decks {
             if let Some(o) = &d.options {
                 crate::outln!("deck options of {}: {}", d.id, describe(o))?;
             }
         }
-        crate::outln!(
-            "  written to {} (presets per deck are not read yet: copy what you want into your config)",
-            options_file.display()
-        )?;
+        for (deck, left_out) in &presets.left_out {
+            crate::outln!("  {deck}: not kept: {}", left_out.join("; "))?;
+        }
+        let config_path = paths::config_file(cli.config.clone());
+        match (&config_path, args.merge_presets) {
+            (Some(path), true) => {
+                let merged = presets.merge_into(&config);
+                merged.save(path)?;
+                crate::outln!(
+                    "  merged into {} as presets: {}; decks: {}",
+                    path.display(),
+                    presets.names_said(),
+                    presets.decks_said()
+                )?;
+            }
+            (None, true) => anyhow::bail!(
+                "no config file location known; pass --config FILE to merge the presets (the decks are imported; the presets are in {})",
+                presets_file.display()
+            ),
+            (_, false) => crate::outln!(
+                "  written to {} as presets {} and the decks' [deck.ID] tables ({}); the config does not read that file: paste them into your config.toml, or import with --merge-presets",
+                presets_file.display(),
+                presets.names_said(),
+                presets.decks_said()
+            )?,
+        }
     }
     if import.cloze_left_out > 0 {
         crate::outln!(
@@ -265,6 +299,9 @@ fn describe(o: &DeckOptions) -> String {
     if !o.fsrs_parameters.is_empty() {
         parts.push(format!("{} FSRS parameters", o.fsrs_parameters.len()));
     }
+    if let Some(d) = o.maximum_interval {
+        parts.push(format!("maximum interval {d}d"));
+    }
     parts.join(", ")
 }
 
@@ -273,55 +310,207 @@ fn round(x: f64) -> String {
     format!("{}", x as f32)
 }
 
-/// The decks' options as TOML, one `[anki_deck.ID]` table each, with the
-/// config's own key names (`None` when no deck has options).
-fn options_text(import: &AnkiImport) -> Option<String> {
-    let mut text = String::from(
-        "# Deck options of the Anki decks imported, with the config's key names.\n\
-         # flipcard does not read this file: copy what you want into your config.\n",
-    );
-    let mut any = false;
-    for d in &import.decks {
-        let Some(o) = &d.options else { continue };
-        any = true;
-        text.push_str(&format!("\n[anki_deck.{}]\n", d.id));
-        text.push_str(&format!(
-            "anki_preset = {}\n",
-            toml::Value::String(o.preset.clone())
-        ));
-        if let Some(n) = o.new_per_day {
-            text.push_str(&format!("new_per_day = {n}\n"));
-        }
-        if let Some(n) = o.reviews_per_day {
-            text.push_str(&format!("reviews_per_day = {n}\n"));
-        }
-        let steps = |v: &[f64]| {
-            v.iter()
-                .map(|m| format!("\"{}m\"", round(*m)))
-                .collect::<Vec<_>>()
-                .join(", ")
+/// The decks' options as flipcard presets: one `[preset.NAME]` per
+/// distinct set of options (named after Anki's preset), and which deck
+/// uses which.
+struct Presets {
+    /// Name, preset, in order of first use.
+    presets: Vec<(String, Preset)>,
+    /// Deck id, preset name.
+    decks: Vec<(String, String)>,
+    /// Deck id, options Anki had that a preset cannot hold.
+    left_out: Vec<(String, Vec<String>)>,
+}
+
+impl Presets {
+    fn of(import: &AnkiImport, config: &Config) -> Presets {
+        let mut out = Presets {
+            presets: Vec::new(),
+            decks: Vec::new(),
+            left_out: Vec::new(),
         };
-        if !o.learning_steps.is_empty() {
+        for d in &import.decks {
+            let Some(o) = &d.options else { continue };
+            let (preset, left_out) = preset_of(o);
+            if !left_out.is_empty() {
+                out.left_out.push((d.id.clone(), left_out));
+            }
+            let name = match out.presets.iter().find(|(_, p)| *p == preset) {
+                Some((name, _)) => name.clone(),
+                None => {
+                    // A name neither taken here nor, for something else,
+                    // in the config.
+                    let base = preset_name(&o.preset);
+                    let mut name = base.clone();
+                    let mut n = 2;
+                    while out.presets.iter().any(|(m, _)| *m == name)
+                        || config.presets.get(&name).is_some_and(|p| *p != preset)
+                    {
+                        name = format!("{base}-{n}");
+                        n += 1;
+                    }
+                    out.presets.push((name.clone(), preset));
+                    name
+                }
+            };
+            out.decks.push((d.id.clone(), name));
+        }
+        out
+    }
+
+    /// The presets and deck tables as config TOML.
+    fn text(&self) -> String {
+        let mut text = String::from(
+            "# The Anki decks' options as flipcard presets. Paste these tables into\n\
+             # config.toml (or import with --merge-presets): what a preset leaves out\n\
+             # is the config's top-level value.\n",
+        );
+        for (name, p) in &self.presets {
+            text.push_str(&format!("\n[preset.{name}]\n{}", p.to_toml()));
+        }
+        for (deck, name) in &self.decks {
             text.push_str(&format!(
-                "learning_steps = [{}]\n",
-                steps(&o.learning_steps)
+                "\n[deck.{deck}]\npreset = {}\n",
+                toml::Value::String(name.clone())
             ));
         }
-        if !o.relearning_steps.is_empty() {
-            text.push_str(&format!(
-                "relearning_steps = [{}]\n",
-                steps(&o.relearning_steps)
-            ));
+        text
+    }
+
+    /// `config` with these presets and deck tables added.
+    fn merge_into(&self, config: &Config) -> Config {
+        let mut c = config.clone();
+        for (name, p) in &self.presets {
+            c.presets.insert(name.clone(), p.clone());
         }
-        if let Some(r) = o.desired_retention {
-            text.push_str(&format!("desired_retention = {}\n", round(r)));
+        for (deck, name) in &self.decks {
+            c.decks.entry(deck.clone()).or_default().preset = Some(name.clone());
         }
-        if !o.fsrs_parameters.is_empty() {
-            let w: Vec<String> = o.fsrs_parameters.iter().map(|w| round(*w)).collect();
-            text.push_str(&format!("fsrs_parameters = [{}]\n", w.join(", ")));
+        c
+    }
+
+    fn names_said(&self) -> String {
+        self.presets
+            .iter()
+            .map(|(n, _)| format!("[preset.{n}]"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    fn decks_said(&self) -> String {
+        self.decks
+            .iter()
+            .map(|(d, n)| format!("{d} → {n}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// Anki's options as a preset, and what of them a preset cannot hold.
+fn preset_of(o: &DeckOptions) -> (Preset, Vec<String>) {
+    let mut left_out = Vec::new();
+    let mut steps = |v: &[f64], what: &str| -> Option<Vec<chrono::TimeDelta>> {
+        if v.is_empty() {
+            return None;
+        }
+        let mut out = Vec::new();
+        for m in v {
+            let secs = (m * 60.0).round();
+            let step = chrono::TimeDelta::try_seconds(secs as i64).filter(|s| {
+                *s >= chrono::TimeDelta::seconds(1) && *s <= chrono::TimeDelta::days(365)
+            });
+            match step {
+                Some(s) if secs.is_finite() => out.push(s),
+                _ => {
+                    left_out.push(format!("{what} {}m (flipcard takes 1s to 365d)", round(*m)));
+                    return None;
+                }
+            }
+        }
+        Some(out)
+    };
+    let learning_steps = steps(&o.learning_steps, "learning step");
+    let relearning_steps = steps(&o.relearning_steps, "relearning step");
+    let limit = |v: Option<u32>, max: u32, what: &str, left_out: &mut Vec<String>| {
+        v.filter(|n| {
+            let ok = *n <= max;
+            if !ok {
+                left_out.push(format!("{what} {n} (at most {max})"));
+            }
+            ok
+        })
+    };
+    let new_per_day = limit(o.new_per_day, 10_000, "new/day", &mut left_out);
+    let reviews_per_day = limit(o.reviews_per_day, 100_000, "reviews/day", &mut left_out);
+    // Anki keeps retention as an f32: the shortest decimal that reads back.
+    let desired_retention = o.desired_retention.and_then(|r| {
+        let r: f64 = round(r).parse().unwrap_or(r);
+        let (lo, hi) = (0.70, crate::sched::preset::PRESET_RETENTION_MAX);
+        if (lo..=hi).contains(&r) {
+            Some(r)
+        } else {
+            left_out.push(format!("desired retention {r} (flipcard takes {lo}–{hi})"));
+            None
+        }
+    });
+    let fsrs_parameters = match o.fsrs_parameters.len() {
+        0 => None,
+        21 => {
+            let mut w = [0.0; 21];
+            let mut ok = true;
+            for (i, (x, (lo, hi))) in o
+                .fsrs_parameters
+                .iter()
+                .zip(crate::sched::config::PARAMETER_BOUNDS)
+                .enumerate()
+            {
+                let x: f64 = round(*x).parse().unwrap_or(*x);
+                ok &= (lo..=hi).contains(&x);
+                w[i] = x;
+            }
+            if ok {
+                Some(w)
+            } else {
+                left_out.push("FSRS parameters outside the range a fit gives".to_string());
+                None
+            }
+        }
+        n => {
+            left_out.push(format!("{n} FSRS parameters (FSRS-6 has 21: run `flipcard optimize --deck ID --apply` after a few weeks)"));
+            None
+        }
+    };
+    (
+        Preset {
+            new_per_day,
+            reviews_per_day,
+            learning_steps,
+            relearning_steps,
+            desired_retention,
+            maximum_interval: o.maximum_interval,
+            fsrs_parameters,
+        },
+        left_out,
+    )
+}
+
+/// A preset name from Anki's: letters and digits kept, the rest `-`.
+fn preset_name(anki: &str) -> String {
+    let mut name = String::new();
+    for c in anki.chars() {
+        if c.is_ascii_alphanumeric() {
+            name.push(c.to_ascii_lowercase());
+        } else if !name.ends_with('-') && !name.is_empty() {
+            name.push('-');
         }
     }
-    any.then_some(text)
+    let name = name.trim_end_matches('-');
+    let name: String = name.chars().take(48).collect();
+    if name.is_empty() {
+        "anki".to_string()
+    } else {
+        format!("anki-{name}")
+    }
 }
 
 /// Whether the check refused the cards written as `kind = "cloze"`.

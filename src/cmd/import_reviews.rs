@@ -7,7 +7,7 @@ use crate::cmd::args::{Cli, ExportFormat, ImportArgs};
 use crate::cmd::common::open_store;
 use crate::cmd::paths;
 use crate::interop::import::{RowError, read_reviews_csv, read_reviews_json};
-use crate::sched::{Config, Scheduler};
+use crate::sched::{Config, Schedulers};
 use crate::text::plural;
 
 pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
@@ -43,7 +43,7 @@ pub fn run(cli: &Cli, args: &ImportArgs) -> anyhow::Result<ExitCode> {
         Err(errors) => return Ok(report_bad_rows(file, &errors)),
     };
     let config = Config::load(paths::config_file(cli.config.clone()).as_deref())?;
-    let scheduler = Scheduler::new(&config);
+    let scheduler = Schedulers::new(&config);
     let mut store = open_store(cli)?;
     let summary = store.merge_reviews(&rows, &scheduler)?;
     crate::outln!(

@@ -62,6 +62,35 @@ impl Library {
     pub fn source_of(&self, file: &FileStatus) -> &Source {
         &self.sources[file.source]
     }
+
+    /// Leaves the bundled decks out of `loaded.decks` (`hide_bundled`);
+    /// a deck elsewhere that names one as its parent then sits at the top.
+    pub fn hide_bundled(&mut self) {
+        let bundled: Vec<usize> = self
+            .files
+            .iter()
+            .filter(|f| self.sources[f.source].origin == Origin::Bundled)
+            .filter_map(|f| f.deck)
+            .collect();
+        let mut index = 0;
+        let mut new_index = vec![None; self.loaded.decks.len()];
+        self.loaded.decks = std::mem::take(&mut self.loaded.decks)
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, d)| {
+                (!bundled.contains(&i)).then(|| {
+                    new_index[i] = Some(index);
+                    index += 1;
+                    d
+                })
+            })
+            .collect();
+        for f in &mut self.files {
+            f.deck = f.deck.and_then(|i| new_index.get(i).copied().flatten());
+        }
+        self.files
+            .retain(|f| self.sources[f.source].origin != Origin::Bundled);
+    }
 }
 
 /// The library folder: `<data dir>/decks/` (content in `<data dir>/content/`).

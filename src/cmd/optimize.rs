@@ -39,6 +39,8 @@ struct Report {
     parameters: Option<Vec<f64>>,
     applied: bool,
     deck: Option<String>,
+    /// With `--deck` and `--apply`: the preset the parameters went to.
+    preset: Option<String>,
     /// Answers predicted (one per review on a later day than the one before).
     items: usize,
     /// Reviews still needed before a fit, when there are too few.
@@ -78,6 +80,7 @@ pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
         parameters: None,
         applied: false,
         deck: args.deck.clone(),
+        preset: None,
         items: set.items.len(),
         needed: None,
     };
@@ -105,10 +108,34 @@ pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
             anyhow::bail!("no config file location known; pass --config FILE to apply");
         };
         let mut updated = config.clone();
-        updated.fsrs_parameters = Some(result.parameters);
-        updated.fsrs_fitted_at = Some(crate::cmd::clock::now()?.fixed_offset());
-        updated.save_key(path, "fsrs_parameters")?;
-        updated.save_key(path, "fsrs_fitted_at")?;
+        match &args.deck {
+            // One deck's reviews: its preset's parameters (a deck without
+            // one gets a preset of its own, named after it, holding only
+            // the parameters: the rest stays the top level's).
+            Some(id) => {
+                let (name, created) = match config.preset_of(id) {
+                    Some(name) => (name.to_string(), false),
+                    None => (preset_name_for(&config, id), true),
+                };
+                updated
+                    .presets
+                    .entry(name.clone())
+                    .or_default()
+                    .fsrs_parameters = Some(result.parameters);
+                updated.save_preset_key(path, &name, "fsrs_parameters")?;
+                if created {
+                    updated.decks.entry(id.clone()).or_default().preset = Some(name.clone());
+                    updated.save_deck_preset(path, id)?;
+                }
+                report.preset = Some(name);
+            }
+            None => {
+                updated.fsrs_parameters = Some(result.parameters);
+                updated.fsrs_fitted_at = Some(crate::cmd::clock::now()?.fixed_offset());
+                updated.save_key(path, "fsrs_parameters")?;
+                updated.save_key(path, "fsrs_fitted_at")?;
+            }
+        }
         report.applied = true;
     }
     match args.format {
@@ -116,6 +143,21 @@ pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
         ReportFormat::Text => {
             crate::out!("{}", render(&report, &result))?;
             if args.apply
+                && let (Some(path), Some(name), Some(id)) =
+                    (&config_path, &report.preset, &args.deck)
+            {
+                let new = if config.preset_of(id).is_none() {
+                    format!(
+                        " (a new preset, now deck {id}'s: its other settings are the top level's)"
+                    )
+                } else {
+                    String::new()
+                };
+                crate::outln!(
+                    "applied: written to {} as fsrs_parameters of [preset.{name}]{new}; deck {id} and every deck using that preset are scheduled with them from now on",
+                    path.display()
+                )?;
+            } else if args.apply
                 && let Some(path) = &config_path
             {
                 crate::outln!(
@@ -173,4 +215,16 @@ fn render(r: &Report, f: &fit::Fit) -> String {
     let ps: Vec<String> = f.parameters.iter().map(|p| num::show(*p)).collect();
     o.push_str(&format!("parameters: {}\n", ps.join(", ")));
     o
+}
+
+/// A name for a new preset of deck `id`: the id, or the id and a number
+/// when a preset already has it.
+fn preset_name_for(config: &Config, id: &str) -> String {
+    let mut name = id.to_string();
+    let mut n = 2;
+    while config.presets.contains_key(&name) {
+        name = format!("{id}-{n}");
+        n += 1;
+    }
+    name
 }

@@ -34,7 +34,10 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let store = Store::open_with(&data_dir, &options)?;
     let sources = crate::cmd::library::sources(cli, &config);
     let cache = crate::cmd::library::deck_cache(&data_dir);
-    let library = crate::cmd::library::load_cached(sources, Some(&cache));
+    let mut library = crate::cmd::library::load_cached(sources, Some(&cache));
+    if config.hide_bundled {
+        library.hide_bundled();
+    }
     let failed = library.failed();
     let deck_load = DeckLoad {
         from: None,

@@ -78,7 +78,7 @@ pub fn open_review(app: &mut Tui, deck: Option<&str>, cram: bool) -> anyhow::Res
         None => 0,
     };
     if let screens::Screen::Home(h) = app.screen_mut() {
-        h.selected = deck;
+        h.select_deck(deck);
     }
     let review = screens::review::ReviewState::open(app, deck, cram).map_err(anyhow::Error::msg)?;
     app.push(screens::Screen::Review(Box::new(review)));
@@ -121,7 +121,7 @@ pub fn open_filtered_review(
     if let Some(i) = index
         && let screens::Screen::Home(h) = app.screen_mut()
     {
-        h.selected = i;
+        h.select_deck(i);
     }
     let review = screens::review::ReviewState::open_listed(app, index, items, cram)
         .map_err(anyhow::Error::msg)?;

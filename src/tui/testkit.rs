@@ -39,6 +39,7 @@ fn text(en: &str, hi: &str) -> Text {
 
 pub fn deck() -> Deck {
     Deck {
+        parent: None,
         misconceptions: Vec::new(),
         explore: Vec::new(),
         derivations: Vec::new(),

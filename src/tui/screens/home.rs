@@ -6,7 +6,7 @@ use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Cell, Paragraph, Row, Table, TableState, Wrap};
 
-use crate::deck::Deck;
+use crate::deck::{Deck, DeckTree};
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Noun};
@@ -80,39 +80,65 @@ pub struct Counts {
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct DeckRow {
+    /// The deck's index in `app.decks`, and how deep it sits in the tree
+    /// of decks (0: at the top).
+    pub deck: usize,
+    pub depth: usize,
+    /// Today's counts of the deck and every deck below it, within each
+    /// one's limits.
     pub counts: Option<Counts>,
     pub last_studied: Option<DateTime<Utc>>,
 }
 
 impl DeckRow {
-    /// Today's counts and the last study time of a deck (blank when the
-    /// store cannot say).
-    pub fn of(services: &Services, deck: &Deck) -> DeckRow {
+    /// Today's counts of deck `i` with its subdecks, and its last study
+    /// time (blank when the store cannot say).
+    pub fn of(
+        services: &Services,
+        decks: &[Deck],
+        tree: &DeckTree,
+        i: usize,
+        depth: usize,
+    ) -> DeckRow {
         let now = services.now();
-        let counts = services.study.counts(deck, now).ok().map(|c| Counts {
+        let sub: Vec<(&Deck, Option<usize>)> = tree
+            .subtree(i)
+            .into_iter()
+            .map(|(d, up)| (&decks[d], up))
+            .collect();
+        let counts = services.study.counts_tree(&sub, now).ok().map(|c| Counts {
             new: c.new,
             learning: c.learning,
             due: c.due,
         });
         DeckRow {
+            deck: i,
+            depth,
             counts,
-            last_studied: services.study.store.last_studied(&deck.id).ok().flatten(),
+            last_studied: services
+                .study
+                .store
+                .last_studied(&decks[i].id)
+                .ok()
+                .flatten(),
         }
     }
 }
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct HomeState {
+    /// The row selected (rows are in tree order: see [`DeckRow::deck`]).
     pub selected: usize,
     pub rows: Vec<DeckRow>,
 }
 
 impl HomeState {
     pub fn new(app: &App) -> HomeState {
-        let rows = app
-            .decks
+        let tree = DeckTree::new(&app.decks);
+        let rows = tree
+            .order
             .iter()
-            .map(|deck| DeckRow::of(&app.services, deck))
+            .map(|&(i, depth)| DeckRow::of(&app.services, &app.decks, &tree, i, depth))
             .collect();
         HomeState { selected: 0, rows }
     }
@@ -121,6 +147,20 @@ impl HomeState {
     pub fn refresh(&mut self, fresh: HomeState) {
         self.rows = fresh.rows;
         self.selected = self.selected.min(self.rows.len().saturating_sub(1));
+    }
+
+    /// The deck of the selected row (its index in `app.decks`).
+    pub fn deck(&self) -> usize {
+        self.rows
+            .get(self.selected)
+            .map_or(self.selected, |r| r.deck)
+    }
+
+    /// Selects the row of deck `i` (an index in `app.decks`).
+    pub fn select_deck(&mut self, i: usize) {
+        if let Some(at) = self.rows.iter().position(|r| r.deck == i) {
+            self.selected = at;
+        }
     }
 }
 
@@ -141,7 +181,7 @@ impl super::View for HomeState {
 
 pub fn apply(app: &mut App, state: &mut HomeState, action: Action) -> Nav {
     let n = app.decks.len();
-    let deck = state.selected.min(n.saturating_sub(1));
+    let deck = state.deck().min(n.saturating_sub(1));
     match action {
         Action::Up => state.selected = state.selected.saturating_sub(1),
         Action::Down => state.selected = (state.selected + 1).min(n.saturating_sub(1)),
@@ -262,7 +302,7 @@ fn details(app: &App, state: &HomeState, narrow: bool, width: u16) -> Vec<Line<'
     let t = &app.theme;
     let width = usize::from(width.max(1));
     let mut out: Vec<Line<'static>> = Vec::new();
-    if let Some(deck) = app.decks.get(state.selected) {
+    if let Some(deck) = app.decks.get(state.deck()) {
         // The counts in the table are review items: a card asked both ways
         // is two, which is said here so that the numbers add up (each
         // prompt is one more, counted beside it).
@@ -333,6 +373,7 @@ fn details(app: &App, state: &HomeState, narrow: bool, width: u16) -> Vec<Line<'
 
 /// One row per deck: due, learning and new review items, last studied.
 fn draw_table(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
+    let rows = rows_of(app, state);
     let t = &app.theme;
     // What the fixed columns, their spacing and the "› " leave.
     let title_w = usize::from(area.width).saturating_sub(7 + 11 + 6 + 16 + 4 + 2);
@@ -344,22 +385,20 @@ fn draw_table(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
         Cell::from(app.tr(Msg::LastStudied)),
     ])
     .style(t.heading());
-    let rows = app.decks.iter().zip(&state.rows).map(|(deck, row)| {
+    let rows = rows.iter().filter_map(|row| {
+        let deck = app.decks.get(row.deck)?;
         let count = |f: fn(&Counts) -> usize| {
             row.counts
                 .map(|c| f(&c).to_string())
                 .unwrap_or_else(|| "–".into())
         };
-        Row::new(vec![
-            Cell::from(crate::tui::wrap::ellipsize(
-                deck.title.get(&app.lang),
-                title_w,
-            )),
+        Some(Row::new(vec![
+            Cell::from(titled(app, deck, row.depth, title_w)),
             Cell::from(count(|c| c.due)).style(t.good()),
             Cell::from(count(|c| c.learning)).style(t.warn()),
             Cell::from(count(|c| c.new)).style(t.title()),
             Cell::from(ago(app, row.last_studied)).style(t.dim()),
-        ])
+        ]))
     });
     let widths = [
         Constraint::Fill(1),
@@ -379,13 +418,14 @@ fn draw_table(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
 /// A narrow screen: the deck titles alone; the selected deck's counts go
 /// in the details below.
 fn draw_narrow(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
+    let rows = rows_of(app, state);
     let t = &app.theme;
     let title_w = usize::from(area.width.saturating_sub(2));
-    let rows = app.decks.iter().map(|deck| {
-        Row::new(vec![Cell::from(crate::tui::wrap::ellipsize(
-            deck.title.get(&app.lang),
-            title_w,
-        ))])
+    let rows = rows.iter().filter_map(|row| {
+        let deck = app.decks.get(row.deck)?;
+        Some(Row::new(vec![Cell::from(titled(
+            app, deck, row.depth, title_w,
+        ))]))
     });
     let table = Table::new(rows, [Constraint::Fill(1)])
         .header(Row::new(vec![Cell::from(app.tr(Msg::Decks))]).style(t.heading()))
@@ -393,4 +433,36 @@ fn draw_narrow(frame: &mut Frame, area: Rect, app: &App, state: &HomeState) {
         .highlight_symbol("› ");
     let mut ts = TableState::default().with_selected(Some(state.selected));
     frame.render_stateful_widget(table, area, &mut ts);
+}
+
+/// A deck's title in its row: indented two spaces per level under its
+/// parent (at most four levels, so a deep tree leaves room for the title).
+fn titled(app: &App, deck: &Deck, depth: usize, width: usize) -> String {
+    let indent = "  ".repeat(depth.min(4));
+    let title = crate::tui::wrap::ellipsize(
+        deck.title.get(&app.lang),
+        width.saturating_sub(indent.len()),
+    );
+    format!("{indent}{title}")
+}
+
+/// The rows to draw: the state's, or (when the decks changed since it was
+/// counted) every deck in tree order without counts, so no deck is left
+/// off the list.
+fn rows_of<'s>(app: &App, state: &'s HomeState) -> std::borrow::Cow<'s, [DeckRow]> {
+    if state.rows.len() == app.decks.len() {
+        return std::borrow::Cow::Borrowed(&state.rows);
+    }
+    let tree = DeckTree::new(&app.decks);
+    std::borrow::Cow::Owned(
+        tree.order
+            .iter()
+            .map(|&(deck, depth)| DeckRow {
+                deck,
+                depth,
+                counts: None,
+                last_studied: None,
+            })
+            .collect(),
+    )
 }

@@ -9,6 +9,7 @@ use super::stack::Tui;
 use super::update::apply;
 
 mod browser;
+mod deck_options;
 mod derive;
 mod edit;
 mod exam;

@@ -29,6 +29,7 @@
 //! `flipcard check` never reads the cache: it validates every deck afresh.
 
 use std::collections::BTreeMap;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -69,6 +70,8 @@ struct Entry {
     title: BTreeMap<String, String>,
     description: Option<BTreeMap<String, String>>,
     languages: Vec<String>,
+    /// The deck's `parent` and the span of its value in the deck file.
+    parent: Option<(String, Range<usize>)>,
     cards: Vec<CachedCard>,
 }
 
@@ -89,6 +92,14 @@ struct CachedCard {
     accept: Vec<String>,
     accept_by_lang: BTreeMap<String, Vec<String>>,
     tags: Vec<String>,
+}
+
+/// A deck taken from the cache: the deck, where its `parent` value is in
+/// its file, and its content files (path and text).
+pub(crate) struct Cached {
+    pub deck: Deck,
+    pub parent_span: Option<Range<usize>>,
+    pub content: Vec<(PathBuf, String)>,
 }
 
 /// What a deck file's lookup needs to know before its TOML is read.
@@ -148,7 +159,7 @@ impl DeckCache {
         size: usize,
         content: impl Fn(&str) -> Option<(PathBuf, String)>,
         path: &Path,
-    ) -> Option<(Deck, Vec<(PathBuf, String)>)> {
+    ) -> Option<Cached> {
         let limit = (size as u64)
             .saturating_mul(MAX_ENTRY_FACTOR)
             .saturating_add(1 << 20);
@@ -171,15 +182,26 @@ impl DeckCache {
             }
             texts.push((file, text));
         }
-        Some((entry.into_deck(path), texts))
+        let parent_span = entry.parent.as_ref().map(|(_, span)| span.clone());
+        Some(Cached {
+            deck: entry.into_deck(path),
+            parent_span,
+            content: texts,
+        })
     }
 
     /// Keeps `deck` under `key` (validated with these content files'
     /// texts, by language), replacing what was kept for the same file. A
     /// deck the cache does not hold (see the module) is not written;
     /// nothing here fails loudly.
-    pub(crate) fn put(&self, key: &Key, deck: &Deck, content: &[(String, &str)]) {
-        let Some(entry) = Entry::of(deck, content) else {
+    pub(crate) fn put(
+        &self,
+        key: &Key,
+        deck: &Deck,
+        parent_span: Option<Range<usize>>,
+        content: &[(String, &str)],
+    ) {
+        let Some(entry) = Entry::of(deck, parent_span, content) else {
             return;
         };
         let Ok(payload) = postcard::to_allocvec(&entry) else {
@@ -227,7 +249,11 @@ fn decode(bytes: &[u8]) -> Option<Entry> {
 
 impl Entry {
     /// The entry of a deck the cache holds: cards only.
-    fn of(deck: &Deck, content: &[(String, &str)]) -> Option<Entry> {
+    fn of(
+        deck: &Deck,
+        parent_span: Option<Range<usize>>,
+        content: &[(String, &str)],
+    ) -> Option<Entry> {
         let plain = deck.prompts.is_empty()
             && deck.scenes.is_empty()
             && deck.systems.is_empty()
@@ -254,8 +280,14 @@ impl Entry {
         if !same_languages {
             return None;
         }
+        let parent = match (&deck.parent, parent_span) {
+            (Some(p), Some(span)) => Some((p.clone(), span)),
+            (None, _) => None,
+            (Some(_), None) => return None,
+        };
         Some(Entry {
             content,
+            parent,
             id: deck.id.clone(),
             title: deck.title.0.clone(),
             description: deck.description.as_ref().map(|t| t.0.clone()),
@@ -279,6 +311,7 @@ impl Entry {
             misconceptions: Vec::new(),
             explore: Vec::new(),
             derivations: Vec::new(),
+            parent: self.parent.map(|(p, _)| p),
             path: path.to_path_buf(),
         }
     }

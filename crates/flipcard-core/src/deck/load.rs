@@ -107,6 +107,7 @@ pub fn load_sources_cached(
     let mut statuses = Vec::new();
     let mut seen_ids: HashMap<String, PathBuf> = HashMap::new();
     let mut seen_files: HashSet<PathBuf> = HashSet::new();
+    let mut parents: Vec<super::tree::ParentAt> = Vec::new();
     for (source, (tree, path)) in sources.iter().enumerate() {
         let before = loaded.diagnostics.len();
         let files = deck_files(*tree, path, &mut loaded);
@@ -125,7 +126,14 @@ pub fn load_sources_cached(
                 continue;
             }
             let (diags, decks) = (loaded.diagnostics.len(), loaded.decks.len());
-            load_deck(*tree, &file, &mut loaded, &mut seen_ids, cache);
+            load_deck(
+                *tree,
+                &file,
+                &mut loaded,
+                &mut seen_ids,
+                &mut parents,
+                cache,
+            );
             let errors = loaded.diagnostics[diags..]
                 .iter()
                 .filter(|d| d.is_error())
@@ -137,6 +145,32 @@ pub fn load_sources_cached(
                 warnings: loaded.diagnostics.len() - diags - errors,
                 deck: (loaded.decks.len() > decks).then_some(decks),
             });
+        }
+    }
+    // Parents across every source: missing ones said, cycles refused.
+    let (said, refused) = super::tree::check_parents(&loaded.decks, &parents, &loaded.sources);
+    for d in &said {
+        if let Some(s) = statuses.iter_mut().find(|s| s.path == d.path) {
+            if d.is_error() {
+                s.errors += 1;
+            } else {
+                s.warnings += 1;
+            }
+        }
+    }
+    loaded.diagnostics.extend(said);
+    if !refused.is_empty() {
+        let mut kept = Vec::with_capacity(loaded.decks.len());
+        let mut new_index = vec![None; loaded.decks.len()];
+        for (i, d) in std::mem::take(&mut loaded.decks).into_iter().enumerate() {
+            if !refused.contains(&i) {
+                new_index[i] = Some(kept.len());
+                kept.push(d);
+            }
+        }
+        loaded.decks = kept;
+        for s in &mut statuses {
+            s.deck = s.deck.and_then(|i| new_index.get(i).copied().flatten());
         }
     }
     (loaded, statuses)
@@ -241,6 +275,7 @@ fn load_deck(
     path: &Path,
     loaded: &mut Loaded,
     seen_ids: &mut HashMap<String, PathBuf>,
+    parents: &mut Vec<super::tree::ParentAt>,
     cache: Option<&DeckCache>,
 ) {
     let Some(text) = read_text(tree, path, loaded) else {
@@ -263,16 +298,23 @@ fn load_deck(
             let text = String::from_utf8(tree.read(&file).ok()?).ok()?;
             Some((file, text))
         };
-        if let Some((deck, texts)) = c.get(key, text.len(), content, path)
-            && !seen_ids.contains_key(&deck.id)
+        if let Some(hit) = c.get(key, text.len(), content, path)
+            && !seen_ids.contains_key(&hit.deck.id)
         {
-            seen_ids.insert(deck.id.clone(), path.to_path_buf());
+            seen_ids.insert(hit.deck.id.clone(), path.to_path_buf());
             loaded
                 .diagnostics
-                .extend(stray_content_files(tree, &dir, &deck.languages));
+                .extend(stray_content_files(tree, &dir, &hit.deck.languages));
             loaded.sources.insert(path.to_path_buf(), text);
-            loaded.sources.extend(texts);
-            loaded.decks.push(deck);
+            loaded.sources.extend(hit.content);
+            if let Some(span) = hit.parent_span {
+                parents.push(super::tree::ParentAt {
+                    deck: loaded.decks.len(),
+                    path: path.to_path_buf(),
+                    span,
+                });
+            }
+            loaded.decks.push(hit.deck);
             return;
         }
     }
@@ -381,6 +423,7 @@ fn load_deck(
                 explore: body.explore,
                 derivations: body.derivations,
                 path: path.to_path_buf(),
+                parent: h.parent,
             })
         })(),
         _ => None,
@@ -398,7 +441,12 @@ fn load_deck(
             .iter()
             .filter_map(|(lang, _, text)| Some((lang.clone(), text.as_deref()?)))
             .collect();
-        c.put(key, deck, &content);
+        let parent_span = raw
+            .deck
+            .as_ref()
+            .and_then(|d| d.parent.as_ref())
+            .map(|p| p.span.clone());
+        c.put(key, deck, parent_span, &content);
     }
     loaded.diagnostics.extend(diagnostics);
     loaded.sources.insert(path.to_path_buf(), text);
@@ -406,6 +454,20 @@ fn load_deck(
         if let Some(text) = text {
             loaded.sources.insert(file, text);
         }
+    }
+    if let (Some(deck), Some(span)) = (
+        &deck,
+        raw.deck
+            .as_ref()
+            .and_then(|d| d.parent.as_ref())
+            .map(|p| p.span.clone()),
+    ) && deck.parent.is_some()
+    {
+        parents.push(super::tree::ParentAt {
+            deck: loaded.decks.len(),
+            path: path.to_path_buf(),
+            span,
+        });
     }
     loaded.decks.extend(deck);
 }

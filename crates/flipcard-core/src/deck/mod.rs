@@ -28,6 +28,7 @@ mod suggest;
 mod syntax;
 pub mod template;
 pub(crate) mod tomlstr;
+pub mod tree;
 pub mod validate;
 
 pub use cache::DeckCache;
@@ -37,3 +38,4 @@ pub use load::{
     load_tree,
 };
 pub use model::*;
+pub use tree::DeckTree;

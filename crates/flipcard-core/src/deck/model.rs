@@ -41,6 +41,9 @@ pub struct Deck {
     pub derivations: Vec<Derivation>,
     /// The deck file this was loaded from.
     pub path: PathBuf,
+    /// The deck it sits under on home (`parent = "ID"`): studying that
+    /// deck studies this one too.
+    pub parent: Option<String>,
 }
 
 impl Deck {

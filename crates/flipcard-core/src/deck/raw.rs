@@ -25,7 +25,7 @@ pub const DECK_FILE_FIELDS: &[&str] = &[
     "misconception",
     "derivation",
 ];
-pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages", "units"];
+pub const DECK_FIELDS: &[&str] = &["id", "title", "description", "languages", "units", "parent"];
 pub const CARD_FIELDS: &[&str] = &[
     "id", "kind", "front", "back", "accept", "explain", "prompt", "tags", "text", "expected",
     "vars",
@@ -104,6 +104,8 @@ pub struct RawDeckHeader {
     pub languages: Option<List<Str>>,
     /// Units the deck's learners may type (`units = { ly = "9.4607e15 m" }`).
     pub units: Option<Named<Str>>,
+    /// The id of the deck this one sits under on home (`parent = "ID"`).
+    pub parent: Option<Str>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -391,6 +393,7 @@ fn read_header(rep: &mut FileReport, t: &DeTable, span: Span) -> RawDeckHeader {
         description: f.text(rep, "description", false),
         languages: f.strings(rep, "languages", true),
         units: named(rep, &f, "units", read::string),
+        parent: f.string(rep, "parent", false),
     }
 }
 

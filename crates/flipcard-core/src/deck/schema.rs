@@ -145,6 +145,9 @@ pub struct DeckHeader {
     /// Units a learner may type in a number answer besides the known ones,
     /// each a positive number and a known unit: `{ ly = "9.4607e15 m" }`.
     pub units: Option<std::collections::BTreeMap<String, String>>,
+    /// The id of the deck this one sits under on home: studying the parent
+    /// studies this deck too, and the parent's limits bound both.
+    pub parent: Option<Id>,
 }
 
 /// A flashcard. A cloze card has `text` (and an optional `back` of notes);

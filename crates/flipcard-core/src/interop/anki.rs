@@ -434,6 +434,8 @@ pub struct DeckOptions {
     pub desired_retention: Option<f64>,
     /// FSRS parameters (the newest set Anki kept: 21 for FSRS-6).
     pub fsrs_parameters: Vec<f64>,
+    /// The maximum interval, in days.
+    pub maximum_interval: Option<u32>,
 }
 
 struct Catalog {
@@ -455,6 +457,12 @@ fn steps(v: impl IntoIterator<Item = f64>) -> Vec<f64> {
 fn per_day(v: Option<i64>) -> Option<u32> {
     v.and_then(|n| u32::try_from(n).ok())
         .filter(|n| *n <= 1_000_000)
+}
+
+/// Anki's maximum interval (days), when it is one flipcard can keep.
+fn max_interval(v: Option<i64>) -> Option<u32> {
+    v.and_then(|n| u32::try_from(n).ok())
+        .filter(|n| (1..=crate::sched::preset::MAX_INTERVAL_DAYS).contains(n))
 }
 
 fn retention(v: Option<f64>) -> Option<f64> {
@@ -541,6 +549,7 @@ fn catalog_legacy(conn: &Connection) -> Result<Catalog, ReadError> {
                 relearning_steps: steps(floats(&c["lapse"]["delays"])),
                 desired_retention: retention(c["desiredRetention"].as_f64()),
                 fsrs_parameters: fsrs_params(params),
+                maximum_interval: max_interval(c["rev"]["maxIvl"].as_i64()),
             },
         );
     }
@@ -630,6 +639,9 @@ fn catalog_v18(conn: &Connection) -> Result<Catalog, ReadError> {
                     (6, v) => p6.extend(v.floats()),
                     (9, Proto::Varint(n)) => o.new_per_day = per_day(i64::try_from(n).ok()),
                     (10, Proto::Varint(n)) => o.reviews_per_day = per_day(i64::try_from(n).ok()),
+                    (16, Proto::Varint(n)) => {
+                        o.maximum_interval = max_interval(i64::try_from(n).ok())
+                    }
                     (37, Proto::Fixed32(x)) => {
                         o.desired_retention = retention(Some(f64::from(f32::from_bits(x))))
                     }
@@ -1182,6 +1194,21 @@ fn read_collection(
         .filter_map(|d| Some((d.name.as_str(), catalog.options.get(&d.config?)?)))
         .collect();
     let mut leech_notes = HashSet::new();
+    // A deck `A::B` sits under `A`: a level with no notes of its own is
+    // made a deck too (empty), so the tree stays whole.
+    let levels: Vec<String> = by_deck
+        .keys()
+        .flat_map(|name| {
+            let parts: Vec<&str> = name.split("::").collect();
+            (1..parts.len())
+                .map(|n| parts[..n].join("::"))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    for level in levels {
+        by_deck.entry(level).or_default();
+    }
+    let mut id_of_name: HashMap<String, String> = HashMap::new();
     for (name, notes) in &by_deck {
         let wanted = slug(&name.replace("::", " "));
         let base = if reserved.contains(&wanted) {
@@ -1211,6 +1238,13 @@ fn read_collection(
         text.push_str(&format!(" (deck {name:?}).\n[deck]\n"));
         text.push_str(&format!("id = {}\n", toml_string(&id)));
         text.push_str(&format!("title = {}\n", toml_string(&plain(name))));
+        // Names sort parents first: `A` before `A::B`.
+        if let Some((up, _)) = name.rsplit_once("::")
+            && let Some(parent) = id_of_name.get(up)
+        {
+            text.push_str(&format!("parent = {}\n", toml_string(parent)));
+        }
+        id_of_name.insert(name.clone(), id.clone());
         text.push_str("languages = [\"en\"]\n");
         for note in notes {
             let card_id = format!("n{}", note.id);

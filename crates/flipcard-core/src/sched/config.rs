@@ -5,6 +5,7 @@
 //! fall back to a default. Saving one key edits the file in place, so the
 //! learner's comments and other keys survive.
 
+use std::collections::BTreeMap;
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -13,17 +14,15 @@ use chrono::{NaiveTime, TimeDelta, Timelike};
 use serde::Deserialize;
 use toml::Spanned;
 
+pub use super::preset::PARAMETER_BOUNDS;
+use super::preset::{DeckSettings, Preset, RawDeckSettings, RawPreset};
+pub(crate) use super::preset::{RETENTION_RANGE, format_step, parse_step};
+
 /// The languages the app speaks (decks may declare these).
 pub(crate) const LANGUAGES: [&str; 2] = ["en", "hi-Latn"];
 
-/// Allowed range of `desired_retention`.
-pub(crate) const RETENTION_RANGE: (f64, f64) = (0.70, 0.97);
-
-/// The longest learning or relearning step accepted.
-const MAX_STEP: TimeDelta = TimeDelta::days(365);
-
 /// Every key a config file may hold, in the order `save` writes them.
-pub const KEYS: [&str; 11] = [
+pub const KEYS: [&str; 13] = [
     "desired_retention",
     "learning_steps",
     "relearning_steps",
@@ -35,38 +34,14 @@ pub const KEYS: [&str; 11] = [
     "bury_siblings",
     "leech_threshold",
     "leech_action",
+    "maximum_interval",
+    "hide_bundled",
 ];
 
 /// Keys written only once they have a value: FSRS parameters fitted to the
 /// learner's own reviews (`flipcard optimize --apply`) and when.
 pub const FITTED_KEYS: [&str; 2] = ["fsrs_parameters", "fsrs_fitted_at"];
 
-/// The range the `fsrs` crate clamps each FSRS-6 parameter to while fitting
-/// (its `parameter_clipper`, with one relearning step and the short-term
-/// terms enabled): parameters outside it were not produced by a fit.
-pub const PARAMETER_BOUNDS: [(f64, f64); 21] = [
-    (0.001, 100.0),
-    (0.001, 100.0),
-    (0.001, 100.0),
-    (0.001, 100.0),
-    (1.0, 10.0),
-    (0.001, 4.0),
-    (0.001, 4.0),
-    (0.001, 0.75),
-    (0.0, 4.5),
-    (0.0, 0.8),
-    (0.001, 3.5),
-    (0.001, 5.0),
-    (0.001, 0.25),
-    (0.001, 0.9),
-    (0.0, 4.0),
-    (0.0, 1.0),
-    (1.0, 6.0),
-    (0.0, 2.0),
-    (0.0, 2.0),
-    (0.0, 0.8),
-    (0.1, 0.8),
-];
 /// What happens to an item whose lapses reach `leech_threshold`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LeechAction {
@@ -117,6 +92,15 @@ pub struct Config {
     /// A folder another tool keeps in step between the learner's machines
     /// (`flipcard sync`), relative to the config file's folder.
     pub sync_dir: Option<PathBuf>,
+    /// The longest interval the scheduler gives, in days (Anki's maximum
+    /// interval).
+    pub maximum_interval: u32,
+    /// Leave the bundled decks off home and the deck lists.
+    pub hide_bundled: bool,
+    /// `[preset.NAME]` tables (see [`super::preset`]).
+    pub presets: BTreeMap<String, Preset>,
+    /// `[deck.ID]` tables: which preset each deck uses.
+    pub decks: BTreeMap<String, DeckSettings>,
 }
 
 impl Default for Config {
@@ -137,6 +121,10 @@ impl Default for Config {
             leech_action: LeechAction::Suspend,
             deck_paths: Vec::new(),
             sync_dir: None,
+            maximum_interval: super::preset::MAX_INTERVAL_DAYS,
+            hide_bundled: false,
+            presets: BTreeMap::new(),
+            decks: BTreeMap::new(),
         }
     }
 }
@@ -188,6 +176,10 @@ struct RawConfig {
     leech_action: Option<Spanned<String>>,
     deck_paths: Option<Vec<Spanned<String>>>,
     sync_dir: Option<Spanned<String>>,
+    maximum_interval: Option<Spanned<i64>>,
+    hide_bundled: Option<bool>,
+    preset: Option<BTreeMap<String, Spanned<RawPreset>>>,
+    deck: Option<BTreeMap<String, Spanned<RawDeckSettings>>>,
 }
 
 impl Config {
@@ -389,6 +381,17 @@ impl Config {
                 .map_err(|m| invalid("sync_dir", d.span(), m.to_string()))?;
             config.sync_dir = Some(base.join(dir));
         }
+        if let Some(n) = raw.maximum_interval {
+            config.maximum_interval = super::preset::maximum_interval("maximum_interval", &n)
+                .map_err(|(k, s, m)| invalid(&k, s, m))?;
+        }
+        if let Some(b) = raw.hide_bundled {
+            config.hide_bundled = b;
+        }
+        config.presets = super::preset::read_presets(raw.preset.unwrap_or_default())
+            .map_err(|(k, s, m)| invalid(&k, s, m))?;
+        config.decks = super::preset::read_decks(raw.deck.unwrap_or_default(), &config.presets)
+            .map_err(|(k, s, m)| invalid(&k, s, m))?;
         Ok(config)
     }
 
@@ -422,6 +425,8 @@ impl Config {
             "bury_siblings" => toml::Value::Boolean(self.bury_siblings),
             "leech_threshold" => toml::Value::Integer(i64::from(self.leech_threshold)),
             "leech_action" => toml::Value::String(self.leech_action.as_str().to_string()),
+            "maximum_interval" => toml::Value::Integer(i64::from(self.maximum_interval)),
+            "hide_bundled" => toml::Value::Boolean(self.hide_bundled),
             other => return Err(ConfigError::UnknownKey(other.to_string())),
         })
     }
@@ -481,60 +486,119 @@ impl Config {
                 })?;
             }
         }
+        text = self
+            .set_tables_in_text(&text, &on_file)
+            .map_err(|message| ConfigError::Parse {
+                path: path.to_path_buf(),
+                message,
+            })?;
         if text == original && path.exists() {
             return Ok(());
         }
         write_atomically(path, &text)
     }
-}
 
-/// A learning step as written in the config: a whole number and a unit,
-/// `30s`, `1m`, `10m`, `1h`, `1d`.
-pub(crate) fn parse_step(text: &str) -> Result<TimeDelta, StepError> {
-    let t = text.trim();
-    let split = t.find(|c: char| !c.is_ascii_digit()).unwrap_or(t.len());
-    let (number, unit) = t.split_at(split);
-    let n: i64 = number
-        .parse()
-        .map_err(|_| StepError::NotADuration(text.to_string()))?;
-    let step = match unit {
-        "s" => TimeDelta::try_seconds(n),
-        "m" => TimeDelta::try_minutes(n),
-        "h" => TimeDelta::try_hours(n),
-        "d" => TimeDelta::try_days(n),
-        _ => return Err(StepError::NoUnit(text.to_string())),
-    }
-    .ok_or_else(|| StepError::TooLong(text.to_string()))?;
-    if step <= TimeDelta::zero() || step > MAX_STEP {
-        return Err(StepError::OutOfRange(text.to_string()));
-    }
-    Ok(step)
-}
-
-/// Why [`parse_step`] refused a step; each holds the text as written.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-pub(crate) enum StepError {
-    #[error("{0:?} is not a duration; {STEP_HINT}")]
-    NotADuration(String),
-    #[error("{0:?} has no known unit; {STEP_HINT}")]
-    NoUnit(String),
-    #[error("{0:?} is too long")]
-    TooLong(String),
-    #[error("{0:?} must be between 1s and 365d")]
-    OutOfRange(String),
-}
-
-const STEP_HINT: &str = "write a whole number and a unit: 30s, 1m, 10m, 1h, 1d";
-
-/// The inverse of [`parse_step`]: the largest unit that divides the step.
-pub(crate) fn format_step(d: TimeDelta) -> String {
-    let s = d.num_seconds();
-    for (unit, size) in [("d", 86_400), ("h", 3_600), ("m", 60)] {
-        if s != 0 && s % size == 0 {
-            return format!("{}{unit}", s / size);
+    /// Writes the preset and deck tables that differ from `on_file` into
+    /// `text` (a key a preset no longer has is left as it is).
+    fn set_tables_in_text(&self, text: &str, on_file: &Config) -> Result<String, String> {
+        let mut text = text.to_string();
+        for (name, preset) in &self.presets {
+            let theirs = on_file.presets.get(name);
+            if theirs.is_none() {
+                // A preset with no key of its own is still a preset.
+                text = super::preset::ensure_table(&text, &["preset", name])?;
+            }
+            for key in super::preset::PRESET_KEYS {
+                if let Some(mine) = preset.value_of(key)
+                    && theirs.and_then(|p| p.value_of(key)) != Some(mine.clone())
+                {
+                    text = super::preset::set_table_key(&text, &["preset", name], key, &mine)?;
+                }
+            }
         }
+        for (id, deck) in &self.decks {
+            if let Some(mine) = &deck.preset
+                && on_file.preset_of(id) != Some(mine.as_str())
+            {
+                let value = toml::Value::String(mine.clone());
+                text = super::preset::set_table_key(&text, &["deck", id], "preset", &value)?;
+            }
+        }
+        Ok(text)
     }
-    format!("{s}s")
+
+    /// Writes one preset's `key` (one of [`super::preset::PRESET_KEYS`])
+    /// into the file, creating the `[preset.NAME]` table when missing,
+    /// keeping every other line.
+    pub fn save_preset_key(&self, path: &Path, name: &str, key: &str) -> Result<(), ConfigError> {
+        let value = self
+            .presets
+            .get(name)
+            .and_then(|p| p.value_of(key))
+            .ok_or_else(|| ConfigError::UnknownKey(format!("preset.{name}.{key}")))?;
+        let text = read_or_empty(path)?;
+        let updated = super::preset::set_table_key(&text, &["preset", name], key, &value).map_err(
+            |message| ConfigError::Parse {
+                path: path.to_path_buf(),
+                message,
+            },
+        )?;
+        write_atomically(path, &updated)
+    }
+
+    /// Writes which preset deck `id` uses into the file (`[deck.ID]
+    /// preset = "NAME"`), keeping every other line.
+    pub fn save_deck_preset(&self, path: &Path, id: &str) -> Result<(), ConfigError> {
+        let name = self
+            .preset_of(id)
+            .ok_or_else(|| ConfigError::UnknownKey(format!("deck.{id}.preset")))?;
+        let text = read_or_empty(path)?;
+        let value = toml::Value::String(name.to_string());
+        let updated = super::preset::set_table_key(&text, &["deck", id], "preset", &value)
+            .map_err(|message| ConfigError::Parse {
+                path: path.to_path_buf(),
+                message,
+            })?;
+        write_atomically(path, &updated)
+    }
+}
+
+impl Config {
+    /// The settings deck `id` studies with: its preset's values over the
+    /// top-level ones (the config itself when it has no preset).
+    pub fn for_deck(&self, id: &str) -> Config {
+        let Some(p) = self.preset_of(id).and_then(|n| self.presets.get(n)) else {
+            return self.clone();
+        };
+        let mut c = self.clone();
+        if let Some(v) = p.new_per_day {
+            c.new_per_day = v;
+        }
+        if let Some(v) = p.reviews_per_day {
+            c.reviews_per_day = v;
+        }
+        if let Some(v) = &p.learning_steps {
+            c.learning_steps = v.clone();
+        }
+        if let Some(v) = &p.relearning_steps {
+            c.relearning_steps = v.clone();
+        }
+        if let Some(v) = p.desired_retention {
+            c.desired_retention = v;
+        }
+        if let Some(v) = p.maximum_interval {
+            c.maximum_interval = v;
+        }
+        if let Some(v) = p.fsrs_parameters {
+            c.fsrs_parameters = Some(v);
+        }
+        c
+    }
+
+    /// The name of the preset deck `id` uses, if any.
+    pub fn preset_of(&self, id: &str) -> Option<&str> {
+        self.decks.get(id).and_then(|d| d.preset.as_deref())
+    }
 }
 
 /// A `day_starts_at` that is not `HH:MM`.
@@ -598,6 +662,15 @@ fn set_key_in_text(text: &str, key: &str, value: &toml::Value) -> Result<String,
     let rendered = value.to_string();
     Ok(match existing {
         Some(span) => format!("{}{rendered}{}", &text[..span.start], &text[span.end..]),
+        // After a table a new line would belong to it: the key goes
+        // before the first table.
+        None if doc
+            .get_ref()
+            .iter()
+            .any(|(_, v)| matches!(v.get_ref(), toml::de::DeValue::Table(_))) =>
+        {
+            super::preset::set_top_key(text, key, value).map_err(NotToml)?
+        }
         None => {
             let sep = if text.is_empty() || text.ends_with('\n') {
                 ""
@@ -631,6 +704,15 @@ impl fmt::Display for Config {
         for key in FITTED_KEYS {
             if let Some(v) = self.fitted_value_of(key) {
                 writeln!(f, "{key} = {v}")?;
+            }
+        }
+        for (name, preset) in &self.presets {
+            write!(f, "\n[preset.{name}]\n{}", preset.to_toml())?;
+        }
+        for (id, deck) in &self.decks {
+            writeln!(f, "\n[deck.{id}]")?;
+            if let Some(p) = &deck.preset {
+                writeln!(f, "preset = {}", toml::Value::String(p.clone()))?;
             }
         }
         Ok(())

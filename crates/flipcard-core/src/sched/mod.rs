@@ -6,6 +6,7 @@ pub mod config;
 pub mod day;
 pub mod fit;
 pub mod plan;
+pub mod preset;
 pub mod queue;
 pub mod scheduler;
 pub mod typed;
@@ -16,5 +17,5 @@ pub use day::{DayGrid, DayOf, DayZone, Days};
 pub use queue::{
     Counts, CramQueue, DoneToday, Queue, QueueKind, cram_items, deck_items, study_day,
 };
-pub use scheduler::{Preview, Scheduler, format_interval};
+pub use scheduler::{Preview, Scheduler, Schedulers, format_interval};
 pub use types::*;

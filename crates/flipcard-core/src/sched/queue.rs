@@ -130,6 +130,27 @@ impl fmt::Display for Counts {
     }
 }
 
+/// One deck of a queue over a deck and its subdecks (Anki's v3 limits:
+/// a deck's limits bound what its whole subtree offers, and every deck
+/// from an item's own up to the one studied bounds it).
+#[derive(Debug, Clone, Copy)]
+pub struct Part<'a> {
+    /// The deck's id and its items in deck order.
+    pub deck: &'a str,
+    pub items: &'a [ItemKey],
+    /// The part of its parent deck (parts come parents first); `None` for
+    /// the deck studied.
+    pub parent: Option<usize>,
+    pub new_per_day: u32,
+    pub reviews_per_day: u32,
+    /// Answered today in this deck and every deck below it.
+    pub done: DoneToday,
+}
+
+/// New items kept beyond what the limits offer, per deck: an item set
+/// aside (suspended, buried) leaves its place to the next one.
+const NEW_SPARE: usize = 64;
+
 /// The day's queue. Build it once, take [`Queue::next`], report each answer
 /// with [`Queue::answered`] (or an undo with [`Queue::restore`]).
 #[derive(Debug, Clone)]
@@ -138,7 +159,14 @@ pub struct Queue {
     /// Sorted by due time; items answered later go after equal due times.
     learning: Vec<(DateTime<Utc>, ItemKey)>,
     reviews: VecDeque<ItemKey>,
+    /// New items in the order they are offered; those the limits leave
+    /// out today wait behind (see [`Queue::offered_new`]).
     new: VecDeque<ItemKey>,
+    /// New items each part may still introduce today, and its parent.
+    new_left: Vec<usize>,
+    parents: Vec<Option<usize>>,
+    /// Which part each deck is.
+    part_of: HashMap<String, usize>,
 }
 
 impl Queue {
@@ -165,63 +193,132 @@ impl Queue {
         config: &Config,
         tz: &Tz,
     ) -> Queue {
+        let deck = items.first().map_or("", |k| k.deck.as_str());
+        let part = Part {
+            deck,
+            items,
+            parent: None,
+            new_per_day: config.new_per_day,
+            reviews_per_day: config.reviews_per_day,
+            done,
+        };
+        Queue::build_parts(&[part], states, now, config, tz)
+    }
+
+    /// The queue of a deck and its subdecks, `parts[0]` the deck studied
+    /// (see [`Part`]); the day and the sibling rule are `config`'s.
+    ///
+    /// New items are offered in deck order (a deck's own, then each
+    /// subdeck's), reviews most overdue first; an item counts against its
+    /// own deck's limits and each parent's. With `bury_siblings`, a new
+    /// item whose card already has an item in today's queue is left for
+    /// another day, as Anki leaves a buried sibling: it would be set aside
+    /// when its sibling is answered, and must not take a place of the new
+    /// limit meanwhile.
+    pub fn build_parts<Tz: TimeZone>(
+        parts: &[Part<'_>],
+        states: &HashMap<ItemKey, CardState>,
+        now: DateTime<Utc>,
+        config: &Config,
+        tz: &Tz,
+    ) -> Queue {
         let day = study_day(now, config.day_starts_at, tz);
         let end = day.1;
-        let new_left = config.new_per_day.saturating_sub(done.new) as usize;
-        let reviews_left = config.reviews_per_day.saturating_sub(done.reviews) as usize;
+        let parents: Vec<Option<usize>> = parts
+            .iter()
+            .enumerate()
+            .map(|(i, p)| p.parent.filter(|&up| up < i))
+            .collect();
+        let new_left: Vec<usize> = parts
+            .iter()
+            .map(|p| p.new_per_day.saturating_sub(p.done.new) as usize)
+            .collect();
+        let mut reviews_left: Vec<usize> = parts
+            .iter()
+            .map(|p| p.reviews_per_day.saturating_sub(p.done.reviews) as usize)
+            .collect();
 
         let mut learning = Vec::new();
-        // (due, deck position) of every due review; only the most overdue
-        // `reviews_left` are kept, so no key is cloned for the rest.
-        let mut due_reviews: Vec<(DateTime<Utc>, usize)> = Vec::new();
-        let mut new = VecDeque::with_capacity(new_left.min(items.len()));
-        for (i, key) in items.iter().enumerate() {
-            match states.get(key) {
-                None => {
-                    if new.len() < new_left {
-                        new.push_back(key.clone());
-                    }
+        // (due, part, deck position) of every due review.
+        let mut due_reviews: Vec<(DateTime<Utc>, usize, usize)> = Vec::new();
+        // (part, deck position) of every new item.
+        let mut new_items: Vec<(usize, usize)> = Vec::new();
+        for (p, part) in parts.iter().enumerate() {
+            for (i, key) in part.items.iter().enumerate() {
+                match states.get(key) {
+                    None => new_items.push((p, i)),
+                    Some(card) => match card.state {
+                        State::New => new_items.push((p, i)),
+                        State::Learning | State::Relearning => {
+                            if card.due < end {
+                                learning.push((card.due, p, i));
+                            }
+                        }
+                        State::Review => {
+                            if card.due < end {
+                                due_reviews.push((card.due, p, i));
+                            }
+                        }
+                    },
                 }
-                Some(card) => match card.state {
-                    State::New => {
-                        if new.len() < new_left {
-                            new.push_back(key.clone());
-                        }
-                    }
-                    State::Learning | State::Relearning => {
-                        if card.due < end {
-                            learning.push((card.due, i));
-                        }
-                    }
-                    State::Review => {
-                        if card.due < end {
-                            due_reviews.push((card.due, i));
-                        }
-                    }
-                },
             }
         }
-        if due_reviews.len() > reviews_left {
-            if reviews_left == 0 {
-                due_reviews.clear();
-            } else {
-                due_reviews.select_nth_unstable(reviews_left - 1);
-                due_reviews.truncate(reviews_left);
-            }
-        }
+        // The most overdue first, each within its decks' review limits.
         due_reviews.sort_unstable();
+        let mut reviews = VecDeque::new();
+        for (_, p, i) in due_reviews {
+            if take(&mut reviews_left, &parents, p) {
+                reviews.push_back(parts[p].items[i].clone());
+            }
+        }
         learning.sort_unstable();
+        let learning: Vec<(DateTime<Utc>, ItemKey)> = learning
+            .into_iter()
+            .map(|(due, p, i)| (due, parts[p].items[i].clone()))
+            .collect();
+
+        // Cards already in today's queue: their new siblings wait.
+        let mut in_queue: std::collections::HashSet<(&str, &str)> =
+            std::collections::HashSet::new();
+        if config.bury_siblings {
+            for key in learning.iter().map(|(_, k)| k).chain(&reviews) {
+                if let Some(card) = sibling_card(key) {
+                    in_queue.insert(card);
+                }
+            }
+        }
+        // At most what each deck (and those above it) may introduce, and
+        // a few spare for items set aside.
+        let mut room: Vec<usize> = (0..parts.len())
+            .map(|p| chain(&parents, p).map(|a| new_left[a]).min().unwrap_or(0) + NEW_SPARE)
+            .collect();
+        let mut new = VecDeque::new();
+        for (p, i) in new_items {
+            if room[p] == 0 {
+                continue;
+            }
+            let key = &parts[p].items[i];
+            if config.bury_siblings
+                && let Some(card) = sibling_card(key)
+                && !in_queue.insert(card)
+            {
+                continue;
+            }
+            room[p] -= 1;
+            new.push_back(key.clone());
+        }
         Queue {
             day,
-            learning: learning
-                .into_iter()
-                .map(|(due, i)| (due, items[i].clone()))
-                .collect(),
-            reviews: due_reviews
-                .into_iter()
-                .map(|(_, i)| items[i].clone())
-                .collect(),
+            learning,
+            reviews,
             new,
+            new_left,
+            parents,
+            part_of: parts
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (p.deck.to_string(), i))
+                .collect(),
         }
     }
 
@@ -236,6 +333,9 @@ impl Queue {
             learning: Vec::new(),
             reviews: items.into(),
             new: VecDeque::new(),
+            new_left: Vec::new(),
+            parents: Vec::new(),
+            part_of: HashMap::new(),
         }
     }
 
@@ -256,8 +356,8 @@ impl Queue {
         if let Some(key) = self.reviews.front() {
             return Some((key, QueueKind::Review));
         }
-        if let Some(key) = self.new.front() {
-            return Some((key, QueueKind::New));
+        if let Some(&i) = self.offered_new().first() {
+            return Some((&self.new[i], QueueKind::New));
         }
         match first_learning {
             Some((due, key)) if *due <= now + LEARN_AHEAD => Some((key, QueueKind::Learning)),
@@ -277,7 +377,7 @@ impl Queue {
         if record.kind == ReviewKind::Cram {
             return;
         }
-        self.remove(&record.key);
+        self.take_out(&record.key);
         let after = &record.after;
         if matches!(after.state, State::Learning | State::Relearning) && after.due < self.day.1 {
             self.insert_learning(after.due, record.key.clone());
@@ -289,9 +389,9 @@ impl Queue {
     pub fn restore(&mut self, key: &ItemKey, before: Option<&CardState>) {
         self.remove(key);
         match before {
-            None => self.new.push_front(key.clone()),
+            None => self.unintroduce(key),
             Some(card) => match card.state {
-                State::New => self.new.push_front(key.clone()),
+                State::New => self.unintroduce(key),
                 State::Review => self.reviews.push_front(key.clone()),
                 State::Learning | State::Relearning => self.insert_learning(card.due, key.clone()),
             },
@@ -314,8 +414,59 @@ impl Queue {
         Counts {
             due: self.reviews.len(),
             learning: self.learning.len(),
-            new: self.new.len(),
+            new: self.offered_new().len(),
         }
+    }
+
+    /// The new items offered today, by position in `new`: in order, each
+    /// within what its deck and every deck above it may still introduce
+    /// (an item of no part, in a listed queue, always).
+    fn offered_new(&self) -> Vec<usize> {
+        let mut left = self.new_left.clone();
+        let mut out = Vec::new();
+        for (i, key) in self.new.iter().enumerate() {
+            match self.part_of.get(&key.deck) {
+                Some(&p) => {
+                    if take(&mut left, &self.parents, p) {
+                        out.push(i);
+                    }
+                }
+                None => out.push(i),
+            }
+            // Every deck studied has introduced its day's share.
+            let mut roots = self
+                .parents
+                .iter()
+                .zip(&left)
+                .filter(|(up, _)| up.is_none());
+            if !self.parents.is_empty() && roots.all(|(_, l)| *l == 0) {
+                break;
+            }
+        }
+        out
+    }
+
+    /// Takes an answered item out: a new one uses a place of its decks'
+    /// limits.
+    fn take_out(&mut self, key: &ItemKey) {
+        if self.remove(key)
+            && let Some(&p) = self.part_of.get(&key.deck)
+        {
+            for a in chain(&self.parents, p).collect::<Vec<_>>() {
+                self.new_left[a] = self.new_left[a].saturating_sub(1);
+            }
+        }
+    }
+
+    /// A new item put back by an undo: first in line, and its place of
+    /// the limits given back.
+    fn unintroduce(&mut self, key: &ItemKey) {
+        if let Some(&p) = self.part_of.get(&key.deck) {
+            for a in chain(&self.parents, p).collect::<Vec<_>>() {
+                self.new_left[a] += 1;
+            }
+        }
+        self.new.push_front(key.clone());
     }
 
     /// Nothing left today, not even learning items due later.
@@ -323,15 +474,50 @@ impl Queue {
         self.counts().total() == 0
     }
 
-    fn remove(&mut self, key: &ItemKey) {
+    /// Takes `key` out of the queue; whether it was a new item.
+    fn remove(&mut self, key: &ItemKey) -> bool {
         self.learning.retain(|(_, k)| k != key);
         self.reviews.retain(|k| k != key);
+        let before = self.new.len();
         self.new.retain(|k| k != key);
+        self.new.len() < before
     }
 
     fn insert_learning(&mut self, due: DateTime<Utc>, key: ItemKey) {
         let at = self.learning.partition_point(|(d, _)| *d <= due);
         self.learning.insert(at, (due, key));
+    }
+}
+
+/// Part `p` and every part above it.
+fn chain(parents: &[Option<usize>], p: usize) -> impl Iterator<Item = usize> + '_ {
+    let mut at = Some(p);
+    // Parents come before their children, so each step goes up.
+    std::iter::from_fn(move || {
+        let here = at?;
+        at = parents.get(here).copied().flatten().filter(|&up| up < here);
+        Some(here)
+    })
+}
+
+/// Takes one place of the limit `left` of part `p` and every part above
+/// it, when each has one; whether it did.
+fn take(left: &mut [usize], parents: &[Option<usize>], p: usize) -> bool {
+    if p >= left.len() || chain(parents, p).any(|a| left[a] == 0) {
+        return false;
+    }
+    for a in chain(parents, p).collect::<Vec<_>>() {
+        left[a] -= 1;
+    }
+    true
+}
+
+/// The card an item shares with its siblings (the other direction, the
+/// other cloze numbers); a prompt or a derivation has none.
+fn sibling_card(key: &ItemKey) -> Option<(&str, &str)> {
+    match key.direction {
+        Direction::Predict | Direction::Derive => None,
+        _ => Some((key.deck.as_str(), key.card.as_str())),
     }
 }
 
@@ -437,7 +623,7 @@ mod tests {
         while let Some((k, kind)) = q.next(now) {
             out.push((k.card.clone(), kind));
             let k = k.clone();
-            q.remove(&k);
+            q.take_out(&k);
         }
         out
     }
@@ -909,6 +1095,7 @@ mod deck_tests {
 
     fn deck() -> Deck {
         Deck {
+            parent: None,
             misconceptions: Vec::new(),
             explore: Vec::new(),
             derivations: Vec::new(),
@@ -979,7 +1166,11 @@ mod deck_tests {
                 last_review: Some(now - TimeDelta::days(3)),
             },
         );
-        let config = Config::default();
+        // Siblings not buried: the new backward item is offered too.
+        let config = Config {
+            bury_siblings: false,
+            ..Config::default()
+        };
         let q = Queue::build(&items, &states, DoneToday::default(), now, &config, &tz);
         assert_eq!(
             q.counts(),
@@ -989,8 +1180,262 @@ mod deck_tests {
                 new: 3
             }
         );
+        // Buried (the default): answering the forward review would set the
+        // backward item aside, so it is not counted as today's new.
+        let buried = Queue::build(
+            &items,
+            &states,
+            DoneToday::default(),
+            now,
+            &Config::default(),
+            &tz,
+        );
+        assert_eq!(buried.counts().new, 2);
+        assert!(!buried.contains(&items[2]));
         let (first, kind) = q.next(now).unwrap();
         assert_eq!((first, kind), (&items[1], QueueKind::Review));
         assert_eq!(first.direction, Direction::Forward);
+    }
+}
+
+#[cfg(test)]
+mod limit_tests {
+    use super::*;
+    use crate::sched::scheduler::Scheduler;
+    use crate::sched::types::Rating;
+    use proptest::prelude::*;
+
+    fn item(deck: &str, card: &str, direction: Direction) -> ItemKey {
+        ItemKey {
+            deck: deck.into(),
+            card: card.into(),
+            direction,
+        }
+    }
+
+    fn now() -> DateTime<Utc> {
+        Utc.with_ymd_and_hms(2026, 3, 10, 12, 0, 0).unwrap()
+    }
+
+    /// 20 reversed cards: two items each.
+    fn reversed(deck: &str, n: usize) -> Vec<ItemKey> {
+        (0..n)
+            .flat_map(|i| {
+                let card = format!("c{i:02}");
+                [
+                    item(deck, &card, Direction::Forward),
+                    item(deck, &card, Direction::Backward),
+                ]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn buried_siblings_do_not_use_up_the_new_limit() {
+        let items = reversed("d", 30);
+        let config = Config {
+            fuzz: false,
+            ..Config::default()
+        };
+        let sched = Scheduler::new(&config);
+        let mut q = Queue::build(
+            &items,
+            &HashMap::new(),
+            DoneToday::default(),
+            now(),
+            &config,
+            &Utc,
+        );
+        // One item per card, twenty cards.
+        assert_eq!(q.counts().new, 20);
+        let mut introduced = Vec::new();
+        let mut t = now();
+        while let Some((key, QueueKind::New)) = q.next(t) {
+            let key = key.clone();
+            let rec = sched.review(&key, None, Rating::Easy, t, 0);
+            q.answered(&rec);
+            introduced.push(key);
+            t += TimeDelta::seconds(10);
+        }
+        assert_eq!(introduced.len(), 20);
+        let cards: std::collections::HashSet<&str> =
+            introduced.iter().map(|k| k.card.as_str()).collect();
+        assert_eq!(cards.len(), 20, "twenty notes, not ten");
+        assert!(introduced.iter().all(|k| k.direction == Direction::Forward));
+        assert_eq!(q.counts().new, 0);
+
+        // Without burying, both directions come, and count.
+        let open = Config {
+            bury_siblings: false,
+            ..config
+        };
+        let q = Queue::build(
+            &items,
+            &HashMap::new(),
+            DoneToday::default(),
+            now(),
+            &open,
+            &Utc,
+        );
+        assert_eq!(q.counts().new, 20);
+        assert_eq!(order_new(&q).iter().filter(|k| k.card == "c00").count(), 2);
+    }
+
+    #[test]
+    fn an_item_set_aside_leaves_its_place_to_the_next() {
+        let items = reversed("d", 30);
+        let config = Config {
+            new_per_day: 3,
+            ..Config::default()
+        };
+        let mut q = Queue::build(
+            &items,
+            &HashMap::new(),
+            DoneToday::default(),
+            now(),
+            &config,
+            &Utc,
+        );
+        assert_eq!(q.counts().new, 3);
+        q.set_aside(&items[0]);
+        assert_eq!(q.counts().new, 3);
+        assert_eq!(q.next(now()).unwrap().0, &items[2]);
+        // Undo of an introduced item gives its place back.
+        let sched = Scheduler::new(&config);
+        let rec = sched.review(&items[2], None, Rating::Good, now(), 0);
+        q.answered(&rec);
+        assert_eq!(q.counts().new, 2);
+        q.restore(&items[2], None);
+        assert_eq!(q.counts().new, 3);
+        assert_eq!(q.next(now()).unwrap().0, &items[2]);
+    }
+
+    fn order_new(q: &Queue) -> Vec<ItemKey> {
+        let mut q = q.clone();
+        let mut out = Vec::new();
+        while let Some((k, QueueKind::New)) = q.next(now()) {
+            let k = k.clone();
+            q.take_out(&k);
+            out.push(k);
+        }
+        out
+    }
+
+    #[test]
+    fn a_parent_and_its_children_each_bound_the_new_items() {
+        let parent: Vec<ItemKey> = (0..3)
+            .map(|i| item("p", &format!("a{i}"), Direction::Forward))
+            .collect();
+        let a: Vec<ItemKey> = (0..10)
+            .map(|i| item("p-a", &format!("b{i}"), Direction::Forward))
+            .collect();
+        let b: Vec<ItemKey> = (0..10)
+            .map(|i| item("p-b", &format!("c{i}"), Direction::Forward))
+            .collect();
+        let part = |deck, items, parent, new_per_day, done_new| Part {
+            deck,
+            items,
+            parent,
+            new_per_day,
+            reviews_per_day: 100,
+            done: DoneToday {
+                new: done_new,
+                reviews: 0,
+            },
+        };
+        let config = Config::default();
+        let build =
+            |parts: &[Part]| Queue::build_parts(parts, &HashMap::new(), now(), &config, &Utc);
+        // Parent 6 a day, child a 2, child b 10: the parent's 3, a's 2, then
+        // one of b before the parent's limit stops it.
+        let q = build(&[
+            part("p", &parent, None, 6, 0),
+            part("p-a", &a, Some(0), 2, 0),
+            part("p-b", &b, Some(0), 10, 0),
+        ]);
+        let got: Vec<String> = order_new(&q).into_iter().map(|k| k.card).collect();
+        assert_eq!(got, ["a0", "a1", "a2", "b0", "b1", "c0"]);
+        assert_eq!(q.counts().new, 6);
+        // What a child did today counts against the parent (the caller
+        // rolls it up): a introduced 2, the parent has 4 left.
+        let q = build(&[
+            part("p", &parent, None, 6, 2),
+            part("p-a", &a, Some(0), 2, 2),
+            part("p-b", &b, Some(0), 10, 0),
+        ]);
+        let got: Vec<String> = order_new(&q).into_iter().map(|k| k.card).collect();
+        assert_eq!(got, ["a0", "a1", "a2", "c0"]);
+        // A child studied alone: its own limit only.
+        let q = build(&[part("p-b", &b, None, 10, 0)]);
+        assert_eq!(q.counts().new, 10);
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(128))]
+
+        /// Whatever the tree and limits, no deck's subtree is offered more
+        /// new items than its limit leaves, and an item is left out only
+        /// when some deck on its way up is full.
+        #[test]
+        fn new_items_respect_every_limit_on_the_way_up(
+            shape in proptest::collection::vec((0usize..4, 0u32..6, 0u32..4, 0usize..6, proptest::bool::ANY), 1..6),
+        ) {
+            let ids: Vec<String> = (0..shape.len()).map(|i| format!("d{i}")).collect();
+            let items: Vec<Vec<ItemKey>> = shape
+                .iter()
+                .enumerate()
+                .map(|(p, &(_, _, _, n, rev))| {
+                    if rev { reversed(&ids[p], n) } else {
+                        (0..n).map(|i| item(&ids[p], &format!("c{i}"), Direction::Forward)).collect()
+                    }
+                })
+                .collect();
+            let parts: Vec<Part> = shape
+                .iter()
+                .enumerate()
+                .map(|(p, &(up, limit, done, _, _))| Part {
+                    deck: &ids[p],
+                    items: &items[p],
+                    parent: (p > 0).then(|| up % p),
+                    new_per_day: limit,
+                    reviews_per_day: 10,
+                    done: DoneToday { new: done, reviews: 0 },
+                })
+                .collect();
+            let q = Queue::build_parts(&parts, &HashMap::new(), now(), &Config::default(), &Utc);
+            let offered = order_new(&q);
+            prop_assert_eq!(offered.len(), q.counts().new);
+            let part_of = |k: &ItemKey| ids.iter().position(|d| *d == k.deck).unwrap();
+            let up = |p: usize| parts[p].parent;
+            let under = |p: usize, mut x: usize| loop {
+                if x == p { return true; }
+                match up(x) { Some(u) => x = u, None => return false }
+            };
+            let left = |p: usize| parts[p].new_per_day.saturating_sub(parts[p].done.new) as usize;
+            for p in 0..parts.len() {
+                let n = offered.iter().filter(|k| under(p, part_of(k))).count();
+                prop_assert!(n <= left(p), "deck {} offered {} of {}", p, n, left(p));
+            }
+            // One item per card.
+            let mut cards: Vec<(&str, &str)> = offered.iter().map(|k| (k.deck.as_str(), k.card.as_str())).collect();
+            cards.sort_unstable();
+            let all = cards.len();
+            cards.dedup();
+            prop_assert_eq!(cards.len(), all);
+            // Left out only when a deck on the way up is full.
+            for (p, its) in items.iter().enumerate() {
+                for k in its.iter().filter(|k| k.direction == Direction::Forward) {
+                    if offered.contains(k) { continue; }
+                    let mut x = Some(p);
+                    let mut full = false;
+                    while let Some(a) = x {
+                        let n = offered.iter().filter(|o| under(a, part_of(o))).count();
+                        full |= n >= left(a);
+                        x = up(a);
+                    }
+                    prop_assert!(full, "{:?} left out with room", k);
+                }
+            }
+        }
     }
 }

@@ -80,7 +80,7 @@ impl Scheduler {
             desired_retention: config.desired_retention,
             learning_steps: config.learning_steps.clone(),
             relearning_steps: config.relearning_steps.clone(),
-            maximum_interval: MAXIMUM_INTERVAL,
+            maximum_interval: i64::from(config.maximum_interval).clamp(1, MAXIMUM_INTERVAL),
             fuzz: config.fuzz,
         }
     }
@@ -368,6 +368,47 @@ impl Scheduler {
         let span = (hi - lo + 1) as f64;
         let fuzzed = lo + ((u * span).floor() as i64).min(hi - lo);
         TimeDelta::days(fuzzed.min(self.maximum_interval))
+    }
+}
+
+/// The scheduler an item of a deck is scheduled with: the same for every
+/// deck ([`Scheduler`]), or each deck's own ([`Schedulers`]). Replaying a
+/// history (imports, sync) takes it, so a merged answer is scheduled as the
+/// machine that gave it scheduled it.
+pub trait ForDeck {
+    fn for_deck(&self, deck: &str) -> &Scheduler;
+}
+
+impl ForDeck for Scheduler {
+    fn for_deck(&self, _deck: &str) -> &Scheduler {
+        self
+    }
+}
+
+/// A scheduler per deck with a preset, and the config's for the others.
+#[derive(Debug, Clone)]
+pub struct Schedulers {
+    default: Scheduler,
+    by_deck: std::collections::HashMap<String, Scheduler>,
+}
+
+impl Schedulers {
+    pub fn new(config: &Config) -> Schedulers {
+        Schedulers {
+            default: Scheduler::new(config),
+            by_deck: config
+                .decks
+                .iter()
+                .filter(|(_, d)| d.preset.is_some())
+                .map(|(id, _)| (id.clone(), Scheduler::new(&config.for_deck(id))))
+                .collect(),
+        }
+    }
+}
+
+impl ForDeck for Schedulers {
+    fn for_deck(&self, deck: &str) -> &Scheduler {
+        self.by_deck.get(deck).unwrap_or(&self.default)
     }
 }
 

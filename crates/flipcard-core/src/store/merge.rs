@@ -28,7 +28,8 @@ use super::log::insert_row;
 use super::log::{COLUMNS, LoggedReview, read_logged};
 use super::write::{Failed, Write, session_in};
 use super::{state, tally};
-use crate::sched::{CardState, ItemKey, Rating, ReviewKind, Scheduler};
+use crate::sched::scheduler::ForDeck;
+use crate::sched::{CardState, ItemKey, Rating, ReviewKind};
 
 /// One review to merge: what was answered, when and how. Its state after
 /// the answer is not taken from the source but replayed.
@@ -95,11 +96,12 @@ pub(super) enum Unfit {
 impl Store {
     /// Merges `rows` into the log in one transaction (nothing is written
     /// when any row is refused) and rebuilds the state of every item they
-    /// touch by replaying its answers in time order with `scheduler`.
+    /// touch by replaying its answers in time order with `scheduler` (one
+    /// for every deck, or each deck's: [`crate::sched::Schedulers`]).
     pub fn merge_reviews(
         &mut self,
         rows: &[IncomingReview],
-        scheduler: &Scheduler,
+        scheduler: &dyn ForDeck,
     ) -> Result<MergeSummary, StoreError> {
         self.merge_reviews_keeping(rows, scheduler, &std::collections::HashMap::new())
     }
@@ -113,7 +115,7 @@ impl Store {
     pub fn merge_reviews_keeping(
         &mut self,
         rows: &[IncomingReview],
-        scheduler: &Scheduler,
+        scheduler: &dyn ForDeck,
         kept: &std::collections::HashMap<ItemKey, KeptState>,
     ) -> Result<MergeSummary, StoreError> {
         for (i, r) in rows.iter().enumerate() {
@@ -216,7 +218,7 @@ pub(super) fn merge_one(
     revive: &HashSet<UndoneBy>,
     replay_from: Option<DateTime<Utc>>,
     by_origin: bool,
-    scheduler: &Scheduler,
+    scheduler: &dyn ForDeck,
     kept: Option<&KeptState>,
 ) -> Result<ItemMerge, Failed> {
     let mut out = ItemMerge::default();
@@ -331,9 +333,11 @@ fn merge_item<'a>(
     fresh: &'a [(IncomingReview, Option<&'a str>)],
     origins: &'a std::collections::HashMap<i64, String>,
     t0: DateTime<Utc>,
-    scheduler: &Scheduler,
+    scheduler: &dyn ForDeck,
     kept: Option<&KeptState>,
 ) -> Result<usize, Failed> {
+    // The item's deck's scheduler (its preset's, when it has one).
+    let scheduler = scheduler.for_deck(&key.deck);
     live.sort_by_key(|l| (l.record.reviewed_at, l.id));
     // The state to replay from: the last live, non-cram local answer before
     // the earliest change (one of the same millisecond is replayed with the

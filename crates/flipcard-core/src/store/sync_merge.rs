@@ -15,7 +15,7 @@ use super::merge::{IncomingReview, merge_one};
 use super::status_log::{self, StatusAction};
 use super::tally;
 use super::write::{Write, session_in};
-use crate::sched::{ItemKey, Rating, Scheduler};
+use crate::sched::{ItemKey, Rating};
 
 /// A review's identity across machines: item, time (ms), rating.
 pub(crate) type ReviewId = (ItemKey, i64, Rating);
@@ -115,7 +115,7 @@ impl Store {
     pub(crate) fn merge_sync(
         &mut self,
         incoming: &SyncIncoming,
-        scheduler: &Scheduler,
+        scheduler: &dyn crate::sched::scheduler::ForDeck,
         leech: LeechRule,
     ) -> Result<SyncMerged, StoreError> {
         for (r, _) in &incoming.reviews {

@@ -19,6 +19,7 @@
 
 pub mod derive;
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 
 use chrono::{DateTime, Utc};
@@ -27,7 +28,7 @@ use crate::catalog::card_directions;
 use crate::deck::Deck;
 use crate::sched::config::LeechAction;
 use crate::sched::{
-    CardState, Config, Counts, Days, ItemKey, Queue, Rating, ReviewRecord, Scheduler,
+    CardState, Config, Counts, Days, ItemKey, Queue, Rating, ReviewRecord, Scheduler, queue::Part,
 };
 use crate::store::{
     AfterRating, AttemptVerdict, Commitment, Committed, PromptAttempt, Recorded, StatusAction,
@@ -109,16 +110,57 @@ impl Study {
         deck: &Deck,
         now: DateTime<Utc>,
     ) -> Result<(Queue, HashMap<ItemKey, CardState>), StoreError> {
-        let states = self.store.states(&deck.id)?;
+        self.queue_tree(&[(deck, None)], now)
+    }
+
+    /// The day's queue of a deck and its subdecks: `tree[0]` the deck
+    /// studied, each other entry a deck with the position of its parent
+    /// (parents first). Each deck's limits are its preset's, and bound
+    /// what its subtree offers (see [`crate::sched::queue::Part`]).
+    pub fn queue_tree(
+        &self,
+        tree: &[(&Deck, Option<usize>)],
+        now: DateTime<Utc>,
+    ) -> Result<(Queue, HashMap<ItemKey, CardState>), StoreError> {
         let (day_start, _) = self.study_day(now);
-        let done = self.store.reviews_today(&deck.id, day_start)?;
         let statuses = self.store.statuses()?;
-        let mut items = crate::sched::deck_items(deck);
-        items.retain(|k| statuses.get(k).is_none_or(|s| s.studyable(now)));
+        let mut states = HashMap::new();
+        let mut items = Vec::with_capacity(tree.len());
+        let mut done = Vec::with_capacity(tree.len());
+        for (deck, _) in tree {
+            states.extend(self.store.states(&deck.id)?);
+            let mut its = crate::sched::deck_items(deck);
+            its.retain(|k| statuses.get(k).is_none_or(|s| s.studyable(now)));
+            items.push(its);
+            done.push(self.store.reviews_today(&deck.id, day_start)?);
+        }
+        // What a deck's subtree did today counts against its limits.
+        for i in (1..tree.len()).rev() {
+            if let Some(up) = tree[i].1.filter(|&up| up < i) {
+                done[up].new += done[i].new;
+                done[up].reviews += done[i].reviews;
+            }
+        }
+        let configs: Vec<Config> = tree
+            .iter()
+            .map(|(d, _)| self.config.for_deck(&d.id))
+            .collect();
+        let parts: Vec<Part> = tree
+            .iter()
+            .enumerate()
+            .map(|(i, (deck, parent))| Part {
+                deck: &deck.id,
+                items: &items[i],
+                parent: *parent,
+                new_per_day: configs[i].new_per_day,
+                reviews_per_day: configs[i].reviews_per_day,
+                done: done[i],
+            })
+            .collect();
         let config = &self.config;
         let queue = match self.zone {
-            DayZone::Local => Queue::build(&items, &states, done, now, config, &chrono::Local),
-            DayZone::Utc => Queue::build(&items, &states, done, now, config, &Utc),
+            DayZone::Local => Queue::build_parts(&parts, &states, now, config, &chrono::Local),
+            DayZone::Utc => Queue::build_parts(&parts, &states, now, config, &Utc),
         };
         Ok((queue, states))
     }
@@ -126,6 +168,24 @@ impl Study {
     /// Today's new, learning and due counts of a deck.
     pub fn counts(&self, deck: &Deck, now: DateTime<Utc>) -> Result<Counts, StoreError> {
         Ok(self.queue(deck, now)?.0.counts())
+    }
+
+    /// Today's counts of a deck and its subdecks (see [`Study::queue_tree`]).
+    pub fn counts_tree(
+        &self,
+        tree: &[(&Deck, Option<usize>)],
+        now: DateTime<Utc>,
+    ) -> Result<Counts, StoreError> {
+        Ok(self.queue_tree(tree, now)?.0.counts())
+    }
+
+    /// The scheduler of deck `id`: built from its preset when it has one
+    /// (retention, steps, maximum interval, parameters), else the study's.
+    pub fn scheduler_for(&self, id: &str) -> Cow<'_, Scheduler> {
+        match self.config.preset_of(id) {
+            None => Cow::Borrowed(&self.scheduler),
+            Some(_) => Cow::Owned(Scheduler::new(&self.config.for_deck(id))),
+        }
     }
 
     /// The time an answer given at `now` is recorded at: to the
@@ -186,7 +246,7 @@ impl Study {
             cram,
         } = answer;
         let at = self.answer_time(key, now)?;
-        let s = &self.scheduler;
+        let s = self.scheduler_for(&key.deck);
         let record = if cram {
             s.cram(key, before, rating, at, duration_ms)
         } else {
@@ -289,9 +349,9 @@ impl Study {
             Rating::Again
         };
         let at = self.answer_time(&key, now)?;
-        let record = self
-            .scheduler
-            .review(&key, before.as_ref(), rating, at, duration_ms);
+        let record =
+            self.scheduler_for(&key.deck)
+                .review(&key, before.as_ref(), rating, at, duration_ms);
         let after = self.policy(deck, &key, at);
         let recorded =
             self.store

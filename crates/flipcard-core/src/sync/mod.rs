@@ -34,7 +34,7 @@ use chrono::{DateTime, Utc};
 use self::line::SyncLine;
 use crate::sched::clock::Clock;
 use crate::sched::config::LeechAction;
-use crate::sched::{Config, Scheduler};
+use crate::sched::{Config, Schedulers};
 use crate::store::sync_merge::LeechRule;
 use crate::store::{OpenOptions, Store};
 use flipcard_io::{self as disk, Durability};
@@ -373,7 +373,7 @@ fn locked(
             by.join(", ")
         ));
     }
-    let merged = store.merge_sync(&plan.incoming, &Scheduler::new(config), leech)?;
+    let merged = store.merge_sync(&plan.incoming, &Schedulers::new(config), leech)?;
     outcome.merged = merged.reviews;
     outcome.merged_statuses = merged.statuses;
     outcome.merged_undos = merged.undos;

@@ -177,25 +177,36 @@ impl ReviewState {
         Ok(state)
     }
 
+    /// Today's study of deck `deck` and every deck below it (or cramming
+    /// them all), each deck within its own limits and its parents'.
     pub fn open(app: &mut App, deck: usize, cram: bool) -> Result<ReviewState, String> {
-        let d = app.decks.get(deck).ok_or("no such deck")?;
+        app.decks.get(deck).ok_or("no such deck")?;
         let now = app.services.now();
+        let tree = crate::deck::DeckTree::new(&app.decks);
+        let sub = tree.subtree(deck);
+        let decks: Vec<usize> = sub.iter().map(|(i, _)| *i).collect();
         let (source, states) = if cram {
-            let states = app
-                .services
-                .study
-                .store
-                .states(&d.id)
-                .map_err(|e| e.to_string())?;
-            (
-                Source::Cram(CramQueue::new(crate::sched::cram_items(d, None))),
-                states,
-            )
+            let mut states = HashMap::new();
+            let mut items = Vec::new();
+            for &i in &decks {
+                let d = &app.decks[i];
+                states.extend(
+                    app.services
+                        .study
+                        .store
+                        .states(&d.id)
+                        .map_err(|e| e.to_string())?,
+                );
+                items.extend(crate::sched::cram_items(d, None));
+            }
+            (Source::Cram(CramQueue::new(items)), states)
         } else {
+            let parts: Vec<(&Deck, Option<usize>)> =
+                sub.iter().map(|&(i, up)| (&app.decks[i], up)).collect();
             let (queue, states) = app
                 .services
                 .study
-                .queue(d, now)
+                .queue_tree(&parts, now)
                 .map_err(|e| e.to_string())?;
             (Source::Daily(queue), states)
         };
@@ -207,7 +218,7 @@ impl ReviewState {
             .map_err(|e| e.to_string())?;
         let mut state = ReviewState {
             deck,
-            decks: vec![deck],
+            decks,
             cram,
             source,
             states,
@@ -247,6 +258,7 @@ impl ReviewState {
         let day = app.services.study.study_day(app.services.now());
         state.source = Source::Plan(Queue::listed(items, day));
         state.states = states;
+        state.decks = vec![deck];
         state.next_card(app);
         Ok(state)
     }
@@ -541,7 +553,12 @@ pub fn apply(app: &mut App, state: &mut ReviewState, action: Action) -> Nav {
                 let scope = (state.decks.len() == 1).then(|| state.decks[0]);
                 ReviewState::open_listed(app, scope, state.listed.clone(), true)
             } else {
-                ReviewState::open(app, state.deck, true)
+                // The deck studied, with its subdecks.
+                ReviewState::open(
+                    app,
+                    state.decks.first().copied().unwrap_or(state.deck),
+                    true,
+                )
             };
             return match cram {
                 Ok(r) => Nav::Replace(super::Screen::Review(Box::new(r))),
@@ -689,7 +706,7 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
         _ => None,
     };
     let previews = (!state.cram).then(|| {
-        Box::new(app.services.study.scheduler.preview(
+        Box::new(app.services.study.scheduler_for(&key.deck).preview(
             &key,
             state.states.get(&key),
             app.services.now(),

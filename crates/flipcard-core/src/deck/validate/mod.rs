@@ -185,6 +185,8 @@ pub struct Header {
     pub lang_spans: Vec<(String, Span)>,
     /// The units the deck declares.
     pub units: Vec<flipcard_text::units::Declared>,
+    /// The deck it sits under (`parent`), when valid.
+    pub parent: Option<String>,
 }
 
 /// A BCP 47 tag's shape: a 2-8 letter language subtag, then subtags of
@@ -252,6 +254,19 @@ pub fn header(rep: &mut FileReport, raw: &RawDeckFile, file_stem: &str) -> Heade
                         .to_string(),
                 ),
             ),
+        }
+    }
+    if let Some(p) = &d.parent
+        && id(rep, p, "parent deck")
+    {
+        if h.id.as_deref() == Some(p.value.as_str()) {
+            rep.error(
+                p.span.clone(),
+                format!("deck `{}` cannot be its own parent", p.value),
+                Some("name the deck it belongs under, or remove `parent`".to_string()),
+            );
+        } else {
+            h.parent = Some(p.value.clone());
         }
     }
     h.description = match &d.description {
