@@ -189,6 +189,7 @@ fn finish(tui: &mut Tui, mut session: Session, before: &[u8], ran: Result<(), St
     tui.each_screen(|app, screen| match screen {
         Screen::Review(r) => r.deck_edited(app, &edited),
         Screen::Browser(b) => b.deck_edited(app, &edited),
+        Screen::Info(i) => i.deck_edited(app, &edited),
         _ => {}
     });
     let mut said = vec![if now == session.original {

@@ -46,6 +46,14 @@ pub const KEYS: &[Binding] = &[
         ],
     ),
     Binding::new(
+        "E",
+        Words(
+            "edit this item in its deck file",
+            "yeh item uski deck file mein badlo",
+        ),
+        &[(Char('E'), Action::EditItem)],
+    ),
+    Binding::new(
         "Esc q i",
         Words("back", "wapas"),
         &[
@@ -108,6 +116,19 @@ pub struct InfoState {
 
 impl InfoState {
     /// Reads everything the screen shows (drawing does no I/O).
+    /// After `E`: the item read again from its edited deck (what it asks,
+    /// its history), at the same scroll.
+    pub fn deck_edited(&mut self, app: &App, edited: &crate::tui::edit::Edited) {
+        if edited.deck != self.deck {
+            return;
+        }
+        if let Ok(fresh) = InfoState::open(app, self.deck, self.key.clone()) {
+            let scroll = self.scroll;
+            *self = fresh;
+            self.scroll = scroll;
+        }
+    }
+
     pub fn open(app: &App, deck: usize, key: ItemKey) -> Result<InfoState, String> {
         let d = app.decks.get(deck).ok_or("no such deck")?;
         let index = match key.direction {
@@ -326,7 +347,6 @@ impl super::View for InfoState {
         Context::Info
     }
     fn apply(&mut self, app: &mut App, action: Action) -> Nav {
-        let _ = app;
         // The history's lines below its column names: one per answer and
         // the notes under them.
         let total = self.answers.len() + 2;
@@ -334,6 +354,9 @@ impl super::View for InfoState {
         let last = total.saturating_sub(page);
         match action {
             Action::Back | Action::CardInfo => return Nav::Pop,
+            Action::EditItem => {
+                app.request_edit(self.deck, crate::tui::edit::Target::Item(self.key.clone()))
+            }
             Action::Down => self.scroll = (self.scroll + 1).min(last),
             Action::Up => self.scroll = self.scroll.saturating_sub(1),
             Action::PageDown => self.scroll = (self.scroll + page).min(last),

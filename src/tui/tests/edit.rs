@@ -366,6 +366,26 @@ fn e_in_the_browser_edits_the_selected_item_and_the_list_shows_the_edit() {
     assert!(screen.contains("The SI unit of force?"), "{screen}");
 }
 
+/// `E` in card info edits the item it shows; the info screen then shows
+/// the edited text (issue 25 §5: review, browser or card info).
+#[test]
+fn e_in_card_info_edits_its_item_and_the_info_shows_the_edit() {
+    let mut f = fixture(vec![replace("The unit of force?", "The SI unit of force?")]);
+    let browser = crate::tui::screens::browser::BrowserState::open(&f.app).unwrap();
+    f.app.push(Screen::Browser(Box::new(browser)));
+    press(&mut f.app, Char('j'));
+    key(&mut f.app, 'i');
+    assert!(matches!(f.app.screen(), Screen::Info(_)), "card info open");
+    key(&mut f.app, 'E');
+    assert_eq!(f.editor.opened.borrow()[0].1, 12);
+    let Screen::Info(i) = f.app.screen() else {
+        panic!("card info closed");
+    };
+    assert_eq!(i.key, item("unit"));
+    let screen = render(&f.app);
+    assert!(screen.contains("The SI unit of force?"), "{screen}");
+}
+
 /// A bundled deck is copied into the library (with its explanations) and
 /// the copy edited; the next load takes the copy in place of the bundled
 /// deck, with no clash of ids.
