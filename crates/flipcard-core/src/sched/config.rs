@@ -13,6 +13,8 @@ use chrono::{NaiveTime, TimeDelta, Timelike};
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::balance::{EasyDays, WEEKDAYS};
+
 /// The languages the app speaks (decks may declare these).
 pub(crate) const LANGUAGES: [&str; 2] = ["en", "hi-Latn"];
 
@@ -117,6 +119,12 @@ pub struct Config {
     /// A folder another tool keeps in step between the learner's machines
     /// (`flipcard sync`), relative to the config file's folder.
     pub sync_dir: Option<PathBuf>,
+    /// With fuzz on, a review's day is chosen within its fuzz range to even
+    /// the daily load (`sched::balance`).
+    pub load_balance: bool,
+    /// The share of a normal day's reviews each weekday gets, Monday
+    /// first (`easy_days = { sat = 0.5, sun = 0 }`).
+    pub easy_days: EasyDays,
 }
 
 impl Default for Config {
@@ -137,6 +145,8 @@ impl Default for Config {
             leech_action: LeechAction::Suspend,
             deck_paths: Vec::new(),
             sync_dir: None,
+            load_balance: true,
+            easy_days: EasyDays::default(),
         }
     }
 }
@@ -188,6 +198,8 @@ struct RawConfig {
     leech_action: Option<Spanned<String>>,
     deck_paths: Option<Vec<Spanned<String>>>,
     sync_dir: Option<Spanned<String>>,
+    load_balance: Option<bool>,
+    easy_days: Option<Spanned<std::collections::BTreeMap<String, Spanned<toml::Value>>>>,
 }
 
 impl Config {
@@ -389,6 +401,12 @@ impl Config {
                 .map_err(|m| invalid("sync_dir", d.span(), m.to_string()))?;
             config.sync_dir = Some(base.join(dir));
         }
+        if let Some(b) = raw.load_balance {
+            config.load_balance = b;
+        }
+        if let Some(t) = raw.easy_days {
+            config.easy_days = parse_easy_days(&t, &invalid)?;
+        }
         Ok(config)
     }
 
@@ -486,6 +504,50 @@ impl Config {
         }
         write_atomically(path, &text)
     }
+}
+
+/// `easy_days`: a table of weekdays (`mon` … `sun`), each the share of a
+/// normal day's reviews that day should get, from 0 (as few as can be) to
+/// 1 (normal, the default of a day not named).
+fn parse_easy_days(
+    table: &Spanned<std::collections::BTreeMap<String, Spanned<toml::Value>>>,
+    invalid: &dyn Fn(&str, Range<usize>, String) -> ConfigError,
+) -> Result<EasyDays, ConfigError> {
+    let mut easy = EasyDays::default();
+    for (day, value) in table.get_ref() {
+        let Some(i) = WEEKDAYS.iter().position(|d| d == day) else {
+            return Err(invalid(
+                "easy_days",
+                table.span(),
+                format!(
+                    "\"{}\" is not a weekday: one of {}",
+                    flipcard_text::safe::one_line(day),
+                    WEEKDAYS.join(", ")
+                ),
+            ));
+        };
+        let key = format!("easy_days.{day}");
+        let share = match value.get_ref() {
+            toml::Value::Float(x) => *x,
+            toml::Value::Integer(n) => *n as f64,
+            other => {
+                return Err(invalid(
+                    &key,
+                    value.span(),
+                    format!("a {} where a share from 0 to 1 goes", other.type_str()),
+                ));
+            }
+        };
+        if !(0.0..=1.0).contains(&share) {
+            return Err(invalid(
+                &key,
+                value.span(),
+                format!("{share} is outside 0–1 (the share of a normal day's reviews)"),
+            ));
+        }
+        easy.0[i] = share;
+    }
+    Ok(easy)
 }
 
 /// A learning step as written in the config: a whole number and a unit,
