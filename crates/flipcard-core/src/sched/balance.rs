@@ -107,7 +107,7 @@ impl Load {
     /// `None` when the interval is too long to balance (then the fuzz
     /// draws uniformly).
     pub fn pick(&self, lo: i64, hi: i64, days: i64, u: f64) -> Option<i64> {
-        if days > MAX_BALANCED || lo > MAX_BALANCED || lo < 1 || hi < lo {
+        if days > MAX_BALANCED || !(1..=MAX_BALANCED).contains(&lo) || hi < lo {
             return None;
         }
         let (lo_i, hi_i) = (usize::try_from(lo).ok()?, usize::try_from(hi).ok()?);

@@ -840,6 +840,48 @@ language = "hi-Latn"
     }
 
     #[test]
+    fn load_balance_and_easy_days_are_read_and_checked() {
+        let c = parse("").unwrap();
+        assert!(c.load_balance);
+        assert!(c.easy_days.is_default());
+        let c = parse("load_balance = false\neasy_days = { sat = 0.5, sun = 0 }\n").unwrap();
+        assert!(!c.load_balance);
+        assert_eq!(c.easy_days.0, [1.0, 1.0, 1.0, 1.0, 1.0, 0.5, 0.0]);
+        let c = parse("[easy_days]\nmon = 1\nwed = 0.25\n").unwrap();
+        assert_eq!(c.easy_days.0[2], 0.25);
+        for (text, want) in [
+            (
+                "easy_days = { sat = 1.5 }",
+                "config.toml:1:21: `easy_days.sat`: 1.5 is outside 0–1",
+            ),
+            (
+                "fuzz = true\neasy_days = { sun = -1 }",
+                "config.toml:2:21: `easy_days.sun`: -1 is outside 0–1",
+            ),
+            (
+                "easy_days = { sat = \"half\" }",
+                "config.toml:1:21: `easy_days.sat`: a string where a share",
+            ),
+            (
+                "easy_days = { saturday = 0.5 }",
+                "config.toml:1:13: `easy_days`: \"saturday\" is not a weekday: one of mon, tue",
+            ),
+            (
+                "easy_days = { \"s\\u001b[2Jat\" = 0.5 }",
+                "`easy_days`: \"s\\u001b[2Jat\" is not a weekday",
+            ),
+        ] {
+            let e = parse(text).unwrap_err().to_string();
+            assert!(e.contains(want), "{text}: {e}");
+            assert!(!e.contains('\u{1b}'), "{e}");
+        }
+        let e = parse("easy_days = 0.5").unwrap_err().to_string();
+        assert!(e.contains("easy_days"), "{e}");
+        let e = parse("load_balance = 1").unwrap_err().to_string();
+        assert!(e.contains("load_balance"), "{e}");
+    }
+
+    #[test]
     fn unknown_key_is_named() {
         let e = parse("desired_retention = 0.9\nnew_per_dya = 3\n").unwrap_err();
         let msg = e.to_string();

@@ -363,6 +363,7 @@ impl Scheduler {
     /// not below what [`minimum_for`] keeps of the previous interval, Good at
     /// least Hard + 1, Easy at least Good + 1, each fuzzed (or placed by the
     /// load balancer) within its bounds; all at most the maximum interval.
+    #[allow(clippy::too_many_arguments)]
     fn passing_days(
         &self,
         before: &CardState,
@@ -372,11 +373,28 @@ impl Scheduler {
         now: DateTime<Utc>,
         load: Option<&Load>,
     ) -> [i64; 3] {
+        let u = self.fuzz.then(|| unit_random(key, now));
+        self.passing_bounds(before, r, same_day, |days, minimum, (lo, hi)| match u {
+            None => days.clamp(minimum.min(self.maximum_interval), self.maximum_interval),
+            Some(u) => load
+                .and_then(|l| l.pick(lo, hi, days, u))
+                .unwrap_or_else(|| draw(lo, hi, u)),
+        })
+    }
+
+    /// The three passing buttons in order, each day chosen by `choose`
+    /// from py-fsrs's day, its floor and the fuzz range above the floor.
+    fn passing_bounds(
+        &self,
+        before: &CardState,
+        r: f64,
+        same_day: bool,
+        mut choose: impl FnMut(i64, i64, (i64, i64)) -> i64,
+    ) -> [i64; 3] {
         let previous = match before.last_review {
             Some(last) => floor_days(before.due - last).max(0),
             None => 0,
         };
-        let u = self.fuzz.then(|| unit_random(key, now));
         let mut floor = 1;
         let mut out = [0; 3];
         for (slot, rating) in out
@@ -396,17 +414,33 @@ impl Scheduler {
             };
             let days = self.next_interval(stability);
             let minimum = minimum_for(days, previous, self.maximum_interval).max(floor);
-            let (lo, hi) = constrained_range(days, minimum, self.maximum_interval);
-            let chosen = match u {
-                None => days.clamp(minimum.min(self.maximum_interval), self.maximum_interval),
-                Some(u) => load
-                    .and_then(|l| l.pick(lo, hi, days, u))
-                    .unwrap_or_else(|| draw(lo, hi, u)),
-            };
-            *slot = chosen;
-            floor = chosen + 1;
+            let range = constrained_range(days, minimum, self.maximum_interval);
+            *slot = choose(days, minimum, range);
+            floor = *slot + 1;
         }
         out
+    }
+
+    /// For tests of the callers: the fuzz range each of Hard, Good and
+    /// Easy may take on `before` at `now`, given the days `chosen` for the
+    /// buttons below it.
+    #[cfg(test)]
+    pub(crate) fn passing_ranges(
+        &self,
+        before: &CardState,
+        now: DateTime<Utc>,
+        chosen: [i64; 3],
+    ) -> [(i64, i64); 3] {
+        let r = self.retrievability(before, now);
+        let same_day = before.last_review.is_some_and(|l| floor_days(now - l) < 1);
+        let mut ranges = [(0, 0); 3];
+        let mut i = 0;
+        self.passing_bounds(before, r, same_day, |_, _, range| {
+            ranges[i] = range;
+            i += 1;
+            chosen[i - 1]
+        });
+        ranges
     }
 
     fn review_interval(&self, card: &CardState) -> TimeDelta {
@@ -550,6 +584,13 @@ pub(crate) fn fuzz_range(days: i64, maximum_interval: i64) -> Option<(i64, i64)>
     let lo = ((d - delta).round_ties_even() as i64).max(2);
     let hi = ((d + delta).round_ties_even() as i64).min(maximum_interval);
     Some((lo.min(hi), hi))
+}
+
+/// The fuzz range of an interval of `days` at the maximum interval (the
+/// interval itself when too short to fuzz), for tests of the callers.
+#[cfg(test)]
+pub(crate) fn fuzz_range_of(days: i64) -> (i64, i64) {
+    fuzz_range(days, MAXIMUM_INTERVAL).unwrap_or((days, days))
 }
 
 /// Anki's `minimum_review_fuzz_interval`: an interval that grew past the
