@@ -361,9 +361,14 @@ pub struct OptimizeArgs {
     /// Fit to one deck's reviews only (default: every deck).
     #[arg(long, value_name = "ID")]
     pub deck: Option<String>,
-    /// Write the fitted parameters to the config file (fsrs_parameters).
+    /// Write the fitted parameters to the config file (fsrs_parameters),
+    /// unless they predict the held-out reviews worse than the current ones.
     #[arg(long)]
     pub apply: bool,
+    /// With --apply: write the fitted parameters even when they predict
+    /// the held-out reviews worse than the current ones.
+    #[arg(long, requires = "apply")]
+    pub force: bool,
     #[arg(long, value_enum, default_value_t = ReportFormat::Text)]
     pub format: ReportFormat,
 }
