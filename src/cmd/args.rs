@@ -381,9 +381,10 @@ pub enum PlanFormat {
 
 #[derive(Debug, Args)]
 pub struct PlanArgs {
-    /// The exam day (YYYY-MM-DD, a study day in local time).
+    /// The exam day (YYYY-MM-DD, a study day in local time), remembered
+    /// until it passes (default: the one remembered).
     #[arg(long, value_name = "DATE", allow_hyphen_values = true)]
-    pub exam: String,
+    pub exam: Option<String>,
     /// Plan for one deck (default: every deck loaded).
     #[arg(long, value_name = "ID")]
     pub deck: Option<String>,

@@ -125,6 +125,9 @@ pub struct Config {
     /// The share of a normal day's reviews each weekday gets, Monday
     /// first (`easy_days = { sat = 0.5, sun = 0 }`).
     pub easy_days: EasyDays,
+    /// The exam `flipcard plan --exam DATE` (or the exam screen) last
+    /// planned for, remembered until it passes.
+    pub exam_date: Option<chrono::NaiveDate>,
 }
 
 impl Default for Config {
@@ -147,6 +150,7 @@ impl Default for Config {
             sync_dir: None,
             load_balance: true,
             easy_days: EasyDays::default(),
+            exam_date: None,
         }
     }
 }
@@ -200,6 +204,7 @@ struct RawConfig {
     sync_dir: Option<Spanned<String>>,
     load_balance: Option<bool>,
     easy_days: Option<Spanned<std::collections::BTreeMap<String, Spanned<toml::Value>>>>,
+    exam_date: Option<Spanned<String>>,
 }
 
 impl Config {
@@ -407,7 +412,34 @@ impl Config {
         if let Some(t) = raw.easy_days {
             config.easy_days = parse_easy_days(&t, &invalid)?;
         }
+        if let Some(d) = raw.exam_date {
+            config.exam_date =
+                Some(parse_exam_date(d.get_ref()).map_err(|m| invalid("exam_date", d.span(), m))?);
+        }
         Ok(config)
+    }
+
+    /// The remembered exam date while it is still ahead (`today` or later).
+    pub fn exam_ahead(&self, today: chrono::NaiveDate) -> Option<chrono::NaiveDate> {
+        self.exam_date.filter(|d| *d >= today)
+    }
+
+    /// Remembers `exam` in the config file at `path` (`exam_date`), keeping
+    /// every other line as it is.
+    pub fn save_exam_date(
+        &mut self,
+        path: &Path,
+        exam: chrono::NaiveDate,
+    ) -> Result<(), ConfigError> {
+        self.exam_date = Some(exam);
+        let value = toml::Value::String(exam.format("%Y-%m-%d").to_string());
+        let text = read_or_empty(path)?;
+        let updated =
+            set_key_in_text(&text, "exam_date", &value).map_err(|e| ConfigError::Parse {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            })?;
+        write_atomically(path, &updated)
     }
 
     /// The value of `key` as it is written in a config file.
@@ -504,6 +536,21 @@ impl Config {
         }
         write_atomically(path, &text)
     }
+}
+
+/// `exam_date`: a day as `YYYY-MM-DD`, between the years 2000 and 9999.
+pub fn parse_exam_date(text: &str) -> Result<chrono::NaiveDate, String> {
+    let day = chrono::NaiveDate::parse_from_str(text.trim(), "%Y-%m-%d").map_err(|_| {
+        format!(
+            "\"{}\" is not a date as YYYY-MM-DD (example: 2026-11-22)",
+            flipcard_text::safe::one_line(text)
+        )
+    })?;
+    use chrono::Datelike as _;
+    if !(2000..=9999).contains(&day.year()) {
+        return Err(format!("{day} is outside the years 2000–9999"));
+    }
+    Ok(day)
 }
 
 /// `easy_days`: a table of weekdays (`mon` … `sun`), each the share of a
@@ -879,6 +926,43 @@ language = "hi-Latn"
         assert!(e.contains("easy_days"), "{e}");
         let e = parse("load_balance = 1").unwrap_err().to_string();
         assert!(e.contains("load_balance"), "{e}");
+    }
+
+    #[test]
+    fn the_exam_date_is_read_checked_and_remembered() {
+        let c = parse("exam_date = \"2026-11-22\"\n").unwrap();
+        let day = |s| chrono::NaiveDate::parse_from_str(s, "%Y-%m-%d").unwrap();
+        assert_eq!(c.exam_date, Some(day("2026-11-22")));
+        assert_eq!(c.exam_ahead(day("2026-11-22")), Some(day("2026-11-22")));
+        assert_eq!(c.exam_ahead(day("2026-11-23")), None);
+        for (text, want) in [
+            (
+                "exam_date = \"22/11/2026\"",
+                "config.toml:1:13: `exam_date`: \"22/11/2026\" is not a date",
+            ),
+            (
+                "exam_date = \"1999-12-31\"",
+                "`exam_date`: 1999-12-31 is outside the years 2000–9999",
+            ),
+            ("exam_date = \"2026-02-30\"", "is not a date"),
+        ] {
+            let e = parse(text).unwrap_err().to_string();
+            assert!(e.contains(want), "{text}: {e}");
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("config.toml");
+        std::fs::write(&path, "# mine\nnew_per_day = 5\n").unwrap();
+        let mut c = Config::load(Some(&path)).unwrap();
+        c.save_exam_date(&path, day("2027-01-15")).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            text,
+            "# mine\nnew_per_day = 5\nexam_date = \"2027-01-15\"\n"
+        );
+        c.save_exam_date(&path, day("2027-02-01")).unwrap();
+        let again = Config::load(Some(&path)).unwrap();
+        assert_eq!(again.exam_date, Some(day("2027-02-01")));
+        assert_eq!(again.new_per_day, 5);
     }
 
     #[test]
