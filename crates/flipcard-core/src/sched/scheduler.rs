@@ -1101,6 +1101,26 @@ mod tests {
             })
     }
 
+    /// What py-fsrs's Hard, Good and Easy would be for `c` at `at`: each
+    /// rounded alone and fuzzed alone with this item's draw.
+    fn py_fsrs_days(s: &Scheduler, c: &CardState, k: &ItemKey, at: DateTime<Utc>) -> [i64; 3] {
+        let r = s.retrievability(c, at);
+        let days_since = floor_days(at - c.last_review.unwrap());
+        [Rating::Hard, Rating::Good, Rating::Easy].map(|rating| {
+            let (st, d) = (c.stability.unwrap(), c.difficulty.unwrap());
+            let stab = if days_since < 1 {
+                s.short_term_stability(st, rating)
+            } else {
+                s.next_stability(d, st, r, rating)
+            };
+            let days = s.next_interval(stab);
+            match fuzz_range(days, MAXIMUM_INTERVAL) {
+                Some((lo, hi)) if s.fuzz => draw(lo, hi, unit_random(k, at)),
+                _ => days,
+            }
+        })
+    }
+
     fn days_of(p: &[Preview; 4]) -> [i64; 3] {
         [1, 2, 3].map(|i| p[i].interval.num_days())
     }
@@ -1213,6 +1233,7 @@ mod tests {
                 ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
             };
             let mut states: Vec<Option<CardState>> = vec![None; 1200];
+            let (mut screens, mut screens_same) = (0, 0);
             let mut per_day = Vec::new();
             let start = t0().date_naive();
             let easy = crate::sched::balance::EasyDays::default();
@@ -1249,6 +1270,14 @@ mod tests {
                         let rating = match card {
                             Some(c) if c.state == State::Review => {
                                 reviews += 1;
+                                let old = py_fsrs_days(&s, &c, &k, now);
+                                let new =
+                                    days_of(&s.preview_with(&k, Some(&c), now, load.as_ref()));
+                                assert!(new[0] < new[1] && new[1] < new[2], "{new:?}");
+                                screens += 1;
+                                if old[0] >= old[1] || old[1] >= old[2] {
+                                    screens_same += 1;
+                                }
                                 if next() > s.retrievability(&c, now) {
                                     Rating::Again
                                 } else {
@@ -1284,21 +1313,7 @@ mod tests {
                 };
                 let k = key(&format!("c{i}"));
                 let at = c.due;
-                let r = s.retrievability(&c, at);
-                let days_since = floor_days(at - c.last_review.unwrap());
-                let old = [Rating::Hard, Rating::Good, Rating::Easy].map(|rating| {
-                    let (st, d) = (c.stability.unwrap(), c.difficulty.unwrap());
-                    let stab = if days_since < 1 {
-                        s.short_term_stability(st, rating)
-                    } else {
-                        s.next_stability(d, st, r, rating)
-                    };
-                    let days = s.next_interval(stab);
-                    match fuzz_range(days, MAXIMUM_INTERVAL) {
-                        Some((lo, hi)) => draw(lo, hi, unit_random(&k, at)),
-                        None => days,
-                    }
-                });
+                let old = py_fsrs_days(&s, &c, &k, at);
                 let new = days_of(&s.preview(&k, Some(&c), at));
                 assert!(new[0] < new[1] && new[1] < new[2], "{new:?}");
                 cards += 1;
@@ -1306,7 +1321,7 @@ mod tests {
                     same += 1;
                 }
             }
-            (per_day, same, cards)
+            (per_day, same, cards, screens, screens_same)
         };
         // From day 20 (past the first weeks' ramp): the mean, how far each
         // day is from the mean of the week around it (the jaggedness the
@@ -1328,8 +1343,8 @@ mod tests {
             let min = days.map(|d| v[d]).min().unwrap();
             (mean, rough.sqrt(), max, min)
         };
-        let (uniform, same, cards) = run(false);
-        let (balanced, same_b, cards_b) = run(true);
+        let (uniform, same, cards, screens, screens_same) = run(false);
+        let (balanced, same_b, cards_b, _, _) = run(true);
         let (mu, su, maxu, minu) = spread(&uniform);
         let (mb, sb, maxb, minb) = spread(&balanced);
         eprintln!(
@@ -1340,6 +1355,11 @@ mod tests {
             "review cards whose py-fsrs buttons would not be in order: {same} of {cards} (uniform run), \
              {same_b} of {cards_b} (balanced run); ordered: 0"
         );
+        eprintln!(
+            "answer screens of review cards where py-fsrs's buttons would not be in order: \
+             {screens_same} of {screens}; ordered: 0"
+        );
+        assert!(screens_same > 0);
         assert!(
             sb < su,
             "balancing narrows the daily spread: {sb:.2} vs {su:.2}"
