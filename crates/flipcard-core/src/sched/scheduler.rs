@@ -25,7 +25,7 @@
 //! rounds (and fuzzes) each button's interval on its own, so on a review
 //! card answered soon after its last review, when the three stabilities
 //! barely differ, Hard and Good (or Good and Easy) show the same day
-//! (`5d/5d`); Anki never does. Here, as Anki's
+//! (`5d/5d`); Anki never does below the maximum interval. Here, as Anki's
 //! `passing_fsrs_review_intervals` does (rslib `scheduler/states/review.rs`
 //! and `fuzz.rs`), the Hard, Good and Easy of a review card are computed
 //! together ([`Scheduler::passing_days`]): Hard at least 1 day and not
