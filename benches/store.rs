@@ -154,6 +154,15 @@ fn over_a_million_reviews(c: &mut Criterion) {
             )
         })
     });
+    g.bench_function("due_per_day (the load balancer's 100 days)", |b| {
+        b.iter(|| {
+            black_box(
+                store
+                    .due_per_day(at - Duration::hours(8), 100)
+                    .expect("due per day"),
+            )
+        })
+    });
     g.bench_function("last_studied", |b| {
         b.iter(|| black_box(store.last_studied("bench").expect("last")))
     });

@@ -241,6 +241,7 @@ fn every_toml_example_in_the_docs_loads() {
                 flipcard::sched::config::KEYS.contains(&k)
                     || flipcard::sched::config::FITTED_KEYS.contains(&k)
                     || ["deck_paths", "sync_dir", "preset", "deck"].contains(&k)
+                    || ["load_balance", "easy_days", "exam_date"].contains(&k)
             })
         {
             Config::parse(&e.text, Path::new("config.toml"))

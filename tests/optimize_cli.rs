@@ -73,7 +73,10 @@ fn optimize_fits_reports_and_applies() {
     );
     assert!(human_text.contains("not applied"), "{human_text}");
 
-    let applied = flipcard(dir.path(), &config, &["optimize", "--apply"]);
+    // This fit predicts the held-out reviews worse than the defaults in
+    // use (see `apply_keeps_the_current_parameters_unless_the_fit_is_better`):
+    // `--force` writes it.
+    let applied = flipcard(dir.path(), &config, &["optimize", "--apply", "--force"]);
     assert!(applied.status.success(), "{}", applied.stderr());
     assert!(applied.stdout().contains("applied: written to"));
     let written = std::fs::read_to_string(&config).unwrap();
@@ -152,4 +155,125 @@ fn too_few_reviews_change_nothing() {
     let unknown = flipcard(dir.path(), &config, &["optimize", "--deck", "nope"]);
     assert_eq!(unknown.status.code(), Some(1));
     assert!(unknown.stderr().contains("no reviews of deck `nope`"));
+}
+
+/// `--apply` compares the fit with the parameters in use on the same
+/// held-out answers and keeps them unless the fit's log loss is lower
+/// (as Anki does), unless `--force`.
+#[test]
+fn apply_keeps_the_current_parameters_unless_the_fit_is_better() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("config.toml");
+    std::fs::write(&config, "# mine\n").unwrap();
+    let imported = flipcard(dir.path(), &config, &["import", "--reviews", &fixture()]);
+    assert!(imported.status.success(), "{}", imported.stderr());
+
+    // The defaults in use predict the held-out answers better than the fit.
+    let json = |args: &[&str]| -> serde_json::Value {
+        let out = flipcard(dir.path(), &config, args);
+        assert!(out.status.success(), "{}", out.stderr());
+        serde_json::from_str(&out.stdout()).unwrap()
+    };
+    let v = json(&["optimize", "--apply", "--format", "json"]);
+    let loss = |v: &serde_json::Value, which: &str| v[which]["log_loss"].as_f64().unwrap();
+    assert_eq!(
+        v["current"], v["default"],
+        "nothing fitted yet: the defaults are in use"
+    );
+    assert!(loss(&v, "fitted") >= loss(&v, "current"), "{v}");
+    assert_eq!(
+        (v["applied"].as_bool(), v["kept_current"].as_bool()),
+        (Some(false), Some(true))
+    );
+    assert_eq!(std::fs::read_to_string(&config).unwrap(), "# mine\n");
+    let out = flipcard(dir.path(), &config, &["optimize", "--apply"]);
+    let said = out.stdout();
+    assert!(
+        said.contains("kept the current parameters: the fit predicts the held-out reviews no better (log loss 0.3222 against 0.3139)"),
+        "{said}"
+    );
+    assert!(said.contains("--apply --force"), "{said}");
+    assert_eq!(std::fs::read_to_string(&config).unwrap(), "# mine\n");
+
+    // Forced, the fit is written; from then on it is the current one,
+    // judged on the same answers.
+    let v = json(&["optimize", "--apply", "--force", "--format", "json"]);
+    assert_eq!(
+        (v["applied"].as_bool(), v["kept_current"].as_bool()),
+        (Some(true), Some(false))
+    );
+    assert!(
+        Config::load(Some(&config))
+            .unwrap()
+            .fsrs_parameters
+            .is_some()
+    );
+    let v = json(&["optimize", "--format", "json"]);
+    assert_ne!(v["current"], v["default"], "{v}");
+    let table = flipcard(dir.path(), &config, &["optimize"]).stdout();
+    assert!(table.contains("\n  current "), "{table}");
+
+    // --force alone is refused: it only qualifies --apply.
+    let refused = flipcard(dir.path(), &config, &["optimize", "--force"]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(refused.stderr().contains("--apply"), "{}", refused.stderr());
+}
+
+/// A learner whose every pass is Easy: the fit beats the defaults on the
+/// held-out answers, so `--apply` writes it, and the parameters the data
+/// pushed to a bound of their range are named.
+#[test]
+fn a_better_fit_is_applied_and_a_pinned_parameter_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("config.toml");
+    let easy = dir.path().join("easy.csv");
+    let all = std::fs::read_to_string(fixture()).unwrap();
+    let mut lines = all.lines();
+    let mut text = format!("{}\n", lines.next().unwrap());
+    for line in lines {
+        let (head, rating) = line.rsplit_once(',').unwrap();
+        let rating = if rating == "1" { "1" } else { "4" };
+        text.push_str(&format!("{head},{rating}\n"));
+    }
+    std::fs::write(&easy, text).unwrap();
+    let imported = flipcard(
+        dir.path(),
+        &config,
+        &["import", "--reviews", easy.to_str().unwrap()],
+    );
+    assert!(imported.status.success(), "{}", imported.stderr());
+
+    let out = flipcard(
+        dir.path(),
+        &config,
+        &["optimize", "--apply", "--format", "json"],
+    );
+    assert!(out.status.success(), "{}", out.stderr());
+    let v: serde_json::Value = serde_json::from_str(&out.stdout()).unwrap();
+    assert_eq!(
+        (v["applied"].as_bool(), v["kept_current"].as_bool()),
+        (Some(true), Some(false))
+    );
+    let params = v["parameters"].as_array().unwrap();
+    let pinned = v["pinned"].as_array().unwrap();
+    assert!(!pinned.is_empty(), "{v}");
+    for p in pinned {
+        let i = p["index"].as_u64().unwrap() as usize;
+        let (lo, hi) = PARAMETER_BOUNDS[i];
+        let bound = if p["bound"] == "upper" { hi } else { lo };
+        assert_eq!(p["value"].as_f64(), Some(bound), "{p}");
+        assert_eq!(params[i].as_f64(), Some(bound), "{p}");
+    }
+    assert!(
+        pinned
+            .iter()
+            .any(|p| p["index"] == 7 && p["bound"] == "lower"),
+        "{v}"
+    );
+
+    let text = flipcard(dir.path(), &config, &["optimize"]).stdout();
+    assert!(
+        text.contains("pinned: w7 (pull of difficulty back to its start) = 0.001 at the lower bound of 0.001–0.75"),
+        "{text}"
+    );
 }

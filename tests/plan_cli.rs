@@ -340,3 +340,75 @@ fn the_plan_shows_what_each_item_asks() {
         );
     }
 }
+
+/// `plan --exam DATE` remembers the date in the config; `plan` alone plans
+/// for it until it passes, then says so; a hand-edited bad date is refused
+/// with its place.
+#[test]
+fn the_exam_date_is_remembered_until_it_passes() {
+    let dir = tempfile::tempdir().unwrap();
+    deck(dir.path(), 3);
+    let config = dir.path().join("config.toml");
+    std::fs::write(&config, "# mine\nreviews_per_day = 2\n").unwrap();
+
+    let none = flipcard(dir.path(), &["plan"]);
+    assert_eq!(none.status.code(), Some(1));
+    assert!(
+        none.stderr()
+            .contains("no exam date: give one with --exam DATE"),
+        "{}",
+        none.stderr()
+    );
+
+    let first = flipcard(dir.path(), &["plan", "--exam", "2026-05-20"]);
+    assert!(first.status.success(), "{}", first.stderr());
+    assert!(
+        first.stdout().contains("exam date 2026-05-20 remembered"),
+        "{}",
+        first.stdout()
+    );
+    assert_eq!(
+        std::fs::read_to_string(&config).unwrap(),
+        "# mine\nreviews_per_day = 2\nexam_date = \"2026-05-20\"\n"
+    );
+    // Planned again for the same date: nothing to remember anew.
+    let again = flipcard(dir.path(), &["plan", "--exam", "2026-05-20"]);
+    assert!(!again.stdout().contains("remembered"), "{}", again.stdout());
+
+    let given = json(&flipcard(
+        dir.path(),
+        &["plan", "--exam", "2026-05-20", "--format", "json"],
+    ));
+    let remembered = json(&flipcard(dir.path(), &["plan", "--format", "json"]));
+    assert_eq!(remembered["exam"], "2026-05-20");
+    assert_eq!(remembered, given);
+
+    // The exam day itself still plans for it; the day after, it has passed.
+    let on_the_day = |now: &str| {
+        Flipcard::new(dir.path().join("data"))
+            .decks(dir.path().join("decks"))
+            .config(config.clone())
+            .now(now)
+            .args(["plan", "--deck", "mini"])
+            .run()
+    };
+    assert!(on_the_day("2026-05-20T12:00:00Z").status.success());
+    let after = on_the_day("2026-05-21T12:00:00Z");
+    assert_eq!(after.status.code(), Some(1));
+    assert!(
+        after
+            .stderr()
+            .contains("the remembered exam date 2026-05-20 has passed (today is 2026-05-21)"),
+        "{}",
+        after.stderr()
+    );
+
+    std::fs::write(&config, "exam_date = \"20/05/2026\"\n").unwrap();
+    let bad = flipcard(dir.path(), &["plan"]);
+    assert_eq!(bad.status.code(), Some(1));
+    let msg = bad.stderr();
+    assert!(
+        msg.contains("config.toml:1:13: `exam_date`") && msg.contains("YYYY-MM-DD"),
+        "{msg}"
+    );
+}

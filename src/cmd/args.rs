@@ -366,9 +366,14 @@ pub struct OptimizeArgs {
     /// Fit to one deck's reviews only (default: every deck).
     #[arg(long, value_name = "ID")]
     pub deck: Option<String>,
-    /// Write the fitted parameters to the config file (fsrs_parameters).
+    /// Write the fitted parameters to the config file (fsrs_parameters),
+    /// unless they predict the held-out reviews worse than the current ones.
     #[arg(long)]
     pub apply: bool,
+    /// With --apply: write the fitted parameters even when they predict
+    /// the held-out reviews worse than the current ones.
+    #[arg(long, requires = "apply")]
+    pub force: bool,
     #[arg(long, value_enum, default_value_t = ReportFormat::Text)]
     pub format: ReportFormat,
 }
@@ -381,9 +386,10 @@ pub enum PlanFormat {
 
 #[derive(Debug, Args)]
 pub struct PlanArgs {
-    /// The exam day (YYYY-MM-DD, a study day in local time).
+    /// The exam day (YYYY-MM-DD, a study day in local time), remembered
+    /// until it passes (default: the one remembered).
     #[arg(long, value_name = "DATE", allow_hyphen_values = true)]
-    pub exam: String,
+    pub exam: Option<String>,
     /// Plan for one deck (default: every deck loaded).
     #[arg(long, value_name = "ID")]
     pub deck: Option<String>,

@@ -1,6 +1,9 @@
-//! `flipcard optimize [--deck ID] [--apply] [--format json]`: fits FSRS-6 to
-//! the learner's own reviews and compares the fit with the defaults on
-//! answers it was not trained on.
+//! `flipcard optimize [--deck ID] [--apply [--force]] [--format json]`: fits
+//! FSRS-6 to the learner's own reviews and compares the fit with the
+//! defaults and the parameters in use on answers it was not trained on.
+//! `--apply` keeps the parameters in use when the fit predicts those
+//! answers no better (by log loss, as Anki keeps them), unless `--force`;
+//! a fitted parameter pinned at a bound of its range is named.
 
 use std::process::ExitCode;
 
@@ -45,6 +48,22 @@ struct Report {
     items: usize,
     /// Reviews still needed before a fit, when there are too few.
     needed: Option<usize>,
+    /// The parameters in use (the config's, else the defaults) on the
+    /// answers the fit is judged on.
+    current: Option<Scores>,
+    /// `--apply` kept the parameters in use: the fit predicts no better.
+    kept_current: bool,
+    /// Fitted parameters at a bound of the range the fit may put them in.
+    pinned: Vec<PinnedJson>,
+}
+
+#[derive(Serialize)]
+struct PinnedJson {
+    index: usize,
+    name: &'static str,
+    value: f64,
+    /// `lower` or `upper`.
+    bound: &'static str,
 }
 
 pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
@@ -83,6 +102,9 @@ pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
         preset: None,
         items: set.items.len(),
         needed: None,
+        current: None,
+        kept_current: false,
+        pinned: Vec::new(),
     };
     let result = match fit::fit(&set) {
         Ok(f) => f,
@@ -103,7 +125,30 @@ pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
     report.default = Some(result.default.into());
     report.fitted = Some(result.fitted.into());
     report.parameters = Some(result.parameters.to_vec());
-    if args.apply {
+    // The parameters in use for these reviews: the deck's preset's when
+    // one deck is fitted, else the top level's.
+    let in_use = match &args.deck {
+        Some(id) => config.for_deck(id).fsrs_parameters,
+        None => config.fsrs_parameters,
+    };
+    let current = match in_use {
+        Some(w) => fit::evaluate_held_out(&set, &w.map(|x| x as f32))?,
+        None => result.default,
+    };
+    report.current = Some(current.into());
+    let pinned = fit::pinned(&result.parameters);
+    report.pinned = pinned
+        .iter()
+        .map(|p| PinnedJson {
+            index: p.index,
+            name: fit::PARAMETER_MEANINGS[p.index],
+            value: p.value,
+            bound: if p.upper { "upper" } else { "lower" },
+        })
+        .collect();
+    let improves = fit::improves(&result.fitted, &current);
+    report.kept_current = args.apply && !improves && !args.force;
+    if args.apply && !report.kept_current {
         let Some(path) = &config_path else {
             anyhow::bail!("no config file location known; pass --config FILE to apply");
         };
@@ -141,8 +186,14 @@ pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
     match args.format {
         ReportFormat::Json => print_json(&report)?,
         ReportFormat::Text => {
-            crate::out!("{}", render(&report, &result))?;
-            if args.apply
+            crate::out!("{}", render(&report, &result, &current, &pinned, &config))?;
+            if report.kept_current {
+                crate::outln!(
+                    "kept the current parameters: the fit predicts the held-out reviews no better (log loss {} against {}); `flipcard optimize --apply --force` writes it anyway",
+                    num::rounded(result.fitted.log_loss, 4),
+                    num::rounded(current.log_loss, 4)
+                )?;
+            } else if report.applied
                 && let (Some(path), Some(name), Some(id)) =
                     (&config_path, &report.preset, &args.deck)
             {
@@ -157,7 +208,7 @@ pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
                     "applied: written to {} as fsrs_parameters of [preset.{name}]{new}; deck {id} and every deck using that preset are scheduled with them from now on",
                     path.display()
                 )?;
-            } else if args.apply
+            } else if report.applied
                 && let Some(path) = &config_path
             {
                 crate::outln!(
@@ -171,7 +222,7 @@ pub fn run(cli: &Cli, args: &OptimizeArgs) -> anyhow::Result<ExitCode> {
             }
         }
     }
-    if result.fitted.log_loss >= result.default.log_loss {
+    if result.fitted.log_loss >= result.default.log_loss && !report.kept_current {
         crate::errln!(
             "flipcard: warning: the fitted parameters predict these reviews no better than the defaults"
         );
@@ -188,7 +239,13 @@ fn print_json(report: &Report) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn render(r: &Report, f: &fit::Fit) -> String {
+fn render(
+    r: &Report,
+    f: &fit::Fit,
+    current: &fit::Evaluation,
+    pinned: &[fit::Pinned],
+    config: &Config,
+) -> String {
     let mut o = format!(
         "fitted FSRS-6 to {} of {} ({} predicted from an earlier one){}\n",
         plural(r.reviews, "review", "reviews"),
@@ -204,7 +261,12 @@ fn render(r: &Report, f: &fit::Fit) -> String {
         "  {:<10} {:>10} {:>12}\n",
         "", "log loss", "RMSE (bins)"
     ));
-    for (name, e) in [("default", f.default), ("fitted", f.fitted)] {
+    let mut rows = vec![("default", f.default)];
+    if config.fsrs_parameters.is_some() {
+        rows.push(("current", *current));
+    }
+    rows.push(("fitted", f.fitted));
+    for (name, e) in rows {
         o.push_str(&format!(
             "  {:<10} {:>10} {:>12}\n",
             name,
@@ -214,6 +276,18 @@ fn render(r: &Report, f: &fit::Fit) -> String {
     }
     let ps: Vec<String> = f.parameters.iter().map(|p| num::show(*p)).collect();
     o.push_str(&format!("parameters: {}\n", ps.join(", ")));
+    for p in pinned {
+        let (lo, hi) = p.bounds;
+        o.push_str(&format!(
+            "pinned: w{} ({}) = {} at the {} bound of {}–{}: the reviews push it as far as the fit allows\n",
+            p.index,
+            fit::PARAMETER_MEANINGS[p.index],
+            num::show(p.value),
+            if p.upper { "upper" } else { "lower" },
+            num::show(lo),
+            num::show(hi)
+        ));
+    }
     o
 }
 

@@ -1,5 +1,6 @@
-//! `flipcard plan --exam DATE [--deck ID] [--retention R] [--max-per-day N]
-//! [--format json]`.
+//! `flipcard plan [--exam DATE] [--deck ID] [--retention R] [--max-per-day N]
+//! [--format json]`. The exam date is remembered in the config
+//! (`exam_date`) until it passes: without `--exam`, the remembered one.
 
 use std::collections::HashMap;
 use std::process::ExitCode;
@@ -20,8 +21,21 @@ use crate::text::plural;
 use crate::{out, outln};
 
 pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
-    let exam = parse_date(&args.exam)?;
-    let config = Config::load(paths::config_file(cli.config.clone()).as_deref())?;
+    let config_path = paths::config_file(cli.config.clone());
+    let mut config = Config::load(config_path.as_deref())?;
+    let now = crate::cmd::clock::now()?;
+    let grid = DayGrid::new(chrono::Local, config.day_starts_at);
+    let today = grid.day_of(now);
+    let exam = match (&args.exam, config.exam_date) {
+        (Some(text), _) => parse_date(text)?,
+        (None, Some(day)) if day >= today => day,
+        (None, Some(day)) => anyhow::bail!(
+            "the remembered exam date {day} has passed (today is {today}); give the next one with --exam DATE"
+        ),
+        (None, None) => anyhow::bail!(
+            "no exam date: give one with --exam DATE (YYYY-MM-DD); it is remembered until the exam"
+        ),
+    };
     let target = match &args.retention {
         Some(text) => parse_retention(text)?,
         None => config.desired_retention,
@@ -45,13 +59,18 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
     // A suspended item is out of every queue: no plan schedules it.
     let statuses = store.statuses()?;
     keys.retain(|k| !statuses.get(k).is_some_and(|s| s.suspended));
-    let now = crate::cmd::clock::now()?;
-    let grid = DayGrid::new(chrono::Local, config.day_starts_at);
-    let today = grid.day_of(now);
     let day_of = |t| grid.day_of(t);
     let scheduler = Scheduler::new(&config);
     let problem = plan::exam_problem(&keys, &states, today, exam, &day_of, target, cap)?;
     let plan = plan::plan(&scheduler, &problem)?;
+    // A date the planner took (not past, not too far) is remembered.
+    let remembered = match &config_path {
+        Some(path) if config.exam_date != Some(exam) => {
+            config.save_exam_date(path, exam)?;
+            true
+        }
+        _ => false,
+    };
     let cap_needed = plan::cap_needed(&scheduler, &problem)?;
     let now_r: Vec<f64> = keys
         .iter()
@@ -86,7 +105,12 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
         PlanFormat::Json => {
             outln!("{}", serde_json::to_string_pretty(&report.json())?)?;
         }
-        PlanFormat::Text => out!("{}", report.text())?,
+        PlanFormat::Text => {
+            out!("{}", report.text())?;
+            if remembered {
+                outln!("exam date {exam} remembered: `flipcard plan` plans for it until then")?;
+            }
+        }
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -114,9 +138,11 @@ fn cut(text: &str, width: usize) -> String {
 }
 
 fn parse_date(text: &str) -> anyhow::Result<NaiveDate> {
-    NaiveDate::parse_from_str(text.trim(), "%Y-%m-%d").with_context(|| {
+    let day = NaiveDate::parse_from_str(text.trim(), "%Y-%m-%d").with_context(|| {
         format!("--exam {text:?} is not a date as YYYY-MM-DD (example: 2026-11-22)")
-    })
+    })?;
+    crate::sched::config::parse_exam_date(text).map_err(|m| anyhow::anyhow!("--exam: {m}"))?;
+    Ok(day)
 }
 
 fn parse_retention(text: &str) -> anyhow::Result<f64> {

@@ -153,6 +153,25 @@ impl Services {
         self.clock.now()
     }
 
+    /// Remembers the exam date planned for (`exam_date` in the config),
+    /// so the exam screen and `flipcard plan` offer it until it passes.
+    pub fn remember_exam(&mut self, exam: chrono::NaiveDate) -> Result<(), String> {
+        if self.study.config.exam_date == Some(exam) {
+            return Ok(());
+        }
+        match &self.config_path {
+            Some(path) => self
+                .study
+                .config
+                .save_exam_date(path, exam)
+                .map_err(|e| e.to_string()),
+            None => {
+                self.study.config.exam_date = Some(exam);
+                Ok(())
+            }
+        }
+    }
+
     /// Remembers the language for the next run.
     pub fn save_language(&mut self, lang: &str) -> Result<(), String> {
         self.study.config.language = lang.to_string();

@@ -52,6 +52,13 @@ fn replay(s: &Scheduler, item: Option<&Memory>, reviews: &[i64], days: i64) -> f
 /// The best any schedule can do: most items at the target, then fewest
 /// reviews. Every subset of the review days for every item, within the cap.
 fn brute_force(s: &Scheduler, p: &Problem) -> (usize, usize) {
+    let (met, reviews, _) = brute_force_load(s, p);
+    (met, reviews)
+}
+
+/// [`brute_force`], and the smallest largest day's load of the schedules
+/// that do that best.
+fn brute_force_load(s: &Scheduler, p: &Problem) -> (usize, usize, usize) {
     let days = p.days as usize;
     let masks = 1usize << days;
     // reach[i][m]: whether item i reaches the target after reviews on mask m.
@@ -67,7 +74,7 @@ fn brute_force(s: &Scheduler, p: &Problem) -> (usize, usize) {
                 .collect()
         })
         .collect();
-    let mut best = (0usize, usize::MAX);
+    let mut best = (0usize, usize::MAX, usize::MAX);
     let mut load = vec![0usize; days];
     search(p, &reach, 0, &mut load, 0, 0, &mut best);
     best
@@ -80,11 +87,12 @@ fn search(
     load: &mut [usize],
     met: usize,
     reviews: usize,
-    best: &mut (usize, usize),
+    best: &mut (usize, usize, usize),
 ) {
     if i == reach.len() {
-        if met > best.0 || (met == best.0 && reviews < best.1) {
-            *best = (met, reviews);
+        let most = load.iter().copied().max().unwrap_or(0);
+        if (std::cmp::Reverse(met), reviews, most) < (std::cmp::Reverse(best.0), best.1, best.2) {
+            *best = (met, reviews, most);
         }
         return;
     }
@@ -153,18 +161,25 @@ fn checked(s: &Scheduler, p: &Problem, plan: &plan::Plan) -> (usize, usize) {
 fn without_a_binding_cap_the_plan_is_optimal() {
     let s = scheduler();
     let mut rng = StdRng::seed_from_u64(14);
-    let mut multi = 0;
+    let (mut multi, mut heavier) = (0, 0);
     for _ in 0..1500 {
         let mut p = random_problem(&mut rng);
         p.cap = p.items.len();
         let plan = plan::plan(&s, &p).unwrap();
-        assert_eq!(
-            checked(&s, &p, &plan),
-            brute_force(&s, &p),
-            "{p:?}: {plan:?}"
-        );
+        let (met, reviews, least) = brute_force_load(&s, &p);
+        assert_eq!(checked(&s, &p, &plan), (met, reviews), "{p:?}: {plan:?}");
+        let most = plan.per_day.iter().copied().max().unwrap_or(0);
+        assert!(most >= least, "{p:?}: {plan:?}");
+        if most > least {
+            heavier += 1;
+        }
         multi += usize::from(plan.items.iter().any(|i| i.reviews.len() > 1));
     }
+    // The single reviews are spread to the lightest largest load there is;
+    // reviews of items that need several are placed before them, which in
+    // a few cases leaves a day one review heavier than the best.
+    eprintln!("{heavier} of 1500 plans have a heavier largest day than the lightest optimal plan");
+    assert!(heavier * 100 <= 1500, "{heavier}");
     assert!(
         multi >= 100,
         "items that need several reviews are covered: {multi}"
@@ -337,4 +352,93 @@ fn bad_problems_are_refused() {
     assert!(plan::days_to(today, today - Duration::days(1)).is_err());
     assert_eq!(plan::days_to(today, today), Ok(0));
     assert!(plan::days_to(today, today + Duration::days(plan::MAX_DAYS + 1)).is_err());
+}
+
+/// The shape of the collection: 202 cards two weeks before an
+/// exam, each brought to the target by one review, with a cap of 200 a
+/// day. Single reviews used to go on the latest days with room (200 on the
+/// day before the exam, 2 the day before that); now the largest day's load
+/// is the least any placement of the same reviews allows, and no review
+/// sits later than a lighter earlier day it could have taken.
+#[test]
+fn a_202_card_plan_spreads_its_reviews() {
+    let s = scheduler();
+    let mut rng = StdRng::seed_from_u64(202);
+    let items: Vec<Option<Memory>> = (0..202)
+        .map(|_| {
+            Some(Memory {
+                stability: rng.random_range(2.0..15.0),
+                difficulty: rng.random_range(3.0..8.0),
+                last_day: -rng.random_range(1..=10),
+            })
+        })
+        .collect();
+    let p = Problem {
+        items,
+        days: 14,
+        target: 0.9,
+        cap: 200,
+    };
+    let plan = plan::plan(&s, &p).unwrap();
+    checked(&s, &p, &plan);
+    let model = plan::Model::new(&s, p.days);
+    let days = p.days as usize;
+    // Each item planned once, on or after the first day one review there
+    // reaches the target.
+    let mut singles = Vec::new();
+    let mut other = vec![0usize; days];
+    for (item, ip) in p.items.iter().zip(&plan.items) {
+        match ip.reviews.as_slice() {
+            [d] => {
+                let earliest = (0..p.days)
+                    .find(|&e| model.after(item.as_ref(), &[e]) >= p.target)
+                    .unwrap();
+                assert!(*d >= earliest);
+                singles.push((earliest as usize, *d as usize));
+            }
+            more => more.iter().for_each(|&d| other[d as usize] += 1),
+        }
+    }
+    assert!(singles.len() >= 150, "{} single reviews", singles.len());
+    assert_eq!(plan.shortfall(), 0);
+
+    // Before: each single review on the latest day with room, those that
+    // need the latest days first.
+    let mut before = other.clone();
+    let mut by_latest: Vec<usize> = singles.iter().map(|(e, _)| *e).collect();
+    by_latest.sort_by(|a, b| b.cmp(a));
+    for e in by_latest {
+        let d = (e..days).rev().find(|&d| before[d] < p.cap).unwrap();
+        before[d] += 1;
+    }
+    // The least largest load: the smallest level at which every suffix of
+    // days has room for the single reviews that must fall in it.
+    let least = (0..=p.cap)
+        .find(|&level| {
+            (0..days).all(|d| {
+                let room: usize = (d..days).map(|j| level.saturating_sub(other[j])).sum();
+                let need = singles.iter().filter(|(e, _)| *e >= d).count();
+                level >= other[d] && room >= need
+            })
+        })
+        .unwrap();
+    let most = *plan.per_day.iter().max().unwrap();
+    eprintln!(
+        "202 cards, 14 days, cap 200: largest day {} before, {most} now (least possible {least}); before {:?}, now {:?}",
+        before.iter().max().unwrap(),
+        before,
+        plan.per_day
+    );
+    assert_eq!(most, least);
+    assert!(*before.iter().max().unwrap() >= 150);
+    // Earlier when equal: no single review after a day below the level
+    // that it could have taken.
+    for &(e, d) in &singles {
+        for earlier in e..d {
+            assert_eq!(
+                plan.per_day[earlier], most,
+                "day {earlier} had room for a review of day {d}"
+            );
+        }
+    }
 }

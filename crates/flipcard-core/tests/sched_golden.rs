@@ -2,6 +2,11 @@
 //! by `tests/golden/gen_fsrs_golden.py` with fuzzing off) through
 //! `Scheduler` and checks every card after every review: state, step,
 //! stability, difficulty, due time and last review.
+//!
+//! One deliberate divergence: on a review card Hard < Good < Easy in days,
+//! as Anki orders them (py-fsrs rounds each button's interval on its own, so
+//! Hard and Good can fall on the same day). Where the due time differs, the
+//! test checks that this is the only reason ([`due_or_ordered`]).
 
 use chrono::{DateTime, TimeDelta, Utc};
 use flipcard_core::sched::scheduler::{MAXIMUM_INTERVAL, default_parameters};
@@ -113,6 +118,8 @@ fn scheduler_matches_py_fsrs_card_for_card() {
         direction: Direction::Forward,
     };
     let mut checked = 0;
+    let mut ordered = 0;
+    let mut passing = 0;
     let mut worst = 0.0f64;
     let mut states_seen = std::collections::BTreeSet::new();
     for seq in &g.sequences {
@@ -148,7 +155,21 @@ fn scheduler_matches_py_fsrs_card_for_card() {
             );
             assert_eq!(got.state, want.state, "state: {ctx}");
             assert_eq!(got.step, want.step, "step: {ctx}");
-            assert_eq!(got.due, want.due, "due: {ctx}");
+            if due_or_ordered(
+                &scheduler,
+                &key,
+                card.as_ref(),
+                rating,
+                at,
+                got.due,
+                want.due,
+                &ctx,
+            ) {
+                ordered += 1;
+            }
+            if card.is_some_and(|c| c.state == State::Review) && rating != Rating::Again {
+                passing += 1;
+            }
             assert_eq!(got.last_review, want.last_review, "last review: {ctx}");
             for (what, g, w) in [
                 ("stability", got.stability, want.stability),
@@ -172,7 +193,8 @@ fn scheduler_matches_py_fsrs_card_for_card() {
         }
     }
     eprintln!(
-        "{checked} reviews in {} sequences; largest relative difference {worst:e}",
+        "{checked} reviews in {} sequences; largest relative difference {worst:e}; \
+         {ordered} of {passing} passing answers of review cards raised to keep Hard < Good < Easy",
         g.sequences.len()
     );
     assert!(checked > 1000, "only {checked} reviews checked");
@@ -192,4 +214,51 @@ fn scheduler_matches_py_fsrs_card_for_card() {
             "no {transition:?} in the golden file"
         );
     }
+}
+
+/// Whether our due time differs from py-fsrs's because Hard < Good < Easy
+/// is kept (`true`), after checking that nothing else explains it: the
+/// card was a review card answered Hard, Good or Easy, our interval is
+/// longer than py-fsrs's, the three buttons are in order, and our interval
+/// is exactly the bound that raised it (one more than the button below,
+/// or the previous interval, or one more than it). Equal due times give
+/// `false`; any other difference fails the test.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn due_or_ordered(
+    scheduler: &Scheduler,
+    key: &ItemKey,
+    before: Option<&CardState>,
+    rating: Rating,
+    at: DateTime<Utc>,
+    got: DateTime<Utc>,
+    want: DateTime<Utc>,
+    ctx: &str,
+) -> bool {
+    if got == want {
+        return false;
+    }
+    let b = before
+        .filter(|b| b.state == State::Review && rating != Rating::Again)
+        .unwrap_or_else(|| panic!("due: {ctx}: ours {got}, py-fsrs {want}"));
+    let days = |t: DateTime<Utc>| {
+        let d = t - at;
+        assert_eq!(d, TimeDelta::days(d.num_days()), "{ctx}: not whole days");
+        d.num_days()
+    };
+    let (ours, theirs) = (days(got), days(want));
+    assert!(ours > theirs, "{ctx}: ours {ours}d, py-fsrs {theirs}d");
+    let p = scheduler.preview(key, Some(b), at);
+    let [_, hard, good, easy] = p.map(|p| p.interval.num_days());
+    assert!(hard < good && good < easy, "{ctx}: {hard} {good} {easy}");
+    let previous = (b.due - b.last_review.expect("a review card was reviewed")).num_days();
+    let below = match rating {
+        Rating::Hard => 0,
+        Rating::Good => hard,
+        _ => good,
+    };
+    assert!(
+        ours == below + 1 || ours == previous || ours == previous + 1,
+        "{ctx}: {ours}d is not a bound (below {below}d, previous {previous}d)"
+    );
+    true
 }

@@ -71,13 +71,20 @@ pub struct ExamState {
 }
 
 impl ExamState {
-    pub fn new(deck: usize) -> ExamState {
+    /// The date prompt, filled with the exam date remembered while it is
+    /// still ahead.
+    pub fn new(app: &App, deck: usize) -> ExamState {
+        let (today, _) = grid(app);
+        let input = app
+            .services
+            .study
+            .config
+            .exam_ahead(today)
+            .map(|d| d.format("%Y-%m-%d").to_string())
+            .unwrap_or_default();
         ExamState {
             deck,
-            phase: Phase::Date {
-                input: String::new(),
-                error: None,
-            },
+            phase: Phase::Date { input, error: None },
         }
     }
 }
@@ -120,7 +127,14 @@ pub fn apply(app: &mut App, state: &mut ExamState, action: Action) -> Nav {
                 *error = None;
             }
             Action::Submit => match start(app, state.deck, &input.clone()) {
-                Ok(study) => state.phase = Phase::Study(Box::new(study)),
+                Ok(study) => {
+                    // Remembered once planned for; a config that cannot be
+                    // written is said, and the study goes on.
+                    if let Err(e) = app.services.remember_exam(study.exam) {
+                        app.error(e);
+                    }
+                    state.phase = Phase::Study(Box::new(study));
+                }
                 Err(Ok(why)) => *error = Some(why),
                 Err(Err(e)) => app.error(e),
             },

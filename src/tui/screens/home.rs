@@ -199,7 +199,9 @@ pub fn apply(app: &mut App, state: &mut HomeState, action: Action) -> Nav {
             return Nav::Push(Screen::Reader(super::reader::ReaderState::new(deck)));
         }
         Action::OpenExam => {
-            return Nav::Push(Screen::Exam(Box::new(super::exam::ExamState::new(deck))));
+            return Nav::Push(Screen::Exam(Box::new(super::exam::ExamState::new(
+                app, deck,
+            ))));
         }
         Action::OpenStats => {
             return Nav::Push(Screen::Stats(Box::new(super::stats::StatsState::open(

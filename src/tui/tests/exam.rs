@@ -127,3 +127,45 @@ fn an_again_in_todays_share_comes_back_at_its_step_not_at_the_end() {
     press_all(&mut app, &[KeyCode::Char(' '), KeyCode::Char('3')]);
     assert_eq!(shown(&app), Some(first));
 }
+
+/// The date planned for is remembered in the config and the exam screen
+/// opens with it filled in, until the day has passed.
+#[test]
+fn the_exam_date_is_remembered_and_offered_until_it_passes() {
+    let mut app = testkit::app(ENGLISH);
+    let config = app.dir.path().join("config.toml");
+    app.services.config_path = Some(config.clone());
+    let input = |app: &crate::tui::Tui| match &exam(app).phase {
+        Phase::Date { input, .. } => input.clone(),
+        Phase::Study(_) => panic!("not asking for the date"),
+    };
+    press(&mut app, KeyCode::Char('x'));
+    assert_eq!(input(&app), "", "nothing remembered yet");
+    type_text(&mut app, "2026-03-20");
+    press(&mut app, KeyCode::Enter);
+    assert!(matches!(exam(&app).phase, Phase::Study(_)));
+    let written = std::fs::read_to_string(&config).unwrap_or_default();
+    assert_eq!(written, "exam_date = \"2026-03-20\"\n");
+    for _ in 0..3 {
+        if matches!(app.screen(), Screen::Home(_)) {
+            break;
+        }
+        press(&mut app, KeyCode::Esc);
+    }
+    assert!(matches!(app.screen(), Screen::Home(_)));
+
+    // Opened again: the date is there, Enter plans for it.
+    press(&mut app, KeyCode::Char('x'));
+    assert_eq!(input(&app), "2026-03-20");
+    assert!(render(&app).contains("2026-03-20"), "{}", render(&app));
+    press(&mut app, KeyCode::Enter);
+    match &exam(&app).phase {
+        Phase::Study(s) => assert_eq!(s.exam.to_string(), "2026-03-20"),
+        Phase::Date { .. } => panic!("the remembered date was not taken"),
+    }
+
+    // A remembered date that has passed (today is 2026-03-02) is not offered.
+    app.services.study.config.exam_date = chrono::NaiveDate::from_ymd_opt(2026, 3, 1);
+    let state = ExamState::new(&app, 0);
+    assert!(matches!(state.phase, Phase::Date { ref input, .. } if input.is_empty()));
+}

@@ -528,3 +528,103 @@ fn nothing_due_says_new_cards_are_left_for_tomorrow() {
         "{screen}"
     );
 }
+
+/// A review card answered soon after its last review, where py-fsrs rounds
+/// Hard and Good to the same day: the answer screen's hints read Hard <
+/// Good < Easy in days (fuzz and load balancing on, other cards due in the
+/// range), and the rating records the day its hint showed.
+#[test]
+fn review_hints_keep_hard_good_easy_apart_and_the_rating_keeps_its_hint() {
+    use crate::sched::{ItemKey, Scheduler};
+    use crate::store::merge::{IncomingReview, KeptState};
+    use chrono::TimeDelta;
+    let mut app = open_cards_only(ENGLISH);
+    press(&mut app, KeyCode::Esc);
+    let now = testkit::now();
+    let study = &mut app.services.study;
+    study.config.fuzz = true;
+    study.config.load_balance = true;
+    study.scheduler = Scheduler::new(&study.config);
+    let scheduler = study.scheduler.clone();
+    let key = ItemKey {
+        deck: "torque-free".into(),
+        card: "body-frame-why".into(),
+        direction: crate::sched::Direction::Forward,
+    };
+    // A hard card (difficulty 9.9, stability 4.6 days) last answered three
+    // days ago, due now: py-fsrs gives Hard 5.52 and Good 6.14 days, both
+    // 6 once rounded (and one fuzz draw for both). Twenty other items are
+    // due on each of the next 40 days.
+    let mut rows = vec![IncomingReview {
+        key: key.clone(),
+        reviewed_at: now - TimeDelta::days(3),
+        rating: Rating::Easy,
+        cram: false,
+        duration_ms: 1000,
+        undone: false,
+    }];
+    let mut kept = std::collections::HashMap::from([(
+        key.clone(),
+        KeptState {
+            due: now - TimeDelta::hours(1),
+            stability: Some(4.6),
+            difficulty: Some(9.9),
+        },
+    )]);
+    for d in 1..40 {
+        for j in 0..20 {
+            let other = ItemKey {
+                deck: "elsewhere".into(),
+                card: format!("c{d}-{j}"),
+                direction: crate::sched::Direction::Forward,
+            };
+            rows.push(IncomingReview {
+                key: other.clone(),
+                ..rows[0].clone()
+            });
+            kept.insert(
+                other,
+                KeptState {
+                    due: now + TimeDelta::days(d),
+                    stability: Some(30.0),
+                    difficulty: Some(5.0),
+                },
+            );
+        }
+    }
+    if let Err(e) = study.store.merge_reviews_keeping(&rows, &scheduler, &kept) {
+        panic!("{e}");
+    }
+    press(&mut app, KeyCode::Enter);
+    assert_eq!(current_card(&app), "body-frame-why:forward");
+    press(&mut app, KeyCode::Char(' '));
+    let Phase::Back {
+        previews: Some(previews),
+        ..
+    } = &review(&app).phase
+    else {
+        panic!("no hints on the answer");
+    };
+    let previews = previews.clone();
+    let days: Vec<i64> = previews[1..]
+        .iter()
+        .map(|p| (p.interval + TimeDelta::hours(12)).num_days())
+        .collect();
+    assert!(
+        days[0] < days[1] && days[1] < days[2],
+        "Hard, Good, Easy: {days:?}"
+    );
+    let labels: Vec<&str> = previews.iter().map(|p| p.label.as_str()).collect();
+    assert_ne!(labels[1], labels[2], "{labels:?}");
+    let screen = render(&app);
+    assert!(screen.contains(labels[2]), "{screen}");
+    press(&mut app, KeyCode::Char('3'));
+    let stored = match app.services.study.store.state(&key) {
+        Ok(Some(s)) => s,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(
+        stored, previews[2].after,
+        "Good keeps the day its hint showed"
+    );
+}

@@ -17,6 +17,7 @@ use toml::Spanned;
 pub use super::preset::PARAMETER_BOUNDS;
 use super::preset::{DeckSettings, Preset, RawDeckSettings, RawPreset};
 pub(crate) use super::preset::{RETENTION_RANGE, format_step, parse_step};
+use super::balance::{EasyDays, WEEKDAYS};
 
 /// The languages the app speaks (decks may declare these).
 pub(crate) const LANGUAGES: [&str; 2] = ["en", "hi-Latn"];
@@ -101,6 +102,15 @@ pub struct Config {
     pub presets: BTreeMap<String, Preset>,
     /// `[deck.ID]` tables: which preset each deck uses.
     pub decks: BTreeMap<String, DeckSettings>,
+    /// With fuzz on, a review's day is chosen within its fuzz range to even
+    /// the daily load (`sched::balance`).
+    pub load_balance: bool,
+    /// The share of a normal day's reviews each weekday gets, Monday
+    /// first (`easy_days = { sat = 0.5, sun = 0 }`).
+    pub easy_days: EasyDays,
+    /// The exam `flipcard plan --exam DATE` (or the exam screen) last
+    /// planned for, remembered until it passes.
+    pub exam_date: Option<chrono::NaiveDate>,
 }
 
 impl Default for Config {
@@ -125,6 +135,9 @@ impl Default for Config {
             hide_bundled: false,
             presets: BTreeMap::new(),
             decks: BTreeMap::new(),
+            load_balance: true,
+            easy_days: EasyDays::default(),
+            exam_date: None,
         }
     }
 }
@@ -180,6 +193,9 @@ struct RawConfig {
     hide_bundled: Option<bool>,
     preset: Option<BTreeMap<String, Spanned<RawPreset>>>,
     deck: Option<BTreeMap<String, Spanned<RawDeckSettings>>>,
+    load_balance: Option<bool>,
+    easy_days: Option<Spanned<std::collections::BTreeMap<String, Spanned<toml::Value>>>>,
+    exam_date: Option<Spanned<String>>,
 }
 
 impl Config {
@@ -392,7 +408,40 @@ impl Config {
             .map_err(|(k, s, m)| invalid(&k, s, m))?;
         config.decks = super::preset::read_decks(raw.deck.unwrap_or_default(), &config.presets)
             .map_err(|(k, s, m)| invalid(&k, s, m))?;
+        if let Some(b) = raw.load_balance {
+            config.load_balance = b;
+        }
+        if let Some(t) = raw.easy_days {
+            config.easy_days = parse_easy_days(&t, &invalid)?;
+        }
+        if let Some(d) = raw.exam_date {
+            config.exam_date =
+                Some(parse_exam_date(d.get_ref()).map_err(|m| invalid("exam_date", d.span(), m))?);
+        }
         Ok(config)
+    }
+
+    /// The remembered exam date while it is still ahead (`today` or later).
+    pub fn exam_ahead(&self, today: chrono::NaiveDate) -> Option<chrono::NaiveDate> {
+        self.exam_date.filter(|d| *d >= today)
+    }
+
+    /// Remembers `exam` in the config file at `path` (`exam_date`), keeping
+    /// every other line as it is.
+    pub fn save_exam_date(
+        &mut self,
+        path: &Path,
+        exam: chrono::NaiveDate,
+    ) -> Result<(), ConfigError> {
+        self.exam_date = Some(exam);
+        let value = toml::Value::String(exam.format("%Y-%m-%d").to_string());
+        let text = read_or_empty(path)?;
+        let updated =
+            set_key_in_text(&text, "exam_date", &value).map_err(|e| ConfigError::Parse {
+                path: path.to_path_buf(),
+                message: e.to_string(),
+            })?;
+        write_atomically(path, &updated)
     }
 
     /// The value of `key` as it is written in a config file.
@@ -693,6 +742,65 @@ fn write_atomically(path: &Path, text: &str) -> Result<(), ConfigError> {
     )
 }
 
+/// `exam_date`: a day as `YYYY-MM-DD`, between the years 2000 and 9999.
+pub fn parse_exam_date(text: &str) -> Result<chrono::NaiveDate, String> {
+    let day = chrono::NaiveDate::parse_from_str(text.trim(), "%Y-%m-%d").map_err(|_| {
+        format!(
+            "\"{}\" is not a date as YYYY-MM-DD (example: 2026-11-22)",
+            flipcard_text::safe::one_line(text)
+        )
+    })?;
+    use chrono::Datelike as _;
+    if !(2000..=9999).contains(&day.year()) {
+        return Err(format!("{day} is outside the years 2000–9999"));
+    }
+    Ok(day)
+}
+
+/// `easy_days`: a table of weekdays (`mon` … `sun`), each the share of a
+/// normal day's reviews that day should get, from 0 (as few as can be) to
+/// 1 (normal, the default of a day not named).
+fn parse_easy_days(
+    table: &Spanned<std::collections::BTreeMap<String, Spanned<toml::Value>>>,
+    invalid: &dyn Fn(&str, Range<usize>, String) -> ConfigError,
+) -> Result<EasyDays, ConfigError> {
+    let mut easy = EasyDays::default();
+    for (day, value) in table.get_ref() {
+        let Some(i) = WEEKDAYS.iter().position(|d| d == day) else {
+            return Err(invalid(
+                "easy_days",
+                table.span(),
+                format!(
+                    "\"{}\" is not a weekday: one of {}",
+                    flipcard_text::safe::one_line(day),
+                    WEEKDAYS.join(", ")
+                ),
+            ));
+        };
+        let key = format!("easy_days.{day}");
+        let share = match value.get_ref() {
+            toml::Value::Float(x) => *x,
+            toml::Value::Integer(n) => *n as f64,
+            other => {
+                return Err(invalid(
+                    &key,
+                    value.span(),
+                    format!("a {} where a share from 0 to 1 goes", other.type_str()),
+                ));
+            }
+        };
+        if !(0.0..=1.0).contains(&share) {
+            return Err(invalid(
+                &key,
+                value.span(),
+                format!("{share} is outside 0–1 (the share of a normal day's reviews)"),
+            ));
+        }
+        easy.0[i] = share;
+    }
+    Ok(easy)
+}
+
 impl fmt::Display for Config {
     /// The config as a complete TOML file.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -857,6 +965,85 @@ language = "hi-Latn"
             assert_eq!(c.sync_dir, Some(Path::new(&h).join("Sync")));
             assert_eq!(c.deck_paths, [Path::new(&h).join("decks")]);
         }
+    }
+
+    #[test]
+    fn load_balance_and_easy_days_are_read_and_checked() {
+        let c = parse("").unwrap();
+        assert!(c.load_balance);
+        assert!(c.easy_days.is_default());
+        let c = parse("load_balance = false\neasy_days = { sat = 0.5, sun = 0 }\n").unwrap();
+        assert!(!c.load_balance);
+        assert_eq!(c.easy_days.0, [1.0, 1.0, 1.0, 1.0, 1.0, 0.5, 0.0]);
+        let c = parse("[easy_days]\nmon = 1\nwed = 0.25\n").unwrap();
+        assert_eq!(c.easy_days.0[2], 0.25);
+        for (text, want) in [
+            (
+                "easy_days = { sat = 1.5 }",
+                "config.toml:1:21: `easy_days.sat`: 1.5 is outside 0–1",
+            ),
+            (
+                "fuzz = true\neasy_days = { sun = -1 }",
+                "config.toml:2:21: `easy_days.sun`: -1 is outside 0–1",
+            ),
+            (
+                "easy_days = { sat = \"half\" }",
+                "config.toml:1:21: `easy_days.sat`: a string where a share",
+            ),
+            (
+                "easy_days = { saturday = 0.5 }",
+                "config.toml:1:13: `easy_days`: \"saturday\" is not a weekday: one of mon, tue",
+            ),
+            (
+                "easy_days = { \"s\\u001b[2Jat\" = 0.5 }",
+                "`easy_days`: \"s\\u001b[2Jat\" is not a weekday",
+            ),
+        ] {
+            let e = parse(text).unwrap_err().to_string();
+            assert!(e.contains(want), "{text}: {e}");
+            assert!(!e.contains('\u{1b}'), "{e}");
+        }
+        let e = parse("easy_days = 0.5").unwrap_err().to_string();
+        assert!(e.contains("easy_days"), "{e}");
+        let e = parse("load_balance = 1").unwrap_err().to_string();
+        assert!(e.contains("load_balance"), "{e}");
+    }
+
+    #[test]
+    fn the_exam_date_is_read_checked_and_remembered() {
+        let c = parse("exam_date = \"2026-11-22\"\n").unwrap();
+        let day = |s| chrono::NaiveDate::parse_from_str(s, "%Y-%m-%d").unwrap();
+        assert_eq!(c.exam_date, Some(day("2026-11-22")));
+        assert_eq!(c.exam_ahead(day("2026-11-22")), Some(day("2026-11-22")));
+        assert_eq!(c.exam_ahead(day("2026-11-23")), None);
+        for (text, want) in [
+            (
+                "exam_date = \"22/11/2026\"",
+                "config.toml:1:13: `exam_date`: \"22/11/2026\" is not a date",
+            ),
+            (
+                "exam_date = \"1999-12-31\"",
+                "`exam_date`: 1999-12-31 is outside the years 2000–9999",
+            ),
+            ("exam_date = \"2026-02-30\"", "is not a date"),
+        ] {
+            let e = parse(text).unwrap_err().to_string();
+            assert!(e.contains(want), "{text}: {e}");
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("config.toml");
+        std::fs::write(&path, "# mine\nnew_per_day = 5\n").unwrap();
+        let mut c = Config::load(Some(&path)).unwrap();
+        c.save_exam_date(&path, day("2027-01-15")).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            text,
+            "# mine\nnew_per_day = 5\nexam_date = \"2027-01-15\"\n"
+        );
+        c.save_exam_date(&path, day("2027-02-01")).unwrap();
+        let again = Config::load(Some(&path)).unwrap();
+        assert_eq!(again.exam_date, Some(day("2027-02-01")));
+        assert_eq!(again.new_per_day, 5);
     }
 
     #[test]

@@ -15,6 +15,7 @@ use fsrs::{
     evaluate_with_time_series_splits,
 };
 
+use super::config::PARAMETER_BOUNDS;
 use super::types::Rating;
 
 /// The crate trains the full model only from this many training items;
@@ -178,6 +179,68 @@ pub fn evaluate_held_out(set: &TrainingSet, parameters: &[f32]) -> Result<Evalua
     Ok(model.evaluate(tested, |_| true).map_err(fsrs_err)?.into())
 }
 
+/// What each FSRS-6 parameter stands for, to name one in a message.
+pub const PARAMETER_MEANINGS: [&str; 21] = [
+    "initial stability after Again",
+    "initial stability after Hard",
+    "initial stability after Good",
+    "initial stability after Easy",
+    "initial difficulty",
+    "how the first rating moves the initial difficulty",
+    "how much a rating changes difficulty",
+    "pull of difficulty back to its start",
+    "growth of stability after a recall",
+    "how stability slows its own growth",
+    "how forgetting more boosts the growth",
+    "stability after a lapse",
+    "effect of difficulty on stability after a lapse",
+    "effect of stability on stability after a lapse",
+    "effect of recall probability on stability after a lapse",
+    "Hard's penalty on stability growth",
+    "Easy's bonus on stability growth",
+    "same-day stability change",
+    "same-day stability offset",
+    "how stability damps same-day changes",
+    "decay of the forgetting curve",
+];
+
+/// A fitted parameter at one end of the range the fit may put it in
+/// ([`PARAMETER_BOUNDS`]): the data pushed it as far as it may go.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pinned {
+    pub index: usize,
+    pub value: f64,
+    /// `true`: at the upper bound; `false`: at the lower.
+    pub upper: bool,
+    pub bounds: (f64, f64),
+}
+
+/// The parameters of `w` that sit at a bound of [`PARAMETER_BOUNDS`]
+/// (within the `f32` the fit computes in).
+pub fn pinned(w: &[f64; 21]) -> Vec<Pinned> {
+    let at = |x: f64, b: f64| (x - b).abs() <= 1e-6 * b.abs().max(1e-3);
+    w.iter()
+        .zip(PARAMETER_BOUNDS)
+        .enumerate()
+        .filter_map(|(index, (&value, (lo, hi)))| {
+            let upper = at(value, hi);
+            (upper || at(value, lo)).then_some(Pinned {
+                index,
+                value,
+                upper,
+                bounds: (lo, hi),
+            })
+        })
+        .collect()
+}
+
+/// Whether fitted parameters should replace the current ones: only when
+/// they predict the held-out answers better, by log loss (Anki keeps its
+/// current parameters when their log loss is not above the fit's).
+pub fn improves(fitted: &Evaluation, current: &Evaluation) -> bool {
+    fitted.log_loss < current.log_loss
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -232,5 +295,31 @@ mod tests {
                 need: MIN_ITEMS
             })
         ));
+    }
+
+    #[test]
+    fn pinned_parameters_are_found_at_either_bound() {
+        let mut w = crate::sched::scheduler::default_parameters();
+        // FSRS-6's own defaults hold w7 at its lower bound.
+        let at = |w: &[f64; 21]| -> Vec<usize> { pinned(w).iter().map(|p| p.index).collect() };
+        assert_eq!(at(&w), [7]);
+        w[16] = 6.0;
+        w[14] = f64::from(0.0f32);
+        let p = pinned(&w);
+        let found: Vec<(usize, bool)> = p.iter().map(|p| (p.index, p.upper)).collect();
+        assert_eq!(found, [(7, false), (14, false), (16, true)]);
+        w[7] = 0.0011;
+        assert!(pinned(&w).iter().all(|p| p.index != 7));
+    }
+
+    #[test]
+    fn only_a_lower_log_loss_replaces_the_current_parameters() {
+        let e = |log_loss, rmse_bins| Evaluation {
+            log_loss,
+            rmse_bins,
+        };
+        assert!(improves(&e(0.30, 0.05), &e(0.31, 0.04)));
+        assert!(!improves(&e(0.31, 0.04), &e(0.31, 0.05)));
+        assert!(!improves(&e(0.32, 0.01), &e(0.31, 0.05)));
     }
 }

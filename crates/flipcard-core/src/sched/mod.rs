@@ -1,6 +1,7 @@
 //! Scheduling: FSRS-6 with short-term learning steps, the daily queue,
 //! typed-answer checking and the learner's settings. Never imports ratatui.
 
+pub mod balance;
 pub mod clock;
 pub mod config;
 pub mod day;

@@ -516,20 +516,39 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
         }
     }
 
-    // The promised single reviews, those that need the latest days first,
-    // each on the latest day with a slot left.
+    // The promised single reviews, spread. Each may go on any day from its
+    // earliest useful one to the day before the exam (a later review only
+    // leaves more on the exam day), so the count of reviews is settled; of
+    // the ways to place them, those with the smallest largest day's load
+    // (the reviews already placed included) are kept, and among them each
+    // day, from today on, takes as many as it may: reviews as early as the
+    // lightest load allows.
+    let used: Vec<usize> = free.iter().map(|f| problem.cap - f).collect();
+    let level = spread_level(&used, &singles, problem.cap);
     let mut promised: Vec<(usize, usize)> = single_of
         .iter()
         .enumerate()
         .filter_map(|(i, d)| d.map(|d| (d, i)))
         .collect();
-    promised.sort_by(|a, b| b.cmp(a));
-    for (earliest, i) in promised {
-        if let Some(d) = (earliest..days).rev().find(|&d| free[d] > 0) {
+    promised.sort();
+    let mut waiting = std::collections::VecDeque::new();
+    let mut next = promised.into_iter().peekable();
+    for d in 0..days {
+        while let Some(&(earliest, i)) = next.peek() {
+            if earliest > d {
+                break;
+            }
+            waiting.push_back(i);
+            next.next();
+        }
+        let room = level.saturating_sub(used[d]).min(free[d]);
+        for _ in 0..room {
+            let Some(i) = waiting.pop_front() else { break };
             free[d] -= 1;
             schedules[i] = vec![d as i64];
         }
     }
+    debug_assert!(waiting.is_empty() && next.peek().is_none());
 
     let items = problem
         .items
@@ -548,6 +567,27 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
         items,
         per_day: free.iter().map(|f| problem.cap - f).collect(),
     })
+}
+
+/// The smallest daily load, at most `cap`, at which the promised single
+/// reviews all fit beside the reviews already `used` on each day: each
+/// suffix of days has at least as many slots under that load as promises
+/// that need it (Hall's condition, as [`Singles::fit`]). The promises were
+/// kept within the cap, so `cap` always fits.
+fn spread_level(used: &[usize], singles: &Singles, cap: usize) -> usize {
+    let fits = |level: usize| {
+        let room: Vec<usize> = used.iter().map(|u| level.saturating_sub(*u)).collect();
+        singles.fit(&room)
+    };
+    let (mut lo, mut hi) = (used.iter().copied().max().unwrap_or(0), cap);
+    if lo >= hi {
+        return cap;
+    }
+    while lo < hi {
+        let mid = lo + (hi - lo) / 2;
+        if fits(mid) { hi = mid } else { lo = mid + 1 }
+    }
+    lo
 }
 
 /// The fewest reviews on days with a slot left that bring `item` to the

@@ -63,3 +63,40 @@ impl Store {
         Ok(ms.and_then(from_ms))
     }
 }
+
+impl Store {
+    /// How many review items (of every deck, suspended ones left out) are
+    /// due in each of the `days` spans of 24 hours from `start`: the load
+    /// the balancer evens (`sched::balance`). One grouped query over the
+    /// card states; the answer has `days` entries.
+    pub fn due_per_day(&self, start: DateTime<Utc>, days: usize) -> Result<Vec<u32>, StoreError> {
+        const DAY_MS: i64 = 86_400_000;
+        let from = to_ms(start);
+        let span = i64::try_from(days).unwrap_or(i64::MAX / DAY_MS);
+        let to = from.saturating_add(span.saturating_mul(DAY_MS));
+        let mut out = vec![0u32; days];
+        let mut st = self
+            .conn
+            .prepare_cached(
+                "SELECT (c.due - ?1) / ?3 AS day, count(*) FROM card_state AS c \
+                 LEFT JOIN item_status AS s \
+                   ON s.deck = c.deck AND s.card = c.card AND s.direction = c.direction \
+                 WHERE c.state = 'review' AND c.due >= ?1 AND c.due < ?2 \
+                   AND coalesce(s.suspended, 0) = 0 \
+                 GROUP BY day",
+            )
+            .map_err(|e| self.err(e))?;
+        let rows = st
+            .query_map(params![from, to, DAY_MS], |r| {
+                Ok((r.get::<_, i64>(0)?, r.get::<_, i64>(1)?))
+            })
+            .map_err(|e| self.err(e))?;
+        for row in rows {
+            let (day, n) = row.map_err(|e| self.err(e))?;
+            if let Some(slot) = usize::try_from(day).ok().and_then(|d| out.get_mut(d)) {
+                *slot = u32::try_from(n).unwrap_or(u32::MAX);
+            }
+        }
+        Ok(out)
+    }
+}

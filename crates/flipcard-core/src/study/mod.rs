@@ -26,9 +26,11 @@ use chrono::{DateTime, Utc};
 
 use crate::catalog::card_directions;
 use crate::deck::Deck;
+use crate::sched::balance::{LOAD_DAYS, Load};
 use crate::sched::config::LeechAction;
 use crate::sched::{
-    CardState, Config, Counts, Days, ItemKey, Queue, Rating, ReviewRecord, Scheduler, queue::Part,
+    CardState, Config, Counts, DayOf, Days, ItemKey, Preview, Queue, Rating, ReviewRecord,
+    Scheduler, queue::Part,
 };
 use crate::store::{
     AfterRating, AttemptVerdict, Commitment, Committed, PromptAttempt, Recorded, StatusAction,
@@ -199,6 +201,35 @@ impl Study {
         self.store.answer_time(key, now)
     }
 
+    /// The daily load an answer at `at` is balanced over: the review items
+    /// due on each study day from `at`'s, with the easy days' shares.
+    /// `None` when fuzz or load balancing is off (the uniform fuzz, or
+    /// none, applies).
+    pub fn load(&self, at: DateTime<Utc>) -> Result<Option<Load>, StoreError> {
+        let c = &self.config;
+        if !(c.fuzz && c.load_balance) {
+            return Ok(None);
+        }
+        let days = self.days();
+        let (start, _) = days.bounds(at);
+        let counts = self.store.due_per_day(start, LOAD_DAYS)?;
+        Ok(Some(Load::new(counts, days.day_of(at), &c.easy_days)))
+    }
+
+    /// What each answer button would do for `key` at `now`, as
+    /// [`Study::rate`] at that instant would schedule it (the same load).
+    pub fn preview(
+        &self,
+        key: &ItemKey,
+        before: Option<&CardState>,
+        now: DateTime<Utc>,
+    ) -> Result<[Preview; 4], StoreError> {
+        let load = self.load(now)?;
+        Ok(self
+            .scheduler_for(&key.deck)
+            .preview_with(key, before, now, load.as_ref()))
+    }
+
     /// What follows a rating of `key` in `deck`: leech detection as the
     /// config says, and its siblings buried until the next study day.
     pub(crate) fn policy(&self, deck: &Deck, key: &ItemKey, now: DateTime<Utc>) -> AfterRating {
@@ -250,7 +281,8 @@ impl Study {
         let record = if cram {
             s.cram(key, before, rating, at, duration_ms)
         } else {
-            s.review(key, before, rating, at, duration_ms)
+            let load = self.load(at)?;
+            s.review_with(key, before, rating, at, duration_ms, load.as_ref())
         };
         let after = match deck {
             Some(deck) if !cram => self.policy(deck, key, at),
@@ -349,9 +381,15 @@ impl Study {
             Rating::Again
         };
         let at = self.answer_time(&key, now)?;
-        let record =
-            self.scheduler_for(&key.deck)
-                .review(&key, before.as_ref(), rating, at, duration_ms);
+        let load = self.load(at)?;
+        let record = self.scheduler_for(&key.deck).review_with(
+            &key,
+            before.as_ref(),
+            rating,
+            at,
+            duration_ms,
+            load.as_ref(),
+        );
         let after = self.policy(deck, &key, at);
         let recorded =
             self.store

@@ -295,3 +295,212 @@ fn a_presets_scheduler_rates_and_replays_the_same() {
         .unwrap();
     assert_ne!(plain.state(&k).unwrap(), Some(second.record.after));
 }
+
+mod balance {
+    //! Hard < Good < Easy, load balancing and easy days through
+    //! `Study::rate` and `Study::preview`, over due counts in the store.
+
+    use super::*;
+    use crate::sched::scheduler::fuzz_range_of;
+    use crate::store::merge::{IncomingReview, KeptState};
+    use chrono::{Datelike, TimeDelta};
+    use proptest::prelude::*;
+
+    /// Puts `counts[k]` review items of another deck due in the study day
+    /// `k` days after the one of `now` (one merge, one transaction).
+    fn fill(s: &mut Study, counts: &[u32], now: DateTime<Utc>) {
+        let (start, _) = s.study_day(now);
+        let mut rows = Vec::new();
+        let mut kept = HashMap::new();
+        for (k, n) in counts.iter().enumerate() {
+            for j in 0..*n {
+                let key = ItemKey {
+                    deck: "others".into(),
+                    card: format!("o{k}-{j}"),
+                    direction: Direction::Forward,
+                };
+                rows.push(IncomingReview {
+                    key: key.clone(),
+                    reviewed_at: now - TimeDelta::days(40),
+                    rating: Rating::Easy,
+                    cram: false,
+                    duration_ms: 1000,
+                    undone: false,
+                });
+                kept.insert(
+                    key,
+                    KeptState {
+                        due: start + TimeDelta::days(k as i64) + TimeDelta::hours(6),
+                        stability: Some(30.0),
+                        difficulty: Some(5.0),
+                    },
+                );
+            }
+        }
+        let scheduler = s.scheduler.clone();
+        s.store
+            .merge_reviews_keeping(&rows, &scheduler, &kept)
+            .unwrap();
+    }
+
+    /// A review card last answered `days` ago with stability `stab`, due now.
+    fn review_card(s: &mut Study, name: &str, stab: f64, days: i64, now: DateTime<Utc>) -> ItemKey {
+        let k = key(name, Direction::Forward);
+        let row = IncomingReview {
+            key: k.clone(),
+            reviewed_at: now - TimeDelta::days(days),
+            rating: Rating::Easy,
+            cram: false,
+            duration_ms: 1000,
+            undone: false,
+        };
+        let kept = KeptState {
+            due: now,
+            stability: Some(stab),
+            difficulty: Some(5.0),
+        };
+        let scheduler = s.scheduler.clone();
+        s.store
+            .merge_reviews_keeping(&[row], &scheduler, &HashMap::from([(k.clone(), kept)]))
+            .unwrap();
+        k
+    }
+
+    fn days(p: &Preview, now: DateTime<Utc>) -> i64 {
+        (p.after.due - now).num_days()
+    }
+
+    /// Rates Hard, Good and Easy in turn (undoing each), as the review
+    /// screen would, and checks each against the preview shown for its
+    /// instant (each answer is recorded after the item's latest, undone
+    /// ones too, so each has its own millisecond and fuzz draw), in which
+    /// Hard < Good < Easy. Returns the days recorded, and the first
+    /// preview's three days with its instant.
+    fn rate_each(
+        s: &mut Study,
+        k: &ItemKey,
+        now: DateTime<Utc>,
+    ) -> ([i64; 3], [i64; 3], DateTime<Utc>) {
+        let before = s.store.state(k).unwrap();
+        let mut out = [0; 3];
+        let mut first = None;
+        for (i, rating) in [Rating::Hard, Rating::Good, Rating::Easy]
+            .into_iter()
+            .enumerate()
+        {
+            let at = s.answer_time(k, now).unwrap();
+            let shown = s.preview(k, before.as_ref(), at).unwrap();
+            let [_, h, g, e] = &shown;
+            let three = [days(h, at), days(g, at), days(e, at)];
+            assert!(three[0] < three[1] && three[1] < three[2], "{three:?}");
+            first.get_or_insert((three, at));
+            let answer = Answer {
+                key: k,
+                before: before.as_ref(),
+                rating,
+                duration_ms: 1000,
+                cram: false,
+            };
+            let rated = s.rate(None, answer, now).unwrap();
+            assert_eq!(rated.record.reviewed_at, at);
+            assert_eq!(rated.record.after, shown[i + 1].after, "{rating:?}");
+            out[i] = three[i];
+            assert!(s.undo().unwrap().is_some());
+        }
+        let (three, at) = first.unwrap();
+        (out, three, at)
+    }
+
+    #[test]
+    fn a_rating_lands_on_the_emptiest_day_of_its_fuzz_range() {
+        let now = at("2026-05-04T10:00:00Z");
+        let plain = Scheduler::new(&Config {
+            fuzz: false,
+            ..Config::default()
+        });
+        let (_dir, mut s) = study(Config::default());
+        let k = review_card(&mut s, "spin-axis", 12.0, 12, now);
+        let before = s.store.state(&k).unwrap();
+        let good = days(&plain.preview(&k, before.as_ref(), now)[2], now);
+        let (lo, hi) = fuzz_range_of(good);
+        assert!(hi - lo >= 4, "{lo}..={hi}");
+        // Every day of Good's range crowded but one, which is not the
+        // day the uniform draw picks.
+        let uniform = days(&s.scheduler.preview(&k, before.as_ref(), now)[2], now);
+        let empty = if uniform == lo + 1 { lo + 2 } else { lo + 1 };
+        let mut counts = vec![0u32; (hi + 3) as usize];
+        for d in lo..=hi {
+            counts[d as usize] = if d == empty { 0 } else { 40 };
+        }
+        fill(&mut s, &counts, now);
+        assert_eq!(s.load(now).unwrap().unwrap().count(lo), 40);
+        let ([_, g, _], _, _) = rate_each(&mut s, &k, now);
+        assert_eq!(g, empty, "Good lands on the empty day, not {uniform}");
+
+        // Load balancing off: the uniform draw, whatever the load.
+        s.config.load_balance = false;
+        assert_eq!(s.load(now).unwrap(), None);
+        let at = s.answer_time(&k, now).unwrap();
+        assert_eq!(
+            s.preview(&k, before.as_ref(), at).unwrap(),
+            s.scheduler.preview(&k, before.as_ref(), at)
+        );
+        rate_each(&mut s, &k, now);
+    }
+
+    #[test]
+    fn easy_days_keep_reviews_off_a_weekday() {
+        // 2026-05-04 is a Monday; the range of ~12 days holds a Sunday or two.
+        let now = at("2026-05-04T10:00:00Z");
+        let mut config = Config::default();
+        config.easy_days.0[6] = 0.0;
+        let (_dir, mut s) = study(config);
+        fill(&mut s, &[3; 40], now);
+        let mut seen = std::collections::BTreeSet::new();
+        for i in 0..12 {
+            let k = review_card(&mut s, &format!("c{i}"), 12.0, 12, now);
+            let ([h, g, e], _, _) = rate_each(&mut s, &k, now);
+            for d in [h, g, e] {
+                let day = (now + TimeDelta::days(d)).date_naive();
+                assert_ne!(
+                    day.weekday(),
+                    chrono::Weekday::Sun,
+                    "{d} days on is a Sunday"
+                );
+                seen.insert(d);
+            }
+        }
+        assert!(seen.len() > 3, "{seen:?}");
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+        /// Through `Study::rate` over any due counts: each button's day is
+        /// within its fuzz range above its floor, Hard < Good < Easy, and
+        /// the preview the screen shows is what the rating records.
+        #[test]
+        fn balanced_days_stay_in_range_and_in_order(
+            counts in proptest::collection::vec(0u32..12, 0..60),
+            stab in 1.0f64..60.0,
+            elapsed in 1i64..60,
+            sunday in 0.0f64..=1.0,
+        ) {
+            let now = at("2026-05-04T10:00:00Z");
+            let mut config = Config::default();
+            config.easy_days.0[6] = sunday;
+            let (_dir, mut s) = study(config);
+            fill(&mut s, &counts, now);
+            let k = review_card(&mut s, "spin-axis", stab, elapsed, now);
+            let before = s.store.state(&k).unwrap().unwrap();
+            let (_, [h, g, e], at) = rate_each(&mut s, &k, now);
+            prop_assert!(h >= 1 && h < g && g < e, "{} {} {}", h, g, e);
+            // Each day within its button's fuzz range (held above the
+            // floor the previous interval and the button below set).
+            let ranges = s.scheduler.passing_ranges(&before, at, [h, g, e]);
+            for (d, (lo, hi)) in [h, g, e].into_iter().zip(ranges) {
+                prop_assert!((lo..=hi).contains(&d), "{} outside {}..={}", d, lo, hi);
+            }
+        }
+    }
+}

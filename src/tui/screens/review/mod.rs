@@ -705,13 +705,17 @@ fn reveal(app: &mut App, state: &mut ReviewState) {
         }
         _ => None,
     };
-    let previews = (!state.cram).then(|| {
-        Box::new(app.services.study.scheduler_for(&key.deck).preview(
-            &key,
-            state.states.get(&key),
-            app.services.now(),
-        ))
-    });
+    // The buttons' intervals as a rating now would schedule them (over the
+    // same daily load); if the load cannot be read, the rating will say why.
+    let previews = (!state.cram)
+        .then(|| {
+            app.services
+                .study
+                .preview(&key, state.states.get(&key), app.services.now())
+                .ok()
+                .map(Box::new)
+        })
+        .flatten();
     state.phase = Phase::Back { typed, previews };
     state.scroll = answer_scroll(app, state);
 }
