@@ -536,7 +536,8 @@ fn nothing_due_says_new_cards_are_left_for_tomorrow() {
 #[test]
 fn review_hints_keep_hard_good_easy_apart_and_the_rating_keeps_its_hint() {
     use crate::sched::{ItemKey, Scheduler};
-    use crate::store::merge::{IncomingReview, KeptState};
+    use crate::store::KeptState;
+    use crate::store::merge::IncomingReview;
     use chrono::TimeDelta;
     let mut app = open_cards_only(ENGLISH);
     press(&mut app, KeyCode::Esc);
@@ -566,9 +567,12 @@ fn review_hints_keep_hard_good_easy_apart_and_the_rating_keeps_its_hint() {
     let mut kept = std::collections::HashMap::from([(
         key.clone(),
         KeptState {
+            at: now - TimeDelta::days(3),
+            state: crate::sched::State::Review,
             due: now - TimeDelta::hours(1),
             stability: Some(4.6),
             difficulty: Some(9.9),
+            last_review: Some(now - TimeDelta::days(3)),
         },
     )]);
     for d in 1..40 {
@@ -585,9 +589,12 @@ fn review_hints_keep_hard_good_easy_apart_and_the_rating_keeps_its_hint() {
             kept.insert(
                 other,
                 KeptState {
+                    at: now - TimeDelta::days(3),
+                    state: crate::sched::State::Review,
                     due: now + TimeDelta::days(d),
                     stability: Some(30.0),
                     difficulty: Some(5.0),
+                    last_review: Some(now - TimeDelta::days(3)),
                 },
             );
         }

@@ -302,7 +302,8 @@ mod balance {
 
     use super::*;
     use crate::sched::scheduler::fuzz_range_of;
-    use crate::store::merge::{IncomingReview, KeptState};
+    use crate::store::KeptState;
+    use crate::store::merge::IncomingReview;
     use chrono::{Datelike, TimeDelta};
     use proptest::prelude::*;
 
@@ -330,9 +331,12 @@ mod balance {
                 kept.insert(
                     key,
                     KeptState {
+                        at: now - TimeDelta::days(40),
+                        state: crate::sched::State::Review,
                         due: start + TimeDelta::days(k as i64) + TimeDelta::hours(6),
                         stability: Some(30.0),
                         difficulty: Some(5.0),
+                        last_review: Some(now - TimeDelta::days(40)),
                     },
                 );
             }
@@ -355,9 +359,12 @@ mod balance {
             undone: false,
         };
         let kept = KeptState {
+            at: row.reviewed_at,
+            state: crate::sched::State::Review,
             due: now,
             stability: Some(stab),
             difficulty: Some(5.0),
+            last_review: Some(row.reviewed_at),
         };
         let scheduler = s.scheduler.clone();
         s.store
