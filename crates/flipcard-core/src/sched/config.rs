@@ -14,10 +14,10 @@ use chrono::{NaiveTime, TimeDelta, Timelike};
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::balance::{EasyDays, WEEKDAYS};
 pub use super::preset::PARAMETER_BOUNDS;
 use super::preset::{DeckSettings, Preset, RawDeckSettings, RawPreset};
 pub(crate) use super::preset::{RETENTION_RANGE, format_step, parse_step};
-use super::balance::{EasyDays, WEEKDAYS};
 
 /// The languages the app speaks (decks may declare these).
 pub(crate) const LANGUAGES: [&str; 2] = ["en", "hi-Latn"];
@@ -103,7 +103,10 @@ pub struct Config {
     /// `[deck.ID]` tables: which preset each deck uses.
     pub decks: BTreeMap<String, DeckSettings>,
     /// With fuzz on, a review's day is chosen within its fuzz range to even
-    /// the daily load (`sched::balance`).
+    /// the daily load (`sched::balance`). Off unless asked for: the day it
+    /// picks depends on the other cards due then, which a replay (a sync
+    /// on another machine, `db rebuild`) cannot know, so the replayed due
+    /// date may be another day of the same fuzz range.
     pub load_balance: bool,
     /// The share of a normal day's reviews each weekday gets, Monday
     /// first (`easy_days = { sat = 0.5, sun = 0 }`).
@@ -135,7 +138,7 @@ impl Default for Config {
             hide_bundled: false,
             presets: BTreeMap::new(),
             decks: BTreeMap::new(),
-            load_balance: true,
+            load_balance: false,
             easy_days: EasyDays::default(),
             exam_date: None,
         }
@@ -970,10 +973,13 @@ language = "hi-Latn"
     #[test]
     fn load_balance_and_easy_days_are_read_and_checked() {
         let c = parse("").unwrap();
-        assert!(c.load_balance);
+        assert!(
+            !c.load_balance,
+            "off unless asked for (a replay cannot balance)"
+        );
         assert!(c.easy_days.is_default());
-        let c = parse("load_balance = false\neasy_days = { sat = 0.5, sun = 0 }\n").unwrap();
-        assert!(!c.load_balance);
+        let c = parse("load_balance = true\neasy_days = { sat = 0.5, sun = 0 }\n").unwrap();
+        assert!(c.load_balance);
         assert_eq!(c.easy_days.0, [1.0, 1.0, 1.0, 1.0, 1.0, 0.5, 0.0]);
         let c = parse("[easy_days]\nmon = 1\nwed = 0.25\n").unwrap();
         assert_eq!(c.easy_days.0[2], 0.25);

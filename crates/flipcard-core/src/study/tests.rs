@@ -425,7 +425,10 @@ mod balance {
             fuzz: false,
             ..Config::default()
         });
-        let (_dir, mut s) = study(Config::default());
+        let (_dir, mut s) = study(Config {
+            load_balance: true,
+            ..Config::default()
+        });
         let k = review_card(&mut s, "spin-axis", 12.0, 12, now);
         let before = s.store.state(&k).unwrap();
         let good = days(&plain.preview(&k, before.as_ref(), now)[2], now);
@@ -459,7 +462,10 @@ mod balance {
     fn easy_days_keep_reviews_off_a_weekday() {
         // 2026-05-04 is a Monday; the range of ~12 days holds a Sunday or two.
         let now = at("2026-05-04T10:00:00Z");
-        let mut config = Config::default();
+        let mut config = Config {
+            load_balance: true,
+            ..Config::default()
+        };
         config.easy_days.0[6] = 0.0;
         let (_dir, mut s) = study(config);
         fill(&mut s, &[3; 40], now);
@@ -494,7 +500,10 @@ mod balance {
             sunday in 0.0f64..=1.0,
         ) {
             let now = at("2026-05-04T10:00:00Z");
-            let mut config = Config::default();
+            let mut config = Config {
+                load_balance: true,
+                ..Config::default()
+            };
             config.easy_days.0[6] = sunday;
             let (_dir, mut s) = study(config);
             fill(&mut s, &counts, now);
