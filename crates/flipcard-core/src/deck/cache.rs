@@ -107,8 +107,8 @@ pub(crate) struct Cached {
     pub content: Vec<(PathBuf, String)>,
 }
 
-/// What a deck file's lookup needs to know before its TOML is read.
-pub(crate) struct Key {
+/// What a deck file's entry is kept under.
+struct Key {
     digest: Digest32,
     /// The digest of the file's name alone: every entry of one deck file
     /// starts with it, so writing a new one removes the old ones.
@@ -135,8 +135,13 @@ impl DeckCache {
         DeckCache { dir, stamp }
     }
 
-    pub(crate) fn key(&self, stem: &str, text: &str) -> Key {
+    /// What every entry of the deck file named `stem` starts with.
+    fn prefix(&self, stem: &str) -> String {
         let name = sha256(&[self.stamp.as_bytes(), stem.as_bytes()]);
+        hex(&name[..8])
+    }
+
+    fn key(&self, stem: &str, text: &str) -> Key {
         Key {
             digest: sha256(&[
                 MAGIC,
@@ -144,7 +149,7 @@ impl DeckCache {
                 stem.as_bytes(),
                 text.as_bytes(),
             ]),
-            prefix: hex(&name[..8]),
+            prefix: self.prefix(stem),
         }
     }
 
@@ -153,26 +158,41 @@ impl DeckCache {
             .join(format!("{}-{}.bin", key.prefix, hex(&key.digest)))
     }
 
-    /// The deck kept under `key` for the deck file `path`, when there is
-    /// one whose content files are the ones it was validated with
-    /// (`content` reads a language's file: its path and text, `None` when
-    /// it cannot be read), with those files. `size` is the deck file's
-    /// size, which bounds the entry's.
+    /// The deck kept for the deck file `path` (its name `stem`, its text
+    /// `text`), when there is one for these bytes whose content files are
+    /// the ones it was validated with (`content` reads a language's file:
+    /// its path and text, `None` when it cannot be read), with those
+    /// files. The entry is found by the file's name and decoded while
+    /// another thread computes the text's SHA-256; it is taken only when
+    /// that is the key it was written under.
     pub(crate) fn get(
         &self,
-        key: &Key,
-        size: usize,
+        stem: &str,
+        text: &str,
         content: impl Fn(&str) -> Option<(PathBuf, String)>,
         path: &Path,
     ) -> Option<Cached> {
-        let limit = (size as u64)
+        let prefix = self.prefix(stem);
+        let found = flipcard_io::entries_starting_with(&self.dir, &format!("{prefix}-"));
+        let [file] = found.as_slice() else {
+            return None;
+        };
+        let name = file.file_name()?.to_str()?;
+        let digest = name
+            .strip_prefix(&format!("{prefix}-"))?
+            .strip_suffix(".bin")?;
+        let limit = (text.len() as u64)
             .saturating_mul(MAX_ENTRY_FACTOR)
             .saturating_add(1 << 20);
-        let bytes = flipcard_io::read_regular_limited(&self.path(key), limit).ok()?;
-        if bytes.len() as u64 > limit {
-            return None;
-        }
-        let entry = decode(&bytes)?;
+        let entry = std::thread::scope(|s| {
+            let key = s.spawn(|| self.key(stem, text));
+            let entry = flipcard_io::read_regular_limited(file, limit)
+                .ok()
+                .filter(|b| b.len() as u64 <= limit)
+                .and_then(|b| decode(&b));
+            let key = key.join().ok()?;
+            (hex(&key.digest) == digest).then_some(entry)?
+        })?;
         let mut texts = Vec::new();
         if entry.content.len() != entry.languages.len() {
             return None;
@@ -201,7 +221,7 @@ impl DeckCache {
     /// nothing here fails loudly.
     pub(crate) fn put(
         &self,
-        key: &Key,
+        (stem, text): (&str, &str),
         deck: &Deck,
         parent_span: Option<Range<usize>>,
         content: &[(String, &str)],
@@ -209,6 +229,7 @@ impl DeckCache {
         let Some(entry) = Entry::of(deck, parent_span, content) else {
             return;
         };
+        let key = &self.key(stem, text);
         let Ok(payload) = postcard::to_allocvec(&entry) else {
             return;
         };
