@@ -28,6 +28,7 @@
 //!
 //! `flipcard check` never reads the cache: it validates every deck afresh.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -62,17 +63,21 @@ pub struct DeckCache {
 /// A SHA-256 digest.
 type Digest32 = [u8; 32];
 
+/// Each field borrows the deck when an entry is written (no copy of a
+/// large deck is made) and owns it when one is read.
+type Map = BTreeMap<String, String>;
+
 #[derive(Serialize, Deserialize)]
-struct Entry {
+struct Entry<'a> {
     /// The SHA-256 of each content file read with the deck, by language.
     content: Vec<(String, Digest32)>,
-    id: String,
-    title: BTreeMap<String, String>,
-    description: Option<BTreeMap<String, String>>,
-    languages: Vec<String>,
+    id: Cow<'a, str>,
+    title: Cow<'a, Map>,
+    description: Option<Cow<'a, Map>>,
+    languages: Cow<'a, [String]>,
     /// The deck's `parent` and the span of its value in the deck file.
-    parent: Option<(String, Range<usize>)>,
-    cards: Vec<CachedCard>,
+    parent: Option<(Cow<'a, str>, Range<usize>)>,
+    cards: Vec<CachedCard<'a>>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -84,14 +89,14 @@ enum CachedKind {
 }
 
 #[derive(Serialize, Deserialize)]
-struct CachedCard {
-    id: String,
+struct CachedCard<'a> {
+    id: Cow<'a, str>,
     kind: CachedKind,
-    front: BTreeMap<String, String>,
-    back: BTreeMap<String, String>,
-    accept: Vec<String>,
-    accept_by_lang: BTreeMap<String, Vec<String>>,
-    tags: Vec<String>,
+    front: Cow<'a, Map>,
+    back: Cow<'a, Map>,
+    accept: Cow<'a, [String]>,
+    accept_by_lang: Cow<'a, BTreeMap<String, Vec<String>>>,
+    tags: Cow<'a, [String]>,
 }
 
 /// A deck taken from the cache: the deck, where its `parent` value is in
@@ -102,8 +107,8 @@ pub(crate) struct Cached {
     pub content: Vec<(PathBuf, String)>,
 }
 
-/// What a deck file's lookup needs to know before its TOML is read.
-pub(crate) struct Key {
+/// What a deck file's entry is kept under.
+struct Key {
     digest: Digest32,
     /// The digest of the file's name alone: every entry of one deck file
     /// starts with it, so writing a new one removes the old ones.
@@ -130,8 +135,13 @@ impl DeckCache {
         DeckCache { dir, stamp }
     }
 
-    pub(crate) fn key(&self, stem: &str, text: &str) -> Key {
+    /// What every entry of the deck file named `stem` starts with.
+    fn prefix(&self, stem: &str) -> String {
         let name = sha256(&[self.stamp.as_bytes(), stem.as_bytes()]);
+        hex(&name[..8])
+    }
+
+    fn key(&self, stem: &str, text: &str) -> Key {
         Key {
             digest: sha256(&[
                 MAGIC,
@@ -139,7 +149,7 @@ impl DeckCache {
                 stem.as_bytes(),
                 text.as_bytes(),
             ]),
-            prefix: hex(&name[..8]),
+            prefix: self.prefix(stem),
         }
     }
 
@@ -148,31 +158,46 @@ impl DeckCache {
             .join(format!("{}-{}.bin", key.prefix, hex(&key.digest)))
     }
 
-    /// The deck kept under `key` for the deck file `path`, when there is
-    /// one whose content files are the ones it was validated with
-    /// (`content` reads a language's file: its path and text, `None` when
-    /// it cannot be read), with those files. `size` is the deck file's
-    /// size, which bounds the entry's.
+    /// The deck kept for the deck file `path` (its name `stem`, its text
+    /// `text`), when there is one for these bytes whose content files are
+    /// the ones it was validated with (`content` reads a language's file:
+    /// its path and text, `None` when it cannot be read), with those
+    /// files. The entry is found by the file's name and decoded while
+    /// another thread computes the text's SHA-256; it is taken only when
+    /// that is the key it was written under.
     pub(crate) fn get(
         &self,
-        key: &Key,
-        size: usize,
+        stem: &str,
+        text: &str,
         content: impl Fn(&str) -> Option<(PathBuf, String)>,
         path: &Path,
     ) -> Option<Cached> {
-        let limit = (size as u64)
+        let prefix = self.prefix(stem);
+        let found = flipcard_io::entries_starting_with(&self.dir, &format!("{prefix}-"));
+        let [file] = found.as_slice() else {
+            return None;
+        };
+        let name = file.file_name()?.to_str()?;
+        let digest = name
+            .strip_prefix(&format!("{prefix}-"))?
+            .strip_suffix(".bin")?;
+        let limit = (text.len() as u64)
             .saturating_mul(MAX_ENTRY_FACTOR)
             .saturating_add(1 << 20);
-        let bytes = flipcard_io::read_regular_limited(&self.path(key), limit).ok()?;
-        if bytes.len() as u64 > limit {
-            return None;
-        }
-        let entry = decode(&bytes)?;
+        let entry = std::thread::scope(|s| {
+            let key = s.spawn(|| self.key(stem, text));
+            let entry = flipcard_io::read_regular_limited(file, limit)
+                .ok()
+                .filter(|b| b.len() as u64 <= limit)
+                .and_then(|b| decode(&b));
+            let key = key.join().ok()?;
+            (hex(&key.digest) == digest).then_some(entry)?
+        })?;
         let mut texts = Vec::new();
         if entry.content.len() != entry.languages.len() {
             return None;
         }
-        for ((lang, digest), declared) in entry.content.iter().zip(&entry.languages) {
+        for ((lang, digest), declared) in entry.content.iter().zip(entry.languages.iter()) {
             if lang != declared {
                 return None;
             }
@@ -196,7 +221,7 @@ impl DeckCache {
     /// nothing here fails loudly.
     pub(crate) fn put(
         &self,
-        key: &Key,
+        (stem, text): (&str, &str),
         deck: &Deck,
         parent_span: Option<Range<usize>>,
         content: &[(String, &str)],
@@ -204,6 +229,7 @@ impl DeckCache {
         let Some(entry) = Entry::of(deck, parent_span, content) else {
             return;
         };
+        let key = &self.key(stem, text);
         let Ok(payload) = postcard::to_allocvec(&entry) else {
             return;
         };
@@ -232,7 +258,7 @@ impl DeckCache {
 }
 
 /// An entry's deck, when its bytes are whole and of this format.
-fn decode(bytes: &[u8]) -> Option<Entry> {
+fn decode(bytes: &[u8]) -> Option<Entry<'static>> {
     let rest = bytes.strip_prefix(MAGIC)?;
     if rest.len() < HEADER {
         return None;
@@ -243,17 +269,17 @@ fn decode(bytes: &[u8]) -> Option<Entry> {
     if len != payload.len() as u64 || crc32fast::hash(payload) != crc {
         return None;
     }
-    let (entry, left): (Entry, &[u8]) = postcard::take_from_bytes(payload).ok()?;
+    let (entry, left): (Entry<'static>, &[u8]) = postcard::take_from_bytes(payload).ok()?;
     left.is_empty().then_some(entry)
 }
 
-impl Entry {
+impl<'a> Entry<'a> {
     /// The entry of a deck the cache holds: cards only.
     fn of(
-        deck: &Deck,
+        deck: &'a Deck,
         parent_span: Option<Range<usize>>,
         content: &[(String, &str)],
-    ) -> Option<Entry> {
+    ) -> Option<Entry<'a>> {
         let plain = deck.prompts.is_empty()
             && deck.scenes.is_empty()
             && deck.systems.is_empty()
@@ -270,38 +296,38 @@ impl Entry {
             .iter()
             .map(CachedCard::of)
             .collect::<Option<Vec<_>>>()?;
-        let languages: Vec<String> = deck.languages.clone();
+        let languages = &deck.languages;
         let content: Vec<(String, Digest32)> = content
             .iter()
             .map(|(lang, text)| (lang.clone(), sha256(&[text.as_bytes()])))
             .collect();
         let same_languages = content.len() == languages.len()
-            && content.iter().zip(&languages).all(|((l, _), d)| l == d);
+            && content.iter().zip(languages).all(|((l, _), d)| l == d);
         if !same_languages {
             return None;
         }
         let parent = match (&deck.parent, parent_span) {
-            (Some(p), Some(span)) => Some((p.clone(), span)),
+            (Some(p), Some(span)) => Some((Cow::Borrowed(p.as_str()), span)),
             (None, _) => None,
             (Some(_), None) => return None,
         };
         Some(Entry {
             content,
             parent,
-            id: deck.id.clone(),
-            title: deck.title.0.clone(),
-            description: deck.description.as_ref().map(|t| t.0.clone()),
-            languages,
+            id: Cow::Borrowed(&deck.id),
+            title: Cow::Borrowed(&deck.title.0),
+            description: deck.description.as_ref().map(|t| Cow::Borrowed(&t.0)),
+            languages: Cow::Borrowed(languages),
             cards,
         })
     }
 
     fn into_deck(self, path: &Path) -> Deck {
         Deck {
-            id: self.id,
-            title: Text(self.title),
-            description: self.description.map(Text),
-            languages: self.languages,
+            id: self.id.into_owned(),
+            title: Text(self.title.into_owned()),
+            description: self.description.map(|d| Text(d.into_owned())),
+            languages: self.languages.into_owned(),
             cards: self.cards.into_iter().map(CachedCard::into_card).collect(),
             prompts: Vec::new(),
             scenes: Vec::new(),
@@ -311,14 +337,14 @@ impl Entry {
             misconceptions: Vec::new(),
             explore: Vec::new(),
             derivations: Vec::new(),
-            parent: self.parent.map(|(p, _)| p),
+            parent: self.parent.map(|(p, _)| p.into_owned()),
             path: path.to_path_buf(),
         }
     }
 }
 
-impl CachedCard {
-    fn of(card: &Card) -> Option<CachedCard> {
+impl<'a> CachedCard<'a> {
+    fn of(card: &'a Card) -> Option<CachedCard<'a>> {
         let kind = match card.kind {
             CardKind::Basic => CachedKind::Basic,
             CardKind::Reversed => CachedKind::Reversed,
@@ -330,32 +356,32 @@ impl CachedCard {
             return None;
         }
         Some(CachedCard {
-            id: card.id.clone(),
+            id: Cow::Borrowed(&card.id),
             kind,
-            front: card.front.0.clone(),
-            back: card.back.0.clone(),
-            accept: card.accept.clone(),
-            accept_by_lang: card.accept_by_lang.clone(),
-            tags: card.tags.clone(),
+            front: Cow::Borrowed(&card.front.0),
+            back: Cow::Borrowed(&card.back.0),
+            accept: Cow::Borrowed(&card.accept),
+            accept_by_lang: Cow::Borrowed(&card.accept_by_lang),
+            tags: Cow::Borrowed(&card.tags),
         })
     }
 
     fn into_card(self) -> Card {
         Card {
-            id: self.id,
+            id: self.id.into_owned(),
             kind: match self.kind {
                 CachedKind::Basic => CardKind::Basic,
                 CachedKind::Reversed => CardKind::Reversed,
                 CachedKind::Typed => CardKind::Typed,
                 CachedKind::Cloze => CardKind::Cloze,
             },
-            front: Text(self.front),
-            back: Text(self.back),
-            accept: self.accept,
-            accept_by_lang: self.accept_by_lang,
+            front: Text(self.front.into_owned()),
+            back: Text(self.back.into_owned()),
+            accept: self.accept.into_owned(),
+            accept_by_lang: self.accept_by_lang.into_owned(),
             explain: None,
             prompt: None,
-            tags: self.tags,
+            tags: self.tags.into_owned(),
             formula: None,
         }
     }

@@ -285,10 +285,8 @@ fn load_deck(
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let cached = cache
-        .filter(|_| text.len() >= MIN_CACHED_BYTES)
-        .map(|c| (c, c.key(&stem, &text)));
-    if let Some((c, key)) = &cached {
+    let cached = cache.filter(|_| text.len() >= MIN_CACHED_BYTES);
+    if let Some(c) = cached {
         let dir = content_dir(path, &stem);
         let content = |lang: &str| {
             let file = dir.join(format!("{lang}.toml"));
@@ -298,7 +296,7 @@ fn load_deck(
             let text = String::from_utf8(tree.read(&file).ok()?).ok()?;
             Some((file, text))
         };
-        if let Some(hit) = c.get(key, text.len(), content, path)
+        if let Some(hit) = c.get(&stem, &text, content, path)
             && !seen_ids.contains_key(&hit.deck.id)
         {
             seen_ids.insert(hit.deck.id.clone(), path.to_path_buf());
@@ -436,7 +434,7 @@ fn load_deck(
     diagnostics.extend(stray);
     // Only a deck with nothing at all to say is kept: a cached deck is
     // shown without its file's warnings.
-    if let (Some((c, key)), Some(deck), true) = (&cached, &deck, diagnostics.is_empty()) {
+    if let (Some(c), Some(deck), true) = (cached, &deck, diagnostics.is_empty()) {
         let content: Vec<(String, &str)> = texts
             .iter()
             .filter_map(|(lang, _, text)| Some((lang.clone(), text.as_deref()?)))
@@ -446,7 +444,7 @@ fn load_deck(
             .as_ref()
             .and_then(|d| d.parent.as_ref())
             .map(|p| p.span.clone());
-        c.put(key, deck, parent_span, &content);
+        c.put((&stem, &text), deck, parent_span, &content);
     }
     loaded.diagnostics.extend(diagnostics);
     loaded.sources.insert(path.to_path_buf(), text);
