@@ -67,6 +67,20 @@ fn optimize_deck_apply_writes_the_decks_preset() {
     );
     assert!(json.status.success(), "{}", json.stderr());
     let v: serde_json::Value = serde_json::from_str(&json.stdout()).unwrap();
+    // The preset's parameters are now the fit's: the same fit predicts no
+    // better than they do, so the guard keeps them ...
+    assert_eq!(v["kept_current"], true);
+    assert_eq!(v["applied"], false);
+    let json = flipcard(
+        dir.path(),
+        &config,
+        &[
+            "optimize", "--deck", "synth", "--apply", "--force", "--format", "json",
+        ],
+    );
+    assert!(json.status.success(), "{}", json.stderr());
+    let v: serde_json::Value = serde_json::from_str(&json.stdout()).unwrap();
+    // ... and `--force` writes it into the same preset.
     assert_eq!(v["applied"], true);
     assert_eq!(v["preset"], "synth");
     let again = std::fs::read_to_string(&config).unwrap();

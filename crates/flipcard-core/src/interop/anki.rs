@@ -876,16 +876,8 @@ pub struct RenamedDeck {
     pub id: String,
 }
 
-/// Anki's flag numbers as tags.
-const FLAGS: [&str; 7] = [
-    "flag:red",
-    "flag:orange",
-    "flag:green",
-    "flag:blue",
-    "flag:pink",
-    "flag:turquoise",
-    "flag:purple",
-];
+/// Anki's flag numbers as tags: the tags `flag:N` searches for.
+use crate::catalog::query::FLAGS;
 
 /// One card of the collection, as read.
 struct CardRow {
