@@ -927,6 +927,13 @@ impl<'a> Builder<'a> {
                 let a = self.expr(a)?;
                 self.push(Op::Neg(a))?
             }
+            // `x^2` is `x*x`: exact (the correctly rounded square, where
+            // `powf` may be off in the last bit) and several times faster,
+            // in the right-hand side and in the Jacobian built from it.
+            Node::Bin('^', a, b) if matches!(**b, Node::Num(e) if e == 2.0) => {
+                let a = self.expr(a)?;
+                self.push(Op::Mul(a, a))?
+            }
             Node::Bin(op, a, b) => {
                 let a = self.expr(a)?;
                 let b = self.expr(b)?;

@@ -290,6 +290,29 @@ fn a_value_that_is_not_finite_names_its_first_cause() {
 }
 
 #[test]
+fn a_square_is_a_product() {
+    // No power is computed for `x^2`: one product, exactly x·x, and its
+    // derivative 2x in the Jacobian; `x^3` stays a power.
+    let s = System::compile(&one("-x^2", &[]), true).unwrap();
+    let pow = System::compile(&one("-x^3", &[]), true).unwrap();
+    assert_eq!(
+        s.cost().rhs + 1,
+        pow.cost().rhs,
+        "{:?} {:?}",
+        s.cost(),
+        pow.cost()
+    );
+    let mut dy = [0.0; 2];
+    let mut j = DMatrix::zeros(2, 2);
+    for x in [-3.7, -1e-160, 0.1, 1.0000000000000002, 7.3e150] {
+        s.rhs(0.0, &[x, 0.0], &mut dy);
+        assert_eq!(dy[1], -(x * x), "{x}");
+        s.jacobian(0.0, &[x, 0.0], &mut j);
+        assert_eq!(j[(1, 0)], -2.0 * x, "{x}");
+    }
+}
+
+#[test]
 fn numbers_are_worked_out_once() {
     // g/L*2 is one constant; the program reads theta and runs sin, times.
     let s = System::compile(&one("-k/2*3*sin(x)", &[]), false).unwrap();
@@ -316,6 +339,11 @@ fn reference(node: &Node, env: &dyn Fn(&str) -> f64) -> f64 {
             _ => env(n),
         },
         Node::Neg(a) => -reference(a, env),
+        // A square is a product (exact: `powf` may be off in the last bit).
+        Node::Bin('^', a, b) if matches!(**b, Node::Num(e) if e == 2.0) => {
+            let a = reference(a, env);
+            a * a
+        }
         Node::Bin(op, a, b) => {
             let (a, b) = (reference(a, env), reference(b, env));
             match op {
