@@ -146,10 +146,9 @@ impl TextHits for NoText {
     }
 }
 
-/// The deck above each deck, if any: by default none; the lead wires a
-/// deck tree here.
-pub fn parent_deck(_deck: &Deck) -> Option<&str> {
-    None
+/// The deck above a deck: its `parent` key (a deck tree, `deck::tree`).
+pub fn parent_deck(deck: &Deck) -> Option<&str> {
+    deck.parent.as_deref()
 }
 
 /// What an expression is tested against: the rows, their decks, the time.
@@ -849,6 +848,35 @@ mod props {
         let loaded = crate::deck::load::load_tree(&tree, &[PathBuf::from("d/decks")]);
         assert_eq!(loaded.errors(), 0, "{}", loaded.render_all());
         loaded.decks.into_iter().next().expect("the deck loads")
+    }
+
+    /// `deck:ID` takes the deck's subdecks by their `parent` key, as
+    /// `deck:parent` in Anki takes its children (a deck tree's ids have no
+    /// `::`); a parent is not taken by its child's id.
+    #[test]
+    fn a_deck_query_takes_the_subdecks_by_their_parent() {
+        let mut decks = vec![
+            deck("mech", "Mechanics", &[]),
+            deck("springs", "Springs", &[]),
+            deck("coils", "Coils", &[]),
+            deck("optics", "Optics", &[]),
+        ];
+        decks[1].parent = Some("mech".into());
+        decks[2].parent = Some("springs".into());
+        let taken = |decks: &[Deck], q: &str| -> Vec<usize> {
+            (0..decks.len())
+                .filter(|&d| deck_matches(q, decks, d))
+                .collect()
+        };
+        assert_eq!(taken(&decks, "mech"), [0, 1, 2]);
+        assert_eq!(taken(&decks, "springs"), [1, 2]);
+        assert_eq!(taken(&decks, "coils"), [2]);
+        assert_eq!(taken(&decks, "Mechanics"), [0, 1, 2], "by title too");
+        assert_eq!(taken(&decks, "opt*"), [3]);
+        // A cycle (refused by the loader) still ends.
+        decks[0].parent = Some("coils".into());
+        assert_eq!(taken(&decks, "optics"), [3]);
+        assert_eq!(taken(&decks, "coils"), [0, 1, 2]);
     }
 
     fn catalog() -> impl Strategy<Value = (Vec<Deck>, Vec<ItemRow>)> {
