@@ -73,7 +73,9 @@ fn both_layouts_import_decks_that_pass_check_and_their_history() {
 
         let deck_path: PathBuf = out.join("decks/physics-rotation.toml");
         let deck = std::fs::read_to_string(&deck_path).unwrap();
-        assert!(deck.contains("title = 'Physics::Rotation'"), "{deck}");
+        // A subdeck is titled by its own name, under its parent.
+        assert!(deck.contains("title = 'Rotation'"), "{deck}");
+        assert!(deck.contains("parent = 'physics'"), "{deck}");
         assert!(
             deck.contains("back = 'The rate of change of angular momentum: $\\tau = \\dot L$'"),
             "{deck}"

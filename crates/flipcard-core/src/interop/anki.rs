@@ -1229,11 +1229,18 @@ fn read_collection(
         text.push_str("# Imported from Anki");
         text.push_str(&format!(" (deck {name:?}).\n[deck]\n"));
         text.push_str(&format!("id = {}\n", toml_string(&id)));
-        text.push_str(&format!("title = {}\n", toml_string(&plain(name))));
-        // Names sort parents first: `A` before `A::B`.
-        if let Some((up, _)) = name.rsplit_once("::")
-            && let Some(parent) = id_of_name.get(up)
-        {
+        // Names sort parents first: `A` before `A::B`. A subdeck is titled
+        // by its own name (`B`), as Anki's deck list shows it, when it sits
+        // under its parent; else by its whole name.
+        let parent = name
+            .rsplit_once("::")
+            .and_then(|(up, own)| Some((id_of_name.get(up)?, own)));
+        let title = match parent {
+            Some((_, own)) if !plain(own).trim().is_empty() => plain(own),
+            _ => plain(name),
+        };
+        text.push_str(&format!("title = {}\n", toml_string(&title)));
+        if let Some((parent, _)) = parent {
             text.push_str(&format!("parent = {}\n", toml_string(parent)));
         }
         id_of_name.insert(name.clone(), id.clone());
