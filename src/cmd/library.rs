@@ -175,23 +175,24 @@ pub fn load_with(sources: Vec<Source>) -> Library {
 /// The cache of validated decks in the data folder `data`, for this build
 /// of flipcard (see `deck::cache`): its version and the executable's size
 /// and modification time, so a rebuilt binary validates every deck afresh.
-pub fn deck_cache(data: &Path) -> DeckCache {
-    let exe = std::env::current_exe()
-        .ok()
-        .and_then(|p| disk::metadata(p).ok())
-        .map(|m| {
-            let modified = m
-                .modified()
-                .ok()
-                .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
-                .map_or(0, |d| d.as_nanos());
-            format!("{} {modified}", m.len())
-        })
-        .unwrap_or_default();
-    DeckCache::new(
+/// `None` (no cache) when the executable cannot be looked at: a stamp of
+/// the version alone could take a deck another build validated.
+pub fn deck_cache(data: &Path) -> Option<DeckCache> {
+    let exe = disk::metadata(std::env::current_exe().ok()?).ok()?;
+    let modified = exe
+        .modified()
+        .ok()?
+        .duration_since(std::time::UNIX_EPOCH)
+        .ok()?
+        .as_nanos();
+    Some(DeckCache::new(
         data.join("cache").join("decks"),
-        format!("flipcard {} {exe}", env!("CARGO_PKG_VERSION")),
-    )
+        format!(
+            "flipcard {} {} {modified}",
+            env!("CARGO_PKG_VERSION"),
+            exe.len()
+        ),
+    ))
 }
 
 /// [`load_with`], taking large decks that have not changed from `cache`.
@@ -272,7 +273,7 @@ pub fn load(cli: &Cli) -> Library {
 pub fn load_warn(cli: &Cli) -> Library {
     let cache = paths::data_dir(cli.data_dir.clone())
         .ok()
-        .map(|d| deck_cache(&d));
+        .and_then(|d| deck_cache(&d));
     let lib = load_cached(sources(cli, &config(cli)), cache.as_ref());
     let failed = lib.failed();
     if !failed.is_empty() {

@@ -34,7 +34,7 @@ pub fn run(cli: &Cli, review: Option<&ReviewArgs>) -> anyhow::Result<ExitCode> {
     let store = Store::open_with(&data_dir, &options)?;
     let sources = crate::cmd::library::sources(cli, &config);
     let cache = crate::cmd::library::deck_cache(&data_dir);
-    let mut library = crate::cmd::library::load_cached(sources, Some(&cache));
+    let mut library = crate::cmd::library::load_cached(sources, cache.as_ref());
     if config.hide_bundled {
         library.hide_bundled();
     }

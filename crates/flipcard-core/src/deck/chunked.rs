@@ -69,7 +69,7 @@ pub(crate) fn in_parts(rep: &FileReport, text: &str, part: usize) -> Option<RawD
     let mut from = 0;
     for c in cards
         .iter()
-        .map(|c| c.start..c.end)
+        .cloned()
         .chain(std::iter::once(text.len()..text.len()))
     {
         if c.start > from {

@@ -344,8 +344,12 @@ pub fn references(text: &str) -> Vec<Reference> {
     let mut out = Vec::new();
     let mut i = 0;
     while i < b.len() {
-        // Every verb starts with `s` or `d`: most bytes are passed at once.
-        if !matches!(b[i], b's' | b'S' | b'd' | b'D') {
+        // Most bytes start no verb and are passed at once.
+        if !SEE
+            .iter()
+            .chain(DEKHO)
+            .any(|w| w.as_bytes()[0].eq_ignore_ascii_case(&b[i]))
+        {
             i += 1;
             continue;
         }
