@@ -33,10 +33,7 @@ const CLOZE: usize = 5_000;
 const REVERSED: usize = 5_000;
 
 fn text(en: String, hi: String) -> Text {
-    Text(BTreeMap::from([
-        ("en".to_string(), en),
-        ("hi-Latn".to_string(), hi),
-    ]))
+    Text(BTreeMap::from([("en".to_string(), en), ("hi-Latn".to_string(), hi)]).into())
 }
 
 fn deck() -> Deck {

@@ -34,7 +34,7 @@ fn text(en: &str, hi: &str) -> Text {
     let mut m = BTreeMap::new();
     m.insert("en".to_string(), en.to_string());
     m.insert("hi-Latn".to_string(), hi.to_string());
-    Text(m)
+    Text(m.into())
 }
 
 pub fn deck() -> Deck {

@@ -23,7 +23,7 @@ pub mod units;
 mod seed_tests;
 
 pub use count::plural;
-pub use lang::{Lang, Text};
+pub use lang::{Lang, LangMap, Text};
 pub use lint::warnings;
 
 use pulldown_latex::{Parser, Storage};

@@ -17,10 +17,13 @@ use crate::tui::screens::browser::BrowserState;
 use crate::tui::testkit::{self, TestApp, render};
 
 fn text(en: &str, hi: &str) -> Text {
-    Text(BTreeMap::from([
-        ("en".to_string(), en.to_string()),
-        ("hi-Latn".to_string(), hi.to_string()),
-    ]))
+    Text(
+        BTreeMap::from([
+            ("en".to_string(), en.to_string()),
+            ("hi-Latn".to_string(), hi.to_string()),
+        ])
+        .into(),
+    )
 }
 
 /// The fixture deck with a cloze card added (two numbers, math inside).

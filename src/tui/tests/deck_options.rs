@@ -17,10 +17,13 @@ use crate::tui::screens::home::HomeState;
 use crate::tui::testkit::{self, TestApp, render};
 
 fn text(en: &str) -> Text {
-    Text(std::collections::BTreeMap::from([
-        ("en".to_string(), en.to_string()),
-        ("hi-Latn".to_string(), en.to_string()),
-    ]))
+    Text(
+        std::collections::BTreeMap::from([
+            ("en".to_string(), en.to_string()),
+            ("hi-Latn".to_string(), en.to_string()),
+        ])
+        .into(),
+    )
 }
 
 /// A deck of `n` reversed cards (two items each), basic-only prompts none.

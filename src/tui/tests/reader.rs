@@ -309,7 +309,7 @@ fn a_list_ends_with_a_blank_line_before_the_next_paragraph() {
     let text = |s: &str| {
         let mut m = std::collections::BTreeMap::new();
         m.insert("en".to_string(), s.to_string());
-        crate::text::Text(m)
+        crate::text::Text(m.into())
     };
     deck.sections.insert(
         0,
@@ -334,7 +334,7 @@ fn search_folds_the_micro_sign_and_the_greek_mu() {
     let text = |s: &str| {
         let mut m = std::collections::BTreeMap::new();
         m.insert("en".to_string(), s.to_string());
-        crate::text::Text(m)
+        crate::text::Text(m.into())
     };
     app.decks[0].sections.insert(
         0,

@@ -14,10 +14,13 @@ use crate::tui::services::Clock;
 use crate::tui::testkit::{self, TestApp, render};
 
 fn text(en: &str, hi: &str) -> Text {
-    Text(std::collections::BTreeMap::from([
-        ("en".to_string(), en.to_string()),
-        ("hi-Latn".to_string(), hi.to_string()),
-    ]))
+    Text(
+        std::collections::BTreeMap::from([
+            ("en".to_string(), en.to_string()),
+            ("hi-Latn".to_string(), hi.to_string()),
+        ])
+        .into(),
+    )
 }
 
 /// A second deck: one card sharing the fixture's tag `frames`, one with a

@@ -65,7 +65,7 @@ type Digest32 = [u8; 32];
 
 /// Each field borrows the deck when an entry is written (no copy of a
 /// large deck is made) and owns it when one is read.
-type Map = BTreeMap<String, String>;
+type Map = flipcard_text::LangMap;
 
 #[derive(Serialize, Deserialize)]
 struct Entry<'a> {

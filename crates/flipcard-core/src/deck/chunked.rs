@@ -24,7 +24,7 @@ use std::ops::Range;
 use toml::Spanned;
 use toml::de::{DeArray, DeTable, DeValue};
 
-use super::raw::{self, RawDeckFile};
+use super::raw::{self, RawCard, RawDeckFile};
 use super::report::FileReport;
 use super::syntax;
 
@@ -107,6 +107,7 @@ pub(crate) fn in_parts(rep: &FileReport, text: &str, part: usize) -> Option<RawD
 
     // The cards, part by part: consecutive card tables with nothing
     // between them, parsed alone and their spans moved to the file's.
+    let mut parts: Vec<Range<usize>> = Vec::new();
     let mut start = 0;
     while start < cards.len() {
         let mut end = start + 1;
@@ -116,14 +117,71 @@ pub(crate) fn in_parts(rep: &FileReport, text: &str, part: usize) -> Option<RawD
         {
             end += 1;
         }
-        let at = cards[start].start;
-        let slice = &text[at..cards[end - 1].end];
-        let (root, _) = syntax::parse(&mut scratch, slice)?;
-        let root = map_table(root, &|span: Range<usize>| span.start + at..span.end + at);
-        raw::read_cards_into(&mut scratch, &root, &mut file.cards);
+        parts.push(cards[start].start..cards[end - 1].end);
         start = end;
     }
-    scratch.is_empty().then_some(file)
+    if !scratch.is_empty() {
+        return None;
+    }
+    // The parts are independent: with more than one core, each thread
+    // reads a run of them, and the runs are joined in file order.
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, MAX_THREADS)
+        .min(parts.len());
+    let runs = runs(&parts, threads);
+    let path = rep.path.as_path();
+    let read = |run: &[Range<usize>]| -> Option<Vec<RawCard>> {
+        let mut scratch = FileReport::new(path, text);
+        let mut out = Vec::new();
+        for at in run {
+            let (root, _) = syntax::parse(&mut scratch, &text[at.clone()])?;
+            let root = map_table(root, &|span: Range<usize>| {
+                span.start + at.start..span.end + at.start
+            });
+            raw::read_cards_into(&mut scratch, &root, &mut out);
+        }
+        scratch.is_empty().then_some(out)
+    };
+    let read_runs: Vec<Option<Vec<RawCard>>> = if runs.len() <= 1 {
+        runs.iter().map(|r| read(r)).collect()
+    } else {
+        std::thread::scope(|s| {
+            let handles: Vec<_> = runs[1..].iter().map(|r| s.spawn(move || read(r))).collect();
+            let mut out = vec![read(runs[0])];
+            // A thread that could not finish is a part to read whole.
+            out.extend(handles.into_iter().map(|h| h.join().ok().flatten()));
+            out
+        })
+    };
+    for cards in read_runs {
+        file.cards.extend(cards?);
+    }
+    Some(file)
+}
+
+/// Threads that read parts at most.
+const MAX_THREADS: usize = 4;
+
+/// `parts` cut into at most `n` runs of consecutive parts with about as
+/// many bytes each.
+fn runs(parts: &[Range<usize>], n: usize) -> Vec<&[Range<usize>]> {
+    let total: usize = parts.iter().map(|p| p.len()).sum();
+    let mut out = Vec::new();
+    let mut from = 0;
+    let mut bytes = 0;
+    for (i, p) in parts.iter().enumerate() {
+        bytes += p.len();
+        // Cut after this part once this run holds its share.
+        if out.len() + 1 < n && bytes * n >= total * (out.len() + 1) {
+            out.push(&parts[from..=i]);
+            from = i + 1;
+        }
+    }
+    if from < parts.len() {
+        out.push(&parts[from..]);
+    }
+    out
 }
 
 /// `table` with every span (of keys and values, all the way down) moved
@@ -399,6 +457,35 @@ mod tests {
                 }
             },
         )
+    }
+
+    proptest! {
+        /// The runs the threads read cover every part once, in order, as at
+        /// most `n` non-empty runs of about equal bytes.
+        #[test]
+        fn runs_cover_every_part_in_order(
+            lens in proptest::collection::vec(1usize..5000, 1..60),
+            n in 1usize..6,
+        ) {
+            let mut parts = Vec::new();
+            let mut at = 0;
+            for l in &lens {
+                parts.push(at..at + l);
+                at += l;
+            }
+            let runs = runs(&parts, n);
+            prop_assert!(!runs.is_empty() && runs.len() <= n);
+            prop_assert!(runs.iter().all(|r| !r.is_empty()));
+            let joined: Vec<Range<usize>> = runs.concat();
+            prop_assert_eq!(&joined, &parts);
+            // No run but the last holds more than its share and a part.
+            let total: usize = lens.iter().sum();
+            let most = lens.iter().max().copied().unwrap_or(0);
+            for r in &runs[..runs.len() - 1] {
+                let bytes: usize = r.iter().map(|p| p.len()).sum();
+                prop_assert!(bytes <= total / runs.len() + most);
+            }
+        }
     }
 
     proptest! {

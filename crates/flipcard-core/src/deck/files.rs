@@ -10,7 +10,7 @@ pub use flipcard_io::{Probe, open_regular, probe, read_regular};
 
 /// Where deck and content files are read from: the disk, or files held in
 /// memory (the decks built into the binary).
-pub trait Tree {
+pub trait Tree: Sync {
     fn probe(&self, path: &Path) -> Probe;
     fn read(&self, path: &Path) -> Result<Vec<u8>, String>;
     fn is_dir(&self, path: &Path) -> bool;

@@ -106,47 +106,66 @@ pub fn load_sources_cached(
     let mut loaded = Loaded::default();
     let mut statuses = Vec::new();
     let mut seen_ids: HashMap<String, PathBuf> = HashMap::new();
-    let mut seen_files: HashSet<PathBuf> = HashSet::new();
     let mut parents: Vec<super::tree::ParentAt> = Vec::new();
-    for (source, (tree, path)) in sources.iter().enumerate() {
-        let before = loaded.diagnostics.len();
-        let files = deck_files(*tree, path, &mut loaded);
-        if loaded.diagnostics.len() > before {
-            statuses.push(FileStatus {
-                source,
-                path: path.clone(),
-                errors: loaded.diagnostics.len() - before,
-                warnings: 0,
-                deck: None,
-            });
-        }
-        for file in files {
-            // The same file named twice (`decks decks/x.toml`) is one deck.
-            if !seen_files.insert(tree.identity(&file)) {
-                continue;
+    // Every deck file of every source first, each once (the same file named
+    // twice, `decks decks/x.toml`, is one deck), with what its source said.
+    let mut seen_files: HashSet<PathBuf> = HashSet::new();
+    let listed: Vec<(usize, Vec<Diagnostic>, Vec<PathBuf>)> = sources
+        .iter()
+        .enumerate()
+        .map(|(source, (tree, path))| {
+            let mut said = Loaded::default();
+            let files = deck_files(*tree, path, &mut said)
+                .into_iter()
+                .filter(|f| seen_files.insert(tree.identity(f)))
+                .collect();
+            (source, said.diagnostics, files)
+        })
+        .collect();
+    let jobs: Vec<(&dyn Tree, &Path)> = listed
+        .iter()
+        .flat_map(|(source, _, files)| files.iter().map(|f| (sources[*source].0, f.as_path())))
+        .collect();
+    std::thread::scope(|scope| {
+        let mut next = read_ahead(scope, &jobs, cache);
+        for (source, said, files) in &listed {
+            let (tree, path) = &sources[*source];
+            if !said.is_empty() {
+                statuses.push(FileStatus {
+                    source: *source,
+                    path: path.clone(),
+                    errors: said.len(),
+                    warnings: 0,
+                    deck: None,
+                });
+                loaded.diagnostics.extend(said.iter().cloned());
             }
-            let (diags, decks) = (loaded.diagnostics.len(), loaded.decks.len());
-            load_deck(
-                *tree,
-                &file,
-                &mut loaded,
-                &mut seen_ids,
-                &mut parents,
-                cache,
-            );
-            let errors = loaded.diagnostics[diags..]
-                .iter()
-                .filter(|d| d.is_error())
-                .count();
-            statuses.push(FileStatus {
-                source,
-                path: file,
-                errors,
-                warnings: loaded.diagnostics.len() - diags - errors,
-                deck: (loaded.decks.len() > decks).then_some(decks),
-            });
+            for file in files {
+                let read = next();
+                let (diags, decks) = (loaded.diagnostics.len(), loaded.decks.len());
+                load_deck(
+                    *tree,
+                    file,
+                    read,
+                    &mut loaded,
+                    &mut seen_ids,
+                    &mut parents,
+                    cache,
+                );
+                let errors = loaded.diagnostics[diags..]
+                    .iter()
+                    .filter(|d| d.is_error())
+                    .count();
+                statuses.push(FileStatus {
+                    source: *source,
+                    path: file.clone(),
+                    errors,
+                    warnings: loaded.diagnostics.len() - diags - errors,
+                    deck: (loaded.decks.len() > decks).then_some(decks),
+                });
+            }
         }
-    }
+    });
     // Parents across every source: missing ones said, cycles refused.
     let (said, refused) = super::tree::check_parents(&loaded.decks, &parents, &loaded.sources);
     for d in &said {
@@ -174,6 +193,85 @@ pub fn load_sources_cached(
         }
     }
     (loaded, statuses)
+}
+
+/// A deck file as read: its text (`None` when it could not be read, with
+/// the problems saying why and the lossy text of invalid UTF-8 kept for
+/// rendering), and the deck the cache kept for these bytes.
+struct Read {
+    text: Option<String>,
+    problems: Vec<Diagnostic>,
+    lossy: BTreeMap<PathBuf, String>,
+    hit: Option<super::cache::Cached>,
+}
+
+/// Reads a deck file and, when it is large and a cache is given, looks its
+/// bytes up there.
+fn read_deck_file(tree: &dyn Tree, path: &Path, cache: Option<&DeckCache>) -> Read {
+    let mut problems = Vec::new();
+    let mut lossy = BTreeMap::new();
+    let text = read_text_into(tree, path, &mut problems, &mut lossy);
+    let hit = match (&text, cache) {
+        (Some(text), Some(c)) if text.len() >= MIN_CACHED_BYTES => {
+            let stem = stem_of(path);
+            let dir = content_dir(path, &stem);
+            let content = |lang: &str| {
+                let file = dir.join(format!("{lang}.toml"));
+                if tree.probe(&file) != Probe::Regular {
+                    return None;
+                }
+                let text = String::from_utf8(tree.read(&file).ok()?).ok()?;
+                Some((file, text))
+            };
+            c.get(&stem, text, content, path)
+        }
+        _ => None,
+    };
+    Read {
+        text,
+        problems,
+        lossy,
+        hit,
+    }
+}
+
+/// The deck files of `jobs`, read one after another as the loop asks for
+/// them. With a cache, another thread reads (and takes from the cache)
+/// ahead of the loop, so a large deck is decoded while the decks before it
+/// are validated; without one (`check`) each is read when asked.
+fn read_ahead<'scope, 'env>(
+    scope: &'scope std::thread::Scope<'scope, 'env>,
+    jobs: &'env [(&'env dyn Tree, &'env Path)],
+    cache: Option<&'env DeckCache>,
+) -> impl FnMut() -> Read + 'env {
+    let mut at = 0;
+    let ahead = cache.filter(|_| jobs.len() > 1).map(|_| {
+        let (send, receive) = std::sync::mpsc::channel();
+        scope.spawn(move || {
+            for (tree, path) in jobs {
+                if send.send(read_deck_file(*tree, path, cache)).is_err() {
+                    break;
+                }
+            }
+        });
+        receive
+    });
+    move || {
+        let (tree, path) = jobs[at];
+        at += 1;
+        match &ahead {
+            Some(r) => r
+                .recv()
+                .unwrap_or_else(|_| read_deck_file(tree, path, cache)),
+            None => read_deck_file(tree, path, cache),
+        }
+    }
+}
+
+fn stem_of(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
 }
 
 /// The deck files a path names: a file, or every `*.toml` entry of a
@@ -211,16 +309,8 @@ fn deck_files(tree: &dyn Tree, path: &Path, loaded: &mut Loaded) -> Vec<PathBuf>
 }
 
 /// Reads a file as UTF-8 text; a path that is not a regular file, an I/O
-/// problem or invalid UTF-8 is a diagnostic (the lossy text is still kept
-/// for rendering).
-fn read_text(tree: &dyn Tree, path: &Path, loaded: &mut Loaded) -> Option<String> {
-    let mut problems = Vec::new();
-    let text = read_text_into(tree, path, &mut problems, &mut loaded.sources);
-    loaded.diagnostics.extend(problems);
-    text
-}
-
-/// [`read_text`], with the problems collected in `problems`.
+/// problem or invalid UTF-8 is a diagnostic in `problems` (the lossy text
+/// is still kept in `sources`, for rendering).
 fn read_text_into(
     tree: &dyn Tree,
     path: &Path,
@@ -273,49 +363,39 @@ pub fn content_dir(deck_file: &Path, deck_id: &str) -> PathBuf {
 fn load_deck(
     tree: &dyn Tree,
     path: &Path,
+    read: Read,
     loaded: &mut Loaded,
     seen_ids: &mut HashMap<String, PathBuf>,
     parents: &mut Vec<super::tree::ParentAt>,
     cache: Option<&DeckCache>,
 ) {
-    let Some(text) = read_text(tree, path, loaded) else {
+    loaded.diagnostics.extend(read.problems);
+    loaded.sources.extend(read.lossy);
+    let Some(text) = read.text else {
         return;
     };
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let cached = cache.filter(|_| text.len() >= MIN_CACHED_BYTES);
-    if let Some(c) = cached {
+    let stem = stem_of(path);
+    if let Some(hit) = read.hit
+        && !seen_ids.contains_key(&hit.deck.id)
+    {
         let dir = content_dir(path, &stem);
-        let content = |lang: &str| {
-            let file = dir.join(format!("{lang}.toml"));
-            if tree.probe(&file) != Probe::Regular {
-                return None;
-            }
-            let text = String::from_utf8(tree.read(&file).ok()?).ok()?;
-            Some((file, text))
-        };
-        if let Some(hit) = c.get(&stem, &text, content, path)
-            && !seen_ids.contains_key(&hit.deck.id)
-        {
-            seen_ids.insert(hit.deck.id.clone(), path.to_path_buf());
-            loaded
-                .diagnostics
-                .extend(stray_content_files(tree, &dir, &hit.deck.languages));
-            loaded.sources.insert(path.to_path_buf(), text);
-            loaded.sources.extend(hit.content);
-            if let Some(span) = hit.parent_span {
-                parents.push(super::tree::ParentAt {
-                    deck: loaded.decks.len(),
-                    path: path.to_path_buf(),
-                    span,
-                });
-            }
-            loaded.decks.push(hit.deck);
-            return;
+        seen_ids.insert(hit.deck.id.clone(), path.to_path_buf());
+        loaded
+            .diagnostics
+            .extend(stray_content_files(tree, &dir, &hit.deck.languages));
+        loaded.sources.insert(path.to_path_buf(), text);
+        loaded.sources.extend(hit.content);
+        if let Some(span) = hit.parent_span {
+            parents.push(super::tree::ParentAt {
+                deck: loaded.decks.len(),
+                path: path.to_path_buf(),
+                span,
+            });
         }
+        loaded.decks.push(hit.deck);
+        return;
     }
+    let cached = cache.filter(|_| text.len() >= MIN_CACHED_BYTES);
     let mut rep = FileReport::new(path, &text);
     let parsed = chunked::read_deck(&mut rep, &text);
     let Some(raw) = parsed else {

@@ -392,7 +392,7 @@ fn read_header(rep: &mut FileReport, t: &DeTable, span: Span) -> RawDeckHeader {
         title: f.text(rep, "title", true),
         description: f.text(rep, "description", false),
         languages: f.strings(rep, "languages", true),
-        units: named(rep, &f, "units", read::string),
+        units: named(rep, &f, "units", |r, v, w: &str| read::string(r, v, w)),
         parent: f.string(rep, "parent", false),
     }
 }
@@ -655,7 +655,7 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
             .map(|variables| RawSystem {
                 variables,
                 initial: f.numbers(rep, "initial", true),
-                params: named(rep, &f, "params", read::number),
+                params: named(rep, &f, "params", |r, v, w: &str| read::number(r, v, w)),
                 equations: f.strings(rep, "equations", true),
                 observables: named(rep, &f, "observables", |rep, v, what| {
                     read::string(rep, v, what)
@@ -666,13 +666,14 @@ fn read_scene(rep: &mut FileReport, t: &DeTable, span: Span) -> RawScene {
                 sketch: sketch(rep, &f),
                 atol: match f.get("atol") {
                     Some(v) if matches!(v.get_ref(), DeValue::Table(_)) => {
-                        named(rep, &f, "atol", read::number).map(RawAtol::Each)
+                        named(rep, &f, "atol", |r, v, w: &str| read::number(r, v, w))
+                            .map(RawAtol::Each)
                     }
                     Some(v) => read::number(rep, v, "`atol`").map(RawAtol::All),
                     None => None,
                 },
                 hamiltonian: hamiltonian(rep, &f),
-                labels: named(rep, &f, "labels", read::string),
+                labels: named(rep, &f, "labels", |r, v, w: &str| read::string(r, v, w)),
             })
     } else {
         for key in [

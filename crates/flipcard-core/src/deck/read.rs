@@ -3,6 +3,7 @@
 //! values read ([`Str`], [`Num`], [`RawText`], ...) are here too: the raw
 //! stage ([`super::raw`]) builds its files from them and re-exports them.
 
+use std::fmt::Display;
 use std::ops::Range;
 
 use toml::Spanned;
@@ -109,7 +110,7 @@ pub(crate) fn type_name(v: &DeValue) -> &'static str {
     }
 }
 
-fn wrong_type(rep: &mut FileReport, v: &Value, what: &str, expected: &str) {
+fn wrong_type(rep: &mut FileReport, v: &Value, what: impl Display + Copy, expected: &str) {
     rep.error(
         v.span(),
         format!(
@@ -201,17 +202,17 @@ impl<'a, 'i> Fields<'a, 'i> {
 
     pub fn string(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<Str> {
         let v = self.field(rep, key, required)?;
-        string(rep, v, &format!("`{key}`"))
+        string(rep, v, format_args!("`{key}`"))
     }
 
     pub fn number(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<Num> {
         let v = self.field(rep, key, required)?;
-        number(rep, v, &format!("`{key}`"))
+        number(rep, v, format_args!("`{key}`"))
     }
 
     pub fn text(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<RawText> {
         let v = self.field(rep, key, required)?;
-        text(rep, v, &format!("`{key}`"))
+        text(rep, v, format_args!("`{key}`"))
     }
 
     /// An optional boolean.
@@ -223,7 +224,7 @@ impl<'a, 'i> Fields<'a, 'i> {
                 span: v.span(),
             }),
             _ => {
-                wrong_type(rep, v, &format!("`{key}`"), "true or false");
+                wrong_type(rep, v, format_args!("`{key}`"), "true or false");
                 None
             }
         }
@@ -231,11 +232,11 @@ impl<'a, 'i> Fields<'a, 'i> {
 
     pub fn strings(&self, rep: &mut FileReport, key: &str, required: bool) -> Option<List<Str>> {
         let v = self.field(rep, key, required)?;
-        let what = format!("`{key}`");
-        let arr = array(rep, v, &what)?;
+        let what = format_args!("`{key}`");
+        let arr = array(rep, v, what)?;
         let items = arr
             .iter()
-            .filter_map(|item| string(rep, item, &format!("each item of {what}")))
+            .filter_map(|item| string(rep, item, format_args!("each item of {what}")))
             .collect();
         Some(List {
             items,
@@ -310,7 +311,7 @@ impl<'a, 'i> Fields<'a, 'i> {
     }
 }
 
-pub fn string(rep: &mut FileReport, v: &Value, what: &str) -> Option<Str> {
+pub fn string(rep: &mut FileReport, v: &Value, what: impl Display + Copy) -> Option<Str> {
     match v.get_ref() {
         DeValue::String(s) => Some(Str {
             value: s.to_string(),
@@ -325,7 +326,7 @@ pub fn string(rep: &mut FileReport, v: &Value, what: &str) -> Option<Str> {
 
 /// An integer or a float, as f64 (`inf` and `nan` pass here; the checks
 /// that need finite numbers report them).
-pub fn number(rep: &mut FileReport, v: &Value, what: &str) -> Option<Num> {
+pub fn number(rep: &mut FileReport, v: &Value, what: impl Display + Copy) -> Option<Num> {
     let value = match v.get_ref() {
         DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
             Ok(n) => n as f64,
@@ -366,7 +367,7 @@ pub fn number(rep: &mut FileReport, v: &Value, what: &str) -> Option<Num> {
 /// or `27.39 AU/yr` as the number and its unit apart (`unit` is where a
 /// number prompt's unit goes). `None` when the text does not start with a
 /// number.
-pub(crate) fn number_in_quotes(text: &str, what: &str) -> Option<String> {
+pub(crate) fn number_in_quotes(text: &str, what: impl Display) -> Option<String> {
     let text = text.trim();
     let end = text
         .char_indices()
@@ -378,6 +379,7 @@ pub(crate) fn number_in_quotes(text: &str, what: &str) -> Option<String> {
         })
         .map_or(text.len(), |(i, _)| i);
     let number: f64 = text[..end].parse().ok().filter(|n: &f64| n.is_finite())?;
+    let what = what.to_string();
     let key = what.strip_prefix('`')?.strip_suffix('`')?;
     let unit = text[end..].trim();
     let number = flipcard_text::num::show(number);
@@ -397,7 +399,7 @@ pub(crate) fn number_in_quotes(text: &str, what: &str) -> Option<String> {
 pub fn array<'a, 'i>(
     rep: &mut FileReport,
     v: &'a Value<'i>,
-    what: &str,
+    what: impl Display + Copy,
 ) -> Option<&'a DeArray<'i>> {
     match v.get_ref() {
         DeValue::Array(a) => Some(a),
@@ -411,7 +413,7 @@ pub fn array<'a, 'i>(
 pub fn table<'a, 'i>(
     rep: &mut FileReport,
     v: &'a Value<'i>,
-    what: &str,
+    what: impl Display + Copy,
 ) -> Option<&'a DeTable<'i>> {
     match v.get_ref() {
         DeValue::Table(t) => Some(t),
@@ -424,7 +426,7 @@ pub fn table<'a, 'i>(
 
 /// A text: a table with one string per language, or (for a deck with one
 /// language) a plain string.
-pub fn text(rep: &mut FileReport, v: &Value, what: &str) -> Option<RawText> {
+pub fn text(rep: &mut FileReport, v: &Value, what: impl Display + Copy) -> Option<RawText> {
     match v.get_ref() {
         DeValue::String(_) => string(rep, v, what).map(RawText::Plain),
         DeValue::Table(t) => {
@@ -435,7 +437,11 @@ pub fn text(rep: &mut FileReport, v: &Value, what: &str) -> Option<RawText> {
                     value: key.get_ref().to_string(),
                     span: key.span(),
                 };
-                match string(rep, value, &format!("the `{}` text of {what}", lang.value)) {
+                match string(
+                    rep,
+                    value,
+                    format_args!("the `{}` text of {what}", lang.value),
+                ) {
                     Some(s) => entries.push((lang, s)),
                     None => ok = false,
                 }

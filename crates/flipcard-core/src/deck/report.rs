@@ -11,7 +11,9 @@ use super::diag::{Diagnostic, LineIndex, Severity};
 pub struct FileReport<'s> {
     pub path: PathBuf,
     pub source: &'s str,
-    index: LineIndex,
+    /// The file's line starts, found when the first diagnostic needs them
+    /// (a clean 14 MB deck never does).
+    index: std::cell::OnceCell<LineIndex>,
     /// Each diagnostic with the byte offset it points at, for ordering.
     found: Vec<(usize, Diagnostic)>,
     /// Errors with one cause met again: the first's index in `found`, and
@@ -24,10 +26,14 @@ impl<'s> FileReport<'s> {
         FileReport {
             path: path.to_path_buf(),
             source,
-            index: LineIndex::new(source),
+            index: std::cell::OnceCell::new(),
             found: Vec::new(),
             repeats: HashMap::new(),
         }
+    }
+
+    fn index(&self) -> &LineIndex {
+        self.index.get_or_init(|| LineIndex::new(self.source))
     }
 
     pub fn error(&mut self, span: Range<usize>, message: impl Into<String>, hint: Option<String>) {
@@ -44,8 +50,11 @@ impl<'s> FileReport<'s> {
         message: impl Into<String>,
         hint: Option<String>,
     ) {
-        if let Some((_, lines)) = self.repeats.get_mut(&cause) {
-            lines.push(self.index.position(self.source, span.start).0);
+        if self.repeats.contains_key(&cause) {
+            let line = self.index().position(self.source, span.start).0;
+            if let Some((_, lines)) = self.repeats.get_mut(&cause) {
+                lines.push(line);
+            }
             return;
         }
         self.repeats.insert(cause, (self.found.len(), Vec::new()));
@@ -68,8 +77,8 @@ impl<'s> FileReport<'s> {
         message: String,
         hint: Option<String>,
     ) {
-        let (line, col) = self.index.position(self.source, span.start);
-        let width = self.index.width(self.source, &span);
+        let (line, col) = self.index().position(self.source, span.start);
+        let width = self.index().width(self.source, &span);
         self.found.push((
             span.start,
             Diagnostic {
@@ -86,7 +95,7 @@ impl<'s> FileReport<'s> {
 
     /// 1-based line of byte `offset`, for "first defined at line N".
     pub fn line_of(&self, offset: usize) -> usize {
-        self.index.position(self.source, offset).0
+        self.index().position(self.source, offset).0
     }
 
     /// Nothing found yet, not even a warning.

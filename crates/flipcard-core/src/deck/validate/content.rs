@@ -1,11 +1,10 @@
 //! Explanation sections across the per-language content files: the same
 //! section ids in every language, links between sections that resolve.
 
-use std::collections::BTreeMap;
-
 use crate::deck::model::{Section, Text};
 use crate::deck::raw::{RawContentFile, RawSection, Str};
 use crate::deck::report::FileReport;
+use flipcard_text::LangMap;
 
 use super::prose::{self, Place};
 use super::text::{self, Kind};
@@ -374,8 +373,8 @@ fn build(files: &[ContentFile]) -> Option<Vec<Section>> {
     let mut out = Vec::new();
     for s in &primary.sections {
         let sid = s.id.as_ref()?.value.clone();
-        let mut title = BTreeMap::new();
-        let mut body = BTreeMap::new();
+        let mut title = LangMap::new();
+        let mut body = LangMap::new();
         for f in files {
             let raw = f.raw.as_ref()?;
             let this = raw

@@ -586,14 +586,14 @@ fn text_prose(
     match text {
         Some(RawText::Plain(s)) => {
             if let Some(lang) = langs.list.first() {
-                let what = format!("{part} of {owner}");
-                prose::check(rep, s, lang, titles, prose::Place::Card, &what);
+                let what = format_args!("{part} of {owner}");
+                prose::check(rep, s, lang, titles, prose::Place::Card, what);
             }
         }
         Some(RawText::ByLang { entries, .. }) => {
             for (lang, s) in entries {
-                let what = format!("the `{}` text of {part} of {owner}", lang.value);
-                prose::check(rep, s, &lang.value, titles, prose::Place::Card, &what);
+                let what = format_args!("the `{}` text of {part} of {owner}", lang.value);
+                prose::check(rep, s, &lang.value, titles, prose::Place::Card, what);
             }
         }
         None => {}
@@ -803,7 +803,7 @@ fn card(
                 rep,
                 t,
                 langs,
-                &format!("the text of {what}"),
+                format_args!("the text of {what}"),
                 text::Kind::Cloze,
             );
             let deletions = cloze::deletions(rep, t, &what);
@@ -812,13 +812,13 @@ fn card(
     } else {
         raw.front
             .as_ref()
-            .and_then(|t| text::text(rep, t, langs, &format!("the front of {what}")))
+            .and_then(|t| text::text(rep, t, langs, format_args!("the front of {what}")))
     };
     let back = match &raw.back {
         // `back = ''`, written so: a card whose back is empty (an imported
         // Anki note's empty field); a back of only spaces is a mistake.
         Some(RawText::Plain(s)) if s.value.is_empty() => Some(Text::default()),
-        Some(t) => text::text(rep, t, langs, &format!("the back of {what}")),
+        Some(t) => text::text(rep, t, langs, format_args!("the back of {what}")),
         // Only cloze cards may leave the back out (it holds extra notes).
         None => Some(Text::default()),
     };

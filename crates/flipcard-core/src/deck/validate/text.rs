@@ -1,7 +1,7 @@
 //! Texts: every declared language present and no other, no empty strings,
 //! no control characters, LaTeX that renders.
 
-use std::collections::BTreeMap;
+use std::fmt::Display;
 
 use crate::deck::model::Text;
 use crate::deck::raw::{RawText, Str};
@@ -35,7 +35,14 @@ pub enum Kind {
     Cloze,
 }
 
-pub fn text(rep: &mut FileReport, raw: &RawText, langs: &Langs, what: &str) -> Option<Text> {
+/// `what` names the text in its errors (`the front of card \`c1\``); it is
+/// formatted only when one is reported, so callers pass `format_args!`.
+pub fn text(
+    rep: &mut FileReport,
+    raw: &RawText,
+    langs: &Langs,
+    what: impl Display + Copy,
+) -> Option<Text> {
     text_of(rep, raw, langs, what, Kind::Math)
 }
 
@@ -44,10 +51,11 @@ pub(crate) fn text_of(
     rep: &mut FileReport,
     raw: &RawText,
     langs: &Langs,
-    what: &str,
+    what: impl Display + Copy,
     kind: Kind,
 ) -> Option<Text> {
-    let mut out = BTreeMap::new();
+    // Gathered, then sorted once into the text's map.
+    let mut out: Vec<(String, String)> = Vec::new();
     let mut ok = true;
     match raw {
         RawText::Plain(s) => {
@@ -67,7 +75,7 @@ pub(crate) fn text_of(
                 return None;
             }
             if let Some(lang) = langs.list.first() {
-                out.insert(lang.clone(), s.value.clone());
+                out.push((lang.clone(), s.value.clone()));
             }
         }
         RawText::ByLang { span, entries } => {
@@ -89,7 +97,7 @@ pub(crate) fn text_of(
                     rep,
                     s,
                     kind,
-                    &format!("the `{}` text of {what}", lang.value),
+                    format_args!("the `{}` text of {what}", lang.value),
                 );
                 if langs.known && !langs.list.contains(&lang.value) {
                     ok = false;
@@ -120,7 +128,7 @@ pub(crate) fn text_of(
                         hint,
                     );
                 }
-                out.insert(lang.value.clone(), s.value.clone());
+                out.push((lang.value.clone(), s.value.clone()));
             }
             for lang in missing {
                 ok = false;
@@ -132,7 +140,7 @@ pub(crate) fn text_of(
             }
         }
     }
-    (ok && langs.known).then_some(Text(out))
+    (ok && langs.known).then(|| Text(out.into_iter().collect()))
 }
 
 pub fn quoted(list: &[String]) -> String {
@@ -143,7 +151,7 @@ pub fn quoted(list: &[String]) -> String {
 }
 
 /// Checks one string; false when it has an error.
-pub fn string(rep: &mut FileReport, s: &Str, kind: Kind, what: &str) -> bool {
+pub fn string(rep: &mut FileReport, s: &Str, kind: Kind, what: impl Display + Copy) -> bool {
     string_with(rep, s, kind, what, flipcard_text::check)
 }
 
@@ -153,15 +161,16 @@ fn string_with(
     rep: &mut FileReport,
     s: &Str,
     kind: Kind,
-    what: &str,
+    what: impl Display + Copy,
     math_check: impl Fn(&str) -> Vec<MathError>,
 ) -> bool {
     if s.value.trim().is_empty() {
         rep.error(s.span.clone(), format!("{what} is empty"), None);
         return false;
     }
-    let token = rep.source.get(s.span.clone()).unwrap_or("").to_string();
-    if !control_characters(rep, s, &token, what) {
+    let source: &str = rep.source;
+    let token = source.get(s.span.clone()).unwrap_or("");
+    if !control_characters(rep, s, token, what) {
         // The math would be checked on a mangled string; the control
         // characters already say what is wrong.
         return false;
@@ -172,12 +181,12 @@ fn string_with(
     if kind != Kind::Plain {
         let errors = math_check(&s.value);
         for e in &errors {
-            let (at, _) = tomlstr::locate(&token, e.offset);
+            let (at, _) = tomlstr::locate(token, e.offset);
             let start = s.span.start + at;
             rep.error(start..start + 1, format!("LaTeX: {}", e.message), None);
         }
         if errors.is_empty() {
-            latex_warnings(rep, s, &token);
+            latex_warnings(rep, s, token);
         }
         return errors.is_empty();
     }
@@ -221,7 +230,7 @@ fn latex_warnings(rep: &mut FileReport, s: &Str, token: &str) {
 /// Reports control characters; false when there are any. A real line break
 /// in a multi-line string is fine; one written as the escape `\n` (as in
 /// `"\nu"`) is not.
-fn control_characters(rep: &mut FileReport, s: &Str, token: &str, what: &str) -> bool {
+fn control_characters(rep: &mut FileReport, s: &Str, token: &str, what: impl Display) -> bool {
     let multiline = tomlstr::is_multiline(token);
     let mut reported = 0;
     let mut chars = s.value.char_indices().peekable();
