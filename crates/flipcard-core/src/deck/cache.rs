@@ -135,9 +135,11 @@ impl DeckCache {
         DeckCache { dir, stamp }
     }
 
-    /// What every entry of the deck file named `stem` starts with.
+    /// What every entry of the deck file named `stem` starts with, by
+    /// whichever build it was written: a new build's entry replaces the
+    /// old build's, so entries do not pile up with each update.
     fn prefix(&self, stem: &str) -> String {
-        let name = sha256(&[self.stamp.as_bytes(), stem.as_bytes()]);
+        let name = sha256(&[stem.as_bytes()]);
         hex(&name[..8])
     }
 
@@ -384,5 +386,46 @@ impl<'a> CachedCard<'a> {
             tags: self.tags.into_owned(),
             formula: None,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn deck() -> Deck {
+        let toml = "[deck]\nid = \"big\"\ntitle = \"Big\"\nlanguages = [\"en\"]\n\n[[card]]\nid = \"c1\"\nfront = 'F'\nback = 'B'\n";
+        let tree = crate::deck::files::Memory::new([
+            (PathBuf::from("d/decks/big.toml"), toml.as_bytes()),
+            (PathBuf::from("d/content/big/en.toml"), b"".as_slice()),
+        ]);
+        let loaded = crate::deck::load::load_tree(&tree, &[PathBuf::from("d/decks")]);
+        assert_eq!(loaded.errors(), 0, "{}", loaded.render_all());
+        loaded.decks.into_iter().next().expect("the deck loads")
+    }
+
+    /// An entry of another build is never taken, and the next build's entry
+    /// replaces it instead of piling up beside it.
+    #[test]
+    fn a_new_builds_entry_replaces_the_old_builds() {
+        let dir = tempfile::tempdir().unwrap();
+        let deck = deck();
+        let text = "the deck file's bytes";
+        let cache = |stamp: &str| DeckCache::new(dir.path().to_path_buf(), stamp.to_string());
+        let get = |c: &DeckCache| {
+            c.get(
+                "big",
+                text,
+                |_| Some((PathBuf::from("en.toml"), String::new())),
+                Path::new("big.toml"),
+            )
+        };
+        cache("build 1").put(("big", text), &deck, None, &[("en".to_string(), "")]);
+        assert!(get(&cache("build 1")).is_some_and(|c| c.deck.cards == deck.cards));
+        assert!(get(&cache("build 2")).is_none(), "another build's entry");
+        cache("build 2").put(("big", text), &deck, None, &[("en".to_string(), "")]);
+        assert_eq!(flipcard_io::entries(dir.path()).unwrap().len(), 1);
+        assert!(get(&cache("build 2")).is_some());
+        assert!(get(&cache("build 1")).is_none());
     }
 }
