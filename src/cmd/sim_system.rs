@@ -183,9 +183,7 @@ fn write_samples(
         observables: vec![true; scene.observables.len()],
         metered: Vec::new(),
         periods: Vec::new(),
-        sketch: false,
-        reference: false,
-        ..SystemPlan::for_scene(scene, method, &[])
+        ..SystemPlan::for_scene(scene, method, &[]).headless()
     };
     let mut run = SystemRun::with_plan(scene, method, plan).map_err(|e| anyhow!("{e}"))?;
     let system = System::compile(scene, false).map_err(|e| anyhow!("{e}"))?;

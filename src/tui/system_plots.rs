@@ -62,7 +62,10 @@ pub fn plot(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: &
     let k = run.plot_count();
     let trace = run.trace();
     let d = scene.duration;
-    let values = || trace.iter().flat_map(|p| p.values[..k].iter().copied());
+    // The run's extent, its extremes between samples located on the dense
+    // output, with the trace (the same samples) for a run that has none.
+    let whole = run.plot_extent().into_iter().flat_map(|(a, b)| [a, b]);
+    let values = || (trace.iter().flat_map(|p| p.values[..k].iter().copied())).chain(whole.clone());
     let (lo, hi) = range(values());
     // The labels give the data's own extremes, not the padded frame's
     // (a swing to 2.97 rad is not labelled past π).
@@ -137,8 +140,10 @@ pub fn phase(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: 
     };
     let k = run.plot_count();
     let trace = run.trace();
-    let (x0, x1) = range(trace.iter().map(|p| p.values[k]));
-    let (y0, y1) = range(trace.iter().map(|p| p.values[k + 1]));
+    let whole = run.phase_extent();
+    let ends = |i: usize| whole.into_iter().flat_map(move |e| [e[i].0, e[i].1]);
+    let (x0, x1) = range(trace.iter().map(|p| p.values[k]).chain(ends(0)));
+    let (y0, y1) = range(trace.iter().map(|p| p.values[k + 1]).chain(ends(1)));
     let color = theme.axis(0);
     let dim = theme.plot(Color::DarkGray);
     let title = format!(
@@ -184,28 +189,32 @@ pub fn phase(frame: &mut Frame, area: Rect, run: &SystemRun, lang: &str, theme: 
     frame.render_widget(canvas, area);
 }
 
-/// Bounds of the sketch: the run's extent so far, with equal scales on
-/// both axes (a terminal cell is about twice as tall as wide).
+/// Bounds of the sketch: the run's extent so far (every mark's coordinates,
+/// their extremes between samples located on the dense output, and the
+/// frame's), with equal scales on both axes (a terminal cell is about twice
+/// as tall as wide).
 pub fn sketch_bounds(run: &SystemRun, area: Rect) -> ([f64; 2], [f64; 2]) {
-    let marks = &run.scene().sketch;
-    let (mut xs, mut ys) = (Vec::new(), Vec::new());
-    let mut push = |v: &[f64]| {
-        let mut k = 0;
-        for m in marks {
-            let n = m.exprs().len();
-            for j in (0..n).step_by(2) {
-                xs.push(v[k + j]);
-                ys.push(v[k + j + 1]);
-            }
-            k += n;
-        }
+    let now = run.marks_now();
+    let whole = run.sketch_extent();
+    let axis = |i: usize| {
+        let ends = whole.into_iter().flat_map(move |e| [e[i].0, e[i].1]);
+        // The trail's points too: the same samples, for a run that follows
+        // no extent.
+        let trail = run
+            .trail()
+            .iter()
+            .flat_map(move |p| p.values.iter().copied().skip(i).step_by(2));
+        range(
+            now.iter()
+                .copied()
+                .skip(i)
+                .step_by(2)
+                .chain(ends)
+                .chain(trail),
+        )
     };
-    for p in run.trail() {
-        push(&p.values);
-    }
-    push(&run.marks_now());
-    let (x0, x1) = range(xs.into_iter());
-    let (y0, y1) = range(ys.into_iter());
+    let (x0, x1) = axis(0);
+    let (y0, y1) = axis(1);
     let w = f64::from(area.width.saturating_sub(2).max(1));
     let h = f64::from(area.height.saturating_sub(2).max(1)) * 2.0;
     // Units per cell-width on each axis made equal: widen the tighter one.
@@ -340,7 +349,7 @@ mod tests {
     use ratatui::backend::TestBackend;
 
     use super::*;
-    use crate::deck::SystemScene;
+    use crate::deck::{SystemPanel, SystemScene};
     use crate::sim::solvers::ode::{OdeKind, OdeMethod};
     use crate::tui::theme::Theme;
 
@@ -385,6 +394,78 @@ mod tests {
         assert!(!cols.is_empty(), "nothing drawn");
         let span = |v: &[u16]| usize::from(*v.iter().max().unwrap() - *v.iter().min().unwrap()) + 1;
         (span(&cols), span(&rows))
+    }
+
+    /// The e = 0.9 orbit (a = 1 AU, period 1 yr) started at aphelion,
+    /// (−1.9, 0), so perihelion (0.1, 0) comes at t = ½, 1½, …; run 40
+    /// periods at RK4 dt 1/8448 yr, the drawn record keeps every 256th
+    /// sample and perihelion (sample 4224 of each period) falls halfway
+    /// between two kept ones, 0.015 yr from each, where the planet is back
+    /// at x = −0.08 AU. Only the trail is sketched (the Sun's label would
+    /// cover the cells near perihelion).
+    fn from_aphelion() -> SystemScene {
+        let mut scene = bundled_scene("eccentric");
+        let gm = 4.0 * std::f64::consts::PI.powi(2);
+        let va = (gm * 0.1 / 1.9f64).sqrt();
+        scene.initial = vec![-1.9, 0.0, 0.0, -va];
+        scene.duration = 40.0;
+        scene.show = vec![SystemPanel::Sketch];
+        scene.sketch = vec![Mark::Trail(["x".into(), "y".into()])];
+        scene
+    }
+
+    /// The sketch of an orbit whose samples skip perihelion reaches out to
+    /// it: the panel is scaled to the continuous solution's extent
+    /// (perihelion at x = a(1 − e) = 0.1 AU), and the trail is drawn
+    /// through perihelion, not along the chord between the samples either
+    /// side (at x = −0.08 AU, 9 columns short in this panel).
+    #[test]
+    fn the_sketch_reaches_the_perihelion_its_samples_skip() {
+        let scene = from_aphelion();
+        let method = OdeMethod::with_setting(OdeKind::Rk4, 1.0 / 8448.0).unwrap();
+        let mut run = SystemRun::new(&scene, method, &[]).expect("the run starts");
+        run.run_to_end().expect("the run ends");
+        let (w, h) = (100u16, 30u16);
+        let (xb, yb) = sketch_bounds(&run, Rect::new(0, 0, w, h));
+        assert!(
+            xb[1] >= 0.1,
+            "the sketch reaches x = {} only, perihelion is at 0.1",
+            xb[1]
+        );
+        let mut terminal = Terminal::new(TestBackend::new(w, h)).expect("test backend");
+        terminal
+            .draw(|f| sketch(f, f.area(), &run, "en", &Theme::PLAIN))
+            .expect("draw");
+        let buffer = terminal.backend().buffer().clone();
+        let raised = |x: u16, y: u16| {
+            let c = buffer[(x, y)].symbol().chars().next().unwrap_or(' ');
+            ('\u{2801}'..='\u{28FF}').contains(&c)
+        };
+        // The cell of (x, y) inside the border.
+        let (iw, ih) = (f64::from(w - 2), f64::from(h - 2));
+        let col = |x: f64| {
+            1 + ((x - xb[0]) / (xb[1] - xb[0]) * iw)
+                .floor()
+                .clamp(0.0, iw - 1.0) as u16
+        };
+        let row = |y: f64| {
+            1 + ((yb[1] - y) / (yb[1] - yb[0]) * ih)
+                .floor()
+                .clamp(0.0, ih - 1.0) as u16
+        };
+        let (pc, pr) = (col(0.1), row(0.0));
+        let rightmost = (1..w - 1)
+            .rev()
+            .find(|&x| (1..h - 1).any(|y| raised(x, y)))
+            .expect("a trail drawn");
+        assert!(
+            rightmost.abs_diff(pc) <= 1,
+            "the trail's near end is drawn at column {rightmost}, perihelion is at column {pc}"
+        );
+        assert!(
+            (pr - 1..=pr + 1).any(|y| (pc - 1..=pc + 1).any(|x| raised(x, y))),
+            "nothing drawn at perihelion (column {pc}, row {pr})"
+        );
     }
 
     /// The launch scene at the circular speed 2π AU/yr: a circle of 1 AU.

@@ -77,10 +77,9 @@ impl Run {
         measures: &[Measure],
     ) -> Result<Run, RunError> {
         let plan = SystemPlan {
-            reference: false,
             sketch: !scene.sketch.is_empty(),
             observables: vec![true; scene.observables.len()],
-            ..SystemPlan::for_scene(scene, method, measures)
+            ..SystemPlan::for_scene(scene, method, measures).headless()
         };
         let mut run = SystemRun::with_plan(scene, method, plan).map_err(|e| RunError::Domain {
             t: 0.0,

@@ -7,6 +7,14 @@
 //! look closely (Van der Pol's fast jumps, Robertson's first second) and
 //! never depend on how often a frame is drawn.
 //!
+//! The panels are scaled to the same continuous solution: the extent of
+//! each plotted quantity, of the phase pair and of each sketch coordinate
+//! is followed as a measured `max` and `min` are, their extremes between
+//! samples located on the dense output ([`SystemRun::sketch_extent`]), and
+//! the sketch's trails follow the dense output between samples where a
+//! chord would cut a corner ([`trail`]). A run computes them only for the
+//! panels it shows ([`SystemPlan::extents`], [`SystemPlan::trail`]).
+//!
 //! A value that is not finite is never a measurement: a variable, an
 //! observable or a sketch expression the run computes that becomes NaN or
 //! infinite ends the run with its name, the time and the first operation at
@@ -25,15 +33,17 @@ use crate::error::SolveError;
 use crate::method::MethodError;
 use crate::scene::measure::{Measurements, Reading};
 use crate::scene::slice::Slice;
-use crate::scene::spec::{Measure, Stat, SystemPanel, SystemScene};
+use crate::scene::spec::{Mark, Measure, Stat, SystemPanel, SystemScene};
 use crate::solvers::ode::{self, OdeKind, OdeMethod, OdeSolver, OdeSystem, Work};
 use crate::system::System;
 use crate::system::compile::{CompileError, Cost, Fault, POINTS_PER_STEP, Source, time};
 use crate::system::spec::SceneAtol;
 use flipcard_text::num::Num;
-use tally::{InStep, Tally, Watch, brent_max};
+use tally::{Bracket, Edge, InStep, Tally, Watch, brent_max};
+use trail::Trail;
 
-/// Points kept for each drawn curve (plot, phase, trail).
+/// Points kept for each drawn curve against time and the phase portrait
+/// (the sketch's trails keep theirs, [`trail::TRAIL_LEN`]).
 pub(crate) const TRACE_LEN: usize = 2048;
 
 /// Most operations of a scene's compiled programs one run may take (about a
@@ -412,6 +422,14 @@ pub struct SystemPlan {
     pub peaks: Vec<usize>,
     /// `time_of` and `count` measures, by quantity.
     pub events: Vec<(usize, Stat)>,
+    /// Quantities whose extent over the run the shown panels are scaled
+    /// to (the plotted ones, the phase pair, and the sketch's coordinates,
+    /// numbered after the observables), their extremes between samples
+    /// located on the dense output as a measure's are.
+    pub extents: Vec<usize>,
+    /// The sketch's trails are kept to be drawn (followed on the dense
+    /// output where a chord between samples would stray from the curve).
+    pub trail: bool,
 }
 
 impl SystemPlan {
@@ -465,9 +483,11 @@ impl SystemPlan {
             }
         }
         let mut drawn = metered.clone();
+        let mut extents = Vec::new();
         if scene.shows(SystemPanel::Plot) {
             for p in &scene.plot {
                 add(index(p), &mut drawn);
+                add(index(p), &mut extents);
             }
         }
         if scene.shows(SystemPanel::Phase)
@@ -475,9 +495,16 @@ impl SystemPlan {
         {
             for p in pair {
                 add(index(p), &mut drawn);
+                add(index(p), &mut extents);
             }
         }
         let sketch = scene.shows(SystemPanel::Sketch) && !scene.sketch.is_empty();
+        if sketch {
+            let marks = n + scene.observables.len();
+            let coordinates: usize = scene.sketch.iter().map(|m| m.exprs().len()).sum();
+            extents.extend(marks..marks + coordinates);
+        }
+        let trail = sketch && scene.sketch.iter().any(|m| matches!(m, Mark::Trail(_)));
         let mut observables = vec![false; scene.observables.len()];
         for q in &drawn {
             if *q >= n {
@@ -494,6 +521,20 @@ impl SystemPlan {
             extremes,
             peaks,
             events,
+            extents,
+            trail,
+        }
+    }
+
+    /// The plan of a run nobody draws: what `self` measures, without the
+    /// panels' extents, trails or reference.
+    pub fn headless(self) -> SystemPlan {
+        SystemPlan {
+            reference: false,
+            sketch: false,
+            extents: Vec::new(),
+            trail: false,
+            ..self
         }
     }
 }
@@ -583,7 +624,9 @@ pub struct SystemRun {
     /// value at the start and its largest change from it over the samples.
     drift: Vec<(usize, f64, f64)>,
     trace: Trace,
-    trail: Trace,
+    /// The sketch's coordinates over the run, as its trails are drawn
+    /// (when the plan keeps them).
+    trail: Option<Trail>,
     error: Option<RunError>,
     ref_error: f64,
     scratch: Vec<f64>,
@@ -698,11 +741,22 @@ impl SystemRun {
             .as_ref()
             .filter(|_| scene.shows(SystemPanel::Phase))
             .map(|[a, b]| [index(a), index(b)]);
-        let tallies = plan
-            .metered
-            .iter()
-            .map(|&q| (q, Tally::new(plan.peaks.contains(&q))))
+        // A coordinate of the sketch is numbered after the observables;
+        // its extent is followed only when the sketch is computed.
+        let marks = n + system.observable_count();
+        let mut plan = plan;
+        plan.extents.retain(|&q| q < marks || plan.sketch);
+        let mut tracked = plan.metered.clone();
+        for &q in &plan.extents {
+            if !tracked.contains(&q) {
+                tracked.push(q);
+            }
+        }
+        let tallies = tracked
+            .into_iter()
+            .map(|q| (q, Tally::new(plan.peaks.contains(&q))))
             .collect();
+        let trail = (plan.trail && plan.sketch).then(|| Trail::new(&scene.sketch));
         let watches = plan
             .events
             .iter()
@@ -729,7 +783,7 @@ impl SystemRun {
             conserved: None,
             drift: Vec::new(),
             trace: Trace::default(),
-            trail: Trace::default(),
+            trail,
             error: None,
             ref_error: 0.0,
             scratch: vec![0.0; n],
@@ -770,7 +824,14 @@ impl SystemRun {
     /// observable of the plan.
     fn value(&self, q: usize, y: &[f64]) -> f64 {
         let n = y.len();
-        if q < n { y[q] } else { self.obs[q - n] }
+        let marks = n + self.obs.len();
+        if q < n {
+            y[q]
+        } else if q < marks {
+            self.obs[q - n]
+        } else {
+            self.marks[q - marks]
+        }
     }
 
     /// What the run computes at (t, y): the plan's observables and sketch.
@@ -859,11 +920,28 @@ impl SystemRun {
             let values = drawn.iter().map(|&q| self.value(q, y)).collect();
             self.trace.push(Point { t, values });
         }
-        if self.plan.sketch {
-            self.trail.push(Point {
+        if let Some(trail) = &mut self.trail {
+            let span = trail.span(|q| {
+                let q = y.len() + self.obs.len() + q;
+                let (_, tally) = self.tallies.iter().find(|(k, _)| *k == q)?;
+                tally.extent()
+            });
+            // Between the last sample and this one the step's dense output
+            // is at hand (every sample but the run's first).
+            let (solver, system, probe) = (&mut self.solver, &self.system, &mut self.probe);
+            let between = |tm: f64| {
+                if at.is_none() || solver.dense(tm, probe).is_err() {
+                    return None;
+                }
+                let mut out = vec![0.0; system.mark_count()];
+                system.marks_into(tm, probe, &mut out);
+                out.iter().all(|v| v.is_finite()).then_some(out)
+            };
+            let p = Point {
                 t,
                 values: self.marks.clone(),
-            });
+            };
+            trail.add(p, span, between);
         }
         let weight = (t - self.sampled).max(0.0);
         for (kept, v) in self.sizes.iter_mut().zip(y) {
@@ -1212,11 +1290,15 @@ impl SystemRun {
         let step_end = at.k == at.per_step;
         for i in 0..self.tallies.len() {
             let q = self.tallies[i].0;
-            if !self.plan.extremes.contains(&q) {
+            let measured = self.plan.extremes.contains(&q);
+            if !measured && !self.plan.extents.contains(&q) {
                 continue;
             }
             for br in self.tallies[i].1.brackets(at.t0, step_end) {
                 let s = if br.max { 1.0 } else { -1.0 };
+                if !measured && self.at_its_edge(q, br) {
+                    continue;
+                }
                 if let Some((t, v)) =
                     brent_max(br.a, br.b, |t| self.quantity_at(q, t).map(|v| s * v))
                 {
@@ -1224,6 +1306,26 @@ impl SystemRun {
                 }
             }
         }
+    }
+
+    /// An extent (not a measure) needs no search of a bracket at a step's
+    /// edge where the quantity moves away from the edge's sample: rising
+    /// into the step's end as steadily as before (by the samples), or by
+    /// the dense output just inside the edge. Its extreme there is that
+    /// sample, already counted (two turns within one sample interval are
+    /// beyond what a drawing resolves); a quantity that keeps rising over
+    /// the run would otherwise be searched at every step.
+    fn at_its_edge(&mut self, q: usize, br: Bracket) -> bool {
+        let (edge, toward) = match br.edge {
+            Edge::Inside => return false,
+            _ if br.steady => return true,
+            Edge::Start => (br.a, br.b),
+            Edge::End => (br.b, br.a),
+        };
+        let near = edge + (toward - edge) * 2f64.powi(-20);
+        let s = if br.max { 1.0 } else { -1.0 };
+        self.quantity_at(q, near)
+            .is_some_and(|n| s * n < s * br.at_edge)
     }
 
     /// Locates on the current step's dense output the first time a
@@ -1245,10 +1347,13 @@ impl SystemRun {
     fn quantity_at(&mut self, q: usize, t: f64) -> Option<f64> {
         let mut y = std::mem::take(&mut self.probe);
         let n = y.len();
+        let marks = n + self.probe_obs.len();
         let v = if self.solver.dense(t, &mut y).is_err() {
             None
         } else if q < n {
             Some(y[q])
+        } else if q >= marks {
+            Some(self.system.mark(q - marks, t, &y))
         } else {
             self.system
                 .observables_upto(q - n, t, &y, &mut self.probe_obs);
@@ -1340,9 +1445,51 @@ impl SystemRun {
     pub fn trace(&self) -> &[Point] {
         &self.trace.points
     }
-    /// The sketch's coordinates over the run so far.
+    /// The sketch's coordinates over the run so far, as its trails are
+    /// drawn: through the samples, and between two of them along the dense
+    /// output where the chord would stray from the curve by more than the
+    /// sketch's extent over [`trail::RESOLUTION`]; thinned where straight
+    /// (empty when the plan keeps no trail).
     pub fn trail(&self) -> &[Point] {
-        &self.trail.points
+        self.trail.as_ref().map_or(&[], Trail::points)
+    }
+
+    /// The smallest and largest value of quantity `q` over the run so far,
+    /// when the plan follows its extent: every sample's, and the extremes
+    /// between samples located on the dense output.
+    fn extent(&self, q: usize) -> Option<(f64, f64)> {
+        if !self.plan.extents.contains(&q) {
+            return None;
+        }
+        let (_, tally) = self.tallies.iter().find(|(k, _)| *k == q)?;
+        tally.extent()
+    }
+
+    /// The extent over the run so far of the plotted quantities together
+    /// (None when the plot is not shown).
+    pub fn plot_extent(&self) -> Option<(f64, f64)> {
+        join(self.plot.iter().filter_map(|&q| self.extent(q)))
+    }
+
+    /// The extent over the run so far of each of the phase pair.
+    pub fn phase_extent(&self) -> Option<[(f64, f64); 2]> {
+        let [a, b] = self.phase?;
+        Some([self.extent(a)?, self.extent(b)?])
+    }
+
+    /// The extent over the run so far of the sketch's x coordinates (the
+    /// first of each pair, every mark's) and of its y coordinates; the
+    /// frame's own coordinates ([`SystemRun::marks_now`]) are not in it.
+    pub fn sketch_extent(&self) -> Option<[(f64, f64); 2]> {
+        let marks = self.state.len() + self.obs.len();
+        let axis = |parity: usize| {
+            join(
+                (0..self.marks.len())
+                    .filter(|j| j % 2 == parity)
+                    .filter_map(|j| self.extent(marks + j)),
+            )
+        };
+        Some([axis(0)?, axis(1)?])
     }
     /// How many plotted quantities lead each trace point.
     pub fn plot_count(&self) -> usize {
@@ -1419,7 +1566,7 @@ impl SystemRun {
         let (_, tally) = self
             .tallies
             .iter()
-            .find(|(k, _)| *k == q)
+            .find(|(k, _)| *k == q && self.plan.metered.contains(k))
             .ok_or(ReadingError::NotPlanned(m))?;
         let v = tally.stat(stat, name.as_str())?;
         if v.is_finite() {
@@ -1486,11 +1633,7 @@ pub fn measure_system_noting(
     method: OdeMethod,
     measures: &[Measure],
 ) -> Result<Vec<Noted>, StartError> {
-    let plan = SystemPlan {
-        reference: false,
-        sketch: false,
-        ..SystemPlan::for_scene(scene, method, measures)
-    };
+    let plan = SystemPlan::for_scene(scene, method, measures).headless();
     let mut run = SystemRun::with_plan(scene, method, plan)?;
     run.run_to_end()?;
     let mut noted: Vec<Noted> = measures
@@ -1526,11 +1669,7 @@ pub fn measure_system_noting(
             ..next
         };
         finer = next;
-        let plan = SystemPlan {
-            reference: false,
-            sketch: false,
-            ..SystemPlan::for_scene(scene, finer, measures)
-        };
+        let plan = SystemPlan::for_scene(scene, finer, measures).headless();
         let Ok(mut run) = SystemRun::with_plan(scene, finer, plan) else {
             break;
         };
@@ -1559,6 +1698,12 @@ pub fn measure_system_noting(
     Ok(noted)
 }
 
+/// The smallest and largest of `extents` together.
+fn join(extents: impl Iterator<Item = (f64, f64)>) -> Option<(f64, f64)> {
+    extents.reduce(|(a, b), (c, d)| (a.min(c), b.max(d)))
+}
+
 mod tally;
 #[cfg(test)]
 mod tests;
+pub mod trail;

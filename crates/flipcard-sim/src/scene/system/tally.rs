@@ -41,6 +41,12 @@ pub(super) struct Bracket {
     pub b: f64,
     pub max: bool,
     pub edge: Edge,
+    /// The sample at the bracket's edge (a step's start or end; unused
+    /// inside), and whether the samples show the quantity still rising
+    /// into a step's end at least half as fast as over the interval
+    /// before (no turn near that end).
+    pub at_edge: f64,
+    pub steady: bool,
 }
 
 /// Where a bracket sits in its step.
@@ -185,6 +191,12 @@ impl Tally {
         }
     }
 
+    /// The smallest and largest value so far (the extremes located
+    /// between samples included), None before the first sample.
+    pub(super) fn extent(&self) -> Option<(f64, f64)> {
+        (self.count > 0).then_some((self.min, self.max))
+    }
+
     /// Where an extreme may lie around the samples so far, within the step
     /// that started at `t0` (whose last sample this is when `step_end`):
     /// the intervals worth searching on that step's dense output.
@@ -202,14 +214,27 @@ impl Tally {
             let best = if max { self.max } else { -self.min };
             // Worth a search only if the extreme nearby can beat the best
             // so far (it exceeds its samples by less than they vary), or if
-            // every peak is kept.
+            // every peak is kept. Samples all equal to the best are a flat
+            // stretch (a sketch's fixed dot, a quantity held at a bound):
+            // nothing beyond them to find.
             let all = self.peaks.is_some();
             let worth = |vals: &[f64]| {
                 let hi = vals.iter().fold(f64::NEG_INFINITY, |m, &x| m.max(s * x));
                 let lo = vals.iter().fold(f64::INFINITY, |m, &x| m.min(s * x));
-                all || hi + (hi - lo) >= best
+                all || hi + (hi - lo) > best
             };
-            let bracket = |a, b, edge| Bracket { a, b, max, edge };
+            let bracket = |a, b, edge| Bracket {
+                a,
+                b,
+                max,
+                edge,
+                at_edge: if edge == Edge::Start { v1 } else { v },
+                steady: edge == Edge::End && {
+                    let before = s * (v1 - v2) / (t1 - t2);
+                    let last = s * (v - v1) / (t - t1);
+                    last > 0.0 && last >= 0.5 * before
+                },
+            };
             if t1 > t0 {
                 // t1 inside the step: a peak at t1 lies in [t2, t].
                 if t2 >= t0 && s * v1 >= s * v2 && s * v1 >= s * v && worth(&[v2, v1, v]) {

@@ -428,3 +428,133 @@ fn an_uncontrolled_variable_of_size_zero_is_told_a_tighter_tolerance() {
     };
     assert!(sized.to_string().contains("y2 = 1e-17"), "{sized}");
 }
+
+/// Kepler's e-orbit (a = 1 AU, GM = 4π²: period 1 yr) started at aphelion
+/// (−(1 + e), 0), so perihelion (a(1 − e), 0) comes at t = ½, 1½, …
+fn kepler_from_aphelion(e: f64, periods: f64) -> SystemScene {
+    let gm = 4.0 * std::f64::consts::PI.powi(2);
+    let va = (gm * (1.0 - e) / (1.0 + e)).sqrt();
+    SystemScene {
+        id: "kepler".into(),
+        title: None,
+        variables: vec!["x".into(), "y".into(), "vx".into(), "vy".into()],
+        initial: vec![-(1.0 + e), 0.0, 0.0, -va],
+        params: vec![("GM".into(), gm)],
+        equations: vec![
+            "vx".into(),
+            "vy".into(),
+            "-GM*x/r^3".into(),
+            "-GM*y/r^3".into(),
+        ],
+        observables: vec![("r".into(), "sqrt(x^2 + y^2)".into())],
+        conserved: vec![],
+        duration: periods,
+        show: vec![SystemPanel::Plot, SystemPanel::Sketch],
+        plot: vec!["r".into(), "x".into()],
+        phase: None,
+        sketch: vec![
+            Mark::Trail(["x".into(), "y".into()]),
+            Mark::Dot(["0".into(), "0".into()], None),
+            Mark::Dot(["x".into(), "y".into()], None),
+        ],
+        time_unit: "yr".into(),
+        atol: None,
+        hamiltonian: None,
+        labels: Vec::new(),
+    }
+}
+
+/// RK4 at 8448 steps a period over 40 periods: 337,920 samples, of which
+/// the drawn record keeps every 256th, and perihelion (sample 4224 of each
+/// period) falls halfway between two kept ones, 0.015 yr from each, where
+/// the planet is back at r = 0.26 AU (x = −0.08): what the panels were
+/// scaled to. The extents the run reports are the continuous solution's.
+#[test]
+fn the_extent_of_a_run_includes_the_perihelion_its_samples_skip() {
+    let e = 0.9;
+    let scene = kepler_from_aphelion(e, 40.0);
+    let method = OdeMethod::with_setting(OdeKind::Rk4, 1.0 / 8448.0).unwrap();
+    let mut run = SystemRun::new(&scene, method, &[]).unwrap();
+    run.run_to_end().unwrap();
+    let (rp, ra) = (1.0 - e, 1.0 + e);
+    // What the panels were scaled to: the record of r and x (the sketch's
+    // trail kept the same samples).
+    let sampled_r = (run.trace().iter()).fold(f64::INFINITY, |m, p| m.min(p.values[0]));
+    let sampled_x = (run.trace().iter()).fold(f64::NEG_INFINITY, |m, p| m.max(p.values[1]));
+    assert!(sampled_r > 0.26, "the record reaches r = {sampled_r}");
+    assert!(sampled_x < -0.07, "the record reaches x = {sampled_x}");
+    let [(x0, x1), (y0, y1)] = run.sketch_extent().expect("the sketch's extent");
+    assert!((x1 - rp).abs() < 1e-5, "x reaches {x1}, perihelion is {rp}");
+    assert!(
+        (x0 + ra).abs() < 1e-5,
+        "x reaches {x0}, aphelion is {}",
+        -ra
+    );
+    let b = (1.0 - e * e).sqrt();
+    assert!(
+        (y1 - b).abs() < 1e-5 && (y0 + b).abs() < 1e-5,
+        "y {y0}..{y1}, b = {b}"
+    );
+    let (r0, r1) = run.extent(4).expect("r's extent");
+    assert_eq!(run.plot_extent(), Some((x0, r1)), "r and x together");
+    assert!((r0 - rp).abs() < 1e-5, "r reaches {r0}, perihelion is {rp}");
+    assert!((r1 - ra).abs() < 1e-5, "r reaches {r1}, aphelion is {ra}");
+    // The trail passes within its resolution of perihelion on every orbit
+    // (the chord between the samples either side passed 0.18 AU away).
+    let span = 2.0 * ra;
+    let near = |t: f64| {
+        (run.trail().windows(2))
+            .filter(|w| (w[0].t - t).abs() < 0.1)
+            .map(|w| {
+                let at = |p: &Point| (p.values[0], p.values[1]);
+                trail::to_segment((rp, 0.0), at(&w[0]), at(&w[1]))
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    for k in 0..40 {
+        let d = near(k as f64 + 0.5);
+        assert!(
+            d < span / trail::RESOLUTION,
+            "orbit {k}: the trail passes {d} from perihelion"
+        );
+    }
+    assert!(
+        run.trail().len() <= trail::TRAIL_LEN,
+        "{}",
+        run.trail().len()
+    );
+}
+
+/// The extents and the trail are computed only for the panels shown, and
+/// never for a run nobody draws.
+#[test]
+fn extents_and_trails_follow_the_shown_panels() {
+    let mut scene = kepler_from_aphelion(0.5, 1.0);
+    let method = OdeMethod::with_setting(OdeKind::Rk4, 1e-3).unwrap();
+    let r = 4; // the observable r, after the four variables
+    scene.show = vec![SystemPanel::Plot];
+    let plan = SystemPlan::for_scene(&scene, method, &[]);
+    assert_eq!((plan.extents.clone(), plan.trail), (vec![r, 0], false));
+    let mut run = SystemRun::new(&scene, method, &[]).unwrap();
+    run.run_to_end().unwrap();
+    assert!(run.plot_extent().is_some() && run.sketch_extent().is_none());
+    assert!(run.trail().is_empty());
+    // A plotted quantity is not a measure the run was asked for.
+    assert_eq!(
+        run.measure(of(Stat::Max, "r")),
+        Err(ReadingError::NotPlanned(of(Stat::Max, "r")))
+    );
+    scene.show = vec![SystemPanel::Sketch];
+    let plan = SystemPlan::for_scene(&scene, method, &[]);
+    // The six coordinates of the trail and the two dots.
+    assert_eq!(
+        (plan.extents.clone(), plan.trail),
+        ((5..11).collect(), true)
+    );
+    let headless = plan.headless();
+    assert!(headless.extents.is_empty() && !headless.trail && !headless.sketch);
+    let mut run = SystemRun::new(&scene, method, &[]).unwrap();
+    run.run_to_end().unwrap();
+    assert!(run.plot_extent().is_none() && run.sketch_extent().is_some());
+    assert!(!run.trail().is_empty());
+}
