@@ -144,17 +144,26 @@ impl IntoIterator for LangMap {
 
 impl FromIterator<(Lang, String)> for LangMap {
     fn from_iter<I: IntoIterator<Item = (Lang, String)>>(iter: I) -> LangMap {
-        let mut v: Vec<(Lang, String)> = iter.into_iter().collect();
-        // Stable, so of equal languages the later stays last; keep it.
-        v.sort_by(|a, b| a.0.cmp(&b.0));
-        let mut out: Vec<(Lang, String)> = Vec::with_capacity(v.len());
-        for (lang, text) in v {
-            match out.last_mut() {
-                Some(last) if last.0 == lang => last.1 = text,
-                _ => out.push((lang, text)),
-            }
+        LangMap::from_vec(iter.into_iter().collect())
+    }
+}
+
+impl LangMap {
+    /// The map of `entries`, where of equal languages the later entry
+    /// stays (as inserting them into a `BTreeMap` one by one would). No
+    /// new list is made: entries already in order (as every map written by
+    /// flipcard is) are taken as they are.
+    fn from_vec(mut v: Vec<(Lang, String)>) -> LangMap {
+        if v.windows(2).all(|w| w[0].0 < w[1].0) {
+            return LangMap(v);
         }
-        LangMap(out)
+        // Stable: equal languages stay in the order given.
+        v.sort_by(|a, b| a.0.cmp(&b.0));
+        // Backwards, the later of equal languages comes first and is kept.
+        v.reverse();
+        v.dedup_by(|later, kept| later.0 == kept.0);
+        v.reverse();
+        LangMap(v)
     }
 }
 
@@ -221,7 +230,7 @@ impl<'de> serde::Deserialize<'de> for LangMap {
                 while let Some(entry) = a.next_entry::<Lang, String>()? {
                     v.push(entry);
                 }
-                Ok(v.into_iter().collect())
+                Ok(LangMap::from_vec(v))
             }
         }
         d.deserialize_map(Visit)
