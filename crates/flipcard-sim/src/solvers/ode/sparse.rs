@@ -397,9 +397,10 @@ mod tests {
     }
 
     #[test]
-    fn minimum_degree_leaves_the_hub_of_an_arrowhead_last_without_fill() {
+    fn minimum_degree_leaves_the_hub_of_an_arrowhead_to_the_end_without_fill() {
         let plan = SparsePlan::plan(&arrow(50)).unwrap();
-        assert_eq!(*plan.order.last().unwrap(), 0);
+        // The hub goes when one leaf is left (a tie of degree 1 then).
+        assert!(plan.order[48..].contains(&0), "{:?}", plan.order);
         // Each leaf has one neighbour when it goes: 49 entries of L, no fill.
         assert_eq!(plan.fill, 49);
         assert_eq!(plan.nnz(), 50 + 2 * 49);
