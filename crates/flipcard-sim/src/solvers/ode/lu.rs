@@ -176,9 +176,10 @@ impl LuPlan {
                     BandLu::new(n, band.kl, band.ku, |i, j| complex(o[i], o[j])),
                 )
             }
-            LuPlan::Sparse(plan) => {
-                Factors::Sparse(SparseLu::new(plan, real), SparseLu::new(plan, complex))
-            }
+            LuPlan::Sparse(plan) => Factors::Sparse(Box::new((
+                SparseLu::new(plan, real),
+                SparseLu::new(plan, complex),
+            ))),
         }
     }
 }
@@ -189,7 +190,8 @@ pub enum Factors {
     Dense(LU<f64, Dyn, Dyn>, LU<Complex<f64>, Dyn, Dyn>),
     /// In the band's order of the variables.
     Banded(Vec<usize>, BandLu<f64>, BandLu<Complex<f64>>),
-    Sparse(SparseLu<f64>, SparseLu<Complex<f64>>),
+    /// Boxed: the two factors' vectors are many.
+    Sparse(Box<(SparseLu<f64>, SparseLu<Complex<f64>>)>),
 }
 
 impl Factors {
@@ -198,7 +200,7 @@ impl Factors {
         match self {
             Factors::Dense(a, b) => a.is_invertible() && b.is_invertible(),
             Factors::Banded(_, a, b) => a.is_invertible() && b.is_invertible(),
-            Factors::Sparse(a, b) => a.is_invertible() && b.is_invertible(),
+            Factors::Sparse(f) => f.0.is_invertible() && f.1.is_invertible(),
         }
     }
 
@@ -209,7 +211,7 @@ impl Factors {
         match self {
             Factors::Dense(lu, _) => lu.solve_mut(b),
             Factors::Banded(order, lu, _) => permuted(order, b, scratch, |x| lu.solve_mut(x)),
-            Factors::Sparse(lu, _) => lu.solve(b, scratch),
+            Factors::Sparse(f) => f.0.solve(b, scratch),
         }
     }
 
@@ -222,7 +224,7 @@ impl Factors {
         match self {
             Factors::Dense(_, lu) => lu.solve_mut(b),
             Factors::Banded(order, _, lu) => permuted(order, b, scratch, |x| lu.solve_mut(x)),
-            Factors::Sparse(_, lu) => lu.solve(b, scratch),
+            Factors::Sparse(f) => f.1.solve(b, scratch),
         }
     }
 }
