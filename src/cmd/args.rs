@@ -229,9 +229,9 @@ pub struct SimArgs {
     #[arg(long, value_enum, default_value_t = SimFormat::Csv)]
     pub format: SimFormat,
     /// With --samples: say what the run did (steps, rejected steps,
-    /// right-hand-side and Jacobian evaluations, LU decompositions, when
-    /// auto switched), one line on stderr after the CSV. JSON always holds
-    /// it, as "stats".
+    /// right-hand-side and Jacobian evaluations, LU decompositions and
+    /// their form: dense, banded or sparse; when auto switched), one line
+    /// on stderr after the CSV. JSON always holds it, as "stats".
     #[arg(long)]
     pub stats: bool,
     /// Run a deck scene and print its measurements.

@@ -209,6 +209,9 @@ pub(super) struct Stats {
     pub rhs_evals: u64,
     pub jacobian_evals: u64,
     pub lu_decompositions: u64,
+    /// How the Newton matrices were factored (`dense`, `banded`,
+    /// `sparse`: `sim::solvers::ode::lu::LuKind`); null when none was.
+    pub lu: Option<&'static str>,
     /// The time `auto` found the problem stiff and switched, if it did.
     pub stiff_from: Option<f64>,
     /// A system scene's `conserved` quantities: how far each moved over
@@ -237,6 +240,9 @@ impl Stats {
             "stats: {} steps, {} rejected, {} right-hand sides, {} Jacobians, {} LU decompositions",
             self.steps, self.rejected, self.rhs_evals, self.jacobian_evals, self.lu_decompositions
         );
+        if let Some(lu) = self.lu {
+            s.push_str(&format!(" ({lu})"));
+        }
         if let Some(t) = self.stiff_from {
             s.push_str(&format!(", stiff from t = {}: switched to radau", Num(t)));
         }

@@ -213,6 +213,7 @@ fn write_samples(
         rhs_evals: work.rhs_evals,
         jacobian_evals: work.jac_evals,
         lu_decompositions: work.lu_decomps,
+        lu: work.lu.map(|k| k.name()),
         stiff_from: run.diagnostics().stiff_at,
         conserved: (run.conserved_drift().into_iter())
             .map(|d| Conserved {

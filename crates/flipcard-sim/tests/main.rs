@@ -9,3 +9,4 @@ mod support;
 mod ode_solvers;
 mod sim_exact;
 mod sim_integrators;
+mod sparse_lu;

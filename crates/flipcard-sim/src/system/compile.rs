@@ -31,7 +31,7 @@ use nalgebra::DMatrix;
 use super::expr::{self, Node};
 use crate::rhs::Split;
 use crate::solvers::ode::OdeSystem;
-use crate::solvers::ode::band::Band;
+use crate::solvers::ode::lu::LuPlan;
 use crate::system::spec::SystemScene;
 use flipcard_text::num::Num;
 
@@ -1109,7 +1109,8 @@ pub struct Cost {
     /// Operations of one exact Jacobian (the passes over the operations
     /// that read each variable; at most `rhs` × `n`).
     pub jacobian: usize,
-    /// Flops of one LU factorisation (dense n³, or the band's).
+    /// Flops of one LU factorisation (dense n³, or the band's or the
+    /// sparse factors' as [`LuPlan::choose`] picks).
     pub lu: usize,
 }
 
@@ -1126,7 +1127,7 @@ pub(crate) const POINTS_PER_STEP: usize = 16;
 impl Cost {
     /// Operations one step may run: the stages, the Jacobian (one pass per
     /// variable over the operations that read it), its LU decomposition
-    /// (about n³, or the band's n·kl·(kl + ku)), and the
+    /// (about n³, or the band's n·kl·(kl + ku), or the sparse factors'), and the
     /// samples of every observable and sketch expression
     /// ([`POINTS_PER_STEP`] a step).
     pub(crate) fn per_step(&self) -> f64 {
@@ -1256,9 +1257,9 @@ impl System {
 
     pub fn cost(&self) -> Cost {
         let n = self.n;
-        let lu = match self.sparsity().and_then(|rows| Band::plan(&rows)) {
-            Some(band) => band.cost() as usize,
-            None => n * n * n,
+        let lu = match LuPlan::choose(n, self.sparsity().as_deref()) {
+            LuPlan::Dense => n * n * n,
+            plan => plan.flops(n) as usize,
         };
         Cost {
             n,

@@ -36,13 +36,27 @@ impl Band {
     /// `None` when the system is small or the band costs as much as dense.
     pub fn plan(rows: &[Vec<usize>]) -> Option<Band> {
         let n = rows.len();
-        if n <= DENSE_MAX || rows.iter().flatten().any(|&j| j >= n) {
+        if n <= DENSE_MAX {
+            return None;
+        }
+        Band::narrowest(rows).filter(|b| b.cost() * 4.0 < Band::dense_cost(n))
+    }
+
+    /// The narrower band of the two orders, whatever its width; `None`
+    /// when an index is out of range.
+    pub fn narrowest(rows: &[Vec<usize>]) -> Option<Band> {
+        let n = rows.len();
+        if n == 0 || rows.iter().flatten().any(|&j| j >= n) {
             return None;
         }
         let own = Band::with_order(rows, (0..n).collect());
         let rcm = Band::with_order(rows, rcm(rows));
-        let best = if rcm.cost() < own.cost() { rcm } else { own };
-        (best.cost() * 4.0 < Band::dense_cost(n)).then_some(best)
+        Some(if rcm.cost() < own.cost() { rcm } else { own })
+    }
+
+    /// Multiply–adds of one solve with the factors (about).
+    pub fn solve_cost(&self) -> f64 {
+        (self.order.len() * (2 * self.kl + self.ku + 1)) as f64
     }
 
     /// Flops of one banded LU of this band (about).

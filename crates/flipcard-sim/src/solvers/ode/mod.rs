@@ -23,8 +23,10 @@ mod auto;
 pub mod band;
 mod choice;
 mod dop853;
+pub mod lu;
 mod radau5;
 mod rk4;
+pub mod sparse;
 mod verlet;
 
 use crate::error::SolveError;
@@ -269,6 +271,8 @@ pub struct Work {
     /// LU decompositions of the Newton matrices (one real and one complex
     /// count as one, as in RADAU5's statistics).
     pub lu_decomps: u64,
+    /// How the Newton matrices were factored, once any was.
+    pub lu: Option<lu::LuKind>,
 }
 
 impl std::ops::Add for Work {
@@ -280,6 +284,7 @@ impl std::ops::Add for Work {
             rhs_evals: self.rhs_evals + o.rhs_evals,
             jac_evals: self.jac_evals + o.jac_evals,
             lu_decomps: self.lu_decomps + o.lu_decomps,
+            lu: o.lu.or(self.lu),
         }
     }
 }

@@ -46,9 +46,9 @@
 //! (`tests/system_hostile.rs`).
 
 use crate::error::SolveError;
-use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
+use nalgebra::{Complex, DMatrix, DVector};
 
-use super::band::{Band, BandLu};
+use super::lu::{Factors, LuKind, LuPlan};
 
 use super::{BySize, OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
 
@@ -199,13 +199,13 @@ pub struct Radau5<S> {
     scal: Vec<f64>,
     tmp: Vec<f64>,
     jac: DMatrix<f64>,
-    /// The variables' order and band when the system is large and its
-    /// Jacobian banded under it ([`Band::plan`]); else dense LU.
-    band: Option<Band>,
+    /// How the Newton matrices are factored: dense, banded or sparse,
+    /// chosen from the Jacobian's pattern ([`LuPlan::choose`]).
+    plan: LuPlan,
     lu: Option<Factors>,
     rhs_real: DVector<f64>,
     rhs_complex: DVector<Complex<f64>>,
-    /// The right-hand sides in band order, for banded solves.
+    /// The right-hand sides reordered, for banded and sparse solves.
     band_real: Vec<f64>,
     band_complex: Vec<Complex<f64>>,
     /// The Jacobian was computed at the current point.
@@ -225,53 +225,6 @@ pub struct Radau5<S> {
     singular: u32,
     requests: Requests,
     work: Work,
-}
-
-/// The LU factors of the real and the complex matrix of a step: dense, or
-/// banded in the variables' band order.
-#[derive(Debug, Clone)]
-enum Factors {
-    Dense(LU<f64, Dyn, Dyn>, LU<Complex<f64>, Dyn, Dyn>),
-    Band(Vec<usize>, BandLu<f64>, BandLu<Complex<f64>>),
-}
-
-impl Factors {
-    /// Solves the real system in place; false when it is singular.
-    /// `scratch` holds the band order's copy (kept by the solver, so the
-    /// Newton iterations allocate nothing).
-    fn solve_real(&self, b: &mut DVector<f64>, scratch: &mut Vec<f64>) -> bool {
-        match self {
-            Factors::Dense(lu, _) => lu.solve_mut(b),
-            Factors::Band(order, lu, _) => Self::permuted(order, b, scratch, |x| lu.solve_mut(x)),
-        }
-    }
-
-    /// Solves the complex system in place; false when it is singular.
-    fn solve_complex(
-        &self,
-        b: &mut DVector<Complex<f64>>,
-        scratch: &mut Vec<Complex<f64>>,
-    ) -> bool {
-        match self {
-            Factors::Dense(_, lu) => lu.solve_mut(b),
-            Factors::Band(order, _, lu) => Self::permuted(order, b, scratch, |x| lu.solve_mut(x)),
-        }
-    }
-
-    fn permuted<T: Copy>(
-        order: &[usize],
-        b: &mut DVector<T>,
-        x: &mut Vec<T>,
-        solve: impl FnOnce(&mut [T]) -> bool,
-    ) -> bool {
-        x.clear();
-        x.extend(order.iter().map(|&v| b[v]));
-        let ok = solve(x);
-        for (&v, x) in order.iter().zip(x.iter()) {
-            b[v] = *x;
-        }
-        ok
-    }
 }
 
 impl<S: OdeSystem> Radau5<S> {
@@ -320,7 +273,7 @@ impl<S: OdeSystem> Radau5<S> {
             scal: vec![0.0; n],
             tmp: vec![0.0; n],
             jac: DMatrix::zeros(n, n),
-            band: sys.sparsity().and_then(|rows| Band::plan(&rows)),
+            plan: LuPlan::choose(n, sys.sparsity().as_deref()),
             lu: None,
             rhs_real: DVector::zeros(n),
             rhs_complex: DVector::zeros(n),
@@ -368,6 +321,27 @@ impl<S: OdeSystem> Radau5<S> {
         s.fnewt = 1.0;
         s.update_scale();
         Ok(s)
+    }
+
+    /// Factors the Newton matrices in the form `kind` whatever its cost,
+    /// from the next factorisation on (to compare the forms on one
+    /// problem); false, keeping the chosen form, when the system's pattern
+    /// does not allow it.
+    pub fn force_lu(&mut self, kind: LuKind) -> bool {
+        match LuPlan::forced(kind, self.n, self.sys.sparsity().as_deref()) {
+            Some(plan) => {
+                self.plan = plan;
+                self.lu = None;
+                self.h_lu = 0.0;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// The form the Newton matrices are factored in.
+    pub fn lu_kind(&self) -> LuKind {
+        self.plan.kind()
     }
 
     /// Hands the system, the current point and the next step size over
@@ -430,48 +404,13 @@ impl<S: OdeSystem> Radau5<S> {
     /// LU factors of γ/h − J and (α + iβ)/h − J; false when either is
     /// singular.
     fn decompose(&mut self, h: f64) -> bool {
-        let n = self.n;
         let fac1 = self.k.gamma / h;
         let (alphn, betan) = (self.k.alpha / h, self.k.beta / h);
-        let jac = &self.jac;
-        if let Some(band) = &self.band {
-            let o = &band.order;
-            let lu1 = BandLu::new(n, band.kl, band.ku, |i, j| {
-                let v = -jac[(o[i], o[j])];
-                if i == j { fac1 + v } else { v }
-            });
-            let lu2 = BandLu::new(n, band.kl, band.ku, |i, j| {
-                let v = -jac[(o[i], o[j])];
-                if i == j {
-                    Complex::new(alphn + v, betan)
-                } else {
-                    Complex::new(v, 0.0)
-                }
-            });
-            self.work.lu_decomps += 1;
-            let ok = lu1.is_invertible() && lu2.is_invertible();
-            self.lu = Some(Factors::Band(o.clone(), lu1, lu2));
-            self.h_lu = if ok { h } else { 0.0 };
-            return ok;
-        }
-        let e1 = DMatrix::from_fn(n, n, |i, j| {
-            if i == j {
-                fac1 - jac[(i, j)]
-            } else {
-                -jac[(i, j)]
-            }
-        });
-        let e2 = DMatrix::from_fn(n, n, |i, j| {
-            if i == j {
-                Complex::new(alphn - jac[(i, j)], betan)
-            } else {
-                Complex::new(-jac[(i, j)], 0.0)
-            }
-        });
-        let (lu1, lu2) = (e1.lu(), e2.lu());
+        let lu = self.plan.factor(&self.jac, fac1, alphn, betan);
         self.work.lu_decomps += 1;
-        let ok = lu1.is_invertible() && lu2.is_invertible();
-        self.lu = Some(Factors::Dense(lu1, lu2));
+        self.work.lu = Some(self.plan.kind());
+        let ok = lu.is_invertible();
+        self.lu = Some(lu);
         self.h_lu = if ok { h } else { 0.0 };
         ok
     }
