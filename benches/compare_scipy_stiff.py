@@ -19,17 +19,47 @@ and prints the ratio.
     python3 benches/compare_scipy_stiff.py --van-der-pol-ms X --van-der-pol-error Y \\
         --robertson-ms X --robertson-error Y --hires-ms X --hires-error Y ...
 
+With `--table` it writes instead the closing table of issue 26
+(`benches/stiff_table.md`): for each problem of `TABLE` in
+`benches/stiff_problems.py` (HIRES, the Oregonator, E5 to 1e5, Robertson,
+Van der Pol at mu = 1e4, the linear system with eigenvalues -1 and -1e8, the
+200-variable Brusselator) and each tolerance 1e-3, 1e-6, 1e-8, 1e-10: the
+achieved error, steps and CPU time of flipcard's whole process (`flipcard sim
+--method radau|auto --format json` on the problem as a deck scene, with
+SciPy's absolute tolerance as `--atol`, on E5 with flipcard's default; time
+from the child's rusage) and of SciPy's Radau and
+BDF solve alone (process CPU time, best of several runs), then SciPy's time at
+flipcard radau's achieved error, read off a finer sweep (1e-3 … 1e-10).
+
+    cargo build --release
+    python3 benches/compare_scipy_stiff.py --table [--flipcard target/release/flipcard]
+
 Not part of CI: SciPy is installed by hand.
 """
 
 import argparse
+import json
 import math
+import os
+import pathlib
+import platform
+import resource
+import subprocess
+import sys
+import tempfile
 import time
 import warnings
 
+import numpy as np
+
 from scipy.integrate import solve_ivp
 
-from stiff_problems import PROBLEMS, max_rel_error, read_fixture
+from stiff_problems import PROBLEMS, TABLE, deck_text, max_rel_error, read_fixture
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+BRUSS = ROOT / "tests" / "fixtures" / "brusselator"
+TABLE_TOLS = ["1e-3", "1e-6", "1e-8", "1e-10"]
+SWEEP = [10.0 ** -k for k in range(3, 11)]
 
 METHODS = ("Radau", "BDF", "LSODA")
 
@@ -66,6 +96,190 @@ def time_at_error(points, err):
     return None
 
 
+def cpu_best(f, budget=1.0):
+    """(best process CPU seconds of f(), its last result), within a budget."""
+    best, out, start, runs = math.inf, None, time.process_time(), 0
+    while runs < 1 or (time.process_time() - start < budget and runs < 20):
+        t0 = time.process_time()
+        out = f()
+        best = min(best, time.process_time() - t0)
+        runs += 1
+    return best, out
+
+
+def bruss():
+    """The Brusselator of tests/fixtures/brusselator as (f, jac, span, y0,
+    reference, variable names)."""
+    sys.path.insert(0, str(BRUSS))
+    import make  # noqa: E402
+
+    make.np = np
+    rows = (BRUSS / "reference.csv").read_text().splitlines()[1:]
+    ref = np.array([float(r.split(",")[1]) for r in rows])
+    names = [f"u{i}" for i in range(1, make.N + 1)] + [f"v{i}" for i in range(1, make.N + 1)]
+    return make.rhs, make.jac, (0.0, make.T_END), make.initial(), ref, names
+
+
+def flipcard_table_run(binary, deck, method, tol, names, ref, atol=None, runs=3):
+    """(error, steps, best CPU seconds) of `flipcard sim` on scene `s`, or
+    the reason it failed; `atol` (one per variable) is given as `--atol`,
+    else the run keeps flipcard's default."""
+    best, err, steps = math.inf, None, None
+    extra = [] if atol is None else ["--atol", ",".join(f"{n}={a!r}" for n, a in zip(names, atol))]
+    for _ in range(runs):
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
+        proc = subprocess.run(
+            [binary, "sim", "--deck", str(deck), "--scene", "s", "--method", method, "--tol", tol,
+             "--samples", "2", "--format", "json", *extra],
+            capture_output=True, text=True)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+        out = json.loads(proc.stdout)
+        if proc.returncode != 0:
+            return out.get("error") or proc.stderr.strip()
+        last = out["samples"][-1]
+        y = np.array([last[n] for n in names])
+        err, steps, best = max_rel_error(y, ref), out["stats"]["steps"], min(best, cpu)
+    return err, steps, best
+
+
+def scipy_table_run(fun, jac, span, y0, atol, method, rtol, ref):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run_once = lambda: solve_ivp(fun, span, y0, method=method, rtol=rtol, atol=atol(rtol), jac=jac)  # noqa: E731
+        secs, sol = cpu_best(run_once)
+    if not sol.success:
+        return sol.message
+    return max_rel_error(sol.y[:, -1], ref), len(sol.t) - 1, secs
+
+
+def fmt(r):
+    if isinstance(r, str):
+        return "failed", "", ""
+    e, steps, secs = r
+    return f"{e:.1e}", f"{steps:,}", f"{secs * 1e3:.1f}"
+
+
+def table(binary, out_path):
+    reference = read_fixture()
+    load = os.getloadavg()
+    lines = [
+        "# Stiff problems: flipcard against SciPy, problem × tolerance",
+        "",
+        "Written by `python3 benches/compare_scipy_stiff.py --table` (after `cargo build --release`);",
+        f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, {platform.machine()}, {os.cpu_count()} cores,",
+        f"load average {load[0]:.1f} / {load[1]:.1f} / {load[2]:.1f} at the start (a shared machine: times are",
+        "CPU seconds of the process, not wall time).",
+        "",
+        "- **error**: the largest relative error of a component of the final state against the",
+        "  reference named under each problem.",
+        "- **flipcard**: the whole process (`flipcard sim --method radau|auto --tol T --samples 2",
+        "  --format json --atol …` on the problem written as a deck scene, with SciPy's absolute",
+        "  tolerance; on E5 with none, so each variable's follows its size, and on the others",
+        "  the default's radau errors are listed under the table): its steps from the JSON `stats`, its",
+        "  CPU time (user + system, best of 3) from the child's rusage, parsing and compiling the",
+        "  deck included.",
+        "- **SciPy** " + f"{__import__('scipy').__version__}: `solve_ivp` with the analytic Jacobian and the absolute",
+        "  tolerance of `benches/stiff_problems.py`; CPU time of the solve alone, best of several.",
+        "- **at equal error**: SciPy's CPU time at the error flipcard's radau reached, read off a",
+        "  sweep of rtol 1e-3 … 1e-10 by log-log interpolation (— where that error lies outside",
+        "  the sweep), and the ratio to flipcard's whole process.",
+        "- diffsol (Rust BDF): `cargo bench --bench stiff` compares it with flipcard's Radau on",
+        "  HIRES, the Oregonator, E5, Robertson and Van der Pol at mu = 1000 in-process; it is not",
+        "  in this table.",
+        "",
+    ]
+    notes = {
+        "hires": "HIRES, t ∈ [0, 321.8122]. Reference: SciPy Radau rtol 1e-12 (BDF, LSODA within 2.5e-11).",
+        "oregonator": "Oregonator, t ∈ [0, 360]. Reference: SciPy Radau rtol 1e-12 (BDF, LSODA within 6.6e-10).",
+        "e5": "E5 to t = 1e5, default absolute tolerance. Reference: SciPy Radau rtol 1e-13 with y2 = y3 + y4 "
+        "written out (BDF, LSODA within 4.8e-11). Below ~1e-9 no double-precision run of the "
+        "four-variable form can go (docs/deck-format.md, \"How far a tolerance goes\").",
+        "robertson": "Robertson to t = 1e11. Reference: SciPy Radau rtol 1e-12 (BDF, LSODA within 7.5e-11). "
+        "With flipcard's default absolute tolerance (the line under the table) y2, which ends near 8e-14, "
+        "1e9 below the largest size it had, goes unchecked: at 1e-3 it turns negative and y1 ends at -4.5e7.",
+        "van-der-pol-1e4": "Van der Pol, mu = 1e4, (2, 0), t ∈ [0, 2e4]. Reference: SciPy Radau rtol 1e-12 "
+        "(LSODA within 3.2e-10; BDF fails).",
+        "linear": "y' = A y, eigenvalues −1 and −1e8, y(0) = (2, 0), t ∈ [0, 10]. Reference: the closed form "
+        "e^−t (1, 1) + e^(−1e8 t) (1, −1).",
+        "brusselator": "Brusselator, 200 variables, t ∈ [0, 10] (tests/fixtures/brusselator). Reference: "
+        "SciPy Radau rtol 1e-10, atol 1e-12, checked against BDF; errors below ~1e-9 are the reference's.",
+    }
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = pathlib.Path(tmp)
+        for name in TABLE:
+            print(name, file=sys.stderr, flush=True)
+            if name == "brusselator":
+                fun, jac, span, y0, ref, names = bruss()
+                deck = BRUSS / "decks" / "bruss.toml"
+                text = deck.read_text().replace('id = "bruss"\nvariables', 'id = "s"\nvariables')
+                (tmp / "decks").mkdir(exist_ok=True)
+                (tmp / "content" / "bruss").mkdir(parents=True, exist_ok=True)
+                (tmp / "content" / "bruss" / "en.toml").write_text("")
+                deck = tmp / "decks" / "bruss.toml"
+                deck.write_text(text)
+                atol = lambda r: 1e-2 * r  # noqa: E731
+            else:
+                fun, jac, span, y0, atol = PROBLEMS[name]
+                ref, names = reference[name], None
+                (tmp / "decks").mkdir(exist_ok=True)
+                (tmp / "content" / name).mkdir(parents=True, exist_ok=True)
+                (tmp / "content" / name / "en.toml").write_text("")
+                deck = tmp / "decks" / f"{name}.toml"
+                deck.write_text(deck_text(name))
+                names = __import__("stiff_problems").DECKS[name][0]
+            lines += [f"## {name}", "", notes[name], ""]
+            lines += [
+                "| tol | flipcard radau error | steps | ms | flipcard auto error | steps | ms "
+                "| SciPy Radau error | steps | ms | SciPy BDF error | steps | ms |",
+                "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+            ]
+            radau_points = []
+            # flipcard gets SciPy's absolute tolerance, except on E5, run as
+            # a user would (each variable's follows its size).
+            same = name != "e5"
+            for tol in TABLE_TOLS:
+                a = [float(v) for v in np.broadcast_to(atol(float(tol)), (len(names),))] if same else None
+                fr = flipcard_table_run(binary, deck, "radau", tol, names, ref, a)
+                fa = flipcard_table_run(binary, deck, "auto", tol, names, ref, a)
+                sr = scipy_table_run(fun, jac, span, y0, atol, "Radau", float(tol), ref)
+                sb = scipy_table_run(fun, jac, span, y0, atol, "BDF", float(tol), ref)
+                if not isinstance(fr, str):
+                    radau_points.append((tol, fr))
+                cells = [c for r in (fr, fa, sr, sb) for c in fmt(r)]
+                lines.append(f"| {tol} | " + " | ".join(cells) + " |")
+                for who, r in (("flipcard radau", fr), ("flipcard auto", fa), ("SciPy Radau", sr), ("SciPy BDF", sb)):
+                    if isinstance(r, str):
+                        lines.append(f"|  | {who} at {tol}: {r} |")
+            if same:
+                cells = []
+                for tol in TABLE_TOLS:
+                    r = flipcard_table_run(binary, deck, "radau", tol, names, ref, runs=1)
+                    cells.append(f"{tol} → " + (f"failed ({r})" if isinstance(r, str) else f"{r[0]:.1e} ({r[1]:,} steps)"))
+                lines += ["", "flipcard radau with its default absolute tolerance instead (each variable's follows its "
+                          "size): " + "; ".join(cells) + "."]
+            # SciPy at flipcard radau's error.
+            sweeps = {}
+            for method in ("Radau", "BDF"):
+                pts = []
+                for rtol in SWEEP:
+                    r = scipy_table_run(fun, jac, span, y0, atol, method, rtol, ref)
+                    if not isinstance(r, str):
+                        pts.append((r[0], r[2]))
+                sweeps[method] = pts
+            lines += ["", "At equal error (flipcard radau's): SciPy's CPU time and its ratio to flipcard's whole process.", ""]
+            lines += ["| flipcard tol | error | flipcard ms | SciPy Radau ms | ratio | SciPy BDF ms | ratio |", "|---|---|---|---|---|---|---|"]
+            for tol, (e, _, secs) in radau_points:
+                cells = []
+                for method in ("Radau", "BDF"):
+                    t = time_at_error(sweeps[method], e)
+                    cells += ["—", "—"] if t is None else [f"{t * 1e3:.1f}", f"{t / secs:.1f}×"]
+                lines.append(f"| {tol} | {e:.1e} | {secs * 1e3:.1f} | " + " | ".join(cells) + " |")
+            lines.append("")
+    out_path.write_text("\n".join(lines))
+    print(f"wrote {out_path}", file=sys.stderr)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     for name in PROBLEMS:
@@ -73,7 +287,13 @@ def main():
         parser.add_argument(f"--{name}-error", type=float, help="flipcard's error at rtol 1e-6")
     parser.add_argument("--rtols", default="1e-4,1e-5,1e-6,1e-7,1e-8,1e-9")
     parser.add_argument("--only", help="comma-separated problem names")
+    parser.add_argument("--table", action="store_true", help="write benches/stiff_table.md (issue 26's table)")
+    parser.add_argument("--flipcard", default=str(ROOT / "target" / "release" / "flipcard"))
+    parser.add_argument("--out", default=str(ROOT / "benches" / "stiff_table.md"))
     args = parser.parse_args()
+    if args.table:
+        table(args.flipcard, pathlib.Path(args.out))
+        return
     rtols = [float(r) for r in args.rtols.split(",")]
     reference = read_fixture()
     names = args.only.split(",") if args.only else list(PROBLEMS)

@@ -20,7 +20,9 @@
 //! component of the final state against the reference in
 //! `benches/stiff_reference.txt`: SciPy's Radau at rtol 1e-12, confirmed by
 //! SciPy's BDF and LSODA at rtol 1e-12 (their distances are in the file,
-//! which `python3 benches/stiff_reference.py` writes). This benchmark also
+//! which `python3 benches/stiff_reference.py` writes); E5's at rtol 1e-13
+//! with its invariant y2 = y3 + y4 written out, since in the four-variable
+//! form rounding scatters every solver's answer by ~1e-9. This benchmark also
 //! prints how far flipcard's Radau at rtol 1e-12 and diffsol at 1e-11 land
 //! from it.
 //!

@@ -839,6 +839,42 @@ fn the_default_absolute_tolerance_follows_each_variables_size() {
     }
 }
 
+/// E5 keeps y2 − y3 − y4 at 0, a direction its equations never damp: in
+/// the four-variable form rounding moves the run off it by ~1e-21, which
+/// the end state at t = 1e5 answers with ~3e11 per unit, so radau's error
+/// stays near 1e-9 from --tol 1e-9 to 1e-12 (docs/deck-format.md, "How far
+/// a tolerance goes"). Written with y2 = y3 + y4 as an observable, the same
+/// problem tracks the tolerance down to 1e-11: radau 1.5e-9, 2.2e-10,
+/// 3.1e-11 and auto 6.9e-10, 3.2e-10, 4.0e-11 at 1e-9, 1e-10, 1e-11,
+/// against SciPy's reference for that form (Radau at rtol 1e-13, BDF and
+/// LSODA within 4.8e-11), relative to each component.
+#[test]
+fn e5_with_its_fixed_sum_written_out_tracks_the_tolerance_below_1e_9() {
+    let reduced = Deck::new(
+        "pyrolysis",
+        "[[scene]]\nid = \"s\"\nvariables = [\"y1\", \"y3\", \"y4\"]\ninitial = [1.76e-3, 0.0, 0.0]\nparams = { A = 7.89e-10, B = 1.1e7, C = 1.13e3, M = 1e6 }\nequations = [\"-A*y1 - B*y1*y3\", \"A*y1 - B*y1*y3 - M*C*(y3 + y4)*y3 + C*y4\", \"B*y1*y3 - C*y4\"]\nobservables = { y2 = \"y3 + y4\" }\nduration = 1e5\nshow = [\"plot\"]\nplot = [\"y1\"]\n",
+    );
+    // The fixture holds (y1, y2, y3, y4); the rows are t, y1, y3, y4, y2.
+    let want = scipy_final("e5");
+    let want = [want[0], want[2], want[3], want[1]];
+    for method in ["radau", "auto"] {
+        for (tol, within) in [("1e-9", 5.0), ("1e-10", 5.0), ("1e-11", 10.0)] {
+            let (code, out, err) =
+                reduced.sim(&["--samples", "2", "--method", method, "--tol", tol]);
+            assert_eq!(code, 0, "{method} {tol}: {err}");
+            let got = last_row(&out);
+            let worst = (got[1..].iter().zip(&want))
+                .map(|(g, w)| ((g - w) / w).abs())
+                .fold(0.0f64, f64::max);
+            let tol: f64 = tol.parse().unwrap();
+            assert!(
+                worst <= within * tol,
+                "{method} {tol}: {worst:e} relative: {got:?} against {want:?}"
+            );
+        }
+    }
+}
+
 /// No row past the point a run can vouch for: x' = x² (x = 1/(1 − t)) is
 /// infinite at t = 1, where every method printed a finite number (1.05e9
 /// with auto, 5.5e9 radau, 8.2e3 rk4); x' = 1 + x² (x = tan t) keeps its row
