@@ -15,7 +15,7 @@ use crate::cmd::common::{load_decks, open_store, open_store_read_only};
 use crate::cmd::paths;
 use crate::deck::Deck;
 use crate::interop::export::{MAX_NAMED, rfc3339_with};
-use crate::sched::{Config, Direction, ItemKey, Scheduler};
+use crate::sched::{Config, Direction, ItemKey, Schedulers};
 use crate::study::{DayZone, Mark, Study};
 use crate::text::{num, plural};
 
@@ -116,7 +116,7 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
             let filter = Filter::parse(&query)?;
             filter.check_names(decks)?;
             let store = open_store_read_only(cli)?;
-            let rows = catalog::rows(decks, &store, &Scheduler::new(&config), now)?;
+            let rows = catalog::rows(decks, &store, &Schedulers::new(&config), now)?;
             let mut search = Search::for_filter(&filter, decks, &rows);
             let picked = select(decks, &rows, &mut search, &filter, now);
             if picked.is_empty() && !query.trim().is_empty() {
