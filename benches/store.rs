@@ -55,6 +55,7 @@ fn rating(key: &ItemKey, when: DateTime<Utc>, n: usize) -> ReviewRecord {
             last_review: Some(when),
         },
         duration_ms: 2_000 + (n % 5_000) as i64,
+        balanced_days: None,
     }
 }
 

@@ -405,3 +405,54 @@ fn queries_as_anki_users_type_them() {
         assert!(err.contains(says), "{q}: {err}");
     }
 }
+
+#[test]
+fn a_query_may_start_with_a_minus_and_flags_still_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let all = marks(dir.path(), "");
+    let framed = marks(dir.path(), "tag:frames");
+    let want: Vec<_> = all
+        .iter()
+        .filter(|r| !framed.contains(r))
+        .cloned()
+        .collect();
+    assert!(!framed.is_empty() && !want.is_empty());
+    // Without `--`, as with it.
+    assert_eq!(marks(dir.path(), "-tag:frames"), want);
+    let o = flipcard(dir.path(), &["cards", "list", "--", "-tag:frames"]);
+    assert!(o.status.success(), "{}", o.stderr());
+    assert_eq!(o.stdout().lines().count(), want.len() + 1);
+    // --format after the query is the flag, before it too.
+    for args in [
+        &["cards", "list", "-tag:frames", "--format", "json"][..],
+        &["cards", "list", "-tag:frames", "--format=json"][..],
+        &["cards", "list", "--format", "json", "-tag:frames"][..],
+    ] {
+        let o = flipcard(dir.path(), args);
+        assert!(o.status.success(), "{args:?}: {}", o.stderr());
+        let json: serde_json::Value = serde_json::from_str(&o.stdout()).unwrap();
+        assert_eq!(json.as_array().unwrap().len(), want.len(), "{args:?}");
+    }
+    // Another flag there is refused, never searched for.
+    for (args, says) in [
+        (
+            &["cards", "list", "-tag:frames", "--colour"][..],
+            "--colour",
+        ),
+        (
+            &["cards", "list", "-tag:frames", "--format", "xml"][..],
+            "csv or json",
+        ),
+        (
+            &[
+                "cards", "list", "--format", "json", "-tag:x", "--format", "csv",
+            ][..],
+            "twice",
+        ),
+    ] {
+        let o = flipcard(dir.path(), args);
+        assert!(!o.status.success(), "{args:?}");
+        assert!(o.stdout.is_empty(), "{args:?}");
+        assert!(o.stderr().contains(says), "{args:?}: {}", o.stderr());
+    }
+}

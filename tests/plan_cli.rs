@@ -412,3 +412,120 @@ fn the_exam_date_is_remembered_until_it_passes() {
         "{msg}"
     );
 }
+
+#[test]
+fn a_deck_preset_plans_lists_and_counts_with_its_own_parameters() {
+    let dir = tempfile::tempdir().unwrap();
+    deck(dir.path(), 6);
+    let states = history(dir.path(), 4);
+    // A preset whose memory model forgets otherwise (another decay, other
+    // initial stabilities) and asks for more recall.
+    let mut w = flipcard::sched::scheduler::default_parameters();
+    w[20] = 0.5;
+    w[2] = 1.5;
+    let list = w
+        .iter()
+        .map(|v| v.to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let with_preset = format!(
+        "[preset.slow]\ndesired_retention = 0.95\nfsrs_parameters = [{list}]\n\n[deck.mini]\npreset = \"slow\"\n"
+    );
+    let config_path = dir.path().join("config.toml");
+    let plan = |config: &str| {
+        std::fs::write(&config_path, config).unwrap();
+        json(&flipcard(
+            dir.path(),
+            &["plan", "--exam", "2026-05-24", "--format", "json"],
+        ))
+    };
+    let top = plan("");
+    let preset = plan(&with_preset);
+    let config = Config::parse(&with_preset, &config_path).unwrap();
+    let theirs = Scheduler::new(&config.for_deck("mini"));
+    let plain = Scheduler::new(&Config::default());
+    for (i, st) in states.iter().enumerate() {
+        let want = theirs.retrievability(st, now());
+        let not = plain.retrievability(st, now());
+        assert!((want - not).abs() > 1e-3, "c{i}: the models differ");
+        for (v, r) in [(&preset, want), (&top, not)] {
+            let got = v["per_item"][i]["retrievability_now"].as_f64().unwrap();
+            assert!((got - r).abs() < 1e-12, "c{i}: {got} vs {r}");
+        }
+    }
+    // Each card's target is its preset's retention; the plan reaches it.
+    for item in preset["per_item"].as_array().unwrap() {
+        assert_eq!(item["target"], 0.95, "{item}");
+        assert!(item["retrievability_with_plan"].as_f64().unwrap() >= 0.95);
+    }
+    assert_eq!(top["per_item"][0]["target"], 0.9);
+    assert_ne!(
+        preset["expected_recalled_without_plan"],
+        top["expected_recalled_without_plan"]
+    );
+    // --retention still asks for one target for every card.
+    let asked = json(&flipcard(
+        dir.path(),
+        &[
+            "plan",
+            "--exam",
+            "2026-05-24",
+            "--format",
+            "json",
+            "--retention",
+            "0.8",
+        ],
+    ));
+    assert!(
+        asked["per_item"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|i| i["target"] == 0.8)
+    );
+    let text = flipcard(dir.path(), &["plan", "--exam", "2026-05-24"]);
+    assert!(text.status.success(), "{}", text.stderr());
+    assert!(
+        text.stdout().contains("target recall 0.95"),
+        "{}",
+        text.stdout()
+    );
+
+    // The card list's retrievability: the preset's model.
+    let cards = flipcard(
+        dir.path(),
+        &["cards", "list", "deck:mini", "--format", "json"],
+    );
+    assert!(cards.status.success(), "{}", cards.stderr());
+    let rows: Value = serde_json::from_slice(&cards.stdout).unwrap();
+    let c0 = rows
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|r| r["card"] == "c0")
+        .unwrap();
+    let got: f64 = c0["retrievability"]
+        .as_str()
+        .map(|s| s.parse().unwrap())
+        .or_else(|| c0["retrievability"].as_f64())
+        .unwrap();
+    let want = theirs.retrievability(&states[0], now());
+    assert!((got - want).abs() < 1e-3, "{got} vs {want}");
+
+    // One deck's statistics name the preset's parameters.
+    let stats = json(&flipcard(
+        dir.path(),
+        &["stats", "--deck", "mini", "--json"],
+    ));
+    assert_eq!(stats["fsrs_parameters"]["preset"], "slow");
+    let values: Vec<f64> = stats["fsrs_parameters"]["values"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(values, w.to_vec());
+    let all = json(&flipcard(dir.path(), &["stats", "--json"]));
+    assert_eq!(all["fsrs_parameters"]["source"], "default");
+    assert!(all["fsrs_parameters"].get("preset").is_none());
+}

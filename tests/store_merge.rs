@@ -25,6 +25,7 @@ fn incoming(k: &ItemKey, when: DateTime<Utc>, rating: Rating) -> IncomingReview 
         cram: false,
         duration_ms: 3_000,
         undone: false,
+        balanced_days: None,
     }
 }
 

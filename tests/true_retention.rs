@@ -39,6 +39,7 @@ fn answer(
             last_review: Some(when),
         },
         duration_ms: 1_000,
+        balanced_days: None,
     }
 }
 

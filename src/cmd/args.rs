@@ -419,7 +419,8 @@ pub enum CardsFormat {
 
 #[derive(Debug, Args)]
 pub struct CardsListArgs {
-    /// Free text and filters as in Anki's browser: deck:ID tag:T state:S is:due|new|suspended|buried|leech rated:N prop:ivl>30 flag:N due:<3d, `or`, `-term`, parentheses, `*` (a query starting with `-` goes after `--`: cards list -- -tag:T).
+    /// Free text and filters as in Anki's browser: deck:ID tag:T state:S is:due|new|suspended|buried|leech rated:N prop:ivl>30 flag:N due:<3d, `or`, `-term` (cards list -tag:T), parentheses, `*`.
+    #[arg(allow_hyphen_values = true)]
     pub query: Vec<String>,
     #[arg(long, value_enum, default_value_t = CardsFormat::Csv)]
     pub format: CardsFormat,

@@ -10,12 +10,12 @@ use serde::Serialize;
 
 use crate::catalog::search::select;
 use crate::catalog::{self, Filter, ItemRow, Search};
-use crate::cmd::args::{CardsArgs, CardsCommand, CardsFormat, Cli};
+use crate::cmd::args::{CardsArgs, CardsCommand, CardsFormat, CardsListArgs, Cli};
 use crate::cmd::common::{load_decks, open_store, open_store_read_only};
 use crate::cmd::paths;
 use crate::deck::Deck;
 use crate::interop::export::{MAX_NAMED, rfc3339_with};
-use crate::sched::{Config, Direction, ItemKey, Scheduler};
+use crate::sched::{Config, Direction, ItemKey, Schedulers};
 use crate::study::{DayZone, Mark, Study};
 use crate::text::{num, plural};
 
@@ -105,6 +105,44 @@ fn listed(
     (listed, why)
 }
 
+/// The query's words and the format. A query may start with `-` (`cards
+/// list -tag:T`), and then clap takes every word after it as the query's,
+/// flags too: a `--format F` among them is the flag (given once), and any
+/// other word that starts with `--` is refused, never searched for.
+fn query_and_format(list: &CardsListArgs) -> anyhow::Result<(Vec<String>, CardsFormat)> {
+    use clap::ValueEnum as _;
+    let mut words = Vec::new();
+    let mut format = None;
+    let mut it = list.query.iter();
+    while let Some(w) = it.next() {
+        let value = match w.strip_prefix("--format") {
+            Some("") => Some(it.next().map(String::as_str).unwrap_or_default()),
+            Some(v) if v.starts_with('=') => Some(&v[1..]),
+            _ => None,
+        };
+        if let Some(v) = value {
+            let f = CardsFormat::from_str(v, false).map_err(|_| {
+                anyhow::anyhow!(
+                    "--format {}: expected csv or json",
+                    crate::text::safe::one_line(v)
+                )
+            })?;
+            if format.replace(f).is_some() || list.format != CardsFormat::Csv {
+                anyhow::bail!("--format is given twice");
+            }
+            continue;
+        }
+        if w.starts_with("--") && w.len() > 2 {
+            anyhow::bail!(
+                "{} after a query that starts with `-` is read as part of the query; give flags first: flipcard [OPTIONS] cards list [--format F] QUERY",
+                crate::text::safe::one_line(w)
+            );
+        }
+        words.push(w.clone());
+    }
+    Ok((words, format.unwrap_or(list.format)))
+}
+
 pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
     let config = Config::load(paths::config_file(cli.config.clone()).as_deref())?;
     let now = crate::cmd::clock::now()?;
@@ -112,11 +150,12 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
     let decks = &loaded.decks;
     match &args.command {
         CardsCommand::List(list) => {
-            let query = list.query.join(" ");
+            let (query, format) = query_and_format(list)?;
+            let query = query.join(" ");
             let filter = Filter::parse(&query)?;
             filter.check_names(decks)?;
             let store = open_store_read_only(cli)?;
-            let rows = catalog::rows(decks, &store, &Scheduler::new(&config), now)?;
+            let rows = catalog::rows(decks, &store, &Schedulers::new(&config), now)?;
             let mut search = Search::for_filter(&filter, decks, &rows);
             let picked = select(decks, &rows, &mut search, &filter, now);
             if picked.is_empty() && !query.trim().is_empty() {
@@ -135,7 +174,7 @@ pub fn run(cli: &Cli, args: &CardsArgs) -> anyhow::Result<ExitCode> {
                 bad.extend(why);
                 row
             });
-            match list.format {
+            match format {
                 CardsFormat::Csv => {
                     let mut w = csv::WriterBuilder::new()
                         .has_headers(false)

@@ -15,7 +15,8 @@ use crate::cmd::common::{find_deck, load_decks, open_store_read_only};
 use crate::cmd::paths;
 use crate::sched::DayGrid;
 use crate::sched::plan::{self, Plan};
-use crate::sched::{CardState, Config, ItemKey, Scheduler, deck_items};
+use crate::sched::scheduler::ForDeck;
+use crate::sched::{CardState, Config, ItemKey, Schedulers, deck_items};
 use crate::text::num::rounded;
 use crate::text::plural;
 use crate::{out, outln};
@@ -36,10 +37,11 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
             "no exam date: give one with --exam DATE (YYYY-MM-DD); it is remembered until the exam"
         ),
     };
-    let target = match &args.retention {
-        Some(text) => parse_retention(text)?,
-        None => config.desired_retention,
+    let asked = match &args.retention {
+        Some(text) => Some(parse_retention(text)?),
+        None => None,
     };
+    let target = asked.unwrap_or(config.desired_retention);
     let cap = match &args.max_per_day {
         Some(text) => parse_cap(text)?,
         None => config.reviews_per_day as usize,
@@ -60,9 +62,18 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let statuses = store.statuses()?;
     keys.retain(|k| !statuses.get(k).is_some_and(|s| s.suspended));
     let day_of = |t| grid.day_of(t);
-    let scheduler = Scheduler::new(&config);
+    // Each item with its deck's preset: its FSRS parameters, and its
+    // desired retention unless --retention asks for one target.
+    let schedulers = Schedulers::new(&config);
+    let each: Vec<plan::ItemModel> = keys
+        .iter()
+        .map(|k| plan::ItemModel {
+            scheduler: schedulers.for_deck(&k.deck),
+            target: asked.unwrap_or_else(|| config.for_deck(&k.deck).desired_retention),
+        })
+        .collect();
     let problem = plan::exam_problem(&keys, &states, today, exam, &day_of, target, cap)?;
-    let plan = plan::plan(&scheduler, &problem)?;
+    let plan = plan::plan_each(&each, &problem)?;
     // A date the planner took (not past, not too far) is remembered.
     let remembered = match &config_path {
         Some(path) if config.exam_date != Some(exam) => {
@@ -71,13 +82,13 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
         }
         _ => false,
     };
-    let cap_needed = plan::cap_needed(&scheduler, &problem)?;
+    let cap_needed = plan::cap_needed_each(&each, &problem)?;
     let now_r: Vec<f64> = keys
         .iter()
         .map(|k| {
             states
                 .get(k)
-                .map_or(0.0, |s| scheduler.retrievability(s, now))
+                .map_or(0.0, |s| schedulers.for_deck(&k.deck).retrievability(s, now))
         })
         .collect();
     let asks: Vec<String> = keys
@@ -201,6 +212,7 @@ impl Report<'_> {
                     "retrievability_now": now,
                     "retrievability_without_plan": i.without,
                     "retrievability_with_plan": i.with,
+                    "target": i.target,
                     "reviews": i.reviews.iter().map(|&d| self.date(d).to_string()).collect::<Vec<_>>(),
                 })
             })
@@ -235,12 +247,32 @@ impl Report<'_> {
             1 => "tomorrow".to_string(),
             d => format!("in {d} days"),
         };
+        // Decks with presets of their own may each have their target.
+        let (lo, hi) = p
+            .items
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), i| {
+                (lo.min(i.target), hi.max(i.target))
+            });
+        let (lo, hi) = if n == 0 {
+            (p.target, p.target)
+        } else {
+            (lo, hi)
+        };
+        let target = if lo == hi {
+            rounded(lo, 4)
+        } else {
+            format!(
+                "{} to {} (each deck's preset)",
+                rounded(lo, 4),
+                rounded(hi, 4)
+            )
+        };
         line(format!(
-            "Exam on {} ({when}) · {} · {} · target recall {} · at most {} a day",
+            "Exam on {} ({when}) · {} · {} · target recall {target} · at most {} a day",
             self.exam,
             self.deck.unwrap_or("all decks"),
             plural(n, "card", "cards"),
-            rounded(p.target, 4),
             plural(p.cap, "review", "reviews"),
         ));
         line(String::new());
@@ -256,10 +288,7 @@ impl Report<'_> {
             plural(p.per_day.len(), "day", "days")
         ));
         if short == 0 {
-            line(format!(
-                "Every card reaches {} on the exam day.",
-                rounded(p.target, 4)
-            ));
+            line(format!("Every card reaches {target} on the exam day."));
         } else {
             let why = match self.cap_needed {
                 Some(c) => format!(
@@ -269,9 +298,8 @@ impl Report<'_> {
                 None => "too little time is left for them at any daily cap".to_string(),
             };
             line(format!(
-                "Short: {} of {n} stay below {} on the exam day; {why}.",
+                "Short: {} of {n} stay below {target} on the exam day; {why}.",
                 plural(short, "card", "cards"),
-                rounded(p.target, 4)
             ));
         }
         if !p.per_day.is_empty() {
@@ -310,7 +338,7 @@ impl Report<'_> {
                     .iter()
                     .map(|&d| self.date(d).format("%m-%d").to_string())
                     .collect();
-                let mark = if i.with < p.target { " (short)" } else { "" };
+                let mark = if i.with < i.target { " (short)" } else { "" };
                 line(format!(
                     "{name:<w$}  {asks}  {:>6}  {:>12}  {:>9}  {}{mark}",
                     rounded(*now, 3),

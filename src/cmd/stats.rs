@@ -39,20 +39,22 @@ pub fn run(cli: &Cli, args: &StatsArgs) -> anyhow::Result<ExitCode> {
     };
     let mut stats = store.stats(scope, now, &grid)?;
     crate::catalog::name_leeches(&mut stats.leeches, &loaded.decks, &config.language);
+    // One deck's statistics name its preset's parameters, when it has one.
+    let in_use = match args.deck.as_deref() {
+        Some(id) => ParametersInUse::of_deck(&config, id),
+        None => ParametersInUse::of(&config),
+    };
     let mut out = crate::cmd::output::stdout();
     if args.json {
         let mut value = serde_json::to_value(&stats)?;
         if let Some(map) = value.as_object_mut() {
-            map.insert(
-                "fsrs_parameters".into(),
-                serde_json::to_value(ParametersInUse::of(&config))?,
-            );
+            map.insert("fsrs_parameters".into(), serde_json::to_value(&in_use)?);
         }
         serde_json::to_writer_pretty(&mut out, &value)?;
         writeln!(out)?;
     } else {
         out.write_all(render_stats(&stats).as_bytes())?;
-        out.write_all(ParametersInUse::of(&config).line().as_bytes())?;
+        out.write_all(in_use.line().as_bytes())?;
         out.write_all(render_marks(&stats).as_bytes())?;
     }
     out.flush()?;
@@ -288,6 +290,9 @@ pub struct ParametersInUse {
     pub source: &'static str,
     pub fitted_at: Option<String>,
     pub values: Vec<f64>,
+    /// The deck's preset, when its own parameters schedule the deck.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preset: Option<String>,
 }
 
 impl ParametersInUse {
@@ -297,12 +302,33 @@ impl ParametersInUse {
                 source: "fitted",
                 fitted_at: config.fsrs_fitted_at.map(|t| t.to_rfc3339()),
                 values: w.to_vec(),
+                preset: None,
             },
             None => ParametersInUse {
                 source: "default",
                 fitted_at: None,
                 values: crate::sched::scheduler::default_parameters().to_vec(),
+                preset: None,
             },
+        }
+    }
+
+    /// The parameters deck `id` is scheduled with: its preset's
+    /// (`[preset.NAME] fsrs_parameters`, fitted by `optimize --deck`), else
+    /// the config's.
+    pub fn of_deck(config: &Config, id: &str) -> ParametersInUse {
+        let name = config.preset_of(id);
+        match name
+            .and_then(|n| config.presets.get(n))
+            .and_then(|p| p.fsrs_parameters)
+        {
+            Some(w) => ParametersInUse {
+                source: "fitted",
+                fitted_at: None,
+                values: w.to_vec(),
+                preset: name.map(str::to_string),
+            },
+            None => ParametersInUse::of(config),
         }
     }
 
@@ -311,6 +337,10 @@ impl ParametersInUse {
             (_, "default") => {
                 "FSRS parameters: the defaults (`flipcard optimize` fits your own)\n".to_string()
             }
+            _ if self.preset.is_some() => format!(
+                "FSRS parameters: the deck's preset {}'s (fsrs_parameters of [preset.{0}])\n",
+                crate::text::safe::one_line(self.preset.as_deref().unwrap_or_default())
+            ),
             (Some(at), _) => format!("FSRS parameters: fitted to your reviews on {at}\n"),
             (None, _) => "FSRS parameters: your own (fsrs_parameters in the config)\n".to_string(),
         }

@@ -46,6 +46,9 @@ impl MemoryPanel {
         let calendar = s.store.answers_per_day(Some(deck), now, &days, read);
         let true_retention = s.store.true_retention(Some(deck), now, &days);
         let mut recall = [0u64; 10];
+        // The deck's preset's parameters, when it has its own.
+        let scheduler = s.scheduler_for(deck);
+        let config = s.config.for_deck(deck);
         for c in s
             .store
             .cached_states_in(Some(deck))
@@ -54,7 +57,7 @@ impl MemoryPanel {
             if c.state.stability.is_none() {
                 continue;
             }
-            let r = s.scheduler.retrievability(&c.state, now);
+            let r = scheduler.retrievability(&c.state, now);
             if r.is_finite() {
                 recall[((r * 10.0).floor() as usize).min(9)] += 1;
             }
@@ -63,7 +66,7 @@ impl MemoryPanel {
             calendar: calendar.map_err(|e| e.to_string())?,
             true_retention: true_retention.map_err(|e| e.to_string())?,
             recall,
-            fitted: s.config.fsrs_parameters.map(|_| s.config.fsrs_fitted_at),
+            fitted: config.fsrs_parameters.map(|_| s.config.fsrs_fitted_at),
         })
     }
 }

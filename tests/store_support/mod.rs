@@ -59,6 +59,7 @@ pub fn review(
             last_review: Some(when),
         },
         duration_ms: 4_000,
+        balanced_days: None,
     }
 }
 
@@ -89,6 +90,7 @@ pub fn random_review(rng: &mut impl Rng, key: &ItemKey, when: DateTime<Utc>) -> 
             last_review: Some(when),
         },
         duration_ms: rng.random_range(300..60_000),
+        balanced_days: None,
     }
 }
 

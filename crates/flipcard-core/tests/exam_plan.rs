@@ -442,3 +442,74 @@ fn a_202_card_plan_spreads_its_reviews() {
         }
     }
 }
+
+/// Items of decks with different presets: each planned with its own
+/// scheduler and target. Without a binding cap every item is planned
+/// alone, so each must get what a plan of it alone, with its own model
+/// and target, gives; the retrievability reported is its own model's
+/// replay; and with one model for all, the plan is the one-model plan.
+#[test]
+fn each_item_is_planned_with_its_own_model_and_target() {
+    let plain = scheduler();
+    let mut w = flipcard_core::sched::scheduler::default_parameters();
+    w[20] = 0.5;
+    w[8] = 1.2;
+    let other = Scheduler::new(&Config {
+        fuzz: false,
+        fsrs_parameters: Some(w),
+        ..Config::default()
+    });
+    let mut rng = StdRng::seed_from_u64(25);
+    let mut differ = 0;
+    for _ in 0..400 {
+        let mut p = random_problem(&mut rng);
+        p.cap = p.items.len();
+        let each: Vec<plan::ItemModel> = (0..p.items.len())
+            .map(|_| {
+                let s = if rng.random_bool(0.5) { &plain } else { &other };
+                let target = [0.8, 0.9, 0.95][rng.random_range(0..3)];
+                plan::ItemModel {
+                    scheduler: s,
+                    target,
+                }
+            })
+            .collect();
+        let got = plan::plan_each(&each, &p).unwrap();
+        let mut short = 0;
+        for (i, (item, m)) in p.items.iter().zip(&each).enumerate() {
+            let alone = Problem {
+                items: vec![*item],
+                target: m.target,
+                cap: 1,
+                ..p.clone()
+            };
+            let want = plan::plan(m.scheduler, &alone).unwrap();
+            let ip = &got.items[i];
+            assert_eq!(ip.target, m.target);
+            assert_eq!(ip.reviews.len(), want.items[0].reviews.len(), "{p:?} {i}");
+            let real = replay(m.scheduler, item.as_ref(), &ip.reviews, p.days);
+            assert!((real - ip.with).abs() < 1e-12, "{real} vs {}", ip.with);
+            short += usize::from(ip.with < m.target);
+            if m.scheduler.forgetting_curve(3.0, 5.0) != plain.forgetting_curve(3.0, 5.0) {
+                let as_plain = replay(&plain, item.as_ref(), &ip.reviews, p.days);
+                differ += usize::from((as_plain - ip.with).abs() > 1e-6);
+            }
+        }
+        assert_eq!(got.shortfall(), short);
+        // One model for all: the one-model plan.
+        let same: Vec<plan::ItemModel> = (0..p.items.len())
+            .map(|_| plan::ItemModel {
+                scheduler: &plain,
+                target: p.target,
+            })
+            .collect();
+        assert_eq!(
+            plan::plan_each(&same, &p).unwrap(),
+            plan::plan(&plain, &p).unwrap()
+        );
+    }
+    assert!(differ > 50, "the models differ on the plans: {differ}");
+    // A model per item, no fewer.
+    let p = random_problem(&mut rng);
+    assert!(plan::plan_each(&[], &p).is_err() || p.items.is_empty());
+}

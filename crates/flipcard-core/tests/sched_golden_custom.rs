@@ -198,6 +198,7 @@ fn a_log_merged_with_custom_parameters_replays_as_py_fsrs() {
                 cram: false,
                 duration_ms: 1_000,
                 undone: false,
+                balanced_days: None,
             })
             .collect();
         store.merge_reviews(&rows, &scheduler).unwrap();

@@ -1,5 +1,6 @@
 //! Property: whatever three (and more) machines do between syncs —
-//! answers (leeches and sibling buries with them) on clocks that move,
+//! answers (leeches and sibling buries with them, each review day placed
+//! by the load balancer over that machine's own due counts) on clocks that move,
 //! stand still or run ahead, suspends, unsuspends, buries, undos, a
 //! database restored from an older copy, a data folder copied to a new
 //! machine, forged files that try to undo others' answers — after every
@@ -21,6 +22,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use chrono::{DateTime, TimeDelta, Utc};
+use flipcard_core::sched::balance::{EasyDays, LOAD_DAYS, Load};
 use flipcard_core::sched::config::LeechAction;
 use flipcard_core::sched::{CardState, Config, Direction, ItemKey, Rating, Scheduler};
 use flipcard_core::store::{AfterRating, ItemStatus, StatusAction, Store, StoreError};
@@ -201,7 +203,14 @@ impl World {
                 let at = store.answer_time(&k, now).unwrap();
                 let before = store.state(&k).unwrap();
                 let rating = Rating::from_number(i64::from(rating)).unwrap();
-                let record = scheduler.review(&k, before.as_ref(), rating, at, 1500);
+                // Balanced over this machine's due counts, which the others
+                // cannot know: they replay the day the answer keeps.
+                let day = at.date_naive();
+                let start = day.and_hms_opt(0, 0, 0).unwrap().and_utc();
+                let counts = store.due_per_day(start, LOAD_DAYS).unwrap();
+                let load = Load::new(counts, day, &EasyDays::default());
+                let record =
+                    scheduler.review_with(&k, before.as_ref(), rating, at, 1500, Some(&load));
                 let sibling = (card < 2).then(|| key(card, !back));
                 let after = AfterRating {
                     leech_threshold: 3,

@@ -396,7 +396,7 @@ impl BrowserState {
         let rows = catalog::rows(
             &app.decks,
             &app.services.study.store,
-            &app.services.study.scheduler,
+            &app.services.study.schedulers(),
             now,
         )
         .map_err(|e| e.to_string())?;

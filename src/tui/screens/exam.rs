@@ -185,7 +185,8 @@ fn start(app: &mut App, deck: usize, input: &str) -> Result<Study, Result<Words,
         .states(&d.id)
         .map_err(|e| Err(e.to_string()))?;
     let (today, day_of) = grid(app);
-    let config = &app.services.study.config;
+    // The deck's preset: its retention, daily limit and parameters.
+    let config = app.services.study.config.for_deck(&d.id);
     let problem = plan::exam_problem(
         &keys,
         &states,
@@ -200,8 +201,8 @@ fn start(app: &mut App, deck: usize, input: &str) -> Result<Study, Result<Words,
         PlanError::ExamTooFar { .. } => Ok(words::TOO_FAR),
         other => Err(other.to_string()),
     })?;
-    let plan =
-        plan::plan(&app.services.study.scheduler, &problem).map_err(|e| Err(e.to_string()))?;
+    let scheduler = app.services.study.scheduler_for(&d.id);
+    let plan = plan::plan(&scheduler, &problem).map_err(|e| Err(e.to_string()))?;
     let todays: Vec<ItemKey> = plan
         .due_on(0)
         .into_iter()
@@ -227,10 +228,9 @@ fn start(app: &mut App, deck: usize, input: &str) -> Result<Study, Result<Words,
 /// answers given today included), with no more reviews.
 fn expected_now(app: &App, study: &Study) -> f64 {
     let (today, day_of) = grid(app);
-    let model = Model::new(
-        &app.services.study.scheduler,
-        (study.exam - today).num_days(),
-    );
+    let deck = study.keys.first().map_or("", |k| k.deck.as_str());
+    let scheduler = app.services.study.scheduler_for(deck);
+    let model = Model::new(&scheduler, (study.exam - today).num_days());
     plan::memories(&study.keys, &study.review.states, today, &day_of)
         .iter()
         .map(|m| model.without(m.as_ref()))

@@ -146,13 +146,15 @@ impl InfoState {
         let now = app.services.now();
         let history = s.store.history(&key).map_err(|e| e.to_string())?;
         let cached = s.store.cached_state(&key).map_err(|e| e.to_string())?;
+        // The item's deck's scheduler: its preset's parameters.
+        let scheduler = s.scheduler_for(&key.deck);
         let mut before: Option<CardState> = None;
         let mut answers = Vec::new();
         for logged in history.into_iter().filter(|l| !l.undone) {
             let r = &logged.record;
             let recall = before
                 .filter(|b| b.state != State::New)
-                .map(|b| s.scheduler.retrievability(&b, r.reviewed_at));
+                .map(|b| scheduler.retrievability(&b, r.reviewed_at));
             answers.push(Answer {
                 at: r.reviewed_at,
                 rating: r.rating,
@@ -173,7 +175,7 @@ impl InfoState {
             deck,
             recall_now: state
                 .filter(|x| x.state != State::New)
-                .map(|x| s.scheduler.retrievability(&x, now)),
+                .map(|x| scheduler.retrievability(&x, now)),
             state,
             reps: cached.as_ref().map_or(0, |c| c.reps),
             lapses: cached.as_ref().map_or(0, |c| c.lapses),

@@ -563,6 +563,7 @@ fn review_hints_keep_hard_good_easy_apart_and_the_rating_keeps_its_hint() {
         cram: false,
         duration_ms: 1000,
         undone: false,
+        balanced_days: None,
     }];
     let mut kept = std::collections::HashMap::from([(
         key.clone(),

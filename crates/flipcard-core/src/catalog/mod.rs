@@ -14,7 +14,8 @@ use std::collections::{BTreeSet, HashMap};
 use chrono::{DateTime, TimeDelta, Utc};
 
 use crate::deck::{CardKind, Deck};
-use crate::sched::{CardState, Direction, ItemKey, Scheduler, State};
+use crate::sched::scheduler::ForDeck;
+use crate::sched::{CardState, Direction, ItemKey, State};
 use crate::store::db::Store;
 use crate::store::error::StoreError;
 use crate::store::status::ItemStatus;
@@ -173,11 +174,13 @@ pub fn card_directions(card: &crate::deck::Card) -> Vec<Direction> {
     }
 }
 
-/// The items of `decks`, with their states and statuses at `now`.
+/// The items of `decks`, with their states and statuses at `now`; each
+/// item's retrievability by its deck's scheduler (its preset's FSRS
+/// parameters: [`crate::sched::Schedulers`]).
 pub fn rows(
     decks: &[Deck],
     store: &Store,
-    scheduler: &Scheduler,
+    scheduler: &dyn ForDeck,
     now: DateTime<Utc>,
 ) -> Result<Vec<ItemRow>, StoreError> {
     let cached = store.cached_states()?;
@@ -249,8 +252,8 @@ pub fn rows(
             let state = c.state;
             let row = &mut out[row];
             row.state = Some(state);
-            row.retrievability =
-                (state.state != State::New).then(|| scheduler.retrievability(&state, now));
+            row.retrievability = (state.state != State::New)
+                .then(|| scheduler.for_deck(&c.key.deck).retrievability(&state, now));
             row.reviews = c.reps;
             row.lapses = c.lapses;
         }
@@ -585,7 +588,7 @@ mod tests {
         let decks = std::slice::from_ref(&d);
         let dir = tempfile::tempdir().unwrap();
         let store = Store::open(dir.path()).unwrap();
-        let sched = Scheduler::new(&crate::sched::Config::default());
+        let sched = crate::sched::Scheduler::new(&crate::sched::Config::default());
         let now = chrono::Utc::now();
         let rows = rows(decks, &store, &sched, now).unwrap();
         assert_eq!(rows.len(), 6, "3 cloze numbers, 2 directions, 1 basic");

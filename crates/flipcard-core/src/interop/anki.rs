@@ -1408,6 +1408,7 @@ fn read_collection(
                         cram: false,
                         duration_ms: took.clamp(0, 24 * 3_600_000),
                         undone: false,
+                        balanced_days: None,
                     });
                 }
                 _ => out.reviews_skipped += 1,

@@ -12,8 +12,11 @@
 //! date.
 //!
 //! Text: `$…$` becomes MathJax `\(…\)`, `$$…$$` `\[…\]`, `\$` a dollar;
-//! `<`, `>` and `&` are escaped; line breaks are `<br>`; cloze deletions are
-//! kept as written (inside math too: Anki's MathJax reads them there).
+//! `<`, `>` and `&` are escaped; line breaks are `<br>`; `**strong**` and
+//! `*emphasis*` (the reader's markup, what an import made of Anki's bold
+//! and italic) are `<b>` and `<i>`, a `*` that opens or closes nothing
+//! staying a `*`; cloze deletions are kept as written (inside math too:
+//! Anki's MathJax reads them there).
 
 use std::collections::{HashMap, HashSet};
 use std::io::Write as _;
@@ -339,8 +342,16 @@ fn card_directions(card: &Card) -> Vec<(i64, Direction)> {
 }
 
 /// flipcard text as Anki HTML: math as MathJax, `<>&` escaped, lines as
-/// `<br>`.
+/// `<br>`, bold and italic as `<b>` and `<i>`.
 pub(crate) fn to_html(text: &str) -> String {
+    emphasis(&html_pieces(text))
+}
+
+/// What [`to_html`] writes, before bold and italic: the HTML of each run
+/// of text outside math (`Ok`) and of each formula with its delimiters
+/// (`Err`), in order.
+fn html_pieces(text: &str) -> Vec<Result<String, String>> {
+    let mut pieces: Vec<Result<String, String>> = Vec::new();
     let mut out = String::with_capacity(text.len() + 16);
     let b = text.as_bytes();
     let mut i = 0;
@@ -372,11 +383,13 @@ pub(crate) fn to_html(text: &str) -> String {
                 let display = b.get(i + 1) == Some(&b'$');
                 match math {
                     None => {
+                        pieces.push(Ok(std::mem::take(&mut out)));
                         out.push_str(if display { "\\[" } else { "\\(" });
                         math = Some(if display { "\\]" } else { "\\)" });
                     }
                     Some(close) => {
                         out.push_str(close);
+                        pieces.push(Err(std::mem::take(&mut out)));
                         math = None;
                     }
                 }
@@ -387,8 +400,122 @@ pub(crate) fn to_html(text: &str) -> String {
         }
     }
     flush(&mut out, &text[plain_from.min(text.len())..]);
-    if let Some(close) = math {
-        out.push_str(close);
+    match math {
+        Some(close) => {
+            out.push_str(close);
+            pieces.push(Err(out));
+        }
+        None => pieces.push(Ok(out)),
+    }
+    pieces
+}
+
+/// The pieces of [`html_pieces`] joined, `**…**` as `<b>…</b>` and `*…*`
+/// as `<i>…</i>` across the text outside math (a formula may sit inside
+/// them), as the reader's markup pairs them: a run of stars opens when a
+/// character that is not a space follows it, closes when one precedes it,
+/// and closes the nearest open run of its length (a run of three is strong
+/// and emphasis); a star that opens or closes nothing is written as it is.
+fn emphasis(pieces: &[Result<String, String>]) -> String {
+    // The stars of the text outside math: (piece, byte, length), each
+    // with whether it may open and close.
+    struct Run {
+        piece: usize,
+        at: usize,
+        len: usize,
+        open: bool,
+        close: bool,
+    }
+    let mut runs: Vec<Run> = Vec::new();
+    let char_at = |p: usize, at: usize, before: bool| -> Option<char> {
+        let Ok(s) = &pieces[p] else { return None };
+        if before {
+            s[..at].chars().next_back()
+        } else {
+            s[at..].chars().next()
+        }
+    };
+    for (p, piece) in pieces.iter().enumerate() {
+        let Ok(s) = piece else { continue };
+        let b = s.as_bytes();
+        let mut i = 0;
+        while i < b.len() {
+            if b[i] != b'*' {
+                i += 1;
+                continue;
+            }
+            let start = i;
+            while i < b.len() && b[i] == b'*' {
+                i += 1;
+            }
+            // Beside math, the formula is the neighbour: not a space.
+            let before = if start == 0 && p > 0 {
+                Some('x')
+            } else {
+                char_at(p, start, true)
+            };
+            let after = if i == b.len() && p + 1 < pieces.len() {
+                Some('x')
+            } else {
+                char_at(p, i, false)
+            };
+            let len = i - start;
+            if len <= 3 {
+                runs.push(Run {
+                    piece: p,
+                    at: start,
+                    len,
+                    open: after.is_some_and(|c| !c.is_whitespace()),
+                    close: before.is_some_and(|c| !c.is_whitespace()),
+                });
+            }
+        }
+    }
+    // Each closer takes the nearest opener of its length; what lies
+    // between stays open or not as it was paired.
+    let mut pair: Vec<Option<(usize, bool)>> = vec![None; runs.len()];
+    let mut open: Vec<usize> = Vec::new();
+    for r in 0..runs.len() {
+        if runs[r].close
+            && let Some(k) = open.iter().rposition(|&o| runs[o].len == runs[r].len)
+        {
+            let o = open[k];
+            open.truncate(k);
+            pair[o] = Some((r, true));
+            pair[r] = Some((o, false));
+            continue;
+        }
+        if runs[r].open {
+            open.push(r);
+        }
+    }
+    let tag = |len: usize, opening: bool| -> &'static str {
+        match (len, opening) {
+            (1, true) => "<i>",
+            (1, false) => "</i>",
+            (2, true) => "<b>",
+            (2, false) => "</b>",
+            (_, true) => "<b><i>",
+            (_, false) => "</i></b>",
+        }
+    };
+    let mut out = String::new();
+    let mut next = runs.iter().zip(&pair).peekable();
+    for (p, piece) in pieces.iter().enumerate() {
+        let s = match piece {
+            Ok(s) | Err(s) => s,
+        };
+        let mut from = 0;
+        while let Some((run, paired)) = next.peek().filter(|(r, _)| r.piece == p) {
+            out.push_str(&s[from..run.at]);
+            match paired {
+                Some((_, opening)) => out.push_str(tag(run.len, *opening)),
+                None => out.push_str(&s[run.at..run.at + run.len]),
+            }
+            from = run.at + run.len;
+            next.next();
+        }
+        out.push_str(&s[from..]);
     }
     out
 }
@@ -444,6 +571,61 @@ mod tests {
             "a &lt; b &amp; \\(x^2\\) costs $5<br>\\[E = mc^2\\]"
         );
         assert_eq!(to_html("$F = -{{c1::k}} x$"), "\\(F = -{{c1::k}} x\\)");
+    }
+
+    #[test]
+    fn bold_and_italic_become_anki_html() {
+        assert_eq!(
+            to_html("**c** = 3 and *half* an *ångström*"),
+            "<b>c</b> = 3 and <i>half</i> an <i>ångström</i>"
+        );
+        // Around math, and math left alone inside.
+        assert_eq!(
+            to_html("**$x^2$ grows** but $a*b*c$"),
+            "<b>\\(x^2\\) grows</b> but \\(a*b*c\\)"
+        );
+        assert_eq!(to_html("***both***"), "<b><i>both</i></b>");
+        // A star that opens or closes nothing stays a star.
+        for plain in ["a * b", "2*", "**a*", "* x *", "*"] {
+            assert!(!to_html(plain).contains('<'), "{plain}: {}", to_html(plain));
+        }
+        assert_eq!(to_html("**a < b**"), "<b>a &lt; b</b>");
+        assert_eq!(to_html("*a\nb*"), "<i>a<br>b</i>");
+    }
+
+    proptest::proptest! {
+        /// Any text: every tag written is closed, in order, and with the
+        /// tags taken out the text is the one without the markup's pairs
+        /// (no character is lost or added).
+        #[test]
+        fn emphasis_tags_nest_and_lose_nothing(
+            s in "([a-z ]|\\*|\\*\\*|\\$|<|\n){0,40}",
+        ) {
+            let html = to_html(&s);
+            let mut stack = Vec::new();
+            let mut rest = html.as_str();
+            while let Some(i) = rest.find(['<']) {
+                rest = &rest[i..];
+                let tag = ["<b>", "</b>", "<i>", "</i>", "<br>"]
+                    .into_iter()
+                    .find(|t| rest.starts_with(t));
+                let Some(tag) = tag else {
+                    proptest::prop_assert!(false, "{:?} in {:?}", rest, html);
+                    break;
+                };
+                match tag {
+                    "<b>" | "<i>" => stack.push(tag),
+                    "</b>" => proptest::prop_assert_eq!(stack.pop(), Some("<b>")),
+                    "</i>" => proptest::prop_assert_eq!(stack.pop(), Some("<i>")),
+                    _ => {}
+                }
+                rest = &rest[tag.len()..];
+            }
+            proptest::prop_assert!(stack.is_empty(), "{:?}", html);
+            let stars = |t: &str| t.matches('*').count();
+            let tags = html.matches("<b>").count() * 4 + html.matches("<i>").count() * 2;
+            proptest::prop_assert_eq!(stars(&html) + tags, stars(&s), "{:?}", html);
+        }
     }
 
     #[test]

@@ -180,6 +180,7 @@ fn row_from(f: &dyn Fields, now: DateTime<Utc>) -> Result<IncomingReview, Record
         cram,
         duration_ms,
         undone: f.boolean("undone")?.unwrap_or(false),
+        balanced_days: None,
     })
 }
 

@@ -107,13 +107,10 @@ impl Load {
     /// `None` when the interval is too long to balance (then the fuzz
     /// draws uniformly).
     pub fn pick(&self, lo: i64, hi: i64, days: i64, u: f64) -> Option<i64> {
-        if days > MAX_BALANCED || !(1..=MAX_BALANCED).contains(&lo) || hi < lo {
+        if !balances(lo, hi, days) {
             return None;
         }
         let (lo_i, hi_i) = (usize::try_from(lo).ok()?, usize::try_from(hi).ok()?);
-        if hi_i >= self.counts.len() {
-            return None;
-        }
         let counts = &self.counts[lo_i..=hi_i];
         let shares = &self.shares[lo_i..=hi_i];
         let easy = easy_factors(counts, shares);
@@ -139,6 +136,13 @@ impl Load {
         }
         Some(hi)
     }
+}
+
+/// Whether the balancer places an interval of `days` fuzzed into
+/// `lo..=hi` (else the fuzz draws uniformly): the day it chose for an
+/// answer, replayed, is taken only where this holds.
+pub fn balances(lo: i64, hi: i64, days: i64) -> bool {
+    days <= MAX_BALANCED && (1..=MAX_BALANCED).contains(&lo) && lo <= hi && hi < LOAD_DAYS as i64
 }
 
 /// The easy-day factor of each day of a range (see the module's text).

@@ -103,10 +103,12 @@ pub struct Config {
     /// `[deck.ID]` tables: which preset each deck uses.
     pub decks: BTreeMap<String, DeckSettings>,
     /// With fuzz on, a review's day is chosen within its fuzz range to even
-    /// the daily load (`sched::balance`). Off unless asked for: the day it
-    /// picks depends on the other cards due then, which a replay (a sync
-    /// on another machine, `db rebuild`) cannot know, so the replayed due
-    /// date may be another day of the same fuzz range.
+    /// the daily load (`sched::balance`). On by default: the day it picks
+    /// depends on the other cards due then, which a replay (a sync on
+    /// another machine, a merge) cannot know, so the day is kept with the
+    /// answer (`ReviewRecord::balanced_days`, a sync line's
+    /// `balanced_days`) and the replay takes it within the answer's fuzz
+    /// range (`Scheduler::replay`).
     pub load_balance: bool,
     /// The share of a normal day's reviews each weekday gets, Monday
     /// first (`easy_days = { sat = 0.5, sun = 0 }`).
@@ -138,7 +140,7 @@ impl Default for Config {
             hide_bundled: false,
             presets: BTreeMap::new(),
             decks: BTreeMap::new(),
-            load_balance: false,
+            load_balance: true,
             easy_days: EasyDays::default(),
             exam_date: None,
         }
@@ -973,10 +975,8 @@ language = "hi-Latn"
     #[test]
     fn load_balance_and_easy_days_are_read_and_checked() {
         let c = parse("").unwrap();
-        assert!(
-            !c.load_balance,
-            "off unless asked for (a replay cannot balance)"
-        );
+        assert!(c.load_balance, "on unless turned off");
+        assert!(!parse("load_balance = false\n").unwrap().load_balance);
         assert!(c.easy_days.is_default());
         let c = parse("load_balance = true\neasy_days = { sat = 0.5, sun = 0 }\n").unwrap();
         assert!(c.load_balance);

@@ -96,6 +96,18 @@ pub enum PlanError {
     Retention(f64),
     #[error("the daily cap must be at least 1 review")]
     Cap,
+    #[error("{models} item models given for {items} items")]
+    Items { items: usize, models: usize },
+}
+
+/// How one item is planned: the scheduler of its deck (its preset's FSRS
+/// parameters, else the config's) and the recall it should reach on the
+/// exam day (its preset's desired retention, unless the learner asked for
+/// one target).
+#[derive(Debug, Clone, Copy)]
+pub struct ItemModel<'a> {
+    pub scheduler: &'a Scheduler,
+    pub target: f64,
 }
 
 /// The plan for one item.
@@ -107,6 +119,8 @@ pub struct ItemPlan {
     pub with: f64,
     /// The days (0: today) of the planned reviews, ascending.
     pub reviews: Vec<i64>,
+    /// The recall it should reach on the exam day.
+    pub target: f64,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -134,7 +148,7 @@ impl Plan {
 
     /// Items the plan leaves below the target.
     pub fn shortfall(&self) -> usize {
-        self.items.iter().filter(|i| i.with < self.target).count()
+        self.items.iter().filter(|i| i.with < i.target).count()
     }
 
     pub fn reviews(&self) -> usize {
@@ -335,22 +349,52 @@ impl Singles {
 /// left out, with several earlier reviews if that gets them there. The
 /// single reviews go on the latest days the cap leaves, so they count most.
 pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError> {
+    let each = vec![
+        ItemModel {
+            scheduler,
+            target: problem.target,
+        };
+        problem.items.len()
+    ];
+    plan_each(&each, problem)
+}
+
+/// [`plan`], each item with its own scheduler and target (`each[i]` for
+/// `problem.items[i]`: an item of a deck with a preset is planned with that
+/// preset's parameters and retention; `each` has one per item).
+/// `problem.target` is the target shown beside the plan.
+pub fn plan_each(each: &[ItemModel], problem: &Problem) -> Result<Plan, PlanError> {
     problem.check()?;
-    let model = Model::new(scheduler, problem.days);
-    let days = usize::try_from(problem.days).unwrap_or(0);
-    let target = problem.target;
+    for m in each {
+        if !(m.target > 0.0 && m.target < 1.0) {
+            return Err(PlanError::Retention(m.target));
+        }
+    }
     let n = problem.items.len();
+    if each.len() != n {
+        return Err(PlanError::Items {
+            items: n,
+            models: each.len(),
+        });
+    }
+    let models: Vec<Model> = each
+        .iter()
+        .map(|m| Model::new(m.scheduler, problem.days))
+        .collect();
+    let targets: Vec<f64> = each.iter().map(|m| m.target).collect();
+    let days = usize::try_from(problem.days).unwrap_or(0);
 
     // Each item alone, every day free.
     let alone: Vec<Option<Vec<i64>>> = problem
         .items
         .iter()
-        .map(|item| {
+        .enumerate()
+        .map(|(i, item)| {
             cheapest(
-                &model,
+                &models[i],
                 item.as_ref(),
                 &vec![true; days],
-                target,
+                targets[i],
                 MAX_REVIEWS_PER_ITEM,
             )
         })
@@ -376,10 +420,10 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
             Some([d]) => {
                 let before: Vec<bool> = (0..days as i64).map(|e| e < *d).collect();
                 let rescue = cheapest(
-                    &model,
+                    &models[i],
                     problem.items[i].as_ref(),
                     &before,
-                    target,
+                    targets[i],
                     MAX_REVIEWS_PER_ITEM,
                 )
                 .map_or(usize::MAX, |s| s.len());
@@ -421,7 +465,13 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
         .chain(left_out)
         .collect();
     for &i in &order {
-        if let Some(schedule) = place(&model, problem.items[i].as_ref(), &free, &singles, target) {
+        if let Some(schedule) = place(
+            &models[i],
+            problem.items[i].as_ref(),
+            &free,
+            &singles,
+            targets[i],
+        ) {
             for &d in &schedule {
                 free[d as usize] -= 1;
             }
@@ -443,8 +493,13 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
         let none = Singles {
             earliest: vec![0; days],
         };
-        let Some(alone_here) = place(&model, problem.items[x].as_ref(), &free, &none, target)
-        else {
+        let Some(alone_here) = place(
+            &models[x],
+            problem.items[x].as_ref(),
+            &free,
+            &none,
+            targets[x],
+        ) else {
             continue;
         };
         if free.iter().sum::<usize>() < promised(&singles) + alone_here.len() {
@@ -473,22 +528,22 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
             singles.earliest[a] -= 1;
             let then = |first: usize, first_free: &[usize], second: usize| {
                 let s1 = place(
-                    &model,
+                    &models[first],
                     problem.items[first].as_ref(),
                     first_free,
                     &singles,
-                    target,
+                    targets[first],
                 )?;
                 let mut after = free.clone();
                 for &d in &s1 {
                     after[d as usize] -= 1;
                 }
                 let s2 = place(
-                    &model,
+                    &models[second],
                     problem.items[second].as_ref(),
                     &after,
                     &singles,
-                    target,
+                    targets[second],
                 )?;
                 Some((s1, s2))
             };
@@ -554,14 +609,16 @@ pub fn plan(scheduler: &Scheduler, problem: &Problem) -> Result<Plan, PlanError>
         .items
         .iter()
         .zip(schedules)
-        .map(|(item, reviews)| ItemPlan {
-            without: model.without(item.as_ref()),
-            with: model.after(item.as_ref(), &reviews),
+        .enumerate()
+        .map(|(i, (item, reviews))| ItemPlan {
+            without: models[i].without(item.as_ref()),
+            with: models[i].after(item.as_ref(), &reviews),
             reviews,
+            target: targets[i],
         })
         .collect();
     Ok(Plan {
-        target,
+        target: problem.target,
         cap: problem.cap,
         days: problem.days,
         items,
@@ -677,25 +734,36 @@ fn alternative(
 /// than it would with no cap at all (`None` when the cap is not what holds
 /// the plan back).
 pub fn cap_needed(scheduler: &Scheduler, problem: &Problem) -> Result<Option<usize>, PlanError> {
-    let with_cap = plan(scheduler, problem)?;
+    let each = vec![
+        ItemModel {
+            scheduler,
+            target: problem.target,
+        };
+        problem.items.len()
+    ];
+    cap_needed_each(&each, problem)
+}
+
+/// [`cap_needed`], each item with its own scheduler and target (see
+/// [`plan_each`]).
+pub fn cap_needed_each(each: &[ItemModel], problem: &Problem) -> Result<Option<usize>, PlanError> {
+    let plan = |p: &Problem| plan_each(each, p);
+    let with_cap = plan(problem)?;
     let unlimited = Problem {
         cap: problem.items.len().max(1),
         ..problem.clone()
     };
-    let best = plan(scheduler, &unlimited)?.shortfall();
+    let best = plan(&unlimited)?.shortfall();
     if with_cap.shortfall() <= best {
         return Ok(None);
     }
     let (mut lo, mut hi) = (problem.cap + 1, unlimited.cap);
     while lo < hi {
         let mid = lo + (hi - lo) / 2;
-        let p = plan(
-            scheduler,
-            &Problem {
-                cap: mid,
-                ..problem.clone()
-            },
-        )?;
+        let p = plan(&Problem {
+            cap: mid,
+            ..problem.clone()
+        })?;
         if p.shortfall() <= best {
             hi = mid;
         } else {

@@ -44,13 +44,19 @@
 //! **Fuzz** draws py-fsrs's ranges with the floor as Anki does (below), and
 //! with a [`Load`] (`Study::rate` passes one when `load_balance` is on) the
 //! day within the range is placed by the load balancer
-//! ([`super::balance`]) instead of drawn uniformly.
+//! ([`super::balance`]) instead of drawn uniformly. The day it chose is
+//! kept with the answer (`ReviewRecord::balanced_days`), and a replay of
+//! the answer ([`Scheduler::replay`]: a merge, a sync) places the item on
+//! that day when the answer's fuzz range allows it, else draws uniformly;
+//! so every machine agrees on the due date without knowing the due counts
+//! of the moment of the answer, and a forged day cannot move an item
+//! outside the range the fuzz could have given.
 
 use std::f64::consts::E;
 
 use chrono::{DateTime, TimeDelta, Utc};
 
-use super::balance::Load;
+use super::balance::{Load, balances};
 use super::config::Config;
 use super::types::{CardState, ItemKey, Rating, ReviewKind, ReviewRecord, State};
 
@@ -77,6 +83,24 @@ pub struct Preview {
     pub interval: TimeDelta,
     /// `interval` as the button shows it (see [`format_interval`]).
     pub label: String,
+}
+
+/// How the day of a fuzzed review interval is chosen.
+#[derive(Debug, Clone, Copy)]
+enum Place<'a> {
+    /// Uniformly over the fuzz range (py-fsrs's fuzz).
+    Draw,
+    /// By the load balancer over these due counts.
+    Balance(&'a Load),
+    /// The day an earlier balancing chose, when the answer's fuzz range
+    /// allows it (see [`Scheduler::replay`]); else the uniform draw.
+    Recorded(i64),
+}
+
+impl<'a> Place<'a> {
+    fn of(load: Option<&'a Load>) -> Place<'a> {
+        load.map_or(Place::Draw, Place::Balance)
+    }
 }
 
 #[derive(Debug, Clone)]
@@ -145,13 +169,47 @@ impl Scheduler {
         duration_ms: i64,
         load: Option<&Load>,
     ) -> ReviewRecord {
+        self.review_placed(key, card, rating, now, duration_ms, Place::of(load))
+    }
+
+    /// An answer replayed from a log (a merge of another machine's
+    /// answers, a sync): as [`Self::review`], except that the fuzzed day of
+    /// a review interval is `balanced_days` (the day the load balancer of
+    /// the machine that gave the answer chose, [`ReviewRecord::balanced_days`])
+    /// when the fuzz range of this answer allows it: within the range (for
+    /// Hard, Good and Easy of a review card, the widest the buttons below
+    /// may leave it) and short enough to balance. Otherwise, or with fuzz
+    /// off, the day is the uniform draw, as for an answer never balanced:
+    /// a day from another machine is never trusted further than the fuzz.
+    pub fn replay(
+        &self,
+        key: &ItemKey,
+        card: Option<&CardState>,
+        rating: Rating,
+        now: DateTime<Utc>,
+        duration_ms: i64,
+        balanced_days: Option<i64>,
+    ) -> ReviewRecord {
+        let place = balanced_days.map_or(Place::Draw, Place::Recorded);
+        self.review_placed(key, card, rating, now, duration_ms, place)
+    }
+
+    fn review_placed(
+        &self,
+        key: &ItemKey,
+        card: Option<&CardState>,
+        rating: Rating,
+        now: DateTime<Utc>,
+        duration_ms: i64,
+        place: Place<'_>,
+    ) -> ReviewRecord {
         let before = card.filter(|c| c.state != State::New);
         let kind = match before.map(|c| c.state) {
             None | Some(State::New) | Some(State::Learning) => ReviewKind::Learn,
             Some(State::Review) => ReviewKind::Review,
             Some(State::Relearning) => ReviewKind::Relearn,
         };
-        let after = self.next_card(key, before, rating, now, load);
+        let (after, balanced_days) = self.next_card(key, before, rating, now, place);
         ReviewRecord {
             key: key.clone(),
             reviewed_at: now,
@@ -161,6 +219,7 @@ impl Scheduler {
             scheduled_days: floor_days(after.due - now).max(0),
             after,
             duration_ms,
+            balanced_days,
         }
     }
 
@@ -186,7 +245,7 @@ impl Scheduler {
     ) -> [Preview; 4] {
         let before = card.filter(|c| c.state != State::New);
         Rating::ALL.map(|rating| {
-            let after = self.next_card(key, before, rating, now, load);
+            let (after, _) = self.next_card(key, before, rating, now, Place::of(load));
             let interval = after.due - now;
             Preview {
                 rating,
@@ -224,6 +283,7 @@ impl Scheduler {
             scheduled_days: floor_days(after.due - now).max(0),
             after,
             duration_ms,
+            balanced_days: None,
         }
     }
 
@@ -239,15 +299,16 @@ impl Scheduler {
         }
     }
 
-    /// py-fsrs `Scheduler.review_card`, branch for branch.
+    /// py-fsrs `Scheduler.review_card`, branch for branch; with the day
+    /// the load balancer chose, when it chose one.
     fn next_card(
         &self,
         key: &ItemKey,
         before: Option<&CardState>,
         rating: Rating,
         now: DateTime<Utc>,
-        load: Option<&Load>,
-    ) -> CardState {
+        place: Place<'_>,
+    ) -> (CardState, Option<i64>) {
         // A new card is py-fsrs's fresh `Card()`: Learning, step 0, no memory.
         let mut card = before.copied().unwrap_or(CardState {
             state: State::Learning,
@@ -334,27 +395,28 @@ impl Scheduler {
                     // days from its own stability, ordered as Anki orders
                     // them, fuzz (or the load balancer) within the bounds.
                     let before = before.copied().unwrap_or(card);
-                    let days = self.passing_days(&before, r, same_day, key, now, load);
                     let i = match rating {
                         Rating::Hard => 0,
                         Rating::Good => 1,
                         _ => 2,
                     };
-                    card.due = now + TimeDelta::days(days[i]);
+                    let (days, balanced) =
+                        self.passing_days(&before, r, same_day, key, now, place, i);
+                    card.due = now + TimeDelta::days(days);
                     card.last_review = Some(now);
-                    return card;
+                    return (card, balanced);
                 }
             }
         };
 
-        let interval = if self.fuzz && card.state == State::Review {
-            self.fuzzed(interval, key, now, load)
+        let (interval, balanced) = if self.fuzz && card.state == State::Review {
+            self.fuzzed(interval, key, now, place)
         } else {
-            interval
+            (interval, None)
         };
         card.due = now + interval;
         card.last_review = Some(now);
-        card
+        (card, balanced)
     }
 
     /// The whole days Hard, Good and Easy give a review card, as Anki's
@@ -363,6 +425,9 @@ impl Scheduler {
     /// not below what [`minimum_for`] keeps of the previous interval, Good at
     /// least Hard + 1, Easy at least Good + 1, each fuzzed (or placed by the
     /// load balancer) within its bounds; all at most the maximum interval.
+    /// Returns the days of button `rated` (0 Hard, 1 Good, 2 Easy), and
+    /// the day again when the load balancer chose it (or a recorded day
+    /// was taken, see [`Self::passing_allows`]).
     #[allow(clippy::too_many_arguments)]
     fn passing_days(
         &self,
@@ -371,15 +436,69 @@ impl Scheduler {
         same_day: bool,
         key: &ItemKey,
         now: DateTime<Utc>,
-        load: Option<&Load>,
-    ) -> [i64; 3] {
+        place: Place<'_>,
+        rated: usize,
+    ) -> (i64, Option<i64>) {
         let u = self.fuzz.then(|| unit_random(key, now));
-        self.passing_bounds(before, r, same_day, |days, minimum, (lo, hi)| match u {
-            None => days.clamp(minimum.min(self.maximum_interval), self.maximum_interval),
-            Some(u) => load
-                .and_then(|l| l.pick(lo, hi, days, u))
-                .unwrap_or_else(|| draw(lo, hi, u)),
-        })
+        if let (Some(_), Place::Recorded(k)) = (u, place)
+            && self.passing_allows(before, r, same_day, rated, k)
+        {
+            return (k, Some(k));
+        }
+        let mut balanced = [None; 3];
+        let mut i = 0;
+        let days = self.passing_bounds(before, r, same_day, |days, minimum, (lo, hi)| {
+            let slot = i;
+            i += 1;
+            match (u, place) {
+                (None, _) => days.clamp(minimum.min(self.maximum_interval), self.maximum_interval),
+                (Some(u), Place::Balance(l)) => match l.pick(lo, hi, days, u) {
+                    Some(k) => {
+                        balanced[slot] = Some(k);
+                        k
+                    }
+                    None => draw(lo, hi, u),
+                },
+                (Some(u), _) => draw(lo, hi, u),
+            }
+        });
+        (days[rated], balanced[rated])
+    }
+
+    /// Whether button `rated` of a review card may land `k` days on: the
+    /// load balancer could have placed it there. Its fuzz range depends on
+    /// the days the buttons below it took (each at least one more than the
+    /// one below), which a replay cannot know; the range only moves up as
+    /// they do, so every range they may leave lies between the one with
+    /// every button below at the start of its range and the one with each
+    /// at the end. `k` must lie there, in an interval short enough to
+    /// balance.
+    fn passing_allows(
+        &self,
+        before: &CardState,
+        r: f64,
+        same_day: bool,
+        rated: usize,
+        k: i64,
+    ) -> bool {
+        let mut days = [0; 3];
+        let mut low = [(0, 0); 3];
+        let mut high = [(0, 0); 3];
+        let mut i = 0;
+        self.passing_bounds(before, r, same_day, |d, _, range| {
+            days[i] = d;
+            low[i] = range;
+            i += 1;
+            range.0
+        });
+        let mut i = 0;
+        self.passing_bounds(before, r, same_day, |_, _, range| {
+            high[i] = range;
+            i += 1;
+            range.1
+        });
+        let (lo, hi) = (low[rated].0, high[rated].1);
+        balances(lo, hi, days[rated]) && (lo..=hi).contains(&k)
     }
 
     /// The three passing buttons in order, each day chosen by `choose`
@@ -520,22 +639,29 @@ impl Scheduler {
     /// py-fsrs draws `round(random() * (max - min + 1) + min)`, which can
     /// overshoot `max` by one and halves the weight of `min`; this takes the
     /// floor instead (as Anki does), giving each day in `min..=max` equal odds.
+    /// With the day the load balancer chose (or the recorded day taken),
+    /// when one was.
     fn fuzzed(
         &self,
         interval: TimeDelta,
         key: &ItemKey,
         now: DateTime<Utc>,
-        load: Option<&Load>,
-    ) -> TimeDelta {
+        place: Place<'_>,
+    ) -> (TimeDelta, Option<i64>) {
         let days = interval.num_days();
         let Some((lo, hi)) = fuzz_range(days, self.maximum_interval) else {
-            return interval;
+            return (interval, None);
         };
         let u = unit_random(key, now);
-        let fuzzed = load
-            .and_then(|l| l.pick(lo, hi, days, u))
-            .unwrap_or_else(|| draw(lo, hi, u));
-        TimeDelta::days(fuzzed.min(self.maximum_interval))
+        let balanced = match place {
+            Place::Draw => None,
+            Place::Balance(l) => l.pick(lo, hi, days, u),
+            Place::Recorded(k) => {
+                Some(k).filter(|k| balances(lo, hi, days) && (lo..=hi).contains(k))
+            }
+        };
+        let fuzzed = balanced.unwrap_or_else(|| draw(lo, hi, u));
+        (TimeDelta::days(fuzzed.min(self.maximum_interval)), balanced)
     }
 }
 

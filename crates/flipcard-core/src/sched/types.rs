@@ -183,6 +183,12 @@ pub struct ReviewRecord {
     pub after: CardState,
     /// How long the learner took to answer.
     pub duration_ms: i64,
+    /// The interval in whole days the load balancer chose for this answer
+    /// (`None`: the day was drawn uniformly, or not fuzzed). Kept with the
+    /// answer so that a replay, which cannot know the due counts of that
+    /// moment, places the item on the same day (see
+    /// [`super::Scheduler::replay`]).
+    pub balanced_days: Option<i64>,
 }
 
 #[cfg(test)]

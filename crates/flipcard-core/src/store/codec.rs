@@ -141,6 +141,24 @@ impl FromSql for Count {
     }
 }
 
+/// The interval the load balancer chose for an answer, as stored: whole
+/// days from 1 to the longest interval (`review.balanced_days`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct BalancedDays(pub i64);
+
+impl FromSql for BalancedDays {
+    fn column_result(value: ValueRef<'_>) -> FromSqlResult<Self> {
+        let n = value.as_i64()?;
+        if (1..=crate::sched::scheduler::MAXIMUM_INTERVAL).contains(&n) {
+            Ok(BalancedDays(n))
+        } else {
+            Err(FromSqlError::Other(
+                format!("balanced interval {n} days is out of range").into(),
+            ))
+        }
+    }
+}
+
 pub(crate) fn to_ms(t: DateTime<Utc>) -> i64 {
     t.timestamp_millis()
 }

@@ -84,6 +84,8 @@ impl KeptState {
             record.after.last_review = Some(t.max(record.reviewed_at));
         }
         record.after.due = self.due;
+        // The due date is that program's, not a balanced day.
+        record.balanced_days = None;
         record.scheduled_days = (self.due - record.reviewed_at).num_days();
         if let Some(s) = self.stability.filter(|s| s.is_finite() && *s > 0.0) {
             record.after.stability = Some(s);

@@ -4,7 +4,7 @@
 use chrono::{DateTime, Utc};
 use rusqlite::{Row, Transaction, params};
 
-use super::codec::{self, Ms};
+use super::codec::{self, BalancedDays, Ms};
 use super::db::Store;
 use super::error::StoreError;
 use super::state;
@@ -34,7 +34,7 @@ pub(super) const LAST_ANSWER: &str = "SELECT r.deck, r.card, r.direction, r.revi
 /// The log's columns in the order [`read_logged`] expects.
 pub(super) const COLUMNS: &str = "id, deck, card, direction, reviewed_at, rating, kind, \
      elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review, \
-     duration_ms, undone";
+     duration_ms, undone, balanced_days";
 
 impl Store {
     /// Appends one rating to the log and updates the item's cached state, in
@@ -222,8 +222,8 @@ pub(super) fn insert_row(
     tx.prepare_cached(
         "INSERT INTO review (session, deck, card, direction, reviewed_at, rating, kind, \
          elapsed_days, scheduled_days, stability, difficulty, state, step, due, last_review, \
-         duration_ms, undone, origin) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, \
-         ?12, ?13, ?14, ?15, ?16, ?17, ?18) RETURNING id",
+         duration_ms, undone, origin, balanced_days) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, \
+         ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19) RETURNING id",
     )?
     .query_row(
         params![
@@ -245,6 +245,7 @@ pub(super) fn insert_row(
             r.duration_ms,
             i64::from(undone),
             origin,
+            r.balanced_days,
         ],
         |row| row.get(0),
     )
@@ -280,6 +281,11 @@ pub(super) fn validate(r: &ReviewRecord) -> Result<(), StoreError> {
     if r.duration_ms < 0 {
         return bad(format!("negative duration {} ms", r.duration_ms));
     }
+    if let Some(d) = r.balanced_days
+        && !(1..=crate::sched::scheduler::MAXIMUM_INTERVAL).contains(&d)
+    {
+        return bad(format!("balanced interval {d} days is out of range"));
+    }
     Ok(())
 }
 
@@ -303,6 +309,7 @@ pub(super) fn read_logged(row: &Row<'_>) -> rusqlite::Result<Result<LoggedReview
                 scheduled_days: row.get(8)?,
                 after: codec::card_state(row, [11, 12, 9, 10, 13, 14])?,
                 duration_ms: row.get(15)?,
+                balanced_days: row.get::<_, Option<BalancedDays>>(17)?.map(|d| d.0),
             },
             undone: row.get::<_, i64>(16)? != 0,
         })

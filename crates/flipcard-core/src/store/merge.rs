@@ -44,6 +44,10 @@ pub struct IncomingReview {
     pub duration_ms: i64,
     /// Undone where it comes from: kept, and undone here too.
     pub undone: bool,
+    /// The interval the load balancer of the machine that gave the answer
+    /// chose (`ReviewRecord::balanced_days`): the replay takes it when the
+    /// answer's fuzz range allows it ([`crate::sched::Scheduler::replay`]).
+    pub balanced_days: Option<i64>,
 }
 
 /// What a merge did.
@@ -317,6 +321,8 @@ struct Step<'a> {
     local: Option<&'a LoggedReview>,
     /// The machine the answer came from (`None`: this one).
     origin: Option<&'a str>,
+    /// The day its load balancer chose, if it did.
+    balanced_days: Option<i64>,
 }
 
 /// Appends `fresh` and replays the live local answers after `t0` from the
@@ -358,6 +364,7 @@ fn merge_item<'a>(
             undone: false,
             local: Some(l),
             origin: origins.get(&l.id).map(String::as_str),
+            balanced_days: l.record.balanced_days,
         })
         .collect();
     steps.extend(fresh.iter().map(|(r, origin)| Step {
@@ -369,6 +376,7 @@ fn merge_item<'a>(
         undone: r.undone,
         local: None,
         origin: *origin,
+        balanced_days: r.balanced_days,
     }));
     // In time order; answers of the same millisecond (two machines, or a
     // frozen clock) by rating, so every machine replays them alike.
@@ -395,7 +403,14 @@ fn merge_item<'a>(
         let record = if s.cram {
             scheduler.cram(key, state.as_ref(), s.rating, s.at, s.duration_ms)
         } else {
-            let mut r = scheduler.review(key, state.as_ref(), s.rating, s.at, s.duration_ms);
+            let mut r = scheduler.replay(
+                key,
+                state.as_ref(),
+                s.rating,
+                s.at,
+                s.duration_ms,
+                s.balanced_days,
+            );
             if keep_at == Some(i)
                 && let Some(k) = kept
             {

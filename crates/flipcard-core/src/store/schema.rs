@@ -11,7 +11,7 @@ use crate::sched::clock::Clock;
 use super::error::StoreError;
 
 /// Migration `i` takes the schema from version `i` to `i + 1`.
-pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5, V6, V7];
+pub const MIGRATIONS: &[&str] = &[V1, V2, V3, V4, V5, V6, V7, V8];
 
 /// The schema version this build writes.
 pub(crate) fn current_version() -> i64 {
@@ -663,6 +663,42 @@ CREATE TABLE kept_state (
 ) STRICT, WITHOUT ROWID;
 "#;
 
+/// Version 8: an answer keeps the interval the load balancer chose for it
+/// (`balanced_days`, whole days; NULL when the day was drawn uniformly or
+/// not fuzzed, and for every earlier answer), so a replay of the log (a
+/// merge, a sync) puts the item on the same day without the due counts of
+/// that moment. A column added in place keeps the table and its rows; the
+/// append-only trigger is made again to hold the new column too.
+const V8: &str = r#"
+ALTER TABLE review ADD COLUMN balanced_days INTEGER
+    CHECK (balanced_days IS NULL OR balanced_days BETWEEN 1 AND 36500);
+DROP TRIGGER review_only_undo;
+CREATE TRIGGER review_only_undo BEFORE UPDATE ON review
+WHEN (NEW.undone IS NOT OLD.undone AND NEW.undone IS NOT 1)
+  OR (NEW.origin IS NOT OLD.origin AND OLD.origin IS NOT NULL)
+  OR NEW.id IS NOT OLD.id
+  OR NEW.session IS NOT OLD.session
+  OR NEW.deck IS NOT OLD.deck
+  OR NEW.card IS NOT OLD.card
+  OR NEW.direction IS NOT OLD.direction
+  OR NEW.reviewed_at IS NOT OLD.reviewed_at
+  OR NEW.rating IS NOT OLD.rating
+  OR NEW.kind IS NOT OLD.kind
+  OR NEW.elapsed_days IS NOT OLD.elapsed_days
+  OR NEW.scheduled_days IS NOT OLD.scheduled_days
+  OR NEW.stability IS NOT OLD.stability
+  OR NEW.difficulty IS NOT OLD.difficulty
+  OR NEW.state IS NOT OLD.state
+  OR NEW.step IS NOT OLD.step
+  OR NEW.due IS NOT OLD.due
+  OR NEW.last_review IS NOT OLD.last_review
+  OR NEW.duration_ms IS NOT OLD.duration_ms
+  OR NEW.balanced_days IS NOT OLD.balanced_days
+BEGIN
+    SELECT RAISE(ABORT, 'the review log is append-only: only undone may change, to 1, and origin, once');
+END;
+"#;
+
 /// Brings the database at `path` up to the last of `migrations`. Before the
 /// first migration of a database that already holds a schema, a copy is made
 /// next to it (`flipcard.db.bak-v<old>-<timestamp>`).
@@ -774,6 +810,101 @@ mod tests {
     }
 
     #[test]
+    fn version_8_keeps_every_row_and_holds_the_balanced_day_append_only() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("flipcard.db");
+        let mut conn = Connection::open(&path).unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..7], "20260101T000000Z").unwrap();
+        conn.execute_batch(
+            "INSERT INTO session (id, started_at) VALUES (1, 0);
+             INSERT INTO review (session, deck, card, direction, reviewed_at, rating, kind,
+               elapsed_days, scheduled_days, stability, difficulty, state, step, due,
+               last_review, duration_ms, undone, origin) VALUES
+               (1, 'd', 'a', 'forward', 1000, 3, 'learn', 0, 0, 2.3, 5.1, 'learning', 1, 61000,
+                1000, 900, 0, NULL),
+               (1, 'd', 'a', 'forward', 90000, 4, 'learn', 0, 8, 9.1, 4.2, 'review', NULL,
+                691290000, 90000, 1200, 0, 'ab12'),
+               (1, 'd', 'b', 'c2', 95000, 1, 'cram', 0, 0, NULL, NULL, 'new', NULL, 95000,
+                NULL, 50, 1, NULL);
+             INSERT INTO card_state VALUES ('d', 'a', 'forward', 'review', NULL, 9.1, 4.2,
+               691290000, 90000, 2, 0, 2);
+             INSERT INTO status_event (session, deck, card, direction, at, action, batch)
+               VALUES (1, 'd', 'a', 'backward', 90000, 'suspend', 1);",
+        )
+        .unwrap();
+        let dump = |conn: &Connection, sql: &str| -> Vec<String> {
+            let mut st = conn.prepare(sql).unwrap();
+            let n = st.column_count();
+            st.query_map([], |r| {
+                Ok((0..n)
+                    .map(|i| format!("{:?}", r.get_ref(i).unwrap()))
+                    .collect::<Vec<_>>()
+                    .join("|"))
+            })
+            .unwrap()
+            .collect::<Result<_, _>>()
+            .unwrap()
+        };
+        let tables = ["review", "card_state", "status_event", "session"];
+        let before: Vec<Vec<String>> = tables
+            .iter()
+            .map(|t| dump(&conn, &format!("SELECT * FROM {t} ORDER BY 1, 2")))
+            .collect();
+        drop(conn);
+        let mut conn = Connection::open(&path).unwrap();
+        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        assert_eq!(user_version(&conn).unwrap(), 8);
+        // Every row and column as it was; the new column empty.
+        let review_cols = "id, session, deck, card, direction, reviewed_at, rating, kind, \
+             elapsed_days, scheduled_days, stability, difficulty, state, step, due, \
+             last_review, duration_ms, undone, origin";
+        for (t, want) in tables.iter().zip(&before) {
+            let cols = if *t == "review" { review_cols } else { "*" };
+            assert_eq!(
+                &dump(&conn, &format!("SELECT {cols} FROM {t} ORDER BY 1, 2")),
+                want,
+                "{t}"
+            );
+        }
+        assert_eq!(
+            dump(
+                &conn,
+                "SELECT count(*) FROM review WHERE balanced_days IS NULL"
+            ),
+            ["Integer(3)"]
+        );
+        // Held by the append-only trigger, and only an interval.
+        let e = conn
+            .execute("UPDATE review SET balanced_days = 5 WHERE id = 1", [])
+            .unwrap_err();
+        assert!(e.to_string().contains("append-only"), "{e}");
+        conn.execute("UPDATE review SET undone = 1 WHERE id = 1", [])
+            .unwrap();
+        for bad in [0, -1, 36_501] {
+            let e = conn
+                .execute(
+                    "INSERT INTO review (deck, card, direction, reviewed_at, rating, kind, \
+                     elapsed_days, scheduled_days, state, due, duration_ms, balanced_days) \
+                     VALUES ('d', 'z', 'forward', 5000, 3, 'review', 0, 9, 'review', 5600, 10, ?1)",
+                    [bad],
+                )
+                .unwrap_err();
+            assert!(e.to_string().contains("CHECK"), "{bad}: {e}");
+        }
+        drop(conn);
+        // The store reads the migrated log (no day kept) and rebuilds the
+        // same states from it.
+        let mut store = crate::store::Store::open(dir.path()).unwrap();
+        let history = store
+            .history(&crate::sched::ItemKey::parse("d", "a", "forward").unwrap())
+            .unwrap();
+        assert_eq!(history.len(), 2);
+        assert!(history.iter().all(|l| l.record.balanced_days.is_none()));
+        let report = store.rebuild().unwrap();
+        assert_eq!(report.reviews, 3);
+    }
+
+    #[test]
     fn version_7_adds_the_kept_states_and_keeps_every_row() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("flipcard.db");
@@ -791,7 +922,7 @@ mod tests {
             .collect();
         drop(conn);
         let mut conn = Connection::open(&path).unwrap();
-        migrate(&mut conn, &path, MIGRATIONS, "20260102T000000Z").unwrap();
+        migrate(&mut conn, &path, &MIGRATIONS[..7], "20260102T000000Z").unwrap();
         assert_eq!(user_version(&conn).unwrap(), 7);
         let after: Vec<i64> = ["review", "card_state", "status_event"]
             .iter()
@@ -1077,7 +1208,7 @@ mod tests {
         .unwrap();
         let dump = |conn: &Connection, table: &str| -> Vec<String> {
             let mut st = conn
-                .prepare(&format!("SELECT * FROM {table} ORDER BY 1, 2, 3"))
+                .prepare(&format!("SELECT * FROM {table} ORDER BY 1, 2"))
                 .unwrap();
             let n = st.column_count();
             st.query_map([], |r| {
@@ -1260,7 +1391,7 @@ mod tests {
         .unwrap();
         let dump = |conn: &Connection, table: &str| -> Vec<String> {
             let mut st = conn
-                .prepare(&format!("SELECT * FROM {table} ORDER BY 1, 2, 3"))
+                .prepare(&format!("SELECT * FROM {table} ORDER BY 1, 2"))
                 .unwrap();
             let n = st.column_count();
             st.query_map([], |r| {

@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 
-use super::codec::Ms;
+use super::codec::{BalancedDays, Ms};
 use super::db::Store;
 use super::error::StoreError;
 use super::merge::IncomingReview;
@@ -43,7 +43,8 @@ impl Store {
             .conn
             .prepare(
                 "SELECT deck, card, direction, reviewed_at, rating, kind, duration_ms, undone, \
-                 origin, id <= (SELECT review_max FROM sync_legacy) FROM review ORDER BY id",
+                 origin, id <= (SELECT review_max FROM sync_legacy), balanced_days \
+                 FROM review ORDER BY id",
             )
             .map_err(|e| self.err(e))?;
         let mut rows = st.query([]).map_err(|e| self.err(e))?;
@@ -61,6 +62,7 @@ impl Store {
                         cram: row.get::<_, ReviewKind>(5)? == ReviewKind::Cram,
                         duration_ms: row.get(6)?,
                         undone: row.get::<_, i64>(7)? != 0,
+                        balanced_days: row.get::<_, Option<BalancedDays>>(10)?.map(|d| d.0),
                     },
                     origin: row.get(8)?,
                     legacy: row.get::<_, Option<bool>>(9)?.unwrap_or(false),

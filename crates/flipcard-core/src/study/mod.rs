@@ -190,6 +190,12 @@ impl Study {
         }
     }
 
+    /// Every deck's scheduler (see [`Study::scheduler_for`]), for what
+    /// reads many decks' items at once: lists, statistics, the exam plan.
+    pub fn schedulers(&self) -> crate::sched::Schedulers {
+        crate::sched::Schedulers::new(&self.config)
+    }
+
     /// The time an answer given at `now` is recorded at: to the
     /// millisecond, and after the item's latest answer (see
     /// [`Store::answer_time`]).

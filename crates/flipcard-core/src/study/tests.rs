@@ -281,6 +281,7 @@ fn a_presets_scheduler_rates_and_replays_the_same() {
             cram: false,
             duration_ms: r.duration_ms,
             undone: false,
+            balanced_days: None,
         })
         .collect();
     other
@@ -327,6 +328,7 @@ mod balance {
                     cram: false,
                     duration_ms: 1000,
                     undone: false,
+                    balanced_days: None,
                 });
                 kept.insert(
                     key,
@@ -357,6 +359,7 @@ mod balance {
             cram: false,
             duration_ms: 1000,
             undone: false,
+            balanced_days: None,
         };
         let kept = KeptState {
             at: row.reviewed_at,
@@ -516,6 +519,207 @@ mod balance {
             let ranges = s.scheduler.passing_ranges(&before, at, [h, g, e]);
             for (d, (lo, hi)) in [h, g, e].into_iter().zip(ranges) {
                 prop_assert!((lo..=hi).contains(&d), "{} outside {}..={}", d, lo, hi);
+            }
+        }
+    }
+
+    /// The review card of `review_card` and the row and kept state that
+    /// make it, for another store to start from the same state.
+    fn card_rows(
+        name: &str,
+        stab: f64,
+        days: i64,
+        now: DateTime<Utc>,
+    ) -> (IncomingReview, HashMap<ItemKey, KeptState>) {
+        let k = key(name, Direction::Forward);
+        let row = IncomingReview {
+            key: k.clone(),
+            reviewed_at: now - TimeDelta::days(days),
+            rating: Rating::Easy,
+            cram: false,
+            duration_ms: 1000,
+            undone: false,
+            balanced_days: None,
+        };
+        let kept = KeptState {
+            at: row.reviewed_at,
+            state: crate::sched::State::Review,
+            due: now,
+            stability: Some(stab),
+            difficulty: Some(5.0),
+            last_review: Some(row.reviewed_at),
+        };
+        (row, HashMap::from([(k, kept)]))
+    }
+
+    /// `record` merged into a fresh store holding only the card's earlier
+    /// row and kept state (another machine, which knows nothing of the
+    /// due counts of the answer), with the balanced day `day`.
+    fn replayed(
+        record: &ReviewRecord,
+        base: &(IncomingReview, HashMap<ItemKey, KeptState>),
+        day: Option<i64>,
+        scheduler: &Scheduler,
+    ) -> CardState {
+        let dir = tempfile::tempdir().unwrap();
+        let mut other = Store::open(dir.path()).unwrap();
+        let row = IncomingReview {
+            key: record.key.clone(),
+            reviewed_at: record.reviewed_at,
+            rating: record.rating,
+            cram: false,
+            duration_ms: record.duration_ms,
+            undone: false,
+            balanced_days: day,
+        };
+        other
+            .merge_reviews_keeping(&[base.0.clone(), row], scheduler, &base.1)
+            .unwrap();
+        other.state(&record.key).unwrap().unwrap()
+    }
+
+    #[test]
+    fn a_balanced_rating_keeps_its_day_and_a_replay_takes_it() {
+        let now = at("2026-05-04T10:00:00Z");
+        // On by default.
+        assert!(Config::default().load_balance);
+        let (_dir, mut s) = study(Config::default());
+        let base = card_rows("spin-axis", 12.0, 12, now);
+        let k = review_card(&mut s, "spin-axis", 12.0, 12, now);
+        let before = s.store.state(&k).unwrap();
+        let at_ = s.answer_time(&k, now).unwrap();
+        let plain = Scheduler::new(&Config {
+            fuzz: false,
+            ..Config::default()
+        });
+        let good = days(&plain.preview(&k, before.as_ref(), now)[2], now);
+        let (lo, hi) = fuzz_range_of(good);
+        let uniform = days(&s.scheduler.preview(&k, before.as_ref(), at_)[2], at_);
+        let empty = if uniform == lo + 1 { lo + 2 } else { lo + 1 };
+        assert!(empty <= hi, "{lo}..={hi}");
+        let mut counts = vec![0u32; (hi + 3) as usize];
+        for d in lo..=hi {
+            counts[d as usize] = if d == empty { 0 } else { 40 };
+        }
+        fill(&mut s, &counts, now);
+        let answer = Answer {
+            key: &k,
+            before: before.as_ref(),
+            rating: Rating::Good,
+            duration_ms: 1000,
+            cram: false,
+        };
+        let rated = s.rate(None, answer, now).unwrap();
+        assert_eq!(rated.record.reviewed_at, at_);
+        assert_eq!(days_of(&rated.record), empty);
+        // The day is kept with the answer, in the log.
+        assert_eq!(rated.record.balanced_days, Some(empty));
+        let logged = s.store.history(&k).unwrap();
+        assert_eq!(logged.last().unwrap().record, rated.record);
+        // A machine that knows nothing of the load puts it on the same day
+        // from the day kept; without it (a line of an older build), on the
+        // uniform draw's.
+        let scheduler = s.scheduler.clone();
+        assert_eq!(
+            replayed(&rated.record, &base, Some(empty), &scheduler),
+            rated.record.after
+        );
+        let drawn = replayed(&rated.record, &base, None, &scheduler);
+        assert_eq!((drawn.due - at_).num_days(), uniform);
+        assert_ne!(drawn.due, rated.record.after.due);
+        // A day outside the range the answer allows is not taken.
+        for forged in [lo - 1, hi + 40, 1] {
+            let got = replayed(&rated.record, &base, Some(forged), &scheduler);
+            assert_eq!(got, drawn, "{forged}");
+        }
+        // The cache, rebuilt from the log, agrees.
+        s.store.rebuild().unwrap();
+        assert_eq!(s.store.state(&k).unwrap(), Some(rated.record.after));
+
+        // With balancing off nothing is kept.
+        s.undo().unwrap().unwrap();
+        s.config.load_balance = false;
+        let rated = s.rate(None, answer, now).unwrap();
+        assert_eq!(rated.record.balanced_days, None);
+        let r = &rated.record;
+        let drawn = s
+            .scheduler
+            .review(&k, before.as_ref(), Rating::Good, r.reviewed_at, 1000);
+        assert_eq!(r.after, drawn.after);
+    }
+
+    fn days_of(r: &ReviewRecord) -> i64 {
+        (r.after.due - r.reviewed_at).num_days()
+    }
+
+    /// For button `i`, the widest range the buttons below may leave it:
+    /// from its start with each below at the start of its own, to its end
+    /// with each below at the end of its own.
+    fn widest(s: &Scheduler, before: &CardState, at: DateTime<Utc>, i: usize) -> (i64, i64) {
+        let chain = |end: bool| {
+            let mut chosen = [0; 3];
+            let mut out = (0, 0);
+            for j in 0..=i {
+                let r = s.passing_ranges(before, at, chosen)[j];
+                chosen[j] = if end { r.1 } else { r.0 };
+                out = r;
+            }
+            out
+        };
+        (chain(false).0, chain(true).1)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+
+        /// Any answer rated through `Study::rate` over any due counts is
+        /// replayed by a machine that does not know them onto the same
+        /// state; a forged day is taken only within the widest fuzz range
+        /// the answer allows, else the uniform draw stands.
+        #[test]
+        fn a_replay_keeps_the_balanced_day_and_bounds_a_forged_one(
+            counts in proptest::collection::vec(0u32..12, 0..60),
+            stab in 1.0f64..60.0,
+            elapsed in 1i64..60,
+            rating in 2usize..=4,
+            forged in -5i64..130,
+        ) {
+            let now = at("2026-05-04T10:00:00Z");
+            let (_dir, mut s) = study(Config::default());
+            fill(&mut s, &counts, now);
+            let base = card_rows("spin-axis", stab, elapsed, now);
+            let k = review_card(&mut s, "spin-axis", stab, elapsed, now);
+            let before = s.store.state(&k).unwrap();
+            let rating = Rating::ALL[rating - 1];
+            let answer = Answer {
+                key: &k,
+                before: before.as_ref(),
+                rating,
+                duration_ms: 1000,
+                cram: false,
+            };
+            let rated = s.rate(None, answer, now).unwrap();
+            let r = &rated.record;
+            let scheduler = s.scheduler.clone();
+            prop_assert_eq!(
+                replayed(r, &base, r.balanced_days, &scheduler),
+                r.after
+            );
+            let i = rating as usize - 2;
+            let (lo, hi) = widest(&scheduler, before.as_ref().unwrap(), r.reviewed_at, i);
+            if let Some(d) = r.balanced_days {
+                prop_assert!((lo..=hi).contains(&d), "{} outside {}..={}", d, lo, hi);
+            }
+            let drawn = replayed(r, &base, None, &scheduler);
+            let got = replayed(r, &base, Some(forged), &scheduler);
+            let got_days = (got.due - r.reviewed_at).num_days();
+            if !(lo..=hi).contains(&forged) {
+                prop_assert_eq!(got, drawn);
+            } else if hi <= 90 {
+                prop_assert_eq!(got_days, forged);
+            } else {
+                // An interval too long to balance keeps the draw.
+                prop_assert!(got_days == forged || got == drawn);
             }
         }
     }

@@ -7,7 +7,9 @@
 //! file or the new, never half of it). Four kinds of line travel:
 //!
 //! - `review`: an answer (the only kind of the first version of the format,
-//!   whose files still merge as they are);
+//!   whose files still merge as they are), with `balanced_days` when the
+//!   load balancer chose its day (a field added later: a line without it
+//!   replays with the uniform draw, as before);
 //! - `status`: a suspend, unsuspend or bury of an item, the learner's own
 //!   or a sibling bury that a rating brought about (`cause` names it);
 //! - `undo_review`, `undo_status`: an answer or status event undone after
@@ -54,6 +56,12 @@ pub struct SyncEvent {
     pub cram: bool,
     pub duration_ms: i64,
     pub undone: bool,
+    /// The interval in whole days the load balancer chose for the answer;
+    /// absent when it chose none. Another machine takes it only within the
+    /// fuzz range the answer allows (`Scheduler::replay`); a value no
+    /// interval can have is ignored (the uniform draw, as without it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balanced_days: Option<i64>,
 }
 
 /// A `status` line: a change of an item's status.
@@ -246,6 +254,11 @@ impl SyncEvent {
             cram: self.cram,
             duration_ms: self.duration_ms,
             undone: self.undone,
+            // Never trusted further than an interval can go; the replay
+            // bounds it to the answer's fuzz range.
+            balanced_days: self
+                .balanced_days
+                .filter(|d| (1..=clock::MAXIMUM_INTERVAL).contains(d)),
         })
     }
 }
@@ -434,6 +447,7 @@ pub(crate) fn review_line(r: &IncomingReview) -> SyncEvent {
         cram: r.cram,
         duration_ms: r.duration_ms,
         undone: r.undone,
+        balanced_days: r.balanced_days,
     }
 }
 
@@ -527,6 +541,7 @@ mod tests {
             cram: false,
             duration_ms: 10,
             undone: false,
+            balanced_days: None,
         }
     }
 
@@ -614,5 +629,79 @@ mod tests {
         let (events, skipped) = read_events(&line(&e));
         assert!(events.is_empty());
         assert!(skipped[0].why.contains("derived"), "{skipped:?}");
+    }
+
+    #[test]
+    fn a_review_line_carries_the_balanced_day_only_when_there_is_one() {
+        // Without one, the line is spelled as before (an older build reads it).
+        let plain = line(&event("a", 1000));
+        assert!(!plain.contains("balanced_days"), "{plain}");
+        let (events, _) = read_events(&plain);
+        assert_eq!(events[0].balanced_days, None);
+        let mut e = event("a", 1000);
+        e.balanced_days = Some(12);
+        let text = line(&e);
+        assert!(text.contains("\"balanced_days\":12"), "{text}");
+        let (events, skipped) = read_events(&text);
+        assert!(skipped.is_empty(), "{skipped:?}");
+        assert_eq!(events[0].balanced_days, Some(12));
+        // A value no interval can have is ignored: the answer is merged,
+        // its day drawn as without one.
+        for bad in [0, -3, 36_501, i64::MAX] {
+            e.balanced_days = Some(bad);
+            let (events, skipped) = read_events(&line(&e));
+            assert!(skipped.is_empty(), "{skipped:?}");
+            assert_eq!(events[0].balanced_days, None, "{bad}");
+        }
+        // Not a number: the line is not one of this format.
+        let text = plain.replace(
+            "\"undone\":false",
+            "\"undone\":false,\"balanced_days\":\"12\"",
+        );
+        let (events, skipped) = read_events(&text);
+        assert!(events.is_empty());
+        assert!(
+            skipped[0].why.contains("balanced_days") || skipped[0].why.contains("invalid type"),
+            "{skipped:?}"
+        );
+    }
+
+    proptest::proptest! {
+        /// Any balanced day survives a line's write and read when an
+        /// interval can have it, and is dropped (never the line) when not;
+        /// the rest of the answer reads back the same either way.
+        #[test]
+        fn the_balanced_day_round_trips_through_a_line(
+            day in proptest::option::of(proptest::prop_oneof![
+                -10i64..40_000,
+                proptest::num::i64::ANY,
+            ]),
+            ms in 0i64..1_777_000_000_000,
+            rating in 1u8..=4,
+            cram: bool,
+            undone: bool,
+        ) {
+            let mut e = event("c", ms);
+            e.rating = rating;
+            e.cram = cram;
+            e.undone = undone;
+            e.balanced_days = day;
+            let text = line(&e);
+            let (events, skipped) = read_events(&text);
+            proptest::prop_assert!(skipped.is_empty(), "{:?}", skipped);
+            let got = &events[0];
+            let want = day.filter(|d| (1..=36_500).contains(d));
+            proptest::prop_assert_eq!(got.balanced_days, want);
+            let mut without = e.clone();
+            without.balanced_days = None;
+            let (plain, _) = read_events(&line(&without));
+            proptest::prop_assert_eq!(
+                &IncomingReview { balanced_days: None, ..got.clone() },
+                &plain[0]
+            );
+            // Written back, the line says what was read.
+            let again = review_line(got);
+            proptest::prop_assert_eq!(again.balanced_days, want);
+        }
     }
 }
