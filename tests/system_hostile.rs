@@ -1098,3 +1098,51 @@ fn run_stats(d: &Deck, method: &str, tol: &str) -> serde_json::Value {
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     v["stats"].clone()
 }
+
+/// Robertson's kinetics to t = 1e11 at rtol 1e-3 with the default absolute
+/// tolerance: y1 (size 1) falls below its tolerance near t = 1e8, turns
+/// negative and runs away linearly (to −4.5e7 at the end), with no blow-up
+/// the solver could see. The binary before this printed that run and
+/// exited 0. Now the run stops where y1 has grown from below its tolerance
+/// past a million times it, prints no row from there, names y1 and the
+/// cure, and the cure reaches the end within 1% of the answer (y1 =
+/// 2.0833e-8 at 1e11, SciPy Radau at rtol 1e-12 in benches/stiff_reference.txt).
+#[test]
+fn a_variable_running_away_from_below_its_tolerance_is_refused() {
+    let d = Deck::new(
+        "robertson",
+        "[[scene]]\nid = \"s\"\nvariables = [\"y1\", \"y2\", \"y3\"]\ninitial = [1.0, 0.0, 0.0]\nequations = [\"-0.04*y1 + 1e4*y2*y3\", \"0.04*y1 - 1e4*y2*y3 - 3e7*y2^2\", \"3e7*y2^2\"]\nduration = 1e11\nshow = [\"plot\"]\nplot = [\"y1\"]\n",
+    );
+    for method in ["radau", "auto"] {
+        let (code, out, err) = d.sim(&["--samples", "5", "--method", method, "--tol", "1e-3"]);
+        assert_eq!(code, 1, "{method}: {out}{err}");
+        assert!(
+            err.contains("`y1` reached") && err.contains("unchecked"),
+            "{method}: {err}"
+        );
+        assert_eq!(err.lines().count(), 1, "{err}");
+        for line in out.lines().skip(1) {
+            let y1: f64 = line.split(',').nth(1).unwrap().parse().unwrap();
+            assert!(y1 >= -1e-3, "{method}: a row past the point: {line}");
+        }
+        let cure = err
+            .split("or --atol ")
+            .nth(1)
+            .and_then(|rest| rest.split(')').next())
+            .unwrap_or_else(|| panic!("{method}: no --atol named: {err}"));
+        let (code, out, err) = d.sim(&[
+            "--samples",
+            "5",
+            "--method",
+            method,
+            "--tol",
+            "1e-3",
+            "--atol",
+            cure,
+        ]);
+        assert_eq!(code, 0, "{method} --atol {cure}: {err}");
+        let last = last_row(&out);
+        assert_eq!(last[0], 1e11, "{method}: {out}");
+        assert!((last[1] / 2.0833e-8 - 1.0).abs() < 0.01, "{method}: {out}");
+    }
+}

@@ -648,6 +648,11 @@ pub struct SystemRun {
     /// failure do not move; with the solver's absolute tolerance of each, to name
     /// the ones it does not control when the run cannot meet its tolerance.
     sizes: Vec<Vec<(f64, f64)>>,
+    /// Each variable's largest |value| at the samples so far, and, once it
+    /// has sat below its absolute tolerance after having a size, that
+    /// size and that tolerance ([`SystemRun::unchecked_rise`]).
+    largest: Vec<f64>,
+    dipped: Vec<Option<(f64, f64)>>,
     /// Every operation's value at the start and the end of an RK4 step,
     /// and the state at its end (for the domain check).
     step_tapes: [Vec<f64>; 2],
@@ -791,6 +796,8 @@ impl SystemRun {
             observables_upto,
             good: scene.initial.clone(),
             sizes: vec![Vec::new(); n],
+            largest: vec![0.0; n],
+            dipped: vec![None; n],
             step_tapes: [Vec::new(), Vec::new()],
             step_end: Vec::new(),
             cost,
@@ -901,6 +908,7 @@ impl SystemRun {
     fn sample(&mut self, t: f64, y: &[f64], at: Option<InStep>) -> Result<(), RunError> {
         self.compute(t, y)?;
         self.check_conserved(t, y)?;
+        self.unchecked_rise(t, y)?;
         for k in 0..self.tallies.len() {
             let q = self.tallies[k].0;
             let v = self.value(q, y);
@@ -1112,6 +1120,62 @@ impl SystemRun {
             SolveError::StepSize { t, h } => self.inaccurate(t, h, None),
             _ => self.unchecked_growth(t, y),
         }
+    }
+
+    /// Refuses a sample where a variable that sat below its absolute
+    /// tolerance (after having a size: its error then went unchecked) has
+    /// since grown past a million times that tolerance and past the largest
+    /// size it had before: that growth is the unchecked error's, not the
+    /// equations'. Robertson to t = 1e11 at rtol 1e-3 lets y1 (size 1)
+    /// fall below its tolerance of 1e-5 near t = 1e8, go negative and run
+    /// away linearly to −4.5e7 with no blow-up for the solver to see. A
+    /// variable that falls and rises again no higher than it was (a
+    /// population's trough) is left alone; so is one that starts at 0.
+    fn unchecked_rise(&mut self, t: f64, y: &[f64]) -> Result<(), RunError> {
+        let Some(atol) = self.solver.atol() else {
+            return Ok(());
+        };
+        // Only a size well above rounding arms the check: a variable that
+        // rises from 0 wobbles at the noise floor first (E5's y4 near 1e-17
+        // before its rise to 1e-11), which is no size it had.
+        let top = self.largest.iter().fold(0.0f64, |m, v| m.max(*v));
+        let real = 1e6 * crate::solvers::ode::BySize::NOISE * top;
+        let mut rose = None;
+        for (k, &v) in y.iter().enumerate() {
+            let (Some(&a), Some(largest)) = (atol.get(k), self.largest.get_mut(k)) else {
+                continue;
+            };
+            if !v.is_finite() {
+                continue;
+            }
+            let size = v.abs();
+            match self.dipped[k] {
+                None if size < a && *largest > a && *largest >= real => {
+                    self.dipped[k] = Some((*largest, a));
+                }
+                Some((before, a0)) if size > 1e6 * a0 && size > before && rose.is_none() => {
+                    rose = Some((k, v));
+                }
+                _ => {}
+            }
+            *largest = largest.max(size);
+        }
+        let Some((k, v)) = rose else {
+            return Ok(());
+        };
+        let name = self.scene.variables[k].clone();
+        let mut e = self.inaccurate(t, f64::NAN, Some((name.clone(), v)));
+        // The variable that ran away is named with its cure, by the size it
+        // had before it went unchecked (its median may be the runaway's own).
+        if let RunError::Inaccurate { uncontrolled, .. } = &mut e
+            && let Some((before, a0)) = self.dipped[k]
+            && !uncontrolled.iter().any(|(n, _, _)| *n == name)
+        {
+            uncontrolled.push((name, before, a0));
+            let order = |n: &String| self.scene.variables.iter().position(|v| v == n);
+            uncontrolled.sort_by_key(|(n, _, _)| order(n));
+        }
+        Err(e)
     }
 
     /// A blow-up led by a variable that sat below its absolute tolerance
