@@ -47,10 +47,6 @@ impl LangMap {
         self.find(lang).ok().map(|i| &self.0[i].1)
     }
 
-    pub fn get_mut(&mut self, lang: &str) -> Option<&mut String> {
-        self.find(lang).ok().map(|i| &mut self.0[i].1)
-    }
-
     pub fn contains_key(&self, lang: &str) -> bool {
         self.find(lang).is_ok()
     }
@@ -64,10 +60,6 @@ impl LangMap {
                 None
             }
         }
-    }
-
-    pub fn remove(&mut self, lang: &str) -> Option<String> {
-        self.find(lang).ok().map(|i| self.0.remove(i).1)
     }
 
     pub fn len(&self) -> usize {
@@ -87,20 +79,16 @@ impl LangMap {
         self.0.iter_mut().map(|(l, t)| (&*l, t))
     }
 
+    pub fn values_mut(&mut self) -> impl DoubleEndedIterator<Item = &mut String> {
+        self.0.iter_mut().map(|(_, t)| t)
+    }
+
     pub fn keys(&self) -> impl DoubleEndedIterator<Item = &Lang> + ExactSizeIterator + Clone {
         self.0.iter().map(|(l, _)| l)
     }
 
     pub fn values(&self) -> impl DoubleEndedIterator<Item = &String> + ExactSizeIterator + Clone {
         self.0.iter().map(|(_, t)| t)
-    }
-
-    pub fn values_mut(&mut self) -> impl DoubleEndedIterator<Item = &mut String> {
-        self.0.iter_mut().map(|(_, t)| t)
-    }
-
-    pub fn first_key_value(&self) -> Option<(&Lang, &String)> {
-        self.0.first().map(|(l, t)| (l, t))
     }
 }
 
@@ -167,18 +155,9 @@ impl LangMap {
     }
 }
 
-impl<'a> FromIterator<(&'a str, &'a str)> for LangMap {
-    fn from_iter<I: IntoIterator<Item = (&'a str, &'a str)>>(iter: I) -> LangMap {
-        iter.into_iter()
-            .map(|(l, t)| (l.to_string(), t.to_string()))
-            .collect()
-    }
-}
-
-impl Extend<(Lang, String)> for LangMap {
-    fn extend<I: IntoIterator<Item = (Lang, String)>>(&mut self, iter: I) {
-        let old = std::mem::take(&mut self.0);
-        *self = old.into_iter().chain(iter).collect();
+impl<const N: usize> From<[(Lang, String); N]> for LangMap {
+    fn from(entries: [(Lang, String); N]) -> LangMap {
+        entries.into_iter().collect()
     }
 }
 
@@ -188,22 +167,9 @@ impl From<BTreeMap<Lang, String>> for LangMap {
     }
 }
 
-impl<const N: usize> From<[(Lang, String); N]> for LangMap {
-    fn from(entries: [(Lang, String); N]) -> LangMap {
-        entries.into_iter().collect()
-    }
-}
-
 impl From<LangMap> for BTreeMap<Lang, String> {
     fn from(map: LangMap) -> BTreeMap<Lang, String> {
         map.0.into_iter().collect()
-    }
-}
-
-impl std::ops::Index<&str> for LangMap {
-    type Output = String;
-    fn index(&self, lang: &str) -> &String {
-        self.get(lang).expect("no text in this language")
     }
 }
 
@@ -248,7 +214,6 @@ mod tests {
         #[test]
         fn a_lang_map_is_a_btree_map(
             entries in proptest::collection::vec(("[a-c]{1,2}", "[x-z]{0,2}"), 0..12),
-            removed in "[a-c]{1,2}",
         ) {
             let mut tree = BTreeMap::new();
             let mut inserted = LangMap::new();
@@ -263,7 +228,6 @@ mod tests {
             for l in ["a", "b", "c", "aa", "zz"] {
                 prop_assert_eq!(inserted.get(l), tree.get(l));
             }
-            prop_assert_eq!(inserted.remove(&removed), tree.remove(&removed));
             prop_assert_eq!(BTreeMap::from(inserted), tree);
         }
     }
