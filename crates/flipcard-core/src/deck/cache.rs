@@ -160,61 +160,60 @@ impl DeckCache {
             .join(format!("{}-{}.bin", key.prefix, hex(&key.digest)))
     }
 
-    /// The deck kept for the deck file `path` (its name `stem`, its text
-    /// `text`), when there is one for these bytes whose content files are
-    /// the ones it was validated with (`content` reads a language's file:
-    /// its path and text, `None` when it cannot be read), with those
-    /// files. The entry is found by the file's name and decoded while
-    /// another thread computes the text's SHA-256; it is taken only when
-    /// that is the key it was written under.
-    pub(crate) fn get(
+    /// The deck file `path` (its name `stem`, about `len` bytes) as
+    /// `read` reads it (its text, and what else `read` gives), and the
+    /// deck kept for it, when there is one for these bytes whose content
+    /// files are the ones it was validated with (`content` reads a
+    /// language's file: its path and text, `None` when it cannot be read),
+    /// with those files. The entry is found by the file's name and decoded
+    /// on this thread while another reads the file and computes the key
+    /// its bytes give; it is taken only when that is the key it was
+    /// written under (and the text is still large enough to be kept).
+    pub(crate) fn get<R: Send>(
         &self,
         stem: &str,
-        text: &str,
+        len: u64,
+        read: impl FnOnce() -> (Option<String>, R) + Send,
         content: impl Fn(&str) -> Option<(PathBuf, String)>,
         path: &Path,
-    ) -> Option<Cached> {
+    ) -> (Option<String>, R, Option<Cached>) {
         let prefix = self.prefix(stem);
         let found = flipcard_io::entries_starting_with(&self.dir, &format!("{prefix}-"));
-        let [file] = found.as_slice() else {
-            return None;
+        let digest = match found.as_slice() {
+            [file] => file
+                .file_name()
+                .and_then(|n| n.to_str())
+                .and_then(|n| n.strip_prefix(&format!("{prefix}-")))
+                .and_then(|n| n.strip_suffix(".bin"))
+                .map(|d| (file, d)),
+            _ => None,
         };
-        let name = file.file_name()?.to_str()?;
-        let digest = name
-            .strip_prefix(&format!("{prefix}-"))?
-            .strip_suffix(".bin")?;
-        let limit = (text.len() as u64)
-            .saturating_mul(MAX_ENTRY_FACTOR)
-            .saturating_add(1 << 20);
-        let entry = std::thread::scope(|s| {
-            let key = s.spawn(|| self.key(stem, text));
+        let Some((file, digest)) = digest else {
+            let (text, r) = read();
+            return (text, r, None);
+        };
+        let limit = len.saturating_mul(MAX_ENTRY_FACTOR).saturating_add(1 << 20);
+        let (text, r, entry) = std::thread::scope(|s| {
+            let reader = s.spawn(|| {
+                let (text, r) = read();
+                let key = text
+                    .as_deref()
+                    .filter(|t| t.len() >= MIN_CACHED_BYTES)
+                    .map(|t| self.key(stem, t));
+                (text, r, key)
+            });
             let entry = flipcard_io::read_regular_limited(file, limit)
                 .ok()
-                .filter(|b| b.len() as u64 <= limit)
                 .and_then(|b| decode(&b));
-            let key = key.join().ok()?;
-            (hex(&key.digest) == digest).then_some(entry)?
-        })?;
-        let mut texts = Vec::new();
-        if entry.content.len() != entry.languages.len() {
-            return None;
-        }
-        for ((lang, digest), declared) in entry.content.iter().zip(entry.languages.iter()) {
-            if lang != declared {
-                return None;
-            }
-            let (file, text) = content(lang)?;
-            if sha256(&[text.as_bytes()]) != *digest {
-                return None;
-            }
-            texts.push((file, text));
-        }
-        let parent_span = entry.parent.as_ref().map(|(_, span)| span.clone());
-        Some(Cached {
-            deck: entry.into_deck(path),
-            parent_span,
-            content: texts,
-        })
+            let (text, r, key) = match reader.join() {
+                Ok(read) => read,
+                Err(panic) => std::panic::resume_unwind(panic),
+            };
+            let entry = entry.filter(|_| key.is_some_and(|k| hex(&k.digest) == digest));
+            (text, r, entry)
+        });
+        let hit = entry.and_then(|entry| take(entry, &content, path));
+        (text, r, hit)
     }
 
     /// Keeps `deck` under `key` (validated with these content files'
@@ -257,6 +256,35 @@ impl DeckCache {
         }
         let _ = flipcard_io::write_atomic(&path, &bytes, flipcard_io::Durability::Whole);
     }
+}
+
+/// The deck of an entry whose key matched, when each of its content
+/// files still has the bytes it was validated with.
+fn take(
+    entry: Entry<'static>,
+    content: impl Fn(&str) -> Option<(PathBuf, String)>,
+    path: &Path,
+) -> Option<Cached> {
+    let mut texts = Vec::new();
+    if entry.content.len() != entry.languages.len() {
+        return None;
+    }
+    for ((lang, digest), declared) in entry.content.iter().zip(entry.languages.iter()) {
+        if lang != declared {
+            return None;
+        }
+        let (file, text) = content(lang)?;
+        if sha256(&[text.as_bytes()]) != *digest {
+            return None;
+        }
+        texts.push((file, text));
+    }
+    let parent_span = entry.parent.as_ref().map(|(_, span)| span.clone());
+    Some(Cached {
+        deck: entry.into_deck(path),
+        parent_span,
+        content: texts,
+    })
 }
 
 /// An entry's deck, when its bytes are whole and of this format.
@@ -410,15 +438,20 @@ mod tests {
     fn a_new_builds_entry_replaces_the_old_builds() {
         let dir = tempfile::tempdir().unwrap();
         let deck = deck();
-        let text = "the deck file's bytes";
+        let text = &"the deck file's bytes ".repeat(MIN_CACHED_BYTES / 16);
         let cache = |stamp: &str| DeckCache::new(dir.path().to_path_buf(), stamp.to_string());
         let get = |c: &DeckCache| {
-            c.get(
+            let read = || (Some(text.clone()), ());
+            let content = |_: &str| Some((PathBuf::from("en.toml"), String::new()));
+            let (got, (), hit) = c.get(
                 "big",
-                text,
-                |_| Some((PathBuf::from("en.toml"), String::new())),
+                text.len() as u64,
+                read,
+                content,
                 Path::new("big.toml"),
-            )
+            );
+            assert_eq!(got.as_ref(), Some(text), "the file's text, hit or miss");
+            hit
         };
         cache("build 1").put(("big", text), &deck, None, &[("en".to_string(), "")]);
         assert!(get(&cache("build 1")).is_some_and(|c| c.deck.cards == deck.cards));

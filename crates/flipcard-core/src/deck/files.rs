@@ -18,6 +18,9 @@ pub trait Tree: Sync {
     fn list(&self, dir: &Path) -> io::Result<Vec<PathBuf>>;
     /// One name per file, however it was reached (links, `..`).
     fn identity(&self, path: &Path) -> PathBuf;
+    /// The size of the file at `path` (through links), when it can be told
+    /// without reading it.
+    fn len(&self, path: &Path) -> Option<u64>;
 }
 
 /// The file system.
@@ -42,6 +45,10 @@ impl Tree for Disk {
 
     fn identity(&self, path: &Path) -> PathBuf {
         flipcard_io::canonical(path)
+    }
+
+    fn len(&self, path: &Path) -> Option<u64> {
+        flipcard_io::metadata(path).ok().map(|m| m.len())
     }
 }
 
@@ -94,5 +101,9 @@ impl Tree for Memory {
 
     fn identity(&self, path: &Path) -> PathBuf {
         path.to_path_buf()
+    }
+
+    fn len(&self, path: &Path) -> Option<u64> {
+        self.files.get(path).map(|b| b.len() as u64)
     }
 }

@@ -205,28 +205,37 @@ struct Read {
     hit: Option<super::cache::Cached>,
 }
 
-/// Reads a deck file and, when it is large and a cache is given, looks its
-/// bytes up there.
+/// Reads a deck file and, when it is large and a cache is given, looks it
+/// up there: the kept entry is read and decoded on this thread while
+/// another reads the deck file and computes the key its bytes give.
 fn read_deck_file(tree: &dyn Tree, path: &Path, cache: Option<&DeckCache>) -> Read {
-    let mut problems = Vec::new();
-    let mut lossy = BTreeMap::new();
-    let text = read_text_into(tree, path, &mut problems, &mut lossy);
-    let hit = match (&text, cache) {
-        (Some(text), Some(c)) if text.len() >= MIN_CACHED_BYTES => {
-            let stem = stem_of(path);
-            let dir = content_dir(path, &stem);
-            let content = |lang: &str| {
-                let file = dir.join(format!("{lang}.toml"));
-                if tree.probe(&file) != Probe::Regular {
-                    return None;
-                }
-                let text = String::from_utf8(tree.read(&file).ok()?).ok()?;
-                Some((file, text))
-            };
-            c.get(&stem, text, content, path)
-        }
-        _ => None,
+    let read = || {
+        let mut problems = Vec::new();
+        let mut lossy = BTreeMap::new();
+        let text = read_text_into(tree, path, &mut problems, &mut lossy);
+        (text, (problems, lossy))
     };
+    let large = |len: u64| len >= MIN_CACHED_BYTES as u64;
+    let Some((c, len)) = cache.zip(tree.len(path).filter(|&l| large(l))) else {
+        let (text, (problems, lossy)) = read();
+        return Read {
+            text,
+            problems,
+            lossy,
+            hit: None,
+        };
+    };
+    let stem = stem_of(path);
+    let dir = content_dir(path, &stem);
+    let content = |lang: &str| {
+        let file = dir.join(format!("{lang}.toml"));
+        if tree.probe(&file) != Probe::Regular {
+            return None;
+        }
+        let text = String::from_utf8(tree.read(&file).ok()?).ok()?;
+        Some((file, text))
+    };
+    let (text, (problems, lossy), hit) = c.get(&stem, len, read, content, path);
     Read {
         text,
         problems,

@@ -16,7 +16,8 @@ pub mod types;
 pub use config::{Config, ConfigError};
 pub use day::{DayGrid, DayOf, DayZone, Days};
 pub use queue::{
-    Counts, CramQueue, DoneToday, Queue, QueueKind, cram_items, deck_items, study_day,
+    Counts, CramQueue, DoneToday, Queue, QueueKind, cram_item_refs, cram_items, deck_item_refs,
+    deck_items, study_day,
 };
 pub use scheduler::{Preview, Scheduler, Schedulers, format_interval};
 pub use types::*;

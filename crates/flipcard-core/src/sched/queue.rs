@@ -13,7 +13,9 @@ use std::fmt;
 use chrono::{DateTime, NaiveTime, TimeDelta, TimeZone, Utc};
 
 use super::config::Config;
-use super::types::{CardState, Direction, ItemKey, ReviewKind, ReviewRecord, State};
+use super::types::{
+    AsItem, CardState, Direction, ItemKey, ItemRef, ReviewKind, ReviewRecord, State,
+};
 use crate::deck::model::{CardKind, Deck};
 
 /// How far ahead a learning item may be shown when nothing else is left.
@@ -27,19 +29,34 @@ pub fn deck_items(deck: &Deck) -> Vec<ItemKey> {
     cram_items(deck, None)
 }
 
+/// [`deck_items`], borrowed from the deck: what counting and queueing read
+/// (the queue copies only the items it takes).
+pub fn deck_item_refs(deck: &Deck) -> Vec<ItemRef<'_>> {
+    cram_item_refs(deck, None)
+}
+
 /// The items of a deck, or only of its cards (and derivations) carrying
 /// `tag`, in deck order: the cards', then the derivations'.
 pub fn cram_items(deck: &Deck, tag: Option<&str>) -> Vec<ItemKey> {
+    cram_item_refs(deck, tag)
+        .iter()
+        .map(ItemRef::to_key)
+        .collect()
+}
+
+/// [`cram_items`], borrowed from the deck.
+pub fn cram_item_refs<'a>(deck: &'a Deck, tag: Option<&str>) -> Vec<ItemRef<'a>> {
     let mut items = Vec::with_capacity(deck.cards.len() + deck.derivations.len());
+    let item = |card, direction| ItemRef {
+        deck: &deck.id,
+        card,
+        direction,
+    };
     for card in &deck.cards {
         if tag.is_some_and(|t| !card.tags.iter().any(|c| c == t)) {
             continue;
         }
-        let key = |direction| ItemKey {
-            deck: deck.id.clone(),
-            card: card.id.clone(),
-            direction,
-        };
+        let key = |direction| item(&card.id, direction);
         match card.kind {
             CardKind::Cloze => items.extend(
                 card.cloze_numbers()
@@ -59,21 +76,13 @@ pub fn cram_items(deck: &Deck, tag: Option<&str>) -> Vec<ItemKey> {
         if tag.is_some_and(|t| !prompt.tags.iter().any(|c| c == t)) {
             continue;
         }
-        items.push(ItemKey {
-            deck: deck.id.clone(),
-            card: prompt.id.clone(),
-            direction: Direction::Predict,
-        });
+        items.push(item(&prompt.id, Direction::Predict));
     }
     for d in &deck.derivations {
         if tag.is_some_and(|t| !d.tags.iter().any(|c| c == t)) {
             continue;
         }
-        items.push(ItemKey {
-            deck: deck.id.clone(),
-            card: d.id.clone(),
-            direction: Direction::Derive,
-        });
+        items.push(item(&d.id, Direction::Derive));
     }
     items
 }
@@ -137,7 +146,7 @@ impl fmt::Display for Counts {
 pub struct Part<'a> {
     /// The deck's id and its items in deck order.
     pub deck: &'a str,
-    pub items: &'a [ItemKey],
+    pub items: &'a [ItemRef<'a>],
     /// The part of its parent deck (parts come parents first); `None` for
     /// the deck studied.
     pub parent: Option<usize>,
@@ -194,9 +203,10 @@ impl Queue {
         tz: &Tz,
     ) -> Queue {
         let deck = items.first().map_or("", |k| k.deck.as_str());
+        let items: Vec<ItemRef> = items.iter().map(ItemKey::as_ref).collect();
         let part = Part {
             deck,
-            items,
+            items: &items,
             parent: None,
             new_per_day: config.new_per_day,
             reviews_per_day: config.reviews_per_day,
@@ -245,7 +255,7 @@ impl Queue {
         let mut new_items: Vec<(usize, usize)> = Vec::new();
         for (p, part) in parts.iter().enumerate() {
             for (i, key) in part.items.iter().enumerate() {
-                match states.get(key) {
+                match states.get(key as &dyn AsItem) {
                     None => new_items.push((p, i)),
                     Some(card) => match card.state {
                         State::New => new_items.push((p, i)),
@@ -268,13 +278,13 @@ impl Queue {
         let mut reviews = VecDeque::new();
         for (_, p, i) in due_reviews {
             if take(&mut reviews_left, &parents, p) {
-                reviews.push_back(parts[p].items[i].clone());
+                reviews.push_back(parts[p].items[i].to_key());
             }
         }
         learning.sort_unstable();
         let learning: Vec<(DateTime<Utc>, ItemKey)> = learning
             .into_iter()
-            .map(|(due, p, i)| (due, parts[p].items[i].clone()))
+            .map(|(due, p, i)| (due, parts[p].items[i].to_key()))
             .collect();
 
         // Cards already in today's queue: their new siblings wait.
@@ -282,7 +292,7 @@ impl Queue {
             std::collections::HashSet::new();
         if config.bury_siblings {
             for key in learning.iter().map(|(_, k)| k).chain(&reviews) {
-                if let Some(card) = sibling_card(key) {
+                if let Some(card) = sibling_card(key.as_ref()) {
                     in_queue.insert(card);
                 }
             }
@@ -299,13 +309,13 @@ impl Queue {
             }
             let key = &parts[p].items[i];
             if config.bury_siblings
-                && let Some(card) = sibling_card(key)
+                && let Some(card) = sibling_card(*key)
                 && !in_queue.insert(card)
             {
                 continue;
             }
             room[p] -= 1;
-            new.push_back(key.clone());
+            new.push_back(key.to_key());
         }
         Queue {
             day,
@@ -514,10 +524,10 @@ fn take(left: &mut [usize], parents: &[Option<usize>], p: usize) -> bool {
 
 /// The card an item shares with its siblings (the other direction, the
 /// other cloze numbers); a prompt or a derivation has none.
-fn sibling_card(key: &ItemKey) -> Option<(&str, &str)> {
+fn sibling_card(key: ItemRef<'_>) -> Option<(&str, &str)> {
     match key.direction {
         Direction::Predict | Direction::Derive => None,
-        _ => Some((key.deck.as_str(), key.card.as_str())),
+        _ => Some((key.deck, key.card)),
     }
 }
 
@@ -1332,6 +1342,10 @@ mod limit_tests {
         let b: Vec<ItemKey> = (0..10)
             .map(|i| item("p-b", &format!("c{i}"), Direction::Forward))
             .collect();
+        fn refs(keys: &[ItemKey]) -> Vec<ItemRef<'_>> {
+            keys.iter().map(ItemKey::as_ref).collect()
+        }
+        let (parent, a, b) = (refs(&parent), refs(&a), refs(&b));
         let part = |deck, items, parent, new_per_day, done_new| Part {
             deck,
             items,
@@ -1390,12 +1404,16 @@ mod limit_tests {
                     }
                 })
                 .collect();
+            let refs: Vec<Vec<ItemRef>> = items
+                .iter()
+                .map(|keys| keys.iter().map(ItemKey::as_ref).collect())
+                .collect();
             let parts: Vec<Part> = shape
                 .iter()
                 .enumerate()
                 .map(|(p, &(up, limit, done, _, _))| Part {
                     deck: &ids[p],
-                    items: &items[p],
+                    items: &refs[p],
                     parent: (p > 0).then(|| up % p),
                     new_per_day: limit,
                     reviews_per_day: 10,

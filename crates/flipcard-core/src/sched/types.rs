@@ -112,6 +112,80 @@ impl ItemKey {
     }
 }
 
+/// An item named by borrowed ids: what a deck's items are while only
+/// counted or looked up, so a deck of 50,000 cards does not copy 100,000
+/// ids to show home's counts. A map keyed by [`ItemKey`] is searched with
+/// it as `map.get(item as &dyn AsItem)` (see [`AsItem`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct ItemRef<'a> {
+    pub deck: &'a str,
+    pub card: &'a str,
+    pub direction: Direction,
+}
+
+impl ItemRef<'_> {
+    /// The owned key of this item.
+    pub fn to_key(&self) -> ItemKey {
+        ItemKey {
+            deck: self.deck.to_string(),
+            card: self.card.to_string(),
+            direction: self.direction,
+        }
+    }
+}
+
+impl ItemKey {
+    /// This key's ids, borrowed.
+    pub fn as_ref(&self) -> ItemRef<'_> {
+        ItemRef {
+            deck: &self.deck,
+            card: &self.card,
+            direction: self.direction,
+        }
+    }
+}
+
+/// An item's ids, however they are held: the form a map keyed by
+/// [`ItemKey`] is searched by without building a key. `ItemKey` borrows as
+/// `dyn AsItem`, whose hash and equality are the key's own (fields hashed
+/// in the same order, a `&str` as its `String`), so both find the same
+/// entry: proptest `an_item_ref_finds_what_its_key_finds`.
+pub trait AsItem {
+    fn item(&self) -> ItemRef<'_>;
+}
+
+impl AsItem for ItemKey {
+    fn item(&self) -> ItemRef<'_> {
+        self.as_ref()
+    }
+}
+
+impl AsItem for ItemRef<'_> {
+    fn item(&self) -> ItemRef<'_> {
+        *self
+    }
+}
+
+impl<'a> std::borrow::Borrow<dyn AsItem + 'a> for ItemKey {
+    fn borrow(&self) -> &(dyn AsItem + 'a) {
+        self
+    }
+}
+
+impl std::hash::Hash for dyn AsItem + '_ {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.item().hash(state)
+    }
+}
+
+impl PartialEq for dyn AsItem + '_ {
+    fn eq(&self, other: &Self) -> bool {
+        self.item() == other.item()
+    }
+}
+
+impl Eq for dyn AsItem + '_ {}
+
 /// Why [`ItemKey::parse`] refused an item: the value is quoted on one line,
 /// shortened, control characters escaped.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -217,6 +291,43 @@ mod tests {
             let err = ItemKey::parse(deck, card, dir).unwrap_err().to_string();
             assert!(err.contains(why), "{deck} {card} {dir}: {err}");
             assert!(!err.contains('\u{1b}'), "{err}");
+        }
+    }
+
+    fn direction() -> impl proptest::strategy::Strategy<Value = Direction> {
+        use proptest::prelude::*;
+        prop_oneof![
+            Just(Direction::Forward),
+            Just(Direction::Backward),
+            Just(Direction::Predict),
+            Just(Direction::Derive),
+            (1u16..=999).prop_map(Direction::Cloze),
+        ]
+    }
+
+    proptest::proptest! {
+        /// A map keyed by owned keys finds through a borrowed item exactly
+        /// the entries it finds through the key (ids that differ only in
+        /// where one ends and the next begins included).
+        #[test]
+        fn an_item_ref_finds_what_its_key_finds(
+            keys in proptest::collection::vec(("[a-c]{0,3}", "[a-c]{0,3}", direction()), 0..20),
+            probes in proptest::collection::vec(("[a-c]{0,3}", "[a-c]{0,3}", direction()), 0..20),
+        ) {
+            let key = |(deck, card, direction): &(String, String, Direction)| ItemKey {
+                deck: deck.clone(),
+                card: card.clone(),
+                direction: *direction,
+            };
+            let map: std::collections::HashMap<ItemKey, usize> =
+                keys.iter().enumerate().map(|(i, k)| (key(k), i)).collect();
+            for p in keys.iter().chain(&probes) {
+                let owned = key(p);
+                let r = ItemRef { deck: &p.0, card: &p.1, direction: p.2 };
+                proptest::prop_assert_eq!(map.get(&r as &dyn AsItem), map.get(&owned));
+                proptest::prop_assert_eq!(r.to_key(), owned.clone());
+                proptest::prop_assert_eq!(owned.as_ref(), r);
+            }
         }
     }
 }

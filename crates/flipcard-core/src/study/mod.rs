@@ -131,8 +131,12 @@ impl Study {
         let mut done = Vec::with_capacity(tree.len());
         for (deck, _) in tree {
             states.extend(self.store.states(&deck.id)?);
-            let mut its = crate::sched::deck_items(deck);
-            its.retain(|k| statuses.get(k).is_none_or(|s| s.studyable(now)));
+            let mut its = crate::sched::deck_item_refs(deck);
+            its.retain(|k| {
+                statuses
+                    .get(k as &dyn crate::sched::AsItem)
+                    .is_none_or(|s| s.studyable(now))
+            });
             items.push(its);
             done.push(self.store.reviews_today(&deck.id, day_start)?);
         }
