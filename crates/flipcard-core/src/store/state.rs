@@ -117,11 +117,22 @@ impl Store {
     /// The state of every item of `deck` that has been rated; an item not in
     /// the map is new.
     pub fn states(&self, deck: &str) -> Result<HashMap<ItemKey, CardState>, StoreError> {
-        Ok(self
-            .cached_states_in(Some(deck))?
-            .into_iter()
-            .map(|c| (c.key, c.state))
-            .collect())
+        // In no order (a map is made of them): sorting a deck's 50,000
+        // states took SQLite longer than reading them.
+        let mut st = self
+            .conn
+            .prepare_cached(&format!(
+                "SELECT {STATE_COLUMNS} FROM card_state WHERE deck = ?1 UNION ALL {}",
+                super::kept::as_cached_sql("WHERE k.deck = ?1")
+            ))
+            .map_err(|e| self.err(e))?;
+        let rows = read_states(&mut st, [deck]).map_err(|e| self.err(e))?;
+        let mut map = HashMap::with_capacity(rows.len());
+        for row in rows {
+            let c = row?;
+            map.insert(c.key, c.state);
+        }
+        Ok(map)
     }
 
     /// The state of one item (`None`: new).

@@ -130,7 +130,12 @@ impl Study {
         let mut items = Vec::with_capacity(tree.len());
         let mut done = Vec::with_capacity(tree.len());
         for (deck, _) in tree {
-            states.extend(self.store.states(&deck.id)?);
+            let of_deck = self.store.states(&deck.id)?;
+            if states.is_empty() {
+                states = of_deck;
+            } else {
+                states.extend(of_deck);
+            }
             let mut its = crate::sched::deck_item_refs(deck);
             its.retain(|k| {
                 statuses
