@@ -1,22 +1,21 @@
 //! Building the day's queue over 100,000 review items (target ≤ 50 ms), and
 //! the per-answer costs of the scheduler and the queue.
 
-use std::collections::HashMap;
 use std::hint::black_box;
 
 use chrono::{DateTime, FixedOffset, TimeDelta, TimeZone, Utc};
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
 use flipcard::sched::{
-    CardState, Config, Direction, DoneToday, ItemKey, Queue, Rating, Scheduler, State,
+    CardState, Config, Direction, DoneToday, ItemKey, Queue, Rating, Scheduler, State, States,
 };
 
 const ITEMS: usize = 100_000;
 
 /// A deck of 100,000 items: 60 % in review with due dates spread over two
 /// months either side of now, 5 % (re)learning, 35 % never seen.
-fn collection(now: DateTime<Utc>) -> (Vec<ItemKey>, HashMap<ItemKey, CardState>) {
+fn collection(now: DateTime<Utc>) -> (Vec<ItemKey>, States) {
     let mut items = Vec::with_capacity(ITEMS);
-    let mut states = HashMap::with_capacity(ITEMS);
+    let mut states = States::with_capacity_and_hasher(ITEMS, Default::default());
     // A fixed linear congruential sequence: the same collection every run.
     let mut x: u64 = 0x2545_f491_4f6c_dd1d;
     let mut next = || {

@@ -2,7 +2,6 @@
 //! [--format json]`. The exam date is remembered in the config
 //! (`exam_date`) until it passes: without `--exam`, the remembered one.
 
-use std::collections::HashMap;
 use std::process::ExitCode;
 
 use anyhow::Context as _;
@@ -16,7 +15,7 @@ use crate::cmd::paths;
 use crate::sched::DayGrid;
 use crate::sched::plan::{self, Plan};
 use crate::sched::scheduler::ForDeck;
-use crate::sched::{CardState, Config, ItemKey, Schedulers, deck_items};
+use crate::sched::{Config, ItemKey, Schedulers, States, deck_items};
 use crate::text::num::rounded;
 use crate::text::plural;
 use crate::{out, outln};
@@ -53,7 +52,7 @@ pub fn run(cli: &Cli, args: &PlanArgs) -> anyhow::Result<ExitCode> {
     };
     let store = open_store_read_only(cli)?;
     let mut keys: Vec<ItemKey> = Vec::new();
-    let mut states: HashMap<ItemKey, CardState> = HashMap::new();
+    let mut states = States::default();
     for deck in &decks {
         keys.extend(deck_items(deck));
         states.extend(store.states(&deck.id)?);

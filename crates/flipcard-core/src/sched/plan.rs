@@ -21,7 +21,7 @@
 //! late review first, each on the earliest days that still reach the
 //! target, so that the late days stay free for those that need them.
 
-use std::collections::HashMap;
+use crate::sched::States;
 
 use chrono::{DateTime, NaiveDate, Utc};
 
@@ -776,7 +776,7 @@ pub fn cap_needed_each(each: &[ItemModel], problem: &Problem) -> Result<Option<u
 /// The memories of `keys` from the cached states, for a [`Problem`].
 pub fn memories(
     keys: &[ItemKey],
-    states: &HashMap<ItemKey, CardState>,
+    states: &States,
     today: NaiveDate,
     day_of: &dyn Fn(DateTime<Utc>) -> NaiveDate,
 ) -> Vec<Option<Memory>> {
@@ -789,7 +789,7 @@ pub fn memories(
 #[allow(clippy::too_many_arguments)]
 pub fn exam_problem(
     keys: &[ItemKey],
-    states: &HashMap<ItemKey, CardState>,
+    states: &States,
     today: NaiveDate,
     exam: NaiveDate,
     day_of: &dyn Fn(DateTime<Utc>) -> NaiveDate,

@@ -14,7 +14,7 @@ use chrono::{DateTime, NaiveTime, TimeDelta, TimeZone, Utc};
 
 use super::config::Config;
 use super::types::{
-    AsItem, CardState, Direction, ItemKey, ItemRef, ReviewKind, ReviewRecord, State,
+    AsItem, CardState, Direction, ItemKey, ItemRef, ReviewKind, ReviewRecord, State, States,
 };
 use crate::deck::model::{CardKind, Deck};
 
@@ -183,7 +183,7 @@ impl Queue {
     /// in the machine's local time zone.
     pub fn build_local(
         items: &[ItemKey],
-        states: &HashMap<ItemKey, CardState>,
+        states: &States,
         done: DoneToday,
         now: DateTime<Utc>,
         config: &Config,
@@ -196,7 +196,7 @@ impl Queue {
     /// without a state (or in state `New`) is new.
     pub fn build<Tz: TimeZone>(
         items: &[ItemKey],
-        states: &HashMap<ItemKey, CardState>,
+        states: &States,
         done: DoneToday,
         now: DateTime<Utc>,
         config: &Config,
@@ -227,7 +227,7 @@ impl Queue {
     /// limit meanwhile.
     pub fn build_parts<Tz: TimeZone>(
         parts: &[Part<'_>],
-        states: &HashMap<ItemKey, CardState>,
+        states: &States,
         now: DateTime<Utc>,
         config: &Config,
         tz: &Tz,
@@ -769,7 +769,7 @@ mod tests {
         .iter()
         .map(|c| key(c))
         .collect();
-        let mut states = HashMap::new();
+        let mut states = States::default();
         states.insert(key("r-recent"), state(State::Review, at(10, 9, 0)));
         states.insert(key("r-old"), state(State::Review, at(2, 9, 0)));
         // Due later today (before tomorrow 04:00): still today's review.
@@ -805,7 +805,7 @@ mod tests {
     fn items_due_after_the_day_are_left_out() {
         let now = at(10, 12, 0);
         let items = vec![key("tomorrow"), key("learn-tomorrow")];
-        let mut states = HashMap::new();
+        let mut states = States::default();
         states.insert(key("tomorrow"), state(State::Review, at(11, 4, 0)));
         states.insert(key("learn-tomorrow"), state(State::Learning, at(11, 5, 0)));
         let q = Queue::build(&items, &states, DoneToday::default(), now, &cfg(), &ist());
@@ -817,7 +817,7 @@ mod tests {
     fn daily_limits_count_what_was_done_today() {
         let now = at(10, 12, 0);
         let mut items = Vec::new();
-        let mut states = HashMap::new();
+        let mut states = States::default();
         for i in 0..300 {
             let k = key(&format!("r{i:03}"));
             // r000 is the least overdue, r299 the most.
@@ -889,7 +889,7 @@ mod tests {
         let items = vec![key("a"), key("b")];
         let mut q = Queue::build(
             &items,
-            &HashMap::new(),
+            &States::default(),
             DoneToday::default(),
             t,
             &cfg(),
@@ -951,7 +951,7 @@ mod tests {
     fn learning_beyond_learn_ahead_waits() {
         let t = at(10, 12, 0);
         let items = vec![key("l")];
-        let mut states = HashMap::new();
+        let mut states = States::default();
         states.insert(key("l"), state(State::Learning, t + TimeDelta::minutes(21)));
         let q = Queue::build(&items, &states, DoneToday::default(), t, &cfg(), &ist());
         assert_eq!(q.next(t), None);
@@ -967,7 +967,7 @@ mod tests {
         let sched = Scheduler::new(&cfg());
         let t = at(10, 12, 0);
         let items = vec![key("r"), key("n")];
-        let mut states = HashMap::new();
+        let mut states = States::default();
         states.insert(key("r"), state(State::Review, t - TimeDelta::days(1)));
         let mut q = Queue::build(&items, &states, DoneToday::default(), t, &cfg(), &ist());
         let rec = sched.review(&key("r"), states.get(&key("r")), Rating::Again, t, 0);
@@ -989,7 +989,7 @@ mod tests {
         let sched = Scheduler::new(&cfg());
         let t = at(10, 12, 0);
         let items = vec![key("r"), key("n1"), key("n2")];
-        let mut states = HashMap::new();
+        let mut states = States::default();
         let before = state(State::Review, t - TimeDelta::days(1));
         states.insert(key("r"), before);
         let mut q = Queue::build(&items, &states, DoneToday::default(), t, &cfg(), &ist());
@@ -1019,7 +1019,7 @@ mod tests {
         let t = at(10, 12, 0);
         let mut q = Queue::build(
             &[key("n")],
-            &HashMap::new(),
+            &States::default(),
             DoneToday::default(),
             t,
             &cfg(),
@@ -1163,7 +1163,7 @@ mod deck_tests {
         let items = deck_items(&d);
         let tz = FixedOffset::east_opt(0).unwrap();
         let now = Utc.with_ymd_and_hms(2026, 3, 10, 12, 0, 0).unwrap();
-        let mut states = HashMap::new();
+        let mut states = States::default();
         // Forward learnt and due; backward never seen.
         states.insert(
             items[1].clone(),
@@ -1250,7 +1250,7 @@ mod limit_tests {
         let sched = Scheduler::new(&config);
         let mut q = Queue::build(
             &items,
-            &HashMap::new(),
+            &States::default(),
             DoneToday::default(),
             now(),
             &config,
@@ -1281,7 +1281,7 @@ mod limit_tests {
         };
         let q = Queue::build(
             &items,
-            &HashMap::new(),
+            &States::default(),
             DoneToday::default(),
             now(),
             &open,
@@ -1300,7 +1300,7 @@ mod limit_tests {
         };
         let mut q = Queue::build(
             &items,
-            &HashMap::new(),
+            &States::default(),
             DoneToday::default(),
             now(),
             &config,
@@ -1359,7 +1359,7 @@ mod limit_tests {
         };
         let config = Config::default();
         let build =
-            |parts: &[Part]| Queue::build_parts(parts, &HashMap::new(), now(), &config, &Utc);
+            |parts: &[Part]| Queue::build_parts(parts, &States::default(), now(), &config, &Utc);
         // Parent 6 a day, child a 2, child b 10: the parent's 3, a's 2, then
         // one of b before the parent's limit stops it.
         let q = build(&[
@@ -1420,7 +1420,7 @@ mod limit_tests {
                     done: DoneToday { new: done, reviews: 0 },
                 })
                 .collect();
-            let q = Queue::build_parts(&parts, &HashMap::new(), now(), &Config::default(), &Utc);
+            let q = Queue::build_parts(&parts, &States::default(), now(), &Config::default(), &Utc);
             let offered = order_new(&q);
             prop_assert_eq!(offered.len(), q.counts().new);
             let part_of = |k: &ItemKey| ids.iter().position(|d| *d == k.deck).unwrap();

@@ -112,6 +112,11 @@ impl ItemKey {
     }
 }
 
+/// Items' states by key: what a queue, a plan or a count reads. Hashed
+/// with foldhash rather than SipHash: a deck of 50,000 cards with a history
+/// hashes 50,000 keys to show home's counts.
+pub type States = std::collections::HashMap<ItemKey, CardState, foldhash::fast::RandomState>;
+
 /// An item named by borrowed ids: what a deck's items are while only
 /// counted or looked up, so a deck of 50,000 cards does not copy 100,000
 /// ids to show home's counts. A map keyed by [`ItemKey`] is searched with

@@ -3,6 +3,7 @@
 //! derived from the log alone, so it can always be rebuilt (the answer
 //! tallies are rebuilt along with it).
 
+use crate::sched::States;
 use std::collections::HashMap;
 
 use rusqlite::{Connection, Row, Transaction, params};
@@ -116,21 +117,48 @@ pub(super) fn refresh_item(tx: &Transaction<'_>, key: &ItemKey) -> rusqlite::Res
 impl Store {
     /// The state of every item of `deck` that has been rated; an item not in
     /// the map is new.
-    pub fn states(&self, deck: &str) -> Result<HashMap<ItemKey, CardState>, StoreError> {
+    pub fn states(&self, deck: &str) -> Result<States, StoreError> {
         // In no order (a map is made of them): sorting a deck's 50,000
-        // states took SQLite longer than reading them.
+        // states took SQLite longer than reading them. Only what a state
+        // is made of is read; the deck is the one asked for.
         let mut st = self
             .conn
             .prepare_cached(&format!(
-                "SELECT {STATE_COLUMNS} FROM card_state WHERE deck = ?1 UNION ALL {}",
-                super::kept::as_cached_sql("WHERE k.deck = ?1")
+                "SELECT card, direction, state, step, stability, difficulty, due, last_review, \
+                        review_id FROM ({}) ",
+                format_args!(
+                    "SELECT {STATE_COLUMNS} FROM card_state WHERE deck = ?1 UNION ALL {}",
+                    super::kept::as_cached_sql("WHERE k.deck = ?1")
+                )
             ))
             .map_err(|e| self.err(e))?;
-        let rows = read_states(&mut st, [deck]).map_err(|e| self.err(e))?;
-        let mut map = HashMap::with_capacity(rows.len());
-        for row in rows {
-            let c = row?;
-            map.insert(c.key, c.state);
+        let read = |row: &Row<'_>| -> rusqlite::Result<Result<(ItemKey, CardState), StoreError>> {
+            let review_id: i64 = row.get(8)?;
+            let decoded = (|| {
+                Ok((
+                    ItemKey {
+                        deck: deck.to_string(),
+                        card: row.get(0)?,
+                        direction: row.get(1)?,
+                    },
+                    codec::card_state(row, [2, 3, 4, 5, 6, 7])?,
+                ))
+            })();
+            match decoded {
+                Ok(pair) => Ok(Ok(pair)),
+                Err(e) => codec::bad_value(e).map(|detail| {
+                    Err(StoreError::BadRow {
+                        id: review_id,
+                        detail: format!("cached state: {detail}"),
+                    })
+                }),
+            }
+        };
+        let mut map = States::default();
+        let mut rows = st.query([deck]).map_err(|e| self.err(e))?;
+        while let Some(row) = rows.next().map_err(|e| self.err(e))? {
+            let (key, state) = read(row).map_err(|e| self.err(e))??;
+            map.insert(key, state);
         }
         Ok(map)
     }

@@ -19,8 +19,8 @@
 
 pub mod derive;
 
+use crate::sched::States;
 use std::borrow::Cow;
-use std::collections::HashMap;
 
 use chrono::{DateTime, Utc};
 
@@ -107,11 +107,7 @@ impl Study {
 
     /// The day's queue of a deck, and the item states it was built from.
     /// Suspended and buried items are left out.
-    pub fn queue(
-        &self,
-        deck: &Deck,
-        now: DateTime<Utc>,
-    ) -> Result<(Queue, HashMap<ItemKey, CardState>), StoreError> {
+    pub fn queue(&self, deck: &Deck, now: DateTime<Utc>) -> Result<(Queue, States), StoreError> {
         self.queue_tree(&[(deck, None)], now)
     }
 
@@ -123,10 +119,10 @@ impl Study {
         &self,
         tree: &[(&Deck, Option<usize>)],
         now: DateTime<Utc>,
-    ) -> Result<(Queue, HashMap<ItemKey, CardState>), StoreError> {
+    ) -> Result<(Queue, States), StoreError> {
         let (day_start, _) = self.study_day(now);
         let statuses = self.store.statuses()?;
-        let mut states = HashMap::new();
+        let mut states = States::default();
         let mut items = Vec::with_capacity(tree.len());
         let mut done = Vec::with_capacity(tree.len());
         for (deck, _) in tree {

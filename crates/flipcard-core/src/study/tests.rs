@@ -4,6 +4,7 @@
 use super::*;
 use crate::sched::Direction;
 use crate::store::ItemStatus;
+use std::collections::HashMap;
 
 fn deck() -> Deck {
     let loaded = crate::deck::load_dir(std::path::Path::new(concat!(

@@ -1,11 +1,9 @@
 //! Review: a card's front, the answer on demand, then a rating that is
 //! written to the review log before the next card appears.
 
-use std::collections::HashMap;
-
 use crate::deck::{Card, CardKind, Deck};
 use crate::sched::typed::{self, TypedCheck};
-use crate::sched::{CardState, CramQueue, Direction, ItemKey, Preview, Queue, Rating};
+use crate::sched::{CramQueue, Direction, ItemKey, Preview, Queue, Rating, States};
 use crate::tui::action::Action;
 use crate::tui::app::App;
 use crate::tui::i18n::{Msg, Noun};
@@ -76,7 +74,7 @@ pub struct ReviewState {
     pub decks: Vec<usize>,
     pub cram: bool,
     pub source: Source,
-    pub states: HashMap<ItemKey, CardState>,
+    pub states: States,
     /// The item shown, and when it appeared (for the answer duration).
     pub current: Option<(ItemKey, Stamp)>,
     pub phase: Phase,
@@ -130,7 +128,7 @@ impl ReviewState {
         cram: bool,
     ) -> Result<ReviewState, String> {
         let decks = scope_decks(app, deck)?;
-        let mut states = HashMap::new();
+        let mut states = States::default();
         for &i in &decks {
             let d = &app.decks[i];
             states.extend(
@@ -186,7 +184,7 @@ impl ReviewState {
         let sub = tree.subtree(deck);
         let decks: Vec<usize> = sub.iter().map(|(i, _)| *i).collect();
         let (source, states) = if cram {
-            let mut states = HashMap::new();
+            let mut states = States::default();
             let mut items = Vec::new();
             for &i in &decks {
                 let d = &app.decks[i];
