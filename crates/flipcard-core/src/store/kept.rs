@@ -144,10 +144,19 @@ pub(super) fn get(tx: &Transaction<'_>, key: &ItemKey) -> rusqlite::Result<Optio
 /// with no counts and no row (`review_id` 0). `filter` is `""` or a
 /// `WHERE` on `k.deck`.
 pub(super) fn as_cached_sql(filter: &str) -> String {
+    kept_sql(
+        "k.deck, k.card, k.direction, k.state, k.step, k.stability, k.difficulty, k.due, \
+         k.last_review, 0, 0, 0",
+        filter,
+    )
+}
+
+/// The kept states no answer counts for, as [`as_cached_sql`], with only
+/// the `columns` (of `kept_state AS k`, or constants) selected.
+pub(super) fn kept_sql(columns: &str, filter: &str) -> String {
     let and = if filter.is_empty() { "WHERE" } else { "AND" };
     format!(
-        "SELECT k.deck, k.card, k.direction, k.state, k.step, k.stability, k.difficulty, k.due, \
-                k.last_review, 0, 0, 0 FROM kept_state AS k {filter} {and} NOT EXISTS \
+        "SELECT {columns} FROM kept_state AS k {filter} {and} NOT EXISTS \
            (SELECT 1 FROM card_state AS c \
             WHERE c.deck = k.deck AND c.card = k.card AND c.direction = k.direction)"
     )

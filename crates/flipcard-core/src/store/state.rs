@@ -125,10 +125,11 @@ impl Store {
             .conn
             .prepare_cached(&format!(
                 "SELECT card, direction, state, step, stability, difficulty, due, last_review, \
-                        review_id FROM ({}) ",
-                format_args!(
-                    "SELECT {STATE_COLUMNS} FROM card_state WHERE deck = ?1 UNION ALL {}",
-                    super::kept::as_cached_sql("WHERE k.deck = ?1")
+                        review_id FROM card_state WHERE deck = ?1 UNION ALL {}",
+                super::kept::kept_sql(
+                    "k.card, k.direction, k.state, k.step, k.stability, k.difficulty, k.due, \
+                     k.last_review, 0",
+                    "WHERE k.deck = ?1"
                 )
             ))
             .map_err(|e| self.err(e))?;
