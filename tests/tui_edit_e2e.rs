@@ -216,8 +216,13 @@ fn f4_while_typing_keeps_the_answer_and_e_in_the_reader_edits_the_explanation() 
     assert!(args.ends_with(&format!("+2\n{}\n", en.display())), "{args}");
     t.keys(&["Escape"]);
     t.wait_for("3 Good");
+    // Rated; the learning card comes back at once (nothing else is due),
+    // its field empty: Esc ends the session there (`q` is a letter).
     t.keys(&["3"]);
-    t.keys(&["q", "q"]);
+    t.wait_for("> ▏");
+    t.keys(&["Escape"]);
+    t.wait_for("q quit");
+    t.keys(&["q"]);
     let s = t.wait_for("TTY=");
     assert!(s.contains("EXIT=0") && s.contains("TTY=cooked"), "{s}");
 }
