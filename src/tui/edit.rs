@@ -1,8 +1,10 @@
 //! Editing a deck where the learner studies: `E` opens the learner's
-//! editor at the item's line in its deck file, `A` appends a new card of
-//! the current card's kind and opens it the same way. A bundled deck is
-//! first copied into the library (the copy then replaces it). On return
-//! the file is checked as `flipcard check FILE` checks it; a deck that
+//! editor at the item's line in its deck file (in the reader, at the
+//! section's line in the content file of the language read), `A` appends
+//! a new card of the current card's kind and opens it the same way. A
+//! bundled deck is first copied into the library with its explanations
+//! (the copy then replaces it). On return the deck is checked as
+//! `flipcard check FILE` checks it (its content files with it); a deck that
 //! passes replaces the one in the app (its index unchanged, so every
 //! screen keeps its place) and the screens below are told; one that fails
 //! opens [`super::screens::edit_check`] with the first error, to edit
@@ -27,6 +29,9 @@ pub enum Target {
     Item(ItemKey),
     /// A new card of this kind, appended to the deck file.
     NewCard(CardKind),
+    /// An explanation section (`id`; `None`: the file from its top, for a
+    /// deck with no section yet) in the content file of `lang`.
+    Section { id: Option<String>, lang: String },
 }
 
 /// An edit under way: the file, what it held before, where the editor
@@ -35,7 +40,15 @@ pub enum Target {
 pub struct Session {
     /// The deck's id (the deck keeps its place in `App::decks`).
     pub deck: String,
+    /// The file the editor opens: the deck file, or one of its content
+    /// files.
     pub path: PathBuf,
+    /// The deck file `flipcard check` checks (with its content files).
+    pub deck_file: PathBuf,
+    /// Where `r` writes the file back: `path` with the links it went
+    /// through when the edit began resolved, so a link or a FIFO put in
+    /// its place meanwhile is replaced, never written through.
+    pub write_to: PathBuf,
     /// The file before the edit (and before a new card's template): what
     /// `r` writes back.
     pub original: Vec<u8>,
@@ -84,9 +97,18 @@ impl Suspend for NoTerminal {
     fn enter(&mut self) {}
 }
 
-/// The first error of `flipcard check FILE` on the deck file `path`, as
-/// one line (`file:line:col: error: …`), with its line; or the deck.
-pub fn check(path: &std::path::Path) -> Result<Deck, (String, usize)> {
+/// The first error of a deck's check: one line (`file:line:col: error:
+/// …`), the file it is in and its line there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Failed {
+    pub message: String,
+    pub file: PathBuf,
+    pub line: usize,
+}
+
+/// The first error of `flipcard check FILE` on the deck file `path` (its
+/// content files included); or the deck.
+pub fn check(path: &std::path::Path) -> Result<Deck, Failed> {
     let mut loaded = crate::deck::load_paths(&[path.to_path_buf()]);
     if loaded.errors() == 0 {
         let judged = crate::predict::audit::check_loaded(&loaded);
@@ -99,11 +121,20 @@ pub fn check(path: &std::path::Path) -> Result<Deck, (String, usize)> {
             line.push_str(&crate::text::safe::one_line(hint));
             line.push(')');
         }
-        return Err((line, d.line.max(1)));
+        return Err(Failed {
+            message: line,
+            file: d.path.clone(),
+            line: d.line.max(1),
+        });
     }
     match loaded.decks.pop() {
         Some(deck) if loaded.decks.is_empty() => Ok(deck),
-        _ => Err((format!("{}: not one deck", path.display()), 1)),
+        _ => Err(Failed {
+            message: crate::text::safe::one_line(&format!("{}: not one deck", path.display()))
+                .into_owned(),
+            file: path.to_path_buf(),
+            line: 1,
+        }),
     }
 }
 
@@ -112,8 +143,28 @@ pub fn item_exists(deck: &Deck, key: &ItemKey) -> bool {
     crate::sched::deck_items(deck).contains(key)
 }
 
-/// The file back as it was before the edit, written atomically.
+/// The file back as it was before the edit, written atomically in place
+/// of whatever is at its name now (a link or a FIFO put there while the
+/// editor ran is replaced, what a link named is left alone).
 pub fn revert(session: &Session) -> Result<(), String> {
-    crate::io::write_atomic(&session.path, &session.original, Durability::Synced)
-        .map_err(|e| format!("{}: {e}", session.path.display()))
+    crate::io::replace_atomic(&session.write_to, &session.original, Durability::Synced).map_err(
+        |e| crate::text::safe::one_line(&format!("{}: {e}", session.path.display())).into_owned(),
+    )
+}
+
+/// Where `path` leads through its links now (itself when it is no link).
+pub fn resolved(path: &std::path::Path) -> PathBuf {
+    let mut current = path.to_path_buf();
+    for _ in 0..40 {
+        match crate::io::read_link(&current) {
+            Ok(next) => {
+                current = match current.parent() {
+                    Some(dir) if next.is_relative() => dir.join(next),
+                    _ => next,
+                }
+            }
+            Err(_) => return current,
+        }
+    }
+    current
 }

@@ -5,7 +5,7 @@
 //! the screens told, or the first error shown on
 //! [`super::screens::edit_check`].
 
-use crate::deck::places::{ItemTable, item_line};
+use crate::deck::places::{ItemTable, item_line, section_line};
 use crate::io::Durability;
 use crate::sched::Direction;
 
@@ -60,22 +60,34 @@ fn prepare(app: &mut App, deck: usize, target: Target) -> Result<Session, String
         .library
         .as_ref()
         .is_some_and(|l| l.is_bundled(&id));
-    let (path, copied) = if bundled {
+    let (deck_file, copied) = if bundled {
         let not_a_file = app_words(app, words::NOT_A_FILE);
         let library = app.services.library.as_mut().ok_or(not_a_file)?;
         (library.copy_bundled(&id)?, true)
     } else {
         (d.path.clone(), false)
     };
-    if path.extension().is_none_or(|e| e != "toml") {
+    if deck_file.extension().is_none_or(|e| e != "toml") {
         return Err(app_words(app, words::NOT_A_FILE));
     }
-    let original =
-        crate::io::read_regular(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    // An explanation is edited in its language's content file, found
+    // beside the deck file as the loader finds it (the library's copy of
+    // a bundled deck has its own).
+    let path = match &target {
+        Target::Section { lang, .. } => {
+            crate::deck::content_dir(&deck_file, &id).join(format!("{lang}.toml"))
+        }
+        _ => deck_file.clone(),
+    };
+    let original = crate::io::read_regular(&path).map_err(|e| {
+        crate::text::safe::one_line(&format!("{}: {e}", path.display())).into_owned()
+    })?;
     let text = String::from_utf8_lossy(&original).into_owned();
     let mut session = Session {
         deck: id,
+        write_to: super::edit::resolved(&path),
         path,
+        deck_file,
         original: original.clone(),
         target: target.clone(),
         new_card: None,
@@ -91,6 +103,12 @@ fn prepare(app: &mut App, deck: usize, target: Target) -> Result<Session, String
                 _ => ItemTable::Card,
             };
             session.line = item_line(&session.path, &text, table, &key.card).unwrap_or(1);
+        }
+        Target::Section { id, .. } => {
+            session.line = id
+                .as_deref()
+                .and_then(|id| section_line(&session.path, &text, id))
+                .unwrap_or(1);
         }
         Target::NewCard(kind) => {
             let d = &app.decks[deck];
@@ -133,10 +151,13 @@ fn finish(tui: &mut Tui, mut session: Session, before: &[u8], ran: Result<(), St
     let now = match crate::io::read_regular(&session.path) {
         Ok(b) => b,
         Err(e) => {
-            tui.error(
-                crate::text::safe::one_line(&format!("{}: {e}", session.path.display()))
-                    .into_owned(),
-            );
+            // Something else than a file where the file was (a FIFO, a
+            // link to one): never read, and `r` puts the file back.
+            let message = crate::text::safe::one_line(&format!("{}: {e}", session.path.display()))
+                .into_owned();
+            let state = EditCheckState::new(session, message);
+            close_check(tui);
+            tui.push(Screen::EditCheck(Box::new(state)));
             return;
         }
     };
@@ -166,11 +187,16 @@ fn finish(tui: &mut Tui, mut session: Session, before: &[u8], ran: Result<(), St
         }
         return;
     }
-    let deck = match check(&session.path) {
+    let deck = match check(&session.deck_file) {
         Ok(d) => d,
-        Err((message, line)) => {
-            session.line = line;
-            let state = EditCheckState::new(session, message);
+        Err(failed) => {
+            // Edited again at the error when it is in the file edited
+            // (an error the edit caused in the deck file, a link to an
+            // anchor taken out, is shown with its own file:line:col).
+            if same_file(&failed.file, &session.path) {
+                session.line = failed.line;
+            }
+            let state = EditCheckState::new(session, failed.message);
             close_check(tui);
             tui.push(Screen::EditCheck(Box::new(state)));
             return;
@@ -186,16 +212,26 @@ fn finish(tui: &mut Tui, mut session: Session, before: &[u8], ran: Result<(), St
         target: session.target.clone(),
         new_card: session.new_card.clone(),
     };
-    tui.each_screen(|app, screen| match screen {
-        Screen::Review(r) => r.deck_edited(app, &edited),
-        Screen::Browser(b) => b.deck_edited(app, &edited),
-        Screen::Info(i) => i.deck_edited(app, &edited),
-        _ => {}
+    let top = tui.stack.len() - 1;
+    let mut at = 0;
+    tui.each_screen(|app, screen| {
+        let on_top = at == top;
+        at += 1;
+        match screen {
+            Screen::Review(r) => r.deck_edited(app, &edited, on_top),
+            Screen::Browser(b) => b.deck_edited(app, &edited),
+            Screen::Info(i) => i.deck_edited(app, &edited),
+            Screen::Reader(r) => r.deck_edited(app, &edited),
+            Screen::Predict(p) => p.deck_edited(app, &edited),
+            _ => {}
+        }
     });
-    let mut said = vec![if now == session.original {
-        app_words(tui, words::UNCHANGED)
-    } else {
-        app_words(tui, words::SAVED)
+    let explanations = matches!(session.target, Target::Section { .. });
+    let mut said = vec![match (now == session.original, explanations) {
+        (true, false) => app_words(tui, words::UNCHANGED),
+        (false, false) => app_words(tui, words::SAVED),
+        (true, true) => app_words(tui, words::CONTENT_UNCHANGED),
+        (false, true) => app_words(tui, words::CONTENT_SAVED),
     }];
     if session.copied {
         let path = session.path.display().to_string();
@@ -219,6 +255,12 @@ fn finish(tui: &mut Tui, mut session: Session, before: &[u8], ran: Result<(), St
         _ => {}
     }
     tui.info(said.join("; "));
+}
+
+/// Whether two paths name one file (a relative and an absolute name, or
+/// one through a link).
+fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    a == b || crate::io::canonical(a) == crate::io::canonical(b)
 }
 
 /// Closes the check screen of an earlier try, if it is on top.

@@ -1067,6 +1067,19 @@ pub mod edit {
         "deck check hua aur dobara load hua",
     );
     pub const UNCHANGED: Words = Words("the deck file is unchanged", "deck file nahi badli");
+    pub const CONTENT_SAVED: Words = Words(
+        "explanations checked and reloaded",
+        "explanations check hue aur dobara load hue",
+    );
+    pub const CONTENT_UNCHANGED: Words = Words(
+        "the explanation file is unchanged",
+        "explanation file nahi badli",
+    );
+    /// The footer's word for the key that edits while a field is typed
+    /// in (`F4`).
+    pub const EDIT_KEY: Words = Words("edit", "edit");
+    /// The footer's word for the key that adds a card while typing (`F7`).
+    pub const ADD_KEY: Words = Words("add card", "card jodo");
     pub const NOTHING_ADDED: Words = Words(
         "the new card was left as the template: nothing added",
         "naya card template jaisa hi chhoda: kuch nahi joda",
@@ -1088,12 +1101,12 @@ pub mod edit {
         "e: error par phir se edit karo · r: file ko edit se pehle jaisi wapas karo",
     );
     pub const REVERTED: Words = Words(
-        "the deck file is back as it was before the edit",
-        "deck file edit se pehle jaisi wapas ho gayi",
+        "the file is back as it was before the edit",
+        "file edit se pehle jaisi wapas ho gayi",
     );
     pub const KEPT_BROKEN: Words = Words(
-        "the deck file keeps the error: the deck is left out when flipcard next opens, until it passes `flipcard check`",
-        "deck file mein error reh gaya: agli baar flipcard khulne par deck bahar rahega, jab tak `flipcard check` pass na ho",
+        "the file keeps the error: the deck is left out when flipcard next opens, until it passes `flipcard check`",
+        "file mein error reh gaya: agli baar flipcard khulne par deck bahar rahega, jab tak `flipcard check` pass na ho",
     );
     pub const NOT_A_FILE: Words = Words(
         "this deck has no file to edit",

@@ -87,8 +87,27 @@ fn draw_footer(frame: &mut Frame, area: Rect, app: &Tui) {
         ]
     };
     let mut spans = vec![Span::raw(" ")];
+    // While a field takes the letters, the keys that edit the deck there,
+    // as its table has them (`F4`, `F7`), after the back key, as far as
+    // the width allows.
+    let mut typing_keys: Vec<Vec<Span>> = Vec::new();
     if screens::is_text_input(ctx) {
         spans.extend(hint("F1", Msg::Help));
+        let rows = screens::bindings(ctx);
+        for (action, word) in [
+            (super::action::Action::EditItem, super::i18n::edit::EDIT_KEY),
+            (super::action::Action::AddCard, super::i18n::edit::ADD_KEY),
+        ] {
+            if let Some(b) = rows.iter().find(|b| {
+                matches!(b.keys, super::keymap::Keys::Map(keys)
+                    if keys.iter().any(|(_, a)| *a == action))
+            }) {
+                typing_keys.push(vec![
+                    Span::styled(b.label, t.key()),
+                    Span::styled(format!(" {}  ", word.get(&app.lang)), t.dim()),
+                ]);
+            }
+        }
     } else {
         spans.extend(hint("?", Msg::Help));
         // The language's key where this screen has it (the explore view's
@@ -108,6 +127,18 @@ fn draw_footer(frame: &mut Frame, area: Rect, app: &Tui) {
         Msg::Back
     };
     spans.extend(hint(if ctx == Context::Home { "q" } else { "Esc" }, back));
+    let width = |spans: &[Span]| {
+        spans
+            .iter()
+            .map(|s| super::wrap::columns(&s.content))
+            .sum::<usize>()
+    };
+    for group in typing_keys {
+        if width(&spans) + width(&group) > usize::from(area.width) {
+            break;
+        }
+        spans.extend(group);
+    }
     frame.render_widget(Paragraph::new(Line::from(spans)), area);
 }
 

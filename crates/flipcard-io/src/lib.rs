@@ -25,7 +25,7 @@ pub use ops::*;
 pub use probe::{
     Probe, cannot_read, open_regular, probe, read_regular, read_regular_limited, read_text,
 };
-pub use write::{Durability, copy_atomic, sync_dir, write_atomic, write_new};
+pub use write::{Durability, copy_atomic, replace_atomic, sync_dir, write_atomic, write_new};
 
 /// `bytes` for a message: "64 MiB", "512 KiB", "100 bytes".
 pub fn size(bytes: u64) -> String {

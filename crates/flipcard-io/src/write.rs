@@ -23,6 +23,16 @@ pub enum Durability {
 /// Replaces `path` with `bytes` (creating it and its folder if needed).
 pub fn write_atomic(path: &Path, bytes: &[u8], durability: Durability) -> io::Result<()> {
     let target = resolve_links(path)?;
+    replace_atomic(&target, bytes, durability)
+}
+
+/// Replaces what is at `path` itself with a regular file of `bytes`, as
+/// [`write_atomic`] does but following no link: a link (or a FIFO, or any
+/// other file) put at `path` is replaced, and what a link named is left
+/// as it was. For putting back a file whose name something else may have
+/// taken meanwhile (an edit reverted).
+pub fn replace_atomic(target: &Path, bytes: &[u8], durability: Durability) -> io::Result<()> {
+    let target = target.to_path_buf();
     let dir = match target.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -121,6 +131,30 @@ fn resolve_links(path: &Path) -> io::Result<PathBuf> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(unix)]
+    #[test]
+    fn replace_atomic_replaces_a_link_and_leaves_its_target() {
+        let dir = tempfile::tempdir().unwrap();
+        let outside = dir.path().join("outside.txt");
+        fs::write(&outside, b"keep me").unwrap();
+        let path = dir.path().join("en.toml");
+        std::os::unix::fs::symlink(&outside, &path).unwrap();
+        replace_atomic(&path, b"restored", Durability::Synced).unwrap();
+        assert!(
+            !fs::symlink_metadata(&path)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(&path).unwrap(), b"restored");
+        assert_eq!(fs::read(&outside).unwrap(), b"keep me");
+        // A FIFO in its place is replaced too, without opening it.
+        fs::remove_file(&path).unwrap();
+        nix::unistd::mkfifo(&path, nix::sys::stat::Mode::S_IRWXU).unwrap();
+        replace_atomic(&path, b"again", Durability::Synced).unwrap();
+        assert_eq!(fs::read(&path).unwrap(), b"again");
+    }
 
     #[test]
     fn a_file_is_replaced_whole_and_no_temporary_is_left() {

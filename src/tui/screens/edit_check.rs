@@ -20,8 +20,8 @@ pub const KEYS: &[Binding] = &[
     Binding::new(
         "e",
         Words(
-            "edit the deck file again, at the error",
-            "deck file phir se edit karo, error par",
+            "edit the file again, at the error",
+            "file phir se edit karo, error par",
         ),
         &[(Char('e'), Action::EditItem)],
     ),

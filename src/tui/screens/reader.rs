@@ -73,6 +73,14 @@ pub const KEYS: &[Binding] = &[
         &[(Char('F'), Action::OpenFormulas)],
     ),
     Binding::new(
+        "E",
+        Words(
+            "edit this section in the language shown",
+            "yeh section dikhti bhasha mein edit karo",
+        ),
+        &[(Char('E'), Action::EditItem)],
+    ),
+    Binding::new(
         "Esc q",
         Words("back", "wapas"),
         &[(Esc, Action::Back), (Char('q'), Action::Back)],
@@ -125,6 +133,65 @@ impl ReaderState {
             deck,
             ..ReaderState::default()
         }
+    }
+}
+
+impl ReaderState {
+    /// The deck was edited and reloaded (`E`): the page edited is shown
+    /// again, found by its id, at the same scroll as far as it still
+    /// reaches; a page whose id is gone gives way to the nearest one.
+    pub fn deck_edited(&mut self, app: &App, edited: &crate::tui::edit::Edited) {
+        if edited.deck != self.deck {
+            return;
+        }
+        let Some(d) = app.decks.get(self.deck) else {
+            return;
+        };
+        let found = match &edited.target {
+            crate::tui::edit::Target::Section { id: Some(id), .. } => {
+                d.sections.iter().position(|s| &s.id == id)
+            }
+            crate::tui::edit::Target::Item(key)
+                if key.direction == crate::sched::Direction::Derive =>
+            {
+                d.derivations
+                    .iter()
+                    .position(|x| x.id == key.card)
+                    .map(|i| d.sections.len() + i)
+            }
+            _ => None,
+        };
+        let n = pages(d);
+        self.section = found.unwrap_or(self.section).min(n.saturating_sub(1));
+        for (section, _) in &mut self.history {
+            *section = (*section).min(n.saturating_sub(1));
+        }
+        self.link = None;
+        self.hit = None;
+        self.anchored = None;
+        self.scroll = self.scroll.min(max_scroll(app, d, self));
+    }
+}
+
+/// What `E` edits on the page shown: the section in the content file of
+/// the language on screen (the deck's first in order when it lacks that
+/// one, as the texts fall back), or a derivation in the deck file.
+fn edit_target(app: &App, deck: &Deck, state: &ReaderState) -> crate::tui::edit::Target {
+    if let Some(d) = derivation_at(deck, state.section) {
+        return crate::tui::edit::Target::Item(crate::sched::ItemKey {
+            deck: deck.id.clone(),
+            card: d.id.clone(),
+            direction: crate::sched::Direction::Derive,
+        });
+    }
+    let lang = if deck.languages.contains(&app.lang) {
+        app.lang.clone()
+    } else {
+        deck.languages.iter().min().cloned().unwrap_or_default()
+    };
+    crate::tui::edit::Target::Section {
+        id: deck.sections.get(state.section).map(|s| s.id.clone()),
+        lang,
     }
 }
 
@@ -723,6 +790,10 @@ pub fn apply(app: &mut App, state: &mut ReaderState, action: Action) -> Nav {
             }
             None => {}
         },
+        Action::EditItem => {
+            let target = edit_target(app, deck, state);
+            app.request_edit(state.deck, target);
+        }
         Action::StartSearch => state.search = Some(String::new()),
         Action::OpenFormulas => {
             return Nav::Push(super::Screen::Formulas(super::formulas::FormulaSheet::new(

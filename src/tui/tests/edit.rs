@@ -38,14 +38,14 @@ accept = ["newton", "N"]
 "#;
 
 /// What the test's editor does to the file, one step per run.
-type Step = Box<dyn FnMut(&Path) -> Result<(), String>>;
+pub(super) type Step = Box<dyn FnMut(&Path) -> Result<(), String>>;
 
 /// An editor that runs the steps given, in order, and remembers where it
 /// was opened.
 #[derive(Clone, Default)]
-struct Scripted {
-    steps: Rc<RefCell<Vec<Step>>>,
-    opened: Rc<RefCell<Vec<(PathBuf, usize)>>>,
+pub(super) struct Scripted {
+    pub(super) steps: Rc<RefCell<Vec<Step>>>,
+    pub(super) opened: Rc<RefCell<Vec<(PathBuf, usize)>>>,
 }
 
 impl EditorRun for Scripted {
@@ -61,7 +61,7 @@ impl EditorRun for Scripted {
     }
 }
 
-fn replace(from: &'static str, to: &'static str) -> Step {
+pub(super) fn replace(from: &'static str, to: &'static str) -> Step {
     Box::new(move |file: &Path| {
         let text = std::fs::read_to_string(file).unwrap();
         assert!(text.contains(from), "{from:?} not in {}", file.display());
@@ -70,11 +70,11 @@ fn replace(from: &'static str, to: &'static str) -> Step {
     })
 }
 
-struct Fixture {
-    app: Tui,
-    editor: Scripted,
-    file: PathBuf,
-    _dir: tempfile::TempDir,
+pub(super) struct Fixture {
+    pub(super) app: Tui,
+    pub(super) editor: Scripted,
+    pub(super) file: PathBuf,
+    pub(super) _dir: tempfile::TempDir,
 }
 
 /// The app on the deck `mini`, a file of a temporary folder, reviewing it.
@@ -91,7 +91,7 @@ fn write_deck(root: &Path) -> PathBuf {
     file
 }
 
-fn fixture(steps: Vec<Step>) -> Fixture {
+pub(super) fn fixture(steps: Vec<Step>) -> Fixture {
     let dir = tempfile::tempdir().unwrap();
     let file = write_deck(dir.path());
     let decks = dir.path().join("decks");
@@ -112,26 +112,26 @@ fn fixture(steps: Vec<Step>) -> Fixture {
 }
 
 /// A key, then the edit it asked for, as the event loop carries it out.
-fn key(app: &mut Tui, c: char) {
+pub(super) fn key(app: &mut Tui, c: char) {
     press(app, Char(c));
     run_pending(app, &mut NoTerminal);
 }
 
-fn status(app: &Tui) -> String {
+pub(super) fn status(app: &Tui) -> String {
     app.status
         .as_ref()
         .map(|s| s.text.clone())
         .unwrap_or_default()
 }
 
-fn shown(app: &Tui) -> Option<ItemKey> {
+pub(super) fn shown(app: &Tui) -> Option<ItemKey> {
     match app.screen() {
         Screen::Review(r) => r.current.as_ref().map(|(k, _)| k.clone()),
         _ => None,
     }
 }
 
-fn item(card: &str) -> ItemKey {
+pub(super) fn item(card: &str) -> ItemKey {
     ItemKey {
         deck: "mini".into(),
         card: card.into(),

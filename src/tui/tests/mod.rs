@@ -12,6 +12,8 @@ mod browser;
 mod deck_options;
 mod derive;
 mod edit;
+mod edit_content;
+mod edit_typing;
 mod exam;
 mod explore;
 mod formula_answers;

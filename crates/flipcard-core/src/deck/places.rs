@@ -214,6 +214,22 @@ pub fn item_line(path: &Path, source: &str, table: ItemTable, id: &str) -> Optio
     Some(index.position(source, found.span.start).0)
 }
 
+/// The line (1-based) of the `id` of section `id` in the content file
+/// `source`: where an editor opens it. `None` when the file does not parse
+/// or has no such section.
+pub fn section_line(path: &Path, source: &str, id: &str) -> Option<usize> {
+    let mut rep = FileReport::new(path, source);
+    let (root, span) = super::syntax::parse(&mut rep, source)?;
+    let file = raw::read_content_file(&mut rep, &root, span);
+    let found = file
+        .sections
+        .iter()
+        .filter_map(|s| s.id.as_ref())
+        .find(|s| s.value == id)?;
+    let index = LineIndex::new(source);
+    Some(index.position(source, found.span.start).0)
+}
+
 #[cfg(test)]
 mod item_line_tests {
     use super::*;
@@ -227,6 +243,17 @@ mod item_line_tests {
         assert_eq!(item_line(p, src, ItemTable::Card, "c"), None);
         assert_eq!(item_line(p, src, ItemTable::Prompt, "a"), None);
         assert_eq!(item_line(p, "[[card", ItemTable::Card, "a"), None);
+    }
+
+    #[test]
+    fn a_sections_line_is_the_line_of_its_id() {
+        let src = "# notes\n[[section]]\nid = \"a\"\ntitle = 'A'\nbody = '''x'''\n\n[[section]]\n\nid = \"b\"\ntitle = 'B'\nbody = 'y'\n";
+        let p = Path::new("en.toml");
+        assert_eq!(section_line(p, src, "a"), Some(3));
+        assert_eq!(section_line(p, src, "b"), Some(9));
+        assert_eq!(section_line(p, src, "c"), None);
+        assert_eq!(section_line(p, "[[section", "a"), None);
+        assert_eq!(section_line(p, "", "a"), None);
     }
 }
 
@@ -265,6 +292,37 @@ mod item_line_props {
             for (i, line) in want.iter().enumerate() {
                 let id = format!("c{i}");
                 prop_assert_eq!(item_line(Path::new("d.toml"), &text, ItemTable::Card, &id), Some(*line));
+            }
+        }
+
+        /// Any text as a content file: a line of it or none, never a panic.
+        #[test]
+        fn any_content_text_gives_a_line_of_it_or_none(text in "\\PC{0,400}", id in "[a-z]{1,6}") {
+            if let Some(line) = section_line(Path::new("en.toml"), &text, &id) {
+                prop_assert!(line >= 1 && line <= text.lines().count().max(1));
+            }
+        }
+
+        /// Sections separated by blank lines and comments: each id's line
+        /// is the line its `id = …` is written on.
+        #[test]
+        fn each_sections_line_is_where_its_id_is_written(gaps in proptest::collection::vec((0usize..4, any::<bool>()), 1..8)) {
+            let mut text = String::new();
+            let mut want = Vec::new();
+            for (i, (blank, comment)) in gaps.iter().enumerate() {
+                text.push_str("\n[[section]]\n");
+                for _ in 0..*blank {
+                    text.push('\n');
+                }
+                if *comment {
+                    text.push_str("# a comment\n");
+                }
+                want.push(text.lines().count() + 1);
+                text.push_str(&format!("id = \"s{i}\"\ntitle = 'T'\nbody = '''b'''\n"));
+            }
+            for (i, line) in want.iter().enumerate() {
+                let id = format!("s{i}");
+                prop_assert_eq!(section_line(Path::new("en.toml"), &text, &id), Some(*line));
             }
         }
     }

@@ -1,6 +1,6 @@
 //! The predict-then-check screen's keys, one table per mode.
 
-use crossterm::event::KeyCode::{Backspace, Char, Down, Enter, Esc, Left, Right, Tab, Up};
+use crossterm::event::KeyCode::{Backspace, Char, Down, Enter, Esc, F, Left, Right, Tab, Up};
 
 use crate::tui::action::Action;
 use crate::tui::i18n::Words;
@@ -46,6 +46,26 @@ const DELETE: Binding = Binding::new(
 );
 const ESC_BACK: Binding = Binding::new("Esc", Words("back", "wapas"), &[(Esc, Action::Back)]);
 
+/// While the answer is typed, `E` and `A` are letters (a unit may be
+/// `A`): the function keys edit the prompt and add a card instead, and
+/// what is typed stays.
+const EDIT_TYPING: Binding = Binding::new(
+    "F4",
+    Words(
+        "edit this prompt in its deck file (what you typed stays)",
+        "yeh prompt uski deck file mein badlo (likha hua rehta hai)",
+    ),
+    &[(F(4), Action::EditItem)],
+);
+const ADD_TYPING: Binding = Binding::new(
+    "F7",
+    Words(
+        "add a card to the deck, in the editor",
+        "deck mein naya card jodo, editor mein",
+    ),
+    &[(F(7), Action::AddCard)],
+);
+
 /// Type a number (with an optional unit).
 pub const NUMBER_KEYS: &[Binding] = &[
     Binding::typing(Words(
@@ -58,6 +78,8 @@ pub const NUMBER_KEYS: &[Binding] = &[
         &[(Enter, Action::Submit)],
     ),
     DELETE,
+    EDIT_TYPING,
+    ADD_TYPING,
     ESC_BACK,
 ];
 
@@ -73,6 +95,8 @@ pub const FORMULA_KEYS: &[Binding] = &[
         &[(Enter, Action::Submit)],
     ),
     DELETE,
+    EDIT_TYPING,
+    ADD_TYPING,
     ESC_BACK,
 ];
 

@@ -97,6 +97,8 @@ impl Measuring {
 pub struct PredictState {
     pub deck: usize,
     pub prompt: usize,
+    /// The prompt's id: found again by it when its deck is edited.
+    pub prompt_id: String,
     /// A choice prompt (else a number or a formula).
     pub choice: bool,
     /// A formula prompt: the learner types a formula, graded at the
@@ -136,9 +138,16 @@ impl PredictState {
             .get(deck)
             .and_then(|d| d.prompts.get(prompt))
             .is_some_and(|p| matches!(p.answer, Answer::Formula(_)));
+        let prompt_id = app
+            .decks
+            .get(deck)
+            .and_then(|d| d.prompts.get(prompt))
+            .map(|p| p.id.clone())
+            .unwrap_or_default();
         PredictState {
             deck,
             prompt,
+            prompt_id,
             choice,
             formula,
             diagnostics: None,
@@ -169,6 +178,48 @@ impl PredictState {
         let (run, explore) = explore::enter(app, d, p, 1.0)?;
         state.phase = Phase::Explore { run, explore };
         Ok(state)
+    }
+
+    /// The deck was edited and reloaded (`F4`, `F7` while typing the
+    /// answer): before the commitment the prompt is asked again as the
+    /// file has it now (a varied prompt with the numbers already drawn,
+    /// while it still varies), what was typed kept; a prompt whose id is
+    /// gone closes the screen at the next key. A run under way is left
+    /// as it is.
+    pub fn deck_edited(&mut self, app: &App, edited: &crate::tui::edit::Edited) {
+        if edited.deck != self.deck || !matches!(self.phase, Phase::Ask { .. }) {
+            return;
+        }
+        let Some(d) = app.decks.get(self.deck) else {
+            return;
+        };
+        let Some(i) = d.prompts.iter().position(|p| p.id == self.prompt_id) else {
+            self.prompt = usize::MAX;
+            self.variant = None;
+            return;
+        };
+        let p = &d.prompts[i];
+        self.prompt = i;
+        self.choice = matches!(p.answer, Answer::Choice { .. });
+        self.formula = matches!(p.answer, Answer::Formula(_));
+        let seed = self
+            .variant
+            .as_ref()
+            .and_then(|v| v.variant.as_ref())
+            .and_then(|v| v.seed);
+        self.variant = match seed {
+            _ if p.vary.is_empty() => None,
+            Some(seed) => {
+                let v = crate::predict::variant::draw(p, seed);
+                crate::predict::variant::resolve(d, p, Some(&v)).map(Box::new)
+            }
+            None => draw_variant(app, self.deck, i).map(Box::new),
+        };
+        if let (Phase::Ask { selected, .. }, Answer::Choice { choices, .. }) =
+            (&mut self.phase, &p.answer)
+        {
+            *selected = (*selected).min(choices.len().saturating_sub(1));
+        }
     }
 
     /// Whether the diagnostics line is shown (when the scene has one): the
@@ -334,6 +385,22 @@ pub fn apply(app: &mut App, state: &mut PredictState, action: Action) -> Nav {
     if !known {
         app.error(format!("scene {} not found", prompt.scene));
         return Nav::Pop;
+    }
+    // While the answer is typed, `E` and `A` are letters: F4 edits the
+    // prompt in its deck file, F7 adds a card (what is typed stays).
+    if matches!(state.phase, Phase::Ask { .. })
+        && matches!(action, Action::EditItem | Action::AddCard)
+    {
+        let target = match action {
+            Action::EditItem => crate::tui::edit::Target::Item(crate::sched::ItemKey {
+                deck: deck(app, state).map(|d| d.id.clone()).unwrap_or_default(),
+                card: state.prompt_id.clone(),
+                direction: crate::sched::Direction::Predict,
+            }),
+            _ => crate::tui::edit::Target::NewCard(crate::deck::CardKind::Basic),
+        };
+        app.request_edit(state.deck, target);
+        return Nav::Stay;
     }
     let units = app.decks.get(state.deck).map_or(&[][..], |d| &d.units[..]);
     let deck_index = state.deck;

@@ -1,6 +1,6 @@
 //! The review screen's keys, one table per mode.
 
-use crossterm::event::KeyCode::{Backspace, Char, Down, Enter, Esc, Up};
+use crossterm::event::KeyCode::{Backspace, Char, Down, Enter, Esc, F, Up};
 
 use crate::sched::Rating;
 use crate::tui::action::Action;
@@ -38,21 +38,41 @@ const BURY: Binding = Binding::new(
 );
 
 const EDIT: Binding = Binding::new(
-    "E",
+    "E F4",
     Words(
         "edit this card in its deck file",
         "yeh card uski deck file mein badlo",
     ),
-    &[(Char('E'), Action::EditItem)],
+    &[(Char('E'), Action::EditItem), (F(4), Action::EditItem)],
 );
 
 const ADD: Binding = Binding::new(
-    "A",
+    "A F7",
     Words(
         "add a card of this kind, in the editor",
         "isi kind ka naya card jodo, editor mein",
     ),
-    &[(Char('A'), Action::AddCard)],
+    &[(Char('A'), Action::AddCard), (F(7), Action::AddCard)],
+);
+
+/// While typing, `E` and `A` are letters: the function keys edit and add
+/// (what is typed stays).
+pub(crate) const EDIT_TYPING: Binding = Binding::new(
+    "F4",
+    Words(
+        "edit this card in its deck file (your answer so far stays)",
+        "yeh card uski deck file mein badlo (ab tak likha jawab rehta hai)",
+    ),
+    &[(F(4), Action::EditItem)],
+);
+
+pub(crate) const ADD_TYPING: Binding = Binding::new(
+    "F7",
+    Words(
+        "add a card of this kind, in the editor",
+        "isi kind ka naya card jodo, editor mein",
+    ),
+    &[(F(7), Action::AddCard)],
 );
 
 /// A card taller than the screen scrolls.
@@ -152,6 +172,8 @@ pub const TYPING_KEYS: &[Binding] = &[
         &[(Backspace, Action::Backspace)],
     ),
     SCROLL_TYPING,
+    EDIT_TYPING,
+    ADD_TYPING,
     Binding::new(
         "Esc",
         Words("end the session", "session khatam karo"),

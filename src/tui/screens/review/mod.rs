@@ -359,17 +359,31 @@ impl ReviewState {
         self.next_card(app);
     }
 
-    /// The deck `edited.deck` was edited and reloaded (`E`, `A`): the
-    /// card shown is shown again as the file has it now (from its front);
+    /// The deck `edited.deck` was edited and reloaded (`E`, `A`, or
+    /// `F4`, `F7` while typing): the card shown is shown again as the file
+    /// has it now (from its front, with the answer typed so far, and a
+    /// derivation walked as far as it was while its steps are as many);
     /// one whose id is gone leaves the queue (its history stays with the
-    /// old id); a new card joins the queue and is shown at once.
-    pub fn deck_edited(&mut self, app: &App, edited: &crate::tui::edit::Edited) {
+    /// old id); a new card joins the queue and is shown at once, unless a
+    /// prompt is being answered on its own screen above (`on_top` false:
+    /// its rating comes back here) or an answer is part typed: the new
+    /// card then comes next.
+    pub fn deck_edited(&mut self, app: &App, edited: &crate::tui::edit::Edited, on_top: bool) {
         if !self.decks.contains(&edited.deck) {
             return;
         }
         let Some(deck) = app.decks.get(edited.deck) else {
             return;
         };
+        // An explanation edited from the reader above: the deck file,
+        // and so the card and where the learner is with it, did not change.
+        if matches!(edited.target, crate::tui::edit::Target::Section { .. }) {
+            return;
+        }
+        let answering_elsewhere = !on_top
+            && self.current.as_ref().is_some_and(|(k, _)| {
+                k.direction == Direction::Predict && crate::tui::edit::item_exists(deck, k)
+            });
         if let Some(id) = &edited.new_card {
             let keys: Vec<ItemKey> = crate::sched::deck_items(deck)
                 .into_iter()
@@ -382,7 +396,12 @@ impl ReviewState {
                 }
             }
             self.listed.extend(keys.iter().cloned());
-            if let Some(first) = keys.first() {
+            // An answer part typed stays on screen: the new card is next.
+            let typing = matches!(&self.phase, Phase::Front { input } if !input.is_empty());
+            if let Some(first) = keys.first()
+                && !answering_elsewhere
+                && !typing
+            {
                 self.show(app, Some(first.clone()));
             }
             return;
@@ -390,11 +409,32 @@ impl ReviewState {
         let Some((key, _)) = self.current.clone() else {
             return;
         };
-        if key.deck != deck.id {
+        if key.deck != deck.id || answering_elsewhere {
             return;
         }
         if crate::tui::edit::item_exists(deck, &key) {
+            // What the learner typed stays (checked again with Enter).
+            let typed = match &self.phase {
+                Phase::Front { input } => input.clone(),
+                Phase::Back { typed, .. } => {
+                    typed.as_ref().map(|t| t.text.clone()).unwrap_or_default()
+                }
+                Phase::Done => String::new(),
+            };
+            let walk = match self.phase {
+                Phase::Front { .. } => self.walk.take(),
+                _ => None,
+            };
             self.show(app, Some(key));
+            if let (Some(walk), Some(d)) = (walk, self.derivation(deck))
+                && walk.faded.len() == d.steps.len()
+            {
+                self.typed = walk.typing(d);
+                self.walk = Some(walk);
+            }
+            if let Phase::Front { input } = &mut self.phase {
+                *input = typed;
+            }
         } else {
             match &mut self.source {
                 Source::Daily(q) | Source::Filtered(q) | Source::Plan(q) => q.set_aside(&key),
