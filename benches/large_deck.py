@@ -2,7 +2,10 @@
 """Writes a deck of N cards (default 50,000; one in ten reversed, two tags
 each, a little math) as DIR/decks/big.toml with its empty content file, for
 measuring a large collection as a whole process (benches/first_frame.sh,
-`flipcard check`):
+`flipcard check`), and DIR/reviews.csv: three answers (Good) to each card's
+first side, on 1, 4 and 20 October 2026, for a collection with a history
+(`flipcard import --reviews DIR/reviews.csv --format csv` into the data
+folder before timing):
 
     python3 benches/large_deck.py DIR [N]
 """
@@ -34,6 +37,11 @@ def main():
     (root / "content" / "big").mkdir(parents=True, exist_ok=True)
     (root / "content" / "big" / "en.toml").write_text("")
     (root / "decks" / "big.toml").write_text("\n".join(out) + "\n")
+    rows = ["deck,card,direction,reviewed_at,rating"]
+    for i in range(n):
+        for day in ("2026-10-01", "2026-10-04", "2026-10-20"):
+            rows.append(f"big,c{i},forward,{day}T08:{(i // 60) % 60:02d}:{i % 60:02d}.000Z,3")
+    (root / "reviews.csv").write_text("\n".join(rows) + "\n")
 
 
 if __name__ == "__main__":
