@@ -844,8 +844,10 @@ fn the_default_absolute_tolerance_follows_each_variables_size() {
 /// the end state at t = 1e5 answers with ~3e11 per unit, so radau's error
 /// stays near 1e-9 from --tol 1e-9 to 1e-12 (docs/deck-format.md, "How far
 /// a tolerance goes"). Written with y2 = y3 + y4 as an observable, the same
-/// problem tracks the tolerance down to 1e-11: radau 1.5e-9, 2.2e-10,
-/// 3.1e-11 and auto 6.9e-10, 3.2e-10, 4.0e-11 at 1e-9, 1e-10, 1e-11,
+/// problem tracks the tolerance down to 1e-11: radau 4.1e-10, 8.7e-11,
+/// 1.3e-11 and auto 3.4e-10, 1.1e-10, 4.1e-11 at 1e-9, 1e-10, 1e-11 (with
+/// the default following each variable's recent size; 1.5e-9, 2.2e-10,
+/// 3.1e-11 and 6.9e-10, 3.2e-10, 4.0e-11 with the one made from its largest),
 /// against SciPy's reference for that form (Radau at rtol 1e-13, BDF and
 /// LSODA within 4.8e-11), relative to each component.
 #[test]

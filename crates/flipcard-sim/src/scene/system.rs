@@ -229,7 +229,8 @@ pub enum RunError {
         /// may be the unchecked error's rather than the equations'.
         grew: Option<(String, f64)>,
         /// Those of `uncontrolled` (with no tolerance of the scene's) whose
-        /// typical size lies below the default's floor
+        /// typical size lies below the default's floor, or whose tolerance
+        /// is held at it
         /// ([`crate::solvers::ode::BySize::NOISE`] of the largest size any
         /// variable reached): sizes that small may be the rounding of the
         /// larger ones' arithmetic, which no tolerance cures.
@@ -1260,7 +1261,9 @@ impl SystemRun {
             .map(|(k, size, a)| (self.scene.variables[k].clone(), size, a))
             .collect();
         // The variables typically below the default's floor (from the
-        // largest size sampled), unless the scene gives them a tolerance.
+        // largest size sampled), or held at it (a run stopped before its
+        // first sample past the start has no typical size), unless the
+        // scene gives them a tolerance.
         let top = self.largest.iter().fold(0.0f64, |m, v| m.max(*v));
         let floor = crate::solvers::ode::BySize::NOISE * top;
         let declared = |name: &String| match &self.scene.atol {
@@ -1269,7 +1272,10 @@ impl SystemRun {
             Some(SceneAtol::Each(each)) => each.iter().any(|(n, _)| n == name),
         };
         let at_floor = (uncontrolled.iter())
-            .filter(|(name, size, _)| *size > 0.0 && *size < floor && !declared(name))
+            .filter(|(name, size, a)| {
+                let below = (*size > 0.0 && *size < floor) || *a <= 2.0 * floor;
+                floor > 0.0 && below && !declared(name)
+            })
             .map(|(name, _, _)| name.clone())
             .collect();
         RunError::Inaccurate {

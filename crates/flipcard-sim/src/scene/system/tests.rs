@@ -433,8 +433,13 @@ fn an_uncontrolled_variable_of_size_zero_is_told_a_tighter_tolerance() {
     // Below the default's floor the message says the value may be rounding
     // and names the cure that is not a tolerance.
     let floor = RunError::Inaccurate {
+        t: 1.0,
+        h: 1e-12,
+        uncontrolled: vec![("y3".into(), 3.5e-21, 1.8e-19)],
+        rtol: 1e-3,
+        radau: true,
+        grew: None,
         at_floor: vec!["y3".into()],
-        ..sized
     };
     let text = floor.to_string();
     assert!(
