@@ -1208,7 +1208,7 @@ fn the_default_absolute_tolerance_follows_a_decaying_variable() {
 /// 7.2e-21, 80× the answer, at rtol 1e-6 with the noise floor lowered to
 /// 1e-30 of the largest size). The default's floor (1e-16 of the largest
 /// size reached, 1.8e-19 here) stops that: the run is refused where the
-/// unchecked y3 runs away (to −8.3e-11), with the variables named and the
+/// unchecked y2 runs away (to −1.5e-9), with the variables named and the
 /// real cure (write the fixed sum out), never a number printed at 1e13 and
 /// never a blow-up.
 #[test]
