@@ -196,9 +196,8 @@ def table(binary, out_path):
         "written out (BDF, LSODA within 4.8e-11). Below ~1e-9 no double-precision run of the "
         "four-variable form can go (docs/deck-format.md, \"How far a tolerance goes\").",
         "robertson": "Robertson to t = 1e11. Reference: SciPy Radau rtol 1e-12 (BDF, LSODA within 7.5e-11). "
-        "With flipcard's default absolute tolerance (the line under the table) y2, which ends near 8e-14, "
-        "1e9 below the largest size it had, goes unchecked: at 1e-3 y1 turns negative and runs away, which "
-        "flipcard refuses with an `atol` named; from 1e-4 on the runs end far off their tolerance.",
+        "flipcard's default absolute tolerance (the line under the table) follows y1 and y2 down as they "
+        "decay (y1 to 2e-8, y2 to 8e-14), each at its recent size.",
         "van-der-pol-1e4": "Van der Pol, mu = 1e4, (2, 0), t ∈ [0, 2e4]. Reference: SciPy Radau rtol 1e-12 "
         "(LSODA within 3.2e-10; BDF fails).",
         "linear": "y' = A y, eigenvalues −1 and −1e8, y(0) = (2, 0), t ∈ [0, 10]. Reference: the closed form "

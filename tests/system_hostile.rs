@@ -844,8 +844,10 @@ fn the_default_absolute_tolerance_follows_each_variables_size() {
 /// the end state at t = 1e5 answers with ~3e11 per unit, so radau's error
 /// stays near 1e-9 from --tol 1e-9 to 1e-12 (docs/deck-format.md, "How far
 /// a tolerance goes"). Written with y2 = y3 + y4 as an observable, the same
-/// problem tracks the tolerance down to 1e-11: radau 1.5e-9, 2.2e-10,
-/// 3.1e-11 and auto 6.9e-10, 3.2e-10, 4.0e-11 at 1e-9, 1e-10, 1e-11,
+/// problem tracks the tolerance down to 1e-11: radau 4.1e-10, 8.7e-11,
+/// 1.3e-11 and auto 3.4e-10, 1.1e-10, 4.1e-11 at 1e-9, 1e-10, 1e-11 (with
+/// the default following each variable's recent size; 1.5e-9, 2.2e-10,
+/// 3.1e-11 and 6.9e-10, 3.2e-10, 4.0e-11 with the one made from its largest),
 /// against SciPy's reference for that form (Radau at rtol 1e-13, BDF and
 /// LSODA within 4.8e-11), relative to each component.
 #[test]
@@ -1099,22 +1101,36 @@ fn run_stats(d: &Deck, method: &str, tol: &str) -> serde_json::Value {
     v["stats"].clone()
 }
 
-/// Robertson's kinetics to t = 1e11 at rtol 1e-3 with the default absolute
-/// tolerance: y1 (size 1) falls below its tolerance near t = 1e8, turns
-/// negative and runs away linearly (to −4.5e7 at the end), with no blow-up
-/// the solver could see. The binary before this printed that run and
-/// exited 0. Now the run stops where y1 has grown from below its tolerance
-/// past a million times it, prints no row from there, names y1 and the
-/// cure, and the cure reaches the end within 1% of the answer (y1 =
-/// 2.0833e-8 at 1e11, SciPy Radau at rtol 1e-12 in benches/stiff_reference.txt).
+/// Robertson's kinetics to t = 1e11 at rtol 1e-3 with the absolute
+/// tolerance the default used to give (1e-2 × rtol × the largest size: 1e-5
+/// for y1 and y3, 3.6e-10 for y2), now given by hand: y1 (size 1) falls
+/// below its tolerance near t = 1e8, turns negative and runs away linearly
+/// (to −4.5e7 at the end), with no blow-up the solver could see. The binary
+/// before the guard printed that run and exited 0. Now the run stops where
+/// y1 has grown from below its tolerance past a million times it, prints
+/// no row from there, names y1 and the cure, and the cure reaches the end
+/// within 1% of the answer (y1 = 2.0833e-8 at 1e11, SciPy Radau at rtol
+/// 1e-12 in benches/stiff_reference.txt). With no `--atol` at all the
+/// default follows y1 down and the run ends within 3e-5 of it
+/// (`the_default_absolute_tolerance_follows_a_decaying_variable`).
 #[test]
 fn a_variable_running_away_from_below_its_tolerance_is_refused() {
     let d = Deck::new(
         "robertson",
         "[[scene]]\nid = \"s\"\nvariables = [\"y1\", \"y2\", \"y3\"]\ninitial = [1.0, 0.0, 0.0]\nequations = [\"-0.04*y1 + 1e4*y2*y3\", \"0.04*y1 - 1e4*y2*y3 - 3e7*y2^2\", \"3e7*y2^2\"]\nduration = 1e11\nshow = [\"plot\"]\nplot = [\"y1\"]\n",
     );
+    let old_default = "y1=1e-5,y2=3.6e-10,y3=1e-5";
     for method in ["radau", "auto"] {
-        let (code, out, err) = d.sim(&["--samples", "5", "--method", method, "--tol", "1e-3"]);
+        let (code, out, err) = d.sim(&[
+            "--samples",
+            "5",
+            "--method",
+            method,
+            "--tol",
+            "1e-3",
+            "--atol",
+            old_default,
+        ]);
         assert_eq!(code, 1, "{method}: {out}{err}");
         assert!(
             err.contains("`y1` reached") && err.contains("unchecked"),
@@ -1144,5 +1160,82 @@ fn a_variable_running_away_from_below_its_tolerance_is_refused() {
         let last = last_row(&out);
         assert_eq!(last[0], 1e11, "{method}: {out}");
         assert!((last[1] / 2.0833e-8 - 1.0).abs() < 0.01, "{method}: {out}");
+    }
+}
+
+fn robertson() -> Deck {
+    Deck::new(
+        "robertson",
+        "[[scene]]\nid = \"s\"\nvariables = [\"y1\", \"y2\", \"y3\"]\ninitial = [1.0, 0.0, 0.0]\nequations = [\"-0.04*y1 + 1e4*y2*y3\", \"0.04*y1 - 1e4*y2*y3 - 3e7*y2^2\", \"3e7*y2^2\"]\nduration = 1e11\nshow = [\"plot\"]\nplot = [\"y1\"]\n",
+    )
+}
+
+/// Robertson's kinetics to t = 1e11 with no `atol`: y1 falls from 1 to
+/// 2.08e-8 and y2 from its peak of 3.6e-5 to 8.3e-14, and the default
+/// absolute tolerance follows each down (its recent size, not its largest),
+/// so every component ends within ten tolerances of SciPy's reference
+/// (Radau at rtol 1e-12, BDF and LSODA within 7.5e-11), relative to the
+/// component. The default made from the largest size each had reached
+/// ended 46% off at 1e-4 (radau; auto 351%) and 2.1e-5 off at 1e-8, all
+/// with exit 0.
+#[test]
+fn the_default_absolute_tolerance_follows_a_decaying_variable() {
+    let d = robertson();
+    let want = scipy_final("robertson");
+    for method in ["radau", "auto"] {
+        for tol in ["1e-3", "1e-4", "1e-8"] {
+            let (code, out, err) = d.sim(&["--samples", "2", "--method", method, "--tol", tol]);
+            assert_eq!(code, 0, "{method} {tol}: {err}");
+            let got = last_row(&out);
+            assert_eq!(got[0], 1e11, "{method} {tol}: {out}");
+            let worst = (got[1..].iter().zip(&want))
+                .map(|(g, w)| ((g - w) / w).abs())
+                .fold(0.0f64, f64::max);
+            let tol: f64 = tol.parse().unwrap();
+            assert!(
+                worst <= 10.0 * tol,
+                "{method} {tol}: {worst:e} relative: {got:?} against {want:?}"
+            );
+        }
+    }
+}
+
+/// E5 to t = 1e13 with no `atol`: y2 and y3 end near 8.86e-23 (the form
+/// with y2 = y3 + y4 written out, SciPy Radau at rtol 1e-13 with BDF and
+/// LSODA within 1e-11), but rounding in the four-variable form moves
+/// y2 − y3 − y4, which the equations keep and never damp, by ~1e-21: a
+/// run that follows y2 and y3 to their size ends on that rounding (y2 =
+/// 7.2e-21, 80× the answer, at rtol 1e-6 with the noise floor lowered to
+/// 1e-30 of the largest size). The default's floor (1e-16 of the largest
+/// size reached, 1.8e-19 here) stops that: the run is refused where the
+/// unchecked y2 runs away (to −1.5e-9), with the variables named and the
+/// real cure (write the fixed sum out), never a number printed at 1e13 and
+/// never a blow-up.
+#[test]
+fn e5_to_1e13_is_refused_not_answered_with_rounding() {
+    let d = e5("");
+    for method in ["radau", "auto"] {
+        for tol in ["1e-6", "1e-8", "1e-10"] {
+            let (code, out, err) = d.sim(&["--samples", "5", "--method", method, "--tol", tol]);
+            assert_eq!(code, 1, "{method} {tol}: {out}{err}");
+            assert!(!err.contains("blows up"), "{method} {tol}: {err}");
+            assert!(err.contains("unchecked"), "{method} {tol}: {err}");
+            assert!(
+                err.contains("`y2`") || err.contains("`y3`"),
+                "{method} {tol}: {err}"
+            );
+            // The cause named: below the floor, where values may be
+            // rounding, with the cure that is not a tolerance.
+            assert!(
+                err.contains("fell below 1e-16 of the largest size")
+                    && err.contains("write it out"),
+                "{method} {tol}: {err}"
+            );
+            assert_eq!(err.lines().count(), 1, "{err}");
+            for line in out.lines().skip(1) {
+                let t: f64 = line.split(',').next().unwrap().parse().unwrap();
+                assert!(t < 1e13, "{method} {tol}: a row at the end: {line}");
+            }
+        }
     }
 }

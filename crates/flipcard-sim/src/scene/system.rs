@@ -228,6 +228,13 @@ pub enum RunError {
         /// one of those the absolute tolerance did not control: the growth
         /// may be the unchecked error's rather than the equations'.
         grew: Option<(String, f64)>,
+        /// Those of `uncontrolled` (with no tolerance of the scene's) whose
+        /// typical size lies below the default's floor, or whose tolerance
+        /// is held at it
+        /// ([`crate::solvers::ode::BySize::NOISE`] of the largest size any
+        /// variable reached): sizes that small may be the rounding of the
+        /// larger ones' arithmetic, which no tolerance cures.
+        at_floor: Vec<String>,
     },
     /// The run took the most work a scene may ([`MAX_RUN_WORK`]).
     Work {
@@ -277,6 +284,7 @@ impl std::fmt::Display for RunError {
                 rtol,
                 radau,
                 grew,
+                at_floor,
             } => {
                 match grew {
                     Some((name, value)) => write!(
@@ -341,6 +349,15 @@ impl std::fmt::Display for RunError {
                     if one { "its" } else { "their" },
                     each(", ", " = "),
                     each(",", "="),
+                )?;
+                if at_floor.is_empty() {
+                    return Ok(());
+                }
+                let quoted: Vec<String> = at_floor.iter().map(|n| format!("`{n}`")).collect();
+                write!(
+                    f,
+                    "; {} fell below 1e-16 of the largest size any variable reached, where the default stops following sizes: values that small may be the rounding of the larger ones' arithmetic, which no tolerance cures (if the equations keep a sum of variables fixed, write it out: docs/deck-format.md, \"How far a tolerance goes\"); if they are not, the atol above reaches them",
+                    quoted.join(", ")
                 )
             }
             RunError::Work {
@@ -395,6 +412,13 @@ fn with_scene_atol(scene: &SystemScene, opts: &mut ode::Options, reference: bool
         false => by_size.fixed = each,
     }
 }
+
+/// How many times the largest size it had before a variable that went
+/// below its absolute tolerance must grow to be refused
+/// ([`SystemRun::unchecked_rise`]): Van der Pol's v at μ = 1e4 crosses zero
+/// after each jump and its next jump peaks a hair (1e-4) above the last;
+/// that is the equations', not an error run away.
+const RISE: f64 = 10.0;
 
 /// Sizes of each variable kept for its median (see `SystemRun::sizes`).
 const SIZES_KEPT: usize = 1024;
@@ -1124,22 +1148,26 @@ impl SystemRun {
 
     /// Refuses a sample where a variable that sat below its absolute
     /// tolerance (after having a size: its error then went unchecked) has
-    /// since grown past a million times that tolerance and past the largest
-    /// size it had before: that growth is the unchecked error's, not the
-    /// equations'. Robertson to t = 1e11 at rtol 1e-3 lets y1 (size 1)
-    /// fall below its tolerance of 1e-5 near t = 1e8, go negative and run
-    /// away linearly to −4.5e7 with no blow-up for the solver to see. A
-    /// variable that falls and rises again no higher than it was (a
-    /// population's trough) is left alone; so is one that starts at 0.
+    /// since grown past a million times that tolerance and past [`RISE`]
+    /// times the largest size it had before: that growth is the unchecked
+    /// error's, not the equations'. Robertson to t = 1e11 at rtol 1e-3 lets
+    /// y1 (size 1) fall below a tolerance of 1e-5 near t = 1e8, go negative
+    /// and run
+    /// away linearly to −4.5e7 with no blow-up for the solver to see (with
+    /// the tolerance the default gave then; the default now follows y1
+    /// down). A variable that falls and rises again to no more than [`RISE`]
+    /// times what it was (a population's trough) is left alone; so is one
+    /// that starts at 0.
     fn unchecked_rise(&mut self, t: f64, y: &[f64]) -> Result<(), RunError> {
         let Some(atol) = self.solver.atol() else {
             return Ok(());
         };
         // Only a size well above rounding arms the check: a variable that
         // rises from 0 wobbles at the noise floor first (E5's y4 near 1e-17
-        // before its rise to 1e-11), which is no size it had.
+        // before its rise to 1e-11), which is no size it had: 1e-8 of the
+        // largest size any variable reached.
         let top = self.largest.iter().fold(0.0f64, |m, v| m.max(*v));
-        let real = 1e6 * crate::solvers::ode::BySize::NOISE * top;
+        let real = 1e-8 * top;
         let mut rose = None;
         for (k, &v) in y.iter().enumerate() {
             let (Some(&a), Some(largest)) = (atol.get(k), self.largest.get_mut(k)) else {
@@ -1153,7 +1181,7 @@ impl SystemRun {
                 None if size < a && *largest > a && *largest >= real => {
                     self.dipped[k] = Some((*largest, a));
                 }
-                Some((before, a0)) if size > 1e6 * a0 && size > before && rose.is_none() => {
+                Some((before, a0)) if size > 1e6 * a0 && size > RISE * before && rose.is_none() => {
                     rose = Some((k, v));
                 }
                 _ => {}
@@ -1227,10 +1255,28 @@ impl SystemRun {
         };
         // The tolerances the solver holds now (they follow the sizes).
         let atol = self.solver.atol().unwrap_or(&[]);
-        let uncontrolled = (self.sizes.iter().zip(atol).enumerate())
+        let uncontrolled: Vec<(String, f64, f64)> = (self.sizes.iter().zip(atol).enumerate())
             .filter_map(|(k, (kept, a))| Some((k, typical(kept)?, *a)))
             .filter(|(_, size, a)| size < a)
             .map(|(k, size, a)| (self.scene.variables[k].clone(), size, a))
+            .collect();
+        // The variables typically below the default's floor (from the
+        // largest size sampled), or held at it (a run stopped before its
+        // first sample past the start has no typical size), unless the
+        // scene gives them a tolerance.
+        let top = self.largest.iter().fold(0.0f64, |m, v| m.max(*v));
+        let floor = crate::solvers::ode::BySize::NOISE * top;
+        let declared = |name: &String| match &self.scene.atol {
+            None => false,
+            Some(SceneAtol::All(_)) => true,
+            Some(SceneAtol::Each(each)) => each.iter().any(|(n, _)| n == name),
+        };
+        let at_floor = (uncontrolled.iter())
+            .filter(|(name, size, a)| {
+                let below = (*size > 0.0 && *size < floor) || *a <= 2.0 * floor;
+                floor > 0.0 && below && !declared(name)
+            })
+            .map(|(name, _, _)| name.clone())
             .collect();
         RunError::Inaccurate {
             t,
@@ -1239,6 +1285,7 @@ impl SystemRun {
             rtol: self.method.setting,
             radau: self.method.kind == OdeKind::Radau,
             grew,
+            at_floor,
         }
     }
 

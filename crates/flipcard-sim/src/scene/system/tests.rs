@@ -414,6 +414,7 @@ fn an_uncontrolled_variable_of_size_zero_is_told_a_tighter_tolerance() {
         rtol: 1e-6,
         radau: true,
         grew: None,
+        at_floor: vec![],
     };
     let text = e.to_string();
     assert!(text.contains("`atol = { y2 = 1e-24 }`"), "{text}");
@@ -425,8 +426,27 @@ fn an_uncontrolled_variable_of_size_zero_is_told_a_tighter_tolerance() {
         rtol: 1e-3,
         radau: true,
         grew: None,
+        at_floor: vec![],
     };
     assert!(sized.to_string().contains("y2 = 1e-17"), "{sized}");
+    assert!(!sized.to_string().contains("no tolerance cures"), "{sized}");
+    // Below the default's floor the message says the value may be rounding
+    // and names the cure that is not a tolerance.
+    let floor = RunError::Inaccurate {
+        t: 1.0,
+        h: 1e-12,
+        uncontrolled: vec![("y3".into(), 3.5e-21, 1.8e-19)],
+        rtol: 1e-3,
+        radau: true,
+        grew: None,
+        at_floor: vec!["y3".into()],
+    };
+    let text = floor.to_string();
+    assert!(
+        text.contains("; `y3` fell below 1e-16 of the largest size")
+            && text.contains("write it out"),
+        "{text}"
+    );
 }
 
 /// Kepler's e-orbit (a = 1 AU, GM = 4π²: period 1 yr) started at aphelion

@@ -6,7 +6,7 @@ use crate::method::{MethodError, MethodName};
 
 /// Default relative tolerance of the adaptive methods on a scene; the
 /// absolute one of each variable is this times [`ATOL_FACTOR`] times the
-/// largest size the variable has reached ([`super::BySize`]).
+/// variable's recent size ([`super::BySize`]).
 pub(crate) const DEFAULT_RTOL: f64 = 1e-8;
 pub(crate) const ATOL_FACTOR: f64 = 1e-2;
 /// RK4's default step: this many steps over the run.

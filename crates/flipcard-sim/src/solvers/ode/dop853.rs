@@ -98,7 +98,7 @@ impl<S: OdeSystem> Dop853<S> {
     /// run starts.
     pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Dop853<S>, SolveError> {
         super::check_start(&sys, t0, y0)?;
-        let (atol, by_size) = opts.validated_atol(y0)?;
+        let (atol, by_size) = opts.validated_atol(t0, y0)?;
         let mut s = Dop853::checked(sys, t0, y0, opts, atol);
         s.by_size = by_size;
         Ok(s)
@@ -415,7 +415,7 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
             self.t = t_new;
             self.dense_ready = false;
             if let Some(b) = &mut self.by_size {
-                b.follow(&self.y, &mut self.atol);
+                b.follow(self.t, &self.y, &mut self.atol);
             }
             // The dense stages need k[0] of this step: the new f moves
             // there only when the next step starts.

@@ -60,16 +60,27 @@ pub enum Atol {
 }
 
 /// Absolute tolerances set as one would set them knowing the solution:
-/// each component's is `factor` times the largest |yᵢ| it has reached so
-/// far, so a component that lives near 1e-12 is controlled at its own size
-/// and not swamped by a tolerance made for components near 1 (E5's
-/// y2…y4), and a large one wastes no work on digits below its size. A
-/// component the scene gives its own tolerance (`fixed`) keeps it. The
-/// largest so far, not the present size: a component crossing zero keeps
-/// the tolerance of its amplitude (pure relative control would creep near
-/// every zero). Every tolerance is at least [`BySize::NOISE`] times the
-/// largest size any component has reached, so a component that should be
-/// zero but carries rounding noise is not chased to the last bit.
+/// each component's is `factor` times its recent size, so a component that
+/// lives near 1e-12 is controlled at its own size and not swamped by a
+/// tolerance made for components near 1 (E5's y2…y4), a large one wastes
+/// no work on digits below its size, and one that decays keeps being
+/// controlled as it falls (Robertson's y1 falls from 1 to 2e-8 by t = 1e11:
+/// a tolerance made from its largest size swamped it and the run ended 46%
+/// off at rtol 1e-4). A component the scene gives its own tolerance
+/// (`fixed`) keeps it.
+///
+/// The recent size is the largest |yᵢ(s)|·(s − t₀)/(t − t₀) over the steps
+/// so far: the largest size forgotten in proportion to the time elapsed
+/// since the start. A component that decays like a power of t (Robertson's
+/// y1 ~ 1/t, E5's y2 and y3) is followed at its own size; one that
+/// oscillates through zero keeps the tolerance of its amplitude, since its
+/// last peak lies a quarter period back (from the second zero on its
+/// recent size is at least two thirds of its amplitude, at the first zero
+/// of a cosine about a third): pure relative control would creep near
+/// every zero. Every tolerance is
+/// at least [`BySize::NOISE`] times the largest size any component has
+/// reached, so a component that should be zero but carries rounding noise
+/// is not chased to the last bit.
 #[derive(Debug, Clone, PartialEq)]
 pub struct BySize {
     pub factor: f64,
@@ -80,12 +91,20 @@ pub struct BySize {
     pub cap: Vec<Option<f64>>,
     /// The largest |yᵢ| reached so far (empty: nothing seen yet).
     pub seen: Vec<f64>,
+    /// Each component's recent size: the largest |yᵢ(s)|·((s − t₀)/(t − t₀))
+    /// over the steps so far (empty: nothing seen yet).
+    pub recent: Vec<f64>,
+    /// The time the sizes were last taken, and the run's start t₀.
+    pub at: Option<(f64, f64)>,
 }
 
 impl BySize {
-    /// The floor of every tolerance, as a fraction of the largest size
-    /// reached: a hundred roundings of it.
-    pub const NOISE: f64 = 1e-14;
+    /// The floor of every tolerance, as a fraction of the largest size any
+    /// component reached: about one rounding of it (f64's ε is 2.2e-16).
+    /// At a hundred roundings (1e-14) Robertson's y2, which ends near 8e-14
+    /// beside y3 near 1, was held to ~1e-14 and the run ended 2.7e-9 off at
+    /// rtol 1e-10; at 1e-16 it ends 7e-11 off.
+    pub const NOISE: f64 = 1e-16;
     /// Sizes above this count as this: a large component keeps the
     /// tolerance a component of size 1 has. Following the whole size
     /// loosened the control where such a component dips low, and on the
@@ -103,40 +122,71 @@ impl BySize {
             fixed: Vec::new(),
             cap: Vec::new(),
             seen: Vec::new(),
+            recent: Vec::new(),
+            at: None,
         }
     }
 
-    /// Takes the sizes of `y` into those seen and writes each component's
-    /// tolerance into `atol`.
-    pub(crate) fn follow(&mut self, y: &[f64], atol: &mut [f64]) {
+    /// Takes the sizes of `y` at `t` (after those of earlier times) into
+    /// those seen and writes each component's tolerance into `atol`.
+    pub(crate) fn follow(&mut self, t: f64, y: &[f64], atol: &mut [f64]) {
         let n = y.len();
         if self.seen.len() != n {
             self.seen = vec![0.0; n];
         }
+        if self.recent.len() != n {
+            self.recent = vec![0.0; n];
+        }
+        // The recent sizes fade by (last − t₀)/(t − t₀) since the sizes
+        // were last taken at `last`; a time not after it fades nothing.
+        let (fade, at) = match self.at {
+            None => (1.0, (t, t)),
+            Some((last, t0)) if t.is_finite() && t > last => {
+                let fade = (last - t0) / (t - t0);
+                (
+                    if fade.is_finite() {
+                        fade.clamp(0.0, 1.0)
+                    } else {
+                        1.0
+                    },
+                    (t, t0),
+                )
+            }
+            Some(at) => (1.0, at),
+        };
+        self.at = Some(at);
         let mut top = 0.0f64;
-        for (s, v) in self.seen.iter_mut().zip(y) {
+        for ((s, r), v) in self.seen.iter_mut().zip(self.recent.iter_mut()).zip(y) {
+            *r *= fade;
             if v.is_finite() {
                 *s = s.max(v.abs());
+                *r = r.max(v.abs());
             }
             top = top.max(*s);
         }
-        // Nothing has a size yet (a start at rest): the tolerance a
-        // component of size 1 has, until something moves.
-        let floor = match top > 0.0 {
-            true => (Self::NOISE * top).max(Self::TINY),
-            false => self.factor,
-        };
+        let floor = self.floor_of(top);
         for (i, a) in atol.iter_mut().enumerate().take(n) {
             *a = match self.fixed.get(i).copied().flatten() {
                 Some(fixed) => fixed,
                 None => {
-                    let follow = (self.factor * self.seen[i].min(Self::CEILING)).max(floor);
+                    let follow = (self.factor * self.recent[i].min(Self::CEILING)).max(floor);
                     match self.cap.get(i).copied().flatten() {
                         Some(cap) => follow.min(cap),
                         None => follow,
                     }
                 }
             };
+        }
+    }
+
+    /// The least tolerance a component that follows its size gets, when the
+    /// largest size any component has reached is `top`.
+    pub fn floor_of(&self, top: f64) -> f64 {
+        // Nothing has a size yet (a start at rest): the tolerance a
+        // component of size 1 has, until something moves.
+        match top > 0.0 {
+            true => (Self::NOISE * top).max(Self::TINY),
+            false => self.factor,
         }
     }
 }
@@ -189,6 +239,7 @@ impl Options {
     /// setting.
     pub(crate) fn validated_atol(
         &self,
+        t0: f64,
         y0: &[f64],
     ) -> Result<(Vec<f64>, Option<BySize>), SolveError> {
         let n = y0.len();
@@ -215,7 +266,7 @@ impl Options {
                         b.factor
                     )));
                 }
-                let lens = [b.fixed.len(), b.cap.len(), b.seen.len()];
+                let lens = [b.fixed.len(), b.cap.len(), b.seen.len(), b.recent.len()];
                 if lens.iter().any(|&l| l != 0 && l != n) {
                     return Err(SolveError::Invalid(format!(
                         "atol has {} components for a system of {n}",
@@ -224,7 +275,7 @@ impl Options {
                 }
                 let mut b = b.clone();
                 let mut atol = vec![0.0; n];
-                b.follow(y0, &mut atol);
+                b.follow(t0, y0, &mut atol);
                 by_size = Some(b);
                 atol
             }
@@ -639,12 +690,13 @@ pub(crate) fn drive_dense<M: Stepper>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
-    /// Each tolerance follows the largest size its component has reached
-    /// (sizes above 1 counting as 1), never below the noise floor of the
-    /// largest size of all; a fixed one stays; a cap bounds one that follows.
+    /// Each tolerance follows its component's recent size (sizes above 1
+    /// counting as 1), never below the noise floor of the largest size of
+    /// all; a fixed one stays; a cap bounds one that follows.
     #[test]
-    fn tolerances_follow_the_largest_size_reached() {
+    fn tolerances_follow_the_recent_size() {
         let close = |got: [f64; 4], want: [f64; 4]| {
             for (g, w) in got.iter().zip(want) {
                 assert!((g - w).abs() <= 1e-12 * w, "{got:?} against {want:?}");
@@ -652,15 +704,24 @@ mod tests {
         };
         let mut b = BySize::new(1e-2);
         let mut atol = [0.0; 4];
-        // 1e-9 at its own size; 0 at the noise floor (1e-14 × 5); 5 as 1.
-        b.follow(&[1e-9, 0.0, 5.0, 0.5], &mut atol);
-        close(atol, [1e-11, 5e-14, 1e-2, 5e-3]);
-        // The sizes fall: the tolerances keep the largest reached.
-        b.follow(&[1e-12, 0.0, -0.001, 0.1], &mut atol);
-        close(atol, [1e-11, 5e-14, 1e-2, 5e-3]);
-        // A component that grows takes its tolerance with it; NaN is no size.
-        b.follow(&[2e-9, 1e-3, 0.0, f64::NAN], &mut atol);
-        close(atol, [2e-11, 1e-5, 1e-2, 5e-3]);
+        // 1e-9 at its own size; 0 at the noise floor (1e-16 × 5); 5 as 1.
+        b.follow(0.0, &[1e-9, 0.0, 5.0, 0.5], &mut atol);
+        close(atol, [1e-11, 5e-16, 1e-2, 5e-3]);
+        b.follow(1.0, &[1e-9, 0.0, 5.0, 0.5], &mut atol);
+        close(atol, [1e-11, 5e-16, 1e-2, 5e-3]);
+        // At t = 4 the sizes of t = 1 count a quarter: 0.5 as 0.125, above
+        // its 0.1 now; 5 as 1.25, still 1; 1e-9 as 2.5e-10, below 1e-9.
+        b.follow(4.0, &[1e-9, 0.0, -0.001, 0.1], &mut atol);
+        close(atol, [1e-11, 5e-16, 1e-2, 1.25e-3]);
+        // A component that decays like 1/t is followed at its size: its
+        // tolerance at t = 400 is that of its size there, not of t = 4's;
+        // the sizes of t = 1 count 1/400 (5 as 0.0125, 0.5 as 0.00125).
+        b.follow(40.0, &[1e-10, 0.0, 0.0, 0.01], &mut atol);
+        b.follow(400.0, &[1e-11, 0.0, 0.0, 0.001], &mut atol);
+        close(atol, [1e-13, 5e-16, 1.25e-4, 1.25e-5]);
+        // NaN is no size; a time not after the last fades nothing.
+        b.follow(400.0, &[f64::NAN, 1e-3, 0.0, 0.001], &mut atol);
+        close(atol, [1e-13, 1e-5, 1.25e-4, 1.25e-5]);
         // Beside a component of size 1, one of size 1e-20 is held at the
         // noise floor, not at 1e-22.
         let mut b = BySize {
@@ -668,15 +729,41 @@ mod tests {
             cap: vec![None, Some(1e-16), None, None],
             ..BySize::new(1e-2)
         };
-        b.follow(&[1.0, 1.0, 1e-20, 0.0], &mut atol);
-        close(atol, [1e-30, 1e-16, 1e-14, 1e-14]);
+        b.follow(0.0, &[1.0, 1.0, 1e-20, 0.0], &mut atol);
+        close(atol, [1e-30, 1e-16, 1e-16, 1e-16]);
         // Everything still exactly zero (a start at rest): the tolerance of
         // a component of size 1, until something moves.
         let mut b = BySize::new(1e-8);
-        b.follow(&[0.0, 0.0, 0.0, 0.0], &mut atol);
+        b.follow(0.0, &[0.0, 0.0, 0.0, 0.0], &mut atol);
         assert_eq!(atol, [1e-8; 4]);
-        b.follow(&[1e-200, 0.0, 0.0, 0.0], &mut atol);
+        b.follow(1.0, &[1e-200, 0.0, 0.0, 0.0], &mut atol);
         assert_eq!(atol, [1e-100; 4]);
+    }
+
+    /// A component that oscillates through zero keeps the tolerance of its
+    /// amplitude at every zero (no collapse there); one that decays as a
+    /// power of t is followed within a small factor of its size.
+    #[test]
+    fn an_oscillation_keeps_its_amplitude_and_a_decay_is_followed() {
+        let mut b = BySize::new(1e-2);
+        let mut atol = [0.0; 2];
+        let steps = 20_000;
+        let mut at_zeros = f64::INFINITY;
+        for k in 0..=steps {
+            let t = 50.0 * k as f64 / steps as f64;
+            // Amplitude 0.5 (below the ceiling), period 2π; 1/(1 + t).
+            let y = [0.5 * t.cos(), 1.0 / (1.0 + t)];
+            b.follow(t, &y, &mut atol);
+            if y[0].abs() < 1e-3 {
+                at_zeros = at_zeros.min(atol[0]);
+            }
+            if t > 1.0 {
+                let ratio = atol[1] / (1e-2 * y[1]);
+                assert!((1.0..=2.0).contains(&ratio), "t = {t}: {ratio}");
+            }
+        }
+        // A third of the amplitude's tolerance at the first zero, then more.
+        assert!(at_zeros >= 1e-2 * 0.5 / 3.0, "{at_zeros:e}");
     }
 
     /// A `BySize` of the wrong length or factor is refused like any other
@@ -688,10 +775,10 @@ mod tests {
             ..Options::default()
         };
         let (atol, b) = opts(BySize::new(1e-8))
-            .validated_atol(&[2.0, 1e-6])
+            .validated_atol(0.0, &[2.0, 1e-6])
             .unwrap();
-        // 2 counts as 1; 1e-6 is held at the noise floor, 1e-14 × 2.
-        assert_eq!(atol, vec![1e-8, 2e-14]);
+        // 2 counts as 1; 1e-6 at its own size, 1e-14 (above the floor 2e-16).
+        assert_eq!(atol, vec![1e-8, 1e-14]);
         assert_eq!(b.unwrap().seen, vec![2.0, 1e-6]);
         for bad in [
             BySize::new(0.0),
@@ -706,9 +793,47 @@ mod tests {
             },
         ] {
             assert!(
-                opts(bad.clone()).validated_atol(&[2.0, 1e-6]).is_err(),
+                opts(bad.clone()).validated_atol(0.0, &[2.0, 1e-6]).is_err(),
                 "{bad:?}"
             );
+        }
+    }
+
+    proptest! {
+        /// For any finite trajectory (sizes from 1e-300 to 1e300, zeros,
+        /// times going forward or standing still) every tolerance that
+        /// follows the sizes is positive, finite and never below the noise
+        /// floor of the largest size reached so far, nor above the
+        /// tolerance of a component of size 1.
+        #[test]
+        fn the_default_tolerance_is_positive_finite_and_above_the_floor(
+            factor_exp in -16i32..-2,
+            rows in proptest::collection::vec(
+                (0.0f64..10.0, proptest::collection::vec(
+                    prop_oneof![
+                        Just(0.0),
+                        (-300i32..300, -1.0f64..1.0).prop_map(|(e, m)| m * 10f64.powi(e)),
+                    ],
+                    3,
+                )),
+                1..60,
+            ),
+        ) {
+            let factor = 10f64.powi(factor_exp);
+            let mut b = BySize::new(factor);
+            let mut atol = [0.0; 3];
+            let (mut t, mut top) = (0.0, 0.0f64);
+            for (dt, y) in rows {
+                t += dt;
+                top = y.iter().fold(top, |m, v| m.max(v.abs()));
+                b.follow(t, &y, &mut atol);
+                let floor = b.floor_of(top);
+                for a in atol {
+                    prop_assert!(a.is_finite() && a > 0.0, "{a} at {t}");
+                    prop_assert!(a >= floor, "{a} below the floor {floor}");
+                    prop_assert!(a <= factor.max(floor), "{a} above {factor}");
+                }
+            }
         }
     }
 }

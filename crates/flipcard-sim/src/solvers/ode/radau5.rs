@@ -231,7 +231,7 @@ impl<S: OdeSystem> Radau5<S> {
     pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Radau5<S>, SolveError> {
         super::check_start(&sys, t0, y0)?;
         let n = sys.dim();
-        let (user_atol, by_size) = opts.validated_atol(y0)?;
+        let (user_atol, by_size) = opts.validated_atol(t0, y0)?;
         if opts.rtol <= 10.0 * f64::EPSILON {
             return Err(SolveError::Invalid(format!(
                 "radau5 needs rtol above {:e}, not {}",
@@ -787,7 +787,7 @@ impl<S: OdeSystem> Radau5<S> {
         std::mem::swap(&mut self.f0, &mut self.fz[0]);
         self.jac_fresh = false;
         if let Some(b) = &mut self.by_size {
-            b.follow(&self.y, &mut self.user_atol);
+            b.follow(self.t, &self.y, &mut self.user_atol);
             for (a, u) in self.atol.iter_mut().zip(&self.user_atol) {
                 *a = self.rtol * u / self.user_rtol;
             }
