@@ -599,6 +599,16 @@ pub struct ConservedDrift {
     pub relative: Option<f64>,
 }
 
+/// Evaluations of a run's dense output between its samples (each a state
+/// and the quantity or sketch coordinates wanted there), by what asked.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Probes {
+    /// Locating extremes (measures' and extents'), events and edges.
+    pub searches: u64,
+    /// Following the sketch's trails between samples.
+    pub trail: u64,
+}
+
 /// A system scene running.
 pub struct SystemRun {
     scene: SystemScene,
@@ -634,6 +644,9 @@ pub struct SystemRun {
     /// extreme is searched).
     probe: Vec<f64>,
     probe_obs: Vec<f64>,
+    /// Evaluations of the dense output between samples so far: by the
+    /// searches for extremes, crossings and edges, and by the trail.
+    probes: Probes,
     /// The observables computed at each sample (the plan's, up to the last
     /// of them), and their values at the last sample.
     observables_upto: Option<usize>,
@@ -772,6 +785,7 @@ impl SystemRun {
             scene: scene.clone(),
             obs: vec![0.0; system.observable_count()],
             probe_obs: vec![0.0; system.observable_count()],
+            probes: Probes::default(),
             marks: vec![0.0; system.mark_count()],
             system,
             plan,
@@ -937,7 +951,9 @@ impl SystemRun {
             // Between the last sample and this one the step's dense output
             // is at hand (every sample but the run's first).
             let (solver, system, probe) = (&mut self.solver, &self.system, &mut self.probe);
+            let count = &mut self.probes.trail;
             let between = |tm: f64| {
+                *count += 1;
                 if at.is_none() || solver.dense(tm, probe).is_err() {
                     return None;
                 }
@@ -1409,6 +1425,7 @@ impl SystemRun {
     /// Quantity `q` at time `t` of the current step, from the dense output
     /// (None if it cannot be evaluated or is not finite).
     fn quantity_at(&mut self, q: usize, t: f64) -> Option<f64> {
+        self.probes.searches += 1;
         let mut y = std::mem::take(&mut self.probe);
         let n = y.len();
         let marks = n + self.probe_obs.len();
@@ -1516,6 +1533,11 @@ impl SystemRun {
     /// (empty when the plan keeps no trail).
     pub fn trail(&self) -> &[Point] {
         self.trail.as_ref().map_or(&[], Trail::points)
+    }
+
+    /// How often the run evaluated its dense output between samples.
+    pub fn probes(&self) -> Probes {
+        self.probes
     }
 
     /// The smallest and largest value of quantity `q` over the run so far,
