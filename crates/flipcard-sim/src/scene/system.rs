@@ -39,8 +39,14 @@ use crate::system::System;
 use crate::system::compile::{CompileError, Cost, Fault, POINTS_PER_STEP, Source, time};
 use crate::system::spec::SceneAtol;
 use flipcard_text::num::Num;
-use tally::{Bracket, Edge, InStep, Tally, Watch, brent_max};
+use tally::{Bracket, Edge, InStep, Tally, Watch, brent_max_within};
 use trail::Trail;
+
+/// A panel's extent (not a measure's extreme) is located to within the
+/// quantity's range so far over this ([`tally::brent_max_within`]): half a
+/// Braille dot of a panel 512 cells tall (four dots a cell), below what
+/// any panel draws.
+pub(crate) const EXTENT_RESOLUTION: f64 = 4096.0;
 
 /// Points kept for each drawn curve against time and the phase portrait
 /// (the sketch's trails keep theirs, [`trail::TRAIL_LEN`]).
@@ -557,6 +563,17 @@ pub(crate) struct Trace {
 }
 
 impl Trace {
+    /// The next sample is kept (the others are passed without building
+    /// their point).
+    fn wants(&self) -> bool {
+        self.seen.is_multiple_of(self.stride.max(1))
+    }
+
+    /// Counts a sample not kept.
+    fn pass(&mut self) {
+        self.seen += 1;
+    }
+
     fn push(&mut self, p: Point) {
         if self.stride == 0 {
             self.stride = 1;
@@ -772,7 +789,17 @@ impl SystemRun {
         }
         let tallies = tracked
             .into_iter()
-            .map(|q| (q, Tally::new(plan.peaks.contains(&q))))
+            .map(|q| {
+                let mut tally = if plan.metered.contains(&q) {
+                    Tally::new(plan.peaks.contains(&q))
+                } else {
+                    Tally::extent_only()
+                };
+                tally.keeps = plan.periods.contains(&q);
+                tally.measured = plan.extremes.contains(&q);
+                tally.searched = tally.measured || plan.extents.contains(&q);
+                (q, tally)
+            })
             .collect();
         let trail = (plan.trail && plan.sketch).then(|| Trail::new(&scene.sketch));
         let watches = plan
@@ -926,21 +953,21 @@ impl SystemRun {
         for k in 0..self.tallies.len() {
             let q = self.tallies[k].0;
             let v = self.value(q, y);
-            let keep = self.plan.periods.contains(&q);
+            let keep = self.tallies[k].1.keeps;
             self.tallies[k].1.add(t, v, keep, at);
         }
         for k in 0..self.watches.len() {
             let v = self.value(self.watches[k].q, y);
             self.watches[k].add(t, v);
         }
-        let mut drawn: Vec<usize> = self.plot.clone();
-        if let Some([a, b]) = self.phase {
-            drawn.push(a);
-            drawn.push(b);
-        }
-        if !drawn.is_empty() {
-            let values = drawn.iter().map(|&q| self.value(q, y)).collect();
+        if (!self.plot.is_empty() || self.phase.is_some()) && self.trace.wants() {
+            let phase = self.phase.iter().flatten();
+            let values = (self.plot.iter().chain(phase))
+                .map(|&q| self.value(q, y))
+                .collect();
             self.trace.push(Point { t, values });
+        } else {
+            self.trace.pass();
         }
         if let Some(trail) = &mut self.trail {
             let span = trail.span(|q| {
@@ -961,10 +988,7 @@ impl SystemRun {
                 system.marks_into(tm, probe, &mut out);
                 out.iter().all(|v| v.is_finite()).then_some(out)
             };
-            let p = Point {
-                t,
-                values: self.marks.clone(),
-            };
+            let p = trail.point(t, &self.marks);
             trail.add(p, span, between);
         }
         let weight = (t - self.sampled).max(0.0);
@@ -1305,7 +1329,7 @@ impl SystemRun {
                         return true;
                     }
                     let at = InStep { k, per_step, t0 };
-                    if let Err(e) = self.sample(t, &y.clone(), Some(at)) {
+                    if let Err(e) = self.sample(t, &y, Some(at)) {
                         let e = match e {
                             RunError::Domain { .. } => {
                                 let (tb, yb) = self.first_bad(t);
@@ -1370,18 +1394,30 @@ impl SystemRun {
         let step_end = at.k == at.per_step;
         for i in 0..self.tallies.len() {
             let q = self.tallies[i].0;
-            let measured = self.plan.extremes.contains(&q);
-            if !measured && !self.plan.extents.contains(&q) {
+            let measured = self.tallies[i].1.measured;
+            if !self.tallies[i].1.searched || self.tallies[i].1.quiet() {
                 continue;
             }
-            for br in self.tallies[i].1.brackets(at.t0, step_end) {
+            let brackets = self.tallies[i].1.brackets(at.t0, step_end);
+            if brackets.is_empty() {
+                continue;
+            }
+            // A panel's extent to what the panel shows; a measure's extreme
+            // to the full resolution.
+            let within = match self.tallies[i].1.extent() {
+                Some((lo, hi)) if !measured && hi - lo > 0.0 && (hi - lo).is_finite() => {
+                    (hi - lo) / EXTENT_RESOLUTION
+                }
+                _ => 0.0,
+            };
+            for br in brackets {
                 let s = if br.max { 1.0 } else { -1.0 };
                 if !measured && self.at_its_edge(q, br) {
                     continue;
                 }
-                if let Some((t, v)) =
-                    brent_max(br.a, br.b, |t| self.quantity_at(q, t).map(|v| s * v))
-                {
+                if let Some((t, v)) = brent_max_within(br.a, br.b, within, |t| {
+                    self.quantity_at(q, t).map(|v| s * v)
+                }) {
                     self.tallies[i].1.found(br, t, s * v);
                 }
             }
