@@ -18,6 +18,14 @@
 //! fill stays near the analysis's), else the largest is taken. Any
 //! non-singular matrix is factored; a column with no non-zero candidate is
 //! reported singular, as the dense LU reports it.
+//!
+//! The next matrix of the run (same pattern, new values) is refactored as
+//! KLU does ([`SparseLu::refactor`]): the last factorisation's row pivots
+//! and the patterns of its L and U are kept and only the values computed,
+//! while every reused pivot passes the threshold a fresh factorisation
+//! obeys; the first that does not, and the matrix is factored afresh with
+//! pivoting (whose pivots the next refactor keeps), so a refactor never
+//! solves worse than a fresh factorisation would.
 
 use nalgebra::{ComplexField, DVector};
 use std::collections::BTreeSet;
