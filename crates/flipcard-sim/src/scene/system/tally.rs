@@ -524,13 +524,14 @@ fn newton(nodes: &[(f64, f64)]) -> (Vec<f64>, Vec<f64>) {
 /// it and the first point inside that falls below it: bisection finds where
 /// the quantity falls below the end's value, and a second search between
 /// the end and there finds the peak.
+#[cfg(test)]
 pub(super) fn brent_max(a: f64, b: f64, f: impl FnMut(f64) -> Option<f64>) -> Option<(f64, f64)> {
     brent_max_within(a, b, 0.0, f)
 }
 
-/// As [`brent_max`], stopping as soon as the value is known to about
-/// `within` (0: to the resolution in t of [`brent_max`]), for a panel's
-/// extent, which a drawing resolves only so far: once a parabolic step
+/// The search of `brent_max` above (with `within` 0: the same, to about
+/// 1e-10 in t; a measure's), stopping as soon as the value is known to
+/// about `within` when it is positive, for a panel's extent, which a drawing resolves only so far: once a parabolic step
 /// lands where the parabola through the search's last three points
 /// predicted, to within `within`, the quantity is that parabola to about
 /// `within` around its vertex, and the value found is its extreme to about
@@ -759,7 +760,10 @@ mod tests {
             assert!((1.0 - full).abs() < 1e-15, "{width}: {full}");
             let within = 1e-4;
             let (coarse, n) = search(within);
-            assert!(coarse <= 1.0 && 1.0 - coarse <= 2.0 * within, "{width}: {coarse}");
+            assert!(
+                coarse <= 1.0 && 1.0 - coarse <= 2.0 * within,
+                "{width}: {coarse}"
+            );
             assert!(n < n_full, "{width}: {n} evaluations, {n_full} in full");
         }
     }

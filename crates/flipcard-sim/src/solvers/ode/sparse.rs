@@ -595,7 +595,7 @@ mod tests {
             };
             let value = |i: usize, j: usize| {
                 if i == j {
-                    if (i as u64).wrapping_add(seed) % 3 == 0 { 0.0 } else { (1.0 - weak) * 4.0 * h(i, j, 1) }
+                    if (i as u64).wrapping_add(seed).is_multiple_of(3) { 0.0 } else { (1.0 - weak) * 4.0 * h(i, j, 1) }
                 } else {
                     h(i, j, 2)
                 }
@@ -627,7 +627,7 @@ mod tests {
     fn values(rows: &[Vec<usize>], seed: u64, weak: f64) -> DMatrix<f64> {
         dense_of(rows, |i, j| {
             if i == j {
-                if (i as u64).wrapping_add(seed) % 3 == 0 {
+                if (i as u64).wrapping_add(seed).is_multiple_of(3) {
                     0.0
                 } else {
                     (1.0 - weak) * 4.0 * hash(i, j, seed, 1)
