@@ -7,7 +7,7 @@
 use std::time::Instant;
 
 use flipcard_sim::scene::spec::{SystemPanel, SystemScene};
-use flipcard_sim::solvers::ode::lu::{LuKind, LuPlan};
+use flipcard_sim::solvers::ode::lu::{LuKind, LuPlan, Reuse};
 use flipcard_sim::solvers::ode::{Atol, OdeSolver, OdeSystem, Options, Radau5};
 use flipcard_sim::system::System;
 use nalgebra::DMatrix;
@@ -87,18 +87,20 @@ fn opts(rtol: f64) -> Options {
     }
 }
 
-/// A run to t = 10 in the form `kind`: the end state, the work, seconds.
+/// A run to t = 10 in the form `kind`: the end state, the work, how the
+/// sparse factorisations went, seconds.
 fn run(
     scene: &SystemScene,
     kind: LuKind,
     rtol: f64,
-) -> (Vec<f64>, flipcard_sim::solvers::ode::Work, f64) {
+) -> (Vec<f64>, flipcard_sim::solvers::ode::Work, Reuse, f64) {
     let sys = System::compile(scene, true).unwrap();
     let start = Instant::now();
     let mut radau = Radau5::new(sys, 0.0, &scene.initial, &opts(rtol)).unwrap();
     assert!(radau.force_lu(kind), "{kind:?}");
     let y = radau.advance(10.0).unwrap().to_vec();
-    (y, radau.work(), start.elapsed().as_secs_f64())
+    let secs = start.elapsed().as_secs_f64();
+    (y, radau.work(), radau.lu_reuse(), secs)
 }
 
 #[test]
@@ -109,10 +111,18 @@ fn the_grid_is_factored_sparse_and_agrees_with_dense() {
     assert_eq!(n, 2 * N * N);
     let radau = Radau5::new(sys, 0.0, &scene.initial, &opts(1e-6)).unwrap();
     assert_eq!(radau.lu_kind(), LuKind::Sparse);
-    let (sparse, ws, _) = run(&scene, LuKind::Sparse, 1e-6);
-    let (dense, wd, _) = run(&scene, LuKind::Dense, 1e-6);
+    let (sparse, ws, reuse, _) = run(&scene, LuKind::Sparse, 1e-6);
+    let (dense, wd, _, _) = run(&scene, LuKind::Dense, 1e-6);
     assert_eq!(ws.lu, Some(LuKind::Sparse));
     assert_eq!(wd.lu, Some(LuKind::Dense));
+    // Every factorisation after the first reuses the last one's pivots
+    // (the real and the complex matrix counted apart): the grid's Newton
+    // matrices are diagonally dominant enough that none falls back.
+    assert_eq!(reuse.reused + reuse.fresh, 2 * ws.lu_decomps, "{reuse:?}");
+    assert!(
+        reuse.reused >= 2 * (ws.lu_decomps - 1),
+        "{reuse:?} of {ws:?}"
+    );
     // Same Newton solves up to rounding: the same run, step for step.
     assert!(ws.steps.abs_diff(wd.steps) <= 2, "{ws:?} {wd:?}");
     let worst = sparse
@@ -143,16 +153,29 @@ fn forms_measured_on_the_grid() {
                 assert!(f.is_invertible());
             }
             let per_lu = t0.elapsed().as_secs_f64() / reps as f64;
-            let (_, w, secs) = run(&scene, kind, rtol);
+            // Refactored in place on the last factors' pivots (the sparse
+            // form only; the others factor afresh each time).
+            let mut f = Some(plan.factor(&jac, 10.0, 8.0, 3.0));
+            let t0 = Instant::now();
+            for r in 0..reps {
+                let (g, _) = plan.refactor(f.take(), &jac, 11.0 + r as f64, 8.0, 3.0);
+                assert!(g.is_invertible());
+                f = Some(g);
+            }
+            let per_refactor = t0.elapsed().as_secs_f64() / reps as f64;
+            let (_, w, reuse, secs) = run(&scene, kind, rtol);
             println!(
-                "rtol {rtol:e} {:>6}: {} steps, {} rejected, {} LU, {:.3} ms per LU, run {:.3} s, LU share {:.0}%",
+                "rtol {rtol:e} {:>6}: {} steps, {} rejected, {} LU ({} reused, {} afresh, real and complex apart), {:.3} ms per LU afresh, {:.3} ms refactored, run {:.3} s, LU share {:.0}%",
                 kind.name(),
                 w.steps,
                 w.rejected,
                 w.lu_decomps,
+                reuse.reused,
+                reuse.fresh,
                 per_lu * 1e3,
+                per_refactor * 1e3,
                 secs,
-                100.0 * per_lu * w.lu_decomps as f64 / secs
+                100.0 * per_refactor * w.lu_decomps as f64 / secs
             );
         }
     }

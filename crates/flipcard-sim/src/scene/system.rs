@@ -39,8 +39,14 @@ use crate::system::System;
 use crate::system::compile::{CompileError, Cost, Fault, POINTS_PER_STEP, Source, time};
 use crate::system::spec::SceneAtol;
 use flipcard_text::num::Num;
-use tally::{Bracket, Edge, InStep, Tally, Watch, brent_max};
+use tally::{Bracket, Edge, InStep, Tally, Watch, brent_max_within};
 use trail::Trail;
+
+/// A panel's extent (not a measure's extreme) is located to within the
+/// quantity's range so far over this ([`tally::brent_max_within`]): half a
+/// Braille dot of a panel 512 cells tall (four dots a cell), below what
+/// any panel draws.
+pub(crate) const EXTENT_RESOLUTION: f64 = 4096.0;
 
 /// Points kept for each drawn curve against time and the phase portrait
 /// (the sketch's trails keep theirs, [`trail::TRAIL_LEN`]).
@@ -581,6 +587,17 @@ pub(crate) struct Trace {
 }
 
 impl Trace {
+    /// The next sample is kept (the others are passed without building
+    /// their point).
+    fn wants(&self) -> bool {
+        self.seen.is_multiple_of(self.stride.max(1))
+    }
+
+    /// Counts a sample not kept.
+    fn pass(&mut self) {
+        self.seen += 1;
+    }
+
     fn push(&mut self, p: Point) {
         if self.stride == 0 {
             self.stride = 1;
@@ -623,6 +640,16 @@ pub struct ConservedDrift {
     pub relative: Option<f64>,
 }
 
+/// Evaluations of a run's dense output between its samples (each a state
+/// and the quantity or sketch coordinates wanted there), by what asked.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Probes {
+    /// Locating extremes (measures' and extents'), events and edges.
+    pub searches: u64,
+    /// Following the sketch's trails between samples.
+    pub trail: u64,
+}
+
 /// A system scene running.
 pub struct SystemRun {
     scene: SystemScene,
@@ -658,6 +685,9 @@ pub struct SystemRun {
     /// extreme is searched).
     probe: Vec<f64>,
     probe_obs: Vec<f64>,
+    /// Evaluations of the dense output between samples so far: by the
+    /// searches for extremes, crossings and edges, and by the trail.
+    probes: Probes,
     /// The observables computed at each sample (the plan's, up to the last
     /// of them), and their values at the last sample.
     observables_upto: Option<usize>,
@@ -783,7 +813,17 @@ impl SystemRun {
         }
         let tallies = tracked
             .into_iter()
-            .map(|q| (q, Tally::new(plan.peaks.contains(&q))))
+            .map(|q| {
+                let mut tally = if plan.metered.contains(&q) {
+                    Tally::new(plan.peaks.contains(&q))
+                } else {
+                    Tally::extent_only()
+                };
+                tally.keeps = plan.periods.contains(&q);
+                tally.measured = plan.extremes.contains(&q);
+                tally.searched = tally.measured || plan.extents.contains(&q);
+                (q, tally)
+            })
             .collect();
         let trail = (plan.trail && plan.sketch).then(|| Trail::new(&scene.sketch));
         let watches = plan
@@ -796,6 +836,7 @@ impl SystemRun {
             scene: scene.clone(),
             obs: vec![0.0; system.observable_count()],
             probe_obs: vec![0.0; system.observable_count()],
+            probes: Probes::default(),
             marks: vec![0.0; system.mark_count()],
             system,
             plan,
@@ -936,21 +977,21 @@ impl SystemRun {
         for k in 0..self.tallies.len() {
             let q = self.tallies[k].0;
             let v = self.value(q, y);
-            let keep = self.plan.periods.contains(&q);
+            let keep = self.tallies[k].1.keeps;
             self.tallies[k].1.add(t, v, keep, at);
         }
         for k in 0..self.watches.len() {
             let v = self.value(self.watches[k].q, y);
             self.watches[k].add(t, v);
         }
-        let mut drawn: Vec<usize> = self.plot.clone();
-        if let Some([a, b]) = self.phase {
-            drawn.push(a);
-            drawn.push(b);
-        }
-        if !drawn.is_empty() {
-            let values = drawn.iter().map(|&q| self.value(q, y)).collect();
+        if (!self.plot.is_empty() || self.phase.is_some()) && self.trace.wants() {
+            let phase = self.phase.iter().flatten();
+            let values = (self.plot.iter().chain(phase))
+                .map(|&q| self.value(q, y))
+                .collect();
             self.trace.push(Point { t, values });
+        } else {
+            self.trace.pass();
         }
         if let Some(trail) = &mut self.trail {
             let span = trail.span(|q| {
@@ -961,7 +1002,9 @@ impl SystemRun {
             // Between the last sample and this one the step's dense output
             // is at hand (every sample but the run's first).
             let (solver, system, probe) = (&mut self.solver, &self.system, &mut self.probe);
+            let count = &mut self.probes.trail;
             let between = |tm: f64| {
+                *count += 1;
                 if at.is_none() || solver.dense(tm, probe).is_err() {
                     return None;
                 }
@@ -969,10 +1012,7 @@ impl SystemRun {
                 system.marks_into(tm, probe, &mut out);
                 out.iter().all(|v| v.is_finite()).then_some(out)
             };
-            let p = Point {
-                t,
-                values: self.marks.clone(),
-            };
+            let p = trail.point(t, &self.marks);
             trail.add(p, span, between);
         }
         let weight = (t - self.sampled).max(0.0);
@@ -1336,7 +1376,7 @@ impl SystemRun {
                         return true;
                     }
                     let at = InStep { k, per_step, t0 };
-                    if let Err(e) = self.sample(t, &y.clone(), Some(at)) {
+                    if let Err(e) = self.sample(t, &y, Some(at)) {
                         let e = match e {
                             RunError::Domain { .. } => {
                                 let (tb, yb) = self.first_bad(t);
@@ -1401,18 +1441,30 @@ impl SystemRun {
         let step_end = at.k == at.per_step;
         for i in 0..self.tallies.len() {
             let q = self.tallies[i].0;
-            let measured = self.plan.extremes.contains(&q);
-            if !measured && !self.plan.extents.contains(&q) {
+            let measured = self.tallies[i].1.measured;
+            if !self.tallies[i].1.searched || self.tallies[i].1.quiet() {
                 continue;
             }
-            for br in self.tallies[i].1.brackets(at.t0, step_end) {
+            let brackets = self.tallies[i].1.brackets(at.t0, step_end);
+            if brackets.is_empty() {
+                continue;
+            }
+            // A panel's extent to what the panel shows; a measure's extreme
+            // to the full resolution.
+            let within = match self.tallies[i].1.extent() {
+                Some((lo, hi)) if !measured && hi - lo > 0.0 && (hi - lo).is_finite() => {
+                    (hi - lo) / EXTENT_RESOLUTION
+                }
+                _ => 0.0,
+            };
+            for br in brackets {
                 let s = if br.max { 1.0 } else { -1.0 };
                 if !measured && self.at_its_edge(q, br) {
                     continue;
                 }
-                if let Some((t, v)) =
-                    brent_max(br.a, br.b, |t| self.quantity_at(q, t).map(|v| s * v))
-                {
+                if let Some((t, v)) = brent_max_within(br.a, br.b, within, |t| {
+                    self.quantity_at(q, t).map(|v| s * v)
+                }) {
                     self.tallies[i].1.found(br, t, s * v);
                 }
             }
@@ -1456,6 +1508,7 @@ impl SystemRun {
     /// Quantity `q` at time `t` of the current step, from the dense output
     /// (None if it cannot be evaluated or is not finite).
     fn quantity_at(&mut self, q: usize, t: f64) -> Option<f64> {
+        self.probes.searches += 1;
         let mut y = std::mem::take(&mut self.probe);
         let n = y.len();
         let marks = n + self.probe_obs.len();
@@ -1563,6 +1616,11 @@ impl SystemRun {
     /// (empty when the plan keeps no trail).
     pub fn trail(&self) -> &[Point] {
         self.trail.as_ref().map_or(&[], Trail::points)
+    }
+
+    /// How often the run evaluated its dense output between samples.
+    pub fn probes(&self) -> Probes {
+        self.probes
     }
 
     /// The smallest and largest value of quantity `q` over the run so far,

@@ -578,3 +578,36 @@ fn extents_and_trails_follow_the_shown_panels() {
     assert!(run.plot_extent().is_none() && run.sketch_extent().is_some());
     assert!(!run.trail().is_empty());
 }
+
+/// What the panels cost on the run of
+/// `the_extent_of_a_run_includes_the_perihelion_its_samples_skip` (Kepler
+/// e = 0.9, RK4 at 8448 steps a period, 40 periods, plot and sketch
+/// shown) against the same run headless: dense-output evaluations between
+/// samples and wall time. `FLIPCARD_COST_MODE=shown` or `headless` runs
+/// only that one (for `perf stat -e instructions` on the test process).
+#[test]
+#[ignore = "a measurement: cargo test --release -p flipcard-sim --lib panels_cost -- --ignored --nocapture"]
+fn panels_cost_measured() {
+    let scene = kepler_from_aphelion(0.9, 40.0);
+    let method = OdeMethod::with_setting(OdeKind::Rk4, 1.0 / 8448.0).unwrap();
+    let mode = std::env::var("FLIPCARD_COST_MODE").unwrap_or_default();
+    for (name, headless) in [("shown", false), ("headless", true)] {
+        if !mode.is_empty() && mode != name {
+            continue;
+        }
+        let plan = SystemPlan::for_scene(&scene, method, &[]);
+        let plan = if headless { plan.headless() } else { plan };
+        let start = std::time::Instant::now();
+        let mut run = SystemRun::with_plan(&scene, method, plan).unwrap();
+        run.run_to_end().unwrap();
+        let secs = start.elapsed().as_secs_f64();
+        let p = run.probes();
+        println!(
+            "{name}: {:.3} s, {} searches, {} trail evaluations, {} trail points",
+            secs,
+            p.searches,
+            p.trail,
+            run.trail().len()
+        );
+    }
+}

@@ -12,7 +12,13 @@
 //!   hostile deck costs a bounded multiple of a sample's work).
 //! - **Thinned where straight**: a point is dropped while every point
 //!   dropped since the last one kept lies within the resolution of the
-//!   chord that replaces them (at most [`MAX_SKIPPED`] in a row). A trail
+//!   chord that replaces them (at most [`MAX_SKIPPED`] in a row). The
+//!   dropped points are not measured again at each sample: the directions
+//!   from the last point kept whose chords pass within the resolution of
+//!   every one of them form a cone (an interval of angles, [`Cone`]), and a
+//!   chord in it that reaches at least as far as the farthest of them keeps
+//!   them all; only a chord outside it (once per point kept) or short of
+//!   them (where the curve turns back) measures each. A trail
 //!   longer than [`TRAIL_LEN`] points is thinned again at twice the
 //!   distance, which then holds until the extent outgrows it, so it always
 //!   spans the run and its drawing costs a bounded time.
@@ -43,8 +49,14 @@ pub(crate) struct Trail {
     pairs: Vec<usize>,
     /// The points kept; the last is always the latest sample.
     points: Vec<Point>,
-    /// The points dropped since the last one kept before the latest.
+    /// The points dropped since the last one kept before the latest, and
+    /// the room of those let go ([`Trail::point`]).
     skipped: Vec<Point>,
+    spare: Vec<Point>,
+    /// The chords from that point that keep them all ([`Cone`]), and
+    /// room for the next (so a sample allocates nothing).
+    cone: Cone,
+    next: Cone,
     /// The least distance kept to the curve: raised when the trail outgrew
     /// [`TRAIL_LEN`] points.
     floor: f64,
@@ -66,8 +78,28 @@ impl Trail {
             pairs,
             points: Vec::new(),
             skipped: Vec::new(),
+            spare: Vec::new(),
+            cone: Cone::new(0.0, 0),
+            next: Cone::new(0.0, 0),
             floor: 0.0,
             recent: Vec::new(),
+        }
+    }
+
+    /// A point at `t` with `values`, in the room of one let go if there is
+    /// one.
+    pub(crate) fn point(&mut self, t: f64, values: &[f64]) -> Point {
+        match self.spare.pop() {
+            Some(mut p) => {
+                p.t = t;
+                p.values.clear();
+                p.values.extend_from_slice(values);
+                p
+            }
+            None => Point {
+                t,
+                values: values.to_vec(),
+            },
         }
     }
 
@@ -110,9 +142,14 @@ impl Trail {
                 self.keep(q, eps);
             }
         }
-        self.recent.push(p.clone());
-        if self.recent.len() > 2 {
-            self.recent.remove(0);
+        if self.recent.len() < 2 {
+            self.recent.push(p.clone());
+        } else {
+            // The oldest's room for the newest.
+            self.recent.rotate_left(1);
+            let last = &mut self.recent[1];
+            last.t = p.t;
+            last.values.clone_from(&p.values);
         }
         self.keep(p, eps);
         let mut eps = eps;
@@ -121,6 +158,7 @@ impl Trail {
             self.floor = eps;
             let all = std::mem::take(&mut self.points);
             self.skipped.clear();
+            self.cone.reset(eps, self.pairs.len());
             for q in all {
                 self.keep(q, eps);
             }
@@ -199,16 +237,190 @@ impl Trail {
         }
         let anchor = &self.points[n - 2];
         let latest = &self.points[n - 1];
+        if self.cone.eps != eps {
+            // The distance changed: the cone of the points dropped so far
+            // for the new one.
+            self.cone.reset(eps, self.pairs.len());
+            for q in &self.skipped {
+                self.cone.add(&self.pairs, anchor, q);
+            }
+        }
+        self.next.clone_from(&self.cone);
+        self.next.add(&self.pairs, anchor, latest);
         let fits = self.skipped.len() < MAX_SKIPPED
-            && self.off(latest, anchor, &p) <= eps
-            && (self.skipped.iter()).all(|q| self.off(q, anchor, &p) <= eps);
+            && (self.next.keeps(&self.pairs, anchor, &p)
+                || (self.off(latest, anchor, &p) <= eps
+                    && (self.skipped.iter()).all(|q| self.off(q, anchor, &p) <= eps)));
         if fits {
             let latest = self.points.pop().expect("two points");
             self.skipped.push(latest);
+            std::mem::swap(&mut self.cone, &mut self.next);
         } else {
+            if self.spare.len() < MAX_SKIPPED {
+                self.spare.append(&mut self.skipped);
+            }
             self.skipped.clear();
+            self.cone.reset(eps, self.pairs.len());
         }
         self.points.push(p);
+    }
+}
+
+/// The chords from a trail's anchor (its last point kept) that pass within
+/// `eps` of every point dropped since: for each trail, the directions from
+/// the anchor within asin(eps/d) of each dropped point's (d its distance
+/// from the anchor), and the farthest of them. A chord in every such
+/// interval that reaches at least that far keeps each dropped point
+/// within `eps`: the point projects onto the chord (the angle between them
+/// is under a right angle, and the chord is the longer), and its distance
+/// from the chord's line is d·sin of that angle. The directions are kept
+/// as the tangents of their angles from the first bounding one (within a
+/// right angle of it, where the tangent is monotone), so no trigonometry
+/// is done; an interval that reaches past a right angle is cut there, and
+/// a point beyond one empties the cone (every chord is then measured),
+/// both on the safe side. The intervals are narrowed by a billionth so
+/// rounding never lets through a chord the direct measurement would
+/// refuse.
+#[derive(Debug)]
+struct Cone {
+    eps: f64,
+    arcs: Vec<Arc>,
+    /// Some dropped point is within `eps` of no chord known here (then
+    /// every chord is measured).
+    empty: bool,
+}
+
+/// One trail's directions in a [`Cone`].
+#[derive(Debug, Clone, Copy)]
+struct Arc {
+    /// The first direction that bounds it (a unit vector), None while every
+    /// dropped point is within `eps` of the anchor; the tangents of the
+    /// interval's ends' angles from it.
+    dir: Option<(f64, f64)>,
+    lo: f64,
+    hi: f64,
+    /// The farthest dropped point's distance from the anchor.
+    reach: f64,
+}
+
+impl Clone for Cone {
+    fn clone(&self) -> Cone {
+        Cone {
+            eps: self.eps,
+            arcs: self.arcs.clone(),
+            empty: self.empty,
+        }
+    }
+
+    /// Into the room `self` has (a sample allocates nothing).
+    fn clone_from(&mut self, from: &Cone) {
+        self.eps = from.eps;
+        self.arcs.clone_from(&from.arcs);
+        self.empty = from.empty;
+    }
+}
+
+impl Cone {
+    fn new(eps: f64, pairs: usize) -> Cone {
+        let mut cone = Cone {
+            eps,
+            arcs: Vec::new(),
+            empty: false,
+        };
+        cone.reset(eps, pairs);
+        cone
+    }
+
+    /// No point dropped, for the distance `eps`.
+    fn reset(&mut self, eps: f64, pairs: usize) {
+        let arc = Arc {
+            dir: None,
+            lo: f64::NEG_INFINITY,
+            hi: f64::INFINITY,
+            reach: 0.0,
+        };
+        self.eps = eps;
+        self.arcs.clear();
+        self.arcs.resize(pairs, arc);
+        self.empty = false;
+    }
+
+    /// Narrows the cone to the chords that keep `q` too (empty when none
+    /// does, or none is known to).
+    fn add(&mut self, pairs: &[usize], anchor: &Point, q: &Point) {
+        if self.empty {
+            return;
+        }
+        let eps = self.eps * (1.0 - 1e-9);
+        for (arc, &k) in self.arcs.iter_mut().zip(pairs) {
+            let (dx, dy) = (
+                q.values[k] - anchor.values[k],
+                q.values[k + 1] - anchor.values[k + 1],
+            );
+            let d = (dx * dx + dy * dy).sqrt();
+            if d.is_nan() {
+                self.empty = true;
+                return;
+            }
+            arc.reach = arc.reach.max(d);
+            if d <= eps {
+                continue;
+            }
+            // tan of the half-width asin(eps/d).
+            let w = eps / (d * d - eps * eps).sqrt();
+            let (ux, uy) = *arc.dir.get_or_insert((dx / d, dy / d));
+            let (along, across) = (ux * dx + uy * dy, ux * dy - uy * dx);
+            if !(along > 0.0 && w.is_finite()) {
+                self.empty = true;
+                return;
+            }
+            let tq = across / along;
+            // tan(θq ± half), or past a right angle on that side.
+            let up = 1.0 - tq * w;
+            let hi = if up > 0.0 {
+                (tq + w) / up
+            } else {
+                f64::INFINITY
+            };
+            let down = 1.0 + tq * w;
+            let lo = if down > 0.0 {
+                (tq - w) / down
+            } else {
+                f64::NEG_INFINITY
+            };
+            arc.lo = arc.lo.max(lo);
+            arc.hi = arc.hi.min(hi);
+            if arc.lo > arc.hi {
+                self.empty = true;
+                return;
+            }
+        }
+    }
+
+    /// The chord from `anchor` to `p` keeps every dropped point within
+    /// `eps` (false: not known without measuring).
+    fn keeps(&self, pairs: &[usize], anchor: &Point, p: &Point) -> bool {
+        !self.empty
+            && self.arcs.iter().zip(pairs).all(|(arc, &k)| {
+                let (dx, dy) = (
+                    p.values[k] - anchor.values[k],
+                    p.values[k + 1] - anchor.values[k + 1],
+                );
+                let d = (dx * dx + dy * dy).sqrt();
+                if !(d >= arc.reach && d > 0.0) {
+                    return false;
+                }
+                match arc.dir {
+                    None => true,
+                    Some((ux, uy)) => {
+                        let (along, across) = (ux * dx + uy * dy, ux * dy - uy * dx);
+                        along > 0.0 && {
+                            let t = across / along;
+                            arc.lo <= t && t <= arc.hi
+                        }
+                    }
+                }
+            })
     }
 }
 

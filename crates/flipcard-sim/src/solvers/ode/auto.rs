@@ -20,9 +20,13 @@
 //!   probed every [`ROUTINE_COUNT`] explicit steps (doubling likewise).
 //!
 //! Costs are counted in evaluations of f: one per evaluation, n per
-//! Jacobian (what finite differences would take), and 1 + n²/6 per LU
-//! decomposition pair (n³/3 real and 4n³/3 complex flops against ~10n for
-//! an f of n short equations). Counting, not timing, keeps every run
+//! Jacobian (what finite differences would take), and per LU
+//! decomposition pair what Radau's factors cost in the form it will factor
+//! them ([`LuPlan::choose`] on the system's pattern, priced by
+//! [`LuPlan::pair_in_evaluations`]: dense, 1 + n²/6, n³/3 real and 4n³/3
+//! complex flops against ~10n for an f of n short equations; banded and
+//! sparse, their own multiply–adds by their measured weights, far fewer on
+//! a large sparse system). Counting, not timing, keeps every run
 //! repeatable.
 //!
 //! The handover happens lazily, at the first step after the decision, so
@@ -31,6 +35,7 @@
 
 use std::collections::VecDeque;
 
+use super::lu::LuPlan;
 use super::{
     Atol, Dop853, OdeSolver, OdeSystem, Options, Radau5, Requests, Stepper, StiffnessMode, Work,
 };
@@ -98,6 +103,8 @@ pub struct Auto<S> {
     phase: Phase<S>,
     opts: Options,
     n: usize,
+    /// What a pair of Radau's LU decompositions costs, in evaluations of f.
+    lu_price: f64,
     switched_at: Option<f64>,
     /// Work of the phases that are over.
     done: Work,
@@ -119,15 +126,16 @@ pub struct Auto<S> {
     probes_lost: u32,
 }
 
-/// The cost of `w` in evaluations of f, for a system of `n` components.
-fn cost(w: Work, n: usize) -> f64 {
-    let n = n as f64;
-    w.rhs_evals as f64 + n * w.jac_evals as f64 + (1.0 + n * n / 6.0) * w.lu_decomps as f64
+/// The cost of `w` in evaluations of f, for a system of `n` components
+/// whose LU decomposition pairs cost `lu_price` each.
+fn cost(w: Work, n: usize, lu_price: f64) -> f64 {
+    w.rhs_evals as f64 + n as f64 * w.jac_evals as f64 + lu_price * w.lu_decomps as f64
 }
 
 impl<S: OdeSystem> Auto<S> {
     pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Auto<S>, SolveError> {
         let n = sys.dim();
+        let lu_price = LuPlan::choose(n, sys.sparsity().as_deref()).pair_in_evaluations(n);
         let dop = Dop853::new(sys, t0, y0, opts)?.with_stiffness(StiffnessMode::Report);
         // Radau's own checks, so a bad setting shows now and not at the switch.
         if opts.rtol <= 10.0 * f64::EPSILON {
@@ -141,6 +149,7 @@ impl<S: OdeSystem> Auto<S> {
             phase: Phase::Explicit(Box::new(dop)),
             opts: opts.clone(),
             n,
+            lu_price,
             switched_at: None,
             done: Work::default(),
             requests: Requests::new(t0, y0),
@@ -168,7 +177,7 @@ impl<S: OdeSystem> Auto<S> {
 
     /// The cost so far, in evaluations of f.
     fn cost_now(&self) -> f64 {
-        cost(self.work_done(), self.n)
+        cost(self.work_done(), self.n, self.lu_price)
     }
 
     /// DOP853's cost per unit time over its last steps (infinite until
@@ -449,11 +458,57 @@ mod tests {
         .unwrap();
         dop.advance(60.0).unwrap();
         let (a, r, d) = (
-            cost(auto.work(), 2),
-            cost(radau.work(), 2),
-            cost(dop.work(), 2),
+            cost(auto.work(), 2, auto.lu_price),
+            cost(radau.work(), 2, auto.lu_price),
+            cost(dop.work(), 2, auto.lu_price),
         );
         assert!(a < 0.5 * r, "auto {a}, radau {r}, dop853 {d}");
         assert!(a < 2.0 * d, "auto {a}, radau {r}, dop853 {d}");
+    }
+
+    /// n variables coupled in a ring with a link across it: sparse to
+    /// Radau, whatever its values.
+    struct Ring(usize);
+    impl OdeSystem for Ring {
+        fn dim(&self) -> usize {
+            self.0
+        }
+        fn rhs(&self, _: f64, y: &[f64], dy: &mut [f64]) {
+            let n = self.0;
+            for i in 0..n {
+                dy[i] = y[(i + 1) % n] - 2.0 * y[i] + y[(i + n / 3) % n];
+            }
+        }
+        fn sparsity(&self) -> Option<Vec<Vec<usize>>> {
+            let n = self.0;
+            Some(
+                (0..n)
+                    .map(|i| vec![i, (i + 1) % n, (i + n / 3) % n])
+                    .collect(),
+            )
+        }
+    }
+
+    /// The probe prices Radau's LU in the form Radau will factor in: dense
+    /// on a small system (1 + n²/6 evaluations of f a pair), the sparse
+    /// form's own cost on a large sparse one, far below the dense price.
+    #[test]
+    fn the_lu_is_priced_in_the_form_radau_factors_in() {
+        let y0 = [1.0, 0.0];
+        let small = Auto::new(Oscillator, 0.0, &y0, &opts()).unwrap();
+        assert!((small.lu_price - (1.0 + 4.0 / 6.0)).abs() < 1e-12);
+        let n = 300;
+        let y0: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        let ring = Auto::new(Ring(n), 0.0, &y0, &opts()).unwrap();
+        let plan = LuPlan::choose(n, Ring(n).sparsity().as_deref());
+        assert_eq!(plan.kind(), super::super::lu::LuKind::Sparse);
+        assert_eq!(ring.lu_price, plan.pair_in_evaluations(n));
+        let dense = 1.0 + (n * n) as f64 / 6.0;
+        assert!(
+            ring.lu_price < dense / 20.0,
+            "{} against {dense}",
+            ring.lu_price
+        );
+        assert!((LuPlan::Dense.pair_in_evaluations(n) / dense - 1.0).abs() < 1e-12);
     }
 }

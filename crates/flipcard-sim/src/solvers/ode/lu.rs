@@ -14,7 +14,7 @@
 use nalgebra::{Complex, DMatrix, DVector, Dyn, LU};
 
 use super::band::{Band, BandLu, DENSE_MAX};
-use super::sparse::{SparseLu, SparsePlan};
+use super::sparse::{Refactor, SparseLu, SparsePlan};
 
 /// The forms of the Newton matrices' LU, as `--stats` and the JSON
 /// diagnostics name them (`"lu"`).
@@ -122,6 +122,15 @@ impl LuPlan {
         }
     }
 
+    /// What a multiply–add of this form costs over a dense one.
+    fn weight(&self) -> f64 {
+        match self {
+            LuPlan::Dense => 1.0,
+            LuPlan::Banded(_) => BAND_WEIGHT,
+            LuPlan::Sparse(_) => SPARSE_WEIGHT,
+        }
+    }
+
     /// Multiply–adds of one factorisation (about; dense n³/3).
     pub fn flops(&self, n: usize) -> f64 {
         match self {
@@ -129,6 +138,15 @@ impl LuPlan {
             LuPlan::Banded(b) => b.cost(),
             LuPlan::Sparse(s) => s.flops,
         }
+    }
+
+    /// What factoring the real and the complex Newton matrix in this form
+    /// costs in evaluations of f, for `auto`'s comparison of the methods'
+    /// costs: the weighted multiply–adds of the pair (a complex one is
+    /// about four real ones) against ~10n for an f of n short equations,
+    /// plus one; dense, 1 + n²/6.
+    pub fn pair_in_evaluations(&self, n: usize) -> f64 {
+        1.0 + 5.0 * self.weight() * self.flops(n) / (10.0 * n.max(1) as f64)
     }
 
     /// The weighted cost of one factorisation and [`SOLVES_PER_LU`]
@@ -139,17 +157,29 @@ impl LuPlan {
             LuPlan::Banded(b) => b.solve_cost(),
             LuPlan::Sparse(s) => (2 * s.fill + s.nnz()) as f64,
         };
-        let weight = match self {
-            LuPlan::Dense => 1.0,
-            LuPlan::Banded(_) => BAND_WEIGHT,
-            LuPlan::Sparse(_) => SPARSE_WEIGHT,
-        };
-        weight * (self.flops(n) + SOLVES_PER_LU * solve)
+        self.weight() * (self.flops(n) + SOLVES_PER_LU * solve)
     }
 
     /// The factors of γ − J (real; γ = `fac1`) and (α + iβ) − J (complex),
     /// J the n×n Jacobian.
     pub fn factor(&self, jac: &DMatrix<f64>, fac1: f64, alpha: f64, beta: f64) -> Factors {
+        self.refactor(None, jac, fac1, alpha, beta).0
+    }
+
+    /// As [`LuPlan::factor`], reusing `previous` (this plan's factors of
+    /// an earlier step) where the form allows: a sparse LU keeps its pivot
+    /// order and its factors' patterns while every reused pivot passes the
+    /// threshold a fresh factorisation obeys, and is factored afresh
+    /// otherwise ([`SparseLu::refactor`]). With how many of the two
+    /// matrices were refactored in place.
+    pub fn refactor(
+        &self,
+        previous: Option<Factors>,
+        jac: &DMatrix<f64>,
+        fac1: f64,
+        alpha: f64,
+        beta: f64,
+    ) -> (Factors, Reuse) {
         let n = jac.nrows();
         let real = |i: usize, j: usize| {
             let v = -jac[(i, j)];
@@ -163,7 +193,20 @@ impl LuPlan {
                 Complex::new(v, 0.0)
             }
         };
-        match self {
+        if let (LuPlan::Sparse(plan), Some(Factors::Sparse(mut f))) = (self, previous) {
+            let counts = [f.0.refactor(plan, real), f.1.refactor(plan, complex)];
+            let reused = counts.iter().filter(|&&r| r == Refactor::Reused).count();
+            let reuse = Reuse {
+                reused: reused as u64,
+                fresh: (2 - reused) as u64,
+            };
+            return (Factors::Sparse(f), reuse);
+        }
+        let fresh = Reuse {
+            reused: 0,
+            fresh: u64::from(matches!(self, LuPlan::Sparse(_))) * 2,
+        };
+        let factors = match self {
             LuPlan::Dense => Factors::Dense(
                 DMatrix::from_fn(n, n, real).lu(),
                 DMatrix::from_fn(n, n, complex).lu(),
@@ -180,7 +223,23 @@ impl LuPlan {
                 SparseLu::new(plan, real),
                 SparseLu::new(plan, complex),
             ))),
-        }
+        };
+        (factors, fresh)
+    }
+}
+
+/// Sparse factorisations (real and complex counted apart) that reused
+/// the previous pivots and patterns, and that were done afresh.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Reuse {
+    pub reused: u64,
+    pub fresh: u64,
+}
+
+impl std::ops::AddAssign for Reuse {
+    fn add_assign(&mut self, o: Reuse) {
+        self.reused += o.reused;
+        self.fresh += o.fresh;
     }
 }
 

@@ -48,7 +48,7 @@
 use crate::error::SolveError;
 use nalgebra::{Complex, DMatrix, DVector};
 
-use super::lu::{Factors, LuKind, LuPlan};
+use super::lu::{Factors, LuKind, LuPlan, Reuse};
 
 use super::{BySize, OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
 
@@ -203,6 +203,8 @@ pub struct Radau5<S> {
     /// chosen from the Jacobian's pattern ([`LuPlan::choose`]).
     plan: LuPlan,
     lu: Option<Factors>,
+    /// Sparse factorisations that reused the last ones' pivots, and not.
+    lu_reuse: Reuse,
     rhs_real: DVector<f64>,
     rhs_complex: DVector<Complex<f64>>,
     /// The right-hand sides reordered, for banded and sparse solves.
@@ -275,6 +277,7 @@ impl<S: OdeSystem> Radau5<S> {
             jac: DMatrix::zeros(n, n),
             plan: LuPlan::choose(n, sys.sparsity().as_deref()),
             lu: None,
+            lu_reuse: Reuse::default(),
             rhs_real: DVector::zeros(n),
             rhs_complex: DVector::zeros(n),
             band_real: Vec::new(),
@@ -344,6 +347,12 @@ impl<S: OdeSystem> Radau5<S> {
         self.plan.kind()
     }
 
+    /// How many sparse factorisations reused the previous pivots and
+    /// patterns, and how many were done afresh ([`LuPlan::refactor`]).
+    pub fn lu_reuse(&self) -> Reuse {
+        self.lu_reuse
+    }
+
     /// Hands the system, the current point and the next step size over
     /// (for `auto`, going back to the explicit method).
     /// The absolute tolerance of each component now (the user's, before
@@ -406,7 +415,10 @@ impl<S: OdeSystem> Radau5<S> {
     fn decompose(&mut self, h: f64) -> bool {
         let fac1 = self.k.gamma / h;
         let (alphn, betan) = (self.k.alpha / h, self.k.beta / h);
-        let lu = self.plan.factor(&self.jac, fac1, alphn, betan);
+        let (lu, reuse) = self
+            .plan
+            .refactor(self.lu.take(), &self.jac, fac1, alphn, betan);
+        self.lu_reuse += reuse;
         self.work.lu_decomps += 1;
         self.work.lu = Some(self.plan.kind());
         let ok = lu.is_invertible();

@@ -18,6 +18,14 @@
 //! fill stays near the analysis's), else the largest is taken. Any
 //! non-singular matrix is factored; a column with no non-zero candidate is
 //! reported singular, as the dense LU reports it.
+//!
+//! The next matrix of the run (same pattern, new values) is refactored as
+//! KLU does ([`SparseLu::refactor`]): the last factorisation's row pivots
+//! and the patterns of its L and U are kept and only the values computed,
+//! while every reused pivot passes the threshold a fresh factorisation
+//! obeys; the first that does not, and the matrix is factored afresh with
+//! pivoting (whose pivots the next refactor keeps), so a refactor never
+//! solves worse than a fresh factorisation would.
 
 use nalgebra::{ComplexField, DVector};
 use std::collections::BTreeSet;
@@ -190,7 +198,20 @@ pub struct SparseLu<T> {
     rows: Vec<usize>,
     /// `cols[k]`: the variable of column k (the plan's order).
     cols: Vec<usize>,
+    /// `pinv[i]`: the pivot position of the plan's row i (what
+    /// [`SparseLu::refactor`] reuses).
+    pinv: Vec<usize>,
     invertible: bool,
+}
+
+/// How [`SparseLu::refactor`] went.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refactor {
+    /// The previous pivots and pattern were kept.
+    Reused,
+    /// A reused pivot fell below [`PIVOT_TOL`] of its column (or the
+    /// previous factors were singular): factored afresh, with pivoting.
+    Fresh,
 }
 
 impl<T: ComplexField<RealField = f64> + Copy> SparseLu<T> {
@@ -210,6 +231,7 @@ impl<T: ComplexField<RealField = f64> + Copy> SparseLu<T> {
             udiag: vec![T::zero(); n],
             rows: Vec::new(),
             cols: plan.order.clone(),
+            pinv: Vec::new(),
             invertible: true,
         };
         lu.lp.push(0);
@@ -289,7 +311,75 @@ impl<T: ComplexField<RealField = f64> + Copy> SparseLu<T> {
         for (i, &p) in pinv.iter().enumerate() {
             lu.rows[p] = o[i];
         }
+        lu.pinv = pinv;
         lu
+    }
+
+    /// Factors a new matrix of the same plan in place, as KLU's refactor
+    /// does: the previous factorisation's row pivots and the patterns of
+    /// its L and U are kept, and only the values are computed (no search
+    /// of L's graph, no pivot search, no growth of the factors' vectors),
+    /// column by column in
+    /// the order the previous factorisation found U's entries (a
+    /// topological order, so each is final when it is used).
+    ///
+    /// A reused pivot is kept only under the rule a fresh factorisation
+    /// obeys: at least [`PIVOT_TOL`] of the largest candidate in its
+    /// column (the rows not yet pivoted: the pivot's and L's), so the
+    /// factors' growth is bounded as a fresh factorisation's is. The first
+    /// column where it is not (or where it is zero or not finite), or
+    /// previous factors that were singular, and the matrix is factored
+    /// afresh with [`SparseLu::new`] ([`Refactor::Fresh`]), whose pivots
+    /// the next refactor reuses. The pattern of the matrix's non-zeros is
+    /// the plan's, as for [`SparseLu::new`], so the kept patterns hold
+    /// every entry the new factors can have.
+    pub fn refactor(&mut self, plan: &SparsePlan, entry: impl Fn(usize, usize) -> T) -> Refactor {
+        if !self.invertible || self.n != plan.n() || self.pinv.len() != self.n {
+            *self = SparseLu::new(plan, entry);
+            return Refactor::Fresh;
+        }
+        let n = self.n;
+        let o = &plan.order;
+        // x in pivot positions; every entry set is cleared before the
+        // next column.
+        let mut x = vec![T::zero(); n];
+        for k in 0..n {
+            for &i in &plan.row_idx[plan.col_ptr[k]..plan.col_ptr[k + 1]] {
+                x[self.pinv[i]] = entry(o[i], o[k]);
+            }
+            for q in self.up[k]..self.up[k + 1] {
+                let j = self.ui[q];
+                let xj = x[j];
+                self.ux[q] = xj;
+                x[j] = T::zero();
+                if xj == T::zero() {
+                    continue;
+                }
+                for r in self.lp[j]..self.lp[j + 1] {
+                    let i = self.li[r];
+                    x[i] -= self.lx[r] * xj;
+                }
+            }
+            let pivot = x[k];
+            x[k] = T::zero();
+            let ls = self.lp[k]..self.lp[k + 1];
+            let largest = self.li[ls.clone()]
+                .iter()
+                .fold(0.0f64, |m, &i| m.max(x[i].modulus()));
+            let p = pivot.modulus();
+            // NaN anywhere fails one of these.
+            if !(p > 0.0 && p.is_finite() && largest.is_finite() && p >= PIVOT_TOL * largest) {
+                *self = SparseLu::new(plan, entry);
+                return Refactor::Fresh;
+            }
+            self.udiag[k] = pivot;
+            for r in ls {
+                let i = self.li[r];
+                self.lx[r] = x[i] / pivot;
+                x[i] = T::zero();
+            }
+        }
+        Refactor::Reused
     }
 
     /// Depth-first search from row `start` through L's graph (row j leads
@@ -445,7 +535,15 @@ mod tests {
         b: &[T],
     ) -> Result<(), TestCaseError> {
         let plan = SparsePlan::plan(rows).unwrap();
-        let lu = SparseLu::new(&plan, |i, j| a[(i, j)]);
+        check_lu(&SparseLu::new(&plan, |i, j| a[(i, j)]), a, b)
+    }
+
+    /// As `check`, for the factors `lu` of `a` however they were made.
+    fn check_lu<T: ComplexField<RealField = f64> + Copy>(
+        lu: &SparseLu<T>,
+        a: &DMatrix<T>,
+        b: &[T],
+    ) -> Result<(), TestCaseError> {
         let dense = a.clone().lu();
         let bv = DVector::from_column_slice(b);
         let cond = condition(a);
@@ -497,7 +595,7 @@ mod tests {
             };
             let value = |i: usize, j: usize| {
                 if i == j {
-                    if (i as u64).wrapping_add(seed) % 3 == 0 { 0.0 } else { (1.0 - weak) * 4.0 * h(i, j, 1) }
+                    if (i as u64).wrapping_add(seed).is_multiple_of(3) { 0.0 } else { (1.0 - weak) * 4.0 * h(i, j, 1) }
                 } else {
                     h(i, j, 2)
                 }
@@ -514,6 +612,151 @@ mod tests {
             let cb: Vec<Complex<f64>> = b.iter().map(|&x| Complex::new(x, -0.5 * x)).collect();
             check(&rows, &ca, &cb)?;
         }
+    }
+
+    /// A value in [−1, 1) from a position and a seed.
+    fn hash(i: usize, j: usize, seed: u64, s: u64) -> f64 {
+        let x = ((i as u64).wrapping_mul(2654435761) ^ (j as u64).wrapping_mul(40503) ^ seed ^ s)
+            .wrapping_mul(0x9E3779B97F4A7C15);
+        (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+
+    /// Values on `rows`' pattern whose diagonal is zero on a third of the
+    /// rows (which third follows `seed`) and small on the rest when `weak`
+    /// is near 1.
+    fn values(rows: &[Vec<usize>], seed: u64, weak: f64) -> DMatrix<f64> {
+        dense_of(rows, |i, j| {
+            if i == j {
+                if (i as u64).wrapping_add(seed).is_multiple_of(3) {
+                    0.0
+                } else {
+                    (1.0 - weak) * 4.0 * hash(i, j, seed, 1)
+                }
+            } else {
+                hash(i, j, seed, 2)
+            }
+        })
+    }
+
+    /// The complex matrix Radau forms from a real one: −a with an
+    /// imaginary part, shifted on the diagonal.
+    fn shifted(a: &DMatrix<f64>, seed: u64, weak: f64) -> DMatrix<Complex<f64>> {
+        let shift = Complex::new(weak - 0.5, 2.0 * hash(0, 0, seed, 4));
+        DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| {
+            let v = Complex::new(-a[(i, j)], hash(i, j, seed, 5) * a[(i, j)]);
+            if i == j { v + shift } else { v }
+        })
+    }
+
+    /// Refactors `lu` (factors of an earlier matrix of the plan) onto `a`
+    /// and checks the solve against the dense LU; then a refactor of the
+    /// same matrix on the pivots it now has must be done in place and give
+    /// the same factors to the bit (the same operations in the same order).
+    fn check_refactor<T: ComplexField<RealField = f64> + Copy + PartialEq + std::fmt::Debug>(
+        plan: &SparsePlan,
+        lu: &mut SparseLu<T>,
+        a: &DMatrix<T>,
+        b: &[T],
+    ) -> Result<Refactor, TestCaseError> {
+        let how = lu.refactor(plan, |i, j| a[(i, j)]);
+        check_lu(lu, a, b)?;
+        if lu.is_invertible() {
+            let before = (
+                lu.lx.clone(),
+                lu.ux.clone(),
+                lu.udiag.clone(),
+                lu.rows.clone(),
+            );
+            prop_assert_eq!(lu.refactor(plan, |i, j| a[(i, j)]), Refactor::Reused);
+            let after = (
+                lu.lx.clone(),
+                lu.ux.clone(),
+                lu.udiag.clone(),
+                lu.rows.clone(),
+            );
+            prop_assert_eq!(after, before);
+        }
+        Ok(how)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+
+        /// Three matrices of one pattern factored in turn, each on the
+        /// last one's pivots (as Radau refactors its Newton matrices): the
+        /// diagonal zero on a different third of the rows, or weaker, makes
+        /// a reused pivot too small and the refactor starts afresh; either
+        /// way the solve equals nalgebra's dense LU, real and complex.
+        #[test]
+        fn refactor_solves_match_dense_lu(
+            rows in pattern(24, 4),
+            seeds in prop::array::uniform3(any::<u64>()),
+            weak in prop::array::uniform3(0.0..1.0f64),
+        ) {
+            let plan = SparsePlan::plan(&rows).unwrap();
+            let n = rows.len();
+            let a: Vec<DMatrix<f64>> = (0..3).map(|k| values(&rows, seeds[k], weak[k])).collect();
+            let b: Vec<f64> = (0..n).map(|i| hash(i, i, seeds[0], 3)).collect();
+            let mut lu = SparseLu::new(&plan, |i, j| a[0][(i, j)]);
+            for m in &a[1..] {
+                check_refactor(&plan, &mut lu, m, &b)?;
+            }
+            let ca: Vec<DMatrix<Complex<f64>>> =
+                (0..3).map(|k| shifted(&a[k], seeds[k], weak[k])).collect();
+            let cb: Vec<Complex<f64>> = b.iter().map(|&x| Complex::new(x, -0.5 * x)).collect();
+            let mut clu = SparseLu::new(&plan, |i, j| ca[0][(i, j)]);
+            for m in &ca[1..] {
+                check_refactor(&plan, &mut clu, m, &cb)?;
+            }
+        }
+    }
+
+    /// A reused pivot is kept down to a tenth of its column's largest
+    /// candidate and factored afresh, on another row, below that; factors
+    /// that were singular are never reused.
+    #[test]
+    fn a_reused_pivot_below_the_threshold_is_factored_afresh() {
+        // Two coupled variables (the order is 0, 1: a tie broken by index).
+        let rows = vec![vec![0, 1], vec![0, 1]];
+        let plan = SparsePlan::plan(&rows).unwrap();
+        assert_eq!(plan.order, [0, 1]);
+        let m = |d: f64| {
+            dense_of(&rows, move |i, j| {
+                if i == j && i == 0 {
+                    d
+                } else {
+                    1.0 + (i + 2 * j) as f64
+                }
+            })
+        };
+        let b = [1.0, -2.0];
+        let first = m(1.0);
+        let mut lu = SparseLu::new(&plan, |i, j| first[(i, j)]);
+        assert_eq!(lu.rows, [0, 1], "the diagonal pivots");
+        let next = |lu: &mut SparseLu<f64>, d: f64| {
+            let a = m(d);
+            let how = lu.refactor(&plan, |i, j| a[(i, j)]);
+            check_lu(lu, &a, &b).unwrap();
+            how
+        };
+        // Column 0's candidates are d and a[(1, 0)] = 2.
+        assert_eq!(next(&mut lu, 0.2), Refactor::Reused);
+        assert_eq!(lu.rows, [0, 1]);
+        assert_eq!(next(&mut lu, -0.2), Refactor::Reused);
+        assert_eq!(next(&mut lu, 0.199), Refactor::Fresh);
+        assert_eq!(lu.rows, [1, 0], "row 1 pivots now");
+        // The new pivot (2) is reused whatever the diagonal, down to zero.
+        assert_eq!(next(&mut lu, 19.9), Refactor::Reused);
+        assert_eq!(next(&mut lu, 0.0), Refactor::Reused);
+        assert_eq!(lu.rows, [1, 0]);
+        // Past 20 the diagonal is over ten times row 1's: afresh, on it.
+        assert_eq!(next(&mut lu, 20.5), Refactor::Fresh);
+        assert_eq!(lu.rows, [0, 1]);
+        // Not finite: afresh, and reported singular as a fresh one is.
+        assert_eq!(lu.refactor(&plan, |_, _| f64::NAN), Refactor::Fresh);
+        assert!(!lu.is_invertible());
+        assert_eq!(next(&mut lu, 1.0), Refactor::Fresh);
+        assert!(lu.is_invertible());
     }
 
     /// A matrix whose diagonal is zero everywhere (a permutation's pattern
