@@ -226,7 +226,10 @@ def table(binary, out_path, diffsol_path=None):
         "  too), beside flipcard's Radau in the same process on the same Rust right-hand side and",
         "  Jacobian; CPU time of the solve alone (thread CPU time, best of 3–20 runs). Its",
         "  equal-error ratio: diffsol's time at flipcard's in-process error, read off its sweep",
-        "  1e-3 … 1e-10, over flipcard's. A diffsol run is stopped after 200,000 steps.",
+        "  1e-3 … 1e-10, over flipcard's. A diffsol run is stopped after 200,000 steps. In process",
+        "  flipcard's Radau is given no sparsity pattern, so on the Brusselator it factors dense 200×200",
+        "  matrices as diffsol does (the app's deck path factors them banded: its whole-process time",
+        "  is in the first table).",
         "",
     ]
     notes = {

@@ -18,11 +18,19 @@
 //!   mildly stiff problem, where DOP853's step is held down by the error on
 //!   its damped component at a low |hλ| rather than by instability, is
 //!   probed every [`ROUTINE_COUNT`] explicit steps (doubling likewise).
+//!   And [`EARLY_COUNT`] steps in a row at the stability boundary itself
+//!   start a probe at once, measured over those steps: a problem stiff from
+//!   its start (E5, a fast linear mode, the Brusselator's diffusion) does
+//!   not wait for the stiffness test's 15.
 //!
 //! Costs are counted in evaluations of f: one per evaluation, n per
 //! Jacobian (what finite differences would take), and 1 + n²/6 per LU
 //! decomposition pair (n³/3 real and 4n³/3 complex flops against ~10n for
-//! an f of n short equations). Counting, not timing, keeps every run
+//! an f of n short equations) — or, once Radau IIA has chosen a banded or
+//! sparse factorisation, 1 + F/(2n) for its F flops a real factorisation
+//! (the dense count made Radau look several times dearer than it is on
+//! the 200-variable Brusselator, whose Newton matrices are banded, and
+//! lost it the early probe). Counting, not timing, keeps every run
 //! repeatable.
 //!
 //! The handover happens lazily, at the first step after the decision, so
@@ -43,6 +51,19 @@ const PROBE_RATIO: f64 = 3.05;
 /// count) before the first probe.
 const PROBE_COUNT: u32 = 15;
 const PROBE_RESET: u32 = 6;
+/// |hλ| above which an explicit step is pinned by stability: DOP853's
+/// stability boundary on the negative real axis, where its own stiffness
+/// test counts.
+const EARLY_RATIO: f64 = 6.1;
+/// Steps in a row above [`EARLY_RATIO`] that start a probe at once, over
+/// the steps there are (at least this many) rather than [`WINDOW`]: on a
+/// problem stiff from its start the stiffness test's 15 steps and the
+/// window's 20 were most of `auto`'s extra cost (E5 at rtol 1e-3: 18
+/// explicit steps, 325 evaluations of f, before Radau IIA's 31 steps and
+/// 211 evaluations; the linear system with eigenvalues −1 and −1e8: 486
+/// evaluations before a Radau run of 184). Doubles after each lost probe
+/// like [`PROBE_COUNT`].
+const EARLY_COUNT: u32 = 4;
 /// A second, slower way to a probe, whatever |hλ| says: every
 /// [`ROUTINE_COUNT`] explicit steps. On a mildly stiff problem DOP853's
 /// step is held down by the error its stability function makes on the
@@ -92,6 +113,13 @@ struct Probe {
     h_explicit: f64,
     /// The most Radau may cost, as a multiple of DOP853's rate.
     bar: f64,
+    /// Time and cost halfway through the probe: Radau's rate is measured
+    /// over the second half, so the first steps' climb from DOP853's
+    /// stability-bound step (a Jacobian and a factorisation each) is not
+    /// taken for what it will keep costing. Without it the 200-variable
+    /// Brusselator lost its early probe at rtol 1e-6 and `auto` took 117
+    /// steps and 1,185 evaluations where Radau alone takes 79 and 552.
+    mid: Option<(f64, f64)>,
 }
 
 pub struct Auto<S> {
@@ -105,6 +133,10 @@ pub struct Auto<S> {
     /// Explicit steps above [`PROBE_RATIO`], and below it since the last.
     probe_count: u32,
     probe_below: u32,
+    /// Explicit steps in a row above [`EARLY_RATIO`].
+    early_count: u32,
+    /// [`EARLY_COUNT`] (a field so a test can turn the early probe off).
+    early_needed: u32,
     /// Explicit steps since the run started or came back to DOP853.
     explicit_steps: u32,
     /// Steps above the ratio that start a probe (doubles after each lost;
@@ -117,12 +149,28 @@ pub struct Auto<S> {
     probe: Option<Probe>,
     /// Probes that went back to DOP853.
     probes_lost: u32,
+    /// The cost of one LU decomposition pair in evaluations of f: dense
+    /// until Radau IIA has chosen its form.
+    lu_unit: f64,
 }
 
-/// The cost of `w` in evaluations of f, for a system of `n` components.
+/// The cost of `w` in evaluations of f, for a system of `n` components
+/// whose Newton matrices are factored dense.
+#[cfg(test)]
 fn cost(w: Work, n: usize) -> f64 {
+    cost_with(w, n, dense_lu(n))
+}
+
+/// The cost of one LU decomposition pair, in evaluations of f, when dense.
+fn dense_lu(n: usize) -> f64 {
     let n = n as f64;
-    w.rhs_evals as f64 + n * w.jac_evals as f64 + (1.0 + n * n / 6.0) * w.lu_decomps as f64
+    1.0 + n * n / 6.0
+}
+
+/// The cost of `w` in evaluations of f, for a system of `n` components
+/// with `lu` the cost of one LU decomposition pair.
+fn cost_with(w: Work, n: usize, lu: f64) -> f64 {
+    w.rhs_evals as f64 + n as f64 * w.jac_evals as f64 + lu * w.lu_decomps as f64
 }
 
 impl<S: OdeSystem> Auto<S> {
@@ -146,12 +194,15 @@ impl<S: OdeSystem> Auto<S> {
             requests: Requests::new(t0, y0),
             probe_count: 0,
             probe_below: 0,
+            early_count: 0,
+            early_needed: EARLY_COUNT,
             explicit_steps: 0,
             probe_needed: PROBE_COUNT,
             probe_ratio: PROBE_RATIO,
             window: VecDeque::with_capacity(WINDOW + 1),
             probe: None,
             probes_lost: 0,
+            lu_unit: dense_lu(n),
         })
     }
 
@@ -168,14 +219,14 @@ impl<S: OdeSystem> Auto<S> {
 
     /// The cost so far, in evaluations of f.
     fn cost_now(&self) -> f64 {
-        cost(self.work_done(), self.n)
+        cost_with(self.work_done(), self.n, self.lu_unit)
     }
 
     /// DOP853's cost per unit time over its last steps (infinite until
-    /// there are [`WINDOW`] of them).
-    fn explicit_rate(&self) -> f64 {
+    /// there are `least` of them).
+    fn explicit_rate(&self, least: usize) -> f64 {
         match (self.window.front(), self.window.back()) {
-            (Some(a), Some(b)) if self.window.len() >= WINDOW && b.0 > a.0 => {
+            (Some(a), Some(b)) if self.window.len() >= least.max(2) && b.0 > a.0 => {
                 (b.1 - a.1) / (b.0 - a.0)
             }
             _ => f64::INFINITY,
@@ -201,6 +252,10 @@ impl<S: OdeSystem> Auto<S> {
             opts.h0 = Some(h);
         }
         let radau = Radau5::new(sys, t, &y, &opts)?;
+        // Costs so far were counted with the dense unit; the explicit
+        // phase has no LU decompositions, and an earlier implicit phase
+        // had this same form (it follows from the pattern alone).
+        self.lu_unit = 1.0 + radau.lu_flops() / (2.0 * self.n as f64);
         self.phase = Phase::Implicit(Box::new(radau));
         self.probe = probe.map(|p| Probe { h_explicit: h, ..p });
         Ok(())
@@ -228,6 +283,7 @@ impl<S: OdeSystem> Auto<S> {
         self.window.clear();
         self.probe_count = 0;
         self.probe_below = 0;
+        self.early_count = 0;
         self.explicit_steps = 0;
         Ok(())
     }
@@ -240,10 +296,17 @@ impl<S: OdeSystem> Auto<S> {
                     self.switched_at = Some(t);
                     return self.hand_to_implicit(None);
                 }
-                let routine = ROUTINE_COUNT.saturating_mul(self.probe_needed / PROBE_COUNT);
-                let pinned = self.probe_count >= self.probe_needed;
+                let scale = self.probe_needed / PROBE_COUNT;
+                let routine = ROUTINE_COUNT.saturating_mul(scale);
+                let early = self.early_needed.saturating_mul(scale);
+                let pinned = self.probe_count >= self.probe_needed || self.early_count >= early;
                 if pinned || self.explicit_steps >= routine {
-                    let rate = self.explicit_rate();
+                    let least = if self.early_count >= early {
+                        early as usize
+                    } else {
+                        WINDOW
+                    };
+                    let rate = self.explicit_rate(least);
                     if rate.is_finite() {
                         let (t0, cost0) = (d.window().1, self.cost_now());
                         self.switched_at = Some(t0);
@@ -255,6 +318,7 @@ impl<S: OdeSystem> Auto<S> {
                             steps0: 0,
                             h_explicit: 0.0,
                             bar: if pinned { HYSTERESIS } else { ROUTINE_BAR },
+                            mid: None,
                         }));
                     }
                 }
@@ -264,11 +328,20 @@ impl<S: OdeSystem> Auto<S> {
                 let Some(p) = self.probe else {
                     return Ok(());
                 };
-                if r.work().steps.saturating_sub(p.steps0) < PROBE_STEPS {
+                let done = r.work().steps.saturating_sub(p.steps0);
+                if done < PROBE_STEPS {
+                    if p.mid.is_none() && done >= PROBE_STEPS / 2 {
+                        let mid = (r.window().1, self.cost_now());
+                        self.probe = Some(Probe {
+                            mid: Some(mid),
+                            ..p
+                        });
+                    }
                     return Ok(());
                 }
                 let t = r.window().1;
-                let rate = (self.cost_now() - p.cost0) / (t - p.t0);
+                let (t_from, cost_from) = p.mid.unwrap_or((p.t0, p.cost0));
+                let rate = (self.cost_now() - cost_from) / (t - t_from);
                 self.probe = None;
                 let routine = p.bar < HYSTERESIS;
                 // A won routine probe is checked again (against DOP853's
@@ -279,6 +352,7 @@ impl<S: OdeSystem> Auto<S> {
                     cost0: self.cost_now(),
                     steps0: steps,
                     bar: 1.0,
+                    mid: None,
                     ..p
                 };
                 if p.steps0 > 0 && rate.is_finite() && rate <= p.explicit_rate {
@@ -307,6 +381,11 @@ impl<S: OdeSystem> Auto<S> {
         };
         let (t, hl) = (d.window().1, d.h_lambda());
         self.explicit_steps += 1;
+        if hl > self.probe_ratio * (EARLY_RATIO / PROBE_RATIO) {
+            self.early_count += 1;
+        } else {
+            self.early_count = 0;
+        }
         if hl > self.probe_ratio {
             self.probe_count += 1;
             self.probe_below = 0;
@@ -455,5 +534,113 @@ mod tests {
         );
         assert!(a < 0.5 * r, "auto {a}, radau {r}, dop853 {d}");
         assert!(a < 2.0 * d, "auto {a}, radau {r}, dop853 {d}");
+    }
+
+    /// E5 (Hairer & Wanner's chemical pyrolysis), stiff from its start.
+    struct E5;
+    impl OdeSystem for E5 {
+        fn dim(&self) -> usize {
+            4
+        }
+        fn rhs(&self, _: f64, x: &[f64], y: &mut [f64]) {
+            let (a, b, c, m) = (7.89e-10, 1.1e7, 1.13e3, 1e6);
+            y[0] = -a * x[0] - b * x[0] * x[2];
+            y[1] = a * x[0] - m * c * x[1] * x[2];
+            y[2] = a * x[0] - b * x[0] * x[2] - m * c * x[1] * x[2] + c * x[3];
+            y[3] = b * x[0] * x[2] - c * x[3];
+        }
+        fn jacobian(&self, _: f64, x: &[f64], j: &mut nalgebra::DMatrix<f64>) {
+            let (a, b, c, m) = (7.89e-10, 1.1e7, 1.13e3, 1e6);
+            j.fill(0.0);
+            j[(0, 0)] = -a - b * x[2];
+            j[(0, 2)] = -b * x[0];
+            j[(1, 0)] = a;
+            j[(1, 1)] = -m * c * x[2];
+            j[(1, 2)] = -m * c * x[1];
+            j[(2, 0)] = a - b * x[2];
+            j[(2, 1)] = -m * c * x[2];
+            j[(2, 2)] = -b * x[0] - m * c * x[1];
+            j[(2, 3)] = c;
+            j[(3, 0)] = b * x[2];
+            j[(3, 2)] = b * x[0];
+            j[(3, 3)] = -c;
+        }
+    }
+
+    /// y' = A y with eigenvalues −1 and −1e8.
+    struct Linear;
+    impl OdeSystem for Linear {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&self, _: f64, x: &[f64], y: &mut [f64]) {
+            let (d, o) = (-50000000.5, 49999999.5);
+            y[0] = d * x[0] + o * x[1];
+            y[1] = o * x[0] + d * x[1];
+        }
+        fn jacobian(&self, _: f64, _: &[f64], j: &mut nalgebra::DMatrix<f64>) {
+            let (d, o) = (-50000000.5, 49999999.5);
+            j.copy_from_slice(&[d, o, o, d]);
+        }
+    }
+
+    /// The cost of `auto`, of `auto` without its early probe, and of
+    /// Radau IIA alone on `sys` to `t_end`, and when `auto` switched.
+    fn costs<S: OdeSystem>(
+        sys: fn() -> S,
+        y0: &[f64],
+        t_end: f64,
+        o: &Options,
+    ) -> (f64, f64, f64, f64) {
+        let n = y0.len();
+        let mut auto = Auto::new(sys(), 0.0, y0, o).unwrap();
+        auto.advance(t_end).unwrap();
+        let mut late = Auto::new(sys(), 0.0, y0, o).unwrap();
+        late.early_needed = u32::MAX;
+        late.advance(t_end).unwrap();
+        let mut radau = make_solver(Method::Radau5, sys(), 0.0, y0, o).unwrap();
+        radau.advance(t_end).unwrap();
+        let from = auto.switched_at().expect("auto switches");
+        (
+            cost(auto.work(), n),
+            cost(late.work(), n),
+            cost(radau.work(), n),
+            from,
+        )
+    }
+
+    /// On a problem stiff from its start, four explicit steps in a row at
+    /// DOP853's stability boundary start a probe, which Radau IIA wins:
+    /// without it `auto` waited for the stiffness test's 15 steps (and the
+    /// probe's window of 20) before switching. Counted in evaluations of f
+    /// as `auto` counts them.
+    #[test]
+    fn a_problem_stiff_from_its_start_goes_to_radau_within_a_few_steps() {
+        for rtol in [1e-3, 1e-6] {
+            let o = Options {
+                rtol,
+                atol: super::super::Atol::Scalar(1e-24),
+                t_stop: Some(1e5),
+                ..Options::default()
+            };
+            let (a, late, r, from) = costs(|| E5, &[1.76e-3, 0.0, 0.0, 0.0], 1e5, &o);
+            let msg = format!(
+                "E5 rtol {rtol}: auto {a}, without the early probe {late}, radau {r}, switched at {from}"
+            );
+            assert!(a < 0.9 * late, "{msg}");
+            assert!(a <= 1.6 * r, "{msg}");
+            let o = Options {
+                rtol,
+                atol: super::super::Atol::Scalar(rtol * 1e-6),
+                t_stop: Some(10.0),
+                ..Options::default()
+            };
+            let (a, late, r, from) = costs(|| Linear, &[2.0, 0.0], 10.0, &o);
+            let msg = format!(
+                "linear rtol {rtol}: auto {a}, without the early probe {late}, radau {r}, switched at {from}"
+            );
+            assert!(a < 0.95 * late, "{msg}");
+            assert!(from < 1e-6, "{msg}");
+        }
     }
 }

@@ -353,6 +353,12 @@ impl<S: OdeSystem> Radau5<S> {
     }
 
     /// The sizes the tolerances follow, when they do.
+    /// Multiply–adds of one factorisation of the Newton matrix in the form
+    /// chosen for this run (dense n³/3, or the banded or sparse count).
+    pub(crate) fn lu_flops(&self) -> f64 {
+        self.plan.flops(self.n)
+    }
+
     pub(crate) fn by_size(&self) -> Option<&BySize> {
         self.by_size.as_ref()
     }
