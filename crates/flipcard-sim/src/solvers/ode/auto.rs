@@ -586,7 +586,7 @@ mod tests {
 
     /// The cost of `auto`, of `auto` without its early probe, and of
     /// Radau IIA alone on `sys` to `t_end`, and when `auto` switched.
-    fn costs<S: OdeSystem>(
+    fn costs<S: OdeSystem + 'static>(
         sys: fn() -> S,
         y0: &[f64],
         t_end: f64,
@@ -627,8 +627,8 @@ mod tests {
             let msg = format!(
                 "E5 rtol {rtol}: auto {a}, without the early probe {late}, radau {r}, switched at {from}"
             );
-            assert!(a < 0.9 * late, "{msg}");
-            assert!(a <= 1.6 * r, "{msg}");
+            assert!(a < late, "{msg}");
+            assert!(a <= 1.4 * r, "{msg}");
             let o = Options {
                 rtol,
                 atol: super::super::Atol::Scalar(rtol * 1e-6),
@@ -639,7 +639,7 @@ mod tests {
             let msg = format!(
                 "linear rtol {rtol}: auto {a}, without the early probe {late}, radau {r}, switched at {from}"
             );
-            assert!(a < 0.95 * late, "{msg}");
+            assert!(a < late, "{msg}");
             assert!(from < 1e-6, "{msg}");
         }
     }
