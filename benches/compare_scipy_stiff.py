@@ -32,7 +32,16 @@ BDF solve alone (process CPU time, best of several runs), then SciPy's time at
 flipcard radau's achieved error, read off a finer sweep (1e-3 … 1e-10).
 
     cargo build --release
-    python3 benches/compare_scipy_stiff.py --table [--flipcard target/release/flipcard]
+    python3 benches/compare_scipy_stiff.py --table [--flipcard target/release/flipcard] \
+        [--diffsol FILE]
+
+The table also has diffsol (version from Cargo.lock; BDF and ESDIRK34, dense
+nalgebra LU, the Jacobian given as Jacobian-vector products) on the same
+problems, tolerances and references, in-process beside flipcard's Radau
+in-process: `cargo bench --bench stiff -- --json` prints those runs (one
+JSON object a line), which the script runs itself unless `--diffsol` names
+a file of its output; diffsol's CPU time at flipcard's in-process error
+(read off its sweep 1e-3 … 1e-10) over flipcard's is its equal-error ratio.
 
 Not part of CI: SciPy is installed by hand.
 """
@@ -153,16 +162,43 @@ def scipy_table_run(fun, jac, span, y0, atol, method, rtol, ref):
     return max_rel_error(sol.y[:, -1], ref), len(sol.t) - 1, secs
 
 
+def diffsol_runs(path):
+    """(problem, method, rtol string) -> (error, steps, seconds) or the reason
+    it failed, from `cargo bench --bench stiff -- --json` (run here unless
+    `path` names a file of its output)."""
+    if path:
+        text = pathlib.Path(path).read_text()
+    else:
+        print("cargo bench --bench stiff -- --json", file=sys.stderr, flush=True)
+        text = subprocess.run(["cargo", "bench", "--quiet", "--bench", "stiff", "--", "--json"], cwd=ROOT,
+                              capture_output=True, text=True, check=True).stdout
+    out = {}
+    for line in text.splitlines():
+        if not line.startswith("{"):
+            continue
+        r = json.loads(line)
+        key = (r["problem"], r["method"], f"{r['rtol']:.0e}".replace("e-0", "e-"))
+        out[key] = r["failed"] if "failed" in r else (r["error"], r["steps"], r["ms"] / 1e3)
+    return out
+
+
+def diffsol_version():
+    lock = (ROOT / "Cargo.lock").read_text()
+    i = lock.index('name = "diffsol"\n')
+    return lock[i:].splitlines()[1].split('"')[1]
+
+
 def fmt(r):
     if isinstance(r, str):
         return "failed", "", ""
     e, steps, secs = r
-    return f"{e:.1e}", f"{steps:,}", f"{secs * 1e3:.1f}"
+    return f"{e:.1e}", f"{steps:,}", f"{secs * 1e3:.2f}" if secs < 0.01 else f"{secs * 1e3:.1f}"
 
 
-def table(binary, out_path):
+def table(binary, out_path, diffsol_path=None):
     reference = read_fixture()
     load = os.getloadavg()
+    diffsol = diffsol_runs(diffsol_path)
     lines = [
         "# Stiff problems: flipcard against SciPy, problem × tolerance",
         "",
@@ -184,9 +220,16 @@ def table(binary, out_path):
         "- **at equal error**: SciPy's CPU time at the error flipcard's radau reached, read off a",
         "  sweep of rtol 1e-3 … 1e-10 by log-log interpolation (— where that error lies outside",
         "  the sweep), and the ratio to flipcard's whole process.",
-        "- diffsol (Rust BDF): `cargo bench --bench stiff` compares it with flipcard's Radau on",
-        "  HIRES, the Oregonator, E5, Robertson and Van der Pol at mu = 1000 in-process; it is not",
-        "  in this table.",
+        f"- **diffsol** {diffsol_version()} (Rust; BDF and ESDIRK34, dense nalgebra LU, the analytic",
+        "  Jacobian given as Jacobian-vector products, from which it assembles the matrix):",
+        "  `cargo bench --bench stiff -- --json`, in-process, with SciPy's absolute tolerance (E5's",
+        "  too), beside flipcard's Radau in the same process on the same Rust right-hand side and",
+        "  Jacobian; CPU time of the solve alone (thread CPU time, best of 3–20 runs). Its",
+        "  equal-error ratio: diffsol's time at flipcard's in-process error, read off its sweep",
+        "  1e-3 … 1e-10, over flipcard's. A diffsol run is stopped after 200,000 steps. In process",
+        "  flipcard's Radau is given no sparsity pattern, so on the Brusselator it factors dense 200×200",
+        "  matrices as diffsol does (the app's deck path factors them banded: its whole-process time",
+        "  is in the first table).",
         "",
     ]
     notes = {
@@ -275,6 +318,33 @@ def table(binary, out_path):
                     t = time_at_error(sweeps[method], e)
                     cells += ["—", "—"] if t is None else [f"{t * 1e3:.1f}", f"{t / secs:.1f}×"]
                 lines.append(f"| {tol} | {e:.1e} | {secs * 1e3:.1f} | " + " | ".join(cells) + " |")
+            lines += ["", "In-process (`cargo bench --bench stiff -- --json`): diffsol against flipcard's Radau "
+                      "on the same Rust right-hand side, CPU ms of the solve alone.", ""]
+            lines += ["| tol | flipcard radau error | steps | ms | diffsol BDF error | steps | ms "
+                      "| diffsol ESDIRK34 error | steps | ms |", "|---|---|---|---|---|---|---|---|---|---|"]
+            who = ("flipcard-radau", "diffsol-bdf", "diffsol-esdirk34")
+            for tol in TABLE_TOLS:
+                rs = [diffsol.get((name, m, tol), "not run") for m in who]
+                lines.append(f"| {tol} | " + " | ".join(c for r in rs for c in fmt(r)) + " |")
+                for m, r in zip(who, rs):
+                    if isinstance(r, str):
+                        lines.append(f"|  | {m} at {tol}: {r} |")
+            lines += ["", "At equal error (flipcard's in-process radau's): diffsol's CPU time and its ratio to "
+                      "flipcard's.", ""]
+            lines += ["| flipcard tol | error | flipcard ms | diffsol BDF ms | ratio | diffsol ESDIRK34 ms | ratio |",
+                      "|---|---|---|---|---|---|---|"]
+            for tol in TABLE_TOLS:
+                ours = diffsol.get((name, "flipcard-radau", tol))
+                if not isinstance(ours, tuple):
+                    continue
+                e, _, secs = ours
+                cells = []
+                for m in who[1:]:
+                    pts = [(r[0], r[2]) for (n, mm, _), r in diffsol.items()
+                           if n == name and mm == m and isinstance(r, tuple)]
+                    t = time_at_error(pts, e)
+                    cells += ["—", "—"] if t is None else [f"{t * 1e3:.2f}", f"{t / secs:.1f}×"]
+                lines.append(f"| {tol} | {e:.1e} | {secs * 1e3:.2f} | " + " | ".join(cells) + " |")
             lines.append("")
     out_path.write_text("\n".join(lines))
     print(f"wrote {out_path}", file=sys.stderr)
@@ -290,9 +360,10 @@ def main():
     parser.add_argument("--table", action="store_true", help="write benches/stiff_table.md (issue 26's table)")
     parser.add_argument("--flipcard", default=str(ROOT / "target" / "release" / "flipcard"))
     parser.add_argument("--out", default=str(ROOT / "benches" / "stiff_table.md"))
+    parser.add_argument("--diffsol", help="a file of `cargo bench --bench stiff -- --json` output (else run here)")
     args = parser.parse_args()
     if args.table:
-        table(args.flipcard, pathlib.Path(args.out))
+        table(args.flipcard, pathlib.Path(args.out), args.diffsol)
         return
     rtols = [float(r) for r in args.rtols.split(",")]
     reference = read_fixture()

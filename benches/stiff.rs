@@ -37,18 +37,46 @@
 //!
 //!     cargo bench --bench stiff
 //!     cargo bench --bench stiff -- hires     # one problem (criterion's filter)
+//!
+//! With `--json` it runs instead, for `benches/compare_scipy_stiff.py
+//! --table`, every problem of that table (the five above but Van der Pol at
+//! μ = 1000, plus Van der Pol at μ = 10⁴ to t = 2·10⁴, the linear system
+//! with eigenvalues −1 and −10⁸ and the 200-variable Brusselator of
+//! `tests/fixtures/brusselator`) at each rtol 1e-3 … 1e-10 with diffsol's
+//! BDF and ESDIRK34 and flipcard's Radau IIA in-process, and prints one JSON
+//! object a line: problem, method, rtol, and either the achieved error,
+//! accepted steps and the best thread CPU time in ms, or why it failed.
+//!
+//!     cargo bench --bench stiff -- --json [PROBLEM ...]
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{Criterion, criterion_group};
 use diffsol::{NalgebraLU, NalgebraMat, OdeBuilder, OdeSolverMethod, OdeSolverStopReason};
 use flipcard::sim::solvers::ode::{Atol, Auto, OdeSolver, OdeSystem, Options, Radau5};
 use nalgebra::DMatrix;
 
 const MU: f64 = 1000.0;
+const MU4: f64 = 1e4;
 const RADAU_RTOL: f64 = 1e-6;
 const REFERENCE: &str = include_str!("stiff_reference.txt");
+const BRUSS_REFERENCE: &str = include_str!("../tests/fixtures/brusselator/reference.csv");
+/// The problems criterion times (the table's others run under `--json`).
+const CRITERION: [&str; 5] = ["van-der-pol", "robertson", "hires", "oregonator", "e5"];
+/// The problems of `benches/stiff_table.md`, in its order.
+const TABLE: [&str; 7] = [
+    "hires",
+    "oregonator",
+    "e5",
+    "robertson",
+    "van-der-pol-1e4",
+    "linear",
+    "brusselator",
+];
+/// A diffsol run stops after this many steps (a second-order method at
+/// rtol 1e-10 would take hours otherwise).
+const DIFFSOL_MAX_STEPS: usize = 200_000;
 
 /// Hands the Jacobian's non-zero entries at a state to a callback as
 /// (row, column, value).
@@ -60,7 +88,8 @@ type JacFn = fn(&[f64], &mut dyn FnMut(usize, usize, f64));
 /// initial state, the end time and atol as a function of rtol.
 struct Problem {
     name: &'static str,
-    y0: &'static [f64],
+    dim: usize,
+    y0: fn() -> Vec<f64>,
     t_end: f64,
     rhs: fn(&[f64], &mut [f64]),
     jac: JacFn,
@@ -179,10 +208,86 @@ fn e5_jac(x: &[f64], j: &mut dyn FnMut(usize, usize, f64)) {
     j(3, 3, -c);
 }
 
-const PROBLEMS: [Problem; 5] = [
+fn vdp4_rhs(x: &[f64], y: &mut [f64]) {
+    y[0] = x[1];
+    y[1] = MU4 * (1.0 - x[0] * x[0]) * x[1] - x[0];
+}
+
+fn vdp4_jac(x: &[f64], j: &mut dyn FnMut(usize, usize, f64)) {
+    j(0, 1, 1.0);
+    j(1, 0, -2.0 * MU4 * x[0] * x[1] - 1.0);
+    j(1, 1, MU4 * (1.0 - x[0] * x[0]));
+}
+
+/// y' = A y, A = P diag(−1, −1e8) P⁻¹ with P = [[1, 1], [1, −1]] (entries
+/// exact in binary), as `benches/stiff_problems.py` writes it.
+const LIN_D: f64 = -50000000.5;
+const LIN_O: f64 = 49999999.5;
+
+fn linear_rhs(x: &[f64], y: &mut [f64]) {
+    y[0] = LIN_D * x[0] + LIN_O * x[1];
+    y[1] = LIN_O * x[0] + LIN_D * x[1];
+}
+
+fn linear_jac(_x: &[f64], j: &mut dyn FnMut(usize, usize, f64)) {
+    j(0, 0, LIN_D);
+    j(0, 1, LIN_O);
+    j(1, 0, LIN_O);
+    j(1, 1, LIN_D);
+}
+
+/// The Brusselator of `tests/fixtures/brusselator/make.py`: N = 100 points,
+/// u₁…u_N then v₁…v_N, boundary u = 1, v = 3.
+const BN: usize = 100;
+const BC: f64 = (1.0 / 50.0) * ((BN + 1) * (BN + 1)) as f64;
+
+fn bruss_y0() -> Vec<f64> {
+    (0..BN)
+        .map(|i| 1.0 + (2.0 * std::f64::consts::PI * (i + 1) as f64 / (BN + 1) as f64).sin())
+        .chain(std::iter::repeat_n(3.0, BN))
+        .collect()
+}
+
+fn bruss_rhs(x: &[f64], y: &mut [f64]) {
+    let (u, v) = x.split_at(BN);
+    for i in 0..BN {
+        let (ul, ur) = (
+            if i > 0 { u[i - 1] } else { 1.0 },
+            if i + 1 < BN { u[i + 1] } else { 1.0 },
+        );
+        let (vl, vr) = (
+            if i > 0 { v[i - 1] } else { 3.0 },
+            if i + 1 < BN { v[i + 1] } else { 3.0 },
+        );
+        let uuv = u[i] * u[i] * v[i];
+        y[i] = 1.0 + uuv - 4.0 * u[i] + BC * (ul - 2.0 * u[i] + ur);
+        y[BN + i] = 3.0 * u[i] - uuv + BC * (vl - 2.0 * v[i] + vr);
+    }
+}
+
+fn bruss_jac(x: &[f64], j: &mut dyn FnMut(usize, usize, f64)) {
+    let (u, v) = x.split_at(BN);
+    for i in 0..BN {
+        j(i, i, 2.0 * u[i] * v[i] - 4.0 - 2.0 * BC);
+        j(i, BN + i, u[i] * u[i]);
+        j(BN + i, i, 3.0 - 2.0 * u[i] * v[i]);
+        j(BN + i, BN + i, -u[i] * u[i] - 2.0 * BC);
+        if i > 0 {
+            j(i, i - 1, BC);
+            j(BN + i, BN + i - 1, BC);
+        }
+        if i + 1 < BN {
+            j(i, i + 1, BC);
+            j(BN + i, BN + i + 1, BC);
+        }
+    }
+}
+
+const PROBLEMS: [Problem; 8] = [
     Problem {
         name: "van-der-pol",
-        y0: &[2.0, 0.0],
+        dim: 2,
+        y0: || [2.0, 0.0].to_vec(),
         t_end: 3000.0,
         rhs: vdp_rhs,
         jac: vdp_jac,
@@ -190,7 +295,8 @@ const PROBLEMS: [Problem; 5] = [
     },
     Problem {
         name: "robertson",
-        y0: &[1.0, 0.0, 0.0],
+        dim: 3,
+        y0: || [1.0, 0.0, 0.0].to_vec(),
         t_end: 1e11,
         rhs: rober_rhs,
         jac: rober_jac,
@@ -198,7 +304,8 @@ const PROBLEMS: [Problem; 5] = [
     },
     Problem {
         name: "hires",
-        y0: &[1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0057],
+        dim: 8,
+        y0: || [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0057].to_vec(),
         t_end: 321.8122,
         rhs: hires_rhs,
         jac: hires_jac,
@@ -206,7 +313,8 @@ const PROBLEMS: [Problem; 5] = [
     },
     Problem {
         name: "oregonator",
-        y0: &[1.0, 2.0, 3.0],
+        dim: 3,
+        y0: || [1.0, 2.0, 3.0].to_vec(),
         t_end: 360.0,
         rhs: oregonator_rhs,
         jac: oregonator_jac,
@@ -214,11 +322,40 @@ const PROBLEMS: [Problem; 5] = [
     },
     Problem {
         name: "e5",
-        y0: &[1.76e-3, 0.0, 0.0, 0.0],
+        dim: 4,
+        y0: || [1.76e-3, 0.0, 0.0, 0.0].to_vec(),
         t_end: 1e5,
         rhs: e5_rhs,
         jac: e5_jac,
         atol: |_| vec![1e-24; 4],
+    },
+    Problem {
+        name: "van-der-pol-1e4",
+        dim: 2,
+        y0: || [2.0, 0.0].to_vec(),
+        t_end: 2e4,
+        rhs: vdp4_rhs,
+        jac: vdp4_jac,
+        atol: |r| vec![r; 2],
+    },
+    Problem {
+        name: "linear",
+        dim: 2,
+        y0: || [2.0, 0.0].to_vec(),
+        t_end: 10.0,
+        rhs: linear_rhs,
+        jac: linear_jac,
+        // Both components end near 4.5e-5.
+        atol: |r| vec![r * 1e-6; 2],
+    },
+    Problem {
+        name: "brusselator",
+        dim: 2 * BN,
+        y0: bruss_y0,
+        t_end: 10.0,
+        rhs: bruss_rhs,
+        jac: bruss_jac,
+        atol: |r| vec![r * 1e-2; 2 * BN],
     },
 ];
 
@@ -227,7 +364,7 @@ struct Sys(&'static Problem);
 
 impl OdeSystem for Sys {
     fn dim(&self) -> usize {
-        self.0.y0.len()
+        self.0.dim
     }
     fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
         (self.0.rhs)(y, dy);
@@ -238,8 +375,22 @@ impl OdeSystem for Sys {
     }
 }
 
-/// The reference final state of `p` from the fixture (its end time checked).
+/// The reference final state of `p` from the fixture (its end time checked;
+/// the Brusselator's from its own fixture).
 fn reference(p: &Problem) -> Vec<f64> {
+    if p.name == "brusselator" {
+        let values: Vec<f64> = (BRUSS_REFERENCE.lines().skip(1))
+            .map(|l| {
+                l.split(',')
+                    .nth(1)
+                    .expect("name,value")
+                    .parse()
+                    .expect("a number")
+            })
+            .collect();
+        assert_eq!(values.len(), p.dim, "the Brusselator's reference");
+        return values;
+    }
     for line in REFERENCE.lines().filter(|l| !l.starts_with('#')) {
         let mut words = line.split_whitespace();
         if words.next() != Some(p.name) {
@@ -247,12 +398,7 @@ fn reference(p: &Problem) -> Vec<f64> {
         }
         let values: Vec<f64> = words.map(|w| w.parse().expect("a number")).collect();
         assert_eq!(values[0], p.t_end, "{}: the fixture's end time", p.name);
-        assert_eq!(
-            values.len() - 1,
-            p.y0.len(),
-            "{}: the fixture's state",
-            p.name
-        );
+        assert_eq!(values.len() - 1, p.dim, "{}: the fixture's state", p.name);
         return values[1..].to_vec();
     }
     panic!("{} is not in benches/stiff_reference.txt", p.name)
@@ -276,19 +422,36 @@ fn finish(mut s: impl OdeSolver, t_end: f64) -> Outcome {
 
 /// Final state and accepted steps of flipcard's Radau IIA.
 fn radau(p: &'static Problem, rtol: f64) -> Outcome {
-    let s = Radau5::new(Sys(p), 0.0, p.y0, &options(p, rtol)).map_err(|e| e.to_string())?;
+    let s = Radau5::new(Sys(p), 0.0, &(p.y0)(), &options(p, rtol)).map_err(|e| e.to_string())?;
     finish(s, p.t_end)
 }
 
 /// Final state and accepted steps (both phases) of flipcard's `auto`.
 fn auto(p: &'static Problem, rtol: f64) -> Outcome {
-    let s = Auto::new(Sys(p), 0.0, p.y0, &options(p, rtol)).map_err(|e| e.to_string())?;
+    let s = Auto::new(Sys(p), 0.0, &(p.y0)(), &options(p, rtol)).map_err(|e| e.to_string())?;
     finish(s, p.t_end)
+}
+
+/// diffsol's implicit methods, dense nalgebra LU.
+#[derive(Clone, Copy)]
+enum Diffsol {
+    Bdf,
+    Esdirk34,
 }
 
 /// Final state and steps of diffsol's BDF (nalgebra, dense LU).
 fn diffsol_bdf(p: &'static Problem, rtol: f64) -> Outcome {
-    let n = p.y0.len();
+    diffsol_run(p, rtol, Diffsol::Bdf)
+}
+
+/// Final state and steps of diffsol's ESDIRK34 (nalgebra, dense LU).
+fn diffsol_esdirk34(p: &'static Problem, rtol: f64) -> Outcome {
+    diffsol_run(p, rtol, Diffsol::Esdirk34)
+}
+
+fn diffsol_run(p: &'static Problem, rtol: f64, method: Diffsol) -> Outcome {
+    let n = p.dim;
+    let y0 = (p.y0)();
     let problem = OdeBuilder::<NalgebraMat<f64>>::new()
         .rtol(rtol)
         .atol((p.atol)(rtol))
@@ -300,25 +463,52 @@ fn diffsol_bdf(p: &'static Problem, rtol: f64) -> Outcome {
             },
         )
         .init(
-            |_p: &[f64], _t: f64, y: &mut [f64]| y.copy_from_slice(p.y0),
+            move |_p: &[f64], _t: f64, y: &mut [f64]| y.copy_from_slice(&y0),
             n,
         )
         .build()
         .map_err(|e| e.to_string())?;
-    let mut solver = problem
-        .bdf::<NalgebraLU<f64>>()
-        .map_err(|e| e.to_string())?;
-    solver.set_stop_time(p.t_end).map_err(|e| e.to_string())?;
-    loop {
-        match solver.step() {
-            Ok(OdeSolverStopReason::TstopReached) => break,
-            Ok(_) => {}
-            Err(e) => return Err(format!("diffsol: {e}")),
+    fn drive<'a, E, S>(mut solver: S, t_end: f64, n: usize) -> Outcome
+    where
+        E: diffsol::OdeEquations<T = f64> + 'a,
+        S: OdeSolverMethod<'a, E>,
+        E::V: std::ops::Index<usize, Output = f64>,
+    {
+        solver.set_stop_time(t_end).map_err(|e| e.to_string())?;
+        let mut steps = 0;
+        loop {
+            match solver.step() {
+                Ok(OdeSolverStopReason::TstopReached) => break,
+                Ok(_) => {}
+                Err(e) => return Err(format!("diffsol: {e}")),
+            }
+            steps += 1;
+            if steps > DIFFSOL_MAX_STEPS {
+                return Err(format!(
+                    "over {DIFFSOL_MAX_STEPS} steps (stopped at t = {:.3e})",
+                    solver.state().t
+                ));
+            }
         }
+        let y = &solver.state().y;
+        Ok(((0..n).map(|i| y[i]).collect(), steps as u64))
     }
-    let y = &solver.state().y;
-    let out: Vec<f64> = (0..n).map(|i| y[i]).collect();
-    Ok((out, solver.get_statistics().number_of_steps as u64))
+    match method {
+        Diffsol::Bdf => drive(
+            problem
+                .bdf::<NalgebraLU<f64>>()
+                .map_err(|e| e.to_string())?,
+            p.t_end,
+            n,
+        ),
+        Diffsol::Esdirk34 => drive(
+            problem
+                .esdirk34::<NalgebraLU<f64>>()
+                .map_err(|e| e.to_string())?,
+            p.t_end,
+            n,
+        ),
+    }
 }
 
 fn max_rel_error(y: &[f64], reference: &[f64]) -> f64 {
@@ -458,7 +648,7 @@ fn bench(c: &mut Criterion) {
         .collect();
     let mut group = c.benchmark_group("stiff");
     group.measurement_time(Duration::from_secs(3));
-    for p in &PROBLEMS {
+    for p in PROBLEMS.iter().filter(|p| CRITERION.contains(&p.name)) {
         if !filter.is_empty() && !filter.iter().any(|f| p.name.contains(f.as_str())) {
             continue;
         }
@@ -479,5 +669,71 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
+/// Best thread CPU time of `f` (at least 3 runs, more within ~0.2 s, at
+/// most 20).
+fn best_cpu(mut f: impl FnMut()) -> Duration {
+    let now = || {
+        let t = rustix::time::clock_gettime(rustix::time::ClockId::ThreadCPUTime);
+        Duration::new(t.tv_sec as u64, t.tv_nsec as u32)
+    };
+    let (mut best, start, mut runs) = (Duration::MAX, now(), 0);
+    while runs < 3 || (now() - start < Duration::from_millis(200) && runs < 20) {
+        let t = now();
+        f();
+        best = best.min(now() - t);
+        runs += 1;
+    }
+    best
+}
+
+/// `--json`: every problem of the table (or those named) × rtol 1e-3 …
+/// 1e-10 × diffsol BDF, diffsol ESDIRK34 and flipcard's Radau in-process,
+/// one JSON object a line on stdout.
+fn json(names: &[String]) {
+    let solvers: [(&str, Solve); 3] = [
+        ("diffsol-bdf", diffsol_bdf),
+        ("diffsol-esdirk34", diffsol_esdirk34),
+        ("flipcard-radau", radau),
+    ];
+    for name in TABLE {
+        if !names.is_empty() && !names.iter().any(|n| n == name) {
+            continue;
+        }
+        let p = PROBLEMS.iter().find(|p| p.name == name).expect("a problem");
+        let reference = reference(p);
+        for k in 3..=10 {
+            let rtol = 10f64.powi(-k);
+            for (method, solve) in solvers {
+                let row = match solve(p, rtol) {
+                    Ok((y, steps)) => {
+                        let cpu = best_cpu(|| {
+                            let _ = black_box(solve(p, black_box(rtol)));
+                        });
+                        serde_json::json!({
+                            "problem": name, "method": method, "rtol": rtol,
+                            "error": max_rel_error(&y, &reference), "steps": steps,
+                            "ms": cpu.as_secs_f64() * 1e3,
+                        })
+                    }
+                    Err(e) => serde_json::json!({
+                        "problem": name, "method": method, "rtol": rtol, "failed": e,
+                    }),
+                };
+                println!("{row}");
+            }
+        }
+    }
+}
+
 criterion_group!(benches, bench);
-criterion_main!(benches);
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|a| a == "--json") {
+        let names: Vec<String> = args.into_iter().filter(|a| !a.starts_with('-')).collect();
+        json(&names);
+        return;
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}
