@@ -1163,6 +1163,47 @@ fn a_variable_running_away_from_below_its_tolerance_is_refused() {
     }
 }
 
+/// Van der Pol at μ = 1e5 (x(0) = 2) under an `atol` as large as the
+/// tolerance: v sits near 7e-6, below that `atol`, until the first
+/// relaxation jump takes it to about 1e3. That growth is the equations',
+/// and is not refused as an unchecked run-away; the end agrees with SciPy's
+/// Radau at rtol 1e-12 (`benches/auto_reference.txt`: x(2e5) =
+/// 1.7055475043264692). auto at 1e-3…1e-6 refused it, having read v near
+/// the tolerance itself in DOP853's first steps.
+#[test]
+fn a_relaxation_jump_from_below_the_tolerance_is_not_a_run_away() {
+    let d = Deck::new(
+        "vdp",
+        "[[scene]]\nid = \"s\"\nvariables = [\"x\", \"v\"]\ninitial = [2.0, 0.0]\nparams = { mu = 1e5 }\nequations = [\"v\", \"mu*(1 - x^2)*v - x\"]\nduration = 2e5\nshow = [\"plot\"]\nplot = [\"x\"]\n",
+    );
+    for method in ["auto", "radau"] {
+        for tol in ["1e-3", "1e-4", "1e-6"] {
+            let (code, out, err) = d.sim(&[
+                "--samples",
+                "3",
+                "--method",
+                method,
+                "--tol",
+                tol,
+                "--atol",
+                tol,
+            ]);
+            assert_eq!(code, 0, "{method} {tol}: {err}");
+            let last = last_row(&out);
+            assert_eq!(last[0], 2e5, "{method} {tol}: {out}");
+            let t: f64 = tol.parse().unwrap();
+            let rel = (last[1] / 1.7055475043264692 - 1.0).abs();
+            // The end carries each jump's timing error (a global error,
+            // which the local tolerance does not bound): within 100×.
+            assert!(
+                rel < 100.0 * t,
+                "{method} {tol}: x = {} ({rel:.1e} off)",
+                last[1]
+            );
+        }
+    }
+}
+
 fn robertson() -> Deck {
     Deck::new(
         "robertson",
