@@ -145,15 +145,7 @@ impl Store {
                     codec::card_state(row, [2, 3, 4, 5, 6, 7])?,
                 ))
             })();
-            match decoded {
-                Ok(pair) => Ok(Ok(pair)),
-                Err(e) => codec::bad_value(e).map(|detail| {
-                    Err(StoreError::BadRow {
-                        id: review_id,
-                        detail: format!("cached state: {detail}"),
-                    })
-                }),
-            }
+            checked(decoded, review_id)
         };
         let mut map = States::default();
         let mut rows = st.query([deck]).map_err(|e| self.err(e))?;
@@ -293,8 +285,18 @@ fn read_state(row: &Row<'_>) -> rusqlite::Result<Result<CachedState, StoreError>
             review_id,
         })
     })();
+    checked(decoded, review_id)
+}
+
+/// A cached state row as decoded: a value of the wrong kind is the row's
+/// fault (`BadRow`, naming the answer it came from), any other error
+/// SQLite's.
+fn checked<T>(
+    decoded: rusqlite::Result<T>,
+    review_id: i64,
+) -> rusqlite::Result<Result<T, StoreError>> {
     match decoded {
-        Ok(state) => Ok(Ok(state)),
+        Ok(v) => Ok(Ok(v)),
         Err(e) => codec::bad_value(e).map(|detail| {
             Err(StoreError::BadRow {
                 id: review_id,
