@@ -218,6 +218,12 @@ pub(super) struct Stats {
     /// the run (absent when the scene declares none).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub conserved: Vec<Conserved>,
+    /// The sums of variables the equations keep fixed, written with the
+    /// variables' names (`y2 - y3 - y4`), which the solver held against
+    /// rounding (`sim::solvers::ode::fixed`; auto, adaptive and radau);
+    /// absent when there are none or the method does not hold them.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub fixed_sums: Vec<String>,
 }
 
 /// How far a quantity the scene declares conserved moved over a run.
@@ -245,6 +251,9 @@ impl Stats {
         }
         if let Some(t) = self.stiff_from {
             s.push_str(&format!(", stiff from t = {}: switched to radau", Num(t)));
+        }
+        if !self.fixed_sums.is_empty() {
+            s.push_str(&format!(", held fixed: {}", self.fixed_sums.join(", ")));
         }
         for c in &self.conserved {
             let name = crate::text::safe::one_line(&c.name);

@@ -17,7 +17,7 @@ use crate::predict::audit::{Run, audit_run, audit_slips};
 use crate::sim::error::SolveError;
 use crate::sim::scene::spec::SceneAtol;
 use crate::sim::scene::system::{RunError, SystemPlan, SystemRun, describe, measure_system_noting};
-use crate::sim::solvers::ode::{OdeKind, OdeMethod};
+use crate::sim::solvers::ode::{OdeKind, OdeMethod, OdeSystem};
 use crate::sim::system::System;
 use crate::text::num::{self, Num};
 
@@ -223,6 +223,14 @@ fn write_samples(
                 max_drift: d.relative,
             })
             .collect(),
+        fixed_sums: if method.kind.holds_fixed_sums() {
+            (system.fixed_sums(0.0, &scene.initial).iter())
+                .map(|c| crate::sim::solvers::ode::fixed::show(c, &scene.variables))
+                .map(|s| crate::text::safe::one_line(&s).into_owned())
+                .collect()
+        } else {
+            Vec::new()
+        },
     };
     if format == SimFormat::Json {
         let why = rows.as_ref().err().map(|e| e.to_string());

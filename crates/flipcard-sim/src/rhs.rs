@@ -39,6 +39,14 @@ pub trait OdeSystem {
     fn sparsity(&self) -> Option<Vec<Vec<usize>>> {
         None
     }
+
+    /// The linear sums cᵀy of the variables the equations keep fixed
+    /// (cᵀf = 0 everywhere), found near (t, y), each a row c: the solvers
+    /// hold them against rounding ([`crate::solvers::ode::fixed`]). Empty
+    /// (the default) for a system that does not know them.
+    fn fixed_sums(&self, _t: f64, _y: &[f64]) -> Vec<Vec<f64>> {
+        Vec::new()
+    }
 }
 
 /// A separable Hamiltonian H = T(p) + V(q) written as y' = f(t, y): the
@@ -67,6 +75,9 @@ impl<S: OdeSystem + ?Sized> OdeSystem for &S {
     fn sparsity(&self) -> Option<Vec<Vec<usize>>> {
         (**self).sparsity()
     }
+    fn fixed_sums(&self, t: f64, y: &[f64]) -> Vec<Vec<f64>> {
+        (**self).fixed_sums(t, y)
+    }
 }
 
 impl<S: OdeSystem + ?Sized> OdeSystem for Box<S> {
@@ -84,6 +95,9 @@ impl<S: OdeSystem + ?Sized> OdeSystem for Box<S> {
     }
     fn sparsity(&self) -> Option<Vec<Vec<usize>>> {
         (**self).sparsity()
+    }
+    fn fixed_sums(&self, t: f64, y: &[f64]) -> Vec<Vec<f64>> {
+        (**self).fixed_sums(t, y)
     }
 }
 

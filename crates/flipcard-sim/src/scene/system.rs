@@ -362,7 +362,7 @@ impl std::fmt::Display for RunError {
                 let quoted: Vec<String> = at_floor.iter().map(|n| format!("`{n}`")).collect();
                 write!(
                     f,
-                    "; {} fell below 1e-16 of the largest size any variable reached, where the default stops following sizes: values that small may be the rounding of the larger ones' arithmetic, which no tolerance cures (if the equations keep a sum of variables fixed, write it out: docs/deck-format.md, \"How far a tolerance goes\"); if they are not, the atol above reaches them",
+                    "; {} fell below 1e-16 of the largest size any variable reached, where the default stops following sizes: values that small may be the rounding of the larger ones' arithmetic, which no tolerance cures (a sum of variables the equations keep fixed is held against it: docs/deck-format.md, \"How far a tolerance goes\"); if they are not, the atol above reaches them",
                     quoted.join(", ")
                 )
             }

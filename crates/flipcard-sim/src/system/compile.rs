@@ -1355,6 +1355,15 @@ impl OdeSystem for System {
         crate::solvers::ode::finite_difference_jacobian(self, t, y, jac);
     }
 
+    fn fixed_sums(&self, t: f64, y: &[f64]) -> Vec<Vec<f64>> {
+        crate::solvers::ode::fixed::find(
+            t,
+            y,
+            &|t, y, out| self.rhs.eval_into(t, y, out),
+            &|t, y, jac| self.rhs.jacobian(t, y, jac, self.deps.as_ref()),
+        )
+    }
+
     fn sparsity(&self) -> Option<Vec<Vec<usize>>> {
         let deps = self.deps.as_ref()?;
         let mut rows = vec![Vec::new(); self.n];

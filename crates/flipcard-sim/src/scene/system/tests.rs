@@ -444,7 +444,7 @@ fn an_uncontrolled_variable_of_size_zero_is_told_a_tighter_tolerance() {
     let text = floor.to_string();
     assert!(
         text.contains("; `y3` fell below 1e-16 of the largest size")
-            && text.contains("write it out"),
+            && text.contains("held against it"),
         "{text}"
     );
 }

@@ -23,6 +23,18 @@
 //!   its start (E5, a fast linear mode, the Brusselator's diffusion) does
 //!   not wait for the stiffness test's 15.
 //!
+//! Before any step, a **look at the start**: the Jacobian at t₀ by power
+//! iteration ([`stiff_at_start`]). When its dominant eigenvalue is real
+//! and negative (a damped mode, the power iteration settled on it) and
+//! |λ|·(t_stop − t₀) is at least [`START_SPAN`] (DOP853 would need at least
+//! [`START_SPAN`] / 6.1 steps held by stability, were the mode to stay),
+//! the run starts in Radau IIA on a probe measured against the least
+//! DOP853 could cost, [`DOP853_EVALS`] evaluations a step of 6.1/|λ|: a
+//! problem stiff from its start (E5, the linear system with eigenvalues
+//! −1 and −1e8, Van der Pol at μ = 1e4) pays no explicit steps at all,
+//! and one whose fast mode is not what limits the step (Lorenz over a long
+//! run) loses the probe and goes on with DOP853 as before.
+//!
 //! Costs are counted in evaluations of f: one per evaluation, n per
 //! Jacobian (what finite differences would take), and per LU
 //! decomposition pair what Radau's factors cost in the form it will factor
@@ -74,6 +86,29 @@ const EARLY_COUNT: u32 = 4;
 /// the cost. Only trying tells; the count is long enough that a short run
 /// never pays a probe, and doubles after each lost probe like the other.
 const ROUTINE_COUNT: u32 = 200;
+/// |λ|·(t_stop − t₀) from which a dominant damped mode at the start makes
+/// the run start in Radau IIA: DOP853 would need at least 800 steps
+/// (START_SPAN / 6.1), some 10,000 evaluations of f, held by stability.
+const START_SPAN: f64 = 5e3;
+/// Evaluations of f a DOP853 step costs (twelve stages, the first shared
+/// with the step before, and the dense output's three when asked).
+const DOP853_EVALS: f64 = 12.0;
+/// Systems above this size skip the look at the start: the dense Jacobian
+/// it takes is n² numbers.
+const START_MAX_DIM: usize = 512;
+/// How long, in units of the fast mode's time 1/|λ|, the probe of the
+/// look at the start waits for a step [`START_STEP`] times DOP853's
+/// stability bound before it is lost: the mode has decayed by e⁻⁴⁰ by
+/// then, below any tolerance, so a step still short of the bound is held
+/// by something else than that mode. At most START_TRANSIENT /
+/// [`START_SPAN`] of the run (0.8 %) is spent waiting.
+const START_TRANSIENT: f64 = 40.0;
+/// How many of DOP853's longest stable steps Radau IIA's step must span
+/// before the probe of the look at the start is measured.
+const START_STEP: f64 = 2.0;
+/// Power iterations of the look at the start.
+const START_ITERATIONS: usize = 40;
+
 /// Explicit steps whose cost per unit time a probe is measured against.
 const WINDOW: usize = 20;
 /// Implicit steps a probe takes before the costs are compared.
@@ -110,6 +145,16 @@ struct Probe {
     t0: f64,
     cost0: f64,
     steps0: u64,
+    /// A check of a won routine probe, not a probe.
+    recheck: bool,
+    /// For the probe of the look at the start: DOP853's stability bound
+    /// 6.1/|λ|. The probe is measured from Radau's first step at least
+    /// this long (on E5 at rtol 1e-6 Radau's first steps resolve a
+    /// transient on the scale 1/|λ|, where they cost more than DOP853's
+    /// stability-bound steps would, and DOP853 could not take those
+    /// either), and lost if none is by [`START_TRANSIENT`] / |λ|. 0 for
+    /// the others.
+    wait_h: f64,
     /// DOP853's last step size, to go back with.
     h_explicit: f64,
     /// The most Radau may cost, as a multiple of DOP853's rate.
@@ -160,11 +205,85 @@ fn cost(w: Work, n: usize, lu_price: f64) -> f64 {
     w.rhs_evals as f64 + n as f64 * w.jac_evals as f64 + lu_price * w.lu_decomps as f64
 }
 
+/// The look at the start: the rate |λ| of the Jacobian's dominant
+/// eigenvalue at (t, y) when it is real and negative, found by power
+/// iteration on the exact Jacobian (`OdeSystem::jacobian`, one evaluation
+/// counted in `work`) and trusted only when the iteration settled: the
+/// Rayleigh quotient q = vᵀJv within a tenth of −|Jv| and the residual
+/// |Jv − qv| within a third of it. A pair ±λ (Kepler's orbit near the
+/// centre), an oscillation or a growing mode gives `None`; so do a system
+/// larger than [`START_MAX_DIM`] and a Jacobian that is not finite.
+pub(crate) fn stiff_at_start<S: OdeSystem>(
+    sys: &S,
+    t: f64,
+    y: &[f64],
+    work: &mut Work,
+) -> Option<f64> {
+    let n = y.len();
+    if n == 0 || n > START_MAX_DIM {
+        return None;
+    }
+    let mut jac = nalgebra::DMatrix::<f64>::zeros(n, n);
+    sys.jacobian(t, y, &mut jac);
+    work.jac_evals += 1;
+    if jac.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    // The non-zero entries by row, so a large sparse system costs its
+    // entries, not n², an iteration.
+    let entries: Vec<(usize, usize, f64)> = (0..n)
+        .flat_map(|i| (0..n).map(move |j| (i, j)))
+        .filter_map(|(i, j)| {
+            let v = jac[(i, j)];
+            (v != 0.0).then_some((i, j, v))
+        })
+        .collect();
+    let mut v: Vec<f64> = (0..n).map(|i| 1.0 + 0.37 * i as f64).collect();
+    let mut jv = vec![0.0; n];
+    let mut settled = None;
+    for _ in 0..START_ITERATIONS {
+        let norm = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(norm.is_finite() && norm > 0.0) {
+            return None;
+        }
+        v.iter_mut().for_each(|x| *x /= norm);
+        jv.fill(0.0);
+        for &(i, j, a) in &entries {
+            jv[i] += a * v[j];
+        }
+        let rate = jv.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(rate.is_finite() && rate > 0.0) {
+            return None;
+        }
+        let q: f64 = v.iter().zip(&jv).map(|(a, b)| a * b).sum();
+        let residual = v
+            .iter()
+            .zip(&jv)
+            .map(|(a, b)| (b - q * a).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        settled = (q <= -0.9 * rate && residual <= rate / 3.0).then_some(rate);
+        std::mem::swap(&mut v, &mut jv);
+    }
+    settled
+}
+
 impl<S: OdeSystem> Auto<S> {
     pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Auto<S>, SolveError> {
+        Auto::build(sys, t0, y0, opts, true)
+    }
+
+    /// [`Auto::new`], with the look at the start or without it (a test
+    /// measures the other ways into Radau IIA on their own).
+    fn build(
+        sys: S,
+        t0: f64,
+        y0: &[f64],
+        opts: &Options,
+        look: bool,
+    ) -> Result<Auto<S>, SolveError> {
         let n = sys.dim();
         let lu_price = LuPlan::choose(n, sys.sparsity().as_deref()).pair_in_evaluations(n);
-        let dop = Dop853::new(sys, t0, y0, opts)?.with_stiffness(StiffnessMode::Report);
         // Radau's own checks, so a bad setting shows now and not at the switch.
         if opts.rtol <= 10.0 * f64::EPSILON {
             return Err(SolveError::Invalid(format!(
@@ -173,13 +292,41 @@ impl<S: OdeSystem> Auto<S> {
                 opts.rtol
             )));
         }
+        let mut done = Work::default();
+        let stiff = match opts.t_stop {
+            Some(stop) if look && y0.len() == n => stiff_at_start(&sys, t0, y0, &mut done)
+                .filter(|rate| rate * (stop - t0).abs() >= START_SPAN),
+            _ => None,
+        };
+        let (phase, probe, switched_at) = match stiff {
+            Some(rate) => {
+                let radau = Radau5::new(sys, t0, y0, opts)?;
+                let probe = Probe {
+                    explicit_rate: DOP853_EVALS * rate / EARLY_RATIO,
+                    t0,
+                    cost0: cost(done, n, lu_price),
+                    steps0: 0,
+                    recheck: false,
+                    wait_h: START_STEP * EARLY_RATIO / rate,
+                    // DOP853 chooses its own first step if it takes over.
+                    h_explicit: 0.0,
+                    bar: HYSTERESIS,
+                    mid: None,
+                };
+                (Phase::Implicit(Box::new(radau)), Some(probe), Some(t0))
+            }
+            None => {
+                let dop = Dop853::new(sys, t0, y0, opts)?.with_stiffness(StiffnessMode::Report);
+                (Phase::Explicit(Box::new(dop)), None, None)
+            }
+        };
         Ok(Auto {
-            phase: Phase::Explicit(Box::new(dop)),
+            phase,
             opts: opts.clone(),
             n,
             lu_price,
-            switched_at: None,
-            done: Work::default(),
+            switched_at,
+            done,
             requests: Requests::new(t0, y0),
             probe_count: 0,
             probe_below: 0,
@@ -189,7 +336,7 @@ impl<S: OdeSystem> Auto<S> {
             probe_needed: PROBE_COUNT,
             probe_ratio: PROBE_RATIO,
             window: VecDeque::with_capacity(WINDOW + 1),
-            probe: None,
+            probe,
             probes_lost: 0,
         })
     }
@@ -300,6 +447,8 @@ impl<S: OdeSystem> Auto<S> {
                             cost0,
                             // The implicit solver starts with no steps.
                             steps0: 0,
+                            recheck: false,
+                            wait_h: 0.0,
                             h_explicit: 0.0,
                             bar: if pinned { HYSTERESIS } else { ROUTINE_BAR },
                             mid: None,
@@ -312,6 +461,26 @@ impl<S: OdeSystem> Auto<S> {
                 let Some(p) = self.probe else {
                     return Ok(());
                 };
+                if p.wait_h > 0.0 {
+                    let (a, b) = r.window();
+                    let steps = r.work().steps;
+                    if b - a >= p.wait_h {
+                        // Measured from here, over the probe's steps.
+                        self.probe = Some(Probe {
+                            t0: b,
+                            cost0: self.cost_now(),
+                            steps0: steps,
+                            wait_h: 0.0,
+                            ..p
+                        });
+                        return Ok(());
+                    }
+                    let rate = START_STEP * EARLY_RATIO / p.wait_h;
+                    if (b - p.t0).abs() * rate < START_TRANSIENT {
+                        return Ok(());
+                    }
+                    return self.lose_probe(p);
+                }
                 let done = r.work().steps.saturating_sub(p.steps0);
                 if done < PROBE_STEPS {
                     if p.mid.is_none() && done >= PROBE_STEPS / 2 {
@@ -335,27 +504,35 @@ impl<S: OdeSystem> Auto<S> {
                     t0: t,
                     cost0: self.cost_now(),
                     steps0: steps,
+                    recheck: true,
                     bar: 1.0,
                     mid: None,
                     ..p
                 };
-                if p.steps0 > 0 && rate.is_finite() && rate <= p.explicit_rate {
+                if p.recheck && rate.is_finite() && rate <= p.explicit_rate {
                     self.probe = Some(recheck(r.work().steps + RECHECK_STEPS - PROBE_STEPS));
                     return Ok(());
                 }
-                if p.steps0 == 0 && rate.is_finite() && rate <= p.bar * p.explicit_rate {
+                if !p.recheck && rate.is_finite() && rate <= p.bar * p.explicit_rate {
                     if routine {
                         self.probe = Some(recheck(r.work().steps + RECHECK_STEPS - PROBE_STEPS));
                     }
                     return Ok(());
                 }
-                self.probes_lost += 1;
-                self.probe_needed = self.probe_needed.saturating_mul(2);
-                self.switched_at = None;
-                self.hand_to_explicit(p.h_explicit)
+                self.lose_probe(p)
             }
             Phase::Moving => Ok(()),
         }
+    }
+
+    /// DOP853 was found the cheaper: the run goes back to it, and the next
+    /// probe waits twice as long.
+    fn lose_probe(&mut self, p: Probe) -> Result<(), SolveError> {
+        self.probe = None;
+        self.probes_lost += 1;
+        self.probe_needed = self.probe_needed.saturating_mul(2);
+        self.switched_at = None;
+        self.hand_to_explicit(p.h_explicit)
     }
 
     /// After an explicit step: its |hλ| and cost.
@@ -614,8 +791,9 @@ mod tests {
         }
     }
 
-    /// The cost of `auto`, of `auto` without its early probe, and of
-    /// Radau IIA alone on `sys` to `t_end`, and when `auto` switched.
+    /// The cost of `auto` without its look at the start, of that without
+    /// its early probe too, and of Radau IIA alone on `sys` to `t_end`,
+    /// and when the first of them switched.
     fn costs<S: OdeSystem + 'static>(
         sys: fn() -> S,
         y0: &[f64],
@@ -623,9 +801,9 @@ mod tests {
         o: &Options,
     ) -> (f64, f64, f64, f64) {
         let n = y0.len();
-        let mut auto = Auto::new(sys(), 0.0, y0, o).unwrap();
+        let mut auto = Auto::build(sys(), 0.0, y0, o, false).unwrap();
         auto.advance(t_end).unwrap();
-        let mut late = Auto::new(sys(), 0.0, y0, o).unwrap();
+        let mut late = Auto::build(sys(), 0.0, y0, o, false).unwrap();
         late.early_needed = u32::MAX;
         late.advance(t_end).unwrap();
         let mut radau = make_solver(Method::Radau5, sys(), 0.0, y0, o).unwrap();
@@ -671,6 +849,152 @@ mod tests {
             );
             assert!(a < late, "{msg}");
             assert!(from < 1e-6, "{msg}");
+        }
+    }
+
+    /// The look at the start sends a problem stiff from its start (E5,
+    /// the linear system, Van der Pol at μ = 1e4) to Radau IIA before any
+    /// explicit step: `auto` costs what Radau alone does, within the one
+    /// Jacobian the look takes, and reaches the same state.
+    #[test]
+    fn a_problem_stiff_at_its_start_starts_in_radau() {
+        for rtol in [1e-3, 1e-6, 1e-9] {
+            let cases: [(&str, Box<dyn OdeSystem>, Vec<f64>, f64, f64); 3] = [
+                ("E5", Box::new(E5), vec![1.76e-3, 0.0, 0.0, 0.0], 1e5, 1e-24),
+                (
+                    "linear",
+                    Box::new(Linear),
+                    vec![2.0, 0.0],
+                    10.0,
+                    rtol * 1e-6,
+                ),
+                (
+                    "Van der Pol",
+                    Box::new(VanDerPol(1e4)),
+                    vec![2.0, 0.0],
+                    2e4,
+                    rtol,
+                ),
+            ];
+            for (name, sys, y0, t_end, atol) in cases {
+                let o = Options {
+                    rtol,
+                    atol: super::super::Atol::Scalar(atol),
+                    t_stop: Some(t_end),
+                    ..Options::default()
+                };
+                let n = y0.len();
+                let mut auto = Auto::new(&*sys, 0.0, &y0, &o).unwrap();
+                let ya = auto.advance(t_end).unwrap().to_vec();
+                let mut radau = Radau5::new(&*sys, 0.0, &y0, &o).unwrap();
+                let yr = radau.advance(t_end).unwrap().to_vec();
+                let (a, r) = (
+                    cost(auto.work(), n, auto.lu_price),
+                    cost(radau.work(), n, auto.lu_price),
+                );
+                let msg = format!("{name} rtol {rtol}: auto {a} {ya:?}, radau {r} {yr:?}");
+                assert_eq!(auto.switched_at(), Some(0.0), "{msg}");
+                assert_eq!(auto.probes_lost(), 0, "{msg}");
+                assert!(a <= r + n as f64, "{msg}");
+                assert_eq!(ya, yr, "{msg}");
+            }
+        }
+    }
+
+    /// Van der Pol's oscillator x'' = μ(1 − x²)x' − x.
+    struct VanDerPol(f64);
+    impl OdeSystem for VanDerPol {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn rhs(&self, _: f64, x: &[f64], y: &mut [f64]) {
+            y[0] = x[1];
+            y[1] = self.0 * (1.0 - x[0] * x[0]) * x[1] - x[0];
+        }
+        fn jacobian(&self, _: f64, x: &[f64], j: &mut nalgebra::DMatrix<f64>) {
+            j.copy_from_slice(&[
+                0.0,
+                -2.0 * self.0 * x[0] * x[1] - 1.0,
+                1.0,
+                self.0 * (1.0 - x[0] * x[0]),
+            ]);
+        }
+    }
+
+    /// Lorenz's system from (1, 1, 1): its Jacobian there has a dominant
+    /// damped eigenvalue (−22.53), so over a long run the look at the
+    /// start sends it to Radau IIA, whose step never reaches twice
+    /// DOP853's stability bound: the probe is lost by t = 40/22.53, DOP853
+    /// takes the run from its own first step, and the state matches
+    /// Radau's alone.
+    struct Lorenz;
+    impl OdeSystem for Lorenz {
+        fn dim(&self) -> usize {
+            3
+        }
+        fn rhs(&self, _: f64, x: &[f64], y: &mut [f64]) {
+            y[0] = 10.0 * (x[1] - x[0]);
+            y[1] = x[0] * (28.0 - x[2]) - x[1];
+            y[2] = x[0] * x[1] - 8.0 / 3.0 * x[2];
+        }
+        fn jacobian(&self, _: f64, x: &[f64], j: &mut nalgebra::DMatrix<f64>) {
+            j.fill(0.0);
+            j[(0, 0)] = -10.0;
+            j[(0, 1)] = 10.0;
+            j[(1, 0)] = 28.0 - x[2];
+            j[(1, 1)] = -1.0;
+            j[(1, 2)] = -x[0];
+            j[(2, 0)] = x[1];
+            j[(2, 1)] = x[0];
+            j[(2, 2)] = -8.0 / 3.0;
+        }
+    }
+
+    #[test]
+    fn a_start_that_only_looks_stiff_goes_back_to_the_explicit_method() {
+        let y0 = [1.0, 1.0, 1.0];
+        let mut work = Work::default();
+        let rate = stiff_at_start(&Lorenz, 0.0, &y0, &mut work).expect("a damped mode");
+        assert!((rate - 22.53).abs() < 0.1, "{rate}");
+        let o = Options {
+            rtol: 1e-8,
+            atol: super::super::Atol::Scalar(1e-11),
+            t_stop: Some(1e3),
+            ..Options::default()
+        };
+        let mut auto = Auto::new(Lorenz, 0.0, &y0, &o).unwrap();
+        auto.advance(2.0).unwrap();
+        assert_eq!(auto.probes_lost(), 1);
+        assert_eq!(auto.method_name(), "dop853");
+        assert_eq!(auto.switched_at(), None);
+        let ya = auto.advance(3.0).unwrap().to_vec();
+        let mut radau = make_solver(Method::Radau5, Lorenz, 0.0, &y0, &o).unwrap();
+        let yr = radau.advance(3.0).unwrap().to_vec();
+        for (a, r) in ya.iter().zip(&yr) {
+            assert!((a - r).abs() < 1e-5 * r.abs().max(1.0), "{ya:?} {yr:?}");
+        }
+        // Kepler's orbit at its pericentre (e = 0.99): the pair ±√2/r^1.5
+        // is no damped mode, and the oscillator has none either.
+        let kepler = [0.01, 0.0, 0.0, (1.99f64 / 0.01).sqrt()];
+        assert_eq!(stiff_at_start(&Kepler, 0.0, &kepler, &mut work), None);
+        assert_eq!(
+            stiff_at_start(&Oscillator, 0.0, &[1.0, 0.0], &mut work),
+            None
+        );
+    }
+
+    /// Kepler's problem, GM = 1, as (x, y, vx, vy).
+    struct Kepler;
+    impl OdeSystem for Kepler {
+        fn dim(&self) -> usize {
+            4
+        }
+        fn rhs(&self, _: f64, s: &[f64], d: &mut [f64]) {
+            let r3 = (s[0] * s[0] + s[1] * s[1]).powf(1.5);
+            d[0] = s[2];
+            d[1] = s[3];
+            d[2] = -s[0] / r3;
+            d[3] = -s[1] / r3;
         }
     }
 }

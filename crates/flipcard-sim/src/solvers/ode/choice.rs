@@ -50,6 +50,13 @@ impl OdeKind {
         matches!(self, OdeKind::Rk4 | OdeKind::Verlet | OdeKind::Verlet4)
     }
 
+    /// Whether the method holds the sums the equations keep fixed against
+    /// rounding ([`super::fixed`]): the error-controlled ones, whose
+    /// error weights say where a correction has room.
+    pub fn holds_fixed_sums(self) -> bool {
+        !self.fixed_step()
+    }
+
     /// Its name in the one vocabulary ([`crate::method`]).
     pub fn method(self) -> MethodName {
         match self {

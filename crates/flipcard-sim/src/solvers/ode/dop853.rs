@@ -15,6 +15,7 @@
 //! until it first fires; here it runs after every step (two norms, no
 //! evaluation of f), so `auto` hands over to the implicit method early.
 
+use super::fixed::Held;
 use super::{BLOW_UP_LIMIT, BySize, OdeSystem, Options, Requests, Stepper, Work, initial_step};
 use crate::error::SolveError;
 use crate::solvers::control::{self, Arithmetic, StepControl, norm};
@@ -51,6 +52,9 @@ pub struct Dop853<S, const N: usize = 0> {
     max_step: f64,
     t_stop: Option<f64>,
     fixed: Option<f64>,
+    /// The sums the equations keep fixed, held at each accepted step
+    /// ([`super::fixed`]); none on the rigid body's stepper.
+    held: Option<Held>,
     mode: StiffnessMode,
     /// How the error norm and the starting step are taken: Hairer's sums of
     /// squares, or without squares (the rigid body, whose spins may be
@@ -99,8 +103,10 @@ impl<S: OdeSystem> Dop853<S> {
     pub fn new(sys: S, t0: f64, y0: &[f64], opts: &Options) -> Result<Dop853<S>, SolveError> {
         super::check_start(&sys, t0, y0)?;
         let (atol, by_size) = opts.validated_atol(t0, y0)?;
+        let held = Held::new(sys.fixed_sums(t0, y0), y0);
         let mut s = Dop853::checked(sys, t0, y0, opts, atol);
         s.by_size = by_size;
+        s.held = held;
         Ok(s)
     }
 
@@ -155,6 +161,7 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
             max_step: opts.max_step.unwrap_or(f64::INFINITY),
             t_stop: opts.t_stop,
             fixed: None,
+            held: None,
             mode: StiffnessMode::Report,
             arithmetic: Arithmetic::Plain,
             limit: BLOW_UP_LIMIT,
@@ -394,6 +401,12 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
         }
         let mut accept = err <= 1.0 && sane;
         let t_new = t + h;
+        if accept && let Some(held) = &self.held {
+            let w: Vec<f64> = (0..n)
+                .map(|i| self.atol[i] + self.rtol * self.y_new[i].abs())
+                .collect();
+            held.hold(&mut self.y_new, &w);
+        }
         if accept {
             let (_, tail) = self.k.split_at_mut(12 * n);
             self.sys.rhs(t_new, &self.y_new, &mut tail[..n]);

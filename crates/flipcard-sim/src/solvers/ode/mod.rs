@@ -23,6 +23,7 @@ mod auto;
 pub mod band;
 mod choice;
 mod dop853;
+pub mod fixed;
 pub mod lu;
 mod radau5;
 mod rk4;

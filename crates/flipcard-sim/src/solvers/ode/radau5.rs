@@ -48,6 +48,7 @@
 use crate::error::SolveError;
 use nalgebra::{Complex, DMatrix, DVector};
 
+use super::fixed::Held;
 use super::lu::{Factors, LuKind, LuPlan, Reuse};
 
 use super::{BySize, OdeSystem, Options, Requests, Stepper, Work, initial_step, is_sane};
@@ -174,6 +175,9 @@ pub struct Radau5<S> {
     max_step: f64,
     t_stop: Option<f64>,
     fixed: Option<f64>,
+    /// The sums of the variables the equations keep fixed, held against
+    /// rounding at each accepted step ([`super::fixed`]).
+    held: Option<Held>,
     t: f64,
     y: Vec<f64>,
     /// The size the run started from ([`super::start_size`]).
@@ -259,6 +263,7 @@ impl<S: OdeSystem> Radau5<S> {
             max_step: opts.max_step.unwrap_or(f64::INFINITY),
             t_stop: opts.t_stop,
             fixed: None,
+            held: Held::new(sys.fixed_sums(t0, y0), y0),
             t: t0,
             y: y0.to_vec(),
             start: super::start_size(y0),
@@ -758,6 +763,9 @@ impl<S: OdeSystem> Radau5<S> {
         let t_new = self.t + h;
         for i in 0..n {
             self.tmp[i] = self.y[i] + self.z[2][i];
+        }
+        if let Some(held) = &self.held {
+            held.hold(&mut self.tmp, &self.scal);
         }
         if !is_sane(&self.tmp) {
             return Err(Failure::Newton);
