@@ -1028,9 +1028,18 @@ mod props {
             prop_assert_eq!(rows_of(&format!("-{a}"), &decks, &rows), rest.clone(), "-{}", a);
             prop_assert_eq!(rows_of(&format!("-({a})"), &decks, &rows), rest, "-({})", a);
             prop_assert_eq!(rows_of(&format!("--{a}"), &decks, &rows), ra.clone(), "--{}", a);
-            // Side by side with terms without text: both hold.
+            // Side by side with terms without text: both hold; but two
+            // `deck:` or two `state:` terms at the top level take any of
+            // them (README, "repeated: any of them", as `--deck a --deck
+            // b`), however they are wrapped (`--(deck:mech) deck:opt*`).
             let rf = rows_of(&f, &decks, &rows);
-            let both: BTreeSet<usize> = ra.intersection(&rf).copied().collect();
+            let side = Filter::parse(&format!("{a} {f}")).unwrap();
+            let either = side.decks.len() > 1 || side.states.len() > 1;
+            let both: BTreeSet<usize> = if either {
+                ra.union(&rf).copied().collect()
+            } else {
+                ra.intersection(&rf).copied().collect()
+            };
             prop_assert_eq!(rows_of(&format!("{a} {f}"), &decks, &rows), both.clone(), "{} {}", a, f);
             prop_assert_eq!(rows_of(&format!("{f} and {a}"), &decks, &rows), both, "{} and {}", f, a);
         }
