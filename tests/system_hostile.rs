@@ -1335,3 +1335,43 @@ fn e5_to_1e13_is_refused_not_answered_with_rounding() {
         }
     }
 }
+
+/// The Oregonator (Field and Noyes' model of the Belousov–Zhabotinsky
+/// reaction, to t = 360) at rtol 1e-3 with `atol` 1e-3, as SciPy users set
+/// it: y2 falls to 0.003 between its spikes, near the tolerance, and its
+/// first spike reaches 1,500. The run-away guard took that spike for an
+/// unchecked error grown from below the tolerance and refused `auto`; a
+/// rise with the sign the variable had before it fell is the equations',
+/// and every method ends within 1e-2 of the reference (SciPy's Radau at
+/// rtol 1e-12, BDF and LSODA agreeing: `benches/stiff_reference.txt`).
+#[test]
+fn the_oregonators_first_spike_is_not_a_run_away() {
+    let d = Deck::new(
+        "oregonator",
+        "[[scene]]\nid = \"s\"\nvariables = [\"y1\", \"y2\", \"y3\"]\ninitial = [1.0, 2.0, 3.0]\nequations = [\"77.27*(y2 + y1*(1 - 8.375e-6*y1 - y2))\", \"(y3 - (1 + y1)*y2)/77.27\", \"0.161*(y1 - y3)\"]\nduration = 360.0\nshow = [\"plot\"]\nplot = [\"y1\"]\n",
+    );
+    let want = scipy_final("oregonator");
+    for method in ["auto", "radau"] {
+        for tol in ["1e-3", "1e-4"] {
+            let (code, out, err) = d.sim(&[
+                "--samples",
+                "2",
+                "--method",
+                method,
+                "--tol",
+                tol,
+                "--atol",
+                "1e-3",
+            ]);
+            assert_eq!(code, 0, "{method} {tol}: {err}");
+            let last = last_row(&out);
+            assert_eq!(last[0], 360.0, "{out}");
+            for (got, want) in last[1..].iter().zip(&want) {
+                assert!(
+                    (got / want - 1.0).abs() < 1e-2,
+                    "{method} {tol}: {last:?} against {want}"
+                );
+            }
+        }
+    }
+}

@@ -716,6 +716,9 @@ pub struct SystemRun {
     /// size and that tolerance ([`SystemRun::unchecked_rise`]).
     largest: Vec<f64>,
     dipped: Vec<Option<(f64, f64)>>,
+    /// Each variable's sign at the last sample where it was at least its
+    /// absolute tolerance, before it fell (0 until then).
+    sign: Vec<f64>,
     /// Every operation's value at the start and the end of an RK4 step,
     /// and the state at its end (for the domain check).
     step_tapes: [Vec<f64>; 2],
@@ -872,6 +875,7 @@ impl SystemRun {
             sizes: vec![Vec::new(); n],
             largest: vec![0.0; n],
             dipped: vec![None; n],
+            sign: vec![0.0; n],
             step_tapes: [Vec::new(), Vec::new()],
             step_end: Vec::new(),
             cost,
@@ -1198,15 +1202,19 @@ impl SystemRun {
     /// Refuses a sample where a variable that sat below its absolute
     /// tolerance (after having a size: its error then went unchecked) has
     /// since grown past a million times that tolerance and past [`RISE`]
-    /// times the largest size it had before: that growth is the unchecked
-    /// error's, not the equations'. Robertson to t = 1e11 at rtol 1e-3 lets
+    /// times the largest size it had before, with the other sign than it
+    /// had before it fell: that growth is the unchecked error's, not the
+    /// equations'. Robertson to t = 1e11 at rtol 1e-3 lets
     /// y1 (size 1) fall below a tolerance of 1e-5 near t = 1e8, go negative
     /// and run
     /// away linearly to −4.5e7 with no blow-up for the solver to see (with
     /// the tolerance the default gave then; the default now follows y1
     /// down). A variable that falls and rises again to no more than [`RISE`]
     /// times what it was (a population's trough) is left alone; so is one
-    /// that starts at 0.
+    /// that starts at 0, and one that rises with the sign it had: the
+    /// Oregonator's y2 falls to 0.003 between its spikes and its first
+    /// spike reaches 1,500 (auto at rtol 1e-3 with `atol` 1e-3 computed it
+    /// below the tolerance there and had the spike refused).
     fn unchecked_rise(&mut self, t: f64, y: &[f64]) -> Result<(), RunError> {
         let Some(atol) = self.solver.atol() else {
             return Ok(());
@@ -1230,10 +1238,18 @@ impl SystemRun {
                 None if size < a && *largest > TRACKED * a && *largest >= real => {
                     self.dipped[k] = Some((*largest, a));
                 }
-                Some((before, a0)) if size > 1e6 * a0 && size > RISE * before && rose.is_none() => {
+                Some((before, a0))
+                    if size > 1e6 * a0
+                        && size > RISE * before
+                        && v.signum() != self.sign[k]
+                        && rose.is_none() =>
+                {
                     rose = Some((k, v));
                 }
                 _ => {}
+            }
+            if self.dipped[k].is_none() && size >= a {
+                self.sign[k] = v.signum();
             }
             *largest = largest.max(size);
         }

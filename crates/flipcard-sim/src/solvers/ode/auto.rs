@@ -479,7 +479,28 @@ impl<S: OdeSystem> Auto<S> {
                     if (b - p.t0).abs() * rate < START_TRANSIENT {
                         return Ok(());
                     }
-                    return self.lose_probe(p);
+                    // The mode seen at the start has died out and the step
+                    // is still short: look again where the run is now (the
+                    // Jacobian at the start need not be the one that
+                    // matters: Robertson's is −0.04 alone at t = 0 and
+                    // some 1e4 once its fast reactions start).
+                    let mut look = Work::default();
+                    let now = stiff_at_start(r.system(), b, r.current(), &mut look);
+                    self.done = self.done + look;
+                    return match now {
+                        Some(rho) if b - a >= START_STEP * EARLY_RATIO / rho => {
+                            self.probe = Some(Probe {
+                                explicit_rate: DOP853_EVALS * rho / EARLY_RATIO,
+                                t0: b,
+                                cost0: self.cost_now(),
+                                steps0: steps,
+                                wait_h: 0.0,
+                                ..p
+                            });
+                            Ok(())
+                        }
+                        _ => self.lose_probe(p),
+                    };
                 }
                 let done = r.work().steps.saturating_sub(p.steps0);
                 if done < PROBE_STEPS {
@@ -995,6 +1016,65 @@ mod tests {
             d[1] = s[3];
             d[2] = -s[0] / r3;
             d[3] = -s[1] / r3;
+        }
+    }
+
+    /// Robertson's kinetics, y1 + y2 + y3 = 1.
+    struct Robertson;
+    impl OdeSystem for Robertson {
+        fn dim(&self) -> usize {
+            3
+        }
+        fn rhs(&self, _: f64, y: &[f64], d: &mut [f64]) {
+            d[0] = -0.04 * y[0] + 1e4 * y[1] * y[2];
+            d[1] = 0.04 * y[0] - 1e4 * y[1] * y[2] - 3e7 * y[1] * y[1];
+            d[2] = 3e7 * y[1] * y[1];
+        }
+        fn jacobian(&self, _: f64, y: &[f64], j: &mut nalgebra::DMatrix<f64>) {
+            j.copy_from_slice(&[
+                -0.04,
+                0.04,
+                0.0,
+                1e4 * y[2],
+                -1e4 * y[2] - 6e7 * y[1],
+                6e7 * y[1],
+                1e4 * y[1],
+                -1e4 * y[1],
+                0.0,
+            ]);
+        }
+    }
+
+    /// Robertson's Jacobian at the start is −0.04 alone: over 1e11 the
+    /// look at the start sends it to Radau IIA, whose step stays short of
+    /// twice DOP853's stability bound for that rate (305) long after the
+    /// mode has died out (t = 40/0.04). Looked at again there, the rate is
+    /// some 1e4 (the fast reactions have started) and the step far past
+    /// its bound: the probe is measured from there and won, and `auto`
+    /// costs what Radau alone does (it lost the probe and paid up to 1.28×
+    /// Radau's instructions before the second look).
+    #[test]
+    fn a_second_look_keeps_radau_where_the_start_was_not_yet_stiff() {
+        for rtol in [1e-4, 1e-6, 1e-8] {
+            let o = Options {
+                rtol,
+                atol: super::super::Atol::Scalar(rtol * 1e-6),
+                t_stop: Some(1e11),
+                ..Options::default()
+            };
+            let y0 = [1.0, 0.0, 0.0];
+            let mut auto = Auto::new(Robertson, 0.0, &y0, &o).unwrap();
+            auto.advance(1e11).unwrap();
+            let mut radau = make_solver(Method::Radau5, Robertson, 0.0, &y0, &o).unwrap();
+            radau.advance(1e11).unwrap();
+            let (a, r) = (
+                cost(auto.work(), 3, auto.lu_price),
+                cost(radau.work(), 3, auto.lu_price),
+            );
+            let msg = format!("rtol {rtol}: auto {a}, radau {r}");
+            assert_eq!(auto.probes_lost(), 0, "{msg}");
+            assert_eq!(auto.switched_at(), Some(0.0), "{msg}");
+            assert!(a <= r + 2.0 * 3.0, "{msg}");
         }
     }
 }

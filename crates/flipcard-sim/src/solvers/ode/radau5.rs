@@ -371,6 +371,11 @@ impl<S: OdeSystem> Radau5<S> {
         self.by_size.as_ref()
     }
 
+    /// The system it steps.
+    pub(crate) fn system(&self) -> &S {
+        &self.sys
+    }
+
     pub(crate) fn into_parts(self) -> (S, f64, Vec<f64>, Work, f64) {
         (self.sys, self.t, self.y, self.work, self.h)
     }
