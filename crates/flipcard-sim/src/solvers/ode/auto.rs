@@ -880,7 +880,7 @@ mod tests {
     #[test]
     fn a_problem_stiff_at_its_start_starts_in_radau() {
         for rtol in [1e-3, 1e-6, 1e-9] {
-            let cases: [(&str, Box<dyn OdeSystem>, Vec<f64>, f64, f64); 3] = [
+            let cases: [Case; 3] = [
                 ("E5", Box::new(E5), vec![1.76e-3, 0.0, 0.0, 0.0], 1e5, 1e-24),
                 (
                     "linear",
@@ -921,6 +921,9 @@ mod tests {
             }
         }
     }
+
+    /// A problem: its name, system, start, end and absolute tolerance.
+    type Case = (&'static str, Box<dyn OdeSystem>, Vec<f64>, f64, f64);
 
     /// Van der Pol's oscillator x'' = μ(1 − x²)x' − x.
     struct VanDerPol(f64);

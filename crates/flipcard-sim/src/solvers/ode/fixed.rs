@@ -42,6 +42,11 @@ const NULL: f64 = 1e-11;
 /// cᵀf within this fraction of Σ|cᵢfᵢ| counts as zero.
 const CHECK: f64 = 1e-11;
 
+/// The equations: `f(t, y, out)`.
+pub type Rhs<'a> = dyn Fn(f64, &[f64], &mut [f64]) + 'a;
+/// Their exact Jacobian: `jac(t, y, J)`, false where it cannot be had.
+pub type Jacobian<'a> = dyn Fn(f64, &[f64], &mut DMatrix<f64>) -> bool + 'a;
+
 /// A deterministic stream of numbers in [0, 1), so a scene's sums are the
 /// same on every run.
 struct Stream(u64);
@@ -91,14 +96,9 @@ fn points(t: f64, y: &[f64], count: usize, seed: u64) -> Vec<(f64, Vec<f64>)> {
 /// Empty for a system larger than [`MAX_DIM`], where the equations or
 /// their Jacobian are not finite at the points tried, or where a
 /// candidate does not hold.
-pub fn find(
-    t: f64,
-    y: &[f64],
-    f: &dyn Fn(f64, &[f64], &mut [f64]),
-    jac: &dyn Fn(f64, &[f64], &mut DMatrix<f64>) -> bool,
-) -> Vec<Vec<f64>> {
+pub fn find(t: f64, y: &[f64], f: &Rhs, jac: &Jacobian) -> Vec<Vec<f64>> {
     let n = y.len();
-    if n < 2 || n > MAX_DIM || !t.is_finite() || y.iter().any(|v| !v.is_finite()) {
+    if !(2..=MAX_DIM).contains(&n) || !t.is_finite() || y.iter().any(|v| !v.is_finite()) {
         return Vec::new();
     }
     let mut rows: Vec<Vec<f64>> = Vec::new();
