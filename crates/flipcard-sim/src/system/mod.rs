@@ -8,6 +8,7 @@ pub mod expr;
 pub mod formula;
 pub(crate) mod name;
 pub(crate) mod spec;
+pub mod sums;
 
 pub use compile::System;
 pub use name::Name;
