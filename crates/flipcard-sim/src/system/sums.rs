@@ -40,6 +40,14 @@ use super::spec::SystemScene;
 const MAX_TERMS: usize = 2048;
 /// The most term pairs one product may multiply.
 const MAX_PRODUCT: usize = 16384;
+/// The most terms all the additions and products of a scene may touch.
+const MAX_WORK: usize = 1 << 20;
+/// The most products × variables² the elimination may take on (its work
+/// is about that many operations).
+const MAX_ELIMINATION: usize = 1 << 20;
+/// The most bits a number of the elimination may grow to.
+const MAX_BITS: u64 = 4096;
+
 /// Whole powers up to this are expanded (`(a + b)^3`); larger ones are
 /// atoms.
 const MAX_POWER: i64 = 6;
@@ -54,11 +62,12 @@ struct TooBig;
 
 struct Expander<'a> {
     scene: &'a SystemScene,
-    observables: &'a [Node],
     /// Each observable's expansion, once made.
     expanded: Vec<Option<Poly>>,
     /// Atoms that are not variables or `t`, by how they are written.
     atoms: HashMap<String, u32>,
+    /// Terms touched so far, against [`MAX_WORK`].
+    work: usize,
 }
 
 fn constant(v: BigRational) -> Poly {
@@ -73,7 +82,11 @@ fn number(v: f64) -> Result<Poly, TooBig> {
     BigRational::from_float(v).map(constant).ok_or(TooBig)
 }
 
-fn add(mut a: Poly, b: &Poly, sign: i32) -> Result<Poly, TooBig> {
+fn add(work: &mut usize, mut a: Poly, b: &Poly, sign: i32) -> Result<Poly, TooBig> {
+    *work += a.len() + b.len();
+    if *work > MAX_WORK {
+        return Err(TooBig);
+    }
     for (m, c) in b {
         let c = if sign < 0 { -c.clone() } else { c.clone() };
         let sum = match a.remove(m) {
@@ -103,8 +116,10 @@ fn times_monomial(a: &Monomial, b: &Monomial) -> Monomial {
     out
 }
 
-fn mul(a: &Poly, b: &Poly) -> Result<Poly, TooBig> {
-    if a.len().saturating_mul(b.len()) > MAX_PRODUCT {
+fn mul(work: &mut usize, a: &Poly, b: &Poly) -> Result<Poly, TooBig> {
+    let pairs = a.len().saturating_mul(b.len());
+    *work += pairs;
+    if pairs > MAX_PRODUCT || *work > MAX_WORK {
         return Err(TooBig);
     }
     let mut out = Poly::new();
@@ -178,16 +193,11 @@ impl Expander<'_> {
         if let Some((_, v)) = self.scene.params.iter().find(|(p, _)| p == name) {
             return number(*v);
         }
+        // Observables are expanded in order before the equations (each uses
+        // only the ones before it), so a name finds its own made: no
+        // recursion through a chain of them.
         if let Some(k) = self.scene.observables.iter().position(|(o, _)| o == name) {
-            if let Some(p) = &self.expanded[k] {
-                return Ok(p.clone());
-            }
-            // An observable uses only the ones before it (the compiler
-            // has checked), so this recursion ends.
-            let node = self.observables.get(k).ok_or(TooBig)?;
-            let p = self.expand(node)?;
-            self.expanded[k] = Some(p.clone());
-            return Ok(p);
+            return self.expanded.get(k).cloned().flatten().ok_or(TooBig);
         }
         Err(TooBig)
     }
@@ -196,10 +206,18 @@ impl Expander<'_> {
         Ok(match node {
             Node::Num(v) => number(*v)?,
             Node::Name(n, _) => self.name(n)?,
-            Node::Neg(a) => add(Poly::new(), &self.expand(a)?, -1)?,
-            Node::Bin('+', a, b) => add(self.expand(a)?, &self.expand(b)?, 1)?,
-            Node::Bin('-', a, b) => add(self.expand(a)?, &self.expand(b)?, -1)?,
-            Node::Bin('*', a, b) => mul(&self.expand(a)?, &self.expand(b)?)?,
+            Node::Neg(a) => {
+                let a = self.expand(a)?;
+                add(&mut self.work, Poly::new(), &a, -1)?
+            }
+            Node::Bin(op @ ('+' | '-'), a, b) => {
+                let (a, b) = (self.expand(a)?, self.expand(b)?);
+                add(&mut self.work, a, &b, if *op == '+' { 1 } else { -1 })?
+            }
+            Node::Bin('*', a, b) => {
+                let (a, b) = (self.expand(a)?, self.expand(b)?);
+                mul(&mut self.work, &a, &b)?
+            }
             Node::Bin('/', a, b) => {
                 let num = self.expand(a)?;
                 let den = self.expand(b)?;
@@ -209,10 +227,13 @@ impl Expander<'_> {
                         let inv: Monomial = m.iter().map(|&(x, p)| (x, -p)).collect();
                         let mut p = Poly::new();
                         p.insert(inv, c.recip());
-                        mul(&num, &p)?
+                        mul(&mut self.work, &num, &p)?
                     }
                     None if den.is_empty() => return Err(TooBig),
-                    None => mul(&num, &self.atom(b, -1))?,
+                    None => {
+                        let inv = self.atom(b, -1);
+                        mul(&mut self.work, &num, &inv)?
+                    }
                 }
             }
             Node::Bin(_, a, b) => {
@@ -227,7 +248,7 @@ impl Expander<'_> {
                         let base = self.expand(a)?;
                         let mut p = constant(BigRational::one());
                         for _ in 0..k {
-                            p = mul(&p, &base)?;
+                            p = mul(&mut self.work, &p, &base)?;
                         }
                         p
                     }
@@ -252,10 +273,14 @@ pub fn fixed_sums(scene: &SystemScene, equations: &[Node], observables: &[Node])
     }
     let mut ex = Expander {
         scene,
-        observables,
         expanded: vec![None; scene.observables.len()],
         atoms: HashMap::new(),
+        work: 0,
     };
+    for k in 0..observables.len().min(scene.observables.len()) {
+        // One too large is only a loss where it is used.
+        ex.expanded[k] = ex.expand(&observables[k]).ok();
+    }
     let mut polys = Vec::with_capacity(n);
     for e in equations {
         match ex.expand(e) {
@@ -271,14 +296,24 @@ pub fn fixed_sums(scene: &SystemScene, equations: &[Node], observables: &[Node])
                 .or_insert_with(|| vec![BigRational::zero(); n])[i] = c.clone();
         }
     }
+    if rows.len().saturating_mul(n * n) > MAX_ELIMINATION {
+        return Vec::new();
+    }
     let matrix: Vec<Vec<BigRational>> = rows.into_values().collect();
-    let null = null_space(matrix, n);
+    let Some(null) = null_space(matrix, n) else {
+        return Vec::new();
+    };
     null.into_iter().map(|row| scaled(&row)).collect()
 }
 
+/// Whether `x` has grown past [`MAX_BITS`].
+fn too_long(x: &BigRational) -> bool {
+    x.numer().bits() + x.denom().bits() > MAX_BITS
+}
+
 /// The reduced row-echelon form of `m` (rows of length n), exactly; with
-/// the pivot columns.
-fn echelon(mut m: Vec<Vec<BigRational>>, n: usize) -> (Vec<Vec<BigRational>>, Vec<usize>) {
+/// the pivot columns. `None` if a number grows past [`MAX_BITS`].
+fn echelon(mut m: Vec<Vec<BigRational>>, n: usize) -> Option<(Vec<Vec<BigRational>>, Vec<usize>)> {
     let mut pivots = Vec::new();
     let mut r = 0;
     for col in 0..n {
@@ -289,6 +324,9 @@ fn echelon(mut m: Vec<Vec<BigRational>>, n: usize) -> (Vec<Vec<BigRational>>, Ve
         let p = m[r][col].clone();
         for x in m[r].iter_mut() {
             *x = &*x / &p;
+        }
+        if m[r].iter().any(too_long) {
+            return None;
         }
         let pivot_row = m[r].clone();
         for (k, row) in m.iter_mut().enumerate() {
@@ -306,12 +344,13 @@ fn echelon(mut m: Vec<Vec<BigRational>>, n: usize) -> (Vec<Vec<BigRational>>, Ve
         }
     }
     m.truncate(r);
-    (m, pivots)
+    Some((m, pivots))
 }
 
-/// A basis of {c : m·c = 0}, in reduced row-echelon form.
-fn null_space(m: Vec<Vec<BigRational>>, n: usize) -> Vec<Vec<BigRational>> {
-    let (r, pivots) = echelon(m, n);
+/// A basis of {c : m·c = 0}, in reduced row-echelon form; `None` if the
+/// numbers grow too long.
+fn null_space(m: Vec<Vec<BigRational>>, n: usize) -> Option<Vec<Vec<BigRational>>> {
+    let (r, pivots) = echelon(m, n)?;
     let free: Vec<usize> = (0..n).filter(|c| !pivots.contains(c)).collect();
     let basis: Vec<Vec<BigRational>> = free
         .iter()
@@ -325,9 +364,9 @@ fn null_space(m: Vec<Vec<BigRational>>, n: usize) -> Vec<Vec<BigRational>> {
         })
         .collect();
     if basis.is_empty() {
-        return basis;
+        return Some(basis);
     }
-    echelon(basis, n).0
+    echelon(basis, n).map(|(b, _)| b)
 }
 
 /// A row as doubles: whole numbers when its entries are small fractions
