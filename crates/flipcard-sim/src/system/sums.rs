@@ -277,9 +277,9 @@ pub fn fixed_sums(scene: &SystemScene, equations: &[Node], observables: &[Node])
         atoms: HashMap::new(),
         work: 0,
     };
-    for k in 0..observables.len().min(scene.observables.len()) {
+    for (k, node) in observables.iter().enumerate().take(scene.observables.len()) {
         // One too large is only a loss where it is used.
-        ex.expanded[k] = ex.expand(&observables[k]).ok();
+        ex.expanded[k] = ex.expand(node).ok();
     }
     let mut polys = Vec::with_capacity(n);
     for e in equations {
