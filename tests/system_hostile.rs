@@ -672,6 +672,14 @@ fn last_row(out: &str) -> Vec<f64> {
 
 /// E5 (chemical pyrolysis, Hairer & Wanner's test set): y1 starts at 1.76e-3
 /// and y2…y4 stay near 1e-11 and below, a bounded solution throughout.
+/// The `--atol NAME=V,…` a refusal names as its cure.
+fn atol_named(err: &str) -> &str {
+    err.split("or --atol ")
+        .nth(1)
+        .and_then(|rest| rest.split([')', ' ', ';']).next())
+        .unwrap_or_else(|| panic!("no --atol named: {err}"))
+}
+
 fn e5(atol: &str) -> Deck {
     e5_until("1e13", atol)
 }
@@ -713,11 +721,7 @@ fn a_bounded_solution_is_never_called_a_blow_up_and_atol_is_named_as_the_cure() 
         // size, but by t ≈ 1e8 every variable has fallen far below it: the
         // message asks for an atol for each one it names, and the run
         // given those reaches its end.
-        let cure = err
-            .split("or --atol ")
-            .nth(1)
-            .and_then(|rest| rest.split(')').next())
-            .unwrap_or_else(|| panic!("{method}: no --atol named: {err}"));
+        let cure = atol_named(&err);
         for y in ["y2=", "y3=", "y4="] {
             assert!(cure.contains(y), "{method}: {err}");
         }
@@ -1190,11 +1194,7 @@ fn a_variable_running_away_from_below_its_tolerance_is_refused() {
             let y1: f64 = line.split(',').nth(1).unwrap().parse().unwrap();
             assert!(y1 >= -1e-3, "{method}: a row past the point: {line}");
         }
-        let cure = err
-            .split("or --atol ")
-            .nth(1)
-            .and_then(|rest| rest.split(')').next())
-            .unwrap_or_else(|| panic!("{method}: no --atol named: {err}"));
+        let cure = atol_named(&err);
         let (code, out, err) = d.sim(&[
             "--samples",
             "5",
@@ -1343,11 +1343,7 @@ fn e5_to_1e13_is_refused_not_answered_with_rounding() {
                 let t: f64 = line.split(',').next().unwrap().parse().unwrap();
                 assert!(t < 1e13, "{method} {tol}: a row at the end: {line}");
             }
-            let atol = err
-                .split("or --atol ")
-                .nth(1)
-                .and_then(|r| r.split([')', ' ', ';']).next())
-                .unwrap_or_else(|| panic!("{method} {tol}: no --atol named: {err}"));
+            let atol = atol_named(&err);
             let (code, out, err) = d.sim(&[
                 "--samples",
                 "2",
@@ -1439,7 +1435,7 @@ fn a_sum_that_holds_only_somewhere_is_never_held() {
                 "",
                 40.0,
             ),
-            vec![(2, 1.0 + pi_sqrt - 4.69e-9)],
+            vec![("y", 1.0 + pi_sqrt - 4.69e-9)],
         ),
         (
             scene(
@@ -1452,8 +1448,8 @@ fn a_sum_that_holds_only_somewhere_is_never_held() {
             // x = t − 16 + (1 + e^{−15}) e^{15−t} past 15 (x(15) = e^{−15});
             // x + y = 1 + (t − 15)²/2.
             vec![
-                (1, 14.0 + (-15f64).exp() + (-30f64).exp()),
-                (2, 113.5 - 14.0),
+                ("x", 14.0 + (-15f64).exp() + (-30f64).exp()),
+                ("y", 113.5 - 14.0),
             ],
         ),
         (
@@ -1464,7 +1460,7 @@ fn a_sum_that_holds_only_somewhere_is_never_held() {
                 "",
                 10.0,
             ),
-            vec![(1, 11.0), (2, 8.0)],
+            vec![("x", 11.0), ("y", 8.0)],
         ),
         (
             scene(
@@ -1475,7 +1471,7 @@ fn a_sum_that_holds_only_somewhere_is_never_held() {
                 2.5,
             ),
             // y = 2(1 − sin t) once cos t < 0 (t > π/2).
-            vec![(3, 2.0 * (1.0 - 2.5f64.sin()))],
+            vec![("y", 2.0 * (1.0 - 2.5f64.sin()))],
         ),
         (
             scene(
@@ -1485,7 +1481,7 @@ fn a_sum_that_holds_only_somewhere_is_never_held() {
                 "params = { k = 1e6, D = 1e-6 }\n",
                 5e5,
             ),
-            vec![(1, leak), (2, leak)],
+            vec![("x", leak), ("y", leak)],
         ),
     ];
     for (deck, want) in &cases {
@@ -1506,18 +1502,12 @@ fn a_sum_that_holds_only_somewhere_is_never_held() {
             assert_eq!(code, 0, "{method}: {err}");
             let doc: serde_json::Value = serde_json::from_str(&out).unwrap();
             assert!(doc["stats"].get("fixed_sums").is_none(), "{method}: {out}");
-            let last = doc["samples"].as_array().unwrap().last().unwrap().clone();
-            let vals: Vec<f64> = last
-                .as_object()
-                .unwrap()
-                .values()
-                .map(|v| v.as_f64().unwrap())
-                .collect();
-            for &(k, w) in want {
+            let last = doc["samples"].as_array().unwrap().last().unwrap();
+            for &(name, w) in want {
+                let got = last[name].as_f64().unwrap();
                 assert!(
-                    (vals[k] - w).abs() <= 1e-5 * w.abs().max(1.0),
-                    "{method}: column {k} is {} where it is {w}: {out}",
-                    vals[k]
+                    (got - w).abs() <= 1e-5 * w.abs().max(1.0),
+                    "{method}: {name} is {got} where it is {w}: {out}"
                 );
             }
         }

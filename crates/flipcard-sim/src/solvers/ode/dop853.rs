@@ -402,10 +402,8 @@ impl<S: OdeSystem, const N: usize> Dop853<S, N> {
         let mut accept = err <= 1.0 && sane;
         let t_new = t + h;
         if accept && let Some(held) = &self.held {
-            let w: Vec<f64> = (0..n)
-                .map(|i| self.atol[i] + self.rtol * self.y_new[i].abs())
-                .collect();
-            held.hold(&mut self.y_new, &w);
+            let (atol, rtol) = (&self.atol, self.rtol);
+            held.hold(&mut self.y_new, |i, v| atol[i] + rtol * v.abs());
         }
         if accept {
             let (_, tail) = self.k.split_at_mut(12 * n);

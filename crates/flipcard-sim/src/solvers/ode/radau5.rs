@@ -770,7 +770,7 @@ impl<S: OdeSystem> Radau5<S> {
             self.tmp[i] = self.y[i] + self.z[2][i];
         }
         if let Some(held) = &self.held {
-            held.hold(&mut self.tmp, &self.scal);
+            held.hold(&mut self.tmp, |i, _| self.scal[i]);
         }
         if !is_sane(&self.tmp) {
             return Err(Failure::Newton);
